@@ -1,0 +1,30 @@
+#include "diag.h"
+#include <stdarg.h>
+#include <stdio.h>
+
+weft_status wc_fail(wc_diag* d, weft_status status, const char* fmt, ...) {
+    if (!d) return status;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->message, sizeof d->message, fmt, ap);
+    va_end(ap);
+    d->status = status;
+    if (d->log) d->log(WC_LOG_ERROR, d->message, d->log_user);
+    return status;
+}
+
+void wc_log(const wc_diag* d, wc_log_level level, const char* fmt, ...) {
+    if (!d || !d->log) return;
+    char buf[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    d->log(level, buf, d->log_user);
+}
+
+void wc_diag_clear(wc_diag* d) {
+    if (!d) return;
+    d->status = WEFT_OK;
+    d->message[0] = '\0';
+}

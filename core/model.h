@@ -1,0 +1,108 @@
+/* The immutable cloth model: particles (welded host vertices), triangles, winged edge, springs,
+ * material and masses, plus the map back to the host's vertex order and the import report.
+ * Built once from a wc_source_mesh; never modified by a simulation step (state lives in
+ * wc_state). */
+#ifndef WEFT_CORE_MODEL_H
+#define WEFT_CORE_MODEL_H
+#include "alloc.h"
+#include "diag.h"
+#include "source_mesh.h"
+#include "winged_edge.h"
+
+typedef enum wc_spring_type {
+    WC_SPRING_STRETCH = 0,
+    WC_SPRING_SHEAR = 1,
+    WC_SPRING_BEND = 2,
+    WC_SPRING_TYPE_COUNT = 3
+} wc_spring_type;
+
+typedef struct wc_spring {
+    int a, b;             /* particle indices, a < b */
+    int type;             /* wc_spring_type */
+    double rest;          /* rest length (m) */
+} wc_spring;
+
+typedef struct wc_material {
+    double density;                   /* kg/m^2, lumped to particles by triangle area */
+    double k[WC_SPRING_TYPE_COUNT];   /* spring stiffness per type (N/m) */
+    double d[WC_SPRING_TYPE_COUNT];   /* spring damping per type (N s/m) */
+    double uniform_mass;              /* kg per particle; > 0 overrides density */
+} wc_material;
+
+wc_material wc_default_material(void);
+
+#define WC_MAX_WARNINGS 16
+#define WC_MAX_POLY_SIDES 8   /* polygons[k] counts k-gons; polygons[8] counts 8 or more */
+
+typedef struct wc_import_report {
+    int source_vertices;        /* host vertices */
+    int unused_vertices;        /* host vertices referenced by no polygon (map to -1) */
+    int welded_vertices;        /* host vertices merged into another one's particle */
+    int particles;
+    int polygons[WC_MAX_POLY_SIDES + 1]; /* count by number of sides; [1] points, [2] lines */
+    int triangles;              /* kept for simulation */
+    int degenerate_triangles;   /* zero area or repeated particle: dropped */
+    int duplicate_faces;        /* same three particles as an earlier triangle: dropped */
+    int flipped_faces;          /* winding made consistent per component */
+    int non_orientable_components;
+    int edges;                  /* winged-edge edges */
+    int boundary_edges;
+    int non_manifold_edges;     /* vertex pairs shared by more than two triangles */
+    int boundary_loops;
+    int components;             /* connected components of the triangle mesh */
+    int springs[WC_SPRING_TYPE_COUNT];
+    double bbox_min[3], bbox_max[3]; /* metres, over particles */
+    double unit_scale;          /* metres per source unit */
+    double weld_distance;       /* absolute weld distance used (m) */
+    int n_warnings;
+    int warnings_dropped;       /* warnings beyond WC_MAX_WARNINGS */
+    char warnings[WC_MAX_WARNINGS][256];
+} wc_import_report;
+
+typedef struct wc_model_def {
+    double weld_tolerance;      /* relative to the bounding-box diagonal; 0 disables; 1e-6 */
+    double degenerate_area;     /* triangle area below this x diagonal^2 is degenerate; 1e-14 */
+    double bend_min_angle_deg;  /* rest angle a-v-b at least this makes a bend spring; 150 */
+    wc_material material;
+} wc_model_def;
+
+wc_model_def wc_default_model_def(void);
+
+typedef struct wc_model {
+    int n_particles;
+    double* rest_pos;           /* (n_particles x 3) metres */
+    double* mass;               /* (n_particles) kg */
+    double* inv_mass;           /* (n_particles) 1/kg */
+
+    int n_tris;
+    int* tris;                  /* (n_tris x 3) particle indices, consistently wound */
+    int* tri_poly;              /* (n_tris) source polygon each triangle came from */
+    unsigned char* tri_quad;    /* (n_tris) 1 when the source polygon was a quad */
+    double* tri_rest_area;      /* (n_tris) m^2 */
+
+    wc_winged_edge we;          /* over particles and tris */
+
+    int n_springs;
+    wc_spring* springs;         /* (n_springs) sorted by type, then (a, b) */
+    int spring_type_start[WC_SPRING_TYPE_COUNT + 1]; /* springs of type t: [start[t], start[t+1]) */
+
+    int n_host_verts;
+    int* host_to_particle;      /* (n_host_verts) particle of each host vertex, -1 if unused */
+    int* particle_to_host;      /* (n_particles) first host vertex of each particle */
+    int* particle_component;    /* (n_particles) component id */
+    int n_components;
+
+    wc_material material;
+    wc_import_report report;
+    wc_allocator alloc;
+} wc_model;
+
+/* Build the model. On failure *out is left zeroed and diag says why. */
+weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_model_def* def,
+                           const wc_allocator* alloc, wc_diag* diag);
+void wc_model_free(wc_model* m);
+
+/* Append a warning to the report (printf-style; truncated, counted when the list is full). */
+void wc_report_warn(wc_import_report* r, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+
+#endif

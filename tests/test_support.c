@@ -1,0 +1,86 @@
+#include "test_support.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void grid_positions(double* pos, int nx, int ny, double sx, double sy) {
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            double* p = pos + 3 * (j * nx + i);
+            p[0] = sx * i / (nx - 1);
+            p[1] = sy * j / (ny - 1);
+            p[2] = 0.0;
+        }
+}
+
+void ts_quad_grid(wc_source_mesh* out, int nx, int ny, double sx, double sy, int split_uv) {
+    int nq = (nx - 1) * (ny - 1);
+    double* grid = calloc((size_t)nx * ny * 3, sizeof(double));
+    grid_positions(grid, nx, ny, sx, sy);
+    int nv = split_uv ? 4 * nq : nx * ny;
+    double* pos = calloc((size_t)nv * 3, sizeof(double));
+    int* sizes = malloc(sizeof(int) * nq);
+    int* idx = malloc(sizeof(int) * 4 * nq);
+    if (!split_uv) memcpy(pos, grid, sizeof(double) * 3 * nv);
+    int q = 0;
+    for (int j = 0; j + 1 < ny; ++j)
+        for (int i = 0; i + 1 < nx; ++i, ++q) {
+            int c[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i};
+            sizes[q] = 4;
+            for (int k = 0; k < 4; ++k) {
+                if (split_uv) {
+                    memcpy(pos + 3 * (4 * q + k), grid + 3 * c[k], 3 * sizeof(double));
+                    idx[4 * q + k] = 4 * q + k;
+                } else {
+                    idx[4 * q + k] = c[k];
+                }
+            }
+        }
+    wc_diag d = {0};
+    if (wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nq, idx, 1.0, &d) != WEFT_OK)
+        fprintf(stderr, "ts_quad_grid: %s\n", d.message);
+    free(grid);
+    free(pos);
+    free(sizes);
+    free(idx);
+}
+
+void ts_tri_grid(wc_source_mesh* out, int nx, int ny, double sx, double sy) {
+    int nv = nx * ny, nt = 2 * (nx - 1) * (ny - 1);
+    double* pos = calloc((size_t)nv * 3, sizeof(double));
+    grid_positions(pos, nx, ny, sx, sy);
+    int* sizes = malloc(sizeof(int) * nt);
+    int* idx = malloc(sizeof(int) * 3 * nt);
+    int t = 0;
+    for (int j = 0; j + 1 < ny; ++j)
+        for (int i = 0; i + 1 < nx; ++i) {
+            int a = j * nx + i, b = a + 1, c = a + nx + 1, d = a + nx;
+            int tri[6] = {a, b, c, a, c, d};
+            memcpy(idx + 3 * t, tri, sizeof tri);
+            sizes[t] = sizes[t + 1] = 3;
+            t += 2;
+        }
+    wc_diag dg = {0};
+    if (wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nt, idx, 1.0, &dg) != WEFT_OK)
+        fprintf(stderr, "ts_tri_grid: %s\n", dg.message);
+    free(pos);
+    free(sizes);
+    free(idx);
+}
+
+const char* ts_tmp_path(const char* name) {
+    static char slots[4][1024];
+    static int next = 0;
+    char* p = slots[next++ & 3];
+    snprintf(p, sizeof slots[0], "%s/%s", WEFT_TEST_TMPDIR, name);
+    return p;
+}
+
+const char* ts_write_tmp(const char* name, const char* text) {
+    const char* path = ts_tmp_path(name);
+    FILE* f = fopen(path, "wb");
+    if (!f) return NULL;
+    fputs(text, f);
+    fclose(f);
+    return path;
+}
