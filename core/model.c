@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include "clock.h"
 #include "springs.h"
 #include "topology.h"
 #include "triangulate.h"
@@ -131,6 +132,14 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
 
     wc_model* m = out;
     wc_import_report* r = &m->report;
+    const double t_start = wc_now_ms();
+    double t_mark = t_start;
+#define STAGE_DONE(field)            \
+    do {                             \
+        double now_ = wc_now_ms();   \
+        r->ms.field = now_ - t_mark; \
+        t_mark = now_;               \
+    } while (0)
     if (alloc) m->alloc = *alloc;
     const wc_allocator* A = &m->alloc;
     build_tmp t;
@@ -181,6 +190,8 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     for (int v = nh - 1; v >= 0; --v) /* first host vertex of each particle wins */
         if (t.weld_map[v] >= 0) memcpy(t.wpos + 3 * t.weld_map[v], src->pos + 3 * v, 3 * sizeof(double));
 
+    STAGE_DONE(weld);
+
     /* 2. triangulate the polygons over welded particles */
     int nt = 0, nq = 0;
     for (int p = 0; p < npoly; ++p) {
@@ -191,6 +202,8 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
         for (int i = 0; i < made; ++i) t.tri_poly[nt + i] = p;
         nt += made;
     }
+
+    STAGE_DONE(triangulate);
 
     /* 3. drop degenerate and duplicate triangles, then compact */
     if (!wc_flag_bad_triangles(t.tris, nt, t.wpos, def->degenerate_area * diag2, t.keep,
@@ -212,9 +225,13 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
                        "mesh has no usable triangles (%d polygons, all degenerate or duplicate)", npoly);
     }
 
+    STAGE_DONE(clean);
+
     /* 4. consistent winding per component */
     if (!wc_orient_triangles(nw, t.tris, t.mask, nt, &r->flipped_faces, &r->non_orientable_components, A))
         goto oom;
+
+    STAGE_DONE(orient);
 
     /* 5. particles = welded vertices that a kept triangle uses, in host order */
     for (int v = 0; v < nw; ++v) t.remap[v] = -1;
@@ -288,11 +305,14 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
         if ((ed->flags & WC_EDGE_NON_MANIFOLD) && first_copy) ++r->non_manifold_edges;
     }
 
+    STAGE_DONE(topology);
+
     /* 7. springs */
     wc_spring_input spring_in = {np, m->rest_pos, &m->we, m->tri_quad, nq, t.quads, def->bend_min_angle_deg};
     st = wc_build_springs(&spring_in, &m->springs, &m->n_springs, m->spring_type_start, A, diag);
     if (st != WEFT_OK) goto fail;
     m->n_springs = m->spring_type_start[WC_SPRING_TYPE_COUNT];
+    STAGE_DONE(springs);
 
     /* 8. lumped masses */
     for (int i = 0; i < nt; ++i)
@@ -343,6 +363,8 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
         wc_report_warn(r, "polygons with up to %d sides were ear-clipped; their diagonals are not stretch springs",
                        max_sides);
     tmp_free(&t, A);
+    r->ms.total = wc_now_ms() - t_start;
+#undef STAGE_DONE
     return WEFT_OK;
 
 oom:

@@ -54,6 +54,9 @@ typedef struct wc_import_report {
     double bbox_min[3], bbox_max[3]; /* metres, over particles */
     double unit_scale;          /* metres per source unit */
     double weld_distance;       /* absolute weld distance used (m) */
+    struct {                    /* wall time of each build stage (ms) */
+        double weld, triangulate, clean, orient, topology, springs, total;
+    } ms;
     int n_warnings;
     int warnings_dropped;       /* warnings beyond WC_MAX_WARNINGS */
     char warnings[WC_MAX_WARNINGS][256];
