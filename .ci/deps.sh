@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Install the Debian 12 packages Weft needs to build and test. Called by .ci/demo and .ci/test
+# (`bash .ci/deps.sh`). As root: apt-get installs whatever is missing. Otherwise: prints the
+# apt-get line to run and exits 1. Does nothing when everything is already installed.
+set -euo pipefail
+
+packages=(
+  gcc g++ make cmake pkg-config   # toolchain (g++ only because assimp's CMake config wants CXX)
+  libassimp-dev                   # mesh import
+  libsuitesparse-dev              # CHOLMOD
+  libopenblas0-pthread            # fast BLAS behind CHOLMOD (switches libblas.so.3)
+  libglew-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # GPU backend, headless EGL
+  libcjson-dev                    # JSON (weft inspect --json, scene files)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  echo "weft: missing Debian packages: ${missing[*]}" >&2
+  echo "Install them with:" >&2
+  echo "  sudo apt-get install -y --no-install-recommends ${missing[*]}" >&2
+  exit 1
+fi
+
+echo "weft: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+apt-get update
+apt-get install -y --no-install-recommends "${missing[@]}"

@@ -1,0 +1,35 @@
+/* The `weft` command-line tool: shared declarations. main.c dispatches argv[1] through a table of
+ * subcommands; each subcommand parses its own arguments and returns one of the exit codes below. */
+#ifndef WEFT_CLI_H
+#define WEFT_CLI_H
+#include <stdio.h>
+
+enum {
+    CLI_EXIT_OK = 0,
+    CLI_EXIT_FAILURE = 1,   /* the command ran and failed (e.g. a file that cannot be imported) */
+    CLI_EXIT_USAGE = 2      /* bad command line; usage went to stderr */
+};
+
+typedef struct cli_command {
+    const char* name;
+    const char* summary;                 /* one line for `weft --help` */
+    int (*run)(int argc, char** argv);   /* argv[0] is the subcommand's name */
+    void (*usage)(FILE* out);
+} cli_command;
+
+/* Subcommands (one file each). */
+int cli_inspect_run(int argc, char** argv);
+void cli_inspect_usage(FILE* out);
+
+/* Parse a whole string as a finite double. 0 on success, -1 otherwise (*out untouched). */
+int cli_parse_double(const char* text, double* out);
+
+/* Match an option that takes a value, as "--name VALUE" or "--name=VALUE". Returns 1 when argv[*i]
+ * is this option and sets *value (advancing *i past a separate value), -1 when it is this option
+ * but the value is missing, 0 when it is another argument. */
+int cli_option_value(int argc, char** argv, int* i, const char* name, const char** value);
+
+/* Print "weft: <message>" to stderr as exactly one line (newlines in message become spaces). */
+void cli_error(const char* message);
+
+#endif
