@@ -14,31 +14,52 @@ typedef struct wc_source_mesh {
     int* poly_verts;      /* (poly_start[n_polys]) host vertex indices */
     int n_points;         /* point primitives seen and ignored */
     int n_lines;          /* line primitives seen and ignored */
-    int n_meshes;         /* meshes the vertices came from (1 for host arrays) */
-    double unit_scale;    /* metres per file unit that was applied */
+    int n_meshes;         /* mesh instances the vertices came from (1 for host arrays) */
+    double unit_scale;    /* metres per file unit that was applied (file unit x user scale) */
     wc_allocator alloc;
 } wc_source_mesh;
 
 /* Build from host arrays: positions (n_verts x 3, metres after multiplying by scale) and
  * polygons given as per-polygon corner counts (n_polys) plus concatenated indices.
- * Polygons with 1 or 2 corners are counted as points/lines and ignored.
- * Fails on NaN/Inf positions, indices out of range, non-positive scale. */
+ * Polygons with 1 or 2 corners are counted as points/lines and ignored; vertices keep the host's
+ * order. On failure *out is zeroed: NULL array with a count > 0, negative count or a polygon
+ * with < 1 corners (INVALID_ARGUMENT), index out of range (OUT_OF_RANGE), NaN/Inf position or
+ * position x scale (NONFINITE), scale not finite or <= 0 (INVALID_ARGUMENT), no polygon with
+ * >= 3 corners (EMPTY_MESH). Messages name the offending vertex/polygon/index. */
 weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* alloc,
                                        const double* positions, int n_verts,
                                        const int* poly_sizes, int n_polys, const int* indices,
                                        double scale, wc_diag* diag);
 
-/* Options for importing a file through assimp. */
+/* Options for importing a file through assimp. Zeroed fields mean the defaults. */
 typedef struct wc_import_opts {
-    double scale;           /* metres per unit for unit-less formats (OBJ, PLY, ...); default 1 */
-    const char* select;     /* name of one mesh or node to import (node: with its children);
-                               NULL imports every mesh of the scene */
+    double scale;           /* extra factor applied for every format on top of the file's own
+                               unit: metres per unit for unit-less formats (OBJ, PLY, STL);
+                               keep 1 for glTF (metres) and FBX (UnitScaleFactor is applied).
+                               default 1; 0 means 1 */
+    const char* select;     /* name of a node (every node of that name, each with its subtree)
+                               or, when no node has that name, of a mesh (at every node that
+                               uses it); NULL or "" imports every mesh of the scene */
 } wc_import_opts;
 
 wc_import_opts wc_default_import_opts(void);
 
 /* Import every mesh of a scene (node transforms applied) or the one selected by name.
- * FBX UnitScaleFactor is honoured (cm when it is 1). Errors name the file and assimp's reason. */
+ * FBX UnitScaleFactor is honoured (cm when it is 1). Errors name the file and assimp's reason.
+ *
+ * Host vertex order: the node tree is walked depth first from the root (children in order);
+ * each mesh a node references is one instance (a mesh used by two nodes is emitted twice), with
+ * the node's accumulated world transform applied. Instances are concatenated in that order, each
+ * in assimp's vertex order after aiProcess_JoinIdenticalVertices (which joins only vertices equal
+ * in every attribute, so UV seams and split normals stay split). Polygons keep their corner count
+ * (no triangulation); faces of 1 and 2 indices are counted in n_points/n_lines and dropped.
+ * Axes are left as the file has them (FBX UpAxis/FrontAxis are not applied; assimp 5.2.5 applies
+ * node transforms only). unit_scale = file unit (FBX: UnitScaleFactor / 100, else 1) x scale.
+ * Errors (*out zeroed): IO (cannot open/read), IMPORT (assimp failed, empty/UTF-16/binary-garbage
+ * file, unknown select name: the message lists the names), EMPTY_MESH (no meshes, or no polygon
+ * with >= 3 corners), NONFINITE (NaN/Inf position), INVALID_ARGUMENT, OUT_OF_MEMORY.
+ * Not thread-safe against other assimp users in the process: assimp's last-error string is
+ * global. */
 weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
                            const wc_import_opts* opts, wc_diag* diag);
 

@@ -191,53 +191,46 @@ int wc_components(int n_verts, const int* tris, int n, int* comp, const wc_alloc
 }
 
 int wc_boundary_loops(const wc_winged_edge* we, const wc_allocator* alloc) {
-    /* boundary half-edge per boundary edge, directed along its single face's winding */
+    /* Undirected walk over boundary edges (a non-orientable piece has no consistent direction):
+     * each walk follows unvisited boundary edges until it is stuck, which closes one loop when
+     * every vertex has an even number of boundary edges (always so on a manifold boundary). */
     int nv = we->n_verts, ne = we->n_edges;
-    int* from = WC_NEW(alloc, int, ne > 0 ? ne : 1);
-    int* to = WC_NEW(alloc, int, ne > 0 ? ne : 1);
     int* start = WC_NEW(alloc, int, nv + 1);
-    int* out = WC_NEW(alloc, int, ne > 0 ? ne : 1);
+    int* inc = WC_NEW(alloc, int, 2 * (size_t)ne + 1);
+    int* fill = WC_NEW(alloc, int, nv + 1);
     unsigned char* seen = WC_NEW(alloc, unsigned char, ne > 0 ? ne : 1);
     int loops = -1;
-    if (from && to && start && out && seen) {
-        int nb = 0;
-        for (int e = 0; e < ne; ++e) {
-            const wc_we_edge* ed = &we->edges[e];
-            if (ed->f[0] < 0 || ed->f[1] >= 0) continue;
-            const wc_we_face* f = &we->faces[ed->f[0]];
-            for (int k = 0; k < 3; ++k)
-                if (f->e[k] == e) {
-                    from[nb] = f->v[k];
-                    to[nb] = f->v[(k + 1) % 3];
-                }
-            ++start[from[nb] + 1];
-            ++nb;
-        }
+    if (start && inc && fill && seen) {
+        for (int e = 0; e < ne; ++e)
+            if (we->edges[e].f[1] < 0) {
+                ++start[we->edges[e].v[0] + 1];
+                ++start[we->edges[e].v[1] + 1];
+            }
         for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
-        int* fill = WC_NEW(alloc, int, nv > 0 ? nv : 1);
-        if (fill) {
-            for (int v = 0; v < nv; ++v) fill[v] = start[v];
-            for (int h = 0; h < nb; ++h) out[fill[from[h]]++] = h;
-            wc_free(alloc, fill);
-            loops = 0;
-            for (int h0 = 0; h0 < nb; ++h0) {
-                if (seen[h0]) continue;
-                ++loops;
-                int h = h0;
-                while (h >= 0 && !seen[h]) {
-                    seen[h] = 1;
-                    int v = to[h], next = -1;
-                    for (int q = start[v]; q < start[v + 1] && next < 0; ++q)
-                        if (!seen[out[q]]) next = out[q];
-                    h = next;
-                }
+        for (int v = 0; v < nv; ++v) fill[v] = start[v];
+        for (int e = 0; e < ne; ++e)
+            if (we->edges[e].f[1] < 0) {
+                inc[fill[we->edges[e].v[0]]++] = e;
+                inc[fill[we->edges[e].v[1]]++] = e;
+            }
+        loops = 0;
+        for (int e0 = 0; e0 < ne; ++e0) {
+            if (we->edges[e0].f[1] >= 0 || seen[e0]) continue;
+            ++loops;
+            int e = e0, v = we->edges[e0].v[1];
+            while (e >= 0) {
+                seen[e] = 1;
+                int next = -1;
+                for (int q = start[v]; q < start[v + 1] && next < 0; ++q)
+                    if (!seen[inc[q]]) next = inc[q];
+                if (next >= 0) v = we->edges[next].v[0] == v ? we->edges[next].v[1] : we->edges[next].v[0];
+                e = next;
             }
         }
     }
-    wc_free(alloc, from);
-    wc_free(alloc, to);
     wc_free(alloc, start);
-    wc_free(alloc, out);
+    wc_free(alloc, inc);
+    wc_free(alloc, fill);
     wc_free(alloc, seen);
     return loops;
 }

@@ -24,7 +24,8 @@ int wc_orient_triangles(int n_verts, int* tris, unsigned char* side_mask, int n,
  * first-appearance order, -1 for vertices in no triangle. Returns the count, -1 on failure. */
 int wc_components(int n_verts, const int* tris, int n, int* comp, const wc_allocator* alloc);
 
-/* Closed loops of boundary edges (walked along the faces' winding). -1 on allocation failure. */
+/* Closed loops of boundary edges (undirected walk, so non-orientable pieces count right).
+ * -1 on allocation failure. */
 int wc_boundary_loops(const wc_winged_edge* we, const wc_allocator* alloc);
 
 #endif

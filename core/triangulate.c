@@ -49,10 +49,11 @@ static void emit(int* tris, unsigned char* mask, int t, int a, int b, int c, uns
     mask[t] = m;
 }
 
-/* Is point p strictly inside triangle (a, b, c) (counter-clockwise about n)? */
+/* Is point p inside or on triangle (a, b, c) (counter-clockwise about n)? A corner lying on the
+ * candidate ear's new diagonal blocks it: clipping there would cover area outside the polygon. */
 static int inside(const double* pos, int a, int b, int c, int p, const double* n) {
-    return signed_area(pos, a, b, p, n) > 0 && signed_area(pos, b, c, p, n) > 0 &&
-           signed_area(pos, c, a, p, n) > 0;
+    return signed_area(pos, a, b, p, n) >= 0 && signed_area(pos, b, c, p, n) >= 0 &&
+           signed_area(pos, c, a, p, n) >= 0;
 }
 
 static int is_polygon_side(int i, int j, int k) { return ((i + 1) % k) == j; }

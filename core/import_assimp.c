@@ -1,0 +1,473 @@
+/* wc_import_file: any format assimp reads -> wc_source_mesh (metres, polygons kept as polygons).
+ *
+ * Steps: probe the file with fopen (IO errors), import with no post-processing, resolve the
+ * selection and the list of mesh instances (node tree walked from the root, world transforms
+ * accumulated), check the raw positions of those meshes for NaN/Inf, then run
+ * aiProcess_JoinIdenticalVertices (JoinIdenticalVertices treats a NaN position as equal to
+ * anything, so the check must come first) and concatenate the instances.
+ *
+ * Found with assimp 5.2.5: the FBX importer applies every node's Lcl transform (and pre/post
+ * rotations and pivots) but neither GlobalSettings UpAxis/FrontAxis/CoordAxis (the root node stays
+ * identity) nor UnitScaleFactor (centimetres per file unit; only in aiScene::mMetaData, as a
+ * float). We apply UnitScaleFactor / 100 ourselves and leave the axes as the file has them. */
+#include "source_mesh.h"
+#include <assimp/cimport.h>
+#include <assimp/config.h>
+#include <assimp/metadata.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define WC_IMPORT_MAX_DEPTH 512   /* node hierarchy depth limit (recursion) */
+#define WC_IMPORT_HEAD 64         /* bytes read up front to diagnose files with no meshes */
+
+wc_import_opts wc_default_import_opts(void) {
+    wc_import_opts o;
+    memset(&o, 0, sizeof o);
+    o.scale = 1.0;
+    o.select = NULL;
+    return o;
+}
+
+/* ---- small helpers ---------------------------------------------------------------------- */
+
+/* The double nearest the shortest decimal that round-trips the float (2.54f -> 2.54). */
+static double float_to_double_shortest(float f) {
+    char buf[48];
+    for (int prec = 6; prec <= 9; ++prec) {
+        snprintf(buf, sizeof buf, "%.*g", prec, (double)f);
+        double d = strtod(buf, NULL);
+        if ((float)d == f) return d;
+    }
+    return (double)f;
+}
+
+static int ends_with_ci(const char* s, const char* suffix) {
+    size_t n = strlen(s), m = strlen(suffix);
+    if (m > n) return 0;
+    for (size_t i = 0; i < m; ++i) {
+        char a = s[n - m + i], b = suffix[i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (a != b) return 0;
+    }
+    return 1;
+}
+
+static const struct aiMetadataEntry* meta_find(const struct aiScene* s, const char* key) {
+    const struct aiMetadata* md = s->mMetaData;
+    if (!md || !md->mKeys || !md->mValues) return NULL;
+    for (unsigned i = 0; i < md->mNumProperties; ++i)
+        if (strcmp(md->mKeys[i].data, key) == 0) return &md->mValues[i];
+    return NULL;
+}
+
+/* Numeric metadata value as a double; 0 when missing or not numeric. */
+static int meta_number(const struct aiMetadataEntry* e, double* out) {
+    if (!e || !e->mData) return 0;
+    switch (e->mType) {
+    case AI_FLOAT: *out = float_to_double_shortest(*(const float*)e->mData); return 1;
+    case AI_DOUBLE: *out = *(const double*)e->mData; return 1;
+    case AI_INT32: *out = (double)*(const int32_t*)e->mData; return 1;
+    case AI_UINT64: *out = (double)*(const uint64_t*)e->mData; return 1;
+    default: return 0;
+    }
+}
+
+static int is_fbx_scene(const struct aiScene* s, const char* path) {
+    const struct aiMetadataEntry* e = meta_find(s, "SourceAsset_Format");
+    if (e && e->mType == AI_AISTRING && e->mData &&
+        strstr(((const struct aiString*)e->mData)->data, "FBX"))
+        return 1;
+    return ends_with_ci(path, ".fbx");
+}
+
+/* Names for an error message: distinct non-empty names while they fit, then "...". */
+typedef struct name_list {
+    char buf[176];
+    size_t len;
+    int full;
+} name_list;
+
+static void name_list_add(name_list* l, const char* name) {
+    if (l->full || !name[0]) return;
+    char quoted[136];
+    int n = snprintf(quoted, sizeof quoted, "'%s'", name);
+    if (n < 0 || (size_t)n >= sizeof quoted) { l->full = 1; return; }
+    if (l->len && strstr(l->buf, quoted)) return;   /* already listed */
+    if (l->len + (size_t)n + 2 + 5 >= sizeof l->buf) { l->full = 1; return; }
+    l->len += (size_t)snprintf(l->buf + l->len, sizeof l->buf - l->len, "%s%s",
+                               l->len ? ", " : "", quoted);
+}
+
+static void name_list_finish(name_list* l) {
+    if (l->len == 0 && !l->full)
+        snprintf(l->buf, sizeof l->buf, "(none)");
+    else if (l->full)
+        snprintf(l->buf + l->len, sizeof l->buf - l->len, "%s...", l->len ? ", " : "");
+}
+
+/* ---- node walk -------------------------------------------------------------------------- */
+
+typedef struct instance {
+    unsigned mesh;
+    double m[12];   /* rows 0..2 of the world transform (row-major, column vectors) */
+} instance;
+
+enum { SEL_ALL, SEL_NODE, SEL_MESH };
+
+typedef struct walk {
+    const struct aiScene* scene;
+    int mode;
+    const char* name;
+    instance* inst;       /* NULL while counting */
+    size_t n_inst;
+    int too_deep;
+    int bad_mesh_ref;
+} walk;
+
+static void mat_mul(double r[16], const double a[16], const double b[16]) {
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            r[4 * i + j] = a[4 * i] * b[j] + a[4 * i + 1] * b[4 + j] + a[4 * i + 2] * b[8 + j] +
+                           a[4 * i + 3] * b[12 + j];
+}
+
+static void walk_node(walk* w, const struct aiNode* node, const double parent[16], int emitting,
+                      int depth) {
+    if (!node) return;
+    if (depth > WC_IMPORT_MAX_DEPTH) { w->too_deep = 1; return; }
+    const struct aiMatrix4x4* t = &node->mTransformation;
+    const double local[16] = {t->a1, t->a2, t->a3, t->a4, t->b1, t->b2, t->b3, t->b4,
+                              t->c1, t->c2, t->c3, t->c4, t->d1, t->d2, t->d3, t->d4};
+    double world[16];
+    mat_mul(world, parent, local);
+    if (w->mode == SEL_NODE && !emitting && strcmp(node->mName.data, w->name) == 0) emitting = 1;
+    for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+        unsigned mi = node->mMeshes[i];
+        if (mi >= w->scene->mNumMeshes || !w->scene->mMeshes[mi]) { w->bad_mesh_ref = 1; continue; }
+        int take = w->mode == SEL_ALL || (w->mode == SEL_NODE && emitting) ||
+                   (w->mode == SEL_MESH && strcmp(w->scene->mMeshes[mi]->mName.data, w->name) == 0);
+        if (!take) continue;
+        if (w->inst) {
+            instance* in = &w->inst[w->n_inst];
+            in->mesh = mi;
+            memcpy(in->m, world, sizeof in->m);
+        }
+        ++w->n_inst;
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c)
+        walk_node(w, node->mChildren[c], world, emitting, depth + 1);
+}
+
+static int node_named(const struct aiNode* n, const char* name, int depth) {
+    if (!n || depth > WC_IMPORT_MAX_DEPTH) return 0;
+    if (strcmp(n->mName.data, name) == 0) return 1;
+    for (unsigned c = 0; c < n->mNumChildren; ++c)
+        if (node_named(n->mChildren[c], name, depth + 1)) return 1;
+    return 0;
+}
+
+static void list_node_names(const struct aiNode* n, name_list* l, int* count, int depth) {
+    if (!n || depth > WC_IMPORT_MAX_DEPTH) return;
+    ++*count;
+    name_list_add(l, n->mName.data);
+    for (unsigned c = 0; c < n->mNumChildren; ++c)
+        list_node_names(n->mChildren[c], l, count, depth + 1);
+}
+
+/* ---- import ----------------------------------------------------------------------------- */
+
+/* First bytes look like UTF-16 (BOM, or NUL bytes in text): assimp reads such OBJ as empty. */
+static int looks_utf16(const unsigned char* b, size_t n) {
+    if (n >= 2 && ((b[0] == 0xFF && b[1] == 0xFE) || (b[0] == 0xFE && b[1] == 0xFF))) return 1;
+    size_t zeros = 0;
+    for (size_t i = 0; i < n; ++i) zeros += b[i] == 0;
+    return n >= 4 && zeros * 3 >= n && zeros * 3 <= 2 * n;
+}
+
+/* First bytes hold control characters other than whitespace: not a text file. */
+static int looks_binary(const unsigned char* b, size_t n) {
+    for (size_t i = 0; i < n; ++i)
+        if ((b[i] < 0x20 && b[i] != '\t' && b[i] != '\n' && b[i] != '\r' && b[i] != '\f' &&
+             b[i] != '\v') || b[i] == 0x7F)
+            return 1;
+    return 0;
+}
+
+static weft_status probe_file(const char* path, unsigned char* head, size_t* n_head,
+                              wc_diag* diag) {
+    errno = 0;
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return wc_fail(diag, WEFT_ERROR_IO, "cannot open '%s': %s", path,
+                       errno ? strerror(errno) : "fopen failed");
+    *n_head = fread(head, 1, WC_IMPORT_HEAD, f);
+    int err = ferror(f);
+    int saved = errno;
+    fclose(f);
+    if (err)
+        return wc_fail(diag, WEFT_ERROR_IO, "cannot read '%s': %s", path,
+                       saved ? strerror(saved) : "read error");
+    if (*n_head == 0)
+        return wc_fail(diag, WEFT_ERROR_IMPORT, "cannot import '%s': the file is empty (0 bytes)",
+                       path);
+    return WEFT_OK;
+}
+
+static weft_status check_raw_finite(const struct aiScene* s, const instance* inst, size_t n_inst,
+                                    const char* path, wc_diag* diag) {
+    for (size_t i = 0; i < n_inst; ++i) {
+        const struct aiMesh* m = s->mMeshes[inst[i].mesh];
+        if (i > 0 && inst[i].mesh == inst[i - 1].mesh) continue;
+        for (unsigned v = 0; v < m->mNumVertices; ++v) {
+            const struct aiVector3D* p = &m->mVertices[v];
+            if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->z))
+                return wc_fail(diag, WEFT_ERROR_NONFINITE,
+                               "'%s': mesh '%s' (#%u) has a non-finite position (%g, %g, %g) "
+                               "at its vertex %u (assimp's order before joining)",
+                               path, m->mName.data, inst[i].mesh, (double)p->x, (double)p->y,
+                               (double)p->z, v);
+        }
+    }
+    return WEFT_OK;
+}
+
+/* Concatenate the instances into out (allocated with alloc). Scene already joined. */
+static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
+                              const struct aiScene* s, const instance* inst, size_t n_inst,
+                              double scale, const char* path, wc_diag* diag) {
+    long long nv = 0, np = 0, nc = 0;
+    int n_points = 0, n_lines = 0;
+    for (size_t i = 0; i < n_inst; ++i) {
+        const struct aiMesh* m = s->mMeshes[inst[i].mesh];
+        if (m->mNumVertices > 0 && !m->mVertices)
+            return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' has no positions", path,
+                           m->mName.data);
+        nv += m->mNumVertices;
+        for (unsigned f = 0; f < m->mNumFaces; ++f) {
+            const struct aiFace* face = &m->mFaces[f];
+            for (unsigned k = 0; k < face->mNumIndices; ++k)
+                if (face->mIndices[k] >= m->mNumVertices)
+                    return wc_fail(diag, WEFT_ERROR_IMPORT,
+                                   "'%s': mesh '%s' face %u uses vertex %u of %u (corrupt file)",
+                                   path, m->mName.data, f, face->mIndices[k], m->mNumVertices);
+            if (face->mNumIndices == 1) ++n_points;
+            else if (face->mNumIndices == 2) ++n_lines;
+            else if (face->mNumIndices >= 3) { ++np; nc += face->mNumIndices; }
+        }
+        if (nv > INT_MAX / 3 || np >= INT_MAX || nc > INT_MAX)
+            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "'%s': too many vertices or polygons",
+                           path);
+    }
+    if (np == 0)
+        return wc_fail(diag, WEFT_ERROR_EMPTY_MESH,
+                       "'%s': no polygons with >= 3 corners in %zu mesh instance(s) (%lld "
+                       "vertices, %d points, %d lines)", path, n_inst, nv, n_points, n_lines);
+
+    wc_source_mesh m;
+    memset(&m, 0, sizeof m);
+    if (alloc) m.alloc = *alloc;
+    m.pos = WC_NEW(&m.alloc, double, 3 * (size_t)nv);
+    m.poly_start = WC_NEW(&m.alloc, int, (size_t)np + 1);
+    m.poly_verts = WC_NEW(&m.alloc, int, (size_t)nc);
+    if (!m.pos || !m.poly_start || !m.poly_verts) {
+        wc_source_mesh_free(&m);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "'%s': out of memory for %lld vertices",
+                       path, nv);
+    }
+    int base = 0, q = 0, c = 0;
+    for (size_t i = 0; i < n_inst; ++i) {
+        const struct aiMesh* am = s->mMeshes[inst[i].mesh];
+        const double* t = inst[i].m;
+        for (unsigned v = 0; v < am->mNumVertices; ++v) {
+            double x = am->mVertices[v].x, y = am->mVertices[v].y, z = am->mVertices[v].z;
+            double* o = m.pos + 3 * (size_t)(base + (int)v);
+            for (int r = 0; r < 3; ++r)
+                o[r] = scale * (t[4 * r] * x + t[4 * r + 1] * y + t[4 * r + 2] * z + t[4 * r + 3]);
+            if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
+                int bad = base + (int)v;
+                wc_source_mesh_free(&m);
+                return wc_fail(diag, WEFT_ERROR_NONFINITE,
+                               "'%s': vertex %d (mesh '%s') is not finite after applying the node "
+                               "transform and scale %g", path, bad, am->mName.data, scale);
+            }
+        }
+        for (unsigned f = 0; f < am->mNumFaces; ++f) {
+            const struct aiFace* face = &am->mFaces[f];
+            if (face->mNumIndices < 3) continue;
+            m.poly_start[q++] = c;
+            for (unsigned k = 0; k < face->mNumIndices; ++k)
+                m.poly_verts[c++] = base + (int)face->mIndices[k];
+        }
+        base += (int)am->mNumVertices;
+    }
+    m.poly_start[q] = c;
+    m.n_verts = (int)nv;
+    m.n_polys = (int)np;
+    m.n_points = n_points;
+    m.n_lines = n_lines;
+    m.n_meshes = (int)n_inst;
+    m.unit_scale = scale;
+    *out = m;
+    return WEFT_OK;
+}
+
+/* Unit factor of the file (metres per file unit) before the user's scale. */
+static weft_status file_unit(const struct aiScene* s, const char* path, double* unit,
+                             wc_diag* diag) {
+    *unit = 1.0;
+    if (!is_fbx_scene(s, path)) return WEFT_OK;
+    double usf = 1.0;   /* FBX default: centimetres */
+    const struct aiMetadataEntry* e = meta_find(s, "UnitScaleFactor");
+    if (e && !meta_number(e, &usf))
+        return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': FBX UnitScaleFactor has metadata type %d",
+                       path, (int)e->mType);
+    if (!(isfinite(usf) && usf > 0.0))
+        return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': invalid FBX UnitScaleFactor %g", path, usf);
+    *unit = usf / 100.0;
+    return WEFT_OK;
+}
+
+weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
+                           const wc_import_opts* opts, wc_diag* diag) {
+    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: out is NULL");
+    memset(out, 0, sizeof *out);
+    if (!path || !path[0])
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: path is %s",
+                       path ? "empty" : "NULL");
+    wc_import_opts o = opts ? *opts : wc_default_import_opts();
+    if (o.scale == 0.0) o.scale = 1.0;
+    if (!(isfinite(o.scale) && o.scale > 0.0))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+                       "import '%s': scale %g must be finite and > 0 (0 means 1)", path, o.scale);
+    if (o.select && !o.select[0]) o.select = NULL;
+
+    unsigned char head[WC_IMPORT_HEAD];
+    size_t n_head = 0;
+    weft_status st = probe_file(path, head, &n_head, diag);
+    if (st != WEFT_OK) return st;
+
+    struct aiPropertyStore* props = aiCreatePropertyStore();
+    if (!props)
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "import '%s': no property store", path);
+    aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
+    aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, 0);
+    aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_READ_CAMERAS, 0);
+    aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_READ_LIGHTS, 0);
+    aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_NO_SKELETON_MESHES, 1);
+    const struct aiScene* scene = aiImportFileExWithProperties(path, 0, NULL, props);
+    if (!scene) {
+        const char* why = aiGetErrorString();   /* process-global in assimp: copy it now */
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", why && why[0] ? why : "unknown error");
+        aiReleasePropertyStore(props);
+        return wc_fail(diag, WEFT_ERROR_IMPORT, "cannot import '%s': %s", path, reason);
+    }
+
+    instance* inst = NULL;
+    walk w;
+    memset(&w, 0, sizeof w);
+    w.scene = scene;
+    static const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    double unit = 1.0;
+
+    if (scene->mNumMeshes == 0 || !scene->mRootNode) {
+        /* assimp's OBJ importer accepts any bytes and returns zero meshes: tell an unreadable
+         * file (UTF-16, binary garbage) apart from a readable one without geometry. */
+        if (looks_utf16(head, n_head))
+            st = wc_fail(diag, WEFT_ERROR_IMPORT,
+                         "cannot import '%s': it looks like UTF-16 text, which assimp reads as "
+                         "no meshes; re-save it as UTF-8 or ASCII", path);
+        else if (ends_with_ci(path, ".obj") && looks_binary(head, n_head))
+            st = wc_fail(diag, WEFT_ERROR_IMPORT,
+                         "cannot import '%s': assimp found no meshes and the file holds binary "
+                         "bytes (corrupt, or not an OBJ file)", path);
+        else
+            st = wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "'%s' has no meshes", path);
+        goto done;
+    }
+    st = file_unit(scene, path, &unit, diag);
+    if (st != WEFT_OK) goto done;
+
+    w.mode = SEL_ALL;
+    if (o.select) {
+        w.name = o.select;
+        if (node_named(scene->mRootNode, o.select, 0)) {
+            w.mode = SEL_NODE;
+        } else {
+            int found = 0;
+            for (unsigned i = 0; i < scene->mNumMeshes && !found; ++i)
+                found = scene->mMeshes[i] && strcmp(scene->mMeshes[i]->mName.data, o.select) == 0;
+            if (!found) {
+                name_list nodes, meshes;
+                memset(&nodes, 0, sizeof nodes);
+                memset(&meshes, 0, sizeof meshes);
+                int n_nodes = 0;
+                list_node_names(scene->mRootNode, &nodes, &n_nodes, 0);
+                for (unsigned i = 0; i < scene->mNumMeshes; ++i)
+                    if (scene->mMeshes[i]) name_list_add(&meshes, scene->mMeshes[i]->mName.data);
+                name_list_finish(&nodes);
+                name_list_finish(&meshes);
+                st = wc_fail(diag, WEFT_ERROR_IMPORT,
+                             "'%s': no node or mesh named '%s'; meshes (%u): %s; nodes (%d): %s",
+                             path, o.select, scene->mNumMeshes, meshes.buf, n_nodes, nodes.buf);
+                goto done;
+            }
+            w.mode = SEL_MESH;
+        }
+    }
+    walk_node(&w, scene->mRootNode, identity, 0, 0);   /* count */
+    if (w.too_deep) {
+        st = wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': node hierarchy deeper than %d levels", path,
+                     WC_IMPORT_MAX_DEPTH);
+        goto done;
+    }
+    if (w.bad_mesh_ref) {
+        st = wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': a node references a missing mesh", path);
+        goto done;
+    }
+    if (w.n_inst == 0) {
+        st = wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "'%s': %s%s%s has no mesh instances", path,
+                     o.select ? (w.mode == SEL_NODE ? "node '" : "mesh '") : "the scene",
+                     o.select ? o.select : "", o.select ? "'" : "");
+        goto done;
+    }
+    inst = WC_NEW(alloc, instance, w.n_inst);
+    if (!inst) {
+        st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
+        goto done;
+    }
+    w.inst = inst;
+    w.n_inst = 0;
+    walk_node(&w, scene->mRootNode, identity, 0, 0);   /* fill */
+
+    st = check_raw_finite(scene, inst, w.n_inst, path, diag);
+    if (st != WEFT_OK) goto done;
+
+    scene = aiApplyPostProcessing(scene, aiProcess_JoinIdenticalVertices);
+    if (!scene) {   /* assimp released the scene */
+        char reason[256];
+        const char* why = aiGetErrorString();
+        snprintf(reason, sizeof reason, "%s", why && why[0] ? why : "unknown error");
+        st = wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': joining identical vertices failed: %s", path,
+                     reason);
+        goto done;
+    }
+    st = build_mesh(out, alloc, scene, inst, w.n_inst, unit * o.scale, path, diag);
+    if (st == WEFT_OK)
+        wc_log(diag, WC_LOG_INFO,
+               "imported '%s': %d vertices, %d polygons, %d mesh instance(s), %g m per unit",
+               path, out->n_verts, out->n_polys, out->n_meshes, out->unit_scale);
+
+done:
+    wc_free(alloc, inst);
+    if (scene) aiReleaseImport(scene);
+    aiReleasePropertyStore(props);
+    if (st != WEFT_OK) memset(out, 0, sizeof *out);
+    return st;
+}
