@@ -77,6 +77,7 @@ typedef struct build_tmp {
     int* remap;        /* welded particle -> final particle */
     int* quads;
     int* scratch;
+    wc_keyed* sides;   /* triangle sides sorted by vertex pair (orientation, winged edge) */
 } build_tmp;
 
 static void tmp_free(build_tmp* t, const wc_allocator* a) {
@@ -90,6 +91,7 @@ static void tmp_free(build_tmp* t, const wc_allocator* a) {
     wc_free(a, t->remap);
     wc_free(a, t->quads);
     wc_free(a, t->scratch);
+    wc_free(a, t->sides);
 }
 
 static double tri_area(const double* pos, const int* t) {
@@ -228,7 +230,9 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     STAGE_DONE(clean);
 
     /* 4. consistent winding per component */
-    if (!wc_orient_triangles(nw, t.tris, t.mask, nt, &r->flipped_faces, &r->non_orientable_components, A))
+    t.sides = wc_sorted_sides(nw, t.tris, nt, A);
+    if (!t.sides ||
+        !wc_orient_triangles(t.tris, t.mask, nt, t.sides, &r->flipped_faces, &r->non_orientable_components, A))
         goto oom;
 
     STAGE_DONE(orient);
@@ -294,7 +298,7 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     /* 6. topology: components, winged edge, boundary loops */
     m->n_components = wc_components(np, m->tris, nt, m->particle_component, A);
     if (m->n_components < 0) goto oom;
-    st = wc_winged_edge_build(&m->we, A, np, m->tris, nt, t.mask, diag);
+    st = wc_winged_edge_build_sorted(&m->we, A, np, m->tris, nt, t.mask, t.sides, diag);
     if (st != WEFT_OK) goto fail;
     r->boundary_loops = wc_boundary_loops(&m->we, A);
     if (r->boundary_loops < 0) goto oom;

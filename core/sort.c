@@ -9,34 +9,45 @@ int wc_bits_for(uint64_t max_value) {
 
 enum { DIGIT_BITS = 11, RADIX = 1 << DIGIT_BITS };
 
-int wc_radix_sort(wc_keyed* items, int n, int key_bits, const wc_allocator* alloc) {
-    if (n <= 1) return 1;
-    wc_keyed* tmp = WC_NEW(alloc, wc_keyed, n);
-    if (!tmp) return 0;
-    int* count = WC_NEW(alloc, int, RADIX);
-    if (!count) {
-        wc_free(alloc, tmp);
-        return 0;
-    }
-    wc_keyed* src = items;
-    wc_keyed* dst = tmp;
-    for (int shift = 0; shift < key_bits; shift += DIGIT_BITS) {
-        memset(count, 0, sizeof(int) * RADIX);
-        for (int i = 0; i < n; ++i) ++count[(src[i].key >> shift) & (RADIX - 1)];
-        if (count[(src[0].key >> shift) & (RADIX - 1)] == n) continue; /* one digit value */
-        int sum = 0;
-        for (int d = 0; d < RADIX; ++d) {
-            int c = count[d];
-            count[d] = sum;
-            sum += c;
-        }
-        for (int i = 0; i < n; ++i) dst[count[(src[i].key >> shift) & (RADIX - 1)]++] = src[i];
-        wc_keyed* t = src;
-        src = dst;
-        dst = t;
-    }
-    if (src != items) memcpy(items, src, sizeof(wc_keyed) * (size_t)n);
-    wc_free(alloc, count);
-    wc_free(alloc, tmp);
+/* One LSD radix sort body for both element types; KEY(x) reads an element's key. */
+#define WC_RADIX_SORT_BODY(TYPE, KEY)                                                    \
+    if (n <= 1) return 1;                                                                \
+    TYPE* tmp = WC_NEW(alloc, TYPE, n);                                                  \
+    if (!tmp) return 0;                                                                  \
+    int* count = WC_NEW(alloc, int, RADIX);                                              \
+    if (!count) {                                                                        \
+        wc_free(alloc, tmp);                                                             \
+        return 0;                                                                        \
+    }                                                                                    \
+    TYPE* src = items;                                                                   \
+    TYPE* dst = tmp;                                                                     \
+    for (int shift = 0; shift < key_bits; shift += DIGIT_BITS) {                         \
+        memset(count, 0, sizeof(int) * RADIX);                                           \
+        for (int i = 0; i < n; ++i) ++count[(KEY(src[i]) >> shift) & (RADIX - 1)];      \
+        if (count[(KEY(src[0]) >> shift) & (RADIX - 1)] == n) continue;                  \
+        int sum = 0;                                                                     \
+        for (int d = 0; d < RADIX; ++d) {                                                \
+            int c = count[d];                                                            \
+            count[d] = sum;                                                              \
+            sum += c;                                                                    \
+        }                                                                                \
+        for (int i = 0; i < n; ++i) dst[count[(KEY(src[i]) >> shift) & (RADIX - 1)]++] = src[i]; \
+        TYPE* t = src;                                                                   \
+        src = dst;                                                                       \
+        dst = t;                                                                         \
+    }                                                                                    \
+    if (src != items) memcpy(items, src, sizeof(TYPE) * (size_t)n);                      \
+    wc_free(alloc, count);                                                               \
+    wc_free(alloc, tmp);                                                                 \
     return 1;
+
+#define KEYED_KEY(x) ((x).key)
+#define BARE_KEY(x) (x)
+
+int wc_radix_sort(wc_keyed* items, int n, int key_bits, const wc_allocator* alloc) {
+    WC_RADIX_SORT_BODY(wc_keyed, KEYED_KEY)
+}
+
+int wc_radix_sort_u64(uint64_t* items, int n, int key_bits, const wc_allocator* alloc) {
+    WC_RADIX_SORT_BODY(uint64_t, BARE_KEY)
 }

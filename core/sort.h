@@ -5,7 +5,7 @@
 #include <stdint.h>
 #include "alloc.h"
 
-typedef struct wc_keyed {
+typedef struct wc_keyed { /* tagged so headers can forward-declare it */
     uint64_t key;
     int32_t val;
     int32_t pad_;
@@ -15,6 +15,9 @@ typedef struct wc_keyed {
  * over digits above it are skipped). Needs a scratch array of n items; returns 0 on allocation
  * failure (items untouched), 1 on success. */
 int wc_radix_sort(wc_keyed* items, int n, int key_bits, const wc_allocator* alloc);
+
+/* The same for bare 64-bit keys (half the memory traffic when no payload is needed). */
+int wc_radix_sort_u64(uint64_t* keys, int n, int key_bits, const wc_allocator* alloc);
 
 /* Number of bits needed to hold values 0..max_value. */
 int wc_bits_for(uint64_t max_value);

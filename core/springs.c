@@ -3,7 +3,7 @@
 #include "sort.h"
 
 typedef struct cand_buf {
-    wc_keyed* items;
+    uint64_t* items;      /* (pair << 2) | type */
     int n, cap;
     uint64_t np;
 } cand_buf;
@@ -11,9 +11,7 @@ typedef struct cand_buf {
 static void add(cand_buf* c, int a, int b, int type) {
     if (a < 0 || b < 0 || a == b) return; /* capacity is exact by construction */
     uint64_t lo = (uint64_t)(a < b ? a : b), hi = (uint64_t)(a < b ? b : a);
-    c->items[c->n].key = ((lo * c->np + hi) << 2) | (uint64_t)type;
-    c->items[c->n].val = 0;
-    c->n++;
+    c->items[c->n++] = ((lo * c->np + hi) << 2) | (uint64_t)type;
 }
 
 static double dist(const double* pos, int a, int b) {
@@ -61,7 +59,7 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
 
     /* stretch <= edges, quad diagonals 2 per quad, wings <= edges, bend <= 2 per polygon edge */
     c.cap = 2 * we->n_edges + 2 * in->n_quads + 2 * n_poly_edges + 1;
-    c.items = WC_NEW(alloc, wc_keyed, c.cap);
+    c.items = WC_NEW(alloc, uint64_t, c.cap);
     if (!c.items) goto oom;
 
     for (int e = 0; e < we->n_edges; ++e) /* stretch */
@@ -108,14 +106,14 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
         }
     }
 
-    if (!wc_radix_sort(c.items, c.n, wc_bits_for(((uint64_t)np * (uint64_t)np) << 2), alloc)) goto oom;
+    if (!wc_radix_sort_u64(c.items, c.n, wc_bits_for(((uint64_t)np * (uint64_t)np) << 2), alloc)) goto oom;
     /* keep the lowest type of each pair; then order by type, (a, b) */
     int count[WC_SPRING_TYPE_COUNT] = {0};
     int m = 0;
     for (int i = 0; i < c.n; ++i) {
-        if (i > 0 && (c.items[i].key >> 2) == (c.items[m - 1].key >> 2)) continue;
+        if (i > 0 && (c.items[i] >> 2) == (c.items[m - 1] >> 2)) continue;
         c.items[m++] = c.items[i];
-        ++count[c.items[i].key & 3];
+        ++count[c.items[i] & 3];
     }
     wc_spring* springs = WC_NEW(alloc, wc_spring, m > 0 ? m : 1);
     if (!springs) goto oom;
@@ -124,8 +122,8 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
     int pos_of[WC_SPRING_TYPE_COUNT];
     for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) pos_of[t] = type_start[t];
     for (int i = 0; i < m; ++i) {
-        uint64_t pair = c.items[i].key >> 2;
-        int t = (int)(c.items[i].key & 3);
+        uint64_t pair = c.items[i] >> 2;
+        int t = (int)(c.items[i] & 3);
         wc_spring* s = &springs[pos_of[t]++];
         s->a = (int)(pair / c.np);
         s->b = (int)(pair % c.np);

@@ -85,26 +85,33 @@ static void flip(int* tri, unsigned char* mask) {
     }
 }
 
-int wc_orient_triangles(int n_verts, int* tris, unsigned char* side_mask, int n, int* flipped,
+wc_keyed* wc_sorted_sides(int n_verts, const int* tris, int n, const wc_allocator* alloc) {
+    const int ns = 3 * n;
+    wc_keyed* sides = WC_NEW(alloc, wc_keyed, ns > 0 ? ns : 1);
+    if (!sides) return NULL;
+    for (int t = 0; t < n; ++t)
+        for (int k = 0; k < 3; ++k) {
+            int a = tris[3 * t + k], b = tris[3 * t + (k + 1) % 3];
+            uint64_t lo = (uint64_t)(a < b ? a : b), hi = (uint64_t)(a < b ? b : a);
+            sides[3 * t + k].key = lo * (uint64_t)n_verts + hi;
+            sides[3 * t + k].val = 3 * t + k;
+        }
+    if (!wc_radix_sort(sides, ns, wc_bits_for((uint64_t)n_verts * (uint64_t)n_verts), alloc)) {
+        wc_free(alloc, sides);
+        return NULL;
+    }
+    return sides;
+}
+
+int wc_orient_triangles(int* tris, unsigned char* side_mask, int n, wc_keyed* sides, int* flipped,
                         int* non_orientable, const wc_allocator* alloc) {
     *flipped = *non_orientable = 0;
     if (n == 0) return 1;
     const int ns = 3 * n;
-    wc_keyed* sides = WC_NEW(alloc, wc_keyed, ns);
     int* nbr = WC_NEW(alloc, int, ns);          /* side -> the matching side across, or -1 */
     signed char* state = WC_NEW(alloc, signed char, n); /* 0 unvisited, 1 keep, 2 flip */
     int* queue = WC_NEW(alloc, int, n);
-    int ok = sides && nbr && state && queue;
-    if (ok) {
-        for (int t = 0; t < n; ++t)
-            for (int k = 0; k < 3; ++k) {
-                int a = tris[3 * t + k], b = tris[3 * t + (k + 1) % 3];
-                uint64_t lo = (uint64_t)(a < b ? a : b), hi = (uint64_t)(a < b ? b : a);
-                sides[3 * t + k].key = lo * (uint64_t)n_verts + hi;
-                sides[3 * t + k].val = 3 * t + k;
-            }
-        ok = wc_radix_sort(sides, ns, wc_bits_for((uint64_t)n_verts * (uint64_t)n_verts), alloc);
-    }
+    int ok = nbr && state && queue;
     if (ok) {
         for (int s = 0; s < ns; ++s) nbr[s] = -1;
         for (int i = 0; i < ns;) {
@@ -144,14 +151,19 @@ int wc_orient_triangles(int n_verts, int* tris, unsigned char* side_mask, int n,
             for (int q = 0; q < tail; ++q) {
                 int t = queue[q];
                 int do_flip = (state[t] == 2) != invert;
+                state[t] = do_flip ? 2 : 1; /* from here on: 2 = was flipped */
                 if (do_flip) {
                     flip(tris + 3 * t, side_mask ? side_mask + t : NULL);
                     ++*flipped;
                 }
             }
         }
+        /* side k of a flipped triangle is now side 2 - k */
+        for (int s = 0; s < ns && *flipped; ++s) {
+            int t = sides[s].val / 3, k = sides[s].val % 3;
+            if (state[t] == 2) sides[s].val = 3 * t + 2 - k;
+        }
     }
-    wc_free(alloc, sides);
     wc_free(alloc, nbr);
     wc_free(alloc, state);
     wc_free(alloc, queue);

@@ -3,6 +3,7 @@
 #include "winged_edge.h"
 #include <string.h>
 #include "sort.h"
+#include "topology.h"
 
 void wc_winged_edge_free(wc_winged_edge* we, const wc_allocator* alloc) {
     if (!we) return;
@@ -26,33 +27,37 @@ weft_status wc_winged_edge_build(wc_winged_edge* we, const wc_allocator* alloc, 
     memset(we, 0, sizeof *we);
     if (n_verts < 0 || n_faces < 0 || (n_faces > 0 && !tris))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "winged edge: bad arguments");
+    for (int i = 0; i < 3 * n_faces; ++i)
+        if (tris[i] < 0 || tris[i] >= n_verts)
+            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "winged edge: face %d has a bad vertex", i / 3);
+    wc_keyed* sides = wc_sorted_sides(n_verts, tris, n_faces, alloc);
+    if (!sides) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "winged edge: out of memory (%d faces)", n_faces);
+    weft_status st = wc_winged_edge_build_sorted(we, alloc, n_verts, tris, n_faces, side_polygon, sides, diag);
+    wc_free(alloc, sides);
+    return st;
+}
+
+weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
+                                        const int* tris, int n_faces, const unsigned char* side_polygon,
+                                        const wc_keyed* sides, wc_diag* diag) {
+    memset(we, 0, sizeof *we);
+    if (n_verts < 0 || n_faces < 0 || (n_faces > 0 && (!tris || !sides)))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "winged edge: bad arguments");
     const int n_sides = 3 * n_faces;
-    wc_keyed* sides = WC_NEW(alloc, wc_keyed, n_sides > 0 ? n_sides : 1);
+    for (int f = 0; f < n_faces; ++f) {
+        const int* t = tris + 3 * f;
+        for (int k = 0; k < 3; ++k)
+            if (t[k] < 0 || t[k] >= n_verts || t[k] == t[(k + 1) % 3])
+                return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+                               "winged edge: face %d has a bad or repeated vertex", f);
+    }
     we->vert_edge = WC_NEW(alloc, int, n_verts > 0 ? n_verts : 1);
     we->faces = WC_NEW(alloc, wc_we_face, n_faces > 0 ? n_faces : 1);
     /* at most one edge per side */
     we->edges = WC_NEW(alloc, wc_we_edge, n_sides > 0 ? n_sides : 1);
-    if (!sides || !we->vert_edge || !we->faces || !we->edges) goto oom;
-
-    for (int f = 0; f < n_faces; ++f) {
-        for (int k = 0; k < 3; ++k) {
-            int a = tris[3 * f + k], b = tris[3 * f + (k + 1) % 3];
-            if (a < 0 || a >= n_verts || b < 0 || b >= n_verts || a == b) {
-                wc_free(alloc, sides);
-                wc_winged_edge_free(we, alloc);
-                return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
-                               "winged edge: face %d has a bad or repeated vertex", f);
-            }
-            uint64_t lo = (uint64_t)(a < b ? a : b), hi = (uint64_t)(a < b ? b : a);
-            sides[3 * f + k].key = lo * (uint64_t)n_verts + hi;
-            sides[3 * f + k].val = 3 * f + k;
-        }
-        we->faces[f].v[0] = tris[3 * f];
-        we->faces[f].v[1] = tris[3 * f + 1];
-        we->faces[f].v[2] = tris[3 * f + 2];
-    }
-    uint64_t max_key = (uint64_t)n_verts * (uint64_t)n_verts;
-    if (!wc_radix_sort(sides, n_sides, wc_bits_for(max_key), alloc)) goto oom;
+    if (!we->vert_edge || !we->faces || !we->edges) goto oom;
+    for (int f = 0; f < n_faces; ++f)
+        for (int k = 0; k < 3; ++k) we->faces[f].v[k] = tris[3 * f + k];
 
     int ne = 0;
     for (int i = 0; i < n_sides;) {
@@ -78,9 +83,6 @@ weft_status wc_winged_edge_build(wc_winged_edge* we, const wc_allocator* alloc, 
         }
         i = j;
     }
-    wc_free(alloc, sides);
-    sides = NULL;
-
     /* Wings: the edges before and after this one in each adjacent face. */
     for (int e = 0; e < ne; ++e) {
         wc_we_edge* ed = &we->edges[e];
@@ -105,7 +107,6 @@ weft_status wc_winged_edge_build(wc_winged_edge* we, const wc_allocator* alloc, 
     return WEFT_OK;
 
 oom:
-    wc_free(alloc, sides);
     wc_winged_edge_free(we, alloc);
     return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "winged edge: out of memory (%d faces)", n_faces);
 }

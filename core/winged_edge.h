@@ -38,6 +38,13 @@ typedef struct wc_winged_edge {
 weft_status wc_winged_edge_build(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
                                  const int* tris, int n_faces, const unsigned char* side_polygon,
                                  wc_diag* diag);
+/* The same from wc_sorted_sides() output (topology.h) computed earlier: only its grouping of equal
+ * keys and its vals (3 face + side) are used, so any order-preserving renumbering of the
+ * vertices since then is fine. */
+struct wc_keyed;
+weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
+                                        const int* tris, int n_faces, const unsigned char* side_polygon,
+                                        const struct wc_keyed* sides, wc_diag* diag);
 void wc_winged_edge_free(wc_winged_edge* we, const wc_allocator* alloc);
 
 /* The vertex of face f opposite its edge e (the "wing" vertex), -1 if e is not in f. */
