@@ -94,16 +94,6 @@ static void tmp_free(build_tmp* t, const wc_allocator* a) {
     wc_free(a, t->sides);
 }
 
-static double tri_area(const double* pos, const int* t) {
-    const double* a = pos + 3 * t[0];
-    const double* b = pos + 3 * t[1];
-    const double* c = pos + 3 * t[2];
-    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
-    return 0.5 * sqrt(x * x + y * y + z * z);
-}
-
 static weft_status validate_def(const wc_model_def* d, wc_diag* diag) {
     if (!(d->weld_tolerance >= 0.0) || !isfinite(d->weld_tolerance))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "weld_tolerance must be finite and >= 0 (got %g)", d->weld_tolerance);
@@ -292,7 +282,7 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     for (int i = 0; i < nt; ++i) {
         int p = m->tri_poly[i];
         m->tri_quad[i] = (src->poly_start[p + 1] - src->poly_start[p]) == 4;
-        m->tri_rest_area[i] = tri_area(m->rest_pos, m->tris + 3 * i);
+        m->tri_rest_area[i] = wc_triangle_area(m->rest_pos, m->tris + 3 * i);
     }
 
     /* 6. topology: components, winged edge, boundary loops */

@@ -2,8 +2,9 @@
 #include <math.h>
 #include <string.h>
 #include "sort.h"
+#include "union_find.h"
 
-static double tri_area(const double* pos, const int* t) {
+double wc_triangle_area(const double* pos, const int* t) {
     const double* a = pos + 3 * t[0];
     const double* b = pos + 3 * t[1];
     const double* c = pos + 3 * t[2];
@@ -31,7 +32,7 @@ int wc_flag_bad_triangles(const int* tris, int n, const double* pos, double min_
     for (int t = 0; t < n; ++t) {
         const int* v = tris + 3 * t;
         keep[t] = 1;
-        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2] || !(tri_area(pos, v) > min_area)) {
+        if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2] || !(wc_triangle_area(pos, v) > min_area)) {
             keep[t] = 0;
             ++*degenerate;
             continue;
@@ -170,14 +171,6 @@ int wc_orient_triangles(int* tris, unsigned char* side_mask, int n, wc_keyed* si
     return ok;
 }
 
-static int uf_find(int* p, int i) {
-    while (p[i] != i) {
-        p[i] = p[p[i]];
-        i = p[i];
-    }
-    return i;
-}
-
 int wc_components(int n_verts, const int* tris, int n, int* comp, const wc_allocator* alloc) {
     int* parent = WC_NEW(alloc, int, n_verts > 0 ? n_verts : 1);
     if (!parent) return -1;
@@ -187,15 +180,14 @@ int wc_components(int n_verts, const int* tris, int n, int* comp, const wc_alloc
     }
     for (int t = 0; t < n; ++t)
         for (int k = 0; k < 2; ++k) {
-            int a = uf_find(parent, tris[3 * t + k]), b = uf_find(parent, tris[3 * t + k + 1]);
-            if (a != b) parent[a < b ? b : a] = a < b ? a : b;
+            wc_uf_union(parent, tris[3 * t + k], tris[3 * t + k + 1]);
         }
     for (int t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) comp[tris[3 * t + k]] = -2; /* in a triangle */
     int count = 0;
     for (int v = 0; v < n_verts; ++v) {
         if (comp[v] == -1) continue;
-        int r = uf_find(parent, v); /* roots are the lowest index of their set */
+        int r = wc_uf_find(parent, v); /* roots are the lowest index of their set */
         comp[v] = (r == v) ? count++ : comp[r];
     }
     wc_free(alloc, parent);

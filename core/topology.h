@@ -6,6 +6,9 @@
 #include "sort.h"
 #include "winged_edge.h"
 
+/* Area of triangle t (3 indices into pos, x 3). */
+double wc_triangle_area(const double* pos, const int* t);
+
 /* Flags each triangle (keep[t] = 0) that repeats a vertex or whose area is <= min_area, and
  * each later copy of an earlier triangle with the same three vertices (any order).
  * Counts go to *degenerate and *duplicates. Returns 0 on allocation failure. */

@@ -7,6 +7,7 @@
 #include "weld.h"
 #include <math.h>
 #include "sort.h"
+#include "union_find.h"
 
 enum { WELD_CELL = 64, KEY_BITS = 44, SMALL_GROUP = 24 };
 
@@ -16,22 +17,6 @@ static uint64_t cell_hash(int64_t x, int64_t y, int64_t z) {
     h ^= (uint64_t)z * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
     h ^= h >> 29;
     return h & ((1ull << KEY_BITS) - 1);
-}
-
-static int uf_find(int* parent, int i) {
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-static void uf_union(int* parent, int a, int b) {
-    a = uf_find(parent, a);
-    b = uf_find(parent, b);
-    if (a == b) return;
-    if (a < b) parent[b] = a; /* the root is always the lowest host index */
-    else parent[a] = b;
 }
 
 /* First index in sorted items with key >= k. */
@@ -104,12 +89,12 @@ int wc_weld(const double* pos, const unsigned char* used, int n, double distance
             if (e - s <= SMALL_GROUP) {
                 for (int a = s + 1; a < e; ++a)
                     for (int b = s; b < a; ++b)
-                        if (close_enough(pos, items[a].val, items[b].val, d2)) uf_union(parent, items[a].val, items[b].val);
+                        if (close_enough(pos, items[a].val, items[b].val, d2)) wc_uf_union(parent, items[a].val, items[b].val);
             } else { /* a crowded cell: sweep along x */
                 sort_group_by_x(items + s, e - s, pos);
                 for (int a = s + 1; a < e; ++a)
                     for (int b = a - 1; b >= s && pos[3 * items[a].val] - pos[3 * items[b].val] <= distance; --b)
-                        if (close_enough(pos, items[a].val, items[b].val, d2)) uf_union(parent, items[a].val, items[b].val);
+                        if (close_enough(pos, items[a].val, items[b].val, d2)) wc_uf_union(parent, items[a].val, items[b].val);
             }
             s = e;
         }
@@ -132,7 +117,7 @@ int wc_weld(const double* pos, const unsigned char* used, int n, double distance
                 uint64_t key = cell_hash(c[0] + ((q & 1) ? s[0] : 0), c[1] + ((q & 2) ? s[1] : 0),
                                          c[2] + ((q & 4) ? s[2] : 0));
                 for (int j = lower_bound(items, m, key); j < m && items[j].key == key; ++j)
-                    if (items[j].val != i && close_enough(pos, i, items[j].val, d2)) uf_union(parent, i, items[j].val);
+                    if (items[j].val != i && close_enough(pos, i, items[j].val, d2)) wc_uf_union(parent, i, items[j].val);
             }
         }
         wc_free(alloc, items);
@@ -144,7 +129,7 @@ int wc_weld(const double* pos, const unsigned char* used, int n, double distance
             to_particle[i] = -1;
             continue;
         }
-        int r = uf_find(parent, i);
+        int r = wc_uf_find(parent, i);
         /* roots are the lowest index of their set, so they are visited first */
         to_particle[i] = (r == i) ? count++ : to_particle[r];
     }
