@@ -356,6 +356,9 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     if (max_sides > 4)
         wc_report_warn(r, "polygons with up to %d sides were ear-clipped; their diagonals are not stretch springs",
                        max_sides);
+    if (max_sides > WC_EAR_CLIP_MAX)
+        wc_report_warn(r, "polygons with more than %d sides were fanned from their first corner (overlaps if "
+                       "concave)", WC_EAR_CLIP_MAX);
     tmp_free(&t, A);
     r->ms.total = wc_now_ms() - t_start;
 #undef STAGE_DONE

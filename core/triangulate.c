@@ -82,6 +82,12 @@ int wc_triangulate_polygon(const int* corners, int k, const double* pos, int* tr
         }
         return 2;
     }
+    if (k > WC_EAR_CLIP_MAX) {
+        for (int i = 1; i + 1 < k; ++i)
+            emit(tris, side_mask, i - 1, c[0], c[i], c[i + 1],
+                 (unsigned char)((i == 1 ? 1 : 0) | 2 | (i + 2 == k ? 4 : 0)));
+        return k - 2;
+    }
     /* Ear clipping over the remaining corners (indices into c). */
     int* idx = scratch;
     int m = k, t = 0;

@@ -185,6 +185,33 @@ static void test_concave_polygon(void) {
     wc_model_free(&m);
 }
 
+/* A 5000-gon (a disc's cap): fanned instead of ear-clipped, exact area, a warning, and quick. */
+static void test_huge_polygon(void) {
+    enum { K = 5000 };
+    double* pos = malloc(sizeof(double) * 3 * K);
+    int* idx = malloc(sizeof(int) * K);
+    int sizes[1] = {K};
+    for (int i = 0; i < K; ++i) {
+        double a = 2 * 3.14159265358979323846 * i / K;
+        pos[3 * i] = cos(a);
+        pos[3 * i + 1] = sin(a);
+        pos[3 * i + 2] = 0;
+        idx[i] = i;
+    }
+    wc_model m;
+    wc_diag d = {0};
+    CHECK_EQ_INT(build_arrays(&m, pos, K, sizes, 1, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(m.n_tris, K - 2);
+    double area = 0;
+    for (int t = 0; t < m.n_tris; ++t) area += m.tri_rest_area[t];
+    CHECK_NEAR(area, 0.5 * K * sin(2 * 3.14159265358979323846 / K), 1e-9);
+    CHECK_EQ_INT(m.report.springs[WC_SPRING_STRETCH], K);
+    CHECK(has_warning(&m, "fanned"));
+    wc_model_free(&m);
+    free(pos);
+    free(idx);
+}
+
 /* A quad next to a triangle: the quad's two diagonals plus one wing spring across the shared
  * edge (one of its faces is not from a quad). */
 static void test_mixed_quad_triangle(void) {
@@ -279,6 +306,7 @@ int main(void) {
     RUN_TEST(test_moebius_strip);
     RUN_TEST(test_points_lines_and_components);
     RUN_TEST(test_concave_polygon);
+    RUN_TEST(test_huge_polygon);
     RUN_TEST(test_mixed_quad_triangle);
     RUN_TEST(test_closed_surfaces);
     RUN_TEST(test_nothing_usable);
