@@ -295,8 +295,7 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     for (int e = 0; e < m->we.n_edges; ++e) {
         const wc_we_edge* ed = &m->we.edges[e];
         if (ed->f[1] < 0) ++r->boundary_edges;
-        int first_copy = !(e > 0 && m->we.edges[e - 1].v[0] == ed->v[0] && m->we.edges[e - 1].v[1] == ed->v[1]);
-        if ((ed->flags & WC_EDGE_NON_MANIFOLD) && first_copy) ++r->non_manifold_edges;
+        if ((ed->flags & WC_EDGE_NON_MANIFOLD) && !wc_we_repeats_previous(&m->we, e)) ++r->non_manifold_edges;
     }
 
     STAGE_DONE(topology);
@@ -305,7 +304,6 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     wc_spring_input spring_in = {np, m->rest_pos, &m->we, m->tri_quad, nq, t.quads, def->bend_min_angle_deg};
     st = wc_build_springs(&spring_in, &m->springs, &m->n_springs, m->spring_type_start, A, diag);
     if (st != WEFT_OK) goto fail;
-    m->n_springs = m->spring_type_start[WC_SPRING_TYPE_COUNT];
     STAGE_DONE(springs);
 
     /* 8. lumped masses */

@@ -42,7 +42,7 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
         const wc_we_edge* ed = &we->edges[e];
         /* non-manifold copies repeat a pair: count each pair once (first copy) */
         if (!(ed->flags & WC_EDGE_POLYGON)) continue;
-        if (e > 0 && we->edges[e - 1].v[0] == ed->v[0] && we->edges[e - 1].v[1] == ed->v[1]) continue;
+        if (wc_we_repeats_previous(we, e)) continue;
         ++deg[ed->v[0] + 1];
         ++deg[ed->v[1] + 1];
         ++n_poly_edges;
@@ -52,7 +52,7 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
     for (int e = 0; e < we->n_edges; ++e) {
         const wc_we_edge* ed = &we->edges[e];
         if (!(ed->flags & WC_EDGE_POLYGON)) continue;
-        if (e > 0 && we->edges[e - 1].v[0] == ed->v[0] && we->edges[e - 1].v[1] == ed->v[1]) continue;
+        if (wc_we_repeats_previous(we, e)) continue;
         adj[fill[ed->v[0]]++] = ed->v[1];
         adj[fill[ed->v[1]]++] = ed->v[0];
     }

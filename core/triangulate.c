@@ -92,8 +92,7 @@ int wc_triangulate_polygon(const int* corners, int k, const double* pos, int* tr
     int* idx = scratch;
     int m = k, t = 0;
     for (int i = 0; i < k; ++i) idx[i] = i;
-    int guard = 0;
-    while (m > 3 && guard < 2 * k * k) {
+    while (m > 3) { /* one corner clipped per pass */
         int found = -1;
         for (int i = 0; i < m && found < 0; ++i) {
             int ip = idx[(i + m - 1) % m], ic = idx[i], in = idx[(i + 1) % m];
@@ -115,7 +114,6 @@ int wc_triangulate_polygon(const int* corners, int k, const double* pos, int* tr
         emit(tris, side_mask, t++, c[ip], c[ic], c[in], mk);
         for (int j = found; j < m - 1; ++j) idx[j] = idx[j + 1];
         --m;
-        ++guard;
     }
     int a = idx[0], b = idx[1], d = idx[2];
     unsigned char mk = (unsigned char)((is_polygon_side(a, b, k) ? 1 : 0) |

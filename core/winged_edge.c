@@ -1,9 +1,8 @@
-/* Winged-edge construction: one radix sort of the 3F triangle sides by vertex pair gives the
- * edges (O(F) after the sort), then faces and wings are filled in one pass. */
+/* Winged-edge construction: the 3F triangle sides sorted by vertex pair (one radix sort, shared
+ * with the orientation pass) give the edges in O(F), then faces and wings are filled in one pass. */
 #include "winged_edge.h"
 #include <string.h>
 #include "sort.h"
-#include "topology.h"
 
 void wc_winged_edge_free(wc_winged_edge* we, const wc_allocator* alloc) {
     if (!we) return;
@@ -19,22 +18,6 @@ int wc_we_opposite_vertex(const wc_winged_edge* we, int f, int e) {
     for (int k = 0; k < 3; ++k)
         if (face->e[k] == e) return face->v[(k + 2) % 3];
     return -1;
-}
-
-weft_status wc_winged_edge_build(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
-                                 const int* tris, int n_faces, const unsigned char* side_polygon,
-                                 wc_diag* diag) {
-    memset(we, 0, sizeof *we);
-    if (n_verts < 0 || n_faces < 0 || (n_faces > 0 && !tris))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "winged edge: bad arguments");
-    for (int i = 0; i < 3 * n_faces; ++i)
-        if (tris[i] < 0 || tris[i] >= n_verts)
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "winged edge: face %d has a bad vertex", i / 3);
-    wc_keyed* sides = wc_sorted_sides(n_verts, tris, n_faces, alloc);
-    if (!sides) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "winged edge: out of memory (%d faces)", n_faces);
-    weft_status st = wc_winged_edge_build_sorted(we, alloc, n_verts, tris, n_faces, side_polygon, sides, diag);
-    wc_free(alloc, sides);
-    return st;
 }
 
 weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,

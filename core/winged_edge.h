@@ -30,22 +30,24 @@ typedef struct wc_winged_edge {
     wc_we_face* faces;     /* (n_faces) */
 } wc_winged_edge;
 
-/* Build from n_faces triangles (n_faces x 3 vertex indices). side_polygon (n_faces x 3, may be
+/* Build from n_faces triangles (n_faces x 3 vertex indices). side_polygon (n_faces 3-bit masks, may be
  * NULL = all) marks which triangle sides are source-polygon edges (WC_EDGE_POLYGON).
  * A vertex pair shared by more than two triangles: the first two (in face order) share one
  * edge; each further triangle gets its own copy of the edge (a boundary on that side), all
- * copies flagged WC_EDGE_NON_MANIFOLD. */
-weft_status wc_winged_edge_build(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
-                                 const int* tris, int n_faces, const unsigned char* side_polygon,
-                                 wc_diag* diag);
-/* The same from wc_sorted_sides() output (topology.h) computed earlier: only its grouping of equal
- * keys and its vals (3 face + side) are used, so any order-preserving renumbering of the
- * vertices since then is fine. */
+ * copies flagged WC_EDGE_NON_MANIFOLD.
+ * sides: wc_sorted_sides() of the triangles (topology.h), computed once and shared with the
+ * orientation pass; only its grouping of equal keys and its vals (3 face + side) are used, so
+ * any order-preserving renumbering of the vertices since then is fine. */
 struct wc_keyed;
 weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
                                         const int* tris, int n_faces, const unsigned char* side_polygon,
                                         const struct wc_keyed* sides, wc_diag* diag);
 void wc_winged_edge_free(wc_winged_edge* we, const wc_allocator* alloc);
+
+/* Edge e is a further copy of the previous edge's vertex pair (non-manifold): count pairs once. */
+static inline int wc_we_repeats_previous(const wc_winged_edge* we, int e) {
+    return e > 0 && we->edges[e - 1].v[0] == we->edges[e].v[0] && we->edges[e - 1].v[1] == we->edges[e].v[1];
+}
 
 /* The vertex of face f opposite its edge e (the "wing" vertex), -1 if e is not in f. */
 int wc_we_opposite_vertex(const wc_winged_edge* we, int f, int e);
