@@ -58,6 +58,7 @@ void wc_model_free(wc_model* m) {
     wc_free(&a, m->tri_quad);
     wc_free(&a, m->tri_rest_area);
     wc_winged_edge_free(&m->we, &a);
+    wc_bsr_pattern_free(&m->pattern, &a);
     wc_free(&a, m->springs);
     wc_free(&a, m->host_to_particle);
     wc_free(&a, m->particle_to_host);
@@ -304,6 +305,7 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     wc_spring_input spring_in = {np, m->rest_pos, &m->we, m->tri_quad, nq, t.quads, def->bend_min_angle_deg};
     st = wc_build_springs(&spring_in, &m->springs, &m->n_springs, m->spring_type_start, A, diag);
     if (st != WEFT_OK) goto fail;
+    if (wc_bsr_pattern_build(&m->pattern, m, A) != 0) goto oom;
     STAGE_DONE(springs);
 
     /* 8. lumped masses */

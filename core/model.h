@@ -5,6 +5,7 @@
 #ifndef WEFT_CORE_MODEL_H
 #define WEFT_CORE_MODEL_H
 #include "alloc.h"
+#include "bsr.h"
 #include "diag.h"
 #include "source_mesh.h"
 #include "winged_edge.h"
@@ -94,6 +95,8 @@ typedef struct wc_model {
     int* particle_to_host;      /* (n_particles) first host vertex of each particle */
     int* particle_component;    /* (n_particles) component id */
     int n_components;
+
+    wc_bsr_pattern pattern;     /* block pattern of the implicit system + per-row spring/triangle lists */
 
     wc_material material;
     wc_import_report report;

@@ -1,0 +1,158 @@
+#include "bsr.h"
+#include <string.h>
+#include "model.h"
+#include "sort.h"
+#include "vec3.h"
+
+void wc_bsr_pattern_free(wc_bsr_pattern* p, const wc_allocator* a) {
+    if (!p) return;
+    wc_free(a, p->row_start);
+    wc_free(a, p->col);
+    wc_free(a, p->diag);
+    wc_free(a, p->transpose);
+    wc_free(a, p->row_spring_start);
+    wc_free(a, p->row_spring);
+    wc_free(a, p->row_spring_block);
+    wc_free(a, p->row_spring_sign);
+    wc_free(a, p->row_tri_start);
+    wc_free(a, p->row_tri);
+    memset(p, 0, sizeof *p);
+}
+
+/* Index of column c in row r (binary search over the row's ascending columns); -1 if absent. */
+static int find_block(const wc_bsr_pattern* p, int r, int c) {
+    int lo = p->row_start[r], hi = p->row_start[r + 1] - 1;
+    while (lo <= hi) {
+        int mid = (lo + hi) / 2;
+        if (p->col[mid] == c) return mid;
+        if (p->col[mid] < c) lo = mid + 1;
+        else hi = mid - 1;
+    }
+    return -1;
+}
+
+int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocator* a) {
+    memset(p, 0, sizeof *p);
+    int n = m->n_particles, ns = m->n_springs, nt = m->n_tris;
+    p->n_rows = n;
+    p->row_start = WC_NEW(a, int, n + 1);
+    p->diag = WC_NEW(a, int, n);
+    p->row_spring_start = WC_NEW(a, int, n + 1);
+    p->row_tri_start = WC_NEW(a, int, n + 1);
+    wc_keyed* keys = WC_NEW(a, wc_keyed, 2 * (size_t)ns + 1);
+    int* fill = WC_NEW(a, int, n + 1);
+    if (ns > 0) {
+        p->row_spring = WC_NEW(a, int, 2 * ns);
+        p->row_spring_block = WC_NEW(a, int, 2 * ns);
+        p->row_spring_sign = WC_NEW(a, signed char, 2 * ns);
+    }
+    if (nt > 0) p->row_tri = WC_NEW(a, int, 3 * nt);
+    if (!p->row_start || !p->diag || !p->row_spring_start || !p->row_tri_start || !keys || !fill ||
+        (ns > 0 && (!p->row_spring || !p->row_spring_block || !p->row_spring_sign)) || (nt > 0 && !p->row_tri))
+        goto oom;
+
+    /* distinct (row, col) pairs: sort the 2 ns directed spring ends by (row, col) */
+    int bits = wc_bits_for((unsigned)n);
+    for (int s = 0; s < ns; ++s) {
+        int i = m->springs[s].a, j = m->springs[s].b;
+        keys[2 * s].key = ((uint64_t)i << bits) | (uint64_t)j;
+        keys[2 * s].val = 2 * s;
+        keys[2 * s + 1].key = ((uint64_t)j << bits) | (uint64_t)i;
+        keys[2 * s + 1].val = 2 * s + 1;
+    }
+    if (!wc_radix_sort(keys, 2 * ns, 2 * bits, a)) goto oom;
+    /* count distinct off-diagonal columns per row */
+    int nb = n;
+    for (int k = 0; k < 2 * ns; ++k) {
+        if (k > 0 && keys[k].key == keys[k - 1].key) continue;
+        ++p->row_start[(int)(keys[k].key >> bits) + 1];
+        ++nb;
+    }
+    for (int i = 0; i < n; ++i) p->row_start[i + 1] += p->row_start[i] + 1;
+    p->n_blocks = nb;
+    p->col = WC_NEW(a, int, nb);
+    p->transpose = WC_NEW(a, int, nb);
+    if (!p->col || !p->transpose) goto oom;
+    /* fill columns in ascending order, inserting the diagonal in place */
+    for (int i = 0; i < n; ++i) fill[i] = p->row_start[i];
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        int diag_done = 0;
+        while (k < 2 * ns && (int)(keys[k].key >> bits) == i) {
+            int j = (int)(keys[k].key & (((uint64_t)1 << bits) - 1));
+            if (!diag_done && j > i) {
+                p->diag[i] = fill[i];
+                p->col[fill[i]++] = i;
+                diag_done = 1;
+            }
+            if (!(k > 0 && keys[k].key == keys[k - 1].key)) p->col[fill[i]++] = j;
+            ++k;
+        }
+        if (!diag_done) {
+            p->diag[i] = fill[i];
+            p->col[fill[i]++] = i;
+        }
+    }
+    for (int i = 0; i < n; ++i)
+        for (int b = p->row_start[i]; b < p->row_start[i + 1]; ++b) p->transpose[b] = find_block(p, p->col[b], i);
+
+    /* springs per row, in spring order */
+    for (int s = 0; s < ns; ++s) {
+        ++p->row_spring_start[m->springs[s].a + 1];
+        ++p->row_spring_start[m->springs[s].b + 1];
+    }
+    for (int i = 0; i < n; ++i) p->row_spring_start[i + 1] += p->row_spring_start[i];
+    for (int i = 0; i < n; ++i) fill[i] = p->row_spring_start[i];
+    for (int s = 0; s < ns; ++s) {
+        int i = m->springs[s].a, j = m->springs[s].b;
+        int ki = fill[i]++, kj = fill[j]++;
+        p->row_spring[ki] = s;
+        p->row_spring_block[ki] = find_block(p, i, j);
+        p->row_spring_sign[ki] = 1;
+        p->row_spring[kj] = s;
+        p->row_spring_block[kj] = find_block(p, j, i);
+        p->row_spring_sign[kj] = -1;
+    }
+
+    /* triangles per particle, in triangle order */
+    for (int t = 0; t < 3 * nt; ++t) ++p->row_tri_start[m->tris[t] + 1];
+    for (int i = 0; i < n; ++i) p->row_tri_start[i + 1] += p->row_tri_start[i];
+    for (int i = 0; i < n; ++i) fill[i] = p->row_tri_start[i];
+    for (int t = 0; t < 3 * nt; ++t) p->row_tri[fill[m->tris[t]]++] = t / 3;
+
+    wc_free(a, keys);
+    wc_free(a, fill);
+    return 0;
+oom:
+    wc_free(a, keys);
+    wc_free(a, fill);
+    wc_bsr_pattern_free(p, a);
+    return -1;
+}
+
+void wc_bsr_mul(const wc_bsr_pattern* p, const double* val, const double* x, double* y, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(p->n_rows, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double acc[3] = {0, 0, 0};
+            for (int b = p->row_start[i]; b < p->row_start[i + 1]; ++b) m3_mulv_add(acc, val + 9 * b, x + 3 * p->col[b]);
+            v3_copy(y + 3 * i, acc);
+        }
+    }
+}
+
+void wc_bsr_residual(const wc_bsr_pattern* p, const double* val, const double* b, const double* x, double* y,
+                     wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(p->n_rows, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double acc[3] = {0, 0, 0};
+            for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k) m3_mulv_add(acc, val + 9 * k, x + 3 * p->col[k]);
+            v3_sub(y + 3 * i, b + 3 * i, acc);
+        }
+    }
+}

@@ -1,0 +1,53 @@
+/* Internal and external forces and their Jacobians (Baraff & Witkin 1998; thesis eq. 4.6).
+ * Spring s between particles a and b, L = x_a - x_b, l = |L|, u = L / l:
+ *   f_a = -(k (l - rest) + d (v_a - v_b).u) u,   f_b = -f_a
+ *   dF_a/dx_a = -k [ u u^T + (1 - rest/l) (I - u u^T) ]      (symmetric)
+ *   dF_a/dv_a = -d u u^T                                     (symmetric)
+ * and dF_a/dx_b = -dF_a/dx_a etc. The non-symmetric damping part of dF/dx is dropped, as Baraff &
+ * Witkin do. For a compressed spring (l < rest) the geometric term (1 - rest/l)(I - u u^T) is
+ * negative and makes the system indefinite: by default it is dropped (WC_COMPRESSION_DROP);
+ * WC_COMPRESSION_FULL keeps the exact Jacobian. */
+#ifndef WEFT_CORE_FORCES_H
+#define WEFT_CORE_FORCES_H
+#include "model.h"
+#include "par.h"
+
+typedef enum wc_compression {
+    WC_COMPRESSION_DROP = 0,   /* clamp (1 - rest/l) at 0: SPD system, exact force */
+    WC_COMPRESSION_FULL = 1    /* exact Jacobian (may be indefinite under compression) */
+} wc_compression;
+
+/* Per-spring force and Jacobian blocks for end a (end b gets -f, and the blocks' signs follow). */
+typedef struct wc_spring_eval {
+    double f[3];     /* force on particle a (N) */
+    double kx[9];    /* dF_a/dx_a (N/m), symmetric, row-major */
+    double kv[9];    /* dF_a/dv_a (N s/m), symmetric, row-major */
+} wc_spring_eval;
+
+/* Air: wind and drag on each triangle from the relative air velocity u = wind - (v_a+v_b+v_c)/3,
+ * with unit normal n and current area A:
+ *   f_tri = A ( normal_drag (u.n) n + tangent_drag (u - (u.n) n) ),
+ * shared equally among the triangle's three particles. No Jacobian (treated explicitly). */
+typedef struct wc_air {
+    double wind[3];        /* m/s, world */
+    double normal_drag;    /* kg/(m^2 s): pressure per unit relative normal speed */
+    double tangent_drag;   /* kg/(m^2 s): skin friction per unit relative tangential speed */
+} wc_air;
+
+/* Evaluate every spring (springs in parallel). x, v: (n_particles x 3). out: (n_springs). */
+void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                     wc_par* par, wc_spring_eval* out);
+
+/* External force per particle: gravity m g, plus air (when normal_drag or tangent_drag > 0;
+ * tri_scratch (n_tris x 3) receives per-triangle forces and is then gathered per particle through
+ * the model's pattern.row_tri lists). f_ext: (n_particles x 3), overwritten. */
+void wc_eval_external(const wc_model* m, const double* x, const double* v, const double gravity[3],
+                      const wc_air* air, wc_par* par, double* tri_scratch, double* f_ext);
+
+/* Elastic energy of all springs: sum k/2 (l - rest)^2 (J). */
+double wc_spring_energy(const wc_model* m, const double* x);
+
+/* Largest (l - rest) / rest over stretch springs (0 when none is stretched). */
+double wc_max_stretch_strain(const wc_model* m, const double* x);
+
+#endif

@@ -1,0 +1,73 @@
+/* Linear solvers for the filtered backward-Euler system A dv = b with constraints (S, z):
+ * the projected SPD system (S A S + I - S) y = S (b - A z), dv = z + S y.
+ *   PCG        modified PCG of Baraff & Witkin section 5.3, filtered block-diagonal (3x3 inverse)
+ *              preconditioner, stops at the relative tolerance or the iteration cap.
+ *   JACOBI     block Jacobi on the projected system.
+ *   CHEBYSHEV  Chebyshev-accelerated block Jacobi (Wang 2015): one matrix sweep per iteration, no
+ *              dot products (the residual is measured only every check_every iterations).
+ *   DIRECT     CHOLMOD: analysed once per model (fixed pattern), factorised per solve. The exact
+ *              reference for the others.
+ * Residual reported by every solver: ||S (b - A dv)||_2 / ||S (b - A z)||_2 (0 when the
+ * denominator is 0). Iterative solvers watch for divergence (non-finite values, residual above
+ * divergence_factor x the initial one) and return WEFT_ERROR_SOLVER_DIVERGED. */
+#ifndef WEFT_CORE_SOLVE_H
+#define WEFT_CORE_SOLVE_H
+#include "diag.h"
+#include "filter.h"
+#include "model.h"
+#include "par.h"
+
+typedef enum wc_solver_type {
+    WC_SOLVER_PCG = 0,
+    WC_SOLVER_JACOBI = 1,
+    WC_SOLVER_CHEBYSHEV = 2,
+    WC_SOLVER_DIRECT = 3,
+    WC_SOLVER_COUNT = 4
+} wc_solver_type;
+
+const char* wc_solver_name(wc_solver_type t);          /* "pcg", "jacobi", "chebyshev", "direct" */
+int wc_solver_from_name(const char* name);             /* -1 when unknown */
+
+typedef struct wc_solver_opts {
+    wc_solver_type type;        /* PCG */
+    double tolerance;           /* relative residual to stop at (1e-4); 0 runs max_iterations */
+    int max_iterations;         /* iteration cap (300) */
+    int check_every;            /* Jacobi/Chebyshev: residual measured every this many iterations (10) */
+    double chebyshev_rho;       /* spectral radius of the Jacobi iteration; 0 = estimate (power iteration) */
+    double chebyshev_gamma;     /* under-relaxation of each Jacobi sweep (0.9) */
+    int chebyshev_delay;        /* plain Jacobi iterations before acceleration starts (10) */
+    double divergence_factor;   /* residual above this x the initial residual means divergence (1e3) */
+} wc_solver_opts;
+
+wc_solver_opts wc_default_solver_opts(void);
+
+typedef struct wc_solve_result {
+    weft_status status;         /* OK, SOLVER_DIVERGED, FACTORIZATION (direct: not positive definite) */
+    wc_solver_type solver;      /* which solver ran */
+    int iterations;             /* 1 for direct */
+    int converged;              /* residual <= tolerance (direct: always when status is OK) */
+    double residual;            /* relative, see above */
+    double residual0;           /* ||S (b - A z)||_2, absolute */
+} wc_solve_result;
+
+typedef struct wc_solver wc_solver;   /* workspace: vectors, preconditioner, CHOLMOD analysis */
+
+/* Allocate everything a solve needs for this model (nothing is allocated per solve). The direct
+ * solver's symbolic analysis is done here when opts->type is DIRECT or want_direct is set. */
+weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
+                             const wc_allocator* alloc, wc_diag* diag);
+void wc_solver_destroy(wc_solver* s);
+
+/* Solve with solver `type` (its options from create, tolerance etc.). dv: (n x 3), on input the
+ * initial guess (projected to z + S dv), on output the solution. Never leaves non-finite values
+ * in dv: on divergence dv holds the last finite iterate or z. */
+weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const double* b, const wc_filter* f,
+                     double* dv, wc_par* par, wc_solve_result* res);
+
+/* Estimate the spectral radius of the filtered block-Jacobi iteration matrix for this system
+ * (a few power iterations; used by Chebyshev when chebyshev_rho is 0; cached until
+ * wc_solver_invalidate_rho). */
+double wc_solver_estimate_rho(wc_solver* s, const double* A_val, const wc_filter* f, wc_par* par);
+void wc_solver_invalidate_rho(wc_solver* s);
+
+#endif

@@ -1,0 +1,89 @@
+/* Mutable simulation state of one model: positions, velocities, the settings that may change
+ * between frames (gravity, air, pins, colliders), and every scratch array a step needs, all
+ * allocated at creation (a step allocates nothing). The model is borrowed and must outlive the
+ * state. */
+#ifndef WEFT_CORE_STATE_H
+#define WEFT_CORE_STATE_H
+#include "collide.h"
+#include "forces.h"
+#include "solve.h"
+
+typedef struct wc_sim_def {
+    double gravity[3];          /* m/s^2 (0, -9.81, 0): Y is up */
+    wc_air air;                 /* wind 0, normal_drag 0.5, tangent_drag 0.02 */
+    wc_solver_opts solver;
+    int substeps;               /* substeps per frame when substep_dt is 0 (1) */
+    double substep_dt;          /* s; > 0: fixed substep length with an accumulator instead */
+    wc_compression compression; /* DROP */
+    double strain_limit;        /* 0 off; 0.1 caps stretch springs at 110% of rest length */
+    int strain_passes;          /* 4 */
+    int max_pins;               /* capacity for pins, fixed at creation (0: as many as particles) */
+    int max_colliders;          /* capacity for colliders (16) */
+    int max_halvings;           /* a failed substep is retried with h/2 up to this many times (3) */
+    int direct_fallback;        /* then with the direct solver (1; analysed at creation) */
+    double fail_strain;         /* a substep that stretches a spring beyond this fails (1.0) */
+    double fail_energy_growth;  /* ... or multiplies kinetic energy by more than this (1e3) */
+    int threads;                /* OpenMP threads, 0 = OpenMP's default */
+} wc_sim_def;
+
+wc_sim_def wc_default_sim_def(void);
+
+/* A pinned particle (3 DOF), or with a unit free_axis a particle that may slide along that line
+ * through its target (2 DOF). Targets move: the step interpolates from the previous frame's
+ * target to this frame's. */
+typedef struct wc_pin {
+    int particle;
+    double target[3];           /* m, world, at the end of the next frame */
+    double free_axis[3];        /* zero: fully pinned; unit vector: line constraint */
+} wc_pin;
+
+typedef struct wc_state {
+    const wc_model* model;
+    wc_sim_def def;
+    wc_allocator alloc;
+    wc_par par;
+    double time;                /* s, simulated */
+    double accumulator;         /* s, fixed-substep mode: time not yet simulated */
+    long long frame;            /* frames stepped */
+
+    double* x;                  /* (n x 3) positions (m) */
+    double* v;                  /* (n x 3) velocities (m/s) */
+
+    int n_pins;
+    wc_pin* pins;               /* (max_pins) */
+    double* pin_from;           /* (max_pins x 3) target at the start of the frame */
+    int n_colliders;
+    wc_collider* colliders;     /* (max_colliders) */
+    wc_contacts contacts;
+
+    /* scratch, all (n x 3) unless noted */
+    double *x0, *v0;            /* start of the substep (rollback) */
+    double *f_ext, *f, *b, *dv, *r;
+    double* tri_scratch;        /* (n_tris x 3) */
+    double* spring_scratch;     /* (n_springs x 3) */
+    double* A;                  /* (pattern.n_blocks x 9) */
+    wc_spring_eval* se;         /* (n_springs) */
+    wc_filter filter;
+    wc_solver* solver;
+} wc_state;
+
+/* Positions start at the model's rest positions, velocities at zero. */
+weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,
+                            wc_diag* diag);
+void wc_state_destroy(wc_state* s);
+
+/* Replace the pins (validated: count within capacity, particle in range, finite targets, axis
+ * zero or unit). A pin whose particle was already pinned keeps moving from its old target;
+ * a new pin starts from the particle's current position. On error nothing changes. */
+weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag);
+/* Replace the colliders (validated: count, type, finite, radius/thickness/friction >= 0, unit
+ * plane normal). On error nothing changes. */
+weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag);
+/* Set every particle's position and velocity (n x 3 each; v may be NULL for zero); refused when
+ * any value is non-finite. */
+weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag);
+
+/* Kinetic energy sum m v^2 / 2 (J). */
+double wc_state_kinetic_energy(const wc_state* s);
+
+#endif

@@ -1,0 +1,31 @@
+/* Advancing a state by one frame: substeps of backward Euler (forces -> assembly -> constraints
+ * -> solve -> contacts -> positions -> strain limit), each checked for failure (non-finite
+ * values, strain above fail_strain, kinetic-energy blow-up). A failed substep is rolled back and
+ * retried with half the step (up to max_halvings times), then with the direct solver; if that
+ * also fails the state is left as it was before the substep and the frame reports
+ * WEFT_ERROR_STEP_FAILED. Positions are never left non-finite. */
+#ifndef WEFT_CORE_STEP_H
+#define WEFT_CORE_STEP_H
+#include "state.h"
+
+typedef struct wc_step_stats {
+    int substeps;               /* substeps completed (halved retries count each piece) */
+    int iterations;             /* solver iterations, summed over substeps */
+    int max_iterations;         /* largest in one solve */
+    double residual;            /* largest final relative residual of a solve */
+    int not_converged;          /* solves that stopped at the iteration cap above tolerance */
+    wc_solver_type solver;      /* last solver used */
+    int rollbacks;              /* failed substeps restored */
+    int halvings;               /* retries with a halved step */
+    int direct_fallbacks;       /* retries with the direct solver */
+    int failures;               /* substeps that failed every retry (state restored) */
+    int contacts;               /* particles in contact at the end of the frame */
+    double max_strain;          /* largest stretch-spring strain at the end of the frame */
+    double kinetic_energy;      /* J, end of frame */
+    struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
+} wc_step_stats;
+
+/* Simulate dt seconds (> 0, finite). stats may be NULL. */
+weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag);
+
+#endif
