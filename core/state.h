@@ -55,10 +55,12 @@ typedef struct wc_state {
     int n_colliders;
     wc_collider* colliders;     /* (max_colliders) */
     wc_contacts contacts;
+    wc_contacts contacts_save;  /* contacts at the start of the substep (rollback) */
 
     /* scratch, all (n x 3) unless noted */
-    double *x0, *v0;            /* start of the substep (rollback) */
-    double *f_ext, *f, *b, *dv, *r;
+    double *x0, *v0, *dv0;      /* start of the substep (rollback) */
+    double *f_ext, *f, *b, *r;
+    double* dv;                 /* last velocity change: the next solve's initial guess */
     double* tri_scratch;        /* (n_tris x 3) */
     double* spring_scratch;     /* (n_springs x 3) */
     double* A;                  /* (pattern.n_blocks x 9) */

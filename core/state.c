@@ -1,0 +1,221 @@
+/* State creation (every array a step needs is allocated here), validated setters for pins,
+ * colliders and positions. */
+#include "state.h"
+#include <math.h>
+#include <string.h>
+#include "vec3.h"
+
+wc_sim_def wc_default_sim_def(void) {
+    wc_sim_def d;
+    memset(&d, 0, sizeof d);
+    v3_set(d.gravity, 0.0, -9.81, 0.0);
+    d.air.normal_drag = 0.5;
+    d.air.tangent_drag = 0.02;
+    d.solver = wc_default_solver_opts();
+    d.substeps = 1;
+    d.substep_dt = 0.0;
+    d.compression = WC_COMPRESSION_DROP;
+    d.strain_limit = 0.0;
+    d.strain_passes = 4;
+    d.max_pins = 0;
+    d.max_colliders = 16;
+    d.max_halvings = 3;
+    d.direct_fallback = 1;
+    d.fail_strain = 1.0;
+    d.fail_energy_growth = 1e3;
+    d.threads = 0;
+    return d;
+}
+
+static int finite_n(const double* a, int n) {
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(a[i])) return 0;
+    return 1;
+}
+
+static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
+#define BAD(...) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, __VA_ARGS__)
+    if (!finite_n(d->gravity, 3)) BAD("sim def: gravity must be finite");
+    if (!finite_n(d->air.wind, 3)) BAD("sim def: air.wind must be finite");
+    if (!(d->air.normal_drag >= 0 && d->air.normal_drag < INFINITY)) BAD("sim def: air.normal_drag must be finite and >= 0");
+    if (!(d->air.tangent_drag >= 0 && d->air.tangent_drag < INFINITY)) BAD("sim def: air.tangent_drag must be finite and >= 0");
+    if ((unsigned)d->solver.type >= WC_SOLVER_COUNT) BAD("sim def: solver.type %d is not a solver", (int)d->solver.type);
+    if (!(d->solver.tolerance >= 0 && d->solver.tolerance < 1)) BAD("sim def: solver.tolerance must be in [0, 1)");
+    if (d->solver.max_iterations < 1) BAD("sim def: solver.max_iterations must be >= 1");
+    if (d->substeps < 1 || d->substeps > 100000) BAD("sim def: substeps must be in [1, 100000]");
+    if (!(d->substep_dt >= 0 && d->substep_dt < INFINITY)) BAD("sim def: substep_dt must be finite and >= 0");
+    if (d->compression != WC_COMPRESSION_DROP && d->compression != WC_COMPRESSION_FULL) BAD("sim def: bad compression mode");
+    if (!(d->strain_limit >= 0 && d->strain_limit < INFINITY)) BAD("sim def: strain_limit must be finite and >= 0");
+    if (d->strain_passes < 0) BAD("sim def: strain_passes must be >= 0");
+    if (d->max_pins < 0 || d->max_colliders < 0) BAD("sim def: max_pins and max_colliders must be >= 0");
+    if (d->max_halvings < 0 || d->max_halvings > 12) BAD("sim def: max_halvings must be in [0, 12]");
+    if (!(d->fail_strain > 0)) BAD("sim def: fail_strain must be > 0");
+    if (!(d->fail_energy_growth > 1)) BAD("sim def: fail_energy_growth must be > 1");
+#undef BAD
+    return WEFT_OK;
+}
+
+void wc_state_destroy(wc_state* s) {
+    if (!s) return;
+    wc_allocator a = s->alloc;
+    double* arrays[] = {s->x, s->v, s->pin_from, s->x0, s->v0, s->dv0, s->f_ext, s->f, s->b, s->dv, s->r,
+                        s->tri_scratch, s->spring_scratch, s->A, s->filter.S, s->filter.z,
+                        s->contacts.normal, s->contacts_save.normal};
+    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&a, arrays[i]);
+    wc_free(&a, s->pins);
+    wc_free(&a, s->colliders);
+    wc_free(&a, s->se);
+    wc_free(&a, s->filter.ndof);
+    wc_free(&a, s->contacts.collider);
+    wc_free(&a, s->contacts.released);
+    wc_free(&a, s->contacts_save.collider);
+    wc_free(&a, s->contacts_save.released);
+    wc_solver_destroy(s->solver);
+    wc_free(&a, s);
+}
+
+weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,
+                            wc_diag* diag) {
+    if (out) *out = NULL;
+    if (!out || !m || !def) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "state create: NULL argument");
+    if (m->n_particles < 1) return wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "state create: the model has no particles");
+    weft_status st = validate_def(def, diag);
+    if (st != WEFT_OK) return st;
+    wc_allocator A = alloc ? *alloc : (wc_allocator){0};
+    wc_state* s = WC_NEW(&A, wc_state, 1);
+    if (!s) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory");
+    s->model = m;
+    s->def = *def;
+    s->alloc = A;
+    wc_par_init(&s->par, def->threads);
+    int n = m->n_particles;
+    if (s->def.max_pins == 0) s->def.max_pins = n;
+    int np = s->def.max_pins, nc = s->def.max_colliders;
+    size_t n3 = 3 * (size_t)n;
+    s->x = WC_NEW(&A, double, n3);
+    s->v = WC_NEW(&A, double, n3);
+    s->x0 = WC_NEW(&A, double, n3);
+    s->v0 = WC_NEW(&A, double, n3);
+    s->dv0 = WC_NEW(&A, double, n3);
+    s->f_ext = WC_NEW(&A, double, n3);
+    s->f = WC_NEW(&A, double, n3);
+    s->b = WC_NEW(&A, double, n3);
+    s->dv = WC_NEW(&A, double, n3);
+    s->r = WC_NEW(&A, double, n3);
+    s->tri_scratch = WC_NEW(&A, double, 3 * (size_t)m->n_tris + 3);
+    s->spring_scratch = WC_NEW(&A, double, 3 * (size_t)m->n_springs + 3);
+    s->se = WC_NEW(&A, wc_spring_eval, (size_t)m->n_springs + 1);
+    s->A = WC_NEW(&A, double, 9 * (size_t)m->pattern.n_blocks);
+    s->pins = WC_NEW(&A, wc_pin, (size_t)np + 1);
+    s->pin_from = WC_NEW(&A, double, 3 * (size_t)np + 3);
+    s->colliders = WC_NEW(&A, wc_collider, (size_t)nc + 1);
+    s->filter.n = n;
+    s->filter.S = WC_NEW(&A, double, 9 * (size_t)n);
+    s->filter.z = WC_NEW(&A, double, n3);
+    s->filter.ndof = WC_NEW(&A, unsigned char, (size_t)n);
+    wc_contacts* cts[2] = {&s->contacts, &s->contacts_save};
+    for (int k = 0; k < 2; ++k) {
+        cts[k]->n = n;
+        cts[k]->collider = WC_NEW(&A, int, 2 * (size_t)n);
+        cts[k]->normal = WC_NEW(&A, double, 6 * (size_t)n);
+        cts[k]->released = WC_NEW(&A, unsigned char, (size_t)n);
+    }
+    if (!s->x || !s->v || !s->x0 || !s->v0 || !s->dv0 || !s->f_ext || !s->f || !s->b || !s->dv || !s->r ||
+        !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->colliders ||
+        !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
+        !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
+        !s->contacts_save.released) {
+        wc_state_destroy(s);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
+    }
+    st = wc_solver_create(&s->solver, m, &s->def.solver, s->def.direct_fallback, &A, diag);
+    if (st != WEFT_OK) {
+        wc_state_destroy(s);
+        return st;
+    }
+    memcpy(s->x, m->rest_pos, n3 * sizeof(double));
+    for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
+    for (int i = 0; i < 2 * n; ++i) s->contacts.collider[i] = -1;
+    *out = s;
+    return WEFT_OK;
+}
+
+weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag) {
+    if (!s || (n > 0 && !pins)) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: NULL argument");
+    if (n < 0 || n > s->def.max_pins)
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: %d pins, capacity is %d", n, s->def.max_pins);
+    int np = s->model->n_particles;
+    for (int k = 0; k < n; ++k) {
+        const wc_pin* p = &pins[k];
+        if (p->particle < 0 || p->particle >= np)
+            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: pin %d: particle %d is out of range [0, %d)", k,
+                           p->particle, np);
+        if (!v3_finite(p->target) || !v3_finite(p->free_axis))
+            return wc_fail(diag, WEFT_ERROR_NONFINITE, "set pins: pin %d: non-finite target or axis", k);
+        double len = v3_norm(p->free_axis);
+        if (len != 0.0 && fabs(len - 1.0) > 1e-6)
+            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pin %d: free_axis must be zero or unit (|a| = %g)",
+                           k, len);
+        for (int j = 0; j < k; ++j)
+            if (pins[j].particle == p->particle)
+                return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pins %d and %d both hold particle %d", j, k,
+                               p->particle);
+    }
+    /* where each new pin starts: its old target if the particle was pinned, else where it is */
+    for (int k = 0; k < n; ++k) {
+        const double* from = s->x + 3 * pins[k].particle;
+        for (int j = 0; j < s->n_pins; ++j)
+            if (s->pins[j].particle == pins[k].particle) from = s->pins[j].target;
+        v3_copy(s->dv0 + 3 * k, from); /* dv0 as scratch: pin_from may alias the old targets' order */
+    }
+    for (int k = 0; k < n; ++k) v3_copy(s->pin_from + 3 * k, s->dv0 + 3 * k);
+    memset(s->dv0, 0, 3 * (size_t)n * sizeof(double));
+    if (n > 0) memcpy(s->pins, pins, (size_t)n * sizeof(wc_pin));
+    s->n_pins = n;
+    return WEFT_OK;
+}
+
+weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag) {
+    if (!s || (n > 0 && !c)) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: NULL argument");
+    if (n < 0 || n > s->def.max_colliders)
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set colliders: %d colliders, capacity is %d", n,
+                       s->def.max_colliders);
+    for (int k = 0; k < n; ++k) {
+        const wc_collider* q = &c[k];
+        if (q->type < WC_COLLIDER_PLANE || q->type > WC_COLLIDER_CAPSULE)
+            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: unknown type %d", k, q->type);
+        if (!v3_finite(q->normal) || !isfinite(q->offset) || !v3_finite(q->center) || !v3_finite(q->a) ||
+            !v3_finite(q->b) || !isfinite(q->radius) || !isfinite(q->thickness) || !isfinite(q->friction) ||
+            !v3_finite(q->velocity))
+            return wc_fail(diag, WEFT_ERROR_NONFINITE, "set colliders: collider %d: non-finite value", k);
+        if (q->radius < 0 || q->thickness < 0 || q->friction < 0)
+            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+                           "set colliders: collider %d: radius, thickness and friction must be >= 0", k);
+        if (q->type == WC_COLLIDER_PLANE && fabs(v3_norm(q->normal) - 1.0) > 1e-6)
+            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: plane normal must be unit", k);
+    }
+    if (n > 0) memcpy(s->colliders, c, (size_t)n * sizeof(wc_collider));
+    if (n != s->n_colliders)
+        for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1;
+    s->n_colliders = n;
+    return WEFT_OK;
+}
+
+weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag) {
+    if (!s || !x) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set positions: NULL argument");
+    int n3 = 3 * s->model->n_particles;
+    if (!finite_n(x, n3) || (v && !finite_n(v, n3)))
+        return wc_fail(diag, WEFT_ERROR_NONFINITE, "set positions: non-finite position or velocity");
+    memcpy(s->x, x, (size_t)n3 * sizeof(double));
+    if (v) memcpy(s->v, v, (size_t)n3 * sizeof(double));
+    else memset(s->v, 0, (size_t)n3 * sizeof(double));
+    memset(s->dv, 0, (size_t)n3 * sizeof(double));
+    return WEFT_OK;
+}
+
+double wc_state_kinetic_energy(const wc_state* s) {
+    double e = 0.0;
+    const double* m = s->model->mass;
+    for (int i = 0; i < s->model->n_particles; ++i) e += 0.5 * m[i] * v3_dot(s->v + 3 * i, s->v + 3 * i);
+    return e;
+}

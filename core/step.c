@@ -1,0 +1,278 @@
+/* One frame = substeps of backward Euler with rollback (see step.h). */
+#include "step.h"
+#include <math.h>
+#include <string.h>
+#include "assemble.h"
+#include "clock.h"
+#include "strain_limit.h"
+#include "vec3.h"
+
+/* Target of pin k at fraction alpha of the frame (linear from the frame's start target). */
+static void pin_target(const wc_state* s, int k, double alpha, double* out) {
+    const double* a = s->pin_from + 3 * k;
+    const double* b = s->pins[k].target;
+    for (int c = 0; c < 3; ++c) out[c] = a[c] + alpha * (b[c] - a[c]);
+}
+
+/* Filter entries of the pins for a substep of length h ending at frame fraction alpha1: the
+ * velocity change z takes a pinned particle exactly to its target (a line pin: onto the line). */
+static void apply_pins(wc_state* s, double h, double alpha1) {
+    for (int k = 0; k < s->n_pins; ++k) {
+        const wc_pin* p = &s->pins[k];
+        int i = p->particle;
+        double t1[3], want[3];
+        pin_target(s, k, alpha1, t1);
+        for (int c = 0; c < 3; ++c) want[c] = (t1[c] - s->x[3 * i + c]) / h - s->v[3 * i + c];
+        double* S = s->filter.S + 9 * i;
+        double* z = s->filter.z + 3 * i;
+        if (v3_norm(p->free_axis) == 0.0) {
+            m3_zero(S);
+            v3_copy(z, want);
+            s->filter.ndof[i] = 3;
+        } else {
+            m3_outer(S, p->free_axis, p->free_axis, 1.0);
+            double along = v3_dot(want, p->free_axis);
+            for (int c = 0; c < 3; ++c) z[c] = want[c] - along * p->free_axis[c];
+            s->filter.ndof[i] = 2;
+        }
+    }
+}
+
+/* After the positions advance: fully pinned particles sit exactly on their targets. */
+static void snap_pins(wc_state* s, double h, double alpha1) {
+    for (int k = 0; k < s->n_pins; ++k) {
+        const wc_pin* p = &s->pins[k];
+        if (v3_norm(p->free_axis) != 0.0) continue;
+        int i = p->particle;
+        double t1[3];
+        pin_target(s, k, alpha1, t1);
+        for (int c = 0; c < 3; ++c) s->v[3 * i + c] = (t1[c] - s->x0[3 * i + c]) / h;
+        v3_copy(s->x + 3 * i, t1);
+    }
+}
+
+static int all_finite(const double* a, int n) {
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(a[i])) return 0;
+    return 1;
+}
+
+static void save(wc_state* s) {
+    size_t n3 = 3 * (size_t)s->model->n_particles * sizeof(double);
+    memcpy(s->x0, s->x, n3);
+    memcpy(s->v0, s->v, n3);
+    memcpy(s->dv0, s->dv, n3);
+    int n = s->model->n_particles;
+    memcpy(s->contacts_save.collider, s->contacts.collider, 2 * (size_t)n * sizeof(int));
+    memcpy(s->contacts_save.normal, s->contacts.normal, 6 * (size_t)n * sizeof(double));
+    memcpy(s->contacts_save.released, s->contacts.released, (size_t)n);
+    s->contacts_save.active = s->contacts.active;
+}
+
+static void restore(wc_state* s) {
+    size_t n3 = 3 * (size_t)s->model->n_particles * sizeof(double);
+    memcpy(s->x, s->x0, n3);
+    memcpy(s->v, s->v0, n3);
+    memcpy(s->dv, s->dv0, n3);
+    int n = s->model->n_particles;
+    memcpy(s->contacts.collider, s->contacts_save.collider, 2 * (size_t)n * sizeof(int));
+    memcpy(s->contacts.normal, s->contacts_save.normal, 6 * (size_t)n * sizeof(double));
+    memcpy(s->contacts.released, s->contacts_save.released, (size_t)n);
+    s->contacts.active = s->contacts_save.active;
+}
+
+/* Energy scale below which kinetic-energy growth is not judged: what gravity, moving pins and
+ * moving colliders could plausibly put into the cloth. */
+static double energy_floor(const wc_state* s) {
+    const wc_model* m = s->model;
+    double mass = 0.0;
+    for (int i = 0; i < m->n_particles; ++i) mass += m->mass[i];
+    double diag = 0.0;
+    for (int c = 0; c < 3; ++c) diag += (m->report.bbox_max[c] - m->report.bbox_min[c]) * (m->report.bbox_max[c] - m->report.bbox_min[c]);
+    double speed2 = 1.0 + 2.0 * v3_norm(s->def.gravity) * sqrt(diag) + v3_dot(s->def.air.wind, s->def.air.wind);
+    for (int k = 0; k < s->n_colliders; ++k) speed2 += v3_dot(s->colliders[k].velocity, s->colliders[k].velocity);
+    return 0.5 * mass * speed2;
+}
+
+typedef struct substep_out {
+    weft_status status;
+    wc_solve_result solve;
+} substep_out;
+
+/* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
+ * returns non-OK when the result must be discarded. */
+static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, double pin_energy,
+                           wc_step_stats* st, wc_diag* diag) {
+    const wc_model* m = s->model;
+    int n = m->n_particles;
+    double t0 = wc_now_ms(), t1;
+    double ke0 = wc_state_kinetic_energy(s);
+
+    for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
+    apply_pins(s, h, alpha1);
+    if (s->n_colliders > 0) wc_contacts_begin(&s->contacts, s->colliders, s->n_colliders, s->x, s->v, h, &s->filter, &s->par);
+    t1 = wc_now_ms();
+    st->ms.collide += t1 - t0;
+    t0 = t1;
+
+    wc_eval_springs(m, s->x, s->v, s->def.compression, &s->par, s->se);
+    wc_eval_external(m, s->x, s->v, s->def.gravity, &s->def.air, &s->par, s->tri_scratch, s->f_ext);
+    t1 = wc_now_ms();
+    st->ms.forces += t1 - t0;
+    t0 = t1;
+
+    wc_assemble(m, s->se, s->f_ext, s->v, h, &s->par, s->A, s->b, NULL);
+    t1 = wc_now_ms();
+    st->ms.assemble += t1 - t0;
+    t0 = t1;
+
+    wc_solve_result res;
+    weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
+    t1 = wc_now_ms();
+    st->ms.solve += t1 - t0;
+    t0 = t1;
+    st->solver = solver;
+    st->iterations += res.iterations;
+    if (res.iterations > st->max_iterations) st->max_iterations = res.iterations;
+    if (res.residual > st->residual) st->residual = res.residual;
+    if (!res.converged) ++st->not_converged;
+    if (status != WEFT_OK) {
+        wc_fail(diag, status, "substep (h = %g s, %s): the solver failed (status %d)", h, wc_solver_name(solver), (int)status);
+        return status;
+    }
+
+    int n3 = 3 * n;
+    if (s->n_colliders > 0 && s->contacts.active > 0) {
+        wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
+        for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
+        for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
+        wc_contacts_end(&s->contacts, s->colliders, s->n_colliders, s->r, m->mass, h, s->v, &s->par);
+    } else {
+        for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
+    }
+    t1 = wc_now_ms();
+    st->ms.collide += t1 - t0;
+    t0 = t1;
+
+    for (int k = 0; k < n3; ++k) s->x[k] += h * s->v[k];
+    snap_pins(s, h, alpha1);
+    t1 = wc_now_ms();
+    st->ms.integrate += t1 - t0;
+    t0 = t1;
+    if (s->n_colliders > 0) wc_contacts_project(&s->contacts, s->colliders, s->n_colliders, &s->filter, s->x, s->v, &s->par);
+    t1 = wc_now_ms();
+    st->ms.collide += t1 - t0;
+    t0 = t1;
+
+    double strain;
+    if (s->def.strain_limit > 0 && s->def.strain_passes > 0)
+        strain = wc_strain_limit(m, &s->filter, s->def.strain_limit, s->def.strain_passes, h, s->x, s->v,
+                                 s->spring_scratch, &s->par);
+    else
+        strain = wc_max_stretch_strain(m, s->x);
+
+    /* failure checks */
+    status = WEFT_OK;
+    if (!all_finite(s->x, n3) || !all_finite(s->v, n3)) {
+        status = wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h,
+                         wc_solver_name(solver));
+    } else if (!(strain <= s->def.fail_strain)) {
+        status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
+                         wc_solver_name(solver), strain, s->def.fail_strain);
+    } else {
+        double ke1 = wc_state_kinetic_energy(s);
+        double floor = energy_floor(s) + pin_energy;
+        if (ke1 > s->def.fail_energy_growth * (ke0 + floor))
+            status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J",
+                             h, wc_solver_name(solver), ke1, ke0);
+    }
+    st->max_strain = strain;
+    t1 = wc_now_ms();
+    st->ms.integrate += t1 - t0;
+    return status;
+}
+
+/* A substep of length h from frame fraction alpha0 to alpha1, retried on failure with halved
+ * steps and then with the direct solver. On final failure the state is as it was. */
+static weft_status robust_substep(wc_state* s, double h, double alpha0, double alpha1, double pin_energy,
+                                  wc_step_stats* st, wc_diag* diag) {
+    wc_diag local = {WEFT_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
+    save(s);
+    wc_solver_type user = s->def.solver.type;
+    int tries = s->def.max_halvings + 1 + (s->def.direct_fallback && user != WC_SOLVER_DIRECT ? 2 : 0);
+    for (int t = 0; t < tries; ++t) {
+        int halvings = t <= s->def.max_halvings ? t : (t == s->def.max_halvings + 1 ? 0 : s->def.max_halvings);
+        wc_solver_type solver = t <= s->def.max_halvings ? user : WC_SOLVER_DIRECT;
+        int pieces = 1 << halvings;
+        if (t > 0) {
+            ++st->rollbacks;
+            if (halvings > 0) ++st->halvings;
+            if (solver != user) ++st->direct_fallbacks;
+        }
+        weft_status ok = WEFT_OK;
+        for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
+            double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
+            ok = substep(s, h / pieces, a1, solver, pin_energy, st, &local);
+            if (ok == WEFT_OK) ++st->substeps;
+        }
+        if (ok == WEFT_OK) return WEFT_OK;
+        wc_log(diag, WC_LOG_WARN, "rolled back: %s", local.message);
+        restore(s);
+        wc_solver_invalidate_rho(s->solver);
+    }
+    ++st->failures;
+    return WEFT_ERROR_STEP_FAILED;
+}
+
+weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
+    wc_step_stats local;
+    wc_step_stats* st = stats ? stats : &local;
+    memset(st, 0, sizeof *st);
+    if (!s) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "step: NULL state");
+    if (!(dt > 0) || !isfinite(dt) || dt > 1e3)
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "step: frame time %g s must be finite, > 0 and <= 1000", dt);
+    double t_start = wc_now_ms();
+    double pin_speed2 = 0.0;
+    for (int k = 0; k < s->n_pins; ++k) {
+        double d[3];
+        v3_sub(d, s->pins[k].target, s->pin_from + 3 * k);
+        double v2 = v3_dot(d, d) / (dt * dt);
+        if (v2 > pin_speed2) pin_speed2 = v2;
+    }
+    double mass = 0.0;
+    for (int i = 0; i < s->model->n_particles; ++i) mass += s->model->mass[i];
+    double pin_energy = 0.5 * mass * pin_speed2; /* what moving pins may add to the kinetic energy */
+
+    weft_status result = WEFT_OK;
+    if (s->def.substep_dt > 0) {
+        s->accumulator += dt;
+        double h = s->def.substep_dt, consumed = 0.0, budget = s->accumulator;
+        while (s->accumulator >= h * (1.0 - 1e-9)) {
+            double a0 = consumed / budget, a1 = (consumed + h) / budget;
+            if (a1 > 1.0) a1 = 1.0;
+            if (robust_substep(s, h, a0, a1, pin_energy, st, diag) != WEFT_OK) result = WEFT_ERROR_STEP_FAILED;
+            s->accumulator -= h;
+            consumed += h;
+            s->time += h;
+        }
+        if (s->accumulator < 0) s->accumulator = 0;
+    } else {
+        int n = s->def.substeps;
+        double h = dt / n;
+        for (int k = 0; k < n; ++k) {
+            if (robust_substep(s, h, (double)k / n, (double)(k + 1) / n, pin_energy, st, diag) != WEFT_OK)
+                result = WEFT_ERROR_STEP_FAILED;
+            s->time += h;
+        }
+    }
+    for (int k = 0; k < s->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
+    ++s->frame;
+    st->contacts = s->contacts.active;
+    st->kinetic_energy = wc_state_kinetic_energy(s);
+    st->max_strain = wc_max_stretch_strain(s->model, s->x);
+    st->ms.total = wc_now_ms() - t_start;
+    if (result != WEFT_OK)
+        return wc_fail(diag, result, "step: %d substep(s) failed after every retry; the state was kept finite",
+                       st->failures);
+    return WEFT_OK;
+}
