@@ -19,18 +19,6 @@ void wc_bsr_pattern_free(wc_bsr_pattern* p, const wc_allocator* a) {
     memset(p, 0, sizeof *p);
 }
 
-/* Index of column c in row r (binary search over the row's ascending columns); -1 if absent. */
-static int find_block(const wc_bsr_pattern* p, int r, int c) {
-    int lo = p->row_start[r], hi = p->row_start[r + 1] - 1;
-    while (lo <= hi) {
-        int mid = (lo + hi) / 2;
-        if (p->col[mid] == c) return mid;
-        if (p->col[mid] < c) lo = mid + 1;
-        else hi = mid - 1;
-    }
-    return -1;
-}
-
 int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocator* a) {
     memset(p, 0, sizeof *p);
     int n = m->n_particles, ns = m->n_springs, nt = m->n_tris;
@@ -41,13 +29,14 @@ int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocato
     p->row_tri_start = WC_NEW(a, int, n + 1);
     wc_keyed* keys = WC_NEW(a, wc_keyed, 2 * (size_t)ns + 1);
     int* fill = WC_NEW(a, int, n + 1);
+    int* blk = WC_NEW(a, int, 2 * (size_t)ns + 1); /* block of each directed spring end 2s (a,b), 2s+1 (b,a) */
     if (ns > 0) {
         p->row_spring = WC_NEW(a, int, 2 * ns);
         p->row_spring_block = WC_NEW(a, int, 2 * ns);
         p->row_spring_sign = WC_NEW(a, signed char, 2 * ns);
     }
     if (nt > 0) p->row_tri = WC_NEW(a, int, 3 * nt);
-    if (!p->row_start || !p->diag || !p->row_spring_start || !p->row_tri_start || !keys || !fill ||
+    if (!p->row_start || !p->diag || !p->row_spring_start || !p->row_tri_start || !keys || !fill || !blk ||
         (ns > 0 && (!p->row_spring || !p->row_spring_block || !p->row_spring_sign)) || (nt > 0 && !p->row_tri))
         goto oom;
 
@@ -73,7 +62,8 @@ int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocato
     p->col = WC_NEW(a, int, nb);
     p->transpose = WC_NEW(a, int, nb);
     if (!p->col || !p->transpose) goto oom;
-    /* fill columns in ascending order, inserting the diagonal in place */
+    /* fill columns in ascending order, inserting the diagonal in place; remember each directed
+       spring end's block */
     for (int i = 0; i < n; ++i) fill[i] = p->row_start[i];
     int k = 0;
     for (int i = 0; i < n; ++i) {
@@ -86,6 +76,7 @@ int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocato
                 diag_done = 1;
             }
             if (!(k > 0 && keys[k].key == keys[k - 1].key)) p->col[fill[i]++] = j;
+            blk[keys[k].val] = fill[i] - 1;
             ++k;
         }
         if (!diag_done) {
@@ -93,8 +84,8 @@ int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocato
             p->col[fill[i]++] = i;
         }
     }
-    for (int i = 0; i < n; ++i)
-        for (int b = p->row_start[i]; b < p->row_start[i + 1]; ++b) p->transpose[b] = find_block(p, p->col[b], i);
+    for (int i = 0; i < n; ++i) p->transpose[p->diag[i]] = p->diag[i];
+    for (int e = 0; e < 2 * ns; ++e) p->transpose[blk[e]] = blk[e ^ 1];
 
     /* springs per row, in spring order */
     for (int s = 0; s < ns; ++s) {
@@ -104,13 +95,12 @@ int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocato
     for (int i = 0; i < n; ++i) p->row_spring_start[i + 1] += p->row_spring_start[i];
     for (int i = 0; i < n; ++i) fill[i] = p->row_spring_start[i];
     for (int s = 0; s < ns; ++s) {
-        int i = m->springs[s].a, j = m->springs[s].b;
-        int ki = fill[i]++, kj = fill[j]++;
+        int ki = fill[m->springs[s].a]++, kj = fill[m->springs[s].b]++;
         p->row_spring[ki] = s;
-        p->row_spring_block[ki] = find_block(p, i, j);
+        p->row_spring_block[ki] = blk[2 * s];
         p->row_spring_sign[ki] = 1;
         p->row_spring[kj] = s;
-        p->row_spring_block[kj] = find_block(p, j, i);
+        p->row_spring_block[kj] = blk[2 * s + 1];
         p->row_spring_sign[kj] = -1;
     }
 
@@ -122,10 +112,12 @@ int wc_bsr_pattern_build(wc_bsr_pattern* p, const wc_model* m, const wc_allocato
 
     wc_free(a, keys);
     wc_free(a, fill);
+    wc_free(a, blk);
     return 0;
 oom:
     wc_free(a, keys);
     wc_free(a, fill);
+    wc_free(a, blk);
     wc_bsr_pattern_free(p, a);
     return -1;
 }

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "clock.h"
+#include "ordering.h"
 #include "springs.h"
 #include "topology.h"
 #include "triangulate.h"
@@ -31,6 +32,7 @@ wc_model_def wc_default_model_def(void) {
     d.weld_tolerance = 1e-6;
     d.degenerate_area = 1e-14;
     d.bend_min_angle_deg = 150.0;
+    d.reorder = 1;
     d.material = wc_default_material();
     return d;
 }
@@ -228,13 +230,25 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
 
     STAGE_DONE(orient);
 
-    /* 5. particles = welded vertices that a kept triangle uses, in host order */
+    /* 5. particles = welded vertices that a kept triangle uses, in host order, then (by default)
+       renumbered by reverse Cuthill-McKee */
     for (int v = 0; v < nw; ++v) t.remap[v] = -1;
     for (int i = 0; i < 3 * nt; ++i) t.remap[t.tris[i]] = 0;
     int np = 0;
     for (int v = 0; v < nw; ++v)
         if (t.remap[v] == 0) t.remap[v] = np++;
     for (int i = 0; i < 3 * nt; ++i) t.tris[i] = t.remap[t.tris[i]];
+    if (def->reorder) { /* renumber for locality: reverse Cuthill-McKee */
+        int* order = WC_NEW(A, int, (size_t)np + 1);
+        if (!order || wc_order_rcm(np, t.tris, nt, order, A) != 0) {
+            wc_free(A, order);
+            goto oom;
+        }
+        for (int v = 0; v < nw; ++v)
+            if (t.remap[v] >= 0) t.remap[v] = order[t.remap[v]];
+        for (int i = 0; i < 3 * nt; ++i) t.tris[i] = order[t.tris[i]];
+        wc_free(A, order);
+    }
     for (int p = 0; p < npoly; ++p) { /* surviving quads with four distinct particles */
         int s = src->poly_start[p];
         if (src->poly_start[p + 1] - s != 4) continue;
@@ -305,8 +319,11 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     wc_spring_input spring_in = {np, m->rest_pos, &m->we, m->tri_quad, nq, t.quads, def->bend_min_angle_deg};
     st = wc_build_springs(&spring_in, &m->springs, &m->n_springs, m->spring_type_start, A, diag);
     if (st != WEFT_OK) goto fail;
-    if (wc_bsr_pattern_build(&m->pattern, m, A) != 0) goto oom;
     STAGE_DONE(springs);
+
+    /* 7b. block pattern of the implicit system and per-row lists */
+    if (wc_bsr_pattern_build(&m->pattern, m, A) != 0) goto oom;
+    STAGE_DONE(pattern);
 
     /* 8. lumped masses */
     for (int i = 0; i < nt; ++i)

@@ -56,7 +56,7 @@ typedef struct wc_import_report {
     double unit_scale;          /* metres per source unit */
     double weld_distance;       /* absolute weld distance used (m) */
     struct {                    /* wall time of each build stage (ms) */
-        double weld, triangulate, clean, orient, topology, springs, total;
+        double weld, triangulate, clean, orient, topology, springs, pattern, total;
     } ms;
     int n_warnings;
     int warnings_dropped;       /* warnings beyond WC_MAX_WARNINGS */
@@ -67,6 +67,8 @@ typedef struct wc_model_def {
     double weld_tolerance;      /* relative to the bounding-box diagonal; 0 disables; 1e-6 */
     double degenerate_area;     /* triangle area below this x diagonal^2 is degenerate; 1e-14 */
     double bend_min_angle_deg;  /* rest angle a-v-b at least this makes a bend spring; 150 */
+    int reorder;                /* 1: number particles by reverse Cuthill-McKee for locality (default);
+                                   0: by first appearance in host order */
     wc_material material;
 } wc_model_def;
 

@@ -105,8 +105,8 @@ int main(int argc, char** argv) {
     if (target < 2 || runs < 1 || runs > 100) return 2;
     int n = (int)ceil(sqrt(target / 2.0)) + 1;
     printf("grid %d x %d vertices, %ld triangles, median of %d runs\n\n", n, n, 2L * (n - 1) * (n - 1), runs);
-    printf("| mesh | host verts | particles | springs | weld | triangulate | clean | orient | topology | springs | build total | assimp read |\n");
-    printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    printf("| mesh | host verts | particles | springs | weld | triangulate | clean | orient | topology | springs | pattern | build total | assimp read |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     struct { const char* name; int quads, split; } cases[] = {{"tri grid", 0, 0}, {"quad grid, split per quad", 1, 1}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         wc_source_mesh src;
@@ -114,8 +114,8 @@ int main(int argc, char** argv) {
             fprintf(stderr, "mesh generation failed\n");
             return 1;
         }
-        double* t[8];
-        for (int k = 0; k < 8; ++k) t[k] = calloc((size_t)runs, sizeof(double));
+        double* t[9];
+        for (int k = 0; k < 9; ++k) t[k] = calloc((size_t)runs, sizeof(double));
         wc_import_report rep = {0};
         int nspr = 0;
         for (int r = 0; r < runs; ++r) {
@@ -128,8 +128,9 @@ int main(int argc, char** argv) {
             }
             rep = m.report;
             nspr = m.n_springs;
-            double v[7] = {rep.ms.weld, rep.ms.triangulate, rep.ms.clean, rep.ms.orient, rep.ms.topology, rep.ms.springs, rep.ms.total};
-            for (int k = 0; k < 7; ++k) t[k][r] = v[k];
+            double v[8] = {rep.ms.weld,     rep.ms.triangulate, rep.ms.clean,   rep.ms.orient,
+                           rep.ms.topology, rep.ms.springs,     rep.ms.pattern, rep.ms.total};
+            for (int k = 0; k < 8; ++k) t[k][r] = v[k];
             wc_model_free(&m);
         }
         double obj_ms = NAN;
@@ -142,19 +143,19 @@ int main(int argc, char** argv) {
                     wc_import_opts o = wc_default_import_opts();
                     double t0 = wc_now_ms();
                     weft_status st = wc_import_file(&im, NULL, path, &o, &d);
-                    t[7][r] = wc_now_ms() - t0;
+                    t[8][r] = wc_now_ms() - t0;
                     if (st == WEFT_OK) wc_source_mesh_free(&im);
                     else fprintf(stderr, "import failed: %s\n", d.message);
                 }
-                obj_ms = median(t[7], runs);
+                obj_ms = median(t[8], runs);
                 remove(path);
             }
         }
         printf("| %s | %d | %d | %d |", cases[c].name, src.n_verts, rep.particles, nspr);
-        for (int k = 0; k < 7; ++k) printf(" %.0f ms |", median(t[k], runs));
+        for (int k = 0; k < 8; ++k) printf(" %.0f ms |", median(t[k], runs));
         if (with_obj) printf(" %.0f ms |\n", obj_ms);
         else printf(" - |\n");
-        for (int k = 0; k < 8; ++k) free(t[k]);
+        for (int k = 0; k < 9; ++k) free(t[k]);
         wc_source_mesh_free(&src);
     }
     return 0;
