@@ -1,0 +1,130 @@
+/* Spring forces and Jacobians, gravity and air (formulas in forces.h). Springs and triangles are
+ * evaluated in parallel over fixed contiguous ranges; per-particle air forces are gathered by
+ * particle through pattern.row_tri, so results do not depend on the thread count. */
+#include "forces.h"
+#include "vec3.h"
+
+/* Below this fraction of its rest length a spring has no usable direction of its own. */
+#define WC_SPRING_DEGENERATE 1e-12
+
+/* Force and blocks of one spring from its unit direction u (a - b), length l, rest length, relative
+ * velocity dv = v_a - v_b (3), stiffness k, damping d and the geometric factor c = 1 - rest/l. */
+static void spring_blocks(const double* u, double l, double rest, const double* dv, double k, double d, double c,
+                          wc_spring_eval* o) {
+    double fs = k * (l - rest) + d * v3_dot(dv, u);
+    v3_scale(o->f, u, -fs);
+    for (int r = 0; r < 3; ++r)
+        for (int q = 0; q < 3; ++q) {
+            double uu = u[r] * u[q]; /* u_r u_q == u_q u_r exactly: blocks are exactly symmetric */
+            o->kx[3 * r + q] = -k * ((1.0 - c) * uu + (r == q ? c : 0.0));
+            o->kv[3 * r + q] = -d * uu;
+        }
+}
+
+void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                     wc_par* par, wc_spring_eval* out) {
+    const wc_spring* sp = m->springs;
+    const double* k = m->material.k;
+    const double* d = m->material.d;
+    const double* rp = m->rest_pos;
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(m->n_springs, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int s = lo; s < hi; ++s) {
+            int a = sp[s].a, b = sp[s].b, t = sp[s].type;
+            double rest = sp[s].rest, L[3], u[3] = {0, 0, 0}, dv[3], c = 0.0;
+            v3_sub(L, x + 3 * a, x + 3 * b);
+            v3_sub(dv, v + 3 * a, v + 3 * b);
+            double l = v3_norm(L);
+            if (l > 0.0 && l >= WC_SPRING_DEGENERATE * rest) {
+                v3_scale(u, L, 1.0 / l);
+                c = 1.0 - rest / l;
+                if (compression == WC_COMPRESSION_DROP && c < 0.0) c = 0.0;
+            } else {
+                /* (nearly) coincident ends have no direction: use the rest direction (pushes them
+                 * apart; zero when the rest ends coincide too) with the clamped Jacobian */
+                double R[3];
+                v3_sub(R, rp + 3 * a, rp + 3 * b);
+                double r = v3_norm(R);
+                if (r > 0.0) v3_scale(u, R, 1.0 / r);
+            }
+            spring_blocks(u, l, rest, dv, k[t], d[t], c, out + s);
+        }
+    }
+}
+
+/* Air force on triangle t (3): A (cn (u.n) n + ct (u - (u.n) n)), zero for a degenerate one. */
+static void air_triangle(const wc_model* m, const double* x, const double* v, const wc_air* air, int t, double* f) {
+    const int* tri = m->tris + 3 * t;
+    const double *xa = x + 3 * tri[0], *xb = x + 3 * tri[1], *xc = x + 3 * tri[2];
+    double e1[3], e2[3], N[3];
+    v3_sub(e1, xb, xa);
+    v3_sub(e2, xc, xa);
+    v3_cross(N, e1, e2);
+    double twice_area = v3_norm(N);
+    if (!(twice_area > 0.0)) {
+        v3_zero(f);
+        return;
+    }
+    double n[3], u[3];
+    v3_scale(n, N, 1.0 / twice_area);
+    /* u = wind - mean velocity */
+    for (int q = 0; q < 3; ++q)
+        u[q] = air->wind[q] - (v[3 * tri[0] + q] + v[3 * tri[1] + q] + v[3 * tri[2] + q]) * (1.0 / 3.0);
+    double un = v3_dot(u, n), area = 0.5 * twice_area;
+    for (int q = 0; q < 3; ++q) f[q] = area * (air->normal_drag * un * n[q] + air->tangent_drag * (u[q] - un * n[q]));
+}
+
+void wc_eval_external(const wc_model* m, const double* x, const double* v, const double gravity[3],
+                      const wc_air* air, wc_par* par, double* tri_scratch, double* f_ext) {
+    int use_air = air && (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && m->n_tris > 0;
+    if (use_air) {
+        WC_PAR_REGION(par)
+        {
+            int lo, hi;
+            wc_par_range(m->n_tris, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            for (int t = lo; t < hi; ++t) air_triangle(m, x, v, air, t, tri_scratch + 3 * t);
+        }
+    }
+    const wc_bsr_pattern* p = &m->pattern;
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(m->n_particles, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double* f = f_ext + 3 * i;
+            v3_scale(f, gravity, m->mass[i]);
+            if (!use_air) continue;
+            double acc[3] = {0, 0, 0};
+            for (int k = p->row_tri_start[i]; k < p->row_tri_start[i + 1]; ++k)
+                v3_add(acc, acc, tri_scratch + 3 * p->row_tri[k]);
+            v3_axpy(f, 1.0 / 3.0, acc);
+        }
+    }
+}
+
+double wc_spring_energy(const wc_model* m, const double* x) {
+    double e = 0.0;
+    for (int s = 0; s < m->n_springs; ++s) {
+        const wc_spring* sp = &m->springs[s];
+        double L[3];
+        v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
+        double dl = v3_norm(L) - sp->rest;
+        e += 0.5 * m->material.k[sp->type] * dl * dl;
+    }
+    return e;
+}
+
+double wc_max_stretch_strain(const wc_model* m, const double* x) {
+    double worst = 0.0;
+    for (int s = m->spring_type_start[WC_SPRING_STRETCH]; s < m->spring_type_start[WC_SPRING_STRETCH + 1]; ++s) {
+        const wc_spring* sp = &m->springs[s];
+        if (!(sp->rest > 0.0)) continue;
+        double L[3];
+        v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
+        double strain = (v3_norm(L) - sp->rest) / sp->rest;
+        if (strain > worst) worst = strain;
+    }
+    return worst;
+}
