@@ -94,20 +94,12 @@ static double energy_floor(const wc_state* s) {
     return 0.5 * mass * speed2;
 }
 
-typedef struct substep_out {
-    weft_status status;
-    wc_solve_result solve;
-} substep_out;
-
-/* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
- * returns non-OK when the result must be discarded. */
-static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, double pin_energy,
-                           wc_step_stats* st, wc_diag* diag) {
+/* Constraints, forces and assembly of a substep of length h ending at frame fraction alpha1:
+ * fills s->filter, s->A and s->b (contacts may correct positions). */
+void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double t0 = wc_now_ms(), t1;
-    double ke0 = wc_state_kinetic_energy(s);
-
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     apply_pins(s, h, alpha1);
     if (s->n_colliders > 0) wc_contacts_begin(&s->contacts, s->colliders, s->n_colliders, s->x, s->v, h, &s->filter, &s->par);
@@ -122,9 +114,18 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     t0 = t1;
 
     wc_assemble(m, s->se, s->f_ext, s->v, h, &s->par, s->A, s->b, NULL);
-    t1 = wc_now_ms();
-    st->ms.assemble += t1 - t0;
-    t0 = t1;
+    st->ms.assemble += wc_now_ms() - t0;
+}
+
+/* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
+ * returns non-OK when the result must be discarded. */
+static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, double pin_energy,
+                           wc_step_stats* st, wc_diag* diag) {
+    const wc_model* m = s->model;
+    int n = m->n_particles;
+    double ke0 = wc_state_kinetic_energy(s);
+    wc_substep_prepare(s, h, alpha1, st);
+    double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
     weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);

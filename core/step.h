@@ -25,6 +25,11 @@ typedef struct wc_step_stats {
     struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
 } wc_step_stats;
 
+/* For tests and benchmarks: build the constrained system of a substep of length h ending at
+ * frame fraction alpha1 (pins and contacts into s->filter, then s->A and s->b), exactly as the
+ * step does before it solves. Contacts may move particles out of colliders. */
+void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st);
+
 /* Simulate dt seconds (> 0, finite). stats may be NULL. */
 weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag);
 

@@ -84,3 +84,33 @@ const char* ts_write_tmp(const char* name, const char* text) {
     fclose(f);
     return path;
 }
+
+int ts_sheet(wc_model* m, int n, double size, double y, int vertical, double k_scale) {
+    wc_source_mesh src;
+    ts_quad_grid(&src, n, n, size, size, 0);
+    for (int v = 0; v < src.n_verts; ++v) {
+        double* p = src.pos + 3 * v;
+        double gx = p[0], gy = p[1];
+        if (vertical) {
+            p[0] = gx - 0.5 * size;
+            p[1] = y - size + gy;
+            p[2] = 0.0;
+        } else {
+            p[0] = gx - 0.5 * size;
+            p[1] = y;
+            p[2] = gy - 0.5 * size;
+        }
+    }
+    wc_model_def def = wc_default_model_def();
+    for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) {
+        def.material.k[t] *= k_scale;
+        def.material.d[t] *= k_scale;
+    }
+    wc_diag d = {0};
+    weft_status st = wc_model_build(m, &src, &def, NULL, &d);
+    if (st != WEFT_OK) fprintf(stderr, "ts_sheet: %s\n", d.message);
+    wc_source_mesh_free(&src);
+    return st == WEFT_OK;
+}
+
+int ts_sheet_particle(const wc_model* m, int n, int i, int j) { return m->host_to_particle[i + n * j]; }

@@ -1,6 +1,7 @@
 /* Helpers shared by the test programs: generated meshes and scratch files. */
 #ifndef WEFT_TESTS_SUPPORT_H
 #define WEFT_TESTS_SUPPORT_H
+#include "model.h"
 #include "source_mesh.h"
 
 /* nx x ny vertices, quads, in the XY plane, spanning size_x x size_y metres. With split_uv each
@@ -12,5 +13,12 @@ void ts_tri_grid(wc_source_mesh* out, int nx, int ny, double size_x, double size
 const char* ts_write_tmp(const char* name, const char* text);
 /* Full path of a scratch file name in WEFT_TEST_TMPDIR (static buffer, 4 rotating slots). */
 const char* ts_tmp_path(const char* name);
+/* An n x n quad-grid sheet of size x size metres, horizontal (XZ plane) at height y when
+ * vertical is 0, else hanging in the XY plane with its top edge at height y. Material: defaults
+ * with every k and d multiplied by k_scale. Host vertex (i, j) is i + n j (i along X). Returns
+ * 1 on success. */
+int ts_sheet(wc_model* m, int n, double size, double y, int vertical, double k_scale);
+/* Particle of host grid vertex (i, j) of a ts_sheet. */
+int ts_sheet_particle(const wc_model* m, int n, int i, int j);
 
 #endif
