@@ -49,14 +49,19 @@ typedef struct wc_contacts {
     int active;                /* number of particles with at least one contact */
 } wc_contacts;
 
-/* Step 1. x is corrected in place; f gets the contact constraints of non-pinned particles. */
+/* Step 1. x is corrected in place; f gets the contact constraints of non-pinned particles.
+ * On entry f must hold the step's pins only (free elsewhere): particles with ndof 2 (line pins)
+ * or 3 get no contact, ndof 0 or 1 are (re)written. Returns the particles in contact (also
+ * ct->active); a particle approaching the shell within this substep is prescribed the normal
+ * velocity that lands it on the shell at the end of the substep (see collide.c). */
 int wc_contacts_begin(wc_contacts* ct, const wc_collider* c, int nc, double* x, const double* v, double h,
                       wc_filter* f, wc_par* par);
 /* Step 3. r = A dv - b (n x 3) for the solved system; v_new (n x 3) = v + dv, modified in place by
  * friction; mass (n). */
 void wc_contacts_end(wc_contacts* ct, const wc_collider* c, int nc, const double* r, const double* mass, double h,
                      double* v_new, wc_par* par);
-/* Step 4. Returns the number of particles moved. */
+/* Step 4. Every particle but the pinned ones (ndof 3; f may be NULL). Returns the number of
+ * particles moved. */
 int wc_contacts_project(const wc_contacts* ct, const wc_collider* c, int nc, const wc_filter* f, double* x,
                         double* v, wc_par* par);
 

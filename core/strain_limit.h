@@ -8,7 +8,9 @@
 #include "model.h"
 #include "par.h"
 
-/* scratch: (n_springs x 3). Returns the largest strain left over stretch springs. */
+/* scratch: (n_springs x 3). Returns the largest strain left over stretch springs. Corrections
+ * are projected by each particle's filter S (line pins and contact normals are kept; f may be
+ * NULL for none). */
 double wc_strain_limit(const wc_model* m, const wc_filter* f, double limit, int passes, double h, double* x,
                        double* v, double* scratch, wc_par* par);
 

@@ -1,0 +1,433 @@
+/* Colliders and the contact handling of a substep (see collide.h for the sequence).
+ *
+ * Choices made here (all deterministic, per particle, no allocation):
+ *  - Which particles: begin constrains particles whose filter ndof is 0 or 1 on entry (the step
+ *    resets the filter and sets its pins before begin; ndof 1 can only be a contact left over
+ *    from an earlier substep and is rewritten). Particles with ndof 2 (line pins) or 3 (pins)
+ *    get no contact. project moves every particle except ndof 3 (a line-pinned particle is
+ *    still kept out of colliders).
+ *  - When a particle is in contact with collider k (d = distance - thickness, vr = v - vc_k):
+ *      held:  it was in contact with k last substep (and not released) and d < h |vr| + SLOP
+ *             (the band covers the drift of a particle sliding over a curved surface);
+ *      new:   d < -SLOP (penetrating), or, unless released last substep, d < h max(0, -vr.n)
+ *             + SLOP (it would reach the shell during this substep).
+ *    At most two contacts, the two smallest d (lower collider index on ties); a second normal
+ *    within ~5.7 degrees of the first (|n2 - (n1.n2) n1| < 0.1) is dropped.
+ *  - Position correction: a kept collider whose shell x is inside becomes active; x then takes
+ *    the smallest step putting every active shell at distance 0 (exact for planes, the corner of
+ *    two shells included; Newton passes for curved colliders, converged to rounding).
+ *  - Prescribed velocity: after dv the relative normal velocity along each kept normal is
+ *    -max(d, 0) / h: a particle on the shell stops moving into it, one approaching within the
+ *    reach of this substep lands exactly on the shell at its end (instead of stopping in mid
+ *    air). Never outward: a contact adds no separating velocity. project then removes the inward relative
+ *    normal velocity left on the shell.
+ *  - end: the constraint force of each contact is the component along its normal of r_i / h in
+ *    the (non-orthogonal) basis of the two normals; a negative one releases that contact. The
+ *    friction velocity change is mu lambda h / m = mu (that component of r_i) / m.
+ *    Friction acts on the free (S) part of the relative velocity, once per kept contact.
+ *  - project: picks the two deepest colliders and pushes x out of them as above (re-picked up
+ *    to PROJECT_ROUNDS times); then the velocity gets the nearest value with no inward relative
+ *    normal velocity for the (up to two deepest) colliders whose shell it lies on (distance <
+ *    SLOP: a particle that landed in the solve, too). Three or more colliders meeting at
+ *    one point may leave a small penetration after the passes. */
+#include "collide.h"
+#include <math.h>
+#include "vec3.h"
+
+#define SLOP 1e-9              /* m: rounding slack for "on the shell" */
+#define PARALLEL_MIN 0.1       /* |n2 - (n1.n2) n1| below this: normals treated as parallel */
+#define PROJECT_ROUNDS 3       /* project: re-pick the two deepest colliders this many times */
+#define CORRECT_PASSES 4       /* Newton passes of one push out */
+
+static void set_up(double* n) { v3_set(n, 0.0, 1.0, 0.0); }
+
+/* Signed distance to a ball of radius r around q; u (unit or NULL) is the capsule axis, used to
+ * pick a normal perpendicular to it when p is on the axis. */
+static double ball_distance(const double* p, const double* q, double r, const double* u, double* n) {
+    double d[3];
+    v3_sub(d, p, q);
+    double len = v3_norm(d);
+    if (len > 0.0) {
+        v3_scale(n, d, 1.0 / len);
+        return len - r;
+    }
+    set_up(n);
+    if (u) {
+        /* up, or x when the axis is near vertical, made perpendicular to the axis */
+        double w[3];
+        v3_copy(w, n);
+        v3_axpy(w, -v3_dot(w, u), u);
+        if (v3_dot(w, w) < 0.25) {
+            v3_set(w, 1.0, 0.0, 0.0);
+            v3_axpy(w, -v3_dot(w, u), u);
+        }
+        v3_scale(n, w, 1.0 / v3_norm(w));
+    }
+    return -r;
+}
+
+double wc_collider_distance(const wc_collider* c, const double* p, double* normal) {
+    switch (c->type) {
+    case WC_COLLIDER_PLANE:
+        v3_copy(normal, c->normal);
+        return v3_dot(c->normal, p) - c->offset;
+    case WC_COLLIDER_SPHERE:
+        return ball_distance(p, c->center, c->radius, NULL, normal);
+    case WC_COLLIDER_CAPSULE: {
+        double ab[3], ap[3], q[3], u[3];
+        v3_sub(ab, c->b, c->a);
+        v3_sub(ap, p, c->a);
+        double l2 = v3_dot(ab, ab);
+        if (!(l2 > 0.0)) return ball_distance(p, c->a, c->radius, NULL, normal);
+        double t = v3_dot(ap, ab) / l2;
+        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+        v3_copy(q, c->a);
+        v3_axpy(q, t, ab);
+        v3_scale(u, ab, 1.0 / sqrt(l2));
+        return ball_distance(p, q, c->radius, u, normal);
+    }
+    default:
+        set_up(normal);
+        return HUGE_VAL;
+    }
+}
+
+/* d - thickness and the normal. */
+static double shell_distance(const wc_collider* c, const double* p, double* n) {
+    return wc_collider_distance(c, p, n) - c->thickness;
+}
+
+/* e = unit part of n2 orthogonal to n1; returns its length before normalising (0..1). */
+static double ortho(const double* n1, const double* n2, double* e) {
+    v3_copy(e, n2);
+    v3_axpy(e, -v3_dot(n1, n2), n1);
+    double l = v3_norm(e);
+    if (l > 0.0) v3_scale(e, e, 1.0 / l);
+    return l;
+}
+
+/* The smallest delta with n1.delta = a1 (and n2.delta = a2 when two): delta in span(n1, n2). */
+static void solve_pair(const double* n1, double a1, const double* n2, double a2, int two, double* delta) {
+    if (!two) {
+        v3_scale(delta, n1, a1);
+        return;
+    }
+    double c = v3_dot(n1, n2), g = 1.0 - c * c;
+    double al = (a1 - c * a2) / g, be = (a2 - c * a1) / g;
+    v3_scale(delta, n1, al);
+    v3_axpy(delta, be, n2);
+}
+
+/* Nearest delta to 0 with n_k.delta >= a_k (k < cnt <= 2, normals not parallel when two).
+ * Returns 0 when delta = 0 already satisfies them. */
+static int halfspaces(const double* n1, double a1, const double* n2, double a2, int cnt, double* delta) {
+    v3_zero(delta);
+    int bad1 = a1 > 0.0, bad2 = cnt > 1 && a2 > 0.0;
+    if (!bad1 && !bad2) return 0;
+    if (cnt == 1) {
+        v3_scale(delta, n1, a1);
+        return 1;
+    }
+    double c = v3_dot(n1, n2);
+    /* one boundary: the projection onto the violated one, when it satisfies the other */
+    if (bad1 && a1 * c >= a2) {
+        v3_scale(delta, n1, a1);
+        return 1;
+    }
+    if (bad2 && a2 * c >= a1) {
+        v3_scale(delta, n2, a2);
+        return 1;
+    }
+    solve_pair(n1, a1, n2, a2, 1, delta);
+    return 1;
+}
+
+/* Two smallest values among candidates, lower index first on ties. */
+typedef struct best2 {
+    int k[2];
+    double d[2];
+    double n[6];
+    int cnt;
+} best2;
+
+static void best2_init(best2* b) {
+    b->k[0] = b->k[1] = -1;
+    b->d[0] = b->d[1] = HUGE_VAL;
+    b->cnt = 0;
+}
+
+static void best2_add(best2* b, int k, double d, const double* n) {
+    if (b->cnt == 0 || d < b->d[0]) {
+        b->k[1] = b->k[0];
+        b->d[1] = b->d[0];
+        v3_copy(b->n + 3, b->n);
+        b->k[0] = k;
+        b->d[0] = d;
+        v3_copy(b->n, n);
+    } else if (b->cnt == 1 || d < b->d[1]) {
+        b->k[1] = k;
+        b->d[1] = d;
+        v3_copy(b->n + 3, n);
+    }
+    if (b->cnt < 2) ++b->cnt;
+}
+
+/* Drop the second entry when its normal is (nearly) parallel to the first. */
+static void best2_prune(best2* b) {
+    double e[3];
+    if (b->cnt == 2 && ortho(b->n, b->n + 3, e) < PARALLEL_MIN) {
+        b->cnt = 1;
+        b->k[1] = -1;
+    }
+}
+
+/* Move p out of the shells of colliders ks[0..cnt) (cnt <= 2): a collider found inside becomes
+ * active and stays so; each pass moves p by the smallest step that puts every active one at
+ * distance 0 (linearised: exact for planes, Newton steps for curved colliders). Returns 1 when
+ * p moved. */
+static int push_out(const wc_collider* c, const int* ks, int cnt, double* p) {
+    int active[2] = {0, 0}, moved = 0;
+    for (int pass = 0; pass < CORRECT_PASSES; ++pass) {
+        double d[2], n[6], delta[3], e[3];
+        int any = 0;
+        for (int s = 0; s < cnt; ++s) {
+            d[s] = shell_distance(&c[ks[s]], p, n + 3 * s);
+            if (d[s] < 0.0) active[s] = 1;
+            any |= active[s];
+        }
+        if (!any) break;
+        if (active[0] && active[1] && ortho(n, n + 3, e) >= PARALLEL_MIN)
+            solve_pair(n, -d[0], n + 3, -d[1], 1, delta);
+        else if (active[0])
+            v3_scale(delta, n, -d[0]);
+        else
+            v3_scale(delta, n + 3, -d[1]);
+        if (delta[0] == 0.0 && delta[1] == 0.0 && delta[2] == 0.0) break;
+        v3_add(p, p, delta);
+        moved = 1;
+    }
+    return moved;
+}
+
+static int held_contact(const wc_contacts* ct, int i, int k) {
+    return ct->collider[2 * i] == k || ct->collider[2 * i + 1] == k;
+}
+
+/* Count per thread into par->partial, then sum in thread order. */
+static int sum_partials(const wc_par* par, int used) {
+    double s = 0.0;
+    for (int t = 0; t < used; ++t) s += par->partial[8 * t];
+    return (int)s;
+}
+
+static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double* x, const double* v, double h,
+                          wc_filter* f, int i) {
+    int* cid = ct->collider + 2 * i;
+    double* cn = ct->normal + 6 * i;
+    if (f->ndof[i] >= 2) {
+        cid[0] = cid[1] = -1;
+        for (int q = 0; q < 6; ++q) cn[q] = 0.0;
+        ct->released[i] = 0;
+        return 0;
+    }
+    wc_filter_free_particle(f, i);
+    double* xi = x + 3 * i;
+    const double* vi = v + 3 * i;
+    best2 b;
+    best2_init(&b);
+    for (int k = 0; k < nc; ++k) {
+        double n[3], vr[3];
+        double d = shell_distance(&c[k], xi, n);
+        if (!(d < HUGE_VAL)) continue;
+        v3_sub(vr, vi, c[k].velocity);
+        double vn = v3_dot(vr, n);
+        int take;
+        if (held_contact(ct, i, k))
+            take = d < h * v3_norm(vr) + SLOP;
+        else
+            take = d < -SLOP || (!ct->released[i] && d < h * fmax(0.0, -vn) + SLOP);
+        if (take) best2_add(&b, k, d, n);
+    }
+    best2_prune(&b);
+    cid[0] = cid[1] = -1;
+    for (int q = 0; q < 6; ++q) cn[q] = 0.0;
+    if (b.cnt == 0) return 0;
+
+    /* position correction onto / outside both kept shells */
+    push_out(c, b.k, b.cnt, xi);
+    double d[2], n[6];
+    for (int s = 0; s < b.cnt; ++s) d[s] = shell_distance(&c[b.k[s]], xi, n + 3 * s);
+    int cnt = b.cnt;
+    double e2[3];
+    if (cnt == 2 && ortho(n, n + 3, e2) < PARALLEL_MIN) cnt = 1; /* curvature turned it parallel */
+
+    /* S = I - n1 n1^T (- e2 e2^T); z sets the relative normal velocities to -max(d, 0) / h */
+    double a[2];
+    for (int s = 0; s < cnt; ++s) {
+        double vr[3];
+        v3_sub(vr, vi, c[b.k[s]].velocity);
+        a[s] = (h > 0.0 ? -fmax(d[s], 0.0) / h : 0.0) - v3_dot(vr, n + 3 * s);
+        cid[s] = b.k[s];
+        v3_copy(cn + 3 * s, n + 3 * s);
+    }
+    double* S = f->S + 9 * i;
+    m3_identity(S, 1.0);
+    double P[9];
+    m3_outer(P, n, n, 1.0);
+    m3_axpy(S, -1.0, P);
+    if (cnt == 2) {
+        m3_outer(P, e2, e2, 1.0);
+        m3_axpy(S, -1.0, P);
+    }
+    solve_pair(n, a[0], n + 3, cnt > 1 ? a[1] : 0.0, cnt > 1, f->z + 3 * i);
+    f->ndof[i] = (unsigned char)cnt;
+    return 1;
+}
+
+int wc_contacts_begin(wc_contacts* ct, const wc_collider* c, int nc, double* x, const double* v, double h,
+                      wc_filter* f, wc_par* par) {
+    int n = ct->n, used = par->threads;
+    WC_PAR_REGION(par)
+    {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
+        if (t == 0) used = nt;
+        wc_par_range(n, t, nt, &lo, &hi);
+        for (int i = lo; i < hi; ++i) cnt += begin_particle(ct, c, nc, x, v, h, f, i);
+        par->partial[8 * t] = cnt;
+    }
+    ct->active = sum_partials(par, used);
+    return ct->active;
+}
+
+/* Normal impulse of each contact of particle i over the substep (N s; the constraint force times
+ * h): the components of r_i in the basis of the contact normals. */
+static void contact_impulses(const double* r, const double* n, int cnt, double* imp) {
+    double r1 = v3_dot(r, n);
+    if (cnt == 1) {
+        imp[0] = r1;
+        return;
+    }
+    double r2 = v3_dot(r, n + 3), c = v3_dot(n, n + 3), g = 1.0 - c * c;
+    imp[0] = (r1 - c * r2) / g;
+    imp[1] = (r2 - c * r1) / g;
+}
+
+static int end_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* r, const double* mass,
+                        double* v_new, int i) {
+    int* cid = ct->collider + 2 * i;
+    double* cn = ct->normal + 6 * i;
+    int cnt = (cid[0] >= 0) + (cid[1] >= 0);
+    if (cnt == 0 || cid[0] >= nc || cid[1] >= nc) {
+        cid[0] = cid[1] = -1;
+        ct->released[i] = 0;
+        return 0;
+    }
+    double imp[2];
+    contact_impulses(r + 3 * i, cn, cnt, imp);
+    /* the free directions the solve used */
+    double S[9], P[9], e2[3];
+    m3_identity(S, 1.0);
+    m3_outer(P, cn, cn, 1.0);
+    m3_axpy(S, -1.0, P);
+    if (cnt == 2) {
+        ortho(cn, cn + 3, e2);
+        m3_outer(P, e2, e2, 1.0);
+        m3_axpy(S, -1.0, P);
+    }
+    double* vi = v_new + 3 * i;
+    int released = 0, keep = 0;
+    int kid[2] = {-1, -1};
+    double kn[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    for (int s = 0; s < cnt; ++s) {
+        const wc_collider* col = &c[cid[s]];
+        if (imp[s] < 0.0) {
+            released = 1;
+            continue;
+        }
+        kid[keep] = cid[s];
+        v3_copy(kn + 3 * keep, cn + 3 * s);
+        ++keep;
+        if (!(col->friction > 0.0) || !(mass[i] > 0.0)) continue;
+        double vr[3], vt[3];
+        v3_sub(vr, vi, col->velocity);
+        m3_mulv(vt, S, vr);
+        double st = v3_norm(vt);
+        if (!(st > 0.0)) continue;
+        double dvn = imp[s] / mass[i]; /* lambda h / m */
+        double scale = fmax(0.0, 1.0 - col->friction * dvn / st);
+        v3_axpy(vi, scale - 1.0, vt);
+    }
+    cid[0] = kid[0];
+    cid[1] = kid[1];
+    for (int q = 0; q < 6; ++q) cn[q] = kn[q];
+    ct->released[i] = (unsigned char)released;
+    return keep > 0;
+}
+
+void wc_contacts_end(wc_contacts* ct, const wc_collider* c, int nc, const double* r, const double* mass, double h,
+                     double* v_new, wc_par* par) {
+    (void)h; /* force = r / h: only its sign and the impulse r = force h are needed */
+    int n = ct->n, used = par->threads;
+    WC_PAR_REGION(par)
+    {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
+        if (t == 0) used = nt;
+        wc_par_range(n, t, nt, &lo, &hi);
+        for (int i = lo; i < hi; ++i) cnt += end_particle(ct, c, nc, r, mass, v_new, i);
+        par->partial[8 * t] = cnt;
+    }
+    ct->active = sum_partials(par, used);
+}
+
+/* The two smallest shell distances over all colliders (parallel second normal dropped). */
+static void deepest2(const wc_collider* c, int nc, const double* p, best2* b) {
+    best2_init(b);
+    for (int k = 0; k < nc; ++k) {
+        double n[3], d = shell_distance(&c[k], p, n);
+        if (d < HUGE_VAL) best2_add(b, k, d, n);
+    }
+    best2_prune(b);
+}
+
+static int project_particle(const wc_collider* c, int nc, double* xi, double* vi) {
+    int moved = 0;
+    best2 b;
+    for (int round = 0; round < PROJECT_ROUNDS; ++round) {
+        deepest2(c, nc, xi, &b);
+        if (b.cnt == 0 || !(b.d[0] < 0.0)) break;
+        moved |= push_out(c, b.k, b.cnt, xi);
+    }
+    /* velocity: no inward relative normal velocity on the shells it lies on */
+    deepest2(c, nc, xi, &b);
+    int cnt = 0;
+    double a[2];
+    for (int s = 0; s < b.cnt; ++s) {
+        if (!(b.d[s] < SLOP)) break;
+        const double* vc = c[b.k[s]].velocity;
+        a[s] = v3_dot(vc, b.n + 3 * s) - v3_dot(vi, b.n + 3 * s);
+        ++cnt;
+    }
+    if (cnt > 0) {
+        double delta[3];
+        if (halfspaces(b.n, a[0], b.n + 3, cnt > 1 ? a[1] : 0.0, cnt, delta)) v3_add(vi, vi, delta);
+    }
+    return moved;
+}
+
+int wc_contacts_project(const wc_contacts* ct, const wc_collider* c, int nc, const wc_filter* f, double* x,
+                        double* v, wc_par* par) {
+    int n = ct->n, used = par->threads;
+    if (nc <= 0) return 0;
+    WC_PAR_REGION(par)
+    {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
+        if (t == 0) used = nt;
+        wc_par_range(n, t, nt, &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            if (f && f->ndof[i] == 3) continue;
+            cnt += project_particle(c, nc, x + 3 * i, v + 3 * i);
+        }
+        par->partial[8 * t] = cnt;
+    }
+    return sum_partials(par, used);
+}
