@@ -160,17 +160,23 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
     t0 = t1;
-    if (s->n_colliders > 0) wc_contacts_project(&s->contacts, s->colliders, s->n_colliders, &s->filter, s->x, s->v, &s->par);
-    t1 = wc_now_ms();
-    st->ms.collide += t1 - t0;
-    t0 = t1;
-
     double strain;
     if (s->def.strain_limit > 0 && s->def.strain_passes > 0)
         strain = wc_strain_limit(m, &s->filter, s->def.strain_limit, s->def.strain_passes, h, s->x, s->v,
                                  s->spring_scratch, &s->par);
     else
         strain = wc_max_stretch_strain(m, s->x);
+    t1 = wc_now_ms();
+    st->ms.integrate += t1 - t0;
+    t0 = t1;
+    /* last, so that nothing (strain limiting included) leaves a particle inside a collider */
+    if (s->n_colliders > 0) {
+        wc_contacts_project(&s->contacts, s->colliders, s->n_colliders, &s->filter, s->x, s->v, &s->par);
+        if (s->def.strain_limit > 0) strain = wc_max_stretch_strain(m, s->x);
+    }
+    t1 = wc_now_ms();
+    st->ms.collide += t1 - t0;
+    t0 = t1;
 
     /* failure checks */
     status = WEFT_OK;
