@@ -33,7 +33,7 @@ typedef struct wc_solver_opts {
     double tolerance;           /* relative residual to stop at (1e-4); 0 runs max_iterations */
     int max_iterations;         /* iteration cap (300) */
     int check_every;            /* Jacobi/Chebyshev: residual measured every this many iterations (10) */
-    double chebyshev_rho;       /* spectral radius of the Jacobi iteration; 0 = estimate (power iteration) */
+    double chebyshev_rho;       /* spectral radius of the sweep I - gamma D~^-1 P (solve_rho.c); 0 = estimate */
     double chebyshev_gamma;     /* under-relaxation of each Jacobi sweep (0.9) */
     int chebyshev_delay;        /* plain Jacobi iterations before acceleration starts (10) */
     double divergence_factor;   /* residual above this x the initial residual means divergence (1e3) */
@@ -52,8 +52,9 @@ typedef struct wc_solve_result {
 
 typedef struct wc_solver wc_solver;   /* workspace: vectors, preconditioner, CHOLMOD analysis */
 
-/* Allocate everything a solve needs for this model (nothing is allocated per solve). The direct
- * solver's symbolic analysis is done here when opts->type is DIRECT or want_direct is set. */
+/* Allocate everything a solve needs for this model (nothing is allocated per solve; m must outlive
+ * the solver). The direct solver's symbolic analysis is done here when opts->type is DIRECT or
+ * want_direct is set. */
 weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
                              const wc_allocator* alloc, wc_diag* diag);
 void wc_solver_destroy(wc_solver* s);
@@ -64,9 +65,11 @@ void wc_solver_destroy(wc_solver* s);
 weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const double* b, const wc_filter* f,
                      double* dv, wc_par* par, wc_solve_result* res);
 
-/* Estimate the spectral radius of the filtered block-Jacobi iteration matrix for this system
- * (a few power iterations; used by Chebyshev when chebyshev_rho is 0; cached until
- * wc_solver_invalidate_rho). */
+/* Estimate the spectral radius of the filtered, under-relaxed (chebyshev_gamma) block-Jacobi
+ * iteration matrix for this system, as Chebyshev uses it: 20 Lanczos steps (as many matrix
+ * sweeps as power iterations, much closer), extrapolated upwards and capped at 0.9995 (see
+ * solve_rho.c); used by Chebyshev when chebyshev_rho is 0; cached until
+ * wc_solver_invalidate_rho. */
 double wc_solver_estimate_rho(wc_solver* s, const double* A_val, const wc_filter* f, wc_par* par);
 void wc_solver_invalidate_rho(wc_solver* s);
 

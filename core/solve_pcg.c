@@ -1,0 +1,142 @@
+/* Modified preconditioned conjugate gradient of Baraff & Witkin (1998) section 5.3: CG on the
+ * projected system with every search direction filtered (c = S (P^{-1} r + beta c)), so the
+ * iterate stays in z + range(S), and the filtered block-diagonal preconditioner
+ * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one.
+ *
+ * Stopping: ||r||_2 <= tolerance ||S (b - A z)||_2 with r the recursively updated residual. When
+ * that test passes, the true residual S (b - A dv) is computed; if it is above the tolerance (the
+ * recursion drifted) r is replaced by it and CG restarts from dv, until the cap. The reported
+ * residual is always the true one of the returned dv.
+ *
+ * Divergence: a non-finite value, a residual above divergence_factor x max(initial residual of
+ * z, of the initial guess), or c^T S A c <= 0 (P not positive definite along c) stop the
+ * iteration with SOLVER_DIVERGED; dv keeps the last iterate (finite: alpha is checked before it
+ * is applied). */
+#include <math.h>
+#include "solver_impl.h"
+#include "vec3.h"
+
+double wcs_pcg_filter_dot(wc_solver* s, const wc_filter* f, const double* c, double* q, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int c0, c1;
+        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+        for (int k = c0; k < c1; ++k) {
+            int lo, hi;
+            wcs_chunk_rows(s, k, &lo, &hi);
+            double acc = 0.0;
+            for (int i = lo; i < hi; ++i) {
+                wc_filter_apply(f, i, q + 3 * i, q + 3 * i);
+                acc += v3_dot(c + 3 * i, q + 3 * i);
+            }
+            s->partial[k] = acc;
+        }
+    }
+    return wcs_sum(s, 0);
+}
+
+void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
+    const double *c = s->c, *q = s->q, *Dinv = s->Dinv;
+    double *r = s->r, *t = s->t;
+    WC_PAR_REGION(par)
+    {
+        int c0, c1;
+        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+        for (int k = c0; k < c1; ++k) {
+            int lo, hi;
+            wcs_chunk_rows(s, k, &lo, &hi);
+            double acc_d = 0.0, acc_r = 0.0;
+            for (int i = lo; i < hi; ++i) {
+                if (alpha != 0.0) {
+                    if (dv) v3_axpy(dv + 3 * i, alpha, c + 3 * i);
+                    v3_axpy(r + 3 * i, -alpha, q + 3 * i);
+                }
+                m3_mulv(t + 3 * i, Dinv + 9 * i, r + 3 * i);
+                acc_d += v3_dot(r + 3 * i, t + 3 * i);
+                acc_r += v3_dot(r + 3 * i, r + 3 * i);
+            }
+            s->partial[k] = acc_d;
+            s->partial[s->n_chunks + k] = acc_r;
+        }
+    }
+    *delta = wcs_sum(s, 0);
+    *rr = wcs_sum(s, 1);
+}
+
+void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par) {
+    double *c = s->c;
+    const double* t = s->t;
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(s->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double v[3];
+            if (beta != 0.0) {
+                v3_scale(v, c + 3 * i, beta);
+                v3_add(v, v, t + 3 * i);
+            } else {
+                v3_copy(v, t + 3 * i);
+            }
+            wc_filter_apply(f, i, v, c + 3 * i);
+        }
+    }
+}
+
+weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+                          wc_par* par, wc_solve_result* res) {
+    const wc_solver_opts* o = &s->opts;
+    const wc_bsr_pattern* p = &s->m->pattern;
+    const double res0 = res->residual0, goal = o->tolerance * res0;
+    weft_status st = WEFT_OK;
+    int it = 0, converged = 0;
+    double delta, rr, rr_final = -1.0;
+
+    wcs_build_precond(s, A, f, par);
+    rr = wcs_filtered_residual(s, A, b, f, dv, s->r, par);
+    const double limit = o->divergence_factor * fmax(res0, sqrt(rr));
+    wcs_pcg_update(s, 0.0, dv, &delta, &rr, par);
+    wcs_pcg_direction(s, f, 0.0, par);
+    for (;;) {
+        if (!isfinite(rr) || !(delta >= 0.0) || !isfinite(delta) || sqrt(rr) > limit) {
+            st = WEFT_ERROR_SOLVER_DIVERGED;
+            break;
+        }
+        if (sqrt(rr) <= goal) {
+            /* confirm with the true residual; on drift restart from it */
+            wcs_project(f, dv, par);
+            double rt = wcs_filtered_residual(s, A, b, f, dv, s->q, par);
+            if (sqrt(rt) <= goal) {
+                converged = 1;
+                rr_final = rt;
+                break;
+            }
+            if (it >= o->max_iterations) break;
+            for (int k = 0; k < 3 * s->n; ++k) s->r[k] = s->q[k];
+            wcs_pcg_update(s, 0.0, dv, &delta, &rr, par);
+            wcs_pcg_direction(s, f, 0.0, par);
+            continue;
+        }
+        if (it >= o->max_iterations) break;
+        wc_bsr_mul(p, A, s->c, s->q, par);
+        double cq = wcs_pcg_filter_dot(s, f, s->c, s->q, par);
+        double alpha = delta / cq;
+        if (!(cq > 0.0) || !isfinite(alpha)) {
+            st = WEFT_ERROR_SOLVER_DIVERGED;
+            break;
+        }
+        double delta_old = delta;
+        wcs_pcg_update(s, alpha, dv, &delta, &rr, par);
+        ++it;
+        wcs_pcg_direction(s, f, delta / delta_old, par);
+    }
+    if (!converged) {
+        wcs_project(f, dv, par);
+        rr_final = wcs_filtered_residual(s, A, b, f, dv, s->q, par);
+    }
+    res->iterations = it;
+    res->residual = sqrt(rr_final) / res0;
+    res->converged = converged || res->residual <= o->tolerance;
+    if (st == WEFT_OK && !isfinite(res->residual)) st = WEFT_ERROR_SOLVER_DIVERGED;
+    return st;
+}

@@ -1,0 +1,89 @@
+/* Private to the linear solvers (solver.c, solve_pcg.c, solve_jacobi.c, solve_direct.c): the
+ * wc_solver workspace and the kernels they share. Not part of the core's contract.
+ *
+ * Notation: P = S A S + I - S is the projected (filtered) matrix, D~ its block diagonal
+ * (D~_i = S_i A_ii S_i + I - S_i), z the prescribed velocity change. Every iterate dv lies in the
+ * affine space z + range(S); the projected residual of dv is S (b - A dv).
+ *
+ * Reductions (dot products, norms) are summed over fixed chunks of WCS_CHUNK particles, each chunk
+ * sequentially, and the chunk sums in chunk order: the result does not depend on the thread count
+ * (wc_par_dot is deterministic only for a given count), so a solve is bit-identical on any number
+ * of threads. */
+#ifndef WEFT_CORE_SOLVER_IMPL_H
+#define WEFT_CORE_SOLVER_IMPL_H
+#include "solve.h"
+
+#define WCS_CHUNK 256           /* particles per reduction chunk */
+#define WCS_RHO_ITERATIONS 20   /* Lanczos steps of wc_solver_estimate_rho */
+
+typedef struct wcs_direct wcs_direct;   /* CHOLMOD state, solve_direct.c */
+
+struct wc_solver {
+    const wc_model* m;          /* pattern source; must outlive the solver */
+    wc_allocator alloc;
+    wc_solver_opts opts;
+    int n;                      /* particles */
+    int n_chunks;               /* ceil(n / WCS_CHUNK) */
+    double* partial;            /* (2 n_chunks) per-chunk partial sums, two reductions at a time */
+    double* Dinv;               /* (n x 9) D~_i^{-1}, rebuilt by every iterative solve */
+    double* r;                  /* (n x 3) residual S (b - A dv) */
+    double* c;                  /* (n x 3) PCG search direction (also of the rho estimate) */
+    double* q;                  /* (n x 3) PCG S A c; scratch */
+    double* t;                  /* (n x 3) PCG preconditioned residual; Jacobi/Chebyshev second iterate */
+    double rho;                 /* cached estimate of wc_solver_estimate_rho */
+    int rho_valid;
+    wcs_direct* direct;         /* NULL unless the direct solver was analysed at create */
+};
+
+/* Rows [lo, hi) of chunk c. */
+static inline void wcs_chunk_rows(const wc_solver* s, int c, int* lo, int* hi) {
+    *lo = c * WCS_CHUNK;
+    *hi = *lo + WCS_CHUNK < s->n ? *lo + WCS_CHUNK : s->n;
+}
+/* Sum of the chunk partials partial[slot * n_chunks + c] in chunk order. */
+double wcs_sum(const wc_solver* s, int slot);
+
+/* out = S_i Aij S_j, plus (I - S_i) when i == j: block (i, j) of P. */
+void wcs_project_block(const wc_filter* f, int i, int j, const double* Aij, double* out);
+/* s->Dinv = D~^{-1} per particle (identity where D~_i is singular or not finite). */
+void wcs_build_precond(wc_solver* s, const double* A, const wc_filter* f, wc_par* par);
+/* out = S (b - A x); returns ||out||^2. out must not alias x. */
+double wcs_filtered_residual(wc_solver* s, const double* A, const double* b, const wc_filter* f, const double* x,
+                             double* out, wc_par* par);
+/* dv_i = z_i + S_i dv_i for every constrained particle (free ones unchanged). */
+void wcs_project(const wc_filter* f, double* dv, wc_par* par);
+/* 1 when all 3n values are finite. */
+int wcs_all_finite(const double* v, int n);
+/* dv = z (components of z that are not finite become 0). */
+void wcs_fallback(const wc_filter* f, double* dv, int n);
+
+/* Shared start of every solve: projects the initial guess (dv = z + S dv; a non-finite guess is
+ * replaced by z), fills res->residual0 = ||S (b - A z)|| and leaves S (b - A z) in s->r. Returns 1 when the solve is already finished: a zero
+ * right-hand side (dv = z, residual 0) or a non-finite one (dv = z, SOLVER_DIVERGED). */
+int wcs_begin(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
+              wc_solve_result* res, weft_status* status);
+
+/* PCG steps (solve_pcg.c), also used by the Lanczos estimate:
+ *   filter_dot: q = S q, returns c . q;
+ *   update: dv += alpha c (dv may be NULL), r -= alpha q (alpha 0 skips both), t = D~^{-1} r,
+ *           *delta = r . t, *rr = r . r;
+ *   direction: c = S (t + beta c). */
+double wcs_pcg_filter_dot(wc_solver* s, const wc_filter* f, const double* c, double* q, wc_par* par);
+void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par);
+void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par);
+
+/* The solvers; res->residual0 is filled by wcs_begin before they are called. */
+weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+                          wc_par* par, wc_solve_result* res);
+weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+                             wc_par* par, wc_solve_result* res, int chebyshev);
+/* The rho Chebyshev uses for I - gamma D~^{-1} P (solve_rho.c); s->Dinv must be built. Uses
+ * s->r, c, q, t as scratch. */
+double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_par* par);
+
+weft_status wcs_direct_create(wc_solver* s, wc_diag* diag);
+void wcs_direct_destroy(wc_solver* s);
+weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+                             wc_par* par, wc_solve_result* res);
+
+#endif
