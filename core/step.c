@@ -96,7 +96,7 @@ static double energy_floor(const wc_state* s) {
 
 /* Constraints, forces and assembly of a substep of length h ending at frame fraction alpha1:
  * fills s->filter, s->A and s->b (contacts may correct positions). */
-void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st) {
+static void prepare(wc_state* s, double h, double alpha1, wc_compression compression, wc_step_stats* st) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double t0 = wc_now_ms(), t1;
@@ -107,7 +107,7 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    wc_eval_springs(m, s->x, s->v, s->def.compression, &s->par, s->se);
+    wc_eval_springs(m, s->x, s->v, compression, &s->par, s->se);
     wc_eval_external(m, s->x, s->v, s->def.gravity, &s->def.air, &s->par, s->tri_scratch, s->f_ext);
     t1 = wc_now_ms();
     st->ms.forces += t1 - t0;
@@ -117,14 +117,20 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
     st->ms.assemble += wc_now_ms() - t0;
 }
 
+void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st) {
+    prepare(s, h, alpha1, s->def.compression, st);
+}
+
 /* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
- * returns non-OK when the result must be discarded. */
-static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, double pin_energy,
-                           wc_step_stats* st, wc_diag* diag) {
+ * returns non-OK when the result must be discarded. The last resort (direct solver, compressed
+ * springs' geometric term dropped so the system is positive definite) is judged only on finite
+ * values: it is the exact implicit step, so strain or energy it shows is the physics'. */
+static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int last_resort,
+                           double pin_energy, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double ke0 = wc_state_kinetic_energy(s);
-    wc_substep_prepare(s, h, alpha1, st);
+    prepare(s, h, alpha1, last_resort ? WC_COMPRESSION_DROP : s->def.compression, st);
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -183,6 +189,8 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     if (!all_finite(s->x, n3) || !all_finite(s->v, n3)) {
         status = wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h,
                          wc_solver_name(solver));
+    } else if (last_resort) {
+        status = WEFT_OK;
     } else if (!(strain <= s->def.fail_strain)) {
         status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
                          wc_solver_name(solver), strain, s->def.fail_strain);
@@ -206,23 +214,26 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
     wc_diag local = {WEFT_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
     save(s);
     wc_solver_type user = s->def.solver.type;
-    int tries = s->def.max_halvings + 1 + (s->def.direct_fallback && user != WC_SOLVER_DIRECT ? 2 : 0);
+    int tries = s->def.max_halvings + 1 + (s->def.direct_fallback ? 1 : 0);
     for (int t = 0; t < tries; ++t) {
-        int halvings = t <= s->def.max_halvings ? t : (t == s->def.max_halvings + 1 ? 0 : s->def.max_halvings);
-        wc_solver_type solver = t <= s->def.max_halvings ? user : WC_SOLVER_DIRECT;
+        int last_resort = t > s->def.max_halvings;
+        int halvings = last_resort ? 0 : t;
+        wc_solver_type solver = last_resort ? WC_SOLVER_DIRECT : user;
         int pieces = 1 << halvings;
         if (t > 0) {
             ++st->rollbacks;
             if (halvings > 0) ++st->halvings;
-            if (solver != user) ++st->direct_fallbacks;
+            if (last_resort) ++st->direct_fallbacks;
         }
         weft_status ok = WEFT_OK;
         for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
             double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
-            ok = substep(s, h / pieces, a1, solver, pin_energy, st, &local);
-            if (ok == WEFT_OK) ++st->substeps;
+            ok = substep(s, h / pieces, a1, solver, last_resort, pin_energy, st, &local);
         }
-        if (ok == WEFT_OK) return WEFT_OK;
+        if (ok == WEFT_OK) {
+            st->substeps += pieces;
+            return WEFT_OK;
+        }
         wc_log(diag, WC_LOG_WARN, "rolled back: %s", local.message);
         restore(s);
         wc_solver_invalidate_rho(s->solver);

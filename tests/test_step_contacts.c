@@ -90,11 +90,13 @@ static void test_iterative_solvers_match_cholmod(void) {
     pins[1].particle = ts_sheet_particle(&m, n, n - 1, 0);
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, m.rest_pos + 3 * pins[k].particle);
     CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WEFT_OK);
-    for (int f = 0; f < 20; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
+    for (int f = 0; f < 40; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
 
     wc_step_stats st;
     memset(&st, 0, sizeof st);
-    wc_substep_prepare(s, 1.0 / 30, 1.0, &st);
+    /* a substep of 1/300 s (10 substeps per frame): block Jacobi needs a step short enough for
+       the mass to dominate (at 1/30 s it has not converged after 20000 sweeps on this sheet) */
+    wc_substep_prepare(s, 1.0 / 300, 0.1, &st);
     int constrained[4] = {0};
     for (int i = 0; i < m.n_particles; ++i) ++constrained[s->filter.ndof[i]];
     printf("  system from a real state: %d free, %d contacts (1 DOF), %d two-contact, %d pinned\n", constrained[0],

@@ -8,15 +8,23 @@
 #include "test_support.h"
 #include "vec3.h"
 
-static int run_sheet(double k_scale, wc_solver_type solver, int frames, wc_step_stats* total, double* worst_strain) {
-    int n = 12;
+static int run_sheet(double k_scale, wc_solver_type solver, int frames, double squeeze, wc_step_stats* total,
+                     double* worst_strain) {
+    int n = 10;
     wc_model m;
     if (!ts_sheet(&m, n, 1.0, 1.0, 0, k_scale)) return 0;
     wc_sim_def sd = wc_default_sim_def();
     sd.solver.type = solver;
+    if (squeeze != 1.0) sd.compression = WC_COMPRESSION_FULL;
     wc_state* s = NULL;
     wc_diag d = {0};
     int ok = wc_state_create(&s, &m, &sd, NULL, &d) == WEFT_OK;
+    if (ok && squeeze != 1.0) { /* start crumpled: every spring compressed */
+        for (int i = 0; i < m.n_particles; ++i) {
+            s->x[3 * i] *= squeeze;
+            s->x[3 * i + 2] *= squeeze;
+        }
+    }
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);
     pins[0].particle = ts_sheet_particle(&m, n, 0, n - 1);
@@ -54,7 +62,7 @@ static void test_stiffness_sweep(void) {
         for (size_t b = 0; b < 2; ++b) {
             wc_step_stats t;
             double strain;
-            int ok = run_sheet(scales[a], solvers[b], 300, &t, &strain);
+            int ok = run_sheet(scales[a], solvers[b], 300, 1.0, &t, &strain);
             printf("  %-8g %-7s %10d %8d %9d %9d %8d %10.3g\n", scales[a], wc_solver_name(solvers[b]), t.iterations,
                    t.max_iterations, t.rollbacks, t.failures, t.not_converged, strain);
             CHECK(ok);
@@ -63,14 +71,16 @@ static void test_stiffness_sweep(void) {
         }
 }
 
-/* Jacobi on a stiff sheet at a large step diverges; the step must notice, roll back, retry
+/* Block Jacobi converges on any SPD system whose 2D - A is positive definite, which springs
+ * with the compressed geometric term dropped always give. With the exact (FULL) Jacobian on a
+ * crumpled, stiff sheet it is not, and Jacobi diverges: the step must notice, roll back, retry
  * (halving, then direct), and hand back finite positions. */
 static void test_jacobi_divergence_recovered(void) {
     wc_step_stats t;
     double strain;
-    int ok = run_sheet(1e3, WC_SOLVER_JACOBI, 30, &t, &strain);
-    printf("  jacobi at 1000x stiffness: %d rollbacks, %d direct fallbacks, %d failures, strain %.3g\n", t.rollbacks,
-           t.direct_fallbacks, t.failures, strain);
+    int ok = run_sheet(1e2, WC_SOLVER_JACOBI, 30, 0.9, &t, &strain);
+    printf("  jacobi, crumpled sheet, 100x stiffness, exact Jacobian: %d rollbacks, %d direct fallbacks, "
+           "%d failures, strain %.3g\n", t.rollbacks, t.direct_fallbacks, t.failures, strain);
     CHECK(ok);
     CHECK(t.rollbacks > 0);
     CHECK_EQ_INT(t.failures, 0);

@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
     char* tok = strtok(solvers, ",");
     while (tok) {
         int type = wc_solver_from_name(tok);
+        const char* label = tok;
         tok = strtok(NULL, ",");
         if (type < 0) {
             fprintf(stderr, "unknown solver\n");
@@ -161,7 +162,7 @@ int main(int argc, char** argv) {
         rms = sqrt(rms / np);
         double med[6];
         for (int k = 0; k < 6; ++k) med[k] = median(r->ms[k], frames);
-        printf("| %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f, %d | %d | %.3g | %.3g | %.3g |\n", wc_solver_name((wc_solver_type)type),
+        printf("| %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.1f, %d | %d | %.3g | %.3g | %.3g |\n", label,
                med[5], med[0], med[1], med[2], med[4], (double)r->iterations / frames, r->max_iterations, r->rollbacks,
                100 * max_err, 100 * rms, r->max_strain);
         fflush(stdout);
