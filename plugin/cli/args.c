@@ -16,6 +16,16 @@ int cli_parse_double(const char* text, double* out) {
     return 0;
 }
 
+int cli_parse_int(const char* text, int lo, int hi, int* out) {
+    if (!text || !*text) return -1;
+    char* end = NULL;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (errno == ERANGE || end == text || *end != '\0' || v < lo || v > hi) return -1;
+    *out = (int)v;
+    return 0;
+}
+
 int cli_option_value(int argc, char** argv, int* i, const char* name, const char** value) {
     const char* arg = argv[*i];
     size_t n = strlen(name);

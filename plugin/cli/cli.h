@@ -20,9 +20,14 @@ typedef struct cli_command {
 /* Subcommands (one file each). */
 int cli_inspect_run(int argc, char** argv);
 void cli_inspect_usage(FILE* out);
+int cli_run_run(int argc, char** argv);
+void cli_run_usage(FILE* out);
 
 /* Parse a whole string as a finite double. 0 on success, -1 otherwise (*out untouched). */
 int cli_parse_double(const char* text, double* out);
+
+/* Parse a whole string as a decimal integer in [lo, hi]. 0 on success, -1 otherwise. */
+int cli_parse_int(const char* text, int lo, int hi, int* out);
 
 /* Match an option that takes a value, as "--name VALUE" or "--name=VALUE". Returns 1 when argv[*i]
  * is this option and sets *value (advancing *i past a separate value), -1 when it is this option

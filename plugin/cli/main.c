@@ -7,6 +7,7 @@
 
 static const cli_command commands[] = {
     {"inspect", "import a mesh and print the import report", cli_inspect_run, cli_inspect_usage},
+    {"run", "simulate a scene file, writing OBJ frames and stats", cli_run_run, cli_run_usage},
 };
 enum { N_COMMANDS = sizeof commands / sizeof commands[0] };
 

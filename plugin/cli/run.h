@@ -1,0 +1,51 @@
+/* `weft run`: what the frame loop records, and its outputs (OBJ frames, the stats JSON, the
+ * summary table). cmd_run.c drives the simulation; run_output.c writes. */
+#ifndef WEFT_CLI_RUN_H
+#define WEFT_CLI_RUN_H
+#include <stdio.h>
+
+#include "source_mesh.h"
+
+enum { RUN_STAGES = 6 };   /* forces, assemble, solve, collide, integrate, total */
+
+/* Fixed facts of a run. */
+typedef struct run_info {
+    const char* scene;          /* scene file as given */
+    int particles, triangles, springs;
+    const char* solver;         /* configured solver's name */
+    int substeps;               /* per frame */
+    int threads;                /* OpenMP threads the state uses */
+    double fps;
+    const char* out_dir;        /* NULL when no OBJ frames are written */
+} run_info;
+
+/* What the frame loop measured. */
+typedef struct run_record {
+    int frames;                 /* frames stepped */
+    double* frame_ms;           /* (frames) wall time of each wc_step_frame call (ms) */
+    double* stage_ms;           /* (frames x RUN_STAGES) the step's own stage timings (ms) */
+    long long iterations;       /* solver iterations, all frames */
+    long long substeps;         /* substeps completed, all frames */
+    int max_iterations;         /* largest in one solve */
+    double residual_max;        /* largest final relative residual of a solve */
+    int not_converged;          /* solves stopped at the iteration cap */
+    int rollbacks, halvings, direct_fallbacks;
+    int failures;               /* substeps that failed every retry */
+    int failed_frames;          /* frames that returned WEFT_ERROR_STEP_FAILED */
+    long long nonfinite_outputs;/* host vertices with a non-finite output position, all frames */
+    double max_strain;          /* largest stretch-spring strain at the end of any frame */
+    double final_kinetic_energy;/* J */
+    double bbox_min[3], bbox_max[3]; /* final particle positions (m, world) */
+} run_record;
+
+/* One frame as OBJ: `v` lines for the n_verts host positions (n_verts x 3, m), then the source
+ * polygons as 1-based `f` lines. 0, or -1 when the file cannot be written. */
+int run_write_obj(const char* path, const double* pos, const wc_source_mesh* src, int frame, double time);
+/* The stats JSON (keys in sample_scenes/README.md). 0, or -1 (cannot write / out of memory). */
+int run_write_stats(const char* path, const run_info* info, const run_record* rec);
+void run_print_summary(FILE* out, const run_info* info, const run_record* rec);
+
+/* Create a folder and its missing parents (like mkdir -p). 0, or -1 with errno set. */
+int run_make_dirs(const char* path);
+
+#endif
