@@ -26,10 +26,10 @@ static void add_timing(cJSON* root, const wc_import_report* r, int* ok) {
         *ok = 0;
         return;
     }
-    const char* names[] = {"weld", "triangulate", "clean", "orient", "topology", "springs", "total"};
+    const char* names[] = {"weld", "triangulate", "clean", "orient", "topology", "springs", "pattern", "total"};
     const double values[] = {r->ms.weld, r->ms.triangulate, r->ms.clean, r->ms.orient,
-                             r->ms.topology, r->ms.springs, r->ms.total};
-    for (int i = 0; i < 7; ++i)
+                             r->ms.topology, r->ms.springs, r->ms.pattern, r->ms.total};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
         if (!cJSON_AddNumberToObject(t, names[i], values[i])) *ok = 0;
 }
 
