@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <stdarg.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,4 +45,15 @@ void cli_error(const char* message) {
     fputs("weft: ", stderr);
     for (const char* c = message; *c; ++c) fputc(*c == '\n' || *c == '\r' ? ' ' : *c, stderr);
     fputc('\n', stderr);
+}
+
+int cli_usage_error(const char* command, void (*usage)(FILE*), const char* fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "%s: ", command);
+    vfprintf(stderr, fmt, ap);
+    fputs("\n", stderr);
+    va_end(ap);
+    usage(stderr);
+    return CLI_EXIT_USAGE;
 }

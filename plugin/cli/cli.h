@@ -33,6 +33,9 @@ int cli_parse_int(const char* text, int lo, int hi, int* out);
  * is this option and sets *value (advancing *i past a separate value), -1 when it is this option
  * but the value is missing, 0 when it is another argument. */
 int cli_option_value(int argc, char** argv, int* i, const char* name, const char** value);
+/* Print "COMMAND: message" and the command's usage to stderr; returns CLI_EXIT_USAGE. */
+int cli_usage_error(const char* command, void (*usage)(FILE*), const char* fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 /* Print "weft: <message>" to stderr as exactly one line (newlines in message become spaces). */
 void cli_error(const char* message);

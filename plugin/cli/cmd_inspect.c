@@ -1,7 +1,6 @@
 /* `weft inspect FILE`: import a mesh, build the cloth model and print the import report.
  * Exit codes: 0 ok, 1 the file could not be imported or modelled (one line on stderr, nothing
  * on stdout), 2 bad command line. */
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -35,17 +34,7 @@ void cli_inspect_usage(FILE* out) {
           out);
 }
 
-static int usage_error(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-static int usage_error(const char* fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("weft inspect: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputs("\n", stderr);
-    va_end(ap);
-    cli_inspect_usage(stderr);
-    return CLI_EXIT_USAGE;
-}
+#define usage_error(...) cli_usage_error("weft inspect", cli_inspect_usage, __VA_ARGS__)
 
 /* Returns -1 to continue, or an exit code (help printed, or a usage error). */
 static int parse_args(int argc, char** argv, inspect_args* a) {

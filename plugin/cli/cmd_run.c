@@ -48,17 +48,7 @@ void cli_run_usage(FILE* out) {
           out);
 }
 
-static int usage_error(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-static int usage_error(const char* fmt, ...) {
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("weft run: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputs("\n", stderr);
-    va_end(ap);
-    cli_run_usage(stderr);
-    return CLI_EXIT_USAGE;
-}
+#define usage_error(...) cli_usage_error("weft run", cli_run_usage, __VA_ARGS__)
 
 /* Returns -1 to continue, or an exit code (help printed, or a usage error). */
 static int parse_args(int argc, char** argv, run_args* a) {
