@@ -6,44 +6,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 
 #include "check.h"
 #include "test_support.h"
 #include "weft/weft.h"
-
-typedef struct cli_result {
-    int rc;            /* exit status, -1 when the tool did not exit normally */
-    char out[65536];   /* stdout */
-    char err[8192];    /* stderr */
-} cli_result;
-
-static void read_file(const char* path, char* buf, size_t cap) {
-    buf[0] = '\0';
-    FILE* f = fopen(path, "rb");
-    if (!f) return;
-    size_t n = fread(buf, 1, cap - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-}
-
-/* Run `WEFT_CLI args` (args is shell text) capturing stdout and stderr. */
-static void run_cli(const char* args, cli_result* r) {
-    char out_path[1024], err_path[1024], cmd[4096];
-    snprintf(out_path, sizeof out_path, "%s", ts_tmp_path("cli_stdout.txt"));
-    snprintf(err_path, sizeof err_path, "%s", ts_tmp_path("cli_stderr.txt"));
-    snprintf(cmd, sizeof cmd, "'%s' %s >'%s' 2>'%s'", WEFT_CLI, args, out_path, err_path);
-    int status = system(cmd);
-    r->rc = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
-    read_file(out_path, r->out, sizeof r->out);
-    read_file(err_path, r->err, sizeof r->err);
-}
-
-static int count_lines(const char* s) {
-    int n = 0;
-    for (; *s; ++s) n += *s == '\n';
-    return n;
-}
 
 static double num(const cJSON* obj, const char* key) {
     const cJSON* item = cJSON_GetObjectItemCaseSensitive(obj, key);
@@ -73,10 +39,10 @@ static const char* grid_obj(void) {
     return ts_write_tmp("cli_grid.obj", text);
 }
 
-static cJSON* inspect_json(const char* path, const char* extra, cli_result* r) {
+static cJSON* inspect_json(const char* path, const char* extra, ts_cli_result* r) {
     char args[2048];
     snprintf(args, sizeof args, "inspect '%s' --json %s", path, extra);
-    run_cli(args, r);
+    ts_run_cli(args, r);
     CHECK_EQ_INT(r->rc, 0);
     CHECK(r->err[0] == '\0');
     cJSON* root = cJSON_Parse(r->out);
@@ -86,7 +52,7 @@ static cJSON* inspect_json(const char* path, const char* extra, cli_result* r) {
 }
 
 static void test_grid_json(void) {
-    static cli_result r;
+    static ts_cli_result r;
     const char* path = grid_obj();
     cJSON* j = inspect_json(path, "", &r);
     if (!j) return;
@@ -136,7 +102,7 @@ static void test_grid_json(void) {
 
 /* --scale and --weld-tolerance reach the importer and the model builder. */
 static void test_grid_options(void) {
-    static cli_result r;
+    static ts_cli_result r;
     cJSON* j = inspect_json(grid_obj(), "--scale 0.5 --weld-tolerance=0", &r);
     if (!j) return;
     CHECK_EQ_INT(num(j, "particles"), 16);
@@ -154,10 +120,10 @@ static void test_grid_options(void) {
 }
 
 static void test_grid_text(void) {
-    static cli_result r;
+    static ts_cli_result r;
     char args[2048];
     snprintf(args, sizeof args, "inspect '%s'", grid_obj());
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "particles") != NULL);
     CHECK(strstr(r.out, "stretch") != NULL);
@@ -166,7 +132,7 @@ static void test_grid_text(void) {
 
 /* The bundled sample of the README's main job (see sample_scenes/README.md for the counts). */
 static void test_sample_skirt(void) {
-    static cli_result r;
+    static ts_cli_result r;
     const char* path = WEFT_SOURCE_DIR "/sample_scenes/skirt.obj";
     cJSON* j = inspect_json(path, "", &r);
     if (!j) return;
@@ -194,16 +160,16 @@ static void test_sample_skirt(void) {
 
 /* A file that cannot be imported: exit 1, one "weft: ..." line on stderr, nothing on stdout. */
 static void expect_import_failure(const char* path) {
-    static cli_result r;
+    static ts_cli_result r;
     char args[2048];
     snprintf(args, sizeof args, "inspect '%s' --json", path);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 1);
     CHECK(r.out[0] == '\0');
-    CHECK_EQ_INT(count_lines(r.err), 1);
+    CHECK_EQ_INT(ts_count_lines(r.err), 1);
     CHECK(strncmp(r.err, "weft: ", 6) == 0);
     CHECK(r.err[0] && r.err[strlen(r.err) - 1] == '\n');
-    if (count_lines(r.err) != 1) fprintf(stderr, "stderr was: %s\n", r.err);
+    if (ts_count_lines(r.err) != 1) fprintf(stderr, "stderr was: %s\n", r.err);
 }
 
 static void test_import_failures(void) {
@@ -234,9 +200,9 @@ static void test_usage_errors(void) {
         "inspect a.obj --select",
         "help frobnicate",
     };
-    static cli_result r;
+    static ts_cli_result r;
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        run_cli(bad[i], &r);
+        ts_run_cli(bad[i], &r);
         CHECK_EQ_INT(r.rc, 2);
         CHECK(r.out[0] == '\0');
         CHECK(strstr(r.err, "usage:") != NULL);
@@ -245,20 +211,20 @@ static void test_usage_errors(void) {
 }
 
 static void test_help_and_version(void) {
-    static cli_result r;
-    run_cli("--help", &r);
+    static ts_cli_result r;
+    ts_run_cli("--help", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "inspect") != NULL);
-    run_cli("inspect --help", &r);
+    ts_run_cli("inspect --help", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "--weld-tolerance") != NULL);
-    run_cli("help inspect", &r);
+    ts_run_cli("help inspect", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "--weld-tolerance") != NULL);
     char expected[64];
     snprintf(expected, sizeof expected, "weft %d.%d.%d (ABI %d)\n", WEFT_VERSION_MAJOR,
              WEFT_VERSION_MINOR, WEFT_VERSION_PATCH, WEFT_ABI);
-    run_cli("--version", &r);
+    ts_run_cli("--version", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strcmp(r.out, expected) == 0);
 }

@@ -11,45 +11,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 
 #include "check.h"
 #include "test_support.h"
 
 #define SHEET WEFT_SOURCE_DIR "/sample_scenes/hanging_sheet.json"
-
-typedef struct cli_result {
-    int rc;            /* exit status, -1 when the tool did not exit normally */
-    char out[65536];   /* stdout */
-    char err[8192];    /* stderr */
-} cli_result;
-
-static void read_text(const char* path, char* buf, size_t cap) {
-    buf[0] = '\0';
-    FILE* f = fopen(path, "rb");
-    if (!f) return;
-    size_t n = fread(buf, 1, cap - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-}
-
-/* Run `WEFT_CLI args` (args is shell text) capturing stdout and stderr. */
-static void run_cli(const char* args, cli_result* r) {
-    char out_path[1024], err_path[1024], cmd[4096];
-    snprintf(out_path, sizeof out_path, "%s", ts_tmp_path("run_stdout.txt"));
-    snprintf(err_path, sizeof err_path, "%s", ts_tmp_path("run_stderr.txt"));
-    snprintf(cmd, sizeof cmd, "'%s' %s >'%s' 2>'%s'", WEFT_CLI, args, out_path, err_path);
-    int status = system(cmd);
-    r->rc = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
-    read_text(out_path, r->out, sizeof r->out);
-    read_text(err_path, r->err, sizeof r->err);
-}
-
-static int count_lines(const char* s) {
-    int n = 0;
-    for (; *s; ++s) n += *s == '\n';
-    return n;
-}
 
 static int exists(const char* path) {
     struct stat st;
@@ -91,7 +57,7 @@ static int read_obj(const char* path, obj_frame* o) {
 
 static cJSON* read_json(const char* path) {
     static char text[65536];
-    read_text(path, text, sizeof text);
+    ts_read_text(path, text, sizeof text);
     return cJSON_Parse(text);
 }
 
@@ -117,14 +83,14 @@ static void check_keys(const cJSON* obj, const char* const* keys, int n, const c
 static obj_frame frame_a, frame_b;
 
 static void test_hanging_sheet(void) {
-    static cli_result r;
+    static ts_cli_result r;
     const char* dir = fresh_dir("run_sheet/frames");
     char out_dir[1024], stats[1024], args[4096], path[1200];
     snprintf(out_dir, sizeof out_dir, "%s", dir);
     snprintf(stats, sizeof stats, "%s", ts_tmp_path("run_sheet_stats.json"));
     remove(stats);
     snprintf(args, sizeof args, "run '%s' --frames 10 --out '%s' --stats '%s' --quiet", SHEET, out_dir, stats);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(r.out[0] == '\0');
     CHECK(r.err[0] == '\0');
@@ -202,15 +168,15 @@ static void test_hanging_sheet(void) {
 /* Without --quiet: the summary table on stdout, nothing per frame; --solver and --frames override
  * the scene; --frames 0 leaves the rest shape. */
 static void test_summary_and_overrides(void) {
-    static cli_result r;
+    static ts_cli_result r;
     char args[4096], stats[1024];
     snprintf(stats, sizeof stats, "%s", ts_tmp_path("run_override_stats.json"));
     snprintf(args, sizeof args, "run '%s' --frames 2 --solver jacobi --threads 1 --stats '%s'", SHEET, stats);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "ms/frame") != NULL);
     CHECK(strstr(r.out, "1024 particles") != NULL);
-    CHECK(count_lines(r.out) < 16);
+    CHECK(ts_count_lines(r.out) < 16);
     CHECK(r.err[0] == '\0');
     cJSON* j = read_json(stats);
     const cJSON* solver = cJSON_GetObjectItemCaseSensitive(j, "solver");
@@ -220,7 +186,7 @@ static void test_summary_and_overrides(void) {
     cJSON_Delete(j);
 
     snprintf(args, sizeof args, "run '%s' --frames=0 --quiet --stats '%s'", SHEET, stats);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     j = read_json(stats);
     CHECK_EQ_INT(num(j, "frames"), 0);
@@ -235,7 +201,7 @@ static void test_summary_and_overrides(void) {
 /* A pin with a velocity: its vertex is at rest + velocity t at the end of every frame. A file
  * mesh found next to the scene, and a vertex pinned to a line. */
 static void test_moving_pin(void) {
-    static cli_result r;
+    static ts_cli_result r;
     ts_write_tmp("run_quad.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 2 0 0\nv 2 0 1\nf 1 2 3 4\nf 2 5 6 3\n");
     const char* scene = ts_write_tmp(
         "run_moving.json",
@@ -246,7 +212,7 @@ static void test_moving_pin(void) {
     snprintf(sc, sizeof sc, "%s", scene);
     const char* dir = fresh_dir("run_moving");
     snprintf(args, sizeof args, "run '%s' --out '%s' --quiet", sc, dir);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "  stderr: %s\n", r.err);
     for (int f = 1; f <= 5; ++f) {
@@ -264,15 +230,15 @@ static void test_moving_pin(void) {
 /* An invalid scene: exit 1, exactly one "weft: ..." line naming the field, nothing on stdout,
  * and no output folder created (nothing ran). */
 static void expect_bad_scene(const char* name, const char* text, const char* field) {
-    static cli_result r;
+    static ts_cli_result r;
     char sc[1024], args[4096];
     snprintf(sc, sizeof sc, "%s", text ? ts_write_tmp(name, text) : ts_tmp_path(name));
     const char* dir = fresh_dir("run_bad_out");
     snprintf(args, sizeof args, "run '%s' --out '%s' --stats '%s/s.json'", sc, dir, dir);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 1);
     CHECK(r.out[0] == '\0');
-    CHECK_EQ_INT(count_lines(r.err), 1);
+    CHECK_EQ_INT(ts_count_lines(r.err), 1);
     CHECK(strncmp(r.err, "weft: ", 6) == 0);
     CHECK(strstr(r.err, field) != NULL);
     CHECK(strstr(r.err, name) != NULL);
@@ -310,9 +276,9 @@ static void test_usage_errors(void) {
         "run a.json --stats=",
         "run a.json --bogus",
     };
-    static cli_result r;
+    static ts_cli_result r;
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        run_cli(bad[i], &r);
+        ts_run_cli(bad[i], &r);
         CHECK_EQ_INT(r.rc, 2);
         CHECK(r.out[0] == '\0');
         CHECK(strstr(r.err, "usage: weft run") != NULL);
@@ -320,20 +286,20 @@ static void test_usage_errors(void) {
     }
     char args[2048];
     snprintf(args, sizeof args, "run '%s' --solver bogus", SHEET);
-    run_cli(args, &r);
+    ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 2);
     CHECK(strstr(r.err, "bogus") != NULL);
 }
 
 static void test_help(void) {
-    static cli_result r;
-    run_cli("--help", &r);
+    static ts_cli_result r;
+    ts_run_cli("--help", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "  run ") != NULL);
-    run_cli("run --help", &r);
+    ts_run_cli("run --help", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "--solver") != NULL && strstr(r.out, "--stats") != NULL);
-    run_cli("help run", &r);
+    ts_run_cli("help run", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "--frames") != NULL);
 }

@@ -1,7 +1,10 @@
+#define _POSIX_C_SOURCE 200809L
 #include "test_support.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 static void grid_positions(double* pos, int nx, int ny, double sx, double sy) {
     for (int j = 0; j < ny; ++j)
@@ -114,3 +117,31 @@ int ts_sheet(wc_model* m, int n, double size, double y, int vertical, double k_s
 }
 
 int ts_sheet_particle(const wc_model* m, int n, int i, int j) { return m->host_to_particle[i + n * j]; }
+
+void ts_read_text(const char* path, char* buf, size_t cap) {
+    buf[0] = '\0';
+    FILE* f = fopen(path, "rb");
+    if (!f) return;
+    size_t n = fread(buf, 1, cap - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+void ts_run_cli(const char* args, ts_cli_result* r) {
+    char out_path[1024], err_path[1024], cmd[4096], name[64];
+    snprintf(name, sizeof name, "cli_%ld_stdout.txt", (long)getpid()); /* tests may run in parallel */
+    snprintf(out_path, sizeof out_path, "%s", ts_tmp_path(name));
+    snprintf(name, sizeof name, "cli_%ld_stderr.txt", (long)getpid());
+    snprintf(err_path, sizeof err_path, "%s", ts_tmp_path(name));
+    snprintf(cmd, sizeof cmd, "'%s' %s >'%s' 2>'%s'", WEFT_CLI, args, out_path, err_path);
+    int status = system(cmd);
+    r->rc = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+    ts_read_text(out_path, r->out, sizeof r->out);
+    ts_read_text(err_path, r->err, sizeof r->err);
+}
+
+int ts_count_lines(const char* s) {
+    int n = 0;
+    for (; *s; ++s) n += *s == '\n';
+    return n;
+}

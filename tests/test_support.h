@@ -13,6 +13,19 @@ void ts_tri_grid(wc_source_mesh* out, int nx, int ny, double size_x, double size
 const char* ts_write_tmp(const char* name, const char* text);
 /* Full path of a scratch file name in WEFT_TEST_TMPDIR (static buffer, 4 rotating slots). */
 const char* ts_tmp_path(const char* name);
+/* Running the built `weft` tool (WEFT_CLI) as a user would. */
+typedef struct ts_cli_result {
+    int rc;            /* exit status, -1 when the tool did not exit normally */
+    char out[65536];   /* stdout */
+    char err[8192];    /* stderr */
+} ts_cli_result;
+/* Run `WEFT_CLI args` (args is shell text), capturing stdout and stderr. */
+void ts_run_cli(const char* args, ts_cli_result* r);
+/* Read a whole text file into buf (truncated to cap - 1; "" when it cannot be opened). */
+void ts_read_text(const char* path, char* buf, size_t cap);
+/* Number of '\n' in s. */
+int ts_count_lines(const char* s);
+
 /* An n x n quad-grid sheet of size x size metres, horizontal (XZ plane) at height y when
  * vertical is 0, else hanging in the XY plane with its top edge at height y. Material: defaults
  * with every k and d multiplied by k_scale. Host vertex (i, j) is i + n j (i along X). Returns
