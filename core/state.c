@@ -134,6 +134,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         return st;
     }
     memcpy(s->x, m->rest_pos, n3 * sizeof(double));
+    for (int i = 0; i < n; ++i) s->total_mass += m->mass[i];
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     for (int i = 0; i < 2 * n; ++i) s->contacts.collider[i] = -1;
     *out = s;
@@ -161,15 +162,14 @@ weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* d
                 return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pins %d and %d both hold particle %d", j, k,
                                p->particle);
     }
-    /* where each new pin starts: its old target if the particle was pinned, else where it is */
+    /* where each new pin starts: its old target if the particle was pinned, else where it is
+       (reads s->pins and s->x only, so pin_from can be written in place) */
     for (int k = 0; k < n; ++k) {
         const double* from = s->x + 3 * pins[k].particle;
         for (int j = 0; j < s->n_pins; ++j)
             if (s->pins[j].particle == pins[k].particle) from = s->pins[j].target;
-        v3_copy(s->dv0 + 3 * k, from); /* dv0 as scratch: pin_from may alias the old targets' order */
+        v3_copy(s->pin_from + 3 * k, from);
     }
-    for (int k = 0; k < n; ++k) v3_copy(s->pin_from + 3 * k, s->dv0 + 3 * k);
-    memset(s->dv0, 0, 3 * (size_t)n * sizeof(double));
     if (n > 0) memcpy(s->pins, pins, (size_t)n * sizeof(wc_pin));
     s->n_pins = n;
     return WEFT_OK;

@@ -46,6 +46,7 @@ typedef struct wc_state {
     double accumulator;         /* s, fixed-substep mode: time not yet simulated */
     long long frame;            /* frames stepped */
 
+    double total_mass;          /* kg, sum of the model's particle masses */
     double* x;                  /* (n x 3) positions (m) */
     double* v;                  /* (n x 3) velocities (m/s) */
 

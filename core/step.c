@@ -85,13 +85,11 @@ static void restore(wc_state* s) {
  * moving colliders could plausibly put into the cloth. */
 static double energy_floor(const wc_state* s) {
     const wc_model* m = s->model;
-    double mass = 0.0;
-    for (int i = 0; i < m->n_particles; ++i) mass += m->mass[i];
     double diag = 0.0;
     for (int c = 0; c < 3; ++c) diag += (m->report.bbox_max[c] - m->report.bbox_min[c]) * (m->report.bbox_max[c] - m->report.bbox_min[c]);
     double speed2 = 1.0 + 2.0 * v3_norm(s->def.gravity) * sqrt(diag) + v3_dot(s->def.air.wind, s->def.air.wind);
     for (int k = 0; k < s->n_colliders; ++k) speed2 += v3_dot(s->colliders[k].velocity, s->colliders[k].velocity);
-    return 0.5 * mass * speed2;
+    return 0.5 * s->total_mass * speed2;
 }
 
 /* Constraints, forces and assembly of a substep of length h ending at frame fraction alpha1:
@@ -257,9 +255,7 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
         double v2 = v3_dot(d, d) / (dt * dt);
         if (v2 > pin_speed2) pin_speed2 = v2;
     }
-    double mass = 0.0;
-    for (int i = 0; i < s->model->n_particles; ++i) mass += s->model->mass[i];
-    double pin_energy = 0.5 * mass * pin_speed2; /* what moving pins may add to the kinetic energy */
+    double pin_energy = 0.5 * s->total_mass * pin_speed2; /* what moving pins may add to the kinetic energy */
 
     weft_status result = WEFT_OK;
     if (s->def.substep_dt > 0) {
