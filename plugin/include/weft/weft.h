@@ -1,7 +1,61 @@
 /* Weft: implicit (Baraff-Witkin) cloth simulation as a shared-object plugin.
- * Public C ABI. Only symbols declared in plugin/include/weft/ are exported from libweft.so. */
+ * Public C ABI. Only the weft_ symbols declared here are exported from libweft.so.
+ *
+ * ---------------------------------------------------------------------------------------------
+ * Using it (a host's frame loop):
+ *
+ *     weft_context_def cd = weft_default_context_def();
+ *     weft_context* ctx = NULL;
+ *     if (weft_context_create(WEFT_ABI, &cd, &ctx) != WEFT_OK) ...;   // ABI checked here
+ *     weft_cloth_def def = weft_default_cloth_def();
+ *     def.mesh.path = "shirt.fbx";
+ *     weft_cloth cloth;
+ *     if (weft_cloth_create(ctx, &def, &cloth) != WEFT_OK) puts(weft_context_last_error(ctx));
+ *     for (;;) {                                     // once per host frame
+ *         weft_frame fr = weft_default_frame();
+ *         fr.dt = 1.0 / 60.0;
+ *         fr.object_transform = object_world_matrix;   // float[16], column-major
+ *         fr.attachment_transforms = bone_matrices;    // n_attachments x 16
+ *         weft_cloth_step(ctx, cloth, &fr, NULL);
+ *         weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_WORLD, positions, normals, n, &count);
+ *     }
+ *     weft_context_destroy(ctx);                      // destroys its cloths too
+ *
+ * ---------------------------------------------------------------------------------------------
+ * Conventions
+ *  - Units: SI (metres, kilograms, seconds). Mesh coordinates are multiplied by
+ *    weft_cloth_def.unit_scale (FBX files: their UnitScaleFactor is applied first).
+ *  - Y is up in the defaults (gravity (0, -9.81, 0)); nothing else assumes an up axis.
+ *  - Host-facing arrays (vertex positions and normals, 4x4 transforms) are float, as in engines'
+ *    vertex buffers; parameters are double; the simulation runs in double.
+ *  - A 4x4 transform is 16 floats, column-major (OpenGL/glm/Blender convention transposed in
+ *    memory): element (row r, column c) is m[4 * c + r]; the translation is m[12], m[13], m[14];
+ *    the last row must be (0, 0, 0, 1). Transforms must be rigid (a rotation, |det - 1| and
+ *    |R^T R - I| below 1e-3, plus a translation): scale the mesh instead (unit_scale, or bake
+ *    the object's scale into the host arrays).
+ *  - Vertex order: results come back in the host's own vertex order (the mesh's vertex array
+ *    order for host arrays; assimp's order, documented in core/source_mesh.h, for files), split
+ *    seam vertices included: welded vertices share one particle and report the same position.
+ *  - Every fallible call returns a weft_status. On failure nothing changes (the cloth's state,
+ *    its outputs and every caller buffer are exactly as before), the context's last error holds
+ *    a message naming the argument/field, and the logger (if any) receives it at ERROR level.
+ *  - Nothing here calls exit() or abort(), and there is no global state: two contexts (or two
+ *    hosts that load the library) in one process never interfere.
+ *
+ * Threading contract
+ *  - A context and everything created from it must be used by one thread at a time (the host
+ *    serialises its calls; Weft takes no locks). Different contexts may be used concurrently on
+ *    different threads.
+ *  - Inside a call, Weft may use weft_context_def.threads OpenMP threads of its own; the call
+ *    returns only when they are done, and no callback (logger, allocator) runs after it returns.
+ *    The logger and allocator may be called from the calling thread only.
+ *  - weft_version(), weft_status_string() and the weft_default_*() functions are thread-safe.
+ * --------------------------------------------------------------------------------------------- */
 #ifndef WEFT_H
 #define WEFT_H
+
+#include <stddef.h>
+#include <stdint.h>
 
 #include "weft_status.h"
 
@@ -17,10 +71,12 @@ extern "C" {
 
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
-#define WEFT_VERSION_MINOR 1
+#define WEFT_VERSION_MINOR 2
 #define WEFT_VERSION_PATCH 0
-/* Incremented on every incompatible change of a struct layout or a signature. */
-#define WEFT_ABI 1
+/* Incremented on every incompatible change of a struct layout or a signature. The host passes
+ * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
+ * with WEFT_ERROR_ABI_MISMATCH. */
+#define WEFT_ABI 2
 
 typedef struct weft_version_info {
     int major, minor, patch;
@@ -32,6 +88,300 @@ WEFT_API weft_version_info weft_version(void);
 
 /* Static English description of a status code; "unknown status" for values outside the list. */
 WEFT_API const char* weft_status_string(weft_status status);
+
+/* ============================================================================================= */
+/* Context                                                                                       */
+/* ============================================================================================= */
+
+typedef struct weft_context weft_context;   /* opaque; one per host (or per host thread) */
+
+typedef enum weft_log_level {
+    WEFT_LOG_DEBUG = 0,
+    WEFT_LOG_INFO = 1,
+    WEFT_LOG_WARN = 2,
+    WEFT_LOG_ERROR = 3
+} weft_log_level;
+
+/* Receives every message at or above weft_context_def.log_level; message is valid during the
+ * call only. */
+typedef void (*weft_log_fn)(weft_log_level level, const char* message, void* user);
+
+/* Per-context allocator. Both functions or neither (NULL: malloc/free). alloc returns memory
+ * aligned for any type (like malloc), or NULL on failure (then the call reports
+ * WEFT_ERROR_OUT_OF_MEMORY and changes nothing). */
+typedef struct weft_allocator {
+    void* (*alloc)(size_t size, void* user);
+    void (*free)(void* ptr, void* user);
+    void* user;
+} weft_allocator;
+
+typedef enum weft_backend {
+    WEFT_BACKEND_AUTO = 0,      /* the GPU backend where it is built and a device works, else CPU */
+    WEFT_BACKEND_CPU = 1,       /* core/: OpenMP CPU solvers */
+    WEFT_BACKEND_GPU = 2        /* gpu/: EGL + GLSL; WEFT_ERROR_UNSUPPORTED where it is not built */
+} weft_backend;
+
+typedef enum weft_gl_mode {
+    WEFT_GL_HEADLESS = 0,       /* the GPU backend creates its own headless EGL context */
+    WEFT_GL_HOST_CURRENT = 1    /* it uses the GL context current on the calling thread at every
+                                   call, saving and restoring the GL bindings it touches */
+} weft_gl_mode;
+
+typedef struct weft_context_def {
+    weft_backend backend;       /* AUTO */
+    int threads;                /* OpenMP threads per call; 0 = OpenMP's default (the core count) */
+    weft_log_fn log;            /* NULL: no logging */
+    void* log_user;
+    weft_log_level log_level;   /* WEFT_LOG_WARN */
+    weft_allocator allocator;   /* zeroed: malloc/free */
+    weft_gl_mode gl_mode;       /* GPU backend only: WEFT_GL_HEADLESS */
+    uint32_t internal_cookie;   /* set by weft_default_context_def(); do not touch */
+} weft_context_def;
+
+WEFT_API weft_context_def weft_default_context_def(void);
+
+/* Create a context. abi: pass WEFT_ABI. Errors: ABI_MISMATCH, INVALID_ARGUMENT (NULL, def not
+ * from weft_default_context_def(), bad enum, threads < 0, one allocator function without the
+ * other), UNSUPPORTED (GPU asked for and not built), OUT_OF_MEMORY. *out is NULL on failure;
+ * the reason goes to the def's logger (there is no context to hold it). */
+WEFT_API weft_status weft_context_create(int abi, const weft_context_def* def, weft_context** out);
+
+/* Destroy the context and every cloth in it. NULL is ignored. Using the pointer afterwards is the
+ * one misuse Weft cannot detect (as with free()). */
+WEFT_API void weft_context_destroy(weft_context* ctx);
+
+/* Message of the last failed call on this context ("" if none); valid until the next call. */
+WEFT_API const char* weft_context_last_error(const weft_context* ctx);
+/* Status of the last call on this context (WEFT_OK after a success). */
+WEFT_API weft_status weft_context_last_status(const weft_context* ctx);
+/* Backend the context runs (never AUTO). */
+WEFT_API weft_backend weft_context_backend(const weft_context* ctx);
+
+/* ============================================================================================= */
+/* Cloth definition                                                                              */
+/* ============================================================================================= */
+
+/* A cloth handle: a value (no pointer) naming a slot of one context, with a generation and a type
+ * tag, so that a destroyed, stale, foreign (other context) or forged handle is refused with
+ * WEFT_ERROR_INVALID_HANDLE. Zero is the null handle. */
+typedef struct weft_cloth {
+    uint64_t id;
+} weft_cloth;
+
+/* The garment's mesh: either a file (path) or host arrays (positions), not both. */
+typedef struct weft_mesh_desc {
+    const char* path;           /* OBJ, FBX (ASCII or binary), glTF, ... (assimp); NULL for arrays */
+    const char* select;         /* file: node or mesh name to import; NULL imports every mesh */
+    const float* positions;     /* (n_vertices x 3) object space, mesh units */
+    int n_vertices;
+    const int* face_sizes;      /* (n_faces) corners per polygon (>= 3; 1 and 2 are ignored) */
+    int n_faces;
+    const int* indices;         /* (sum of face_sizes) vertex indices, counter-clockwise */
+} weft_mesh_desc;
+
+typedef enum weft_spring_type {
+    WEFT_SPRING_STRETCH = 0,    /* mesh edges */
+    WEFT_SPRING_SHEAR = 1,      /* quad diagonals and the wing springs of triangles */
+    WEFT_SPRING_BEND = 2        /* two edges apart along nearly straight lines */
+} weft_spring_type;
+
+typedef struct weft_material {
+    double density;             /* kg/m^2 of rest area (0.15) */
+    double stiffness[3];        /* N/m per weft_spring_type (5000, 500, 50) */
+    double damping[3];          /* N s/m per weft_spring_type (2, 0.5, 0.05) */
+} weft_material;
+
+typedef enum weft_solver {
+    WEFT_SOLVER_PCG = 0,        /* Baraff-Witkin filtered PCG (default) */
+    WEFT_SOLVER_JACOBI = 1,
+    WEFT_SOLVER_CHEBYSHEV = 2,  /* Chebyshev-accelerated Jacobi */
+    WEFT_SOLVER_DIRECT = 3      /* CHOLMOD sparse Cholesky */
+} weft_solver;
+
+/* Pins: host vertices bound to a host transform (a bone, an object, or the world). At bind time
+ * (weft_cloth_create, or weft_cloth_set_attachments later) each vertex's world position is
+ * expressed in the frame of bind_transform; every frame it follows that frame's transform
+ * (weft_frame.attachment_transforms[i]) rigidly. */
+typedef struct weft_attachment_def {
+    const int* vertices;        /* (n_vertices) host vertex indices; duplicates and welded twins
+                                   merge; a vertex in two attachments is an error */
+    int n_vertices;
+    float bind_transform[16];   /* world transform of the bone at bind time (identity) */
+    float free_axis[3];         /* bone-local unit axis the pinned vertices may slide along;
+                                   zero (default): fully pinned */
+    uint32_t internal_cookie;   /* set by weft_default_attachment_def() */
+} weft_attachment_def;
+
+typedef enum weft_collider_type {
+    WEFT_COLLIDER_PLANE = 0,    /* local plane y = 0, free side +y (normal (0, 1, 0)) */
+    WEFT_COLLIDER_SPHERE = 1,   /* local sphere at the origin, radius */
+    WEFT_COLLIDER_CAPSULE = 2   /* local segment (0, -half_height, 0)..(0, +half_height, 0), radius */
+} weft_collider_type;
+
+/* A rigid collider whose world transform the host passes every frame
+ * (weft_frame.collider_transforms[i]); its velocity is taken from the motion of its origin. */
+typedef struct weft_collider_def {
+    weft_collider_type type;    /* SPHERE */
+    double radius;              /* m (0.5); sphere and capsule */
+    double half_height;         /* m (0.5); capsule */
+    double thickness;           /* m (0.005): the cloth stays this far outside the surface */
+    double friction;            /* Coulomb coefficient >= 0 (0.3) */
+    float transform[16];        /* world transform at creation (identity) */
+    uint32_t internal_cookie;   /* set by weft_default_collider_def() */
+} weft_collider_def;
+
+typedef struct weft_cloth_def {
+    weft_mesh_desc mesh;        /* required */
+    double unit_scale;          /* metres per mesh unit (1); FBX UnitScaleFactor applied on top */
+    double weld_tolerance;      /* vertices closer than this x the bounding-box diagonal become one
+                                   particle (sewn seams, UV splits): 1e-6; 0 disables welding */
+    float transform[16];        /* world transform of the object at creation (identity): the
+                                   particles start at transform x (mesh x unit_scale) */
+    weft_material material;
+
+    double gravity[3];          /* m/s^2, world (0, -9.81, 0) */
+    double wind[3];             /* m/s, world (0, 0, 0) */
+    double air_drag_normal;     /* kg/(m^2 s): pressure per unit relative normal speed (0.5) */
+    double air_drag_tangent;    /* kg/(m^2 s): skin friction per unit tangential speed (0.02) */
+
+    weft_solver solver;         /* PCG */
+    double tolerance;           /* relative residual the iterative solvers stop at (1e-4) */
+    int max_iterations;         /* iteration cap per solve (300) */
+    int substeps;               /* backward-Euler steps per frame (1) */
+    double max_frame_time;      /* s: a longer weft_frame.dt is refused (0.25) */
+    double strain_limit;        /* 0 off (default); 0.1 caps stretch springs at 110% of rest */
+
+    /* Inertia (NvCloth-style), each in [0, 1]: the fraction of the object's own motion
+     * (weft_frame.object_transform, frame to frame) the cloth feels. 1 (default): physical, the
+     * cloth is simulated in the world. 0: the cloth does not feel that part of the object's
+     * motion: it is carried with the object as if simulated in the object's space.
+     * linear_inertia: the object's linear acceleration (a constant velocity is felt by no
+     * setting). angular_inertia: the object's rotation about its origin. */
+    double linear_inertia;      /* 1 */
+    double angular_inertia;     /* 1 */
+
+    int n_attachments;
+    const weft_attachment_def* attachments;   /* (n_attachments), copied at creation */
+    int n_colliders;
+    const weft_collider_def* colliders;       /* (n_colliders), copied at creation */
+    uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
+} weft_cloth_def;
+
+WEFT_API weft_cloth_def weft_default_cloth_def(void);
+WEFT_API weft_attachment_def weft_default_attachment_def(void);
+WEFT_API weft_collider_def weft_default_collider_def(void);
+
+/* Build a cloth: import or read the mesh, weld, build springs and masses, bind the attachments.
+ * Errors: INVALID_ARGUMENT (NULL, def not from weft_default_cloth_def(), both or neither mesh
+ * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (vertex index),
+ * IO / IMPORT / EMPTY_MESH (the file or arrays), OUT_OF_MEMORY. out is the null handle on
+ * failure. */
+WEFT_API weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft_cloth* out);
+/* Destroy a cloth; its handle (and every copy) becomes stale. */
+WEFT_API weft_status weft_cloth_destroy(weft_context* ctx, weft_cloth cloth);
+
+/* Replace the attachments; the binding is taken now, from the cloth's current positions. */
+WEFT_API weft_status weft_cloth_set_attachments(weft_context* ctx, weft_cloth cloth,
+                                                const weft_attachment_def* attachments, int n);
+
+typedef struct weft_cloth_info {
+    int n_vertices;             /* host vertices: the size of every per-vertex output */
+    int n_particles;            /* after welding */
+    int n_triangles;
+    int n_springs[3];           /* per weft_spring_type */
+    int n_attachments, n_pinned_particles;
+    int n_colliders;
+    double total_mass;          /* kg */
+    double bbox_min[3], bbox_max[3]; /* m, object space, rest shape */
+    size_t snapshot_size;       /* bytes weft_cloth_save() writes */
+    weft_backend backend;
+} weft_cloth_info;
+
+WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
+
+/* ============================================================================================= */
+/* Per frame                                                                                     */
+/* ============================================================================================= */
+
+enum {
+    WEFT_FRAME_TELEPORT = 1u << 0, /* the object (and its attachments) jumped: carry the cloth
+                                      with the object's transform, keep its velocities relative to
+                                      the object, no inertia from the jump */
+    WEFT_FRAME_RESET = 1u << 1     /* back to the rest shape at this frame's object transform,
+                                      zero velocity, contacts cleared, then step */
+};
+
+typedef struct weft_frame {
+    double dt;                  /* s, in (0, max_frame_time] */
+    const float* object_transform;      /* 16: the object's world transform at the end of the
+                                           frame; NULL: unchanged */
+    const float* attachment_transforms; /* (n_attachments x 16) at the end of the frame; NULL:
+                                           unchanged. Pins move linearly across the frame. */
+    const float* collider_transforms;   /* (n_colliders x 16) at the end of the frame; NULL:
+                                           unchanged */
+    const double* wind;         /* 3, m/s world; NULL: unchanged */
+    uint32_t flags;             /* WEFT_FRAME_* */
+} weft_frame;
+
+WEFT_API weft_frame weft_default_frame(void);
+
+typedef struct weft_frame_stats {
+    double ms_total;            /* wall time of the call */
+    double ms_forces, ms_assemble, ms_solve, ms_collide, ms_integrate;
+    int substeps;               /* completed (halved retries count each piece) */
+    int iterations;             /* solver iterations, summed over substeps */
+    int max_iterations;         /* largest in one solve */
+    double residual;            /* largest final relative residual */
+    int not_converged;          /* solves that stopped at the cap above tolerance */
+    weft_solver solver;         /* last solver used */
+    int rollbacks, halvings, direct_fallbacks, failures;
+    int contacts;               /* particles in contact at the end */
+    double max_strain;          /* largest stretch-spring strain at the end */
+    double kinetic_energy;      /* J, end of the frame */
+    double time;                /* s, simulated since creation or the last reset */
+    int64_t frame;              /* frames stepped */
+} weft_frame_stats;
+
+/* Advance by fr->dt. Errors (state unchanged): INVALID_ARGUMENT (NULL, dt <= 0 or above
+ * max_frame_time, non-rigid transform, unknown flag), NONFINITE (NaN/Inf in dt, a transform or
+ * wind), STEP_FAILED (every recovery failed: the cloth is left as it was before the call).
+ * stats may be NULL. */
+WEFT_API weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr,
+                                     weft_frame_stats* stats);
+
+/* ============================================================================================= */
+/* Results                                                                                       */
+/* ============================================================================================= */
+
+typedef enum weft_space {
+    WEFT_SPACE_WORLD = 0,
+    WEFT_SPACE_OBJECT = 1       /* the inverse of the last object transform applied, divided by
+                                   unit_scale: directly comparable with the host's mesh */
+} weft_space;
+
+/* Positions and smooth (area-weighted) unit normals per host vertex, (capacity x 3) floats each;
+ * either may be NULL. *count receives n_vertices. Size query: both NULL (capacity ignored).
+ * Error OUT_OF_RANGE when capacity < n_vertices (nothing written). */
+WEFT_API weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth, weft_space space,
+                                             float* positions, float* normals, int capacity, int* count);
+
+/* The simulated triangles as host vertex indices, (capacity x 3) ints; *count receives
+ * n_triangles; indices NULL: size query. */
+WEFT_API weft_status weft_cloth_get_triangles(weft_context* ctx, weft_cloth cloth, int* indices,
+                                              int capacity, int* count);
+
+/* ============================================================================================= */
+/* Snapshots (host caches, timeline scrubbing)                                                   */
+/* ============================================================================================= */
+
+/* Write the cloth's whole mutable state (positions, velocities, time, pins, colliders, contacts,
+ * transforms, the solver's warm start) into buf: weft_cloth_info.snapshot_size bytes
+ * (OUT_OF_RANGE if size is smaller). Restoring it and stepping gives bit-identical results. */
+WEFT_API weft_status weft_cloth_save(weft_context* ctx, weft_cloth cloth, void* buf, size_t size);
+/* Restore a snapshot. Refused with WEFT_ERROR_SNAPSHOT_MISMATCH when it was taken from a cloth
+ * with another model (mesh, welding, material, attachments or colliders), or by another
+ * library version; INVALID_ARGUMENT when it is truncated or damaged. */
+WEFT_API weft_status weft_cloth_restore(weft_context* ctx, weft_cloth cloth, const void* buf, size_t size);
 
 #ifdef __cplusplus
 }

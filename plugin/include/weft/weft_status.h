@@ -21,7 +21,8 @@
     X(WEFT_ERROR_ABI_MISMATCH, 13, "ABI version mismatch")                             \
     X(WEFT_ERROR_INVALID_HANDLE, 14, "invalid, stale or destroyed handle")             \
     X(WEFT_ERROR_CALL_ORDER, 15, "call out of order")                                  \
-    X(WEFT_ERROR_UNSUPPORTED, 16, "not supported by this build or backend")
+    X(WEFT_ERROR_UNSUPPORTED, 16, "not supported by this build or backend")                 \
+    X(WEFT_ERROR_SNAPSHOT_MISMATCH, 17, "snapshot belongs to another model or version")
 
 typedef enum weft_status {
 #define WEFT_STATUS_ENUM_(name, value, msg) name = value,
