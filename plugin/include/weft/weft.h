@@ -383,6 +383,34 @@ WEFT_API weft_status weft_cloth_save(weft_context* ctx, weft_cloth cloth, void* 
  * library version; INVALID_ARGUMENT when it is truncated or damaged. */
 WEFT_API weft_status weft_cloth_restore(weft_context* ctx, weft_cloth cloth, const void* buf, size_t size);
 
+/* ============================================================================================= */
+/* Preview rendering (off-screen EGL + OpenGL, llvmpipe without a GPU; PNG through libpng)       */
+/* ============================================================================================= */
+
+/* Shaded picture of a cloth (two-sided, front and back coloured differently) and its colliders
+ * at their current transforms. The EGL context is created at the first call and kept by the
+ * weft_context (a context that never renders pays nothing); in WEFT_GL_HOST_CURRENT mode the
+ * host's current context is used and its bindings restored. */
+typedef struct weft_render_def {
+    int width, height;          /* pixels (640 x 480), 1..8192 */
+    float eye[3];               /* camera position, world (m) */
+    float target[3];            /* point looked at; eye == target (default zeros): framed
+                                   automatically from the cloth's and colliders' bounding box */
+    float up[3];                /* (0, 1, 0) */
+    float fov_y_deg;            /* vertical field of view, degrees in (0, 180) (40) */
+    int draw_colliders;         /* 1 */
+    const char* png_path;       /* write an 8-bit RGB PNG here; NULL: no file */
+    unsigned char* rgba;        /* (width x height x 4) caller buffer, rows top to bottom; NULL:
+                                   no copy */
+    uint32_t internal_cookie;   /* set by weft_default_render_def() */
+} weft_render_def;
+
+WEFT_API weft_render_def weft_default_render_def(void);
+
+/* Errors: INVALID_ARGUMENT, NONFINITE, UNSUPPORTED (built without WEFT_GPU), GPU (no EGL
+ * device, context or framebuffer: the message says which), IO (PNG not written). */
+WEFT_API weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_def* def);
+
 #ifdef __cplusplus
 }
 #endif
