@@ -1,0 +1,210 @@
+"""host_glue/python/weft against the built libweft.so ($WEFT_LIBRARY): a grid cloth from NumPy
+arrays, stepped, read back into caller arrays; results checked against closed forms (free fall,
+flat normals, pins carried by a transform, a sphere's surface), snapshots restored bit for bit, and
+bad calls raising WeftError with the library's message and leaving the cloth as it was."""
+import sys
+import unittest
+
+import numpy as np
+
+import weft
+
+G = 9.81
+H = 1.0 / 60.0
+
+
+def grid(n=6, spacing=0.1, height=1.0):
+    """n x n vertices in the xz plane at y = height, quads counter-clockwise seen from +y."""
+    i, k = np.meshgrid(np.arange(n), np.arange(n))
+    pos = np.stack([i.ravel() * spacing, np.full(n * n, height), k.ravel() * spacing], axis=1)
+    v = (np.arange(n - 1)[None, :] + n * np.arange(n - 1)[:, None]).ravel()
+    faces = np.stack([v, v + n, v + n + 1, v + 1], axis=1)
+    return pos.astype(np.float32), faces.astype(np.int32)
+
+
+def translation(x, y, z):
+    m = np.eye(4, dtype=np.float32)
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+class RoundTrip(unittest.TestCase):
+    def setUp(self):
+        self.ctx = weft.Context()
+        self.pos, self.faces = grid()
+
+    def tearDown(self):
+        self.ctx.close()
+
+    def make(self, **kw):
+        kw.setdefault("air_drag_normal", 0.0)
+        kw.setdefault("air_drag_tangent", 0.0)
+        return self.ctx.create_cloth(self.pos, self.faces, **kw)
+
+    def test_library_version(self):
+        lib = self.ctx.lib
+        self.assertEqual(lib.abi, weft.ABI)
+        self.assertEqual(lib.version, weft.VERSION)
+        self.assertEqual(lib.status_string(weft.Status.IMPORT), "mesh import failed")
+        self.assertIn(self.ctx.backend, (weft.Backend.CPU, weft.Backend.GPU))
+
+    def test_free_fall_into_caller_arrays(self):
+        cloth = self.make()
+        info = cloth.info
+        self.assertEqual(info.n_vertices, 36)
+        self.assertEqual(info.n_triangles, 50)
+        self.assertAlmostEqual(info.total_mass, 0.15 * 0.5 * 0.5, places=9)  # density x area
+        for _ in range(10):
+            stats = cloth.step(H)
+        self.assertEqual(stats.frame, 10)
+        self.assertAlmostEqual(stats.time, 10 * H, places=12)
+        out = np.zeros((36, 3), np.float32)
+        nrm = np.zeros((36, 3), np.float32)
+        got, got_n = cloth.get_vertices(weft.Space.WORLD, out, normals_out=nrm)
+        self.assertIs(got, out)        # filled in place, nothing allocated
+        self.assertIs(got_n, nrm)
+        drop = G * H * H * 10 * 11 / 2   # backward Euler: sum of h * (n h g)
+        np.testing.assert_allclose(out[:, [0, 2]], self.pos[:, [0, 2]], atol=1e-5)
+        np.testing.assert_allclose(out[:, 1], 1.0 - drop, atol=1e-4)
+        np.testing.assert_allclose(nrm, np.tile([0, 1, 0], (36, 1)), atol=1e-5)  # flat, +y
+        # object space = the host's mesh (identity object transform): the same numbers
+        np.testing.assert_array_equal(cloth.get_vertices(weft.Space.OBJECT), out)
+
+    def test_triangles_cover_the_quads(self):
+        cloth = self.make()
+        tris = cloth.get_triangles()
+        self.assertEqual(tris.shape, (50, 3))
+        self.assertEqual(tris.dtype, np.int32)
+        quads = [set(f) for f in self.faces.tolist()]
+        for t in tris.tolist():
+            self.assertTrue(any(set(t) <= q for q in quads), t)
+        self.assertEqual(set(tris.ravel().tolist()), set(range(36)))
+
+    def test_pins_follow_their_transform(self):
+        pinned = np.arange(6)
+        cloth = self.make(attachments=[weft.Attachment(pinned)])
+        self.assertEqual(cloth.info.n_pinned_particles, 6)
+        for frame in range(1, 21):
+            m = translation(0.01 * frame, 0.0, 0.0)      # (4, 4), translation in column 3
+            if frame % 2:
+                m = np.asfortranarray(m).ravel(order="F")  # or 16 column-major floats
+            cloth.step(H, attachment_transforms=[m])
+        out = cloth.get_vertices()
+        expected = self.pos[pinned] + np.float32([0.2, 0.0, 0.0])
+        np.testing.assert_allclose(out[pinned], expected, atol=1e-5)
+        self.assertTrue(np.all(out[30:, 1] < 0.95))       # the free edge swung down
+
+    def test_sphere_collider(self):
+        center = np.array([0.25, 0.7, 0.25])
+        radius = 0.15
+        cloth = self.make(colliders=[weft.Collider(weft.ColliderType.SPHERE, radius=radius,
+                                                   transform=translation(*center))])
+        self.assertEqual(cloth.info.n_colliders, 1)
+        contacts = 0
+        for _ in range(45):
+            stats = cloth.step(H)
+            contacts = max(contacts, stats.contacts)
+        out = cloth.get_vertices()
+        dist = np.linalg.norm(out - center, axis=1)
+        self.assertGreater(contacts, 0)
+        self.assertGreaterEqual(dist.min(), radius - 1e-3)   # nothing inside the sphere
+        self.assertLess(out[:, 1].min(), center[1])           # the edges fell past its middle
+
+    def test_snapshot_restores_bit_for_bit(self):
+        cloth = self.make(attachments=[weft.Attachment([0, 5])])
+        for _ in range(5):
+            cloth.step(H, wind=(1.0, 0.0, 0.5))
+        snap = cloth.save()
+        self.assertIsInstance(snap, bytes)
+        self.assertEqual(len(snap), cloth.info.snapshot_size)
+        buf = bytearray(len(snap))
+        self.assertIs(cloth.save(buf), buf)
+        self.assertEqual(bytes(buf), snap)
+        for _ in range(5):
+            cloth.step(H, attachment_transforms=[translation(0, 0.05, 0)])
+        first = cloth.get_vertices()
+        cloth.restore(snap)
+        self.assertEqual(cloth.save(), snap)
+        for _ in range(5):
+            cloth.step(H, attachment_transforms=[translation(0, 0.05, 0)])
+        self.assertEqual(cloth.get_vertices().tobytes(), first.tobytes())
+        cloth.restore(memoryview(bytearray(snap)))     # any bytes-like object
+        self.assertEqual(cloth.save(), snap)
+
+    def test_errors_raise_with_the_message_and_change_nothing(self):
+        cloth = self.make()
+        cloth.step(H)
+        before, snap = cloth.get_vertices(), cloth.save()
+        with self.assertRaises(weft.WeftError) as e:
+            cloth.step(-1.0)
+        self.assertEqual(e.exception.status, weft.Status.INVALID_ARGUMENT)
+        self.assertIn("dt", e.exception.message)
+        self.assertEqual(e.exception.message, self.ctx.last_error)
+        print("\n  step(-1):", e.exception, file=sys.stderr)
+        with self.assertRaises(weft.WeftError) as e:
+            cloth.restore(snap[: len(snap) // 2])
+        self.assertIn(e.exception.status, (weft.Status.INVALID_ARGUMENT,
+                                           weft.Status.SNAPSHOT_MISMATCH))
+        print("  restore(half a snapshot):", e.exception, file=sys.stderr)
+        with self.assertRaises(weft.WeftError) as e:
+            cloth.get_vertices(out=np.zeros((35, 3), np.float32))
+        self.assertEqual(e.exception.status, weft.Status.OUT_OF_RANGE)
+        with self.assertRaises(weft.WeftError) as e:   # checked here: C would read past the end
+            cloth.step(H, attachment_transforms=[np.eye(4)])
+        self.assertEqual(e.exception.status, weft.Status.INVALID_ARGUMENT)
+        with self.assertRaises(ValueError):
+            cloth.get_vertices(out=np.zeros((36, 3), np.float64))
+        self.assertEqual(cloth.get_vertices().tobytes(), before.tobytes())
+        self.assertEqual(cloth.save(), snap)
+
+        with self.assertRaises(weft.WeftError) as e:
+            self.ctx.create_cloth(self.pos, np.where(self.faces == 7, 99, self.faces))
+        self.assertEqual(e.exception.status, weft.Status.OUT_OF_RANGE)
+        self.assertIn("99", e.exception.message)
+        print("  index 99 of 36 vertices:", e.exception, file=sys.stderr)
+
+        cloth.destroy()
+        with self.assertRaises(weft.WeftError) as e:
+            cloth.step(H)
+        self.assertEqual(e.exception.status, weft.Status.INVALID_HANDLE)
+
+    def test_abi_mismatch_and_bad_library(self):
+        lib = self.ctx.lib
+        d = lib.weft_default_context_def()
+        ptr = weft.c_void_p()
+        status = lib.weft_context_create(weft.ABI + 1, d, weft.ctypes.byref(ptr))
+        self.assertEqual(status, weft.Status.ABI_MISMATCH)
+        self.assertIsNone(ptr.value)
+        with self.assertRaises(weft.WeftError) as e:
+            weft.Context(library="/nonexistent/libweft.so")
+        self.assertEqual(e.exception.status, weft.Status.IO)
+        self.assertIn("/nonexistent/libweft.so: cannot open", e.exception.message)
+
+    def test_logger_and_closed_context(self):
+        messages = []
+        ctx = weft.Context(log=lambda level, text: messages.append((level, text)),
+                           log_level=weft.LogLevel.DEBUG)
+        cloth = ctx.create_cloth(self.pos, self.faces)
+        with self.assertRaises(weft.WeftError):
+            cloth.step(0.0)
+        self.assertIn(weft.LogLevel.ERROR, [m[0] for m in messages])
+        ctx.close()
+        with self.assertRaises(weft.WeftError):
+            cloth.step(H)
+        with self.assertRaises(weft.WeftError):
+            ctx.create_cloth(self.pos, self.faces)
+
+    def test_parameters_reach_the_library(self):
+        cloth = self.make(gravity=(0.0, 0.0, 0.0), wind=(0.0, 0.0, 0.0), density=0.3,
+                          solver=weft.Solver.DIRECT, substeps=2)
+        self.assertAlmostEqual(cloth.info.total_mass, 0.3 * 0.25, places=9)
+        stats = cloth.step(H)
+        self.assertEqual(stats.solver, weft.Solver.DIRECT)
+        self.assertEqual(stats.substeps, 2)
+        np.testing.assert_array_equal(cloth.get_vertices(), self.pos)   # no force: at rest
+        with self.assertRaises(TypeError):
+            self.make(no_such_parameter=1)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
