@@ -118,24 +118,24 @@ def _collider_matrix(obj_eval):
     return np.array(m, dtype=np.float32)
 
 
-def _collider(obj_eval):
-    """weft.Collider for an object carrying the "weft_collider" property."""
-    kind = str(obj_eval.get(COLLIDER_PROPERTY, "")).lower()
+def _collider(obj, obj_eval):
+    """weft.Collider for an object carrying the "weft_collider" property (custom properties are
+    read from the original object, the matrix and bounding box from the evaluated one)."""
+    kind = str(obj.get(COLLIDER_PROPERTY, "")).lower()
     types = {"sphere": weft.ColliderType.SPHERE, "capsule": weft.ColliderType.CAPSULE,
              "plane": weft.ColliderType.PLANE}
     if kind not in types:
         raise weft.WeftError(weft.Status.INVALID_ARGUMENT, "%s: weft_collider = %r, expected "
-                             "'sphere', 'capsule' or 'plane'" % (obj_eval.name, kind))
+                             "'sphere', 'capsule' or 'plane'" % (obj.name, kind))
     corners = np.array([tuple(c) for c in obj_eval.bound_box], dtype=np.float64)
     extent = (corners.max(axis=0) - corners.min(axis=0)) * _rigid_and_scale(obj_eval.matrix_world)[1]
     c = weft.Collider(types[kind], transform=_collider_matrix(obj_eval),
-                      thickness=obj_eval.get("weft_thickness"),
-                      friction=obj_eval.get("weft_friction"))
+                      thickness=obj.get("weft_thickness"), friction=obj.get("weft_friction"))
     if kind == "sphere":
-        c.radius = obj_eval.get("weft_radius", float(extent.max()) / 2)
+        c.radius = obj.get("weft_radius", float(extent.max()) / 2)
     elif kind == "capsule":
-        c.radius = obj_eval.get("weft_radius", float(max(extent[0], extent[1])) / 2)
-        c.half_height = obj_eval.get("weft_half_height", max(float(extent[2]) / 2 - c.radius, 0.0))
+        c.radius = obj.get("weft_radius", float(max(extent[0], extent[1])) / 2)
+        c.half_height = obj.get("weft_half_height", max(float(extent[2]) / 2 - c.radius, 0.0))
     return c
 
 
@@ -173,7 +173,7 @@ class _Session:
         self.has_pins = bool(pinned)
         self.collider_names = [o.name for o in scene.objects
                                if o is not obj and COLLIDER_PROPERTY in o]
-        colliders = [_collider(scene.objects[n].evaluated_get(depsgraph))
+        colliders = [_collider(scene.objects[n], scene.objects[n].evaluated_get(depsgraph))
                      for n in self.collider_names]
         gravity = tuple(scene.gravity) if scene.use_gravity else (0.0, 0.0, 0.0)
         self.cloth = context.create_cloth(

@@ -29,7 +29,7 @@ echo "SONAME $soname"
 # The free-fall check: 16 vertices, x and z as at rest, y = 1 - g h^2 N (N + 1) / 2.
 check_output() {
   awk -v name="$1" '
-    /^weft / { if ($5 != $8) { print name ": library ABI " $5 " != header ABI " $8; bad = 1 } }
+    /^weft / { if ($4 != $7) { print name ": library ABI " $4 " != header ABI " $7; bad = 1 } }
     /^v / { n++; i = $2; x0 = 0.1 * (i % 4); z0 = 0.1 * int(i / 4)
             y = 1 - 9.81 / 3600 * 10 * 11 / 2
             if ((x0 - $3)^2 > 1e-10 || (z0 - $5)^2 > 1e-10 || (y - $4)^2 > 1e-8) {

@@ -101,14 +101,14 @@ class RoundTrip(unittest.TestCase):
                                                    transform=translation(*center))])
         self.assertEqual(cloth.info.n_colliders, 1)
         contacts = 0
-        for _ in range(45):
+        for _ in range(75):
             stats = cloth.step(H)
             contacts = max(contacts, stats.contacts)
         out = cloth.get_vertices()
         dist = np.linalg.norm(out - center, axis=1)
         self.assertGreater(contacts, 0)
         self.assertGreaterEqual(dist.min(), radius - 1e-3)   # nothing inside the sphere
-        self.assertLess(out[:, 1].min(), center[1])           # the edges fell past its middle
+        self.assertLess(out[:, 1].min(), center[1])           # the corners hang below its middle
 
     def test_snapshot_restores_bit_for_bit(self):
         cloth = self.make(attachments=[weft.Attachment([0, 5])])
