@@ -21,7 +21,9 @@ the add-on steps the cloth and writes the result (object space) into the object'
    weft_thickness, weft_friction.
  - Time: the start frame (and any frame before the one the simulation started at) resets the
    cloth. Playing forward steps one frame of 1/fps seconds. Scrubbing restores the cached
-   snapshot of that frame, or the nearest earlier one and steps forward from it.
+   snapshot of that frame, or the nearest earlier one and steps forward from it with the
+   target frame's transforms (exact for cached frames; "Cache Frames" off keeps only the start
+   snapshot).
 
 The Weft Python bindings (host_glue/python/weft) are imported from sys.path or from ../python
 next to this file; the library from the add-on preferences, else $WEFT_LIBRARY, else
@@ -196,8 +198,8 @@ class _Session:
         """Bring the cloth to frame; returns True when its positions changed."""
         if frame == self.frame:
             return False
-        if frame < self.frame or frame in self.snapshots:
-            base = max(f for f in self.snapshots if f <= frame)
+        base = max((f for f in self.snapshots if f <= frame), default=self.start_frame)
+        if frame < self.frame or base > self.frame:   # a cached frame nearer than the current
             self.cloth.restore(self.snapshots[base])
             self.frame = base
         if frame - self.frame > MAX_CATCH_UP_FRAMES:
