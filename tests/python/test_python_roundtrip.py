@@ -2,6 +2,7 @@
 arrays, stepped, read back into caller arrays; results checked against closed forms (free fall,
 flat normals, pins carried by a transform, a sphere's surface), snapshots restored bit for bit, and
 bad calls raising WeftError with the library's message and leaving the cloth as it was."""
+import os
 import sys
 import unittest
 
@@ -179,6 +180,21 @@ class RoundTrip(unittest.TestCase):
             weft.Context(library="/nonexistent/libweft.so")
         self.assertEqual(e.exception.status, weft.Status.IO)
         self.assertIn("/nonexistent/libweft.so: cannot open", e.exception.message)
+
+    def test_foreign_libraries_refused(self):
+        """The loader's fixtures (tests/loader_fixtures): no weft symbols; every symbol but
+        weft_version() reporting another ABI."""
+        path = os.environ["WEFT_FIXTURE_NO_SYMBOLS"]
+        with self.assertRaises(weft.WeftError) as e:
+            weft.Library(path)
+        self.assertEqual(e.exception.status, weft.Status.ABI_MISMATCH)
+        self.assertEqual(e.exception.message, path + ": missing symbol weft_version")
+        path, abi = os.environ["WEFT_FIXTURE_OLD_ABI"], int(os.environ["WEFT_FIXTURE_ABI"])
+        with self.assertRaises(weft.WeftError) as e:
+            weft.Context(library=path)
+        self.assertEqual(e.exception.status, weft.Status.ABI_MISMATCH)
+        self.assertIn("%s: ABI %d != %d (" % (path, abi, weft.ABI), e.exception.message)
+        print("\n ", e.exception, file=sys.stderr)
 
     def test_logger_and_closed_context(self):
         messages = []
