@@ -61,9 +61,10 @@ edges = edges.reshape(-1, 2)
 center, radius = np.array([0.0, 0.3, 1.4]), 0.3
 bpy.ops.mesh.primitive_uv_sphere_add(radius=radius, location=tuple(center))
 bpy.context.active_object["weft_collider"] = "sphere"
-# Frictionless: with the default friction (0.3) a particle resting on the sphere holds its
-# neighbours' springs at up to ~2x their rest length (a core contact issue, reported separately),
-# which the stretch bound below would flag. This also checks that weft_friction is passed on.
+# Frictionless: with the default friction (0.3) the one particle resting on the sphere top sticks
+# (its normal impulse includes the tension of the springs wrapped over it) while the rest falls,
+# stretching its springs up to ~2x before the step's fail_strain rollback (core behaviour, reported
+# to the lead); the stretch bound below would flag it. This also checks weft_friction is passed.
 bpy.context.active_object["weft_friction"] = 0.0
 
 bpy.context.view_layer.objects.active = grid
