@@ -421,10 +421,71 @@ static void test_logger(void) {
     weft_context_destroy(ctx);
 }
 
+/* A mesh file through core's importer, in centimetres (unit_scale 0.01), placed by a transform:
+ * OBJECT space gives the file's own coordinates back, WORLD the placed metres. */
+static void test_file_mesh(void) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/api_frame_quads.obj", WEFT_TEST_TMPDIR);
+    FILE* o = fopen(path, "w");
+    CHECK(o != NULL);
+    if (!o) return;
+    /* 3 x 2 vertices, two quads, in the XZ plane (cm) */
+    fputs("v 0 0 0\nv 50 0 0\nv 100 0 0\nv 0 0 -50\nv 50 0 -50\nv 100 0 -50\nf 1 2 5 4\nf 2 3 6 5\n", o);
+    fclose(o);
+    weft_context* ctx = new_context(NULL, NULL);
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh.path = path;
+    def.unit_scale = 0.01;
+    ag_transform(def.transform, 0, 1, 0, 0.0, 1.0, 2.0, 3.0);
+    weft_cloth cloth;
+    weft_status st = weft_cloth_create(ctx, &def, &cloth);
+    if (st != WEFT_OK) fprintf(stderr, "%s\n", weft_context_last_error(ctx));
+    CHECK_EQ_INT(st, WEFT_OK);
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
+    CHECK_EQ_INT(info.n_vertices, 6);
+    CHECK_EQ_INT(info.n_triangles, 4);
+    CHECK_NEAR(info.bbox_max[0] - info.bbox_min[0], 1.0, 1e-12);
+    CHECK_NEAR(info.total_mass, 0.15 * 0.5, 1e-12);
+    float obj[18], world[18];
+    int n;
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_OBJECT, obj, NULL, 6, &n), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_WORLD, world, NULL, 6, &n), WEFT_OK);
+    const float want[18] = {0, 0, 0, 50, 0, 0, 100, 0, 0, 0, 0, -50, 50, 0, -50, 100, 0, -50};
+    /* the host order of a file is assimp's (source_mesh.h): match each vertex to the file's */
+    double worst_obj = 0.0, worst_world = 0.0;
+    int used[6] = {0, 0, 0, 0, 0, 0}, matched = 0;
+    for (int v = 0; v < 6; ++v) {
+        int best = -1;
+        double bd = 1e30;
+        for (int w = 0; w < 6; ++w) {
+            double d = fabs(obj[3 * v] - want[3 * w]) + fabs(obj[3 * v + 1] - want[3 * w + 1]) +
+                       fabs(obj[3 * v + 2] - want[3 * w + 2]);
+            if (d < bd) {
+                bd = d;
+                best = w;
+            }
+        }
+        matched += !used[best];
+        used[best] = 1;
+        worst_obj = fmax(worst_obj, bd);
+        for (int k = 0; k < 3; ++k) {
+            double placed = 0.01 * want[3 * best + k] + (k == 0 ? 1.0 : k == 1 ? 2.0 : 3.0);
+            worst_world = fmax(worst_world, fabs(world[3 * v + k] - placed));
+        }
+    }
+    printf("  file mesh: object gap %.3g cm, world gap %.3g m\n", worst_obj, worst_world);
+    CHECK_EQ_INT(matched, 6);
+    CHECK(worst_obj < 1e-4);      /* cm */
+    CHECK(worst_world < 1e-6);    /* m */
+    weft_context_destroy(ctx);
+}
+
 int main(void) {
     RUN_TEST(test_core_equivalence);
     RUN_TEST(test_moving_bone);
     RUN_TEST(test_normals_triangles);
+    RUN_TEST(test_file_mesh);
     RUN_TEST(test_uv_split_order);
     RUN_TEST(test_two_contexts);
     RUN_TEST(test_no_allocation_in_step);

@@ -490,8 +490,53 @@ static void test_context_create(void) {
     weft_context_destroy(ctx);
 }
 
+/* A step that fails every recovery (gravity of 1e150 m/s^2: non-finite forces in every retry)
+ * reports STEP_FAILED and leaves the cloth exactly as before the call, stats untouched. */
+static void test_step_failed_restores(void) {
+    fx f;
+    setup(&f);
+    weft_cloth_def d = f.def;
+    d.gravity[1] = -1e150;
+    weft_cloth c;
+    CHECK_EQ_INT(weft_cloth_create(f.ctx, &d, &c), WEFT_OK);
+    weft_cloth keep = f.cloth;
+    f.cloth = c;   /* capture() reads f.cloth */
+    /* the first frames may still be finite (huge but representable); it fails within a few */
+    int failed_at = 0;
+    for (int frame = 1; frame <= 10 && !failed_at; ++frame) {
+        size_t s0, s1;
+        unsigned char* before = capture(&f, &s0);
+        weft_frame_stats stats;
+        memset(&stats, SENTINEL, sizeof stats);
+        int errors_before = f.log.count[WEFT_LOG_ERROR];
+        weft_frame fr = good_frame();
+        weft_status st = weft_cloth_step(f.ctx, c, &fr, &stats);
+        if (st == WEFT_OK) {
+            free(before);
+            continue;
+        }
+        failed_at = frame;
+        CHECK_EQ_INT(st, WEFT_ERROR_STEP_FAILED);
+        CHECK(strstr(weft_context_last_error(f.ctx), "restored to its state before the call") != NULL);
+        CHECK_EQ_INT(f.log.count[WEFT_LOG_ERROR], errors_before + 1);
+        const unsigned char* sb = (const unsigned char*)&stats;
+        int untouched = 1;
+        for (size_t i = 0; i < sizeof stats; ++i) untouched = untouched && sb[i] == SENTINEL;
+        CHECK(untouched);
+        unsigned char* after = capture(&f, &s1);
+        CHECK(s0 == s1 && memcmp(before, after, s0) == 0);
+        free(before);
+        free(after);
+    }
+    printf("  step failed at frame %d, state restored\n", failed_at);
+    CHECK(failed_at > 0);
+    f.cloth = keep;
+    teardown(&f);
+}
+
 int main(void) {
     RUN_TEST(test_table);
+    RUN_TEST(test_step_failed_restores);
     RUN_TEST(test_null_context);
     RUN_TEST(test_context_create);
     return TEST_SUMMARY();
