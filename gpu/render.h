@@ -20,6 +20,14 @@ extern "C" {
 
 #define WG_MAX_IMAGE_SIZE 8192   /* pixels, width and height */
 
+/* Background: a vertical gradient from WG_SKY_BOTTOM_RGB (bottom row) to WG_SKY_TOP_RGB (top row),
+ * linear in the pixel centre's height: t = (y + 0.5) / height, y counted from the bottom. */
+#define WG_SKY_TOP_RGB {0.56f, 0.70f, 0.86f}
+#define WG_SKY_BOTTOM_RGB {0.92f, 0.94f, 0.96f}
+/* Shapes whose rgb is all zero; their inside (back faces) is drawn at half brightness. */
+#define WG_SHAPE_DEFAULT_RGB {0.62f, 0.64f, 0.68f}
+#define WG_PLANE_DEFAULT_RGB {0.80f, 0.79f, 0.76f}
+
 typedef struct wg_camera {
     float eye[3];               /* world position (m) */
     float target[3];            /* point looked at; eye == target: wg_render frames the scene
@@ -72,11 +80,20 @@ weft_status wg_renderer_create(wg_gl_context* ctx, const wg_renderer_desc* desc,
 void wg_renderer_destroy(wg_renderer* r);
 
 /* Render one picture into rgba_out (width x height x 4 bytes, rows top to bottom, alpha 255).
- * The framebuffer is (re)allocated when the size changes. Near and far planes are fitted to the
- * scene. Errors (rgba_out untouched): INVALID_ARGUMENT (NULL, size, fov, up parallel to the view,
- * eye == target with nothing to frame, bad index, bad shape type/radius, a non-invertible
- * transform), NONFINITE (NaN/Inf in the camera, positions, normals, transforms, radii),
- * OUT_OF_MEMORY, GPU (framebuffer incomplete or a GL error: err says which). */
+ * The framebuffer is (re)allocated when the size or sample count changes. Near and far planes
+ * are fitted to the scene. eye == target: framed automatically (wg_camera_frame_auto) around
+ * wg_scene_bounds, or, with nothing bounded, a 1 m box at the first plane's origin or at the
+ * target. A plane is drawn as a square of half-size 2.5 x the bounding radius of the meshes,
+ * spheres and capsules (1 m when there are none), centred on the foot of their bounding box's
+ * centre on the plane (the plane's origin when there are none), checkered in square cells, local
+ * x and z from multiples of the cell size, of the largest 1, 2 or 5 x 10^k m not above a fifth
+ * of the half-size (odd cells 0.8 x as bright), and pushed back by a polygon offset so that
+ * cloth resting on it wins.
+ * Errors (rgba_out untouched): INVALID_ARGUMENT (NULL, size, fov, up parallel to the view, bad
+ * index or count, bad shape type/radius, a transform that is singular or not affine),
+ * NONFINITE (NaN/Inf in the camera, positions, normals, colours, transforms, radii),
+ * OUT_OF_MEMORY, GPU (no context, framebuffer incomplete or larger than the driver allows, a GL
+ * error: err says which). */
 weft_status wg_render(wg_renderer* r, const wg_camera* cam, const wg_mesh* meshes, int n_meshes,
                       const wg_shape* shapes, int n_shapes, unsigned char* rgba_out, char* err,
                       size_t err_len);
