@@ -50,7 +50,8 @@ weft_status wg_camera_check_lens(const wg_camera* cam, char* err, size_t err_len
         return WEFT_ERROR_NONFINITE;
     }
     if (!(cam->fov_y_deg > 0.0f && cam->fov_y_deg < 180.0f)) {
-        wg_errorf(err, err_len, "camera fov_y_deg = %g must be in (0, 180)", (double)cam->fov_y_deg);
+        wg_errorf(err, err_len, "camera fov_y_deg = %g must be in (0, 180)",
+                  (double)cam->fov_y_deg);
         return WEFT_ERROR_INVALID_ARGUMENT;
     }
     if (cam->up[0] == 0.0f && cam->up[1] == 0.0f && cam->up[2] == 0.0f) {

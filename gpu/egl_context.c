@@ -174,7 +174,8 @@ static int list_candidates(const wg_gl_context* ctx, wg_candidate* cands, int* n
         c->surfaceless = 1;
         c->index = -1;
         c->rank = 0;
-        snprintf(c->label, sizeof c->label, "EGL surfaceless platform (EGL_PLATFORM_SURFACELESS_MESA)");
+        snprintf(c->label, sizeof c->label,
+                 "EGL surfaceless platform (EGL_PLATFORM_SURFACELESS_MESA)");
     }
     return n;
 }
@@ -235,7 +236,8 @@ static weft_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, cha
                          : eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, c->device, attrs);
     if (dpy == EGL_NO_DISPLAY) return egl_fail(err, err_len, c->label, "eglGetPlatformDisplay");
     EGLint major = 0, minor = 0;
-    if (!eglInitialize(dpy, &major, &minor)) return egl_fail(err, err_len, c->label, "eglInitialize");
+    if (!eglInitialize(dpy, &major, &minor))
+        return egl_fail(err, err_len, c->label, "eglInitialize");
 
     weft_status st = WEFT_ERROR_GPU;
     EGLContext egl_ctx = EGL_NO_CONTEXT;
@@ -317,7 +319,8 @@ static void restore_egl_current(const wg_gl_context* ctx, EGLDisplay dpy) {
         eglBindAPI(ctx->prev_api);
         eglMakeCurrent(ctx->prev_dpy, ctx->prev_draw, ctx->prev_read, ctx->prev_ctx);
     } else {
-        if (dpy != EGL_NO_DISPLAY) eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (dpy != EGL_NO_DISPLAY)
+            eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglBindAPI(ctx->prev_api);
     }
 }
@@ -505,7 +508,8 @@ weft_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len) {
     } else {
         save_egl_current(ctx);
         if (!eglBindAPI(EGL_OPENGL_API)) {
-            weft_status st = egl_fail(err, err_len, "headless context", "eglBindAPI(EGL_OPENGL_API)");
+            weft_status st =
+                egl_fail(err, err_len, "headless context", "eglBindAPI(EGL_OPENGL_API)");
             eglBindAPI(ctx->prev_api);
             return st;
         }

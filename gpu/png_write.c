@@ -34,7 +34,8 @@ static int write_rows(png_structp png, png_infop info, FILE* fp, const unsigned 
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
     png_set_filler(png, 0, PNG_FILLER_AFTER); /* rows are RGBX: the X byte is dropped */
-    for (int y = 0; y < h; ++y) png_write_row(png, (png_const_bytep)(rgba + (size_t)y * 4 * (size_t)w));
+    for (int y = 0; y < h; ++y)
+        png_write_row(png, (png_const_bytep)(rgba + (size_t)y * 4 * (size_t)w));
     png_write_end(png, NULL);
     return 1;
 }

@@ -179,7 +179,8 @@ static int finite_n(const float* v, size_t n) {
 
 static weft_status validate_meshes(const wg_mesh* meshes, int n_meshes, char* err, size_t err_len) {
     if (n_meshes < 0 || (n_meshes > 0 && !meshes)) {
-        wg_errorf(err, err_len, "meshes: %d with a %s array", n_meshes, meshes ? "" : "NULL");
+        wg_errorf(err, err_len, "n_meshes = %d with meshes %s", n_meshes,
+                  meshes ? "given" : "NULL");
         return WEFT_ERROR_INVALID_ARGUMENT;
     }
     for (int k = 0; k < n_meshes; ++k) {
@@ -222,22 +223,26 @@ static weft_status validate_meshes(const wg_mesh* meshes, int n_meshes, char* er
     return WEFT_OK;
 }
 
-static weft_status validate_shapes(const wg_shape* shapes, int n_shapes, char* err, size_t err_len) {
+static weft_status validate_shapes(const wg_shape* shapes, int n_shapes, char* err,
+                                   size_t err_len) {
     if (n_shapes < 0 || (n_shapes > 0 && !shapes)) {
-        wg_errorf(err, err_len, "shapes: %d with a %s array", n_shapes, shapes ? "" : "NULL");
+        wg_errorf(err, err_len, "n_shapes = %d with shapes %s", n_shapes,
+                  shapes ? "given" : "NULL");
         return WEFT_ERROR_INVALID_ARGUMENT;
     }
     for (int k = 0; k < n_shapes; ++k) {
         const wg_shape* s = &shapes[k];
-        if (s->type != WG_SHAPE_PLANE && s->type != WG_SHAPE_SPHERE && s->type != WG_SHAPE_CAPSULE) {
-            wg_errorf(err, err_len, "shapes[%d].type = %d is not plane (0), sphere (1) or capsule (2)",
-                      k, (int)s->type);
+        if (s->type != WG_SHAPE_PLANE && s->type != WG_SHAPE_SPHERE &&
+            s->type != WG_SHAPE_CAPSULE) {
+            wg_errorf(err, err_len,
+                      "shapes[%d].type = %d is not plane (0), sphere (1) or capsule (2)", k,
+                      (int)s->type);
             return WEFT_ERROR_INVALID_ARGUMENT;
         }
         if (!finite_n(s->transform, 16) || !isfinite(s->radius) || !isfinite(s->half_height) ||
             !finite_n(s->rgb, 3)) {
-            wg_errorf(err, err_len, "shapes[%d]: transform, radius, half_height or rgb is not finite",
-                      k);
+            wg_errorf(err, err_len,
+                      "shapes[%d]: transform, radius, half_height or rgb is not finite", k);
             return WEFT_ERROR_NONFINITE;
         }
         const float* m = s->transform;
@@ -435,7 +440,8 @@ static void shape_colours(const wg_shape* s, float front[3], float back[3]) {
     const float plane_default[3] = WG_PLANE_DEFAULT_RGB;
     int zero = s->rgb[0] == 0.0f && s->rgb[1] == 0.0f && s->rgb[2] == 0.0f;
     for (int i = 0; i < 3; ++i) {
-        front[i] = zero ? (s->type == WG_SHAPE_PLANE ? plane_default[i] : shape_default[i]) : s->rgb[i];
+        float fallback = s->type == WG_SHAPE_PLANE ? plane_default[i] : shape_default[i];
+        front[i] = zero ? fallback : s->rgb[i];
         back[i] = 0.5f * front[i];
     }
 }
@@ -519,7 +525,8 @@ static weft_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_
                                  char* err, size_t err_len) {
     if (wg_gl_context_is_host(r->ctx) && !glIsVertexArray(r->vao)) {
         wg_errorf(err, err_len,
-                  "host context: the current GL context is not the one the renderer was created in");
+                  "host context: the current GL context is not the one the renderer was "
+                  "created in");
         return WEFT_ERROR_GPU;
     }
     int w = cam->width, h = cam->height;

@@ -55,8 +55,10 @@ weft_status wg_target_ensure(wg_target* t, int width, int height, int samples, c
         t->ms_depth = make_rbo(GL_DEPTH_COMPONENT24, width, height, samples);
         glGenFramebuffers(1, &t->ms_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, t->ms_fbo);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->ms_color);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->ms_depth);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                  t->ms_color);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                  t->ms_depth);
         st = check_fbo("multisampled", width, height, samples, err, err_len);
     }
     if (st == WEFT_OK) {
@@ -66,7 +68,8 @@ weft_status wg_target_ensure(wg_target* t, int width, int height, int samples, c
         glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
         glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->color);
         if (t->depth)
-            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth);
+            glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                      t->depth);
         st = check_fbo(samples > 1 ? "resolve" : "colour + depth", width, height, 1, err, err_len);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

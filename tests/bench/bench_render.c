@@ -63,7 +63,10 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--n") && i + 1 < argc) n = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
-        else if (!strcmp(argv[i], "--size") && i + 2 < argc) { w = atoi(argv[++i]); h = atoi(argv[++i]); }
+        else if (!strcmp(argv[i], "--size") && i + 2 < argc) {
+            w = atoi(argv[++i]);
+            h = atoi(argv[++i]);
+        }
         else if (!strcmp(argv[i], "--png") && i + 1 < argc) png = argv[++i];
         else {
             fprintf(stderr, "usage: bench_render [--n N] [--runs R] [--size W H] [--png FILE]\n");
