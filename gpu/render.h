@@ -83,17 +83,18 @@ void wg_renderer_destroy(wg_renderer* r);
  * The framebuffer is (re)allocated when the size or sample count changes. Near and far planes
  * are fitted to the scene. eye == target: framed automatically (wg_camera_frame_auto) around
  * wg_scene_bounds, or, with nothing bounded, a 1 m box at the first plane's origin or at the
- * target. A plane is drawn as a square of half-size 2.5 x the bounding radius of the meshes,
- * spheres and capsules (1 m when there are none), centred on the foot of their bounding box's
- * centre on the plane (the plane's origin when there are none), checkered in square cells, local
- * x and z from multiples of the cell size, of the largest 1, 2 or 5 x 10^k m not above a fifth
- * of the half-size (odd cells 0.8 x as bright), and pushed back by a polygon offset so that
- * cloth resting on it wins.
- * Errors (rgba_out untouched): INVALID_ARGUMENT (NULL, size, fov, up parallel to the view, bad
- * index or count, bad shape type/radius, a transform that is singular or not affine),
- * NONFINITE (NaN/Inf in the camera, positions, normals, colours, transforms, radii),
- * OUT_OF_MEMORY, GPU (no context, framebuffer incomplete or larger than the driver allows, a GL
- * error: err says which). */
+ * target.
+ * A plane is drawn as a square around the rest of the scene: half-size 2.5 x the bounding radius
+ * of the meshes, spheres and capsules (half-size 1 m without them), centred on the foot of their
+ * bounding box's centre on the plane (the first plane's origin when there are none). It is
+ * checkered in square cells aligned with the plane's local x and z axes from its origin, of the
+ * largest 1, 2 or 5 x 10^k m not above a fifth of the half-size (odd cells 0.8 x as bright), and
+ * pushed back by a polygon offset so that cloth resting on it wins.
+ * Errors (rgba_out untouched): INVALID_ARGUMENT (NULL, size, fov, up zero or parallel to the
+ * view, a negative count, bad shape type/radius, a transform that is singular or not affine),
+ * OUT_OF_RANGE (a triangle index outside the mesh's vertices), NONFINITE (NaN/Inf in the camera,
+ * positions, normals, colours, transforms, radii), OUT_OF_MEMORY, GPU (no context, framebuffer
+ * incomplete or larger than the driver allows, a GL error: err says which). */
 weft_status wg_render(wg_renderer* r, const wg_camera* cam, const wg_mesh* meshes, int n_meshes,
                       const wg_shape* shapes, int n_shapes, unsigned char* rgba_out, char* err,
                       size_t err_len);
@@ -114,7 +115,7 @@ weft_status wg_camera_frame_auto(wg_camera* cam, const float bmin[3], const floa
                                  char* err, size_t err_len);
 
 /* Column-major 4x4 view and OpenGL projection matrices (clip = proj * view * world) of cam with
- * the given near/far distances: what wg_render uses, for callers (tests) that project points.
+ * the given near/far distances: what wg_render uses, for callers that project points.
  * Errors as wg_camera_frame_auto. */
 weft_status wg_camera_matrices(const wg_camera* cam, float znear, float zfar, float view[16],
                                float proj[16], char* err, size_t err_len);
