@@ -10,6 +10,7 @@ packages=(
   libsuitesparse-dev              # CHOLMOD
   libopenblas0-pthread            # fast BLAS behind CHOLMOD (switches libblas.so.3)
   libglew-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # GPU backend, headless EGL
+  libpng-dev                      # preview renderer: PNG output (gpu/png_write.c)
   libcjson-dev                    # JSON (weft inspect --json, scene files)
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
   blender                         # the add-on test (tests/blender): ~480 MB, ~25 s to install

@@ -63,6 +63,7 @@ void wc_state_destroy(wc_state* s) {
                         s->contacts.normal, s->contacts_save.normal};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&a, arrays[i]);
     wc_free(&a, s->pins);
+    wc_free(&a, s->pin_scratch);
     wc_free(&a, s->colliders);
     wc_free(&a, s->se);
     wc_free(&a, s->filter.ndof);
@@ -108,6 +109,9 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     s->A = WC_NEW(&A, double, 9 * (size_t)m->pattern.n_blocks);
     s->pins = WC_NEW(&A, wc_pin, (size_t)np + 1);
     s->pin_from = WC_NEW(&A, double, 3 * (size_t)np + 3);
+    s->pin_scratch = WC_NEW(&A, int, (size_t)n + 1);
+    if (s->pin_scratch)
+        for (int i = 0; i < n; ++i) s->pin_scratch[i] = -1;
     s->colliders = WC_NEW(&A, wc_collider, (size_t)nc + 1);
     s->filter.n = n;
     s->filter.S = WC_NEW(&A, double, 9 * (size_t)n);
@@ -121,7 +125,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         cts[k]->released = WC_NEW(&A, unsigned char, (size_t)n);
     }
     if (!s->x || !s->v || !s->x0 || !s->v0 || !s->dv0 || !s->f_ext || !s->f || !s->b || !s->dv || !s->r ||
-        !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->colliders ||
+        !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->pin_scratch || !s->colliders ||
         !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
         !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
         !s->contacts_save.released) {
@@ -146,30 +150,43 @@ weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* d
     if (n < 0 || n > s->def.max_pins)
         return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: %d pins, capacity is %d", n, s->def.max_pins);
     int np = s->model->n_particles;
-    for (int k = 0; k < n; ++k) {
+    int* at = s->pin_scratch;   /* per particle: -1, or -2 - k for new pin k (O(n) checks) */
+    weft_status st = WEFT_OK;
+    int k = 0;
+    for (; k < n; ++k) {
         const wc_pin* p = &pins[k];
-        if (p->particle < 0 || p->particle >= np)
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: pin %d: particle %d is out of range [0, %d)", k,
-                           p->particle, np);
-        if (!v3_finite(p->target) || !v3_finite(p->free_axis))
-            return wc_fail(diag, WEFT_ERROR_NONFINITE, "set pins: pin %d: non-finite target or axis", k);
+        if (p->particle < 0 || p->particle >= np) {
+            st = wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: pin %d: particle %d is out of range [0, %d)", k,
+                         p->particle, np);
+            break;
+        }
+        if (!v3_finite(p->target) || !v3_finite(p->free_axis)) {
+            st = wc_fail(diag, WEFT_ERROR_NONFINITE, "set pins: pin %d: non-finite target or axis", k);
+            break;
+        }
         double len = v3_norm(p->free_axis);
-        if (len != 0.0 && fabs(len - 1.0) > 1e-6)
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pin %d: free_axis must be zero or unit (|a| = %g)",
-                           k, len);
-        for (int j = 0; j < k; ++j)
-            if (pins[j].particle == p->particle)
-                return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pins %d and %d both hold particle %d", j, k,
-                               p->particle);
+        if (len != 0.0 && fabs(len - 1.0) > 1e-6) {
+            st = wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pin %d: free_axis must be zero or unit (|a| = %g)",
+                         k, len);
+            break;
+        }
+        if (at[p->particle] <= -2) {
+            st = wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pins %d and %d both hold particle %d",
+                         -2 - at[p->particle], k, p->particle);
+            break;
+        }
+        at[p->particle] = -2 - k;
     }
+    for (int j = 0; j < k; ++j) at[pins[j].particle] = -1;
+    if (st != WEFT_OK) return st;
     /* where each new pin starts: its old target if the particle was pinned, else where it is
        (reads s->pins and s->x only, so pin_from can be written in place) */
-    for (int k = 0; k < n; ++k) {
-        const double* from = s->x + 3 * pins[k].particle;
-        for (int j = 0; j < s->n_pins; ++j)
-            if (s->pins[j].particle == pins[k].particle) from = s->pins[j].target;
-        v3_copy(s->pin_from + 3 * k, from);
+    for (int j = 0; j < s->n_pins; ++j) at[s->pins[j].particle] = j;
+    for (k = 0; k < n; ++k) {
+        int old = at[pins[k].particle];
+        v3_copy(s->pin_from + 3 * k, old >= 0 ? s->pins[old].target : s->x + 3 * pins[k].particle);
     }
+    for (int j = 0; j < s->n_pins; ++j) at[s->pins[j].particle] = -1;
     if (n > 0) memcpy(s->pins, pins, (size_t)n * sizeof(wc_pin));
     s->n_pins = n;
     return WEFT_OK;

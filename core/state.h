@@ -53,6 +53,7 @@ typedef struct wc_state {
     int n_pins;
     wc_pin* pins;               /* (max_pins) */
     double* pin_from;           /* (max_pins x 3) target at the start of the frame */
+    int* pin_scratch;           /* (n) -1 between calls: set_pins' per-particle lookup */
     int n_colliders;
     wc_collider* colliders;     /* (max_colliders) */
     wc_contacts contacts;

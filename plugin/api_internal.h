@@ -10,7 +10,8 @@
  *   colliders.c     collider defs + transforms -> world wc_collider
  *   cloth_frame.c   weft_cloth_step: inertia, teleport, reset, pins, colliders, wind, step
  *   cloth_output.c  vertices, normals, triangles in host order
- *   snapshot.c      save/restore of the whole mutable state (also the step's rollback) */
+ *   snapshot.c      save/restore of the whole mutable state (also the step's rollback)
+ *   render.c        weft_render: preview pictures through gpu/'s renderer (lazy EGL context) */
 #ifndef WEFT_PLUGIN_API_INTERNAL_H
 #define WEFT_PLUGIN_API_INTERNAL_H
 #include <stdint.h>
@@ -121,6 +122,8 @@ struct weft_context {
     uint32_t tag;               /* per-context handle tag (16 bits) */
     int n_slots, cap_slots;
     wa_slot* slots;
+    void* gl;                   /* wg_gl_context*, created by the first weft_render (render.c) */
+    void* renderer;             /* wg_renderer* in it */
 };
 
 /* ---- context.c helpers ----------------------------------------------------------------------- */
@@ -164,6 +167,11 @@ void wa_pin_targets(const wa_cloth* c, const wa_xform* bones);
 /* World colliders from the collider defs and the given transforms into c->wc_colliders, with
  * velocity (origin(next) - origin(prev)) / dt, or zero when dt <= 0. */
 void wa_world_colliders(const wa_cloth* c, const wa_xform* next, const wa_xform* prev, double dt);
+
+/* ---- render.c -------------------------------------------------------------------------------- */
+
+/* Release the context's GL context and renderer (nothing when it never rendered). */
+void wa_render_release(weft_context* ctx);
 
 /* ---- snapshot.c ------------------------------------------------------------------------------ */
 

@@ -106,6 +106,7 @@ void weft_context_destroy(weft_context* ctx) {
     if (!ctx) return;
     for (int i = 0; i < ctx->n_slots; ++i)
         if (ctx->slots[i].cloth) wa_cloth_free(ctx->slots[i].cloth);
+    wa_render_release(ctx);
     wc_allocator a = ctx->alloc;
     wc_free(&a, ctx->slots);
     wc_free(&a, ctx);

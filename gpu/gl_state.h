@@ -1,0 +1,34 @@
+/* The GL state gpu/ touches: saved before rendering inside a host's context, restored after, and
+ * set to gpu/'s own known values before drawing (in either mode). Needs a current context with
+ * GLEW initialised. */
+#ifndef WEFT_GPU_GL_STATE_H
+#define WEFT_GPU_GL_STATE_H
+
+#include <GL/glew.h>
+
+#define WG_GL_STATE_MAX_ENABLES 28
+
+typedef struct wg_gl_saved_state {
+    GLint draw_fbo, read_fbo, renderbuffer, program, vao, array_buffer, pack_buffer;
+    GLint pack_alignment, pack_row_length, pack_skip_rows, pack_skip_pixels;
+    GLint viewport[4];
+    GLfloat clear_color[4];
+    GLfloat clear_depth;
+    GLboolean depth_mask;
+    GLboolean color_mask[4];
+    GLint depth_func, front_face;
+    GLint polygon_mode[2];
+    int n_enables;
+    GLenum enable_caps[WG_GL_STATE_MAX_ENABLES];
+    GLboolean enabled[WG_GL_STATE_MAX_ENABLES];
+} wg_gl_saved_state;
+
+void wg_gl_state_save(wg_gl_saved_state* s);
+void wg_gl_state_restore(const wg_gl_saved_state* s);
+
+/* Every capability in the saved list disabled except GL_DEPTH_TEST (GL_LESS, mask on) and, when
+ * multisample is nonzero, GL_MULTISAMPLE; colour mask all on; CCW front faces; filled polygons;
+ * pixel-pack buffer 0 with alignment 4 and no row length or skips. */
+void wg_gl_state_set_defaults(int multisample);
+
+#endif
