@@ -181,6 +181,32 @@ class RoundTrip(unittest.TestCase):
         self.assertEqual(e.exception.status, weft.Status.IO)
         self.assertIn("/nonexistent/libweft.so: cannot open", e.exception.message)
 
+    def test_render_into_an_array_and_a_png(self):
+        """weft_render through the RenderDef mirror: the sheet seen from above fills the centre
+        with its front colour (red), the sky (blue) the corners; the PNG has its signature."""
+        cloth = self.make()
+        if os.environ.get("WEFT_GPU") == "OFF":        # built without gpu/: refused, said so
+            with self.assertRaises(weft.WeftError) as e:
+                cloth.render(64, 48)
+            self.assertEqual(e.exception.status, weft.Status.UNSUPPORTED)
+            return
+        image = np.zeros((48, 64, 4), np.uint8)
+        png = os.path.join(os.environ.get("WEFT_TEST_TMPDIR", "/tmp"), "python_render.png")
+        out = cloth.render(64, 48, rgba=image, png_path=png, eye=(0.25, 3.0, 0.25),
+                           target=(0.25, 1.0, 0.25), up=(0.0, 0.0, -1.0), fov_y_deg=30.0)
+        self.assertIs(out, image)                        # filled in place
+        r, g, b, a = (int(v) for v in image[24, 32])
+        self.assertTrue(r > g and r > b, "centre pixel %s is not the red front" % image[24, 32])
+        r, g, b, a = (int(v) for v in image[0, 0])
+        self.assertTrue(b > r and b > 150, "corner pixel %s is not the blue sky" % image[0, 0])
+        self.assertTrue((image[..., 3] == 255).all())
+        with open(png, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        with self.assertRaises(weft.WeftError) as e:
+            cloth.render(0, 48)
+        self.assertEqual(e.exception.status, weft.Status.INVALID_ARGUMENT)
+        self.assertIn("width", e.exception.message)
+
     def test_foreign_libraries_refused(self):
         """The loader's fixtures (tests/loader_fixtures): no weft symbols; every symbol but
         weft_version() reporting another ABI."""
