@@ -21,7 +21,8 @@
  * Two tables (two hosts, or two versions side by side) never interfere: the library is opened
  * RTLD_LOCAL and the loader keeps no state outside the table. The threading contract is
  * weft.h's; weft_loader_open/close are as thread-safe as dlopen/dlclose. Depends on weft.h and
- * libdl only: a host may copy weft_loader.h/.c into its own tree. */
+ * libdl only: a host may copy weft_loader.h, weft_loader_functions.h and weft_loader.c into its
+ * own tree. */
 #ifndef WEFT_LOADER_H
 #define WEFT_LOADER_H
 

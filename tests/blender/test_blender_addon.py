@@ -130,6 +130,45 @@ scene.frame_set(5)
 check(grid.data.shape_keys.key_blocks.get("weft") is None and
       np.allclose(world_positions()[0][pinned], frames[5][pinned], atol=1e-4),
       "weft.disable removes the weft key (the mesh is its rest shape again)")
+# A second cloth parented to a bone that rotates: the pins are bound to the bone, so pinned
+# vertices follow its rigid motion, rest positions carried by M(f) M(1)^-1.
+bpy.ops.object.armature_add(enter_editmode=False, location=(0.0, 0.5, 2.0))
+rig = bpy.context.active_object
+bpy.ops.mesh.primitive_grid_add(x_subdivisions=8, y_subdivisions=8, size=1.0,
+                                location=(0.0, 0.0, 2.0))
+cape = bpy.context.active_object
+world = cape.matrix_world.copy()
+cape.parent, cape.parent_type, cape.parent_bone = rig, "BONE", "Bone"
+bpy.context.view_layer.update()
+cape.matrix_world = world
+pose_bone = rig.pose.bones["Bone"]
+pose_bone.rotation_mode = "XYZ"
+pose_bone.keyframe_insert("rotation_euler", frame=1)
+pose_bone.rotation_euler = (0.4, 0.0, 0.3)
+pose_bone.keyframe_insert("rotation_euler", frame=11)
+cape_local = np.empty(len(cape.data.vertices) * 3, np.float32)
+cape.data.vertices.foreach_get("co", cape_local)
+cape_local = cape_local.reshape(-1, 3)
+cape_pins = np.flatnonzero(cape_local[:, 1] > cape_local[:, 1].max() - 1e-6)
+cape.vertex_groups.new(name="hem").add(cape_pins.tolist(), 1.0, "REPLACE")
+cape.weft.pin_group = "hem"
+bpy.context.view_layer.objects.active = cape
+check(bpy.ops.weft.enable() == {"FINISHED"}, "weft.enable on a cloth parented to a bone")
+grid = cape   # world_positions() reads `grid`
+scene.frame_set(1)
+cape_rest, cape_m1 = world_positions()
+err, moved = 0.0, 0.0
+for f in range(2, 12):
+    scene.frame_set(f)
+    p, m = world_positions()
+    carry = m @ np.linalg.inv(cape_m1)
+    want = cape_rest[cape_pins] @ carry[:3, :3].T + carry[:3, 3]
+    err = max(err, float(np.abs(p[cape_pins] - want).max()))
+    moved = max(moved, float(np.abs(want - cape_rest[cape_pins]).max()))
+check(cape.weft.error == "", "no error (%r)" % cape.weft.error)
+check(moved > 0.1 and err < 1e-4, "pins follow the rotating bone (moved %.2f m, error %.2g m)"
+      % (moved, err))
+
 addon_utils.disable("weft_blender", default_set=True)
 print("%d failure(s)" % len(failures))
 sys.exit(1 if failures else 0)
