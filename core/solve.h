@@ -72,5 +72,9 @@ weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, con
  * wc_solver_invalidate_rho. */
 double wc_solver_estimate_rho(wc_solver* s, const double* A_val, const wc_filter* f, wc_par* par);
 void wc_solver_invalidate_rho(wc_solver* s);
+/* The cached estimate, for snapshots of a state (it changes later solves): returns 1 and sets
+ * *rho when one is cached, else 0. wc_solver_set_rho_cache puts one back (valid 0: none). */
+int wc_solver_rho_cache(const wc_solver* s, double* rho);
+void wc_solver_set_rho_cache(wc_solver* s, int valid, double rho);
 
 #endif

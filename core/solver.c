@@ -106,6 +106,18 @@ void wc_solver_invalidate_rho(wc_solver* s) {
     if (s) s->rho_valid = 0;
 }
 
+int wc_solver_rho_cache(const wc_solver* s, double* rho) {
+    if (!s || !s->rho_valid) return 0;
+    if (rho) *rho = s->rho;
+    return 1;
+}
+
+void wc_solver_set_rho_cache(wc_solver* s, int valid, double rho) {
+    if (!s) return;
+    s->rho_valid = valid ? 1 : 0;
+    s->rho = valid ? rho : 0.0;
+}
+
 double wc_solver_estimate_rho(wc_solver* s, const double* A_val, const wc_filter* f, wc_par* par) {
     if (!s || !A_val || !f || !par || f->n != s->n) return 0.0;
     if (s->rho_valid) return s->rho;

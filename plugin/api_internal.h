@@ -1,0 +1,176 @@
+/* Private to libweft.so: the context and cloth objects behind the public handles, and the helpers
+ * the plugin's files share. The public contract is include/weft/weft.h; nothing here is exported.
+ *
+ * Layout of the facade:
+ *   context.c       context def/create/destroy, last error, logger and allocator bridges, handle table
+ *   transform.c     float 4x4 column-major transforms -> double affine, rigidity checks
+ *   cloth_def.c     defaults of the cloth/attachment/collider defs and the frame, def validation
+ *   cloth_create.c  mesh -> model -> state, cloth create/destroy, info
+ *   attach.c        attachments: host vertices -> pinned particles, bone-local binding, pin targets
+ *   colliders.c     collider defs + transforms -> world wc_collider
+ *   cloth_frame.c   weft_cloth_step: inertia, teleport, reset, pins, colliders, wind, step
+ *   cloth_output.c  vertices, normals, triangles in host order
+ *   snapshot.c      save/restore of the whole mutable state (also the step's rollback) */
+#ifndef WEFT_PLUGIN_API_INTERNAL_H
+#define WEFT_PLUGIN_API_INTERNAL_H
+#include <stdint.h>
+#include "model.h"
+#include "state.h"
+#include "step.h"
+#include "weft/weft.h"
+
+/* Cookies the weft_default_*() functions put into internal_cookie: a def that skipped its
+ * initialiser (zeroed, stack garbage, or a def of another type) is refused. */
+#define WA_COOKIE_CONTEXT 0x57464331u    /* "WFC1" */
+#define WA_COOKIE_CLOTH 0x57464c31u      /* "WFL1" */
+#define WA_COOKIE_ATTACHMENT 0x57464131u /* "WFA1" */
+#define WA_COOKIE_COLLIDER 0x57464f31u   /* "WFO1" */
+#define WA_COOKIE_RENDER 0x57465231u     /* "WFR1" (weft_default_render_def, render code) */
+
+/* ---- transforms (transform.c) ---------------------------------------------------------------- */
+
+/* An affine transform in double: p' = R p + t, R row-major. Built from a host float[16]. */
+typedef struct wa_xform {
+    double R[9];
+    double t[3];
+} wa_xform;
+
+void wa_xform_identity(wa_xform* o);
+/* From 16 floats, column-major (element (r, c) at m[4c + r]); no checks. */
+void wa_xform_from_floats(wa_xform* o, const float* m);
+/* Validate a host transform: every element finite (else NONFINITE), last row (0, 0, 0, 1) and
+ * R rigid (|det R - 1| < 1e-3, max |R^T R - I| < 1e-3; else INVALID_ARGUMENT). On failure `why`
+ * receives the reason ("[7] is NaN", "is not rigid: det 2"). */
+weft_status wa_check_transform(const float* m, char* why, size_t why_size);
+void wa_xform_point(const wa_xform* x, const double* p, double* out);   /* out = R p + t */
+void wa_xform_vector(const wa_xform* x, const double* v, double* out);  /* out = R v */
+/* Exact affine inverse (general 3x3 inverse, not the transpose); identity if singular. */
+void wa_xform_inverse(const wa_xform* x, wa_xform* out);
+/* Rotation by fraction c of the rotation in R (axis-angle, Rodrigues), into Rc (row-major 3x3).
+ * Returns 0 (and Rc = I) when R's rotation angle is 0, else 1. */
+int wa_rotation_fraction(const double* R, double c, double* Rc);
+
+/* ---- objects --------------------------------------------------------------------------------- */
+
+typedef struct wa_attachment {
+    int first_pin, n_pins;      /* its pins: wa_cloth.pin_* [first_pin, first_pin + n_pins) */
+    double free_axis[3];        /* bone-local unit axis, zero: fully pinned */
+} wa_attachment;
+
+typedef struct wa_collider {
+    int type;                   /* weft_collider_type */
+    double radius, half_height, thickness, friction;
+} wa_collider;
+
+typedef struct wa_cloth {
+    weft_context* ctx;
+    wc_model model;
+    wc_state* state;
+    int n_host;                 /* host vertices (= model.n_host_verts) */
+    double* host_rest;          /* (n_host x 3) object-space metres of every host vertex (unused
+                                   vertices are reported rigidly moved with the object) */
+    double unit_scale;
+    double max_frame_time;
+    double linear_inertia, angular_inertia;
+
+    /* the object's transform history (see cloth_frame.c) */
+    wa_xform object;            /* T0: last object transform applied */
+    double object_velocity[3];  /* V0: object origin velocity over the last frame (m/s) */
+    int no_history;             /* 1: V0 is unknown (after create, teleport, reset) */
+
+    /* attachments: current bone transforms, bone-local binding of each pinned particle */
+    int n_attachments;
+    wa_attachment* attachments;     /* (n_attachments) */
+    wa_xform* attachment_xf;        /* (n_attachments) current (last applied) transforms */
+    wa_xform* attachment_next;      /* (n_attachments) scratch of a frame */
+    int n_pins;
+    int* pin_particle;              /* (n_pins) */
+    int* pin_attachment;            /* (n_pins) */
+    double* pin_local;              /* (n_pins x 3) bone-local positions (m) */
+    wc_pin* pins;                   /* (n_pins) scratch for wc_state_set_pins */
+
+    /* colliders */
+    int n_colliders;
+    wa_collider* colliders;         /* (n_colliders) */
+    wa_xform* collider_xf;          /* (n_colliders) current transforms */
+    wa_xform* collider_next;        /* (n_colliders) scratch */
+    wc_collider* wc_colliders;      /* (n_colliders) scratch for wc_state_set_colliders */
+
+    double* scratch;                /* (n_particles x 3) positions for reset and normals */
+    int* mark;                      /* (n_particles) scratch: attachment of each particle */
+    uint64_t model_hash;            /* fingerprint of the model (snapshot.c) */
+    size_t snapshot_size;
+    unsigned char* backup;          /* (snapshot_size) state before the running step */
+} wa_cloth;
+
+typedef struct wa_slot {
+    uint32_t generation;        /* bumped at every destroy; never 0 */
+    wa_cloth* cloth;            /* NULL when free */
+} wa_slot;
+
+struct weft_context {
+    weft_context_def def;       /* as given (logger, level, threads) */
+    weft_backend backend;       /* CPU */
+    wc_allocator alloc;         /* bridge of def.allocator */
+    wc_diag core_diag;          /* handed to core calls: forwards core's DEBUG..WARN to the logger
+                                   (core's ERRORs come back as statuses and are reported once,
+                                   prefixed, by wa_fail) */
+    weft_status last_status;
+    char last_error[512];
+    uint32_t tag;               /* per-context handle tag (16 bits) */
+    int n_slots, cap_slots;
+    wa_slot* slots;
+};
+
+/* ---- context.c helpers ----------------------------------------------------------------------- */
+
+/* Record a failed call (status, message, logger at ERROR); returns status. */
+weft_status wa_fail(weft_context* ctx, weft_status status, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Record a successful call; returns WEFT_OK. */
+weft_status wa_ok(weft_context* ctx);
+/* Log at a level (filtered by the context's log_level). */
+void wa_log(weft_context* ctx, weft_log_level level, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
+/* A core diag for one call (no logger for errors; warnings forwarded). */
+wc_diag wa_core_diag(weft_context* ctx);
+/* The cloth a handle names, or NULL (then the failure is recorded, prefixed with fn). */
+wa_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn);
+/* Register a cloth in a free slot; 0 on allocation failure. */
+int wa_register(weft_context* ctx, wa_cloth* c, weft_cloth* out);
+/* Release the slot of a handle that wa_lookup accepted. */
+void wa_unregister(weft_context* ctx, weft_cloth h);
+
+/* ---- cloth_def.c ------------------------------------------------------------------------------ */
+
+/* Validate everything of the def that can be checked before the mesh is read; status + message
+ * (naming the field) into msg. */
+weft_status wa_validate_cloth_def(const weft_cloth_def* def, char* msg, size_t msg_size);
+/* Validate attachment defs (cookie, counts, transforms, axis); vertex indices against n_host
+ * when n_host >= 0. prefix names the array ("def->attachments", "attachments"). */
+weft_status wa_validate_attachments(const weft_attachment_def* a, int n, int n_host, const char* prefix, char* msg,
+                                    size_t msg_size);
+weft_status wa_validate_colliders(const weft_collider_def* c, int n, const char* prefix, char* msg, size_t msg_size);
+
+/* ---- cloth_create.c / attach.c / colliders.c ------------------------------------------------- */
+
+void wa_cloth_free(wa_cloth* c);
+/* Bind attachments to the cloth's current positions, replacing the old ones. Validated already
+ * except for the particle checks (welded twins merge, a particle in two attachments is an
+ * error, an unused host vertex is an error), which are done here before anything changes. */
+weft_status wa_bind_attachments(weft_context* ctx, wa_cloth* c, const weft_attachment_def* a, int n,
+                                const char* fn, const char* prefix);
+/* Pin targets from the given bone transforms into c->pins (count c->n_pins). */
+void wa_pin_targets(const wa_cloth* c, const wa_xform* bones);
+/* World colliders from the collider defs and the given transforms into c->wc_colliders, with
+ * velocity (origin(next) - origin(prev)) / dt, or zero when dt <= 0. */
+void wa_world_colliders(const wa_cloth* c, const wa_xform* next, const wa_xform* prev, double dt);
+
+/* ---- snapshot.c ------------------------------------------------------------------------------ */
+
+size_t wa_snapshot_size(const wa_cloth* c);
+uint64_t wa_model_hash(const wa_cloth* c);
+/* Write the snapshot (size wa_snapshot_size) with or without the checksum (the step's internal
+ * backup skips it); restore one written by this cloth without any check. */
+void wa_snapshot_write(const wa_cloth* c, unsigned char* buf, int checksum);
+void wa_snapshot_apply(wa_cloth* c, const unsigned char* buf);
+
+#endif

@@ -1,0 +1,220 @@
+/* The context: def defaults and validation, the allocator and logger bridges to core
+ * (wc_allocator, wc_diag), the last error/status, and the handle table.
+ *
+ * Handles: a weft_cloth id packs (from the high bits) a 16-bit context tag, a 4-bit type tag,
+ * a 20-bit slot generation and a 24-bit slot index. The context tag comes from the context's
+ * address and the clock at creation (no global counter: there is no global state), so a handle of
+ * another context is refused w.h.p.; a destroyed cloth bumps its slot's generation, so stale
+ * copies are refused; anything else that does not decode to a live slot is refused too. Zero is
+ * never a valid id. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include "api_internal.h"
+
+#define WA_TYPE_CLOTH 0xAu
+#define WA_SLOT_BITS 24
+#define WA_GEN_BITS 20
+#define WA_MAX_SLOTS (1 << WA_SLOT_BITS)
+
+weft_context_def weft_default_context_def(void) {
+    weft_context_def d;
+    memset(&d, 0, sizeof d);
+    d.backend = WEFT_BACKEND_AUTO;
+    d.threads = 0;
+    d.log_level = WEFT_LOG_WARN;
+    d.gl_mode = WEFT_GL_HEADLESS;
+    d.internal_cookie = WA_COOKIE_CONTEXT;
+    return d;
+}
+
+/* core's log levels have the same order and values as weft_log_level */
+static void core_log_bridge(wc_log_level level, const char* message, void* user) {
+    weft_context* ctx = user;
+    if (level >= WC_LOG_ERROR) return;   /* reported once, prefixed, through wa_fail */
+    if (ctx->def.log && (int)level >= (int)ctx->def.log_level) ctx->def.log((weft_log_level)level, message, ctx->def.log_user);
+}
+
+static weft_status create_fail(const weft_context_def* def, weft_status st, const char* fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static weft_status create_fail(const weft_context_def* def, weft_status st, const char* fmt, ...) {
+    if (def && def->log) {
+        char msg[512];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        va_end(ap);
+        def->log(WEFT_LOG_ERROR, msg, def->log_user);
+    }
+    return st;
+}
+
+static uint32_t make_tag(const weft_context* ctx) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    uint64_t z = (uint64_t)(uintptr_t)ctx ^ ((uint64_t)ts.tv_nsec << 20) ^ (uint64_t)ts.tv_sec;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    uint32_t tag = (uint32_t)(z & 0xFFFFu);
+    return tag ? tag : 0x5EED;
+}
+
+/* Errors of create go to def->log (there is no context to hold them). An ABI mismatch is
+ * checked first and then the def is not read at all (its layout may be another ABI's). */
+weft_status weft_context_create(int abi, const weft_context_def* def, weft_context** out) {
+    if (out) *out = NULL;
+    if (abi != WEFT_ABI) return WEFT_ERROR_ABI_MISMATCH;
+    if (!def) return WEFT_ERROR_INVALID_ARGUMENT;
+    /* a def that skipped weft_default_context_def() may hold a garbage logger: not called */
+    if (def->internal_cookie != WA_COOKIE_CONTEXT) return WEFT_ERROR_INVALID_ARGUMENT;
+    if (!out) return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: out is NULL");
+    if ((unsigned)def->backend > WEFT_BACKEND_GPU)
+        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: def->backend %d is not a weft_backend",
+                           (int)def->backend);
+    if (def->threads < 0)
+        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: def->threads %d is negative",
+                           def->threads);
+    if ((unsigned)def->log_level > WEFT_LOG_ERROR)
+        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT,
+                           "weft_context_create: def->log_level %d is not a weft_log_level", (int)def->log_level);
+    if ((unsigned)def->gl_mode > WEFT_GL_HOST_CURRENT)
+        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: def->gl_mode %d is not a weft_gl_mode",
+                           (int)def->gl_mode);
+    if ((def->allocator.alloc == NULL) != (def->allocator.free == NULL))
+        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT,
+                           "weft_context_create: def->allocator: alloc and free must both be set or both be NULL");
+    /* AUTO -> CPU: this build has no GPU solver yet */
+    if (def->backend == WEFT_BACKEND_GPU)
+        return create_fail(def, WEFT_ERROR_UNSUPPORTED, "weft_context_create: def->backend GPU: this build has no GPU solver");
+    wc_allocator a = {def->allocator.alloc, def->allocator.free, def->allocator.user};
+    weft_context* ctx = WC_NEW(&a, weft_context, 1);
+    if (!ctx) return create_fail(def, WEFT_ERROR_OUT_OF_MEMORY, "weft_context_create: out of memory");
+    ctx->def = *def;
+    ctx->backend = WEFT_BACKEND_CPU;
+    ctx->alloc = a;
+    ctx->last_status = WEFT_OK;
+    ctx->last_error[0] = '\0';
+    ctx->tag = make_tag(ctx);
+    *out = ctx;
+    return WEFT_OK;
+}
+
+void weft_context_destroy(weft_context* ctx) {
+    if (!ctx) return;
+    for (int i = 0; i < ctx->n_slots; ++i)
+        if (ctx->slots[i].cloth) wa_cloth_free(ctx->slots[i].cloth);
+    wc_allocator a = ctx->alloc;
+    wc_free(&a, ctx->slots);
+    wc_free(&a, ctx);
+}
+
+const char* weft_context_last_error(const weft_context* ctx) {
+    return ctx ? ctx->last_error : "weft_context_last_error: ctx is NULL";
+}
+
+weft_status weft_context_last_status(const weft_context* ctx) {
+    return ctx ? ctx->last_status : WEFT_ERROR_INVALID_ARGUMENT;
+}
+
+weft_backend weft_context_backend(const weft_context* ctx) { return ctx ? ctx->backend : WEFT_BACKEND_AUTO; }
+
+weft_status wa_fail(weft_context* ctx, weft_status status, const char* fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ctx->last_error, sizeof ctx->last_error, fmt, ap);
+    va_end(ap);
+    ctx->last_status = status;
+    if (ctx->def.log && ctx->def.log_level <= WEFT_LOG_ERROR) ctx->def.log(WEFT_LOG_ERROR, ctx->last_error, ctx->def.log_user);
+    return status;
+}
+
+weft_status wa_ok(weft_context* ctx) {
+    ctx->last_status = WEFT_OK;
+    return WEFT_OK;
+}
+
+void wa_log(weft_context* ctx, weft_log_level level, const char* fmt, ...) {
+    if (!ctx->def.log || level < ctx->def.log_level) return;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    ctx->def.log(level, msg, ctx->def.log_user);
+}
+
+wc_diag wa_core_diag(weft_context* ctx) {
+    wc_diag d;
+    memset(&d, 0, sizeof d);
+    d.log = core_log_bridge;
+    d.log_user = ctx;
+    return d;
+}
+
+/* ---- handle table ---------------------------------------------------------------------------- */
+
+static uint64_t encode(const weft_context* ctx, int slot, uint32_t gen) {
+    return ((uint64_t)ctx->tag << 48) | ((uint64_t)WA_TYPE_CLOTH << 44) |
+           ((uint64_t)(gen & ((1u << WA_GEN_BITS) - 1)) << WA_SLOT_BITS) | (uint64_t)slot;
+}
+
+wa_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn) {
+    if (h.id == 0) {
+        wa_fail(ctx, WEFT_ERROR_INVALID_HANDLE, "%s: cloth is the null handle", fn);
+        return NULL;
+    }
+    uint32_t tag = (uint32_t)(h.id >> 48), type = (uint32_t)(h.id >> 44) & 0xFu;
+    uint32_t gen = (uint32_t)(h.id >> WA_SLOT_BITS) & ((1u << WA_GEN_BITS) - 1);
+    int slot = (int)(h.id & (WA_MAX_SLOTS - 1));
+    if (tag != ctx->tag || type != WA_TYPE_CLOTH) {
+        wa_fail(ctx, WEFT_ERROR_INVALID_HANDLE, "%s: cloth handle 0x%llx does not belong to this context", fn,
+                (unsigned long long)h.id);
+        return NULL;
+    }
+    if (slot >= ctx->n_slots || (ctx->slots[slot].generation & ((1u << WA_GEN_BITS) - 1)) != gen) {
+        wa_fail(ctx, WEFT_ERROR_INVALID_HANDLE, "%s: cloth handle 0x%llx is stale (destroyed) or forged", fn,
+                (unsigned long long)h.id);
+        return NULL;
+    }
+    if (!ctx->slots[slot].cloth) {
+        wa_fail(ctx, WEFT_ERROR_INVALID_HANDLE, "%s: cloth handle 0x%llx was destroyed", fn, (unsigned long long)h.id);
+        return NULL;
+    }
+    return ctx->slots[slot].cloth;
+}
+
+int wa_register(weft_context* ctx, wa_cloth* c, weft_cloth* out) {
+    int slot = -1;
+    for (int i = 0; i < ctx->n_slots; ++i)
+        if (!ctx->slots[i].cloth) {
+            slot = i;
+            break;
+        }
+    if (slot < 0) {
+        if (ctx->n_slots == ctx->cap_slots) {
+            int cap = ctx->cap_slots ? 2 * ctx->cap_slots : 8;
+            if (cap > WA_MAX_SLOTS) return 0;
+            wa_slot* s = WC_NEW(&ctx->alloc, wa_slot, (size_t)cap);
+            if (!s) return 0;
+            if (ctx->n_slots) memcpy(s, ctx->slots, (size_t)ctx->n_slots * sizeof(wa_slot));
+            wc_free(&ctx->alloc, ctx->slots);
+            ctx->slots = s;
+            ctx->cap_slots = cap;
+        }
+        slot = ctx->n_slots++;
+        ctx->slots[slot].generation = 1;
+    }
+    ctx->slots[slot].cloth = c;
+    out->id = encode(ctx, slot, ctx->slots[slot].generation);
+    return 1;
+}
+
+void wa_unregister(weft_context* ctx, weft_cloth h) {
+    int slot = (int)(h.id & (WA_MAX_SLOTS - 1));
+    ctx->slots[slot].cloth = NULL;
+    uint32_t g = (ctx->slots[slot].generation + 1) & ((1u << WA_GEN_BITS) - 1);
+    ctx->slots[slot].generation = g ? g : 1;
+}

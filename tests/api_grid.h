@@ -1,0 +1,142 @@
+/* Helpers of the public-API tests (test_api_*.c): grid meshes as host float arrays, 4x4
+ * column-major transforms, a counting allocator and a capturing logger. Header-only, public
+ * header only. */
+#ifndef WEFT_TESTS_API_GRID_H
+#define WEFT_TESTS_API_GRID_H
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "weft/weft.h"
+
+typedef struct ag_mesh {
+    int n;          /* grid vertices per side */
+    int nv, nf;     /* host vertices, quads */
+    float* pos;     /* (nv x 3) */
+    int* sizes;     /* (nf) all 4 */
+    int* idx;       /* (4 nf) */
+} ag_mesh;
+
+/* Grid point (i, j) of an n x n grid of size metres: horizontal (XZ plane at height y, i along
+ * X, j along Z) or vertical (XY plane, i along X, j up, top row j = n - 1 at height y). */
+static inline void ag_point(int n, double size, double y, int vertical, int i, int j, float* out) {
+    double u = size * i / (n - 1) - 0.5 * size, w = size * j / (n - 1);
+    if (vertical) {
+        out[0] = (float)u;
+        out[1] = (float)(y - size + w);
+        out[2] = 0.0f;
+    } else {
+        out[0] = (float)u;
+        out[1] = (float)y;
+        out[2] = (float)(w - 0.5 * size);
+    }
+}
+
+/* Quads counter-clockwise seen from +Y (horizontal) or +Z (vertical). Without split, host vertex
+ * (i, j) is i + n j; with split every quad has its own 4 vertices (per-quad UVs): quad q = i +
+ * (n - 1) j has vertices 4q .. 4q + 3 at (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1). */
+static inline void ag_grid(ag_mesh* m, int n, double size, double y, int vertical, int split) {
+    m->n = n;
+    m->nf = (n - 1) * (n - 1);
+    m->nv = split ? 4 * m->nf : n * n;
+    m->pos = calloc((size_t)m->nv * 3, sizeof(float));
+    m->sizes = malloc(sizeof(int) * (size_t)m->nf);
+    m->idx = malloc(sizeof(int) * 4 * (size_t)m->nf);
+    if (!split)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) ag_point(n, size, y, vertical, i, j, m->pos + 3 * (i + n * j));
+    int q = 0;
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i, ++q) {
+            int ci[4] = {i, i + 1, i + 1, i}, cj[4] = {j, j, j + 1, j + 1};
+            m->sizes[q] = 4;
+            for (int k = 0; k < 4; ++k) {
+                /* horizontal: (i along X, j along Z) is clockwise from +Y; reverse it */
+                int kk = vertical ? k : 3 - k;
+                if (split) {
+                    ag_point(n, size, y, vertical, ci[kk], cj[kk], m->pos + 3 * (4 * q + k));
+                    m->idx[4 * q + k] = 4 * q + k;
+                } else {
+                    m->idx[4 * q + k] = ci[kk] + n * cj[kk];
+                }
+            }
+        }
+}
+
+static inline void ag_free(ag_mesh* m) {
+    free(m->pos);
+    free(m->sizes);
+    free(m->idx);
+    memset(m, 0, sizeof *m);
+}
+
+static inline weft_mesh_desc ag_desc(const ag_mesh* m) {
+    weft_mesh_desc d;
+    memset(&d, 0, sizeof d);
+    d.positions = m->pos;
+    d.n_vertices = m->nv;
+    d.face_sizes = m->sizes;
+    d.n_faces = m->nf;
+    d.indices = m->idx;
+    return d;
+}
+
+static inline void ag_identity(float* m) {
+    memset(m, 0, 16 * sizeof(float));
+    m[0] = m[5] = m[10] = m[15] = 1.0f;
+}
+
+/* Rotation by angle (rad) about the unit axis (ax, ay, az), then translation (tx, ty, tz). */
+static inline void ag_transform(float* m, double ax, double ay, double az, double angle, double tx, double ty,
+                                double tz) {
+    double c = cos(angle), s = sin(angle), t = 1.0 - c;
+    double R[3][3] = {{t * ax * ax + c, t * ax * ay - s * az, t * ax * az + s * ay},
+                      {t * ax * ay + s * az, t * ay * ay + c, t * ay * az - s * ax},
+                      {t * ax * az - s * ay, t * ay * az + s * ax, t * az * az + c}};
+    ag_identity(m);
+    for (int r = 0; r < 3; ++r)
+        for (int col = 0; col < 3; ++col) m[4 * col + r] = (float)R[r][col];
+    m[12] = (float)tx;
+    m[13] = (float)ty;
+    m[14] = (float)tz;
+}
+
+/* out = M p (float transform applied in double) */
+static inline void ag_apply(const float* M, const double* p, double* out) {
+    for (int r = 0; r < 3; ++r)
+        out[r] = (double)M[r] * p[0] + (double)M[4 + r] * p[1] + (double)M[8 + r] * p[2] + (double)M[12 + r];
+}
+
+/* ---- counting allocator and capturing logger ---- */
+
+typedef struct ag_alloc_counter {
+    long allocs, frees;
+    long live;
+} ag_alloc_counter;
+
+static void* ag_count_alloc(size_t size, void* user) {
+    ag_alloc_counter* c = user;
+    ++c->allocs;
+    ++c->live;
+    return malloc(size);
+}
+
+static void ag_count_free(void* p, void* user) {
+    ag_alloc_counter* c = user;
+    ++c->frees;
+    --c->live;
+    free(p);
+}
+
+typedef struct ag_log {
+    int count[4];
+    char last[512];
+} ag_log;
+
+static void ag_log_fn(weft_log_level level, const char* message, void* user) {
+    ag_log* l = user;
+    if ((int)level >= 0 && (int)level < 4) ++l->count[level];
+    strncpy(l->last, message, sizeof l->last - 1);
+    l->last[sizeof l->last - 1] = '\0';
+}
+
+#endif
