@@ -76,6 +76,7 @@ static void test_bad_mesh(void) {
     expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"scale\": 0}}", "mesh.scale", "> 0");
     expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"scale\": -1}}", "mesh.scale", "> 0");
     expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"weld_tolerance\": -1}}", "mesh.weld_tolerance", ">= 0");
+    expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"weld_tolerance\": 1.5}}", "mesh.weld_tolerance", "[0, 1]");
     /* A mesh file that does not exist: the importer's status, the field and the file's name. */
     expect_bad("{\"mesh\": {\"file\": \"no_such_mesh_file.obj\"}}", "mesh.file", "no_such_mesh_file.obj");
     expect_bad("{" GRID ", \"transform\": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0]}", "transform", "16");
@@ -171,6 +172,7 @@ static void test_bad_settings(void) {
     expect_bad("{" GRID ", \"solver\": {\"type\": \"bogus\"}}", "solver.type", "unknown solver");
     expect_bad("{" GRID ", \"solver\": {\"type\": \"PCG\"}}", "solver.type", "unknown solver");
     expect_bad("{" GRID ", \"solver\": {\"tolerance\": -1e-4}}", "solver.tolerance", ">= 0");
+    expect_bad("{" GRID ", \"solver\": {\"tolerance\": 1}}", "solver.tolerance", "[0, 1)");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 0}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 10.5}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": \"pcg\"}", "solver", "must be an object");

@@ -95,6 +95,66 @@ static void describe_settings(const scene* s, weft_cloth_def* def) {
     def->angular_inertia = s->object.angular_inertia;
 }
 
+/* has_particle[v] = 1 for host vertices the library simulates. A vertex whose polygons were all
+ * dropped (degenerate) has no particle; the library reports it with a zero normal, which a
+ * vertex of a kept (non-degenerate) triangle never has. NULL when out of memory. */
+static unsigned char* simulated_vertices(run_host* h, weft_status* st) {
+    const int n = h->info.n_vertices;
+    float* normals = malloc(sizeof(float) * 3 * (size_t)(n > 0 ? n : 1));
+    unsigned char* has = malloc((size_t)(n > 0 ? n : 1));
+    int count = 0;
+    *st = normals && has ? weft_cloth_get_vertices(h->ctx, h->cloth, WEFT_SPACE_WORLD, NULL, normals, n, &count)
+                         : WEFT_ERROR_OUT_OF_MEMORY;
+    for (int v = 0; v < n && *st == WEFT_OK; ++v) {
+        const float* q = normals + 3 * (size_t)v;
+        has[v] = q[0] != 0 || q[1] != 0 || q[2] != 0;
+    }
+    free(normals);
+    if (*st != WEFT_OK) {
+        free(has);
+        return NULL;
+    }
+    return has;
+}
+
+/* The pin groups as attachments, bound now (at rest, identity bind transforms). A vertex only a
+ * "select" chose is skipped when it has no particle (a "vertices" entry naming one is refused by
+ * the library, with the vertex in the message). att: (n_attachments), its vertex lists are
+ * allocated here (the caller frees them). *oom = 1 when out of memory. */
+static weft_status attach_pins(run_host* h, const scene* s, weft_attachment_def* att, int* oom) {
+    int any_select = 0;
+    for (int i = 0; i < s->n_pins; ++i) any_select |= s->pins[i].from_select;
+    const int n = h->info.n_vertices;
+    unsigned char* named = calloc((size_t)(n > 0 ? n : 1), 1);   /* by a "vertices" entry */
+    weft_status st = WEFT_OK;
+    unsigned char* has = any_select ? simulated_vertices(h, &st) : NULL;
+    *oom = !named || st == WEFT_ERROR_OUT_OF_MEMORY;
+    if (*oom || st != WEFT_OK) {
+        free(named);
+        free(has);
+        return *oom ? WEFT_ERROR_OUT_OF_MEMORY : st;
+    }
+    for (int i = 0; i < s->n_pins; ++i)
+        if (!s->pins[i].from_select)
+            for (int k = 0; k < s->pins[i].n_vertices; ++k) named[s->pins[i].vertices[k]] = 1;
+    for (int i = 0; i < h->n_attachments && !*oom; ++i) {
+        const scene_pin_group* g = &s->pin_groups[i];
+        int* verts = malloc(sizeof(int) * (size_t)(g->n_vertices > 0 ? g->n_vertices : 1));
+        att[i] = weft_default_attachment_def();
+        att[i].vertices = verts;
+        *oom = !verts;
+        for (int k = 0; k < g->n_vertices && verts; ++k) {
+            const int v = g->vertices[k];
+            if (named[v] || !has || has[v]) verts[att[i].n_vertices++] = v;
+        }
+        for (int k = 0; k < 3; ++k) att[i].free_axis[k] = (float)g->free_axis[k];
+    }
+    free(named);
+    free(has);
+    if (*oom) return WEFT_ERROR_OUT_OF_MEMORY;
+    return weft_cloth_set_attachments(h->ctx, h->cloth, att, h->n_attachments);
+}
+
 /* "attachments[i]" in a library message -> which pins entries that is. */
 static void explain_attachment(const scene* s, const char* lib, char* note, size_t cap) {
     note[0] = '\0';
@@ -131,7 +191,7 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
     h->n_colliders = s->n_colliders;
     const size_t na = (size_t)(h->n_attachments > 0 ? h->n_attachments : 1);
     const size_t nc = (size_t)(h->n_colliders > 0 ? h->n_colliders : 1);
-    weft_attachment_def* att = calloc(na, sizeof *att);
+    weft_attachment_def* att = calloc(na, sizeof *att);   /* vertex lists: attach_pins */
     weft_collider_def* col = calloc(nc, sizeof *col);
     h->attachment_xf = calloc(na * 16, sizeof(float));
     h->collider_xf = calloc(nc * 16, sizeof(float));
@@ -139,18 +199,12 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
     float* mesh_pos = NULL;
     int* mesh_sizes = NULL;
     weft_cloth_def def = weft_default_cloth_def();
-    int ok = att && col && h->attachment_xf && h->collider_xf && h->collider_rest &&
-             describe_mesh(s, &def, h->object_rest, &mesh_pos, &mesh_sizes) == 0;
-    if (ok) {
+    int oom = !att || !col || !h->attachment_xf || !h->collider_xf || !h->collider_rest ||
+              describe_mesh(s, &def, h->object_rest, &mesh_pos, &mesh_sizes) != 0;
+    int mismatch = 0;   /* cannot happen: the library and the scene import with the same code */
+    if (!oom) {
         describe_settings(s, &def);
         xf_to_float(h->object_rest, def.transform);
-        for (int i = 0; i < h->n_attachments; ++i) {   /* bound at rest: identity bind transforms */
-            const scene_pin_group* g = &s->pin_groups[i];
-            att[i] = weft_default_attachment_def();
-            att[i].vertices = g->vertices;
-            att[i].n_vertices = g->n_vertices;
-            for (int k = 0; k < 3; ++k) att[i].free_axis[k] = (float)g->free_axis[k];
-        }
         for (int i = 0; i < h->n_colliders; ++i) {
             const wc_collider* c = &s->colliders[i];
             double* rest = h->collider_rest + 16 * (size_t)i;
@@ -162,35 +216,33 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
             col[i].friction = c->friction;
             xf_to_float(rest, col[i].transform);
         }
-        def.n_attachments = h->n_attachments;
-        def.attachments = h->n_attachments > 0 ? att : NULL;
         def.n_colliders = h->n_colliders;
         def.colliders = h->n_colliders > 0 ? col : NULL;
         st = weft_cloth_create(h->ctx, &def, &h->cloth);
+        if (st == WEFT_OK) st = weft_cloth_get_info(h->ctx, h->cloth, &h->info);
+        if (st == WEFT_OK && h->info.n_vertices != s->src.n_verts) mismatch = 1;
+        else if (st == WEFT_OK && h->n_attachments > 0) st = attach_pins(h, s, att, &oom);
     }
+    if (att)
+        for (int i = 0; i < h->n_attachments; ++i) free((int*)att[i].vertices);
     free(att);
     free(col);
     free(mesh_pos);
     free(mesh_sizes);
-    if (!ok) {
+    if (oom) {
         snprintf(msg, cap, "%s: out of memory", name);
         return give_up(h, WEFT_ERROR_OUT_OF_MEMORY);
+    }
+    if (mismatch) {
+        snprintf(msg, cap, "%s: the library read %d host vertices from the mesh, the scene %d", name,
+                 h->info.n_vertices, s->src.n_verts);
+        return give_up(h, WEFT_ERROR_IMPORT);
     }
     if (st != WEFT_OK) {
         char note[160];
         explain_attachment(s, run_host_error(h), note, sizeof note);
-        snprintf(msg, cap, "%s: cannot create the cloth: %s%s", name, run_host_error(h), note);
+        snprintf(msg, cap, "%s: %s%s", name, run_host_error(h), note);
         return give_up(h, st);
-    }
-    st = weft_cloth_get_info(h->ctx, h->cloth, &h->info);
-    if (st != WEFT_OK) {
-        snprintf(msg, cap, "%s: %s", name, run_host_error(h));
-        return give_up(h, st);
-    }
-    if (h->info.n_vertices != s->src.n_verts) {
-        snprintf(msg, cap, "%s: the library read %d host vertices from the mesh, the scene %d", name,
-                 h->info.n_vertices, s->src.n_verts);
-        return give_up(h, WEFT_ERROR_IMPORT);
     }
     h->positions = malloc(sizeof(float) * 3 * (size_t)(h->info.n_vertices > 0 ? h->info.n_vertices : 1));
     st = h->positions ? run_host_read_positions(h) : WEFT_ERROR_OUT_OF_MEMORY;

@@ -50,6 +50,9 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
                                            : "needs \"file\" or \"grid\"");
     if (sj_number(c, mesh, "mesh", "weld_tolerance", SJ_NONNEGATIVE, &s->model_def.weld_tolerance) < 0)
         return -1;
+    if (s->model_def.weld_tolerance > 1)
+        return sj_fail(c, "mesh.weld_tolerance", "must be in [0, 1] (a fraction of the bounding-box diagonal), not %g",
+                       s->model_def.weld_tolerance);
     if (has_file) {
         const char* file = NULL;
         const char* select = NULL;
@@ -184,6 +187,8 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
         s->sim.solver.type = (wc_solver_type)t;
     }
     if (sj_number(c, solver, "solver", "tolerance", SJ_NONNEGATIVE, &s->sim.solver.tolerance) < 0) return -1;
+    if (!(s->sim.solver.tolerance < 1))
+        return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual), not %g", s->sim.solver.tolerance);
     if (sj_int(c, solver, "solver", "max_iterations", 1, MAX_ITERATIONS, &s->sim.solver.max_iterations) < 0)
         return -1;
     return 0;
