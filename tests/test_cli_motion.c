@@ -5,7 +5,7 @@
  * sheet with no vertex ever inside its shell; colliders given in scene terms (tilted plane
  * normal/offset, capsule end points) keep every vertex outside them (so their placements in the
  * API's local conventions are right); a teleport moves everything by its offset and nothing
- * else. */
+ * else; the bundled motion sample runs. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -214,11 +214,29 @@ static void test_teleport(void) {
     CHECK(moved > 0.01);   /* the sheet was swinging, not at rest */
 }
 
+/* The bundled motion sample runs cleanly (a smoke test of the shipped scene). */
+static void test_sample_scene(void) {
+    static ts_cli_result r;
+    char args[2048], stats[1024];
+    snprintf(stats, sizeof stats, "%s", ts_tmp_path("motion_sample.json"));
+    snprintf(args, sizeof args, "run '%s/sample_scenes/sweeping_sphere.json' --frames 20 --quiet --stats '%s'",
+             WEFT_SOURCE_DIR, stats);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    CHECK(r.out[0] == '\0' && r.err[0] == '\0');
+    cJSON* j = cf_read_json(stats);
+    CHECK_EQ_INT(cf_num(j, "frames"), 20);
+    CHECK_EQ_INT(cf_num(j, "failures"), 0);
+    CHECK_EQ_INT(cf_num(j, "nonfinite_outputs"), 0);
+    cJSON_Delete(j);
+}
+
 int main(void) {
     RUN_TEST(test_spinning_pin);
     RUN_TEST(test_object_motion);
     RUN_TEST(test_moving_sphere);
     RUN_TEST(test_scene_colliders);
     RUN_TEST(test_teleport);
+    RUN_TEST(test_sample_scene);
     return TEST_SUMMARY();
 }
