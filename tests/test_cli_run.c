@@ -199,6 +199,44 @@ static void test_moving_pin(void) {
     }
 }
 
+/* A file mesh under a scene transform: rigid x uniform scale (the mesh goes to the library by
+ * path, with unit_scale and a rigid object transform) and with a non-uniform scale (as host
+ * arrays already placed). Without gravity or air the cloth stays at its rest shape, which must
+ * be the transform applied to the file's positions, in the file's vertex order. */
+static void test_file_mesh_transform(void) {
+    static ts_cli_result r;
+    ts_write_tmp("run_tri.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 3 4\n");
+    /* columns: rotate +90 deg about X (y' = -z, z' = y), then scale; translation (1, 2, 3) */
+    static const char* const transforms[] = {"[2, 0, 0, 0,  0, 0, 2, 0,  0, -2, 0, 0,  1, 2, 3, 1]",
+                                             "[2, 0, 0, 0,  0, 0, 3, 0,  0, -0.5, 0, 0,  1, 2, 3, 1]"};
+    static const double scale[2][3] = {{2, 2, 2}, {2, 0.5, 3}};   /* x, the y' (from z), the z' (from y) factors */
+    static const double file[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+    for (int t = 0; t < 2; ++t) {
+        char text[1024], sc[1024], args[4096];
+        snprintf(text, sizeof text,
+                 "{\"mesh\": {\"file\": \"run_tri.obj\", \"scale\": 0.5}, \"transform\": %s,"
+                 " \"gravity\": [0, 0, 0], \"wind\": {\"normal_drag\": 0, \"tangent_drag\": 0},"
+                 " \"time\": {\"frames\": 2}}",
+                 transforms[t]);
+        snprintf(sc, sizeof sc, "%s", ts_write_tmp("run_file_transform.json", text));
+        const char* dir = cf_fresh_dir("run_file_transform");
+        snprintf(args, sizeof args, "run '%s' --out '%s' --quiet", sc, dir);
+        ts_run_cli(args, &r);
+        CHECK_EQ_INT(r.rc, 0);
+        if (r.rc != 0) fprintf(stderr, "  stderr: %s\n", r.err);
+        char path[1200];
+        snprintf(path, sizeof path, "%s/frame_0002.obj", dir);
+        CHECK(cf_read_obj(path, &frame_a) == 0);
+        CHECK_EQ_INT(frame_a.n_v, 4);
+        for (int v = 0; v < 4 && v < frame_a.n_v; ++v) {
+            const double* p = file[v];   /* x 0.5 (mesh.scale), then the transform */
+            const double want[3] = {1 + scale[t][0] * 0.5 * p[0], 2 - scale[t][1] * 0.5 * p[2],
+                                    3 + scale[t][2] * 0.5 * p[1]};
+            for (int k = 0; k < 3; ++k) CHECK_NEAR(frame_a.v[3 * v + k], want[k], 1e-6);
+        }
+    }
+}
+
 /* An invalid scene: exit 1, exactly one "weft: ..." line naming the field, nothing on stdout,
  * and no output folder created (nothing ran). */
 static void expect_bad_scene(const char* name, const char* text, const char* field) {
@@ -380,6 +418,7 @@ int main(void) {
     RUN_TEST(test_hanging_sheet);
     RUN_TEST(test_summary_and_overrides);
     RUN_TEST(test_moving_pin);
+    RUN_TEST(test_file_mesh_transform);
     RUN_TEST(test_bad_scenes);
     RUN_TEST(test_usage_errors);
     RUN_TEST(test_help);
