@@ -267,6 +267,15 @@ static void test_bad_scenes(void) {
     expect_bad_scene("run_bad_key.json", "{\"mesh\": {\"grid\": {\"n\": [8, 8], \"size\": [1, 1]}}, \"fps\": 30}",
                      "fps: unknown key");
     expect_bad_scene("run_bad_json.json", "{\"mesh\": ", "invalid JSON");
+    /* welded twins (vertices 1 and 4 share a position, split by their UVs) pinned with different
+     * motions: refused by the library, the message naming the pins entry */
+    ts_write_tmp("run_twins.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 0 1\nv 1 0 0\nv 1 0 1\n"
+                                  "vt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\nf 1/1 2/2 3/3\nf 4/4 5/4 6/4\n");
+    expect_bad_scene("run_bad_twins.json",
+                     "{\"mesh\": {\"file\": \"run_twins.obj\"},"
+                     " \"pins\": [{\"vertices\": [1]}, {\"vertices\": [4], \"velocity\": [0, 1, 0]}]}",
+                     "already pinned by attachments[0] (attachments[1] are the pins with the free_axis and motion "
+                     "of pins[1])");
     expect_bad_scene("run_no_such_scene.json", NULL, "cannot open");
 }
 
