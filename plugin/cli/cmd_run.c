@@ -231,11 +231,12 @@ static int simulate(run_ctx* c, const run_args* a) {
         const double t0 = run_now_ms();
         weft_status st = weft_cloth_step(c->host.ctx, c->host.cloth, &fr, &stats);
         const double ms = run_now_ms() - t0;
-        if (st == WEFT_ERROR_STEP_FAILED)
-            ++c->rec.failed_frames;
+        if (st == WEFT_ERROR_STEP_FAILED)   /* the cloth is as before the call; the run goes on */
+            run_record_failed_frame(&c->rec, f - 1, ms);
         else if (st != WEFT_OK)
             return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
-        run_record_frame(&c->rec, f - 1, ms, &stats);
+        else
+            run_record_frame(&c->rec, f - 1, ms, &stats);
         st = run_host_read_positions(&c->host);
         if (st != WEFT_OK) return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
         c->rec.nonfinite_outputs += run_record_bbox(&c->rec, c->host.positions, c->host.info.n_vertices);

@@ -50,6 +50,9 @@ int run_record_init(run_record* r, int frames);
 void run_record_free(run_record* r);
 /* Frame f (0-based) took ms of wall time and reported s. */
 void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s);
+/* Frame f's step failed every recovery (WEFT_ERROR_STEP_FAILED, no stats; the cloth is as it
+ * was): counted in failed_frames and as one failed substep; stage timings zero. */
+void run_record_failed_frame(run_record* r, int f, double ms);
 /* The bounding box of n host positions (n x 3); returns how many have a non-finite coordinate
  * (those are left out of the box). */
 long long run_record_bbox(run_record* r, const float* pos, int n);

@@ -50,6 +50,14 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     r->frames = f + 1;
 }
 
+void run_record_failed_frame(run_record* r, int f, double ms) {
+    r->frame_ms[f] = ms;
+    memset(r->stage_ms + (size_t)f * RUN_STAGES, 0, RUN_STAGES * sizeof(double));
+    ++r->failed_frames;
+    ++r->failures;
+    r->frames = f + 1;
+}
+
 long long run_record_bbox(run_record* r, const float* pos, int n) {
     long long nonfinite = 0;
     for (int k = 0; k < 3; ++k) {
