@@ -46,8 +46,9 @@ void wa_xform_point(const wa_xform* x, const double* p, double* out);   /* out =
 void wa_xform_vector(const wa_xform* x, const double* v, double* out);  /* out = R v */
 /* Exact affine inverse (general 3x3 inverse, not the transpose); identity if singular. */
 void wa_xform_inverse(const wa_xform* x, wa_xform* out);
-/* Rotation by fraction c of the rotation in R (axis-angle, Rodrigues), into Rc (row-major 3x3).
- * Returns 0 (and Rc = I) when R's rotation angle is 0, else 1. */
+/* Rotation by fraction c of the rotation in R (axis-angle, Rodrigues), into Rc (row-major 3x3);
+ * c == 1 gives R itself (the host's matrix, rigid within 1e-3, not re-orthonormalised).
+ * Returns 0 (and Rc = I) when R's rotation angle or c is 0, else 1. */
 int wa_rotation_fraction(const double* R, double c, double* Rc);
 
 /* ---- objects --------------------------------------------------------------------------------- */

@@ -10,8 +10,8 @@
  *  - Normal frame: V1 = (p1 - p0) / dt. When there is no history (after create, teleport or
  *    reset) V0 := V1: no linear impulse from a velocity the cloth never saw change.
  *    Angular: c = 1 - angular_inertia; dR = R1 R0^-1; Rc = rotation by c x (dR's angle) about
- *    dR's axis (Rodrigues); around the old origin p0: x <- p0 + Rc (x - p0),
- *    v <- V0 + Rc (v - V0); the solver's warm start dv and the pins' start-of-frame targets are
+ *    dR's axis (Rodrigues; c = 1: dR itself, so the carry matches the host's matrices); around
+ *    the old origin p0: x <- p0 + Rc (x - p0), v <- V0 + Rc (v - V0); the solver's warm start dv and the pins' start-of-frame targets are
  *    carried the same way (so a cloth carried by the object is in the same state, relative to
  *    it, as one on a resting object).
  *    Linear: v += (1 - linear_inertia) (V1 - V0): the cloth is given that part of the object's

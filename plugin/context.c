@@ -111,6 +111,8 @@ void weft_context_destroy(weft_context* ctx) {
     wc_free(&a, ctx);
 }
 
+/* The message of the last failed call: a later successful call leaves it in place (its status,
+ * weft_context_last_status, says OK). */
 const char* weft_context_last_error(const weft_context* ctx) {
     return ctx ? ctx->last_error : "weft_context_last_error: ctx is NULL";
 }

@@ -1,7 +1,7 @@
 /* Snapshots: the cloth's whole mutable state in a flat byte buffer (native byte order; meant for
  * the same build on the same machine: host caches, timeline scrubbing).
  *
- * Layout: a 40-byte header (magic "WEFTSNP1", ABI, library version, total size, model
+ * Layout (x starts at byte 64: tests read positions there): a 40-byte header (magic "WEFTSNP1", ABI, library version, total size, model
  * fingerprint, checksum of everything else) then, field by field (no struct padding):
  *   time, accumulator, frame                      wc_state clocks
  *   x, v, dv                                      (n x 3) each; dv is the next solve's initial guess

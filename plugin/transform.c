@@ -81,6 +81,10 @@ int wa_rotation_fraction(const double* R, double c, double* Rc) {
     double angle = atan2(s, co);
     m3_identity(Rc, 1.0);
     if (angle == 0.0 || c == 0.0) return 0;
+    if (c == 1.0) {   /* the whole rotation: R itself, so a carry by it matches the host's matrices exactly */
+        for (int i = 0; i < 9; ++i) Rc[i] = R[i];
+        return 1;
+    }
     double axis[3];
     if (s > 1e-6) {
         v3_scale(axis, w, 1.0 / s);

@@ -106,6 +106,12 @@ static inline void ag_apply(const float* M, const double* p, double* out) {
         out[r] = (double)M[r] * p[0] + (double)M[4 + r] * p[1] + (double)M[8 + r] * p[2] + (double)M[12 + r];
 }
 
+/* World positions (n_particles x 3, particle order) from a weft_cloth_save buffer: they start at
+ * byte 64 (plugin/snapshot.c documents the layout). */
+static inline void ag_snapshot_positions(const void* snapshot, int n_particles, double* out) {
+    memcpy(out, (const unsigned char*)snapshot + 64, sizeof(double) * 3 * (size_t)n_particles);
+}
+
 /* ---- counting allocator and capturing logger ---- */
 
 typedef struct ag_alloc_counter {
@@ -113,14 +119,14 @@ typedef struct ag_alloc_counter {
     long live;
 } ag_alloc_counter;
 
-static void* ag_count_alloc(size_t size, void* user) {
+static inline void* ag_count_alloc(size_t size, void* user) {
     ag_alloc_counter* c = user;
     ++c->allocs;
     ++c->live;
     return malloc(size);
 }
 
-static void ag_count_free(void* p, void* user) {
+static inline void ag_count_free(void* p, void* user) {
     ag_alloc_counter* c = user;
     ++c->frees;
     --c->live;
@@ -132,7 +138,7 @@ typedef struct ag_log {
     char last[512];
 } ag_log;
 
-static void ag_log_fn(weft_log_level level, const char* message, void* user) {
+static inline void ag_log_fn(weft_log_level level, const char* message, void* user) {
     ag_log* l = user;
     if ((int)level >= 0 && (int)level < 4) ++l->count[level];
     strncpy(l->last, message, sizeof l->last - 1);

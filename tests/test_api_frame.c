@@ -215,9 +215,280 @@ static void test_normals_triangles(void) {
     ag_free(&m);
 }
 
+
+/* Per-quad vertices (UV seams everywhere): output in host order, welded twins identical, and the
+ * same motion as the welded grid. */
+static void test_uv_split_order(void) {
+    ag_mesh split, plain;
+    ag_grid(&split, N, SIZE, 1.0, 1, 1);
+    ag_grid(&plain, N, SIZE, 1.0, 1, 0);
+    weft_context* ctx = new_context(NULL, NULL);
+    /* pin the top corners: quad (0, N-2) corner 3 and quad (N-2, N-2) corner 2 in the split mesh */
+    int q0 = 0 + (N - 1) * (N - 2), q1 = (N - 2) + (N - 1) * (N - 2);
+    int pins_split[2] = {4 * q0 + 3, 4 * q1 + 2};
+    weft_attachment_def att = weft_default_attachment_def();
+    att.vertices = pins_split;
+    att.n_vertices = 2;
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh = ag_desc(&split);
+    def.n_attachments = 1;
+    def.attachments = &att;
+    weft_cloth cs, cp;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cs), WEFT_OK);
+    cp = hanging(ctx, &plain, NULL);
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, cs, &info), WEFT_OK);
+    CHECK_EQ_INT(info.n_vertices, 4 * (N - 1) * (N - 1));
+    CHECK_EQ_INT(info.n_particles, N * N);
+    for (int f = 0; f < 30; ++f) {
+        weft_frame fr = weft_default_frame();
+        CHECK_EQ_INT(weft_cloth_step(ctx, cs, &fr, NULL), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, cp, &fr, NULL), WEFT_OK);
+    }
+    float* ps = malloc(sizeof(float) * 3 * split.nv);
+    float* ns = malloc(sizeof(float) * 3 * split.nv);
+    float* pp = malloc(sizeof(float) * 3 * plain.nv);
+    int n;
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cs, WEFT_SPACE_WORLD, ps, ns, split.nv, &n), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cp, WEFT_SPACE_WORLD, pp, NULL, plain.nv, &n), WEFT_OK);
+    /* every split vertex: same position and normal as every twin, close to the welded grid's */
+    int twins_same = 1;
+    double worst = 0.0;
+    for (int q = 0; q < split.nf; ++q) {
+        int i = q % (N - 1), j = q / (N - 1);
+        int ci[4] = {i, i + 1, i + 1, i}, cj[4] = {j, j, j + 1, j + 1};
+        for (int k = 0; k < 4; ++k) {
+            int v = 4 * q + k, g = ci[k] + N * cj[k];
+            /* the twin in the first quad that holds grid point g */
+            int tq = (ci[k] > 0 ? ci[k] - 1 : 0) + (N - 1) * (cj[k] > 0 ? cj[k] - 1 : 0);
+            int tk = (ci[k] > 0 ? 1 : 0) + (cj[k] > 0 ? 2 : 0);
+            int tk_map[4] = {0, 1, 3, 2};   /* (di, dj) -> corner index */
+            int tv = 4 * tq + tk_map[tk];
+            twins_same = twins_same && memcmp(ps + 3 * v, ps + 3 * tv, 3 * sizeof(float)) == 0 &&
+                         memcmp(ns + 3 * v, ns + 3 * tv, 3 * sizeof(float)) == 0;
+            for (int c = 0; c < 3; ++c) worst = fmax(worst, fabs((double)ps[3 * v + c] - pp[3 * g + c]));
+        }
+    }
+    printf("  uv split: welded twins identical %d, gap to the welded grid %.3g m\n", twins_same, worst);
+    CHECK(twins_same);
+    CHECK(worst < 1e-6);
+    free(ps);
+    free(ns);
+    free(pp);
+    weft_context_destroy(ctx);
+    ag_free(&split);
+    ag_free(&plain);
+}
+
+/* Run a cloth for frames, return its snapshot (malloc'ed). */
+static unsigned char* run_snapshot(weft_context* ctx, weft_cloth c, int frames, size_t* size) {
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
+    for (int f = 0; f < frames; ++f) {
+        weft_frame fr = weft_default_frame();
+        CHECK_EQ_INT(weft_cloth_step(ctx, c, &fr, NULL), WEFT_OK);
+    }
+    unsigned char* buf = malloc(info.snapshot_size);
+    CHECK_EQ_INT(weft_cloth_save(ctx, c, buf, info.snapshot_size), WEFT_OK);
+    *size = info.snapshot_size;
+    return buf;
+}
+
+/* Two contexts stepped alternately give exactly what each gives alone. */
+static void test_two_contexts(void) {
+    ag_mesh m1, m2;
+    ag_grid(&m1, N, SIZE, 1.0, 1, 0);
+    ag_grid(&m2, N + 3, 2 * SIZE, 2.0, 1, 0);
+    size_t s1, s2, t1, t2;
+    weft_context* a = new_context(NULL, NULL);
+    unsigned char* alone1 = run_snapshot(a, hanging(a, &m1, NULL), 25, &s1);
+    weft_context_destroy(a);
+    a = new_context(NULL, NULL);
+    unsigned char* alone2 = run_snapshot(a, hanging(a, &m2, NULL), 25, &s2);
+    weft_context_destroy(a);
+
+    weft_context* c1 = new_context(NULL, NULL);
+    weft_context* c2 = new_context(NULL, NULL);
+    weft_cloth h1 = hanging(c1, &m1, NULL), h2 = hanging(c2, &m2, NULL);
+    /* a handle of one context is refused by the other */
+    CHECK_EQ_INT(weft_cloth_step(c2, h1, NULL, NULL), WEFT_ERROR_INVALID_HANDLE);
+    for (int f = 0; f < 25; ++f) {
+        weft_frame fr = weft_default_frame();
+        CHECK_EQ_INT(weft_cloth_step(c1, h1, &fr, NULL), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(c2, h2, &fr, NULL), WEFT_OK);
+    }
+    unsigned char* both1 = run_snapshot(c1, h1, 0, &t1);
+    unsigned char* both2 = run_snapshot(c2, h2, 0, &t2);
+    CHECK(s1 == t1 && memcmp(alone1, both1, s1) == 0);
+    CHECK(s2 == t2 && memcmp(alone2, both2, s2) == 0);
+    weft_context_destroy(c1);
+    weft_context_destroy(c2);
+    free(alone1);
+    free(alone2);
+    free(both1);
+    free(both2);
+    ag_free(&m1);
+    ag_free(&m2);
+}
+
+/* A counting allocator: everything goes through it, a step allocates nothing (pins, colliders,
+ * teleport, reset, wind included), and everything is freed. */
+static void test_no_allocation_in_step(void) {
+    ag_alloc_counter counter = {0, 0, 0};
+    ag_mesh m;
+    ag_grid(&m, N, SIZE, 1.0, 1, 0);
+    weft_context* ctx = new_context(NULL, &counter);
+    long after_context = counter.allocs;
+    CHECK(after_context >= 1);
+    weft_collider_def col = weft_default_collider_def();
+    col.radius = 0.1;
+    static int corners[2] = {N * (N - 1), N * N - 1};
+    weft_attachment_def att = weft_default_attachment_def();
+    att.vertices = corners;
+    att.n_vertices = 2;
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh = ag_desc(&m);
+    def.attachments = &att;
+    def.n_attachments = 1;
+    def.colliders = &col;
+    def.n_colliders = 1;
+    def.solver = WEFT_SOLVER_CHEBYSHEV;
+    weft_cloth cloth;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
+    long before = counter.allocs, frees_before = counter.frees;
+    CHECK(before > after_context);
+    for (int f = 1; f <= 20; ++f) {
+        float obj[16], bone[16], sphere[16];
+        ag_transform(obj, 0, 1, 0, 0.1 * f, 0.01 * f, 0, 0);
+        ag_transform(bone, 0, 1, 0, 0.05 * f, 0.01 * f, 0, 0);
+        ag_transform(sphere, 1, 0, 0, 0.0, 0.0, 0.2 + 0.01 * f, 0.3);
+        double wind[3] = {1.0, 0.0, 0.5 * f};
+        weft_frame fr = weft_default_frame();
+        fr.object_transform = obj;
+        fr.attachment_transforms = bone;
+        fr.collider_transforms = sphere;
+        fr.wind = wind;
+        fr.flags = f == 7 ? WEFT_FRAME_TELEPORT : f == 13 ? WEFT_FRAME_RESET : 0;
+        weft_frame_stats st;
+        CHECK_EQ_INT(weft_cloth_step(ctx, cloth, &fr, &st), WEFT_OK);
+    }
+    /* a refused step allocates nothing either */
+    weft_frame bad = weft_default_frame();
+    bad.dt = -1.0;
+    CHECK_EQ_INT(weft_cloth_step(ctx, cloth, &bad, NULL), WEFT_ERROR_INVALID_ARGUMENT);
+    printf("  allocations: %ld at create, %ld during 21 steps\n", before - after_context, counter.allocs - before);
+    CHECK_EQ_INT(counter.allocs, before);
+    CHECK_EQ_INT(counter.frees, frees_before);
+    weft_context_destroy(ctx);
+    CHECK_EQ_INT(counter.live, 0);
+    CHECK(counter.frees == counter.allocs);
+    ag_free(&m);
+}
+
+/* Errors reach the logger at ERROR level with the last-error text; context-create errors reach
+ * the def's logger. */
+static void test_logger(void) {
+    ag_log log;
+    memset(&log, 0, sizeof log);
+    weft_context* ctx = new_context(&log, NULL);
+    weft_cloth_def def = weft_default_cloth_def();
+    weft_cloth cloth;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(log.count[WEFT_LOG_ERROR], 1);
+    CHECK(strcmp(log.last, weft_context_last_error(ctx)) == 0);
+    CHECK(strstr(log.last, "weft_cloth_create") != NULL && strstr(log.last, "def->mesh") != NULL);
+    CHECK_EQ_INT(weft_context_last_status(ctx), WEFT_ERROR_INVALID_ARGUMENT);
+    weft_context_destroy(ctx);
+
+    memset(&log, 0, sizeof log);
+    weft_context_def cd = weft_default_context_def();
+    cd.log = ag_log_fn;
+    cd.log_user = &log;
+    cd.threads = -2;
+    weft_context* none = (weft_context*)&log;
+    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &none), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(none == NULL);
+    CHECK_EQ_INT(log.count[WEFT_LOG_ERROR], 1);
+    CHECK(strstr(log.last, "def->threads") != NULL);
+    /* log_level ERROR: errors still reach the logger, nothing below them does */
+    memset(&log, 0, sizeof log);
+    cd.threads = 0;
+    cd.log_level = WEFT_LOG_ERROR;
+    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_step(ctx, cloth, NULL, NULL), WEFT_ERROR_INVALID_HANDLE);
+    CHECK_EQ_INT(log.count[WEFT_LOG_ERROR], 1);
+    CHECK_EQ_INT(log.count[WEFT_LOG_WARN] + log.count[WEFT_LOG_INFO] + log.count[WEFT_LOG_DEBUG], 0);
+    weft_context_destroy(ctx);
+}
+
+/* A mesh file through core's importer, in centimetres (unit_scale 0.01), placed by a transform:
+ * OBJECT space gives the file's own coordinates back, WORLD the placed metres. */
+static void test_file_mesh(void) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/api_frame_quads.obj", WEFT_TEST_TMPDIR);
+    FILE* o = fopen(path, "w");
+    CHECK(o != NULL);
+    if (!o) return;
+    /* 3 x 2 vertices, two quads, in the XZ plane (cm) */
+    fputs("v 0 0 0\nv 50 0 0\nv 100 0 0\nv 0 0 -50\nv 50 0 -50\nv 100 0 -50\nf 1 2 5 4\nf 2 3 6 5\n", o);
+    fclose(o);
+    weft_context* ctx = new_context(NULL, NULL);
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh.path = path;
+    def.unit_scale = 0.01;
+    ag_transform(def.transform, 0, 1, 0, 0.0, 1.0, 2.0, 3.0);
+    weft_cloth cloth;
+    weft_status st = weft_cloth_create(ctx, &def, &cloth);
+    if (st != WEFT_OK) fprintf(stderr, "%s\n", weft_context_last_error(ctx));
+    CHECK_EQ_INT(st, WEFT_OK);
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
+    CHECK_EQ_INT(info.n_vertices, 6);
+    CHECK_EQ_INT(info.n_triangles, 4);
+    CHECK_NEAR(info.bbox_max[0] - info.bbox_min[0], 1.0, 1e-12);
+    CHECK_NEAR(info.total_mass, 0.15 * 0.5, 1e-12);
+    float obj[18], world[18];
+    int n;
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_OBJECT, obj, NULL, 6, &n), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_WORLD, world, NULL, 6, &n), WEFT_OK);
+    const float want[18] = {0, 0, 0, 50, 0, 0, 100, 0, 0, 0, 0, -50, 50, 0, -50, 100, 0, -50};
+    /* the host order of a file is assimp's (source_mesh.h): match each vertex to the file's */
+    double worst_obj = 0.0, worst_world = 0.0;
+    int used[6] = {0, 0, 0, 0, 0, 0}, matched = 0;
+    for (int v = 0; v < 6; ++v) {
+        int best = -1;
+        double bd = 1e30;
+        for (int w = 0; w < 6; ++w) {
+            double d = fabs(obj[3 * v] - want[3 * w]) + fabs(obj[3 * v + 1] - want[3 * w + 1]) +
+                       fabs(obj[3 * v + 2] - want[3 * w + 2]);
+            if (d < bd) {
+                bd = d;
+                best = w;
+            }
+        }
+        matched += !used[best];
+        used[best] = 1;
+        worst_obj = fmax(worst_obj, bd);
+        for (int k = 0; k < 3; ++k) {
+            double placed = 0.01 * want[3 * best + k] + (k == 0 ? 1.0 : k == 1 ? 2.0 : 3.0);
+            worst_world = fmax(worst_world, fabs(world[3 * v + k] - placed));
+        }
+    }
+    printf("  file mesh: object gap %.3g cm, world gap %.3g m\n", worst_obj, worst_world);
+    CHECK_EQ_INT(matched, 6);
+    CHECK(worst_obj < 1e-4);      /* cm */
+    CHECK(worst_world < 1e-6);    /* m */
+    weft_context_destroy(ctx);
+}
+
 int main(void) {
     RUN_TEST(test_core_equivalence);
     RUN_TEST(test_moving_bone);
     RUN_TEST(test_normals_triangles);
+    RUN_TEST(test_file_mesh);
+    RUN_TEST(test_uv_split_order);
+    RUN_TEST(test_two_contexts);
+    RUN_TEST(test_no_allocation_in_step);
+    RUN_TEST(test_logger);
     return TEST_SUMMARY();
 }

@@ -28,10 +28,40 @@ static void test_dlopen(void) {
         CHECK(strcmp(status_string((weft_status)9999), "unknown status") == 0);
         CHECK(strcmp(status_string(WEFT_ERROR_IMPORT), "mesh import failed") == 0);
     }
+    /* every entry point of the C ABI resolves (the renderer's are checked with the renderer) */
+    static const char* const api[] = {
+        "weft_context_create", "weft_context_destroy", "weft_context_last_error", "weft_context_last_status",
+        "weft_context_backend", "weft_default_context_def", "weft_default_cloth_def",
+        "weft_default_attachment_def", "weft_default_collider_def", "weft_default_frame", "weft_cloth_create",
+        "weft_cloth_destroy", "weft_cloth_set_attachments", "weft_cloth_get_info", "weft_cloth_step",
+        "weft_cloth_get_vertices", "weft_cloth_get_triangles", "weft_cloth_save", "weft_cloth_restore"};
+    for (size_t i = 0; i < sizeof api / sizeof api[0]; ++i) {
+        void* sym = dlsym(so, api[i]);
+        if (!sym) fprintf(stderr, "missing %s\n", api[i]);
+        CHECK(sym != NULL);
+    }
+    /* a host compiled against another ABI is refused */
+    weft_context_def (*default_def)(void);
+    weft_status (*create)(int, const weft_context_def*, weft_context**);
+    void (*destroy)(weft_context*);
+    *(void**)&default_def = dlsym(so, "weft_default_context_def");
+    *(void**)&create = dlsym(so, "weft_context_create");
+    *(void**)&destroy = dlsym(so, "weft_context_destroy");
+    if (default_def && create && destroy) {
+        weft_context_def cd = default_def();
+        weft_context* ctx = NULL;
+        CHECK_EQ_INT(create(WEFT_ABI - 1, &cd, &ctx), WEFT_ERROR_ABI_MISMATCH);
+        CHECK(ctx == NULL);
+        CHECK_EQ_INT(create(WEFT_ABI, &cd, &ctx), WEFT_OK);
+        CHECK(ctx != NULL);
+        destroy(ctx);
+    }
     /* internals stay hidden */
     CHECK(dlsym(so, "wc_model_build") == NULL);
     CHECK(dlsym(so, "wc_weld") == NULL);
     CHECK(dlsym(so, "wc_radix_sort") == NULL);
+    CHECK(dlsym(so, "wa_lookup") == NULL);
+    CHECK(dlsym(so, "wa_snapshot_write") == NULL);
     dlclose(so);
 }
 
