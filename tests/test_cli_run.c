@@ -3,68 +3,26 @@
  * corners stay exactly at their rest positions, the free edge falls about g dt^2 in the first
  * frame, the stats bounding box matches the last frame; moving pins follow start + velocity t;
  * bad scenes exit 1 with one line naming the field (before creating any output); bad command
- * lines exit 2. */
-#define _POSIX_C_SOURCE 200809L
+ * lines exit 2; a progress line only on a terminal; --render fails cleanly while the library
+ * has no renderer. */
+#define _XOPEN_SOURCE 700   /* posix_openpt */
 #include <cjson/cJSON.h>
+#include <dlfcn.h>
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "check.h"
+#include "cli_frames.h"
 #include "test_support.h"
 
 #define SHEET WEFT_SOURCE_DIR "/sample_scenes/hanging_sheet.json"
-
-static int exists(const char* path) {
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
-/* A fresh, empty scratch folder (removed with its files first). */
-static const char* fresh_dir(const char* name) {
-    static char path[1024];
-    snprintf(path, sizeof path, "%s", ts_tmp_path(name));
-    char cmd[1200];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", path);
-    CHECK(system(cmd) == 0);
-    return path;
-}
-
-/* An OBJ frame: its `v` positions and the number of `f` lines. */
-typedef struct obj_frame {
-    int n_v, n_f;
-    double v[3 * 2048];
-} obj_frame;
-
-static int read_obj(const char* path, obj_frame* o) {
-    o->n_v = o->n_f = 0;
-    FILE* f = fopen(path, "r");
-    if (!f) return -1;
-    char line[512];
-    while (fgets(line, sizeof line, f)) {
-        if (line[0] == 'v' && line[1] == ' ' && o->n_v < 2048) {
-            double* p = o->v + 3 * o->n_v++;
-            if (sscanf(line + 2, "%lf %lf %lf", &p[0], &p[1], &p[2]) != 3) p[0] = p[1] = p[2] = NAN;
-        } else if (line[0] == 'f' && line[1] == ' ') {
-            ++o->n_f;
-        }
-    }
-    fclose(f);
-    return 0;
-}
-
-static cJSON* read_json(const char* path) {
-    static char text[65536];
-    ts_read_text(path, text, sizeof text);
-    return cJSON_Parse(text);
-}
-
-static double num(const cJSON* obj, const char* key) {
-    const cJSON* item = cJSON_GetObjectItemCaseSensitive(obj, key);
-    return cJSON_IsNumber(item) ? item->valuedouble : NAN;
-}
 
 static double vec(const cJSON* obj, const char* key, int i) {
     const cJSON* arr = cJSON_GetObjectItemCaseSensitive(obj, key);
@@ -84,7 +42,7 @@ static obj_frame frame_a, frame_b;
 
 static void test_hanging_sheet(void) {
     static ts_cli_result r;
-    const char* dir = fresh_dir("run_sheet/frames");
+    const char* dir = cf_fresh_dir("run_sheet/frames");
     char out_dir[1024], stats[1024], args[4096], path[1200];
     snprintf(out_dir, sizeof out_dir, "%s", dir);
     snprintf(stats, sizeof stats, "%s", ts_tmp_path("run_sheet_stats.json"));
@@ -100,14 +58,14 @@ static void test_hanging_sheet(void) {
     for (int f = 1; f <= 10; ++f) {
         snprintf(path, sizeof path, "%s/frame_%04d.obj", out_dir, f);
         obj_frame* o = f == 1 ? &frame_a : &frame_b;
-        CHECK(read_obj(path, o) == 0);
+        CHECK(cf_read_obj(path, o) == 0);
         CHECK_EQ_INT(o->n_v, 1024);
         CHECK_EQ_INT(o->n_f, 961);
         if (f == 1) continue;
         for (int i = 0; i < 3 * o->n_v; ++i) CHECK(isfinite(o->v[i]));
     }
     snprintf(path, sizeof path, "%s/frame_0011.obj", out_dir);
-    CHECK(!exists(path));
+    CHECK(!cf_exists(path));
 
     /* The pinned corners, host vertices 992 = (0, 31) and 1023 = (31, 31) of the grid, sit exactly
      * at their rest positions (-0.5, 0, 0.5) and (0.5, 0, 0.5). */
@@ -122,51 +80,63 @@ static void test_hanging_sheet(void) {
     /* ... and keeps falling. */
     CHECK(frame_b.v[3 * 0 + 1] < frame_a.v[3 * 0 + 1] - 0.05);
 
-    cJSON* j = read_json(stats);
+    cJSON* j = cf_read_json(stats);
     CHECK(cJSON_IsObject(j));
     if (!cJSON_IsObject(j)) return;
     static const char* const keys[] = {
         "frames", "particles", "triangles", "springs", "solver", "substeps", "threads", "ms_per_frame",
         "stage_ms", "iterations", "residual_max", "rollbacks", "halvings", "direct_fallbacks", "failures",
         "nonfinite_outputs", "max_strain", "final_kinetic_energy", "bbox_min", "bbox_max"};
-    static const char* const ms_keys[] = {"median", "p95", "mean"};
+    static const char* const ms_keys[] = {"median", "p95", "mean", "max"};
     static const char* const stage_keys[] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
     static const char* const it_keys[] = {"mean", "max"};
     check_keys(j, keys, (int)(sizeof keys / sizeof keys[0]), "stats");
     const cJSON* ms = cJSON_GetObjectItemCaseSensitive(j, "ms_per_frame");
-    check_keys(ms, ms_keys, 3, "ms_per_frame");
+    check_keys(ms, ms_keys, 4, "ms_per_frame");
     check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms"), stage_keys, 6, "stage_ms");
+    check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms_max"), stage_keys, 6, "stage_ms_max");
+    static const char* const contact_keys[] = {"max", "final"};
+    check_keys(cJSON_GetObjectItemCaseSensitive(j, "contacts"), contact_keys, 2, "contacts");
+    const cJSON* backend = cJSON_GetObjectItemCaseSensitive(j, "backend");
+    CHECK(cJSON_IsString(backend) && strcmp(backend->valuestring, "cpu") == 0);
+    const cJSON* smax = cJSON_GetObjectItemCaseSensitive(j, "stage_ms_max");
+    const cJSON* smed = cJSON_GetObjectItemCaseSensitive(j, "stage_ms");
+    for (int k = 0; k < 6; ++k) CHECK(cf_num(smax, stage_keys[k]) >= cf_num(smed, stage_keys[k]));
+    CHECK(cf_num(ms, "max") >= cf_num(ms, "p95"));
+    CHECK_EQ_INT(cf_num(cJSON_GetObjectItemCaseSensitive(j, "contacts"), "max"), 0);   /* no colliders */
     const cJSON* it = cJSON_GetObjectItemCaseSensitive(j, "iterations");
     check_keys(it, it_keys, 2, "iterations");
-    CHECK_EQ_INT(num(j, "frames"), 10);
-    CHECK_EQ_INT(num(j, "particles"), 1024);
-    CHECK_EQ_INT(num(j, "triangles"), 2 * 961);
-    CHECK(num(j, "springs") > 0);
+    CHECK_EQ_INT(cf_num(j, "frames"), 10);
+    CHECK_EQ_INT(cf_num(j, "particles"), 1024);
+    CHECK_EQ_INT(cf_num(j, "triangles"), 2 * 961);
+    CHECK(cf_num(j, "springs") > 0);
     const cJSON* solver = cJSON_GetObjectItemCaseSensitive(j, "solver");
     CHECK(cJSON_IsString(solver) && strcmp(solver->valuestring, "pcg") == 0);
-    CHECK_EQ_INT(num(j, "substeps"), 1);
-    CHECK(num(j, "threads") >= 1);
-    CHECK_EQ_INT(num(j, "nonfinite_outputs"), 0);
-    CHECK_EQ_INT(num(j, "failures"), 0);
-    CHECK(num(ms, "median") > 0 && num(ms, "p95") >= num(ms, "median") && num(ms, "mean") > 0);
-    CHECK(num(it, "max") >= 1 && num(it, "mean") >= 1 && num(it, "mean") <= num(it, "max"));
-    CHECK(num(j, "final_kinetic_energy") > 0);
-    CHECK(num(j, "max_strain") >= 0);
-    /* The bounding box of the final positions is that of the last frame's vertices. */
+    CHECK_EQ_INT(cf_num(j, "substeps"), 1);
+    CHECK(cf_num(j, "threads") >= 1);
+    CHECK_EQ_INT(cf_num(j, "nonfinite_outputs"), 0);
+    CHECK_EQ_INT(cf_num(j, "failures"), 0);
+    CHECK(cf_num(ms, "median") > 0 && cf_num(ms, "p95") >= cf_num(ms, "median") && cf_num(ms, "mean") > 0);
+    CHECK(cf_num(it, "max") >= 1 && cf_num(it, "mean") >= 1 && cf_num(it, "mean") <= cf_num(it, "max"));
+    CHECK(cf_num(j, "final_kinetic_energy") > 0);
+    CHECK(cf_num(j, "max_strain") >= 0);
+    /* The bounding box of the final positions is that of the last frame's vertices: the same
+     * floats (the API's outputs), written with as many digits as each file format needs. */
     for (int k = 0; k < 3; ++k) {
         double lo = INFINITY, hi = -INFINITY;
         for (int v = 0; v < frame_b.n_v; ++v) {
             lo = fmin(lo, frame_b.v[3 * v + k]);
             hi = fmax(hi, frame_b.v[3 * v + k]);
         }
-        CHECK_NEAR(vec(j, "bbox_min", k), lo, 1e-12 + 1e-9 * fabs(lo));
-        CHECK_NEAR(vec(j, "bbox_max", k), hi, 1e-12 + 1e-9 * fabs(hi));
+        CHECK((float)vec(j, "bbox_min", k) == (float)lo);
+        CHECK((float)vec(j, "bbox_max", k) == (float)hi);
     }
     cJSON_Delete(j);
 }
 
-/* Without --quiet: the summary table on stdout, nothing per frame; --solver and --frames override
- * the scene; --frames 0 leaves the rest shape. */
+/* Without --quiet: the summary table on stdout (stage medians and maxima), and nothing on stderr:
+ * no progress line when stderr is not a terminal; --solver and --frames override the scene;
+ * --frames 0 leaves the rest shape. */
 static void test_summary_and_overrides(void) {
     static ts_cli_result r;
     char args[4096], stats[1024];
@@ -176,25 +146,27 @@ static void test_summary_and_overrides(void) {
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "ms/frame") != NULL);
     CHECK(strstr(r.out, "1024 particles") != NULL);
+    CHECK(strstr(r.out, "  median") != NULL && strstr(r.out, "  max") != NULL && strstr(r.out, "integrate") != NULL);
+    CHECK(strstr(r.out, "contacts") != NULL && strstr(r.out, "direct fallbacks") != NULL);
     CHECK(ts_count_lines(r.out) < 16);
-    CHECK(r.err[0] == '\0');
-    cJSON* j = read_json(stats);
+    CHECK(r.err[0] == '\0');   /* stderr is a file here: no progress line */
+    cJSON* j = cf_read_json(stats);
     const cJSON* solver = cJSON_GetObjectItemCaseSensitive(j, "solver");
     CHECK(cJSON_IsString(solver) && strcmp(solver->valuestring, "jacobi") == 0);
-    CHECK_EQ_INT(num(j, "frames"), 2);
-    CHECK_EQ_INT(num(j, "threads"), 1);
+    CHECK_EQ_INT(cf_num(j, "frames"), 2);
+    CHECK_EQ_INT(cf_num(j, "threads"), 1);
     cJSON_Delete(j);
 
     snprintf(args, sizeof args, "run '%s' --frames=0 --quiet --stats '%s'", SHEET, stats);
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
-    j = read_json(stats);
-    CHECK_EQ_INT(num(j, "frames"), 0);
+    j = cf_read_json(stats);
+    CHECK_EQ_INT(cf_num(j, "frames"), 0);
     for (int k = 0; k < 3; ++k) {
         CHECK_NEAR(vec(j, "bbox_min", k), k == 1 ? 0.0 : -0.5, 0.0);
         CHECK_NEAR(vec(j, "bbox_max", k), k == 1 ? 0.0 : 0.5, 0.0);
     }
-    CHECK_NEAR(num(j, "final_kinetic_energy"), 0.0, 0.0);
+    CHECK_NEAR(cf_num(j, "final_kinetic_energy"), 0.0, 0.0);
     cJSON_Delete(j);
 }
 
@@ -210,14 +182,14 @@ static void test_moving_pin(void) {
         " \"time\": {\"fps\": 10, \"frames\": 5}}");
     char sc[1024], args[4096], path[1200];
     snprintf(sc, sizeof sc, "%s", scene);
-    const char* dir = fresh_dir("run_moving");
+    const char* dir = cf_fresh_dir("run_moving");
     snprintf(args, sizeof args, "run '%s' --out '%s' --quiet", sc, dir);
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "  stderr: %s\n", r.err);
     for (int f = 1; f <= 5; ++f) {
         snprintf(path, sizeof path, "%s/frame_%04d.obj", dir, f);
-        CHECK(read_obj(path, &frame_a) == 0);
+        CHECK(cf_read_obj(path, &frame_a) == 0);
         CHECK_EQ_INT(frame_a.n_v, 6);
         CHECK_EQ_INT(frame_a.n_f, 2);
         CHECK_NEAR(frame_a.v[0], 0.0, 1e-12);
@@ -227,13 +199,51 @@ static void test_moving_pin(void) {
     }
 }
 
+/* A file mesh under a scene transform: rigid x uniform scale (the mesh goes to the library by
+ * path, with unit_scale and a rigid object transform) and with a non-uniform scale (as host
+ * arrays already placed). Without gravity or air the cloth stays at its rest shape, which must
+ * be the transform applied to the file's positions, in the file's vertex order. */
+static void test_file_mesh_transform(void) {
+    static ts_cli_result r;
+    ts_write_tmp("run_tri.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nf 1 2 3 4\n");
+    /* columns: rotate +90 deg about X (y' = -z, z' = y), then scale; translation (1, 2, 3) */
+    static const char* const transforms[] = {"[2, 0, 0, 0,  0, 0, 2, 0,  0, -2, 0, 0,  1, 2, 3, 1]",
+                                             "[2, 0, 0, 0,  0, 0, 3, 0,  0, -0.5, 0, 0,  1, 2, 3, 1]"};
+    static const double scale[2][3] = {{2, 2, 2}, {2, 0.5, 3}};   /* x, the y' (from z), the z' (from y) factors */
+    static const double file[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+    for (int t = 0; t < 2; ++t) {
+        char text[1024], sc[1024], args[4096];
+        snprintf(text, sizeof text,
+                 "{\"mesh\": {\"file\": \"run_tri.obj\", \"scale\": 0.5}, \"transform\": %s,"
+                 " \"gravity\": [0, 0, 0], \"wind\": {\"normal_drag\": 0, \"tangent_drag\": 0},"
+                 " \"time\": {\"frames\": 2}}",
+                 transforms[t]);
+        snprintf(sc, sizeof sc, "%s", ts_write_tmp("run_file_transform.json", text));
+        const char* dir = cf_fresh_dir("run_file_transform");
+        snprintf(args, sizeof args, "run '%s' --out '%s' --quiet", sc, dir);
+        ts_run_cli(args, &r);
+        CHECK_EQ_INT(r.rc, 0);
+        if (r.rc != 0) fprintf(stderr, "  stderr: %s\n", r.err);
+        char path[1200];
+        snprintf(path, sizeof path, "%s/frame_0002.obj", dir);
+        CHECK(cf_read_obj(path, &frame_a) == 0);
+        CHECK_EQ_INT(frame_a.n_v, 4);
+        for (int v = 0; v < 4 && v < frame_a.n_v; ++v) {
+            const double* p = file[v];   /* x 0.5 (mesh.scale), then the transform */
+            const double want[3] = {1 + scale[t][0] * 0.5 * p[0], 2 - scale[t][1] * 0.5 * p[2],
+                                    3 + scale[t][2] * 0.5 * p[1]};
+            for (int k = 0; k < 3; ++k) CHECK_NEAR(frame_a.v[3 * v + k], want[k], 1e-6);
+        }
+    }
+}
+
 /* An invalid scene: exit 1, exactly one "weft: ..." line naming the field, nothing on stdout,
  * and no output folder created (nothing ran). */
 static void expect_bad_scene(const char* name, const char* text, const char* field) {
     static ts_cli_result r;
     char sc[1024], args[4096];
     snprintf(sc, sizeof sc, "%s", text ? ts_write_tmp(name, text) : ts_tmp_path(name));
-    const char* dir = fresh_dir("run_bad_out");
+    const char* dir = cf_fresh_dir("run_bad_out");
     snprintf(args, sizeof args, "run '%s' --out '%s' --stats '%s/s.json'", sc, dir, dir);
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 1);
@@ -242,7 +252,7 @@ static void expect_bad_scene(const char* name, const char* text, const char* fie
     CHECK(strncmp(r.err, "weft: ", 6) == 0);
     CHECK(strstr(r.err, field) != NULL);
     CHECK(strstr(r.err, name) != NULL);
-    CHECK(!exists(dir));
+    CHECK(!cf_exists(dir));
     if (r.rc != 1 || !strstr(r.err, field)) fprintf(stderr, "  %s: stderr: %s\n", name, r.err);
 }
 
@@ -257,6 +267,15 @@ static void test_bad_scenes(void) {
     expect_bad_scene("run_bad_key.json", "{\"mesh\": {\"grid\": {\"n\": [8, 8], \"size\": [1, 1]}}, \"fps\": 30}",
                      "fps: unknown key");
     expect_bad_scene("run_bad_json.json", "{\"mesh\": ", "invalid JSON");
+    /* welded twins (vertices 1 and 4 share a position, split by their UVs) pinned with different
+     * motions: refused by the library, the message naming the pins entry */
+    ts_write_tmp("run_twins.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 0 1\nv 1 0 0\nv 1 0 1\n"
+                                  "vt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\nf 1/1 2/2 3/3\nf 4/4 5/4 6/4\n");
+    expect_bad_scene("run_bad_twins.json",
+                     "{\"mesh\": {\"file\": \"run_twins.obj\"},"
+                     " \"pins\": [{\"vertices\": [1]}, {\"vertices\": [4], \"velocity\": [0, 1, 0]}]}",
+                     "already pinned by attachments[0] (attachments[1] are the pins with the free_axis and motion "
+                     "of pins[1])");
     expect_bad_scene("run_no_such_scene.json", NULL, "cannot open");
 }
 
@@ -275,6 +294,10 @@ static void test_usage_errors(void) {
         "run a.json --out",
         "run a.json --stats=",
         "run a.json --bogus",
+        "run a.json --render",
+        "run a.json --render=",
+        "run a.json --backend metal",
+        "run a.json --backend",
     };
     static ts_cli_result r;
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
@@ -304,12 +327,111 @@ static void test_help(void) {
     CHECK(strstr(r.out, "--frames") != NULL);
 }
 
+/* Run the tool with stderr on a pseudo-terminal (stdout to /dev/null) and collect what it wrote
+ * there. Returns the exit code, -1 when the terminal could not be set up. */
+static int run_on_terminal(char* const argv[], char* out, size_t cap) {
+    out[0] = '\0';
+    int master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0) return -1;
+    const char* slave_name = ptsname(master);
+    if (!slave_name) return -1;
+    pid_t pid = fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        int slave = open(slave_name, O_RDWR);
+        int null = open("/dev/null", O_WRONLY);
+        if (slave < 0 || null < 0 || dup2(slave, 2) < 0 || dup2(null, 1) < 0) _exit(126);
+        close(master);
+        execv(WEFT_CLI, argv);
+        _exit(127);
+    }
+    size_t len = 0;
+    for (;;) {   /* until the child closed the terminal (EIO) */
+        ssize_t got = read(master, out + len, cap - 1 - len);
+        if (got > 0) {
+            len += (size_t)got;
+            if (len + 1 >= cap) break;
+        } else if (got < 0 && errno == EINTR) {
+            continue;
+        } else {
+            break;
+        }
+    }
+    out[len] = '\0';
+    close(master);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* On a terminal: one progress line redrawn in place (carriage returns, no newline), ending at
+ * frame N/N and 100 %, erased at the end; --quiet draws nothing. */
+static void test_progress_on_terminal(void) {
+    static char text[65536];
+    char* argv[] = {"weft", "run", (char*)SHEET, "--frames", "12", "--threads", "1", NULL};
+    int rc = run_on_terminal(argv, text, sizeof text);
+    CHECK_EQ_INT(rc, 0);
+    CHECK(strstr(text, "frame 12/12 100%") != NULL);
+    CHECK(strstr(text, "ms/frame") != NULL && strstr(text, "ETA 0:00:00") != NULL);
+    CHECK(strchr(text, '\r') != NULL);
+    CHECK(strchr(text, '\n') == NULL);   /* never scrolls */
+    const size_t n = strlen(text);
+    CHECK(n >= 4 && strcmp(text + n - 4, "\r\033[K") == 0);   /* erased at the end */
+    if (rc != 0 || !strstr(text, "frame 12/12")) fprintf(stderr, "  terminal: '%s'\n", text);
+
+    char* quiet[] = {"weft", "run", (char*)SHEET, "--frames", "3", "--quiet", NULL};
+    CHECK_EQ_INT(run_on_terminal(quiet, text, sizeof text), 0);
+    CHECK(text[0] == '\0');
+}
+
+/* --render: with a libweft that has no weft_render(), a clear failure before anything is
+ * written (no folder, no OBJ frames); with one, a PNG per frame or a one-line render error. */
+static void test_render_option(void) {
+    static ts_cli_result r;
+    void* lib = dlopen(WEFT_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    CHECK(lib != NULL);
+    const int has_render = lib && dlsym(lib, "weft_render") != NULL;
+    if (lib) dlclose(lib);
+    char images[1024], objs[1024], args[4096], path[1200];
+    snprintf(images, sizeof images, "%s", cf_fresh_dir("run_render_png"));
+    snprintf(objs, sizeof objs, "%s", cf_fresh_dir("run_render_obj"));
+    snprintf(args, sizeof args, "run '%s' --frames 2 --render '%s' --out '%s' --quiet", SHEET, images, objs);
+    ts_run_cli(args, &r);
+    if (!has_render) {
+        CHECK_EQ_INT(r.rc, 1);
+        CHECK_EQ_INT(ts_count_lines(r.err), 1);
+        CHECK(strstr(r.err, "weft: --render: ") == r.err && strstr(r.err, "weft_render") != NULL);
+        CHECK(!cf_exists(images) && !cf_exists(objs));
+        return;
+    }
+    if (r.rc != 0) {   /* e.g. no EGL device: one line naming the step */
+        CHECK_EQ_INT(r.rc, 1);
+        CHECK_EQ_INT(ts_count_lines(r.err), 1);
+        CHECK(strstr(r.err, "render") != NULL);
+        return;
+    }
+    for (int f = 1; f <= 2; ++f) {
+        snprintf(path, sizeof path, "%s/frame_%04d.png", images, f);
+        unsigned char sig[8] = {0};
+        FILE* png = fopen(path, "rb");
+        CHECK(png != NULL);
+        if (png) {
+            CHECK(fread(sig, 1, 8, png) == 8);
+            fclose(png);
+        }
+        CHECK(memcmp(sig, "\x89PNG\r\n\x1a\n", 8) == 0);
+    }
+}
+
 int main(void) {
     RUN_TEST(test_hanging_sheet);
     RUN_TEST(test_summary_and_overrides);
     RUN_TEST(test_moving_pin);
+    RUN_TEST(test_file_mesh_transform);
     RUN_TEST(test_bad_scenes);
     RUN_TEST(test_usage_errors);
     RUN_TEST(test_help);
+    RUN_TEST(test_progress_on_terminal);
+    RUN_TEST(test_render_option);
     return TEST_SUMMARY();
 }

@@ -1,8 +1,9 @@
 /* The scene file parser (plugin/cli/scene*.c): every kind of bad scene is refused with a message
  * naming the field; good scenes parse to the values written, with the documented defaults filled
  * in; the generated grid has the documented host vertex order, position and winding; selects,
- * transforms and relative mesh paths resolve; pins resolve to particles (duplicates and welded
- * vertices merge, conflicts are refused) and move with their velocity. */
+ * transforms and relative mesh paths resolve; pins group into attachments (duplicates merge,
+ * conflicts are refused); motions match their closed form; object, teleport and camera settings
+ * parse; collider placements follow the public API's local conventions. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -12,6 +13,7 @@
 #include "check.h"
 #include "scene.h"
 #include "scene_mesh.h"
+#include "scene_xform.h"
 #include "test_support.h"
 
 #define GRID "\"mesh\": {\"grid\": {\"n\": [4, 3], \"size\": [1.5, 1]}}"
@@ -74,6 +76,7 @@ static void test_bad_mesh(void) {
     expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"scale\": 0}}", "mesh.scale", "> 0");
     expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"scale\": -1}}", "mesh.scale", "> 0");
     expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"weld_tolerance\": -1}}", "mesh.weld_tolerance", ">= 0");
+    expect_bad("{\"mesh\": {\"file\": \"x.obj\", \"weld_tolerance\": 1.5}}", "mesh.weld_tolerance", "[0, 1]");
     /* A mesh file that does not exist: the importer's status, the field and the file's name. */
     expect_bad("{\"mesh\": {\"file\": \"no_such_mesh_file.obj\"}}", "mesh.file", "no_such_mesh_file.obj");
     expect_bad("{" GRID ", \"transform\": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0]}", "transform", "16");
@@ -95,7 +98,7 @@ static void test_bad_material(void) {
     expect_bad("{" GRID ", \"material\": {\"d\": {\"shear\": -0.1}}}", "material.d.shear", ">= 0");
     expect_bad("{" GRID ", \"material\": {\"density\": 0}}", "material.density", "> 0");
     expect_bad("{" GRID ", \"material\": {\"density\": null}}", "material.density", "null");
-    expect_bad("{" GRID ", \"material\": {\"uniform_mass\": -1}}", "material.uniform_mass", ">= 0");
+    expect_bad("{" GRID ", \"material\": {\"uniform_mass\": 0.01}}", "material.uniform_mass", "no longer supported");
     expect_bad("{" GRID ", \"material\": {\"k\": [1, 2, 3]}}", "material.k", "must be an object");
     expect_bad("{" GRID ", \"material\": 5}", "material", "must be an object");
 }
@@ -169,6 +172,7 @@ static void test_bad_settings(void) {
     expect_bad("{" GRID ", \"solver\": {\"type\": \"bogus\"}}", "solver.type", "unknown solver");
     expect_bad("{" GRID ", \"solver\": {\"type\": \"PCG\"}}", "solver.type", "unknown solver");
     expect_bad("{" GRID ", \"solver\": {\"tolerance\": -1e-4}}", "solver.tolerance", ">= 0");
+    expect_bad("{" GRID ", \"solver\": {\"tolerance\": 1}}", "solver.tolerance", "[0, 1)");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 0}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 10.5}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": \"pcg\"}", "solver", "must be an object");
@@ -242,7 +246,7 @@ static void test_full_scene(void) {
     static const char text[] =
         "{\"description\": \"everything\",\n"
         " \"mesh\": {\"grid\": {\"n\": [5, 4], \"size\": [2, 3]}, \"weld_tolerance\": 0},\n"
-        " \"material\": {\"density\": 0.2, \"uniform_mass\": 0.01,\n"
+        " \"material\": {\"density\": 0.2,\n"
         "   \"k\": {\"stretch\": 4000, \"shear\": 400, \"bend\": 0}, \"d\": {\"stretch\": 1, \"shear\": 0.25, \"bend\": 0}},\n"
         " \"pins\": [{\"vertices\": [0, 4], \"free_axis\": [3, 0, 4], \"velocity\": [0, 0.5, 0]},\n"
         "          {\"select\": {\"axis\": \"z\", \"side\": \"max\"}}],\n"
@@ -263,7 +267,7 @@ static void test_full_scene(void) {
         return;
     }
     const wc_material* m = &S.model_def.material;
-    CHECK(m->density == 0.2 && m->uniform_mass == 0.01);
+    CHECK(m->density == 0.2 && m->uniform_mass == 0);
     CHECK(m->k[WC_SPRING_STRETCH] == 4000 && m->k[WC_SPRING_SHEAR] == 400 && m->k[WC_SPRING_BEND] == 0);
     CHECK(m->d[WC_SPRING_STRETCH] == 1 && m->d[WC_SPRING_SHEAR] == 0.25 && m->d[WC_SPRING_BEND] == 0);
     CHECK(S.model_def.weld_tolerance == 0);
@@ -272,7 +276,10 @@ static void test_full_scene(void) {
     CHECK_EQ_INT(S.pins[0].vertices[1], 4);
     CHECK_NEAR(S.pins[0].free_axis[0], 0.6, 1e-15);
     CHECK_NEAR(S.pins[0].free_axis[2], 0.8, 1e-15);
-    CHECK_NEAR(S.pins[0].velocity[1], 0.5, 0.0);
+    CHECK_NEAR(S.pins[0].motion.velocity[1], 0.5, 0.0);
+    CHECK_NEAR(S.pins[0].motion.velocity[0], 0.0, 0.0);
+    CHECK(scene_motion_is_still(&S.pins[1].motion));
+    CHECK_EQ_INT(S.n_pin_groups, 2);
     CHECK_EQ_INT(S.pins[1].from_select, 1);
     CHECK_EQ_INT(S.pins[1].n_vertices, 5);   /* the row j = 3: vertices 15..19 */
     for (int k = 0; k < S.pins[1].n_vertices; ++k) CHECK_EQ_INT(S.pins[1].vertices[k], 15 + k);
@@ -354,8 +361,9 @@ static void test_select_and_transform(void) {
 }
 
 /* A mesh file next to the scene file, found relative to it, scaled. Two triangles with their own
- * copies (own UVs) of the shared edge's vertices (1 = 4, 2 = 3 in position): welding merges them,
- * and pins naming both copies merge into one pin per particle. */
+ * copies (own UVs) of the shared edge's vertices (1 = 4, 2 = 3 in position). Pin entries with the
+ * same free_axis and motion form one group (one attachment), each host vertex once, ascending
+ * (welded twins are merged later, by the library). */
 static void test_file_mesh_and_pins(void) {
     ts_write_tmp("scene_mesh.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 0 1\nv 1 0 0\nv 1 0 1\n"
                                    "vt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\nf 1/1 2/2 3/3\nf 4/4 5/4 6/4\n");
@@ -375,25 +383,15 @@ static void test_file_mesh_and_pins(void) {
     CHECK_NEAR(S.src.pos[3 * 5 + 0], 0.5, 1e-12);
     CHECK_NEAR(S.src.pos[3 * 5 + 2], 0.5, 1e-12);
     CHECK_EQ_INT(S.pins[2].n_vertices, 3);   /* x = 0: vertices 0, 2, 3 */
-
-    wc_model model = {0};
-    wc_diag md = {0};
-    CHECK_EQ_INT(wc_model_build(&model, &S.src, &S.model_def, NULL, &md), WEFT_OK);
-    CHECK_EQ_INT(model.n_particles, 4);
-    scene_pins p = {0};
-    CHECK_EQ_INT(scene_pins_resolve(&p, &S, &model, "scene_file.json", &d), WEFT_OK);
-    /* particles of vertices {1,4}, {0}, {2,3}: three distinct pins */
-    CHECK_EQ_INT(p.n, 3);
-    for (int i = 0; i < p.n; ++i) {
-        const double* r = model.rest_pos + 3 * p.pins[i].particle;
-        for (int k = 0; k < 3; ++k) CHECK(p.pins[i].target[k] == r[k]);
-        CHECK(p.pins[i].free_axis[0] == 0 && p.pins[i].free_axis[1] == 0 && p.pins[i].free_axis[2] == 0);
-        for (int j = 0; j < i; ++j) CHECK(p.pins[i].particle != p.pins[j].particle);
+    CHECK_EQ_INT(S.n_pin_groups, 1);
+    if (S.n_pin_groups == 1) {
+        const scene_pin_group* g = &S.pin_groups[0];
+        CHECK_EQ_INT(g->n_vertices, 5);      /* 0, 1, 2, 3, 4 */
+        for (int k = 0; k < g->n_vertices && k < 5; ++k) CHECK_EQ_INT(g->vertices[k], k);
+        CHECK(g->free_axis[0] == 0 && g->free_axis[1] == 0 && g->free_axis[2] == 0);
+        CHECK(scene_motion_is_still(&g->motion));
+        CHECK_EQ_INT(g->first_pin, 0);
     }
-    if (p.n == 3) CHECK_EQ_INT(p.pins[0].particle, model.host_to_particle[1]);
-    CHECK_EQ_INT(p.moving, 0);
-    scene_pins_free(&p);
-    wc_model_free(&model);
     scene_free(&S);
 
     st = scene_load(&S, ts_tmp_path("no_such_scene.json"), &d);
@@ -427,47 +425,293 @@ static void test_unused_vertex(void) {
     scene_free(&S);
 }
 
-/* Moving pins, and conflicting pins of one particle. */
-static void test_pin_motion_and_conflicts(void) {
+/* Moving pins group by motion; the shorthand velocity is a motion; one vertex in two entries
+ * with different values is refused, naming both entries. */
+static void test_pin_groups_and_conflicts(void) {
     wc_diag d;
     CHECK_EQ_INT(parse("{" GRID ", \"pins\": [{\"vertices\": [3], \"velocity\": [0, 1, -2]},"
-                       " {\"vertices\": [0], \"free_axis\": [0, 0, 2]}, {\"vertices\": [3], \"velocity\": [0, 1, -2]}]}",
+                       " {\"vertices\": [0], \"free_axis\": [0, 0, 2]},"
+                       " {\"vertices\": [3, 7], \"motion\": {\"velocity\": [0, 1, -2]}}]}",
                        &d),
                  WEFT_OK);
-    wc_model model = {0};
-    CHECK_EQ_INT(wc_model_build(&model, &S.src, &S.model_def, NULL, &d), WEFT_OK);
-    scene_pins p = {0};
-    CHECK_EQ_INT(scene_pins_resolve(&p, &S, &model, "scene.json", &d), WEFT_OK);
-    CHECK_EQ_INT(p.n, 2);
-    CHECK_EQ_INT(p.moving, 1);
-    if (p.n == 2) {
-        CHECK_NEAR(p.pins[1].free_axis[2], 1.0, 0.0);
-        scene_pins_at(&p, 0.25);
-        const double* r = model.rest_pos + 3 * model.host_to_particle[3];
-        CHECK_NEAR(p.pins[0].target[0], r[0], 0.0);
-        CHECK_NEAR(p.pins[0].target[1], r[1] + 0.25, 1e-15);
-        CHECK_NEAR(p.pins[0].target[2], r[2] - 0.5, 1e-15);
-        CHECK_NEAR(p.pins[0].target[0], 0.75, 1e-15);   /* vertex 3 = (i 3, j 0) */
-        CHECK_NEAR(p.pins[0].target[2], -1.0, 1e-15);
-        const double* r0 = model.rest_pos + 3 * model.host_to_particle[0];
-        for (int k = 0; k < 3; ++k) CHECK(p.pins[1].target[k] == r0[k]);
+    CHECK_EQ_INT(S.n_pin_groups, 2);
+    if (S.n_pin_groups == 2) {
+        const scene_pin_group* g = S.pin_groups;
+        CHECK_EQ_INT(g[0].n_vertices, 2);   /* 3 (twice) and 7 */
+        CHECK_EQ_INT(g[0].vertices[0], 3);
+        CHECK_EQ_INT(g[0].vertices[1], 7);
+        CHECK_EQ_INT(g[1].n_vertices, 1);
+        CHECK_EQ_INT(g[1].vertices[0], 0);
+        CHECK_EQ_INT(g[1].first_pin, 1);
+        CHECK_NEAR(g[1].free_axis[2], 1.0, 0.0);
+        /* vertex 3 = (i 3, j 0) at (0.75, 0, -0.5) moves to rest + velocity t */
+        double m[16], p[3];
+        scene_motion_at(&g[0].motion, 0.25, m);
+        const double* r = S.src.pos + 3 * 3;
+        for (int k = 0; k < 3; ++k) p[k] = m[k] * r[0] + m[4 + k] * r[1] + m[8 + k] * r[2] + m[12 + k];
+        CHECK_NEAR(p[0], 0.75, 1e-15);
+        CHECK_NEAR(p[1], 0.25, 1e-15);
+        CHECK_NEAR(p[2], -1.0, 1e-15);
     }
-    scene_pins_free(&p);
-    wc_model_free(&model);
     scene_free(&S);
 
-    CHECK_EQ_INT(parse("{" GRID ", \"pins\": [{\"select\": {\"axis\": \"x\", \"side\": \"max\"}},"
-                       " {\"vertices\": [0, 11], \"velocity\": [0, 1, 0]}]}",
+    expect_bad("{" GRID ", \"pins\": [{\"select\": {\"axis\": \"x\", \"side\": \"max\"}},"
+               " {\"vertices\": [0, 11], \"velocity\": [0, 1, 0]}]}",
+               "scene.json: pins[1].vertices[1]: vertex 11 is already pinned by pins[0]", "motion");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [5], \"free_axis\": [1, 0, 0]},"
+               " {\"select\": {\"axis\": \"x\", \"side\": \"min\", \"tolerance\": 0.6}}]}",
+               "scene.json: pins[1].select: vertex 5 is already pinned by pins[0]", NULL);
+}
+
+/* T(t) against the vector form of the same motion, p' = pivot + Rodrigues(p - pivot) + velocity
+ * tau + amplitude sin(2 pi hz tau), computed here independently of the matrices. */
+static void test_motion_closed_form(void) {
+    wc_diag d;
+    CHECK_EQ_INT(parse("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"pivot\": [1, 2, 3],"
+                       " \"velocity\": [0.5, -1, 0.25], \"spin_axis\": [0, 3, 4], \"spin_deg_per_s\": 90,"
+                       " \"oscillate\": {\"amplitude\": [0.1, 0.2, -0.3], \"hz\": 1.5}, \"start\": 0.5}}]}",
                        &d),
                  WEFT_OK);
-    CHECK_EQ_INT(wc_model_build(&model, &S.src, &S.model_def, NULL, &d), WEFT_OK);
-    weft_status st = scene_pins_resolve(&p, &S, &model, "scene.json", &d);
-    CHECK(st == WEFT_ERROR_SCENE);
-    CHECK(strstr(d.message, "scene.json: pins[1].vertices[1]: vertex 11") != NULL);
-    CHECK(strstr(d.message, "pins[0]") != NULL);
-    CHECK(p.pins == NULL && p.n == 0);
-    wc_model_free(&model);
+    if (S.n_pins != 1) return;
+    const scene_motion* m = &S.pins[0].motion;
+    CHECK_NEAR(m->spin_axis[1], 0.6, 1e-15);
+    CHECK_NEAR(m->spin_axis[2], 0.8, 1e-15);
+    const double pi = 3.14159265358979323846, k[3] = {0, 0.6, 0.8};
+    const double pts[3][3] = {{0, 0, 0}, {1, 2, 3}, {-2, 0.5, 4}};
+    const double times[] = {0.0, 0.3, 0.5, 0.75, 1.9};
+    for (int ti = 0; ti < 5; ++ti)
+        for (int pi_ = 0; pi_ < 3; ++pi_) {
+            const double t = times[ti], tau = t > 0.5 ? t - 0.5 : 0.0, th = 90.0 * tau * pi / 180.0;
+            const double* p = pts[pi_];
+            const double r[3] = {p[0] - 1, p[1] - 2, p[2] - 3};
+            const double kxr[3] = {k[1] * r[2] - k[2] * r[1], k[2] * r[0] - k[0] * r[2], k[0] * r[1] - k[1] * r[0]};
+            const double kr = k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
+            const double v[3] = {0.5, -1, 0.25}, a[3] = {0.1, 0.2, -0.3}, piv[3] = {1, 2, 3};
+            double xf[16];
+            scene_motion_at(m, t, xf);
+            for (int c = 0; c < 3; ++c) {
+                const double want = piv[c] + r[c] * cos(th) + kxr[c] * sin(th) + k[c] * kr * (1 - cos(th)) +
+                                    v[c] * tau + a[c] * sin(2 * pi * 1.5 * tau);
+                const double got = xf[c] * p[0] + xf[4 + c] * p[1] + xf[8 + c] * p[2] + xf[12 + c];
+                CHECK_NEAR(got, want, 1e-12);
+            }
+            CHECK(xf[3] == 0 && xf[7] == 0 && xf[11] == 0 && xf[15] == 1);
+        }
     scene_free(&S);
+    const scene_motion still = scene_motion_still();
+    CHECK(scene_motion_is_still(&still));
+    double xf[16];
+    scene_motion_at(&still, 12.5, xf);
+    for (int i = 0; i < 16; ++i) CHECK(xf[i] == (i % 5 == 0 ? 1.0 : 0.0));
+}
+
+static void test_bad_motion(void) {
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"speed\": [1, 0, 0]}}]}",
+               "pins[0].motion.speed", "unknown key");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": [1, 0, 0]}]}", "pins[0].motion",
+               "must be an object");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"velocity\": [1, 0, 0], \"motion\": {}}]}",
+               "pins[0].velocity", "not both");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"spin_axis\": [0, 0, 0]}}]}",
+               "pins[0].motion.spin_axis", "nonzero");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"spin_deg_per_s\": \"fast\"}}]}",
+               "pins[0].motion.spin_deg_per_s", "finite number");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"pivot\": [0, 1e999, 0]}}]}",
+               "pins[0].motion.pivot[1]", "finite");
+    expect_bad("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"start\": -1}}]}",
+               "pins[0].motion.start", ">= 0");
+    expect_bad("{" GRID ", \"colliders\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1,"
+               " \"motion\": {\"oscillate\": {\"amplitude\": [0, 1, 0]}}}]}",
+               "colliders[0].motion.oscillate.hz", "missing");
+    expect_bad("{" GRID ", \"colliders\": [{\"type\": \"plane\", \"normal\": [0, 1, 0],"
+               " \"motion\": {\"oscillate\": {\"hz\": 2}}}]}",
+               "colliders[0].motion.oscillate.amplitude", "missing");
+    expect_bad("{" GRID ", \"colliders\": [{\"type\": \"plane\", \"normal\": [0, 1, 0],"
+               " \"motion\": {\"oscillate\": {\"amplitude\": [0, 1, 0], \"hz\": 0}}}]}",
+               "colliders[0].motion.oscillate.hz", "> 0");
+    expect_bad("{" GRID ", \"colliders\": [{\"type\": \"plane\", \"normal\": [0, 1, 0],"
+               " \"motion\": {\"oscillate\": {\"amplitude\": [0, 1, 0], \"hz\": 1, \"phase\": 0}}}]}",
+               "colliders[0].motion.oscillate.phase", "unknown key");
+    expect_bad("{" GRID ", \"object\": {\"motion\": {\"velocity\": [1, 0]}}}", "object.motion.velocity",
+               "array of 3");
+    expect_bad("{" GRID ", \"object\": {\"linear_inertia\": 1.5}}", "object.linear_inertia", "[0, 1]");
+    expect_bad("{" GRID ", \"object\": {\"angular_inertia\": -0.5}}", "object.angular_inertia", ">= 0");
+    expect_bad("{" GRID ", \"object\": {\"inertia\": 1}}", "object.inertia", "unknown key");
+    expect_bad("{" GRID ", \"object\": 1}", "object", "must be an object");
+    expect_bad("{" GRID ", \"object\": {\"teleport\": [{\"frame\": 0, \"translate\": [1, 0, 0]}]}}",
+               "object.teleport[0].frame", "integer in [1,");
+    expect_bad("{" GRID ", \"object\": {\"teleport\": [{\"frame\": 3}]}}", "object.teleport[0].translate",
+               "missing");
+    expect_bad("{" GRID ", \"object\": {\"teleport\": [{\"frame\": 3, \"translate\": [1, 0, 0]},"
+               " {\"frame\": 3, \"translate\": [1, 0, 0]}]}}",
+               "object.teleport[1].frame", "increase");
+    expect_bad("{" GRID ", \"object\": {\"teleport\": {\"frame\": 3}}}", "object.teleport", "must be an array");
+}
+
+/* The object: motion, inertia and teleports as written; defaults when absent. */
+static void test_object(void) {
+    wc_diag d;
+    CHECK_EQ_INT(parse("{" GRID "}", &d), WEFT_OK);
+    CHECK(scene_motion_is_still(&S.object.motion));
+    CHECK(S.object.linear_inertia == 1 && S.object.angular_inertia == 1 && S.object.n_teleports == 0);
+    CHECK(S.collider_motion == NULL);
+    scene_free(&S);
+    CHECK_EQ_INT(parse("{" GRID ", \"object\": {\"motion\": {\"spin_deg_per_s\": 45, \"spin_axis\": [2, 0, 0]},"
+                       " \"linear_inertia\": 0.25, \"angular_inertia\": 0,"
+                       " \"teleport\": [{\"frame\": 2, \"translate\": [1, 0, 0]},"
+                       " {\"frame\": 9, \"translate\": [0, 0, -3]}]},"
+                       " \"colliders\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1,"
+                       " \"motion\": {\"velocity\": [0, 2, 0]}}]}",
+                       &d),
+                 WEFT_OK);
+    CHECK(S.object.motion.spin_deg_per_s == 45 && S.object.motion.spin_axis[0] == 1);
+    CHECK(S.object.linear_inertia == 0.25 && S.object.angular_inertia == 0);
+    CHECK_EQ_INT(S.object.n_teleports, 2);
+    if (S.object.n_teleports == 2) {
+        CHECK(S.object.teleports[0].frame == 2 && S.object.teleports[0].translate[0] == 1);
+        CHECK(S.object.teleports[1].frame == 9 && S.object.teleports[1].translate[2] == -3);
+    }
+    CHECK(S.collider_motion && S.collider_motion[0].velocity[1] == 2);
+    scene_free(&S);
+}
+
+static void test_camera(void) {
+    wc_diag d;
+    CHECK_EQ_INT(parse("{" GRID "}", &d), WEFT_OK);
+    CHECK_EQ_INT(S.camera.framed, 0);
+    CHECK_EQ_INT(S.camera.width, 640);
+    CHECK_EQ_INT(S.camera.height, 480);
+    CHECK(S.camera.fov_deg == 40 && S.camera.up[1] == 1 && S.camera.up[0] == 0 && S.camera.up[2] == 0);
+    scene_free(&S);
+    CHECK_EQ_INT(parse("{" GRID ", \"camera\": {\"eye\": [0, 1, 3], \"target\": [0, 0.5, 0], \"up\": [0, 0, 2],"
+                       " \"fov_deg\": 55, \"width\": 320, \"height\": 200}}",
+                       &d),
+                 WEFT_OK);
+    CHECK_EQ_INT(S.camera.framed, 1);
+    CHECK(S.camera.eye[2] == 3 && S.camera.target[1] == 0.5 && S.camera.up[2] == 1 && S.camera.fov_deg == 55);
+    CHECK_EQ_INT(S.camera.width, 320);
+    CHECK_EQ_INT(S.camera.height, 200);
+    scene_free(&S);
+    CHECK_EQ_INT(parse("{" GRID ", \"camera\": {\"width\": 8192, \"height\": 1}}", &d), WEFT_OK);
+    CHECK_EQ_INT(S.camera.framed, 0);
+    CHECK_EQ_INT(S.camera.width, 8192);
+    scene_free(&S);
+    expect_bad("{" GRID ", \"camera\": {\"eye\": [0, 1, 3]}}", "camera.target", "missing");
+    expect_bad("{" GRID ", \"camera\": {\"target\": [0, 1, 3]}}", "camera.eye", "missing");
+    expect_bad("{" GRID ", \"camera\": {\"eye\": [0, 1, 3], \"target\": [0, 1, 3]}}", "camera.target", "differ");
+    expect_bad("{" GRID ", \"camera\": {\"eye\": [0, 3, 0], \"target\": [0, 1, 0]}}", "camera.up", "parallel");
+    expect_bad("{" GRID ", \"camera\": {\"up\": [0, 0, 0]}}", "camera.up", "nonzero");
+    expect_bad("{" GRID ", \"camera\": {\"fov_deg\": 180}}", "camera.fov_deg", "(0, 180)");
+    expect_bad("{" GRID ", \"camera\": {\"fov_deg\": 0}}", "camera.fov_deg", "> 0");
+    expect_bad("{" GRID ", \"camera\": {\"width\": 0}}", "camera.width", "[1, 8192]");
+    expect_bad("{" GRID ", \"camera\": {\"height\": 8193}}", "camera.height", "[1, 8192]");
+    expect_bad("{" GRID ", \"camera\": {\"width\": 64.5}}", "camera.width", "integer");
+    expect_bad("{" GRID ", \"camera\": {\"fov\": 30}}", "camera.fov", "unknown key");
+    expect_bad("{" GRID ", \"camera\": \"front\"}", "camera", "must be an object");
+}
+
+/* x -> T x of the placement, for a local point. */
+static void place(const double t[16], const double* p, double* out) {
+    for (int r = 0; r < 3; ++r) out[r] = t[r] * p[0] + t[4 + r] * p[1] + t[8 + r] * p[2] + t[12 + r];
+}
+
+/* The rotation part is orthonormal with determinant +1. */
+static void check_rigid(const double t[16]) {
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+            double dot = 0;
+            for (int r = 0; r < 3; ++r) dot += t[4 * a + r] * t[4 * b + r];
+            CHECK_NEAR(dot, a == b ? 1.0 : 0.0, 1e-14);
+        }
+    const double det = t[0] * (t[5] * t[10] - t[9] * t[6]) - t[4] * (t[1] * t[10] - t[9] * t[2]) +
+                       t[8] * (t[1] * t[6] - t[5] * t[2]);
+    CHECK_NEAR(det, 1.0, 1e-14);
+    CHECK(t[3] == 0 && t[7] == 0 && t[11] == 0 && t[15] == 1);
+}
+
+/* Scene colliders in the API's local conventions: the local plane y = 0 lands on normal.x =
+ * offset with local +Y along the normal; a sphere's origin at its centre; a capsule's local
+ * (0, -h, 0) and (0, h, 0) at a and b. Normals include -Y and nearly -Y. */
+static void test_collider_placement(void) {
+    static const double normals[][3] = {{0, 1, 0}, {0, -1, 0}, {1e-9, -1, 0}, {0.6, 0, 0.8}, {-0.48, -0.6, 0.64}};
+    for (int i = 0; i < 5; ++i) {
+        wc_collider c;
+        memset(&c, 0, sizeof c);
+        c.type = WC_COLLIDER_PLANE;
+        const double* n0 = normals[i];
+        const double len = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
+        for (int k = 0; k < 3; ++k) c.normal[k] = n0[k] / len;
+        c.offset = -0.7;
+        double t[16], h = -1;
+        scene_collider_placement(&c, t, &h);
+        check_rigid(t);
+        CHECK(h == 0);
+        for (int k = 0; k < 3; ++k) CHECK_NEAR(t[4 + k], c.normal[k], 1e-14);   /* local +Y */
+        static const double local[3][3] = {{0, 0, 0}, {2, 0, -1}, {-0.5, 0, 3}};
+        for (int p = 0; p < 3; ++p) {
+            double w[3];
+            place(t, local[p], w);
+            CHECK_NEAR(c.normal[0] * w[0] + c.normal[1] * w[1] + c.normal[2] * w[2], -0.7, 1e-13);
+        }
+    }
+    wc_collider s;
+    memset(&s, 0, sizeof s);
+    s.type = WC_COLLIDER_SPHERE;
+    s.center[0] = 1;
+    s.center[1] = -2;
+    s.center[2] = 0.5;
+    double t[16], h;
+    scene_collider_placement(&s, t, &h);
+    check_rigid(t);
+    CHECK(t[12] == 1 && t[13] == -2 && t[14] == 0.5 && h == 0);
+
+    static const double ends[][6] = {{-0.5, 0.4, 0, 0.5, 0.4, 0}, {0, 1, 0, 0, -1, 0}, {1, 2, 3, 1, 2, 3},
+                                     {0.1, 0.2, 0.3, -0.7, 1.1, 0.9}};
+    for (int i = 0; i < 4; ++i) {
+        wc_collider c;
+        memset(&c, 0, sizeof c);
+        c.type = WC_COLLIDER_CAPSULE;
+        memcpy(c.a, ends[i], sizeof c.a);
+        memcpy(c.b, ends[i] + 3, sizeof c.b);
+        scene_collider_placement(&c, t, &h);
+        check_rigid(t);
+        const double la[3] = {0, -h, 0}, lb[3] = {0, h, 0};
+        double wa[3], wb[3];
+        place(t, la, wa);
+        place(t, lb, wb);
+        for (int k = 0; k < 3; ++k) {
+            CHECK_NEAR(wa[k], c.a[k], 1e-14);
+            CHECK_NEAR(wb[k], c.b[k], 1e-14);
+        }
+    }
+}
+
+/* Splitting a scene transform into a rigid placement and a uniform scale (file meshes go to the
+ * library by path with unit_scale and a rigid transform); anything else is refused. */
+static void test_split_uniform_scale(void) {
+    static const double axis[3] = {0.48, 0.6, 0.64};
+    double r[16], m[16], rigid[16], s = 0;
+    xf_axis_angle(axis, 0.7, r);
+    memcpy(m, r, sizeof m);
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) m[4 * c + k] *= 2.5;
+    m[12] = 1;
+    m[13] = -2;
+    m[14] = 3;
+    CHECK_EQ_INT(xf_split_uniform_scale(m, rigid, &s), 1);
+    CHECK_NEAR(s, 2.5, 1e-14);
+    for (int i = 0; i < 12; ++i) CHECK_NEAR(rigid[i], r[i], 1e-14);
+    CHECK(rigid[12] == 1 && rigid[13] == -2 && rigid[14] == 3);
+    double bad[16];
+    memcpy(bad, m, sizeof bad);
+    bad[0] *= 1.1;   /* non-uniform */
+    CHECK_EQ_INT(xf_split_uniform_scale(bad, rigid, &s), 0);
+    memcpy(bad, m, sizeof bad);
+    for (int k = 0; k < 3; ++k) bad[k] = -bad[k];   /* reflection */
+    CHECK_EQ_INT(xf_split_uniform_scale(bad, rigid, &s), 0);
+    xf_identity(bad);
+    bad[4] = 0.3;   /* shear */
+    CHECK_EQ_INT(xf_split_uniform_scale(bad, rigid, &s), 0);
 }
 
 int main(void) {
@@ -482,6 +726,12 @@ int main(void) {
     RUN_TEST(test_select_and_transform);
     RUN_TEST(test_file_mesh_and_pins);
     RUN_TEST(test_unused_vertex);
-    RUN_TEST(test_pin_motion_and_conflicts);
+    RUN_TEST(test_pin_groups_and_conflicts);
+    RUN_TEST(test_motion_closed_form);
+    RUN_TEST(test_bad_motion);
+    RUN_TEST(test_object);
+    RUN_TEST(test_camera);
+    RUN_TEST(test_collider_placement);
+    RUN_TEST(test_split_uniform_scale);
     return TEST_SUMMARY();
 }

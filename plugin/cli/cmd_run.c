@@ -1,23 +1,39 @@
-/* `weft run SCENE.json`: load a scene, build the model and state, step every frame, and write OBJ
- * frames, a stats JSON and a summary table. Exit codes: 0 ok (frames whose step failed after every
- * recovery are counted, not fatal), 1 the scene is invalid or something else failed (one line on
- * stderr), 2 bad command line. */
+/* `weft run SCENE.json`: load a scene, hand it to the public API (libweft.so, as any host does:
+ * run_host.c), step every frame with the transforms of the scene's motions, and write OBJ
+ * frames, a stats JSON, a progress line and a summary table. Exit codes: 0 ok (frames whose step
+ * failed after every recovery are counted, not fatal), 1 the scene is invalid or something else
+ * failed (one line on stderr), 2 bad command line. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "cli.h"
-#include "clock.h"
-#include "model.h"
 #include "run.h"
+#include "run_host.h"
+#include "run_progress.h"
 #include "scene.h"
-#include "state.h"
-#include "step.h"
 #include "weft/weft.h"
+
+/* ---- --render ------------------------------------------------------------------------------
+ * weft_render() is declared by weft.h, but the renderer is written separately and may not be in
+ * the libweft.so this tool runs against. It is referenced weakly, so the tool links and runs
+ * either way: NULL means "not in this library", and --render then fails before anything is
+ * written. Once every libweft.so has it, drop the pragmas and render_available(). */
+#pragma weak weft_render
+#pragma weak weft_default_render_def
+
+static int render_available(void) {
+    weft_status (*render)(weft_context*, weft_cloth, const weft_render_def*) = weft_render;
+    weft_render_def (*defaults)(void) = weft_default_render_def;
+    return render != NULL && defaults != NULL;
+}
+/* -------------------------------------------------------------------------------------------- */
 
 typedef struct run_args {
     const char* scene;
@@ -25,16 +41,20 @@ typedef struct run_args {
     int solver;            /* -1: the scene's, else wc_solver_type */
     const char* out;       /* folder for OBJ frames, NULL: none */
     const char* stats;     /* stats JSON path, NULL: none */
+    const char* render;    /* folder for PNG frames, NULL: none */
     int threads;           /* -1: the scene's */
+    weft_backend backend;
     int quiet;
 } run_args;
 
 void cli_run_usage(FILE* out) {
     fputs("usage: weft run SCENE.json [--frames N] [--solver pcg|jacobi|chebyshev|direct]\n"
-          "                [--out DIR] [--stats FILE.json] [--threads N] [--quiet]\n"
+          "                [--out DIR] [--stats FILE.json] [--render DIR] [--threads N]\n"
+          "                [--backend cpu|gpu|auto] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
-          "and print a summary table at the end.\n"
+          "through the public API (libweft), showing a progress line on a terminal and printing\n"
+          "a summary table at the end.\n"
           "\n"
           "options:\n"
           "  --frames N             frames to simulate (>= 0; default: the scene's time.frames)\n"
@@ -42,13 +62,27 @@ void cli_run_usage(FILE* out) {
           "  --out DIR              write DIR/frame_0001.obj ... (created if missing): every host\n"
           "                         vertex in the mesh's own order, then its polygons\n"
           "  --stats FILE.json      write timings, solver and recovery counts as one JSON object\n"
+          "  --render DIR           write DIR/frame_0001.png ... through weft_render(), seen from\n"
+          "                         the scene's camera\n"
           "  --threads N            OpenMP threads (>= 0; 0: OpenMP's default)\n"
-          "  --quiet                print nothing on success\n"
+          "  --backend NAME         cpu (default), gpu, or auto (the GPU where it works)\n"
+          "  --quiet                print nothing on success (no progress line, no summary)\n"
           "  -h, --help             show this help\n",
           out);
 }
 
 #define usage_error(...) cli_usage_error("weft run", cli_run_usage, __VA_ARGS__)
+
+static int parse_backend(const char* name, weft_backend* out) {
+    static const char* const names[] = {"auto", "cpu", "gpu"};
+    static const weft_backend values[] = {WEFT_BACKEND_AUTO, WEFT_BACKEND_CPU, WEFT_BACKEND_GPU};
+    for (int i = 0; i < 3; ++i)
+        if (strcmp(name, names[i]) == 0) {
+            *out = values[i];
+            return 0;
+        }
+    return -1;
+}
 
 /* Returns -1 to continue, or an exit code (help printed, or a usage error). */
 static int parse_args(int argc, char** argv, run_args* a) {
@@ -80,12 +114,19 @@ static int parse_args(int argc, char** argv, run_args* a) {
             if (m < 0) return usage_error("%s needs a value", arg);
             if (cli_parse_int(value, 0, 1024, &a->threads) != 0)
                 return usage_error("--threads must be an integer in [0, 1024], not '%s'", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--backend", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            if (parse_backend(value, &a->backend) != 0)
+                return usage_error("unknown backend '%s' (expected cpu, gpu or auto)", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0 || !value[0]) return usage_error("%s needs a folder", arg);
             a->out = value;
         } else if ((m = cli_option_value(argc, argv, &i, "--stats", &value)) != 0) {
             if (m < 0 || !value[0]) return usage_error("%s needs a file name", arg);
             a->stats = value;
+        } else if ((m = cli_option_value(argc, argv, &i, "--render", &value)) != 0) {
+            if (m < 0 || !value[0]) return usage_error("%s needs a folder", arg);
+            a->render = value;
         } else {
             return usage_error("unknown option '%s'", arg);
         }
@@ -97,181 +138,158 @@ static int parse_args(int argc, char** argv, run_args* a) {
 /* Everything a run owns, released by run_release. */
 typedef struct run_ctx {
     scene sc;
-    wc_model model;
-    scene_pins pins;
-    wc_state* state;
-    double* host_pos;      /* (sc.src.n_verts x 3) output positions of one frame */
-    char* path;            /* OBJ path buffer */
+    run_host host;
+    char* path;            /* output path buffer */
+    size_t path_cap;
     run_record rec;
+    run_progress progress;
 } run_ctx;
 
 static void run_release(run_ctx* c) {
-    wc_state_destroy(c->state);
-    scene_pins_free(&c->pins);
-    wc_model_free(&c->model);
+    run_host_destroy(&c->host);
     scene_free(&c->sc);
-    free(c->host_pos);
     free(c->path);
-    free(c->rec.frame_ms);
-    free(c->rec.stage_ms);
+    run_record_free(&c->rec);
 }
 
-static int fail(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-static int fail(const char* fmt, ...) {
+static int fail(run_ctx* c, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+static int fail(run_ctx* c, const char* fmt, ...) {
     char line[1024];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
+    if (c) run_progress_end(&c->progress);
     cli_error(line);
     return CLI_EXIT_FAILURE;
 }
 
-static const char* diag_text(const wc_diag* d, weft_status st) {
-    return d->message[0] ? d->message : weft_status_string(st);
+/* OpenMP threads a call uses: the request, or OpenMP's default for 0 (as the library does). */
+static int resolved_threads(int requested) {
+    if (requested > 0) return requested;
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
 }
 
-/* Host positions: a vertex with a particle follows it, one without keeps its source position.
- * Returns the number of host vertices with a non-finite coordinate. */
-static long long host_positions(const wc_model* m, const wc_source_mesh* src, const double* x, double* out) {
-    long long nonfinite = 0;
-    for (int v = 0; v < src->n_verts; ++v) {
-        const int p = m->host_to_particle[v];
-        const double* from = p >= 0 ? x + 3 * (size_t)p : src->pos + 3 * (size_t)v;
-        double* to = out + 3 * (size_t)v;
-        to[0] = from[0];
-        to[1] = from[1];
-        to[2] = from[2];
-        nonfinite += !(isfinite(to[0]) && isfinite(to[1]) && isfinite(to[2]));
+static weft_render_def render_def(const scene_camera* cam, const char* png_path) {
+    weft_render_def rd = weft_default_render_def();
+    rd.width = cam->width;
+    rd.height = cam->height;
+    for (int k = 0; k < 3; ++k) {   /* eye == target (zeros): framed automatically */
+        rd.eye[k] = cam->framed ? (float)cam->eye[k] : 0.0f;
+        rd.target[k] = cam->framed ? (float)cam->target[k] : 0.0f;
+        rd.up[k] = (float)cam->up[k];
     }
-    return nonfinite;
+    rd.fov_y_deg = (float)cam->fov_deg;
+    rd.png_path = png_path;
+    return rd;
 }
 
-static void record_frame(run_record* r, int f, double ms, const wc_step_stats* s) {
-    r->frame_ms[f] = ms;
-    double* st = r->stage_ms + (size_t)f * RUN_STAGES;
-    st[0] = s->ms.forces;
-    st[1] = s->ms.assemble;
-    st[2] = s->ms.solve;
-    st[3] = s->ms.collide;
-    st[4] = s->ms.integrate;
-    st[5] = s->ms.total;
-    r->iterations += s->iterations;
-    r->substeps += s->substeps;
-    if (s->max_iterations > r->max_iterations) r->max_iterations = s->max_iterations;
-    if (s->residual > r->residual_max) r->residual_max = s->residual;
-    r->not_converged += s->not_converged;
-    r->rollbacks += s->rollbacks;
-    r->halvings += s->halvings;
-    r->direct_fallbacks += s->direct_fallbacks;
-    r->failures += s->failures;
-    if (s->max_strain > r->max_strain) r->max_strain = s->max_strain;
-    r->frames = f + 1;
+/* Make the output folders and the path buffer. */
+static int prepare_outputs(run_ctx* c, const run_args* a) {
+    const char* dirs[2] = {a->out, a->render};
+    for (int i = 0; i < 2; ++i) {
+        if (!dirs[i]) continue;
+        if (run_make_dirs(dirs[i]) != 0) return fail(c, "cannot create the folder '%s': %s", dirs[i], strerror(errno));
+        const size_t need = strlen(dirs[i]) + 32;
+        if (need > c->path_cap) c->path_cap = need;
+    }
+    if (c->path_cap) {
+        c->path = malloc(c->path_cap);
+        if (!c->path) return fail(c, "out of memory");
+    }
+    return CLI_EXIT_OK;
 }
 
-/* Build the model, the pins and the state of a loaded scene. */
-static int prepare(run_ctx* c, const char* name) {
-    wc_diag d = {0};
-    weft_status st = wc_model_build(&c->model, &c->sc.src, &c->sc.model_def, NULL, &d);
-    if (st != WEFT_OK) return fail("%s: mesh: %s", name, diag_text(&d, st));
-    st = scene_pins_resolve(&c->pins, &c->sc, &c->model, name, &d);
-    if (st != WEFT_OK) return fail("%s", diag_text(&d, st));
-    st = wc_state_create(&c->state, &c->model, &c->sc.sim, NULL, &d);
-    if (st != WEFT_OK) return fail("%s: %s", name, diag_text(&d, st));
-    if (c->pins.n > 0) {
-        scene_pins_at(&c->pins, 0.0);
-        st = wc_state_set_pins(c->state, c->pins.pins, c->pins.n, &d);
-        if (st != WEFT_OK) return fail("%s: pins: %s", name, diag_text(&d, st));
+/* Frame f's outputs (1-based): OBJ and PNG. */
+static int write_frame(run_ctx* c, const run_args* a, int f, double t) {
+    if (a->out) {
+        snprintf(c->path, c->path_cap, "%s/frame_%04d.obj", a->out, f);
+        if (run_write_obj(c->path, c->host.positions, &c->sc.src, f, t) != 0)
+            return fail(c, "cannot write '%s': %s", c->path, strerror(errno));
     }
-    if (c->sc.n_colliders > 0) {
-        st = wc_state_set_colliders(c->state, c->sc.colliders, c->sc.n_colliders, &d);
-        if (st != WEFT_OK) return fail("%s: colliders: %s", name, diag_text(&d, st));
+    if (a->render) {   /* see render_available() */
+        snprintf(c->path, c->path_cap, "%s/frame_%04d.png", a->render, f);
+        const weft_render_def rd = render_def(&c->sc.camera, c->path);
+        if (weft_render(c->host.ctx, c->host.cloth, &rd) != WEFT_OK)
+            return fail(c, "%s: frame %d: render: %s", a->scene, f, run_host_error(&c->host));
     }
-    const size_t frames = (size_t)(c->sc.frames > 0 ? c->sc.frames : 1);
-    c->host_pos = malloc(sizeof(double) * 3 * (size_t)(c->sc.src.n_verts > 0 ? c->sc.src.n_verts : 1));
-    c->rec.frame_ms = calloc(frames, sizeof(double));
-    c->rec.stage_ms = calloc(frames * RUN_STAGES, sizeof(double));
-    if (!c->host_pos || !c->rec.frame_ms || !c->rec.stage_ms) return fail("%s: out of memory", name);
     return CLI_EXIT_OK;
 }
 
 static int simulate(run_ctx* c, const run_args* a) {
     const double dt = 1.0 / c->sc.fps;
-    size_t path_cap = 0;
-    if (a->out) {
-        if (run_make_dirs(a->out) != 0) return fail("cannot create the folder '%s': %s", a->out, strerror(errno));
-        path_cap = strlen(a->out) + 32;
-        c->path = malloc(path_cap);
-        if (!c->path) return fail("out of memory");
-    }
-    for (int f = 0; f < c->sc.frames; ++f) {
-        wc_diag d = {0};
-        weft_status st;
-        if (c->pins.moving) {
-            scene_pins_at(&c->pins, (f + 1) * dt);
-            st = wc_state_set_pins(c->state, c->pins.pins, c->pins.n, &d);
-            if (st != WEFT_OK) return fail("%s: frame %d: pins: %s", a->scene, f + 1, diag_text(&d, st));
-        }
-        wc_step_stats stats;
+    int rc = prepare_outputs(c, a);
+    run_progress_begin(&c->progress, stderr, !a->quiet, c->sc.frames);
+    for (int f = 1; f <= c->sc.frames && rc == CLI_EXIT_OK; ++f) {
+        const weft_frame fr = run_host_frame(&c->host, &c->sc, f, dt);
+        weft_frame_stats stats;
         memset(&stats, 0, sizeof stats);
-        const double t0 = wc_now_ms();
-        st = wc_step_frame(c->state, dt, &stats, &d);
-        const double ms = wc_now_ms() - t0;
-        if (st == WEFT_ERROR_STEP_FAILED)
-            ++c->rec.failed_frames;
+        const double t0 = run_now_ms();
+        weft_status st = weft_cloth_step(c->host.ctx, c->host.cloth, &fr, &stats);
+        const double ms = run_now_ms() - t0;
+        if (st == WEFT_ERROR_STEP_FAILED)   /* the cloth is as before the call; the run goes on */
+            run_record_failed_frame(&c->rec, f - 1, ms);
         else if (st != WEFT_OK)
-            return fail("%s: frame %d: %s", a->scene, f + 1, diag_text(&d, st));
-        record_frame(&c->rec, f, ms, &stats);
-        c->rec.nonfinite_outputs += host_positions(&c->model, &c->sc.src, c->state->x, c->host_pos);
-        if (a->out) {
-            snprintf(c->path, path_cap, "%s/frame_%04d.obj", a->out, f + 1);
-            if (run_write_obj(c->path, c->host_pos, &c->sc.src, f + 1, (f + 1) * dt) != 0)
-                return fail("cannot write '%s': %s", c->path, strerror(errno));
-        }
+            return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
+        else
+            run_record_frame(&c->rec, f - 1, ms, &stats);
+        st = run_host_read_positions(&c->host);
+        if (st != WEFT_OK) return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
+        c->rec.nonfinite_outputs += run_record_bbox(&c->rec, c->host.positions, c->host.info.n_vertices);
+        rc = write_frame(c, a, f, f * dt);
+        run_progress_update(&c->progress, f);
     }
-    return CLI_EXIT_OK;
-}
-
-/* Final kinetic energy and bounding box of the particles. */
-static void finish_record(run_ctx* c) {
-    run_record* r = &c->rec;
-    r->final_kinetic_energy = wc_state_kinetic_energy(c->state);
-    for (int k = 0; k < 3; ++k) {
-        r->bbox_min[k] = INFINITY;
-        r->bbox_max[k] = -INFINITY;
-    }
-    for (int p = 0; p < c->model.n_particles; ++p)
-        for (int k = 0; k < 3; ++k) {
-            double x = c->state->x[3 * (size_t)p + k];
-            r->bbox_min[k] = fmin(r->bbox_min[k], x);
-            r->bbox_max[k] = fmax(r->bbox_max[k], x);
-        }
+    run_progress_end(&c->progress);
+    return rc;
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, NULL, NULL, -1, 0};
+    run_args a = {NULL, -1, -1, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
+    if (a.render && !render_available())
+        return fail(NULL, "--render: this libweft has no weft_render() yet (the renderer is not part of "
+                          "the library); nothing was written");
 
     run_ctx c;
     memset(&c, 0, sizeof c);
     wc_diag d = {0};
     weft_status st = scene_load(&c.sc, a.scene, &d);
-    if (st != WEFT_OK) return fail("%s", diag_text(&d, st));
+    if (st != WEFT_OK) return fail(NULL, "%s", d.message[0] ? d.message : weft_status_string(st));
     if (a.frames >= 0) c.sc.frames = a.frames;
     if (a.solver >= 0) c.sc.sim.solver.type = (wc_solver_type)a.solver;
     if (a.threads >= 0) c.sc.sim.threads = a.threads;
 
-    rc = prepare(&c, a.scene);
-    if (rc == CLI_EXIT_OK) rc = simulate(&c, &a);
+    char msg[1024];
+    const run_host_opts opts = {a.backend, c.sc.sim.threads};
+    if (run_host_create(&c.host, &c.sc, &opts, a.scene, msg, sizeof msg) != WEFT_OK) {
+        rc = fail(NULL, "%s", msg);
+    } else if (run_record_init(&c.rec, c.sc.frames) != 0) {
+        rc = fail(NULL, "%s: out of memory", a.scene);
+    } else {
+        run_record_bbox(&c.rec, c.host.positions, c.host.info.n_vertices);   /* frames 0: the rest shape */
+        rc = simulate(&c, &a);
+    }
     if (rc == CLI_EXIT_OK) {
-        finish_record(&c);
-        const run_info info = {a.scene, c.model.n_particles, c.model.n_tris, c.model.n_springs,
-                               wc_solver_name(c.sc.sim.solver.type), c.sc.sim.substeps, c.state->par.threads,
-                               c.sc.fps, a.out};
+        const weft_cloth_info* in = &c.host.info;
+        const run_info info = {a.scene,
+                               in->n_particles,
+                               in->n_triangles,
+                               in->n_springs[0] + in->n_springs[1] + in->n_springs[2],
+                               wc_solver_name(c.sc.sim.solver.type),
+                               weft_context_backend(c.host.ctx) == WEFT_BACKEND_GPU ? "gpu" : "cpu",
+                               c.sc.sim.substeps,
+                               resolved_threads(c.sc.sim.threads),
+                               c.sc.fps,
+                               a.out,
+                               a.render};
         errno = 0;
         if (a.stats && run_write_stats(a.stats, &info, &c.rec) != 0)
-            rc = fail("cannot write '%s': %s", a.stats, errno ? strerror(errno) : "out of memory");
+            rc = fail(NULL, "cannot write '%s': %s", a.stats, errno ? strerror(errno) : "out of memory");
         else if (!a.quiet)
             run_print_summary(stdout, &info, &c.rec);
     }

@@ -1,29 +1,34 @@
 /* `weft run`: what the frame loop records, and its outputs (OBJ frames, the stats JSON, the
- * summary table). cmd_run.c drives the simulation; run_output.c writes. */
+ * summary table). cmd_run.c drives the simulation through the public API (run_host.c);
+ * run_record.c accumulates, run_output.c and run_summary.c write. */
 #ifndef WEFT_CLI_RUN_H
 #define WEFT_CLI_RUN_H
 #include <stdio.h>
 
 #include "source_mesh.h"
+#include "weft/weft.h"
 
 enum { RUN_STAGES = 6 };   /* forces, assemble, solve, collide, integrate, total */
+extern const char* const run_stage_names[RUN_STAGES];
 
 /* Fixed facts of a run. */
 typedef struct run_info {
     const char* scene;          /* scene file as given */
     int particles, triangles, springs;
     const char* solver;         /* configured solver's name */
+    const char* backend;        /* "cpu" or "gpu" */
     int substeps;               /* per frame */
-    int threads;                /* OpenMP threads the state uses */
+    int threads;                /* OpenMP threads per call */
     double fps;
     const char* out_dir;        /* NULL when no OBJ frames are written */
+    const char* render_dir;     /* NULL when no PNG frames are written */
 } run_info;
 
 /* What the frame loop measured. */
 typedef struct run_record {
     int frames;                 /* frames stepped */
-    double* frame_ms;           /* (frames) wall time of each wc_step_frame call (ms) */
-    double* stage_ms;           /* (frames x RUN_STAGES) the step's own stage timings (ms) */
+    double* frame_ms;           /* (frames) wall time of each weft_cloth_step call (ms) */
+    double* stage_ms;           /* (frames x RUN_STAGES) the library's own stage timings (ms) */
     long long iterations;       /* solver iterations, all frames */
     long long substeps;         /* substeps completed, all frames */
     int max_iterations;         /* largest in one solve */
@@ -34,13 +39,34 @@ typedef struct run_record {
     int failed_frames;          /* frames that returned WEFT_ERROR_STEP_FAILED */
     long long nonfinite_outputs;/* host vertices with a non-finite output position, all frames */
     double max_strain;          /* largest stretch-spring strain at the end of any frame */
+    int contacts_max;           /* most particles in contact at the end of a frame */
+    int contacts_final;         /* at the end of the last frame */
     double final_kinetic_energy;/* J */
-    double bbox_min[3], bbox_max[3]; /* final particle positions (m, world) */
+    double bbox_min[3], bbox_max[3]; /* final host vertex positions (m, world) */
 } run_record;
+
+/* Room for `frames` frames (frame_ms, stage_ms). 0, or -1 when out of memory. */
+int run_record_init(run_record* r, int frames);
+void run_record_free(run_record* r);
+/* Frame f (0-based) took ms of wall time and reported s. */
+void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s);
+/* Frame f's step failed every recovery (WEFT_ERROR_STEP_FAILED, no stats; the cloth is as it
+ * was): counted in failed_frames and as one failed substep; stage timings zero. */
+void run_record_failed_frame(run_record* r, int f, double ms);
+/* The bounding box of n host positions (n x 3); returns how many have a non-finite coordinate
+ * (those are left out of the box). */
+long long run_record_bbox(run_record* r, const float* pos, int n);
+
+typedef struct run_summary_stats {
+    double median, p95, mean, max;
+} run_summary_stats;
+/* Of n values with the given stride (zeros when n is 0); scratch: n doubles. */
+run_summary_stats run_summarise(const double* values, int n, int stride, double* scratch);
+double run_mean_iterations(const run_record* r);
 
 /* One frame as OBJ: `v` lines for the n_verts host positions (n_verts x 3, m), then the source
  * polygons as 1-based `f` lines. 0, or -1 when the file cannot be written. */
-int run_write_obj(const char* path, const double* pos, const wc_source_mesh* src, int frame, double time);
+int run_write_obj(const char* path, const float* pos, const wc_source_mesh* src, int frame, double time);
 /* The stats JSON (keys in sample_scenes/README.md). 0, or -1 (cannot write / out of memory). */
 int run_write_stats(const char* path, const run_info* info, const run_record* rec);
 void run_print_summary(FILE* out, const run_info* info, const run_record* rec);

@@ -1,4 +1,4 @@
-/* Outputs of `weft run`: OBJ frames, the stats JSON and the summary table. */
+/* Outputs of `weft run`: OBJ frames, the stats JSON, output folders. */
 #define _POSIX_C_SOURCE 200809L
 #include "run.h"
 
@@ -9,24 +9,24 @@
 #include <string.h>
 #include <sys/stat.h>
 
-/* Shortest of %.15g / %.16g / %.17g that reads back as exactly v. buf: 32 chars. */
-static const char* fmt_exact(char* buf, double v) {
-    for (int prec = 15; prec <= 17; ++prec) {
-        snprintf(buf, 32, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v) break;
+/* Shortest %.6g .. %.9g that reads back as exactly the float v (9 digits always do). buf: 32. */
+static const char* fmt_float(char* buf, float v) {
+    for (int prec = 6; prec <= 9; ++prec) {
+        snprintf(buf, 32, "%.*g", prec, (double)v);
+        if (strtof(buf, NULL) == v) break;
     }
     return buf;
 }
 
-int run_write_obj(const char* path, const double* pos, const wc_source_mesh* src, int frame, double time) {
+int run_write_obj(const char* path, const float* pos, const wc_source_mesh* src, int frame, double time) {
     FILE* f = fopen(path, "w");
     if (!f) return -1;
     fprintf(f, "# weft frame %d, t = %.9g s: %d vertices, %d polygons (metres, Y up)\n", frame, time, src->n_verts,
             src->n_polys);
     char a[32], b[32], c[32];
     for (int v = 0; v < src->n_verts; ++v) {
-        const double* p = pos + 3 * (size_t)v;
-        fprintf(f, "v %s %s %s\n", fmt_exact(a, p[0]), fmt_exact(b, p[1]), fmt_exact(c, p[2]));
+        const float* p = pos + 3 * (size_t)v;
+        fprintf(f, "v %s %s %s\n", fmt_float(a, p[0]), fmt_float(b, p[1]), fmt_float(c, p[2]));
     }
     for (int q = 0; q < src->n_polys; ++q) {
         fputc('f', f);
@@ -65,39 +65,6 @@ int run_make_dirs(const char* path) {
     return rc;
 }
 
-static int cmp_double(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-typedef struct summary_stats {
-    double median, p95, mean;
-} summary_stats;
-
-/* Median, 95th percentile (nearest rank) and mean of n values with the given stride; zeros when
- * n is 0. scratch: n doubles. */
-static summary_stats summarise(const double* values, int n, int stride, double* scratch) {
-    summary_stats s = {0, 0, 0};
-    if (n <= 0) return s;
-    double sum = 0;
-    for (int i = 0; i < n; ++i) {
-        scratch[i] = values[(size_t)i * stride];
-        sum += scratch[i];
-    }
-    qsort(scratch, (size_t)n, sizeof(double), cmp_double);
-    s.median = n % 2 ? scratch[n / 2] : 0.5 * (scratch[n / 2 - 1] + scratch[n / 2]);
-    int rank = (int)ceil(0.95 * n);
-    s.p95 = scratch[(rank > 0 ? rank : 1) - 1];
-    s.mean = sum / n;
-    return s;
-}
-
-static const char* const stage_names[RUN_STAGES] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
-
-static double mean_iterations(const run_record* r) {
-    return r->substeps > 0 ? (double)r->iterations / (double)r->substeps : 0.0;
-}
-
 /* cJSON_Add* return NULL when out of memory; ok collects that. */
 static void add_num(cJSON* o, const char* k, double v, int* ok) {
     if (!cJSON_AddNumberToObject(o, k, isfinite(v) ? v : 0.0)) *ok = 0;
@@ -121,22 +88,28 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(root, "triangles", info->triangles, &ok);
     add_num(root, "springs", info->springs, &ok);
     if (!cJSON_AddStringToObject(root, "solver", info->solver)) ok = 0;
+    if (!cJSON_AddStringToObject(root, "backend", info->backend)) ok = 0;
     add_num(root, "substeps", info->substeps, &ok);
     add_num(root, "threads", info->threads, &ok);
     add_num(root, "fps", info->fps, &ok);
-    summary_stats ms = summarise(r->frame_ms, r->frames, 1, scratch);
+    run_summary_stats ms = run_summarise(r->frame_ms, r->frames, 1, scratch);
     cJSON* o = cJSON_AddObjectToObject(root, "ms_per_frame");
     if (!o) ok = 0;
     add_num(o, "median", ms.median, &ok);
     add_num(o, "p95", ms.p95, &ok);
     add_num(o, "mean", ms.mean, &ok);
-    o = cJSON_AddObjectToObject(root, "stage_ms");
-    if (!o) ok = 0;
-    for (int s = 0; s < RUN_STAGES; ++s)
-        add_num(o, stage_names[s], summarise(r->stage_ms + s, r->frames, RUN_STAGES, scratch).median, &ok);
+    add_num(o, "max", ms.max, &ok);
+    cJSON* med = cJSON_AddObjectToObject(root, "stage_ms");
+    cJSON* max = cJSON_AddObjectToObject(root, "stage_ms_max");
+    if (!med || !max) ok = 0;
+    for (int s = 0; s < RUN_STAGES; ++s) {
+        run_summary_stats st = run_summarise(r->stage_ms + s, r->frames, RUN_STAGES, scratch);
+        add_num(med, run_stage_names[s], st.median, &ok);
+        add_num(max, run_stage_names[s], st.max, &ok);
+    }
     o = cJSON_AddObjectToObject(root, "iterations");
     if (!o) ok = 0;
-    add_num(o, "mean", mean_iterations(r), &ok);
+    add_num(o, "mean", run_mean_iterations(r), &ok);
     add_num(o, "max", r->max_iterations, &ok);
     add_num(root, "residual_max", r->residual_max, &ok);
     add_num(root, "not_converged", r->not_converged, &ok);
@@ -147,6 +120,10 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(root, "failed_frames", r->failed_frames, &ok);
     add_num(root, "nonfinite_outputs", (double)r->nonfinite_outputs, &ok);
     add_num(root, "max_strain", r->max_strain, &ok);
+    o = cJSON_AddObjectToObject(root, "contacts");
+    if (!o) ok = 0;
+    add_num(o, "max", r->contacts_max, &ok);
+    add_num(o, "final", r->contacts_final, &ok);
     add_num(root, "final_kinetic_energy", r->final_kinetic_energy, &ok);
     add_vec3(root, "bbox_min", r->bbox_min, &ok);
     add_vec3(root, "bbox_max", r->bbox_max, &ok);
@@ -174,33 +151,3 @@ int run_write_stats(const char* path, const run_info* info, const run_record* r)
     return bad ? -1 : 0;
 }
 
-void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
-    double* scratch = malloc(sizeof(double) * (size_t)(r->frames > 0 ? r->frames : 1));
-    summary_stats ms = {0, 0, 0};
-    double stage[RUN_STAGES] = {0};
-    if (scratch) {
-        ms = summarise(r->frame_ms, r->frames, 1, scratch);
-        for (int s = 0; s < RUN_STAGES; ++s) stage[s] = summarise(r->stage_ms + s, r->frames, RUN_STAGES, scratch).median;
-    }
-    free(scratch);
-    fprintf(out, "%-13s %s\n", "scene", info->scene);
-    fprintf(out, "%-13s %d particles, %d triangles, %d springs\n", "model", info->particles, info->triangles,
-            info->springs);
-    fprintf(out, "%-13s %d frames at %g fps, %d substep%s per frame, %s solver, %d thread%s\n", "run", r->frames,
-            info->fps, info->substeps, info->substeps == 1 ? "" : "s", info->solver, info->threads,
-            info->threads == 1 ? "" : "s");
-    fprintf(out, "%-13s median %.3f  p95 %.3f  mean %.3f\n", "ms/frame", ms.median, ms.p95, ms.mean);
-    fprintf(out, "%-13s", "stage ms");
-    for (int s = 0; s < RUN_STAGES; ++s) fprintf(out, " %s %.3f ", stage_names[s], stage[s]);
-    fprintf(out, "(medians)\n");
-    fprintf(out, "%-13s mean %.1f per substep, max %d; largest residual %.3g; %d not converged\n", "iterations",
-            mean_iterations(r), r->max_iterations, r->residual_max, r->not_converged);
-    fprintf(out, "%-13s %d rollbacks, %d halvings, %d direct fallbacks, %d failed substeps, %d failed frames\n",
-            "recovery", r->rollbacks, r->halvings, r->direct_fallbacks, r->failures, r->failed_frames);
-    fprintf(out, "%-13s %lld non-finite positions, max strain %.4g, final kinetic energy %.4g J\n", "result",
-            r->nonfinite_outputs, r->max_strain, r->final_kinetic_energy);
-    fprintf(out, "%-13s [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] m\n", "final bbox", r->bbox_min[0], r->bbox_min[1],
-            r->bbox_min[2], r->bbox_max[0], r->bbox_max[1], r->bbox_max[2]);
-    if (info->out_dir && r->frames > 0)
-        fprintf(out, "%-13s %s/frame_0001.obj .. frame_%04d.obj\n", "frames", info->out_dir, r->frames);
-}

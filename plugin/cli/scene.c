@@ -7,15 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene_json.h"
 #include "scene_mesh.h"
-
-#define COUNT(a) ((int)(sizeof(a) / sizeof((a)[0])))
+#include "scene_parts.h"
 
 /* Largest counts a scene may ask for (guards against typos such as 1e9 frames). */
 enum { MAX_FRAMES = 100000000, MAX_SUBSTEPS = 100000, MAX_ITERATIONS = 100000000, MAX_THREADS = 1024 };
 
-static char* dup_string(const char* s) {
+char* scene_strdup(const char* s) {
     size_t n = strlen(s) + 1;
     char* d = malloc(n);
     if (d) memcpy(d, s, n);
@@ -25,7 +23,7 @@ static char* dup_string(const char* s) {
 /* name's folder joined with file, or file itself when absolute or name has no folder. */
 static char* resolve_path(const char* name, const char* file) {
     const char* slash = strrchr(name, '/');
-    if (file[0] == '/' || !slash) return dup_string(file);
+    if (file[0] == '/' || !slash) return scene_strdup(file);
     size_t dir = (size_t)(slash - name) + 1, n = strlen(file) + 1;
     char* out = malloc(dir + n);
     if (!out) return NULL;
@@ -34,8 +32,7 @@ static char* resolve_path(const char* name, const char* file) {
     return out;
 }
 
-/* "PARENT.KEY: missing" unless obj has key; 0 or -1. */
-static int require(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const char* hint) {
+int scene_require(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const char* hint) {
     if (sj_get(obj, key)) return 0;
     char path[160];
     sj_join(path, sizeof path, parent, key);
@@ -53,6 +50,9 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
                                            : "needs \"file\" or \"grid\"");
     if (sj_number(c, mesh, "mesh", "weld_tolerance", SJ_NONNEGATIVE, &s->model_def.weld_tolerance) < 0)
         return -1;
+    if (s->model_def.weld_tolerance > 1)
+        return sj_fail(c, "mesh.weld_tolerance", "must be in [0, 1] (a fraction of the bounding-box diagonal), not %g",
+                       s->model_def.weld_tolerance);
     if (has_file) {
         const char* file = NULL;
         const char* select = NULL;
@@ -60,7 +60,7 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
         if (sj_number(c, mesh, "mesh", "scale", SJ_POSITIVE, &s->mesh_scale) < 0) return -1;
         if (sj_string(c, mesh, "mesh", "select", &select) < 0) return -1;
         s->mesh_file = resolve_path(c->file, file);
-        if (select) s->mesh_select = dup_string(select);
+        if (select) s->mesh_select = scene_strdup(select);
         if (!s->mesh_file || (select && !s->mesh_select))
             return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
         return 0;
@@ -72,7 +72,7 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     static const char* const gkeys[] = {"n", "size"};
     if (sj_check_object(c, grid, "mesh.grid", gkeys, COUNT(gkeys)) < 0) return -1;
     const cJSON* n = sj_get(grid, "n");
-    if (require(c, grid, "mesh.grid", "n", "([NX, NZ] vertices along X and Z)") < 0) return -1;
+    if (scene_require(c, grid, "mesh.grid", "n", "([NX, NZ] vertices along X and Z)") < 0) return -1;
     if (!cJSON_IsArray(n) || cJSON_GetArraySize(n) != 2)
         return sj_fail(c, "mesh.grid.n", "must be an array of 2 integers >= 2, not %s", sj_type_name(n));
     for (int k = 0; k < 2; ++k) {
@@ -88,7 +88,7 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     if ((long long)s->grid_n[0] * s->grid_n[1] > SCENE_GRID_MAX_VERTICES)
         return sj_fail(c, "mesh.grid.n", "%d x %d vertices is more than %d", s->grid_n[0], s->grid_n[1],
                        SCENE_GRID_MAX_VERTICES);
-    if (require(c, grid, "mesh.grid", "size", "([SX, SZ] metres)") < 0) return -1;
+    if (scene_require(c, grid, "mesh.grid", "size", "([SX, SZ] metres)") < 0) return -1;
     if (sj_numbers(c, grid, "mesh.grid", "size", 2, s->grid_size) < 0) return -1;
     for (int k = 0; k < 2; ++k)
         if (!(s->grid_size[k] > 0)) {
@@ -136,15 +136,17 @@ static int parse_material(const sj_ctx* c, const cJSON* root, scene* s) {
     if (r <= 0) return r;
     static const char* const keys[] = {"density", "uniform_mass", "k", "d"};
     if (sj_check_object(c, mat, "material", keys, COUNT(keys)) < 0) return -1;
+    if (sj_get(mat, "uniform_mass"))   /* the public API lumps mass by area only */
+        return sj_fail(c, "material.uniform_mass", "is no longer supported (the public API has no per-particle "
+                                                   "mass): give material.density in kg/m^2");
     wc_material* m = &s->model_def.material;
     if (sj_number(c, mat, "material", "density", SJ_POSITIVE, &m->density) < 0) return -1;
-    if (sj_number(c, mat, "material", "uniform_mass", SJ_NONNEGATIVE, &m->uniform_mass) < 0) return -1;
     if (parse_spring_values(c, mat, "k", m->k) < 0) return -1;
     if (parse_spring_values(c, mat, "d", m->d) < 0) return -1;
     return 0;
 }
 
-static int parse_axis_vector(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, double* v) {
+int scene_axis_vector(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, double* v) {
     int r = sj_numbers(c, obj, parent, key, 3, v);
     if (r <= 0) return r;
     double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -155,142 +157,6 @@ static int parse_axis_vector(const sj_ctx* c, const cJSON* obj, const char* pare
     }
     for (int k = 0; k < 3; ++k) v[k] /= len;
     return 1;
-}
-
-/* One pins[i] entry: structure only; vertex ranges and selects are checked once the mesh exists. */
-static int parse_pin(const sj_ctx* c, const cJSON* item, const char* path, scene_pin* p) {
-    static const char* const keys[] = {"vertices", "select", "free_axis", "velocity"};
-    if (sj_check_object(c, item, path, keys, COUNT(keys)) < 0) return -1;
-    const cJSON* verts = sj_get(item, "vertices");
-    const cJSON* sel = sj_get(item, "select");
-    if (!verts == !sel)
-        return sj_fail(c, path, verts ? "give either \"vertices\" or \"select\", not both"
-                                      : "needs \"vertices\" or \"select\"");
-    if (parse_axis_vector(c, item, path, "free_axis", p->free_axis) < 0) return -1;
-    if (sj_numbers(c, item, path, "velocity", 3, p->velocity) < 0) return -1;
-    char field[128];
-    if (verts) {
-        sj_join(field, sizeof field, path, "vertices");
-        if (!cJSON_IsArray(verts) || cJSON_GetArraySize(verts) == 0)
-            return sj_fail(c, field, "must be a non-empty array of vertex indices, not %s",
-                           cJSON_IsArray(verts) ? "an empty array" : sj_type_name(verts));
-        p->n_vertices = cJSON_GetArraySize(verts);
-        p->vertices = malloc(sizeof(int) * (size_t)p->n_vertices);
-        if (!p->vertices) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
-        int k = 0;
-        for (const cJSON* it = verts->child; it; it = it->next, ++k) {
-            double v = cJSON_IsNumber(it) ? it->valuedouble : NAN;
-            if (!isfinite(v) || v != floor(v) || v < 0 || v > 2147483647.0) {
-                char item_path[160];
-                snprintf(item_path, sizeof item_path, "%s[%d]", field, k);
-                if (!cJSON_IsNumber(it))
-                    return sj_fail(c, item_path, "must be a vertex index (an integer >= 0), not %s", sj_type_name(it));
-                return sj_fail(c, item_path, "must be a vertex index (an integer >= 0), not %g", v);
-            }
-            p->vertices[k] = (int)v;
-        }
-        return 0;
-    }
-    sj_join(field, sizeof field, path, "select");
-    static const char* const skeys[] = {"axis", "side", "tolerance"};
-    if (sj_check_object(c, sel, field, skeys, COUNT(skeys)) < 0) return -1;
-    const char* axis = NULL;
-    const char* side = NULL;
-    char sub[192];
-    sj_join(sub, sizeof sub, field, "axis");
-    if (require(c, sel, field, "axis", "(\"x\", \"y\" or \"z\")") < 0) return -1;
-    if (sj_string(c, sel, field, "axis", &axis) < 0) return -1;
-    if (strlen(axis) != 1 || axis[0] < 'x' || axis[0] > 'z')
-        return sj_fail(c, sub, "must be \"x\", \"y\" or \"z\", not \"%s\"", axis);
-    p->select_axis = axis[0] - 'x';
-    sj_join(sub, sizeof sub, field, "side");
-    if (require(c, sel, field, "side", "(\"max\" or \"min\")") < 0) return -1;
-    if (sj_string(c, sel, field, "side", &side) < 0) return -1;
-    if (strcmp(side, "max") != 0 && strcmp(side, "min") != 0)
-        return sj_fail(c, sub, "must be \"max\" or \"min\", not \"%s\"", side);
-    p->select_max = strcmp(side, "max") == 0;
-    p->select_tolerance = SCENE_DEFAULT_SELECT_TOLERANCE;
-    if (sj_number(c, sel, field, "tolerance", SJ_NONNEGATIVE, &p->select_tolerance) < 0) return -1;
-    p->from_select = 1;
-    return 0;
-}
-
-static int parse_pins(const sj_ctx* c, const cJSON* root, scene* s) {
-    const cJSON* pins = NULL;
-    int r = sj_array(c, root, "", "pins", &pins);
-    if (r <= 0) return r;
-    int n = cJSON_GetArraySize(pins);
-    if (n == 0) return 0;
-    s->pins = calloc((size_t)n, sizeof(scene_pin));
-    if (!s->pins) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
-    for (const cJSON* it = pins->child; it; it = it->next) {
-        char path[64];
-        snprintf(path, sizeof path, "pins[%d]", s->n_pins);
-        if (parse_pin(c, it, path, &s->pins[s->n_pins++]) < 0) return -1;
-    }
-    return 0;
-}
-
-static int parse_collider(const sj_ctx* c, const cJSON* item, const char* path, wc_collider* col) {
-    static const char* const plane[] = {"type", "normal", "offset", "thickness", "friction"};
-    static const char* const sphere[] = {"type", "center", "radius", "thickness", "friction"};
-    static const char* const capsule[] = {"type", "a", "b", "radius", "thickness", "friction"};
-    if (!cJSON_IsObject(item)) return sj_fail(c, path, "must be an object, not %s", sj_type_name(item));
-    const char* type = NULL;
-    char field[96];
-    sj_join(field, sizeof field, path, "type");
-    if (sj_string(c, item, path, "type", &type) < 0) return -1;
-    if (require(c, item, path, "type", "(\"plane\", \"sphere\" or \"capsule\")") < 0) return -1;
-    memset(col, 0, sizeof *col);
-    col->thickness = SCENE_DEFAULT_THICKNESS;
-    col->friction = SCENE_DEFAULT_FRICTION;
-    if (strcmp(type, "plane") == 0) {
-        col->type = WC_COLLIDER_PLANE;
-        if (sj_check_object(c, item, path, plane, COUNT(plane)) < 0) return -1;
-        if (require(c, item, path, "normal", NULL) < 0) return -1;
-        if (parse_axis_vector(c, item, path, "normal", col->normal) < 0) return -1;
-        if (sj_number(c, item, path, "offset", SJ_FINITE, &col->offset) < 0) return -1;
-    } else if (strcmp(type, "sphere") == 0) {
-        col->type = WC_COLLIDER_SPHERE;
-        if (sj_check_object(c, item, path, sphere, COUNT(sphere)) < 0) return -1;
-        if (require(c, item, path, "center", NULL) < 0) return -1;
-        if (sj_numbers(c, item, path, "center", 3, col->center) < 0) return -1;
-    } else if (strcmp(type, "capsule") == 0) {
-        col->type = WC_COLLIDER_CAPSULE;
-        if (sj_check_object(c, item, path, capsule, COUNT(capsule)) < 0) return -1;
-        for (int e = 0; e < 2; ++e) {
-            const char* key = e ? "b" : "a";
-            if (require(c, item, path, key, NULL) < 0) return -1;
-            if (sj_numbers(c, item, path, key, 3, e ? col->b : col->a) < 0) return -1;
-        }
-    } else {
-        return sj_fail(c, field, "unknown collider type \"%s\" (expected \"plane\", \"sphere\" or \"capsule\")",
-                       type);
-    }
-    if (col->type != WC_COLLIDER_PLANE) {
-        if (require(c, item, path, "radius", NULL) < 0) return -1;
-        if (sj_number(c, item, path, "radius", SJ_POSITIVE, &col->radius) < 0) return -1;
-    }
-    if (sj_number(c, item, path, "thickness", SJ_NONNEGATIVE, &col->thickness) < 0) return -1;
-    if (sj_number(c, item, path, "friction", SJ_NONNEGATIVE, &col->friction) < 0) return -1;
-    return 0;
-}
-
-static int parse_colliders(const sj_ctx* c, const cJSON* root, scene* s) {
-    const cJSON* cols = NULL;
-    int r = sj_array(c, root, "", "colliders", &cols);
-    if (r <= 0) return r;
-    int n = cJSON_GetArraySize(cols);
-    if (n == 0) return 0;
-    s->colliders = calloc((size_t)n, sizeof(wc_collider));
-    if (!s->colliders) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
-    for (const cJSON* it = cols->child; it; it = it->next) {
-        char path[64];
-        snprintf(path, sizeof path, "colliders[%d]", s->n_colliders);
-        if (parse_collider(c, it, path, &s->colliders[s->n_colliders++]) < 0) return -1;
-    }
-    if (s->sim.max_colliders < n) s->sim.max_colliders = n;
-    return 0;
 }
 
 static int parse_wind(const sj_ctx* c, const cJSON* root, scene* s) {
@@ -321,6 +187,8 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
         s->sim.solver.type = (wc_solver_type)t;
     }
     if (sj_number(c, solver, "solver", "tolerance", SJ_NONNEGATIVE, &s->sim.solver.tolerance) < 0) return -1;
+    if (!(s->sim.solver.tolerance < 1))
+        return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual), not %g", s->sim.solver.tolerance);
     if (sj_int(c, solver, "solver", "max_iterations", 1, MAX_ITERATIONS, &s->sim.solver.max_iterations) < 0)
         return -1;
     return 0;
@@ -341,13 +209,15 @@ static int parse_time(const sj_ctx* c, const cJSON* root, scene* s) {
 /* Everything except the mesh contents and the pin ranges. */
 static int parse_root(const sj_ctx* c, const cJSON* root, scene* s) {
     static const char* const keys[] = {"description", "mesh", "transform", "material", "pins", "colliders",
-                                       "gravity", "wind", "strain_limit", "solver", "time", "threads"};
+                                       "object", "camera", "gravity", "wind", "strain_limit", "solver",
+                                       "time", "threads"};
     if (!cJSON_IsObject(root)) return sj_fail(c, NULL, "the scene must be a JSON object, not %s", sj_type_name(root));
     if (sj_check_object(c, root, "", keys, COUNT(keys)) < 0) return -1;
     if (sj_get(root, "description") && !cJSON_IsString(sj_get(root, "description")))
         return sj_fail(c, "description", "must be a string, not %s", sj_type_name(sj_get(root, "description")));
     if (parse_mesh(c, root, s) < 0 || parse_transform(c, root, s) < 0 || parse_material(c, root, s) < 0 ||
-        parse_pins(c, root, s) < 0 || parse_colliders(c, root, s) < 0)
+        scene_parse_pins(c, root, s) < 0 || scene_parse_colliders(c, root, s) < 0 ||
+        scene_parse_object(c, root, s) < 0 || scene_parse_camera(c, root, s) < 0)
         return -1;
     if (sj_numbers(c, root, "", "gravity", 3, s->sim.gravity) < 0 || parse_wind(c, root, s) < 0) return -1;
     if (sj_number(c, root, "", "strain_limit", SJ_NONNEGATIVE, &s->sim.strain_limit) < 0) return -1;
@@ -404,6 +274,7 @@ weft_status scene_parse(scene* out, const char* text, size_t len, const char* na
     cJSON_Delete(root);
     if (rc == 0) rc = scene_mesh_make(s, name, diag) == WEFT_OK ? 0 : -1;
     if (rc == 0) rc = scene_mesh_check_pins(s, name, diag) == WEFT_OK ? 0 : -1;
+    if (rc == 0) rc = scene_group_pins(s, name, diag) == WEFT_OK ? 0 : -1;
     if (rc != 0) {
         weft_status st = diag->status != WEFT_OK ? diag->status : WEFT_ERROR_SCENE;
         scene_free(s);
@@ -463,6 +334,10 @@ void scene_free(scene* s) {
     wc_source_mesh_free(&s->src);
     for (int i = 0; i < s->n_pins; ++i) free(s->pins[i].vertices);
     free(s->pins);
+    for (int i = 0; i < s->n_pin_groups; ++i) free(s->pin_groups[i].vertices);
+    free(s->pin_groups);
     free(s->colliders);
+    free(s->collider_motion);
+    free(s->object.teleports);
     memset(s, 0, sizeof *s);
 }

@@ -1,14 +1,17 @@
 /* A Weft scene file (JSON; schema in sample_scenes/README.md): the mesh (a file or a generated
- * grid) with an optional transform, the material, pins, colliders and the simulation settings.
+ * grid) with an optional transform, the material, pins, colliders, scripted motions of pins,
+ * colliders and the object, a camera, and the simulation settings.
  * scene_load validates everything it can before any simulation: schema, types, ranges, unknown
- * keys, the mesh itself (imported or generated, transform applied) and pin vertex indices.
- * What needs the built model (pins resolved to particles) is done by scene_pins_resolve. */
+ * keys, the mesh itself (imported or generated, transform applied), pin vertex indices and
+ * pin conflicts. Nothing here needs the simulation: `weft run` hands the result to the public
+ * API (cmd_run.c, run_host.c). */
 #ifndef WEFT_CLI_SCENE_H
 #define WEFT_CLI_SCENE_H
 #include <stddef.h>
 
 #include "collide.h"
 #include "model.h"
+#include "scene_motion.h"
 #include "source_mesh.h"
 #include "state.h"
 
@@ -21,19 +24,61 @@
 #define SCENE_GRID_MAX_SIDE 100000           /* vertices along one side of a grid */
 #define SCENE_GRID_MAX_VERTICES 16777216     /* vertices of a grid */
 #define SCENE_MAX_FILE_BYTES (64 << 20)      /* scene JSON text */
+#define SCENE_DEFAULT_WIDTH 640              /* camera, pixels */
+#define SCENE_DEFAULT_HEIGHT 480
+#define SCENE_DEFAULT_FOV_DEG 40.0
+#define SCENE_MAX_IMAGE_SIDE 8192
 
-/* One entry of "pins": a set of host vertices sharing a free axis and a velocity. */
+/* One entry of "pins": a set of host vertices sharing a free axis and a motion. */
 typedef struct scene_pin {
     int n_vertices;
     int* vertices;          /* (n_vertices) host vertex indices: "vertices" as written (duplicates
                                kept), or the vertices "select" chose in ascending order */
-    int from_select;        /* 1: chosen by "select" (vertices with no particle are skipped) */
+    int from_select;        /* 1: chosen by "select" */
     int select_axis;        /* select: 0 x, 1 y, 2 z */
     int select_max;         /* select: 1 the "max" side, 0 the "min" side */
     double select_tolerance;/* select: m, vertices within this of the extreme */
     double free_axis[3];    /* unit vector (line constraint), or zero (fully pinned) */
-    double velocity[3];     /* m/s: the target moves from the rest position at this speed */
+    scene_motion motion;    /* "motion", or {"velocity": v} for the shorthand "velocity": v */
 } scene_pin;
+
+/* The pins as a host's attachments: one group per distinct (free_axis, motion), holding the
+ * host vertices of every entry with those values (ascending, each once). A vertex named by two
+ * entries with different values is refused at load time. */
+typedef struct scene_pin_group {
+    int n_vertices;
+    int* vertices;          /* (n_vertices) host vertex indices */
+    double free_axis[3];
+    scene_motion motion;
+    int first_pin;          /* index in pins of the group's first entry */
+} scene_pin_group;
+
+/* "object.teleport" entries: at the end of frame `frame` (1-based) the object and every pin
+ * jump by translate (cumulative), stepped with WEFT_FRAME_TELEPORT. */
+typedef struct scene_teleport {
+    int frame;
+    double translate[3];    /* m, world */
+} scene_teleport;
+
+/* "object": how the cloth object itself moves (its world transform is motion(t) times its rest
+ * placement, plus the teleports so far) and how much of that motion the cloth feels. */
+typedef struct scene_object {
+    scene_motion motion;
+    double linear_inertia;  /* [0, 1] (1) */
+    double angular_inertia; /* [0, 1] (1) */
+    int n_teleports;
+    scene_teleport* teleports; /* (n_teleports) frames strictly increasing */
+} scene_object;
+
+/* "camera": the view for rendered frames (weft run --render). */
+typedef struct scene_camera {
+    int framed;             /* 1: eye and target given; 0: framed automatically */
+    double eye[3];          /* m, world */
+    double target[3];       /* m, world, != eye */
+    double up[3];           /* unit, not along target - eye: (0, 1, 0) */
+    double fov_deg;         /* vertical field of view, (0, 180): 40 */
+    int width, height;      /* pixels, [1, SCENE_MAX_IMAGE_SIDE]: 640 x 480 */
+} scene_camera;
 
 typedef struct scene {
     /* mesh */
@@ -52,8 +97,13 @@ typedef struct scene {
                                (max_pins 0 = all particles, max_colliders >= n_colliders) */
     int n_pins;
     scene_pin* pins;        /* (n_pins) */
+    int n_pin_groups;
+    scene_pin_group* pin_groups; /* (n_pin_groups) the pins grouped as attachments */
     int n_colliders;
-    wc_collider* colliders; /* (n_colliders) */
+    wc_collider* colliders; /* (n_colliders) shapes at rest (velocity zero) */
+    scene_motion* collider_motion; /* (n_colliders) */
+    scene_object object;
+    scene_camera camera;
     double fps;             /* frames per simulated second (> 0) */
     int frames;             /* frames to simulate (>= 0) */
 } scene;
@@ -66,22 +116,9 @@ weft_status scene_load(scene* out, const char* path, wc_diag* diag);
 weft_status scene_parse(scene* out, const char* text, size_t len, const char* name, wc_diag* diag);
 void scene_free(scene* s);
 
-/* Pins resolved to particles: duplicates (a vertex named twice, welded vertices) merge into one
- * pin; the same particle in two entries with different free_axis or velocity is an error. */
-typedef struct scene_pins {
-    int n;
-    wc_pin* pins;           /* (n) target = start + velocity t after scene_pins_at(t) */
-    double* start;          /* (n x 3) the particle's rest position (m) */
-    double* velocity;       /* (n x 3) m/s */
-    int moving;             /* any velocity is nonzero */
-} scene_pins;
-
-/* Resolve s's pins against the model built from s->src. A vertex named in "vertices" that has no
- * particle is an error naming it (SCENE); "select" skips such vertices. Targets start at t = 0. */
-weft_status scene_pins_resolve(scene_pins* out, const scene* s, const wc_model* m, const char* name,
-                               wc_diag* diag);
-/* Set every target to start + velocity t (t in seconds). */
-void scene_pins_at(scene_pins* p, double t);
-void scene_pins_free(scene_pins* p);
+/* The collider's rest placement in the public API's local conventions (plane y = 0 with normal
+ * +Y; sphere at the origin; capsule along local Y from -half_height to +half_height): a rigid
+ * transform xf (column-major) and, for a capsule, its half height (m; 0 otherwise). */
+void scene_collider_placement(const wc_collider* c, double xf[16], double* half_height);
 
 #endif
