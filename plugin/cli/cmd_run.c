@@ -20,20 +20,6 @@
 #include "scene.h"
 #include "weft/weft.h"
 
-/* ---- --render ------------------------------------------------------------------------------
- * weft_render() is declared by weft.h, but the renderer is written separately and may not be in
- * the libweft.so this tool runs against. It is referenced weakly, so the tool links and runs
- * either way: NULL means "not in this library", and --render then fails before anything is
- * written. Once every libweft.so has it, drop the pragmas and render_available(). */
-#pragma weak weft_render
-#pragma weak weft_default_render_def
-
-static int render_available(void) {
-    weft_status (*render)(weft_context*, weft_cloth, const weft_render_def*) = weft_render;
-    weft_render_def (*defaults)(void) = weft_default_render_def;
-    return render != NULL && defaults != NULL;
-}
-/* -------------------------------------------------------------------------------------------- */
 
 typedef struct run_args {
     const char* scene;
@@ -211,7 +197,7 @@ static int write_frame(run_ctx* c, const run_args* a, int f, double t) {
         if (run_write_obj(c->path, c->host.positions, &c->sc.src, f, t) != 0)
             return fail(c, "cannot write '%s': %s", c->path, strerror(errno));
     }
-    if (a->render) {   /* see render_available() */
+    if (a->render) {
         snprintf(c->path, c->path_cap, "%s/frame_%04d.png", a->render, f);
         const weft_render_def rd = render_def(&c->sc.camera, c->path);
         if (weft_render(c->host.ctx, c->host.cloth, &rd) != WEFT_OK)
@@ -251,9 +237,6 @@ int cli_run_run(int argc, char** argv) {
     run_args a = {NULL, -1, -1, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
-    if (a.render && !render_available())
-        return fail(NULL, "--render: this libweft has no weft_render() yet (the renderer is not part of "
-                          "the library); nothing was written");
 
     run_ctx c;
     memset(&c, 0, sizeof c);
