@@ -66,8 +66,9 @@ def main():
                 continue
             a = j * (NX + 1) + i + 1
             b, c, d = a + 1, a + NX + 2, a + NX + 1
-            # outward normal: the profile runs front -> up -> back, X grows left to right.
-            print("f %d/%d %d/%d %d/%d %d/%d" % (a, a, d, d, c, c, b, b))
+            # a -> b runs along +X, a -> d along the profile (front, up, back): a, b, c, d is
+            # counter-clockwise seen from outside (normal (b - a) x (d - a) points out).
+            print("f %d/%d %d/%d %d/%d %d/%d" % (a, a, b, b, c, c, d, d))
 
 
 if __name__ == "__main__":
