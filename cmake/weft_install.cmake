@@ -5,7 +5,8 @@
 #   lib/cmake/weft/weftConfig.cmake, weftConfigVersion.cmake, weftTargets*.cmake
 #                                             find_package(weft) -> weft::weft
 #   bin/weft                                  the command-line tool
-#   share/weft/host_glue/                     loader sources, Python bindings, Blender add-on
+#   share/weft/host_glue/                     loader sources, engine-loop example, Python bindings,
+#                                             Blender add-on
 # (lib/ is CMAKE_INSTALL_LIBDIR: lib/<multiarch> for a /usr prefix on Debian.)
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -49,6 +50,11 @@ install(FILES ${PROJECT_SOURCE_DIR}/host_glue/README.md DESTINATION ${WEFT_GLUE_
 install(FILES ${PROJECT_SOURCE_DIR}/host_glue/loader/weft_loader.h
   ${PROJECT_SOURCE_DIR}/host_glue/loader/weft_loader_functions.h
   ${PROJECT_SOURCE_DIR}/host_glue/loader/weft_loader.c DESTINATION ${WEFT_GLUE_DIR}/loader)
+install(FILES ${PROJECT_SOURCE_DIR}/host_glue/examples/engine_loop.c
+  ${PROJECT_SOURCE_DIR}/host_glue/examples/character.h
+  ${PROJECT_SOURCE_DIR}/host_glue/examples/character.c
+  ${PROJECT_SOURCE_DIR}/host_glue/examples/toy_engine.h
+  ${PROJECT_SOURCE_DIR}/host_glue/examples/toy_engine.c DESTINATION ${WEFT_GLUE_DIR}/examples)
 install(FILES ${PROJECT_SOURCE_DIR}/host_glue/python/weft/__init__.py
   DESTINATION ${WEFT_GLUE_DIR}/python/weft)
 install(FILES ${PROJECT_SOURCE_DIR}/host_glue/blender/weft_blender.py

@@ -56,7 +56,9 @@ typedef struct weft_api {
 weft_status weft_loader_open(weft_api* api, const char* path, char* error, size_t error_size);
 
 /* Close the library and zero *api. Destroy every context first: their code lives in it.
- * NULL and a zeroed (never opened, or already closed) table are ignored. */
+ * NULL and a zeroed (never opened, or already closed) table are ignored. libweft.so is linked
+ * -z nodelete, so this drops the reference but the library stays mapped (its OpenMP worker
+ * threads outlive every call); opening it again returns the same copy. */
 void weft_loader_close(weft_api* api);
 
 /* Number of functions in weft_api, and the name of the i-th (0 <= i < count; NULL outside). */
