@@ -21,15 +21,45 @@
  *    reach of this substep lands exactly on the shell at its end (instead of stopping in mid
  *    air). Never outward: a contact adds no separating velocity. project then removes the inward relative
  *    normal velocity left on the shell.
- *  - end: the constraint force of each contact is the component along its normal of r_i / h in
- *    the (non-orthogonal) basis of the two normals; a negative one releases that contact. The
- *    friction velocity change is mu lambda h / m = mu (that component of r_i) / m.
- *    Friction acts on the free (S) part of the relative velocity, once per kept contact.
+ *  - friction (after the assembly), per particle, with m its mass, f its force, u = S (v - vc)
+ *    its relative velocity in the free directions S the normal constraints leave (relative to
+ *    the first, deepest collider), z the normal velocity change begin prescribed. The constraint
+ *    impulse q it would need to stick (to end the substep with no slip) is predicted twice:
+ *      alone:            q = m (z - u) - h f   (-S q = m u + h S f is the tangential momentum it
+ *                        would have with no friction);
+ *      held by springs:  q = A_ii (z - u) - b_i, its neighbours keeping their velocities (a
+ *                        particle dragged along by the cloth cannot stop by itself).
+ *    Coulomb for each: B = sum mu_k max(N_k, 0), N_k the components of q on the normals (the
+ *    landing and centripetal changes, and the tension of springs pressing it on the collider: a
+ *    capstan, included). It sticks when |S q| <= B for both: S = 0 and z -= u (all three DOF
+ *    constrained: it moves with its collider, and the solve carries the holding force to the
+ *    springs around it). Otherwise it slides, the friction being the implicit damping force
+ *    -c S (v_new - vc), h c = B / w (B of the particle alone), w the slip expected at the end
+ *    of the substep: (|S q| - B) / m alone, which leaves the particle alone with exactly
+ *    Coulomb's p (1 - B / |p|), never reversed, and a piece of cloth sliding as one too; when
+ *    that is not positive (alone it would stop, its springs say no), (|S q| - B) / (t^T A_ii t)
+ *    of the held prediction (t = S q / |S q|). A damping, implicit, only takes energy out of the
+ *    cloth (an explicit impulse -B p / |p|, the same for the particle alone, fed energy into
+ *    cloth particles whose p was mostly spring force the solve then balanced). Two contacts:
+ *    their bounds add up. Exact for a particle alone (a plane, an incline, a landing, a groove,
+ *    a moving collider dragging it: test_collide).
+ *  - friction recheck (after each solve, by the step): the predictions do not see the whole
+ *    cloth. A sticking particle whose holding impulse in the solved system (r_i in its free
+ *    directions) exceeds mu times its normal impulses (r_i on the normals) slides instead, with
+ *    w = (|r_t| - B) / m, and the step solves again (the stuck set only shrinks; a few passes at
+ *    most): e.g. a strip over a cylinder that cannot hold (test_step_contacts' capstan) lets go
+ *    from its loaded ends inwards.
+ *  - end: the normal impulse of each contact is the component along its normal of r_i in the
+ *    (non-orthogonal) basis of the two normals; a negative one releases that contact.
  *  - project: picks the two deepest colliders and pushes x out of them as above (re-picked up
  *    to PROJECT_ROUNDS times); then the velocity gets the nearest value with no inward relative
  *    normal velocity for the (up to two deepest) colliders whose shell it lies on (distance <
  *    SLOP: a particle that landed in the solve, too). Three or more colliders meeting at
- *    one point may leave a small penetration after the passes. */
+ *    one point may leave a small penetration after the passes. A stuck particle (ndof 3 from its
+ *    contact, not a pin) is projected too.
+ *  - released: read and cleared by begin, set by end: it means "released at the end of the
+ *    previous substep" even when no end ran since (the step skips end when nothing is in
+ *    contact; a flag left over would keep the particle from ever being caught again). */
 #include "collide.h"
 #include <math.h>
 #include "vec3.h"
@@ -220,6 +250,19 @@ static int sum_partials(const wc_par* par, int used) {
     return (int)s;
 }
 
+/* Free-direction projector of one or two contact normals: S = I - n1 n1^T (- e2 e2^T). */
+static void free_projector(const double* n, int cnt, double* S) {
+    double P[9], e2[3];
+    m3_identity(S, 1.0);
+    m3_outer(P, n, n, 1.0);
+    m3_axpy(S, -1.0, P);
+    if (cnt == 2) {
+        ortho(n, n + 3, e2);
+        m3_outer(P, e2, e2, 1.0);
+        m3_axpy(S, -1.0, P);
+    }
+}
+
 static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double* x, const double* v, double h,
                           wc_filter* f, int i) {
     int* cid = ct->collider + 2 * i;
@@ -228,9 +271,15 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
         cid[0] = cid[1] = -1;
         for (int q = 0; q < 6; ++q) cn[q] = 0.0;
         ct->released[i] = 0;
+        ct->stick[i] = 0;
         return 0;
     }
     wc_filter_free_particle(f, i);
+    ct->stick[i] = 0;
+    /* consumed here: end sets it again when it releases (it is not called at all when nothing
+       is in contact, so a flag left over would keep the particle from ever being caught again) */
+    int released = ct->released[i];
+    ct->released[i] = 0;
     double* xi = x + 3 * i;
     const double* vi = v + 3 * i;
     best2 b;
@@ -245,7 +294,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
         if (held_contact(ct, i, k))
             take = d < h * v3_norm(vr) + SLOP;
         else
-            take = d < -SLOP || (!ct->released[i] && d < h * fmax(0.0, -vn) + SLOP);
+            take = d < -SLOP || (!released && d < h * fmax(0.0, -vn) + SLOP);
         if (take) best2_add(&b, k, d, n);
     }
     best2_prune(&b);
@@ -255,14 +304,14 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
 
     /* position correction onto / outside both kept shells */
     push_out(c, b.k, b.cnt, xi);
-    double d[2], n[6];
+    double d[2] = {0.0, 0.0}, n[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (int s = 0; s < b.cnt; ++s) d[s] = shell_distance(&c[b.k[s]], xi, n + 3 * s);
     int cnt = b.cnt;
     double e2[3];
     if (cnt == 2 && ortho(n, n + 3, e2) < PARALLEL_MIN) cnt = 1; /* curvature turned it parallel */
 
     /* S = I - n1 n1^T (- e2 e2^T); z sets the relative normal velocities to -max(d, 0) / h */
-    double a[2];
+    double a[2] = {0.0, 0.0};
     for (int s = 0; s < cnt; ++s) {
         double vr[3];
         v3_sub(vr, vi, c[b.k[s]].velocity);
@@ -271,14 +320,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
         v3_copy(cn + 3 * s, n + 3 * s);
     }
     double* S = f->S + 9 * i;
-    m3_identity(S, 1.0);
-    double P[9];
-    m3_outer(P, n, n, 1.0);
-    m3_axpy(S, -1.0, P);
-    if (cnt == 2) {
-        m3_outer(P, e2, e2, 1.0);
-        m3_axpy(S, -1.0, P);
-    }
+    free_projector(n, cnt, S);
     solve_pair(n, a[0], n + 3, cnt > 1 ? a[1] : 0.0, cnt > 1, f->z + 3 * i);
     f->ndof[i] = (unsigned char)cnt;
     return 1;
@@ -312,8 +354,147 @@ static void contact_impulses(const double* r, const double* n, int cnt, double* 
     imp[1] = (r2 - c * r1) / g;
 }
 
-static int end_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* r, const double* mass,
-                        double* v_new, int i) {
+/* Kinetic friction as the damping force -c S (v_new - vc): A_ii += h c S, b_i -= h c u. Its impulse
+ * h c |u_new| is the Coulomb bound B when |u_new| = w, the slip speed expected at the end of the
+ * substep: h c = B / w. Implicit damping only ever takes energy out of the cloth. */
+static void slide(double bound, double w, const double* S, const double* u, double* Aii, double* bi) {
+    if (!(bound > 0.0) || !(w > 0.0)) return;
+    double hc = bound / w;
+    m3_axpy(Aii, hc, S);
+    v3_axpy(bi, -hc, u);
+}
+
+/* Coulomb for a predicted or solved constraint impulse q of particle i: returns the bound
+ * B = sum mu_k max(N_k, 0) (N_k the components of q on the normals) and rt = Sn q, the part that
+ * friction would have to hold. */
+static double coulomb(const wc_collider* c, const int* cid, const double* cn, int cnt, const double* Sn,
+                      const double* q, double* rt) {
+    double imp[2], bound = 0.0;
+    contact_impulses(q, cn, cnt, imp);
+    for (int s = 0; s < cnt; ++s) bound += c[cid[s]].friction * fmax(imp[s], 0.0);
+    m3_mulv(rt, Sn, q);
+    return bound;
+}
+
+static int holds(double bound, double held) { return bound > 0.0 && held <= bound * (1.0 + 1e-9); }
+
+/* Write particle i's filter and friction: stick (S = 0, z = z_n - u) or slide (S = Sn, z = z_n,
+ * the damping of slide() with bound B and expected slip w). */
+static int apply_mode(wc_contacts* ct, int stick, double bound, double w, int cnt, const double* Sn,
+                      const double* u, wc_filter* flt, double* Aii, double* bi, int i) {
+    double* S = flt->S + 9 * i;
+    double* z = flt->z + 3 * i;
+    double zt[3];
+    m3_mulv(zt, Sn, z);
+    v3_sub(z, z, zt); /* the normal part z_n (a stuck particle's z is z_n - u) */
+    if (stick) {
+        v3_sub(z, z, u);
+        m3_zero(S);
+        flt->ndof[i] = 3;
+        ct->stick[i] = 1;
+        return 1;
+    }
+    for (int k = 0; k < 9; ++k) S[k] = Sn[k];
+    flt->ndof[i] = (unsigned char)cnt;
+    ct->stick[i] = 0;
+    slide(bound, w, Sn, u, Aii, bi);
+    return 0;
+}
+
+/* The relative velocity of particle i in the free directions Sn of its contacts (relative to
+ * the first collider); returns the number of contacts (0: none, or friction 0 on all). */
+static int contact_state(const wc_contacts* ct, const wc_collider* c, int nc, const double* v, int i, double* Sn,
+                         double* u) {
+    const int* cid = ct->collider + 2 * i;
+    int cnt = (cid[0] >= 0) + (cid[1] >= 0);
+    if (cnt == 0 || cid[0] >= nc || cid[1] >= nc) return 0;
+    if (!(c[cid[0]].friction > 0.0) && !(cnt > 1 && c[cid[1]].friction > 0.0)) return 0;
+    free_projector(ct->normal + 6 * i, cnt, Sn);
+    double vr[3];
+    v3_sub(vr, v + 3 * i, c[cid[0]].velocity);
+    m3_mulv(u, Sn, vr);
+    return cnt;
+}
+
+static int friction_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
+                             const double* f, double h, wc_filter* flt, double* A, const int* diag, double* b,
+                             int i) {
+    double Sn[9], u[3];
+    int cnt = contact_state(ct, c, nc, v, i, Sn, u);
+    if (cnt == 0 || flt->ndof[i] != cnt || !(mass[i] > 0.0)) return 0;
+    const int* cid = ct->collider + 2 * i;
+    const double* cn = ct->normal + 6 * i;
+    double m = mass[i], *Aii = A + 9 * (size_t)diag[i], *bi = b + 3 * i;
+    /* the impulse to stick, for the particle alone: q = m (z - u) - h f; and with its neighbours
+       keeping their velocities: q = A_ii (z - u) - b_i (its springs resist stopping it) */
+    double w0[3], qa[3], qn[3], rta[3], rtn[3];
+    v3_sub(w0, flt->z + 3 * i, u);
+    v3_scale(qa, w0, m);
+    v3_axpy(qa, -h, f + 3 * i);
+    m3_mulv(qn, Aii, w0);
+    v3_sub(qn, qn, bi);
+    double ba = coulomb(c, cid, cn, cnt, Sn, qa, rta), bn = coulomb(c, cid, cn, cnt, Sn, qn, rtn);
+    double ha = v3_norm(rta), hn = v3_norm(rtn);
+    int stick = holds(ba, ha) && holds(bn, hn);
+    /* expected slip: what friction leaves of the holding impulse of the particle alone (exact
+       for it, and for a piece of cloth sliding as one); when that one would stop but its
+       springs would not let it, what is left against its springs */
+    double w = (ha - ba) / m;
+    if (!(w > 0.0) && hn > bn) {
+        double t[3], At[3];
+        v3_scale(t, rtn, 1.0 / hn);
+        m3_mulv(At, Aii, t);
+        double stiff = v3_dot(t, At);
+        if (stiff > 0.0) w = (hn - bn) / stiff;
+    }
+    return apply_mode(ct, stick, ba, w, cnt, Sn, u, flt, Aii, bi, i);
+}
+
+int wc_contacts_friction(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
+                         const double* f, double h, wc_filter* filter, double* A, const int* diag, double* b,
+                         wc_par* par) {
+    int n = ct->n, used = par->threads;
+    WC_PAR_REGION(par)
+    {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
+        if (t == 0) used = nt;
+        wc_par_range(n, t, nt, &lo, &hi);
+        for (int i = lo; i < hi; ++i) cnt += friction_particle(ct, c, nc, v, mass, f, h, filter, A, diag, b, i);
+        par->partial[8 * t] = cnt;
+    }
+    return sum_partials(par, used);
+}
+
+/* A sticking particle whose holding impulse in the solved system exceeds its Coulomb bound
+ * slides instead; returns 1 when it did. */
+static int recheck_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
+                            const double* r, wc_filter* flt, double* A, const int* diag, double* b, int i) {
+    if (!ct->stick[i]) return 0;
+    double Sn[9], u[3], rt[3];
+    int cnt = contact_state(ct, c, nc, v, i, Sn, u);
+    if (cnt == 0) return 0;
+    double bound = coulomb(c, ct->collider + 2 * i, ct->normal + 6 * i, cnt, Sn, r + 3 * i, rt), held = v3_norm(rt);
+    if (holds(bound, held)) return 0;
+    apply_mode(ct, 0, bound, (held - bound) / mass[i], cnt, Sn, u, flt, A + 9 * (size_t)diag[i], b + 3 * i, i);
+    return 1;
+}
+
+int wc_contacts_friction_recheck(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
+                                 const double* r, wc_filter* filter, double* A, const int* diag, double* b,
+                                 wc_par* par) {
+    int n = ct->n, used = par->threads;
+    WC_PAR_REGION(par)
+    {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
+        if (t == 0) used = nt;
+        wc_par_range(n, t, nt, &lo, &hi);
+        for (int i = lo; i < hi; ++i) cnt += recheck_particle(ct, c, nc, v, mass, r, filter, A, diag, b, i);
+        par->partial[8 * t] = cnt;
+    }
+    return sum_partials(par, used);
+}
+
+static int end_particle(wc_contacts* ct, int nc, const double* r, int i) {
     int* cid = ct->collider + 2 * i;
     double* cn = ct->normal + 6 * i;
     int cnt = (cid[0] >= 0) + (cid[1] >= 0);
@@ -324,22 +505,10 @@ static int end_particle(wc_contacts* ct, const wc_collider* c, int nc, const dou
     }
     double imp[2];
     contact_impulses(r + 3 * i, cn, cnt, imp);
-    /* the free directions the solve used */
-    double S[9], P[9], e2[3];
-    m3_identity(S, 1.0);
-    m3_outer(P, cn, cn, 1.0);
-    m3_axpy(S, -1.0, P);
-    if (cnt == 2) {
-        ortho(cn, cn + 3, e2);
-        m3_outer(P, e2, e2, 1.0);
-        m3_axpy(S, -1.0, P);
-    }
-    double* vi = v_new + 3 * i;
     int released = 0, keep = 0;
     int kid[2] = {-1, -1};
     double kn[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (int s = 0; s < cnt; ++s) {
-        const wc_collider* col = &c[cid[s]];
         if (imp[s] < 0.0) {
             released = 1;
             continue;
@@ -347,15 +516,6 @@ static int end_particle(wc_contacts* ct, const wc_collider* c, int nc, const dou
         kid[keep] = cid[s];
         v3_copy(kn + 3 * keep, cn + 3 * s);
         ++keep;
-        if (!(col->friction > 0.0) || !(mass[i] > 0.0)) continue;
-        double vr[3], vt[3];
-        v3_sub(vr, vi, col->velocity);
-        m3_mulv(vt, S, vr);
-        double st = v3_norm(vt);
-        if (!(st > 0.0)) continue;
-        double dvn = imp[s] / mass[i]; /* lambda h / m */
-        double scale = fmax(0.0, 1.0 - col->friction * dvn / st);
-        v3_axpy(vi, scale - 1.0, vt);
     }
     cid[0] = kid[0];
     cid[1] = kid[1];
@@ -364,16 +524,14 @@ static int end_particle(wc_contacts* ct, const wc_collider* c, int nc, const dou
     return keep > 0;
 }
 
-void wc_contacts_end(wc_contacts* ct, const wc_collider* c, int nc, const double* r, const double* mass, double h,
-                     double* v_new, wc_par* par) {
-    (void)h; /* force = r / h: only its sign and the impulse r = force h are needed */
+void wc_contacts_end(wc_contacts* ct, int nc, const double* r, wc_par* par) {
     int n = ct->n, used = par->threads;
     WC_PAR_REGION(par)
     {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
         if (t == 0) used = nt;
         wc_par_range(n, t, nt, &lo, &hi);
-        for (int i = lo; i < hi; ++i) cnt += end_particle(ct, c, nc, r, mass, v_new, i);
+        for (int i = lo; i < hi; ++i) cnt += end_particle(ct, nc, r, i);
         par->partial[8 * t] = cnt;
     }
     ct->active = sum_partials(par, used);
@@ -424,7 +582,7 @@ int wc_contacts_project(const wc_contacts* ct, const wc_collider* c, int nc, con
         if (t == 0) used = nt;
         wc_par_range(n, t, nt, &lo, &hi);
         for (int i = lo; i < hi; ++i) {
-            if (f && f->ndof[i] == 3) continue;
+            if (f && f->ndof[i] == 3 && !ct->stick[i]) continue; /* a pin */
             cnt += project_particle(c, nc, x + 3 * i, v + 3 * i);
         }
         par->partial[8 * t] = cnt;

@@ -71,6 +71,7 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s->contacts.released);
     wc_free(&a, s->contacts_save.collider);
     wc_free(&a, s->contacts_save.released);
+    wc_free(&a, s->contacts.stick);
     wc_solver_destroy(s->solver);
     wc_free(&a, s);
 }
@@ -124,11 +125,12 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         cts[k]->normal = WC_NEW(&A, double, 6 * (size_t)n);
         cts[k]->released = WC_NEW(&A, unsigned char, (size_t)n);
     }
+    s->contacts.stick = WC_NEW(&A, unsigned char, (size_t)n); /* per substep: not saved */
     if (!s->x || !s->v || !s->x0 || !s->v0 || !s->dv0 || !s->f_ext || !s->f || !s->b || !s->dv || !s->r ||
         !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->pin_scratch || !s->colliders ||
         !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
         !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
-        !s->contacts_save.released) {
+        !s->contacts_save.released || !s->contacts.stick) {
         wc_state_destroy(s);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }

@@ -7,6 +7,8 @@
 #include "strain_limit.h"
 #include "vec3.h"
 
+#define FRICTION_PASSES 4 /* extra solves of a substep at most, when sticking contacts let go */
+
 /* Target of pin k at fraction alpha of the frame (linear from the frame's start target). */
 static void pin_target(const wc_state* s, int k, double alpha, double* out) {
     const double* a = s->pin_from + 3 * k;
@@ -92,9 +94,10 @@ static double energy_floor(const wc_state* s) {
     return 0.5 * s->total_mass * speed2;
 }
 
-/* Constraints, forces and assembly of a substep of length h ending at frame fraction alpha1:
- * fills s->filter, s->A and s->b (contacts may correct positions). */
-static void prepare(wc_state* s, double h, double alpha1, wc_compression compression, wc_step_stats* st) {
+/* Constraints, forces, assembly and friction of a substep of length h ending at frame fraction
+ * alpha1: fills s->filter, s->A and s->b (contacts may correct positions). Returns the contacts
+ * that stick. */
+static int prepare(wc_state* s, double h, double alpha1, wc_compression compression, wc_step_stats* st) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double t0 = wc_now_ms(), t1;
@@ -111,12 +114,30 @@ static void prepare(wc_state* s, double h, double alpha1, wc_compression compres
     st->ms.forces += t1 - t0;
     t0 = t1;
 
-    wc_assemble(m, s->se, s->f_ext, s->v, h, &s->par, s->A, s->b, NULL);
-    st->ms.assemble += wc_now_ms() - t0;
+    wc_assemble(m, s->se, s->f_ext, s->v, h, &s->par, s->A, s->b, s->f); /* s->f: for friction */
+    t1 = wc_now_ms();
+    st->ms.assemble += t1 - t0;
+    t0 = t1;
+
+    /* friction: static as constraints (filter), kinetic as implicit damping (A, b): the solve sees both */
+    int stuck = 0;
+    if (s->n_colliders > 0 && s->contacts.active > 0)
+        stuck = wc_contacts_friction(&s->contacts, s->colliders, s->n_colliders, s->v, m->mass, s->f, h,
+                                     &s->filter, s->A, m->pattern.diag, s->b, &s->par);
+    st->ms.collide += wc_now_ms() - t0;
+    return stuck;
 }
 
 void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st) {
-    prepare(s, h, alpha1, s->def.compression, st);
+    (void)prepare(s, h, alpha1, s->def.compression, st);
+}
+
+static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
+    st->solver = solver;
+    st->iterations += res->iterations;
+    if (res->iterations > st->max_iterations) st->max_iterations = res->iterations;
+    if (res->residual > st->residual) st->residual = res->residual;
+    if (!res->converged) ++st->not_converged;
 }
 
 /* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
@@ -128,19 +149,28 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     const wc_model* m = s->model;
     int n = m->n_particles;
     double ke0 = wc_state_kinetic_energy(s);
-    prepare(s, h, alpha1, last_resort ? WC_COMPRESSION_DROP : s->def.compression, st);
+    int stuck = prepare(s, h, alpha1, last_resort ? WC_COMPRESSION_DROP : s->def.compression, st);
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
     weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
+    solve_stats(st, solver, &res);
+    /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
+       instead, and the system is solved again from this dv (the stuck set only shrinks) */
+    for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && stuck > 0; ++pass) {
+        wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
+        for (int k = 0; k < 3 * n; ++k) s->r[k] -= s->b[k];
+        int changed = wc_contacts_friction_recheck(&s->contacts, s->colliders, s->n_colliders, s->v, m->mass, s->r,
+                                                   &s->filter, s->A, m->pattern.diag, s->b, &s->par);
+        if (changed == 0) break;
+        stuck -= changed;
+        ++st->friction_passes;
+        status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
+        solve_stats(st, solver, &res);
+    }
     t1 = wc_now_ms();
     st->ms.solve += t1 - t0;
     t0 = t1;
-    st->solver = solver;
-    st->iterations += res.iterations;
-    if (res.iterations > st->max_iterations) st->max_iterations = res.iterations;
-    if (res.residual > st->residual) st->residual = res.residual;
-    if (!res.converged) ++st->not_converged;
     if (status != WEFT_OK) {
         wc_fail(diag, status, "substep (h = %g s, %s): the solver failed (status %d)", h, wc_solver_name(solver), (int)status);
         return status;
@@ -151,7 +181,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
         wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
         for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
-        wc_contacts_end(&s->contacts, s->colliders, s->n_colliders, s->r, m->mass, h, s->v, &s->par);
+        wc_contacts_end(&s->contacts, s->n_colliders, s->r, &s->par);
     } else {
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
     }

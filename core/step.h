@@ -15,6 +15,7 @@ typedef struct wc_step_stats {
     int max_iterations;         /* largest in one solve */
     double residual;            /* largest final relative residual of a solve */
     int not_converged;          /* solves that stopped at the iteration cap above tolerance */
+    int friction_passes;        /* extra solves because sticking contacts had to slide */
     wc_solver_type solver;      /* last solver used */
     int rollbacks;              /* failed substeps restored */
     int halvings;               /* retries with a halved step */
