@@ -11,6 +11,7 @@ packages=(
   libopenblas0-pthread            # fast BLAS behind CHOLMOD (switches libblas.so.3)
   libglew-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # GPU backend, headless EGL
   libcjson-dev                    # JSON (weft inspect --json, scene files)
+  libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
 )
 
 missing=()
