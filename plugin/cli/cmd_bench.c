@@ -6,6 +6,10 @@
 #include "cli.h"
 #include "cmd_bench.h"
 
+#ifndef WEFT_SAMPLE_SCENES
+#define WEFT_SAMPLE_SCENES "sample_scenes"
+#endif
+
 void cli_bench_usage(FILE* out) {
     fputs("usage: weft bench accuracy [OPTIONS]    run time against error, for every solver\n"
           "       weft bench stability [OPTIONS]   survival over step length x stiffness x mass x solver\n"
@@ -101,4 +105,69 @@ int bench_parse_ints(const char* text, int lo, int hi, int* out) {
 int bench_parse_solvers(const char* text, wc_solver_type* out) {
     if (text && !strcmp(text, "all")) text = "pcg,jacobi,chebyshev,direct";
     return for_each_item(text, one_solver, out);
+}
+
+int bench_parse_args(int argc, char** argv, const char* command, void (*usage)(FILE*),
+                     void (*defaults)(void* args, int quick), bench_option_fn own, void* args, bench_common* c) {
+    int quick = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            usage(stdout);
+            return CLI_EXIT_OK;
+        }
+        if (!strcmp(argv[i], "--quick")) quick = 1;
+    }
+    defaults(args, quick);
+    memset(c, 0, sizeof *c);
+    c->threads = quick ? 1 : 0;
+    c->garment = WEFT_SAMPLE_SCENES "/skirt.obj";
+    for (int i = 1; i < argc; ++i) {
+        const char* arg = argv[i];
+        const char* v = NULL;
+        int m = 0;
+        if (!strcmp(arg, "--quick")) continue;
+        if (!strcmp(arg, "--quiet")) {
+            c->quiet = 1;
+            continue;
+        }
+        if ((m = cli_option_value(argc, argv, &i, "--threads", &v)) != 0) {
+            if (m > 0 && cli_parse_int(v, 0, 64, &c->threads) != 0) m = -2;
+        } else if ((m = cli_option_value(argc, argv, &i, "--garment", &v)) != 0) {
+            c->garment = v;
+        } else if ((m = cli_option_value(argc, argv, &i, "--csv", &v)) != 0) {
+            c->csv = v;
+        } else if ((m = cli_option_value(argc, argv, &i, "--md", &v)) != 0) {
+            c->md = v;
+        } else if ((m = cli_option_value(argc, argv, &i, "--plot", &v)) != 0) {
+            c->plot = v;
+        } else if ((m = own(args, argc, argv, &i, &v)) == 0) {
+            return cli_usage_error(command, usage, "unknown option '%s'", arg);
+        }
+        if (m == -1) return cli_usage_error(command, usage, "%s needs a value", arg);
+        if (m == -2) return cli_usage_error(command, usage, "bad value for %s: '%s'", arg, v);
+    }
+    return -1;
+}
+
+static FILE* open_out(const char* path) {
+    FILE* f = fopen(path, "w");
+    if (!f) fprintf(stderr, "weft: cannot write %s\n", path);
+    return f;
+}
+
+int bench_write_tables(const bench_common* c, const bench_table* t, void (*header)(FILE* out, const void* ctx),
+                       const void* ctx) {
+    FILE* md = c->md ? open_out(c->md) : stdout;
+    if (!md) return CLI_EXIT_FAILURE;
+    header(md, ctx);
+    int bad = bench_table_write_md(t, md) != 0;
+    if (md != stdout) bad |= fclose(md) != 0;
+    if (!bad && c->csv) {
+        FILE* f = open_out(c->csv);
+        if (!f) return CLI_EXIT_FAILURE;
+        bad |= bench_table_write_csv(t, f) != 0;
+        bad |= fclose(f) != 0;
+    }
+    if (bad) cli_error("error writing the tables");
+    return bad ? CLI_EXIT_FAILURE : CLI_EXIT_OK;
 }

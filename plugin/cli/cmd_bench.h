@@ -28,6 +28,35 @@ int bench_parse_ints(const char* text, int lo, int hi, int* out);
 /* Solver names ("pcg,jacobi,chebyshev,direct", or "all"); -1 on an unknown name. */
 int bench_parse_solvers(const char* text, wc_solver_type* out);
 
+/* ---- options and outputs shared by the subcommands (cmd_bench.c) ---- */
+
+struct bench_table;
+
+typedef struct bench_common {
+    int threads;            /* --threads N: OpenMP threads (0: OpenMP's default; --quick: 1) */
+    int quiet;              /* --quiet: no progress lines on stderr */
+    const char* garment;    /* --garment FILE: the garment scene's mesh */
+    const char* csv;        /* --csv FILE, NULL: none */
+    const char* md;         /* --md FILE, NULL: stdout */
+    const char* plot;       /* --plot FILE.png, NULL: none */
+} bench_common;
+
+/* A subcommand's own option at argv[*i]: 1 when it is one and its value is good, 0 when it is not
+ * one, -1 when its value is missing, -2 when its value is bad (*value set, as cli_option_value). */
+typedef int (*bench_option_fn)(void* args, int argc, char** argv, int* i, const char** value);
+
+/* Parse a subcommand's arguments: -h/--help prints usage to stdout (returns CLI_EXIT_OK);
+ * otherwise defaults(args, quick) and the common defaults are applied, then every argument must
+ * be --quick, a common option or one of own's. Returns -1 to go on, or an exit code (usage
+ * errors name the command). */
+int bench_parse_args(int argc, char** argv, const char* command, void (*usage)(FILE*),
+                     void (*defaults)(void* args, int quick), bench_option_fn own, void* args, bench_common* common);
+
+/* Write header(out, ctx) and the Markdown table to common->md (or stdout), and the CSV to
+ * common->csv when set. CLI_EXIT_OK, or CLI_EXIT_FAILURE (message on stderr). */
+int bench_write_tables(const bench_common* common, const struct bench_table* t,
+                       void (*header)(FILE* out, const void* ctx), const void* ctx);
+
 /* ---- scenes (cmd_bench_sim.c) ---- */
 
 #define BENCH_GARMENT_SPIN 6.283185307179586   /* rad/s: one turn a second */

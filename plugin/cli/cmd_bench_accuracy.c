@@ -12,7 +12,7 @@
 #include "cmd_bench.h"
 
 #ifndef WEFT_SAMPLE_SCENES
-#define WEFT_SAMPLE_SCENES "sample_scenes"
+#define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
 #endif
 
 #define LARGE_SCENE 20000   /* particles above which --substeps-large applies */
@@ -34,9 +34,8 @@ typedef struct acc_args {
     int n_substeps_large;
     int ref_substeps;
     double seconds, fps;
-    int probes, threads, quiet;
-    const char* garment;
-    const char *csv, *md, *plot;
+    int probes;
+    bench_common com;
 } acc_args;
 
 void bench_accuracy_usage(FILE* out) {
@@ -64,9 +63,11 @@ void bench_accuracy_usage(FILE* out) {
           "  --quick              seconds-long preset: sheet16,drape16,garment, tolerance 1e-3,\n"
           "                       iterations 20,100, substeps 1,2, 0.3 s, 2 probes, 1 thread (later\n"
           "                       options still apply)\n"
-          "  --scenes LIST        sheetN (N x N particles hanging from two corners), drape (64 x 64\n"
-          "                       sheet falling onto a sphere) or drapeN, garment (the --garment mesh\n"
-          "                       pinned at its waist); default sheet32,sheet64,sheet100,sheet256,\n"
+          "  --scenes LIST        sheetN (N x N particles, 1 m, flat at first, hanging from two\n"
+          "                       corners), hangN (the same sheet hanging upright from the start),\n"
+          "                       drape (a 64 x 64 sheet falling onto a sphere) or drapeN, garment\n"
+          "                       (the --garment mesh pinned at its waist, the waist twirling up to\n"
+          "                       one turn a second); default sheet32,sheet64,sheet100,sheet256,\n"
           "                       drape,garment\n"
           "  --solvers LIST       pcg, jacobi, chebyshev, direct or all (default all)\n"
           "  --tolerances LIST    relative residual to stop at (default 1e-3,1e-5; 0: run the cap)\n"
@@ -88,8 +89,6 @@ void bench_accuracy_usage(FILE* out) {
           out);
 }
 
-#define usage_error(...) cli_usage_error("weft bench accuracy", bench_accuracy_usage, __VA_ARGS__)
-
 static void set_scenes(acc_args* a, const char* list) {
     snprintf(a->scene_buf, sizeof a->scene_buf, "%s", list);
     a->n_scenes = 0;
@@ -97,7 +96,8 @@ static void set_scenes(acc_args* a, const char* list) {
         a->scenes[a->n_scenes++] = tok;
 }
 
-static void defaults(acc_args* a, int quick) {
+static void defaults(void* args, int quick) {
+    acc_args* a = args;
     memset(a, 0, sizeof *a);
     set_scenes(a, quick ? "sheet16,drape16,garment" : "sheet32,sheet64,sheet100,sheet256,drape,garment");
     a->n_solvers = bench_parse_solvers("all", a->solvers);
@@ -109,72 +109,33 @@ static void defaults(acc_args* a, int quick) {
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
     a->probes = quick ? 2 : 6;
-    a->threads = quick ? 1 : 0;
-    a->garment = WEFT_SAMPLE_SCENES "/skirt.obj";
 }
 
-/* Returns -1 to continue, or an exit code. */
-static int parse_args(int argc, char** argv, acc_args* a) {
-    int quick = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            bench_accuracy_usage(stdout);
-            return CLI_EXIT_OK;
-        }
-        if (!strcmp(argv[i], "--quick")) quick = 1;
+/* This command's own options (bench_option_fn). */
+static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
+    acc_args* a = args;
+    int m = 0;
+#define OPT(name) ((m = cli_option_value(argc, argv, i, name, v)) != 0)
+#define BAD(cond) (m < 0 ? m : (cond) ? -2 : 1) /* m < 0: the value is missing */
+    if (OPT("--scenes")) {
+        if (m < 0) return m;
+        set_scenes(a, *v);
+        return BAD(a->n_scenes == 0);
     }
-    defaults(a, quick);
-    for (int i = 1; i < argc; ++i) {
-        const char* arg = argv[i];
-        const char* v = NULL;
-        if (!strcmp(arg, "--quick")) continue;
-        if (!strcmp(arg, "--quiet")) {
-            a->quiet = 1;
-            continue;
-        }
-#define OPT(name) ((m = cli_option_value(argc, argv, &i, name, &v)) != 0)
-        int m = 0;
-        if (OPT("--scenes")) {
-            if (m > 0) {
-                set_scenes(a, v);
-                if (a->n_scenes == 0) m = -2;
-            }
-        } else if (OPT("--solvers")) {
-            if (m > 0 && (a->n_solvers = bench_parse_solvers(v, a->solvers)) < 0) m = -2;
-        } else if (OPT("--tolerances")) {
-            if (m > 0 && (a->n_tolerances = bench_parse_doubles(v, 0, 1, a->tolerances)) < 0) m = -2;
-        } else if (OPT("--iterations")) {
-            if (m > 0 && (a->n_caps = bench_parse_ints(v, 1, 1000000, a->caps)) < 0) m = -2;
-        } else if (OPT("--substeps")) {
-            if (m > 0 && (a->n_substeps = bench_parse_ints(v, 1, 1024, a->substeps)) < 0) m = -2;
-        } else if (OPT("--substeps-large")) {
-            if (m > 0 && (a->n_substeps_large = bench_parse_ints(v, 1, 1024, a->substeps_large)) < 0) m = -2;
-        } else if (OPT("--ref-substeps")) {
-            if (m > 0 && cli_parse_int(v, 1, 1024, &a->ref_substeps) != 0) m = -2;
-        } else if (OPT("--seconds")) {
-            if (m > 0 && (cli_parse_double(v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600))) m = -2;
-        } else if (OPT("--fps")) {
-            if (m > 0 && (cli_parse_double(v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000))) m = -2;
-        } else if (OPT("--probes")) {
-            if (m > 0 && cli_parse_int(v, 0, 1000000, &a->probes) != 0) m = -2;
-        } else if (OPT("--threads")) {
-            if (m > 0 && cli_parse_int(v, 0, 64, &a->threads) != 0) m = -2;
-        } else if (OPT("--garment")) {
-            a->garment = v;
-        } else if (OPT("--csv")) {
-            a->csv = v;
-        } else if (OPT("--md")) {
-            a->md = v;
-        } else if (OPT("--plot")) {
-            a->plot = v;
-        } else {
-            return usage_error("unknown option '%s'", arg);
-        }
+    if (OPT("--solvers")) return BAD((a->n_solvers = bench_parse_solvers(*v, a->solvers)) < 0);
+    if (OPT("--tolerances")) return BAD((a->n_tolerances = bench_parse_doubles(*v, 0, 1, a->tolerances)) < 0);
+    if (OPT("--iterations")) return BAD((a->n_caps = bench_parse_ints(*v, 1, 1000000, a->caps)) < 0);
+    if (OPT("--substeps")) return BAD((a->n_substeps = bench_parse_ints(*v, 1, 1024, a->substeps)) < 0);
+    if (OPT("--substeps-large"))
+        return BAD((a->n_substeps_large = bench_parse_ints(*v, 1, 1024, a->substeps_large)) < 0);
+    if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 1, 1024, &a->ref_substeps) != 0);
+    if (OPT("--seconds"))
+        return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
+    if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
+    if (OPT("--probes")) return BAD(cli_parse_int(*v, 0, 1000000, &a->probes) != 0);
 #undef OPT
-        if (m == -1) return usage_error("%s needs a value", arg);
-        if (m == -2) return usage_error("bad value for %s: '%s'", arg, v);
-    }
-    return -1;
+#undef BAD
+    return m;
 }
 
 enum {
@@ -262,13 +223,15 @@ static int configs_for(const acc_args* a, int n, config* out, int cap) {
     return k;
 }
 
-static FILE* open_out(const char* path) {
-    FILE* f = fopen(path, "w");
-    if (!f) fprintf(stderr, "weft: cannot write %s\n", path);
-    return f;
-}
+typedef struct header_info {
+    const acc_args* a;
+    int frames, threads;
+} header_info;
 
-static void print_header(FILE* out, const acc_args* a, int frames, int threads) {
+static void print_header(FILE* out, const void* ctx) {
+    const header_info* h = ctx;
+    const acc_args* a = h->a;
+    const int frames = h->frames, threads = h->threads;
     fprintf(out, "## weft bench accuracy\n\n");
     fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
                  "solver (CHOLMOD) at %d substeps per frame.\n\n",
@@ -286,7 +249,8 @@ static void print_header(FILE* out, const acc_args* a, int frames, int threads) 
 
 int bench_accuracy_run(int argc, char** argv) {
     acc_args a;
-    int rc = parse_args(argc, argv, &a);
+    int rc = bench_parse_args(argc, argv, "weft bench accuracy", bench_accuracy_usage, defaults, own_option, &a,
+                              &a.com);
     if (rc >= 0) return rc;
     const int frames = (int)lround(a.seconds * a.fps) > 0 ? (int)lround(a.seconds * a.fps) : 1;
     bench_table t;
@@ -305,7 +269,7 @@ int bench_accuracy_run(int argc, char** argv) {
     for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si) {
         bench_scene bs;
         wc_diag d = {0};
-        if (bench_scene_build(&bs, a.scenes[si], a.garment, 1.0, 1.0, &d) != WEFT_OK) {
+        if (bench_scene_build(&bs, a.scenes[si], a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
             cli_error(d.message);
             rc = CLI_EXIT_FAILURE;
             break;
@@ -313,14 +277,14 @@ int bench_accuracy_run(int argc, char** argv) {
         bench_run_opts o;
         memset(&o, 0, sizeof o);
         o.sim = bs.sc.sim;
-        o.sim.threads = a.threads;
+        o.sim.threads = a.com.threads;
         o.fps = a.fps;
         o.frames = frames;
         config ref = {WC_SOLVER_DIRECT, 0, 1, a.ref_substeps, 1};
         o.sim.solver.type = WC_SOLVER_DIRECT;
         o.sim.substeps = a.ref_substeps;
         bench_run rr;
-        if (!a.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs.name, bs.model.n_particles);
+        if (!a.com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs.name, bs.model.n_particles);
         if (bench_run_scene(&bs, &o, &rr, &d) != 0) {
             cli_error(d.message);
             bench_scene_free(&bs);
@@ -328,13 +292,13 @@ int bench_accuracy_run(int argc, char** argv) {
             break;
         }
         wc_par par;
-        wc_par_init(&par, a.threads);
+        wc_par_init(&par, a.com.threads);
         threads = par.threads;
         add_row(&t, &bs, &ref, &rr, 0.0, 0.0);
         const int n_cfg = configs_for(&a, bs.model.n_particles, cfg, max_cfg);
         for (int k = 0; k < n_cfg && rc == CLI_EXIT_OK; ++k) {
             o.sim = bs.sc.sim;
-            o.sim.threads = a.threads;
+            o.sim.threads = a.com.threads;
             o.sim.solver.type = cfg[k].solver;
             o.sim.solver.tolerance = cfg[k].tolerance;
             if (cfg[k].solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = cfg[k].cap;
@@ -350,7 +314,7 @@ int bench_accuracy_run(int argc, char** argv) {
             bench_distance(r.x, rr.x, bs.model.n_particles, &rms, &max);
             rms /= bs.diag;
             max /= bs.diag;
-            if (!a.quiet)
+            if (!a.com.quiet)
                 fprintf(stderr, "  [%d/%d] %s tol %g cap %d substeps %d: %.2f ms/frame, traj. err %.3g\n", k + 1,
                         n_cfg, wc_solver_name(cfg[k].solver), cfg[k].tolerance, cfg[k].cap, cfg[k].substeps,
                         r.ms_median, rms);
@@ -362,22 +326,12 @@ int bench_accuracy_run(int argc, char** argv) {
         bench_scene_free(&bs);
     }
     if (rc == CLI_EXIT_OK) {
-        FILE* md = a.md ? open_out(a.md) : stdout;
-        if (!md) rc = CLI_EXIT_FAILURE;
-        else {
-            print_header(md, &a, frames, threads);
-            bench_table_write_md(&t, md);
-            if (md != stdout && fclose(md) != 0) rc = CLI_EXIT_FAILURE;
-        }
+        const header_info h = {&a, frames, threads};
+        rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
-    if (rc == CLI_EXIT_OK && a.csv) {
-        FILE* f = open_out(a.csv);
-        if (!f || bench_table_write_csv(&t, f) != 0) rc = CLI_EXIT_FAILURE;
-        if (f && fclose(f) != 0) rc = CLI_EXIT_FAILURE;
-    }
-    if (rc == CLI_EXIT_OK && a.plot) {
+    if (rc == CLI_EXIT_OK && a.com.plot) {
         char msg[256];
-        if (bench_plot_accuracy(a.plot, a.scenes, a.n_scenes, pts, n_pts,
+        if (bench_plot_accuracy(a.com.plot, a.scenes, a.n_scenes, pts, n_pts,
                                 "trajectory RMS error / bbox diagonal", msg, sizeof msg) != 0) {
             cli_error(msg);
             rc = CLI_EXIT_FAILURE;

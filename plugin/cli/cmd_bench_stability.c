@@ -12,7 +12,7 @@
 #include "cmd_bench.h"
 
 #ifndef WEFT_SAMPLE_SCENES
-#define WEFT_SAMPLE_SCENES "sample_scenes"
+#define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
 #endif
 
 typedef struct stab_args {
@@ -27,9 +27,7 @@ typedef struct stab_args {
     int n_mass;
     double seconds;
     double fail_strain, fail_energy;
-    int threads, quiet;
-    const char* garment;
-    const char *csv, *md, *plot;
+    bench_common com;
 } stab_args;
 
 void bench_stability_usage(FILE* out) {
@@ -51,11 +49,11 @@ void bench_stability_usage(FILE* out) {
           "  survived   no rollback\n"
           "\n"
           "options (lists are comma-separated; a step may be written as a fraction, 1/240):\n"
-          "  --quick              seconds-long preset: sheet12, steps 1/120,1/30,1/12, stiffness\n"
+          "  --quick              seconds-long preset: sheet12, steps 1/60,1/30,1/12, stiffness\n"
           "                       1,100,10000, mass 0.1,10, 0.25 s, 1 thread (later options still\n"
           "                       apply)\n"
-          "  --scene NAME         sheetN, drape, drapeN or garment as in `weft bench accuracy`\n"
-          "                       (default sheet32)\n"
+          "  --scene NAME         sheetN, hangN, drape, drapeN or garment as in `weft bench\n"
+          "                       accuracy` (default sheet32)\n"
           "  --solvers LIST       pcg, jacobi, chebyshev, direct or all (default all)\n"
           "  --steps LIST         step lengths in seconds (default 1/240,1/120,1/60,1/30,1/12)\n"
           "  --stiffness LIST     factors on every spring stiffness (default 1,10,100,1000,10000)\n"
@@ -74,76 +72,40 @@ void bench_stability_usage(FILE* out) {
           out);
 }
 
-#define usage_error(...) cli_usage_error("weft bench stability", bench_stability_usage, __VA_ARGS__)
-
-static void defaults(stab_args* a, int quick) {
+static void defaults(void* args, int quick) {
+    stab_args* a = args;
     memset(a, 0, sizeof *a);
     a->scene = quick ? "sheet12" : "sheet32";
     a->n_solvers = bench_parse_solvers("all", a->solvers);
-    a->n_steps = bench_parse_doubles(quick ? "1/120,1/30,1/12" : "1/240,1/120,1/60,1/30,1/12", 1e-6, 1, a->steps);
+    a->n_steps = bench_parse_doubles(quick ? "1/60,1/30,1/12" : "1/240,1/120,1/60,1/30,1/12", 1e-6, 1, a->steps);
     a->n_stiffness = bench_parse_doubles(quick ? "1,100,10000" : "1,10,100,1000,10000", 1e-6, 1e9, a->stiffness);
     a->n_mass = bench_parse_doubles(quick ? "0.1,10" : "0.1,1,10", 1e-6, 1e6, a->mass);
     a->seconds = quick ? 0.25 : 1.0;
     a->fail_strain = 0.5;
     a->fail_energy = 0.1;
-    a->threads = quick ? 1 : 0;
-    a->garment = WEFT_SAMPLE_SCENES "/skirt.obj";
 }
 
-static int parse_args(int argc, char** argv, stab_args* a) {
-    int quick = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            bench_stability_usage(stdout);
-            return CLI_EXIT_OK;
-        }
-        if (!strcmp(argv[i], "--quick")) quick = 1;
+/* This command's own options (bench_option_fn). */
+static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
+    stab_args* a = args;
+    int m = 0;
+#define OPT(name) ((m = cli_option_value(argc, argv, i, name, v)) != 0)
+#define BAD(cond) (m < 0 ? m : (cond) ? -2 : 1) /* m < 0: the value is missing */
+    if (OPT("--scene")) {
+        if (m > 0) a->scene = *v;
+        return m;
     }
-    defaults(a, quick);
-    for (int i = 1; i < argc; ++i) {
-        const char* arg = argv[i];
-        const char* v = NULL;
-        if (!strcmp(arg, "--quick")) continue;
-        if (!strcmp(arg, "--quiet")) {
-            a->quiet = 1;
-            continue;
-        }
-#define OPT(name) ((m = cli_option_value(argc, argv, &i, name, &v)) != 0)
-        int m = 0;
-        if (OPT("--scene")) {
-            a->scene = v;
-        } else if (OPT("--solvers")) {
-            if (m > 0 && (a->n_solvers = bench_parse_solvers(v, a->solvers)) < 0) m = -2;
-        } else if (OPT("--steps")) {
-            if (m > 0 && (a->n_steps = bench_parse_doubles(v, 1e-6, 1, a->steps)) < 0) m = -2;
-        } else if (OPT("--stiffness")) {
-            if (m > 0 && (a->n_stiffness = bench_parse_doubles(v, 1e-6, 1e9, a->stiffness)) < 0) m = -2;
-        } else if (OPT("--mass")) {
-            if (m > 0 && (a->n_mass = bench_parse_doubles(v, 1e-6, 1e6, a->mass)) < 0) m = -2;
-        } else if (OPT("--seconds")) {
-            if (m > 0 && (cli_parse_double(v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600))) m = -2;
-        } else if (OPT("--fail-strain")) {
-            if (m > 0 && (cli_parse_double(v, &a->fail_strain) != 0 || !(a->fail_strain > 0))) m = -2;
-        } else if (OPT("--fail-energy")) {
-            if (m > 0 && (cli_parse_double(v, &a->fail_energy) != 0 || !(a->fail_energy > 0))) m = -2;
-        } else if (OPT("--threads")) {
-            if (m > 0 && cli_parse_int(v, 0, 64, &a->threads) != 0) m = -2;
-        } else if (OPT("--garment")) {
-            a->garment = v;
-        } else if (OPT("--csv")) {
-            a->csv = v;
-        } else if (OPT("--md")) {
-            a->md = v;
-        } else if (OPT("--plot")) {
-            a->plot = v;
-        } else {
-            return usage_error("unknown option '%s'", arg);
-        }
+    if (OPT("--solvers")) return BAD((a->n_solvers = bench_parse_solvers(*v, a->solvers)) < 0);
+    if (OPT("--steps")) return BAD((a->n_steps = bench_parse_doubles(*v, 1e-6, 1, a->steps)) < 0);
+    if (OPT("--stiffness")) return BAD((a->n_stiffness = bench_parse_doubles(*v, 1e-6, 1e9, a->stiffness)) < 0);
+    if (OPT("--mass")) return BAD((a->n_mass = bench_parse_doubles(*v, 1e-6, 1e6, a->mass)) < 0);
+    if (OPT("--seconds"))
+        return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
+    if (OPT("--fail-strain")) return BAD(cli_parse_double(*v, &a->fail_strain) != 0 || !(a->fail_strain > 0));
+    if (OPT("--fail-energy")) return BAD(cli_parse_double(*v, &a->fail_energy) != 0 || !(a->fail_energy > 0));
 #undef OPT
-        if (m == -1) return usage_error("%s needs a value", arg);
-        if (m == -2) return usage_error("bad value for %s: '%s'", arg, v);
-    }
-    return -1;
+#undef BAD
+    return m;
 }
 
 enum {
@@ -188,14 +150,22 @@ static const char* short_reason(const bench_run* r, const char* why) {
     return "step";
 }
 
-static FILE* open_out(const char* path) {
-    FILE* f = fopen(path, "w");
-    if (!f) fprintf(stderr, "weft: cannot write %s\n", path);
-    return f;
-}
+typedef struct header_info {
+    const stab_args* a;
+    const int* outcome;
+    int per_solver, particles, threads;
+} header_info;
 
-/* Counts per solver and outcome, as a small Markdown table. */
-static void print_summary(FILE* out, const stab_args* a, const int* outcome, int per_solver) {
+/* What was run and how it is judged, then the counts per solver and outcome. */
+static void print_header(FILE* out, const void* ctx) {
+    const header_info* h = ctx;
+    const stab_args* a = h->a;
+    const int* outcome = h->outcome;
+    const int per_solver = h->per_solver;
+    fprintf(out, "## weft bench stability\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %g s "
+                 "simulated per cell at one substep per frame; failed: non-finite, strain > %g, energy "
+                 "growth > %g x M |g| D, or a substep that failed every retry; recovered: rollbacks.\n\n",
+            BENCH_BACKEND_NOTE, h->threads, a->scene, h->particles, a->seconds, a->fail_strain, a->fail_energy);
     fputs("| solver | survived | recovered | failed |\n|---|---|---|---|\n", out);
     for (int s = 0; s < a->n_solvers; ++s) {
         int count[3] = {0, 0, 0};
@@ -207,7 +177,8 @@ static void print_summary(FILE* out, const stab_args* a, const int* outcome, int
 
 int bench_stability_run(int argc, char** argv) {
     stab_args a;
-    int rc = parse_args(argc, argv, &a);
+    int rc = bench_parse_args(argc, argv, "weft bench stability", bench_stability_usage, defaults, own_option, &a,
+                              &a.com);
     if (rc >= 0) return rc;
     const int n_rows = a.n_stiffness * a.n_mass, per_solver = n_rows * a.n_steps;
     const int n_cells = a.n_solvers * per_solver;
@@ -226,7 +197,7 @@ int bench_stability_run(int argc, char** argv) {
         for (int mi = 0; mi < a.n_mass && rc == CLI_EXIT_OK; ++mi) {
             bench_scene bs;
             wc_diag d = {0};
-            if (bench_scene_build(&bs, a.scene, a.garment, a.stiffness[ki], a.mass[mi], &d) != WEFT_OK) {
+            if (bench_scene_build(&bs, a.scene, a.com.garment, a.stiffness[ki], a.mass[mi], &d) != WEFT_OK) {
                 cli_error(d.message);
                 rc = CLI_EXIT_FAILURE;
                 break;
@@ -238,7 +209,7 @@ int bench_stability_run(int argc, char** argv) {
                     bench_run_opts o;
                     memset(&o, 0, sizeof o);
                     o.sim = bs.sc.sim;
-                    o.sim.threads = a.threads;
+                    o.sim.threads = a.com.threads;
                     o.sim.solver.type = a.solvers[s];
                     o.sim.substeps = 1;
                     o.fps = 1.0 / a.steps[c];
@@ -252,7 +223,7 @@ int bench_stability_run(int argc, char** argv) {
                         break;
                     }
                     wc_par par;
-                    wc_par_init(&par, a.threads);
+                    wc_par_init(&par, a.com.threads);
                     threads = par.threads;
                     char why[48], step[24], b[N_COLS][48];
                     const int out = judge(&a, &r, why, sizeof why);
@@ -284,7 +255,7 @@ int bench_stability_run(int argc, char** argv) {
                     for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
                     if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
                     ++done;
-                    if (!a.quiet)
+                    if (!a.com.quiet)
                         fprintf(stderr, "[%d/%d] %s step %s k x%g m x%g: %s %s\n", done, n_cells,
                                 wc_solver_name(a.solvers[s]), step, a.stiffness[ki], a.mass[mi], outcome_name[out], why);
                     bench_run_free(&r);
@@ -292,24 +263,10 @@ int bench_stability_run(int argc, char** argv) {
             bench_scene_free(&bs);
         }
     if (rc == CLI_EXIT_OK) {
-        FILE* md = a.md ? open_out(a.md) : stdout;
-        if (!md) rc = CLI_EXIT_FAILURE;
-        else {
-            fprintf(md, "## weft bench stability\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %g s "
-                        "simulated per cell at one substep per frame; failed: non-finite, strain > %g, energy "
-                        "growth > %g x M |g| D, or a substep that failed every retry; recovered: rollbacks.\n\n",
-                    BENCH_BACKEND_NOTE, threads, a.scene, particles, a.seconds, a.fail_strain, a.fail_energy);
-            print_summary(md, &a, outcome, per_solver);
-            bench_table_write_md(&t, md);
-            if (md != stdout && fclose(md) != 0) rc = CLI_EXIT_FAILURE;
-        }
+        const header_info h = {&a, outcome, per_solver, particles, threads};
+        rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
-    if (rc == CLI_EXIT_OK && a.csv) {
-        FILE* f = open_out(a.csv);
-        if (!f || bench_table_write_csv(&t, f) != 0) rc = CLI_EXIT_FAILURE;
-        if (f && fclose(f) != 0) rc = CLI_EXIT_FAILURE;
-    }
-    if (rc == CLI_EXIT_OK && a.plot) {
+    if (rc == CLI_EXIT_OK && a.com.plot) {
         /* rows top to bottom in the order of the table: row r is drawn at n_rows - 1 - r */
         const char** names = calloc((size_t)a.n_solvers, sizeof(char*));
         char(*cols)[24] = calloc((size_t)a.n_steps, sizeof *cols);
@@ -339,7 +296,7 @@ int bench_stability_run(int argc, char** argv) {
             char title[160];
             snprintf(title, sizeof title, "%s, %g s per cell, one substep per frame", a.scene,
                      a.seconds);
-            if (bench_plot_heatmap(a.plot, names, a.n_solvers, col_ptr, a.n_steps, row_ptr, n_rows, flipped,
+            if (bench_plot_heatmap(a.com.plot, names, a.n_solvers, col_ptr, a.n_steps, row_ptr, n_rows, flipped,
                                    text_ptr, title, msg, sizeof msg) != 0)
                 rc = CLI_EXIT_FAILURE;
         }

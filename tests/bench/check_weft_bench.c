@@ -305,7 +305,7 @@ static void test_stability_quick(void) {
             ++free_fall_cells;
         }
         /* small steps of the default cloth survive with every solver */
-        if (!strcmp(get(&c, row, "step_s"), "1/120") && num(&c, row, "stiffness_x") == 1) CHECK(!failed);
+        if (!strcmp(get(&c, row, "step_s"), "1/60") && num(&c, row, "stiffness_x") == 1) CHECK(!failed);
     }
     CHECK_EQ_INT(free_fall_cells, 4 * 2);
     CHECK(png_ok(png_path, 400, 300));
