@@ -219,7 +219,8 @@ int bench_plot_heatmap(const char* path, const char* const* panel_names, int n_p
         plmtex("t", 2.2, 0.5, 0.5, panel_names[p]);
         plschr(0, 0.6);
         plmtex("t", 0.9, 0.5, 0.5, title);
-        plmtex("b", 4.7, 0.5, 0.5, "green: survived   yellow: recovered (number of rollbacks)   red: failed (why)");
+        plschr(0, 0.55);
+        plmtex("b", 5.4, 0.5, 0.5, "green: survived, yellow: recovered (rollbacks), red: failed (why)");
     }
     plend();
     return 0;
