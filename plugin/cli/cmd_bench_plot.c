@@ -85,7 +85,7 @@ int bench_plot_accuracy(const char* path, const char* const* panel_names, int n_
         snprintf(msg, msg_size, "out of memory");
         return -1;
     }
-    if (begin(path, 430 * nx, 360 * ny, nx, ny, msg, msg_size) != 0) {
+    if (begin(path, 400 * nx, 330 * ny, nx, ny, msg, msg_size) != 0) {
         free(buf);
         return -1;
     }
