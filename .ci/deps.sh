@@ -14,6 +14,7 @@ packages=(
   libcjson-dev                    # JSON (weft inspect --json, scene files)
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
   blender                         # the add-on test (tests/blender): ~480 MB, ~25 s to install
+  libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
 )
 
 missing=()

@@ -22,6 +22,8 @@ int cli_inspect_run(int argc, char** argv);
 void cli_inspect_usage(FILE* out);
 int cli_run_run(int argc, char** argv);
 void cli_run_usage(FILE* out);
+int cli_bench_run(int argc, char** argv);
+void cli_bench_usage(FILE* out);
 
 /* Parse a whole string as a finite double. 0 on success, -1 otherwise (*out untouched). */
 int cli_parse_double(const char* text, double* out);

@@ -8,6 +8,7 @@
 static const cli_command commands[] = {
     {"inspect", "import a mesh and print the import report", cli_inspect_run, cli_inspect_usage},
     {"run", "simulate a scene file, writing OBJ frames and stats", cli_run_run, cli_run_usage},
+    {"bench", "benchmarks: run time against error, numerical stability", cli_bench_run, cli_bench_usage},
 };
 enum { N_COMMANDS = sizeof commands / sizeof commands[0] };
 

@@ -1,0 +1,194 @@
+/* `weft bench`: benchmarks of the simulator core (CPU backend; there is no GPU backend yet).
+ * Shared by the cmd_bench*.c files:
+ *   cmd_bench.c            the `weft bench` dispatcher and list-option parsing
+ *   cmd_bench_sim.c        benchmark scenes and one measured run of a scene
+ *   cmd_bench_table.c      a table of text cells written as CSV and as Markdown
+ *   cmd_bench_plot.c       the PNG plots (PLplot, pngcairo device)
+ *   cmd_bench_accuracy.c   `weft bench accuracy`: run time against error
+ *   cmd_bench_stability.c  `weft bench stability`: the step/stiffness/mass/solver grid */
+#ifndef WEFT_CLI_CMD_BENCH_H
+#define WEFT_CLI_CMD_BENCH_H
+#include <stdio.h>
+
+#include "scene.h"
+#include "step.h"
+
+#define BENCH_BACKEND "cpu"
+#define BENCH_BACKEND_NOTE "backend: CPU only (Weft has no GPU backend yet)"
+
+/* ---- lists on the command line (cmd_bench.c) ---- */
+
+#define BENCH_MAX_LIST 16
+
+/* "a,b,c" -> up to BENCH_MAX_LIST finite doubles in [lo, hi]; "1/240" (a fraction) is accepted.
+ * Returns the count, or -1 (empty item, not a number, out of range, too many). */
+int bench_parse_doubles(const char* text, double lo, double hi, double* out);
+/* The same for integers in [lo, hi]. */
+int bench_parse_ints(const char* text, int lo, int hi, int* out);
+/* Solver names ("pcg,jacobi,chebyshev,direct", or "all"); -1 on an unknown name. */
+int bench_parse_solvers(const char* text, wc_solver_type* out);
+
+/* ---- options and outputs shared by the subcommands (cmd_bench.c) ---- */
+
+struct bench_table;
+
+typedef struct bench_common {
+    int threads;            /* --threads N: OpenMP threads (0: OpenMP's default; --quick: 1) */
+    int quiet;              /* --quiet: no progress lines on stderr */
+    const char* garment;    /* --garment FILE: the garment scene's mesh */
+    const char* csv;        /* --csv FILE, NULL: none */
+    const char* md;         /* --md FILE, NULL: stdout */
+    const char* plot;       /* --plot FILE.png, NULL: none */
+} bench_common;
+
+/* A subcommand's own option at argv[*i]: 1 when it is one and its value is good, 0 when it is not
+ * one, -1 when its value is missing, -2 when its value is bad (*value set, as cli_option_value). */
+typedef int (*bench_option_fn)(void* args, int argc, char** argv, int* i, const char** value);
+
+/* Parse a subcommand's arguments: -h/--help prints usage to stdout (returns CLI_EXIT_OK);
+ * otherwise defaults(args, quick) and the common defaults are applied, then every argument must
+ * be --quick, a common option or one of own's. Returns -1 to go on, or an exit code (usage
+ * errors name the command). */
+int bench_parse_args(int argc, char** argv, const char* command, void (*usage)(FILE*),
+                     void (*defaults)(void* args, int quick), bench_option_fn own, void* args, bench_common* common);
+
+/* Write header(out, ctx) and the Markdown table to common->md (or stdout), and the CSV to
+ * common->csv when set. CLI_EXIT_OK, or CLI_EXIT_FAILURE (message on stderr). */
+int bench_write_tables(const bench_common* common, const struct bench_table* t,
+                       void (*header)(FILE* out, const void* ctx), const void* ctx);
+
+/* ---- scenes (cmd_bench_sim.c) ---- */
+
+#define BENCH_GARMENT_SPIN 6.283185307179586   /* rad/s: one turn a second */
+#define BENCH_GARMENT_RAMP 0.5                 /* s */
+
+/* The scene's pins resolved to particles (static targets at their rest positions). */
+typedef struct bench_pins {
+    int n;
+    wc_pin* pins;           /* (n) */
+    double* start;          /* (n x 3) rest positions (m) */
+} bench_pins;
+
+typedef struct bench_scene {
+    char name[32];
+    scene sc;               /* the scene as parsed: mesh, material, pins, colliders */
+    wc_model model;
+    bench_pins pins;
+    double diag;            /* bounding-box diagonal of the cloth at rest (m) */
+    double spin;            /* rad/s: the pins' targets turn about the y axis at this rate (0: still) */
+} bench_scene;
+
+/* Build a named scene:
+ *   "sheetN"   N x N particles (2 <= N <= 2048), 1 m x 1 m, horizontal at first, hanging from the
+ *              two corners of one edge;
+ *   "drapeN"   an N x N sheet, 1 m x 1 m, 5 cm above a sphere of radius 0.25 m, falling onto it
+ *              (no pins); "drape" is drape64;
+ *   "hangN"    the sheetN grid hanging upright from its two top corners (at rest at first);
+ *   "garment"  the mesh file `garment` (sample_scenes/skirt.obj, Y up), pinned at the waist
+ *              (every vertex within 1 mm of its largest y), the waist turning about the y axis,
+ *              speeding up evenly to BENCH_GARMENT_SPIN over BENCH_GARMENT_RAMP (a twirl).
+ * Default material with every spring stiffness times k_scale and the density times mass_scale.
+ * On failure *out is zeroed and diag says why. */
+weft_status bench_scene_build(bench_scene* out, const char* name, const char* garment, double k_scale,
+                              double mass_scale, wc_diag* diag);
+void bench_scene_free(bench_scene* s);
+
+/* One run of a scene. */
+typedef struct bench_run_opts {
+    wc_sim_def sim;         /* solver, substeps, threads...; max_pins/max_colliders are set by the run */
+    double fps;             /* frames per simulated second */
+    int frames;             /* frames to simulate */
+    int probe_frames;       /* frames (evenly spread, the first included) at which the linear-solve
+                               error is measured; 0: not measured */
+    double fail_strain;     /* > 0: stop at the first frame whose strain exceeds this */
+    double fail_energy;     /* > 0: stop at the first frame whose energy growth exceeds this */
+} bench_run_opts;
+
+typedef struct bench_run {
+    int frames;             /* frames stepped (fewer than asked when stopped early) */
+    double ms_median;       /* wall time of one frame (wc_step_frame), median over frames */
+    double stage_median[5]; /* forces, assemble, solve, collide, integrate: medians (ms) */
+    double iterations;      /* solver iterations per substep, mean */
+    int max_iterations;     /* largest in one solve */
+    long long substeps;     /* substeps completed */
+    int not_converged;      /* solves stopped at the iteration cap */
+    int rollbacks, halvings, direct_fallbacks;
+    int failures;           /* substeps that failed every retry */
+    int nonfinite;          /* 1 when any position or energy became non-finite */
+    double max_strain;      /* largest stretch strain at the end of any frame */
+    double energy0;         /* total energy (kinetic + spring + gravity) at the start (J) */
+    double energy_end;      /* ... at the end */
+    double energy_max;      /* ... largest at the end of any frame */
+    double energy_scale;    /* total mass x |g| x bounding-box diagonal (J): energies are reported
+                               relative to this */
+    int probes;             /* linear-solve errors measured */
+    double lin_err_mean;    /* ||dv - dv_direct|| / ||dv_direct|| on the same system, mean */
+    double lin_err_max;     /* ... largest */
+    double* x;              /* (n_particles x 3) positions at the end (owned; bench_run_free) */
+} bench_run;
+
+/* Simulate; 0 on success, -1 when the state cannot be created (diag says why). A frame whose
+ * step fails is counted, not fatal. */
+int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag);
+void bench_run_free(bench_run* r);
+
+/* Total mechanical energy of a state: kinetic + spring + gravitational (relative to y = 0) (J). */
+double bench_energy(const wc_state* s);
+
+/* Distances between two position sets (n x 3): RMS and largest. */
+void bench_distance(const double* a, const double* b, int n, double* rms, double* max);
+
+/* Median of v[0..n) (v is sorted in place); 0 for n = 0. */
+double bench_median(double* v, int n);
+
+/* ---- tables (cmd_bench_table.c) ---- */
+
+typedef struct bench_table {
+    int n_cols;
+    const char* const* cols;     /* column names (CSV header) */
+    const char* const* md_cols;  /* Markdown header of each column, NULL: not in the Markdown table */
+    int n_rows, cap_rows;
+    char** cells;                /* (n_rows x n_cols) owned strings */
+} bench_table;
+
+void bench_table_init(bench_table* t, int n_cols, const char* const* cols, const char* const* md_cols);
+/* Append a row: n_cols strings, copied. 0, or -1 when out of memory. */
+int bench_table_add(bench_table* t, const char* const* cells);
+/* v printed with fmt into buf ("nan", "inf", "-inf" for those), returned. */
+const char* bench_fmt(char* buf, size_t size, const char* fmt, double v);
+int bench_table_write_csv(const bench_table* t, FILE* out);
+int bench_table_write_md(const bench_table* t, FILE* out);
+void bench_table_free(bench_table* t);
+
+/* ---- plots (cmd_bench_plot.c) ---- */
+
+/* One point of the accuracy plot. */
+typedef struct bench_point {
+    int panel;              /* scene index */
+    int solver;             /* wc_solver_type */
+    double ms;              /* ms per frame */
+    double error;           /* trajectory error (relative); <= 0 points are not drawn */
+} bench_point;
+
+/* Error against ms/frame, log-log, one panel per scene, one curve per solver (its own Pareto
+ * front through its points), the Pareto front over all solvers marked. 0, or -1 with msg. */
+int bench_plot_accuracy(const char* path, const char* const* panel_names, int n_panels, const bench_point* pts,
+                        int n_pts, const char* y_label, char* msg, size_t msg_size);
+
+/* Outcome of one stability cell. */
+enum { BENCH_SURVIVED = 0, BENCH_RECOVERED = 1, BENCH_FAILED = 2 };
+
+/* Heat map: one panel per solver; columns are the step lengths, rows the (stiffness, mass) pairs;
+ * cells coloured by outcome (index = ((solver * n_rows) + row) * n_cols + col), the text
+ * cell_text[same index] drawn in the cell (may be NULL). */
+int bench_plot_heatmap(const char* path, const char* const* panel_names, int n_panels, const char* const* col_labels,
+                       int n_cols, const char* const* row_labels, int n_rows, const int* outcome,
+                       const char* const* cell_text, const char* title, char* msg, size_t msg_size);
+
+/* ---- subcommands ---- */
+int bench_accuracy_run(int argc, char** argv);
+void bench_accuracy_usage(FILE* out);
+int bench_stability_run(int argc, char** argv);
+void bench_stability_usage(FILE* out);
+
+#endif

@@ -1,0 +1,344 @@
+/* `weft bench accuracy`: run time against error. For every scene, a reference run (direct solver,
+ * --ref-substeps substeps per frame), then every configuration solver x tolerance x iteration cap
+ * x substeps per frame (the direct solver: substeps only), each simulated for --seconds. Errors:
+ * the linear-solve error against CHOLMOD on the same system, the trajectory error against the
+ * reference at the end, the largest strain and the energy drift. Timing: median ms per frame. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cmd_bench.h"
+
+#ifndef WEFT_SAMPLE_SCENES
+#define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
+#endif
+
+#define LARGE_SCENE 20000   /* particles above which --substeps-large applies */
+#define MAX_SCENES 16
+
+typedef struct acc_args {
+    const char* scenes[MAX_SCENES];
+    int n_scenes;
+    char scene_buf[512];
+    wc_solver_type solvers[BENCH_MAX_LIST];
+    int n_solvers;
+    double tolerances[BENCH_MAX_LIST];
+    int n_tolerances;
+    int caps[BENCH_MAX_LIST];
+    int n_caps;
+    int substeps[BENCH_MAX_LIST];
+    int n_substeps;
+    int substeps_large[BENCH_MAX_LIST];
+    int n_substeps_large;
+    int ref_substeps;
+    double seconds, fps;
+    int probes;
+    bench_common com;
+} acc_args;
+
+void bench_accuracy_usage(FILE* out) {
+    fputs("usage: weft bench accuracy [--quick] [--scenes LIST] [--solvers LIST] [--tolerances LIST]\n"
+          "                           [--iterations LIST] [--substeps LIST] [--substeps-large LIST]\n"
+          "                           [--ref-substeps N] [--seconds T] [--fps F] [--probes N]\n"
+          "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
+          "                           [--plot FILE.png] [--quiet]\n"
+          "\n"
+          "Run time against error. " BENCH_BACKEND_NOTE ".\n"
+          "For each scene a reference run (direct solver, --ref-substeps substeps per frame), then\n"
+          "every configuration solver x tolerance x iteration cap x substeps per frame (direct:\n"
+          "substeps only), each simulated for --seconds at --fps. Per configuration:\n"
+          "  ms/frame     median wall time of one frame's step\n"
+          "  lin. err     ||dv - dv_direct|| / ||dv_direct||: the solver's answer against CHOLMOD's on\n"
+          "               the same system (same initial guess), for the first substep of --probes\n"
+          "               evenly spread frames (largest and mean)\n"
+          "  traj. err    RMS and largest particle distance to the reference run at the end,\n"
+          "               divided by the cloth's bounding-box diagonal\n"
+          "  max strain   largest stretch-spring strain (l - rest) / rest at the end of any frame\n"
+          "  energy drift (E_end - E_start) / (M |g| D): E = kinetic + spring + gravity, M the\n"
+          "               cloth's mass, D its diagonal (negative: dissipated)\n"
+          "\n"
+          "options (lists are comma-separated):\n"
+          "  --quick              seconds-long preset: sheet16,drape16,garment, tolerance 1e-3,\n"
+          "                       iterations 20,100, substeps 1,2, 0.3 s, 2 probes, 1 thread (later\n"
+          "                       options still apply)\n"
+          "  --scenes LIST        sheetN (N x N particles, 1 m, flat at first, hanging from two\n"
+          "                       corners), hangN (the same sheet hanging upright from the start),\n"
+          "                       drape (a 64 x 64 sheet falling onto a sphere) or drapeN, garment\n"
+          "                       (the --garment mesh pinned at its waist, the waist twirling up to\n"
+          "                       one turn a second); default sheet32,sheet64,sheet100,sheet256,\n"
+          "                       drape,garment\n"
+          "  --solvers LIST       pcg, jacobi, chebyshev, direct or all (default all)\n"
+          "  --tolerances LIST    relative residual to stop at (default 1e-3,1e-5; 0: run the cap)\n"
+          "  --iterations LIST    iteration caps (default 30,300)\n"
+          "  --substeps LIST      substeps per frame (default 1,2,4)\n"
+          "  --substeps-large LIST  substeps per frame for scenes over 20000 particles (default 1)\n"
+          "  --ref-substeps N     substeps per frame of the reference run (default 8)\n"
+          "  --seconds T          simulated time (default 2)\n"
+          "  --fps F              frames per second (default 30)\n"
+          "  --probes N           frames whose linear-solve error is measured (default 6; 0: none)\n"
+          "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
+          "  --garment FILE       the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
+          "  --csv FILE           write every measurement as CSV\n"
+          "  --md FILE            write the Markdown table to FILE instead of stdout\n"
+          "  --plot FILE.png      plot trajectory RMS error against ms/frame (log-log, a panel per\n"
+          "                       scene, a curve per solver, the Pareto front marked)\n"
+          "  --quiet              no progress lines on stderr\n"
+          "  -h, --help           show this help\n",
+          out);
+}
+
+static void set_scenes(acc_args* a, const char* list) {
+    snprintf(a->scene_buf, sizeof a->scene_buf, "%s", list);
+    a->n_scenes = 0;
+    for (char* tok = strtok(a->scene_buf, ","); tok && a->n_scenes < MAX_SCENES; tok = strtok(NULL, ","))
+        a->scenes[a->n_scenes++] = tok;
+}
+
+static void defaults(void* args, int quick) {
+    acc_args* a = args;
+    memset(a, 0, sizeof *a);
+    set_scenes(a, quick ? "sheet16,drape16,garment" : "sheet32,sheet64,sheet100,sheet256,drape,garment");
+    a->n_solvers = bench_parse_solvers("all", a->solvers);
+    a->n_tolerances = bench_parse_doubles(quick ? "1e-3" : "1e-3,1e-5", 0, 1, a->tolerances);
+    a->n_caps = bench_parse_ints(quick ? "20,100" : "30,300", 1, 1000000, a->caps);
+    a->n_substeps = bench_parse_ints(quick ? "1,2" : "1,2,4", 1, 1024, a->substeps);
+    a->n_substeps_large = bench_parse_ints("1", 1, 1024, a->substeps_large);
+    a->ref_substeps = 8;
+    a->seconds = quick ? 0.3 : 2.0;
+    a->fps = 30;
+    a->probes = quick ? 2 : 6;
+}
+
+/* This command's own options (bench_option_fn). */
+static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
+    acc_args* a = args;
+    int m = 0;
+#define OPT(name) ((m = cli_option_value(argc, argv, i, name, v)) != 0)
+#define BAD(cond) (m < 0 ? m : (cond) ? -2 : 1) /* m < 0: the value is missing */
+    if (OPT("--scenes")) {
+        if (m < 0) return m;
+        set_scenes(a, *v);
+        return BAD(a->n_scenes == 0);
+    }
+    if (OPT("--solvers")) return BAD((a->n_solvers = bench_parse_solvers(*v, a->solvers)) < 0);
+    if (OPT("--tolerances")) return BAD((a->n_tolerances = bench_parse_doubles(*v, 0, 1, a->tolerances)) < 0);
+    if (OPT("--iterations")) return BAD((a->n_caps = bench_parse_ints(*v, 1, 1000000, a->caps)) < 0);
+    if (OPT("--substeps")) return BAD((a->n_substeps = bench_parse_ints(*v, 1, 1024, a->substeps)) < 0);
+    if (OPT("--substeps-large"))
+        return BAD((a->n_substeps_large = bench_parse_ints(*v, 1, 1024, a->substeps_large)) < 0);
+    if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 1, 1024, &a->ref_substeps) != 0);
+    if (OPT("--seconds"))
+        return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
+    if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
+    if (OPT("--probes")) return BAD(cli_parse_int(*v, 0, 1000000, &a->probes) != 0);
+#undef OPT
+#undef BAD
+    return m;
+}
+
+enum {
+    C_BACKEND, C_SCENE, C_PARTICLES, C_ROLE, C_SOLVER, C_TOL, C_CAP, C_SUBSTEPS, C_FRAMES, C_MS, C_FORCES,
+    C_ASSEMBLE, C_SOLVE, C_COLLIDE, C_INTEGRATE, C_ITER, C_MAXITER, C_NOTCONV, C_ROLLBACKS, C_FALLBACKS,
+    C_FAILURES, C_LIN_MEAN, C_LIN_MAX, C_TRAJ_RMS, C_TRAJ_MAX, C_STRAIN, C_DRIFT, N_COLS
+};
+static const char* const csv_cols[N_COLS] = {
+    "backend", "scene", "particles", "role", "solver", "tolerance", "max_iterations", "substeps", "frames",
+    "ms_per_frame", "ms_forces", "ms_assemble", "ms_solve", "ms_collide", "ms_integrate",
+    "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
+    "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift"};
+static const char* const md_cols[N_COLS] = {
+    NULL, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
+    "it./substep", NULL, NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
+    "traj. err max", "max strain", "energy drift"};
+
+typedef struct config {
+    wc_solver_type solver;
+    double tolerance;
+    int cap;
+    int substeps;
+    int reference;
+} config;
+
+static int add_row(bench_table* t, const bench_scene* bs, const config* c, const bench_run* r, double rms,
+                   double max) {
+    char b[N_COLS][48];
+    const char* cell[N_COLS];
+    snprintf(b[C_BACKEND], 48, "%s", BENCH_BACKEND);
+    snprintf(b[C_SCENE], 48, "%s", bs->name);
+    snprintf(b[C_PARTICLES], 48, "%d", bs->model.n_particles);
+    snprintf(b[C_ROLE], 48, "%s", c->reference ? "reference" : "config");
+    snprintf(b[C_SOLVER], 48, "%s%s", wc_solver_name(c->solver), c->reference ? " (reference)" : "");
+    if (c->solver == WC_SOLVER_DIRECT) {
+        snprintf(b[C_TOL], 48, "-");
+        snprintf(b[C_CAP], 48, "-");
+    } else {
+        snprintf(b[C_TOL], 48, "%g", c->tolerance);
+        snprintf(b[C_CAP], 48, "%d", c->cap);
+    }
+    snprintf(b[C_SUBSTEPS], 48, "%d", c->substeps);
+    snprintf(b[C_FRAMES], 48, "%d", r->frames);
+    bench_fmt(b[C_MS], 48, "%.2f", r->ms_median);
+    for (int k = 0; k < 5; ++k) bench_fmt(b[C_FORCES + k], 48, "%.2f", r->stage_median[k]);
+    bench_fmt(b[C_ITER], 48, "%.1f", r->iterations);
+    snprintf(b[C_MAXITER], 48, "%d", r->max_iterations);
+    snprintf(b[C_NOTCONV], 48, "%d", r->not_converged);
+    snprintf(b[C_ROLLBACKS], 48, "%d", r->rollbacks);
+    snprintf(b[C_FALLBACKS], 48, "%d", r->direct_fallbacks);
+    snprintf(b[C_FAILURES], 48, "%d", r->failures);
+    if (r->probes > 0) {
+        bench_fmt(b[C_LIN_MEAN], 48, "%.3g", r->lin_err_mean);
+        bench_fmt(b[C_LIN_MAX], 48, "%.3g", r->lin_err_max);
+    } else {
+        snprintf(b[C_LIN_MEAN], 48, "-");
+        snprintf(b[C_LIN_MAX], 48, "-");
+    }
+    bench_fmt(b[C_TRAJ_RMS], 48, "%.3g", rms);
+    bench_fmt(b[C_TRAJ_MAX], 48, "%.3g", max);
+    bench_fmt(b[C_STRAIN], 48, "%.3g", r->max_strain);
+    bench_fmt(b[C_DRIFT], 48, "%.3g", (r->energy_end - r->energy0) / r->energy_scale);
+    for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
+    return bench_table_add(t, cell);
+}
+
+/* The configurations of a scene with n particles. */
+static int configs_for(const acc_args* a, int n, config* out, int cap) {
+    const int* subs = n > LARGE_SCENE ? a->substeps_large : a->substeps;
+    const int n_subs = n > LARGE_SCENE ? a->n_substeps_large : a->n_substeps;
+    int k = 0;
+    for (int s = 0; s < a->n_solvers; ++s) {
+        const int direct = a->solvers[s] == WC_SOLVER_DIRECT;
+        for (int t = 0; t < (direct ? 1 : a->n_tolerances); ++t)
+            for (int c = 0; c < (direct ? 1 : a->n_caps); ++c)
+                for (int u = 0; u < n_subs && k < cap; ++u) {
+                    config* g = &out[k++];
+                    g->solver = a->solvers[s];
+                    g->tolerance = direct ? 0 : a->tolerances[t];
+                    g->cap = direct ? 1 : a->caps[c];
+                    g->substeps = subs[u];
+                    g->reference = 0;
+                }
+    }
+    return k;
+}
+
+typedef struct header_info {
+    const acc_args* a;
+    int frames, threads;
+} header_info;
+
+static void print_header(FILE* out, const void* ctx) {
+    const header_info* h = ctx;
+    const acc_args* a = h->a;
+    const int frames = h->frames, threads = h->threads;
+    fprintf(out, "## weft bench accuracy\n\n");
+    fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
+                 "solver (CHOLMOD) at %d substeps per frame.\n\n",
+            BENCH_BACKEND_NOTE, threads, a->seconds, a->fps, frames, a->ref_substeps);
+    fputs("- ms/frame: median wall time of one frame's step.\n"
+          "- lin. err: ||dv - dv_direct|| / ||dv_direct|| of one substep's linear solve against CHOLMOD on the "
+          "same system (wc_substep_prepare, same initial guess), largest over the probed frames.\n"
+          "- traj. err: RMS / largest particle distance to the reference run at the end, divided by the cloth's "
+          "bounding-box diagonal.\n"
+          "- max strain: largest stretch-spring strain (l - rest) / rest at the end of any frame.\n"
+          "- energy drift: (E_end - E_start) / (M |g| D), E = kinetic + spring + gravitational energy "
+          "(negative: dissipated; compare with the reference row).\n\n",
+          out);
+}
+
+int bench_accuracy_run(int argc, char** argv) {
+    acc_args a;
+    int rc = bench_parse_args(argc, argv, "weft bench accuracy", bench_accuracy_usage, defaults, own_option, &a,
+                              &a.com);
+    if (rc >= 0) return rc;
+    const int frames = (int)lround(a.seconds * a.fps) > 0 ? (int)lround(a.seconds * a.fps) : 1;
+    bench_table t;
+    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    const int max_subs = a.n_substeps > a.n_substeps_large ? a.n_substeps : a.n_substeps_large;
+    const int max_cfg = a.n_solvers * a.n_tolerances * a.n_caps * max_subs;   /* per scene, at most */
+    const int max_points = a.n_scenes * max_cfg;
+    bench_point* pts = malloc(sizeof *pts * (size_t)max_points);
+    config* cfg = malloc(sizeof *cfg * (size_t)max_cfg);
+    int n_pts = 0, threads = 1;
+    rc = CLI_EXIT_OK;
+    if (!pts || !cfg) {
+        cli_error("out of memory");
+        rc = CLI_EXIT_FAILURE;
+    }
+    for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si) {
+        bench_scene bs;
+        wc_diag d = {0};
+        if (bench_scene_build(&bs, a.scenes[si], a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+            cli_error(d.message);
+            rc = CLI_EXIT_FAILURE;
+            break;
+        }
+        bench_run_opts o;
+        memset(&o, 0, sizeof o);
+        o.sim = bs.sc.sim;
+        o.sim.threads = a.com.threads;
+        o.fps = a.fps;
+        o.frames = frames;
+        config ref = {WC_SOLVER_DIRECT, 0, 1, a.ref_substeps, 1};
+        o.sim.solver.type = WC_SOLVER_DIRECT;
+        o.sim.substeps = a.ref_substeps;
+        bench_run rr;
+        if (!a.com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs.name, bs.model.n_particles);
+        if (bench_run_scene(&bs, &o, &rr, &d) != 0) {
+            cli_error(d.message);
+            bench_scene_free(&bs);
+            rc = CLI_EXIT_FAILURE;
+            break;
+        }
+        wc_par par;
+        wc_par_init(&par, a.com.threads);
+        threads = par.threads;
+        add_row(&t, &bs, &ref, &rr, 0.0, 0.0);
+        const int n_cfg = configs_for(&a, bs.model.n_particles, cfg, max_cfg);
+        for (int k = 0; k < n_cfg && rc == CLI_EXIT_OK; ++k) {
+            o.sim = bs.sc.sim;
+            o.sim.threads = a.com.threads;
+            o.sim.solver.type = cfg[k].solver;
+            o.sim.solver.tolerance = cfg[k].tolerance;
+            if (cfg[k].solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = cfg[k].cap;
+            o.sim.substeps = cfg[k].substeps;
+            o.probe_frames = a.probes;
+            bench_run r;
+            if (bench_run_scene(&bs, &o, &r, &d) != 0) {
+                cli_error(d.message);
+                rc = CLI_EXIT_FAILURE;
+                break;
+            }
+            double rms, max;
+            bench_distance(r.x, rr.x, bs.model.n_particles, &rms, &max);
+            rms /= bs.diag;
+            max /= bs.diag;
+            if (!a.com.quiet)
+                fprintf(stderr, "  [%d/%d] %s tol %g cap %d substeps %d: %.2f ms/frame, traj. err %.3g\n", k + 1,
+                        n_cfg, wc_solver_name(cfg[k].solver), cfg[k].tolerance, cfg[k].cap, cfg[k].substeps,
+                        r.ms_median, rms);
+            add_row(&t, &bs, &cfg[k], &r, rms, max);
+            if (n_pts < max_points) pts[n_pts++] = (bench_point){si, (int)cfg[k].solver, r.ms_median, rms};
+            bench_run_free(&r);
+        }
+        bench_run_free(&rr);
+        bench_scene_free(&bs);
+    }
+    if (rc == CLI_EXIT_OK) {
+        const header_info h = {&a, frames, threads};
+        rc = bench_write_tables(&a.com, &t, print_header, &h);
+    }
+    if (rc == CLI_EXIT_OK && a.com.plot) {
+        char msg[256];
+        if (bench_plot_accuracy(a.com.plot, a.scenes, a.n_scenes, pts, n_pts,
+                                "trajectory RMS error / bbox diagonal", msg, sizeof msg) != 0) {
+            cli_error(msg);
+            rc = CLI_EXIT_FAILURE;
+        }
+    }
+    free(pts);
+    free(cfg);
+    bench_table_free(&t);
+    return rc;
+}

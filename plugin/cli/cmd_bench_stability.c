@@ -1,0 +1,316 @@
+/* `weft bench stability`: a grid over step length x stiffness x mass x solver. Each cell simulates
+ * one scene (default: a 32 x 32 sheet hanging from two corners) for a fixed time at one substep
+ * per frame and is judged: failed (a non-finite value, strain above --fail-strain, energy growth
+ * above --fail-energy, or a substep that failed every retry), recovered (it needed rollbacks) or
+ * survived. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cmd_bench.h"
+
+#ifndef WEFT_SAMPLE_SCENES
+#define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
+#endif
+
+typedef struct stab_args {
+    const char* scene;
+    wc_solver_type solvers[BENCH_MAX_LIST];
+    int n_solvers;
+    double steps[BENCH_MAX_LIST];
+    int n_steps;
+    double stiffness[BENCH_MAX_LIST];
+    int n_stiffness;
+    double mass[BENCH_MAX_LIST];
+    int n_mass;
+    double seconds;
+    double fail_strain, fail_energy;
+    bench_common com;
+} stab_args;
+
+void bench_stability_usage(FILE* out) {
+    fputs("usage: weft bench stability [--quick] [--scene NAME] [--solvers LIST] [--steps LIST]\n"
+          "                            [--stiffness LIST] [--mass LIST] [--seconds T]\n"
+          "                            [--fail-strain S] [--fail-energy E] [--threads N]\n"
+          "                            [--garment FILE] [--csv FILE] [--md FILE] [--plot FILE.png]\n"
+          "                            [--quiet]\n"
+          "\n"
+          "Numerical stability over a grid of step length x stiffness x mass x solver. "
+          BENCH_BACKEND_NOTE ".\n"
+          "Each cell simulates the scene for --seconds, one substep per frame of the given step\n"
+          "length (the step's own rollback and retry on), and is judged:\n"
+          "  failed     a non-finite position or energy, a stretch strain above --fail-strain, the\n"
+          "             total energy (kinetic + spring + gravity) above its start by more than\n"
+          "             --fail-energy x M |g| D (M the cloth's mass, D its bounding-box diagonal), or\n"
+          "             a substep that failed every retry; the run stops there\n"
+          "  recovered  none of that, but substeps were rolled back and retried\n"
+          "  survived   no rollback\n"
+          "\n"
+          "options (lists are comma-separated; a step may be written as a fraction, 1/240):\n"
+          "  --quick              seconds-long preset: sheet12, steps 1/60,1/30,1/12, stiffness\n"
+          "                       1,100,10000, mass 0.1,10, 0.25 s, 1 thread (later options still\n"
+          "                       apply)\n"
+          "  --scene NAME         sheetN, hangN, drape, drapeN or garment as in `weft bench\n"
+          "                       accuracy` (default sheet32)\n"
+          "  --solvers LIST       pcg, jacobi, chebyshev, direct or all (default all)\n"
+          "  --steps LIST         step lengths in seconds (default 1/240,1/120,1/60,1/30,1/12)\n"
+          "  --stiffness LIST     factors on every spring stiffness (default 1,10,100,1000,10000)\n"
+          "  --mass LIST          factors on the density (default 0.1,1,10)\n"
+          "  --seconds T          simulated time per cell (default 1)\n"
+          "  --fail-strain S      strain that fails a cell (default 0.5)\n"
+          "  --fail-energy E      energy growth that fails a cell, relative to M |g| D (default 0.1)\n"
+          "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
+          "  --garment FILE       the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
+          "  --csv FILE           write every cell as CSV\n"
+          "  --md FILE            write the Markdown tables to FILE instead of stdout\n"
+          "  --plot FILE.png      heat map: a panel per solver, step length across, stiffness and\n"
+          "                       mass down\n"
+          "  --quiet              no progress lines on stderr\n"
+          "  -h, --help           show this help\n",
+          out);
+}
+
+static void defaults(void* args, int quick) {
+    stab_args* a = args;
+    memset(a, 0, sizeof *a);
+    a->scene = quick ? "sheet12" : "sheet32";
+    a->n_solvers = bench_parse_solvers("all", a->solvers);
+    a->n_steps = bench_parse_doubles(quick ? "1/60,1/30,1/12" : "1/240,1/120,1/60,1/30,1/12", 1e-6, 1, a->steps);
+    a->n_stiffness = bench_parse_doubles(quick ? "1,100,10000" : "1,10,100,1000,10000", 1e-6, 1e9, a->stiffness);
+    a->n_mass = bench_parse_doubles(quick ? "0.1,10" : "0.1,1,10", 1e-6, 1e6, a->mass);
+    a->seconds = quick ? 0.25 : 1.0;
+    a->fail_strain = 0.5;
+    a->fail_energy = 0.1;
+}
+
+/* This command's own options (bench_option_fn). */
+static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
+    stab_args* a = args;
+    int m = 0;
+#define OPT(name) ((m = cli_option_value(argc, argv, i, name, v)) != 0)
+#define BAD(cond) (m < 0 ? m : (cond) ? -2 : 1) /* m < 0: the value is missing */
+    if (OPT("--scene")) {
+        if (m > 0) a->scene = *v;
+        return m;
+    }
+    if (OPT("--solvers")) return BAD((a->n_solvers = bench_parse_solvers(*v, a->solvers)) < 0);
+    if (OPT("--steps")) return BAD((a->n_steps = bench_parse_doubles(*v, 1e-6, 1, a->steps)) < 0);
+    if (OPT("--stiffness")) return BAD((a->n_stiffness = bench_parse_doubles(*v, 1e-6, 1e9, a->stiffness)) < 0);
+    if (OPT("--mass")) return BAD((a->n_mass = bench_parse_doubles(*v, 1e-6, 1e6, a->mass)) < 0);
+    if (OPT("--seconds"))
+        return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
+    if (OPT("--fail-strain")) return BAD(cli_parse_double(*v, &a->fail_strain) != 0 || !(a->fail_strain > 0));
+    if (OPT("--fail-energy")) return BAD(cli_parse_double(*v, &a->fail_energy) != 0 || !(a->fail_energy > 0));
+#undef OPT
+#undef BAD
+    return m;
+}
+
+enum {
+    C_BACKEND, C_SCENE, C_PARTICLES, C_SOLVER, C_STEP, C_STIFFNESS, C_MASS, C_OUTCOME, C_REASON, C_FRAMES,
+    C_FRAMES_ASKED, C_ROLLBACKS, C_HALVINGS, C_FALLBACKS, C_FAILURES, C_STRAIN, C_ENERGY, C_ITER, C_MS, N_COLS
+};
+static const char* const csv_cols[N_COLS] = {
+    "backend", "scene", "particles", "solver", "step_s", "stiffness_x", "mass_x", "outcome", "reason",
+    "frames", "frames_asked", "rollbacks", "halvings", "direct_fallbacks", "failures", "max_strain",
+    "energy_growth", "iterations_per_substep", "ms_per_frame"};
+static const char* const md_cols[N_COLS] = {
+    NULL, NULL, NULL, "solver", "step (s)", "stiffness x", "mass x", "outcome", "why", "frames", NULL,
+    "rollbacks", NULL, "direct fallbacks", NULL, "max strain", "energy growth", "it./substep", "ms/frame"};
+static const char* const outcome_name[3] = {"survived", "recovered", "failed"};
+
+/* "1/240" when 1/step is (nearly) a whole number, else "%.4g". */
+static void step_label(double step, char* buf, size_t size) {
+    double inv = 1.0 / step;
+    if (fabs(inv - round(inv)) < 1e-6 * inv) snprintf(buf, size, "1/%.0f", round(inv));
+    else snprintf(buf, size, "%.4g", step);
+}
+
+/* Judge a run: outcome and a short reason. */
+static int judge(const stab_args* a, const bench_run* r, char* why, size_t size) {
+    const double growth = (r->energy_max - r->energy0) / r->energy_scale;
+    if (r->nonfinite) snprintf(why, size, "non-finite");
+    else if (r->max_strain > a->fail_strain) snprintf(why, size, "strain %.2g", r->max_strain);
+    else if (growth > a->fail_energy) snprintf(why, size, "energy +%.2g", growth);
+    else if (r->failures > 0) snprintf(why, size, "step failed");
+    else {
+        snprintf(why, size, "%s", r->rollbacks > 0 ? "rollbacks" : "");
+        return r->rollbacks > 0 ? BENCH_RECOVERED : BENCH_SURVIVED;
+    }
+    return BENCH_FAILED;
+}
+
+/* One word for a failed cell of the heat map. */
+static const char* short_reason(const bench_run* r, const char* why) {
+    if (r->nonfinite) return "NaN";
+    if (!strncmp(why, "strain", 6)) return "strain";
+    if (!strncmp(why, "energy", 6)) return "energy";
+    return "step";
+}
+
+typedef struct header_info {
+    const stab_args* a;
+    const int* outcome;
+    int per_solver, particles, threads;
+} header_info;
+
+/* What was run and how it is judged, then the counts per solver and outcome. */
+static void print_header(FILE* out, const void* ctx) {
+    const header_info* h = ctx;
+    const stab_args* a = h->a;
+    const int* outcome = h->outcome;
+    const int per_solver = h->per_solver;
+    fprintf(out, "## weft bench stability\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %g s "
+                 "simulated per cell at one substep per frame; failed: non-finite, strain > %g, energy "
+                 "growth > %g x M |g| D, or a substep that failed every retry; recovered: rollbacks.\n\n",
+            BENCH_BACKEND_NOTE, h->threads, a->scene, h->particles, a->seconds, a->fail_strain, a->fail_energy);
+    fputs("| solver | survived | recovered | failed |\n|---|---|---|---|\n", out);
+    for (int s = 0; s < a->n_solvers; ++s) {
+        int count[3] = {0, 0, 0};
+        for (int k = 0; k < per_solver; ++k) ++count[outcome[s * per_solver + k]];
+        fprintf(out, "| %s | %d | %d | %d |\n", wc_solver_name(a->solvers[s]), count[0], count[1], count[2]);
+    }
+    fputc('\n', out);
+}
+
+int bench_stability_run(int argc, char** argv) {
+    stab_args a;
+    int rc = bench_parse_args(argc, argv, "weft bench stability", bench_stability_usage, defaults, own_option, &a,
+                              &a.com);
+    if (rc >= 0) return rc;
+    const int n_rows = a.n_stiffness * a.n_mass, per_solver = n_rows * a.n_steps;
+    const int n_cells = a.n_solvers * per_solver;
+    int* outcome = calloc((size_t)n_cells, sizeof(int));
+    char(*text)[16] = calloc((size_t)n_cells, sizeof *text);
+    const char** text_ptr = calloc((size_t)n_cells, sizeof(char*));
+    bench_table t;
+    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    rc = CLI_EXIT_OK;
+    if (!outcome || !text || !text_ptr) {
+        cli_error("out of memory");
+        rc = CLI_EXIT_FAILURE;
+    }
+    int particles = 0, threads = 1, done = 0;
+    for (int ki = 0; ki < a.n_stiffness && rc == CLI_EXIT_OK; ++ki)
+        for (int mi = 0; mi < a.n_mass && rc == CLI_EXIT_OK; ++mi) {
+            bench_scene bs;
+            wc_diag d = {0};
+            if (bench_scene_build(&bs, a.scene, a.com.garment, a.stiffness[ki], a.mass[mi], &d) != WEFT_OK) {
+                cli_error(d.message);
+                rc = CLI_EXIT_FAILURE;
+                break;
+            }
+            particles = bs.model.n_particles;
+            const int row = ki * a.n_mass + mi;
+            for (int s = 0; s < a.n_solvers && rc == CLI_EXIT_OK; ++s)
+                for (int c = 0; c < a.n_steps; ++c) {
+                    bench_run_opts o;
+                    memset(&o, 0, sizeof o);
+                    o.sim = bs.sc.sim;
+                    o.sim.threads = a.com.threads;
+                    o.sim.solver.type = a.solvers[s];
+                    o.sim.substeps = 1;
+                    o.fps = 1.0 / a.steps[c];
+                    o.frames = (int)ceil(a.seconds / a.steps[c] - 1e-9);
+                    o.fail_strain = a.fail_strain;
+                    o.fail_energy = a.fail_energy;
+                    bench_run r;
+                    if (bench_run_scene(&bs, &o, &r, &d) != 0) {
+                        cli_error(d.message);
+                        rc = CLI_EXIT_FAILURE;
+                        break;
+                    }
+                    wc_par par;
+                    wc_par_init(&par, a.com.threads);
+                    threads = par.threads;
+                    char why[48], step[24], b[N_COLS][48];
+                    const int out = judge(&a, &r, why, sizeof why);
+                    const int idx = (s * n_rows + row) * a.n_steps + c;
+                    outcome[idx] = out;
+                    if (out == BENCH_RECOVERED) snprintf(text[idx], sizeof text[idx], "%d", r.rollbacks);
+                    else if (out == BENCH_FAILED) snprintf(text[idx], sizeof text[idx], "%s", short_reason(&r, why));
+                    step_label(a.steps[c], step, sizeof step);
+                    snprintf(b[C_BACKEND], 48, "%s", BENCH_BACKEND);
+                    snprintf(b[C_SCENE], 48, "%s", bs.name);
+                    snprintf(b[C_PARTICLES], 48, "%d", particles);
+                    snprintf(b[C_SOLVER], 48, "%s", wc_solver_name(a.solvers[s]));
+                    snprintf(b[C_STEP], 48, "%s", step);
+                    snprintf(b[C_STIFFNESS], 48, "%g", a.stiffness[ki]);
+                    snprintf(b[C_MASS], 48, "%g", a.mass[mi]);
+                    snprintf(b[C_OUTCOME], 48, "%s", outcome_name[out]);
+                    snprintf(b[C_REASON], 48, "%s", why);
+                    snprintf(b[C_FRAMES], 48, "%d", r.frames);
+                    snprintf(b[C_FRAMES_ASKED], 48, "%d", o.frames);
+                    snprintf(b[C_ROLLBACKS], 48, "%d", r.rollbacks);
+                    snprintf(b[C_HALVINGS], 48, "%d", r.halvings);
+                    snprintf(b[C_FALLBACKS], 48, "%d", r.direct_fallbacks);
+                    snprintf(b[C_FAILURES], 48, "%d", r.failures);
+                    bench_fmt(b[C_STRAIN], 48, "%.3g", r.max_strain);
+                    bench_fmt(b[C_ENERGY], 48, "%.3g", (r.energy_max - r.energy0) / r.energy_scale);
+                    bench_fmt(b[C_ITER], 48, "%.1f", r.iterations);
+                    bench_fmt(b[C_MS], 48, "%.2f", r.ms_median);
+                    const char* cell[N_COLS];
+                    for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
+                    if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
+                    ++done;
+                    if (!a.com.quiet)
+                        fprintf(stderr, "[%d/%d] %s step %s k x%g m x%g: %s %s\n", done, n_cells,
+                                wc_solver_name(a.solvers[s]), step, a.stiffness[ki], a.mass[mi], outcome_name[out], why);
+                    bench_run_free(&r);
+                }
+            bench_scene_free(&bs);
+        }
+    if (rc == CLI_EXIT_OK) {
+        const header_info h = {&a, outcome, per_solver, particles, threads};
+        rc = bench_write_tables(&a.com, &t, print_header, &h);
+    }
+    if (rc == CLI_EXIT_OK && a.com.plot) {
+        /* rows top to bottom in the order of the table: row r is drawn at n_rows - 1 - r */
+        const char** names = calloc((size_t)a.n_solvers, sizeof(char*));
+        char(*cols)[24] = calloc((size_t)a.n_steps, sizeof *cols);
+        char(*rows)[40] = calloc((size_t)n_rows, sizeof *rows);
+        const char** col_ptr = calloc((size_t)a.n_steps, sizeof(char*));
+        const char** row_ptr = calloc((size_t)n_rows, sizeof(char*));
+        int* flipped = calloc((size_t)n_cells, sizeof(int));
+        char msg[256] = "out of memory";
+        if (!names || !cols || !rows || !col_ptr || !row_ptr || !flipped) rc = CLI_EXIT_FAILURE;
+        if (rc == CLI_EXIT_OK) {
+            for (int s = 0; s < a.n_solvers; ++s) names[s] = wc_solver_name(a.solvers[s]);
+            for (int c = 0; c < a.n_steps; ++c) {
+                step_label(a.steps[c], cols[c], sizeof cols[c]);
+                col_ptr[c] = cols[c];
+            }
+            for (int r = 0; r < n_rows; ++r) {
+                const int pr = n_rows - 1 - r;
+                snprintf(rows[pr], sizeof rows[pr], "k x%g, mass x%g", a.stiffness[r / a.n_mass], a.mass[r % a.n_mass]);
+                row_ptr[pr] = rows[pr];
+                for (int s = 0; s < a.n_solvers; ++s)
+                    for (int c = 0; c < a.n_steps; ++c) {
+                        const int from = (s * n_rows + r) * a.n_steps + c, to = (s * n_rows + pr) * a.n_steps + c;
+                        flipped[to] = outcome[from];
+                        text_ptr[to] = text[from];
+                    }
+            }
+            char title[160];
+            snprintf(title, sizeof title, "%s, %g s per cell, one substep per frame", a.scene,
+                     a.seconds);
+            if (bench_plot_heatmap(a.com.plot, names, a.n_solvers, col_ptr, a.n_steps, row_ptr, n_rows, flipped,
+                                   text_ptr, title, msg, sizeof msg) != 0)
+                rc = CLI_EXIT_FAILURE;
+        }
+        if (rc != CLI_EXIT_OK) cli_error(msg);
+        free(names);
+        free(cols);
+        free(rows);
+        free(col_ptr);
+        free(row_ptr);
+        free(flipped);
+    }
+    free(outcome);
+    free(text);
+    free(text_ptr);
+    bench_table_free(&t);
+    return rc;
+}
