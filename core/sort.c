@@ -1,4 +1,5 @@
 #include "sort.h"
+#include <stdlib.h>
 #include <string.h>
 
 int wc_bits_for(uint64_t max_value) {
@@ -50,4 +51,15 @@ int wc_radix_sort(wc_keyed* items, int n, int key_bits, const wc_allocator* allo
 
 int wc_radix_sort_u64(uint64_t* items, int n, int key_bits, const wc_allocator* alloc) {
     WC_RADIX_SORT_BODY(uint64_t, BARE_KEY)
+}
+
+static int cmp_double(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+double wc_sort_median(double* v, int n) {
+    if (n <= 0) return 0.0;
+    qsort(v, (size_t)n, sizeof(double), cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }

@@ -19,6 +19,10 @@ int wc_radix_sort(wc_keyed* items, int n, int key_bits, const wc_allocator* allo
 /* The same for bare 64-bit keys (half the memory traffic when no payload is needed). */
 int wc_radix_sort_u64(uint64_t* keys, int n, int key_bits, const wc_allocator* alloc);
 
+/* Sort v[0..n) ascending in place (qsort) and return its median (mean of the two middle values
+ * for even n); 0 for n <= 0. For timings and statistics, not the simulation. */
+double wc_sort_median(double* v, int n);
+
 /* Number of bits needed to hold values 0..max_value. */
 int wc_bits_for(uint64_t max_value);
 

@@ -138,8 +138,6 @@ double bench_energy(const wc_state* s);
 /* Distances between two position sets (n x 3): RMS and largest. */
 void bench_distance(const double* a, const double* b, int n, double* rms, double* max);
 
-/* Median of v[0..n) (v is sorted in place); 0 for n = 0. */
-double bench_median(double* v, int n);
 
 /* ---- tables (cmd_bench_table.c) ---- */
 

@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "cmd_bench.h"
+#include "sort.h"
 #include "vec3.h"
 
 /* ---------- scenes ---------- */
@@ -171,17 +172,6 @@ void bench_distance(const double* a, const double* b, int n, double* rms, double
     *max = mx;
 }
 
-static int cmp_double(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-double bench_median(double* v, int n) {
-    if (n <= 0) return 0.0;
-    qsort(v, (size_t)n, sizeof(double), cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 static int all_finite(const double* a, int n) {
     for (int i = 0; i < n; ++i)
         if (!isfinite(a[i])) return 0;
@@ -330,8 +320,8 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
             (o->fail_energy > 0 && (e - out->energy0) / out->energy_scale > o->fail_energy))
             break;
     }
-    out->ms_median = bench_median(ms + (size_t)5 * frames, out->frames);
-    for (int k = 0; k < 5; ++k) out->stage_median[k] = bench_median(ms + (size_t)k * frames, out->frames);
+    out->ms_median = wc_sort_median(ms + (size_t)5 * frames, out->frames);
+    for (int k = 0; k < 5; ++k) out->stage_median[k] = wc_sort_median(ms + (size_t)k * frames, out->frames);
     out->iterations = out->substeps > 0 ? (double)iterations / (double)out->substeps : 0.0;
     if (out->probes > 0) out->lin_err_mean /= out->probes;
     memcpy(out->x, s->x, n3 * sizeof(double));

@@ -1,5 +1,6 @@
 /* `weft run`: accumulating the per-frame statistics, and their summaries. */
 #include "run.h"
+#include "sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -78,11 +79,6 @@ long long run_record_bbox(run_record* r, const float* pos, int n) {
     return nonfinite;
 }
 
-static int cmp_double(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
 run_summary_stats run_summarise(const double* values, int n, int stride, double* scratch) {
     run_summary_stats s = {0, 0, 0, 0};
     if (n <= 0) return s;
@@ -91,8 +87,7 @@ run_summary_stats run_summarise(const double* values, int n, int stride, double*
         scratch[i] = values[(size_t)i * stride];
         sum += scratch[i];
     }
-    qsort(scratch, (size_t)n, sizeof(double), cmp_double);
-    s.median = n % 2 ? scratch[n / 2] : 0.5 * (scratch[n / 2 - 1] + scratch[n / 2]);
+    s.median = wc_sort_median(scratch, n);   /* sorts scratch: p95 and max read it below */
     int rank = (int)ceil(0.95 * n);   /* nearest rank */
     s.p95 = scratch[(rank > 0 ? rank : 1) - 1];
     s.mean = sum / n;

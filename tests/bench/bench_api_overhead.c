@@ -17,26 +17,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "clock.h"
+#include "sort.h"
 #include "step.h"
 #include "weft/weft.h"
 
-static double now_ms(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
+static double now_ms(void) { return wc_now_ms(); }
 
-static int cmp_double(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n) {
-    qsort(v, (size_t)n, sizeof(double), cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 int main(int argc, char** argv) {
     int n = 32, frames = 90, threads = 1;
@@ -172,10 +160,11 @@ int main(int argc, char** argv) {
            threads == 1 ? "" : "s");
     printf("solver iterations: API %lld, core %lld; largest position difference %.3g m (float outputs)\n", it_api,
            it_core, max_diff);
-    const double m_api = median(t_api, frames), m_core = median(t_core, frames), m_diff = median(t_diff, frames);
+    const double m_api = wc_sort_median(t_api, frames), m_core = wc_sort_median(t_core, frames);
+    const double m_diff = wc_sort_median(t_diff, frames);
     printf("| path | step ms/frame (median) | read results ms/frame (median) |\n|---|---|---|\n");
-    printf("| API (weft_cloth_step, weft_cloth_get_vertices) | %.3f | %.4f |\n", m_api, median(r_api, frames));
-    printf("| core (wc_step_frame, host-order copy) | %.3f | %.4f |\n", m_core, median(r_core, frames));
+    printf("| API (weft_cloth_step, weft_cloth_get_vertices) | %.3f | %.4f |\n", m_api, wc_sort_median(r_api, frames));
+    printf("| core (wc_step_frame, host-order copy) | %.3f | %.4f |\n", m_core, wc_sort_median(r_core, frames));
     printf("paired difference API - core: median %.4f ms/frame (%.2f %% of the core's median)\n", m_diff,
            100.0 * m_diff / m_core);
     weft_context_destroy(ctx);

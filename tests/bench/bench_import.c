@@ -12,17 +12,9 @@
 #include <string.h>
 #include "clock.h"
 #include "model.h"
+#include "sort.h"
 #include "source_mesh.h"
 
-static int cmp_double(const void* a, const void* b) {
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* v, int n) {
-    qsort(v, (size_t)n, sizeof(double), cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 /* n x n vertex grid; quads (split: 4 own vertices each) or two triangles per cell. Slight
  * out-of-plane waviness so that nothing is accidentally degenerate-free by symmetry. */
@@ -147,12 +139,12 @@ int main(int argc, char** argv) {
                     if (st == WEFT_OK) wc_source_mesh_free(&im);
                     else fprintf(stderr, "import failed: %s\n", d.message);
                 }
-                obj_ms = median(t[8], runs);
+                obj_ms = wc_sort_median(t[8], runs);
                 remove(path);
             }
         }
         printf("| %s | %d | %d | %d |", cases[c].name, src.n_verts, rep.particles, nspr);
-        for (int k = 0; k < 8; ++k) printf(" %.0f ms |", median(t[k], runs));
+        for (int k = 0; k < 8; ++k) printf(" %.0f ms |", wc_sort_median(t[k], runs));
         if (with_obj) printf(" %.0f ms |\n", obj_ms);
         else printf(" - |\n");
         for (int k = 0; k < 9; ++k) free(t[k]);
