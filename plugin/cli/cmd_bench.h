@@ -138,7 +138,6 @@ double bench_energy(const wc_state* s);
 /* Distances between two position sets (n x 3): RMS and largest. */
 void bench_distance(const double* a, const double* b, int n, double* rms, double* max);
 
-
 /* ---- tables (cmd_bench_table.c) ---- */
 
 typedef struct bench_table {
