@@ -23,6 +23,7 @@ wc_sim_def wc_default_sim_def(void) {
     d.direct_fallback = 1;
     d.fail_strain = 1.0;
     d.fail_energy_growth = 1e3;
+    d.fail_energy_gain = 0.01;
     d.threads = 0;
     return d;
 }
@@ -51,6 +52,7 @@ static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
     if (d->max_halvings < 0 || d->max_halvings > 12) BAD("sim def: max_halvings must be in [0, 12]");
     if (!(d->fail_strain > 0)) BAD("sim def: fail_strain must be > 0");
     if (!(d->fail_energy_growth > 1)) BAD("sim def: fail_energy_growth must be > 1");
+    if (!(d->fail_energy_gain >= 0 && d->fail_energy_gain < INFINITY)) BAD("sim def: fail_energy_gain must be finite and >= 0");
 #undef BAD
     return WEFT_OK;
 }

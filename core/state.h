@@ -23,6 +23,12 @@ typedef struct wc_sim_def {
     int direct_fallback;        /* then with the direct solver (1; analysed at creation) */
     double fail_strain;         /* a substep that stretches a spring beyond this fails (1.0) */
     double fail_energy_growth;  /* ... or multiplies kinetic energy by more than this (1e3) */
+    double fail_energy_gain;    /* ... or, in a substep with no energy source (pins and colliders
+                                   still, no wind), raises the total energy (kinetic + springs +
+                                   gravity) by more than this x (M |g| D + its kinetic and spring
+                                   energy at the start), M the mass, D the bounding-box diagonal:
+                                   backward Euler only dissipates, a gain is the linearisation
+                                   failing (0.01; 0: not judged) */
     int threads;                /* OpenMP threads, 0 = OpenMP's default */
 } wc_sim_def;
 

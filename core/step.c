@@ -83,15 +83,39 @@ static void restore(wc_state* s) {
     s->contacts.active = s->contacts_save.active;
 }
 
+/* Bounding-box diagonal of the rest shape (m). */
+static double rest_diagonal(const wc_model* m) {
+    double d2 = 0.0;
+    for (int c = 0; c < 3; ++c) d2 += (m->report.bbox_max[c] - m->report.bbox_min[c]) * (m->report.bbox_max[c] - m->report.bbox_min[c]);
+    return sqrt(d2);
+}
+
+/* Total mechanical energy of the state: kinetic + springs + gravity (relative to the origin) (J);
+ * *elastic receives kinetic + springs. */
+static double total_energy(const wc_state* s, double* elastic) {
+    const wc_model* m = s->model;
+    double e = wc_state_kinetic_energy(s) + wc_spring_energy(m, s->x);
+    *elastic = e;
+    for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
+    return e;
+}
+
 /* Energy scale below which kinetic-energy growth is not judged: what gravity, moving pins and
  * moving colliders could plausibly put into the cloth. */
 static double energy_floor(const wc_state* s) {
     const wc_model* m = s->model;
-    double diag = 0.0;
-    for (int c = 0; c < 3; ++c) diag += (m->report.bbox_max[c] - m->report.bbox_min[c]) * (m->report.bbox_max[c] - m->report.bbox_min[c]);
-    double speed2 = 1.0 + 2.0 * v3_norm(s->def.gravity) * sqrt(diag) + v3_dot(s->def.air.wind, s->def.air.wind);
+    double speed2 = 1.0 + 2.0 * v3_norm(s->def.gravity) * rest_diagonal(m) + v3_dot(s->def.air.wind, s->def.air.wind);
     for (int k = 0; k < s->n_colliders; ++k) speed2 += v3_dot(s->colliders[k].velocity, s->colliders[k].velocity);
     return 0.5 * s->total_mass * speed2;
+}
+
+/* 1 when nothing in this frame can put energy into the cloth: pins still, colliders still, no
+ * wind (gravity is in the total energy; drag and friction only take energy out). */
+static int sourceless(const wc_state* s, double pin_energy) {
+    if (pin_energy > 0 || v3_dot(s->def.air.wind, s->def.air.wind) > 0) return 0;
+    for (int k = 0; k < s->n_colliders; ++k)
+        if (v3_dot(s->colliders[k].velocity, s->colliders[k].velocity) > 0) return 0;
+    return 1;
 }
 
 /* Constraints, forces, assembly and friction of a substep of length h ending at frame fraction
@@ -142,13 +166,15 @@ static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve
 
 /* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
  * returns non-OK when the result must be discarded. The last resort (direct solver, compressed
- * springs' geometric term dropped so the system is positive definite) is judged only on finite
- * values: it is the exact implicit step, so strain or energy it shows is the physics'. */
+ * springs' geometric term dropped so the system is positive definite, the finest pieces) is
+ * judged only on finite values: nothing smaller is left to try. */
 static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int last_resort,
                            double pin_energy, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double ke0 = wc_state_kinetic_energy(s);
+    int judge_energy = !last_resort && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
+    double elastic0 = 0.0, e0 = judge_energy ? total_energy(s, &elastic0) : 0.0;
     int stuck = prepare(s, h, alpha1, last_resort ? WC_COMPRESSION_DROP : s->def.compression, st);
     double t0 = wc_now_ms(), t1;
 
@@ -228,6 +254,14 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
         if (ke1 > s->def.fail_energy_growth * (ke0 + floor))
             status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J",
                              h, wc_solver_name(solver), ke1, ke0);
+        if (status == WEFT_OK && judge_energy) {
+            double elastic1, e1 = total_energy(s, &elastic1);
+            double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(m) + elastic0;
+            if (e1 - e0 > s->def.fail_energy_gain * scale)
+                status = wc_fail(diag, WEFT_ERROR_STEP_FAILED,
+                                 "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
+                                 h, wc_solver_name(solver), e1 - e0, s->def.fail_energy_gain * scale);
+        }
     }
     st->max_strain = strain;
     t1 = wc_now_ms();
@@ -245,7 +279,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
     int tries = s->def.max_halvings + 1 + (s->def.direct_fallback ? 1 : 0);
     for (int t = 0; t < tries; ++t) {
         int last_resort = t > s->def.max_halvings;
-        int halvings = last_resort ? 0 : t;
+        int halvings = last_resort ? s->def.max_halvings : t; /* the last resort at the finest pieces */
         wc_solver_type solver = last_resort ? WC_SOLVER_DIRECT : user;
         int pieces = 1 << halvings;
         if (t > 0) {

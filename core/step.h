@@ -1,10 +1,12 @@
 /* Advancing a state by one frame: substeps of backward Euler (forces -> assembly -> constraints
  * -> solve -> contacts -> positions -> strain limit), each checked for failure (non-finite
- * values, strain above fail_strain, kinetic-energy blow-up). A failed substep is rolled back and
- * retried with half the step (up to max_halvings times: 2, 4, 8 pieces), then once with the
- * direct solver and the compressed springs' geometric term dropped (a positive-definite system,
- * accepted whenever it is finite); if that also fails the state is left as it was before the
- * substep and the frame reports WEFT_ERROR_STEP_FAILED. Positions are never left non-finite. */
+ * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
+ * supply it). A failed substep is rolled back and retried with half the step (up to
+ * max_halvings times: 2, 4, 8 pieces), then once more in the finest pieces with the direct
+ * solver and the compressed springs' geometric term dropped (a positive-definite system,
+ * accepted whenever it is finite);
+ * if that also fails the state is left as it was before the substep and the frame reports
+ * WEFT_ERROR_STEP_FAILED. Positions are never left non-finite. */
 #ifndef WEFT_CORE_STEP_H
 #define WEFT_CORE_STEP_H
 #include "state.h"

@@ -69,10 +69,12 @@ static void test_hanging_sheet(void) {
      * at their rest positions (-0.5, 0, 0.5) and (0.5, 0, 0.5). */
     CHECK(frame_b.v[3 * 992 + 0] == -0.5 && frame_b.v[3 * 992 + 1] == 0.0 && frame_b.v[3 * 992 + 2] == 0.5);
     CHECK(frame_b.v[3 * 1023 + 0] == 0.5 && frame_b.v[3 * 1023 + 1] == 0.0 && frame_b.v[3 * 1023 + 2] == 0.5);
-    /* The free edge (z = -0.5, far from the pins, springs at rest) falls by about g dt^2 =
-     * 9.81 / 900 m in the first frame (less a little for air drag). */
+    /* The free edge (z = -0.5, far from the pins, springs at rest) falls freely in the first
+     * frame: n backward-Euler pieces of dt / n (the step may halve the frame: the flat start
+     * overstretches the pinned corners' springs) drop it by g dt^2 (1 + 1/n) / 2, between
+     * g dt^2 / 2 and g dt^2 = 9.81 / 900 m (less a little for air drag). */
     for (int i = 0; i < 32; i += 31) {
-        CHECK(frame_a.v[3 * i + 1] < -0.0109 * 0.8);
+        CHECK(frame_a.v[3 * i + 1] < -0.0109 * 0.5 * 0.95);
         CHECK(frame_a.v[3 * i + 1] > -0.0109 * 1.05);
     }
     /* ... and keeps falling. */

@@ -4,9 +4,9 @@
  * linear-solve error against CHOLMOD is ~0; the Markdown table has a line per row; the plot is
  * a well-formed PNG (signature, chunk CRCs, IHDR first, IDAT, IEND last). Physics, from outside
  * the benchmark: (accuracy) the direct solver's trajectory error shrinks when its substeps
- * double, as backward Euler converges to the reference; (stability) a flat sheet's first step
- * is a free fall, so the strain of a pinned corner's spring after one step of h is
- * sqrt(1 + (g h^2 / rest)^2) - 1.
+ * double, as backward Euler converges to the reference; (stability) a flat sheet's linearised
+ * first step is a free fall that would stretch a pinned corner's spring to
+ * sqrt(1 + (g h^2 / rest)^2) - 1: the long steps must be rolled back and stay well below it.
  *
  *   check_weft_bench accuracy | stability */
 #define _POSIX_C_SOURCE 200809L
@@ -296,18 +296,19 @@ static void test_stability_quick(void) {
         CHECK(failed || (isfinite(strain) && strain <= 0.5));
         /* A flat sheet at rest: no spring resists vertical motion in the linearised step, so every
          * free particle falls g h^2 in the first step and a pinned corner's edge spring (rest
-         * 1/11 m) stretches to sqrt(rest^2 + (g h^2)^2). With 1/12 s that is a strain of 25%,
-         * and with 10^4 x stiffness the energy check fails the cell right there. */
-        if (!strcmp(get(&c, row, "step_s"), "1/12") && num(&c, row, "stiffness_x") == 10000) {
+         * 1/11 m) would stretch to sqrt(rest^2 + (g h^2)^2): with 1/12 s a strain of 25%, energy
+         * the step did not have. The step's energy check rolls that back and retries in smaller
+         * pieces: every 1/12 s cell recovers, and stays well below the free-fall strain. */
+        if (!strcmp(get(&c, row, "step_s"), "1/12")) {
             const double h = 1.0 / 12, drop = 9.81 * h * h, rest = 1.0 / 11;
-            CHECK(failed && frames == 1);
-            CHECK_NEAR(strain, sqrt(1 + drop * drop / (rest * rest)) - 1, 1e-3);
+            CHECK(recovered && num(&c, row, "rollbacks") >= 1);
+            CHECK(strain < 0.5 * (sqrt(1 + drop * drop / (rest * rest)) - 1));
             ++free_fall_cells;
         }
         /* small steps of the default cloth survive with every solver */
         if (!strcmp(get(&c, row, "step_s"), "1/60") && num(&c, row, "stiffness_x") == 1) CHECK(!failed);
     }
-    CHECK_EQ_INT(free_fall_cells, 4 * 2);
+    CHECK_EQ_INT(free_fall_cells, 4 * 3 * 2);
     CHECK(png_ok(png_path, 400, 300));
 }
 
