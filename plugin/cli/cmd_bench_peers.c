@@ -168,6 +168,7 @@ typedef struct header_info {
     int weft_threads, blender_threads;
     char version[32];
     char settings[768];
+    wc_solver_opts solver;  /* Weft's (the scenes' default) */
 } header_info;
 
 static void print_header(FILE* out, const void* ctx) {
@@ -186,9 +187,10 @@ static void print_header(FILE* out, const void* ctx) {
             "Settings read back: %s.\n",
             h->settings);
     fprintf(out,
-            "- Weft: the scene's defaults (PCG solver, default material) at %g frames per second, the "
-            "substeps per frame given in the table; each frame one timed wc_step_frame.\n",
-            a->fps);
+            "- Weft: the scene's defaults (default material; %s solver, relative tolerance %g, at most %d "
+            "iterations) at %g frames per second, the substeps per frame given in the table; each frame one "
+            "timed wc_step_frame.\n",
+            wc_solver_name(h->solver.type), h->solver.tolerance, h->solver.max_iterations, a->fps);
     fputs("- ms/frame: median over the frames. Blender / Weft: the ratio of the medians (> 1: Weft is faster).\n"
           "- Time: Blender's cloth ignores the frame rate; its frame is a fixed unit in which gravity is scaled "
           "by 0.001, i.e. it falls like 1/31.6 s per frame (within 5% of Weft's 1/30 s).\n"
@@ -251,6 +253,7 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
     snprintf(h->version, sizeof h->version, "%s", br.version);
     snprintf(h->settings, sizeof h->settings, "%s", br.settings);
     h->blender_threads = br.threads;
+    h->solver = bs.sc.sim.solver;
     int rc = CLI_EXIT_OK;
     for (int k = 0; k < a->n_substeps && rc == CLI_EXIT_OK; ++k) {
         bench_run_opts o;
