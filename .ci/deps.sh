@@ -13,7 +13,7 @@ packages=(
   libpng-dev                      # preview renderer: PNG output (gpu/png_write.c)
   libcjson-dev                    # JSON (weft inspect --json, scene files)
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
-  blender                         # the add-on test (tests/blender): ~480 MB, ~25 s to install
+  blender                         # the add-on test (tests/blender) and `weft bench peers`: ~480 MB, ~25 s to install
   libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
 )
 

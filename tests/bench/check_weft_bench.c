@@ -8,12 +8,18 @@
  * first step is a free fall that would stretch a pinned corner's spring to
  * sqrt(1 + (g h^2 / rest)^2) - 1: the long steps must be rolled back and stay well below it.
  *
- *   check_weft_bench accuracy | stability */
+ * (peers) Weft beside Blender's cloth on sheet12: both ms/frame positive, the ratio theirs,
+ * Blender's pinned vertices unmoved (its vertex order is Weft's particle order), and each cloth's
+ * lowest point fallen, but no further than a free particle under that solver's time stepping.
+ * Without blender on PATH the peers mode checks what needs none and exits 77 (skipped).
+ *
+ *   check_weft_bench accuracy | stability | peers */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "test_support.h"
@@ -312,6 +318,135 @@ static void test_stability_quick(void) {
     CHECK(png_ok(png_path, 400, 300));
 }
 
+/* ---- peers: Weft beside Blender's cloth ---- */
+
+/* 1 when an executable `blender` is on PATH (as `weft bench peers` looks for it). */
+static int blender_on_path(void) {
+    const char* path = getenv("PATH");
+    char buf[1024];
+    for (const char* p = path ? path : ""; *p;) {
+        const char* colon = strchr(p, ':');
+        int len = colon ? (int)(colon - p) : (int)strlen(p);
+        snprintf(buf, sizeof buf, "%.*s/blender", len, p);
+        if (len > 0 && access(buf, X_OK) == 0) return 1;
+        if (!colon) break;
+        p = colon + 1;
+    }
+    return 0;
+}
+
+/* What needs no Blender: help, usage errors, and the message when Blender is missing. */
+static void test_peers_usage(void) {
+    static ts_cli_result r;
+    ts_run_cli("bench --help", &r);
+    CHECK_EQ_INT(r.rc, 0);
+    CHECK(strstr(r.out, "weft bench peers") != NULL);
+    ts_run_cli("bench peers --help", &r);
+    CHECK_EQ_INT(r.rc, 0);
+    CHECK(strstr(r.out, "--quick") && strstr(r.out, "--blender") && strstr(r.out, "--timeout") &&
+          strstr(r.out, "Blender / Weft") && strstr(r.out, "5 quality steps"));
+    ts_run_cli("bench peers --frames 0", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "bad value for --frames: '0'") != NULL);
+    ts_run_cli("bench peers --substeps 1,,2", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench peers --timeout -1", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench peers --blender", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "--blender needs a value") != NULL);
+    ts_run_cli("bench peers --quick --plot peers.png", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "draws no plot") != NULL);
+    ts_run_cli("bench peers --quick --quiet --blender /nonexistent/blender", &r);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "'/nonexistent/blender' is not an executable file") != NULL);
+    /* no blender on PATH: a clear message and a failure, nothing written */
+    const char* path = getenv("PATH");
+    char saved[4096];
+    snprintf(saved, sizeof saved, "%s", path ? path : "");
+    setenv("PATH", "/nonexistent", 1);
+    ts_run_cli("bench peers --quick --quiet", &r);
+    setenv("PATH", saved, 1);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "blender is not installed") != NULL);
+    CHECK(r.out[0] == '\0');
+}
+
+/* What needs Blender: its failures reported, and the quick run. */
+static void test_peers_blender_errors(void) {
+    static ts_cli_result r;
+    ts_run_cli("bench peers --quick --quiet --script /nonexistent/driver.py", &r);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "cannot read the Blender driver script /nonexistent/driver.py") != NULL);
+    ts_run_cli("bench peers --quick --quiet --timeout 0.01", &r);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "did not finish within 0.01 s") != NULL);
+    /* a script that fails: Blender's exit status and its last words */
+    const char* bad = ts_write_tmp("peers_bad_driver.py", "raise RuntimeError('driver broke on purpose')\n");
+    char args[1024];
+    snprintf(args, sizeof args, "bench peers --quick --quiet --script '%s'", bad);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "blender exited with status 1") && strstr(r.err, "driver broke on purpose"));
+    ts_run_cli("bench peers --quick --quiet --scenes blanket9", &r);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "unknown scene 'blanket9'") != NULL);
+}
+
+static const char* const peers_cols[] = {
+    "backend", "scene", "particles", "frames", "weft_threads", "blender_threads", "weft_solver", "weft_substeps",
+    "weft_ms_per_frame", "blender_ms_per_frame", "ratio_blender_over_weft", "weft_drop_m", "blender_drop_m",
+    "blender_pin_drift_m", "blender_version", "notes"};
+
+static void test_peers_quick(void) {
+    static ts_cli_result r;
+    static csv c;
+    char args[2048], csv_path[512];
+    snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_peers.csv"));
+    remove(csv_path);
+    snprintf(args, sizeof args, "bench peers --quick --quiet --substeps 1,2 --csv '%s'", csv_path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
+    csv_parse(&c, csv_path);
+    check_header(&c, peers_cols, (int)(sizeof peers_cols / sizeof peers_cols[0]));
+    CHECK_EQ_INT(c.n_rows, 2);
+    for (int row = 0; row < c.n_rows; ++row) {
+        const int substeps = row + 1;
+        CHECK(!strcmp(get(&c, row, "scene"), "sheet12") && num(&c, row, "particles") == 144);
+        CHECK(num(&c, row, "frames") == 10 && num(&c, row, "weft_substeps") == substeps);
+        CHECK(num(&c, row, "weft_threads") == 1 && num(&c, row, "blender_threads") == 1);
+        CHECK(!strncmp(get(&c, row, "blender_version"), "3.", 2) || !strncmp(get(&c, row, "blender_version"), "4.", 2));
+        const double w = num(&c, row, "weft_ms_per_frame"), b = num(&c, row, "blender_ms_per_frame");
+        const double ratio = num(&c, row, "ratio_blender_over_weft");
+        CHECK(isfinite(w) && w > 0 && isfinite(b) && b > 0);
+        /* ms printed with 4 significant digits, the ratio with 3 */
+        CHECK(fabs(ratio - b / w) <= 6e-3 * ratio);
+        /* Blender's pinned vertices are the pinned particles (same vertex order): they stay put */
+        CHECK(num(&c, row, "blender_pin_drift_m") < 1e-4);
+        /* Both cloths fall, and no faster than a free particle under each one's own time stepping:
+         * Weft, backward Euler with h = 1 / (30 substeps): g h^2 n (n + 1) / 2 after n substeps;
+         * Blender, 5 steps of 1/5 frame per frame with gravity x 0.001 (frame units). */
+        const int n = 10 * substeps;
+        const double h = 1.0 / (30.0 * substeps);
+        const double weft_fall = 9.81 * h * h * n * (n + 1) / 2;
+        const double blender_fall = 9.81e-3 * 0.04 * 50 * 51 / 2;
+        const double wd = num(&c, row, "weft_drop_m"), bd = num(&c, row, "blender_drop_m");
+        CHECK(wd > 0.1 && wd <= weft_fall);
+        CHECK(bd > 0.1 && bd <= blender_fall);
+        if (!(wd > 0.1 && wd <= weft_fall && bd > 0.1 && bd <= blender_fall))
+            fprintf(stderr, "  drops: weft %g (free fall %g), blender %g (free fall %g)\n", wd, weft_fall, bd,
+                    blender_fall);
+    }
+    CHECK(strstr(r.out, "## weft bench peers") && strstr(r.out, "quality=5") && strstr(r.out, "Blender 3."));
+    CHECK(strstr(r.out, "| scene | particles | Weft substeps | Weft ms/frame | Blender ms/frame | Blender / Weft |") !=
+          NULL);
+    int table_lines = 0;
+    for (const char* p = r.out; (p = strstr(p, "\n| ")) != NULL; ++p) ++table_lines;
+    CHECK_EQ_INT(table_lines, c.n_rows + 1);
+}
+
 int main(int argc, char** argv) {
     const char* which = argc > 1 ? argv[1] : "";
     if (!strcmp(which, "accuracy")) {
@@ -322,8 +457,17 @@ int main(int argc, char** argv) {
         RUN_TEST(test_help);
         RUN_TEST(test_stability_usage);
         RUN_TEST(test_stability_quick);
+    } else if (!strcmp(which, "peers")) {
+        RUN_TEST(test_peers_usage);
+        if (!blender_on_path()) {
+            if (TEST_SUMMARY() != 0) return 1;
+            printf("SKIPPED: `blender` is not installed (apt-get install blender; .ci/deps.sh does)\n");
+            return 77;
+        }
+        RUN_TEST(test_peers_blender_errors);
+        RUN_TEST(test_peers_quick);
     } else {
-        fprintf(stderr, "usage: %s accuracy|stability\n", argv[0]);
+        fprintf(stderr, "usage: %s accuracy|stability|peers\n", argv[0]);
         return 2;
     }
     return TEST_SUMMARY();

@@ -1,0 +1,309 @@
+/* `weft bench peers`: Weft beside Blender's own cloth solver. For every scene, Blender's cloth
+ * (its defaults, 5 quality steps per frame; host_glue/blender/peer_cloth_bench.py run by a child
+ * `blender -b`, see cmd_bench_blender.c) and Weft (the scene's defaults: PCG, at each --substeps
+ * count) simulate the same mesh, the same pinned particles (held still) and the same number of
+ * frames with the same thread count; the table gives both medians of ms per frame, their ratio,
+ * and how far each cloth's lowest point hangs below its pins at the end (a sanity number, not an
+ * error: the two material models differ). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cmd_bench.h"
+#include "cmd_bench_blender.h"
+#include "par.h"
+
+#ifndef WEFT_SAMPLE_SCENES
+#define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
+#endif
+#ifndef WEFT_BLENDER_SCRIPT
+#define WEFT_BLENDER_SCRIPT "host_glue/blender/peer_cloth_bench.py"
+#endif
+
+#define MAX_SCENES 16
+
+typedef struct peers_args {
+    const char* scenes[MAX_SCENES];
+    int n_scenes;
+    char scene_buf[512];
+    int substeps[BENCH_MAX_LIST];
+    int n_substeps;
+    int frames;
+    double fps;
+    double timeout;
+    const char* blender;    /* NULL: `blender` on PATH */
+    const char* script;
+    bench_common com;
+} peers_args;
+
+void bench_peers_usage(FILE* out) {
+    fputs("usage: weft bench peers [--quick] [--scenes LIST] [--substeps LIST] [--frames N] [--fps F]\n"
+          "                        [--blender PATH] [--script FILE] [--timeout S] [--threads N]\n"
+          "                        [--garment FILE] [--csv FILE] [--md FILE] [--quiet]\n"
+          "\n"
+          "Weft beside Blender's own cloth solver, in the same run. " BENCH_BACKEND_NOTE ".\n"
+          "Needs Debian's blender (3.4): when it is not installed the command says so and fails.\n"
+          "For each scene Blender runs the driver script (--script) headless on the same mesh (one\n"
+          "vertex per Weft particle) with the same pinned vertices held still: a Cloth modifier\n"
+          "with Blender's defaults and 5 quality steps per frame, timed frame by frame; then Weft\n"
+          "(the scene's defaults: PCG) runs the same frames at each --substeps count. Both use\n"
+          "--threads threads (Blender: -t N). Per row:\n"
+          "  ms/frame        median wall time of one frame (Weft: wc_step_frame; Blender: one\n"
+          "                  scene.frame_set, its cloth evaluation included)\n"
+          "  Blender / Weft  the ratio of the two medians (> 1: Weft is faster)\n"
+          "  drop            how far the lowest point hangs below the highest pin at the end (m):\n"
+          "                  a sanity number, not an error (the material models differ)\n"
+          "\n"
+          "options (lists are comma-separated):\n"
+          "  --quick          seconds-long preset: sheet12, 10 frames, substeps 1, 1 thread, 120 s\n"
+          "                   timeout (later options still apply)\n"
+          "  --scenes LIST    sheetN (N x N particles, 1 m, flat at first, hanging from two\n"
+          "                   corners), hangN (upright from the start), garment (the --garment mesh\n"
+          "                   pinned at its waist, held still); default sheet32,sheet64,sheet100,\n"
+          "                   garment\n"
+          "  --substeps LIST  Weft's substeps per frame (default 1,5; Blender always takes 5 steps)\n"
+          "  --frames N       frames simulated by each (default 60)\n"
+          "  --fps F          Weft's frames per second (default 30; Blender's cloth ignores the\n"
+          "                   frame rate: its frame is a fixed unit, in free fall like 1/31.6 s)\n"
+          "  --blender PATH   the blender executable (default: `blender` on PATH)\n"
+          "  --script FILE    the driver (default " WEFT_BLENDER_SCRIPT ")\n"
+          "  --timeout S      kill a Blender run after S seconds (default 600)\n"
+          "  --threads N      threads for both (default 0: each one's own default)\n"
+          "  --garment FILE   the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
+          "  --csv FILE       write every row as CSV\n"
+          "  --md FILE        write the Markdown table to FILE instead of stdout\n"
+          "  --quiet          no progress lines on stderr\n"
+          "  -h, --help       show this help\n",
+          out);
+}
+
+static void set_scenes(peers_args* a, const char* list) {
+    snprintf(a->scene_buf, sizeof a->scene_buf, "%s", list);
+    a->n_scenes = 0;
+    for (char* tok = strtok(a->scene_buf, ","); tok && a->n_scenes < MAX_SCENES; tok = strtok(NULL, ","))
+        a->scenes[a->n_scenes++] = tok;
+}
+
+static void defaults(void* args, int quick) {
+    peers_args* a = args;
+    memset(a, 0, sizeof *a);
+    set_scenes(a, quick ? "sheet12" : "sheet32,sheet64,sheet100,garment");
+    a->n_substeps = bench_parse_ints(quick ? "1" : "1,5", 1, 1024, a->substeps);
+    a->frames = quick ? 10 : 60;
+    a->fps = 30;
+    a->timeout = quick ? 120 : 600;
+    a->script = WEFT_BLENDER_SCRIPT;
+}
+
+static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
+    peers_args* a = args;
+    int m = 0;
+#define OPT(name) ((m = cli_option_value(argc, argv, i, name, v)) != 0)
+#define BAD(cond) (m < 0 ? m : (cond) ? -2 : 1) /* m < 0: the value is missing */
+    if (OPT("--scenes")) {
+        if (m < 0) return m;
+        set_scenes(a, *v);
+        return BAD(a->n_scenes == 0);
+    }
+    if (OPT("--substeps")) return BAD((a->n_substeps = bench_parse_ints(*v, 1, 1024, a->substeps)) < 0);
+    if (OPT("--frames")) return BAD(cli_parse_int(*v, 1, 1000000, &a->frames) != 0);
+    if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
+    if (OPT("--timeout"))
+        return BAD(cli_parse_double(*v, &a->timeout) != 0 || !(a->timeout > 0 && a->timeout <= 86400));
+    if (OPT("--blender")) {
+        if (m < 0) return m;
+        a->blender = *v;
+        return BAD(!**v);
+    }
+    if (OPT("--script")) {
+        if (m < 0) return m;
+        a->script = *v;
+        return BAD(!**v);
+    }
+#undef OPT
+#undef BAD
+    return m;
+}
+
+enum {
+    C_BACKEND, C_SCENE, C_PARTICLES, C_FRAMES, C_WEFT_THREADS, C_BLENDER_THREADS, C_SOLVER, C_SUBSTEPS,
+    C_WEFT_MS, C_BLENDER_MS, C_RATIO, C_WEFT_DROP, C_BLENDER_DROP, C_PIN_DRIFT, C_VERSION, C_NOTES, N_COLS
+};
+static const char* const csv_cols[N_COLS] = {
+    "backend", "scene", "particles", "frames", "weft_threads", "blender_threads", "weft_solver", "weft_substeps",
+    "weft_ms_per_frame", "blender_ms_per_frame", "ratio_blender_over_weft", "weft_drop_m", "blender_drop_m",
+    "blender_pin_drift_m", "blender_version", "notes"};
+static const char* const md_cols[N_COLS] = {
+    NULL, "scene", "particles", NULL, NULL, NULL, NULL, "Weft substeps", "Weft ms/frame", "Blender ms/frame",
+    "Blender / Weft", "Weft drop (m)", "Blender drop (m)", NULL, NULL, "notes"};
+
+/* How far the lowest point of x lies below the highest pin at rest (or below the highest rest
+ * point when nothing is pinned). */
+static double drop_below_pins(const bench_scene* bs, const double* x) {
+    const wc_model* m = &bs->model;
+    double top = -INFINITY, low = INFINITY;
+    for (int k = 0; k < bs->pins.n; ++k) top = fmax(top, bs->pins.start[3 * k + 1]);
+    if (bs->pins.n == 0)
+        for (int i = 0; i < m->n_particles; ++i) top = fmax(top, m->rest_pos[3 * i + 1]);
+    for (int i = 0; i < m->n_particles; ++i) low = isnan(x[3 * i + 1]) ? NAN : fmin(low, x[3 * i + 1]);
+    return top - low;
+}
+
+/* The largest distance of a pinned particle of x from its rest position. */
+static double pin_drift(const bench_scene* bs, const double* x) {
+    double worst = 0.0;
+    for (int k = 0; k < bs->pins.n; ++k) {
+        const double* p = x + 3 * bs->pins.pins[k].particle;
+        const double* r = bs->pins.start + 3 * k;
+        const double d = sqrt((p[0] - r[0]) * (p[0] - r[0]) + (p[1] - r[1]) * (p[1] - r[1]) + (p[2] - r[2]) * (p[2] - r[2]));
+        if (!(d <= worst)) worst = d;
+    }
+    return worst;
+}
+
+typedef struct header_info {
+    const peers_args* a;
+    int weft_threads, blender_threads;
+    char version[32];
+    char settings[768];
+    wc_solver_opts solver;  /* Weft's (the scenes' default) */
+} header_info;
+
+static void print_header(FILE* out, const void* ctx) {
+    const header_info* h = ctx;
+    const peers_args* a = h->a;
+    fprintf(out, "## weft bench peers\n\n");
+    fprintf(out,
+            "%s. Blender %s's cloth solver beside Weft's on the same meshes (one Blender vertex per Weft "
+            "particle), the same pinned vertices held still, %d frames each, in one run. Threads: Weft %d "
+            "(OpenMP), Blender %d%s.\n\n",
+            BENCH_BACKEND_NOTE, h->version, a->frames, h->weft_threads, h->blender_threads,
+            a->com.threads > 0 ? " (blender -t)" : "");
+    fprintf(out,
+            "- Blender: a Cloth modifier with Blender's defaults and 5 quality steps per frame, a fresh file "
+            "(--factory-startup), each frame one timed scene.frame_set (host_glue/blender/peer_cloth_bench.py). "
+            "Settings read back: %s.\n",
+            h->settings);
+    fprintf(out,
+            "- Weft: the scene's defaults (default material; %s solver, relative tolerance %g, at most %d "
+            "iterations) at %g frames per second, the substeps per frame given in the table; each frame one "
+            "timed wc_step_frame.\n",
+            wc_solver_name(h->solver.type), h->solver.tolerance, h->solver.max_iterations, a->fps);
+    fputs("- ms/frame: median over the frames. Blender / Weft: the ratio of the medians (> 1: Weft is faster).\n"
+          "- Time: Blender's cloth ignores the frame rate; its frame is a fixed unit in which gravity is scaled "
+          "by 0.001, i.e. it falls like 1/31.6 s per frame (within 5% of Weft's 1/30 s).\n"
+          "- drop: how far the lowest point hangs below the pins at the end (m). A sanity number, not an "
+          "error: the material models differ (Blender's default mass is 0.3 kg per vertex, Weft's a "
+          "density per area; the stiffnesses are in different units).\n\n",
+          out);
+}
+
+static int add_row(bench_table* t, const bench_scene* bs, const peers_args* a, int weft_threads,
+                   const bench_blender_result* br, int substeps, const bench_run* r) {
+    char b[N_COLS][96];
+    const char* cell[N_COLS];
+    snprintf(b[C_BACKEND], 96, "%s", BENCH_BACKEND);
+    snprintf(b[C_SCENE], 96, "%s", bs->name);
+    snprintf(b[C_PARTICLES], 96, "%d", bs->model.n_particles);
+    snprintf(b[C_FRAMES], 96, "%d", a->frames);
+    snprintf(b[C_WEFT_THREADS], 96, "%d", weft_threads);
+    snprintf(b[C_BLENDER_THREADS], 96, "%d", br->threads);
+    snprintf(b[C_SOLVER], 96, "%s", wc_solver_name(bs->sc.sim.solver.type));
+    snprintf(b[C_SUBSTEPS], 96, "%d", substeps);
+    bench_fmt(b[C_WEFT_MS], 96, "%.4g", r->ms_median);
+    bench_fmt(b[C_BLENDER_MS], 96, "%.4g", br->ms_median);
+    bench_fmt(b[C_RATIO], 96, "%.3g", br->ms_median / r->ms_median);
+    bench_fmt(b[C_WEFT_DROP], 96, "%.3f", drop_below_pins(bs, r->x));
+    bench_fmt(b[C_BLENDER_DROP], 96, "%.3f", drop_below_pins(bs, br->x));
+    const double drift = pin_drift(bs, br->x);
+    bench_fmt(b[C_PIN_DRIFT], 96, "%.3g", drift);
+    snprintf(b[C_VERSION], 96, "%s", br->version);
+    char* notes = b[C_NOTES];
+    notes[0] = '\0';
+    if (!strcmp(bs->name, "garment")) snprintf(notes, 96, "waist pinned, still");
+    if (r->failures > 0 || r->nonfinite)
+        snprintf(notes + strlen(notes), 96 - strlen(notes), "%sWeft: %d failed substeps%s", notes[0] ? "; " : "",
+                 r->failures, r->nonfinite ? ", non-finite" : "");
+    if (!(drift <= 1e-3))
+        snprintf(notes + strlen(notes), 96 - strlen(notes), "%sBlender's pins moved %.3g m", notes[0] ? "; " : "",
+                 drift);
+    for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
+    return bench_table_add(t, cell);
+}
+
+/* One scene: Blender once, then Weft at every substep count. */
+static int run_scene(const peers_args* a, const char* blender, const char* name, bench_table* t, header_info* h) {
+    bench_scene bs;
+    wc_diag d = {0};
+    if (bench_scene_build(&bs, name, a->com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+        cli_error(d.message);
+        return CLI_EXIT_FAILURE;
+    }
+    bs.spin = 0.0; /* the garment's waist held still: Blender's pins do not move */
+    if (!a->com.quiet) fprintf(stderr, "%s (%d particles): blender...\n", bs.name, bs.model.n_particles);
+    bench_blender_result br;
+    char msg[1024];
+    if (bench_blender_run(blender, a->script, &bs, a->frames, a->com.threads, a->timeout, &br, msg, sizeof msg) != 0) {
+        cli_error(msg);
+        bench_scene_free(&bs);
+        return CLI_EXIT_FAILURE;
+    }
+    snprintf(h->version, sizeof h->version, "%s", br.version);
+    snprintf(h->settings, sizeof h->settings, "%s", br.settings);
+    h->blender_threads = br.threads;
+    h->solver = bs.sc.sim.solver;
+    int rc = CLI_EXIT_OK;
+    for (int k = 0; k < a->n_substeps && rc == CLI_EXIT_OK; ++k) {
+        bench_run_opts o;
+        memset(&o, 0, sizeof o);
+        o.sim = bs.sc.sim;
+        o.sim.threads = a->com.threads;
+        o.sim.substeps = a->substeps[k];
+        o.fps = a->fps;
+        o.frames = a->frames;
+        bench_run r;
+        if (bench_run_scene(&bs, &o, &r, &d) != 0) {
+            cli_error(d.message);
+            rc = CLI_EXIT_FAILURE;
+            break;
+        }
+        if (!a->com.quiet)
+            fprintf(stderr, "  weft %d substep(s): %.3g ms/frame; blender: %.3g ms/frame\n", a->substeps[k],
+                    r.ms_median, br.ms_median);
+        if (add_row(t, &bs, a, h->weft_threads, &br, a->substeps[k], &r) != 0) {
+            cli_error("out of memory");
+            rc = CLI_EXIT_FAILURE;
+        }
+        bench_run_free(&r);
+    }
+    bench_blender_free(&br);
+    bench_scene_free(&bs);
+    return rc;
+}
+
+int bench_peers_run(int argc, char** argv) {
+    peers_args a;
+    int rc = bench_parse_args(argc, argv, "weft bench peers", bench_peers_usage, defaults, own_option, &a, &a.com);
+    if (rc >= 0) return rc;
+    if (a.com.plot) return cli_usage_error("weft bench peers", bench_peers_usage, "--plot: this command draws no plot");
+    char blender[1024], msg[1024];
+    if (bench_blender_find(a.blender, blender, sizeof blender, msg, sizeof msg) != 0) {
+        cli_error(msg);
+        return CLI_EXIT_FAILURE;
+    }
+    header_info h;
+    memset(&h, 0, sizeof h);
+    h.a = &a;
+    wc_par par;
+    wc_par_init(&par, a.com.threads);
+    h.weft_threads = par.threads;
+    bench_table t;
+    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    rc = CLI_EXIT_OK;
+    for (int s = 0; s < a.n_scenes && rc == CLI_EXIT_OK; ++s) rc = run_scene(&a, blender, a.scenes[s], &t, &h);
+    if (rc == CLI_EXIT_OK) rc = bench_write_tables(&a.com, &t, print_header, &h);
+    bench_table_free(&t);
+    return rc;
+}
