@@ -187,5 +187,7 @@ int bench_accuracy_run(int argc, char** argv);
 void bench_accuracy_usage(FILE* out);
 int bench_stability_run(int argc, char** argv);
 void bench_stability_usage(FILE* out);
+int bench_torture_run(int argc, char** argv);   /* cmd_bench_torture.c */
+void bench_torture_usage(FILE* out);
 
 #endif
