@@ -168,6 +168,16 @@ void wa_pin_targets(const wa_cloth* c, const wa_xform* bones);
  * velocity (origin(next) - origin(prev)) / dt, or zero when dt <= 0. */
 void wa_world_colliders(const wa_cloth* c, const wa_xform* next, const wa_xform* prev, double dt);
 
+/* ---- cloth_output.c -------------------------------------------------------------------------- */
+
+/* The largest |coordinate| an output position may have (m in world space, mesh units in object
+ * space): the outputs are float (at most 3.4e38), with a wide margin. */
+#define WA_MAX_OUTPUT_COORD 1e30
+/* 1 when every host vertex's output position, world and object space, with T as the object
+ * transform, is within WA_MAX_OUTPUT_COORD (and finite); else 0 with the first host vertex
+ * outside and the offending value. */
+int wa_outputs_in_range(const wa_cloth* c, const wa_xform* T, int* vertex, double* value);
+
 /* ---- render.c -------------------------------------------------------------------------------- */
 
 /* Release the context's GL context and renderer (nothing when it never rendered). */

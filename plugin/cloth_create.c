@@ -157,6 +157,14 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
         wa_cloth_free(c);
         return st;
     }
+    int bad_vertex = -1;
+    double bad_value = 0.0;
+    if (!wa_outputs_in_range(c, &c->object, &bad_vertex, &bad_value)) {
+        wa_cloth_free(c);
+        return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE,
+                       "%s: def->mesh: host vertex %d has a coordinate of %g (after unit_scale and transform), "
+                       "beyond the %g the float outputs hold", fn, bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
+    }
     if (!wa_register(ctx, c, out)) {
         wa_cloth_free(c);
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (handle table)", fn);

@@ -198,8 +198,11 @@ weft_status wa_validate_colliders(const weft_collider_def* c, int n, const char*
                  prefix, i);
         if ((unsigned)d->type > WEFT_COLLIDER_CAPSULE)
             FAIL(WEFT_ERROR_INVALID_ARGUMENT, "%s[%d].type = %d is not a weft_collider_type", prefix, i, (int)d->type);
+        /* a field the type does not use must still be finite: a NaN there is a host bug */
         if (d->type != WEFT_COLLIDER_PLANE) RANGE(d->radius, 0.0, INFINITY, 1, "%s[%d].radius", prefix, i);
+        else RANGE(d->radius, -INFINITY, INFINITY, 0, "%s[%d].radius (unused by a plane)", prefix, i);
         if (d->type == WEFT_COLLIDER_CAPSULE) RANGE(d->half_height, 0.0, INFINITY, 0, "%s[%d].half_height", prefix, i);
+        else RANGE(d->half_height, -INFINITY, INFINITY, 0, "%s[%d].half_height (unused by this type)", prefix, i);
         RANGE(d->thickness, 0.0, INFINITY, 0, "%s[%d].thickness", prefix, i);
         RANGE(d->friction, 0.0, INFINITY, 0, "%s[%d].friction", prefix, i);
         XFORM(d->transform, "%s[%d].transform", prefix, i);

@@ -229,6 +229,12 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
     if (st == WEFT_OK && fr->wind) v3_copy(s->def.air.wind, fr->wind);
     wc_step_stats ss;
     if (st == WEFT_OK) st = wc_step_frame(s, dt, &ss, &d);
+    int bad_vertex = -1;
+    double bad_value = 0.0;
+    if (st == WEFT_OK && !wa_outputs_in_range(c, &T1, &bad_vertex, &bad_value))
+        st = wc_fail(&d, WEFT_ERROR_STEP_FAILED,
+                     "the step took host vertex %d to a coordinate of %g, beyond the %g the float outputs hold",
+                     bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
     if (st != WEFT_OK) {
         wa_snapshot_apply(c, c->backup);
         return wa_fail(ctx, st, "%s: %s (the cloth was restored to its state before the call)", fn, d.message);

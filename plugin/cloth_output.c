@@ -10,6 +10,7 @@
  * directly with the host's mesh; normals are rotated back by T^-1 and renormalised.
  * A host vertex used by no polygon has no particle: it is reported at its rest position moved
  * rigidly with the object, with a zero normal. */
+#include <math.h>
 #include <string.h>
 #include "api_internal.h"
 #include "vec3.h"
@@ -30,6 +31,34 @@ static void particle_normals(const wa_cloth* c, double* nrm) {
         double len = v3_norm(nrm + 3 * i);
         if (len > 0.0) v3_scale(nrm + 3 * i, nrm + 3 * i, 1.0 / len);
     }
+}
+
+int wa_outputs_in_range(const wa_cloth* c, const wa_xform* T, int* vertex, double* value) {
+    wa_xform inv;
+    wa_xform_inverse(T, &inv);
+    const double s = 1.0 / c->unit_scale;
+    const int* h2p = c->model.host_to_particle;
+    for (int v = 0; v < c->n_host; ++v) {
+        const int p = h2p[v];
+        double w[3], o[3];
+        if (p < 0) {
+            wa_xform_point(T, c->host_rest + 3 * v, w);
+            v3_copy(o, c->host_rest + 3 * v);
+        } else {
+            v3_copy(w, c->state->x + 3 * p);
+            wa_xform_point(&inv, w, o);
+        }
+        v3_scale(o, o, s);
+        for (int k = 0; k < 6; ++k) {
+            const double x = k < 3 ? w[k] : o[k - 3];
+            if (!(fabs(x) <= WA_MAX_OUTPUT_COORD)) {
+                *vertex = v;
+                *value = x;
+                return 0;
+            }
+        }
+    }
+    return 1;
 }
 
 weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth, weft_space space, float* positions,

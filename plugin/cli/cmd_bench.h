@@ -190,5 +190,7 @@ int bench_stability_run(int argc, char** argv);
 void bench_stability_usage(FILE* out);
 int bench_peers_run(int argc, char** argv);     /* cmd_bench_peers.c (Blender: cmd_bench_blender.h) */
 void bench_peers_usage(FILE* out);
+int bench_torture_run(int argc, char** argv);   /* cmd_bench_torture.c */
+void bench_torture_usage(FILE* out);
 
 #endif

@@ -220,7 +220,7 @@ typedef enum weft_collider_type {
 
 /* A rigid collider whose world transform the host passes every frame
  * (weft_frame.collider_transforms[i]); its velocity is taken from the motion of its origin. */
-typedef struct weft_collider_def {
+typedef struct weft_collider_def {   /* every number finite, even those the type does not use */
     weft_collider_type type;    /* SPHERE */
     double radius;              /* m (0.5); sphere and capsule */
     double half_height;         /* m (0.5); capsule */
@@ -273,9 +273,10 @@ WEFT_API weft_collider_def weft_default_collider_def(void);
 
 /* Build a cloth: import or read the mesh, weld, build springs and masses, bind the attachments.
  * Errors: INVALID_ARGUMENT (NULL, def not from weft_default_cloth_def(), both or neither mesh
- * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (vertex index),
- * IO / IMPORT / EMPTY_MESH (the file or arrays), OUT_OF_MEMORY. out is the null handle on
- * failure. */
+ * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
+ * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
+ * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
+ * OUT_OF_MEMORY. out is the null handle on failure. */
 WEFT_API weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft_cloth* out);
 /* Destroy a cloth; its handle (and every copy) becomes stale. */
 WEFT_API weft_status weft_cloth_destroy(weft_context* ctx, weft_cloth cloth);
@@ -344,7 +345,8 @@ typedef struct weft_frame_stats {
 
 /* Advance by fr->dt. Errors (state unchanged): INVALID_ARGUMENT (NULL, dt <= 0 or above
  * max_frame_time, non-rigid transform, unknown flag), NONFINITE (NaN/Inf in dt, a transform or
- * wind), STEP_FAILED (every recovery failed: the cloth is left as it was before the call).
+ * wind), STEP_FAILED (every recovery failed, or the step would take a vertex beyond 1e30 in world
+ * or object space, out of float outputs' reach: the cloth is left as it was before the call).
  * stats may be NULL. */
 WEFT_API weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr,
                                      weft_frame_stats* stats);
