@@ -276,10 +276,12 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
     wc_diag local = {WEFT_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
     save(s);
     wc_solver_type user = s->def.solver.type;
-    int tries = s->def.max_halvings + 1 + (s->def.direct_fallback ? 1 : 0);
+    /* the last resorts: the finest pieces, then (when even those go non-finite, as under pins
+       that jump a kilometre in a frame) the whole substep at once */
+    int tries = s->def.max_halvings + 1 + (s->def.direct_fallback ? 2 : 0);
     for (int t = 0; t < tries; ++t) {
         int last_resort = t > s->def.max_halvings;
-        int halvings = last_resort ? s->def.max_halvings : t; /* the last resort at the finest pieces */
+        int halvings = t <= s->def.max_halvings ? t : t == s->def.max_halvings + 1 ? s->def.max_halvings : 0;
         wc_solver_type solver = last_resort ? WC_SOLVER_DIRECT : user;
         int pieces = 1 << halvings;
         if (t > 0) {
@@ -288,6 +290,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
             if (last_resort) ++st->direct_fallbacks;
         }
         weft_status ok = WEFT_OK;
+        double residual = st->residual; /* a discarded try's residual (inf when it blew up) is not reported */
         for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
             double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
             ok = substep(s, h / pieces, a1, solver, last_resort, pin_energy, st, &local);
@@ -297,6 +300,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
             return WEFT_OK;
         }
         wc_log(diag, WC_LOG_WARN, "rolled back: %s", local.message);
+        st->residual = residual;
         restore(s);
         wc_solver_invalidate_rho(s->solver);
     }

@@ -2,9 +2,9 @@
  * -> solve -> contacts -> positions -> strain limit), each checked for failure (non-finite
  * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
  * supply it). A failed substep is rolled back and retried with half the step (up to
- * max_halvings times: 2, 4, 8 pieces), then once more in the finest pieces with the direct
- * solver and the compressed springs' geometric term dropped (a positive-definite system,
- * accepted whenever it is finite);
+ * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
+ * geometric term dropped (a positive-definite system, accepted whenever it is finite), in the
+ * finest pieces and, if those go non-finite, in one piece;
  * if that also fails the state is left as it was before the substep and the frame reports
  * WEFT_ERROR_STEP_FAILED. Positions are never left non-finite. */
 #ifndef WEFT_CORE_STEP_H
@@ -15,7 +15,7 @@ typedef struct wc_step_stats {
     int substeps;               /* substeps completed (halved retries count each piece) */
     int iterations;             /* solver iterations, summed over substeps */
     int max_iterations;         /* largest in one solve */
-    double residual;            /* largest final relative residual of a solve */
+    double residual;            /* largest final relative residual of an accepted solve */
     int not_converged;          /* solves that stopped at the iteration cap above tolerance */
     int friction_passes;        /* extra solves because sticking contacts had to slide */
     wc_solver_type solver;      /* last solver used */
