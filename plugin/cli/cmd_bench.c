@@ -13,6 +13,7 @@
 void cli_bench_usage(FILE* out) {
     fputs("usage: weft bench accuracy [OPTIONS]    run time against error, for every solver\n"
           "       weft bench stability [OPTIONS]   survival over step length x stiffness x mass x solver\n"
+          "       weft bench skip [OPTIONS]        per-stage cost of unused features, and of a sleeping cloth\n"
           "       weft bench SUBCOMMAND --help     a subcommand's options\n"
           "\n"
           "Benchmarks of the simulator core. " BENCH_BACKEND_NOTE ".\n"
@@ -30,6 +31,7 @@ int cli_bench_run(int argc, char** argv) {
     }
     if (!strcmp(sub, "accuracy")) return bench_accuracy_run(argc - 1, argv + 1);
     if (!strcmp(sub, "stability")) return bench_stability_run(argc - 1, argv + 1);
+    if (!strcmp(sub, "skip")) return bench_skip_run(argc - 1, argv + 1);
     return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
 }
 

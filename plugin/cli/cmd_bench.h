@@ -5,7 +5,8 @@
  *   cmd_bench_table.c      a table of text cells written as CSV and as Markdown
  *   cmd_bench_plot.c       the PNG plots (PLplot, pngcairo device)
  *   cmd_bench_accuracy.c   `weft bench accuracy`: run time against error
- *   cmd_bench_stability.c  `weft bench stability`: the step/stiffness/mass/solver grid */
+ *   cmd_bench_stability.c  `weft bench stability`: the step/stiffness/mass/solver grid
+ *   cmd_bench_skip.c       `weft bench skip`: per-stage cost of features a scene does not use, sleeping */
 #ifndef WEFT_CLI_CMD_BENCH_H
 #define WEFT_CLI_CMD_BENCH_H
 #include <stdio.h>
@@ -187,5 +188,7 @@ int bench_accuracy_run(int argc, char** argv);
 void bench_accuracy_usage(FILE* out);
 int bench_stability_run(int argc, char** argv);
 void bench_stability_usage(FILE* out);
+int bench_skip_run(int argc, char** argv);
+void bench_skip_usage(FILE* out);
 
 #endif
