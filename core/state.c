@@ -25,6 +25,8 @@ wc_sim_def wc_default_sim_def(void) {
     d.fail_energy_growth = 1e3;
     d.fail_energy_gain = 0.01;
     d.threads = 0;
+    d.sleep_speed = 1e-3;
+    d.sleep_time = 0.5;
     return d;
 }
 
@@ -53,6 +55,8 @@ static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
     if (!(d->fail_strain > 0)) BAD("sim def: fail_strain must be > 0");
     if (!(d->fail_energy_growth > 1)) BAD("sim def: fail_energy_growth must be > 1");
     if (!(d->fail_energy_gain >= 0 && d->fail_energy_gain < INFINITY)) BAD("sim def: fail_energy_gain must be finite and >= 0");
+    if (!(d->sleep_speed >= 0 && d->sleep_speed < INFINITY)) BAD("sim def: sleep_speed must be finite and >= 0");
+    if (!(d->sleep_time >= 0 && d->sleep_time < INFINITY)) BAD("sim def: sleep_time must be finite and >= 0");
 #undef BAD
     return WEFT_OK;
 }
@@ -145,8 +149,20 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     for (int i = 0; i < n; ++i) s->total_mass += m->mass[i];
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     for (int i = 0; i < 2 * n; ++i) s->contacts.collider[i] = -1;
+    v3_copy(s->input_gravity, s->def.gravity);
+    s->input_air = s->def.air;
     *out = s;
     return WEFT_OK;
+}
+
+static int pin_equal(const wc_pin* a, const wc_pin* b) {
+    return a->particle == b->particle && v3_equal(a->target, b->target) && v3_equal(a->free_axis, b->free_axis);
+}
+
+static int collider_equal(const wc_collider* a, const wc_collider* b) {
+    return a->type == b->type && v3_equal(a->normal, b->normal) && a->offset == b->offset &&
+           v3_equal(a->center, b->center) && v3_equal(a->a, b->a) && v3_equal(a->b, b->b) && a->radius == b->radius &&
+           a->thickness == b->thickness && a->friction == b->friction && v3_equal(a->velocity, b->velocity);
 }
 
 weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag) {
@@ -191,8 +207,11 @@ weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* d
         v3_copy(s->pin_from + 3 * k, old >= 0 ? s->pins[old].target : s->x + 3 * pins[k].particle);
     }
     for (int j = 0; j < s->n_pins; ++j) at[s->pins[j].particle] = -1;
+    int changed = n != s->n_pins;
+    for (k = 0; k < n && !changed; ++k) changed = !pin_equal(&pins[k], &s->pins[k]);
     if (n > 0) memcpy(s->pins, pins, (size_t)n * sizeof(wc_pin));
     s->n_pins = n;
+    if (changed) wc_state_wake(s);
     return WEFT_OK;
 }
 
@@ -215,6 +234,9 @@ weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_
         if (q->type == WC_COLLIDER_PLANE && fabs(v3_norm(q->normal) - 1.0) > 1e-6)
             return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: plane normal must be unit", k);
     }
+    int changed = n != s->n_colliders;
+    for (int k = 0; k < n && !changed; ++k) changed = !collider_equal(&c[k], &s->colliders[k]);
+    if (changed) wc_state_wake(s);
     if (n > 0) memcpy(s->colliders, c, (size_t)n * sizeof(wc_collider));
     if (n != s->n_colliders)
         for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1;
@@ -231,7 +253,36 @@ weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v
     if (v) memcpy(s->v, v, (size_t)n3 * sizeof(double));
     else memset(s->v, 0, (size_t)n3 * sizeof(double));
     memset(s->dv, 0, (size_t)n3 * sizeof(double));
+    wc_state_wake(s);
     return WEFT_OK;
+}
+
+void wc_state_wake(wc_state* s) {
+    if (s->asleep) s->woke = 1;
+    s->asleep = 0;
+    s->rest_time = 0.0;
+}
+
+void wc_state_set_sleep(wc_state* s, int asleep, double rest_time) {
+    if (!asleep) {
+        wc_state_wake(s);
+    } else {
+        memset(s->v, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
+        s->asleep = 1;
+        s->sleep_strain = wc_max_stretch_strain(s->model, s->x);
+    }
+    v3_copy(s->input_gravity, s->def.gravity);
+    s->input_air = s->def.air;
+    s->rest_time = rest_time >= 0 && rest_time < INFINITY ? rest_time : 0.0;
+}
+
+double wc_state_max_speed(const wc_state* s) {
+    double m2 = 0.0;
+    for (int i = 0; i < s->model->n_particles; ++i) {
+        double q = v3_dot(s->v + 3 * i, s->v + 3 * i);
+        if (q > m2) m2 = q;
+    }
+    return sqrt(m2);
 }
 
 double wc_state_kinetic_energy(const wc_state* s) {

@@ -1,7 +1,20 @@
 /* Mutable simulation state of one model: positions, velocities, the settings that may change
  * between frames (gravity, air, pins, colliders), and every scratch array a step needs, all
  * allocated at creation (a step allocates nothing). The model is borrowed and must outlive the
- * state. */
+ * state.
+ *
+ * Sleeping. A cloth whose fastest particle stays slower than def.sleep_speed for def.sleep_time
+ * seconds of simulated time (the rest timer, counted at the end of each frame) falls asleep: its
+ * velocities are set to zero and, while it sleeps, wc_step_frame only advances time and frame
+ * (positions stay bit-identical, nothing is solved; step.h). It wakes, and that same frame is
+ * simulated normally, when an input changes:
+ *   - wc_state_set_pins with another count, particle, target or axis;
+ *   - wc_state_set_colliders with another count or any other field (velocity included);
+ *   - def.gravity or def.air (wind, drags) different from the previous frame's (wc_step_frame
+ *     compares them, so a caller may write them directly);
+ *   - wc_state_set_positions, wc_state_set_sleep(s, 0, ...), or wc_state_wake (a caller that
+ *     changes anything else the cloth must feel: x or v written directly, other def fields).
+ * Every wake also restarts the rest timer, asleep or not. sleep_speed 0 disables sleeping. */
 #ifndef WEFT_CORE_STATE_H
 #define WEFT_CORE_STATE_H
 #include "collide.h"
@@ -30,6 +43,9 @@ typedef struct wc_sim_def {
                                    backward Euler only dissipates, a gain is the linearisation
                                    failing (0.01; 0: not judged) */
     int threads;                /* OpenMP threads, 0 = OpenMP's default */
+    double sleep_speed;         /* m/s (1e-3): the cloth falls asleep when its fastest particle stays
+                                   slower than this for sleep_time; 0 never sleeps */
+    double sleep_time;          /* s of simulated time (0.5) */
 } wc_sim_def;
 
 wc_sim_def wc_default_sim_def(void);
@@ -55,6 +71,14 @@ typedef struct wc_state {
     double total_mass;          /* kg, sum of the model's particle masses */
     double* x;                  /* (n x 3) positions (m) */
     double* v;                  /* (n x 3) velocities (m/s) */
+
+    /* sleeping (see the top of the file) */
+    int asleep;                 /* 1: wc_step_frame skips the simulation */
+    int woke;                   /* 1: woken since the last frame (reported by the next step) */
+    double rest_time;           /* s: simulated time the fastest particle has been below sleep_speed */
+    double sleep_strain;        /* max stretch strain of the sleeping positions (stats) */
+    double input_gravity[3];    /* def.gravity and def.air of the last frame: a change wakes */
+    wc_air input_air;
 
     int n_pins;
     wc_pin* pins;               /* (max_pins) */
@@ -92,6 +116,15 @@ weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_
 /* Set every particle's position and velocity (n x 3 each; v may be NULL for zero); refused when
  * any value is non-finite. */
 weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag);
+
+/* Wake the cloth (if asleep; the next step reports woke) and restart its rest timer. */
+void wc_state_wake(wc_state* s);
+/* Set the sleep state (snapshots): asleep 1 zeroes the velocities, asleep 0 wakes it; either
+ * way the current gravity and air become the last frame's inputs (a restored state continues
+ * exactly as the saved one); rest_time (s; not finite or negative: 0) is the rest timer. */
+void wc_state_set_sleep(wc_state* s, int asleep, double rest_time);
+/* Largest particle speed |v_i| (m/s). */
+double wc_state_max_speed(const wc_state* s);
 
 /* Kinetic energy sum m v^2 / 2 (J). */
 double wc_state_kinetic_energy(const wc_state* s);

@@ -308,6 +308,50 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
     return WEFT_ERROR_STEP_FAILED;
 }
 
+static int air_equal(const wc_air* a, const wc_air* b) {
+    return v3_equal(a->wind, b->wind) && a->normal_drag == b->normal_drag && a->tangent_drag == b->tangent_drag;
+}
+
+/* A frame of a sleeping cloth: time advances exactly as the substeps would advance it. */
+static weft_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double t_start) {
+    if (s->def.substep_dt > 0) {
+        const double h = s->def.substep_dt;
+        s->accumulator += dt;
+        while (s->accumulator >= h * (1.0 - 1e-9)) {
+            s->accumulator -= h;
+            s->time += h;
+        }
+        if (s->accumulator < 0) s->accumulator = 0;
+    } else {
+        const double h = dt / s->def.substeps;
+        for (int k = 0; k < s->def.substeps; ++k) s->time += h;
+    }
+    ++s->frame;
+    st->asleep = 1;
+    st->solver = s->def.solver.type;
+    st->contacts = s->contacts.active;
+    st->max_strain = s->sleep_strain;
+    st->kinetic_energy = 0.0;
+    st->ms.total = wc_now_ms() - t_start;
+    return WEFT_OK;
+}
+
+/* After a successful active frame: the rest timer, and falling asleep. */
+static void rest_timer(wc_state* s, double dt, wc_step_stats* st) {
+    if (!(s->def.sleep_speed > 0)) return;
+    if (!(wc_state_max_speed(s) < s->def.sleep_speed)) {
+        s->rest_time = 0.0;
+        return;
+    }
+    s->rest_time += dt;
+    if (s->rest_time >= s->def.sleep_time) {
+        memset(s->v, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
+        s->asleep = 1;
+        s->sleep_strain = st->max_strain;
+        st->fell_asleep = 1;
+    }
+}
+
 weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
     wc_step_stats local;
     wc_step_stats* st = stats ? stats : &local;
@@ -316,6 +360,15 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
     if (!(dt > 0) || !isfinite(dt) || dt > 1e3)
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "step: frame time %g s must be finite, > 0 and <= 1000", dt);
     double t_start = wc_now_ms();
+    /* gravity and air are plain fields of def: a change since the last frame wakes the cloth */
+    if (!v3_equal(s->def.gravity, s->input_gravity) || !air_equal(&s->def.air, &s->input_air)) {
+        wc_state_wake(s);
+        v3_copy(s->input_gravity, s->def.gravity);
+        s->input_air = s->def.air;
+    }
+    if (s->asleep) return sleep_frame(s, dt, st, t_start);
+    st->woke = s->woke;
+    s->woke = 0;
     double pin_speed2 = 0.0;
     for (int k = 0; k < s->n_pins; ++k) {
         double d[3];
@@ -350,8 +403,10 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
     for (int k = 0; k < s->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
     ++s->frame;
     st->contacts = s->contacts.active;
-    st->kinetic_energy = wc_state_kinetic_energy(s);
     st->max_strain = wc_max_stretch_strain(s->model, s->x);
+    if (result == WEFT_OK) rest_timer(s, dt, st);
+    else s->rest_time = 0.0;
+    st->kinetic_energy = wc_state_kinetic_energy(s);
     st->ms.total = wc_now_ms() - t_start;
     if (result != WEFT_OK)
         return wc_fail(diag, result, "step: %d substep(s) failed after every retry; the state was kept finite",

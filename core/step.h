@@ -6,7 +6,17 @@
  * geometric term dropped (a positive-definite system, accepted whenever it is finite), in the
  * finest pieces and, if those go non-finite, in one piece;
  * if that also fails the state is left as it was before the substep and the frame reports
- * WEFT_ERROR_STEP_FAILED. Positions are never left non-finite. */
+ * WEFT_ERROR_STEP_FAILED. Positions are never left non-finite.
+ *
+ * Sleeping (state.h has the wake rules). A frame first compares def.gravity and def.air with the
+ * previous frame's (a change wakes the cloth). A sleeping cloth's frame then only advances time
+ * (as the substeps would have: the fixed-substep accumulator included) and frame, and reports
+ * stats.asleep with zero substeps and iterations, zero kinetic energy and the strain of the
+ * sleeping positions; positions stay bit-identical, velocities zero; it allocates nothing and
+ * costs O(1) (O(substeps) additions of the time). After a successful active frame, the rest
+ * timer grows by dt when the fastest particle is slower than def.sleep_speed (else restarts at
+ * 0); when it reaches def.sleep_time the velocities are zeroed and the cloth sleeps from the
+ * next frame on (stats.fell_asleep). A failed frame restarts the timer. */
 #ifndef WEFT_CORE_STEP_H
 #define WEFT_CORE_STEP_H
 #include "state.h"
@@ -26,6 +36,9 @@ typedef struct wc_step_stats {
     int contacts;               /* particles in contact at the end of the frame */
     double max_strain;          /* largest stretch-spring strain at the end of the frame */
     double kinetic_energy;      /* J, end of frame */
+    int asleep;                 /* 1: the cloth slept through this frame (nothing simulated) */
+    int fell_asleep;            /* 1: it came to rest in this frame and sleeps from the next one */
+    int woke;                   /* 1: it was asleep and an input change woke it; this frame was simulated */
     struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
 } wc_step_stats;
 

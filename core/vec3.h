@@ -8,6 +8,8 @@
 static inline void v3_set(double* o, double x, double y, double z) { o[0] = x; o[1] = y; o[2] = z; }
 static inline void v3_copy(double* o, const double* a) { o[0] = a[0]; o[1] = a[1]; o[2] = a[2]; }
 static inline void v3_zero(double* o) { o[0] = o[1] = o[2] = 0.0; }
+/* exact equality (-0 == 0; NaN equals nothing) */
+static inline int v3_equal(const double* a, const double* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 static inline void v3_add(double* o, const double* a, const double* b) {
     o[0] = a[0] + b[0]; o[1] = a[1] + b[1]; o[2] = a[2] + b[2];
 }

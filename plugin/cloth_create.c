@@ -51,6 +51,8 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
     s.solver.max_iterations = def->max_iterations;
     s.substeps = def->substeps;
     s.strain_limit = def->strain_limit;
+    s.sleep_speed = def->sleep_speed;
+    s.sleep_time = def->sleep_time;
     s.max_pins = 0;                       /* as many as particles: a particle is pinned at most once */
     s.max_colliders = def->n_colliders;
     s.threads = ctx->def.threads;

@@ -33,6 +33,8 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.substeps = 1;
     d.max_frame_time = 0.25;
     d.strain_limit = 0.0;
+    d.sleep_speed = 1e-3;
+    d.sleep_time = 0.5;
     d.linear_inertia = 1.0;
     d.angular_inertia = 1.0;
     d.internal_cookie = WA_COOKIE_CLOTH;
@@ -150,6 +152,8 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->substeps = %d must be in [1, 100000]", d->substeps);
     RANGE(d->max_frame_time, 0.0, 1000.0, 1, "def->max_frame_time");
     RANGE(d->strain_limit, 0.0, INFINITY, 0, "def->strain_limit");
+    RANGE(d->sleep_speed, 0.0, INFINITY, 0, "def->sleep_speed");
+    RANGE(d->sleep_time, 0.0, INFINITY, 0, "def->sleep_time");
     RANGE(d->linear_inertia, 0.0, 1.0, 0, "def->linear_inertia");
     RANGE(d->angular_inertia, 0.0, 1.0, 0, "def->angular_inertia");
     if (d->n_attachments < 0) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->n_attachments = %d is negative", d->n_attachments);

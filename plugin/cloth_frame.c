@@ -29,7 +29,11 @@
  * Attachments: fr->attachment_transforms (or the previous ones) give the end-of-frame pin
  * targets A_i local (attach.c); pins move linearly from their start targets across the frame.
  * Colliders: world geometry from fr->collider_transforms (or the previous ones), velocity
- * (origin1 - origin0) / dt (colliders.c). Wind: fr->wind replaces the air's wind. */
+ * (origin1 - origin0) / dt (colliders.c). Wind: fr->wind replaces the air's wind.
+ * Sleeping (core/state.h): the core wakes the cloth itself when the pins' targets, the colliders
+ * or the wind differ from the last frame's; RESET, TELEPORT and an inertia carry (rotated, or a
+ * linear velocity change given to the cloth) wake it here. With the default inertia (1, 1) the
+ * object transform does not touch the simulation, so it does not wake it either. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -102,6 +106,7 @@ static void reset_state(wa_cloth* c, const wa_xform* T1) {
     s->accumulator = 0.0;
     s->frame = 0;
     wc_solver_invalidate_rho(s->solver);
+    wc_state_wake(s);
 }
 
 static void teleport_state(wa_cloth* c, const wa_xform* T1) {
@@ -114,6 +119,7 @@ static void teleport_state(wa_cloth* c, const wa_xform* T1) {
     for (int i = 0; i < n; ++i) wa_xform_point(&dT, s->x + 3 * i, s->x + 3 * i);
     rotate_vectors(s->v, n, dT.R);
     rotate_vectors(s->dv, n, dT.R);
+    wc_state_wake(s);
 }
 
 /* Inertia of a normal frame (see the top of the file); V1 and the history are handled by the
@@ -145,9 +151,12 @@ static int inertia(wa_cloth* c, const wa_xform* T1, const double* V1, double* Rc
     if (clin != 0.0) {
         double dV[3];
         v3_sub(dV, V1, V0);
-        if (dV[0] != 0.0 || dV[1] != 0.0 || dV[2] != 0.0)
+        if (dV[0] != 0.0 || dV[1] != 0.0 || dV[2] != 0.0) {
             for (int i = 0; i < n; ++i) v3_axpy(s->v + 3 * i, clin, dV);
+            wc_state_wake(s);
+        }
     }
+    if (rotated) wc_state_wake(s);
     return rotated;
 }
 
@@ -174,6 +183,9 @@ static void fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_st
     o->kinetic_energy = st->kinetic_energy;
     o->time = s->time;
     o->frame = s->frame;
+    o->asleep = st->asleep;
+    o->fell_asleep = st->fell_asleep;
+    o->woke = st->woke;
 }
 
 weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr, weft_frame_stats* stats) {

@@ -14,6 +14,9 @@
  *   Chebyshev rho cache (valid, rho)              wc_solver caches its spectral-radius estimate
  *                                                 until a rollback; a different value changes
  *                                                 every later Chebyshev solve
+ *   asleep, rest timer                            the sleep state (core/state.h): restoring an
+ *                                                 asleep snapshot puts the cloth to sleep with
+ *                                                 the restored wind, an awake one wakes it
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
  * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
@@ -173,6 +176,11 @@ static void walk(wa_cloth* c, cursor* k) {
     field(k, &rho_valid, sizeof rho_valid);
     field(k, &rho, sizeof rho);
     if (k->r) wc_solver_set_rho_cache(s->solver, rho_valid, rho);
+    int32_t asleep = s->asleep;
+    double rest_time = s->rest_time;
+    field(k, &asleep, sizeof asleep);
+    field(k, &rest_time, sizeof rest_time);
+    if (k->r) wc_state_set_sleep(s, asleep != 0, rest_time);   /* after the wind: it sleeps with it */
 }
 
 size_t wa_snapshot_size(const wa_cloth* c) {

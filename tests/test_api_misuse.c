@@ -111,6 +111,10 @@ static weft_frame good_frame(void) {
     X(create_substeps, E_ARG, "def->substeps", d.substeps = 0; CREATE)                                    \
     X(create_frame_time, E_ARG, "def->max_frame_time", d.max_frame_time = 0.0; CREATE)                    \
     X(create_strain_limit, E_ARG, "def->strain_limit", d.strain_limit = -0.1; CREATE)                     \
+    X(create_sleep_speed, E_ARG, "def->sleep_speed = -0.001", d.sleep_speed = -1e-3; CREATE)             \
+    X(create_sleep_speed_inf, E_NF, "def->sleep_speed is Inf", d.sleep_speed = INFINITY; CREATE)           \
+    X(create_sleep_time, E_ARG, "def->sleep_time = -1", d.sleep_time = -1.0; CREATE)                      \
+    X(create_sleep_time_nan, E_NF, "def->sleep_time is NaN", d.sleep_time = NAN; CREATE)                  \
     X(create_linear_inertia, E_ARG, "def->linear_inertia", d.linear_inertia = 1.5; CREATE)                \
     X(create_angular_inertia, E_NF, "def->angular_inertia is NaN", d.angular_inertia = NAN; CREATE)       \
     X(create_n_attachments, E_ARG, "def->n_attachments = -1", d.n_attachments = -1; CREATE)               \

@@ -409,10 +409,10 @@ static void test_walk(void) {
 static void test_bad_library(void) {
     run_result r;
     char args[2048];
-    snprintf(args, sizeof args, "--library /nonexistent/libweft.so.2 --frames 2 --out '%s/bad'", out_dir);
+    snprintf(args, sizeof args, "--library /nonexistent/libweft.so.3 --frames 2 --out '%s/bad'", out_dir);
     run_example(args, &r);
     CHECK(r.rc != 0);
-    CHECK(strstr(r.err, "/nonexistent/libweft.so.2: cannot open:") != NULL);
+    CHECK(strstr(r.err, "/nonexistent/libweft.so.3: cannot open:") != NULL);
     if (!strstr(r.err, "cannot open")) fprintf(stderr, "stderr was: %s\n", r.err);
     free_run(&r);
 

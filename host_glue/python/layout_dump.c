@@ -110,6 +110,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, substeps);
     FIELD(weft_cloth_def, max_frame_time);
     FIELD(weft_cloth_def, strain_limit);
+    FIELD(weft_cloth_def, sleep_speed);
+    FIELD(weft_cloth_def, sleep_time);
     FIELD(weft_cloth_def, linear_inertia);
     FIELD(weft_cloth_def, angular_inertia);
     FIELD(weft_cloth_def, n_attachments);
@@ -165,6 +167,9 @@ static void dump_structs(void) {
     FIELD(weft_frame_stats, kinetic_energy);
     FIELD(weft_frame_stats, time);
     FIELD(weft_frame_stats, frame);
+    FIELD(weft_frame_stats, asleep);
+    FIELD(weft_frame_stats, fell_asleep);
+    FIELD(weft_frame_stats, woke);
     struct_end();
 
     STRUCT(weft_render_def);

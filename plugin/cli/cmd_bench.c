@@ -1,4 +1,5 @@
-/* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `stability`, `peers` or `torture`, and the list options they share. */
+/* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `stability`, `peers`, `torture` or `skip`,
+ * and the list options they share. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +16,7 @@ void cli_bench_usage(FILE* out) {
           "       weft bench stability [OPTIONS]   survival over step length x stiffness x mass x solver\n"
           "       weft bench peers [OPTIONS]       Weft beside Blender's cloth solver (needs blender)\n"
           "       weft bench torture [OPTIONS]     random host inputs: crashes, hangs, NaN outputs\n"
+          "       weft bench skip [OPTIONS]        per-stage cost of unused features, and of a sleeping cloth\n"
           "       weft bench SUBCOMMAND --help     a subcommand's options\n"
           "\n"
           "Benchmarks of the simulator core. " BENCH_BACKEND_NOTE ".\n"
@@ -34,6 +36,7 @@ int cli_bench_run(int argc, char** argv) {
     if (!strcmp(sub, "stability")) return bench_stability_run(argc - 1, argv + 1);
     if (!strcmp(sub, "peers")) return bench_peers_run(argc - 1, argv + 1);
     if (!strcmp(sub, "torture")) return bench_torture_run(argc - 1, argv + 1);
+    if (!strcmp(sub, "skip")) return bench_skip_run(argc - 1, argv + 1);
     return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
 }
 

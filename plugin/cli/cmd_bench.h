@@ -6,7 +6,9 @@
  *   cmd_bench_plot.c       the PNG plots (PLplot, pngcairo device)
  *   cmd_bench_accuracy.c   `weft bench accuracy`: run time against error
  *   cmd_bench_stability.c  `weft bench stability`: the step/stiffness/mass/solver grid
- *   cmd_bench_peers.c      `weft bench peers`: Weft beside Blender's cloth (cmd_bench_blender.c) */
+ *   cmd_bench_peers.c      `weft bench peers`: Weft beside Blender's cloth (cmd_bench_blender.c)
+ *   cmd_bench_torture.c    `weft bench torture`: random host inputs through the public API
+ *   cmd_bench_skip.c       `weft bench skip`: per-stage cost of features a scene does not use, sleeping */
 #ifndef WEFT_CLI_CMD_BENCH_H
 #define WEFT_CLI_CMD_BENCH_H
 #include <stdio.h>
@@ -192,5 +194,7 @@ int bench_peers_run(int argc, char** argv);     /* cmd_bench_peers.c (Blender: c
 void bench_peers_usage(FILE* out);
 int bench_torture_run(int argc, char** argv);   /* cmd_bench_torture.c */
 void bench_torture_usage(FILE* out);
+int bench_skip_run(int argc, char** argv);      /* cmd_bench_skip.c */
+void bench_skip_usage(FILE* out);
 
 #endif

@@ -14,8 +14,11 @@
  * Without blender on PATH the peers mode checks what needs none and exits 77 (skipped).
  * (torture) every case of the quick run is ok, rejected with a status and a message, or
  * step_failed; every NaN/Inf injection is refused as NONFINITE; --case reruns a case identically.
+ * (skip) one row per configuration in order, the asleep row slept through every timed frame
+ * with 0 iterations and bit-identical positions, the full-cap row ran every solve to the cap, the
+ * contact row has contacts and the far-collider row none.
  *
- *   check_weft_bench accuracy | stability | peers | torture */
+ *   check_weft_bench accuracy | stability | peers | torture | skip */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -142,7 +145,8 @@ static void test_help(void) {
     CHECK(strstr(r.out, "bench") != NULL);
     ts_run_cli("bench --help", &r);
     CHECK_EQ_INT(r.rc, 0);
-    CHECK(strstr(r.out, "weft bench accuracy") && strstr(r.out, "weft bench stability"));
+    CHECK(strstr(r.out, "weft bench accuracy") && strstr(r.out, "weft bench stability") &&
+          strstr(r.out, "weft bench skip"));
     CHECK(strstr(r.out, "no GPU backend") != NULL);
     ts_run_cli("help bench", &r);
     CHECK_EQ_INT(r.rc, 0);
@@ -559,6 +563,70 @@ static void test_torture_quick(void) {
     CHECK(strstr(r.out, "21 cases, 0 defects") != NULL);
 }
 
+static const char* const skip_cols[] = {
+    "backend", "scene", "particles", "config", "frames", "warmup_frames", "iterations_per_substep",
+    "not_converged", "contacts", "asleep_frames", "positions_unchanged", "ms_forces", "ms_assemble", "ms_solve",
+    "ms_collide", "ms_integrate", "ms_total", "ratio_to_baseline", "ms_saved", "skipped"};
+
+static void test_skip_usage(void) {
+    static ts_cli_result r;
+    ts_run_cli("bench skip --help", &r);
+    CHECK_EQ_INT(r.rc, 0);
+    CHECK(strstr(r.out, "--quick") && strstr(r.out, "asleep") && strstr(r.out, "no GPU backend"));
+    ts_run_cli("bench skip --frames 0", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "bad value for --frames") != NULL);
+    ts_run_cli("bench skip --quick --plot x.png", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench skip --quick --quiet --scene blanket9", &r);
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "unknown scene 'blanket9'") != NULL);
+}
+
+static void test_skip_quick(void) {
+    static ts_cli_result r;
+    static csv c;
+    char args[4096], csv_path[512];
+    snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_skip.csv"));
+    remove(csv_path);
+    snprintf(args, sizeof args, "bench skip --quick --quiet --csv '%s'", csv_path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
+    CHECK(strstr(r.out, "| configuration |") != NULL && strstr(r.out, "no GPU backend") != NULL);
+    CHECK(strstr(r.out, "positions bit-identical") != NULL);
+    csv_parse(&c, csv_path);
+    check_header(&c, skip_cols, (int)(sizeof skip_cols / sizeof skip_cols[0]));
+    static const char* const configs[] = {"baseline", "+ air drag", "+ wind", "+ far collider", "+ contact",
+                                          "+ moving pins", "full cap", "asleep"};
+    CHECK_EQ_INT(c.n_rows, 8);
+    for (int row = 0; row < c.n_rows && row < 8; ++row) {
+        CHECK(!strcmp(get(&c, row, "config"), configs[row]));
+        CHECK(!strcmp(get(&c, row, "backend"), "cpu") && !strcmp(get(&c, row, "scene"), "sheet16"));
+        CHECK(num(&c, row, "particles") == 256 && num(&c, row, "frames") == 20);
+        for (int k = 11; k <= 16; ++k) CHECK(num(&c, row, skip_cols[k]) >= 0);
+        CHECK(isfinite(num(&c, row, "ratio_to_baseline")));
+        const int asleep = row == 7;
+        CHECK(num(&c, row, "asleep_frames") == (asleep ? 20 : 0));
+        CHECK(asleep ? num(&c, row, "iterations_per_substep") == 0 : num(&c, row, "iterations_per_substep") > 0);
+        if (asleep) {
+            CHECK(num(&c, row, "positions_unchanged") == 1);
+            CHECK(num(&c, row, "warmup_frames") > 0);
+            CHECK(num(&c, row, "ms_solve") == 0 && num(&c, row, "ms_forces") == 0);
+        } else {
+            CHECK(num(&c, row, "positions_unchanged") == 0);   /* awake, the sheet swings */
+        }
+    }
+    CHECK(num(&c, 0, "ratio_to_baseline") == 1 && !strcmp(get(&c, 0, "ms_saved"), "-"));
+    CHECK(num(&c, 3, "contacts") == 0 && num(&c, 4, "contacts") > 0);
+    /* tolerance 0: every solve runs to the cap of 300 and counts as not converged */
+    CHECK(num(&c, 6, "iterations_per_substep") == 300 && num(&c, 6, "not_converged") == 20);
+    CHECK(num(&c, 0, "not_converged") == 0);
+    /* a far collider changes nothing of the motion: the same iterations as the baseline */
+    CHECK(num(&c, 3, "iterations_per_substep") == num(&c, 0, "iterations_per_substep"));
+}
+
+
 int main(int argc, char** argv) {
     const char* which = argc > 1 ? argv[1] : "";
     if (!strcmp(which, "accuracy")) {
@@ -581,8 +649,11 @@ int main(int argc, char** argv) {
     } else if (!strcmp(which, "torture")) {
         RUN_TEST(test_torture_usage);
         RUN_TEST(test_torture_quick);
+    } else if (!strcmp(which, "skip")) {
+        RUN_TEST(test_skip_usage);
+        RUN_TEST(test_skip_quick);
     } else {
-        fprintf(stderr, "usage: %s accuracy|stability|peers|torture\n", argv[0]);
+        fprintf(stderr, "usage: %s accuracy|stability|peers|torture|skip\n", argv[0]);
         return 2;
     }
     return TEST_SUMMARY();

@@ -1,8 +1,8 @@
-"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 2).
+"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 3).
 
     import numpy as np, weft
     with weft.Context() as ctx:          # library: Context(library=path), else $WEFT_LIBRARY,
-                                         # else libweft.so.2 on the dlopen search path
+                                         # else libweft.so.3 on the dlopen search path
         cloth = ctx.create_cloth(positions=P, faces=F,          # P (n, 3) float32, F (m, 4) int
                                  attachments=[weft.Attachment(pinned_vertex_indices)])
         for frame in range(60):
@@ -33,9 +33,9 @@ import numpy as np
 from ctypes import (POINTER, CFUNCTYPE, c_char_p, c_double, c_float, c_int, c_int64, c_size_t,
                     c_ubyte, c_uint32, c_uint64, c_void_p)
 
-ABI = 2                    # WEFT_ABI of the weft.h mirrored here
-VERSION = (0, 2, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
-DEFAULT_LIBRARY = "libweft.so.2"
+ABI = 3                    # WEFT_ABI of the weft.h mirrored here
+VERSION = (0, 3, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
+DEFAULT_LIBRARY = "libweft.so.3"
 
 # ------------------------------------------------------------------------------------------------
 # Enums and constants (names without their C prefix; c_constants() gives the C names)
@@ -201,7 +201,8 @@ class ClothDef(_Struct):
                 ("wind", c_double * 3), ("air_drag_normal", c_double),
                 ("air_drag_tangent", c_double), ("solver", c_int), ("tolerance", c_double),
                 ("max_iterations", c_int), ("substeps", c_int), ("max_frame_time", c_double),
-                ("strain_limit", c_double), ("linear_inertia", c_double),
+                ("strain_limit", c_double), ("sleep_speed", c_double),
+                ("sleep_time", c_double), ("linear_inertia", c_double),
                 ("angular_inertia", c_double), ("n_attachments", c_int),
                 ("attachments", POINTER(AttachmentDef)), ("n_colliders", c_int),
                 ("colliders", POINTER(ColliderDef)), ("internal_cookie", c_uint32)]
@@ -229,7 +230,8 @@ class FrameStats(_Struct):
                 ("residual", c_double), ("not_converged", c_int), ("solver", c_int),
                 ("rollbacks", c_int), ("halvings", c_int), ("direct_fallbacks", c_int),
                 ("failures", c_int), ("contacts", c_int), ("max_strain", c_double),
-                ("kinetic_energy", c_double), ("time", c_double), ("frame", c_int64)]
+                ("kinetic_energy", c_double), ("time", c_double), ("frame", c_int64),
+                ("asleep", c_int), ("fell_asleep", c_int), ("woke", c_int)]
 
 
 class RenderDef(_Struct):
@@ -325,7 +327,7 @@ class Library:
 
 
 def load_library(path=None):
-    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.2 (dlopen search path)."""
+    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.3 (dlopen search path)."""
     return Library(path)
 
 
@@ -492,7 +494,7 @@ class Context:
         indices (weft_mesh_desc's arrays). Or path (+ select) for a file. transform: the
         object's world transform. attachments: Attachment list; colliders: Collider list.
         params: any other weft_cloth_def field (unit_scale, gravity=(0, -9.81, 0),
-        solver=Solver.PCG, substeps, strain_limit, ...) and the material's density, stiffness
+        solver=Solver.PCG, substeps, strain_limit, sleep_speed, ...) and the material's density, stiffness
         and damping (3 values each, per SpringType)."""
         lib = self.lib
         d = lib.weft_default_cloth_def()

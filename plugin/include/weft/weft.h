@@ -71,12 +71,12 @@ extern "C" {
 
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
-#define WEFT_VERSION_MINOR 2
+#define WEFT_VERSION_MINOR 3
 #define WEFT_VERSION_PATCH 0
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
-#define WEFT_ABI 2
+#define WEFT_ABI 3
 
 typedef struct weft_version_info {
     int major, minor, patch;
@@ -251,6 +251,19 @@ typedef struct weft_cloth_def {
     double max_frame_time;      /* s: a longer weft_frame.dt is refused (0.25) */
     double strain_limit;        /* 0 off (default); 0.1 caps stretch springs at 110% of rest */
 
+    /* Sleeping: a cloth whose fastest particle stays slower than sleep_speed for sleep_time
+     * seconds of simulated time comes to rest: its velocities become zero and its frames cost
+     * almost nothing (weft_frame_stats.asleep) until something it must feel changes; then it
+     * wakes and that frame is simulated normally. It wakes when: an attachment transform moves
+     * a pin (or weft_cloth_set_attachments changes the pins), a collider transform changes (or
+     * moved last frame: its velocity changes), fr->wind changes, the object transform moves the
+     * cloth through inertia (linear_inertia or angular_inertia below 1), fr->flags has
+     * TELEPORT or RESET, or weft_cloth_restore puts back an awake state (a snapshot holds the
+     * sleep state). With the default inertia the object transform alone never wakes it (the
+     * cloth does not feel it). */
+    double sleep_speed;         /* m/s (1e-3); 0: never sleeps */
+    double sleep_time;          /* s (0.5) */
+
     /* Inertia (NvCloth-style), each in [0, 1]: the fraction of the object's own motion
      * (weft_frame.object_transform, frame to frame) the cloth feels. 1 (default): physical, the
      * cloth is simulated in the world. 0: the cloth does not feel that part of the object's
@@ -341,6 +354,12 @@ typedef struct weft_frame_stats {
     double kinetic_energy;      /* J, end of the frame */
     double time;                /* s, simulated since creation or the last reset */
     int64_t frame;              /* frames stepped */
+    int asleep;                 /* 1: the cloth slept through this frame: nothing was simulated
+                                   (substeps and iterations 0), positions are unchanged and
+                                   velocities zero (weft_cloth_def.sleep_speed) */
+    int fell_asleep;            /* 1: it came to rest in this frame and sleeps from the next one */
+    int woke;                   /* 1: it was asleep and an input change woke it: this frame was
+                                   simulated */
 } weft_frame_stats;
 
 /* Advance by fr->dt. Errors (state unchanged): INVALID_ARGUMENT (NULL, dt <= 0 or above

@@ -1,0 +1,319 @@
+/* `weft bench skip`: what a step costs for features a scene does not use. One cloth (default
+ * sheet64: a 1 m sheet hanging from two corners) under configurations that each add one feature
+ * to a baseline that uses none (no air, no collider, still pins), plus the solver forced to its
+ * iteration cap instead of stopping at its tolerance, and the cloth asleep. Per configuration:
+ * the median per-stage wall time of a frame, the ratio to the baseline and what the baseline (or
+ * the skip) saves. Core steps (wc_step_frame), as the other `weft bench` commands time them. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cmd_bench.h"
+#include "sort.h"
+#include "vec3.h"
+
+#define FPS 60.0
+#define SLEEP_CAP_S 60.0    /* simulated seconds the asleep row waits for the cloth to come to rest */
+
+typedef struct skip_args {
+    const char* scene;
+    int frames;
+    bench_common com;
+} skip_args;
+
+void bench_skip_usage(FILE* out) {
+    fputs("usage: weft bench skip [--quick] [--scene NAME] [--frames N] [--threads N] [--csv FILE]\n"
+          "                       [--md FILE] [--quiet]\n"
+          "\n"
+          "What a step costs for features a scene does not use. " BENCH_BACKEND_NOTE ".\n"
+          "One cloth, simulated for --frames frames at 60 frames/s from rest, per configuration:\n"
+          "  baseline        no wind, no air drag, no collider, still pins, PCG at tolerance 1e-4\n"
+          "  + air drag      the default drags (normal 0.5, tangent 0.02 kg/(m^2 s)), no wind\n"
+          "  + wind          the drags and a 3 m/s wind\n"
+          "  + far collider  a sphere 10 m below: the contact pass runs, finds nothing\n"
+          "  + contact       a sphere (radius 0.25 m) 0.3 m under the middle: the cloth drapes on it\n"
+          "  + moving pins   the pinned corners turn about the vertical axis at 1 rad/s\n"
+          "  full cap        the baseline with tolerance 0: every solve runs all 300 iterations\n"
+          "  asleep          the default cloth (+ air drag) with sleeping on (1e-3 m/s for 0.5 s), run\n"
+          "                  until it falls asleep (at most 60 s), then timed\n"
+          "The configurations are stepped in turn, one frame each, so that a changing machine load\n"
+          "weighs on all of them alike.\n"
+          "Columns: median ms per frame of each stage (forces, assemble, solve, collide, integrate)\n"
+          "and in all, the ratio to the baseline, and what skipping the feature saves per frame (the\n"
+          "row's total minus the baseline's; for `full cap`, what stopping at the tolerance saves; for\n"
+          "`asleep`, what sleeping saves against the same cloth awake, `+ air drag`).\n"
+          "\n"
+          "options:\n"
+          "  --quick              seconds-long preset: sheet16, 20 frames, 1 thread\n"
+          "  --scene NAME         sheetN, hangN, drape, drapeN or garment as in `weft bench accuracy`\n"
+          "                       (default sheet64); its own pins and colliders are replaced\n"
+          "  --frames N           frames timed per configuration (default 120)\n"
+          "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
+          "  --csv FILE           write every configuration as CSV\n"
+          "  --md FILE            write the Markdown table to FILE instead of stdout\n"
+          "  --quiet              no progress lines on stderr\n"
+          "  -h, --help           show this help\n",
+          out);
+}
+
+static void defaults(void* args, int quick) {
+    skip_args* a = args;
+    memset(a, 0, sizeof *a);
+    a->scene = quick ? "sheet16" : "sheet64";
+    a->frames = quick ? 20 : 120;
+}
+
+static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
+    skip_args* a = args;
+    int m = 0;
+    if ((m = cli_option_value(argc, argv, i, "--scene", v)) != 0) {
+        if (m > 0) a->scene = *v;
+        return m;
+    }
+    if ((m = cli_option_value(argc, argv, i, "--frames", v)) != 0)
+        return m < 0 ? m : cli_parse_int(*v, 1, 100000, &a->frames) != 0 ? -2 : 1;
+    return 0;
+}
+
+enum { K_BASE, K_DRAG, K_WIND, K_FAR, K_CONTACT, K_PINS, K_CAP, K_ASLEEP, N_CONFIGS };
+static const char* const config_name[N_CONFIGS] = {"baseline", "+ air drag", "+ wind", "+ far collider",
+                                                   "+ contact", "+ moving pins", "full cap", "asleep"};
+
+/* One timed run. */
+typedef struct skip_run {
+    double stage[6];        /* medians (ms): forces, assemble, solve, collide, integrate, total */
+    double iterations;      /* per substep, mean */
+    int not_converged;      /* solves stopped at the cap */
+    int contacts;           /* particles in contact at the end */
+    int frames;             /* frames timed */
+    int asleep_frames;      /* timed frames the cloth slept through */
+    int warmup;             /* frames before the timed ones (asleep: until it fell asleep; -1: never) */
+    int unchanged;          /* 1: positions bit-identical across the timed frames */
+} skip_run;
+
+/* The pins' targets at the end of frame f: turned about the y axis by spin x t. */
+static void pin_targets(const bench_scene* bs, double spin, int f, wc_pin* out) {
+    const double angle = spin * (f + 1) / FPS, c = cos(angle), s = sin(angle);
+    for (int k = 0; k < bs->pins.n; ++k) {
+        const double* r = bs->pins.start + 3 * k;
+        out[k] = bs->pins.pins[k];
+        v3_set(out[k].target, c * r[0] + s * r[2], r[1], -s * r[0] + c * r[2]);
+    }
+}
+
+/* One configuration's state and its per-frame timings. */
+typedef struct skip_cfg {
+    wc_state* s;
+    double* ms;             /* (6 x frames) */
+    double* x0;             /* positions before the timed frames */
+    wc_pin* pins;           /* (n pins) scratch */
+    long long iterations, substeps;
+} skip_cfg;
+
+static void cfg_free(skip_cfg* c) {
+    wc_state_destroy(c->s);
+    free(c->ms);
+    free(c->x0);
+    free(c->pins);
+    memset(c, 0, sizeof *c);
+}
+
+/* The configuration's state; the asleep one is stepped until it falls asleep (out->warmup). */
+static int cfg_create(skip_cfg* c, const bench_scene* bs, int config, int frames, int threads, skip_run* out,
+                      wc_diag* d) {
+    memset(c, 0, sizeof *c);
+    memset(out, 0, sizeof *out);
+    wc_sim_def sd = wc_default_sim_def();
+    sd.threads = threads;
+    sd.max_pins = bs->pins.n > 0 ? bs->pins.n : 1;
+    sd.max_colliders = 1;
+    sd.air.normal_drag = sd.air.tangent_drag = 0.0;
+    sd.sleep_speed = 0.0;
+    if (config == K_DRAG || config == K_WIND || config == K_ASLEEP) sd.air = wc_default_sim_def().air;
+    if (config == K_WIND) v3_set(sd.air.wind, 3.0, 0.0, 0.0);
+    if (config == K_CAP) sd.solver.tolerance = 0.0;
+    if (config == K_ASLEEP) sd.sleep_speed = wc_default_sim_def().sleep_speed;
+    if (wc_state_create(&c->s, &bs->model, &sd, NULL, d) != WEFT_OK) return -1;
+    weft_status st = wc_state_set_pins(c->s, bs->pins.pins, bs->pins.n, d);
+    wc_collider col;
+    memset(&col, 0, sizeof col);
+    col.type = WC_COLLIDER_SPHERE;
+    col.radius = 0.25;
+    col.thickness = 0.005;
+    col.friction = 0.3;
+    /* below the middle of the cloth's rest bounding box */
+    const double* lo = bs->model.report.bbox_min;
+    const double* hi = bs->model.report.bbox_max;
+    v3_set(col.center, 0.5 * (lo[0] + hi[0]), lo[1] - (config == K_FAR ? 10.0 : 0.3), 0.5 * (lo[2] + hi[2]));
+    if (st == WEFT_OK && (config == K_FAR || config == K_CONTACT)) st = wc_state_set_colliders(c->s, &col, 1, d);
+    const size_t n3 = 3 * (size_t)bs->model.n_particles;
+    c->ms = malloc(sizeof(double) * 6 * (size_t)frames);
+    c->x0 = malloc(sizeof(double) * n3);
+    c->pins = malloc(sizeof(wc_pin) * (size_t)(bs->pins.n + 1));
+    if (st != WEFT_OK || !c->ms || !c->x0 || !c->pins) {
+        if (st == WEFT_OK) wc_fail(d, WEFT_ERROR_OUT_OF_MEMORY, "bench skip: out of memory");
+        cfg_free(c);
+        return -1;
+    }
+    if (config == K_ASLEEP) {
+        out->warmup = -1;
+        wc_step_stats ws;
+        for (int f = 0; f < (int)(SLEEP_CAP_S * FPS) && out->warmup < 0; ++f) {
+            wc_step_frame(c->s, 1.0 / FPS, &ws, d);
+            if (ws.fell_asleep) out->warmup = f + 1;
+        }
+    }
+    memcpy(c->x0, c->s->x, sizeof(double) * n3);
+    return 0;
+}
+
+/* Timed frame f of a configuration. */
+static void cfg_step(skip_cfg* c, const bench_scene* bs, int config, int f, int frames, skip_run* out, wc_diag* d) {
+    wc_step_stats ss;
+    if (config == K_PINS) {
+        pin_targets(bs, 1.0, f, c->pins);
+        wc_state_set_pins(c->s, c->pins, bs->pins.n, d);
+    }
+    wc_step_frame(c->s, 1.0 / FPS, &ss, d);
+    const double stage[6] = {ss.ms.forces, ss.ms.assemble, ss.ms.solve, ss.ms.collide, ss.ms.integrate, ss.ms.total};
+    for (int k = 0; k < 6; ++k) c->ms[(size_t)k * frames + f] = stage[k];
+    c->iterations += ss.iterations;
+    c->substeps += ss.substeps;
+    out->not_converged += ss.not_converged;
+    out->asleep_frames += ss.asleep;
+    out->contacts = ss.contacts;
+}
+
+static void cfg_finish(skip_cfg* c, const bench_scene* bs, int frames, skip_run* out) {
+    out->frames = frames;
+    for (int k = 0; k < 6; ++k) out->stage[k] = wc_sort_median(c->ms + (size_t)k * frames, frames);
+    out->iterations = c->substeps > 0 ? (double)c->iterations / (double)c->substeps : 0.0;
+    out->unchanged = memcmp(c->x0, c->s->x, sizeof(double) * 3 * (size_t)bs->model.n_particles) == 0;
+}
+
+/* What is skipped when the feature is off, in words. */
+static const char* const skipped_text[N_CONFIGS] = {   /* no commas: CSV cells are not quoted */
+    "air pass (drags 0); contact passes (no collider); pin motion (still)",
+    "baseline skips the per-triangle air pass",
+    "nothing beyond the air pass: wind is one more term in it",
+    "baseline skips the contact passes (here they run and find nothing)",
+    "baseline skips contacts and friction re-solves",
+    "nothing: pins cost O(pins) moving or still",
+    "stopping at the tolerance skips the iterations past it",
+    "sleeping skips the whole step (forces; assembly; solve; contacts)"};
+
+enum {
+    C_BACKEND, C_SCENE, C_PARTICLES, C_CONFIG, C_FRAMES, C_WARMUP, C_ITER, C_NOT_CONV, C_CONTACTS, C_ASLEEP,
+    C_UNCHANGED, C_FORCES, C_ASSEMBLE, C_SOLVE, C_COLLIDE, C_INTEGRATE, C_TOTAL, C_RATIO, C_SAVED, C_SKIPPED, N_COLS
+};
+static const char* const csv_cols[N_COLS] = {
+    "backend", "scene", "particles", "config", "frames", "warmup_frames", "iterations_per_substep",
+    "not_converged", "contacts", "asleep_frames", "positions_unchanged", "ms_forces", "ms_assemble", "ms_solve",
+    "ms_collide", "ms_integrate", "ms_total", "ratio_to_baseline", "ms_saved", "skipped"};
+static const char* const md_cols[N_COLS] = {
+    NULL, NULL, NULL, "configuration", NULL, NULL, "it./substep", NULL, "contacts", NULL, NULL, "forces",
+    "assemble", "solve", "collide", "integrate", "total ms", "x baseline", "saved ms/frame", "what is skipped"};
+
+typedef struct header_info {
+    const skip_args* a;
+    int particles, threads;
+    const skip_run* runs;
+} header_info;
+
+static void print_header(FILE* out, const void* ctx) {
+    const header_info* h = ctx;
+    const skip_run* r = h->runs;
+    fprintf(out, "## weft bench skip\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %d frames timed "
+                 "per configuration at 60 frames/s, one substep per frame; medians of wc_step_frame's "
+                 "per-stage wall time (ms per frame).\n\n",
+            BENCH_BACKEND_NOTE, h->threads, h->a->scene, h->particles, h->a->frames);
+    if (r[K_ASLEEP].warmup > 0)
+        fprintf(out, "Asleep: the cloth fell asleep after %d frames (%.2f s); a sleeping frame costs %.3g us, "
+                     "%.3g%% of the same cloth's active frame (+ air drag: %.3f ms; target < 2%%); positions %s over the %d timed "
+                     "frames. Stopping at the tolerance: %.1f iterations per solve instead of %.0f.\n\n",
+                r[K_ASLEEP].warmup, r[K_ASLEEP].warmup / FPS, 1e3 * r[K_ASLEEP].stage[5],
+                100.0 * r[K_ASLEEP].stage[5] / r[K_DRAG].stage[5], r[K_DRAG].stage[5],
+                r[K_ASLEEP].unchanged ? "bit-identical" : "CHANGED", r[K_ASLEEP].frames, r[K_BASE].iterations,
+                r[K_CAP].iterations);
+    else
+        fprintf(out, "Asleep: the cloth did not come to rest within %g s.\n\n", SLEEP_CAP_S);
+    fputs("A feature also changes the motion (wind blows the sheet, moving pins swing it, contacts add "
+          "constraints) and with it the solver's iterations: the pass a feature adds shows in its own "
+          "stage (air: forces; colliders: collide), the rest of the difference is the solve of a "
+          "different motion. Stages do not add up to the total: the rest is bookkeeping (failure "
+          "checks, energy, strain).\n\n",
+          out);
+}
+
+int bench_skip_run(int argc, char** argv) {
+    skip_args a;
+    int rc = bench_parse_args(argc, argv, "weft bench skip", bench_skip_usage, defaults, own_option, &a, &a.com);
+    if (rc >= 0) return rc;
+    if (a.com.plot) return cli_usage_error("weft bench skip", bench_skip_usage, "--plot: this command has no plot");
+    bench_scene bs;
+    wc_diag d = {0};
+    if (bench_scene_build(&bs, a.scene, a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+        cli_error(d.message);
+        return CLI_EXIT_FAILURE;
+    }
+    /* every configuration is stepped in turn, one frame each, so that the machine's load, which
+       changes over seconds, weighs on all of them alike */
+    skip_run runs[N_CONFIGS];
+    skip_cfg cfg[N_CONFIGS];
+    memset(cfg, 0, sizeof cfg);
+    for (int k = 0; k < N_CONFIGS && rc < 0; ++k) {
+        if (!a.com.quiet) fprintf(stderr, "[%d/%d] %s%s\n", k + 1, N_CONFIGS, config_name[k],
+                                  k == K_ASLEEP ? ": stepping until it falls asleep" : "");
+        if (cfg_create(&cfg[k], &bs, k, a.frames, a.com.threads, &runs[k], &d) != 0) {
+            cli_error(d.message);
+            rc = CLI_EXIT_FAILURE;
+        }
+    }
+    if (rc < 0 && !a.com.quiet) fprintf(stderr, "timing %d frames of each, in turn\n", a.frames);
+    for (int f = 0; f < a.frames && rc < 0; ++f)
+        for (int k = 0; k < N_CONFIGS; ++k) cfg_step(&cfg[k], &bs, k, f, a.frames, &runs[k], &d);
+    for (int k = 0; k < N_CONFIGS; ++k) {
+        if (rc < 0) cfg_finish(&cfg[k], &bs, a.frames, &runs[k]);
+        cfg_free(&cfg[k]);
+    }
+    bench_table t;
+    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    wc_par par;
+    wc_par_init(&par, a.com.threads);
+    for (int k = 0; k < N_CONFIGS && rc < 0; ++k) {
+        const skip_run* r = &runs[k];
+        const double base = runs[K_BASE].stage[5];
+        /* what the baseline saves by skipping the feature (full cap: what stopping at the tolerance
+           saves); asleep: what sleeping saves */
+        const double saved = k == K_ASLEEP ? runs[K_DRAG].stage[5] - r->stage[5] : r->stage[5] - base;
+        char b[N_COLS][96];
+        snprintf(b[C_BACKEND], 96, "%s", BENCH_BACKEND);
+        snprintf(b[C_SCENE], 96, "%s", bs.name);
+        snprintf(b[C_PARTICLES], 96, "%d", bs.model.n_particles);
+        snprintf(b[C_CONFIG], 96, "%s", config_name[k]);
+        snprintf(b[C_FRAMES], 96, "%d", r->frames);
+        snprintf(b[C_WARMUP], 96, "%d", r->warmup);
+        bench_fmt(b[C_ITER], 96, "%.1f", r->iterations);
+        snprintf(b[C_NOT_CONV], 96, "%d", r->not_converged);
+        snprintf(b[C_CONTACTS], 96, "%d", r->contacts);
+        snprintf(b[C_ASLEEP], 96, "%d", r->asleep_frames);
+        snprintf(b[C_UNCHANGED], 96, "%d", r->unchanged);
+        for (int q = 0; q < 6; ++q) bench_fmt(b[C_FORCES + q], 96, r->stage[q] < 1e-2 ? "%.2g" : "%.3f", r->stage[q]);
+        bench_fmt(b[C_RATIO], 96, "%.3g", base > 0 ? r->stage[5] / base : NAN);
+        if (k == K_BASE) snprintf(b[C_SAVED], 96, "-");
+        else bench_fmt(b[C_SAVED], 96, "%.3f", saved);
+        snprintf(b[C_SKIPPED], 96, "%s", skipped_text[k]);
+        const char* cell[N_COLS];
+        for (int q = 0; q < N_COLS; ++q) cell[q] = b[q];
+        if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
+    }
+    if (rc < 0) {
+        const header_info h = {&a, bs.model.n_particles, par.threads, runs};
+        rc = bench_write_tables(&a.com, &t, print_header, &h);
+    }
+    bench_table_free(&t);
+    bench_scene_free(&bs);
+    return rc;
+}
