@@ -164,18 +164,25 @@ static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve
     if (!res->converged) ++st->not_converged;
 }
 
+/* How far a substep's result is judged. */
+enum {
+    JUDGE_ALL = 0,      /* finite, strain, kinetic-energy blow-up, total-energy gain */
+    JUDGE_NO_GAIN = 1,  /* the first last resort: all but the total-energy gain */
+    JUDGE_FINITE = 2    /* the final last resort: finite values only (nothing else is left) */
+};
+
 /* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
- * returns non-OK when the result must be discarded. The last resort (direct solver, compressed
- * springs' geometric term dropped so the system is positive definite, the finest pieces) is
- * judged only on finite values: nothing smaller is left to try. */
-static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int last_resort,
+ * returns non-OK when the result must be discarded, judged as `judge` says. The last resorts use
+ * the direct solver with the compressed springs' geometric term dropped (a positive-definite
+ * system). */
+static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                            double pin_energy, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double ke0 = wc_state_kinetic_energy(s);
-    int judge_energy = !last_resort && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
+    int judge_energy = judge == JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
     double elastic0 = 0.0, e0 = judge_energy ? total_energy(s, &elastic0) : 0.0;
-    int stuck = prepare(s, h, alpha1, last_resort ? WC_COMPRESSION_DROP : s->def.compression, st);
+    int stuck = prepare(s, h, alpha1, judge != JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression, st);
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -243,7 +250,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     if (!all_finite(s->x, n3) || !all_finite(s->v, n3)) {
         status = wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h,
                          wc_solver_name(solver));
-    } else if (last_resort) {
+    } else if (judge == JUDGE_FINITE) {
         status = WEFT_OK;
     } else if (!(strain <= s->def.fail_strain)) {
         status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
@@ -276,12 +283,15 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
     wc_diag local = {WEFT_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
     save(s);
     wc_solver_type user = s->def.solver.type;
-    /* the last resorts: the finest pieces, then (when even those go non-finite, as under pins
-       that jump a kilometre in a frame) the whole substep at once */
+    /* the last resorts: the finest pieces (judged on all but the energy gain), then the whole
+       substep at once, accepted whenever finite (a cloth under pins that jump a kilometre in a
+       frame blows up in small pieces, and is merely stretched by one) */
     int tries = s->def.max_halvings + 1 + (s->def.direct_fallback ? 2 : 0);
     for (int t = 0; t < tries; ++t) {
         int last_resort = t > s->def.max_halvings;
-        int halvings = t <= s->def.max_halvings ? t : t == s->def.max_halvings + 1 ? s->def.max_halvings : 0;
+        int finest = t == s->def.max_halvings + 1;
+        int halvings = !last_resort ? t : finest ? s->def.max_halvings : 0;
+        int judge = !last_resort ? JUDGE_ALL : finest ? JUDGE_NO_GAIN : JUDGE_FINITE;
         wc_solver_type solver = last_resort ? WC_SOLVER_DIRECT : user;
         int pieces = 1 << halvings;
         if (t > 0) {
@@ -293,7 +303,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
         double residual = st->residual; /* a discarded try's residual (inf when it blew up) is not reported */
         for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
             double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
-            ok = substep(s, h / pieces, a1, solver, last_resort, pin_energy, st, &local);
+            ok = substep(s, h / pieces, a1, solver, judge, pin_energy, st, &local);
         }
         if (ok == WEFT_OK) {
             st->substeps += pieces;

@@ -3,10 +3,10 @@
  * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
  * supply it). A failed substep is rolled back and retried with half the step (up to
  * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
- * geometric term dropped (a positive-definite system, accepted whenever it is finite), in the
- * finest pieces and, if those go non-finite, in one piece;
- * if that also fails the state is left as it was before the substep and the frame reports
- * WEFT_ERROR_STEP_FAILED. Positions are never left non-finite.
+ * geometric term dropped (a positive-definite system): in the finest pieces (judged on all but
+ * the energy gain), then in one piece accepted whenever it is finite; if that also fails the
+ * state is left as it was before the substep and the frame reports WEFT_ERROR_STEP_FAILED.
+ * Positions are never left non-finite.
  *
  * Sleeping (state.h has the wake rules). A frame first compares def.gravity and def.air with the
  * previous frame's (a change wakes the cloth). A sleeping cloth's frame then only advances time
