@@ -40,6 +40,14 @@ int cli_bench_run(int argc, char** argv) {
     return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
 }
 
+int bench_split_names(const char* list, char* buf, size_t size, const char** out, int max) {
+    snprintf(buf, size, "%s", list);
+    int n = 0;
+    char* save = NULL;
+    for (char* tok = strtok_r(buf, ",", &save); tok && n < max; tok = strtok_r(NULL, ",", &save)) out[n++] = tok;
+    return n;
+}
+
 /* Split text at commas into items (each copied into item, at most size - 1 characters); calls
  * fn on each; returns the count or -1. */
 static int for_each_item(const char* text, int (*fn)(const char* item, void* ctx, int k), void* ctx) {

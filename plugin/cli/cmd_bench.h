@@ -28,6 +28,9 @@
 int bench_parse_doubles(const char* text, double lo, double hi, double* out);
 /* The same for integers in [lo, hi]. */
 int bench_parse_ints(const char* text, int lo, int hi, int* out);
+/* Comma-separated names: list copied into buf (size bytes), split in place, up to max pointers
+ * into it stored in out (empty items skipped). Returns the count. */
+int bench_split_names(const char* list, char* buf, size_t size, const char** out, int max);
 /* Solver names ("pcg,jacobi,chebyshev,direct", or "all"); -1 on an unknown name. */
 int bench_parse_solvers(const char* text, wc_solver_type* out);
 

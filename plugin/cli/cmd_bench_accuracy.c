@@ -90,10 +90,7 @@ void bench_accuracy_usage(FILE* out) {
 }
 
 static void set_scenes(acc_args* a, const char* list) {
-    snprintf(a->scene_buf, sizeof a->scene_buf, "%s", list);
-    a->n_scenes = 0;
-    for (char* tok = strtok(a->scene_buf, ","); tok && a->n_scenes < MAX_SCENES; tok = strtok(NULL, ","))
-        a->scenes[a->n_scenes++] = tok;
+    a->n_scenes = bench_split_names(list, a->scene_buf, sizeof a->scene_buf, a->scenes, MAX_SCENES);
 }
 
 static void defaults(void* args, int quick) {
