@@ -291,3 +291,11 @@ double wc_state_kinetic_energy(const wc_state* s) {
     for (int i = 0; i < s->model->n_particles; ++i) e += 0.5 * m[i] * v3_dot(s->v + 3 * i, s->v + 3 * i);
     return e;
 }
+
+double wc_state_total_energy(const wc_state* s, double* elastic) {
+    const wc_model* m = s->model;
+    double e = wc_state_kinetic_energy(s) + wc_spring_energy(m, s->x);
+    if (elastic) *elastic = e;
+    for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
+    return e;
+}

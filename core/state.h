@@ -128,5 +128,8 @@ double wc_state_max_speed(const wc_state* s);
 
 /* Kinetic energy sum m v^2 / 2 (J). */
 double wc_state_kinetic_energy(const wc_state* s);
+/* Total mechanical energy: kinetic + springs + gravitational (relative to the origin) (J);
+ * *elastic (may be NULL) receives kinetic + springs. */
+double wc_state_total_energy(const wc_state* s, double* elastic);
 
 #endif

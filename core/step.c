@@ -90,16 +90,6 @@ static double rest_diagonal(const wc_model* m) {
     return sqrt(d2);
 }
 
-/* Total mechanical energy of the state: kinetic + springs + gravity (relative to the origin) (J);
- * *elastic receives kinetic + springs. */
-static double total_energy(const wc_state* s, double* elastic) {
-    const wc_model* m = s->model;
-    double e = wc_state_kinetic_energy(s) + wc_spring_energy(m, s->x);
-    *elastic = e;
-    for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
-    return e;
-}
-
 /* Energy scale below which kinetic-energy growth is not judged: what gravity, moving pins and
  * moving colliders could plausibly put into the cloth. */
 static double energy_floor(const wc_state* s) {
@@ -181,7 +171,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     int n = m->n_particles;
     double ke0 = wc_state_kinetic_energy(s);
     int judge_energy = judge == JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
-    double elastic0 = 0.0, e0 = judge_energy ? total_energy(s, &elastic0) : 0.0;
+    double elastic0 = 0.0, e0 = judge_energy ? wc_state_total_energy(s, &elastic0) : 0.0;
     int stuck = prepare(s, h, alpha1, judge != JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression, st);
     double t0 = wc_now_ms(), t1;
 
@@ -262,7 +252,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
             status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J",
                              h, wc_solver_name(solver), ke1, ke0);
         if (status == WEFT_OK && judge_energy) {
-            double elastic1, e1 = total_energy(s, &elastic1);
+            double e1 = wc_state_total_energy(s, NULL);
             double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(m) + elastic0;
             if (e1 - e0 > s->def.fail_energy_gain * scale)
                 status = wc_fail(diag, WEFT_ERROR_STEP_FAILED,

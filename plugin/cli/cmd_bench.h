@@ -138,9 +138,6 @@ typedef struct bench_run {
 int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag);
 void bench_run_free(bench_run* r);
 
-/* Total mechanical energy of a state: kinetic + spring + gravitational (relative to y = 0) (J). */
-double bench_energy(const wc_state* s);
-
 /* Distances between two position sets (n x 3): RMS and largest. */
 void bench_distance(const double* a, const double* b, int n, double* rms, double* max);
 

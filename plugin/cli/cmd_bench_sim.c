@@ -152,13 +152,6 @@ void bench_scene_free(bench_scene* s) {
 
 /* ---------- measurements ---------- */
 
-double bench_energy(const wc_state* s) {
-    const wc_model* m = s->model;
-    double e = wc_state_kinetic_energy(s) + wc_spring_energy(m, s->x);
-    for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
-    return e;
-}
-
 void bench_distance(const double* a, const double* b, int n, double* rms, double* max) {
     double sum = 0.0, mx = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -270,7 +263,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     const double dt = 1.0 / o->fps;
     const double h = sd.substep_dt > 0 ? sd.substep_dt : dt / sd.substeps;
     const double alpha1 = sd.substep_dt > 0 ? fmin(1.0, sd.substep_dt / dt) : 1.0 / sd.substeps;
-    out->energy0 = out->energy_max = out->energy_end = bench_energy(s);
+    out->energy0 = out->energy_max = out->energy_end = wc_state_total_energy(s, NULL);
     out->energy_scale = s->total_mass * v3_norm(sd.gravity) * bs->diag;
     if (!(out->energy_scale > 0)) out->energy_scale = 1.0;
     long long iterations = 0;
@@ -313,7 +306,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         out->direct_fallbacks += st.direct_fallbacks;
         out->failures += st.failures;
         if (!(st.max_strain <= out->max_strain)) out->max_strain = st.max_strain;
-        const double e = bench_energy(s);
+        const double e = wc_state_total_energy(s, NULL);
         out->energy_end = e;
         if (!(e <= out->energy_max)) out->energy_max = e;
         if (!isfinite(e) || !isfinite(st.max_strain) || !all_finite(s->x, (int)n3)) out->nonfinite = 1;
