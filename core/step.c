@@ -108,6 +108,34 @@ static int sourceless(const wc_state* s, double pin_energy) {
     return 1;
 }
 
+int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
+    return judge == WC_JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
+}
+
+weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
+                             int judge, int judge_energy, double pin_energy, double h, const char* solver,
+                             wc_diag* diag) {
+    const wc_model* m = s->model;
+    if (!after->finite)
+        return wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h, solver);
+    if (judge == WC_JUDGE_FINITE) return WEFT_OK;
+    if (!(after->strain <= s->def.fail_strain))
+        return wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
+                       solver, after->strain, s->def.fail_strain);
+    double floor = energy_floor(s) + pin_energy;
+    if (after->kinetic > s->def.fail_energy_growth * (before->kinetic + floor))
+        return wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J", h,
+                       solver, after->kinetic, before->kinetic);
+    if (judge_energy) {
+        double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(m) + before->elastic;
+        if (after->total - before->total > s->def.fail_energy_gain * scale)
+            return wc_fail(diag, WEFT_ERROR_STEP_FAILED,
+                           "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
+                           h, solver, after->total - before->total, s->def.fail_energy_gain * scale);
+    }
+    return WEFT_OK;
+}
+
 /* Constraints, forces, assembly and friction of a substep of length h ending at frame fraction
  * alpha1: fills s->filter, s->A and s->b (contacts may correct positions). Returns the contacts
  * that stick. */
@@ -154,12 +182,6 @@ static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve
     if (!res->converged) ++st->not_converged;
 }
 
-/* How far a substep's result is judged. */
-enum {
-    JUDGE_ALL = 0,      /* finite, strain, kinetic-energy blow-up, total-energy gain */
-    JUDGE_NO_GAIN = 1,  /* the first last resort: all but the total-energy gain */
-    JUDGE_FINITE = 2    /* the final last resort: finite values only (nothing else is left) */
-};
 
 /* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
  * returns non-OK when the result must be discarded, judged as `judge` says. The last resorts use
@@ -169,10 +191,11 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
                            double pin_energy, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles;
-    double ke0 = wc_state_kinetic_energy(s);
-    int judge_energy = judge == JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
-    double elastic0 = 0.0, e0 = judge_energy ? wc_state_total_energy(s, &elastic0) : 0.0;
-    int stuck = prepare(s, h, alpha1, judge != JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression, st);
+    wc_substep_measure before = {0};
+    before.kinetic = wc_state_kinetic_energy(s);
+    int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
+    if (judge_energy) before.total = wc_state_total_energy(s, &before.elastic);
+    int stuck = prepare(s, h, alpha1, judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression, st);
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -236,30 +259,14 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     t0 = t1;
 
     /* failure checks */
-    status = WEFT_OK;
-    if (!all_finite(s->x, n3) || !all_finite(s->v, n3)) {
-        status = wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h,
-                         wc_solver_name(solver));
-    } else if (judge == JUDGE_FINITE) {
-        status = WEFT_OK;
-    } else if (!(strain <= s->def.fail_strain)) {
-        status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
-                         wc_solver_name(solver), strain, s->def.fail_strain);
-    } else {
-        double ke1 = wc_state_kinetic_energy(s);
-        double floor = energy_floor(s) + pin_energy;
-        if (ke1 > s->def.fail_energy_growth * (ke0 + floor))
-            status = wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J",
-                             h, wc_solver_name(solver), ke1, ke0);
-        if (status == WEFT_OK && judge_energy) {
-            double e1 = wc_state_total_energy(s, NULL);
-            double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(m) + elastic0;
-            if (e1 - e0 > s->def.fail_energy_gain * scale)
-                status = wc_fail(diag, WEFT_ERROR_STEP_FAILED,
-                                 "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
-                                 h, wc_solver_name(solver), e1 - e0, s->def.fail_energy_gain * scale);
-        }
+    wc_substep_measure after = {0};
+    after.finite = all_finite(s->x, n3) && all_finite(s->v, n3);
+    after.strain = strain;
+    if (after.finite && judge != WC_JUDGE_FINITE) {
+        after.kinetic = wc_state_kinetic_energy(s);
+        if (judge_energy) after.total = wc_state_total_energy(s, NULL);
     }
+    status = wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
     st->max_strain = strain;
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
@@ -267,11 +274,11 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
 }
 
 /* A substep of length h from frame fraction alpha0 to alpha1, retried on failure with halved
- * steps and then with the direct solver. On final failure the state is as it was. */
+ * steps and then with the last-resort solver. On final failure the state is as it was. */
 static weft_status robust_substep(wc_state* s, double h, double alpha0, double alpha1, double pin_energy,
-                                  wc_step_stats* st, wc_diag* diag) {
+                                  wc_step_stats* st, wc_diag* diag, const wc_step_ops* ops) {
     wc_diag local = {WEFT_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
-    save(s);
+    ops->save(ops->user, s);
     wc_solver_type user = s->def.solver.type;
     /* the last resorts: the finest pieces (judged on all but the energy gain), then the whole
        substep at once, accepted whenever finite (a cloth under pins that jump a kilometre in a
@@ -281,8 +288,8 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
         int last_resort = t > s->def.max_halvings;
         int finest = t == s->def.max_halvings + 1;
         int halvings = !last_resort ? t : finest ? s->def.max_halvings : 0;
-        int judge = !last_resort ? JUDGE_ALL : finest ? JUDGE_NO_GAIN : JUDGE_FINITE;
-        wc_solver_type solver = last_resort ? WC_SOLVER_DIRECT : user;
+        int judge = !last_resort ? WC_JUDGE_ALL : finest ? WC_JUDGE_NO_GAIN : WC_JUDGE_FINITE;
+        wc_solver_type solver = last_resort ? ops->last_resort_solver : user;
         int pieces = 1 << halvings;
         if (t > 0) {
             ++st->rollbacks;
@@ -293,7 +300,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
         double residual = st->residual; /* a discarded try's residual (inf when it blew up) is not reported */
         for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
             double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
-            ok = substep(s, h / pieces, a1, solver, judge, pin_energy, st, &local);
+            ok = ops->substep(ops->user, s, h / pieces, a1, solver, judge, pin_energy, st, &local);
         }
         if (ok == WEFT_OK) {
             st->substeps += pieces;
@@ -301,8 +308,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
         }
         wc_log(diag, WC_LOG_WARN, "rolled back: %s", local.message);
         st->residual = residual;
-        restore(s);
-        wc_solver_invalidate_rho(s->solver);
+        ops->restore(ops->user, s);
     }
     ++st->failures;
     return WEFT_ERROR_STEP_FAILED;
@@ -337,22 +343,23 @@ static weft_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double
 }
 
 /* After a successful active frame: the rest timer, and falling asleep. */
-static void rest_timer(wc_state* s, double dt, wc_step_stats* st) {
+static void rest_timer(wc_state* s, double dt, double max_speed, wc_step_stats* st, const wc_step_ops* ops) {
     if (!(s->def.sleep_speed > 0)) return;
-    if (!(wc_state_max_speed(s) < s->def.sleep_speed)) {
+    if (!(max_speed < s->def.sleep_speed)) {
         s->rest_time = 0.0;
         return;
     }
     s->rest_time += dt;
     if (s->rest_time >= s->def.sleep_time) {
         memset(s->v, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
+        if (ops->sleep) ops->sleep(ops->user, s);
         s->asleep = 1;
         s->sleep_strain = st->max_strain;
         st->fell_asleep = 1;
     }
 }
 
-weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
+weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops) {
     wc_step_stats local;
     wc_step_stats* st = stats ? stats : &local;
     memset(st, 0, sizeof *st);
@@ -385,7 +392,7 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
         while (s->accumulator >= h * (1.0 - 1e-9)) {
             double a0 = consumed / budget, a1 = (consumed + h) / budget;
             if (a1 > 1.0) a1 = 1.0;
-            if (robust_substep(s, h, a0, a1, pin_energy, st, diag) != WEFT_OK) result = WEFT_ERROR_STEP_FAILED;
+            if (robust_substep(s, h, a0, a1, pin_energy, st, diag, ops) != WEFT_OK) result = WEFT_ERROR_STEP_FAILED;
             s->accumulator -= h;
             consumed += h;
             s->time += h;
@@ -395,7 +402,7 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
         int n = s->def.substeps;
         double h = dt / n;
         for (int k = 0; k < n; ++k) {
-            if (robust_substep(s, h, (double)k / n, (double)(k + 1) / n, pin_energy, st, diag) != WEFT_OK)
+            if (robust_substep(s, h, (double)k / n, (double)(k + 1) / n, pin_energy, st, diag, ops) != WEFT_OK)
                 result = WEFT_ERROR_STEP_FAILED;
             s->time += h;
         }
@@ -403,13 +410,45 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
     for (int k = 0; k < s->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
     ++s->frame;
     st->contacts = s->contacts.active;
-    st->max_strain = wc_max_stretch_strain(s->model, s->x);
-    if (result == WEFT_OK) rest_timer(s, dt, st);
+    double max_speed = 0.0;
+    ops->measure(ops->user, s, &max_speed, &st->kinetic_energy, &st->max_strain);
+    if (result == WEFT_OK) rest_timer(s, dt, max_speed, st, ops);
     else s->rest_time = 0.0;
-    st->kinetic_energy = wc_state_kinetic_energy(s);
+    if (st->fell_asleep) st->kinetic_energy = 0.0;
     st->ms.total = wc_now_ms() - t_start;
     if (result != WEFT_OK)
         return wc_fail(diag, result, "step: %d substep(s) failed after every retry; the state was kept finite",
                        st->failures);
     return WEFT_OK;
+}
+
+/* ---- the CPU backend's operations ------------------------------------------------------------ */
+
+static weft_status cpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+                               double pin_energy, wc_step_stats* st, wc_diag* diag) {
+    (void)user;
+    return substep(s, h, alpha1, solver, judge, pin_energy, st, diag);
+}
+
+static void cpu_save(void* user, wc_state* s) {
+    (void)user;
+    save(s);
+}
+
+static void cpu_restore(void* user, wc_state* s) {
+    (void)user;
+    restore(s);
+    wc_solver_invalidate_rho(s->solver);
+}
+
+static void cpu_measure(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain) {
+    (void)user;
+    *max_speed = wc_state_max_speed(s);
+    *kinetic = wc_state_kinetic_energy(s);
+    *max_strain = wc_max_stretch_strain(s->model, s->x);
+}
+
+weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
+    wc_step_ops ops = {NULL, cpu_substep, cpu_save, cpu_restore, cpu_measure, NULL, WC_SOLVER_DIRECT};
+    return wc_step_frame_ops(s, dt, stats, diag, &ops);
 }

@@ -50,4 +50,55 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
 /* Simulate dt seconds (> 0, finite). stats may be NULL. */
 weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag);
 
+/* ---- the frame driver, shared with the GPU backend (gpu/solver) ------------------------------
+ * wc_step_frame is wc_step_frame_ops with the CPU's operations. Another backend supplies its own
+ * substep (which runs the state's arrays wherever it keeps them), save/restore of a substep's
+ * start, the end-of-frame measures and the velocity reset of falling asleep; the schedule
+ * (substeps or fixed-substep accumulator), the pins' interpolation, the retries (halvings, last
+ * resorts), the judging of a substep, the stats and sleeping stay here, identical for both. */
+
+/* How far a substep's result is judged. */
+enum {
+    WC_JUDGE_ALL = 0,      /* finite, strain, kinetic-energy blow-up, total-energy gain */
+    WC_JUDGE_NO_GAIN = 1,  /* the first last resort: all but the total-energy gain */
+    WC_JUDGE_FINITE = 2    /* the final last resort: finite values only (nothing else is left) */
+};
+
+/* What the judge needs of a substep's start (before) and end (after). */
+typedef struct wc_substep_measure {
+    int finite;                 /* after: every position and velocity finite */
+    double kinetic;             /* J */
+    double total;               /* J, wc_state_total_energy (only when the energy gain is judged) */
+    double elastic;             /* before: kinetic + springs (J) */
+    double strain;              /* after: largest stretch strain */
+} wc_substep_measure;
+
+/* 1 when a substep judged as `judge` also judges the total-energy gain (nothing in the frame can
+ * supply energy and def.fail_energy_gain > 0). */
+int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy);
+/* The step's verdict on a substep (step.h's checks, in that order); non-OK with the message in
+ * diag when it must be discarded. */
+weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
+                             int judge, int judge_energy, double pin_energy, double h, const char* solver,
+                             wc_diag* diag);
+
+typedef struct wc_step_ops {
+    void* user;
+    /* One try of a substep of length h ending at frame fraction alpha1 with `solver`, judged as
+     * `judge`; non-OK discards it (the driver then calls restore). Positions and velocities of s
+     * need not be kept current by a backend that holds them elsewhere. */
+    weft_status (*substep)(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+                           double pin_energy, wc_step_stats* st, wc_diag* diag);
+    void (*save)(void* user, wc_state* s);      /* remember the substep's start */
+    void (*restore)(void* user, wc_state* s);   /* go back to it */
+    /* At the end of an active frame: largest particle speed, kinetic energy, largest stretch strain. */
+    void (*measure)(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain);
+    /* Falling asleep: the driver zeroes s->v; a backend holding velocities elsewhere zeroes them
+     * there too (NULL: nothing more). */
+    void (*sleep)(void* user, wc_state* s);
+    wc_solver_type last_resort_solver;          /* CPU: DIRECT */
+} wc_step_ops;
+
+weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops);
+
 #endif

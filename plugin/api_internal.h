@@ -113,7 +113,7 @@ typedef struct wa_slot {
 struct weft_context {
     weft_context_def def;       /* as given (logger, level, threads) */
     weft_backend backend;       /* CPU */
-    wc_allocator alloc;         /* bridge of def.allocator */
+    wc_allocator alloc;         /* bridge of def.allocator (also gpu/'s allocator) */
     wc_diag core_diag;          /* handed to core calls: forwards core's DEBUG..WARN to the logger
                                    (core's ERRORs come back as statuses and are reported once,
                                    prefixed, by wa_fail) */
@@ -136,6 +136,10 @@ weft_status wa_ok(weft_context* ctx);
 void wa_log(weft_context* ctx, weft_log_level level, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 /* A core diag for one call (no logger for errors; warnings forwarded). */
 wc_diag wa_core_diag(weft_context* ctx);
+/* The logger bridge of wa_core_diag, a wc_log_fn with user = the weft_context: core's and gpu/'s
+ * DEBUG..WARN go to the context's logger (level mapped, filtered by def.log_level); ERRORs are
+ * dropped (they come back as statuses and are reported once, prefixed, by wa_fail). */
+void wa_core_log(wc_log_level level, const char* message, void* user);
 /* The cloth a handle names, or NULL (then the failure is recorded, prefixed with fn). */
 wa_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn);
 /* Register a cloth in a free slot; 0 on allocation failure. */

@@ -1,5 +1,5 @@
 /* The context: def defaults and validation, the allocator and logger bridges to core
- * (wc_allocator, wc_diag), the last error/status, and the handle table.
+ * (wc_allocator, wc_diag, also handed to gpu/), the last error/status, and the handle table.
  *
  * Handles: a weft_cloth id packs (from the high bits) a 16-bit context tag, a 4-bit type tag,
  * a 20-bit slot generation and a 24-bit slot index. The context tag comes from the context's
@@ -30,11 +30,22 @@ weft_context_def weft_default_context_def(void) {
     return d;
 }
 
-/* core's log levels have the same order and values as weft_log_level */
-static void core_log_bridge(wc_log_level level, const char* message, void* user) {
+/* core's (and gpu's) log level as the ABI's */
+static weft_log_level abi_level(wc_log_level level) {
+    switch (level) {
+    case WC_LOG_DEBUG: return WEFT_LOG_DEBUG;
+    case WC_LOG_INFO: return WEFT_LOG_INFO;
+    case WC_LOG_WARN: return WEFT_LOG_WARN;
+    case WC_LOG_ERROR: break;
+    }
+    return WEFT_LOG_ERROR;
+}
+
+void wa_core_log(wc_log_level level, const char* message, void* user) {
     weft_context* ctx = user;
     if (level >= WC_LOG_ERROR) return;   /* reported once, prefixed, through wa_fail */
-    if (ctx->def.log && (int)level >= (int)ctx->def.log_level) ctx->def.log((weft_log_level)level, message, ctx->def.log_user);
+    weft_log_level l = abi_level(level);
+    if (ctx->def.log && l >= ctx->def.log_level) ctx->def.log(l, message, ctx->def.log_user);
 }
 
 static weft_status create_fail(const weft_context_def* def, weft_status st, const char* fmt, ...)
@@ -152,7 +163,7 @@ void wa_log(weft_context* ctx, weft_log_level level, const char* fmt, ...) {
 wc_diag wa_core_diag(weft_context* ctx) {
     wc_diag d;
     memset(&d, 0, sizeof d);
-    d.log = core_log_bridge;
+    d.log = wa_core_log;
     d.log_user = ctx;
     return d;
 }

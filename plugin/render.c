@@ -56,8 +56,18 @@ static weft_status check_def(weft_context* ctx, const weft_render_def* d) {
 
 #ifdef WEFT_HAVE_GPU
 
-static void forward_log(weft_log_level level, const char* message, void* user) {
-    wa_log((weft_context*)user, level, "%s", message);
+/* gpu/ speaks core's types: its logger is the context's core bridge (wa_core_log: levels mapped,
+ * filtered by def.log_level) and its allocator the context's wc_allocator bridge. */
+
+/* An ABI collider type as gpu/'s shape kind (validated when the cloth was made; anything else is
+ * passed on for wg_render to refuse). */
+static wg_shape_type shape_type(int collider_type) {
+    switch ((weft_collider_type)collider_type) {
+    case WEFT_COLLIDER_PLANE: return WG_SHAPE_PLANE;
+    case WEFT_COLLIDER_SPHERE: return WG_SHAPE_SPHERE;
+    case WEFT_COLLIDER_CAPSULE: return WG_SHAPE_CAPSULE;
+    }
+    return (wg_shape_type)collider_type;
 }
 
 /* The context's GL context and renderer, created on first use. */
@@ -67,9 +77,9 @@ static weft_status ensure_renderer(weft_context* ctx) {
     wg_gl_context_desc gd;
     memset(&gd, 0, sizeof gd);
     gd.host_current = ctx->def.gl_mode == WEFT_GL_HOST_CURRENT;
-    gd.log = forward_log;
+    gd.log = wa_core_log;
     gd.log_user = ctx;
-    gd.allocator = ctx->def.allocator;
+    gd.allocator = ctx->alloc;
     wg_gl_context* gl = NULL;
     weft_status st = wg_gl_context_create(&gd, &gl, err, sizeof err);
     if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
@@ -133,7 +143,7 @@ weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_d
     for (int i = 0; i < nc; ++i) {
         const wa_collider* k = &c->colliders[i];
         memset(&shapes[i], 0, sizeof shapes[i]);
-        shapes[i].type = (wg_shape_type)k->type;
+        shapes[i].type = shape_type(k->type);
         xform_to_floats(&c->collider_xf[i], shapes[i].transform);
         shapes[i].radius = (float)k->radius;
         shapes[i].half_height = (float)k->half_height;

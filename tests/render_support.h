@@ -140,7 +140,7 @@ static inline wg_mesh quad_mesh(quad_store* q, int flipped, int with_normals) {
 /* A headless context (logging into log) and a renderer with default samples; 0 on failure
  * (printed). This machine has EGL + Mesa by .ci/deps.sh, so no context is a failure, not a
  * skip. */
-static inline int rs_open(weft_log_fn log, wg_gl_context** ctx, wg_renderer** r) {
+static inline int rs_open(wc_log_fn log, wg_gl_context** ctx, wg_renderer** r) {
     wg_gl_context_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.log = log;

@@ -16,7 +16,7 @@ static wg_gl_context* g_ctx;     /* headless, created in main */
 static wg_renderer* g_r;         /* default samples */
 static char g_log[4096];         /* every message the context logged */
 
-static void capture_log(weft_log_level level, const char* message, void* user) {
+static void capture_log(wc_log_level level, const char* message, void* user) {
     (void)user;
     size_t used = strlen(g_log);
     snprintf(g_log + used, sizeof g_log - used, "[%d] %s\n", (int)level, message);

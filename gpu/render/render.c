@@ -159,7 +159,7 @@ void wg_renderer_destroy(wg_renderer* r) {
         delete_gl_objects(r);
         wg_gl_end(r->ctx);
     } else {
-        wg_gl_log(r->ctx, WEFT_LOG_WARN, "weft gpu: renderer's GL objects not deleted: %s", err);
+        wg_gl_log(r->ctx, WC_LOG_WARN, "weft gpu: renderer's GL objects not deleted: %s", err);
     }
     wg_gl_free(r->ctx, r->scratch);
     wg_gl_free(r->ctx, r);
@@ -541,7 +541,7 @@ static weft_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_
     }
     weft_status st = wg_target_ensure(&r->target, w, h, r->samples_wanted, err, err_len);
     if (st != WEFT_OK && r->samples_wanted > 1) {
-        wg_gl_log(r->ctx, WEFT_LOG_WARN, "weft gpu: %s; rendering without MSAA", err);
+        wg_gl_log(r->ctx, WC_LOG_WARN, "weft gpu: %s; rendering without MSAA", err);
         st = wg_target_ensure(&r->target, w, h, 1, err, err_len);
     }
     if (st != WEFT_OK) return st;

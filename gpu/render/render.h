@@ -11,8 +11,7 @@
 
 #include <stddef.h>
 
-#include "egl_context.h"
-#include "weft/weft.h"
+#include "egl_context.h"   /* wg_gl_context; weft_status */
 
 #ifdef __cplusplus
 extern "C" {
@@ -48,7 +47,7 @@ typedef struct wg_mesh {
     float back_rgb[3];
 } wg_mesh;
 
-/* Same numbering and local conventions as weft_collider_type. */
+/* gpu/'s own shape kinds (the plugin maps its collider types onto them). */
 typedef enum wg_shape_type {
     WG_SHAPE_PLANE = 0,         /* local plane y = 0, normal +y; drawn as a checkered square */
     WG_SHAPE_SPHERE = 1,        /* local sphere at the origin */

@@ -19,9 +19,9 @@
 
 struct wg_gl_context {
     int host;
-    weft_log_fn log;
+    wc_log_fn log;
     void* log_user;
-    weft_allocator alloc;
+    wc_allocator alloc;
     /* headless */
     EGLDisplay dpy;
     EGLContext egl_ctx;
@@ -67,14 +67,14 @@ void wg_gl_free(const wg_gl_context* ctx, void* ptr) {
     if (ptr) ctx->alloc.free(ptr, ctx->alloc.user);
 }
 
-static void vlog(weft_log_fn log, void* user, weft_log_level level, const char* fmt, va_list ap) {
+static void vlog(wc_log_fn log, void* user, wc_log_level level, const char* fmt, va_list ap) {
     if (!log) return;
     char msg[1024];
     vsnprintf(msg, sizeof msg, fmt, ap);
     log(level, msg, user);
 }
 
-void wg_gl_log(const wg_gl_context* ctx, weft_log_level level, const char* fmt, ...) {
+void wg_gl_log(const wg_gl_context* ctx, wc_log_level level, const char* fmt, ...) {
     va_list ap;
     va_start(ap, fmt);
     vlog(ctx->log, ctx->log_user, level, fmt, ap);
@@ -156,16 +156,16 @@ static int list_candidates(const wg_gl_context* ctx, wg_candidate* cands, int* n
                           : has_ext(ext, "EGL_MESA_device_software") ? 1
                                                                      : 2;
                 snprintf(c->label, sizeof c->label, "EGL device %d [%.150s]", i, ext);
-                wg_gl_log(ctx, WEFT_LOG_DEBUG, "weft gpu: found %s", c->label);
+                wg_gl_log(ctx, WC_LOG_DEBUG, "weft gpu: found %s", c->label);
             }
             *n_devices = n;
         } else {
             EGLint e = eglGetError();
-            wg_gl_log(ctx, WEFT_LOG_DEBUG, "weft gpu: eglQueryDevicesEXT found no device (%s)",
+            wg_gl_log(ctx, WC_LOG_DEBUG, "weft gpu: eglQueryDevicesEXT found no device (%s)",
                       wg_egl_error_name(e));
         }
     } else {
-        wg_gl_log(ctx, WEFT_LOG_DEBUG,
+        wg_gl_log(ctx, WC_LOG_DEBUG,
                   "weft gpu: EGL has no device enumeration / device platform extensions");
     }
     if (has_ext(client, "EGL_MESA_platform_surfaceless")) {
@@ -388,10 +388,10 @@ static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, ch
         weft_status st = open_candidate(ctx, c, one, sizeof one);
         if (st == WEFT_OK) {
             restore_egl_current(ctx, ctx->dpy);
-            wg_gl_log(ctx, WEFT_LOG_INFO, "weft gpu: using %s", ctx->description);
+            wg_gl_log(ctx, WC_LOG_INFO, "weft gpu: using %s", ctx->description);
             return WEFT_OK;
         }
-        if (n_order > 1) wg_gl_log(ctx, WEFT_LOG_WARN, "weft gpu: skipped %s", one);
+        if (n_order > 1) wg_gl_log(ctx, WC_LOG_WARN, "weft gpu: skipped %s", one);
         size_t used = strlen(tried);
         snprintf(tried + used, sizeof tried - used, "%s%s", used ? "; " : "", one);
     }
@@ -411,7 +411,7 @@ static weft_status create_host(wg_gl_context* ctx, char* err, size_t err_len) {
     const char* version = (const char*)glGetString(GL_VERSION);
     snprintf(ctx->description, sizeof ctx->description, "%s: %s, OpenGL %s", label,
              renderer ? renderer : "?", version ? version : "?");
-    wg_gl_log(ctx, WEFT_LOG_INFO, "weft gpu: using %s", ctx->description);
+    wg_gl_log(ctx, WC_LOG_INFO, "weft gpu: using %s", ctx->description);
     return WEFT_OK;
 }
 
@@ -431,7 +431,7 @@ weft_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context**
         wg_errorf(err, err_len, "wg_gl_context_create: allocator needs both alloc and free");
         return WEFT_ERROR_INVALID_ARGUMENT;
     }
-    weft_allocator alloc = desc->allocator;
+    wc_allocator alloc = desc->allocator;
     if (!alloc.alloc) {
         alloc.alloc = default_alloc;
         alloc.free = default_free;
@@ -474,7 +474,7 @@ void wg_gl_context_destroy(wg_gl_context* ctx) {
         eglDestroyContext(ctx->dpy, ctx->egl_ctx);
         if (ctx->terminate_display) eglTerminate(ctx->dpy);
     }
-    weft_allocator alloc = ctx->alloc;
+    wc_allocator alloc = ctx->alloc;
     alloc.free(ctx, alloc.user);
 }
 

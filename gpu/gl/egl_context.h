@@ -23,7 +23,8 @@
 
 #include <stddef.h>
 
-#include "weft/weft.h"
+#include "alloc.h"   /* core's wc_allocator */
+#include "diag.h"    /* core's wc_log_fn / wc_log_level, and weft_status (weft/weft_status.h) */
 
 #ifdef __cplusplus
 extern "C" {
@@ -37,10 +38,11 @@ typedef struct wg_gl_context_desc {
                                    restored by wg_gl_end()) */
     const char* device;         /* headless device override, as WEFT_EGL_DEVICE; NULL: read the
                                    environment variable WEFT_EGL_DEVICE (unset or "": automatic) */
-    weft_log_fn log;            /* NULL: silent. Levels: DEBUG each device seen, INFO the device
-                                   and renderer used, WARN a device that failed and was skipped */
+    wc_log_fn log;              /* NULL: silent. Levels: WC_LOG_DEBUG each device seen, WC_LOG_INFO
+                                   the device and renderer used, WC_LOG_WARN a device that failed
+                                   and was skipped (errors come back as statuses, never logged) */
     void* log_user;
-    weft_allocator allocator;   /* zeroed: malloc/free */
+    wc_allocator allocator;     /* zeroed: malloc/free; else alloc and free both set */
 } wg_gl_context_desc;
 
 /* Create the context and initialise GLEW in it (headless: makes it current for the duration of
@@ -76,7 +78,7 @@ void wg_gl_end(wg_gl_context* ctx);
 /* The context's allocator (never NULL functions) and logger, for gpu/'s other objects. */
 void* wg_gl_alloc(const wg_gl_context* ctx, size_t size);
 void wg_gl_free(const wg_gl_context* ctx, void* ptr);
-void wg_gl_log(const wg_gl_context* ctx, weft_log_level level, const char* fmt, ...)
+void wg_gl_log(const wg_gl_context* ctx, wc_log_level level, const char* fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif

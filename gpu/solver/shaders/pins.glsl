@@ -1,0 +1,36 @@
+// Per particle: the constraint filter of the pins for a substep of length h ending at frame
+// fraction alpha1 (core/step.c apply_pins): free S = I, z = 0; a pin takes the particle exactly
+// to its target, t1 = from + alpha1 (target - from): want = (t1 - x) / h - v; fully pinned:
+// S = 0, z = want (ndof 3); a line pin with unit axis d: S = d d^T, z = want - (want.d) d (ndof 2).
+// Outputs: o0 = S0, o1 = S1 (s12, s22, ndof, -), o2 = z.
+uniform sampler2D t0;   // x
+uniform sampler2D t1;   // v
+uniform isampler2D t2;  // pin of each particle (-1: none)
+uniform sampler2D t3;   // pin from (frame start target)
+uniform sampler2D t4;   // pin target (frame end)
+uniform sampler2D t5;   // pin free axis (zero: fully pinned)
+uniform float u_h;
+uniform float u_alpha1;
+uniform int u_n_pins;
+out vec4 o0;
+out vec4 o1;
+out vec4 o2;
+
+void main() {
+    int i = self_index();
+    o0 = vec4(1.0, 0.0, 0.0, 1.0); o1 = vec4(0.0, 1.0, 0.0, 0.0); o2 = vec4(0.0);
+    if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
+    if (u_n_pins == 0) return;
+    int k = ldi(t2, i).x;
+    if (k < 0) return;
+    vec3 from = ld(t3, k).xyz, to = ld(t4, k).xyz, axis = ld(t5, k).xyz;
+    vec3 t1v = from + u_alpha1 * (to - from);
+    vec3 want = (t1v - ld(t0, i).xyz) / u_h - ld(t1, i).xyz;
+    if (axis == vec3(0.0)) {
+        o0 = vec4(0.0); o1 = vec4(0.0, 0.0, 3.0, 0.0); o2 = vec4(want, 0.0);
+    } else {
+        mat3 S = outerProduct(axis, axis);
+        o0 = sym_lo(S); o1 = vec4(sym_hi(S), 2.0, 0.0);
+        o2 = vec4(want - dot(want, axis) * axis, 0.0);
+    }
+}

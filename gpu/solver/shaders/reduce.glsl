@@ -1,0 +1,19 @@
+// One level of a reduction: output texel p combines the input texels of the block
+// [8 p, 8 p + 8) (clipped to the input), channel c summed (u_mode[c] 0) or maximised (1).
+// Repeated until one texel is left; a 1000 x 1000 array takes 4 levels.
+uniform sampler2D t0;
+uniform ivec2 u_in;
+uniform ivec4 u_mode;
+out vec4 o0;
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy) * 8;
+    ivec2 e = min(p + 8, u_in);
+    vec4 acc = vec4(0.0);
+    for (int y = p.y; y < e.y; ++y)
+        for (int x = p.x; x < e.x; ++x) {
+            vec4 v = texelFetch(t0, ivec2(x, y), 0);
+            acc = mix(acc + v, max(acc, v), vec4(u_mode));
+        }
+    o0 = acc;
+}

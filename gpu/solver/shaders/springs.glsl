@@ -1,0 +1,50 @@
+// Per spring: force on end a and the blocks of core/forces.c (Baraff & Witkin), for a substep
+// of length h. Spring s between a and b, L = x_a - x_b, l = |L|, u = L / l, c = 1 - rest / l
+// (clamped at 0 under compression when u_compression_drop):
+//   f_a = -(k (l - rest) + d (v_a - v_b).u) u
+//   kx = -k ((1 - c) u u^T + c I),  kv = -d u u^T,  J = h kv + h^2 kx,  w = kx (v_a - v_b)
+// Outputs: o0 = (f, J00), o1 = (w, J11), o2 = (J01, J02, J12, J22).
+uniform sampler2D t0;   // x (particles)
+uniform sampler2D t1;   // v (particles)
+uniform isampler2D t2;  // spring (a, b, type, -)
+uniform sampler2D t3;   // spring rest length (r)
+uniform sampler2D t4;   // rest positions (particles)
+uniform vec3 u_k;
+uniform vec3 u_d;
+uniform float u_h;
+uniform int u_compression_drop;
+out vec4 o0;
+out vec4 o1;
+out vec4 o2;
+
+void main() {
+    int s = self_index();
+    if (s >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
+    ivec4 sp = ldi(t2, s);
+    float rest = ld(t3, s).r;
+    vec3 xa = ld(t0, sp.x).xyz, xb = ld(t0, sp.y).xyz;
+    vec3 dv = ld(t1, sp.x).xyz - ld(t1, sp.y).xyz;
+    vec3 L = xa - xb;
+    float l = length(L);
+    vec3 u = vec3(0.0);
+    float c = 0.0;
+    if (l > 0.0 && l >= 1e-12 * rest) {
+        u = L / l;
+        c = 1.0 - rest / l;
+        if (u_compression_drop != 0 && c < 0.0) c = 0.0;
+    } else {
+        vec3 R = ld(t4, sp.x).xyz - ld(t4, sp.y).xyz;
+        float r = length(R);
+        if (r > 0.0) u = R / r;
+    }
+    float k = u_k[sp.z], d = u_d[sp.z];
+    float fs = k * (l - rest) + d * dot(dv, u);
+    vec3 f = -fs * u;
+    mat3 uu = outerProduct(u, u);
+    mat3 kx = -k * ((1.0 - c) * uu + c * mat3(1.0));
+    mat3 J = (u_h * -d) * uu + (u_h * u_h) * kx;
+    vec3 w = kx * dv;
+    o0 = vec4(f, J[0][0]);
+    o1 = vec4(w, J[1][1]);
+    o2 = vec4(J[1][0], J[2][0], J[2][1], J[2][2]);
+}
