@@ -72,6 +72,11 @@ weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, con
  * wc_solver_invalidate_rho. */
 double wc_solver_estimate_rho(wc_solver* s, const double* A_val, const wc_filter* f, wc_par* par);
 void wc_solver_invalidate_rho(wc_solver* s);
+/* The rho above from the coefficients of k (<= 20) CG steps on the projected, block-Jacobi
+ * preconditioned system (alpha_j, beta_j as PCG computes them): the Lanczos tridiagonal's extreme
+ * Ritz values, lambda_min extrapolated when k = 20, capped at 0.9995. Shared with the GPU
+ * backend, which runs the CG steps in its own passes. */
+double wc_rho_from_lanczos(const double* alpha, const double* beta, int k, double gamma);
 /* The cached estimate, for snapshots of a state (it changes later solves): returns 1 and sets
  * *rho when one is cached, else 0. wc_solver_set_rho_cache puts one back (valid 0: none). */
 int wc_solver_rho_cache(const wc_solver* s, double* rho);

@@ -66,11 +66,32 @@ static double rho_of(double gamma, double lmin, double lmax) {
     return fmax(1.0 - gamma * lmin, gamma * lmax - 1.0);
 }
 
+double wc_rho_from_lanczos(const double* alpha, const double* beta, int k, double gamma) {
+    const int K = WCS_RHO_ITERATIONS, K_early = (3 * WCS_RHO_ITERATIONS) / 4;
+    double ta[WCS_RHO_ITERATIONS], tb[WCS_RHO_ITERATIONS];
+    if (k <= 0) return WCS_RHO_MAX;
+    if (k > K) k = K;
+    double hi = 0.0;
+    for (int j = 0; j < k; ++j) {
+        ta[j] = 1.0 / alpha[j] + (j > 0 ? beta[j - 1] / alpha[j - 1] : 0.0);
+        tb[j] = j > 0 ? sqrt(beta[j - 1]) / alpha[j - 1] : 0.0;
+    }
+    for (int j = 0; j < k; ++j) hi = fmax(hi, ta[j] + fabs(tb[j]) + (j + 1 < k ? fabs(tb[j + 1]) : 0.0));
+    double lmin = tridiag_eig(ta, tb, k, 1, 0.0, hi), lmax = tridiag_eig(ta, tb, k, k, 0.0, hi);
+    double rho_ritz = rho_of(gamma, lmin, lmax), rho = rho_ritz;
+    if (k == K) {   /* lambda_k = lambda_min + C / k^2 through the steps K_early and K */
+        double le = tridiag_eig(ta, tb, K_early, 1, 0.0, hi);
+        double w = (1.0 / (K * K)) / (1.0 / (K_early * K_early) - 1.0 / (K * K));
+        rho = rho_of(gamma, lmin - w * (le - lmin), lmax);
+    }
+    if (!isfinite(rho)) return WCS_RHO_MAX;
+    return fmax(fmin(rho_ritz, WCS_RHO_MAX), fmin(rho, WCS_RHO_MAX));
+}
+
 double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_par* par) {
     const double gamma = s->opts.chebyshev_gamma;
-    const int K = WCS_RHO_ITERATIONS, K_early = (3 * WCS_RHO_ITERATIONS) / 4;
+    const int K = WCS_RHO_ITERATIONS;
     double alpha[WCS_RHO_ITERATIONS], beta[WCS_RHO_ITERATIONS];
-    double ta[WCS_RHO_ITERATIONS], tb[WCS_RHO_ITERATIONS];
 
     /* r = g = S (pseudo-random), t = D~^{-1} r, c = S t */
     for (int i = 0; i < s->n; ++i) {
@@ -98,19 +119,5 @@ double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_pa
         if (!(delta > 1e-28 * delta0) || !isfinite(delta)) break;
         wcs_pcg_direction(s, f, beta[k - 1], par);
     }
-    double hi = 0.0;
-    for (int j = 0; j < k; ++j) {
-        ta[j] = 1.0 / alpha[j] + (j > 0 ? beta[j - 1] / alpha[j - 1] : 0.0);
-        tb[j] = j > 0 ? sqrt(beta[j - 1]) / alpha[j - 1] : 0.0;
-    }
-    for (int j = 0; j < k; ++j) hi = fmax(hi, ta[j] + fabs(tb[j]) + (j + 1 < k ? fabs(tb[j + 1]) : 0.0));
-    double lmin = tridiag_eig(ta, tb, k, 1, 0.0, hi), lmax = tridiag_eig(ta, tb, k, k, 0.0, hi);
-    double rho_ritz = rho_of(gamma, lmin, lmax), rho = rho_ritz;
-    if (k == K) {   /* lambda_k = lambda_min + C / k^2 through the steps K_early and K */
-        double le = tridiag_eig(ta, tb, K_early, 1, 0.0, hi);
-        double w = (1.0 / (K * K)) / (1.0 / (K_early * K_early) - 1.0 / (K * K));
-        rho = rho_of(gamma, lmin - w * (le - lmin), lmax);
-    }
-    if (!isfinite(rho)) return WCS_RHO_MAX;
-    return fmax(fmin(rho_ritz, WCS_RHO_MAX), fmin(rho, WCS_RHO_MAX));
+    return wc_rho_from_lanczos(alpha, beta, k, gamma);
 }

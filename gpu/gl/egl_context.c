@@ -505,6 +505,7 @@ weft_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len) {
             return WEFT_ERROR_GPU;
         }
         wg_gl_state_save(&ctx->saved);
+        wg_gl_state_set_defaults(0);   /* the host's buffers, alignments, blending... never reach gpu/'s passes */
     } else {
         save_egl_current(ctx);
         if (!eglBindAPI(EGL_OPENGL_API)) {

@@ -66,11 +66,12 @@ int wg_gl_context_is_host(const wg_gl_context* ctx);
 
 /* Make the context usable on the calling thread: headless, make it current (remembering the
  * thread's previous EGL context); host_current, check a context is current and save the GL state
- * gpu/ touches (framebuffers, renderbuffer, program, VAO, array buffer, pixel-pack buffer and
- * pack alignment, viewport, clear colour/depth, depth/colour masks and function, front face,
- * polygon mode, enable bits: depth test, cull face, blend, scissor, stencil, multisample, sRGB,
- * polygon offset, rasterizer discard, alpha-to-coverage, primitive restart). Clears pending
- * glGetError()s. Must be paired with wg_gl_end(); not nestable. Errors: WEFT_ERROR_GPU. */
+ * gpu/ touches (framebuffers, renderbuffer, program, VAO, array buffer, pixel-pack and -unpack
+ * buffers and their alignments, row lengths and skips, the active texture unit and the 2D
+ * textures of units 0..15, viewport, clear colour/depth, depth/colour masks and function, front
+ * face, polygon mode, enable bits: depth test, cull face, blend, scissor, stencil, multisample,
+ * sRGB, polygon offset, rasterizer discard, alpha-to-coverage, primitive restart), then set gpu/'s
+ * known values (wg_gl_state_set_defaults(0)). Clears pending glGetError()s. Must be paired with wg_gl_end(); not nestable. Errors: WEFT_ERROR_GPU. */
 weft_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len);
 /* Restore what wg_gl_begin() saved (the host's GL state, or the thread's previous EGL context). */
 void wg_gl_end(wg_gl_context* ctx);

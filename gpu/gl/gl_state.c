@@ -39,6 +39,17 @@ void wg_gl_state_save(wg_gl_saved_state* s) {
     glGetIntegerv(GL_PACK_ROW_LENGTH, &s->pack_row_length);
     glGetIntegerv(GL_PACK_SKIP_ROWS, &s->pack_skip_rows);
     glGetIntegerv(GL_PACK_SKIP_PIXELS, &s->pack_skip_pixels);
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &s->unpack_buffer);
+    glGetIntegerv(GL_UNPACK_ALIGNMENT, &s->unpack_alignment);
+    glGetIntegerv(GL_UNPACK_ROW_LENGTH, &s->unpack_row_length);
+    glGetIntegerv(GL_UNPACK_SKIP_ROWS, &s->unpack_skip_rows);
+    glGetIntegerv(GL_UNPACK_SKIP_PIXELS, &s->unpack_skip_pixels);
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &s->active_texture);
+    for (int u = 0; u < WG_GL_STATE_TEXTURE_UNITS; ++u) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &s->texture_2d[u]);
+    }
+    glActiveTexture((GLenum)s->active_texture);
     glGetIntegerv(GL_VIEWPORT, s->viewport);
     glGetFloatv(GL_COLOR_CLEAR_VALUE, s->clear_color);
     glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s->clear_depth);
@@ -71,6 +82,16 @@ void wg_gl_state_restore(const wg_gl_saved_state* s) {
     glPixelStorei(GL_PACK_ROW_LENGTH, s->pack_row_length);
     glPixelStorei(GL_PACK_SKIP_ROWS, s->pack_skip_rows);
     glPixelStorei(GL_PACK_SKIP_PIXELS, s->pack_skip_pixels);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)s->unpack_buffer);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, s->unpack_alignment);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, s->unpack_row_length);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, s->unpack_skip_rows);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, s->unpack_skip_pixels);
+    for (int u = 0; u < WG_GL_STATE_TEXTURE_UNITS; ++u) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        glBindTexture(GL_TEXTURE_2D, (GLuint)s->texture_2d[u]);
+    }
+    glActiveTexture((GLenum)s->active_texture);
     glViewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
     glClearColor(s->clear_color[0], s->clear_color[1], s->clear_color[2], s->clear_color[3]);
     glClearDepth(s->clear_depth);
@@ -98,4 +119,9 @@ void wg_gl_state_set_defaults(int multisample) {
     glPixelStorei(GL_PACK_ROW_LENGTH, 0);
     glPixelStorei(GL_PACK_SKIP_ROWS, 0);
     glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
 }

@@ -7,10 +7,14 @@
 #include <GL/glew.h>
 
 #define WG_GL_STATE_MAX_ENABLES 28
+#define WG_GL_STATE_TEXTURE_UNITS 16   /* the units gpu/'s programs sample (t0..t15) */
 
 typedef struct wg_gl_saved_state {
     GLint draw_fbo, read_fbo, renderbuffer, program, vao, array_buffer, pack_buffer;
     GLint pack_alignment, pack_row_length, pack_skip_rows, pack_skip_pixels;
+    GLint unpack_buffer, unpack_alignment, unpack_row_length, unpack_skip_rows, unpack_skip_pixels;
+    GLint active_texture;
+    GLint texture_2d[WG_GL_STATE_TEXTURE_UNITS];   /* 2D texture bound on units 0..15 */
     GLint viewport[4];
     GLfloat clear_color[4];
     GLfloat clear_depth;
@@ -28,7 +32,7 @@ void wg_gl_state_restore(const wg_gl_saved_state* s);
 
 /* Every capability in the saved list disabled except GL_DEPTH_TEST (GL_LESS, mask on) and, when
  * multisample is nonzero, GL_MULTISAMPLE; colour mask all on; CCW front faces; filled polygons;
- * pixel-pack buffer 0 with alignment 4 and no row length or skips. */
+ * pixel-pack and pixel-unpack buffers 0 with alignment 4 and no row length or skips. */
 void wg_gl_state_set_defaults(int multisample);
 
 #endif

@@ -23,3 +23,12 @@ mat3 filter_S(vec4 s0, vec4 s1) { return sym(s0, s1.xy); }
 vec3 filter_apply(vec4 s0, vec4 s1, vec3 v) { return s1.z == 0.0 ? v : filter_S(s0, s1) * v; }
 
 bool finite3(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
+
+// Row i of y = A x over the BSR pattern: pb = particle blocks (row start, end, ...), blk = block
+// (row, column, ...), A as two symmetric-block textures. Gather only: row i reads its own blocks.
+vec3 bsr_row(isampler2D pb, isampler2D blk, sampler2D a_lo, sampler2D a_hi, sampler2D x, int i) {
+    ivec4 r = ldi(pb, i);
+    vec3 y = vec3(0.0);
+    for (int k = r.x; k < r.y; ++k) y += sym(ld(a_lo, k), ld(a_hi, k).xy) * ld(x, ldi(blk, k).y).xyz;
+    return y;
+}

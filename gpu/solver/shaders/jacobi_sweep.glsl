@@ -19,10 +19,7 @@ out vec4 o0;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
-    ivec4 pb = ldi(t0, i);
-    vec3 y = vec3(0.0);
-    for (int k = pb.x; k < pb.y; ++k)
-        y += sym(ld(t2, k), ld(t3, k).xy) * ld(t4, ldi(t1, k).y).xyz;
+    vec3 y = bsr_row(t0, t1, t2, t3, t4, i);
     vec4 s0 = ld(t6, i), s1 = ld(t7, i);
     vec3 r = filter_apply(s0, s1, ld(t5, i).xyz - y);
     vec3 d = filter_apply(s0, s1, sym(ld(t8, i), ld(t9, i).xy) * r);

@@ -13,10 +13,7 @@ out vec4 o0;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
-    ivec4 pb = ldi(t0, i);
-    vec3 y = vec3(0.0);
-    for (int k = pb.x; k < pb.y; ++k)
-        y += sym(ld(t2, k), ld(t3, k).xy) * ld(t4, ldi(t1, k).y).xyz;
+    vec3 y = bsr_row(t0, t1, t2, t3, t4, i);
     if (u_filter != 0) {
         y = filter_apply(ld(t5, i), ld(t6, i), y);
         o0 = vec4(y, dot(ld(t4, i).xyz, y));

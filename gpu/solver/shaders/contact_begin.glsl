@@ -1,0 +1,72 @@
+// Contacts, step 1 (core/collide.c wc_contacts_begin), per particle: find contacts (held: in
+// contact with k last substep and d < h |vr| + SLOP; new: d < -SLOP or, unless released, it
+// reaches the shell this substep), keep the two smallest d (parallel second normal dropped),
+// push x out onto the shells, write the filter S = I - n1 n1^T (- e2 e2^T) and z (relative
+// normal velocity -max(d, 0) / h after dv). Particles with pin ndof >= 2 keep their filter and
+// get no contact. Contact state: C0 = (collider 1, collider 2, released, stick) (-1: none),
+// C1 = (normal 1, in contact), C2 = (normal 2, changed).
+// Outputs: o0 = x, o1 = S0, o2 = S1, o3 = z, o4 = C0, o5 = C1, o6 = C2.
+uniform sampler2D t0;   // x
+uniform sampler2D t1;   // v (start of the substep)
+uniform sampler2D t2;   // S0 (pins)
+uniform sampler2D t3;   // S1 (pins)
+uniform sampler2D t4;   // z (pins)
+uniform sampler2D t5;   // C0 of the last substep
+uniform float u_h;
+uniform int u_nc;
+out vec4 o0;
+out vec4 o1;
+out vec4 o2;
+out vec4 o3;
+out vec4 o4;
+out vec4 o5;
+out vec4 o6;
+#pragma weft include contact_geometry
+
+void main() {
+    int i = self_index();
+    o4 = vec4(-1.0, -1.0, 0.0, 0.0); o5 = vec4(0.0); o6 = vec4(0.0);
+    if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); o3 = vec4(0.0); o4 = vec4(0.0); return; }
+    vec4 x4 = ld(t0, i);
+    vec3 xi = x4.xyz, vi = ld(t1, i).xyz;
+    vec4 s1 = ld(t3, i);
+    o0 = x4; o1 = ld(t2, i); o2 = s1; o3 = ld(t4, i);
+    if (s1.z >= 2.0) return;   // pinned (line or point): no contact
+    o1 = vec4(1.0, 0.0, 0.0, 1.0); o2 = vec4(0.0, 1.0, 0.0, 0.0); o3 = vec4(0.0);
+    vec4 c = ld(t5, i);
+    bool released = c.z != 0.0;
+    int h0 = int(c.x), h1 = int(c.y);
+    float sl = slop_at(xi);
+    B2 b;
+    b2_init(b);
+    for (int k = 0; k < u_nc; ++k) {
+        vec3 n;
+        float d = shell_distance(k, xi, n);
+        if (!(d < HUGE_D)) continue;
+        vec3 vr = vi - col(k, 4).xyz;
+        float vn = dot(vr, n);
+        bool take;
+        if (h0 == k || h1 == k) take = d < u_h * length(vr) + sl;
+        else take = d < -sl || (!released && d < u_h * max(0.0, -vn) + sl);
+        if (take) b2_add(b, k, d, n);
+    }
+    b2_prune(b);
+    if (b.cnt == 0) return;
+    push_out(b, xi);
+    vec3 n0, n1 = vec3(0.0), e2;
+    float d0 = shell_distance(b.k.x, xi, n0), d1 = 0.0;
+    if (b.cnt > 1) d1 = shell_distance(b.k.y, xi, n1);
+    int cnt = b.cnt;
+    if (cnt == 2 && ortho(n0, n1, e2) < PARALLEL_MIN) cnt = 1;
+    float a0 = (u_h > 0.0 ? -max(d0, 0.0) / u_h : 0.0) - dot(vi - col(b.k.x, 4).xyz, n0), a1 = 0.0;
+    if (cnt > 1) a1 = (u_h > 0.0 ? -max(d1, 0.0) / u_h : 0.0) - dot(vi - col(b.k.y, 4).xyz, n1);
+    mat3 S = mat3(1.0) - outerProduct(n0, n0);
+    if (cnt == 2) S -= outerProduct(e2, e2);
+    o0 = vec4(xi, x4.w);
+    o1 = sym_lo(S);
+    o2 = vec4(sym_hi(S), float(cnt), 0.0);
+    o3 = vec4(solve_pair(n0, a0, n1, a1, cnt > 1), 0.0);
+    o4 = vec4(float(b.k.x), cnt > 1 ? float(b.k.y) : -1.0, 0.0, 0.0);
+    o5 = vec4(n0, 1.0);
+    o6 = vec4(cnt > 1 ? n1 : vec3(0.0), 0.0);
+}

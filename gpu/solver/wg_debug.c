@@ -1,0 +1,186 @@
+/* Entry points for tests and benchmarks (wg_sim.h): one substep's system, a solve, an SpMV, a
+ * reduction and the bandwidth measure, each read back into double arrays. */
+#include <string.h>
+
+#include "clock.h"
+#include "gpu_error.h"
+#include "wg_sim_impl.h"
+
+
+static void read_vec(wg_sim* g, const wg_tex* t, int count, double* out) {
+    wg_array_read(g, t, count, g->rb);
+    for (int i = 0; i < count; ++i)
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = g->rb[4 * i + c];
+}
+
+static void upload_vec(wg_sim* g, const wg_tex* t, int count, const double* in) {
+    for (int i = 0; i < count; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)in[3 * i + c] : 0.0f;
+    wg_array_upload(g, t, count, g->rb);
+}
+
+/* Symmetric pairs (lo, hi) of `count` items into row-major 3x3 blocks. */
+static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, double* out) {
+    float* a = wc_calloc(&g->alloc, (size_t)count * 4u, sizeof(float));
+    float* b = wc_calloc(&g->alloc, (size_t)count * 4u, sizeof(float));
+    if (!a || !b) {
+        wc_free(&g->alloc, a);
+        wc_free(&g->alloc, b);
+        return 0;
+    }
+    wg_array_read(g, lo, count, a);
+    /* hi is RG32F: read through an RGBA copy */
+    wg_tex tmp;
+    char err[128];
+    if (!wg_array_create(g, &tmp, GL_RGBA32F, count, NULL, err, sizeof err)) return 0;
+    wg_copy(g, &tmp, hi);
+    wg_array_read(g, &tmp, count, b);
+    wg_tex_destroy(&tmp);
+    for (int k = 0; k < count; ++k) {
+        double* m = out + 9 * k;
+        m[0] = a[4 * k]; m[1] = a[4 * k + 1]; m[2] = a[4 * k + 2];
+        m[3] = a[4 * k + 1]; m[4] = a[4 * k + 3]; m[5] = b[4 * k];
+        m[6] = a[4 * k + 2]; m[7] = b[4 * k]; m[8] = b[4 * k + 1];
+    }
+    wc_free(&g->alloc, a);
+    wc_free(&g->alloc, b);
+    return 1;
+}
+
+weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
+                                 double* z, unsigned char* ndof, double* x, wc_diag* diag) {
+    wg_step_upload_pins(g, s);
+    g->x.keep = g->x.cur;
+    wg_step_prepare(g, s, h, alpha1, s->def.compression);
+    if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+    if (b) read_vec(g, &g->b, g->n, b);
+    if (z) read_vec(g, &g->z, g->n, z);
+    if (x) read_vec(g, wg_ring_cur(&g->x), g->n, x);
+    if (S || ndof) {
+        float* s0 = wc_calloc(&g->alloc, (size_t)g->n * 4u, sizeof(float));
+        float* s1 = wc_calloc(&g->alloc, (size_t)g->n * 4u, sizeof(float));
+        if (!s0 || !s1) {
+            wc_free(&g->alloc, s0);
+            wc_free(&g->alloc, s1);
+            return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+        }
+        wg_array_read(g, &g->S0, g->n, s0);
+        wg_array_read(g, &g->S1, g->n, s1);
+        for (int i = 0; i < g->n; ++i) {
+            if (S) {
+                double* m = S + 9 * i;
+                m[0] = s0[4 * i]; m[1] = s0[4 * i + 1]; m[2] = s0[4 * i + 2];
+                m[3] = s0[4 * i + 1]; m[4] = s0[4 * i + 3]; m[5] = s1[4 * i];
+                m[6] = s0[4 * i + 2]; m[7] = s1[4 * i]; m[8] = s1[4 * i + 1];
+            }
+            if (ndof) ndof[i] = (unsigned char)s1[4 * i + 2];
+        }
+        wc_free(&g->alloc, s0);
+        wc_free(&g->alloc, s1);
+    }
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug prepare: %s", wg_gl_error_name(e));
+    return WEFT_OK;
+}
+
+weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag) {
+    const wc_solver_opts* o = &g->debug_opts;
+    const wg_tex* in = wg_ring_cur(&g->dv);
+    if (dv) {
+        int k = wg_ring_other(&g->dv, 0);
+        upload_vec(g, &g->dv.t[k], g->n, dv);
+        in = &g->dv.t[k];
+    }
+    const wg_tex* out = NULL;
+    weft_status st = wg_solve(g, o, type, in, &out, res);
+    if (dv && out) read_vec(g, out, g->n, dv);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug solve: %s", wg_gl_error_name(e));
+    return st;
+}
+
+weft_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag) {
+    upload_vec(g, &g->t, g->n, x);
+    wg_use(g, WGP_SPMV);
+    wg_in(g, 0, &g->pblocks);
+    wg_in(g, 1, &g->block);
+    wg_in(g, 2, &g->A0);
+    wg_in(g, 3, &g->A1);
+    wg_in(g, 4, &g->t);
+    wg_in(g, 5, &g->S0);
+    wg_in(g, 6, &g->S1);
+    wg_u1i(g, "u_filter", 0);
+    WG_RUN(g, g->n, &g->q);
+    read_vec(g, &g->q, g->n, y);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug spmv: %s", wg_gl_error_name(e));
+    return WEFT_OK;
+}
+
+double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode) {
+    if (n > g->n) n = g->n;
+    for (int i = 0; i < g->n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = (c == 0 && i < n) ? (float)values[i] : 0.0f;
+    wg_array_upload(g, &g->part, g->n, g->rb);
+    float r[4];
+    wg_read1(g, wg_reduce(g, &g->red_p[1], &g->part, mode, mode, mode, mode), r);
+    return r[0];
+}
+
+void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_copy, double* bytes_spmv,
+                            double* bytes_copy) {
+    glFinish();
+    double t0 = wc_now_ms();
+    for (int k = 0; k < reps; ++k) {
+        wg_use(g, WGP_SPMV);
+        wg_in(g, 0, &g->pblocks);
+        wg_in(g, 1, &g->block);
+        wg_in(g, 2, &g->A0);
+        wg_in(g, 3, &g->A1);
+        wg_in(g, 4, &g->c[0]);
+        wg_in(g, 5, &g->S0);
+        wg_in(g, 6, &g->S1);
+        wg_u1i(g, "u_filter", 0);
+        WG_RUN(g, g->n, &g->q);
+    }
+    glFinish();
+    double t1 = wc_now_ms();
+    for (int k = 0; k < reps; ++k) wg_copy(g, &g->t, &g->c[0]);
+    glFinish();
+    double t2 = wc_now_ms();
+    *ms_spmv = (t1 - t0) / reps;
+    *ms_copy = (t2 - t1) / reps;
+    /* bytes an SpMV must move at least: per row its range (16), per block its index texel (16),
+       the two block texels (16 + 8) and x at the column (16), and y (16) */
+    *bytes_spmv = (double)g->n * 32.0 + (double)g->nb * (16.0 + 24.0 + 16.0);
+    *bytes_copy = (double)g->n * 32.0;
+}
+
+double wg_sim_debug_rho(const wg_sim* g) { return g->rho_valid ? g->rho : 0.0; }
+
+weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, wc_diag* diag) {
+    float* lo = wc_calloc(&g->alloc, (size_t)g->nb * 4u, sizeof(float));
+    float* hi = wc_calloc(&g->alloc, (size_t)g->nb * 2u, sizeof(float));
+    if (!lo || !hi) {
+        wc_free(&g->alloc, lo);
+        wc_free(&g->alloc, hi);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+    }
+    for (int k = 0; k < g->nb; ++k) {
+        const double* m = A + 9 * k;
+        lo[4 * k] = (float)m[0];
+        lo[4 * k + 1] = (float)m[1];
+        lo[4 * k + 2] = (float)m[2];
+        lo[4 * k + 3] = (float)m[4];
+        hi[2 * k] = (float)m[5];
+        hi[2 * k + 1] = (float)m[8];
+    }
+    wg_array_upload(g, &g->A0, g->nb, lo);
+    wg_array_upload(g, &g->A1, g->nb, hi);
+    wc_free(&g->alloc, lo);
+    wc_free(&g->alloc, hi);
+    upload_vec(g, &g->b, g->n, b);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug set system: %s", wg_gl_error_name(e));
+    return WEFT_OK;
+}

@@ -1,0 +1,186 @@
+/* Programs and capabilities of one GL context (see wg_device.h). */
+#include "wg_device.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gl_texture.h"
+#include "gpu_error.h"
+
+typedef struct wg_shader_source {
+    const char* name;
+    const char* source;
+} wg_shader_source;
+extern const wg_shader_source wg_shader_sources[];   /* generated: cmake/embed_shaders.cmake */
+
+static const char* const kPassNames[WGP_COUNT] = {
+    "springs", "air", "assemble_b", "assemble_a", "pins", "dinv", "project", "residual",
+    "spmv", "pcg_update", "pcg_direction", "pcg_scalars", "jacobi_sweep", "integrate",
+    "check_particles", "check_springs", "reduce", "copy", "strain_springs", "strain_gather",
+    "normals", "host_output", "lanczos_start", "transform", "copy_texel",
+    "contact_begin", "contact_friction", "contact_recheck", "contact_end", "contact_project",
+    "contact_diag",
+};
+
+static const char* shader_source(const char* name) {
+    for (const wg_shader_source* s = wg_shader_sources; s->name; ++s)
+        if (strcmp(s->name, name) == 0) return s->source;
+    return NULL;
+}
+
+/* common.glsl + body, each "#pragma weft include NAME" line of the body replaced by NAME.glsl
+ * (one level). Returns an allocated string, or NULL (out of memory, or an unknown include: then
+ * *missing names it). */
+static char* compose(wg_gl_context* gl, const char* common, const char* body, const char** missing) {
+    static const char kTag[] = "#pragma weft include ";
+    size_t n = strlen(common) + strlen(body) + 2;
+    for (const char* p = strstr(body, kTag); p; p = strstr(p + 1, kTag)) {
+        char name[64];
+        if (sscanf(p + sizeof kTag - 1, "%63s", name) != 1) continue;
+        const char* inc = shader_source(name);
+        if (!inc) {
+            *missing = p;
+            return NULL;
+        }
+        n += strlen(inc) + 1;
+    }
+    char* out = wg_gl_alloc(gl, n);
+    if (!out) return NULL;
+    size_t at = (size_t)snprintf(out, n, "%s\n", common);
+    const char* p = body;
+    for (const char* q = strstr(p, kTag); q; q = strstr(p, kTag)) {
+        memcpy(out + at, p, (size_t)(q - p));
+        at += (size_t)(q - p);
+        char name[64] = "";
+        sscanf(q + sizeof kTag - 1, "%63s", name);
+        const char* inc = shader_source(name);
+        size_t l = strlen(inc);
+        memcpy(out + at, inc, l);
+        at += l;
+        out[at++] = '\n';
+        const char* eol = strchr(q, '\n');
+        p = eol ? eol + 1 : q + strlen(q);
+    }
+    size_t l = strlen(p);
+    memcpy(out + at, p, l);
+    out[at + l] = '\0';
+    return out;
+}
+
+int wg_renderer_is_software(const char* r) {
+    return r && (strstr(r, "llvmpipe") || strstr(r, "softpipe") || strstr(r, "swrast") || strstr(r, "Software"));
+}
+
+/* Render 1.5e-3, -7e20 and 3 into an RGBA32F target and read them back. */
+static int float_targets_work(wg_device* d, char* err, size_t err_len) {
+    const float in[4] = {1.5e-3f, -7e20f, 3.0f, 0.25f};
+    wg_tex a, b;
+    if (!wg_tex_create(&a, GL_RGBA32F, 1, 1, in, err, err_len)) return 0;
+    if (!wg_tex_create(&b, GL_RGBA32F, 1, 1, NULL, err, err_len)) {
+        wg_tex_destroy(&a);
+        return 0;
+    }
+    GLuint fbo = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, b.id, 0);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    int ok = status == GL_FRAMEBUFFER_COMPLETE;
+    float out[4] = {0, 0, 0, 0};
+    if (ok) {
+        glViewport(0, 0, 1, 1);
+        glUseProgram(d->prog[WGP_COPY].id);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, a.id);
+        glBindVertexArray(d->vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, out);
+        ok = memcmp(in, out, sizeof in) == 0;
+        if (!ok)
+            wg_errorf(err, err_len, "RGBA32F render target does not keep float values (wrote %g %g %g, read %g %g %g): "
+                      "this GL context lacks float render targets", in[0], in[1], in[2], out[0], out[1], out[2]);
+    } else {
+        wg_errorf(err, err_len, "an RGBA32F texture is not a complete colour attachment (%s): this GL context "
+                  "lacks float render targets", wg_fbo_status_name(status));
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    wg_tex_destroy(&a);
+    wg_tex_destroy(&b);
+    GLenum e = glGetError();
+    if (ok && e != GL_NO_ERROR) {
+        wg_errorf(err, err_len, "float render target check: %s", wg_gl_error_name(e));
+        ok = 0;
+    }
+    return ok;
+}
+
+weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len) {
+    *out = NULL;
+    wg_device* d = wg_gl_alloc(gl, sizeof *d);
+    if (!d) {
+        wg_errorf(err, err_len, "out of memory");
+        return WEFT_ERROR_OUT_OF_MEMORY;
+    }
+    memset(d, 0, sizeof *d);
+    d->gl = gl;
+    const char* common = shader_source("common");
+    for (int p = 0; p < WGP_COUNT; ++p) {
+        const char* body = shader_source(kPassNames[p]);
+        if (!body) continue;   /* a pass whose shader is not in this build is never run */
+        const char* missing = NULL;
+        char* src = compose(gl, common ? common : "", body, &missing);
+        if (!src) {
+            wg_device_destroy(d);
+            if (missing) {
+                wg_errorf(err, err_len, "shader '%s': unknown include '%.40s'", kPassNames[p], missing);
+                return WEFT_ERROR_GPU;
+            }
+            wg_errorf(err, err_len, "out of memory");
+            return WEFT_ERROR_OUT_OF_MEMORY;
+        }
+        int ok = wg_program_build(&d->prog[p], kPassNames[p], wg_fullscreen_vs, src, err, err_len);
+        wg_gl_free(gl, src);
+        if (!ok) {
+            wg_device_destroy(d);
+            return WEFT_ERROR_GPU;
+        }
+    }
+    glGenVertexArrays(1, &d->vao);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &d->max_texture_size);
+    glGetIntegerv(GL_MAX_DRAW_BUFFERS, &d->max_draw_buffers);
+    const char* r = (const char*)glGetString(GL_RENDERER);
+    snprintf(d->renderer, sizeof d->renderer, "%s", r ? r : "unknown renderer");
+    d->software = wg_renderer_is_software(d->renderer);
+    if (d->max_draw_buffers < 4) {
+        wg_errorf(err, err_len, "the GL context has %d draw buffers; the solver needs 4", d->max_draw_buffers);
+        wg_device_destroy(d);
+        return WEFT_ERROR_GPU;
+    }
+    if (!float_targets_work(d, err, err_len)) {
+        wg_device_destroy(d);
+        return WEFT_ERROR_GPU;
+    }
+    GLuint q = 0;
+    glGenQueries(1, &q);
+    glQueryCounter(q, GL_TIMESTAMP);
+    GLint bits = 0;
+    glGetQueryiv(GL_TIMESTAMP, GL_QUERY_COUNTER_BITS, &bits);
+    d->has_timer = glGetError() == GL_NO_ERROR && bits > 0;
+    glDeleteQueries(1, &q);
+    glGetError();
+    *out = d;
+    return WEFT_OK;
+}
+
+void wg_device_forget(wg_device* d) {
+    if (d) wg_gl_free(d->gl, d);
+}
+
+void wg_device_destroy(wg_device* d) {
+    if (!d) return;
+    for (int p = 0; p < WGP_COUNT; ++p) wg_program_destroy(&d->prog[p]);
+    if (d->vao) glDeleteVertexArrays(1, &d->vao);
+    wg_gl_free(d->gl, d);
+}

@@ -1,0 +1,397 @@
+/* Creation of a cloth's GPU state from core's model and state, its destruction, and the moves of
+ * the state between the CPU mirror and the textures (see wg_sim.h). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "gpu_error.h"
+#include "wg_sim_impl.h"
+
+#define WG_MIN_SHIFT 10
+
+static wg_tex* model_textures(wg_sim* g, int* n) {
+    *n = 13;
+    return &g->mass;
+}
+
+/* Every texture of the cloth, for destruction and the memory count. */
+static int all_textures(wg_sim* g, wg_tex** out, int cap) {
+    int k = 0, nm;
+    wg_tex* mt = model_textures(g, &nm);
+    for (int i = 0; i < nm && k < cap; ++i) out[k++] = mt + i;
+    wg_tex* list[] = {&g->pin_map, &g->pin_from, &g->pin_target, &g->pin_axis, &g->x_bak, &g->v_bak, &g->dv_bak,
+                      &g->S0, &g->S1, &g->z, &g->sf, &g->sw, &g->sj, &g->fair, &g->b, &g->ftot, &g->A0, &g->A1,
+                      &g->D0, &g->D1, &g->sv[0], &g->sv[1], &g->sv[2], &g->r[0], &g->r[1], &g->c[0], &g->c[1],
+                      &g->t, &g->q, &g->part, &g->rz, &g->lanczos, &g->chk_p, &g->chk_s, &g->corr, &g->nrm,
+                      &g->host_pos, &g->host_nrm};
+    for (size_t i = 0; i < sizeof list / sizeof list[0] && k < cap; ++i) out[k++] = list[i];
+    wg_ring* rings[] = {&g->x, &g->v, &g->dv};
+    for (int r = 0; r < 3; ++r)
+        for (int j = 0; j < 3 && k < cap; ++j) out[k++] = &rings[r]->t[j];
+    for (int a = 0; a < 2; ++a)
+        for (int j = 0; j < 3 && k < cap; ++j) out[k++] = &g->sc[a][j];
+    return k;
+}
+
+size_t wg_sim_gpu_bytes(const wg_sim* g) {
+    wg_tex* t[96];
+    int n = all_textures((wg_sim*)g, t, 96);
+    size_t bytes = 0;
+    for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
+    const wg_chain* ch[] = {&g->red_p[0], &g->red_p[1], &g->red_s};
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < ch[c]->n_levels; ++k) bytes += wg_tex_bytes(&ch[c]->level[k]);
+    return bytes;
+}
+
+void wg_sim_forget(wg_sim* g) {
+    if (!g) return;
+    g->forget_gl = 1;
+    wg_sim_destroy(g);
+}
+
+void wg_sim_destroy(wg_sim* g) {
+    if (!g) return;
+    wg_contacts_destroy(g);
+    if (g->forget_gl) goto memory;
+    wg_tex* t[96];
+    int n = all_textures(g, t, 96);
+    for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
+    wg_chain_destroy(&g->red_p[0]);
+    wg_chain_destroy(&g->red_p[1]);
+    wg_chain_destroy(&g->red_s);
+    for (int k = 0; k < g->n_fbo; ++k) glDeleteFramebuffers(1, &g->fbo[k].fbo);
+    if (g->scratch_fbo) glDeleteFramebuffers(1, &g->scratch_fbo);
+    if (g->pbo) glDeleteBuffers(1, &g->pbo);
+    if (g->dev->has_timer) glDeleteQueries(WG_MAX_STAMPS, g->stamps);
+memory:;
+    wc_allocator a = g->alloc;
+    wc_free(&a, g->pin_particle);
+    wc_free(&a, g->pin_map_cpu);
+    wc_free(&a, g->pin_scratch);
+    wc_free(&a, g->rb);
+    wc_free(&a, g);
+}
+
+/* Float4 / int4 staging of the model's arrays. */
+static float* f4(wg_sim* g, int n) { return wc_calloc(&g->alloc, (size_t)(n > 0 ? n : 1) * 4u, sizeof(float)); }
+static int* i4(wg_sim* g, int n) { return wc_calloc(&g->alloc, (size_t)(n > 0 ? n : 1) * 4u, sizeof(int)); }
+static int* i1(wg_sim* g, int n) { return wc_calloc(&g->alloc, (size_t)(n > 0 ? n : 1), sizeof(int)); }
+
+#define TRY(expr)                                                                                    \
+    do {                                                                                             \
+        if (!(expr)) goto fail;                                                                      \
+    } while (0)
+
+static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el) {
+    const wc_model* m = g->m;
+    const wc_bsr_pattern* p = &m->pattern;
+    int n = g->n, ns = g->ns, nt = g->nt, nb = g->nb, nh = g->nh, ok = 0;
+    float* f = NULL;
+    int *ia = NULL, *ib = NULL;
+    TRY(f = f4(g, n));
+    for (int i = 0; i < n; ++i) {
+        f[4 * i] = (float)m->mass[i];
+        f[4 * i + 1] = (float)m->inv_mass[i];
+    }
+    TRY(wg_array_create(g, &g->mass, GL_RGBA32F, n, f, err, el));
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) f[4 * i + c] = c < 3 ? (float)m->rest_pos[3 * i + c] : 0.0f;
+    TRY(wg_array_create(g, &g->rest, GL_RGBA32F, n, f, err, el));
+    wc_free(&g->alloc, f);
+    f = NULL;
+
+    TRY(ia = i4(g, ns));
+    TRY(f = wc_calloc(&g->alloc, (size_t)(ns > 0 ? ns : 1), sizeof(float)));
+    for (int s = 0; s < ns; ++s) {
+        ia[4 * s] = m->springs[s].a;
+        ia[4 * s + 1] = m->springs[s].b;
+        ia[4 * s + 2] = m->springs[s].type;
+        f[s] = (float)m->springs[s].rest;
+    }
+    TRY(wg_array_create(g, &g->spring, GL_RGBA32I, ns, ia, err, el));
+    TRY(wg_array_create(g, &g->spring_rest, GL_R32F, ns, f, err, el));
+    wc_free(&g->alloc, ia);
+    wc_free(&g->alloc, f);
+    ia = NULL;
+    f = NULL;
+
+    TRY(ia = i4(g, nt));
+    for (int t = 0; t < nt; ++t)
+        for (int c = 0; c < 3; ++c) ia[4 * t + c] = m->tris[3 * t + c];
+    TRY(wg_array_create(g, &g->tri, GL_RGBA32I, nt, ia, err, el));
+    wc_free(&g->alloc, ia);
+    ia = NULL;
+
+    TRY(ia = i4(g, n));
+    TRY(ib = i4(g, n));
+    for (int i = 0; i < n; ++i) {
+        ia[4 * i] = p->row_spring_start[i];
+        ia[4 * i + 1] = p->row_spring_start[i + 1];
+        ia[4 * i + 2] = p->row_tri_start[i];
+        ia[4 * i + 3] = p->row_tri_start[i + 1];
+        ib[4 * i] = p->row_start[i];
+        ib[4 * i + 1] = p->row_start[i + 1];
+        ib[4 * i + 2] = p->diag[i];
+    }
+    TRY(wg_array_create(g, &g->rows, GL_RGBA32I, n, ia, err, el));
+    TRY(wg_array_create(g, &g->pblocks, GL_RGBA32I, n, ib, err, el));
+    wc_free(&g->alloc, ia);
+    wc_free(&g->alloc, ib);
+    ia = ib = NULL;
+
+    /* row spring entries (spring, sign, other end, block) */
+    int ne = 2 * ns;
+    TRY(ia = i4(g, ne));
+    for (int i = 0; i < n; ++i)
+        for (int k = p->row_spring_start[i]; k < p->row_spring_start[i + 1]; ++k) {
+            int s = p->row_spring[k];
+            ia[4 * k] = s;
+            ia[4 * k + 1] = p->row_spring_sign[k];
+            ia[4 * k + 2] = p->row_spring_sign[k] > 0 ? m->springs[s].b : m->springs[s].a;
+            ia[4 * k + 3] = p->row_spring_block[k];
+        }
+    TRY(wg_array_create(g, &g->row_entry, GL_RGBA32I, ne, ia, err, el));
+    wc_free(&g->alloc, ia);
+    ia = NULL;
+    TRY(wg_array_create(g, &g->row_tri, GL_R32I, 3 * nt, p->row_tri, err, el));
+
+    /* blocks (row, column, list start, end); the list of a diagonal block is its row's springs,
+       of an off-diagonal block (i, j) the springs joining i and j (inverted from row_spring_block) */
+    TRY(ia = i4(g, nb));
+    TRY(ib = i1(g, 4 * ns));
+    int* cnt = i1(g, nb);
+    TRY(cnt);
+    for (int k = 0; k < ne; ++k)
+        if (p->row_spring_block[k] >= 0) ++cnt[p->row_spring_block[k]];
+    int pos = 0;
+    for (int i = 0; i < n; ++i)
+        for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k) {
+            ia[4 * k] = i;
+            ia[4 * k + 1] = p->col[k];
+            ia[4 * k + 2] = pos;
+            if (k == p->diag[i]) {
+                for (int e = p->row_spring_start[i]; e < p->row_spring_start[i + 1]; ++e) ib[pos++] = p->row_spring[e];
+            } else {
+                for (int e = p->row_spring_start[i]; e < p->row_spring_start[i + 1]; ++e)
+                    if (p->row_spring_block[e] == k) ib[pos++] = p->row_spring[e];
+            }
+            ia[4 * k + 3] = pos;
+        }
+    wc_free(&g->alloc, cnt);
+    TRY(wg_array_create(g, &g->block, GL_RGBA32I, nb, ia, err, el));
+    TRY(wg_array_create(g, &g->block_list, GL_R32I, pos, ib, err, el));
+    wc_free(&g->alloc, ia);
+    wc_free(&g->alloc, ib);
+    ia = ib = NULL;
+
+    TRY(wg_array_create(g, &g->host_map, GL_R32I, nh, m->host_to_particle, err, el));
+    TRY(f = f4(g, nh));
+    if (host_rest)
+        for (int h = 0; h < nh; ++h)
+            for (int c = 0; c < 3; ++c) f[4 * h + c] = (float)host_rest[3 * h + c];
+    TRY(wg_array_create(g, &g->host_rest, GL_RGBA32F, nh, f, err, el));
+    ok = 1;
+fail:
+    wc_free(&g->alloc, f);
+    wc_free(&g->alloc, ia);
+    wc_free(&g->alloc, ib);
+    if (!ok && !err[0]) wg_errorf(err, el, "out of memory");
+    return ok;
+}
+
+static int create_scratch(wg_sim* g, char* err, size_t el) {
+    int n = g->n, ns = g->ns, nb = g->nb;
+    for (int j = 0; j < 3; ++j) {
+        TRY(wg_array_create(g, &g->x.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(g, &g->v.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(g, &g->dv.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(g, &g->sv[j], GL_RGBA32F, n, NULL, err, el));
+    }
+    wg_tex* pv[] = {&g->x_bak, &g->v_bak, &g->dv_bak, &g->S0, &g->S1, &g->z, &g->b, &g->ftot, &g->D0,
+                    &g->r[0], &g->r[1], &g->c[0], &g->c[1], &g->t, &g->q, &g->part, &g->rz, &g->chk_p, &g->nrm};
+    for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(g, pv[k], GL_RGBA32F, n, NULL, err, el));
+    TRY(wg_array_create(g, &g->D1, GL_RG32F, n, NULL, err, el));
+    wg_tex* ps[] = {&g->sf, &g->sw, &g->sj, &g->chk_s, &g->corr};
+    for (size_t k = 0; k < sizeof ps / sizeof ps[0]; ++k) TRY(wg_array_create(g, ps[k], GL_RGBA32F, ns, NULL, err, el));
+    TRY(wg_array_create(g, &g->fair, GL_RGBA32F, g->nt, NULL, err, el));
+    TRY(wg_array_create(g, &g->A0, GL_RGBA32F, nb, NULL, err, el));
+    TRY(wg_array_create(g, &g->A1, GL_RG32F, nb, NULL, err, el));
+    TRY(wg_array_create(g, &g->host_pos, GL_RGBA32F, g->nh, NULL, err, el));
+    TRY(wg_array_create(g, &g->host_nrm, GL_RGBA32F, g->nh, NULL, err, el));
+    TRY(wg_array_create(g, &g->pin_map, GL_R32I, n, g->pin_map_cpu, err, el));
+    TRY(wg_array_create(g, &g->pin_from, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    TRY(wg_array_create(g, &g->pin_target, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    TRY(wg_array_create(g, &g->pin_axis, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    for (int a = 0; a < 2; ++a)
+        for (int j = 0; j < 3; ++j) TRY(wg_tex_create(&g->sc[a][j], GL_RGBA32F, 1, 1, NULL, err, el));
+    TRY(wg_tex_create(&g->lanczos, GL_RGBA32F, 32, 1, NULL, err, el));
+    TRY(wg_chain_create(g, &g->red_p[0], g->part.w, g->part.h, err, el));
+    TRY(wg_chain_create(g, &g->red_p[1], g->part.w, g->part.h, err, el));
+    TRY(wg_chain_create(g, &g->red_s, g->chk_s.w, g->chk_s.h, err, el));
+    return 1;
+fail:
+    return 0;
+}
+
+weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag) {
+    *out = NULL;
+    const wc_model* m = s->model;
+    if (s->def.solver.type == WC_SOLVER_DIRECT)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend has no direct solver (CHOLMOD runs on the CPU only): choose pcg, jacobi or "
+                       "chebyshev, or the CPU backend");
+    wc_allocator alloc = s->alloc;
+    wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
+    if (!g) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
+    g->alloc = alloc;
+    g->dev = dev;
+    g->m = m;
+    g->n = m->n_particles;
+    g->ns = m->n_springs;
+    g->nt = m->n_tris;
+    g->nb = m->pattern.n_blocks;
+    g->nh = m->n_host_verts;
+    g->pin_cap = s->def.max_pins > 0 ? s->def.max_pins : g->n;
+    g->debug_opts = s->def.solver;
+    long long biggest = g->n;
+    long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};
+    for (int k = 0; k < 5; ++k)
+        if (counts[k] > biggest) biggest = counts[k];
+    g->shift = WG_MIN_SHIFT;
+    while (g->shift < 30 && ((biggest + (1LL << g->shift) - 1) >> g->shift) > dev->max_texture_size) ++g->shift;
+    if ((1LL << g->shift) > dev->max_texture_size || biggest > 0x7fffffffLL) {
+        wc_free(&alloc, g);
+        return wc_fail(diag, WEFT_ERROR_GPU,
+                       "GPU cloth: %lld items in one array (%d particles, %d springs, %d blocks) do not fit in the "
+                       "device's %d x %d textures", biggest, g->n, g->ns, g->nb, dev->max_texture_size,
+                       dev->max_texture_size);
+    }
+    char err[512] = "";
+    glGetError();
+    int ok = (g->pin_particle = i1(g, g->pin_cap)) && (g->pin_map_cpu = i1(g, g->n)) &&
+             (g->pin_scratch = wc_calloc(&alloc, (size_t)g->pin_cap * 12u, sizeof(float))) &&
+             (g->rb = wc_calloc(&alloc, (size_t)(g->n > g->nh ? g->n : g->nh) * 4u, sizeof(float)));
+    if (!ok) {
+        wg_sim_destroy(g);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
+    }
+    for (int i = 0; i < g->n; ++i) g->pin_map_cpu[i] = -1;
+    glGenFramebuffers(1, &g->scratch_fbo);
+    glGenBuffers(1, &g->pbo);
+    if (dev->has_timer) glGenQueries(WG_MAX_STAMPS, g->stamps);
+    ok = upload_model(g, host_rest, err, sizeof err) && create_scratch(g, err, sizeof err);
+    if (ok) {
+        GLenum e = glGetError();
+        if (e != GL_NO_ERROR) {
+            wg_errorf(err, sizeof err, "%s", wg_gl_error_name(e));
+            ok = 0;
+        }
+    }
+    if (ok && wg_contacts_create(g, s, err, sizeof err) != WEFT_OK) ok = 0;
+    if (!ok) {
+        wg_sim_destroy(g);
+        return wc_fail(diag, strstr(err, "out of memory") ? WEFT_ERROR_OUT_OF_MEMORY : WEFT_ERROR_GPU,
+                       "GPU cloth (%d particles, %d springs): %s", m->n_particles, m->n_springs, err);
+    }
+    weft_status st = wg_sim_upload(g, s, diag);
+    if (st != WEFT_OK) {
+        wg_sim_destroy(g);
+        return st;
+    }
+    *out = g;
+    return WEFT_OK;
+}
+
+/* ---- state moves ----------------------------------------------------------------------------- */
+
+static void to_f4(const double* a, int n, float* out) {
+    for (int i = 0; i < n; ++i) {
+        out[4 * i] = (float)a[3 * i];
+        out[4 * i + 1] = (float)a[3 * i + 1];
+        out[4 * i + 2] = (float)a[3 * i + 2];
+        out[4 * i + 3] = 0.0f;
+    }
+}
+
+static void from_f4(const float* in, int n, double* a) {
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) a[3 * i + c] = (double)in[4 * i + c];
+}
+
+weft_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
+    to_f4(s->x, g->n, g->rb);
+    wg_array_upload(g, wg_ring_cur(&g->x), g->n, g->rb);
+    to_f4(s->v, g->n, g->rb);
+    wg_array_upload(g, wg_ring_cur(&g->v), g->n, g->rb);
+    to_f4(s->dv, g->n, g->rb);
+    wg_array_upload(g, wg_ring_cur(&g->dv), g->n, g->rb);
+    if (g->contacts) wg_contacts_upload(g, s);
+    g->rho_valid = 0;
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "GPU cloth: state upload: %s", wg_gl_error_name(e));
+    return WEFT_OK;
+}
+
+weft_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag) {
+    wg_array_read(g, wg_ring_cur(&g->x), g->n, g->rb);
+    from_f4(g->rb, g->n, s->x);
+    wg_array_read(g, wg_ring_cur(&g->v), g->n, g->rb);
+    from_f4(g->rb, g->n, s->v);
+    wg_array_read(g, wg_ring_cur(&g->dv), g->n, g->rb);
+    from_f4(g->rb, g->n, s->dv);
+    if (g->contacts) wg_contacts_download(g, s);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "GPU cloth: state read-back: %s", wg_gl_error_name(e));
+    return WEFT_OK;
+}
+
+void wg_sim_backup(wg_sim* g) {
+    wg_copy(g, &g->x_bak, wg_ring_cur(&g->x));
+    wg_copy(g, &g->v_bak, wg_ring_cur(&g->v));
+    wg_copy(g, &g->dv_bak, wg_ring_cur(&g->dv));
+    wg_contacts_backup(g);
+}
+
+void wg_sim_restore_backup(wg_sim* g) {
+    wg_copy(g, wg_ring_cur(&g->x), &g->x_bak);
+    wg_copy(g, wg_ring_cur(&g->v), &g->v_bak);
+    wg_copy(g, wg_ring_cur(&g->dv), &g->dv_bak);
+    wg_contacts_restore_backup(g);
+    g->rho_valid = 0;
+}
+
+void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3],
+                            const double Rd[9]) {
+    int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0), nd = wg_ring_other(&g->dv, 0);
+    wg_use(g, WGP_TRANSFORM);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, wg_ring_cur(&g->v));
+    wg_in(g, 2, wg_ring_cur(&g->dv));
+    wg_umat3(g, "u_rx", Rx);
+    wg_u3f(g, "u_tx", tx);
+    wg_umat3(g, "u_rv", Rv);
+    wg_u3f(g, "u_dv", dv);
+    wg_umat3(g, "u_rd", Rd);
+    WG_RUN(g, g->n, &g->x.t[nx], &g->v.t[nv], &g->dv.t[nd]);
+    g->x.cur = g->x.keep = nx;
+    g->v.cur = g->v.keep = nv;
+    g->dv.cur = g->dv.keep = nd;
+}
+
+void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3]) {
+    wg_sim_transform_state(g, Rx, tx, Rv, dv, Rv);
+}
+
+double wg_sim_max_abs(wg_sim* g) {
+    wg_use(g, WGP_CHECK_PARTICLES);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, wg_ring_cur(&g->v));
+    wg_in(g, 2, &g->mass);
+    double zero[3] = {0, 0, 0};
+    wg_u3f(g, "u_gravity", zero);
+    WG_RUN(g, g->n, &g->chk_p);
+    float r[4];
+    wg_read1(g, wg_reduce(g, &g->red_p[0], &g->chk_p, 0, 0, 1, 1), r);
+    return (double)r[2];
+}

@@ -1,0 +1,97 @@
+/* The GPU backend of one cloth: core's model uploaded once into textures, the mutable state
+ * (positions, velocities, the solver's warm start, contacts) living in textures, and the frame
+ * driven by core's wc_step_frame_ops with every substep run as fragment-shader passes into
+ * framebuffer objects. Positions and velocities are read back only when asked (outputs,
+ * snapshots, wg_sim_download); per substep one small read-back of the step's checks (and of
+ * the solver's scalars every check_every iterations). Every call must be made inside
+ * wg_gl_begin/wg_gl_end of the device's context.
+ *
+ * The wc_state stays the cloth's book-keeping: pins, colliders, settings, time, sleep and the
+ * contact count live there as on the CPU; its x, v, dv and contact arrays are a mirror that
+ * wg_sim_download fills and wg_sim_upload sends (a caller that changes them calls upload). */
+#ifndef WEFT_GPU_SOLVER_SIM_H
+#define WEFT_GPU_SOLVER_SIM_H
+
+#include "step.h"
+#include "wg_device.h"
+
+typedef struct wg_sim wg_sim;
+
+/* Upload the model and the state; host_rest (n_host_verts x 3, object space, m; NULL: zeros) is
+ * where outputs put host vertices no polygon uses. Refused: the direct solver (WEFT_ERROR_UNSUPPORTED: it does
+ * not exist on the GPU), arrays beyond the device's texture limits (WEFT_ERROR_GPU naming the
+ * array, its size and the limit), GL errors (WEFT_ERROR_GPU). */
+weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
+void wg_sim_destroy(wg_sim* g);
+/* Free the CPU memory only, when the GL context is gone or cannot be made current (the host's
+ * context in WEFT_GL_HOST_CURRENT mode: its GL objects go with that context). */
+void wg_sim_forget(wg_sim* g);
+
+/* wc_step_frame on the GPU (same schedule, retries, judging, stats, sleeping; the last resorts
+ * run the cloth's own solver, with the compressed springs' geometric term dropped, in place of
+ * the direct solver). */
+weft_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
+
+/* Read x, v, dv and the contact arrays back into s (exact: float values widened to double). */
+weft_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag);
+/* Send s's x, v, dv and contact arrays (rounded to float). */
+weft_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag);
+
+/* The frame's back-up of the state textures (taken before a step the caller may undo) and its
+ * restore. */
+void wg_sim_backup(wg_sim* g);
+void wg_sim_restore_backup(wg_sim* g);
+
+/* x' = Rx x + tx, v' = Rv v + dv for every particle (teleports, inertia), on the GPU; the
+ * solver's warm start turns with the velocities (dv' = Rv dv). Row-major 3x3 matrices. */
+void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3]);
+
+/* Largest |coordinate| of any position or velocity (+inf when one is not finite), measured on
+ * the GPU (one small read-back). */
+double wg_sim_max_abs(wg_sim* g);
+
+/* Per host vertex, positions and normals (either may be NULL) in world space, or in object space
+ * (to_object: R^-1 (p - t) / scale, R row-major, t the object's transform); host_rest gives the
+ * rest positions of host vertices no polygon uses. Computed by two passes; read back through a
+ * pixel-pack buffer into float (n_host x 3) arrays, or (gl buffers, non-zero names) written
+ * straight into the caller's GL buffer objects at byte offsets, 3 floats per vertex. */
+typedef struct wg_output_request {
+    int to_object;
+    double R[9], t[3], unit_scale;
+    float* positions;           /* host memory, or NULL */
+    float* normals;
+    unsigned position_buffer;   /* GL buffer names (the current context's), or 0 */
+    unsigned normal_buffer;
+    size_t position_offset, normal_offset;   /* bytes */
+} wg_output_request;
+weft_status wg_sim_output(wg_sim* g, const wg_output_request* req, wc_diag* diag);
+
+/* Bytes of GPU memory held (textures). */
+size_t wg_sim_gpu_bytes(const wg_sim* g);
+
+/* ---- for tests and benchmarks ---------------------------------------------------------------- */
+
+/* Run a substep's preparation (pins, contacts, forces, assembly) for a substep of length h ending
+ * at frame fraction alpha1, as the step does, then read back: A (pattern.n_blocks x 9, row-major
+ * blocks), b (n x 3), the filter S (n x 9), z (n x 3), ndof (n) and x (n x 3; contacts may have
+ * moved particles). Any output may be NULL. */
+weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
+                                 double* z, unsigned char* ndof, double* x, wc_diag* diag);
+/* Solve the system the last prepare built with the cloth's solver from the initial guess dv
+ * (n x 3, in/out, NULL: the state's warm start); the result as core's wc_solve_result. */
+weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);
+/* Replace the prepared A (pattern.n_blocks x 9, row-major; symmetric blocks) and b (n x 3) with
+ * the caller's, rounded to float (the filter stays the prepared one). */
+weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, wc_diag* diag);
+/* Chebyshev's cached rho estimate (0 when none). */
+double wg_sim_debug_rho(const wg_sim* g);
+/* y = A x with the last prepared A (n x 3 each). */
+weft_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag);
+/* Sum (mode 0) or max (mode 1) of n values through the reduction passes (n <= particles). */
+double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode);
+/* Wall time (ms) of `reps` runs of one SpMV pass and one copy pass of the same size, measured
+ * with glFinish around them, and the bytes each moves (for the bandwidth ratio). */
+void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_copy, double* bytes_spmv,
+                            double* bytes_copy);
+
+#endif

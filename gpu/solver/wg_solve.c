@@ -1,0 +1,365 @@
+/* The linear solvers on the GPU, the same methods as core/solve_*.c on the filtered system
+ * A dv = b, (S, z): filtered PCG with the block-diagonal preconditioner, block Jacobi and
+ * Chebyshev-accelerated block Jacobi. No read-back per iteration: PCG's scalars (delta, alpha,
+ * beta, |r|^2, done / diverged / converged flags, iteration count) live in a 1 x 1 texture that
+ * reduction passes feed and later passes read; once the GPU marks the solve done, the remaining
+ * queued passes change nothing. The host reads the flags back every check_every iterations to
+ * stop queueing (and to confirm convergence with the true residual, restarting from it on drift
+ * as core's PCG does), and the result once at the end. Jacobi and Chebyshev measure the residual
+ * every check_every iterations (a reduction and one texel read back), as on the CPU. */
+#include <math.h>
+#include <string.h>
+
+#include "wg_sim_impl.h"
+
+/* sc[cur] -> sc[other] */
+static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* t2, const wg_tex* t3, int max_it) {
+    int a = g->sc_cur, b = 1 - a;
+    wg_use(g, WGP_PCG_SCALARS);
+    wg_in(g, 0, &g->sc[a][0]);
+    wg_in(g, 1, &g->sc[a][1]);
+    wg_in(g, 2, t2 ? t2 : &g->sc[a][0]);
+    wg_in(g, 3, t3 ? t3 : &g->sc[a][0]);
+    wg_in(g, 4, &g->sc[a][2]);
+    wg_u1i(g, "u_mode", mode);
+    wg_u1f(g, "u_tolerance", o->tolerance);
+    wg_u1f(g, "u_divergence", o->divergence_factor);
+    wg_u1f(g, "u_max_iterations", (double)max_it);
+    WG_RUN(g, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+    g->sc_cur = b;
+}
+
+static void residual(wg_sim* g, const wg_tex* x, const wg_tex* out) {
+    wg_use(g, WGP_RESIDUAL);
+    wg_in(g, 0, &g->pblocks);
+    wg_in(g, 1, &g->block);
+    wg_in(g, 2, &g->A0);
+    wg_in(g, 3, &g->A1);
+    wg_in(g, 4, x);
+    wg_in(g, 5, &g->b);
+    wg_in(g, 6, &g->S0);
+    wg_in(g, 7, &g->S1);
+    WG_RUN(g, g->n, out);
+}
+
+static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
+    wg_use(g, WGP_PROJECT);
+    wg_in(g, 0, in);
+    wg_in(g, 1, &g->S0);
+    wg_in(g, 2, &g->S1);
+    wg_in(g, 3, &g->z);
+    wg_u1i(g, "u_to_z", to_z);
+    WG_RUN(g, g->n, out);
+}
+
+static void spmv_filtered(wg_sim* g, const wg_tex* c) {
+    wg_use(g, WGP_SPMV);
+    wg_in(g, 0, &g->pblocks);
+    wg_in(g, 1, &g->block);
+    wg_in(g, 2, &g->A0);
+    wg_in(g, 3, &g->A1);
+    wg_in(g, 4, c);
+    wg_in(g, 5, &g->S0);
+    wg_in(g, 6, &g->S1);
+    wg_u1i(g, "u_filter", 1);
+    WG_RUN(g, g->n, &g->q);
+}
+
+typedef struct pcg_vecs {
+    int dv, r, c;   /* indices into g->sv (0/1), g->r, g->c */
+} pcg_vecs;
+
+static void update(wg_sim* g, pcg_vecs* v, int first) {
+    wg_use(g, WGP_PCG_UPDATE);
+    wg_in(g, 0, &g->sv[v->dv]);
+    wg_in(g, 1, &g->r[v->r]);
+    wg_in(g, 2, &g->c[v->c]);
+    wg_in(g, 3, &g->q);
+    wg_in(g, 4, &g->D0);
+    wg_in(g, 5, &g->D1);
+    wg_in(g, 6, &g->sc[g->sc_cur][0]);
+    wg_in(g, 7, &g->sc[g->sc_cur][1]);
+    wg_u1i(g, "u_first", first);
+    WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
+    v->dv = 1 - v->dv;
+    v->r = 1 - v->r;
+}
+
+static void direction(wg_sim* g, pcg_vecs* v, int first) {
+    wg_use(g, WGP_PCG_DIRECTION);
+    wg_in(g, 0, &g->t);
+    wg_in(g, 1, &g->c[v->c]);
+    wg_in(g, 2, &g->S0);
+    wg_in(g, 3, &g->S1);
+    wg_in(g, 4, &g->sc[g->sc_cur][0]);
+    wg_in(g, 5, &g->sc[g->sc_cur][1]);
+    wg_u1i(g, "u_first", first);
+    WG_RUN(g, g->n, &g->c[1 - v->c]);
+    v->c = 1 - v->c;
+}
+
+/* One PCG iteration, queued. */
+static void pcg_iteration(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, int max_it) {
+    spmv_filtered(g, &g->c[v->c]);
+    scalars(g, o, 1, wg_reduce(g, &g->red_p[0], &g->q, 0, 0, 0, 0), NULL, max_it);
+    update(g, v, 0);
+    scalars(g, o, 2, NULL, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+    direction(g, v, 0);
+}
+
+static void read_scalars(wg_sim* g, float s0[4], float s1[4], float s2[4]) {
+    wg_read1(g, &g->sc[g->sc_cur][0], s0);
+    wg_read1(g, &g->sc[g->sc_cur][1], s1);
+    wg_read1(g, &g->sc[g->sc_cur][2], s2);
+}
+
+/* |S (b - A x)|^2 of x (into r[spare]); one texel read back. */
+static double true_residual2(wg_sim* g, const wg_tex* x, const wg_tex* out) {
+    residual(g, x, out);
+    float v[4];
+    wg_read1(g, wg_reduce(g, &g->red_p[0], out, 0, 0, 0, 0), v);
+    return (double)v[3];
+}
+
+static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** out, wc_solve_result* res) {
+    pcg_vecs v = {0, 0, 0};
+    const int K = o->check_every > 0 ? o->check_every : 10, max_it = o->max_iterations;
+    /* residual0 from z, then the initial guess (sv[0], projected) */
+    residual(g, &g->z, &g->rz);
+    const wg_tex* r0 = wg_reduce(g, &g->red_p[0], &g->rz, 0, 0, 0, 0);
+    residual(g, &g->sv[0], &g->r[0]);
+    update(g, &v, 1);
+    /* keep residual0's reduction: red_p[0] is reused by the next reductions, so scalars read it now */
+    scalars(g, o, 0, r0, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+    direction(g, &v, 1);
+    float s0[4], s1[4], s2[4];
+    weft_status st = WEFT_OK;
+    int converged = 0, queued = 0;
+    double rt = -1.0;
+    for (;;) {
+        read_scalars(g, s0, s1, s2);
+        if (s1[0] != 0.0f) {
+            if (s1[1] != 0.0f) {
+                st = WEFT_ERROR_SOLVER_DIVERGED;
+                break;
+            }
+            if (s1[3] == 0.0f) break;   /* the iteration cap */
+            if (s2[0] == 0.0f) {        /* zero right-hand side: dv = z */
+                project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 1);
+                v.dv = 1 - v.dv;
+                *out = &g->sv[v.dv];
+                res->residual0 = 0.0;
+                res->iterations = 0;
+                res->converged = 1;
+                res->residual = 0.0;
+                return WEFT_OK;
+            }
+            /* confirm with the true residual; on drift restart from it */
+            project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 0);
+            v.dv = 1 - v.dv;
+            rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r]);
+            if (sqrt(rt) <= (double)s2[1]) {
+                converged = 1;
+                break;
+            }
+            if (s1[2] >= (float)max_it) break;
+            v.r = 1 - v.r;   /* r = the true residual */
+            update(g, &v, 1);
+            scalars(g, o, 3, NULL, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+            direction(g, &v, 1);
+            rt = -1.0;
+            continue;
+        }
+        /* queue K more iterations (never beyond what the cap can still use) */
+        int left = max_it - (int)s1[2];
+        int batch = K < left ? K : left;
+        if (batch < 1) batch = 1;
+        for (int k = 0; k < batch; ++k) pcg_iteration(g, o, &v, max_it);
+        queued += batch;
+        if (queued > 4 * (max_it + 1) + 100) break;   /* a GPU that never sets done: stop anyway */
+    }
+    if (!converged) {
+        project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 0);
+        v.dv = 1 - v.dv;
+        rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r]);
+    }
+    read_scalars(g, s0, s1, s2);
+    res->residual0 = (double)s2[0];
+    res->iterations = (int)s1[2];
+    res->residual = sqrt(rt) / res->residual0;
+    res->converged = converged || res->residual <= o->tolerance;
+    if (!isfinite(res->residual0)) {
+        project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 1);
+        v.dv = 1 - v.dv;
+        res->residual = 1.0;
+        res->converged = 0;
+        st = WEFT_ERROR_SOLVER_DIVERGED;
+    }
+    if (st == WEFT_OK && !isfinite(res->residual)) st = WEFT_ERROR_SOLVER_DIVERGED;
+    *out = &g->sv[v.dv];
+    return st;
+}
+
+/* Chebyshev's rho: 20 CG steps of the PCG passes on P y = S g (core/solve_rho.c), their alpha and
+ * beta recorded per step into g->lanczos on the GPU and read back once. */
+static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
+    wc_solver_opts lo = *o;
+    lo.tolerance = 0.0;
+    lo.divergence_factor = 1e30;
+    pcg_vecs v = {0, 0, 0};
+    wg_use(g, WGP_LANCZOS_START);
+    wg_in(g, 0, &g->S0);
+    wg_in(g, 1, &g->S1);
+    WG_RUN(g, g->n, &g->r[0]);
+    const wg_tex* rn = wg_reduce(g, &g->red_p[0], &g->r[0], 0, 0, 0, 0);   /* w: |g|^2 */
+    update(g, &v, 1);
+    /* residual0 = |g|, tolerance 0: the GPU marks the steps done only when r vanishes */
+    scalars(g, &lo, 0, rn, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), 1 << 20);
+    direction(g, &v, 1);
+    float first[4];
+    wg_read1(g, &g->sc[g->sc_cur][0], first);
+    if (first[3] == 0.0f) return 0.0;   /* no free direction anywhere */
+    if (!(first[0] > 0.0f) || !isfinite(first[0])) return 0.9995;
+    for (int k = 0; k < 20; ++k) {
+        pcg_iteration(g, &lo, &v, 1 << 20);
+        wg_use(g, WGP_COPY_TEXEL);
+        wg_in(g, 0, &g->sc[g->sc_cur][0]);
+        wg_run_texel(g, &g->lanczos, k);
+    }
+    float rec[32 * 4];
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->scratch_fbo);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->lanczos.id, 0);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, 20, 1, GL_RGBA, GL_FLOAT, rec);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    double alpha[20], beta[20], delta0 = first[0];
+    int k = 0;
+    for (; k < 20; ++k) {
+        double a = rec[4 * k + 1], b = rec[4 * k + 2], d = rec[4 * k];
+        if (k > 0 && memcmp(rec + 4 * k, rec + 4 * (k - 1), 4 * sizeof(float)) == 0) break;   /* not applied */
+        if (!(a > 0.0) || !isfinite(a)) {
+            if (k == 0) return 0.9995;
+            break;
+        }
+        alpha[k] = a;
+        beta[k] = b;
+        if (!(d > 1e-28 * delta0) || !isfinite(d)) {
+            ++k;
+            break;
+        }
+    }
+    return wc_rho_from_lanczos(alpha, beta, k, o->chebyshev_gamma);
+}
+
+static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev, const wg_tex** out,
+                                wc_solve_result* res) {
+    const double gamma = chebyshev ? o->chebyshev_gamma : 1.0;
+    const int delay = o->chebyshev_delay > 1 ? o->chebyshev_delay : 1;
+    const int check_every = o->check_every > 0 ? o->check_every : 10;
+    residual(g, &g->z, &g->rz);
+    float r0[4];
+    wg_read1(g, wg_reduce(g, &g->red_p[0], &g->rz, 0, 0, 0, 0), r0);
+    const double res0 = sqrt((double)r0[3]);
+    res->residual0 = res0;
+    if (!isfinite(res0) || res0 == 0.0) {
+        project(g, &g->sv[0], &g->sv[1], 1);
+        *out = &g->sv[1];
+        res->iterations = 0;
+        res->converged = res0 == 0.0;
+        res->residual = res0 == 0.0 ? 0.0 : 1.0;
+        return res0 == 0.0 ? WEFT_OK : WEFT_ERROR_SOLVER_DIVERGED;
+    }
+    double rho = 0.0;
+    if (chebyshev) {
+        if (o->chebyshev_rho > 0.0) {
+            rho = o->chebyshev_rho;
+        } else {
+            if (!g->rho_valid) {
+                g->rho = estimate_rho(g, o);
+                g->rho_valid = 1;
+            }
+            rho = g->rho;
+        }
+    }
+    const double goal = o->tolerance * res0;
+    double limit = o->divergence_factor * res0, rn = res0, omega = 1.0;
+    int x = 0, prev = 1, nxt = 2, k = 0, converged = 0;
+    weft_status st = WEFT_OK;
+    wg_use(g, WGP_JACOBI_SWEEP);
+    for (;; ++k) {
+        int check = (k % check_every == 0) || k >= o->max_iterations;
+        if (chebyshev && k >= delay) omega = (k == delay) ? 2.0 / (2.0 - rho * rho) : 4.0 / (4.0 - rho * rho * omega);
+        wg_use(g, WGP_JACOBI_SWEEP);
+        wg_in(g, 0, &g->pblocks);
+        wg_in(g, 1, &g->block);
+        wg_in(g, 2, &g->A0);
+        wg_in(g, 3, &g->A1);
+        wg_in(g, 4, &g->sv[x]);
+        wg_in(g, 5, &g->b);
+        wg_in(g, 6, &g->S0);
+        wg_in(g, 7, &g->S1);
+        wg_in(g, 8, &g->D0);
+        wg_in(g, 9, &g->D1);
+        wg_in(g, 10, &g->sv[prev]);
+        wg_u1f(g, "u_gamma", gamma);
+        wg_u1f(g, "u_omega", omega);
+        WG_RUN(g, g->n, &g->sv[nxt]);
+        if (check) {
+            float v[4];
+            wg_read1(g, wg_reduce(g, &g->red_p[0], &g->sv[nxt], 0, 0, 0, 0), v);
+            rn = sqrt((double)v[3]);
+            if (k == 0) limit = o->divergence_factor * fmax(res0, rn);
+            if (!isfinite(rn) || rn > limit) {
+                st = WEFT_ERROR_SOLVER_DIVERGED;
+                break;
+            }
+            if (rn <= goal) {
+                converged = 1;
+                break;
+            }
+            if (k >= o->max_iterations) break;
+        }
+        int old_prev = prev;
+        prev = x;
+        x = nxt;
+        nxt = old_prev;
+    }
+    /* sv[x] = dv_k, the iterate whose residual rn was measured */
+    res->iterations = k;
+    res->converged = converged;
+    if (!isfinite(rn)) {
+        project(g, &g->sv[x], &g->sv[nxt], 1);   /* no finite iterate kept: dv = z */
+        *out = &g->sv[nxt];
+        res->residual = 1.0;
+        return st;
+    }
+    project(g, &g->sv[x], &g->sv[nxt], 0);
+    *out = &g->sv[nxt];
+    res->residual = rn / res0;
+    return st;
+}
+
+weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,
+                     const wg_tex** out, wc_solve_result* res) {
+    memset(res, 0, sizeof *res);
+    res->solver = type;
+    /* the preconditioner, and the initial guess projected into sv[0] */
+    wg_use(g, WGP_DINV);
+    wg_in(g, 0, &g->pblocks);
+    wg_in(g, 1, &g->A0);
+    wg_in(g, 2, &g->A1);
+    wg_in(g, 3, &g->S0);
+    wg_in(g, 4, &g->S1);
+    WG_RUN(g, g->n, &g->D0, &g->D1);
+    project(g, dv_in, &g->sv[0], 0);
+    weft_status st;
+    if (type == WC_SOLVER_PCG) st = solve_pcg(g, o, out, res);
+    else if (type == WC_SOLVER_JACOBI || type == WC_SOLVER_CHEBYSHEV)
+        st = solve_jacobi(g, o, type == WC_SOLVER_CHEBYSHEV, out, res);
+    else {
+        *out = &g->sv[0];
+        st = WEFT_ERROR_UNSUPPORTED;
+    }
+    res->status = st;
+    return st;
+}

@@ -1,0 +1,337 @@
+/* A frame on the GPU: core's frame driver (wc_step_frame_ops: schedule, retries, judging, stats,
+ * sleeping) with this file's substep, save/restore and measures. A substep is the chain of
+ * passes of core/step.c's substep(): pins (and contacts) into the filter, springs, air, assembly
+ * of b by particles and of A by blocks, (friction), the solve, (contact release), integration
+ * with the pins snapped, strain limiting, (contact projection), and the checks as reductions:
+ * one read-back of four texels per substep feeds core's judge. Rollback moves no data: the
+ * state rings keep the substep's start. */
+#include <math.h>
+#include <string.h>
+
+#include "clock.h"
+#include "gpu_error.h"
+#include "wg_sim_impl.h"
+
+/* Pins of this frame: the particle map when the pinned set changed, targets every frame. */
+void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
+    int n_pins = s->n_pins < g->pin_cap ? s->n_pins : g->pin_cap;
+    int same = n_pins == g->n_pins_uploaded;
+    for (int k = 0; k < n_pins && same; ++k) same = g->pin_particle[k] == s->pins[k].particle;
+    if (!same) {
+        for (int k = 0; k < g->n_pins_uploaded; ++k) g->pin_map_cpu[g->pin_particle[k]] = -1;
+        for (int k = 0; k < n_pins; ++k) {
+            g->pin_particle[k] = s->pins[k].particle;
+            g->pin_map_cpu[s->pins[k].particle] = k;
+        }
+        g->n_pins_uploaded = n_pins;
+        wg_array_upload(g, &g->pin_map, g->n, g->pin_map_cpu);
+    }
+    if (n_pins == 0) return;
+    float* f = g->pin_scratch;
+    for (int k = 0; k < n_pins; ++k)
+        for (int c = 0; c < 4; ++c) f[4 * k + c] = c < 3 ? (float)s->pin_from[3 * k + c] : 0.0f;
+    wg_array_upload(g, &g->pin_from, n_pins, f);
+    for (int k = 0; k < n_pins; ++k)
+        for (int c = 0; c < 4; ++c) f[4 * k + c] = c < 3 ? (float)s->pins[k].target[c] : 0.0f;
+    wg_array_upload(g, &g->pin_target, n_pins, f);
+    for (int k = 0; k < n_pins; ++k)
+        for (int c = 0; c < 4; ++c) f[4 * k + c] = c < 3 ? (float)s->pins[k].free_axis[c] : 0.0f;
+    wg_array_upload(g, &g->pin_axis, n_pins, f);
+}
+
+static void bind_pins(wg_sim* g, int unit0) {
+    wg_in(g, unit0, &g->pin_map);
+    wg_in(g, unit0 + 1, &g->pin_from);
+    wg_in(g, unit0 + 2, &g->pin_target);
+    wg_in(g, unit0 + 3, &g->pin_axis);
+    wg_u1i(g, "u_n_pins", g->n_pins_uploaded);
+}
+
+/* The checks of the current x, v into texels `slot` (particles) and slot + 1 (springs) of
+ * g->lanczos' last texels (28..31): (kinetic, -m g.x, max |coordinate|, max v.v) and (spring
+ * energy, max stretch strain). */
+static void checks(wg_sim* g, const wc_state* s, int slot) {
+    wg_use(g, WGP_CHECK_PARTICLES);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, wg_ring_cur(&g->v));
+    wg_in(g, 2, &g->mass);
+    wg_u3f(g, "u_gravity", s->def.gravity);
+    WG_RUN(g, g->n, &g->chk_p);
+    const wg_tex* rp = wg_reduce(g, &g->red_p[0], &g->chk_p, 0, 0, 1, 1);
+    wg_use(g, WGP_COPY_TEXEL);
+    wg_in(g, 0, rp);
+    wg_run_texel(g, &g->lanczos, 28 + slot);
+    wg_use(g, WGP_CHECK_SPRINGS);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, &g->spring);
+    wg_in(g, 2, &g->spring_rest);
+    wg_u3f(g, "u_k", s->model->material.k);
+    WG_RUN(g, g->ns, &g->chk_s);
+    const wg_tex* rs = wg_reduce(g, &g->red_s, &g->chk_s, 0, 1, 0, 0);
+    wg_use(g, WGP_COPY_TEXEL);
+    wg_in(g, 0, rs);
+    wg_run_texel(g, &g->lanczos, 29 + slot);
+}
+
+static void read_checks(wg_sim* g, float out[16]) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->scratch_fbo);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->lanczos.id, 0);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glReadPixels(28, 0, 4, 1, GL_RGBA, GL_FLOAT, out);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}
+
+/* Pins, contacts, springs, air, assembly: s->filter's GPU twin (S0, S1, z), A0/A1, b. */
+void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression) {
+    const wc_model* m = g->m;
+    wg_stamp(g, WG_STAGE_COLLIDE);
+    wg_use(g, WGP_PINS);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, wg_ring_cur(&g->v));
+    bind_pins(g, 2);
+    wg_u1f(g, "u_h", h);
+    wg_u1f(g, "u_alpha1", alpha1);
+    WG_RUN(g, g->n, &g->S0, &g->S1, &g->z);
+    if (s->n_colliders > 0 && g->contacts) wg_contacts_begin(g, s, h);
+
+    wg_stamp(g, WG_STAGE_FORCES);
+    wg_use(g, WGP_SPRINGS);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, wg_ring_cur(&g->v));
+    wg_in(g, 2, &g->spring);
+    wg_in(g, 3, &g->spring_rest);
+    wg_in(g, 4, &g->rest);
+    wg_u3f(g, "u_k", m->material.k);
+    wg_u3f(g, "u_d", m->material.d);
+    wg_u1f(g, "u_h", h);
+    wg_u1i(g, "u_compression_drop", compression == WC_COMPRESSION_DROP);
+    WG_RUN(g, g->ns, &g->sf, &g->sw, &g->sj);
+    const wc_air* air = &s->def.air;
+    int use_air = (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && g->nt > 0;
+    if (use_air) {
+        wg_use(g, WGP_AIR);
+        wg_in(g, 0, wg_ring_cur(&g->x));
+        wg_in(g, 1, wg_ring_cur(&g->v));
+        wg_in(g, 2, &g->tri);
+        wg_u3f(g, "u_wind", air->wind);
+        wg_u2f(g, "u_drag", air->normal_drag, air->tangent_drag);
+        WG_RUN(g, g->nt, &g->fair);
+    }
+
+    wg_stamp(g, WG_STAGE_ASSEMBLE);
+    wg_use(g, WGP_ASSEMBLE_B);
+    wg_in(g, 0, &g->mass);
+    wg_in(g, 1, &g->rows);
+    wg_in(g, 2, &g->row_entry);
+    wg_in(g, 3, &g->sf);
+    wg_in(g, 4, &g->sw);
+    wg_in(g, 5, &g->row_tri);
+    wg_in(g, 6, &g->fair);
+    wg_u1f(g, "u_h", h);
+    wg_u3f(g, "u_gravity", s->def.gravity);
+    wg_u1i(g, "u_use_air", use_air);
+    WG_RUN(g, g->n, &g->b, &g->ftot);
+    wg_use(g, WGP_ASSEMBLE_A);
+    wg_in(g, 0, &g->block);
+    wg_in(g, 1, &g->block_list);
+    wg_in(g, 2, &g->mass);
+    wg_in(g, 3, &g->sf);
+    wg_in(g, 4, &g->sw);
+    wg_in(g, 5, &g->sj);
+    WG_RUN(g, g->nb, &g->A0, &g->A1);
+    if (s->n_colliders > 0 && g->contacts) {
+        wg_stamp(g, WG_STAGE_COLLIDE);
+        wg_contacts_friction(g, s, h);
+    }
+    g->prepared = 1;
+}
+
+static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
+    st->solver = solver;
+    st->iterations += res->iterations;
+    if (res->iterations > st->max_iterations) st->max_iterations = res->iterations;
+    if (res->residual > st->residual) st->residual = res->residual;
+    if (!res->converged) ++st->not_converged;
+}
+
+#define FRICTION_PASSES 4   /* as core/step.c */
+
+static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+                               double pin_energy, wc_step_stats* st, wc_diag* diag) {
+    wg_sim* g = user;
+    wc_substep_measure before = {0}, after = {0};
+    int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
+    float chk[16];
+    checks(g, s, 0);   /* the start's measures, read back with the end's */
+
+    wg_step_prepare(g, s, h, alpha1, judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression);
+    wg_stamp(g, WG_STAGE_SOLVE);
+    wc_solver_opts opts = s->def.solver;
+    const wg_tex* dvres = NULL;
+    wc_solve_result res;
+    weft_status status = wg_solve(g, &opts, solver, wg_ring_cur(&g->dv), &dvres, &res);
+    solve_stats(st, solver, &res);
+    for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && s->n_colliders > 0 && g->contacts; ++pass) {
+        if (!wg_contacts_recheck(g, s, dvres, h)) break;
+        ++st->friction_passes;
+        /* the next solve starts from this one's result: keep it out of the solver's iterates */
+        int nd = wg_ring_other(&g->dv, 0);
+        wg_copy(g, &g->dv.t[nd], dvres);
+        status = wg_solve(g, &opts, solver, &g->dv.t[nd], &dvres, &res);
+        solve_stats(st, solver, &res);
+    }
+    g->last_solve = res;
+    if (status != WEFT_OK)
+        return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
+                       wc_solver_name(solver), (int)status);
+    int nd = wg_ring_other(&g->dv, 0);
+    wg_copy(g, &g->dv.t[nd], dvres);
+
+    wg_stamp(g, WG_STAGE_INTEGRATE);
+    if (s->n_colliders > 0 && g->contacts) wg_contacts_end(g, s, &g->dv.t[nd]);
+    int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
+    wg_use(g, WGP_INTEGRATE);
+    wg_in(g, 0, wg_ring_cur(&g->x));
+    wg_in(g, 1, wg_ring_cur(&g->v));
+    wg_in(g, 2, &g->dv.t[nd]);
+    bind_pins(g, 3);
+    wg_u1f(g, "u_h", h);
+    wg_u1f(g, "u_alpha1", alpha1);
+    WG_RUN(g, g->n, &g->x.t[nx], &g->v.t[nv]);
+    g->x.cur = nx;
+    g->v.cur = nv;
+    g->dv.cur = nd;
+    if (s->def.strain_limit > 0 && s->def.strain_passes > 0) {
+        /* core stops early once no spring is above the limit; here every pass runs (a pass with
+           nothing to correct changes nothing) */
+        for (int pass = 0; pass < s->def.strain_passes; ++pass) {
+            wg_use(g, WGP_STRAIN_SPRINGS);
+            wg_in(g, 0, wg_ring_cur(&g->x));
+            wg_in(g, 1, &g->spring);
+            wg_in(g, 2, &g->spring_rest);
+            wg_in(g, 3, &g->mass);
+            wg_in(g, 4, &g->S0);
+            wg_in(g, 5, &g->S1);
+            wg_u1f(g, "u_limit", s->def.strain_limit);
+            WG_RUN(g, g->ns, &g->corr);
+            int sx = wg_ring_other(&g->x, 0), sv = wg_ring_other(&g->v, 0);
+            wg_use(g, WGP_STRAIN_GATHER);
+            wg_in(g, 0, wg_ring_cur(&g->x));
+            wg_in(g, 1, wg_ring_cur(&g->v));
+            wg_in(g, 2, &g->rows);
+            wg_in(g, 3, &g->row_entry);
+            wg_in(g, 4, &g->corr);
+            wg_in(g, 5, &g->mass);
+            wg_in(g, 6, &g->S0);
+            wg_in(g, 7, &g->S1);
+            wg_in(g, 8, &g->spring);
+            wg_u1f(g, "u_h", h);
+            WG_RUN(g, g->n, &g->x.t[sx], &g->v.t[sv]);
+            g->x.cur = sx;
+            g->v.cur = sv;
+        }
+    }
+    if (s->n_colliders > 0 && g->contacts) {
+        wg_stamp(g, WG_STAGE_COLLIDE);
+        wg_contacts_project(g, s);
+    }
+    wg_stamp(g, WG_STAGE_INTEGRATE);
+    checks(g, s, 2);
+    read_checks(g, chk);
+    wg_stamp(g, WG_STAGE_COUNT);
+    if (glGetError() != GL_NO_ERROR) g->gl_error = 1;
+
+    before.kinetic = chk[0];
+    before.elastic = (double)chk[0] + (double)chk[4];
+    before.total = before.elastic + (double)chk[1];
+    after.finite = isfinite(chk[10]) != 0;
+    after.kinetic = chk[8];
+    after.total = (double)chk[8] + (double)chk[12] + (double)chk[9];
+    after.strain = chk[13];
+    if (!after.finite) after.strain = HUGE_VAL;
+    return wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
+}
+
+static void gpu_save(void* user, wc_state* s) {
+    wg_sim* g = user;
+    g->x.keep = g->x.cur;
+    g->v.keep = g->v.cur;
+    g->dv.keep = g->dv.cur;
+    if (s->n_colliders > 0 && g->contacts) wg_contacts_save(g);
+}
+
+static void gpu_restore(void* user, wc_state* s) {
+    wg_sim* g = user;
+    g->x.cur = g->x.keep;
+    g->v.cur = g->v.keep;
+    g->dv.cur = g->dv.keep;
+    if (s->n_colliders > 0 && g->contacts) wg_contacts_restore(g);
+    g->rho_valid = 0;
+}
+
+static void gpu_measure(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain) {
+    wg_sim* g = user;
+    float chk[16];
+    checks(g, s, 0);
+    read_checks(g, chk);
+    *kinetic = chk[0];
+    *max_speed = sqrt((double)chk[3]);
+    *max_strain = chk[5];
+}
+
+static void gpu_sleep(void* user, wc_state* s) {
+    (void)s;
+    wg_sim* g = user;
+    static const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, Z[9] = {0}, z3[3] = {0, 0, 0};
+    wg_sim_transform_state(g, I, z3, Z, z3, I);   /* v = 0; the warm start kept, as core does */
+}
+
+static void collect_stamps(wg_sim* g, wc_step_stats* st) {
+    if (!g->dev->has_timer || g->n_stamps < 2) return;
+    st->ms.forces = st->ms.assemble = st->ms.solve = st->ms.collide = st->ms.integrate = 0.0;
+    GLuint64 prev = 0;
+    for (int k = 0; k < g->n_stamps; ++k) {
+        GLuint64 t = 0;
+        glGetQueryObjectui64v(g->stamps[k], GL_QUERY_RESULT, &t);
+        if (k > 0 && g->stamp_stage[k - 1] != WG_STAGE_COUNT) {
+            double ms = (double)(t - prev) * 1e-6;
+            switch (g->stamp_stage[k - 1]) {
+            case WG_STAGE_COLLIDE: st->ms.collide += ms; break;
+            case WG_STAGE_FORCES: st->ms.forces += ms; break;
+            case WG_STAGE_ASSEMBLE: st->ms.assemble += ms; break;
+            case WG_STAGE_SOLVE: st->ms.solve += ms; break;
+            default: st->ms.integrate += ms; break;
+            }
+        }
+        prev = t;
+    }
+}
+
+weft_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
+    wc_step_stats local;
+    wc_step_stats* st = stats ? stats : &local;
+    double t0 = wc_now_ms();
+    g->n_stamps = 0;
+    g->gl_error = 0;
+    glGetError();
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_RASTERIZER_DISCARD);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    wg_step_upload_pins(g, s);
+    wc_step_ops ops = {g, gpu_substep, gpu_save, gpu_restore, gpu_measure, gpu_sleep, s->def.solver.type};
+    weft_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
+    if (r == WEFT_OK && s->n_colliders > 0 && g->contacts && !st->asleep) {
+        s->contacts.active = wg_contacts_active(g);
+        st->contacts = s->contacts.active;
+    }
+    GLenum e = glGetError();
+    if ((g->gl_error || e != GL_NO_ERROR) && r == WEFT_OK)
+        r = wc_fail(diag, WEFT_ERROR_GPU, "GPU step: GL error %s", e != GL_NO_ERROR ? wg_gl_error_name(e) : "in a pass");
+    if (g->dev->has_timer && g->n_stamps >= 2) collect_stamps(g, st);
+    else if (!st->asleep) st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble;
+    return r;
+}

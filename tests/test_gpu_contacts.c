@@ -1,0 +1,715 @@
+/* The GPU contact passes (gpu/solver/wg_contacts.c) against core/collide.c, step by step, on the
+ * same (float-rounded) input: a 6 x 6 sheet's particles scattered around a plane, a sphere or a
+ * capsule (each with a second, crossing plane for two-contact corners), with held, released and
+ * pinned particles, moving and still colliders, velocities from creeping (sticks) to fast
+ * (slides). Each hook runs on the GPU and its CPU function on the state's arrays; positions,
+ * filters, contact state, the friction's diagonal blocks and b are read back and compared to
+ * float precision. A synthetic system stands in for the assembly (A = M + small symmetric
+ * blocks, b = h f + noise): the hooks only read it. Also: save/restore, upload/download. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "collide.h"
+#include "egl_context.h"
+#include "state.h"
+#include "test_support.h"
+#include "wg_device.h"
+#include "wg_sim_impl.h"
+
+static wg_gl_context* g_ctx;
+static wg_device* g_dev;
+
+static unsigned long long rng = 0x9E3779B97F4A7C15ull;
+static double urand(void) {
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
+    return (double)(rng >> 11) / 9007199254740992.0;
+}
+static double srnd(double s) { return s * (2.0 * urand() - 1.0); }
+static double fr(double a) { return (double)(float)a; }
+static void frv(double* a, int n) {
+    for (int i = 0; i < n; ++i) a[i] = fr(a[i]);
+}
+
+static void unit3(double* v) {
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; k < 3; ++k) v[k] = fr(v[k] / l);
+}
+
+/* kind 0 plane, 1 sphere, 2 capsule; plus a crossing plane x < 0.25 (collider 1). */
+static int make_colliders(int kind, int moving, wc_collider* c) {
+    memset(c, 0, 2 * sizeof *c);
+    c[0].type = kind;
+    if (kind == WC_COLLIDER_PLANE) {
+        double n[3] = {0.1, 1.0, 0.05};
+        unit3(n);
+        memcpy(c[0].normal, n, sizeof n);
+        c[0].offset = 0.0;
+    } else if (kind == WC_COLLIDER_SPHERE) {
+        c[0].center[1] = -0.5;
+        c[0].radius = 0.5;
+    } else {
+        c[0].a[0] = -0.6, c[0].a[1] = -0.3;
+        c[0].b[0] = 0.6, c[0].b[1] = -0.3, c[0].b[2] = 0.125;
+        c[0].radius = 0.3;
+    }
+    c[0].thickness = 0.01;
+    c[0].friction = 0.6;
+    if (moving) c[0].velocity[0] = 0.25, c[0].velocity[2] = -0.125;
+    c[1].type = WC_COLLIDER_PLANE;
+    double n2[3] = {-1.0, 0.25, 0.0};
+    unit3(n2);
+    memcpy(c[1].normal, n2, sizeof n2);
+    c[1].offset = fr(0.25 * n2[0]);   /* through x = 0.25 */
+    c[1].thickness = 0.005;
+    c[1].friction = 0.3;
+    return 2;
+}
+
+/* ---- GPU <-> CPU helpers ----------------------------------------------------------------------- */
+
+static float* g_buf;
+
+static void read3(wg_sim* g, const wg_tex* t, double* out) {
+    wg_array_read(g, t, g->n, g_buf);
+    for (int i = 0; i < g->n; ++i)
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = g_buf[4 * i + c];
+}
+
+static void upload3(wg_sim* g, const wg_tex* t, const double* a) {
+    for (int i = 0; i < g->n; ++i) {
+        for (int c = 0; c < 3; ++c) g_buf[4 * i + c] = (float)a[3 * i + c];
+        g_buf[4 * i + 3] = 0.0f;
+    }
+    wg_array_upload(g, t, g->n, g_buf);
+}
+
+static void upload_filter(wg_sim* g, const wc_filter* f) {
+    int n = g->n;
+    for (int i = 0; i < n; ++i) {
+        const double* S = f->S + 9 * i;
+        float* p = g_buf + 4 * i;
+        p[0] = (float)S[0], p[1] = (float)S[1], p[2] = (float)S[2], p[3] = (float)S[4];
+    }
+    wg_array_upload(g, &g->S0, n, g_buf);
+    for (int i = 0; i < n; ++i) {
+        const double* S = f->S + 9 * i;
+        float* p = g_buf + 4 * i;
+        p[0] = (float)S[5], p[1] = (float)S[8], p[2] = (float)f->ndof[i], p[3] = 0.0f;
+    }
+    wg_array_upload(g, &g->S1, n, g_buf);
+    upload3(g, &g->z, f->z);
+}
+
+/* S (n x 9), ndof (n), z (n x 3) of the GPU filter. */
+static void read_filter(wg_sim* g, double* S, int* ndof, double* z) {
+    int n = g->n;
+    float* b1 = malloc((size_t)n * 16);
+    wg_array_read(g, &g->S0, n, g_buf);
+    wg_array_read(g, &g->S1, n, b1);
+    for (int i = 0; i < n; ++i) {
+        const float* a = g_buf + 4 * i;
+        const float* b = b1 + 4 * i;
+        double m[9] = {a[0], a[1], a[2], a[1], a[3], b[0], a[2], b[0], b[1]};
+        memcpy(S + 9 * i, m, sizeof m);
+        ndof[i] = (int)b[2];
+    }
+    free(b1);
+    read3(g, &g->z, z);
+}
+
+static void upload_A(wg_sim* g, const double* A) {
+    int nb = g->nb;
+    float* lo = malloc((size_t)nb * 16);
+    float* hi = malloc((size_t)nb * 8);
+    for (int k = 0; k < nb; ++k) {
+        const double* a = A + 9 * k;
+        lo[4 * k] = (float)a[0], lo[4 * k + 1] = (float)a[1], lo[4 * k + 2] = (float)a[2], lo[4 * k + 3] = (float)a[4];
+        hi[2 * k] = (float)a[5], hi[2 * k + 1] = (float)a[8];
+    }
+    wg_array_upload(g, &g->A0, nb, lo);
+    wg_array_upload(g, &g->A1, nb, hi);
+    free(lo);
+    free(hi);
+}
+
+static void read_A(wg_sim* g, double* A) {
+    int nb = g->nb;
+    float* lo = malloc((size_t)nb * 16);
+    float* hi = malloc((size_t)nb * 16);
+    wg_array_read(g, &g->A0, nb, lo);
+    wg_array_read(g, &g->A1, nb, hi);
+    for (int k = 0; k < nb; ++k) {
+        const float* a = lo + 4 * k;
+        const float* b = hi + 4 * k;
+        double m[9] = {a[0], a[1], a[2], a[1], a[3], b[0], a[2], b[0], b[1]};
+        memcpy(A + 9 * k, m, sizeof m);
+    }
+    free(lo);
+    free(hi);
+}
+
+/* max |a - b| / scale over n values, scale = 1 + max |b| (absolute near 1, relative above). */
+static double err_of(const double* a, const double* b, int n) {
+    double e = 0, s = 0;
+    for (int i = 0; i < n; ++i) {
+        double d = fabs(a[i] - b[i]);
+        if (d > e) e = d;
+        if (fabs(b[i]) > s) s = fabs(b[i]);
+    }
+    return e / (1.0 + s);
+}
+
+/* GPU contact state read back through wg_contacts_download into a scratch wc_contacts. */
+typedef struct snap {
+    int* collider;
+    double* normal;
+    unsigned char* released;
+    unsigned char* stick;
+    int active;
+} snap;
+
+static void take_gpu(wg_sim* g, wc_state* s, snap* out) {
+    /* download into s->contacts_save's arrays (unused by these tests), then copy out */
+    wc_contacts keep = s->contacts;
+    wc_contacts tmp = keep;
+    tmp.collider = out->collider;
+    tmp.normal = out->normal;
+    tmp.released = out->released;
+    tmp.stick = out->stick;
+    s->contacts = tmp;
+    wg_contacts_download(g, s);
+    out->active = s->contacts.active;
+    s->contacts = keep;
+}
+
+static int compare_contacts(const wc_contacts* ct, const snap* gs, int n, int with_stick, const char* what) {
+    int bad_id = 0, bad_rel = 0, bad_stick = 0;
+    double en = 0;
+    for (int i = 0; i < n; ++i) {
+        if (ct->collider[2 * i] != gs->collider[2 * i] || ct->collider[2 * i + 1] != gs->collider[2 * i + 1]) {
+            if (bad_id < 3)
+                printf("    %s: particle %d colliders cpu (%d %d) gpu (%d %d)\n", what, i, ct->collider[2 * i],
+                       ct->collider[2 * i + 1], gs->collider[2 * i], gs->collider[2 * i + 1]);
+            ++bad_id;
+        }
+        bad_rel += ct->released[i] != gs->released[i];
+        if (with_stick) bad_stick += ct->stick[i] != gs->stick[i];
+        for (int c = 0; c < 6; ++c) {
+            double d = fabs(ct->normal[6 * i + c] - gs->normal[6 * i + c]);
+            if (ct->collider[2 * i + c / 3] >= 0 && d > en) en = d;
+        }
+    }
+    printf("    %s: collider ids %d differ, released %d, stick %d, normals err %.2g\n", what, bad_id, bad_rel,
+           bad_stick, en);
+    CHECK_EQ_INT(bad_id, 0);
+    CHECK_EQ_INT(bad_rel, 0);
+    CHECK_EQ_INT(bad_stick, 0);
+    CHECK(en < 2e-5);
+    return bad_id + bad_rel + bad_stick;
+}
+
+static void compare_filter(wg_sim* g, const wc_filter* f, const char* what, int* n_stick) {
+    int n = g->n;
+    double* S = malloc((size_t)n * 9 * sizeof(double));
+    double* z = malloc((size_t)n * 3 * sizeof(double));
+    int* nd = malloc((size_t)n * sizeof(int));
+    read_filter(g, S, nd, z);
+    int bad_nd = 0, stick = 0;
+    for (int i = 0; i < n; ++i) {
+        bad_nd += nd[i] != f->ndof[i];
+        stick += f->ndof[i] == 3;
+    }
+    double eS = err_of(S, f->S, 9 * n), ez = err_of(z, f->z, 3 * n);
+    printf("    %s: ndof %d differ (%d particles ndof 3), S err %.2g, z err %.2g\n", what, bad_nd, stick, eS, ez);
+    CHECK_EQ_INT(bad_nd, 0);
+    CHECK(eS < 1e-5);
+    CHECK(ez < 1e-5);
+    if (n_stick) *n_stick = stick;
+    free(S);
+    free(z);
+    free(nd);
+}
+
+/* ---- the scenario ---------------------------------------------------------------------------- */
+
+static void scatter(wc_state* s, const wc_collider* c, int nc, double h) {
+    int n = s->model->n_particles;
+    for (int i = 0; i < n; ++i) {
+        double* x = s->x + 3 * i;
+        double* v = s->v + 3 * i;
+        x[0] = srnd(0.5), x[1] = srnd(0.3), x[2] = srnd(0.5);
+        /* onto collider 0's shell, offset along its normal by [-0.03, 0.03] */
+        double nrm[3], d = wc_collider_distance(&c[0], x, nrm);
+        double off = c[0].thickness + srnd(0.03) - d;
+        for (int k = 0; k < 3; ++k) x[k] += off * nrm[k];
+        double speed = (i % 3 == 0) ? 0.01 : (i % 3 == 1 ? 0.3 : 2.0);
+        for (int k = 0; k < 3; ++k) v[k] = srnd(speed) + c[0].velocity[k];
+        /* a few coming in at the right speed to land this substep */
+        if (i % 7 == 3)
+            for (int k = 0; k < 3; ++k) v[k] -= nrm[k] * (0.02 / h);
+    }
+    frv(s->x, 3 * n);
+    frv(s->v, 3 * n);
+    /* the last substep's contact state: held with collider 0 (or both), released, or none */
+    wc_contacts* ct = &s->contacts;
+    for (int i = 0; i < n; ++i) {
+        int r = (int)(urand() * 6);
+        ct->collider[2 * i] = ct->collider[2 * i + 1] = -1;
+        for (int q = 0; q < 6; ++q) ct->normal[6 * i + q] = 0.0;
+        ct->released[i] = 0;
+        ct->stick[i] = 0;
+        if (r <= 1) {
+            ct->collider[2 * i] = 0;
+            wc_collider_distance(&c[0], s->x + 3 * i, ct->normal + 6 * i);
+            if (r == 1 && nc > 1) {
+                ct->collider[2 * i + 1] = 1;
+                wc_collider_distance(&c[1], s->x + 3 * i, ct->normal + 6 * i + 3);
+            }
+        } else if (r == 2) {
+            ct->released[i] = 1;
+        }
+        frv(ct->normal + 6 * i, 6);
+    }
+    /* pins: particle 0 fixed, 1 on a line, 2 a stale contact row (ndof 1, rewritten) */
+    wc_filter* f = &s->filter;
+    for (int i = 0; i < n; ++i) wc_filter_free_particle(f, i);
+    memset(f->S, 0, 9 * sizeof(double));
+    f->z[0] = 0.125;
+    f->ndof[0] = 3;
+    memset(f->S + 9, 0, 9 * sizeof(double));
+    f->S[9] = 1.0;
+    f->z[3 + 1] = 0.0625;
+    f->ndof[1] = 2;
+    f->S[18 + 4] = 0.0;
+    f->ndof[2] = 1;
+}
+
+/* A = M + small symmetric blocks (diagonal ones SPD-ish), b = h f + noise, f = weight into the
+ * collider + tangential noise. */
+static void synth_system(const wc_state* s, const wc_collider* c, double h, double* A, double* b, double* f) {
+    const wc_model* m = s->model;
+    const wc_bsr_pattern* p = &m->pattern;
+    int n = m->n_particles;
+    double mass_avg = s->total_mass / n;
+    memset(A, 0, (size_t)p->n_blocks * 9 * sizeof(double));
+    for (int i = 0; i < n; ++i) {
+        for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k) {
+            int j = p->col[k];
+            if (j < i) continue;
+            double e[9];
+            double sc = (j == i ? 0.3 : 0.05) * mass_avg;
+            for (int r = 0; r < 3; ++r)
+                for (int q = r; q < 3; ++q) e[3 * r + q] = e[3 * q + r] = srnd(sc);
+            if (j == i)
+                for (int r = 0; r < 3; ++r) e[4 * r] = m->mass[i] + fabs(e[4 * r]) + 0.3 * mass_avg;
+            for (int q = 0; q < 9; ++q) A[9 * k + q] = A[9 * p->transpose[k] + q] = fr(e[q]);
+        }
+        double nrm[3];
+        wc_collider_distance(&c[0], s->x + 3 * i, nrm);
+        double scale = (i % 4 == 0) ? 0.2 : (i % 4 == 1 ? 3.0 : 30.0);
+        for (int k = 0; k < 3; ++k) {
+            f[3 * i + k] = fr(-9.81 * m->mass[i] * nrm[k] + srnd(scale * 9.81 * m->mass[i]));
+            b[3 * i + k] = fr(h * f[3 * i + k] + srnd(0.05 * m->mass[i]));
+        }
+    }
+}
+
+static void run_case(int kind, int moving, unsigned long long seed) {
+    static const char* names[] = {"plane", "sphere", "capsule"};
+    printf("  %s, collider %s:\n", names[kind], moving ? "moving" : "still");
+    rng = seed;
+    wc_model m;
+    CHECK(ts_sheet(&m, 6, 1.0, 0.0, 0, 1.0));
+    wc_sim_def sd = wc_default_sim_def();
+    sd.solver.type = WC_SOLVER_PCG;
+    sd.threads = 1;
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    wc_collider c[2];
+    int nc = make_colliders(kind, moving, c);
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, nc, &d), WEFT_OK);
+    memcpy(c, s->colliders, (size_t)nc * sizeof *c);
+    const double h = 1.0 / 60.0;
+    int n = m.n_particles, nb = m.pattern.n_blocks;
+    scatter(s, c, nc, h);
+
+    wg_sim* g = NULL;
+    CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+    if (!g) {
+        printf("    wg_sim_create: %s\n", d.message);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+        return;
+    }
+    CHECK(g->contacts != NULL);
+    g_buf = realloc(g_buf, (size_t)(n > nb ? n : nb) * 16);
+    wg_sim_upload(g, s, &d);
+    wg_contacts_upload(g, s);
+    upload_filter(g, &s->filter);
+
+    double* x = malloc((size_t)n * 3 * sizeof(double));
+    double* A = malloc((size_t)nb * 9 * sizeof(double));
+    double* Ag = malloc((size_t)nb * 9 * sizeof(double));
+    double* b = malloc((size_t)n * 3 * sizeof(double));
+    double* f = malloc((size_t)n * 3 * sizeof(double));
+    double* dv = malloc((size_t)n * 3 * sizeof(double));
+    double* r = malloc((size_t)n * 3 * sizeof(double));
+    snap gs = {malloc((size_t)n * 2 * sizeof(int)), malloc((size_t)n * 6 * sizeof(double)), malloc((size_t)n),
+               malloc((size_t)n), 0};
+    snap before = {malloc((size_t)n * 2 * sizeof(int)), malloc((size_t)n * 6 * sizeof(double)), malloc((size_t)n),
+                   malloc((size_t)n), 0};
+
+    /* upload / download round trip */
+    take_gpu(g, s, &gs);
+    compare_contacts(&s->contacts, &gs, n, 1, "upload/download");
+
+    /* 1. begin */
+    g->x.keep = g->x.cur;   /* as the step's save does */
+    g->v.keep = g->v.cur;
+    wg_contacts_save(g);
+    int x_start = g->x.cur, v_start = g->v.cur;
+    take_gpu(g, s, &before);
+    int act_cpu = wc_contacts_begin(&s->contacts, c, nc, s->x, s->v, h, &s->filter, &s->par);
+    wg_contacts_begin(g, s, h);
+    read3(g, wg_ring_cur(&g->x), x);
+    double ex = err_of(x, s->x, 3 * n);
+    int act_gpu = wg_contacts_active(g);
+    int two = 0;
+    for (int i = 0; i < n; ++i) two += s->contacts.collider[2 * i + 1] >= 0;
+    printf("    begin: %d in contact (%d with two), gpu %d; x err %.2g\n", act_cpu, two, act_gpu, ex);
+    CHECK_EQ_INT(act_gpu, act_cpu);
+    CHECK(act_cpu > n / 4);
+    CHECK(ex < 1e-5);
+    compare_filter(g, &s->filter, "begin", NULL);
+    take_gpu(g, s, &gs);
+    compare_contacts(&s->contacts, &gs, n, 1, "begin");
+
+    /* save / restore: back to the state before begin, then forward again */
+    wg_contacts_restore(g);
+    take_gpu(g, s, &gs);
+    int diff = memcmp(gs.collider, before.collider, (size_t)n * 2 * sizeof(int)) != 0 ||
+               memcmp(gs.normal, before.normal, (size_t)n * 6 * sizeof(double)) != 0 ||
+               memcmp(gs.released, before.released, (size_t)n) != 0;
+    CHECK(!diff);
+    CHECK_EQ_INT(wg_contacts_active(g), before.active);
+    /* redo begin on the GPU from the original input (x, filter were changed: re-upload) */
+    {
+        wc_state* s2 = NULL;
+        CHECK_EQ_INT(wc_state_create(&s2, &m, &sd, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s2, c, nc, &d), WEFT_OK);
+        rng = seed;
+        scatter(s2, c, nc, h);
+        wg_sim_upload(g, s2, &d);
+        upload_filter(g, &s2->filter);
+        wc_state_destroy(s2);
+    }
+    wg_contacts_begin(g, s, h);
+    read3(g, wg_ring_cur(&g->x), x);
+    CHECK(err_of(x, s->x, 3 * n) < 1e-5);
+    take_gpu(g, s, &gs);
+    compare_contacts(&s->contacts, &gs, n, 1, "begin after restore");
+
+    /* 2. friction */
+    synth_system(s, c, h, A, b, f);
+    upload_A(g, A);
+    upload3(g, &g->b, b);
+    upload3(g, &g->ftot, f);
+    int st_cpu = wc_contacts_friction(&s->contacts, c, nc, s->v, m.mass, f, h, &s->filter, A, m.pattern.diag, b,
+                                      &s->par);
+    wg_contacts_friction(g, s, h);
+    int n_stick = 0;
+    compare_filter(g, &s->filter, "friction", &n_stick);
+    take_gpu(g, s, &gs);
+    compare_contacts(&s->contacts, &gs, n, 1, "friction");
+    read_A(g, Ag);
+    double eA = err_of(Ag, A, 9 * nb);
+    double* bg = malloc((size_t)n * 3 * sizeof(double));
+    read3(g, &g->b, bg);
+    double eb = err_of(bg, b, 3 * n);
+    int slides = 0;
+    for (int i = 0; i < n; ++i) slides += s->contacts.collider[2 * i] >= 0 && !s->contacts.stick[i];
+    printf("    friction: %d stick, %d slide; A err %.2g, b err %.2g\n", st_cpu, slides, eA, eb);
+    CHECK(st_cpu > 0);
+    CHECK(slides > 0);
+    CHECK(eA < 1e-5);
+    CHECK(eb < 1e-5);
+
+    /* 3b. recheck: dv a guess, r = A dv - b */
+    for (int i = 0; i < 3 * n; ++i) dv[i] = fr(srnd(0.5));
+    upload3(g, &g->sv[0], dv);
+    for (int i = 0; i < n; ++i) {
+        double y[3] = {0, 0, 0};
+        for (int k = m.pattern.row_start[i]; k < m.pattern.row_start[i + 1]; ++k) {
+            const double* a = A + 9 * k;
+            const double* xj = dv + 3 * m.pattern.col[k];
+            for (int q = 0; q < 3; ++q) y[q] += a[3 * q] * xj[0] + a[3 * q + 1] * xj[1] + a[3 * q + 2] * xj[2];
+        }
+        for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
+    }
+    int ch_cpu = wc_contacts_friction_recheck(&s->contacts, c, nc, s->v, m.mass, r, &s->filter, A, m.pattern.diag, b,
+                                              &s->par);
+    int ch_gpu = wg_contacts_recheck(g, s, &g->sv[0], h);
+    compare_filter(g, &s->filter, "recheck", NULL);
+    take_gpu(g, s, &gs);
+    compare_contacts(&s->contacts, &gs, n, 1, "recheck");
+    read_A(g, Ag);
+    read3(g, &g->b, bg);
+    eA = err_of(Ag, A, 9 * nb);
+    eb = err_of(bg, b, 3 * n);
+    printf("    recheck: %d sticks let go (gpu says changed: %d); A err %.2g, b err %.2g\n", ch_cpu, ch_gpu, eA, eb);
+    CHECK_EQ_INT(ch_gpu, ch_cpu > 0);
+    CHECK(eA < 1e-5);
+    CHECK(eb < 1e-5);
+
+    /* 4. end: a second guess, r = A dv - b with the system as it is now */
+    for (int i = 0; i < 3 * n; ++i) dv[i] = fr(srnd(0.3));
+    upload3(g, &g->sv[1], dv);
+    /* use the GPU's A and b (float) on both sides, so that the sign of each impulse is decided
+       on the same numbers */
+    memcpy(A, Ag, (size_t)nb * 9 * sizeof(double));
+    memcpy(b, bg, (size_t)n * 3 * sizeof(double));
+    for (int i = 0; i < n; ++i) {
+        double y[3] = {0, 0, 0};
+        for (int k = m.pattern.row_start[i]; k < m.pattern.row_start[i + 1]; ++k) {
+            const double* a = A + 9 * k;
+            const double* xj = dv + 3 * m.pattern.col[k];
+            for (int q = 0; q < 3; ++q) y[q] += a[3 * q] * xj[0] + a[3 * q + 1] * xj[1] + a[3 * q + 2] * xj[2];
+        }
+        for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
+    }
+    wc_contacts_end(&s->contacts, nc, r, &s->par);
+    wg_contacts_end(g, s, &g->sv[1]);
+    int rel = 0;
+    for (int i = 0; i < n; ++i) rel += s->contacts.released[i];
+    act_gpu = wg_contacts_active(g);
+    printf("    end: %d still in contact (gpu %d), %d released\n", s->contacts.active, act_gpu, rel);
+    CHECK_EQ_INT(act_gpu, s->contacts.active);
+    CHECK(rel > 0);
+    take_gpu(g, s, &gs);
+    compare_contacts(&s->contacts, &gs, n, 1, "end");
+
+    /* 5. project: positions advanced by h v from the corrected ones, v as given */
+    read3(g, wg_ring_cur(&g->x), x);
+    for (int i = 0; i < 3 * n; ++i) s->x[i] = fr(x[i] + h * s->v[i] * 2.0);
+    upload3(g, wg_ring_cur(&g->x), s->x);
+    int moved = wc_contacts_project(&s->contacts, c, nc, &s->filter, s->x, s->v, &s->par);
+    wg_contacts_project(g, s);
+    /* the substep's start (saved) is never written: a rollback can return to it */
+    CHECK(g->x.cur != x_start);
+    CHECK(g->v.cur != v_start);
+    double* vg = malloc((size_t)n * 3 * sizeof(double));
+    read3(g, wg_ring_cur(&g->x), x);
+    read3(g, wg_ring_cur(&g->v), vg);
+    double epx = err_of(x, s->x, 3 * n), epv = err_of(vg, s->v, 3 * n);
+    printf("    project: %d moved; x err %.2g, v err %.2g\n", moved, epx, epv);
+    CHECK(moved > 0);
+    CHECK(epx < 1e-5);
+    CHECK(epv < 1e-5);
+    /* nothing on the GPU is left inside a shell */
+    double worst = 0;
+    for (int i = 1; i < n; ++i)
+        for (int k = 0; k < nc; ++k) {
+            double nn[3], dd = wc_collider_distance(&c[k], x + 3 * i, nn) - c[k].thickness;
+            if (-dd > worst) worst = -dd;
+        }
+    printf("    project: deepest left %.2g m\n", worst);
+    CHECK(worst < 1e-5);
+
+    free(vg);
+    free(bg);
+    free(x), free(A), free(Ag), free(b), free(f), free(dv), free(r);
+    free(gs.collider), free(gs.normal), free(gs.released), free(gs.stick);
+    free(before.collider), free(before.normal), free(before.released), free(before.stick);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* max_colliders 0: nothing is allocated, the hooks are no-ops. */
+static void test_no_capacity(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, 3, 1.0, 0.0, 0, 1.0));
+    wc_sim_def sd = wc_default_sim_def();
+    sd.solver.type = WC_SOLVER_PCG;
+    sd.max_colliders = 0;
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    wg_sim* g = NULL;
+    CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+    if (g) {
+        CHECK(g->contacts == NULL);
+        CHECK_EQ_INT(wg_contacts_active(g), 0);
+        wg_sim_destroy(g);
+    }
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* Through the step (wg_step.c drives the hooks): a 16 x 16 sheet dropped on a sphere or capsule
+ * over a floor plane, as test_step_contacts' "nothing ends inside" on the CPU; the GPU run ends
+ * with contacts and nothing inside a shell (float: a few ulps), and stays near the CPU run. */
+static void test_drop_frames(void) {
+    for (int type = 1; type < 3; ++type) {
+        int n = 16;
+        wc_model m;
+        CHECK(ts_sheet(&m, n, 1.0, 0.8, 0, 1.0));
+        wc_sim_def sd = wc_default_sim_def();
+        sd.solver.type = WC_SOLVER_PCG;
+        sd.threads = 1;
+        wc_state *s = NULL, *sc = NULL;
+        wc_diag d = {0};
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_create(&sc, &m, &sd, NULL, &d), WEFT_OK);
+        wc_collider c[2];
+        memset(c, 0, sizeof c);
+        c[0].type = type;
+        c[0].thickness = 0.01;
+        c[0].friction = 0.4;
+        if (type == WC_COLLIDER_SPHERE) {
+            c[0].center[0] = 0.05, c[0].center[1] = 0.3, c[0].center[2] = 0.02;
+            c[0].radius = 0.3;
+        } else {
+            c[0].a[0] = -0.6, c[0].a[1] = 0.25, c[0].a[2] = 0.1;
+            c[0].b[0] = 0.6, c[0].b[1] = 0.3, c[0].b[2] = -0.1;
+            c[0].radius = 0.15;
+        }
+        c[1].type = WC_COLLIDER_PLANE;
+        c[1].normal[1] = 1.0;
+        c[1].thickness = 0.01;
+        c[1].friction = 0.4;
+        CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(sc, c, 2, &d), WEFT_OK);
+        wg_sim* g = NULL;
+        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+        if (!g) {
+            printf("  wg_sim_create: %s\n", d.message);
+            wc_state_destroy(s), wc_state_destroy(sc), wc_model_free(&m);
+            continue;
+        }
+        weft_status st = WEFT_OK;
+        wc_step_stats gst, cst;
+        memset(&gst, 0, sizeof gst);
+        memset(&cst, 0, sizeof cst);
+        for (int f = 0; f < 45 && st == WEFT_OK; ++f) {
+            st = wg_sim_step_frame(g, s, 1.0 / 30, &gst, &d);
+            CHECK_EQ_INT(wc_step_frame(sc, 1.0 / 30, &cst, &d), WEFT_OK);
+        }
+        CHECK_EQ_INT(st, WEFT_OK);
+        if (st != WEFT_OK) printf("  step: %s\n", d.message);
+        CHECK_EQ_INT(wg_sim_download(g, s, &d), WEFT_OK);
+        int np = m.n_particles;
+        double worst = 0, diff = 0;
+        for (int i = 0; i < np; ++i) {
+            for (int k = 0; k < 2; ++k) {
+                double nn[3], dd = c[k].thickness - wc_collider_distance(&c[k], s->x + 3 * i, nn);
+                if (dd > worst) worst = dd;
+            }
+            for (int k = 0; k < 3; ++k) diff = fmax(diff, fabs(s->x[3 * i + k] - sc->x[3 * i + k]));
+        }
+        printf("  %s: gpu %d in contact (cpu %d), deepest %.2g m, max |x_gpu - x_cpu| %.3g m\n",
+               type == 1 ? "sphere" : "capsule", gst.contacts, cst.contacts, worst, diff);
+        CHECK(gst.contacts > 0);
+        CHECK(worst < 1e-5);
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_state_destroy(sc);
+        wc_model_free(&m);
+    }
+}
+
+/* Friction through the step: a sheet lying on a floor under gravity tilted by 20 degrees
+ * (tan = 0.36): with mu 0.6 it stays put, with mu 0.2 it slides at g (sin - mu cos); the GPU's
+ * mean displacement after 1 s matches the CPU's. */
+static void test_incline(void) {
+    const double th = 20.0 * 3.14159265358979323846 / 180.0;
+    for (int run = 0; run < 2; ++run) {
+        double mu = run == 0 ? 0.6 : 0.2;
+        wc_model m;
+        CHECK(ts_sheet(&m, 8, 0.5, 0.01, 0, 1.0));
+        wc_sim_def sd = wc_default_sim_def();
+        sd.solver.type = WC_SOLVER_PCG;
+        sd.threads = 1;
+        sd.gravity[0] = 9.81 * sin(th), sd.gravity[1] = -9.81 * cos(th), sd.gravity[2] = 0.0;
+        wc_state *s = NULL, *sc = NULL;
+        wc_diag d = {0};
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_create(&sc, &m, &sd, NULL, &d), WEFT_OK);
+        wc_collider c;
+        memset(&c, 0, sizeof c);
+        c.type = WC_COLLIDER_PLANE;
+        c.normal[1] = 1.0;
+        c.thickness = 0.01;
+        c.friction = mu;
+        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(sc, &c, 1, &d), WEFT_OK);
+        wg_sim* g = NULL;
+        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+        if (!g) {
+            wc_state_destroy(s), wc_state_destroy(sc), wc_model_free(&m);
+            continue;
+        }
+        int np = m.n_particles;
+        double x0 = 0;
+        for (int i = 0; i < np; ++i) x0 += s->x[3 * i] / np;
+        wc_step_stats gst, cst;
+        weft_status st = WEFT_OK;
+        for (int f = 0; f < 30 && st == WEFT_OK; ++f) {
+            st = wg_sim_step_frame(g, s, 1.0 / 30, &gst, &d);
+            CHECK_EQ_INT(wc_step_frame(sc, 1.0 / 30, &cst, &d), WEFT_OK);
+        }
+        CHECK_EQ_INT(st, WEFT_OK);
+        CHECK_EQ_INT(wg_sim_download(g, s, &d), WEFT_OK);
+        double xg = 0, xc = 0;
+        for (int i = 0; i < np; ++i) xg += s->x[3 * i] / np, xc += sc->x[3 * i] / np;
+        xg -= x0, xc -= x0;
+        double expect = mu > tan(th) ? 0.0 : 0.5 * 9.81 * (sin(th) - mu * cos(th));
+        printf("  mu %.1f: slid %.4f m on the GPU, %.4f m on the CPU (particle alone: %.4f); %d / %d in contact\n",
+               mu, xg, xc, expect, gst.contacts, cst.contacts);
+        CHECK(fabs(xg - xc) < 1e-3 + 0.02 * fabs(xc));
+        CHECK_EQ_INT(gst.contacts, cst.contacts);
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_state_destroy(sc);
+        wc_model_free(&m);
+    }
+}
+
+static void test_cases(void) {
+    for (int kind = 0; kind < 3; ++kind)
+        for (int moving = 0; moving < 2; ++moving) run_case(kind, moving, 0x1234567ull + 977ull * kind + moving);
+    CHECK(glGetError() == GL_NO_ERROR);
+}
+
+int main(void) {
+    wg_gl_context_desc desc;
+    memset(&desc, 0, sizeof desc);
+    char err[1024];
+    if (wg_gl_context_create(&desc, &g_ctx, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "no headless GL context: %s\n", err);
+        return 1;
+    }
+    if (wg_gl_begin(g_ctx, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "wg_gl_begin: %s\n", err);
+        return 1;
+    }
+    if (wg_device_create(g_ctx, &g_dev, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "wg_device_create: %s\n", err);
+        return 1;
+    }
+    RUN_TEST(test_cases);
+    RUN_TEST(test_no_capacity);
+    RUN_TEST(test_drop_frames);
+    RUN_TEST(test_incline);
+    wg_device_destroy(g_dev);
+    wg_gl_end(g_ctx);
+    wg_gl_context_destroy(g_ctx);
+    free(g_buf);
+    return TEST_SUMMARY();
+}

@@ -1,0 +1,334 @@
+/* The GPU FBO solver (gpu/solver) against the CPU code on the same input, on a real EGL context
+ * (llvmpipe without a GPU): the assembled system (A and b, relative 1e-5 in float), the filter,
+ * SpMV, reductions on sizes that are not powers of two, every GPU solver against CHOLMOD's
+ * direct solve of the same system, and whole runs GPU vs CPU. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "egl_context.h"
+#include "solver_impl.h"
+#include "step.h"
+#include "test_support.h"
+#include "wg_sim.h"
+
+static wg_gl_context* gl;
+static wg_device* dev;
+
+static double max_abs(const double* a, int n) {
+    double m = 0.0;
+    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i]));
+    return m;
+}
+
+static double max_diff(const double* a, const double* b, int n) {
+    double m = 0.0;
+    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i] - b[i]));
+    return m;
+}
+
+/* A hanging n x n sheet pinned at its two top corners (the thesis's scene), stepped `warm`
+ * frames on the CPU so that the system is not the trivial rest one. */
+static wc_state* sheet_state(wc_model* m, int n, wc_solver_type solver, int warm, int vertical) {
+    if (!ts_sheet(m, n, 1.0, 1.0, vertical, 1.0)) return NULL;
+    wc_sim_def def = wc_default_sim_def();
+    def.solver.type = solver;
+    def.sleep_speed = 0.0;
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) {
+        fprintf(stderr, "state: %s\n", d.message);
+        return NULL;
+    }
+    wc_pin pins[2] = {{ts_sheet_particle(m, n, 0, n - 1), {0, 0, 0}, {0, 0, 0}},  /* top corners */
+                      {ts_sheet_particle(m, n, n - 1, n - 1), {0, 0, 0}, {0, 0, 0}}};
+    for (int k = 0; k < 2; ++k) memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
+    wc_state_set_pins(s, pins, 2, &d);
+    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    /* the same input on both backends: the state rounded to what the GPU's float textures hold */
+    for (int k = 0; k < 3 * m->n_particles; ++k) {
+        s->x[k] = (float)s->x[k];
+        s->v[k] = (float)s->v[k];
+        s->dv[k] = (float)s->dv[k];
+    }
+    for (int k = 0; k < s->n_pins; ++k)
+        for (int c = 0; c < 3; ++c) s->pins[k].target[c] = s->pin_from[3 * k + c] = (float)s->pins[k].target[c];
+    return s;
+}
+
+static wc_state* hanging(wc_model* m, int n, wc_solver_type solver, int warm) {
+    return sheet_state(m, n, solver, warm, 1);
+}
+
+static void test_assembly_and_spmv(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 13, WC_SOLVER_PCG, 5);
+    CHECK(s != NULL);
+    if (!s) return;
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    if (!g) {
+        fprintf(stderr, "%s\n", d.message);
+        return;
+    }
+    int n = m.n_particles, nb = m.pattern.n_blocks;
+    double h = 1.0 / 30.0;
+    double* A = calloc((size_t)nb * 9, sizeof(double));
+    double* b = calloc((size_t)n * 3, sizeof(double));
+    double* S = calloc((size_t)n * 9, sizeof(double));
+    double* z = calloc((size_t)n * 3, sizeof(double));
+    unsigned char* ndof = calloc((size_t)n, 1);
+    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, A, b, S, z, ndof, NULL, &d) == WEFT_OK);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(s, h, 1.0, &st);
+    /* b is a small sum of large terms: spring forces k (l - rest) near equilibrium against gravity.
+       In float, l carries a rounding of ~6e-8 l, so each term k (l - rest) one of ~6e-8 k l: b's
+       error is relative to h k l, the size of the terms float rounds (A's to its largest entry). */
+    double sa = max_abs(s->A, 9 * nb), kl = 0.0;
+    for (int k = 0; k < m.n_springs; ++k) kl = fmax(kl, m.material.k[m.springs[k].type] * m.springs[k].rest);
+    double ea = max_diff(A, s->A, 9 * nb) / sa, eb = max_diff(b, s->b, 3 * n) / (h * kl);
+    printf("  13x13 sheet: A relative error %.2e, b %.2e (of h k l)\n", ea, eb);
+    CHECK(ea < 1e-5);
+    CHECK(eb < 1e-5);
+    CHECK(max_diff(S, s->filter.S, 9 * n) < 1e-6);
+    CHECK(max_diff(z, s->filter.z, 3 * n) < 1e-5 * (1.0 + max_abs(s->filter.z, 3 * n)));
+    int same_ndof = 1;
+    for (int i = 0; i < n; ++i) same_ndof &= ndof[i] == s->filter.ndof[i];
+    CHECK(same_ndof);
+
+    /* SpMV with the GPU's A against core's with the CPU's A */
+    double* x = calloc((size_t)n * 3, sizeof(double));
+    double* y = calloc((size_t)n * 3, sizeof(double));
+    double* yc = calloc((size_t)n * 3, sizeof(double));
+    srand(3);
+    for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
+    CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
+    wc_bsr_mul(&m.pattern, s->A, x, yc, &s->par);
+    double es = max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
+    printf("  SpMV relative error %.2e\n", es);
+    CHECK(es < 1e-5);
+    free(A), free(b), free(S), free(z), free(ndof), free(x), free(y), free(yc);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+static void test_reductions_and_large_sheet(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 300, WC_SOLVER_PCG, 0);   /* 90,000 particles */
+    CHECK(s != NULL);
+    if (!s) return;
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    if (!g) return;
+    const int sizes[] = {1, 7, 1000, 4097, 90000};
+    double* v = calloc(90000, sizeof(double));
+    for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; ++k) {
+        int n = sizes[k];
+        double sum = 0.0, mx = -1.0;
+        for (int i = 0; i < n; ++i) {
+            v[i] = 0.25 + (double)((i * 7919) % 1000) / 1000.0;
+            sum += (float)v[i];
+            mx = fmax(mx, (float)v[i]);
+        }
+        v[n / 2] = 3.5;   /* the maximum somewhere inside */
+        sum += 3.5 - (float)(0.25 + (double)(((n / 2) * 7919) % 1000) / 1000.0);
+        double gs = wg_sim_debug_reduce(g, v, n, 0), gm = wg_sim_debug_reduce(g, v, n, 1);
+        printf("  reduce %6d: sum %.7g (exact %.7g), max %.7g\n", n, gs, sum, gm);
+        CHECK(fabs(gs - sum) <= 1e-6 * sum + 1e-6);
+        CHECK(gm == 3.5);
+    }
+    free(v);
+    /* and the 300 x 300 sheet steps on the GPU (30 PCG iterations: llvmpipe is slow) */
+    s->def.solver.max_iterations = 30;
+    wc_step_stats st;
+    weft_status r = wg_sim_step_frame(g, s, 1.0 / 30.0, &st, &d);
+    CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
+    int finite = 1;
+    for (int k = 0; k < 3 * m.n_particles; ++k) finite &= isfinite(s->x[k]) != 0;
+    printf("  300 x 300 sheet: one frame on the GPU, status %d, %d iterations, max strain %.3g\n", (int)r,
+           st.iterations, st.max_strain);
+    CHECK(r == WEFT_OK);
+    CHECK(finite);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* Each GPU solver on a system from a real step against CHOLMOD on the same (CPU-assembled)
+ * system: converged to its tolerance, and the solution close to the direct one. */
+static void test_solvers_vs_direct(void) {
+    const wc_solver_type types[3] = {WC_SOLVER_PCG, WC_SOLVER_JACOBI, WC_SOLVER_CHEBYSHEV};
+    for (int k = 0; k < 3; ++k) {
+        wc_model m;
+        wc_state* s = hanging(&m, 10, types[k], 3);
+        CHECK(s != NULL);
+        if (!s) return;
+        s->def.solver.tolerance = 1e-4;
+        s->def.solver.max_iterations = types[k] == WC_SOLVER_JACOBI ? 30000 : 3000;
+        wc_diag d = {0};
+        wg_sim* g = NULL;
+        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+        if (!g) return;
+        int n = m.n_particles;
+        double h = 1.0 / 30.0;
+        CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+        wc_step_stats st;
+        memset(&st, 0, sizeof st);
+        wc_substep_prepare(s, h, 1.0, &st);
+        wc_solver* direct = NULL;
+        wc_solver_opts o = s->def.solver;
+        o.type = WC_SOLVER_DIRECT;
+        CHECK(wc_solver_create(&direct, &m, &o, 1, NULL, &d) == WEFT_OK);
+        double* ref = calloc((size_t)n * 3, sizeof(double));
+        double* dv = calloc((size_t)n * 3, sizeof(double));
+        wc_solve_result rd, rg;
+        CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WEFT_OK);
+        /* the same system on both (the CPU's A and b rounded to float): solvers, not assemblies, compared */
+        CHECK(wg_sim_debug_set_system(g, s->A, s->b, &d) == WEFT_OK);
+        weft_status gs = wg_sim_debug_solve(g, types[k], dv, &rg, &d);
+        double err = max_diff(dv, ref, 3 * n) / max_abs(ref, 3 * n);
+        /* the CPU's own solver at the same tolerance: the error any solver stopping there has */
+        wc_solver* cpu = NULL;
+        o.type = types[k];
+        CHECK(wc_solver_create(&cpu, &m, &o, 0, NULL, &d) == WEFT_OK);
+        double* dc = calloc((size_t)n * 3, sizeof(double));
+        wc_solve_result rc;
+        wc_solve(cpu, types[k], s->A, s->b, &s->filter, dc, &s->par, &rc);
+        double err_cpu = max_diff(dc, ref, 3 * n) / max_abs(ref, 3 * n);
+        if (types[k] == WC_SOLVER_CHEBYSHEV)
+            printf("  chebyshev rho: GPU %.6f, CPU %.6f\n", wg_sim_debug_rho(g), wc_solver_estimate_rho(cpu, s->A, &s->filter, &s->par));
+        printf("  %-9s GPU: %5d iterations, residual %.2e (%s), error vs CHOLMOD %.2e; CPU: %5d, %.2e, %.2e\n",
+               wc_solver_name(types[k]), rg.iterations, rg.residual, rg.converged ? "converged" : "not converged", err,
+               rc.iterations, rc.residual, err_cpu);
+        CHECK(gs == WEFT_OK);
+        CHECK(rg.converged);
+        CHECK(rg.residual <= 1e-4);
+        CHECK(err <= 3.0 * err_cpu + 1e-4);
+        free(dc);
+        wc_solver_destroy(cpu);
+        free(ref), free(dv);
+        wc_solver_destroy(direct);
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
+}
+
+/* A system that cannot be solved (a NaN velocity makes b non-finite): every GPU solver reports
+ * SOLVER_DIVERGED as the CPU does, and leaves a finite dv (= z). */
+static void test_divergence(void) {
+    const wc_solver_type types[3] = {WC_SOLVER_PCG, WC_SOLVER_JACOBI, WC_SOLVER_CHEBYSHEV};
+    for (int k = 0; k < 3; ++k) {
+        wc_model m;
+        wc_state* s = hanging(&m, 8, types[k], 0);
+        if (!s) return;
+        wc_diag d = {0};
+        s->v[3 * 5 + 1] = NAN;
+        wg_sim* g = NULL;
+        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+        if (!g) return;
+        int n = m.n_particles;
+        CHECK(wg_sim_debug_prepare(g, s, 1.0 / 30.0, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+        wc_solve_result r;
+        double* dv = calloc((size_t)n * 3, sizeof(double));
+        weft_status st = wg_sim_debug_solve(g, types[k], dv, &r, &d);
+        int finite = 1;
+        for (int q = 0; q < 3 * n; ++q) finite &= isfinite(dv[q]) != 0;
+        /* the CPU on the same input */
+        wc_step_stats sst;
+        memset(&sst, 0, sizeof sst);
+        wc_substep_prepare(s, 1.0 / 30.0, 1.0, &sst);
+        wc_solver* cpu = NULL;
+        CHECK(wc_solver_create(&cpu, &m, &s->def.solver, 0, NULL, &d) == WEFT_OK);
+        double* dc = calloc((size_t)n * 3, sizeof(double));
+        wc_solve_result rc;
+        weft_status sc = wc_solve(cpu, types[k], s->A, s->b, &s->filter, dc, &s->par, &rc);
+        printf("  %-9s NaN in b: GPU status %d, CPU status %d\n", wc_solver_name(types[k]), (int)st, (int)sc);
+        CHECK(finite);
+        CHECK(st == WEFT_ERROR_SOLVER_DIVERGED);
+        CHECK(sc == WEFT_ERROR_SOLVER_DIVERGED);
+        free(dv), free(dc);
+        wc_solver_destroy(cpu);
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
+}
+
+/* 60 frames of a sheet that starts horizontal and swings down from two corners, on both
+ * backends: the same trajectory within 0.2 % of the cloth's size with PCG, 2 % with Chebyshev. The remainder: float (GPU) vs
+ * double (CPU) arithmetic, amplified by solves that stop at a relative residual of 1e-4 (each
+ * backend's iterates differ at that level) over 60 chaotic-ish frames of a swinging sheet. */
+static void test_whole_run(void) {
+    const wc_solver_type types[2] = {WC_SOLVER_PCG, WC_SOLVER_CHEBYSHEV};
+    for (int k = 0; k < 2; ++k) {
+        wc_model m;
+        wc_state* c = sheet_state(&m, 16, types[k], 0, 0);
+        if (!c) return;
+        wc_state* s = NULL;
+        wc_diag d = {0};
+        wc_state_create(&s, &m, &c->def, NULL, &d);
+        wc_state_set_pins(s, c->pins, c->n_pins, &d);
+        wg_sim* g = NULL;
+        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+        if (!g) return;
+        int ok = 1, n = m.n_particles;
+        wc_step_stats sg, sc;
+        int iters_g = 0, iters_c = 0;
+        for (int f = 0; f < 60 && ok; ++f) {
+            ok &= wg_sim_step_frame(g, s, 1.0 / 30.0, &sg, &d) == WEFT_OK;
+            if (!ok) fprintf(stderr, "GPU frame %d: %s\n", f, d.message);
+            ok &= wc_step_frame(c, 1.0 / 30.0, &sc, &d) == WEFT_OK;
+            iters_g += sg.iterations;
+            iters_c += sc.iterations;
+        }
+        CHECK(ok);
+        CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
+        double e = max_diff(s->x, c->x, 3 * n);
+        double drop = c->x[3 * ts_sheet_particle(&m, 16, 0, 0) + 1] - 1.0;
+        printf("  60 frames, %-9s: max |x_gpu - x_cpu| = %.3g m on a 1 m sheet (its far corner moved %.3g m); "
+               "iterations GPU %d CPU %d\n", wc_solver_name(types[k]), e, drop, iters_g, iters_c);
+        CHECK(fabs(drop) > 0.3);
+        /* PCG converges every solve (|x| differences are float rounding carried by 60 frames);
+           Chebyshev stops at its 300-iteration cap in most frames on both backends, so each
+           follows its own unconverged iterates */
+        CHECK(e < (types[k] == WC_SOLVER_PCG ? 0.002 : 0.02));
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_state_destroy(c);
+        wc_model_free(&m);
+    }
+}
+
+int main(void) {
+    wg_gl_context_desc cd;
+    memset(&cd, 0, sizeof cd);
+    char err[512];
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "no GL context: %s\n", err);
+        return 1;
+    }
+    if (wg_gl_begin(gl, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "wg_gl_begin: %s\n", err);
+        return 1;
+    }
+    if (wg_device_create(gl, &dev, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "device: %s\n", err);
+        return 1;
+    }
+    printf("device: %s\n", dev->renderer);
+    RUN_TEST(test_assembly_and_spmv);
+    RUN_TEST(test_reductions_and_large_sheet);
+    RUN_TEST(test_solvers_vs_direct);
+    RUN_TEST(test_divergence);
+    RUN_TEST(test_whole_run);
+    wg_device_destroy(dev);
+    wg_gl_end(gl);
+    wg_gl_context_destroy(gl);
+    return TEST_SUMMARY();
+}
