@@ -11,7 +11,9 @@
  *   cloth_frame.c   weft_cloth_step: inertia, teleport, reset, pins, colliders, wind, step
  *   cloth_output.c  vertices, normals, triangles in host order
  *   snapshot.c      save/restore of the whole mutable state (also the step's rollback)
- *   render.c        weft_render: preview pictures through gpu/'s renderer (lazy EGL context) */
+ *   render.c        weft_render: preview pictures through gpu/'s renderer (lazy EGL context)
+ *   gpu_glue.c      the GPU backend: GL context + wg_device per context, wg_sim per cloth, the
+ *                   step's GPU pieces, outputs, weft_cloth_write_gl_buffers */
 #ifndef WEFT_PLUGIN_API_INTERNAL_H
 #define WEFT_PLUGIN_API_INTERNAL_H
 #include <stdint.h>
@@ -103,6 +105,9 @@ typedef struct wa_cloth {
     uint64_t model_hash;            /* fingerprint of the model (snapshot.c) */
     size_t snapshot_size;
     unsigned char* backup;          /* (snapshot_size) state before the running step */
+    void* gpu;                      /* wg_sim* on a GPU context (its state lives in textures and
+                                       state's x, v, dv and contact arrays are a mirror that is
+                                       filled only on demand: wa_gpu_download), else NULL */
 } wa_cloth;
 
 typedef struct wa_slot {
@@ -112,7 +117,7 @@ typedef struct wa_slot {
 
 struct weft_context {
     weft_context_def def;       /* as given (logger, level, threads) */
-    weft_backend backend;       /* CPU */
+    weft_backend backend;       /* CPU or GPU (never AUTO) */
     wc_allocator alloc;         /* bridge of def.allocator (also gpu/'s allocator) */
     wc_diag core_diag;          /* handed to core calls: forwards core's DEBUG..WARN to the logger
                                    (core's ERRORs come back as statuses and are reported once,
@@ -122,8 +127,11 @@ struct weft_context {
     uint32_t tag;               /* per-context handle tag (16 bits) */
     int n_slots, cap_slots;
     wa_slot* slots;
-    void* gl;                   /* wg_gl_context*, created by the first weft_render (render.c) */
+    void* gl;                   /* wg_gl_context*: created with the context on the GPU backend,
+                                   else by the first weft_render (render.c); one per context, shared
+                                   by the solver and the renderer */
     void* renderer;             /* wg_renderer* in it */
+    void* device;               /* wg_device* (GPU backend only): the solver's programs */
 };
 
 /* ---- context.c helpers ----------------------------------------------------------------------- */
@@ -187,6 +195,43 @@ int wa_outputs_in_range(const wa_cloth* c, const wa_xform* T, int* vertex, doubl
 /* Release the context's GL context and renderer (nothing when it never rendered). */
 void wa_render_release(weft_context* ctx);
 
+/* ---- gpu_glue.c: the GPU backend (WEFT_HAVE_GPU; stubs failing with UNSUPPORTED otherwise) ---- */
+
+/* Create the context's GL context and solver device (weft_context_create); on failure the
+ * message goes into err and nothing is kept. software: set to the device's software flag. */
+weft_status wa_gpu_context_init(weft_context* ctx, int probe_only_hardware, int* software, char* err, size_t err_len);
+/* Destroy the device (inside wg_gl_begin/end); the GL context is released by wa_render_release. */
+void wa_gpu_context_release(weft_context* ctx);
+/* Upload a freshly built cloth (weft_cloth_create); failures recorded with fn. */
+weft_status wa_gpu_cloth_create(weft_context* ctx, wa_cloth* c, const char* fn);
+void wa_gpu_cloth_destroy(wa_cloth* c);
+/* Read the GPU state (x, v, dv, contacts) into the CPU mirror / send the mirror. Recorded. */
+weft_status wa_gpu_download(weft_context* ctx, wa_cloth* c, const char* fn);
+weft_status wa_gpu_upload(weft_context* ctx, wa_cloth* c, const char* fn);
+/* GL access around a group of calls: begin records a failure with fn. */
+weft_status wa_gl_begin(weft_context* ctx, const char* fn);
+void wa_gl_end(weft_context* ctx);
+/* The same transfers inside wa_gl_begin/end (recorded with fn on failure). */
+weft_status wa_gpu_download_raw(weft_context* ctx, wa_cloth* c, const char* fn);
+weft_status wa_gpu_upload_raw(weft_context* ctx, wa_cloth* c, const char* fn);
+/* The step's pieces, inside wa_gl_begin/end: the textures' backup and its restore, the rigid
+ * change x' = Rx x + tx, v' = Rv v + dv (row-major), the frame, and the output range check
+ * (the GPU's max |coordinate| as a bound; the positions are downloaded only when the bound could
+ * pass WA_MAX_OUTPUT_COORD; a failed download sets *st and d). */
+/* upload (1) or download (0) with the failure in d only. */
+weft_status wa_gpu_transfer(wa_cloth* c, int upload, wc_diag* d);
+void wa_gpu_backup(wa_cloth* c);
+void wa_gpu_restore_backup(wa_cloth* c);
+void wa_gpu_transform(wa_cloth* c, const double* Rx, const double* tx, const double* Rv, const double* dv);
+weft_status wa_gpu_step_frame(wa_cloth* c, double dt, wc_step_stats* ss, wc_diag* d);
+int wa_gpu_outputs_in_range(wa_cloth* c, const wa_xform* T, int* vertex, double* value, weft_status* st,
+                            wc_diag* d);
+/* Host-order positions/normals of a GPU cloth (world, or object space with c->object and
+ * unit_scale) into float arrays or GL buffers (wg_sim_output). Inside wa_gl_begin/end. */
+weft_status wa_gpu_vertices(weft_context* ctx, wa_cloth* c, int object, float* positions, float* normals,
+                            unsigned position_buffer, size_t position_offset, unsigned normal_buffer,
+                            size_t normal_offset, const char* fn);
+
 /* ---- snapshot.c ------------------------------------------------------------------------------ */
 
 size_t wa_snapshot_size(const wa_cloth* c);
@@ -195,5 +240,9 @@ uint64_t wa_model_hash(const wa_cloth* c);
  * backup skips it); restore one written by this cloth without any check. */
 void wa_snapshot_write(const wa_cloth* c, unsigned char* buf, int checksum);
 void wa_snapshot_apply(wa_cloth* c, const unsigned char* buf);
+/* The step's backup of a GPU cloth: everything but x, v, dv and the contact arrays (those are
+ * backed up in textures by wg_sim_backup). Fits in the snapshot_size buffer. */
+void wa_snapshot_write_small(const wa_cloth* c, unsigned char* buf);
+void wa_snapshot_apply_small(wa_cloth* c, const unsigned char* buf);
 
 #endif

@@ -7,6 +7,7 @@
 void wa_cloth_free(wa_cloth* c) {
     if (!c) return;
     wc_allocator a = c->ctx->alloc;
+    wa_gpu_cloth_destroy(c);   /* inside the context's GL context */
     wc_state_destroy(c->state);
     wc_model_free(&c->model);
     void* arrays[] = {c->host_rest, c->attachments, c->attachment_xf, c->attachment_next, c->pin_particle,
@@ -167,6 +168,12 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
                        "%s: def->mesh: host vertex %d has a coordinate of %g (after unit_scale and transform), "
                        "beyond the %g the float outputs hold", fn, bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
     }
+    /* GPU backend: the model and the state built above go to textures (the direct solver is
+     * refused there: WEFT_ERROR_UNSUPPORTED with wg_sim_create's message) */
+    if (ctx->backend == WEFT_BACKEND_GPU && (st = wa_gpu_cloth_create(ctx, c, fn)) != WEFT_OK) {
+        wa_cloth_free(c);
+        return st;
+    }
     if (!wa_register(ctx, c, out)) {
         wa_cloth_free(c);
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (handle table)", fn);
@@ -192,6 +199,11 @@ weft_status weft_cloth_set_attachments(weft_context* ctx, weft_cloth cloth, cons
     if (!c) return WEFT_ERROR_INVALID_HANDLE;
     if (n < 0) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: n = %d is negative", fn, n);
     if (n > 0 && !attachments) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: attachments is NULL with n = %d", fn, n);
+    /* binding reads the current positions: a GPU cloth's mirror is refreshed first */
+    if (c->gpu) {
+        weft_status dst = wa_gpu_download(ctx, c, fn);
+        if (dst != WEFT_OK) return dst;
+    }
     weft_status st = wa_bind_attachments(ctx, c, attachments, n, fn, "attachments");
     return st == WEFT_OK ? wa_ok(ctx) : st;
 }

@@ -33,7 +33,13 @@
  * Sleeping (core/state.h): the core wakes the cloth itself when the pins' targets, the colliders
  * or the wind differ from the last frame's; RESET, TELEPORT and an inertia carry (rotated, or a
  * linear velocity change given to the cloth) wake it here. With the default inertia (1, 1) the
- * object transform does not touch the simulation, so it does not wake it either. */
+ * object transform does not touch the simulation, so it does not wake it either.
+ * GPU cloths (gpu_glue.c): the same validation and book-keeping; the backup is the textures'
+ * (wg_sim_backup) plus the book-keeping only (no read-back); inertia and teleport run as one rigid
+ * pass on the GPU (wg_sim_transform; the solver's warm start is not carried there), RESET sets the
+ * CPU mirror and uploads it; the range check takes the GPU's max |coordinate| as a bound and reads
+ * the positions back only when that bound could pass WA_MAX_OUTPUT_COORD. All of it inside one
+ * wa_gl_begin/end. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -116,6 +122,12 @@ static void teleport_state(wa_cloth* c, const wa_xform* T1) {
     wa_xform_inverse(&c->object, &inv0);
     m3_mul(dT.R, T1->R, inv0.R);
     wa_xform_point(T1, inv0.t, dT.t);
+    if (c->gpu) {   /* on the GPU: x' = dT x, v' = dT.R v */
+        const double zero[3] = {0.0, 0.0, 0.0};
+        wa_gpu_transform(c, dT.R, dT.t, dT.R, zero);
+        wc_state_wake(s);
+        return;
+    }
     for (int i = 0; i < n; ++i) wa_xform_point(&dT, s->x + 3 * i, s->x + 3 * i);
     rotate_vectors(s->v, n, dT.R);
     rotate_vectors(s->dv, n, dT.R);
@@ -136,7 +148,7 @@ static int inertia(wa_cloth* c, const wa_xform* T1, const double* V1, double* Rc
         wa_xform_inverse(&c->object, &inv);
         m3_mul(dR, T1->R, inv.R);
         rotated = wa_rotation_fraction(dR, cang, Rc);
-        if (rotated) {
+        if (rotated && !c->gpu) {
             rotate_points(s->x, n, Rc, p0);
             for (int i = 0; i < n; ++i) {
                 double d[3], o[3];
@@ -147,15 +159,29 @@ static int inertia(wa_cloth* c, const wa_xform* T1, const double* V1, double* Rc
             rotate_vectors(s->dv, n, Rc);
         }
     }
-    double clin = 1.0 - c->linear_inertia;
+    double clin = 1.0 - c->linear_inertia, dV[3] = {0.0, 0.0, 0.0};
+    int linear = 0;
     if (clin != 0.0) {
-        double dV[3];
         v3_sub(dV, V1, V0);
-        if (dV[0] != 0.0 || dV[1] != 0.0 || dV[2] != 0.0) {
+        linear = dV[0] != 0.0 || dV[1] != 0.0 || dV[2] != 0.0;
+        if (linear && !c->gpu)
             for (int i = 0; i < n; ++i) v3_axpy(s->v + 3 * i, clin, dV);
-            wc_state_wake(s);
-        }
     }
+    if (c->gpu && (rotated || linear)) {
+        /* one pass: x' = Rc x + (p0 - Rc p0), v' = Rc v + (V0 - Rc V0) + clin dV */
+        double Rx[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, tx[3] = {0.0, 0.0, 0.0}, dv[3] = {0.0, 0.0, 0.0};
+        if (rotated) {
+            double q[3];
+            memcpy(Rx, Rc, sizeof Rx);
+            m3_mulv(q, Rc, p0);
+            v3_sub(tx, p0, q);
+            m3_mulv(q, Rc, V0);
+            v3_sub(dv, V0, q);
+        }
+        if (linear) v3_axpy(dv, clin, dV);
+        wa_gpu_transform(c, Rx, tx, Rx, dv);
+    }
+    if (linear) wc_state_wake(s);
     if (rotated) wc_state_wake(s);
     return rotated;
 }
@@ -198,7 +224,16 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
     if (st != WEFT_OK) return st;
 
     wc_state* s = c->state;
-    wa_snapshot_write(c, c->backup, 0);
+    if (c->gpu) {
+        /* GPU cloth: the textures are backed up on the GPU, the book-keeping here; every GL call
+         * of the frame happens inside this one wa_gl_begin/end */
+        st = wa_gl_begin(ctx, fn);
+        if (st != WEFT_OK) return st;
+        wa_snapshot_write_small(c, c->backup);
+        wa_gpu_backup(c);
+    } else {
+        wa_snapshot_write(c, c->backup, 0);
+    }
     const double dt = fr->dt;
     const int reset = (fr->flags & WEFT_FRAME_RESET) != 0;
     const int teleport = !reset && (fr->flags & WEFT_FRAME_TELEPORT) != 0;
@@ -217,8 +252,13 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
     double V1[3], Rc[9];
     int rotated = 0;
     for (int k = 0; k < 3; ++k) V1[k] = (T1.t[k] - c->object.t[k]) / dt;
+    wc_diag d = wa_core_diag(ctx);
+    st = WEFT_OK;
     if (reset) {
         reset_state(c, &T1);
+        if (c->gpu) {   /* the mirror holds the whole reset state: sent as is */
+            st = wa_gpu_transfer(c, 1, &d);
+        }
     } else if (teleport) {
         teleport_state(c, &T1);
     } else {
@@ -226,9 +266,8 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
         rotated = inertia(c, &T1, V1, Rc);
     }
 
-    wc_diag d = wa_core_diag(ctx);
     wa_pin_targets(c, c->attachment_next);
-    st = wc_state_set_pins(s, c->pins, c->n_pins, &d);
+    if (st == WEFT_OK) st = wc_state_set_pins(s, c->pins, c->n_pins, &d);
     if (st == WEFT_OK) {
         if (reset || teleport) {
             for (int k = 0; k < c->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
@@ -240,17 +279,36 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
     }
     if (st == WEFT_OK && fr->wind) v3_copy(s->def.air.wind, fr->wind);
     wc_step_stats ss;
-    if (st == WEFT_OK) st = wc_step_frame(s, dt, &ss, &d);
+    memset(&ss, 0, sizeof ss);
+    if (st == WEFT_OK) st = c->gpu ? wa_gpu_step_frame(c, dt, &ss, &d) : wc_step_frame(s, dt, &ss, &d);
     int bad_vertex = -1;
     double bad_value = 0.0;
-    if (st == WEFT_OK && !wa_outputs_in_range(c, &T1, &bad_vertex, &bad_value))
-        st = wc_fail(&d, WEFT_ERROR_STEP_FAILED,
-                     "the step took host vertex %d to a coordinate of %g, beyond the %g the float outputs hold",
-                     bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
+    if (st == WEFT_OK) {
+        weft_status rst = WEFT_OK;
+        int in_range = c->gpu ? wa_gpu_outputs_in_range(c, &T1, &bad_vertex, &bad_value, &rst, &d)
+                              : wa_outputs_in_range(c, &T1, &bad_vertex, &bad_value);
+        if (rst != WEFT_OK)
+            st = rst;
+        else if (!in_range)
+            st = wc_fail(&d, WEFT_ERROR_STEP_FAILED,
+                         "the step took host vertex %d to a coordinate of %g, beyond the %g the float outputs hold",
+                         bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
+    }
     if (st != WEFT_OK) {
-        wa_snapshot_apply(c, c->backup);
+        if (c->gpu) {
+            /* the textures back; the mirror refreshed from them (the sleep state's strain is
+             * measured on it), then the book-keeping */
+            wa_gpu_restore_backup(c);
+            wc_diag dd = wa_core_diag(ctx);
+            (void)wa_gpu_transfer(c, 0, &dd);
+            wa_snapshot_apply_small(c, c->backup);
+            wa_gl_end(ctx);
+        } else {
+            wa_snapshot_apply(c, c->backup);
+        }
         return wa_fail(ctx, st, "%s: %s (the cloth was restored to its state before the call)", fn, d.message);
     }
+    if (c->gpu) wa_gl_end(ctx);
 
     c->object = T1;
     if (reset || teleport) v3_zero(c->object_velocity);

@@ -81,6 +81,15 @@ weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth, weft_sp
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: capacity %d is below the %d host vertices", fn, capacity, n);
 
     const int object = space == WEFT_SPACE_OBJECT;
+    if (c->gpu) {   /* computed by the GPU's output passes, read straight into the caller's arrays */
+        weft_status st = wa_gl_begin(ctx, fn);
+        if (st != WEFT_OK) return st;
+        st = wa_gpu_vertices(ctx, c, object, positions, normals, 0, 0, 0, 0, fn);
+        wa_gl_end(ctx);
+        if (st != WEFT_OK) return st;
+        if (count) *count = n;
+        return wa_ok(ctx);
+    }
     wa_xform inv;
     wa_xform_inverse(&c->object, &inv);
     const double s = 1.0 / c->unit_scale;

@@ -97,9 +97,6 @@ weft_status weft_context_create(int abi, const weft_context_def* def, weft_conte
     if ((def->allocator.alloc == NULL) != (def->allocator.free == NULL))
         return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT,
                            "weft_context_create: def->allocator: alloc and free must both be set or both be NULL");
-    /* AUTO -> CPU: this build has no GPU solver yet */
-    if (def->backend == WEFT_BACKEND_GPU)
-        return create_fail(def, WEFT_ERROR_UNSUPPORTED, "weft_context_create: def->backend GPU: this build has no GPU solver");
     wc_allocator a = {def->allocator.alloc, def->allocator.free, def->allocator.user};
     weft_context* ctx = WC_NEW(&a, weft_context, 1);
     if (!ctx) return create_fail(def, WEFT_ERROR_OUT_OF_MEMORY, "weft_context_create: out of memory");
@@ -109,6 +106,31 @@ weft_status weft_context_create(int abi, const weft_context_def* def, weft_conte
     ctx->last_status = WEFT_OK;
     ctx->last_error[0] = '\0';
     ctx->tag = make_tag(ctx);
+    /* The backend: GPU asked for must work (its GL context and device are made now); AUTO takes
+     * the GPU only on a hardware device (a software rasteriser is slower than the CPU solvers). */
+    if (def->backend != WEFT_BACKEND_CPU) {
+        char why[512] = "";
+        int software = 0;
+        const int automatic = def->backend == WEFT_BACKEND_AUTO;
+        weft_status st = wa_gpu_context_init(ctx, automatic, &software, why, sizeof why);
+        if (st != WEFT_OK && !automatic) {
+            wc_free(&a, ctx);
+            return create_fail(def, st, "weft_context_create: def->backend GPU: %s", why);
+        }
+        if (st == WEFT_OK && !software) {
+            ctx->backend = WEFT_BACKEND_GPU;
+            wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: GPU backend (%s%s): %s",
+                   automatic ? "AUTO: hardware device" : "asked for",
+                   def->gl_mode == WEFT_GL_HOST_CURRENT ? ", host's GL context" : ", headless EGL", why);
+        } else if (st == WEFT_OK) {
+            wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: CPU backend (AUTO: the GPU device is a software "
+                   "rasteriser: %s)", why);
+        } else {
+            wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: CPU backend (AUTO: no GPU backend: %s)", why);
+        }
+    } else {
+        wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: CPU backend (asked for)");
+    }
     *out = ctx;
     return WEFT_OK;
 }
@@ -117,6 +139,7 @@ void weft_context_destroy(weft_context* ctx) {
     if (!ctx) return;
     for (int i = 0; i < ctx->n_slots; ++i)
         if (ctx->slots[i].cloth) wa_cloth_free(ctx->slots[i].cloth);
+    wa_gpu_context_release(ctx);   /* the device before its GL context */
     wa_render_release(ctx);
     wc_allocator a = ctx->alloc;
     wc_free(&a, ctx->slots);

@@ -74,6 +74,13 @@ static wg_shape_type shape_type(int collider_type) {
 static weft_status ensure_renderer(weft_context* ctx) {
     if (ctx->renderer) return WEFT_OK;
     char err[512] = "";
+    if (ctx->gl) {   /* the GPU backend's GL context (one per weft_context) */
+        wg_renderer* r = NULL;
+        weft_status st = wg_renderer_create((wg_gl_context*)ctx->gl, NULL, &r, err, sizeof err);
+        if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
+        ctx->renderer = r;
+        return WEFT_OK;
+    }
     wg_gl_context_desc gd;
     memset(&gd, 0, sizeof gd);
     gd.host_current = ctx->def.gl_mode == WEFT_GL_HOST_CURRENT;

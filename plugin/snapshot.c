@@ -102,6 +102,7 @@ typedef struct cursor {
     unsigned char* w;       /* write here (NULL: count only) */
     const unsigned char* r; /* or read from here */
     size_t off;
+    int small;              /* skip x, v, dv and the contact arrays (a GPU cloth's step backup) */
 } cursor;
 
 static void field(cursor* k, void* data, size_t n) {
@@ -128,9 +129,11 @@ static void walk(wa_cloth* c, cursor* k) {
     field(k, &s->accumulator, sizeof s->accumulator);
     field(k, &frame, sizeof frame);
     s->frame = frame;
-    field(k, s->x, n3);
-    field(k, s->v, n3);
-    field(k, s->dv, n3);
+    if (!k->small) {
+        field(k, s->x, n3);
+        field(k, s->v, n3);
+        field(k, s->dv, n3);
+    }
     int32_t np = s->n_pins;
     field(k, &np, sizeof np);
     s->n_pins = np;   /* == c->n_pins: checked before a read */
@@ -157,9 +160,11 @@ static void walk(wa_cloth* c, cursor* k) {
         field(k, &q->friction, sizeof q->friction);
         field(k, q->velocity, sizeof q->velocity);
     }
-    field(k, s->contacts.collider, 2 * (size_t)n * sizeof(int));
-    field(k, s->contacts.normal, 6 * (size_t)n * sizeof(double));
-    field(k, s->contacts.released, (size_t)n);
+    if (!k->small) {
+        field(k, s->contacts.collider, 2 * (size_t)n * sizeof(int));
+        field(k, s->contacts.normal, 6 * (size_t)n * sizeof(double));
+        field(k, s->contacts.released, (size_t)n);
+    }
     int32_t active = s->contacts.active;
     field(k, &active, sizeof active);
     s->contacts.active = active;
@@ -184,7 +189,7 @@ static void walk(wa_cloth* c, cursor* k) {
 }
 
 size_t wa_snapshot_size(const wa_cloth* c) {
-    cursor k = {NULL, NULL, SNAP_HEADER};
+    cursor k = {NULL, NULL, SNAP_HEADER, 0};
     walk((wa_cloth*)c, &k);   /* counting only: nothing is written */
     return k.off;
 }
@@ -206,7 +211,7 @@ void wa_snapshot_write(const wa_cloth* c, unsigned char* buf, int with_checksum)
     memcpy(buf + 16, &size, 8);
     memcpy(buf + 24, &hash, 8);
     memcpy(buf + 32, &sum, 8);
-    cursor k = {buf, NULL, SNAP_HEADER};
+    cursor k = {buf, NULL, SNAP_HEADER, 0};
     walk((wa_cloth*)c, &k);
     if (with_checksum) {
         sum = checksum(buf, c->snapshot_size);
@@ -215,7 +220,17 @@ void wa_snapshot_write(const wa_cloth* c, unsigned char* buf, int with_checksum)
 }
 
 void wa_snapshot_apply(wa_cloth* c, const unsigned char* buf) {
-    cursor k = {NULL, buf, SNAP_HEADER};
+    cursor k = {NULL, buf, SNAP_HEADER, 0};
+    walk(c, &k);
+}
+
+void wa_snapshot_write_small(const wa_cloth* c, unsigned char* buf) {
+    cursor k = {buf, NULL, 0, 1};
+    walk((wa_cloth*)c, &k);
+}
+
+void wa_snapshot_apply_small(wa_cloth* c, const unsigned char* buf) {
+    cursor k = {NULL, buf, 0, 1};
     walk(c, &k);
 }
 
@@ -228,6 +243,12 @@ weft_status weft_cloth_save(weft_context* ctx, weft_cloth cloth, void* buf, size
     if (size < c->snapshot_size)
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: size %zu is below the snapshot size %zu (weft_cloth_info)", fn,
                        size, c->snapshot_size);
+    /* a GPU cloth's positions, velocities, warm start and contacts are read back first (exact:
+     * floats widen to doubles) */
+    if (c->gpu) {
+        weft_status st = wa_gpu_download(ctx, c, fn);
+        if (st != WEFT_OK) return st;
+    }
     wa_snapshot_write(c, buf, 1);
     return wa_ok(ctx);
 }
@@ -304,5 +325,11 @@ weft_status weft_cloth_restore(weft_context* ctx, weft_cloth cloth, const void* 
     if (!plausible(c, buf, (size_t)total))
         return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: the snapshot is damaged (inconsistent content)", fn);
     wa_snapshot_apply(c, buf);
+    /* a GPU cloth: the restored arrays go to its textures (doubles written by a GPU cloth round
+     * to the same floats) */
+    if (c->gpu) {
+        weft_status st = wa_gpu_upload(ctx, c, fn);
+        if (st != WEFT_OK) return st;
+    }
     return wa_ok(ctx);
 }

@@ -1,4 +1,4 @@
-/* Regressions found by `weft bench torture` (plugin/cli/cmd_bench_torture*.c), through the public
+/* Regressions found by `weft bench torture` (plugin/cli/bench/cmd_bench_torture*.c), through the public
  * API only. Each case failed before its fix:
  *  - a NaN or Inf in a collider field its type does not use (a plane's radius, a sphere's
  *    half_height) was accepted: every numeric field of a def must be finite;

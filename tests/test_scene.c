@@ -1,4 +1,4 @@
-/* The scene file parser (plugin/cli/scene*.c): every kind of bad scene is refused with a message
+/* The scene file parser (plugin/cli/scene/): every kind of bad scene is refused with a message
  * naming the field; good scenes parse to the values written, with the documented defaults filled
  * in; the generated grid has the documented host vertex order, position and winding; selects,
  * transforms and relative mesh paths resolve; pins group into attachments (duplicates merge,

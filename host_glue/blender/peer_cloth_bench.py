@@ -1,5 +1,5 @@
 """Blender's own cloth solver on a given mesh, timed frame by frame: the peer run of
-`weft bench peers` (plugin/cli/cmd_bench_peers.c), which writes the job and reads the result.
+`weft bench peers` (plugin/cli/bench/cmd_bench_peers.c), which writes the job and reads the result.
 
 Usage: blender -b --factory-startup [-t THREADS] --python-exit-code 1 \
                --python peer_cloth_bench.py -- JOB.json RESULT.json

@@ -34,6 +34,10 @@
                                              int capacity, int* count))                            \
     X(weft_status, weft_cloth_get_triangles, (weft_context* ctx, weft_cloth cloth,                 \
                                               int* indices, int capacity, int* count))             \
+    X(weft_status, weft_cloth_write_gl_buffers, (weft_context* ctx, weft_cloth cloth,              \
+                                                 weft_space space, unsigned position_buffer,       \
+                                                 size_t position_offset, unsigned normal_buffer,   \
+                                                 size_t normal_offset))                            \
     X(weft_status, weft_cloth_save, (weft_context* ctx, weft_cloth cloth, void* buf,               \
                                      size_t size))                                                 \
     X(weft_status, weft_cloth_restore, (weft_context* ctx, weft_cloth cloth, const void* buf,      \

@@ -1,8 +1,8 @@
-"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 3).
+"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 4).
 
     import numpy as np, weft
     with weft.Context() as ctx:          # library: Context(library=path), else $WEFT_LIBRARY,
-                                         # else libweft.so.3 on the dlopen search path
+                                         # else libweft.so.4 on the dlopen search path
         cloth = ctx.create_cloth(positions=P, faces=F,          # P (n, 3) float32, F (m, 4) int
                                  attachments=[weft.Attachment(pinned_vertex_indices)])
         for frame in range(60):
@@ -33,9 +33,9 @@ import numpy as np
 from ctypes import (POINTER, CFUNCTYPE, c_char_p, c_double, c_float, c_int, c_int64, c_size_t,
                     c_ubyte, c_uint32, c_uint64, c_void_p)
 
-ABI = 3                    # WEFT_ABI of the weft.h mirrored here
-VERSION = (0, 3, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
-DEFAULT_LIBRARY = "libweft.so.3"
+ABI = 4                    # WEFT_ABI of the weft.h mirrored here
+VERSION = (0, 4, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
+DEFAULT_LIBRARY = "libweft.so.4"
 
 # ------------------------------------------------------------------------------------------------
 # Enums and constants (names without their C prefix; c_constants() gives the C names)
@@ -275,6 +275,8 @@ PROTOTYPES = {
     "weft_cloth_get_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_void_p, c_int,
                                         POINTER(c_int)]),
     "weft_cloth_get_triangles": (c_int, [_CTX, ClothHandle, c_void_p, c_int, POINTER(c_int)]),
+    "weft_cloth_write_gl_buffers": (c_int, [_CTX, ClothHandle, c_int, c_uint32, c_size_t, c_uint32,
+                                            c_size_t]),
     "weft_cloth_save": (c_int, [_CTX, ClothHandle, c_void_p, c_size_t]),
     "weft_cloth_restore": (c_int, [_CTX, ClothHandle, c_void_p, c_size_t]),
     "weft_default_render_def": (RenderDef, []),
@@ -327,7 +329,7 @@ class Library:
 
 
 def load_library(path=None):
-    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.3 (dlopen search path)."""
+    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.4 (dlopen search path)."""
     return Library(path)
 
 

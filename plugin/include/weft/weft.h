@@ -71,12 +71,12 @@ extern "C" {
 
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
-#define WEFT_VERSION_MINOR 3
+#define WEFT_VERSION_MINOR 4
 #define WEFT_VERSION_PATCH 0
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
-#define WEFT_ABI 3
+#define WEFT_ABI 4
 
 typedef struct weft_version_info {
     int major, minor, patch;
@@ -116,7 +116,8 @@ typedef struct weft_allocator {
 } weft_allocator;
 
 typedef enum weft_backend {
-    WEFT_BACKEND_AUTO = 0,      /* the GPU backend where it is built and a device works, else CPU */
+    WEFT_BACKEND_AUTO = 0,      /* the GPU backend where it is built and a hardware device works,
+                                   else CPU (a software rasteriser such as llvmpipe gives CPU) */
     WEFT_BACKEND_CPU = 1,       /* core/: OpenMP CPU solvers */
     WEFT_BACKEND_GPU = 2        /* gpu/: EGL + GLSL; WEFT_ERROR_UNSUPPORTED where it is not built */
 } weft_backend;
@@ -140,10 +141,15 @@ typedef struct weft_context_def {
 
 WEFT_API weft_context_def weft_default_context_def(void);
 
-/* Create a context. abi: pass WEFT_ABI. Errors: ABI_MISMATCH, INVALID_ARGUMENT (NULL, def not
- * from weft_default_context_def(), bad enum, threads < 0, one allocator function without the
- * other), UNSUPPORTED (GPU asked for and not built), OUT_OF_MEMORY. *out is NULL on failure;
- * the reason goes to the def's logger (there is no context to hold it). */
+/* Create a context. abi: pass WEFT_ABI. Backend: GPU makes the GL context (headless, or the
+ * host's current one per gl_mode) and compiles the solver's programs now; AUTO does the same and
+ * keeps the GPU only on a hardware device (a software rasteriser such as llvmpipe, or no working
+ * device, gives the CPU backend); the choice and the renderer are logged at INFO.
+ * Errors: ABI_MISMATCH, INVALID_ARGUMENT (NULL, def not from weft_default_context_def(), bad
+ * enum, threads < 0, one allocator function without the other), UNSUPPORTED (GPU asked for and
+ * not built), GPU (GPU asked for: no EGL device or context, no current host context, or the
+ * device lacks float render targets; the message says which), OUT_OF_MEMORY. *out is NULL on
+ * failure; the reason goes to the def's logger (there is no context to hold it). */
 WEFT_API weft_status weft_context_create(int abi, const weft_context_def* def, weft_context** out);
 
 /* Destroy the context and every cloth in it. NULL is ignored. Using the pointer afterwards is the
@@ -289,7 +295,12 @@ WEFT_API weft_collider_def weft_default_collider_def(void);
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * OUT_OF_MEMORY. out is the null handle on failure. */
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only), GPU (GPU backend: the
+ * model exceeds the device's texture limits, or a GL error; the message says which),
+ * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
+ * runs inside the context's GL context (WEFT_GL_HOST_CURRENT: the host's, current on the calling
+ * thread, its bindings restored); positions are read back only by weft_cloth_get_vertices,
+ * weft_cloth_save, weft_cloth_set_attachments and weft_render. */
 WEFT_API weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft_cloth* out);
 /* Destroy a cloth; its handle (and every copy) becomes stale. */
 WEFT_API weft_status weft_cloth_destroy(weft_context* ctx, weft_cloth cloth);
@@ -390,6 +401,19 @@ WEFT_API weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth
  * n_triangles; indices NULL: size query. */
 WEFT_API weft_status weft_cloth_get_triangles(weft_context* ctx, weft_cloth cloth, int* indices,
                                               int capacity, int* count);
+
+/* GPU cloths in WEFT_GL_HOST_CURRENT mode: the positions and normals of weft_cloth_get_vertices
+ * (same space, values and host vertex order) written on the GPU straight into the host's GL
+ * buffer objects (names in the host's context, current on the calling thread): 3 floats per host
+ * vertex, tightly packed, from byte offset *_offset (a multiple of 4); a name of 0 skips that
+ * array. The host's GL bindings are left as they were. Nothing is read back to the CPU.
+ * Errors: UNSUPPORTED (a CPU cloth, or a WEFT_GL_HEADLESS context: its buffer names are not the
+ * host's), INVALID_ARGUMENT (bad space, a name that is not a buffer object, a buffer smaller than
+ * offset + 12 n_vertices bytes, overlapping ranges in one buffer), GPU (no current context, GL
+ * error). */
+WEFT_API weft_status weft_cloth_write_gl_buffers(weft_context* ctx, weft_cloth cloth, weft_space space,
+                                                 unsigned position_buffer, size_t position_offset,
+                                                 unsigned normal_buffer, size_t normal_offset);
 
 /* ============================================================================================= */
 /* Snapshots (host caches, timeline scrubbing)                                                   */

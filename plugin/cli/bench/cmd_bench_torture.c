@@ -32,12 +32,13 @@ typedef struct tort_args {
 void bench_torture_usage(FILE* out) {
     fputs("usage: weft bench torture [--quick] [--cases N] [--seed S] [--kinds LIST] [--case I]\n"
           "                          [--case-timeout S] [--no-fork] [--threads N] [--csv FILE]\n"
-          "                          [--md FILE] [--quiet]\n"
+          "                          [--md FILE] [--backend cpu|gpu|auto] [--quiet]\n"
           "\n"
           "Randomised torture runs of the public API (weft.h), as a host would call it: random\n"
           "meshes with degenerate triangles and slivers, random pins and colliders, transforms that\n"
           "teleport 1 km or spin at 100 rad/s, NaN and Inf in host inputs, zero-area and\n"
-          "one-particle cloths, parameters at the ends of their ranges. " BENCH_BACKEND_NOTE ".\n"
+          "one-particle cloths, parameters at the ends of their ranges, on the backend --backend\n"
+          "names (the direct solver's cases are refused on the GPU: rejected).\n"
           "Each case runs in its own process. Outcomes:\n"
           "  ok             every call returned WEFT_OK and every output was finite\n"
           "  rejected       a call refused its input with a status and a message, changing nothing\n"
@@ -63,6 +64,7 @@ void bench_torture_usage(FILE* out) {
           "  --case-timeout S     seconds a case may run before it counts as a hang (default 60)\n"
           "  --no-fork            run the cases in this process (debugging: a crash ends the run)\n"
           "  --threads N          OpenMP threads of each case's context (default 0: OpenMP's default)\n"
+          "  --backend NAME       cpu (default), gpu, or auto: each case's weft_context_def.backend\n"
           "  --csv FILE           write one row per case as CSV\n"
           "  --md FILE            write the Markdown tables to FILE instead of stdout\n"
           "  --quiet              no progress lines on stderr\n"
@@ -105,6 +107,7 @@ static void defaults(void* args, int quick) {
     a->case_timeout = 60;
     a->o.max_grid = quick ? 6 : 16;
     a->o.max_frames = quick ? 4 : 8;
+    a->o.backend = 1;   /* WEFT_BACKEND_CPU */
 }
 
 static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
@@ -121,6 +124,7 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--kinds")) return BAD(parse_kinds(*v, a) != 0);
     if (OPT("--case")) return BAD(cli_parse_int(*v, 0, 0x7fffffff, &a->one_case) != 0);
     if (OPT("--case-timeout")) return BAD(cli_parse_int(*v, 1, 86400, &a->case_timeout) != 0);
+    if (OPT("--backend")) return BAD((a->o.backend = bench_parse_backend(*v)) < 0);
 #undef OPT
 #undef BAD
     return m;
@@ -220,16 +224,19 @@ typedef struct summary {
 } summary;
 
 static void rerun_command(const tort_args* a, int kind, int index, char* buf, size_t size) {
-    snprintf(buf, size, "weft bench torture --kinds %s --seed %llu --case %d --threads %d%s",
-             torture_kind_name(kind), (unsigned long long)a->seed, index, a->com.threads, a->quick ? " --quick" : "");
+    static const char* const backends[] = {"auto", "cpu", "gpu"};
+    snprintf(buf, size, "weft bench torture --kinds %s --seed %llu --case %d --threads %d --backend %s%s",
+             torture_kind_name(kind), (unsigned long long)a->seed, index, a->com.threads, backends[a->o.backend],
+             a->quick ? " --quick" : "");
 }
 
 static void write_markdown(FILE* out, const summary* s, const bench_table* t) {
     const tort_args* a = s->a;
-    fprintf(out, "## weft bench torture\n\n%s. Random host inputs through the public API (weft.h), %s. "
+    static const char* const backends[] = {"AUTO", "CPU", "GPU"};
+    fprintf(out, "## weft bench torture\n\nbackend: %s. Random host inputs through the public API (weft.h), %s. "
                  "Seed %llu, %d case(s), sheets up to %d x %d vertices, up to %d frames per case, %d OpenMP "
                  "thread(s) per case; %.1f s.\n\n",
-            BENCH_BACKEND_NOTE, a->no_fork ? "in this process" : "one process per case",
+            backends[a->o.backend], a->no_fork ? "in this process" : "one process per case",
             (unsigned long long)a->seed, s->cases, a->o.max_grid, a->o.max_grid, a->o.max_frames, s->threads, s->seconds);
     fputs("| kind | cases |", out);
     for (int o = 0; o < TO_COUNT; ++o) fprintf(out, " %s |", torture_outcome_name(o));

@@ -117,6 +117,13 @@ int bench_parse_ints(const char* text, int lo, int hi, int* out) {
     return for_each_item(text, one_int, &c);
 }
 
+int bench_parse_backend(const char* name) {
+    static const char* const names[] = {"auto", "cpu", "gpu"};   /* weft_backend's order */
+    for (int k = 0; k < 3; ++k)
+        if (name && !strcmp(name, names[k])) return k;
+    return -1;
+}
+
 int bench_parse_solvers(const char* text, wc_solver_type* out) {
     if (text && !strcmp(text, "all")) text = "pcg,jacobi,chebyshev,direct";
     return for_each_item(text, one_solver, out);

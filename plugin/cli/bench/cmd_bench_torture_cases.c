@@ -624,11 +624,11 @@ void torture_run_case(int kind, uint64_t seed, int index, const torture_opts* o,
     t->res = out;
     xf_identity(&t->obj);
     weft_context_def cd = weft_default_context_def();
-    cd.backend = WEFT_BACKEND_CPU;
+    cd.backend = (weft_backend)o->backend;
     cd.threads = o->threads;
     if (weft_context_create(WEFT_ABI, &cd, &t->ctx) != WEFT_OK) {
         out->outcome = TO_REJECTED, out->status = WEFT_ERROR_UNSUPPORTED;
-        snprintf(out->detail, sizeof out->detail, "weft_context_create failed");
+        snprintf(out->detail, sizeof out->detail, "weft_context_create failed (backend %d)", o->backend);
     } else {
         static void (*const kinds[TK_COUNT])(tc*, scene*) = {kind_random_mesh, kind_teleport, kind_spin, kind_nan_inject,
                                                              kind_zero_area, kind_one_particle, kind_extreme};

@@ -1,4 +1,5 @@
-/* `weft bench`: benchmarks of the simulator core (CPU backend; there is no GPU backend yet).
+/* `weft bench`: benchmarks of the simulator core (CPU: accuracy, stability, skip and peers drive
+ * core/ directly; torture goes through the public API and takes --backend).
  * Shared by the cmd_bench*.c files:
  *   cmd_bench.c            the `weft bench` dispatcher and list-option parsing
  *   cmd_bench_sim.c        benchmark scenes and one measured run of a scene
@@ -17,7 +18,7 @@
 #include "step.h"
 
 #define BENCH_BACKEND "cpu"
-#define BENCH_BACKEND_NOTE "backend: CPU only (Weft has no GPU backend yet)"
+#define BENCH_BACKEND_NOTE "backend: CPU (core/ driven directly: no GPU backend in this benchmark)"
 
 /* ---- lists on the command line (cmd_bench.c) ---- */
 
@@ -31,6 +32,9 @@ int bench_parse_ints(const char* text, int lo, int hi, int* out);
 /* Comma-separated names: list copied into buf (size bytes), split in place, up to max pointers
  * into it stored in out (empty items skipped). Returns the count. */
 int bench_split_names(const char* list, char* buf, size_t size, const char** out, int max);
+/* Backend names ("cpu", "gpu", "auto") as weft_backend values (0 AUTO, 1 CPU, 2 GPU); -1 when
+ * unknown. */
+int bench_parse_backend(const char* name);
 /* Solver names ("pcg,jacobi,chebyshev,direct", or "all"); -1 on an unknown name. */
 int bench_parse_solvers(const char* text, wc_solver_type* out);
 

@@ -50,6 +50,7 @@ typedef struct torture_result {
 /* Sizes of the generated cases. */
 typedef struct torture_opts {
     int threads;            /* weft_context_def.threads */
+    int backend;            /* weft_context_def.backend (weft_backend: 0 AUTO, 1 CPU, 2 GPU) */
     int max_grid;           /* largest sheet side (vertices) */
     int max_frames;         /* most frames per case */
 } torture_opts;
