@@ -36,7 +36,7 @@
  * object transform does not touch the simulation, so it does not wake it either.
  * GPU cloths (gpu_glue.c): the same validation and book-keeping; the backup is the textures'
  * (wg_sim_backup) plus the book-keeping only (no read-back); inertia and teleport run as one rigid
- * pass on the GPU (wg_sim_transform; the solver's warm start is not carried there), RESET sets the
+ * pass on the GPU (wg_sim_transform; the solver's warm start turns with the velocities), RESET sets the
  * CPU mirror and uploads it; the range check takes the GPU's max |coordinate| as a bound and reads
  * the positions back only when that bound could pass WA_MAX_OUTPUT_COORD. All of it inside one
  * wa_gl_begin/end. */

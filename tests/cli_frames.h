@@ -11,7 +11,7 @@
 #include "check.h"
 #include "test_support.h"
 
-enum { CF_MAX_VERTS = 2048 };
+enum { CF_MAX_VERTS = 4096 };
 
 /* An OBJ frame: its `v` positions and the number of `f` lines. */
 typedef struct obj_frame {

@@ -184,3 +184,7 @@ weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b,
     if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug set system: %s", wg_gl_error_name(e));
     return WEFT_OK;
 }
+
+void wg_sim_debug_invalidate_rho(wg_sim* g) { g->rho_valid = 0; }
+
+void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o) { g->debug_opts = *o; }

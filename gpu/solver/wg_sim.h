@@ -83,6 +83,10 @@ weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_so
 /* Replace the prepared A (pattern.n_blocks x 9, row-major; symmetric blocks) and b (n x 3) with
  * the caller's, rounded to float (the filter stays the prepared one). */
 weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, wc_diag* diag);
+/* Forget Chebyshev's cached rho (the next Chebyshev solve estimates it again), and set the
+ * options wg_sim_debug_solve uses (the state's at creation until then). */
+void wg_sim_debug_invalidate_rho(wg_sim* g);
+void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o);
 /* Chebyshev's cached rho estimate (0 when none). */
 double wg_sim_debug_rho(const wg_sim* g);
 /* y = A x with the last prepared A (n x 3 each). */

@@ -269,18 +269,7 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
         res->residual = res0 == 0.0 ? 0.0 : 1.0;
         return res0 == 0.0 ? WEFT_OK : WEFT_ERROR_SOLVER_DIVERGED;
     }
-    double rho = 0.0;
-    if (chebyshev) {
-        if (o->chebyshev_rho > 0.0) {
-            rho = o->chebyshev_rho;
-        } else {
-            if (!g->rho_valid) {
-                g->rho = estimate_rho(g, o);
-                g->rho_valid = 1;
-            }
-            rho = g->rho;
-        }
-    }
+    double rho = chebyshev ? (o->chebyshev_rho > 0.0 ? o->chebyshev_rho : g->rho) : 0.0;
     const double goal = o->tolerance * res0;
     double limit = o->divergence_factor * res0, rn = res0, omega = 1.0;
     int x = 0, prev = 1, nxt = 2, k = 0, converged = 0;
@@ -351,6 +340,11 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
     wg_in(g, 3, &g->S0);
     wg_in(g, 4, &g->S1);
     WG_RUN(g, g->n, &g->D0, &g->D1);
+    /* Chebyshev's rho first: its CG steps use every solver iterate (sv included) as scratch */
+    if (type == WC_SOLVER_CHEBYSHEV && !(o->chebyshev_rho > 0.0) && !g->rho_valid) {
+        g->rho = estimate_rho(g, o);
+        g->rho_valid = 1;
+    }
     project(g, dv_in, &g->sv[0], 0);
     weft_status st;
     if (type == WC_SOLVER_PCG) st = solve_pcg(g, o, out, res);

@@ -17,8 +17,11 @@
  * (skip) one row per configuration in order, the asleep row slept through every timed frame
  * with 0 iterations and bit-identical positions, the full-cap row ran every solve to the cap, the
  * contact row has contacts and the far-collider row none.
+ * (gpu, second argument: accuracy, stability, skip, peers) the same quick run with --backend
+ * cpu,gpu: the CPU rows checked as above, the GPU rows beside them (no direct solver, no
+ * linear-solve probe: "-"), and a GPU context that cannot be made is a clear failure (exit 1).
  *
- *   check_weft_bench accuracy | stability | peers | torture | skip */
+ *   check_weft_bench accuracy | stability | peers | torture | skip [gpu] */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -147,7 +150,7 @@ static void test_help(void) {
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "weft bench accuracy") && strstr(r.out, "weft bench stability") &&
           strstr(r.out, "weft bench skip"));
-    CHECK(strstr(r.out, "no GPU backend") != NULL);
+    CHECK(strstr(r.out, "--backend LIST") != NULL);
     ts_run_cli("help bench", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "weft bench accuracy") != NULL);
@@ -164,6 +167,14 @@ static void test_accuracy_usage(void) {
     ts_run_cli("bench accuracy --help", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "--quick") && strstr(r.out, "--plot") && strstr(r.out, "lin. err"));
+    CHECK(strstr(r.out, "--backend LIST") && strstr(r.out, "not measured"));
+    ts_run_cli("bench accuracy --backend tpu", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "bad value for --backend: 'tpu'") != NULL);
+    ts_run_cli("bench accuracy --backend cpu,cpu", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench accuracy --backend cpu,", &r);
+    CHECK_EQ_INT(r.rc, 2);
     ts_run_cli("bench accuracy --solvers pcg,gauss", &r);
     CHECK_EQ_INT(r.rc, 2);
     CHECK(strstr(r.err, "bad value for --solvers") != NULL);
@@ -185,6 +196,10 @@ static void test_stability_usage(void) {
     ts_run_cli("bench stability --help", &r);
     CHECK_EQ_INT(r.rc, 0);
     CHECK(strstr(r.out, "--quick") && strstr(r.out, "survived") && strstr(r.out, "--fail-strain"));
+    CHECK(strstr(r.out, "--backend LIST") != NULL);
+    ts_run_cli("bench stability --backend gpu --solvers direct", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "direct solver does not exist on the GPU") != NULL);
     ts_run_cli("bench stability --steps 1/0", &r);
     CHECK_EQ_INT(r.rc, 2);
     ts_run_cli("bench stability --stiffness 0", &r);
@@ -202,7 +217,9 @@ static const char* const acc_cols[] = {
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
     "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift"};
 
-static void test_accuracy_quick(void) {
+static const char* const gpu_solvers[] = {"pcg", "jacobi", "chebyshev"};
+
+static void test_accuracy_quick(int gpu) {
     static ts_cli_result r;
     static csv c;
     char args[4096];
@@ -213,21 +230,36 @@ static void test_accuracy_quick(void) {
     remove(csv_path);
     remove(png_path);
     remove(md_path);
-    snprintf(args, sizeof args, "bench accuracy --quick --quiet --csv '%s' --plot '%s' --md '%s'", csv_path,
-             png_path, md_path);
+    snprintf(args, sizeof args, "bench accuracy --quick --quiet --csv '%s' --plot '%s' --md '%s'%s", csv_path,
+             png_path, md_path, gpu ? " --backend cpu,gpu" : "");
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
     csv_parse(&c, csv_path);
     check_header(&c, acc_cols, (int)(sizeof acc_cols / sizeof acc_cols[0]));
-    /* per scene: the reference, then pcg/jacobi/chebyshev x 1 tolerance x 2 caps x 2 substeps, direct x 2 */
+    /* per scene: the reference, then pcg/jacobi/chebyshev x 1 tolerance x 2 caps x 2 substeps, direct x 2;
+     * with the GPU, then the same on the GPU but the direct solver's */
     static const char* const scenes[] = {"sheet16", "drape16", "garment"};
-    const int per_scene = 1 + 3 * 2 * 2 + 2;
-    CHECK_EQ_INT(c.n_rows, 3 * per_scene);
+    const int per_scene = 1 + 3 * 2 * 2 + 2, per_gpu = gpu ? 3 * 2 * 2 : 0, block = per_scene + per_gpu;
+    CHECK_EQ_INT(c.n_rows, 3 * block);
     for (int s = 0; s < 3; ++s) {
         double direct_err[2] = {NAN, NAN};
-        for (int k = 0; k < per_scene && s * per_scene + k < c.n_rows; ++k) {
-            const int row = s * per_scene + k;
+        for (int j = 0; j < per_gpu && s * block + per_scene + j < c.n_rows; ++j) {
+            /* the GPU's rows: every iterative configuration, no linear-solve probe */
+            const int row = s * block + per_scene + j;
+            CHECK(!strcmp(get(&c, row, "scene"), scenes[s]) && !strcmp(get(&c, row, "backend"), "gpu"));
+            CHECK(!strcmp(get(&c, row, "role"), "config") && !strcmp(get(&c, row, "solver"), gpu_solvers[j / 4]));
+            CHECK(num(&c, row, "max_iterations") == (j % 4 < 2 ? 20 : 100) && num(&c, row, "substeps") == j % 2 + 1);
+            CHECK(num(&c, row, "frames") == 9 && num(&c, row, "ms_per_frame") > 0);
+            CHECK(!strcmp(get(&c, row, "lin_err_max"), "-") && !strcmp(get(&c, row, "lin_err_mean"), "-"));
+            CHECK(!isnan(num(&c, row, "traj_err_rms")) || !strcmp(get(&c, row, "traj_err_rms"), "nan"));
+            if (j < 4) { /* PCG on the GPU follows the reference as on the CPU */
+                const double rms = num(&c, row, "traj_err_rms");
+                CHECK(isfinite(rms) && rms >= 0 && rms < 10);
+            }
+        }
+        for (int k = 0; k < per_scene && s * block + k < c.n_rows; ++k) {
+            const int row = s * block + k;
             const int ref = k == 0;
             CHECK(!strcmp(get(&c, row, "scene"), scenes[s]));
             CHECK(!strcmp(get(&c, row, "backend"), "cpu"));
@@ -263,8 +295,10 @@ static void test_accuracy_quick(void) {
     }
     static char md[1 << 16];
     ts_read_text(md_path, md, sizeof md);
-    CHECK(strstr(md, "| scene | solver |") != NULL);
-    CHECK(strstr(md, "no GPU backend") != NULL);
+    CHECK(strstr(md, gpu ? "| backend | scene | solver |" : "| scene | solver |") != NULL);
+    CHECK(strstr(md, gpu ? "backends: CPU (core's wc_step_frame) and GPU (gpu/'s wg_sim_step_frame on "
+                         : "backend: CPU (core's wc_step_frame)") != NULL);
+    CHECK(gpu == (strstr(md, "lin. err is not measured") != NULL));
     int table_lines = 0;
     for (const char* p = md; (p = strstr(p, "\n| ")) != NULL; ++p) ++table_lines;
     CHECK_EQ_INT(table_lines, c.n_rows + 1); /* header + rows ("|---" lines start with "|-") */
@@ -276,7 +310,7 @@ static const char* const stab_cols[] = {
     "frames", "frames_asked", "rollbacks", "halvings", "direct_fallbacks", "failures", "max_strain",
     "energy_growth", "iterations_per_substep", "ms_per_frame"};
 
-static void test_stability_quick(void) {
+static void test_stability_quick(int gpu) {
     static ts_cli_result r;
     static csv c;
     char args[4096];
@@ -285,16 +319,29 @@ static void test_stability_quick(void) {
     snprintf(png_path, sizeof png_path, "%s", ts_tmp_path("bench_stability.png"));
     remove(csv_path);
     remove(png_path);
-    snprintf(args, sizeof args, "bench stability --quick --quiet --csv '%s' --plot '%s'", csv_path, png_path);
+    /* on both backends, two stiffnesses of the three (llvmpipe's GPU frames are slow: ~60 s -> ~40 s) */
+    snprintf(args, sizeof args, "bench stability --quick --quiet --csv '%s' --plot '%s'%s", csv_path, png_path,
+             gpu ? " --backend cpu,gpu --stiffness 1,10000" : "");
+    const int n_k = gpu ? 2 : 3;
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
-    CHECK(strstr(r.out, "| solver | survived | recovered | failed |") != NULL);
+    CHECK(strstr(r.out, gpu ? "| backend | solver | survived | recovered | failed |"
+                            : "| solver | survived | recovered | failed |") != NULL);
+    CHECK(!gpu || (strstr(r.out, "| gpu | chebyshev |") && strstr(r.out, "it has no GPU cells") &&
+                   !strstr(r.out, "| gpu | direct |")));
     csv_parse(&c, csv_path);
     check_header(&c, stab_cols, (int)(sizeof stab_cols / sizeof stab_cols[0]));
-    CHECK_EQ_INT(c.n_rows, 4 * 3 * 3 * 2); /* solvers x steps x stiffness x mass */
-    int free_fall_cells = 0;
+    /* solvers x steps x stiffness x mass; the GPU: no direct solver */
+    CHECK_EQ_INT(c.n_rows, (4 + (gpu ? 3 : 0)) * 3 * n_k * 2);
+    int free_fall_cells = 0, gpu_rows = 0;
     for (int row = 0; row < c.n_rows; ++row) {
+        const int on_gpu = !strcmp(get(&c, row, "backend"), "gpu");
+        CHECK(on_gpu || !strcmp(get(&c, row, "backend"), "cpu"));
+        gpu_rows += on_gpu;
+        if (on_gpu) CHECK(strcmp(get(&c, row, "solver"), "direct") != 0);
+        /* the physics below holds for every solver on both backends */
+        const int physics = 1;
         const char* out = get(&c, row, "outcome");
         const int failed = !strcmp(out, "failed"), recovered = !strcmp(out, "recovered");
         CHECK(failed || recovered || !strcmp(out, "survived"));
@@ -311,16 +358,17 @@ static void test_stability_quick(void) {
          * 1/11 m) would stretch to sqrt(rest^2 + (g h^2)^2): with 1/12 s a strain of 25%, energy
          * the step did not have. The step's energy check rolls that back and retries in smaller
          * pieces: every 1/12 s cell recovers, and stays well below the free-fall strain. */
-        if (!strcmp(get(&c, row, "step_s"), "1/12")) {
+        if (physics && !strcmp(get(&c, row, "step_s"), "1/12")) {
             const double h = 1.0 / 12, drop = 9.81 * h * h, rest = 1.0 / 11;
             CHECK(recovered && num(&c, row, "rollbacks") >= 1);
             CHECK(strain < 0.5 * (sqrt(1 + drop * drop / (rest * rest)) - 1));
             ++free_fall_cells;
         }
         /* small steps of the default cloth survive with every solver */
-        if (!strcmp(get(&c, row, "step_s"), "1/60") && num(&c, row, "stiffness_x") == 1) CHECK(!failed);
+        if (physics && !strcmp(get(&c, row, "step_s"), "1/60") && num(&c, row, "stiffness_x") == 1) CHECK(!failed);
     }
-    CHECK_EQ_INT(free_fall_cells, 4 * 3 * 2);
+    CHECK_EQ_INT(gpu_rows, gpu ? 3 * 3 * n_k * 2 : 0);
+    CHECK_EQ_INT(free_fall_cells, (4 + (gpu ? 3 : 0)) * n_k * 2);
     CHECK(png_ok(png_path, 400, 300));
 }
 
@@ -405,21 +453,24 @@ static const char* const peers_cols[] = {
     "weft_ms_per_frame", "blender_ms_per_frame", "ratio_blender_over_weft", "weft_drop_m", "blender_drop_m",
     "blender_pin_drift_m", "blender_version", "notes"};
 
-static void test_peers_quick(void) {
+static void test_peers_quick(int gpu) {
     static ts_cli_result r;
     static csv c;
     char args[2048], csv_path[512];
     snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_peers.csv"));
     remove(csv_path);
-    snprintf(args, sizeof args, "bench peers --quick --quiet --substeps 1,2 --csv '%s'", csv_path);
+    snprintf(args, sizeof args, "bench peers --quick --quiet --substeps 1,2 --csv '%s'%s", csv_path,
+             gpu ? " --backend cpu,gpu" : "");
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
     csv_parse(&c, csv_path);
     check_header(&c, peers_cols, (int)(sizeof peers_cols / sizeof peers_cols[0]));
-    CHECK_EQ_INT(c.n_rows, 2);
+    CHECK_EQ_INT(c.n_rows, gpu ? 4 : 2); /* the GPU's rows after the CPU's, beside the same Blender run */
     for (int row = 0; row < c.n_rows; ++row) {
-        const int substeps = row + 1;
+        const int substeps = row % 2 + 1;
+        CHECK(!strcmp(get(&c, row, "backend"), row < 2 ? "cpu" : "gpu"));
+        CHECK(!strcmp(get(&c, row, "blender_ms_per_frame"), get(&c, row % 2, "blender_ms_per_frame")));
         CHECK(!strcmp(get(&c, row, "scene"), "sheet12") && num(&c, row, "particles") == 144);
         CHECK(num(&c, row, "frames") == 10 && num(&c, row, "weft_substeps") == substeps);
         CHECK(num(&c, row, "weft_threads") == 1 && num(&c, row, "blender_threads") == 1);
@@ -448,6 +499,7 @@ static void test_peers_quick(void) {
     CHECK(strstr(r.out, "## weft bench peers") && strstr(r.out, "quality=5") && strstr(r.out, "Blender 3."));
     CHECK(strstr(r.out, "| scene | particles | Weft substeps | Weft ms/frame | Blender ms/frame | Blender / Weft |") !=
           NULL);
+    CHECK(gpu == (strstr(r.out, "| backend | scene |") != NULL));
     int table_lines = 0;
     for (const char* p = r.out; (p = strstr(p, "\n| ")) != NULL; ++p) ++table_lines;
     CHECK_EQ_INT(table_lines, c.n_rows + 1);
@@ -572,7 +624,10 @@ static void test_skip_usage(void) {
     static ts_cli_result r;
     ts_run_cli("bench skip --help", &r);
     CHECK_EQ_INT(r.rc, 0);
-    CHECK(strstr(r.out, "--quick") && strstr(r.out, "asleep") && strstr(r.out, "no GPU backend"));
+    CHECK(strstr(r.out, "--quick") && strstr(r.out, "asleep") && strstr(r.out, "--backend LIST"));
+    ts_run_cli("bench skip --backend gpu,tpu", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "bad value for --backend") != NULL);
     ts_run_cli("bench skip --frames 0", &r);
     CHECK_EQ_INT(r.rc, 2);
     CHECK(strstr(r.err, "bad value for --frames") != NULL);
@@ -583,30 +638,33 @@ static void test_skip_usage(void) {
     CHECK(strstr(r.err, "unknown scene 'blanket9'") != NULL);
 }
 
-static void test_skip_quick(void) {
+static void test_skip_quick(int gpu) {
     static ts_cli_result r;
     static csv c;
     char args[4096], csv_path[512];
     snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_skip.csv"));
     remove(csv_path);
-    snprintf(args, sizeof args, "bench skip --quick --quiet --csv '%s'", csv_path);
+    snprintf(args, sizeof args, "bench skip --quick --quiet --csv '%s'%s", csv_path, gpu ? " --backend cpu,gpu" : "");
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
-    CHECK(strstr(r.out, "| configuration |") != NULL && strstr(r.out, "no GPU backend") != NULL);
+    CHECK(strstr(r.out, gpu ? "| backend | configuration |" : "| configuration |") != NULL);
+    CHECK(strstr(r.out, gpu ? "backends: CPU (core's wc_step_frame) and GPU" : "backend: CPU (core's wc_step_frame)"));
     CHECK(strstr(r.out, "positions bit-identical") != NULL);
+    CHECK(!gpu || strstr(r.out, "GPU: Asleep: the cloth fell asleep after"));
     csv_parse(&c, csv_path);
     check_header(&c, skip_cols, (int)(sizeof skip_cols / sizeof skip_cols[0]));
     static const char* const configs[] = {"baseline", "+ air drag", "+ wind", "+ far collider", "+ contact",
                                           "+ moving pins", "full cap", "asleep"};
-    CHECK_EQ_INT(c.n_rows, 8);
-    for (int row = 0; row < c.n_rows && row < 8; ++row) {
-        CHECK(!strcmp(get(&c, row, "config"), configs[row]));
-        CHECK(!strcmp(get(&c, row, "backend"), "cpu") && !strcmp(get(&c, row, "scene"), "sheet16"));
+    const int nb = gpu ? 2 : 1;
+    CHECK_EQ_INT(c.n_rows, 8 * nb); /* the CPU's rows, then the GPU's */
+    for (int row = 0; row < c.n_rows && row < 8 * nb; ++row) {
+        CHECK(!strcmp(get(&c, row, "config"), configs[row % 8]));
+        CHECK(!strcmp(get(&c, row, "backend"), row < 8 ? "cpu" : "gpu") && !strcmp(get(&c, row, "scene"), "sheet16"));
         CHECK(num(&c, row, "particles") == 256 && num(&c, row, "frames") == 20);
         for (int k = 11; k <= 16; ++k) CHECK(num(&c, row, skip_cols[k]) >= 0);
         CHECK(isfinite(num(&c, row, "ratio_to_baseline")));
-        const int asleep = row == 7;
+        const int asleep = row % 8 == 7;
         CHECK(num(&c, row, "asleep_frames") == (asleep ? 20 : 0));
         CHECK(asleep ? num(&c, row, "iterations_per_substep") == 0 : num(&c, row, "iterations_per_substep") > 0);
         if (asleep) {
@@ -617,26 +675,77 @@ static void test_skip_quick(void) {
             CHECK(num(&c, row, "positions_unchanged") == 0);   /* awake, the sheet swings */
         }
     }
-    CHECK(num(&c, 0, "ratio_to_baseline") == 1 && !strcmp(get(&c, 0, "ms_saved"), "-"));
-    CHECK(num(&c, 3, "contacts") == 0 && num(&c, 4, "contacts") > 0);
-    /* tolerance 0: every solve runs to the cap of 300 and counts as not converged */
-    CHECK(num(&c, 6, "iterations_per_substep") == 300 && num(&c, 6, "not_converged") == 20);
-    CHECK(num(&c, 0, "not_converged") == 0);
-    /* a far collider changes nothing of the motion: the same iterations as the baseline */
-    CHECK(num(&c, 3, "iterations_per_substep") == num(&c, 0, "iterations_per_substep"));
+    for (int b = 0; b < nb; ++b) { /* each backend against its own baseline */
+        const int o = 8 * b;
+        CHECK(num(&c, o, "ratio_to_baseline") == 1 && !strcmp(get(&c, o, "ms_saved"), "-"));
+        CHECK(num(&c, o + 3, "contacts") == 0 && num(&c, o + 4, "contacts") > 0);
+        /* tolerance 0: every solve runs to the cap of 300 and counts as not converged */
+        CHECK(num(&c, o + 6, "iterations_per_substep") == 300 && num(&c, o + 6, "not_converged") == 20);
+        CHECK(num(&c, o, "not_converged") == 0);
+        /* a far collider changes nothing of the motion: the same iterations as the baseline */
+        CHECK(num(&c, o + 3, "iterations_per_substep") == num(&c, o, "iterations_per_substep"));
+    }
 }
 
+/* A GPU context that cannot be made: a clear message and exit 1, nothing on stdout. */
+static void test_gpu_unavailable(const char* sub) {
+    static ts_cli_result r;
+    char args[256];
+    snprintf(args, sizeof args, "bench %s --quick --quiet --backend cpu,gpu", sub);
+    setenv("WEFT_EGL_DEVICE", "no-such-device", 1);
+    ts_run_cli(args, &r);
+    unsetenv("WEFT_EGL_DEVICE");
+    CHECK_EQ_INT(r.rc, 1);
+    CHECK(strstr(r.err, "--backend gpu: cannot create a headless GL context") != NULL);
+    if (!strstr(r.err, "--backend gpu")) fprintf(stderr, "stderr: %s\n", r.err);
+    CHECK(r.out[0] == '\0');
+}
+
+/* RUN_TEST takes functions of no argument. */
+static void test_accuracy_quick_cpu(void) { test_accuracy_quick(0); }
+static void test_accuracy_quick_gpu(void) { test_accuracy_quick(1); }
+static void test_stability_quick_cpu(void) { test_stability_quick(0); }
+static void test_stability_quick_gpu(void) { test_stability_quick(1); }
+static void test_skip_quick_cpu(void) { test_skip_quick(0); }
+static void test_skip_quick_gpu(void) { test_skip_quick(1); }
+static void test_peers_quick_cpu(void) { test_peers_quick(0); }
+static void test_peers_quick_gpu(void) { test_peers_quick(1); }
+static void test_accuracy_gpu_unavailable(void) { test_gpu_unavailable("accuracy"); }
+static void test_stability_gpu_unavailable(void) { test_gpu_unavailable("stability"); }
+static void test_skip_gpu_unavailable(void) { test_gpu_unavailable("skip"); }
 
 int main(int argc, char** argv) {
     const char* which = argc > 1 ? argv[1] : "";
+    if (argc > 2 && !strcmp(argv[2], "gpu")) { /* the quick run on both backends */
+        if (!strcmp(which, "accuracy")) {
+            RUN_TEST(test_accuracy_gpu_unavailable);
+            RUN_TEST(test_accuracy_quick_gpu);
+        } else if (!strcmp(which, "stability")) {
+            RUN_TEST(test_stability_gpu_unavailable);
+            RUN_TEST(test_stability_quick_gpu);
+        } else if (!strcmp(which, "skip")) {
+            RUN_TEST(test_skip_gpu_unavailable);
+            RUN_TEST(test_skip_quick_gpu);
+        } else if (!strcmp(which, "peers")) {
+            if (!blender_on_path()) {
+                printf("SKIPPED: `blender` is not installed (apt-get install blender; .ci/deps.sh does)\n");
+                return 77;
+            }
+            RUN_TEST(test_peers_quick_gpu);
+        } else {
+            fprintf(stderr, "usage: %s accuracy|stability|peers|skip gpu\n", argv[0]);
+            return 2;
+        }
+        return TEST_SUMMARY();
+    }
     if (!strcmp(which, "accuracy")) {
         RUN_TEST(test_help);
         RUN_TEST(test_accuracy_usage);
-        RUN_TEST(test_accuracy_quick);
+        RUN_TEST(test_accuracy_quick_cpu);
     } else if (!strcmp(which, "stability")) {
         RUN_TEST(test_help);
         RUN_TEST(test_stability_usage);
-        RUN_TEST(test_stability_quick);
+        RUN_TEST(test_stability_quick_cpu);
     } else if (!strcmp(which, "peers")) {
         RUN_TEST(test_peers_usage);
         if (!blender_on_path()) {
@@ -645,15 +754,15 @@ int main(int argc, char** argv) {
             return 77;
         }
         RUN_TEST(test_peers_blender_errors);
-        RUN_TEST(test_peers_quick);
+        RUN_TEST(test_peers_quick_cpu);
     } else if (!strcmp(which, "torture")) {
         RUN_TEST(test_torture_usage);
         RUN_TEST(test_torture_quick);
     } else if (!strcmp(which, "skip")) {
         RUN_TEST(test_skip_usage);
-        RUN_TEST(test_skip_quick);
+        RUN_TEST(test_skip_quick_cpu);
     } else {
-        fprintf(stderr, "usage: %s accuracy|stability|peers|torture|skip\n", argv[0]);
+        fprintf(stderr, "usage: %s accuracy|stability|peers|torture|skip [gpu]\n", argv[0]);
         return 2;
     }
     return TEST_SUMMARY();

@@ -19,7 +19,11 @@ void cli_bench_usage(FILE* out) {
           "       weft bench skip [OPTIONS]        per-stage cost of unused features, and of a sleeping cloth\n"
           "       weft bench SUBCOMMAND --help     a subcommand's options\n"
           "\n"
-          "Benchmarks of the simulator core. " BENCH_BACKEND_NOTE ".\n"
+          "Benchmarks of the simulator. accuracy, stability, skip and peers take --backend LIST\n"
+          "(cpu, gpu or cpu,gpu; default cpu): each configuration runs on every backend listed, core's\n"
+          "wc_step_frame on the CPU, gpu/'s wg_sim_step_frame on a headless GL context (llvmpipe where\n"
+          "there is no GPU), side by side in one table with a `backend` column; torture takes\n"
+          "--backend cpu|gpu|auto and goes through the public API.\n"
           "Each writes a Markdown table (stdout or --md FILE), a CSV (--csv FILE) and a PNG plot\n"
           "(--plot FILE); --quick runs a seconds-long version (what CI runs).\n",
           out);
@@ -32,12 +36,15 @@ int cli_bench_run(int argc, char** argv) {
         cli_bench_usage(stdout);
         return CLI_EXIT_OK;
     }
-    if (!strcmp(sub, "accuracy")) return bench_accuracy_run(argc - 1, argv + 1);
-    if (!strcmp(sub, "stability")) return bench_stability_run(argc - 1, argv + 1);
-    if (!strcmp(sub, "peers")) return bench_peers_run(argc - 1, argv + 1);
-    if (!strcmp(sub, "torture")) return bench_torture_run(argc - 1, argv + 1);
-    if (!strcmp(sub, "skip")) return bench_skip_run(argc - 1, argv + 1);
-    return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
+    int rc = -1;
+    if (!strcmp(sub, "accuracy")) rc = bench_accuracy_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "stability")) rc = bench_stability_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "peers")) rc = bench_peers_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "torture")) rc = bench_torture_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "skip")) rc = bench_skip_run(argc - 1, argv + 1);
+    else return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
+    bench_gpu_close(); /* the process's GPU context, when a --backend gpu run made one */
+    return rc;
 }
 
 int bench_split_names(const char* list, char* buf, size_t size, const char** out, int max) {
@@ -122,6 +129,61 @@ int bench_parse_backend(const char* name) {
     for (int k = 0; k < 3; ++k)
         if (name && !strcmp(name, names[k])) return k;
     return -1;
+}
+
+static int one_backend(const char* item, void* ctx, int k) {
+    int* out = ctx;
+    const int b = !strcmp(item, "cpu") ? BENCH_CPU : !strcmp(item, "gpu") ? BENCH_GPU : -1;
+    if (b < 0 || k >= BENCH_MAX_BACKENDS) return -1;
+    for (int j = 0; j < k; ++j)
+        if (out[j] == b) return -1; /* each at most once */
+    out[k] = b;
+    return 0;
+}
+
+int bench_parse_backends(const char* text, int* out) {
+    int tmp[BENCH_MAX_LIST];
+    int n = for_each_item(text, one_backend, tmp);
+    for (int k = 0; k < n; ++k) out[k] = tmp[k];
+    return n;
+}
+
+const char* bench_backend_name(int backend) { return backend == BENCH_GPU ? "gpu" : "cpu"; }
+
+const char* bench_backend_note(const int* backends, int n, char* buf, size_t size) {
+    size_t at = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < n && at < size; ++k) {
+        int w;
+        if (backends[k] == BENCH_GPU)
+            w = snprintf(buf + at, size - at, "%sGPU (gpu/'s wg_sim_step_frame on %s; positions read back outside "
+                         "the timed steps)", k ? " and " : "", bench_gpu_description());
+        else
+            w = snprintf(buf + at, size - at, "%sCPU (core's wc_step_frame)", k ? " and " : "");
+        if (w < 0) break;
+        at += (size_t)w;
+    }
+    if (at >= size && size > 0) buf[size - 1] = '\0';
+    /* "backend(s): " first */
+    char head[16];
+    snprintf(head, sizeof head, "%s: ", n > 1 ? "backends" : "backend");
+    const size_t hl = strlen(head), bl = strlen(buf);
+    if (hl + bl + 1 <= size) {
+        memmove(buf + hl, buf, bl + 1);
+        memcpy(buf, head, hl);
+    }
+    return buf;
+}
+
+int bench_open_backends(const int* backends, int n) {
+    for (int k = 0; k < n; ++k) {
+        char msg[768];
+        if (backends[k] == BENCH_GPU && bench_gpu_open(msg, sizeof msg) != 0) {
+            cli_error(msg);
+            return CLI_EXIT_FAILURE;
+        }
+    }
+    return CLI_EXIT_OK;
 }
 
 int bench_parse_solvers(const char* text, wc_solver_type* out) {

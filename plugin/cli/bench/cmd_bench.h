@@ -1,5 +1,6 @@
-/* `weft bench`: benchmarks of the simulator core (CPU: accuracy, stability, skip and peers drive
- * core/ directly; torture goes through the public API and takes --backend).
+/* `weft bench`: benchmarks of the simulator (accuracy, stability, skip and peers drive core/
+ * directly on the CPU and gpu/'s wg_sim on the GPU, by --backend LIST; torture goes through the
+ * public API and takes --backend NAME).
  * Shared by the cmd_bench*.c files:
  *   cmd_bench.c            the `weft bench` dispatcher and list-option parsing
  *   cmd_bench_sim.c        benchmark scenes and one measured run of a scene
@@ -9,7 +10,8 @@
  *   cmd_bench_stability.c  `weft bench stability`: the step/stiffness/mass/solver grid
  *   cmd_bench_peers.c      `weft bench peers`: Weft beside Blender's cloth (cmd_bench_blender.c)
  *   cmd_bench_torture.c    `weft bench torture`: random host inputs through the public API
- *   cmd_bench_skip.c       `weft bench skip`: per-stage cost of features a scene does not use, sleeping */
+ *   cmd_bench_skip.c       `weft bench skip`: per-stage cost of features a scene does not use, sleeping
+ *   cmd_bench_gpu.c        the process's headless GPU context and device, and a wg_sim on it */
 #ifndef WEFT_CLI_CMD_BENCH_H
 #define WEFT_CLI_CMD_BENCH_H
 #include <stdio.h>
@@ -17,8 +19,15 @@
 #include "scene.h"
 #include "step.h"
 
-#define BENCH_BACKEND "cpu"
-#define BENCH_BACKEND_NOTE "backend: CPU (core/ driven directly: no GPU backend in this benchmark)"
+/* Backends of accuracy, stability, skip and peers (weft_backend's values). */
+enum { BENCH_CPU = 1, BENCH_GPU = 2 };
+#define BENCH_MAX_BACKENDS 2
+/* The usage texts' line on --backend. */
+#define BENCH_BACKEND_HELP                                                                              \
+    "  --backend LIST       cpu, gpu or cpu,gpu (default cpu): every configuration on each backend,\n" \
+    "                       a `backend` column telling the rows apart (cpu: core's wc_step_frame;\n"  \
+    "                       gpu: gpu/'s wg_sim_step_frame on a headless EGL context, positions read\n" \
+    "                       back outside the timed steps).\n"
 
 /* ---- lists on the command line (cmd_bench.c) ---- */
 
@@ -35,6 +44,17 @@ int bench_split_names(const char* list, char* buf, size_t size, const char** out
 /* Backend names ("cpu", "gpu", "auto") as weft_backend values (0 AUTO, 1 CPU, 2 GPU); -1 when
  * unknown. */
 int bench_parse_backend(const char* name);
+/* A --backend list: "cpu", "gpu", "cpu,gpu" (each at most once) -> BENCH_CPU/BENCH_GPU in out
+ * (BENCH_MAX_BACKENDS). Returns the count, or -1. */
+int bench_parse_backends(const char* text, int* out);
+/* "cpu" / "gpu". */
+const char* bench_backend_name(int backend);
+/* The backends run, for the Markdown notes: "backend: CPU (core's wc_step_frame)" and/or "GPU
+ * (gpu/'s wg_sim_step_frame, <context description>)", joined. */
+const char* bench_backend_note(const int* backends, int n, char* buf, size_t size);
+/* Open the GPU (bench_gpu_open) when the list has it: CLI_EXIT_OK, or CLI_EXIT_FAILURE with the
+ * reason on stderr. */
+int bench_open_backends(const int* backends, int n);
 /* Solver names ("pcg,jacobi,chebyshev,direct", or "all"); -1 on an unknown name. */
 int bench_parse_solvers(const char* text, wc_solver_type* out);
 
@@ -66,6 +86,26 @@ int bench_parse_args(int argc, char** argv, const char* command, void (*usage)(F
  * common->csv when set. CLI_EXIT_OK, or CLI_EXIT_FAILURE (message on stderr). */
 int bench_write_tables(const bench_common* common, const struct bench_table* t,
                        void (*header)(FILE* out, const void* ctx), const void* ctx);
+
+/* ---- the GPU backend (cmd_bench_gpu.c) ---- */
+
+/* One headless GL context and solver device per process, made on first use and released by
+ * bench_gpu_close (cli_bench_run calls it when the subcommand returns). 0, or -1 with msg (no GL
+ * context or device here, or a weft built without gpu/: WEFT_GPU=OFF). */
+int bench_gpu_open(char* msg, size_t size);
+/* The context's description (device, renderer, GL version); "" when not open. */
+const char* bench_gpu_description(void);
+void bench_gpu_close(void);
+
+/* A wg_sim of one state on the process's device (bench_gpu_open first); every call wraps its GL
+ * work in wg_gl_begin/wg_gl_end. The direct solver is refused (WEFT_ERROR_UNSUPPORTED). */
+typedef struct bench_gpu_sim bench_gpu_sim;
+weft_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag);
+/* wg_sim_step_frame (pins and colliders taken from s, as wc_step_frame). */
+weft_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
+/* wg_sim_download: s->x, v, dv and contacts filled from the GPU. */
+weft_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag);
+void bench_gpu_sim_destroy(bench_gpu_sim* g);
 
 /* ---- scenes (cmd_bench_sim.c) ---- */
 
@@ -105,18 +145,20 @@ void bench_scene_free(bench_scene* s);
 
 /* One run of a scene. */
 typedef struct bench_run_opts {
+    int backend;            /* BENCH_CPU (0 too) or BENCH_GPU (bench_gpu_open first; no direct solver) */
     wc_sim_def sim;         /* solver, substeps, threads...; max_pins/max_colliders are set by the run */
     double fps;             /* frames per simulated second */
     int frames;             /* frames to simulate */
     int probe_frames;       /* frames (evenly spread, the first included) at which the linear-solve
-                               error is measured; 0: not measured */
+                               error is measured; 0: not measured (never on the GPU: CPU only) */
     double fail_strain;     /* > 0: stop at the first frame whose strain exceeds this */
     double fail_energy;     /* > 0: stop at the first frame whose energy growth exceeds this */
 } bench_run_opts;
 
 typedef struct bench_run {
     int frames;             /* frames stepped (fewer than asked when stopped early) */
-    double ms_median;       /* wall time of one frame (wc_step_frame), median over frames */
+    double ms_median;       /* wall time of one frame (the step's own stats: wc_step_frame or
+                               wg_sim_step_frame), median over frames */
     double stage_median[5]; /* forces, assemble, solve, collide, integrate: medians (ms) */
     double iterations;      /* solver iterations per substep, mean */
     int max_iterations;     /* largest in one solve */
@@ -137,8 +179,10 @@ typedef struct bench_run {
     double* x;              /* (n_particles x 3) positions at the end (owned; bench_run_free) */
 } bench_run;
 
-/* Simulate; 0 on success, -1 when the state cannot be created (diag says why). A frame whose
- * step fails is counted, not fatal. */
+/* Simulate; 0 on success, -1 when the state (or the GPU sim) cannot be created or a GPU call
+ * fails (diag says why). A frame whose step fails (WEFT_ERROR_STEP_FAILED) is counted, not fatal.
+ * On the GPU, positions are downloaded after each frame (outside its timing) so that the energy,
+ * strain and finiteness checks and the final positions are the CPU's. */
 int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag);
 void bench_run_free(bench_run* r);
 
@@ -168,7 +212,7 @@ void bench_table_free(bench_table* t);
 
 /* One point of the accuracy plot. */
 typedef struct bench_point {
-    int panel;              /* scene index */
+    int panel;              /* panel index (scene, or scene x backend) */
     int solver;             /* wc_solver_type */
     double ms;              /* ms per frame */
     double error;           /* trajectory error (relative); <= 0 points are not drawn */

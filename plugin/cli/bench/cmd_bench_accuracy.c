@@ -2,7 +2,9 @@
  * --ref-substeps substeps per frame), then every configuration solver x tolerance x iteration cap
  * x substeps per frame (the direct solver: substeps only), each simulated for --seconds. Errors:
  * the linear-solve error against CHOLMOD on the same system, the trajectory error against the
- * reference at the end, the largest strain and the energy drift. Timing: median ms per frame. */
+ * reference at the end, the largest strain and the energy drift. Timing: median ms per frame.
+ * --backend cpu,gpu runs every configuration on each backend (the reference stays the CPU's
+ * direct solver; the GPU has no direct solver and no linear-solve probe). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -35,6 +37,8 @@ typedef struct acc_args {
     int ref_substeps;
     double seconds, fps;
     int probes;
+    int backends[BENCH_MAX_BACKENDS];
+    int n_backends;
     bench_common com;
 } acc_args;
 
@@ -43,16 +47,17 @@ void bench_accuracy_usage(FILE* out) {
           "                           [--iterations LIST] [--substeps LIST] [--substeps-large LIST]\n"
           "                           [--ref-substeps N] [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
-          "                           [--plot FILE.png] [--quiet]\n"
+          "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
           "\n"
-          "Run time against error. " BENCH_BACKEND_NOTE ".\n"
+          "Run time against error, on the CPU and/or the GPU (--backend).\n"
           "For each scene a reference run (direct solver, --ref-substeps substeps per frame), then\n"
           "every configuration solver x tolerance x iteration cap x substeps per frame (direct:\n"
           "substeps only), each simulated for --seconds at --fps. Per configuration:\n"
           "  ms/frame     median wall time of one frame's step\n"
           "  lin. err     ||dv - dv_direct|| / ||dv_direct||: the solver's answer against CHOLMOD's on\n"
           "               the same system (same initial guess), for the first substep of --probes\n"
-          "               evenly spread frames (largest and mean)\n"
+          "               evenly spread frames (largest and mean); CPU rows only: the probe\n"
+          "               solves on the CPU, so GPU rows show - (not measured)\n"
           "  traj. err    RMS and largest particle distance to the reference run at the end,\n"
           "               divided by the cloth's bounding-box diagonal\n"
           "  max strain   largest stretch-spring strain (l - rest) / rest at the end of any frame\n"
@@ -77,13 +82,18 @@ void bench_accuracy_usage(FILE* out) {
           "  --ref-substeps N     substeps per frame of the reference run (default 8)\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
-          "  --probes N           frames whose linear-solve error is measured (default 6; 0: none)\n"
+          "  --probes N           frames whose linear-solve error is measured (default 6; 0: none;\n"
+          "                       CPU rows only)\n"
           "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
           "  --garment FILE       the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
           "  --csv FILE           write every measurement as CSV\n"
           "  --md FILE            write the Markdown table to FILE instead of stdout\n"
           "  --plot FILE.png      plot trajectory RMS error against ms/frame (log-log, a panel per\n"
           "                       scene, a curve per solver, the Pareto front marked)\n"
+          BENCH_BACKEND_HELP
+          "                       The reference is the CPU's direct solver for both; the direct\n"
+          "                       solver does not exist on the GPU: its configurations have no GPU\n"
+          "                       row. With two backends the plot has a panel per scene and backend.\n"
           "  --quiet              no progress lines on stderr\n"
           "  -h, --help           show this help\n",
           out);
@@ -106,6 +116,8 @@ static void defaults(void* args, int quick) {
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
     a->probes = quick ? 2 : 6;
+    a->backends[0] = BENCH_CPU;
+    a->n_backends = 1;
 }
 
 /* This command's own options (bench_option_fn). */
@@ -130,6 +142,7 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
     if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
     if (OPT("--probes")) return BAD(cli_parse_int(*v, 0, 1000000, &a->probes) != 0);
+    if (OPT("--backend")) return BAD((a->n_backends = bench_parse_backends(*v, a->backends)) < 0);
 #undef OPT
 #undef BAD
     return m;
@@ -146,7 +159,7 @@ static const char* const csv_cols[N_COLS] = {
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
     "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift"};
 static const char* const md_cols[N_COLS] = {
-    NULL, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
+    NULL /* "backend" with two backends */, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
     "it./substep", NULL, NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
     "traj. err max", "max strain", "energy drift"};
 
@@ -158,11 +171,11 @@ typedef struct config {
     int reference;
 } config;
 
-static int add_row(bench_table* t, const bench_scene* bs, const config* c, const bench_run* r, double rms,
-                   double max) {
+static int add_row(bench_table* t, int backend, const bench_scene* bs, const config* c, const bench_run* r,
+                   double rms, double max) {
     char b[N_COLS][48];
     const char* cell[N_COLS];
-    snprintf(b[C_BACKEND], 48, "%s", BENCH_BACKEND);
+    snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(backend));
     snprintf(b[C_SCENE], 48, "%s", bs->name);
     snprintf(b[C_PARTICLES], 48, "%d", bs->model.n_particles);
     snprintf(b[C_ROLE], 48, "%s", c->reference ? "reference" : "config");
@@ -229,10 +242,19 @@ static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const acc_args* a = h->a;
     const int frames = h->frames, threads = h->threads;
+    char note[1024];
+    int gpu = 0;
+    for (int k = 0; k < a->n_backends; ++k) gpu |= a->backends[k] == BENCH_GPU;
     fprintf(out, "## weft bench accuracy\n\n");
     fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
-                 "solver (CHOLMOD) at %d substeps per frame.\n\n",
-            BENCH_BACKEND_NOTE, threads, a->seconds, a->fps, frames, a->ref_substeps);
+                 "solver (CHOLMOD) at %d substeps per frame, on the CPU.\n\n",
+            bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads, a->seconds, a->fps, frames,
+            a->ref_substeps);
+    if (gpu)
+        fputs("GPU rows: the trajectory error is against the same CPU reference; lin. err is not measured "
+              "(-: the probe solves on the CPU); the direct solver does not exist on the GPU, so its "
+              "configurations have no GPU row.\n\n",
+              out);
     fputs("- ms/frame: median wall time of one frame's step.\n"
           "- lin. err: ||dv - dv_direct|| / ||dv_direct|| of one substep's linear solve against CHOLMOD on the "
           "same system (wc_substep_prepare, same initial guess), largest over the probed frames.\n"
@@ -251,18 +273,34 @@ int bench_accuracy_run(int argc, char** argv) {
     if (rc >= 0) return rc;
     const int frames = (int)lround(a.seconds * a.fps) > 0 ? (int)lround(a.seconds * a.fps) : 1;
     bench_table t;
-    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    const char* md[N_COLS];
+    memcpy(md, md_cols, sizeof md);
+    if (a.n_backends > 1) md[C_BACKEND] = "backend";
+    bench_table_init(&t, N_COLS, csv_cols, md);
     const int max_subs = a.n_substeps > a.n_substeps_large ? a.n_substeps : a.n_substeps_large;
     const int max_cfg = a.n_solvers * a.n_tolerances * a.n_caps * max_subs;   /* per scene, at most */
-    const int max_points = a.n_scenes * max_cfg;
+    const int max_points = a.n_scenes * max_cfg * a.n_backends;
+    /* the plot's panels: a scene, or (two backends) a scene on a backend */
+    char(*panel_buf)[48] = calloc((size_t)(a.n_scenes * a.n_backends), sizeof *panel_buf);
+    const char** panels = calloc((size_t)(a.n_scenes * a.n_backends), sizeof(char*));
     bench_point* pts = malloc(sizeof *pts * (size_t)max_points);
     config* cfg = malloc(sizeof *cfg * (size_t)max_cfg);
     int n_pts = 0, threads = 1;
     rc = CLI_EXIT_OK;
-    if (!pts || !cfg) {
+    if (!pts || !cfg || !panel_buf || !panels) {
         cli_error("out of memory");
         rc = CLI_EXIT_FAILURE;
     }
+    if (rc == CLI_EXIT_OK) rc = bench_open_backends(a.backends, a.n_backends);
+    for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si)
+        for (int bi = 0; bi < a.n_backends; ++bi) {
+            const int pi = si * a.n_backends + bi;
+            if (a.n_backends > 1)
+                snprintf(panel_buf[pi], sizeof panel_buf[pi], "%s (%s)", a.scenes[si], bench_backend_name(a.backends[bi]));
+            else
+                snprintf(panel_buf[pi], sizeof panel_buf[pi], "%s", a.scenes[si]);
+            panels[pi] = panel_buf[pi];
+        }
     for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si) {
         bench_scene bs;
         wc_diag d = {0};
@@ -291,16 +329,19 @@ int bench_accuracy_run(int argc, char** argv) {
         wc_par par;
         wc_par_init(&par, a.com.threads);
         threads = par.threads;
-        add_row(&t, &bs, &ref, &rr, 0.0, 0.0);
+        add_row(&t, BENCH_CPU, &bs, &ref, &rr, 0.0, 0.0);
         const int n_cfg = configs_for(&a, bs.model.n_particles, cfg, max_cfg);
-        for (int k = 0; k < n_cfg && rc == CLI_EXIT_OK; ++k) {
+        for (int q = 0; q < n_cfg * a.n_backends && rc == CLI_EXIT_OK; ++q) {
+            const int bi = q / n_cfg, k = q % n_cfg, backend = a.backends[bi];
+            if (backend == BENCH_GPU && cfg[k].solver == WC_SOLVER_DIRECT) continue; /* not on the GPU */
+            o.backend = backend;
             o.sim = bs.sc.sim;
             o.sim.threads = a.com.threads;
             o.sim.solver.type = cfg[k].solver;
             o.sim.solver.tolerance = cfg[k].tolerance;
             if (cfg[k].solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = cfg[k].cap;
             o.sim.substeps = cfg[k].substeps;
-            o.probe_frames = a.probes;
+            o.probe_frames = backend == BENCH_GPU ? 0 : a.probes; /* the probe is the CPU's */
             bench_run r;
             if (bench_run_scene(&bs, &o, &r, &d) != 0) {
                 cli_error(d.message);
@@ -312,11 +353,12 @@ int bench_accuracy_run(int argc, char** argv) {
             rms /= bs.diag;
             max /= bs.diag;
             if (!a.com.quiet)
-                fprintf(stderr, "  [%d/%d] %s tol %g cap %d substeps %d: %.2f ms/frame, traj. err %.3g\n", k + 1,
-                        n_cfg, wc_solver_name(cfg[k].solver), cfg[k].tolerance, cfg[k].cap, cfg[k].substeps,
-                        r.ms_median, rms);
-            add_row(&t, &bs, &cfg[k], &r, rms, max);
-            if (n_pts < max_points) pts[n_pts++] = (bench_point){si, (int)cfg[k].solver, r.ms_median, rms};
+                fprintf(stderr, "  [%d/%d] %s %s tol %g cap %d substeps %d: %.2f ms/frame, traj. err %.3g\n", q + 1,
+                        n_cfg * a.n_backends, bench_backend_name(backend), wc_solver_name(cfg[k].solver),
+                        cfg[k].tolerance, cfg[k].cap, cfg[k].substeps, r.ms_median, rms);
+            add_row(&t, backend, &bs, &cfg[k], &r, rms, max);
+            if (n_pts < max_points)
+                pts[n_pts++] = (bench_point){si * a.n_backends + bi, (int)cfg[k].solver, r.ms_median, rms};
             bench_run_free(&r);
         }
         bench_run_free(&rr);
@@ -328,7 +370,7 @@ int bench_accuracy_run(int argc, char** argv) {
     }
     if (rc == CLI_EXIT_OK && a.com.plot) {
         char msg[256];
-        if (bench_plot_accuracy(a.com.plot, a.scenes, a.n_scenes, pts, n_pts,
+        if (bench_plot_accuracy(a.com.plot, panels, a.n_scenes * a.n_backends, pts, n_pts,
                                 "trajectory RMS error / bbox diagonal", msg, sizeof msg) != 0) {
             cli_error(msg);
             rc = CLI_EXIT_FAILURE;
@@ -336,6 +378,8 @@ int bench_accuracy_run(int argc, char** argv) {
     }
     free(pts);
     free(cfg);
+    free(panel_buf);
+    free(panels);
     bench_table_free(&t);
     return rc;
 }

@@ -4,7 +4,8 @@
  * count) simulate the same mesh, the same pinned particles (held still) and the same number of
  * frames with the same thread count; the table gives both medians of ms per frame, their ratio,
  * and how far each cloth's lowest point hangs below its pins at the end (a sanity number, not an
- * error: the two material models differ). */
+ * error: the two material models differ). --backend cpu,gpu runs Weft on each backend beside the
+ * same Blender run. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -35,15 +36,18 @@ typedef struct peers_args {
     double timeout;
     const char* blender;    /* NULL: `blender` on PATH */
     const char* script;
+    int backends[BENCH_MAX_BACKENDS];
+    int n_backends;
     bench_common com;
 } peers_args;
 
 void bench_peers_usage(FILE* out) {
     fputs("usage: weft bench peers [--quick] [--scenes LIST] [--substeps LIST] [--frames N] [--fps F]\n"
           "                        [--blender PATH] [--script FILE] [--timeout S] [--threads N]\n"
-          "                        [--garment FILE] [--csv FILE] [--md FILE] [--quiet]\n"
+          "                        [--garment FILE] [--csv FILE] [--md FILE] [--backend LIST] [--quiet]\n"
           "\n"
-          "Weft beside Blender's own cloth solver, in the same run. " BENCH_BACKEND_NOTE ".\n"
+          "Weft beside Blender's own cloth solver, in the same run; Weft on the CPU and/or the GPU\n"
+          "(--backend).\n"
           "Needs Debian's blender (3.4): when it is not installed the command says so and fails.\n"
           "For each scene Blender runs the driver script (--script) headless on the same mesh (one\n"
           "vertex per Weft particle) with the same pinned vertices held still: a Cloth modifier\n"
@@ -74,6 +78,9 @@ void bench_peers_usage(FILE* out) {
           "  --garment FILE   the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
           "  --csv FILE       write every row as CSV\n"
           "  --md FILE        write the Markdown table to FILE instead of stdout\n"
+          "  --backend LIST   cpu, gpu or cpu,gpu (default cpu): Weft's rows on each backend beside\n"
+          "                   the same Blender run (gpu: gpu/'s wg_sim_step_frame on a headless EGL\n"
+          "                   context; --threads is then the CPU side's only)\n"
           "  --quiet          no progress lines on stderr\n"
           "  -h, --help       show this help\n",
           out);
@@ -92,6 +99,8 @@ static void defaults(void* args, int quick) {
     a->fps = 30;
     a->timeout = quick ? 120 : 600;
     a->script = WEFT_BLENDER_SCRIPT;
+    a->backends[0] = BENCH_CPU;
+    a->n_backends = 1;
 }
 
 static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
@@ -109,6 +118,7 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
     if (OPT("--timeout"))
         return BAD(cli_parse_double(*v, &a->timeout) != 0 || !(a->timeout > 0 && a->timeout <= 86400));
+    if (OPT("--backend")) return BAD((a->n_backends = bench_parse_backends(*v, a->backends)) < 0);
     if (OPT("--blender")) {
         if (m < 0) return m;
         a->blender = *v;
@@ -133,7 +143,7 @@ static const char* const csv_cols[N_COLS] = {
     "weft_ms_per_frame", "blender_ms_per_frame", "ratio_blender_over_weft", "weft_drop_m", "blender_drop_m",
     "blender_pin_drift_m", "blender_version", "notes"};
 static const char* const md_cols[N_COLS] = {
-    NULL, "scene", "particles", NULL, NULL, NULL, NULL, "Weft substeps", "Weft ms/frame", "Blender ms/frame",
+    NULL /* "backend" with two backends */, "scene", "particles", NULL, NULL, NULL, NULL, "Weft substeps", "Weft ms/frame", "Blender ms/frame",
     "Blender / Weft", "Weft drop (m)", "Blender drop (m)", NULL, NULL, "notes"};
 
 /* How far the lowest point of x lies below the highest pin at rest (or below the highest rest
@@ -171,12 +181,13 @@ typedef struct header_info {
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const peers_args* a = h->a;
+    char note[1024];
     fprintf(out, "## weft bench peers\n\n");
     fprintf(out,
             "%s. Blender %s's cloth solver beside Weft's on the same meshes (one Blender vertex per Weft "
             "particle), the same pinned vertices held still, %d frames each, in one run. Threads: Weft %d "
             "(OpenMP), Blender %d%s.\n\n",
-            BENCH_BACKEND_NOTE, h->version, a->frames, h->weft_threads, h->blender_threads,
+            bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->version, a->frames, h->weft_threads, h->blender_threads,
             a->com.threads > 0 ? " (blender -t)" : "");
     fprintf(out,
             "- Blender: a Cloth modifier with Blender's defaults and 5 quality steps per frame, a fresh file "
@@ -186,7 +197,8 @@ static void print_header(FILE* out, const void* ctx) {
     fprintf(out,
             "- Weft: the scene's defaults (default material; %s solver, relative tolerance %g, at most %d "
             "iterations) at %g frames per second, the substeps per frame given in the table; each frame one "
-            "timed wc_step_frame.\n",
+            "timed wc_step_frame (CPU) or wg_sim_step_frame (GPU, its positions read back after the frame, "
+            "outside its time).\n",
             wc_solver_name(h->solver.type), h->solver.tolerance, h->solver.max_iterations, a->fps);
     fputs("- ms/frame: median over the frames. Blender / Weft: the ratio of the medians (> 1: Weft is faster).\n"
           "- Time: Blender's cloth ignores the frame rate; its frame is a fixed unit in which gravity is scaled "
@@ -197,11 +209,11 @@ static void print_header(FILE* out, const void* ctx) {
           out);
 }
 
-static int add_row(bench_table* t, const bench_scene* bs, const peers_args* a, int weft_threads,
+static int add_row(bench_table* t, int backend, const bench_scene* bs, const peers_args* a, int weft_threads,
                    const bench_blender_result* br, int substeps, const bench_run* r) {
     char b[N_COLS][96];
     const char* cell[N_COLS];
-    snprintf(b[C_BACKEND], 96, "%s", BENCH_BACKEND);
+    snprintf(b[C_BACKEND], 96, "%s", bench_backend_name(backend));
     snprintf(b[C_SCENE], 96, "%s", bs->name);
     snprintf(b[C_PARTICLES], 96, "%d", bs->model.n_particles);
     snprintf(b[C_FRAMES], 96, "%d", a->frames);
@@ -252,9 +264,11 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
     h->blender_threads = br.threads;
     h->solver = bs.sc.sim.solver;
     int rc = CLI_EXIT_OK;
-    for (int k = 0; k < a->n_substeps && rc == CLI_EXIT_OK; ++k) {
+    for (int q = 0; q < a->n_substeps * a->n_backends && rc == CLI_EXIT_OK; ++q) {
+        const int k = q % a->n_substeps, backend = a->backends[q / a->n_substeps];
         bench_run_opts o;
         memset(&o, 0, sizeof o);
+        o.backend = backend;
         o.sim = bs.sc.sim;
         o.sim.threads = a->com.threads;
         o.sim.substeps = a->substeps[k];
@@ -267,9 +281,9 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
             break;
         }
         if (!a->com.quiet)
-            fprintf(stderr, "  weft %d substep(s): %.3g ms/frame; blender: %.3g ms/frame\n", a->substeps[k],
-                    r.ms_median, br.ms_median);
-        if (add_row(t, &bs, a, h->weft_threads, &br, a->substeps[k], &r) != 0) {
+            fprintf(stderr, "  weft (%s) %d substep(s): %.3g ms/frame; blender: %.3g ms/frame\n",
+                    bench_backend_name(backend), a->substeps[k], r.ms_median, br.ms_median);
+        if (add_row(t, backend, &bs, a, h->weft_threads, &br, a->substeps[k], &r) != 0) {
             cli_error("out of memory");
             rc = CLI_EXIT_FAILURE;
         }
@@ -297,8 +311,11 @@ int bench_peers_run(int argc, char** argv) {
     wc_par_init(&par, a.com.threads);
     h.weft_threads = par.threads;
     bench_table t;
-    bench_table_init(&t, N_COLS, csv_cols, md_cols);
-    rc = CLI_EXIT_OK;
+    const char* md[N_COLS];
+    memcpy(md, md_cols, sizeof md);
+    if (a.n_backends > 1) md[C_BACKEND] = "backend";
+    bench_table_init(&t, N_COLS, csv_cols, md);
+    rc = bench_open_backends(a.backends, a.n_backends);
     for (int s = 0; s < a.n_scenes && rc == CLI_EXIT_OK; ++s) rc = run_scene(&a, blender, a.scenes[s], &t, &h);
     if (rc == CLI_EXIT_OK) rc = bench_write_tables(&a.com, &t, print_header, &h);
     bench_table_free(&t);

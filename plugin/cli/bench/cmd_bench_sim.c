@@ -1,7 +1,9 @@
 /* Benchmark scenes (built through the scene-file parser, so they are ordinary Weft scenes) and one
  * measured run of a scene: frame timings, solver and recovery counts, strain, energy, and the
  * linear-solve error against CHOLMOD on the very system the step solves (wc_substep_prepare on a
- * second state that mirrors the run's). */
+ * second state that mirrors the run's; CPU runs only). A run steps core's wc_step_frame (CPU) or
+ * gpu/'s wg_sim_step_frame on the process's headless device (GPU), the wc_state serving as the
+ * GPU's mirror: its positions are downloaded after every frame for the same checks. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -233,13 +235,21 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     sd.max_pins = bs->pins.n > 0 ? bs->pins.n : 1;
     sd.max_colliders = bs->sc.n_colliders > 16 ? bs->sc.n_colliders : 16;
     sd.sleep_speed = 0.0; /* these benchmarks time active steps: a cloth that came to rest is not put to sleep */
+    const int gpu = o->backend == BENCH_GPU;
     wc_state *s = NULL, *p = NULL;
+    bench_gpu_sim* g = NULL;
     if (make_state(&s, bs, &sd, diag) != WEFT_OK) return -1;
-    if (o->probe_frames > 0) {
+    /* the GPU's sim mirrors s: s keeps pins, colliders, time and stats; x, v, dv live on the GPU */
+    if (gpu && bench_gpu_sim_create(s, &g, diag) != WEFT_OK) {
+        wc_state_destroy(s);
+        return -1;
+    }
+    if (o->probe_frames > 0 && !gpu) { /* the linear-solve error is the CPU's only */
         wc_sim_def pd = sd;
         pd.direct_fallback = 1; /* analyses CHOLMOD at creation whatever the solver */
         if (make_state(&p, bs, &pd, diag) != WEFT_OK) {
             wc_state_destroy(s);
+            bench_gpu_sim_destroy(g);
             return -1;
         }
     }
@@ -255,6 +265,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         free(dv_it);
         free(dv_ref);
         bench_run_free(out);
+        bench_gpu_sim_destroy(g);
         wc_state_destroy(s);
         wc_state_destroy(p);
         wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bench: out of memory");
@@ -267,7 +278,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     out->energy_scale = s->total_mass * v3_norm(sd.gravity) * bs->diag;
     if (!(out->energy_scale > 0)) out->energy_scale = 1.0;
     long long iterations = 0;
-    int next_probe = 0;
+    int next_probe = 0, gpu_error = 0;
     for (int f = 0; f < frames; ++f) {
         if (p && next_probe < o->probe_frames && f == (int)((long long)next_probe * frames / o->probe_frames)) {
             ++next_probe;
@@ -291,9 +302,21 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
                 pins[k] = bs->pins.pins[k];
                 v3_set(pins[k].target, c * r[0] + sn * r[2], r[1], -sn * r[0] + c * r[2]);
             }
-            wc_state_set_pins(s, pins, bs->pins.n, &d);
+            wc_state_set_pins(s, pins, bs->pins.n, &d); /* the GPU uploads s's pins every frame */
         }
-        wc_step_frame(s, dt, &st, &d);
+        if (gpu) {
+            /* timed by the step's own stats (st.ms); the download is outside them */
+            const weft_status fs = bench_gpu_sim_step(g, s, dt, &st, &d);
+            weft_status ds = WEFT_OK;
+            if (fs == WEFT_OK || fs == WEFT_ERROR_STEP_FAILED) ds = bench_gpu_sim_download(g, s, &d);
+            if ((fs != WEFT_OK && fs != WEFT_ERROR_STEP_FAILED) || ds != WEFT_OK) {
+                wc_fail(diag, d.status, "%s (frame %d on the GPU)", d.message, f + 1);
+                gpu_error = 1;
+                break;
+            }
+        } else {
+            wc_step_frame(s, dt, &st, &d);
+        }
         const double stage[6] = {st.ms.forces, st.ms.assemble, st.ms.solve, st.ms.collide, st.ms.integrate, st.ms.total};
         for (int k = 0; k < 6; ++k) ms[(size_t)k * frames + f] = stage[k];
         out->frames = f + 1;
@@ -314,8 +337,10 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
             (o->fail_energy > 0 && (e - out->energy0) / out->energy_scale > o->fail_energy))
             break;
     }
-    out->ms_median = wc_sort_median(ms + (size_t)5 * frames, out->frames);
-    for (int k = 0; k < 5; ++k) out->stage_median[k] = wc_sort_median(ms + (size_t)k * frames, out->frames);
+    if (out->frames > 0) {
+        out->ms_median = wc_sort_median(ms + (size_t)5 * frames, out->frames);
+        for (int k = 0; k < 5; ++k) out->stage_median[k] = wc_sort_median(ms + (size_t)k * frames, out->frames);
+    }
     out->iterations = out->substeps > 0 ? (double)iterations / (double)out->substeps : 0.0;
     if (out->probes > 0) out->lin_err_mean /= out->probes;
     memcpy(out->x, s->x, n3 * sizeof(double));
@@ -323,7 +348,12 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     free(pins);
     free(dv_it);
     free(dv_ref);
+    bench_gpu_sim_destroy(g);
     wc_state_destroy(s);
     wc_state_destroy(p);
+    if (gpu_error) {
+        bench_run_free(out);
+        return -1;
+    }
     return 0;
 }

@@ -3,7 +3,8 @@
  * to a baseline that uses none (no air, no collider, still pins), plus the solver forced to its
  * iteration cap instead of stopping at its tolerance, and the cloth asleep. Per configuration:
  * the median per-stage wall time of a frame, the ratio to the baseline and what the baseline (or
- * the skip) saves. Core steps (wc_step_frame), as the other `weft bench` commands time them. */
+ * the skip) saves. Core steps (wc_step_frame), as the other `weft bench` commands time them, and/or
+ * (--backend) gpu/'s wg_sim_step_frame on the process's headless device. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -20,14 +21,16 @@
 typedef struct skip_args {
     const char* scene;
     int frames;
+    int backends[BENCH_MAX_BACKENDS];
+    int n_backends;
     bench_common com;
 } skip_args;
 
 void bench_skip_usage(FILE* out) {
     fputs("usage: weft bench skip [--quick] [--scene NAME] [--frames N] [--threads N] [--csv FILE]\n"
-          "                       [--md FILE] [--quiet]\n"
+          "                       [--md FILE] [--backend LIST] [--quiet]\n"
           "\n"
-          "What a step costs for features a scene does not use. " BENCH_BACKEND_NOTE ".\n"
+          "What a step costs for features a scene does not use, on the CPU and/or the GPU (--backend).\n"
           "One cloth, simulated for --frames frames at 60 frames/s from rest, per configuration:\n"
           "  baseline        no wind, no air drag, no collider, still pins, PCG at tolerance 1e-4\n"
           "  + air drag      the default drags (normal 0.5, tangent 0.02 kg/(m^2 s)), no wind\n"
@@ -38,8 +41,8 @@ void bench_skip_usage(FILE* out) {
           "  full cap        the baseline with tolerance 0: every solve runs all 300 iterations\n"
           "  asleep          the default cloth (+ air drag) with sleeping on (1e-3 m/s for 0.5 s), run\n"
           "                  until it falls asleep (at most 60 s), then timed\n"
-          "The configurations are stepped in turn, one frame each, so that a changing machine load\n"
-          "weighs on all of them alike.\n"
+          "The configurations (of every backend) are stepped in turn, one frame each, so that a\n"
+          "changing machine load weighs on all of them alike.\n"
           "Columns: median ms per frame of each stage (forces, assemble, solve, collide, integrate)\n"
           "and in all, the ratio to the baseline, and what skipping the feature saves per frame (the\n"
           "row's total minus the baseline's; for `full cap`, what stopping at the tolerance saves; for\n"
@@ -53,6 +56,9 @@ void bench_skip_usage(FILE* out) {
           "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
           "  --csv FILE           write every configuration as CSV\n"
           "  --md FILE            write the Markdown table to FILE instead of stdout\n"
+          BENCH_BACKEND_HELP
+          "                       Here positions are read back only before and after the timed\n"
+          "                       frames; each backend's rows are compared with its own baseline.\n"
           "  --quiet              no progress lines on stderr\n"
           "  -h, --help           show this help\n",
           out);
@@ -63,6 +69,8 @@ static void defaults(void* args, int quick) {
     memset(a, 0, sizeof *a);
     a->scene = quick ? "sheet16" : "sheet64";
     a->frames = quick ? 20 : 120;
+    a->backends[0] = BENCH_CPU;
+    a->n_backends = 1;
 }
 
 static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
@@ -74,6 +82,8 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     }
     if ((m = cli_option_value(argc, argv, i, "--frames", v)) != 0)
         return m < 0 ? m : cli_parse_int(*v, 1, 100000, &a->frames) != 0 ? -2 : 1;
+    if ((m = cli_option_value(argc, argv, i, "--backend", v)) != 0)
+        return m < 0 ? m : (a->n_backends = bench_parse_backends(*v, a->backends)) < 0 ? -2 : 1;
     return 0;
 }
 
@@ -106,6 +116,7 @@ static void pin_targets(const bench_scene* bs, double spin, int f, wc_pin* out) 
 /* One configuration's state and its per-frame timings. */
 typedef struct skip_cfg {
     wc_state* s;
+    bench_gpu_sim* g;       /* the GPU's sim of s (s its mirror), or NULL: the CPU */
     double* ms;             /* (6 x frames) */
     double* x0;             /* positions before the timed frames */
     wc_pin* pins;           /* (n pins) scratch */
@@ -113,6 +124,7 @@ typedef struct skip_cfg {
 } skip_cfg;
 
 static void cfg_free(skip_cfg* c) {
+    bench_gpu_sim_destroy(c->g);
     wc_state_destroy(c->s);
     free(c->ms);
     free(c->x0);
@@ -120,9 +132,25 @@ static void cfg_free(skip_cfg* c) {
     memset(c, 0, sizeof *c);
 }
 
-/* The configuration's state; the asleep one is stepped until it falls asleep (out->warmup). */
-static int cfg_create(skip_cfg* c, const bench_scene* bs, int config, int frames, int threads, skip_run* out,
-                      wc_diag* d) {
+/* One frame on the configuration's backend; -1 on a GPU failure (a failed step is not one). */
+static int cfg_frame(skip_cfg* c, wc_step_stats* st, wc_diag* d) {
+    if (!c->g) {
+        wc_step_frame(c->s, 1.0 / FPS, st, d);
+        return 0;
+    }
+    const weft_status r = bench_gpu_sim_step(c->g, c->s, 1.0 / FPS, st, d);
+    return r == WEFT_OK || r == WEFT_ERROR_STEP_FAILED ? 0 : -1;
+}
+
+/* The positions into c->s->x (the GPU's read back; the CPU's are there). */
+static int cfg_positions(skip_cfg* c, wc_diag* d) {
+    return c->g && bench_gpu_sim_download(c->g, c->s, d) != WEFT_OK ? -1 : 0;
+}
+
+/* The configuration's state (and, on the GPU, its sim); the asleep one is stepped until it falls
+ * asleep (out->warmup). */
+static int cfg_create(skip_cfg* c, const bench_scene* bs, int backend, int config, int frames, int threads,
+                      skip_run* out, wc_diag* d) {
     memset(c, 0, sizeof *c);
     memset(out, 0, sizeof *out);
     wc_sim_def sd = wc_default_sim_def();
@@ -157,26 +185,37 @@ static int cfg_create(skip_cfg* c, const bench_scene* bs, int config, int frames
         cfg_free(c);
         return -1;
     }
+    if (backend == BENCH_GPU && bench_gpu_sim_create(c->s, &c->g, d) != WEFT_OK) {
+        cfg_free(c);
+        return -1;
+    }
     if (config == K_ASLEEP) {
         out->warmup = -1;
         wc_step_stats ws;
         for (int f = 0; f < (int)(SLEEP_CAP_S * FPS) && out->warmup < 0; ++f) {
-            wc_step_frame(c->s, 1.0 / FPS, &ws, d);
+            if (cfg_frame(c, &ws, d) != 0) {
+                cfg_free(c);
+                return -1;
+            }
             if (ws.fell_asleep) out->warmup = f + 1;
         }
+    }
+    if (cfg_positions(c, d) != 0) {
+        cfg_free(c);
+        return -1;
     }
     memcpy(c->x0, c->s->x, sizeof(double) * n3);
     return 0;
 }
 
-/* Timed frame f of a configuration. */
-static void cfg_step(skip_cfg* c, const bench_scene* bs, int config, int f, int frames, skip_run* out, wc_diag* d) {
+/* Timed frame f of a configuration; -1 on a GPU failure. */
+static int cfg_step(skip_cfg* c, const bench_scene* bs, int config, int f, int frames, skip_run* out, wc_diag* d) {
     wc_step_stats ss;
     if (config == K_PINS) {
         pin_targets(bs, 1.0, f, c->pins);
-        wc_state_set_pins(c->s, c->pins, bs->pins.n, d);
+        wc_state_set_pins(c->s, c->pins, bs->pins.n, d); /* the GPU uploads s's pins every frame */
     }
-    wc_step_frame(c->s, 1.0 / FPS, &ss, d);
+    if (cfg_frame(c, &ss, d) != 0) return -1;
     const double stage[6] = {ss.ms.forces, ss.ms.assemble, ss.ms.solve, ss.ms.collide, ss.ms.integrate, ss.ms.total};
     for (int k = 0; k < 6; ++k) c->ms[(size_t)k * frames + f] = stage[k];
     c->iterations += ss.iterations;
@@ -184,13 +223,16 @@ static void cfg_step(skip_cfg* c, const bench_scene* bs, int config, int f, int 
     out->not_converged += ss.not_converged;
     out->asleep_frames += ss.asleep;
     out->contacts = ss.contacts;
+    return 0;
 }
 
-static void cfg_finish(skip_cfg* c, const bench_scene* bs, int frames, skip_run* out) {
+static int cfg_finish(skip_cfg* c, const bench_scene* bs, int frames, skip_run* out, wc_diag* d) {
+    if (cfg_positions(c, d) != 0) return -1;
     out->frames = frames;
     for (int k = 0; k < 6; ++k) out->stage[k] = wc_sort_median(c->ms + (size_t)k * frames, frames);
     out->iterations = c->substeps > 0 ? (double)c->iterations / (double)c->substeps : 0.0;
     out->unchanged = memcmp(c->x0, c->s->x, sizeof(double) * 3 * (size_t)bs->model.n_particles) == 0;
+    return 0;
 }
 
 /* What is skipped when the feature is off, in words. */
@@ -213,32 +255,37 @@ static const char* const csv_cols[N_COLS] = {
     "not_converged", "contacts", "asleep_frames", "positions_unchanged", "ms_forces", "ms_assemble", "ms_solve",
     "ms_collide", "ms_integrate", "ms_total", "ratio_to_baseline", "ms_saved", "skipped"};
 static const char* const md_cols[N_COLS] = {
-    NULL, NULL, NULL, "configuration", NULL, NULL, "it./substep", NULL, "contacts", NULL, NULL, "forces",
-    "assemble", "solve", "collide", "integrate", "total ms", "x baseline", "saved ms/frame", "what is skipped"};
+    NULL /* "backend" with two backends */, NULL, NULL, "configuration", NULL, NULL, "it./substep", NULL,
+    "contacts", NULL, NULL, "forces", "assemble", "solve", "collide", "integrate", "total ms", "x baseline", "saved ms/frame", "what is skipped"};
 
 typedef struct header_info {
     const skip_args* a;
     int particles, threads;
-    const skip_run* runs;
+    const skip_run (*runs)[N_CONFIGS];   /* [backend index][config] */
 } header_info;
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
-    const skip_run* r = h->runs;
+    char note[1024];
     fprintf(out, "## weft bench skip\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %d frames timed "
-                 "per configuration at 60 frames/s, one substep per frame; medians of wc_step_frame's "
-                 "per-stage wall time (ms per frame).\n\n",
-            BENCH_BACKEND_NOTE, h->threads, h->a->scene, h->particles, h->a->frames);
-    if (r[K_ASLEEP].warmup > 0)
-        fprintf(out, "Asleep: the cloth fell asleep after %d frames (%.2f s); a sleeping frame costs %.3g us, "
-                     "%.3g%% of the same cloth's active frame (+ air drag: %.3f ms; target < 2%%); positions %s over the %d timed "
-                     "frames. Stopping at the tolerance: %.1f iterations per solve instead of %.0f.\n\n",
-                r[K_ASLEEP].warmup, r[K_ASLEEP].warmup / FPS, 1e3 * r[K_ASLEEP].stage[5],
-                100.0 * r[K_ASLEEP].stage[5] / r[K_DRAG].stage[5], r[K_DRAG].stage[5],
-                r[K_ASLEEP].unchanged ? "bit-identical" : "CHANGED", r[K_ASLEEP].frames, r[K_BASE].iterations,
-                r[K_CAP].iterations);
-    else
-        fprintf(out, "Asleep: the cloth did not come to rest within %g s.\n\n", SLEEP_CAP_S);
+                 "per configuration at 60 frames/s, one substep per frame; medians of the step's own "
+                 "per-stage wall time (wc_step_frame's or wg_sim_step_frame's stats, ms per frame).\n\n",
+            bench_backend_note(h->a->backends, h->a->n_backends, note, sizeof note), h->threads, h->a->scene,
+            h->particles, h->a->frames);
+    for (int b = 0; b < h->a->n_backends; ++b) {
+        const skip_run* r = h->runs[b];
+        if (h->a->n_backends > 1) fprintf(out, "%s: ", h->a->backends[b] == BENCH_GPU ? "GPU" : "CPU");
+        if (r[K_ASLEEP].warmup > 0)
+            fprintf(out, "Asleep: the cloth fell asleep after %d frames (%.2f s); a sleeping frame costs %.3g us, "
+                         "%.3g%% of the same cloth's active frame (+ air drag: %.3f ms; target < 2%%); positions %s over the %d timed "
+                         "frames. Stopping at the tolerance: %.1f iterations per solve instead of %.0f.\n\n",
+                    r[K_ASLEEP].warmup, r[K_ASLEEP].warmup / FPS, 1e3 * r[K_ASLEEP].stage[5],
+                    100.0 * r[K_ASLEEP].stage[5] / r[K_DRAG].stage[5], r[K_DRAG].stage[5],
+                    r[K_ASLEEP].unchanged ? "bit-identical" : "CHANGED", r[K_ASLEEP].frames, r[K_BASE].iterations,
+                    r[K_CAP].iterations);
+        else
+            fprintf(out, "Asleep: the cloth did not come to rest within %g s.\n\n", SLEEP_CAP_S);
+    }
     fputs("A feature also changes the motion (wind blows the sheet, moving pins swing it, contacts add "
           "constraints) and with it the solver's iterations: the pass a feature adds shows in its own "
           "stage (air: forces; colliders: collide), the rest of the difference is the solve of a "
@@ -252,65 +299,84 @@ int bench_skip_run(int argc, char** argv) {
     int rc = bench_parse_args(argc, argv, "weft bench skip", bench_skip_usage, defaults, own_option, &a, &a.com);
     if (rc >= 0) return rc;
     if (a.com.plot) return cli_usage_error("weft bench skip", bench_skip_usage, "--plot: this command has no plot");
+    if (bench_open_backends(a.backends, a.n_backends) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
     bench_scene bs;
     wc_diag d = {0};
     if (bench_scene_build(&bs, a.scene, a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
         cli_error(d.message);
         return CLI_EXIT_FAILURE;
     }
-    /* every configuration is stepped in turn, one frame each, so that the machine's load, which
-       changes over seconds, weighs on all of them alike */
-    skip_run runs[N_CONFIGS];
-    skip_cfg cfg[N_CONFIGS];
+    /* every configuration of every backend is stepped in turn, one frame each, so that the
+       machine's load, which changes over seconds, weighs on all of them alike */
+    const int nb = a.n_backends;
+    static skip_run runs[BENCH_MAX_BACKENDS][N_CONFIGS];
+    static skip_cfg cfg[BENCH_MAX_BACKENDS][N_CONFIGS];
     memset(cfg, 0, sizeof cfg);
-    for (int k = 0; k < N_CONFIGS && rc < 0; ++k) {
-        if (!a.com.quiet) fprintf(stderr, "[%d/%d] %s%s\n", k + 1, N_CONFIGS, config_name[k],
-                                  k == K_ASLEEP ? ": stepping until it falls asleep" : "");
-        if (cfg_create(&cfg[k], &bs, k, a.frames, a.com.threads, &runs[k], &d) != 0) {
+    memset(runs, 0, sizeof runs);
+    for (int q = 0; q < nb * N_CONFIGS && rc < 0; ++q) {
+        const int b = q / N_CONFIGS, k = q % N_CONFIGS;
+        if (!a.com.quiet)
+            fprintf(stderr, "[%d/%d] %s%s%s%s\n", q + 1, nb * N_CONFIGS, nb > 1 ? bench_backend_name(a.backends[b]) : "",
+                    nb > 1 ? " " : "", config_name[k], k == K_ASLEEP ? ": stepping until it falls asleep" : "");
+        if (cfg_create(&cfg[b][k], &bs, a.backends[b], k, a.frames, a.com.threads, &runs[b][k], &d) != 0) {
             cli_error(d.message);
             rc = CLI_EXIT_FAILURE;
         }
     }
     if (rc < 0 && !a.com.quiet) fprintf(stderr, "timing %d frames of each, in turn\n", a.frames);
     for (int f = 0; f < a.frames && rc < 0; ++f)
-        for (int k = 0; k < N_CONFIGS; ++k) cfg_step(&cfg[k], &bs, k, f, a.frames, &runs[k], &d);
-    for (int k = 0; k < N_CONFIGS; ++k) {
-        if (rc < 0) cfg_finish(&cfg[k], &bs, a.frames, &runs[k]);
-        cfg_free(&cfg[k]);
+        for (int q = 0; q < nb * N_CONFIGS && rc < 0; ++q) {
+            const int b = q / N_CONFIGS, k = q % N_CONFIGS;
+            if (cfg_step(&cfg[b][k], &bs, k, f, a.frames, &runs[b][k], &d) != 0) {
+                cli_error(d.message);
+                rc = CLI_EXIT_FAILURE;
+            }
+        }
+    for (int q = 0; q < nb * N_CONFIGS; ++q) {
+        const int b = q / N_CONFIGS, k = q % N_CONFIGS;
+        if (rc < 0 && cfg_finish(&cfg[b][k], &bs, a.frames, &runs[b][k], &d) != 0) {
+            cli_error(d.message);
+            rc = CLI_EXIT_FAILURE;
+        }
+        cfg_free(&cfg[b][k]);
     }
     bench_table t;
-    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    const char* md[N_COLS];
+    memcpy(md, md_cols, sizeof md);
+    if (nb > 1) md[C_BACKEND] = "backend";
+    bench_table_init(&t, N_COLS, csv_cols, md);
     wc_par par;
     wc_par_init(&par, a.com.threads);
-    for (int k = 0; k < N_CONFIGS && rc < 0; ++k) {
-        const skip_run* r = &runs[k];
-        const double base = runs[K_BASE].stage[5];
+    for (int q = 0; q < nb * N_CONFIGS && rc < 0; ++q) {
+        const int b = q / N_CONFIGS, k = q % N_CONFIGS;
+        const skip_run* r = &runs[b][k];
+        const double base = runs[b][K_BASE].stage[5];
         /* what the baseline saves by skipping the feature (full cap: what stopping at the tolerance
-           saves); asleep: what sleeping saves */
-        const double saved = k == K_ASLEEP ? runs[K_DRAG].stage[5] - r->stage[5] : r->stage[5] - base;
-        char b[N_COLS][96];
-        snprintf(b[C_BACKEND], 96, "%s", BENCH_BACKEND);
-        snprintf(b[C_SCENE], 96, "%s", bs.name);
-        snprintf(b[C_PARTICLES], 96, "%d", bs.model.n_particles);
-        snprintf(b[C_CONFIG], 96, "%s", config_name[k]);
-        snprintf(b[C_FRAMES], 96, "%d", r->frames);
-        snprintf(b[C_WARMUP], 96, "%d", r->warmup);
-        bench_fmt(b[C_ITER], 96, "%.1f", r->iterations);
-        snprintf(b[C_NOT_CONV], 96, "%d", r->not_converged);
-        snprintf(b[C_CONTACTS], 96, "%d", r->contacts);
-        snprintf(b[C_ASLEEP], 96, "%d", r->asleep_frames);
-        snprintf(b[C_UNCHANGED], 96, "%d", r->unchanged);
-        for (int q = 0; q < 6; ++q) bench_fmt(b[C_FORCES + q], 96, r->stage[q] < 1e-2 ? "%.2g" : "%.3f", r->stage[q]);
-        bench_fmt(b[C_RATIO], 96, "%.3g", base > 0 ? r->stage[5] / base : NAN);
-        if (k == K_BASE) snprintf(b[C_SAVED], 96, "-");
-        else bench_fmt(b[C_SAVED], 96, "%.3f", saved);
-        snprintf(b[C_SKIPPED], 96, "%s", skipped_text[k]);
+           saves); asleep: what sleeping saves; each against its own backend's rows */
+        const double saved = k == K_ASLEEP ? runs[b][K_DRAG].stage[5] - r->stage[5] : r->stage[5] - base;
+        char c[N_COLS][96];
+        snprintf(c[C_BACKEND], 96, "%s", bench_backend_name(a.backends[b]));
+        snprintf(c[C_SCENE], 96, "%s", bs.name);
+        snprintf(c[C_PARTICLES], 96, "%d", bs.model.n_particles);
+        snprintf(c[C_CONFIG], 96, "%s", config_name[k]);
+        snprintf(c[C_FRAMES], 96, "%d", r->frames);
+        snprintf(c[C_WARMUP], 96, "%d", r->warmup);
+        bench_fmt(c[C_ITER], 96, "%.1f", r->iterations);
+        snprintf(c[C_NOT_CONV], 96, "%d", r->not_converged);
+        snprintf(c[C_CONTACTS], 96, "%d", r->contacts);
+        snprintf(c[C_ASLEEP], 96, "%d", r->asleep_frames);
+        snprintf(c[C_UNCHANGED], 96, "%d", r->unchanged);
+        for (int j = 0; j < 6; ++j) bench_fmt(c[C_FORCES + j], 96, r->stage[j] < 1e-2 ? "%.2g" : "%.3f", r->stage[j]);
+        bench_fmt(c[C_RATIO], 96, "%.3g", base > 0 ? r->stage[5] / base : NAN);
+        if (k == K_BASE) snprintf(c[C_SAVED], 96, "-");
+        else bench_fmt(c[C_SAVED], 96, "%.3f", saved);
+        snprintf(c[C_SKIPPED], 96, "%s", skipped_text[k]);
         const char* cell[N_COLS];
-        for (int q = 0; q < N_COLS; ++q) cell[q] = b[q];
+        for (int j = 0; j < N_COLS; ++j) cell[j] = c[j];
         if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
     }
     if (rc < 0) {
-        const header_info h = {&a, bs.model.n_particles, par.threads, runs};
+        const header_info h = {&a, bs.model.n_particles, par.threads, (const skip_run(*)[N_CONFIGS])runs};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     bench_table_free(&t);

@@ -2,7 +2,7 @@
  * one scene (default: a 32 x 32 sheet hanging from two corners) for a fixed time at one substep
  * per frame and is judged: failed (a non-finite value, strain above --fail-strain, energy growth
  * above --fail-energy, or a substep that failed every retry), recovered (it needed rollbacks) or
- * survived. */
+ * survived. --backend cpu,gpu runs the grid on each backend (the direct solver on the CPU only). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -27,6 +27,8 @@ typedef struct stab_args {
     int n_mass;
     double seconds;
     double fail_strain, fail_energy;
+    int backends[BENCH_MAX_BACKENDS];
+    int n_backends;
     bench_common com;
 } stab_args;
 
@@ -35,10 +37,10 @@ void bench_stability_usage(FILE* out) {
           "                            [--stiffness LIST] [--mass LIST] [--seconds T]\n"
           "                            [--fail-strain S] [--fail-energy E] [--threads N]\n"
           "                            [--garment FILE] [--csv FILE] [--md FILE] [--plot FILE.png]\n"
-          "                            [--quiet]\n"
+          "                            [--backend LIST] [--quiet]\n"
           "\n"
-          "Numerical stability over a grid of step length x stiffness x mass x solver. "
-          BENCH_BACKEND_NOTE ".\n"
+          "Numerical stability over a grid of step length x stiffness x mass x solver, on the CPU\n"
+          "and/or the GPU (--backend).\n"
           "Each cell simulates the scene for --seconds, one substep per frame of the given step\n"
           "length (the step's own rollback and retry on), and is judged:\n"
           "  failed     a non-finite position or energy, a stretch strain above --fail-strain, the\n"
@@ -67,6 +69,9 @@ void bench_stability_usage(FILE* out) {
           "  --md FILE            write the Markdown tables to FILE instead of stdout\n"
           "  --plot FILE.png      heat map: a panel per solver, step length across, stiffness and\n"
           "                       mass down\n"
+          BENCH_BACKEND_HELP
+          "                       The direct solver does not exist on the GPU: it has no GPU cells.\n"
+          "                       The plot has a panel per backend and solver.\n"
           "  --quiet              no progress lines on stderr\n"
           "  -h, --help           show this help\n",
           out);
@@ -83,6 +88,8 @@ static void defaults(void* args, int quick) {
     a->seconds = quick ? 0.25 : 1.0;
     a->fail_strain = 0.5;
     a->fail_energy = 0.1;
+    a->backends[0] = BENCH_CPU;
+    a->n_backends = 1;
 }
 
 /* This command's own options (bench_option_fn). */
@@ -103,6 +110,7 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
     if (OPT("--fail-strain")) return BAD(cli_parse_double(*v, &a->fail_strain) != 0 || !(a->fail_strain > 0));
     if (OPT("--fail-energy")) return BAD(cli_parse_double(*v, &a->fail_energy) != 0 || !(a->fail_energy > 0));
+    if (OPT("--backend")) return BAD((a->n_backends = bench_parse_backends(*v, a->backends)) < 0);
 #undef OPT
 #undef BAD
     return m;
@@ -150,8 +158,37 @@ static const char* short_reason(const bench_run* r, const char* why) {
     return "step";
 }
 
+/* The grid's panels: every backend x solver but the GPU's direct solver (none exists). */
+typedef struct panels {
+    int n;
+    int backend[BENCH_MAX_BACKENDS * BENCH_MAX_LIST];
+    wc_solver_type solver[BENCH_MAX_BACKENDS * BENCH_MAX_LIST];
+    char name[BENCH_MAX_BACKENDS * BENCH_MAX_LIST][32];
+    int skipped_direct;     /* 1: the GPU's direct solver was left out */
+} panels;
+
+static void panels_make(const stab_args* a, panels* p) {
+    memset(p, 0, sizeof *p);
+    for (int b = 0; b < a->n_backends; ++b)
+        for (int s = 0; s < a->n_solvers; ++s) {
+            if (a->backends[b] == BENCH_GPU && a->solvers[s] == WC_SOLVER_DIRECT) {
+                p->skipped_direct = 1;
+                continue;
+            }
+            p->backend[p->n] = a->backends[b];
+            p->solver[p->n] = a->solvers[s];
+            if (a->n_backends > 1)
+                snprintf(p->name[p->n], sizeof p->name[p->n], "%s (%s)", wc_solver_name(a->solvers[s]),
+                         bench_backend_name(a->backends[b]));
+            else
+                snprintf(p->name[p->n], sizeof p->name[p->n], "%s", wc_solver_name(a->solvers[s]));
+            ++p->n;
+        }
+}
+
 typedef struct header_info {
     const stab_args* a;
+    const panels* pn;
     const int* outcome;
     int per_solver, particles, threads;
 } header_info;
@@ -162,15 +199,23 @@ static void print_header(FILE* out, const void* ctx) {
     const stab_args* a = h->a;
     const int* outcome = h->outcome;
     const int per_solver = h->per_solver;
+    const panels* pn = h->pn;
+    char note[1024];
     fprintf(out, "## weft bench stability\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %g s "
                  "simulated per cell at one substep per frame; failed: non-finite, strain > %g, energy "
-                 "growth > %g x M |g| D, or a substep that failed every retry; recovered: rollbacks.\n\n",
-            BENCH_BACKEND_NOTE, h->threads, a->scene, h->particles, a->seconds, a->fail_strain, a->fail_energy);
-    fputs("| solver | survived | recovered | failed |\n|---|---|---|---|\n", out);
-    for (int s = 0; s < a->n_solvers; ++s) {
+                 "growth > %g x M |g| D, or a substep that failed every retry; recovered: rollbacks.%s\n\n",
+            bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->threads, a->scene, h->particles,
+            a->seconds, a->fail_strain, a->fail_energy,
+            pn->skipped_direct ? " The direct solver does not exist on the GPU: it has no GPU cells." : "");
+    const int two = a->n_backends > 1;
+    fputs(two ? "| backend | solver | survived | recovered | failed |\n|---|---|---|---|---|\n"
+              : "| solver | survived | recovered | failed |\n|---|---|---|---|\n",
+          out);
+    for (int s = 0; s < pn->n; ++s) {
         int count[3] = {0, 0, 0};
         for (int k = 0; k < per_solver; ++k) ++count[outcome[s * per_solver + k]];
-        fprintf(out, "| %s | %d | %d | %d |\n", wc_solver_name(a->solvers[s]), count[0], count[1], count[2]);
+        if (two) fprintf(out, "| %s ", bench_backend_name(pn->backend[s]));
+        fprintf(out, "| %s | %d | %d | %d |\n", wc_solver_name(pn->solver[s]), count[0], count[1], count[2]);
     }
     fputc('\n', out);
 }
@@ -180,18 +225,27 @@ int bench_stability_run(int argc, char** argv) {
     int rc = bench_parse_args(argc, argv, "weft bench stability", bench_stability_usage, defaults, own_option, &a,
                               &a.com);
     if (rc >= 0) return rc;
+    static panels pn;
+    panels_make(&a, &pn);
     const int n_rows = a.n_stiffness * a.n_mass, per_solver = n_rows * a.n_steps;
-    const int n_cells = a.n_solvers * per_solver;
-    int* outcome = calloc((size_t)n_cells, sizeof(int));
-    char(*text)[16] = calloc((size_t)n_cells, sizeof *text);
-    const char** text_ptr = calloc((size_t)n_cells, sizeof(char*));
+    const int n_cells = pn.n * per_solver;
+    int* outcome = calloc((size_t)n_cells + 1, sizeof(int));
+    char(*text)[16] = calloc((size_t)n_cells + 1, sizeof *text);
+    const char** text_ptr = calloc((size_t)n_cells + 1, sizeof(char*));
     bench_table t;
-    bench_table_init(&t, N_COLS, csv_cols, md_cols);
+    const char* md[N_COLS];
+    memcpy(md, md_cols, sizeof md);
+    if (a.n_backends > 1) md[C_BACKEND] = "backend";
+    bench_table_init(&t, N_COLS, csv_cols, md);
     rc = CLI_EXIT_OK;
     if (!outcome || !text || !text_ptr) {
         cli_error("out of memory");
         rc = CLI_EXIT_FAILURE;
     }
+    if (rc == CLI_EXIT_OK && n_cells == 0)
+        rc = cli_usage_error("weft bench stability", bench_stability_usage,
+                             "--backend gpu --solvers direct: the direct solver does not exist on the GPU");
+    if (rc == CLI_EXIT_OK) rc = bench_open_backends(a.backends, a.n_backends);
     int particles = 0, threads = 1, done = 0;
     for (int ki = 0; ki < a.n_stiffness && rc == CLI_EXIT_OK; ++ki)
         for (int mi = 0; mi < a.n_mass && rc == CLI_EXIT_OK; ++mi) {
@@ -204,13 +258,14 @@ int bench_stability_run(int argc, char** argv) {
             }
             particles = bs.model.n_particles;
             const int row = ki * a.n_mass + mi;
-            for (int s = 0; s < a.n_solvers && rc == CLI_EXIT_OK; ++s)
+            for (int s = 0; s < pn.n && rc == CLI_EXIT_OK; ++s)
                 for (int c = 0; c < a.n_steps; ++c) {
                     bench_run_opts o;
                     memset(&o, 0, sizeof o);
+                    o.backend = pn.backend[s];
                     o.sim = bs.sc.sim;
                     o.sim.threads = a.com.threads;
-                    o.sim.solver.type = a.solvers[s];
+                    o.sim.solver.type = pn.solver[s];
                     o.sim.substeps = 1;
                     o.fps = 1.0 / a.steps[c];
                     o.frames = (int)ceil(a.seconds / a.steps[c] - 1e-9);
@@ -232,10 +287,10 @@ int bench_stability_run(int argc, char** argv) {
                     if (out == BENCH_RECOVERED) snprintf(text[idx], sizeof text[idx], "%d", r.rollbacks);
                     else if (out == BENCH_FAILED) snprintf(text[idx], sizeof text[idx], "%s", short_reason(&r, why));
                     step_label(a.steps[c], step, sizeof step);
-                    snprintf(b[C_BACKEND], 48, "%s", BENCH_BACKEND);
+                    snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(pn.backend[s]));
                     snprintf(b[C_SCENE], 48, "%s", bs.name);
                     snprintf(b[C_PARTICLES], 48, "%d", particles);
-                    snprintf(b[C_SOLVER], 48, "%s", wc_solver_name(a.solvers[s]));
+                    snprintf(b[C_SOLVER], 48, "%s", wc_solver_name(pn.solver[s]));
                     snprintf(b[C_STEP], 48, "%s", step);
                     snprintf(b[C_STIFFNESS], 48, "%g", a.stiffness[ki]);
                     snprintf(b[C_MASS], 48, "%g", a.mass[mi]);
@@ -256,19 +311,18 @@ int bench_stability_run(int argc, char** argv) {
                     if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
                     ++done;
                     if (!a.com.quiet)
-                        fprintf(stderr, "[%d/%d] %s step %s k x%g m x%g: %s %s\n", done, n_cells,
-                                wc_solver_name(a.solvers[s]), step, a.stiffness[ki], a.mass[mi], outcome_name[out], why);
+                        fprintf(stderr, "[%d/%d] %s step %s k x%g m x%g: %s %s\n", done, n_cells, pn.name[s], step, a.stiffness[ki], a.mass[mi], outcome_name[out], why);
                     bench_run_free(&r);
                 }
             bench_scene_free(&bs);
         }
     if (rc == CLI_EXIT_OK) {
-        const header_info h = {&a, outcome, per_solver, particles, threads};
+        const header_info h = {&a, &pn, outcome, per_solver, particles, threads};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     if (rc == CLI_EXIT_OK && a.com.plot) {
         /* rows top to bottom in the order of the table: row r is drawn at n_rows - 1 - r */
-        const char** names = calloc((size_t)a.n_solvers, sizeof(char*));
+        const char** names = calloc((size_t)pn.n, sizeof(char*));
         char(*cols)[24] = calloc((size_t)a.n_steps, sizeof *cols);
         char(*rows)[40] = calloc((size_t)n_rows, sizeof *rows);
         const char** col_ptr = calloc((size_t)a.n_steps, sizeof(char*));
@@ -277,7 +331,7 @@ int bench_stability_run(int argc, char** argv) {
         char msg[256] = "out of memory";
         if (!names || !cols || !rows || !col_ptr || !row_ptr || !flipped) rc = CLI_EXIT_FAILURE;
         if (rc == CLI_EXIT_OK) {
-            for (int s = 0; s < a.n_solvers; ++s) names[s] = wc_solver_name(a.solvers[s]);
+            for (int s = 0; s < pn.n; ++s) names[s] = pn.name[s];
             for (int c = 0; c < a.n_steps; ++c) {
                 step_label(a.steps[c], cols[c], sizeof cols[c]);
                 col_ptr[c] = cols[c];
@@ -286,7 +340,7 @@ int bench_stability_run(int argc, char** argv) {
                 const int pr = n_rows - 1 - r;
                 snprintf(rows[pr], sizeof rows[pr], "k x%g, mass x%g", a.stiffness[r / a.n_mass], a.mass[r % a.n_mass]);
                 row_ptr[pr] = rows[pr];
-                for (int s = 0; s < a.n_solvers; ++s)
+                for (int s = 0; s < pn.n; ++s)
                     for (int c = 0; c < a.n_steps; ++c) {
                         const int from = (s * n_rows + r) * a.n_steps + c, to = (s * n_rows + pr) * a.n_steps + c;
                         flipped[to] = outcome[from];
@@ -296,7 +350,7 @@ int bench_stability_run(int argc, char** argv) {
             char title[160];
             snprintf(title, sizeof title, "%s, %g s per cell, one substep per frame", a.scene,
                      a.seconds);
-            if (bench_plot_heatmap(a.com.plot, names, a.n_solvers, col_ptr, a.n_steps, row_ptr, n_rows, flipped,
+            if (bench_plot_heatmap(a.com.plot, names, pn.n, col_ptr, a.n_steps, row_ptr, n_rows, flipped,
                                    text_ptr, title, msg, sizeof msg) != 0)
                 rc = CLI_EXIT_FAILURE;
         }
