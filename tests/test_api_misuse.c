@@ -454,7 +454,11 @@ static void test_context_create(void) {
         {"abi", WEFT_ABI + 1, WEFT_ERROR_ABI_MISMATCH, NULL},
         {"cookie", WEFT_ABI, WEFT_ERROR_INVALID_ARGUMENT, NULL},
         {"backend", WEFT_ABI, WEFT_ERROR_INVALID_ARGUMENT, "def->backend 7"},
+#ifdef WEFT_TEST_HAVE_GPU
         {"gpu", WEFT_ABI, WEFT_ERROR_GPU, "def->backend GPU"},   /* host mode, no current context */
+#else
+        {"gpu", WEFT_ABI, WEFT_ERROR_UNSUPPORTED, "built without WEFT_GPU"},
+#endif
         {"threads", WEFT_ABI, WEFT_ERROR_INVALID_ARGUMENT, "def->threads -1"},
         {"log_level", WEFT_ABI, WEFT_ERROR_INVALID_ARGUMENT, "def->log_level 9"},
         {"gl_mode", WEFT_ABI, WEFT_ERROR_INVALID_ARGUMENT, "def->gl_mode 4"},

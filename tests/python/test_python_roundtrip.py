@@ -187,7 +187,7 @@ class RoundTrip(unittest.TestCase):
         cloth = self.make()
         if os.environ.get("WEFT_GPU") == "OFF":        # built without gpu/: refused, said so
             with self.assertRaises(weft.WeftError) as e:
-                cloth.render(64, 48)
+                cloth.render(64, 48, rgba=True)
             self.assertEqual(e.exception.status, weft.Status.UNSUPPORTED)
             return
         image = np.zeros((48, 64, 4), np.uint8)
