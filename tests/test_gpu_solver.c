@@ -323,6 +323,41 @@ static void test_whole_run(void) {
     }
 }
 
+/* A mesh larger than the device's textures is refused with a message naming the sizes (the
+ * device's limit lowered to 4 texels for the test), and the state is untouched. */
+static void test_texture_limit(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 13, WC_SOLVER_PCG, 0);
+    if (!s) return;
+    int saved = dev->max_texture_size;
+    dev->max_texture_size = 4;
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    double x0 = s->x[0];
+    weft_status st = wg_sim_create(dev, s, NULL, &g, &d);
+    dev->max_texture_size = saved;
+    printf("  texture limit 4: status %d, \"%s\"\n", (int)st, d.message);
+    CHECK(st == WEFT_ERROR_GPU);
+    CHECK(g == NULL);
+    CHECK(strstr(d.message, "169 particles") != NULL && strstr(d.message, "4 x 4") != NULL);
+    CHECK(s->x[0] == x0);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* The direct solver does not exist on the GPU: refused, with the reason. */
+static void test_direct_refused(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 6, WC_SOLVER_DIRECT, 0);
+    if (!s) return;
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_ERROR_UNSUPPORTED);
+    CHECK(g == NULL && strstr(d.message, "no direct solver") != NULL);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
@@ -345,6 +380,8 @@ int main(void) {
     RUN_TEST(test_solvers_vs_direct);
     RUN_TEST(test_divergence);
     RUN_TEST(test_whole_run);
+    RUN_TEST(test_texture_limit);
+    RUN_TEST(test_direct_refused);
     wg_device_destroy(dev);
     wg_gl_end(gl);
     wg_gl_context_destroy(gl);

@@ -25,3 +25,5 @@ out="$here"
 "$weft" bench peers --threads 1 --csv "$out/peers.csv" --md "$out/peers.md"
 "$weft" bench torture --threads 1 --md "$out/torture_run.md"
 python3 "$here/pareto.py" "$out/accuracy.csv" > "$out/accuracy_pareto.md"
+# the GPU backend beside the CPU backend, 1k to 1M particles (on llvmpipe without a GPU: minutes)
+"$build/tests/bench/bench_gpu" --sizes 32,100,316,1000 --frames 5 > "$out/gpu.md"

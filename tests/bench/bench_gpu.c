@@ -8,7 +8,9 @@
  * with the step's checks off nothing rolls a bad step back), and the effective
  * bandwidth of the SpMV pass against a plain copy pass of the particle array.
  *
- *   bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--threads 0] [--skip-cpu]
+ *   bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--tolerance 0] [--threads 0]
+ *             [--skip-cpu]
+ * (--tolerance T > 0: PCG stops at T or the iteration cap, for the error of converged steps)
  *
  * llvmpipe runs the passes on the CPU's cores: its figures say what the GL path costs there, not
  * what a GPU does. Run it where an NVIDIA device is visible to EGL for GPU figures. */
@@ -61,10 +63,10 @@ static int build_sheet(wc_model* m, int n) {
     return st == WEFT_OK;
 }
 
-static wc_state* make_state(const wc_model* m, int n, int iterations, int threads) {
+static wc_state* make_state(const wc_model* m, int n, int iterations, double tolerance, int threads) {
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = WC_SOLVER_PCG;
-    def.solver.tolerance = 0.0;
+    def.solver.tolerance = tolerance;
     def.solver.max_iterations = iterations;
     def.sleep_speed = 0.0;
     def.threads = threads;
@@ -89,6 +91,7 @@ static wc_state* make_state(const wc_model* m, int n, int iterations, int thread
 
 int main(int argc, char** argv) {
     int sizes[MAX_SIZES] = {32, 100, 316, 1000}, n_sizes = 4, frames = 5, iterations = 30, threads = 0, skip_cpu = 0;
+    double tolerance = 0.0;
     for (int a = 1; a < argc; ++a) {
         if (!strcmp(argv[a], "--sizes") && a + 1 < argc) {
             n_sizes = 0;
@@ -97,13 +100,15 @@ int main(int argc, char** argv) {
             frames = atoi(argv[++a]);
         } else if (!strcmp(argv[a], "--iterations") && a + 1 < argc) {
             iterations = atoi(argv[++a]);
+        } else if (!strcmp(argv[a], "--tolerance") && a + 1 < argc) {
+            tolerance = atof(argv[++a]);
         } else if (!strcmp(argv[a], "--threads") && a + 1 < argc) {
             threads = atoi(argv[++a]);
         } else if (!strcmp(argv[a], "--skip-cpu")) {
             skip_cpu = 1;
         } else {
-            fprintf(stderr, "usage: bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--threads 0] "
-                            "[--skip-cpu]\n");
+            fprintf(stderr, "usage: bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--tolerance 0] "
+                            "[--threads 0] [--skip-cpu]\n");
             return 2;
         }
     }
@@ -119,10 +124,10 @@ int main(int argc, char** argv) {
         fprintf(stderr, "bench_gpu: %s\n", err);
         return 1;
     }
-    printf("# GPU backend vs CPU backend\n\n%s\n\nPCG, %d iterations per solve (tolerance 0), 1 substep of 1/30 s per "
+    printf("# GPU backend vs CPU backend\n\n%s\n\nPCG, %d iterations per solve at most (tolerance %g), 1 substep of 1/30 s per "
            "frame, median of %d frames after one warm-up frame; CPU threads: %d (0 = OpenMP default). Stages of the "
            "GPU from GL timer queries%s.\n\n",
-           wg_gl_context_description(gl), iterations, frames, threads, dev->has_timer ? "" : " (unavailable here)");
+           wg_gl_context_description(gl), iterations, tolerance, frames, threads, dev->has_timer ? "" : " (unavailable here)");
     printf("| particles | CPU ms/frame | GPU ms/frame | CPU/GPU | GPU forces | assemble | solve | collide+integrate | "
            "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB |\n"
            "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -132,8 +137,8 @@ int main(int argc, char** argv) {
         int n = sizes[k];
         wc_model m;
         if (!build_sheet(&m, n)) continue;
-        wc_state* c = make_state(&m, n, iterations, threads);
-        wc_state* s = make_state(&m, n, iterations, threads);
+        wc_state* c = make_state(&m, n, iterations, tolerance, threads);
+        wc_state* s = make_state(&m, n, iterations, tolerance, threads);
         wg_sim* g = NULL;
         wc_diag d = {0};
         if (!c || !s || wg_sim_create(dev, s, NULL, &g, &d) != WEFT_OK) {
