@@ -77,6 +77,9 @@ void wc_solver_invalidate_rho(wc_solver* s);
  * Ritz values, lambda_min extrapolated when k = 20, capped at 0.9995. Shared with the GPU
  * backend, which runs the CG steps in its own passes. */
 double wc_rho_from_lanczos(const double* alpha, const double* beta, int k, double gamma);
+/* Chebyshev's weight for iteration k (solve_jacobi.c): 1 before `delay`, then
+ * 2 / (2 - rho^2) and 4 / (4 - rho^2 omega_{k-1}) (omega: the previous weight). */
+double wc_chebyshev_omega(int k, int delay, double rho, double omega);
 /* The cached estimate, for snapshots of a state (it changes later solves): returns 1 and sets
  * *rho when one is cached, else 0. wc_solver_set_rho_cache puts one back (valid 0: none). */
 int wc_solver_rho_cache(const wc_solver* s, double* rho);

@@ -28,6 +28,11 @@
 #include "solver_impl.h"
 #include "vec3.h"
 
+double wc_chebyshev_omega(int k, int delay, double rho, double omega) {
+    if (k < delay) return 1.0;
+    return k == delay ? 2.0 / (2.0 - rho * rho) : 4.0 / (4.0 - rho * rho * omega);
+}
+
 /* One sweep from x = dv_k: writes dv_{k+1} = omega (x + gamma D~^{-1} S (b - A x) - p) + p into p
  * (p holds dv_{k-1} on entry; omega == 1 ignores it). Returns ||S (b - A x)||^2 when check, else 0. */
 static double sweep(wc_solver* s, const double* A, const double* b, const wc_filter* f, const double* x, double* p,
@@ -88,7 +93,7 @@ weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, con
     int k = 0, converged = 0;
     for (;; ++k) {
         int check = (k % o->check_every == 0) || k >= o->max_iterations;
-        if (chebyshev && k >= delay) omega = (k == delay) ? 2.0 / (2.0 - rho * rho) : 4.0 / (4.0 - rho * rho * omega);
+        if (chebyshev) omega = wc_chebyshev_omega(k, delay, rho, omega);
         double rr = sweep(s, A, b, f, x, prev, gamma, omega, check, par);
         if (check) {
             rn = sqrt(rr);

@@ -174,7 +174,7 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
     (void)prepare(s, h, alpha1, s->def.compression, st);
 }
 
-static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
+void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
     st->solver = solver;
     st->iterations += res->iterations;
     if (res->iterations > st->max_iterations) st->max_iterations = res->iterations;
@@ -200,7 +200,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
 
     wc_solve_result res;
     weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
-    solve_stats(st, solver, &res);
+    wc_step_stats_add_solve(st, solver, &res);
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
        instead, and the system is solved again from this dv (the stuck set only shrinks) */
     for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && stuck > 0; ++pass) {
@@ -212,7 +212,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
         stuck -= changed;
         ++st->friction_passes;
         status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
-        solve_stats(st, solver, &res);
+        wc_step_stats_add_solve(st, solver, &res);
     }
     t1 = wc_now_ms();
     st->ms.solve += t1 - t0;

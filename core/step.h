@@ -57,6 +57,9 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
  * (substeps or fixed-substep accumulator), the pins' interpolation, the retries (halvings, last
  * resorts), the judging of a substep, the stats and sleeping stay here, identical for both. */
 
+/* A solve's result into the frame's stats (solver, iterations, largest, residual, not converged). */
+void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res);
+
 /* How far a substep's result is judged. */
 enum {
     WC_JUDGE_ALL = 0,      /* finite, strain, kinetic-energy blow-up, total-energy gain */

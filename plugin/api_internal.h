@@ -199,6 +199,9 @@ void wa_render_release(weft_context* ctx);
 
 /* Create the context's GL context and solver device (weft_context_create); on failure the
  * message goes into err and nothing is kept. software: set to the device's software flag. */
+/* The context's GL context (a wg_gl_context*: headless or the host's, per def.gl_mode, with the
+ * context's logger and allocator); UNSUPPORTED without WEFT_GPU. */
+weft_status wa_gl_context_new(weft_context* ctx, void** out, char* err, size_t err_len);
 weft_status wa_gpu_context_init(weft_context* ctx, int probe_only_hardware, int* software, char* err, size_t err_len);
 /* Destroy the device (inside wg_gl_begin/end); the GL context is released by wa_render_release. */
 void wa_gpu_context_release(weft_context* ctx);

@@ -37,17 +37,25 @@ weft_status wa_gl_begin(weft_context* ctx, const char* fn) {
 
 void wa_gl_end(weft_context* ctx) { gl_end(ctx); }
 
-weft_status wa_gpu_context_init(weft_context* ctx, int only_hardware, int* software, char* err, size_t err_len) {
-    *software = 0;
+weft_status wa_gl_context_new(weft_context* ctx, void** out, char* err, size_t err_len) {
     wg_gl_context_desc gd;
     memset(&gd, 0, sizeof gd);
     gd.host_current = ctx->def.gl_mode == WEFT_GL_HOST_CURRENT;
-    gd.log = wa_core_log;
+    gd.log = wa_core_log;   /* gpu/ speaks core's types: levels mapped, filtered by def.log_level */
     gd.log_user = ctx;
     gd.allocator = ctx->alloc;
     wg_gl_context* gl = NULL;
     weft_status st = wg_gl_context_create(&gd, &gl, err, err_len);
+    *out = gl;
+    return st;
+}
+
+weft_status wa_gpu_context_init(weft_context* ctx, int only_hardware, int* software, char* err, size_t err_len) {
+    *software = 0;
+    void* glv = NULL;
+    weft_status st = wa_gl_context_new(ctx, &glv, err, err_len);
     if (st != WEFT_OK) return st;
+    wg_gl_context* gl = glv;
     /* AUTO: a software rasteriser is known from the renderer string already; the programs are
      * not compiled for nothing */
     if (only_hardware && wg_renderer_is_software(wg_gl_context_description(gl))) {
@@ -280,6 +288,13 @@ weft_status weft_cloth_write_gl_buffers(weft_context* ctx, weft_cloth cloth, wef
 }
 
 #else /* !WEFT_HAVE_GPU */
+
+weft_status wa_gl_context_new(weft_context* ctx, void** out, char* err, size_t err_len) {
+    (void)ctx;
+    *out = NULL;
+    snprintf(err, err_len, "this libweft.so was built without WEFT_GPU");
+    return WEFT_ERROR_UNSUPPORTED;
+}
 
 weft_status wa_gl_begin(weft_context* ctx, const char* fn) {
     return wa_fail(ctx, WEFT_ERROR_UNSUPPORTED, "%s: this libweft.so was built without WEFT_GPU", fn);

@@ -81,15 +81,10 @@ static weft_status ensure_renderer(weft_context* ctx) {
         ctx->renderer = r;
         return WEFT_OK;
     }
-    wg_gl_context_desc gd;
-    memset(&gd, 0, sizeof gd);
-    gd.host_current = ctx->def.gl_mode == WEFT_GL_HOST_CURRENT;
-    gd.log = wa_core_log;
-    gd.log_user = ctx;
-    gd.allocator = ctx->alloc;
-    wg_gl_context* gl = NULL;
-    weft_status st = wg_gl_context_create(&gd, &gl, err, sizeof err);
+    void* glv = NULL;
+    weft_status st = wa_gl_context_new(ctx, &glv, err, sizeof err);
     if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
+    wg_gl_context* gl = glv;
     wg_renderer* r = NULL;   /* the renderer makes its context current around its GL calls */
     st = wg_renderer_create(gl, NULL, &r, err, sizeof err);
     if (st != WEFT_OK) {

@@ -65,8 +65,9 @@ int wg_program_build(wg_program* p, const char* name, const char* vs, const char
         glDeleteProgram(prog);
         return 0;
     }
-    GLint prev = 0;
-    glGetIntegerv(GL_CURRENT_PROGRAM, &prev);
+    /* (the previous program is not put back: it may be one deleted while current, whose name
+       dies as soon as another program is used; gpu/ sets its program before every draw and
+       wg_gl_end restores a host's) */
     glUseProgram(prog);
     for (int k = 0; k < WG_PROGRAM_MAX_SAMPLERS; ++k) {
         char tname[8];
@@ -74,7 +75,7 @@ int wg_program_build(wg_program* p, const char* name, const char* vs, const char
         GLint loc = glGetUniformLocation(prog, tname);
         if (loc >= 0) glUniform1i(loc, k);
     }
-    glUseProgram((GLuint)prev);
+    glUseProgram(0);
     p->id = prog;
     return 1;
 }

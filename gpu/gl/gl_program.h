@@ -19,8 +19,9 @@ typedef struct wg_program {
     GLint cached_loc[WG_PROGRAM_MAX_UNIFORMS];
 } wg_program;
 
-/* Compile and link vertex + fragment sources; sampler uniforms named t0..t15 are bound to texture
- * units 0..15. Returns 1, or 0 with the compiler's or linker's log in err. */
+/* Compile and link vertex + fragment sources; outputs o0..o7 go to draw buffers 0..7 and sampler
+ * uniforms named t0..t15 to texture units 0..15. Leaves program 0 in use. Returns 1, or 0 with
+ * the compiler's or linker's log in err. */
 int wg_program_build(wg_program* p, const char* name, const char* vs, const char* fs, char* err, size_t err_len);
 void wg_program_destroy(wg_program* p);
 

@@ -1,10 +1,9 @@
 /* GLSL programs of the preview renderer. */
 #include "render_program.h"
 
-#include <stdio.h>
 #include <string.h>
 
-#include "gpu_error.h"
+#include "gl_program.h"
 
 #define STR_(x) #x
 #define STR(x) STR_(x)
@@ -52,13 +51,6 @@ static const char* kShadeFs =
     "    o_color = vec4(clamp(base * light, 0.0, 1.0), 1.0);\n"
     "}\n";
 
-static const char* kBackgroundVs =
-    "#version 330 core\n"
-    "void main() {\n"
-    "    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);\n"
-    "    gl_Position = vec4(p, 0.0, 1.0);\n"
-    "}\n";
-
 static const char* kBackgroundFs =
     "#version 330 core\n"
     "uniform vec3 u_top_rgb;\n"
@@ -70,64 +62,17 @@ static const char* kBackgroundFs =
     "    o_color = vec4(mix(u_bottom_rgb, u_top_rgb, t), 1.0);\n"
     "}\n";
 
-static GLuint compile(GLenum type, const char* src, const char* name, char* err, size_t err_len) {
-    GLuint sh = glCreateShader(type);
-    if (!sh) {
-        wg_errorf(err, err_len, "glCreateShader(%s) failed: %s", name,
-                  wg_gl_error_name(glGetError()));
-        return 0;
-    }
-    glShaderSource(sh, 1, &src, NULL);
-    glCompileShader(sh);
-    GLint ok = GL_FALSE;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[768] = "";
-        glGetShaderInfoLog(sh, (GLsizei)sizeof log, NULL, log);
-        wg_errorf(err, err_len, "compiling the %s shader failed: %s", name, log);
-        glDeleteShader(sh);
-        return 0;
-    }
-    return sh;
-}
-
-static GLuint link(const char* vs_src, const char* fs_src, const char* name, char* err,
-                   size_t err_len) {
-    char what[64];
-    snprintf(what, sizeof what, "%s vertex", name);
-    GLuint vs = compile(GL_VERTEX_SHADER, vs_src, what, err, err_len);
-    if (!vs) return 0;
-    snprintf(what, sizeof what, "%s fragment", name);
-    GLuint fs = compile(GL_FRAGMENT_SHADER, fs_src, what, err, err_len);
-    if (!fs) {
-        glDeleteShader(vs);
-        return 0;
-    }
-    GLuint prog = glCreateProgram();
-    glAttachShader(prog, vs);
-    glAttachShader(prog, fs);
-    glLinkProgram(prog);
-    glDetachShader(prog, vs);
-    glDetachShader(prog, fs);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[768] = "";
-        glGetProgramInfoLog(prog, (GLsizei)sizeof log, NULL, log);
-        wg_errorf(err, err_len, "linking the %s program failed: %s", name, log);
-        glDeleteProgram(prog);
-        return 0;
-    }
-    return prog;
+/* Compile and link through gl/'s program builder (shared with the solver's passes). */
+static GLuint link(const char* vs_src, const char* fs_src, const char* name, char* err, size_t err_len) {
+    wg_program prog;
+    return wg_program_build(&prog, name, vs_src, fs_src, err, err_len) ? prog.id : 0;
 }
 
 weft_status wg_programs_create(wg_programs* p, char* err, size_t err_len) {
     memset(p, 0, sizeof *p);
     p->shade = link(kShadeVs, kShadeFs, "shading", err, err_len);
     if (!p->shade) return WEFT_ERROR_GPU;
-    p->background = link(kBackgroundVs, kBackgroundFs, "background", err, err_len);
+    p->background = link(wg_fullscreen_vs, kBackgroundFs, "background", err, err_len);   /* one triangle */
     if (!p->background) {
         wg_programs_destroy(p);
         return WEFT_ERROR_GPU;

@@ -277,7 +277,7 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
     wg_use(g, WGP_JACOBI_SWEEP);
     for (;; ++k) {
         int check = (k % check_every == 0) || k >= o->max_iterations;
-        if (chebyshev && k >= delay) omega = (k == delay) ? 2.0 / (2.0 - rho * rho) : 4.0 / (4.0 - rho * rho * omega);
+        if (chebyshev) omega = wc_chebyshev_omega(k, delay, rho, omega);
         wg_use(g, WGP_JACOBI_SWEEP);
         wg_in(g, 0, &g->pblocks);
         wg_in(g, 1, &g->block);

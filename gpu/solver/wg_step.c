@@ -147,14 +147,6 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
     g->prepared = 1;
 }
 
-static void solve_stats(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
-    st->solver = solver;
-    st->iterations += res->iterations;
-    if (res->iterations > st->max_iterations) st->max_iterations = res->iterations;
-    if (res->residual > st->residual) st->residual = res->residual;
-    if (!res->converged) ++st->not_converged;
-}
-
 #define FRICTION_PASSES 4   /* as core/step.c */
 
 static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
@@ -171,7 +163,7 @@ static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1,
     const wg_tex* dvres = NULL;
     wc_solve_result res;
     weft_status status = wg_solve(g, &opts, solver, wg_ring_cur(&g->dv), &dvres, &res);
-    solve_stats(st, solver, &res);
+    wc_step_stats_add_solve(st, solver, &res);
     for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && s->n_colliders > 0 && g->contacts; ++pass) {
         if (!wg_contacts_recheck(g, s, dvres, h)) break;
         ++st->friction_passes;
@@ -179,7 +171,7 @@ static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1,
         int nd = wg_ring_other(&g->dv, 0);
         wg_copy(g, &g->dv.t[nd], dvres);
         status = wg_solve(g, &opts, solver, &g->dv.t[nd], &dvres, &res);
-        solve_stats(st, solver, &res);
+        wc_step_stats_add_solve(st, solver, &res);
     }
     g->last_solve = res;
     if (status != WEFT_OK)
