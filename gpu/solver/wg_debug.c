@@ -158,7 +158,7 @@ void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_cop
 
 double wg_sim_debug_rho(const wg_sim* g) { return g->rho_valid ? g->rho : 0.0; }
 
-weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, wc_diag* diag) {
+weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag) {
     float* lo = wc_calloc(&g->alloc, (size_t)g->nb * 4u, sizeof(float));
     float* hi = wc_calloc(&g->alloc, (size_t)g->nb * 2u, sizeof(float));
     if (!lo || !hi) {
@@ -180,6 +180,30 @@ weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b,
     wc_free(&g->alloc, lo);
     wc_free(&g->alloc, hi);
     upload_vec(g, &g->b, g->n, b);
+    if (f) {
+        upload_vec(g, &g->z, g->n, f->z);
+        float* s0 = wc_calloc(&g->alloc, (size_t)g->n * 4u, sizeof(float));
+        float* s1 = wc_calloc(&g->alloc, (size_t)g->n * 4u, sizeof(float));
+        if (!s0 || !s1) {
+            wc_free(&g->alloc, s0);
+            wc_free(&g->alloc, s1);
+            return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+        }
+        for (int i = 0; i < g->n; ++i) {
+            const double* S = f->S + 9 * i;
+            s0[4 * i] = (float)S[0];
+            s0[4 * i + 1] = (float)S[1];
+            s0[4 * i + 2] = (float)S[2];
+            s0[4 * i + 3] = (float)S[4];
+            s1[4 * i] = (float)S[5];
+            s1[4 * i + 1] = (float)S[8];
+            s1[4 * i + 2] = (float)f->ndof[i];
+        }
+        wg_array_upload(g, &g->S0, g->n, s0);
+        wg_array_upload(g, &g->S1, g->n, s1);
+        wc_free(&g->alloc, s0);
+        wc_free(&g->alloc, s1);
+    }
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug set system: %s", wg_gl_error_name(e));
     return WEFT_OK;

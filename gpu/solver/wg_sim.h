@@ -80,9 +80,9 @@ weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1
 /* Solve the system the last prepare built with the cloth's solver from the initial guess dv
  * (n x 3, in/out, NULL: the state's warm start); the result as core's wc_solve_result. */
 weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);
-/* Replace the prepared A (pattern.n_blocks x 9, row-major; symmetric blocks) and b (n x 3) with
- * the caller's, rounded to float (the filter stays the prepared one). */
-weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, wc_diag* diag);
+/* Replace the prepared A (pattern.n_blocks x 9, row-major; symmetric blocks), b (n x 3) and,
+ * when f is not NULL, the filter (S, z, ndof) with the caller's, rounded to float. */
+weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag);
 /* Forget Chebyshev's cached rho (the next Chebyshev solve estimates it again), and set the
  * options wg_sim_debug_solve uses (the state's at creation until then). */
 void wg_sim_debug_invalidate_rho(wg_sim* g);
