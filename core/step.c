@@ -182,7 +182,6 @@ void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_
     if (!res->converged) ++st->not_converged;
 }
 
-
 /* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
  * returns non-OK when the result must be discarded, judged as `judge` says. The last resorts use
  * the direct solver with the compressed springs' geometric term dropped (a positive-definite

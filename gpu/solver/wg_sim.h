@@ -29,7 +29,7 @@ void wg_sim_forget(wg_sim* g);
 
 /* wc_step_frame on the GPU (same schedule, retries, judging, stats, sleeping; the last resorts
  * run the cloth's own solver, with the compressed springs' geometric term dropped, in place of
- * the direct solver). */
+ * the direct solver: st->direct_fallbacks counts those last-resort tries). */
 weft_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
 
 /* Read x, v, dv and the contact arrays back into s (exact: float values widened to double). */
