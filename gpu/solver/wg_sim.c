@@ -264,8 +264,8 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
         wc_free(&alloc, g);
         return wc_fail(diag, WEFT_ERROR_GPU,
                        "GPU cloth: %lld items in one array (%d particles, %d springs, %d blocks) do not fit in the "
-                       "device's %d x %d textures", biggest, g->n, g->ns, g->nb, dev->max_texture_size,
-                       dev->max_texture_size);
+                       "device's %d x %d textures", biggest, m->n_particles, m->n_springs, m->pattern.n_blocks,
+                       dev->max_texture_size, dev->max_texture_size);
     }
     char err[512] = "";
     glGetError();
