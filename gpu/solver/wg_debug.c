@@ -19,6 +19,23 @@ static void upload_vec(wg_sim* g, const wg_tex* t, int count, const double* in) 
     wg_array_upload(g, t, count, g->rb);
 }
 
+/* A symmetric row-major 3x3 block m as the two texels (a00 a01 a02 a11 | a12 a22) the passes
+ * read (hi: 2 floats used), and back. */
+static void pack_sym(const double* m, float* lo, float* hi) {
+    lo[0] = (float)m[0];
+    lo[1] = (float)m[1];
+    lo[2] = (float)m[2];
+    lo[3] = (float)m[4];
+    hi[0] = (float)m[5];
+    hi[1] = (float)m[8];
+}
+
+static void unpack_sym(const float* lo, const float* hi, double* m) {
+    m[0] = lo[0]; m[1] = lo[1]; m[2] = lo[2];
+    m[3] = lo[1]; m[4] = lo[3]; m[5] = hi[0];
+    m[6] = lo[2]; m[7] = hi[0]; m[8] = hi[1];
+}
+
 /* Symmetric pairs (lo, hi) of `count` items into row-major 3x3 blocks. */
 static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, double* out) {
     float* a = wc_calloc(&g->alloc, (size_t)count * 4u, sizeof(float));
@@ -36,12 +53,7 @@ static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, do
     wg_copy(g, &tmp, hi);
     wg_array_read(g, &tmp, count, b);
     wg_tex_destroy(&tmp);
-    for (int k = 0; k < count; ++k) {
-        double* m = out + 9 * k;
-        m[0] = a[4 * k]; m[1] = a[4 * k + 1]; m[2] = a[4 * k + 2];
-        m[3] = a[4 * k + 1]; m[4] = a[4 * k + 3]; m[5] = b[4 * k];
-        m[6] = a[4 * k + 2]; m[7] = b[4 * k]; m[8] = b[4 * k + 1];
-    }
+    for (int k = 0; k < count; ++k) unpack_sym(a + 4 * k, b + 4 * k, out + 9 * k);
     wc_free(&g->alloc, a);
     wc_free(&g->alloc, b);
     return 1;
@@ -67,12 +79,7 @@ weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1
         wg_array_read(g, &g->S0, g->n, s0);
         wg_array_read(g, &g->S1, g->n, s1);
         for (int i = 0; i < g->n; ++i) {
-            if (S) {
-                double* m = S + 9 * i;
-                m[0] = s0[4 * i]; m[1] = s0[4 * i + 1]; m[2] = s0[4 * i + 2];
-                m[3] = s0[4 * i + 1]; m[4] = s0[4 * i + 3]; m[5] = s1[4 * i];
-                m[6] = s0[4 * i + 2]; m[7] = s1[4 * i]; m[8] = s1[4 * i + 1];
-            }
+            if (S) unpack_sym(s0 + 4 * i, s1 + 4 * i, S + 9 * i);
             if (ndof) ndof[i] = (unsigned char)s1[4 * i + 2];
         }
         wc_free(&g->alloc, s0);
@@ -101,16 +108,7 @@ weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_so
 
 weft_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag) {
     upload_vec(g, &g->t, g->n, x);
-    wg_use(g, WGP_SPMV);
-    wg_in(g, 0, &g->pblocks);
-    wg_in(g, 1, &g->block);
-    wg_in(g, 2, &g->A0);
-    wg_in(g, 3, &g->A1);
-    wg_in(g, 4, &g->t);
-    wg_in(g, 5, &g->S0);
-    wg_in(g, 6, &g->S1);
-    wg_u1i(g, "u_filter", 0);
-    WG_RUN(g, g->n, &g->q);
+    wg_spmv(g, &g->t, 0);
     read_vec(g, &g->q, g->n, y);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug spmv: %s", wg_gl_error_name(e));
@@ -131,18 +129,7 @@ void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_cop
                             double* bytes_copy) {
     glFinish();
     double t0 = wc_now_ms();
-    for (int k = 0; k < reps; ++k) {
-        wg_use(g, WGP_SPMV);
-        wg_in(g, 0, &g->pblocks);
-        wg_in(g, 1, &g->block);
-        wg_in(g, 2, &g->A0);
-        wg_in(g, 3, &g->A1);
-        wg_in(g, 4, &g->c[0]);
-        wg_in(g, 5, &g->S0);
-        wg_in(g, 6, &g->S1);
-        wg_u1i(g, "u_filter", 0);
-        WG_RUN(g, g->n, &g->q);
-    }
+    for (int k = 0; k < reps; ++k) wg_spmv(g, &g->c[0], 0);
     glFinish();
     double t1 = wc_now_ms();
     for (int k = 0; k < reps; ++k) wg_copy(g, &g->t, &g->c[0]);
@@ -166,15 +153,7 @@ weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b,
         wc_free(&g->alloc, hi);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
     }
-    for (int k = 0; k < g->nb; ++k) {
-        const double* m = A + 9 * k;
-        lo[4 * k] = (float)m[0];
-        lo[4 * k + 1] = (float)m[1];
-        lo[4 * k + 2] = (float)m[2];
-        lo[4 * k + 3] = (float)m[4];
-        hi[2 * k] = (float)m[5];
-        hi[2 * k + 1] = (float)m[8];
-    }
+    for (int k = 0; k < g->nb; ++k) pack_sym(A + 9 * k, lo + 4 * k, hi + 2 * k);
     wg_array_upload(g, &g->A0, g->nb, lo);
     wg_array_upload(g, &g->A1, g->nb, hi);
     wc_free(&g->alloc, lo);
@@ -190,13 +169,7 @@ weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b,
             return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
         }
         for (int i = 0; i < g->n; ++i) {
-            const double* S = f->S + 9 * i;
-            s0[4 * i] = (float)S[0];
-            s0[4 * i + 1] = (float)S[1];
-            s0[4 * i + 2] = (float)S[2];
-            s0[4 * i + 3] = (float)S[4];
-            s1[4 * i] = (float)S[5];
-            s1[4 * i + 1] = (float)S[8];
+            pack_sym(f->S + 9 * i, s0 + 4 * i, s1 + 4 * i);
             s1[4 * i + 2] = (float)f->ndof[i];
         }
         wg_array_upload(g, &g->S0, g->n, s0);

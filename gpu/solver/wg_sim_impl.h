@@ -175,6 +175,9 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
 
+/* g->q = A x over the prepared blocks; with filter, q = S (A x) and w = x.q (PCG's step). */
+void wg_spmv(wg_sim* g, const wg_tex* x, int filter);
+
 /* Solve the prepared system (A0/A1, b, S0/S1, z) from the initial guess in dv_in; the result is
  * left in *out (one of g->sv). */
 weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,

@@ -52,16 +52,16 @@ static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
     WG_RUN(g, g->n, out);
 }
 
-static void spmv_filtered(wg_sim* g, const wg_tex* c) {
+void wg_spmv(wg_sim* g, const wg_tex* x, int filter) {
     wg_use(g, WGP_SPMV);
     wg_in(g, 0, &g->pblocks);
     wg_in(g, 1, &g->block);
     wg_in(g, 2, &g->A0);
     wg_in(g, 3, &g->A1);
-    wg_in(g, 4, c);
+    wg_in(g, 4, x);
     wg_in(g, 5, &g->S0);
     wg_in(g, 6, &g->S1);
-    wg_u1i(g, "u_filter", 1);
+    wg_u1i(g, "u_filter", filter);
     WG_RUN(g, g->n, &g->q);
 }
 
@@ -100,7 +100,7 @@ static void direction(wg_sim* g, pcg_vecs* v, int first) {
 
 /* One PCG iteration, queued. */
 static void pcg_iteration(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, int max_it) {
-    spmv_filtered(g, &g->c[v->c]);
+    wg_spmv(g, &g->c[v->c], 1);
     scalars(g, o, 1, wg_reduce(g, &g->red_p[0], &g->q, 0, 0, 0, 0), NULL, max_it);
     update(g, v, 0);
     scalars(g, o, 2, NULL, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
