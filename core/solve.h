@@ -25,11 +25,22 @@ typedef enum wc_solver_type {
     WC_SOLVER_COUNT = 4
 } wc_solver_type;
 
+/* PCG's preconditioner. */
+typedef enum wc_precond_type {
+    WC_PRECOND_BLOCK_JACOBI = 0, /* filtered 3x3 block diagonal D~^{-1} */
+    WC_PRECOND_AMG = 1,          /* smoothed-aggregation multigrid V-cycle (amg.h) */
+    WC_PRECOND_COUNT = 2
+} wc_precond_type;
+
+const char* wc_precond_name(wc_precond_type t);        /* "block_jacobi", "amg" */
+int wc_precond_from_name(const char* name);            /* -1 when unknown */
+
 const char* wc_solver_name(wc_solver_type t);          /* "pcg", "jacobi", "chebyshev", "direct" */
 int wc_solver_from_name(const char* name);             /* -1 when unknown */
 
 typedef struct wc_solver_opts {
     wc_solver_type type;        /* PCG */
+    wc_precond_type preconditioner; /* PCG's preconditioner (BLOCK_JACOBI) */
     double tolerance;           /* relative residual to stop at (1e-4); 0 runs max_iterations */
     int max_iterations;         /* iteration cap (300) */
     int check_every;            /* Jacobi/Chebyshev: residual measured every this many iterations (10) */
@@ -48,6 +59,7 @@ typedef struct wc_solve_result {
     int converged;              /* residual <= tolerance (direct: always when status is OK) */
     double residual;            /* relative, see above */
     double residual0;           /* ||S (b - A z)||_2, absolute */
+    double setup_ms;            /* wall time spent building the preconditioner for this solve */
 } wc_solve_result;
 
 typedef struct wc_solver wc_solver;   /* workspace: vectors, preconditioner, CHOLMOD analysis */

@@ -8,6 +8,19 @@
 
 static const char* const solver_names[WC_SOLVER_COUNT] = {"pcg", "jacobi", "chebyshev", "direct"};
 
+static const char* const precond_names[WC_PRECOND_COUNT] = {"block_jacobi", "amg"};
+
+const char* wc_precond_name(wc_precond_type t) {
+    return (t >= 0 && t < WC_PRECOND_COUNT) ? precond_names[t] : "unknown";
+}
+
+int wc_precond_from_name(const char* name) {
+    if (!name) return -1;
+    for (int t = 0; t < WC_PRECOND_COUNT; ++t)
+        if (strcmp(name, precond_names[t]) == 0) return t;
+    return -1;
+}
+
 const char* wc_solver_name(wc_solver_type t) {
     return (t >= 0 && t < WC_SOLVER_COUNT) ? solver_names[t] : "unknown";
 }
@@ -22,6 +35,7 @@ int wc_solver_from_name(const char* name) {
 wc_solver_opts wc_default_solver_opts(void) {
     wc_solver_opts o;
     o.type = WC_SOLVER_PCG;
+    o.preconditioner = WC_PRECOND_BLOCK_JACOBI;
     o.tolerance = 1e-4;
     o.max_iterations = 300;
     o.check_every = 10;
@@ -35,6 +49,8 @@ wc_solver_opts wc_default_solver_opts(void) {
 static weft_status check_opts(const wc_solver_opts* o, wc_diag* diag) {
     if (!(o->type >= 0 && o->type < WC_SOLVER_COUNT))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "unknown solver type %d", (int)o->type);
+    if (!(o->preconditioner >= 0 && o->preconditioner < WC_PRECOND_COUNT))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "unknown preconditioner %d", (int)o->preconditioner);
     if (!(o->tolerance >= 0.0) || !isfinite(o->tolerance))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "solver tolerance must be finite and >= 0 (got %g)",
                        o->tolerance);

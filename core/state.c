@@ -12,6 +12,9 @@ wc_sim_def wc_default_sim_def(void) {
     d.air.normal_drag = 0.5;
     d.air.tangent_drag = 0.02;
     d.solver = wc_default_solver_opts();
+    d.integrator = WC_INTEGRATOR_BE;
+    d.newton_iterations = 1;
+    d.line_search = 0;
     d.substeps = 1;
     d.substep_dt = 0.0;
     d.compression = WC_COMPRESSION_DROP;
@@ -28,6 +31,19 @@ wc_sim_def wc_default_sim_def(void) {
     d.sleep_speed = 1e-3;
     d.sleep_time = 0.5;
     return d;
+}
+
+static const char* const integrator_names[WC_INTEGRATOR_COUNT] = {"be", "bdf2"};
+
+const char* wc_integrator_name(wc_integrator t) {
+    return (t >= 0 && t < WC_INTEGRATOR_COUNT) ? integrator_names[t] : "unknown";
+}
+
+int wc_integrator_from_name(const char* name) {
+    if (!name) return -1;
+    for (int t = 0; t < WC_INTEGRATOR_COUNT; ++t)
+        if (strcmp(name, integrator_names[t]) == 0) return t;
+    return -1;
 }
 
 static int finite_n(const double* a, int n) {

@@ -21,10 +21,23 @@
 #include "forces.h"
 #include "solve.h"
 
+/* Time integrator of a substep. */
+typedef enum wc_integrator {
+    WC_INTEGRATOR_BE = 0,       /* backward Euler (Baraff & Witkin 1998) */
+    WC_INTEGRATOR_BDF2 = 1,     /* second-order backward differentiation (Choi & Ko 2002) */
+    WC_INTEGRATOR_COUNT = 2
+} wc_integrator;
+
+const char* wc_integrator_name(wc_integrator t);       /* "be", "bdf2" */
+int wc_integrator_from_name(const char* name);         /* -1 when unknown */
+
 typedef struct wc_sim_def {
     double gravity[3];          /* m/s^2 (0, -9.81, 0): Y is up */
     wc_air air;                 /* wind 0, normal_drag 0.5, tangent_drag 0.02 */
     wc_solver_opts solver;
+    wc_integrator integrator;   /* BE */
+    int newton_iterations;      /* linearised solves per substep (1: one Baraff-Witkin step) */
+    int line_search;            /* 1: backtracking line search on the incremental potential */
     int substeps;               /* substeps per frame when substep_dt is 0 (1) */
     double substep_dt;          /* s; > 0: fixed substep length with an accumulator instead */
     wc_compression compression; /* DROP */

@@ -176,6 +176,8 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
 
 void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
     st->solver = solver;
+    ++st->solves;
+    st->precond_ms += res->setup_ms;
     st->iterations += res->iterations;
     if (res->iterations > st->max_iterations) st->max_iterations = res->iterations;
     if (res->residual > st->residual) st->residual = res->residual;

@@ -23,6 +23,7 @@
 
 typedef struct wc_step_stats {
     int substeps;               /* substeps completed (halved retries count each piece) */
+    int solves;                 /* linear solves (Newton iterations and friction passes included) */
     int iterations;             /* solver iterations, summed over substeps */
     int max_iterations;         /* largest in one solve */
     double residual;            /* largest final relative residual of an accepted solve */
@@ -39,6 +40,7 @@ typedef struct wc_step_stats {
     int asleep;                 /* 1: the cloth slept through this frame (nothing simulated) */
     int fell_asleep;            /* 1: it came to rest in this frame and sleeps from the next one */
     int woke;                   /* 1: it was asleep and an input change woke it; this frame was simulated */
+    double precond_ms;          /* wall time building preconditioners (inside ms.solve) */
     struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
 } wc_step_stats;
 
@@ -59,6 +61,7 @@ weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag*
 
 /* A solve's result into the frame's stats (solver, iterations, largest, residual, not converged). */
 void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res);
+/* (solves, precond_ms included) */
 
 /* How far a substep's result is judged. */
 enum {

@@ -39,6 +39,22 @@ static weft_status read_mesh(weft_context* ctx, const weft_cloth_def* def, wc_so
     return WEFT_OK;
 }
 
+/* The backends' defaults for the DEFAULT / 0 / -1 choices of the def (README "Defaults"). The
+ * GPU backend has block Jacobi and backward Euler only. */
+static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def, wc_sim_def* s) {
+    int gpu = ctx->backend == WEFT_BACKEND_GPU;
+    s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
+                               : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
+                               : gpu                                              ? WC_PRECOND_BLOCK_JACOBI
+                                                                                  : WC_PRECOND_BLOCK_JACOBI;
+    s->integrator = def->integrator == WEFT_INTEGRATOR_BDF2             ? WC_INTEGRATOR_BDF2
+                    : def->integrator == WEFT_INTEGRATOR_BACKWARD_EULER ? WC_INTEGRATOR_BE
+                    : gpu                                               ? WC_INTEGRATOR_BE
+                                                                        : WC_INTEGRATOR_BE;
+    s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : 1;
+    s->line_search = def->line_search >= 0 ? def->line_search : 0;
+}
+
 static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def) {
     wc_sim_def s = wc_default_sim_def();
     for (int k = 0; k < 3; ++k) {
@@ -50,6 +66,7 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
     s.solver.type = (wc_solver_type)def->solver; /* same numbering */
     s.solver.tolerance = def->tolerance;
     s.solver.max_iterations = def->max_iterations;
+    resolve_defaults(ctx, def, &s);
     s.substeps = def->substeps;
     s.strain_limit = def->strain_limit;
     s.sleep_speed = def->sleep_speed;

@@ -30,6 +30,10 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.solver = WEFT_SOLVER_PCG;
     d.tolerance = 1e-4;
     d.max_iterations = 300;
+    d.preconditioner = WEFT_PRECOND_DEFAULT;
+    d.integrator = WEFT_INTEGRATOR_DEFAULT;
+    d.newton_iterations = 0;
+    d.line_search = -1;
     d.substeps = 1;
     d.max_frame_time = 0.25;
     d.strain_limit = 0.0;
@@ -148,6 +152,15 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     if (!isfinite(d->tolerance)) FAIL(WEFT_ERROR_NONFINITE, "def->tolerance is not finite");
     if (!(d->tolerance >= 0 && d->tolerance < 1)) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->tolerance = %g must be in [0, 1)", d->tolerance);
     if (d->max_iterations < 1) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->max_iterations = %d must be >= 1", d->max_iterations);
+    if ((unsigned)d->preconditioner > WEFT_PRECOND_AMG)
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->preconditioner = %d is not a weft_preconditioner", (int)d->preconditioner);
+    if ((unsigned)d->integrator > WEFT_INTEGRATOR_BDF2)
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->integrator = %d is not a weft_integrator", (int)d->integrator);
+    if (d->newton_iterations < 0 || d->newton_iterations > 100)
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->newton_iterations = %d must be in [0, 100] (0: default)",
+             d->newton_iterations);
+    if (d->line_search < -1 || d->line_search > 1)
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->line_search = %d must be -1 (default), 0 or 1", d->line_search);
     if (d->substeps < 1 || d->substeps > 100000)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->substeps = %d must be in [1, 100000]", d->substeps);
     RANGE(d->max_frame_time, 0.0, 1000.0, 1, "def->max_frame_time");

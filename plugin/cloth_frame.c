@@ -196,6 +196,8 @@ static void fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_st
     o->ms_integrate = st->ms.integrate;
     o->substeps = st->substeps;
     o->iterations = st->iterations;
+    o->solves = st->solves;
+    o->ms_precond = st->precond_ms;
     o->max_iterations = st->max_iterations;
     o->residual = st->residual;
     o->not_converged = st->not_converged;

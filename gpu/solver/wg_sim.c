@@ -241,6 +241,15 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend has no direct solver (CHOLMOD runs on the CPU only): choose pcg, jacobi or "
                        "chebyshev, or the CPU backend");
+    if (s->def.solver.preconditioner != WC_PRECOND_BLOCK_JACOBI)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend has the block-Jacobi preconditioner only (the %s preconditioner runs on the "
+                       "CPU backend)", wc_precond_name(s->def.solver.preconditioner));
+    if (s->def.integrator != WC_INTEGRATOR_BE || s->def.newton_iterations != 1 || s->def.line_search)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend runs one backward-Euler step per substep (integrator %s, %d Newton "
+                       "iteration(s), line search %s run on the CPU backend only)",
+                       wc_integrator_name(s->def.integrator), s->def.newton_iterations, s->def.line_search ? "on" : "off");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");

@@ -204,6 +204,20 @@ typedef enum weft_solver {
     WEFT_SOLVER_DIRECT = 3      /* CHOLMOD sparse Cholesky */
 } weft_solver;
 
+/* PCG's preconditioner. */
+typedef enum weft_preconditioner {
+    WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: AMG on the CPU, block Jacobi on the GPU */
+    WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
+    WEFT_PRECOND_AMG = 2            /* smoothed-aggregation multigrid V-cycle (CPU backend only) */
+} weft_preconditioner;
+
+/* Time integrator of each substep. */
+typedef enum weft_integrator {
+    WEFT_INTEGRATOR_DEFAULT = 0,        /* the backend's choice (see README "Defaults") */
+    WEFT_INTEGRATOR_BACKWARD_EULER = 1, /* first order (Baraff & Witkin 1998) */
+    WEFT_INTEGRATOR_BDF2 = 2            /* second order (Choi & Ko 2002; CPU backend only) */
+} weft_integrator;
+
 /* Pins: host vertices bound to a host transform (a bone, an object, or the world). At bind time
  * (weft_cloth_create, or weft_cloth_set_attachments later) each vertex's world position is
  * expressed in the frame of bind_transform; every frame it follows that frame's transform
@@ -253,7 +267,14 @@ typedef struct weft_cloth_def {
     weft_solver solver;         /* PCG */
     double tolerance;           /* relative residual the iterative solvers stop at (1e-4) */
     int max_iterations;         /* iteration cap per solve (300) */
-    int substeps;               /* backward-Euler steps per frame (1) */
+    weft_preconditioner preconditioner; /* DEFAULT */
+    weft_integrator integrator; /* DEFAULT */
+    int newton_iterations;      /* linearised solves per substep, 1..100; 0 (default): the
+                                   backend's choice. 1 without line search is one Baraff-Witkin
+                                   step */
+    int line_search;            /* backtracking line search on the incremental potential:
+                                   1 on, 0 off, -1 (default): the backend's choice */
+    int substeps;               /* implicit steps per frame (1) */
     double max_frame_time;      /* s: a longer weft_frame.dt is refused (0.25) */
     double strain_limit;        /* 0 off (default); 0.1 caps stretch springs at 110% of rest */
 
@@ -355,6 +376,8 @@ typedef struct weft_frame_stats {
     double ms_forces, ms_assemble, ms_solve, ms_collide, ms_integrate;
     int substeps;               /* completed (halved retries count each piece) */
     int iterations;             /* solver iterations, summed over substeps */
+    int solves;                 /* linear solves (Newton iterations, friction passes included) */
+    double ms_precond;          /* wall time building preconditioners (part of ms_solve) */
     int max_iterations;         /* largest in one solve */
     double residual;            /* largest final relative residual */
     int not_converged;          /* solves that stopped at the cap above tolerance */
