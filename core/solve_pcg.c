@@ -13,6 +13,7 @@
  * iteration with SOLVER_DIVERGED; dv keeps the last iterate (finite: alpha is checked before it
  * is applied). */
 #include <math.h>
+#include "clock.h"
 #include "solver_impl.h"
 #include "vec3.h"
 
@@ -63,6 +64,45 @@ void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, doubl
     *rr = wcs_sum(s, 1);
 }
 
+/* wcs_pcg_update with the multigrid preconditioner: t = V-cycle(r). */
+static void pcg_update_amg(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
+    const double *c = s->c, *q = s->q;
+    double *r = s->r, *t = s->t;
+    WC_PAR_REGION(par)
+    {
+        int c0, c1;
+        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+        for (int k = c0; k < c1; ++k) {
+            int lo, hi;
+            wcs_chunk_rows(s, k, &lo, &hi);
+            double acc_r = 0.0;
+            for (int i = lo; i < hi; ++i) {
+                if (alpha != 0.0) {
+                    if (dv) v3_axpy(dv + 3 * i, alpha, c + 3 * i);
+                    v3_axpy(r + 3 * i, -alpha, q + 3 * i);
+                }
+                acc_r += v3_dot(r + 3 * i, r + 3 * i);
+            }
+            s->partial[k] = acc_r;
+        }
+    }
+    *rr = wcs_sum(s, 0);
+    wc_amg_apply(s->amg, r, t, par);
+    WC_PAR_REGION(par)
+    {
+        int c0, c1;
+        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+        for (int k = c0; k < c1; ++k) {
+            int lo, hi;
+            wcs_chunk_rows(s, k, &lo, &hi);
+            double acc_d = 0.0;
+            for (int i = lo; i < hi; ++i) acc_d += v3_dot(r + 3 * i, t + 3 * i);
+            s->partial[k] = acc_d;
+        }
+    }
+    *delta = wcs_sum(s, 0);
+}
+
 void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par) {
     double *c = s->c;
     const double* t = s->t;
@@ -92,10 +132,15 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
     int it = 0, converged = 0;
     double delta, rr, rr_final = -1.0;
 
-    wcs_build_precond(s, A, f, par);
+    const int amg = s->amg && o->preconditioner == WC_PRECOND_AMG;
+    void (*update)(wc_solver*, double, double*, double*, double*, wc_par*) = amg ? pcg_update_amg : wcs_pcg_update;
+    double t_setup = wc_now_ms();
+    if (amg) wc_amg_setup(s->amg, A, f, par);
+    else wcs_build_precond(s, A, f, par);
+    res->setup_ms = wc_now_ms() - t_setup;
     rr = wcs_filtered_residual(s, A, b, f, dv, s->r, par);
     const double limit = o->divergence_factor * fmax(res0, sqrt(rr));
-    wcs_pcg_update(s, 0.0, dv, &delta, &rr, par);
+    update(s, 0.0, dv, &delta, &rr, par);
     wcs_pcg_direction(s, f, 0.0, par);
     for (;;) {
         if (!isfinite(rr) || !(delta >= 0.0) || !isfinite(delta) || sqrt(rr) > limit) {
@@ -113,7 +158,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
             }
             if (it >= o->max_iterations) break;
             for (int k = 0; k < 3 * s->n; ++k) s->r[k] = s->q[k];
-            wcs_pcg_update(s, 0.0, dv, &delta, &rr, par);
+            update(s, 0.0, dv, &delta, &rr, par);
             wcs_pcg_direction(s, f, 0.0, par);
             continue;
         }
@@ -126,7 +171,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
             break;
         }
         double delta_old = delta;
-        wcs_pcg_update(s, alpha, dv, &delta, &rr, par);
+        update(s, alpha, dv, &delta, &rr, par);
         ++it;
         wcs_pcg_direction(s, f, delta / delta_old, par);
     }

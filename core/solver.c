@@ -94,6 +94,13 @@ weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver
         wc_solver_destroy(s);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "solver vectors for %d particles", m->n_particles);
     }
+    if (opts->preconditioner == WC_PRECOND_AMG) {
+        st = wc_amg_create(&s->amg, m, NULL, &s->alloc, diag);
+        if (st != WEFT_OK) {
+            wc_solver_destroy(s);
+            return st;
+        }
+    }
     if (want_direct || opts->type == WC_SOLVER_DIRECT) {
         st = wcs_direct_create(s, diag);
         if (st != WEFT_OK) {
@@ -108,6 +115,7 @@ weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver
 void wc_solver_destroy(wc_solver* s) {
     if (!s) return;
     wcs_direct_destroy(s);
+    wc_amg_destroy(s->amg);
     wc_allocator a = s->alloc;
     wc_free(&a, s->partial);
     wc_free(&a, s->Dinv);

@@ -11,6 +11,7 @@
  * of threads. */
 #ifndef WEFT_CORE_SOLVER_IMPL_H
 #define WEFT_CORE_SOLVER_IMPL_H
+#include "amg.h"
 #include "solve.h"
 
 #define WCS_CHUNK 256           /* particles per reduction chunk */
@@ -33,6 +34,7 @@ struct wc_solver {
     double rho;                 /* cached estimate of wc_solver_estimate_rho */
     int rho_valid;
     wcs_direct* direct;         /* NULL unless the direct solver was analysed at create */
+    wc_amg* amg;                /* NULL unless opts.preconditioner is AMG */
 };
 
 /* Rows [lo, hi) of chunk c. */

@@ -1,0 +1,136 @@
+/* Smoothed-aggregation algebraic multigrid (Vanek, Mandel & Brezina 1996; for cloth: Tamstorf,
+ * Jones & McCormick 2015) as PCG's preconditioner on the projected system
+ *     P^ = S A S + a (I - S),   a_i = trace(A_ii) / 3,
+ * which has the same solution in range(S) as B&W's filtered system (its null(S) part decouples;
+ * the scale a_i only keeps constrained rows as stiff as their neighbours, as Dirichlet rows in
+ * any AMG). PCG filters what the V-cycle returns (c = S (M^-1 r + beta c)), so the preconditioner
+ * it sees is S M^-1 S: symmetric, and positive definite on range(S).
+ *
+ * Near-null space: the three translations per aggregate, so every level stays 3x3 block-sparse
+ * and every operator is the BSR of bsr.h.
+ *
+ * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
+ * arrays as it uploads the BSR pattern):
+ *   - aggregates per level (greedy, Vanek's three phases) over the "strong" graph: on the finest
+ *     level the stretch and shear springs (bend springs join particles two edges apart; they are
+ *     lumped onto the diagonal when the prolongator is smoothed), on coarse levels every block;
+ *   - the smoothed prolongator's pattern (row i: the aggregates of i's strong neighbours and its
+ *     own), its transpose, the pattern of T = P^ P and of the Galerkin operator P^T P^ P.
+ * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
+ * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (power iterations from a
+ * fixed start, times a safety factor), the smoothed
+ * prolongator P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal),
+ * the Galerkin operators and the coarsest level's dense Cholesky factor.
+ * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
+ * D^-1 A, the same before and after the coarse correction), exact solve on the coarsest level.
+ * Chosen by measurement (tests/bench/bench_precond, 64^2 and 128^2 hanging sheets, stiffness x1
+ * and x1000, iterations to 1e-4): weighted Jacobi 1 sweep 26/57/34/23, 2 sweeps 18/41/24/16,
+ * Chebyshev degree 2 12/27/17/11, degree 3 11/21/14/10; block Jacobi alone 508/944/1000+/1000+.
+ * The largest eigenvalue needs estimating: a Gershgorin bound was 204 where it is 1.9 (the
+ * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows in
+ * parallel with no reduction, so the result does not depend on the thread count. */
+#ifndef WEFT_CORE_AMG_H
+#define WEFT_CORE_AMG_H
+#include "diag.h"
+#include "filter.h"
+#include "model.h"
+#include "par.h"
+
+#define WC_AMG_MAX_LEVELS 12
+#define WC_AMG_COARSE_SWEEPS 4
+#define WC_AMG_CHUNK 256        /* rows per partial sum */
+#define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the power iterations' Rayleigh quotient */
+
+typedef struct wc_amg_opts {
+    int coarse_max;             /* nodes at which coarsening stops (dense Cholesky there): 96 */
+    int sweeps;                 /* smoothing steps (matrix products) before and after the coarse
+                                   correction: 2 */
+    int chebyshev;              /* 1: the smoothing steps are a Chebyshev polynomial in D^-1 A on
+                                   [lambda_max / chebyshev_ratio, lambda_max] (default); 0: weighted
+                                   Jacobi */
+    double chebyshev_ratio;     /* 10 */
+    double smooth_weight;       /* smoother weight x 1 / lambda_max(D^-1 A): 1.0 */
+    double prolong_weight;      /* prolongator smoothing weight x 1 / lambda_max (4/3; 0:
+                                   unsmoothed aggregation) */
+    int power_iterations;       /* per level and solve (6) */
+} wc_amg_opts;
+
+wc_amg_opts wc_default_amg_opts(void);
+
+typedef struct wc_amg_level {
+    int n;                      /* nodes (3 unknowns each) */
+    int n_blocks;
+    const int* row_start;       /* (n + 1) BSR pattern; level 0 borrows the model's */
+    const int* col;             /* (n_blocks) */
+    const int* diag;            /* (n) */
+    int *own_row_start, *own_col, *own_diag; /* storage of the pattern on coarse levels */
+    unsigned char* strong;      /* (n_blocks) level 0: 1 for blocks of stretch/shear springs and
+                                   the diagonal; NULL: every block is strong */
+    double* val;                /* (n_blocks x 9) the level's operator */
+    double* Dinv;               /* (n x 9) inverse block diagonal */
+    double bound;               /* estimate of the largest eigenvalue of D^-1 A (per solve) */
+    double* ev;                 /* (n x 3) the power iterations' vector */
+    double* partial;            /* (ceil(n / 256) x 2) per-chunk partial sums (thread-count free) */
+    double *x, *r, *t;          /* (n x 3) V-cycle vectors */
+    double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
+
+    /* the prolongator to level + 1 (none on the coarsest level) */
+    int* agg;                   /* (n) aggregate of each node */
+    int* p_start;               /* (n + 1) */
+    int* p_col;                 /* (nnz_p) aggregates, ascending per row */
+    int* p_self;                /* (n) entry of agg(i) in row i */
+    int* a_to_p;                /* (n_blocks) entry of agg(col) in row i for strong blocks, -1 weak */
+    double* p_val;              /* (nnz_p x 9) */
+    int* pt_start;              /* (n_next + 1) transpose: for each aggregate the entries of P */
+    int* pt_entry;              /* (nnz_p) entry index into p_col/p_val, rows ascending */
+    int* pt_row;                /* (nnz_p) the fine row of that entry */
+    int* t_start;               /* (n + 1) pattern of T = A P */
+    int* t_col;                 /* (nnz_t) */
+    double* t_val;              /* (nnz_t x 9) */
+} wc_amg_level;
+
+typedef struct wc_amg {
+    wc_allocator alloc;
+    wc_amg_opts opts;
+    int n_levels;
+    wc_amg_level lev[WC_AMG_MAX_LEVELS];
+    int coarse_dense;           /* 1: the coarsest level is solved by its dense Cholesky factor; 0
+                                   (it could not be coarsened below 8 x coarse_max nodes: a cloud of
+                                   disconnected pieces): COARSE_SWEEPS block-Jacobi sweeps */
+    int coarse_dofs;            /* 3 x nodes of the coarsest level when dense, else 0 */
+    double* coarse_L;           /* (coarse_dofs^2) dense Cholesky factor, lower, row-major */
+    double* coarse_y;           /* (coarse_dofs) */
+    double setup_ms;            /* of the last wc_amg_setup */
+    long long setups;           /* wc_amg_setup calls (the first runs more power iterations) */
+} wc_amg;
+
+/* The hierarchy's patterns for this model (no values). */
+weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,
+                          wc_diag* diag);
+void wc_amg_destroy(wc_amg* a);
+
+/* The values for one system: A (model pattern, n_blocks x 9) under filter f. */
+void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par);
+/* z = M^-1 r (one V-cycle); r and z are (n x 3) and may not alias. */
+void wc_amg_apply(wc_amg* a, const double* r, double* z, wc_par* par);
+
+/* Operator complexity (sum of blocks over levels / fine blocks) and grid complexity. */
+double wc_amg_operator_complexity(const wc_amg* a);
+double wc_amg_grid_complexity(const wc_amg* a);
+
+/* ---- private to amg_*.c ---- */
+/* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
+ * solve depends on its system only: snapshots restore bit-exactly). */
+void wc_amg_start_vector(double* v, int n);
+/* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
+static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
+    int end = hi;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        if (col[mid] < c) lo = mid + 1;
+        else hi = mid;
+    }
+    return (lo < end && col[lo] == c) ? lo : -1;
+}
+
+#endif

@@ -1,0 +1,318 @@
+/* The multigrid hierarchy's patterns, built once per model (amg.h): aggregates, the smoothed
+ * prolongator's pattern and transpose, the patterns of T = A P and of the Galerkin operators. */
+#include <stdlib.h>
+#include <string.h>
+#include "amg.h"
+
+wc_amg_opts wc_default_amg_opts(void) {
+    wc_amg_opts o;
+    o.coarse_max = 96;
+    o.sweeps = 2;
+    o.smooth_weight = 1.0;
+    o.prolong_weight = 4.0 / 3.0;
+    o.power_iterations = 6;
+    o.chebyshev = 1;
+    o.chebyshev_ratio = 10.0;
+    return o;
+}
+
+void wc_amg_start_vector(double* v, int n) {
+    for (int k = 0; k < 3 * n; ++k)
+        v[k] = (((unsigned)k * 2654435761u) >> 31 ? 1.0 : -1.0) * (1.0 + ((((unsigned)k * 40503u) >> 8) & 15) / 16.0);
+}
+
+static int cmp_int(const void* a, const void* b) {
+    int x = *(const int*)a, y = *(const int*)b;
+    return (x > y) - (x < y);
+}
+
+/* 1 when block k of a level is strong (the diagonal always is). */
+static int is_strong(const wc_amg_level* L, int k) { return !L->strong || L->strong[k]; }
+
+/* Vanek's greedy aggregation over the strong graph; returns the number of aggregates. */
+static int aggregate(const wc_amg_level* L, int* agg, int* pending) {
+    int n = L->n, n_agg = 0;
+    for (int i = 0; i < n; ++i) agg[i] = -1;
+    /* 1: a node whose strong neighbours are all free starts an aggregate of them all */
+    for (int i = 0; i < n; ++i) {
+        if (agg[i] >= 0) continue;
+        int free_all = 1;
+        for (int k = L->row_start[i]; k < L->row_start[i + 1] && free_all; ++k)
+            if (is_strong(L, k) && agg[L->col[k]] >= 0) free_all = 0;
+        if (!free_all) continue;
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            if (is_strong(L, k)) agg[L->col[k]] = n_agg;
+        agg[i] = n_agg++;
+    }
+    /* 2: the rest join the aggregate they have most strong connections to (phase-1 ones only) */
+    for (int i = 0; i < n; ++i) {
+        pending[i] = -1;
+        if (agg[i] >= 0) continue;
+        int best = -1, best_count = 0;
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+            if (!is_strong(L, k) || agg[L->col[k]] < 0) continue;
+            int a = agg[L->col[k]], count = 0;
+            for (int q = L->row_start[i]; q < L->row_start[i + 1]; ++q)
+                if (is_strong(L, q) && agg[L->col[q]] == a) ++count;
+            if (count > best_count || (count == best_count && a < best)) {
+                best = a;
+                best_count = count;
+            }
+        }
+        pending[i] = best;
+    }
+    for (int i = 0; i < n; ++i)
+        if (agg[i] < 0 && pending[i] >= 0) agg[i] = pending[i];
+    /* 3: anything left (cannot happen on a connected graph; kept for safety) */
+    for (int i = 0; i < n; ++i) {
+        if (agg[i] >= 0) continue;
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            if (is_strong(L, k) && agg[L->col[k]] < 0) agg[L->col[k]] = n_agg;
+        agg[i] = n_agg++;
+    }
+    return n_agg;
+}
+
+/* Sorted unique values of buf[0..len) in place; returns the new length. */
+static int sort_unique(int* buf, int len) {
+    if (len < 2) return len;
+    qsort(buf, (size_t)len, sizeof *buf, cmp_int);
+    int m = 1;
+    for (int k = 1; k < len; ++k)
+        if (buf[k] != buf[m - 1]) buf[m++] = buf[k];
+    return m;
+}
+
+#define TRY(p) \
+    do {       \
+        if (!(p)) goto oom; \
+    } while (0)
+
+/* The prolongator's pattern from level L to its aggregates, its transpose, T's pattern, and
+ * the next level's pattern (into N). mark: n_next ints; buf: n + 1 ints. */
+static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_next, int* mark, int* buf) {
+    const wc_allocator* al = &a->alloc;
+    int n = L->n;
+    /* P: row i = aggregates of i and its strong neighbours */
+    TRY(L->p_start = WC_NEW(al, int, n + 1));
+    for (int pass = 0; pass < 2; ++pass) {
+        int nnz = 0;
+        for (int i = 0; i < n; ++i) {
+            int len = 0;
+            for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+                if (is_strong(L, k) || L->col[k] == i) buf[len++] = L->agg[L->col[k]];
+            buf[len++] = L->agg[i];
+            len = sort_unique(buf, len);
+            if (pass == 0) L->p_start[i] = nnz;
+            else memcpy(L->p_col + nnz, buf, (size_t)len * sizeof *buf);
+            nnz += len;
+        }
+        if (pass == 0) {
+            L->p_start[n] = nnz;
+            TRY(L->p_col = WC_NEW(al, int, nnz));
+            TRY(L->p_val = WC_NEW(al, double, 9 * (size_t)nnz));
+        }
+    }
+    int nnz_p = L->p_start[n];
+    TRY(L->p_self = WC_NEW(al, int, n));
+    TRY(L->a_to_p = WC_NEW(al, int, L->n_blocks));
+    for (int i = 0; i < n; ++i) {
+        L->p_self[i] = wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], L->agg[i]);
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            L->a_to_p[k] = (is_strong(L, k) || L->col[k] == i)
+                               ? wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], L->agg[L->col[k]])
+                               : -1;
+    }
+    /* P^T by counting sort (rows ascending within each aggregate) */
+    TRY(L->pt_start = WC_NEW(al, int, n_next + 1));
+    TRY(L->pt_entry = WC_NEW(al, int, nnz_p));
+    TRY(L->pt_row = WC_NEW(al, int, nnz_p));
+    for (int e = 0; e < nnz_p; ++e) ++L->pt_start[L->p_col[e] + 1];
+    for (int c = 0; c < n_next; ++c) L->pt_start[c + 1] += L->pt_start[c];
+    for (int c = 0; c < n_next; ++c) mark[c] = L->pt_start[c];
+    for (int i = 0; i < n; ++i)
+        for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e) {
+            int slot = mark[L->p_col[e]]++;
+            L->pt_entry[slot] = e;
+            L->pt_row[slot] = i;
+        }
+    /* T = A P: row i = union of P's rows of i's columns */
+    for (int c = 0; c < n_next; ++c) mark[c] = -1;
+    TRY(L->t_start = WC_NEW(al, int, n + 1));
+    for (int pass = 0; pass < 2; ++pass) {
+        int nnz = 0;
+        for (int i = 0; i < n; ++i) {
+            int len = 0;
+            for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                int j = L->col[k];
+                for (int e = L->p_start[j]; e < L->p_start[j + 1]; ++e)
+                    if (mark[L->p_col[e]] != i + pass * n) {
+                        mark[L->p_col[e]] = i + pass * n;
+                        buf[len++] = L->p_col[e];
+                    }
+            }
+            len = sort_unique(buf, len);
+            if (pass == 0) L->t_start[i] = nnz;
+            else memcpy(L->t_col + nnz, buf, (size_t)len * sizeof *buf);
+            nnz += len;
+        }
+        if (pass == 0) {
+            L->t_start[n] = nnz;
+            TRY(L->t_col = WC_NEW(al, int, nnz));
+            TRY(L->t_val = WC_NEW(al, double, 9 * (size_t)nnz));
+        }
+    }
+    /* next level: row I = union of T's rows of the fine rows in aggregate... of P^T's row I */
+    for (int c = 0; c < n_next; ++c) mark[c] = -1;
+    N->n = n_next;
+    TRY(N->own_row_start = WC_NEW(al, int, n_next + 1));
+    for (int pass = 0; pass < 2; ++pass) {
+        int nnz = 0;
+        for (int I = 0; I < n_next; ++I) {
+            int len = 0;
+            for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
+                int i = L->pt_row[s];
+                for (int k = L->t_start[i]; k < L->t_start[i + 1]; ++k)
+                    if (mark[L->t_col[k]] != I + pass * n_next) {
+                        mark[L->t_col[k]] = I + pass * n_next;
+                        buf[len++] = L->t_col[k];
+                    }
+            }
+            len = sort_unique(buf, len);
+            if (pass == 0) N->own_row_start[I] = nnz;
+            else memcpy(N->own_col + nnz, buf, (size_t)len * sizeof *buf);
+            nnz += len;
+        }
+        if (pass == 0) {
+            N->own_row_start[n_next] = nnz;
+            TRY(N->own_col = WC_NEW(al, int, nnz));
+        }
+    }
+    N->n_blocks = N->own_row_start[n_next];
+    TRY(N->own_diag = WC_NEW(al, int, n_next));
+    for (int I = 0; I < n_next; ++I)
+        N->own_diag[I] = wc_amg_find(N->own_col, N->own_row_start[I], N->own_row_start[I + 1], I);
+    N->row_start = N->own_row_start;
+    N->col = N->own_col;
+    N->diag = N->own_diag;
+    return 1;
+oom:
+    return 0;
+}
+
+static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
+    const wc_allocator* al = &a->alloc;
+    if (own_val) TRY(L->val = WC_NEW(al, double, 9 * (size_t)L->n_blocks));
+    TRY(L->Dinv = WC_NEW(al, double, 9 * (size_t)L->n));
+    TRY(L->x = WC_NEW(al, double, 3 * (size_t)L->n));
+    TRY(L->r = WC_NEW(al, double, 3 * (size_t)L->n));
+    TRY(L->t = WC_NEW(al, double, 3 * (size_t)L->n));
+    TRY(L->ev = WC_NEW(al, double, 3 * (size_t)L->n));
+    TRY(L->ev_scratch = WC_NEW(al, double, 3 * (size_t)L->n));
+    TRY(L->partial = WC_NEW(al, double, 2 * (size_t)(L->n / WC_AMG_CHUNK + 1)));
+    return 1;
+oom:
+    return 0;
+}
+
+/* Level 0's strong blocks: the diagonal and the blocks of stretch and shear springs. */
+static int mark_strong(wc_amg* a, wc_amg_level* L, const wc_model* m) {
+    const wc_bsr_pattern* p = &m->pattern;
+    TRY(L->strong = WC_NEW(&a->alloc, unsigned char, L->n_blocks));
+    for (int i = 0; i < p->n_rows; ++i) {
+        L->strong[p->diag[i]] = 1;
+        for (int e = p->row_spring_start[i]; e < p->row_spring_start[i + 1]; ++e)
+            if (m->springs[p->row_spring[e]].type != WC_SPRING_BEND) L->strong[p->row_spring_block[e]] = 1;
+    }
+    return 1;
+oom:
+    return 0;
+}
+
+weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,
+                          wc_diag* diag) {
+    if (!out || !m) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
+    *out = NULL;
+    wc_amg_opts o = opts ? *opts : wc_default_amg_opts();
+    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
+        !(o.prolong_weight >= 0 && o.prolong_weight < 2))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+                       "AMG options: coarse_max and sweeps >= 1, smooth_weight in (0, 2), prolong_weight in [0, 2)");
+    wc_amg* a = WC_NEW(alloc, wc_amg, 1);
+    if (!a) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
+    if (alloc) a->alloc = *alloc;
+    a->opts = o;
+    int n = m->n_particles;
+    const wc_bsr_pattern* p = &m->pattern;
+    int* mark = WC_NEW(&a->alloc, int, n + 1);
+    int* pending = WC_NEW(&a->alloc, int, n + 1);
+    /* rows are deduplicated before they reach buf (P's rows: at most a row of A plus one) */
+    int* buf = WC_NEW(&a->alloc, int, n + 1);
+    wc_amg_level* L = &a->lev[0];
+    L->n = n;
+    L->n_blocks = p->n_blocks;
+    L->row_start = p->row_start;
+    L->col = p->col;
+    L->diag = p->diag;
+    if (!mark || !pending || !buf || !mark_strong(a, L, m) || !alloc_level_values(a, L, 1)) goto oom;
+    a->n_levels = 1;
+    while (a->n_levels < WC_AMG_MAX_LEVELS && L->n > o.coarse_max) {
+        TRY(L->agg = WC_NEW(&a->alloc, int, L->n));
+        int n_next = aggregate(L, L->agg, pending);
+        if (n_next >= L->n || n_next < 1) break; /* no coarsening: stop here */
+        wc_amg_level* N = &a->lev[a->n_levels];
+        if (!build_transfer(a, L, N, n_next, mark, buf) || !alloc_level_values(a, N, 1)) goto oom;
+        ++a->n_levels;
+        L = N;
+    }
+    if (L->agg) { /* the coarsest level keeps no prolongator */
+        wc_free(&a->alloc, L->agg);
+        L->agg = NULL;
+    }
+    a->coarse_dense = L->n <= 8 * o.coarse_max;
+    if (a->coarse_dense) {
+        a->coarse_dofs = 3 * L->n;
+        TRY(a->coarse_L = WC_NEW(&a->alloc, double, (size_t)a->coarse_dofs * a->coarse_dofs));
+        TRY(a->coarse_y = WC_NEW(&a->alloc, double, a->coarse_dofs));
+    }
+    wc_free(&a->alloc, mark);
+    wc_free(&a->alloc, pending);
+    wc_free(&a->alloc, buf);
+    *out = a;
+    return WEFT_OK;
+oom:
+    wc_free(&a->alloc, mark);
+    wc_free(&a->alloc, pending);
+    wc_free(&a->alloc, buf);
+    wc_amg_destroy(a);
+    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy for %d particles", n);
+}
+
+void wc_amg_destroy(wc_amg* a) {
+    if (!a) return;
+    wc_allocator al = a->alloc;
+    for (int l = 0; l < WC_AMG_MAX_LEVELS; ++l) {
+        wc_amg_level* L = &a->lev[l];
+        void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
+                        L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
+                        L->pt_row, L->t_start, L->t_col, L->t_val};
+        for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
+    }
+    wc_free(&al, a->coarse_L);
+    wc_free(&al, a->coarse_y);
+    wc_free(&al, a);
+}
+
+double wc_amg_operator_complexity(const wc_amg* a) {
+    if (!a || a->lev[0].n_blocks == 0) return 0.0;
+    double sum = 0.0;
+    for (int l = 0; l < a->n_levels; ++l) sum += a->lev[l].n_blocks;
+    return sum / a->lev[0].n_blocks;
+}
+
+double wc_amg_grid_complexity(const wc_amg* a) {
+    if (!a || a->lev[0].n == 0) return 0.0;
+    double sum = 0.0;
+    for (int l = 0; l < a->n_levels; ++l) sum += a->lev[l].n;
+    return sum / a->lev[0].n;
+}

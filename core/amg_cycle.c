@@ -1,0 +1,167 @@
+/* One symmetric V-cycle of the multigrid hierarchy (amg.h): smoothing (Chebyshev in D^-1 A on
+ * [lambda_max / ratio, lambda_max], or weighted block Jacobi), restriction by P^T, the coarse
+ * correction, prolongation by P, the same smoothing again; the coarsest level is solved with its
+ * dense Cholesky factor (or smoothed, when it could not be coarsened enough). */
+#include <string.h>
+#include "amg.h"
+#include "vec3.h"
+
+/* t = r - A x. */
+static void residual(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double acc[3] = {r[3 * i], r[3 * i + 1], r[3 * i + 2]};
+            if (x)
+                for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                    const double* B = L->val + 9 * (size_t)k;
+                    const double* xj = x + 3 * L->col[k];
+                    acc[0] -= B[0] * xj[0] + B[1] * xj[1] + B[2] * xj[2];
+                    acc[1] -= B[3] * xj[0] + B[4] * xj[1] + B[5] * xj[2];
+                    acc[2] -= B[6] * xj[0] + B[7] * xj[1] + B[8] * xj[2];
+                }
+            v3_copy(t + 3 * i, acc);
+        }
+    }
+}
+
+/* x += w D^-1 t (x is overwritten when `set`). */
+static void jacobi(const wc_amg_level* L, double w, const double* t, double* x, int set, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double d[3];
+            m3_mulv(d, L->Dinv + 9 * i, t + 3 * i);
+            if (set) v3_scale(x + 3 * i, d, w);
+            else v3_axpy(x + 3 * i, w, d);
+        }
+    }
+}
+
+/* rc = P^T t */
+static void restrict_(const wc_amg_level* L, const wc_amg_level* N, const double* t, double* rc, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int I = lo; I < hi; ++I) {
+            double acc[3] = {0, 0, 0};
+            for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
+                const double* P = L->p_val + 9 * (size_t)L->pt_entry[s];
+                const double* v = t + 3 * L->pt_row[s];
+                acc[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
+                acc[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
+                acc[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+            }
+            v3_copy(rc + 3 * I, acc);
+        }
+    }
+}
+
+/* x += P xc */
+static void prolong(const wc_amg_level* L, const double* xc, double* x, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i)
+            for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e)
+                m3_mulv_add(x + 3 * i, L->p_val + 9 * (size_t)e, xc + 3 * L->p_col[e]);
+    }
+}
+
+/* x = L^-T L^-1 r on the coarsest level. */
+static void coarse_solve(wc_amg* a, const double* r, double* x) {
+    int d = a->coarse_dofs;
+    const double* M = a->coarse_L;
+    double* y = a->coarse_y;
+    for (int i = 0; i < d; ++i) {
+        double s = r[i];
+        const double* Ri = M + (size_t)i * d;
+        for (int k = 0; k < i; ++k) s -= Ri[k] * y[k];
+        y[i] = s / Ri[i];
+    }
+    for (int i = d - 1; i >= 0; --i) {
+        double s = y[i];
+        for (int k = i + 1; k < d; ++k) s -= M[(size_t)k * d + i] * x[k];
+        x[i] = s / M[(size_t)i * d + i];
+    }
+}
+
+/* Chebyshev smoothing of x (from zero when `zero`) on [bound / ratio, bound]: `steps` matrix
+ * products; d is L->r's scratch of the level (restricted residuals use the next level's). */
+static void chebyshev(wc_amg_level* L, double ratio, int steps, const double* r, double* x, int zero, double* d,
+                      wc_par* par) {
+    const double b = L->bound, a = b / ratio;
+    const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
+    double rho = 1.0 / sigma;
+    if (zero) memcpy(L->t, r, sizeof(double) * 3 * (size_t)L->n);
+    else residual(L, r, x, L->t, par);
+    jacobi(L, 1.0 / theta, L->t, d, 1, par);
+    for (int k = 0; k < steps; ++k) {
+        if (zero && k == 0) memcpy(x, d, sizeof(double) * 3 * (size_t)L->n);
+        else
+            for (int q = 0; q < 3 * L->n; ++q) x[q] += d[q];
+        if (k + 1 == steps) break;
+        residual(L, r, x, L->t, par);
+        double rho_new = 1.0 / (2.0 * sigma - rho);
+        double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
+        WC_PAR_REGION(par)
+        {
+            int lo, hi;
+            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            for (int i = lo; i < hi; ++i) {
+                double e[3];
+                m3_mulv(e, L->Dinv + 9 * i, L->t + 3 * i);
+                for (int c = 0; c < 3; ++c) d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
+            }
+        }
+        rho = rho_new;
+    }
+}
+
+static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
+    wc_amg_level* L = &a->lev[l];
+    if (l == a->n_levels - 1) {
+        if (a->coarse_dense) {
+            coarse_solve(a, r, x);
+            return;
+        }
+        const double w = 1.0 / L->bound;
+        jacobi(L, w, r, x, 1, par);
+        for (int s = 1; s < WC_AMG_COARSE_SWEEPS; ++s) {
+            residual(L, r, x, L->t, par);
+            jacobi(L, w, L->t, x, 0, par);
+        }
+        return;
+    }
+    wc_amg_level* N = &a->lev[l + 1];
+    const double w = a->opts.smooth_weight / L->bound;
+    if (a->opts.chebyshev) {
+        chebyshev(L, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 1, L->ev_scratch, par);
+    } else {
+        jacobi(L, w, r, x, 1, par);
+        for (int s = 1; s < a->opts.sweeps; ++s) {
+            residual(L, r, x, L->t, par);
+            jacobi(L, w, L->t, x, 0, par);
+        }
+    }
+    residual(L, r, x, L->t, par);
+    restrict_(L, N, L->t, N->r, par);
+    vcycle(a, l + 1, N->r, N->x, par);
+    prolong(L, N->x, x, par);
+    if (a->opts.chebyshev) {
+        chebyshev(L, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 0, L->ev_scratch, par);
+        return;
+    }
+    for (int s = 0; s < a->opts.sweeps; ++s) {
+        residual(L, r, x, L->t, par);
+        jacobi(L, w, L->t, x, 0, par);
+    }
+}
+
+void wc_amg_apply(wc_amg* a, const double* r, double* z, wc_par* par) { vcycle(a, 0, r, z, par); }
