@@ -244,6 +244,13 @@ typedef struct bench_run {
 int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag);
 void bench_run_free(bench_run* r);
 
+/* The scene through the public API at weft_default_cloth_def() (cmd_bench_api.c): the library's
+ * own defaults for everything but the mesh, the pins (held still) and sleeping (off); CPU
+ * backend, `threads` threads, no colliders. ms_median from weft_frame_stats.ms_total; x per
+ * particle of bs->model. 0, or -1 with msg. */
+int bench_api_run_defaults(const bench_scene* bs, double fps, int frames, int threads, bench_run* out, char* msg,
+                           size_t size);
+
 /* Distances between two position sets (n x 3): RMS and largest. */
 void bench_distance(const double* a, const double* b, int n, double* rms, double* max);
 
