@@ -22,7 +22,7 @@
  * Markdown table and asserts nothing.
  *
  *   bench_hypre [--sizes 32,64,128,256] [--systems hang,stiff,drape] [--tolerance 1e-4]
- *               [--iterations 300] [--frames 3] [--drape-frames 8] [--threads 1] */
+ *               [--iterations 300] [--frames 3] [--drape-frames 8] [--threads 1] [--hypre-print 0] */
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
 #include <math.h>
@@ -44,6 +44,7 @@ typedef struct opts {
     int hang, stiff, drape;
     double tolerance;
     int cap, frames, drape_frames, threads;
+    int hypre_print;        /* BoomerAMG's print level (1: its hierarchy and complexities, on stdout) */
 } opts;
 
 /* ---- the systems ---- */
@@ -288,7 +289,7 @@ static void run_hypre(const opts* o, const csr* P, const double* r, int variant,
     HYPRE_BoomerAMGCreate(&amg);
     HYPRE_BoomerAMGSetMaxIter(amg, 1);
     HYPRE_BoomerAMGSetTol(amg, 0.0);
-    HYPRE_BoomerAMGSetPrintLevel(amg, 0);
+    HYPRE_BoomerAMGSetPrintLevel(amg, o->hypre_print);
     if (variant >= 1) HYPRE_BoomerAMGSetNumFunctions(amg, 3);
     if (variant == 2) HYPRE_BoomerAMGSetNodal(amg, 1);
     HYPRE_PCGSetPrecond(pcg, (HYPRE_PtrToSolverFcn)HYPRE_BoomerAMGSolve, (HYPRE_PtrToSolverFcn)HYPRE_BoomerAMGSetup,
@@ -437,7 +438,8 @@ static int parse_args(int argc, char** argv, opts* o) {
         const char* v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             printf("usage: bench_hypre [--sizes 32,64,128,256] [--systems hang,stiff,drape] [--tolerance 1e-4]\n"
-                   "                   [--iterations 300] [--frames 3] [--drape-frames 8] [--threads 1]\n");
+                   "                   [--iterations 300] [--frames 3] [--drape-frames 8] [--threads 1]\n"
+                   "                   [--hypre-print 0|1 (BoomerAMG's hierarchy and complexities)]\n");
             exit(0);
         }
         if (!v) {
@@ -461,6 +463,8 @@ static int parse_args(int argc, char** argv, opts* o) {
             o->drape_frames = atoi(v);
         } else if (!strcmp(a, "--threads")) {
             o->threads = atoi(v);
+        } else if (!strcmp(a, "--hypre-print")) {
+            o->hypre_print = atoi(v);
         } else {
             fprintf(stderr, "bench_hypre: unknown option %s\n", a);
             return -1;

@@ -38,6 +38,7 @@ typedef struct acc_args {
     int n_substeps_large;
     int ref_substeps;
     int ref_check;          /* 1: the reference again at 2 x ref_substeps, their difference shown */
+    wc_integrator ref_integrator;
     bench_methods meth;
     double seconds, fps;
     int probes;
@@ -50,14 +51,15 @@ void bench_accuracy_usage(FILE* out) {
     fputs("usage: weft bench accuracy [--quick] [--scenes LIST] [--solvers LIST] [--tolerances LIST]\n"
           "                           [--iterations LIST] [--substeps LIST] [--substeps-large LIST]\n"
           "                           [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
-          "                           [--line-search MODE] [--ref-substeps N] [--no-ref-check]\n"
+          "                           [--line-search MODE] [--ref-substeps N] [--ref-integrator NAME]\n"
+          "                           [--no-ref-check]\n"
           "                           [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
           "\n"
           "Run time against error, on the CPU and/or the GPU (--backend).\n"
-          "For each scene a reference run (direct solver, backward Euler, --ref-substeps substeps\n"
-          "per frame) and the same at twice the substeps: their difference at the end (RMS and max,\n"
+          "For each scene a reference run (direct solver, --ref-integrator, one Newton iteration,\n"
+          "--ref-substeps substeps per frame) and the same at twice the substeps: their difference at the end (RMS and max,\n"
           "% of the bounding-box diagonal) shows whether the reference is converged in time (goal\n"
           "< 0.1 %, printed as met / not met; a `reference_check` row in the CSV). Then every\n"
           "configuration solver x preconditioner (PCG only) x integrator x Newton iterations x\n"
@@ -96,6 +98,8 @@ void bench_accuracy_usage(FILE* out) {
           BENCH_METHOD_HELP("block_jacobi,amg")
           "  --ref-substeps N     substeps per frame of the reference run (default 8; 16, 32 for a\n"
           "                       reference closer to converged)\n"
+          "  --ref-integrator NAME  be (default) or bdf2: the reference's integrator (BDF2, second\n"
+          "                       order, converges in time with fewer substeps)\n"
           "  --no-ref-check       skip the reference's run at twice its substeps\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
@@ -106,7 +110,8 @@ void bench_accuracy_usage(FILE* out) {
           "  --csv FILE           write every measurement as CSV\n"
           "  --md FILE            write the Markdown table to FILE instead of stdout\n"
           "  --plot FILE.png      plot trajectory RMS error against ms/frame (log-log, a panel per\n"
-          "                       scene, a curve per solver, the Pareto front marked)\n"
+          "                       scene, a curve per solver: its methods' points share it; the\n"
+          "                       Pareto front marked)\n"
           BENCH_BACKEND_HELP
           "                       The reference is the CPU's direct solver for both; the direct\n"
           "                       solver does not exist on the GPU: its configurations have no GPU\n"
@@ -131,6 +136,7 @@ static void defaults(void* args, int quick) {
     a->n_substeps_large = bench_parse_ints("1", 1, 1024, a->substeps_large);
     a->ref_substeps = 8;
     a->ref_check = 1;
+    a->ref_integrator = WC_INTEGRATOR_BE;
     bench_methods_default(&a->meth, quick ? "block_jacobi,amg" : "block_jacobi,amg");
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
@@ -157,6 +163,12 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--substeps-large"))
         return BAD((a->n_substeps_large = bench_parse_ints(*v, 1, 1024, a->substeps_large)) < 0);
     if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 1, 512, &a->ref_substeps) != 0);
+    if (OPT("--ref-integrator")) {
+        if (m < 0) return m;
+        const int g = wc_integrator_from_name(*v);
+        a->ref_integrator = g >= 0 ? (wc_integrator)g : WC_INTEGRATOR_BE;
+        return g < 0 ? -2 : 1;
+    }
     if (!strcmp(argv[*i], "--no-ref-check")) {
         a->ref_check = 0;
         return 1;
@@ -300,9 +312,9 @@ static void print_header(FILE* out, const void* ctx) {
     for (int k = 0; k < a->n_backends; ++k) gpu |= a->backends[k] == BENCH_GPU;
     fprintf(out, "## weft bench accuracy\n\n");
     fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
-                 "solver (CHOLMOD), backward Euler, one Newton iteration, at %d substeps per frame, on the CPU.\n\n",
+                 "solver (CHOLMOD), %s, one Newton iteration, at %d substeps per frame, on the CPU.\n\n",
             bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads, a->seconds, a->fps, frames,
-            a->ref_substeps);
+            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : "backward Euler", a->ref_substeps);
     if (h->n_checks > 0) {
         fprintf(out, "Is the reference converged in time? The same run at %d substeps per frame against it at the "
                      "end, as %% of the bounding-box diagonal (goal < %g %%):\n\n"
@@ -338,14 +350,15 @@ static void print_header(FILE* out, const void* ctx) {
           out);
 }
 
-/* The reference's sim def: direct solver, backward Euler, one Newton iteration, `substeps`. */
-static wc_sim_def reference_def(const bench_scene* bs, int threads, int substeps) {
+/* The reference's sim def: direct solver, the reference's integrator, one Newton iteration,
+ * `substeps`. */
+static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int substeps) {
     wc_sim_def sd = bs->sc.sim;
-    sd.threads = threads;
+    sd.threads = a->com.threads;
     sd.solver.type = WC_SOLVER_DIRECT;
     sd.substeps = substeps;
-    const bench_method be = {WC_PRECOND_BLOCK_JACOBI, WC_INTEGRATOR_BE, 1, 0};
-    bench_method_apply(&be, &sd);
+    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, 1, 0};
+    bench_method_apply(&m, &sd);
     return sd;
 }
 
@@ -357,14 +370,14 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
     memset(&o, 0, sizeof o);
     o.fps = a->fps;
     o.frames = frames;
-    o.sim = reference_def(bs, a->com.threads, a->ref_substeps);
+    o.sim = reference_def(a, bs, a->ref_substeps);
     if (!a->com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs->name, bs->model.n_particles);
     if (bench_run_scene(bs, &o, rr, d) != 0) return -1;
     config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1};
     add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0);
     if (!a->ref_check) return 0;
     if (!a->com.quiet) fprintf(stderr, "  the reference at %d substeps (its check)...\n", 2 * a->ref_substeps);
-    o.sim = reference_def(bs, a->com.threads, 2 * a->ref_substeps);
+    o.sim = reference_def(a, bs, 2 * a->ref_substeps);
     bench_run r2;
     if (bench_run_scene(bs, &o, &r2, d) != 0) {
         bench_run_free(rr);
