@@ -15,6 +15,9 @@ packages=(
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
   blender                         # the add-on test (tests/blender) and `weft bench peers`: ~480 MB, ~25 s to install
   libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
+  libhypre-dev                    # tests/bench/bench_hypre only (BoomerAMG beside Weft's preconditioners):
+                                  # brings OpenMPI, ~15 MB download / 67 MB installed; never linked into
+                                  # libweft.so or the weft CLI, and the build skips bench_hypre without it
 )
 
 missing=()

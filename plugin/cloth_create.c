@@ -46,7 +46,7 @@ static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def,
     s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
                                : gpu                                              ? WC_PRECOND_BLOCK_JACOBI
-                                                                                  : WC_PRECOND_BLOCK_JACOBI;
+                                                                                  : WC_PRECOND_AMG;
     s->integrator = def->integrator == WEFT_INTEGRATOR_BDF2             ? WC_INTEGRATOR_BDF2
                     : def->integrator == WEFT_INTEGRATOR_BACKWARD_EULER ? WC_INTEGRATOR_BE
                     : gpu                                               ? WC_INTEGRATOR_BE

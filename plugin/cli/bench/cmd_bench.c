@@ -1,4 +1,4 @@
-/* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `stability`, `peers`, `torture` or `skip`,
+/* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `iterations`, `stability`, `peers`, `torture` or `skip`,
  * and the list options they share. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
@@ -13,6 +13,7 @@
 
 void cli_bench_usage(FILE* out) {
     fputs("usage: weft bench accuracy [OPTIONS]    run time against error, for every solver\n"
+          "       weft bench iterations [OPTIONS]  solver iterations per solve over sizes and stiffnesses\n"
           "       weft bench stability [OPTIONS]   survival over step length x stiffness x mass x solver\n"
           "       weft bench peers [OPTIONS]       Weft beside Blender's cloth solver (needs blender)\n"
           "       weft bench torture [OPTIONS]     random host inputs: crashes, hangs, NaN outputs\n"
@@ -38,6 +39,7 @@ int cli_bench_run(int argc, char** argv) {
     }
     int rc = -1;
     if (!strcmp(sub, "accuracy")) rc = bench_accuracy_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "iterations")) rc = bench_iterations_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "stability")) rc = bench_stability_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "peers")) rc = bench_peers_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "torture")) rc = bench_torture_run(argc - 1, argv + 1);

@@ -11,6 +11,9 @@
  *   cmd_bench_peers.c      `weft bench peers`: Weft beside Blender's cloth (cmd_bench_blender.c)
  *   cmd_bench_torture.c    `weft bench torture`: random host inputs through the public API
  *   cmd_bench_skip.c       `weft bench skip`: per-stage cost of features a scene does not use, sleeping
+ *   cmd_bench_method.c     the method axes: preconditioner x integrator x Newton iterations
+ *   cmd_bench_iterations.c `weft bench iterations`: PCG iterations per solve over sizes and stiffnesses
+ *   cmd_bench_api.c        a run through the public API at weft_default_cloth_def() (peers' defaults row)
  *   cmd_bench_gpu.c        the process's headless GPU context and device, and a wg_sim on it */
 #ifndef WEFT_CLI_CMD_BENCH_H
 #define WEFT_CLI_CMD_BENCH_H
@@ -57,6 +60,57 @@ const char* bench_backend_note(const int* backends, int n, char* buf, size_t siz
 int bench_open_backends(const int* backends, int n);
 /* Solver names ("pcg,jacobi,chebyshev,direct", or "all"); -1 on an unknown name. */
 int bench_parse_solvers(const char* text, wc_solver_type* out);
+
+/* ---- methods: preconditioner x integrator x Newton iterations (cmd_bench_method.c) ---- */
+
+/* How each substep is solved, beside the solver and its tolerance. */
+typedef struct bench_method {
+    wc_precond_type precond;    /* PCG's preconditioner (the other solvers: BLOCK_JACOBI, shown "-") */
+    wc_integrator integrator;
+    int newton;                 /* Newton iterations per substep (>= 1) */
+    int line_search;            /* 0 / 1 */
+} bench_method;
+
+/* The method axes of a command line: --preconds, --integrators, --newton, --line-search. */
+typedef struct bench_methods {
+    wc_precond_type preconds[BENCH_MAX_LIST];
+    int n_preconds;
+    wc_integrator integrators[BENCH_MAX_LIST];
+    int n_integrators;
+    int newton[BENCH_MAX_LIST];
+    int n_newton;
+    int line_search;            /* -1 auto (on when Newton iterations > 1), 0 off, 1 on */
+} bench_methods;
+
+/* The usage texts' lines on the four options; `preconds` is the command's default list. */
+#define BENCH_METHOD_HELP(preconds)                                                                       \
+    "  --preconds LIST      PCG's preconditioners: block_jacobi, amg or all (default " preconds ");\n"  \
+    "                       the other solvers have none (shown -)\n"                                     \
+    "  --integrators LIST   be (backward Euler), bdf2 or all (default be)\n"                            \
+    "  --newton LIST        Newton iterations per substep (default 1: one Baraff-Witkin step)\n"        \
+    "  --line-search MODE   auto (on when Newton iterations > 1; default), on or off\n"
+
+/* Defaults: preconds as given ("block_jacobi", "block_jacobi,amg"), be, 1 Newton iteration, auto. */
+void bench_methods_default(bench_methods* m, const char* preconds);
+/* One of the four options at argv[*i] (bench_option_fn's contract: 1, 0 not one, -1, -2). */
+int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const char** value);
+/* The methods a solver runs: every preconditioner (PCG only; one entry for the others) x
+ * integrator x Newton count, in that order. Returns the count (<= cap). */
+int bench_methods_expand(const bench_methods* m, wc_solver_type solver, bench_method* out, int cap);
+/* How many methods any solver can have (the size for bench_methods_expand). */
+int bench_methods_max(const bench_methods* m);
+/* The method into a sim def (solver.preconditioner, integrator, newton_iterations, line_search). */
+void bench_method_apply(const bench_method* b, wc_sim_def* sd);
+/* The method of a sim def. */
+bench_method bench_method_of(const wc_sim_def* sd);
+/* "amg" / "block_jacobi", or "-" when the solver is not PCG. */
+const char* bench_precond_label(wc_solver_type solver, const bench_method* b);
+/* "amg bdf2 n3 ls" style short label: the preconditioner (PCG only), then the integrator, Newton
+ * count and line search when not be, 1, off; "" for another solver's default method. */
+const char* bench_method_short(wc_solver_type solver, const bench_method* b, char* buf, size_t size);
+/* Preconditioner and integrator names ("...,all"). -1 on an unknown name. */
+int bench_parse_preconds(const char* text, wc_precond_type* out);
+int bench_parse_integrators(const char* text, wc_integrator* out);
 
 /* ---- options and outputs shared by the subcommands (cmd_bench.c) ---- */
 
@@ -176,6 +230,10 @@ typedef struct bench_run {
     int probes;             /* linear-solve errors measured */
     double lin_err_mean;    /* ||dv - dv_direct|| / ||dv_direct|| on the same system, mean */
     double lin_err_max;     /* ... largest */
+    long long solves;       /* linear solves (Newton iterations and friction passes included) */
+    long long iterations_total; /* solver iterations, summed */
+    double precond_ms;      /* preconditioner setup time, summed over the run (ms) */
+    double solve_ms;        /* the solve stage's time (setup included), summed over the run (ms) */
     double* x;              /* (n_particles x 3) positions at the end (owned; bench_run_free) */
 } bench_run;
 
@@ -185,6 +243,13 @@ typedef struct bench_run {
  * strain and finiteness checks and the final positions are the CPU's. */
 int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag);
 void bench_run_free(bench_run* r);
+
+/* The scene through the public API at weft_default_cloth_def() (cmd_bench_api.c): the library's
+ * own defaults for everything but the mesh, the pins (held still) and sleeping (off); CPU
+ * backend, `threads` threads, no colliders. ms_median from weft_frame_stats.ms_total; x per
+ * particle of bs->model. 0, or -1 with msg. */
+int bench_api_run_defaults(const bench_scene* bs, double fps, int frames, int threads, bench_run* out, char* msg,
+                           size_t size);
 
 /* Distances between two position sets (n x 3): RMS and largest. */
 void bench_distance(const double* a, const double* b, int n, double* rms, double* max);
@@ -244,5 +309,14 @@ int bench_torture_run(int argc, char** argv);   /* cmd_bench_torture.c */
 void bench_torture_usage(FILE* out);
 int bench_skip_run(int argc, char** argv);      /* cmd_bench_skip.c */
 void bench_skip_usage(FILE* out);
+int bench_iterations_run(int argc, char** argv);   /* cmd_bench_iterations.c */
+void bench_iterations_usage(FILE* out);
+
+/* Per-solve figures of a run: iterations (mean), preconditioner setup and solve-stage ms, the
+ * fraction of solves that converged. Solves 0: the substeps stand in (a run with no stats). */
+double bench_run_iterations_per_solve(const bench_run* r);
+double bench_run_precond_ms_per_solve(const bench_run* r);
+double bench_run_solve_ms_per_solve(const bench_run* r);
+double bench_run_converged_fraction(const bench_run* r);
 
 #endif

@@ -1,6 +1,8 @@
 /* `weft bench accuracy`: run time against error. For every scene, a reference run (direct solver,
- * --ref-substeps substeps per frame), then every configuration solver x tolerance x iteration cap
- * x substeps per frame (the direct solver: substeps only), each simulated for --seconds. Errors:
+ * --ref-substeps substeps per frame) and its check at twice the substeps (is it converged in
+ * time?), then every configuration solver x preconditioner (PCG) x integrator x Newton iterations
+ * x tolerance x iteration cap x substeps per frame (the direct solver: no tolerance or cap), each
+ * simulated for --seconds. Errors:
  * the linear-solve error against CHOLMOD on the same system, the trajectory error against the
  * reference at the end, the largest strain and the energy drift. Timing: median ms per frame.
  * --backend cpu,gpu runs every configuration on each backend (the reference stays the CPU's
@@ -35,6 +37,9 @@ typedef struct acc_args {
     int substeps_large[BENCH_MAX_LIST];
     int n_substeps_large;
     int ref_substeps;
+    int ref_check;          /* 1: the reference again at 2 x ref_substeps, their difference shown */
+    wc_integrator ref_integrator;
+    bench_methods meth;
     double seconds, fps;
     int probes;
     int backends[BENCH_MAX_BACKENDS];
@@ -45,15 +50,25 @@ typedef struct acc_args {
 void bench_accuracy_usage(FILE* out) {
     fputs("usage: weft bench accuracy [--quick] [--scenes LIST] [--solvers LIST] [--tolerances LIST]\n"
           "                           [--iterations LIST] [--substeps LIST] [--substeps-large LIST]\n"
-          "                           [--ref-substeps N] [--seconds T] [--fps F] [--probes N]\n"
+          "                           [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
+          "                           [--line-search MODE] [--ref-substeps N] [--ref-integrator NAME]\n"
+          "                           [--no-ref-check]\n"
+          "                           [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
           "\n"
           "Run time against error, on the CPU and/or the GPU (--backend).\n"
-          "For each scene a reference run (direct solver, --ref-substeps substeps per frame), then\n"
-          "every configuration solver x tolerance x iteration cap x substeps per frame (direct:\n"
-          "substeps only), each simulated for --seconds at --fps. Per configuration:\n"
+          "For each scene a reference run (direct solver, --ref-integrator, one Newton iteration,\n"
+          "--ref-substeps substeps per frame) and the same at twice the substeps: their difference at the end (RMS and max,\n"
+          "% of the bounding-box diagonal) shows whether the reference is converged in time (goal\n"
+          "< 0.1 %, printed as met / not met; a `reference_check` row in the CSV). Then every\n"
+          "configuration solver x preconditioner (PCG only) x integrator x Newton iterations x\n"
+          "tolerance x iteration cap x substeps per frame (direct: no tolerance or cap), each\n"
+          "simulated for --seconds at --fps. Per configuration:\n"
           "  ms/frame     median wall time of one frame's step\n"
+          "  it./solve    solver iterations per linear solve, mean (iterations / solves: Newton\n"
+          "               iterations and friction passes are solves); max it.: the largest\n"
+          "  setup ms     the preconditioner's setup time per solve (part of the solve stage)\n"
           "  lin. err     ||dv - dv_direct|| / ||dv_direct||: the solver's answer against CHOLMOD's on\n"
           "               the same system (same initial guess), for the first substep of --probes\n"
           "               evenly spread frames (largest and mean); CPU rows only: the probe\n"
@@ -63,8 +78,9 @@ void bench_accuracy_usage(FILE* out) {
           "  max strain   largest stretch-spring strain (l - rest) / rest at the end of any frame\n"
           "  energy drift (E_end - E_start) / (M |g| D): E = kinetic + spring + gravity, M the\n"
           "               cloth's mass, D its diagonal (negative: dissipated)\n"
-          "\n"
-          "options (lists are comma-separated):\n"
+          "\n",
+          out);
+    fputs(          "options (lists are comma-separated):\n"
           "  --quick              seconds-long preset: sheet16,drape16,garment, tolerance 1e-3,\n"
           "                       iterations 20,100, substeps 1,2, 0.3 s, 2 probes, 1 thread (later\n"
           "                       options still apply)\n"
@@ -79,7 +95,12 @@ void bench_accuracy_usage(FILE* out) {
           "  --iterations LIST    iteration caps (default 30,300)\n"
           "  --substeps LIST      substeps per frame (default 1,2,4)\n"
           "  --substeps-large LIST  substeps per frame for scenes over 20000 particles (default 1)\n"
-          "  --ref-substeps N     substeps per frame of the reference run (default 8)\n"
+          BENCH_METHOD_HELP("block_jacobi,amg")
+          "  --ref-substeps N     substeps per frame of the reference run (default 8; 16, 32 for a\n"
+          "                       reference closer to converged)\n"
+          "  --ref-integrator NAME  be (default) or bdf2: the reference's integrator (BDF2, second\n"
+          "                       order, converges in time with fewer substeps)\n"
+          "  --no-ref-check       skip the reference's run at twice its substeps\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
           "  --probes N           frames whose linear-solve error is measured (default 6; 0: none;\n"
@@ -89,7 +110,8 @@ void bench_accuracy_usage(FILE* out) {
           "  --csv FILE           write every measurement as CSV\n"
           "  --md FILE            write the Markdown table to FILE instead of stdout\n"
           "  --plot FILE.png      plot trajectory RMS error against ms/frame (log-log, a panel per\n"
-          "                       scene, a curve per solver, the Pareto front marked)\n"
+          "                       scene, a curve per solver: its methods' points share it; the\n"
+          "                       Pareto front marked)\n"
           BENCH_BACKEND_HELP
           "                       The reference is the CPU's direct solver for both; the direct\n"
           "                       solver does not exist on the GPU: its configurations have no GPU\n"
@@ -113,6 +135,9 @@ static void defaults(void* args, int quick) {
     a->n_substeps = bench_parse_ints(quick ? "1,2" : "1,2,4", 1, 1024, a->substeps);
     a->n_substeps_large = bench_parse_ints("1", 1, 1024, a->substeps_large);
     a->ref_substeps = 8;
+    a->ref_check = 1;
+    a->ref_integrator = WC_INTEGRATOR_BE;
+    bench_methods_default(&a->meth, quick ? "block_jacobi,amg" : "block_jacobi,amg");
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
     a->probes = quick ? 2 : 6;
@@ -137,7 +162,18 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--substeps")) return BAD((a->n_substeps = bench_parse_ints(*v, 1, 1024, a->substeps)) < 0);
     if (OPT("--substeps-large"))
         return BAD((a->n_substeps_large = bench_parse_ints(*v, 1, 1024, a->substeps_large)) < 0);
-    if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 1, 1024, &a->ref_substeps) != 0);
+    if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 1, 512, &a->ref_substeps) != 0);
+    if (OPT("--ref-integrator")) {
+        if (m < 0) return m;
+        const int g = wc_integrator_from_name(*v);
+        a->ref_integrator = g >= 0 ? (wc_integrator)g : WC_INTEGRATOR_BE;
+        return g < 0 ? -2 : 1;
+    }
+    if (!strcmp(argv[*i], "--no-ref-check")) {
+        a->ref_check = 0;
+        return 1;
+    }
+    if ((m = bench_methods_option(&a->meth, argc, argv, i, v)) != 0) return m;
     if (OPT("--seconds"))
         return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
     if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
@@ -151,24 +187,29 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
 enum {
     C_BACKEND, C_SCENE, C_PARTICLES, C_ROLE, C_SOLVER, C_TOL, C_CAP, C_SUBSTEPS, C_FRAMES, C_MS, C_FORCES,
     C_ASSEMBLE, C_SOLVE, C_COLLIDE, C_INTEGRATE, C_ITER, C_MAXITER, C_NOTCONV, C_ROLLBACKS, C_FALLBACKS,
-    C_FAILURES, C_LIN_MEAN, C_LIN_MAX, C_TRAJ_RMS, C_TRAJ_MAX, C_STRAIN, C_DRIFT, N_COLS
+    C_FAILURES, C_LIN_MEAN, C_LIN_MAX, C_TRAJ_RMS, C_TRAJ_MAX, C_STRAIN, C_DRIFT, C_PRECOND, C_INTEGRATOR,
+    C_NEWTON, C_LINE_SEARCH, C_SOLVES, C_ITER_SOLVE, C_SETUP_MS, C_CONVERGED, N_COLS
 };
 static const char* const csv_cols[N_COLS] = {
     "backend", "scene", "particles", "role", "solver", "tolerance", "max_iterations", "substeps", "frames",
     "ms_per_frame", "ms_forces", "ms_assemble", "ms_solve", "ms_collide", "ms_integrate",
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
-    "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift"};
+    "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift",
+    "preconditioner", "integrator", "newton_iterations", "line_search", "solves", "iterations_per_solve",
+    "ms_precond_per_solve", "converged_fraction"};
 static const char* const md_cols[N_COLS] = {
     NULL /* "backend" with two backends */, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
-    "it./substep", NULL, NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
-    "traj. err max", "max strain", "energy drift"};
+    NULL, "max it.", NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
+    "traj. err max", "max strain", "energy drift", "precond.", "integrator", "Newton", NULL, NULL, "it./solve",
+    "setup ms/solve", NULL};
 
 typedef struct config {
     wc_solver_type solver;
+    bench_method method;
     double tolerance;
     int cap;
     int substeps;
-    int reference;
+    int reference;          /* 1: the reference, 2: its check at twice the substeps */
 } config;
 
 static int add_row(bench_table* t, int backend, const bench_scene* bs, const config* c, const bench_run* r,
@@ -178,8 +219,9 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(backend));
     snprintf(b[C_SCENE], 48, "%s", bs->name);
     snprintf(b[C_PARTICLES], 48, "%d", bs->model.n_particles);
-    snprintf(b[C_ROLE], 48, "%s", c->reference ? "reference" : "config");
-    snprintf(b[C_SOLVER], 48, "%s%s", wc_solver_name(c->solver), c->reference ? " (reference)" : "");
+    snprintf(b[C_ROLE], 48, "%s", c->reference == 2 ? "reference_check" : c->reference ? "reference" : "config");
+    snprintf(b[C_SOLVER], 48, "%s%s", wc_solver_name(c->solver),
+             c->reference == 2 ? " (2x reference)" : c->reference ? " (reference)" : "");
     if (c->solver == WC_SOLVER_DIRECT) {
         snprintf(b[C_TOL], 48, "-");
         snprintf(b[C_CAP], 48, "-");
@@ -208,6 +250,14 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     bench_fmt(b[C_TRAJ_MAX], 48, "%.3g", max);
     bench_fmt(b[C_STRAIN], 48, "%.3g", r->max_strain);
     bench_fmt(b[C_DRIFT], 48, "%.3g", (r->energy_end - r->energy0) / r->energy_scale);
+    snprintf(b[C_PRECOND], 48, "%s", bench_precond_label(c->solver, &c->method));
+    snprintf(b[C_INTEGRATOR], 48, "%s", wc_integrator_name(c->method.integrator));
+    snprintf(b[C_NEWTON], 48, "%d", c->method.newton);
+    snprintf(b[C_LINE_SEARCH], 48, "%s", c->method.line_search ? "on" : "off");
+    snprintf(b[C_SOLVES], 48, "%lld", r->solves);
+    bench_fmt(b[C_ITER_SOLVE], 48, "%.1f", bench_run_iterations_per_solve(r));
+    bench_fmt(b[C_SETUP_MS], 48, "%.3g", bench_run_precond_ms_per_solve(r));
+    bench_fmt(b[C_CONVERGED], 48, "%.3g", bench_run_converged_fraction(r));
     for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
     return bench_table_add(t, cell);
 }
@@ -216,26 +266,41 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
 static int configs_for(const acc_args* a, int n, config* out, int cap) {
     const int* subs = n > LARGE_SCENE ? a->substeps_large : a->substeps;
     const int n_subs = n > LARGE_SCENE ? a->n_substeps_large : a->n_substeps;
+    bench_method meth[BENCH_MAX_LIST * BENCH_MAX_LIST * BENCH_MAX_LIST];
     int k = 0;
     for (int s = 0; s < a->n_solvers; ++s) {
         const int direct = a->solvers[s] == WC_SOLVER_DIRECT;
-        for (int t = 0; t < (direct ? 1 : a->n_tolerances); ++t)
-            for (int c = 0; c < (direct ? 1 : a->n_caps); ++c)
-                for (int u = 0; u < n_subs && k < cap; ++u) {
-                    config* g = &out[k++];
-                    g->solver = a->solvers[s];
-                    g->tolerance = direct ? 0 : a->tolerances[t];
-                    g->cap = direct ? 1 : a->caps[c];
-                    g->substeps = subs[u];
-                    g->reference = 0;
-                }
+        const int n_meth = bench_methods_expand(&a->meth, a->solvers[s], meth, (int)(sizeof meth / sizeof meth[0]));
+        for (int q = 0; q < n_meth * (direct ? 1 : a->n_tolerances * a->n_caps); ++q)
+            for (int u = 0; u < n_subs && k < cap; ++u) {
+                const int mi = direct ? q : q / (a->n_tolerances * a->n_caps);
+                const int t = direct ? 0 : q / a->n_caps % a->n_tolerances, c = direct ? 0 : q % a->n_caps;
+                config* g = &out[k++];
+                g->solver = a->solvers[s];
+                g->method = meth[mi];
+                g->tolerance = direct ? 0 : a->tolerances[t];
+                g->cap = direct ? 1 : a->caps[c];
+                g->substeps = subs[u];
+                g->reference = 0;
+            }
     }
     return k;
 }
 
+/* The reference's check of one scene: the reference at twice its substeps against it. */
+typedef struct ref_check {
+    char scene[32];
+    int substeps;           /* the check's (2 x the reference's) */
+    double rms, max;        /* their difference at the end / bounding-box diagonal */
+} ref_check;
+
+#define REF_GOAL 1e-3       /* the reference is converged when halving its step moves it by < 0.1 % */
+
 typedef struct header_info {
     const acc_args* a;
     int frames, threads;
+    const ref_check* checks;
+    int n_checks;
 } header_info;
 
 static void print_header(FILE* out, const void* ctx) {
@@ -247,15 +312,34 @@ static void print_header(FILE* out, const void* ctx) {
     for (int k = 0; k < a->n_backends; ++k) gpu |= a->backends[k] == BENCH_GPU;
     fprintf(out, "## weft bench accuracy\n\n");
     fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
-                 "solver (CHOLMOD) at %d substeps per frame, on the CPU.\n\n",
+                 "solver (CHOLMOD), %s, one Newton iteration, at %d substeps per frame, on the CPU.\n\n",
             bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads, a->seconds, a->fps, frames,
-            a->ref_substeps);
+            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : "backward Euler", a->ref_substeps);
+    if (h->n_checks > 0) {
+        fprintf(out, "Is the reference converged in time? The same run at %d substeps per frame against it at the "
+                     "end, as %% of the bounding-box diagonal (goal < %g %%):\n\n"
+                     "| scene | reference substeps | check substeps | RMS diff (%%) | max diff (%%) | goal < %g %% |\n"
+                     "|---|---|---|---|---|---|\n",
+                2 * a->ref_substeps, 100 * REF_GOAL, 100 * REF_GOAL);
+        for (int k = 0; k < h->n_checks; ++k) {
+            const ref_check* c = &h->checks[k];
+            fprintf(out, "| %s | %d | %d | %.3g | %.3g | %s |\n", c->scene, c->substeps / 2, c->substeps,
+                    100 * c->rms, 100 * c->max, c->max < REF_GOAL ? "met" : c->rms < REF_GOAL ? "met (RMS only)"
+                                                                                              : "not met");
+        }
+        fputc('\n', out);
+    }
     if (gpu)
         fputs("GPU rows: the trajectory error is against the same CPU reference; lin. err is not measured "
               "(-: the probe solves on the CPU); the direct solver does not exist on the GPU, so its "
               "configurations have no GPU row.\n\n",
               out);
     fputs("- ms/frame: median wall time of one frame's step.\n"
+          "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler) or bdf2; "
+          "Newton: linearised solves per substep (line search on when the CSV's line_search says so).\n"
+          "- it./solve: solver iterations per linear solve, mean over the run (Newton iterations and friction "
+          "passes are solves); max it.: the largest in one solve; setup ms/solve: the preconditioner's setup "
+          "time per solve.\n"
           "- lin. err: ||dv - dv_direct|| / ||dv_direct|| of one substep's linear solve against CHOLMOD on the "
           "same system (wc_substep_prepare, same initial guess), largest over the probed frames.\n"
           "- traj. err: RMS / largest particle distance to the reference run at the end, divided by the cloth's "
@@ -264,6 +348,55 @@ static void print_header(FILE* out, const void* ctx) {
           "- energy drift: (E_end - E_start) / (M |g| D), E = kinetic + spring + gravitational energy "
           "(negative: dissipated; compare with the reference row).\n\n",
           out);
+}
+
+/* The reference's sim def: direct solver, the reference's integrator, one Newton iteration,
+ * `substeps`. */
+static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int substeps) {
+    wc_sim_def sd = bs->sc.sim;
+    sd.threads = a->com.threads;
+    sd.solver.type = WC_SOLVER_DIRECT;
+    sd.substeps = substeps;
+    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, 1, 0};
+    bench_method_apply(&m, &sd);
+    return sd;
+}
+
+/* The reference run of a scene (row added) and, when asked, its check at twice the substeps (row
+ * and *check filled). 0, or -1 with diag. */
+static int run_reference(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, bench_run* rr,
+                         ref_check* check, wc_diag* d) {
+    bench_run_opts o;
+    memset(&o, 0, sizeof o);
+    o.fps = a->fps;
+    o.frames = frames;
+    o.sim = reference_def(a, bs, a->ref_substeps);
+    if (!a->com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs->name, bs->model.n_particles);
+    if (bench_run_scene(bs, &o, rr, d) != 0) return -1;
+    config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1};
+    add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0);
+    if (!a->ref_check) return 0;
+    if (!a->com.quiet) fprintf(stderr, "  the reference at %d substeps (its check)...\n", 2 * a->ref_substeps);
+    o.sim = reference_def(a, bs, 2 * a->ref_substeps);
+    bench_run r2;
+    if (bench_run_scene(bs, &o, &r2, d) != 0) {
+        bench_run_free(rr);
+        return -1;
+    }
+    double rms, max;
+    bench_distance(r2.x, rr->x, bs->model.n_particles, &rms, &max);
+    snprintf(check->scene, sizeof check->scene, "%s", bs->name);
+    check->substeps = 2 * a->ref_substeps;
+    check->rms = rms / bs->diag;
+    check->max = max / bs->diag;
+    if (!a->com.quiet)
+        fprintf(stderr, "  reference vs 2x: RMS %.3g %%, max %.3g %% of the diagonal\n", 100 * check->rms,
+                100 * check->max);
+    ref.substeps = check->substeps;
+    ref.reference = 2;
+    add_row(t, BENCH_CPU, bs, &ref, &r2, check->rms, check->max);
+    bench_run_free(&r2);
+    return 0;
 }
 
 int bench_accuracy_run(int argc, char** argv) {
@@ -278,14 +411,15 @@ int bench_accuracy_run(int argc, char** argv) {
     if (a.n_backends > 1) md[C_BACKEND] = "backend";
     bench_table_init(&t, N_COLS, csv_cols, md);
     const int max_subs = a.n_substeps > a.n_substeps_large ? a.n_substeps : a.n_substeps_large;
-    const int max_cfg = a.n_solvers * a.n_tolerances * a.n_caps * max_subs;   /* per scene, at most */
+    const int max_cfg = a.n_solvers * bench_methods_max(&a.meth) * a.n_tolerances * a.n_caps * max_subs;
     const int max_points = a.n_scenes * max_cfg * a.n_backends;
     /* the plot's panels: a scene, or (two backends) a scene on a backend */
     char(*panel_buf)[48] = calloc((size_t)(a.n_scenes * a.n_backends), sizeof *panel_buf);
     const char** panels = calloc((size_t)(a.n_scenes * a.n_backends), sizeof(char*));
     bench_point* pts = malloc(sizeof *pts * (size_t)max_points);
     config* cfg = malloc(sizeof *cfg * (size_t)max_cfg);
-    int n_pts = 0, threads = 1;
+    ref_check checks[MAX_SCENES];
+    int n_pts = 0, n_checks = 0, threads = 1;
     rc = CLI_EXIT_OK;
     if (!pts || !cfg || !panel_buf || !panels) {
         cli_error("out of memory");
@@ -309,38 +443,39 @@ int bench_accuracy_run(int argc, char** argv) {
             rc = CLI_EXIT_FAILURE;
             break;
         }
-        bench_run_opts o;
-        memset(&o, 0, sizeof o);
-        o.sim = bs.sc.sim;
-        o.sim.threads = a.com.threads;
-        o.fps = a.fps;
-        o.frames = frames;
-        config ref = {WC_SOLVER_DIRECT, 0, 1, a.ref_substeps, 1};
-        o.sim.solver.type = WC_SOLVER_DIRECT;
-        o.sim.substeps = a.ref_substeps;
         bench_run rr;
-        if (!a.com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs.name, bs.model.n_particles);
-        if (bench_run_scene(&bs, &o, &rr, &d) != 0) {
+        if (run_reference(&a, &bs, frames, &t, &rr, &checks[n_checks], &d) != 0) {
             cli_error(d.message);
             bench_scene_free(&bs);
             rc = CLI_EXIT_FAILURE;
             break;
         }
+        n_checks += a.ref_check;
         wc_par par;
         wc_par_init(&par, a.com.threads);
         threads = par.threads;
-        add_row(&t, BENCH_CPU, &bs, &ref, &rr, 0.0, 0.0);
+        bench_run_opts o;
+        memset(&o, 0, sizeof o);
+        o.fps = a.fps;
+        o.frames = frames;
         const int n_cfg = configs_for(&a, bs.model.n_particles, cfg, max_cfg);
         for (int q = 0; q < n_cfg * a.n_backends && rc == CLI_EXIT_OK; ++q) {
             const int bi = q / n_cfg, k = q % n_cfg, backend = a.backends[bi];
-            if (backend == BENCH_GPU && cfg[k].solver == WC_SOLVER_DIRECT) continue; /* not on the GPU */
+            const config* c = &cfg[k];
+            /* the GPU has no direct solver and runs PCG with block Jacobi, backward Euler, one Newton
+             * iteration only: the other configurations have no GPU row */
+            if (backend == BENCH_GPU &&
+                (c->solver == WC_SOLVER_DIRECT || c->method.precond != WC_PRECOND_BLOCK_JACOBI ||
+                 c->method.integrator != WC_INTEGRATOR_BE || c->method.newton != 1 || c->method.line_search))
+                continue;
             o.backend = backend;
             o.sim = bs.sc.sim;
             o.sim.threads = a.com.threads;
-            o.sim.solver.type = cfg[k].solver;
-            o.sim.solver.tolerance = cfg[k].tolerance;
-            if (cfg[k].solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = cfg[k].cap;
-            o.sim.substeps = cfg[k].substeps;
+            o.sim.solver.type = c->solver;
+            o.sim.solver.tolerance = c->tolerance;
+            if (c->solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = c->cap;
+            o.sim.substeps = c->substeps;
+            bench_method_apply(&c->method, &o.sim);
             o.probe_frames = backend == BENCH_GPU ? 0 : a.probes; /* the probe is the CPU's */
             bench_run r;
             if (bench_run_scene(&bs, &o, &r, &d) != 0) {
@@ -352,20 +487,23 @@ int bench_accuracy_run(int argc, char** argv) {
             bench_distance(r.x, rr.x, bs.model.n_particles, &rms, &max);
             rms /= bs.diag;
             max /= bs.diag;
-            if (!a.com.quiet)
-                fprintf(stderr, "  [%d/%d] %s %s tol %g cap %d substeps %d: %.2f ms/frame, traj. err %.3g\n", q + 1,
-                        n_cfg * a.n_backends, bench_backend_name(backend), wc_solver_name(cfg[k].solver),
-                        cfg[k].tolerance, cfg[k].cap, cfg[k].substeps, r.ms_median, rms);
-            add_row(&t, backend, &bs, &cfg[k], &r, rms, max);
+            if (!a.com.quiet) {
+                char label[64];
+                fprintf(stderr, "  [%d/%d] %s %s %s tol %g cap %d substeps %d: %.2f ms/frame, %.1f it./solve, "
+                        "traj. err %.3g\n", q + 1, n_cfg * a.n_backends, bench_backend_name(backend),
+                        wc_solver_name(c->solver), bench_method_short(c->solver, &c->method, label, sizeof label),
+                        c->tolerance, c->cap, c->substeps, r.ms_median, bench_run_iterations_per_solve(&r), rms);
+            }
+            add_row(&t, backend, &bs, c, &r, rms, max);
             if (n_pts < max_points)
-                pts[n_pts++] = (bench_point){si * a.n_backends + bi, (int)cfg[k].solver, r.ms_median, rms};
+                pts[n_pts++] = (bench_point){si * a.n_backends + bi, (int)c->solver, r.ms_median, rms};
             bench_run_free(&r);
         }
         bench_run_free(&rr);
         bench_scene_free(&bs);
     }
     if (rc == CLI_EXIT_OK) {
-        const header_info h = {&a, frames, threads};
+        const header_info h = {&a, frames, threads, checks, n_checks};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     if (rc == CLI_EXIT_OK && a.com.plot) {

@@ -1,11 +1,13 @@
 /* `weft bench peers`: Weft beside Blender's own cloth solver. For every scene, Blender's cloth
  * (its defaults, 5 quality steps per frame; host_glue/blender/peer_cloth_bench.py run by a child
  * `blender -b`, see cmd_bench_blender.c) and Weft (the scene's defaults: PCG, at each --substeps
- * count) simulate the same mesh, the same pinned particles (held still) and the same number of
- * frames with the same thread count; the table gives both medians of ms per frame, their ratio,
- * and how far each cloth's lowest point hangs below its pins at the end (a sanity number, not an
- * error: the two material models differ). --backend cpu,gpu runs Weft on each backend beside the
- * same Blender run. */
+ * count x preconditioner x integrator x Newton iterations; and once through the public API at
+ * weft_default_cloth_def(), whatever the library resolves that to) simulate the same mesh, the
+ * same pinned particles (held still) and the same number of frames with the same thread count;
+ * the table gives both medians of ms per frame, their ratio, and how far each cloth's lowest
+ * point hangs below its pins at the end (a sanity number, not an error: the two material models
+ * differ). Without Blender the command says so and prints Weft's rows alone. --backend cpu,gpu
+ * runs Weft on each backend beside the same Blender run. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -38,27 +40,36 @@ typedef struct peers_args {
     const char* script;
     int backends[BENCH_MAX_BACKENDS];
     int n_backends;
+    bench_methods meth;
+    int defaults_row;       /* 1: the row through the public API at weft_default_cloth_def() */
     bench_common com;
 } peers_args;
 
 void bench_peers_usage(FILE* out) {
     fputs("usage: weft bench peers [--quick] [--scenes LIST] [--substeps LIST] [--frames N] [--fps F]\n"
-          "                        [--blender PATH] [--script FILE] [--timeout S] [--threads N]\n"
-          "                        [--garment FILE] [--csv FILE] [--md FILE] [--backend LIST] [--quiet]\n"
+          "                        [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
+          "                        [--line-search MODE] [--no-defaults] [--blender PATH] [--script FILE]\n"
+          "                        [--timeout S] [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
+          "                        [--backend LIST] [--quiet]\n"
           "\n"
           "Weft beside Blender's own cloth solver, in the same run; Weft on the CPU and/or the GPU\n"
           "(--backend).\n"
-          "Needs Debian's blender (3.4): when it is not installed the command says so and fails.\n"
+          "Needs Debian's blender (3.4): when no `blender` is on PATH the command says so (stderr and\n"
+          "the Markdown) and prints Weft's rows alone, Blender's columns `-`.\n"
           "For each scene Blender runs the driver script (--script) headless on the same mesh (one\n"
           "vertex per Weft particle) with the same pinned vertices held still: a Cloth modifier\n"
           "with Blender's defaults and 5 quality steps per frame, timed frame by frame; then Weft\n"
-          "(the scene's defaults: PCG) runs the same frames at each --substeps count. Both use\n"
-          "--threads threads (Blender: -t N). Per row:\n"
+          "(the scene's defaults: PCG) runs the same frames at each --substeps count x\n"
+          "preconditioner x integrator x Newton iterations, and once more at its defaults: through\n"
+          "the public API with weft_default_cloth_def() (the `defaults` row, CPU: whatever solver,\n"
+          "preconditioner, integrator, Newton iterations and substeps the library chooses; sleeping\n"
+          "off). Both use --threads threads (Blender: -t N). Per row:\n"
           "  ms/frame        median wall time of one frame (Weft: wc_step_frame; Blender: one\n"
           "                  scene.frame_set, its cloth evaluation included)\n"
           "  Blender / Weft  the ratio of the two medians (> 1: Weft is faster)\n"
           "  drop            how far the lowest point hangs below the highest pin at the end (m):\n"
           "                  a sanity number, not an error (the material models differ)\n"
+          "  it./solve       Weft's solver iterations per linear solve, mean\n"
           "\n"
           "options (lists are comma-separated):\n"
           "  --quick          seconds-long preset: sheet12, 10 frames, substeps 1, 1 thread, 120 s\n"
@@ -68,6 +79,8 @@ void bench_peers_usage(FILE* out) {
           "                   pinned at its waist, held still); default sheet32,sheet64,sheet100,\n"
           "                   garment\n"
           "  --substeps LIST  Weft's substeps per frame (default 1,5; Blender always takes 5 steps)\n"
+          BENCH_METHOD_HELP("block_jacobi,amg")
+          "  --no-defaults    no row through the public API at weft_default_cloth_def()\n"
           "  --frames N       frames simulated by each (default 60)\n"
           "  --fps F          Weft's frames per second (default 30; Blender's cloth ignores the\n"
           "                   frame rate: its frame is a fixed unit, in free fall like 1/31.6 s)\n"
@@ -101,6 +114,8 @@ static void defaults(void* args, int quick) {
     a->script = WEFT_BLENDER_SCRIPT;
     a->backends[0] = BENCH_CPU;
     a->n_backends = 1;
+    bench_methods_default(&a->meth, "block_jacobi,amg");
+    a->defaults_row = 1;
 }
 
 static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
@@ -129,22 +144,29 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         a->script = *v;
         return BAD(!**v);
     }
+    if (!strcmp(argv[*i], "--no-defaults")) {
+        a->defaults_row = 0;
+        return 1;
+    }
 #undef OPT
 #undef BAD
-    return m;
+    return bench_methods_option(&a->meth, argc, argv, i, v);
 }
 
 enum {
     C_BACKEND, C_SCENE, C_PARTICLES, C_FRAMES, C_WEFT_THREADS, C_BLENDER_THREADS, C_SOLVER, C_SUBSTEPS,
-    C_WEFT_MS, C_BLENDER_MS, C_RATIO, C_WEFT_DROP, C_BLENDER_DROP, C_PIN_DRIFT, C_VERSION, C_NOTES, N_COLS
+    C_WEFT_MS, C_BLENDER_MS, C_RATIO, C_WEFT_DROP, C_BLENDER_DROP, C_PIN_DRIFT, C_VERSION, C_NOTES, C_CONFIG,
+    C_PRECOND, C_INTEGRATOR, C_NEWTON, C_LINE_SEARCH, C_ITER_SOLVE, C_SETUP_MS, N_COLS
 };
 static const char* const csv_cols[N_COLS] = {
     "backend", "scene", "particles", "frames", "weft_threads", "blender_threads", "weft_solver", "weft_substeps",
     "weft_ms_per_frame", "blender_ms_per_frame", "ratio_blender_over_weft", "weft_drop_m", "blender_drop_m",
-    "blender_pin_drift_m", "blender_version", "notes"};
+    "blender_pin_drift_m", "blender_version", "notes", "weft_config", "weft_preconditioner", "weft_integrator",
+    "weft_newton_iterations", "weft_line_search", "weft_iterations_per_solve", "weft_ms_precond_per_solve"};
 static const char* const md_cols[N_COLS] = {
     NULL /* "backend" with two backends */, "scene", "particles", NULL, NULL, NULL, NULL, "Weft substeps", "Weft ms/frame", "Blender ms/frame",
-    "Blender / Weft", "Weft drop (m)", "Blender drop (m)", NULL, NULL, "notes"};
+    "Blender / Weft", "Weft drop (m)", "Blender drop (m)", NULL, NULL, "notes", "Weft config", "precond.",
+    "integrator", "Newton", NULL, "it./solve", NULL};
 
 /* How far the lowest point of x lies below the highest pin at rest (or below the highest rest
  * point when nothing is pinned). */
@@ -176,29 +198,60 @@ typedef struct header_info {
     char version[32];
     char settings[768];
     wc_solver_opts solver;  /* Weft's (the scenes' default) */
+    char missing[1024];     /* why there is no Blender ("": there is) */
+    struct {
+        char scene[32];
+        double blender_ms, defaults_ms;   /* NaN: not run */
+    } sum[MAX_SCENES];      /* per scene: Blender beside Weft at its defaults */
+    int n_sum;
 } header_info;
+
+#define PEERS_GOAL 10.0     /* issue 12: Weft at its defaults >= 10 x faster than Blender */
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const peers_args* a = h->a;
     char note[1024];
     fprintf(out, "## weft bench peers\n\n");
-    fprintf(out,
-            "%s. Blender %s's cloth solver beside Weft's on the same meshes (one Blender vertex per Weft "
-            "particle), the same pinned vertices held still, %d frames each, in one run. Threads: Weft %d "
-            "(OpenMP), Blender %d%s.\n\n",
-            bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->version, a->frames, h->weft_threads, h->blender_threads,
-            a->com.threads > 0 ? " (blender -t)" : "");
-    fprintf(out,
-            "- Blender: a Cloth modifier with Blender's defaults and 5 quality steps per frame, a fresh file "
-            "(--factory-startup), each frame one timed scene.frame_set (host_glue/blender/peer_cloth_bench.py). "
-            "Settings read back: %s.\n",
-            h->settings);
+    if (h->missing[0])
+        fprintf(out, "**No Blender here** (%s): Weft's rows only, Blender's columns `-`.\n\n", h->missing);
+    if (h->n_sum > 0 && a->defaults_row) {
+        fprintf(out, "Blender beside Weft at its defaults (weft_default_cloth_def() through the public API, CPU), "
+                     "per scene (goal: >= %g x):\n\n| scene | Blender ms/frame | Weft defaults ms/frame | "
+                     "Blender / Weft | >= %g x |\n|---|---|---|---|---|\n", PEERS_GOAL, PEERS_GOAL);
+        for (int k = 0; k < h->n_sum; ++k) {
+            const double ratio = h->sum[k].blender_ms / h->sum[k].defaults_ms;
+            char bm[32], rt[32];
+            if (isnan(ratio)) snprintf(bm, sizeof bm, "-"), snprintf(rt, sizeof rt, "-");
+            else snprintf(bm, sizeof bm, "%.4g", h->sum[k].blender_ms), snprintf(rt, sizeof rt, "%.3g", ratio);
+            fprintf(out, "| %s | %s | %.4g | %s | %s |\n", h->sum[k].scene, bm, h->sum[k].defaults_ms, rt,
+                    isnan(ratio) ? "-" : ratio >= PEERS_GOAL ? "met" : "not met");
+        }
+        fputc('\n', out);
+    }
+    if (h->missing[0])
+        fprintf(out, "%s. Weft alone (no Blender), %d frames per row. Threads: Weft %d (OpenMP).\n\n",
+                bench_backend_note(a->backends, a->n_backends, note, sizeof note), a->frames, h->weft_threads);
+    else
+        fprintf(out,
+                "%s. Blender %s's cloth solver beside Weft's on the same meshes (one Blender vertex per Weft "
+                "particle), the same pinned vertices held still, %d frames each, in one run. Threads: Weft %d "
+                "(OpenMP), Blender %d%s.\n\n",
+                bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->version, a->frames, h->weft_threads, h->blender_threads,
+                a->com.threads > 0 ? " (blender -t)" : "");
+    if (!h->missing[0])
+        fprintf(out,
+                "- Blender: a Cloth modifier with Blender's defaults and 5 quality steps per frame, a fresh file "
+                "(--factory-startup), each frame one timed scene.frame_set (host_glue/blender/peer_cloth_bench.py). "
+                "Settings read back: %s.\n",
+                h->settings);
     fprintf(out,
             "- Weft: the scene's defaults (default material; %s solver, relative tolerance %g, at most %d "
             "iterations) at %g frames per second, the substeps per frame given in the table; each frame one "
             "timed wc_step_frame (CPU) or wg_sim_step_frame (GPU, its positions read back after the frame, "
-            "outside its time).\n",
+            "outside its time); precond., integrator and Newton as in the table. The `defaults` row: the "
+            "library at weft_default_cloth_def() through the public API (weft_cloth_step; its own material, solver, "
+            "preconditioner, integrator, Newton iterations and substeps; sleeping off), on the CPU.\n",
             wc_solver_name(h->solver.type), h->solver.tolerance, h->solver.max_iterations, a->fps);
     fputs("- ms/frame: median over the frames. Blender / Weft: the ratio of the medians (> 1: Weft is faster).\n"
           "- Time: Blender's cloth ignores the frame rate; its frame is a fixed unit in which gravity is scaled "
@@ -209,26 +262,47 @@ static void print_header(FILE* out, const void* ctx) {
           out);
 }
 
-static int add_row(bench_table* t, int backend, const bench_scene* bs, const peers_args* a, int weft_threads,
-                   const bench_blender_result* br, int substeps, const bench_run* r) {
+/* What one Weft row ran: the scene's defaults with a method, or the library's defaults. */
+typedef struct weft_row {
+    int backend;
+    int defaults;           /* 1: through the public API at weft_default_cloth_def() */
+    int substeps;
+    bench_method method;
+} weft_row;
+
+static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, const peers_args* a, int weft_threads,
+                   const bench_blender_result* br, const bench_run* r) {
     char b[N_COLS][96];
     const char* cell[N_COLS];
-    snprintf(b[C_BACKEND], 96, "%s", bench_backend_name(backend));
+    const int blender = br->x != NULL; /* 0: no Blender on this machine */
+    snprintf(b[C_BACKEND], 96, "%s", bench_backend_name(w->backend));
     snprintf(b[C_SCENE], 96, "%s", bs->name);
     snprintf(b[C_PARTICLES], 96, "%d", bs->model.n_particles);
     snprintf(b[C_FRAMES], 96, "%d", a->frames);
     snprintf(b[C_WEFT_THREADS], 96, "%d", weft_threads);
-    snprintf(b[C_BLENDER_THREADS], 96, "%d", br->threads);
-    snprintf(b[C_SOLVER], 96, "%s", wc_solver_name(bs->sc.sim.solver.type));
-    snprintf(b[C_SUBSTEPS], 96, "%d", substeps);
+    snprintf(b[C_BLENDER_THREADS], 96, blender ? "%d" : "-", br->threads);
+    snprintf(b[C_SOLVER], 96, "%s", w->defaults ? "default" : wc_solver_name(bs->sc.sim.solver.type));
+    if (w->defaults) snprintf(b[C_SUBSTEPS], 96, "default");
+    else snprintf(b[C_SUBSTEPS], 96, "%d", w->substeps);
     bench_fmt(b[C_WEFT_MS], 96, "%.4g", r->ms_median);
-    bench_fmt(b[C_BLENDER_MS], 96, "%.4g", br->ms_median);
-    bench_fmt(b[C_RATIO], 96, "%.3g", br->ms_median / r->ms_median);
+    if (blender) {
+        bench_fmt(b[C_BLENDER_MS], 96, "%.4g", br->ms_median);
+        bench_fmt(b[C_RATIO], 96, "%.3g", br->ms_median / r->ms_median);
+    } else {
+        snprintf(b[C_BLENDER_MS], 96, "-");
+        snprintf(b[C_RATIO], 96, "-");
+    }
     bench_fmt(b[C_WEFT_DROP], 96, "%.3f", drop_below_pins(bs, r->x));
-    bench_fmt(b[C_BLENDER_DROP], 96, "%.3f", drop_below_pins(bs, br->x));
-    const double drift = pin_drift(bs, br->x);
-    bench_fmt(b[C_PIN_DRIFT], 96, "%.3g", drift);
-    snprintf(b[C_VERSION], 96, "%s", br->version);
+    const double drift = blender ? pin_drift(bs, br->x) : 0.0;
+    if (blender) {
+        bench_fmt(b[C_BLENDER_DROP], 96, "%.3f", drop_below_pins(bs, br->x));
+        bench_fmt(b[C_PIN_DRIFT], 96, "%.3g", drift);
+        snprintf(b[C_VERSION], 96, "%s", br->version);
+    } else {
+        snprintf(b[C_BLENDER_DROP], 96, "-");
+        snprintf(b[C_PIN_DRIFT], 96, "-");
+        snprintf(b[C_VERSION], 96, "-");
+    }
     char* notes = b[C_NOTES];
     notes[0] = '\0';
     if (!strcmp(bs->name, "garment")) snprintf(notes, 96, "waist pinned, still");
@@ -238,11 +312,45 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const pee
     if (!(drift <= 1e-3))
         snprintf(notes + strlen(notes), 96 - strlen(notes), "%sBlender's pins moved %.3g m", notes[0] ? "; " : "",
                  drift);
+    snprintf(b[C_CONFIG], 96, "%s", w->defaults ? "defaults" : "scene");
+    if (w->defaults) {
+        for (int k = C_PRECOND; k <= C_LINE_SEARCH; ++k) snprintf(b[k], 96, "default");
+    } else {
+        snprintf(b[C_PRECOND], 96, "%s", bench_precond_label(bs->sc.sim.solver.type, &w->method));
+        snprintf(b[C_INTEGRATOR], 96, "%s", wc_integrator_name(w->method.integrator));
+        snprintf(b[C_NEWTON], 96, "%d", w->method.newton);
+        snprintf(b[C_LINE_SEARCH], 96, "%s", w->method.line_search ? "on" : "off");
+    }
+    bench_fmt(b[C_ITER_SOLVE], 96, "%.1f", bench_run_iterations_per_solve(r));
+    bench_fmt(b[C_SETUP_MS], 96, "%.3g", bench_run_precond_ms_per_solve(r));
     for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
     return bench_table_add(t, cell);
 }
 
-/* One scene: Blender once, then Weft at every substep count. */
+/* One Weft run of a row. 0, or -1 with the message on stderr. */
+static int run_weft(const peers_args* a, const bench_scene* bs, const weft_row* w, bench_run* r) {
+    if (w->defaults) {
+        char msg[1024];
+        if (bench_api_run_defaults(bs, a->fps, a->frames, a->com.threads, r, msg, sizeof msg) == 0) return 0;
+        cli_error(msg);
+        return -1;
+    }
+    bench_run_opts o;
+    memset(&o, 0, sizeof o);
+    o.backend = w->backend;
+    o.sim = bs->sc.sim;
+    o.sim.threads = a->com.threads;
+    o.sim.substeps = w->substeps;
+    bench_method_apply(&w->method, &o.sim);
+    o.fps = a->fps;
+    o.frames = a->frames;
+    wc_diag d = {0};
+    if (bench_run_scene(bs, &o, r, &d) == 0) return 0;
+    cli_error(d.message);
+    return -1;
+}
+
+/* One scene: Blender once (when there is one), then Weft's rows. */
 static int run_scene(const peers_args* a, const char* blender, const char* name, bench_table* t, header_info* h) {
     bench_scene bs;
     wc_diag d = {0};
@@ -251,45 +359,66 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
         return CLI_EXIT_FAILURE;
     }
     bs.spin = 0.0; /* the garment's waist held still: Blender's pins do not move */
-    if (!a->com.quiet) fprintf(stderr, "%s (%d particles): blender...\n", bs.name, bs.model.n_particles);
     bench_blender_result br;
+    memset(&br, 0, sizeof br);
     char msg[1024];
-    if (bench_blender_run(blender, a->script, &bs, a->frames, a->com.threads, a->timeout, &br, msg, sizeof msg) != 0) {
-        cli_error(msg);
-        bench_scene_free(&bs);
-        return CLI_EXIT_FAILURE;
+    if (blender) {
+        if (!a->com.quiet) fprintf(stderr, "%s (%d particles): blender...\n", bs.name, bs.model.n_particles);
+        if (bench_blender_run(blender, a->script, &bs, a->frames, a->com.threads, a->timeout, &br, msg, sizeof msg) != 0) {
+            cli_error(msg);
+            bench_scene_free(&bs);
+            return CLI_EXIT_FAILURE;
+        }
+        snprintf(h->version, sizeof h->version, "%s", br.version);
+        snprintf(h->settings, sizeof h->settings, "%s", br.settings);
+        h->blender_threads = br.threads;
     }
-    snprintf(h->version, sizeof h->version, "%s", br.version);
-    snprintf(h->settings, sizeof h->settings, "%s", br.settings);
-    h->blender_threads = br.threads;
     h->solver = bs.sc.sim.solver;
+    /* the rows: backend x method x substeps, then the library's defaults (CPU) */
+    static weft_row rows[BENCH_MAX_BACKENDS * BENCH_MAX_LIST * BENCH_MAX_LIST + 1];
+    bench_method meth[BENCH_MAX_LIST];
+    const int n_meth = bench_methods_expand(&a->meth, bs.sc.sim.solver.type, meth, BENCH_MAX_LIST);
+    int n_rows = 0;
+    for (int bi = 0; bi < a->n_backends; ++bi)
+        for (int mi = 0; mi < n_meth; ++mi) {
+            const bench_method* m = &meth[mi];
+            /* the GPU: block Jacobi, backward Euler, one Newton iteration only */
+            if (a->backends[bi] == BENCH_GPU && (m->precond != WC_PRECOND_BLOCK_JACOBI ||
+                                                 m->integrator != WC_INTEGRATOR_BE || m->newton != 1 || m->line_search))
+                continue;
+            for (int k = 0; k < a->n_substeps; ++k)
+                rows[n_rows++] = (weft_row){a->backends[bi], 0, a->substeps[k], *m};
+        }
+    if (a->defaults_row) rows[n_rows++] = (weft_row){BENCH_CPU, 1, 0, meth[0]};
     int rc = CLI_EXIT_OK;
-    for (int q = 0; q < a->n_substeps * a->n_backends && rc == CLI_EXIT_OK; ++q) {
-        const int k = q % a->n_substeps, backend = a->backends[q / a->n_substeps];
-        bench_run_opts o;
-        memset(&o, 0, sizeof o);
-        o.backend = backend;
-        o.sim = bs.sc.sim;
-        o.sim.threads = a->com.threads;
-        o.sim.substeps = a->substeps[k];
-        o.fps = a->fps;
-        o.frames = a->frames;
+    for (int q = 0; q < n_rows && rc == CLI_EXIT_OK; ++q) {
         bench_run r;
-        if (bench_run_scene(&bs, &o, &r, &d) != 0) {
-            cli_error(d.message);
+        if (run_weft(a, &bs, &rows[q], &r) != 0) {
             rc = CLI_EXIT_FAILURE;
             break;
         }
-        if (!a->com.quiet)
-            fprintf(stderr, "  weft (%s) %d substep(s): %.3g ms/frame; blender: %.3g ms/frame\n",
-                    bench_backend_name(backend), a->substeps[k], r.ms_median, br.ms_median);
-        if (add_row(t, backend, &bs, a, h->weft_threads, &br, a->substeps[k], &r) != 0) {
+        if (!a->com.quiet) {
+            char label[64];
+            if (rows[q].defaults) snprintf(label, sizeof label, "defaults (weft_default_cloth_def)");
+            else
+                snprintf(label, sizeof label, "%d substep(s) %s", rows[q].substeps,
+                         bench_method_short(bs.sc.sim.solver.type, &rows[q].method, msg, sizeof msg));
+            fprintf(stderr, "  weft (%s) %s: %.3g ms/frame, %.1f it./solve; blender: %.3g ms/frame\n",
+                    bench_backend_name(rows[q].backend), label, r.ms_median, bench_run_iterations_per_solve(&r),
+                    blender ? br.ms_median : NAN);
+        }
+        if (rows[q].defaults && h->n_sum < MAX_SCENES) {
+            snprintf(h->sum[h->n_sum].scene, sizeof h->sum[h->n_sum].scene, "%s", bs.name);
+            h->sum[h->n_sum].blender_ms = blender ? br.ms_median : NAN;
+            h->sum[h->n_sum++].defaults_ms = r.ms_median;
+        }
+        if (add_row(t, &rows[q], &bs, a, h->weft_threads, &br, &r) != 0) {
             cli_error("out of memory");
             rc = CLI_EXIT_FAILURE;
         }
         bench_run_free(&r);
     }
-    bench_blender_free(&br);
+    if (blender) bench_blender_free(&br);
     bench_scene_free(&bs);
     return rc;
 }
@@ -300,13 +429,17 @@ int bench_peers_run(int argc, char** argv) {
     if (rc >= 0) return rc;
     if (a.com.plot) return cli_usage_error("weft bench peers", bench_peers_usage, "--plot: this command draws no plot");
     char blender[1024], msg[1024];
-    if (bench_blender_find(a.blender, blender, sizeof blender, msg, sizeof msg) != 0) {
-        cli_error(msg);
-        return CLI_EXIT_FAILURE;
-    }
     header_info h;
     memset(&h, 0, sizeof h);
     h.a = &a;
+    if (bench_blender_find(a.blender, blender, sizeof blender, msg, sizeof msg) != 0) {
+        if (a.blender) { /* asked for by path: that one must run */
+            cli_error(msg);
+            return CLI_EXIT_FAILURE;
+        }
+        fprintf(stderr, "weft: %s: Weft's rows only\n", msg);
+        snprintf(h.missing, sizeof h.missing, "%s", msg);
+    }
     wc_par par;
     wc_par_init(&par, a.com.threads);
     h.weft_threads = par.threads;
@@ -316,7 +449,8 @@ int bench_peers_run(int argc, char** argv) {
     if (a.n_backends > 1) md[C_BACKEND] = "backend";
     bench_table_init(&t, N_COLS, csv_cols, md);
     rc = bench_open_backends(a.backends, a.n_backends);
-    for (int s = 0; s < a.n_scenes && rc == CLI_EXIT_OK; ++s) rc = run_scene(&a, blender, a.scenes[s], &t, &h);
+    for (int s = 0; s < a.n_scenes && rc == CLI_EXIT_OK; ++s)
+        rc = run_scene(&a, h.missing[0] ? NULL : blender, a.scenes[s], &t, &h);
     if (rc == CLI_EXIT_OK) rc = bench_write_tables(&a.com, &t, print_header, &h);
     bench_table_free(&t);
     return rc;

@@ -322,6 +322,9 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         out->frames = f + 1;
         iterations += st.iterations;
         out->substeps += st.substeps;
+        out->solves += st.solves;
+        out->precond_ms += st.precond_ms;
+        out->solve_ms += st.ms.solve;
         if (st.max_iterations > out->max_iterations) out->max_iterations = st.max_iterations;
         out->not_converged += st.not_converged;
         out->rollbacks += st.rollbacks;
@@ -342,6 +345,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         for (int k = 0; k < 5; ++k) out->stage_median[k] = wc_sort_median(ms + (size_t)k * frames, out->frames);
     }
     out->iterations = out->substeps > 0 ? (double)iterations / (double)out->substeps : 0.0;
+    out->iterations_total = iterations;
     if (out->probes > 0) out->lin_err_mean /= out->probes;
     memcpy(out->x, s->x, n3 * sizeof(double));
     free(ms);
@@ -356,4 +360,29 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         return -1;
     }
     return 0;
+}
+
+/* Solves, or the substeps when the stats counted none. */
+static double solves_of(const bench_run* r) {
+    return r->solves > 0 ? (double)r->solves : (double)r->substeps;
+}
+
+double bench_run_iterations_per_solve(const bench_run* r) {
+    const double n = solves_of(r);
+    return n > 0 ? (double)r->iterations_total / n : 0.0;
+}
+
+double bench_run_precond_ms_per_solve(const bench_run* r) {
+    const double n = solves_of(r);
+    return n > 0 ? r->precond_ms / n : 0.0;
+}
+
+double bench_run_solve_ms_per_solve(const bench_run* r) {
+    const double n = solves_of(r);
+    return n > 0 ? r->solve_ms / n : 0.0;
+}
+
+double bench_run_converged_fraction(const bench_run* r) {
+    const double n = solves_of(r);
+    return n > 0 ? 1.0 - (double)r->not_converged / n : 1.0;
 }

@@ -1,4 +1,5 @@
-/* `weft bench stability`: a grid over step length x stiffness x mass x solver. Each cell simulates
+/* `weft bench stability`: a grid over step length x stiffness x mass x solver x method
+ * (preconditioner for PCG, integrator, Newton iterations: cmd_bench_method.c). Each cell simulates
  * one scene (default: a 32 x 32 sheet hanging from two corners) for a fixed time at one substep
  * per frame and is judged: failed (a non-finite value, strain above --fail-strain, energy growth
  * above --fail-energy, or a substep that failed every retry), recovered (it needed rollbacks) or
@@ -29,18 +30,21 @@ typedef struct stab_args {
     double fail_strain, fail_energy;
     int backends[BENCH_MAX_BACKENDS];
     int n_backends;
+    bench_methods meth;
     bench_common com;
 } stab_args;
 
 void bench_stability_usage(FILE* out) {
     fputs("usage: weft bench stability [--quick] [--scene NAME] [--solvers LIST] [--steps LIST]\n"
           "                            [--stiffness LIST] [--mass LIST] [--seconds T]\n"
-          "                            [--fail-strain S] [--fail-energy E] [--threads N]\n"
+          "                            [--fail-strain S] [--fail-energy E] [--preconds LIST]\n"
+          "                            [--integrators LIST] [--newton LIST] [--line-search MODE] [--threads N]\n"
           "                            [--garment FILE] [--csv FILE] [--md FILE] [--plot FILE.png]\n"
           "                            [--backend LIST] [--quiet]\n"
           "\n"
-          "Numerical stability over a grid of step length x stiffness x mass x solver, on the CPU\n"
-          "and/or the GPU (--backend).\n"
+          "Numerical stability over a grid of step length x stiffness x mass x solver x method\n"
+          "(preconditioner for PCG, integrator, Newton iterations), on the CPU and/or the GPU\n"
+          "(--backend; the GPU: block Jacobi, backward Euler, one Newton iteration only).\n"
           "Each cell simulates the scene for --seconds, one substep per frame of the given step\n"
           "length (the step's own rollback and retry on), and is judged:\n"
           "  failed     a non-finite position or energy, a stretch strain above --fail-strain, the\n"
@@ -63,11 +67,12 @@ void bench_stability_usage(FILE* out) {
           "  --seconds T          simulated time per cell (default 1)\n"
           "  --fail-strain S      strain that fails a cell (default 0.5)\n"
           "  --fail-energy E      energy growth that fails a cell, relative to M |g| D (default 0.1)\n"
+          BENCH_METHOD_HELP("block_jacobi,amg")
           "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
           "  --garment FILE       the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
           "  --csv FILE           write every cell as CSV\n"
           "  --md FILE            write the Markdown tables to FILE instead of stdout\n"
-          "  --plot FILE.png      heat map: a panel per solver, step length across, stiffness and\n"
+          "  --plot FILE.png      heat map: a panel per solver and method, step length across, stiffness and\n"
           "                       mass down\n"
           BENCH_BACKEND_HELP
           "                       The direct solver does not exist on the GPU: it has no GPU cells.\n"
@@ -90,6 +95,7 @@ static void defaults(void* args, int quick) {
     a->fail_energy = 0.1;
     a->backends[0] = BENCH_CPU;
     a->n_backends = 1;
+    bench_methods_default(&a->meth, "block_jacobi,amg");
 }
 
 /* This command's own options (bench_option_fn). */
@@ -113,20 +119,23 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--backend")) return BAD((a->n_backends = bench_parse_backends(*v, a->backends)) < 0);
 #undef OPT
 #undef BAD
-    return m;
+    return bench_methods_option(&a->meth, argc, argv, i, v);
 }
 
 enum {
     C_BACKEND, C_SCENE, C_PARTICLES, C_SOLVER, C_STEP, C_STIFFNESS, C_MASS, C_OUTCOME, C_REASON, C_FRAMES,
-    C_FRAMES_ASKED, C_ROLLBACKS, C_HALVINGS, C_FALLBACKS, C_FAILURES, C_STRAIN, C_ENERGY, C_ITER, C_MS, N_COLS
+    C_FRAMES_ASKED, C_ROLLBACKS, C_HALVINGS, C_FALLBACKS, C_FAILURES, C_STRAIN, C_ENERGY, C_ITER, C_MS, C_PRECOND,
+    C_INTEGRATOR, C_NEWTON, C_LINE_SEARCH, C_ITER_SOLVE, N_COLS
 };
 static const char* const csv_cols[N_COLS] = {
     "backend", "scene", "particles", "solver", "step_s", "stiffness_x", "mass_x", "outcome", "reason",
     "frames", "frames_asked", "rollbacks", "halvings", "direct_fallbacks", "failures", "max_strain",
-    "energy_growth", "iterations_per_substep", "ms_per_frame"};
+    "energy_growth", "iterations_per_substep", "ms_per_frame", "preconditioner", "integrator", "newton_iterations",
+    "line_search", "iterations_per_solve"};
 static const char* const md_cols[N_COLS] = {
     NULL, NULL, NULL, "solver", "step (s)", "stiffness x", "mass x", "outcome", "why", "frames", NULL,
-    "rollbacks", NULL, "direct fallbacks", NULL, "max strain", "energy growth", "it./substep", "ms/frame"};
+    "rollbacks", NULL, "direct fallbacks", NULL, "max strain", "energy growth", NULL, "ms/frame", "precond.",
+    "integrator", "Newton", NULL, "it./solve"};
 static const char* const outcome_name[3] = {"survived", "recovered", "failed"};
 
 /* "1/240" when 1/step is (nearly) a whole number, else "%.4g". */
@@ -158,31 +167,50 @@ static const char* short_reason(const bench_run* r, const char* why) {
     return "step";
 }
 
-/* The grid's panels: every backend x solver but the GPU's direct solver (none exists). */
+#define MAX_PANELS 64
+
+/* The grid's panels: every backend x solver x method but what the GPU lacks (the direct solver,
+ * the AMG preconditioner, BDF2, Newton iterations). */
 typedef struct panels {
     int n;
-    int backend[BENCH_MAX_BACKENDS * BENCH_MAX_LIST];
-    wc_solver_type solver[BENCH_MAX_BACKENDS * BENCH_MAX_LIST];
-    char name[BENCH_MAX_BACKENDS * BENCH_MAX_LIST][32];
+    int backend[MAX_PANELS];
+    wc_solver_type solver[MAX_PANELS];
+    bench_method method[MAX_PANELS];
+    char name[MAX_PANELS][64];
+    char method_name[MAX_PANELS][48];  /* bench_method_short, "-" when empty */
     int skipped_direct;     /* 1: the GPU's direct solver was left out */
 } panels;
 
 static void panels_make(const stab_args* a, panels* p) {
     memset(p, 0, sizeof *p);
+    bench_method meth[MAX_PANELS];
     for (int b = 0; b < a->n_backends; ++b)
         for (int s = 0; s < a->n_solvers; ++s) {
             if (a->backends[b] == BENCH_GPU && a->solvers[s] == WC_SOLVER_DIRECT) {
                 p->skipped_direct = 1;
                 continue;
             }
-            p->backend[p->n] = a->backends[b];
-            p->solver[p->n] = a->solvers[s];
-            if (a->n_backends > 1)
-                snprintf(p->name[p->n], sizeof p->name[p->n], "%s (%s)", wc_solver_name(a->solvers[s]),
-                         bench_backend_name(a->backends[b]));
-            else
-                snprintf(p->name[p->n], sizeof p->name[p->n], "%s", wc_solver_name(a->solvers[s]));
-            ++p->n;
+            const int n_meth = bench_methods_expand(&a->meth, a->solvers[s], meth, MAX_PANELS);
+            for (int k = 0; k < n_meth && p->n < MAX_PANELS; ++k) {
+                const bench_method* m = &meth[k];
+                if (a->backends[b] == BENCH_GPU && (m->precond != WC_PRECOND_BLOCK_JACOBI ||
+                                                    m->integrator != WC_INTEGRATOR_BE || m->newton != 1 || m->line_search))
+                    continue;
+                p->backend[p->n] = a->backends[b];
+                p->solver[p->n] = a->solvers[s];
+                p->method[p->n] = *m;
+                char* mn = p->method_name[p->n];
+                bench_method_short(a->solvers[s], m, mn, sizeof p->method_name[p->n]);
+                if (!mn[0]) snprintf(mn, sizeof p->method_name[p->n], "-");
+                const char* sep = strcmp(mn, "-") ? " " : "";
+                const char* shown = strcmp(mn, "-") ? mn : "";
+                if (a->n_backends > 1)
+                    snprintf(p->name[p->n], sizeof p->name[p->n], "%s%s%s (%s)", wc_solver_name(a->solvers[s]), sep,
+                             shown, bench_backend_name(a->backends[b]));
+                else
+                    snprintf(p->name[p->n], sizeof p->name[p->n], "%s%s%s", wc_solver_name(a->solvers[s]), sep, shown);
+                ++p->n;
+            }
         }
 }
 
@@ -208,14 +236,15 @@ static void print_header(FILE* out, const void* ctx) {
             a->seconds, a->fail_strain, a->fail_energy,
             pn->skipped_direct ? " The direct solver does not exist on the GPU: it has no GPU cells." : "");
     const int two = a->n_backends > 1;
-    fputs(two ? "| backend | solver | survived | recovered | failed |\n|---|---|---|---|---|\n"
-              : "| solver | survived | recovered | failed |\n|---|---|---|---|\n",
+    fputs(two ? "| backend | solver | method | survived | recovered | failed |\n|---|---|---|---|---|---|\n"
+              : "| solver | method | survived | recovered | failed |\n|---|---|---|---|---|\n",
           out);
     for (int s = 0; s < pn->n; ++s) {
         int count[3] = {0, 0, 0};
         for (int k = 0; k < per_solver; ++k) ++count[outcome[s * per_solver + k]];
         if (two) fprintf(out, "| %s ", bench_backend_name(pn->backend[s]));
-        fprintf(out, "| %s | %d | %d | %d |\n", wc_solver_name(pn->solver[s]), count[0], count[1], count[2]);
+        fprintf(out, "| %s | %s | %d | %d | %d |\n", wc_solver_name(pn->solver[s]), pn->method_name[s], count[0],
+                count[1], count[2]);
     }
     fputc('\n', out);
 }
@@ -267,6 +296,7 @@ int bench_stability_run(int argc, char** argv) {
                     o.sim.threads = a.com.threads;
                     o.sim.solver.type = pn.solver[s];
                     o.sim.substeps = 1;
+                    bench_method_apply(&pn.method[s], &o.sim);
                     o.fps = 1.0 / a.steps[c];
                     o.frames = (int)ceil(a.seconds / a.steps[c] - 1e-9);
                     o.fail_strain = a.fail_strain;
@@ -306,6 +336,11 @@ int bench_stability_run(int argc, char** argv) {
                     bench_fmt(b[C_ENERGY], 48, "%.3g", (r.energy_max - r.energy0) / r.energy_scale);
                     bench_fmt(b[C_ITER], 48, "%.1f", r.iterations);
                     bench_fmt(b[C_MS], 48, "%.2f", r.ms_median);
+                    snprintf(b[C_PRECOND], 48, "%s", bench_precond_label(pn.solver[s], &pn.method[s]));
+                    snprintf(b[C_INTEGRATOR], 48, "%s", wc_integrator_name(pn.method[s].integrator));
+                    snprintf(b[C_NEWTON], 48, "%d", pn.method[s].newton);
+                    snprintf(b[C_LINE_SEARCH], 48, "%s", pn.method[s].line_search ? "on" : "off");
+                    bench_fmt(b[C_ITER_SOLVE], 48, "%.1f", bench_run_iterations_per_solve(&r));
                     const char* cell[N_COLS];
                     for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
                     if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;

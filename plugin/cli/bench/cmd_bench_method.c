@@ -1,0 +1,130 @@
+/* The method axes of `weft bench accuracy`, `stability`, `iterations` and `peers`: PCG's
+ * preconditioner, the time integrator, Newton iterations per substep and the line search, parsed
+ * from --preconds, --integrators, --newton and --line-search, expanded per solver and applied to
+ * a wc_sim_def. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "cmd_bench.h"
+
+/* Split a comma list into names (each < 32 characters, at most BENCH_MAX_LIST); -1 when empty,
+ * too long or with an empty item. */
+static int split(const char* text, char names[BENCH_MAX_LIST][32]) {
+    if (!text || !*text) return -1;
+    int n = 0;
+    for (const char* p = text;;) {
+        const char* comma = strchr(p, ',');
+        const size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        if (len == 0 || len >= 32 || n >= BENCH_MAX_LIST) return -1;
+        memcpy(names[n], p, len);
+        names[n++][len] = '\0';
+        if (!comma) return n;
+        p = comma + 1;
+    }
+}
+
+int bench_parse_preconds(const char* text, wc_precond_type* out) {
+    if (text && !strcmp(text, "all")) text = "block_jacobi,amg";
+    char names[BENCH_MAX_LIST][32];
+    const int n = split(text, names);
+    for (int k = 0; k < n; ++k) {
+        const int t = wc_precond_from_name(names[k]);
+        if (t < 0) return -1;
+        out[k] = (wc_precond_type)t;
+    }
+    return n;
+}
+
+int bench_parse_integrators(const char* text, wc_integrator* out) {
+    if (text && !strcmp(text, "all")) text = "be,bdf2";
+    char names[BENCH_MAX_LIST][32];
+    const int n = split(text, names);
+    for (int k = 0; k < n; ++k) {
+        const int t = wc_integrator_from_name(names[k]);
+        if (t < 0) return -1;
+        out[k] = (wc_integrator)t;
+    }
+    return n;
+}
+
+void bench_methods_default(bench_methods* m, const char* preconds) {
+    memset(m, 0, sizeof *m);
+    m->n_preconds = bench_parse_preconds(preconds, m->preconds);
+    m->n_integrators = bench_parse_integrators("be", m->integrators);
+    m->n_newton = bench_parse_ints("1", 1, 100, m->newton);
+    m->line_search = -1;
+}
+
+int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const char** v) {
+    int r = 0;
+#define OPT(name) ((r = cli_option_value(argc, argv, i, name, v)) != 0)
+#define BAD(cond) (r < 0 ? r : (cond) ? -2 : 1) /* r < 0: the value is missing */
+    if (OPT("--preconds")) return BAD((m->n_preconds = bench_parse_preconds(*v, m->preconds)) < 0);
+    if (OPT("--integrators")) return BAD((m->n_integrators = bench_parse_integrators(*v, m->integrators)) < 0);
+    if (OPT("--newton")) return BAD((m->n_newton = bench_parse_ints(*v, 1, 100, m->newton)) < 0);
+    if (OPT("--line-search")) {
+        if (r < 0) return r;
+        m->line_search = !strcmp(*v, "auto") ? -1 : !strcmp(*v, "on") ? 1 : !strcmp(*v, "off") ? 0 : -2;
+        return m->line_search == -2 ? -2 : 1;
+    }
+#undef OPT
+#undef BAD
+    return r;
+}
+
+int bench_methods_max(const bench_methods* m) { return m->n_preconds * m->n_integrators * m->n_newton; }
+
+int bench_methods_expand(const bench_methods* m, wc_solver_type solver, bench_method* out, int cap) {
+    const int n_pre = solver == WC_SOLVER_PCG ? m->n_preconds : 1;
+    int k = 0;
+    for (int p = 0; p < n_pre; ++p)
+        for (int g = 0; g < m->n_integrators; ++g)
+            for (int w = 0; w < m->n_newton && k < cap; ++w) {
+                bench_method* b = &out[k++];
+                b->precond = solver == WC_SOLVER_PCG ? m->preconds[p] : WC_PRECOND_BLOCK_JACOBI;
+                b->integrator = m->integrators[g];
+                b->newton = m->newton[w];
+                b->line_search = m->line_search >= 0 ? m->line_search : m->newton[w] > 1;
+            }
+    return k;
+}
+
+void bench_method_apply(const bench_method* b, wc_sim_def* sd) {
+    sd->solver.preconditioner = b->precond;
+    sd->integrator = b->integrator;
+    sd->newton_iterations = b->newton;
+    sd->line_search = b->line_search;
+}
+
+bench_method bench_method_of(const wc_sim_def* sd) {
+    bench_method b;
+    b.precond = sd->solver.preconditioner;
+    b.integrator = sd->integrator;
+    b.newton = sd->newton_iterations;
+    b.line_search = sd->line_search;
+    return b;
+}
+
+const char* bench_precond_label(wc_solver_type solver, const bench_method* b) {
+    return solver == WC_SOLVER_PCG ? wc_precond_name(b->precond) : "-";
+}
+
+const char* bench_method_short(wc_solver_type solver, const bench_method* b, char* buf, size_t size) {
+    size_t at = 0;
+    buf[0] = '\0';
+#define ADD(...)                                                                    \
+    do {                                                                            \
+        int w_ = snprintf(buf + at, size - at, "%s", at ? " " : "");                \
+        if (w_ > 0 && (size_t)w_ < size - at) at += (size_t)w_;                     \
+        w_ = snprintf(buf + at, size - at, __VA_ARGS__);                            \
+        if (w_ > 0 && (size_t)w_ < size - at) at += (size_t)w_;                     \
+    } while (0)
+    if (solver == WC_SOLVER_PCG) ADD("%s", wc_precond_name(b->precond));
+    if (b->integrator != WC_INTEGRATOR_BE) ADD("%s", wc_integrator_name(b->integrator));
+    if (b->newton != 1) ADD("n%d", b->newton);
+    if (b->line_search) ADD("ls");
+#undef ADD
+    return buf;
+}
