@@ -155,8 +155,20 @@ static void test_direct_refused(void) {
     printf("direct on the GPU: %s\n", weft_context_last_error(ctx));
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
-    /* the context is still usable */
+    /* what only the CPU backend has: the multigrid preconditioner, BDF2, Newton, line search */
     def.solver = WEFT_SOLVER_PCG;
+    for (int k = 0; k < 4; ++k) {
+        weft_cloth_def d2 = def;
+        if (k == 0) d2.preconditioner = WEFT_PRECOND_AMG;
+        if (k == 1) d2.integrator = WEFT_INTEGRATOR_BDF2;
+        if (k == 2) d2.newton_iterations = 3;
+        if (k == 3) d2.line_search = 1;
+        CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_ERROR_UNSUPPORTED);
+        CHECK(cloth.id == 0);
+        printf("CPU-only option %d on the GPU: %s\n", k, weft_context_last_error(ctx));
+    }
+    CHECK(strstr(weft_context_last_error(ctx), "GPU backend") != NULL);
+    /* the context is still usable; DEFAULT resolves to what the GPU has */
     CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
     weft_cloth_info info;
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
