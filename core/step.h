@@ -41,6 +41,8 @@ typedef struct wc_step_stats {
     int fell_asleep;            /* 1: it came to rest in this frame and sleeps from the next one */
     int woke;                   /* 1: it was asleep and an input change woke it; this frame was simulated */
     double precond_ms;          /* wall time building preconditioners (inside ms.solve) */
+    int newton_iterations;      /* Newton steps taken after each substep's first solve (newton.h), summed */
+    int backtracks;             /* line-search halvings, summed */
     struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
 } wc_step_stats;
 
