@@ -307,6 +307,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     }
     status = wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
     st->max_strain = strain;
+    if (status == WEFT_OK && ig.bdf2) ++st->bdf2_substeps;
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
     return status;

@@ -43,6 +43,7 @@ typedef struct wc_step_stats {
     double precond_ms;          /* wall time building preconditioners (inside ms.solve) */
     int newton_iterations;      /* Newton steps taken after each substep's first solve (newton.h), summed */
     int backtracks;             /* line-search halvings, summed */
+    int bdf2_substeps;          /* substeps taken as BDF2 (the others: backward Euler; bdf2.h) */
     struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
 } wc_step_stats;
 
