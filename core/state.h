@@ -14,7 +14,11 @@
  *     compares them, so a caller may write them directly);
  *   - wc_state_set_positions, wc_state_set_sleep(s, 0, ...), or wc_state_wake (a caller that
  *     changes anything else the cloth must feel: x or v written directly, other def fields).
- * Every wake also restarts the rest timer, asleep or not. sleep_speed 0 disables sleeping. */
+ * Every wake also restarts the rest timer, asleep or not. sleep_speed 0 disables sleeping.
+ *
+ * BDF2's history (x_prev, v_prev; bdf2.h) is moved on by every substep of a BDF2 cloth and
+ * invalidated by wc_state_set_positions and by falling asleep; a caller that writes x or v
+ * directly (teleport, reset) sets hist_valid = 0 or transforms the history the same way. */
 #ifndef WEFT_CORE_STATE_H
 #define WEFT_CORE_STATE_H
 #include "collide.h"

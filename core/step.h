@@ -1,5 +1,6 @@
-/* Advancing a state by one frame: substeps of backward Euler (forces -> assembly -> constraints
- * -> solve -> contacts -> positions -> strain limit), each checked for failure (non-finite
+/* Advancing a state by one frame: substeps of backward Euler or BDF2 (bdf2.h) (forces -> assembly
+ * -> constraints -> solve, with Newton iterations and a line search when def asks (newton.h) ->
+ * contacts -> positions -> strain limit), each checked for failure (non-finite
  * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
  * supply it). A failed substep is rolled back and retried with half the step (up to
  * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
