@@ -73,6 +73,9 @@ static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
     if (!(d->fail_energy_gain >= 0 && d->fail_energy_gain < INFINITY)) BAD("sim def: fail_energy_gain must be finite and >= 0");
     if (!(d->sleep_speed >= 0 && d->sleep_speed < INFINITY)) BAD("sim def: sleep_speed must be finite and >= 0");
     if (!(d->sleep_time >= 0 && d->sleep_time < INFINITY)) BAD("sim def: sleep_time must be finite and >= 0");
+    if ((unsigned)d->integrator >= WC_INTEGRATOR_COUNT) BAD("sim def: integrator %d is not an integrator", (int)d->integrator);
+    if (d->newton_iterations < 1 || d->newton_iterations > 100) BAD("sim def: newton_iterations must be in [1, 100]");
+    if (d->line_search != 0 && d->line_search != 1) BAD("sim def: line_search must be 0 or 1");
 #undef BAD
     return WEFT_OK;
 }
@@ -82,7 +85,9 @@ void wc_state_destroy(wc_state* s) {
     wc_allocator a = s->alloc;
     double* arrays[] = {s->x, s->v, s->pin_from, s->x0, s->v0, s->dv0, s->f_ext, s->f, s->b, s->dv, s->r,
                         s->tri_scratch, s->spring_scratch, s->A, s->filter.S, s->filter.z,
-                        s->contacts.normal, s->contacts_save.normal};
+                        s->contacts.normal, s->contacts_save.normal, s->x_prev, s->v_prev, s->x_prev0, s->v_prev0,
+                        s->xb, s->xs, s->vstar, s->mom, s->nw_w, s->nw_d, s->nw_x, s->nw_v, s->nw_zero, s->nw_g,
+                        s->nw_fb, s->nw_fa, s->nw_kv0, s->nw_partial};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&a, arrays[i]);
     wc_free(&a, s->pins);
     wc_free(&a, s->pin_scratch);
@@ -148,11 +153,20 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         cts[k]->released = WC_NEW(&A, unsigned char, (size_t)n);
     }
     s->contacts.stick = WC_NEW(&A, unsigned char, (size_t)n); /* per substep: not saved */
+    double** vecs[] = {&s->x_prev, &s->v_prev, &s->x_prev0, &s->v_prev0, &s->xb, &s->xs, &s->vstar, &s->mom,
+                       &s->nw_w, &s->nw_d, &s->nw_x, &s->nw_v, &s->nw_zero, &s->nw_g, &s->nw_fb};
+    int vecs_ok = 1;
+    for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k) vecs_ok &= (*vecs[k] = WC_NEW(&A, double, n3)) != NULL;
+    s->nw_fa = WC_NEW(&A, double, 9 * (size_t)n);
+    s->nw_kv0 = WC_NEW(&A, double, 9 * (size_t)m->n_springs + 9);
+    int most = n > m->n_springs ? n : m->n_springs;
+    s->nw_partial = WC_NEW(&A, double, (size_t)most / 256 + 1);
+    vecs_ok &= s->nw_fa && s->nw_kv0 && s->nw_partial;
     if (!s->x || !s->v || !s->x0 || !s->v0 || !s->dv0 || !s->f_ext || !s->f || !s->b || !s->dv || !s->r ||
         !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->pin_scratch || !s->colliders ||
         !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
         !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
-        !s->contacts_save.released || !s->contacts.stick) {
+        !s->contacts_save.released || !s->contacts.stick || !vecs_ok) {
         wc_state_destroy(s);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }
@@ -269,6 +283,7 @@ weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v
     if (v) memcpy(s->v, v, (size_t)n3 * sizeof(double));
     else memset(s->v, 0, (size_t)n3 * sizeof(double));
     memset(s->dv, 0, (size_t)n3 * sizeof(double));
+    s->hist_valid = 0;   /* BDF2 starts again with a backward-Euler step */
     wc_state_wake(s);
     return WEFT_OK;
 }
@@ -285,6 +300,7 @@ void wc_state_set_sleep(wc_state* s, int asleep, double rest_time) {
     } else {
         memset(s->v, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
         s->asleep = 1;
+        s->hist_valid = 0;   /* velocities zeroed: the BDF2 history no longer leads here */
         s->sleep_strain = wc_max_stretch_strain(s->model, s->x);
     }
     v3_copy(s->input_gravity, s->def.gravity);

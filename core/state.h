@@ -14,7 +14,11 @@
  *     compares them, so a caller may write them directly);
  *   - wc_state_set_positions, wc_state_set_sleep(s, 0, ...), or wc_state_wake (a caller that
  *     changes anything else the cloth must feel: x or v written directly, other def fields).
- * Every wake also restarts the rest timer, asleep or not. sleep_speed 0 disables sleeping. */
+ * Every wake also restarts the rest timer, asleep or not. sleep_speed 0 disables sleeping.
+ *
+ * BDF2's history (x_prev, v_prev; bdf2.h) is moved on by every substep of a BDF2 cloth and
+ * invalidated by wc_state_set_positions and by falling asleep; a caller that writes x or v
+ * directly (teleport, reset) sets hist_valid = 0 or transforms the history the same way. */
 #ifndef WEFT_CORE_STATE_H
 #define WEFT_CORE_STATE_H
 #include "collide.h"
@@ -112,6 +116,26 @@ typedef struct wc_state {
     wc_spring_eval* se;         /* (n_springs) */
     wc_filter filter;
     wc_solver* solver;
+
+    /* BDF2 history (bdf2.h): the previous substep's start x_{n-1} (after its contact correction)
+       and v_{n-1}; valid for a next substep of the same length hist_h */
+    int hist_valid;
+    double hist_h;              /* s */
+    double *x_prev, *v_prev;    /* (n x 3) */
+    int hist_valid0;            /* the history at the start of the substep (rollback) */
+    double hist_h0;
+    double *x_prev0, *v_prev0;  /* (n x 3) */
+    /* integrator scratch of a substep (bdf2.h), (n x 3) each */
+    double *xb, *xs, *vstar, *mom;
+    /* Newton scratch (newton.h), (n x 3) each unless noted */
+    double *nw_w, *nw_d, *nw_x, *nw_v, *nw_zero, *nw_g, *nw_fb;
+    double* nw_fa;              /* (n x 9) friction's diagonal blocks */
+    double* nw_kv0;             /* (n_springs x 9) damping blocks frozen at the substep's start */
+    double* nw_partial;         /* (ceil(max(n, n_springs) / 256)) per-chunk sums */
+    /* for tests: called with every accepted Newton iterate when line_search is on (NULL: none);
+       w (n x 3) the velocity change, phi the incremental potential (newton.h) */
+    void (*newton_trace)(void* user, const struct wc_state* s, int iterate, double phi, const double* w);
+    void* newton_trace_user;
 } wc_state;
 
 /* Positions start at the model's rest positions, velocities at zero. */

@@ -3,7 +3,9 @@
 #include <math.h>
 #include <string.h>
 #include "assemble.h"
+#include "bdf2.h"
 #include "clock.h"
+#include "newton.h"
 #include "strain_limit.h"
 #include "vec3.h"
 
@@ -17,14 +19,22 @@ static void pin_target(const wc_state* s, int k, double alpha, double* out) {
 }
 
 /* Filter entries of the pins for a substep of length h ending at frame fraction alpha1: the
- * velocity change z takes a pinned particle exactly to its target (a line pin: onto the line). */
-static void apply_pins(wc_state* s, double h, double alpha1) {
+ * velocity change z takes a pinned particle exactly to its target (a line pin: onto the line);
+ * BDF2: x_{n+1} = xb + he v_{n+1} on the target (bdf2.h). */
+static void apply_pins(wc_state* s, const wc_integ* ig, double alpha1) {
+    double h = ig->h;
     for (int k = 0; k < s->n_pins; ++k) {
         const wc_pin* p = &s->pins[k];
         int i = p->particle;
         double t1[3], want[3];
         pin_target(s, k, alpha1, t1);
-        for (int c = 0; c < 3; ++c) want[c] = (t1[c] - s->x[3 * i + c]) / h - s->v[3 * i + c];
+        if (ig->bdf2) {
+            double xb[3];
+            wc_integ_base(s, ig, i, xb);
+            for (int c = 0; c < 3; ++c) want[c] = (t1[c] - xb[c]) / ig->he - s->v[3 * i + c];
+        } else {
+            for (int c = 0; c < 3; ++c) want[c] = (t1[c] - s->x[3 * i + c]) / h - s->v[3 * i + c];
+        }
         double* S = s->filter.S + 9 * i;
         double* z = s->filter.z + 3 * i;
         if (v3_norm(p->free_axis) == 0.0) {
@@ -41,14 +51,18 @@ static void apply_pins(wc_state* s, double h, double alpha1) {
 }
 
 /* After the positions advance: fully pinned particles sit exactly on their targets. */
-static void snap_pins(wc_state* s, double h, double alpha1) {
+static void snap_pins(wc_state* s, const wc_integ* ig, double alpha1) {
+    double h = ig->h;
     for (int k = 0; k < s->n_pins; ++k) {
         const wc_pin* p = &s->pins[k];
         if (v3_norm(p->free_axis) != 0.0) continue;
         int i = p->particle;
         double t1[3];
         pin_target(s, k, alpha1, t1);
-        for (int c = 0; c < 3; ++c) s->v[3 * i + c] = (t1[c] - s->x0[3 * i + c]) / h;
+        if (ig->bdf2)
+            for (int c = 0; c < 3; ++c) s->v[3 * i + c] = (t1[c] - ig->xb[3 * i + c]) / ig->he;
+        else
+            for (int c = 0; c < 3; ++c) s->v[3 * i + c] = (t1[c] - s->x0[3 * i + c]) / h;
         v3_copy(s->x + 3 * i, t1);
     }
 }
@@ -69,6 +83,7 @@ static void save(wc_state* s) {
     memcpy(s->contacts_save.normal, s->contacts.normal, 6 * (size_t)n * sizeof(double));
     memcpy(s->contacts_save.released, s->contacts.released, (size_t)n);
     s->contacts_save.active = s->contacts.active;
+    wc_integ_save(s);
 }
 
 static void restore(wc_state* s) {
@@ -81,6 +96,7 @@ static void restore(wc_state* s) {
     memcpy(s->contacts.normal, s->contacts_save.normal, 6 * (size_t)n * sizeof(double));
     memcpy(s->contacts.released, s->contacts_save.released, (size_t)n);
     s->contacts.active = s->contacts_save.active;
+    wc_integ_restore(s);
 }
 
 /* Bounding-box diagonal of the rest shape (m). */
@@ -136,16 +152,18 @@ weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before
     return WEFT_OK;
 }
 
-/* Constraints, forces, assembly and friction of a substep of length h ending at frame fraction
- * alpha1: fills s->filter, s->A and s->b (contacts may correct positions). Returns the contacts
- * that stick. */
-static int prepare(wc_state* s, double h, double alpha1, wc_compression compression, wc_step_stats* st) {
+/* Constraints, forces, assembly and friction of a substep of length ig->h ending at frame fraction
+ * alpha1: fills s->filter, s->A and s->b (contacts may correct positions) and the integrator's
+ * xb, vstar, mom (bdf2.h). Returns the contacts that stick. */
+static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression compression, wc_step_stats* st) {
     const wc_model* m = s->model;
     int n = m->n_particles;
+    double h = ig->h;
     double t0 = wc_now_ms(), t1;
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
-    apply_pins(s, h, alpha1);
+    apply_pins(s, ig, alpha1);
     if (s->n_colliders > 0) wc_contacts_begin(&s->contacts, s->colliders, s->n_colliders, s->x, s->v, h, &s->filter, &s->par);
+    wc_integ_prepare(s, ig);
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
     t0 = t1;
@@ -156,7 +174,10 @@ static int prepare(wc_state* s, double h, double alpha1, wc_compression compress
     st->ms.forces += t1 - t0;
     t0 = t1;
 
-    wc_assemble(m, s->se, s->f_ext, s->v, h, &s->par, s->A, s->b, s->f); /* s->f: for friction */
+    wc_assemble(m, s->se, s->f_ext, ig->vstar, ig->he, &s->par, s->A, s->b, s->f); /* s->f: for friction */
+    if (ig->mom)
+        for (int i = 0; i < n; ++i) v3_axpy(s->b + 3 * i, m->mass[i], ig->mom + 3 * i);
+    if (wc_newton_wanted(&s->def)) wc_newton_capture(s);
     t1 = wc_now_ms();
     st->ms.assemble += t1 - t0;
     t0 = t1;
@@ -164,14 +185,16 @@ static int prepare(wc_state* s, double h, double alpha1, wc_compression compress
     /* friction: static as constraints (filter), kinetic as implicit damping (A, b): the solve sees both */
     int stuck = 0;
     if (s->n_colliders > 0 && s->contacts.active > 0)
-        stuck = wc_contacts_friction(&s->contacts, s->colliders, s->n_colliders, s->v, m->mass, s->f, h,
+        stuck = wc_contacts_friction(&s->contacts, s->colliders, s->n_colliders, s->v, m->mass, s->f, ig->he,
                                      &s->filter, s->A, m->pattern.diag, s->b, &s->par);
     st->ms.collide += wc_now_ms() - t0;
     return stuck;
 }
 
 void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st) {
-    (void)prepare(s, h, alpha1, s->def.compression, st);
+    wc_integ ig;
+    wc_integ_begin(s, h, &ig);
+    (void)prepare(s, &ig, alpha1, s->def.compression, st);
 }
 
 void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
@@ -196,7 +219,10 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     before.kinetic = wc_state_kinetic_energy(s);
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     if (judge_energy) before.total = wc_state_total_energy(s, &before.elastic);
-    int stuck = prepare(s, h, alpha1, judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression, st);
+    wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
+    wc_integ ig;
+    wc_integ_begin(s, h, &ig);
+    int stuck = prepare(s, &ig, alpha1, compression, st);
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -224,9 +250,18 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     }
 
     int n3 = 3 * n;
-    if (s->n_colliders > 0 && s->contacts.active > 0) {
-        wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
-        for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
+    int in_contact = s->n_colliders > 0 && s->contacts.active > 0;
+    int newton = wc_newton_wanted(&s->def);
+    if (newton) {
+        status = wc_newton_iterate(s, &ig, solver, compression, res.residual0, in_contact, st, diag);
+        if (status != WEFT_OK) return status;
+    }
+    t0 = wc_now_ms();
+    if (in_contact) {
+        if (!newton) {
+            wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
+            for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
+        }
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
         wc_contacts_end(&s->contacts, s->n_colliders, s->r, &s->par);
     } else {
@@ -236,14 +271,17 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    for (int k = 0; k < n3; ++k) s->x[k] += h * s->v[k];
-    snap_pins(s, h, alpha1);
+    if (ig.bdf2)
+        for (int k = 0; k < n3; ++k) s->x[k] = ig.xb[k] + ig.he * s->v[k];
+    else
+        for (int k = 0; k < n3; ++k) s->x[k] += h * s->v[k];
+    snap_pins(s, &ig, alpha1);
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
     t0 = t1;
     double strain;
     if (s->def.strain_limit > 0 && s->def.strain_passes > 0)
-        strain = wc_strain_limit(m, &s->filter, s->def.strain_limit, s->def.strain_passes, h, s->x, s->v,
+        strain = wc_strain_limit(m, &s->filter, s->def.strain_limit, s->def.strain_passes, ig.he, s->x, s->v,
                                  s->spring_scratch, &s->par);
     else
         strain = wc_max_stretch_strain(m, s->x);
@@ -269,6 +307,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     }
     status = wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
     st->max_strain = strain;
+    if (status == WEFT_OK && ig.bdf2) ++st->bdf2_substeps;
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
     return status;
@@ -353,6 +392,7 @@ static void rest_timer(wc_state* s, double dt, double max_speed, wc_step_stats* 
     s->rest_time += dt;
     if (s->rest_time >= s->def.sleep_time) {
         memset(s->v, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
+        s->hist_valid = 0;   /* BDF2 restarts with backward Euler when it wakes */
         if (ops->sleep) ops->sleep(ops->user, s);
         s->asleep = 1;
         s->sleep_strain = st->max_strain;

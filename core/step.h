@@ -1,5 +1,6 @@
-/* Advancing a state by one frame: substeps of backward Euler (forces -> assembly -> constraints
- * -> solve -> contacts -> positions -> strain limit), each checked for failure (non-finite
+/* Advancing a state by one frame: substeps of backward Euler or BDF2 (bdf2.h) (forces -> assembly
+ * -> constraints -> solve, with Newton iterations and a line search when def asks (newton.h) ->
+ * contacts -> positions -> strain limit), each checked for failure (non-finite
  * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
  * supply it). A failed substep is rolled back and retried with half the step (up to
  * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
@@ -41,6 +42,9 @@ typedef struct wc_step_stats {
     int fell_asleep;            /* 1: it came to rest in this frame and sleeps from the next one */
     int woke;                   /* 1: it was asleep and an input change woke it; this frame was simulated */
     double precond_ms;          /* wall time building preconditioners (inside ms.solve) */
+    int newton_iterations;      /* Newton steps taken after each substep's first solve (newton.h), summed */
+    int backtracks;             /* line-search halvings, summed */
+    int bdf2_substeps;          /* substeps taken as BDF2 (the others: backward Euler; bdf2.h) */
     struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
 } wc_step_stats;
 

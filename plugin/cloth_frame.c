@@ -13,18 +13,20 @@
  *    dR's axis (Rodrigues; c = 1: dR itself, so the carry matches the host's matrices); around
  *    the old origin p0: x <- p0 + Rc (x - p0), v <- V0 + Rc (v - V0); the solver's warm start dv and the pins' start-of-frame targets are
  *    carried the same way (so a cloth carried by the object is in the same state, relative to
- *    it, as one on a resting object).
+ *    it, as one on a resting object); so is BDF2's history (core/bdf2.h: x_prev as x, v_prev as v).
  *    Linear: v += (1 - linear_inertia) (V1 - V0): the cloth is given that part of the object's
- *    velocity change (a constant velocity adds nothing).
+ *    velocity change (a constant velocity adds nothing); BDF2's history gets it as if the cloth
+ *    had always moved that much faster: v_prev += c dV, x_prev -= hist_h c dV.
  *    Defaults (1, 1): c = 0 and 1 - linear = 0, both skipped: the object transform does not touch
  *    the simulation (bit-exact).
  *  - TELEPORT: dT = T1 T0^-1 carries everything fully: x <- dT x (points), v and dv rotated by
  *    dT's rotation (velocities relative to the object kept); the pins' start targets are set to
  *    their new targets (no interpolation across the jump) and colliders get zero velocity this
- *    frame. The history is reset (V0 after the frame is 0 and unknown).
+ *    frame. The history is reset (V0 after the frame is 0 and unknown), and so is BDF2's: its next
+ *    substep is backward Euler.
  *  - RESET: x = T1 rest (the model's rest positions are object space, metres), v = dv = 0,
  *    contacts cleared, pins start at their targets, colliders at rest, time / frame / substep
- *    accumulator and the Chebyshev rho estimate reset, then the frame is stepped. RESET with
+ *    accumulator, the Chebyshev rho estimate and BDF2's history reset, then the frame is stepped. RESET with
  *    TELEPORT is a RESET.
  * Attachments: fr->attachment_transforms (or the previous ones) give the end-of-frame pin
  * targets A_i local (attach.c); pins move linearly from their start targets across the frame.
@@ -111,6 +113,7 @@ static void reset_state(wa_cloth* c, const wa_xform* T1) {
     s->time = 0.0;
     s->accumulator = 0.0;
     s->frame = 0;
+    s->hist_valid = 0;
     wc_solver_invalidate_rho(s->solver);
     wc_state_wake(s);
 }
@@ -131,6 +134,7 @@ static void teleport_state(wa_cloth* c, const wa_xform* T1) {
     for (int i = 0; i < n; ++i) wa_xform_point(&dT, s->x + 3 * i, s->x + 3 * i);
     rotate_vectors(s->v, n, dT.R);
     rotate_vectors(s->dv, n, dT.R);
+    s->hist_valid = 0;   /* BDF2 restarts with a backward-Euler substep */
     wc_state_wake(s);
 }
 
@@ -149,12 +153,18 @@ static int inertia(wa_cloth* c, const wa_xform* T1, const double* V1, double* Rc
         m3_mul(dR, T1->R, inv.R);
         rotated = wa_rotation_fraction(dR, cang, Rc);
         if (rotated && !c->gpu) {
+            int hist = s->hist_valid;
             rotate_points(s->x, n, Rc, p0);
+            if (hist) rotate_points(s->x_prev, n, Rc, p0);
             for (int i = 0; i < n; ++i) {
                 double d[3], o[3];
                 v3_sub(d, s->v + 3 * i, V0);
                 m3_mulv(o, Rc, d);
                 v3_add(s->v + 3 * i, V0, o);
+                if (!hist) continue;
+                v3_sub(d, s->v_prev + 3 * i, V0);
+                m3_mulv(o, Rc, d);
+                v3_add(s->v_prev + 3 * i, V0, o);
             }
             rotate_vectors(s->dv, n, Rc);
         }
@@ -164,8 +174,14 @@ static int inertia(wa_cloth* c, const wa_xform* T1, const double* V1, double* Rc
     if (clin != 0.0) {
         v3_sub(dV, V1, V0);
         linear = dV[0] != 0.0 || dV[1] != 0.0 || dV[2] != 0.0;
-        if (linear && !c->gpu)
+        if (linear && !c->gpu) {
             for (int i = 0; i < n; ++i) v3_axpy(s->v + 3 * i, clin, dV);
+            if (s->hist_valid)
+                for (int i = 0; i < n; ++i) {
+                    v3_axpy(s->v_prev + 3 * i, clin, dV);
+                    v3_axpy(s->x_prev + 3 * i, -clin * s->hist_h, dV);
+                }
+        }
     }
     if (c->gpu && (rotated || linear)) {
         /* one pass: x' = Rc x + (p0 - Rc p0), v' = Rc v + (V0 - Rc V0) + clin dV */

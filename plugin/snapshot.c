@@ -1,7 +1,7 @@
 /* Snapshots: the cloth's whole mutable state in a flat byte buffer (native byte order; meant for
  * the same build on the same machine: host caches, timeline scrubbing).
  *
- * Layout (x starts at byte 64: tests read positions there): a 40-byte header (magic "WEFTSNP1", ABI, library version, total size, model
+ * Layout (x starts at byte 64: tests read positions there): a 40-byte header (magic "WEFTSNP2", ABI, library version, total size, model
  * fingerprint, checksum of everything else) then, field by field (no struct padding):
  *   time, accumulator, frame                      wc_state clocks
  *   x, v, dv                                      (n x 3) each; dv is the next solve's initial guess
@@ -17,6 +17,12 @@
  *   asleep, rest timer                            the sleep state (core/state.h): restoring an
  *                                                 asleep snapshot puts the cloth to sleep with
  *                                                 the restored wind, an awake one wakes it
+ *   BDF2 history (valid, h, x_prev, v_prev)       core/bdf2.h: what the next BDF2 substep reads
+ *                                                 (x_prev, v_prev (n x 3) always present, read
+ *                                                 only when valid); after the sleep state,
+ *                                                 whose restore would invalidate it
+ * Format 2 (magic "WEFTSNP2", library 0.5.0) added the BDF2 history; format 1 snapshots are
+ * refused as not Weft snapshots of this format.
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
  * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
@@ -29,7 +35,7 @@
 #include <string.h>
 #include "api_internal.h"
 
-#define SNAP_MAGIC "WEFTSNP1"
+#define SNAP_MAGIC "WEFTSNP2"   /* format 2: with the BDF2 history */
 #define SNAP_HEADER 40
 #define SNAP_VERSION ((uint32_t)(WEFT_VERSION_MAJOR << 16 | WEFT_VERSION_MINOR << 8 | WEFT_VERSION_PATCH))
 
@@ -186,6 +192,14 @@ static void walk(wa_cloth* c, cursor* k) {
     field(k, &asleep, sizeof asleep);
     field(k, &rest_time, sizeof rest_time);
     if (k->r) wc_state_set_sleep(s, asleep != 0, rest_time);   /* after the wind: it sleeps with it */
+    int32_t hv = s->hist_valid;
+    field(k, &hv, sizeof hv);
+    field(k, &s->hist_h, sizeof s->hist_h);
+    s->hist_valid = hv != 0;
+    if (!k->small) {
+        field(k, s->x_prev, n3);
+        field(k, s->v_prev, n3);
+    }
 }
 
 size_t wa_snapshot_size(const wa_cloth* c) {

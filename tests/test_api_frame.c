@@ -332,8 +332,9 @@ static void test_two_contexts(void) {
 }
 
 /* A counting allocator: everything goes through it, a step allocates nothing (pins, colliders,
- * teleport, reset, wind included), and everything is freed. */
-static void test_no_allocation_in_step(void) {
+ * teleport, reset, wind included; and with BDF2, Newton iterations and line search), and
+ * everything is freed. */
+static void no_allocation_in_step(weft_integrator integrator, int newton, int line_search) {
     ag_alloc_counter counter = {0, 0, 0};
     ag_mesh m;
     ag_grid(&m, N, SIZE, 1.0, 1, 0);
@@ -353,6 +354,9 @@ static void test_no_allocation_in_step(void) {
     def.colliders = &col;
     def.n_colliders = 1;
     def.solver = WEFT_SOLVER_CHEBYSHEV;
+    def.integrator = integrator;
+    def.newton_iterations = newton;
+    def.line_search = line_search;
     weft_cloth cloth;
     CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
     long before = counter.allocs, frees_before = counter.frees;
@@ -383,6 +387,54 @@ static void test_no_allocation_in_step(void) {
     CHECK_EQ_INT(counter.live, 0);
     CHECK(counter.frees == counter.allocs);
     ag_free(&m);
+}
+
+/* BDF2 and a teleport: a 1 km jump (rotated) resets the history, so the next substep does not
+ * read the jump as a velocity: kinetic energy stays where it was, no rollback, and the cloth
+ * continues (relative to the object) as a backward-Euler cloth carried the same way. Without
+ * the reset, x_n - x_{n-1} = 1 km would be extrapolated. */
+static void test_bdf2_teleport(void) {
+    ag_mesh m;
+    ag_grid(&m, N, SIZE, 1.0, 0, 0);   /* horizontal: it swings down from its pins */
+    static int corners[2] = {N * (N - 1), N * N - 1};
+    weft_attachment_def att = weft_default_attachment_def();
+    att.vertices = corners;
+    att.n_vertices = 2;
+    weft_context* ctx = new_context(NULL, NULL);
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh = ag_desc(&m);
+    def.attachments = &att;
+    def.n_attachments = 1;
+    def.integrator = WEFT_INTEGRATOR_BDF2;
+    weft_cloth cloth;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
+    double ke_before = 0.0;
+    for (int f = 1; f <= 20; ++f) {
+        float obj[16];
+        if (f < 12) ag_transform(obj, 0, 1, 0, 0.0, 0.0, 0.0, 0.0);
+        else ag_transform(obj, 0, 1, 0, 0.7, 1000.0, 20.0, -500.0);
+        weft_frame fr = weft_default_frame();
+        fr.object_transform = obj;
+        fr.attachment_transforms = obj;
+        fr.flags = f == 12 ? WEFT_FRAME_TELEPORT : 0;
+        weft_frame_stats st;
+        CHECK_EQ_INT(weft_cloth_step(ctx, cloth, &fr, &st), WEFT_OK);
+        CHECK_EQ_INT(st.rollbacks, 0);
+        if (f == 11) ke_before = st.kinetic_energy;
+        if (f == 11) CHECK(ke_before > 1e-4);   /* still swinging */
+        if (f == 12) {
+            printf("  kinetic energy %.3g J before the teleport, %.3g J after\n", ke_before, st.kinetic_energy);
+            CHECK(st.kinetic_energy < 2.0 * ke_before + 1e-3);
+        }
+        CHECK(st.kinetic_energy < 1.0);
+    }
+    weft_context_destroy(ctx);
+    ag_free(&m);
+}
+
+static void test_no_allocation_in_step(void) {
+    no_allocation_in_step(WEFT_INTEGRATOR_BACKWARD_EULER, 1, 0);
+    no_allocation_in_step(WEFT_INTEGRATOR_BDF2, 3, 1);
 }
 
 /* Errors reach the logger at ERROR level with the last-error text; context-create errors reach
@@ -489,6 +541,7 @@ int main(void) {
     RUN_TEST(test_uv_split_order);
     RUN_TEST(test_two_contexts);
     RUN_TEST(test_no_allocation_in_step);
+    RUN_TEST(test_bdf2_teleport);
     RUN_TEST(test_logger);
     return TEST_SUMMARY();
 }

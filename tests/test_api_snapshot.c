@@ -16,6 +16,10 @@ static int g_corners[4];
 static weft_attachment_def g_att;
 static weft_collider_def g_col;
 
+/* integrator, Newton iterations and line search of the next scene_def */
+static weft_integrator g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+static int g_newton = 1, g_line_search = 0;
+
 static weft_cloth_def scene_def(weft_solver solver) {
     g_corners[0] = 0;
     g_corners[1] = N - 1;
@@ -38,6 +42,9 @@ static weft_cloth_def scene_def(weft_solver solver) {
     def.linear_inertia = 0.5;
     def.angular_inertia = 0.5;
     def.substeps = 2;
+    def.integrator = g_integrator;
+    def.newton_iterations = g_newton;
+    def.line_search = g_line_search;
     return def;
 }
 
@@ -134,6 +141,17 @@ static void test_restore_bit_identical(void) {
     run_solver(WEFT_SOLVER_CHEBYSHEV, "chebyshev");
     run_solver(WEFT_SOLVER_JACOBI, "jacobi");
     run_solver(WEFT_SOLVER_DIRECT, "direct");
+    /* BDF2: the snapshot holds the history (a fresh cloth has none: without it the restored
+       run would take a backward-Euler substep first), carried by the inertia and reset by the
+       teleport of frame 6; with Newton iterations and line search on top */
+    g_integrator = WEFT_INTEGRATOR_BDF2;
+    run_solver(WEFT_SOLVER_PCG, "bdf2");
+    g_newton = 2;
+    g_line_search = 1;
+    run_solver(WEFT_SOLVER_PCG, "bdf2+nwt");
+    g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+    g_newton = 1;
+    g_line_search = 0;
 }
 
 /* Other models: refused with SNAPSHOT_MISMATCH; damaged / truncated: INVALID_ARGUMENT. */

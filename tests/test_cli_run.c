@@ -297,6 +297,12 @@ static void test_usage_errors(void) {
         "run a.json --render",
         "run a.json --render=",
         "run a.json --backend metal",
+        "run a.json --integrator rk4",
+        "run a.json --precond ilu",
+        "run a.json --newton 0",
+        "run a.json --newton 101",
+        "run a.json --line-search yes",
+        "run a.json --line-search",
         "run a.json --backend",
     };
     static ts_cli_result r;

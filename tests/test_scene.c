@@ -176,6 +176,13 @@ static void test_bad_settings(void) {
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 0}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 10.5}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": \"pcg\"}", "solver", "must be an object");
+    expect_bad("{" GRID ", \"solver\": {\"preconditioner\": \"ilu\"}}", "solver.preconditioner", "unknown preconditioner");
+    expect_bad("{" GRID ", \"solver\": {\"preconditioner\": 1}}", "solver.preconditioner", "string");
+    expect_bad("{" GRID ", \"solver\": {\"newton_iterations\": 0}}", "solver.newton_iterations", "integer");
+    expect_bad("{" GRID ", \"solver\": {\"newton_iterations\": 101}}", "solver.newton_iterations", "integer");
+    expect_bad("{" GRID ", \"solver\": {\"line_search\": 1}}", "solver.line_search", "true or false");
+    expect_bad("{" GRID ", \"time\": {\"integrator\": \"rk4\"}}", "time.integrator", "unknown integrator");
+    expect_bad("{" GRID ", \"time\": {\"integrator\": \"BDF2\"}}", "time.integrator", "unknown integrator");
     expect_bad("{" GRID ", \"time\": {\"fps\": 0}}", "time.fps", "> 0");
     expect_bad("{" GRID ", \"time\": {\"fps\": -30}}", "time.fps", "> 0");
     expect_bad("{" GRID ", \"time\": {\"substeps\": 0}}", "time.substeps", "integer");
@@ -211,6 +218,20 @@ static void test_defaults_and_grid(void) {
     CHECK(S.sim.strain_limit == ds.strain_limit);
     CHECK_EQ_INT(S.sim.threads, ds.threads);
     CHECK_EQ_INT(S.sim.max_colliders, ds.max_colliders);
+    CHECK_EQ_INT(S.preconditioner, -1);   /* the library's defaults */
+    CHECK_EQ_INT(S.integrator, -1);
+    CHECK_EQ_INT(S.newton_iterations, 0);
+    CHECK_EQ_INT(S.line_search, -1);
+    scene_free(&S);
+    st = parse("{" GRID ", \"solver\": {\"preconditioner\": \"amg\", \"newton_iterations\": 3, \"line_search\": true},"
+               " \"time\": {\"integrator\": \"bdf2\"}}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK_EQ_INT(S.preconditioner, WC_PRECOND_AMG);
+    CHECK_EQ_INT(S.integrator, WC_INTEGRATOR_BDF2);
+    CHECK_EQ_INT(S.newton_iterations, 3);
+    CHECK_EQ_INT(S.line_search, 1);
+    scene_free(&S);
+    st = parse("{" GRID "}", &d);
     CHECK_NEAR(S.fps, 30.0, 0.0);
     CHECK_EQ_INT(S.frames, 60);
     CHECK_EQ_INT(S.n_pins, 0);

@@ -27,7 +27,7 @@ the add-on steps the cloth and writes the result (object space) into the object'
 
 The Weft Python bindings (host_glue/python/weft) are imported from sys.path or from ../python
 next to this file; the library from the add-on preferences, else $WEFT_LIBRARY, else
-libweft.so.4. Blender calls the handler on its main thread, which is weft's threading contract
+libweft.so.5. Blender calls the handler on its main thread, which is weft's threading contract
 (one context, used by one thread).
 """
 import os
@@ -184,7 +184,8 @@ class _Session:
             if pinned else (),
             colliders=colliders, gravity=gravity, substeps=settings.substeps,
             density=settings.density, stiffness=tuple(settings.stiffness),
-            strain_limit=settings.strain_limit, air_drag_normal=settings.air_drag)
+            strain_limit=settings.strain_limit, air_drag_normal=settings.air_drag,
+            integrator=_INTEGRATORS[settings.integrator])
         self.n_vertices = rest.shape[0]
         self.start_frame = scene.frame_current
         self.frame = self.start_frame
@@ -318,6 +319,10 @@ def _on_load_pre(*_args):
 # ------------------------------------------------------------------------------------------------
 
 
+_INTEGRATORS = {"DEFAULT": weft.Integrator.DEFAULT, "BACKWARD_EULER": weft.Integrator.BACKWARD_EULER,
+                "BDF2": weft.Integrator.BDF2}
+
+
 def _settings_changed(self, context):
     if _runtime is not None and context.object is not None:
         _runtime.drop(context.object.name)   # rebuilt with the new settings at the next frame
@@ -330,6 +335,11 @@ class WeftObjectSettings(bpy.types.PropertyGroup):
                                         description="Vertex group of the pinned vertices")
     substeps: bpy.props.IntProperty(name="Substeps", default=1, min=1, max=64,
                                     update=_settings_changed)
+    integrator: bpy.props.EnumProperty(
+        name="Integrator", default="DEFAULT", update=_settings_changed,
+        items=[("DEFAULT", "Default", "The library's choice"),
+               ("BACKWARD_EULER", "Backward Euler", "First order (Baraff & Witkin)"),
+               ("BDF2", "BDF2", "Second order (Choi & Ko)")])
     density: bpy.props.FloatProperty(name="Density", default=0.15, min=1e-4, unit="MASS",
                                      update=_settings_changed, description="kg per m^2")
     stiffness: bpy.props.FloatVectorProperty(name="Stiffness", size=3,
@@ -350,7 +360,7 @@ class WeftObjectSettings(bpy.types.PropertyGroup):
 class WeftPreferences(bpy.types.AddonPreferences):
     bl_idname = __name__
     library_path: bpy.props.StringProperty(name="libweft.so", subtype="FILE_PATH",
-                                           description="Empty: $WEFT_LIBRARY or libweft.so.4")
+                                           description="Empty: $WEFT_LIBRARY or libweft.so.5")
 
     def draw(self, context):
         self.layout.prop(self, "library_path")
@@ -430,7 +440,7 @@ class WEFT_PT_cloth(bpy.types.Panel):
         row.operator("weft.disable")
         row.operator("weft.reset")
         layout.prop_search(settings, "pin_group", context.object, "vertex_groups")
-        for name in ("substeps", "density", "stiffness", "strain_limit", "air_drag",
+        for name in ("substeps", "integrator", "density", "stiffness", "strain_limit", "air_drag",
                      "cache_snapshots"):
             layout.prop(settings, name)
         if settings.error:

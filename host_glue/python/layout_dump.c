@@ -107,6 +107,10 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, solver);
     FIELD(weft_cloth_def, tolerance);
     FIELD(weft_cloth_def, max_iterations);
+    FIELD(weft_cloth_def, preconditioner);
+    FIELD(weft_cloth_def, integrator);
+    FIELD(weft_cloth_def, newton_iterations);
+    FIELD(weft_cloth_def, line_search);
     FIELD(weft_cloth_def, substeps);
     FIELD(weft_cloth_def, max_frame_time);
     FIELD(weft_cloth_def, strain_limit);
@@ -154,6 +158,8 @@ static void dump_structs(void) {
     FIELD(weft_frame_stats, ms_integrate);
     FIELD(weft_frame_stats, substeps);
     FIELD(weft_frame_stats, iterations);
+    FIELD(weft_frame_stats, solves);
+    FIELD(weft_frame_stats, ms_precond);
     FIELD(weft_frame_stats, max_iterations);
     FIELD(weft_frame_stats, residual);
     FIELD(weft_frame_stats, not_converged);
@@ -226,6 +232,12 @@ int main(void) {
     CONSTANT(WEFT_SOLVER_JACOBI);
     CONSTANT(WEFT_SOLVER_CHEBYSHEV);
     CONSTANT(WEFT_SOLVER_DIRECT);
+    CONSTANT(WEFT_PRECOND_DEFAULT);
+    CONSTANT(WEFT_PRECOND_BLOCK_JACOBI);
+    CONSTANT(WEFT_PRECOND_AMG);
+    CONSTANT(WEFT_INTEGRATOR_DEFAULT);
+    CONSTANT(WEFT_INTEGRATOR_BACKWARD_EULER);
+    CONSTANT(WEFT_INTEGRATOR_BDF2);
     CONSTANT(WEFT_COLLIDER_PLANE);
     CONSTANT(WEFT_COLLIDER_SPHERE);
     CONSTANT(WEFT_COLLIDER_CAPSULE);

@@ -1,8 +1,8 @@
-"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 4).
+"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 5).
 
     import numpy as np, weft
     with weft.Context() as ctx:          # library: Context(library=path), else $WEFT_LIBRARY,
-                                         # else libweft.so.4 on the dlopen search path
+                                         # else libweft.so.5 on the dlopen search path
         cloth = ctx.create_cloth(positions=P, faces=F,          # P (n, 3) float32, F (m, 4) int
                                  attachments=[weft.Attachment(pinned_vertex_indices)])
         for frame in range(60):
@@ -33,9 +33,9 @@ import numpy as np
 from ctypes import (POINTER, CFUNCTYPE, c_char_p, c_double, c_float, c_int, c_int64, c_size_t,
                     c_ubyte, c_uint32, c_uint64, c_void_p)
 
-ABI = 4                    # WEFT_ABI of the weft.h mirrored here
-VERSION = (0, 4, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
-DEFAULT_LIBRARY = "libweft.so.4"
+ABI = 5                    # WEFT_ABI of the weft.h mirrored here
+VERSION = (0, 5, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
+DEFAULT_LIBRARY = "libweft.so.5"
 
 # ------------------------------------------------------------------------------------------------
 # Enums and constants (names without their C prefix; c_constants() gives the C names)
@@ -95,6 +95,18 @@ class Solver(enum.IntEnum):
     DIRECT = 3
 
 
+class Preconditioner(enum.IntEnum):
+    DEFAULT = 0
+    BLOCK_JACOBI = 1
+    AMG = 2
+
+
+class Integrator(enum.IntEnum):
+    DEFAULT = 0
+    BACKWARD_EULER = 1
+    BDF2 = 2
+
+
 class ColliderType(enum.IntEnum):
     PLANE = 0
     SPHERE = 1
@@ -111,7 +123,8 @@ FRAME_RESET = 1 << 1
 
 _ENUM_C_PREFIX = {Status: "WEFT_ERROR_", LogLevel: "WEFT_LOG_", Backend: "WEFT_BACKEND_",
                   GlMode: "WEFT_GL_", SpringType: "WEFT_SPRING_", Solver: "WEFT_SOLVER_",
-                  ColliderType: "WEFT_COLLIDER_", Space: "WEFT_SPACE_"}
+                  ColliderType: "WEFT_COLLIDER_", Space: "WEFT_SPACE_", Preconditioner: "WEFT_PRECOND_",
+                  Integrator: "WEFT_INTEGRATOR_"}
 
 
 def c_constants():
@@ -200,7 +213,9 @@ class ClothDef(_Struct):
                 ("transform", c_float * 16), ("material", Material), ("gravity", c_double * 3),
                 ("wind", c_double * 3), ("air_drag_normal", c_double),
                 ("air_drag_tangent", c_double), ("solver", c_int), ("tolerance", c_double),
-                ("max_iterations", c_int), ("substeps", c_int), ("max_frame_time", c_double),
+                ("max_iterations", c_int), ("preconditioner", c_int), ("integrator", c_int),
+                ("newton_iterations", c_int), ("line_search", c_int),
+                ("substeps", c_int), ("max_frame_time", c_double),
                 ("strain_limit", c_double), ("sleep_speed", c_double),
                 ("sleep_time", c_double), ("linear_inertia", c_double),
                 ("angular_inertia", c_double), ("n_attachments", c_int),
@@ -226,8 +241,9 @@ class Frame(_Struct):
 class FrameStats(_Struct):
     _fields_ = [("ms_total", c_double), ("ms_forces", c_double), ("ms_assemble", c_double),
                 ("ms_solve", c_double), ("ms_collide", c_double), ("ms_integrate", c_double),
-                ("substeps", c_int), ("iterations", c_int), ("max_iterations", c_int),
-                ("residual", c_double), ("not_converged", c_int), ("solver", c_int),
+                ("substeps", c_int), ("iterations", c_int), ("solves", c_int),
+                ("ms_precond", c_double), ("max_iterations", c_int), ("residual", c_double),
+                ("not_converged", c_int), ("solver", c_int),
                 ("rollbacks", c_int), ("halvings", c_int), ("direct_fallbacks", c_int),
                 ("failures", c_int), ("contacts", c_int), ("max_strain", c_double),
                 ("kinetic_energy", c_double), ("time", c_double), ("frame", c_int64),
@@ -329,7 +345,7 @@ class Library:
 
 
 def load_library(path=None):
-    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.4 (dlopen search path)."""
+    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.5 (dlopen search path)."""
     return Library(path)
 
 
@@ -496,7 +512,8 @@ class Context:
         indices (weft_mesh_desc's arrays). Or path (+ select) for a file. transform: the
         object's world transform. attachments: Attachment list; colliders: Collider list.
         params: any other weft_cloth_def field (unit_scale, gravity=(0, -9.81, 0),
-        solver=Solver.PCG, substeps, strain_limit, sleep_speed, ...) and the material's density, stiffness
+        solver=Solver.PCG, preconditioner=Preconditioner.DEFAULT, integrator=Integrator.BDF2,
+        newton_iterations, line_search, substeps, strain_limit, sleep_speed, ...) and the material's density, stiffness
         and damping (3 values each, per SpringType)."""
         lib = self.lib
         d = lib.weft_default_cloth_def()

@@ -25,6 +25,10 @@ typedef struct run_args {
     const char* scene;
     int frames;            /* -1: the scene's */
     int solver;            /* -1: the scene's, else wc_solver_type */
+    int integrator;        /* -2: the scene's, else -1 default or wc_integrator */
+    int precond;           /* -2: the scene's, else -1 default or wc_precond_type */
+    int newton;            /* -1: the scene's, else 1..100 */
+    int line_search;       /* -2: the scene's, else 0 or 1 */
     const char* out;       /* folder for OBJ frames, NULL: none */
     const char* stats;     /* stats JSON path, NULL: none */
     const char* render;    /* folder for PNG frames, NULL: none */
@@ -36,7 +40,8 @@ typedef struct run_args {
 void cli_run_usage(FILE* out) {
     fputs("usage: weft run SCENE.json [--frames N] [--solver pcg|jacobi|chebyshev|direct]\n"
           "                [--out DIR] [--stats FILE.json] [--render DIR] [--threads N]\n"
-          "                [--backend cpu|gpu|auto] [--quiet]\n"
+          "                [--backend cpu|gpu|auto] [--integrator be|bdf2] [--precond block_jacobi|amg]\n"
+          "                [--newton N] [--line-search on|off] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
           "through the public API (libweft), showing a progress line on a terminal and printing\n"
@@ -45,6 +50,12 @@ void cli_run_usage(FILE* out) {
           "options:\n"
           "  --frames N             frames to simulate (>= 0; default: the scene's time.frames)\n"
           "  --solver NAME          linear solver, overriding the scene's solver.type\n"
+          "  --integrator NAME      be or bdf2 (or default), overriding time.integrator\n"
+          "  --precond NAME         block_jacobi or amg (or default), overriding solver.preconditioner\n"
+          "  --newton N             Newton iterations per substep (1..100), overriding\n"
+          "                         solver.newton_iterations\n"
+          "  --line-search on|off   line search on the incremental potential, overriding\n"
+          "                         solver.line_search\n"
           "  --out DIR              write DIR/frame_0001.obj ... (created if missing): every host\n"
           "                         vertex in the mesh's own order, then its polygons\n"
           "  --stats FILE.json      write timings, solver and recovery counts as one JSON object\n"
@@ -96,6 +107,26 @@ static int parse_args(int argc, char** argv, run_args* a) {
             a->solver = wc_solver_from_name(value);
             if (a->solver < 0)
                 return usage_error("unknown solver '%s' (expected pcg, jacobi, chebyshev or direct)", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--integrator", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            a->integrator = strcmp(value, "default") == 0 ? -1 : wc_integrator_from_name(value);
+            if (a->integrator < 0 && strcmp(value, "default") != 0)
+                return usage_error("--integrator: unknown integrator '%s' (expected be, bdf2 or default)", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--precond", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            a->precond = strcmp(value, "default") == 0 ? -1 : wc_precond_from_name(value);
+            if (a->precond < 0 && strcmp(value, "default") != 0)
+                return usage_error("--precond: unknown preconditioner '%s' (expected block_jacobi, amg or default)",
+                                   value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--newton", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            if (cli_parse_int(value, 1, 100, &a->newton) != 0)
+                return usage_error("--newton must be an integer in [1, 100], not '%s'", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--line-search", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            if (strcmp(value, "on") == 0) a->line_search = 1;
+            else if (strcmp(value, "off") == 0) a->line_search = 0;
+            else return usage_error("--line-search must be on or off, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--threads", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
             if (cli_parse_int(value, 0, 1024, &a->threads) != 0)
@@ -234,7 +265,7 @@ static int simulate(run_ctx* c, const run_args* a) {
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0};
+    run_args a = {NULL, -1, -1, -2, -2, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 
@@ -246,6 +277,10 @@ int cli_run_run(int argc, char** argv) {
     if (a.frames >= 0) c.sc.frames = a.frames;
     if (a.solver >= 0) c.sc.sim.solver.type = (wc_solver_type)a.solver;
     if (a.threads >= 0) c.sc.sim.threads = a.threads;
+    if (a.integrator > -2) c.sc.integrator = a.integrator;
+    if (a.precond > -2) c.sc.preconditioner = a.precond;
+    if (a.newton > 0) c.sc.newton_iterations = a.newton;
+    if (a.line_search > -2) c.sc.line_search = a.line_search;
 
     char msg[1024];
     const run_host_opts opts = {a.backend, c.sc.sim.threads};
@@ -264,6 +299,10 @@ int cli_run_run(int argc, char** argv) {
                                in->n_triangles,
                                in->n_springs[0] + in->n_springs[1] + in->n_springs[2],
                                wc_solver_name(c.sc.sim.solver.type),
+                               c.sc.preconditioner < 0 ? "default" : wc_precond_name((wc_precond_type)c.sc.preconditioner),
+                               c.sc.integrator < 0 ? "default" : wc_integrator_name((wc_integrator)c.sc.integrator),
+                               c.sc.newton_iterations,
+                               c.sc.line_search,
                                weft_context_backend(c.host.ctx) == WEFT_BACKEND_GPU ? "gpu" : "cpu",
                                c.sc.sim.substeps,
                                resolved_threads(c.sc.sim.threads),

@@ -16,6 +16,10 @@ typedef struct run_info {
     const char* scene;          /* scene file as given */
     int particles, triangles, springs;
     const char* solver;         /* configured solver's name */
+    const char* preconditioner; /* "block_jacobi", "amg" or "default" (the library's choice) */
+    const char* integrator;     /* "be", "bdf2" or "default" */
+    int newton_iterations;      /* 0: the library's default */
+    int line_search;            /* -1: the library's default, 0 off, 1 on */
     const char* backend;        /* "cpu" or "gpu" */
     int substeps;               /* per frame */
     int threads;                /* OpenMP threads per call */
@@ -30,6 +34,8 @@ typedef struct run_record {
     double* frame_ms;           /* (frames) wall time of each weft_cloth_step call (ms) */
     double* stage_ms;           /* (frames x RUN_STAGES) the library's own stage timings (ms) */
     long long iterations;       /* solver iterations, all frames */
+    long long solves;           /* linear solves (Newton iterations, friction passes), all frames */
+    double precond_ms;          /* wall time building preconditioners, all frames (ms) */
     long long substeps;         /* substeps completed, all frames */
     int max_iterations;         /* largest in one solve */
     double residual_max;        /* largest final relative residual of a solve */

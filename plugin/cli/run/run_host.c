@@ -88,6 +88,14 @@ static void describe_settings(const scene* s, weft_cloth_def* def) {
     def->solver = solver_of(s->sim.solver.type);
     def->tolerance = s->sim.solver.tolerance;
     def->max_iterations = s->sim.solver.max_iterations;
+    def->preconditioner = s->preconditioner == WC_PRECOND_AMG            ? WEFT_PRECOND_AMG
+                          : s->preconditioner == WC_PRECOND_BLOCK_JACOBI ? WEFT_PRECOND_BLOCK_JACOBI
+                                                                         : WEFT_PRECOND_DEFAULT;
+    def->integrator = s->integrator == WC_INTEGRATOR_BDF2 ? WEFT_INTEGRATOR_BDF2
+                      : s->integrator == WC_INTEGRATOR_BE ? WEFT_INTEGRATOR_BACKWARD_EULER
+                                                          : WEFT_INTEGRATOR_DEFAULT;
+    def->newton_iterations = s->newton_iterations;
+    def->line_search = s->line_search;
     def->substeps = s->sim.substeps;
     def->strain_limit = s->sim.strain_limit;
     if (def->max_frame_time < 1.0 / s->fps) def->max_frame_time = 1.0 / s->fps;

@@ -89,6 +89,14 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(root, "springs", info->springs, &ok);
     if (!cJSON_AddStringToObject(root, "solver", info->solver)) ok = 0;
     if (!cJSON_AddStringToObject(root, "backend", info->backend)) ok = 0;
+    if (!cJSON_AddStringToObject(root, "preconditioner", info->preconditioner)) ok = 0;
+    if (!cJSON_AddStringToObject(root, "integrator", info->integrator)) ok = 0;
+    add_num(root, "newton_iterations", info->newton_iterations, &ok);
+    if (info->line_search < 0) {
+        if (!cJSON_AddStringToObject(root, "line_search", "default")) ok = 0;
+    } else if (!cJSON_AddBoolToObject(root, "line_search", info->line_search)) {
+        ok = 0;
+    }
     add_num(root, "substeps", info->substeps, &ok);
     add_num(root, "threads", info->threads, &ok);
     add_num(root, "fps", info->fps, &ok);
@@ -111,6 +119,8 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     if (!o) ok = 0;
     add_num(o, "mean", run_mean_iterations(r), &ok);
     add_num(o, "max", r->max_iterations, &ok);
+    add_num(root, "solves", (double)r->solves, &ok);
+    add_num(root, "ms_precond", r->precond_ms, &ok);
     add_num(root, "residual_max", r->residual_max, &ok);
     add_num(root, "not_converged", r->not_converged, &ok);
     add_num(root, "rollbacks", r->rollbacks, &ok);

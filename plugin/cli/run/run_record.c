@@ -36,6 +36,8 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     st[4] = s->ms_integrate;
     st[5] = s->ms_total;
     r->iterations += s->iterations;
+    r->solves += s->solves;
+    r->precond_ms += s->ms_precond;
     r->substeps += s->substeps;
     if (s->max_iterations > r->max_iterations) r->max_iterations = s->max_iterations;
     if (s->residual > r->residual_max) r->residual_max = s->residual;

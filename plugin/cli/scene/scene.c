@@ -175,7 +175,8 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
     const cJSON* solver = NULL;
     int r = sj_object(c, root, "", "solver", &solver);
     if (r <= 0) return r;
-    static const char* const keys[] = {"type", "tolerance", "max_iterations"};
+    static const char* const keys[] = {"type", "tolerance", "max_iterations", "preconditioner", "newton_iterations",
+                                       "line_search"};
     if (sj_check_object(c, solver, "solver", keys, COUNT(keys)) < 0) return -1;
     const char* type = NULL;
     if (sj_string(c, solver, "solver", "type", &type) < 0) return -1;
@@ -191,6 +192,22 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
         return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual), not %g", s->sim.solver.tolerance);
     if (sj_int(c, solver, "solver", "max_iterations", 1, MAX_ITERATIONS, &s->sim.solver.max_iterations) < 0)
         return -1;
+    const char* pre = NULL;
+    if (sj_string(c, solver, "solver", "preconditioner", &pre) < 0) return -1;
+    if (pre) {
+        int p = strcmp(pre, "default") == 0 ? -1 : wc_precond_from_name(pre);
+        if (p < 0 && strcmp(pre, "default") != 0)
+            return sj_fail(c, "solver.preconditioner",
+                           "unknown preconditioner \"%s\" (expected block_jacobi, amg or default)", pre);
+        s->preconditioner = p;
+    }
+    if (sj_int(c, solver, "solver", "newton_iterations", 1, 100, &s->newton_iterations) < 0) return -1;
+    const cJSON* ls = cJSON_GetObjectItemCaseSensitive(solver, "line_search");
+    if (ls) {
+        if (!cJSON_IsBool(ls))
+            return sj_fail(c, "solver.line_search", "must be true or false, not %s", sj_type_name(ls));
+        s->line_search = cJSON_IsTrue(ls) ? 1 : 0;
+    }
     return 0;
 }
 
@@ -198,8 +215,16 @@ static int parse_time(const sj_ctx* c, const cJSON* root, scene* s) {
     const cJSON* time = NULL;
     int r = sj_object(c, root, "", "time", &time);
     if (r <= 0) return r;
-    static const char* const keys[] = {"fps", "substeps", "frames"};
+    static const char* const keys[] = {"fps", "substeps", "frames", "integrator"};
     if (sj_check_object(c, time, "time", keys, COUNT(keys)) < 0) return -1;
+    const char* integ = NULL;
+    if (sj_string(c, time, "time", "integrator", &integ) < 0) return -1;
+    if (integ) {
+        int t = strcmp(integ, "default") == 0 ? -1 : wc_integrator_from_name(integ);
+        if (t < 0 && strcmp(integ, "default") != 0)
+            return sj_fail(c, "time.integrator", "unknown integrator \"%s\" (expected be, bdf2 or default)", integ);
+        s->integrator = t;
+    }
     if (sj_number(c, time, "time", "fps", SJ_POSITIVE, &s->fps) < 0) return -1;
     if (sj_int(c, time, "time", "substeps", 1, MAX_SUBSTEPS, &s->sim.substeps) < 0) return -1;
     if (sj_int(c, time, "time", "frames", 0, MAX_FRAMES, &s->frames) < 0) return -1;
@@ -267,6 +292,10 @@ weft_status scene_parse(scene* out, const char* text, size_t len, const char* na
     s->mesh_scale = 1.0;
     s->model_def = wc_default_model_def();
     s->sim = wc_default_sim_def();
+    s->preconditioner = -1;
+    s->integrator = -1;
+    s->newton_iterations = 0;
+    s->line_search = -1;
     s->fps = SCENE_DEFAULT_FPS;
     s->frames = SCENE_DEFAULT_FRAMES;
     sj_ctx c = {name, diag};

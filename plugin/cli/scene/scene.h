@@ -95,6 +95,10 @@ typedef struct scene {
     wc_model_def model_def; /* weld tolerance and material */
     wc_sim_def sim;         /* gravity, air, solver, substeps, strain limit, threads; capacities
                                (max_pins 0 = all particles, max_colliders >= n_colliders) */
+    int preconditioner;     /* solver.preconditioner: -1 the library's default, else wc_precond_type */
+    int integrator;         /* time.integrator: -1 the library's default, else wc_integrator */
+    int newton_iterations;  /* solver.newton_iterations: 0 the library's default, else 1..100 */
+    int line_search;        /* solver.line_search: -1 the library's default, 0 off, 1 on */
     int n_pins;
     scene_pin* pins;        /* (n_pins) */
     int n_pin_groups;

@@ -1,0 +1,66 @@
+/* Newton iterations with a backtracking line search on the incremental potential of a substep
+ * (backward Euler, or BDF2 through bdf2.h's he, xb and mom).
+ *
+ * Unknown: the velocity change w = v_{n+1} - v_n; x(w) = xb + he (v_n + w) (BE: xb = x_n, he = h).
+ * The potential minimised (its gradient is the step's equations of motion, times -1):
+ *   Phi(w) = 1/2 (w - mom)^T M (w - mom)                   inertia (BE: mom = 0)
+ *          + U(x(w))                                       springs: sum k/2 (|L| - rest)^2
+ *          - f_ext . (x(w) - x_n)                           gravity + air, frozen at the substep start
+ *          - he/2 (v_n + w)^T D0 (v_n + w)                  spring damping D0 = dF/dv at x_n, frozen
+ *          + 1/2 w^T Fa w - Fb . w                          kinetic friction as assembled (frozen)
+ *   grad Phi = M (w - mom) - he (f_springs(x) + D0 v + f_ext) + Fa w - Fb,
+ *   Hessian  ~ A = M - he D0 - he^2 K(x) + Fa   (K with the step's compression mode: by default the
+ *              compressed springs' negative geometric term is dropped, so A is SPD and every
+ *              filtered Newton direction is a descent direction of Phi).
+ * Forces without a potential enter frozen: air (drag and wind, explicit in the step anyway) is the
+ * constant force f_ext evaluated at (x_n, v_n), i.e. a linear potential; kinetic friction is the
+ * implicit damping that wc_contacts_friction put into A and b (Fa, Fb: a quadratic potential with
+ * the slide/stick decisions of the first solve kept); spring damping uses the directions of the
+ * substep's start. With these frozen, the first Newton step from x(w0) = x_n (w0 = -vstar) is
+ * exactly the Baraff-Witkin step, so newton_iterations = 1 without line search is today's step
+ * (and takes its code path bit for bit).
+ *
+ * Constraints (filter S, z). Every accepted iterate satisfies (I - S) w = (I - S) z exactly as
+ * the first solve does: the first iterate takes the prescribed part in full,
+ * w~0 = z + S w0 (pins on their targets, contacts at their normal velocity, sticking particles
+ * moving with their collider, free particles staying at x_n), and the line search of the first
+ * step runs only along its free part d0 = w1 - w~0 = S (w1 - w0), from Phi(w~0) to the
+ * Baraff-Witkin solution w1 at alpha = 1. Later iterations solve A d = -grad Phi with the same S
+ * and z = 0, so d stays in the free directions.
+ *
+ * Line search: alpha = 1, 1/2, ... (at most 12 halvings) until Armijo's
+ * Phi(w + alpha d) <= Phi(w) + 1e-4 alpha grad.d (the first step: the slope of its quadratic
+ * model, A0 w~0 - b0, since grad Phi at w~0 is not evaluated); none found: the iterate stays
+ * (first step: w~0) and Newton stops. Without line search alpha = 1.
+ * Stops early: the filtered gradient |S grad Phi| at or below the linear solver's tolerance times
+ * the first system's |S (b - A z)|; a direction that does not descend; a failed solve (the
+ * iterate before it is kept); with line search, a decrease of Phi below 1e-13 of its size.
+ * Every iteration re-evaluates the springs at x(w) and reassembles A; the friction recheck is not
+ * repeated. Reductions are over fixed chunks of particles and springs: the result does not depend
+ * on the thread count. Nothing is allocated (state.h's nw_* scratch). */
+#ifndef WEFT_CORE_NEWTON_H
+#define WEFT_CORE_NEWTON_H
+#include "bdf2.h"
+#include "step.h"
+
+/* 1 when the def asks for more than one Baraff-Witkin step (iterations > 1 or line search). */
+int wc_newton_wanted(const wc_sim_def* d);
+
+/* In the substep's preparation, after the first assembly and before friction: keeps the frozen
+ * damping blocks (from s->se) and A's diagonal blocks and b (friction's terms are told apart by
+ * them later). */
+void wc_newton_capture(wc_state* s);
+
+/* After the first solve (s->dv = its solution w1; s->A, s->b its system, friction included;
+ * residual0 its |S (b - A z)|): the line search of the first step and the further iterations.
+ * On return s->dv is the accepted w and, when want_r, s->r the constraint residual A dv - b of
+ * the last linearisation (wc_contacts_end reads the contact impulses there). Solves are added to
+ * st. Returns OK unless the first iterate itself is non-finite. */
+weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
+                              double residual0, int want_r, wc_step_stats* st, wc_diag* diag);
+
+/* The incremental potential Phi(w) of the current substep (J), for tests; valid after
+ * wc_newton_capture of the substep and before its positions advance. */
+double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w);
+
+#endif
