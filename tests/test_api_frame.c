@@ -71,6 +71,10 @@ static void test_core_equivalence(void) {
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = 1;
     sd.max_colliders = 0;
+    /* the plugin's CPU defaults (plugin/cloth_create.c resolve_defaults) */
+    sd.solver.preconditioner = WC_PRECOND_AMG;
+    sd.newton_iterations = 2;
+    sd.line_search = 1;
     wc_state* s = NULL;
     CHECK_EQ_INT(wc_state_create(&s, &model, &sd, NULL, &d), WEFT_OK);
     wc_pin pins[2];

@@ -138,6 +138,10 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, bbox_max);
     FIELD(weft_cloth_info, snapshot_size);
     FIELD(weft_cloth_info, backend);
+    FIELD(weft_cloth_info, preconditioner);
+    FIELD(weft_cloth_info, integrator);
+    FIELD(weft_cloth_info, newton_iterations);
+    FIELD(weft_cloth_info, line_search);
     struct_end();
 
     STRUCT(weft_frame);

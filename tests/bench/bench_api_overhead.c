@@ -104,6 +104,10 @@ int main(int argc, char** argv) {
     if (wc_model_build(&model, &src, &md, NULL, &d) != WEFT_OK) return 1;
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = threads;
+    /* the plugin's CPU defaults (plugin/cloth_create.c resolve_defaults) */
+    sd.solver.preconditioner = WC_PRECOND_AMG;
+    sd.newton_iterations = 2;
+    sd.line_search = 1;
     if (wc_state_create(&state, &model, &sd, NULL, &d) != WEFT_OK) return 1;
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);

@@ -228,7 +228,8 @@ class ClothInfo(_Struct):
                 ("n_springs", c_int * 3), ("n_attachments", c_int),
                 ("n_pinned_particles", c_int), ("n_colliders", c_int), ("total_mass", c_double),
                 ("bbox_min", c_double * 3), ("bbox_max", c_double * 3),
-                ("snapshot_size", c_size_t), ("backend", c_int)]
+                ("snapshot_size", c_size_t), ("backend", c_int), ("preconditioner", c_int),
+                ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int)]
 
 
 class Frame(_Struct):

@@ -16,10 +16,10 @@ typedef struct run_info {
     const char* scene;          /* scene file as given */
     int particles, triangles, springs;
     const char* solver;         /* configured solver's name */
-    const char* preconditioner; /* "block_jacobi", "amg" or "default" (the library's choice) */
-    const char* integrator;     /* "be", "bdf2" or "default" */
-    int newton_iterations;      /* 0: the library's default */
-    int line_search;            /* -1: the library's default, 0 off, 1 on */
+    const char* preconditioner; /* "block_jacobi" or "amg", as the library resolved it */
+    const char* integrator;     /* "be" or "bdf2" */
+    int newton_iterations;      /* >= 1 */
+    int line_search;            /* 0 off, 1 on */
     const char* backend;        /* "cpu" or "gpu" */
     int substeps;               /* per frame */
     int threads;                /* OpenMP threads per call */
@@ -68,6 +68,7 @@ typedef struct run_summary_stats {
 } run_summary_stats;
 /* Of n values with the given stride (zeros when n is 0); scratch: n doubles. */
 run_summary_stats run_summarise(const double* values, int n, int stride, double* scratch);
+/* Solver iterations per linear solve (0 when none). */
 double run_mean_iterations(const run_record* r);
 
 /* One frame as OBJ: `v` lines for the n_verts host positions (n_verts x 3, m), then the source

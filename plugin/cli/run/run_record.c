@@ -98,5 +98,5 @@ run_summary_stats run_summarise(const double* values, int n, int stride, double*
 }
 
 double run_mean_iterations(const run_record* r) {
-    return r->substeps > 0 ? (double)r->iterations / (double)r->substeps : 0.0;
+    return r->solves > 0 ? (double)r->iterations / (double)r->solves : 0.0;
 }

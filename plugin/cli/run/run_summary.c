@@ -20,12 +20,8 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
     fprintf(out, "%-13s %d frames at %g fps, %d substep%s per frame, %s solver, %s backend, %d thread%s\n", "run",
             r->frames, info->fps, info->substeps, info->substeps == 1 ? "" : "s", info->solver, info->backend,
             info->threads, info->threads == 1 ? "" : "s");
-    char newton[32];
-    if (info->newton_iterations > 0) snprintf(newton, sizeof newton, "%d", info->newton_iterations);
-    else snprintf(newton, sizeof newton, "default");
-    fprintf(out, "%-13s %s integrator, %s preconditioner, Newton iterations %s, line search %s\n", "method",
-            info->integrator, info->preconditioner, newton,
-            info->line_search < 0 ? "default" : info->line_search ? "on" : "off");
+    fprintf(out, "%-13s %s integrator, %s preconditioner, Newton iterations %d, line search %s\n", "method",
+            info->integrator, info->preconditioner, info->newton_iterations, info->line_search ? "on" : "off");
     fprintf(out, "%-13s median %.3f  p95 %.3f  mean %.3f  max %.3f  (weft_cloth_step wall time)\n", "ms/frame",
             ms.median, ms.p95, ms.mean, ms.max);
     fprintf(out, "%-13s", "stage ms");
@@ -35,7 +31,7 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
     fprintf(out, "\n%-13s", "  max");
     for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %10.3f", stage[order[i]].max);
     fputc('\n', out);
-    fprintf(out, "%-13s mean %.1f per substep, max %d; largest residual %.3g; %d not converged\n", "iterations",
+    fprintf(out, "%-13s mean %.1f per solve, max %d; largest residual %.3g; %d not converged\n", "iterations",
             run_mean_iterations(r), r->max_iterations, r->residual_max, r->not_converged);
     fprintf(out, "%-13s %lld linear solves; %.3f ms building preconditioners\n", "solves", r->solves, r->precond_ms);
     fprintf(out, "%-13s %d rollbacks, %d halvings, %d direct fallbacks, %d failed substeps, %d failed frames\n",

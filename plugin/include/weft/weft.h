@@ -341,6 +341,11 @@ typedef struct weft_cloth_info {
     double bbox_min[3], bbox_max[3]; /* m, object space, rest shape */
     size_t snapshot_size;       /* bytes weft_cloth_save() writes */
     weft_backend backend;
+    /* what the def's DEFAULT / 0 / -1 choices resolved to on this backend */
+    weft_preconditioner preconditioner; /* BLOCK_JACOBI or AMG */
+    weft_integrator integrator; /* BACKWARD_EULER or BDF2 */
+    int newton_iterations;      /* >= 1 */
+    int line_search;            /* 0 or 1 */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
