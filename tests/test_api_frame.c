@@ -59,6 +59,13 @@ static void test_core_equivalence(void) {
     weft_context* ctx = new_context(NULL, NULL);
     weft_cloth_def def;
     weft_cloth cloth = hanging(ctx, &m, &def);
+    /* the CPU's defaults, as weft_cloth_get_info reports them */
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
+    CHECK_EQ_INT(info.preconditioner, WEFT_PRECOND_AMG);
+    CHECK_EQ_INT(info.integrator, WEFT_INTEGRATOR_BACKWARD_EULER);
+    CHECK_EQ_INT(info.newton_iterations, 2);
+    CHECK_EQ_INT(info.line_search, 1);
 
     double* pos = malloc(sizeof(double) * 3 * m.nv);
     for (int i = 0; i < 3 * m.nv; ++i) pos[i] = m.pos[i];
@@ -103,7 +110,6 @@ static void test_core_equivalence(void) {
     CHECK(same);
     /* it moved: the top edge sags between the pinned corners */
     CHECK(s->x[3 * model.host_to_particle[N / 2 + N * (N - 1)] + 1] < 1.0 - 1e-4);
-    weft_cloth_info info;
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
     CHECK_EQ_INT(info.n_vertices, m.nv);
     CHECK_EQ_INT(info.n_particles, model.n_particles);

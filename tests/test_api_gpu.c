@@ -49,6 +49,11 @@ static weft_cloth_def sheet_def(const ag_mesh* m) {
     def.attachments = &g_att;
     def.n_attachments = 1;
     def.solver = WEFT_SOLVER_PCG;
+    /* the GPU's method on both backends, so that they can be compared (the CPU's defaults are
+       the multigrid and two Newton iterations with line search) */
+    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
+    def.newton_iterations = 1;
+    def.line_search = 0;
     return def;
 }
 
@@ -169,10 +174,17 @@ static void test_direct_refused(void) {
     }
     CHECK(strstr(weft_context_last_error(ctx), "GPU backend") != NULL);
     /* the context is still usable; DEFAULT resolves to what the GPU has */
+    def.preconditioner = WEFT_PRECOND_DEFAULT;
+    def.newton_iterations = 0;
+    def.line_search = -1;
     CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
     weft_cloth_info info;
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
     CHECK_EQ_INT(info.backend, WEFT_BACKEND_GPU);
+    CHECK_EQ_INT(info.preconditioner, WEFT_PRECOND_BLOCK_JACOBI);
+    CHECK_EQ_INT(info.integrator, WEFT_INTEGRATOR_BACKWARD_EULER);
+    CHECK_EQ_INT(info.newton_iterations, 1);
+    CHECK_EQ_INT(info.line_search, 0);
     weft_context_destroy(ctx);
     ag_free(&m);
 }
