@@ -47,6 +47,29 @@ static const char* const it_cols[] = {
     "converged_fraction", "not_converged", "ms_precond_per_solve", "ms_solve_per_solve", "ms_per_frame",
     "rollbacks", "failures"};
 
+/* 1 when text has prefix followed by a ratio within 2 % of r (or the denominator is tiny). */
+static int ratio_in(const char* text, const char* prefix, double r, double denominator) {
+    if (denominator < 5) return 1;
+    size_t n = strlen(prefix);
+    for (const char* at = strstr(text, prefix); at; at = strstr(at + 1, prefix)) {
+        char* end;
+        double v = strtod(at + n, &end);
+        if (end != at + n && fabs(v - r) <= 0.02 * r + 0.006) return 1;
+    }
+    return 0;
+}
+
+/* 1 when some number within 2 % of r in text is followed by "| met |" (met) or "| not met |". */
+static int verdict_after(const char* text, double r, int met) {
+    for (const char* at = strstr(text, "| "); at; at = strstr(at + 1, "| ")) {
+        char* end;
+        double v = strtod(at + 2, &end);
+        if (end == at + 2 || !(fabs(v - r) <= 0.02 * r + 0.006)) continue;
+        if (!strncmp(end, met ? " | met |" : " | not met |", met ? 8 : 12)) return 1;
+    }
+    return 0;
+}
+
 static void test_iterations_quick(void) {
     static ts_cli_result r;
     static csv c;
@@ -112,13 +135,12 @@ static void test_iterations_quick(void) {
         char text[512];
         snprintf(text, sizeof text, "%.*s", (int)(end ? end - at : 0), at);
         const int mean_met = worst[p] <= 30 && least[p] >= 1;
-        char g[64];
-        snprintf(g, sizeof g, "| %s | %.2f |", mean_met ? "met" : "not met", gs);
-        if (fabs(worst[p] - 30) > 0.1) CHECK(strstr(text, g) != NULL);
-        snprintf(g, sizeof g, "| %.2f | %s |", gs, gs <= 2 ? "met" : "not met");
-        if (fabs(gs - 2) > 0.01) CHECK(strstr(text, g) != NULL);
-        snprintf(g, sizeof g, "| %.2f | %s |", gk, gk <= 2 ? "met" : "not met");
-        if (fabs(gk - 2) > 0.01) CHECK(strstr(text, g) != NULL);
+        /* the ratios come from CSV means rounded to 1 decimal: allow 2 % either way, and skip a
+           ratio whose denominator is tiny (the multigrid solves sheet8, one level, in 1 iteration) */
+        CHECK(ratio_in(text, mean_met ? "| met | " : "| not met | ", gs, first[p][0]) ||
+              fabs(worst[p] - 30) <= 0.1);
+        if (fabs(gs - 2) > 0.05) CHECK(ratio_in(text, "| ", gs, first[p][0]) && verdict_after(text, gs, gs <= 2));
+        if (fabs(gk - 2) > 0.05) CHECK(ratio_in(text, "| ", gk, first[p][1]) && verdict_after(text, gk, gk <= 2));
     }
     int table_lines = 0;
     for (const char* q = md; (q = strstr(q, "\n| ")) != NULL; ++q) ++table_lines;
