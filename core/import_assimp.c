@@ -240,6 +240,32 @@ static weft_status check_raw_finite(const struct aiScene* s, const instance* ins
     return WEFT_OK;
 }
 
+/* Every mesh's faces index its own vertices. assimp's importers can return a scene that breaks
+ * this for a damaged file (found by fuzz/fuzz_import: a binary PLY whose face list reads past its
+ * vertices), and aiProcess_JoinIdenticalVertices then reads out of bounds and crashes inside
+ * assimp 5.2.5. It runs on every mesh of the scene, selected or not, so every mesh is checked. */
+static weft_status check_faces(const struct aiScene* s, const char* path, wc_diag* diag) {
+    for (unsigned i = 0; i < s->mNumMeshes; ++i) {
+        const struct aiMesh* m = s->mMeshes[i];
+        if (!m) continue;   /* walk_node reports references to it */
+        if ((m->mNumVertices > 0 && !m->mVertices) || (m->mNumFaces > 0 && !m->mFaces))
+            return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' has no %s (corrupt file)", path,
+                           m->mName.data, m->mVertices ? "faces" : "positions");
+        for (unsigned f = 0; f < m->mNumFaces; ++f) {
+            const struct aiFace* face = &m->mFaces[f];
+            if (face->mNumIndices > 0 && !face->mIndices)
+                return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' face %u has no indices (corrupt file)",
+                               path, m->mName.data, f);
+            for (unsigned k = 0; k < face->mNumIndices; ++k)
+                if (face->mIndices[k] >= m->mNumVertices)
+                    return wc_fail(diag, WEFT_ERROR_IMPORT,
+                                   "'%s': mesh '%s' face %u uses vertex %u of %u (corrupt file)", path,
+                                   m->mName.data, f, face->mIndices[k], m->mNumVertices);
+        }
+    }
+    return WEFT_OK;
+}
+
 /* Concatenate the instances into out (allocated with alloc). Scene already joined. */
 static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
                               const struct aiScene* s, const instance* inst, size_t n_inst,
@@ -457,6 +483,7 @@ static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
     walk_node(&w, scene->mRootNode, identity, 0, 0);   /* fill */
 
     st = check_raw_finite(scene, inst, w.n_inst, path, diag);
+    if (st == WEFT_OK) st = check_faces(scene, path, diag);   /* before assimp's post-processing */
     if (st != WEFT_OK) goto done;
 
     scene = aiApplyPostProcessing(scene, aiProcess_JoinIdenticalVertices);

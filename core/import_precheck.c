@@ -1,9 +1,10 @@
 /* Pre-checks before assimp (see import_precheck.h).
  *
  * 1. PLY without "end_header": assimp 5.2.5's PLY reader never returns (it keeps allocating)
- *    on a PLY whose header has no end_header line, e.g. the 26 bytes "ply\nformat ascii 1.0\n".
+ *    on a PLY whose header has no end_header line, e.g. the 26 bytes "ply\nformat ascii 1.0\n",
+ *    or has the word only inside another line ("0.5 0 1 1end_header").
  *    assimp takes a buffer as PLY when it starts with "ply" (its signature check), so such a
- *    buffer must hold end_header within its first WC_PRECHECK_PLY_HEADER_MAX bytes. */
+ *    buffer must hold an end_header line within its first WC_PRECHECK_PLY_HEADER_MAX bytes. */
 #include "import_precheck.h"
 #include <errno.h>
 #include <stdio.h>
@@ -20,10 +21,15 @@ static int starts_ply(const unsigned char* b, size_t n) {
     return 1;
 }
 
-static int holds(const unsigned char* b, size_t n, const char* word) {
+/* word at the start of a line (after optional blanks), as a PLY header's keywords are */
+static int holds_line(const unsigned char* b, size_t n, const char* word) {
     size_t m = strlen(word);
-    for (size_t i = 0; i + m <= n; ++i)
-        if (b[i] == (unsigned char)word[0] && memcmp(b + i, word, m) == 0) return 1;
+    for (size_t i = 0; i + m <= n; ++i) {
+        if (b[i] != (unsigned char)word[0] || memcmp(b + i, word, m) != 0) continue;
+        size_t j = i;
+        while (j > 0 && (b[j - 1] == ' ' || b[j - 1] == '\t')) --j;
+        if (j > 0 && (b[j - 1] == '\n' || b[j - 1] == '\r')) return 1;
+    }
     return 0;
 }
 
@@ -36,7 +42,7 @@ static weft_status no_end_header(const char* name, wc_diag* diag) {
 weft_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag) {
     if (starts_ply(data, size)) {
         size_t n = size < WC_PRECHECK_PLY_HEADER_MAX ? size : WC_PRECHECK_PLY_HEADER_MAX;
-        if (!holds(data, n, "end_header")) return no_end_header(name, diag);
+        if (!holds_line(data, n, "end_header")) return no_end_header(name, diag);
     }
     return WEFT_OK;
 }
@@ -53,7 +59,7 @@ weft_status wc_import_precheck_file(const char* path, const unsigned char* head,
     }
     size_t n = fread(buf, 1, WC_PRECHECK_PLY_HEADER_MAX, f);
     fclose(f);
-    int ok = holds(buf, n, "end_header");
+    int ok = holds_line(buf, n, "end_header");
     free(buf);
     return ok ? WEFT_OK : no_end_header(path, diag);
 }
