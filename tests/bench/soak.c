@@ -399,12 +399,14 @@ int main(int argc, char** argv) {
     long long step_allocs = 0, win_sentinel_iters = 0;
     double win_sentinel_ms = 0.0, first_sentinel = 0.0, last_sentinel = 0.0;
     if (!create_cloth_as(&k, &k.sentinel, 1)) return 1;
+    --k.n_live;   /* the pool's count: the sentinel is apart */
+    --k.created;
     for (long long f = 1; f <= frames; ++f) {
         /* now and then a cloth comes or goes (one live at least) */
         if (rnd_int(200) == 0) {
             slot* sl = &k.s[rnd_int(max_cloths)];
             if (!sl->live) create_cloth(&k, sl);
-            else if (k.n_live > 1) destroy_cloth(&k, sl);
+            else if (k.n_live > 1) destroy_cloth(&k, sl);   /* the pool keeps one cloth at least */
         }
         double a = now_ms();
         long long steps_before = k.steps, allocs_before = k.mem.allocs;
@@ -434,12 +436,14 @@ int main(int argc, char** argv) {
             slot* sl = &k.s[rnd_int(max_cloths)];
             if (sl->live) invalid_call(&k, sl);
         }
-        if (f % every == 0) {
+        if (f % every == 0) {   /* the pool's cloths in turn; the sentinel when the pool is empty */
+            slot* sl = &k.sentinel;
             for (int i = 0; i < max_cloths; ++i)
                 if (k.s[(f / every + i) % max_cloths].live) {
-                    snapshot_check(&k, &k.s[(f / every + i) % max_cloths]);
+                    sl = &k.s[(f / every + i) % max_cloths];
                     break;
                 }
+            snapshot_check(&k, sl);
         }
         if (f % window == 0 || f == frames) {
             long long n = f % window == 0 ? window : f % window;
@@ -471,7 +475,7 @@ int main(int argc, char** argv) {
     long long weft_end_live = k.mem.live, weft_peak = k.mem.peak;
     for (int i = 0; i < max_cloths; ++i)
         if (k.s[i].live) destroy_cloth(&k, &k.s[i]);
-    destroy_cloth(&k, &k.sentinel);
+    if (weft_cloth_destroy(k.ctx, k.sentinel.cloth) != WEFT_OK) ++k.unexpected;
     long long weft_no_cloths = k.mem.live;
     weft_context_destroy(k.ctx);
     long long weft_after_destroy = k.mem.live;
