@@ -15,6 +15,7 @@ packages=(
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
   blender                         # the add-on test (tests/blender) and `weft bench peers`: ~480 MB, ~25 s to install
   libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
+  clang libclang-rt-14-dev        # .ci/fuzz (libFuzzer, ASan, UBSan) and .ci/tsan (ThreadSanitizer)
 )
 
 missing=()
