@@ -1,8 +1,9 @@
 /* Pre-checks before assimp (see import_precheck.h).
  *
  * 1. PLY without "end_header": assimp 5.2.5's PLY reader never returns (it keeps allocating)
- *    on a PLY whose header has no end_header line, e.g. the 26 bytes "ply\nformat ascii 1.0\n",
- *    or has the word only inside another line ("0.5 0 1 1end_header").
+ *    on a PLY whose header has no end_header line, e.g. the 21 bytes "ply\nformat ascii 1.0\n",
+ *    or has the word only inside another line ("0.5 0 1 1end_header"), or followed by anything
+ *    but a blank or a line end ("end_header\x1a...").
  *    assimp takes a buffer as PLY when it starts with "ply" (its signature check), so such a
  *    buffer must hold an end_header line within its first WC_PRECHECK_PLY_HEADER_MAX bytes. */
 #include "import_precheck.h"
@@ -21,14 +22,18 @@ static int starts_ply(const unsigned char* b, size_t n) {
     return 1;
 }
 
-/* word at the start of a line (after optional blanks), as a PLY header's keywords are */
-static int holds_line(const unsigned char* b, size_t n, const char* word) {
+static int blank_or_eol(unsigned char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+/* word as a token at the start of a line (after optional blanks), as a PLY header's keywords are:
+ * followed by a blank, a line end, or the end of the bytes (whole: n is the whole input) */
+static int holds_line(const unsigned char* b, size_t n, const char* word, int whole) {
     size_t m = strlen(word);
     for (size_t i = 0; i + m <= n; ++i) {
         if (b[i] != (unsigned char)word[0] || memcmp(b + i, word, m) != 0) continue;
         size_t j = i;
         while (j > 0 && (b[j - 1] == ' ' || b[j - 1] == '\t')) --j;
-        if (j > 0 && (b[j - 1] == '\n' || b[j - 1] == '\r')) return 1;
+        if (j == 0 || (b[j - 1] != '\n' && b[j - 1] != '\r')) continue;
+        if (i + m < n ? blank_or_eol(b[i + m]) : whole) return 1;
     }
     return 0;
 }
@@ -42,7 +47,7 @@ static weft_status no_end_header(const char* name, wc_diag* diag) {
 weft_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag) {
     if (starts_ply(data, size)) {
         size_t n = size < WC_PRECHECK_PLY_HEADER_MAX ? size : WC_PRECHECK_PLY_HEADER_MAX;
-        if (!holds_line(data, n, "end_header")) return no_end_header(name, diag);
+        if (!holds_line(data, n, "end_header", n == size)) return no_end_header(name, diag);
     }
     return WEFT_OK;
 }
@@ -58,8 +63,9 @@ weft_status wc_import_precheck_file(const char* path, const unsigned char* head,
         return wc_fail(diag, WEFT_ERROR_IO, "cannot open '%s': %s", path, errno ? strerror(errno) : "fopen failed");
     }
     size_t n = fread(buf, 1, WC_PRECHECK_PLY_HEADER_MAX, f);
+    int whole = n < WC_PRECHECK_PLY_HEADER_MAX || fgetc(f) == EOF;
     fclose(f);
-    int ok = holds_line(buf, n, "end_header");
+    int ok = holds_line(buf, n, "end_header", whole);
     free(buf);
     return ok ? WEFT_OK : no_end_header(path, diag);
 }

@@ -38,6 +38,23 @@ static void test_ply_without_end_header_memory(void) {
     CHECK(strstr(d.message, "<memory>.ply") != NULL);
 }
 
+/* the other shapes of a header assimp 5.2.5 never finishes, found by fuzz_import */
+static void test_end_header_not_a_line(void) {
+    static const char inside[] = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n0 1end_header\n0\n";
+    static const char ctrl_z[] = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\x1a" "0\n";
+    static const char at_end[] =
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement face 0\n"
+        "property list uchar int vertex_indices\nend_header";
+    wc_source_mesh m;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_import_memory(&m, NULL, inside, sizeof inside - 1, "ply", NULL, &d), WEFT_ERROR_IMPORT);
+    CHECK_EQ_INT(wc_import_memory(&m, NULL, ctrl_z, sizeof ctrl_z - 1, "ply", NULL, &d), WEFT_ERROR_IMPORT);
+    CHECK(strstr(d.message, "end_header") != NULL);
+    /* end_header as the last bytes is a complete header: assimp answers (no faces: not a mesh) */
+    weft_status st = wc_import_memory(&m, NULL, at_end, sizeof at_end - 1, "ply", NULL, &d);
+    CHECK(st != WEFT_OK && strstr(d.message, "end_header line") == NULL);
+}
+
 static void test_good_ply_still_imports(void) {
     wc_source_mesh m;
     wc_diag d = {0};
@@ -63,6 +80,7 @@ static void test_memory_arguments(void) {
 int main(void) {
     RUN_TEST(test_ply_without_end_header_file);
     RUN_TEST(test_ply_without_end_header_memory);
+    RUN_TEST(test_end_header_not_a_line);
     RUN_TEST(test_good_ply_still_imports);
     RUN_TEST(test_memory_arguments);
     return TEST_SUMMARY();
