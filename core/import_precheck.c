@@ -5,7 +5,10 @@
  *    or has the word only inside another line ("0.5 0 1 1end_header"), or followed by anything
  *    but a blank or a line end ("end_header\x1a...").
  *    assimp takes a buffer as PLY when it starts with "ply" (its signature check), so such a
- *    buffer must hold an end_header line within its first WC_PRECHECK_PLY_HEADER_MAX bytes. */
+ *    buffer must hold an end_header line within its first WC_PRECHECK_PLY_HEADER_MAX bytes.
+ * 2. PLY declaring one element twice: with two "element vertex" lines in the header, assimp
+ *    5.2.5's PLY reader corrupts its heap (ASan: a bad free when the scene is released; found by
+ *    fuzz_import). The header's element names must be distinct. */
 #include "import_precheck.h"
 #include <errno.h>
 #include <stdio.h>
@@ -38,6 +41,40 @@ static int holds_line(const unsigned char* b, size_t n, const char* word, int wh
     return 0;
 }
 
+/* The first element name declared twice in the header (the bytes before end_header) into dup;
+ * 0 when every name is distinct. Names are compared on their first 31 characters; a header
+ * with more than 64 elements is judged on the first 64 (real files have 2-4). */
+static int duplicate_element(const unsigned char* b, size_t n, char dup[32]) {
+    char names[64][32];
+    int count = 0;
+    size_t i = 0;
+    while (i < n) {
+        size_t end = i;
+        while (end < n && b[end] != '\n' && b[end] != '\r') ++end;
+        size_t k = i;
+        while (k < end && (b[k] == ' ' || b[k] == '\t')) ++k;
+        if (end - k >= 10 && memcmp(b + k, "end_header", 10) == 0) break;
+        if (end - k > 8 && memcmp(b + k, "element", 7) == 0 && (b[k + 7] == ' ' || b[k + 7] == '\t')) {
+            k += 8;
+            while (k < end && (b[k] == ' ' || b[k] == '\t')) ++k;
+            char name[32];
+            size_t m = 0;
+            while (k < end && b[k] != ' ' && b[k] != '\t' && m < sizeof name - 1) name[m++] = (char)b[k++];
+            name[m] = '\0';
+            for (int e = 0; e < count; ++e)
+                if (strcmp(names[e], name) == 0) {
+                    memcpy(dup, name, m + 1);
+                    return 1;
+                }
+            if (count < 64) memcpy(names[count++], name, m + 1);
+        }
+        i = end + 1;
+    }
+    return 0;
+}
+
+static weft_status ply_header(const unsigned char* b, size_t n, int whole, const char* name, wc_diag* diag);
+
 static weft_status no_end_header(const char* name, wc_diag* diag) {
     return wc_fail(diag, WEFT_ERROR_IMPORT,
                    "cannot import '%s': a PLY file whose header has no end_header line within its "
@@ -47,7 +84,7 @@ static weft_status no_end_header(const char* name, wc_diag* diag) {
 weft_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag) {
     if (starts_ply(data, size)) {
         size_t n = size < WC_PRECHECK_PLY_HEADER_MAX ? size : WC_PRECHECK_PLY_HEADER_MAX;
-        if (!holds_line(data, n, "end_header", n == size)) return no_end_header(name, diag);
+        return ply_header(data, n, n == size, name, diag);
     }
     return WEFT_OK;
 }
@@ -65,7 +102,16 @@ weft_status wc_import_precheck_file(const char* path, const unsigned char* head,
     size_t n = fread(buf, 1, WC_PRECHECK_PLY_HEADER_MAX, f);
     int whole = n < WC_PRECHECK_PLY_HEADER_MAX || fgetc(f) == EOF;
     fclose(f);
-    int ok = holds_line(buf, n, "end_header", whole);
+    weft_status st = ply_header(buf, n, whole, path, diag);
     free(buf);
-    return ok ? WEFT_OK : no_end_header(path, diag);
+    return st;
+}
+
+static weft_status ply_header(const unsigned char* b, size_t n, int whole, const char* name, wc_diag* diag) {
+    if (!holds_line(b, n, "end_header", whole)) return no_end_header(name, diag);
+    char dup[32];
+    if (duplicate_element(b, n, dup))
+        return wc_fail(diag, WEFT_ERROR_IMPORT,
+                       "cannot import '%s': the PLY header declares the element '%s' twice (damaged header)", name, dup);
+    return WEFT_OK;
 }

@@ -55,6 +55,22 @@ static void test_end_header_not_a_line(void) {
     CHECK(st != WEFT_OK && strstr(d.message, "end_header line") == NULL);
 }
 
+/* two "element vertex" lines: assimp 5.2.5 corrupts its heap (a bad free found by fuzz_import) */
+static void test_element_declared_twice(void) {
+    static const char twice[] =
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement vertex 3\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0\n0 0 0\n1 0 0\n0 0 1\n3 0 1 2\n";
+    wc_source_mesh m;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_import_memory(&m, NULL, twice, sizeof twice - 1, "ply", NULL, &d), WEFT_ERROR_IMPORT);
+    CHECK(strstr(d.message, "'vertex' twice") != NULL);
+    const char* path = WEFT_TEST_TMPDIR "/precheck_twice.ply";
+    write_file(path, twice);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, NULL, &d), WEFT_ERROR_IMPORT);
+    CHECK(strstr(d.message, "'vertex' twice") != NULL);
+}
+
 static void test_good_ply_still_imports(void) {
     wc_source_mesh m;
     wc_diag d = {0};
@@ -81,6 +97,7 @@ int main(void) {
     RUN_TEST(test_ply_without_end_header_file);
     RUN_TEST(test_ply_without_end_header_memory);
     RUN_TEST(test_end_header_not_a_line);
+    RUN_TEST(test_element_declared_twice);
     RUN_TEST(test_good_ply_still_imports);
     RUN_TEST(test_memory_arguments);
     return TEST_SUMMARY();
