@@ -18,6 +18,7 @@ packages=(
   libhypre-dev                    # tests/bench/bench_hypre only (BoomerAMG beside Weft's preconditioners):
                                   # brings OpenMPI, ~15 MB download / 67 MB installed; never linked into
                                   # libweft.so or the weft CLI, and the build skips bench_hypre without it
+  clang libclang-rt-14-dev        # .ci/fuzz (libFuzzer, ASan, UBSan) and .ci/tsan (ThreadSanitizer)
 )
 
 missing=()

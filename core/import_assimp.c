@@ -1,4 +1,5 @@
-/* wc_import_file: any format assimp reads -> wc_source_mesh (metres, polygons kept as polygons).
+/* wc_import_file / wc_import_memory: any format assimp reads -> wc_source_mesh (metres, polygons
+ * kept as polygons).
  *
  * Steps: probe the file with fopen (IO errors), import with no post-processing, resolve the
  * selection and the list of mesh instances (node tree walked from the root, world transforms
@@ -11,6 +12,7 @@
  * identity) nor UnitScaleFactor (centimetres per file unit; only in aiScene::mMetaData, as a
  * float). We apply UnitScaleFactor / 100 ourselves and leave the axes as the file has them. */
 #include "source_mesh.h"
+#include "import_precheck.h"
 #include <assimp/cimport.h>
 #include <assimp/config.h>
 #include <assimp/metadata.h>
@@ -25,6 +27,7 @@
 
 #define WC_IMPORT_MAX_DEPTH 512   /* node hierarchy depth limit (recursion) */
 #define WC_IMPORT_HEAD 64         /* bytes read up front to diagnose files with no meshes */
+#define WC_IMPORT_MAX_HINT 15     /* characters of a memory import's format hint */
 
 wc_import_opts wc_default_import_opts(void) {
     wc_import_opts o;
@@ -237,6 +240,32 @@ static weft_status check_raw_finite(const struct aiScene* s, const instance* ins
     return WEFT_OK;
 }
 
+/* Every mesh's faces index its own vertices. assimp's importers can return a scene that breaks
+ * this for a damaged file (found by fuzz/fuzz_import: a binary PLY whose face list reads past its
+ * vertices), and aiProcess_JoinIdenticalVertices then reads out of bounds and crashes inside
+ * assimp 5.2.5. It runs on every mesh of the scene, selected or not, so every mesh is checked. */
+static weft_status check_faces(const struct aiScene* s, const char* path, wc_diag* diag) {
+    for (unsigned i = 0; i < s->mNumMeshes; ++i) {
+        const struct aiMesh* m = s->mMeshes[i];
+        if (!m) continue;   /* walk_node reports references to it */
+        if ((m->mNumVertices > 0 && !m->mVertices) || (m->mNumFaces > 0 && !m->mFaces))
+            return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' has no %s (corrupt file)", path,
+                           m->mName.data, m->mVertices ? "faces" : "positions");
+        for (unsigned f = 0; f < m->mNumFaces; ++f) {
+            const struct aiFace* face = &m->mFaces[f];
+            if (face->mNumIndices > 0 && !face->mIndices)
+                return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' face %u has no indices (corrupt file)",
+                               path, m->mName.data, f);
+            for (unsigned k = 0; k < face->mNumIndices; ++k)
+                if (face->mIndices[k] >= m->mNumVertices)
+                    return wc_fail(diag, WEFT_ERROR_IMPORT,
+                                   "'%s': mesh '%s' face %u uses vertex %u of %u (corrupt file)", path,
+                                   m->mName.data, f, face->mIndices[k], m->mNumVertices);
+        }
+    }
+    return WEFT_OK;
+}
+
 /* Concatenate the instances into out (allocated with alloc). Scene already joined. */
 static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
                               const struct aiScene* s, const instance* inst, size_t n_inst,
@@ -333,34 +362,41 @@ static weft_status file_unit(const struct aiScene* s, const char* path, double* 
     return WEFT_OK;
 }
 
-weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
-                           const wc_import_opts* opts, wc_diag* diag) {
-    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: out is NULL");
-    memset(out, 0, sizeof *out);
-    if (!path || !path[0])
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: path is %s",
-                       path ? "empty" : "NULL");
-    wc_import_opts o = opts ? *opts : wc_default_import_opts();
-    if (o.scale == 0.0) o.scale = 1.0;
-    if (!(isfinite(o.scale) && o.scale > 0.0))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
-                       "import '%s': scale %g must be finite and > 0 (0 means 1)", path, o.scale);
-    if (o.select && !o.select[0]) o.select = NULL;
-
-    unsigned char head[WC_IMPORT_HEAD];
-    size_t n_head = 0;
-    weft_status st = probe_file(path, head, &n_head, diag);
-    if (st != WEFT_OK) return st;
-
+/* The importer's settings (the same for files and memory); NULL on allocation failure. */
+static struct aiPropertyStore* new_props(const char* name, wc_diag* diag) {
     struct aiPropertyStore* props = aiCreatePropertyStore();
-    if (!props)
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "import '%s': no property store", path);
+    if (!props) {
+        wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "import '%s': no property store", name);
+        return NULL;
+    }
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, 0);
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_READ_CAMERAS, 0);
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_READ_LIGHTS, 0);
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_NO_SKELETON_MESHES, 1);
-    const struct aiScene* scene = aiImportFileExWithProperties(path, 0, NULL, props);
+    return props;
+}
+
+/* Options checked and defaulted (scale 0 -> 1, select "" -> NULL). */
+static weft_status check_opts(const wc_import_opts* opts, const char* name, wc_import_opts* o,
+                              wc_diag* diag) {
+    *o = opts ? *opts : wc_default_import_opts();
+    if (o->scale == 0.0) o->scale = 1.0;
+    if (!(isfinite(o->scale) && o->scale > 0.0))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+                       "import '%s': scale %g must be finite and > 0 (0 means 1)", name, o->scale);
+    if (o->select && !o->select[0]) o->select = NULL;
+    return WEFT_OK;
+}
+
+/* The rest of an import, shared by files and memory: scene (NULL: assimp failed) -> *out.
+ * Releases scene and props. */
+static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
+                                const struct aiScene* scene, struct aiPropertyStore* props,
+                                const char* path, const unsigned char* head, size_t n_head,
+                                const wc_import_opts* opts, wc_diag* diag) {
+    weft_status st = WEFT_OK;
+    wc_import_opts o = *opts;
     if (!scene) {
         const char* why = aiGetErrorString();   /* process-global in assimp: copy it now */
         char reason[256];
@@ -447,6 +483,7 @@ weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const
     walk_node(&w, scene->mRootNode, identity, 0, 0);   /* fill */
 
     st = check_raw_finite(scene, inst, w.n_inst, path, diag);
+    if (st == WEFT_OK) st = check_faces(scene, path, diag);   /* before assimp's post-processing */
     if (st != WEFT_OK) goto done;
 
     scene = aiApplyPostProcessing(scene, aiProcess_JoinIdenticalVertices);
@@ -470,4 +507,58 @@ done:
     aiReleasePropertyStore(props);
     if (st != WEFT_OK) memset(out, 0, sizeof *out);
     return st;
+}
+
+weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
+                           const wc_import_opts* opts, wc_diag* diag) {
+    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: out is NULL");
+    memset(out, 0, sizeof *out);
+    if (!path || !path[0])
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: path is %s",
+                       path ? "empty" : "NULL");
+    wc_import_opts o;
+    weft_status st = check_opts(opts, path, &o, diag);
+    if (st != WEFT_OK) return st;
+
+    unsigned char head[WC_IMPORT_HEAD];
+    size_t n_head = 0;
+    st = probe_file(path, head, &n_head, diag);
+    if (st != WEFT_OK) return st;
+    st = wc_import_precheck_file(path, head, n_head, diag);   /* inputs known to hang assimp */
+    if (st != WEFT_OK) return st;
+
+    struct aiPropertyStore* props = new_props(path, diag);
+    if (!props) return WEFT_ERROR_OUT_OF_MEMORY;
+    const struct aiScene* scene = aiImportFileExWithProperties(path, 0, NULL, props);
+    return import_scene(out, alloc, scene, props, path, head, n_head, &o, diag);
+}
+
+weft_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
+                             size_t size, const char* hint, const wc_import_opts* opts,
+                             wc_diag* diag) {
+    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: out is NULL");
+    memset(out, 0, sizeof *out);
+    if (!data) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: data is NULL");
+    if (!hint || !hint[0] || strlen(hint) > WC_IMPORT_MAX_HINT)
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: the format hint is %s",
+                       !hint ? "NULL" : hint[0] ? "too long" : "empty");
+    char name[WC_IMPORT_MAX_HINT + 16];
+    snprintf(name, sizeof name, "<memory>.%s", hint);   /* messages; FBX by its extension too */
+    wc_import_opts o;
+    weft_status st = check_opts(opts, name, &o, diag);
+    if (st != WEFT_OK) return st;
+    if (size == 0)
+        return wc_fail(diag, WEFT_ERROR_IMPORT, "cannot import '%s': the buffer is empty (0 bytes)",
+                       name);
+    if (size > UINT_MAX)   /* assimp takes an unsigned length */
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "cannot import '%s': %zu bytes is too large",
+                       name, size);
+    st = wc_import_precheck_memory(data, size, name, diag);   /* inputs known to hang assimp */
+    if (st != WEFT_OK) return st;
+    size_t n_head = size < WC_IMPORT_HEAD ? size : WC_IMPORT_HEAD;
+    struct aiPropertyStore* props = new_props(name, diag);
+    if (!props) return WEFT_ERROR_OUT_OF_MEMORY;
+    const struct aiScene* scene =
+        aiImportFileFromMemoryWithProperties(data, (unsigned)size, 0, hint, props);
+    return import_scene(out, alloc, scene, props, name, data, n_head, &o, diag);
 }

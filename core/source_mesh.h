@@ -63,6 +63,16 @@ wc_import_opts wc_default_import_opts(void);
 weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
                            const wc_import_opts* opts, wc_diag* diag);
 
+/* The same from a buffer in memory (assimp's read-from-memory): hint is the format's file
+ * extension ("obj", "fbx", "gltf", "glb", "ply"; at most 15 characters), which messages use as
+ * "<memory>.HINT". A format that refers to other files (an OBJ's mtllib, a glTF's external
+ * buffers) makes assimp 5.2.5 open them by path from the file system: its memory reader falls
+ * back to the default one (seen with strace: "mtllib /tmp/x.mtl" in a buffer opens /tmp/x.mtl).
+ * Errors as wc_import_file (IMPORT for an empty buffer). */
+weft_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
+                             size_t size, const char* hint, const wc_import_opts* opts,
+                             wc_diag* diag);
+
 void wc_source_mesh_free(wc_source_mesh* m);
 
 #endif

@@ -16,11 +16,13 @@
  *                   step's GPU pieces, outputs, weft_cloth_write_gl_buffers */
 #ifndef WEFT_PLUGIN_API_INTERNAL_H
 #define WEFT_PLUGIN_API_INTERNAL_H
+#include <stdatomic.h>
 #include <stdint.h>
 #include "model.h"
 #include "state.h"
 #include "step.h"
 #include "weft/weft.h"
+#include "call_guard.h"
 
 /* Cookies the weft_default_*() functions put into internal_cookie: a def that skipped its
  * initialiser (zeroed, stack garbage, or a def of another type) is refused. */
@@ -132,6 +134,8 @@ struct weft_context {
                                    by the solver and the renderer */
     void* renderer;             /* wg_renderer* in it */
     void* device;               /* wg_device* (GPU backend only): the solver's programs */
+    _Atomic uintptr_t call_owner; /* in-call flag (call_guard.c): the calling thread's token, 0 idle */
+    int call_depth;             /* nested calls of the owning thread */
 };
 
 /* ---- context.c helpers ----------------------------------------------------------------------- */

@@ -125,6 +125,7 @@ static weft_status build_cloth(weft_context* ctx, wa_cloth* c, const weft_cloth_
 }
 
 weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft_cloth* out) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_create";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     if (!out) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: out is NULL", fn);
@@ -200,6 +201,7 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
 }
 
 weft_status weft_cloth_destroy(weft_context* ctx, weft_cloth cloth) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, "weft_cloth_destroy");
     if (!c) return WEFT_ERROR_INVALID_HANDLE;
@@ -210,6 +212,7 @@ weft_status weft_cloth_destroy(weft_context* ctx, weft_cloth cloth) {
 
 weft_status weft_cloth_set_attachments(weft_context* ctx, weft_cloth cloth, const weft_attachment_def* attachments,
                                        int n) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_set_attachments";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);
@@ -226,6 +229,7 @@ weft_status weft_cloth_set_attachments(weft_context* ctx, weft_cloth cloth, cons
 }
 
 weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_get_info";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);

@@ -233,6 +233,7 @@ static void fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_st
 }
 
 weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr, weft_frame_stats* stats) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_step";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     double t_start = wc_now_ms();

@@ -63,6 +63,7 @@ int wa_outputs_in_range(const wa_cloth* c, const wa_xform* T, int* vertex, doubl
 
 weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth, weft_space space, float* positions,
                                     float* normals, int capacity, int* count) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_get_vertices";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);
@@ -128,6 +129,7 @@ weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth, weft_sp
 }
 
 weft_status weft_cloth_get_triangles(weft_context* ctx, weft_cloth cloth, int* indices, int capacity, int* count) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_get_triangles";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);

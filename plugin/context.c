@@ -137,6 +137,11 @@ weft_status weft_context_create(int abi, const weft_context_def* def, weft_conte
 
 void weft_context_destroy(weft_context* ctx) {
     if (!ctx) return;
+    if (!wa_call_idle(ctx)) {   /* threading contract broken: leak the context rather than free it under a call */
+        wa_log(ctx, WEFT_LOG_ERROR, "weft_context_destroy: another thread is inside a call on this context: "
+               "not destroyed (threading contract, weft.h)");
+        return;
+    }
     for (int i = 0; i < ctx->n_slots; ++i)
         if (ctx->slots[i].cloth) wa_cloth_free(ctx->slots[i].cloth);
     wa_gpu_context_release(ctx);   /* the device before its GL context */

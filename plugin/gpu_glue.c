@@ -248,6 +248,7 @@ static weft_status check_buffer(weft_context* ctx, unsigned name, size_t offset,
 
 weft_status weft_cloth_write_gl_buffers(weft_context* ctx, weft_cloth cloth, weft_space space, unsigned position_buffer,
                                         size_t position_offset, unsigned normal_buffer, size_t normal_offset) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_write_gl_buffers";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);
@@ -344,6 +345,7 @@ weft_status wa_gpu_vertices(weft_context* ctx, wa_cloth* c, int object, float* p
 }
 weft_status weft_cloth_write_gl_buffers(weft_context* ctx, weft_cloth cloth, weft_space space, unsigned position_buffer,
                                         size_t position_offset, unsigned normal_buffer, size_t normal_offset) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     (void)space, (void)position_buffer, (void)position_offset, (void)normal_buffer, (void)normal_offset;
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     if (!wa_lookup(ctx, cloth, "weft_cloth_write_gl_buffers")) return WEFT_ERROR_INVALID_HANDLE;

@@ -119,6 +119,7 @@ static void xform_to_floats(const wa_xform* x, float* m) {
 }
 
 weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_def* def) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, "weft_render");
     if (!c) return ctx->last_status;
@@ -199,6 +200,7 @@ done:
 void wa_render_release(weft_context* ctx) { (void)ctx; }
 
 weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_def* def) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     if (!wa_lookup(ctx, cloth, "weft_render")) return ctx->last_status;
     weft_status st = check_def(ctx, def);

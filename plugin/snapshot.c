@@ -249,6 +249,7 @@ void wa_snapshot_apply_small(wa_cloth* c, const unsigned char* buf) {
 }
 
 weft_status weft_cloth_save(weft_context* ctx, weft_cloth cloth, void* buf, size_t size) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_save";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);
@@ -306,6 +307,7 @@ static int plausible(const wa_cloth* c, const unsigned char* buf, size_t size) {
 }
 
 weft_status weft_cloth_restore(weft_context* ctx, weft_cloth cloth, const void* buf_, size_t size) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_restore";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
     wa_cloth* c = wa_lookup(ctx, cloth, fn);

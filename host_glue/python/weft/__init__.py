@@ -62,6 +62,7 @@ class Status(enum.IntEnum):
     UNSUPPORTED = 16
     SNAPSHOT_MISMATCH = 17
     GPU = 18
+    CONCURRENT_CALL = 19
 
 
 class LogLevel(enum.IntEnum):

@@ -46,6 +46,13 @@
  *  - A context and everything created from it must be used by one thread at a time (the host
  *    serialises its calls; Weft takes no locks). Different contexts may be used concurrently on
  *    different threads.
+ *  - Broken contract: a call that finds another thread inside a call on the same context is
+ *    refused at once with WEFT_ERROR_CONCURRENT_CALL (an atomic in-call flag per context): it
+ *    changes nothing, writes no output and leaves the context's last error to the thread inside;
+ *    weft_context_destroy in that situation logs an ERROR and does not destroy (the context
+ *    leaks rather than being freed under the other call). Calls nested on the thread that is
+ *    inside (from a logger or allocator callback) pass. Not detectable: any call after
+ *    weft_context_destroy, and weft_context_last_error/last_status/backend, which only read.
  *  - Inside a call, Weft may use weft_context_def.threads OpenMP threads of its own; the call
  *    returns only when they are done, and no callback (logger, allocator) runs after it returns.
  *    The logger and allocator may be called from the calling thread only.

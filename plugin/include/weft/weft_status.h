@@ -23,7 +23,8 @@
     X(WEFT_ERROR_CALL_ORDER, 15, "call out of order")                                  \
     X(WEFT_ERROR_UNSUPPORTED, 16, "not supported by this build or backend")                 \
     X(WEFT_ERROR_SNAPSHOT_MISMATCH, 17, "snapshot belongs to another model or version") \
-    X(WEFT_ERROR_GPU, 18, "EGL/OpenGL failure (no device, context or framebuffer)")
+    X(WEFT_ERROR_GPU, 18, "EGL/OpenGL failure (no device, context or framebuffer)")                 \
+    X(WEFT_ERROR_CONCURRENT_CALL, 19, "another thread is inside a call on this context (threading contract)")
 
 typedef enum weft_status {
 #define WEFT_STATUS_ENUM_(name, value, msg) name = value,
