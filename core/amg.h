@@ -101,7 +101,6 @@ typedef struct wc_amg {
     double* coarse_L;           /* (coarse_dofs^2) dense Cholesky factor, lower, row-major */
     double* coarse_y;           /* (coarse_dofs) */
     double setup_ms;            /* of the last wc_amg_setup */
-    long long setups;           /* wc_amg_setup calls (the first runs more power iterations) */
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */
