@@ -1,0 +1,162 @@
+#include "bvh.h"
+
+#include <math.h>
+#include <string.h>
+
+void wc_box_empty(double* box) {
+    for (int k = 0; k < 3; ++k) {
+        box[k] = INFINITY;
+        box[3 + k] = -INFINITY;
+    }
+}
+
+void wc_box_add(double* box, const double* p) {
+    for (int k = 0; k < 3; ++k) {
+        if (p[k] < box[k]) box[k] = p[k];
+        if (p[k] > box[3 + k]) box[3 + k] = p[k];
+    }
+}
+
+void wc_box_inflate(double* box, double r) {
+    for (int k = 0; k < 3; ++k) {
+        box[k] -= r;
+        box[3 + k] += r;
+    }
+}
+
+static void box_union(double* o, const double* a, const double* b) {
+    for (int k = 0; k < 3; ++k) {
+        o[k] = a[k] < b[k] ? a[k] : b[k];
+        o[3 + k] = a[3 + k] > b[3 + k] ? a[3 + k] : b[3 + k];
+    }
+}
+
+static double centre(const double* boxes, int prim, int axis) { return boxes[6 * prim + axis] + boxes[6 * prim + 3 + axis]; }
+
+/* Reorder prims[lo, hi) so that prims[mid] has the median centre along axis, smaller before it,
+ * larger after (Hoare's selection; ties are broken by primitive index for a deterministic tree). */
+static void select_median(int* prims, int lo, int hi, int mid, const double* boxes, int axis) {
+    while (hi - lo > 1) {
+        int pivot = prims[lo + (hi - lo) / 2];
+        double pc = centre(boxes, pivot, axis);
+        int i = lo, j = hi - 1;
+        while (i <= j) {
+            while (centre(boxes, prims[i], axis) < pc || (centre(boxes, prims[i], axis) == pc && prims[i] < pivot)) ++i;
+            while (centre(boxes, prims[j], axis) > pc || (centre(boxes, prims[j], axis) == pc && prims[j] > pivot)) --j;
+            if (i <= j) {
+                int t = prims[i];
+                prims[i] = prims[j];
+                prims[j] = t;
+                ++i;
+                --j;
+            }
+        }
+        if (mid <= j)
+            hi = j + 1;
+        else if (mid >= i)
+            lo = i;
+        else
+            return;
+    }
+}
+
+/* Preorder build without recursion: a stack of (node, lo, hi) ranges. */
+typedef struct build_item {
+    int node, lo, hi;
+} build_item;
+
+weft_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator* alloc, wc_diag* diag) {
+    memset(b, 0, sizeof(*b));
+    if (alloc) b->alloc = *alloc;
+    if (n < 0) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "bvh: %d primitives", n);
+    for (int i = 0; i < 6 * n; ++i)
+        if (!isfinite(boxes[i])) return wc_fail(diag, WEFT_ERROR_NONFINITE, "bvh: box of primitive %d is not finite", i / 6);
+    b->n_prims = n;
+    if (n == 0) return WEFT_OK;
+    b->n_nodes = 2 * n - 1;
+    b->box = WC_NEW(&b->alloc, double, (size_t)b->n_nodes * 6);
+    b->child = WC_NEW(&b->alloc, int, (size_t)b->n_nodes * 2);
+    b->leaf_of = WC_NEW(&b->alloc, int, n);
+    int* prims = WC_NEW(&b->alloc, int, n);
+    build_item* stack = WC_NEW(&b->alloc, build_item, WC_BVH_MAX_DEPTH + 1);
+    if (!b->box || !b->child || !b->leaf_of || !prims || !stack) {
+        wc_free(&b->alloc, prims);
+        wc_free(&b->alloc, stack);
+        wc_bvh_free(b);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bvh: out of memory for %d primitives", n);
+    }
+    for (int i = 0; i < n; ++i) prims[i] = i;
+    int top = 0;
+    stack[top++] = (build_item){0, 0, n};
+    while (top > 0) {
+        build_item it = stack[--top];
+        if (it.hi - it.lo == 1) {
+            b->child[2 * it.node] = -1;
+            b->child[2 * it.node + 1] = prims[it.lo];
+            b->leaf_of[prims[it.lo]] = it.node;
+            continue;
+        }
+        double cb[6];
+        wc_box_empty(cb);
+        for (int i = it.lo; i < it.hi; ++i) {
+            double c[3] = {centre(boxes, prims[i], 0), centre(boxes, prims[i], 1), centre(boxes, prims[i], 2)};
+            wc_box_add(cb, c);
+        }
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (cb[3 + k] - cb[k] > cb[3 + axis] - cb[axis]) axis = k;
+        int mid = it.lo + (it.hi - it.lo) / 2;
+        select_median(prims, it.lo, it.hi, mid, boxes, axis);
+        /* left [lo, mid) right after the node, right [mid, hi) after the whole left subtree */
+        int left = it.node + 1, right = it.node + 2 * (mid - it.lo);
+        b->child[2 * it.node] = left;
+        b->child[2 * it.node + 1] = right;
+        /* depth: the right half is the larger one; push it first so the stack stays shallow */
+        stack[top++] = (build_item){right, mid, it.hi};
+        stack[top++] = (build_item){left, it.lo, mid};
+    }
+    wc_free(&b->alloc, prims);
+    wc_free(&b->alloc, stack);
+    wc_bvh_refit(b, boxes);
+    return WEFT_OK;
+}
+
+void wc_bvh_free(wc_bvh* b) {
+    wc_free(&b->alloc, b->box);
+    wc_free(&b->alloc, b->child);
+    wc_free(&b->alloc, b->leaf_of);
+    wc_allocator a = b->alloc;
+    memset(b, 0, sizeof(*b));
+    b->alloc = a;
+}
+
+void wc_bvh_refit(wc_bvh* b, const double* boxes) {
+    /* children come after their parent (preorder): one backward sweep */
+    for (int node = b->n_nodes - 1; node >= 0; --node) {
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0)
+            memcpy(b->box + 6 * node, boxes + 6 * ch[1], 6 * sizeof(double));
+        else
+            box_union(b->box + 6 * node, b->box + 6 * ch[0], b->box + 6 * ch[1]);
+    }
+}
+
+int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void* user) {
+    if (b->n_nodes == 0) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (!wc_box_overlap(b->box + 6 * node, box)) continue;
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0) {
+            int r = visit(user, ch[1]);
+            if (r) return r;
+        } else {
+            stack[top++] = ch[1];
+            stack[top++] = ch[0];
+        }
+    }
+    return 0;
+}

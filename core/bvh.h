@@ -1,0 +1,43 @@
+/* Bounding-volume hierarchy over axis-aligned boxes: the broad phase of the mesh colliders and of
+ * self-collision. The tree's shape is built once, at creation, from the primitives' boxes then
+ * (median split of the box centres along the widest axis; one primitive per leaf; depth at most
+ * ceil(log2 n) + 1); every substep only refits the boxes (wc_bvh_refit, O(n), no allocation),
+ * which keeps a cloth or a skinned body's tree valid however it deforms (looser, not wrong, when
+ * it deforms far from the build shape). Queries are read-only and may run on many threads. */
+#ifndef WEFT_CORE_BVH_H
+#define WEFT_CORE_BVH_H
+#include "alloc.h"
+#include "diag.h"
+
+#define WC_BVH_MAX_DEPTH 64   /* a median-split tree of up to 2^62 primitives */
+
+typedef struct wc_bvh {
+    int n_prims;
+    int n_nodes;                /* 2 n_prims - 1 (0 when empty) */
+    double* box;                /* (n_nodes x 6) min xyz, max xyz; node 0 is the root */
+    int* child;                 /* (n_nodes x 2) internal: left, right (> the node: preorder);
+                                   leaf: -1, primitive */
+    int* leaf_of;               /* (n_prims) the leaf node of each primitive */
+    wc_allocator alloc;
+} wc_bvh;
+
+/* Build the tree over n >= 0 boxes (n x 6: min xyz, max xyz, finite, min <= max). */
+weft_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator* alloc, wc_diag* diag);
+void wc_bvh_free(wc_bvh* b);
+/* New boxes for the same primitives (n_prims x 6); the tree's shape is kept. */
+void wc_bvh_refit(wc_bvh* b, const double* boxes);
+
+/* Calls visit(user, prim) for every primitive whose box overlaps box (6: min xyz, max xyz,
+ * closed intervals); stops early when visit returns non-zero (then returns that value, else 0). */
+typedef int (*wc_bvh_visit_fn)(void* user, int prim);
+int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void* user);
+
+/* Box helpers: an empty box (min +inf, max -inf), growing one by a point, inflating by r. */
+void wc_box_empty(double* box);
+void wc_box_add(double* box, const double* p);
+void wc_box_inflate(double* box, double r);
+static inline int wc_box_overlap(const double* a, const double* b) {
+    return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+}
+
+#endif

@@ -1,0 +1,289 @@
+/* The collision geometry (core/geom.c) and broad phase (core/bvh.c) against brute force: closest
+ * points against dense sampling, continuous queries against the sign changes of a finely sampled
+ * coplanarity function, BVH queries (before and after a refit) against testing every box. */
+#include <stdlib.h>
+
+#include "bvh.h"
+#include "check.h"
+#include "geom.h"
+#include "vec3.h"
+
+static unsigned rng_state = 12345u;
+static double rnd(void) { /* uniform [-1, 1) */
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return (double)(rng_state >> 8) / (double)(1u << 24) * 2.0 - 1.0;
+}
+static void rnd3(double* p, double s) { v3_set(p, s * rnd(), s * rnd(), s * rnd()); }
+
+static void test_closest_on_triangle_brute(void) {
+    int worse = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        double a[3], b[3], c[3], p[3], w[3], q[3];
+        rnd3(a, 1); rnd3(b, 1); rnd3(c, 1); rnd3(p, 2);
+        if (trial % 50 == 0) v3_copy(c, b); /* degenerate */
+        double d2 = wc_closest_on_triangle(p, a, b, c, w, q);
+        CHECK(w[0] >= -1e-12 && w[1] >= -1e-12 && w[2] >= -1e-12 && fabs(w[0] + w[1] + w[2] - 1) < 1e-12);
+        double best = INFINITY;
+        int N = 200;
+        for (int i = 0; i <= N; ++i)
+            for (int j = 0; i + j <= N; ++j) {
+                double u = (double)i / N, v = (double)j / N, x[3], d[3];
+                for (int k = 0; k < 3; ++k) x[k] = (1 - u - v) * a[k] + u * b[k] + v * c[k];
+                v3_sub(d, p, x);
+                double e = v3_dot(d, d);
+                if (e < best) best = e;
+            }
+        /* the sampled minimum can only be larger, and not by much */
+        if (d2 > best + 1e-12) ++worse;
+        CHECK(sqrt(best) - sqrt(d2) < 0.02);
+    }
+    CHECK_EQ_INT(worse, 0);
+}
+
+static void test_closest_on_segments_brute(void) {
+    int worse = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        double p0[3], p1[3], q0[3], q1[3], s, t;
+        rnd3(p0, 1); rnd3(p1, 1); rnd3(q0, 1); rnd3(q1, 1);
+        if (trial % 40 == 0) v3_copy(p1, p0);
+        if (trial % 60 == 1) { /* parallel */
+            double d[3];
+            v3_sub(d, p1, p0);
+            v3_add(q1, q0, d);
+        }
+        double d2 = wc_closest_on_segments(p0, p1, q0, q1, &s, &t);
+        CHECK(s >= 0 && s <= 1 && t >= 0 && t <= 1);
+        double best = INFINITY;
+        for (int i = 0; i <= 400; ++i)
+            for (int j = 0; j <= 400; ++j) {
+                double a[3], b[3], d[3];
+                for (int k = 0; k < 3; ++k) {
+                    a[k] = p0[k] + i / 400.0 * (p1[k] - p0[k]);
+                    b[k] = q0[k] + j / 400.0 * (q1[k] - q0[k]);
+                }
+                v3_sub(d, a, b);
+                if (v3_dot(d, d) < best) best = v3_dot(d, d);
+            }
+        if (d2 > best + 1e-12) ++worse;
+        CHECK(sqrt(best) - sqrt(d2) < 0.01);
+    }
+    CHECK_EQ_INT(worse, 0);
+}
+
+static void test_cubic_roots(void) {
+    double r[3];
+    /* (t - 0.2)(t - 0.5)(t - 0.9) */
+    double c3 = 1, c2 = -(0.2 + 0.5 + 0.9), c1 = 0.2 * 0.5 + 0.2 * 0.9 + 0.5 * 0.9, c0 = -0.2 * 0.5 * 0.9;
+    CHECK_EQ_INT(wc_cubic_roots01(c0, c1, c2, c3, 1, r), 3);
+    CHECK_NEAR(r[0], 0.2, 1e-10);
+    CHECK_NEAR(r[1], 0.5, 1e-10);
+    CHECK_NEAR(r[2], 0.9, 1e-10);
+    CHECK_EQ_INT(wc_cubic_roots01(1, 0, 0, 0, 1, r), 0);
+    CHECK_EQ_INT(wc_cubic_roots01(0, 0, 0, 0, 1, r), -1);
+    CHECK_EQ_INT(wc_cubic_roots01(-0.25, 0, 1, 0, 1, r), 1); /* t^2 - 1/4 */
+    CHECK_NEAR(r[0], 0.5, 1e-10);
+}
+
+static void lerp(double* o, const double* a, const double* b, double t) {
+    for (int k = 0; k < 3; ++k) o[k] = a[k] + t * (b[k] - a[k]);
+}
+
+/* A point falling through a still triangle, and random moving configurations against sampling:
+ * every sampled crossing (sign change of the coplanarity function with the point inside the
+ * triangle there) is found, no earlier than it, and every reported hit is a real contact. */
+static void test_ccd_point_triangle(void) {
+    double a[3] = {0, 0, 0}, b[3] = {1, 0, 0}, c[3] = {0, 0, 1}, p0[3] = {0.2, 0.5, 0.2}, p1[3] = {0.2, -1.5, 0.2};
+    double t, w[3];
+    CHECK(wc_ccd_point_triangle(p0, a, b, c, p1, a, b, c, 1e-9, &t, w));
+    CHECK_NEAR(t, 0.25, 1e-9);
+    CHECK_NEAR(w[1], 0.2, 1e-9);
+    CHECK_NEAR(w[2], 0.2, 1e-9);
+    double p2[3] = {0.8, 0.5, 0.8}, p3[3] = {0.8, -1.5, 0.8}; /* outside the triangle */
+    CHECK(!wc_ccd_point_triangle(p2, a, b, c, p3, a, b, c, 1e-9, &t, w));
+    int found = 0, missed = 0, false_hits = 0, late = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        double X0[4][3], X1[4][3];
+        for (int i = 0; i < 4; ++i) {
+            rnd3(X0[i], 1);
+            rnd3(X1[i], 1);
+            v3_axpy(X1[i], 0.5, X0[i]);
+        }
+        double th, wh[3];
+        int hit = wc_ccd_point_triangle(X0[0], X0[1], X0[2], X0[3], X1[0], X1[1], X1[2], X1[3], 1e-7, &th, wh);
+        /* sampled: the first sign change with the point's projection inside */
+        double first = -1, prev = 0;
+        int S = 4000;
+        for (int k = 0; k <= S; ++k) {
+            double tt = (double)k / S, P[4][3], e1[3], e2[3], n[3], d[3];
+            for (int i = 0; i < 4; ++i) lerp(P[i], X0[i], X1[i], tt);
+            v3_sub(e1, P[2], P[1]);
+            v3_sub(e2, P[3], P[1]);
+            v3_cross(n, e1, e2);
+            v3_sub(d, P[0], P[1]);
+            double f = v3_dot(n, d);
+            if (k > 0 && (f < 0) != (prev < 0)) {
+                double ww[3];
+                /* inside well away from the edges (sampling cannot judge grazing hits) */
+                double dist2 = wc_closest_on_triangle(P[0], P[1], P[2], P[3], ww, NULL);
+                (void)dist2;
+                double nn = v3_norm(n);
+                double off = fabs(f) / (nn > 0 ? nn : 1);
+                if (ww[0] > 0.02 && ww[1] > 0.02 && ww[2] > 0.02 && off < 0.05) {
+                    first = tt;
+                    break;
+                }
+            }
+            prev = f;
+        }
+        if (first >= 0) {
+            ++found;
+            if (!hit) ++missed;
+            else if (th > first + 1e-9) ++late;
+        }
+        if (hit) {
+            double P[4][3];
+            for (int i = 0; i < 4; ++i) lerp(P[i], X0[i], X1[i], th);
+            if (wc_closest_on_triangle(P[0], P[1], P[2], P[3], NULL, NULL) > 1e-12) ++false_hits;
+        }
+    }
+    printf("  point-triangle: %d sampled crossings, %d missed, %d late, %d false hits\n", found, missed, late, false_hits);
+    CHECK(found > 50);
+    CHECK_EQ_INT(missed, 0);
+    CHECK_EQ_INT(late, 0);
+    CHECK_EQ_INT(false_hits, 0);
+}
+
+static void test_ccd_edge_edge(void) {
+    /* two crossing edges, one sweeping down through the other */
+    double p0[3] = {-1, 1, 0}, q0[3] = {1, 1, 0}, p1[3] = {-1, -1, 0}, q1[3] = {1, -1, 0};
+    double r[3] = {0.3, 0, -1}, s[3] = {0.3, 0, 1};
+    double t, sa, sb;
+    CHECK(wc_ccd_edge_edge(p0, q0, r, s, p1, q1, r, s, 1e-9, &t, &sa, &sb));
+    CHECK_NEAR(t, 0.5, 1e-9);
+    CHECK_NEAR(sa, 0.65, 1e-9);
+    CHECK_NEAR(sb, 0.5, 1e-9);
+    double r2[3] = {1.3, 0, -1}, s2[3] = {1.3, 0, 1}; /* passes beyond the end of p-q */
+    CHECK(!wc_ccd_edge_edge(p0, q0, r2, s2, p1, q1, r2, s2, 1e-9, &t, &sa, &sb));
+    int found = 0, missed = 0, false_hits = 0, late = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        double X0[4][3], X1[4][3];
+        for (int i = 0; i < 4; ++i) {
+            rnd3(X0[i], 1);
+            rnd3(X1[i], 1);
+            v3_axpy(X1[i], 0.5, X0[i]);
+        }
+        double th, a, b;
+        int hit = wc_ccd_edge_edge(X0[0], X0[1], X0[2], X0[3], X1[0], X1[1], X1[2], X1[3], 1e-7, &th, &a, &b);
+        double first = -1, prev = 0;
+        int S = 4000;
+        for (int k = 0; k <= S; ++k) {
+            double tt = (double)k / S, P[4][3], e1[3], e2[3], n[3], d[3];
+            for (int i = 0; i < 4; ++i) lerp(P[i], X0[i], X1[i], tt);
+            v3_sub(e1, P[1], P[0]);
+            v3_sub(e2, P[3], P[2]);
+            v3_cross(n, e1, e2);
+            v3_sub(d, P[2], P[0]);
+            double f = v3_dot(n, d);
+            if (k > 0 && (f < 0) != (prev < 0)) {
+                double sa2, sb2;
+                double dist = sqrt(wc_closest_on_segments(P[0], P[1], P[2], P[3], &sa2, &sb2));
+                if (sa2 > 0.02 && sa2 < 0.98 && sb2 > 0.02 && sb2 < 0.98 && dist < 0.01) {
+                    first = tt;
+                    break;
+                }
+            }
+            prev = f;
+        }
+        if (first >= 0) {
+            ++found;
+            if (!hit) ++missed;
+            else if (th > first + 1e-9) ++late;
+        }
+        if (hit) {
+            double P[4][3];
+            for (int i = 0; i < 4; ++i) lerp(P[i], X0[i], X1[i], th);
+            if (wc_closest_on_segments(P[0], P[1], P[2], P[3], NULL, NULL) > 1e-12) ++false_hits;
+        }
+    }
+    printf("  edge-edge: %d sampled crossings, %d missed, %d late, %d false hits\n", found, missed, late, false_hits);
+    CHECK(found > 20);
+    CHECK_EQ_INT(missed, 0);
+    CHECK_EQ_INT(late, 0);
+    CHECK_EQ_INT(false_hits, 0);
+}
+
+typedef struct hits {
+    int n;
+    int* list;
+} hits;
+static int collect(void* user, int prim) {
+    hits* h = (hits*)user;
+    h->list[h->n++] = prim;
+    return 0;
+}
+static int cmp_int(const void* a, const void* b) { return *(const int*)a - *(const int*)b; }
+
+static void random_boxes(double* boxes, int n, double spread) {
+    for (int i = 0; i < n; ++i) {
+        double c[3], r[3];
+        rnd3(c, spread);
+        rnd3(r, 0.05);
+        for (int k = 0; k < 3; ++k) {
+            boxes[6 * i + k] = c[k] - fabs(r[k]);
+            boxes[6 * i + 3 + k] = c[k] + fabs(r[k]);
+        }
+    }
+}
+
+static void test_bvh_against_brute(void) {
+    int sizes[] = {0, 1, 2, 3, 7, 100, 1000};
+    for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si) {
+        int n = sizes[si];
+        double* boxes = malloc(sizeof(double) * 6 * (n + 1));
+        random_boxes(boxes, n, 1);
+        wc_bvh b;
+        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WEFT_OK);
+        CHECK_EQ_INT(b.n_nodes, n ? 2 * n - 1 : 0);
+        hits h = {0, malloc(sizeof(int) * (n + 1))};
+        int mismatches = 0;
+        for (int pass = 0; pass < 2; ++pass) {
+            if (pass == 1) { /* deform and refit */
+                random_boxes(boxes, n, 2);
+                wc_bvh_refit(&b, boxes);
+            }
+            for (int q = 0; q < 50; ++q) {
+                double box[6];
+                random_boxes(box, 1, 1.5);
+                wc_box_inflate(box, 0.2);
+                h.n = 0;
+                wc_bvh_query(&b, box, collect, &h);
+                qsort(h.list, (size_t)h.n, sizeof(int), cmp_int);
+                int k = 0;
+                for (int i = 0; i < n; ++i)
+                    if (wc_box_overlap(boxes + 6 * i, box)) {
+                        if (k >= h.n || h.list[k] != i) ++mismatches;
+                        ++k;
+                    }
+                if (k != h.n) ++mismatches;
+            }
+        }
+        CHECK_EQ_INT(mismatches, 0);
+        for (int i = 0; i < n; ++i) CHECK_EQ_INT(b.child[2 * b.leaf_of[i] + 1], i);
+        wc_bvh_free(&b);
+        free(h.list);
+        free(boxes);
+    }
+    double bad[6] = {0, 0, 0, NAN, 1, 1};
+    wc_bvh b;
+    CHECK(wc_bvh_build(&b, bad, 1, NULL, NULL) == WEFT_ERROR_NONFINITE);
+}
+
+int main(void) {
+    RUN_TEST(test_closest_on_triangle_brute);
+    RUN_TEST(test_closest_on_segments_brute);
+    RUN_TEST(test_cubic_roots);
+    RUN_TEST(test_ccd_point_triangle);
+    RUN_TEST(test_ccd_edge_edge);
+    RUN_TEST(test_bvh_against_brute);
+    return TEST_SUMMARY();
+}
