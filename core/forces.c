@@ -36,6 +36,13 @@ void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_com
             double rest = sp[s].rest, L[3], u[3] = {0, 0, 0}, dv[3], c = 0.0;
             v3_sub(L, x + 3 * a, x + 3 * b);
             v3_sub(dv, v + 3 * a, v + 3 * b);
+            if (t == WC_SPRING_SEAM) { /* zero rest length, linear: f = -kw L - dw dv (sew.h) */
+                double kw = k[t] * sp[s].w, dw = d[t] * sp[s].w;
+                for (int q = 0; q < 3; ++q) out[s].f[q] = -kw * L[q] - dw * dv[q];
+                m3_identity(out[s].kx, -kw);
+                m3_identity(out[s].kv, -dw);
+                continue;
+            }
             double l = v3_norm(L);
             if (l > 0.0 && l >= WC_SPRING_DEGENERATE * rest) {
                 v3_scale(u, L, 1.0 / l);
@@ -111,7 +118,7 @@ double wc_spring_energy(const wc_model* m, const double* x) {
         double L[3];
         v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
         double dl = v3_norm(L) - sp->rest;
-        e += 0.5 * m->material.k[sp->type] * dl * dl;
+        e += 0.5 * m->material.k[sp->type] * sp->w * dl * dl;
     }
     return e;
 }

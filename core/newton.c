@@ -136,7 +136,7 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
                 double dl = v3_norm(L) - sp->rest;
                 v3_sub(dv, vv + 3 * sp->a, vv + 3 * sp->b);
                 m3_mulv(Kd, kv0 + 9 * (size_t)k, dv);
-                acc += 0.5 * m->material.k[sp->type] * dl * dl - 0.5 * he * v3_dot(dv, Kd);
+                acc += 0.5 * m->material.k[sp->type] * sp->w * dl * dl - 0.5 * he * v3_dot(dv, Kd);
             }
             part[c] = acc;
         }

@@ -79,6 +79,7 @@ uint64_t wa_model_hash(const wa_cloth* c) {
         h = hash_int(h, sp->b);
         h = hash_int(h, sp->type);
         h = hash_bytes(h, &sp->rest, sizeof sp->rest);
+        h = hash_bytes(h, &sp->w, sizeof sp->w); /* seam springs (sew.h) are part of the model */
     }
     h = hash_bytes(h, &m->material.density, sizeof(double));
     h = hash_bytes(h, m->material.k, sizeof m->material.k);
