@@ -1,0 +1,734 @@
+/* Sewing (core/sew.h): seams found by distance on a tube sewn from two panels whose seam vertices
+ * pair vertex to edge, the seam springs' energy against the three-point formula (independent of
+ * the pair-spring decomposition), their forces and Jacobian by finite differences, the tube
+ * hanging by one panel, host seam pairs pulled shut from 0.3 m, AMG iterations with and without
+ * seams, bad inputs (core and public API), snapshots, `weft inspect --sew-distance`, and the
+ * Codim-IPC garment of /work/shared when present. */
+#include <stdlib.h>
+#include "check.h"
+#include "forces.h"
+#include "model.h"
+#include "sew.h"
+#include "step.h"
+#include "test_support.h"
+#include "vec3.h"
+#include "weft/weft.h"
+
+/* ---- the tube: two arched panels, long edges within GAP, rows offset by half a row --------- */
+
+#define NA 13           /* rows of panel A; panel B has NA - 1 */
+#define NW 8            /* quads across a panel */
+#define DY 0.025        /* row spacing (m) */
+#define WIDTH 0.2       /* m */
+#define ARCH 0.08       /* m: panel A bulges to +Z, B to -Z */
+#define GAP 0.0005      /* m: B's long edges sit this far behind A's */
+#define TOP 1.0         /* m: height of A's top row */
+#define SEW 0.002       /* m: the sew distance used */
+/* A's long-edge vertices but the two ends, and all of B's, on both long edges */
+#define TUBE_SEAMS (2 * ((NA - 2) + (NA - 1)))
+
+typedef struct tube {
+    int nv, nf, na_verts;
+    double* pos;    /* (nv x 3) */
+    int* sizes;     /* (nf) */
+    int* idx;       /* (4 nf) */
+} tube;
+
+static int tube_vertex(int panel, int i, int j) { return (panel ? NA * (NW + 1) : 0) + i * (NW + 1) + j; }
+
+static void tube_make(tube* t) {
+    t->na_verts = NA * (NW + 1);
+    t->nv = t->na_verts + (NA - 1) * (NW + 1);
+    t->nf = (NA - 1) * NW + (NA - 2) * NW;
+    t->pos = calloc(3 * (size_t)t->nv, sizeof(double));
+    t->sizes = malloc(sizeof(int) * (size_t)t->nf);
+    t->idx = malloc(4 * sizeof(int) * (size_t)t->nf);
+    int f = 0;
+    for (int panel = 0; panel < 2; ++panel) {
+        int rows = panel ? NA - 1 : NA;
+        for (int i = 0; i < rows; ++i)
+            for (int j = 0; j <= NW; ++j) {
+                double* p = t->pos + 3 * tube_vertex(panel, i, j);
+                double bulge = ARCH * sin(3.14159265358979323846 * j / NW);
+                p[0] = -0.5 * WIDTH + WIDTH * j / NW;
+                p[1] = TOP - (i + 0.5 * panel) * DY;
+                p[2] = panel ? -bulge - GAP : bulge;
+            }
+        for (int i = 0; i + 1 < rows; ++i)
+            for (int j = 0; j < NW; ++j, ++f) {
+                t->sizes[f] = 4;
+                int* q = t->idx + 4 * f;
+                q[0] = tube_vertex(panel, i, j);
+                q[1] = tube_vertex(panel, i, j + 1);
+                q[2] = tube_vertex(panel, i + 1, j + 1);
+                q[3] = tube_vertex(panel, i + 1, j);
+            }
+    }
+}
+
+static void tube_free(tube* t) {
+    free(t->pos);
+    free(t->sizes);
+    free(t->idx);
+}
+
+static weft_status tube_model(wc_model* m, const wc_model_def* def, wc_diag* d) {
+    tube t;
+    tube_make(&t);
+    wc_source_mesh src;
+    weft_status st = wc_source_mesh_from_arrays(&src, NULL, t.pos, t.nv, t.sizes, t.nf, t.idx, 1.0, d);
+    if (st == WEFT_OK) st = wc_model_build(m, &src, def, NULL, d);
+    wc_source_mesh_free(&src);
+    tube_free(&t);
+    return st;
+}
+
+static wc_model_def sew_def(double sew) {
+    wc_model_def def = wc_default_model_def();
+    def.sew_distance = sew;
+    return def;
+}
+
+static double max_gap(const wc_model* m, const double* x) {
+    double g = 0.0;
+    for (int s = 0; s < m->n_seams; ++s) {
+        double d = wc_seam_gap(&m->seams[s], x);
+        if (d > g) g = d;
+    }
+    return g;
+}
+
+/* ---- seams found ----------------------------------------------------------------------------- */
+
+static void test_tube_seams_found(void) {
+    wc_model m;
+    wc_diag d = {0};
+    wc_model_def def = sew_def(0.0);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(m.report.components, 2);
+    CHECK_EQ_INT(m.report.seams, 0);
+    CHECK_EQ_INT(m.report.panels, 2);
+    CHECK_EQ_INT(m.report.springs[WC_SPRING_SEAM], 0);
+    wc_model_free(&m);
+
+    def = sew_def(SEW);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    printf("tube: %d seams (expected %d), panels %d -> %d, %d seam springs\n", m.report.seams, TUBE_SEAMS,
+           m.report.components, m.report.panels, m.report.springs[WC_SPRING_SEAM]);
+    CHECK_EQ_INT(m.report.seams, TUBE_SEAMS);
+    CHECK_EQ_INT(m.n_seams, TUBE_SEAMS);
+    CHECK_EQ_INT(m.report.components, 2);
+    CHECK_EQ_INT(m.report.panels, 1);
+    CHECK_EQ_INT(m.n_panels, 1);
+    /* every seam is vertex to edge (t = 1/2), joins the two panels, and starts GAP apart */
+    for (int s = 0; s < m.n_seams; ++s) {
+        const wc_seam* sm = &m.seams[s];
+        CHECK_NEAR(sm->t, 0.5, 1e-9);
+        CHECK(sm->q0 != sm->q1);
+        CHECK(m.particle_component[sm->p] != m.particle_component[sm->q0]);
+        CHECK_NEAR(wc_seam_gap(sm, m.rest_pos), GAP, 1e-9);
+    }
+    /* seam springs: zero rest, weights of one seam sum to... their energy is the seams' (below) */
+    for (int s = m.spring_type_start[WC_SPRING_SEAM]; s < m.spring_type_start[WC_SPRING_SEAM + 1]; ++s) {
+        CHECK(m.springs[s].rest == 0.0);
+        CHECK(m.springs[s].a < m.springs[s].b);
+        CHECK(m.springs[s].w != 0.0);
+    }
+    wc_model_free(&m);
+
+    /* a smaller distance than the gap sews nothing */
+    def = sew_def(0.5 * GAP);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(m.report.seams, 0);
+    CHECK_EQ_INT(m.report.panels, 2);
+    wc_model_free(&m);
+}
+
+/* Vertex-to-vertex seams are kept once, not once from each side. */
+static void test_vertex_pairs_once(void) {
+    /* two 3x3 sheets side by side, their facing edges 1 mm apart, vertices facing vertices */
+    double pos[2 * 9 * 3];
+    int sizes[8], idx[32];
+    for (int panel = 0; panel < 2; ++panel)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) {
+                double* p = pos + 3 * (9 * panel + 3 * j + i);
+                p[0] = 0.1 * i + panel * (0.2 + 0.001);
+                p[1] = 0.1 * j;
+                p[2] = 0.0;
+            }
+    int f = 0;
+    for (int panel = 0; panel < 2; ++panel)
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i, ++f) {
+                int a = 9 * panel + 3 * j + i;
+                sizes[f] = 4;
+                idx[4 * f] = a;
+                idx[4 * f + 1] = a + 1;
+                idx[4 * f + 2] = a + 4;
+                idx[4 * f + 3] = a + 3;
+            }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 18, sizes, 8, idx, 1.0, &d), WEFT_OK);
+    wc_model_def def = sew_def(0.002);
+    wc_model m;
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(m.report.seams, 3);
+    CHECK_EQ_INT(m.report.panels, 1);
+    CHECK_EQ_INT(m.report.springs[WC_SPRING_SEAM], 3);
+    for (int s = 0; s < m.n_seams; ++s) CHECK(m.seams[s].q0 == m.seams[s].q1 && m.seams[s].t == 0.0);
+    wc_model_free(&m);
+    wc_source_mesh_free(&src);
+}
+
+/* ---- forces ---------------------------------------------------------------------------------- */
+
+static unsigned long long rng_ = 0x2545F4914F6CDD1Dull;
+static double rnd(void) { /* [-1, 1) */
+    rng_ ^= rng_ >> 12;
+    rng_ ^= rng_ << 25;
+    rng_ ^= rng_ >> 27;
+    return (double)((rng_ * 2685821657736338717ull) >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+/* Seam springs only: energy, force and Jacobian. */
+static double seam_energy(const wc_model* m, const double* x) {
+    double e = 0.0, k = m->material.k[WC_SPRING_SEAM];
+    for (int s = m->spring_type_start[WC_SPRING_SEAM]; s < m->spring_type_start[WC_SPRING_SEAM + 1]; ++s) {
+        double L[3];
+        v3_sub(L, x + 3 * m->springs[s].a, x + 3 * m->springs[s].b);
+        e += 0.5 * k * m->springs[s].w * v3_dot(L, L);
+    }
+    return e;
+}
+
+static void seam_forces(const wc_model* m, const wc_spring_eval* se, double* F) {
+    for (int i = 0; i < 3 * m->n_particles; ++i) F[i] = 0.0;
+    for (int s = m->spring_type_start[WC_SPRING_SEAM]; s < m->spring_type_start[WC_SPRING_SEAM + 1]; ++s)
+        for (int q = 0; q < 3; ++q) {
+            F[3 * m->springs[s].a + q] += se[s].f[q];
+            F[3 * m->springs[s].b + q] -= se[s].f[q];
+        }
+}
+
+static void test_seam_forces_fd(void) {
+    wc_model m;
+    wc_diag d = {0};
+    wc_model_def def = sew_def(SEW);
+    def.material.k[WC_SPRING_SEAM] = 3000.0; /* distinct from stretch, so a wrong type lookup shows */
+    def.material.d[WC_SPRING_SEAM] = 1.5;
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    int n = m.n_particles;
+    double *x = malloc(sizeof(double) * 3 * n), *v = malloc(sizeof(double) * 3 * n),
+           *zero = calloc(3 * (size_t)n, sizeof(double)), *F = malloc(sizeof(double) * 3 * n),
+           *Fp = malloc(sizeof(double) * 3 * n), *Fm = malloc(sizeof(double) * 3 * n),
+           *dx = malloc(sizeof(double) * 3 * n), *Kdx = calloc(3 * (size_t)n, sizeof(double));
+    wc_spring_eval* se = calloc((size_t)m.n_springs, sizeof *se);
+    wc_par par;
+    wc_par_init(&par, 1);
+    for (int i = 0; i < 3 * n; ++i) {
+        x[i] = m.rest_pos[i] + 0.01 * rnd();
+        v[i] = rnd();
+        dx[i] = rnd();
+    }
+    /* energy of the pair springs == sum over seams of k/2 |p - (1-t) q0 - t q1|^2 */
+    double e3 = 0.0;
+    for (int s = 0; s < m.n_seams; ++s) {
+        double g = wc_seam_gap(&m.seams[s], x);
+        e3 += 0.5 * 3000.0 * g * g;
+    }
+    CHECK_NEAR(seam_energy(&m, x), e3, 1e-9 * e3);
+    /* wc_spring_energy includes the seams */
+    double e_all = wc_spring_energy(&m, x), e_mesh = e_all - seam_energy(&m, x);
+    CHECK(e_mesh >= 0.0);
+    /* force = -grad E (velocity zero), central differences */
+    wc_eval_springs(&m, x, zero, WC_COMPRESSION_FULL, &par, se);
+    seam_forces(&m, se, F);
+    double worst = 0.0, scale = 0.0;
+    const double h = 1e-6;
+    for (int i = 0; i < 3 * n; ++i) {
+        double keep = x[i];
+        x[i] = keep + h;
+        double ep = seam_energy(&m, x);
+        x[i] = keep - h;
+        double em = seam_energy(&m, x);
+        x[i] = keep;
+        double fd = -(ep - em) / (2 * h);
+        if (fabs(fd - F[i]) > worst) worst = fabs(fd - F[i]);
+        if (fabs(F[i]) > scale) scale = fabs(F[i]);
+    }
+    printf("seam force vs -dE/dx: max error %.3g (max force %.3g N)\n", worst, scale);
+    CHECK(scale > 0.0);
+    CHECK(worst <= 1e-6 * scale + 1e-9);
+    /* Jacobian: K dx from the blocks vs (F(x + eps dx) - F(x - eps dx)) / 2 eps */
+    for (int s = m.spring_type_start[WC_SPRING_SEAM]; s < m.spring_type_start[WC_SPRING_SEAM + 1]; ++s) {
+        double r[3], kr[3];
+        v3_sub(r, dx + 3 * m.springs[s].a, dx + 3 * m.springs[s].b);
+        m3_mulv(kr, se[s].kx, r);
+        v3_add(Kdx + 3 * m.springs[s].a, Kdx + 3 * m.springs[s].a, kr);
+        v3_sub(Kdx + 3 * m.springs[s].b, Kdx + 3 * m.springs[s].b, kr);
+    }
+    const double eps = 1e-5;
+    for (int i = 0; i < 3 * n; ++i) x[i] += eps * dx[i];
+    wc_eval_springs(&m, x, zero, WC_COMPRESSION_FULL, &par, se);
+    seam_forces(&m, se, Fp);
+    for (int i = 0; i < 3 * n; ++i) x[i] -= 2 * eps * dx[i];
+    wc_eval_springs(&m, x, zero, WC_COMPRESSION_FULL, &par, se);
+    seam_forces(&m, se, Fm);
+    for (int i = 0; i < 3 * n; ++i) x[i] += eps * dx[i];
+    worst = scale = 0.0;
+    for (int i = 0; i < 3 * n; ++i) {
+        double fd = (Fp[i] - Fm[i]) / (2 * eps);
+        if (fabs(fd - Kdx[i]) > worst) worst = fabs(fd - Kdx[i]);
+        if (fabs(Kdx[i]) > scale) scale = fabs(Kdx[i]);
+    }
+    printf("seam Jacobian vs finite differences: max error %.3g (max |K dx| %.3g)\n", worst, scale);
+    CHECK(scale > 0.0);
+    CHECK(worst <= 1e-7 * scale);
+    /* damping: f(v) - f(0) = -d w (v_a - v_b) per spring, and kv = -d w I */
+    wc_spring_eval* sv = calloc((size_t)m.n_springs, sizeof *sv);
+    wc_eval_springs(&m, x, v, WC_COMPRESSION_FULL, &par, sv);
+    wc_eval_springs(&m, x, zero, WC_COMPRESSION_FULL, &par, se);
+    worst = 0.0;
+    for (int s = m.spring_type_start[WC_SPRING_SEAM]; s < m.spring_type_start[WC_SPRING_SEAM + 1]; ++s) {
+        double dv[3], kd[3];
+        v3_sub(dv, v + 3 * m.springs[s].a, v + 3 * m.springs[s].b);
+        m3_mulv(kd, sv[s].kv, dv);
+        for (int q = 0; q < 3; ++q) {
+            double want = -1.5 * m.springs[s].w * dv[q];
+            if (fabs(sv[s].f[q] - se[s].f[q] - want) > worst) worst = fabs(sv[s].f[q] - se[s].f[q] - want);
+            if (fabs(kd[q] - want) > worst) worst = fabs(kd[q] - want);
+        }
+    }
+    CHECK(worst < 1e-9);
+    free(sv);
+    free(x), free(v), free(zero), free(F), free(Fp), free(Fm), free(dx), free(Kdx), free(se);
+    wc_model_free(&m);
+}
+
+/* ---- simulation -------------------------------------------------------------------------------- */
+
+typedef struct run_result {
+    int rollbacks, failures, iterations, frames_ok;
+    double max_strain, gap;
+} run_result;
+
+/* Pin the given particles at rest, step frames at 60 fps; returns totals. */
+static run_result hang(const wc_model* m, const int* pinned, int n_pins, int frames, int amg,
+                       double (*measure)(const wc_model*, const double*)) {
+    run_result r = {0, 0, 0, 0, 0.0, 0.0};
+    wc_sim_def sd = wc_default_sim_def();
+    sd.threads = 1;
+    sd.sleep_speed = 0.0;
+    if (getenv("NW")) { sd.newton_iterations = atoi(getenv("NW")); sd.line_search = 1; }
+    sd.solver.preconditioner = amg ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, &sd, NULL, &d) != WEFT_OK) {
+        fprintf(stderr, "state: %s\n", d.message);
+        CHECK(0);
+        return r;
+    }
+    wc_pin* pins = calloc((size_t)n_pins + 1, sizeof *pins);
+    for (int k = 0; k < n_pins; ++k) {
+        pins[k].particle = pinned[k];
+        v3_copy(pins[k].target, m->rest_pos + 3 * pinned[k]);
+    }
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, n_pins, &d), WEFT_OK);
+    for (int f = 0; f < frames; ++f) {
+        wc_step_stats st;
+        weft_status ok = wc_step_frame(s, 1.0 / 60.0, &st, &d);
+        if (ok != WEFT_OK) {
+            fprintf(stderr, "frame %d: %s\n", f, d.message);
+            break;
+        }
+        ++r.frames_ok;
+        r.rollbacks += st.rollbacks;
+        r.failures += st.failures;
+        r.iterations += st.iterations;
+        if (st.max_strain > r.max_strain) r.max_strain = st.max_strain;
+    }
+    r.gap = measure(m, s->x);
+    free(pins);
+    wc_state_destroy(s);
+    return r;
+}
+
+/* Panel B's lowest point below its rest height (m): how far it fell. */
+static double b_drop(const wc_model* m, const double* x) {
+    double drop = 0.0;
+    for (int p = 0; p < m->n_particles; ++p) {
+        if (m->particle_component[p] == m->particle_component[m->host_to_particle[0]]) continue;
+        double dd = m->rest_pos[3 * p + 1] - x[3 * p + 1];
+        if (dd > drop) drop = dd;
+    }
+    return drop;
+}
+
+static int top_row(const wc_model* m, int panel, int* out) {
+    for (int j = 0; j <= NW; ++j) out[j] = m->host_to_particle[tube_vertex(panel, 0, j)];
+    return NW + 1;
+}
+
+static void test_tube_hangs_sewn(void) {
+    wc_model m;
+    wc_diag d = {0};
+    wc_model_def def = sew_def(SEW);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    int pins[NW + 1];
+    int np = top_row(&m, 0, pins); /* only panel A is held: B hangs from the seams */
+    run_result r = hang(&m, pins, np, 120, 0, max_gap);
+    run_result drop = hang(&m, pins, np, 120, 0, b_drop);
+    printf("sewn tube after 2 s: max seam gap %.3g m (started %.3g), max strain %.4f, B dropped %.3g m, "
+           "%d rollbacks\n", r.gap, GAP, r.max_strain, drop.gap, r.rollbacks);
+    CHECK_EQ_INT(r.frames_ok, 120);
+    CHECK_EQ_INT(r.failures, 0);
+    CHECK(r.gap < 1e-4);
+    CHECK(r.max_strain < 0.05);
+    CHECK(drop.gap < 0.03); /* the sag of the whole tube; unsewn, B falls metres (below) */
+    wc_model_free(&m);
+
+    /* the same mesh unsewn: panel B falls off */
+    def = sew_def(0.0);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    np = top_row(&m, 0, pins);
+    drop = hang(&m, pins, np, 120, 0, b_drop);
+    printf("unsewn tube after 2 s: B dropped %.3g m\n", drop.gap);
+    CHECK(drop.gap > 5.0);
+    wc_model_free(&m);
+}
+
+/* AMG with seams: iterations comparable to the same tube held by both panels' top rows unsewn. */
+static void test_amg_with_seams(void) {
+    wc_model sewn, apart;
+    wc_diag d = {0};
+    wc_model_def def = sew_def(SEW);
+    CHECK_EQ_INT(tube_model(&sewn, &def, &d), WEFT_OK);
+    def = sew_def(0.0);
+    CHECK_EQ_INT(tube_model(&apart, &def, &d), WEFT_OK);
+    int pins[2 * (NW + 1)];
+    int np = top_row(&sewn, 0, pins);
+    run_result rs = hang(&sewn, pins, np, 30, 1, max_gap);
+    np = top_row(&apart, 0, pins);
+    np += top_row(&apart, 1, pins + np);
+    run_result ra = hang(&apart, pins, np, 30, 1, max_gap);
+    printf("AMG PCG iterations over 30 frames: sewn %d, unsewn (both panels held) %d\n", rs.iterations,
+           ra.iterations);
+    CHECK_EQ_INT(rs.frames_ok, 30);
+    CHECK(rs.iterations > 0);
+    CHECK(rs.iterations <= 3 * ra.iterations + 60);
+    wc_model_free(&sewn);
+    wc_model_free(&apart);
+}
+
+/* Host seam pairs: two sheets 0.3 m apart, B's top row sewn to A's, pulled shut. */
+#define SHEET_N 7
+static double g_pair_gap_x[1];
+static double pair_gap(const wc_model* m, const double* x) {
+    (void)g_pair_gap_x;
+    return max_gap(m, x);
+}
+
+static void two_sheets(double* pos, int* sizes, int* idx, double apart) {
+    int f = 0;
+    for (int panel = 0; panel < 2; ++panel) {
+        for (int j = 0; j < SHEET_N; ++j)
+            for (int i = 0; i < SHEET_N; ++i) {
+                double* p = pos + 3 * (panel * SHEET_N * SHEET_N + j * SHEET_N + i);
+                p[0] = 0.3 * i / (SHEET_N - 1);
+                p[1] = TOP - 0.3 * j / (SHEET_N - 1);
+                p[2] = panel * apart;
+            }
+        for (int j = 0; j + 1 < SHEET_N; ++j)
+            for (int i = 0; i + 1 < SHEET_N; ++i, ++f) {
+                int a = panel * SHEET_N * SHEET_N + j * SHEET_N + i;
+                sizes[f] = 4;
+                idx[4 * f] = a;
+                idx[4 * f + 1] = a + 1;
+                idx[4 * f + 2] = a + 1 + SHEET_N;
+                idx[4 * f + 3] = a + SHEET_N;
+            }
+    }
+}
+
+static void test_host_pairs_close(void) {
+    enum { NV = 2 * SHEET_N * SHEET_N, NF = 2 * (SHEET_N - 1) * (SHEET_N - 1) };
+    double pos[3 * NV];
+    int sizes[NF], idx[4 * NF], sa[SHEET_N], sb[SHEET_N];
+    two_sheets(pos, sizes, idx, 0.3);
+    for (int i = 0; i < SHEET_N; ++i) {
+        sa[i] = i;                        /* A's top row */
+        sb[i] = SHEET_N * SHEET_N + i;    /* B's top row */
+    }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, NV, sizes, NF, idx, 1.0, &d), WEFT_OK);
+    wc_model_def def = sew_def(0.0);
+    def.n_seam_pairs = SHEET_N;
+    def.seam_a = sa;
+    def.seam_b = sb;
+    wc_model m;
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(m.report.seams, SHEET_N);
+    CHECK_EQ_INT(m.report.panels, 1);
+    CHECK_NEAR(max_gap(&m, m.rest_pos), 0.3, 1e-12);
+    int pins[SHEET_N];
+    for (int i = 0; i < SHEET_N; ++i) pins[i] = m.host_to_particle[i];
+    for (int frames = 1; frames <= 60; frames *= 60) {
+        run_result r = hang(&m, pins, SHEET_N, frames, 0, pair_gap);
+        printf("host pairs 0.3 m apart after %d frames: gap %.3g m, %d rollbacks, %d failures, max strain %.3f\n",
+               frames, r.gap, r.rollbacks, r.failures, r.max_strain);
+        CHECK_EQ_INT(r.frames_ok, frames);
+        CHECK_EQ_INT(r.rollbacks, 0);
+        CHECK_EQ_INT(r.failures, 0);
+        if (frames == 60) CHECK(r.gap < 1e-3);
+    }
+    wc_model_free(&m);
+    wc_source_mesh_free(&src);
+}
+
+/* ---- bad inputs -------------------------------------------------------------------------------- */
+
+static void expect_refused(const wc_source_mesh* src, const wc_model_def* def, weft_status want, const char* word) {
+    wc_model m;
+    memset(&m, 0x5a, sizeof m);
+    wc_diag d = {0};
+    weft_status st = wc_model_build(&m, src, def, NULL, &d);
+    CHECK_EQ_INT(st, want);
+    CHECK(strstr(d.message, word) != NULL);
+    CHECK(m.n_particles == 0 && m.springs == NULL && m.seams == NULL && m.n_seams == 0);
+    printf("  refused: %s\n", d.message);
+}
+
+static void test_core_bad_inputs(void) {
+    wc_source_mesh src;
+    ts_quad_grid(&src, 4, 4, 1.0, 1.0, 0);
+    int a[2] = {0, 3}, b[2] = {15, 3}, far[1] = {16}, neg[1] = {-1};
+    wc_model_def def = sew_def(NAN);
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance");
+    def = sew_def(-0.001);
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance");
+    def = sew_def(INFINITY);
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance");
+    def = sew_def(0.0);
+    def.n_seam_pairs = -1;
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "count");
+    def.n_seam_pairs = 1;
+    def.seam_a = a;
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "NULL");
+    def.seam_b = far;
+    expect_refused(&src, &def, WEFT_ERROR_OUT_OF_RANGE, "outside");
+    def.seam_b = neg;
+    expect_refused(&src, &def, WEFT_ERROR_OUT_OF_RANGE, "outside");
+    def.n_seam_pairs = 2;
+    def.seam_b = b;
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "itself");
+    /* the good pair alone builds */
+    def.n_seam_pairs = 1;
+    wc_model m;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(m.report.seams, 1);
+    CHECK_EQ_INT(m.report.panels, 1);
+    wc_model_free(&m);
+    wc_source_mesh_free(&src);
+    /* two host vertices welded into one particle cannot be sewn together */
+    ts_quad_grid(&src, 3, 3, 1.0, 1.0, 1); /* split: 4 vertices per quad, welded */
+    int wa[1] = {1}, wb[1] = {4};           /* quad 0's (1, 0) and quad 1's (1, 0): one particle */
+    def = sew_def(0.0);
+    def.n_seam_pairs = 1;
+    def.seam_a = wa;
+    def.seam_b = wb;
+    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "welded");
+    wc_source_mesh_free(&src);
+}
+
+/* ---- public API: info, validation, snapshots ------------------------------------------------ */
+
+typedef struct api_tube {
+    float* pos;
+    tube t;
+} api_tube;
+
+static weft_cloth_def api_def(api_tube* at) {
+    tube_make(&at->t);
+    at->pos = malloc(sizeof(float) * 3 * (size_t)at->t.nv);
+    for (int i = 0; i < 3 * at->t.nv; ++i) at->pos[i] = (float)at->t.pos[i];
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh.positions = at->pos;
+    def.mesh.n_vertices = at->t.nv;
+    def.mesh.face_sizes = at->t.sizes;
+    def.mesh.n_faces = at->t.nf;
+    def.mesh.indices = at->t.idx;
+    return def;
+}
+
+static void test_api(void) {
+    weft_context_def cd = weft_default_context_def();
+    cd.threads = 1;
+    weft_context* ctx = NULL;
+    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
+    if (!ctx) return;
+    api_tube at;
+    weft_cloth_def def = api_def(&at);
+    def.sew_distance = SEW;
+    weft_cloth sewn = {0}, plain = {0}, bad = {0};
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &sewn), WEFT_OK);
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, sewn, &info), WEFT_OK);
+    CHECK_EQ_INT(info.n_seams, TUBE_SEAMS);
+    CHECK_EQ_INT(info.n_panels, 1);
+
+    /* refused: NaN, negative, count < 0, NULL list, index out of range, a vertex to itself */
+    int sa[1] = {0}, sb[1] = {at.t.na_verts}, out[1] = {at.t.nv}, self[1] = {0};
+    struct { double sew; int n; const int *a, *b; weft_status want; const char* word; } cases[] = {
+        {NAN, 0, NULL, NULL, WEFT_ERROR_NONFINITE, "sew_distance"},
+        {-1e-3, 0, NULL, NULL, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance"},
+        {0.0, -1, sa, sb, WEFT_ERROR_INVALID_ARGUMENT, "n_seams"},
+        {0.0, 1, sa, NULL, WEFT_ERROR_INVALID_ARGUMENT, "seam_b is NULL"},
+        {0.0, 1, NULL, sb, WEFT_ERROR_INVALID_ARGUMENT, "seam_a is NULL"},
+        {0.0, 1, sa, out, WEFT_ERROR_OUT_OF_RANGE, "seam_b[0]"},
+        {0.0, 1, out, sb, WEFT_ERROR_OUT_OF_RANGE, "seam_a[0]"},
+        {0.0, 1, sa, self, WEFT_ERROR_INVALID_ARGUMENT, "itself"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        weft_cloth_def d2 = def;
+        d2.sew_distance = cases[k].sew;
+        d2.n_seams = cases[k].n;
+        d2.seam_a = cases[k].a;
+        d2.seam_b = cases[k].b;
+        bad.id = 777;
+        CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &bad), cases[k].want);
+        CHECK(bad.id == 0);
+        CHECK(strstr(weft_context_last_error(ctx), cases[k].word) != NULL);
+        printf("  API refused: %s\n", weft_context_last_error(ctx));
+    }
+    /* the sewn cloth is untouched and steps; its snapshot round-trips */
+    weft_frame fr = weft_default_frame();
+    for (int f = 0; f < 3; ++f) CHECK_EQ_INT(weft_cloth_step(ctx, sewn, &fr, NULL), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, sewn, &info), WEFT_OK);
+    size_t size = info.snapshot_size;
+    unsigned char* snap = malloc(size);
+    CHECK_EQ_INT(weft_cloth_save(ctx, sewn, snap, size), WEFT_OK);
+    float* v1 = malloc(sizeof(float) * 3 * (size_t)at.t.nv);
+    float* v2 = malloc(sizeof(float) * 3 * (size_t)at.t.nv);
+    CHECK_EQ_INT(weft_cloth_step(ctx, sewn, &fr, NULL), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, sewn, WEFT_SPACE_WORLD, v1, NULL, at.t.nv, NULL), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_restore(ctx, sewn, snap, size), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_step(ctx, sewn, &fr, NULL), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, sewn, WEFT_SPACE_WORLD, v2, NULL, at.t.nv, NULL), WEFT_OK);
+    CHECK(memcmp(v1, v2, sizeof(float) * 3 * (size_t)at.t.nv) == 0);
+    /* the same mesh without seams is another model: its snapshot is refused */
+    def.sew_distance = 0.0;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &plain), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, plain, &info), WEFT_OK);
+    CHECK_EQ_INT(info.n_seams, 0);
+    CHECK_EQ_INT(info.n_panels, 2);
+    if (info.snapshot_size == size) {
+        weft_status st = weft_cloth_restore(ctx, plain, snap, size);
+        CHECK(st != WEFT_OK);
+        printf("  snapshot of the sewn cloth into the unsewn one: %s\n", weft_context_last_error(ctx));
+    }
+    free(snap), free(v1), free(v2);
+    weft_cloth_destroy(ctx, sewn);
+    weft_cloth_destroy(ctx, plain);
+    weft_context_destroy(ctx);
+    free(at.pos);
+    tube_free(&at.t);
+}
+
+/* ---- CLI --------------------------------------------------------------------------------------- */
+
+static const char* tube_obj(void) {
+    tube t;
+    tube_make(&t);
+    size_t cap = 64 * (size_t)(t.nv + t.nf) + 64, len = 0;
+    char* text = malloc(cap);
+    for (int v = 0; v < t.nv; ++v)
+        len += (size_t)snprintf(text + len, cap - len, "v %.9g %.9g %.9g\n", t.pos[3 * v], t.pos[3 * v + 1], t.pos[3 * v + 2]);
+    for (int f = 0; f < t.nf; ++f)
+        len += (size_t)snprintf(text + len, cap - len, "f %d %d %d %d\n", t.idx[4 * f] + 1, t.idx[4 * f + 1] + 1,
+                                t.idx[4 * f + 2] + 1, t.idx[4 * f + 3] + 1);
+    const char* path = ts_write_tmp("sew_tube.obj", text);
+    free(text);
+    tube_free(&t);
+    return path;
+}
+
+/* The integer after "key": in JSON text (-1 when absent). */
+static int json_int(const char* text, const char* key) {
+    char k[64];
+    snprintf(k, sizeof k, "\"%s\":", key);
+    const char* p = strstr(text, k);
+    return p ? atoi(p + strlen(k)) : -1;
+}
+
+static void test_cli_inspect(void) {
+    static ts_cli_result r;
+    char args[1024], want[64], path[512];
+    snprintf(path, sizeof path, "%s", tube_obj()); /* ts_write_tmp's buffer is reused by ts_run_cli */
+    snprintf(args, sizeof args, "inspect --sew-distance %g '%s'", SEW, path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    printf("%s", strstr(r.out, "  components") ? strstr(r.out, "  components") : r.out);
+    CHECK(strstr(r.out, "seams") != NULL);
+    snprintf(want, sizeof want, "%d", TUBE_SEAMS);
+    const char* line = strstr(r.out, "  seams");
+    CHECK(line && strstr(line, want) && strstr(line, want) < strchr(line, '\n'));
+    line = strstr(r.out, "panels after sewing");
+    CHECK(line && strchr(line, '1') && strchr(line, '1') < strchr(line, '\n'));
+    snprintf(args, sizeof args, "inspect --json --sew-distance %g '%s'", SEW, path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    CHECK_EQ_INT(json_int(r.out, "seams"), TUBE_SEAMS);
+    CHECK_EQ_INT(json_int(r.out, "panels"), 1);
+    /* without the option: nothing sewn */
+    snprintf(args, sizeof args, "inspect --json '%s'", path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(json_int(r.out, "seams"), 0);
+    CHECK_EQ_INT(json_int(r.out, "panels"), 2);
+    /* a bad distance is a usage error */
+    snprintf(args, sizeof args, "inspect --sew-distance -1 '%s'", path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "--sew-distance") != NULL);
+    snprintf(args, sizeof args, "inspect --sew-distance nan '%s'", path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 2);
+}
+
+/* The Codim-IPC garment (stitched panels, not welded; README of the folder), when present. */
+static void test_shared_garment(void) {
+    const char* path = WEFT_SHARED_MESHES "/codimipc_dance/multilayer_garment.obj";
+    FILE* f = fopen(path, "rb");
+    if (!f) {
+        printf("  (skipped: %s not present)\n", path);
+        return;
+    }
+    fclose(f);
+    static ts_cli_result r;
+    char args[1024];
+    snprintf(args, sizeof args, "inspect --json --sew-distance 0.005 '%s'", path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    int seams = json_int(r.out, "seams"), panels = json_int(r.out, "panels"), comps = json_int(r.out, "components");
+    printf("  codimipc garment at 5 mm: %d components -> %d panels, %d seams\n", comps, panels, seams);
+    CHECK(comps > 1);
+    CHECK_EQ_INT(panels, 1);
+    CHECK(seams > 100);
+}
+
+int main(void) {
+    RUN_TEST(test_tube_seams_found);
+    RUN_TEST(test_vertex_pairs_once);
+    RUN_TEST(test_seam_forces_fd);
+    RUN_TEST(test_tube_hangs_sewn);
+    RUN_TEST(test_amg_with_seams);
+    RUN_TEST(test_host_pairs_close);
+    RUN_TEST(test_core_bad_inputs);
+    RUN_TEST(test_api);
+    RUN_TEST(test_cli_inspect);
+    RUN_TEST(test_shared_garment);
+    return TEST_SUMMARY();
+}
