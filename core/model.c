@@ -36,6 +36,7 @@ wc_model_def wc_default_model_def(void) {
     d.bend_min_angle_deg = 150.0;
     d.reorder = 1;
     d.material = wc_default_material();
+    d.seam_close_time = 0.5;
     return d;
 }
 
@@ -117,6 +118,9 @@ static weft_status validate_def(const wc_model_def* d, wc_diag* diag) {
             return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "material k and d must be finite and >= 0 (spring type %d)", t);
     if (!(d->sew_distance >= 0.0) || !isfinite(d->sew_distance))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance must be finite and >= 0 (got %g)", d->sew_distance);
+    if (!(d->seam_close_time >= 0.0) || !isfinite(d->seam_close_time))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam_close_time must be finite and >= 0 (got %g)",
+                       d->seam_close_time);
     if (d->n_seam_pairs < 0)
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam pair count must be >= 0 (got %d)", d->n_seam_pairs);
     if (d->n_seam_pairs > 0 && (!d->seam_a || !d->seam_b))

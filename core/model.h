@@ -23,7 +23,8 @@ typedef enum wc_spring_type {
 typedef struct wc_spring {
     int a, b;             /* particle indices, a < b */
     int type;             /* wc_spring_type */
-    double rest;          /* rest length (m); 0 for seam springs */
+    double rest;          /* rest length (m); seam springs: 0, or for a host pair its start distance,
+                             the ramp's start (sew.h) */
     double w;             /* stiffness and damping weight: 1, or a seam spring's weight (sew.h),
                              which may be negative (the set of a seam's springs is PSD) */
 } wc_spring;
@@ -83,6 +84,8 @@ typedef struct wc_model_def {
     int n_seam_pairs;           /* host-supplied vertex pairs, >= 0 */
     const int* seam_a;          /* (n_seam_pairs) host vertex indices; seam_a[i] sews to seam_b[i] */
     const int* seam_b;          /* (n_seam_pairs) host vertex indices */
+    double seam_close_time;     /* s (0.5): a host pair's rest length shrinks linearly from its
+                                   start distance to 0 over this simulated time (sew.h); 0: at once */
 } wc_model_def;
 
 wc_model_def wc_default_model_def(void);
@@ -114,6 +117,8 @@ typedef struct wc_model {
     int n_seams;
     wc_seam* seams;             /* (n_seams) sewn points; their springs are the WC_SPRING_SEAM springs */
     int n_panels;               /* components left once seams join them */
+    double seam_close_time;     /* s: host pairs' rest-length ramp (wc_model_def) */
+    int n_host_seams;           /* the last n_host_seams seams are host pairs */
 
     wc_bsr_pattern pattern;     /* block pattern of the implicit system + per-row spring/triangle lists */
 

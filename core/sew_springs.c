@@ -1,6 +1,9 @@
 /* Seams -> WC_SPRING_SEAM springs (the decomposition in sew.h): a seam (p, q0, q1, t) gives pair
  * springs (p, q0) weight 1-t, (p, q1) weight t, (q0, q1) weight -t(1-t) (a vertex-to-vertex seam
- * only (p, q0) weight 1); springs on the same pair are merged, weights summed. */
+ * only (p, q0) weight 1); springs on the same pair are merged, weights summed. Host pairs (the
+ * last def->n_seam_pairs seams) are not merged: each is one spring of weight 1 whose rest field
+ * holds the pair's start distance, where its rest-length ramp starts (sew.h). */
+#include <math.h>
 #include <string.h>
 #include "model.h"
 #include "sort.h"
@@ -40,6 +43,8 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
             return st;
         }
     }
+    m->seam_close_time = def->seam_close_time;
+    m->n_host_seams = npairs;
     wc_sew_input in = {np, m->rest_pos, &m->we, m->particle_component, m->n_components, def->sew_distance, npairs, pa, pb};
     if (wc_sew_find(&in, &m->seams, &m->n_seams, &m->n_panels, A) != 0) goto oom;
     wc_free(A, pa);
@@ -58,7 +63,8 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
         goto oom;
     }
     int n = 0;
-    for (int i = 0; i < m->n_seams; ++i) {
+    const int n_dist = m->n_seams - npairs; /* seams found by distance, then the host pairs */
+    for (int i = 0; i < n_dist; ++i) {
         const wc_seam* s = &m->seams[i];
         add_pair(pw, &n, s->p, s->q0, 1.0 - s->t);
         add_pair(pw, &n, s->p, s->q1, s->t);
@@ -72,7 +78,7 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
     int distinct = 0;
     if (!wc_radix_sort(keys, n, 2 * bits, A)) goto oom_pw;
     for (int i = 0; i < n; ++i) distinct += i == 0 || keys[i].key != keys[i - 1].key;
-    wc_spring* sp = WC_NEW(A, wc_spring, (size_t)m->n_springs + distinct);
+    wc_spring* sp = WC_NEW(A, wc_spring, (size_t)m->n_springs + distinct + npairs);
     if (!sp) goto oom_pw;
     memcpy(sp, m->springs, (size_t)m->n_springs * sizeof(wc_spring));
     int ns = m->n_springs;
@@ -83,6 +89,16 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
             continue;
         }
         wc_spring s = {q->a, q->b, WC_SPRING_SEAM, 0.0, q->w};
+        sp[ns++] = s;
+    }
+    for (int i = n_dist; i < m->n_seams; ++i) {
+        const wc_seam* h = &m->seams[i];
+        double d2 = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            double e = m->rest_pos[3 * h->p + k] - m->rest_pos[3 * h->q0 + k];
+            d2 += e * e;
+        }
+        wc_spring s = {h->p < h->q0 ? h->p : h->q0, h->p < h->q0 ? h->q0 : h->p, WC_SPRING_SEAM, sqrt(d2), 1.0};
         sp[ns++] = s;
     }
     wc_free(A, m->springs);
