@@ -172,6 +172,7 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
     md.n_seam_pairs = def->n_seams;
     md.seam_a = def->seam_a;
     md.seam_b = def->seam_b;
+    md.seam_close_time = def->seam_close_time;
     wc_diag d = wa_core_diag(ctx);
     st = wc_model_build(&c->model, &src, &md, &ctx->alloc, &d);
     wc_source_mesh_free(&src);

@@ -41,6 +41,7 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.sleep_time = 0.5;
     d.linear_inertia = 1.0;
     d.angular_inertia = 1.0;
+    d.seam_close_time = 0.5;
     d.internal_cookie = WA_COOKIE_CLOTH;
     return d;
 }
@@ -147,6 +148,7 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     }
     RANGE(d->sew_distance, 0.0, INFINITY, 0, "def->sew_distance");
     RANGE(d->sew_stiffness, 0.0, INFINITY, 0, "def->sew_stiffness");
+    RANGE(d->seam_close_time, 0.0, INFINITY, 0, "def->seam_close_time");
     if (d->n_seams < 0) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->n_seams = %d must be >= 0", d->n_seams);
     if (d->n_seams > 0 && (!d->seam_a || !d->seam_b))
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->n_seams = %d but def->seam_%c is NULL", d->n_seams, d->seam_a ? 'b' : 'a');

@@ -127,6 +127,7 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, seam_a);
     FIELD(weft_cloth_def, seam_b);
     FIELD(weft_cloth_def, n_seams);
+    FIELD(weft_cloth_def, seam_close_time);
     FIELD(weft_cloth_def, internal_cookie);
     struct_end();
 

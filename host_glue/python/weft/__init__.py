@@ -225,6 +225,7 @@ class ClothDef(_Struct):
                 # sewing (README "Sewing")
                 ("sew_distance", c_double), ("sew_stiffness", c_double),
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
+                ("seam_close_time", c_double),
                 ("internal_cookie", c_uint32)]
 
 

@@ -79,6 +79,7 @@ static void describe_settings(const scene* s, weft_cloth_def* def) {
     def->n_seams = s->model_def.n_seam_pairs;
     def->seam_a = s->seam_a;
     def->seam_b = s->seam_b;
+    def->seam_close_time = s->model_def.seam_close_time;
     def->material.density = mat->density;
     for (int t = 0; t < 3; ++t) {   /* WC_SPRING_* and WEFT_SPRING_* share the order */
         def->material.stiffness[t] = mat->k[t];

@@ -42,7 +42,8 @@ int scene_require(const sj_ctx* c, const cJSON* obj, const char* parent, const c
 static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     const cJSON* mesh = sj_get(root, "mesh");
     if (!mesh) return sj_fail(c, "mesh", "missing (a scene needs {\"file\": ...} or {\"grid\": ...})");
-    static const char* const keys[] = {"file", "scale", "select", "grid", "weld_tolerance", "sew_distance", "seams"};
+    static const char* const keys[] = {"file", "scale", "select", "grid", "weld_tolerance", "sew_distance", "seams",
+                                       "seam_close_time"};
     if (sj_check_object(c, mesh, "mesh", keys, COUNT(keys)) < 0) return -1;
     if (scene_parse_seams(c, mesh, s) < 0) return -1;
     const int has_file = sj_get(mesh, "file") != NULL, has_grid = sj_get(mesh, "grid") != NULL;

@@ -1,12 +1,13 @@
-/* Scene sewing (sew.h): mesh.sew_distance (m, >= 0) and mesh.seams ([[a, b], ...], host vertex
- * indices of the mesh, a != b), read into model_def; indices are checked against the mesh once it
- * is made. */
+/* Scene sewing (sew.h): mesh.sew_distance (m, >= 0), mesh.seams ([[a, b], ...], host vertex
+ * indices of the mesh, a != b) and mesh.seam_close_time (s, >= 0), read into model_def; indices
+ * are checked against the mesh once it is made. */
 #include <stdio.h>
 #include <stdlib.h>
 #include "scene_parts.h"
 
 int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s) {
     if (sj_number(c, mesh, "mesh", "sew_distance", SJ_NONNEGATIVE, &s->model_def.sew_distance) < 0) return -1;
+    if (sj_number(c, mesh, "mesh", "seam_close_time", SJ_NONNEGATIVE, &s->model_def.seam_close_time) < 0) return -1;
     const cJSON* list = NULL;
     int r = sj_array(c, mesh, "mesh", "seams", &list);
     if (r <= 0) return r;

@@ -325,6 +325,9 @@ typedef struct weft_cloth_def {
     const int* seam_a;          /* (n_seams) host vertex indices, copied at creation */
     const int* seam_b;          /* (n_seams) host vertex indices, != seam_a[i] */
     int n_seams;                /* >= 0 (0) */
+    double seam_close_time;     /* s (0.5): a seam pair's rest length shrinks linearly from its
+                                   start distance to 0 over this simulated time, so panels that
+                                   start apart are drawn together, not snapped; 0: at once */
     uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
 } weft_cloth_def;
 
