@@ -20,7 +20,8 @@ int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s) {
         char path[64];
         snprintf(path, sizeof path, "mesh.seams[%d]", i);
         if (!cJSON_IsArray(pair) || cJSON_GetArraySize(pair) != 2)
-            return sj_fail(c, path, "must be a pair [a, b] of vertex indices, not %s", sj_type_name(pair));
+            return sj_fail(c, path, "must be a pair [a, b] of vertex indices, not %s%s", sj_type_name(pair),
+                           cJSON_IsArray(pair) ? " of another length" : "");
         int v[2];
         for (int k = 0; k < 2; ++k) {
             const cJSON* x = cJSON_GetArrayItem(pair, k);
