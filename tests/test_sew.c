@@ -268,7 +268,6 @@ static run_result hang(const wc_model* m, const int* pinned, int n_pins, int fra
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = 1;
     sd.sleep_speed = 0.0;
-    if (getenv("NW")) { sd.newton_iterations = atoi(getenv("NW")); sd.line_search = 1; }
     sd.solver.preconditioner = amg ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
     wc_state* s = NULL;
     wc_diag d = {0};
