@@ -292,7 +292,9 @@ static run_result hang(const wc_model* m, const int* pinned, int n_pins, int fra
         }
         ++r.frames_ok;
         r.rollbacks += st.rollbacks;
-        if (getenv("SEW_DEBUG") && st.rollbacks) fprintf(stderr, "amg %d frame %d: %d rollbacks, strain %g, gap %g: %s\n", amg, f, st.rollbacks, st.max_strain, measure(m, s->x), d.message);
+        if (getenv("SEW_DEBUG") && st.rollbacks)
+            fprintf(stderr, "amg %d frame %d: %d rollbacks, strain %g, gap %g\n", amg, f, st.rollbacks,
+                    st.max_strain, measure(m, s->x));
         r.failures += st.failures;
         r.iterations += st.iterations;
         if (st.max_strain > r.max_strain) r.max_strain = st.max_strain;
