@@ -40,6 +40,13 @@
 #define WC_AMG_COARSE_SWEEPS 4
 #define WC_AMG_CHUNK 256        /* rows per partial sum */
 #define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the power iterations' Rayleigh quotient */
+/* Seams (sew.h) between a vertex and a point of an edge couple three particles: for that
+ * block, w^T D^-1 w = 3 where a spring's is 2, so D^-1 A has eigenvalues up to 3/2 of the spring
+ * network's in modes local to the seams, which power iterations from a spread start
+ * underestimate; the Chebyshev smoother beyond its bound then makes the V-cycle indefinite (PCG
+ * broke down on a sewn tube). The finest level's bound is raised by this factor when the model
+ * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's). */
+#define WC_AMG_SEAM_BOUND 1.5
 
 typedef struct wc_amg_opts {
     int coarse_max;             /* nodes at which coarsening stops (dense Cholesky there): 96 */
@@ -101,6 +108,8 @@ typedef struct wc_amg {
     double* coarse_L;           /* (coarse_dofs^2) dense Cholesky factor, lower, row-major */
     double* coarse_y;           /* (coarse_dofs) */
     double setup_ms;            /* of the last wc_amg_setup */
+    double fine_bound_scale;    /* the finest level's lambda_max bound x this: WC_AMG_SEAM_BOUND
+                                   with three-point seams (sew.h), else 1 */
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */

@@ -242,6 +242,9 @@ weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* op
     if (!a) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
     if (alloc) a->alloc = *alloc;
     a->opts = o;
+    a->fine_bound_scale = 1.0;
+    for (int s = 0; s < m->n_seams; ++s)
+        if (m->seams[s].q0 != m->seams[s].q1) a->fine_bound_scale = WC_AMG_SEAM_BOUND;
     int n = m->n_particles;
     const wc_bsr_pattern* p = &m->pattern;
     int* mark = WC_NEW(&a->alloc, int, n + 1);

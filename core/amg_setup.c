@@ -217,6 +217,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
         diagonal(L, par);
         largest_eigenvalue(L, a->opts.power_iterations, par);
+        if (l == 0) L->bound *= a->fine_bound_scale; /* seams (amg.h, WC_AMG_SEAM_BOUND) */
         prolongator(L, a->opts.prolong_weight, par);
         galerkin(L, N, par);
     }
@@ -224,6 +225,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     else {
         diagonal(&a->lev[a->n_levels - 1], par);
         largest_eigenvalue(&a->lev[a->n_levels - 1], a->opts.power_iterations, par);
+        if (a->n_levels == 1) a->lev[0].bound *= a->fine_bound_scale;
     }
     a->setup_ms = wc_now_ms() - t0;
 }

@@ -21,8 +21,40 @@ static void spring_blocks(const double* u, double l, double rest, const double* 
         }
 }
 
+double wc_seam_scale(const wc_model* m, double t) {
+    double T = m->seam_close_time;
+    if (!(T > 0.0) || m->n_host_seams == 0) return 0.0;
+    double r = 1.0 - t / T;
+    return r > 0.0 ? r : 0.0;
+}
+
+/* Seam spring (sew.h): only pulls, rest r = rest x seam_scale; linear (f = -kw L) once r = 0;
+ * isotropic damping -dw (v_a - v_b). */
+static void seam_blocks(const double* L, const double* dv, double r, double kw, double dw, wc_spring_eval* o) {
+    double l = v3_norm(L);
+    m3_identity(o->kv, -dw);
+    for (int q = 0; q < 3; ++q) o->f[q] = -dw * dv[q];
+    if (r <= 0.0) {
+        v3_axpy(o->f, -kw, L);
+        m3_identity(o->kx, -kw);
+        return;
+    }
+    m3_zero(o->kx);
+    if (!(l > r)) return; /* slack */
+    double u[3], c = 1.0 - r / l;
+    v3_scale(u, L, 1.0 / l);
+    v3_axpy(o->f, -kw * (l - r), u);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) o->kx[3 * a + b] = -kw * ((1.0 - c) * u[a] * u[b] + (a == b ? c : 0.0));
+}
+
 void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
                      wc_par* par, wc_spring_eval* out) {
+    wc_eval_springs_at(m, x, v, compression, 0.0, par, out);
+}
+
+void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                        double seam_scale, wc_par* par, wc_spring_eval* out) {
     const wc_spring* sp = m->springs;
     const double* k = m->material.k;
     const double* d = m->material.d;
@@ -36,6 +68,10 @@ void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_com
             double rest = sp[s].rest, L[3], u[3] = {0, 0, 0}, dv[3], c = 0.0;
             v3_sub(L, x + 3 * a, x + 3 * b);
             v3_sub(dv, v + 3 * a, v + 3 * b);
+            if (t == WC_SPRING_SEAM) { /* zero rest length, linear once closed (sew.h) */
+                seam_blocks(L, dv, rest * seam_scale, k[t] * sp[s].w, d[t] * sp[s].w, out + s);
+                continue;
+            }
             double l = v3_norm(L);
             if (l > 0.0 && l >= WC_SPRING_DEGENERATE * rest) {
                 v3_scale(u, L, 1.0 / l);
@@ -104,14 +140,16 @@ void wc_eval_external(const wc_model* m, const double* x, const double* v, const
     }
 }
 
-double wc_spring_energy(const wc_model* m, const double* x) {
+double wc_spring_energy(const wc_model* m, const double* x) { return wc_spring_energy_at(m, x, 0.0); }
+
+double wc_spring_energy_at(const wc_model* m, const double* x, double seam_scale) {
     double e = 0.0;
     for (int s = 0; s < m->n_springs; ++s) {
         const wc_spring* sp = &m->springs[s];
         double L[3];
         v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
-        double dl = v3_norm(L) - sp->rest;
-        e += 0.5 * m->material.k[sp->type] * dl * dl;
+        double dl = wc_spring_extension(sp, v3_norm(L), seam_scale);
+        e += 0.5 * m->material.k[sp->type] * sp->w * dl * dl;
     }
     return e;
 }

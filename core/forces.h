@@ -34,9 +34,26 @@ typedef struct wc_air {
     double tangent_drag;   /* kg/(m^2 s): skin friction per unit relative tangential speed */
 } wc_air;
 
-/* Evaluate every spring (springs in parallel). x, v: (n_particles x 3). out: (n_springs). */
+/* Evaluate every spring (springs in parallel). x, v: (n_particles x 3). out: (n_springs).
+ * seam_scale in [0, 1]: host seam pairs' rest length is rest x seam_scale (their ramp, sew.h); a
+ * seam spring only pulls (no force beyond damping while l <= rest x seam_scale). wc_eval_springs
+ * is seam_scale 0 (every seam closed). */
+void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                        double seam_scale, wc_par* par, wc_spring_eval* out);
 void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
                      wc_par* par, wc_spring_eval* out);
+
+/* The ramp of host seam pairs at simulated time t (s): max(0, 1 - t / seam_close_time); 0 when
+ * that time is 0 or there are no host pairs. */
+double wc_seam_scale(const wc_model* m, double t);
+
+/* The extension whose square the spring's energy w k/2 (.)^2 takes at length l (m): l - rest,
+ * or for a seam spring max(0, l - rest x seam_scale). */
+static inline double wc_spring_extension(const wc_spring* sp, double l, double seam_scale) {
+    if (sp->type != WC_SPRING_SEAM) return l - sp->rest;
+    double r = sp->rest * seam_scale;
+    return l > r ? l - r : 0.0;
+}
 
 /* External force per particle: gravity m g, plus air (when normal_drag or tangent_drag > 0;
  * tri_scratch (n_tris x 3) receives per-triangle forces and is then gathered per particle through
@@ -44,7 +61,9 @@ void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_com
 void wc_eval_external(const wc_model* m, const double* x, const double* v, const double gravity[3],
                       const wc_air* air, wc_par* par, double* tri_scratch, double* f_ext);
 
-/* Elastic energy of all springs: sum k/2 (l - rest)^2 (J). */
+/* Elastic energy of all springs: sum w k/2 extension^2 (J), seams included (seam_scale as in
+ * wc_eval_springs_at; wc_spring_energy: 0). */
+double wc_spring_energy_at(const wc_model* m, const double* x, double seam_scale);
 double wc_spring_energy(const wc_model* m, const double* x);
 
 /* Largest (l - rest) / rest over stretch springs (0 when none is stretched). */

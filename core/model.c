@@ -22,6 +22,8 @@ wc_material wc_default_material(void) {
     m.d[WC_SPRING_STRETCH] = 2.0;          /* N s/m */
     m.d[WC_SPRING_SHEAR] = 0.5;
     m.d[WC_SPRING_BEND] = 0.05;
+    m.k[WC_SPRING_SEAM] = 5000.0;          /* sewing: as stiff as stretch */
+    m.d[WC_SPRING_SEAM] = 2.0;
     m.uniform_mass = 0.0;
     return m;
 }
@@ -34,6 +36,7 @@ wc_model_def wc_default_model_def(void) {
     d.bend_min_angle_deg = 150.0;
     d.reorder = 1;
     d.material = wc_default_material();
+    d.seam_close_time = 0.5;
     return d;
 }
 
@@ -62,6 +65,7 @@ void wc_model_free(wc_model* m) {
     wc_winged_edge_free(&m->we, &a);
     wc_bsr_pattern_free(&m->pattern, &a);
     wc_free(&a, m->springs);
+    wc_free(&a, m->seams);
     wc_free(&a, m->host_to_particle);
     wc_free(&a, m->particle_to_host);
     wc_free(&a, m->particle_component);
@@ -112,6 +116,15 @@ static weft_status validate_def(const wc_model_def* d, wc_diag* diag) {
     for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t)
         if (!(m->k[t] >= 0.0) || !isfinite(m->k[t]) || !(m->d[t] >= 0.0) || !isfinite(m->d[t]))
             return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "material k and d must be finite and >= 0 (spring type %d)", t);
+    if (!(d->sew_distance >= 0.0) || !isfinite(d->sew_distance))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance must be finite and >= 0 (got %g)", d->sew_distance);
+    if (!(d->seam_close_time >= 0.0) || !isfinite(d->seam_close_time))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam_close_time must be finite and >= 0 (got %g)",
+                       d->seam_close_time);
+    if (d->n_seam_pairs < 0)
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam pair count must be >= 0 (got %d)", d->n_seam_pairs);
+    if (d->n_seam_pairs > 0 && (!d->seam_a || !d->seam_b))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "%d seam pairs but seam_a or seam_b is NULL", d->n_seam_pairs);
     return WEFT_OK;
 }
 
@@ -124,6 +137,13 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     if (st != WEFT_OK) return st;
     if (src->n_verts <= 0 || src->n_polys <= 0)
         return wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "mesh has no polygons (%d vertices, %d polygons)", src->n_verts, src->n_polys);
+    for (int i = 0; i < def->n_seam_pairs; ++i) {
+        int a = def->seam_a[i], b = def->seam_b[i];
+        if (a < 0 || a >= src->n_verts || b < 0 || b >= src->n_verts)
+            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "seam %d: vertex pair (%d, %d) outside the mesh's %d vertices",
+                           i, a, b, src->n_verts);
+        if (a == b) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam %d sews vertex %d to itself", i, a);
+    }
 
     wc_model* m = out;
     wc_import_report* r = &m->report;
@@ -319,6 +339,9 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     wc_spring_input spring_in = {np, m->rest_pos, &m->we, m->tri_quad, nq, t.quads, def->bend_min_angle_deg};
     st = wc_build_springs(&spring_in, &m->springs, &m->n_springs, m->spring_type_start, A, diag);
     if (st != WEFT_OK) goto fail;
+    /* 7a. seams: found, then appended as WC_SPRING_SEAM springs */
+    st = wc_model_sew(m, def, diag);
+    if (st != WEFT_OK) goto fail;
     STAGE_DONE(springs);
 
     /* 7b. block pattern of the implicit system and per-row lists */
@@ -338,6 +361,8 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     r->triangles = nt;
     r->edges = m->we.n_edges;
     r->components = m->n_components;
+    r->seams = m->n_seams;
+    r->panels = m->n_panels;
     for (int ty = 0; ty < WC_SPRING_TYPE_COUNT; ++ty)
         r->springs[ty] = m->spring_type_start[ty + 1] - m->spring_type_start[ty];
     for (int k = 0; k < 3; ++k) {

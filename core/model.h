@@ -7,6 +7,7 @@
 #include "alloc.h"
 #include "bsr.h"
 #include "diag.h"
+#include "sew.h"
 #include "source_mesh.h"
 #include "winged_edge.h"
 
@@ -14,18 +15,24 @@ typedef enum wc_spring_type {
     WC_SPRING_STRETCH = 0,
     WC_SPRING_SHEAR = 1,
     WC_SPRING_BEND = 2,
-    WC_SPRING_TYPE_COUNT = 3
+    WC_SPRING_SEAM = 3,      /* zero-rest-length sewing springs (sew.h), weighted by spring.w */
+    WC_SPRING_TYPE_COUNT = 4
 } wc_spring_type;
+#define WC_SPRING_MESH_TYPES 3 /* stretch, shear, bend: the types built from the mesh */
 
 typedef struct wc_spring {
     int a, b;             /* particle indices, a < b */
     int type;             /* wc_spring_type */
-    double rest;          /* rest length (m) */
+    double rest;          /* rest length (m); seam springs: 0, or for a host pair its start distance,
+                             the ramp's start (sew.h) */
+    double w;             /* stiffness and damping weight: 1, or a seam spring's weight (sew.h),
+                             which may be negative (the set of a seam's springs is PSD) */
 } wc_spring;
 
 typedef struct wc_material {
     double density;                   /* kg/m^2, lumped to particles by triangle area */
-    double k[WC_SPRING_TYPE_COUNT];   /* spring stiffness per type (N/m) */
+    double k[WC_SPRING_TYPE_COUNT];   /* spring stiffness per type (N/m); k[WC_SPRING_SEAM]: the
+                                         sewing stiffness, default 5000 (the stretch default) */
     double d[WC_SPRING_TYPE_COUNT];   /* spring damping per type (N s/m) */
     double uniform_mass;              /* kg per particle; > 0 overrides density */
 } wc_material;
@@ -52,6 +59,8 @@ typedef struct wc_import_report {
     int boundary_loops;
     int components;             /* connected components of the triangle mesh */
     int springs[WC_SPRING_TYPE_COUNT];
+    int seams;                  /* seams sewn (sew.h): by sew_distance plus host pairs */
+    int panels;                 /* components left once seams join them */
     double bbox_min[3], bbox_max[3]; /* metres, over particles */
     double unit_scale;          /* metres per source unit */
     double weld_distance;       /* absolute weld distance used (m) */
@@ -70,6 +79,13 @@ typedef struct wc_model_def {
     int reorder;                /* 1: number particles by reverse Cuthill-McKee for locality (default);
                                    0: by first appearance in host order */
     wc_material material;
+    /* sewing (sew.h) */
+    double sew_distance;        /* m: boundary vertices sew to other panels' boundary within it; 0 off */
+    int n_seam_pairs;           /* host-supplied vertex pairs, >= 0 */
+    const int* seam_a;          /* (n_seam_pairs) host vertex indices; seam_a[i] sews to seam_b[i] */
+    const int* seam_b;          /* (n_seam_pairs) host vertex indices */
+    double seam_close_time;     /* s (0.5): a host pair's rest length shrinks linearly from its
+                                   start distance to 0 over this simulated time (sew.h); 0: at once */
 } wc_model_def;
 
 wc_model_def wc_default_model_def(void);
@@ -98,6 +114,12 @@ typedef struct wc_model {
     int* particle_component;    /* (n_particles) component id */
     int n_components;
 
+    int n_seams;
+    wc_seam* seams;             /* (n_seams) sewn points; their springs are the WC_SPRING_SEAM springs */
+    int n_panels;               /* components left once seams join them */
+    double seam_close_time;     /* s: host pairs' rest-length ramp (wc_model_def) */
+    int n_host_seams;           /* the last n_host_seams seams are host pairs */
+
     wc_bsr_pattern pattern;     /* block pattern of the implicit system + per-row spring/triangle lists */
 
     wc_material material;
@@ -109,6 +131,11 @@ typedef struct wc_model {
 weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_model_def* def,
                            const wc_allocator* alloc, wc_diag* diag);
 void wc_model_free(wc_model* m);
+
+/* Build stage (sew_springs.c): finds m's seams (def's sew_distance and host pairs, mapped through
+ * host_to_particle; a pair on an unused vertex or on one particle is refused) and appends their
+ * WC_SPRING_SEAM springs to m->springs. Needs particles, components and the winged edge. */
+weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag);
 
 /* Append a warning to the report (printf-style; truncated, counted when the list is full). */
 void wc_report_warn(wc_import_report* r, const char* fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -133,10 +133,10 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
                 const wc_spring* sp = &m->springs[k];
                 double L[3], dv[3], Kd[3];
                 v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
-                double dl = v3_norm(L) - sp->rest;
+                double dl = wc_spring_extension(sp, v3_norm(L), s->seam_scale);
                 v3_sub(dv, vv + 3 * sp->a, vv + 3 * sp->b);
                 m3_mulv(Kd, kv0 + 9 * (size_t)k, dv);
-                acc += 0.5 * m->material.k[sp->type] * dl * dl - 0.5 * he * v3_dot(dv, Kd);
+                acc += 0.5 * m->material.k[sp->type] * sp->w * dl * dl - 0.5 * he * v3_dot(dv, Kd);
             }
             part[c] = acc;
         }
@@ -151,7 +151,7 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
     const wc_model* m = s->model;
     double t0 = wc_now_ms();
     positions(s, ig, w);
-    wc_eval_springs(m, s->nw_x, s->nw_zero, compression, &s->par, s->se);
+    wc_eval_springs_at(m, s->nw_x, s->nw_zero, compression, s->seam_scale, &s->par, s->se);
     const double *vv = s->nw_v, *kv0 = s->nw_kv0;
     wc_spring_eval* se = s->se;
     WC_PAR_REGION(&s->par)

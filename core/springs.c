@@ -129,6 +129,7 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
         s->b = (int)(pair % c.np);
         s->type = t;
         s->rest = dist(in->pos, s->a, s->b);
+        s->w = 1.0;
     }
     wc_free(alloc, c.items);
     wc_free(alloc, deg);

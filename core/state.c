@@ -115,6 +115,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     if (!s) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory");
     s->model = m;
     s->def = *def;
+    s->seam_scale = wc_seam_scale(m, 0.0);
     s->alloc = A;
     wc_par_init(&s->par, def->threads);
     int n = m->n_particles;
@@ -326,7 +327,7 @@ double wc_state_kinetic_energy(const wc_state* s) {
 
 double wc_state_total_energy(const wc_state* s, double* elastic) {
     const wc_model* m = s->model;
-    double e = wc_state_kinetic_energy(s) + wc_spring_energy(m, s->x);
+    double e = wc_state_kinetic_energy(s) + wc_spring_energy_at(m, s->x, s->seam_scale);
     if (elastic) *elastic = e;
     for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
     return e;

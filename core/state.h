@@ -82,6 +82,10 @@ typedef struct wc_state {
     wc_allocator alloc;
     wc_par par;
     double time;                /* s, simulated */
+    double seam_scale;          /* host seam pairs' rest-length ramp over the current frame (sew.h),
+                                   derived from time: wc_seam_scale(model, time at the frame's end) */
+    int seam_ramping;           /* 1 while that ramp shortens host seams in this frame (an energy
+                                   source: the energy gain is not judged), derived from time */
     double accumulator;         /* s, fixed-substep mode: time not yet simulated */
     long long frame;            /* frames stepped */
 

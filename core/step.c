@@ -116,9 +116,10 @@ static double energy_floor(const wc_state* s) {
 }
 
 /* 1 when nothing in this frame can put energy into the cloth: pins still, colliders still, no
- * wind (gravity is in the total energy; drag and friction only take energy out). */
+ * host seam ramp, no wind (gravity is in the total energy; drag and friction only take energy out). */
 static int sourceless(const wc_state* s, double pin_energy) {
     if (pin_energy > 0 || v3_dot(s->def.air.wind, s->def.air.wind) > 0) return 0;
+    if (s->seam_ramping) return 0; /* host seams shortening their rest length do work (sew.h) */
     for (int k = 0; k < s->n_colliders; ++k)
         if (v3_dot(s->colliders[k].velocity, s->colliders[k].velocity) > 0) return 0;
     return 1;
@@ -168,7 +169,7 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    wc_eval_springs(m, s->x, s->v, compression, &s->par, s->se);
+    wc_eval_springs_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se);
     wc_eval_external(m, s->x, s->v, s->def.gravity, &s->def.air, &s->par, s->tri_scratch, s->f_ext);
     t1 = wc_now_ms();
     st->ms.forces += t1 - t0;
@@ -415,6 +416,8 @@ weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_d
         s->input_air = s->def.air;
     }
     if (s->asleep) return sleep_frame(s, dt, st, t_start);
+    s->seam_scale = wc_seam_scale(s->model, s->time + dt); /* constant over the frame (sew.h) */
+    s->seam_ramping = wc_seam_scale(s->model, s->time) > 0.0;
     st->woke = s->woke;
     s->woke = 0;
     double pin_speed2 = 0.0;

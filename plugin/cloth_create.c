@@ -166,6 +166,13 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
         md.material.k[k] = def->material.stiffness[k];
         md.material.d[k] = def->material.damping[k];
     }
+    md.material.k[WC_SPRING_SEAM] = def->sew_stiffness > 0 ? def->sew_stiffness : def->material.stiffness[0];
+    md.material.d[WC_SPRING_SEAM] = def->material.damping[0];
+    md.sew_distance = def->sew_distance;
+    md.n_seam_pairs = def->n_seams;
+    md.seam_a = def->seam_a;
+    md.seam_b = def->seam_b;
+    md.seam_close_time = def->seam_close_time;
     wc_diag d = wa_core_diag(ctx);
     st = wc_model_build(&c->model, &src, &md, &ctx->alloc, &d);
     wc_source_mesh_free(&src);
@@ -257,6 +264,8 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.integrator = sd->integrator == WC_INTEGRATOR_BDF2 ? WEFT_INTEGRATOR_BDF2 : WEFT_INTEGRATOR_BACKWARD_EULER;
     i.newton_iterations = sd->newton_iterations;
     i.line_search = sd->line_search;
+    i.n_seams = m->n_seams;
+    i.n_panels = m->n_panels;
     *out = i;
     return wa_ok(ctx);
 }

@@ -41,6 +41,7 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.sleep_time = 0.5;
     d.linear_inertia = 1.0;
     d.angular_inertia = 1.0;
+    d.seam_close_time = 0.5;
     d.internal_cookie = WA_COOKIE_CLOTH;
     return d;
 }
@@ -144,6 +145,22 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     for (int k = 0; k < 3; ++k) {
         RANGE(d->gravity[k], -INFINITY, INFINITY, 0, "def->gravity[%d]", k);
         RANGE(d->wind[k], -INFINITY, INFINITY, 0, "def->wind[%d]", k);
+    }
+    RANGE(d->sew_distance, 0.0, INFINITY, 0, "def->sew_distance");
+    RANGE(d->sew_stiffness, 0.0, INFINITY, 0, "def->sew_stiffness");
+    RANGE(d->seam_close_time, 0.0, INFINITY, 0, "def->seam_close_time");
+    if (d->n_seams < 0) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->n_seams = %d must be >= 0", d->n_seams);
+    if (d->n_seams > 0 && (!d->seam_a || !d->seam_b))
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->n_seams = %d but def->seam_%c is NULL", d->n_seams, d->seam_a ? 'b' : 'a');
+    for (int k = 0; k < d->n_seams; ++k) {
+        if (d->seam_a[k] == d->seam_b[k])
+            FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->seam_a[%d] = def->seam_b[%d] = %d: a vertex cannot be sewn to itself",
+                 k, k, d->seam_a[k]);
+        for (int s = 0; s < 2 && m->positions; ++s) {
+            int v = s ? d->seam_b[k] : d->seam_a[k];
+            if (v < 0 || v >= m->n_vertices)
+                FAIL(WEFT_ERROR_OUT_OF_RANGE, "def->seam_%c[%d] = %d is outside [0, %d)", s ? 'b' : 'a', k, v, m->n_vertices);
+        }
     }
     RANGE(d->air_drag_normal, 0.0, INFINITY, 0, "def->air_drag_normal");
     RANGE(d->air_drag_tangent, 0.0, INFINITY, 0, "def->air_drag_tangent");

@@ -26,7 +26,9 @@
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
  * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
- * direct solver refactorises); wc_par's partial sums are per-reduction scratch.
+ * direct solver refactorises); wc_par's partial sums are per-reduction scratch; seam_scale (the
+ * host seam pairs' ramp, core/sew.h) is derived from time at every frame's start. Seams are
+ * model: their springs (weights, ramp start) and seam_close_time are in the fingerprint.
  *
  * The fingerprint hashes what must match for the state to mean the same thing: particles (host
  * map, rest positions, masses), triangles, springs, material, the pinned particles and their
@@ -79,11 +81,13 @@ uint64_t wa_model_hash(const wa_cloth* c) {
         h = hash_int(h, sp->b);
         h = hash_int(h, sp->type);
         h = hash_bytes(h, &sp->rest, sizeof sp->rest);
+        h = hash_bytes(h, &sp->w, sizeof sp->w); /* seam springs (sew.h) are part of the model */
     }
     h = hash_bytes(h, &m->material.density, sizeof(double));
     h = hash_bytes(h, m->material.k, sizeof m->material.k);
     h = hash_bytes(h, m->material.d, sizeof m->material.d);
     h = hash_bytes(h, &m->material.uniform_mass, sizeof(double));
+    h = hash_bytes(h, &m->seam_close_time, sizeof(double));
     h = hash_int(h, c->n_attachments);
     h = hash_int(h, c->n_pins);
     for (int k = 0; k < c->n_pins; ++k) {

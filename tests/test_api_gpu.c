@@ -162,8 +162,14 @@ static void test_direct_refused(void) {
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
     /* what only the CPU backend has: the multigrid preconditioner, BDF2, Newton, line search */
     def.solver = WEFT_SOLVER_PCG;
-    for (int k = 0; k < 4; ++k) {
+    static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1}; /* sewing (k == 4): CPU only */
+    for (int k = 0; k < 5; ++k) {
         weft_cloth_def d2 = def;
+        if (k == 4) {
+            d2.seam_a = seam_a;
+            d2.seam_b = seam_b;
+            d2.n_seams = 1;
+        }
         if (k == 0) d2.preconditioner = WEFT_PRECOND_AMG;
         if (k == 1) d2.integrator = WEFT_INTEGRATOR_BDF2;
         if (k == 2) d2.newton_iterations = 3;
@@ -171,6 +177,7 @@ static void test_direct_refused(void) {
         CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_ERROR_UNSUPPORTED);
         CHECK(cloth.id == 0);
         printf("CPU-only option %d on the GPU: %s\n", k, weft_context_last_error(ctx));
+        if (k == 4) CHECK(strstr(weft_context_last_error(ctx), "sewing") != NULL);
     }
     CHECK(strstr(weft_context_last_error(ctx), "GPU backend") != NULL);
     /* the context is still usable; DEFAULT resolves to what the GPU has */

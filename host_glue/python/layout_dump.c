@@ -122,6 +122,12 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, attachments);
     FIELD(weft_cloth_def, n_colliders);
     FIELD(weft_cloth_def, colliders);
+    FIELD(weft_cloth_def, sew_distance);
+    FIELD(weft_cloth_def, sew_stiffness);
+    FIELD(weft_cloth_def, seam_a);
+    FIELD(weft_cloth_def, seam_b);
+    FIELD(weft_cloth_def, n_seams);
+    FIELD(weft_cloth_def, seam_close_time);
     FIELD(weft_cloth_def, internal_cookie);
     struct_end();
 
@@ -142,6 +148,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, integrator);
     FIELD(weft_cloth_info, newton_iterations);
     FIELD(weft_cloth_info, line_search);
+    FIELD(weft_cloth_info, n_seams);
+    FIELD(weft_cloth_info, n_panels);
     struct_end();
 
     STRUCT(weft_frame);

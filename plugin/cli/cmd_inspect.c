@@ -19,6 +19,7 @@ typedef struct inspect_args {
 
 void cli_inspect_usage(FILE* out) {
     fputs("usage: weft inspect FILE [--json] [--scale S] [--weld-tolerance T] [--select NAME]\n"
+          "                    [--sew-distance D]\n"
           "\n"
           "Import FILE (any format assimp reads: OBJ, FBX, glTF, PLY, ...), weld it, build the\n"
           "winged edge and springs, and print the import report.\n"
@@ -30,6 +31,8 @@ void cli_inspect_usage(FILE* out) {
           "  --weld-tolerance T     weld distance relative to the bounding-box diagonal\n"
           "                         (>= 0; 0 disables welding; default 1e-6)\n"
           "  --select NAME          import only the mesh or node (with children) called NAME\n"
+          "  --sew-distance D       sew boundary vertices to other panels' boundaries within\n"
+          "                         D metres (>= 0; default 0: off); reports seams and panels\n"
           "  -h, --help             show this help\n",
           out);
 }
@@ -62,6 +65,10 @@ static int parse_args(int argc, char** argv, inspect_args* a) {
             if (cli_parse_double(value, &a->model.weld_tolerance) != 0 ||
                 !(a->model.weld_tolerance >= 0))
                 return usage_error("--weld-tolerance must be a finite number >= 0, not '%s'", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--sew-distance", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            if (cli_parse_double(value, &a->model.sew_distance) != 0 || !(a->model.sew_distance >= 0))
+                return usage_error("--sew-distance must be a finite number >= 0, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--select", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
             a->import.select = value;

@@ -56,6 +56,7 @@ static void add_springs(cJSON* root, const wc_import_report* r, int* ok) {
     add_int(springs, "stretch", r->springs[WC_SPRING_STRETCH], ok);
     add_int(springs, "shear", r->springs[WC_SPRING_SHEAR], ok);
     add_int(springs, "bend", r->springs[WC_SPRING_BEND], ok);
+    add_int(springs, "seam", r->springs[WC_SPRING_SEAM], ok);
 }
 
 static void add_warnings(cJSON* root, const wc_import_report* r, int* ok) {
@@ -94,6 +95,8 @@ int cli_report_json(FILE* out, const char* file, const wc_import_report* r) {
         add_int(root, "boundary_edges", r->boundary_edges, &ok);
         add_int(root, "non_manifold_edges", r->non_manifold_edges, &ok);
         add_int(root, "boundary_loops", r->boundary_loops, &ok);
+        add_int(root, "seams", r->seams, &ok);
+        add_int(root, "panels", r->panels, &ok);
         add_int(root, "components", r->components, &ok);
         add_int(root, "non_orientable_components", r->non_orientable_components, &ok);
         add_springs(root, r, &ok);

@@ -46,6 +46,8 @@ void cli_report_text(FILE* out, const char* file, const wc_import_report* r) {
     row_int(out, "boundary loops", r->boundary_loops);
     row_int(out, "components", r->components);
     row_int(out, "  non-orientable", r->non_orientable_components);
+    row_int(out, "seams", r->seams);
+    row_int(out, "panels after sewing", r->panels);
     row_vec(out, "bbox min (m)", r->bbox_min);
     row_vec(out, "bbox max (m)", r->bbox_max);
     row_vec(out, "size (m)", size);
@@ -54,6 +56,7 @@ void cli_report_text(FILE* out, const char* file, const wc_import_report* r) {
     row_int(out, "stretch", r->springs[WC_SPRING_STRETCH]);
     row_int(out, "shear", r->springs[WC_SPRING_SHEAR]);
     row_int(out, "bend", r->springs[WC_SPRING_BEND]);
+    row_int(out, "seam", r->springs[WC_SPRING_SEAM]);
 
     if (r->n_warnings == 0) {
         fputs("warnings: none\n", out);

@@ -71,6 +71,20 @@ class RoundTrip(unittest.TestCase):
         # object space = the host's mesh (identity object transform): the same numbers
         np.testing.assert_array_equal(cloth.get_vertices(weft.Space.OBJECT), out)
 
+    def test_seams(self):
+        # two copies of the grid, the second 1 mm above: sew_distance sews every boundary
+        # vertex of one to the other's boundary; a host pair sews a vertex to itself: refused
+        pos2 = np.concatenate([self.pos, self.pos + np.float32([0, 0.001, 0])])
+        faces2 = np.concatenate([self.faces, self.faces + len(self.pos)])
+        cloth = self.ctx.create_cloth(pos2, faces2, sew_distance=0.002)
+        self.assertEqual(cloth.info.n_panels, 1)
+        self.assertEqual(cloth.info.n_seams, 20)      # 20 boundary vertex pairs, each once
+        cloth = self.ctx.create_cloth(pos2, faces2, seams=[[0, 36], [5, 41]])
+        self.assertEqual((cloth.info.n_seams, cloth.info.n_panels), (2, 1))
+        with self.assertRaises(weft.WeftError) as e:
+            self.ctx.create_cloth(pos2, faces2, seams=[[3, 3]])
+        self.assertIn("seam", str(e.exception))
+
     def test_triangles_cover_the_quads(self):
         cloth = self.make()
         tris = cloth.get_triangles()

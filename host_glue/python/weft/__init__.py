@@ -221,7 +221,12 @@ class ClothDef(_Struct):
                 ("sleep_time", c_double), ("linear_inertia", c_double),
                 ("angular_inertia", c_double), ("n_attachments", c_int),
                 ("attachments", POINTER(AttachmentDef)), ("n_colliders", c_int),
-                ("colliders", POINTER(ColliderDef)), ("internal_cookie", c_uint32)]
+                ("colliders", POINTER(ColliderDef)),
+                # sewing (README "Sewing")
+                ("sew_distance", c_double), ("sew_stiffness", c_double),
+                ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
+                ("seam_close_time", c_double),
+                ("internal_cookie", c_uint32)]
 
 
 class ClothInfo(_Struct):
@@ -230,7 +235,8 @@ class ClothInfo(_Struct):
                 ("n_pinned_particles", c_int), ("n_colliders", c_int), ("total_mass", c_double),
                 ("bbox_min", c_double * 3), ("bbox_max", c_double * 3),
                 ("snapshot_size", c_size_t), ("backend", c_int), ("preconditioner", c_int),
-                ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int)]
+                ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int),
+                ("n_seams", c_int), ("n_panels", c_int)]
 
 
 class Frame(_Struct):
@@ -506,13 +512,14 @@ class Context:
 
     def create_cloth(self, positions=None, faces=None, *, face_sizes=None, indices=None,
                      path=None, select=None, transform=None, attachments=(), colliders=(),
-                     **params):
+                     seams=None, **params):
         """Build a cloth (weft_cloth_create) from host arrays or a mesh file.
 
         positions (n, 3) float32 (no copy when C-contiguous float32); the polygons either as
         faces, an (m, k) int array of k-gons or a list of index lists, or as face_sizes +
         indices (weft_mesh_desc's arrays). Or path (+ select) for a file. transform: the
         object's world transform. attachments: Attachment list; colliders: Collider list.
+        seams: (k, 2) host vertex index pairs sewn together (sew_distance=D sews by distance).
         params: any other weft_cloth_def field (unit_scale, gravity=(0, -9.81, 0),
         solver=Solver.PCG, preconditioner=Preconditioner.DEFAULT, integrator=Integrator.BDF2,
         newton_iterations, line_search, substeps, strain_limit, sleep_speed, ...) and the material's density, stiffness
@@ -546,6 +553,11 @@ class Context:
         for i, c in enumerate(colliders):
             cols[i] = self._collider_def(c)
         d.n_colliders, d.colliders = len(colliders), cols
+        if seams is not None:
+            pairs = np.ascontiguousarray(seams, dtype=np.int32).reshape(-1, 2)
+            sa, sb = np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1])
+            keep += [sa, sb]
+            d.seam_a, d.seam_b, d.n_seams = _ptr(sa, c_int), _ptr(sb, c_int), pairs.shape[0]
         handle = ClothHandle()
         self._check(lib.weft_cloth_create(self._handle(), ctypes.byref(d), ctypes.byref(handle)))
         cloth = Cloth(self, handle)
@@ -577,7 +589,7 @@ class Context:
 
 
 _NOT_PARAMS = {"mesh", "transform", "material", "n_attachments", "attachments", "n_colliders",
-               "colliders", "internal_cookie"}
+               "colliders", "internal_cookie", "seam_a", "seam_b", "n_seams"}
 
 
 def _set_field(struct, key, value):

@@ -74,6 +74,12 @@ static int describe_mesh(const scene* s, weft_cloth_def* def, double placement[1
 static void describe_settings(const scene* s, weft_cloth_def* def) {
     const wc_material* mat = &s->model_def.material;
     def->weld_tolerance = s->model_def.weld_tolerance;
+    def->sew_distance = s->model_def.sew_distance;   /* sewing (sew.h): seams from mesh.seams */
+    def->sew_stiffness = 0.0;                         /* the stretch stiffness */
+    def->n_seams = s->model_def.n_seam_pairs;
+    def->seam_a = s->seam_a;
+    def->seam_b = s->seam_b;
+    def->seam_close_time = s->model_def.seam_close_time;
     def->material.density = mat->density;
     for (int t = 0; t < 3; ++t) {   /* WC_SPRING_* and WEFT_SPRING_* share the order */
         def->material.stiffness[t] = mat->k[t];

@@ -42,8 +42,10 @@ int scene_require(const sj_ctx* c, const cJSON* obj, const char* parent, const c
 static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     const cJSON* mesh = sj_get(root, "mesh");
     if (!mesh) return sj_fail(c, "mesh", "missing (a scene needs {\"file\": ...} or {\"grid\": ...})");
-    static const char* const keys[] = {"file", "scale", "select", "grid", "weld_tolerance"};
+    static const char* const keys[] = {"file", "scale", "select", "grid", "weld_tolerance", "sew_distance", "seams",
+                                       "seam_close_time"};
     if (sj_check_object(c, mesh, "mesh", keys, COUNT(keys)) < 0) return -1;
+    if (scene_parse_seams(c, mesh, s) < 0) return -1;
     const int has_file = sj_get(mesh, "file") != NULL, has_grid = sj_get(mesh, "grid") != NULL;
     if (has_file == has_grid)
         return sj_fail(c, "mesh", has_file ? "give either \"file\" or \"grid\", not both"
@@ -123,7 +125,7 @@ static int parse_spring_values(const sj_ctx* c, const cJSON* mat, const char* ke
     if (sj_check_object(c, obj, path, keys, COUNT(keys)) < 0) return -1;
     /* Stiffness: stretch > 0 (a sheet without it has no shape); shear and bend may be 0.
      * Damping: >= 0 for every type. */
-    for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) {
+    for (int t = 0; t < WC_SPRING_MESH_TYPES; ++t) {
         sj_range range = (key[0] == 'k' && t == WC_SPRING_STRETCH) ? SJ_POSITIVE : SJ_NONNEGATIVE;
         if (sj_number(c, obj, path, keys[t], range, &values[t]) < 0) return -1;
     }
@@ -303,6 +305,7 @@ weft_status scene_parse(scene* out, const char* text, size_t len, const char* na
     cJSON_Delete(root);
     if (rc == 0) rc = scene_mesh_make(s, name, diag) == WEFT_OK ? 0 : -1;
     if (rc == 0) rc = scene_mesh_check_pins(s, name, diag) == WEFT_OK ? 0 : -1;
+    if (rc == 0) rc = scene_check_seams(s, name, diag) == WEFT_OK ? 0 : -1;
     if (rc == 0) rc = scene_group_pins(s, name, diag) == WEFT_OK ? 0 : -1;
     if (rc != 0) {
         weft_status st = diag->status != WEFT_OK ? diag->status : WEFT_ERROR_SCENE;
@@ -368,5 +371,7 @@ void scene_free(scene* s) {
     free(s->colliders);
     free(s->collider_motion);
     free(s->object.teleports);
+    free(s->seam_a);
+    free(s->seam_b);
     memset(s, 0, sizeof *s);
 }

@@ -92,7 +92,9 @@ typedef struct scene {
     double transform[16];   /* 4x4 column-major (element (row r, column c) at [4c + r]), affine */
     wc_source_mesh src;     /* the host mesh in metres, transform applied */
 
-    wc_model_def model_def; /* weld tolerance and material */
+    wc_model_def model_def; /* weld tolerance, material, sewing (seam_a/b point at the arrays below) */
+    int* seam_a;            /* (model_def.n_seam_pairs) mesh.seams host vertices, or NULL */
+    int* seam_b;
     wc_sim_def sim;         /* gravity, air, solver, substeps, strain limit, threads; capacities
                                (max_pins 0 = all particles, max_colliders >= n_colliders) */
     int preconditioner;     /* solver.preconditioner: -1 the library's default, else wc_precond_type */

@@ -21,6 +21,10 @@ int scene_parse_colliders(const sj_ctx* c, const cJSON* root, scene* s);
 int scene_parse_object(const sj_ctx* c, const cJSON* root, scene* s);
 int scene_parse_camera(const sj_ctx* c, const cJSON* root, scene* s);
 
+/* mesh.sew_distance and mesh.seams (scene_seams.c), and the seams' vertices against the made mesh. */
+int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s);
+weft_status scene_check_seams(const scene* s, const char* name, wc_diag* diag);
+
 /* After scene_mesh_check_pins: fill s->pin_groups, refusing a host vertex named by two entries
  * with a different free_axis or motion (SCENE, naming the later entry's field). */
 weft_status scene_group_pins(scene* s, const char* name, wc_diag* diag);

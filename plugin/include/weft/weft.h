@@ -312,6 +312,22 @@ typedef struct weft_cloth_def {
     const weft_attachment_def* attachments;   /* (n_attachments), copied at creation */
     int n_colliders;
     const weft_collider_def* colliders;       /* (n_colliders), copied at creation */
+
+    /* Sewing (README "Sewing"): zero-rest-length springs that join panels (connected
+     * components). sew_distance: every boundary vertex sews to the closest point (a vertex or a
+     * point on an edge) of ANOTHER panel's boundary within this distance. seam_a[i] sews to
+     * seam_b[i] (host vertex indices, vertex to vertex), however far apart they start: the
+     * implicit solve pulls them together over the first frames. Seams are part of the model
+     * (snapshots of a cloth with other seams are refused). The GPU backend refuses seams. */
+    double sew_distance;        /* m, after unit_scale; 0 (default): off */
+    double sew_stiffness;       /* N/m per seam; 0 (default): material.stiffness[STRETCH]. Seam
+                                   damping is material.damping[STRETCH] */
+    const int* seam_a;          /* (n_seams) host vertex indices, copied at creation */
+    const int* seam_b;          /* (n_seams) host vertex indices, != seam_a[i] */
+    int n_seams;                /* >= 0 (0) */
+    double seam_close_time;     /* s (0.5): a seam pair's rest length shrinks linearly from its
+                                   start distance to 0 over this simulated time, so panels that
+                                   start apart are drawn together, not snapped; 0: at once */
     uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
 } weft_cloth_def;
 
@@ -354,6 +370,8 @@ typedef struct weft_cloth_info {
     weft_integrator integrator; /* BACKWARD_EULER or BDF2 */
     int newton_iterations;      /* >= 1 */
     int line_search;            /* 0 or 1 */
+    int n_seams;                /* seams sewn: by sew_distance plus the host pairs */
+    int n_panels;               /* connected components left once seams join them */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
