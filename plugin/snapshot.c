@@ -330,7 +330,20 @@ static int plausible(const wa_cloth* c, const unsigned char* buf, size_t size) {
     for (size_t i = 0; i < 2 * (size_t)n; ++i) {
         int32_t q;
         memcpy(&q, buf + off + 4 * i, 4);
-        if (q < -1 || q >= c->n_colliders) return 0;
+        if (q < -1 || q >= c->n_colliders + c->n_mesh) return 0; /* the meshes come first (core/state.h) */
+    }
+    /* the mesh colliders' positions, at the end of the buffer */
+    size_t tail = 0;
+    for (int k = 0; k < c->n_mesh; ++k) tail += 2 * 3 * (size_t)c->mesh[k]->n_verts * 8 + 12 * 8 + 4;
+    if (tail > size) return 0;
+    off = size - tail;
+    for (int k = 0; k < c->n_mesh; ++k) {
+        for (size_t i = 0; i < 2 * 3 * (size_t)c->mesh[k]->n_verts; ++i) {
+            double v;
+            memcpy(&v, buf + off + 8 * i, 8);
+            if (!isfinite(v) || fabs(v) > 1e30) return 0;
+        }
+        off += 2 * 3 * (size_t)c->mesh[k]->n_verts * 8 + 12 * 8 + 4;
     }
     return 1;
 }
