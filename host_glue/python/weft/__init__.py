@@ -209,6 +209,11 @@ class ColliderDef(_Struct):
                 ("internal_cookie", c_uint32)]
 
 
+class MeshColliderDef(_Struct):
+    _fields_ = [("mesh", MeshDesc), ("unit_scale", c_double), ("transform", c_float * 16),
+                ("thickness", c_double), ("friction", c_double), ("internal_cookie", c_uint32)]
+
+
 class ClothDef(_Struct):
     _fields_ = [("mesh", MeshDesc), ("unit_scale", c_double), ("weld_tolerance", c_double),
                 ("transform", c_float * 16), ("material", Material), ("gravity", c_double * 3),
@@ -221,7 +226,8 @@ class ClothDef(_Struct):
                 ("sleep_time", c_double), ("linear_inertia", c_double),
                 ("angular_inertia", c_double), ("n_attachments", c_int),
                 ("attachments", POINTER(AttachmentDef)), ("n_colliders", c_int),
-                ("colliders", POINTER(ColliderDef)), ("internal_cookie", c_uint32)]
+                ("colliders", POINTER(ColliderDef)), ("n_mesh_colliders", c_int),
+                ("mesh_colliders", POINTER(MeshColliderDef)), ("internal_cookie", c_uint32)]
 
 
 class ClothInfo(_Struct):
@@ -237,7 +243,7 @@ class Frame(_Struct):
     _fields_ = [("dt", c_double), ("object_transform", POINTER(c_float)),
                 ("attachment_transforms", POINTER(c_float)),
                 ("collider_transforms", POINTER(c_float)), ("wind", POINTER(c_double)),
-                ("flags", c_uint32)]
+                ("flags", c_uint32), ("mesh_collider_transforms", POINTER(c_float))]
 
 
 class FrameStats(_Struct):
@@ -263,6 +269,7 @@ STRUCTS = {"weft_version_info": VersionInfo, "weft_allocator": Allocator,
            "weft_context_def": ContextDef, "weft_cloth": ClothHandle,
            "weft_mesh_desc": MeshDesc, "weft_material": Material,
            "weft_attachment_def": AttachmentDef, "weft_collider_def": ColliderDef,
+           "weft_mesh_collider_def": MeshColliderDef,
            "weft_cloth_def": ClothDef, "weft_cloth_info": ClothInfo, "weft_frame": Frame,
            "weft_frame_stats": FrameStats, "weft_render_def": RenderDef}
 
@@ -284,6 +291,8 @@ PROTOTYPES = {
     "weft_default_cloth_def": (ClothDef, []),
     "weft_default_attachment_def": (AttachmentDef, []),
     "weft_default_collider_def": (ColliderDef, []),
+    "weft_default_mesh_collider_def": (MeshColliderDef, []),
+    "weft_cloth_set_mesh_collider_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_int]),
     "weft_cloth_create": (c_int, [_CTX, POINTER(ClothDef), POINTER(ClothHandle)]),
     "weft_cloth_destroy": (c_int, [_CTX, ClothHandle]),
     "weft_cloth_set_attachments": (c_int, [_CTX, ClothHandle, POINTER(AttachmentDef), c_int]),
