@@ -59,7 +59,23 @@
  *    contact, not a pin) is projected too.
  *  - released: read and cleared by begin, set by end: it means "released at the end of the
  *    previous substep" even when no end ran since (the step skips end when nothing is in
- *    contact; a flag left over would keep the particle from ever being caught again). */
+ *    contact; a flag left over would keep the particle from ever being caught again).
+ *  - Mesh colliders (mesh_collider.h; WC_COLLIDER_MESH entries, built by the step): the same rules
+ *    with the closest point of the mesh (at the substep's start in begin, its end in project;
+ *    searched within the particle's reach: thickness + its motion + the fastest vertex's motion
+ *    over the substep, farther is "no contact") and the surface velocity of that point (per
+ *    point: ct->vel, which friction reads instead of the collider's rigid velocity). Continuous:
+ *    in begin, a particle whose path x -> x + h v crosses a moving triangle from its front
+ *    (wc_mesh_ccd, earliest crossing) is always taken, on that triangle's plane at the substep's
+ *    start (d from the plane, the triangle's normal, the crossing point's velocity): its
+ *    prescribed normal velocity lands it on the shell even when the closest point lies on another
+ *    face. In project (wc_contacts_project_from, with the substep's start positions), a particle
+ *    whose path x0 -> x still crossed a triangle is first moved back in front of the first one it
+ *    crossed, at the thickness, its inward velocity relative to it removed; then the closest-point
+ *    projection as for every collider. So a thin limb moving several widths per substep neither
+ *    passes through the cloth nor leaves it inside. Edge-edge crossings (a cloth edge cutting a
+ *    sharp body edge between two particles) are not handled.
+ */
 #include "collide.h"
 #include <math.h>
 #include "mesh_collider.h"
