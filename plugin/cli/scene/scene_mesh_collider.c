@@ -10,7 +10,8 @@
 #include "scene_parts.h"
 #include "scene_xform.h"
 
-/* A pattern with exactly one integer conversion (%d, %Nd or %0Nd) and no other '%' but "%%". */
+/* A pattern with exactly one integer conversion (%d, %Nd or %0Nd, N at most 3 digits) and no
+ * other '%' but "%%". */
 static int pattern_ok(const char* p) {
     int conv = 0;
     for (const char* q = p; *q; ++q) {
@@ -20,8 +21,9 @@ static int pattern_ok(const char* p) {
             continue;
         }
         ++q;
-        while (*q >= '0' && *q <= '9') ++q;
-        if (*q != 'd') return 0;
+        int digits = 0;
+        while (*q >= '0' && *q <= '9') ++q, ++digits;
+        if (*q != 'd' || digits > 3) return 0;
         ++conv;
     }
     return conv == 1;

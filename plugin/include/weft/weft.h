@@ -350,8 +350,9 @@ WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only), GPU (GPU backend: the
- * model exceeds the device's texture limits, or a GL error; the message says which),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, and mesh colliders),
+ * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
+ * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
  * runs inside the context's GL context (WEFT_GL_HOST_CURRENT: the host's, current on the calling
  * thread, its bindings restored); positions are read back only by weft_cloth_get_vertices,
