@@ -4,7 +4,8 @@
  * than rounding into the thickness shell) at any frame and comes to rest; a thin bar moving at
  * 15 m/s (30 bar widths per frame, one step per frame) through a hanging sheet pushes it and no
  * particle's path ever crosses the bar (checked after every frame with the crossing test on the
- * frame's motion, and the penetration measure); a deforming flat collider (its vertices moved
+ * frame's motion, and the penetration measure; the crossing tests of begin and of the projection
+ * checked alone, each failing when disabled); a deforming flat collider (its vertices moved
  * sideways every frame by the test) carries a cloth resting on it by friction (Coulomb's
  * closed form: it lags by v^2 / (2 mu g)), and leaves it where it is without friction. */
 #include <stdlib.h>
@@ -342,6 +343,49 @@ static void test_projection_uncrosses(void) {
     wc_mesh_collider_destroy(mc);
 }
 
+/* The crossing test of wc_contacts_begin: one mesh, a static floor plate 5 cm under a particle at
+ * rest and a bar that sweeps through the particle in the substep (from z = -0.3 to 0.3). The
+ * particle's closest point is on the plate (normal +y, no approach), so the closest-point rules
+ * alone would leave it unconstrained; the crossing puts it in contact with the bar's front face,
+ * with the velocity that lands it on the shell at the end: (0.3 + 0.01 + 0.005 - 0.1) / h. */
+static void test_begin_catches_crossing(void) {
+    double lo[3] = {-1.0, -0.01, -0.31}, hi[3] = {1.0, 0.01, -0.29};
+    box(&g_mesh, lo, hi);
+    int a = tm_vert(&g_mesh, -1, -0.05, -1), b = tm_vert(&g_mesh, -1, -0.05, 1), c2 = tm_vert(&g_mesh, 1, -0.05, -1);
+    tm_tri(&g_mesh, a, b, c2);
+    wc_mesh_collider* mc = make_collider(&g_mesh, 0.005, 0.0);
+    double* tgt = malloc(3 * (size_t)g_mesh.nv * sizeof(double));
+    memcpy(tgt, g_mesh.x, 3 * (size_t)g_mesh.nv * sizeof(double));
+    for (int k = 0; k < 8; ++k) tgt[3 * k + 2] += 0.6;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, tgt, &d), WEFT_OK);
+    double h = 0.04;
+    wc_mesh_collider_substep(mc, 0.0, 1.0, h);
+    wc_collider c;
+    memset(&c, 0, sizeof c);
+    c.type = WC_COLLIDER_MESH;
+    c.mesh = mc;
+    c.thickness = mc->thickness;
+    int cid[2] = {-1, -1};
+    double cn[6] = {0}, cv[6] = {0}, S[9], z[3];
+    unsigned char rel = 0, stick = 0, ndof = 0;
+    wc_contacts ct = {1, cid, cn, &rel, &stick, 0, cv};
+    wc_filter f = {1, S, z, &ndof};
+    wc_filter_free_particle(&f, 0);
+    wc_par par;
+    wc_par_init(&par, 1);
+    double x[3] = {0.1, 0.0, 0.1}, v[3] = {0, 0, 0};
+    CHECK_EQ_INT(wc_contacts_begin(&ct, &c, 1, x, v, h, &f, &par), 1);
+    CHECK_EQ_INT(ndof, 1);
+    CHECK_NEAR(cn[2], 1.0, 1e-12);          /* the bar's front face */
+    CHECK_NEAR(cv[2], 15.0, 1e-9);          /* its velocity at the crossing point */
+    CHECK_NEAR(z[2], (0.3 + 0.01 + 0.005 - 0.1) / h, 1e-9);
+    printf("  begin: a particle the bar sweeps through (closest point on the plate) gets dv = %.4g m/s "
+           "along the bar's face normal (lands on the shell)\n", z[2]);
+    free(tgt);
+    wc_mesh_collider_destroy(mc);
+}
+
 /* A 0.5 m sheet resting on a 3 m flat collider whose vertices the test moves along +x at speed
  * v from rest: returns the sheet's mean x displacement after `frames` frames of motion. */
 static double carried(double friction, double v, int frames) {
@@ -402,6 +446,7 @@ int main(void) {
     RUN_TEST(test_drop_on_sphere);
     RUN_TEST(test_drop_on_box);
     RUN_TEST(test_projection_uncrosses);
+    RUN_TEST(test_begin_catches_crossing);
     RUN_TEST(test_fast_bar);
     RUN_TEST(test_deforming_carries);
     return TEST_SUMMARY();
