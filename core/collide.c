@@ -59,15 +59,33 @@
  *    contact, not a pin) is projected too.
  *  - released: read and cleared by begin, set by end: it means "released at the end of the
  *    previous substep" even when no end ran since (the step skips end when nothing is in
- *    contact; a flag left over would keep the particle from ever being caught again). */
+ *    contact; a flag left over would keep the particle from ever being caught again).
+ *  - Mesh colliders (mesh_collider.h; WC_COLLIDER_MESH entries, built by the step): the same rules
+ *    with the closest point of the mesh (at the substep's start in begin, its end in project;
+ *    searched within the particle's reach: thickness + its motion + the fastest vertex's motion
+ *    over the substep, farther is "no contact") and the surface velocity of that point (per
+ *    point: ct->vel, which friction reads instead of the collider's rigid velocity). Continuous:
+ *    in begin, a particle whose path x -> x + h v crosses a moving triangle from its front
+ *    (wc_mesh_ccd, earliest crossing) is always taken, on that triangle's plane at the substep's
+ *    start (d from the plane, the triangle's normal, the crossing point's velocity): its
+ *    prescribed normal velocity lands it on the shell even when the closest point lies on another
+ *    face. In project (wc_contacts_project_from, with the substep's start positions), a particle
+ *    whose path x0 -> x still crossed a triangle is first moved back in front of the first one it
+ *    crossed, at the thickness, its inward velocity relative to it removed; then the closest-point
+ *    projection as for every collider. So a thin limb moving several widths per substep neither
+ *    passes through the cloth nor leaves it inside. Edge-edge crossings (a cloth edge cutting a
+ *    sharp body edge between two particles) are not handled.
+ */
 #include "collide.h"
 #include <math.h>
+#include "mesh_collider.h"
 #include "vec3.h"
 
 #define SLOP 1e-9              /* m: rounding slack for "on the shell" */
 #define PARALLEL_MIN 0.1       /* |n2 - (n1.n2) n1| below this: normals treated as parallel */
 #define PROJECT_ROUNDS 3       /* project: re-pick the two deepest colliders this many times */
 #define CORRECT_PASSES 4       /* Newton passes of one push out */
+#define CCD_ETA 1e-6           /* m: a path passing this close to a mesh triangle crosses it */
 
 static void set_up(double* n) { v3_set(n, 0.0, 1.0, 0.0); }
 
@@ -116,6 +134,12 @@ double wc_collider_distance(const wc_collider* c, const double* p, double* norma
         v3_scale(u, ab, 1.0 / sqrt(l2));
         return ball_distance(p, q, c->radius, u, normal);
     }
+    case WC_COLLIDER_MESH: {
+        double d = c->mesh ? wc_mesh_closest(c->mesh, 1, p, HUGE_VAL, normal, NULL) : HUGE_VAL;
+        if (d < HUGE_VAL) return d;
+        set_up(normal);
+        return HUGE_VAL;
+    }
     default:
         set_up(normal);
         return HUGE_VAL;
@@ -125,6 +149,72 @@ double wc_collider_distance(const wc_collider* c, const double* p, double* norma
 /* d - thickness and the normal. */
 static double shell_distance(const wc_collider* c, const double* p, double* n) {
     return wc_collider_distance(c, p, n) - c->thickness;
+}
+
+/* One collider's contact candidate for a particle: shell distance d, outward normal n, the
+ * collider surface's velocity vc at the contact point; plane: a mesh triangle the particle's path
+ * crosses (d is then measured from the plane through q along n, the triangle's, not from the
+ * closest point). */
+typedef struct hit {
+    double d, n[3], vc[3], q[3];
+    int plane;
+} hit;
+
+static double mesh_reach(const wc_collider* c, double move);
+
+/* The candidate of collider c for a particle at p that moves by at most `move` (m) in the
+ * substep: analytic colliders as wc_collider_distance; a mesh at its substep start (end 0) or
+ * end (end 1), closest points within mesh_reach. */
+static void query(const wc_collider* c, const double* p, int end, double move, hit* H) {
+    H->plane = 0;
+    if (c->type == WC_COLLIDER_MESH) {
+        double d = wc_mesh_closest(c->mesh, end, p, mesh_reach(c, move), H->n, H->vc);
+        H->d = d < HUGE_VAL ? d - c->thickness : HUGE_VAL;
+        if (!(d < HUGE_VAL)) set_up(H->n);
+        return;
+    }
+    H->d = shell_distance(c, p, H->n);
+    v3_copy(H->vc, c->velocity);
+}
+
+/* Re-measure a candidate at a moved p: a plane candidate keeps its plane, the rest query again. */
+static void requery(const wc_collider* c, const double* p, int end, double move, hit* H) {
+    if (H->plane) {
+        double dp[3];
+        v3_sub(dp, p, H->q);
+        H->d = v3_dot(dp, H->n) - c->thickness;
+        return;
+    }
+    query(c, p, end, move, H);
+}
+
+/* A mesh triangle crossed by the path p0 -> p1 over the substep (the earliest): a plane
+ * candidate on it at the substep's start (end 0) or end (end 1), measured at p. Returns 0 when
+ * the path crosses nothing. */
+static int crossing(const wc_collider* c, const double* p0, const double* p1, int end, const double* p, hit* H) {
+    const wc_mesh_collider* m = c->mesh;
+    double t, w[3];
+    int tri;
+    if (!wc_mesh_ccd(m, p0, p1, CCD_ETA, &t, &tri, w)) return 0;
+    const double* x = end ? m->xb : m->xa;
+    const int* v = m->tris + 3 * tri;
+    v3_copy(H->n, (end ? m->nrm_b : m->nrm_a) + 3 * tri);
+    v3_zero(H->q);
+    v3_zero(H->vc);
+    for (int k = 0; k < 3; ++k) {
+        v3_axpy(H->q, w[k], x + 3 * v[k]);
+        v3_axpy(H->vc, w[k], m->vel + 3 * v[k]);
+    }
+    H->plane = 1;
+    requery(c, p, end, 0.0, H);
+    return 1;
+}
+
+/* How far a mesh closest-point query must look from a particle that moves by at most `move` (m)
+ * in the substep: its shell, its motion and the fastest vertex's. */
+static double mesh_reach(const wc_collider* c, double move) {
+    const wc_mesh_collider* m = c->mesh;
+    return c->thickness + move + m->h * m->max_speed + 1e-6;
 }
 
 /* e = unit part of n2 orthogonal to n1; returns its length before normalising (0..1). */
@@ -175,29 +265,25 @@ static int halfspaces(const double* n1, double a1, const double* n2, double a2, 
 /* Two smallest values among candidates, lower index first on ties. */
 typedef struct best2 {
     int k[2];
-    double d[2];
-    double n[6];
+    hit h[2];
     int cnt;
 } best2;
 
 static void best2_init(best2* b) {
     b->k[0] = b->k[1] = -1;
-    b->d[0] = b->d[1] = HUGE_VAL;
+    b->h[0].d = b->h[1].d = HUGE_VAL;
     b->cnt = 0;
 }
 
-static void best2_add(best2* b, int k, double d, const double* n) {
-    if (b->cnt == 0 || d < b->d[0]) {
+static void best2_add(best2* b, int k, const hit* H) {
+    if (b->cnt == 0 || H->d < b->h[0].d) {
         b->k[1] = b->k[0];
-        b->d[1] = b->d[0];
-        v3_copy(b->n + 3, b->n);
+        b->h[1] = b->h[0];
         b->k[0] = k;
-        b->d[0] = d;
-        v3_copy(b->n, n);
-    } else if (b->cnt == 1 || d < b->d[1]) {
+        b->h[0] = *H;
+    } else if (b->cnt == 1 || H->d < b->h[1].d) {
         b->k[1] = k;
-        b->d[1] = d;
-        v3_copy(b->n + 3, n);
+        b->h[1] = *H;
     }
     if (b->cnt < 2) ++b->cnt;
 }
@@ -205,7 +291,7 @@ static void best2_add(best2* b, int k, double d, const double* n) {
 /* Drop the second entry when its normal is (nearly) parallel to the first. */
 static void best2_prune(best2* b) {
     double e[3];
-    if (b->cnt == 2 && ortho(b->n, b->n + 3, e) < PARALLEL_MIN) {
+    if (b->cnt == 2 && ortho(b->h[0].n, b->h[1].n, e) < PARALLEL_MIN) {
         b->cnt = 1;
         b->k[1] = -1;
     }
@@ -215,13 +301,16 @@ static void best2_prune(best2* b) {
  * active and stays so; each pass moves p by the smallest step that puts every active one at
  * distance 0 (linearised: exact for planes, Newton steps for curved colliders). Returns 1 when
  * p moved. */
-static int push_out(const wc_collider* c, const int* ks, int cnt, double* p) {
+static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int end, double move, double* p) {
     int active[2] = {0, 0}, moved = 0;
     for (int pass = 0; pass < CORRECT_PASSES; ++pass) {
         double d[2], n[6], delta[3], e[3];
         int any = 0;
         for (int s = 0; s < cnt; ++s) {
-            d[s] = shell_distance(&c[ks[s]], p, n + 3 * s);
+            requery(&c[ks[s]], p, end, move, &hs[s]);
+            d[s] = hs[s].d;
+            v3_copy(n + 3 * s, hs[s].n);
+            if (!(d[s] < HUGE_VAL)) d[s] = 0.0; /* a mesh that moved out of reach: nothing to push */
             if (d[s] < 0.0) active[s] = 1;
             any |= active[s];
         }
@@ -284,18 +373,27 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
     const double* vi = v + 3 * i;
     best2 b;
     best2_init(&b);
+    double move = h * v3_norm(vi), x1[3];
+    v3_copy(x1, xi);
+    v3_axpy(x1, h, vi);
     for (int k = 0; k < nc; ++k) {
-        double n[3], vr[3];
-        double d = shell_distance(&c[k], xi, n);
-        if (!(d < HUGE_VAL)) continue;
-        v3_sub(vr, vi, c[k].velocity);
-        double vn = v3_dot(vr, n);
+        double vr[3];
+        hit H;
         int take;
+        /* a path through a moving triangle: always a contact, on that triangle */
+        if (c[k].type == WC_COLLIDER_MESH && crossing(&c[k], xi, x1, 0, xi, &H)) {
+            best2_add(&b, k, &H);
+            continue;
+        }
+        query(&c[k], xi, 0, move, &H);
+        if (!(H.d < HUGE_VAL)) continue;
+        v3_sub(vr, vi, H.vc);
+        double vn = v3_dot(vr, H.n);
         if (held_contact(ct, i, k))
-            take = d < h * v3_norm(vr) + SLOP;
+            take = H.d < h * v3_norm(vr) + SLOP;
         else
-            take = d < -SLOP || (!released && d < h * fmax(0.0, -vn) + SLOP);
-        if (take) best2_add(&b, k, d, n);
+            take = H.d < -SLOP || (!released && H.d < h * fmax(0.0, -vn) + SLOP);
+        if (take) best2_add(&b, k, &H);
     }
     best2_prune(&b);
     cid[0] = cid[1] = -1;
@@ -303,9 +401,13 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
     if (b.cnt == 0) return 0;
 
     /* position correction onto / outside both kept shells */
-    push_out(c, b.k, b.cnt, xi);
+    push_out(c, b.k, b.h, b.cnt, 0, move, xi);
     double d[2] = {0.0, 0.0}, n[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    for (int s = 0; s < b.cnt; ++s) d[s] = shell_distance(&c[b.k[s]], xi, n + 3 * s);
+    for (int s = 0; s < b.cnt; ++s) {
+        requery(&c[b.k[s]], xi, 0, move, &b.h[s]);
+        d[s] = b.h[s].d < HUGE_VAL ? b.h[s].d : 0.0;
+        v3_copy(n + 3 * s, b.h[s].n);
+    }
     int cnt = b.cnt;
     double e2[3];
     if (cnt == 2 && ortho(n, n + 3, e2) < PARALLEL_MIN) cnt = 1; /* curvature turned it parallel */
@@ -314,10 +416,11 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
     double a[2] = {0.0, 0.0};
     for (int s = 0; s < cnt; ++s) {
         double vr[3];
-        v3_sub(vr, vi, c[b.k[s]].velocity);
+        v3_sub(vr, vi, b.h[s].vc);
         a[s] = (h > 0.0 ? -fmax(d[s], 0.0) / h : 0.0) - v3_dot(vr, n + 3 * s);
         cid[s] = b.k[s];
         v3_copy(cn + 3 * s, n + 3 * s);
+        if (ct->vel) v3_copy(ct->vel + 6 * i + 3 * s, b.h[s].vc);
     }
     double* S = f->S + 9 * i;
     free_projector(n, cnt, S);
@@ -411,7 +514,7 @@ static int contact_state(const wc_contacts* ct, const wc_collider* c, int nc, co
     if (!(c[cid[0]].friction > 0.0) && !(cnt > 1 && c[cid[1]].friction > 0.0)) return 0;
     free_projector(ct->normal + 6 * i, cnt, Sn);
     double vr[3];
-    v3_sub(vr, v + 3 * i, c[cid[0]].velocity);
+    v3_sub(vr, v + 3 * i, ct->vel ? ct->vel + 6 * i : c[cid[0]].velocity);
     m3_mulv(u, Sn, vr);
     return cnt;
 }
@@ -538,42 +641,73 @@ void wc_contacts_end(wc_contacts* ct, int nc, const double* r, wc_par* par) {
 }
 
 /* The two smallest shell distances over all colliders (parallel second normal dropped). */
-static void deepest2(const wc_collider* c, int nc, const double* p, best2* b) {
+/* (at the substep's end; reach: for the meshes) */
+static void deepest2(const wc_collider* c, int nc, const double* p, double move, best2* b) {
     best2_init(b);
     for (int k = 0; k < nc; ++k) {
-        double n[3], d = shell_distance(&c[k], p, n);
-        if (d < HUGE_VAL) best2_add(b, k, d, n);
+        hit H;
+        query(&c[k], p, 1, move, &H);
+        if (H.d < HUGE_VAL) best2_add(b, k, &H);
     }
     best2_prune(b);
 }
 
-static int project_particle(const wc_collider* c, int nc, double* xi, double* vi) {
+/* The last resort of the meshes: a particle whose path x0 -> xi crossed a moving triangle goes
+ * back in front of the first one it crossed (at its end position), at the thickness, with no
+ * inward velocity relative to it. */
+static int uncross(const wc_collider* c, int nc, const double* x0, double* xi, double* vi) {
     int moved = 0;
+    for (int k = 0; k < nc; ++k) {
+        hit H;
+        if (c[k].type != WC_COLLIDER_MESH || !crossing(&c[k], x0, xi, 1, xi, &H)) continue;
+        if (H.d < 0.0) {
+            v3_axpy(xi, -H.d, H.n);
+            moved = 1;
+        }
+        double a = v3_dot(H.vc, H.n) - v3_dot(vi, H.n);
+        if (a > 0.0) v3_axpy(vi, a, H.n);
+    }
+    return moved;
+}
+
+static int project_particle(const wc_collider* c, int nc, const double* x0, double* xi, double* vi) {
+    int moved = 0;
+    double move = 0.0;
+    if (x0) {
+        double dx[3];
+        moved = uncross(c, nc, x0, xi, vi);
+        v3_sub(dx, xi, x0);
+        move = v3_norm(dx);
+    }
     best2 b;
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {
-        deepest2(c, nc, xi, &b);
-        if (b.cnt == 0 || !(b.d[0] < 0.0)) break;
-        moved |= push_out(c, b.k, b.cnt, xi);
+        deepest2(c, nc, xi, move, &b);
+        if (b.cnt == 0 || !(b.h[0].d < 0.0)) break;
+        moved |= push_out(c, b.k, b.h, b.cnt, 1, move, xi);
     }
     /* velocity: no inward relative normal velocity on the shells it lies on */
-    deepest2(c, nc, xi, &b);
+    deepest2(c, nc, xi, move, &b);
     int cnt = 0;
     double a[2];
     for (int s = 0; s < b.cnt; ++s) {
-        if (!(b.d[s] < SLOP)) break;
-        const double* vc = c[b.k[s]].velocity;
-        a[s] = v3_dot(vc, b.n + 3 * s) - v3_dot(vi, b.n + 3 * s);
+        if (!(b.h[s].d < SLOP)) break;
+        a[s] = v3_dot(b.h[s].vc, b.h[s].n) - v3_dot(vi, b.h[s].n);
         ++cnt;
     }
     if (cnt > 0) {
         double delta[3];
-        if (halfspaces(b.n, a[0], b.n + 3, cnt > 1 ? a[1] : 0.0, cnt, delta)) v3_add(vi, vi, delta);
+        if (halfspaces(b.h[0].n, a[0], b.h[1].n, cnt > 1 ? a[1] : 0.0, cnt, delta)) v3_add(vi, vi, delta);
     }
     return moved;
 }
 
 int wc_contacts_project(const wc_contacts* ct, const wc_collider* c, int nc, const wc_filter* f, double* x,
                         double* v, wc_par* par) {
+    return wc_contacts_project_from(ct, c, nc, f, NULL, x, v, par);
+}
+
+int wc_contacts_project_from(const wc_contacts* ct, const wc_collider* c, int nc, const wc_filter* f,
+                             const double* x0, double* x, double* v, wc_par* par) {
     int n = ct->n, used = par->threads;
     if (nc <= 0) return 0;
     WC_PAR_REGION(par)
@@ -583,7 +717,7 @@ int wc_contacts_project(const wc_contacts* ct, const wc_collider* c, int nc, con
         wc_par_range(n, t, nt, &lo, &hi);
         for (int i = lo; i < hi; ++i) {
             if (f && f->ndof[i] == 3 && !ct->stick[i]) continue; /* a pin */
-            cnt += project_particle(c, nc, x + 3 * i, v + 3 * i);
+            cnt += project_particle(c, nc, x0 ? x0 + 3 * i : NULL, x + 3 * i, v + 3 * i);
         }
         par->partial[8 * t] = cnt;
     }

@@ -33,8 +33,12 @@
 typedef enum wc_collider_type {
     WC_COLLIDER_PLANE = 0,     /* {x : normal.x = offset}; free side normal.x > offset */
     WC_COLLIDER_SPHERE = 1,    /* center, radius */
-    WC_COLLIDER_CAPSULE = 2    /* segment a-b, radius */
+    WC_COLLIDER_CAPSULE = 2,   /* segment a-b, radius */
+    WC_COLLIDER_MESH = 3       /* a triangle mesh (mesh_collider.h; its own thickness and friction
+                                  are copied here): built by the step, never set by a caller */
 } wc_collider_type;
+
+struct wc_mesh_collider;
 
 typedef struct wc_collider {
     int type;                  /* wc_collider_type */
@@ -45,11 +49,13 @@ typedef struct wc_collider {
     double radius;             /* sphere, capsule: m, >= 0 */
     double thickness;          /* m, >= 0: the cloth stays this far outside the surface */
     double friction;           /* Coulomb coefficient (static = kinetic), >= 0 */
-    double velocity[3];        /* m/s: rigid translation velocity of the collider this substep */
+    double velocity[3];        /* m/s: rigid translation velocity of the collider this substep
+                                  (mesh: unused, the velocity is per point) */
+    const struct wc_mesh_collider* mesh; /* mesh: the collider (borrowed), else NULL */
 } wc_collider;
 
 /* Signed distance from p to the collider's surface (negative inside; thickness not included) and
- * the outward unit normal at the closest surface point. */
+ * the outward unit normal at the closest surface point. A mesh: at its substep end positions. */
 double wc_collider_distance(const wc_collider* c, const double* p, double* normal);
 
 /* Persistent per-particle contact state (lives in wc_state). */
@@ -62,6 +68,9 @@ typedef struct wc_contacts {
     unsigned char* stick;      /* (n) this substep, from wc_contacts_friction: 1 when the contact
                                   sticks (filter ndof 3); not state: begin clears it */
     int active;                /* number of particles with at least one contact */
+    double* vel;               /* (n x 6) velocity of each contact's collider surface at the contact
+                                  point (m/s; a mesh's is per point), written by begin and read by
+                                  friction; not state. NULL: each collider's rigid velocity */
 } wc_contacts;
 
 /* Step 1. x is corrected in place; f gets the contact constraints of non-pinned particles.
@@ -99,5 +108,11 @@ void wc_contacts_end(wc_contacts* ct, int nc, const double* r, wc_par* par);
  * the number of particles moved. */
 int wc_contacts_project(const wc_contacts* ct, const wc_collider* c, int nc, const wc_filter* f, double* x,
                         double* v, wc_par* par);
+/* Step 5 with the positions at the start of the substep x0 (n x 3, after begin's correction; NULL:
+ * as wc_contacts_project): a particle whose path x0 -> x crossed a mesh collider's moving
+ * triangle (wc_mesh_ccd) is first put back in front of the triangle it crossed first, at the
+ * thickness, with no inward velocity relative to it; then as wc_contacts_project. */
+int wc_contacts_project_from(const wc_contacts* ct, const wc_collider* c, int nc, const wc_filter* f,
+                             const double* x0, double* x, double* v, wc_par* par);
 
 #endif

@@ -87,7 +87,7 @@ static void positions(wc_state* s, const wc_integ* ig, const double* w) {
     }
 }
 
-static int have_friction(const wc_state* s) { return s->n_colliders > 0 && s->contacts.active > 0; }
+static int have_friction(const wc_state* s) { return s->n_all > 0 && s->contacts.active > 0; }
 
 double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
     const wc_model* m = s->model;

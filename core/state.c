@@ -99,6 +99,9 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s->contacts_save.collider);
     wc_free(&a, s->contacts_save.released);
     wc_free(&a, s->contacts.stick);
+    wc_free(&a, s->contacts.vel);
+    wc_free(&a, s->all_colliders);
+    wc_free(&a, s->x_sub);
     wc_solver_destroy(s->solver);
     wc_free(&a, s);
 }
@@ -154,6 +157,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         cts[k]->released = WC_NEW(&A, unsigned char, (size_t)n);
     }
     s->contacts.stick = WC_NEW(&A, unsigned char, (size_t)n); /* per substep: not saved */
+    s->contacts.vel = WC_NEW(&A, double, 6 * (size_t)n);      /* per substep: not saved */
     double** vecs[] = {&s->x_prev, &s->v_prev, &s->x_prev0, &s->v_prev0, &s->xb, &s->xs, &s->vstar, &s->mom,
                        &s->nw_w, &s->nw_d, &s->nw_x, &s->nw_v, &s->nw_zero, &s->nw_g, &s->nw_fb};
     int vecs_ok = 1;
@@ -167,7 +171,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->pin_scratch || !s->colliders ||
         !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
         !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
-        !s->contacts_save.released || !s->contacts.stick || !vecs_ok) {
+        !s->contacts_save.released || !s->contacts.stick || !s->contacts.vel || !vecs_ok) {
         wc_state_destroy(s);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }
@@ -182,6 +186,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     for (int i = 0; i < 2 * n; ++i) s->contacts.collider[i] = -1;
     v3_copy(s->input_gravity, s->def.gravity);
     s->input_air = s->def.air;
+    s->all = s->colliders;
     *out = s;
     return WEFT_OK;
 }
@@ -272,6 +277,41 @@ weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_
     if (n != s->n_colliders)
         for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1;
     s->n_colliders = n;
+    return WEFT_OK;
+}
+
+weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* mesh, int n, wc_diag* diag) {
+    if (!s || (n > 0 && !mesh)) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: NULL argument");
+    if (n < 0) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: %d colliders", n);
+    if (s->n_mesh > 0) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: already attached");
+    for (int k = 0; k < n; ++k)
+        if (!mesh[k]) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: collider %d is NULL", k);
+    if (n == 0) return WEFT_OK;
+    wc_collider* all = WC_NEW(&s->alloc, wc_collider, (size_t)s->def.max_colliders + (size_t)n + 1);
+    double* xs = WC_NEW(&s->alloc, double, 3 * (size_t)s->model->n_particles);
+    if (!all || !xs) {
+        wc_free(&s->alloc, all);
+        wc_free(&s->alloc, xs);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "attach mesh colliders: out of memory");
+    }
+    s->all_colliders = all;
+    s->x_sub = xs;
+    s->mesh = mesh;
+    s->n_mesh = n;
+    for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1; /* indices shift */
+    wc_state_wake(s);
+    return WEFT_OK;
+}
+
+weft_status wc_state_set_mesh_target(wc_state* s, int k, const double* x, wc_diag* diag) {
+    if (!s || !x) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "mesh collider positions: NULL argument");
+    if (k < 0 || k >= s->n_mesh)
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "mesh collider positions: index %d, the cloth has %d", k, s->n_mesh);
+    wc_mesh_collider* m = s->mesh[k];
+    int changed = memcmp(m->to, x, 3 * (size_t)m->n_verts * sizeof(double)) != 0;
+    weft_status st = wc_mesh_collider_set_target(m, x, diag);
+    if (st != WEFT_OK) return st;
+    if (changed) wc_state_wake(s);
     return WEFT_OK;
 }
 

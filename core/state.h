@@ -23,6 +23,7 @@
 #define WEFT_CORE_STATE_H
 #include "collide.h"
 #include "forces.h"
+#include "mesh_collider.h"
 #include "solve.h"
 
 /* Time integrator of a substep. */
@@ -140,6 +141,19 @@ typedef struct wc_state {
        w (n x 3) the velocity change, phi the incremental potential (newton.h) */
     void (*newton_trace)(void* user, const struct wc_state* s, int iterate, double phi, const double* w);
     void* newton_trace_user;
+
+    /* triangle-mesh colliders (mesh_collider.h), borrowed, attached once after creation
+       (wc_state_attach_mesh_colliders); their positions move from frame to frame as the host
+       sets them. The substep's collider list (step.c) puts them first: contact indices
+       0 .. n_mesh - 1 are the meshes, n_mesh + k the analytic collider k. */
+    int n_mesh;
+    wc_mesh_collider* const* mesh;   /* (n_mesh) */
+    wc_collider* all_colliders;      /* (max_colliders + n_mesh) the substep's list */
+    const wc_collider* all;          /* the list of the current substep (all_colliders or colliders) */
+    int n_all;
+    double* x_sub;                   /* (n x 3) positions at the substep's start after the contacts'
+                                        correction (m): the crossing test of the projection */
+    double sub_alpha0;               /* frame fraction at the start of the current substep */
 } wc_state;
 
 /* Positions start at the model's rest positions, velocities at zero. */
@@ -154,6 +168,12 @@ weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* d
 /* Replace the colliders (validated: count, type, finite, radius/thickness/friction >= 0, unit
  * plane normal). On error nothing changes. */
 weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag);
+/* Attach n mesh colliders (borrowed: they must outlive the state), once, at creation time
+ * (allocates the substep's collider list). On error nothing changes. */
+weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* mesh, int n, wc_diag* diag);
+/* Mesh collider k's positions at the end of the next frame (n_verts x 3, m; validated, on error
+ * nothing changes); wakes the cloth when they differ from the current ones. */
+weft_status wc_state_set_mesh_target(wc_state* s, int k, const double* x, wc_diag* diag);
 /* Set every particle's position and velocity (n x 3 each; v may be NULL for zero); refused when
  * any value is non-finite. */
 weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag);

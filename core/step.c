@@ -5,6 +5,7 @@
 #include "assemble.h"
 #include "bdf2.h"
 #include "clock.h"
+#include "mesh_collider.h"
 #include "newton.h"
 #include "strain_limit.h"
 #include "vec3.h"
@@ -112,6 +113,7 @@ static double energy_floor(const wc_state* s) {
     const wc_model* m = s->model;
     double speed2 = 1.0 + 2.0 * v3_norm(s->def.gravity) * rest_diagonal(m) + v3_dot(s->def.air.wind, s->def.air.wind);
     for (int k = 0; k < s->n_colliders; ++k) speed2 += v3_dot(s->colliders[k].velocity, s->colliders[k].velocity);
+    for (int k = 0; k < s->n_mesh; ++k) speed2 += s->mesh[k]->max_speed * s->mesh[k]->max_speed;
     return 0.5 * s->total_mass * speed2;
 }
 
@@ -122,6 +124,8 @@ static int sourceless(const wc_state* s, double pin_energy) {
     if (s->seam_ramping) return 0; /* host seams shortening their rest length do work (sew.h) */
     for (int k = 0; k < s->n_colliders; ++k)
         if (v3_dot(s->colliders[k].velocity, s->colliders[k].velocity) > 0) return 0;
+    for (int k = 0; k < s->n_mesh; ++k)
+        if (wc_mesh_collider_moving(s->mesh[k])) return 0;
     return 1;
 }
 
@@ -153,6 +157,31 @@ weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before
     return WEFT_OK;
 }
 
+/* The colliders of a substep from frame fraction s->sub_alpha0 to alpha1 (length h) into
+ * s->all / s->n_all: the mesh colliders first (indices 0 .. n_mesh - 1, moved to this substep:
+ * positions, velocities, BVH refit), then the analytic ones. Without mesh colliders s->all is
+ * s->colliders. */
+static void substep_colliders(wc_state* s, double alpha1, double h) {
+    if (s->n_mesh == 0 || !s->all_colliders) {
+        s->all = s->colliders;
+        s->n_all = s->n_colliders;
+        return;
+    }
+    for (int k = 0; k < s->n_mesh; ++k) {
+        wc_mesh_collider* mc = s->mesh[k];
+        wc_mesh_collider_substep(mc, s->sub_alpha0, alpha1, h);
+        wc_collider* c = &s->all_colliders[k];
+        memset(c, 0, sizeof *c);
+        c->type = WC_COLLIDER_MESH;
+        c->mesh = mc;
+        c->thickness = mc->thickness;
+        c->friction = mc->friction;
+    }
+    if (s->n_colliders > 0) memcpy(s->all_colliders + s->n_mesh, s->colliders, (size_t)s->n_colliders * sizeof(wc_collider));
+    s->all = s->all_colliders;
+    s->n_all = s->n_mesh + s->n_colliders;
+}
+
 /* Constraints, forces, assembly and friction of a substep of length ig->h ending at frame fraction
  * alpha1: fills s->filter, s->A and s->b (contacts may correct positions) and the integrator's
  * xb, vstar, mom (bdf2.h). Returns the contacts that stick. */
@@ -163,7 +192,10 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     double t0 = wc_now_ms(), t1;
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     apply_pins(s, ig, alpha1);
-    if (s->n_colliders > 0) wc_contacts_begin(&s->contacts, s->colliders, s->n_colliders, s->x, s->v, h, &s->filter, &s->par);
+    substep_colliders(s, alpha1, h);
+    if (s->n_all > 0) wc_contacts_begin(&s->contacts, s->all, s->n_all, s->x, s->v, h, &s->filter, &s->par);
+    /* the substep's start after the contacts' correction: the mesh colliders' crossing test */
+    if (s->n_mesh > 0 && s->x_sub) memcpy(s->x_sub, s->x, 3 * (size_t)n * sizeof(double));
     wc_integ_prepare(s, ig);
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
@@ -185,14 +217,15 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
 
     /* friction: static as constraints (filter), kinetic as implicit damping (A, b): the solve sees both */
     int stuck = 0;
-    if (s->n_colliders > 0 && s->contacts.active > 0)
-        stuck = wc_contacts_friction(&s->contacts, s->colliders, s->n_colliders, s->v, m->mass, s->f, ig->he,
+    if (s->n_all > 0 && s->contacts.active > 0)
+        stuck = wc_contacts_friction(&s->contacts, s->all, s->n_all, s->v, m->mass, s->f, ig->he,
                                      &s->filter, s->A, m->pattern.diag, s->b, &s->par);
     st->ms.collide += wc_now_ms() - t0;
     return stuck;
 }
 
 void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st) {
+    s->sub_alpha0 = alpha1;
     wc_integ ig;
     wc_integ_begin(s, h, &ig);
     (void)prepare(s, &ig, alpha1, s->def.compression, st);
@@ -234,7 +267,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && stuck > 0; ++pass) {
         wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
         for (int k = 0; k < 3 * n; ++k) s->r[k] -= s->b[k];
-        int changed = wc_contacts_friction_recheck(&s->contacts, s->colliders, s->n_colliders, s->v, m->mass, s->r,
+        int changed = wc_contacts_friction_recheck(&s->contacts, s->all, s->n_all, s->v, m->mass, s->r,
                                                    &s->filter, s->A, m->pattern.diag, s->b, &s->par);
         if (changed == 0) break;
         stuck -= changed;
@@ -251,7 +284,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     }
 
     int n3 = 3 * n;
-    int in_contact = s->n_colliders > 0 && s->contacts.active > 0;
+    int in_contact = s->n_all > 0 && s->contacts.active > 0;
     int newton = wc_newton_wanted(&s->def);
     if (newton) {
         status = wc_newton_iterate(s, &ig, solver, compression, res.residual0, in_contact, st, diag);
@@ -264,7 +297,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
             for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
         }
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
-        wc_contacts_end(&s->contacts, s->n_colliders, s->r, &s->par);
+        wc_contacts_end(&s->contacts, s->n_all, s->r, &s->par);
     } else {
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
     }
@@ -290,8 +323,9 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     st->ms.integrate += t1 - t0;
     t0 = t1;
     /* last, so that nothing (strain limiting included) leaves a particle inside a collider */
-    if (s->n_colliders > 0) {
-        wc_contacts_project(&s->contacts, s->colliders, s->n_colliders, &s->filter, s->x, s->v, &s->par);
+    if (s->n_all > 0) {
+        wc_contacts_project_from(&s->contacts, s->all, s->n_all, &s->filter, s->n_mesh > 0 ? s->x_sub : NULL, s->x,
+                                 s->v, &s->par);
         if (s->def.strain_limit > 0) strain = wc_max_stretch_strain(m, s->x);
     }
     t1 = wc_now_ms();
@@ -341,6 +375,7 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
         double residual = st->residual; /* a discarded try's residual (inf when it blew up) is not reported */
         for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
             double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
+            s->sub_alpha0 = alpha0 + (alpha1 - alpha0) * p / pieces;
             ok = ops->substep(ops->user, s, h / pieces, a1, solver, judge, pin_energy, st, &local);
         }
         if (ok == WEFT_OK) {
@@ -373,6 +408,7 @@ static weft_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double
         const double h = dt / s->def.substeps;
         for (int k = 0; k < s->def.substeps; ++k) s->time += h;
     }
+    for (int k = 0; k < s->n_mesh; ++k) wc_mesh_collider_end_frame(s->mesh[k]);
     ++s->frame;
     st->asleep = 1;
     st->solver = s->def.solver.type;
@@ -452,6 +488,7 @@ weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_d
         }
     }
     for (int k = 0; k < s->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
+    for (int k = 0; k < s->n_mesh; ++k) wc_mesh_collider_end_frame(s->mesh[k]);
     ++s->frame;
     st->contacts = s->contacts.active;
     double max_speed = 0.0;

@@ -8,6 +8,8 @@
  *   cloth_create.c  mesh -> model -> state, cloth create/destroy, info
  *   attach.c        attachments: host vertices -> pinned particles, bone-local binding, pin targets
  *   colliders.c     collider defs + transforms -> world wc_collider
+ *   mesh_colliders.c triangle-mesh colliders: defaults, validation, import, per-frame targets,
+ *                   weft_cloth_set_mesh_collider_vertices
  *   cloth_frame.c   weft_cloth_step: inertia, teleport, reset, pins, colliders, wind, step
  *   cloth_output.c  vertices, normals, triangles in host order
  *   snapshot.c      save/restore of the whole mutable state (also the step's rollback)
@@ -31,6 +33,7 @@
 #define WA_COOKIE_ATTACHMENT 0x57464131u /* "WFA1" */
 #define WA_COOKIE_COLLIDER 0x57464f31u   /* "WFO1" */
 #define WA_COOKIE_RENDER 0x57465231u     /* "WFR1" (weft_default_render_def, render code) */
+#define WA_COOKIE_MESH_COLLIDER 0x57464d31u /* "WFM1" */
 
 /* ---- transforms (transform.c) ---------------------------------------------------------------- */
 
@@ -102,6 +105,14 @@ typedef struct wa_cloth {
     wa_xform* collider_next;        /* (n_colliders) scratch */
     wc_collider* wc_colliders;      /* (n_colliders) scratch for wc_state_set_colliders */
 
+    /* triangle-mesh colliders (mesh_colliders.c): core objects (their from/to positions are
+       snapshot state), rest shapes (object space, m), rigid transforms */
+    int n_mesh;
+    wc_mesh_collider** mesh;        /* (n_mesh) */
+    wa_xform* mesh_xf;              /* (n_mesh) current (last applied) transforms */
+    wa_xform* mesh_next;            /* (n_mesh) scratch of a frame */
+    int* mesh_pending;              /* (n_mesh) 1: new vertices were set for the next frame */
+    double* mesh_scratch;           /* (largest n_verts x 3) */
     double* scratch;                /* (n_particles x 3) positions for reset and normals */
     int* mark;                      /* (n_particles) scratch: attachment of each particle */
     uint64_t model_hash;            /* fingerprint of the model (snapshot.c) */
@@ -183,6 +194,19 @@ void wa_pin_targets(const wa_cloth* c, const wa_xform* bones);
 /* World colliders from the collider defs and the given transforms into c->wc_colliders, with
  * velocity (origin(next) - origin(prev)) / dt, or zero when dt <= 0. */
 void wa_world_colliders(const wa_cloth* c, const wa_xform* next, const wa_xform* prev, double dt);
+
+/* ---- mesh_colliders.c ------------------------------------------------------------------------ */
+weft_status wa_validate_mesh_colliders(const weft_mesh_collider_def* m, int n, char* msg, size_t msg_size);
+/* Import and create the def's mesh colliders and attach them to c->state (creation). */
+weft_status wa_build_mesh_colliders(weft_context* ctx, wa_cloth* c, const weft_cloth_def* def, const char* fn);
+void wa_free_mesh_colliders(wa_cloth* c);
+/* Validate fr->mesh_collider_transforms (recorded with fn). */
+weft_status wa_check_mesh_frame(weft_context* ctx, const wa_cloth* c, const weft_frame* fr, const char* fn);
+/* A frame's targets: colliders without new vertices get transform x rest (fr's transform or the
+ * last one); jump (TELEPORT / RESET): from = to, no motion across the frame. */
+void wa_mesh_frame(wa_cloth* c, const weft_frame* fr, int jump);
+/* After a successful frame: the transforms become current, pending flags clear. */
+void wa_mesh_frame_done(wa_cloth* c);
 
 /* ---- cloth_output.c -------------------------------------------------------------------------- */
 

@@ -9,6 +9,7 @@ void wa_cloth_free(wa_cloth* c) {
     wc_allocator a = c->ctx->alloc;
     wa_gpu_cloth_destroy(c);   /* inside the context's GL context */
     wc_state_destroy(c->state);
+    wa_free_mesh_colliders(c); /* after the state, which borrowed them */
     wc_model_free(&c->model);
     void* arrays[] = {c->host_rest, c->attachments, c->attachment_xf, c->attachment_next, c->pin_particle,
                       c->pin_attachment, c->pin_local, c->pins, c->colliders, c->collider_xf, c->collider_next,
@@ -119,6 +120,9 @@ static weft_status build_cloth(weft_context* ctx, wa_cloth* c, const weft_cloth_
     wa_world_colliders(c, c->collider_xf, c->collider_xf, 0.0);
     st = wc_state_set_colliders(c->state, c->wc_colliders, nc, &d);
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->colliders: %s", fn, d.message);
+
+    st = wa_build_mesh_colliders(ctx, c, def, fn);
+    if (st != WEFT_OK) return st;
 
     /* also allocates the backup for this attachment set */
     return wa_bind_attachments(ctx, c, def->attachments, def->n_attachments, fn, "def->attachments");

@@ -195,6 +195,8 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     weft_status st = wa_validate_attachments(d->attachments, d->n_attachments, m->positions ? m->n_vertices : -1,
                                              "def->attachments", msg, msg_size);
     if (st != WEFT_OK) return st;
+    st = wa_validate_mesh_colliders(d->mesh_colliders, d->n_mesh_colliders, msg, msg_size);
+    if (st != WEFT_OK) return st;
     return wa_validate_colliders(d->colliders, d->n_colliders, "def->colliders", msg, msg_size);
 }
 

@@ -31,7 +31,9 @@
  * Attachments: fr->attachment_transforms (or the previous ones) give the end-of-frame pin
  * targets A_i local (attach.c); pins move linearly from their start targets across the frame.
  * Colliders: world geometry from fr->collider_transforms (or the previous ones), velocity
- * (origin1 - origin0) / dt (colliders.c). Wind: fr->wind replaces the air's wind.
+ * (origin1 - origin0) / dt (colliders.c). Mesh colliders (mesh_colliders.c): end-of-frame
+ * positions from weft_cloth_set_mesh_collider_vertices, else fr->mesh_collider_transforms x
+ * rest, else unchanged; TELEPORT / RESET put them there at once. Wind: fr->wind replaces the air's wind.
  * Sleeping (core/state.h): the core wakes the cloth itself when the pins' targets, the colliders
  * or the wind differ from the last frame's; RESET, TELEPORT and an inertia carry (rotated, or a
  * linear velocity change given to the cloth) wake it here. With the default inertia (1, 1) the
@@ -74,6 +76,7 @@ static weft_status validate(weft_context* ctx, const wa_cloth* c, const weft_fra
             if ((st = wa_check_transform(fr->collider_transforms + 16 * i, why, sizeof why)) != WEFT_OK)
                 return wa_fail(ctx, st, "%s: fr->collider_transforms (collider %d, elements %d..%d)%s", fn, i, 16 * i,
                                16 * i + 15, why);
+    if ((st = wa_check_mesh_frame(ctx, c, fr, fn)) != WEFT_OK) return st;
     if (fr->wind)
         for (int k = 0; k < 3; ++k)
             if (!isfinite(fr->wind[k]))
@@ -295,6 +298,7 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
         }
         wa_world_colliders(c, c->collider_next, c->collider_xf, (reset || teleport) ? 0.0 : dt);
         st = wc_state_set_colliders(s, c->wc_colliders, c->n_colliders, &d);
+        if (st == WEFT_OK) wa_mesh_frame(c, fr, reset || teleport);
     }
     if (st == WEFT_OK && fr->wind) v3_copy(s->def.air.wind, fr->wind);
     wc_step_stats ss;
@@ -335,6 +339,7 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
     c->no_history = reset || teleport;
     for (int i = 0; i < c->n_attachments; ++i) c->attachment_xf[i] = c->attachment_next[i];
     for (int i = 0; i < c->n_colliders; ++i) c->collider_xf[i] = c->collider_next[i];
+    wa_mesh_frame_done(c);
     if (stats) fill_stats(stats, &ss, s, wc_now_ms() - t_start);
     return wa_ok(ctx);
 }

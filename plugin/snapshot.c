@@ -21,8 +21,15 @@
  *                                                 (x_prev, v_prev (n x 3) always present, read
  *                                                 only when valid); after the sleep state,
  *                                                 whose restore would invalidate it
- * Format 2 (magic "WEFTSNP2", library 0.5.0) added the BDF2 history; format 1 snapshots are
- * refused as not Weft snapshots of this format.
+ *   mesh colliders (from, to, transform, pending) per mesh collider: its world positions at the
+ *                                                 start and end of the next frame (n_verts x 3
+ *                                                 each), last rigid transform, and whether the
+ *                                                 host set new vertices for the next frame; the
+ *                                                 substep positions, normals and BVH boxes are
+ *                                                 derived (recomputed at every substep and on
+ *                                                 restore)
+ * Format 2 (magic "WEFTSNP2", library 0.5.0) added the BDF2 history, format 3 ("WEFTSNP3") the
+ * mesh colliders; older formats are refused as not Weft snapshots of this format.
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
  * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
@@ -32,12 +39,13 @@
  *
  * The fingerprint hashes what must match for the state to mean the same thing: particles (host
  * map, rest positions, masses), triangles, springs, material, the pinned particles and their
- * attachments, and the colliders' count, types and sizes. */
+ * attachments, the colliders' count, types and sizes, and the mesh colliders' topology, rest
+ * shape, thickness and friction. */
 #include <math.h>
 #include <string.h>
 #include "api_internal.h"
 
-#define SNAP_MAGIC "WEFTSNP2"   /* format 2: with the BDF2 history */
+#define SNAP_MAGIC "WEFTSNP3"   /* format 3: with the mesh colliders' positions */
 #define SNAP_HEADER 40
 #define SNAP_VERSION ((uint32_t)(WEFT_VERSION_MAJOR << 16 | WEFT_VERSION_MINOR << 8 | WEFT_VERSION_PATCH))
 
@@ -100,6 +108,16 @@ uint64_t wa_model_hash(const wa_cloth* c) {
         h = hash_int(h, q->type);
         h = hash_bytes(h, &q->radius, sizeof(double));
         h = hash_bytes(h, &q->half_height, sizeof(double));
+        h = hash_bytes(h, &q->thickness, sizeof(double));
+        h = hash_bytes(h, &q->friction, sizeof(double));
+    }
+    h = hash_int(h, c->n_mesh);
+    for (int k = 0; k < c->n_mesh; ++k) {
+        const wc_mesh_collider* q = c->mesh[k];
+        h = hash_int(h, q->n_verts);
+        h = hash_int(h, q->n_tris);
+        h = hash_bytes(h, q->tris, 3 * (size_t)q->n_tris * sizeof(int));
+        h = hash_bytes(h, q->rest, 3 * (size_t)q->n_verts * sizeof(double));
         h = hash_bytes(h, &q->thickness, sizeof(double));
         h = hash_bytes(h, &q->friction, sizeof(double));
     }
@@ -204,6 +222,17 @@ static void walk(wa_cloth* c, cursor* k) {
         field(k, s->x_prev, n3);
         field(k, s->v_prev, n3);
     }
+    for (int i = 0; i < c->n_mesh; ++i) {
+        wc_mesh_collider* m = c->mesh[i];
+        size_t nv3 = 3 * (size_t)m->n_verts * sizeof(double);
+        field(k, m->from, nv3);
+        field(k, m->to, nv3);
+        field_xforms(k, &c->mesh_xf[i], 1);
+        int32_t pending = c->mesh_pending[i];
+        field(k, &pending, sizeof pending);
+        c->mesh_pending[i] = pending != 0;
+        if (k->r) wc_mesh_collider_substep(m, 0.0, 0.0, 0.0); /* derived: substep positions at from */
+    }
 }
 
 size_t wa_snapshot_size(const wa_cloth* c) {
@@ -305,7 +334,20 @@ static int plausible(const wa_cloth* c, const unsigned char* buf, size_t size) {
     for (size_t i = 0; i < 2 * (size_t)n; ++i) {
         int32_t q;
         memcpy(&q, buf + off + 4 * i, 4);
-        if (q < -1 || q >= c->n_colliders) return 0;
+        if (q < -1 || q >= c->n_colliders + c->n_mesh) return 0; /* the meshes come first (core/state.h) */
+    }
+    /* the mesh colliders' positions, at the end of the buffer */
+    size_t tail = 0;
+    for (int k = 0; k < c->n_mesh; ++k) tail += 2 * 3 * (size_t)c->mesh[k]->n_verts * 8 + 12 * 8 + 4;
+    if (tail > size) return 0;
+    off = size - tail;
+    for (int k = 0; k < c->n_mesh; ++k) {
+        for (size_t i = 0; i < 2 * 3 * (size_t)c->mesh[k]->n_verts; ++i) {
+            double v;
+            memcpy(&v, buf + off + 8 * i, 8);
+            if (!isfinite(v) || fabs(v) > 1e30) return 0;
+        }
+        off += 2 * 3 * (size_t)c->mesh[k]->n_verts * 8 + 12 * 8 + 4;
     }
     return 1;
 }

@@ -245,6 +245,10 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi preconditioner only (the %s preconditioner runs on the "
                        "CPU backend)", wc_precond_name(s->def.solver.preconditioner));
+    if (s->n_mesh > 0)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend has no triangle-mesh colliders (%d given in def->mesh_colliders): use the CPU "
+                       "backend, or the plane, sphere and capsule colliders", s->n_mesh);
     if (s->def.integrator != WC_INTEGRATOR_BE || s->def.newton_iterations != 1 || s->def.line_search)
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend runs one backward-Euler step per substep without line search (asked: "

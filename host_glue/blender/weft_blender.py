@@ -19,6 +19,10 @@ the add-on steps the cloth and writes the result (object space) into the object'
    Optional custom properties: weft_radius (default: half the largest local bounding-box extent
    perpendicular to Z, times the scale), weft_half_height (capsule, default from the Z extent),
    weft_thickness, weft_friction.
+ - Mesh colliders (bodies): mesh objects with "weft_collider" = "mesh": their evaluated mesh
+   (modifiers applied: an armature-skinned body deforms) in world space is passed every frame
+   (weft_cloth_set_mesh_collider_vertices); its vertex count must not change. The faces must be
+   wound consistently (normals outwards). Optional weft_thickness, weft_friction.
  - Time: the start frame (and any frame before the one the simulation started at) resets the
    cloth. Playing forward steps one frame of 1/fps seconds. Scrubbing restores the cached
    snapshot of that frame, or the nearest earlier one and steps forward from it with the
@@ -141,6 +145,30 @@ def _collider(obj, obj_eval):
     return c
 
 
+def _is_mesh_collider(obj):
+    return obj.type == "MESH" and str(obj.get(COLLIDER_PROPERTY, "")).lower() == "mesh"
+
+
+def _mesh_world(obj_eval):
+    """(world positions (n, 3) float32, face_sizes, indices) of an evaluated mesh object."""
+    mesh = obj_eval.to_mesh()
+    try:
+        co, sizes, indices = _read_mesh(mesh)
+    finally:
+        obj_eval.to_mesh_clear()
+    m = np.array(obj_eval.matrix_world, dtype=np.float64)
+    world = co.astype(np.float64) @ m[:3, :3].T + m[:3, 3]
+    return world.astype(np.float32), sizes, indices
+
+
+def _mesh_collider(obj, obj_eval):
+    """weft.MeshCollider from an evaluated mesh object, in world space (identity transform)."""
+    world, sizes, indices = _mesh_world(obj_eval)
+    faces = np.split(indices, np.cumsum(sizes)[:-1]) if len(sizes) else []
+    return weft.MeshCollider(world, [list(f) for f in faces], thickness=obj.get("weft_thickness"),
+                             friction=obj.get("weft_friction"))
+
+
 class _Session:
     """One simulated object: its cloth, rest shape, baked scale and snapshot cache."""
 
@@ -174,7 +202,11 @@ class _Session:
                       if any(g.group == gi and g.weight > 0 for g in v.groups)]
         self.has_pins = bool(pinned)
         self.collider_names = [o.name for o in scene.objects
-                               if o is not obj and COLLIDER_PROPERTY in o]
+                               if o is not obj and COLLIDER_PROPERTY in o and not _is_mesh_collider(o)]
+        self.mesh_names = [o.name for o in scene.objects if o is not obj and _is_mesh_collider(o)]
+        mesh_colliders = [_mesh_collider(scene.objects[n], scene.objects[n].evaluated_get(depsgraph))
+                          for n in self.mesh_names]
+        self.mesh_counts = [m.positions.shape[0] for m in mesh_colliders]
         colliders = [_collider(scene.objects[n], scene.objects[n].evaluated_get(depsgraph))
                      for n in self.collider_names]
         gravity = tuple(scene.gravity) if scene.use_gravity else (0.0, 0.0, 0.0)
@@ -182,7 +214,8 @@ class _Session:
             rest * self.scale, face_sizes=sizes, indices=indices, transform=rigid,
             attachments=[weft.Attachment(pinned, bind_transform=_pin_matrix(obj_eval))]
             if pinned else (),
-            colliders=colliders, gravity=gravity, substeps=settings.substeps,
+            colliders=colliders, mesh_colliders=mesh_colliders, gravity=gravity,
+            substeps=settings.substeps,
             density=settings.density, stiffness=tuple(settings.stiffness),
             strain_limit=settings.strain_limit, air_drag_normal=settings.air_drag,
             integrator=_INTEGRATORS[settings.integrator])
@@ -214,7 +247,18 @@ class _Session:
                      for n in self.collider_names if n in scene.objects]
         if len(colliders) != len(self.collider_names):
             colliders = None          # a collider was deleted: keep the last transforms
+        bodies = []                   # (index, world vertices) of the mesh colliders at `frame`
+        for i, n in enumerate(self.mesh_names):
+            if n not in scene.objects:
+                continue              # deleted: it stays where it was
+            world = _mesh_world(scene.objects[n].evaluated_get(depsgraph))[0]
+            if world.shape[0] != self.mesh_counts[i]:
+                raise weft.WeftError(weft.Status.OUT_OF_RANGE, "%s: the mesh collider's vertex count "
+                                     "changed (%d -> %d)" % (n, self.mesh_counts[i], world.shape[0]))
+            bodies.append((i, world))
         while self.frame < frame:
+            for i, world in bodies:
+                self.cloth.set_mesh_collider_vertices(i, world)
             self.cloth.step(dt, object_transform=rigid, attachment_transforms=pins,
                             collider_transforms=colliders or None)
             self.frame += 1

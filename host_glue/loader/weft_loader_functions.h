@@ -19,6 +19,7 @@
     X(weft_cloth_def, weft_default_cloth_def, (void))                                              \
     X(weft_attachment_def, weft_default_attachment_def, (void))                                    \
     X(weft_collider_def, weft_default_collider_def, (void))                                        \
+    X(weft_mesh_collider_def, weft_default_mesh_collider_def, (void))                              \
     X(weft_status, weft_cloth_create, (weft_context* ctx, const weft_cloth_def* def,               \
                                        weft_cloth* out))                                           \
     X(weft_status, weft_cloth_destroy, (weft_context* ctx, weft_cloth cloth))                      \
@@ -27,6 +28,9 @@
     X(weft_status, weft_cloth_get_info, (weft_context* ctx, weft_cloth cloth,                      \
                                          weft_cloth_info* out))                                    \
     X(weft_frame, weft_default_frame, (void))                                                      \
+    X(weft_status, weft_cloth_set_mesh_collider_vertices, (weft_context* ctx, weft_cloth cloth,    \
+                                                           int index, const float* positions,      \
+                                                           int n_vertices))                        \
     X(weft_status, weft_cloth_step, (weft_context* ctx, weft_cloth cloth, const weft_frame* fr,    \
                                      weft_frame_stats* stats))                                     \
     X(weft_status, weft_cloth_get_vertices, (weft_context* ctx, weft_cloth cloth,                  \

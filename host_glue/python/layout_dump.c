@@ -94,6 +94,15 @@ static void dump_structs(void) {
     FIELD(weft_collider_def, internal_cookie);
     struct_end();
 
+    STRUCT(weft_mesh_collider_def);
+    FIELD(weft_mesh_collider_def, mesh);
+    FIELD(weft_mesh_collider_def, unit_scale);
+    FIELD(weft_mesh_collider_def, transform);
+    FIELD(weft_mesh_collider_def, thickness);
+    FIELD(weft_mesh_collider_def, friction);
+    FIELD(weft_mesh_collider_def, internal_cookie);
+    struct_end();
+
     STRUCT(weft_cloth_def);
     FIELD(weft_cloth_def, mesh);
     FIELD(weft_cloth_def, unit_scale);
@@ -122,6 +131,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, attachments);
     FIELD(weft_cloth_def, n_colliders);
     FIELD(weft_cloth_def, colliders);
+    FIELD(weft_cloth_def, n_mesh_colliders);
+    FIELD(weft_cloth_def, mesh_colliders);
     FIELD(weft_cloth_def, sew_distance);
     FIELD(weft_cloth_def, sew_stiffness);
     FIELD(weft_cloth_def, seam_a);
@@ -159,6 +170,7 @@ static void dump_structs(void) {
     FIELD(weft_frame, collider_transforms);
     FIELD(weft_frame, wind);
     FIELD(weft_frame, flags);
+    FIELD(weft_frame, mesh_collider_transforms);
     struct_end();
 
     STRUCT(weft_frame_stats);

@@ -6,7 +6,9 @@ with its +y edge in the vertex group "weft_pin", above a sphere marked weft_coll
 Playing 30 frames: the pinned vertices follow the object exactly, the free edge falls and the
 cloth drapes on the sphere without entering it or stretching far; the evaluated mesh (what the
 viewport and renderers see) carries the result. Scrubbing back gives the cached frames bit for
-bit, the start frame gives the rest shape, and replaying gives the same frames again."""
+bit, the start frame gives the rest shape, and replaying gives the same frames again. A cloth
+parented to a rotating bone follows it; a cloth over a rising cube marked weft_collider = "mesh"
+never enters it and is lifted with it."""
 import sys
 import time
 
@@ -168,6 +170,38 @@ for f in range(2, 12):
 check(cape.weft.error == "", "no error (%r)" % cape.weft.error)
 check(moved > 0.1 and err < 1e-4, "pins follow the rotating bone (moved %.2f m, error %.2g m)"
       % (moved, err))
+
+# A third cloth over a cube marked weft_collider = "mesh" (a body: its evaluated mesh in world
+# space is passed every frame), which rises 0.2 m between frames 11 and 21: no cloth vertex ever
+# inside the cube, and the cloth is lifted with it.
+bpy.ops.mesh.primitive_cube_add(size=0.6, location=(3.0, 0.0, 1.0))
+body = bpy.context.active_object
+body["weft_collider"] = "mesh"
+body["weft_friction"] = 0.5
+body.keyframe_insert("location", frame=11)
+body.location.z = 1.2
+body.keyframe_insert("location", frame=21)
+for fc in body.animation_data.action.fcurves:
+    for kp in fc.keyframe_points:
+        kp.interpolation = "LINEAR"
+bpy.ops.mesh.primitive_grid_add(x_subdivisions=10, y_subdivisions=10, size=1.0,
+                                location=(3.0, 0.0, 1.5))
+sheet = bpy.context.active_object
+bpy.context.view_layer.objects.active = sheet
+check(bpy.ops.weft.enable() == {"FINISHED"}, "weft.enable on a cloth over a mesh collider")
+grid = sheet
+scene.frame_set(1)
+worst = 0
+for f in range(2, 32):
+    scene.frame_set(f)
+    p = world_positions()[0]
+    cz = 1.0 + 0.2 * min(max((f - 11) / 10.0, 0.0), 1.0)
+    lo, hi = np.array([2.7, -0.3, cz - 0.3]), np.array([3.3, 0.3, cz + 0.3])
+    worst += int(np.all((p > lo + 1e-6) & (p < hi - 1e-6), axis=1).sum())
+check(sheet.weft.error == "", "no error (%r)" % sheet.weft.error)
+check(worst == 0, "no vertex inside the mesh collider (%d vertex-frames)" % worst)
+top = float(p[:, 2].max())
+check(1.5 - 0.01 < top < 1.5 + 0.03, "the cloth lifted with the body (top at %.3f m, body top 1.5 m)" % top)
 
 addon_utils.disable("weft_blender", default_set=True)
 print("%d failure(s)" % len(failures))

@@ -125,6 +125,35 @@ class RoundTrip(unittest.TestCase):
         self.assertGreaterEqual(dist.min(), radius - 1e-3)   # nothing inside the sphere
         self.assertLess(out[:, 1].min(), center[1])           # the corners hang below its middle
 
+    def test_mesh_collider(self):
+        # a box 0.3 m wide under the middle of the sheet, as host triangles, then raised by its
+        # vertices (a deforming body) and by a transform; no vertex ever inside it
+        lo, hi = np.array([0.1, 0.5, 0.1]), np.array([0.4, 0.8, 0.4])
+        corners = np.array([[hi[a] if (k >> a) & 1 else lo[a] for a in range(3)] for k in range(8)],
+                           dtype=np.float32)
+        quads = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]]
+        tris = np.array([t for q in quads for t in ([q[0], q[1], q[2]], [q[0], q[2], q[3]])],
+                        dtype=np.int32)
+        cloth = self.make(mesh_colliders=[weft.MeshCollider(corners, tris, friction=0.5)])
+
+        def inside(out, dy):
+            return np.all((out > lo + [0, dy, 0]) & (out < hi + [0, dy, 0]), axis=1).sum()
+
+        for _ in range(60):
+            cloth.step(H)
+            self.assertEqual(inside(cloth.get_vertices(), 0.0), 0)
+        for f in range(10):
+            cloth.set_mesh_collider_vertices(0, corners + [0, 0.01 * (f + 1), 0])
+            cloth.step(H)
+            self.assertEqual(inside(cloth.get_vertices(), 0.01 * (f + 1)), 0)
+        cloth.step(H, mesh_collider_transforms=[translation(0, 0.15, 0)])
+        out = cloth.get_vertices()
+        self.assertEqual(inside(out, 0.15), 0)
+        self.assertGreater(out[:, 1].max(), hi[1] + 0.15)
+        with self.assertRaises(weft.WeftError) as e:
+            cloth.set_mesh_collider_vertices(0, corners[:7])
+        self.assertEqual(e.exception.status, weft.Status.OUT_OF_RANGE)
+
     def test_snapshot_restores_bit_for_bit(self):
         cloth = self.make(attachments=[weft.Attachment([0, 5])])
         for _ in range(5):

@@ -209,6 +209,11 @@ class ColliderDef(_Struct):
                 ("internal_cookie", c_uint32)]
 
 
+class MeshColliderDef(_Struct):
+    _fields_ = [("mesh", MeshDesc), ("unit_scale", c_double), ("transform", c_float * 16),
+                ("thickness", c_double), ("friction", c_double), ("internal_cookie", c_uint32)]
+
+
 class ClothDef(_Struct):
     _fields_ = [("mesh", MeshDesc), ("unit_scale", c_double), ("weld_tolerance", c_double),
                 ("transform", c_float * 16), ("material", Material), ("gravity", c_double * 3),
@@ -221,7 +226,8 @@ class ClothDef(_Struct):
                 ("sleep_time", c_double), ("linear_inertia", c_double),
                 ("angular_inertia", c_double), ("n_attachments", c_int),
                 ("attachments", POINTER(AttachmentDef)), ("n_colliders", c_int),
-                ("colliders", POINTER(ColliderDef)),
+                ("colliders", POINTER(ColliderDef)), ("n_mesh_colliders", c_int),
+                ("mesh_colliders", POINTER(MeshColliderDef)),
                 # sewing (README "Sewing")
                 ("sew_distance", c_double), ("sew_stiffness", c_double),
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
@@ -243,7 +249,7 @@ class Frame(_Struct):
     _fields_ = [("dt", c_double), ("object_transform", POINTER(c_float)),
                 ("attachment_transforms", POINTER(c_float)),
                 ("collider_transforms", POINTER(c_float)), ("wind", POINTER(c_double)),
-                ("flags", c_uint32)]
+                ("flags", c_uint32), ("mesh_collider_transforms", POINTER(c_float))]
 
 
 class FrameStats(_Struct):
@@ -269,6 +275,7 @@ STRUCTS = {"weft_version_info": VersionInfo, "weft_allocator": Allocator,
            "weft_context_def": ContextDef, "weft_cloth": ClothHandle,
            "weft_mesh_desc": MeshDesc, "weft_material": Material,
            "weft_attachment_def": AttachmentDef, "weft_collider_def": ColliderDef,
+           "weft_mesh_collider_def": MeshColliderDef,
            "weft_cloth_def": ClothDef, "weft_cloth_info": ClothInfo, "weft_frame": Frame,
            "weft_frame_stats": FrameStats, "weft_render_def": RenderDef}
 
@@ -290,6 +297,8 @@ PROTOTYPES = {
     "weft_default_cloth_def": (ClothDef, []),
     "weft_default_attachment_def": (AttachmentDef, []),
     "weft_default_collider_def": (ColliderDef, []),
+    "weft_default_mesh_collider_def": (MeshColliderDef, []),
+    "weft_cloth_set_mesh_collider_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_int]),
     "weft_cloth_create": (c_int, [_CTX, POINTER(ClothDef), POINTER(ClothHandle)]),
     "weft_cloth_destroy": (c_int, [_CTX, ClothHandle]),
     "weft_cloth_set_attachments": (c_int, [_CTX, ClothHandle, POINTER(AttachmentDef), c_int]),
@@ -512,7 +521,7 @@ class Context:
 
     def create_cloth(self, positions=None, faces=None, *, face_sizes=None, indices=None,
                      path=None, select=None, transform=None, attachments=(), colliders=(),
-                     seams=None, **params):
+                     seams=None, mesh_colliders=(), **params):
         """Build a cloth (weft_cloth_create) from host arrays or a mesh file.
 
         positions (n, 3) float32 (no copy when C-contiguous float32); the polygons either as
@@ -558,9 +567,14 @@ class Context:
             sa, sb = np.ascontiguousarray(pairs[:, 0]), np.ascontiguousarray(pairs[:, 1])
             keep += [sa, sb]
             d.seam_a, d.seam_b, d.n_seams = _ptr(sa, c_int), _ptr(sb, c_int), pairs.shape[0]
+        mcols = (MeshColliderDef * max(len(mesh_colliders), 1))()
+        for i, m in enumerate(mesh_colliders):
+            mcols[i] = self._mesh_collider_def(m, keep)
+        d.n_mesh_colliders, d.mesh_colliders = len(mesh_colliders), mcols
         handle = ClothHandle()
         self._check(lib.weft_cloth_create(self._handle(), ctypes.byref(d), ctypes.byref(handle)))
         cloth = Cloth(self, handle)
+        cloth._n_mesh = len(mesh_colliders)
         self._cloths.add(cloth)
         return cloth
 
@@ -577,6 +591,30 @@ class Context:
             arr[i] = ad
         return arr
 
+    def _mesh_collider_def(self, m, keep):
+        md = self.lib.weft_default_mesh_collider_def()
+        if m.path is not None:
+            keep.append(os.fsencode(m.path))
+            md.mesh.path = keep[-1]
+            if m.select is not None:
+                keep.append(m.select.encode())
+                md.mesh.select = keep[-1]
+        if m.positions is not None:
+            pos = np.ascontiguousarray(m.positions, dtype=np.float32)
+            if pos.ndim != 2 or pos.shape[1] != 3:
+                raise ValueError("mesh collider positions: expected shape (n, 3), got %s" % (pos.shape,))
+            sizes, idx = _polygons(m.faces, None, None)
+            keep += [pos, sizes, idx]
+            md.mesh.positions, md.mesh.n_vertices = _ptr(pos, c_float), pos.shape[0]
+            md.mesh.face_sizes, md.mesh.n_faces = _ptr(sizes, c_int), sizes.shape[0]
+            md.mesh.indices = _ptr(idx, c_int)
+        for key in ("unit_scale", "thickness", "friction"):
+            if getattr(m, key) is not None:
+                setattr(md, key, float(getattr(m, key)))
+        if m.transform is not None:
+            _set_transform(md.transform, m.transform, "mesh collider transform")
+        return md
+
     def _collider_def(self, c):
         cd = self.lib.weft_default_collider_def()
         cd.type = int(c.type)
@@ -589,7 +627,8 @@ class Context:
 
 
 _NOT_PARAMS = {"mesh", "transform", "material", "n_attachments", "attachments", "n_colliders",
-               "colliders", "internal_cookie", "seam_a", "seam_b", "n_seams"}
+               "colliders", "n_mesh_colliders", "mesh_colliders", "internal_cookie", "seam_a", "seam_b",
+               "n_seams"}
 
 
 def _set_field(struct, key, value):
@@ -603,6 +642,19 @@ def _set_field(struct, key, value):
         setattr(struct, key, float(value))
     else:
         setattr(struct, key, int(value))
+
+
+class MeshCollider:
+    """A triangle-mesh body (weft_mesh_collider_def, CPU backend): host arrays (positions (n, 3)
+    and faces, as for a cloth) or a file (path, select); transform at creation; None keeps
+    weft's default (thickness 0.005, friction 0.3, unit_scale 1). Move it per frame with
+    Cloth.step(mesh_collider_transforms=...) or Cloth.set_mesh_collider_vertices."""
+
+    def __init__(self, positions=None, faces=None, *, path=None, select=None, unit_scale=None,
+                 transform=None, thickness=None, friction=None):
+        self.positions, self.faces, self.path, self.select = positions, faces, path, select
+        self.unit_scale, self.transform = unit_scale, transform
+        self.thickness, self.friction = thickness, friction
 
 
 def _polygons(faces, face_sizes, indices):
@@ -626,6 +678,7 @@ class Cloth:
     def __init__(self, context, handle):
         self.context = context
         self._handle = handle
+        self._n_mesh = 0   # mesh colliders (set by create_cloth; weft_cloth_info has no count)
         self.info = self.get_info()
 
     def _h(self):
@@ -666,7 +719,8 @@ class Cloth:
         self.info = self.get_info()
 
     def step(self, dt, *, object_transform=None, attachment_transforms=None,
-             collider_transforms=None, wind=None, teleport=False, reset=False, flags=0):
+             collider_transforms=None, wind=None, teleport=False, reset=False, flags=0,
+             mesh_collider_transforms=None):
         """Advance by dt seconds (weft_cloth_step); transforms at the end of the frame (None:
         unchanged). Returns the FrameStats."""
         ctx = self.context
@@ -685,6 +739,10 @@ class Cloth:
             keep.append(_transform_stack(collider_transforms, self.info.n_colliders,
                                          "collider_transforms"))
             fr.collider_transforms = _ptr(keep[-1], c_float)
+        if mesh_collider_transforms is not None:
+            keep.append(_transform_stack(mesh_collider_transforms, self._n_mesh,
+                                         "mesh_collider_transforms"))
+            fr.mesh_collider_transforms = _ptr(keep[-1], c_float)
         if wind is not None:
             keep.append(np.array(wind, dtype=np.float64).reshape(3))
             fr.wind = _ptr(keep[-1], c_double)
@@ -692,6 +750,16 @@ class Cloth:
         ctx._check(ctx.lib.weft_cloth_step(ctx._handle(), self._h(), ctypes.byref(fr),
                                            ctypes.byref(stats)))
         return stats
+
+    def set_mesh_collider_vertices(self, index, positions):
+        """Mesh collider index's world vertex positions (n, 3) at the end of the next frame
+        (weft_cloth_set_mesh_collider_vertices: a deforming body)."""
+        ctx = self.context
+        pos = np.ascontiguousarray(positions, dtype=np.float32)
+        if pos.ndim != 2 or pos.shape[1] != 3:
+            raise ValueError("positions: expected shape (n, 3), got %s" % (pos.shape,))
+        ctx._check(ctx.lib.weft_cloth_set_mesh_collider_vertices(ctx._handle(), self._h(), int(index),
+                                                                 _ptr(pos, c_float), pos.shape[0]))
 
     def get_vertices(self, space=Space.WORLD, out=None, *, normals=False, normals_out=None):
         """Positions per host vertex as (n, 3) float32, written into out when given (a

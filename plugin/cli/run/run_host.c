@@ -186,6 +186,57 @@ static weft_status give_up(run_host* h, weft_status st) {
     return st;
 }
 
+/* The scene's mesh colliders as defs (*out allocated, NULL when none) and h's per-frame arrays. */
+static int describe_mesh_colliders(run_host* h, const scene* s, weft_mesh_collider_def** out) {
+    *out = NULL;
+    h->n_mesh = s->n_mesh_colliders;
+    if (h->n_mesh == 0) return 0;
+    int most = 1;
+    for (int i = 0; i < h->n_mesh; ++i)
+        if (s->mesh_colliders[i].n_verts > most) most = s->mesh_colliders[i].n_verts;
+    *out = calloc((size_t)h->n_mesh, sizeof **out);
+    h->mesh_xf = calloc(16 * (size_t)h->n_mesh, sizeof(float));
+    h->mesh_verts = calloc(3 * (size_t)most, sizeof(float));
+    if (!*out || !h->mesh_xf || !h->mesh_verts) return -1;
+    for (int i = 0; i < h->n_mesh; ++i) {
+        const scene_mesh_collider* m = &s->mesh_colliders[i];
+        weft_mesh_collider_def* d = &(*out)[i];
+        *d = weft_default_mesh_collider_def();
+        d->mesh.path = m->file;
+        d->mesh.select = m->select;
+        d->unit_scale = m->scale;
+        xf_to_float(m->transform, d->transform);
+        d->thickness = m->thickness;
+        d->friction = m->friction;
+    }
+    return 0;
+}
+
+/* Mesh collider i at time t: motion x transform, and (vertex animation) its vertices. */
+static void mesh_collider_frame(run_host* h, const scene* s, int i, double t) {
+    const scene_mesh_collider* m = &s->mesh_colliders[i];
+    double mo[16], M[16];
+    scene_motion_at(&m->motion, t, mo);
+    xf_mul(mo, m->transform, M);
+    xf_to_float(M, h->mesh_xf + 16 * (size_t)i);
+    if (m->n_frames == 0) return;
+    /* file frames at frames_fps, interpolated linearly, held at the last */
+    double u = t * m->frames_fps;
+    int i0 = (int)floor(u);
+    double a = u - i0;
+    if (i0 < 0) i0 = 0, a = 0.0;
+    if (i0 >= m->n_frames - 1) i0 = m->n_frames - 1, a = 0.0;
+    const double* f0 = m->frames + 3 * (size_t)m->n_verts * i0;
+    const double* f1 = a > 0.0 ? f0 + 3 * (size_t)m->n_verts : f0;
+    for (int v = 0; v < m->n_verts; ++v) {
+        double p[3], w[3];
+        for (int k = 0; k < 3; ++k) p[k] = (1.0 - a) * f0[3 * v + k] + a * f1[3 * v + k];
+        xf_apply(M, p, w);
+        for (int k = 0; k < 3; ++k) h->mesh_verts[3 * v + k] = (float)w[k];
+    }
+    (void)weft_cloth_set_mesh_collider_vertices(h->ctx, h->cloth, i, h->mesh_verts, m->n_verts);
+}
+
 weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* opts, const char* name, char* msg,
                             size_t cap) {
     memset(h, 0, sizeof *h);
@@ -212,6 +263,7 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
     h->collider_rest = calloc(nc * 16, sizeof(double));
     float* mesh_pos = NULL;
     int* mesh_sizes = NULL;
+    weft_mesh_collider_def* mcol = NULL;
     weft_cloth_def def = weft_default_cloth_def();
     int oom = !att || !col || !h->attachment_xf || !h->collider_xf || !h->collider_rest ||
               describe_mesh(s, &def, h->object_rest, &mesh_pos, &mesh_sizes) != 0;
@@ -232,7 +284,10 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
         }
         def.n_colliders = h->n_colliders;
         def.colliders = h->n_colliders > 0 ? col : NULL;
-        st = weft_cloth_create(h->ctx, &def, &h->cloth);
+        if (describe_mesh_colliders(h, s, &mcol) != 0) oom = 1;
+        def.n_mesh_colliders = h->n_mesh;
+        def.mesh_colliders = mcol;
+        if (!oom) st = weft_cloth_create(h->ctx, &def, &h->cloth);
         if (st == WEFT_OK) st = weft_cloth_get_info(h->ctx, h->cloth, &h->info);
         if (st == WEFT_OK && h->info.n_vertices != s->src.n_verts) mismatch = 1;
         else if (st == WEFT_OK && h->n_attachments > 0) st = attach_pins(h, s, att, &oom);
@@ -241,6 +296,7 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
         for (int i = 0; i < h->n_attachments; ++i) free((int*)att[i].vertices);
     free(att);
     free(col);
+    free(mcol);
     free(mesh_pos);
     free(mesh_sizes);
     if (oom) {
@@ -272,6 +328,9 @@ void run_host_destroy(run_host* h) {
     free(h->attachment_xf);
     free(h->collider_xf);
     free(h->collider_rest);
+    free(h->mesh_xf);
+    free(h->mesh_verts);
+    h->mesh_xf = h->mesh_verts = NULL;
     free(h->positions);
     h->ctx = NULL;
     h->attachment_xf = h->collider_xf = h->positions = NULL;
@@ -313,5 +372,7 @@ weft_frame run_host_frame(run_host* h, const scene* s, int frame, double dt) {
     }
     fr.attachment_transforms = h->n_attachments > 0 ? h->attachment_xf : NULL;
     fr.collider_transforms = h->n_colliders > 0 ? h->collider_xf : NULL;
+    for (int i = 0; i < h->n_mesh; ++i) mesh_collider_frame(h, s, i, t);   /* mesh colliders: the same, or vertices */
+    fr.mesh_collider_transforms = h->n_mesh > 0 ? h->mesh_xf : NULL;
     return fr;
 }

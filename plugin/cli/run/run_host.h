@@ -20,6 +20,9 @@ typedef struct run_host {
     int n_colliders;
     double* collider_rest;      /* (n_colliders x 16) placements at rest */
     float* collider_xf;         /* (n_colliders x 16) this frame's */
+    int n_mesh;                 /* = scene mesh colliders */
+    float* mesh_xf;             /* (n_mesh x 16) this frame's transforms */
+    float* mesh_verts;          /* (largest n_verts x 3) this frame's vertices (vertex animation) */
     float object_xf[16];        /* this frame's */
     double jump[3];             /* m: the teleports so far */
     int next_teleport;          /* index in scene.object.teleports */
@@ -41,7 +44,10 @@ void run_host_destroy(run_host* h);
 
 /* The weft_frame of frame `frame` (1-based, ending at frame dt seconds): dt, and the object,
  * attachment and collider transforms of the scene's motions and teleports at that time. The
- * arrays it points to live in h until the next call. */
+ * arrays it points to live in h until the next call. Mesh colliders animated by file frames get
+ * their vertices (weft_cloth_set_mesh_collider_vertices) here; a failure there is reported by
+ * run_host_error after the step that follows refuses nothing (the vertices are checked finite at
+ * load, so it does not happen). */
 weft_frame run_host_frame(run_host* h, const scene* s, int frame, double dt);
 
 /* Read the cloth's world positions into h->positions. */

@@ -32,6 +32,8 @@ static char* resolve_path(const char* name, const char* file) {
     return out;
 }
 
+char* scene_resolve_path(const char* name, const char* file) { return resolve_path(name, file); }
+
 int scene_require(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const char* hint) {
     if (sj_get(obj, key)) return 0;
     char path[160];
@@ -370,6 +372,7 @@ void scene_free(scene* s) {
     free(s->pin_groups);
     free(s->colliders);
     free(s->collider_motion);
+    scene_free_mesh_colliders(s);
     free(s->object.teleports);
     free(s->seam_a);
     free(s->seam_b);

@@ -80,6 +80,25 @@ typedef struct scene_camera {
     int width, height;      /* pixels, [1, SCENE_MAX_IMAGE_SIDE]: 640 x 480 */
 } scene_camera;
 
+/* A "colliders" entry of type "mesh" (scene_mesh_collider.c): a triangle-mesh body from a file,
+ * placed by a rigid transform and moved by a scripted motion, optionally animated per vertex by
+ * a sequence of OBJ files (every file with the same vertices). World positions at time t:
+ * motion(t) x transform x p, p the file's positions (x scale), interpolated linearly between
+ * file frames at frames_fps (held at the last one). */
+typedef struct scene_mesh_collider {
+    char* file;             /* resolved path (the first frame file when only "frames" is given) */
+    char* select;           /* node or mesh name, NULL for all */
+    double scale;           /* metres per file unit (1) */
+    double transform[16];   /* rest placement, rigid, column-major (identity) */
+    double thickness;       /* m (SCENE_DEFAULT_THICKNESS) */
+    double friction;        /* (SCENE_DEFAULT_FRICTION) */
+    scene_motion motion;
+    int n_verts;            /* vertices as imported */
+    int n_frames;           /* file frames of the vertex animation (0: none) */
+    double frames_fps;      /* file frames per second */
+    double* frames;         /* (n_frames x n_verts x 3) m: each file's positions x scale */
+} scene_mesh_collider;
+
 typedef struct scene {
     /* mesh */
     int mesh_is_grid;
@@ -108,6 +127,8 @@ typedef struct scene {
     int n_colliders;
     wc_collider* colliders; /* (n_colliders) shapes at rest (velocity zero) */
     scene_motion* collider_motion; /* (n_colliders) */
+    int n_mesh_colliders;
+    scene_mesh_collider* mesh_colliders; /* (n_mesh_colliders) "colliders" entries of type "mesh" */
     scene_object object;
     scene_camera camera;
     double fps;             /* frames per simulated second (> 0) */

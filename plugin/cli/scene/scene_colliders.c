@@ -18,7 +18,7 @@ static int parse_collider(const sj_ctx* c, const cJSON* item, const char* path, 
     char field[96];
     sj_join(field, sizeof field, path, "type");
     if (sj_string(c, item, path, "type", &type) < 0) return -1;
-    if (scene_require(c, item, path, "type", "(\"plane\", \"sphere\" or \"capsule\")") < 0) return -1;
+    if (scene_require(c, item, path, "type", "(\"plane\", \"sphere\", \"capsule\" or \"mesh\")") < 0) return -1;
     memset(col, 0, sizeof *col);
     col->thickness = SCENE_DEFAULT_THICKNESS;
     col->friction = SCENE_DEFAULT_FRICTION;
@@ -42,8 +42,8 @@ static int parse_collider(const sj_ctx* c, const cJSON* item, const char* path, 
             if (sj_numbers(c, item, path, key, 3, e ? col->b : col->a) < 0) return -1;
         }
     } else {
-        return sj_fail(c, field, "unknown collider type \"%s\" (expected \"plane\", \"sphere\" or \"capsule\")",
-                       type);
+        return sj_fail(c, field,
+                       "unknown collider type \"%s\" (expected \"plane\", \"sphere\", \"capsule\" or \"mesh\")", type);
     }
     if (col->type != WC_COLLIDER_PLANE) {
         if (scene_require(c, item, path, "radius", NULL) < 0) return -1;
@@ -71,7 +71,12 @@ int scene_parse_colliders(const sj_ctx* c, const cJSON* root, scene* s) {
         return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     for (const cJSON* it = cols->child; it; it = it->next) {
         char path[64];
-        snprintf(path, sizeof path, "colliders[%d]", s->n_colliders);
+        snprintf(path, sizeof path, "colliders[%d]", s->n_colliders + s->n_mesh_colliders);
+        const cJSON* type = cJSON_IsObject(it) ? sj_get(it, "type") : NULL;
+        if (cJSON_IsString(type) && strcmp(type->valuestring, "mesh") == 0) {
+            if (scene_parse_mesh_collider(c, it, path, s, n) < 0) return -1;
+            continue;
+        }
         const int i = s->n_colliders++;
         if (parse_collider(c, it, path, &s->colliders[i], &s->collider_motion[i]) < 0) return -1;
     }

@@ -20,6 +20,11 @@ int scene_parse_pins(const sj_ctx* c, const cJSON* root, scene* s);
 int scene_parse_colliders(const sj_ctx* c, const cJSON* root, scene* s);
 int scene_parse_object(const sj_ctx* c, const cJSON* root, scene* s);
 int scene_parse_camera(const sj_ctx* c, const cJSON* root, scene* s);
+/* A "colliders" entry of type "mesh" at path, appended to s->mesh_colliders (room for n). */
+int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* path, scene* s, int room);
+void scene_free_mesh_colliders(scene* s);
+/* name's folder joined with file (allocated; NULL when out of memory). */
+char* scene_resolve_path(const char* name, const char* file);
 
 /* mesh.sew_distance and mesh.seams (scene_seams.c), and the seams' vertices against the made mesh. */
 int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s);

@@ -257,6 +257,29 @@ typedef struct weft_collider_def {   /* every number finite, even those the type
     uint32_t internal_cookie;   /* set by weft_default_collider_def() */
 } weft_collider_def;
 
+/* A triangle-mesh collider: a body (rigid, or deforming/skinned) the cloth collides with, on the
+ * CPU backend (a GPU cloth with one is refused with WEFT_ERROR_UNSUPPORTED). The mesh comes from
+ * a file (mesh.path, mesh.select: the same assimp import as a cloth's, polygons triangulated, no
+ * welding) or from host arrays (mesh.positions, mesh.n_vertices, mesh.indices; mesh.face_sizes /
+ * n_faces as for a cloth, or face_sizes NULL for n_faces triangles of 3 indices each). Winding:
+ * the outward side is that of counter-clockwise triangles seen from outside, consistently over
+ * the mesh (a closed body imported by assimp has it); an open mesh collides on its front side.
+ * Motion, per frame: rigid, weft_frame.mesh_collider_transforms[i] applied to the mesh (world =
+ * transform x (mesh x unit_scale)); or deforming, weft_cloth_set_mesh_collider_vertices() with
+ * the world positions at the end of the next frame (that call wins over a transform for its
+ * collider in that frame). The collider moves linearly from its previous end-of-frame positions
+ * to the new ones across the frame, each surface point with its own velocity (friction carries
+ * the cloth with it). Cost: a BVH refit per substep, a closest-point and a crossing query per
+ * particle near the body. */
+typedef struct weft_mesh_collider_def {
+    weft_mesh_desc mesh;        /* required: a file or host arrays */
+    double unit_scale;          /* metres per mesh unit (1); FBX UnitScaleFactor applied on top */
+    float transform[16];        /* world transform at creation (identity), rigid */
+    double thickness;           /* m (0.005): the cloth stays this far outside the surface */
+    double friction;            /* Coulomb coefficient >= 0 (0.3) */
+    uint32_t internal_cookie;   /* set by weft_default_mesh_collider_def() */
+} weft_mesh_collider_def;
+
 typedef struct weft_cloth_def {
     weft_mesh_desc mesh;        /* required */
     double unit_scale;          /* metres per mesh unit (1); FBX UnitScaleFactor applied on top */
@@ -312,6 +335,8 @@ typedef struct weft_cloth_def {
     const weft_attachment_def* attachments;   /* (n_attachments), copied at creation */
     int n_colliders;
     const weft_collider_def* colliders;       /* (n_colliders), copied at creation */
+    int n_mesh_colliders;
+    const weft_mesh_collider_def* mesh_colliders; /* (n_mesh_colliders), read at creation */
 
     /* Sewing (README "Sewing"): zero-rest-length springs that join panels (connected
      * components). sew_distance: every boundary vertex sews to the closest point (a vertex or a
@@ -334,14 +359,16 @@ typedef struct weft_cloth_def {
 WEFT_API weft_cloth_def weft_default_cloth_def(void);
 WEFT_API weft_attachment_def weft_default_attachment_def(void);
 WEFT_API weft_collider_def weft_default_collider_def(void);
+WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
 
 /* Build a cloth: import or read the mesh, weld, build springs and masses, bind the attachments.
  * Errors: INVALID_ARGUMENT (NULL, def not from weft_default_cloth_def(), both or neither mesh
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only), GPU (GPU backend: the
- * model exceeds the device's texture limits, or a GL error; the message says which),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, and mesh colliders),
+ * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
+ * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
  * runs inside the context's GL context (WEFT_GL_HOST_CURRENT: the host's, current on the calling
  * thread, its bindings restored); positions are read back only by weft_cloth_get_vertices,
@@ -398,9 +425,19 @@ typedef struct weft_frame {
                                            unchanged */
     const double* wind;         /* 3, m/s world; NULL: unchanged */
     uint32_t flags;             /* WEFT_FRAME_* */
+    const float* mesh_collider_transforms; /* (n_mesh_colliders x 16) rigid, at the end of the
+                                           frame; NULL: unchanged */
 } weft_frame;
 
 WEFT_API weft_frame weft_default_frame(void);
+
+/* Mesh collider `index`'s world vertex positions (m; n_vertices x 3 floats, host order, the
+ * count the collider was created with) at the end of the next frame: a deforming (skinned) body.
+ * Errors (nothing changes): INVALID_ARGUMENT (NULL positions), OUT_OF_RANGE (index, or a wrong
+ * n_vertices), NONFINITE (a NaN or Inf), OUT_OF_RANGE (a coordinate beyond 1e30). TELEPORT or
+ * RESET in the next frame puts the collider there at once (no motion across that frame). */
+WEFT_API weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, weft_cloth cloth, int index,
+                                                           const float* positions, int n_vertices);
 
 typedef struct weft_frame_stats {
     double ms_total;            /* wall time of the call */

@@ -1,0 +1,91 @@
+/* Triangle-mesh colliders: a body the cloth lies on, rigid or deforming (skinned), moving.
+ *
+ * Immutable: the topology (n_verts vertices, n_tris triangles of vertex indices) and the BVH's
+ * shape (bvh.h), built at creation from the creation positions. Mutable: the vertex positions
+ * at the start (from) and at the end (to) of the current frame. The host sets `to` before each
+ * frame (a rigid body: its transform applied to the creation positions; a deforming one: new
+ * vertex positions); the step interpolates linearly between from and to at each substep's start
+ * (xa) and end (xb), as it does the pins, and at the end of the frame from = to. A vertex moves
+ * linearly over a substep with velocity (xb - xa) / h, so the collider's surface velocity is per
+ * point (barycentric interpolation of its vertices'): a moving body carries the cloth, friction
+ * acts relative to the surface under the particle.
+ *
+ * Sides: the outward side of a triangle (a, b, c) is that of (b - a) x (c - a) (counter-clockwise
+ * seen from outside). The body mesh must be consistently wound (a closed mesh: every normal
+ * outwards; assimp's import of a closed body gives that). An open mesh (a floor patch) has its
+ * front on the normals' side; a particle behind it counts as inside and is pushed to the front.
+ * Signed distance to the mesh: the distance to the closest point q; positive when p is on the
+ * outward side. Inside a face (q interior to a triangle) the side and the normal are the face's;
+ * at an edge or a vertex (several triangles share q) the side is that of the triangle whose
+ * plane p is most clearly off (the largest |cos| between p - q and its normal) and the normal is
+ * the direction p - q (outwards; q - p when inside). Degenerate triangles (zero area) are
+ * skipped.
+ *
+ * The substep: wc_mesh_collider_substep computes xa, xb, the vertex velocities, the triangle
+ * normals at both ends, and refits the BVH over the swept triangle boxes (xa u xb, inflated by
+ * the thickness): O(n_verts + n_tris), no allocation. Queries (mesh_query.c) are read-only and
+ * may run on many threads. */
+#ifndef WEFT_CORE_MESH_COLLIDER_H
+#define WEFT_CORE_MESH_COLLIDER_H
+#include "bvh.h"
+
+typedef struct wc_mesh_collider {
+    int n_verts, n_tris;
+    int* tris;                 /* (n_tris x 3) vertex indices */
+    double* rest;              /* (n_verts x 3) creation positions (m) */
+    double* from;              /* (n_verts x 3) start of the current frame (m, world) */
+    double* to;                /* (n_verts x 3) end of the current frame (m, world) */
+    double *xa, *xb;           /* (n_verts x 3) start and end of the current substep (m) */
+    double* vel;               /* (n_verts x 3) vertex velocities over the substep (m/s) */
+    double *nrm_a, *nrm_b;     /* (n_tris x 3) unit normals at xa and xb (zero: degenerate) */
+    double* boxes;             /* (n_tris x 6) scratch of the refit */
+    wc_bvh bvh;
+    double thickness;          /* m, >= 0: the cloth stays this far outside the surface */
+    double friction;           /* Coulomb coefficient, >= 0 */
+    double h;                  /* s: length of the current substep (0 before any) */
+    double max_speed;          /* m/s: fastest vertex of the current substep */
+    wc_allocator alloc;
+} wc_mesh_collider;
+
+/* x (n_verts x 3, finite, |x| <= 1e30, m), tris (n_tris x 3, in [0, n_verts)), n_tris >= 1,
+ * thickness and friction finite and >= 0. from = to = xa = xb = x. */
+weft_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int n_verts, const int* tris,
+                                    int n_tris, double thickness, double friction, const wc_allocator* alloc,
+                                    wc_diag* diag);
+void wc_mesh_collider_destroy(wc_mesh_collider* m);
+
+/* The positions at the end of the next frame (n_verts x 3, m, world; validated: finite,
+ * |x| <= 1e30; on error nothing changes). */
+weft_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag);
+/* Jump (teleport, reset, snapshot restore): from = to = xa = xb = x, velocities zero (validated). */
+weft_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag);
+/* 1 when from != to (the collider moves in this frame). */
+int wc_mesh_collider_moving(const wc_mesh_collider* m);
+/* End of a frame: from = to. */
+void wc_mesh_collider_end_frame(wc_mesh_collider* m);
+/* The substep from frame fraction a0 to a1 (0 <= a0 <= a1 <= 1), of length h (s, > 0). */
+void wc_mesh_collider_substep(wc_mesh_collider* m, double a0, double a1, double h);
+
+/* ---- queries (mesh_query.c) ------------------------------------------------------------------ */
+
+/* Closest-point query at the substep's start (end = 0, xa) or end (end = 1, xb): the signed
+ * distance from p to the surface (m, thickness not included; see the top for the side rules),
+ * the outward unit normal n there and the surface velocity vc (m/s) at the closest point;
+ * HUGE_VAL (n, vc untouched) when no triangle is within reach (m) of p. reach HUGE_VAL: no
+ * bound (the box grows until it holds the closest triangle). n, vc may be NULL. */
+double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, double reach, double* n, double* vc);
+
+/* Continuous query: the earliest time t in [0, 1] at which a point moving linearly from p0 (at
+ * the substep's start) to p1 (at its end) crosses a triangle of the mesh moving from xa to xb,
+ * from its front (p0 in front of the triangle's plane at the start) to its back (p1 behind it at
+ * the end), passing within eta (m) of the triangle. Returns 1 with *t, *tri and w (3,
+ * barycentric weights of the crossing point) when there is one, else 0. */
+int wc_mesh_ccd(const wc_mesh_collider* m, const double* p0, const double* p1, double eta, double* t, int* tri,
+                double* w);
+
+/* The deepest of n_points points x (n_points x 3, m) behind the surface of any of the nm
+ * colliders at their substep end positions (xb: after a frame, the frame's end): max over points
+ * and colliders of -signed distance (m, thickness not included), 0 when no point is inside. */
+double wc_mesh_max_penetration(const wc_mesh_collider* const* m, int nm, const double* x, int n_points);
+
+#endif

@@ -1,0 +1,166 @@
+/* Queries of the triangle-mesh colliders (mesh_collider.h): closest point with the side rules,
+ * continuous crossing, deepest penetration. Read-only; the visitors' state lives on the caller's
+ * stack, so any number of threads may query at once. */
+#include <math.h>
+#include "geom.h"
+#include "mesh_collider.h"
+#include "vec3.h"
+
+#define FACE_W 1e-9            /* barycentric weight above which the closest point is face-interior */
+
+typedef struct closest_q {
+    const wc_mesh_collider* m;
+    const double* x;           /* positions: xa or xb */
+    const double* nrm;         /* their normals */
+    const double* p;
+    double best;               /* squared distance */
+    double cos;                /* |cos| of the side-deciding triangle */
+    double side;               /* +1 outside, -1 inside */
+    int tri;
+    double w[3], q[3];
+} closest_q;
+
+static int closest_visit(void* user, int t) {
+    closest_q* c = user;
+    const double* n = c->nrm + 3 * t;
+    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) return 0; /* degenerate */
+    const int* v = c->m->tris + 3 * t;
+    double w[3], q[3], d[3];
+    double d2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], w, q);
+    v3_sub(d, c->p, q);
+    double len = sqrt(d2), dn = v3_dot(d, n);
+    double cs = len > 0.0 ? dn / len : 0.0;
+    double tol = 1e-10 * c->best + 1e-24;
+    if (d2 < c->best - tol || c->tri < 0) {
+        c->best = d2;
+        c->tri = t;
+        v3_copy(c->w, w);
+        v3_copy(c->q, q);
+        c->cos = fabs(cs);
+        c->side = dn < 0.0 ? -1.0 : 1.0;
+    } else if (d2 <= c->best + tol && fabs(cs) > c->cos) {
+        /* the same closest point (an edge or vertex): the most clearly decided side wins */
+        c->cos = fabs(cs);
+        c->side = dn < 0.0 ? -1.0 : 1.0;
+        if (d2 < c->best) c->best = d2;
+    }
+    return 0;
+}
+
+static void query_box(const double* p, double r, double* box) {
+    for (int k = 0; k < 3; ++k) {
+        box[k] = p[k] - r;
+        box[3 + k] = p[k] + r;
+    }
+}
+
+double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, double reach, double* n, double* vc) {
+    closest_q c;
+    c.m = m;
+    c.x = end ? m->xb : m->xa;
+    c.nrm = end ? m->nrm_b : m->nrm_a;
+    c.p = p;
+    c.tri = -1;
+    c.best = HUGE_VAL;
+    if (isfinite(reach)) {
+        double box[6];
+        query_box(p, reach, box);
+        wc_bvh_query(&m->bvh, box, closest_visit, &c);
+        if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
+    } else {
+        /* grow the box until the closest triangle found lies within it (then it is the closest) */
+        const double* root = m->bvh.box;
+        double diag = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            double e = fmax(fabs(p[k] - root[k]), fabs(p[k] - root[3 + k]));
+            diag += e * e;
+        }
+        diag = sqrt(diag);
+        double r = fmax(m->thickness, 1e-3);
+        for (;;) {
+            double box[6];
+            c.tri = -1;
+            c.best = HUGE_VAL;
+            if (r >= diag) r = HUGE_VAL;
+            query_box(p, r, box);
+            wc_bvh_query(&m->bvh, box, closest_visit, &c);
+            if ((c.tri >= 0 && sqrt(c.best) <= r) || r == HUGE_VAL) break;
+            r *= 4.0;
+        }
+        if (c.tri < 0) return HUGE_VAL;
+    }
+    double dist = sqrt(c.best), d, nn[3];
+    const double* fn = c.nrm + 3 * c.tri;
+    if ((c.w[0] > FACE_W && c.w[1] > FACE_W && c.w[2] > FACE_W) || !(dist > 1e-12)) {
+        double dp[3];
+        v3_sub(dp, p, c.q);
+        v3_copy(nn, fn);
+        d = v3_dot(dp, fn);
+    } else {
+        v3_sub(nn, p, c.q);
+        v3_scale(nn, nn, c.side / dist);
+        d = c.side * dist;
+    }
+    if (n) v3_copy(n, nn);
+    if (vc) {
+        const int* v = m->tris + 3 * c.tri;
+        v3_zero(vc);
+        for (int k = 0; k < 3; ++k) v3_axpy(vc, c.w[k], m->vel + 3 * v[k]);
+    }
+    return d;
+}
+
+typedef struct ccd_q {
+    const wc_mesh_collider* m;
+    const double *p0, *p1;
+    double eta, t, w[3];
+    int tri;
+} ccd_q;
+
+static int ccd_visit(void* user, int t) {
+    ccd_q* c = user;
+    const wc_mesh_collider* m = c->m;
+    const double *na = m->nrm_a + 3 * t, *nb = m->nrm_b + 3 * t;
+    const int* v = m->tris + 3 * t;
+    const double *a0 = m->xa + 3 * v[0], *b0 = m->xa + 3 * v[1], *c0 = m->xa + 3 * v[2];
+    const double *a1 = m->xb + 3 * v[0], *b1 = m->xb + 3 * v[1], *c1 = m->xb + 3 * v[2];
+    double d0[3], d1[3];
+    v3_sub(d0, c->p0, a0);
+    v3_sub(d1, c->p1, a1);
+    /* from the front at the start to the back at the end */
+    if (!(v3_dot(d0, na) > 0.0) || !(v3_dot(d1, nb) < 0.0)) return 0;
+    double tt, w[3];
+    if (!wc_ccd_point_triangle(c->p0, a0, b0, c0, c->p1, a1, b1, c1, c->eta, &tt, w)) return 0;
+    if (c->tri < 0 || tt < c->t) {
+        c->t = tt;
+        c->tri = t;
+        v3_copy(c->w, w);
+    }
+    return 0;
+}
+
+int wc_mesh_ccd(const wc_mesh_collider* m, const double* p0, const double* p1, double eta, double* t, int* tri,
+                double* w) {
+    ccd_q c = {m, p0, p1, eta, 0.0, {0.0, 0.0, 0.0}, -1};
+    double box[6];
+    wc_box_empty(box);
+    wc_box_add(box, p0);
+    wc_box_add(box, p1);
+    wc_box_inflate(box, eta);
+    wc_bvh_query(&m->bvh, box, ccd_visit, &c);
+    if (c.tri < 0) return 0;
+    *t = c.t;
+    *tri = c.tri;
+    v3_copy(w, c.w);
+    return 1;
+}
+
+double wc_mesh_max_penetration(const wc_mesh_collider* const* m, int nm, const double* x, int n_points) {
+    double deepest = 0.0;
+    for (int k = 0; k < nm; ++k)
+        for (int i = 0; i < n_points; ++i) {
+            double d = wc_mesh_closest(m[k], 1, x + 3 * i, HUGE_VAL, NULL, NULL);
+            if (d < HUGE_VAL && -d > deepest) deepest = -d;
+        }
+    return deepest;
+}
