@@ -119,6 +119,8 @@ void wc_self_begin(wc_self* sc, const double* x) { memcpy(sc->x_start, x, 3 * (s
 
 /* ---- pairs ------------------------------------------------------------------------------------ */
 
+/* MODE_PROXIMITY: proximity impulses, then CCD impulses, on each pair (the first pass);
+ * MODE_IMPULSE: CCD impulses; MODE_DETECT: CCD collisions merged into zones, nothing moved. */
 enum { MODE_PROXIMITY = 0, MODE_IMPULSE = 1, MODE_DETECT = 2 };
 
 typedef struct pass_ctx {
@@ -127,7 +129,8 @@ typedef struct pass_ctx {
     double* x;          /* end positions, corrected in place (not in MODE_DETECT) */
     int mode;
     int query;          /* the vertex or edge being queried */
-    int count;          /* pairs acted on / found */
+    int count;          /* CCD pairs acted on / found */
+    int prox;           /* proximity impulses (MODE_PROXIMITY) */
 } pass_ctx;
 
 /* Move the 4 particles ids by w_i inv_m_i D / sum_j w_j^2 inv_m_j along n: the relative normal
@@ -219,18 +222,19 @@ static void vertex_tri(pass_ctx* c, int i, int t) {
     if (c->mode == MODE_PROXIMITY) {
         double th = c->sc->thickness;
         double d2 = wc_closest_on_triangle(xs + 3 * i, xs + 3 * tv[0], xs + 3 * tv[1], xs + 3 * tv[2], bw, q);
-        if (!(d2 < th * th)) return;
-        const double* r = m->rest_pos;
-        double dr = sqrt(wc_closest_on_triangle(r + 3 * i, r + 3 * tv[0], r + 3 * tv[1], r + 3 * tv[2], NULL, NULL));
-        if (dr < th) th = dr;
-        double d = sqrt(d2);
-        if (!(d < th) || !(d > 0)) return;
-        v3_sub(n, xs + 3 * i, q);
-        v3_scale(n, n, 1.0 / d);
-        w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
-        double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
-        if (dn < target) c->count += apply(c, ids, w, n, target - dn);
-        return;
+        if (d2 < th * th) {
+            const double* r = m->rest_pos;
+            double dr = sqrt(wc_closest_on_triangle(r + 3 * i, r + 3 * tv[0], r + 3 * tv[1], r + 3 * tv[2], NULL, NULL));
+            if (dr < th) th = dr;
+            double d = sqrt(d2);
+            if (d < th && d > 0) {
+                v3_sub(n, xs + 3 * i, q);
+                v3_scale(n, n, 1.0 / d);
+                w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
+                double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
+                if (dn < target) c->prox += apply(c, ids, w, n, target - dn);
+            }
+        }
     }
     if (c->mode == MODE_DETECT && same_zone(c, ids)) return;
     double t_hit;
@@ -261,19 +265,20 @@ static void edge_edge(pass_ctx* c, int e, int f) {
     if (c->mode == MODE_PROXIMITY) {
         double th = c->sc->thickness;
         double d2 = wc_closest_on_segments(xs + 3 * a0, xs + 3 * a1, xs + 3 * b0, xs + 3 * b1, &s, &t);
-        if (!(d2 < th * th)) return;
-        const double* r = c->m->rest_pos;
-        double ss, tt;
-        double dr = sqrt(wc_closest_on_segments(r + 3 * a0, r + 3 * a1, r + 3 * b0, r + 3 * b1, &ss, &tt));
-        if (dr < th) th = dr;
-        double d = sqrt(d2);
-        if (!(d < th) || !(d > 0)) return;
-        for (int k = 0; k < 3; ++k)
-            n[k] = ((1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k]) / d;
-        w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
-        double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
-        if (dn < target) c->count += apply(c, ids, w, n, target - dn);
-        return;
+        if (d2 < th * th) {
+            const double* r = c->m->rest_pos;
+            double ss, tt;
+            double dr = sqrt(wc_closest_on_segments(r + 3 * a0, r + 3 * a1, r + 3 * b0, r + 3 * b1, &ss, &tt));
+            if (dr < th) th = dr;
+            double d = sqrt(d2);
+            if (d < th && d > 0) {
+                for (int k = 0; k < 3; ++k)
+                    n[k] = ((1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k]) / d;
+                w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
+                double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
+                if (dn < target) c->prox += apply(c, ids, w, n, target - dn);
+            }
+        }
     }
     if (c->mode == MODE_DETECT && same_zone(c, ids)) return;
     double t_hit;
@@ -306,13 +311,14 @@ static int visit_edge(void* user, int f) {
     return 0;
 }
 
-/* One pass over every vertex-triangle and edge-edge candidate; returns the pairs acted on. */
-static int pass(wc_self* sc, const wc_model* m, double* x, int mode) {
+/* One pass over every vertex-triangle and edge-edge candidate; returns the CCD pairs acted on
+ * (found, in MODE_DETECT); *prox (may be NULL) the proximity impulses. */
+static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) {
     double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
     boxes(m, sc->edges, sc->n_edges, sc->x_start, x, r, sc->tri_box, sc->edge_box);
     wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
     wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
-    pass_ctx c = {sc, m, x, mode, 0, 0};
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0};
     for (int i = 0; i < sc->n; ++i) {
         double b[6];
         wc_box_empty(b);
@@ -333,6 +339,7 @@ static int pass(wc_self* sc, const wc_model* m, double* x, int mode) {
         c.query = e;
         wc_bvh_query(&sc->edge_bvh, b, visit_edge, &c);
     }
+    if (prox) *prox = c.prox;
     return c.count;
 }
 
@@ -404,10 +411,13 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
     }
     memcpy(sc->x_old, x, 3 * (size_t)n * sizeof(double));
     wc_self_stats local = {0, 0, 0, 0};
-    local.proximity = pass(sc, m, x, MODE_PROXIMITY);
-    int left = 1;
-    for (int p = 0; p < WC_SELF_PASSES && left; ++p) {
-        left = pass(sc, m, x, MODE_IMPULSE);
+    /* a pass that moved something (its trees were refitted before the moves, and pairs it checked
+       early may have been moved later) proves nothing: only a pass that moved nothing shows the
+       substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide */
+    local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity);
+    int left = local.impacts + local.proximity;
+    for (int p = 1; p < WC_SELF_PASSES && left; ++p) {
+        left = pass(sc, m, x, MODE_IMPULSE, NULL);
         local.impacts += left;
     }
     if (left) {
@@ -417,11 +427,11 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
         }
         int it = 0;
         for (; it < WC_SELF_ZONE_ITERS; ++it) {
-            left = pass(sc, m, x, MODE_DETECT);
+            left = pass(sc, m, x, MODE_DETECT, NULL);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
         }
-        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT);
+        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL);
         for (int i = 0; i < n; ++i)
             if (sc->in_zone[i] && wc_uf_find(sc->parent, i) == i) ++local.zones;
     }
