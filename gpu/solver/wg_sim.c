@@ -251,6 +251,9 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
                        "integrator %s, %d Newton iteration(s), line search %s; BDF2, Newton and line search run on "
                        "the CPU backend only)",
                        wc_integrator_name(s->def.integrator), s->def.newton_iterations, s->def.line_search ? "on" : "off");
+    if (s->def.self_collision)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");

@@ -122,6 +122,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, attachments);
     FIELD(weft_cloth_def, n_colliders);
     FIELD(weft_cloth_def, colliders);
+    FIELD(weft_cloth_def, self_collision);
+    FIELD(weft_cloth_def, self_collision_thickness);
     FIELD(weft_cloth_def, internal_cookie);
     struct_end();
 
@@ -142,6 +144,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, integrator);
     FIELD(weft_cloth_info, newton_iterations);
     FIELD(weft_cloth_info, line_search);
+    FIELD(weft_cloth_info, self_collision);
+    FIELD(weft_cloth_info, self_collision_thickness);
     struct_end();
 
     STRUCT(weft_frame);
@@ -180,6 +184,15 @@ static void dump_structs(void) {
     FIELD(weft_frame_stats, asleep);
     FIELD(weft_frame_stats, fell_asleep);
     FIELD(weft_frame_stats, woke);
+    FIELD(weft_frame_stats, self_impacts);
+    FIELD(weft_frame_stats, self_zones);
+    FIELD(weft_frame_stats, self_unresolved);
+    FIELD(weft_frame_stats, ms_self_collide);
+    struct_end();
+
+    STRUCT(weft_collision_check);
+    FIELD(weft_collision_check, self_intersections);
+    FIELD(weft_collision_check, max_penetration);
     struct_end();
 
     STRUCT(weft_render_def);
