@@ -26,7 +26,9 @@
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
  * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
- * direct solver refactorises); wc_par's partial sums are per-reduction scratch.
+ * direct solver refactorises); wc_par's partial sums are per-reduction scratch. Self-collision
+ * (core/self_collide.h) keeps nothing either: its start positions are copied at every substep's
+ * start and its trees are refitted by every pass.
  *
  * The fingerprint hashes what must match for the state to mean the same thing: particles (host
  * map, rest positions, masses), triangles, springs, material, the pinned particles and their
