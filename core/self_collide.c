@@ -267,12 +267,15 @@ static void vertex_tri(pass_ctx* c, int i, int t) {
         ++c->count;
         return;
     }
+    /* counted whether or not an impulse can be applied (pinned, no normal, already separating
+       along it): the pass is then not clean, and what impulses cannot fix the zones will */
+    ++c->count;
     double sep0[3];
     for (int k = 0; k < 3; ++k) sep0[k] = xs[3 * i + k] - bw[0] * xs[3 * tv[0] + k] - bw[1] * xs[3 * tv[1] + k] - bw[2] * xs[3 * tv[2] + k];
     if (!impact_normal(c, ids, 1, t_hit, sep0, n)) return;
     w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
     double dn = rel_normal(c, ids, w, n), target = c->sc->eta;
-    if (dn < target) c->count += apply(c, ids, w, n, target - dn);
+    if (dn < target) apply(c, ids, w, n, target - dn);
 }
 
 static void edge_edge(pass_ctx* c, int e, int f) {
@@ -312,13 +315,14 @@ static void edge_edge(pass_ctx* c, int e, int f) {
         ++c->count;
         return;
     }
+    ++c->count; /* as for vertex-triangle pairs */
     double sep0[3];
     for (int k = 0; k < 3; ++k)
         sep0[k] = (1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k];
     if (!impact_normal(c, ids, 0, t_hit, sep0, n)) return;
     w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
     double dn = rel_normal(c, ids, w, n), target = c->sc->eta;
-    if (dn < target) c->count += apply(c, ids, w, n, target - dn);
+    if (dn < target) apply(c, ids, w, n, target - dn);
 }
 
 static int visit_tri(void* user, int t) {
@@ -333,8 +337,8 @@ static int visit_edge(void* user, int f) {
     return 0;
 }
 
-/* One pass over every vertex-triangle and edge-edge candidate; returns the CCD pairs acted on
- * (found, in MODE_DETECT); *prox (may be NULL) the proximity impulses. */
+/* One pass over every vertex-triangle and edge-edge candidate; returns the CCD collisions found
+ * (given an impulse where one applies); *prox (may be NULL) the proximity impulses. */
 static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) {
     double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
     boxes(m, sc->edges, sc->n_edges, sc->x_start, x, r, sc->tri_box, sc->edge_box);
