@@ -84,6 +84,7 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->alloc = A;
     sc->thickness = thickness;
     sc->eta = thickness / 100.0;
+    sc->passes = WC_SELF_PASSES;
     int n = m->n_particles;
     sc->n = n;
     sc->n_tris = m->n_tris;
@@ -270,6 +271,7 @@ static void vertex_tri(pass_ctx* c, int i, int t) {
     /* counted whether or not an impulse can be applied (pinned, no normal, already separating
        along it): the pass is then not clean, and what impulses cannot fix the zones will */
     ++c->count;
+    if (c->sc->passes == 0) return;
     double sep0[3];
     for (int k = 0; k < 3; ++k) sep0[k] = xs[3 * i + k] - bw[0] * xs[3 * tv[0] + k] - bw[1] * xs[3 * tv[1] + k] - bw[2] * xs[3 * tv[2] + k];
     if (!impact_normal(c, ids, 1, t_hit, sep0, n)) return;
@@ -316,6 +318,7 @@ static void edge_edge(pass_ctx* c, int e, int f) {
         return;
     }
     ++c->count; /* as for vertex-triangle pairs */
+    if (c->sc->passes == 0) return;
     double sep0[3];
     for (int k = 0; k < 3; ++k)
         sep0[k] = (1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k];
@@ -442,7 +445,7 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
        substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide */
     local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity);
     int left = local.impacts + local.proximity;
-    for (int p = 1; p < WC_SELF_PASSES && left; ++p) {
+    for (int p = 1; p < sc->passes && left; ++p) {
         left = pass(sc, m, x, MODE_IMPULSE, NULL);
         local.impacts += left;
     }

@@ -53,6 +53,8 @@ typedef struct wc_self_stats {
 typedef struct wc_self {
     double thickness;   /* m, > 0 */
     double eta;         /* m: CCD tolerance, thickness / 100 */
+    int passes;         /* CCD impulse passes before the zones (WC_SELF_PASSES); tests set 0 (no
+                           CCD impulse: every collision goes to the zones) to drive the zones */
     int n, n_tris, n_edges;
     int* edges;         /* (n_edges x 2) particle pairs, each vertex pair once */
     wc_bvh tri_bvh, edge_bvh;

@@ -173,7 +173,7 @@ static void test_rigidify_momentum(void) {
     for (int i = 35; i < N; ++i) CHECK(v3_equal(x + 3 * i, xin + 3 * i)); /* outside the zones: untouched */
 }
 
-/* ---- whole simulations ----------------------------------------------------------------------- */
+/* ---- whole simulations (impact zones driven below: one impulse pass only) ----------------------------------------------------------------------- */
 
 typedef struct run_result {
     int max_crossings;      /* over every frame's end */
@@ -192,6 +192,8 @@ static void log_fn(wc_log_level level, const char* msg, void* user) {
     if (verbose) fprintf(stderr, "log: %s\n", msg);
 }
 
+static int impulse_passes = WC_SELF_PASSES; /* the state's self-collision passes (simulate) */
+
 static run_result simulate(const wc_model* m, wc_sim_def def, const wc_pin* pins, int np, const wc_collider* c, int nc,
                            const double* x_start, int frames, int check_every_frame) {
     run_result r = {0};
@@ -204,6 +206,7 @@ static run_result simulate(const wc_model* m, wc_sim_def def, const wc_pin* pins
         r.failed = frames;
         return r;
     }
+    if (s->self) s->self->passes = impulse_passes;
     if (x_start) CHECK(wc_state_set_positions(s, x_start, NULL, &d) == WEFT_OK);
     if (np) CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
     if (nc) CHECK(wc_state_set_colliders(s, c, nc, &d) == WEFT_OK);
@@ -265,10 +268,9 @@ static void test_fold(void) {
     wc_model_free(&m);
 }
 
-static void test_heap(void) {
-    /* a long strip (0.2 x 1.6 m) standing on its end just above the floor, slightly wavy: it
-       buckles as it lands and piles up on itself */
-    wc_model m;
+/* A long strip (0.2 x 1.6 m) standing on its end just above the floor, slightly wavy: it
+ * buckles as it lands and piles up on itself. */
+static void heap_strip(wc_model* m, wc_collider* floor) {
     wc_source_mesh src;
     ts_quad_grid(&src, 5, 41, 0.2, 1.6, 0);
     for (int v = 0; v < src.n_verts; ++v) {
@@ -278,15 +280,21 @@ static void test_heap(void) {
     }
     wc_model_def mdef = wc_default_model_def();
     wc_diag dg = {0};
-    CHECK(wc_model_build(&m, &src, &mdef, NULL, &dg) == WEFT_OK);
+    CHECK(wc_model_build(m, &src, &mdef, NULL, &dg) == WEFT_OK);
     wc_source_mesh_free(&src);
+    memset(floor, 0, sizeof *floor);
+    floor->type = WC_COLLIDER_PLANE;
+    v3_set(floor->normal, 0, 1, 0);
+    floor->offset = 0.0;
+    floor->thickness = 0.005;
+    floor->friction = 0.3;
+}
+
+static void test_heap(void) {
+    wc_model m;
+    wc_collider floor;
+    heap_strip(&m, &floor);
     double* x = NULL;
-    wc_collider floor = {0};
-    floor.type = WC_COLLIDER_PLANE;
-    v3_set(floor.normal, 0, 1, 0);
-    floor.offset = 0.0;
-    floor.thickness = 0.005;
-    floor.friction = 0.3;
     run_result on = simulate(&m, sim_def(1), NULL, 0, &floor, 1, x, 75, 1);
     run_result off = simulate(&m, sim_def(0), NULL, 0, &floor, 1, x, 75, 1);
     printf("heap (%d particles): on: max crossings %d, frames crossing %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame (stage %.2f); "
@@ -298,6 +306,42 @@ static void test_heap(void) {
     CHECK_EQ_INT(on.unresolved, 0);
     CHECK(off.frames_crossing > 0);
     wc_model_free(&m);
+}
+
+/* The fold and the heap without CCD impulses (proximity impulses only): every collision goes to
+ * the impact zones, which must then keep every frame free of crossings on their own. */
+static void test_zones_alone(void) {
+    impulse_passes = 0;
+    wc_model m;
+    CHECK(folded_strip(&m, 23, 9));
+    wc_pin* pins = calloc((size_t)m.n_particles, sizeof *pins);
+    int np = 0;
+    for (int i = 0; i < m.n_particles; ++i)
+        if (m.rest_pos[3 * i + 1] == 0.0 && m.rest_pos[3 * i] < 0.49) {
+            pins[np].particle = i;
+            v3_copy(pins[np].target, m.rest_pos + 3 * i);
+            ++np;
+        }
+    run_result r = simulate(&m, sim_def(1), pins, np, NULL, 0, NULL, 60, 1);
+    printf("fold, zones alone: max crossings %d, frames crossing %d, zones %d, unresolved %d, %.2f ms/frame (stage "
+           "%.2f)\n", r.max_crossings, r.frames_crossing, r.zones, r.unresolved, r.ms_per_frame, r.ms_self);
+    CHECK_EQ_INT(r.failed, 0);
+    CHECK_EQ_INT(r.frames_crossing, 0);
+    CHECK_EQ_INT(r.unresolved, 0);
+    CHECK(r.zones > 0);
+    free(pins);
+    wc_model_free(&m);
+    wc_collider floor;
+    heap_strip(&m, &floor);
+    r = simulate(&m, sim_def(1), NULL, 0, &floor, 1, NULL, 75, 1);
+    printf("heap, zones alone: max crossings %d, frames crossing %d, zones %d, unresolved %d, %.2f ms/frame (stage "
+           "%.2f)\n", r.max_crossings, r.frames_crossing, r.zones, r.unresolved, r.ms_per_frame, r.ms_self);
+    CHECK_EQ_INT(r.failed, 0);
+    CHECK_EQ_INT(r.frames_crossing, 0);
+    CHECK_EQ_INT(r.unresolved, 0);
+    CHECK(r.zones > 0);
+    wc_model_free(&m);
+    impulse_passes = WC_SELF_PASSES;
 }
 
 static void test_two_layers(void) {
@@ -418,6 +462,7 @@ int main(int argc, char** argv) {
     RUN(test_bad_inputs);
     RUN(test_fold);
     RUN(test_heap);
+    RUN(test_zones_alone);
     RUN(test_two_layers);
     RUN(test_cost);
     return TEST_SUMMARY();
