@@ -45,7 +45,8 @@
 
 typedef struct wc_self_stats {
     int proximity;      /* pairs given a proximity impulse (repulsion or inelastic) */
-    int impacts;        /* CCD collisions resolved by impulses */
+    int impacts;        /* CCD collisions found by the impulse passes (each given an impulse
+                           where one applies) */
     int zones;          /* impact zones formed (sets of 2+ particles at the end of the loop) */
     int unresolved;     /* pairs still colliding when the zone loop gave up (0 normally) */
 } wc_self_stats;

@@ -46,7 +46,7 @@ typedef struct wc_step_stats {
     int backtracks;             /* line-search halvings, summed */
     int bdf2_substeps;          /* substeps taken as BDF2 (the others: backward Euler; bdf2.h) */
     int self_proximity;         /* self-collision (self_collide.h), summed over substeps: proximity impulses */
-    int self_impacts;           /* ... CCD collisions resolved by impulses */
+    int self_impacts;           /* ... CCD collisions found by the impulse passes */
     int self_zones;             /* ... impact zones formed */
     int self_unresolved;        /* ... pairs left colliding when the zone loop gave up (0 normally) */
     struct { double forces, assemble, solve, collide, integrate, total, self_collide; } ms; /* wall time per stage */

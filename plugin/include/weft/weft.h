@@ -429,7 +429,7 @@ typedef struct weft_frame_stats {
     int woke;                   /* 1: it was asleep and an input change woke it: this frame was
                                    simulated */
     /* self-collision, summed over the frame's substeps (0 when it is off) */
-    int self_impacts;           /* colliding pairs resolved by impulses */
+    int self_impacts;           /* colliding pairs found (and given impulses) during the substeps */
     int self_zones;             /* rigid impact zones formed */
     int self_unresolved;        /* pairs left colliding when the zone loop gave up (0 normally) */
     double ms_self_collide;     /* wall time of the self-collision stage */
