@@ -3,6 +3,7 @@
 #include "state.h"
 #include <math.h>
 #include <string.h>
+#include "self_collide.h"
 #include "vec3.h"
 
 wc_sim_def wc_default_sim_def(void) {
@@ -30,6 +31,8 @@ wc_sim_def wc_default_sim_def(void) {
     d.threads = 0;
     d.sleep_speed = 1e-3;
     d.sleep_time = 0.5;
+    d.self_collision = 0;
+    d.self_thickness = 0.003;
     return d;
 }
 
@@ -76,6 +79,9 @@ static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
     if ((unsigned)d->integrator >= WC_INTEGRATOR_COUNT) BAD("sim def: integrator %d is not an integrator", (int)d->integrator);
     if (d->newton_iterations < 1 || d->newton_iterations > 100) BAD("sim def: newton_iterations must be in [1, 100]");
     if (d->line_search != 0 && d->line_search != 1) BAD("sim def: line_search must be 0 or 1");
+    if (d->self_collision != 0 && d->self_collision != 1) BAD("sim def: self_collision must be 0 or 1");
+    if (!(d->self_thickness > 0 && d->self_thickness < INFINITY))
+        BAD("sim def: self_thickness %g m must be finite and > 0", d->self_thickness);
 #undef BAD
     return WEFT_OK;
 }
@@ -103,6 +109,7 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s->all_colliders);
     wc_free(&a, s->x_sub);
     wc_solver_destroy(s->solver);
+    wc_self_destroy(s->self);
     wc_free(&a, s);
 }
 
@@ -176,6 +183,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }
     st = wc_solver_create(&s->solver, m, &s->def.solver, s->def.direct_fallback, &A, diag);
+    if (st == WEFT_OK && s->def.self_collision) st = wc_self_create(&s->self, m, s->def.self_thickness, &A, diag);
     if (st != WEFT_OK) {
         wc_state_destroy(s);
         return st;

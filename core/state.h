@@ -64,6 +64,9 @@ typedef struct wc_sim_def {
     double sleep_speed;         /* m/s (1e-3): the cloth falls asleep when its fastest particle stays
                                    slower than this for sleep_time; 0 never sleeps */
     double sleep_time;          /* s of simulated time (0.5) */
+    /* self-collision (self_collide.h) */
+    int self_collision;         /* 1: on; 0: off (the core's default; the plugin resolves its own) */
+    double self_thickness;      /* m, finite and > 0 (0.003) */
 } wc_sim_def;
 
 wc_sim_def wc_default_sim_def(void);
@@ -154,6 +157,9 @@ typedef struct wc_state {
     double* x_sub;                   /* (n x 3) positions at the substep's start after the contacts'
                                         correction (m): the crossing test of the projection */
     double sub_alpha0;               /* frame fraction at the start of the current substep */
+    /* self-collision scratch (self_collide.h), NULL when def.self_collision is 0; all derived:
+       its start positions are copied at the top of every substep */
+    struct wc_self* self;
 } wc_state;
 
 /* Positions start at the model's rest positions, velocities at zero. */

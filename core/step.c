@@ -7,6 +7,7 @@
 #include "clock.h"
 #include "mesh_collider.h"
 #include "newton.h"
+#include "self_collide.h"
 #include "strain_limit.h"
 #include "vec3.h"
 
@@ -254,6 +255,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     if (judge_energy) before.total = wc_state_total_energy(s, &before.elastic);
     wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
+    if (s->self) wc_self_begin(s->self, s->x); /* the previous substep's end: free of crossings */
     wc_integ ig;
     wc_integ_begin(s, h, &ig);
     int stuck = prepare(s, &ig, alpha1, compression, st);
@@ -331,6 +333,30 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
     t0 = t1;
+    /* self-collision at the very end: nothing after it may bring a crossing back (the colliders'
+       projection and the strain limit run before it; it may leave a particle up to its
+       correction inside a collider's thickness shell, never through the cloth) */
+    double self_gain = 0.0; /* J: energy the self-collision stage put in (not judged) */
+    if (s->self && all_finite(s->x, n3) && all_finite(s->v, n3)) {
+        wc_self_stats ss = {0, 0, 0, 0};
+        double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
+        wc_self_resolve(s->self, m, &s->filter, s->n_colliders > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
+        /* moving a vertex out of a collision stretches its springs: that energy comes from the
+           collision response (a contact force), not from a failing linearisation, so the
+           energy-gain judge does not count it (the kinetic blow-up and strain judges still do) */
+        if (judge_energy && ss.proximity + ss.impacts + ss.zones > 0) {
+            double gain = wc_state_total_energy(s, NULL) - e0;
+            if (gain > 0) self_gain = gain;
+        }
+        st->self_proximity += ss.proximity;
+        st->self_impacts += ss.impacts;
+        st->self_zones += ss.zones;
+        st->self_unresolved += ss.unresolved;
+        if (ss.proximity + ss.impacts + ss.zones > 0) strain = wc_max_stretch_strain(m, s->x);
+        t1 = wc_now_ms();
+        st->ms.self_collide += t1 - t0;
+        t0 = t1;
+    }
 
     /* failure checks */
     wc_substep_measure after = {0};
@@ -338,7 +364,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     after.strain = strain;
     if (after.finite && judge != WC_JUDGE_FINITE) {
         after.kinetic = wc_state_kinetic_energy(s);
-        if (judge_energy) after.total = wc_state_total_energy(s, NULL);
+        if (judge_energy) after.total = wc_state_total_energy(s, NULL) - self_gain;
     }
     status = wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
     st->max_strain = strain;

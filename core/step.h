@@ -45,7 +45,11 @@ typedef struct wc_step_stats {
     int newton_iterations;      /* Newton steps taken after each substep's first solve (newton.h), summed */
     int backtracks;             /* line-search halvings, summed */
     int bdf2_substeps;          /* substeps taken as BDF2 (the others: backward Euler; bdf2.h) */
-    struct { double forces, assemble, solve, collide, integrate, total; } ms; /* wall time per stage */
+    int self_proximity;         /* self-collision (self_collide.h), summed over substeps: proximity impulses */
+    int self_impacts;           /* ... CCD collisions found by the impulse passes */
+    int self_zones;             /* ... impact zones formed */
+    int self_unresolved;        /* ... pairs left colliding when the zone loop gave up (0 normally) */
+    struct { double forces, assemble, solve, collide, integrate, total, self_collide; } ms; /* wall time per stage */
 } wc_step_stats;
 
 /* For tests and benchmarks: build the constrained system of a substep of length h ending at

@@ -42,6 +42,8 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.linear_inertia = 1.0;
     d.angular_inertia = 1.0;
     d.seam_close_time = 0.5;
+    d.self_collision = -1;
+    d.self_collision_thickness = 0.003;
     d.internal_cookie = WA_COOKIE_CLOTH;
     return d;
 }
@@ -186,6 +188,9 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     RANGE(d->sleep_time, 0.0, INFINITY, 0, "def->sleep_time");
     RANGE(d->linear_inertia, 0.0, 1.0, 0, "def->linear_inertia");
     RANGE(d->angular_inertia, 0.0, 1.0, 0, "def->angular_inertia");
+    if (d->self_collision < -1 || d->self_collision > 1)
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->self_collision = %d must be -1 (default), 0 or 1", d->self_collision);
+    RANGE(d->self_collision_thickness, 0.0, INFINITY, 1, "def->self_collision_thickness");
     if (d->n_attachments < 0) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->n_attachments = %d is negative", d->n_attachments);
     if (d->n_attachments > 0 && !d->attachments)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->attachments is NULL with n_attachments = %d", d->n_attachments);

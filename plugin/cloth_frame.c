@@ -233,6 +233,10 @@ static void fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_st
     o->asleep = st->asleep;
     o->fell_asleep = st->fell_asleep;
     o->woke = st->woke;
+    o->self_impacts = st->self_impacts;
+    o->self_zones = st->self_zones;
+    o->self_unresolved = st->self_unresolved;
+    o->ms_self_collide = st->ms.self_collide;
 }
 
 weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr, weft_frame_stats* stats) {

@@ -36,6 +36,8 @@
  * direct solver refactorises); wc_par's partial sums are per-reduction scratch; seam_scale (the
  * host seam pairs' ramp, core/sew.h) is derived from time at every frame's start. Seams are
  * model: their springs (weights, ramp start) and seam_close_time are in the fingerprint.
+ * Self-collision (core/self_collide.h) keeps nothing either: its start positions are copied at
+ * every substep's start and its trees are refitted by every pass.
  *
  * The fingerprint hashes what must match for the state to mean the same thing: particles (host
  * map, rest positions, masses), triangles, springs, material, the pinned particles and their

@@ -160,10 +160,11 @@ static void test_direct_refused(void) {
     printf("direct on the GPU: %s\n", weft_context_last_error(ctx));
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
-    /* what only the CPU backend has: the multigrid preconditioner, BDF2, Newton, line search */
+    /* what only the CPU backend has: the multigrid preconditioner, BDF2, Newton, line search,
+       self-collision */
     def.solver = WEFT_SOLVER_PCG;
-    static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1}; /* sewing (k == 4): CPU only */
-    for (int k = 0; k < 5; ++k) {
+    static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1}; /* sewing (k == 4), self-collision (5): CPU only */
+    for (int k = 0; k < 6; ++k) {
         weft_cloth_def d2 = def;
         if (k == 4) {
             d2.seam_a = seam_a;
@@ -174,7 +175,9 @@ static void test_direct_refused(void) {
         if (k == 1) d2.integrator = WEFT_INTEGRATOR_BDF2;
         if (k == 2) d2.newton_iterations = 3;
         if (k == 3) d2.line_search = 1;
+        if (k == 5) d2.self_collision = 1;
         CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_ERROR_UNSUPPORTED);
+        if (k == 5) CHECK(strstr(weft_context_last_error(ctx), "self-collision") != NULL);
         CHECK(cloth.id == 0);
         printf("CPU-only option %d on the GPU: %s\n", k, weft_context_last_error(ctx));
         if (k == 4) CHECK(strstr(weft_context_last_error(ctx), "sewing") != NULL);
@@ -192,6 +195,11 @@ static void test_direct_refused(void) {
     CHECK_EQ_INT(info.integrator, WEFT_INTEGRATOR_BACKWARD_EULER);
     CHECK_EQ_INT(info.newton_iterations, 1);
     CHECK_EQ_INT(info.line_search, 0);
+    CHECK_EQ_INT(info.self_collision, 0);
+    weft_collision_check chk = {-1, -1.0};
+    CHECK_EQ_INT(weft_cloth_check_collisions(ctx, cloth, &chk), WEFT_OK); /* reads the positions back */
+    CHECK_EQ_INT(chk.self_intersections, 0);
+    CHECK(chk.max_penetration == 0.0);
     weft_context_destroy(ctx);
     ag_free(&m);
 }

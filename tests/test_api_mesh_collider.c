@@ -7,7 +7,9 @@
  * are refused with a clear error and the state intact (the snapshot bytes unchanged); a snapshot
  * round trip with a deforming mesh collider is bit-exact; the GPU backend refuses mesh colliders
  * with UNSUPPORTED (when built with the GPU). */
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "api_grid.h"
 #include "check.h"
 #include "test_support.h"
@@ -343,6 +345,64 @@ static void test_gpu_refuses(void) {
 }
 #endif
 
+/* weft_cloth_check_collisions' max_penetration against the box's slabs and a sphere's radius,
+ * computed here from the cloth's vertices: a sheet created half inside the box (y = 0.2, the box's
+ * top at 0.3), nothing stepped; then a sheet through an analytic sphere. */
+static void test_check_penetration(void) {
+    weft_context* ctx = make_ctx(WEFT_BACKEND_CPU);
+    ag_mesh low;
+    ag_grid(&low, N, 1.0, 0.2, 0, 0);
+    weft_mesh_collider_def m = box_def();
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh = ag_desc(&low);
+    def.n_mesh_colliders = 1;
+    def.mesh_colliders = &m;
+    weft_cloth c;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &c), WEFT_OK);
+    int nv = low.nv, count = 0;
+    float* v = malloc(sizeof(float) * 3 * (size_t)nv);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c, WEFT_SPACE_WORLD, v, NULL, nv, &count), WEFT_OK);
+    double expect = 0.0;
+    for (int i = 0; i < nv; ++i) {
+        double depth = INFINITY;
+        for (int k = 0; k < 3; ++k) {
+            double lo = v[3 * i + k] - LO[k], hi = HI[k] - v[3 * i + k];
+            depth = fmin(depth, fmin(lo, hi));
+        }
+        if (depth > expect) expect = depth;
+    }
+    weft_collision_check chk;
+    CHECK_EQ_INT(weft_cloth_check_collisions(ctx, c, &chk), WEFT_OK);
+    printf("  sheet created inside the box: max penetration %.6g m (slabs: %.6g m)\n", chk.max_penetration, expect);
+    CHECK(expect > 0.05);
+    CHECK_NEAR(chk.max_penetration, expect, 1e-6);
+    /* an analytic sphere (radius 0.2 at the origin) through a sheet at y = 0.1 */
+    weft_collider_def sph = weft_default_collider_def();
+    sph.radius = 0.2;
+    ag_mesh mid;
+    ag_grid(&mid, N, 1.0, 0.1, 0, 0);
+    weft_cloth_def d2 = weft_default_cloth_def();
+    d2.mesh = ag_desc(&mid);
+    d2.n_colliders = 1;
+    d2.colliders = &sph;
+    weft_cloth c2;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &c2), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c2, WEFT_SPACE_WORLD, v, NULL, nv, &count), WEFT_OK);
+    expect = 0.0;
+    for (int i = 0; i < nv; ++i) {
+        double r = sqrt((double)v[3 * i] * v[3 * i] + (double)v[3 * i + 1] * v[3 * i + 1] + (double)v[3 * i + 2] * v[3 * i + 2]);
+        if (0.2 - r > expect) expect = 0.2 - r;
+    }
+    CHECK_EQ_INT(weft_cloth_check_collisions(ctx, c2, &chk), WEFT_OK);
+    printf("  sheet through a sphere: max penetration %.6g m (radius: %.6g m)\n", chk.max_penetration, expect);
+    CHECK(expect > 0.05);
+    CHECK_NEAR(chk.max_penetration, expect, 1e-6);
+    free(v);
+    ag_free(&low);
+    ag_free(&mid);
+    weft_context_destroy(ctx);
+}
+
 int main(void) {
     ag_grid(&g_sheet, N, 1.0, 0.5, 0, 0);
     make_box();
@@ -350,6 +410,7 @@ int main(void) {
     RUN_TEST(test_moving_box_lifts);
     RUN_TEST(test_bad_inputs);
     RUN_TEST(test_snapshot_round_trip);
+    RUN_TEST(test_check_penetration);
 #ifdef WEFT_TEST_HAVE_GPU
     RUN_TEST(test_gpu_refuses);
 #endif

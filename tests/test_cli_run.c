@@ -86,7 +86,8 @@ static void test_hanging_sheet(void) {
     static const char* const keys[] = {
         "frames", "particles", "triangles", "springs", "solver", "substeps", "threads", "ms_per_frame",
         "stage_ms", "iterations", "residual_max", "rollbacks", "halvings", "direct_fallbacks", "failures",
-        "nonfinite_outputs", "max_strain", "final_kinetic_energy", "bbox_min", "bbox_max"};
+        "nonfinite_outputs", "max_strain", "final_kinetic_energy", "bbox_min", "bbox_max", "self_collision",
+        "self_intersections", "max_penetration"};
     static const char* const ms_keys[] = {"median", "p95", "mean", "max"};
     static const char* const stage_keys[] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
     static const char* const it_keys[] = {"mean", "max"};
@@ -116,6 +117,14 @@ static void test_hanging_sheet(void) {
     CHECK(cf_num(j, "threads") >= 1);
     CHECK_EQ_INT(cf_num(j, "nonfinite_outputs"), 0);
     CHECK_EQ_INT(cf_num(j, "failures"), 0);
+    /* self-collision off (the default), the last frame's check still made: a hanging sheet
+       crosses nothing */
+    const cJSON* self = cJSON_GetObjectItemCaseSensitive(j, "self_collision");
+    CHECK(cJSON_IsFalse(cJSON_GetObjectItemCaseSensitive(self, "enabled")));
+    CHECK(cf_num(self, "thickness") == 0.003);
+    CHECK_EQ_INT(cf_num(self, "impacts"), 0);
+    CHECK_EQ_INT(cf_num(j, "self_intersections"), 0);
+    CHECK(cf_num(j, "max_penetration") == 0.0);
     CHECK(cf_num(ms, "median") > 0 && cf_num(ms, "p95") >= cf_num(ms, "median") && cf_num(ms, "mean") > 0);
     CHECK(cf_num(it, "max") >= 1 && cf_num(it, "mean") >= 1 && cf_num(it, "mean") <= cf_num(it, "max"));
     CHECK(cf_num(j, "final_kinetic_energy") > 0);

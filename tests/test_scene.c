@@ -191,6 +191,10 @@ static void test_bad_settings(void) {
     expect_bad("{" GRID ", \"time\": {\"seconds\": 3}}", "time.seconds", "unknown key");
     expect_bad("{" GRID ", \"threads\": -1}", "threads", "integer");
     expect_bad("{" GRID ", \"threads\": true}", "threads", "a boolean");
+    expect_bad("{" GRID ", \"self_collision\": 1}", "self_collision", "true or false");
+    expect_bad("{" GRID ", \"self_thickness\": 0}", "self_thickness", "> 0");
+    expect_bad("{" GRID ", \"self_thickness\": -0.003}", "self_thickness", "> 0");
+    expect_bad("{" GRID ", \"self_thickness\": \"3mm\"}", "self_thickness", "number");
 }
 
 /* A minimal grid scene: every default in place, and the documented grid layout. */
@@ -222,6 +226,17 @@ static void test_defaults_and_grid(void) {
     CHECK_EQ_INT(S.integrator, -1);
     CHECK_EQ_INT(S.newton_iterations, 0);
     CHECK_EQ_INT(S.line_search, -1);
+    CHECK_EQ_INT(S.self_collision, -1);
+    CHECK(S.sim.self_thickness == ds.self_thickness);
+    scene_free(&S);
+    st = parse("{" GRID ", \"self_collision\": true, \"self_thickness\": 0.005}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK_EQ_INT(S.self_collision, 1);
+    CHECK(S.sim.self_thickness == 0.005);
+    scene_free(&S);
+    st = parse("{" GRID ", \"self_collision\": false}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK_EQ_INT(S.self_collision, 0);
     scene_free(&S);
     st = parse("{" GRID ", \"solver\": {\"preconditioner\": \"amg\", \"newton_iterations\": 3, \"line_search\": true},"
                " \"time\": {\"integrator\": \"bdf2\"}}", &d);

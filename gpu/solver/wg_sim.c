@@ -258,6 +258,9 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
     if (m->n_seams > 0)
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend has no sewing (this cloth has %d seams): sew on the CPU backend", m->n_seams);
+    if (s->def.self_collision)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");

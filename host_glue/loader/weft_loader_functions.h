@@ -27,6 +27,8 @@
                                                 const weft_attachment_def* attachments, int n))    \
     X(weft_status, weft_cloth_get_info, (weft_context* ctx, weft_cloth cloth,                      \
                                          weft_cloth_info* out))                                    \
+    X(weft_status, weft_cloth_check_collisions, (weft_context* ctx, weft_cloth cloth,              \
+                                                 weft_collision_check* out))                       \
     X(weft_frame, weft_default_frame, (void))                                                      \
     X(weft_status, weft_cloth_set_mesh_collider_vertices, (weft_context* ctx, weft_cloth cloth,    \
                                                            int index, const float* positions,      \

@@ -139,6 +139,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, seam_b);
     FIELD(weft_cloth_def, n_seams);
     FIELD(weft_cloth_def, seam_close_time);
+    FIELD(weft_cloth_def, self_collision);
+    FIELD(weft_cloth_def, self_collision_thickness);
     FIELD(weft_cloth_def, internal_cookie);
     struct_end();
 
@@ -161,6 +163,8 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, line_search);
     FIELD(weft_cloth_info, n_seams);
     FIELD(weft_cloth_info, n_panels);
+    FIELD(weft_cloth_info, self_collision);
+    FIELD(weft_cloth_info, self_collision_thickness);
     struct_end();
 
     STRUCT(weft_frame);
@@ -200,6 +204,15 @@ static void dump_structs(void) {
     FIELD(weft_frame_stats, asleep);
     FIELD(weft_frame_stats, fell_asleep);
     FIELD(weft_frame_stats, woke);
+    FIELD(weft_frame_stats, self_impacts);
+    FIELD(weft_frame_stats, self_zones);
+    FIELD(weft_frame_stats, self_unresolved);
+    FIELD(weft_frame_stats, ms_self_collide);
+    struct_end();
+
+    STRUCT(weft_collision_check);
+    FIELD(weft_collision_check, self_intersections);
+    FIELD(weft_collision_check, max_penetration);
     struct_end();
 
     STRUCT(weft_render_def);

@@ -595,16 +595,17 @@ static void test_skip_quick(int gpu) {
     csv_parse(&c, csv_path);
     check_header(&c, skip_cols, (int)(sizeof skip_cols / sizeof skip_cols[0]));
     static const char* const configs[] = {"baseline", "+ air drag", "+ wind", "+ far collider", "+ contact",
-                                          "+ moving pins", "full cap", "asleep"};
+                                          "+ moving pins", "+ self-collision", "full cap", "asleep"};
+    enum { NC = 9 };
     const int nb = gpu ? 2 : 1;
-    CHECK_EQ_INT(c.n_rows, 8 * nb); /* the CPU's rows, then the GPU's */
-    for (int row = 0; row < c.n_rows && row < 8 * nb; ++row) {
-        CHECK(!strcmp(get(&c, row, "config"), configs[row % 8]));
-        CHECK(!strcmp(get(&c, row, "backend"), row < 8 ? "cpu" : "gpu") && !strcmp(get(&c, row, "scene"), "sheet16"));
+    CHECK_EQ_INT(c.n_rows, NC * nb); /* the CPU's rows, then the GPU's */
+    for (int row = 0; row < c.n_rows && row < NC * nb; ++row) {
+        CHECK(!strcmp(get(&c, row, "config"), configs[row % NC]));
+        CHECK(!strcmp(get(&c, row, "backend"), row < NC ? "cpu" : "gpu") && !strcmp(get(&c, row, "scene"), "sheet16"));
         CHECK(num(&c, row, "particles") == 256 && num(&c, row, "frames") == 20);
         for (int k = 11; k <= 16; ++k) CHECK(num(&c, row, skip_cols[k]) >= 0);
         CHECK(isfinite(num(&c, row, "ratio_to_baseline")));
-        const int asleep = row % 8 == 7;
+        const int asleep = row % NC == NC - 1;
         CHECK(num(&c, row, "asleep_frames") == (asleep ? 20 : 0));
         CHECK(asleep ? num(&c, row, "iterations_per_substep") == 0 : num(&c, row, "iterations_per_substep") > 0);
         if (asleep) {
@@ -616,11 +617,15 @@ static void test_skip_quick(int gpu) {
         }
     }
     for (int b = 0; b < nb; ++b) { /* each backend against its own baseline */
-        const int o = 8 * b;
+        const int o = NC * b;
         CHECK(num(&c, o, "ratio_to_baseline") == 1 && !strcmp(get(&c, o, "ms_saved"), "-"));
         CHECK(num(&c, o + 3, "contacts") == 0 && num(&c, o + 4, "contacts") > 0);
+        /* self-collision on a sheet that never touches itself: the same motion as the baseline
+           (the GPU's row is the baseline again: it has no self-collision) */
+        CHECK(num(&c, o + 6, "iterations_per_substep") == num(&c, o, "iterations_per_substep"));
+        CHECK(b > 0 || num(&c, o + 6, "ms_collide") > num(&c, o, "ms_collide"));
         /* tolerance 0: every solve runs to the cap of 300 and counts as not converged */
-        CHECK(num(&c, o + 6, "iterations_per_substep") == 300 && num(&c, o + 6, "not_converged") == 20);
+        CHECK(num(&c, o + 7, "iterations_per_substep") == 300 && num(&c, o + 7, "not_converged") == 20);
         CHECK(num(&c, o, "not_converged") == 0);
         /* a far collider changes nothing of the motion: the same iterations as the baseline */
         CHECK(num(&c, o + 3, "iterations_per_substep") == num(&c, o, "iterations_per_substep"));

@@ -232,6 +232,7 @@ class ClothDef(_Struct):
                 ("sew_distance", c_double), ("sew_stiffness", c_double),
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
                 ("seam_close_time", c_double),
+                ("self_collision", c_int), ("self_collision_thickness", c_double),
                 ("internal_cookie", c_uint32)]
 
 
@@ -242,7 +243,8 @@ class ClothInfo(_Struct):
                 ("bbox_min", c_double * 3), ("bbox_max", c_double * 3),
                 ("snapshot_size", c_size_t), ("backend", c_int), ("preconditioner", c_int),
                 ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int),
-                ("n_seams", c_int), ("n_panels", c_int)]
+                ("n_seams", c_int), ("n_panels", c_int),
+                ("self_collision", c_int), ("self_collision_thickness", c_double)]
 
 
 class Frame(_Struct):
@@ -261,7 +263,13 @@ class FrameStats(_Struct):
                 ("rollbacks", c_int), ("halvings", c_int), ("direct_fallbacks", c_int),
                 ("failures", c_int), ("contacts", c_int), ("max_strain", c_double),
                 ("kinetic_energy", c_double), ("time", c_double), ("frame", c_int64),
-                ("asleep", c_int), ("fell_asleep", c_int), ("woke", c_int)]
+                ("asleep", c_int), ("fell_asleep", c_int), ("woke", c_int),
+                ("self_impacts", c_int), ("self_zones", c_int), ("self_unresolved", c_int),
+                ("ms_self_collide", c_double)]
+
+
+class CollisionCheck(_Struct):
+    _fields_ = [("self_intersections", c_int), ("max_penetration", c_double)]
 
 
 class RenderDef(_Struct):
@@ -277,7 +285,8 @@ STRUCTS = {"weft_version_info": VersionInfo, "weft_allocator": Allocator,
            "weft_attachment_def": AttachmentDef, "weft_collider_def": ColliderDef,
            "weft_mesh_collider_def": MeshColliderDef,
            "weft_cloth_def": ClothDef, "weft_cloth_info": ClothInfo, "weft_frame": Frame,
-           "weft_frame_stats": FrameStats, "weft_render_def": RenderDef}
+           "weft_frame_stats": FrameStats, "weft_render_def": RenderDef,
+           "weft_collision_check": CollisionCheck}
 
 # ------------------------------------------------------------------------------------------------
 # The library
@@ -303,6 +312,7 @@ PROTOTYPES = {
     "weft_cloth_destroy": (c_int, [_CTX, ClothHandle]),
     "weft_cloth_set_attachments": (c_int, [_CTX, ClothHandle, POINTER(AttachmentDef), c_int]),
     "weft_cloth_get_info": (c_int, [_CTX, ClothHandle, POINTER(ClothInfo)]),
+    "weft_cloth_check_collisions": (c_int, [_CTX, ClothHandle, POINTER(CollisionCheck)]),
     "weft_default_frame": (Frame, []),
     "weft_cloth_step": (c_int, [_CTX, ClothHandle, POINTER(Frame), POINTER(FrameStats)]),
     "weft_cloth_get_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_void_p, c_int,
@@ -697,6 +707,14 @@ class Cloth:
         ctx = self.context
         ctx._check(ctx.lib.weft_cloth_get_info(ctx._handle(), self._h(), ctypes.byref(info)))
         return info
+
+    def check_collisions(self):
+        """Crossings at the current positions: a CollisionCheck (self_intersections,
+        max_penetration)."""
+        out = CollisionCheck()
+        ctx = self.context
+        ctx._check(ctx.lib.weft_cloth_check_collisions(ctx._handle(), self._h(), ctypes.byref(out)))
+        return out
 
     def destroy(self):
         if self._handle is not None and self.context._ptr is not None:

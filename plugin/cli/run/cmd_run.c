@@ -35,13 +35,14 @@ typedef struct run_args {
     int threads;           /* -1: the scene's */
     weft_backend backend;
     int quiet;
+    int self_collision;    /* -2: the scene's, else 0 or 1 */
 } run_args;
 
 void cli_run_usage(FILE* out) {
     fputs("usage: weft run SCENE.json [--frames N] [--solver pcg|jacobi|chebyshev|direct]\n"
           "                [--out DIR] [--stats FILE.json] [--render DIR] [--threads N]\n"
           "                [--backend cpu|gpu|auto] [--integrator be|bdf2] [--precond block_jacobi|amg]\n"
-          "                [--newton N] [--line-search on|off] [--quiet]\n"
+          "                [--newton N] [--line-search on|off] [--self-collision on|off] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
           "through the public API (libweft), showing a progress line on a terminal and printing\n"
@@ -56,6 +57,7 @@ void cli_run_usage(FILE* out) {
           "                         solver.newton_iterations\n"
           "  --line-search on|off   line search on the incremental potential, overriding\n"
           "                         solver.line_search\n"
+          "  --self-collision on|off  the cloth against itself, overriding self_collision\n"
           "  --out DIR              write DIR/frame_0001.obj ... (created if missing): every host\n"
           "                         vertex in the mesh's own order, then its polygons\n"
           "  --stats FILE.json      write timings, solver and recovery counts as one JSON object\n"
@@ -127,6 +129,11 @@ static int parse_args(int argc, char** argv, run_args* a) {
             if (strcmp(value, "on") == 0) a->line_search = 1;
             else if (strcmp(value, "off") == 0) a->line_search = 0;
             else return usage_error("--line-search must be on or off, not '%s'", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--self-collision", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            if (strcmp(value, "on") == 0) a->self_collision = 1;
+            else if (strcmp(value, "off") == 0) a->self_collision = 0;
+            else return usage_error("--self-collision must be on or off, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--threads", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
             if (cli_parse_int(value, 0, 1024, &a->threads) != 0)
@@ -261,11 +268,19 @@ static int simulate(run_ctx* c, const run_args* a) {
         run_progress_update(&c->progress, f);
     }
     run_progress_end(&c->progress);
+    /* the collision check of the last frame (the rest shape when no frame ran) */
+    if (rc == CLI_EXIT_OK) {
+        weft_collision_check chk;
+        if (weft_cloth_check_collisions(c->host.ctx, c->host.cloth, &chk) != WEFT_OK)
+            return fail(c, "%s: collision check: %s", a->scene, run_host_error(&c->host));
+        c->rec.self_intersections = chk.self_intersections;
+        c->rec.max_penetration = chk.max_penetration;
+    }
     return rc;
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, -2, -2, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0};
+    run_args a = {NULL, -1, -1, -2, -2, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 
@@ -281,6 +296,7 @@ int cli_run_run(int argc, char** argv) {
     if (a.precond > -2) c.sc.preconditioner = a.precond;
     if (a.newton > 0) c.sc.newton_iterations = a.newton;
     if (a.line_search > -2) c.sc.line_search = a.line_search;
+    if (a.self_collision > -2) c.sc.self_collision = a.self_collision;
 
     char msg[1024];
     const run_host_opts opts = {a.backend, c.sc.sim.threads};
@@ -309,7 +325,9 @@ int cli_run_run(int argc, char** argv) {
                                resolved_threads(c.sc.sim.threads),
                                c.sc.fps,
                                a.out,
-                               a.render};
+                               a.render,
+                               in->self_collision,
+                               in->self_collision_thickness};
         errno = 0;
         if (a.stats && run_write_stats(a.stats, &info, &c.rec) != 0)
             rc = fail(NULL, "cannot write '%s': %s", a.stats, errno ? strerror(errno) : "out of memory");

@@ -26,6 +26,8 @@ typedef struct run_info {
     double fps;
     const char* out_dir;        /* NULL when no OBJ frames are written */
     const char* render_dir;     /* NULL when no PNG frames are written */
+    int self_collision;         /* 0 off, 1 on, as the library resolved it */
+    double self_thickness;      /* m */
 } run_info;
 
 /* What the frame loop measured. */
@@ -49,6 +51,13 @@ typedef struct run_record {
     int contacts_final;         /* at the end of the last frame */
     double final_kinetic_energy;/* J */
     double bbox_min[3], bbox_max[3]; /* final host vertex positions (m, world) */
+    /* self-collision */
+    long long self_impacts;     /* all frames */
+    long long self_zones;       /* all frames */
+    int self_unresolved;        /* all frames (0 normally) */
+    double self_ms;             /* wall time of the stage, all frames (ms) */
+    int self_intersections;     /* crossing edge-triangle pairs at the last frame (-1: not checked) */
+    double max_penetration;     /* m, at the last frame: deepest particle behind a collider surface */
 } run_record;
 
 /* Room for `frames` frames (frame_ms, stage_ms). 0, or -1 when out of memory. */

@@ -102,6 +102,8 @@ static void describe_settings(const scene* s, weft_cloth_def* def) {
                                                           : WEFT_INTEGRATOR_DEFAULT;
     def->newton_iterations = s->newton_iterations;
     def->line_search = s->line_search;
+    def->self_collision = s->self_collision;
+    def->self_collision_thickness = s->sim.self_thickness;
     def->substeps = s->sim.substeps;
     def->strain_limit = s->sim.strain_limit;
     if (def->max_frame_time < 1.0 / s->fps) def->max_frame_time = 1.0 / s->fps;

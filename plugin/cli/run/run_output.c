@@ -133,6 +133,17 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(root, "final_kinetic_energy", r->final_kinetic_energy, &ok);
     add_vec3(root, "bbox_min", r->bbox_min, &ok);
     add_vec3(root, "bbox_max", r->bbox_max, &ok);
+    o = cJSON_AddObjectToObject(root, "self_collision");
+    if (!o) ok = 0;
+    if (o && !cJSON_AddBoolToObject(o, "enabled", info->self_collision)) ok = 0;
+    add_num(o, "thickness", info->self_thickness, &ok);
+    add_num(o, "impacts", (double)r->self_impacts, &ok);
+    add_num(o, "zones", (double)r->self_zones, &ok);
+    add_num(o, "unresolved", r->self_unresolved, &ok);
+    add_num(o, "ms", r->self_ms, &ok);
+    /* checked at the last frame whether self-collision is on or not */
+    add_num(root, "self_intersections", r->self_intersections, &ok);
+    add_num(root, "max_penetration", r->max_penetration, &ok);
     if (!ok) {
         cJSON_Delete(root);
         return NULL;

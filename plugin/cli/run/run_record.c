@@ -50,6 +50,10 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     if (s->contacts > r->contacts_max) r->contacts_max = s->contacts;
     r->contacts_final = s->contacts;
     r->final_kinetic_energy = s->kinetic_energy;
+    r->self_impacts += s->self_impacts;
+    r->self_zones += s->self_zones;
+    r->self_unresolved += s->self_unresolved;
+    r->self_ms += s->ms_self_collide;
     r->frames = f + 1;
 }
 

@@ -39,6 +39,14 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
     fprintf(out, "%-13s max %d particles, %d at the end\n", "contacts", r->contacts_max, r->contacts_final);
     fprintf(out, "%-13s max strain %.4g, final kinetic energy %.4g J, %lld non-finite positions\n", "result",
             r->max_strain, r->final_kinetic_energy, r->nonfinite_outputs);
+    /* self-collision and the last frame's collision check, on one line */
+    if (info->self_collision)
+        fprintf(out, "%-13s on (%g m: %lld impacts, %lld zones, %d unresolved, %.3f ms); ", "self-collide",
+                info->self_thickness, r->self_impacts, r->self_zones, r->self_unresolved, r->self_ms);
+    else
+        fprintf(out, "%-13s off; ", "self-collide");
+    fprintf(out, "last frame: %d self-intersecting edge-triangle pairs, max penetration %.4g m\n", r->self_intersections,
+            r->max_penetration);
     fprintf(out, "%-13s [%.4g, %.4g, %.4g] .. [%.4g, %.4g, %.4g] m\n", "final bbox", r->bbox_min[0], r->bbox_min[1],
             r->bbox_min[2], r->bbox_max[0], r->bbox_max[1], r->bbox_max[2]);
     if (info->out_dir && r->frames > 0)

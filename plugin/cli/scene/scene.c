@@ -235,11 +235,22 @@ static int parse_time(const sj_ctx* c, const cJSON* root, scene* s) {
     return 0;
 }
 
+/* "self_collision": true / false (absent: the library's default), "self_thickness": m, > 0. */
+static int parse_self_collision(const sj_ctx* c, const cJSON* root, scene* s) {
+    const cJSON* on = sj_get(root, "self_collision");
+    if (on) {
+        if (!cJSON_IsBool(on))
+            return sj_fail(c, "self_collision", "must be true or false, not %s", sj_type_name(on));
+        s->self_collision = cJSON_IsTrue(on) ? 1 : 0;
+    }
+    return sj_number(c, root, "", "self_thickness", SJ_POSITIVE, &s->sim.self_thickness) < 0 ? -1 : 0;
+}
+
 /* Everything except the mesh contents and the pin ranges. */
 static int parse_root(const sj_ctx* c, const cJSON* root, scene* s) {
     static const char* const keys[] = {"description", "mesh", "transform", "material", "pins", "colliders",
                                        "object", "camera", "gravity", "wind", "strain_limit", "solver",
-                                       "time", "threads"};
+                                       "time", "threads", "self_collision", "self_thickness"};
     if (!cJSON_IsObject(root)) return sj_fail(c, NULL, "the scene must be a JSON object, not %s", sj_type_name(root));
     if (sj_check_object(c, root, "", keys, COUNT(keys)) < 0) return -1;
     if (sj_get(root, "description") && !cJSON_IsString(sj_get(root, "description")))
@@ -252,7 +263,7 @@ static int parse_root(const sj_ctx* c, const cJSON* root, scene* s) {
     if (sj_number(c, root, "", "strain_limit", SJ_NONNEGATIVE, &s->sim.strain_limit) < 0) return -1;
     if (parse_solver(c, root, s) < 0 || parse_time(c, root, s) < 0) return -1;
     if (sj_int(c, root, "", "threads", 0, MAX_THREADS, &s->sim.threads) < 0) return -1;
-    return 0;
+    return parse_self_collision(c, root, s);
 }
 
 /* 1-based line and column of offset in text. */
@@ -300,6 +311,7 @@ weft_status scene_parse(scene* out, const char* text, size_t len, const char* na
     s->integrator = -1;
     s->newton_iterations = 0;
     s->line_search = -1;
+    s->self_collision = -1;
     s->fps = SCENE_DEFAULT_FPS;
     s->frames = SCENE_DEFAULT_FRAMES;
     sj_ctx c = {name, diag};

@@ -120,6 +120,8 @@ typedef struct scene {
     int integrator;         /* time.integrator: -1 the library's default, else wc_integrator */
     int newton_iterations;  /* solver.newton_iterations: 0 the library's default, else 1..100 */
     int line_search;        /* solver.line_search: -1 the library's default, 0 off, 1 on */
+    int self_collision;     /* "self_collision": -1 the library's default, 0 off, 1 on; its
+                               thickness "self_thickness" (m, > 0) is in sim.self_thickness */
     int n_pins;
     scene_pin* pins;        /* (n_pins) */
     int n_pin_groups;

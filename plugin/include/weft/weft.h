@@ -353,6 +353,14 @@ typedef struct weft_cloth_def {
     double seam_close_time;     /* s (0.5): a seam pair's rest length shrinks linearly from its
                                    start distance to 0 over this simulated time, so panels that
                                    start apart are drawn together, not snapped; 0: at once */
+
+    /* Self-collision (README "Self-collision"): the cloth against itself, its panels, layers
+     * and separate pieces included; a cloth that starts a substep free of crossings ends it
+     * free of them. Vertex-triangle and edge-edge pairs closer than the thickness are pushed
+     * apart to it. */
+    int self_collision;         /* 1 on, 0 off, -1 (default): the backend's choice (CPU off, GPU
+                                   off; the GPU backend refuses 1 with UNSUPPORTED) */
+    double self_collision_thickness; /* m, finite and > 0 (0.003) */
     uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
 } weft_cloth_def;
 
@@ -399,9 +407,24 @@ typedef struct weft_cloth_info {
     int line_search;            /* 0 or 1 */
     int n_seams;                /* seams sewn: by sew_distance plus the host pairs */
     int n_panels;               /* connected components left once seams join them */
+    int self_collision;         /* 0 or 1 */
+    double self_collision_thickness; /* m */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
+
+/* Collision check of the cloth's current positions (any backend; self-collision on or off). */
+typedef struct weft_collision_check {
+    int self_intersections;     /* edge-triangle pairs of the cloth that cross (an edge through a
+                                   triangle's interior; pairs sharing a particle excluded) */
+    double max_penetration;     /* m: deepest particle behind the surface of a collider (mesh
+                                   colliders at their current positions, analytic ones at the
+                                   last frame's; thickness not included); 0: none inside */
+} weft_collision_check;
+
+/* Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. On the GPU backend the
+ * positions are read back first. */
+WEFT_API weft_status weft_cloth_check_collisions(weft_context* ctx, weft_cloth cloth, weft_collision_check* out);
 
 /* ============================================================================================= */
 /* Per frame                                                                                     */
@@ -462,6 +485,11 @@ typedef struct weft_frame_stats {
     int fell_asleep;            /* 1: it came to rest in this frame and sleeps from the next one */
     int woke;                   /* 1: it was asleep and an input change woke it: this frame was
                                    simulated */
+    /* self-collision, summed over the frame's substeps (0 when it is off) */
+    int self_impacts;           /* colliding pairs found (and given impulses) during the substeps */
+    int self_zones;             /* rigid impact zones formed */
+    int self_unresolved;        /* pairs left colliding when the zone loop gave up (0 normally) */
+    double ms_self_collide;     /* wall time of the self-collision stage */
 } weft_frame_stats;
 
 /* Advance by fr->dt. Errors (state unchanged): INVALID_ARGUMENT (NULL, dt <= 0 or above

@@ -1,0 +1,555 @@
+/* Self-collision: proximity impulses, CCD impulses, rigid impact zones (self_collide.h). */
+#include "self_collide.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "geom.h"
+#include "union_find.h"
+#include "vec3.h"
+
+#define ZONE_STRIDE 20     /* doubles per zone accumulator */
+#define PIN_WEIGHT 1e8     /* a pinned particle's mass in a zone, relative to its own */
+
+static int count_unique_edges(const wc_winged_edge* we) {
+    int k = 0;
+    for (int e = 0; e < we->n_edges; ++e)
+        if (!wc_we_repeats_previous(we, e)) ++k;
+    return k;
+}
+
+static void fill_edges(const wc_winged_edge* we, int* edges) {
+    int k = 0;
+    for (int e = 0; e < we->n_edges; ++e)
+        if (!wc_we_repeats_previous(we, e)) {
+            edges[2 * k] = we->edges[e].v[0];
+            edges[2 * k + 1] = we->edges[e].v[1];
+            ++k;
+        }
+}
+
+/* Boxes of the triangles and edges over x_start U x (x_start may be NULL), inflated by r. */
+static void boxes(const wc_model* m, const int* edges, int n_edges, const double* x_start, const double* x, double r,
+                  double* tri_box, double* edge_box) {
+    for (int t = 0; t < m->n_tris; ++t) {
+        double* b = tri_box + 6 * t;
+        wc_box_empty(b);
+        for (int k = 0; k < 3; ++k) {
+            int i = m->tris[3 * t + k];
+            wc_box_add(b, x + 3 * i);
+            if (x_start) wc_box_add(b, x_start + 3 * i);
+        }
+        wc_box_inflate(b, r);
+    }
+    if (!edge_box) return;
+    for (int e = 0; e < n_edges; ++e) {
+        double* b = edge_box + 6 * e;
+        wc_box_empty(b);
+        for (int k = 0; k < 2; ++k) {
+            int i = edges[2 * e + k];
+            wc_box_add(b, x + 3 * i);
+            if (x_start) wc_box_add(b, x_start + 3 * i);
+        }
+        wc_box_inflate(b, r);
+    }
+}
+
+void wc_self_destroy(wc_self* sc) {
+    if (!sc) return;
+    wc_allocator a = sc->alloc;
+    wc_bvh_free(&sc->tri_bvh);
+    wc_bvh_free(&sc->edge_bvh);
+    wc_free(&a, sc->edges);
+    wc_free(&a, sc->tri_box);
+    wc_free(&a, sc->edge_box);
+    wc_free(&a, sc->x_start);
+    wc_free(&a, sc->x_old);
+    wc_free(&a, sc->inv_mass);
+    wc_free(&a, sc->parent);
+    wc_free(&a, sc->in_zone);
+    wc_free(&a, sc->zone);
+    wc_free(&a, sc);
+}
+
+weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,
+                           wc_diag* diag) {
+    if (out) *out = NULL;
+    if (!out || !m) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "self-collision: NULL argument");
+    if (!(thickness > 0) || !isfinite(thickness))
+        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "self-collision: thickness %g m must be finite and > 0",
+                       thickness);
+    wc_allocator A = alloc ? *alloc : (wc_allocator){0};
+    wc_self* sc = WC_NEW(&A, wc_self, 1);
+    if (!sc) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+    sc->alloc = A;
+    sc->thickness = thickness;
+    sc->eta = thickness / 100.0;
+    sc->passes = WC_SELF_PASSES;
+    int n = m->n_particles;
+    sc->n = n;
+    sc->n_tris = m->n_tris;
+    sc->n_edges = count_unique_edges(&m->we);
+    sc->edges = WC_NEW(&A, int, 2 * (size_t)sc->n_edges + 2);
+    sc->tri_box = WC_NEW(&A, double, 6 * (size_t)sc->n_tris + 6);
+    sc->edge_box = WC_NEW(&A, double, 6 * (size_t)sc->n_edges + 6);
+    sc->x_start = WC_NEW(&A, double, 3 * (size_t)n);
+    sc->x_old = WC_NEW(&A, double, 3 * (size_t)n);
+    sc->inv_mass = WC_NEW(&A, double, (size_t)n);
+    sc->parent = WC_NEW(&A, int, (size_t)n);
+    sc->in_zone = WC_NEW(&A, unsigned char, (size_t)n);
+    sc->zone = WC_NEW(&A, double, ZONE_STRIDE * (size_t)n);
+    if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
+        !sc->in_zone || !sc->zone) {
+        wc_self_destroy(sc);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
+    }
+    fill_edges(&m->we, sc->edges);
+    boxes(m, sc->edges, sc->n_edges, NULL, m->rest_pos, thickness, sc->tri_box, sc->edge_box);
+    weft_status st = wc_bvh_build(&sc->tri_bvh, sc->tri_box, sc->n_tris, &A, diag);
+    if (st == WEFT_OK) st = wc_bvh_build(&sc->edge_bvh, sc->edge_box, sc->n_edges, &A, diag);
+    if (st != WEFT_OK) {
+        wc_self_destroy(sc);
+        return st;
+    }
+    memcpy(sc->x_start, m->rest_pos, 3 * (size_t)n * sizeof(double));
+    *out = sc;
+    return WEFT_OK;
+}
+
+void wc_self_begin(wc_self* sc, const double* x) { memcpy(sc->x_start, x, 3 * (size_t)sc->n * sizeof(double)); }
+
+/* ---- pairs ------------------------------------------------------------------------------------ */
+
+/* MODE_PROXIMITY: proximity impulses, then CCD impulses, on each pair (the first pass);
+ * MODE_IMPULSE: CCD impulses; MODE_DETECT: CCD collisions merged into zones, nothing moved. */
+enum { MODE_PROXIMITY = 0, MODE_IMPULSE = 1, MODE_DETECT = 2 };
+
+typedef struct pass_ctx {
+    wc_self* sc;
+    const wc_model* m;
+    double* x;          /* end positions, corrected in place (not in MODE_DETECT) */
+    int mode;
+    int query;          /* the vertex or edge being queried */
+    int count;          /* CCD pairs acted on / found */
+    int prox;           /* proximity impulses (MODE_PROXIMITY) */
+} pass_ctx;
+
+/* Move the 4 particles ids by w_i inv_m_i D / sum_j w_j^2 inv_m_j along n: the relative normal
+ * displacement sum_i w_i (x_i - x_start_i) . n grows by D. */
+static int apply(pass_ctx* c, const int* ids, const double* w, const double* n, double D) {
+    const double* im = c->sc->inv_mass;
+    double den = 0.0;
+    for (int k = 0; k < 4; ++k) den += w[k] * w[k] * im[ids[k]];
+    if (!(den > 0)) return 0;
+    double J = D / den;
+    for (int k = 0; k < 4; ++k) v3_axpy(c->x + 3 * ids[k], w[k] * im[ids[k]] * J, n);
+    return 1;
+}
+
+/* Relative displacement sum_i w_i (x_i - x_start_i) along n. */
+static double rel_normal(const pass_ctx* c, const int* ids, const double* w, const double* n) {
+    double r = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        double d[3];
+        v3_sub(d, c->x + 3 * ids[k], c->sc->x_start + 3 * ids[k]);
+        r += w[k] * v3_dot(d, n);
+    }
+    return r;
+}
+
+/* Detect mode: pairs whose 4 particles are in one zone without a pin move by one affine map. */
+static int same_zone(const pass_ctx* c, const int* ids) {
+    wc_self* sc = c->sc;
+    int r = -1;
+    for (int k = 0; k < 4; ++k) {
+        int i = ids[k];
+        if (!sc->in_zone[i] || sc->inv_mass[i] == 0.0) return 0;
+        int ri = wc_uf_find(sc->parent, i);
+        if (r >= 0 && ri != r) return 0;
+        r = ri;
+    }
+    return 1;
+}
+
+static void merge(pass_ctx* c, const int* ids) {
+    wc_self* sc = c->sc;
+    for (int k = 0; k < 4; ++k) {
+        sc->in_zone[ids[k]] = 1;
+        if (k > 0) wc_uf_union(sc->parent, ids[0], ids[k]);
+    }
+}
+
+/* Largest displacement |x_i - x_start_i| over the particles ids[lo, hi). */
+static double max_move(const pass_ctx* c, const int* ids, int lo, int hi) {
+    double m2 = 0.0;
+    for (int k = lo; k < hi; ++k) {
+        double d[3];
+        v3_sub(d, c->x + 3 * ids[k], c->sc->x_start + 3 * ids[k]);
+        double l2 = v3_dot(d, d);
+        if (l2 > m2) m2 = l2;
+    }
+    return sqrt(m2);
+}
+
+/* 1 when the pair cannot come within eta during the substep: every point of a moving triangle or
+ * segment stays within its vertices' largest displacement of where it started, so the distance
+ * at time t is at least d0 - (move of the first feature + move of the second). Skips the CCD's
+ * cubic for almost every candidate of a cloth that moves a little per substep. */
+static int too_far(const pass_ctx* c, const int* ids, int split, double d0) {
+    return d0 - max_move(c, ids, 0, split) - max_move(c, ids, split, 4) > c->sc->eta;
+}
+
+static void lerp3(double* o, const double* a, const double* b, double t) {
+    for (int k = 0; k < 3; ++k) o[k] = a[k] + t * (b[k] - a[k]);
+}
+
+/* The collision normal at time t (unit; from the second feature towards the first, oriented by
+ * their separation at the start, sep0 = first - second then). tri: 1 for vertex-triangle (ids
+ * 1..3 the triangle), else edge-edge (ids 0-1 and 2-3). Returns 0 when there is none. */
+static int impact_normal(const pass_ctx* c, const int* ids, int tri, double t, const double* sep0, double* n) {
+    const double* xs = c->sc->x_start;
+    double p[4][3];
+    for (int k = 0; k < 4; ++k) lerp3(p[k], xs + 3 * ids[k], c->x + 3 * ids[k], t);
+    double u[3], v[3];
+    if (tri) {
+        v3_sub(u, p[2], p[1]);
+        v3_sub(v, p[3], p[1]);
+    } else {
+        v3_sub(u, p[1], p[0]);
+        v3_sub(v, p[3], p[2]);
+    }
+    v3_cross(n, u, v);
+    double nn = v3_norm(n);
+    if (!(nn > 1e-12 * v3_dot(u, u) + 1e-300)) {
+        /* parallel edges: the start separation */
+        nn = v3_norm(sep0);
+        if (!(nn > 0)) return 0;
+        v3_scale(n, sep0, 1.0 / nn);
+        return 1;
+    }
+    v3_scale(n, n, 1.0 / nn);
+    if (v3_dot(n, sep0) < 0) v3_scale(n, n, -1.0);
+    return 1;
+}
+
+static void vertex_tri(pass_ctx* c, int i, int t) {
+    const wc_model* m = c->m;
+    const int* tv = m->tris + 3 * t;
+    if (tv[0] == i || tv[1] == i || tv[2] == i) return;
+    int ids[4] = {i, tv[0], tv[1], tv[2]};
+    const double* xs = c->sc->x_start;
+    const double* x = c->x;
+    double bw[3], q[3], w[4], n[3];
+    if (c->mode == MODE_DETECT && same_zone(c, ids)) return;
+    double d2 = wc_closest_on_triangle(xs + 3 * i, xs + 3 * tv[0], xs + 3 * tv[1], xs + 3 * tv[2], bw, q);
+    if (c->mode == MODE_PROXIMITY) {
+        double th = c->sc->thickness;
+        if (d2 < th * th) {
+            const double* r = m->rest_pos;
+            double dr = sqrt(wc_closest_on_triangle(r + 3 * i, r + 3 * tv[0], r + 3 * tv[1], r + 3 * tv[2], NULL, NULL));
+            if (dr < th) th = dr;
+            double d = sqrt(d2);
+            if (d < th && d > 0) {
+                v3_sub(n, xs + 3 * i, q);
+                v3_scale(n, n, 1.0 / d);
+                w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
+                double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
+                if (dn < target) c->prox += apply(c, ids, w, n, target - dn);
+            }
+        }
+    }
+    if (too_far(c, ids, 1, sqrt(d2))) return;
+    double t_hit;
+    if (!wc_ccd_point_triangle(xs + 3 * i, xs + 3 * tv[0], xs + 3 * tv[1], xs + 3 * tv[2], x + 3 * i, x + 3 * tv[0],
+                               x + 3 * tv[1], x + 3 * tv[2], c->sc->eta, &t_hit, bw))
+        return;
+    if (c->mode == MODE_DETECT) {
+        merge(c, ids);
+        ++c->count;
+        return;
+    }
+    /* counted whether or not an impulse can be applied (pinned, no normal, already separating
+       along it): the pass is then not clean, and what impulses cannot fix the zones will */
+    ++c->count;
+    if (c->sc->passes == 0) return;
+    double sep0[3];
+    for (int k = 0; k < 3; ++k) sep0[k] = xs[3 * i + k] - bw[0] * xs[3 * tv[0] + k] - bw[1] * xs[3 * tv[1] + k] - bw[2] * xs[3 * tv[2] + k];
+    if (!impact_normal(c, ids, 1, t_hit, sep0, n)) return;
+    w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
+    double dn = rel_normal(c, ids, w, n), target = c->sc->eta;
+    if (dn < target) apply(c, ids, w, n, target - dn);
+}
+
+static void edge_edge(pass_ctx* c, int e, int f) {
+    const int* E = c->sc->edges;
+    int a0 = E[2 * e], a1 = E[2 * e + 1], b0 = E[2 * f], b1 = E[2 * f + 1];
+    if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) return;
+    int ids[4] = {a0, a1, b0, b1};
+    const double* xs = c->sc->x_start;
+    const double* x = c->x;
+    double s, t, w[4], n[3];
+    if (c->mode == MODE_DETECT && same_zone(c, ids)) return;
+    double d2 = wc_closest_on_segments(xs + 3 * a0, xs + 3 * a1, xs + 3 * b0, xs + 3 * b1, &s, &t);
+    if (c->mode == MODE_PROXIMITY) {
+        double th = c->sc->thickness;
+        if (d2 < th * th) {
+            const double* r = c->m->rest_pos;
+            double ss, tt;
+            double dr = sqrt(wc_closest_on_segments(r + 3 * a0, r + 3 * a1, r + 3 * b0, r + 3 * b1, &ss, &tt));
+            if (dr < th) th = dr;
+            double d = sqrt(d2);
+            if (d < th && d > 0) {
+                for (int k = 0; k < 3; ++k)
+                    n[k] = ((1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k]) / d;
+                w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
+                double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
+                if (dn < target) c->prox += apply(c, ids, w, n, target - dn);
+            }
+        }
+    }
+    if (too_far(c, ids, 2, sqrt(d2))) return;
+    double t_hit;
+    if (!wc_ccd_edge_edge(xs + 3 * a0, xs + 3 * a1, xs + 3 * b0, xs + 3 * b1, x + 3 * a0, x + 3 * a1, x + 3 * b0,
+                          x + 3 * b1, c->sc->eta, &t_hit, &s, &t))
+        return;
+    if (c->mode == MODE_DETECT) {
+        merge(c, ids);
+        ++c->count;
+        return;
+    }
+    ++c->count; /* as for vertex-triangle pairs */
+    if (c->sc->passes == 0) return;
+    double sep0[3];
+    for (int k = 0; k < 3; ++k)
+        sep0[k] = (1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k];
+    if (!impact_normal(c, ids, 0, t_hit, sep0, n)) return;
+    w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
+    double dn = rel_normal(c, ids, w, n), target = c->sc->eta;
+    if (dn < target) apply(c, ids, w, n, target - dn);
+}
+
+static int visit_tri(void* user, int t) {
+    pass_ctx* c = (pass_ctx*)user;
+    vertex_tri(c, c->query, t);
+    return 0;
+}
+
+static int visit_edge(void* user, int f) {
+    pass_ctx* c = (pass_ctx*)user;
+    if (f > c->query) edge_edge(c, c->query, f);
+    return 0;
+}
+
+/* One pass over every vertex-triangle and edge-edge candidate; returns the CCD collisions found
+ * (given an impulse where one applies); *prox (may be NULL) the proximity impulses. */
+static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) {
+    double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
+    boxes(m, sc->edges, sc->n_edges, sc->x_start, x, r, sc->tri_box, sc->edge_box);
+    wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
+    wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0};
+    for (int i = 0; i < sc->n; ++i) {
+        double b[6];
+        wc_box_empty(b);
+        wc_box_add(b, sc->x_start + 3 * i);
+        wc_box_add(b, x + 3 * i);
+        c.query = i;
+        wc_bvh_query(&sc->tri_bvh, b, visit_tri, &c);
+    }
+    for (int e = 0; e < sc->n_edges; ++e) {
+        /* the edge's own box (not inflated twice: the tree's boxes carry r) */
+        double b[6];
+        wc_box_empty(b);
+        for (int k = 0; k < 2; ++k) {
+            int i = sc->edges[2 * e + k];
+            wc_box_add(b, sc->x_start + 3 * i);
+            wc_box_add(b, x + 3 * i);
+        }
+        c.query = e;
+        wc_bvh_query(&sc->edge_bvh, b, visit_edge, &c);
+    }
+    if (prox) *prox = c.prox;
+    return c.count;
+}
+
+/* ---- impact zones ----------------------------------------------------------------------------- */
+
+void wc_self_rigidify(int n, const double* x_start, double* x, const double* mass, const double* inv_m, int* parent,
+                      const unsigned char* in, double* acc) {
+    /* acc per root: 0 M, 1-3 sum w x0, 4-6 sum w d, 7-9 L, 10-18 I (3x3) */
+    for (int i = 0; i < n; ++i)
+        if (in[i]) memset(acc + ZONE_STRIDE * (size_t)wc_uf_find(parent, i), 0, ZONE_STRIDE * sizeof(double));
+    for (int i = 0; i < n; ++i) {
+        if (!in[i]) continue;
+        double* a = acc + ZONE_STRIDE * (size_t)wc_uf_find(parent, i);
+        double w = inv_m[i] > 0 ? mass[i] : PIN_WEIGHT * (mass[i] > 0 ? mass[i] : 1.0);
+        double d[3];
+        v3_sub(d, x + 3 * i, x_start + 3 * i);
+        a[0] += w;
+        v3_axpy(a + 1, w, x_start + 3 * i);
+        v3_axpy(a + 4, w, d);
+    }
+    for (int i = 0; i < n; ++i) {
+        if (!in[i]) continue;
+        int root = wc_uf_find(parent, i);
+        double* a = acc + ZONE_STRIDE * (size_t)root;
+        double w = inv_m[i] > 0 ? mass[i] : PIN_WEIGHT * (mass[i] > 0 ? mass[i] : 1.0);
+        double xc[3], vc[3], r[3], d[3], rd[3];
+        v3_scale(xc, a + 1, 1.0 / a[0]);
+        v3_scale(vc, a + 4, 1.0 / a[0]);
+        v3_sub(r, x_start + 3 * i, xc);
+        v3_sub(d, x + 3 * i, x_start + 3 * i);
+        v3_sub(d, d, vc);
+        v3_cross(rd, r, d);
+        v3_axpy(a + 7, w, rd);
+        double rr = v3_dot(r, r);
+        for (int p = 0; p < 3; ++p)
+            for (int q = 0; q < 3; ++q) a[10 + 3 * p + q] += w * ((p == q ? rr : 0.0) - r[p] * r[q]);
+    }
+    /* angular velocity of each root: I^-1 L (regularised: a line-shaped zone has no inertia about
+       its line, and no angular momentum about it either) */
+    for (int i = 0; i < n; ++i) {
+        if (!in[i] || wc_uf_find(parent, i) != i) continue;
+        double* a = acc + ZONE_STRIDE * (size_t)i;
+        double I[9], Iinv[9] = {0}, om[3];
+        memcpy(I, a + 10, sizeof I);
+        double tr = I[0] + I[4] + I[8];
+        for (int k = 0; k < 3; ++k) I[4 * k] += 1e-12 * tr + 1e-300;
+        if (m3_inverse(Iinv, I) == 0.0) memset(Iinv, 0, sizeof Iinv); /* no inertia at all: translate */
+        m3_mulv(om, Iinv, a + 7);
+        v3_copy(a + 7, om); /* L no longer needed: 7-9 now hold omega */
+    }
+    for (int i = 0; i < n; ++i) {
+        if (!in[i] || !(inv_m[i] > 0)) continue;
+        const double* a = acc + ZONE_STRIDE * (size_t)wc_uf_find(parent, i);
+        double xc[3], r[3], wr[3];
+        v3_scale(xc, a + 1, 1.0 / a[0]);
+        v3_sub(r, x_start + 3 * i, xc);
+        v3_cross(wr, a + 7, r);
+        for (int k = 0; k < 3; ++k) x[3 * i + k] = x_start[3 * i + k] + a[4 + k] / a[0] + wr[k];
+    }
+}
+
+int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, const unsigned char* stick, double he,
+                    double* x, double* v, wc_self_stats* st) {
+    int n = sc->n;
+    if (sc->n_tris == 0) return 0;
+    for (int i = 0; i < n; ++i) {
+        int pinned = filter && filter->ndof[i] == 3 && !(stick && stick[i]);
+        sc->inv_mass[i] = pinned ? 0.0 : m->inv_mass[i];
+    }
+    memcpy(sc->x_old, x, 3 * (size_t)n * sizeof(double));
+    wc_self_stats local = {0, 0, 0, 0};
+    /* a pass that moved something (its trees were refitted before the moves, and pairs it checked
+       early may have been moved later) proves nothing: only a pass that moved nothing shows the
+       substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide */
+    local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity);
+    int left = local.impacts + local.proximity;
+    for (int p = 1; p < sc->passes && left; ++p) {
+        left = pass(sc, m, x, MODE_IMPULSE, NULL);
+        local.impacts += left;
+    }
+    if (left) {
+        for (int i = 0; i < n; ++i) {
+            sc->parent[i] = i;
+            sc->in_zone[i] = 0;
+        }
+        int it = 0;
+        for (; it < WC_SELF_ZONE_ITERS; ++it) {
+            left = pass(sc, m, x, MODE_DETECT, NULL);
+            if (left == 0) break;
+            wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
+        }
+        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL);
+        for (int i = 0; i < n; ++i)
+            if (sc->in_zone[i] && wc_uf_find(sc->parent, i) == i) ++local.zones;
+    }
+    for (int k = 0; k < 3 * n; ++k) v[k] += (x[k] - sc->x_old[k]) / he;
+    if (st) {
+        st->proximity += local.proximity;
+        st->impacts += local.impacts;
+        st->zones += local.zones;
+        st->unresolved += local.unresolved;
+    }
+    return local.unresolved;
+}
+
+/* ---- intersection count ----------------------------------------------------------------------- */
+
+static double orient(const double* a, const double* b, const double* c, const double* d) {
+    double u[3], v[3], w[3], uv[3];
+    v3_sub(u, b, a);
+    v3_sub(v, c, a);
+    v3_sub(w, d, a);
+    v3_cross(uv, u, v);
+    return v3_dot(uv, w);
+}
+
+/* Segment p-q passes through the interior of triangle a-b-c (strictly). */
+static int seg_tri_cross(const double* p, const double* q, const double* a, const double* b, const double* c) {
+    double o1 = orient(a, b, c, p), o2 = orient(a, b, c, q);
+    if (!((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0))) return 0;
+    double s1 = orient(p, q, a, b), s2 = orient(p, q, b, c), s3 = orient(p, q, c, a);
+    return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
+}
+
+static int edge_tri_cross(const wc_model* m, const double* x, int a, int b, int t) {
+    const int* tv = m->tris + 3 * t;
+    if (tv[0] == a || tv[1] == a || tv[2] == a || tv[0] == b || tv[1] == b || tv[2] == b) return 0;
+    return seg_tri_cross(x + 3 * a, x + 3 * b, x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2]);
+}
+
+int wc_self_intersections_brute(const wc_model* m, const double* x) {
+    int count = 0;
+    const wc_winged_edge* we = &m->we;
+    for (int e = 0; e < we->n_edges; ++e) {
+        if (wc_we_repeats_previous(we, e)) continue;
+        for (int t = 0; t < m->n_tris; ++t) count += edge_tri_cross(m, x, we->edges[e].v[0], we->edges[e].v[1], t);
+    }
+    return count;
+}
+
+typedef struct count_ctx {
+    const wc_model* m;
+    const double* x;
+    int a, b, count;
+} count_ctx;
+
+static int visit_count(void* user, int t) {
+    count_ctx* c = (count_ctx*)user;
+    c->count += edge_tri_cross(c->m, c->x, c->a, c->b, t);
+    return 0;
+}
+
+weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
+                                  wc_diag* diag) {
+    if (count) *count = 0;
+    if (!m || !x || !count) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "self intersections: NULL argument");
+    if (m->n_tris == 0) return WEFT_OK;
+    wc_allocator A = alloc ? *alloc : (wc_allocator){0};
+    double* tb = WC_NEW(&A, double, 6 * (size_t)m->n_tris);
+    if (!tb) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
+    boxes(m, NULL, 0, NULL, x, 0.0, tb, NULL);
+    wc_bvh bvh;
+    weft_status st = wc_bvh_build(&bvh, tb, m->n_tris, &A, diag);
+    if (st != WEFT_OK) {
+        wc_free(&A, tb);
+        return st;
+    }
+    count_ctx c = {m, x, 0, 0, 0};
+    const wc_winged_edge* we = &m->we;
+    for (int e = 0; e < we->n_edges; ++e) {
+        if (wc_we_repeats_previous(we, e)) continue;
+        c.a = we->edges[e].v[0];
+        c.b = we->edges[e].v[1];
+        double b[6];
+        wc_box_empty(b);
+        wc_box_add(b, x + 3 * c.a);
+        wc_box_add(b, x + 3 * c.b);
+        wc_bvh_query(&bvh, b, visit_count, &c);
+    }
+    wc_bvh_free(&bvh);
+    wc_free(&A, tb);
+    *count = c.count;
+    return WEFT_OK;
+}

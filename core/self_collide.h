@@ -1,0 +1,101 @@
+/* Self-collision of one cloth (one model: its panels, layers and separate components included),
+ * after Bridson, Fedkiw & Anderson 2002 ("Robust treatment of collisions, contact and friction
+ * for cloth animation") with Harmon et al. 2008's rigid impact zones. A stage at the very end of
+ * every substep (after the strain limit and the colliders' projection, so that nothing after it
+ * can bring a crossing back), on the substep's start positions x_start (copied by
+ * wc_self_begin at the top of the substep: the end of the previous, accepted substep) and its end
+ * positions x (the integrator's result):
+ *   1. Broad phase: two AABB trees (bvh.h), over the triangles and over the (unique) edges, built
+ *      once at creation and refitted over the swept boxes x_start U x inflated by the thickness.
+ *      Pairs sharing a particle are excluded.
+ *   2. Proximity (at x_start): vertex-triangle and edge-edge pairs closer than the pair's
+ *      thickness (min(thickness, the pair's distance at rest), so a mesh finer than the thickness
+ *      is not pushed against itself) get their relative normal displacement over the substep
+ *      raised to at least 0.1 (thickness - distance): an inelastic impulse when they approach,
+ *      and a bounded repulsion that separates them to the thickness over a few substeps.
+ *   3. Continuous (x_start -> x, linear): up to WC_SELF_PASSES passes of inelastic impulses on
+ *      the pairs that collide (geom.h's CCD within eta = thickness / 100).
+ *   4. Impact zones for what is left: the particles of every colliding pair are merged
+ *      (union-find); each zone's displacements are replaced by its rigid motion (linear and
+ *      angular momentum of the zone kept); detect again (pairs inside one zone cannot collide,
+ *      they move by one invertible affine map), merge, repeat, at most WC_SELF_ZONE_ITERS times
+ *      (in the worst case everything ends in one zone that moves rigidly: no crossing).
+ * Impulses are distributed over the 4 particles with the barycentric / edge weights w and the
+ * inverse masses (Bridson section 7.1): a change D of the relative normal displacement moves
+ * particle i by w_i inv_m_i D / sum_j (w_j^2 inv_m_j) along the normal. Pinned particles (filter
+ * ndof 3 that is not a sticking contact) have inverse mass 0 (in a zone: a mass 1e8 x the
+ * zone's heaviest, and their own motion is kept).
+ * Corrections are position changes dx of the end positions, turned into velocity changes
+ * dv = dx / he (he = h for backward Euler, 2h/3 for BDF2), which keeps x = xb + he v of both
+ * integrators (bdf2.h). The stage allocates nothing: its candidates are visited in the trees
+ * (no pair buffers), and its zone accumulators are (n) arrays allocated at creation.
+ * A cloth that starts a substep free of crossings ends it free of them, unless the zone loop
+ * runs out of iterations (stats.unresolved counts the pairs still colliding then; with pins
+ * that move against each other inside one zone this can happen).
+ * Cost: O((n + edges) log n) queries per pass; a cloth not touching itself does the proximity
+ * and one CCD pass (see README "Self-collision" for measured numbers). */
+#ifndef WEFT_CORE_SELF_COLLIDE_H
+#define WEFT_CORE_SELF_COLLIDE_H
+#include "bvh.h"
+#include "filter.h"
+#include "model.h"
+
+#define WC_SELF_PASSES 4        /* CCD impulse passes before impact zones */
+#define WC_SELF_ZONE_ITERS 200  /* impact-zone merge iterations at most */
+
+typedef struct wc_self_stats {
+    int proximity;      /* pairs given a proximity impulse (repulsion or inelastic) */
+    int impacts;        /* CCD collisions found by the impulse passes (each given an impulse
+                           where one applies) */
+    int zones;          /* impact zones formed (sets of 2+ particles at the end of the loop) */
+    int unresolved;     /* pairs still colliding when the zone loop gave up (0 normally) */
+} wc_self_stats;
+
+typedef struct wc_self {
+    double thickness;   /* m, > 0 */
+    double eta;         /* m: CCD tolerance, thickness / 100 */
+    int passes;         /* CCD impulse passes before the zones (WC_SELF_PASSES); tests set 0 (no
+                           CCD impulse: every collision goes to the zones) to drive the zones */
+    int n, n_tris, n_edges;
+    int* edges;         /* (n_edges x 2) particle pairs, each vertex pair once */
+    wc_bvh tri_bvh, edge_bvh;
+    double* tri_box;    /* (n_tris x 6) */
+    double* edge_box;   /* (n_edges x 6) */
+    double* x_start;    /* (n x 3) m: positions at the start of the substep */
+    double* x_old;      /* (n x 3) m: end positions before the stage */
+    double* inv_mass;   /* (n) 1/kg, 0 for pinned, this substep */
+    int* parent;        /* (n) union-find of the impact zones */
+    unsigned char* in_zone; /* (n) 1: the particle is in a zone */
+    double* zone;       /* (n x 16) per-zone accumulators */
+    wc_allocator alloc;
+} wc_self;
+
+/* thickness: m, finite and > 0. */
+weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,
+                           wc_diag* diag);
+void wc_self_destroy(wc_self* sc);
+
+/* Start of a substep: x (n x 3) is the start position. */
+void wc_self_begin(wc_self* sc, const double* x);
+
+/* End of a substep: corrects x and v (n x 3) in place (stages 1-4 above). filter and stick (may
+ * be NULL: nothing pinned) say which particles are pinned; he the integrator's step (s). Adds to
+ * st (may be NULL). Returns st->unresolved's contribution (0 when no crossing is left). */
+int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, const unsigned char* stick, double he,
+                    double* x, double* v, wc_self_stats* st);
+
+/* For tests: replace the displacements d = x - x_start of the particles of each zone (parent, n:
+ * union-find roots; only particles with in[i] != 0) by the zone's rigid motion (mass m, inverse
+ * mass inv_m 0 = pinned). */
+void wc_self_rigidify(int n, const double* x_start, double* x, const double* mass, const double* inv_m, int* parent,
+                      const unsigned char* in, double* acc);
+
+/* Edge-triangle pairs that cross (an edge passes through a triangle's interior; pairs sharing a
+ * particle excluded; every unique edge against every triangle) at positions x (n x 3), through
+ * a temporary BVH (allocates: not for inside a step). *count receives the number. */
+weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
+                                  wc_diag* diag);
+/* The same by brute force, O(edges x triangles) (tests). */
+int wc_self_intersections_brute(const wc_model* m, const double* x);
+
+#endif

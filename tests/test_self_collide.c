@@ -1,0 +1,469 @@
+/* Self-collision (core/self_collide.h): the edge-triangle crossing counter against brute force,
+ * the impact zones' rigid motion against momentum conservation, and whole simulations (a sheet
+ * folded onto itself, a sheet dropped in a heap on the floor, two separate layers) checked for
+ * zero crossings at the end of EVERY frame, with the same scenes without self-collision shown to
+ * cross (so the check can fail). Prints the cost (ms per frame with and without). */
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "clock.h"
+#include "self_collide.h"
+#include "step.h"
+#include "test_support.h"
+#include "union_find.h"
+#include "vec3.h"
+
+static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
+static double urand(void) {
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 7;
+    rng_state ^= rng_state << 17;
+    return (double)(rng_state >> 11) / 9007199254740992.0;
+}
+
+/* A strip folded in a Z: bottom layer u in [0, 0.5] at y = 0, a riser up to y = 0.1 at x = 0.5,
+ * a top layer back over the bottom one at y = 0.1. nu x nz vertices (1.1 m along u, 0.4 m along z). */
+static int folded_strip(wc_model* m, int nu, int nz) {
+    wc_source_mesh src;
+    ts_quad_grid(&src, nu, nz, 1.1, 0.4, 0);
+    for (int v = 0; v < src.n_verts; ++v) {
+        double* p = src.pos + 3 * v;
+        double u = p[0], z = p[1];
+        if (u <= 0.5 + 1e-9) v3_set(p, u, 0.0, z);
+        else if (u <= 0.6 + 1e-9) v3_set(p, 0.5, u - 0.5, z);
+        else v3_set(p, 0.5 - (u - 0.6), 0.1, z);
+    }
+    wc_model_def def = wc_default_model_def();
+    wc_diag d = {0};
+    weft_status st = wc_model_build(m, &src, &def, NULL, &d);
+    if (st != WEFT_OK) fprintf(stderr, "folded_strip: %s\n", d.message);
+    wc_source_mesh_free(&src);
+    return st == WEFT_OK;
+}
+
+/* Two sheets of n x n vertices and size s (one model, two components), horizontal at heights y0 and y1. */
+static int two_layers(wc_model* m, int n, double s, double y0, double y1) {
+    wc_source_mesh a;
+    ts_quad_grid(&a, n, n, s, s, 0);
+    int nv = a.n_verts, np = a.n_polys, ni = a.poly_start[np];
+    double* pos = malloc(6 * (size_t)nv * sizeof(double));
+    int* sizes = malloc(2 * (size_t)np * sizeof(int));
+    int* idx = malloc(2 * (size_t)ni * sizeof(int));
+    for (int L = 0; L < 2; ++L) {
+        for (int v = 0; v < nv; ++v) {
+            double* p = pos + 3 * (L * nv + v);
+            v3_set(p, a.pos[3 * v] - 0.5 * s, L ? y1 : y0, a.pos[3 * v + 1] - 0.5 * s);
+        }
+        for (int k = 0; k < np; ++k) sizes[L * np + k] = a.poly_start[k + 1] - a.poly_start[k];
+        for (int k = 0; k < ni; ++k) idx[L * ni + k] = a.poly_verts[k] + L * nv;
+    }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    int ok = wc_source_mesh_from_arrays(&src, NULL, pos, 2 * nv, sizes, 2 * np, idx, 1.0, &d) == WEFT_OK;
+    if (ok) {
+        wc_model_def def = wc_default_model_def();
+        ok = wc_model_build(m, &src, &def, NULL, &d) == WEFT_OK;
+        wc_source_mesh_free(&src);
+    }
+    if (!ok) fprintf(stderr, "two_layers: %s\n", d.message);
+    wc_source_mesh_free(&a);
+    free(pos);
+    free(sizes);
+    free(idx);
+    return ok;
+}
+
+static int crossings(const wc_model* m, const double* x) {
+    int c = -1;
+    wc_diag d = {0};
+    CHECK(wc_self_intersections(m, x, NULL, &c, &d) == WEFT_OK);
+    return c;
+}
+
+/* ---- the counter ---------------------------------------------------------------------------- */
+
+static void test_counter_vs_brute(void) {
+    int total = 0;
+    for (int trial = 0; trial < 12; ++trial) {
+        wc_model m;
+        int n = 4 + trial;
+        CHECK(ts_sheet(&m, n, 1.0, 0.0, 0, 1.0));
+        double* x = malloc(3 * (size_t)m.n_particles * sizeof(double));
+        double noise = 0.05 + 0.05 * trial; /* from a few crossings to many */
+        for (int i = 0; i < m.n_particles; ++i)
+            for (int k = 0; k < 3; ++k) x[3 * i + k] = m.rest_pos[3 * i + k] + noise * (2 * urand() - 1);
+        int bvh = crossings(&m, x), brute = wc_self_intersections_brute(&m, x);
+        CHECK_EQ_INT(bvh, brute);
+        total += brute;
+        CHECK_EQ_INT(crossings(&m, m.rest_pos), 0); /* a flat sheet crosses nothing */
+        free(x);
+        wc_model_free(&m);
+    }
+    CHECK(total > 0);
+    /* a hand-made crossing: one triangle of a 2-cell sheet folded through another */
+    wc_model m;
+    CHECK(ts_sheet(&m, 5, 1.0, 0.0, 0, 1.0));
+    double* x = malloc(3 * (size_t)m.n_particles * sizeof(double));
+    memcpy(x, m.rest_pos, 3 * (size_t)m.n_particles * sizeof(double));
+    /* the far edge (3,4)-(4,4) of a 5 x 5 sheet stood up through a near cell */
+    v3_set(x + 3 * ts_sheet_particle(&m, 5, 4, 4), -0.3, -0.2, -0.4);
+    v3_set(x + 3 * ts_sheet_particle(&m, 5, 3, 4), -0.3, 0.2, -0.4);
+    CHECK(crossings(&m, x) > 0);
+    CHECK_EQ_INT(crossings(&m, x), wc_self_intersections_brute(&m, x));
+    free(x);
+    wc_model_free(&m);
+}
+
+/* ---- impact zones: rigid motion keeps momentum ----------------------------------------------- */
+
+static void test_rigidify_momentum(void) {
+    enum { N = 40 };
+    double x0[3 * N], x[3 * N], xin[3 * N], mass[N], im[N], acc[20 * N];
+    int parent[N];
+    unsigned char in[N];
+    for (int i = 0; i < N; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            x0[3 * i + k] = 2 * urand() - 1;
+            x[3 * i + k] = x0[3 * i + k] + 0.1 * (2 * urand() - 1);
+        }
+        mass[i] = 0.1 + urand();
+        im[i] = 1.0 / mass[i];
+        parent[i] = i;
+        in[i] = i < 35; /* 35 in zones, 5 left alone */
+    }
+    /* two zones: 0..19 and 20..34 */
+    for (int i = 1; i < 20; ++i) wc_uf_union(parent, 0, i);
+    for (int i = 21; i < 35; ++i) wc_uf_union(parent, 20, i);
+    memcpy(xin, x, sizeof x);
+    wc_self_rigidify(N, x0, x, mass, im, parent, in, acc);
+    int lo[2] = {0, 20}, hi[2] = {20, 35};
+    for (int z = 0; z < 2; ++z) {
+        double p0[3] = {0}, p1[3] = {0}, c[3] = {0}, M = 0;
+        for (int i = lo[z]; i < hi[z]; ++i) {
+            M += mass[i];
+            v3_axpy(c, mass[i], x0 + 3 * i);
+        }
+        v3_scale(c, c, 1.0 / M);
+        double L0[3] = {0}, L1[3] = {0};
+        for (int i = lo[z]; i < hi[z]; ++i) {
+            double d0[3], d1[3], r[3], t[3];
+            v3_sub(d0, xin + 3 * i, x0 + 3 * i);
+            v3_sub(d1, x + 3 * i, x0 + 3 * i);
+            v3_axpy(p0, mass[i], d0);
+            v3_axpy(p1, mass[i], d1);
+            v3_sub(r, x0 + 3 * i, c);
+            v3_cross(t, r, d0);
+            v3_axpy(L0, mass[i], t);
+            v3_cross(t, r, d1);
+            v3_axpy(L1, mass[i], t);
+        }
+        for (int k = 0; k < 3; ++k) {
+            CHECK_NEAR(p1[k], p0[k], 1e-12);
+            CHECK_NEAR(L1[k], L0[k], 1e-9);
+        }
+        /* rigid: d_i - d_j = omega x (x0_i - x0_j), i.e. pairwise distances' first-order change is zero */
+        for (int i = lo[z]; i < hi[z]; ++i)
+            for (int j = i + 1; j < hi[z]; ++j) {
+                double r[3], dd[3];
+                v3_sub(r, x0 + 3 * i, x0 + 3 * j);
+                for (int k = 0; k < 3; ++k) dd[k] = (x[3 * i + k] - x0[3 * i + k]) - (x[3 * j + k] - x0[3 * j + k]);
+                CHECK_NEAR(v3_dot(r, dd), 0.0, 1e-12);
+            }
+    }
+    for (int i = 35; i < N; ++i) CHECK(v3_equal(x + 3 * i, xin + 3 * i)); /* outside the zones: untouched */
+}
+
+/* ---- whole simulations (impact zones driven below: one impulse pass only) ----------------------------------------------------------------------- */
+
+typedef struct run_result {
+    int max_crossings;      /* over every frame's end */
+    int frames_crossing;    /* frames ending with a crossing */
+    int failed;             /* frames that returned an error */
+    int unresolved;
+    double ms_per_frame;
+    int impacts, zones, rollbacks;
+    double ms_self;         /* per frame, the self-collision stage alone */
+} run_result;
+
+static int verbose = 0;
+static void log_fn(wc_log_level level, const char* msg, void* user) {
+    (void)user;
+    (void)level;
+    if (verbose) fprintf(stderr, "log: %s\n", msg);
+}
+
+static int impulse_passes = WC_SELF_PASSES; /* the state's self-collision passes (simulate) */
+
+static run_result simulate(const wc_model* m, wc_sim_def def, const wc_pin* pins, int np, const wc_collider* c, int nc,
+                           const double* x_start, int frames, int check_every_frame) {
+    run_result r = {0};
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    d.log = log_fn;
+    CHECK(wc_state_create(&s, m, &def, NULL, &d) == WEFT_OK);
+    if (!s) {
+        fprintf(stderr, "state: %s\n", d.message);
+        r.failed = frames;
+        return r;
+    }
+    if (s->self) s->self->passes = impulse_passes;
+    if (x_start) CHECK(wc_state_set_positions(s, x_start, NULL, &d) == WEFT_OK);
+    if (np) CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
+    if (nc) CHECK(wc_state_set_colliders(s, c, nc, &d) == WEFT_OK);
+    double ms = 0;
+    for (int f = 0; f < frames; ++f) {
+        wc_step_stats st;
+        double t0 = wc_now_ms();
+        if (wc_step_frame(s, 1.0 / 60, &st, &d) != WEFT_OK) ++r.failed;
+        ms += wc_now_ms() - t0;
+        r.unresolved += st.self_unresolved;
+        r.impacts += st.self_impacts;
+        r.zones += st.self_zones;
+        r.rollbacks += st.rollbacks;
+        r.ms_self += st.ms.self_collide / frames;
+        if (check_every_frame || f == frames - 1) {
+            int k = crossings(m, s->x);
+            if (k > r.max_crossings) r.max_crossings = k;
+            r.frames_crossing += k > 0;
+        }
+    }
+    r.ms_per_frame = ms / frames;
+    wc_state_destroy(s);
+    return r;
+}
+
+static wc_sim_def sim_def(int self) {
+    wc_sim_def def = wc_default_sim_def();
+    def.substeps = 2;
+    def.self_collision = self;
+    def.sleep_speed = 0;
+    return def;
+}
+
+static void test_fold(void) {
+    wc_model m;
+    int nu = 23, nz = 9;
+    CHECK(folded_strip(&m, nu, nz));
+    /* pin the bottom layer: every particle at y = 0 with x < 0.5 */
+    wc_pin* pins = calloc((size_t)m.n_particles, sizeof *pins);
+    int np = 0;
+    for (int i = 0; i < m.n_particles; ++i)
+        if (m.rest_pos[3 * i + 1] == 0.0 && m.rest_pos[3 * i] < 0.49) {
+            pins[np].particle = i;
+            v3_copy(pins[np].target, m.rest_pos + 3 * i);
+            ++np;
+        }
+    CHECK(np > 0);
+    run_result on = simulate(&m, sim_def(1), pins, np, NULL, 0, NULL, 60, 1);
+    run_result off = simulate(&m, sim_def(0), pins, np, NULL, 0, NULL, 60, 1);
+    printf("fold (%d particles): on: max crossings %d, frames crossing %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame (stage %.2f); "
+           "off: max crossings %d in %d frames, %.2f ms/frame\n",
+           m.n_particles, on.max_crossings, on.frames_crossing, on.impacts, on.zones, on.rollbacks, on.ms_per_frame, on.ms_self,
+           off.max_crossings, off.frames_crossing, off.ms_per_frame);
+    CHECK_EQ_INT(on.failed, 0);
+    CHECK_EQ_INT(on.frames_crossing, 0);
+    CHECK_EQ_INT(on.unresolved, 0);
+    CHECK(off.frames_crossing > 0); /* the scene does cross without self-collision */
+    free(pins);
+    wc_model_free(&m);
+}
+
+/* A long strip (0.2 x 1.6 m) standing on its end just above the floor, slightly wavy: it
+ * buckles as it lands and piles up on itself. */
+static void heap_strip(wc_model* m, wc_collider* floor) {
+    wc_source_mesh src;
+    ts_quad_grid(&src, 5, 41, 0.2, 1.6, 0);
+    for (int v = 0; v < src.n_verts; ++v) {
+        double* p = src.pos + 3 * v;
+        double gx = p[0], gy = p[1];
+        v3_set(p, gx - 0.1, 0.03 + gy, 0.03 * sin(6.0 * gy) + 0.1 * gy);
+    }
+    wc_model_def mdef = wc_default_model_def();
+    wc_diag dg = {0};
+    CHECK(wc_model_build(m, &src, &mdef, NULL, &dg) == WEFT_OK);
+    wc_source_mesh_free(&src);
+    memset(floor, 0, sizeof *floor);
+    floor->type = WC_COLLIDER_PLANE;
+    v3_set(floor->normal, 0, 1, 0);
+    floor->offset = 0.0;
+    floor->thickness = 0.005;
+    floor->friction = 0.3;
+}
+
+static void test_heap(void) {
+    wc_model m;
+    wc_collider floor;
+    heap_strip(&m, &floor);
+    double* x = NULL;
+    run_result on = simulate(&m, sim_def(1), NULL, 0, &floor, 1, x, 75, 1);
+    run_result off = simulate(&m, sim_def(0), NULL, 0, &floor, 1, x, 75, 1);
+    printf("heap (%d particles): on: max crossings %d, frames crossing %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame (stage %.2f); "
+           "off: max crossings %d in %d frames, %.2f ms/frame\n",
+           m.n_particles, on.max_crossings, on.frames_crossing, on.impacts, on.zones, on.rollbacks, on.ms_per_frame, on.ms_self,
+           off.max_crossings, off.frames_crossing, off.ms_per_frame);
+    CHECK_EQ_INT(on.failed, 0);
+    CHECK_EQ_INT(on.frames_crossing, 0);
+    CHECK_EQ_INT(on.unresolved, 0);
+    CHECK(off.frames_crossing > 0);
+    wc_model_free(&m);
+}
+
+/* The fold and the heap without CCD impulses (proximity impulses only): every collision goes to
+ * the impact zones, which must then keep every frame free of crossings on their own. */
+static void test_zones_alone(void) {
+    impulse_passes = 0;
+    wc_model m;
+    CHECK(folded_strip(&m, 23, 9));
+    wc_pin* pins = calloc((size_t)m.n_particles, sizeof *pins);
+    int np = 0;
+    for (int i = 0; i < m.n_particles; ++i)
+        if (m.rest_pos[3 * i + 1] == 0.0 && m.rest_pos[3 * i] < 0.49) {
+            pins[np].particle = i;
+            v3_copy(pins[np].target, m.rest_pos + 3 * i);
+            ++np;
+        }
+    run_result r = simulate(&m, sim_def(1), pins, np, NULL, 0, NULL, 60, 1);
+    printf("fold, zones alone: max crossings %d, frames crossing %d, zones %d, unresolved %d, %.2f ms/frame (stage "
+           "%.2f)\n", r.max_crossings, r.frames_crossing, r.zones, r.unresolved, r.ms_per_frame, r.ms_self);
+    CHECK_EQ_INT(r.failed, 0);
+    CHECK_EQ_INT(r.frames_crossing, 0);
+    CHECK_EQ_INT(r.unresolved, 0);
+    CHECK(r.zones > 0);
+    free(pins);
+    wc_model_free(&m);
+    wc_collider floor;
+    heap_strip(&m, &floor);
+    r = simulate(&m, sim_def(1), NULL, 0, &floor, 1, NULL, 75, 1);
+    printf("heap, zones alone: max crossings %d, frames crossing %d, zones %d, unresolved %d, %.2f ms/frame (stage "
+           "%.2f)\n", r.max_crossings, r.frames_crossing, r.zones, r.unresolved, r.ms_per_frame, r.ms_self);
+    CHECK_EQ_INT(r.failed, 0);
+    CHECK_EQ_INT(r.frames_crossing, 0);
+    CHECK_EQ_INT(r.unresolved, 0);
+    CHECK(r.zones > 0);
+    wc_model_free(&m);
+    impulse_passes = WC_SELF_PASSES;
+}
+
+static void test_two_layers(void) {
+    wc_model m;
+    int n = 13;
+    double s = 0.5, th = 0.003;
+    CHECK(two_layers(&m, n, s, 0.01, 0.06));
+    CHECK_EQ_INT(m.n_components, 2);
+    wc_collider floor = {0};
+    floor.type = WC_COLLIDER_PLANE;
+    v3_set(floor.normal, 0, 1, 0);
+    floor.thickness = 0.002;
+    floor.friction = 0.3;
+    wc_sim_def def = sim_def(1);
+    def.self_thickness = th;
+    wc_state* st = NULL;
+    wc_diag d = {0};
+    CHECK(wc_state_create(&st, &m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_set_colliders(st, &floor, 1, &d) == WEFT_OK);
+    int crossed = 0;
+    for (int f = 0; f < 60; ++f) {
+        CHECK(wc_step_frame(st, 1.0 / 60, NULL, &d) == WEFT_OK);
+        crossed += crossings(&m, st->x) > 0;
+    }
+    CHECK_EQ_INT(crossed, 0);
+    /* the top layer rests on the bottom one, about a thickness above it: every top particle is
+       above every bottom particle below it (same grid: compare the layers' mean heights and the
+       smallest gap at matching grid points) */
+    double min_gap = 1e9, mean_gap = 0, min_all = 1e9;
+    int nv = n * n, inner = 0;
+    for (int v = 0; v < nv; ++v) {
+        int a = m.host_to_particle[v], b = m.host_to_particle[v + nv];
+        double gap = st->x[3 * b + 1] - st->x[3 * a + 1];
+        int i = v % n, j = v / n;
+        if (gap < min_all) min_all = gap;
+        if (i == 0 || j == 0 || i == n - 1 || j == n - 1) continue; /* the rims may droop */
+        if (gap < min_gap) min_gap = gap;
+        mean_gap += gap;
+        ++inner;
+    }
+    mean_gap /= inner;
+    printf("two layers: gap between matching points: inner min %.4g m, mean %.4g m, all min %.4g m (thickness %g m)\n",
+           min_gap, mean_gap, min_all, th);
+    CHECK(min_gap > 0.3 * th);
+    CHECK(mean_gap > 0.7 * th && mean_gap < 1.5 * th);
+    wc_state_destroy(st);
+    /* without self-collision they fall through each other onto the floor */
+    def.self_collision = 0;
+    CHECK(wc_state_create(&st, &m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_set_colliders(st, &floor, 1, &d) == WEFT_OK);
+    for (int f = 0; f < 60; ++f) CHECK(wc_step_frame(st, 1.0 / 60, NULL, &d) == WEFT_OK);
+    min_gap = 1e9;
+    for (int v = 0; v < nv; ++v) {
+        int a = m.host_to_particle[v], b = m.host_to_particle[v + nv];
+        double gap = st->x[3 * b + 1] - st->x[3 * a + 1];
+        if (gap < min_gap) min_gap = gap;
+    }
+    CHECK(min_gap < 0.3 * th);
+    wc_state_destroy(st);
+    wc_model_free(&m);
+}
+
+static void test_bad_inputs(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, 4, 1.0, 0.0, 0, 1.0));
+    double bad[] = {-0.001, 0.0, NAN, INFINITY};
+    for (int k = 0; k < 4; ++k) {
+        wc_sim_def def = sim_def(1);
+        def.self_thickness = bad[k];
+        wc_state* s = (wc_state*)1;
+        wc_diag d = {0};
+        CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+        CHECK(s == NULL);
+        CHECK(strstr(d.message, "self_thickness") != NULL);
+    }
+    wc_sim_def def = sim_def(2);
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(strstr(d.message, "self_collision") != NULL);
+    wc_self* sc = NULL;
+    CHECK(wc_self_create(&sc, &m, NAN, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT && sc == NULL);
+    int c = 7;
+    CHECK(wc_self_intersections(&m, NULL, NULL, &c, &d) == WEFT_ERROR_INVALID_ARGUMENT && c == 0);
+    wc_model_free(&m);
+}
+
+/* The cost on a 64 x 64 sheet that does not touch itself (hanging from its top corners). */
+static void test_cost(void) {
+    wc_model m;
+    int n = 65;
+    CHECK(ts_sheet(&m, n, 1.0, 1.0, 1, 1.0));
+    wc_pin pins[2] = {{0}};
+    pins[0].particle = ts_sheet_particle(&m, n, 0, n - 1);
+    pins[1].particle = ts_sheet_particle(&m, n, n - 1, n - 1);
+    for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, m.rest_pos + 3 * pins[k].particle);
+    run_result on = simulate(&m, sim_def(1), pins, 2, NULL, 0, NULL, 10, 0);
+    run_result off = simulate(&m, sim_def(0), pins, 2, NULL, 0, NULL, 10, 0);
+    printf("cost, 64x64 sheet not touching itself (%d particles, 2 substeps/frame): %.2f ms/frame on (self-collision "
+           "stage %.2f ms), %.2f off\n",
+           m.n_particles, on.ms_per_frame, on.ms_self, off.ms_per_frame);
+    CHECK_EQ_INT(on.max_crossings, 0);
+    wc_model_free(&m);
+}
+
+/* argv[1], when given, runs only the tests whose name contains it. */
+static const char* only = NULL;
+#define RUN(fn) \
+    do { \
+        if (!only || strstr(#fn, only)) RUN_TEST(fn); \
+    } while (0)
+
+int main(int argc, char** argv) {
+    if (argc > 1) only = argv[1];
+    verbose = getenv("SELF_VERBOSE") != NULL;
+    RUN(test_counter_vs_brute);
+    RUN(test_rigidify_momentum);
+    RUN(test_bad_inputs);
+    RUN(test_fold);
+    RUN(test_heap);
+    RUN(test_zones_alone);
+    RUN(test_two_layers);
+    RUN(test_cost);
+    return TEST_SUMMARY();
+}
