@@ -35,7 +35,7 @@ weft_status weft_cloth_check_collisions(weft_context* ctx, weft_cloth cloth, wef
     weft_status st = wc_self_intersections(&c->model, c->state->x, &ctx->alloc, &count, &d);
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, d.message);
     out->self_intersections = count;
-    double mesh = wc_mesh_max_penetration((wc_mesh_collider* const*)c->mesh, c->n_mesh, c->state->x,
+    double mesh = wc_mesh_max_penetration((const wc_mesh_collider* const*)c->mesh, c->n_mesh, c->state->x,
                                           c->model.n_particles);
     double analytic = analytic_penetration(c->state);
     out->max_penetration = mesh > analytic ? mesh : analytic;
