@@ -28,6 +28,91 @@ static void fill_edges(const wc_winged_edge* we, int* edges) {
         }
 }
 
+/* Seam links (sew.h): particles joined by a sewing spring count as one for the adjacency rules
+ * (a vertex is never tested against a triangle or edge it is sewn to): sewn panels are not welded,
+ * so their elements overlap along the seam by construction, and pushing them apart would fight
+ * the seam. CSR of each particle's seam partners; NULL arrays when the model has no seams. */
+static weft_status seam_links_build(const wc_model* m, const wc_allocator* A, int** start_out, int** nbr_out) {
+    *start_out = NULL;
+    *nbr_out = NULL;
+    int s0 = m->spring_type_start[WC_SPRING_SEAM], s1 = m->spring_type_start[WC_SPRING_SEAM + 1];
+    if (s1 <= s0) return WEFT_OK;
+    int n = m->n_particles;
+    int* start = WC_NEW(A, int, (size_t)n + 1);
+    int* nbr = WC_NEW(A, int, 2 * (size_t)(s1 - s0));
+    if (!start || !nbr) {
+        wc_free(A, start);
+        wc_free(A, nbr);
+        return WEFT_ERROR_OUT_OF_MEMORY;
+    }
+    for (int k = s0; k < s1; ++k) {
+        ++start[m->springs[k].a + 1];
+        ++start[m->springs[k].b + 1];
+    }
+    for (int i = 0; i < n; ++i) start[i + 1] += start[i];
+    int* fill = WC_NEW(A, int, (size_t)n);
+    if (!fill) {
+        wc_free(A, start);
+        wc_free(A, nbr);
+        return WEFT_ERROR_OUT_OF_MEMORY;
+    }
+    for (int k = s0; k < s1; ++k) {
+        int a = m->springs[k].a, b = m->springs[k].b;
+        nbr[start[a] + fill[a]++] = b;
+        nbr[start[b] + fill[b]++] = a;
+    }
+    wc_free(A, fill);
+    *start_out = start;
+    *nbr_out = nbr;
+    return WEFT_OK;
+}
+
+/* 1 when particles a and b are one particle or sewn together. */
+static int linked(const int* start, const int* nbr, int a, int b) {
+    if (a == b) return 1;
+    if (!start) return 0;
+    for (int k = start[a]; k < start[a + 1]; ++k)
+        if (nbr[k] == b) return 1;
+    return 0;
+}
+
+static int edge_tri_cross(const wc_model* m, const int* ls, const int* ln, const double* x, int a, int b, int t);
+
+typedef struct tangle_ctx {
+    const wc_model* m;
+    const wc_self* sc;
+    unsigned char* tangled;
+    int a, b, pairs;
+} tangle_ctx;
+
+static int visit_tangle(void* user, int t) {
+    tangle_ctx* c = (tangle_ctx*)user;
+    if (!edge_tri_cross(c->m, c->sc->seam_start, c->sc->seam_nbr, c->m->rest_pos, c->a, c->b, t)) return 0;
+    const int* tv = c->m->tris + 3 * t;
+    c->tangled[c->a] = c->tangled[c->b] = 1;
+    c->tangled[tv[0]] = c->tangled[tv[1]] = c->tangled[tv[2]] = 1;
+    ++c->pairs;
+    return 0;
+}
+
+/* Particles of the edge-triangle pairs that already cross in the rest shape (creation): a mesh
+ * that starts tangled (overlapping panels along a seam, layers through each other) cannot be
+ * untangled by a method that only prevents new crossings; pairs made only of such particles are
+ * left alone, so the stage does not lock them in impact zones. Returns the crossing pairs. */
+static int mark_tangled(wc_self* sc, const wc_model* m) {
+    tangle_ctx c = {m, sc, sc->tangled, 0, 0, 0};
+    for (int e = 0; e < sc->n_edges; ++e) {
+        c.a = sc->edges[2 * e];
+        c.b = sc->edges[2 * e + 1];
+        double b[6];
+        wc_box_empty(b);
+        wc_box_add(b, m->rest_pos + 3 * c.a);
+        wc_box_add(b, m->rest_pos + 3 * c.b);
+        wc_bvh_query(&sc->tri_bvh, b, visit_tangle, &c);
+    }
+    return c.pairs;
+}
+
 /* Boxes of the triangles and edges over x_start U x (x_start may be NULL), inflated by r. */
 static void boxes(const wc_model* m, const int* edges, int n_edges, const double* x_start, const double* x, double r,
                   double* tri_box, double* edge_box) {
@@ -68,6 +153,9 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->parent);
     wc_free(&a, sc->in_zone);
     wc_free(&a, sc->zone);
+    wc_free(&a, sc->tangled);
+    wc_free(&a, sc->seam_start);
+    wc_free(&a, sc->seam_nbr);
     wc_free(&a, sc);
 }
 
@@ -98,8 +186,13 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->parent = WC_NEW(&A, int, (size_t)n);
     sc->in_zone = WC_NEW(&A, unsigned char, (size_t)n);
     sc->zone = WC_NEW(&A, double, ZONE_STRIDE * (size_t)n);
-    if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
+    sc->tangled = WC_NEW(&A, unsigned char, (size_t)n);
+    if (!sc->tangled || !sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
         !sc->in_zone || !sc->zone) {
+        wc_self_destroy(sc);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
+    }
+    if (seam_links_build(m, &A, &sc->seam_start, &sc->seam_nbr) != WEFT_OK) {
         wc_self_destroy(sc);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
@@ -111,6 +204,7 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
         wc_self_destroy(sc);
         return st;
     }
+    sc->tangled_pairs = mark_tangled(sc, m);
     memcpy(sc->x_start, m->rest_pos, 3 * (size_t)n * sizeof(double));
     *out = sc;
     return WEFT_OK;
@@ -235,7 +329,10 @@ static int impact_normal(const pass_ctx* c, const int* ids, int tri, double t, c
 static void vertex_tri(pass_ctx* c, int i, int t) {
     const wc_model* m = c->m;
     const int* tv = m->tris + 3 * t;
-    if (tv[0] == i || tv[1] == i || tv[2] == i) return;
+    const int *ls = c->sc->seam_start, *ln = c->sc->seam_nbr;
+    if (linked(ls, ln, i, tv[0]) || linked(ls, ln, i, tv[1]) || linked(ls, ln, i, tv[2])) return;
+    const unsigned char* tg = c->sc->tangled;
+    if (tg[i] && tg[tv[0]] && tg[tv[1]] && tg[tv[2]]) return;
     int ids[4] = {i, tv[0], tv[1], tv[2]};
     const double* xs = c->sc->x_start;
     const double* x = c->x;
@@ -283,7 +380,10 @@ static void vertex_tri(pass_ctx* c, int i, int t) {
 static void edge_edge(pass_ctx* c, int e, int f) {
     const int* E = c->sc->edges;
     int a0 = E[2 * e], a1 = E[2 * e + 1], b0 = E[2 * f], b1 = E[2 * f + 1];
-    if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) return;
+    const int *ls = c->sc->seam_start, *ln = c->sc->seam_nbr;
+    if (linked(ls, ln, a0, b0) || linked(ls, ln, a0, b1) || linked(ls, ln, a1, b0) || linked(ls, ln, a1, b1)) return;
+    const unsigned char* tg = c->sc->tangled;
+    if (tg[a0] && tg[a1] && tg[b0] && tg[b1]) return;
     int ids[4] = {a0, a1, b0, b1};
     const double* xs = c->sc->x_start;
     const double* x = c->x;
@@ -493,31 +593,39 @@ static int seg_tri_cross(const double* p, const double* q, const double* a, cons
     return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
 }
 
-static int edge_tri_cross(const wc_model* m, const double* x, int a, int b, int t) {
+static int edge_tri_cross(const wc_model* m, const int* ls, const int* ln, const double* x, int a, int b, int t) {
     const int* tv = m->tris + 3 * t;
-    if (tv[0] == a || tv[1] == a || tv[2] == a || tv[0] == b || tv[1] == b || tv[2] == b) return 0;
+    for (int k = 0; k < 3; ++k)
+        if (linked(ls, ln, a, tv[k]) || linked(ls, ln, b, tv[k])) return 0;
     return seg_tri_cross(x + 3 * a, x + 3 * b, x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2]);
 }
 
 int wc_self_intersections_brute(const wc_model* m, const double* x) {
     int count = 0;
     const wc_winged_edge* we = &m->we;
+    wc_allocator A = {0};
+    int *ls, *ln;
+    if (seam_links_build(m, &A, &ls, &ln) != WEFT_OK) return -1;
     for (int e = 0; e < we->n_edges; ++e) {
         if (wc_we_repeats_previous(we, e)) continue;
-        for (int t = 0; t < m->n_tris; ++t) count += edge_tri_cross(m, x, we->edges[e].v[0], we->edges[e].v[1], t);
+        for (int t = 0; t < m->n_tris; ++t)
+            count += edge_tri_cross(m, ls, ln, x, we->edges[e].v[0], we->edges[e].v[1], t);
     }
+    wc_free(&A, ls);
+    wc_free(&A, ln);
     return count;
 }
 
 typedef struct count_ctx {
     const wc_model* m;
+    const int *ls, *ln;   /* seam links */
     const double* x;
     int a, b, count;
 } count_ctx;
 
 static int visit_count(void* user, int t) {
     count_ctx* c = (count_ctx*)user;
-    c->count += edge_tri_cross(c->m, c->x, c->a, c->b, t);
+    c->count += edge_tri_cross(c->m, c->ls, c->ln, c->x, c->a, c->b, t);
     return 0;
 }
 
@@ -530,13 +638,20 @@ weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_a
     double* tb = WC_NEW(&A, double, 6 * (size_t)m->n_tris);
     if (!tb) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
     boxes(m, NULL, 0, NULL, x, 0.0, tb, NULL);
+    int *ls, *ln;
+    if (seam_links_build(m, &A, &ls, &ln) != WEFT_OK) {
+        wc_free(&A, tb);
+        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
+    }
     wc_bvh bvh;
     weft_status st = wc_bvh_build(&bvh, tb, m->n_tris, &A, diag);
     if (st != WEFT_OK) {
         wc_free(&A, tb);
+        wc_free(&A, ls);
+        wc_free(&A, ln);
         return st;
     }
-    count_ctx c = {m, x, 0, 0, 0};
+    count_ctx c = {m, ls, ln, x, 0, 0, 0};
     const wc_winged_edge* we = &m->we;
     for (int e = 0; e < we->n_edges; ++e) {
         if (wc_we_repeats_previous(we, e)) continue;
@@ -550,6 +665,8 @@ weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_a
     }
     wc_bvh_free(&bvh);
     wc_free(&A, tb);
+    wc_free(&A, ls);
+    wc_free(&A, ln);
     *count = c.count;
     return WEFT_OK;
 }

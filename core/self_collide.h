@@ -7,7 +7,11 @@
  * positions x (the integrator's result):
  *   1. Broad phase: two AABB trees (bvh.h), over the triangles and over the (unique) edges, built
  *      once at creation and refitted over the swept boxes x_start U x inflated by the thickness.
- *      Pairs sharing a particle are excluded.
+ *      Pairs sharing a particle, or a particle and one it is sewn to (sew.h: sewn panels are not
+ *      welded, so their elements overlap along the seam by construction), are excluded; so are
+ *      pairs whose particles all belong to edge-triangle pairs that cross in the rest shape (a
+ *      garment that starts tangled: preventing new crossings cannot undo those, and fighting
+ *      them locks impact zones and stretches the cloth).
  *   2. Proximity (at x_start): vertex-triangle and edge-edge pairs closer than the pair's
  *      thickness (min(thickness, the pair's distance at rest), so a mesh finer than the thickness
  *      is not pushed against itself) get their relative normal displacement over the substep
@@ -67,6 +71,11 @@ typedef struct wc_self {
     int* parent;        /* (n) union-find of the impact zones */
     unsigned char* in_zone; /* (n) 1: the particle is in a zone */
     double* zone;       /* (n x 16) per-zone accumulators */
+    int* seam_start;    /* (n + 1) CSR of each particle's seam partners (sew.h; NULL: no seams): */
+    int* seam_nbr;      /* a particle is never tested against an element it is sewn to */
+    unsigned char* tangled; /* (n) 1: the particle belongs to an edge-triangle pair that crosses in
+                           the rest shape; pairs made only of such particles are skipped */
+    int tangled_pairs;  /* those crossing pairs (0 for a mesh that starts untangled) */
     wc_allocator alloc;
 } wc_self;
 
@@ -91,11 +100,12 @@ void wc_self_rigidify(int n, const double* x_start, double* x, const double* mas
                       const unsigned char* in, double* acc);
 
 /* Edge-triangle pairs that cross (an edge passes through a triangle's interior; pairs sharing a
- * particle excluded; every unique edge against every triangle) at positions x (n x 3), through
- * a temporary BVH (allocates: not for inside a step). *count receives the number. */
+ * particle or sewn (as above) excluded; every unique edge against every triangle) at positions x
+ * (n x 3), through a temporary BVH (allocates: not for inside a step). *count receives the
+ * number. */
 weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
                                   wc_diag* diag);
-/* The same by brute force, O(edges x triangles) (tests). */
+/* The same by brute force, O(edges x triangles) (tests); -1 when out of memory. */
 int wc_self_intersections_brute(const wc_model* m, const double* x);
 
 #endif
