@@ -60,6 +60,7 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->parent);
     wc_free(&a, sc->in_zone);
     wc_free(&a, sc->active);
+    wc_free(&a, sc->edge_max);
     wc_free(&a, sc->zone);
     wc_free(&a, sc);
 }
@@ -102,9 +103,18 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     boxes(m, sc->edges, sc->n_edges, NULL, m->rest_pos, thickness, sc->tri_box, sc->edge_box);
     weft_status st = wc_bvh_build(&sc->tri_bvh, sc->tri_box, sc->n_tris, &A, diag);
     if (st == WEFT_OK) st = wc_bvh_build(&sc->edge_bvh, sc->edge_box, sc->n_edges, &A, diag);
+    if (st == WEFT_OK) {
+        sc->edge_max = WC_NEW(&A, int, (size_t)sc->edge_bvh.n_nodes + 1);
+        if (!sc->edge_max) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+    }
     if (st != WEFT_OK) {
         wc_self_destroy(sc);
         return st;
+    }
+    /* children follow their parent (preorder): one backward sweep gives every subtree's maximum */
+    for (int k = sc->edge_bvh.n_nodes - 1; k >= 0; --k) {
+        const int* ch = sc->edge_bvh.child + 2 * k;
+        sc->edge_max[k] = ch[0] < 0 ? ch[1] : (sc->edge_max[ch[0]] > sc->edge_max[ch[1]] ? sc->edge_max[ch[0]] : sc->edge_max[ch[1]]);
     }
     memcpy(sc->x_start, m->rest_pos, 3 * (size_t)n * sizeof(double));
     *out = sc;
@@ -189,7 +199,7 @@ static void merge(pass_ctx* c, const int* ids) {
  * relative motion counts, so a cloth region that falls or swings as a whole skips the CCD's
  * cubic for its neighbours however far it moves in a substep (the previous bound, the sum of
  * the two features' largest displacements, is never tighter: |d_i - d_j| <= |d_i| + |d_j|). */
-static int too_far(const pass_ctx* c, const int* ids, int split, double d0) {
+static double max_rel(const pass_ctx* c, const int* ids, int split) {
     double d[4][3], m2 = 0.0;
     for (int k = 0; k < 4; ++k) v3_sub(d[k], c->x + 3 * ids[k], c->sc->x_start + 3 * ids[k]);
     for (int i = 0; i < split; ++i)
@@ -199,7 +209,37 @@ static int too_far(const pass_ctx* c, const int* ids, int split, double d0) {
             double l2 = v3_dot(r, r);
             if (l2 > m2) m2 = l2;
         }
-    return d0 - sqrt(m2) > c->sc->eta;
+    return sqrt(m2);
+}
+
+static int too_far(const pass_ctx* c, const int* ids, int split, double d0) {
+    return d0 - max_rel(c, ids, split) > c->sc->eta;
+}
+
+/* 1 when the pair needs no closest-point computation: the distance between the two features'
+ * boxes at the start (a lower bound of their distance d0) is at least the thickness (or any
+ * distance outside the proximity pass), so no proximity impulse, and too_far holds with it. */
+static int far_apart(const pass_ctx* c, const int* ids, int split) {
+    const double* xs = c->sc->x_start;
+    double g2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double alo = xs[3 * ids[0] + k], ahi = alo, blo = xs[3 * ids[3] + k], bhi = blo;
+        for (int j = 1; j < split; ++j) {
+            double v = xs[3 * ids[j] + k];
+            alo = v < alo ? v : alo;
+            ahi = v > ahi ? v : ahi;
+        }
+        for (int j = split; j < 3; ++j) {
+            double v = xs[3 * ids[j] + k];
+            blo = v < blo ? v : blo;
+            bhi = v > bhi ? v : bhi;
+        }
+        double g = alo - bhi > blo - ahi ? alo - bhi : blo - ahi;
+        if (g > 0) g2 += g * g;
+    }
+    double lb = sqrt(g2);
+    if (c->mode == MODE_PROXIMITY && lb < c->sc->thickness) return 0;
+    return lb - max_rel(c, ids, split) > c->sc->eta;
 }
 
 static void lerp3(double* o, const double* a, const double* b, double t) {
@@ -245,6 +285,7 @@ static int vertex_tri(pass_ctx* c, int i, int t) {
     const double* x = c->x;
     double bw[3], q[3], w[4], n[3];
     if (c->mode == MODE_DETECT && same_zone(c, ids)) return 0;
+    if (far_apart(c, ids, 1)) return 0;
     double d2 = wc_closest_on_triangle(xs + 3 * i, xs + 3 * tv[0], xs + 3 * tv[1], xs + 3 * tv[2], bw, q);
     if (c->mode == MODE_PROXIMITY) {
         double th = c->sc->thickness;
@@ -297,6 +338,7 @@ static int edge_edge(pass_ctx* c, int e, int f) {
     const double* x = c->x;
     double s, t, w[4], n[3];
     if (c->mode == MODE_DETECT && same_zone(c, ids)) return 0;
+    if (far_apart(c, ids, 2)) return 0;
     double d2 = wc_closest_on_segments(xs + 3 * a0, xs + 3 * a1, xs + 3 * b0, xs + 3 * b1, &s, &t);
     if (c->mode == MODE_PROXIMITY) {
         double th = c->sc->thickness;
@@ -344,9 +386,29 @@ static int visit_tri(void* user, int t) {
     return vertex_tri(c, c->query, t);
 }
 
-static int visit_edge(void* user, int f) {
-    pass_ctx* c = (pass_ctx*)user;
-    return f > c->query ? edge_edge(c, c->query, f) : 0;
+/* Edge e against the edges f > e whose tree boxes overlap box: wc_bvh_query's traversal (same
+ * visiting order) that skips the subtrees whose edges are all <= e (edge_max): each pair once,
+ * without walking to the half that the other edge's query owns. */
+static int query_edges_above(pass_ctx* c, int e, const double* box) {
+    const wc_bvh* b = &c->sc->edge_bvh;
+    const int* mx = c->sc->edge_max;
+    if (b->n_nodes == 0) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (mx[node] <= e || !wc_box_overlap(b->box + 6 * node, box)) continue;
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0) {
+            int r = edge_edge(c, e, ch[1]);
+            if (r) return r;
+        } else {
+            stack[top++] = ch[1];
+            stack[top++] = ch[0];
+        }
+    }
+    return 0;
 }
 
 /* Visit the candidates of query q (vertex q < n, else edge q - n) at c's positions; returns 1
@@ -361,8 +423,7 @@ static int query(pass_ctx* c, int q) {
     }
     /* the edge's own box (not inflated twice: the tree's boxes carry r) */
     box_of(b, sc->edges + 2 * (q - sc->n), 2, sc->x_start, c->x, 0.0);
-    c->query = q - sc->n;
-    return wc_bvh_query(&sc->edge_bvh, b, visit_edge, c) != 0;
+    return query_edges_above(c, q - sc->n, b) != 0;
 }
 
 /* One pass over every vertex-triangle and edge-edge candidate; returns the CCD collisions found

@@ -82,6 +82,8 @@ typedef struct wc_self {
     unsigned char* in_zone; /* (n) 1: the particle is in a zone */
     unsigned char* active;  /* (n + n_edges) 1: the query (vertex i, then edge n + e) has a pair
                                that needs action this pass (parallel scan's result) */
+    int* edge_max;      /* (edge_bvh.n_nodes) the largest edge index under each node: an edge's
+                           query skips the subtrees of lower edges (each pair visited once) */
     int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
     double* zone;       /* (n x 16) per-zone accumulators */
     wc_allocator alloc;
