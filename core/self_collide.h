@@ -46,8 +46,11 @@
  * A cloth that starts a substep free of crossings ends it free of them, unless the zone loop
  * runs out of iterations (stats.unresolved counts the pairs still colliding then; with pins
  * that move against each other inside one zone this can happen).
- * Cost: O((n + edges) log n) queries per pass; a cloth not touching itself does the proximity
- * and one CCD pass (see README "Self-collision" for measured numbers). */
+ * Cost: O((n + edges) log n) queries per pass; a cloth not touching itself does one pass (the
+ * proximity and CCD tests at once; an edge queries only the edges of higher index, a pair whose
+ * start boxes are far apart relative to its motion skips the closest-point tests, and the CCD's
+ * cubic runs only when the pair's relative motion can close its start distance); see README
+ * "Self-collision" for measured numbers. */
 #ifndef WEFT_CORE_SELF_COLLIDE_H
 #define WEFT_CORE_SELF_COLLIDE_H
 #include "bvh.h"
