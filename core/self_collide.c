@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "geom.h"
+#include "par.h"
 #include "union_find.h"
 #include "vec3.h"
 
@@ -114,29 +115,20 @@ static int mark_tangled(wc_self* sc, const wc_model* m) {
 }
 
 /* Boxes of the triangles and edges over x_start U x (x_start may be NULL), inflated by r. */
+static void box_of(double* b, const int* v, int nv, const double* x_start, const double* x, double r) {
+    wc_box_empty(b);
+    for (int k = 0; k < nv; ++k) {
+        wc_box_add(b, x + 3 * v[k]);
+        if (x_start) wc_box_add(b, x_start + 3 * v[k]);
+    }
+    wc_box_inflate(b, r);
+}
+
 static void boxes(const wc_model* m, const int* edges, int n_edges, const double* x_start, const double* x, double r,
                   double* tri_box, double* edge_box) {
-    for (int t = 0; t < m->n_tris; ++t) {
-        double* b = tri_box + 6 * t;
-        wc_box_empty(b);
-        for (int k = 0; k < 3; ++k) {
-            int i = m->tris[3 * t + k];
-            wc_box_add(b, x + 3 * i);
-            if (x_start) wc_box_add(b, x_start + 3 * i);
-        }
-        wc_box_inflate(b, r);
-    }
+    for (int t = 0; t < m->n_tris; ++t) box_of(tri_box + 6 * t, m->tris + 3 * t, 3, x_start, x, r);
     if (!edge_box) return;
-    for (int e = 0; e < n_edges; ++e) {
-        double* b = edge_box + 6 * e;
-        wc_box_empty(b);
-        for (int k = 0; k < 2; ++k) {
-            int i = edges[2 * e + k];
-            wc_box_add(b, x + 3 * i);
-            if (x_start) wc_box_add(b, x_start + 3 * i);
-        }
-        wc_box_inflate(b, r);
-    }
+    for (int e = 0; e < n_edges; ++e) box_of(edge_box + 6 * e, edges + 2 * e, 2, x_start, x, r);
 }
 
 void wc_self_destroy(wc_self* sc) {
@@ -152,6 +144,8 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->inv_mass);
     wc_free(&a, sc->parent);
     wc_free(&a, sc->in_zone);
+    wc_free(&a, sc->active);
+    wc_free(&a, sc->edge_max);
     wc_free(&a, sc->zone);
     wc_free(&a, sc->tangled);
     wc_free(&a, sc->seam_start);
@@ -187,8 +181,10 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->in_zone = WC_NEW(&A, unsigned char, (size_t)n);
     sc->zone = WC_NEW(&A, double, ZONE_STRIDE * (size_t)n);
     sc->tangled = WC_NEW(&A, unsigned char, (size_t)n);
-    if (!sc->tangled || !sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
-        !sc->in_zone || !sc->zone) {
+    sc->active = WC_NEW(&A, unsigned char, (size_t)n + (size_t)sc->n_edges + 1);
+    sc->threads = 1;
+    if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
+        !sc->in_zone || !sc->zone || !sc->active || !sc->tangled) {
         wc_self_destroy(sc);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
@@ -200,9 +196,18 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     boxes(m, sc->edges, sc->n_edges, NULL, m->rest_pos, thickness, sc->tri_box, sc->edge_box);
     weft_status st = wc_bvh_build(&sc->tri_bvh, sc->tri_box, sc->n_tris, &A, diag);
     if (st == WEFT_OK) st = wc_bvh_build(&sc->edge_bvh, sc->edge_box, sc->n_edges, &A, diag);
+    if (st == WEFT_OK) {
+        sc->edge_max = WC_NEW(&A, int, (size_t)sc->edge_bvh.n_nodes + 1);
+        if (!sc->edge_max) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+    }
     if (st != WEFT_OK) {
         wc_self_destroy(sc);
         return st;
+    }
+    /* children follow their parent (preorder): one backward sweep gives every subtree's maximum */
+    for (int k = sc->edge_bvh.n_nodes - 1; k >= 0; --k) {
+        const int* ch = sc->edge_bvh.child + 2 * k;
+        sc->edge_max[k] = ch[0] < 0 ? ch[1] : (sc->edge_max[ch[0]] > sc->edge_max[ch[1]] ? sc->edge_max[ch[0]] : sc->edge_max[ch[1]]);
     }
     sc->tangled_pairs = mark_tangled(sc, m);
     memcpy(sc->x_start, m->rest_pos, 3 * (size_t)n * sizeof(double));
@@ -226,6 +231,8 @@ typedef struct pass_ctx {
     int query;          /* the vertex or edge being queried */
     int count;          /* CCD pairs acted on / found */
     int prox;           /* proximity impulses (MODE_PROXIMITY) */
+    int dry;            /* 1: the read-only scan: nothing moved or merged, a pair that needs action
+                           makes the visit return 1 (the query is marked, its visit stops) */
 } pass_ctx;
 
 /* Move the 4 particles ids by w_i inv_m_i D / sum_j w_j^2 inv_m_j along n: the relative normal
@@ -251,6 +258,12 @@ static double rel_normal(const pass_ctx* c, const int* ids, const double* w, con
     return r;
 }
 
+/* The union-find root of i without path halving (read-only: the parallel scan). */
+static int find_ro(const int* parent, int i) {
+    while (parent[i] != i) i = parent[i];
+    return i;
+}
+
 /* Detect mode: pairs whose 4 particles are in one zone without a pin move by one affine map. */
 static int same_zone(const pass_ctx* c, const int* ids) {
     wc_self* sc = c->sc;
@@ -258,7 +271,7 @@ static int same_zone(const pass_ctx* c, const int* ids) {
     for (int k = 0; k < 4; ++k) {
         int i = ids[k];
         if (!sc->in_zone[i] || sc->inv_mass[i] == 0.0) return 0;
-        int ri = wc_uf_find(sc->parent, i);
+        int ri = c->dry ? find_ro(sc->parent, i) : wc_uf_find(sc->parent, i);
         if (r >= 0 && ri != r) return 0;
         r = ri;
     }
@@ -273,24 +286,54 @@ static void merge(pass_ctx* c, const int* ids) {
     }
 }
 
-/* Largest displacement |x_i - x_start_i| over the particles ids[lo, hi). */
-static double max_move(const pass_ctx* c, const int* ids, int lo, int hi) {
-    double m2 = 0.0;
-    for (int k = lo; k < hi; ++k) {
-        double d[3];
-        v3_sub(d, c->x + 3 * ids[k], c->sc->x_start + 3 * ids[k]);
-        double l2 = v3_dot(d, d);
-        if (l2 > m2) m2 = l2;
-    }
+/* 1 when the pair cannot come within eta during the substep. With linear motion a point of the
+ * first feature (fixed weights a_i over its vertices) and one of the second (weights b_j) are
+ * p(t) - q(t) = (p0 - q0) + t sum_ij a_i b_j (d_i - d_j), d = x - x_start: their distance stays
+ * at least d0 - max_ij |d_i - d_j| (first feature ids[0, split), second ids[split, 4)). Only the
+ * relative motion counts, so a cloth region that falls or swings as a whole skips the CCD's
+ * cubic for its neighbours however far it moves in a substep (the previous bound, the sum of
+ * the two features' largest displacements, is never tighter: |d_i - d_j| <= |d_i| + |d_j|). */
+static double max_rel(const pass_ctx* c, const int* ids, int split) {
+    double d[4][3], m2 = 0.0;
+    for (int k = 0; k < 4; ++k) v3_sub(d[k], c->x + 3 * ids[k], c->sc->x_start + 3 * ids[k]);
+    for (int i = 0; i < split; ++i)
+        for (int j = split; j < 4; ++j) {
+            double r[3];
+            v3_sub(r, d[i], d[j]);
+            double l2 = v3_dot(r, r);
+            if (l2 > m2) m2 = l2;
+        }
     return sqrt(m2);
 }
 
-/* 1 when the pair cannot come within eta during the substep: every point of a moving triangle or
- * segment stays within its vertices' largest displacement of where it started, so the distance
- * at time t is at least d0 - (move of the first feature + move of the second). Skips the CCD's
- * cubic for almost every candidate of a cloth that moves a little per substep. */
 static int too_far(const pass_ctx* c, const int* ids, int split, double d0) {
-    return d0 - max_move(c, ids, 0, split) - max_move(c, ids, split, 4) > c->sc->eta;
+    return d0 - max_rel(c, ids, split) > c->sc->eta;
+}
+
+/* 1 when the pair needs no closest-point computation: the distance between the two features'
+ * boxes at the start (a lower bound of their distance d0) is at least the thickness (or any
+ * distance outside the proximity pass), so no proximity impulse, and too_far holds with it. */
+static int far_apart(const pass_ctx* c, const int* ids, int split) {
+    const double* xs = c->sc->x_start;
+    double g2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double alo = xs[3 * ids[0] + k], ahi = alo, blo = xs[3 * ids[3] + k], bhi = blo;
+        for (int j = 1; j < split; ++j) {
+            double v = xs[3 * ids[j] + k];
+            alo = v < alo ? v : alo;
+            ahi = v > ahi ? v : ahi;
+        }
+        for (int j = split; j < 3; ++j) {
+            double v = xs[3 * ids[j] + k];
+            blo = v < blo ? v : blo;
+            bhi = v > bhi ? v : bhi;
+        }
+        double g = alo - bhi > blo - ahi ? alo - bhi : blo - ahi;
+        if (g > 0) g2 += g * g;
+    }
+    double lb = sqrt(g2);
+    if (c->mode == MODE_PROXIMITY && lb < c->sc->thickness) return 0;
+    return lb - max_rel(c, ids, split) > c->sc->eta;
 }
 
 static void lerp3(double* o, const double* a, const double* b, double t) {
@@ -326,18 +369,20 @@ static int impact_normal(const pass_ctx* c, const int* ids, int tri, double t, c
     return 1;
 }
 
-static void vertex_tri(pass_ctx* c, int i, int t) {
+/* Returns 1 in a dry scan when the pair needs action (else 0). */
+static int vertex_tri(pass_ctx* c, int i, int t) {
     const wc_model* m = c->m;
     const int* tv = m->tris + 3 * t;
     const int *ls = c->sc->seam_start, *ln = c->sc->seam_nbr;
-    if (linked(ls, ln, i, tv[0]) || linked(ls, ln, i, tv[1]) || linked(ls, ln, i, tv[2])) return;
+    if (linked(ls, ln, i, tv[0]) || linked(ls, ln, i, tv[1]) || linked(ls, ln, i, tv[2])) return 0;
     const unsigned char* tg = c->sc->tangled;
-    if (tg[i] && tg[tv[0]] && tg[tv[1]] && tg[tv[2]]) return;
+    if (tg[i] && tg[tv[0]] && tg[tv[1]] && tg[tv[2]]) return 0;
     int ids[4] = {i, tv[0], tv[1], tv[2]};
     const double* xs = c->sc->x_start;
     const double* x = c->x;
     double bw[3], q[3], w[4], n[3];
-    if (c->mode == MODE_DETECT && same_zone(c, ids)) return;
+    if (c->mode == MODE_DETECT && same_zone(c, ids)) return 0;
+    if (far_apart(c, ids, 1)) return 0;
     double d2 = wc_closest_on_triangle(xs + 3 * i, xs + 3 * tv[0], xs + 3 * tv[1], xs + 3 * tv[2], bw, q);
     if (c->mode == MODE_PROXIMITY) {
         double th = c->sc->thickness;
@@ -351,44 +396,49 @@ static void vertex_tri(pass_ctx* c, int i, int t) {
                 v3_scale(n, n, 1.0 / d);
                 w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
                 double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
+                if (dn < target && c->dry) return 1;
                 if (dn < target) c->prox += apply(c, ids, w, n, target - dn);
             }
         }
     }
-    if (too_far(c, ids, 1, sqrt(d2))) return;
+    if (too_far(c, ids, 1, sqrt(d2))) return 0;
     double t_hit;
     if (!wc_ccd_point_triangle(xs + 3 * i, xs + 3 * tv[0], xs + 3 * tv[1], xs + 3 * tv[2], x + 3 * i, x + 3 * tv[0],
                                x + 3 * tv[1], x + 3 * tv[2], c->sc->eta, &t_hit, bw))
-        return;
+        return 0;
+    if (c->dry) return 1;
     if (c->mode == MODE_DETECT) {
         merge(c, ids);
         ++c->count;
-        return;
+        return 0;
     }
     /* counted whether or not an impulse can be applied (pinned, no normal, already separating
        along it): the pass is then not clean, and what impulses cannot fix the zones will */
     ++c->count;
-    if (c->sc->passes == 0) return;
+    if (c->sc->passes == 0) return 0;
     double sep0[3];
     for (int k = 0; k < 3; ++k) sep0[k] = xs[3 * i + k] - bw[0] * xs[3 * tv[0] + k] - bw[1] * xs[3 * tv[1] + k] - bw[2] * xs[3 * tv[2] + k];
-    if (!impact_normal(c, ids, 1, t_hit, sep0, n)) return;
+    if (!impact_normal(c, ids, 1, t_hit, sep0, n)) return 0;
     w[0] = 1.0; w[1] = -bw[0]; w[2] = -bw[1]; w[3] = -bw[2];
     double dn = rel_normal(c, ids, w, n), target = c->sc->eta;
     if (dn < target) apply(c, ids, w, n, target - dn);
+    return 0;
 }
 
-static void edge_edge(pass_ctx* c, int e, int f) {
+/* Returns 1 in a dry scan when the pair needs action (else 0). */
+static int edge_edge(pass_ctx* c, int e, int f) {
     const int* E = c->sc->edges;
     int a0 = E[2 * e], a1 = E[2 * e + 1], b0 = E[2 * f], b1 = E[2 * f + 1];
     const int *ls = c->sc->seam_start, *ln = c->sc->seam_nbr;
-    if (linked(ls, ln, a0, b0) || linked(ls, ln, a0, b1) || linked(ls, ln, a1, b0) || linked(ls, ln, a1, b1)) return;
+    if (linked(ls, ln, a0, b0) || linked(ls, ln, a0, b1) || linked(ls, ln, a1, b0) || linked(ls, ln, a1, b1)) return 0;
     const unsigned char* tg = c->sc->tangled;
-    if (tg[a0] && tg[a1] && tg[b0] && tg[b1]) return;
+    if (tg[a0] && tg[a1] && tg[b0] && tg[b1]) return 0;
     int ids[4] = {a0, a1, b0, b1};
     const double* xs = c->sc->x_start;
     const double* x = c->x;
     double s, t, w[4], n[3];
-    if (c->mode == MODE_DETECT && same_zone(c, ids)) return;
+    if (c->mode == MODE_DETECT && same_zone(c, ids)) return 0;
+    if (far_apart(c, ids, 2)) return 0;
     double d2 = wc_closest_on_segments(xs + 3 * a0, xs + 3 * a1, xs + 3 * b0, xs + 3 * b1, &s, &t);
     if (c->mode == MODE_PROXIMITY) {
         double th = c->sc->thickness;
@@ -403,71 +453,105 @@ static void edge_edge(pass_ctx* c, int e, int f) {
                     n[k] = ((1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k]) / d;
                 w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
                 double dn = rel_normal(c, ids, w, n), target = 0.1 * (th - d);
+                if (dn < target && c->dry) return 1;
                 if (dn < target) c->prox += apply(c, ids, w, n, target - dn);
             }
         }
     }
-    if (too_far(c, ids, 2, sqrt(d2))) return;
+    if (too_far(c, ids, 2, sqrt(d2))) return 0;
     double t_hit;
     if (!wc_ccd_edge_edge(xs + 3 * a0, xs + 3 * a1, xs + 3 * b0, xs + 3 * b1, x + 3 * a0, x + 3 * a1, x + 3 * b0,
                           x + 3 * b1, c->sc->eta, &t_hit, &s, &t))
-        return;
+        return 0;
+    if (c->dry) return 1;
     if (c->mode == MODE_DETECT) {
         merge(c, ids);
         ++c->count;
-        return;
+        return 0;
     }
     ++c->count; /* as for vertex-triangle pairs */
-    if (c->sc->passes == 0) return;
+    if (c->sc->passes == 0) return 0;
     double sep0[3];
     for (int k = 0; k < 3; ++k)
         sep0[k] = (1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k];
-    if (!impact_normal(c, ids, 0, t_hit, sep0, n)) return;
+    if (!impact_normal(c, ids, 0, t_hit, sep0, n)) return 0;
     w[0] = 1 - s; w[1] = s; w[2] = -(1 - t); w[3] = -t;
     double dn = rel_normal(c, ids, w, n), target = c->sc->eta;
     if (dn < target) apply(c, ids, w, n, target - dn);
+    return 0;
 }
 
 static int visit_tri(void* user, int t) {
     pass_ctx* c = (pass_ctx*)user;
-    vertex_tri(c, c->query, t);
+    return vertex_tri(c, c->query, t);
+}
+
+/* Edge e against the edges f > e whose tree boxes overlap box: wc_bvh_query's traversal (same
+ * visiting order) that skips the subtrees whose edges are all <= e (edge_max): each pair once,
+ * without walking to the half that the other edge's query owns. */
+static int query_edges_above(pass_ctx* c, int e, const double* box) {
+    const wc_bvh* b = &c->sc->edge_bvh;
+    const int* mx = c->sc->edge_max;
+    if (b->n_nodes == 0) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        if (mx[node] <= e || !wc_box_overlap(b->box + 6 * node, box)) continue;
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0) {
+            int r = edge_edge(c, e, ch[1]);
+            if (r) return r;
+        } else {
+            stack[top++] = ch[1];
+            stack[top++] = ch[0];
+        }
+    }
     return 0;
 }
 
-static int visit_edge(void* user, int f) {
-    pass_ctx* c = (pass_ctx*)user;
-    if (f > c->query) edge_edge(c, c->query, f);
-    return 0;
+/* Visit the candidates of query q (vertex q < n, else edge q - n) at c's positions; returns 1
+ * when a dry scan found a pair that needs action. */
+static int query(pass_ctx* c, int q) {
+    wc_self* sc = c->sc;
+    double b[6];
+    if (q < sc->n) {
+        box_of(b, &q, 1, sc->x_start, c->x, 0.0);
+        c->query = q;
+        return wc_bvh_query(&sc->tri_bvh, b, visit_tri, c) != 0;
+    }
+    /* the edge's own box (not inflated twice: the tree's boxes carry r) */
+    box_of(b, sc->edges + 2 * (q - sc->n), 2, sc->x_start, c->x, 0.0);
+    return query_edges_above(c, q - sc->n, b) != 0;
 }
 
 /* One pass over every vertex-triangle and edge-edge candidate; returns the CCD collisions found
- * (given an impulse where one applies); *prox (may be NULL) the proximity impulses. */
+ * (given an impulse where one applies); *prox (may be NULL) the proximity impulses. The parallel
+ * read-only scan marks the queries with work (self_collide.h), then the marked ones are visited
+ * serially in index order. */
 static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) {
     double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
-    boxes(m, sc->edges, sc->n_edges, sc->x_start, x, r, sc->tri_box, sc->edge_box);
+    int nq = sc->n + sc->n_edges;
+    /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
+    WC_PAR_REGION(sc) {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
+        wc_par_range(m->n_tris, t, nt, &lo, &hi);
+        for (int k = lo; k < hi; ++k) box_of(sc->tri_box + 6 * k, m->tris + 3 * k, 3, sc->x_start, x, r);
+        wc_par_range(sc->n_edges, t, nt, &lo, &hi);
+        for (int k = lo; k < hi; ++k) box_of(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, sc->x_start, x, r);
+    }
     wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
     wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0};
-    for (int i = 0; i < sc->n; ++i) {
-        double b[6];
-        wc_box_empty(b);
-        wc_box_add(b, sc->x_start + 3 * i);
-        wc_box_add(b, x + 3 * i);
-        c.query = i;
-        wc_bvh_query(&sc->tri_bvh, b, visit_tri, &c);
+    WC_PAR_REGION(sc) {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
+        wc_par_range(nq, t, nt, &lo, &hi);
+        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1};
+        for (int q = lo; q < hi; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
-    for (int e = 0; e < sc->n_edges; ++e) {
-        /* the edge's own box (not inflated twice: the tree's boxes carry r) */
-        double b[6];
-        wc_box_empty(b);
-        for (int k = 0; k < 2; ++k) {
-            int i = sc->edges[2 * e + k];
-            wc_box_add(b, sc->x_start + 3 * i);
-            wc_box_add(b, x + 3 * i);
-        }
-        c.query = e;
-        wc_bvh_query(&sc->edge_bvh, b, visit_edge, &c);
-    }
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0};
+    for (int q = 0; q < nq; ++q)
+        if (sc->active[q]) query(&c, q);
     if (prox) *prox = c.prox;
     return c.count;
 }

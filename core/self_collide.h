@@ -33,11 +33,28 @@
  * dv = dx / he (he = h for backward Euler, 2h/3 for BDF2), which keeps x = xb + he v of both
  * integrators (bdf2.h). The stage allocates nothing: its candidates are visited in the trees
  * (no pair buffers), and its zone accumulators are (n) arrays allocated at creation.
+ * Parallel detection (threads > 1, OpenMP; core/par.h's fixed contiguous ranges): every pass
+ * first scans all vertices and edges read-only, on as many threads as sc->threads, and marks in
+ * active[] (n + n_edges bytes, allocated at creation: nothing can overflow) each query that has
+ * at least one pair needing action at the pass's starting positions (a proximity impulse, a CCD
+ * collision, in the zone loop a collision between two zones); a query's mark stops at its
+ * first such pair. Then one thread visits the marked queries alone, in index order, with the
+ * serial code above (re-evaluated on the current positions, impulses applied in place). A mark
+ * depends only on the positions, never on the thread count, so the result is bit-identical
+ * for any number of threads. A pair that only starts needing action after an earlier impulse
+ * of the same pass waits for the next pass (the serial stage caught it in the same pass); the
+ * guarantee is unchanged: the loop still ends only on a pass that found nothing to do (its
+ * scan then covered every pair at the final positions) or in the zones, whose detection
+ * passes visit exactly the pairs the serial loop did (a pair skipped at a pass's start as
+ * inside one zone stays so: zones only grow within a pass).
  * A cloth that starts a substep free of crossings ends it free of them, unless the zone loop
  * runs out of iterations (stats.unresolved counts the pairs still colliding then; with pins
  * that move against each other inside one zone this can happen).
- * Cost: O((n + edges) log n) queries per pass; a cloth not touching itself does the proximity
- * and one CCD pass (see README "Self-collision" for measured numbers). */
+ * Cost: O((n + edges) log n) queries per pass; a cloth not touching itself does one pass (the
+ * proximity and CCD tests at once; an edge queries only the edges of higher index, a pair whose
+ * start boxes are far apart relative to its motion skips the closest-point tests, and the CCD's
+ * cubic runs only when the pair's relative motion can close its start distance); see README
+ * "Self-collision" for measured numbers. */
 #ifndef WEFT_CORE_SELF_COLLIDE_H
 #define WEFT_CORE_SELF_COLLIDE_H
 #include "bvh.h"
@@ -70,6 +87,11 @@ typedef struct wc_self {
     double* inv_mass;   /* (n) 1/kg, 0 for pinned, this substep */
     int* parent;        /* (n) union-find of the impact zones */
     unsigned char* in_zone; /* (n) 1: the particle is in a zone */
+    unsigned char* active;  /* (n + n_edges) 1: the query (vertex i, then edge n + e) has a pair
+                               that needs action this pass (parallel scan's result) */
+    int* edge_max;      /* (edge_bvh.n_nodes) the largest edge index under each node: an edge's
+                           query skips the subtrees of lower edges (each pair visited once) */
+    int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
     double* zone;       /* (n x 16) per-zone accumulators */
     int* seam_start;    /* (n + 1) CSR of each particle's seam partners (sew.h; NULL: no seams): */
     int* seam_nbr;      /* a particle is never tested against an element it is sewn to */
