@@ -26,8 +26,38 @@ static void test_defaults_and_bad_values(void) {
     CHECK_EQ_INT(weft_cloth_create(ctx, &d, &cloth), WEFT_OK);
     weft_cloth_info info;
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
-    CHECK_EQ_INT(info.self_collision, 0); /* the CPU's default: off */
+    CHECK_EQ_INT(info.self_collision, 0); /* the CPU's default for a plain cloth: off */
     CHECK(info.self_collision_thickness == 0.003);
+    /* ... and for a garment (a mesh collider, or seams): on, unless the def says 0 */
+    {
+        static const float tri_pos[9] = {-1, 0, -1, 1, 0, -1, 0, 0, 1};
+        static const int tri_idx[3] = {0, 1, 2};
+        weft_mesh_collider_def mc = weft_default_mesh_collider_def();
+        mc.mesh.positions = tri_pos;
+        mc.mesh.n_vertices = 3;
+        mc.mesh.indices = tri_idx;
+        mc.mesh.n_faces = 1;
+        static const int sa[1] = {0}, sb[1] = {35};
+        for (int k = 0; k < 3; ++k) {
+            weft_cloth_def g = d;
+            if (k == 0 || k == 2) {
+                g.n_mesh_colliders = 1;
+                g.mesh_colliders = &mc;
+            }
+            if (k == 1) {
+                g.seam_a = sa;
+                g.seam_b = sb;
+                g.n_seams = 1;
+            }
+            if (k == 2) g.self_collision = 0;
+            weft_cloth gc = {0};
+            CHECK_EQ_INT(weft_cloth_create(ctx, &g, &gc), WEFT_OK);
+            weft_cloth_info gi;
+            CHECK_EQ_INT(weft_cloth_get_info(ctx, gc, &gi), WEFT_OK);
+            CHECK_EQ_INT(gi.self_collision, k == 2 ? 0 : 1);
+            CHECK_EQ_INT(weft_cloth_destroy(ctx, gc), WEFT_OK);
+        }
+    }
 
     struct { int on; double th; weft_status want; const char* field; } bad[] = {
         {1, -0.001, WEFT_ERROR_INVALID_ARGUMENT, "def->self_collision_thickness"},

@@ -358,8 +358,9 @@ typedef struct weft_cloth_def {
      * and separate pieces included; a cloth that starts a substep free of crossings ends it
      * free of them. Vertex-triangle and edge-edge pairs closer than the thickness are pushed
      * apart to it. */
-    int self_collision;         /* 1 on, 0 off, -1 (default): the backend's choice (CPU off, GPU
-                                   off; the GPU backend refuses 1 with UNSUPPORTED) */
+    int self_collision;         /* 1 on, 0 off, -1 (default): the backend's choice (CPU: on for a
+                                   garment, a cloth with mesh colliders or seams, off otherwise;
+                                   GPU: off, and it refuses 1 with UNSUPPORTED) */
     double self_collision_thickness; /* m, finite and > 0 (0.003) */
     uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
 } weft_cloth_def;
