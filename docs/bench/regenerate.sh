@@ -36,6 +36,10 @@ out="$here"
 "$weft" bench stability --threads "$threads" \
   --csv "$out/stability.csv" --md "$out/stability.md" --plot "$out/stability.png"
 "$weft" bench skip --threads 1 --csv "$out/skip.csv" --md "$out/skip.md"
+# collision detection's cost over cloth (1k..100k particles) and body (1k..80k triangles) sizes,
+# self-collision on; the issue-13 goal row (hours on a loaded 2-core machine: the 100k sheet)
+OPENBLAS_NUM_THREADS=1 "$weft" bench collide --threads 1 --settle 3 --frames 3 \
+  --csv "$out/collide.csv" --md "$out/collide.md"
 "$weft" bench peers --threads 1 --csv "$out/peers.csv" --md "$out/peers.md"
 "$weft" bench torture --threads 1 --md "$out/torture_run.md"
 python3 "$here/pareto.py" "$out/accuracy.csv" > "$out/accuracy_pareto.md"

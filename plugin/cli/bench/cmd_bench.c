@@ -1,4 +1,4 @@
-/* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `iterations`, `stability`, `peers`, `torture` or `skip`,
+/* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `iterations`, `stability`, `peers`, `torture`, `skip` or `collide`,
  * and the list options they share. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
@@ -18,6 +18,7 @@ void cli_bench_usage(FILE* out) {
           "       weft bench peers [OPTIONS]       Weft beside Blender's cloth solver (needs blender)\n"
           "       weft bench torture [OPTIONS]     random host inputs: crashes, hangs, NaN outputs\n"
           "       weft bench skip [OPTIONS]        per-stage cost of unused features, and of a sleeping cloth\n"
+          "       weft bench collide [OPTIONS]     collision detection's cost over cloth and body sizes\n"
           "       weft bench SUBCOMMAND --help     a subcommand's options\n"
           "\n"
           "Benchmarks of the simulator. accuracy, stability, skip and peers take --backend LIST\n"
@@ -44,6 +45,7 @@ int cli_bench_run(int argc, char** argv) {
     else if (!strcmp(sub, "peers")) rc = bench_peers_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "torture")) rc = bench_torture_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "skip")) rc = bench_skip_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "collide")) rc = bench_collide_run(argc - 1, argv + 1);
     else return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
     bench_gpu_close(); /* the process's GPU context, when a --backend gpu run made one */
     return rc;

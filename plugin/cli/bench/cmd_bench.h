@@ -14,7 +14,9 @@
  *   cmd_bench_method.c     the method axes: preconditioner x integrator x Newton iterations
  *   cmd_bench_iterations.c `weft bench iterations`: PCG iterations per solve over sizes and stiffnesses
  *   cmd_bench_api.c        a run through the public API at weft_default_cloth_def() (peers' defaults row)
- *   cmd_bench_gpu.c        the process's headless GPU context and device, and a wg_sim on it */
+ *   cmd_bench_gpu.c        the process's headless GPU context and device, and a wg_sim on it
+ *   cmd_bench_body.c       mesh collision bodies built in code (UV sphere / ellipsoid)
+ *   cmd_bench_collide.c    `weft bench collide`: collision detection's cost over cloth and body sizes */
 #ifndef WEFT_CLI_CMD_BENCH_H
 #define WEFT_CLI_CMD_BENCH_H
 #include <stdio.h>
@@ -311,6 +313,26 @@ int bench_skip_run(int argc, char** argv);      /* cmd_bench_skip.c */
 void bench_skip_usage(FILE* out);
 int bench_iterations_run(int argc, char** argv);   /* cmd_bench_iterations.c */
 void bench_iterations_usage(FILE* out);
+int bench_collide_run(int argc, char** argv);      /* cmd_bench_collide.c */
+void bench_collide_usage(FILE* out);
+
+/* ---- mesh bodies (cmd_bench_body.c) ---- */
+
+/* A closed UV sphere of `rings` latitude bands (3 .. 4096) and 2 rings longitudes: 2 + (rings - 1)
+ * 2 rings vertices and 4 rings (rings - 1) triangles, wound counter-clockwise seen from outside,
+ * scaled by radii (3, m; equal: a sphere, else an ellipsoid) about center (3, m), and its mesh
+ * collider (thickness, friction as mesh_collider.h). */
+typedef struct bench_body {
+    int n_verts, n_tris;
+    double* x;              /* (n_verts x 3) m */
+    int* tris;              /* (n_tris x 3) */
+    wc_mesh_collider* mesh; /* owned */
+} bench_body;
+/* The band count whose triangle count 4 m (m - 1) is nearest target_tris (m >= 3). */
+int bench_body_rings(int target_tris);
+weft_status bench_body_create(bench_body* out, int rings, const double* center, const double* radii, double thickness,
+                              double friction, wc_diag* diag);
+void bench_body_free(bench_body* b);
 
 /* Per-solve figures of a run: iterations (mean), preconditioner setup and solve-stage ms, the
  * fraction of solves that converged. Solves 0: the substeps stand in (a run with no stats). */

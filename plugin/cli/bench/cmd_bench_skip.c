@@ -37,6 +37,11 @@ void bench_skip_usage(FILE* out) {
           "  + wind          the drags and a 3 m/s wind\n"
           "  + far collider  a sphere 10 m below: the contact pass runs, finds nothing\n"
           "  + contact       a sphere (radius 0.25 m) 0.3 m under the middle: the cloth drapes on it\n"
+          "  + far mesh      a triangle-mesh sphere (UV sphere, 960 triangles, radius 0.25 m) 10 m\n"
+          "                  below: its BVH is refitted and queried, finds nothing (CPU only: on\n"
+          "                  the GPU, which has no mesh colliders, the row is the baseline again)\n"
+          "  + mesh contact  the same mesh sphere where `+ contact` has its sphere: the cloth drapes\n"
+          "                  on it (CPU only, as above)\n"
           "  + moving pins   the pinned corners turn about the vertical axis at 1 rad/s\n"
           "  + self-collision  the cloth against itself (thickness 3 mm; CPU only: on the GPU the\n"
           "                  row is the baseline again); the hanging sheet never touches itself\n"
@@ -89,10 +94,11 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     return 0;
 }
 
-enum { K_BASE, K_DRAG, K_WIND, K_FAR, K_CONTACT, K_PINS, K_SELF, K_CAP, K_ASLEEP, N_CONFIGS };
+enum { K_BASE, K_DRAG, K_WIND, K_FAR, K_CONTACT, K_MESH_FAR, K_MESH_CONTACT, K_PINS, K_SELF, K_CAP, K_ASLEEP, N_CONFIGS };
 static const char* const config_name[N_CONFIGS] = {"baseline", "+ air drag", "+ wind", "+ far collider",
-                                                   "+ contact", "+ moving pins", "+ self-collision", "full cap",
-                                                   "asleep"};
+                                                   "+ contact", "+ far mesh", "+ mesh contact", "+ moving pins",
+                                                   "+ self-collision", "full cap", "asleep"};
+#define MESH_RINGS 16       /* the mesh sphere's latitude bands: 4 x 16 x 15 = 960 triangles */
 
 /* One timed run. */
 typedef struct skip_run {
@@ -123,12 +129,15 @@ typedef struct skip_cfg {
     double* ms;             /* (6 x frames) */
     double* x0;             /* positions before the timed frames */
     wc_pin* pins;           /* (n pins) scratch */
+    bench_body body;        /* the mesh rows' sphere (attached to s, which it outlives) */
+    wc_mesh_collider* mesh[1]; /* the list attached to s (the state keeps the pointer) */
     long long iterations, substeps;
 } skip_cfg;
 
 static void cfg_free(skip_cfg* c) {
     bench_gpu_sim_destroy(c->g);
     wc_state_destroy(c->s);
+    bench_body_free(&c->body);
     free(c->ms);
     free(c->x0);
     free(c->pins);
@@ -180,6 +189,15 @@ static int cfg_create(skip_cfg* c, const bench_scene* bs, int backend, int confi
     const double* hi = bs->model.report.bbox_max;
     v3_set(col.center, 0.5 * (lo[0] + hi[0]), lo[1] - (config == K_FAR ? 10.0 : 0.3), 0.5 * (lo[2] + hi[2]));
     if (st == WEFT_OK && (config == K_FAR || config == K_CONTACT)) st = wc_state_set_colliders(c->s, &col, 1, d);
+    if (st == WEFT_OK && (config == K_MESH_FAR || config == K_MESH_CONTACT) && backend != BENCH_GPU) {
+        /* the GPU has no mesh colliders: its rows are the baseline again */
+        double center[3];
+        v3_set(center, col.center[0], lo[1] - (config == K_MESH_FAR ? 10.0 : 0.3), col.center[2]);
+        const double radii[3] = {col.radius, col.radius, col.radius};
+        st = bench_body_create(&c->body, MESH_RINGS, center, radii, col.thickness, col.friction, d);
+        c->mesh[0] = c->body.mesh;
+        if (st == WEFT_OK) st = wc_state_attach_mesh_colliders(c->s, c->mesh, 1, d);
+    }
     const size_t n3 = 3 * (size_t)bs->model.n_particles;
     c->ms = malloc(sizeof(double) * 6 * (size_t)frames);
     c->x0 = malloc(sizeof(double) * n3);
@@ -248,6 +266,8 @@ static const char* const skipped_text[N_CONFIGS] = {   /* no commas: CSV cells a
     "nothing beyond the air pass: wind is one more term in it",
     "baseline skips the contact passes (here they run and find nothing)",
     "baseline skips contacts and friction re-solves",
+    "baseline skips the mesh's BVH refit and its queries (here they find nothing)",
+    "baseline skips the mesh contacts (BVH queries) and friction re-solves",
     "nothing: pins cost O(pins) moving or still",
     "baseline skips the self-collision stage (BVH refits and proximity / CCD queries)",
     "stopping at the tolerance skips the iterations past it",
@@ -378,7 +398,10 @@ int bench_skip_run(int argc, char** argv) {
         if (k == K_BASE) snprintf(c[C_SAVED], 96, "-");
         else bench_fmt(c[C_SAVED], 96, "%.3f", saved);
         snprintf(c[C_SKIPPED], 96, "%s",
-                 k == K_SELF && a.backends[b] == BENCH_GPU ? "GPU: no self-collision (the baseline again)" : skipped_text[k]);
+                 k == K_SELF && a.backends[b] == BENCH_GPU       ? "GPU: no self-collision (the baseline again)"
+                 : (k == K_MESH_FAR || k == K_MESH_CONTACT) && a.backends[b] == BENCH_GPU
+                     ? "GPU: no mesh colliders (the baseline again)"
+                     : skipped_text[k]);
         const char* cell[N_COLS];
         for (int j = 0; j < N_COLS; ++j) cell[j] = c[j];
         if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
