@@ -1,6 +1,6 @@
 # Installation and packaging (included by the top-level CMakeLists.txt after the targets exist):
 #   include/weft/*.h                         the public headers
-#   lib/libweft.so.5.x.y, .so.5, .so          the plugin (SONAME libweft.so.5 = the ABI number)
+#   lib/libweft.so.6.x.y, .so.6, .so          the plugin (SONAME libweft.so.6 = the ABI number)
 #   lib/pkgconfig/weft.pc                     pkg-config (relocatable: paths from ${pcfiledir})
 #   lib/cmake/weft/weftConfig.cmake, weftConfigVersion.cmake, weftTargets*.cmake
 #                                             find_package(weft) -> weft::weft
@@ -55,7 +55,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/host_glue/examples/engine_loop.c
   ${PROJECT_SOURCE_DIR}/host_glue/examples/character.c
   ${PROJECT_SOURCE_DIR}/host_glue/examples/toy_engine.h
   ${PROJECT_SOURCE_DIR}/host_glue/examples/toy_engine.c DESTINATION ${WEFT_GLUE_DIR}/examples)
-install(FILES ${PROJECT_SOURCE_DIR}/host_glue/python/weft/__init__.py
+install(FILES ${PROJECT_SOURCE_DIR}/host_glue/python/weft/__init__.py ${PROJECT_SOURCE_DIR}/host_glue/python/weft/_abi.py
   DESTINATION ${WEFT_GLUE_DIR}/python/weft)
 install(FILES ${PROJECT_SOURCE_DIR}/host_glue/blender/weft_blender.py
   DESTINATION ${WEFT_GLUE_DIR}/blender)

@@ -57,7 +57,7 @@ static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def,
     /* self-collision: on the CPU, on by default for a garment (a cloth with a body, i.e. a mesh
        collider, or with seams), where crossings are what a user sees first and the frame already
        pays for collision; off otherwise (it costs 10-20% of a one-thread frame on a cloth that
-       does not touch itself, README "Self-collision"). GPU: not implemented there, off. */
+       does not touch itself, README "Self-collision"). GPU: off (it has no self-collision). */
     int garment = def->n_mesh_colliders > 0 || def->sew_distance > 0 || def->n_seams > 0;
     s->self_collision = def->self_collision >= 0 ? def->self_collision : !gpu && garment;
     s->self_thickness = def->self_collision_thickness;

@@ -28,8 +28,8 @@
  *                                                 substep positions, normals and BVH boxes are
  *                                                 derived (recomputed at every substep and on
  *                                                 restore)
- * Format 2 (magic "WEFTSNP2", library 0.5.0) added the BDF2 history, format 3 ("WEFTSNP3") the
- * mesh colliders; older formats are refused as not Weft snapshots of this format.
+ * Format 2 (magic "WEFTSNP2", library 0.5.0) added the BDF2 history, format 3 ("WEFTSNP3",
+ * library 0.6.0) the mesh colliders; older formats are refused as not Weft snapshots of this format.
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
  * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
