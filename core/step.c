@@ -341,7 +341,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
         wc_self_stats ss = {0, 0, 0, 0};
         double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
         s->self->threads = s->par.threads; /* detection threads (self_collide.h) */
-        wc_self_resolve(s->self, m, &s->filter, s->n_colliders > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
+        wc_self_resolve(s->self, m, &s->filter, s->n_all > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
         /* moving a vertex out of a collision stretches its springs: that energy comes from the
            collision response (a contact force), not from a failing linearisation, so the
            energy-gain judge does not count it (the kinetic blow-up and strain judges still do) */
