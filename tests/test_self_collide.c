@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "heap_strip.h"
 #include "clock.h"
 #include "self_collide.h"
 #include "step.h"
@@ -320,28 +321,7 @@ static void test_fold(void) {
     wc_model_free(&m);
 }
 
-/* A long strip (0.2 x 1.6 m) standing on its end just above the floor, slightly wavy: it
- * buckles as it lands and piles up on itself. */
-static void heap_strip(wc_model* m, wc_collider* floor) {
-    wc_source_mesh src;
-    ts_quad_grid(&src, 5, 41, 0.2, 1.6, 0);
-    for (int v = 0; v < src.n_verts; ++v) {
-        double* p = src.pos + 3 * v;
-        double gx = p[0], gy = p[1];
-        v3_set(p, gx - 0.1, 0.03 + gy, 0.03 * sin(6.0 * gy) + 0.1 * gy);
-    }
-    wc_model_def mdef = wc_default_model_def();
-    wc_diag dg = {0};
-    CHECK(wc_model_build(m, &src, &mdef, NULL, &dg) == WEFT_OK);
-    wc_source_mesh_free(&src);
-    memset(floor, 0, sizeof *floor);
-    floor->type = WC_COLLIDER_PLANE;
-    v3_set(floor->normal, 0, 1, 0);
-    floor->offset = 0.0;
-    floor->thickness = 0.005;
-    floor->friction = 0.3;
-}
-
+/* The heap (heap_strip.h): it buckles as it lands and piles up on itself. */
 static void test_heap(void) {
     wc_model m;
     wc_collider floor;
