@@ -86,6 +86,9 @@
 #define PROJECT_ROUNDS 3       /* project: re-pick the two deepest colliders this many times */
 #define CORRECT_PASSES 4       /* Newton passes of one push out */
 #define CCD_ETA 1e-6           /* m: a path passing this close to a mesh triangle crosses it */
+#define DEEP_REACH 0.02        /* m: a mesh query also looks this deep behind a particle, so one that
+                                  starts (or ends up) up to this far inside a body is found and let
+                                  out (at its push_speed); deeper ones are not seen */
 
 static void set_up(double* n) { v3_set(n, 0.0, 1.0, 0.0); }
 
@@ -211,10 +214,11 @@ static int crossing(const wc_collider* c, const double* p0, const double* p1, in
 }
 
 /* How far a mesh closest-point query must look from a particle that moves by at most `move` (m)
- * in the substep: its shell, its motion and the fastest vertex's. */
+ * in the substep: its shell, its motion and the fastest vertex's, and DEEP_REACH for a particle
+ * inside the body. */
 static double mesh_reach(const wc_collider* c, double move) {
     const wc_mesh_collider* m = c->mesh;
-    return c->thickness + move + m->h * m->max_speed + 1e-6;
+    return c->thickness + move + m->h * m->max_speed + DEEP_REACH + 1e-6;
 }
 
 /* e = unit part of n2 orthogonal to n1; returns its length before normalising (0..1). */
@@ -299,11 +303,14 @@ static void best2_prune(best2* b) {
 
 /* Move p out of the shells of colliders ks[0..cnt) (cnt <= 2): a collider found inside becomes
  * active and stays so; each pass moves p by the smallest step that puts every active one at
- * distance 0 (linearised: exact for planes, Newton steps for curved colliders). Returns 1 when
- * p moved. */
-static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int end, double move, double* p) {
+ * distance 0 (linearised: exact for planes, Newton steps for curved colliders), the whole move
+ * being at most cap (m; HUGE_VAL: none): the last step is shortened to it. *moved_by (may be
+ * NULL) gets the length of the path. Returns 1 when p moved. */
+static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int end, double move, double cap,
+                    double* p, double* moved_by) {
     int active[2] = {0, 0}, moved = 0;
-    for (int pass = 0; pass < CORRECT_PASSES; ++pass) {
+    double used = 0.0;
+    for (int pass = 0; pass < CORRECT_PASSES && used < cap; ++pass) {
         double d[2], n[6], delta[3], e[3];
         int any = 0;
         for (int s = 0; s < cnt; ++s) {
@@ -321,11 +328,27 @@ static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int e
             v3_scale(delta, n, -d[0]);
         else
             v3_scale(delta, n + 3, -d[1]);
-        if (delta[0] == 0.0 && delta[1] == 0.0 && delta[2] == 0.0) break;
+        double len = v3_norm(delta);
+        if (len == 0.0) break;
+        if (used + len > cap) {
+            v3_scale(delta, delta, (cap - used) / len);
+            len = cap - used;
+        }
         v3_add(p, p, delta);
+        used += len;
         moved = 1;
     }
+    if (moved_by) *moved_by = used;
     return moved;
+}
+
+/* The push_speed cap (m) of a particle in contact with colliders ks[0..cnt) over a substep of
+ * length h: the smallest of theirs, HUGE_VAL when none has one. */
+static double push_cap(const wc_collider* c, const int* ks, int cnt, double h) {
+    double cap = HUGE_VAL;
+    for (int s = 0; s < cnt; ++s)
+        if (c[ks[s]].push_speed > 0.0) cap = fmin(cap, c[ks[s]].push_speed * h);
+    return cap;
 }
 
 static int held_contact(const wc_contacts* ct, int i, int k) {
@@ -356,6 +379,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
                           wc_filter* f, int i) {
     int* cid = ct->collider + 2 * i;
     double* cn = ct->normal + 6 * i;
+    if (ct->pushed) ct->pushed[i] = 0.0;
     if (f->ndof[i] >= 2) {
         cid[0] = cid[1] = -1;
         for (int q = 0; q < 6; ++q) cn[q] = 0.0;
@@ -400,8 +424,9 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
     for (int q = 0; q < 6; ++q) cn[q] = 0.0;
     if (b.cnt == 0) return 0;
 
-    /* position correction onto / outside both kept shells */
-    push_out(c, b.k, b.h, b.cnt, 0, move, xi);
+    /* position correction onto / outside both kept shells (or towards them, by the cap) */
+    double cap = ct->pushed ? push_cap(c, b.k, b.cnt, h) : HUGE_VAL;
+    push_out(c, b.k, b.h, b.cnt, 0, move, cap, xi, ct->pushed ? ct->pushed + i : NULL);
     double d[2] = {0.0, 0.0}, n[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (int s = 0; s < b.cnt; ++s) {
         requery(&c[b.k[s]], xi, 0, move, &b.h[s]);
@@ -441,6 +466,7 @@ int wc_contacts_begin(wc_contacts* ct, const wc_collider* c, int nc, double* x, 
         par->partial[8 * t] = cnt;
     }
     ct->active = sum_partials(par, used);
+    ct->h = h;
     return ct->active;
 }
 
@@ -670,7 +696,9 @@ static int uncross(const wc_collider* c, int nc, const double* x0, double* xi, d
     return moved;
 }
 
-static int project_particle(const wc_collider* c, int nc, const double* x0, double* xi, double* vi) {
+/* pushed: how far begin moved it (a cap's share already used; NULL: no cap), h the substep. */
+static int project_particle(const wc_collider* c, int nc, const double* x0, const double* pushed, double h,
+                           double* xi, double* vi) {
     int moved = 0;
     double move = 0.0;
     if (x0) {
@@ -680,10 +708,15 @@ static int project_particle(const wc_collider* c, int nc, const double* x0, doub
         move = v3_norm(dx);
     }
     best2 b;
+    double spent = 0.0; /* m moved by this projection (the cap's share) */
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {
         deepest2(c, nc, xi, move, &b);
         if (b.cnt == 0 || !(b.h[0].d < 0.0)) break;
-        moved |= push_out(c, b.k, b.h, b.cnt, 1, move, xi);
+        double cap = pushed ? push_cap(c, b.k, b.cnt, h) : HUGE_VAL, by = 0.0;
+        if (cap < HUGE_VAL) cap = fmax(0.0, cap - *pushed - spent);
+        if (!(cap > 0.0)) break;
+        moved |= push_out(c, b.k, b.h, b.cnt, 1, move, cap, xi, &by);
+        spent += by;
     }
     /* velocity: no inward relative normal velocity on the shells it lies on */
     deepest2(c, nc, xi, move, &b);
@@ -717,7 +750,8 @@ int wc_contacts_project_from(const wc_contacts* ct, const wc_collider* c, int nc
         wc_par_range(n, t, nt, &lo, &hi);
         for (int i = lo; i < hi; ++i) {
             if (f && f->ndof[i] == 3 && !ct->stick[i]) continue; /* a pin */
-            cnt += project_particle(c, nc, x0 ? x0 + 3 * i : NULL, x + 3 * i, v + 3 * i);
+            cnt += project_particle(c, nc, x0 ? x0 + 3 * i : NULL, ct->pushed ? ct->pushed + i : NULL, ct->h,
+                                   x + 3 * i, v + 3 * i);
         }
         par->partial[8 * t] = cnt;
     }

@@ -51,6 +51,9 @@ typedef struct wc_collider {
     double friction;           /* Coulomb coefficient (static = kinetic), >= 0 */
     double velocity[3];        /* m/s: rigid translation velocity of the collider this substep
                                   (mesh: unused, the velocity is per point) */
+    double push_speed;         /* m/s, >= 0: a particle found inside the shell is moved out by at
+                                  most push_speed x h per substep (begin's and project's
+                                  corrections together; collide.c); 0: at once */
     const struct wc_mesh_collider* mesh; /* mesh: the collider (borrowed), else NULL */
 } wc_collider;
 
@@ -71,6 +74,10 @@ typedef struct wc_contacts {
     double* vel;               /* (n x 6) velocity of each contact's collider surface at the contact
                                   point (m/s; a mesh's is per point), written by begin and read by
                                   friction; not state. NULL: each collider's rigid velocity */
+    double* pushed;            /* (n) m: how far begin's position correction moved each particle
+                                  this substep (project's share of a push_speed cap is the rest);
+                                  not state. NULL: no cap applies */
+    double h;                  /* s: the substep begin ran for (the caps' length) */
 } wc_contacts;
 
 /* Step 1. x is corrected in place; f gets the contact constraints of non-pinned particles.

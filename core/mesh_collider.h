@@ -42,6 +42,7 @@ typedef struct wc_mesh_collider {
     wc_bvh bvh;
     double thickness;          /* m, >= 0: the cloth stays this far outside the surface */
     double friction;           /* Coulomb coefficient, >= 0 */
+    double push_speed;         /* m/s, >= 0: wc_collider.push_speed (0 at create; the owner sets it) */
     double h;                  /* s: length of the current substep (0 before any) */
     double max_speed;          /* m/s: fastest vertex of the current substep */
     wc_allocator alloc;

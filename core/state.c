@@ -106,6 +106,7 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s->contacts_save.released);
     wc_free(&a, s->contacts.stick);
     wc_free(&a, s->contacts.vel);
+    wc_free(&a, s->contacts.pushed);
     wc_free(&a, s->all_colliders);
     wc_free(&a, s->x_sub);
     wc_solver_destroy(s->solver);
@@ -165,6 +166,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     }
     s->contacts.stick = WC_NEW(&A, unsigned char, (size_t)n); /* per substep: not saved */
     s->contacts.vel = WC_NEW(&A, double, 6 * (size_t)n);      /* per substep: not saved */
+    s->contacts.pushed = WC_NEW(&A, double, (size_t)n);       /* per substep: not saved */
     double** vecs[] = {&s->x_prev, &s->v_prev, &s->x_prev0, &s->v_prev0, &s->xb, &s->xs, &s->vstar, &s->mom,
                        &s->nw_w, &s->nw_d, &s->nw_x, &s->nw_v, &s->nw_zero, &s->nw_g, &s->nw_fb};
     int vecs_ok = 1;
@@ -178,7 +180,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->pin_scratch || !s->colliders ||
         !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
         !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
-        !s->contacts_save.released || !s->contacts.stick || !s->contacts.vel || !vecs_ok) {
+        !s->contacts_save.released || !s->contacts.stick || !s->contacts.vel || !s->contacts.pushed || !vecs_ok) {
         wc_state_destroy(s);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }

@@ -177,6 +177,7 @@ static void substep_colliders(wc_state* s, double alpha1, double h) {
         c->mesh = mc;
         c->thickness = mc->thickness;
         c->friction = mc->friction;
+        c->push_speed = mc->push_speed;
     }
     if (s->n_colliders > 0) memcpy(s->all_colliders + s->n_mesh, s->colliders, (size_t)s->n_colliders * sizeof(wc_collider));
     s->all = s->all_colliders;

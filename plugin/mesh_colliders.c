@@ -19,6 +19,7 @@ weft_mesh_collider_def weft_default_mesh_collider_def(void) {
     for (int k = 0; k < 16; ++k) d.transform[k] = (k % 5 == 0) ? 1.0f : 0.0f;
     d.thickness = 0.005;
     d.friction = 0.3;
+    d.push_speed = 0.05;
     d.internal_cookie = WA_COOKIE_MESH_COLLIDER;
     return d;
 }
@@ -62,6 +63,8 @@ static weft_status validate_one(const weft_mesh_collider_def* d, int i, char* ms
     if (d->thickness < 0 || d->friction < 0)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "%s[%d]: thickness %g and friction %g must be >= 0", p, i, d->thickness,
              d->friction);
+    if (!isfinite(d->push_speed)) FAIL(WEFT_ERROR_NONFINITE, "%s[%d].push_speed %g must be finite", p, i, d->push_speed);
+    if (d->push_speed < 0) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "%s[%d].push_speed %g must be >= 0", p, i, d->push_speed);
     char why[160];
     weft_status st = wa_check_transform(d->transform, why, sizeof why);
     if (st != WEFT_OK) FAIL(st, "%s[%d].transform%s", p, i, why);
@@ -163,6 +166,7 @@ weft_status wa_build_mesh_colliders(weft_context* ctx, wa_cloth* c, const weft_c
         wc_free(A, tris);
         wc_source_mesh_free(&src);
         if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->mesh_colliders[%d].mesh: %s", fn, k, d.message);
+        c->mesh[k]->push_speed = md->push_speed;
         wa_xform_from_floats(&c->mesh_xf[k], md->transform);
         if (c->mesh[k]->n_verts > most) most = c->mesh[k]->n_verts;
     }

@@ -223,6 +223,7 @@ static void sim_init(sim* s, int n, int threads) {
     s->ct.released = calloc((size_t)n, 1);
     s->ct.stick = calloc((size_t)n, 1);
     s->ct.vel = NULL; /* each collider's rigid velocity */
+    s->ct.pushed = NULL; /* no push_speed cap */
     s->ct.active = 0;
     for (int i = 0; i < 2 * n; ++i) s->ct.collider[i] = -1;
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->f, i);

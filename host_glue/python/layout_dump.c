@@ -100,6 +100,7 @@ static void dump_structs(void) {
     FIELD(weft_mesh_collider_def, transform);
     FIELD(weft_mesh_collider_def, thickness);
     FIELD(weft_mesh_collider_def, friction);
+    FIELD(weft_mesh_collider_def, push_speed);
     FIELD(weft_mesh_collider_def, internal_cookie);
     struct_end();
 

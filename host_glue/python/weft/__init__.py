@@ -330,7 +330,7 @@ class Context:
             md.mesh.positions, md.mesh.n_vertices = _ptr(pos, c_float), pos.shape[0]
             md.mesh.face_sizes, md.mesh.n_faces = _ptr(sizes, c_int), sizes.shape[0]
             md.mesh.indices = _ptr(idx, c_int)
-        for key in ("unit_scale", "thickness", "friction"):
+        for key in ("unit_scale", "thickness", "friction", "push_speed"):
             if getattr(m, key) is not None:
                 setattr(md, key, float(getattr(m, key)))
         if m.transform is not None:
@@ -369,14 +369,14 @@ def _set_field(struct, key, value):
 class MeshCollider:
     """A triangle-mesh body (weft_mesh_collider_def, CPU backend): host arrays (positions (n, 3)
     and faces, as for a cloth) or a file (path, select); transform at creation; None keeps
-    weft's default (thickness 0.005, friction 0.3, unit_scale 1). Move it per frame with
+    weft's default (thickness 0.005, friction 0.3, push_speed 0.05, unit_scale 1). Move it per frame with
     Cloth.step(mesh_collider_transforms=...) or Cloth.set_mesh_collider_vertices."""
 
     def __init__(self, positions=None, faces=None, *, path=None, select=None, unit_scale=None,
-                 transform=None, thickness=None, friction=None):
+                 transform=None, thickness=None, friction=None, push_speed=None):
         self.positions, self.faces, self.path, self.select = positions, faces, path, select
         self.unit_scale, self.transform = unit_scale, transform
-        self.thickness, self.friction = thickness, friction
+        self.thickness, self.friction, self.push_speed = thickness, friction, push_speed
 
 
 def _polygons(faces, face_sizes, indices):

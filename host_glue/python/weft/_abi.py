@@ -185,7 +185,8 @@ class ColliderDef(_Struct):
 
 class MeshColliderDef(_Struct):
     _fields_ = [("mesh", MeshDesc), ("unit_scale", c_double), ("transform", c_float * 16),
-                ("thickness", c_double), ("friction", c_double), ("internal_cookie", c_uint32)]
+                ("thickness", c_double), ("friction", c_double), ("push_speed", c_double),
+                ("internal_cookie", c_uint32)]
 
 
 class ClothDef(_Struct):

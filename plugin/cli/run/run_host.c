@@ -210,6 +210,7 @@ static int describe_mesh_colliders(run_host* h, const scene* s, weft_mesh_collid
         xf_to_float(m->transform, d->transform);
         d->thickness = m->thickness;
         d->friction = m->friction;
+        if (m->push_speed >= 0) d->push_speed = m->push_speed;
     }
     return 0;
 }

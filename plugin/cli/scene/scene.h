@@ -92,6 +92,7 @@ typedef struct scene_mesh_collider {
     double transform[16];   /* rest placement, rigid, column-major (identity) */
     double thickness;       /* m (SCENE_DEFAULT_THICKNESS) */
     double friction;        /* (SCENE_DEFAULT_FRICTION) */
+    double push_speed;      /* m/s, "push_speed"; -1: the library's default */
     scene_motion motion;
     int n_verts;            /* vertices as imported */
     int n_frames;           /* file frames of the vertex animation (0: none) */

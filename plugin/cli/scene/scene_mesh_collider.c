@@ -99,7 +99,7 @@ static int parse_frames(const sj_ctx* c, const cJSON* fr, const char* path, scen
 
 int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* path, scene* s, int room) {
     static const char* const keys[] = {"type", "file", "select", "scale", "transform", "thickness", "friction",
-                                       "motion", "frames"};
+                                       "push_speed", "motion", "frames"};
     if (sj_check_object(c, item, path, keys, COUNT(keys)) < 0) return -1;
     if (!s->mesh_colliders) {
         s->mesh_colliders = calloc((size_t)room, sizeof(scene_mesh_collider));
@@ -110,6 +110,7 @@ int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* pa
     xf_identity(m->transform);
     m->thickness = SCENE_DEFAULT_THICKNESS;
     m->friction = SCENE_DEFAULT_FRICTION;
+    m->push_speed = -1.0;
     m->motion = scene_motion_still();
     char field[128];
     const char *file = NULL, *select = NULL;
@@ -118,6 +119,7 @@ int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* pa
     if (sj_number(c, item, path, "scale", SJ_POSITIVE, &m->scale) < 0) return -1;
     if (sj_number(c, item, path, "thickness", SJ_NONNEGATIVE, &m->thickness) < 0) return -1;
     if (sj_number(c, item, path, "friction", SJ_NONNEGATIVE, &m->friction) < 0) return -1;
+    if (sj_number(c, item, path, "push_speed", SJ_NONNEGATIVE, &m->push_speed) < 0) return -1;
     if (select && !(m->select = scene_strdup(select)))
         return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     if (sj_numbers(c, item, path, "transform", 16, m->transform) < 0) return -1;

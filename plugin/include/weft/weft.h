@@ -277,6 +277,13 @@ typedef struct weft_mesh_collider_def {
     float transform[16];        /* world transform at creation (identity), rigid */
     double thickness;           /* m (0.005): the cloth stays this far outside the surface */
     double friction;            /* Coulomb coefficient >= 0 (0.3) */
+    double push_speed;          /* m/s >= 0 (0.05): a cloth vertex found inside the collider's
+                                   thickness shell or behind its surface (a garment authored
+                                   closer to the body than `thickness`, or starting inside it) is
+                                   moved out at most this fast, so the implicit solve carries its
+                                   neighbours along instead of the springs taking a jump; 0: put
+                                   on the shell at once. A vertex that crosses the surface within a
+                                   substep is put back at once whatever this says */
     uint32_t internal_cookie;   /* set by weft_default_mesh_collider_def() */
 } weft_mesh_collider_def;
 
