@@ -36,7 +36,7 @@ wc_sim_def wc_default_sim_def(void) {
     return d;
 }
 
-static const char* const integrator_names[WC_INTEGRATOR_COUNT] = {"be", "bdf2"};
+static const char* const integrator_names[WC_INTEGRATOR_COUNT] = {"be", "bdf2", "trbdf2"};
 
 const char* wc_integrator_name(wc_integrator t) {
     return (t >= 0 && t < WC_INTEGRATOR_COUNT) ? integrator_names[t] : "unknown";

@@ -30,10 +30,11 @@
 typedef enum wc_integrator {
     WC_INTEGRATOR_BE = 0,       /* backward Euler (Baraff & Witkin 1998) */
     WC_INTEGRATOR_BDF2 = 1,     /* second-order backward differentiation (Choi & Ko 2002) */
-    WC_INTEGRATOR_COUNT = 2
+    WC_INTEGRATOR_TRBDF2 = 2,   /* TR-BDF2 (Bank et al. 1985): a trapezoidal stage, then BDF2 (bdf2.h) */
+    WC_INTEGRATOR_COUNT = 3
 } wc_integrator;
 
-const char* wc_integrator_name(wc_integrator t);       /* "be", "bdf2" */
+const char* wc_integrator_name(wc_integrator t);       /* "be", "bdf2", "trbdf2" */
 int wc_integrator_from_name(const char* name);         /* -1 when unknown */
 
 typedef struct wc_sim_def {

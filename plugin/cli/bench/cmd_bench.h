@@ -88,7 +88,7 @@ typedef struct bench_methods {
 #define BENCH_METHOD_HELP(preconds)                                                                       \
     "  --preconds LIST      PCG's preconditioners: block_jacobi, amg or all (default " preconds ");\n"  \
     "                       the other solvers have none (shown -)\n"                                     \
-    "  --integrators LIST   be (backward Euler), bdf2 or all (default be)\n"                            \
+    "  --integrators LIST   be (backward Euler), bdf2, trbdf2 or all (default be)\n"                            \
     "  --newton LIST        Newton iterations per substep (default 1: one Baraff-Witkin step)\n"        \
     "  --line-search MODE   auto (on when Newton iterations > 1; default), on or off\n"
 

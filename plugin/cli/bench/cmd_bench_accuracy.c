@@ -98,7 +98,7 @@ void bench_accuracy_usage(FILE* out) {
           BENCH_METHOD_HELP("block_jacobi,amg")
           "  --ref-substeps N     substeps per frame of the reference run (default 8; 16, 32 for a\n"
           "                       reference closer to converged)\n"
-          "  --ref-integrator NAME  be (default) or bdf2: the reference's integrator (BDF2, second\n"
+          "  --ref-integrator NAME  be (default), bdf2 or trbdf2: the reference's integrator (BDF2, second\n"
           "                       order, converges in time with fewer substeps)\n"
           "  --no-ref-check       skip the reference's run at twice its substeps\n"
           "  --seconds T          simulated time (default 2)\n"
@@ -314,7 +314,7 @@ static void print_header(FILE* out, const void* ctx) {
     fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
                  "solver (CHOLMOD), %s, one Newton iteration, at %d substeps per frame, on the CPU.\n\n",
             bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads, a->seconds, a->fps, frames,
-            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : "backward Euler", a->ref_substeps);
+            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : a->ref_integrator == WC_INTEGRATOR_TRBDF2 ? "TR-BDF2" : "backward Euler", a->ref_substeps);
     if (h->n_checks > 0) {
         fprintf(out, "Is the reference converged in time? The same run at %d substeps per frame against it at the "
                      "end, as %% of the bounding-box diagonal (goal < %g %%):\n\n"
@@ -335,7 +335,7 @@ static void print_header(FILE* out, const void* ctx) {
               "configurations have no GPU row.\n\n",
               out);
     fputs("- ms/frame: median wall time of one frame's step.\n"
-          "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler) or bdf2; "
+          "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler), bdf2 or trbdf2; "
           "Newton: linearised solves per substep (line search on when the CSV's line_search says so).\n"
           "- it./solve: solver iterations per linear solve, mean over the run (Newton iterations and friction "
           "passes are solves); max it.: the largest in one solve; setup ms/solve: the preconditioner's setup "
