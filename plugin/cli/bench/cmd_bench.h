@@ -237,6 +237,8 @@ typedef struct bench_run {
     double precond_ms;      /* preconditioner setup time, summed over the run (ms) */
     double solve_ms;        /* the solve stage's time (setup included), summed over the run (ms) */
     double* x;              /* (n_particles x 3) positions at the end (owned; bench_run_free) */
+    double* track;          /* (frames x 4) at the end of each frame: the centre of mass (3, m, mass-
+                               weighted) and the kinetic energy (J); owned, NULL where not recorded */
 } bench_run;
 
 /* Simulate; 0 on success, -1 when the state (or the GPU sim) cannot be created or a GPU call
