@@ -7,7 +7,11 @@
  *    Euler loses at the same step, measured here).
  *  - Pins moving along a line stay exactly on their targets; no BDF2 history is used or kept.
  *  - A sheet dropped on a sphere and a floor with friction: finite, outside the colliders, asleep
- *    in the end (Newton 2 + line search); bit-identical on 1 and 2 threads. */
+ *    in the end (Newton 2 + line search); bit-identical on 1 and 2 threads.
+ *  - A 32^2 sheet's flat start rolls a TR-BDF2 substep back (both stages) and retries it; the same
+ *    on 1 and 2 threads, pins on target. (Snapshots, teleports, no allocation per step, the GPU's
+ *    refusal and the bad enum value: tests/test_api_snapshot.c, test_api_frame.c, test_api_gpu.c,
+ *    test_api_misuse.c.) */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
