@@ -127,7 +127,8 @@ typedef struct wc_state {
     wc_solver* solver;
 
     /* BDF2 history (bdf2.h): the previous substep's start x_{n-1} (after its contact correction)
-       and v_{n-1}; valid for a next substep of the same length hist_h */
+       and v_{n-1}; valid for a next substep of the same length hist_h. A TR-BDF2 cloth keeps its
+       substep's start x_n, v_n here between its two stages (scratch: hist_valid stays 0) */
     int hist_valid;
     double hist_h;              /* s */
     double *x_prev, *v_prev;    /* (n x 3) */
