@@ -2,6 +2,7 @@
  * rules in bdf2.h). */
 #include "bdf2.h"
 #include <string.h>
+#include "vec3.h"
 
 #define TR_C2 0.20710678118654752   /* (1 - gamma)^2 / (gamma (2 - gamma)) = (sqrt(2) - 1) / 2 */
 
@@ -15,6 +16,7 @@ static void trbdf2_begin(wc_state* s, double h, int stage, wc_integ* ig) {
     ig->xb = s->xb;
     ig->vstar = s->vstar;
     ig->mom = s->mom;
+    ig->air_implicit = s->model->n_tris > 0 && (s->def.air.normal_drag != 0.0 || s->def.air.tangent_drag != 0.0);
     memcpy(s->xs, s->x, 3 * (size_t)s->model->n_particles * sizeof(double));
 }
 
@@ -27,6 +29,7 @@ void wc_integ_begin(wc_state* s, double h, wc_integ* ig) {
     }
     ig->stage = 0;
     ig->xb_form = 0;
+    ig->air_implicit = 0;
     int bdf2_cloth = s->def.integrator == WC_INTEGRATOR_BDF2;
     ig->bdf2 = bdf2_cloth && s->hist_valid && s->hist_h == h;
     ig->h = h;
@@ -75,8 +78,13 @@ static void trbdf2_prepare(wc_state* s, const wc_integ* ig) {
 }
 
 void wc_integ_forces(wc_state* s, const wc_integ* ig) {
-    if (ig->stage != 1) return;
     const wc_model* m = s->model;
+    if (ig->air_implicit) {
+        wc_air_lumped(m, s->x, &s->def.air, &s->par, s->air_lump);
+        for (int i = 0; i < m->n_particles; ++i)
+            m3_axpy(s->A + 9 * (size_t)m->pattern.diag[i], ig->he, s->air_lump + 9 * (size_t)i);
+    }
+    if (ig->stage != 1) return;
     for (int i = 0; i < m->n_particles; ++i) {
         double k = m->mass[i] > 0.0 ? ig->he / m->mass[i] : 0.0;
         for (int c = 0; c < 3; ++c) s->mom[3 * i + c] = k * s->f[3 * i + c];

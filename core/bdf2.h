@@ -43,7 +43,13 @@
  * the whole substep back (robust_substep). Stage 1's corrected start x_n, v_n are kept in
  * x_prev, v_prev (unused by a TR-BDF2 cloth otherwise) and the stage's uncorrected start in xs:
  * stage 2's contact correction moves x_n with x_g as BDF2's does. f(x_n, v_n) is the assembly's
- * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0. */
+ * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0.
+ * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
+ * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
+ * f_air(v_new) ~ f_air(v_start) - L dv with L the row-sum (lumped) drag Jacobian per particle
+ * (forces.h wc_air_lumped): A += he L; Newton's potential gains he/2 w^T L w (newton.h). Exact
+ * for a velocity change shared by a triangle's vertices (the swing); without it, explicit drag
+ * over-damps by (r h)^2 / 2 per step (r = drag / mass, 3.3 1/s for the default cloth). */
 #ifndef WEFT_CORE_BDF2_H
 #define WEFT_CORE_BDF2_H
 #include "state.h"
@@ -57,6 +63,7 @@ typedef struct wc_integ {
     const double* mom;      /* (n x 3) m/s: M mom is added to b; NULL for BE */
     int stage;              /* TR-BDF2: 1 (trapezoidal) or 2 (BDF2 stage); 0 for BE and BDF2 */
     int xb_form;            /* 1: x_{n+1} = xb + he v_{n+1} with xb in s->xb (BDF2, TR-BDF2) */
+    int air_implicit;       /* 1: air drag implicit through s->air_lump (TR-BDF2 with air) */
 } wc_integ;
 
 #define WC_TRBDF2_GAMMA 0.58578643762690485   /* 2 - sqrt(2) */
@@ -66,8 +73,9 @@ typedef struct wc_integ {
 void wc_integ_begin(wc_state* s, double h, wc_integ* ig);
 /* TR-BDF2: the start of stage 2 of the substep of length h (after stage 1 advanced x, v). */
 void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig);
-/* After the assembly (s->f = f0 at the stage's start): TR-BDF2 stage 1's mom = he M^-1 f0;
- * nothing for the others. */
+/* After the assembly (s->f = f0 at the stage's start): TR-BDF2 stage 1's mom = he M^-1 f0, and
+ * with air_implicit the drag blocks he L_i (s->air_lump at the stage's start x) added to A's
+ * diagonal; nothing for the others. */
 void wc_integ_forces(wc_state* s, const wc_integ* ig);
 /* Base position xb of particle i before the contact correction (pins). */
 void wc_integ_base(const wc_state* s, const wc_integ* ig, int i, double* out);
