@@ -1,12 +1,40 @@
-/* BDF2 history and the per-substep integrator coefficients (formulas and rules in bdf2.h). */
+/* BDF2 history and the per-substep (TR-BDF2: per-stage) integrator coefficients (formulas and
+ * rules in bdf2.h). */
 #include "bdf2.h"
 #include <string.h>
+#include "vec3.h"
+
+#define TR_C2 0.20710678118654752   /* (1 - gamma)^2 / (gamma (2 - gamma)) = (sqrt(2) - 1) / 2 */
+
+static void trbdf2_begin(wc_state* s, double h, int stage, wc_integ* ig) {
+    const double g = WC_TRBDF2_GAMMA;
+    ig->bdf2 = 0;
+    ig->stage = stage;
+    ig->xb_form = 1;
+    ig->h = stage == 1 ? g * h : (1.0 - g) * h;
+    ig->he = stage == 1 ? 0.5 * g * h : (1.0 - g) / (2.0 - g) * h;
+    ig->xb = s->xb;
+    ig->vstar = s->vstar;
+    ig->mom = s->mom;
+    ig->air_implicit = s->model->n_tris > 0 && (s->def.air.normal_drag != 0.0 || s->def.air.tangent_drag != 0.0);
+    memcpy(s->xs, s->x, 3 * (size_t)s->model->n_particles * sizeof(double));
+}
+
+void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig) { trbdf2_begin(s, h, 2, ig); }
 
 void wc_integ_begin(wc_state* s, double h, wc_integ* ig) {
+    if (s->def.integrator == WC_INTEGRATOR_TRBDF2) {
+        trbdf2_begin(s, h, 1, ig);
+        return;
+    }
+    ig->stage = 0;
+    ig->xb_form = 0;
+    ig->air_implicit = 0;
     int bdf2_cloth = s->def.integrator == WC_INTEGRATOR_BDF2;
     ig->bdf2 = bdf2_cloth && s->hist_valid && s->hist_h == h;
     ig->h = h;
     ig->he = ig->bdf2 ? 2.0 * h / 3.0 : h;
+    ig->xb_form = ig->bdf2;
     ig->xb = s->x;
     ig->vstar = s->v;
     ig->mom = NULL;
@@ -16,10 +44,58 @@ void wc_integ_begin(wc_state* s, double h, wc_integ* ig) {
 void wc_integ_base(const wc_state* s, const wc_integ* ig, int i, double* out) {
     const double* x = s->x + 3 * i;
     const double* xp = s->x_prev + 3 * i;
+    if (ig->stage == 1) {
+        for (int c = 0; c < 3; ++c) out[c] = x[c] + ig->he * s->v[3 * i + c];
+        return;
+    }
+    if (ig->stage == 2) {
+        for (int c = 0; c < 3; ++c) out[c] = x[c] + TR_C2 * (x[c] - xp[c]);
+        return;
+    }
     for (int c = 0; c < 3; ++c) out[c] = ig->bdf2 ? x[c] + (x[c] - xp[c]) / 3.0 : x[c];
 }
 
+/* TR-BDF2's xb, vstar, mom after the stage's contact correction (bdf2.h). */
+static void trbdf2_prepare(wc_state* s, const wc_integ* ig) {
+    int n3 = 3 * s->model->n_particles;
+    const double he = ig->he;
+    if (ig->stage == 1) {
+        for (int k = 0; k < n3; ++k) {
+            s->xb[k] = s->x[k] + he * s->v[k];
+            s->vstar[k] = 2.0 * s->v[k];
+            s->mom[k] = 0.0;   /* wc_integ_forces, after the assembly */
+        }
+        memcpy(s->x_prev, s->x, (size_t)n3 * sizeof(double));
+        memcpy(s->v_prev, s->v, (size_t)n3 * sizeof(double));
+        return;
+    }
+    for (int k = 0; k < n3; ++k) {
+        double back = TR_C2 * (s->xs[k] - s->x_prev[k]);   /* c2 (x_g - x_n), x_g uncorrected */
+        s->xb[k] = s->x[k] + back;
+        s->vstar[k] = s->v[k] + back / he;
+        s->mom[k] = TR_C2 * (s->v[k] - s->v_prev[k]);
+    }
+}
+
+void wc_integ_forces(wc_state* s, const wc_integ* ig) {
+    const wc_model* m = s->model;
+    if (ig->air_implicit) {
+        wc_air_lumped(m, s->x, &s->def.air, &s->par, s->air_lump);
+        for (int i = 0; i < m->n_particles; ++i)
+            m3_axpy(s->A + 9 * (size_t)m->pattern.diag[i], ig->he, s->air_lump + 9 * (size_t)i);
+    }
+    if (ig->stage != 1) return;
+    for (int i = 0; i < m->n_particles; ++i) {
+        double k = m->mass[i] > 0.0 ? ig->he / m->mass[i] : 0.0;
+        for (int c = 0; c < 3; ++c) s->mom[3 * i + c] = k * s->f[3 * i + c];
+    }
+}
+
 void wc_integ_prepare(wc_state* s, wc_integ* ig) {
+    if (ig->stage) {
+        trbdf2_prepare(s, ig);
+        return;
+    }
     if (s->def.integrator != WC_INTEGRATOR_BDF2) return;
     int n3 = 3 * s->model->n_particles;
     if (ig->bdf2) {

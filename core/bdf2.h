@@ -1,4 +1,5 @@
-/* The time integrator of one substep: backward Euler, or BDF2 (Choi & Ko 2002) with its history.
+/* The time integrator of one substep: backward Euler, BDF2 (Choi & Ko 2002) with its history, or
+ * TR-BDF2 (two stages, no history; at the end of this comment).
  *
  * BDF2 with step h, history x_{n-1}, v_{n-1} of the previous substep (same h):
  *   x_{n+1} = 4/3 x_n - 1/3 x_{n-1} + 2/3 h v_{n+1}
@@ -24,7 +25,31 @@
  * Contacts: the position correction of wc_contacts_begin moves x_n by c; x_{n-1} is taken moved
  * by the same c (xb = x_n + (x_n^uncorrected - x_prev) / 3), so a correction is not extrapolated
  * into a velocity. Pins: z and the final snap put x_{n+1} = xb + he v_{n+1} on the target.
- * Friction and strain limiting see he as the step of the velocity update. */
+ * Friction and strain limiting see he as the step of the velocity update.
+ *
+ * TR-BDF2 (Bank et al. 1985; Hosea & Shampine 1996), gamma = 2 - sqrt(2): a substep of length h is
+ * two stages, each a backward-Euler-like solve of the same form x_new = xb + he v_new,
+ * M (dv - mom) = he f(x_new, v_new), dv = v_new - v_start (so the assembly, Newton, PCG, pins,
+ * contacts, friction and strain limiting are the ones above, with these coefficients):
+ *   stage 1, trapezoidal rule from t_n to t_g = t_n + gamma h (length gamma h):
+ *     he = gamma h / 2, xb = x_n + he v_n, mom = he M^-1 f(x_n, v_n), vstar = 2 v_n
+ *   stage 2, BDF2 through t_n, t_g, t_n + h (length (1 - gamma) h):
+ *     he = (1 - gamma) / (2 - gamma) h  (= gamma h / 2: both stages have the same matrix form),
+ *     c2 = (1 - gamma)^2 / (gamma (2 - gamma)),  xb = x_g + c2 (x_g - x_n),  mom = c2 (v_g - v_n)
+ * L-stable and second order; one-step: nothing is carried from one substep to the next, so
+ * teleports, resets, sleep and snapshots need nothing new (hist_valid stays 0). Each stage is
+ * prepared, solved, advanced, strain-limited, projected and judged as a substep of its own length
+ * (pins and colliders interpolated to its end, contacts filtered per stage); a failed stage rolls
+ * the whole substep back (robust_substep). Stage 1's corrected start x_n, v_n are kept in
+ * x_prev, v_prev (unused by a TR-BDF2 cloth otherwise) and the stage's uncorrected start in xs:
+ * stage 2's contact correction moves x_n with x_g as BDF2's does. f(x_n, v_n) is the assembly's
+ * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0.
+ * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
+ * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
+ * f_air(v_new) ~ f_air(v_start) - L dv with L the row-sum (lumped) drag Jacobian per particle
+ * (forces.h wc_air_lumped): A += he L; Newton's potential gains he/2 w^T L w (newton.h). Exact
+ * for a velocity change shared by a triangle's vertices (the swing); without it, explicit drag
+ * over-damps by (r h)^2 / 2 per step (r = drag / mass, 3.3 1/s for the default cloth). */
 #ifndef WEFT_CORE_BDF2_H
 #define WEFT_CORE_BDF2_H
 #include "state.h"
@@ -36,11 +61,22 @@ typedef struct wc_integ {
     const double* xb;       /* (n x 3) m: x_{n+1} = xb + he v_{n+1} (BE: s->x) */
     const double* vstar;    /* (n x 3) m/s: velocity of the assembly's he K v term (BE: s->v) */
     const double* mom;      /* (n x 3) m/s: M mom is added to b; NULL for BE */
+    int stage;              /* TR-BDF2: 1 (trapezoidal) or 2 (BDF2 stage); 0 for BE and BDF2 */
+    int xb_form;            /* 1: x_{n+1} = xb + he v_{n+1} with xb in s->xb (BDF2, TR-BDF2) */
+    int air_implicit;       /* 1: air drag implicit through s->air_lump (TR-BDF2 with air) */
 } wc_integ;
 
+#define WC_TRBDF2_GAMMA 0.58578643762690485   /* 2 - sqrt(2) */
+
 /* Start of a substep of length h, before pins and contacts: BE or BDF2 (rules above); a BDF2
- * cloth's positions are kept in s->xs. */
+ * cloth's positions are kept in s->xs. A TR-BDF2 cloth: the start of the substep's stage 1. */
 void wc_integ_begin(wc_state* s, double h, wc_integ* ig);
+/* TR-BDF2: the start of stage 2 of the substep of length h (after stage 1 advanced x, v). */
+void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig);
+/* After the assembly (s->f = f0 at the stage's start): TR-BDF2 stage 1's mom = he M^-1 f0, and
+ * with air_implicit the drag blocks he L_i (s->air_lump at the stage's start x) added to A's
+ * diagonal; nothing for the others. */
+void wc_integ_forces(wc_state* s, const wc_integ* ig);
 /* Base position xb of particle i before the contact correction (pins). */
 void wc_integ_base(const wc_state* s, const wc_integ* ig, int i, double* out);
 /* After the contact correction: xb, vstar, mom; a BDF2 cloth's history moves on. */

@@ -140,6 +140,32 @@ void wc_eval_external(const wc_model* m, const double* x, const double* v, const
     }
 }
 
+void wc_air_lumped(const wc_model* m, const double* x, const wc_air* air, wc_par* par, double* out) {
+    const wc_bsr_pattern* p = &m->pattern;
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(m->n_particles, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double* L = out + 9 * (size_t)i;
+            m3_zero(L);
+            for (int k = p->row_tri_start[i]; k < p->row_tri_start[i + 1]; ++k) {
+                const int* tri = m->tris + 3 * p->row_tri[k];
+                double e1[3], e2[3], N[3], nn[9];
+                v3_sub(e1, x + 3 * tri[1], x + 3 * tri[0]);
+                v3_sub(e2, x + 3 * tri[2], x + 3 * tri[0]);
+                v3_cross(N, e1, e2);
+                double twice_area = v3_norm(N);
+                if (!(twice_area > 0.0)) continue;
+                m3_outer(nn, N, N, 1.0 / (twice_area * twice_area));
+                double w = 0.5 * twice_area / 3.0;
+                for (int q = 0; q < 9; ++q)
+                    L[q] += w * ((air->normal_drag - air->tangent_drag) * nn[q] + (q % 4 == 0 ? air->tangent_drag : 0.0));
+            }
+        }
+    }
+}
+
 double wc_spring_energy(const wc_model* m, const double* x) { return wc_spring_energy_at(m, x, 0.0); }
 
 double wc_spring_energy_at(const wc_model* m, const double* x, double seam_scale) {

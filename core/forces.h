@@ -61,6 +61,12 @@ static inline double wc_spring_extension(const wc_spring* sp, double l, double s
 void wc_eval_external(const wc_model* m, const double* x, const double* v, const double gravity[3],
                       const wc_air* air, wc_par* par, double* tri_scratch, double* f_ext);
 
+/* The air force's velocity Jacobian lumped per particle (row sums): out_i (3x3, row-major) =
+ * 1/3 sum over the triangles t of i of area_t (normal_drag n n^T + tangent_drag (I - n n^T)), so
+ * that f_air(x, v + dv) = f_air(x, v) - out_i dv for a dv shared by the triangle's vertices (and
+ * approximately otherwise); symmetric positive semidefinite (kg/s). out: (n_particles x 9). */
+void wc_air_lumped(const wc_model* m, const double* x, const wc_air* air, wc_par* par, double* out);
+
 /* Elastic energy of all springs: sum w k/2 extension^2 (J), seams included (seam_scale as in
  * wc_eval_springs_at; wc_spring_energy: 0). */
 double wc_spring_energy_at(const wc_model* m, const double* x, double seam_scale);

@@ -95,6 +95,7 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
     positions(s, ig, w);
     const double *x = s->nw_x, *vv = s->nw_v, *x0 = s->x, *mom = ig->mom, *fext = s->f_ext;
     const double *fa = s->nw_fa, *fb = s->nw_fb, *kv0 = s->nw_kv0;
+    const double* air = ig->air_implicit ? s->air_lump : NULL;
     double he = ig->he;
     int pc = n_chunks(n), sc = n_chunks(m->n_springs);
     double* part = s->nw_partial;
@@ -116,6 +117,11 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
                     double Fw[3];
                     m3_mulv(Fw, fa + 9 * (size_t)i, wi);
                     acc += 0.5 * v3_dot(wi, Fw) - v3_dot(fb + 3 * i, wi);
+                }
+                if (air) {
+                    double Lw[3];
+                    m3_mulv(Lw, air + 9 * (size_t)i, wi);
+                    acc += 0.5 * he * v3_dot(wi, Lw);
                 }
             }
             part[c] = acc;
@@ -172,6 +178,8 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
     int fric = have_friction(s);
     const int* diag = m->pattern.diag;
     const double *mom = ig->mom, *fa = s->nw_fa, *fb = s->nw_fb;
+    const double* air = ig->air_implicit ? s->air_lump : NULL;
+    const double he = ig->he;
     double *g = s->nw_g, *A = s->A;
     WC_PAR_REGION(&s->par)
     {
@@ -186,6 +194,12 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
                 m3_mulv(Fw, fa + 9 * (size_t)i, wi);
                 for (int c = 0; c < 3; ++c) gi[c] += fb[3 * i + c] - Fw[c];
                 m3_axpy(A + 9 * (size_t)diag[i], 1.0, fa + 9 * (size_t)i);
+            }
+            if (air) {
+                double Lw[3];
+                m3_mulv(Lw, air + 9 * (size_t)i, wi);
+                for (int c = 0; c < 3; ++c) gi[c] -= he * Lw[c];
+                m3_axpy(A + 9 * (size_t)diag[i], he, air + 9 * (size_t)i);
             }
         }
     }

@@ -8,6 +8,7 @@
  *          - f_ext . (x(w) - x_n)                           gravity + air, frozen at the substep start
  *          - he/2 (v_n + w)^T D0 (v_n + w)                  spring damping D0 = dF/dv at x_n, frozen
  *          + 1/2 w^T Fa w - Fb . w                          kinetic friction as assembled (frozen)
+ *          + he/2 w^T L w                                   TR-BDF2's implicit air drag (bdf2.h)
  *   grad Phi = M (w - mom) - he (f_springs(x) + D0 v + f_ext) + Fa w - Fb,
  *   Hessian  ~ A = M - he D0 - he^2 K(x) + Fa   (K with the step's compression mode: by default the
  *              compressed springs' negative geometric term is dropped, so A is SPD and every

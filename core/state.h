@@ -30,10 +30,11 @@
 typedef enum wc_integrator {
     WC_INTEGRATOR_BE = 0,       /* backward Euler (Baraff & Witkin 1998) */
     WC_INTEGRATOR_BDF2 = 1,     /* second-order backward differentiation (Choi & Ko 2002) */
-    WC_INTEGRATOR_COUNT = 2
+    WC_INTEGRATOR_TRBDF2 = 2,   /* TR-BDF2 (Bank et al. 1985): a trapezoidal stage, then BDF2 (bdf2.h) */
+    WC_INTEGRATOR_COUNT = 3
 } wc_integrator;
 
-const char* wc_integrator_name(wc_integrator t);       /* "be", "bdf2" */
+const char* wc_integrator_name(wc_integrator t);       /* "be", "bdf2", "trbdf2" */
 int wc_integrator_from_name(const char* name);         /* -1 when unknown */
 
 typedef struct wc_sim_def {
@@ -126,7 +127,8 @@ typedef struct wc_state {
     wc_solver* solver;
 
     /* BDF2 history (bdf2.h): the previous substep's start x_{n-1} (after its contact correction)
-       and v_{n-1}; valid for a next substep of the same length hist_h */
+       and v_{n-1}; valid for a next substep of the same length hist_h. A TR-BDF2 cloth keeps its
+       substep's start x_n, v_n here between its two stages (scratch: hist_valid stays 0) */
     int hist_valid;
     double hist_h;              /* s */
     double *x_prev, *v_prev;    /* (n x 3) */
@@ -138,6 +140,7 @@ typedef struct wc_state {
     /* Newton scratch (newton.h), (n x 3) each unless noted */
     double *nw_w, *nw_d, *nw_x, *nw_v, *nw_zero, *nw_g, *nw_fb;
     double* nw_fa;              /* (n x 9) friction's diagonal blocks */
+    double* air_lump;           /* (n x 9) TR-BDF2's implicit air drag blocks (wc_air_lumped, bdf2.h) */
     double* nw_kv0;             /* (n_springs x 9) damping blocks frozen at the substep's start */
     double* nw_partial;         /* (ceil(max(n, n_springs) / 256)) per-chunk sums */
     /* for tests: called with every accepted Newton iterate when line_search is on (NULL: none);

@@ -22,7 +22,7 @@ static void pin_target(const wc_state* s, int k, double alpha, double* out) {
 
 /* Filter entries of the pins for a substep of length h ending at frame fraction alpha1: the
  * velocity change z takes a pinned particle exactly to its target (a line pin: onto the line);
- * BDF2: x_{n+1} = xb + he v_{n+1} on the target (bdf2.h). */
+ * BDF2 and TR-BDF2's stages: x_{n+1} = xb + he v_{n+1} on the target (bdf2.h). */
 static void apply_pins(wc_state* s, const wc_integ* ig, double alpha1) {
     double h = ig->h;
     for (int k = 0; k < s->n_pins; ++k) {
@@ -30,7 +30,7 @@ static void apply_pins(wc_state* s, const wc_integ* ig, double alpha1) {
         int i = p->particle;
         double t1[3], want[3];
         pin_target(s, k, alpha1, t1);
-        if (ig->bdf2) {
+        if (ig->xb_form) {
             double xb[3];
             wc_integ_base(s, ig, i, xb);
             for (int c = 0; c < 3; ++c) want[c] = (t1[c] - xb[c]) / ig->he - s->v[3 * i + c];
@@ -61,7 +61,7 @@ static void snap_pins(wc_state* s, const wc_integ* ig, double alpha1) {
         int i = p->particle;
         double t1[3];
         pin_target(s, k, alpha1, t1);
-        if (ig->bdf2)
+        if (ig->xb_form)
             for (int c = 0; c < 3; ++c) s->v[3 * i + c] = (t1[c] - ig->xb[3 * i + c]) / ig->he;
         else
             for (int c = 0; c < 3; ++c) s->v[3 * i + c] = (t1[c] - s->x0[3 * i + c]) / h;
@@ -210,6 +210,7 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     t0 = t1;
 
     wc_assemble(m, s->se, s->f_ext, ig->vstar, ig->he, &s->par, s->A, s->b, s->f); /* s->f: for friction */
+    wc_integ_forces(s, ig);
     if (ig->mom)
         for (int i = 0; i < n; ++i) v3_axpy(s->b + 3 * i, m->mass[i], ig->mom + 3 * i);
     if (wc_newton_wanted(&s->def)) wc_newton_capture(s);
@@ -243,12 +244,13 @@ void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_
     if (!res->converged) ++st->not_converged;
 }
 
-/* One backward-Euler substep of length h ending at frame fraction alpha1. Does not roll back:
+/* One backward-Euler or BDF2 substep of length h (TR-BDF2: its stage `stage`, 1 or 2, of the
+ * substep of length h) ending at frame fraction alpha1. Does not roll back:
  * returns non-OK when the result must be discarded, judged as `judge` says. The last resorts use
  * the direct solver with the compressed springs' geometric term dropped (a positive-definite
  * system). */
-static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
-                           double pin_energy, wc_step_stats* st, wc_diag* diag) {
+static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_solver_type solver, int judge,
+                              double pin_energy, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     wc_substep_measure before = {0};
@@ -258,7 +260,9 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
     if (s->self) wc_self_begin(s->self, s->x); /* the previous substep's end: free of crossings */
     wc_integ ig;
-    wc_integ_begin(s, h, &ig);
+    if (stage == 2) wc_integ_begin_stage2(s, h, &ig);
+    else wc_integ_begin(s, h, &ig);
+    h = ig.h;   /* TR-BDF2: the stage's length */
     int stuck = prepare(s, &ig, alpha1, compression, st);
     double t0 = wc_now_ms(), t1;
 
@@ -308,7 +312,7 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    if (ig.bdf2)
+    if (ig.xb_form)
         for (int k = 0; k < n3; ++k) s->x[k] = ig.xb[k] + ig.he * s->v[k];
     else
         for (int k = 0; k < n3; ++k) s->x[k] += h * s->v[k];
@@ -373,6 +377,21 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
     if (status == WEFT_OK && ig.bdf2) ++st->bdf2_substeps;
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
+    return status;
+}
+
+/* One substep of length h ending at frame fraction alpha1 (from s->sub_alpha0): a stage_step, or
+ * TR-BDF2's two (stage 1 to the fraction gamma of the way, bdf2.h). */
+static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+                           double pin_energy, wc_step_stats* st, wc_diag* diag) {
+    if (s->def.integrator != WC_INTEGRATOR_TRBDF2)
+        return stage_step(s, h, 0, alpha1, solver, judge, pin_energy, st, diag);
+    double a0 = s->sub_alpha0, ag = a0 + WC_TRBDF2_GAMMA * (alpha1 - a0);
+    weft_status status = stage_step(s, h, 1, ag, solver, judge, pin_energy, st, diag);
+    if (status != WEFT_OK) return status;
+    s->sub_alpha0 = ag;
+    status = stage_step(s, h, 2, alpha1, solver, judge, pin_energy, st, diag);
+    s->sub_alpha0 = a0;
     return status;
 }
 

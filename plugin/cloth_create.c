@@ -51,7 +51,9 @@ static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def,
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
                                : gpu                                              ? WC_PRECOND_BLOCK_JACOBI
                                                                                   : WC_PRECOND_AMG;
-    s->integrator = def->integrator == WEFT_INTEGRATOR_BDF2 ? WC_INTEGRATOR_BDF2 : WC_INTEGRATOR_BE;
+    s->integrator = def->integrator == WEFT_INTEGRATOR_BDF2     ? WC_INTEGRATOR_BDF2
+                    : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
+                                                                : WC_INTEGRATOR_BE;
     s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : gpu ? 1 : 2;
     s->line_search = def->line_search >= 0 ? def->line_search : gpu ? 0 : 1;
     /* self-collision: on the CPU, on by default for a garment (a cloth with a body, i.e. a mesh
@@ -272,7 +274,9 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.backend = ctx->backend;
     const wc_sim_def* sd = &c->state->def;
     i.preconditioner = sd->solver.preconditioner == WC_PRECOND_AMG ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI;
-    i.integrator = sd->integrator == WC_INTEGRATOR_BDF2 ? WEFT_INTEGRATOR_BDF2 : WEFT_INTEGRATOR_BACKWARD_EULER;
+    i.integrator = sd->integrator == WC_INTEGRATOR_BDF2     ? WEFT_INTEGRATOR_BDF2
+                   : sd->integrator == WC_INTEGRATOR_TRBDF2 ? WEFT_INTEGRATOR_TRBDF2
+                                                            : WEFT_INTEGRATOR_BACKWARD_EULER;
     i.newton_iterations = sd->newton_iterations;
     i.line_search = sd->line_search;
     i.n_seams = m->n_seams;

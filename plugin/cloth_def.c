@@ -173,7 +173,7 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     if (d->max_iterations < 1) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->max_iterations = %d must be >= 1", d->max_iterations);
     if ((unsigned)d->preconditioner > WEFT_PRECOND_AMG)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->preconditioner = %d is not a weft_preconditioner", (int)d->preconditioner);
-    if ((unsigned)d->integrator > WEFT_INTEGRATOR_BDF2)
+    if ((unsigned)d->integrator > WEFT_INTEGRATOR_TRBDF2)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->integrator = %d is not a weft_integrator", (int)d->integrator);
     if (d->newton_iterations < 0 || d->newton_iterations > 100)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->newton_iterations = %d must be in [0, 100] (0: default)",

@@ -403,7 +403,7 @@ static void no_allocation_in_step(weft_integrator integrator, int newton, int li
  * read the jump as a velocity: kinetic energy stays where it was, no rollback, and the cloth
  * continues (relative to the object) as a backward-Euler cloth carried the same way. Without
  * the reset, x_n - x_{n-1} = 1 km would be extrapolated. */
-static void test_bdf2_teleport(void) {
+static void teleport_run(weft_integrator integrator) {
     ag_mesh m;
     ag_grid(&m, N, SIZE, 1.0, 0, 0);   /* horizontal: it swings down from its pins */
     static int corners[2] = {N * (N - 1), N * N - 1};
@@ -415,7 +415,7 @@ static void test_bdf2_teleport(void) {
     def.mesh = ag_desc(&m);
     def.attachments = &att;
     def.n_attachments = 1;
-    def.integrator = WEFT_INTEGRATOR_BDF2;
+    def.integrator = integrator;
     weft_cloth cloth;
     CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
     double ke_before = 0.0;
@@ -442,9 +442,16 @@ static void test_bdf2_teleport(void) {
     ag_free(&m);
 }
 
+/* TR-BDF2 has no history: the same teleport is a plain carried jump for it too. */
+static void test_bdf2_teleport(void) {
+    teleport_run(WEFT_INTEGRATOR_BDF2);
+    teleport_run(WEFT_INTEGRATOR_TRBDF2);
+}
+
 static void test_no_allocation_in_step(void) {
     no_allocation_in_step(WEFT_INTEGRATOR_BACKWARD_EULER, 1, 0);
     no_allocation_in_step(WEFT_INTEGRATOR_BDF2, 3, 1);
+    no_allocation_in_step(WEFT_INTEGRATOR_TRBDF2, 2, 1);
 }
 
 /* Errors reach the logger at ERROR level with the last-error text; context-create errors reach

@@ -161,10 +161,10 @@ static void test_direct_refused(void) {
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
     /* what only the CPU backend has: the multigrid preconditioner, BDF2, Newton, line search,
-       self-collision */
+       self-collision, TR-BDF2 (k == 6) */
     def.solver = WEFT_SOLVER_PCG;
     static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1}; /* sewing (k == 4), self-collision (5): CPU only */
-    for (int k = 0; k < 6; ++k) {
+    for (int k = 0; k < 7; ++k) {
         weft_cloth_def d2 = def;
         if (k == 4) {
             d2.seam_a = seam_a;
@@ -176,6 +176,7 @@ static void test_direct_refused(void) {
         if (k == 2) d2.newton_iterations = 3;
         if (k == 3) d2.line_search = 1;
         if (k == 5) d2.self_collision = 1;
+        if (k == 6) d2.integrator = WEFT_INTEGRATOR_TRBDF2;
         CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_ERROR_UNSUPPORTED);
         if (k == 5) CHECK(strstr(weft_context_last_error(ctx), "self-collision") != NULL);
         CHECK(cloth.id == 0);

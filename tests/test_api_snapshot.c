@@ -149,6 +149,12 @@ static void test_restore_bit_identical(void) {
     g_newton = 2;
     g_line_search = 1;
     run_solver(WEFT_SOLVER_PCG, "bdf2+nwt");
+    /* TR-BDF2: one-step, nothing beyond x and v to save (core/bdf2.h) */
+    g_integrator = WEFT_INTEGRATOR_TRBDF2;
+    run_solver(WEFT_SOLVER_PCG, "trbdf2+nwt");
+    g_newton = 1;
+    g_line_search = 0;
+    run_solver(WEFT_SOLVER_PCG, "trbdf2");
     g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
     g_newton = 1;
     g_line_search = 0;

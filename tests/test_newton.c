@@ -142,7 +142,7 @@ static void test_potential_matches(void) {
     for (int f = 0; f < 5; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WEFT_OK);
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, 1.0 / 30, 1.0, &st);
-    wc_integ ig = {0, 1.0 / 30, 1.0 / 30, s->x, s->v, NULL};
+    wc_integ ig = {0, 1.0 / 30, 1.0 / 30, s->x, s->v, NULL, 0, 0, 0};
     int n3 = 3 * m.n_particles;
     double w[3 * N * N];
     for (int k = 0; k < n3; ++k) w[k] = 0.1 * sin(0.7 * k);

@@ -246,6 +246,13 @@ static void test_defaults_and_grid(void) {
     CHECK_EQ_INT(S.newton_iterations, 3);
     CHECK_EQ_INT(S.line_search, 1);
     scene_free(&S);
+    st = parse("{" GRID ", \"time\": {\"integrator\": \"trbdf2\"}}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK_EQ_INT(S.integrator, WC_INTEGRATOR_TRBDF2);
+    scene_free(&S);
+    st = parse("{" GRID ", \"time\": {\"integrator\": \"tr-bdf2\"}}", &d);
+    CHECK(st != WEFT_OK);
+    CHECK(strstr(d.message, "expected be, bdf2, trbdf2 or default") != NULL);
     st = parse("{" GRID "}", &d);
     CHECK_NEAR(S.fps, 30.0, 0.0);
     CHECK_EQ_INT(S.frames, 60);

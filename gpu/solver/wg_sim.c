@@ -252,7 +252,7 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
     if (s->def.integrator != WC_INTEGRATOR_BE || s->def.newton_iterations != 1 || s->def.line_search)
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend runs one backward-Euler step per substep without line search (asked: "
-                       "integrator %s, %d Newton iteration(s), line search %s; BDF2, Newton and line search run on "
+                       "integrator %s, %d Newton iteration(s), line search %s; BDF2, TR-BDF2, Newton and line search run on "
                        "the CPU backend only)",
                        wc_integrator_name(s->def.integrator), s->def.newton_iterations, s->def.line_search ? "on" : "off");
     if (m->n_seams > 0)

@@ -364,7 +364,7 @@ def _on_load_pre(*_args):
 
 
 _INTEGRATORS = {"DEFAULT": weft.Integrator.DEFAULT, "BACKWARD_EULER": weft.Integrator.BACKWARD_EULER,
-                "BDF2": weft.Integrator.BDF2}
+                "BDF2": weft.Integrator.BDF2, "TRBDF2": weft.Integrator.TRBDF2}
 
 
 def _settings_changed(self, context):
@@ -383,7 +383,8 @@ class WeftObjectSettings(bpy.types.PropertyGroup):
         name="Integrator", default="DEFAULT", update=_settings_changed,
         items=[("DEFAULT", "Default", "The library's choice"),
                ("BACKWARD_EULER", "Backward Euler", "First order (Baraff & Witkin)"),
-               ("BDF2", "BDF2", "Second order (Choi & Ko)")])
+               ("BDF2", "BDF2", "Second order (Choi & Ko)"),
+               ("TRBDF2", "TR-BDF2", "Second order, L-stable, two stages per substep (Bank et al.)")])
     density: bpy.props.FloatProperty(name="Density", default=0.15, min=1e-4, unit="MASS",
                                      update=_settings_changed, description="kg per m^2")
     stiffness: bpy.props.FloatVectorProperty(name="Stiffness", size=3,

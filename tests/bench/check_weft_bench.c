@@ -80,10 +80,13 @@ static void test_accuracy_usage(void) {
     ts_run_cli("bench accuracy --help", &r);
     CHECK(strstr(r.out, "--preconds LIST") && strstr(r.out, "--integrators LIST") && strstr(r.out, "--newton LIST") &&
           strstr(r.out, "--line-search MODE") && strstr(r.out, "--no-ref-check") && strstr(r.out, "it./solve"));
+    CHECK(strstr(r.out, "--ref-newton N") && strstr(r.out, "trbdf2") && strstr(r.out, "KE ratio"));
     ts_run_cli("bench accuracy --preconds block_jacobi,ilu", &r);
     CHECK_EQ_INT(r.rc, 2);
     CHECK(strstr(r.err, "bad value for --preconds") != NULL);
     ts_run_cli("bench accuracy --integrators be,rk4", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench accuracy --ref-newton 0", &r);
     CHECK_EQ_INT(r.rc, 2);
     ts_run_cli("bench accuracy --newton 0", &r);
     CHECK_EQ_INT(r.rc, 2);
@@ -123,7 +126,7 @@ static const char* const acc_cols[] = {
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
     "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift",
     "preconditioner", "integrator", "newton_iterations", "line_search", "solves", "iterations_per_solve",
-    "ms_precond_per_solve", "converged_fraction"};
+    "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio"};
 
 static const char* const gpu_solvers[] = {"pcg", "jacobi", "chebyshev"};
 
@@ -193,6 +196,10 @@ static void test_accuracy_quick(int gpu) {
             CHECK(k == 0 ? rms == 0 && max == 0 : k == 1 ? rms > 0 && rms < 0.05 : rms < 10);
             CHECK(isfinite(num(&c, row, "max_strain")) && num(&c, row, "max_strain") >= 0);
             CHECK(isfinite(num(&c, row, "energy_drift")));
+            /* the swing over every frame: the reference against itself is exact */
+            const double com = num(&c, row, "com_err_max"), ke = num(&c, row, "kinetic_ratio");
+            CHECK(isfinite(com) && com >= 0 && com <= (k == 0 ? 0.0 : 10.0));
+            CHECK(k == 0 ? ke == 1.0 : isfinite(ke) && ke > 0.0);
             CHECK(num(&c, row, "substeps") == (k == 0 ? 8 : k == 1 ? 16 : (k - 2) % 2 + 1));
             if (ref) {
                 CHECK(!strcmp(get(&c, row, "lin_err_max"), "-"));

@@ -80,6 +80,7 @@ class Integrator(enum.IntEnum):
     DEFAULT = 0
     BACKWARD_EULER = 1
     BDF2 = 2
+    TRBDF2 = 3
 
 
 class ColliderType(enum.IntEnum):

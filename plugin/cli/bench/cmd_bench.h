@@ -88,7 +88,7 @@ typedef struct bench_methods {
 #define BENCH_METHOD_HELP(preconds)                                                                       \
     "  --preconds LIST      PCG's preconditioners: block_jacobi, amg or all (default " preconds ");\n"  \
     "                       the other solvers have none (shown -)\n"                                     \
-    "  --integrators LIST   be (backward Euler), bdf2 or all (default be)\n"                            \
+    "  --integrators LIST   be (backward Euler), bdf2, trbdf2 or all (default be)\n"                            \
     "  --newton LIST        Newton iterations per substep (default 1: one Baraff-Witkin step)\n"        \
     "  --line-search MODE   auto (on when Newton iterations > 1; default), on or off\n"
 
@@ -237,6 +237,8 @@ typedef struct bench_run {
     double precond_ms;      /* preconditioner setup time, summed over the run (ms) */
     double solve_ms;        /* the solve stage's time (setup included), summed over the run (ms) */
     double* x;              /* (n_particles x 3) positions at the end (owned; bench_run_free) */
+    double* track;          /* (frames x 4) at the end of each frame: the centre of mass (3, m, mass-
+                               weighted) and the kinetic energy (J); owned, NULL where not recorded */
 } bench_run;
 
 /* Simulate; 0 on success, -1 when the state (or the GPU sim) cannot be created or a GPU call

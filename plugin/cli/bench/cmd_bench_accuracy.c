@@ -39,6 +39,9 @@ typedef struct acc_args {
     int ref_substeps;
     int ref_check;          /* 1: the reference again at 2 x ref_substeps, their difference shown */
     wc_integrator ref_integrator;
+    int undamped;           /* 1: no air drag and no spring damping, in every run (reference included) */
+    int no_air;             /* 1: no air drag in every run (reference included) */
+    int ref_newton;         /* the reference's Newton iterations (> 1: line search, tolerance 1e-10) */
     bench_methods meth;
     double seconds, fps;
     int probes;
@@ -52,13 +55,14 @@ void bench_accuracy_usage(FILE* out) {
           "                           [--iterations LIST] [--substeps LIST] [--substeps-large LIST]\n"
           "                           [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
           "                           [--line-search MODE] [--ref-substeps N] [--ref-integrator NAME]\n"
+          "                           [--ref-newton N] [--undamped] [--no-air]\n"
           "                           [--no-ref-check]\n"
           "                           [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
           "\n"
           "Run time against error, on the CPU and/or the GPU (--backend).\n"
-          "For each scene a reference run (direct solver, --ref-integrator, one Newton iteration,\n"
+          "For each scene a reference run (direct solver, --ref-integrator, --ref-newton Newton iterations,\n"
           "--ref-substeps substeps per frame) and the same at twice the substeps: their difference at the end (RMS and max,\n"
           "% of the bounding-box diagonal) shows whether the reference is converged in time (goal\n"
           "< 0.1 %, printed as met / not met; a `reference_check` row in the CSV). Then every\n"
@@ -78,6 +82,10 @@ void bench_accuracy_usage(FILE* out) {
           "  max strain   largest stretch-spring strain (l - rest) / rest at the end of any frame\n"
           "  energy drift (E_end - E_start) / (M |g| D): E = kinetic + spring + gravity, M the\n"
           "               cloth's mass, D its diagonal (negative: dissipated)\n"
+          "  c.o.m. err   largest distance between the run's and the reference's centres of mass\n"
+          "               over every frame / the diagonal (the swing's phase and amplitude)\n"
+          "  KE ratio     kinetic energy summed over the frames / the reference's (< 1: the swing\n"
+          "               lost energy to numerical damping)\n"
           "\n",
           out);
     fputs(          "options (lists are comma-separated):\n"
@@ -98,8 +106,14 @@ void bench_accuracy_usage(FILE* out) {
           BENCH_METHOD_HELP("block_jacobi,amg")
           "  --ref-substeps N     substeps per frame of the reference run (default 8; 16, 32 for a\n"
           "                       reference closer to converged)\n"
-          "  --ref-integrator NAME  be (default) or bdf2: the reference's integrator (BDF2, second\n"
+          "  --ref-integrator NAME  be (default), bdf2 or trbdf2: the reference's integrator (BDF2, second\n"
           "                       order, converges in time with fewer substeps)\n"
+          "  --ref-newton N       the reference's Newton iterations per substep (default 1; more: with\n"
+          "                       line search and a Newton tolerance of 1e-10, the nonlinear system\n"
+          "                       solved, so that a second-order integrator converges at its order)\n"
+          "  --undamped           no air drag and no spring damping in any run (the reference's too): what\n"
+          "                       is left is the integrators' own error on a conservative system\n"
+          "  --no-air             no air drag in any run (spring damping kept)\n"
           "  --no-ref-check       skip the reference's run at twice its substeps\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
@@ -137,6 +151,7 @@ static void defaults(void* args, int quick) {
     a->ref_substeps = 8;
     a->ref_check = 1;
     a->ref_integrator = WC_INTEGRATOR_BE;
+    a->ref_newton = 1;
     bench_methods_default(&a->meth, quick ? "block_jacobi,amg" : "block_jacobi,amg");
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
@@ -169,6 +184,15 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         a->ref_integrator = g >= 0 ? (wc_integrator)g : WC_INTEGRATOR_BE;
         return g < 0 ? -2 : 1;
     }
+    if (!strcmp(argv[*i], "--no-air")) {
+        a->no_air = 1;
+        return 1;
+    }
+    if (!strcmp(argv[*i], "--undamped")) {
+        a->undamped = 1;
+        return 1;
+    }
+    if (OPT("--ref-newton")) return BAD(cli_parse_int(*v, 1, 100, &a->ref_newton) != 0);
     if (!strcmp(argv[*i], "--no-ref-check")) {
         a->ref_check = 0;
         return 1;
@@ -188,7 +212,7 @@ enum {
     C_BACKEND, C_SCENE, C_PARTICLES, C_ROLE, C_SOLVER, C_TOL, C_CAP, C_SUBSTEPS, C_FRAMES, C_MS, C_FORCES,
     C_ASSEMBLE, C_SOLVE, C_COLLIDE, C_INTEGRATE, C_ITER, C_MAXITER, C_NOTCONV, C_ROLLBACKS, C_FALLBACKS,
     C_FAILURES, C_LIN_MEAN, C_LIN_MAX, C_TRAJ_RMS, C_TRAJ_MAX, C_STRAIN, C_DRIFT, C_PRECOND, C_INTEGRATOR,
-    C_NEWTON, C_LINE_SEARCH, C_SOLVES, C_ITER_SOLVE, C_SETUP_MS, C_CONVERGED, N_COLS
+    C_NEWTON, C_LINE_SEARCH, C_SOLVES, C_ITER_SOLVE, C_SETUP_MS, C_CONVERGED, C_SWING, C_KE, N_COLS
 };
 static const char* const csv_cols[N_COLS] = {
     "backend", "scene", "particles", "role", "solver", "tolerance", "max_iterations", "substeps", "frames",
@@ -196,12 +220,12 @@ static const char* const csv_cols[N_COLS] = {
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
     "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift",
     "preconditioner", "integrator", "newton_iterations", "line_search", "solves", "iterations_per_solve",
-    "ms_precond_per_solve", "converged_fraction"};
+    "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio"};
 static const char* const md_cols[N_COLS] = {
     NULL /* "backend" with two backends */, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
     NULL, "max it.", NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
     "traj. err max", "max strain", "energy drift", "precond.", "integrator", "Newton", NULL, NULL, "it./solve",
-    "setup ms/solve", NULL};
+    "setup ms/solve", NULL, "c.o.m. err max", "KE ratio"};
 
 typedef struct config {
     wc_solver_type solver;
@@ -212,8 +236,32 @@ typedef struct config {
     int reference;          /* 1: the reference, 2: its check at twice the substeps */
 } config;
 
+/* The swing against the reference, over every frame: the largest distance between the centres of
+ * mass / the bounding-box diagonal, and the kinetic energy summed over the frames / the
+ * reference's (< 1: the swing lost energy to numerical damping). */
+typedef struct swing_err {
+    double com_max;
+    double ke_ratio;
+} swing_err;
+
+static swing_err swing_against(const bench_run* r, const bench_run* ref, double diag) {
+    swing_err e = {0.0, 1.0};
+    int frames = r->frames < ref->frames ? r->frames : ref->frames;
+    double ke = 0.0, ke_ref = 0.0;
+    for (int f = 0; f < frames; ++f) {
+        const double *a = r->track + 4 * (size_t)f, *b = ref->track + 4 * (size_t)f;
+        double d2 = 0.0;
+        for (int c = 0; c < 3; ++c) d2 += (a[c] - b[c]) * (a[c] - b[c]);
+        if (!(sqrt(d2) / diag <= e.com_max)) e.com_max = sqrt(d2) / diag;
+        ke += a[3];
+        ke_ref += b[3];
+    }
+    e.ke_ratio = ke_ref > 0 ? ke / ke_ref : NAN;
+    return e;
+}
+
 static int add_row(bench_table* t, int backend, const bench_scene* bs, const config* c, const bench_run* r,
-                   double rms, double max) {
+                   double rms, double max, swing_err sw) {
     char b[N_COLS][48];
     const char* cell[N_COLS];
     snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(backend));
@@ -258,6 +306,8 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     bench_fmt(b[C_ITER_SOLVE], 48, "%.1f", bench_run_iterations_per_solve(r));
     bench_fmt(b[C_SETUP_MS], 48, "%.3g", bench_run_precond_ms_per_solve(r));
     bench_fmt(b[C_CONVERGED], 48, "%.3g", bench_run_converged_fraction(r));
+    bench_fmt(b[C_SWING], 48, "%.3g", sw.com_max);
+    bench_fmt(b[C_KE], 48, "%.4g", sw.ke_ratio);
     for (int k = 0; k < N_COLS; ++k) cell[k] = b[k];
     return bench_table_add(t, cell);
 }
@@ -312,9 +362,12 @@ static void print_header(FILE* out, const void* ctx) {
     for (int k = 0; k < a->n_backends; ++k) gpu |= a->backends[k] == BENCH_GPU;
     fprintf(out, "## weft bench accuracy\n\n");
     fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
-                 "solver (CHOLMOD), %s, one Newton iteration, at %d substeps per frame, on the CPU.\n\n",
+                 "solver (CHOLMOD), %s, %d Newton iteration(s)%s, at %d substeps per frame, on the CPU.\n\n",
             bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads, a->seconds, a->fps, frames,
-            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : "backward Euler", a->ref_substeps);
+            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : a->ref_integrator == WC_INTEGRATOR_TRBDF2 ? "TR-BDF2" : "backward Euler", a->ref_newton,
+            a->ref_newton > 1 ? " with line search, tolerance 1e-10" : "", a->ref_substeps);
+    if (a->undamped) fprintf(out, "Undamped (--undamped): no air drag and no spring damping in any run.\n\n");
+    else if (a->no_air) fprintf(out, "No air (--no-air): no air drag in any run (spring damping kept).\n\n");
     if (h->n_checks > 0) {
         fprintf(out, "Is the reference converged in time? The same run at %d substeps per frame against it at the "
                      "end, as %% of the bounding-box diagonal (goal < %g %%):\n\n"
@@ -335,7 +388,7 @@ static void print_header(FILE* out, const void* ctx) {
               "configurations have no GPU row.\n\n",
               out);
     fputs("- ms/frame: median wall time of one frame's step.\n"
-          "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler) or bdf2; "
+          "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler), bdf2 or trbdf2; "
           "Newton: linearised solves per substep (line search on when the CSV's line_search says so).\n"
           "- it./solve: solver iterations per linear solve, mean over the run (Newton iterations and friction "
           "passes are solves); max it.: the largest in one solve; setup ms/solve: the preconditioner's setup "
@@ -346,19 +399,24 @@ static void print_header(FILE* out, const void* ctx) {
           "bounding-box diagonal.\n"
           "- max strain: largest stretch-spring strain (l - rest) / rest at the end of any frame.\n"
           "- energy drift: (E_end - E_start) / (M |g| D), E = kinetic + spring + gravitational energy "
-          "(negative: dissipated; compare with the reference row).\n\n",
+          "(negative: dissipated; compare with the reference row).\n"
+          "- c.o.m. err max: largest distance between the centres of mass of the run and the reference over "
+          "every frame, divided by the diagonal (the swing's phase and amplitude); KE ratio: kinetic energy "
+          "summed over the frames / the reference's (< 1: the swing lost energy to numerical damping).\n\n",
           out);
 }
 
-/* The reference's sim def: direct solver, the reference's integrator, one Newton iteration,
- * `substeps`. */
+/* The reference's sim def: direct solver, the reference's integrator, --ref-newton Newton
+ * iterations (more than one: line search on, tolerance 1e-10), `substeps`. */
 static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int substeps) {
     wc_sim_def sd = bs->sc.sim;
     sd.threads = a->com.threads;
+    if (a->undamped || a->no_air) sd.air.normal_drag = sd.air.tangent_drag = 0.0;
     sd.solver.type = WC_SOLVER_DIRECT;
     sd.substeps = substeps;
-    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, 1, 0};
+    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1};
     bench_method_apply(&m, &sd);
+    if (a->ref_newton > 1) sd.solver.tolerance = 1e-10;
     return sd;
 }
 
@@ -374,7 +432,7 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
     if (!a->com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs->name, bs->model.n_particles);
     if (bench_run_scene(bs, &o, rr, d) != 0) return -1;
     config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1};
-    add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0);
+    add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0, (swing_err){0.0, 1.0});
     if (!a->ref_check) return 0;
     if (!a->com.quiet) fprintf(stderr, "  the reference at %d substeps (its check)...\n", 2 * a->ref_substeps);
     o.sim = reference_def(a, bs, 2 * a->ref_substeps);
@@ -394,7 +452,7 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
                 100 * check->max);
     ref.substeps = check->substeps;
     ref.reference = 2;
-    add_row(t, BENCH_CPU, bs, &ref, &r2, check->rms, check->max);
+    add_row(t, BENCH_CPU, bs, &ref, &r2, check->rms, check->max, swing_against(&r2, rr, bs->diag));
     bench_run_free(&r2);
     return 0;
 }
@@ -443,6 +501,8 @@ int bench_accuracy_run(int argc, char** argv) {
             rc = CLI_EXIT_FAILURE;
             break;
         }
+        if (a.undamped)
+            for (int k = 0; k < WC_SPRING_TYPE_COUNT; ++k) bs.model.material.d[k] = 0.0;
         bench_run rr;
         if (run_reference(&a, &bs, frames, &t, &rr, &checks[n_checks], &d) != 0) {
             cli_error(d.message);
@@ -471,6 +531,7 @@ int bench_accuracy_run(int argc, char** argv) {
             o.backend = backend;
             o.sim = bs.sc.sim;
             o.sim.threads = a.com.threads;
+            if (a.undamped || a.no_air) o.sim.air.normal_drag = o.sim.air.tangent_drag = 0.0;
             o.sim.solver.type = c->solver;
             o.sim.solver.tolerance = c->tolerance;
             if (c->solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = c->cap;
@@ -494,7 +555,7 @@ int bench_accuracy_run(int argc, char** argv) {
                         wc_solver_name(c->solver), bench_method_short(c->solver, &c->method, label, sizeof label),
                         c->tolerance, c->cap, c->substeps, r.ms_median, bench_run_iterations_per_solve(&r), rms);
             }
-            add_row(&t, backend, &bs, c, &r, rms, max);
+            add_row(&t, backend, &bs, c, &r, rms, max, swing_against(&r, &rr, bs.diag));
             if (n_pts < max_points)
                 pts[n_pts++] = (bench_point){si * a.n_backends + bi, (int)c->solver, r.ms_median, rms};
             bench_run_free(&r);

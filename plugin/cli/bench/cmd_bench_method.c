@@ -38,7 +38,7 @@ int bench_parse_preconds(const char* text, wc_precond_type* out) {
 }
 
 int bench_parse_integrators(const char* text, wc_integrator* out) {
-    if (text && !strcmp(text, "all")) text = "be,bdf2";
+    if (text && !strcmp(text, "all")) text = "be,bdf2,trbdf2";
     char names[BENCH_MAX_LIST][32];
     const int n = split(text, names);
     for (int k = 0; k < n; ++k) {

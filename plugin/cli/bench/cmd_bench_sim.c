@@ -223,7 +223,9 @@ static weft_status make_state(wc_state** out, const bench_scene* bs, const wc_si
 void bench_run_free(bench_run* r) {
     if (!r) return;
     free(r->x);
+    free(r->track);
     r->x = NULL;
+    r->track = NULL;
 }
 
 int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag) {
@@ -259,7 +261,8 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     double* dv_it = p ? malloc(n3 * sizeof(double)) : NULL;
     double* dv_ref = p ? malloc(n3 * sizeof(double)) : NULL;
     out->x = malloc(n3 * sizeof(double));
-    if (!ms || !pins || !out->x || (p && (!dv_it || !dv_ref))) {
+    out->track = calloc((size_t)frames * 4, sizeof(double));
+    if (!ms || !pins || !out->x || !out->track || (p && (!dv_it || !dv_ref))) {
         free(ms);
         free(pins);
         free(dv_it);
@@ -333,6 +336,10 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         out->failures += st.failures;
         if (!(st.max_strain <= out->max_strain)) out->max_strain = st.max_strain;
         const double e = wc_state_total_energy(s, NULL);
+        double* tr = out->track + 4 * (size_t)f;
+        for (int i = 0; i < s->model->n_particles; ++i)
+            for (int c = 0; c < 3; ++c) tr[c] += s->model->mass[i] * s->x[3 * i + c] / s->total_mass;
+        tr[3] = wc_state_kinetic_energy(s);
         out->energy_end = e;
         if (!(e <= out->energy_max)) out->energy_max = e;
         if (!isfinite(e) || !isfinite(st.max_strain) || !all_finite(s->x, (int)n3)) out->nonfinite = 1;

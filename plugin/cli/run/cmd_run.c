@@ -41,7 +41,7 @@ typedef struct run_args {
 void cli_run_usage(FILE* out) {
     fputs("usage: weft run SCENE.json [--frames N] [--solver pcg|jacobi|chebyshev|direct]\n"
           "                [--out DIR] [--stats FILE.json] [--render DIR] [--threads N]\n"
-          "                [--backend cpu|gpu|auto] [--integrator be|bdf2] [--precond block_jacobi|amg]\n"
+          "                [--backend cpu|gpu|auto] [--integrator be|bdf2|trbdf2] [--precond block_jacobi|amg]\n"
           "                [--newton N] [--line-search on|off] [--self-collision on|off] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
@@ -51,7 +51,7 @@ void cli_run_usage(FILE* out) {
           "options:\n"
           "  --frames N             frames to simulate (>= 0; default: the scene's time.frames)\n"
           "  --solver NAME          linear solver, overriding the scene's solver.type\n"
-          "  --integrator NAME      be or bdf2 (or default), overriding time.integrator\n"
+          "  --integrator NAME      be, bdf2 or trbdf2 (or default), overriding time.integrator\n"
           "  --precond NAME         block_jacobi or amg (or default), overriding solver.preconditioner\n"
           "  --newton N             Newton iterations per substep (1..100), overriding\n"
           "                         solver.newton_iterations\n"
@@ -113,7 +113,7 @@ static int parse_args(int argc, char** argv, run_args* a) {
             if (m < 0) return usage_error("%s needs a value", arg);
             a->integrator = strcmp(value, "default") == 0 ? -1 : wc_integrator_from_name(value);
             if (a->integrator < 0 && strcmp(value, "default") != 0)
-                return usage_error("--integrator: unknown integrator '%s' (expected be, bdf2 or default)", value);
+                return usage_error("--integrator: unknown integrator '%s' (expected be, bdf2, trbdf2 or default)", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--precond", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
             a->precond = strcmp(value, "default") == 0 ? -1 : wc_precond_from_name(value);
@@ -317,7 +317,9 @@ int cli_run_run(int argc, char** argv) {
                                wc_solver_name(c.sc.sim.solver.type),
                                /* what the library resolved the scene's choices (or its defaults) to */
                                in->preconditioner == WEFT_PRECOND_AMG ? "amg" : "block_jacobi",
-                               in->integrator == WEFT_INTEGRATOR_BDF2 ? "bdf2" : "be",
+                               in->integrator == WEFT_INTEGRATOR_BDF2     ? "bdf2"
+                               : in->integrator == WEFT_INTEGRATOR_TRBDF2 ? "trbdf2"
+                                                                          : "be",
                                in->newton_iterations,
                                in->line_search,
                                weft_context_backend(c.host.ctx) == WEFT_BACKEND_GPU ? "gpu" : "cpu",

@@ -97,8 +97,9 @@ static void describe_settings(const scene* s, weft_cloth_def* def) {
     def->preconditioner = s->preconditioner == WC_PRECOND_AMG            ? WEFT_PRECOND_AMG
                           : s->preconditioner == WC_PRECOND_BLOCK_JACOBI ? WEFT_PRECOND_BLOCK_JACOBI
                                                                          : WEFT_PRECOND_DEFAULT;
-    def->integrator = s->integrator == WC_INTEGRATOR_BDF2 ? WEFT_INTEGRATOR_BDF2
-                      : s->integrator == WC_INTEGRATOR_BE ? WEFT_INTEGRATOR_BACKWARD_EULER
+    def->integrator = s->integrator == WC_INTEGRATOR_BDF2     ? WEFT_INTEGRATOR_BDF2
+                      : s->integrator == WC_INTEGRATOR_TRBDF2 ? WEFT_INTEGRATOR_TRBDF2
+                      : s->integrator == WC_INTEGRATOR_BE     ? WEFT_INTEGRATOR_BACKWARD_EULER
                                                           : WEFT_INTEGRATOR_DEFAULT;
     def->newton_iterations = s->newton_iterations;
     def->line_search = s->line_search;

@@ -226,7 +226,7 @@ static int parse_time(const sj_ctx* c, const cJSON* root, scene* s) {
     if (integ) {
         int t = strcmp(integ, "default") == 0 ? -1 : wc_integrator_from_name(integ);
         if (t < 0 && strcmp(integ, "default") != 0)
-            return sj_fail(c, "time.integrator", "unknown integrator \"%s\" (expected be, bdf2 or default)", integ);
+            return sj_fail(c, "time.integrator", "unknown integrator \"%s\" (expected be, bdf2, trbdf2 or default)", integ);
         s->integrator = t;
     }
     if (sj_number(c, time, "time", "fps", SJ_POSITIVE, &s->fps) < 0) return -1;

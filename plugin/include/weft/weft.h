@@ -222,7 +222,9 @@ typedef enum weft_preconditioner {
 typedef enum weft_integrator {
     WEFT_INTEGRATOR_DEFAULT = 0,        /* the backend's choice (see README "Defaults") */
     WEFT_INTEGRATOR_BACKWARD_EULER = 1, /* first order (Baraff & Witkin 1998) */
-    WEFT_INTEGRATOR_BDF2 = 2            /* second order (Choi & Ko 2002; CPU backend only) */
+    WEFT_INTEGRATOR_BDF2 = 2,           /* second order (Choi & Ko 2002; CPU backend only) */
+    WEFT_INTEGRATOR_TRBDF2 = 3          /* second order, L-stable, one-step: a trapezoidal stage then a
+                                           BDF2 stage per substep (Bank et al. 1985; CPU backend only) */
 } weft_integrator;
 
 /* Pins: host vertices bound to a host transform (a bone, an object, or the world). At bind time
@@ -410,7 +412,7 @@ typedef struct weft_cloth_info {
     weft_backend backend;
     /* what the def's DEFAULT / 0 / -1 choices resolved to on this backend */
     weft_preconditioner preconditioner; /* BLOCK_JACOBI or AMG */
-    weft_integrator integrator; /* BACKWARD_EULER or BDF2 */
+    weft_integrator integrator; /* BACKWARD_EULER, BDF2 or TRBDF2 */
     int newton_iterations;      /* >= 1 */
     int line_search;            /* 0 or 1 */
     int n_seams;                /* seams sewn: by sew_distance plus the host pairs */

@@ -1,0 +1,339 @@
+/* TR-BDF2 (core/bdf2.h: a trapezoidal stage to t + gamma h, then a BDF2 stage) against closed
+ * forms and with the rest of the step.
+ *  - Convergence order on one spring (an undamped harmonic oscillator along the spring, exact
+ *    u(t) = u0 cos wt + v0/w sin wt): the error at t = 1 s falls ~4x per halving of h.
+ *  - Energy on the same undamped oscillator at 8 steps per period: never gains from one step to
+ *    the next (L-stable: it damps), and keeps most of it (second order: far less than backward
+ *    Euler loses at the same step, measured here).
+ *  - Pins moving along a line stay exactly on their targets; no BDF2 history is used or kept.
+ *  - A sheet dropped on a sphere and a floor with friction: finite, outside the colliders, asleep
+ *    in the end (Newton 2 + line search); bit-identical on 1 and 2 threads.
+ *  - Air drag (implicit for TR-BDF2): a flat sheet moving along its normal slows as
+ *    v0 exp(-r t); the error at 1 s falls ~4x per halving of h (backward Euler's explicit drag: 2x).
+ *  - A 32^2 sheet's flat start (no air) rolls a TR-BDF2 substep back (both stages) and retries it; the same
+ *    on 1 and 2 threads, pins on target. (Snapshots, teleports, no allocation per step, the GPU's
+ *    refusal and the bad enum value: tests/test_api_snapshot.c, test_api_frame.c, test_api_gpu.c,
+ *    test_api_misuse.c.) */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "collide.h"
+#include "step.h"
+#include "test_support.h"
+#include "vec3.h"
+
+/* One spring (k, no damping) from pinned particle 0 at the origin to particle 1 (mass m) along
+ * +x; particle 2 pinned out of the way (as tests/test_bdf2.c). */
+static void spring_model(wc_model* m, double k, double mass) {
+    double pos[9] = {0, 0, 0, 0.5, 0, 0, 0, 0.7, 0.3};
+    int sizes[1] = {3}, idx[3] = {0, 1, 2};
+    wc_source_mesh src;
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &dg), WEFT_OK);
+    wc_model_def def = wc_default_model_def();
+    def.reorder = 0;
+    def.material.uniform_mass = mass;
+    def.material.k[WC_SPRING_STRETCH] = k;
+    def.material.d[WC_SPRING_STRETCH] = 0.0;
+    CHECK_EQ_INT(wc_model_build(m, &src, &def, NULL, &dg), WEFT_OK);
+    int keep = -1;
+    for (int s = 0; s < m->n_springs; ++s)
+        if (m->springs[s].a == 0 && m->springs[s].b == 1) keep = s;
+    CHECK(keep >= 0);
+    m->springs[0] = m->springs[keep];
+    m->n_springs = 1;
+    for (int t = 1; t <= WC_SPRING_TYPE_COUNT; ++t) m->spring_type_start[t] = 1;
+    wc_bsr_pattern_free(&m->pattern, &m->alloc);
+    CHECK_EQ_INT(wc_bsr_pattern_build(&m->pattern, m, &m->alloc), 0);
+    wc_source_mesh_free(&src);
+}
+
+static const double R = 0.5, U0 = 0.05, V0 = 0.2;
+
+static wc_state* oscillator(const wc_model* m, wc_integrator integ) {
+    wc_sim_def sd = wc_default_sim_def();
+    v3_zero(sd.gravity);
+    sd.air.normal_drag = sd.air.tangent_drag = 0.0;
+    sd.solver.type = WC_SOLVER_DIRECT;
+    sd.integrator = integ;
+    sd.threads = 1;
+    sd.sleep_speed = 0.0;
+    sd.fail_energy_gain = 0.0;
+    wc_state* s = NULL;
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
+    wc_pin pins[2] = {{0, {0, 0, 0}, {0, 0, 0}}, {2, {0, 0.7, 0.3}, {0, 0, 0}}};
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    s->x[3] = R + U0;
+    s->v[3] = V0;
+    return s;
+}
+
+/* Position error at t = 1 s with n steps. */
+static double oscillator_error(const wc_model* m, int n, double w) {
+    wc_state* s = oscillator(m, WC_INTEGRATOR_TRBDF2);
+    wc_diag dg = {0};
+    for (int k = 0; k < n; ++k) {
+        wc_step_stats st;
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(st.rollbacks, 0);
+        CHECK_EQ_INT(st.bdf2_substeps, 0);
+    }
+    CHECK(!s->hist_valid);   /* one-step: no history */
+    double exact = R + U0 * cos(w) + V0 / w * sin(w);
+    double err = fabs(s->x[3] - exact);
+    wc_state_destroy(s);
+    return err;
+}
+
+static void test_convergence_order(void) {
+    const double mass = 0.02, w = 2.0 * 3.14159265358979323846, k = mass * w * w;   /* period 1 s */
+    wc_model m;
+    spring_model(&m, k, mass);
+    double e[4];
+    int steps[4] = {25, 50, 100, 200};
+    for (int q = 0; q < 4; ++q) e[q] = oscillator_error(&m, steps[q], w);
+    double r1 = e[0] / e[1], r2 = e[1] / e[2], r3 = e[2] / e[3];
+    printf("  trbdf2: error at 1 s with 25/50/100/200 steps %.3g %.3g %.3g %.3g m; ratios %.3f %.3f %.3f\n", e[0],
+           e[1], e[2], e[3], r1, r2, r3);
+    CHECK(r2 > 3.5 && r2 < 4.5 && r3 > 3.5 && r3 < 4.5);
+    CHECK(e[3] < 1e-4);
+    wc_model_free(&m);
+}
+
+/* Oscillator energy 1/2 m v^2 + 1/2 k u^2 (J). */
+static double osc_energy(const wc_state* s, double mass, double k) {
+    double u = s->x[3] - R;
+    return 0.5 * mass * v3_dot(s->v + 3, s->v + 3) + 0.5 * k * u * u;
+}
+
+static void test_energy_never_gained(void) {
+    const double mass = 0.02, w = 2.0 * 3.14159265358979323846, k = mass * w * w;
+    wc_model m;
+    spring_model(&m, k, mass);
+    double kept[2];
+    for (int q = 0; q < 2; ++q) {
+        wc_integrator integ = q ? WC_INTEGRATOR_TRBDF2 : WC_INTEGRATOR_BE;
+        wc_state* s = oscillator(&m, integ);
+        wc_diag dg = {0};
+        double e0 = osc_energy(s, mass, k), prev = e0;
+        for (int step = 0; step < 80; ++step) {   /* 10 periods, 8 steps each */
+            wc_step_stats st;
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 8, &st, &dg), WEFT_OK);
+            double e = osc_energy(s, mass, k);
+            CHECK(e <= prev * (1.0 + 1e-12));
+            prev = e;
+        }
+        kept[q] = prev / e0;
+        wc_state_destroy(s);
+    }
+    printf("  energy kept after 10 periods at 8 steps per period: be %.3g, trbdf2 %.3g\n", kept[0], kept[1]);
+    CHECK(kept[1] < 1.0);            /* damps */
+    CHECK(kept[1] > 0.2);            /* but second order: */
+    CHECK(kept[1] > 100.0 * kept[0]);   /* backward Euler keeps almost nothing */
+    wc_model_free(&m);
+}
+
+/* A flat free sheet (normal +y, no gravity) moving at v0 along its normal: the springs stay at
+ * rest and the air drag decelerates every particle alike, v(t) = v0 exp(-r t) with r = normal
+ * drag / density (the mass and the drag are both lumped by area). Velocity error at 1 s. */
+static double drag_error(const wc_model* m, wc_integrator integ, int n, double* r_out) {
+    wc_sim_def sd = wc_default_sim_def();
+    v3_zero(sd.gravity);
+    sd.solver.type = WC_SOLVER_DIRECT;
+    sd.integrator = integ;
+    sd.threads = 1;
+    sd.sleep_speed = 0.0;
+    wc_state* s = NULL;
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
+    for (int i = 0; i < m->n_particles; ++i) s->v[3 * i + 1] = 1.0;
+    for (int k = 0; k < n; ++k) {
+        wc_step_stats st;
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+    }
+    const double r = sd.air.normal_drag / wc_default_model_def().material.density;
+    *r_out = r;
+    double worst = 0.0;
+    for (int i = 0; i < m->n_particles; ++i) {
+        double e = fabs(s->v[3 * i + 1] - exp(-r));
+        if (e > worst) worst = e;
+    }
+    wc_state_destroy(s);
+    return worst;
+}
+
+static void test_air_drag_order(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, 6, 1.0, 0.0, 0, 1.0));
+    for (int q = 0; q < 2; ++q) {
+        wc_integrator integ = q ? WC_INTEGRATOR_TRBDF2 : WC_INTEGRATOR_BE;
+        double e[3], r = 0.0;
+        int steps[3] = {20, 40, 80};
+        for (int k = 0; k < 3; ++k) e[k] = drag_error(&m, integ, steps[k], &r);
+        printf("  drag (r = %.3g 1/s), %s: velocity error at 1 s with 20/40/80 steps %.3g %.3g %.3g; ratios %.3f %.3f\n",
+               r, wc_integrator_name(integ), e[0], e[1], e[2], e[0] / e[1], e[1] / e[2]);
+        if (q) CHECK(e[0] / e[1] > 3.5 && e[1] / e[2] > 3.5 && e[1] / e[2] < 4.5);   /* second order */
+        else CHECK(e[1] / e[2] > 1.8 && e[1] / e[2] < 2.2);                          /* explicit drag: first */
+    }
+    wc_model_free(&m);
+}
+
+#define N 10
+
+static wc_state* sheet(const wc_model* m, int newton, int ls, int threads) {
+    wc_sim_def d = wc_default_sim_def();
+    d.integrator = WC_INTEGRATOR_TRBDF2;
+    d.newton_iterations = newton;
+    d.line_search = ls;
+    d.threads = threads;
+    wc_state* s = NULL;
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &dg), WEFT_OK);
+    return s;
+}
+
+/* Two corners of a hanging sheet pinned, moving along x at 0.3 m/s. */
+static void test_pins(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, N, 1.0, 1.0, 1, 1.0));
+    for (int newton = 1; newton <= 2; ++newton) {
+        wc_state* s = sheet(&m, newton, newton > 1, 1);
+        wc_pin pins[2];
+        memset(pins, 0, sizeof pins);
+        pins[0].particle = ts_sheet_particle(&m, N, 0, N - 1);
+        pins[1].particle = ts_sheet_particle(&m, N, N - 1, N - 1);
+        wc_diag dg = {0};
+        for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+        for (int f = 0; f < 30; ++f) {
+            for (int k = 0; k < 2; ++k) pins[k].target[0] += 0.01;
+            CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+            wc_step_stats st;
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+            CHECK_EQ_INT(st.bdf2_substeps, 0);
+            for (int k = 0; k < 2; ++k) CHECK(v3_equal(s->x + 3 * pins[k].particle, pins[k].target));
+            CHECK_NEAR(s->v[3 * pins[0].particle], 0.3, 1e-9);
+        }
+        CHECK(!s->hist_valid);
+        wc_state_destroy(s);
+    }
+    wc_model_free(&m);
+}
+
+/* A sheet dropped onto a sphere lying on a floor, friction 0.4. */
+static void run_drop(const wc_model* m, int threads, double* x_out, int* slept, double* worst_depth) {
+    wc_state* s = sheet(m, 2, 1, threads);
+    wc_collider c[2];
+    memset(c, 0, sizeof c);
+    c[0].type = WC_COLLIDER_PLANE;
+    v3_set(c[0].normal, 0, 1, 0);
+    c[0].offset = 0.0;
+    c[0].thickness = 0.005;
+    c[0].friction = 0.4;
+    c[1].type = WC_COLLIDER_SPHERE;
+    v3_set(c[1].center, 0.1, 0.25, 0.05);
+    c[1].radius = 0.25;
+    c[1].thickness = 0.005;
+    c[1].friction = 0.4;
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &dg), WEFT_OK);
+    *slept = 0;
+    *worst_depth = 0.0;
+    for (int f = 0; f < 240 && !*slept; ++f) {
+        wc_step_stats st;
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+        *slept = st.fell_asleep;
+        for (int i = 0; i < m->n_particles; ++i) {
+            CHECK(v3_finite(s->x + 3 * i));
+            for (int k = 0; k < 2; ++k) {
+                double n[3], d = wc_collider_distance(&c[k], s->x + 3 * i, n);
+                if (-d > *worst_depth) *worst_depth = -d;
+            }
+        }
+    }
+    memcpy(x_out, s->x, 3 * (size_t)m->n_particles * sizeof(double));
+    wc_state_destroy(s);
+}
+
+static void test_colliders_friction_sleep_threads(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, N, 1.0, 0.6, 0, 1.0));
+    int n3 = 3 * m.n_particles;
+    double xa[3 * N * N], xb[3 * N * N];
+    int slept, slept2;
+    double depth, depth2;
+    run_drop(&m, 1, xa, &slept, &depth);
+    run_drop(&m, 2, xb, &slept2, &depth2);
+    printf("  drop (Newton 2 + line search): asleep %d, deepest inside a collider %.3g m\n", slept, depth);
+    CHECK(slept);
+    CHECK(depth < 1e-9);
+    CHECK(memcmp(xa, xb, (size_t)n3 * sizeof(double)) == 0);   /* thread-count independent */
+    /* the sheet lies on the ball: the particle nearest above its centre sits on its shell */
+    int best = 0;
+    double bd = 1e9;
+    for (int i = 0; i < m.n_particles; ++i) {
+        double dx = xa[3 * i] - 0.1, dz = xa[3 * i + 2] - 0.05, d2 = dx * dx + dz * dz;
+        if (d2 < bd) {
+            bd = d2;
+            best = i;
+        }
+    }
+    CHECK(sqrt(bd) < 0.1 && xa[3 * best + 1] > 0.49 && xa[3 * best + 1] < 0.54);
+    wc_model_free(&m);
+}
+
+/* The 32^2 sheet flat at first, hanging from two corners in still air (no drag), one linearised
+ * step per stage: its flat start gains energy in a stage and is rolled back (the whole substep, both stages) and
+ * retried in halves; the result is the same on 1 and 2 threads and the pins stay on target. */
+static void run_flat_start(const wc_model* m, int threads, double* x_out, int* rollbacks) {
+    const int n = 32;
+    wc_state* s = sheet(m, 1, 0, threads);
+    s->def.air.normal_drag = s->def.air.tangent_drag = 0.0;   /* still air: the drag no longer holds it */
+    wc_pin pins[2];
+    memset(pins, 0, sizeof pins);
+    pins[0].particle = ts_sheet_particle(m, n, 0, n - 1);
+    pins[1].particle = ts_sheet_particle(m, n, n - 1, n - 1);
+    for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    *rollbacks = 0;
+    for (int f = 0; f < 45; ++f) {
+        wc_step_stats st;
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+        *rollbacks += st.rollbacks;
+        for (int k = 0; k < 2; ++k) CHECK(v3_equal(s->x + 3 * pins[k].particle, pins[k].target));
+    }
+    for (int i = 0; i < 3 * m->n_particles; ++i) CHECK(isfinite(s->x[i]) && isfinite(s->v[i]));
+    memcpy(x_out, s->x, 3 * (size_t)m->n_particles * sizeof(double));
+    wc_state_destroy(s);
+}
+
+static void test_rollback_threads(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, 32, 1.0, 0.0, 0, 1.0));
+    size_t n3 = 3 * (size_t)m.n_particles;
+    double* xa = malloc(n3 * sizeof(double));
+    double* xb = malloc(n3 * sizeof(double));
+    int ra = 0, rb = 0;
+    run_flat_start(&m, 1, xa, &ra);
+    run_flat_start(&m, 2, xb, &rb);
+    printf("  flat start: %d rollback(s)\n", ra);
+    CHECK(ra > 0);
+    CHECK_EQ_INT(ra, rb);
+    CHECK(memcmp(xa, xb, n3 * sizeof(double)) == 0);
+    free(xa);
+    free(xb);
+    wc_model_free(&m);
+}
+
+int main(void) {
+    RUN_TEST(test_convergence_order);
+    RUN_TEST(test_energy_never_gained);
+    RUN_TEST(test_air_drag_order);
+    RUN_TEST(test_pins);
+    RUN_TEST(test_colliders_friction_sleep_threads);
+    RUN_TEST(test_rollback_threads);
+    return TEST_SUMMARY();
+}
