@@ -1,8 +1,8 @@
-"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 6).
+"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 7).
 
     import numpy as np, weft
     with weft.Context() as ctx:          # library: Context(library=path), else $WEFT_LIBRARY,
-                                         # else libweft.so.6 on the dlopen search path
+                                         # else libweft.so.7 on the dlopen search path
         cloth = ctx.create_cloth(positions=P, faces=F,          # P (n, 3) float32, F (m, 4) int
                                  attachments=[weft.Attachment(pinned_vertex_indices)])
         for frame in range(60):
@@ -84,7 +84,7 @@ class Library:
 
 
 def load_library(path=None):
-    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.6 (dlopen search path)."""
+    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.7 (dlopen search path)."""
     return Library(path)
 
 
