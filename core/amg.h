@@ -6,8 +6,23 @@
  * any AMG). PCG filters what the V-cycle returns (c = S (M^-1 r + beta c)), so the preconditioner
  * it sees is S M^-1 S: symmetric, and positive definite on range(S).
  *
- * Near-null space: the three translations per aggregate, so every level stays 3x3 block-sparse
- * and every operator is the BSR of bsr.h.
+ * Near-null space (wc_amg_opts.rotations): the three translations per aggregate (0), or the six
+ * rigid-body modes, 3 translations + 3 infinitesimal rotations (x_i - c) x e_k (1, Tamstorf et
+ * al. 2015; core/amg_tent.c). With rotations every aggregate becomes TWO coarse 3-dof nodes
+ * (2a: the first three orthonormal columns, 2a + 1: the last three), so every level stays 3x3
+ * block-sparse and every operator is the BSR of bsr.h (the V-cycle, the smoother and the dense
+ * coarse solve do not know about rotations). The tentative prolongator is the Q of a QR per
+ * aggregate of its (3 n_agg) x 6 near-null block (modified Gram-Schmidt, twice); a column whose
+ * part orthogonal to the earlier ones is below WC_AMG_DEPENDENT x its norm (a 1-node aggregate:
+ * its three rotations; a 2-node or collinear one: the rotation about its line) is dropped: its
+ * column of P_tent is zero and the coarse unknown is "dead" (its Galerkin row and column are
+ * zero; wc_amg_setup puts the block's mean live diagonal there, so it decouples and stays 0). The
+ * coarse near-null space is the R factor (the SA recursion): node 2a carries rows 0-2 of R_a,
+ * node 2a + 1 rows 3-5; coarse levels aggregate the PAIRS (2a, 2a + 1) as one unit, so a pair
+ * never splits. The rotations are taken about the rest positions' centroid from the model's
+ * rest positions, so P_tent (and the R factors on every level) is fixed per model and built at
+ * wc_amg_create with the patterns: the setup per solve costs no more than the Galerkin products
+ * on the larger coarse levels.
  *
  * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
  * arrays as it uploads the BSR pattern):
@@ -35,6 +50,7 @@
 #include "filter.h"
 #include "model.h"
 #include "par.h"
+#include "vec3.h"
 
 #define WC_AMG_MAX_LEVELS 12
 #define WC_AMG_COARSE_SWEEPS 4
@@ -47,6 +63,9 @@
  * broke down on a sewn tube). The finest level's bound is raised by this factor when the model
  * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's). */
 #define WC_AMG_SEAM_BOUND 1.5
+/* A near-null column whose part orthogonal to the aggregate's earlier columns is below this x
+ * its own norm is dropped from the tentative prolongator (amg_tent.c). */
+#define WC_AMG_DEPENDENT 1e-6
 
 typedef struct wc_amg_opts {
     int coarse_max;             /* nodes at which coarsening stops (dense Cholesky there): 96 */
@@ -60,6 +79,14 @@ typedef struct wc_amg_opts {
     double prolong_weight;      /* prolongator smoothing weight x 1 / lambda_max (4/3; 0:
                                    unsmoothed aggregation) */
     int power_iterations;       /* per level and solve (6) */
+    int rotations;              /* 1: near-null space = 6 rigid-body modes per aggregate (two
+                                   coarse nodes per aggregate, see above); 0: 3 translations */
+    int pair_blocks;            /* with rotations: 1: the smoother's block diagonal on coarse
+                                   levels is 6x6 per pair (2a, 2a + 1) (default); 0: 3x3 per node */
+    int aggressive;             /* 1: the finest level's aggregates are aggregated once more
+                                   (aggregates of aggregates, ~40-50 particles each); 0 (default) */
+    int current_positions;      /* with rotations: 1 (default): every setup rebuilds P_tent and
+                                   the R factors about wc_amg.pos when set; 0: rest positions only */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -74,21 +101,38 @@ typedef struct wc_amg_level {
     unsigned char* strong;      /* (n_blocks) level 0: 1 for blocks of stretch/shear springs and
                                    the diagonal; NULL: every block is strong */
     double* val;                /* (n_blocks x 9) the level's operator */
-    double* Dinv;               /* (n x 9) inverse block diagonal */
+    double* Dinv;               /* (n x 9 x group) inverse block diagonal: group 2: node i's 3 rows
+                                   of its pair's 6x6 inverse (blocks to nodes i & ~1, i | 1) */
+    int* pair_blk;              /* (n) group 2: block (i, i ^ 1) in row i (rows 2a and 2a + 1
+                                   have the same columns) */
     double bound;               /* estimate of the largest eigenvalue of D^-1 A (per solve) */
     double* ev;                 /* (n x 3) the power iterations' vector */
     double* partial;            /* (ceil(n / 256) x 2) per-chunk partial sums (thread-count free) */
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
 
+    int group;                  /* nodes per aggregation unit: 2 on coarse levels with rotations
+                                   (the pair 2a, 2a + 1 of one fine aggregate), else 1 */
+    double* nns;                /* (n x 2 x 9) with rotations: each node's 3 x 6 near-null rows as
+                                   two 3x3 blocks (translation columns, rotation columns); m on
+                                   level 0, R factors' rows below; NULL without rotations */
+    unsigned char* dead;        /* (n x 3) with rotations, levels >= 1: 1 for a dropped unknown */
+
     /* the prolongator to level + 1 (none on the coarsest level) */
     int* agg;                   /* (n) aggregate of each node */
+    int cpa;                    /* coarse nodes per aggregate: 2 with rotations, else 1; coarse
+                                   node cpa x agg + q */
+    int* agg_start;             /* (n_agg + 1) with rotations: the nodes of each aggregate */
+    int* agg_node;              /* (n) */
+    double* tent;               /* (n x cpa x 9) with rotations: P_tent's 3x3 blocks of row i, to
+                                   coarse nodes cpa agg(i) + q; NULL: P_tent = identity blocks */
     int* p_start;               /* (n + 1) */
-    int* p_col;                 /* (nnz_p) aggregates, ascending per row */
-    int* p_self;                /* (n) entry of agg(i) in row i */
-    int* a_to_p;                /* (n_blocks) entry of agg(col) in row i for strong blocks, -1 weak */
+    int* p_col;                 /* (nnz_p) coarse nodes, ascending per row */
+    int* p_self;                /* (n) entry of coarse node cpa agg(i) in row i */
+    int* a_to_p;                /* (n_blocks) entry of cpa agg(col) in row i for strong blocks, -1
+                                   weak (the entries of cpa agg(col) + q follow it) */
     double* p_val;              /* (nnz_p x 9) */
-    int* pt_start;              /* (n_next + 1) transpose: for each aggregate the entries of P */
+    int* pt_start;              /* (n_next + 1) transpose: for each coarse node the entries of P */
     int* pt_entry;              /* (nnz_p) entry index into p_col/p_val, rows ascending */
     int* pt_row;                /* (nnz_p) the fine row of that entry */
     int* t_start;               /* (n + 1) pattern of T = A P */
@@ -110,6 +154,10 @@ typedef struct wc_amg {
     double setup_ms;            /* of the last wc_amg_setup */
     double fine_bound_scale;    /* the finest level's lambda_max bound x this: WC_AMG_SEAM_BOUND
                                    with three-point seams (sew.h), else 1 */
+    const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
+                                   positions every setup takes the rotations about (the state's
+                                   x, wc_solver_set_positions); NULL: the rest positions' P_tent
+                                   from wc_amg_create */
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */
@@ -127,6 +175,11 @@ double wc_amg_operator_complexity(const wc_amg* a);
 double wc_amg_grid_complexity(const wc_amg* a);
 
 /* ---- private to amg_*.c ---- */
+/* Level 0's near-null rows (rest positions about their centroid), L's tentative prolongator
+ * (QR per aggregate, amg.h) and N's near-null rows (the R factors) and dead unknowns; the
+ * arrays are allocated by the caller. */
+void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg);
+void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */
 void wc_amg_start_vector(double* v, int n);
@@ -139,6 +192,17 @@ static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
         else hi = mid;
     }
     return (lo < end && col[lo] == c) ? lo : -1;
+}
+
+/* out = (D^-1 t)_i: 3x3 blocks, or node i's rows of its pair's 6x6 inverse (group 2). */
+static inline void wc_amg_dinv(const wc_amg_level* L, int i, const double* t, double* out) {
+    if (L->group == 1) {
+        m3_mulv(out, L->Dinv + 9 * (size_t)i, t + 3 * (size_t)i);
+        return;
+    }
+    int b = i & ~1;
+    m3_mulv(out, L->Dinv + 18 * (size_t)i, t + 3 * (size_t)b);
+    m3_mulv_add(out, L->Dinv + 18 * (size_t)i + 9, t + 3 * (size_t)b + 3);
 }
 
 #endif
