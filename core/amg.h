@@ -7,30 +7,57 @@
  * it sees is S M^-1 S: symmetric, and positive definite on range(S).
  *
  * Near-null space (wc_amg_opts.rotations): the three translations per aggregate (0), or the six
- * rigid-body modes, 3 translations + 3 infinitesimal rotations (x_i - c) x e_k (1, Tamstorf et
- * al. 2015; core/amg_tent.c). With rotations every aggregate becomes TWO coarse 3-dof nodes
- * (2a: the first three orthonormal columns, 2a + 1: the last three), so every level stays 3x3
- * block-sparse and every operator is the BSR of bsr.h (the V-cycle, the smoother and the dense
- * coarse solve do not know about rotations). The tentative prolongator is the Q of a QR per
- * aggregate of its (3 n_agg) x 6 near-null block (modified Gram-Schmidt, twice); a column whose
- * part orthogonal to the earlier ones is below WC_AMG_DEPENDENT x its norm (a 1-node aggregate:
- * its three rotations; a 2-node or collinear one: the rotation about its line) is dropped: its
- * column of P_tent is zero and the coarse unknown is "dead" (its Galerkin row and column are
- * zero; wc_amg_setup puts the block's mean live diagonal there, so it decouples and stays 0). The
- * coarse near-null space is the R factor (the SA recursion): node 2a carries rows 0-2 of R_a,
- * node 2a + 1 rows 3-5; coarse levels aggregate the PAIRS (2a, 2a + 1) as one unit, so a pair
- * never splits. The rotations are taken about the rest positions' centroid from the model's
- * rest positions, so P_tent (and the R factors on every level) is fixed per model and built at
- * wc_amg_create with the patterns: the setup per solve costs no more than the Galerkin products
- * on the larger coarse levels.
+ * rigid-body modes, 3 translations + 3 infinitesimal rotations (x_i - c) x e_k, c the centroid
+ * (1, the default; Tamstorf et al. 2015; core/amg_tent.c). With rotations every aggregate
+ * becomes TWO coarse 3-dof nodes (2a: the first three orthonormal columns, 2a + 1: the last
+ * three), so every level stays 3x3 block-sparse and every operator is the BSR of bsr.h (the
+ * V-cycle, the Chebyshev smoother and the dense coarse solve are unchanged). The tentative
+ * prolongator is the Q of a QR per aggregate of its (3 n_agg) x 6 near-null block (modified
+ * Gram-Schmidt, each column twice); a column whose part orthogonal to the earlier ones is below
+ * WC_AMG_DEPENDENT x its norm (a 1-node aggregate: its three rotations; a 2-node or collinear
+ * one: the rotation about its line) is dropped: its column of P_tent is zero and the coarse
+ * unknown is "dead" (its Galerkin row and column are zero; the setup puts the block's mean live
+ * diagonal there, so it decouples and stays 0). The coarse near-null space is the R factor (the
+ * SA recursion: B_l = P_tent R): node 2a carries rows 0-2 of R_a, node 2a + 1 rows 3-5; coarse
+ * levels aggregate the PAIRS (2a, 2a + 1) as one unit (a pair never splits, and the pair's two
+ * rows share their columns), and their smoother's block diagonal is 6x6 per pair (pair_blocks):
+ * with 3x3 blocks D^-1 A had outlying eigenvalues (translation-rotation coupling inside a pair:
+ * lambda_max 3.3 where 6 power iterations saw 1.9), the Chebyshev smoother went past its bound
+ * and 8 % of the 64^2 sheet's solves broke down (indefinite); with 6x6 blocks the estimate is
+ * within 1.2x and none did. The rotations are taken about the CURRENT positions
+ * (current_positions, wc_amg.pos = the state's x via wc_solver_set_positions): every setup
+ * redoes the QR (no allocation; ~1-2 % of a setup); a solver with no positions (tests,
+ * benchmarks) uses the rest positions' P_tent built at wc_amg_create. Rest vs current positions
+ * (bench_precond --current): the same on a hanging sheet (9/15 vs 9/14), 23/18 vs 17/15 on a
+ * sheet draped over a sphere (x1/x1000), 17/13/14 vs 13/11/10 in test_amg (drape, line pins,
+ * stiff x1000): current positions win where the cloth is far from its rest shape.
+ * Measured (iterations to 1e-4, exact; ms on a loaded 2-core machine, noisy):
+ *   - bench_precond, 64^2 / 128^2 sheets at x1 and x1000 (the smoother table's systems):
+ *     translations 12/27/17/11, rigid modes 9/14/13/8 (current positions); operator complexity
+ *     1.18 -> 1.73, grid complexity 1.12 -> 1.25, wc_amg_create 3-8 -> 12-33 ms on 64^2; setup
+ *     per solve 4-8 -> 11-20 ms on 64^2, one iteration ~1.5x (the coarse level holds 4x the
+ *     blocks). Aggressive coarsening (aggregates of aggregates: operator complexity 1.04) took
+ *     19/29/21/15 (translations 24/49/30/21): not worth its cheaper cycle.
+ *   - weft bench iterations (stepping 1.5 s, BE, docs/bench/iterations.md): 64^2 sheet at
+ *     x1/x10/x100/x1e3/x1e4 15.1/30.0/32.0/34.0/43.9 -> 8.8/9.2/11.7/13.1/16.2 (growth 2.91 ->
+ *     1.85); sheets 32^2/64^2/128^2 12.5/15.1/18.7 -> 7.0/8.8/11.5; drape 15.5 -> 9.2; the
+ *     544-vertex garment 13.2 -> 8.0. Time per solve (setup + iterations; bench_precond, both
+ *     in one process): on the 64^2 sheet ~1.4x slower at x1, even at x1000, ~1.6x faster at
+ *     x1e4; the 30k-vertex garment below is faster. Rotations are the default because they meet
+ *     issue 12's iteration goals (none met without) and win on the stiff and large systems.
+ *   - the 30k-vertex dance garment (sample_scenes/codimipc_dance.json, 1 frame, no self-
+ *     collision, 1 thread): 87 -> 65.5 iterations per solve (max 112 -> 87), the solve stage
+ *     4.56 -> 3.76 s, setup 80 -> 168 ms per solve.
  *
  * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
  * arrays as it uploads the BSR pattern):
  *   - aggregates per level (greedy, Vanek's three phases) over the "strong" graph: on the finest
  *     level the stretch and shear springs (bend springs join particles two edges apart; they are
  *     lumped onto the diagonal when the prolongator is smoothed), on coarse levels every block;
- *   - the smoothed prolongator's pattern (row i: the aggregates of i's strong neighbours and its
- *     own), its transpose, the pattern of T = P^ P and of the Galerkin operator P^T P^ P.
+ *   - the smoothed prolongator's pattern (row i: the coarse nodes of the aggregates of i's strong
+ *     neighbours and its own), its transpose, the pattern of T = P^ P and of the Galerkin
+ *     operator P^T P^ P; with rotations the aggregates' node lists and P_tent about the rest
+ *     positions.
  * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
  * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (power iterations from a
  * fixed start, times a safety factor), the smoothed
@@ -42,8 +69,9 @@
  * and x1000, iterations to 1e-4): weighted Jacobi 1 sweep 26/57/34/23, 2 sweeps 18/41/24/16,
  * Chebyshev degree 2 12/27/17/11, degree 3 11/21/14/10; block Jacobi alone 508/944/1000+/1000+.
  * The largest eigenvalue needs estimating: a Gershgorin bound was 204 where it is 1.9 (the
- * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows in
- * parallel with no reduction, so the result does not depend on the thread count. */
+ * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows (or
+ * pairs) in parallel with no reduction, and the per-solve QR runs serially, so the result does
+ * not depend on the thread count. */
 #ifndef WEFT_CORE_AMG_H
 #define WEFT_CORE_AMG_H
 #include "diag.h"
@@ -157,7 +185,8 @@ typedef struct wc_amg {
     const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
                                    positions every setup takes the rotations about (the state's
                                    x, wc_solver_set_positions); NULL: the rest positions' P_tent
-                                   from wc_amg_create */
+                                   from wc_amg_create. What it yields (P_tent, R, dead) is derived
+                                   per solve from the state: snapshots hold nothing of it */
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */
