@@ -297,6 +297,7 @@ static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
             }
         }
     }
+    /* the blocks (I, J) of pair a with J's pair >= a (P^T A P is symmetric): half the products */
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -304,12 +305,15 @@ static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
         for (int a = lo; a < hi; ++a) {
             int I = 2 * a, c0 = N->row_start[I], c1 = N->row_start[I + 1], d0 = c1;
             memset(N->val + 9 * (size_t)c0, 0, 9 * sizeof(double) * (size_t)(N->row_start[I + 2] - c0));
+            int s0 = c0; /* first slot of row I at a column >= I */
+            while (N->col[s0] < I) ++s0;
             /* P^T's rows 2a and 2a + 1 list the same fine rows; the entries for 2a + 1 follow */
             for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
-                int i = L->pt_row[s], slot = c0;
+                int i = L->pt_row[s], slot = s0, k = L->t_start[i], t1 = L->t_start[i + 1];
+                while (k < t1 && L->t_col[k] < I) k += 2;
                 const double* P0 = L->p_val + 9 * (size_t)L->pt_entry[s];
                 const double* P1 = P0 + 9;
-                for (int k = L->t_start[i]; k < L->t_start[i + 1]; k += 2) {
+                for (; k < t1; k += 2) {
                     while (N->col[slot] != L->t_col[k]) ++slot; /* T's row i is in N's row I */
                     const double *T0 = L->t_val + 9 * (size_t)k, *T1 = T0 + 9;
                     double* B0 = N->val + 9 * (size_t)slot;
@@ -321,6 +325,21 @@ static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
                 }
             }
         }
+    }
+    /* the others by symmetry: (I, J) = (J, I)^T, written by pair I / 2 from pair J / 2's rows */
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(N->n / 2, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int I = 2 * lo; I < 2 * hi; ++I)
+            for (int slot = N->row_start[I]; slot < N->row_start[I + 1] && N->col[slot] < (I & ~1); ++slot) {
+                int J = N->col[slot];
+                int kt = wc_amg_find(N->col, N->row_start[J], N->row_start[J + 1], I);
+                const double* src = N->val + 9 * (size_t)kt;
+                double* dst = N->val + 9 * (size_t)slot;
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) dst[3 * r + c] = src[3 * c + r];
+            }
     }
 }
 
