@@ -6,16 +6,63 @@
  * any AMG). PCG filters what the V-cycle returns (c = S (M^-1 r + beta c)), so the preconditioner
  * it sees is S M^-1 S: symmetric, and positive definite on range(S).
  *
- * Near-null space: the three translations per aggregate, so every level stays 3x3 block-sparse
- * and every operator is the BSR of bsr.h.
+ * Near-null space (wc_amg_opts.rotations): the three translations per aggregate (0), or the six
+ * rigid-body modes, 3 translations + 3 infinitesimal rotations (x_i - c) x e_k, c the centroid
+ * (1, the default; Tamstorf et al. 2015; core/amg_tent.c). With rotations every aggregate
+ * becomes TWO coarse 3-dof nodes (2a: the first three orthonormal columns, 2a + 1: the last
+ * three), so every level stays 3x3 block-sparse and every operator is the BSR of bsr.h (the
+ * V-cycle, the Chebyshev smoother and the dense coarse solve are unchanged). The tentative
+ * prolongator is the Q of a QR per aggregate of its (3 n_agg) x 6 near-null block (modified
+ * Gram-Schmidt, each column twice); a column whose part orthogonal to the earlier ones is below
+ * WC_AMG_DEPENDENT x its norm (a 1-node aggregate: its three rotations; a 2-node or collinear
+ * one: the rotation about its line) is dropped: its column of P_tent is zero and the coarse
+ * unknown is "dead" (its Galerkin row and column are zero; the setup puts the block's mean live
+ * diagonal there, so it decouples and stays 0). The coarse near-null space is the R factor (the
+ * SA recursion: B_l = P_tent R): node 2a carries rows 0-2 of R_a, node 2a + 1 rows 3-5; coarse
+ * levels aggregate the PAIRS (2a, 2a + 1) as one unit (a pair never splits, and the pair's two
+ * rows share their columns), and their smoother's block diagonal is 6x6 per pair (pair_blocks):
+ * with 3x3 blocks D^-1 A had outlying eigenvalues (translation-rotation coupling inside a pair:
+ * lambda_max 3.3 where 6 power iterations saw 1.9), the Chebyshev smoother went past its bound
+ * and 8 % of the 64^2 sheet's solves broke down (indefinite); with 6x6 blocks the estimate is
+ * within 1.2x and none did. The rotations are taken about the CURRENT positions
+ * (current_positions, wc_amg.pos = the state's x via wc_solver_set_positions): every setup
+ * redoes the QR (no allocation; ~1-2 % of a setup); a solver with no positions (tests,
+ * benchmarks) uses the rest positions' P_tent built at wc_amg_create. Rest vs current positions
+ * (bench_precond --current): the same on a hanging sheet (9/15 vs 9/14), 23/18 vs 17/15 on a
+ * sheet draped over a sphere (x1/x1000), 17/13/14 vs 13/11/10 in test_amg (drape, line pins,
+ * stiff x1000): current positions win where the cloth is far from its rest shape.
+ * Measured (iterations to 1e-4, exact; ms on a loaded 2-core machine, noisy):
+ *   - bench_precond, 64^2 / 128^2 sheets at x1 and x1000 (the smoother table's systems):
+ *     translations 12/27/17/11, rigid modes 9/14/13/8 (current positions); operator complexity
+ *     1.18 -> 1.73, grid complexity 1.12 -> 1.25, wc_amg_create 3-8 -> 12-33 ms on 64^2; setup
+ *     per solve 4-8 -> 11-20 ms on 64^2, one iteration ~1.5x (the coarse level holds 4x the
+ *     blocks). Aggressive coarsening (aggregates of aggregates: operator complexity 1.04) took
+ *     19/29/21/15 (translations 24/49/30/21): not worth its cheaper cycle.
+ *   - weft bench iterations (stepping 1.5 s, BE, docs/bench/iterations.md): 64^2 sheet at
+ *     x1/x10/x100/x1e3/x1e4 15.1/30.0/32.0/34.0/43.9 -> 8.8/9.2/11.7/13.0/16.0 (growth 2.91 ->
+ *     1.82); sheets 32^2/64^2/128^2 12.5/15.1/18.7 -> 7.0/8.8/11.5; drape 15.5 -> 9.2; the
+ *     544-vertex garment 13.2 -> 8.0; every solve converged.
+ *   - time per solve (setup + PCG, min of 10-15 repeated solves of one system, 1 thread): the
+ *     64^2 sheet x1 18.8 -> 23.9 ms, x1000 37.6 -> 43.0, the 128^2 sheet x1 181 -> 243 (setup
+ *     3.9 -> 10.9, 27 -> 72 ms; one iteration 1.2-1.5x): on these sheets the fewer iterations do
+ *     not pay for the dearer setup and cycle yet; on the 30k-vertex garment below they do.
+ *     Rotations are the default because only they meet issue 12's iteration goals, and the
+ *     large garment is faster. Tried and left out: shear springs lumped out of P's pattern
+ *     (operator complexity 1.48, 10/10/10 iterations, but 1 % of the stiff sheet's and the
+ *     drape's solves broke down).
+ *   - the 30k-vertex dance garment (sample_scenes/codimipc_dance.json, 1 frame, no self-
+ *     collision, 1 thread): 87 -> 65.5 iterations per solve (max 112 -> 87), the solve stage
+ *     4.56 -> 3.76 s, setup 80 -> 168 ms per solve.
  *
  * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
  * arrays as it uploads the BSR pattern):
  *   - aggregates per level (greedy, Vanek's three phases) over the "strong" graph: on the finest
  *     level the stretch and shear springs (bend springs join particles two edges apart; they are
  *     lumped onto the diagonal when the prolongator is smoothed), on coarse levels every block;
- *   - the smoothed prolongator's pattern (row i: the aggregates of i's strong neighbours and its
- *     own), its transpose, the pattern of T = P^ P and of the Galerkin operator P^T P^ P.
+ *   - the smoothed prolongator's pattern (row i: the coarse nodes of the aggregates of i's strong
+ *     neighbours and its own), its transpose, the pattern of T = P^ P and of the Galerkin
+ *     operator P^T P^ P; with rotations the aggregates' node lists and P_tent about the rest
+ *     positions.
  * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
  * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (power iterations from a
  * fixed start, times a safety factor), the smoothed
@@ -27,14 +74,16 @@
  * and x1000, iterations to 1e-4): weighted Jacobi 1 sweep 26/57/34/23, 2 sweeps 18/41/24/16,
  * Chebyshev degree 2 12/27/17/11, degree 3 11/21/14/10; block Jacobi alone 508/944/1000+/1000+.
  * The largest eigenvalue needs estimating: a Gershgorin bound was 204 where it is 1.9 (the
- * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows in
- * parallel with no reduction, so the result does not depend on the thread count. */
+ * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows (or
+ * pairs) in parallel with no reduction, and the per-solve QR runs serially, so the result does
+ * not depend on the thread count. */
 #ifndef WEFT_CORE_AMG_H
 #define WEFT_CORE_AMG_H
 #include "diag.h"
 #include "filter.h"
 #include "model.h"
 #include "par.h"
+#include "vec3.h"
 
 #define WC_AMG_MAX_LEVELS 12
 #define WC_AMG_COARSE_SWEEPS 4
@@ -47,6 +96,9 @@
  * broke down on a sewn tube). The finest level's bound is raised by this factor when the model
  * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's). */
 #define WC_AMG_SEAM_BOUND 1.5
+/* A near-null column whose part orthogonal to the aggregate's earlier columns is below this x
+ * its own norm is dropped from the tentative prolongator (amg_tent.c). */
+#define WC_AMG_DEPENDENT 1e-6
 
 typedef struct wc_amg_opts {
     int coarse_max;             /* nodes at which coarsening stops (dense Cholesky there): 96 */
@@ -60,6 +112,14 @@ typedef struct wc_amg_opts {
     double prolong_weight;      /* prolongator smoothing weight x 1 / lambda_max (4/3; 0:
                                    unsmoothed aggregation) */
     int power_iterations;       /* per level and solve (6) */
+    int rotations;              /* 1: near-null space = 6 rigid-body modes per aggregate (two
+                                   coarse nodes per aggregate, see above); 0: 3 translations */
+    int pair_blocks;            /* with rotations: 1: the smoother's block diagonal on coarse
+                                   levels is 6x6 per pair (2a, 2a + 1) (default); 0: 3x3 per node */
+    int aggressive;             /* 1: the finest level's aggregates are aggregated once more
+                                   (aggregates of aggregates, ~40-50 particles each); 0 (default) */
+    int current_positions;      /* with rotations: 1 (default): every setup rebuilds P_tent and
+                                   the R factors about wc_amg.pos when set; 0: rest positions only */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -74,21 +134,38 @@ typedef struct wc_amg_level {
     unsigned char* strong;      /* (n_blocks) level 0: 1 for blocks of stretch/shear springs and
                                    the diagonal; NULL: every block is strong */
     double* val;                /* (n_blocks x 9) the level's operator */
-    double* Dinv;               /* (n x 9) inverse block diagonal */
+    double* Dinv;               /* (n x 9 x group) inverse block diagonal: group 2: node i's 3 rows
+                                   of its pair's 6x6 inverse (blocks to nodes i & ~1, i | 1) */
+    int* pair_blk;              /* (n) group 2: block (i, i ^ 1) in row i (rows 2a and 2a + 1
+                                   have the same columns) */
     double bound;               /* estimate of the largest eigenvalue of D^-1 A (per solve) */
     double* ev;                 /* (n x 3) the power iterations' vector */
     double* partial;            /* (ceil(n / 256) x 2) per-chunk partial sums (thread-count free) */
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
 
+    int group;                  /* nodes per aggregation unit: 2 on coarse levels with rotations
+                                   (the pair 2a, 2a + 1 of one fine aggregate), else 1 */
+    double* nns;                /* (n x 2 x 9) with rotations: each node's 3 x 6 near-null rows as
+                                   two 3x3 blocks (translation columns, rotation columns); m on
+                                   level 0, R factors' rows below; NULL without rotations */
+    unsigned char* dead;        /* (n x 3) with rotations, levels >= 1: 1 for a dropped unknown */
+
     /* the prolongator to level + 1 (none on the coarsest level) */
     int* agg;                   /* (n) aggregate of each node */
+    int cpa;                    /* coarse nodes per aggregate: 2 with rotations, else 1; coarse
+                                   node cpa x agg + q */
+    int* agg_start;             /* (n_agg + 1) with rotations: the nodes of each aggregate */
+    int* agg_node;              /* (n) */
+    double* tent;               /* (n x cpa x 9) with rotations: P_tent's 3x3 blocks of row i, to
+                                   coarse nodes cpa agg(i) + q; NULL: P_tent = identity blocks */
     int* p_start;               /* (n + 1) */
-    int* p_col;                 /* (nnz_p) aggregates, ascending per row */
-    int* p_self;                /* (n) entry of agg(i) in row i */
-    int* a_to_p;                /* (n_blocks) entry of agg(col) in row i for strong blocks, -1 weak */
+    int* p_col;                 /* (nnz_p) coarse nodes, ascending per row */
+    int* p_self;                /* (n) entry of coarse node cpa agg(i) in row i */
+    int* a_to_p;                /* (n_blocks) entry of cpa agg(col) in row i for strong blocks, -1
+                                   weak (the entries of cpa agg(col) + q follow it) */
     double* p_val;              /* (nnz_p x 9) */
-    int* pt_start;              /* (n_next + 1) transpose: for each aggregate the entries of P */
+    int* pt_start;              /* (n_next + 1) transpose: for each coarse node the entries of P */
     int* pt_entry;              /* (nnz_p) entry index into p_col/p_val, rows ascending */
     int* pt_row;                /* (nnz_p) the fine row of that entry */
     int* t_start;               /* (n + 1) pattern of T = A P */
@@ -110,6 +187,11 @@ typedef struct wc_amg {
     double setup_ms;            /* of the last wc_amg_setup */
     double fine_bound_scale;    /* the finest level's lambda_max bound x this: WC_AMG_SEAM_BOUND
                                    with three-point seams (sew.h), else 1 */
+    const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
+                                   positions every setup takes the rotations about (the state's
+                                   x, wc_solver_set_positions); NULL: the rest positions' P_tent
+                                   from wc_amg_create. What it yields (P_tent, R, dead) is derived
+                                   per solve from the state: snapshots hold nothing of it */
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */
@@ -127,6 +209,11 @@ double wc_amg_operator_complexity(const wc_amg* a);
 double wc_amg_grid_complexity(const wc_amg* a);
 
 /* ---- private to amg_*.c ---- */
+/* Level 0's near-null rows (rest positions about their centroid), L's tentative prolongator
+ * (QR per aggregate, amg.h) and N's near-null rows (the R factors) and dead unknowns; the
+ * arrays are allocated by the caller. */
+void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg);
+void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */
 void wc_amg_start_vector(double* v, int n);
@@ -139,6 +226,17 @@ static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
         else hi = mid;
     }
     return (lo < end && col[lo] == c) ? lo : -1;
+}
+
+/* out = (D^-1 t)_i: 3x3 blocks, or node i's rows of its pair's 6x6 inverse (group 2). */
+static inline void wc_amg_dinv(const wc_amg_level* L, int i, const double* t, double* out) {
+    if (L->group == 1) {
+        m3_mulv(out, L->Dinv + 9 * (size_t)i, t + 3 * (size_t)i);
+        return;
+    }
+    int b = i & ~1;
+    m3_mulv(out, L->Dinv + 18 * (size_t)i, t + 3 * (size_t)b);
+    m3_mulv_add(out, L->Dinv + 18 * (size_t)i + 9, t + 3 * (size_t)b + 3);
 }
 
 #endif

@@ -13,6 +13,10 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.power_iterations = 6;
     o.chebyshev = 1;
     o.chebyshev_ratio = 10.0;
+    o.rotations = 1;
+    o.pair_blocks = 1;
+    o.aggressive = 0;
+    o.current_positions = 1;
     return o;
 }
 
@@ -29,47 +33,52 @@ static int cmp_int(const void* a, const void* b) {
 /* 1 when block k of a level is strong (the diagonal always is). */
 static int is_strong(const wc_amg_level* L, int k) { return !L->strong || L->strong[k]; }
 
-/* Vanek's greedy aggregation over the strong graph; returns the number of aggregates. */
+/* Vanek's greedy aggregation over the strong graph of units of g nodes (g = L->group: the pairs
+ * of a rotation level are aggregated whole); agg gets each node's aggregate; returns the number
+ * of aggregates. pending: n ints. */
 static int aggregate(const wc_amg_level* L, int* agg, int* pending) {
-    int n = L->n, n_agg = 0;
-    for (int i = 0; i < n; ++i) agg[i] = -1;
-    /* 1: a node whose strong neighbours are all free starts an aggregate of them all */
-    for (int i = 0; i < n; ++i) {
-        if (agg[i] >= 0) continue;
+    const int g = L->group, nu = L->n / g;
+    int n_agg = 0;
+#define UNIT_BLOCKS(u, k) \
+    for (int i_ = g * (u); i_ < g * (u) + g; ++i_) \
+        for (int k = L->row_start[i_]; k < L->row_start[i_ + 1]; ++k)
+    for (int u = 0; u < nu; ++u) agg[u] = -1;
+    /* 1: a unit whose strong neighbours are all free starts an aggregate of them all */
+    for (int u = 0; u < nu; ++u) {
+        if (agg[u] >= 0) continue;
         int free_all = 1;
-        for (int k = L->row_start[i]; k < L->row_start[i + 1] && free_all; ++k)
-            if (is_strong(L, k) && agg[L->col[k]] >= 0) free_all = 0;
+        UNIT_BLOCKS(u, k) if (is_strong(L, k) && agg[L->col[k] / g] >= 0) free_all = 0;
         if (!free_all) continue;
-        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-            if (is_strong(L, k)) agg[L->col[k]] = n_agg;
-        agg[i] = n_agg++;
+        UNIT_BLOCKS(u, k) if (is_strong(L, k)) agg[L->col[k] / g] = n_agg;
+        agg[u] = n_agg++;
     }
     /* 2: the rest join the aggregate they have most strong connections to (phase-1 ones only) */
-    for (int i = 0; i < n; ++i) {
-        pending[i] = -1;
-        if (agg[i] >= 0) continue;
+    for (int u = 0; u < nu; ++u) {
+        pending[u] = -1;
+        if (agg[u] >= 0) continue;
         int best = -1, best_count = 0;
-        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
-            if (!is_strong(L, k) || agg[L->col[k]] < 0) continue;
-            int a = agg[L->col[k]], count = 0;
-            for (int q = L->row_start[i]; q < L->row_start[i + 1]; ++q)
-                if (is_strong(L, q) && agg[L->col[q]] == a) ++count;
+        UNIT_BLOCKS(u, k) {
+            if (!is_strong(L, k) || agg[L->col[k] / g] < 0) continue;
+            int a = agg[L->col[k] / g], count = 0;
+            UNIT_BLOCKS(u, q) if (is_strong(L, q) && agg[L->col[q] / g] == a) ++count;
             if (count > best_count || (count == best_count && a < best)) {
                 best = a;
                 best_count = count;
             }
         }
-        pending[i] = best;
+        pending[u] = best;
     }
-    for (int i = 0; i < n; ++i)
-        if (agg[i] < 0 && pending[i] >= 0) agg[i] = pending[i];
+    for (int u = 0; u < nu; ++u)
+        if (agg[u] < 0 && pending[u] >= 0) agg[u] = pending[u];
     /* 3: anything left (cannot happen on a connected graph; kept for safety) */
-    for (int i = 0; i < n; ++i) {
-        if (agg[i] >= 0) continue;
-        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-            if (is_strong(L, k) && agg[L->col[k]] < 0) agg[L->col[k]] = n_agg;
-        agg[i] = n_agg++;
+    for (int u = 0; u < nu; ++u) {
+        if (agg[u] >= 0) continue;
+        UNIT_BLOCKS(u, k) if (is_strong(L, k) && agg[L->col[k] / g] < 0) agg[L->col[k] / g] = n_agg;
+        agg[u] = n_agg++;
     }
+#undef UNIT_BLOCKS
+    /* units to nodes, downwards (i / g <= i is read before it is overwritten) */
+    for (int i = L->n - 1; i >= 0; --i) agg[i] = agg[i / g];
     return n_agg;
 }
 
@@ -83,25 +92,73 @@ static int sort_unique(int* buf, int len) {
     return m;
 }
 
+/* Aggressive coarsening (wc_amg_opts.aggressive): the aggregates of the aggregates' strong graph,
+ * composed into agg (n); returns the number of aggregates, or -1 when out of memory. */
+static int aggregate_again(wc_amg* a, const wc_amg_level* L, int* agg, int n_agg, int* pending) {
+    const wc_allocator* al = &a->alloc;
+    wc_amg_level G;
+    memset(&G, 0, sizeof G);
+    G.n = n_agg;
+    G.group = 1;
+    int* start = WC_NEW(al, int, n_agg + 1);
+    int* col = WC_NEW(al, int, L->n_blocks + 1);
+    int* fill = WC_NEW(al, int, n_agg + 1);
+    int* agg2 = WC_NEW(al, int, n_agg + 1);
+    int* pend2 = WC_NEW(al, int, n_agg + 1);
+    int result = -1;
+    if (!start || !col || !fill || !agg2 || !pend2) goto done;
+    for (int i = 0; i < L->n; ++i)
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            if (is_strong(L, k)) ++start[agg[i] + 1];
+    for (int g = 0; g < n_agg; ++g) start[g + 1] += start[g];
+    for (int g = 0; g < n_agg; ++g) fill[g] = start[g];
+    for (int i = 0; i < L->n; ++i)
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            if (is_strong(L, k)) col[fill[agg[i]]++] = agg[L->col[k]];
+    int nnz = 0; /* sort and deduplicate each row, compacting in place */
+    for (int g = 0; g < n_agg; ++g) {
+        int lo = start[g], len = sort_unique(col + lo, start[g + 1] - lo);
+        memmove(col + nnz, col + lo, sizeof(int) * (size_t)len);
+        start[g] = nnz;
+        nnz += len;
+    }
+    start[n_agg] = nnz;
+    G.row_start = start;
+    G.col = col;
+    G.n_blocks = nnz;
+    result = aggregate(&G, agg2, pend2);
+    for (int i = 0; i < L->n; ++i) agg[i] = agg2[agg[i]];
+done:
+    wc_free(al, start);
+    wc_free(al, col);
+    wc_free(al, fill);
+    wc_free(al, agg2);
+    wc_free(al, pend2);
+    (void)pending;
+    return result;
+}
+
 #define TRY(p) \
     do {       \
         if (!(p)) goto oom; \
     } while (0)
 
-/* The prolongator's pattern from level L to its aggregates, its transpose, T's pattern, and
- * the next level's pattern (into N). mark: n_next ints; buf: n + 1 ints. */
+/* The prolongator's pattern from level L to its coarse nodes (cpa per aggregate), its
+ * transpose, T's pattern, and the next level's pattern (into N). mark: n_next ints; buf:
+ * 2 (n + 1) ints. */
 static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_next, int* mark, int* buf) {
     const wc_allocator* al = &a->alloc;
-    int n = L->n;
-    /* P: row i = aggregates of i and its strong neighbours */
+    int n = L->n, cpa = L->cpa;
+    /* P: row i = the coarse nodes of the aggregates of i and its strong neighbours */
     TRY(L->p_start = WC_NEW(al, int, n + 1));
     for (int pass = 0; pass < 2; ++pass) {
         int nnz = 0;
         for (int i = 0; i < n; ++i) {
             int len = 0;
             for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-                if (is_strong(L, k) || L->col[k] == i) buf[len++] = L->agg[L->col[k]];
-            buf[len++] = L->agg[i];
+                if (is_strong(L, k) || L->col[k] == i)
+                    for (int q = 0; q < cpa; ++q) buf[len++] = cpa * L->agg[L->col[k]] + q;
+            for (int q = 0; q < cpa; ++q) buf[len++] = cpa * L->agg[i] + q;
             len = sort_unique(buf, len);
             if (pass == 0) L->p_start[i] = nnz;
             else memcpy(L->p_col + nnz, buf, (size_t)len * sizeof *buf);
@@ -117,10 +174,10 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
     TRY(L->p_self = WC_NEW(al, int, n));
     TRY(L->a_to_p = WC_NEW(al, int, L->n_blocks));
     for (int i = 0; i < n; ++i) {
-        L->p_self[i] = wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], L->agg[i]);
+        L->p_self[i] = wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], cpa * L->agg[i]);
         for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
             L->a_to_p[k] = (is_strong(L, k) || L->col[k] == i)
-                               ? wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], L->agg[L->col[k]])
+                               ? wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], cpa * L->agg[L->col[k]])
                                : -1;
     }
     /* P^T by counting sort (rows ascending within each aggregate) */
@@ -203,7 +260,18 @@ oom:
 static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
     const wc_allocator* al = &a->alloc;
     if (own_val) TRY(L->val = WC_NEW(al, double, 9 * (size_t)L->n_blocks));
-    TRY(L->Dinv = WC_NEW(al, double, 9 * (size_t)L->n));
+    TRY(L->Dinv = WC_NEW(al, double, 9 * (size_t)L->group * L->n));
+    if (L->group == 2) {
+        TRY(L->pair_blk = WC_NEW(al, int, L->n));
+        for (int i = 0; i < L->n; ++i) {
+            L->pair_blk[i] = wc_amg_find(L->col, L->row_start[i], L->row_start[i + 1], i ^ 1);
+            int j = i ^ 1, len = L->row_start[i + 1] - L->row_start[i];
+            /* the pairs' rows share their columns (P's columns 2a, 2a + 1 come together) */
+            if (L->pair_blk[i] < 0 || len != L->row_start[j + 1] - L->row_start[j] ||
+                memcmp(L->col + L->row_start[i], L->col + L->row_start[j], sizeof(int) * (size_t)len) != 0)
+                goto oom;
+        }
+    }
     TRY(L->x = WC_NEW(al, double, 3 * (size_t)L->n));
     TRY(L->r = WC_NEW(al, double, 3 * (size_t)L->n));
     TRY(L->t = WC_NEW(al, double, 3 * (size_t)L->n));
@@ -249,22 +317,44 @@ weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* op
     const wc_bsr_pattern* p = &m->pattern;
     int* mark = WC_NEW(&a->alloc, int, n + 1);
     int* pending = WC_NEW(&a->alloc, int, n + 1);
-    /* rows are deduplicated before they reach buf (P's rows: at most a row of A plus one) */
-    int* buf = WC_NEW(&a->alloc, int, n + 1);
+    /* rows are deduplicated before they reach buf (P's rows: at most cpa x (a row of A plus one)) */
+    int* buf = WC_NEW(&a->alloc, int, 2 * (size_t)n + 2);
     wc_amg_level* L = &a->lev[0];
     L->n = n;
     L->n_blocks = p->n_blocks;
     L->row_start = p->row_start;
     L->col = p->col;
     L->diag = p->diag;
+    L->group = 1;
     if (!mark || !pending || !buf || !mark_strong(a, L, m) || !alloc_level_values(a, L, 1)) goto oom;
+    if (o.rotations) {
+        TRY(L->nns = WC_NEW(&a->alloc, double, 18 * (size_t)n));
+        wc_amg_rigid_modes(L, m->rest_pos);
+    }
     a->n_levels = 1;
     while (a->n_levels < WC_AMG_MAX_LEVELS && L->n > o.coarse_max) {
         TRY(L->agg = WC_NEW(&a->alloc, int, L->n));
-        int n_next = aggregate(L, L->agg, pending);
-        if (n_next >= L->n || n_next < 1) break; /* no coarsening: stop here */
+        L->cpa = o.rotations ? 2 : 1;
+        int n_agg = aggregate(L, L->agg, pending);
+        if (a->n_levels == 1 && o.aggressive && n_agg > o.coarse_max) n_agg = aggregate_again(a, L, L->agg, n_agg, pending);
+        if (n_agg < 0) goto oom;
+        int n_next = L->cpa * n_agg;
+        if (n_next >= L->n || n_agg < 1) break; /* no coarsening: stop here */
         wc_amg_level* N = &a->lev[a->n_levels];
+        N->group = L->cpa;
         if (!build_transfer(a, L, N, n_next, mark, buf) || !alloc_level_values(a, N, 1)) goto oom;
+        if (o.rotations) { /* the aggregates' node lists (ascending), P_tent, N's near-null rows */
+            TRY(L->agg_start = WC_NEW(&a->alloc, int, n_agg + 1));
+            TRY(L->agg_node = WC_NEW(&a->alloc, int, L->n));
+            TRY(L->tent = WC_NEW(&a->alloc, double, 18 * (size_t)L->n));
+            TRY(N->nns = WC_NEW(&a->alloc, double, 18 * (size_t)n_next));
+            TRY(N->dead = WC_NEW(&a->alloc, unsigned char, 3 * (size_t)n_next));
+            for (int i = 0; i < L->n; ++i) ++L->agg_start[L->agg[i] + 1];
+            for (int g = 0; g < n_agg; ++g) L->agg_start[g + 1] += L->agg_start[g];
+            for (int g = 0; g < n_agg; ++g) mark[g] = L->agg_start[g];
+            for (int i = 0; i < L->n; ++i) L->agg_node[mark[L->agg[i]]++] = i;
+            wc_amg_tentative(L, N, n_agg);
+        }
         ++a->n_levels;
         L = N;
     }
@@ -298,7 +388,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_free(&al, a->coarse_L);

@@ -35,7 +35,7 @@ static void jacobi(const wc_amg_level* L, double w, const double* t, double* x, 
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
         for (int i = lo; i < hi; ++i) {
             double d[3];
-            m3_mulv(d, L->Dinv + 9 * i, t + 3 * i);
+            wc_amg_dinv(L, i, t, d);
             if (set) v3_scale(x + 3 * i, d, w);
             else v3_axpy(x + 3 * i, w, d);
         }
@@ -116,7 +116,7 @@ static void chebyshev(wc_amg_level* L, double ratio, int steps, const double* r,
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
             for (int i = lo; i < hi; ++i) {
                 double e[3];
-                m3_mulv(e, L->Dinv + 9 * i, L->t + 3 * i);
+                wc_amg_dinv(L, i, L->t, e);
                 for (int c = 0; c < 3; ++c) d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
             }
         }

@@ -51,19 +51,92 @@ static void project_fine(wc_amg_level* L, const double* A, const wc_filter* f, w
     }
 }
 
-/* Inverse block diagonal. */
-static void diagonal(wc_amg_level* L, wc_par* par) {
+/* Inverse of a 3x3 block, or of its mean diagonal when singular. */
+static void block_inverse(double* Di, const double* Aii) {
+    if (m3_inverse(Di, Aii) == 0.0 || !isfinite(Di[0])) {
+        double tr = (Aii[0] + Aii[4] + Aii[8]) / 3.0;
+        m3_identity(Di, tr > 0 && isfinite(tr) ? 1.0 / tr : 1.0);
+    }
+}
+
+/* In-place inverse of a 6x6 row-major matrix by Gauss-Jordan with partial pivoting; 0 when a
+ * pivot is not above 1e-13 x the largest diagonal entry. */
+static int inverse6(double* M) {
+    double inv[36] = {0}, scale = 0.0;
+    for (int r = 0; r < 6; ++r) {
+        inv[7 * r] = 1.0;
+        scale = fmax(scale, fabs(M[7 * r]));
+    }
+    for (int c = 0; c < 6; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < 6; ++r)
+            if (fabs(M[6 * r + c]) > fabs(M[6 * piv + c])) piv = r;
+        if (!(fabs(M[6 * piv + c]) > 1e-13 * scale)) return 0;
+        if (piv != c)
+            for (int q = 0; q < 6; ++q) {
+                double t = M[6 * c + q];
+                M[6 * c + q] = M[6 * piv + q];
+                M[6 * piv + q] = t;
+                t = inv[6 * c + q];
+                inv[6 * c + q] = inv[6 * piv + q];
+                inv[6 * piv + q] = t;
+            }
+        double d = 1.0 / M[6 * c + c];
+        for (int q = 0; q < 6; ++q) {
+            M[6 * c + q] *= d;
+            inv[6 * c + q] *= d;
+        }
+        for (int r = 0; r < 6; ++r) {
+            if (r == c || M[6 * r + c] == 0.0) continue;
+            double f = M[6 * r + c];
+            for (int q = 0; q < 6; ++q) {
+                M[6 * r + q] -= f * M[6 * c + q];
+                inv[6 * r + q] -= f * inv[6 * c + q];
+            }
+        }
+    }
+    for (int q = 0; q < 36; ++q)
+        if (!isfinite(inv[q])) return 0;
+    memcpy(M, inv, sizeof inv);
+    return 1;
+}
+
+/* Inverse block diagonal: 3x3 per node, or 6x6 per pair on a rotation level (amg.h; with
+ * pair_blocks off, or when the pair's block is singular, the pair's two 3x3 inverses). */
+static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
+    if (L->group == 1) {
+        WC_PAR_REGION(par)
+        {
+            int lo, hi;
+            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            for (int i = lo; i < hi; ++i) block_inverse(L->Dinv + 9 * i, L->val + 9 * (size_t)L->diag[i]);
+        }
+        return;
+    }
     WC_PAR_REGION(par)
     {
         int lo, hi;
-        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            double* Di = L->Dinv + 9 * i;
-            const double* Aii = L->val + 9 * (size_t)L->diag[i];
-            if (m3_inverse(Di, Aii) == 0.0 || !isfinite(Di[0])) {
-                double tr = (Aii[0] + Aii[4] + Aii[8]) / 3.0;
-                m3_identity(Di, tr > 0 && isfinite(tr) ? 1.0 / tr : 1.0);
+        wc_par_range(L->n / 2, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int a = lo; a < hi; ++a) {
+            int i0 = 2 * a, i1 = 2 * a + 1;
+            const double* B[2][2] = {{L->val + 9 * (size_t)L->diag[i0], L->val + 9 * (size_t)L->pair_blk[i0]},
+                                     {L->val + 9 * (size_t)L->pair_blk[i1], L->val + 9 * (size_t)L->diag[i1]}};
+            double M[36];
+            for (int p = 0; p < 2; ++p)
+                for (int q = 0; q < 2; ++q)
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c) M[6 * (3 * p + r) + 3 * q + c] = B[p][q][3 * r + c];
+            double* D0 = L->Dinv + 18 * (size_t)i0; /* node i0's rows: [to i0 | to i1], then i1's */
+            if (pair_blocks && inverse6(M)) {
+                for (int p = 0; p < 2; ++p)
+                    for (int q = 0; q < 2; ++q)
+                        for (int r = 0; r < 3; ++r)
+                            for (int c = 0; c < 3; ++c) D0[18 * p + 9 * q + 3 * r + c] = M[6 * (3 * p + r) + 3 * q + c];
+                continue;
             }
+            memset(D0, 0, 36 * sizeof(double));
+            block_inverse(D0, B[0][0]);
+            block_inverse(D0 + 27, B[1][1]);
         }
     }
 }
@@ -71,7 +144,7 @@ static void diagonal(wc_amg_level* L, wc_par* par) {
 /* lambda_max(D^-1 A) by power iterations from L->ev (kept for the next solve): each computes
  * t = A w, the Rayleigh quotient (w . A w) / (w . D w), and w <- D^-1 t / lambda. Sums per
  * chunk of WC_AMG_CHUNK rows, added in chunk order (the same on any thread count). */
-static void largest_eigenvalue(wc_amg_level* L, int iterations, wc_par* par) {
+static void largest_eigenvalue(wc_amg_level* L, int iterations, int pair_blocks, wc_par* par) {
     int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
     wc_amg_start_vector(L->ev, L->n);
     double lambda = 0.0;
@@ -91,9 +164,16 @@ static void largest_eigenvalue(wc_amg_level* L, int iterations, wc_par* par) {
                         m3_mulv_add(t, L->val + 9 * (size_t)k, w + 3 * L->col[k]);
                     m3_mulv(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * i);
                     num += v3_dot(w + 3 * i, t);
+                    if (L->group == 1) {
+                        m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
+                    } else { /* pairs: t into L->t, D^-1 after the chunk (chunks hold whole pairs) */
+                        if (pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (i ^ 1));
+                        v3_copy(L->t + 3 * i, t);
+                    }
                     den += v3_dot(w + 3 * i, dw);
-                    m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
                 }
+                if (L->group == 2)
+                    for (int i = lo; i < hi; ++i) wc_amg_dinv(L, i, L->t, next + 3 * i);
                 L->partial[2 * c] = num;
                 L->partial[2 * c + 1] = den;
             }
@@ -114,10 +194,14 @@ static void largest_eigenvalue(wc_amg_level* L, int iterations, wc_par* par) {
     L->bound = lambda > 0 ? WC_AMG_SAFETY * lambda : 2.0;
 }
 
-/* P = (I - w D^-1 A_F) P_tent: row i = I at agg(i), minus w D_i^-1 A_ij summed per agg(j) over
- * the strong blocks; weak blocks are lumped onto agg(i) (A_F's diagonal). */
+/* P = (I - w D^-1 A_F) P_tent: row i = P_tent's blocks of i (to the cpa coarse nodes of agg(i)),
+ * minus w D_i^-1 A_ij P_tent(j) summed over the strong blocks; weak blocks are lumped onto the
+ * diagonal of A_F, so they contribute w D_i^-1 A_ij P_tent(i). P_tent(i) is identity blocks
+ * without rotations (tent NULL), else the QR's Q (amg_tent.c). */
 static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
     double w = weight / L->bound;
+    const int cpa = L->cpa;
+    static const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -125,21 +209,145 @@ static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
         for (int i = lo; i < hi; ++i) {
             double* row = L->p_val + 9 * (size_t)L->p_start[i];
             memset(row, 0, 9 * sizeof(double) * (size_t)(L->p_start[i + 1] - L->p_start[i]));
-            double* self = L->p_val + 9 * (size_t)L->p_self[i];
-            self[0] = self[4] = self[8] = 1.0;
+            for (int q = 0; q < cpa; ++q)
+                memcpy(L->p_val + 9 * (size_t)(L->p_self[i] + q), L->tent ? L->tent + 9 * ((size_t)cpa * i + q) : eye,
+                       9 * sizeof(double));
             if (w == 0.0) continue;
+            if (L->group == 2) { /* D^-1 of the pair: rows 2a and 2a + 1 share their columns */
+                int b = i & ~1;
+                const double* D = L->Dinv + 18 * (size_t)i;
+                for (int off = 0; off < L->row_start[b + 1] - L->row_start[b]; ++off) {
+                    int k0 = L->row_start[b] + off, k1 = L->row_start[b + 1] + off, ki = L->row_start[i] + off;
+                    double WA[9] = {0};
+                    m3_mul_add(WA, D, L->val + 9 * (size_t)k0);
+                    m3_mul_add(WA, D + 9, L->val + 9 * (size_t)k1);
+                    int strong = L->a_to_p[ki] >= 0;
+                    int e = strong ? L->a_to_p[ki] : L->p_self[i], src = strong ? L->col[ki] : i;
+                    for (int q = 0; q < 9; ++q) WA[q] *= -w;
+                    for (int q = 0; q < cpa; ++q)
+                        m3_mul_add(L->p_val + 9 * (size_t)(e + q), WA, L->tent + 9 * ((size_t)cpa * src + q));
+                }
+                continue;
+            }
             double WD[9];
             for (int q = 0; q < 9; ++q) WD[q] = -w * L->Dinv[9 * i + q];
             for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
-                int e = L->a_to_p[k] >= 0 ? L->a_to_p[k] : L->p_self[i];
-                m3_mul_add(L->p_val + 9 * (size_t)e, WD, L->val + 9 * (size_t)k);
+                int strong = L->a_to_p[k] >= 0;
+                int e = strong ? L->a_to_p[k] : L->p_self[i];
+                if (!L->tent) {
+                    m3_mul_add(L->p_val + 9 * (size_t)e, WD, L->val + 9 * (size_t)k);
+                    continue;
+                }
+                int src = strong ? L->col[k] : i;
+                double WA[9] = {0};
+                m3_mul_add(WA, WD, L->val + 9 * (size_t)k);
+                for (int q = 0; q < cpa; ++q)
+                    m3_mul_add(L->p_val + 9 * (size_t)(e + q), WA, L->tent + 9 * ((size_t)cpa * src + q));
             }
         }
     }
 }
 
+/* Dead unknowns of a rotation level (amg.h): their Galerkin rows and columns are zero; the
+ * block's mean live diagonal (or 1) on the diagonal decouples them. */
+static void revive_dead(wc_amg_level* N, wc_par* par) {
+    if (!N->dead) return;
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int I = lo; I < hi; ++I) {
+            const unsigned char* dd = N->dead + 3 * I;
+            if (!dd[0] && !dd[1] && !dd[2]) continue;
+            double* B = N->val + 9 * (size_t)N->diag[I];
+            double sum = 0.0;
+            int live = 0;
+            for (int r = 0; r < 3; ++r)
+                if (!dd[r]) {
+                    sum += B[4 * r];
+                    ++live;
+                }
+            double v = live && sum > 0 && isfinite(sum) ? sum / live : 1.0;
+            for (int r = 0; r < 3; ++r)
+                if (dd[r]) B[4 * r] = v;
+        }
+    }
+}
+
 /* T = A P, then the next level's operator P^T T. */
+/* The same with two coarse nodes per aggregate (cpa 2): P's, T's and the next level's rows hold
+ * whole pairs (2a, 2a + 1) and the pairs' rows share their columns, so one walk along a sorted
+ * row serves four blocks; the walks merge sorted rows instead of searching them. */
+static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            int t0 = L->t_start[i], t1 = L->t_start[i + 1];
+            memset(L->t_val + 9 * (size_t)t0, 0, 9 * sizeof(double) * (size_t)(t1 - t0));
+            for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                int j = L->col[k], slot = t0;
+                const double* Ak = L->val + 9 * (size_t)k;
+                for (int e = L->p_start[j]; e < L->p_start[j + 1]; e += 2) {
+                    while (L->t_col[slot] != L->p_col[e]) ++slot; /* P's row j is in T's row i */
+                    m3_mul_add(L->t_val + 9 * (size_t)slot, Ak, L->p_val + 9 * (size_t)e);
+                    m3_mul_add(L->t_val + 9 * (size_t)slot + 9, Ak, L->p_val + 9 * (size_t)e + 9);
+                }
+            }
+        }
+    }
+    /* the blocks (I, J) of pair a with J's pair >= a (P^T A P is symmetric): half the products */
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(N->n / 2, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int a = lo; a < hi; ++a) {
+            int I = 2 * a, c0 = N->row_start[I], c1 = N->row_start[I + 1], d0 = c1;
+            memset(N->val + 9 * (size_t)c0, 0, 9 * sizeof(double) * (size_t)(N->row_start[I + 2] - c0));
+            int s0 = c0; /* first slot of row I at a column >= I */
+            while (N->col[s0] < I) ++s0;
+            /* P^T's rows 2a and 2a + 1 list the same fine rows; the entries for 2a + 1 follow */
+            for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
+                int i = L->pt_row[s], slot = s0, k = L->t_start[i], t1 = L->t_start[i + 1];
+                while (k < t1 && L->t_col[k] < I) k += 2;
+                const double* P0 = L->p_val + 9 * (size_t)L->pt_entry[s];
+                const double* P1 = P0 + 9;
+                for (; k < t1; k += 2) {
+                    while (N->col[slot] != L->t_col[k]) ++slot; /* T's row i is in N's row I */
+                    const double *T0 = L->t_val + 9 * (size_t)k, *T1 = T0 + 9;
+                    double* B0 = N->val + 9 * (size_t)slot;
+                    double* B1 = N->val + 9 * (size_t)(slot - c0 + d0);
+                    m3_tmul_add(B0, P0, T0);
+                    m3_tmul_add(B0 + 9, P0, T1);
+                    m3_tmul_add(B1, P1, T0);
+                    m3_tmul_add(B1 + 9, P1, T1);
+                }
+            }
+        }
+    }
+    /* the others by symmetry: (I, J) = (J, I)^T, written by pair I / 2 from pair J / 2's rows */
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(N->n / 2, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int I = 2 * lo; I < 2 * hi; ++I)
+            for (int slot = N->row_start[I]; slot < N->row_start[I + 1] && N->col[slot] < (I & ~1); ++slot) {
+                int J = N->col[slot];
+                int kt = wc_amg_find(N->col, N->row_start[J], N->row_start[J + 1], I);
+                const double* src = N->val + 9 * (size_t)kt;
+                double* dst = N->val + 9 * (size_t)slot;
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) dst[3 * r + c] = src[3 * c + r];
+            }
+    }
+}
+
 static void galerkin(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
+    if (L->cpa == 2) {
+        galerkin_pairs(L, N, par);
+        return;
+    }
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -212,19 +420,25 @@ static void coarse_factor(wc_amg* a) {
 
 void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     double t0 = wc_now_ms();
+    if (a->opts.rotations && a->opts.current_positions && a->pos && a->n_levels > 1) {
+        /* P_tent and the R factors about the current positions (amg.h), level by level */
+        wc_amg_rigid_modes(&a->lev[0], a->pos);
+        for (int l = 0; l + 1 < a->n_levels; ++l) wc_amg_tentative(&a->lev[l], &a->lev[l + 1], a->lev[l + 1].n / 2);
+    }
     project_fine(&a->lev[0], A, f, par);
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
-        diagonal(L, par);
-        largest_eigenvalue(L, a->opts.power_iterations, par);
+        diagonal(L, a->opts.pair_blocks, par);
+        largest_eigenvalue(L, a->opts.power_iterations, a->opts.pair_blocks, par);
         if (l == 0) L->bound *= a->fine_bound_scale; /* seams (amg.h, WC_AMG_SEAM_BOUND) */
         prolongator(L, a->opts.prolong_weight, par);
         galerkin(L, N, par);
+        revive_dead(N, par);
     }
     if (a->coarse_dense) coarse_factor(a);
     else {
-        diagonal(&a->lev[a->n_levels - 1], par);
-        largest_eigenvalue(&a->lev[a->n_levels - 1], a->opts.power_iterations, par);
+        diagonal(&a->lev[a->n_levels - 1], a->opts.pair_blocks, par);
+        largest_eigenvalue(&a->lev[a->n_levels - 1], a->opts.power_iterations, a->opts.pair_blocks, par);
         if (a->n_levels == 1) a->lev[0].bound *= a->fine_bound_scale;
     }
     a->setup_ms = wc_now_ms() - t0;

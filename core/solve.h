@@ -70,6 +70,10 @@ typedef struct wc_solver wc_solver;   /* workspace: vectors, preconditioner, CHO
 weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
                              const wc_allocator* alloc, wc_diag* diag);
 void wc_solver_destroy(wc_solver* s);
+/* The multigrid's rotations (amg.h) are taken about these positions (n x 3, metres), read at
+ * every solve's setup; the array must outlive the solver (the state's x). NULL (or never set):
+ * the model's rest positions. No effect without the multigrid or its rotations. */
+void wc_solver_set_positions(wc_solver* s, const double* x);
 
 /* Solve with solver `type` (its options from create, tolerance etc.). dv: (n x 3), on input the
  * initial guess (projected to z + S dv), on output the solution. Never leaves non-finite values

@@ -112,6 +112,10 @@ weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver
     return WEFT_OK;
 }
 
+void wc_solver_set_positions(wc_solver* s, const double* x) {
+    if (s && s->amg) s->amg->pos = x;
+}
+
 void wc_solver_destroy(wc_solver* s) {
     if (!s) return;
     wcs_direct_destroy(s);

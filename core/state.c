@@ -186,6 +186,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }
     st = wc_solver_create(&s->solver, m, &s->def.solver, s->def.direct_fallback, &A, diag);
+    if (st == WEFT_OK) wc_solver_set_positions(s->solver, s->x); /* the multigrid's rotations (amg.h) */
     if (st == WEFT_OK && s->def.self_collision) st = wc_self_create(&s->self, m, s->def.self_thickness, &A, diag);
     if (st != WEFT_OK) {
         wc_state_destroy(s);

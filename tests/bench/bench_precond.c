@@ -9,7 +9,12 @@
  * operator/grid complexity and levels.
  *
  *   bench_precond [--sizes 32,64,128,256] [--k 1,10,100,1000,10000] [--frames 10] [--tol 1e-4]
- *                 [--threads N] [--drop]          (--drop: a sheet lying flat on a sphere) */
+ *                 [--threads N] [--drop]          (--drop: a sheet lying flat on a sphere)
+ *                 [--rotations 0,1]  (the multigrid's near-null space: translations only (0) or
+ *                                     the rigid-body modes (1); one "amg" row per value)
+ *                 [--current]        (the rotations about the current positions instead of the
+ *                                     rest positions: the hierarchy is built from a copy of the
+ *                                     model whose rest positions are the state's) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,7 +45,10 @@ static double rel(const double* a, const double* b, int n3) {
     return den > 0 ? sqrt(num / den) : sqrt(num);
 }
 
-static void run_case(int n, double k_scale, int frames, double tol, int threads, int drop) {
+static int g_current = 0;
+
+static void run_case(int n, double k_scale, int frames, double tol, int threads, int drop, const double* rots,
+                     int n_rots) {
     wc_model m;
     if (!ts_sheet(&m, n, 1.0, 1.0, 0, k_scale)) return;
     wc_sim_def def = wc_default_sim_def();
@@ -82,7 +90,8 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
     double direct_ms = wc_now_ms() - t0;
     printf("| %4d | %6.0e | direct       |      |        | %8.1f |          |         |         |\n", n, k_scale,
            direct_ms);
-    for (int p = 0; p < WC_PRECOND_COUNT; ++p) {
+    for (int row = 0; row < WC_PRECOND_COUNT + n_rots - 1; ++row) {
+        int p = row < WC_PRECOND_AMG ? row : row < WC_PRECOND_AMG + n_rots ? WC_PRECOND_AMG : row - n_rots + 1;
         wc_solver_opts o = wc_default_solver_opts();
         o.preconditioner = (wc_precond_type)p;
         o.tolerance = tol;
@@ -94,6 +103,23 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
             continue;
         }
         double create_ms = wc_now_ms() - c0;
+        const char* name = wc_precond_name((wc_precond_type)p);
+        if (sv->amg) { /* the near-null space asked for: rebuild the hierarchy with it */
+            wc_amg_opts ao = wc_default_amg_opts();
+            ao.rotations = (int)rots[row - WC_PRECOND_AMG];
+            name = ao.rotations ? "amg rot" : "amg transl";
+            wc_amg_destroy(sv->amg);
+            sv->amg = NULL;
+            c0 = wc_now_ms();
+            wc_model mc = m;
+            if (g_current) mc.rest_pos = s->x;
+            if (wc_amg_create(&sv->amg, &mc, &ao, &sv->alloc, &d) != WEFT_OK) {
+                fprintf(stderr, "amg: %s\n", d.message);
+                wc_solver_destroy(sv);
+                continue;
+            }
+            create_ms = wc_now_ms() - c0;
+        }
         memset(dv, 0, sizeof(double) * (size_t)n3);
         t0 = wc_now_ms();
         wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res);
@@ -107,7 +133,7 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
                 fprintf(stderr, "level %d: n %d blocks %d bound %g\n", l, sv->amg->lev[l].n, sv->amg->lev[l].n_blocks,
                         sv->amg->lev[l].bound);
         printf("| %4d | %6.0e | %-12s | %4d | %6.1f | %8.1f | %8.1e | %7.1e | %s |\n", n, k_scale,
-               wc_precond_name((wc_precond_type)p), res.iterations, res.setup_ms, ms - res.setup_ms, res.residual,
+               name, res.iterations, res.setup_ms, ms - res.setup_ms, res.residual,
                rel(dv, ref, n3), extra);
         fflush(stdout);
         wc_solver_destroy(sv);
@@ -122,6 +148,8 @@ int main(int argc, char** argv) {
     double sizes[16], ks[16];
     int n_sizes = parse_list("32,64,128,256", sizes, 16), n_k = parse_list("1", ks, 16);
     int frames = 10, threads = 1, drop = 0;
+    double rots[2] = {0, 1};
+    int n_rots = 2;
     double tol = 1e-4;
     for (int a = 1; a < argc; ++a) {
         if (!strcmp(argv[a], "--sizes") && a + 1 < argc) n_sizes = parse_list(argv[++a], sizes, 16);
@@ -130,8 +158,10 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[a], "--tol") && a + 1 < argc) tol = atof(argv[++a]);
         else if (!strcmp(argv[a], "--threads") && a + 1 < argc) threads = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--drop")) drop = 1;
+        else if (!strcmp(argv[a], "--current")) g_current = 1;
+        else if (!strcmp(argv[a], "--rotations") && a + 1 < argc) n_rots = parse_list(argv[++a], rots, 2);
         else {
-            fprintf(stderr, "usage: bench_precond [--sizes LIST] [--k LIST] [--frames N] [--tol T] [--threads N] [--drop]\n");
+            fprintf(stderr, "usage: bench_precond [--sizes LIST] [--k LIST] [--frames N] [--tol T] [--threads N] [--drop] [--rotations 0,1] [--current]\n");
             return 2;
         }
     }
@@ -140,6 +170,6 @@ int main(int argc, char** argv) {
     printf("| n | k x | preconditioner | it | setup ms | solve ms | residual | err vs direct | hierarchy |\n");
     printf("|---|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < n_sizes; ++i)
-        for (int j = 0; j < n_k; ++j) run_case((int)sizes[i], ks[j], frames, tol, threads, drop);
+        for (int j = 0; j < n_k; ++j) run_case((int)sizes[i], ks[j], frames, tol, threads, drop, rots, n_rots);
     return 0;
 }

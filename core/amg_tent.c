@@ -1,0 +1,69 @@
+/* The multigrid's tentative prolongator with the rigid-body modes as near-null space (amg.h,
+ * wc_amg_opts.rotations): level 0's six modes per node from the rest positions, and per
+ * aggregate a QR of its (3 n_agg) x 6 block of near-null rows. Q is P_tent's rows (two 3x3
+ * blocks per fine node: to coarse nodes 2a and 2a + 1), R is the next level's near-null space.
+ * Built once per model at wc_amg_create (the rest positions do not change). */
+#include <math.h>
+#include <string.h>
+#include "amg.h"
+
+/* Element (r, c), c in 0..5, of node i's 3 x 6 rows in an (n x 2 x 9) array. */
+#define RB(arr, i, r, c) (arr)[18 * (size_t)(i) + 9 * ((c) / 3) + 3 * (r) + (c) % 3]
+
+void wc_amg_rigid_modes(wc_amg_level* L, const double* x) {
+    int n = L->n;
+    double c[3] = {0, 0, 0};
+    for (int i = 0; i < n; ++i)
+        for (int q = 0; q < 3; ++q) c[q] += x[3 * i + q];
+    for (int q = 0; q < 3; ++q) c[q] = n > 0 ? c[q] / n : 0.0;
+    for (int i = 0; i < n; ++i) {
+        double d[3] = {x[3 * i] - c[0], x[3 * i + 1] - c[1], x[3 * i + 2] - c[2]};
+        /* translations e_k, rotations d x e_k: (0, dz, -dy), (-dz, 0, dx), (dy, -dx, 0) */
+        double rot[3][3] = {{0, -d[2], d[1]}, {d[2], 0, -d[0]}, {-d[1], d[0], 0}}; /* [r][k] */
+        for (int r = 0; r < 3; ++r)
+            for (int k = 0; k < 3; ++k) {
+                RB(L->nns, i, r, k) = r == k ? 1.0 : 0.0;
+                RB(L->nns, i, r, 3 + k) = rot[r][k];
+            }
+    }
+}
+
+/* Modified Gram-Schmidt, each column orthogonalised twice against the earlier live ones. */
+void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg) {
+    for (int a = 0; a < n_agg; ++a) {
+        const int* nodes = L->agg_node + L->agg_start[a];
+        int m = L->agg_start[a + 1] - L->agg_start[a];
+        double R[36] = {0};
+        int live[6];
+        for (int s = 0; s < m; ++s) memcpy(L->tent + 18 * (size_t)nodes[s], L->nns + 18 * (size_t)nodes[s], 18 * sizeof(double));
+        for (int c = 0; c < 6; ++c) {
+            double norm0 = 0.0;
+            for (int s = 0; s < m; ++s)
+                for (int r = 0; r < 3; ++r) norm0 += RB(L->tent, nodes[s], r, c) * RB(L->tent, nodes[s], r, c);
+            norm0 = sqrt(norm0);
+            for (int pass = 0; pass < 2; ++pass)
+                for (int d = 0; d < c; ++d) {
+                    if (!live[d]) continue;
+                    double dot = 0.0;
+                    for (int s = 0; s < m; ++s)
+                        for (int r = 0; r < 3; ++r) dot += RB(L->tent, nodes[s], r, d) * RB(L->tent, nodes[s], r, c);
+                    for (int s = 0; s < m; ++s)
+                        for (int r = 0; r < 3; ++r) RB(L->tent, nodes[s], r, c) -= dot * RB(L->tent, nodes[s], r, d);
+                    R[6 * d + c] += dot;
+                }
+            double norm = 0.0;
+            for (int s = 0; s < m; ++s)
+                for (int r = 0; r < 3; ++r) norm += RB(L->tent, nodes[s], r, c) * RB(L->tent, nodes[s], r, c);
+            norm = sqrt(norm);
+            live[c] = norm > WC_AMG_DEPENDENT * norm0 && isfinite(norm);
+            double scale = live[c] ? 1.0 / norm : 0.0;
+            for (int s = 0; s < m; ++s)
+                for (int r = 0; r < 3; ++r) RB(L->tent, nodes[s], r, c) *= scale;
+            R[6 * c + c] = live[c] ? norm : 0.0;
+            N->dead[3 * (2 * a + c / 3) + c % 3] = (unsigned char)!live[c];
+        }
+        for (int q = 0; q < 2; ++q)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 6; ++c) RB(N->nns, 2 * a + q, r, c) = R[6 * (3 * q + r) + c];
+    }
+}
