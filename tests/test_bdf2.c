@@ -12,6 +12,7 @@
 #include <string.h>
 #include "check.h"
 #include "collide.h"
+#include "drop_on_sphere.h"
 #include "step.h"
 #include "test_support.h"
 #include "vec3.h"
@@ -155,36 +156,7 @@ static void test_pins_and_history(void) {
 static void run_drop(const wc_model* m, int newton, int ls, int threads, double* x_out, int* slept, int* bdf2,
                      double* worst_depth) {
     wc_state* s = sheet(m, newton, ls, threads);
-    wc_collider c[2];
-    memset(c, 0, sizeof c);
-    c[0].type = WC_COLLIDER_PLANE;
-    v3_set(c[0].normal, 0, 1, 0);
-    c[0].offset = 0.0;
-    c[0].thickness = 0.005;
-    c[0].friction = 0.4;
-    c[1].type = WC_COLLIDER_SPHERE;
-    v3_set(c[1].center, 0.1, 0.25, 0.05);
-    c[1].radius = 0.25;
-    c[1].thickness = 0.005;
-    c[1].friction = 0.4;
-    wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &dg), WEFT_OK);
-    *slept = 0;
-    *bdf2 = 0;
-    *worst_depth = 0.0;
-    for (int f = 0; f < 240 && !*slept; ++f) {
-        wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
-        *bdf2 += st.bdf2_substeps;
-        *slept = st.fell_asleep;
-        for (int i = 0; i < m->n_particles; ++i) {
-            CHECK(v3_finite(s->x + 3 * i));
-            for (int k = 0; k < 2; ++k) {
-                double n[3], d = wc_collider_distance(&c[k], s->x + 3 * i, n);
-                if (-d > *worst_depth) *worst_depth = -d;
-            }
-        }
-    }
+    drop_on_sphere(s, slept, bdf2, worst_depth);
     if (getenv("BDF2_DEBUG")) printf("  end: frame %lld max speed %.3g\n", s->frame, wc_state_max_speed(s));
     if (*slept) CHECK(!s->hist_valid);   /* asleep: the history no longer leads here */
     memcpy(x_out, s->x, 3 * (size_t)m->n_particles * sizeof(double));
