@@ -2,7 +2,8 @@
  * wc_amg_opts.rotations): level 0's six modes per node from the rest positions, and per
  * aggregate a QR of its (3 n_agg) x 6 block of near-null rows. Q is P_tent's rows (two 3x3
  * blocks per fine node: to coarse nodes 2a and 2a + 1), R is the next level's near-null space.
- * Built once per model at wc_amg_create (the rest positions do not change). */
+ * Built at wc_amg_create about the rest positions, and again (no allocation) by every setup
+ * about the solver's current positions when wc_amg_opts.current_positions is set (amg.h). */
 #include <math.h>
 #include <string.h>
 #include "amg.h"
