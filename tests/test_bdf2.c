@@ -13,35 +13,10 @@
 #include "check.h"
 #include "collide.h"
 #include "drop_on_sphere.h"
+#include "one_spring.h"
 #include "step.h"
 #include "test_support.h"
 #include "vec3.h"
-
-/* One spring (k, no damping) from pinned particle 0 at the origin to particle 1 (mass m) along
- * +x; particle 2 pinned out of the way. */
-static void spring_model(wc_model* m, double k, double mass) {
-    double pos[9] = {0, 0, 0, 0.5, 0, 0, 0, 0.7, 0.3};
-    int sizes[1] = {3}, idx[3] = {0, 1, 2};
-    wc_source_mesh src;
-    wc_diag dg = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &dg), WEFT_OK);
-    wc_model_def def = wc_default_model_def();
-    def.reorder = 0;
-    def.material.uniform_mass = mass;
-    def.material.k[WC_SPRING_STRETCH] = k;
-    def.material.d[WC_SPRING_STRETCH] = 0.0;
-    CHECK_EQ_INT(wc_model_build(m, &src, &def, NULL, &dg), WEFT_OK);
-    int keep = -1;
-    for (int s = 0; s < m->n_springs; ++s)
-        if (m->springs[s].a == 0 && m->springs[s].b == 1) keep = s;
-    CHECK(keep >= 0);
-    m->springs[0] = m->springs[keep];
-    m->n_springs = 1;
-    for (int t = 1; t <= WC_SPRING_TYPE_COUNT; ++t) m->spring_type_start[t] = 1;
-    wc_bsr_pattern_free(&m->pattern, &m->alloc);
-    CHECK_EQ_INT(wc_bsr_pattern_build(&m->pattern, m, &m->alloc), 0);
-    wc_source_mesh_free(&src);
-}
 
 /* Position error at t = 1 s with n steps. */
 static double oscillator_error(const wc_model* m, wc_integrator integ, int n, double w) {
