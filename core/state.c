@@ -274,11 +274,11 @@ weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_
             return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: unknown type %d", k, q->type);
         if (!v3_finite(q->normal) || !isfinite(q->offset) || !v3_finite(q->center) || !v3_finite(q->a) ||
             !v3_finite(q->b) || !isfinite(q->radius) || !isfinite(q->thickness) || !isfinite(q->friction) ||
-            !v3_finite(q->velocity))
+            !v3_finite(q->velocity) || !isfinite(q->push_speed))
             return wc_fail(diag, WEFT_ERROR_NONFINITE, "set colliders: collider %d: non-finite value", k);
-        if (q->radius < 0 || q->thickness < 0 || q->friction < 0)
+        if (q->radius < 0 || q->thickness < 0 || q->friction < 0 || q->push_speed < 0)
             return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
-                           "set colliders: collider %d: radius, thickness and friction must be >= 0", k);
+                           "set colliders: collider %d: radius, thickness, friction and push_speed must be >= 0", k);
         if (q->type == WC_COLLIDER_PLANE && fabs(v3_norm(q->normal) - 1.0) > 1e-6)
             return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: plane normal must be unit", k);
     }

@@ -148,6 +148,12 @@ static void test_bad_colliders(void) {
     c = good;
     c.friction = -0.1;
     EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    c = good;
+    c.push_speed = -0.01;
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    c = good;
+    c.push_speed = NAN;
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_NONFINITE);
     EXPECT_REFUSED(wc_state_set_colliders(g_state, &good, 1000, &d_), WEFT_ERROR_OUT_OF_RANGE);
 }
 
