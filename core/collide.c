@@ -15,7 +15,11 @@
  *    within ~5.7 degrees of the first (|n2 - (n1.n2) n1| < 0.1) is dropped.
  *  - Position correction: a kept collider whose shell x is inside becomes active; x then takes
  *    the smallest step putting every active shell at distance 0 (exact for planes, the corner of
- *    two shells included; Newton passes for curved colliders, converged to rounding).
+ *    two shells included; Newton passes for curved colliders, converged to rounding). A collider
+ *    with a push_speed (the meshes': a garment authored inside its body's shell) caps the move
+ *    at push_speed x h per substep, begin's correction and project's together (ct->pushed
+ *    carries begin's share): the particle comes out over several substeps and the solve moves
+ *    its neighbours with it.
  *  - Prescribed velocity: after dv the relative normal velocity along each kept normal is
  *    -max(d, 0) / h: a particle on the shell stops moving into it, one approaching within the
  *    reach of this substep lands exactly on the shell at its end (instead of stopping in mid
