@@ -6,6 +6,8 @@
 #include "check.h"
 #include "model.h"
 #include "source_mesh.h"
+#include "state.h"
+#include "vec3.h"
 
 static inline void spring_model(wc_model* m, double k, double mass) {
     double pos[9] = {0, 0, 0, 0.5, 0, 0, 0, 0.7, 0.3};
@@ -29,6 +31,25 @@ static inline void spring_model(wc_model* m, double k, double mass) {
     wc_bsr_pattern_free(&m->pattern, &m->alloc);
     CHECK_EQ_INT(wc_bsr_pattern_build(&m->pattern, m, &m->alloc), 0);
     wc_source_mesh_free(&src);
+}
+
+/* The model's state for `integ`: no gravity, no air, direct solves, one thread, no sleep, no
+ * energy judge, particles 0 and 2 pinned where they are. */
+static inline wc_state* spring_state(const wc_model* m, wc_integrator integ) {
+    wc_sim_def sd = wc_default_sim_def();
+    v3_zero(sd.gravity);
+    sd.air.normal_drag = sd.air.tangent_drag = 0.0;
+    sd.solver.type = WC_SOLVER_DIRECT;
+    sd.integrator = integ;
+    sd.threads = 1;
+    sd.sleep_speed = 0.0;
+    sd.fail_energy_gain = 0.0;
+    wc_state* s = NULL;
+    wc_diag dg = {0};
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
+    wc_pin pins[2] = {{0, {0, 0, 0}, {0, 0, 0}}, {2, {0, 0.7, 0.3}, {0, 0, 0}}};
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    return s;
 }
 
 #endif

@@ -20,19 +20,8 @@
 
 /* Position error at t = 1 s with n steps. */
 static double oscillator_error(const wc_model* m, wc_integrator integ, int n, double w) {
-    wc_sim_def sd = wc_default_sim_def();
-    v3_zero(sd.gravity);
-    sd.air.normal_drag = sd.air.tangent_drag = 0.0;
-    sd.solver.type = WC_SOLVER_DIRECT;
-    sd.integrator = integ;
-    sd.threads = 1;
-    sd.sleep_speed = 0.0;
-    sd.fail_energy_gain = 0.0;
-    wc_state* s = NULL;
+    wc_state* s = spring_state(m, integ);
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
-    wc_pin pins[2] = {{0, {0, 0, 0}, {0, 0, 0}}, {2, {0, 0.7, 0.3}, {0, 0, 0}}};
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
     const double r = 0.5, u0 = 0.05, v0 = 0.2;
     s->x[3] = r + u0;
     s->v[3] = v0;

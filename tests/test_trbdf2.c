@@ -28,19 +28,7 @@
 static const double R = 0.5, U0 = 0.05, V0 = 0.2;
 
 static wc_state* oscillator(const wc_model* m, wc_integrator integ) {
-    wc_sim_def sd = wc_default_sim_def();
-    v3_zero(sd.gravity);
-    sd.air.normal_drag = sd.air.tangent_drag = 0.0;
-    sd.solver.type = WC_SOLVER_DIRECT;
-    sd.integrator = integ;
-    sd.threads = 1;
-    sd.sleep_speed = 0.0;
-    sd.fail_energy_gain = 0.0;
-    wc_state* s = NULL;
-    wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
-    wc_pin pins[2] = {{0, {0, 0, 0}, {0, 0, 0}}, {2, {0, 0.7, 0.3}, {0, 0, 0}}};
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    wc_state* s = spring_state(m, integ);
     s->x[3] = R + U0;
     s->v[3] = V0;
     return s;
