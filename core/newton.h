@@ -53,7 +53,8 @@ int wc_newton_wanted(const wc_sim_def* d);
 void wc_newton_capture(wc_state* s);
 
 /* After the first solve (s->dv = its solution w1; s->A, s->b its system, friction included;
- * residual0 its |S (b - A z)|): the line search of the first step and the further iterations.
+ * residual0 its residual's scale, wc_solve_result.scale: the larger of |S (b - A z)| and the
+ * solver's floor; the iterations stop when the gradient is within the tolerance of it): the line search of the first step and the further iterations.
  * On return s->dv is the accepted w and, when want_r, s->r the constraint residual A dv - b of
  * the last linearisation (wc_contacts_end reads the contact impulses there). Solves are added to
  * st. Returns OK unless the first iterate itself is non-finite. */

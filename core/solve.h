@@ -57,8 +57,10 @@ typedef struct wc_solve_result {
     wc_solver_type solver;      /* which solver ran */
     int iterations;             /* 1 for direct */
     int converged;              /* residual <= tolerance (direct: always when status is OK) */
-    double residual;            /* relative, see above */
+    double residual;            /* relative: ||S (b - A dv)||_2 / scale */
     double residual0;           /* ||S (b - A z)||_2, absolute */
+    double scale;               /* what residual and the tolerance are relative to: the larger of
+                                   residual0 and the solver's floor (wc_solver_set_residual_floor) */
     double setup_ms;            /* wall time spent building the preconditioner for this solve */
 } wc_solve_result;
 
@@ -74,6 +76,14 @@ void wc_solver_destroy(wc_solver* s);
  * every solve's setup; the array must outlive the solver (the state's x). NULL (or never set):
  * the model's rest positions. No effect without the multigrid or its rotations. */
 void wc_solver_set_positions(wc_solver* s, const double* x);
+
+/* The residual's floor (absolute, the units of S (b - A z); >= 0, finite; 0, the default: none):
+ * solves stop at tolerance x max(||S (b - A z)||, floor) instead of tolerance x ||S (b - A z)||.
+ * A relative tolerance alone asks a cloth at rest (its forces balanced, its right-hand side
+ * near zero) to resolve rounding noise; the step sets the floor each substep to the impulse
+ * gravity gives the unpinned particles in it, h ||M g||, so a solve always resolves dv to
+ * tolerance x (g h) or better. Invalid values are ignored. */
+void wc_solver_set_residual_floor(wc_solver* s, double floor);
 
 /* Solve with solver `type` (its options from create, tolerance etc.). dv: (n x 3), on input the
  * initial guess (projected to z + S dv), on output the solution. Never leaves non-finite values

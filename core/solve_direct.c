@@ -144,7 +144,6 @@ weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, con
                              wc_par* par, wc_solve_result* res) {
     wcs_direct* d = s->direct;
     const size_t N = 3 * (size_t)s->n;
-    const double res0 = res->residual0;
     weft_status st = WEFT_OK;
     fill_values(s, A, f, par);
     int ok = cholmod_factorize(d->K, d->L, &d->cc);
@@ -165,7 +164,7 @@ weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, con
     res->iterations = 1;
     if (st == WEFT_OK && !wcs_all_finite(dv, s->n)) st = WEFT_ERROR_FACTORIZATION;
     if (st != WEFT_OK && !wcs_all_finite(dv, s->n)) wcs_fallback(f, dv, s->n);
-    res->residual = sqrt(wcs_filtered_residual(s, A, b, f, dv, s->q, par)) / res0;
+    res->residual = sqrt(wcs_filtered_residual(s, A, b, f, dv, s->q, par)) / res->scale;
     res->converged = st == WEFT_OK;
     return st;
 }

@@ -70,7 +70,7 @@ static double sweep(wc_solver* s, const double* A, const double* b, const wc_fil
 weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res, int chebyshev) {
     const wc_solver_opts* o = &s->opts;
-    const double res0 = res->residual0, goal = o->tolerance * res0;
+    const double res0 = res->residual0, goal = o->tolerance * res->scale;
     const double gamma = chebyshev ? o->chebyshev_gamma : 1.0;
     const int delay = o->chebyshev_delay > 1 ? o->chebyshev_delay : 1;
     weft_status st = WEFT_OK;
@@ -123,6 +123,6 @@ weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, con
         return st;
     }
     wcs_project(f, dv, par);
-    res->residual = rn / res0;
+    res->residual = rn / res->scale;
     return st;
 }

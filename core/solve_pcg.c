@@ -3,7 +3,8 @@
  * iterate stays in z + range(S), and the filtered block-diagonal preconditioner
  * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one.
  *
- * Stopping: ||r||_2 <= tolerance ||S (b - A z)||_2 with r the recursively updated residual. When
+ * Stopping: ||r||_2 <= tolerance max(||S (b - A z)||_2, floor) (solve.h) with r the recursively
+ * updated residual. When
  * that test passes, the true residual S (b - A dv) is computed; if it is above the tolerance (the
  * recursion drifted) r is replaced by it and CG restarts from dv, until the cap. The reported
  * residual is always the true one of the returned dv.
@@ -127,7 +128,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
                           wc_par* par, wc_solve_result* res) {
     const wc_solver_opts* o = &s->opts;
     const wc_bsr_pattern* p = &s->m->pattern;
-    const double res0 = res->residual0, goal = o->tolerance * res0;
+    const double res0 = res->residual0, goal = o->tolerance * res->scale;
     weft_status st = WEFT_OK;
     int it = 0, converged = 0;
     double delta, rr, rr_final = -1.0;
@@ -180,7 +181,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
         rr_final = wcs_filtered_residual(s, A, b, f, dv, s->q, par);
     }
     res->iterations = it;
-    res->residual = sqrt(rr_final) / res0;
+    res->residual = sqrt(rr_final) / res->scale;
     res->converged = converged || res->residual <= o->tolerance;
     if (st == WEFT_OK && !isfinite(res->residual)) st = WEFT_ERROR_SOLVER_DIVERGED;
     return st;

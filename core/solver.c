@@ -116,6 +116,10 @@ void wc_solver_set_positions(wc_solver* s, const double* x) {
     if (s && s->amg) s->amg->pos = x;
 }
 
+void wc_solver_set_residual_floor(wc_solver* s, double floor) {
+    if (s && floor >= 0.0 && isfinite(floor)) s->residual_floor = floor;
+}
+
 void wc_solver_destroy(wc_solver* s) {
     if (!s) return;
     wcs_direct_destroy(s);
@@ -267,6 +271,7 @@ int wcs_begin(wc_solver* s, const double* A, const double* b, const wc_filter* f
               wc_solve_result* res, weft_status* status) {
     double rr0 = wcs_filtered_residual(s, A, b, f, f->z, s->r, par);
     res->residual0 = sqrt(rr0);
+    res->scale = fmax(res->residual0, s->residual_floor);
     *status = WEFT_OK;
     if (!isfinite(rr0)) {
         wcs_fallback(f, dv, s->n);

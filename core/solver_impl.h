@@ -35,6 +35,7 @@ struct wc_solver {
     int rho_valid;
     wcs_direct* direct;         /* NULL unless the direct solver was analysed at create */
     wc_amg* amg;                /* NULL unless opts.preconditioner is AMG */
+    double residual_floor;      /* wc_solver_set_residual_floor (0: none) */
 };
 
 /* Rows [lo, hi) of chunk c. */

@@ -370,6 +370,18 @@ double wc_state_max_speed(const wc_state* s) {
     return sqrt(m2);
 }
 
+double wc_state_residual_floor(const wc_state* s, double he) {
+    const wc_model* m = s->model;
+    double m2 = 0.0;
+    for (int i = 0; i < m->n_particles; ++i) m2 += m->mass[i] * m->mass[i];
+    for (int k = 0; k < s->n_pins; ++k) {
+        const wc_pin* p = &s->pins[k];
+        if (p->free_axis[0] == 0.0 && p->free_axis[1] == 0.0 && p->free_axis[2] == 0.0)
+            m2 -= m->mass[p->particle] * m->mass[p->particle];
+    }
+    return fabs(he) * v3_norm(s->def.gravity) * sqrt(fmax(m2, 0.0));
+}
+
 double wc_state_kinetic_energy(const wc_state* s) {
     double e = 0.0;
     const double* m = s->model->mass;

@@ -198,6 +198,11 @@ double wc_state_max_speed(const wc_state* s);
 
 /* Kinetic energy sum m v^2 / 2 (J). */
 double wc_state_kinetic_energy(const wc_state* s);
+/* The linear solves' residual floor for a substep whose system has step he (s; solve.h,
+ * wc_solver_set_residual_floor): he |g| sqrt(sum of m_i^2 over the particles no pin holds
+ * fully), the norm of the impulse gravity gives them (kg m/s). The same on both backends (it
+ * reads the pins, not the contacts). */
+double wc_state_residual_floor(const wc_state* s, double he);
 /* Total mechanical energy: kinetic + springs + gravitational (relative to the origin) (J);
  * *elastic (may be NULL) receives kinetic + springs. */
 double wc_state_total_energy(const wc_state* s, double* elastic);

@@ -223,6 +223,9 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     if (s->n_all > 0 && s->contacts.active > 0)
         stuck = wc_contacts_friction(&s->contacts, s->all, s->n_all, s->v, m->mass, s->f, ig->he,
                                      &s->filter, s->A, m->pattern.diag, s->b, &s->par);
+    /* the solves' residual floor (solve.h): the impulse gravity gives the unpinned particles in
+       this substep, so a cloth at rest does not chase rounding noise */
+    wc_solver_set_residual_floor(s->solver, wc_state_residual_floor(s, ig->he));
     st->ms.collide += wc_now_ms() - t0;
     return stuck;
 }
@@ -294,7 +297,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     int in_contact = s->n_all > 0 && s->contacts.active > 0;
     int newton = wc_newton_wanted(&s->def);
     if (newton) {
-        status = wc_newton_iterate(s, &ig, solver, compression, res.residual0, in_contact, st, diag);
+        status = wc_newton_iterate(s, &ig, solver, compression, res.scale, in_contact, st, diag);
         if (status != WEFT_OK) return status;
     }
     t0 = wc_now_ms();

@@ -222,6 +222,7 @@ static void test_solvers_vs_direct(void) {
         wc_solver* cpu = NULL;
         o.type = type;
         CHECK(wc_solver_create(&cpu, &m, &o, 0, NULL, &d) == WEFT_OK);
+        wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h)); /* as the GPU's prepare set its own */
         double* dc = calloc((size_t)n * 3, sizeof(double));
         wc_solve_result rc;
         wc_solve(cpu, type, s->A, s->b, &s->filter, dc, &s->par, &rc);

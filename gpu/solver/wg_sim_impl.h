@@ -114,6 +114,7 @@ struct wg_sim {
     wc_solve_result last_solve;
     wc_solver_opts debug_opts;  /* wg_sim_debug_solve's options (the state's at creation) */
     double rho;                 /* Chebyshev's cached estimate */
+    double residual_floor;      /* the solves' residual floor of this substep (core/solve.h; 0: none) */
     int rho_valid;
     int prepared;
     wg_contact_sim* contacts;   /* NULL when the cloth never had colliders */

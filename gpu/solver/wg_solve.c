@@ -25,6 +25,7 @@ static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* 
     wg_u1f(g, "u_tolerance", o->tolerance);
     wg_u1f(g, "u_divergence", o->divergence_factor);
     wg_u1f(g, "u_max_iterations", (double)max_it);
+    wg_u1f(g, "u_floor", g->residual_floor);
     WG_RUN(g, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
     g->sc_cur = b;
 }
@@ -185,8 +186,9 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
     }
     read_scalars(g, s0, s1, s2);
     res->residual0 = (double)s2[0];
+    res->scale = fmax(res->residual0, g->residual_floor);
     res->iterations = (int)s1[2];
-    res->residual = sqrt(rt) / res->residual0;
+    res->residual = sqrt(rt) / res->scale;
     res->converged = converged || res->residual <= o->tolerance;
     if (!isfinite(res->residual0)) {
         project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 1);
@@ -270,7 +272,8 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
         return res0 == 0.0 ? WEFT_OK : WEFT_ERROR_SOLVER_DIVERGED;
     }
     double rho = chebyshev ? (o->chebyshev_rho > 0.0 ? o->chebyshev_rho : g->rho) : 0.0;
-    const double goal = o->tolerance * res0;
+    res->scale = fmax(res0, g->residual_floor);
+    const double goal = o->tolerance * res->scale;
     double limit = o->divergence_factor * res0, rn = res0, omega = 1.0;
     int x = 0, prev = 1, nxt = 2, k = 0, converged = 0;
     weft_status st = WEFT_OK;
@@ -324,7 +327,7 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
     }
     project(g, &g->sv[x], &g->sv[nxt], 0);
     *out = &g->sv[nxt];
-    res->residual = rn / res0;
+    res->residual = rn / res->scale;
     return st;
 }
 

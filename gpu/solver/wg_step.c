@@ -84,6 +84,7 @@ static void read_checks(wg_sim* g, float out[16]) {
 
 /* Pins, contacts, springs, air, assembly: s->filter's GPU twin (S0, S1, z), A0/A1, b. */
 void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression) {
+    g->residual_floor = wc_state_residual_floor(s, h); /* the solves' floor, as core's prepare */
     const wc_model* m = g->m;
     wg_stamp(g, WG_STAGE_COLLIDE);
     wg_use(g, WGP_PINS);

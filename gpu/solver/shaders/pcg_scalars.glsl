@@ -2,7 +2,7 @@
 //   o0 = (delta, alpha, beta, rr), o1 = (done, diverged, iterations, converged),
 //   o2 = (residual0, goal, limit, cq).
 // u_mode 0, start: residual0 = |S (b - A z)| (t2.w), (delta, rr) of the initial guess (t3.xy);
-//                  goal = tolerance residual0, limit = divergence_factor max(residual0, |r|).
+//                  goal = tolerance max(residual0, floor), limit = divergence_factor max(residual0, |r|).
 //        1, alpha: alpha = delta / cq (t2.w summed c.q); cq <= 0 or alpha not finite: diverged.
 //        2, beta:  (delta', rr) from t3.xy; beta = delta' / delta; iterations + 1.
 //        3, restart: (delta, rr) from t3.xy; done cleared (the true residual replaced r).
@@ -18,6 +18,7 @@ uniform int u_mode;
 uniform float u_tolerance;
 uniform float u_divergence;
 uniform float u_max_iterations;
+uniform float u_floor;  // the residual's floor (core/solve.h): goal = tolerance max(residual0, floor)
 out vec4 o0;
 out vec4 o1;
 out vec4 o2;
@@ -31,7 +32,7 @@ void main() {
         vec2 dr = texelFetch(t3, ivec2(0), 0).xy;
         s0 = vec4(dr.x, 0.0, 0.0, dr.y);
         s1 = vec4(0.0);
-        s2 = vec4(res0, u_tolerance * res0, u_divergence * max(res0, sqrt(dr.y)), 0.0);
+        s2 = vec4(res0, u_tolerance * max(res0, u_floor), u_divergence * max(res0, sqrt(dr.y)), 0.0);
         if (bad(res0)) s1 = vec4(1.0, 1.0, 0.0, 0.0);
         else if (res0 == 0.0) s1 = vec4(1.0, 0.0, 0.0, 1.0);
     } else if (s1.x == 0.0 && u_mode == 1) {
