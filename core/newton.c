@@ -164,9 +164,10 @@ static void refresh_air(wc_state* s, const double* w) {
     }
 }
 
-/* The Newton system at w: springs at x(w), their damping blocks refreshed to x(w)'s directions
- * (nw_kv0 := them: the potential's damping term from now on), TR-BDF2's air refreshed to x(w)
- * (refresh_air), A (friction's Fa on the diagonal) and g = -grad Phi(w) into nw_g. */
+/* The Newton system at w: springs at x(w); in TR-BDF2's stages their damping blocks refreshed to
+ * x(w)'s directions (nw_kv0 := them: the potential's damping term from now on) and the air to
+ * x(w) (refresh_air), otherwise the frozen damping; A (friction's Fa on the diagonal) and
+ * g = -grad Phi(w) into nw_g. */
 static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_compression compression,
                           wc_step_stats* st) {
     const wc_model* m = s->model;
@@ -175,6 +176,7 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
     wc_eval_springs_at(m, s->nw_x, s->nw_zero, compression, s->seam_scale, &s->par, s->se);
     const double* vv = s->nw_v;
     double* kv0 = s->nw_kv0;
+    const int refresh = ig->stage != 0;   /* TR-BDF2's stages only (newton.h "Refreshed") */
     wc_spring_eval* se = s->se;
     WC_PAR_REGION(&s->par)
     {
@@ -183,7 +185,8 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
         for (int k = lo; k < hi; ++k) {
             const wc_spring* sp = &m->springs[k];
             double dv[3];
-            memcpy(kv0 + 9 * (size_t)k, se[k].kv, 9 * sizeof(double));   /* -d u u^T at x(w) */
+            if (refresh) memcpy(kv0 + 9 * (size_t)k, se[k].kv, 9 * sizeof(double));   /* -d u u^T at x(w) */
+            else memcpy(se[k].kv, kv0 + 9 * (size_t)k, 9 * sizeof(double));
             v3_sub(dv, vv + 3 * sp->a, vv + 3 * sp->b);
             m3_mulv_add(se[k].f, se[k].kv, dv);
         }
@@ -306,7 +309,7 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
         system_ms += wc_now_ms() - ts;
         /* the potential was refreshed at w (damping directions, air): the line search compares
            against its value there */
-        if (ls) phi = wc_newton_potential(s, ig, w);
+        if (ls && ig->stage != 0) phi = wc_newton_potential(s, ig, w);
         rmode = R_GRADIENT;
         double gn = sqrt(filtered_norm2(s, s->nw_g));
         if (!(gn > tol * gref)) break;
