@@ -47,7 +47,8 @@
  * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
  * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
  * f_air(v_new) ~ f_air(v_start) - L dv with L the row-sum (lumped) drag Jacobian per particle
- * (forces.h wc_air_lumped): A += he L; Newton's potential gains he/2 w^T L w (newton.h). Exact
+ * (forces.h wc_air_lumped): A += he L; Newton's potential gains he/2 w^T L w (newton.h); Newton's
+ * further iterations refresh the geometry and the force to the iterate (newton.h "Refreshed"). Exact
  * for a velocity change shared by a triangle's vertices (the swing); without it, explicit drag
  * over-damps by (r h)^2 / 2 per step (r = drag / mass, 3.3 1/s for the default cloth). */
 #ifndef WEFT_CORE_BDF2_H

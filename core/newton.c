@@ -150,15 +150,33 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
     return phi + chunk_total(part, sc);
 }
 
-/* The Newton system at w: springs at x(w) with the frozen damping, A (friction's Fa on the
- * diagonal) and g = -grad Phi(w) into nw_g. */
+/* TR-BDF2's implicit air at the iterate (newton.h "Refreshed"): air_lump = L(x(w)) and
+ * f_ext = M g + f_air(x(w), v_n + w) + L(x(w)) w, so that -he f_ext + he L w, the potential's
+ * air gradient, is -he (M g + f_air) at w itself. Expects positions(s, ig, w) done. */
+static void refresh_air(wc_state* s, const double* w) {
+    const wc_model* m = s->model;
+    wc_air_lumped(m, s->nw_x, &s->def.air, &s->par, s->air_lump);
+    wc_eval_external(m, s->nw_x, s->nw_v, s->def.gravity, &s->def.air, &s->par, s->tri_scratch, s->f_ext);
+    for (int i = 0; i < m->n_particles; ++i) {
+        double Lw[3];
+        m3_mulv(Lw, s->air_lump + 9 * (size_t)i, w + 3 * i);
+        v3_add(s->f_ext + 3 * i, s->f_ext + 3 * i, Lw);
+    }
+}
+
+/* The Newton system at w: springs at x(w); in TR-BDF2's stages their damping blocks refreshed to
+ * x(w)'s directions (nw_kv0 := them: the potential's damping term from now on) and the air to
+ * x(w) (refresh_air), otherwise the frozen damping; A (friction's Fa on the diagonal) and
+ * g = -grad Phi(w) into nw_g. */
 static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_compression compression,
                           wc_step_stats* st) {
     const wc_model* m = s->model;
     double t0 = wc_now_ms();
     positions(s, ig, w);
     wc_eval_springs_at(m, s->nw_x, s->nw_zero, compression, s->seam_scale, &s->par, s->se);
-    const double *vv = s->nw_v, *kv0 = s->nw_kv0;
+    const double* vv = s->nw_v;
+    double* kv0 = s->nw_kv0;
+    const int refresh = ig->stage != 0;   /* TR-BDF2's stages only (newton.h "Refreshed") */
     wc_spring_eval* se = s->se;
     WC_PAR_REGION(&s->par)
     {
@@ -167,11 +185,13 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
         for (int k = lo; k < hi; ++k) {
             const wc_spring* sp = &m->springs[k];
             double dv[3];
-            memcpy(se[k].kv, kv0 + 9 * (size_t)k, 9 * sizeof(double));
+            if (refresh) memcpy(kv0 + 9 * (size_t)k, se[k].kv, 9 * sizeof(double));   /* -d u u^T at x(w) */
+            else memcpy(se[k].kv, kv0 + 9 * (size_t)k, 9 * sizeof(double));
             v3_sub(dv, vv + 3 * sp->a, vv + 3 * sp->b);
             m3_mulv_add(se[k].f, se[k].kv, dv);
         }
     }
+    if (ig->air_implicit && !have_friction(s)) refresh_air(s, w);   /* contacts: frozen (newton.h) */
     double t1 = wc_now_ms();
     st->ms.forces += t1 - t0;
     wc_assemble(m, se, s->f_ext, s->nw_zero, ig->he, &s->par, s->A, s->nw_g, NULL);
@@ -287,6 +307,9 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
         double ts = wc_now_ms();
         newton_system(s, ig, w, compression, st);
         system_ms += wc_now_ms() - ts;
+        /* the potential was refreshed at w (damping directions, air): the line search compares
+           against its value there */
+        if (ls && ig->stage != 0) phi = wc_newton_potential(s, ig, w);
         rmode = R_GRADIENT;
         double gn = sqrt(filtered_norm2(s, s->nw_g));
         if (!(gn > tol * gref)) break;

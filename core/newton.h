@@ -21,6 +21,29 @@
  * exactly the Baraff-Witkin step, so newton_iterations = 1 without line search is today's step
  * (and takes its code path bit for bit).
  *
+ * Refreshed (issue 12), in TR-BDF2's stages: every further iteration re-freezes the non-potential
+ * terms at its own iterate w_k before it linearises, so that the gradient is the true equation's
+ * residual there and a converged stage solves the implicit equation itself, not one with the
+ * start's geometry:
+ *  - spring damping: D0 := -d u u^T with u the directions at x(w_k) (the damping force at w_k is
+ *    then exact: -d (dv . u) u); the Jacobian stays Baraff-Witkin's (no d/dx of the directions);
+ *  - TR-BDF2's implicit air (bdf2.h), when no contact is active in the stage: L := L(x(w_k)) and
+ *    f_ext := M g + f_air(x(w_k), v_n + w_k) + L w_k, so -he f_ext + he L w, the potential's air
+ *    gradient, is -he (M g + f_air) at w_k. With contacts the air's geometry stays the stage
+ *    start's (refreshed, a corner particle sliding on a floor under Newton 2 + PCG 1e-3 kept a
+ *    limit cycle in test_trbdf2's drop: the lumped L over-damps a lone vertex's motion, which the
+ *    frozen form relied on).
+ * Backward Euler and BDF2 keep the frozen damping (and take the air explicitly): refreshed, BE
+ * with Newton 2 + line search lost test_api_motion's linear-inertia invariance (a cloth carried by
+ * an accelerating object drifted 0.5 % of its size from the one at rest after 51 frames, from
+ * 1e-13 the frame before; not understood), and BE is first order anyway. TR-BDF2 keeps it
+ * refreshed (the same test with TR-BDF2: 1.6e-13).
+ * Phi is thus a new (convex) function from each iteration on: its value is recomputed at w_k
+ * after the refresh, and the line search and the flat-stop compare within one iteration. Without
+ * damping and air (or with Newton 1) nothing changes. Frozen, a converged TR-BDF2 stage was only
+ * first order in time on a whirling damped spring and a tumbling sheet in air
+ * (tests/test_trbdf2_converged.c); refreshed, second.
+ *
  * Constraints (filter S, z). Every accepted iterate satisfies (I - S) w = (I - S) z exactly as
  * the first solve does: the first iterate takes the prescribed part in full,
  * w~0 = z + S w0 (pins on their targets, contacts at their normal velocity, sticking particles

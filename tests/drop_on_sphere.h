@@ -1,6 +1,6 @@
 /* The scene of the integrators' collider tests (test_bdf2.c, test_trbdf2.c): a sheet dropped onto
  * a sphere (radius 0.25 m) lying on a floor, both with thickness 5 mm and friction 0.4, stepped at
- * 30 fps until it falls asleep (at most 240 frames). */
+ * 30 fps until it falls asleep (at most 360 frames). */
 #ifndef WEFT_TESTS_DROP_ON_SPHERE_H
 #define WEFT_TESTS_DROP_ON_SPHERE_H
 #include <string.h>
@@ -29,7 +29,7 @@ static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* wo
     *slept = 0;
     if (bdf2) *bdf2 = 0;
     *worst_depth = 0.0;
-    for (int f = 0; f < 240 && !*slept; ++f) {
+    for (int f = 0; f < 360 && !*slept; ++f) {
         wc_step_stats st;
         CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
         if (bdf2) *bdf2 += st.bdf2_substeps;

@@ -177,11 +177,13 @@ static void test_accuracy_quick(int gpu) {
             CHECK(!strcmp(get(&c, row, "backend"), "cpu"));
             CHECK(!strcmp(get(&c, row, "role"), k == 0 ? "reference" : k == 1 ? "reference_check" : "config"));
             /* the method columns: PCG's preconditioner (block_jacobi, then amg), backward Euler, one
-             * Newton iteration, no line search (the defaults of these axes) */
+             * Newton iteration, no line search (the defaults of these axes); the reference and its
+             * check: TR-BDF2, Newton 3 + line search (--ref-integrator, --ref-newton defaults) */
             const char* pre = get(&c, row, "preconditioner");
             CHECK(!strcmp(pre, k >= 2 && k < 6 ? "block_jacobi" : k >= 6 && k < 10 ? "amg" : "-"));
-            CHECK(!strcmp(get(&c, row, "integrator"), "be") && num(&c, row, "newton_iterations") == 1 &&
-                  !strcmp(get(&c, row, "line_search"), "off"));
+            CHECK(!strcmp(get(&c, row, "integrator"), ref ? "trbdf2" : "be") &&
+                  num(&c, row, "newton_iterations") == (ref ? 3 : 1) &&
+                  !strcmp(get(&c, row, "line_search"), ref ? "on" : "off"));
             const double solves = num(&c, row, "solves"), its = num(&c, row, "iterations_per_solve");
             CHECK(solves >= 9 && its > 0 && its <= num(&c, row, "max_iterations_used"));
             CHECK(num(&c, row, "ms_precond_per_solve") >= 0);

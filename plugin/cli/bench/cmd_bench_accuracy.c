@@ -38,6 +38,8 @@ typedef struct acc_args {
     int n_substeps_large;
     int ref_substeps;
     int ref_check;          /* 1: the reference again at 2 x ref_substeps, their difference shown */
+    int ref_halvings;       /* the check's ladder: ref_substeps x 2, 4, ... 2^ref_halvings (>= 1) */
+    int ref_only;           /* 1: the reference and its ladder only, no configurations */
     wc_integrator ref_integrator;
     int undamped;           /* 1: no air drag and no spring damping, in every run (reference included) */
     int no_air;             /* 1: no air drag in every run (reference included) */
@@ -56,7 +58,7 @@ void bench_accuracy_usage(FILE* out) {
           "                           [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
           "                           [--line-search MODE] [--ref-substeps N] [--ref-integrator NAME]\n"
           "                           [--ref-newton N] [--undamped] [--no-air]\n"
-          "                           [--no-ref-check]\n"
+          "                           [--no-ref-check] [--ref-halvings N] [--ref-only]\n"
           "                           [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
@@ -100,21 +102,26 @@ void bench_accuracy_usage(FILE* out) {
           "                       drape,garment\n"
           "  --solvers LIST       pcg, jacobi, chebyshev, direct or all (default all)\n"
           "  --tolerances LIST    relative residual to stop at (default 1e-3,1e-5; 0: run the cap)\n"
-          "  --iterations LIST    iteration caps (default 30,300)\n"
-          "  --substeps LIST      substeps per frame (default 1,2,4)\n"
+          "  --iterations LIST    iteration caps (default 30,300)\n",
+          out);
+    fputs("  --substeps LIST      substeps per frame (default 1,2,4)\n"
           "  --substeps-large LIST  substeps per frame for scenes over 20000 particles (default 1)\n"
           BENCH_METHOD_HELP("block_jacobi,amg")
-          "  --ref-substeps N     substeps per frame of the reference run (default 8; 16, 32 for a\n"
-          "                       reference closer to converged)\n"
-          "  --ref-integrator NAME  be (default), bdf2 or trbdf2: the reference's integrator (BDF2, second\n"
-          "                       order, converges in time with fewer substeps)\n"
-          "  --ref-newton N       the reference's Newton iterations per substep (default 1; more: with\n"
+          "  --ref-substeps N     substeps per frame of the reference run (default 8: sheet32's halving\n"
+          "                       figure 0.11 %, README \"Run time against error\")\n"
+          "  --ref-integrator NAME  be, bdf2 or trbdf2 (default): the reference's integrator (TR-BDF2:\n"
+          "                       second order with its stages solved, L-stable)\n"
+          "  --ref-newton N       the reference's Newton iterations per substep (default 3; more than 1: with\n"
           "                       line search and a Newton tolerance of 1e-10, the nonlinear system\n"
           "                       solved, so that a second-order integrator converges at its order)\n"
           "  --undamped           no air drag and no spring damping in any run (the reference's too): what\n"
           "                       is left is the integrators' own error on a conservative system\n"
           "  --no-air             no air drag in any run (spring damping kept)\n"
           "  --no-ref-check       skip the reference's run at twice its substeps\n"
+          "  --ref-halvings N     the check as a ladder: the reference at 2, 4, ... 2^N times its substeps,\n"
+          "                       each against the previous (default 1); the table shows each halving's\n"
+          "                       RMS difference and the observed order log2(previous / this)\n"
+          "  --ref-only           the reference and its check only (no configurations)\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
           "  --probes N           frames whose linear-solve error is measured (default 6; 0: none;\n"
@@ -150,8 +157,9 @@ static void defaults(void* args, int quick) {
     a->n_substeps_large = bench_parse_ints("1", 1, 1024, a->substeps_large);
     a->ref_substeps = 8;
     a->ref_check = 1;
-    a->ref_integrator = WC_INTEGRATOR_BE;
-    a->ref_newton = 1;
+    a->ref_halvings = 1;
+    a->ref_integrator = WC_INTEGRATOR_TRBDF2;   /* issue 12: converged in time (README) */
+    a->ref_newton = 3;
     bench_methods_default(&a->meth, quick ? "block_jacobi,amg" : "block_jacobi,amg");
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
@@ -193,6 +201,11 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         return 1;
     }
     if (OPT("--ref-newton")) return BAD(cli_parse_int(*v, 1, 100, &a->ref_newton) != 0);
+    if (OPT("--ref-halvings")) return BAD(cli_parse_int(*v, 1, 6, &a->ref_halvings) != 0);
+    if (!strcmp(argv[*i], "--ref-only")) {
+        a->ref_only = 1;
+        return 1;
+    }
     if (!strcmp(argv[*i], "--no-ref-check")) {
         a->ref_check = 0;
         return 1;
@@ -337,12 +350,16 @@ static int configs_for(const acc_args* a, int n, config* out, int cap) {
     return k;
 }
 
-/* The reference's check of one scene: the reference at twice its substeps against it. */
+/* One halving of the reference's check of a scene: the run at `substeps` against the run at half
+ * of them (the reference itself for the first halving). */
 typedef struct ref_check {
     char scene[32];
-    int substeps;           /* the check's (2 x the reference's) */
+    int substeps;           /* the finer run's (2 x the coarser one's) */
     double rms, max;        /* their difference at the end / bounding-box diagonal */
+    double order;           /* log2(previous halving's rms / this rms); NAN for the first */
 } ref_check;
+
+#define MAX_HALVINGS 6
 
 #define REF_GOAL 1e-3       /* the reference is converged when halving its step moves it by < 0.1 % */
 
@@ -370,15 +387,21 @@ static void print_header(FILE* out, const void* ctx) {
     else if (a->no_air) fprintf(out, "No air (--no-air): no air drag in any run (spring damping kept).\n\n");
     if (h->n_checks > 0) {
         fprintf(out, "Is the reference converged in time? The same run at %d substeps per frame against it at the "
-                     "end, as %% of the bounding-box diagonal (goal < %g %%):\n\n"
-                     "| scene | reference substeps | check substeps | RMS diff (%%) | max diff (%%) | goal < %g %% |\n"
-                     "|---|---|---|---|---|---|\n",
+                     "end, as %% of the bounding-box diagonal (goal < %g %%; the ref. halving figure). With "
+                     "--ref-halvings, every further halving against the previous one and the observed order "
+                     "log2(previous RMS diff / this one):\n\n"
+                     "| scene | substeps | check substeps | ref. halving RMS diff (%%) | max diff (%%) | order | "
+                     "goal < %g %% |\n"
+                     "|---|---|---|---|---|---|---|\n",
                 2 * a->ref_substeps, 100 * REF_GOAL, 100 * REF_GOAL);
         for (int k = 0; k < h->n_checks; ++k) {
             const ref_check* c = &h->checks[k];
-            fprintf(out, "| %s | %d | %d | %.3g | %.3g | %s |\n", c->scene, c->substeps / 2, c->substeps,
-                    100 * c->rms, 100 * c->max, c->max < REF_GOAL ? "met" : c->rms < REF_GOAL ? "met (RMS only)"
-                                                                                              : "not met");
+            char order[32];
+            if (isnan(c->order)) snprintf(order, sizeof order, "-");
+            else bench_fmt(order, sizeof order, "%.2f", c->order);
+            fprintf(out, "| %s | %d | %d | %.3g | %.3g | %s | %s |\n", c->scene, c->substeps / 2, c->substeps,
+                    100 * c->rms, 100 * c->max, order,
+                    c->max < REF_GOAL ? "met" : c->rms < REF_GOAL ? "met (RMS only)" : "not met");
         }
         fputc('\n', out);
     }
@@ -420,8 +443,8 @@ static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int su
     return sd;
 }
 
-/* The reference run of a scene (row added) and, when asked, its check at twice the substeps (row
- * and *check filled). 0, or -1 with diag. */
+/* The reference run of a scene (row added) and, when asked, its check at twice the substeps and
+ * the further halvings (rows added, check[0 .. ref_halvings - 1] filled). 0, or -1 with diag. */
 static int run_reference(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, bench_run* rr,
                          ref_check* check, wc_diag* d) {
     bench_run_opts o;
@@ -434,26 +457,34 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
     config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1};
     add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0, (swing_err){0.0, 1.0});
     if (!a->ref_check) return 0;
-    if (!a->com.quiet) fprintf(stderr, "  the reference at %d substeps (its check)...\n", 2 * a->ref_substeps);
-    o.sim = reference_def(a, bs, 2 * a->ref_substeps);
-    bench_run r2;
-    if (bench_run_scene(bs, &o, &r2, d) != 0) {
-        bench_run_free(rr);
-        return -1;
+    bench_run prev = *rr, r2;   /* prev: the coarser run of the halving (rr for the first: not freed here) */
+    for (int k = 0; k < a->ref_halvings; ++k) {
+        const int subs = a->ref_substeps << (k + 1);
+        if (!a->com.quiet) fprintf(stderr, "  the reference at %d substeps (its check)...\n", subs);
+        o.sim = reference_def(a, bs, subs);
+        if (bench_run_scene(bs, &o, &r2, d) != 0) {
+            if (k > 0) bench_run_free(&prev);
+            bench_run_free(rr);
+            return -1;
+        }
+        double rms, max;
+        ref_check* c = &check[k];
+        bench_distance(r2.x, prev.x, bs->model.n_particles, &rms, &max);
+        snprintf(c->scene, sizeof c->scene, "%s", bs->name);
+        c->substeps = subs;
+        c->rms = rms / bs->diag;
+        c->max = max / bs->diag;
+        c->order = k > 0 && c->rms > 0 ? log2(check[k - 1].rms / c->rms) : NAN;
+        if (!a->com.quiet)
+            fprintf(stderr, "  %d vs %d substeps: RMS %.3g %%, max %.3g %% of the diagonal, order %.2f\n", subs,
+                    subs / 2, 100 * c->rms, 100 * c->max, c->order);
+        ref.substeps = subs;
+        ref.reference = 2;
+        add_row(t, BENCH_CPU, bs, &ref, &r2, c->rms, c->max, swing_against(&r2, &prev, bs->diag));
+        if (k > 0) bench_run_free(&prev);
+        prev = r2;
     }
-    double rms, max;
-    bench_distance(r2.x, rr->x, bs->model.n_particles, &rms, &max);
-    snprintf(check->scene, sizeof check->scene, "%s", bs->name);
-    check->substeps = 2 * a->ref_substeps;
-    check->rms = rms / bs->diag;
-    check->max = max / bs->diag;
-    if (!a->com.quiet)
-        fprintf(stderr, "  reference vs 2x: RMS %.3g %%, max %.3g %% of the diagonal\n", 100 * check->rms,
-                100 * check->max);
-    ref.substeps = check->substeps;
-    ref.reference = 2;
-    add_row(t, BENCH_CPU, bs, &ref, &r2, check->rms, check->max, swing_against(&r2, rr, bs->diag));
-    bench_run_free(&r2);
+    if (a->ref_halvings > 0) bench_run_free(&prev);
     return 0;
 }
 
@@ -476,7 +507,7 @@ int bench_accuracy_run(int argc, char** argv) {
     const char** panels = calloc((size_t)(a.n_scenes * a.n_backends), sizeof(char*));
     bench_point* pts = malloc(sizeof *pts * (size_t)max_points);
     config* cfg = malloc(sizeof *cfg * (size_t)max_cfg);
-    ref_check checks[MAX_SCENES];
+    ref_check checks[MAX_SCENES * MAX_HALVINGS];
     int n_pts = 0, n_checks = 0, threads = 1;
     rc = CLI_EXIT_OK;
     if (!pts || !cfg || !panel_buf || !panels) {
@@ -510,7 +541,7 @@ int bench_accuracy_run(int argc, char** argv) {
             rc = CLI_EXIT_FAILURE;
             break;
         }
-        n_checks += a.ref_check;
+        n_checks += a.ref_check ? a.ref_halvings : 0;
         wc_par par;
         wc_par_init(&par, a.com.threads);
         threads = par.threads;
@@ -518,7 +549,7 @@ int bench_accuracy_run(int argc, char** argv) {
         memset(&o, 0, sizeof o);
         o.fps = a.fps;
         o.frames = frames;
-        const int n_cfg = configs_for(&a, bs.model.n_particles, cfg, max_cfg);
+        const int n_cfg = a.ref_only ? 0 : configs_for(&a, bs.model.n_particles, cfg, max_cfg);
         for (int q = 0; q < n_cfg * a.n_backends && rc == CLI_EXIT_OK; ++q) {
             const int bi = q / n_cfg, k = q % n_cfg, backend = a.backends[bi];
             const config* c = &cfg[k];
