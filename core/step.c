@@ -130,6 +130,13 @@ static int sourceless(const wc_state* s, double pin_energy) {
     return 1;
 }
 
+/* The energy gain the judge allows a substep (J): fail_energy_gain x (M |g| D + the kinetic and
+ * spring energy at its start). */
+static double energy_allowance(const wc_state* s, const wc_substep_measure* before) {
+    double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(s->model) + before->elastic;
+    return s->def.fail_energy_gain * scale;
+}
+
 int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
     return judge == WC_JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
 }
@@ -137,7 +144,6 @@ int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
 weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
                              int judge, int judge_energy, double pin_energy, double h, const char* solver,
                              wc_diag* diag) {
-    const wc_model* m = s->model;
     if (!after->finite)
         return wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h, solver);
     if (judge == WC_JUDGE_FINITE) return WEFT_OK;
@@ -149,11 +155,11 @@ weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before
         return wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J", h,
                        solver, after->kinetic, before->kinetic);
     if (judge_energy) {
-        double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(m) + before->elastic;
-        if (after->total - before->total > s->def.fail_energy_gain * scale)
+        double allowed = energy_allowance(s, before);
+        if (after->total - before->total > allowed)
             return wc_fail(diag, WEFT_ERROR_STEP_FAILED,
                            "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
-                           h, solver, after->total - before->total, s->def.fail_energy_gain * scale);
+                           h, solver, after->total - before->total, allowed);
     }
     return WEFT_OK;
 }
@@ -277,8 +283,9 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     /* the colliders' position corrections (begin's push out of the shells, project's at the end)
        are collision responses: a collider pushing a particle out does work on the cloth, which
        the energy judge does not charge to the step (as the self-collision stage's below). The
-       energy after begin's correction is the Newton energy guard's bound (newton.h). */
-    double energy_cap = judge_energy ? wc_state_total_energy(s, NULL) : HUGE_VAL;
+       Newton energy guard's bound (newton.h): the energy after begin's correction plus the gain
+       the judge allows, so that Newton iterates on exactly where the judge would roll back. */
+    double energy_cap = judge_energy ? wc_state_total_energy(s, NULL) + energy_allowance(s, &before) : HUGE_VAL;
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
