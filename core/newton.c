@@ -5,12 +5,14 @@
 #include <string.h>
 #include "assemble.h"
 #include "clock.h"
+#include "forces.h"
 #include "vec3.h"
 
 #define NW_CHUNK 256          /* particles or springs per reduction chunk */
 #define NW_ARMIJO 1e-4        /* sufficient-decrease constant */
 #define NW_BACKTRACKS 12      /* halvings of the step at most */
 #define NW_FLAT 1e-13         /* a decrease below this x |Phi| ends the iterations */
+#define NW_ENERGY_EXTRA 4     /* iterations past newton_iterations at most while the iterate gains energy */
 
 int wc_newton_wanted(const wc_sim_def* d) { return d->newton_iterations > 1 || d->line_search; }
 
@@ -240,6 +242,17 @@ static void friction_terms(wc_state* s) {
     for (int k = 0; k < 3 * m->n_particles; ++k) s->nw_fb[k] = s->b[k] - s->nw_fb[k];
 }
 
+/* Total energy (J) of the iterate w: kinetic of v_n + w, springs and gravity's potential at x(w)
+ * (the measure of wc_state_total_energy, the step's energy judge). Leaves x(w), v(w) in nw_x, nw_v. */
+static double iterate_energy(wc_state* s, const wc_integ* ig, const double* w) {
+    const wc_model* m = s->model;
+    positions(s, ig, w);
+    double e = wc_spring_energy_at(m, s->nw_x, s->seam_scale);
+    for (int i = 0; i < m->n_particles; ++i)
+        e += 0.5 * m->mass[i] * v3_dot(s->nw_v + 3 * i, s->nw_v + 3 * i) - m->mass[i] * v3_dot(s->def.gravity, s->nw_x + 3 * i);
+    return e;
+}
+
 static void trace(wc_state* s, int it, double phi, const double* w) {
     if (s->newton_trace) s->newton_trace(s->newton_trace_user, s, it, phi, w);
 }
@@ -247,7 +260,7 @@ static void trace(wc_state* s, int it, double phi, const double* w) {
 enum { R_FIRST, R_STEP, R_GRADIENT };   /* which linearisation the constraint residual comes from */
 
 weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
-                              double residual0, int want_r, wc_step_stats* st, wc_diag* diag) {
+                              double residual0, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles, n3 = 3 * n;
     int ls = s->def.line_search != 0;
@@ -303,7 +316,14 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
     wc_filter fz = s->filter;
     fz.z = s->nw_zero;
     double system_ms = 0.0;
-    for (int it = 1; it < s->def.newton_iterations && !stop; ++it) {
+    const int guard = energy_cap < HUGE_VAL;
+    for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
+        if (it >= s->def.newton_iterations) {
+            /* past the configured count only while the iterate holds more energy than the
+               substep started with (newton.h, "Energy guard") */
+            if (!(iterate_energy(s, ig, w) > energy_cap)) break;
+            ++st->energy_iterations;
+        }
         double ts = wc_now_ms();
         newton_system(s, ig, w, compression, st);
         system_ms += wc_now_ms() - ts;

@@ -60,7 +60,9 @@ typedef struct wc_sim_def {
                                    gravity) by more than this x (M |g| D + its kinetic and spring
                                    energy at the start), M the mass, D the bounding-box diagonal:
                                    backward Euler only dissipates, a gain is the linearisation
-                                   failing (0.01; 0: not judged) */
+                                   failing (0.01; 0: not judged). Not charged: what the
+                                   colliders' position corrections and the self-collision stage
+                                   put in (collision responses: work done on the cloth, step.c) */
     int threads;                /* OpenMP threads, 0 = OpenMP's default */
     double sleep_speed;         /* m/s (1e-3): the cloth falls asleep when its fastest particle stays
                                    slower than this for sleep_time; 0 never sleeps */

@@ -130,6 +130,13 @@ static int sourceless(const wc_state* s, double pin_energy) {
     return 1;
 }
 
+/* The energy gain the judge allows a substep (J): fail_energy_gain x (M |g| D + the kinetic and
+ * spring energy at its start). */
+static double energy_allowance(const wc_state* s, const wc_substep_measure* before) {
+    double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(s->model) + before->elastic;
+    return s->def.fail_energy_gain * scale;
+}
+
 int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
     return judge == WC_JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
 }
@@ -137,7 +144,6 @@ int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
 weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
                              int judge, int judge_energy, double pin_energy, double h, const char* solver,
                              wc_diag* diag) {
-    const wc_model* m = s->model;
     if (!after->finite)
         return wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h, solver);
     if (judge == WC_JUDGE_FINITE) return WEFT_OK;
@@ -149,11 +155,11 @@ weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before
         return wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J", h,
                        solver, after->kinetic, before->kinetic);
     if (judge_energy) {
-        double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(m) + before->elastic;
-        if (after->total - before->total > s->def.fail_energy_gain * scale)
+        double allowed = energy_allowance(s, before);
+        if (after->total - before->total > allowed)
             return wc_fail(diag, WEFT_ERROR_STEP_FAILED,
                            "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
-                           h, solver, after->total - before->total, s->def.fail_energy_gain * scale);
+                           h, solver, after->total - before->total, allowed);
     }
     return WEFT_OK;
 }
@@ -186,8 +192,10 @@ static void substep_colliders(wc_state* s, double alpha1, double h) {
 
 /* Constraints, forces, assembly and friction of a substep of length ig->h ending at frame fraction
  * alpha1: fills s->filter, s->A and s->b (contacts may correct positions) and the integrator's
- * xb, vstar, mom (bdf2.h). Returns the contacts that stick. */
-static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression compression, wc_step_stats* st) {
+ * xb, vstar, mom (bdf2.h). begin_gain (J, may be NULL): += the total energy the contacts' position
+ * correction put in (0 when it lowered it). Returns the contacts that stick. */
+static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression compression, double* begin_gain,
+                   wc_step_stats* st) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double h = ig->h;
@@ -195,7 +203,14 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     apply_pins(s, ig, alpha1);
     substep_colliders(s, alpha1, h);
-    if (s->n_all > 0) wc_contacts_begin(&s->contacts, s->all, s->n_all, s->x, s->v, h, &s->filter, &s->par);
+    if (s->n_all > 0) {
+        double e0 = begin_gain ? wc_state_total_energy(s, NULL) : 0.0;
+        wc_contacts_begin(&s->contacts, s->all, s->n_all, s->x, s->v, h, &s->filter, &s->par);
+        if (begin_gain) {
+            double gain = wc_state_total_energy(s, NULL) - e0;
+            if (gain > 0) *begin_gain += gain;
+        }
+    }
     /* the substep's start after the contacts' correction: the mesh colliders' crossing test */
     if (s->n_mesh > 0 && s->x_sub) memcpy(s->x_sub, s->x, 3 * (size_t)n * sizeof(double));
     wc_integ_prepare(s, ig);
@@ -234,7 +249,7 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
     s->sub_alpha0 = alpha1;
     wc_integ ig;
     wc_integ_begin(s, h, &ig);
-    (void)prepare(s, &ig, alpha1, s->def.compression, st);
+    (void)prepare(s, &ig, alpha1, s->def.compression, NULL, st);
 }
 
 void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
@@ -266,7 +281,14 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     if (stage == 2) wc_integ_begin_stage2(s, h, &ig);
     else wc_integ_begin(s, h, &ig);
     h = ig.h;   /* TR-BDF2: the stage's length */
-    int stuck = prepare(s, &ig, alpha1, compression, st);
+    double collide_gain = 0.0; /* J */
+    int stuck = prepare(s, &ig, alpha1, compression, judge_energy ? &collide_gain : NULL, st);
+    /* the colliders' position corrections (begin's push out of the shells, project's at the end)
+       are collision responses: a collider pushing a particle out does work on the cloth, which
+       the energy judge does not charge to the step (as the self-collision stage's below). The
+       Newton energy guard's bound (newton.h): the energy after begin's correction plus the gain
+       the judge allows, so that Newton iterates on exactly where the judge would roll back. */
+    double energy_cap = judge_energy ? wc_state_total_energy(s, NULL) + energy_allowance(s, &before) : HUGE_VAL;
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -297,7 +319,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     int in_contact = s->n_all > 0 && s->contacts.active > 0;
     int newton = wc_newton_wanted(&s->def);
     if (newton) {
-        status = wc_newton_iterate(s, &ig, solver, compression, res.scale, in_contact, st, diag);
+        status = wc_newton_iterate(s, &ig, solver, compression, res.scale, in_contact, energy_cap, st, diag);
         if (status != WEFT_OK) return status;
     }
     t0 = wc_now_ms();
@@ -334,9 +356,14 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     t0 = t1;
     /* last, so that nothing (strain limiting included) leaves a particle inside a collider */
     if (s->n_all > 0) {
+        double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
         wc_contacts_project_from(&s->contacts, s->all, s->n_all, &s->filter, s->n_mesh > 0 ? s->x_sub : NULL, s->x,
                                  s->v, &s->par);
         if (s->def.strain_limit > 0) strain = wc_max_stretch_strain(m, s->x);
+        if (judge_energy) {
+            double gain = wc_state_total_energy(s, NULL) - e0;
+            if (gain > 0) collide_gain += gain;
+        }
     }
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
@@ -373,7 +400,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     after.strain = strain;
     if (after.finite && judge != WC_JUDGE_FINITE) {
         after.kinetic = wc_state_kinetic_energy(s);
-        if (judge_energy) after.total = wc_state_total_energy(s, NULL) - self_gain;
+        if (judge_energy) after.total = wc_state_total_energy(s, NULL) - self_gain - collide_gain;
     }
     status = wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
     st->max_strain = strain;

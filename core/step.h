@@ -2,7 +2,8 @@
  * -> constraints -> solve, with Newton iterations and a line search when def asks (newton.h) ->
  * contacts -> positions -> strain limit), each checked for failure (non-finite
  * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
- * supply it). A failed substep is rolled back and retried with half the step (up to
+ * supply it; the colliders' and self-collision's position corrections are collision responses
+ * that do work on the cloth, and their energy is not charged to the step). A failed substep is rolled back and retried with half the step (up to
  * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
  * geometric term dropped (a positive-definite system): in the finest pieces (judged on all but
  * the energy gain), then in one piece accepted whenever it is finite; if that also fails the
@@ -50,6 +51,7 @@ typedef struct wc_step_stats {
     int self_zones;             /* ... impact zones formed */
     int self_unresolved;        /* ... pairs left colliding when the zone loop gave up (0 normally) */
     struct { double forces, assemble, solve, collide, integrate, total, self_collide; } ms; /* wall time per stage */
+    int energy_iterations;      /* Newton steps past newton_iterations by the energy guard (newton.h), summed */
 } wc_step_stats;
 
 /* For tests and benchmarks: build the constrained system of a substep of length h ending at

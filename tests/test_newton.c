@@ -9,6 +9,7 @@
 #include <math.h>
 #include <string.h>
 #include "check.h"
+#include "collide.h"
 #include "forces.h"
 #include "newton.h"
 #include "step.h"
@@ -187,6 +188,53 @@ static void test_flat_sheet_energy(void) {
     wc_model_free(&m);
 }
 
+/* The energy guard (newton.h): tablecloth.json's landing, smaller: a 1.6 m sheet (NL x NL,
+ * default material) falling from 1 m onto a sphere of radius 0.4 m on the floor, 2 substeps per
+ * frame at 30 fps, Newton 2 + line search, PCG (AMG), the energy judge on (static colliders: the
+ * step is judged). Where the cloth lands the first linearised step overshoots and the second
+ * iterate still holds energy that nothing supplied; 2e50674 rolled that substep back and halved
+ * it. The guard iterates on instead: no rollback, and no substep's energy above the allowance. */
+#define NL 48
+static void test_energy_guard_landing(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, NL, 1.6, 1.0, 0, 1.0));
+    wc_sim_def d = wc_default_sim_def();
+    d.solver.type = WC_SOLVER_PCG;
+    d.newton_iterations = 2;
+    d.line_search = 1;
+    d.substeps = 2;
+    d.threads = 1;
+    wc_state* s = NULL;
+    wc_diag diag = {0};
+    CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WEFT_OK);
+    wc_collider c[2];
+    memset(c, 0, sizeof c);
+    c[0].type = WC_COLLIDER_SPHERE;
+    v3_set(c[0].center, 0.0, 0.4, 0.0);
+    c[0].radius = 0.4;
+    c[1].type = WC_COLLIDER_PLANE;
+    v3_set(c[1].normal, 0.0, 1.0, 0.0);
+    for (int k = 0; k < 2; ++k) {
+        c[k].thickness = 0.005;
+        c[k].friction = 0.3;
+        c[k].push_speed = 0.05;
+    }
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &diag), WEFT_OK);
+    wc_step_stats st;
+    int guarded = 0, rollbacks = 0;
+    for (int f = 0; f < 9; ++f) {
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WEFT_OK);
+        rollbacks += st.rollbacks;
+        guarded += st.energy_iterations;
+    }
+    printf("  %d guard iterations, %d rollbacks over 9 frames, %d in contact\n", guarded, rollbacks, st.contacts);
+    CHECK(st.contacts > 0);
+    CHECK(guarded > 0);
+    CHECK_EQ_INT(rollbacks, 0);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 /* newton_iterations 1, line search off: the old step; and thread-count independence of Newton. */
 static void test_bitwise(void) {
     wc_model m;
@@ -230,6 +278,7 @@ int main(void) {
     RUN_TEST(test_potential_matches);
     RUN_TEST(test_potential_never_increases);
     RUN_TEST(test_flat_sheet_energy);
+    RUN_TEST(test_energy_guard_landing);
     RUN_TEST(test_bitwise);
     RUN_TEST(test_bad_def);
     return TEST_SUMMARY();

@@ -217,7 +217,9 @@ static void test_colliders_friction_sleep_threads(void) {
             best = i;
         }
     }
-    CHECK(sqrt(bd) < 0.1 && xa[3 * best + 1] > 0.49 && xa[3 * best + 1] < 0.54);
+    /* (0.530 at 2e50674, 0.541 since the colliders' push-out is no longer rolled back: the sheet
+       settles with a fold near the top, the particle 4 cm off-centre; bound 0.55) */
+    CHECK(sqrt(bd) < 0.1 && xa[3 * best + 1] > 0.49 && xa[3 * best + 1] < 0.55);
     wc_model_free(&m);
 }
 
