@@ -89,6 +89,12 @@
 #define WC_AMG_COARSE_SWEEPS 4
 #define WC_AMG_CHUNK 256        /* rows per partial sum */
 #define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the power iterations' Rayleigh quotient */
+#define WC_AMG_COARSE_POWER 30  /* power iterations on the coarse levels (the finest takes
+                                   wc_amg_opts.power_iterations): with 6 the 6x6-pair levels'
+                                   estimate fell 1.33x short of lambda_max (suit_on_body frame 80:
+                                   1.48 x 1.1 against 1.97), the Chebyshev smoother amplified the
+                                   modes above its bound and PCG broke down; coarse levels are
+                                   small (12 % of the fine nodes in all), so 30 cost little */
 /* Seams (sew.h) between a vertex and a point of an edge couple three particles: for that
  * block, w^T D^-1 w = 3 where a spring's is 2, so D^-1 A has eigenvalues up to 3/2 of the spring
  * network's in modes local to the seams, which power iterations from a spread start

@@ -429,7 +429,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
         diagonal(L, a->opts.pair_blocks, par);
-        largest_eigenvalue(L, a->opts.power_iterations, a->opts.pair_blocks, par);
+        largest_eigenvalue(L, l == 0 ? a->opts.power_iterations : WC_AMG_COARSE_POWER, a->opts.pair_blocks, par);
         if (l == 0) L->bound *= a->fine_bound_scale; /* seams (amg.h, WC_AMG_SEAM_BOUND) */
         prolongator(L, a->opts.prolong_weight, par);
         galerkin(L, N, par);
@@ -438,7 +438,8 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     if (a->coarse_dense) coarse_factor(a);
     else {
         diagonal(&a->lev[a->n_levels - 1], a->opts.pair_blocks, par);
-        largest_eigenvalue(&a->lev[a->n_levels - 1], a->opts.power_iterations, a->opts.pair_blocks, par);
+        largest_eigenvalue(&a->lev[a->n_levels - 1], a->n_levels == 1 ? a->opts.power_iterations : WC_AMG_COARSE_POWER,
+                           a->opts.pair_blocks, par);
         if (a->n_levels == 1) a->lev[0].bound *= a->fine_bound_scale;
     }
     a->setup_ms = wc_now_ms() - t0;
