@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 #include "check.h"
+#include "energy_log.h"
 #include "forces.h"
 #include "step.h"
 #include "test_support.h"
@@ -18,22 +19,7 @@
 
 static wc_model g_sheet; /* N x N, 1 m, horizontal at y = 0, STIFF x the default springs */
 
-static double total_energy(const wc_state* s) {
-    const wc_model* m = s->model;
-    double e = wc_state_kinetic_energy(s) + wc_spring_energy(m, s->x);
-    for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
-    return e;
-}
-
-/* Collects the step's warnings. */
-typedef struct log_rec {
-    int energy_rollbacks;
-} log_rec;
-
-static void on_log(wc_log_level level, const char* msg, void* user) {
-    log_rec* r = user;
-    if (level == WC_LOG_WARN && strstr(msg, "total energy rose")) ++r->energy_rollbacks;
-}
+static double total_energy(const wc_state* s) { return energy_at(s, s->x); }
 
 /* The sheet pinned at the two corners of its j = N - 1 edge, targets moving by move per frame. */
 static wc_state* make(const wc_model* m, double gain, const double* move) {
