@@ -260,7 +260,7 @@ static void trace(wc_state* s, int it, double phi, const double* w) {
 enum { R_FIRST, R_STEP, R_GRADIENT };   /* which linearisation the constraint residual comes from */
 
 weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
-                              double residual0, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag) {
+                              double residual_scale, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles, n3 = 3 * n;
     int ls = s->def.line_search != 0;
@@ -311,7 +311,7 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
         trace(s, 1, phi, w);
     }
 
-    double gref = residual0, tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
+    double gref = residual_scale, tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
     int stop = ls && alpha == 0.0;
     wc_filter fz = s->filter;
     fz.z = s->nw_zero;

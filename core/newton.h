@@ -91,14 +91,14 @@ int wc_newton_wanted(const wc_sim_def* d);
 void wc_newton_capture(wc_state* s);
 
 /* After the first solve (s->dv = its solution w1; s->A, s->b its system, friction included;
- * residual0 its residual's scale, wc_solve_result.scale: the larger of |S (b - A z)| and the
+ * residual_scale: its residual's scale, wc_solve_result.scale: the larger of |S (b - A z)| and the
  * solver's floor; the iterations stop when the gradient is within the tolerance of it): the line search of the first step and the further iterations.
  * On return s->dv is the accepted w and, when want_r, s->r the constraint residual A dv - b of
  * the last linearisation (wc_contacts_end reads the contact impulses there). Solves are added to
  * st. energy_cap (J): the energy guard's bound (above; HUGE_VAL: no guard). Returns OK unless the
  * first iterate itself is non-finite. */
 weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
-                              double residual0, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag);
+                              double residual_scale, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag);
 
 /* The incremental potential Phi(w) of the current substep (J), for tests; valid after
  * wc_newton_capture of the substep and before its positions advance. */
