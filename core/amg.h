@@ -106,7 +106,9 @@
  * network's in modes local to the seams, which power iterations from a spread start
  * underestimate; the Chebyshev smoother beyond its bound then makes the V-cycle indefinite (PCG
  * broke down on a sewn tube). The finest level's bound is raised by this factor when the model
- * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's). */
+ * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's), with
+ * the power method only: Lanczos (the default, amg_eigen.c) finds those modes (test_amg_setup's
+ * sewn tube: 1.1 x its 6-step estimate >= 1.03 lambda_max; the power method's 0.90). */
 #define WC_AMG_SEAM_BOUND 1.5
 #define WC_AMG_MAX_LANCZOS 64   /* Lanczos steps at most (the tridiagonal's size) */
 /* A near-null column whose part orthogonal to the aggregate's earlier columns is below this x
@@ -225,7 +227,8 @@ typedef struct wc_amg {
                                    setup phase (wc_amg_phase), summed over every wc_amg_setup since
                                    creation (tests/bench/bench_amg_setup) */
     long setups;                /* wc_amg_setup calls since creation */
-    double fine_bound_scale;    /* the finest level's lambda_max bound x this: WC_AMG_SEAM_BOUND
+    double fine_bound_scale;    /* with the power method (lanczos 0), the finest level's lambda_max
+                                   bound x this: WC_AMG_SEAM_BOUND
                                    with three-point seams (sew.h), else 1 */
     const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
                                    positions every setup takes the rotations about (the state's
