@@ -64,8 +64,9 @@
  *     operator P^T P^ P; with rotations the aggregates' node lists and P_tent about the rest
  *     positions.
  * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
- * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (power iterations from a
- * fixed start, times a safety factor), the smoothed
+ * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (Lanczos from a fixed start,
+ * 6 steps on the finest level and WC_AMG_COARSE_LANCZOS on the others, times a safety factor;
+ * amg_eigen.c), the smoothed
  * prolongator P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal),
  * the Galerkin operators and the coarsest level's dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
@@ -76,7 +77,19 @@
  * The largest eigenvalue needs estimating: a Gershgorin bound was 204 where it is 1.9 (the
  * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows (or
  * pairs) in parallel with no reduction, and the per-solve QR runs serially, so the result does
- * not depend on the thread count. */
+ * not depend on the thread count.
+ * The setup's cost (issue 12; the 100^2 sheet at the library's defaults, 1 thread, CPU ms per
+ * solve, the minimum over 20 setups of one system, tests/bench/bench_amg_setup --repeat 20):
+ * 34.5 ms before (shares: Galerkin T = A P 27 % and P^T T 20 %, 30 power iterations on the
+ * coarse levels 19 %, prolongator 17 %, QR 6 %, fine power iterations 6 %), 25-26.5 after:
+ * Lanczos instead of power iterations (coarse levels 6.8 -> 2.9 ms, and closer to lambda_max:
+ * 0.95 where 6 power iterations gave 0.91 on the finest level, 0.955 where 30 gave 0.947 on the
+ * next), the prolongator's D^-1 once per entry of P instead of once per block of A (5.0 -> 3.4),
+ * restrict-qualified 3x3 kernels (Galerkin 16.7 -> 13.4), the QR on contiguous columns (2.0 ->
+ * 1.6). Tried and left out: reusing the prolongators across a substep's Newton iterations (the
+ * Galerkin products redone from the new A): 11.55 -> 17.55 PCG iterations per solve on the 100^2
+ * sheet, 9.7 -> 14.3 on the 64^2; a fused 6x6 P^T T kernel (6.1 -> 6.5 ms); skipping the
+ * columns of T that P^T T never reads (12 % of the products; no gain measurable under load). */
 #ifndef WEFT_CORE_AMG_H
 #define WEFT_CORE_AMG_H
 #include "diag.h"
@@ -88,8 +101,9 @@
 #define WC_AMG_MAX_LEVELS 12
 #define WC_AMG_COARSE_SWEEPS 4
 #define WC_AMG_CHUNK 256        /* rows per partial sum */
-#define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the power iterations' Rayleigh quotient */
-#define WC_AMG_COARSE_POWER 30  /* power iterations on the coarse levels (the finest takes
+#define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the Lanczos Ritz value (or the power
+                                   iterations' Rayleigh quotient): both are lower bounds */
+#define WC_AMG_COARSE_POWER 30  /* lanczos 0: power iterations on the coarse levels (the finest takes
                                    wc_amg_opts.power_iterations): with 6 the 6x6-pair levels'
                                    estimate fell 1.33x short of lambda_max (suit_on_body frame 80:
                                    1.48 x 1.1 against 1.97), the Chebyshev smoother amplified the
