@@ -84,9 +84,9 @@
  * coarse levels 19 %, prolongator 17 %, QR 6 %, fine power iterations 6 %), 25-26.5 after:
  * Lanczos instead of power iterations (coarse levels 6.8 -> 2.9 ms, and closer to lambda_max:
  * 0.95 where 6 power iterations gave 0.91 on the finest level, 0.955 where 30 gave 0.947 on the
- * next), the prolongator's D^-1 once per entry of P instead of once per block of A (5.0 -> 3.4),
- * restrict-qualified 3x3 kernels (Galerkin 16.7 -> 13.4), the QR on contiguous columns (2.0 ->
- * 1.6). Tried and left out: reusing the prolongators across a substep's Newton iterations (the
+ * next), the prolongator's D^-1 once per entry of P instead of once per block of A (6.1 ->
+ * 3.4, with the restrict kernels), restrict-qualified 3x3 kernels (Galerkin 16.7 -> 13.4), the
+ * QR on contiguous columns (2.0 -> 1.6). Tried and left out: reusing the prolongators across a substep's Newton iterations (the
  * Galerkin products redone from the new A): 11.55 -> 17.55 PCG iterations per solve on the 100^2
  * sheet, 9.7 -> 14.3 on the 64^2; a fused 6x6 P^T T kernel (6.1 -> 6.5 ms); skipping the
  * columns of T that P^T T never reads (12 % of the products; no gain measurable under load). */

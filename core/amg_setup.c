@@ -8,7 +8,8 @@
 #include "vec3.h"
 
 /* o += a^T b (3x3, row-major; o may not alias a or b: restrict lets the compiler keep a and b in
- * registers, which took the Galerkin products from X to Y ms per solve, bench_amg_setup) */
+ * registers: the Galerkin products 16.7 -> 13.4 ms per solve on the 100^2 sheet,
+ * bench_amg_setup) */
 static inline void m3_tmul_add(double* restrict o, const double* restrict a, const double* restrict b) {
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) o[3 * r + c] += a[r] * b[c] + a[3 + r] * b[3 + c] + a[6 + r] * b[6 + c];
@@ -167,7 +168,7 @@ static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, wc_pa
  * entries first gather Z_e = sum A_ij P_tent(j) (the weak blocks summed before their one
  * product), then P_e = -w D_i^-1 Z_e (+ P_tent(i) on i's own aggregate); on a pair level rows
  * 2a and 2a + 1 share their columns and D^-1 couples them, so a pair's two rows go together.
- * 5.0 -> X ms per solve on the 100^2 sheet (bench_amg_setup). */
+ * 6.1 -> 3.4 ms per solve (with the restrict kernels) on the 100^2 sheet (bench_amg_setup). */
 static void prolongator_plain(wc_amg_level* L, double w, wc_par* par) {
     static const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     WC_PAR_REGION(par)

@@ -32,7 +32,7 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* x) {
 /* Modified Gram-Schmidt, each column orthogonalised twice against the earlier live ones, on
  * the aggregate's (3 m) x 6 block copied column by column into Q (rows: node s's 3 rows at
  * 3 s); the same operations in the same order as on the strided rows, on contiguous columns
- * (tentative QR 2.0 -> X ms per solve on the 100^2 sheet, bench_amg_setup). */
+ * (tentative QR 2.0 -> 1.6 ms per solve (CPU) on the 100^2 sheet, bench_amg_setup). */
 #define TENT_LOCAL 96 /* nodes per aggregate the local copy holds (larger ones: strided) */
 static void qr_local(wc_amg_level* L, const int* nodes, int m, double* Q, double* R, int* live, unsigned char* dead) {
     const int rows = 3 * m;
