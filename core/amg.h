@@ -64,8 +64,9 @@
  *     operator P^T P^ P; with rotations the aggregates' node lists and P_tent about the rest
  *     positions.
  * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
- * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (power iterations from a
- * fixed start, times a safety factor), the smoothed
+ * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (Lanczos from a fixed start,
+ * 6 steps on the finest level and WC_AMG_COARSE_LANCZOS on the others, times a safety factor;
+ * amg_eigen.c), the smoothed
  * prolongator P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal),
  * the Galerkin operators and the coarsest level's dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
@@ -76,7 +77,19 @@
  * The largest eigenvalue needs estimating: a Gershgorin bound was 204 where it is 1.9 (the
  * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows (or
  * pairs) in parallel with no reduction, and the per-solve QR runs serially, so the result does
- * not depend on the thread count. */
+ * not depend on the thread count.
+ * The setup's cost (issue 12; the 100^2 sheet at the library's defaults, 1 thread, CPU ms per
+ * solve, the minimum over 20 setups of one system, tests/bench/bench_amg_setup --repeat 20):
+ * 34.5 ms before (shares: Galerkin T = A P 27 % and P^T T 20 %, 30 power iterations on the
+ * coarse levels 19 %, prolongator 17 %, QR 6 %, fine power iterations 6 %), 25-26.5 after:
+ * Lanczos instead of power iterations (coarse levels 6.8 -> 2.9 ms, and closer to lambda_max:
+ * 0.95 where 6 power iterations gave 0.91 on the finest level, 0.955 where 30 gave 0.947 on the
+ * next), the prolongator's D^-1 once per entry of P instead of once per block of A (6.1 ->
+ * 3.4, with the restrict kernels), restrict-qualified 3x3 kernels (Galerkin 16.7 -> 13.4), the
+ * QR on contiguous columns (2.0 -> 1.6). Tried and left out: reusing the prolongators across a substep's Newton iterations (the
+ * Galerkin products redone from the new A): 11.55 -> 17.55 PCG iterations per solve on the 100^2
+ * sheet, 9.7 -> 14.3 on the 64^2; a fused 6x6 P^T T kernel (6.1 -> 6.5 ms); skipping the
+ * columns of T that P^T T never reads (12 % of the products; no gain measurable under load). */
 #ifndef WEFT_CORE_AMG_H
 #define WEFT_CORE_AMG_H
 #include "diag.h"
@@ -88,23 +101,51 @@
 #define WC_AMG_MAX_LEVELS 12
 #define WC_AMG_COARSE_SWEEPS 4
 #define WC_AMG_CHUNK 256        /* rows per partial sum */
-#define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the power iterations' Rayleigh quotient */
-#define WC_AMG_COARSE_POWER 30  /* power iterations on the coarse levels (the finest takes
+#define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the Lanczos Ritz value (or the power
+                                   iterations' Rayleigh quotient): both are lower bounds */
+#define WC_AMG_COARSE_POWER 30  /* lanczos 0: power iterations on the coarse levels (the finest takes
                                    wc_amg_opts.power_iterations): with 6 the 6x6-pair levels'
                                    estimate fell 1.33x short of lambda_max (suit_on_body frame 80:
                                    1.48 x 1.1 against 1.97), the Chebyshev smoother amplified the
                                    modes above its bound and PCG broke down; coarse levels are
                                    small (12 % of the fine nodes in all), so 30 cost little */
+#define WC_AMG_COARSE_LANCZOS 12 /* Lanczos steps on the coarse levels (the default estimator,
+                                   amg_eigen.c): on the 100^2 sheet's 2312-node level 10 steps gave
+                                   0.955 x lambda_max (60 steps' Ritz value) where 30 power
+                                   iterations gave 0.947 (tests/bench/bench_amg_setup); 12 for a
+                                   margin, at 0.25 ms a step there where 30 power iterations cost
+                                   6-7 ms per solve */
 /* Seams (sew.h) between a vertex and a point of an edge couple three particles: for that
  * block, w^T D^-1 w = 3 where a spring's is 2, so D^-1 A has eigenvalues up to 3/2 of the spring
  * network's in modes local to the seams, which power iterations from a spread start
  * underestimate; the Chebyshev smoother beyond its bound then makes the V-cycle indefinite (PCG
  * broke down on a sewn tube). The finest level's bound is raised by this factor when the model
- * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's). */
+ * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's), with
+ * the power method only: Lanczos (the default, amg_eigen.c) finds those modes (test_amg_setup's
+ * sewn tube: 1.1 x its 6-step estimate >= 1.03 lambda_max; the power method's 0.90). */
 #define WC_AMG_SEAM_BOUND 1.5
+#define WC_AMG_MAX_LANCZOS 64   /* Lanczos steps at most (the tridiagonal's size) */
 /* A near-null column whose part orthogonal to the aggregate's earlier columns is below this x
  * its own norm is dropped from the tentative prolongator (amg_tent.c). */
 #define WC_AMG_DEPENDENT 1e-6
+
+/* The setup's phases, timed per solve (wc_amg.phase_ms): the per-aggregate QR about the current
+ * positions (amg_tent.c), the projected fine operator, the block-diagonal inverses, the power
+ * iterations on the finest and on the coarse levels, the smoothed prolongators, T = A P, the
+ * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor. */
+typedef enum wc_amg_phase {
+    WC_AMG_PHASE_TENT,
+    WC_AMG_PHASE_PROJECT,
+    WC_AMG_PHASE_DIAGONAL,
+    WC_AMG_PHASE_EIGEN_FINE,
+    WC_AMG_PHASE_EIGEN_COARSE,
+    WC_AMG_PHASE_PROLONG,
+    WC_AMG_PHASE_AP,
+    WC_AMG_PHASE_PTAP,
+    WC_AMG_PHASE_COARSE_FACTOR,
+    WC_AMG_PHASES
+} wc_amg_phase;
+const char* wc_amg_phase_name(wc_amg_phase p);
 
 typedef struct wc_amg_opts {
     int coarse_max;             /* nodes at which coarsening stops (dense Cholesky there): 96 */
@@ -117,7 +158,8 @@ typedef struct wc_amg_opts {
     double smooth_weight;       /* smoother weight x 1 / lambda_max(D^-1 A): 1.0 */
     double prolong_weight;      /* prolongator smoothing weight x 1 / lambda_max (4/3; 0:
                                    unsmoothed aggregation) */
-    int power_iterations;       /* per level and solve (6) */
+    int power_iterations;       /* the finest level's eigenvalue estimate: Lanczos steps or
+                                   power iterations per solve (6) */
     int rotations;              /* 1: near-null space = 6 rigid-body modes per aggregate (two
                                    coarse nodes per aggregate, see above); 0: 3 translations */
     int pair_blocks;            /* with rotations: 1: the smoother's block diagonal on coarse
@@ -126,6 +168,10 @@ typedef struct wc_amg_opts {
                                    (aggregates of aggregates, ~40-50 particles each); 0 (default) */
     int current_positions;      /* with rotations: 1 (default): every setup rebuilds P_tent and
                                    the R factors about wc_amg.pos when set; 0: rest positions only */
+    int lanczos;                /* lambda_max(D^-1 A) per level (amg_eigen.c): 1 Lanczos (default), 0
+                                   power iterations */
+    int coarse_iterations;      /* the coarse levels' Lanczos steps or power iterations per solve;
+                                   0 (default): WC_AMG_COARSE_LANCZOS, or WC_AMG_COARSE_POWER */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -191,7 +237,12 @@ typedef struct wc_amg {
     double* coarse_L;           /* (coarse_dofs^2) dense Cholesky factor, lower, row-major */
     double* coarse_y;           /* (coarse_dofs) */
     double setup_ms;            /* of the last wc_amg_setup */
-    double fine_bound_scale;    /* the finest level's lambda_max bound x this: WC_AMG_SEAM_BOUND
+    double phase_ms[WC_AMG_PHASES]; /* CPU time (wc_cpu_ms: all threads, load-independent) per
+                                   setup phase (wc_amg_phase), summed over every wc_amg_setup since
+                                   creation (tests/bench/bench_amg_setup) */
+    long setups;                /* wc_amg_setup calls since creation */
+    double fine_bound_scale;    /* with the power method (lanczos 0), the finest level's lambda_max
+                                   bound x this: WC_AMG_SEAM_BOUND
                                    with three-point seams (sew.h), else 1 */
     const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
                                    positions every setup takes the rotations about (the state's
@@ -223,6 +274,10 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */
 void wc_amg_start_vector(double* v, int n);
+/* lambda_max(D^-1 A) of level L's values (amg_eigen.c): Lanczos (use_lanczos) or power
+ * iterations, `steps` of them, from wc_amg_start_vector; a lower bound (0 when none was found).
+ * Overwrites L's ev, x, t, ev_scratch and partial. */
+double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pair_blocks, wc_par* par);
 /* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
 static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
     int end = hi;

@@ -17,6 +17,8 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.pair_blocks = 1;
     o.aggressive = 0;
     o.current_positions = 1;
+    o.lanczos = 1;
+    o.coarse_iterations = 0;
     return o;
 }
 
@@ -302,10 +304,10 @@ weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* op
     if (!out || !m) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
     *out = NULL;
     wc_amg_opts o = opts ? *opts : wc_default_amg_opts();
-    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
+    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
         !(o.prolong_weight >= 0 && o.prolong_weight < 2))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
-                       "AMG options: coarse_max and sweeps >= 1, smooth_weight in (0, 2), prolong_weight in [0, 2)");
+                       "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations >= 0, smooth_weight in (0, 2), prolong_weight in [0, 2)");
     wc_amg* a = WC_NEW(alloc, wc_amg, 1);
     if (!a) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
     if (alloc) a->alloc = *alloc;

@@ -7,14 +7,16 @@
 #include "clock.h"
 #include "vec3.h"
 
-/* o += a^T b (3x3, row-major) */
-static void m3_tmul_add(double* o, const double* a, const double* b) {
+/* o += a^T b (3x3, row-major; o may not alias a or b: restrict lets the compiler keep a and b in
+ * registers: the Galerkin products 16.7 -> 13.4 ms per solve on the 100^2 sheet,
+ * bench_amg_setup) */
+static inline void m3_tmul_add(double* restrict o, const double* restrict a, const double* restrict b) {
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) o[3 * r + c] += a[r] * b[c] + a[3 + r] * b[3 + c] + a[6 + r] * b[6 + c];
 }
 
-/* o += a b */
-static void m3_mul_add(double* o, const double* a, const double* b) {
+/* o += a b (o may not alias a or b) */
+static inline void m3_mul_add(double* restrict o, const double* restrict a, const double* restrict b) {
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
             o[3 * r + c] += a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
@@ -141,66 +143,33 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
     }
 }
 
-/* lambda_max(D^-1 A) by power iterations from L->ev (kept for the next solve): each computes
- * t = A w, the Rayleigh quotient (w . A w) / (w . D w), and w <- D^-1 t / lambda. Sums per
- * chunk of WC_AMG_CHUNK rows, added in chunk order (the same on any thread count). */
-static void largest_eigenvalue(wc_amg_level* L, int iterations, int pair_blocks, wc_par* par) {
-    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
-    wc_amg_start_vector(L->ev, L->n);
-    double lambda = 0.0;
-    for (int it = 0; it < iterations; ++it) {
-        const double* w = L->ev;
-        double* next = L->x;
-        WC_PAR_REGION(par)
-        {
-            int c0, c1;
-            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            for (int c = c0; c < c1; ++c) {
-                int lo = c * WC_AMG_CHUNK, hi = lo + WC_AMG_CHUNK < L->n ? lo + WC_AMG_CHUNK : L->n;
-                double num = 0.0, den = 0.0;
-                for (int i = lo; i < hi; ++i) {
-                    double t[3] = {0, 0, 0}, dw[3];
-                    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-                        m3_mulv_add(t, L->val + 9 * (size_t)k, w + 3 * L->col[k]);
-                    m3_mulv(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * i);
-                    num += v3_dot(w + 3 * i, t);
-                    if (L->group == 1) {
-                        m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
-                    } else { /* pairs: t into L->t, D^-1 after the chunk (chunks hold whole pairs) */
-                        if (pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (i ^ 1));
-                        v3_copy(L->t + 3 * i, t);
-                    }
-                    den += v3_dot(w + 3 * i, dw);
-                }
-                if (L->group == 2)
-                    for (int i = lo; i < hi; ++i) wc_amg_dinv(L, i, L->t, next + 3 * i);
-                L->partial[2 * c] = num;
-                L->partial[2 * c + 1] = den;
-            }
-        }
-        double num = 0.0, den = 0.0;
-        for (int c = 0; c < n_chunks; ++c) {
-            num += L->partial[2 * c];
-            den += L->partial[2 * c + 1];
-        }
-        double q = den > 0 ? num / den : 0.0;
-        if (!(q > 0) || !isfinite(q)) break;
-        lambda = q;
-        /* the next iterate, scaled to stay near unit size (w's scale is arbitrary) */
-        double scale = 1.0 / (lambda * sqrt(den / (3.0 * L->n)));
-        if (!isfinite(scale) || !(scale > 0)) scale = 1.0;
-        for (int k = 0; k < 3 * L->n; ++k) L->ev[k] = next[k] * scale;
-    }
+/* L->bound: the largest eigenvalue of D^-1 A (amg_eigen.c) x WC_AMG_SAFETY; fine: the finest
+ * level (its iterations are wc_amg_opts.power_iterations, the coarse levels' coarse_iterations). */
+static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, wc_par* par) {
+    const wc_amg_opts* o = &a->opts;
+    int steps = fine ? o->power_iterations
+                     : o->coarse_iterations > 0 ? o->coarse_iterations
+                     : o->lanczos ? WC_AMG_COARSE_LANCZOS
+                                  : WC_AMG_COARSE_POWER;
+    double lambda = wc_amg_eigen_estimate(L, steps, o->lanczos, o->pair_blocks, par);
     L->bound = lambda > 0 ? WC_AMG_SAFETY * lambda : 2.0;
+    /* seams (amg.h, WC_AMG_SEAM_BOUND): the power method misses their local modes; Lanczos finds
+       them (tests/test_amg_setup.c, the sewn tube: 1.1 x its estimate >= 1.03 lambda_max where
+       the power method's was 0.90), and the factor only weakened the smoother there (the sewn
+       tube's 30 frames in test_sew: 443 PCG iterations with it, 315 without) */
+    if (fine && !o->lanczos) L->bound *= a->fine_bound_scale;
 }
 
 /* P = (I - w D^-1 A_F) P_tent: row i = P_tent's blocks of i (to the cpa coarse nodes of agg(i)),
  * minus w D_i^-1 A_ij P_tent(j) summed over the strong blocks; weak blocks are lumped onto the
  * diagonal of A_F, so they contribute w D_i^-1 A_ij P_tent(i). P_tent(i) is identity blocks
- * without rotations (tent NULL), else the QR's Q (amg_tent.c). */
-static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
-    double w = weight / L->bound;
-    const int cpa = L->cpa;
+ * without rotations (tent NULL), else the QR's Q (amg_tent.c).
+ * With P_tent, D^-1 is applied once per entry of P instead of once per block of A: row i's
+ * entries first gather Z_e = sum A_ij P_tent(j) (the weak blocks summed before their one
+ * product), then P_e = -w D_i^-1 Z_e (+ P_tent(i) on i's own aggregate); on a pair level rows
+ * 2a and 2a + 1 share their columns and D^-1 couples them, so a pair's two rows go together.
+ * 6.1 -> 3.4 ms per solve (with the restrict kernels) on the 100^2 sheet (bench_amg_setup). */
+static void prolongator_plain(wc_amg_level* L, double w, wc_par* par) {
     static const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     WC_PAR_REGION(par)
     {
@@ -209,41 +178,72 @@ static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
         for (int i = lo; i < hi; ++i) {
             double* row = L->p_val + 9 * (size_t)L->p_start[i];
             memset(row, 0, 9 * sizeof(double) * (size_t)(L->p_start[i + 1] - L->p_start[i]));
-            for (int q = 0; q < cpa; ++q)
-                memcpy(L->p_val + 9 * (size_t)(L->p_self[i] + q), L->tent ? L->tent + 9 * ((size_t)cpa * i + q) : eye,
-                       9 * sizeof(double));
+            memcpy(L->p_val + 9 * (size_t)L->p_self[i], eye, 9 * sizeof(double));
             if (w == 0.0) continue;
-            if (L->group == 2) { /* D^-1 of the pair: rows 2a and 2a + 1 share their columns */
-                int b = i & ~1;
-                const double* D = L->Dinv + 18 * (size_t)i;
-                for (int off = 0; off < L->row_start[b + 1] - L->row_start[b]; ++off) {
-                    int k0 = L->row_start[b] + off, k1 = L->row_start[b + 1] + off, ki = L->row_start[i] + off;
-                    double WA[9] = {0};
-                    m3_mul_add(WA, D, L->val + 9 * (size_t)k0);
-                    m3_mul_add(WA, D + 9, L->val + 9 * (size_t)k1);
-                    int strong = L->a_to_p[ki] >= 0;
-                    int e = strong ? L->a_to_p[ki] : L->p_self[i], src = strong ? L->col[ki] : i;
-                    for (int q = 0; q < 9; ++q) WA[q] *= -w;
-                    for (int q = 0; q < cpa; ++q)
-                        m3_mul_add(L->p_val + 9 * (size_t)(e + q), WA, L->tent + 9 * ((size_t)cpa * src + q));
-                }
-                continue;
-            }
             double WD[9];
             for (int q = 0; q < 9; ++q) WD[q] = -w * L->Dinv[9 * i + q];
             for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
-                int strong = L->a_to_p[k] >= 0;
-                int e = strong ? L->a_to_p[k] : L->p_self[i];
-                if (!L->tent) {
-                    m3_mul_add(L->p_val + 9 * (size_t)e, WD, L->val + 9 * (size_t)k);
-                    continue;
-                }
-                int src = strong ? L->col[k] : i;
-                double WA[9] = {0};
-                m3_mul_add(WA, WD, L->val + 9 * (size_t)k);
-                for (int q = 0; q < cpa; ++q)
-                    m3_mul_add(L->p_val + 9 * (size_t)(e + q), WA, L->tent + 9 * ((size_t)cpa * src + q));
+                int e = L->a_to_p[k] >= 0 ? L->a_to_p[k] : L->p_self[i];
+                m3_mul_add(L->p_val + 9 * (size_t)e, WD, L->val + 9 * (size_t)k);
             }
+        }
+    }
+}
+
+/* Z (the pair of 3x3 blocks at z) += A P_tent(src) (the pair at tent + 18 src). */
+static inline void gather(double* restrict z, const double* restrict A, const double* restrict tent) {
+    m3_mul_add(z, A, tent);
+    m3_mul_add(z + 9, A, tent + 9);
+}
+
+static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
+    const double w = weight / L->bound;
+    if (!L->tent) {
+        prolongator_plain(L, w, par);
+        return;
+    }
+    const int g = L->group; /* rows handled together: a pair's on a pair level */
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(L->n / g, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int u = lo; u < hi; ++u) {
+            const int b = g * u;
+            for (int i = b; i < b + g; ++i) {
+                double* row = L->p_val + 9 * (size_t)L->p_start[i];
+                memset(row, 0, 9 * sizeof(double) * (size_t)(L->p_start[i + 1] - L->p_start[i]));
+            }
+            if (w != 0.0) {
+                for (int i = b; i < b + g; ++i) { /* Z_e of row i into its entries */
+                    double W[9] = {0};
+                    int weak = 0;
+                    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                        const double* A = L->val + 9 * (size_t)k;
+                        if (L->a_to_p[k] < 0) {
+                            for (int q = 0; q < 9; ++q) W[q] += A[q];
+                            weak = 1;
+                            continue;
+                        }
+                        gather(L->p_val + 9 * (size_t)L->a_to_p[k], A, L->tent + 18 * (size_t)L->col[k]);
+                    }
+                    if (weak) gather(L->p_val + 9 * (size_t)L->p_self[i], W, L->tent + 18 * (size_t)i);
+                }
+                /* P_e = -w D^-1 Z_e, entry by entry (a pair's rows have the same entries) */
+                const int len = L->p_start[b + 1] - L->p_start[b];
+                for (int off = 0; off < len; ++off) {
+                    double Z[2][9], out[9];
+                    for (int i = b; i < b + g; ++i) memcpy(Z[i - b], L->p_val + 9 * (size_t)(L->p_start[i] + off), sizeof Z[0]);
+                    for (int i = b; i < b + g; ++i) {
+                        memset(out, 0, sizeof out);
+                        const double* D = L->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */
+                        for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j]);
+                        double* P = L->p_val + 9 * (size_t)(L->p_start[i] + off);
+                        for (int q = 0; q < 9; ++q) P[q] = -w * out[q];
+                    }
+                }
+            }
+            for (int i = b; i < b + g; ++i)
+                for (int q = 0; q < 18; ++q) L->p_val[9 * (size_t)L->p_self[i] + q] += L->tent[18 * (size_t)i + q];
         }
     }
 }
@@ -278,7 +278,7 @@ static void revive_dead(wc_amg_level* N, wc_par* par) {
 /* The same with two coarse nodes per aggregate (cpa 2): P's, T's and the next level's rows hold
  * whole pairs (2a, 2a + 1) and the pairs' rows share their columns, so one walk along a sorted
  * row serves four blocks; the walks merge sorted rows instead of searching them. */
-static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
+static void galerkin_pairs_ap(wc_amg_level* L, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -297,6 +297,9 @@ static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
             }
         }
     }
+}
+
+static void galerkin_pairs_ptap(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
     /* the blocks (I, J) of pair a with J's pair >= a (P^T A P is symmetric): half the products */
     WC_PAR_REGION(par)
     {
@@ -343,9 +346,16 @@ static void galerkin_pairs(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
     }
 }
 
-static void galerkin(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
+/* T = A P (phase AP), then N = P^T T (phase PTAP) and its dead unknowns' diagonal. */
+static void galerkin(wc_amg* a, wc_amg_level* L, wc_amg_level* N, wc_par* par) {
+    double t0 = wc_cpu_ms();
     if (L->cpa == 2) {
-        galerkin_pairs(L, N, par);
+        galerkin_pairs_ap(L, par);
+        double t1 = wc_cpu_ms();
+        galerkin_pairs_ptap(L, N, par);
+        revive_dead(N, par);
+        a->phase_ms[WC_AMG_PHASE_AP] += t1 - t0;
+        a->phase_ms[WC_AMG_PHASE_PTAP] += wc_cpu_ms() - t1;
         return;
     }
     WC_PAR_REGION(par)
@@ -365,6 +375,7 @@ static void galerkin(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
             }
         }
     }
+    double t1 = wc_cpu_ms();
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -382,6 +393,9 @@ static void galerkin(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
             }
         }
     }
+    revive_dead(N, par);
+    a->phase_ms[WC_AMG_PHASE_AP] += t1 - t0;
+    a->phase_ms[WC_AMG_PHASE_PTAP] += wc_cpu_ms() - t1;
 }
 
 /* Dense Cholesky of the coarsest operator (a pivot that is not positive gets 1: that unknown is
@@ -418,29 +432,49 @@ static void coarse_factor(wc_amg* a) {
     }
 }
 
+static const char* const phase_names[WC_AMG_PHASES] = {
+    "tentative (QR)", "project fine", "block diagonal", "power it. fine", "power it. coarse",
+    "prolongator", "T = A P", "P^T T", "coarse factor"};
+
+const char* wc_amg_phase_name(wc_amg_phase p) { return p >= 0 && p < WC_AMG_PHASES ? phase_names[p] : "unknown"; }
+
+/* the time since *t into phase p; *t = now */
+static void lap(wc_amg* a, wc_amg_phase p, double* t) {
+    double now = wc_cpu_ms();
+    a->phase_ms[p] += now - *t;
+    *t = now;
+}
+
 void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
-    double t0 = wc_now_ms();
+    double t0 = wc_now_ms(), t = wc_cpu_ms();
     if (a->opts.rotations && a->opts.current_positions && a->pos && a->n_levels > 1) {
         /* P_tent and the R factors about the current positions (amg.h), level by level */
         wc_amg_rigid_modes(&a->lev[0], a->pos);
         for (int l = 0; l + 1 < a->n_levels; ++l) wc_amg_tentative(&a->lev[l], &a->lev[l + 1], a->lev[l + 1].n / 2);
+        lap(a, WC_AMG_PHASE_TENT, &t);
     }
     project_fine(&a->lev[0], A, f, par);
+    lap(a, WC_AMG_PHASE_PROJECT, &t);
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
         diagonal(L, a->opts.pair_blocks, par);
-        largest_eigenvalue(L, l == 0 ? a->opts.power_iterations : WC_AMG_COARSE_POWER, a->opts.pair_blocks, par);
-        if (l == 0) L->bound *= a->fine_bound_scale; /* seams (amg.h, WC_AMG_SEAM_BOUND) */
+        lap(a, WC_AMG_PHASE_DIAGONAL, &t);
+        largest_eigenvalue(a, L, l == 0, par);
+        lap(a, l == 0 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
         prolongator(L, a->opts.prolong_weight, par);
-        galerkin(L, N, par);
-        revive_dead(N, par);
+        lap(a, WC_AMG_PHASE_PROLONG, &t);
+        galerkin(a, L, N, par);
+        t = wc_cpu_ms();
     }
-    if (a->coarse_dense) coarse_factor(a);
-    else {
+    if (a->coarse_dense) {
+        coarse_factor(a);
+        lap(a, WC_AMG_PHASE_COARSE_FACTOR, &t);
+    } else {
         diagonal(&a->lev[a->n_levels - 1], a->opts.pair_blocks, par);
-        largest_eigenvalue(&a->lev[a->n_levels - 1], a->n_levels == 1 ? a->opts.power_iterations : WC_AMG_COARSE_POWER,
-                           a->opts.pair_blocks, par);
-        if (a->n_levels == 1) a->lev[0].bound *= a->fine_bound_scale;
+        lap(a, WC_AMG_PHASE_DIAGONAL, &t);
+        largest_eigenvalue(a, &a->lev[a->n_levels - 1], a->n_levels == 1, par);
+        lap(a, a->n_levels == 1 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
     }
+    ++a->setups;
     a->setup_ms = wc_now_ms() - t0;
 }

@@ -29,13 +29,60 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* x) {
     }
 }
 
-/* Modified Gram-Schmidt, each column orthogonalised twice against the earlier live ones. */
+/* Modified Gram-Schmidt, each column orthogonalised twice against the earlier live ones, on
+ * the aggregate's (3 m) x 6 block copied column by column into Q (rows: node s's 3 rows at
+ * 3 s); the same operations in the same order as on the strided rows, on contiguous columns
+ * (tentative QR 2.0 -> 1.6 ms per solve (CPU) on the 100^2 sheet, bench_amg_setup). */
+#define TENT_LOCAL 96 /* nodes per aggregate the local copy holds (larger ones: strided) */
+static void qr_local(wc_amg_level* L, const int* nodes, int m, double* Q, double* R, int* live, unsigned char* dead) {
+    const int rows = 3 * m;
+    for (int s = 0; s < m; ++s)
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 6; ++c) Q[c * rows + 3 * s + r] = RB(L->nns, nodes[s], r, c);
+    for (int c = 0; c < 6; ++c) {
+        double* qc = Q + c * rows;
+        double norm0 = 0.0;
+        for (int q = 0; q < rows; ++q) norm0 += qc[q] * qc[q];
+        norm0 = sqrt(norm0);
+        for (int pass = 0; pass < 2; ++pass)
+            for (int d = 0; d < c; ++d) {
+                if (!live[d]) continue;
+                const double* qd = Q + d * rows;
+                double dot = 0.0;
+                for (int q = 0; q < rows; ++q) dot += qd[q] * qc[q];
+                for (int q = 0; q < rows; ++q) qc[q] -= dot * qd[q];
+                R[6 * d + c] += dot;
+            }
+        double norm = 0.0;
+        for (int q = 0; q < rows; ++q) norm += qc[q] * qc[q];
+        norm = sqrt(norm);
+        live[c] = norm > WC_AMG_DEPENDENT * norm0 && isfinite(norm);
+        double scale = live[c] ? 1.0 / norm : 0.0;
+        for (int q = 0; q < rows; ++q) qc[q] *= scale;
+        R[6 * c + c] = live[c] ? norm : 0.0;
+        dead[c] = (unsigned char)!live[c];
+    }
+    for (int s = 0; s < m; ++s)
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 6; ++c) RB(L->tent, nodes[s], r, c) = Q[c * rows + 3 * s + r];
+}
+
 void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg) {
+    double Q[6 * 3 * TENT_LOCAL];
     for (int a = 0; a < n_agg; ++a) {
         const int* nodes = L->agg_node + L->agg_start[a];
         int m = L->agg_start[a + 1] - L->agg_start[a];
         double R[36] = {0};
         int live[6];
+        if (m <= TENT_LOCAL) {
+            unsigned char dead[6];
+            qr_local(L, nodes, m, Q, R, live, dead);
+            for (int c = 0; c < 6; ++c) N->dead[3 * (2 * a + c / 3) + c % 3] = dead[c];
+            for (int q = 0; q < 2; ++q)
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 6; ++c) RB(N->nns, 2 * a + q, r, c) = R[6 * (3 * q + r) + c];
+            continue;
+        }
         for (int s = 0; s < m; ++s) memcpy(L->tent + 18 * (size_t)nodes[s], L->nns + 18 * (size_t)nodes[s], 18 * sizeof(double));
         for (int c = 0; c < 6; ++c) {
             double norm0 = 0.0;

@@ -7,7 +7,7 @@
  *     are not charged);
  *   - suit_on_body.json, frames 1-82: at frame 80 PCG broke down in the multigrid (its coarse
  *     6x6-pair level's lambda_max bound fell 1.33x short after 6 power iterations); the coarse
- *     levels now take WC_AMG_COARSE_POWER (core/amg.h).
+ *     levels now take WC_AMG_COARSE_POWER (core/amg.h); since then Lanczos (amg_eigen.c).
  * Each run must end with 0 rollbacks and no solve at its iteration cap. */
 #include <cjson/cJSON.h>
 #include <stdio.h>

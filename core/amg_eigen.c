@@ -1,0 +1,192 @@
+/* The largest eigenvalue of D^-1 A on one multigrid level (amg.h), the Chebyshev smoother's and
+ * the prolongator smoothing's bound; rebuilt by every setup from a fixed start vector
+ * (wc_amg_start_vector), so a solve depends on its system only (snapshots restore bit-exactly).
+ * Two estimators, both lower bounds of lambda_max (a Rayleigh quotient, a Ritz value), times
+ * WC_AMG_SAFETY:
+ *   - Lanczos (wc_amg_opts.lanczos = 1, the default): k steps of the symmetric Lanczos process
+ *     for the pencil (A, D) in the D inner product (D^-1 A is self-adjoint there), then the
+ *     largest eigenvalue of the k x k tridiagonal (Sturm bisection). Its error falls like
+ *     exp(-4 k sqrt(gap)) where the power method's falls like (lambda_2 / lambda_1)^(2k).
+ *   - power iterations (lanczos = 0): the Rayleigh quotient (w . A w) / (w . D w) of
+ *     w <- D^-1 A w.
+ * Sums per chunk of WC_AMG_CHUNK rows, added in chunk order (the same on any thread count). */
+#include <math.h>
+#include <string.h>
+#include "amg.h"
+#include "vec3.h"
+
+/* t = A w on the chunk's rows; returns (w . A w) and adds (w . D w) into *den (D: the block
+ * diagonal, 3x3 or the pair's 6x6); next = D^-1 t on the chunk (for pairs through L->t, chunks
+ * hold whole pairs). */
+static double chunk_apply(const wc_amg_level* L, int lo, int hi, int pair_blocks, const double* w, double* next,
+                          double* den) {
+    double num = 0.0, dsum = 0.0;
+    for (int i = lo; i < hi; ++i) {
+        double t[3] = {0, 0, 0}, dw[3];
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            m3_mulv_add(t, L->val + 9 * (size_t)k, w + 3 * L->col[k]);
+        m3_mulv(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * i);
+        num += v3_dot(w + 3 * i, t);
+        if (L->group == 1) {
+            m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
+        } else {
+            if (pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (i ^ 1));
+            v3_copy(L->t + 3 * i, t);
+        }
+        dsum += v3_dot(w + 3 * i, dw);
+    }
+    if (L->group == 2)
+        for (int i = lo; i < hi; ++i) wc_amg_dinv(L, i, L->t, next + 3 * i);
+    *den += dsum;
+    return num;
+}
+
+static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
+    *lo = c * WC_AMG_CHUNK;
+    *hi = *lo + WC_AMG_CHUNK < L->n ? *lo + WC_AMG_CHUNK : L->n;
+}
+
+static double power_iterations(wc_amg_level* L, int iterations, int pair_blocks, wc_par* par) {
+    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+    wc_amg_start_vector(L->ev, L->n);
+    double lambda = 0.0;
+    for (int it = 0; it < iterations; ++it) {
+        const double* w = L->ev;
+        double* next = L->x;
+        WC_PAR_REGION(par)
+        {
+            int c0, c1;
+            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+            for (int c = c0; c < c1; ++c) {
+                int lo, hi;
+                chunk_bounds(L, c, &lo, &hi);
+                double den = 0.0;
+                L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, &den);
+                L->partial[2 * c + 1] = den;
+            }
+        }
+        double num = 0.0, den = 0.0;
+        for (int c = 0; c < n_chunks; ++c) {
+            num += L->partial[2 * c];
+            den += L->partial[2 * c + 1];
+        }
+        double q = den > 0 ? num / den : 0.0;
+        if (!(q > 0) || !isfinite(q)) break;
+        lambda = q;
+        /* the next iterate, scaled to stay near unit size (w's scale is arbitrary) */
+        double scale = 1.0 / (lambda * sqrt(den / (3.0 * L->n)));
+        if (!isfinite(scale) || !(scale > 0)) scale = 1.0;
+        for (int k = 0; k < 3 * L->n; ++k) L->ev[k] = next[k] * scale;
+    }
+    return lambda;
+}
+
+/* Number of eigenvalues below s of the symmetric tridiagonal (alpha, beta) of size k (Sturm). */
+static int sturm_count(const double* alpha, const double* beta, int k, double s) {
+    int count = 0;
+    double q = 1.0;
+    for (int j = 0; j < k; ++j) {
+        double b2 = j > 0 ? beta[j - 1] * beta[j - 1] : 0.0;
+        q = alpha[j] - s - (j > 0 ? b2 / q : 0.0);
+        if (q == 0.0) q = -1e-300 * (fabs(alpha[j]) + 1.0);
+        if (q < 0) ++count;
+    }
+    return count;
+}
+
+/* Largest eigenvalue of the k x k symmetric tridiagonal, by bisection inside Gershgorin's bounds. */
+static double tridiagonal_max(const double* alpha, const double* beta, int k) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (int j = 0; j < k; ++j) {
+        double r = (j > 0 ? fabs(beta[j - 1]) : 0.0) + (j + 1 < k ? fabs(beta[j]) : 0.0);
+        lo = fmin(lo, alpha[j] - r);
+        hi = fmax(hi, alpha[j] + r);
+    }
+    for (int it = 0; it < 100 && hi - lo > 1e-12 * fmax(fabs(hi), fabs(lo)); ++it) {
+        double mid = 0.5 * (lo + hi);
+        if (sturm_count(alpha, beta, k, mid) < k) lo = mid; /* an eigenvalue at or above mid */
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* Lanczos in the D inner product: v (L->ev) D-normalised, w = D^-1 A v (L->x), alpha = v . A v,
+ * w -= alpha v + beta_prev v_prev (v_prev: L->ev_scratch), beta = |w|_D, v_prev <- v,
+ * v <- w / beta. */
+static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) {
+    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+    double alpha[WC_AMG_MAX_LANCZOS], beta[WC_AMG_MAX_LANCZOS];
+    if (steps > WC_AMG_MAX_LANCZOS) steps = WC_AMG_MAX_LANCZOS;
+    double *v = L->ev, *w = L->x, *vp = L->ev_scratch;
+    wc_amg_start_vector(v, L->n);
+    memset(vp, 0, sizeof(double) * 3 * (size_t)L->n);
+    double beta_prev = 0.0;
+    int k = 0;
+    for (int j = 0; j < steps; ++j) {
+        WC_PAR_REGION(par)
+        {
+            int c0, c1;
+            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+            for (int c = c0; c < c1; ++c) {
+                int lo, hi;
+                chunk_bounds(L, c, &lo, &hi);
+                double den = 0.0;
+                L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, v, w, &den);
+                L->partial[2 * c + 1] = den;
+            }
+        }
+        double num = 0.0, den = 0.0;
+        for (int c = 0; c < n_chunks; ++c) {
+            num += L->partial[2 * c];
+            den += L->partial[2 * c + 1];
+        }
+        if (j == 0) { /* the start vector was not normalised: scale v, w and the sums */
+            if (!(den > 0) || !isfinite(den)) return 0.0;
+            double scale = 1.0 / sqrt(den);
+            num *= scale * scale;
+            for (int q = 0; q < 3 * L->n; ++q) {
+                v[q] *= scale;
+                w[q] *= scale;
+            }
+        }
+        double a = num; /* v . A v with |v|_D = 1 */
+        if (!isfinite(a)) break;
+        alpha[k++] = a;
+        if (j + 1 == steps) break;
+        /* w -= a v + beta_prev vp; beta = |w|_D (its D w per row, as chunk_apply's dw) */
+        WC_PAR_REGION(par)
+        {
+            int c0, c1;
+            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+            for (int c = c0; c < c1; ++c) {
+                int lo, hi;
+                chunk_bounds(L, c, &lo, &hi);
+                for (int q = 3 * lo; q < 3 * hi; ++q) w[q] -= a * v[q] + beta_prev * vp[q];
+                double s = 0.0;
+                for (int i = lo; i < hi; ++i) {
+                    double dw[3];
+                    m3_mulv(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * i);
+                    if (L->group == 2 && pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (i ^ 1));
+                    s += v3_dot(w + 3 * i, dw);
+                }
+                L->partial[2 * c] = s;
+            }
+        }
+        double b2 = 0.0;
+        for (int c = 0; c < n_chunks; ++c) b2 += L->partial[2 * c];
+        double b = sqrt(b2);
+        if (!(b > 1e-12 * fabs(a)) || !isfinite(b)) break; /* an invariant subspace: alpha is exact */
+        beta[k - 1] = b;
+        beta_prev = b;
+        /* vp <- v, v <- w / b (w is overwritten by the next product) */
+        double* tmp = vp;
+        vp = v;
+        v = tmp;
+        for (int q = 0; q < 3 * L->n; ++q) v[q] = w[q] / b;
+    }
+    return k > 0 ? tridiagonal_max(alpha, beta, k) : 0.0;
+}
+
+double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pair_blocks, wc_par* par) {
+    return use_lanczos ? lanczos(L, steps, pair_blocks, par) : power_iterations(L, steps, pair_blocks, par);
+}

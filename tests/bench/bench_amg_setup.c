@@ -1,0 +1,151 @@
+/* Where the multigrid's setup time goes (a benchmark: prints a table, asserts nothing).
+ *
+ * An n x n sheet (1 m, default material), flat at first and hanging from its two far corners
+ * (`weft bench peers`' sheetN), stepped --frames frames at 1/30 s, one substep per frame, with
+ * PCG + the multigrid, backward Euler, Newton 2 iterations with line search (the library's
+ * defaults, weft_default_cloth_def), on --threads threads. Printed: ms per frame (median), solves
+ * and PCG iterations per solve, and the setup's phases (wc_amg.phase_ms, amg.h) in ms per solve.
+ *
+ * Then, on the last system's levels, the eigenvalue estimate (amg_eigen.c) beside a converged one
+ * (60 Lanczos steps, 400 power iterations).
+ *
+ * --repeat R: the last system's setup R more times, each phase's minimum over them (a shared
+ * machine's load inflates the sums; the minimum is what the code costs).
+ *
+ *   bench_amg_setup [--n 100] [--frames 10] [--threads 1] [--repeat 0]
+ *                   [--power N] [--coarse N] [--lanczos 0|1]   (wc_amg_opts' estimate) */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "amg.h"
+#include "clock.h"
+#include "solver_impl.h"
+#include "step.h"
+#include "test_support.h"
+
+static int cmp_double(const void* a, const void* b) {
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char** argv) {
+    int n = 100, frames = 10, threads = 1, power = 0, coarse = 0, lanczos = -1, repeat = 0;
+    for (int a = 1; a < argc; ++a) {
+        if (!strcmp(argv[a], "--n") && a + 1 < argc) n = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--frames") && a + 1 < argc) frames = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--threads") && a + 1 < argc) threads = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--power") && a + 1 < argc) power = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--coarse") && a + 1 < argc) coarse = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--repeat") && a + 1 < argc) repeat = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--lanczos") && a + 1 < argc) lanczos = atoi(argv[++a]);
+        else {
+            fprintf(stderr, "usage: bench_amg_setup [--n N] [--frames N] [--threads N] [--power N] [--coarse N] "
+                            "[--lanczos 0|1] [--repeat R]\n");
+            return 2;
+        }
+    }
+    if (n < 2 || frames < 1 || threads < 1) return 2;
+    wc_model m;
+    if (!ts_sheet(&m, n, 1.0, 1.0, 0, 1.0)) return 1;
+    wc_sim_def def = wc_default_sim_def();
+    def.solver.type = WC_SOLVER_PCG;
+    def.solver.preconditioner = WC_PRECOND_AMG;
+    def.integrator = WC_INTEGRATOR_BE;
+    def.newton_iterations = 2;
+    def.line_search = 1;
+    def.threads = threads;
+    def.sleep_speed = 0;
+    wc_state* s;
+    wc_diag d = {0};
+    if (wc_state_create(&s, &m, &def, NULL, &d) != WEFT_OK) {
+        fprintf(stderr, "state: %s\n", d.message);
+        return 1;
+    }
+    wc_pin pins[2] = {{0}};
+    pins[0].particle = ts_sheet_particle(&m, n, 0, n - 1);
+    pins[1].particle = ts_sheet_particle(&m, n, n - 1, n - 1);
+    for (int k = 0; k < 2; ++k) memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
+    wc_state_set_pins(s, pins, 2, &d);
+    wc_amg* amg = s->solver->amg;
+    if (!amg) {
+        fprintf(stderr, "no multigrid\n");
+        return 1;
+    }
+    if (power > 0) amg->opts.power_iterations = power;
+    if (coarse > 0) amg->opts.coarse_iterations = coarse;
+    if (lanczos >= 0) amg->opts.lanczos = lanczos;
+    double* ms = malloc(sizeof(double) * (size_t)frames);
+    double* cpu = malloc(sizeof(double) * (size_t)frames);
+    long solves = 0, iterations = 0;
+    double precond = 0.0, solve = 0.0;
+    for (int f = 0; f < frames; ++f) {
+        wc_step_stats st = {0};
+        double t0 = wc_now_ms(), c0 = wc_cpu_ms();
+        if (wc_step_frame(s, 1.0 / 30.0, &st, &d) != WEFT_OK) fprintf(stderr, "frame %d: %s\n", f, d.message);
+        ms[f] = wc_now_ms() - t0;
+        cpu[f] = wc_cpu_ms() - c0;
+        solves += st.solves;
+        iterations += st.iterations;
+        precond += st.precond_ms;
+        solve += st.ms.solve;
+    }
+    qsort(ms, (size_t)frames, sizeof *ms, cmp_double);
+    qsort(cpu, (size_t)frames, sizeof *cpu, cmp_double);
+    double per = solves > 0 ? 1.0 / (double)solves : 0.0, setup_sum = 0.0;
+    printf("sheet%d (%d particles), %d frames, %d thread(s), %d levels (op. complexity %.2f)\n", n, m.n_particles,
+           frames, threads, amg->n_levels, wc_amg_operator_complexity(amg));
+    printf("median %.1f ms/frame wall, %.1f CPU; %ld solves (%.2f per frame), %.2f PCG it./solve; solve %.2f ms/solve, of which "
+           "setup %.2f, PCG %.2f\n\n",
+           ms[frames / 2], cpu[frames / 2], solves, (double)solves / frames, iterations * per, solve * per, precond * per,
+           (solve - precond) * per);
+    printf("| setup phase | CPU ms/solve | share |\n|---|---|---|\n");
+    for (int p = 0; p < WC_AMG_PHASES; ++p) setup_sum += amg->phase_ms[p];
+    for (int p = 0; p < WC_AMG_PHASES; ++p)
+        printf("| %s | %.2f | %.0f %% |\n", wc_amg_phase_name((wc_amg_phase)p), amg->phase_ms[p] / amg->setups,
+               setup_sum > 0 ? 100.0 * amg->phase_ms[p] / setup_sum : 0.0);
+    printf("| total | %.2f | |\n", setup_sum / amg->setups);
+    if (repeat > 0) { /* the last system again: each phase's minimum */
+        double best[WC_AMG_PHASES], total = 0.0;
+        for (int p = 0; p < WC_AMG_PHASES; ++p) best[p] = 1e300;
+        for (int r = 0; r < repeat; ++r) {
+            memset(amg->phase_ms, 0, sizeof amg->phase_ms);
+            wc_amg_setup(amg, s->A, &s->filter, &s->par);
+            for (int p = 0; p < WC_AMG_PHASES; ++p)
+                if (amg->phase_ms[p] < best[p]) best[p] = amg->phase_ms[p];
+        }
+        printf("\nthe last system's setup %d more times, minimum per phase (CPU ms):\n| phase | min ms |\n|---|---|\n",
+               repeat);
+        for (int p = 0; p < WC_AMG_PHASES; ++p) {
+            printf("| %s | %.2f |\n", wc_amg_phase_name((wc_amg_phase)p), best[p]);
+            total += best[p];
+        }
+        printf("| total | %.2f |\n", total);
+    }
+    printf("\n%s, %d steps on the finest level, %d on the others (last system)\n",
+           amg->opts.lanczos ? "Lanczos" : "power iterations", amg->opts.power_iterations, amg->opts.coarse_iterations);
+    printf("| level | nodes | blocks | bound | bound / 1.1 | Lanczos 60 | power 400 | A P products | P^T T products |\n"
+           "|---|---|---|---|---|---|---|---|---|\n");
+    for (int l = 0; l < amg->n_levels; ++l) {
+        wc_amg_level* L = &amg->lev[l];
+        if (l == amg->n_levels - 1 && amg->coarse_dense) {
+            printf("| %d | %d | %d | (dense) | | | |\n", l, L->n, L->n_blocks);
+            continue;
+        }
+        double b = L->bound;
+        double lz = wc_amg_eigen_estimate(L, 60, 1, amg->opts.pair_blocks, &s->par);
+        double pw = wc_amg_eigen_estimate(L, 400, 0, amg->opts.pair_blocks, &s->par);
+        double ap = 0, ptap = 0; /* 3x3 block products of T = A P and of P^T T (all of it) */
+        if (l + 1 < amg->n_levels) {
+            for (int k = 0; k < L->n_blocks; ++k) ap += L->p_start[L->col[k] + 1] - L->p_start[L->col[k]];
+            for (int i = 0; i < L->n; ++i)
+                ptap += (double)(L->p_start[i + 1] - L->p_start[i]) * (L->t_start[i + 1] - L->t_start[i]);
+        }
+        printf("| %d | %d | %d | %.4f | %.4f | %.4f | %.4f | %.0f k | %.0f k |\n", l, L->n, L->n_blocks, b, b / WC_AMG_SAFETY,
+               lz, pw, ap / 1e3, ptap / 1e3);
+    }
+    free(ms);
+    free(cpu);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+    return 0;
+}
