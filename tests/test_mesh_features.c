@@ -206,7 +206,114 @@ static void test_ridge_and_apex(void) {
     CHECK(r.active > 0);
 }
 
+/* One pair's energy at x (n x 3) */
+static double pair_energy(const wc_mesh_pair* pr, const double* x) {
+    double f[9], J[81];
+    return wc_mesh_pair_eval(pr, x, f, J);
+}
+
+/* The pair term against finite differences of its energy, and its assembly (A, b), for the first
+ * pair of cnt particles found between a 2 x 2 cloth quad at height y and the body. */
+static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
+    const double th = 0.005, h = 1.0 / 30;
+    wc_diag d = {0};
+    wc_mesh_collider* mc = NULL;
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc, body->x, body->nv, body->t, body->nt, th, 0.4, NULL, &d), WEFT_OK);
+    wc_mesh_collider_substep(mc, 0.0, 1.0, h);
+    wc_model m;
+    CHECK(ts_sheet(&m, 2, 1.0, y, 0, 1.0));
+    int n = m.n_particles;
+    double x[12], v[12] = {0};
+    memcpy(x, m.rest_pos, sizeof x);
+    wc_mesh_pairs* pp = wc_mesh_pairs_create(64, NULL);
+    CHECK(pp != NULL);
+    const wc_mesh_collider* cm = mc;
+    wc_mesh_pairs_find(pp, &cm, 1, &m, NULL, NULL, x, v, h, h);
+    const wc_mesh_pair* pr = NULL;
+    for (int k = 0; k < pp->n && !pr; ++k)
+        if (pp->pair[k].cnt == cnt) pr = &pp->pair[k];
+    CHECK(pr != NULL);
+    if (!pr) goto done;
+    /* finite differences of E (forces) and of the forces (Jacobian), central, step 1e-7 m */
+    double f[9], J[81], worst_f = 0.0, worst_J = 0.0, fmx = 0.0, Jmax = 0.0;
+    double e = wc_mesh_pair_eval(pr, x, f, J);
+    const double eps = 1e-7;
+    for (int b = 0; b < cnt; ++b)
+        for (int c = 0; c < 3; ++c) {
+            double xp[12], xm[12], fp[9], fm[9], Jd[81];
+            memcpy(xp, x, sizeof x);
+            memcpy(xm, x, sizeof x);
+            xp[3 * pr->p[b] + c] += eps;
+            xm[3 * pr->p[b] + c] -= eps;
+            double fd = -(pair_energy(pr, xp) - pair_energy(pr, xm)) / (2 * eps);
+            worst_f = fmax(worst_f, fabs(fd - f[3 * b + c]));
+            fmx = fmax(fmx, fabs(f[3 * b + c]));
+            wc_mesh_pair_eval(pr, xp, fp, Jd);
+            wc_mesh_pair_eval(pr, xm, fm, Jd);
+            for (int a = 0; a < cnt; ++a)
+                for (int r = 0; r < 3; ++r) {
+                    double jd = (fp[3 * a + r] - fm[3 * a + r]) / (2 * eps); /* dF_a,r / dx_b,c */
+                    double ja = J[9 * (a * cnt + b) + 3 * r + c];
+                    worst_J = fmax(worst_J, fabs(jd - ja));
+                    Jmax = fmax(Jmax, fabs(ja));
+                }
+        }
+    /* the assembly: this pair alone into zero A and b, linearised at x with v* = 0 */
+    wc_mesh_pair one = *pr;
+    wc_mesh_pairs single = {1, 1, 0, 0, &one};
+    int nb = m.pattern.n_blocks;
+    double* A = calloc(9 * (size_t)nb, sizeof(double));
+    double bb[12] = {0}, vstar[12] = {0}, worst_A = 0.0, worst_b = 0.0;
+    CHECK_EQ_INT(wc_mesh_pairs_assemble(&single, &m, x, vstar, NULL, h, A, bb, NULL), 1);
+    for (int a = 0; a < cnt; ++a) {
+        for (int r = 0; r < 3; ++r) worst_b = fmax(worst_b, fabs(bb[3 * pr->p[a] + r] - h * f[3 * a + r]));
+        for (int c = 0; c < cnt; ++c)
+            for (int q = 0; q < 9; ++q)
+                worst_A = fmax(worst_A, fabs(A[9 * one.blk[3 * a + c] + q] + h * h * J[9 * (a * cnt + c) + q]));
+    }
+    printf("  %s pair (particles %d %d %d, gap %.3g m, E %.3g J): |f - (-dE/dx)_fd| %.3g of %.3g N, "
+           "|J - (df/dx)_fd| %.3g of %.3g N/m; assembled A, b off by %.3g, %.3g\n",
+           name, pr->p[0], pr->p[1], cnt == 3 ? pr->p[2] : -1, -sqrt(2 * e / pr->k), e, worst_f, fmx, worst_J,
+           Jmax, worst_A, worst_b);
+    CHECK(e > 0.0);
+    CHECK(worst_f <= 1e-6 * fmx);
+    CHECK(worst_J <= 1e-6 * Jmax);
+    CHECK(worst_A <= 1e-12 * h * h * Jmax);
+    CHECK(worst_b <= 1e-12 * h * fmx);
+    free(A);
+done:
+    (void)n;
+    wc_mesh_pairs_destroy(pp, NULL);
+    wc_mesh_collider_destroy(mc);
+    wc_model_free(&m);
+}
+
+static void test_pair_term(void) {
+    tmesh body;
+    roof(&body, 0.1, 0.3, 0.25, 0.8);
+    check_pair("edge-edge", &body, 0.253, 2); /* 3 mm above the ridge: inside the 5 mm thickness */
+    pyramid(&body, 0.17, 0.05, 0.1, 0.3);
+    check_pair("vertex-triangle", &body, 0.302, 3);
+}
+
+/* Newton with a line search, pairs active: Phi never rises from one accepted iterate to the next */
+static void test_newton_descends(void) {
+    tmesh body;
+    trace_rec tr;
+    drop_result r;
+    memset(&tr, 0, sizeof tr);
+    roof(&body, 0.1, 0.3, 0.25, 0.8);
+    drop("newton 4", &body, 30, 4, &tr, &r);
+    printf("  %d iterates traced with pairs, %d rises of Phi (worst %.3g J)\n", tr.traced, tr.rises, tr.worst_rise);
+    CHECK(tr.traced > 0);
+    CHECK_EQ_INT(tr.rises, 0);
+    CHECK(r.active > 0);
+    CHECK_EQ_INT(r.failed, 0);
+}
+
 int main(void) {
+    RUN_TEST(test_pair_term);
+    RUN_TEST(test_newton_descends);
     RUN_TEST(test_ridge_and_apex);
     return TEST_SUMMARY();
 }
