@@ -31,10 +31,14 @@
  * In the first solve (wc_mesh_pairs_assemble; b = he (f0 + he K v*), A += he^2 k w_i w_j n n^T,
  * linearised at x_n exactly as the springs, assemble.h) a pair is active when its gap predicted
  * at the end of the substep (x_n + he (v* + he f_ext / m)) is negative; after the solve
- * (wc_mesh_pairs_recheck) a pair whose solved gap disagrees with its state is switched
- * (activated when negative, released when positive: a penalty never pulls) and the system solved
- * again, WC_MESH_PAIR_PASSES times at most. Newton (newton.c) sees the exact term at every
- * iterate (its potential and its linearisation at x(w), active where g(x(w)) < 0).
+ * (wc_mesh_pairs_recheck), when the step takes no Newton iterations, a pair whose solved gap
+ * disagrees with its state is switched (activated when negative, released when positive: a
+ * penalty never pulls) and the system solved again, WC_MESH_PAIR_PASSES times at most. With
+ * Newton iterations (newton.c) those see the exact term instead, at every iterate (its potential
+ * and its linearisation at x(w), active where g(x(w)) < 0): re-solving there as well made
+ * suit_on_body's frames 7.5 times slower (the active set chattered between the passes).
+ * The energy judge (step.c) does not count the pairs' energy (at most k/2 g^2 with g the small
+ * penetration): measured, no rollback comes from it (test_mesh_features).
  * A pair whose particles lack a block in the pattern (bsr.h: blocks exist for particles sharing a
  * spring) is skipped and counted. The list has a fixed capacity (allocated at creation); pairs
  * past it are counted (wc_mesh_pairs.overflow), not silently dropped. Derived, not state: re-found
