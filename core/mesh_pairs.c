@@ -5,30 +5,139 @@
 #include <string.h>
 #include "filter.h"
 #include "geom.h"
+#include "sort.h"
 #include "model.h"
 #include "vec3.h"
 
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
 #define SEEN_MAX 64      /* distinct body features per cloth feature remembered for the dedup */
 
-wc_mesh_pairs* wc_mesh_pairs_create(int cap, const wc_allocator* a) {
+static void sharp_free(wc_mesh_sharp* t, const wc_allocator* a) {
+    wc_free(a, t->tri_edge);
+    wc_free(a, t->edge_tri);
+    wc_free(a, t->edge_many);
+    wc_free(a, t->sharp_edge);
+    wc_free(a, t->sharp_vert);
+}
+
+/* The collider's distinct edges: its 3 n_tris triangle edges sorted by (min, max) vertex. */
+static int sharp_build(wc_mesh_sharp* t, const wc_mesh_collider* mc, const wc_allocator* a) {
+    int nh = 3 * mc->n_tris;
+    t->tri_edge = WC_NEW(a, int, (size_t)nh);
+    t->edge_tri = WC_NEW(a, int, 2 * (size_t)nh);
+    t->edge_many = WC_NEW(a, unsigned char, (size_t)nh);
+    t->sharp_edge = WC_NEW(a, unsigned char, (size_t)nh);
+    t->sharp_vert = WC_NEW(a, unsigned char, (size_t)mc->n_verts + 1);
+    wc_keyed* keys = WC_NEW(a, wc_keyed, (size_t)nh);
+    if (!t->tri_edge || !t->edge_tri || !t->edge_many || !t->sharp_edge || !t->sharp_vert || !keys) {
+        wc_free(a, keys);
+        return 0;
+    }
+    int bits = 1;
+    while (bits < 31 && (1 << bits) <= mc->n_verts) ++bits;
+    for (int h = 0; h < nh; ++h) {
+        int r = mc->tris[h], s = mc->tris[h - h % 3 + (h % 3 + 1) % 3];
+        if (r > s) {
+            int tmp = r;
+            r = s;
+            s = tmp;
+        }
+        keys[h].key = ((uint64_t)r << bits) | (uint64_t)s;
+        keys[h].val = h;
+    }
+    if (!wc_radix_sort(keys, nh, 2 * bits, a)) {
+        wc_free(a, keys);
+        return 0;
+    }
+    int ne = -1;
+    for (int k = 0; k < nh; ++k) {
+        int h = keys[k].val;
+        if (k == 0 || keys[k].key != keys[k - 1].key) {
+            ++ne;
+            t->edge_tri[2 * ne] = h / 3;
+            t->edge_tri[2 * ne + 1] = -1;
+            t->edge_many[ne] = 0;
+        } else if (t->edge_tri[2 * ne + 1] < 0) {
+            t->edge_tri[2 * ne + 1] = h / 3;
+        } else {
+            t->edge_many[ne] = 1;
+        }
+        t->tri_edge[h] = ne;
+    }
+    t->n_edges = ne + 1;
+    wc_free(a, keys);
+    return 1;
+}
+
+wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_collider* const* mc, int nm,
+                                    const wc_allocator* a) {
     if (cap < 1) cap = 1;
+    if (n_particles < 0) n_particles = 0;
+    if (nm < 0 || (nm > 0 && !mc)) return NULL;
     wc_mesh_pairs* p = WC_NEW(a, wc_mesh_pairs, 1);
     if (!p) return NULL;
     memset(p, 0, sizeof *p);
     p->pair = WC_NEW(a, wc_mesh_pair, (size_t)cap);
-    if (!p->pair) {
-        wc_free(a, p);
+    p->behind = WC_NEW(a, signed char, (size_t)n_particles + 1);
+    p->sharp = WC_NEW(a, wc_mesh_sharp, (size_t)nm + 1);
+    if (!p->pair || !p->behind || !p->sharp) {
+        wc_mesh_pairs_destroy(p, a);
         return NULL;
     }
+    memset(p->sharp, 0, ((size_t)nm + 1) * sizeof(wc_mesh_sharp));
+    p->n_mesh = nm;
     p->cap = cap;
+    p->n_particles = n_particles;
+    for (int k = 0; k < nm; ++k)
+        if (!sharp_build(&p->sharp[k], mc[k], a)) {
+            wc_mesh_pairs_destroy(p, a);
+            return NULL;
+        }
     return p;
 }
 
 void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
     if (!p) return;
+    if (p->sharp)
+        for (int k = 0; k < p->n_mesh; ++k) sharp_free(&p->sharp[k], a);
+    wc_free(a, p->sharp);
+    wc_free(a, p->behind);
     wc_free(a, p->pair);
     wc_free(a, p);
+}
+
+/* The vertex of triangle t not on edge (r, s) */
+static int opposite(const wc_mesh_collider* mc, int t, int r, int s) {
+    for (int k = 0; k < 3; ++k) {
+        int v = mc->tris[3 * t + k];
+        if (v != r && v != s) return v;
+    }
+    return mc->tris[3 * t];
+}
+
+/* Sharp edges and vertices of this substep, from the normals at its start (nrm_a): a boundary or
+ * non-manifold edge is sharp; an interior one when convex (the other triangle's far vertex behind
+ * the first's plane) and its normals turn by more than acos(WC_MESH_PAIR_SHARP_COS). A vertex is
+ * sharp when one of its edges is. */
+static void sharp_update(wc_mesh_sharp* t, const wc_mesh_collider* mc) {
+    memset(t->sharp_vert, 0, (size_t)mc->n_verts);
+    memset(t->sharp_edge, 0, (size_t)t->n_edges);
+    for (int h = 0; h < 3 * mc->n_tris; ++h) {
+        int e = t->tri_edge[h];
+        if (t->edge_tri[2 * e] != h / 3) continue; /* once per edge, from its first triangle */
+        int t1 = t->edge_tri[2 * e], t2 = t->edge_tri[2 * e + 1];
+        int r = mc->tris[h], s = mc->tris[h - h % 3 + (h % 3 + 1) % 3];
+        int sharp = 1;
+        if (t2 >= 0 && !t->edge_many[e]) {
+            const double *n1 = mc->nrm_a + 3 * t1, *n2 = mc->nrm_a + 3 * t2;
+            double d[3];
+            v3_sub(d, mc->xa + 3 * opposite(mc, t2, r, s), mc->xa + 3 * r);
+            sharp = v3_dot(n1, n2) < WC_MESH_PAIR_SHARP_COS && v3_dot(d, n1) < 0.0;
+        }
+        if (!sharp) continue;
+        t->sharp_edge[e] = 1;
+        t->sharp_vert[r] = t->sharp_vert[s] = 1;
+    }
 }
 
 /* index of block (i, j) in the pattern, -1 when it has none */
@@ -46,6 +155,7 @@ static int find_block(const wc_bsr_pattern* pt, int i, int j) {
 typedef struct find_ctx {
     wc_mesh_pairs* pp;
     const wc_mesh_collider* mc;
+    const wc_mesh_sharp* sh;
     const wc_model* m;
     const wc_filter* f;
     const unsigned char* stick;
@@ -75,21 +185,35 @@ static int pinned(const find_ctx* c, int i) {
 /* Keep the pair: cloth weights w (cnt), cloth point cp0 and body point bp0 at the start, body
  * point bp1 at the end and its velocity vb, fallback normal nb (the body triangle's). */
 static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const double* bp0, const double* bp1,
-                 const double* vb, const double* nb) {
+                 const double* vb, const double* nb, const double* cone1, const double* cone2) {
     const double th = c->mc->thickness;
     double n[3], d[3];
     v3_sub(d, cp0, bp0);
     double dist = v3_norm(d);
     if (dist > 1e-9 * (th > 0.0 ? th : 1.0)) v3_scale(n, d, 1.0 / dist);
     else v3_copy(n, nb);
+    /* an edge pair: n within the edge's normal cone (between its triangles' normals cone1 and
+       cone2): a cloth point beside the edge but under one of its faces (a cloth edge that
+       started through a box's rim) is its particles' business, not the rim's */
+    if (cone1 && cone2) {
+        double a[3], b[3];
+        v3_cross(a, cone1, n);
+        v3_cross(b, n, cone2);
+        if (v3_dot(a, b) < 0.0 || v3_dot(n, cone1) + v3_dot(n, cone2) < 0.0) return;
+    }
     /* the cloth point's start velocity against the body point's, along n (approach: negative) */
     double vc[3] = {0, 0, 0};
     for (int k = 0; k < cnt; ++k) v3_axpy(vc, w[k], c->v + 3 * c->cloth[k]);
     double approach = -(v3_dot(vc, n) - v3_dot(vb, n));
     double dc = 2.0 * th + 1.5 * c->h * (approach > 0.0 ? approach : 0.0);
     if (!(dist < dc)) return;
-    /* the cloth point in front of the body at the start */
+    /* the cloth point and the feature's particles in front of the body at the start */
     if (wc_mesh_closest(c->mc, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
+    for (int k = 0; k < cnt; ++k) {
+        signed char* bh = &c->pp->behind[c->cloth[k]];
+        if (*bh < 0) *bh = wc_mesh_closest(c->mc, 0, c->x + 3 * c->cloth[k], HUGE_VAL, NULL, NULL) < 0.0;
+        if (*bh) return;
+    }
     double inv = 0.0;
     for (int k = 0; k < cnt; ++k)
         if (!pinned(c, c->cloth[k])) inv += w[k] * w[k] * c->m->inv_mass[c->cloth[k]];
@@ -111,6 +235,12 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     }
     v3_copy(pr.n, n);
     pr.off = v3_dot(n, bp1) + th;
+    /* a pair found deeper than push_speed x h inside the thickness (a garment that started
+       through a rim) is let out at push_speed, as its particles are (collide.h): the spring's
+       rest is moved to where the cap allows this substep */
+    const double cap = c->mc->push_speed * c->h;
+    const double g0 = v3_dot(n, cp0) - pr.off;
+    if (cap > 0.0 && g0 + cap < 0.0) pr.off += g0 + cap;
     pr.k = WC_MESH_PAIR_KAPPA / (inv * c->he * c->he);
     if (pp->n >= pp->cap) {
         ++pp->overflow;
@@ -131,13 +261,8 @@ static int visit_edge(void* user, int t) {
     const int* tv = mc->tris + 3 * t;
     const double *p0 = c->x + 3 * c->cloth[0], *q0 = c->x + 3 * c->cloth[1];
     for (int e = 0; e < 3; ++e) {
-        int r = tv[e], s = tv[(e + 1) % 3];
-        if (r > s) {
-            int tmp = r;
-            r = s;
-            s = tmp;
-        }
-        if (seen_before(c, r, s)) continue;
+        int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
+        if (!c->sh->sharp_edge[eid] || seen_before(c, eid, -3)) continue;
         double a, b;
         wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);
         if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
@@ -146,7 +271,26 @@ static int visit_edge(void* user, int t) {
         lerp(bp0, mc->xa + 3 * r, mc->xa + 3 * s, b);
         lerp(bp1, mc->xb + 3 * r, mc->xb + 3 * s, b);
         lerp(vb, mc->vel + 3 * r, mc->vel + 3 * s, b);
-        keep(c, 2, w, cp0, bp0, bp1, vb, nb);
+        const int t1 = c->sh->edge_tri[2 * eid], t2 = c->sh->edge_tri[2 * eid + 1];
+        const int cone = t2 >= 0 && !c->sh->edge_many[eid];
+        keep(c, 2, w, cp0, bp0, bp1, vb, nb, cone ? mc->nrm_a + 3 * t1 : NULL, cone ? mc->nrm_a + 3 * t2 : NULL);
+    }
+    /* the triangle's vertices against the cloth edge (a body corner or apex under a cloth edge:
+       its closest point on the cloth's triangles is on this edge, not interior to them) */
+    double e[3];
+    v3_sub(e, q0, p0);
+    double ee = v3_dot(e, e);
+    if (!(ee > 0.0)) return 0;
+    for (int k = 0; k < 3; ++k) {
+        int r = tv[k];
+        if (!c->sh->sharp_vert[r] || seen_before(c, r, -2)) continue;
+        double d[3];
+        v3_sub(d, mc->xa + 3 * r, p0);
+        double a = v3_dot(d, e) / ee;
+        if (!(a > INTERIOR && a < 1.0 - INTERIOR)) continue;
+        double cp0[3], w[2] = {1.0 - a, a};
+        lerp(cp0, p0, q0, a);
+        keep(c, 2, w, cp0, mc->xa + 3 * r, mc->xb + 3 * r, mc->vel + 3 * r, nb, NULL, NULL);
     }
     return 0;
 }
@@ -159,12 +303,12 @@ static int visit_vertex(void* user, int t) {
     const int* T = c->cloth;
     for (int e = 0; e < 3; ++e) {
         int r = mc->tris[3 * t + e];
-        if (seen_before(c, r, -1)) continue;
+        if (!c->sh->sharp_vert[r] || seen_before(c, r, -1)) continue;
         double w[3], cp0[3] = {0, 0, 0};
         wc_closest_on_triangle(mc->xa + 3 * r, c->x + 3 * T[0], c->x + 3 * T[1], c->x + 3 * T[2], w, NULL);
         if (!(w[0] > INTERIOR && w[1] > INTERIOR && w[2] > INTERIOR)) continue;
         for (int k = 0; k < 3; ++k) v3_axpy(cp0, w[k], c->x + 3 * T[k]);
-        keep(c, 3, w, cp0, mc->xa + 3 * r, mc->xb + 3 * r, mc->vel + 3 * r, nb);
+        keep(c, 3, w, cp0, mc->xa + 3 * r, mc->xb + 3 * r, mc->vel + 3 * r, nb, NULL, NULL);
     }
     return 0;
 }
@@ -188,10 +332,14 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
     pp->n = pp->overflow = pp->skipped = 0;
     if (!(h > 0.0) || !(he > 0.0)) return 0;
     for (int k = 0; k < nm; ++k) {
+        memset(pp->behind, -1, (size_t)pp->n_particles);
+        if (k >= pp->n_mesh) break; /* not the colliders it was created for */
+        sharp_update(&pp->sharp[k], mc[k]);
         find_ctx c;
         memset(&c, 0, sizeof c);
         c.pp = pp;
         c.mc = mc[k];
+        c.sh = &pp->sharp[k];
         c.m = m;
         c.f = f;
         c.stick = stick;

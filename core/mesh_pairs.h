@@ -12,9 +12,9 @@
  * cloth vertex is that particle's own contact; at a body vertex, the vertex-triangle pair's) and
  * closer than the contact distance d_c = 2 thickness + 1.5 h (approach speed along the pair's
  * direction, cloth at v_n against the body point's velocity, when positive): the pair is in the
- * system before it touches. The cloth point must be in front of the body at the start (signed
- * distance >= 0: a garment that starts inside comes out by its particles' push-out, which a pair
- * must not fight). Frozen for the substep: the cloth point's weights w (edge: 1 - a, a;
+ * system before it touches. The cloth point and every particle of the cloth feature must be in
+ * front of the body at the start (signed distance >= 0: a garment that starts inside comes out
+ * by its particles' push-out, which a pair must not fight; test_api_mesh_push). Frozen for the substep: the cloth point's weights w (edge: 1 - a, a;
  * triangle: barycentric), the unit normal n from the body point to the cloth point at the start
  * (the body triangle's normal when they coincide), and the body point at the substep's END,
  * b1 (xb, the same weights on the body feature: the body moves linearly, the pair sees where
@@ -51,6 +51,8 @@
 
 #define WC_MESH_PAIR_KAPPA 100.0   /* stiffness over inertia along n (see the top) */
 #define WC_MESH_PAIR_PASSES 3      /* re-solves at most when the active set changes */
+#define WC_MESH_PAIR_SHARP_COS 0.866 /* a body edge is sharp when its triangles' normals turn by
+                                       more than 30 degrees over it (cos below this) and it is convex */
 
 typedef struct wc_mesh_pair {
     int cnt;                   /* cloth particles: 2 (edge-edge) or 3 (vertex-triangle) */
@@ -63,19 +65,38 @@ typedef struct wc_mesh_pair {
     int active;                /* 1: in the current system */
 } wc_mesh_pair;
 
+/* A mesh collider's edges (built at creation from its immutable topology) and which of its
+ * edges and vertices are sharp in the current substep (from the normals at its start). */
+typedef struct wc_mesh_sharp {
+    int n_edges;               /* distinct edges */
+    int* tri_edge;             /* (n_tris x 3) edge of each triangle's edge k (vertices k, k + 1) */
+    int* edge_tri;             /* (n_edges x 2) its triangles (second -1: a boundary edge) */
+    unsigned char* edge_many;  /* (n_edges) 1: more than two triangles (non-manifold) */
+    unsigned char* sharp_edge; /* (n_edges) this substep */
+    unsigned char* sharp_vert; /* (n_verts) this substep */
+} wc_mesh_sharp;
+
 typedef struct wc_mesh_pairs {
     int cap;                   /* capacity (fixed at creation) */
     int n;                     /* pairs of the current substep */
     int overflow;              /* pairs found past cap in the current substep */
     int skipped;               /* pairs without the pattern's blocks in the current substep */
     wc_mesh_pair* pair;        /* (cap) */
+    int n_mesh;
+    wc_mesh_sharp* sharp;      /* (n_mesh) */
+    int n_particles;
+    signed char* behind;       /* (n_particles) scratch of a detection: -1 not looked at, 1 the
+                                  particle is behind the body's surface at the start, 0 not */
 } wc_mesh_pairs;
 
 struct wc_model;
 struct wc_filter;
 
-/* Capacity cap >= 1. NULL on out of memory. */
-wc_mesh_pairs* wc_mesh_pairs_create(int cap, const wc_allocator* a);
+/* Capacity cap >= 1, for a cloth of n_particles against the nm mesh colliders mc (their
+ * topology; the same colliders, in the same order, at every wc_mesh_pairs_find). NULL on out of
+ * memory. */
+wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_collider* const* mc, int nm,
+                                    const wc_allocator* a);
 void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a);
 
 /* Detection (above) against the nm mesh colliders (each after wc_mesh_collider_substep of this

@@ -304,7 +304,9 @@ weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const*
     wc_collider* all = WC_NEW(&s->alloc, wc_collider, (size_t)s->def.max_colliders + (size_t)n + 1);
     double* xs = WC_NEW(&s->alloc, double, 3 * (size_t)s->model->n_particles);
     /* feature pairs: room for two per cloth edge and per cloth triangle (mesh_pairs.h) */
-    wc_mesh_pairs* pairs = wc_mesh_pairs_create(2 * (s->model->we.n_edges + s->model->n_tris) + 64, &s->alloc);
+    wc_mesh_pairs* pairs = wc_mesh_pairs_create(2 * (s->model->we.n_edges + s->model->n_tris) + 64,
+                                                 s->model->n_particles, (const wc_mesh_collider* const*)mesh, n,
+                                                 &s->alloc);
     if (!all || !xs || !pairs) {
         wc_free(&s->alloc, all);
         wc_free(&s->alloc, xs);

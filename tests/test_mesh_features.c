@@ -225,9 +225,9 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
     int n = m.n_particles;
     double x[12], v[12] = {0};
     memcpy(x, m.rest_pos, sizeof x);
-    wc_mesh_pairs* pp = wc_mesh_pairs_create(64, NULL);
-    CHECK(pp != NULL);
     const wc_mesh_collider* cm = mc;
+    wc_mesh_pairs* pp = wc_mesh_pairs_create(64, m.n_particles, &cm, 1, NULL);
+    CHECK(pp != NULL);
     wc_mesh_pairs_find(pp, &cm, 1, &m, NULL, NULL, x, v, h, h);
     const wc_mesh_pair* pr = NULL;
     for (int k = 0; k < pp->n && !pr; ++k)
@@ -260,7 +260,7 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
         }
     /* the assembly: this pair alone into zero A and b, linearised at x with v* = 0 */
     wc_mesh_pair one = *pr;
-    wc_mesh_pairs single = {1, 1, 0, 0, &one};
+    wc_mesh_pairs single = {1, 1, 0, 0, &one, 0, NULL, 0, NULL};
     int nb = m.pattern.n_blocks;
     double* A = calloc(9 * (size_t)nb, sizeof(double));
     double bb[12] = {0}, vstar[12] = {0}, worst_A = 0.0, worst_b = 0.0;
