@@ -1,29 +1,44 @@
 /* The mesh colliders' feature contacts inside the implicit solve (issue 13): the cloth's edges
- * against the body's edges, and the body's vertices against the cloth's triangles, as one-sided
- * stiff springs (penalty) in the system of the substep. The particles' own contacts (collide.h)
- * keep every cloth vertex out of the body; these keep the body's sharp features (a ridge, a box
+ * against the body's edges and vertices, and the body's vertices against the cloth's
+ * triangles, as one-sided stiff springs (penalty) in the system of the substep. The particles'
+ * own contacts (collide.h) keep every cloth vertex out of the body; these keep the body's sharp features (a ridge, a box
  * rim, a thin limb, a corner) out of the cloth between its vertices.
  *
+ * Only sharp features (the point of the pairs; on a smooth or finely tessellated body the
+ * particles' contacts carry the cloth, with friction): a body edge is sharp in a substep when it
+ * is convex (the other triangle's far vertex behind the first's plane) and its triangles' normals
+ * at the substep's start turn by more than 30 degrees (WC_MESH_PAIR_SHARP_COS), or when it is a
+ * boundary or non-manifold edge; a body vertex is sharp when one of its edges is. (Every body
+ * edge at first: the frictionless pairs held a sheet on the tessellated icosphere and on a UV
+ * sphere off its particles' contacts, 256 -> 14 particles in contact, and the Newton-2 drop on
+ * the icosphere never slept, 0.14 m/s after 5 s; a body vertex moving along a flat collider
+ * dragged a frictionless cloth.)
+ *
  * Detection (wc_mesh_pairs_find, at the substep's start, after wc_contacts_begin and before the
- * forces; serial, in index order): for every cloth edge (p, q) the body edges (r, s) of the body
- * triangles whose swept box its own box meets, and for every cloth triangle (p, q, u) the body
- * vertices r; each body feature once per cloth feature. A pair is kept when the closest points
- * at the start (cloth at x_n, body at xa) are interior to both features (a closest point at a
- * cloth vertex is that particle's own contact; at a body vertex, the vertex-triangle pair's) and
- * closer than the contact distance d_c = 2 thickness + 1.5 h (approach speed along the pair's
- * direction, cloth at v_n against the body point's velocity, when positive): the pair is in the
- * system before it touches. The cloth point and every particle of the cloth feature must be in
- * front of the body at the start (signed distance >= 0: a garment that starts inside comes out
- * by its particles' push-out, which a pair must not fight; test_api_mesh_push). Frozen for the substep: the cloth point's weights w (edge: 1 - a, a;
- * triangle: barycentric), the unit normal n from the body point to the cloth point at the start
- * (the body triangle's normal when they coincide), and the body point at the substep's END,
- * b1 (xb, the same weights on the body feature: the body moves linearly, the pair sees where
- * it will be).
+ * forces; serial, in index order): for every cloth edge (p, q) the sharp body edges (r, s) and
+ * the sharp body vertices r of the body triangles whose swept box its box (start and inertial
+ * end, inflated by the reach) meets, and for every cloth triangle (p, q, u) the sharp body
+ * vertices; each body feature once per cloth feature. A pair is kept when the closest points at
+ * the start (cloth at x_n, body at xa) are interior to both features (a closest point at a cloth
+ * vertex is that particle's own contact; a body vertex nearest a cloth triangle's edge is the
+ * vertex-edge pair's) and closer than the contact distance d_c = 2 thickness + 1.5 h (approach
+ * speed along the pair's direction, cloth at v_n against the body point's velocity, when
+ * positive): the pair is in the system before it touches. The cloth point and every particle
+ * of the cloth feature must be in front of the body at the start (signed distance >= 0), and an
+ * edge-edge pair's direction within the body edge's normal cone (between its two triangles'
+ * normals): a garment that starts through the body comes out by its particles' push-out, which
+ * a pair must not fight; and a pair found deeper than push_speed x h inside the thickness is let
+ * out at push_speed as the particles are (its rest moved to g0 + push_speed h; test_api_mesh_push).
+ * Frozen for the substep: the cloth point's weights w (edge: 1 - a, a; triangle: barycentric),
+ * the unit normal n from the body point to the cloth point at the start (the body triangle's
+ * normal when they coincide), and the body point at the substep's END, b1 (xb, the same weights
+ * on the body feature: the body moves linearly, the pair sees where it will be).
  *
  * The term: c(x) = sum_i w_i x_i, gap g(x) = n.(c(x) - b1) - thickness (linear in x),
  *   E = k/2 min(g, 0)^2,   f_i = -k g w_i n,   dF_i/dx_j = -k w_i w_j n n^T   (g < 0).
- * k = WC_MESH_PAIR_KAPPA m_eff / he^2 (he: the system's step, bdf2.h; h for backward Euler), m_eff = 1 / sum_i w_i^2 / m_i over the pair's unpinned
- * particles: the pair adds KAPPA times the point's own inertia to the system along n, so it
+ * k = WC_MESH_PAIR_KAPPA m_eff / he^2 (he: the system's step, bdf2.h; h for backward Euler),
+ * m_eff = 1 / sum_i w_i^2 / m_i over the pair's unpinned particles: the pair adds KAPPA times
+ * the point's own inertia to the system along n, so it
  * holds its load F at a penetration F h^2 / (KAPPA m_eff) (a particle's weight: g h^2 / KAPPA,
  * 0.1 mm at h = 1/30 s), and the system's conditioning grows by at most that factor along n.
  * No damping (backward Euler's own dissipation damps the stiff spring), no friction (the pair is
@@ -55,7 +70,8 @@
                                        more than 30 degrees over it (cos below this) and it is convex */
 
 typedef struct wc_mesh_pair {
-    int cnt;                   /* cloth particles: 2 (edge-edge) or 3 (vertex-triangle) */
+    int cnt;                   /* cloth particles: 2 (a cloth edge against a body edge or vertex)
+                                  or 3 (a cloth triangle against a body vertex) */
     int p[3];                  /* cloth particles */
     double w[3];               /* their weights (sum 1) */
     double n[3];               /* unit normal, body -> cloth, frozen */
@@ -100,7 +116,8 @@ wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_coll
 void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a);
 
 /* Detection (above) against the nm mesh colliders (each after wc_mesh_collider_substep of this
- * substep, length h s; he the system's step, bdf2.h, for k): x, v (n x 3, m, m/s) the cloth at the substep's start; f (NULL: no
+ * substep, length h s; he the system's step, bdf2.h, for k): x, v (n x 3, m, m/s) the cloth at
+ * the substep's start; f (NULL: no
  * pins) the filter, ndof 3 without stick = pinned (infinite mass). Resets the list. Returns the
  * pairs found (pp->n). */
 int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int nm, const struct wc_model* m,
