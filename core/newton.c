@@ -6,6 +6,7 @@
 #include "assemble.h"
 #include "clock.h"
 #include "forces.h"
+#include "mesh_pairs.h"
 #include "vec3.h"
 
 #define NW_CHUNK 256          /* particles or springs per reduction chunk */
@@ -149,7 +150,10 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
             part[c] = acc;
         }
     }
-    return phi + chunk_total(part, sc);
+    phi += chunk_total(part, sc);
+    /* the mesh colliders' feature pairs (mesh_pairs.h): k/2 min(g(x(w)), 0)^2, serial */
+    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0) phi += wc_mesh_pairs_energy(s->pairs, x);
+    return phi;
 }
 
 /* TR-BDF2's implicit air at the iterate (newton.h "Refreshed"): air_lump = L(x(w)) and
@@ -225,6 +229,8 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
             }
         }
     }
+    /* the feature pairs touching at x(w): their force and stiffness (serial: rows shared) */
+    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0) wc_mesh_pairs_newton(s->pairs, s->nw_x, he, A, g);
     st->ms.assemble += wc_now_ms() - t1;
 }
 

@@ -1,6 +1,7 @@
 /* State creation (every array a step needs is allocated here), validated setters for pins,
  * colliders and positions. */
 #include "state.h"
+#include "mesh_pairs.h"
 #include <math.h>
 #include <string.h>
 #include "self_collide.h"
@@ -109,6 +110,7 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s->contacts.pushed);
     wc_free(&a, s->all_colliders);
     wc_free(&a, s->x_sub);
+    wc_mesh_pairs_destroy(s->pairs, &a);
     wc_solver_destroy(s->solver);
     wc_self_destroy(s->self);
     wc_free(&a, s);
@@ -301,13 +303,19 @@ weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const*
     if (n == 0) return WEFT_OK;
     wc_collider* all = WC_NEW(&s->alloc, wc_collider, (size_t)s->def.max_colliders + (size_t)n + 1);
     double* xs = WC_NEW(&s->alloc, double, 3 * (size_t)s->model->n_particles);
-    if (!all || !xs) {
+    /* feature pairs: room for two per cloth edge and per cloth triangle (mesh_pairs.h) */
+    wc_mesh_pairs* pairs = wc_mesh_pairs_create(2 * (s->model->we.n_edges + s->model->n_tris) + 64,
+                                                 s->model->n_particles, (const wc_mesh_collider* const*)mesh, n,
+                                                 &s->alloc);
+    if (!all || !xs || !pairs) {
         wc_free(&s->alloc, all);
         wc_free(&s->alloc, xs);
+        wc_mesh_pairs_destroy(pairs, &s->alloc);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "attach mesh colliders: out of memory");
     }
     s->all_colliders = all;
     s->x_sub = xs;
+    s->pairs = pairs;
     s->mesh = mesh;
     s->n_mesh = n;
     for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1; /* indices shift */

@@ -165,6 +165,10 @@ typedef struct wc_state {
     /* self-collision scratch (self_collide.h), NULL when def.self_collision is 0; all derived:
        its start positions are copied at the top of every substep */
     struct wc_self* self;
+    /* the mesh colliders' feature contacts of the current substep (mesh_pairs.h), allocated by
+       wc_state_attach_mesh_colliders (NULL without mesh colliders); derived: re-found every
+       substep, not saved by snapshots */
+    struct wc_mesh_pairs* pairs;
 } wc_state;
 
 /* Positions start at the model's rest positions, velocities at zero. */

@@ -6,6 +6,7 @@
 #include "bdf2.h"
 #include "clock.h"
 #include "mesh_collider.h"
+#include "mesh_pairs.h"
 #include "newton.h"
 #include "self_collide.h"
 #include "strain_limit.h"
@@ -214,6 +215,14 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     /* the substep's start after the contacts' correction: the mesh colliders' crossing test */
     if (s->n_mesh > 0 && s->x_sub) memcpy(s->x_sub, s->x, 3 * (size_t)n * sizeof(double));
     wc_integ_prepare(s, ig);
+    /* the mesh colliders' feature pairs at the substep's start (mesh_pairs.h) */
+    if (s->n_mesh > 0 && s->pairs) {
+        wc_mesh_pairs_find(s->pairs, (const wc_mesh_collider* const*)s->mesh, s->n_mesh, m, &s->filter, NULL, s->x,
+                           s->v, h, ig->he);
+        st->mesh_pairs += s->pairs->n;
+        st->mesh_pair_overflow += s->pairs->overflow;
+        st->mesh_pair_skipped += s->pairs->skipped;
+    }
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
     t0 = t1;
@@ -228,6 +237,9 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     wc_integ_forces(s, ig);
     if (ig->mom)
         for (int i = 0; i < n; ++i) v3_axpy(s->b + 3 * i, m->mass[i], ig->mom + 3 * i);
+    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0)
+        st->mesh_pairs_active +=
+            wc_mesh_pairs_assemble(s->pairs, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
     if (wc_newton_wanted(&s->def)) wc_newton_capture(s);
     t1 = wc_now_ms();
     st->ms.assemble += t1 - t0;
@@ -283,6 +295,11 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     h = ig.h;   /* TR-BDF2: the stage's length */
     double collide_gain = 0.0; /* J */
     int stuck = prepare(s, &ig, alpha1, compression, judge_energy ? &collide_gain : NULL, st);
+    if (s->pairs && (s->pairs->overflow > 0 || s->pairs->skipped > 0))
+        wc_log(diag, WC_LOG_WARN,
+               "substep (h = %g s): %d mesh feature pairs past the list's capacity %d and %d without pattern "
+               "blocks were left out of the solve",
+               h, s->pairs->overflow, s->pairs->cap, s->pairs->skipped);
     /* the colliders' position corrections (begin's push out of the shells, project's at the end)
        are collision responses: a collider pushing a particle out does work on the cloth, which
        the energy judge does not charge to the step (as the self-collision stage's below). The
@@ -307,6 +324,18 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
         status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
         wc_step_stats_add_solve(st, solver, &res);
     }
+    /* the feature pairs whose solved gap disagrees with their state switch, and the system is
+       solved again from this dv (mesh_pairs.h); with Newton iterations the next iterations see
+       the exact term instead (re-solving there too cost suit_on_body 1441 ms a frame instead of
+       191: the active set chatters between the passes) */
+    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0 && !wc_newton_wanted(&s->def))
+        for (int pass = 0; pass < WC_MESH_PAIR_PASSES && status == WEFT_OK; ++pass) {
+            int changed = wc_mesh_pairs_recheck(s->pairs, s->x, ig.vstar, s->dv, ig.he, s->A, s->b, NULL, NULL);
+            if (changed == 0) break;
+            ++st->mesh_pair_passes;
+            status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
+            wc_step_stats_add_solve(st, solver, &res);
+        }
     t1 = wc_now_ms();
     st->ms.solve += t1 - t0;
     t0 = t1;

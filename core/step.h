@@ -52,6 +52,12 @@ typedef struct wc_step_stats {
     int self_unresolved;        /* ... pairs left colliding when the zone loop gave up (0 normally) */
     struct { double forces, assemble, solve, collide, integrate, total, self_collide; } ms; /* wall time per stage */
     int energy_iterations;      /* Newton steps past newton_iterations by the energy guard (newton.h), summed */
+    /* the mesh colliders' feature contacts in the solve (mesh_pairs.h), summed over substeps */
+    int mesh_pairs;             /* pairs found (edge-edge and body-vertex/cloth-triangle) */
+    int mesh_pairs_active;      /* pairs active in the first system */
+    int mesh_pair_passes;       /* extra solves because the pairs' active set changed */
+    int mesh_pair_overflow;     /* pairs past the list's capacity (dropped; logged as a warning) */
+    int mesh_pair_skipped;      /* pairs whose particles lack a pattern block (dropped) */
 } wc_step_stats;
 
 /* For tests and benchmarks: build the constrained system of a substep of length h ending at

@@ -178,14 +178,19 @@ static void test_sphere_distance_matches_analytic(void) {
     wc_mesh_collider_destroy(mc);
 }
 
-/* A sheet dropped on a static mesh (and a floor plane); returns the largest speed at the end. */
-static void drop_on(const char* name, const tmesh* t, double thickness, double friction) {
+/* A sheet dropped on a static mesh (and a floor plane); returns the largest speed at the end.
+ * newton > 1: that many Newton iterations with a line search (the CPU backend's default is 2). */
+static void drop_on(const char* name, const tmesh* t, double thickness, double friction, int newton) {
     int n = 16;
     wc_model m;
     CHECK(ts_sheet(&m, n, 1.0, 0.8, 0, 1.0));
     wc_state* s = NULL;
     wc_diag d = {0};
     wc_sim_def sd = wc_default_sim_def();
+    if (newton > 1) {
+        sd.newton_iterations = newton;
+        sd.line_search = 1;
+    }
     CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
     wc_mesh_collider* mc = make_collider(t, thickness, friction);
     CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WEFT_OK);
@@ -197,11 +202,13 @@ static void drop_on(const char* name, const tmesh* t, double thickness, double f
     floor.friction = 0.5;
     CHECK_EQ_INT(wc_state_set_colliders(s, &floor, 1, &d), WEFT_OK);
     double worst_pen = 0.0, worst_shell = -HUGE_VAL;
-    int contacts = 0, failed = 0;
+    int contacts = 0, failed = 0, rollbacks = 0, pairs = 0;
     for (int f = 0; f < 150; ++f) {
         wc_step_stats st;
         if (wc_step_frame(s, 1.0 / 30, &st, &d) != WEFT_OK) ++failed;
         contacts = st.contacts;
+        rollbacks += st.rollbacks;
+        pairs += st.mesh_pairs_active;
         const wc_mesh_collider* cm = mc;
         double pen = wc_mesh_max_penetration(&cm, 1, s->x, m.n_particles);
         if (pen > worst_pen) worst_pen = pen;
@@ -209,9 +216,10 @@ static void drop_on(const char* name, const tmesh* t, double thickness, double f
         if (sh > worst_shell) worst_shell = sh;
     }
     double speed = wc_state_max_speed(s);
-    printf("  %-6s: behind the surface %.3g m, into the %.3g m shell %.3g m at worst; %d in contact, "
-           "fastest %.3g m/s at the end%s\n",
-           name, worst_pen, thickness, worst_shell, contacts, speed, s->asleep ? " (asleep)" : "");
+    printf("  %-6s (Newton %d): behind the surface %.3g m, into the %.3g m shell %.3g m at worst; %d in contact, "
+           "%d feature pairs active (summed over substeps), %d rollbacks, fastest %.3g m/s at the end%s\n",
+           name, newton, worst_pen, thickness, worst_shell, contacts, pairs, rollbacks, speed,
+           s->asleep ? " (asleep)" : "");
     CHECK_EQ_INT(failed, 0);
     CHECK(worst_pen == 0.0);
     CHECK(worst_shell <= 1e-6);
@@ -225,13 +233,15 @@ static void drop_on(const char* name, const tmesh* t, double thickness, double f
 static void test_drop_on_sphere(void) {
     double c[3] = {0.05, 0.3, 0.02};
     icosphere(&g_mesh, 2, 0.3, c);
-    drop_on("sphere", &g_mesh, 0.01, 0.4);
+    drop_on("sphere", &g_mesh, 0.01, 0.4, 1);
+    drop_on("sphere", &g_mesh, 0.01, 0.4, 2);
 }
 
 static void test_drop_on_box(void) {
     double lo[3] = {-0.25, 0.0, -0.2}, hi[3] = {0.25, 0.15, 0.2}; /* the sheet drapes down to the floor */
     box(&g_mesh, lo, hi);
-    drop_on("box", &g_mesh, 0.005, 0.4);
+    drop_on("box", &g_mesh, 0.005, 0.4, 1);
+    drop_on("box", &g_mesh, 0.005, 0.4, 2);
 }
 
 static void test_fast_bar(void) {

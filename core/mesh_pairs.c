@@ -1,0 +1,481 @@
+/* The mesh colliders' feature contacts as penalty terms of the implicit solve (rules and
+ * formulas in mesh_pairs.h). */
+#include "mesh_pairs.h"
+#include <math.h>
+#include <string.h>
+#include "filter.h"
+#include "geom.h"
+#include "sort.h"
+#include "model.h"
+#include "vec3.h"
+
+#define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
+#define SEEN_MAX 64      /* distinct body features per cloth feature remembered for the dedup */
+
+static void sharp_free(wc_mesh_sharp* t, const wc_allocator* a) {
+    wc_free(a, t->tri_edge);
+    wc_free(a, t->edge_tri);
+    wc_free(a, t->edge_many);
+    wc_free(a, t->sharp_edge);
+    wc_free(a, t->sharp_vert);
+}
+
+/* The collider's distinct edges: its 3 n_tris triangle edges sorted by (min, max) vertex. */
+static int sharp_build(wc_mesh_sharp* t, const wc_mesh_collider* mc, const wc_allocator* a) {
+    int nh = 3 * mc->n_tris;
+    t->tri_edge = WC_NEW(a, int, (size_t)nh);
+    t->edge_tri = WC_NEW(a, int, 2 * (size_t)nh);
+    t->edge_many = WC_NEW(a, unsigned char, (size_t)nh);
+    t->sharp_edge = WC_NEW(a, unsigned char, (size_t)nh);
+    t->sharp_vert = WC_NEW(a, unsigned char, (size_t)mc->n_verts + 1);
+    wc_keyed* keys = WC_NEW(a, wc_keyed, (size_t)nh);
+    if (!t->tri_edge || !t->edge_tri || !t->edge_many || !t->sharp_edge || !t->sharp_vert || !keys) {
+        wc_free(a, keys);
+        return 0;
+    }
+    int bits = 1;
+    while (bits < 31 && (1 << bits) <= mc->n_verts) ++bits;
+    for (int h = 0; h < nh; ++h) {
+        int r = mc->tris[h], s = mc->tris[h - h % 3 + (h % 3 + 1) % 3];
+        if (r > s) {
+            int tmp = r;
+            r = s;
+            s = tmp;
+        }
+        keys[h].key = ((uint64_t)r << bits) | (uint64_t)s;
+        keys[h].val = h;
+    }
+    if (!wc_radix_sort(keys, nh, 2 * bits, a)) {
+        wc_free(a, keys);
+        return 0;
+    }
+    int ne = -1;
+    for (int k = 0; k < nh; ++k) {
+        int h = keys[k].val;
+        if (k == 0 || keys[k].key != keys[k - 1].key) {
+            ++ne;
+            t->edge_tri[2 * ne] = h / 3;
+            t->edge_tri[2 * ne + 1] = -1;
+            t->edge_many[ne] = 0;
+        } else if (t->edge_tri[2 * ne + 1] < 0) {
+            t->edge_tri[2 * ne + 1] = h / 3;
+        } else {
+            t->edge_many[ne] = 1;
+        }
+        t->tri_edge[h] = ne;
+    }
+    t->n_edges = ne + 1;
+    wc_free(a, keys);
+    return 1;
+}
+
+wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_collider* const* mc, int nm,
+                                    const wc_allocator* a) {
+    if (cap < 1) cap = 1;
+    if (n_particles < 0) n_particles = 0;
+    if (nm < 0 || (nm > 0 && !mc)) return NULL;
+    wc_mesh_pairs* p = WC_NEW(a, wc_mesh_pairs, 1);
+    if (!p) return NULL;
+    memset(p, 0, sizeof *p);
+    p->pair = WC_NEW(a, wc_mesh_pair, (size_t)cap);
+    p->behind = WC_NEW(a, signed char, (size_t)n_particles + 1);
+    p->sharp = WC_NEW(a, wc_mesh_sharp, (size_t)nm + 1);
+    if (!p->pair || !p->behind || !p->sharp) {
+        wc_mesh_pairs_destroy(p, a);
+        return NULL;
+    }
+    memset(p->sharp, 0, ((size_t)nm + 1) * sizeof(wc_mesh_sharp));
+    p->n_mesh = nm;
+    p->cap = cap;
+    p->n_particles = n_particles;
+    for (int k = 0; k < nm; ++k)
+        if (!sharp_build(&p->sharp[k], mc[k], a)) {
+            wc_mesh_pairs_destroy(p, a);
+            return NULL;
+        }
+    return p;
+}
+
+void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
+    if (!p) return;
+    if (p->sharp)
+        for (int k = 0; k < p->n_mesh; ++k) sharp_free(&p->sharp[k], a);
+    wc_free(a, p->sharp);
+    wc_free(a, p->behind);
+    wc_free(a, p->pair);
+    wc_free(a, p);
+}
+
+/* The vertex of triangle t not on edge (r, s) */
+static int opposite(const wc_mesh_collider* mc, int t, int r, int s) {
+    for (int k = 0; k < 3; ++k) {
+        int v = mc->tris[3 * t + k];
+        if (v != r && v != s) return v;
+    }
+    return mc->tris[3 * t];
+}
+
+/* Sharp edges and vertices of this substep, from the normals at its start (nrm_a): a boundary or
+ * non-manifold edge is sharp; an interior one when convex (the other triangle's far vertex behind
+ * the first's plane) and its normals turn by more than acos(WC_MESH_PAIR_SHARP_COS). A vertex is
+ * sharp when one of its edges is. */
+static void sharp_update(wc_mesh_sharp* t, const wc_mesh_collider* mc) {
+    memset(t->sharp_vert, 0, (size_t)mc->n_verts);
+    memset(t->sharp_edge, 0, (size_t)t->n_edges);
+    for (int h = 0; h < 3 * mc->n_tris; ++h) {
+        int e = t->tri_edge[h];
+        if (t->edge_tri[2 * e] != h / 3) continue; /* once per edge, from its first triangle */
+        int t1 = t->edge_tri[2 * e], t2 = t->edge_tri[2 * e + 1];
+        int r = mc->tris[h], s = mc->tris[h - h % 3 + (h % 3 + 1) % 3];
+        int sharp = 1;
+        if (t2 >= 0 && !t->edge_many[e]) {
+            const double *n1 = mc->nrm_a + 3 * t1, *n2 = mc->nrm_a + 3 * t2;
+            double d[3];
+            v3_sub(d, mc->xa + 3 * opposite(mc, t2, r, s), mc->xa + 3 * r);
+            sharp = v3_dot(n1, n2) < WC_MESH_PAIR_SHARP_COS && v3_dot(d, n1) < 0.0;
+        }
+        if (!sharp) continue;
+        t->sharp_edge[e] = 1;
+        t->sharp_vert[r] = t->sharp_vert[s] = 1;
+    }
+}
+
+/* index of block (i, j) in the pattern, -1 when it has none */
+static int find_block(const wc_bsr_pattern* pt, int i, int j) {
+    int lo = pt->row_start[i], hi = pt->row_start[i + 1] - 1;
+    while (lo <= hi) {
+        int mid = (lo + hi) / 2, c = pt->col[mid];
+        if (c == j) return mid;
+        if (c < j) lo = mid + 1;
+        else hi = mid - 1;
+    }
+    return -1;
+}
+
+typedef struct find_ctx {
+    wc_mesh_pairs* pp;
+    const wc_mesh_collider* mc;
+    const wc_mesh_sharp* sh;
+    const wc_model* m;
+    const wc_filter* f;
+    const unsigned char* stick;
+    const double *x, *v;
+    double h, he;
+    int cloth[3];          /* the cloth feature's particles (edge: 2) */
+    int seen[2 * SEEN_MAX];
+    int n_seen;
+} find_ctx;
+
+/* 1 when the body feature (a, b) (a vertex: b = -1) was seen for this cloth feature; remembers it */
+static int seen_before(find_ctx* c, int a, int b) {
+    for (int k = 0; k < c->n_seen; ++k)
+        if (c->seen[2 * k] == a && c->seen[2 * k + 1] == b) return 1;
+    if (c->n_seen < SEEN_MAX) {
+        c->seen[2 * c->n_seen] = a;
+        c->seen[2 * c->n_seen + 1] = b;
+        ++c->n_seen;
+    }
+    return 0;
+}
+
+static int pinned(const find_ctx* c, int i) {
+    return c->f && c->f->ndof[i] == 3 && !(c->stick && c->stick[i]);
+}
+
+/* Keep the pair: cloth weights w (cnt), cloth point cp0 and body point bp0 at the start, body
+ * point bp1 at the end and its velocity vb, fallback normal nb (the body triangle's). */
+static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const double* bp0, const double* bp1,
+                 const double* vb, const double* nb, const double* cone1, const double* cone2) {
+    const double th = c->mc->thickness;
+    double n[3], d[3];
+    v3_sub(d, cp0, bp0);
+    double dist = v3_norm(d);
+    if (dist > 1e-9 * (th > 0.0 ? th : 1.0)) v3_scale(n, d, 1.0 / dist);
+    else v3_copy(n, nb);
+    /* an edge pair: n within the edge's normal cone (between its triangles' normals cone1 and
+       cone2): a cloth point beside the edge but under one of its faces (a cloth edge that
+       started through a box's rim) is its particles' business, not the rim's */
+    if (cone1 && cone2) {
+        double a[3], b[3];
+        v3_cross(a, cone1, n);
+        v3_cross(b, n, cone2);
+        if (v3_dot(a, b) < 0.0 || v3_dot(n, cone1) + v3_dot(n, cone2) < 0.0) return;
+    }
+    /* the cloth point's start velocity against the body point's, along n (approach: negative) */
+    double vc[3] = {0, 0, 0};
+    for (int k = 0; k < cnt; ++k) v3_axpy(vc, w[k], c->v + 3 * c->cloth[k]);
+    double approach = -(v3_dot(vc, n) - v3_dot(vb, n));
+    double dc = 2.0 * th + 1.5 * c->h * (approach > 0.0 ? approach : 0.0);
+    if (!(dist < dc)) return;
+    /* the cloth point and the feature's particles in front of the body at the start */
+    if (wc_mesh_closest(c->mc, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
+    for (int k = 0; k < cnt; ++k) {
+        signed char* bh = &c->pp->behind[c->cloth[k]];
+        if (*bh < 0) *bh = wc_mesh_closest(c->mc, 0, c->x + 3 * c->cloth[k], HUGE_VAL, NULL, NULL) < 0.0;
+        if (*bh) return;
+    }
+    double inv = 0.0;
+    for (int k = 0; k < cnt; ++k)
+        if (!pinned(c, c->cloth[k])) inv += w[k] * w[k] * c->m->inv_mass[c->cloth[k]];
+    if (!(inv > 0.0)) return;
+    wc_mesh_pairs* pp = c->pp;
+    wc_mesh_pair pr;
+    memset(&pr, 0, sizeof pr);
+    pr.cnt = cnt;
+    for (int a = 0; a < cnt; ++a) {
+        pr.p[a] = c->cloth[a];
+        pr.w[a] = w[a];
+        for (int b = 0; b < cnt; ++b) {
+            pr.blk[3 * a + b] = find_block(&c->m->pattern, c->cloth[a], c->cloth[b]);
+            if (pr.blk[3 * a + b] < 0) {
+                ++pp->skipped;
+                return;
+            }
+        }
+    }
+    v3_copy(pr.n, n);
+    pr.off = v3_dot(n, bp1) + th;
+    /* a pair found deeper than push_speed x h inside the thickness (a garment that started
+       through a rim) is let out at push_speed, as its particles are (collide.h): the spring's
+       rest is moved to where the cap allows this substep */
+    const double cap = c->mc->push_speed * c->h;
+    const double g0 = v3_dot(n, cp0) - pr.off;
+    if (cap > 0.0 && g0 + cap < 0.0) pr.off += g0 + cap;
+    pr.k = WC_MESH_PAIR_KAPPA / (inv * c->he * c->he);
+    if (pp->n >= pp->cap) {
+        ++pp->overflow;
+        return;
+    }
+    pp->pair[pp->n++] = pr;
+}
+
+static void lerp(double* o, const double* a, const double* b, double t) {
+    for (int k = 0; k < 3; ++k) o[k] = a[k] + t * (b[k] - a[k]);
+}
+
+static int visit_edge(void* user, int t) {
+    find_ctx* c = user;
+    const wc_mesh_collider* mc = c->mc;
+    const double* nb = mc->nrm_a + 3 * t;
+    if (nb[0] == 0.0 && nb[1] == 0.0 && nb[2] == 0.0) return 0; /* degenerate */
+    const int* tv = mc->tris + 3 * t;
+    const double *p0 = c->x + 3 * c->cloth[0], *q0 = c->x + 3 * c->cloth[1];
+    for (int e = 0; e < 3; ++e) {
+        int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
+        if (!c->sh->sharp_edge[eid] || seen_before(c, eid, -3)) continue;
+        double a, b;
+        wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);
+        if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
+        double cp0[3], bp0[3], bp1[3], vb[3], w[2] = {1.0 - a, a};
+        lerp(cp0, p0, q0, a);
+        lerp(bp0, mc->xa + 3 * r, mc->xa + 3 * s, b);
+        lerp(bp1, mc->xb + 3 * r, mc->xb + 3 * s, b);
+        lerp(vb, mc->vel + 3 * r, mc->vel + 3 * s, b);
+        const int t1 = c->sh->edge_tri[2 * eid], t2 = c->sh->edge_tri[2 * eid + 1];
+        const int cone = t2 >= 0 && !c->sh->edge_many[eid];
+        keep(c, 2, w, cp0, bp0, bp1, vb, nb, cone ? mc->nrm_a + 3 * t1 : NULL, cone ? mc->nrm_a + 3 * t2 : NULL);
+    }
+    /* the triangle's vertices against the cloth edge (a body corner or apex under a cloth edge:
+       its closest point on the cloth's triangles is on this edge, not interior to them) */
+    double e[3];
+    v3_sub(e, q0, p0);
+    double ee = v3_dot(e, e);
+    if (!(ee > 0.0)) return 0;
+    for (int k = 0; k < 3; ++k) {
+        int r = tv[k];
+        if (!c->sh->sharp_vert[r] || seen_before(c, r, -2)) continue;
+        double d[3];
+        v3_sub(d, mc->xa + 3 * r, p0);
+        double a = v3_dot(d, e) / ee;
+        if (!(a > INTERIOR && a < 1.0 - INTERIOR)) continue;
+        double cp0[3], w[2] = {1.0 - a, a};
+        lerp(cp0, p0, q0, a);
+        keep(c, 2, w, cp0, mc->xa + 3 * r, mc->xb + 3 * r, mc->vel + 3 * r, nb, NULL, NULL);
+    }
+    return 0;
+}
+
+static int visit_vertex(void* user, int t) {
+    find_ctx* c = user;
+    const wc_mesh_collider* mc = c->mc;
+    const double* nb = mc->nrm_a + 3 * t;
+    if (nb[0] == 0.0 && nb[1] == 0.0 && nb[2] == 0.0) return 0;
+    const int* T = c->cloth;
+    for (int e = 0; e < 3; ++e) {
+        int r = mc->tris[3 * t + e];
+        if (!c->sh->sharp_vert[r] || seen_before(c, r, -1)) continue;
+        double w[3], cp0[3] = {0, 0, 0};
+        wc_closest_on_triangle(mc->xa + 3 * r, c->x + 3 * T[0], c->x + 3 * T[1], c->x + 3 * T[2], w, NULL);
+        if (!(w[0] > INTERIOR && w[1] > INTERIOR && w[2] > INTERIOR)) continue;
+        for (int k = 0; k < 3; ++k) v3_axpy(cp0, w[k], c->x + 3 * T[k]);
+        keep(c, 3, w, cp0, mc->xa + 3 * r, mc->xb + 3 * r, mc->vel + 3 * r, nb, NULL, NULL);
+    }
+    return 0;
+}
+
+/* box of the cloth feature at the start and at its inertial end x + h v, inflated by r */
+static void feature_box(const find_ctx* c, int cnt, double r, double* box) {
+    wc_box_empty(box);
+    for (int k = 0; k < cnt; ++k) {
+        const double *xi = c->x + 3 * c->cloth[k], *vi = c->v + 3 * c->cloth[k];
+        double e[3];
+        v3_copy(e, xi);
+        v3_axpy(e, c->h, vi);
+        wc_box_add(box, xi);
+        wc_box_add(box, e);
+    }
+    wc_box_inflate(box, r);
+}
+
+int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int nm, const wc_model* m,
+                       const wc_filter* f, const unsigned char* stick, const double* x, const double* v, double h, double he) {
+    pp->n = pp->overflow = pp->skipped = 0;
+    if (!(h > 0.0) || !(he > 0.0)) return 0;
+    for (int k = 0; k < nm; ++k) {
+        memset(pp->behind, -1, (size_t)pp->n_particles);
+        if (k >= pp->n_mesh) break; /* not the colliders it was created for */
+        sharp_update(&pp->sharp[k], mc[k]);
+        find_ctx c;
+        memset(&c, 0, sizeof c);
+        c.pp = pp;
+        c.mc = mc[k];
+        c.sh = &pp->sharp[k];
+        c.m = m;
+        c.f = f;
+        c.stick = stick;
+        c.x = x;
+        c.v = v;
+        c.h = h;
+        c.he = he;
+        /* reach: the contact distance with the body's fastest vertex approaching */
+        double r = 2.0 * mc[k]->thickness + 1.5 * h * mc[k]->max_speed;
+        double box[6];
+        const wc_winged_edge* we = &m->we;
+        for (int e = 0; e < we->n_edges; ++e) {
+            if (wc_we_repeats_previous(we, e)) continue;
+            c.cloth[0] = we->edges[e].v[0];
+            c.cloth[1] = we->edges[e].v[1];
+            c.n_seen = 0;
+            feature_box(&c, 2, r, box);
+            wc_bvh_query(&mc[k]->bvh, box, visit_edge, &c);
+        }
+        for (int t = 0; t < m->n_tris; ++t) {
+            memcpy(c.cloth, m->tris + 3 * t, 3 * sizeof(int));
+            c.n_seen = 0;
+            feature_box(&c, 3, r, box);
+            wc_bvh_query(&mc[k]->bvh, box, visit_vertex, &c);
+        }
+    }
+    return pp->n;
+}
+
+/* n . sum w_i y_i */
+static double along(const wc_mesh_pair* pr, const double* y) {
+    double s = 0.0;
+    for (int a = 0; a < pr->cnt; ++a) s += pr->w[a] * v3_dot(pr->n, y + 3 * pr->p[a]);
+    return s;
+}
+
+/* sign x the pair's terms: A += sign he^2 k w_a w_b n n^T (fa: the diagonal blocks too), b and fb
+ * += sign he f_a with the linearised gap glin */
+static void add_terms(const wc_mesh_pair* pr, double sign, double glin, double he, double* A,
+                      double* b, double* fa, double* fb) {
+    double nn[9];
+    m3_outer(nn, pr->n, pr->n, 1.0);
+    for (int a = 0; a < pr->cnt; ++a) {
+        int i = pr->p[a];
+        double fi = -sign * he * pr->k * glin * pr->w[a];
+        v3_axpy(b + 3 * i, fi, pr->n);
+        if (fb) v3_axpy(fb + 3 * i, fi, pr->n);
+        for (int c = 0; c < pr->cnt; ++c) {
+            double s = sign * he * he * pr->k * pr->w[a] * pr->w[c];
+            m3_axpy(A + 9 * (size_t)pr->blk[3 * a + c], s, nn);
+            if (fa && c == a) m3_axpy(fa + 9 * (size_t)i, s, nn);
+        }
+    }
+}
+
+/* the gap linearised for the first system: g(x_n) + he n.sum w (v*) (the w-dependent part is A's) */
+static double gap_rhs(const wc_mesh_pair* pr, const double* x, const double* vstar, double he) {
+    return along(pr, x) - pr->off + he * along(pr, vstar);
+}
+
+int wc_mesh_pairs_assemble(wc_mesh_pairs* pp, const wc_model* m, const double* x, const double* vstar,
+                           const double* f_ext, double he, double* A, double* b, double* f_total) {
+    int active = 0;
+    for (int k = 0; k < pp->n; ++k) {
+        wc_mesh_pair* pr = &pp->pair[k];
+        double g = gap_rhs(pr, x, vstar, he);
+        if (f_ext)
+            for (int a = 0; a < pr->cnt; ++a) {
+                int i = pr->p[a];
+                g += he * he * pr->w[a] * v3_dot(pr->n, f_ext + 3 * i) * m->inv_mass[i];
+            }
+        pr->active = g < 0.0;
+        if (!pr->active) continue;
+        ++active;
+        add_terms(pr, 1.0, gap_rhs(pr, x, vstar, he), he, A, b, NULL, NULL);
+        if (f_total) {
+            double g0 = along(pr, x) - pr->off;
+            if (g0 < 0.0)
+                for (int a = 0; a < pr->cnt; ++a) v3_axpy(f_total + 3 * pr->p[a], -pr->k * g0 * pr->w[a], pr->n);
+        }
+    }
+    return active;
+}
+
+int wc_mesh_pairs_recheck(wc_mesh_pairs* pp, const double* x, const double* vstar,
+                          const double* dv, double he, double* A, double* b, double* fa, double* fb) {
+    int changed = 0;
+    for (int k = 0; k < pp->n; ++k) {
+        wc_mesh_pair* pr = &pp->pair[k];
+        double g = gap_rhs(pr, x, vstar, he) + he * along(pr, dv);
+        int want = g < 0.0;
+        if (want == pr->active) continue;
+        add_terms(pr, want ? 1.0 : -1.0, gap_rhs(pr, x, vstar, he), he, A, b, fa, fb);
+        pr->active = want;
+        ++changed;
+    }
+    return changed;
+}
+
+double wc_mesh_pairs_energy(const wc_mesh_pairs* pp, const double* x) {
+    double e = 0.0;
+    for (int k = 0; k < pp->n; ++k) {
+        const wc_mesh_pair* pr = &pp->pair[k];
+        double g = along(pr, x) - pr->off;
+        if (g < 0.0) e += 0.5 * pr->k * g * g;
+    }
+    return e;
+}
+
+int wc_mesh_pairs_newton(const wc_mesh_pairs* pp, const double* x, double he, double* A, double* g_out) {
+    int touching = 0;
+    double nn[9];
+    for (int k = 0; k < pp->n; ++k) {
+        const wc_mesh_pair* pr = &pp->pair[k];
+        double g = along(pr, x) - pr->off;
+        if (!(g < 0.0)) continue;
+        ++touching;
+        m3_outer(nn, pr->n, pr->n, 1.0);
+        for (int a = 0; a < pr->cnt; ++a) {
+            v3_axpy(g_out + 3 * pr->p[a], -he * pr->k * g * pr->w[a], pr->n);
+            for (int c = 0; c < pr->cnt; ++c)
+                m3_axpy(A + 9 * (size_t)pr->blk[3 * a + c], he * he * pr->k * pr->w[a] * pr->w[c], nn);
+        }
+    }
+    return touching;
+}
+
+double wc_mesh_pair_eval(const wc_mesh_pair* pr, const double* x, double* f, double* J) {
+    double g = along(pr, x) - pr->off;
+    int cnt = pr->cnt;
+    memset(f, 0, 3 * (size_t)cnt * sizeof(double));
+    memset(J, 0, 9 * (size_t)cnt * cnt * sizeof(double));
+    if (!(g < 0.0)) return 0.0;
+    for (int a = 0; a < cnt; ++a) {
+        v3_axpy(f + 3 * a, -pr->k * g * pr->w[a], pr->n);
+        for (int c = 0; c < cnt; ++c) m3_outer(J + 9 * (a * cnt + c), pr->n, pr->n, -pr->k * pr->w[a] * pr->w[c]);
+    }
+    return 0.5 * pr->k * g * g;
+}
