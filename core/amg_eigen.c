@@ -46,30 +46,38 @@ static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
     *hi = *lo + WC_AMG_CHUNK < L->n ? *lo + WC_AMG_CHUNK : L->n;
 }
 
-static double power_iterations(wc_amg_level* L, int iterations, int pair_blocks, wc_par* par) {
+/* next = D^-1 A w over all rows, chunks in parallel; *num = w . A w and *den = w . D w, summed in
+ * chunk order (the same on any thread count). */
+static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double* next, wc_par* par, double* num,
+                      double* den) {
     int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+    WC_PAR_REGION(par)
+    {
+        int c0, c1;
+        wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+        for (int c = c0; c < c1; ++c) {
+            int lo, hi;
+            chunk_bounds(L, c, &lo, &hi);
+            double d = 0.0;
+            L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, &d);
+            L->partial[2 * c + 1] = d;
+        }
+    }
+    *num = *den = 0.0;
+    for (int c = 0; c < n_chunks; ++c) {
+        *num += L->partial[2 * c];
+        *den += L->partial[2 * c + 1];
+    }
+}
+
+static double power_iterations(wc_amg_level* L, int iterations, int pair_blocks, wc_par* par) {
     wc_amg_start_vector(L->ev, L->n);
     double lambda = 0.0;
     for (int it = 0; it < iterations; ++it) {
         const double* w = L->ev;
         double* next = L->x;
-        WC_PAR_REGION(par)
-        {
-            int c0, c1;
-            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            for (int c = c0; c < c1; ++c) {
-                int lo, hi;
-                chunk_bounds(L, c, &lo, &hi);
-                double den = 0.0;
-                L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, &den);
-                L->partial[2 * c + 1] = den;
-            }
-        }
-        double num = 0.0, den = 0.0;
-        for (int c = 0; c < n_chunks; ++c) {
-            num += L->partial[2 * c];
-            den += L->partial[2 * c + 1];
-        }
+        double num, den;
+        apply_all(L, pair_blocks, w, next, par, &num, &den);
         double q = den > 0 ? num / den : 0.0;
         if (!(q > 0) || !isfinite(q)) break;
         lambda = q;
@@ -123,23 +131,8 @@ static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) 
     double beta_prev = 0.0;
     int k = 0;
     for (int j = 0; j < steps; ++j) {
-        WC_PAR_REGION(par)
-        {
-            int c0, c1;
-            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            for (int c = c0; c < c1; ++c) {
-                int lo, hi;
-                chunk_bounds(L, c, &lo, &hi);
-                double den = 0.0;
-                L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, v, w, &den);
-                L->partial[2 * c + 1] = den;
-            }
-        }
-        double num = 0.0, den = 0.0;
-        for (int c = 0; c < n_chunks; ++c) {
-            num += L->partial[2 * c];
-            den += L->partial[2 * c + 1];
-        }
+        double num, den;
+        apply_all(L, pair_blocks, v, w, par, &num, &den);
         if (j == 0) { /* the start vector was not normalised: scale v, w and the sums */
             if (!(den > 0) || !isfinite(den)) return 0.0;
             double scale = 1.0 / sqrt(den);

@@ -20,46 +20,7 @@
 #include "step.h"
 #include "sew_tube.h"
 #include "test_support.h"
-
-typedef struct scene {
-    wc_model m;
-    wc_state* s;
-} scene;
-
-enum { HANG = 0, DRAPE = 1 };
-
-/* An n x n sheet after `frames` direct steps of 1/30 s (hanging from two corners, or dropped on
- * a sphere), then the next substep's system in s->A, s->b, s->filter. */
-static int make_scene(scene* sc, int n, double k_scale, int kind, int frames) {
-    memset(sc, 0, sizeof *sc);
-    if (!ts_sheet(&sc->m, n, 1.0, 1.0, 0, k_scale)) return 0;
-    wc_sim_def def = wc_default_sim_def();
-    def.solver.type = WC_SOLVER_DIRECT;
-    def.threads = 1;
-    def.sleep_speed = 0;
-    wc_diag d = {0};
-    if (wc_state_create(&sc->s, &sc->m, &def, NULL, &d) != WEFT_OK) return 0;
-    wc_state* s = sc->s;
-    if (kind == DRAPE) {
-        wc_collider c = {0};
-        c.type = WC_COLLIDER_SPHERE;
-        c.radius = 0.3;
-        c.center[1] = 0.65;
-        c.thickness = 0.005;
-        c.friction = 0.3;
-        CHECK(wc_state_set_colliders(s, &c, 1, &d) == WEFT_OK);
-    } else {
-        wc_pin pins[2] = {{0}};
-        pins[0].particle = ts_sheet_particle(&sc->m, n, 0, 0);
-        pins[1].particle = ts_sheet_particle(&sc->m, n, n - 1, 0);
-        for (int k = 0; k < 2; ++k) memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
-        CHECK(wc_state_set_pins(s, pins, 2, &d) == WEFT_OK);
-    }
-    for (int f = 0; f < frames; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    wc_step_stats st = {0};
-    wc_substep_prepare(s, 1.0 / 30.0, 1.0, &st);
-    return 1;
-}
+#include "amg_scene.h"
 
 static wc_solver* amg_solver(const wc_model* m, double tol) {
     wc_solver_opts o = wc_default_solver_opts();
@@ -175,8 +136,7 @@ static void check_scene(int n, double k_scale, int kind, int frames, const char*
     CHECK(err_lz < 1e-4 && err_pw < 1e-4);
     CHECK(it_lz <= it_pw + it_pw / 10 + 1);
     wc_solver_destroy(sv);
-    wc_state_destroy(sc.s);
-    wc_model_free(&sc.m);
+    free_scene(&sc);
 }
 
 static void test_real_systems(void) {
@@ -340,8 +300,7 @@ static void test_phases_and_options(void) {
     CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(d.message, "power_iterations") != NULL);
     wc_solver_destroy(sv);
-    wc_state_destroy(sc.s);
-    wc_model_free(&sc.m);
+    free_scene(&sc);
 }
 
 int main(void) {
