@@ -5,6 +5,7 @@
 #define WEFT_TESTS_AMG_SCENE_H
 #include <string.h>
 #include "check.h"
+#include "solver_impl.h"
 #include "step.h"
 #include "test_support.h"
 
@@ -57,6 +58,19 @@ static int make_scene(scene* sc, int n, double k_scale, int kind, int frames) {
 static void free_scene(scene* sc) {
     wc_state_destroy(sc->s);
     wc_model_free(&sc->m);
+}
+
+/* A PCG solver with the multigrid preconditioner, relative tolerance tol, at most 500 iterations
+ * (alloc: NULL for the default allocator). */
+static wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
+    wc_solver_opts o = wc_default_solver_opts();
+    o.preconditioner = WC_PRECOND_AMG;
+    o.tolerance = tol;
+    o.max_iterations = 500;
+    wc_solver* sv = NULL;
+    wc_diag d = {0};
+    CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WEFT_OK);
+    return sv;
 }
 
 #endif

@@ -23,17 +23,6 @@ static double rel_diff(const double* a, const double* b, int n3) {
     return sqrt(num / (den > 0 ? den : 1));
 }
 
-static wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
-    wc_solver_opts o = wc_default_solver_opts();
-    o.preconditioner = WC_PRECOND_AMG;
-    o.tolerance = tol;
-    o.max_iterations = 500;
-    wc_solver* sv = NULL;
-    wc_diag d = {0};
-    CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WEFT_OK);
-    return sv;
-}
-
 /* Symmetry and positive definiteness of S M^-1 S (what PCG sees) on random vectors. */
 static void check_spd(wc_solver* sv, const wc_state* s, const char* what) {
     int n = s->model->n_particles, n3 = 3 * n;

@@ -22,17 +22,6 @@
 #include "test_support.h"
 #include "amg_scene.h"
 
-static wc_solver* amg_solver(const wc_model* m, double tol) {
-    wc_solver_opts o = wc_default_solver_opts();
-    o.preconditioner = WC_PRECOND_AMG;
-    o.tolerance = tol;
-    o.max_iterations = 500;
-    wc_solver* sv = NULL;
-    wc_diag d = {0};
-    CHECK(wc_solver_create(&sv, m, &o, 1, NULL, &d) == WEFT_OK);
-    return sv;
-}
-
 /* Every level but a dense coarsest: the setup's bound against 400 power iterations. */
 static void check_bounds(wc_amg* a, wc_par* par, const char* what) {
     for (int l = 0; l < a->n_levels; ++l) {
@@ -117,7 +106,7 @@ static void check_scene(int n, double k_scale, int kind, int frames, const char*
         return;
     }
     wc_state* s = sc.s;
-    wc_solver* sv = amg_solver(&sc.m, 1e-4);
+    wc_solver* sv = amg_solver(&sc.m, 1e-4, NULL);
     if (!sv) return;
     wc_solver_set_positions(sv, s->x);
     wc_amg* a = sv->amg;
@@ -269,7 +258,7 @@ static void test_phases_and_options(void) {
         CHECK(0);
         return;
     }
-    wc_solver* sv = amg_solver(&sc.m, 1e-4);
+    wc_solver* sv = amg_solver(&sc.m, 1e-4, NULL);
     if (!sv) return;
     double dv[3 * 24 * 24] = {0};
     wc_solve_result res;
