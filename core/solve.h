@@ -85,6 +85,13 @@ void wc_solver_set_positions(wc_solver* s, const double* x);
  * tolerance x (g h) or better. Invalid values are ignored. */
 void wc_solver_set_residual_floor(wc_solver* s, double floor);
 
+/* Off-pattern couplings (coupling.h) that every later solve adds to A's product (NULL: none; the
+ * list must outlive its use; its diagonal blocks are the caller's, in A). The iterative solvers
+ * iterate on A plus them; the direct solver factorises A (their diagonal blocks included) and,
+ * when a term is active, runs PCG preconditioned by that factor on the whole system. */
+struct wc_coupling;
+void wc_solver_set_coupling(wc_solver* s, const struct wc_coupling* c);
+
 /* Solve with solver `type` (its options from create, tolerance etc.). dv: (n x 3), on input the
  * initial guess (projected to z + S dv), on output the solution. Never leaves non-finite values
  * in dv: on divergence dv holds the last finite iterate or z. */

@@ -139,6 +139,18 @@ void wcs_direct_destroy(wc_solver* s) {
     s->direct = NULL;
 }
 
+int wcs_direct_apply(wc_solver* s, const double* r, double* t) {
+    wcs_direct* d = s->direct;
+    const size_t N = 3 * (size_t)s->n;
+    double* rhs = (double*)d->B->x;
+    for (size_t k = 0; k < N; ++k) rhs[k] = r[k];
+    if (!cholmod_solve2(CHOLMOD_A, d->L, d->B, NULL, &d->X, NULL, &d->Y, &d->E, &d->cc) || d->cc.status < CHOLMOD_OK)
+        return 0;
+    const double* y = (const double*)d->X->x;
+    for (size_t k = 0; k < N; ++k) t[k] = y[k];
+    return 1;
+}
+
 /* On entry (after wcs_begin) dv is the projected initial guess and s->r holds S (b - A z). */
 weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res) {
@@ -149,6 +161,13 @@ weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, con
     int ok = cholmod_factorize(d->K, d->L, &d->cc);
     if (!ok || d->cc.status != CHOLMOD_OK || d->L->minor < d->L->n) {
         st = (ok && d->cc.status >= CHOLMOD_OK) ? WEFT_ERROR_FACTORIZATION : translate(d->cc.status);
+    } else if (wc_coupling_active(s->coupling) > 0) {
+        /* couplings outside the pattern (coupling.h): PCG on the whole system, preconditioned
+           by this factor of its in-pattern part */
+        s->pcg_direct = 1;
+        st = wcs_solve_pcg(s, A, b, f, dv, par, res);
+        s->pcg_direct = 0;
+        return st;
     } else {
         double* rhs = (double*)d->B->x;
         for (size_t k = 0; k < N; ++k) rhs[k] = s->r[k];

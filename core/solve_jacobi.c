@@ -37,7 +37,7 @@ double wc_chebyshev_omega(int k, int delay, double rho, double omega) {
  * (p holds dv_{k-1} on entry; omega == 1 ignores it). Returns ||S (b - A x)||^2 when check, else 0. */
 static double sweep(wc_solver* s, const double* A, const double* b, const wc_filter* f, const double* x, double* p,
                     double gamma, double omega, int check, wc_par* par) {
-    wc_bsr_residual(&s->m->pattern, A, b, x, s->r, par);
+    wcs_residual(s, A, b, x, s->r, par);
     const double* r = s->r;
     const double* Dinv = s->Dinv;
     WC_PAR_REGION(par)

@@ -104,6 +104,26 @@ static void pcg_update_amg(wc_solver* s, double alpha, double* dv, double* delta
     *delta = wcs_sum(s, 0);
 }
 
+/* wcs_pcg_update with the direct solver's factor as the preconditioner (solve_direct.c, with
+ * couplings): t = P^{-1} r. */
+static void pcg_update_direct(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
+    const double *c = s->c, *q = s->q;
+    double *r = s->r, *t = s->t;
+    double acc_r = 0.0, acc_d = 0.0;
+    (void)par;
+    if (alpha != 0.0)
+        for (int k = 0; k < 3 * s->n; ++k) {
+            if (dv) dv[k] += alpha * c[k];
+            r[k] -= alpha * q[k];
+        }
+    for (int k = 0; k < 3 * s->n; ++k) acc_r += r[k] * r[k];
+    if (!wcs_direct_apply(s, r, t))
+        for (int k = 0; k < 3 * s->n; ++k) t[k] = r[k];
+    for (int k = 0; k < 3 * s->n; ++k) acc_d += r[k] * t[k];
+    *rr = acc_r;
+    *delta = acc_d;
+}
+
 void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par) {
     double *c = s->c;
     const double* t = s->t;
@@ -127,18 +147,23 @@ void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* pa
 weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                           wc_par* par, wc_solve_result* res) {
     const wc_solver_opts* o = &s->opts;
-    const wc_bsr_pattern* p = &s->m->pattern;
     const double res0 = res->residual0, goal = o->tolerance * res->scale;
     weft_status st = WEFT_OK;
     int it = 0, converged = 0;
     double delta, rr, rr_final = -1.0;
 
     const int amg = s->amg && o->preconditioner == WC_PRECOND_AMG;
-    void (*update)(wc_solver*, double, double*, double*, double*, wc_par*) = amg ? pcg_update_amg : wcs_pcg_update;
+    void (*update)(wc_solver*, double, double*, double*, double*, wc_par*) =
+        s->pcg_direct ? pcg_update_direct : amg ? pcg_update_amg : wcs_pcg_update;
     double t_setup = wc_now_ms();
-    if (amg) wc_amg_setup(s->amg, A, f, par);
-    else wcs_build_precond(s, A, f, par);
-    res->setup_ms = wc_now_ms() - t_setup;
+    if (s->pcg_direct) {
+        /* factorised by the caller (solve_direct.c) */
+    } else if (amg) {
+        wc_amg_setup(s->amg, A, f, par);
+    } else {
+        wcs_build_precond(s, A, f, par);
+    }
+    res->setup_ms += wc_now_ms() - t_setup;
     rr = wcs_filtered_residual(s, A, b, f, dv, s->r, par);
     const double limit = o->divergence_factor * fmax(res0, sqrt(rr));
     update(s, 0.0, dv, &delta, &rr, par);
@@ -164,7 +189,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
             continue;
         }
         if (it >= o->max_iterations) break;
-        wc_bsr_mul(p, A, s->c, s->q, par);
+        wcs_mul(s, A, s->c, s->q, par);
         double cq = wcs_pcg_filter_dot(s, f, s->c, s->q, par);
         double alpha = delta / cq;
         if (!(cq > 0.0) || !isfinite(alpha)) {

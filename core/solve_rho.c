@@ -107,7 +107,7 @@ double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_pa
     const double delta0 = delta;
     int k = 0;
     while (k < K) {
-        wc_bsr_mul(&s->m->pattern, A, s->c, s->q, par);
+        wcs_mul(s, A, s->c, s->q, par);
         double cq = wcs_pcg_filter_dot(s, f, s->c, s->q, par);
         if (!(cq > 0.0) || !isfinite(cq)) return WCS_RHO_MAX;   /* P not positive definite */
         double delta_old = delta;

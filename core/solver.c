@@ -120,6 +120,10 @@ void wc_solver_set_residual_floor(wc_solver* s, double floor) {
     if (s && floor >= 0.0 && isfinite(floor)) s->residual_floor = floor;
 }
 
+void wc_solver_set_coupling(wc_solver* s, const wc_coupling* c) {
+    if (s) s->coupling = c;
+}
+
 void wc_solver_destroy(wc_solver* s) {
     if (!s) return;
     wcs_direct_destroy(s);
@@ -221,9 +225,19 @@ void wcs_build_precond(wc_solver* s, const double* A, const wc_filter* f, wc_par
     }
 }
 
+void wcs_mul(wc_solver* s, const double* A, const double* x, double* y, wc_par* par) {
+    wc_bsr_mul(&s->m->pattern, A, x, y, par);
+    wc_coupling_mul_offdiag_add(s->coupling, 1.0, x, y);
+}
+
+void wcs_residual(wc_solver* s, const double* A, const double* b, const double* x, double* y, wc_par* par) {
+    wc_bsr_residual(&s->m->pattern, A, b, x, y, par);
+    wc_coupling_mul_offdiag_add(s->coupling, -1.0, x, y);
+}
+
 double wcs_filtered_residual(wc_solver* s, const double* A, const double* b, const wc_filter* f, const double* x,
                              double* out, wc_par* par) {
-    wc_bsr_residual(&s->m->pattern, A, b, x, out, par);
+    wcs_residual(s, A, b, x, out, par);
     WC_PAR_REGION(par)
     {
         int c0, c1;

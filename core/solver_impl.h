@@ -12,6 +12,7 @@
 #ifndef WEFT_CORE_SOLVER_IMPL_H
 #define WEFT_CORE_SOLVER_IMPL_H
 #include "amg.h"
+#include "coupling.h"
 #include "solve.h"
 
 #define WCS_CHUNK 256           /* particles per reduction chunk */
@@ -36,6 +37,9 @@ struct wc_solver {
     wcs_direct* direct;         /* NULL unless the direct solver was analysed at create */
     wc_amg* amg;                /* NULL unless opts.preconditioner is AMG */
     double residual_floor;      /* wc_solver_set_residual_floor (0: none) */
+    const wc_coupling* coupling; /* wc_solver_set_coupling (NULL: none) */
+    int pcg_direct;             /* 1 inside a direct solve with couplings: PCG preconditioned by
+                                   the factor (solve_direct.c) */
 };
 
 /* Rows [lo, hi) of chunk c. */
@@ -50,6 +54,10 @@ double wcs_sum(const wc_solver* s, int slot);
 void wcs_project_block(const wc_filter* f, int i, int j, const double* Aij, double* out);
 /* s->Dinv = D~^{-1} per particle (identity where D~_i is singular or not finite). */
 void wcs_build_precond(wc_solver* s, const double* A, const wc_filter* f, wc_par* par);
+/* y = A x and y = b - A x with the couplings' off-diagonal blocks (coupling.h) added: the
+ * operator every solver iterates on. */
+void wcs_mul(wc_solver* s, const double* A, const double* x, double* y, wc_par* par);
+void wcs_residual(wc_solver* s, const double* A, const double* b, const double* x, double* y, wc_par* par);
 /* out = S (b - A x); returns ||out||^2. out must not alias x. */
 double wcs_filtered_residual(wc_solver* s, const double* A, const double* b, const wc_filter* f, const double* x,
                              double* out, wc_par* par);
@@ -86,6 +94,9 @@ double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_pa
 
 weft_status wcs_direct_create(wc_solver* s, wc_diag* diag);
 void wcs_direct_destroy(wc_solver* s);
+/* t = P^{-1} r through the current factor (PCG's preconditioner in a direct solve with
+ * couplings); returns 0 when CHOLMOD's solve failed. */
+int wcs_direct_apply(wc_solver* s, const double* r, double* t);
 weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res);
 
