@@ -7,6 +7,7 @@
 #include "clock.h"
 #include "forces.h"
 #include "mesh_pairs.h"
+#include "self_pairs.h"
 #include "vec3.h"
 
 #define NW_CHUNK 256          /* particles or springs per reduction chunk */
@@ -153,6 +154,7 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
     phi += chunk_total(part, sc);
     /* the mesh colliders' feature pairs (mesh_pairs.h): k/2 min(g(x(w)), 0)^2, serial */
     if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0) phi += wc_mesh_pairs_energy(s->pairs, x);
+    if (s->self_pairs && s->self_pairs->n > 0) phi += wc_self_pairs_energy(s->self_pairs, x);
     return phi;
 }
 
@@ -231,6 +233,7 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
     }
     /* the feature pairs touching at x(w): their force and stiffness (serial: rows shared) */
     if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0) wc_mesh_pairs_newton(s->pairs, s->nw_x, he, A, g);
+    if (s->self_pairs && s->self_pairs->n > 0) wc_self_pairs_newton(s->self_pairs, m, s->nw_x, he, A, g);
     st->ms.assemble += wc_now_ms() - t1;
 }
 
@@ -293,7 +296,7 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
         double phi0 = wc_newton_potential(s, ig, w);
         if (!isfinite(phi0)) return wc_fail(diag, WEFT_ERROR_NONFINITE, "newton: non-finite potential at the first iterate");
         trace(s, 0, phi0, w);
-        wc_bsr_mul(&m->pattern, s->A, w, s->nw_g, &s->par);
+        wc_state_mul_system(s, w, s->nw_g);
         for (int k = 0; k < n3; ++k) s->nw_g[k] -= s->b[k];
         double slope = dot3(s, s->nw_g, d);
         double phi1 = 0.0;
@@ -375,13 +378,13 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
     memcpy(s->dv, w, (size_t)n3 * sizeof(double));
     if (want_r) {
         if (rmode == R_FIRST) {
-            wc_bsr_mul(&m->pattern, s->A, w, s->r, &s->par);
+            wc_state_mul_system(s, w, s->r);
             for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
         } else if (rmode == R_GRADIENT) {
             for (int k = 0; k < n3; ++k) s->r[k] = -s->nw_g[k];
         } else {
             for (int k = 0; k < n3; ++k) s->nw_x[k] = alpha * d[k];
-            wc_bsr_mul(&m->pattern, s->A, s->nw_x, s->r, &s->par);
+            wc_state_mul_system(s, s->nw_x, s->r);
             for (int k = 0; k < n3; ++k) s->r[k] -= s->nw_g[k];
         }
     }

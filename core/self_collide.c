@@ -77,6 +77,8 @@ static int linked(const int* start, const int* nbr, int a, int b) {
     return 0;
 }
 
+int wc_self_linked(const wc_self* sc, int a, int b) { return linked(sc->seam_start, sc->seam_nbr, a, b); }
+
 static int edge_tri_cross(const wc_model* m, const int* ls, const int* ln, const double* x, int a, int b, int t);
 
 typedef struct tangle_ctx {
@@ -129,6 +131,12 @@ static void boxes(const wc_model* m, const int* edges, int n_edges, const double
     for (int t = 0; t < m->n_tris; ++t) box_of(tri_box + 6 * t, m->tris + 3 * t, 3, x_start, x, r);
     if (!edge_box) return;
     for (int e = 0; e < n_edges; ++e) box_of(edge_box + 6 * e, edges + 2 * e, 2, x_start, x, r);
+}
+
+void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
+    boxes(m, sc->edges, sc->n_edges, x0, x1, r, sc->tri_box, sc->edge_box);
+    wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
+    wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
 }
 
 void wc_self_destroy(wc_self* sc) {
@@ -486,12 +494,20 @@ static int visit_tri(void* user, int t) {
     return vertex_tri(c, c->query, t);
 }
 
-/* Edge e against the edges f > e whose tree boxes overlap box: wc_bvh_query's traversal (same
- * visiting order) that skips the subtrees whose edges are all <= e (edge_max): each pair once,
- * without walking to the half that the other edge's query owns. */
+static int visit_edge_above(void* user, int f) {
+    pass_ctx* c = (pass_ctx*)user;
+    return edge_edge(c, c->query, f);
+}
+
+/* Edge e against the edges f > e whose tree boxes overlap box (self_collide.h). */
 static int query_edges_above(pass_ctx* c, int e, const double* box) {
-    const wc_bvh* b = &c->sc->edge_bvh;
-    const int* mx = c->sc->edge_max;
+    c->query = e;
+    return wc_self_edges_above(c->sc, e, box, visit_edge_above, c);
+}
+
+int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user) {
+    const wc_bvh* b = &sc->edge_bvh;
+    const int* mx = sc->edge_max;
     if (b->n_nodes == 0) return 0;
     int stack[WC_BVH_MAX_DEPTH + 2];
     int top = 0;
@@ -501,7 +517,7 @@ static int query_edges_above(pass_ctx* c, int e, const double* box) {
         if (mx[node] <= e || !wc_box_overlap(b->box + 6 * node, box)) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
-            int r = edge_edge(c, e, ch[1]);
+            int r = visit(user, ch[1]);
             if (r) return r;
         } else {
             stack[top++] = ch[1];

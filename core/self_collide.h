@@ -47,6 +47,9 @@
  * scan then covered every pair at the final positions) or in the zones, whose detection
  * passes visit exactly the pairs the serial loop did (a pair skipped at a pass's start as
  * inside one zone stays so: zones only grow within a pass).
+ * The close pairs are also penalty terms of the substep's implicit solve (self_pairs.h, on by
+ * default with self-collision: sim def self_in_solve), so both sides of a contact move together in
+ * the solve and this stage has little left to correct; it stays the guarantee.
  * A cloth that starts a substep free of crossings ends it free of them, unless the zone loop
  * runs out of iterations (stats.unresolved counts the pairs still colliding then; with pins
  * that move against each other inside one zone this can happen).
@@ -120,6 +123,15 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
  * mass inv_m 0 = pinned). */
 void wc_self_rigidify(int n, const double* x_start, double* x, const double* mass, const double* inv_m, int* parent,
                       const unsigned char* in, double* acc);
+
+/* For the in-solve self-contact pairs (self_pairs.h), on this list's trees and seams:
+ *   linked: 1 when particles a and b are one particle or sewn together;
+ *   refit: both trees over the boxes of x0 U x1 (n x 3 each; x0 may be NULL) inflated by r;
+ *   edges_above: visit(user, f) for every edge f > e whose tree box overlaps box (each edge pair
+ *   once from its lower edge; stops when visit returns non-zero and returns that). */
+int wc_self_linked(const wc_self* sc, int a, int b);
+void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
+int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user);
 
 /* Edge-triangle pairs that cross (an edge passes through a triangle's interior; pairs sharing a
  * particle or sewn (as above) excluded; every unique edge against every triangle) at positions x

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 #include "self_collide.h"
+#include "self_pairs.h"
 #include "vec3.h"
 
 wc_sim_def wc_default_sim_def(void) {
@@ -34,6 +35,7 @@ wc_sim_def wc_default_sim_def(void) {
     d.sleep_time = 0.5;
     d.self_collision = 0;
     d.self_thickness = 0.003;
+    d.self_in_solve = 1;
     return d;
 }
 
@@ -83,8 +85,14 @@ static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
     if (d->self_collision != 0 && d->self_collision != 1) BAD("sim def: self_collision must be 0 or 1");
     if (!(d->self_thickness > 0 && d->self_thickness < INFINITY))
         BAD("sim def: self_thickness %g m must be finite and > 0", d->self_thickness);
+    if (d->self_in_solve != 0 && d->self_in_solve != 1) BAD("sim def: self_in_solve must be 0 or 1");
 #undef BAD
     return WEFT_OK;
+}
+
+void wc_state_mul_system(wc_state* s, const double* x, double* y) {
+    wc_bsr_mul(&s->model->pattern, s->A, x, y, &s->par);
+    if (s->self_pairs) wc_coupling_mul_offdiag_add(&s->self_pairs->coupling, 1.0, x, y);
 }
 
 void wc_state_destroy(wc_state* s) {
@@ -113,6 +121,7 @@ void wc_state_destroy(wc_state* s) {
     wc_mesh_pairs_destroy(s->pairs, &a);
     wc_solver_destroy(s->solver);
     wc_self_destroy(s->self);
+    wc_self_pairs_destroy(s->self_pairs, &a);
     wc_free(&a, s);
 }
 
@@ -190,6 +199,12 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     st = wc_solver_create(&s->solver, m, &s->def.solver, s->def.direct_fallback, &A, diag);
     if (st == WEFT_OK) wc_solver_set_positions(s->solver, s->x); /* the multigrid's rotations (amg.h) */
     if (st == WEFT_OK && s->def.self_collision) st = wc_self_create(&s->self, m, s->def.self_thickness, &A, diag);
+    if (st == WEFT_OK && s->def.self_collision && s->def.self_in_solve) {
+        /* room for one pair per particle and per edge (self_pairs.h; more are counted) */
+        s->self_pairs = wc_self_pairs_create(n + s->self->n_edges + 64, n, &A);
+        if (!s->self_pairs) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: self-contact pairs");
+        else wc_solver_set_coupling(s->solver, &s->self_pairs->coupling);
+    }
     if (st != WEFT_OK) {
         wc_state_destroy(s);
         return st;

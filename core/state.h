@@ -70,6 +70,9 @@ typedef struct wc_sim_def {
     /* self-collision (self_collide.h) */
     int self_collision;         /* 1: on; 0: off (the core's default; the plugin resolves its own) */
     double self_thickness;      /* m, finite and > 0 (0.003) */
+    int self_in_solve;          /* 1 (default): with self-collision on, its close pairs are also
+                                   penalty terms of the implicit solve (self_pairs.h); 0: only the
+                                   stage after the solve */
 } wc_sim_def;
 
 wc_sim_def wc_default_sim_def(void);
@@ -169,7 +172,14 @@ typedef struct wc_state {
        wc_state_attach_mesh_colliders (NULL without mesh colliders); derived: re-found every
        substep, not saved by snapshots */
     struct wc_mesh_pairs* pairs;
+    /* the self-contact pairs of the current substep (self_pairs.h), NULL unless self-collision
+       and def.self_in_solve; derived like the feature pairs */
+    struct wc_self_pairs* self_pairs;
 } wc_state;
+
+/* y = A x for the substep's system s->A with the self-contact pairs' off-pattern couplings
+ * (self_pairs.h, coupling.h): the operator the solvers iterate on. */
+void wc_state_mul_system(wc_state* s, const double* x, double* y);
 
 /* Positions start at the model's rest positions, velocities at zero. */
 weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,

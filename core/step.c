@@ -9,6 +9,7 @@
 #include "mesh_pairs.h"
 #include "newton.h"
 #include "self_collide.h"
+#include "self_pairs.h"
 #include "strain_limit.h"
 #include "vec3.h"
 
@@ -223,6 +224,12 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
         st->mesh_pair_overflow += s->pairs->overflow;
         st->mesh_pair_skipped += s->pairs->skipped;
     }
+    /* the self-contact pairs at the substep's start (self_pairs.h) */
+    if (s->self_pairs) {
+        wc_self_pairs_find(s->self_pairs, s->self, m, &s->filter, s->x, s->v, h, ig->he);
+        st->self_pairs += s->self_pairs->n;
+        st->self_pair_overflow += s->self_pairs->overflow;
+    }
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
     t0 = t1;
@@ -240,6 +247,9 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0)
         st->mesh_pairs_active +=
             wc_mesh_pairs_assemble(s->pairs, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
+    if (s->self_pairs && s->self_pairs->n > 0)
+        st->self_pairs_active +=
+            wc_self_pairs_assemble(s->self_pairs, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
     if (wc_newton_wanted(&s->def)) wc_newton_capture(s);
     t1 = wc_now_ms();
     st->ms.assemble += t1 - t0;
@@ -295,6 +305,9 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     h = ig.h;   /* TR-BDF2: the stage's length */
     double collide_gain = 0.0; /* J */
     int stuck = prepare(s, &ig, alpha1, compression, judge_energy ? &collide_gain : NULL, st);
+    if (s->self_pairs && s->self_pairs->overflow > 0)
+        wc_log(diag, WC_LOG_WARN, "substep (h = %g s): %d self-contact pairs past the list's capacity %d were left out of the solve",
+               h, s->self_pairs->overflow, s->self_pairs->cap);
     if (s->pairs && (s->pairs->overflow > 0 || s->pairs->skipped > 0))
         wc_log(diag, WC_LOG_WARN,
                "substep (h = %g s): %d mesh feature pairs past the list's capacity %d and %d without pattern "
@@ -314,7 +327,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
        instead, and the system is solved again from this dv (the stuck set only shrinks) */
     for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && stuck > 0; ++pass) {
-        wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
+        wc_state_mul_system(s, s->dv, s->r);
         for (int k = 0; k < 3 * n; ++k) s->r[k] -= s->b[k];
         int changed = wc_contacts_friction_recheck(&s->contacts, s->all, s->n_all, s->v, m->mass, s->r,
                                                    &s->filter, s->A, m->pattern.diag, s->b, &s->par);
@@ -336,6 +349,14 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
             status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
             wc_step_stats_add_solve(st, solver, &res);
         }
+    if (s->self_pairs && s->self_pairs->n > 0 && !wc_newton_wanted(&s->def))
+        for (int pass = 0; pass < WC_SELF_PAIR_PASSES && status == WEFT_OK; ++pass) {
+            int changed = wc_self_pairs_recheck(s->self_pairs, m, s->x, ig.vstar, s->dv, ig.he, s->A, s->b);
+            if (changed == 0) break;
+            ++st->self_pair_passes;
+            status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
+            wc_step_stats_add_solve(st, solver, &res);
+        }
     t1 = wc_now_ms();
     st->ms.solve += t1 - t0;
     t0 = t1;
@@ -354,7 +375,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     t0 = wc_now_ms();
     if (in_contact) {
         if (!newton) {
-            wc_bsr_mul(&m->pattern, s->A, s->dv, s->r, &s->par);
+            wc_state_mul_system(s, s->dv, s->r);
             for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
         }
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];

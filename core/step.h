@@ -58,6 +58,11 @@ typedef struct wc_step_stats {
     int mesh_pair_passes;       /* extra solves because the pairs' active set changed */
     int mesh_pair_overflow;     /* pairs past the list's capacity (dropped; logged as a warning) */
     int mesh_pair_skipped;      /* pairs whose particles lack a pattern block (dropped) */
+    /* the self-contacts in the solve (self_pairs.h), summed over substeps */
+    int self_pairs;             /* pairs found (vertex-triangle and edge-edge) */
+    int self_pairs_active;      /* pairs active in the first system */
+    int self_pair_passes;       /* extra solves because their active set changed (no Newton) */
+    int self_pair_overflow;     /* pairs past the list's capacity (dropped; logged as a warning) */
 } wc_step_stats;
 
 /* For tests and benchmarks: build the constrained system of a substep of length h ending at

@@ -186,7 +186,8 @@ static void test_fold(void) {
            off_worst);
     CHECK_EQ_INT(on_frames, 0);
     CHECK_EQ_INT(on.self_unresolved, 0);
-    CHECK(on.self_impacts > 0);
+    /* no CHECK on on.self_impacts: the self-contact pairs in the solve (core/self_pairs.h) now
+       stop the fold before the stage after the solve has a collision to correct (0 here) */
     CHECK(on.ms_self_collide > 0);
     CHECK(off_frames > 0);
     CHECK_EQ_INT(off.self_impacts, 0);

@@ -11,6 +11,7 @@
 #include "self_collide.h"
 #include "step.h"
 #include "test_support.h"
+#include "two_layers.h"
 #include "union_find.h"
 #include "vec3.h"
 
@@ -40,38 +41,6 @@ static int folded_strip(wc_model* m, int nu, int nz) {
     if (st != WEFT_OK) fprintf(stderr, "folded_strip: %s\n", d.message);
     wc_source_mesh_free(&src);
     return st == WEFT_OK;
-}
-
-/* Two sheets of n x n vertices and size s (one model, two components), horizontal at heights y0 and y1. */
-static int two_layers(wc_model* m, int n, double s, double y0, double y1) {
-    wc_source_mesh a;
-    ts_quad_grid(&a, n, n, s, s, 0);
-    int nv = a.n_verts, np = a.n_polys, ni = a.poly_start[np];
-    double* pos = malloc(6 * (size_t)nv * sizeof(double));
-    int* sizes = malloc(2 * (size_t)np * sizeof(int));
-    int* idx = malloc(2 * (size_t)ni * sizeof(int));
-    for (int L = 0; L < 2; ++L) {
-        for (int v = 0; v < nv; ++v) {
-            double* p = pos + 3 * (L * nv + v);
-            v3_set(p, a.pos[3 * v] - 0.5 * s, L ? y1 : y0, a.pos[3 * v + 1] - 0.5 * s);
-        }
-        for (int k = 0; k < np; ++k) sizes[L * np + k] = a.poly_start[k + 1] - a.poly_start[k];
-        for (int k = 0; k < ni; ++k) idx[L * ni + k] = a.poly_verts[k] + L * nv;
-    }
-    wc_source_mesh src;
-    wc_diag d = {0};
-    int ok = wc_source_mesh_from_arrays(&src, NULL, pos, 2 * nv, sizes, 2 * np, idx, 1.0, &d) == WEFT_OK;
-    if (ok) {
-        wc_model_def def = wc_default_model_def();
-        ok = wc_model_build(m, &src, &def, NULL, &d) == WEFT_OK;
-        wc_source_mesh_free(&src);
-    }
-    if (!ok) fprintf(stderr, "two_layers: %s\n", d.message);
-    wc_source_mesh_free(&a);
-    free(pos);
-    free(sizes);
-    free(idx);
-    return ok;
 }
 
 static int crossings(const wc_model* m, const double* x) {
@@ -285,10 +254,12 @@ static run_result simulate(const wc_model* m, wc_sim_def def, const wc_pin* pins
     return r;
 }
 
+/* self: 0 off, 1 on (the stage and the pairs in the solve, the default), 2 the stage alone */
 static wc_sim_def sim_def(int self) {
     wc_sim_def def = wc_default_sim_def();
     def.substeps = 2;
-    def.self_collision = self;
+    def.self_collision = self != 0;
+    def.self_in_solve = self == 1;
     def.sleep_speed = 0;
     return def;
 }
@@ -308,14 +279,20 @@ static void test_fold(void) {
         }
     CHECK(np > 0);
     run_result on = simulate(&m, sim_def(1), pins, np, NULL, 0, NULL, 60, 1);
+    run_result stage = simulate(&m, sim_def(2), pins, np, NULL, 0, NULL, 60, 1);
     run_result off = simulate(&m, sim_def(0), pins, np, NULL, 0, NULL, 60, 1);
     printf("fold (%d particles): on: max crossings %d, frames crossing %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame (stage %.2f); "
+           "stage alone: max crossings %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame; "
            "off: max crossings %d in %d frames, %.2f ms/frame\n",
            m.n_particles, on.max_crossings, on.frames_crossing, on.impacts, on.zones, on.rollbacks, on.ms_per_frame, on.ms_self,
+           stage.max_crossings, stage.impacts, stage.zones, stage.rollbacks, stage.ms_per_frame,
            off.max_crossings, off.frames_crossing, off.ms_per_frame);
-    CHECK_EQ_INT(on.failed, 0);
-    CHECK_EQ_INT(on.frames_crossing, 0);
-    CHECK_EQ_INT(on.unresolved, 0);
+    for (int k = 0; k < 2; ++k) {
+        const run_result* r = k ? &stage : &on;
+        CHECK_EQ_INT(r->failed, 0);
+        CHECK_EQ_INT(r->frames_crossing, 0);
+        CHECK_EQ_INT(r->unresolved, 0);
+    }
     CHECK(off.frames_crossing > 0); /* the scene does cross without self-collision */
     free(pins);
     wc_model_free(&m);
@@ -328,19 +305,25 @@ static void test_heap(void) {
     heap_strip(&m, &floor);
     double* x = NULL;
     run_result on = simulate(&m, sim_def(1), NULL, 0, &floor, 1, x, 75, 1);
+    run_result stage = simulate(&m, sim_def(2), NULL, 0, &floor, 1, x, 75, 1);
     run_result off = simulate(&m, sim_def(0), NULL, 0, &floor, 1, x, 75, 1);
     printf("heap (%d particles): on: max crossings %d, frames crossing %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame (stage %.2f); "
+           "stage alone: max crossings %d, impacts %d, zones %d, rollbacks %d, %.2f ms/frame; "
            "off: max crossings %d in %d frames, %.2f ms/frame\n",
            m.n_particles, on.max_crossings, on.frames_crossing, on.impacts, on.zones, on.rollbacks, on.ms_per_frame, on.ms_self,
+           stage.max_crossings, stage.impacts, stage.zones, stage.rollbacks, stage.ms_per_frame,
            off.max_crossings, off.frames_crossing, off.ms_per_frame);
-    CHECK_EQ_INT(on.failed, 0);
-    CHECK_EQ_INT(on.frames_crossing, 0);
-    CHECK_EQ_INT(on.unresolved, 0);
+    for (int k = 0; k < 2; ++k) {
+        const run_result* r = k ? &stage : &on;
+        CHECK_EQ_INT(r->failed, 0);
+        CHECK_EQ_INT(r->frames_crossing, 0);
+        CHECK_EQ_INT(r->unresolved, 0);
+    }
     CHECK(off.frames_crossing > 0);
     wc_model_free(&m);
 }
 
-/* The fold and the heap without CCD impulses (proximity impulses only): every collision goes to
+/* The fold and the heap with the stage alone (no pairs in the solve) and without CCD impulses (proximity impulses only): every collision goes to
  * the impact zones, which must then keep every frame free of crossings on their own. */
 static void test_zones_alone(void) {
     impulse_passes = 0;
@@ -354,7 +337,7 @@ static void test_zones_alone(void) {
             v3_copy(pins[np].target, m.rest_pos + 3 * i);
             ++np;
         }
-    run_result r = simulate(&m, sim_def(1), pins, np, NULL, 0, NULL, 60, 1);
+    run_result r = simulate(&m, sim_def(2), pins, np, NULL, 0, NULL, 60, 1);
     printf("fold, zones alone: max crossings %d, frames crossing %d, zones %d, unresolved %d, %.2f ms/frame (stage "
            "%.2f)\n", r.max_crossings, r.frames_crossing, r.zones, r.unresolved, r.ms_per_frame, r.ms_self);
     CHECK_EQ_INT(r.failed, 0);
@@ -365,7 +348,7 @@ static void test_zones_alone(void) {
     wc_model_free(&m);
     wc_collider floor;
     heap_strip(&m, &floor);
-    r = simulate(&m, sim_def(1), NULL, 0, &floor, 1, NULL, 75, 1);
+    r = simulate(&m, sim_def(2), NULL, 0, &floor, 1, NULL, 75, 1);
     printf("heap, zones alone: max crossings %d, frames crossing %d, zones %d, unresolved %d, %.2f ms/frame (stage "
            "%.2f)\n", r.max_crossings, r.frames_crossing, r.zones, r.unresolved, r.ms_per_frame, r.ms_self);
     CHECK_EQ_INT(r.failed, 0);
@@ -449,11 +432,17 @@ static void test_bad_inputs(void) {
         CHECK(s == NULL);
         CHECK(strstr(d.message, "self_thickness") != NULL);
     }
-    wc_sim_def def = sim_def(2);
+    wc_sim_def def = sim_def(1);
+    def.self_collision = 2;
     wc_state* s = NULL;
     wc_diag d = {0};
     CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(d.message, "self_collision") != NULL);
+    def = sim_def(1);
+    def.self_in_solve = -1;
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(s == NULL);
+    CHECK(strstr(d.message, "self_in_solve") != NULL);
     wc_self* sc = NULL;
     CHECK(wc_self_create(&sc, &m, NAN, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT && sc == NULL);
     int c = 7;

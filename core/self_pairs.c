@@ -1,0 +1,284 @@
+/* Self-contacts as penalty terms of the implicit solve (rules and formulas in self_pairs.h). */
+#include "self_pairs.h"
+#include <math.h>
+#include <string.h>
+#include "filter.h"
+#include "geom.h"
+#include "model.h"
+#include "self_collide.h"
+#include "vec3.h"
+
+#define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
+
+wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, const wc_allocator* a) {
+    if (cap < 1) cap = 1;
+    if (n_particles < 0) n_particles = 0;
+    wc_self_pairs* sp = WC_NEW(a, wc_self_pairs, 1);
+    if (!sp) return NULL;
+    memset(sp, 0, sizeof *sp);
+    sp->term = WC_NEW(a, wc_coupling_term, (size_t)cap);
+    sp->th = WC_NEW(a, double, (size_t)cap);
+    sp->k = WC_NEW(a, double, (size_t)cap);
+    sp->x_pred = WC_NEW(a, double, 3 * (size_t)n_particles + 1);
+    if (!sp->term || !sp->th || !sp->k || !sp->x_pred) {
+        wc_self_pairs_destroy(sp, a);
+        return NULL;
+    }
+    sp->cap = cap;
+    sp->n_particles = n_particles;
+    sp->coupling.t = sp->term;
+    return sp;
+}
+
+void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a) {
+    if (!sp) return;
+    wc_free(a, sp->x_pred);
+    wc_free(a, sp->k);
+    wc_free(a, sp->th);
+    wc_free(a, sp->term);
+    wc_free(a, sp);
+}
+
+typedef struct find_ctx {
+    wc_self_pairs* sp;
+    const wc_self* sc;
+    const wc_model* m;
+    const wc_filter* f;
+    const double *x, *v;
+    double h, he;
+    int query;
+} find_ctx;
+
+static int pinned(const find_ctx* c, int i) { return c->f && c->f->ndof[i] == 3; }
+
+/* Keep the pair ids (w, at distance d along n at the start; th its rest gap) when it is close
+ * enough for its approach speed and has an unpinned particle. */
+static void keep(find_ctx* c, const int* ids, const double* w, const double* n, double d, double th) {
+    double vrel = 0.0, inv = 0.0;
+    for (int a = 0; a < 4; ++a) {
+        vrel += w[a] * v3_dot(n, c->v + 3 * ids[a]);
+        if (!pinned(c, ids[a])) inv += w[a] * w[a] * c->m->inv_mass[ids[a]];
+    }
+    double approach = vrel < 0.0 ? -vrel : 0.0;
+    if (!(d < th + c->sc->thickness + 1.5 * c->h * approach) || !(inv > 0.0)) return;
+    wc_self_pairs* sp = c->sp;
+    if (sp->n >= sp->cap) {
+        ++sp->overflow;
+        return;
+    }
+    wc_coupling_term* t = &sp->term[sp->n];
+    t->cnt = 4;
+    for (int a = 0; a < 4; ++a) {
+        t->p[a] = ids[a];
+        t->w[a] = w[a];
+    }
+    v3_copy(t->n, n);
+    t->c = 0.0;
+    sp->th[sp->n] = th;
+    sp->k[sp->n] = WC_SELF_PAIR_KAPPA / (inv * c->he * c->he);
+    ++sp->n;
+}
+
+static int tangled_all(const wc_self* sc, const int* ids) {
+    return sc->tangled[ids[0]] && sc->tangled[ids[1]] && sc->tangled[ids[2]] && sc->tangled[ids[3]];
+}
+
+static int visit_tri(void* user, int t) {
+    find_ctx* c = (find_ctx*)user;
+    const wc_model* m = c->m;
+    const int* tv = m->tris + 3 * t;
+    int i = c->query;
+    for (int k = 0; k < 3; ++k)
+        if (wc_self_linked(c->sc, i, tv[k])) return 0;
+    int ids[4] = {i, tv[0], tv[1], tv[2]};
+    if (tangled_all(c->sc, ids)) return 0;
+    const double* x = c->x;
+    double bw[3], q[3];
+    double d2 = wc_closest_on_triangle(x + 3 * i, x + 3 * tv[0], x + 3 * tv[1], x + 3 * tv[2], bw, q);
+    if (!(bw[0] > INTERIOR && bw[1] > INTERIOR && bw[2] > INTERIOR)) return 0;
+    double d = sqrt(d2), th = c->sc->thickness;
+    if (!(d > 1e-9 * th)) return 0;   /* no direction: the stage's */
+    if (d > 2.0 * th + 1.5 * c->h * (v3_norm(c->v + 3 * i) + v3_norm(c->v + 3 * tv[0]) + v3_norm(c->v + 3 * tv[1]) +
+                                     v3_norm(c->v + 3 * tv[2])))
+        return 0;   /* cheap reject before the rest distance */
+    const double* r = m->rest_pos;
+    double dr = sqrt(wc_closest_on_triangle(r + 3 * i, r + 3 * tv[0], r + 3 * tv[1], r + 3 * tv[2], NULL, NULL));
+    if (dr < th) th = dr;
+    double n[3], w[4] = {1.0, -bw[0], -bw[1], -bw[2]};
+    v3_sub(n, x + 3 * i, q);
+    v3_scale(n, n, 1.0 / d);
+    keep(c, ids, w, n, d, th);
+    return 0;
+}
+
+static int visit_edge(void* user, int f) {
+    find_ctx* c = (find_ctx*)user;
+    const int* E = c->sc->edges;
+    int e = c->query;
+    int a0 = E[2 * e], a1 = E[2 * e + 1], b0 = E[2 * f], b1 = E[2 * f + 1];
+    if (wc_self_linked(c->sc, a0, b0) || wc_self_linked(c->sc, a0, b1) || wc_self_linked(c->sc, a1, b0) ||
+        wc_self_linked(c->sc, a1, b1))
+        return 0;
+    int ids[4] = {a0, a1, b0, b1};
+    if (tangled_all(c->sc, ids)) return 0;
+    const double* x = c->x;
+    double s, t;
+    double d2 = wc_closest_on_segments(x + 3 * a0, x + 3 * a1, x + 3 * b0, x + 3 * b1, &s, &t);
+    if (!(s > INTERIOR && s < 1.0 - INTERIOR && t > INTERIOR && t < 1.0 - INTERIOR)) return 0;
+    double d = sqrt(d2), th = c->sc->thickness;
+    if (!(d > 1e-9 * th)) return 0;
+    double vmax = v3_norm(c->v + 3 * a0) + v3_norm(c->v + 3 * a1) + v3_norm(c->v + 3 * b0) + v3_norm(c->v + 3 * b1);
+    if (d > 2.0 * th + 1.5 * c->h * vmax) return 0;
+    const double* r = c->m->rest_pos;
+    double ss, tt;
+    double dr = sqrt(wc_closest_on_segments(r + 3 * a0, r + 3 * a1, r + 3 * b0, r + 3 * b1, &ss, &tt));
+    if (dr < th) th = dr;
+    double n[3], w[4] = {1.0 - s, s, -(1.0 - t), -t};
+    for (int k = 0; k < 3; ++k)
+        n[k] = ((1 - s) * x[3 * a0 + k] + s * x[3 * a1 + k] - (1 - t) * x[3 * b0 + k] - t * x[3 * b1 + k]) / d;
+    keep(c, ids, w, n, d, th);
+    return 0;
+}
+
+static void swept_box(double* b, const int* v, int nv, const double* x0, const double* x1, double r) {
+    wc_box_empty(b);
+    for (int k = 0; k < nv; ++k) {
+        wc_box_add(b, x0 + 3 * v[k]);
+        wc_box_add(b, x1 + 3 * v[k]);
+    }
+    wc_box_inflate(b, r);
+}
+
+int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const wc_filter* f, const double* x,
+                       const double* v, double h, double he) {
+    sp->n = 0;
+    sp->overflow = 0;
+    sp->coupling.n = 0;
+    if (sc->n_tris == 0) return 0;
+    int n = m->n_particles;
+    for (int k = 0; k < 3 * n; ++k) sp->x_pred[k] = x[k] + h * v[k];
+    double r = sc->thickness;
+    wc_self_refit(sc, m, x, sp->x_pred, r);
+    find_ctx c = {sp, sc, m, f, x, v, h, he, 0};
+    double b[6];
+    for (int i = 0; i < n; ++i) {
+        swept_box(b, &i, 1, x, sp->x_pred, 0.0);
+        c.query = i;
+        wc_bvh_query(&sc->tri_bvh, b, visit_tri, &c);
+    }
+    for (int e = 0; e < sc->n_edges; ++e) {
+        swept_box(b, sc->edges + 2 * e, 2, x, sp->x_pred, 0.0);
+        c.query = e;
+        wc_self_edges_above(sc, e, b, visit_edge, &c);
+    }
+    sp->coupling.n = sp->n;
+    return sp->n;
+}
+
+/* n . sum w_i y_i */
+static double along(const wc_coupling_term* t, const double* y) {
+    double s = 0.0;
+    for (int a = 0; a < 4; ++a) s += t->w[a] * v3_dot(t->n, y + 3 * t->p[a]);
+    return s;
+}
+
+/* sign x the pair's terms: A's diagonal blocks += sign he^2 k w_a^2 n n^T, b += sign he f_a with
+ * the linearised gap glin; the coupling coefficient to match */
+static void add_terms(wc_self_pairs* sp, const wc_model* m, int k, double sign, double glin, double he, double* A,
+                      double* b) {
+    wc_coupling_term* t = &sp->term[k];
+    double nn[9];
+    m3_outer(nn, t->n, t->n, 1.0);
+    for (int a = 0; a < 4; ++a) {
+        int i = t->p[a];
+        if (b) v3_axpy(b + 3 * i, -sign * he * sp->k[k] * glin * t->w[a], t->n);
+        m3_axpy(A + 9 * (size_t)m->pattern.diag[i], sign * he * he * sp->k[k] * t->w[a] * t->w[a], nn);
+    }
+    t->c = sign > 0.0 ? he * he * sp->k[k] : 0.0;
+}
+
+static double gap_rhs(const wc_self_pairs* sp, int k, const double* x, const double* vstar, double he) {
+    const wc_coupling_term* t = &sp->term[k];
+    return along(t, x) - sp->th[k] + he * along(t, vstar);
+}
+
+int wc_self_pairs_assemble(wc_self_pairs* sp, const wc_model* m, const double* x, const double* vstar,
+                           const double* f_ext, double he, double* A, double* b, double* f_total) {
+    int active = 0;
+    for (int k = 0; k < sp->n; ++k) {
+        wc_coupling_term* t = &sp->term[k];
+        t->c = 0.0;
+        double g = gap_rhs(sp, k, x, vstar, he);
+        if (f_ext)
+            for (int a = 0; a < 4; ++a) {
+                int i = t->p[a];
+                g += he * he * t->w[a] * v3_dot(t->n, f_ext + 3 * i) * m->inv_mass[i];
+            }
+        if (!(g < 0.0)) continue;
+        ++active;
+        add_terms(sp, m, k, 1.0, gap_rhs(sp, k, x, vstar, he), he, A, b);
+        if (f_total) {
+            double g0 = along(t, x) - sp->th[k];
+            if (g0 < 0.0)
+                for (int a = 0; a < 4; ++a) v3_axpy(f_total + 3 * t->p[a], -sp->k[k] * g0 * t->w[a], t->n);
+        }
+    }
+    return active;
+}
+
+int wc_self_pairs_recheck(wc_self_pairs* sp, const wc_model* m, const double* x, const double* vstar,
+                          const double* dv, double he, double* A, double* b) {
+    int changed = 0;
+    for (int k = 0; k < sp->n; ++k) {
+        wc_coupling_term* t = &sp->term[k];
+        double g = gap_rhs(sp, k, x, vstar, he) + he * along(t, dv);
+        int want = g < 0.0, is = t->c > 0.0;
+        if (want == is) continue;
+        add_terms(sp, m, k, want ? 1.0 : -1.0, gap_rhs(sp, k, x, vstar, he), he, A, b);
+        ++changed;
+    }
+    return changed;
+}
+
+double wc_self_pairs_energy(const wc_self_pairs* sp, const double* x) {
+    double e = 0.0;
+    for (int k = 0; k < sp->n; ++k) {
+        double g = along(&sp->term[k], x) - sp->th[k];
+        if (g < 0.0) e += 0.5 * sp->k[k] * g * g;
+    }
+    return e;
+}
+
+int wc_self_pairs_newton(wc_self_pairs* sp, const wc_model* m, const double* x, double he, double* A,
+                         double* g_out) {
+    int touching = 0;
+    double nn[9];
+    for (int k = 0; k < sp->n; ++k) {
+        wc_coupling_term* t = &sp->term[k];
+        double g = along(t, x) - sp->th[k];
+        t->c = 0.0;
+        if (!(g < 0.0)) continue;
+        ++touching;
+        m3_outer(nn, t->n, t->n, 1.0);
+        for (int a = 0; a < 4; ++a) {
+            int i = t->p[a];
+            v3_axpy(g_out + 3 * i, -he * sp->k[k] * g * t->w[a], t->n);
+            m3_axpy(A + 9 * (size_t)m->pattern.diag[i], he * he * sp->k[k] * t->w[a] * t->w[a], nn);
+        }
+        t->c = he * he * sp->k[k];
+    }
+    return touching;
+}
+
+double wc_self_pair_eval(const wc_self_pairs* sp, int k, const double* x, double* f, double* J) {
+    const wc_coupling_term* t = &sp->term[k];
+    double g = along(t, x) - sp->th[k];
+    memset(f, 0, 12 * sizeof(double));
+    memset(J, 0, 144 * sizeof(double));
+    if (!(g < 0.0)) return 0.0;
+    for (int a = 0; a < 4; ++a) {
+        v3_axpy(f + 3 * a, -sp->k[k] * g * t->w[a], t->n);
+        for (int c = 0; c < 4; ++c) m3_outer(J + 9 * (a * 4 + c), t->n, t->n, -sp->k[k] * t->w[a] * t->w[c]);
+    }
+    return 0.5 * sp->k[k] * g * g;
+}

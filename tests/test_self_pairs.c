@@ -1,0 +1,352 @@
+/* Self-contacts inside the implicit solve (core/self_pairs.h, core/coupling.h):
+ *   - each pair's force and stiffness against finite differences of its energy (a
+ *     vertex-triangle and an edge-edge pair);
+ *   - the substep's system with the off-pattern couplings solved by PCG (block-Jacobi and
+ *     multigrid) and by the direct solver (its factor preconditioning PCG) against a dense
+ *     Gaussian elimination of the same system written out here, and shown to differ from the
+ *     system without the couplings (so the check can fail);
+ *   - a sheet falling onto a pinned one: no crossing, fewer corrections left to the stage after
+ *     the solve than with the stage alone, no allocation in a step, the same result on 1 and 2
+ *     threads. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "check.h"
+#include "self_collide.h"
+#include "self_pairs.h"
+#include "solve.h"
+#include "step.h"
+#include "two_layers.h"
+
+enum { N = 7 };            /* vertices per side of each layer */
+static const double SIZE = 0.3, GAP = 0.004, TH = 0.003;
+
+/* The two layers, the top one shifted by a third of a cell so that its vertices sit over the
+ * bottom one's triangles, GAP above it. */
+static void layers(wc_model* m) {
+    CHECK(two_layers(m, N, SIZE, 0.0, GAP));
+}
+
+static void shifted_positions(const wc_model* m, double* x) {
+    double cell = SIZE / (N - 1);
+    memcpy(x, m->rest_pos, 3 * (size_t)m->n_particles * sizeof(double));
+    for (int v = N * N; v < 2 * N * N; ++v) {
+        int p = m->host_to_particle[v];
+        x[3 * p] += cell / 3.0;
+        x[3 * p + 2] += cell / 5.0;
+    }
+}
+
+static wc_sim_def def_self(int in_solve) {
+    wc_sim_def d = wc_default_sim_def();
+    d.self_collision = 1;
+    d.self_thickness = TH;
+    d.self_in_solve = in_solve;
+    d.sleep_speed = 0;
+    return d;
+}
+
+/* A state whose top layer moves down at 0.3 m/s over the bottom one (pinned at its rim or not). */
+static wc_state* approaching(const wc_model* m, const wc_sim_def* def, int pin_bottom) {
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    CHECK(wc_state_create(&s, m, def, NULL, &d) == WEFT_OK);
+    if (!s) return NULL;
+    int n = m->n_particles;
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    double* v = calloc(3 * (size_t)n, sizeof(double));
+    shifted_positions(m, x);
+    for (int hv = N * N; hv < 2 * N * N; ++hv) v[3 * m->host_to_particle[hv] + 1] = -0.3;
+    CHECK(wc_state_set_positions(s, x, v, &d) == WEFT_OK);
+    if (pin_bottom) {
+        wc_pin* pins = calloc((size_t)N * N, sizeof *pins);
+        int np = 0;
+        for (int hv = 0; hv < N * N; ++hv) {
+            int i = hv % N, j = hv / N;
+            if (i != 0 && j != 0 && i != N - 1 && j != N - 1) continue;
+            pins[np].particle = m->host_to_particle[hv];
+            v3_copy(pins[np].target, x + 3 * pins[np].particle);
+            ++np;
+        }
+        CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
+        free(pins);
+    }
+    free(x);
+    free(v);
+    return s;
+}
+
+/* Energy of pair k at x (self_pairs.h's formula, written out) */
+static double pair_energy(const wc_self_pairs* sp, int k, const double* x) {
+    const wc_coupling_term* t = &sp->term[k];
+    double g = -sp->th[k];
+    for (int a = 0; a < 4; ++a) g += t->w[a] * v3_dot(t->n, x + 3 * t->p[a]);
+    return g < 0.0 ? 0.5 * sp->k[k] * g * g : 0.0;
+}
+
+static void check_pair_fd(const wc_self_pairs* sp, int k, const double* x0, int n) {
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    memcpy(x, x0, 3 * (size_t)n * sizeof(double));
+    const wc_coupling_term* t = &sp->term[k];
+    /* push the pair into contact: its first particle moves 2 thicknesses against n */
+    v3_axpy(x + 3 * t->p[0], -2.0 * TH / t->w[0], t->n);
+    double f[12], J[144], fp[12], Jp[144], fm[12], Jm[144];
+    double e = wc_self_pair_eval(sp, k, x, f, J);
+    CHECK(e > 0.0);
+    const double eps = 1e-7;
+    double worst_f = 0.0, worst_j = 0.0, fscale = 0.0, jscale = 0.0;
+    for (int q = 0; q < 12; ++q) fscale = fmax(fscale, fabs(f[q]));
+    for (int q = 0; q < 144; ++q) jscale = fmax(jscale, fabs(J[q]));
+    for (int b = 0; b < 4; ++b)
+        for (int c = 0; c < 3; ++c) {
+            double* xi = x + 3 * t->p[b] + c;
+            double keep = *xi;
+            *xi = keep + eps;
+            double ep = pair_energy(sp, k, x);
+            wc_self_pair_eval(sp, k, x, fp, Jp);
+            *xi = keep - eps;
+            double em = pair_energy(sp, k, x);
+            wc_self_pair_eval(sp, k, x, fm, Jm);
+            *xi = keep;
+            worst_f = fmax(worst_f, fabs(-(ep - em) / (2 * eps) - f[3 * b + c]));
+            for (int a = 0; a < 4; ++a)
+                for (int r = 0; r < 3; ++r) {
+                    double jd = (fp[3 * a + r] - fm[3 * a + r]) / (2 * eps);
+                    worst_j = fmax(worst_j, fabs(jd - J[9 * (a * 4 + b) + 3 * r + c]));
+                }
+        }
+    printf("  pair %d (%s): E %.3g J, force error %.2g of %.3g N, stiffness error %.2g of %.3g N/m\n", k,
+           t->w[1] > 0 ? "edge-edge" : "vertex-triangle", e, worst_f, fscale, worst_j, jscale);
+    CHECK(worst_f <= 1e-6 * fscale);
+    CHECK(worst_j <= 1e-6 * jscale);
+    free(x);
+}
+
+static void test_pair_derivatives(void) {
+    wc_model m;
+    layers(&m);
+    wc_sim_def def = def_self(1);
+    wc_state* s = approaching(&m, &def, 0);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
+    wc_self_pairs* sp = s->self_pairs;
+    CHECK(sp && sp->n > 0);
+    int vt = -1, ee = -1;
+    for (int k = 0; k < sp->n; ++k) {
+        if (sp->term[k].w[0] == 1.0 && vt < 0) vt = k;
+        if (sp->term[k].w[1] > 0.0 && ee < 0) ee = k;
+    }
+    printf("  %d pairs found, %d active\n", sp->n, st.self_pairs_active);
+    CHECK(vt >= 0);
+    CHECK(ee >= 0);
+    if (vt >= 0) check_pair_fd(sp, vt, s->x, m.n_particles);
+    if (ee >= 0) check_pair_fd(sp, ee, s->x, m.n_particles);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* Dense Gaussian elimination with partial pivoting: solves K y = r (K overwritten). */
+static void dense_solve(double* K, double* r, int N3) {
+    for (int c = 0; c < N3; ++c) {
+        int piv = c;
+        for (int i = c + 1; i < N3; ++i)
+            if (fabs(K[(size_t)i * N3 + c]) > fabs(K[(size_t)piv * N3 + c])) piv = i;
+        if (piv != c) {
+            for (int j = 0; j < N3; ++j) {
+                double t = K[(size_t)c * N3 + j];
+                K[(size_t)c * N3 + j] = K[(size_t)piv * N3 + j];
+                K[(size_t)piv * N3 + j] = t;
+            }
+            double t = r[c];
+            r[c] = r[piv];
+            r[piv] = t;
+        }
+        for (int i = c + 1; i < N3; ++i) {
+            double f = K[(size_t)i * N3 + c] / K[(size_t)c * N3 + c];
+            for (int j = c; j < N3; ++j) K[(size_t)i * N3 + j] -= f * K[(size_t)c * N3 + j];
+            r[i] -= f * r[c];
+        }
+    }
+    for (int i = N3 - 1; i >= 0; --i) {
+        double acc = r[i];
+        for (int j = i + 1; j < N3; ++j) acc -= K[(size_t)i * N3 + j] * r[j];
+        r[i] = acc / K[(size_t)i * N3 + i];
+    }
+}
+
+/* The dense system of the substep: A's blocks, plus the couplings' off-diagonal blocks when
+ * with_coupling. No constraint (nothing pinned, no collider): the filter is the identity. */
+static void dense_system(const wc_state* s, int with_coupling, double* K) {
+    const wc_model* m = s->model;
+    const wc_bsr_pattern* p = &m->pattern;
+    int N3 = 3 * m->n_particles;
+    memset(K, 0, (size_t)N3 * N3 * sizeof(double));
+    for (int i = 0; i < m->n_particles; ++i)
+        for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c)
+                    K[(size_t)(3 * i + r) * N3 + 3 * p->col[k] + c] = s->A[9 * (size_t)k + 3 * r + c];
+    if (!with_coupling) return;
+    const wc_self_pairs* sp = s->self_pairs;
+    for (int q = 0; q < sp->n; ++q) {
+        const wc_coupling_term* t = &sp->term[q];
+        if (!(t->c > 0)) continue;
+        for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4; ++b) {
+                if (a == b) continue;
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c)
+                        K[(size_t)(3 * t->p[a] + r) * N3 + 3 * t->p[b] + c] += t->c * t->w[a] * t->w[b] * t->n[r] * t->n[c];
+            }
+    }
+}
+
+static double rel_diff(const double* a, const double* b, int n) {
+    double num = 0, den = 0;
+    for (int k = 0; k < n; ++k) {
+        num += (a[k] - b[k]) * (a[k] - b[k]);
+        den += b[k] * b[k];
+    }
+    return sqrt(num / (den > 0 ? den : 1));
+}
+
+static void test_solve_against_dense(void) {
+    wc_model m;
+    layers(&m);
+    int N3 = 3 * m.n_particles;
+    double* K = malloc((size_t)N3 * N3 * sizeof(double));
+    double* ref = malloc((size_t)N3 * sizeof(double));
+    double* ref0 = malloc((size_t)N3 * sizeof(double));
+    double* dv = malloc((size_t)N3 * sizeof(double));
+    const char* names[3] = {"pcg block_jacobi", "pcg amg", "direct"};
+    for (int variant = 0; variant < 3; ++variant) {
+        wc_sim_def def = def_self(1);
+        def.solver.tolerance = 1e-10;
+        def.solver.max_iterations = 2000;
+        def.solver.preconditioner = variant == 1 ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
+        def.direct_fallback = 1;
+        wc_state* s = approaching(&m, &def, 0);
+        wc_step_stats st;
+        memset(&st, 0, sizeof st);
+        wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
+        int active = wc_coupling_active(&s->self_pairs->coupling);
+        CHECK(active > 0);
+        dense_system(s, 1, K);
+        memcpy(ref, s->b, (size_t)N3 * sizeof(double));
+        dense_solve(K, ref, N3);
+        dense_system(s, 0, K);
+        memcpy(ref0, s->b, (size_t)N3 * sizeof(double));
+        dense_solve(K, ref0, N3);
+        memset(dv, 0, (size_t)N3 * sizeof(double));
+        wc_solve_result res;
+        wc_solver_type type = variant == 2 ? WC_SOLVER_DIRECT : WC_SOLVER_PCG;
+        CHECK_EQ_INT(wc_solve(s->solver, type, s->A, s->b, &s->filter, dv, &s->par, &res), WEFT_OK);
+        double err = rel_diff(dv, ref, N3), without = rel_diff(ref0, ref, N3);
+        printf("  %s: %d active couplings, %d iterations, residual %.2g; off the dense solve by %.2g (the "
+               "system without the couplings: %.2g off)\n",
+               names[variant], active, res.iterations, res.residual, err, without);
+        CHECK(res.converged);
+        CHECK(err < 1e-7);
+        CHECK(without > 1e-3);
+        wc_state_destroy(s);
+    }
+    free(K);
+    free(ref);
+    free(ref0);
+    free(dv);
+    wc_model_free(&m);
+}
+
+/* ---- a counting allocator ---- */
+typedef struct counter {
+    long allocs, frees;
+} counter;
+static void* count_alloc(size_t n, void* u) {
+    ++((counter*)u)->allocs;
+    return malloc(n);
+}
+static void count_free(void* p, void* u) {
+    if (p) ++((counter*)u)->frees;
+    free(p);
+}
+
+typedef struct drop_result {
+    int crossings_frames, impacts, zones, pairs, rollbacks;
+    long allocs_in_steps;
+    double* x;   /* final positions (malloc'ed) */
+} drop_result;
+
+static drop_result drop(const wc_model* m, int in_solve, int threads) {
+    drop_result r = {0};
+    counter cnt = {0, 0};
+    wc_allocator al = {count_alloc, count_free, &cnt};
+    wc_sim_def def = def_self(in_solve);
+    def.threads = threads;
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    CHECK(wc_state_create(&s, m, &def, &al, &d) == WEFT_OK);
+    int n = m->n_particles;
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    shifted_positions(m, x);
+    for (int hv = N * N; hv < 2 * N * N; ++hv) x[3 * m->host_to_particle[hv] + 1] += 0.02;   /* 2 cm up */
+    CHECK(wc_state_set_positions(s, x, NULL, &d) == WEFT_OK);
+    wc_pin* pins = calloc((size_t)N * N, sizeof *pins);
+    int np = 0;
+    for (int hv = 0; hv < N * N; ++hv) {
+        int i = hv % N, j = hv / N;
+        if (i != 0 && j != 0 && i != N - 1 && j != N - 1) continue;
+        pins[np].particle = m->host_to_particle[hv];
+        v3_copy(pins[np].target, x + 3 * pins[np].particle);
+        ++np;
+    }
+    CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
+    long before = cnt.allocs;
+    for (int f = 0; f < 30; ++f) {
+        wc_step_stats st;
+        CHECK(wc_step_frame(s, 1.0 / 30, &st, &d) == WEFT_OK);
+        r.impacts += st.self_impacts + st.self_proximity;
+        r.zones += st.self_zones;
+        r.pairs += st.self_pairs_active;
+        r.rollbacks += st.rollbacks;
+        int c = -1;
+        CHECK(wc_self_intersections(m, s->x, NULL, &c, &d) == WEFT_OK);
+        r.crossings_frames += c != 0;
+    }
+    r.allocs_in_steps = cnt.allocs - before;
+    r.x = malloc(3 * (size_t)n * sizeof(double));
+    memcpy(r.x, s->x, 3 * (size_t)n * sizeof(double));
+    wc_state_destroy(s);
+    CHECK(cnt.allocs == cnt.frees);
+    free(pins);
+    free(x);
+    return r;
+}
+
+static void test_drop_on_layer(void) {
+    wc_model m;
+    layers(&m);
+    drop_result on = drop(&m, 1, 1), stage = drop(&m, 0, 1), two = drop(&m, 1, 2);
+    printf("  sheet onto a pinned sheet, 30 frames: in the solve: %d active pairs, stage corrections %d, zones %d, "
+           "rollbacks %d, frames crossing %d, %ld allocations in the steps; stage alone: corrections %d, zones %d, "
+           "rollbacks %d, frames crossing %d\n",
+           on.pairs, on.impacts, on.zones, on.rollbacks, on.crossings_frames, on.allocs_in_steps, stage.impacts,
+           stage.zones, stage.rollbacks, stage.crossings_frames);
+    CHECK(on.pairs > 0);
+    CHECK_EQ_INT(on.crossings_frames, 0);
+    CHECK_EQ_INT(stage.crossings_frames, 0);
+    CHECK(on.impacts < stage.impacts);
+    CHECK_EQ_INT(on.allocs_in_steps, 0);
+    CHECK(memcmp(on.x, two.x, 3 * (size_t)m.n_particles * sizeof(double)) == 0);   /* thread count */
+    free(on.x);
+    free(stage.x);
+    free(two.x);
+    wc_model_free(&m);
+}
+
+int main(void) {
+    RUN_TEST(test_pair_derivatives);
+    RUN_TEST(test_solve_against_dense);
+    RUN_TEST(test_drop_on_layer);
+    return TEST_SUMMARY();
+}
