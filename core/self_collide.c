@@ -134,7 +134,13 @@ static void boxes(const wc_model* m, const int* edges, int n_edges, const double
 }
 
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
-    boxes(m, sc->edges, sc->n_edges, x0, x1, r, sc->tri_box, sc->edge_box);
+    WC_PAR_REGION(sc) {
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
+        wc_par_range(m->n_tris, t, nt, &lo, &hi);
+        for (int k = lo; k < hi; ++k) box_of(sc->tri_box + 6 * k, m->tris + 3 * k, 3, x0, x1, r);
+        wc_par_range(sc->n_edges, t, nt, &lo, &hi);
+        for (int k = lo; k < hi; ++k) box_of(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, x0, x1, r);
+    }
     wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
     wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
 }
@@ -550,15 +556,7 @@ static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) 
     double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
     int nq = sc->n + sc->n_edges;
     /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
-    WC_PAR_REGION(sc) {
-        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
-        wc_par_range(m->n_tris, t, nt, &lo, &hi);
-        for (int k = lo; k < hi; ++k) box_of(sc->tri_box + 6 * k, m->tris + 3 * k, 3, sc->x_start, x, r);
-        wc_par_range(sc->n_edges, t, nt, &lo, &hi);
-        for (int k = lo; k < hi; ++k) box_of(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, sc->x_start, x, r);
-    }
-    wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
-    wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
+    wc_self_refit(sc, m, sc->x_start, x, r);
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
         wc_par_range(nq, t, nt, &lo, &hi);

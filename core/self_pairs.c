@@ -5,14 +5,16 @@
 #include "filter.h"
 #include "geom.h"
 #include "model.h"
+#include "par.h"
 #include "self_collide.h"
 #include "vec3.h"
 
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
 
-wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, const wc_allocator* a) {
+wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, const wc_allocator* a) {
     if (cap < 1) cap = 1;
     if (n_particles < 0) n_particles = 0;
+    if (n_edges < 0) n_edges = 0;
     wc_self_pairs* sp = WC_NEW(a, wc_self_pairs, 1);
     if (!sp) return NULL;
     memset(sp, 0, sizeof *sp);
@@ -20,7 +22,8 @@ wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, const wc_allocator
     sp->th = WC_NEW(a, double, (size_t)cap);
     sp->k = WC_NEW(a, double, (size_t)cap);
     sp->x_pred = WC_NEW(a, double, 3 * (size_t)n_particles + 1);
-    if (!sp->term || !sp->th || !sp->k || !sp->x_pred) {
+    sp->start = WC_NEW(a, int, (size_t)n_particles + n_edges + 1);
+    if (!sp->term || !sp->th || !sp->k || !sp->x_pred || !sp->start) {
         wc_self_pairs_destroy(sp, a);
         return NULL;
     }
@@ -32,6 +35,7 @@ wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, const wc_allocator
 
 void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a) {
     if (!sp) return;
+    wc_free(a, sp->start);
     wc_free(a, sp->x_pred);
     wc_free(a, sp->k);
     wc_free(a, sp->th);
@@ -47,6 +51,9 @@ typedef struct find_ctx {
     const double *x, *v;
     double h, he;
     int query;
+    int counting;   /* 1: only count the pairs kept (the parallel first pass) */
+    int count;      /* pairs counted */
+    int pos;        /* where the next kept pair goes */
 } find_ctx;
 
 static int pinned(const find_ctx* c, int i) { return c->f && c->f->ndof[i] == 3; }
@@ -62,11 +69,13 @@ static void keep(find_ctx* c, const int* ids, const double* w, const double* n, 
     double approach = vrel < 0.0 ? -vrel : 0.0;
     if (!(d < th + c->sc->thickness + 1.5 * c->h * approach) || !(inv > 0.0)) return;
     wc_self_pairs* sp = c->sp;
-    if (sp->n >= sp->cap) {
-        ++sp->overflow;
+    if (c->counting) {
+        ++c->count;
         return;
     }
-    wc_coupling_term* t = &sp->term[sp->n];
+    int at = c->pos++;
+    if (at >= sp->cap) return;   /* counted as overflow by the caller */
+    wc_coupling_term* t = &sp->term[at];
     t->cnt = 4;
     for (int a = 0; a < 4; ++a) {
         t->p[a] = ids[a];
@@ -74,9 +83,8 @@ static void keep(find_ctx* c, const int* ids, const double* w, const double* n, 
     }
     v3_copy(t->n, n);
     t->c = 0.0;
-    sp->th[sp->n] = th;
-    sp->k[sp->n] = WC_SELF_PAIR_KAPPA / (inv * c->he * c->he);
-    ++sp->n;
+    sp->th[at] = th;
+    sp->k[at] = WC_SELF_PAIR_KAPPA / (inv * c->he * c->he);
 }
 
 static int tangled_all(const wc_self* sc, const int* ids) {
@@ -149,28 +157,72 @@ static void swept_box(double* b, const int* v, int nv, const double* x0, const d
     wc_box_inflate(b, r);
 }
 
+/* Query q (vertex q < n, else edge q - n) against the trees. */
+static void find_query(find_ctx* c, int q) {
+    const wc_self* sc = c->sc;
+    int n = c->m->n_particles;
+    double b[6];
+    if (q < n) {
+        swept_box(b, &q, 1, c->x, c->sp->x_pred, 0.0);
+        c->query = q;
+        wc_bvh_query(&sc->tri_bvh, b, visit_tri, c);
+    } else {
+        int e = q - n;
+        swept_box(b, sc->edges + 2 * e, 2, c->x, c->sp->x_pred, 0.0);
+        c->query = e;
+        wc_self_edges_above(sc, e, b, visit_edge, c);
+    }
+}
+
 int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const wc_filter* f, const double* x,
                        const double* v, double h, double he) {
     sp->n = 0;
     sp->overflow = 0;
     sp->coupling.n = 0;
     if (sc->n_tris == 0) return 0;
-    int n = m->n_particles;
-    for (int k = 0; k < 3 * n; ++k) sp->x_pred[k] = x[k] + h * v[k];
-    double r = sc->thickness;
-    wc_self_refit(sc, m, x, sp->x_pred, r);
-    find_ctx c = {sp, sc, m, f, x, v, h, he, 0};
-    double b[6];
-    for (int i = 0; i < n; ++i) {
-        swept_box(b, &i, 1, x, sp->x_pred, 0.0);
-        c.query = i;
-        wc_bvh_query(&sc->tri_bvh, b, visit_tri, &c);
+    int n = m->n_particles, nq = n + sc->n_edges;
+    double* xp = sp->x_pred;
+    /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges) */
+    WC_PAR_REGION(sc) {
+        int lo, hi;
+        wc_par_range(3 * n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int k = lo; k < hi; ++k) xp[k] = x[k] + h * v[k];
     }
-    for (int e = 0; e < sc->n_edges; ++e) {
-        swept_box(b, sc->edges + 2 * e, 2, x, sp->x_pred, 0.0);
-        c.query = e;
-        wc_self_edges_above(sc, e, b, visit_edge, &c);
+    wc_self_refit(sc, m, x, xp, sc->thickness);
+    int total;
+    if (sc->threads <= 1) {
+        find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};
+        for (int q = 0; q < nq; ++q) find_query(&c, q);
+        total = c.pos;
+    } else {
+        /* count each query's pairs in parallel, place them by the prefix sum, write them in
+           parallel: the list is the serial one, on any thread count */
+        int* start = sp->start;
+        WC_PAR_REGION(sc) {
+            int lo, hi;
+            wc_par_range(nq, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 1, 0, 0};
+            for (int q = lo; q < hi; ++q) {
+                c.count = 0;
+                find_query(&c, q);
+                start[q + 1] = c.count;
+            }
+        }
+        start[0] = 0;
+        for (int q = 0; q < nq; ++q) start[q + 1] += start[q];
+        total = start[nq];
+        WC_PAR_REGION(sc) {
+            int lo, hi;
+            wc_par_range(nq, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};
+            for (int q = lo; q < hi && start[q] < sp->cap; ++q) {
+                c.pos = start[q];
+                find_query(&c, q);
+            }
+        }
     }
+    sp->n = total < sp->cap ? total : sp->cap;
+    sp->overflow = total - sp->n;
     sp->coupling.n = sp->n;
     return sp->n;
 }

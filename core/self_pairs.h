@@ -10,8 +10,7 @@
  * a rank-one coupling (coupling.h): its diagonal blocks go into A, the off-diagonal ones into
  * the solvers' products (wc_solver_set_coupling).
  *
- * Detection (wc_self_pairs_find, at the substep's start, after the forces' inputs are known and
- * before the assembly; serial, in index order), on the self-collision trees refitted over the
+ * Detection (wc_self_pairs_find, at the substep's start, before the assembly), on the self-collision trees refitted over the
  * boxes of x_n and x_n + h v_n inflated by the thickness: vertex i against triangle t (i not in
  * t) and edge e against edge f > e (no shared particle), pairs with a particle sewn to the other
  * side or made only of particles tangled at rest skipped (self_collide.h's rules). The closest
@@ -31,7 +30,10 @@
  * exact term (energy, gradient and linearisation at every iterate). The energy judge does not
  * count the pairs' energy. Frictionless. Pairs past the list's capacity are counted (overflow),
  * not silently dropped. Derived, not state: re-found every substep. Deterministic on any thread
- * count (serial). */
+ * count: the detection runs its queries (every vertex, then every edge) on sc->threads threads
+ * in fixed ranges, counting first, then writing each query's pairs where the prefix sum of the
+ * counts puts them (the serial list, in query order); the assembly and the coupling's product
+ * are serial. */
 #ifndef WEFT_CORE_SELF_PAIRS_H
 #define WEFT_CORE_SELF_PAIRS_H
 #include "alloc.h"
@@ -49,6 +51,8 @@ typedef struct wc_self_pairs {
     double* k;                 /* (cap) N/m */
     wc_coupling coupling;      /* the active terms, for the solver (n, term) */
     double* x_pred;            /* (n_particles x 3) scratch: x_n + h v_n */
+    int* start;                /* (n_particles + n_edges + 1) scratch of a parallel detection:
+                                  where each query's pairs start in the list */
     int n_particles;
 } wc_self_pairs;
 
@@ -56,8 +60,9 @@ struct wc_model;
 struct wc_filter;
 struct wc_self;
 
-/* Capacity cap >= 1 for a cloth of n_particles. NULL on out of memory. */
-wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, const wc_allocator* a);
+/* Capacity cap >= 1 for a cloth of n_particles whose self-collision list has n_edges edges.
+ * NULL on out of memory. */
+wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, const wc_allocator* a);
 void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a);
 
 /* Detection (above): sc the cloth's self-collision list (its trees are refitted here), f (NULL:
