@@ -226,10 +226,15 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     }
     /* the self-contact pairs at the substep's start (self_pairs.h) */
     if (s->self_pairs) {
+        /* timed as self-collision (ms.self_collide), not as the colliders */
+        double ts = wc_now_ms();
         s->self->threads = s->par.threads; /* detection threads (self_pairs.h) */
         wc_self_pairs_find(s->self_pairs, s->self, m, &s->filter, s->x, s->v, h, ig->he);
         st->self_pairs += s->self_pairs->n;
         st->self_pair_overflow += s->self_pairs->overflow;
+        double te = wc_now_ms();
+        st->ms.self_collide += te - ts;
+        t0 += te - ts;
     }
     t1 = wc_now_ms();
     st->ms.collide += t1 - t0;
