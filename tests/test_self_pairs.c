@@ -46,8 +46,8 @@ static wc_sim_def def_self(int in_solve) {
     return d;
 }
 
-/* A state whose top layer moves down at 0.3 m/s over the bottom one (pinned at its rim or not). */
-static wc_state* approaching(const wc_model* m, const wc_sim_def* def, int pin_bottom) {
+/* A state whose top layer moves down at 0.3 m/s over the bottom one. */
+static wc_state* approaching(const wc_model* m, const wc_sim_def* def) {
     wc_state* s = NULL;
     wc_diag d = {0};
     CHECK(wc_state_create(&s, m, def, NULL, &d) == WEFT_OK);
@@ -58,19 +58,6 @@ static wc_state* approaching(const wc_model* m, const wc_sim_def* def, int pin_b
     shifted_positions(m, x);
     for (int hv = N * N; hv < 2 * N * N; ++hv) v[3 * m->host_to_particle[hv] + 1] = -0.3;
     CHECK(wc_state_set_positions(s, x, v, &d) == WEFT_OK);
-    if (pin_bottom) {
-        wc_pin* pins = calloc((size_t)N * N, sizeof *pins);
-        int np = 0;
-        for (int hv = 0; hv < N * N; ++hv) {
-            int i = hv % N, j = hv / N;
-            if (i != 0 && j != 0 && i != N - 1 && j != N - 1) continue;
-            pins[np].particle = m->host_to_particle[hv];
-            v3_copy(pins[np].target, x + 3 * pins[np].particle);
-            ++np;
-        }
-        CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
-        free(pins);
-    }
     free(x);
     free(v);
     return s;
@@ -126,7 +113,7 @@ static void test_pair_derivatives(void) {
     wc_model m;
     layers(&m);
     wc_sim_def def = def_self(1);
-    wc_state* s = approaching(&m, &def, 0);
+    wc_state* s = approaching(&m, &def);
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
@@ -226,7 +213,7 @@ static void test_solve_against_dense(void) {
         def.solver.max_iterations = 2000;
         def.solver.preconditioner = variant == 1 ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
         def.direct_fallback = 1;
-        wc_state* s = approaching(&m, &def, 0);
+        wc_state* s = approaching(&m, &def);
         wc_step_stats st;
         memset(&st, 0, sizeof st);
         wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
@@ -291,6 +278,7 @@ static drop_result drop(const wc_model* m, int in_solve, int threads) {
     shifted_positions(m, x);
     for (int hv = N * N; hv < 2 * N * N; ++hv) x[3 * m->host_to_particle[hv] + 1] += 0.02;   /* 2 cm up */
     CHECK(wc_state_set_positions(s, x, NULL, &d) == WEFT_OK);
+    /* the bottom layer pinned at its rim, where it is */
     wc_pin* pins = calloc((size_t)N * N, sizeof *pins);
     int np = 0;
     for (int hv = 0; hv < N * N; ++hv) {
