@@ -129,6 +129,20 @@ static void test_hanging_sheet(void) {
     CHECK(cf_num(it, "max") >= 1 && cf_num(it, "mean") >= 1 && cf_num(it, "mean") <= cf_num(it, "max"));
     CHECK(cf_num(j, "final_kinetic_energy") > 0);
     CHECK(cf_num(j, "max_strain") >= 0);
+    /* per-frame arrays, one value per frame; their maxima are the run's */
+    const cJSON* pf = cJSON_GetObjectItemCaseSensitive(j, "per_frame");
+    static const char* const pf_keys[] = {"ms", "rollbacks", "max_strain", "max_iterations", "not_converged",
+                                          "self_impacts", "contacts"};
+    for (int k = 0; k < 7; ++k) {
+        const cJSON* a = cJSON_GetObjectItemCaseSensitive(pf, pf_keys[k]);
+        CHECK(cJSON_IsArray(a) && cJSON_GetArraySize(a) == 10);
+    }
+    double pf_strain = 0, pf_it = 0;
+    const cJSON* e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(pf, "max_strain")) pf_strain = fmax(pf_strain, e->valuedouble);
+    cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(pf, "max_iterations")) pf_it = fmax(pf_it, e->valuedouble);
+    CHECK(pf_strain == cf_num(j, "max_strain"));
+    CHECK(pf_it == cf_num(it, "max"));
     /* The bounding box of the final positions is that of the last frame's vertices: the same
      * floats (the API's outputs), written with as many digits as each file format needs. */
     for (int k = 0; k < 3; ++k) {

@@ -30,11 +30,17 @@ typedef struct run_info {
     double self_thickness;      /* m */
 } run_info;
 
+/* Per-frame values written to --stats's "per_frame" arrays (besides "ms"): rollbacks,
+ * max_strain, max_iterations, not_converged, self_impacts, contacts. */
+#define RUN_FRAME_VALS 6
+extern const char* const run_frame_val_names[RUN_FRAME_VALS];
+
 /* What the frame loop measured. */
 typedef struct run_record {
     int frames;                 /* frames stepped */
     double* frame_ms;           /* (frames) wall time of each weft_cloth_step call (ms) */
     double* stage_ms;           /* (frames x RUN_STAGES) the library's own stage timings (ms) */
+    double* frame_vals;         /* (frames x RUN_FRAME_VALS) each frame's run_frame_val_names */
     long long iterations;       /* solver iterations, all frames */
     long long solves;           /* linear solves (Newton iterations, friction passes), all frames */
     double precond_ms;          /* wall time building preconditioners, all frames (ms) */

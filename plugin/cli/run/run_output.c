@@ -144,6 +144,15 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     /* checked at the last frame whether self-collision is on or not */
     add_num(root, "self_intersections", r->self_intersections, &ok);
     add_num(root, "max_penetration", r->max_penetration, &ok);
+    /* every frame's wall time and values, in frame order (a failed frame: zeros) */
+    o = cJSON_AddObjectToObject(root, "per_frame");
+    if (!o || !cJSON_AddItemToObject(o, "ms", cJSON_CreateDoubleArray(r->frame_ms, r->frames))) ok = 0;
+    for (int k = 0; k < RUN_FRAME_VALS && o; ++k) {
+        cJSON* a = cJSON_AddArrayToObject(o, run_frame_val_names[k]);
+        if (!a) ok = 0;
+        for (int f = 0; f < r->frames && a; ++f)
+            if (!cJSON_AddItemToArray(a, cJSON_CreateNumber(r->frame_vals[(size_t)f * RUN_FRAME_VALS + k]))) ok = 0;
+    }
     if (!ok) {
         cJSON_Delete(root);
         return NULL;

@@ -7,23 +7,27 @@
 #include <string.h>
 
 const char* const run_stage_names[RUN_STAGES] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
+const char* const run_frame_val_names[RUN_FRAME_VALS] = {"rollbacks",     "max_strain",   "max_iterations",
+                                                         "not_converged", "self_impacts", "contacts"};
 
 int run_record_init(run_record* r, int frames) {
     memset(r, 0, sizeof *r);
     const size_t n = (size_t)(frames > 0 ? frames : 1);
     r->frame_ms = calloc(n, sizeof(double));
     r->stage_ms = calloc(n * RUN_STAGES, sizeof(double));
+    r->frame_vals = calloc(n * RUN_FRAME_VALS, sizeof(double));
     for (int k = 0; k < 3; ++k) {
         r->bbox_min[k] = INFINITY;
         r->bbox_max[k] = -INFINITY;
     }
-    return r->frame_ms && r->stage_ms ? 0 : -1;
+    return r->frame_ms && r->stage_ms && r->frame_vals ? 0 : -1;
 }
 
 void run_record_free(run_record* r) {
     free(r->frame_ms);
     free(r->stage_ms);
-    r->frame_ms = r->stage_ms = NULL;
+    free(r->frame_vals);
+    r->frame_ms = r->stage_ms = r->frame_vals = NULL;
 }
 
 void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s) {
@@ -35,6 +39,13 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     st[3] = s->ms_collide;
     st[4] = s->ms_integrate;
     st[5] = s->ms_total;
+    double* fv = r->frame_vals + (size_t)f * RUN_FRAME_VALS;
+    fv[0] = s->rollbacks;
+    fv[1] = s->max_strain;
+    fv[2] = s->max_iterations;
+    fv[3] = s->not_converged;
+    fv[4] = s->self_impacts;
+    fv[5] = s->contacts;
     r->iterations += s->iterations;
     r->solves += s->solves;
     r->precond_ms += s->ms_precond;
@@ -60,6 +71,7 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
 void run_record_failed_frame(run_record* r, int f, double ms) {
     r->frame_ms[f] = ms;
     memset(r->stage_ms + (size_t)f * RUN_STAGES, 0, RUN_STAGES * sizeof(double));
+    memset(r->frame_vals + (size_t)f * RUN_FRAME_VALS, 0, RUN_FRAME_VALS * sizeof(double));
     ++r->failed_frames;
     ++r->failures;
     r->frames = f + 1;
