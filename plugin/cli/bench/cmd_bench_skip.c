@@ -269,7 +269,7 @@ static const char* const skipped_text[N_CONFIGS] = {   /* no commas: CSV cells a
     "baseline skips the mesh's BVH refit and its queries (here they find nothing)",
     "baseline skips the mesh contacts (BVH queries) and friction re-solves",
     "nothing: pins cost O(pins) moving or still",
-    "baseline skips self-collision (the in-solve pairs' detection, the stage's BVH refits and proximity / CCD queries)",
+    "baseline skips self-collision (the in-solve pairs' detection; the stage's BVH refits and proximity / CCD queries)",
     "stopping at the tolerance skips the iterations past it",
     "sleeping skips the whole step (forces; assembly; solve; contacts)"};
 
