@@ -83,7 +83,7 @@ static void keep(find_ctx* c, const int* ids, const double* w, const double* n, 
     }
     v3_copy(t->n, n);
     t->c = 0.0;
-    sp->th[at] = th;
+    sp->th[at] = WC_SELF_PAIR_MARGIN * th;
     sp->k[at] = WC_SELF_PAIR_KAPPA / (inv * c->he * c->he);
 }
 
@@ -186,7 +186,7 @@ int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const 
     WC_PAR_REGION(sc) {
         int lo, hi;
         wc_par_range(3 * n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int k = lo; k < hi; ++k) xp[k] = x[k] + h * v[k];
+        for (int k = lo; k < hi; ++k) xp[k] = x[k] + 1.5 * h * v[k];
     }
     wc_self_refit(sc, m, x, xp, sc->thickness);
     int total;

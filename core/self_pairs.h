@@ -10,9 +10,10 @@
  * a rank-one coupling (coupling.h): its diagonal blocks go into A, the off-diagonal ones into
  * the solvers' products (wc_solver_set_coupling).
  *
- * Detection (wc_self_pairs_find, at the substep's start, before the assembly), on the self-collision trees refitted over the
- * boxes of x_n and x_n + h v_n inflated by the thickness: vertex i against triangle t (i not in
- * t) and edge e against edge f > e (no shared particle), pairs with a particle sewn to the other
+ * Detection (wc_self_pairs_find, at the substep's start, before the assembly), on the
+ * self-collision trees refitted over the boxes of x_n and x_n + 1.5 h v_n inflated by the
+ * thickness (so the broad phase covers the contact distance below): vertex i against triangle t
+ * (i not in t) and edge e against edge f > e (no shared particle), pairs with a particle sewn to the other
  * side or made only of particles tangled at rest skipped (self_collide.h's rules). The closest
  * points at the start must be interior to both features (barycentric weights and edge
  * parameters above 1e-6: a vertex nearest an edge or a vertex is left to the stage) and closer
@@ -41,6 +42,8 @@
 
 #define WC_SELF_PAIR_KAPPA 100.0   /* stiffness over inertia along n */
 #define WC_SELF_PAIR_PASSES 3      /* re-solves at most when the active set changes (no Newton) */
+#define WC_SELF_PAIR_MARGIN 1.1    /* the penalty holds a pair at this x its rest gap th, outside
+                                      the stage's proximity band (< th) */
 
 typedef struct wc_self_pairs {
     int cap;                   /* capacity (fixed at creation) */
@@ -50,7 +53,7 @@ typedef struct wc_self_pairs {
     double* th;                /* (cap) m: the pair's rest gap */
     double* k;                 /* (cap) N/m */
     wc_coupling coupling;      /* the active terms, for the solver (n, term) */
-    double* x_pred;            /* (n_particles x 3) scratch: x_n + h v_n */
+    double* x_pred;            /* (n_particles x 3) scratch: x_n + 1.5 h v_n */
     int* start;                /* (n_particles + n_edges + 1) scratch of a parallel detection:
                                   where each query's pairs start in the list */
     int n_particles;
