@@ -117,7 +117,7 @@ static int mark_tangled(wc_self* sc, const wc_model* m) {
 }
 
 /* Boxes of the triangles and edges over x_start U x (x_start may be NULL), inflated by r. */
-static void box_of(double* b, const int* v, int nv, const double* x_start, const double* x, double r) {
+void wc_self_swept_box(double* b, const int* v, int nv, const double* x_start, const double* x, double r) {
     wc_box_empty(b);
     for (int k = 0; k < nv; ++k) {
         wc_box_add(b, x + 3 * v[k]);
@@ -128,18 +128,18 @@ static void box_of(double* b, const int* v, int nv, const double* x_start, const
 
 static void boxes(const wc_model* m, const int* edges, int n_edges, const double* x_start, const double* x, double r,
                   double* tri_box, double* edge_box) {
-    for (int t = 0; t < m->n_tris; ++t) box_of(tri_box + 6 * t, m->tris + 3 * t, 3, x_start, x, r);
+    for (int t = 0; t < m->n_tris; ++t) wc_self_swept_box(tri_box + 6 * t, m->tris + 3 * t, 3, x_start, x, r);
     if (!edge_box) return;
-    for (int e = 0; e < n_edges; ++e) box_of(edge_box + 6 * e, edges + 2 * e, 2, x_start, x, r);
+    for (int e = 0; e < n_edges; ++e) wc_self_swept_box(edge_box + 6 * e, edges + 2 * e, 2, x_start, x, r);
 }
 
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
         wc_par_range(m->n_tris, t, nt, &lo, &hi);
-        for (int k = lo; k < hi; ++k) box_of(sc->tri_box + 6 * k, m->tris + 3 * k, 3, x0, x1, r);
+        for (int k = lo; k < hi; ++k) wc_self_swept_box(sc->tri_box + 6 * k, m->tris + 3 * k, 3, x0, x1, r);
         wc_par_range(sc->n_edges, t, nt, &lo, &hi);
-        for (int k = lo; k < hi; ++k) box_of(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, x0, x1, r);
+        for (int k = lo; k < hi; ++k) wc_self_swept_box(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, x0, x1, r);
     }
     wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
     wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
@@ -539,12 +539,12 @@ static int query(pass_ctx* c, int q) {
     wc_self* sc = c->sc;
     double b[6];
     if (q < sc->n) {
-        box_of(b, &q, 1, sc->x_start, c->x, 0.0);
+        wc_self_swept_box(b, &q, 1, sc->x_start, c->x, 0.0);
         c->query = q;
         return wc_bvh_query(&sc->tri_bvh, b, visit_tri, c) != 0;
     }
     /* the edge's own box (not inflated twice: the tree's boxes carry r) */
-    box_of(b, sc->edges + 2 * (q - sc->n), 2, sc->x_start, c->x, 0.0);
+    wc_self_swept_box(b, sc->edges + 2 * (q - sc->n), 2, sc->x_start, c->x, 0.0);
     return query_edges_above(c, q - sc->n, b) != 0;
 }
 

@@ -130,6 +130,8 @@ void wc_self_rigidify(int n, const double* x_start, double* x, const double* mas
  *   edges_above: visit(user, f) for every edge f > e whose tree box overlaps box (each edge pair
  *   once from its lower edge; stops when visit returns non-zero and returns that). */
 int wc_self_linked(const wc_self* sc, int a, int b);
+/* b (6) = the box of the nv particles v at x_start (NULL: skipped) and at x, inflated by r. */
+void wc_self_swept_box(double* b, const int* v, int nv, const double* x_start, const double* x, double r);
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
 int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user);
 

@@ -148,27 +148,18 @@ static int visit_edge(void* user, int f) {
     return 0;
 }
 
-static void swept_box(double* b, const int* v, int nv, const double* x0, const double* x1, double r) {
-    wc_box_empty(b);
-    for (int k = 0; k < nv; ++k) {
-        wc_box_add(b, x0 + 3 * v[k]);
-        wc_box_add(b, x1 + 3 * v[k]);
-    }
-    wc_box_inflate(b, r);
-}
-
 /* Query q (vertex q < n, else edge q - n) against the trees. */
 static void find_query(find_ctx* c, int q) {
     const wc_self* sc = c->sc;
     int n = c->m->n_particles;
     double b[6];
     if (q < n) {
-        swept_box(b, &q, 1, c->x, c->sp->x_pred, 0.0);
+        wc_self_swept_box(b, &q, 1, c->x, c->sp->x_pred, 0.0);
         c->query = q;
         wc_bvh_query(&sc->tri_bvh, b, visit_tri, c);
     } else {
         int e = q - n;
-        swept_box(b, sc->edges + 2 * e, 2, c->x, c->sp->x_pred, 0.0);
+        wc_self_swept_box(b, sc->edges + 2 * e, 2, c->x, c->sp->x_pred, 0.0);
         c->query = e;
         wc_self_edges_above(sc, e, b, visit_edge, c);
     }
@@ -260,7 +251,7 @@ int wc_self_pairs_assemble(wc_self_pairs* sp, const wc_model* m, const double* x
     for (int k = 0; k < sp->n; ++k) {
         wc_coupling_term* t = &sp->term[k];
         t->c = 0.0;
-        double g = gap_rhs(sp, k, x, vstar, he);
+        double glin = gap_rhs(sp, k, x, vstar, he), g = glin;
         if (f_ext)
             for (int a = 0; a < 4; ++a) {
                 int i = t->p[a];
@@ -268,7 +259,7 @@ int wc_self_pairs_assemble(wc_self_pairs* sp, const wc_model* m, const double* x
             }
         if (!(g < 0.0)) continue;
         ++active;
-        add_terms(sp, m, k, 1.0, gap_rhs(sp, k, x, vstar, he), he, A, b);
+        add_terms(sp, m, k, 1.0, glin, he, A, b);
         if (f_total) {
             double g0 = along(t, x) - sp->th[k];
             if (g0 < 0.0)
@@ -283,10 +274,10 @@ int wc_self_pairs_recheck(wc_self_pairs* sp, const wc_model* m, const double* x,
     int changed = 0;
     for (int k = 0; k < sp->n; ++k) {
         wc_coupling_term* t = &sp->term[k];
-        double g = gap_rhs(sp, k, x, vstar, he) + he * along(t, dv);
-        int want = g < 0.0, is = t->c > 0.0;
+        double glin = gap_rhs(sp, k, x, vstar, he);
+        int want = glin + he * along(t, dv) < 0.0, is = t->c > 0.0;
         if (want == is) continue;
-        add_terms(sp, m, k, want ? 1.0 : -1.0, gap_rhs(sp, k, x, vstar, he), he, A, b);
+        add_terms(sp, m, k, want ? 1.0 : -1.0, glin, he, A, b);
         ++changed;
     }
     return changed;
@@ -304,20 +295,12 @@ double wc_self_pairs_energy(const wc_self_pairs* sp, const double* x) {
 int wc_self_pairs_newton(wc_self_pairs* sp, const wc_model* m, const double* x, double he, double* A,
                          double* g_out) {
     int touching = 0;
-    double nn[9];
     for (int k = 0; k < sp->n; ++k) {
-        wc_coupling_term* t = &sp->term[k];
-        double g = along(t, x) - sp->th[k];
-        t->c = 0.0;
+        double g = along(&sp->term[k], x) - sp->th[k];
+        sp->term[k].c = 0.0;
         if (!(g < 0.0)) continue;
         ++touching;
-        m3_outer(nn, t->n, t->n, 1.0);
-        for (int a = 0; a < 4; ++a) {
-            int i = t->p[a];
-            v3_axpy(g_out + 3 * i, -he * sp->k[k] * g * t->w[a], t->n);
-            m3_axpy(A + 9 * (size_t)m->pattern.diag[i], he * he * sp->k[k] * t->w[a] * t->w[a], nn);
-        }
-        t->c = he * he * sp->k[k];
+        add_terms(sp, m, k, 1.0, g, he, A, g_out);   /* the exact gap at x: force and stiffness */
     }
     return touching;
 }
