@@ -9,9 +9,6 @@
 #include "union_find.h"
 #include "vec3.h"
 
-#define ZONE_STRIDE 20     /* doubles per zone accumulator */
-#define PIN_WEIGHT 1e8     /* a pinned particle's mass in a zone, relative to its own */
-
 static int count_unique_edges(const wc_winged_edge* we) {
     int k = 0;
     for (int e = 0; e < we->n_edges; ++e)
@@ -181,6 +178,7 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->thickness = thickness;
     sc->eta = thickness / 100.0;
     sc->passes = WC_SELF_PASSES;
+    sc->zone_strain = WC_SELF_ZONE_STRAIN;
     int n = m->n_particles;
     sc->n = n;
     sc->n_tris = m->n_tris;
@@ -193,7 +191,7 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->inv_mass = WC_NEW(&A, double, (size_t)n);
     sc->parent = WC_NEW(&A, int, (size_t)n);
     sc->in_zone = WC_NEW(&A, unsigned char, (size_t)n);
-    sc->zone = WC_NEW(&A, double, ZONE_STRIDE * (size_t)n);
+    sc->zone = WC_NEW(&A, double, WC_SELF_ZONE_STRIDE * (size_t)n);
     sc->tangled = WC_NEW(&A, unsigned char, (size_t)n);
     sc->active = WC_NEW(&A, unsigned char, (size_t)n + (size_t)sc->n_edges + 1);
     sc->threads = 1;
@@ -570,64 +568,6 @@ static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) 
     return c.count;
 }
 
-/* ---- impact zones ----------------------------------------------------------------------------- */
-
-void wc_self_rigidify(int n, const double* x_start, double* x, const double* mass, const double* inv_m, int* parent,
-                      const unsigned char* in, double* acc) {
-    /* acc per root: 0 M, 1-3 sum w x0, 4-6 sum w d, 7-9 L, 10-18 I (3x3) */
-    for (int i = 0; i < n; ++i)
-        if (in[i]) memset(acc + ZONE_STRIDE * (size_t)wc_uf_find(parent, i), 0, ZONE_STRIDE * sizeof(double));
-    for (int i = 0; i < n; ++i) {
-        if (!in[i]) continue;
-        double* a = acc + ZONE_STRIDE * (size_t)wc_uf_find(parent, i);
-        double w = inv_m[i] > 0 ? mass[i] : PIN_WEIGHT * (mass[i] > 0 ? mass[i] : 1.0);
-        double d[3];
-        v3_sub(d, x + 3 * i, x_start + 3 * i);
-        a[0] += w;
-        v3_axpy(a + 1, w, x_start + 3 * i);
-        v3_axpy(a + 4, w, d);
-    }
-    for (int i = 0; i < n; ++i) {
-        if (!in[i]) continue;
-        int root = wc_uf_find(parent, i);
-        double* a = acc + ZONE_STRIDE * (size_t)root;
-        double w = inv_m[i] > 0 ? mass[i] : PIN_WEIGHT * (mass[i] > 0 ? mass[i] : 1.0);
-        double xc[3], vc[3], r[3], d[3], rd[3];
-        v3_scale(xc, a + 1, 1.0 / a[0]);
-        v3_scale(vc, a + 4, 1.0 / a[0]);
-        v3_sub(r, x_start + 3 * i, xc);
-        v3_sub(d, x + 3 * i, x_start + 3 * i);
-        v3_sub(d, d, vc);
-        v3_cross(rd, r, d);
-        v3_axpy(a + 7, w, rd);
-        double rr = v3_dot(r, r);
-        for (int p = 0; p < 3; ++p)
-            for (int q = 0; q < 3; ++q) a[10 + 3 * p + q] += w * ((p == q ? rr : 0.0) - r[p] * r[q]);
-    }
-    /* angular velocity of each root: I^-1 L (regularised: a line-shaped zone has no inertia about
-       its line, and no angular momentum about it either) */
-    for (int i = 0; i < n; ++i) {
-        if (!in[i] || wc_uf_find(parent, i) != i) continue;
-        double* a = acc + ZONE_STRIDE * (size_t)i;
-        double I[9], Iinv[9] = {0}, om[3];
-        memcpy(I, a + 10, sizeof I);
-        double tr = I[0] + I[4] + I[8];
-        for (int k = 0; k < 3; ++k) I[4 * k] += 1e-12 * tr + 1e-300;
-        if (m3_inverse(Iinv, I) == 0.0) memset(Iinv, 0, sizeof Iinv); /* no inertia at all: translate */
-        m3_mulv(om, Iinv, a + 7);
-        v3_copy(a + 7, om); /* L no longer needed: 7-9 now hold omega */
-    }
-    for (int i = 0; i < n; ++i) {
-        if (!in[i] || !(inv_m[i] > 0)) continue;
-        const double* a = acc + ZONE_STRIDE * (size_t)wc_uf_find(parent, i);
-        double xc[3], r[3], wr[3];
-        v3_scale(xc, a + 1, 1.0 / a[0]);
-        v3_sub(r, x_start + 3 * i, xc);
-        v3_cross(wr, a + 7, r);
-        for (int k = 0; k < 3; ++k) x[3 * i + k] = x_start[3 * i + k] + a[4 + k] / a[0] + wr[k];
-    }
-}
-
 int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, const unsigned char* stick, double he,
                     double* x, double* v, wc_self_stats* st) {
     int n = sc->n;
@@ -637,7 +577,7 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
         sc->inv_mass[i] = pinned ? 0.0 : m->inv_mass[i];
     }
     memcpy(sc->x_old, x, 3 * (size_t)n * sizeof(double));
-    wc_self_stats local = {0, 0, 0, 0};
+    wc_self_stats local = {0, 0, 0, 0, 0};
     /* a pass that moved something (its trees were refitted before the moves, and pairs it checked
        early may have been moved later) proves nothing: only a pass that moved nothing shows the
        substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide */
@@ -657,6 +597,9 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             left = pass(sc, m, x, MODE_DETECT, NULL);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
+            if (sc->zone_strain < INFINITY)
+                local.relaxed += wc_self_relax_zones(m, sc->x_old, x, sc->in_zone, sc->inv_mass, sc->zone_strain,
+                                                     WC_SELF_RELAX_PASSES);
         }
         if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL);
         for (int i = 0; i < n; ++i)
@@ -668,6 +611,7 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
         st->impacts += local.impacts;
         st->zones += local.zones;
         st->unresolved += local.unresolved;
+        st->relaxed += local.relaxed;
     }
     return local.unresolved;
 }

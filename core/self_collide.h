@@ -20,10 +20,22 @@
  *   3. Continuous (x_start -> x, linear): up to WC_SELF_PASSES passes of inelastic impulses on
  *      the pairs that collide (geom.h's CCD within eta = thickness / 100).
  *   4. Impact zones for what is left: the particles of every colliding pair are merged
- *      (union-find); each zone's displacements are replaced by its rigid motion (linear and
- *      angular momentum of the zone kept); detect again (pairs inside one zone cannot collide,
- *      they move by one invertible affine map), merge, repeat, at most WC_SELF_ZONE_ITERS times
- *      (in the worst case everything ends in one zone that moves rigidly: no crossing).
+ *      (union-find); each zone's displacements are replaced by its rigid motion (linear
+ *      momentum kept, angular momentum to first order; an exact rotation); detect again (pairs
+ *      inside one zone cannot collide: along the linear path x_start -> x they move by one
+ *      affine map, (1 - t) I + t R, invertible for turns under half a revolution), merge,
+ *      repeat, at most WC_SELF_ZONE_ITERS times (in the worst case everything ends in one zone
+ *      that moves rigidly: no crossing). A zone's rigid motion keeps the springs inside it at
+ *      their start length but stretches those that cross its boundary when the solve moved
+ *      their outer end away: a zone that holds a particle at every substep (layers pressed
+ *      together) would stretch its springs a little more each substep, up to tearing. So after
+ *      each rigid motion the stretch springs are relaxed (Provot's strain limit, Gauss-Seidel,
+ *      up to WC_SELF_RELAX_PASSES passes) to the larger of (1 + zone_strain) x rest and the
+ *      length the solve left them, moving only particles outside the zones: the cloth around a
+ *      zone follows it instead of tearing from it, and the next detection pass checks what
+ *      that moved (self_zones.c). Taking the stretched spring's other end into the zone
+ *      instead freezes the cloth: on the dance (sample_scenes/README.md) one zone ended holding
+ *      the whole garment, 6 cm into the body (8 cm at worst).
  * Impulses are distributed over the 4 particles with the barycentric / edge weights w and the
  * inverse masses (Bridson section 7.1): a change D of the relative normal displacement moves
  * particle i by w_i inv_m_i D / sum_j (w_j^2 inv_m_j) along the normal. Pinned particles (filter
@@ -66,6 +78,9 @@
 
 #define WC_SELF_PASSES 4        /* CCD impulse passes before impact zones */
 #define WC_SELF_ZONE_ITERS 200  /* impact-zone merge iterations at most */
+#define WC_SELF_ZONE_STRIDE 20  /* doubles per zone accumulator */
+#define WC_SELF_ZONE_STRAIN 0.1 /* wc_self.zone_strain's default */
+#define WC_SELF_RELAX_PASSES 8  /* relaxation passes after each rigid motion, at most */
 
 typedef struct wc_self_stats {
     int proximity;      /* pairs given a proximity impulse (repulsion or inelastic) */
@@ -73,6 +88,7 @@ typedef struct wc_self_stats {
                            where one applies) */
     int zones;          /* impact zones formed (sets of 2+ particles at the end of the loop) */
     int unresolved;     /* pairs still colliding when the zone loop gave up (0 normally) */
+    int relaxed;        /* stretch-spring corrections after the zones' rigid motions */
 } wc_self_stats;
 
 typedef struct wc_self {
@@ -80,6 +96,8 @@ typedef struct wc_self {
     double eta;         /* m: CCD tolerance, thickness / 100 */
     int passes;         /* CCD impulse passes before the zones (WC_SELF_PASSES); tests set 0 (no
                            CCD impulse: every collision goes to the zones) to drive the zones */
+    double zone_strain; /* the springs a zone stretched are relaxed to this strain, or what the
+                           solve left, if more (WC_SELF_ZONE_STRAIN; infinity: not relaxed) */
     int n, n_tris, n_edges;
     int* edges;         /* (n_edges x 2) particle pairs, each vertex pair once */
     wc_bvh tri_bvh, edge_bvh;
@@ -95,7 +113,7 @@ typedef struct wc_self {
     int* edge_max;      /* (edge_bvh.n_nodes) the largest edge index under each node: an edge's
                            query skips the subtrees of lower edges (each pair visited once) */
     int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
-    double* zone;       /* (n x 16) per-zone accumulators */
+    double* zone;       /* (n x WC_SELF_ZONE_STRIDE) per-zone accumulators (self_zones.c) */
     int* seam_start;    /* (n + 1) CSR of each particle's seam partners (sew.h; NULL: no seams): */
     int* seam_nbr;      /* a particle is never tested against an element it is sewn to */
     unsigned char* tangled; /* (n) 1: the particle belongs to an edge-triangle pair that crosses in
@@ -120,9 +138,20 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
 
 /* For tests: replace the displacements d = x - x_start of the particles of each zone (parent, n:
  * union-find roots; only particles with in[i] != 0) by the zone's rigid motion (mass m, inverse
- * mass inv_m 0 = pinned). */
+ * mass inv_m 0 = pinned): its centre of mass moves by the zone's mean displacement (linear
+ * momentum kept exactly), and it turns about it by the angle and axis omega = I^-1 L of its
+ * angular momentum over the start positions (kept to first order in the angle), an exact
+ * rotation, so distances inside a zone keep their start length. */
 void wc_self_rigidify(int n, const double* x_start, double* x, const double* mass, const double* inv_m, int* parent,
                       const unsigned char* in, double* acc);
+
+/* After wc_self_rigidify: shortens every stretch spring longer than rest x (1 + the larger of
+ * floor and its strain at x_old, the positions before the zones) by moving its ends outside the
+ * zones (in[] 0) in proportion to their inverse masses inv_m (0: pinned, never moved), up to
+ * passes Gauss-Seidel passes in spring order (deterministic), stopping at a pass that moves
+ * nothing. Returns the corrections made. */
+int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
+                        const double* inv_m, double floor, int passes);
 
 /* For the in-solve self-contact pairs (self_pairs.h), on this list's trees and seams:
  *   linked: 1 when particles a and b are one particle or sewn together;

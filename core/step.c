@@ -429,7 +429,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
        correction inside a collider's thickness shell, never through the cloth) */
     double self_gain = 0.0; /* J: energy the self-collision stage put in (not judged) */
     if (s->self && all_finite(s->x, n3) && all_finite(s->v, n3)) {
-        wc_self_stats ss = {0, 0, 0, 0};
+        wc_self_stats ss = {0, 0, 0, 0, 0};
         double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
         s->self->threads = s->par.threads; /* detection threads (self_collide.h) */
         wc_self_resolve(s->self, m, &s->filter, s->n_all > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
@@ -444,6 +444,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
         st->self_impacts += ss.impacts;
         st->self_zones += ss.zones;
         st->self_unresolved += ss.unresolved;
+        st->self_zone_relaxed += ss.relaxed;
         if (ss.proximity + ss.impacts + ss.zones > 0) strain = wc_max_stretch_strain(m, s->x);
         t1 = wc_now_ms();
         st->ms.self_collide += t1 - t0;

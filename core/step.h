@@ -50,6 +50,7 @@ typedef struct wc_step_stats {
     int self_impacts;           /* ... CCD collisions found by the impulse passes */
     int self_zones;             /* ... impact zones formed */
     int self_unresolved;        /* ... pairs left colliding when the zone loop gave up (0 normally) */
+    int self_zone_relaxed;      /* ... stretch-spring corrections around the zones (self_collide.h, stage 4) */
     struct { double forces, assemble, solve, collide, integrate, total, self_collide; } ms; /* wall time per stage */
     int energy_iterations;      /* Newton steps past newton_iterations by the energy guard (newton.h), summed */
     /* the mesh colliders' feature contacts in the solve (mesh_pairs.h), summed over substeps */
