@@ -132,8 +132,8 @@ static void test_hanging_sheet(void) {
     /* per-frame arrays, one value per frame; their maxima are the run's */
     const cJSON* pf = cJSON_GetObjectItemCaseSensitive(j, "per_frame");
     static const char* const pf_keys[] = {"ms", "rollbacks", "max_strain", "max_iterations", "not_converged",
-                                          "self_impacts", "contacts"};
-    for (int k = 0; k < 7; ++k) {
+                                          "self_impacts", "contacts", "self_intersections", "penetration"};
+    for (int k = 0; k < 9; ++k) {
         const cJSON* a = cJSON_GetObjectItemCaseSensitive(pf, pf_keys[k]);
         CHECK(cJSON_IsArray(a) && cJSON_GetArraySize(a) == 10);
     }
@@ -142,6 +142,11 @@ static void test_hanging_sheet(void) {
     cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(pf, "max_strain")) pf_strain = fmax(pf_strain, e->valuedouble);
     cJSON_ArrayForEach(e, cJSON_GetObjectItemCaseSensitive(pf, "max_iterations")) pf_it = fmax(pf_it, e->valuedouble);
     CHECK(pf_strain == cf_num(j, "max_strain"));
+    /* the last frame's check is the run's */
+    const cJSON* pf_x = cJSON_GetObjectItemCaseSensitive(pf, "self_intersections");
+    const cJSON* pf_p = cJSON_GetObjectItemCaseSensitive(pf, "penetration");
+    CHECK(cJSON_GetArrayItem(pf_x, 9)->valuedouble == cf_num(j, "self_intersections"));
+    CHECK(cJSON_GetArrayItem(pf_p, 9)->valuedouble == cf_num(j, "max_penetration"));
     CHECK(pf_it == cf_num(it, "max"));
     /* The bounding box of the final positions is that of the last frame's vertices: the same
      * floats (the API's outputs), written with as many digits as each file format needs. */

@@ -61,6 +61,7 @@ void cli_run_usage(FILE* out) {
           "  --out DIR              write DIR/frame_0001.obj ... (created if missing): every host\n"
           "                         vertex in the mesh's own order, then its polygons\n"
           "  --stats FILE.json      write timings, solver and recovery counts as one JSON object\n"
+          "                         (and check every frame for crossings and penetration)\n"
           "  --render DIR           write DIR/frame_0001.png ... through weft_render(), seen from\n"
           "                         the scene's camera\n"
           "  --threads N            OpenMP threads (>= 0; 0: OpenMP's default)\n"
@@ -264,6 +265,12 @@ static int simulate(run_ctx* c, const run_args* a) {
         st = run_host_read_positions(&c->host);
         if (st != WEFT_OK) return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
         c->rec.nonfinite_outputs += run_record_bbox(&c->rec, c->host.positions, c->host.info.n_vertices);
+        if (a->stats) { /* the stats' per-frame crossings and penetration: a check at every frame */
+            weft_collision_check chk;
+            if (weft_cloth_check_collisions(c->host.ctx, c->host.cloth, &chk) != WEFT_OK)
+                return fail(c, "%s: frame %d: collision check: %s", a->scene, f, run_host_error(&c->host));
+            run_record_check(&c->rec, f - 1, &chk);
+        }
         rc = write_frame(c, a, f, f * dt);
         run_progress_update(&c->progress, f);
     }

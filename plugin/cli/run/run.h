@@ -31,8 +31,10 @@ typedef struct run_info {
 } run_info;
 
 /* Per-frame values written to --stats's "per_frame" arrays (besides "ms"): rollbacks,
- * max_strain, max_iterations, not_converged, self_impacts, contacts. */
-#define RUN_FRAME_VALS 6
+ * max_strain, max_iterations, not_converged, self_impacts, contacts (from the frame's stats),
+ * then self_intersections and penetration (m) (the collision check of the frame's end,
+ * run_record_check; only with --stats). */
+#define RUN_FRAME_VALS 8
 extern const char* const run_frame_val_names[RUN_FRAME_VALS];
 
 /* What the frame loop measured. */
@@ -74,6 +76,8 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
 /* Frame f's step failed every recovery (WEFT_ERROR_STEP_FAILED, no stats; the cloth is as it
  * was): counted in failed_frames and as one failed substep; stage timings zero. */
 void run_record_failed_frame(run_record* r, int f, double ms);
+/* Frame f's collision check (weft_cloth_check_collisions at its end). */
+void run_record_check(run_record* r, int f, const weft_collision_check* chk);
 /* The bounding box of n host positions (n x 3); returns how many have a non-finite coordinate
  * (those are left out of the box). */
 long long run_record_bbox(run_record* r, const float* pos, int n);

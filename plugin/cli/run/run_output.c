@@ -144,7 +144,7 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     /* checked at the last frame whether self-collision is on or not */
     add_num(root, "self_intersections", r->self_intersections, &ok);
     add_num(root, "max_penetration", r->max_penetration, &ok);
-    /* every frame's wall time and values, in frame order (a failed frame: zeros) */
+    /* every frame's wall time and values, in frame order (a failed frame: zeros but its collision check) */
     o = cJSON_AddObjectToObject(root, "per_frame");
     if (!o || !cJSON_AddItemToObject(o, "ms", cJSON_CreateDoubleArray(r->frame_ms, r->frames))) ok = 0;
     for (int k = 0; k < RUN_FRAME_VALS && o; ++k) {

@@ -7,8 +7,9 @@
 #include <string.h>
 
 const char* const run_stage_names[RUN_STAGES] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
-const char* const run_frame_val_names[RUN_FRAME_VALS] = {"rollbacks",     "max_strain",   "max_iterations",
-                                                         "not_converged", "self_impacts", "contacts"};
+const char* const run_frame_val_names[RUN_FRAME_VALS] = {
+    "rollbacks", "max_strain", "max_iterations", "not_converged", "self_impacts", "contacts", "self_intersections",
+    "penetration"};
 
 int run_record_init(run_record* r, int frames) {
     memset(r, 0, sizeof *r);
@@ -66,6 +67,12 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     r->self_unresolved += s->self_unresolved;
     r->self_ms += s->ms_self_collide;
     r->frames = f + 1;
+}
+
+void run_record_check(run_record* r, int f, const weft_collision_check* chk) {
+    double* fv = r->frame_vals + (size_t)f * RUN_FRAME_VALS;
+    fv[6] = chk->self_intersections;
+    fv[7] = chk->max_penetration;
 }
 
 void run_record_failed_frame(run_record* r, int f, double ms) {
