@@ -142,13 +142,25 @@ void wc_bvh_refit(wc_bvh* b, const double* boxes) {
 }
 
 int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void* user) {
+    return wc_bvh_query_masked(b, box, NULL, visit, user);
+}
+
+void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask) {
+    for (int node = b->n_nodes - 1; node >= 0; --node) { /* preorder: children after their parent */
+        const int* ch = b->child + 2 * node;
+        if (ch[0] >= 0) mask[node] = mask[ch[0]] | mask[ch[1]];
+    }
+}
+
+int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
+                        void* user) {
     if (b->n_nodes == 0) return 0;
     int stack[WC_BVH_MAX_DEPTH + 2];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        if (!wc_box_overlap(b->box + 6 * node, box)) continue;
+        if ((mask && !mask[node]) || !wc_box_overlap(b->box + 6 * node, box)) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
             int r = visit(user, ch[1]);

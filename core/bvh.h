@@ -31,6 +31,12 @@ void wc_bvh_refit(wc_bvh* b, const double* boxes);
  * closed intervals); stops early when visit returns non-zero (then returns that value, else 0). */
 typedef int (*wc_bvh_visit_fn)(void* user, int prim);
 int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void* user);
+/* The same, skipping every node whose mask (n_nodes bytes) is 0 (mask NULL: wc_bvh_query). */
+int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
+                        void* user);
+/* mask (n_nodes): the caller set every leaf's byte (leaf_of[prim]); sets each internal node's to
+ * the OR of its children's, so a node is 1 when a primitive under it is. */
+void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);
 
 /* Box helpers: an empty box (min +inf, max -inf), growing one by a point, inflating by r. */
 void wc_box_empty(double* box);

@@ -157,6 +157,9 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->in_zone);
     wc_free(&a, sc->active);
     wc_free(&a, sc->edge_max);
+    wc_free(&a, sc->tri_mask);
+    wc_free(&a, sc->edge_mask);
+    wc_free(&a, sc->dirty);
     wc_free(&a, sc->zone);
     wc_free(&a, sc->tangled);
     wc_free(&a, sc->seam_start);
@@ -194,9 +197,10 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->zone = WC_NEW(&A, double, WC_SELF_ZONE_STRIDE * (size_t)n);
     sc->tangled = WC_NEW(&A, unsigned char, (size_t)n);
     sc->active = WC_NEW(&A, unsigned char, (size_t)n + (size_t)sc->n_edges + 1);
+    sc->dirty = WC_NEW(&A, unsigned char, (size_t)n + 1);
     sc->threads = 1;
     if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
-        !sc->in_zone || !sc->zone || !sc->active || !sc->tangled) {
+        !sc->in_zone || !sc->zone || !sc->active || !sc->tangled || !sc->dirty) {
         wc_self_destroy(sc);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
@@ -210,7 +214,10 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     if (st == WEFT_OK) st = wc_bvh_build(&sc->edge_bvh, sc->edge_box, sc->n_edges, &A, diag);
     if (st == WEFT_OK) {
         sc->edge_max = WC_NEW(&A, int, (size_t)sc->edge_bvh.n_nodes + 1);
-        if (!sc->edge_max) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+        sc->tri_mask = WC_NEW(&A, unsigned char, (size_t)sc->tri_bvh.n_nodes + 1);
+        sc->edge_mask = WC_NEW(&A, unsigned char, (size_t)sc->edge_bvh.n_nodes + 1);
+        if (!sc->edge_max || !sc->tri_mask || !sc->edge_mask)
+            st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
     }
     if (st != WEFT_OK) {
         wc_self_destroy(sc);
@@ -245,6 +252,7 @@ typedef struct pass_ctx {
     int prox;           /* proximity impulses (MODE_PROXIMITY) */
     int dry;            /* 1: the read-only scan: nothing moved or merged, a pair that needs action
                            makes the visit return 1 (the query is marked, its visit stops) */
+    const unsigned char* dirty; /* NULL: every pair; else only pairs with a particle i dirty[i] */
 } pass_ctx;
 
 /* Move the 4 particles ids by w_i inv_m_i D / sum_j w_j^2 inv_m_j along n: the relative normal
@@ -503,13 +511,10 @@ static int visit_edge_above(void* user, int f) {
     return edge_edge(c, c->query, f);
 }
 
-/* Edge e against the edges f > e whose tree boxes overlap box (self_collide.h). */
-static int query_edges_above(pass_ctx* c, int e, const double* box) {
-    c->query = e;
-    return wc_self_edges_above(c->sc, e, box, visit_edge_above, c);
-}
-
-int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user) {
+/* Edge e against the edges f > e whose tree boxes overlap box (self_collide.h), in the nodes of
+ * the edge tree whose mask is set (mask NULL: all). */
+static int edges_above(const wc_self* sc, int e, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
+                       void* user) {
     const wc_bvh* b = &sc->edge_bvh;
     const int* mx = sc->edge_max;
     if (b->n_nodes == 0) return 0;
@@ -518,7 +523,7 @@ int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visi
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        if (mx[node] <= e || !wc_box_overlap(b->box + 6 * node, box)) continue;
+        if (mx[node] <= e || (mask && !mask[node]) || !wc_box_overlap(b->box + 6 * node, box)) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
             int r = visit(user, ch[1]);
@@ -531,37 +536,63 @@ int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visi
     return 0;
 }
 
+int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user) {
+    return edges_above(sc, e, box, NULL, visit, user);
+}
+
 /* Visit the candidates of query q (vertex q < n, else edge q - n) at c's positions; returns 1
- * when a dry scan found a pair that needs action. */
+ * when a dry scan found a pair that needs action. With c->dirty, a clean query (its particles
+ * not dirty) visits only the elements under the trees' dirty nodes (mark_dirty). */
 static int query(pass_ctx* c, int q) {
     wc_self* sc = c->sc;
+    const unsigned char* dirty = c->dirty;
     double b[6];
     if (q < sc->n) {
         wc_self_swept_box(b, &q, 1, sc->x_start, c->x, 0.0);
         c->query = q;
-        return wc_bvh_query(&sc->tri_bvh, b, visit_tri, c) != 0;
+        const unsigned char* mask = dirty && !dirty[q] ? sc->tri_mask : NULL;
+        return wc_bvh_query_masked(&sc->tri_bvh, b, mask, visit_tri, c) != 0;
     }
     /* the edge's own box (not inflated twice: the tree's boxes carry r) */
-    wc_self_swept_box(b, sc->edges + 2 * (q - sc->n), 2, sc->x_start, c->x, 0.0);
-    return query_edges_above(c, q - sc->n, b) != 0;
+    const int* ev = sc->edges + 2 * (q - sc->n);
+    wc_self_swept_box(b, ev, 2, sc->x_start, c->x, 0.0);
+    c->query = q - sc->n;
+    const unsigned char* mask = dirty && !dirty[ev[0]] && !dirty[ev[1]] ? sc->edge_mask : NULL;
+    return edges_above(sc, q - sc->n, b, mask, visit_edge_above, c) != 0;
 }
 
-/* One pass over every vertex-triangle and edge-edge candidate; returns the CCD collisions found
- * (given an impulse where one applies); *prox (may be NULL) the proximity impulses. The parallel
- * read-only scan marks the queries with work (self_collide.h), then the marked ones are visited
- * serially in index order. */
-static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox) {
+/* The trees' masks: a leaf is dirty when one of its element's particles is (dirty[]), a node when
+ * a leaf under it is. */
+static void mark_dirty(wc_self* sc, const wc_model* m, const unsigned char* dirty) {
+    for (int t = 0; t < sc->n_tris; ++t) {
+        const int* tv = m->tris + 3 * t;
+        sc->tri_mask[sc->tri_bvh.leaf_of[t]] = dirty[tv[0]] | dirty[tv[1]] | dirty[tv[2]];
+    }
+    wc_bvh_mask_up(&sc->tri_bvh, sc->tri_mask);
+    for (int e = 0; e < sc->n_edges; ++e) {
+        const int* ev = sc->edges + 2 * e;
+        sc->edge_mask[sc->edge_bvh.leaf_of[e]] = dirty[ev[0]] | dirty[ev[1]];
+    }
+    wc_bvh_mask_up(&sc->edge_bvh, sc->edge_mask);
+}
+
+/* One pass over every vertex-triangle and edge-edge candidate (dirty non-NULL: only those with a
+ * particle i dirty[i]); returns the CCD collisions found (given an impulse where one applies);
+ * *prox (may be NULL) the proximity impulses. The parallel read-only scan marks the queries with
+ * work (self_collide.h), then the marked ones are visited serially in index order. */
+static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty) {
     double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
     int nq = sc->n + sc->n_edges;
     /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
     wc_self_refit(sc, m, sc->x_start, x, r);
+    if (dirty) mark_dirty(sc, m, dirty);
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
         wc_par_range(nq, t, nt, &lo, &hi);
-        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1};
+        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty};
         for (int q = lo; q < hi; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0};
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, dirty};
     for (int q = 0; q < nq; ++q)
         if (sc->active[q]) query(&c, q);
     if (prox) *prox = c.prox;
@@ -581,10 +612,10 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
     /* a pass that moved something (its trees were refitted before the moves, and pairs it checked
        early may have been moved later) proves nothing: only a pass that moved nothing shows the
        substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide */
-    local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity);
+    local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity, NULL);
     int left = local.impacts + local.proximity;
     for (int p = 1; p < sc->passes && left; ++p) {
-        left = pass(sc, m, x, MODE_IMPULSE, NULL);
+        left = pass(sc, m, x, MODE_IMPULSE, NULL, NULL);
         local.impacts += left;
     }
     if (left) {
@@ -592,16 +623,22 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             sc->parent[i] = i;
             sc->in_zone[i] = 0;
         }
+        /* the first detection pass checks every pair; each later one only the pairs with a particle
+           that a zone's rigid motion or the relaxation moved since (the dirty set, kept for the whole
+           loop): a pair whose particles did not move was collision-free at the previous pass (a
+           colliding one had its particles merged into a zone, which makes them dirty) */
+        memset(sc->dirty, 0, (size_t)n);
         int it = 0;
         for (; it < WC_SELF_ZONE_ITERS; ++it) {
-            left = pass(sc, m, x, MODE_DETECT, NULL);
+            left = pass(sc, m, x, MODE_DETECT, NULL, it == 0 || sc->detect_all ? NULL : sc->dirty);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
+            for (int i = 0; i < n; ++i) sc->dirty[i] |= sc->in_zone[i];
             if (sc->zone_strain < INFINITY)
                 local.relaxed += wc_self_relax_zones(m, sc->x_old, x, sc->in_zone, sc->inv_mass, sc->zone_strain,
-                                                     WC_SELF_RELAX_PASSES);
+                                                     WC_SELF_RELAX_PASSES, sc->dirty);
         }
-        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL);
+        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL, NULL);
         for (int i = 0; i < n; ++i)
             if (sc->in_zone[i] && wc_uf_find(sc->parent, i) == i) ++local.zones;
     }

@@ -96,6 +96,8 @@ typedef struct wc_self {
     double eta;         /* m: CCD tolerance, thickness / 100 */
     int passes;         /* CCD impulse passes before the zones (WC_SELF_PASSES); tests set 0 (no
                            CCD impulse: every collision goes to the zones) to drive the zones */
+    int detect_all;     /* tests: 1 = every detection pass of the zone loop checks every pair
+                           (default 0: after the first, only pairs with a dirty particle) */
     double zone_strain; /* the springs a zone stretched are relaxed to this strain, or what the
                            solve left, if more (WC_SELF_ZONE_STRAIN; infinity: not relaxed) */
     int n, n_tris, n_edges;
@@ -112,6 +114,10 @@ typedef struct wc_self {
                                that needs action this pass (parallel scan's result) */
     int* edge_max;      /* (edge_bvh.n_nodes) the largest edge index under each node: an edge's
                            query skips the subtrees of lower edges (each pair visited once) */
+    unsigned char* dirty;     /* (n) zone loop: 1 for a particle moved since its first detection
+                                 pass (zone members, particles the relaxation moved) */
+    unsigned char* tri_mask;  /* (tri_bvh.n_nodes), edge_mask (edge_bvh.n_nodes): 1 for a node */
+    unsigned char* edge_mask; /* with an element of a dirty particle under it */
     int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
     double* zone;       /* (n x WC_SELF_ZONE_STRIDE) per-zone accumulators (self_zones.c) */
     int* seam_start;    /* (n + 1) CSR of each particle's seam partners (sew.h; NULL: no seams): */
@@ -149,9 +155,9 @@ void wc_self_rigidify(int n, const double* x_start, double* x, const double* mas
  * floor and its strain at x_old, the positions before the zones) by moving its ends outside the
  * zones (in[] 0) in proportion to their inverse masses inv_m (0: pinned, never moved), up to
  * passes Gauss-Seidel passes in spring order (deterministic), stopping at a pass that moves
- * nothing. Returns the corrections made. */
+ * nothing; moved (may be NULL) gets 1 for each particle moved. Returns the corrections made. */
 int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
-                        const double* inv_m, double floor, int passes);
+                        const double* inv_m, double floor, int passes, unsigned char* moved);
 
 /* For the in-solve self-contact pairs (self_pairs.h), on this list's trees and seams:
  *   linked: 1 when particles a and b are one particle or sewn together;

@@ -80,8 +80,8 @@ static double strain_of(const wc_spring* sp, const double* x) {
 }
 
 int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
-                        const double* inv_m, double floor, int passes) {
-    int moved = 0;
+                        const double* inv_m, double floor, int passes, unsigned char* moved) {
+    int corrections = 0;
     const int s0 = m->spring_type_start[WC_SPRING_STRETCH], s1 = m->spring_type_start[WC_SPRING_STRETCH + 1];
     for (int p = 0; p < passes; ++p) {
         int this_pass = 0;
@@ -97,10 +97,14 @@ int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const
             double c = (L - limit) / (L * (wa + wb));
             v3_axpy(x + 3 * a, -wa * c, d);
             v3_axpy(x + 3 * b, wb * c, d);
+            if (moved) {
+                moved[a] |= wa > 0.0;
+                moved[b] |= wb > 0.0;
+            }
             ++this_pass;
         }
-        moved += this_pass;
+        corrections += this_pass;
         if (this_pass == 0) break;
     }
-    return moved;
+    return corrections;
 }

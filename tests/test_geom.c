@@ -251,21 +251,28 @@ static void test_bvh_against_brute(void) {
                 random_boxes(boxes, n, 2);
                 wc_bvh_refit(&b, boxes);
             }
-            for (int q = 0; q < 50; ++q) {
+            /* masked: only every third primitive (pass 0) or none but the last (pass 1) */
+            unsigned char* mask = calloc((size_t)b.n_nodes + 1, 1);
+            for (int i = 0; i < n; ++i) mask[b.leaf_of[i]] = pass == 0 ? i % 3 == 0 : i == n - 1;
+            wc_bvh_mask_up(&b, mask);
+            for (int q = 0; q < 100; ++q) {
+                int masked = q >= 50;
                 double box[6];
                 random_boxes(box, 1, 1.5);
                 wc_box_inflate(box, 0.2);
                 h.n = 0;
-                wc_bvh_query(&b, box, collect, &h);
+                if (masked) wc_bvh_query_masked(&b, box, mask, collect, &h);
+                else wc_bvh_query(&b, box, collect, &h);
                 qsort(h.list, (size_t)h.n, sizeof(int), cmp_int);
                 int k = 0;
                 for (int i = 0; i < n; ++i)
-                    if (wc_box_overlap(boxes + 6 * i, box)) {
+                    if (wc_box_overlap(boxes + 6 * i, box) && (!masked || mask[b.leaf_of[i]])) {
                         if (k >= h.n || h.list[k] != i) ++mismatches;
                         ++k;
                     }
                 if (k != h.n) ++mismatches;
             }
+            free(mask);
         }
         CHECK_EQ_INT(mismatches, 0);
         for (int i = 0; i < n; ++i) CHECK_EQ_INT(b.child[2 * b.leaf_of[i] + 1], i);
