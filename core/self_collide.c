@@ -160,6 +160,7 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->tri_mask);
     wc_free(&a, sc->edge_mask);
     wc_free(&a, sc->dirty);
+    wc_free(&a, sc->dirty_next);
     wc_free(&a, sc->zone);
     wc_free(&a, sc->tangled);
     wc_free(&a, sc->seam_start);
@@ -198,9 +199,11 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->tangled = WC_NEW(&A, unsigned char, (size_t)n);
     sc->active = WC_NEW(&A, unsigned char, (size_t)n + (size_t)sc->n_edges + 1);
     sc->dirty = WC_NEW(&A, unsigned char, (size_t)n + 1);
+    sc->dirty_next = WC_NEW(&A, unsigned char, (size_t)n + 1);
     sc->threads = 1;
     if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
-        !sc->in_zone || !sc->zone || !sc->active || !sc->tangled || !sc->dirty) {
+        !sc->in_zone || !sc->zone || !sc->active || !sc->tangled || !sc->dirty ||
+        !sc->dirty_next) {
         wc_self_destroy(sc);
         return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
@@ -253,12 +256,21 @@ typedef struct pass_ctx {
     int dry;            /* 1: the read-only scan: nothing moved or merged, a pair that needs action
                            makes the visit return 1 (the query is marked, its visit stops) */
     const unsigned char* dirty; /* NULL: every pair; else only pairs with a particle i dirty[i] */
+    unsigned char* touched;     /* NULL, or (serial visit) 1 for the particles of every pair acted
+                                   on or counted: the next pass's dirty set */
 } pass_ctx;
+
+/* The 4 particles of a pair that needed action go into the next pass's dirty set. */
+static void touch(pass_ctx* c, const int* ids) {
+    if (c->touched)
+        for (int k = 0; k < 4; ++k) c->touched[ids[k]] = 1;
+}
 
 /* Move the 4 particles ids by w_i inv_m_i D / sum_j w_j^2 inv_m_j along n: the relative normal
  * displacement sum_i w_i (x_i - x_start_i) . n grows by D. */
 static int apply(pass_ctx* c, const int* ids, const double* w, const double* n, double D) {
     const double* im = c->sc->inv_mass;
+    touch(c, ids);
     double den = 0.0;
     for (int k = 0; k < 4; ++k) den += w[k] * w[k] * im[ids[k]];
     if (!(den > 0)) return 0;
@@ -435,6 +447,7 @@ static int vertex_tri(pass_ctx* c, int i, int t) {
     /* counted whether or not an impulse can be applied (pinned, no normal, already separating
        along it): the pass is then not clean, and what impulses cannot fix the zones will */
     ++c->count;
+    touch(c, ids);
     if (c->sc->passes == 0) return 0;
     double sep0[3];
     for (int k = 0; k < 3; ++k) sep0[k] = xs[3 * i + k] - bw[0] * xs[3 * tv[0] + k] - bw[1] * xs[3 * tv[1] + k] - bw[2] * xs[3 * tv[2] + k];
@@ -490,6 +503,7 @@ static int edge_edge(pass_ctx* c, int e, int f) {
         return 0;
     }
     ++c->count; /* as for vertex-triangle pairs */
+    touch(c, ids);
     if (c->sc->passes == 0) return 0;
     double sep0[3];
     for (int k = 0; k < 3; ++k)
@@ -580,7 +594,8 @@ static void mark_dirty(wc_self* sc, const wc_model* m, const unsigned char* dirt
  * particle i dirty[i]); returns the CCD collisions found (given an impulse where one applies);
  * *prox (may be NULL) the proximity impulses. The parallel read-only scan marks the queries with
  * work (self_collide.h), then the marked ones are visited serially in index order. */
-static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty) {
+static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty,
+                unsigned char* touched) {
     double r = mode == MODE_PROXIMITY ? sc->thickness : sc->eta;
     int nq = sc->n + sc->n_edges;
     /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
@@ -589,10 +604,10 @@ static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, 
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
         wc_par_range(nq, t, nt, &lo, &hi);
-        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty};
+        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL};
         for (int q = lo; q < hi; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, dirty};
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, dirty, touched};
     for (int q = 0; q < nq; ++q)
         if (sc->active[q]) query(&c, q);
     if (prox) *prox = c.prox;
@@ -611,11 +626,21 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
     wc_self_stats local = {0, 0, 0, 0, 0};
     /* a pass that moved something (its trees were refitted before the moves, and pairs it checked
        early may have been moved later) proves nothing: only a pass that moved nothing shows the
-       substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide */
-    local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity, NULL);
+       substep free of collisions; after WC_SELF_PASSES, the zone loop's detection passes decide.
+       The first pass checks every pair; every later one only the pairs with a dirty particle: one
+       of a pair that an earlier pass acted on or counted (touch), a zone's member, or one the
+       relaxation moved. A pair with no dirty particle has not moved since a pass found it
+       needing nothing, so it still needs nothing (tests compare both ways: detect_all). */
+    unsigned char *dirty = sc->dirty, *touched = sc->dirty_next;
+    memset(touched, 0, (size_t)n);
+    local.impacts = pass(sc, m, x, MODE_PROXIMITY, &local.proximity, NULL, touched);
     int left = local.impacts + local.proximity;
     for (int p = 1; p < sc->passes && left; ++p) {
-        left = pass(sc, m, x, MODE_IMPULSE, NULL, NULL);
+        unsigned char* tmp = dirty; /* this pass's dirty set: the last pass's touched particles */
+        dirty = touched;
+        touched = tmp;
+        memset(touched, 0, (size_t)n);
+        left = pass(sc, m, x, MODE_IMPULSE, NULL, sc->detect_all ? NULL : dirty, touched);
         local.impacts += left;
     }
     if (left) {
@@ -623,22 +648,20 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             sc->parent[i] = i;
             sc->in_zone[i] = 0;
         }
-        /* the first detection pass checks every pair; each later one only the pairs with a particle
-           that a zone's rigid motion or the relaxation moved since (the dirty set, kept for the whole
-           loop): a pair whose particles did not move was collision-free at the previous pass (a
-           colliding one had its particles merged into a zone, which makes them dirty) */
-        memset(sc->dirty, 0, (size_t)n);
+        /* the zone loop's dirty set only grows: the last pass's touched particles, then every
+           zone member and every particle the relaxation moved */
+        dirty = touched;
         int it = 0;
         for (; it < WC_SELF_ZONE_ITERS; ++it) {
-            left = pass(sc, m, x, MODE_DETECT, NULL, it == 0 || sc->detect_all ? NULL : sc->dirty);
+            left = pass(sc, m, x, MODE_DETECT, NULL, sc->detect_all ? NULL : dirty, NULL);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
-            for (int i = 0; i < n; ++i) sc->dirty[i] |= sc->in_zone[i];
+            for (int i = 0; i < n; ++i) dirty[i] |= sc->in_zone[i];
             if (sc->zone_strain < INFINITY)
                 local.relaxed += wc_self_relax_zones(m, sc->x_old, x, sc->in_zone, sc->inv_mass, sc->zone_strain,
-                                                     WC_SELF_RELAX_PASSES, sc->dirty);
+                                                     WC_SELF_RELAX_PASSES, dirty);
         }
-        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL, NULL);
+        if (it == WC_SELF_ZONE_ITERS) local.unresolved = pass(sc, m, x, MODE_DETECT, NULL, NULL, NULL);
         for (int i = 0; i < n; ++i)
             if (sc->in_zone[i] && wc_uf_find(sc->parent, i) == i) ++local.zones;
     }

@@ -96,8 +96,8 @@ typedef struct wc_self {
     double eta;         /* m: CCD tolerance, thickness / 100 */
     int passes;         /* CCD impulse passes before the zones (WC_SELF_PASSES); tests set 0 (no
                            CCD impulse: every collision goes to the zones) to drive the zones */
-    int detect_all;     /* tests: 1 = every detection pass of the zone loop checks every pair
-                           (default 0: after the first, only pairs with a dirty particle) */
+    int detect_all;     /* tests: 1 = every pass checks every pair (default 0: after the first,
+                           only the pairs with a dirty particle) */
     double zone_strain; /* the springs a zone stretched are relaxed to this strain, or what the
                            solve left, if more (WC_SELF_ZONE_STRAIN; infinity: not relaxed) */
     int n, n_tris, n_edges;
@@ -114,8 +114,8 @@ typedef struct wc_self {
                                that needs action this pass (parallel scan's result) */
     int* edge_max;      /* (edge_bvh.n_nodes) the largest edge index under each node: an edge's
                            query skips the subtrees of lower edges (each pair visited once) */
-    unsigned char* dirty;     /* (n) zone loop: 1 for a particle moved since its first detection
-                                 pass (zone members, particles the relaxation moved) */
+    unsigned char* dirty;     /* (n) each: 1 for a particle whose pairs the next pass must check */
+    unsigned char* dirty_next; /* (wc_self_resolve: the dirty set and the one being marked) */
     unsigned char* tri_mask;  /* (tri_bvh.n_nodes), edge_mask (edge_bvh.n_nodes): 1 for a node */
     unsigned char* edge_mask; /* with an element of a dirty particle under it */
     int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
