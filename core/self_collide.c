@@ -255,7 +255,8 @@ typedef struct pass_ctx {
     int prox;           /* proximity impulses (MODE_PROXIMITY) */
     int dry;            /* 1: the read-only scan: nothing moved or merged, a pair that needs action
                            makes the visit return 1 (the query is marked, its visit stops) */
-    const unsigned char* dirty; /* NULL: every pair; else only pairs with a particle i dirty[i] */
+    const unsigned char* dirty; /* NULL: every pair; else (dry scan) only pairs with a particle i
+                                   dirty[i] */
     unsigned char* touched;     /* NULL, or (serial visit) 1 for the particles of every pair acted
                                    on or counted: the next pass's dirty set */
 } pass_ctx;
@@ -555,8 +556,8 @@ int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visi
 }
 
 /* Visit the candidates of query q (vertex q < n, else edge q - n) at c's positions; returns 1
- * when a dry scan found a pair that needs action. With c->dirty, a clean query (its particles
- * not dirty) visits only the elements under the trees' dirty nodes (mark_dirty). */
+ * when a dry scan found a pair that needs action. With c->dirty (the dry scan only), a clean query
+ * (its particles not dirty) visits only the elements under the trees' dirty nodes (mark_dirty). */
 static int query(pass_ctx* c, int q) {
     wc_self* sc = c->sc;
     const unsigned char* dirty = c->dirty;
@@ -607,7 +608,10 @@ static int pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, 
         pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL};
         for (int q = lo; q < hi; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, dirty, touched};
+    /* the serial visits are those of the unfiltered pass: the scan marked the same queries (a pair
+       with no dirty particle needs nothing), and a marked query visits all its candidates, so an
+       impulse earlier in this pass that moved a clean pair is seen as it would be unfiltered */
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, NULL, touched};
     for (int q = 0; q < nq; ++q)
         if (sc->active[q]) query(&c, q);
     if (prox) *prox = c.prox;

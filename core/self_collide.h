@@ -69,11 +69,13 @@
  * proximity and CCD tests at once; an edge queries only the edges of higher index, a pair whose
  * start boxes are far apart relative to its motion skips the closest-point tests, and the CCD's
  * cubic runs only when the pair's relative motion can close its start distance). Every pass
- * after the first checks only the pairs with a dirty particle (one of a pair an earlier pass
+ * after the first scans only the pairs with a dirty particle (one of a pair an earlier pass
  * acted on or counted, a zone's member, one the relaxation moved): a clean vertex or edge visits
- * only the tree nodes with a dirty element below (wc_bvh_query_masked), and the result is that
- * of checking every pair (detect_all), bit for bit. See README "Self-collision" for measured
- * numbers. */
+ * only the tree nodes with a dirty element below (wc_bvh_query_masked). A pair with no dirty
+ * particle has not moved since a pass found it needing nothing, so the scan marks the queries
+ * the unfiltered one would, and the serial visit of a marked query is unfiltered: the result is
+ * that of checking every pair (detect_all), bit for bit. See README "Self-collision" for
+ * measured numbers. */
 #ifndef WEFT_CORE_SELF_COLLIDE_H
 #define WEFT_CORE_SELF_COLLIDE_H
 #include "bvh.h"
