@@ -62,7 +62,7 @@ void wc_self_rigidify(int n, const double* x_start, double* x, const double* mas
         v3_sub(r, x_start + 3 * i, xc);
         /* the rotation by the angle |omega| about omega (Rodrigues: R r = r + sin(t)/t w x r +
            (1 - cos(t))/t^2 w x (w x r), t = |w|), not its linearisation r + w x r, which
-           lengthens every distance across the zone by a factor sqrt(1 + t^2) */
+           lengthens distances across the zone by up to a factor sqrt(1 + t^2) */
         double t2 = v3_dot(a + 7, a + 7), t = sqrt(t2);
         double s1 = t < 1e-4 ? 1.0 - t2 / 6.0 : sin(t) / t;
         double s2 = t < 1e-4 ? 0.5 - t2 / 24.0 : (1.0 - cos(t)) / t2;
