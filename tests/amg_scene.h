@@ -3,6 +3,10 @@
  * after `frames` direct frames, with the next substep's system prepared in s->A, s->b, s->filter. */
 #ifndef WEFT_TESTS_AMG_SCENE_H
 #define WEFT_TESTS_AMG_SCENE_H
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "check.h"
 #include "solver_impl.h"
@@ -18,7 +22,7 @@ enum { HANG = 0, DRAPE = 1, LINE = 2 };
 
 /* A sheet of n x n after `frames` frames at one direct step per 1/30 s, then the next substep's
  * system prepared in s->A, s->b, s->filter. */
-static int make_scene(scene* sc, int n, double k_scale, int kind, int frames) {
+static inline int make_scene(scene* sc, int n, double k_scale, int kind, int frames) {
     memset(sc, 0, sizeof *sc);
     if (!ts_sheet(&sc->m, n, 1.0, 1.0, 0, k_scale)) return 0;
     wc_sim_def def = wc_default_sim_def();
@@ -55,14 +59,14 @@ static int make_scene(scene* sc, int n, double k_scale, int kind, int frames) {
     return 1;
 }
 
-static void free_scene(scene* sc) {
+static inline void free_scene(scene* sc) {
     wc_state_destroy(sc->s);
     wc_model_free(&sc->m);
 }
 
 /* A PCG solver with the multigrid preconditioner, relative tolerance tol, at most 500 iterations
  * (alloc: NULL for the default allocator). */
-static wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
+static inline wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
     wc_solver_opts o = wc_default_solver_opts();
     o.preconditioner = WC_PRECOND_AMG;
     o.tolerance = tol;
@@ -71,6 +75,59 @@ static wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* 
     wc_diag d = {0};
     CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WEFT_OK);
     return sv;
+}
+
+/* Symmetry and positive definiteness of S M^-1 S (what PCG sees) on random vectors, after a setup
+ * on s's system (test_amg.c, test_amg_cross.c). */
+static inline void amg_check_spd(wc_amg* amg, const wc_state* s, const char* what) {
+    int n = s->model->n_particles, n3 = 3 * n;
+    wc_par par;
+    wc_par_init(&par, 1);
+    wc_amg_setup(amg, s->A, &s->filter, &par);
+    double *u = calloc(n3, sizeof *u), *v = calloc(n3, sizeof *v), *Mu = calloc(n3, sizeof *Mu),
+           *Mv = calloc(n3, sizeof *Mv);
+    uint64_t st = 12345;
+    double worst_sym = 0, min_ratio = INFINITY;
+    for (int trial = 0; trial < 6; ++trial) {
+        for (int k = 0; k < n3; ++k) {
+            st = st * 6364136223846793005ull + 1442695040888963407ull;
+            u[k] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
+            st = st * 6364136223846793005ull + 1442695040888963407ull;
+            v[k] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
+        }
+        if (trial % 2) /* smooth vectors too (the coarse levels' business) */
+            for (int i = 0; i < n; ++i)
+                for (int c = 0; c < 3; ++c) v[3 * i + c] = sin(7.0 * s->model->rest_pos[3 * i] + c) + 0.1 * v[3 * i + c];
+        for (int i = 0; i < n; ++i) {
+            wc_filter_apply(&s->filter, i, u + 3 * i, u + 3 * i);
+            wc_filter_apply(&s->filter, i, v + 3 * i, v + 3 * i);
+        }
+        wc_amg_apply(amg, u, Mu, &par);
+        wc_amg_apply(amg, v, Mv, &par);
+        double uMv = 0, vMu = 0, vMv = 0, vv = 0, Mvn = 0;
+        for (int i = 0; i < n; ++i) { /* filter the outputs: S M^-1 S */
+            wc_filter_apply(&s->filter, i, Mu + 3 * i, Mu + 3 * i);
+            wc_filter_apply(&s->filter, i, Mv + 3 * i, Mv + 3 * i);
+        }
+        for (int k = 0; k < n3; ++k) {
+            uMv += u[k] * Mv[k];
+            vMu += v[k] * Mu[k];
+            vMv += v[k] * Mv[k];
+            vv += v[k] * v[k];
+            Mvn += Mv[k] * Mv[k];
+        }
+        double sym = fabs(uMv - vMu) / (fabs(uMv) + fabs(vMu) + 1e-300);
+        if (sym > worst_sym) worst_sym = sym;
+        double ratio = vMv / sqrt(vv * Mvn); /* cosine between v and M^-1 v: > 0 for SPD */
+        if (ratio < min_ratio) min_ratio = ratio;
+    }
+    printf("  %-34s symmetry %.1e, min cos(v, M^-1 v) %.3f\n", what, worst_sym, min_ratio);
+    CHECK(worst_sym < 1e-10);
+    CHECK(min_ratio > 0);
+    free(u);
+    free(v);
+    free(Mu);
+    free(Mv);
 }
 
 #endif

@@ -14,67 +14,6 @@
 #include "test_support.h"
 #include "amg_scene.h"
 
-static double rel_diff(const double* a, const double* b, int n3) {
-    double num = 0, den = 0;
-    for (int k = 0; k < n3; ++k) {
-        num += (a[k] - b[k]) * (a[k] - b[k]);
-        den += b[k] * b[k];
-    }
-    return sqrt(num / (den > 0 ? den : 1));
-}
-
-/* Symmetry and positive definiteness of S M^-1 S (what PCG sees) on random vectors. */
-static void check_spd(wc_solver* sv, const wc_state* s, const char* what) {
-    int n = s->model->n_particles, n3 = 3 * n;
-    wc_par par;
-    wc_par_init(&par, 1);
-    wc_amg_setup(sv->amg, s->A, &s->filter, &par);
-    double *u = calloc(n3, sizeof *u), *v = calloc(n3, sizeof *v), *Mu = calloc(n3, sizeof *Mu),
-           *Mv = calloc(n3, sizeof *Mv);
-    uint64_t st = 12345;
-    double worst_sym = 0, min_ratio = INFINITY;
-    for (int trial = 0; trial < 6; ++trial) {
-        for (int k = 0; k < n3; ++k) {
-            st = st * 6364136223846793005ull + 1442695040888963407ull;
-            u[k] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
-            st = st * 6364136223846793005ull + 1442695040888963407ull;
-            v[k] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
-        }
-        if (trial % 2) /* smooth vectors too (the coarse levels' business) */
-            for (int i = 0; i < n; ++i)
-                for (int c = 0; c < 3; ++c) v[3 * i + c] = sin(7.0 * s->model->rest_pos[3 * i] + c) + 0.1 * v[3 * i + c];
-        for (int i = 0; i < n; ++i) {
-            wc_filter_apply(&s->filter, i, u + 3 * i, u + 3 * i);
-            wc_filter_apply(&s->filter, i, v + 3 * i, v + 3 * i);
-        }
-        wc_amg_apply(sv->amg, u, Mu, &par);
-        wc_amg_apply(sv->amg, v, Mv, &par);
-        double uMv = 0, vMu = 0, vMv = 0, vv = 0, Mvn = 0;
-        for (int i = 0; i < n; ++i) { /* filter the outputs: S M^-1 S */
-            wc_filter_apply(&s->filter, i, Mu + 3 * i, Mu + 3 * i);
-            wc_filter_apply(&s->filter, i, Mv + 3 * i, Mv + 3 * i);
-        }
-        for (int k = 0; k < n3; ++k) {
-            uMv += u[k] * Mv[k];
-            vMu += v[k] * Mu[k];
-            vMv += v[k] * Mv[k];
-            vv += v[k] * v[k];
-            Mvn += Mv[k] * Mv[k];
-        }
-        double sym = fabs(uMv - vMu) / (fabs(uMv) + fabs(vMu) + 1e-300);
-        if (sym > worst_sym) worst_sym = sym;
-        double ratio = vMv / sqrt(vv * Mvn); /* cosine between v and M^-1 v: > 0 for SPD */
-        if (ratio < min_ratio) min_ratio = ratio;
-    }
-    printf("  %-34s symmetry %.1e, min cos(v, M^-1 v) %.3f\n", what, worst_sym, min_ratio);
-    CHECK(worst_sym < 1e-10);
-    CHECK(min_ratio > 0);
-    free(u);
-    free(v);
-    free(Mu);
-    free(Mv);
-}
-
 /* PCG + AMG to 1e-8 against CHOLMOD, and its iterations to 1e-4 against block Jacobi's. */
 static void check_solve(scene* sc, const char* what, int max_amg_iterations) {
     wc_state* s = sc->s;
@@ -82,13 +21,13 @@ static void check_solve(scene* sc, const char* what, int max_amg_iterations) {
     wc_solver* sv = amg_solver(&sc->m, 1e-8, NULL);
     if (!sv) return;
     wc_solver_set_positions(sv, s->x); /* rotations about the current positions, as a state's solver */
-    check_spd(sv, s, what);
+    amg_check_spd(sv->amg, s, what);
     double *ref = calloc(n3, sizeof *ref), *dv = calloc(n3, sizeof *dv);
     wc_solve_result res;
     CHECK(wc_solve(sv, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res) == WEFT_OK);
     CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WEFT_OK);
     CHECK(res.converged);
-    double err = rel_diff(dv, ref, n3);
+    double err = ts_rel_diff(dv, ref, n3);
     int it_tight = res.iterations;
     /* iterations to 1e-4 from zero: AMG against block Jacobi */
     sv->opts.tolerance = 1e-4;

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "test_support.h"
 #include "self_collide.h"
 #include "self_pairs.h"
 #include "solve.h"
@@ -27,16 +28,6 @@ static void layers(wc_model* m) {
     CHECK(two_layers(m, N, SIZE, 0.0, GAP));
 }
 
-static void shifted_positions(const wc_model* m, double* x) {
-    double cell = SIZE / (N - 1);
-    memcpy(x, m->rest_pos, 3 * (size_t)m->n_particles * sizeof(double));
-    for (int v = N * N; v < 2 * N * N; ++v) {
-        int p = m->host_to_particle[v];
-        x[3 * p] += cell / 3.0;
-        x[3 * p + 2] += cell / 5.0;
-    }
-}
-
 static wc_sim_def def_self(int in_solve) {
     wc_sim_def d = wc_default_sim_def();
     d.self_collision = 1;
@@ -48,18 +39,8 @@ static wc_sim_def def_self(int in_solve) {
 
 /* A state whose top layer moves down at 0.3 m/s over the bottom one. */
 static wc_state* approaching(const wc_model* m, const wc_sim_def* def) {
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    CHECK(wc_state_create(&s, m, def, NULL, &d) == WEFT_OK);
-    if (!s) return NULL;
-    int n = m->n_particles;
-    double* x = malloc(3 * (size_t)n * sizeof(double));
-    double* v = calloc(3 * (size_t)n, sizeof(double));
-    shifted_positions(m, x);
-    for (int hv = N * N; hv < 2 * N * N; ++hv) v[3 * m->host_to_particle[hv] + 1] = -0.3;
-    CHECK(wc_state_set_positions(s, x, v, &d) == WEFT_OK);
-    free(x);
-    free(v);
+    wc_state* s = two_layers_approaching(m, N, SIZE, 0.3, def);
+    CHECK(s != NULL);
     return s;
 }
 
@@ -189,15 +170,6 @@ static void dense_system(const wc_state* s, int with_coupling, double* K) {
     }
 }
 
-static double rel_diff(const double* a, const double* b, int n) {
-    double num = 0, den = 0;
-    for (int k = 0; k < n; ++k) {
-        num += (a[k] - b[k]) * (a[k] - b[k]);
-        den += b[k] * b[k];
-    }
-    return sqrt(num / (den > 0 ? den : 1));
-}
-
 static void test_solve_against_dense(void) {
     wc_model m;
     layers(&m);
@@ -229,7 +201,7 @@ static void test_solve_against_dense(void) {
         wc_solve_result res;
         wc_solver_type type = variant == 2 ? WC_SOLVER_DIRECT : WC_SOLVER_PCG;
         CHECK_EQ_INT(wc_solve(s->solver, type, s->A, s->b, &s->filter, dv, &s->par, &res), WEFT_OK);
-        double err = rel_diff(dv, ref, N3), without = rel_diff(ref0, ref, N3);
+        double err = ts_rel_diff(dv, ref, N3), without = ts_rel_diff(ref0, ref, N3);
         printf("  %s: %d active couplings, %d iterations, residual %.2g; off the dense solve by %.2g (the "
                "system without the couplings: %.2g off)\n",
                names[variant], active, res.iterations, res.residual, err, without);
@@ -275,7 +247,7 @@ static drop_result drop(const wc_model* m, int in_solve, int threads) {
     CHECK(wc_state_create(&s, m, &def, &al, &d) == WEFT_OK);
     int n = m->n_particles;
     double* x = malloc(3 * (size_t)n * sizeof(double));
-    shifted_positions(m, x);
+    two_layers_shifted(m, N, SIZE, x);
     for (int hv = N * N; hv < 2 * N * N; ++hv) x[3 * m->host_to_particle[hv] + 1] += 0.02;   /* 2 cm up */
     CHECK(wc_state_set_positions(s, x, NULL, &d) == WEFT_OK);
     /* the bottom layer pinned at its rim, where it is */

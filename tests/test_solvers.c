@@ -172,15 +172,6 @@ static double proj_residual(const wc_model* m, const sys* s, const double* x) {
     }
     return sqrt(sum);
 }
-static double rel_diff(const double* a, const double* b, int n) {
-    double d = 0.0, nb = 0.0;
-    for (int i = 0; i < n; ++i) {
-        d += (a[i] - b[i]) * (a[i] - b[i]);
-        nb += b[i] * b[i];
-    }
-    return sqrt(d / nb);
-}
-
 /* Dense P = S A S + I - S, rhs S (b - A z), Cholesky, dv = z + S y. Returns 0 when P is not
  * positive definite. */
 static int dense_solve(const wc_model* m, const sys* s, double* dv) {
@@ -335,7 +326,7 @@ static void check_direct_dense(const wc_model* m, int nx) {
     CHECK(res.residual <= 1e-10);
     CHECK(proj_residual(m, &s, dv) / r0 <= 1e-10);
     CHECK(dense_solve(m, &s, ref));
-    CHECK(rel_diff(dv, ref, 3 * s.n) <= 1e-9);
+    CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-9);
     check_constraints(&s, dv);
     free(dv);
     free(ref);
@@ -372,7 +363,7 @@ static void check_iterative(const wc_model* m, int nx) {
         CHECK(res.iterations > 0 && res.iterations < o.max_iterations);
         CHECK(res.residual <= o.tolerance);
         CHECK_NEAR(proj_residual(m, &s, dv) / r0, res.residual, 1e-3 * o.tolerance);
-        double err = rel_diff(dv, ref, 3 * s.n);
+        double err = ts_rel_diff(dv, ref, 3 * s.n);
         if (!(err <= 1e-6)) fprintf(stderr, "%s: relative error %g\n", wc_solver_name(all_types[k]), err);
         CHECK(err <= 1e-6);
         check_constraints(&s, dv);
@@ -383,7 +374,7 @@ static void check_iterative(const wc_model* m, int nx) {
     rng r = {6};
     for (int i = 0; i < 3 * s.n; ++i) dv[i] = urand(&r);
     CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_PCG, s.A, s.b, &s.f, dv, &par, &res), WEFT_OK);
-    CHECK(res.converged && rel_diff(dv, ref, 3 * s.n) <= 1e-6);
+    CHECK(res.converged && ts_rel_diff(dv, ref, 3 * s.n) <= 1e-6);
     check_constraints(&s, dv);
     for (int i = 0; i < 3 * s.n; ++i) dv[i] = ref[i];
     CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_PCG, s.A, s.b, &s.f, dv, &par, &res), WEFT_OK);
@@ -394,7 +385,7 @@ static void check_iterative(const wc_model* m, int nx) {
     sv = make_solver(m, o, NULL);
     CHECK_EQ_INT(run(sv, WC_SOLVER_CHEBYSHEV, &s, dv, 1, &res), WEFT_OK);
     CHECK(res.converged && res.residual <= o.tolerance);
-    CHECK(rel_diff(dv, ref, 3 * s.n) <= 1e-6);
+    CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-6);
     free(dv);
     free(ref);
     wc_solver_destroy(sv);
@@ -470,9 +461,9 @@ static void test_jacobi_divergence(void) {
         check_constraints(&s, dv);
     }
     CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WEFT_OK);
-    CHECK(rel_diff(dv, ref, 3 * s.n) <= 1e-6);
+    CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-6);
     CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_OK);
-    CHECK(rel_diff(dv, ref, 3 * s.n) <= 1e-10);
+    CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-10);
     wc_solver_destroy(sv);
     free(dv);
     free(ref);
@@ -573,7 +564,7 @@ static void test_rho_and_jacobi_closed_form(void) {
     CHECK_EQ_INT(res.iterations, 1);
     CHECK(res.converged);
     CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, ref, 1, &res), WEFT_OK);
-    CHECK(rel_diff(dv, ref, 3 * s.n) <= 1e-13);
+    CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-13);
     wc_solver_destroy(sv);
     free(dv);
     free(ref);
@@ -681,7 +672,7 @@ static void print_comparison(void) {
             if (rows[k].t == WC_SOLVER_DIRECT && threads == 1)
                 for (int i = 0; i < 3 * s.n; ++i) ref[i] = dv[i];
             printf("  %-10s %8.0e %6d %5d %5d %10.2e %10.2e %9.2f %9.3f%s\n", wc_solver_name(rows[k].t), rows[k].tol,
-                   rows[k].max_it, threads, res.iterations, res.residual, rel_diff(dv, ref, 3 * s.n), best,
+                   rows[k].max_it, threads, res.iterations, res.residual, ts_rel_diff(dv, ref, 3 * s.n), best,
                    best / (res.iterations > 0 ? res.iterations : 1), res.status == WEFT_OK ? "" : "  (failed)");
         }
         wc_solver_destroy(sv);

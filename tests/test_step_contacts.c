@@ -66,15 +66,6 @@ static void test_nothing_ends_inside(void) {
     }
 }
 
-static double rel_diff(const double* a, const double* b, int n) {
-    double num = 0, den = 0;
-    for (int i = 0; i < n; ++i) {
-        num += (a[i] - b[i]) * (a[i] - b[i]);
-        den += b[i] * b[i];
-    }
-    return den > 0 ? sqrt(num / den) : sqrt(num);
-}
-
 static void test_iterative_solvers_match_cholmod(void) {
     int n = 20;
     wc_model m;
@@ -120,7 +111,7 @@ static void test_iterative_solvers_match_cholmod(void) {
     for (int k = 0; k < 3; ++k) {
         memset(dv, 0, sizeof(double) * (size_t)n3);
         weft_status r = wc_solve(s->solver, its[k], s->A, s->b, &s->filter, dv, &s->par, &res);
-        double err = rel_diff(dv, ref, n3);
+        double err = ts_rel_diff(dv, ref, n3);
         printf("  %-9s: %s, %4d iterations, residual %.2g, error against CHOLMOD %.2g\n", wc_solver_name(its[k]),
                r == WEFT_OK ? "ok" : "failed", res.iterations, res.residual, err);
         CHECK_EQ_INT(r, WEFT_OK);

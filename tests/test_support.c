@@ -1,4 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include "test_support.h"
 #include <stdio.h>
 #include <stdlib.h>
@@ -144,4 +145,13 @@ int ts_count_lines(const char* s) {
     int n = 0;
     for (; *s; ++s) n += *s == '\n';
     return n;
+}
+
+double ts_rel_diff(const double* a, const double* b, int n) {
+    double num = 0, den = 0;
+    for (int k = 0; k < n; ++k) {
+        num += (a[k] - b[k]) * (a[k] - b[k]);
+        den += b[k] * b[k];
+    }
+    return sqrt(num / (den > 0 ? den : 1));
 }

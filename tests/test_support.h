@@ -33,5 +33,7 @@ int ts_count_lines(const char* s);
 int ts_sheet(wc_model* m, int n, double size, double y, int vertical, double k_scale);
 /* Particle of host grid vertex (i, j) of a ts_sheet. */
 int ts_sheet_particle(const wc_model* m, int n, int i, int j);
+/* |a - b| / |b| over n doubles (|a - b| when b is zero). */
+double ts_rel_diff(const double* a, const double* b, int n);
 
 #endif

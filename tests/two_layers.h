@@ -3,7 +3,9 @@
 #define WEFT_TESTS_TWO_LAYERS_H
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include "model.h"
+#include "state.h"
 #include "source_mesh.h"
 #include "test_support.h"
 #include "vec3.h"
@@ -38,6 +40,44 @@ static inline int two_layers(wc_model* m, int n, double s, double y0, double y1)
     free(sizes);
     free(idx);
     return ok;
+}
+
+/* The positions of two_layers(m, n, s, ...) with the top layer (host vertices n^2 .. 2 n^2 - 1)
+ * shifted by a third of a cell along x and a fifth along z, so that its vertices sit over the
+ * bottom layer's triangles. */
+static inline void two_layers_shifted(const wc_model* m, int n, double s, double* x) {
+    double cell = s / (n - 1);
+    memcpy(x, m->rest_pos, 3 * (size_t)m->n_particles * sizeof(double));
+    for (int v = n * n; v < 2 * n * n; ++v) {
+        int p = m->host_to_particle[v];
+        x[3 * p] += cell / 3.0;
+        x[3 * p + 2] += cell / 5.0;
+    }
+}
+
+/* A state of two_layers(m, n, s, ...) at two_layers_shifted's positions, its top layer moving
+ * down at `speed` m/s; NULL when it cannot be made. */
+static inline wc_state* two_layers_approaching(const wc_model* m, int n, double s, double speed, const wc_sim_def* def) {
+    wc_state* st = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&st, m, def, NULL, &d) != WEFT_OK) {
+        fprintf(stderr, "two_layers_approaching: %s\n", d.message);
+        return NULL;
+    }
+    int np = m->n_particles;
+    double* x = malloc(3 * (size_t)np * sizeof(double));
+    double* v = calloc(3 * (size_t)np, sizeof(double));
+    two_layers_shifted(m, n, s, x);
+    for (int hv = n * n; hv < 2 * n * n; ++hv) v[3 * m->host_to_particle[hv] + 1] = -speed;
+    int ok = wc_state_set_positions(st, x, v, &d) == WEFT_OK;
+    free(x);
+    free(v);
+    if (!ok) {
+        fprintf(stderr, "two_layers_approaching: %s\n", d.message);
+        wc_state_destroy(st);
+        return NULL;
+    }
+    return st;
 }
 
 #endif
