@@ -54,6 +54,13 @@
  *     collision, 1 thread): 87 -> 65.5 iterations per solve (max 112 -> 87), the solve stage
  *     4.56 -> 3.76 s, setup 80 -> 168 ms per solve.
  *
+ * Couplings outside the pattern (coupling.h: the self-contact pairs between layers that share no
+ * spring; amg_cross.c, wc_amg_cross): the hierarchy carries them as one sparse vector per term
+ * and level, so every level's operator is the Galerkin product of the whole system's, not of its
+ * pattern's (which the aggregates, following the mesh, cannot see across layers). On the two
+ * 21 x 21 layers of tests/test_amg_cross.c (3,160 active couplings) PCG to 1e-8 takes 49
+ * iterations with them, 212 without; test_self_pairs' 276 couplings to 1e-10: 23 against 162.
+ *
  * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
  * arrays as it uploads the BSR pattern):
  *   - aggregates per level (greedy, Vanek's three phases) over the "strong" graph: on the finest
@@ -124,6 +131,16 @@
  * the power method only: Lanczos (the default, amg_eigen.c) finds those modes (test_amg_setup's
  * sewn tube: 1.1 x its 6-step estimate >= 1.03 lambda_max; the power method's 0.90). */
 #define WC_AMG_SEAM_BOUND 1.5
+/* The finest level's Lanczos steps (or power iterations) when it holds couplings (amg_cross.c):
+ * a vertex-triangle term spreads over four particles, so D^-1 A has modes up to 4 where a spring
+ * network's stop at 2, local to the contacts, which 6 steps from a spread start miss. The dance's
+ * frame-3 solve that broke down (PCG: r^T M^-1 r < 0, 26,954 couplings): lambda_max(D^-1 A) =
+ * 2.464 (40-60 steps), Ritz values 1.90 / 2.20 / 2.31 / 2.33 / 2.46 after 6 / 8 / 10 / 12 / 16
+ * steps; x WC_AMG_SAFETY, 10 steps and more cover it. */
+#define WC_AMG_CROSS_LANCZOS 12
+/* A coarse level with at most this many unknowns holds its couplings as one dense matrix
+ * (wc_amg_cross.dense; 8 MB at most). */
+#define WC_AMG_CROSS_DENSE_DOFS 1024
 #define WC_AMG_MAX_LANCZOS 64   /* Lanczos steps at most (the tridiagonal's size) */
 /* A near-null column whose part orthogonal to the aggregate's earlier columns is below this x
  * its own norm is dropped from the tentative prolongator (amg_tent.c). */
@@ -132,7 +149,8 @@
 /* The setup's phases, timed per solve (wc_amg.phase_ms): the per-aggregate QR about the current
  * positions (amg_tent.c), the projected fine operator, the block-diagonal inverses, the power
  * iterations on the finest and on the coarse levels, the smoothed prolongators, T = A P, the
- * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor. */
+ * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor, the couplings'
+ * cross terms restricted level by level (amg_cross.c; the coarsest's dense part is in its factor's). */
 typedef enum wc_amg_phase {
     WC_AMG_PHASE_TENT,
     WC_AMG_PHASE_PROJECT,
@@ -143,6 +161,7 @@ typedef enum wc_amg_phase {
     WC_AMG_PHASE_AP,
     WC_AMG_PHASE_PTAP,
     WC_AMG_PHASE_COARSE_FACTOR,
+    WC_AMG_PHASE_CROSS,
     WC_AMG_PHASES
 } wc_amg_phase;
 const char* wc_amg_phase_name(wc_amg_phase p);
@@ -172,9 +191,46 @@ typedef struct wc_amg_opts {
                                    power iterations */
     int coarse_iterations;      /* the coarse levels' Lanczos steps or power iterations per solve;
                                    0 (default): WC_AMG_COARSE_LANCZOS, or WC_AMG_COARSE_POWER */
+    int couplings;              /* 1 (default): the solver's couplings outside the pattern (coupling.h)
+                                   are carried through the hierarchy (wc_amg_set_coupling,
+                                   amg_cross.c); 0: the hierarchy is A's pattern's alone */
+    int cross_dense_dofs;       /* a coarse level with at most this many unknowns holds its couplings
+                                   as one dense matrix (wc_amg_cross.dense): WC_AMG_CROSS_DENSE_DOFS
+                                   (0: term lists on every level, tests) */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
+
+/* The couplings outside the pattern (coupling.h: the self-contact pairs) on one level of the
+ * hierarchy (core/amg_cross.c). Level l's whole operator is F_l = B_l + sum_k c_k v_k v_k^T: B_l
+ * the level's BSR operator (level 0: the projected A without the couplings' diagonal blocks;
+ * below: the Galerkin products of B) and v_k one sparse vector per held term (level 0:
+ * sum_a w_a S_a n over the term's particles, the filter applied as the projected operator applies
+ * it; level l + 1: P_l^T v_k at level l). So F_{l+1} = P_l^T F_l P_l exactly: the multigrid of
+ * the whole system, not of its pattern. The smoother's block diagonal is F's (B's plus dadd). A
+ * term that does not fit in a level's entries is held by none below (wc_amg.cross_dropped). */
+typedef struct wc_amg_cross {
+    int cap_terms;              /* terms at most (wc_amg_set_coupling's capacity) */
+    int cap_entries;            /* entries at most */
+    int n_terms;                /* held by this level (a prefix of the level above's) */
+    int n_entries;
+    double* c;                  /* (cap_terms) */
+    int* start;                 /* (cap_terms + 1) term k's entries */
+    int* node;                  /* (cap_entries) */
+    double* val;                /* (cap_entries x 3) */
+    double* dense;              /* (3n x 3n) a small level (3n <= WC_AMG_CROSS_DENSE_DOFS, below level
+                                   0): sum_k c_k v_k v_k^T summed, no entries (a term's vector
+                                   reaches ~15 of 174 nodes on the dance's third level: 600k
+                                   entries where the whole matrix has 270k); the levels below a
+                                   dense one get theirs by the dense Galerkin product P^T X P */
+    double* gal;                /* (3 n_above x 3n) that product's X P, when the level above is dense */
+    double* dadd;               /* (n x 9 x group) the terms' part of the block diagonal, laid out as
+                                   Dinv (a pair level: node i's blocks to i & ~1 and i | 1) */
+    double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
+    double* acc;                /* (n x 3) the restriction's accumulator, zero between terms */
+    int* touched;               /* (n) */
+    unsigned char* mark;        /* (n) */
+} wc_amg_cross;
 
 typedef struct wc_amg_level {
     int n;                      /* nodes (3 unknowns each) */
@@ -223,6 +279,7 @@ typedef struct wc_amg_level {
     int* t_start;               /* (n + 1) pattern of T = A P */
     int* t_col;                 /* (nnz_t) */
     double* t_val;              /* (nnz_t x 9) */
+    wc_amg_cross* cross;        /* the couplings' cross terms on this level (NULL: none set) */
 } wc_amg_level;
 
 typedef struct wc_amg {
@@ -244,6 +301,10 @@ typedef struct wc_amg {
     double fine_bound_scale;    /* with the power method (lanczos 0), the finest level's lambda_max
                                    bound x this: WC_AMG_SEAM_BOUND
                                    with three-point seams (sew.h), else 1 */
+    const struct wc_coupling* coupling; /* borrowed (wc_amg_set_coupling; NULL: none) */
+    long cross_dropped;         /* terms left out of a coarse level (its entries were full), summed
+                                   over every setup */
+    int cross_terms[WC_AMG_MAX_LEVELS]; /* terms each level held at the last setup */
     const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
                                    positions every setup takes the rotations about (the state's
                                    x, wc_solver_set_positions); NULL: the rest positions' P_tent
@@ -260,6 +321,12 @@ void wc_amg_destroy(wc_amg* a);
 void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par);
 /* z = M^-1 r (one V-cycle); r and z are (n x 3) and may not alias. */
 void wc_amg_apply(wc_amg* a, const double* r, double* z, wc_par* par);
+
+/* Carry the couplings outside the pattern (coupling.h) through the hierarchy from the next setup
+ * on (amg_cross.c): room for `capacity` active terms, allocated here (no allocation in a setup);
+ * NULL detaches them (the multigrid of A's pattern alone, the behaviour before). */
+struct wc_coupling;
+weft_status wc_amg_set_coupling(wc_amg* a, const struct wc_coupling* c, int capacity, wc_diag* diag);
 
 /* Operator complexity (sum of blocks over levels / fine blocks) and grid complexity. */
 double wc_amg_operator_complexity(const wc_amg* a);
@@ -278,6 +345,16 @@ void wc_amg_start_vector(double* v, int n);
  * iterations, `steps` of them, from wc_amg_start_vector; a lower bound (0 when none was found).
  * Overwrites L's ev, x, t, ev_scratch and partial. */
 double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pair_blocks, wc_par* par);
+/* The couplings' values for one setup (amg_cross.c): level 0's from the coupling under filter f
+ * (after project_fine: it also takes their diagonal blocks out of level 0's BSR values into
+ * dadd), level l + 1's from level l's through P_l (after its prolongator), the coarsest's into its
+ * dense matrix M (d x d, row-major); y += alpha X x on one level of n nodes (serial, in term
+ * order). */
+void wc_amg_cross_fine(wc_amg* a, const wc_filter* f);
+void wc_amg_cross_restrict(wc_amg* a, int l);
+void wc_amg_cross_dense(const wc_amg_cross* X, double* M, int d);
+void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n);
+void wc_amg_cross_destroy(wc_amg* a);
 /* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
 static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
     int end = hi;
@@ -287,6 +364,21 @@ static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
         else hi = mid;
     }
     return (lo < end && col[lo] == c) ? lo : -1;
+}
+
+/* dw += (D w)_i, D the smoother's block diagonal: the BSR diagonal block (and, on a pair level
+ * with pair_blocks, the pair's other block) plus the couplings' part (wc_amg_cross.dadd). */
+static inline void wc_amg_d_mulv_add(const wc_amg_level* L, int i, int pair_blocks, const double* w, double* dw) {
+    m3_mulv_add(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * (size_t)i);
+    if (L->group == 2 && pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (size_t)(i ^ 1));
+    if (!L->cross || L->cross->n_terms == 0) return;
+    const double* Da = L->cross->dadd + 9 * (size_t)L->group * i;
+    if (L->group == 1) {
+        m3_mulv_add(dw, Da, w + 3 * (size_t)i);
+    } else {
+        m3_mulv_add(dw, Da + 9 * (i & 1), w + 3 * (size_t)i);
+        if (pair_blocks) m3_mulv_add(dw, Da + 9 * ((i & 1) ^ 1), w + 3 * (size_t)(i ^ 1));
+    }
 }
 
 /* out = (D^-1 t)_i: 3x3 blocks, or node i's rows of its pair's 6x6 inverse (group 2). */

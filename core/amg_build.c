@@ -19,6 +19,8 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.current_positions = 1;
     o.lanczos = 1;
     o.coarse_iterations = 0;
+    o.couplings = 1;
+    o.cross_dense_dofs = WC_AMG_CROSS_DENSE_DOFS;
     return o;
 }
 
@@ -304,10 +306,10 @@ weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* op
     if (!out || !m) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
     *out = NULL;
     wc_amg_opts o = opts ? *opts : wc_default_amg_opts();
-    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
+    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || o.cross_dense_dofs < 0 || o.cross_dense_dofs > 4096 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
         !(o.prolong_weight >= 0 && o.prolong_weight < 2))
         return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
-                       "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations >= 0, smooth_weight in (0, 2), prolong_weight in [0, 2)");
+                       "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations >= 0, cross_dense_dofs in [0, 4096], smooth_weight in (0, 2), prolong_weight in [0, 2)");
     wc_amg* a = WC_NEW(alloc, wc_amg, 1);
     if (!a) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
     if (alloc) a->alloc = *alloc;
@@ -393,6 +395,7 @@ void wc_amg_destroy(wc_amg* a) {
                         L->pt_row, L->t_start, L->t_col, L->t_val, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
+    wc_amg_cross_destroy(a);
     wc_free(&al, a->coarse_L);
     wc_free(&al, a->coarse_y);
     wc_free(&al, a);

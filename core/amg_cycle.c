@@ -6,8 +6,8 @@
 #include "amg.h"
 #include "vec3.h"
 
-/* t = r - A x. */
-static void residual(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
+/* t = r - A x (the level's BSR part; residual() adds the couplings' cross terms). */
+static void residual_bsr(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -25,6 +25,12 @@ static void residual(const wc_amg_level* L, const double* r, const double* x, do
             v3_copy(t + 3 * i, acc);
         }
     }
+}
+
+/* t = r - A x with the couplings' cross terms (amg_cross.c; serial after the parallel rows). */
+static void residual(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
+    residual_bsr(L, r, x, t, par);
+    if (x && L->cross && L->cross->n_terms > 0) wc_amg_cross_mul_add(L->cross, -1.0, x, t, L->n);
 }
 
 /* x += w D^-1 t (x is overwritten when `set`). */

@@ -21,18 +21,16 @@
 static double chunk_apply(const wc_amg_level* L, int lo, int hi, int pair_blocks, const double* w, double* next,
                           double* den) {
     double num = 0.0, dsum = 0.0;
+    const double* xw = L->cross && L->cross->n_terms > 0 ? L->cross->y : NULL; /* apply_all's X w */
     for (int i = lo; i < hi; ++i) {
-        double t[3] = {0, 0, 0}, dw[3];
+        double t[3] = {0, 0, 0}, dw[3] = {0, 0, 0};
         for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
             m3_mulv_add(t, L->val + 9 * (size_t)k, w + 3 * L->col[k]);
-        m3_mulv(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * i);
+        if (xw) v3_add(t, t, xw + 3 * i);
+        wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
         num += v3_dot(w + 3 * i, t);
-        if (L->group == 1) {
-            m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
-        } else {
-            if (pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (i ^ 1));
-            v3_copy(L->t + 3 * i, t);
-        }
+        if (L->group == 1) m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
+        else v3_copy(L->t + 3 * i, t);
         dsum += v3_dot(w + 3 * i, dw);
     }
     if (L->group == 2)
@@ -51,6 +49,10 @@ static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
 static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double* next, wc_par* par, double* num,
                       double* den) {
     int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+    if (L->cross && L->cross->n_terms > 0) { /* the couplings' cross terms X w (amg_cross.c) */
+        memset(L->cross->y, 0, sizeof(double) * 3 * (size_t)L->n);
+        wc_amg_cross_mul_add(L->cross, 1.0, w, L->cross->y, L->n);
+    }
     WC_PAR_REGION(par)
     {
         int c0, c1;
@@ -157,9 +159,8 @@ static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) 
                 for (int q = 3 * lo; q < 3 * hi; ++q) w[q] -= a * v[q] + beta_prev * vp[q];
                 double s = 0.0;
                 for (int i = lo; i < hi; ++i) {
-                    double dw[3];
-                    m3_mulv(dw, L->val + 9 * (size_t)L->diag[i], w + 3 * i);
-                    if (L->group == 2 && pair_blocks) m3_mulv_add(dw, L->val + 9 * (size_t)L->pair_blk[i], w + 3 * (i ^ 1));
+                    double dw[3] = {0, 0, 0};
+                    wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
                     s += v3_dot(w + 3 * i, dw);
                 }
                 L->partial[2 * c] = s;

@@ -106,12 +106,21 @@ static int inverse6(double* M) {
 /* Inverse block diagonal: 3x3 per node, or 6x6 per pair on a rotation level (amg.h; with
  * pair_blocks off, or when the pair's block is singular, the pair's two 3x3 inverses). */
 static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
+    const double* cross = L->cross && L->cross->n_terms > 0 ? L->cross->dadd : NULL;
     if (L->group == 1) {
         WC_PAR_REGION(par)
         {
             int lo, hi;
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            for (int i = lo; i < hi; ++i) block_inverse(L->Dinv + 9 * i, L->val + 9 * (size_t)L->diag[i]);
+            for (int i = lo; i < hi; ++i) {
+                const double* B = L->val + 9 * (size_t)L->diag[i];
+                double Bc[9];
+                if (cross) { /* the couplings' part (amg_cross.c) */
+                    for (int q = 0; q < 9; ++q) Bc[q] = B[q] + cross[9 * (size_t)i + q];
+                    B = Bc;
+                }
+                block_inverse(L->Dinv + 9 * i, B);
+            }
         }
         return;
     }
@@ -127,7 +136,9 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
             for (int p = 0; p < 2; ++p)
                 for (int q = 0; q < 2; ++q)
                     for (int r = 0; r < 3; ++r)
-                        for (int c = 0; c < 3; ++c) M[6 * (3 * p + r) + 3 * q + c] = B[p][q][3 * r + c];
+                        for (int c = 0; c < 3; ++c)
+                            M[6 * (3 * p + r) + 3 * q + c] =
+                                B[p][q][3 * r + c] + (cross ? cross[18 * (size_t)(i0 + p) + 9 * q + 3 * r + c] : 0.0);
             double* D0 = L->Dinv + 18 * (size_t)i0; /* node i0's rows: [to i0 | to i1], then i1's */
             if (pair_blocks && inverse6(M)) {
                 for (int p = 0; p < 2; ++p)
@@ -151,6 +162,7 @@ static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, wc_pa
                      : o->coarse_iterations > 0 ? o->coarse_iterations
                      : o->lanczos ? WC_AMG_COARSE_LANCZOS
                                   : WC_AMG_COARSE_POWER;
+    if (fine && L->cross && L->cross->n_terms > 0 && steps < WC_AMG_CROSS_LANCZOS) steps = WC_AMG_CROSS_LANCZOS;
     double lambda = wc_amg_eigen_estimate(L, steps, o->lanczos, o->pair_blocks, par);
     L->bound = lambda > 0 ? WC_AMG_SAFETY * lambda : 2.0;
     /* seams (amg.h, WC_AMG_SEAM_BOUND): the power method misses their local modes; Lanczos finds
@@ -410,6 +422,7 @@ static void coarse_factor(wc_amg* a) {
             for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 3; ++c)
                     M[(size_t)(3 * i + r) * d + 3 * L->col[k] + c] = L->val[9 * (size_t)k + 3 * r + c];
+    wc_amg_cross_dense(L->cross, M, d);
     double scale = 0.0;
     for (int i = 0; i < d; ++i) scale = fmax(scale, fabs(M[(size_t)i * d + i]));
     for (int j = 0; j < d; ++j) {
@@ -434,7 +447,7 @@ static void coarse_factor(wc_amg* a) {
 
 static const char* const phase_names[WC_AMG_PHASES] = {
     "tentative (QR)", "project fine", "block diagonal", "power it. fine", "power it. coarse",
-    "prolongator", "T = A P", "P^T T", "coarse factor"};
+    "prolongator", "T = A P", "P^T T", "coarse factor", "couplings"};
 
 const char* wc_amg_phase_name(wc_amg_phase p) { return p >= 0 && p < WC_AMG_PHASES ? phase_names[p] : "unknown"; }
 
@@ -454,6 +467,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         lap(a, WC_AMG_PHASE_TENT, &t);
     }
     project_fine(&a->lev[0], A, f, par);
+    wc_amg_cross_fine(a, f);
     lap(a, WC_AMG_PHASE_PROJECT, &t);
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
@@ -465,6 +479,8 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         lap(a, WC_AMG_PHASE_PROLONG, &t);
         galerkin(a, L, N, par);
         t = wc_cpu_ms();
+        wc_amg_cross_restrict(a, l);
+        lap(a, WC_AMG_PHASE_CROSS, &t);
     }
     if (a->coarse_dense) {
         coarse_factor(a);

@@ -88,9 +88,11 @@ void wc_solver_set_residual_floor(wc_solver* s, double floor);
 /* Off-pattern couplings (coupling.h) that every later solve adds to A's product (NULL: none; the
  * list must outlive its use; its diagonal blocks are the caller's, in A). The iterative solvers
  * iterate on A plus them; the direct solver factorises A (their diagonal blocks included) and,
- * when a term is active, runs PCG preconditioned by that factor on the whole system. */
+ * when a term is active, runs PCG preconditioned by that factor on the whole system. The
+ * multigrid preconditioner carries up to `capacity` active terms through its hierarchy (amg.h,
+ * wc_amg_set_coupling; allocated here). */
 struct wc_coupling;
-void wc_solver_set_coupling(wc_solver* s, const struct wc_coupling* c);
+weft_status wc_solver_set_coupling(wc_solver* s, const struct wc_coupling* c, int capacity, wc_diag* diag);
 
 /* Solve with solver `type` (its options from create, tolerance etc.). dv: (n x 3), on input the
  * initial guess (projected to z + S dv), on output the solution. Never leaves non-finite values

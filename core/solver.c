@@ -120,8 +120,10 @@ void wc_solver_set_residual_floor(wc_solver* s, double floor) {
     if (s && floor >= 0.0 && isfinite(floor)) s->residual_floor = floor;
 }
 
-void wc_solver_set_coupling(wc_solver* s, const wc_coupling* c) {
-    if (s) s->coupling = c;
+weft_status wc_solver_set_coupling(wc_solver* s, const wc_coupling* c, int capacity, wc_diag* diag) {
+    if (!s) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_solver_set_coupling: NULL solver");
+    s->coupling = c;
+    return s->amg ? wc_amg_set_coupling(s->amg, c, capacity, diag) : WEFT_OK;
 }
 
 void wc_solver_destroy(wc_solver* s) {

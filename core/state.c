@@ -201,9 +201,10 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     if (st == WEFT_OK && s->def.self_collision) st = wc_self_create(&s->self, m, s->def.self_thickness, &A, diag);
     if (st == WEFT_OK && s->def.self_collision && s->def.self_in_solve) {
         /* room for one pair per particle and per edge (self_pairs.h; more are counted) */
-        s->self_pairs = wc_self_pairs_create(n + s->self->n_edges + 64, n, s->self->n_edges, &A);
+        int cap = n + s->self->n_edges + 64;
+        s->self_pairs = wc_self_pairs_create(cap, n, s->self->n_edges, &A);
         if (!s->self_pairs) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: self-contact pairs");
-        else wc_solver_set_coupling(s->solver, &s->self_pairs->coupling);
+        else st = wc_solver_set_coupling(s->solver, &s->self_pairs->coupling, cap, diag);
     }
     if (st != WEFT_OK) {
         wc_state_destroy(s);

@@ -1,0 +1,335 @@
+/* The couplings outside the pattern (coupling.h) carried through the multigrid hierarchy
+ * (amg.h, wc_amg_cross).
+ *
+ * Why: a self-contact pair couples particles of two layers that share no spring, so A's pattern
+ * has no block between them and the hierarchy built on that pattern (aggregates follow the mesh)
+ * never sees the pair's cross blocks: it preconditions A + diag(coupling) where PCG iterates on
+ * A + coupling. Modes in which pressed layers move against each other, or together, are then off
+ * by up to 1 + 2 c / m (c the penalty, m a particle's inertia; 100 m at the pairs' stiffness),
+ * and PCG pays for it: 130-170 iterations on a layer resting on another (test_self_pairs) where a
+ * free sheet takes 10.
+ *
+ * What: each active term c (J^T J) is kept per level as c v v^T, v one sparse vector (amg.h,
+ * wc_amg_cross): level 0's v = S J^T (the filter applied as the V-cycle's projected operator
+ * applies it), with the term's diagonal blocks taken out of level 0's BSR values (A holds them);
+ * level l + 1's v = P_l^T v. With the BSR part's Galerkin product P^T B P that makes every level's
+ * operator the Galerkin product of the level above's whole operator. The smoother's residuals,
+ * its block diagonal (B's blocks plus the terms'), the eigenvalue estimates (so the Chebyshev
+ * bound covers the coupled modes) and the coarsest level's dense factor use the whole operator;
+ * the prolongator's smoothing uses B (its pattern is fixed per model) with the whole D.
+ * One merged vector per term rather than one per particle: the triangle's three particles reach
+ * the same coarse nodes, so a term takes about half the entries of its four pieces.
+ *
+ * Everything here runs serially in term order (the same result on any thread count) with no
+ * allocation after wc_amg_set_coupling. */
+#include <string.h>
+#include "amg.h"
+#include "coupling.h"
+#include "vec3.h"
+
+/* entries a coarse level may hold beyond WC_AMG_CROSS_PER_TERM per term: a term's vector reaches
+ * ~10-15 coarse nodes below the finest level (two layers' patches of the smoothed prolongator's
+ * rows) */
+#define WC_AMG_CROSS_PER_TERM 16
+
+void wc_amg_cross_destroy(wc_amg* a) {
+    if (!a) return;
+    for (int l = 0; l < WC_AMG_MAX_LEVELS; ++l) {
+        wc_amg_cross* X = a->lev[l].cross;
+        if (!X) continue;
+        void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->y, X->acc, X->touched, X->mark};
+        for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
+        wc_free(&a->alloc, X);
+        a->lev[l].cross = NULL;
+    }
+}
+
+weft_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_diag* diag) {
+    if (!a) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_set_coupling: NULL hierarchy");
+    wc_amg_cross_destroy(a);
+    a->coupling = NULL;
+    if (!c || !a->opts.couplings) return WEFT_OK;
+    if (capacity < 1) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_set_coupling: capacity %d", capacity);
+    const wc_allocator* al = &a->alloc;
+    for (int l = 0; l < a->n_levels; ++l) {
+        wc_amg_level* L = &a->lev[l];
+        wc_amg_cross* X = WC_NEW(al, wc_amg_cross, 1);
+        if (!X) goto oom;
+        L->cross = X;
+        X->cap_terms = capacity;
+        const size_t d = 3 * (size_t)L->n;
+        const int above_dense = l > 0 && a->lev[l - 1].cross->dense;
+        if (l > 0 && d <= (size_t)a->opts.cross_dense_dofs) {
+            X->dense = WC_NEW(al, double, d * d);
+            if (!X->dense) goto oom;
+            if (above_dense && !(X->gal = WC_NEW(al, double, 3 * (size_t)a->lev[l - 1].n * d))) goto oom;
+        } else {
+            size_t entries = (size_t)capacity * (l == 0 ? 4 : WC_AMG_CROSS_PER_TERM);
+            if (entries > (size_t)1 << 28) entries = (size_t)1 << 28;
+            X->cap_entries = (int)entries;
+            X->start = WC_NEW(al, int, (size_t)capacity + 1);
+            X->node = WC_NEW(al, int, entries);
+            X->val = WC_NEW(al, double, 3 * entries);
+            if (!X->start || !X->node || !X->val) goto oom;
+        }
+        X->c = WC_NEW(al, double, capacity);
+        X->dadd = WC_NEW(al, double, 9 * (size_t)L->group * L->n);
+        X->y = WC_NEW(al, double, d);
+        if (l > 0 && !above_dense) {
+            X->acc = WC_NEW(al, double, d);
+            X->touched = WC_NEW(al, int, L->n);
+            X->mark = WC_NEW(al, unsigned char, L->n);
+            if (!X->acc || !X->touched || !X->mark) goto oom;
+        }
+        if (!X->c || !X->dadd || !X->y) goto oom;
+    }
+    a->coupling = c;
+    return WEFT_OK;
+oom:
+    wc_amg_cross_destroy(a);
+    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG: room for %d couplings", capacity);
+}
+
+/* o += s a b^T (3x3) */
+static inline void outer_add(double* o, double s, const double* a, const double* b) {
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) o[3 * r + k] += s * a[r] * b[k];
+}
+
+void wc_amg_cross_fine(wc_amg* a, const wc_filter* f) {
+    wc_amg_level* L = &a->lev[0];
+    wc_amg_cross* X = L->cross;
+    if (!X) return;
+    const wc_coupling* cp = a->coupling;
+    if (X->n_terms > 0) memset(X->dadd, 0, 9 * sizeof(double) * (size_t)L->n);
+    int q = 0, e = 0;
+    X->start[0] = 0;
+    for (int k = 0; cp && k < cp->n; ++k) {
+        const wc_coupling_term* t = &cp->t[k];
+        if (!(t->c > 0.0)) continue;
+        if (q == X->cap_terms) {
+            ++a->cross_dropped;
+            continue;
+        }
+        X->c[q] = t->c;
+        for (int p = 0; p < t->cnt; ++p) { /* distinct particles (coupling.h): one entry each */
+            double w[3], *u = X->val + 3 * (size_t)e;
+            v3_scale(w, t->n, t->w[p]);
+            wc_filter_apply(f, t->p[p], w, u);
+            if (u[0] == 0.0 && u[1] == 0.0 && u[2] == 0.0) continue;
+            int i = t->p[p];
+            X->node[e++] = i;
+            /* the diagonal block c u u^T moves from the BSR values (A holds it) to dadd */
+            outer_add(L->val + 9 * (size_t)L->diag[i], -t->c, u, u);
+            outer_add(X->dadd + 9 * (size_t)i, t->c, u, u);
+        }
+        X->start[++q] = e;
+    }
+    X->n_terms = q;
+    X->n_entries = e;
+    a->cross_terms[0] = q;
+}
+
+/* A dense level's block diagonal part (dadd) from its matrix. */
+static void dense_diagonal(const wc_amg_level* C, wc_amg_cross* Y) {
+    const size_t d = 3 * (size_t)C->n;
+    const int g = C->group;
+    for (int J = 0; J < C->n; ++J)
+        for (int q = 0; q < g; ++q) {
+            int K = g == 1 ? J : (J & ~1) + q; /* Dinv's layout: node J's blocks to J & ~1, J | 1 */
+            double* Da = Y->dadd + 9 * ((size_t)g * J + q);
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) Da[3 * r + c] = Y->dense[(3 * (size_t)J + r) * d + 3 * (size_t)K + c];
+        }
+}
+
+/* Y->dense = P^T X P, X the level above's dense matrix (3 n_L x 3 n_L), P its prolongator. */
+static void dense_galerkin(const wc_amg_level* L, const wc_amg_cross* X, const wc_amg_level* C, wc_amg_cross* Y) {
+    const size_t dl = 3 * (size_t)L->n, dc = 3 * (size_t)C->n;
+    double* T = Y->gal; /* T = X P (dl x dc) */
+    memset(T, 0, sizeof(double) * dl * dc);
+    for (int i = 0; i < L->n; ++i)
+        for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e) {
+            const double* P = L->p_val + 9 * (size_t)e;
+            const size_t J = 3 * (size_t)L->p_col[e];
+            for (size_t row = 0; row < dl; ++row) {
+                const double* x = X->dense + row * dl + 3 * (size_t)i;
+                double* t = T + row * dc + J;
+                for (int c = 0; c < 3; ++c) t[c] += x[0] * P[c] + x[1] * P[3 + c] + x[2] * P[6 + c];
+            }
+        }
+    memset(Y->dense, 0, sizeof(double) * dc * dc);
+    for (int i = 0; i < L->n; ++i) /* dense += P^T T, row block i of T per entry of P's row i */
+        for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e) {
+            const double* P = L->p_val + 9 * (size_t)e;
+            const size_t J = 3 * (size_t)L->p_col[e];
+            for (int r = 0; r < 3; ++r) {
+                double* o = Y->dense + (J + r) * dc;
+                const double *t0 = T + (3 * (size_t)i) * dc, *t1 = t0 + dc, *t2 = t1 + dc;
+                const double p0 = P[r], p1 = P[3 + r], p2 = P[6 + r];
+                for (size_t k = 0; k < dc; ++k) o[k] += p0 * t0[k] + p1 * t1[k] + p2 * t2[k];
+            }
+        }
+}
+
+void wc_amg_cross_restrict(wc_amg* a, int l) {
+    const wc_amg_level* L = &a->lev[l];
+    const wc_amg_level* C = &a->lev[l + 1];
+    const wc_amg_cross* X = L->cross;
+    wc_amg_cross* Y = C->cross;
+    if (!X || !Y) return;
+    const int g = C->group;
+    if (Y->dense) {
+        Y->n_terms = X->n_terms;
+        Y->n_entries = 0;
+        a->cross_terms[l + 1] = Y->n_terms;
+        if (Y->n_terms == 0) return;
+        if (X->dense) dense_galerkin(L, X, C, Y);
+        else {
+            const size_t d = 3 * (size_t)C->n;
+            memset(Y->dense, 0, sizeof(double) * d * d);
+            for (int q = 0; q < X->n_terms; ++q) { /* dense += c (P^T v)(P^T v)^T, the upper triangle */
+                int nt = 0;
+                for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
+                    int i = X->node[s];
+                    const double* v = X->val + 3 * (size_t)s;
+                    for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
+                        int J = L->p_col[pe];
+                        const double* P = L->p_val + 9 * (size_t)pe;
+                        double* o = Y->acc + 3 * (size_t)J;
+                        if (!Y->mark[J]) {
+                            Y->mark[J] = 1;
+                            Y->touched[nt++] = J;
+                        }
+                        o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
+                        o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
+                        o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+                    }
+                }
+                const double c = X->c[q];
+                for (int u = 0; u < nt; ++u) {
+                    int I = Y->touched[u];
+                    const double* vi = Y->acc + 3 * (size_t)I;
+                    for (int w = 0; w < nt; ++w) {
+                        int J = Y->touched[w];
+                        if (J < I) continue;
+                        const double* vj = Y->acc + 3 * (size_t)J;
+                        for (int r = 0; r < 3; ++r) {
+                            double* o = Y->dense + (3 * (size_t)I + r) * d + 3 * (size_t)J;
+                            const double cv = c * vi[r];
+                            o[0] += cv * vj[0];
+                            o[1] += cv * vj[1];
+                            o[2] += cv * vj[2];
+                        }
+                    }
+                }
+                for (int u = 0; u < nt; ++u) {
+                    v3_zero(Y->acc + 3 * (size_t)Y->touched[u]);
+                    Y->mark[Y->touched[u]] = 0;
+                }
+            }
+            for (size_t I = 0; I < (size_t)C->n; ++I) /* the lower triangle's blocks by symmetry */
+                for (size_t J = 0; J <= I; ++J)
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c) {
+                            if (J == I && c >= r) continue;
+                            Y->dense[(3 * I + r) * d + 3 * J + c] = Y->dense[(3 * J + c) * d + 3 * I + r];
+                        }
+        }
+        dense_diagonal(C, Y);
+        return;
+    }
+    if (Y->n_terms > 0 || X->n_terms > 0) memset(Y->dadd, 0, 9 * sizeof(double) * (size_t)g * C->n);
+    int q, e = 0;
+    Y->start[0] = 0;
+    for (q = 0; q < X->n_terms; ++q) {
+        int nt = 0;
+        for (int s = X->start[q]; s < X->start[q + 1]; ++s) { /* acc = P^T v */
+            int i = X->node[s];
+            const double* v = X->val + 3 * (size_t)s;
+            for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
+                int J = L->p_col[pe];
+                const double* P = L->p_val + 9 * (size_t)pe;
+                double* o = Y->acc + 3 * (size_t)J;
+                if (!Y->mark[J]) {
+                    Y->mark[J] = 1;
+                    Y->touched[nt++] = J;
+                }
+                o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
+                o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
+                o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+            }
+        }
+        int fits = e + nt <= Y->cap_entries;
+        const double c = X->c[q];
+        for (int u = 0; u < nt && fits; ++u) {
+            int J = Y->touched[u];
+            const double* o = Y->acc + 3 * (size_t)J;
+            if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) continue; /* a dead unknown's column */
+            Y->node[e] = J;
+            v3_copy(Y->val + 3 * (size_t)e, o);
+            ++e;
+            /* the block diagonal's part: (J, J), and (J, J ^ 1) on a pair level (acc is zero at an
+               untouched node) */
+            double* Da = Y->dadd + 9 * (size_t)g * J;
+            if (g == 1) {
+                outer_add(Da, c, o, o);
+            } else {
+                outer_add(Da + 9 * (J & 1), c, o, o);
+                outer_add(Da + 9 * ((J & 1) ^ 1), c, o, Y->acc + 3 * (size_t)(J ^ 1));
+            }
+        }
+        for (int u = 0; u < nt; ++u) {
+            v3_zero(Y->acc + 3 * (size_t)Y->touched[u]);
+            Y->mark[Y->touched[u]] = 0;
+        }
+        if (!fits) { /* this term and the later ones stay out of this level and those below */
+            a->cross_dropped += X->n_terms - q;
+            break;
+        }
+        Y->c[q] = c;
+        Y->start[q + 1] = e;
+    }
+    Y->n_terms = q;
+    Y->n_entries = e;
+    a->cross_terms[l + 1] = q;
+}
+
+void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n) {
+    if (!X || X->n_terms == 0) return;
+    if (X->dense) {
+        const size_t d = 3 * (size_t)n;
+        for (size_t r = 0; r < d; ++r) {
+            const double* row = X->dense + r * d;
+            double acc = 0.0;
+            for (size_t k = 0; k < d; ++k) acc += row[k] * x[k];
+            y[r] += alpha * acc;
+        }
+        return;
+    }
+    for (int q = 0; q < X->n_terms; ++q) {
+        double s = 0.0;
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) s += v3_dot(X->val + 3 * (size_t)e, x + 3 * (size_t)X->node[e]);
+        double k = alpha * X->c[q] * s;
+        if (k == 0.0) continue;
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) v3_axpy(y + 3 * (size_t)X->node[e], k, X->val + 3 * (size_t)e);
+    }
+}
+
+void wc_amg_cross_dense(const wc_amg_cross* X, double* M, int d) {
+    if (!X || X->n_terms == 0) return;
+    if (X->dense) {
+        for (size_t k = 0; k < (size_t)d * d; ++k) M[k] += X->dense[k];
+        return;
+    }
+    for (int q = 0; q < X->n_terms; ++q)
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+            const double* u = X->val + 3 * (size_t)e;
+            for (int g = X->start[q]; g < X->start[q + 1]; ++g) {
+                const double* v = X->val + 3 * (size_t)g;
+                double* o = M + (size_t)3 * X->node[e] * d + 3 * X->node[g];
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j) o[(size_t)i * d + j] += X->c[q] * u[i] * v[j];
+            }
+        }
+}

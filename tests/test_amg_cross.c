@@ -1,0 +1,276 @@
+/* The self-contact couplings carried through the multigrid hierarchy (core/amg_cross.c) on a
+ * real system: two 21 x 21 layers, the top one falling onto the bottom one, the substep's
+ * couplings found by the self-contact pairs (self_pairs.h); the bottom layer has two pinned
+ * particles and a row on a plane contact, so the filter acts on some pieces. Checked:
+ *   - every level's whole operator (BSR part + cross terms) is the Galerkin product of the level
+ *     above's, P^T F P, on random vectors (an independent composition of the products);
+ *   - the coarsest level's dense Cholesky factor is that level's whole operator (L L^T);
+ *   - the V-cycle stays symmetric positive definite on the filtered system;
+ *   - PCG to 1e-8 with the couplings in the hierarchy against the hierarchy of the pattern alone:
+ *     the same answer, fewer iterations (asserted at most half);
+ *   - a capacity below the active terms: the left-out terms are counted and PCG still converges
+ *     to the same answer;
+ *   - the V-cycle is the same to the bit on 1 and 2 threads. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include "amg.h"
+#include "amg_scene.h"
+#include "check.h"
+#include "test_support.h"
+#include "coupling.h"
+#include "self_pairs.h"
+#include "solver_impl.h"
+#include "step.h"
+#include "two_layers.h"
+
+enum { N = 21 };
+static const double SIZE = 0.6, GAP = 0.004, TH = 0.003;
+
+static void random_vec(double* v, int n3, uint64_t* st) {
+    for (int k = 0; k < n3; ++k) {
+        *st = *st * 6364136223846793005ull + 1442695040888963407ull;
+        v[k] = (double)(*st >> 11) / 9007199254740992.0 - 0.5;
+    }
+}
+
+/* The substep's system of the falling layer, with constraints on the bottom layer. */
+static wc_state* coupled_system(wc_model* m) {
+    CHECK(two_layers(m, N, SIZE, 0.0, GAP));
+    wc_sim_def def = wc_default_sim_def();
+    def.self_collision = 1;
+    def.self_thickness = TH;
+    def.self_in_solve = 1;
+    def.sleep_speed = 0;
+    def.solver.preconditioner = WC_PRECOND_AMG;
+    def.solver.tolerance = 1e-8;
+    def.solver.max_iterations = 2000;
+    wc_state* s = two_layers_approaching(m, N, SIZE, 0.3, &def);
+    CHECK(s != NULL);
+    if (!s) return NULL;
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
+    /* two pins and a row on a plane y = 0 (normal +y) in the bottom layer (host vertices 0 .. N^2 - 1) */
+    wc_filter* f = &s->filter;
+    for (int hv = 0; hv < N; ++hv) {
+        int p = m->host_to_particle[N * (N / 2) + hv];
+        double* S = f->S + 9 * p;
+        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
+        S[4] = 0.0;
+        f->ndof[p] = 1;
+    }
+    for (int c = 0; c < 2; ++c) {
+        int p = m->host_to_particle[c ? N * N - 1 : 0];
+        memset(f->S + 9 * p, 0, 9 * sizeof(double));
+        f->ndof[p] = 3;
+    }
+    return s;
+}
+
+static wc_amg* amg_of(wc_state* s) { return s->solver->amg; }
+
+/* y = F x on level l: the BSR part and the cross terms. */
+static void level_mul(const wc_amg_level* L, const double* x, double* y) {
+    memset(y, 0, 3 * (size_t)L->n * sizeof(double));
+    for (int i = 0; i < L->n; ++i)
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            m3_mulv_add(y + 3 * i, L->val + 9 * (size_t)k, x + 3 * L->col[k]);
+    wc_amg_cross_mul_add(L->cross, 1.0, x, y, L->n);
+}
+
+static int live(const wc_amg_level* L, int q) { return !L->dead || !L->dead[q]; }
+
+static void test_galerkin(wc_amg* a) {
+    uint64_t st = 777;
+    CHECK(a->n_levels >= 3);
+    for (int l = 0; l + 1 < a->n_levels; ++l) {
+        const wc_amg_level *L = &a->lev[l], *C = &a->lev[l + 1];
+        CHECK(C->cross != NULL && C->cross->n_terms == L->cross->n_terms); /* nothing left out here */
+        int nf = 3 * L->n, nc = 3 * C->n;
+        double *xc = malloc(nc * sizeof(double)), *yc = malloc(nc * sizeof(double)), *zc = calloc(nc, sizeof(double));
+        double *xf = calloc(nf, sizeof(double)), *yf = malloc(nf * sizeof(double));
+        random_vec(xc, nc, &st);
+        for (int q = 0; q < nc; ++q)
+            if (!live(C, q)) xc[q] = 0.0; /* dead unknowns (amg.h): decoupled by the setup */
+        level_mul(C, xc, yc);
+        for (int i = 0; i < L->n; ++i) /* xf = P xc */
+            for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e) m3_mulv_add(xf + 3 * i, L->p_val + 9 * (size_t)e, xc + 3 * L->p_col[e]);
+        level_mul(L, xf, yf);
+        for (int i = 0; i < L->n; ++i) /* zc = P^T yf */
+            for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e) {
+                const double* P = L->p_val + 9 * (size_t)e;
+                double* o = zc + 3 * L->p_col[e];
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) o[c] += P[3 * r + c] * yf[3 * i + r];
+            }
+        double num = 0, den = 0, cross = 0;
+        for (int q = 0; q < nc; ++q) {
+            if (!live(C, q)) continue;
+            num += (yc[q] - zc[q]) * (yc[q] - zc[q]);
+            den += zc[q] * zc[q];
+        }
+        /* the cross terms' share, so that the check can fail */
+        memset(yc, 0, nc * sizeof(double));
+        wc_amg_cross_mul_add(C->cross, 1.0, xc, yc, C->n);
+        for (int q = 0; q < nc; ++q) cross += yc[q] * yc[q];
+        printf("  level %d -> %d (%d -> %d nodes, %d terms, %d entries): |F_c x - P^T F P x| / |.| = %.1e "
+               "(the cross terms alone: %.2g)\n",
+               l, l + 1, L->n, C->n, C->cross->n_terms, C->cross->n_entries, sqrt(num / den), sqrt(cross / den));
+        CHECK(sqrt(num / den) < 1e-12);
+        CHECK(sqrt(cross / den) > 1e-3);
+        free(xc);
+        free(yc);
+        free(zc);
+        free(xf);
+        free(yf);
+    }
+    /* the coarsest level's factor: L L^T = its whole operator */
+    const wc_amg_level* C = &a->lev[a->n_levels - 1];
+    CHECK(a->coarse_dense);
+    int d = a->coarse_dofs;
+    double* M = calloc((size_t)d * d, sizeof(double));
+    double* e = calloc(d, sizeof(double));
+    double* col = malloc(d * sizeof(double));
+    for (int j = 0; j < d; ++j) { /* column j of the whole operator */
+        e[j] = 1.0;
+        level_mul(C, e, col);
+        e[j] = 0.0;
+        for (int i = 0; i < d; ++i) M[(size_t)i * d + j] = col[i];
+    }
+    double worst = 0, scale = 0;
+    for (int i = 0; i < d; ++i)
+        for (int j = 0; j < d; ++j) {
+            double llt = 0;
+            for (int k = 0; k <= (i < j ? i : j); ++k) llt += a->coarse_L[(size_t)i * d + k] * a->coarse_L[(size_t)j * d + k];
+            worst = fmax(worst, fabs(llt - M[(size_t)i * d + j]));
+            scale = fmax(scale, fabs(M[(size_t)i * d + j]));
+        }
+    printf("  coarsest level (%d dofs): max |L L^T - F| / max |F| = %.1e\n", d, worst / scale);
+    CHECK(worst / scale < 1e-12);
+    free(M);
+    free(e);
+    free(col);
+}
+
+/* A hierarchy of s's model with the couplings, set up on s's system; dense_dofs: the largest
+ * level holding them as a dense matrix (0: term lists on every level). */
+static wc_amg* hierarchy(wc_state* s, int dense_dofs, wc_par* par) {
+    wc_amg_opts o = wc_default_amg_opts();
+    o.cross_dense_dofs = dense_dofs;
+    wc_amg* a = NULL;
+    wc_diag d = {0};
+    CHECK(wc_amg_create(&a, s->model, &o, NULL, &d) == WEFT_OK);
+    if (!a) return NULL;
+    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->cap, &d) == WEFT_OK);
+    a->pos = s->x; /* the solver's rotations: about the current positions */
+    wc_amg_setup(a, s->A, &s->filter, par);
+    return a;
+}
+
+static void test_hierarchy(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    wc_par par;
+    wc_par_init(&par, 1);
+    int active = wc_coupling_active(&s->self_pairs->coupling), n3 = 3 * m.n_particles;
+    double *r = malloc(n3 * sizeof(double)), *z[2];
+    uint64_t st = 4242;
+    random_vec(r, n3, &st);
+    for (int variant = 0; variant < 2; ++variant) { /* dense coarse levels (the default), then lists */
+        wc_amg* a = hierarchy(s, variant ? 0 : WC_AMG_CROSS_DENSE_DOFS, &par);
+        if (!a) return;
+        printf("  %s: %d particles, %d active couplings, %d levels\n", variant ? "term lists on every level" : "dense coarse levels",
+               m.n_particles, active, a->n_levels);
+        CHECK(active > 100);
+        CHECK_EQ_INT(a->lev[0].cross->n_terms, active);
+        CHECK((a->lev[1].cross->dense != NULL) == !variant);
+        test_galerkin(a);
+        amg_check_spd(a, s, variant ? "coupled layers, filtered, lists" : "coupled layers, filtered, dense");
+        z[variant] = malloc(n3 * sizeof(double));
+        wc_amg_apply(a, r, z[variant], &par);
+        wc_amg_destroy(a);
+    }
+    double diff = ts_rel_diff(z[1], z[0], n3);
+    printf("  one V-cycle, dense coarse levels against lists: %.1e\n", diff);
+    CHECK(diff < 1e-10);
+    free(r);
+    free(z[0]);
+    free(z[1]);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* PCG + AMG on the system: iterations and answer. */
+static int solve(wc_state* s, double* dv) {
+    memset(dv, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
+    wc_solve_result res;
+    CHECK_EQ_INT(wc_solve(s->solver, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res), WEFT_OK);
+    CHECK(res.converged);
+    return res.iterations;
+}
+
+static void test_iterations(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    int n3 = 3 * m.n_particles, active = wc_coupling_active(&s->self_pairs->coupling);
+    double *with = malloc(n3 * sizeof(double)), *without = malloc(n3 * sizeof(double)),
+           *half = malloc(n3 * sizeof(double));
+    int it_with = solve(s, with);
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 0, &d), WEFT_OK); /* the pattern's hierarchy alone */
+    int it_without = solve(s, without);
+    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), &s->self_pairs->coupling, active / 2, &d), WEFT_OK);
+    long dropped0 = amg_of(s)->cross_dropped;
+    int it_half = solve(s, half);
+    long dropped = amg_of(s)->cross_dropped - dropped0;
+    printf("  PCG to 1e-8, %d couplings: %d iterations with them in the hierarchy, %d without, %d with room for "
+           "half (%ld left out over its setups); answers differ by %.1e and %.1e\n",
+           active, it_with, it_without, it_half, dropped, ts_rel_diff(without, with, n3), ts_rel_diff(half, with, n3));
+    CHECK(2 * it_with <= it_without);
+    CHECK(dropped > 0);
+    CHECK(ts_rel_diff(without, with, n3) < 1e-5); /* both to residual 1e-8 */
+    CHECK(ts_rel_diff(half, with, n3) < 1e-5);
+    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 5, &d), WEFT_OK);
+    CHECK(wc_amg_set_coupling(NULL, NULL, 5, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(wc_amg_set_coupling(amg_of(s), &s->self_pairs->coupling, 0, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    free(with);
+    free(without);
+    free(half);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+static void test_threads(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    int n3 = 3 * m.n_particles;
+    double *r = malloc(n3 * sizeof(double)), *z1 = malloc(n3 * sizeof(double)), *z2 = malloc(n3 * sizeof(double));
+    uint64_t st = 99;
+    random_vec(r, n3, &st);
+    wc_amg* a = amg_of(s);
+    for (int t = 1; t <= 2; ++t) {
+        wc_par par;
+        wc_par_init(&par, t);
+        wc_amg_setup(a, s->A, &s->filter, &par);
+        wc_amg_apply(a, r, t == 1 ? z1 : z2, &par);
+        }
+    CHECK(memcmp(z1, z2, n3 * sizeof(double)) == 0);
+    printf("  V-cycle with the couplings on 1 and 2 threads: %s\n", memcmp(z1, z2, n3 * sizeof(double)) ? "differ" : "bit-identical");
+    free(r);
+    free(z1);
+    free(z2);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+int main(void) {
+    RUN_TEST(test_hierarchy);
+    RUN_TEST(test_iterations);
+    RUN_TEST(test_threads);
+    return TEST_SUMMARY();
+}
