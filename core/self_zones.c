@@ -92,7 +92,9 @@ int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const
             if (!(sp->rest > 0.0) || !(wa + wb > 0.0)) continue;
             double d[3];
             v3_sub(d, x + 3 * a, x + 3 * b);
-            double L = v3_norm(d), limit = sp->rest * (1.0 + fmax(strain_of(sp, x_old), floor));
+            double L = v3_norm(d);
+            if (!(L > sp->rest * (1.0 + floor))) continue; /* within the floor: no need of x_old's strain */
+            double limit = sp->rest * (1.0 + fmax(strain_of(sp, x_old), floor));
             if (!(L > limit)) continue;
             double c = (L - limit) / (L * (wa + wb));
             v3_axpy(x + 3 * a, -wa * c, d);
