@@ -226,6 +226,10 @@ typedef struct wc_amg_cross {
     double* gal;                /* (3 n_above x 3n) that product's X P, when the level above is dense */
     double* dadd;               /* (n x 9 x group) the terms' part of the block diagonal, laid out as
                                    Dinv (a pair level: node i's blocks to i & ~1 and i | 1) */
+    double* s;                  /* (cap_terms) a product's alpha c_k (v_k . x) */
+    int* node_start;            /* (n + 1) list levels: each node's entries, in term order, for the */
+    int* node_entry;            /* (cap_entries) products' gather (parallel, no reduction: the same */
+    int* entry_term;            /* (cap_entries) result on any thread count), rebuilt per setup */
     double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
     double* acc;                /* (n x 3) the restriction's accumulator, zero between terms */
     int* touched;               /* (n) */
@@ -348,12 +352,12 @@ double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pa
 /* The couplings' values for one setup (amg_cross.c): level 0's from the coupling under filter f
  * (after project_fine: it also takes their diagonal blocks out of level 0's BSR values into
  * dadd), level l + 1's from level l's through P_l (after its prolongator), the coarsest's into its
- * dense matrix M (d x d, row-major); y += alpha X x on one level of n nodes (serial, in term
- * order). */
+ * dense matrix M (d x d, row-major); y += alpha X x on one level of n nodes (in parallel over
+ * terms, then over nodes or rows; the same on any thread count). */
 void wc_amg_cross_fine(wc_amg* a, const wc_filter* f);
 void wc_amg_cross_restrict(wc_amg* a, int l);
 void wc_amg_cross_dense(const wc_amg_cross* X, double* M, int d);
-void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n);
+void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par);
 void wc_amg_cross_destroy(wc_amg* a);
 /* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
 static inline int wc_amg_find(const int* col, int lo, int hi, int c) {

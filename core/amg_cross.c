@@ -23,8 +23,9 @@
  * instead: on the dance the third level's 174 nodes had 600k entries in 38k vectors, 7x the
  * dense matrix's 270k; the levels below a dense one take the dense Galerkin product P^T X P.
  *
- * Everything here runs serially in term order (the same result on any thread count) with no
- * allocation after wc_amg_set_coupling. */
+ * The setup's parts run serially in term order, the products in parallel over terms and then
+ * over nodes (a gather through a per-setup index, no reduction), so the result is the same on
+ * any thread count; no allocation after wc_amg_set_coupling. */
 #include <string.h>
 #include "amg.h"
 #include "coupling.h"
@@ -40,7 +41,8 @@ void wc_amg_cross_destroy(wc_amg* a) {
     for (int l = 0; l < WC_AMG_MAX_LEVELS; ++l) {
         wc_amg_cross* X = a->lev[l].cross;
         if (!X) continue;
-        void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->y, X->acc, X->touched, X->mark};
+        void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
+                        X->node_entry, X->entry_term, X->y, X->acc, X->touched, X->mark};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
         a->lev[l].cross = NULL;
@@ -73,9 +75,13 @@ weft_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, w
             X->start = WC_NEW(al, int, (size_t)capacity + 1);
             X->node = WC_NEW(al, int, entries);
             X->val = WC_NEW(al, double, 3 * entries);
-            if (!X->start || !X->node || !X->val) goto oom;
+            X->node_start = WC_NEW(al, int, (size_t)L->n + 1);
+            X->node_entry = WC_NEW(al, int, entries);
+            X->entry_term = WC_NEW(al, int, entries);
+            if (!X->start || !X->node || !X->val || !X->node_start || !X->node_entry || !X->entry_term) goto oom;
         }
         X->c = WC_NEW(al, double, capacity);
+        X->s = WC_NEW(al, double, capacity);
         X->dadd = WC_NEW(al, double, 9 * (size_t)L->group * L->n);
         X->y = WC_NEW(al, double, d);
         if (l > 0 && !above_dense) {
@@ -84,13 +90,28 @@ weft_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, w
             X->mark = WC_NEW(al, unsigned char, L->n);
             if (!X->acc || !X->touched || !X->mark) goto oom;
         }
-        if (!X->c || !X->dadd || !X->y) goto oom;
+        if (!X->c || !X->s || !X->dadd || !X->y) goto oom;
     }
     a->coupling = c;
     return WEFT_OK;
 oom:
     wc_amg_cross_destroy(a);
     return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG: room for %d couplings", capacity);
+}
+
+/* A list level's gather index: each node's entries in entry (so term) order, by a counting sort. */
+static void index_nodes(wc_amg_cross* X, int n) {
+    memset(X->node_start, 0, sizeof(int) * ((size_t)n + 1));
+    for (int e = 0; e < X->n_entries; ++e) ++X->node_start[X->node[e] + 1];
+    for (int i = 0; i < n; ++i) X->node_start[i + 1] += X->node_start[i];
+    for (int q = 0; q < X->n_terms; ++q)
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+            int slot = X->node_start[X->node[e]]++;
+            X->node_entry[slot] = e;
+            X->entry_term[slot] = q;
+        }
+    for (int i = n; i > 0; --i) X->node_start[i] = X->node_start[i - 1]; /* back to the starts */
+    X->node_start[0] = 0;
 }
 
 /* o += s a b^T (3x3) */
@@ -131,6 +152,7 @@ void wc_amg_cross_fine(wc_amg* a, const wc_filter* f) {
     X->n_terms = q;
     X->n_entries = e;
     a->cross_terms[0] = q;
+    index_nodes(X, L->n);
 }
 
 /* A dense level's block diagonal part (dadd) from its matrix. */
@@ -296,26 +318,48 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
     Y->n_terms = q;
     Y->n_entries = e;
     a->cross_terms[l + 1] = q;
+    index_nodes(Y, C->n);
 }
 
-void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n) {
+void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par) {
     if (!X || X->n_terms == 0) return;
     if (X->dense) {
-        const size_t d = 3 * (size_t)n;
-        for (size_t r = 0; r < d; ++r) {
-            const double* row = X->dense + r * d;
-            double acc = 0.0;
-            for (size_t k = 0; k < d; ++k) acc += row[k] * x[k];
-            y[r] += alpha * acc;
+        const int d = 3 * n;
+        WC_PAR_REGION(par)
+        {
+            int lo, hi;
+            wc_par_range(d, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            for (int r = lo; r < hi; ++r) {
+                const double* row = X->dense + (size_t)r * d;
+                double acc = 0.0;
+                for (int k = 0; k < d; ++k) acc += row[k] * x[k];
+                y[r] += alpha * acc;
+            }
         }
         return;
     }
-    for (int q = 0; q < X->n_terms; ++q) {
-        double s = 0.0;
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) s += v3_dot(X->val + 3 * (size_t)e, x + 3 * (size_t)X->node[e]);
-        double k = alpha * X->c[q] * s;
-        if (k == 0.0) continue;
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) v3_axpy(y + 3 * (size_t)X->node[e], k, X->val + 3 * (size_t)e);
+    double* sk = X->s;
+    WC_PAR_REGION(par) /* s_k = alpha c_k (v_k . x), term by term */
+    {
+        int lo, hi;
+        wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int q = lo; q < hi; ++q) {
+            double acc = 0.0;
+            for (int e = X->start[q]; e < X->start[q + 1]; ++e) acc += v3_dot(X->val + 3 * (size_t)e, x + 3 * (size_t)X->node[e]);
+            sk[q] = alpha * X->c[q] * acc;
+        }
+    }
+    WC_PAR_REGION(par) /* y_i += sum over i's entries of s_k v_k(i), in term order */
+    {
+        int lo, hi;
+        wc_par_range(n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            if (X->node_start[i] == X->node_start[i + 1]) continue;
+            double acc[3] = {0, 0, 0};
+            for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j)
+                v3_axpy(acc, sk[X->entry_term[j]], X->val + 3 * (size_t)X->node_entry[j]);
+            v3_add(y + 3 * (size_t)i, y + 3 * (size_t)i, acc);
+        }
     }
 }
 

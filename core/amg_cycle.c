@@ -27,10 +27,10 @@ static void residual_bsr(const wc_amg_level* L, const double* r, const double* x
     }
 }
 
-/* t = r - A x with the couplings' cross terms (amg_cross.c; serial after the parallel rows). */
+/* t = r - A x with the couplings' terms (amg_cross.c). */
 static void residual(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
     residual_bsr(L, r, x, t, par);
-    if (x && L->cross && L->cross->n_terms > 0) wc_amg_cross_mul_add(L->cross, -1.0, x, t, L->n);
+    if (x && L->cross && L->cross->n_terms > 0) wc_amg_cross_mul_add(L->cross, -1.0, x, t, L->n, par);
 }
 
 /* x += w D^-1 t (x is overwritten when `set`). */

@@ -10,7 +10,8 @@
  *     the same answer, fewer iterations (asserted at most half);
  *   - a capacity below the active terms: the left-out terms are counted and PCG still converges
  *     to the same answer;
- *   - the V-cycle is the same to the bit on 1 and 2 threads. */
+ *   - the V-cycle (its parallel products with the couplings included) is the same to the bit on
+ *     1 and 2 threads. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -73,17 +74,21 @@ static wc_amg* amg_of(wc_state* s) { return s->solver->amg; }
 
 /* y = F x on level l: the BSR part and the cross terms. */
 static void level_mul(const wc_amg_level* L, const double* x, double* y) {
+    wc_par par;
+    wc_par_init(&par, 1);
     memset(y, 0, 3 * (size_t)L->n * sizeof(double));
     for (int i = 0; i < L->n; ++i)
         for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
             m3_mulv_add(y + 3 * i, L->val + 9 * (size_t)k, x + 3 * L->col[k]);
-    wc_amg_cross_mul_add(L->cross, 1.0, x, y, L->n);
+    wc_amg_cross_mul_add(L->cross, 1.0, x, y, L->n, &par);
 }
 
 static int live(const wc_amg_level* L, int q) { return !L->dead || !L->dead[q]; }
 
 static void test_galerkin(wc_amg* a) {
     uint64_t st = 777;
+    wc_par par;
+    wc_par_init(&par, 1);
     CHECK(a->n_levels >= 3);
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         const wc_amg_level *L = &a->lev[l], *C = &a->lev[l + 1];
@@ -113,7 +118,7 @@ static void test_galerkin(wc_amg* a) {
         }
         /* the cross terms' share, so that the check can fail */
         memset(yc, 0, nc * sizeof(double));
-        wc_amg_cross_mul_add(C->cross, 1.0, xc, yc, C->n);
+        wc_amg_cross_mul_add(C->cross, 1.0, xc, yc, C->n, &par);
         for (int q = 0; q < nc; ++q) cross += yc[q] * yc[q];
         printf("  level %d -> %d (%d -> %d nodes, %d terms, %d entries): |F_c x - P^T F P x| / |.| = %.1e "
                "(the cross terms alone: %.2g)\n",
