@@ -11,7 +11,9 @@
  *   - a capacity below the active terms: the left-out terms are counted and PCG still converges
  *     to the same answer;
  *   - the V-cycle (its parallel products with the couplings included) is the same to the bit on
- *     1 and 2 threads. */
+ *     1 and 2 threads;
+ *   - layers small enough for a single level: its dense factor holds the couplings whole, so PCG
+ *     converges at once. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -36,9 +38,10 @@ static void random_vec(double* v, int n3, uint64_t* st) {
     }
 }
 
-/* The substep's system of the falling layer, with constraints on the bottom layer. */
-static wc_state* coupled_system(wc_model* m) {
-    CHECK(two_layers(m, N, SIZE, 0.0, GAP));
+/* The substep's system of the falling layer (two n x n layers of `size` metres), with constraints on the
+ * bottom layer. */
+static wc_state* coupled_layers(wc_model* m, int n, double size) {
+    CHECK(two_layers(m, n, size, 0.0, GAP));
     wc_sim_def def = wc_default_sim_def();
     def.self_collision = 1;
     def.self_thickness = TH;
@@ -47,28 +50,30 @@ static wc_state* coupled_system(wc_model* m) {
     def.solver.preconditioner = WC_PRECOND_AMG;
     def.solver.tolerance = 1e-8;
     def.solver.max_iterations = 2000;
-    wc_state* s = two_layers_approaching(m, N, SIZE, 0.3, &def);
+    wc_state* s = two_layers_approaching(m, n, size, 0.3, &def);
     CHECK(s != NULL);
     if (!s) return NULL;
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
-    /* two pins and a row on a plane y = 0 (normal +y) in the bottom layer (host vertices 0 .. N^2 - 1) */
+    /* two pins and a row on a plane y = 0 (normal +y) in the bottom layer (host vertices 0 .. n^2 - 1) */
     wc_filter* f = &s->filter;
-    for (int hv = 0; hv < N; ++hv) {
-        int p = m->host_to_particle[N * (N / 2) + hv];
+    for (int hv = 0; hv < n; ++hv) {
+        int p = m->host_to_particle[n * (n / 2) + hv];
         double* S = f->S + 9 * p;
         for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
         S[4] = 0.0;
         f->ndof[p] = 1;
     }
     for (int c = 0; c < 2; ++c) {
-        int p = m->host_to_particle[c ? N * N - 1 : 0];
+        int p = m->host_to_particle[c ? n * n - 1 : 0];
         memset(f->S + 9 * p, 0, 9 * sizeof(double));
         f->ndof[p] = 3;
     }
     return s;
 }
+
+static wc_state* coupled_system(wc_model* m) { return coupled_layers(m, N, SIZE); }
 
 static wc_amg* amg_of(wc_state* s) { return s->solver->amg; }
 
@@ -273,9 +278,29 @@ static void test_threads(void) {
     wc_model_free(&m);
 }
 
+/* Layers small enough for one level: the dense factor is the whole projected system, so PCG with
+ * it converges at once. */
+static void test_one_level(void) {
+    wc_model m;
+    wc_state* s = coupled_layers(&m, 6, SIZE * 5.0 / (N - 1));
+    if (!s) return;
+    int active = wc_coupling_active(&s->self_pairs->coupling), n3 = 3 * m.n_particles;
+    double* dv = malloc(n3 * sizeof(double));
+    int it = solve(s, dv);
+    printf("  two 6 x 6 layers, %d active couplings, %d level: PCG to 1e-8 in %d iterations\n", active,
+           amg_of(s)->n_levels, it);
+    CHECK(active > 10);
+    CHECK_EQ_INT(amg_of(s)->n_levels, 1);
+    CHECK(it <= 2);
+    free(dv);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     RUN_TEST(test_hierarchy);
     RUN_TEST(test_iterations);
     RUN_TEST(test_threads);
+    RUN_TEST(test_one_level);
     return TEST_SUMMARY();
 }
