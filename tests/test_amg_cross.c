@@ -38,8 +38,8 @@ static void random_vec(double* v, int n3, uint64_t* st) {
     }
 }
 
-/* The substep's system of the falling layer (two n x n layers of `size` metres), with constraints on the
- * bottom layer. */
+/* The substep's system of the falling layer (two n x n layers of `size` metres), with
+ * constraints on the bottom layer. */
 static wc_state* coupled_layers(wc_model* m, int n, double size) {
     CHECK(two_layers(m, n, size, 0.0, GAP));
     wc_sim_def def = wc_default_sim_def();
