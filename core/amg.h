@@ -56,10 +56,11 @@
  *
  * Couplings outside the pattern (coupling.h: the self-contact pairs between layers that share no
  * spring; amg_cross.c, wc_amg_cross): the hierarchy carries them as one sparse vector per term
- * and level, so every level's operator is the Galerkin product of the whole system's, not of its
- * pattern's (which the aggregates, following the mesh, cannot see across layers). On the two
- * 21 x 21 layers of tests/test_amg_cross.c (3,160 active couplings) PCG to 1e-8 takes 49
- * iterations with them, 212 without; test_self_pairs' 276 couplings to 1e-10: 23 against 162.
+ * and level (or, on a small coarse level, one dense matrix), so every level's operator is the
+ * Galerkin product of the whole system's, not of its pattern's (which the aggregates, following
+ * the mesh, cannot see across layers). On the two 21 x 21 layers of tests/test_amg_cross.c
+ * (3,160 active couplings) PCG to 1e-8 takes 50 iterations with them, 212 without;
+ * test_self_pairs' 276 couplings to 1e-10: 23 against 162.
  *
  * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
  * arrays as it uploads the BSR pattern):
@@ -149,8 +150,8 @@
 /* The setup's phases, timed per solve (wc_amg.phase_ms): the per-aggregate QR about the current
  * positions (amg_tent.c), the projected fine operator, the block-diagonal inverses, the power
  * iterations on the finest and on the coarse levels, the smoothed prolongators, T = A P, the
- * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor, the couplings'
- * cross terms restricted level by level (amg_cross.c; the coarsest's dense part is in its factor's). */
+ * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor, the couplings
+ * restricted level by level (amg_cross.c; the coarsest's dense part is in its factor's). */
 typedef enum wc_amg_phase {
     WC_AMG_PHASE_TENT,
     WC_AMG_PHASE_PROJECT,
@@ -283,7 +284,7 @@ typedef struct wc_amg_level {
     int* t_start;               /* (n + 1) pattern of T = A P */
     int* t_col;                 /* (nnz_t) */
     double* t_val;              /* (nnz_t x 9) */
-    wc_amg_cross* cross;        /* the couplings' cross terms on this level (NULL: none set) */
+    wc_amg_cross* cross;        /* the couplings on this level (NULL: none set) */
 } wc_amg_level;
 
 typedef struct wc_amg {

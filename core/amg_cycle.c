@@ -6,7 +6,7 @@
 #include "amg.h"
 #include "vec3.h"
 
-/* t = r - A x (the level's BSR part; residual() adds the couplings' cross terms). */
+/* t = r - A x (the level's BSR part; residual() adds the couplings). */
 static void residual_bsr(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
     WC_PAR_REGION(par)
     {

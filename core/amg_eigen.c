@@ -49,7 +49,7 @@ static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
 static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double* next, wc_par* par, double* num,
                       double* den) {
     int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
-    if (L->cross && L->cross->n_terms > 0) { /* the couplings' cross terms X w (amg_cross.c) */
+    if (L->cross && L->cross->n_terms > 0) { /* the couplings' X w (amg_cross.c) */
         memset(L->cross->y, 0, sizeof(double) * 3 * (size_t)L->n);
         wc_amg_cross_mul_add(L->cross, 1.0, w, L->cross->y, L->n, par);
     }

@@ -2,7 +2,7 @@
  * real system: two 21 x 21 layers, the top one falling onto the bottom one, the substep's
  * couplings found by the self-contact pairs (self_pairs.h); the bottom layer has two pinned
  * particles and a row on a plane contact, so the filter acts on some pieces. Checked:
- *   - every level's whole operator (BSR part + cross terms) is the Galerkin product of the level
+ *   - every level's whole operator (BSR part + the couplings) is the Galerkin product of the level
  *     above's, P^T F P, on random vectors (an independent composition of the products);
  *   - the coarsest level's dense Cholesky factor is that level's whole operator (L L^T);
  *   - the V-cycle stays symmetric positive definite on the filtered system;
@@ -77,7 +77,7 @@ static wc_state* coupled_system(wc_model* m) { return coupled_layers(m, N, SIZE)
 
 static wc_amg* amg_of(wc_state* s) { return s->solver->amg; }
 
-/* y = F x on level l: the BSR part and the cross terms. */
+/* y = F x on level l: the BSR part and the couplings. */
 static void level_mul(const wc_amg_level* L, const double* x, double* y) {
     wc_par par;
     wc_par_init(&par, 1);
@@ -121,12 +121,12 @@ static void test_galerkin(wc_amg* a) {
             num += (yc[q] - zc[q]) * (yc[q] - zc[q]);
             den += zc[q] * zc[q];
         }
-        /* the cross terms' share, so that the check can fail */
+        /* the couplings' share, so that the check can fail */
         memset(yc, 0, nc * sizeof(double));
         wc_amg_cross_mul_add(C->cross, 1.0, xc, yc, C->n, &par);
         for (int q = 0; q < nc; ++q) cross += yc[q] * yc[q];
         printf("  level %d -> %d (%d -> %d nodes, %d terms, %d entries): |F_c x - P^T F P x| / |.| = %.1e "
-               "(the cross terms alone: %.2g)\n",
+               "(the couplings alone: %.2g)\n",
                l, l + 1, L->n, C->n, C->cross->n_terms, C->cross->n_entries, sqrt(num / den), sqrt(cross / den));
         CHECK(sqrt(num / den) < 1e-12);
         CHECK(sqrt(cross / den) > 1e-3);
