@@ -198,6 +198,36 @@ static void dense_galerkin(const wc_amg_level* L, const wc_amg_cross* X, const w
         }
 }
 
+/* Y->acc = P^T v_q (level L's term q into the level below); returns how many nodes it touched
+ * (Y->touched; clear_term zeroes them again). */
+static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, wc_amg_cross* Y) {
+    int nt = 0;
+    for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
+        int i = X->node[s];
+        const double* v = X->val + 3 * (size_t)s;
+        for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
+            int J = L->p_col[pe];
+            const double* P = L->p_val + 9 * (size_t)pe;
+            double* o = Y->acc + 3 * (size_t)J;
+            if (!Y->mark[J]) {
+                Y->mark[J] = 1;
+                Y->touched[nt++] = J;
+            }
+            o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
+            o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
+            o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+        }
+    }
+    return nt;
+}
+
+static void clear_term(wc_amg_cross* Y, int nt) {
+    for (int u = 0; u < nt; ++u) {
+        v3_zero(Y->acc + 3 * (size_t)Y->touched[u]);
+        Y->mark[Y->touched[u]] = 0;
+    }
+}
+
 void wc_amg_cross_restrict(wc_amg* a, int l) {
     const wc_amg_level* L = &a->lev[l];
     const wc_amg_level* C = &a->lev[l + 1];
@@ -215,23 +245,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
             const size_t d = 3 * (size_t)C->n;
             memset(Y->dense, 0, sizeof(double) * d * d);
             for (int q = 0; q < X->n_terms; ++q) { /* dense += c (P^T v)(P^T v)^T, the upper triangle */
-                int nt = 0;
-                for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
-                    int i = X->node[s];
-                    const double* v = X->val + 3 * (size_t)s;
-                    for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
-                        int J = L->p_col[pe];
-                        const double* P = L->p_val + 9 * (size_t)pe;
-                        double* o = Y->acc + 3 * (size_t)J;
-                        if (!Y->mark[J]) {
-                            Y->mark[J] = 1;
-                            Y->touched[nt++] = J;
-                        }
-                        o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
-                        o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
-                        o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
-                    }
-                }
+                const int nt = restrict_term(L, X, q, Y);
                 const double c = X->c[q];
                 for (int u = 0; u < nt; ++u) {
                     int I = Y->touched[u];
@@ -249,10 +263,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
                         }
                     }
                 }
-                for (int u = 0; u < nt; ++u) {
-                    v3_zero(Y->acc + 3 * (size_t)Y->touched[u]);
-                    Y->mark[Y->touched[u]] = 0;
-                }
+                clear_term(Y, nt);
             }
             for (size_t I = 0; I < (size_t)C->n; ++I) /* the lower triangle's blocks by symmetry */
                 for (size_t J = 0; J <= I; ++J)
@@ -269,23 +280,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
     int q, e = 0;
     Y->start[0] = 0;
     for (q = 0; q < X->n_terms; ++q) {
-        int nt = 0;
-        for (int s = X->start[q]; s < X->start[q + 1]; ++s) { /* acc = P^T v */
-            int i = X->node[s];
-            const double* v = X->val + 3 * (size_t)s;
-            for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
-                int J = L->p_col[pe];
-                const double* P = L->p_val + 9 * (size_t)pe;
-                double* o = Y->acc + 3 * (size_t)J;
-                if (!Y->mark[J]) {
-                    Y->mark[J] = 1;
-                    Y->touched[nt++] = J;
-                }
-                o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
-                o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
-                o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
-            }
-        }
+        const int nt = restrict_term(L, X, q, Y);
         int fits = e + nt <= Y->cap_entries;
         const double c = X->c[q];
         for (int u = 0; u < nt && fits; ++u) {
@@ -305,10 +300,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
                 outer_add(Da + 9 * ((J & 1) ^ 1), c, o, Y->acc + 3 * (size_t)(J ^ 1));
             }
         }
-        for (int u = 0; u < nt; ++u) {
-            v3_zero(Y->acc + 3 * (size_t)Y->touched[u]);
-            Y->mark[Y->touched[u]] = 0;
-        }
+        clear_term(Y, nt);
         if (!fits) { /* this term and the later ones stay out of this level and those below */
             a->cross_dropped += X->n_terms - q;
             break;
