@@ -11,6 +11,18 @@
 
 enum { WELD_CELL = 64, KEY_BITS = 44, SMALL_GROUP = 24 };
 
+/* The cell index of coordinate / cell = f, clamped to +-2^52 so that the conversion is defined
+ * for any coordinate (a fuzzed mesh had 1e42 m; NaN goes to the lower bound). Clamping only
+ * merges cells far beyond any mesh's size into the last one, where the exact distance test still
+ * decides; for such a vertex the face test below may look into a neighbouring cell for nothing. */
+static int64_t cell_of(double f) {
+    const double lim = 4503599627370496.0; /* 2^52 */
+    f = floor(f);
+    if (!(f > -lim)) f = -lim;
+    else if (f > lim) f = lim;
+    return (int64_t)f;
+}
+
 static uint64_t cell_hash(int64_t x, int64_t y, int64_t z) {
     uint64_t h = (uint64_t)x * 0x9E3779B97F4A7C15ull;
     h ^= (uint64_t)y * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
@@ -72,8 +84,7 @@ int wc_weld(const double* pos, const unsigned char* used, int n, double distance
         for (int i = 0; i < n; ++i) {
             if (!used[i]) continue;
             const double* p = pos + 3 * i;
-            items[m].key = cell_hash((int64_t)floor(p[0] / cell), (int64_t)floor(p[1] / cell),
-                                     (int64_t)floor(p[2] / cell));
+            items[m].key = cell_hash(cell_of(p[0] / cell), cell_of(p[1] / cell), cell_of(p[2] / cell));
             items[m].val = i;
             ++m;
         }
@@ -106,7 +117,7 @@ int wc_weld(const double* pos, const unsigned char* used, int n, double distance
             int near_any = 0;
             for (int k = 0; k < 3; ++k) {
                 double f = p[k] / cell;
-                c[k] = (int64_t)floor(f);
+                c[k] = cell_of(f);
                 double off = (f - (double)c[k]) * cell; /* distance to the lower face */
                 s[k] = off <= distance ? -1 : (cell - off <= distance ? 1 : 0);
                 near_any |= s[k] != 0;

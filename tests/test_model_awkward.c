@@ -4,6 +4,7 @@
 #include "check.h"
 #include "model.h"
 #include "test_support.h"
+#include "weld.h"
 
 static weft_status build_arrays(wc_model* m, const double* pos, int nv, const int* sizes, int np,
                                 const int* idx, wc_diag* d) {
@@ -299,6 +300,22 @@ static void test_nothing_usable(void) {
     wc_source_mesh_free(&src);
 }
 
+/* Coordinates far beyond any cell index (a fuzzed host array had 1e42 m): the cells clamp, the
+ * exact distance still decides (fuzz/regressions/cloth_arrays/weld_huge_coordinate_cell_overflow
+ * is the input that found it; the sanitizer build failed on the conversion). */
+static void test_weld_far_coordinates(void) {
+    const double pos[] = {1e42, -1e42, 1e300,  1e42, -1e42, 1e300,  1.001e42, -1e42, 1e300,
+                          0.0, 0.0, 0.0,      0.0005, 0.0, 0.0,     -1e42, 5e41, -1e300};
+    const unsigned char used[] = {1, 1, 1, 1, 1, 1};
+    int to[6];
+    int count = wc_weld(pos, used, 6, 0.001, to, NULL);
+    CHECK_EQ_INT(count, 4);
+    CHECK_EQ_INT(to[0], to[1]);  /* coincident far away: one particle */
+    CHECK(to[2] != to[0]);       /* 1e39 m from them */
+    CHECK_EQ_INT(to[3], to[4]);  /* 0.5 mm apart near the origin */
+    CHECK(to[5] != to[0] && to[5] != to[3]);
+}
+
 int main(void) {
     RUN_TEST(test_non_manifold_edge);
     RUN_TEST(test_degenerate_and_duplicates);
@@ -310,5 +327,6 @@ int main(void) {
     RUN_TEST(test_mixed_quad_triangle);
     RUN_TEST(test_closed_surfaces);
     RUN_TEST(test_nothing_usable);
+    RUN_TEST(test_weld_far_coordinates);
     return TEST_SUMMARY();
 }
