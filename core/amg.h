@@ -309,7 +309,8 @@ typedef struct wc_amg {
     const struct wc_coupling* coupling; /* borrowed (wc_amg_set_coupling; NULL: none) */
     long cross_dropped;         /* terms left out of a coarse level (its entries were full), summed
                                    over every setup */
-    int cross_terms[WC_AMG_MAX_LEVELS]; /* terms each level held at the last setup */
+    int cross_terms[WC_AMG_MAX_LEVELS]; /* terms each level held at the last setup (a stat: fewer
+                                   than the active terms where some did not fit) */
     const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
                                    positions every setup takes the rotations about (the state's
                                    x, wc_solver_set_positions); NULL: the rest positions' P_tent

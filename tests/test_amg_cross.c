@@ -230,6 +230,8 @@ static void test_iterations(void) {
     double *with = malloc(n3 * sizeof(double)), *without = malloc(n3 * sizeof(double)),
            *half = malloc(n3 * sizeof(double));
     int it_with = solve(s, with);
+    /* room for every term: each level holds all of them (wc_amg.cross_terms) */
+    for (int l = 0; l < amg_of(s)->n_levels; ++l) CHECK_EQ_INT(amg_of(s)->cross_terms[l], active);
     wc_diag d = {0};
     CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 0, &d), WEFT_OK); /* the pattern's hierarchy alone */
     int it_without = solve(s, without);
@@ -237,6 +239,10 @@ static void test_iterations(void) {
     long dropped0 = amg_of(s)->cross_dropped;
     int it_half = solve(s, half);
     long dropped = amg_of(s)->cross_dropped - dropped0;
+    /* room for half: the finest level holds what fits, no coarser level more than the level above */
+    const int* held = amg_of(s)->cross_terms;
+    CHECK(held[0] > 0 && held[0] <= active / 2);
+    for (int l = 1; l < amg_of(s)->n_levels; ++l) CHECK(held[l] <= held[l - 1]);
     printf("  PCG to 1e-8, %d couplings: %d iterations with them in the hierarchy, %d without, %d with room for "
            "half (%ld left out over its setups); answers differ by %.1e and %.1e\n",
            active, it_with, it_without, it_half, dropped, ts_rel_diff(without, with, n3), ts_rel_diff(half, with, n3));
