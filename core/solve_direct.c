@@ -17,6 +17,17 @@
  * permuted copy of K and supernodal update buffers, through SuiteSparse's malloc, which cannot
  * be routed to the wc_allocator without global state).
  *
+ * Threads: CHOLMOD 3 (SuiteSparse 5.x) opens OpenMP regions of its own inside the supernodal
+ * factorisation, each with a compile-time num_threads(CHOLMOD_OMP_NUM_THREADS) = 4 whatever the
+ * machine or the solver's thread count: thousands of small fork-joins per factorisation. On the
+ * project's 2-core machine that made a direct TR-BDF2 run of the 32^2 sheet at 8 substeps cost
+ * 740 ms a frame, 161 ms with those regions serial (1 thread, idle machine; most of the
+ * difference was futex system time). So every CHOLMOD call runs with the calling thread's
+ * max-active-levels at 0 (cholmod_serial_begin: a per-thread setting since OpenMP 5.0, restored
+ * after the call, so neither the host's other threads nor Weft's own regions see it). The dense
+ * supernodal work still goes through the BLAS, whose threads are the host's to set (the `weft`
+ * CLI sets OpenBLAS's to --threads).
+ *
  * Each solver owns its cholmod_common (no shared state); CHOLMOD printing is off (print = 0, no
  * error handler) and its status is translated: NOT_POSDEF -> WEFT_ERROR_FACTORIZATION (dv is
  * left at the projected initial guess), OUT_OF_MEMORY -> WEFT_ERROR_OUT_OF_MEMORY, anything else
@@ -36,6 +47,41 @@ struct wcs_direct {
     cholmod_dense* Y;       /* cholmod_solve2 workspaces */
     cholmod_dense* E;
 };
+
+/* Begin / end a stretch of CHOLMOD calls whose own OpenMP regions run on the calling thread alone
+ * (see the top of the file). */
+static int cholmod_serial_begin(void) {
+#ifdef _OPENMP
+    int saved = omp_get_max_active_levels();
+    omp_set_max_active_levels(0);
+    return saved;
+#else
+    return 0;
+#endif
+}
+
+static void cholmod_serial_end(int saved) {
+#ifdef _OPENMP
+    omp_set_max_active_levels(saved);
+#else
+    (void)saved;
+#endif
+}
+
+static int factorize(wcs_direct* d) {
+    int saved = cholmod_serial_begin();
+    int ok = cholmod_factorize(d->K, d->L, &d->cc);
+    cholmod_serial_end(saved);
+    return ok;
+}
+
+/* X = A^-1 B through the factor; 0 when CHOLMOD fails. */
+static int solve_factor(wcs_direct* d) {
+    int saved = cholmod_serial_begin();
+    int ok = cholmod_solve2(CHOLMOD_A, d->L, d->B, NULL, &d->X, NULL, &d->Y, &d->E, &d->cc);
+    cholmod_serial_end(saved);
+    return ok;
+}
 
 static weft_status translate(int cholmod_status) {
     if (cholmod_status == CHOLMOD_OUT_OF_MEMORY) return WEFT_ERROR_OUT_OF_MEMORY;
@@ -106,7 +152,9 @@ weft_status wcs_direct_create(wc_solver* s, wc_diag* diag) {
         }
     }
 
+    int saved = cholmod_serial_begin();
     d->L = cholmod_analyze(d->K, &d->cc);
+    cholmod_serial_end(saved);
     if (!d->L || d->cc.status < CHOLMOD_OK)
         return wc_fail(diag, translate(d->cc.status), "direct solver: cholmod_analyze failed (status %d)",
                        d->cc.status);
@@ -114,8 +162,7 @@ weft_status wcs_direct_create(wc_solver* s, wc_diag* diag) {
     wc_par one;
     wc_par_init(&one, 1);
     fill_values(s, NULL, NULL, &one);
-    if (!cholmod_factorize(d->K, d->L, &d->cc) || d->cc.status != CHOLMOD_OK ||
-        !cholmod_solve2(CHOLMOD_A, d->L, d->B, NULL, &d->X, NULL, &d->Y, &d->E, &d->cc) || d->cc.status != CHOLMOD_OK)
+    if (!factorize(d) || d->cc.status != CHOLMOD_OK || !solve_factor(d) || d->cc.status != CHOLMOD_OK)
         return wc_fail(diag, translate(d->cc.status), "direct solver: warm-up factorisation failed (status %d)",
                        d->cc.status);
     wc_log(diag, WC_LOG_DEBUG, "direct solver: %zu x %zu, %zu entries, factor %s, nnz(L) %.0f", N, N, nnz,
@@ -144,8 +191,7 @@ int wcs_direct_apply(wc_solver* s, const double* r, double* t) {
     const size_t N = 3 * (size_t)s->n;
     double* rhs = (double*)d->B->x;
     for (size_t k = 0; k < N; ++k) rhs[k] = r[k];
-    if (!cholmod_solve2(CHOLMOD_A, d->L, d->B, NULL, &d->X, NULL, &d->Y, &d->E, &d->cc) || d->cc.status < CHOLMOD_OK)
-        return 0;
+    if (!solve_factor(d) || d->cc.status < CHOLMOD_OK) return 0;
     const double* y = (const double*)d->X->x;
     for (size_t k = 0; k < N; ++k) t[k] = y[k];
     return 1;
@@ -158,7 +204,7 @@ weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, con
     const size_t N = 3 * (size_t)s->n;
     weft_status st = WEFT_OK;
     fill_values(s, A, f, par);
-    int ok = cholmod_factorize(d->K, d->L, &d->cc);
+    int ok = factorize(d);
     if (!ok || d->cc.status != CHOLMOD_OK || d->L->minor < d->L->n) {
         st = (ok && d->cc.status >= CHOLMOD_OK) ? WEFT_ERROR_FACTORIZATION : translate(d->cc.status);
     } else if (wc_coupling_active(s->coupling) > 0) {
@@ -171,8 +217,7 @@ weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, con
     } else {
         double* rhs = (double*)d->B->x;
         for (size_t k = 0; k < N; ++k) rhs[k] = s->r[k];
-        if (!cholmod_solve2(CHOLMOD_A, d->L, d->B, NULL, &d->X, NULL, &d->Y, &d->E, &d->cc) ||
-            d->cc.status < CHOLMOD_OK) {
+        if (!solve_factor(d) || d->cc.status < CHOLMOD_OK) {
             st = translate(d->cc.status);
         } else {
             const double* y = (const double*)d->X->x;

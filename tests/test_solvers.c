@@ -4,6 +4,9 @@
  * checked against a dense Cholesky written here; the iterative ones against the direct one. */
 #include <stdint.h>
 #include <stdlib.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include "check.h"
 #include "clock.h"
 #include "model.h"
@@ -391,6 +394,34 @@ static void check_iterative(const wc_model* m, int nx) {
     wc_solver_destroy(sv);
     sys_free(&s);
 }
+/* CHOLMOD's own OpenMP regions run serially (solve_direct.c): the direct solver sets the calling
+ * thread's max-active-levels to 0 around each CHOLMOD call and must hand back the host's value,
+ * at creation (the analysis) and after each solve, failed ones included. */
+static void test_direct_keeps_host_openmp(void) {
+#ifdef _OPENMP
+    wc_model m = quad_model(12, 12);
+    sys s = cloth_system(&m, 12, 5);
+    const int host = omp_get_max_active_levels() > 1 ? 1 : 2; /* not the default: a value to keep */
+    omp_set_max_active_levels(host);
+    wc_solver* sv = make_solver(&m, wc_default_solver_opts(), NULL);
+    CHECK_EQ_INT(omp_get_max_active_levels(), host);
+    double* dv = calloc(3 * (size_t)s.n, sizeof(double));
+    wc_solve_result res;
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_OK);
+    CHECK(res.converged);
+    CHECK_EQ_INT(omp_get_max_active_levels(), host);
+    for (int k = 0; k < 9 * s.nb; ++k) s.A[k] = -s.A[k]; /* negative definite: the factorisation fails */
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_ERROR_FACTORIZATION);
+    CHECK_EQ_INT(omp_get_max_active_levels(), host);
+    free(dv);
+    wc_solver_destroy(sv);
+    sys_free(&s);
+    wc_model_free(&m);
+#else
+    printf("  (built without OpenMP: nothing to keep)\n");
+#endif
+}
+
 static void test_iterative_match_direct(void) {
     wc_model q = quad_model(12, 12), t = tri_model(9, 7);
     check_iterative(&q, 12);
@@ -686,6 +717,7 @@ static void print_comparison(void) {
 int main(void) {
     RUN_TEST(test_names_and_defaults);
     RUN_TEST(test_direct_matches_dense);
+    RUN_TEST(test_direct_keeps_host_openmp);
     RUN_TEST(test_iterative_match_direct);
     RUN_TEST(test_pcg_tolerance);
     RUN_TEST(test_jacobi_divergence);
