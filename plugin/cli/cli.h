@@ -39,6 +39,10 @@ int cli_option_value(int argc, char** argv, int* i, const char* name, const char
 int cli_usage_error(const char* command, void (*usage)(FILE*), const char* fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* With threads > 0, OpenBLAS's thread count (CHOLMOD's BLAS) set to threads (blas_threads.c).
+ * Returns OpenBLAS's thread count after it, or -1 when the BLAS is not OpenBLAS (nothing set). */
+int cli_blas_threads(int threads);
+
 /* Print "weft: <message>" to stderr as exactly one line (newlines in message become spaces). */
 void cli_error(const char* message);
 

@@ -154,6 +154,12 @@ int bench_parse_backends(const char* text, int* out) {
 
 const char* bench_backend_name(int backend) { return backend == BENCH_GPU ? "gpu" : "cpu"; }
 
+const char* bench_blas_note(const bench_common* c, char* buf, size_t size) {
+    if (c->blas_threads > 0) snprintf(buf, size, "OpenBLAS: %d thread(s)", c->blas_threads);
+    else snprintf(buf, size, "BLAS: not OpenBLAS");
+    return buf;
+}
+
 const char* bench_backend_note(const int* backends, int n, char* buf, size_t size) {
     size_t at = 0;
     buf[0] = '\0';
@@ -234,6 +240,7 @@ int bench_parse_args(int argc, char** argv, const char* command, void (*usage)(F
         if (m == -1) return cli_usage_error(command, usage, "%s needs a value", arg);
         if (m == -2) return cli_usage_error(command, usage, "bad value for %s: '%s'", arg, v);
     }
+    c->blas_threads = cli_blas_threads(c->threads);
     return -1;
 }
 

@@ -125,7 +125,12 @@ typedef struct bench_common {
     const char* csv;        /* --csv FILE, NULL: none */
     const char* md;         /* --md FILE, NULL: stdout */
     const char* plot;       /* --plot FILE.png, NULL: none */
+    int blas_threads;       /* OpenBLAS's threads (set to `threads` when > 0; cli_blas_threads), -1:
+                               another BLAS */
 } bench_common;
+
+/* CHOLMOD's BLAS threads, for the Markdown notes: "OpenBLAS: N thread(s)" or "BLAS: not OpenBLAS". */
+const char* bench_blas_note(const bench_common* c, char* buf, size_t size);
 
 /* A subcommand's own option at argv[*i]: 1 when it is one and its value is good, 0 when it is not
  * one, -1 when its value is missing, -2 when its value is bad (*value set, as cli_option_value). */

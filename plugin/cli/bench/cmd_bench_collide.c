@@ -215,8 +215,9 @@ typedef struct header_info {
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
+    char blas[64];
     fprintf(out,
-            "## weft bench collide\n\nbackend: CPU (core's wc_step_frame). %d OpenMP thread(s). A 1 m sheet "
+            "## weft bench collide\n\nbackend: CPU (core's wc_step_frame). %d OpenMP thread(s), %s. A 1 m sheet "
             "of N x N particles (drapeN) falling onto a triangle-mesh sphere (radius 0.25 m), self-collision on "
             "(3 mm), one step per frame at 30 frames/s, the library's CPU solver defaults (PCG with the "
             "multigrid preconditioner, two Newton iterations with line search); after the first touch (warm-up: frames until it, "
@@ -225,7 +226,7 @@ static void print_header(FILE* out, const void* ctx) {
             "self-collision; share: (collide + self) / total. min/max: the fastest and slowest timed "
             "frame (total). Error side, at the last frame: the deepest penetration into the body and the "
             "self-intersecting edge-triangle pairs (both 0 when the collisions are resolved).\n\n",
-            h->threads, h->a->settle, h->a->frames);
+            h->threads, bench_blas_note(&h->a->com, blas, sizeof blas), h->a->settle, h->a->frames);
     if (h->goal)
         fprintf(out,
                 "Goal (issue 13): self-collision plus a 20k-triangle body under %.0f %% of the frame at 25,600 "

@@ -184,10 +184,11 @@ static const char* met(int ok) { return ok ? "met" : "not met"; }
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const it_args* a = h->a;
-    fprintf(out, "## weft bench iterations\n\nbackend: CPU (core's wc_step_frame). %d OpenMP thread(s). One substep "
-                 "per frame at %g fps, %g s per row, tolerance %g, cap %d; rollbacks on (a rolled-back substep's "
-                 "halves are solves too).\n\n",
-            h->threads, a->fps, a->seconds, a->tolerance, a->cap);
+    char blas[64];
+    fprintf(out, "## weft bench iterations\n\nbackend: CPU (core's wc_step_frame). %d OpenMP thread(s), %s. One "
+                 "substep per frame at %g fps, %g s per row, tolerance %g, cap %d; rollbacks on (a rolled-back "
+                 "substep's halves are solves too).\n\n",
+            h->threads, bench_blas_note(&a->com, blas, sizeof blas), a->fps, a->seconds, a->tolerance, a->cap);
     fprintf(out, "Goals: every row's mean <= %g iterations per solve with every solve converged; growth <= %g x "
                  "from sheet%d to sheet%d and from stiffness x%g to x%g (sheet%d).\n\n",
             a->goal_mean, a->goal_growth, a->sizes[0], a->sizes[a->n_sizes - 1], a->stiffness[0],

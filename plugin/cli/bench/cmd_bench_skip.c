@@ -293,11 +293,12 @@ typedef struct header_info {
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
-    char note[1024];
-    fprintf(out, "## weft bench skip\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %d frames timed "
+    char note[1024], blas[64];
+    fprintf(out, "## weft bench skip\n\n%s. %d OpenMP thread(s), %s. Scene %s (%d particles), %d frames timed "
                  "per configuration at 60 frames/s, one substep per frame; medians of the step's own "
                  "per-stage wall time (wc_step_frame's or wg_sim_step_frame's stats, ms per frame).\n\n",
-            bench_backend_note(h->a->backends, h->a->n_backends, note, sizeof note), h->threads, h->a->scene,
+            bench_backend_note(h->a->backends, h->a->n_backends, note, sizeof note), h->threads,
+            bench_blas_note(&h->a->com, blas, sizeof blas), h->a->scene,
             h->particles, h->a->frames);
     for (int b = 0; b < h->a->n_backends; ++b) {
         const skip_run* r = h->runs[b];

@@ -228,11 +228,12 @@ static void print_header(FILE* out, const void* ctx) {
     const int* outcome = h->outcome;
     const int per_solver = h->per_solver;
     const panels* pn = h->pn;
-    char note[1024];
-    fprintf(out, "## weft bench stability\n\n%s. %d OpenMP thread(s). Scene %s (%d particles), %g s "
+    char note[1024], blas[64];
+    fprintf(out, "## weft bench stability\n\n%s. %d OpenMP thread(s), %s. Scene %s (%d particles), %g s "
                  "simulated per cell at one substep per frame; failed: non-finite, strain > %g, energy "
                  "growth > %g x M |g| D, or a substep that failed every retry; recovered: rollbacks.%s\n\n",
-            bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->threads, a->scene, h->particles,
+            bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->threads,
+            bench_blas_note(&a->com, blas, sizeof blas), a->scene, h->particles,
             a->seconds, a->fail_strain, a->fail_energy,
             pn->skipped_direct ? " The direct solver does not exist on the GPU: it has no GPU cells." : "");
     const int two = a->n_backends > 1;

@@ -307,6 +307,7 @@ int cli_run_run(int argc, char** argv) {
     if (a.newton > 0) c.sc.newton_iterations = a.newton;
     if (a.line_search > -2) c.sc.line_search = a.line_search;
     if (a.self_collision > -2) c.sc.self_collision = a.self_collision;
+    cli_blas_threads(c.sc.sim.threads); /* CHOLMOD's BLAS: as many threads as the run (0: its own) */
 
     char msg[1024];
     const run_host_opts opts = {a.backend, c.sc.sim.threads};
