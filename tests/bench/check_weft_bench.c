@@ -665,6 +665,53 @@ static void test_gpu_unavailable(const char* sub) {
 
 /* RUN_TEST takes functions of no argument. */
 static void test_accuracy_quick_cpu(void) { test_accuracy_quick(0); }
+
+/* --ref-displace: the reference from a displaced start, a `reference_displaced` row per distance
+ * and the Markdown's sensitivity table. Over 0.3 s the 8 x 8 sheet is still linear in so small a
+ * change of its start: the difference at the end is proportional to the displacement (1e-6 m
+ * against 1e-9 m: ~1000x), non-zero (the displacement was applied) and of the displacement's
+ * size (not amplified or lost). */
+static void test_accuracy_displaced(void) {
+    static ts_cli_result r;
+    static csv c;
+    static char md[1 << 16];
+    char args[2048], csv_path[512], md_path[512];
+    snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_accuracy_displaced.csv"));
+    snprintf(md_path, sizeof md_path, "%s", ts_tmp_path("bench_accuracy_displaced.md"));
+    remove(csv_path);
+    remove(md_path);
+    snprintf(args, sizeof args,
+             "bench accuracy --scenes sheet8 --ref-only --no-ref-check --ref-displace 1e-9,1e-6 --seconds 0.3 "
+             "--threads 1 --quiet --csv '%s' --md '%s'",
+             csv_path, md_path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    csv_parse(&c, csv_path);
+    check_header(&c, acc_cols, (int)(sizeof acc_cols / sizeof acc_cols[0]));
+    CHECK_EQ_INT(c.n_rows, 3);
+    if (c.n_rows != 3) return;
+    CHECK(!strcmp(get(&c, 0, "role"), "reference") && num(&c, 0, "traj_err_rms") == 0);
+    const double diag = sqrt(2.0), small = num(&c, 1, "traj_err_rms"), large = num(&c, 2, "traj_err_rms");
+    for (int k = 1; k <= 2; ++k) {
+        CHECK(!strcmp(get(&c, k, "role"), "reference_displaced"));
+        CHECK(strstr(get(&c, k, "solver"), k == 1 ? "displaced 1e-09 m" : "displaced 1e-06 m") != NULL);
+        CHECK(num(&c, k, "substeps") == 8 && !strcmp(get(&c, k, "integrator"), "trbdf2"));
+        CHECK(num(&c, k, "traj_err_max") >= num(&c, k, "traj_err_rms"));
+    }
+    CHECK(small > 0 && large > 0);
+    CHECK(large / small > 500 && large / small < 2000);
+    CHECK(large > 0.01 * 1e-6 / diag && large < 10 * 1e-6 / diag);
+    ts_read_text(md_path, md, sizeof md);
+    CHECK(strstr(md, "How sensitive is the scene?") && strstr(md, "| sheet8 | 1e-06 |"));
+    /* --threads 1 holds CHOLMOD's OpenBLAS to one thread too (cli_blas_threads) */
+    CHECK(strstr(md, "1 OpenMP thread(s), OpenBLAS: 1 thread(s).") || strstr(md, "1 OpenMP thread(s), BLAS: not OpenBLAS."));
+    ts_run_cli("bench accuracy --ref-displace 0", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench accuracy --ref-displace 1e-8,0.5", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench accuracy --ref-displace -1e-8", &r);
+    CHECK_EQ_INT(r.rc, 2);
+}
 static void test_accuracy_quick_gpu(void) { test_accuracy_quick(1); }
 static void test_stability_quick_cpu(void) { test_stability_quick(0); }
 static void test_stability_quick_gpu(void) { test_stability_quick(1); }
@@ -704,6 +751,7 @@ int main(int argc, char** argv) {
         RUN_TEST(test_help);
         RUN_TEST(test_accuracy_usage);
         RUN_TEST(test_accuracy_quick_cpu);
+        RUN_TEST(test_accuracy_displaced);
     } else if (!strcmp(which, "stability")) {
         RUN_TEST(test_help);
         RUN_TEST(test_stability_usage);

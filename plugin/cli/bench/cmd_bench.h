@@ -214,6 +214,8 @@ typedef struct bench_run_opts {
                                error is measured; 0: not measured (never on the GPU: CPU only) */
     double fail_strain;     /* > 0: stop at the first frame whose strain exceeds this */
     double fail_energy;     /* > 0: stop at the first frame whose energy growth exceeds this */
+    double displace;        /* m; > 0: every unpinned particle starts displaced by this much along
+                               its own pseudo-random direction (a fixed hash of its index) */
 } bench_run_opts;
 
 typedef struct bench_run {

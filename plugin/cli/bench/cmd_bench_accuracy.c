@@ -40,6 +40,8 @@ typedef struct acc_args {
     int ref_check;          /* 1: the reference again at 2 x ref_substeps, their difference shown */
     int ref_halvings;       /* the check's ladder: ref_substeps x 2, 4, ... 2^ref_halvings (>= 1) */
     int ref_only;           /* 1: the reference and its ladder only, no configurations */
+    double ref_displace[BENCH_MAX_LIST];   /* m: the reference again from a start displaced this much */
+    int n_ref_displace;
     wc_integrator ref_integrator;
     int undamped;           /* 1: no air drag and no spring damping, in every run (reference included) */
     int no_air;             /* 1: no air drag in every run (reference included) */
@@ -59,6 +61,7 @@ void bench_accuracy_usage(FILE* out) {
           "                           [--line-search MODE] [--ref-substeps N] [--ref-integrator NAME]\n"
           "                           [--ref-newton N] [--undamped] [--no-air]\n"
           "                           [--no-ref-check] [--ref-halvings N] [--ref-only]\n"
+          "                           [--ref-displace LIST]\n"
           "                           [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
@@ -122,6 +125,11 @@ void bench_accuracy_usage(FILE* out) {
           "                       each against the previous (default 1); the table shows each halving's\n"
           "                       RMS difference and the observed order log2(previous / this)\n"
           "  --ref-only           the reference and its check only (no configurations)\n"
+          "  --ref-displace LIST  the scene's sensitivity: the reference again from a start whose unpinned\n"
+          "                       particles are each displaced by this many metres (in (0, 0.01]) along a\n"
+          "                       fixed pseudo-random direction, its end against the reference's (a\n"
+          "                       `reference_displaced` row). A halving figure no smaller than this\n"
+          "                       difference measures the scene's sensitivity, not the step (default: none)\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
           "  --probes N           frames whose linear-solve error is measured (default 6; 0: none;\n"
@@ -206,6 +214,13 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         a->ref_only = 1;
         return 1;
     }
+    if (OPT("--ref-displace")) {
+        if (m < 0) return m;
+        a->n_ref_displace = bench_parse_doubles(*v, 0, 0.01, a->ref_displace);
+        for (int k = 0; k < a->n_ref_displace; ++k)
+            if (!(a->ref_displace[k] > 0)) a->n_ref_displace = -1;
+        return a->n_ref_displace < 0 ? -2 : 1;
+    }
     if (!strcmp(argv[*i], "--no-ref-check")) {
         a->ref_check = 0;
         return 1;
@@ -246,7 +261,9 @@ typedef struct config {
     double tolerance;
     int cap;
     int substeps;
-    int reference;          /* 1: the reference, 2: its check at twice the substeps */
+    int reference;          /* 1: the reference, 2: its check at twice the substeps, 3: it from a
+                               displaced start (--ref-displace) */
+    double displace;        /* m, reference 3's */
 } config;
 
 /* The swing against the reference, over every frame: the largest distance between the centres of
@@ -280,9 +297,13 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(backend));
     snprintf(b[C_SCENE], 48, "%s", bs->name);
     snprintf(b[C_PARTICLES], 48, "%d", bs->model.n_particles);
-    snprintf(b[C_ROLE], 48, "%s", c->reference == 2 ? "reference_check" : c->reference ? "reference" : "config");
-    snprintf(b[C_SOLVER], 48, "%s%s", wc_solver_name(c->solver),
-             c->reference == 2 ? " (2x reference)" : c->reference ? " (reference)" : "");
+    static const char* const roles[4] = {"config", "reference", "reference_check", "reference_displaced"};
+    snprintf(b[C_ROLE], 48, "%s", roles[c->reference]);
+    if (c->reference == 3)
+        snprintf(b[C_SOLVER], 48, "%s (reference displaced %.3g m)", wc_solver_name(c->solver), c->displace);
+    else
+        snprintf(b[C_SOLVER], 48, "%s%s", wc_solver_name(c->solver),
+                 c->reference == 2 ? " (2x reference)" : c->reference ? " (reference)" : "");
     if (c->solver == WC_SOLVER_DIRECT) {
         snprintf(b[C_TOL], 48, "-");
         snprintf(b[C_CAP], 48, "-");
@@ -345,6 +366,7 @@ static int configs_for(const acc_args* a, int n, config* out, int cap) {
                 g->cap = direct ? 1 : a->caps[c];
                 g->substeps = subs[u];
                 g->reference = 0;
+                g->displace = 0.0;
             }
     }
     return k;
@@ -361,6 +383,13 @@ typedef struct ref_check {
 
 #define MAX_HALVINGS 6
 
+/* The reference against itself from a displaced start (--ref-displace): the scene's sensitivity. */
+typedef struct ref_displaced {
+    char scene[32];
+    double displace;        /* m */
+    double rms, max;        /* the difference at the end / bounding-box diagonal */
+} ref_displaced;
+
 #define REF_GOAL 1e-3       /* the reference is converged when halving its step moves it by < 0.1 % */
 
 typedef struct header_info {
@@ -368,19 +397,22 @@ typedef struct header_info {
     int frames, threads;
     const ref_check* checks;
     int n_checks;
+    const ref_displaced* displaced;
+    int n_displaced;
 } header_info;
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const acc_args* a = h->a;
     const int frames = h->frames, threads = h->threads;
-    char note[1024];
+    char note[1024], blas[64];
     int gpu = 0;
     for (int k = 0; k < a->n_backends; ++k) gpu |= a->backends[k] == BENCH_GPU;
     fprintf(out, "## weft bench accuracy\n\n");
-    fprintf(out, "%s. %d OpenMP thread(s). %g s simulated at %g fps (%d frames). Reference: the direct "
+    fprintf(out, "%s. %d OpenMP thread(s), %s. %g s simulated at %g fps (%d frames). Reference: the direct "
                  "solver (CHOLMOD), %s, %d Newton iteration(s)%s, at %d substeps per frame, on the CPU.\n\n",
-            bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads, a->seconds, a->fps, frames,
+            bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads,
+            bench_blas_note(&a->com, blas, sizeof blas), a->seconds, a->fps, frames,
             a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : a->ref_integrator == WC_INTEGRATOR_TRBDF2 ? "TR-BDF2" : "backward Euler", a->ref_newton,
             a->ref_newton > 1 ? " with line search, tolerance 1e-10" : "", a->ref_substeps);
     if (a->undamped) fprintf(out, "Undamped (--undamped): no air drag and no spring damping in any run.\n\n");
@@ -402,6 +434,20 @@ static void print_header(FILE* out, const void* ctx) {
             fprintf(out, "| %s | %d | %d | %.3g | %.3g | %s | %s |\n", c->scene, c->substeps / 2, c->substeps,
                     100 * c->rms, 100 * c->max, order,
                     c->max < REF_GOAL ? "met" : c->rms < REF_GOAL ? "met (RMS only)" : "not met");
+        }
+        fputc('\n', out);
+    }
+    if (h->n_displaced > 0) {
+        fprintf(out, "How sensitive is the scene? The reference again from a start whose unpinned particles are "
+                     "each displaced by d along a fixed pseudo-random direction (--ref-displace), against the "
+                     "reference at the end, as %% of the diagonal. A difference this size owes nothing to the "
+                     "step: a halving figure at or below it is the scene's sensitivity at this horizon, and no "
+                     "reference can be converged below it:\n\n"
+                     "| scene | d (m) | RMS diff (%%) | max diff (%%) |\n"
+                     "|---|---|---|---|\n");
+        for (int k = 0; k < h->n_displaced; ++k) {
+            const ref_displaced* r = &h->displaced[k];
+            fprintf(out, "| %s | %.3g | %.3g | %.3g |\n", r->scene, r->displace, 100 * r->rms, 100 * r->max);
         }
         fputc('\n', out);
     }
@@ -454,7 +500,7 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
     o.sim = reference_def(a, bs, a->ref_substeps);
     if (!a->com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs->name, bs->model.n_particles);
     if (bench_run_scene(bs, &o, rr, d) != 0) return -1;
-    config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1};
+    config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1, 0.0};
     add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0, (swing_err){0.0, 1.0});
     if (!a->ref_check) return 0;
     bench_run prev = *rr, r2;   /* prev: the coarser run of the halving (rr for the first: not freed here) */
@@ -488,6 +534,36 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
     return 0;
 }
 
+/* The reference run again from each --ref-displace start (rows added, out[0 .. n_ref_displace - 1]
+ * filled): the scene's sensitivity at the end. 0, or -1 with diag. */
+static int run_displaced(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, const bench_run* rr,
+                         ref_displaced* out, wc_diag* d) {
+    bench_run_opts o;
+    memset(&o, 0, sizeof o);
+    o.fps = a->fps;
+    o.frames = frames;
+    o.sim = reference_def(a, bs, a->ref_substeps);
+    for (int k = 0; k < a->n_ref_displace; ++k) {
+        bench_run r;
+        o.displace = a->ref_displace[k];
+        if (!a->com.quiet) fprintf(stderr, "  the reference from a start displaced by %g m...\n", o.displace);
+        if (bench_run_scene(bs, &o, &r, d) != 0) return -1;
+        ref_displaced* c = &out[k];
+        snprintf(c->scene, sizeof c->scene, "%s", bs->name);
+        c->displace = o.displace;
+        bench_distance(r.x, rr->x, bs->model.n_particles, &c->rms, &c->max);
+        c->rms /= bs->diag;
+        c->max /= bs->diag;
+        if (!a->com.quiet)
+            fprintf(stderr, "  displaced by %g m: RMS %.3g %%, max %.3g %% of the diagonal\n", o.displace,
+                    100 * c->rms, 100 * c->max);
+        config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 3, o.displace};
+        add_row(t, BENCH_CPU, bs, &ref, &r, c->rms, c->max, swing_against(&r, rr, bs->diag));
+        bench_run_free(&r);
+    }
+    return 0;
+}
+
 int bench_accuracy_run(int argc, char** argv) {
     acc_args a;
     int rc = bench_parse_args(argc, argv, "weft bench accuracy", bench_accuracy_usage, defaults, own_option, &a,
@@ -508,7 +584,8 @@ int bench_accuracy_run(int argc, char** argv) {
     bench_point* pts = malloc(sizeof *pts * (size_t)max_points);
     config* cfg = malloc(sizeof *cfg * (size_t)max_cfg);
     ref_check checks[MAX_SCENES * MAX_HALVINGS];
-    int n_pts = 0, n_checks = 0, threads = 1;
+    ref_displaced displaced[MAX_SCENES * BENCH_MAX_LIST];
+    int n_pts = 0, n_checks = 0, n_displaced = 0, threads = 1;
     rc = CLI_EXIT_OK;
     if (!pts || !cfg || !panel_buf || !panels) {
         cli_error("out of memory");
@@ -542,6 +619,14 @@ int bench_accuracy_run(int argc, char** argv) {
             break;
         }
         n_checks += a.ref_check ? a.ref_halvings : 0;
+        if (run_displaced(&a, &bs, frames, &t, &rr, &displaced[n_displaced], &d) != 0) {
+            cli_error(d.message);
+            bench_run_free(&rr);
+            bench_scene_free(&bs);
+            rc = CLI_EXIT_FAILURE;
+            break;
+        }
+        n_displaced += a.n_ref_displace;
         wc_par par;
         wc_par_init(&par, a.com.threads);
         threads = par.threads;
@@ -595,7 +680,7 @@ int bench_accuracy_run(int argc, char** argv) {
         bench_scene_free(&bs);
     }
     if (rc == CLI_EXIT_OK) {
-        const header_info h = {&a, frames, threads, checks, n_checks};
+        const header_info h = {&a, frames, threads, checks, n_checks, displaced, n_displaced};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     if (rc == CLI_EXIT_OK && a.com.plot) {

@@ -209,6 +209,31 @@ static double probe_error(wc_state* p, const wc_state* s, double h, double alpha
     return sqrt(num / den);
 }
 
+/* A fixed pseudo-random number in [-1, 1) from a 64-bit key (splitmix64's finaliser). */
+static double hash_unit(unsigned long long z) {
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return (double)(z >> 11) * 0x1.0p-52 - 1.0;
+}
+
+/* Every particle the scene does not pin moved by eps along its own direction (bench_run_opts.
+ * displace): the same displacement on every run, whatever the solver or the step. */
+static void displace_start(wc_state* s, const bench_scene* bs, double eps) {
+    const wc_model* m = &bs->model;
+    for (int i = 0; i < m->n_particles; ++i) {
+        int pinned = 0;
+        for (int k = 0; k < bs->pins.n && !pinned; ++k) pinned = bs->pins.pins[k].particle == i;
+        if (pinned) continue;
+        double d[3];
+        for (int c = 0; c < 3; ++c) d[c] = hash_unit(3ULL * (unsigned long long)i + (unsigned long long)c);
+        const double len = v3_norm(d);
+        if (len > 0)
+            for (int c = 0; c < 3; ++c) s->x[3 * i + c] += eps * d[c] / len;
+    }
+}
+
 static weft_status make_state(wc_state** out, const bench_scene* bs, const wc_sim_def* sd, wc_diag* diag) {
     weft_status st = wc_state_create(out, &bs->model, sd, NULL, diag);
     if (st == WEFT_OK) st = wc_state_set_pins(*out, bs->pins.pins, bs->pins.n, diag);
@@ -241,6 +266,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     wc_state *s = NULL, *p = NULL;
     bench_gpu_sim* g = NULL;
     if (make_state(&s, bs, &sd, diag) != WEFT_OK) return -1;
+    if (o->displace > 0) displace_start(s, bs, o->displace);
     /* the GPU's sim mirrors s: s keeps pins, colliders, time and stats; x, v, dv live on the GPU */
     if (gpu && bench_gpu_sim_create(s, &g, diag) != WEFT_OK) {
         wc_state_destroy(s);
