@@ -489,15 +489,21 @@ static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int su
     return sd;
 }
 
-/* The reference run of a scene (row added) and, when asked, its check at twice the substeps and
- * the further halvings (rows added, check[0 .. ref_halvings - 1] filled). 0, or -1 with diag. */
-static int run_reference(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, bench_run* rr,
-                         ref_check* check, wc_diag* d) {
+/* The reference's run options: CPU, --fps, `frames`, reference_def at --ref-substeps. */
+static bench_run_opts reference_opts(const acc_args* a, const bench_scene* bs, int frames) {
     bench_run_opts o;
     memset(&o, 0, sizeof o);
     o.fps = a->fps;
     o.frames = frames;
     o.sim = reference_def(a, bs, a->ref_substeps);
+    return o;
+}
+
+/* The reference run of a scene (row added) and, when asked, its check at twice the substeps and
+ * the further halvings (rows added, check[0 .. ref_halvings - 1] filled). 0, or -1 with diag. */
+static int run_reference(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, bench_run* rr,
+                         ref_check* check, wc_diag* d) {
+    bench_run_opts o = reference_opts(a, bs, frames);
     if (!a->com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs->name, bs->model.n_particles);
     if (bench_run_scene(bs, &o, rr, d) != 0) return -1;
     config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1, 0.0};
@@ -538,11 +544,7 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
  * filled): the scene's sensitivity at the end. 0, or -1 with diag. */
 static int run_displaced(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, const bench_run* rr,
                          ref_displaced* out, wc_diag* d) {
-    bench_run_opts o;
-    memset(&o, 0, sizeof o);
-    o.fps = a->fps;
-    o.frames = frames;
-    o.sim = reference_def(a, bs, a->ref_substeps);
+    bench_run_opts o = reference_opts(a, bs, frames);
     for (int k = 0; k < a->n_ref_displace; ++k) {
         bench_run r;
         o.displace = a->ref_displace[k];
