@@ -1,8 +1,10 @@
 /* The BLAS behind CHOLMOD runs its own threads: OpenBLAS (the pthread build .ci/deps.sh installs)
- * starts one per core and spins them, whatever Weft's OpenMP thread count. A `--threads N` run
- * would then use more cores than N, and its wall times would measure BLAS threads fighting the
- * OpenMP ones on a loaded machine (docs/bench/collide.md). The library must not change this
- * process-wide setting for its host; the CLI is its own host, so it does. */
+ * starts one per core, whatever Weft's OpenMP thread count, so a `--threads 1` run used every
+ * core whenever it factorised, and on a loaded machine its times measured BLAS threads fighting
+ * other work (docs/bench/collide.md). On the idle 2-core machine the wall time is the same
+ * either way (sheet32's direct TR-BDF2 reference: 161 ms a frame with 1 or 2 BLAS threads): what
+ * this changes is the cores a run occupies. The library must not change this process-wide
+ * setting for its host; the CLI is its own host, so it does. */
 #define _GNU_SOURCE
 #include "cli.h"
 
