@@ -705,6 +705,29 @@ static void test_accuracy_displaced(void) {
     CHECK(strstr(md, "How sensitive is the scene?") && strstr(md, "| sheet8 | 1e-06 |"));
     /* --threads 1 holds CHOLMOD's OpenBLAS to one thread too (cli_blas_threads) */
     CHECK(strstr(md, "1 OpenMP thread(s), OpenBLAS: 1 thread(s).") || strstr(md, "1 OpenMP thread(s), BLAS: not OpenBLAS."));
+    /* the check's verdict: a halving figure within 2x of a displaced start's difference is marked as
+     * at the scene's floor (here a 1 mm displacement, far above 0.3 s's halving figure) */
+    snprintf(args, sizeof args,
+             "bench accuracy --scenes sheet8 --ref-only --ref-displace 1e-3 --seconds 0.3 --threads 1 --quiet "
+             "--md '%s'",
+             md_path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    ts_read_text(md_path, md, sizeof md);
+    CHECK(strstr(md, "| sheet8 | 8 | 16 |") && strstr(md, "; at the scene's floor, "));
+    /* none: no displaced run, no floor; the full runs' default is one at 1e-8 m (usage) */
+    snprintf(args, sizeof args,
+             "bench accuracy --scenes sheet8 --ref-only --ref-displace none --seconds 0.3 --threads 1 --quiet "
+             "--csv '%s' --md '%s'",
+             csv_path, md_path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    csv_parse(&c, csv_path);
+    CHECK_EQ_INT(c.n_rows, 2); /* the reference and its check */
+    ts_read_text(md_path, md, sizeof md);
+    CHECK(strstr(md, "| sheet8 | 8 | 16 |") && !strstr(md, "floor") && !strstr(md, "How sensitive"));
+    ts_run_cli("bench accuracy --help", &r);
+    CHECK(strstr(r.out, "(default 1e-8; --quick: none; none:") != NULL);
     ts_run_cli("bench accuracy --ref-displace 0", &r);
     CHECK_EQ_INT(r.rc, 2);
     ts_run_cli("bench accuracy --ref-displace 1e-8,0.5", &r);
