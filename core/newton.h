@@ -61,6 +61,16 @@
  * iterate before it is kept); with line search, a decrease of Phi below 1e-13 of its size.
  * Every iteration re-evaluates the springs at x(w) and reassembles A; the friction recheck is not
  * repeated.
+ * Inexact (Eisenstat & Walker 1996; wc_sim_def.newton_forcing, default 1e-2, 0 off): with more
+ * than one Newton iteration, the substep's first system need not be solved past the nonlinear
+ * error that the next iteration removes (after the first Baraff-Witkin step |S grad Phi| is still
+ * 0.9-1.5x the first system's residual on the hanging sheets). step.c solves it to forcing x its
+ * own residual, never past tolerance x the solver's floor; not where a friction pass follows (it
+ * reads the contact forces off that solve), nor with the direct solver. The later iterations'
+ * solves are unchanged (tolerance x their own right-hand side): held instead to the first
+ * system's absolute target, a cloth resting on a sphere with Newton 2 never settled
+ * (tests/test_mesh_collider.c's drop: 0.056 m/s after 150 frames, asleep before).
+ * Measured (weft bench accuracy --newton-forcing, README "Inexact Newton"); tests/test_newton_forcing.c.
  * Energy guard (energy_cap < HUGE_VAL; when it judges the substep's energy, the step passes the
  * total energy, kinetic + springs + gravity's potential, of the substep's start after the
  * contacts' position correction plus the gain its judge allows, fail_energy_gain x scale):

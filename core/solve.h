@@ -84,6 +84,11 @@ void wc_solver_set_positions(wc_solver* s, const double* x);
  * gravity gives the unpinned particles in it, h ||M g||, so a solve always resolves dv to
  * tolerance x (g h) or better. Invalid values are ignored. */
 void wc_solver_set_residual_floor(wc_solver* s, double floor);
+double wc_solver_residual_floor(const wc_solver* s);
+/* The relative tolerance later solves stop at (finite, >= 0; invalid values are ignored), and the
+ * one in force: the options' until set (Newton's inexact first solve sets and restores it). */
+void wc_solver_set_tolerance(wc_solver* s, double tolerance);
+double wc_solver_tolerance(const wc_solver* s);
 
 /* Off-pattern couplings (coupling.h) that every later solve adds to A's product (NULL: none; the
  * list must outlive its use; its diagonal blocks are the caller's, in A). The iterative solvers

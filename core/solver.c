@@ -120,6 +120,18 @@ void wc_solver_set_residual_floor(wc_solver* s, double floor) {
     if (s && floor >= 0.0 && isfinite(floor)) s->residual_floor = floor;
 }
 
+double wc_solver_residual_floor(const wc_solver* s) {
+    return s ? s->residual_floor : 0.0;
+}
+
+void wc_solver_set_tolerance(wc_solver* s, double tolerance) {
+    if (s && tolerance >= 0.0 && isfinite(tolerance)) s->opts.tolerance = tolerance;
+}
+
+double wc_solver_tolerance(const wc_solver* s) {
+    return s ? s->opts.tolerance : 0.0;
+}
+
 weft_status wc_solver_set_coupling(wc_solver* s, const wc_coupling* c, int capacity, wc_diag* diag) {
     if (!s) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_solver_set_coupling: NULL solver");
     s->coupling = c;

@@ -28,7 +28,9 @@ typedef struct wc_step_stats {
     int solves;                 /* linear solves (Newton iterations and friction passes included) */
     int iterations;             /* solver iterations, summed over substeps */
     int max_iterations;         /* largest in one solve */
-    double residual;            /* largest final relative residual of an accepted solve */
+    double residual;            /* largest final relative residual of an accepted solve held to
+                                   the tolerance (inexact Newton's first solve, held to its forcing
+                                   term, newton.h, is in not_converged when it misses that) */
     int not_converged;          /* solves that stopped at the iteration cap above tolerance */
     int friction_passes;        /* extra solves because sticking contacts had to slide */
     wc_solver_type solver;      /* last solver used */

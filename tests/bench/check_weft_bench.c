@@ -126,7 +126,7 @@ static const char* const acc_cols[] = {
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
     "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift",
     "preconditioner", "integrator", "newton_iterations", "line_search", "solves", "iterations_per_solve",
-    "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio"};
+    "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio", "newton_forcing"};
 
 static const char* const gpu_solvers[] = {"pcg", "jacobi", "chebyshev"};
 

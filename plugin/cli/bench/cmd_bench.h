@@ -71,9 +71,11 @@ typedef struct bench_method {
     wc_integrator integrator;
     int newton;                 /* Newton iterations per substep (>= 1) */
     int line_search;            /* 0 / 1 */
+    double forcing;             /* inexact Newton's forcing term (wc_sim_def.newton_forcing) */
 } bench_method;
 
-/* The method axes of a command line: --preconds, --integrators, --newton, --line-search. */
+/* The method axes of a command line: --preconds, --integrators, --newton, --line-search,
+ * --newton-forcing. */
 typedef struct bench_methods {
     wc_precond_type preconds[BENCH_MAX_LIST];
     int n_preconds;
@@ -82,6 +84,8 @@ typedef struct bench_methods {
     int newton[BENCH_MAX_LIST];
     int n_newton;
     int line_search;            /* -1 auto (on when Newton iterations > 1), 0 off, 1 on */
+    double forcing[BENCH_MAX_LIST];
+    int n_forcing;
 } bench_methods;
 
 /* The usage texts' lines on the four options; `preconds` is the command's default list. */
@@ -90,25 +94,31 @@ typedef struct bench_methods {
     "                       the other solvers have none (shown -)\n"                                     \
     "  --integrators LIST   be (backward Euler), bdf2, trbdf2 or all (default be)\n"                            \
     "  --newton LIST        Newton iterations per substep (default 1: one Baraff-Witkin step)\n"        \
-    "  --line-search MODE   auto (on when Newton iterations > 1; default), on or off\n"
+    "  --line-search MODE   auto (on when Newton iterations > 1; default), on or off\n"              \
+    "  --newton-forcing LIST  inexact Newton: with more than one Newton iteration, a substep's\n"     \
+    "                       first solve stops at this relative residual (default 1e-2; 0: at the\n"  \
+    "                       tolerance, like the later ones)\n"
 
-/* Defaults: preconds as given ("block_jacobi", "block_jacobi,amg"), be, 1 Newton iteration, auto. */
+/* Defaults: preconds as given ("block_jacobi", "block_jacobi,amg"), be, 1 Newton iteration, auto,
+ * the core's forcing term. */
 void bench_methods_default(bench_methods* m, const char* preconds);
-/* One of the four options at argv[*i] (bench_option_fn's contract: 1, 0 not one, -1, -2). */
+/* One of the five options at argv[*i] (bench_option_fn's contract: 1, 0 not one, -1, -2). */
 int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const char** value);
 /* The methods a solver runs: every preconditioner (PCG only; one entry for the others) x
- * integrator x Newton count, in that order. Returns the count (<= cap). */
+ * integrator x Newton count x forcing term, in that order. Returns the count (<= cap). */
 int bench_methods_expand(const bench_methods* m, wc_solver_type solver, bench_method* out, int cap);
 /* How many methods any solver can have (the size for bench_methods_expand). */
 int bench_methods_max(const bench_methods* m);
-/* The method into a sim def (solver.preconditioner, integrator, newton_iterations, line_search). */
+/* The method into a sim def (solver.preconditioner, integrator, newton_iterations, line_search,
+ * newton_forcing). */
 void bench_method_apply(const bench_method* b, wc_sim_def* sd);
 /* The method of a sim def. */
 bench_method bench_method_of(const wc_sim_def* sd);
 /* "amg" / "block_jacobi", or "-" when the solver is not PCG. */
 const char* bench_precond_label(wc_solver_type solver, const bench_method* b);
 /* "amg bdf2 n3 ls" style short label: the preconditioner (PCG only), then the integrator, Newton
- * count and line search when not be, 1, off; "" for another solver's default method. */
+ * count and line search when not be, 1, off, and the forcing term (\"f0.01\") with more than one
+ * Newton iteration; "" for another solver's default method. */
 const char* bench_method_short(wc_solver_type solver, const bench_method* b, char* buf, size_t size);
 /* Preconditioner and integrator names ("...,all"). -1 on an unknown name. */
 int bench_parse_preconds(const char* text, wc_precond_type* out);

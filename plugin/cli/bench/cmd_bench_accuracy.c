@@ -58,7 +58,8 @@ void bench_accuracy_usage(FILE* out) {
     fputs("usage: weft bench accuracy [--quick] [--scenes LIST] [--solvers LIST] [--tolerances LIST]\n"
           "                           [--iterations LIST] [--substeps LIST] [--substeps-large LIST]\n"
           "                           [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
-          "                           [--line-search MODE] [--ref-substeps N] [--ref-integrator NAME]\n"
+          "                           [--line-search MODE] [--newton-forcing LIST] [--ref-substeps N]\n"
+          "                           [--ref-integrator NAME]\n"
           "                           [--ref-newton N] [--undamped] [--no-air]\n"
           "                           [--no-ref-check] [--ref-halvings N] [--ref-only]\n"
           "                           [--ref-displace LIST|none]\n"
@@ -108,8 +109,9 @@ void bench_accuracy_usage(FILE* out) {
           "  --iterations LIST    iteration caps (default 30,300)\n",
           out);
     fputs("  --substeps LIST      substeps per frame (default 1,2,4)\n"
-          "  --substeps-large LIST  substeps per frame for scenes over 20000 particles (default 1)\n"
-          BENCH_METHOD_HELP("block_jacobi,amg")
+          "  --substeps-large LIST  substeps per frame for scenes over 20000 particles (default 1)\n",
+          out);
+    fputs(BENCH_METHOD_HELP("block_jacobi,amg")
           "  --ref-substeps N     substeps per frame of the reference run (default 8: sheet32's halving\n"
           "                       figure 0.11 %, README \"Run time against error\")\n"
           "  --ref-integrator NAME  be, bdf2 or trbdf2 (default): the reference's integrator (TR-BDF2:\n"
@@ -248,7 +250,7 @@ enum {
     C_BACKEND, C_SCENE, C_PARTICLES, C_ROLE, C_SOLVER, C_TOL, C_CAP, C_SUBSTEPS, C_FRAMES, C_MS, C_FORCES,
     C_ASSEMBLE, C_SOLVE, C_COLLIDE, C_INTEGRATE, C_ITER, C_MAXITER, C_NOTCONV, C_ROLLBACKS, C_FALLBACKS,
     C_FAILURES, C_LIN_MEAN, C_LIN_MAX, C_TRAJ_RMS, C_TRAJ_MAX, C_STRAIN, C_DRIFT, C_PRECOND, C_INTEGRATOR,
-    C_NEWTON, C_LINE_SEARCH, C_SOLVES, C_ITER_SOLVE, C_SETUP_MS, C_CONVERGED, C_SWING, C_KE, N_COLS
+    C_NEWTON, C_LINE_SEARCH, C_SOLVES, C_ITER_SOLVE, C_SETUP_MS, C_CONVERGED, C_SWING, C_KE, C_FORCING, N_COLS
 };
 static const char* const csv_cols[N_COLS] = {
     "backend", "scene", "particles", "role", "solver", "tolerance", "max_iterations", "substeps", "frames",
@@ -256,12 +258,12 @@ static const char* const csv_cols[N_COLS] = {
     "iterations_per_substep", "max_iterations_used", "not_converged", "rollbacks", "direct_fallbacks",
     "failures", "lin_err_mean", "lin_err_max", "traj_err_rms", "traj_err_max", "max_strain", "energy_drift",
     "preconditioner", "integrator", "newton_iterations", "line_search", "solves", "iterations_per_solve",
-    "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio"};
+    "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio", "newton_forcing"};
 static const char* const md_cols[N_COLS] = {
     NULL /* "backend" with two backends */, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
     NULL, "max it.", NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
     "traj. err max", "max strain", "energy drift", "precond.", "integrator", "Newton", NULL, NULL, "it./solve",
-    "setup ms/solve", NULL, "c.o.m. err max", "KE ratio"};
+    "setup ms/solve", NULL, "c.o.m. err max", "KE ratio", "forcing"};
 
 typedef struct config {
     wc_solver_type solver;
@@ -344,6 +346,8 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     snprintf(b[C_INTEGRATOR], 48, "%s", wc_integrator_name(c->method.integrator));
     snprintf(b[C_NEWTON], 48, "%d", c->method.newton);
     snprintf(b[C_LINE_SEARCH], 48, "%s", c->method.line_search ? "on" : "off");
+    if (c->method.newton > 1 && c->solver != WC_SOLVER_DIRECT) bench_fmt(b[C_FORCING], 48, "%g", c->method.forcing);
+    else snprintf(b[C_FORCING], 48, "-");
     snprintf(b[C_SOLVES], 48, "%lld", r->solves);
     bench_fmt(b[C_ITER_SOLVE], 48, "%.1f", bench_run_iterations_per_solve(r));
     bench_fmt(b[C_SETUP_MS], 48, "%.3g", bench_run_precond_ms_per_solve(r));
@@ -481,7 +485,9 @@ static void print_header(FILE* out, const void* ctx) {
               out);
     fputs("- ms/frame: median wall time of one frame's step.\n"
           "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler), bdf2 or trbdf2; "
-          "Newton: linearised solves per substep (line search on when the CSV's line_search says so).\n"
+          "Newton: linearised solves per substep (line search on when the CSV's line_search says so); forcing: "
+          "inexact Newton's first solve of a substep stops at this relative residual (0: at the tolerance; "
+          "- with one Newton iteration or the direct solver).\n"
           "- it./solve: solver iterations per linear solve, mean over the run (Newton iterations and friction "
           "passes are solves); max it.: the largest in one solve; setup ms/solve: the preconditioner's setup "
           "time per solve.\n"
@@ -506,7 +512,8 @@ static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int su
     if (a->undamped || a->no_air) sd.air.normal_drag = sd.air.tangent_drag = 0.0;
     sd.solver.type = WC_SOLVER_DIRECT;
     sd.substeps = substeps;
-    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1};
+    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1,
+                            wc_default_sim_def().newton_forcing};
     bench_method_apply(&m, &sd);
     if (a->ref_newton > 1) sd.solver.tolerance = 1e-10;
     return sd;

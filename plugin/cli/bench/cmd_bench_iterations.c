@@ -46,6 +46,7 @@ void bench_iterations_usage(FILE* out) {
     fputs("usage: weft bench iterations [--quick] [--sizes LIST] [--stiffness LIST] [--stiffness-size N]\n"
           "                             [--scenes LIST] [--solvers LIST] [--preconds LIST]\n"
           "                             [--integrators LIST] [--newton LIST] [--line-search MODE]\n"
+          "                             [--newton-forcing LIST]\n"
           "                             [--tolerance T] [--iterations N] [--seconds T] [--fps F]\n"
           "                             [--goal-mean N] [--goal-growth G] [--threads N]\n"
           "                             [--garment FILE] [--csv FILE] [--md FILE] [--quiet]\n"

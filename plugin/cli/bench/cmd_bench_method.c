@@ -1,7 +1,7 @@
 /* The method axes of `weft bench accuracy`, `stability`, `iterations` and `peers`: PCG's
- * preconditioner, the time integrator, Newton iterations per substep and the line search, parsed
- * from --preconds, --integrators, --newton and --line-search, expanded per solver and applied to
- * a wc_sim_def. */
+ * preconditioner, the time integrator, Newton iterations per substep, the line search and inexact
+ * Newton's forcing term, parsed from --preconds, --integrators, --newton, --line-search and
+ * --newton-forcing, expanded per solver and applied to a wc_sim_def. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
 #include <string.h>
@@ -55,6 +55,8 @@ void bench_methods_default(bench_methods* m, const char* preconds) {
     m->n_integrators = bench_parse_integrators("be", m->integrators);
     m->n_newton = bench_parse_ints("1", 1, 100, m->newton);
     m->line_search = -1;
+    m->forcing[0] = wc_default_sim_def().newton_forcing;
+    m->n_forcing = 1;
 }
 
 int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const char** v) {
@@ -64,6 +66,7 @@ int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const 
     if (OPT("--preconds")) return BAD((m->n_preconds = bench_parse_preconds(*v, m->preconds)) < 0);
     if (OPT("--integrators")) return BAD((m->n_integrators = bench_parse_integrators(*v, m->integrators)) < 0);
     if (OPT("--newton")) return BAD((m->n_newton = bench_parse_ints(*v, 1, 100, m->newton)) < 0);
+    if (OPT("--newton-forcing")) return BAD((m->n_forcing = bench_parse_doubles(*v, 0, 0.999, m->forcing)) < 0);
     if (OPT("--line-search")) {
         if (r < 0) return r;
         m->line_search = !strcmp(*v, "auto") ? -1 : !strcmp(*v, "on") ? 1 : !strcmp(*v, "off") ? 0 : -2;
@@ -74,20 +77,22 @@ int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const 
     return r;
 }
 
-int bench_methods_max(const bench_methods* m) { return m->n_preconds * m->n_integrators * m->n_newton; }
+int bench_methods_max(const bench_methods* m) { return m->n_preconds * m->n_integrators * m->n_newton * m->n_forcing; }
 
 int bench_methods_expand(const bench_methods* m, wc_solver_type solver, bench_method* out, int cap) {
     const int n_pre = solver == WC_SOLVER_PCG ? m->n_preconds : 1;
     int k = 0;
     for (int p = 0; p < n_pre; ++p)
         for (int g = 0; g < m->n_integrators; ++g)
-            for (int w = 0; w < m->n_newton && k < cap; ++w) {
-                bench_method* b = &out[k++];
-                b->precond = solver == WC_SOLVER_PCG ? m->preconds[p] : WC_PRECOND_BLOCK_JACOBI;
-                b->integrator = m->integrators[g];
-                b->newton = m->newton[w];
-                b->line_search = m->line_search >= 0 ? m->line_search : m->newton[w] > 1;
-            }
+            for (int w = 0; w < m->n_newton; ++w)
+                for (int f = 0; f < m->n_forcing && k < cap; ++f) {
+                    bench_method* b = &out[k++];
+                    b->precond = solver == WC_SOLVER_PCG ? m->preconds[p] : WC_PRECOND_BLOCK_JACOBI;
+                    b->integrator = m->integrators[g];
+                    b->newton = m->newton[w];
+                    b->line_search = m->line_search >= 0 ? m->line_search : m->newton[w] > 1;
+                    b->forcing = m->forcing[f];
+                }
     return k;
 }
 
@@ -96,6 +101,7 @@ void bench_method_apply(const bench_method* b, wc_sim_def* sd) {
     sd->integrator = b->integrator;
     sd->newton_iterations = b->newton;
     sd->line_search = b->line_search;
+    sd->newton_forcing = b->forcing;
 }
 
 bench_method bench_method_of(const wc_sim_def* sd) {
@@ -104,6 +110,7 @@ bench_method bench_method_of(const wc_sim_def* sd) {
     b.integrator = sd->integrator;
     b.newton = sd->newton_iterations;
     b.line_search = sd->line_search;
+    b.forcing = sd->newton_forcing;
     return b;
 }
 
@@ -125,6 +132,7 @@ const char* bench_method_short(wc_solver_type solver, const bench_method* b, cha
     if (b->integrator != WC_INTEGRATOR_BE) ADD("%s", wc_integrator_name(b->integrator));
     if (b->newton != 1) ADD("n%d", b->newton);
     if (b->line_search) ADD("ls");
+    if (b->newton > 1) ADD("f%g", b->forcing);
 #undef ADD
     return buf;
 }

@@ -48,7 +48,8 @@ typedef struct peers_args {
 void bench_peers_usage(FILE* out) {
     fputs("usage: weft bench peers [--quick] [--scenes LIST] [--substeps LIST] [--frames N] [--fps F]\n"
           "                        [--preconds LIST] [--integrators LIST] [--newton LIST]\n"
-          "                        [--line-search MODE] [--no-defaults] [--blender PATH] [--script FILE]\n"
+          "                        [--line-search MODE] [--newton-forcing LIST] [--no-defaults]\n"
+          "                        [--blender PATH] [--script FILE]\n"
           "                        [--timeout S] [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                        [--backend LIST] [--quiet]\n"
           "\n"
@@ -78,8 +79,9 @@ void bench_peers_usage(FILE* out) {
           "                   corners), hangN (upright from the start), garment (the --garment mesh\n"
           "                   pinned at its waist, held still); default sheet32,sheet64,sheet100,\n"
           "                   garment\n"
-          "  --substeps LIST  Weft's substeps per frame (default 1,5; Blender always takes 5 steps)\n"
-          BENCH_METHOD_HELP("block_jacobi,amg")
+          "  --substeps LIST  Weft's substeps per frame (default 1,5; Blender always takes 5 steps)\n",
+          out);
+    fputs(BENCH_METHOD_HELP("block_jacobi,amg")
           "  --no-defaults    no row through the public API at weft_default_cloth_def()\n"
           "  --frames N       frames simulated by each (default 60)\n"
           "  --fps F          Weft's frames per second (default 30; Blender's cloth ignores the\n"
