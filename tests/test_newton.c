@@ -81,12 +81,7 @@ static wc_state* sheet_state(const wc_model* m, int newton, int line_search, int
     wc_state* s = NULL;
     wc_diag diag = {0};
     CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WEFT_OK);
-    wc_pin pins[2];
-    memset(pins, 0, sizeof pins);
-    pins[0].particle = ts_sheet_particle(m, N, 0, N - 1);
-    pins[1].particle = ts_sheet_particle(m, N, N - 1, N - 1);
-    for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &diag), WEFT_OK);
+    CHECK_EQ_INT(ts_pin_far_corners(s, N, NULL), WEFT_OK);
     return s;
 }
 
@@ -269,13 +264,15 @@ static void test_bitwise(void) {
 static void test_bad_def(void) {
     wc_model m;
     CHECK(ts_sheet(&m, 4, 1.0, 0.0, 0, 1.0));
-    const char* field[] = {"newton_iterations", "newton_iterations", "line_search", "integrator"};
-    for (int k = 0; k < 4; ++k) {
+    const char* field[] = {"newton_iterations", "newton_iterations", "line_search", "integrator",
+                           "newton_forcing",    "newton_forcing",    "newton_forcing"};
+    for (int k = 0; k < 7; ++k) {
         wc_sim_def d = wc_default_sim_def();
         if (k == 0) d.newton_iterations = 0;
         if (k == 1) d.newton_iterations = 101;
         if (k == 2) d.line_search = 2;
         if (k == 3) d.integrator = (wc_integrator)7;
+        if (k >= 4) d.newton_forcing = k == 4 ? -0.1 : k == 5 ? 1.0 : NAN;
         wc_state* s = NULL;
         wc_diag diag = {0};
         CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WEFT_ERROR_INVALID_ARGUMENT);

@@ -31,13 +31,7 @@ static wc_state* make(const wc_model* m, double gain, const double* move) {
     wc_state* s = NULL;
     wc_diag diag = {0};
     CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WEFT_OK);
-    wc_pin pins[2];
-    memset(pins, 0, sizeof pins);
-    pins[0].particle = ts_sheet_particle(m, N, 0, N - 1);
-    pins[1].particle = ts_sheet_particle(m, N, N - 1, N - 1);
-    for (int k = 0; k < 2; ++k)
-        for (int c = 0; c < 3; ++c) pins[k].target[c] = s->x[3 * pins[k].particle + c] + (move ? move[c] : 0.0);
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &diag), WEFT_OK);
+    CHECK_EQ_INT(ts_pin_far_corners(s, N, move), WEFT_OK);
     return s;
 }
 

@@ -155,3 +155,14 @@ double ts_rel_diff(const double* a, const double* b, int n) {
     }
     return sqrt(num / (den > 0 ? den : 1));
 }
+
+weft_status ts_pin_far_corners(wc_state* s, int n, const double* move) {
+    wc_pin pins[2];
+    memset(pins, 0, sizeof pins);
+    pins[0].particle = ts_sheet_particle(s->model, n, 0, n - 1);
+    pins[1].particle = ts_sheet_particle(s->model, n, n - 1, n - 1);
+    for (int k = 0; k < 2; ++k)
+        for (int c = 0; c < 3; ++c) pins[k].target[c] = s->x[3 * pins[k].particle + c] + (move ? move[c] : 0.0);
+    wc_diag diag = {0};
+    return wc_state_set_pins(s, pins, 2, &diag);
+}

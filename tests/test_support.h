@@ -2,6 +2,7 @@
 #ifndef WEFT_TESTS_SUPPORT_H
 #define WEFT_TESTS_SUPPORT_H
 #include "model.h"
+#include "state.h"
 #include "source_mesh.h"
 
 /* nx x ny vertices, quads, in the XY plane, spanning size_x x size_y metres. With split_uv each
@@ -33,6 +34,10 @@ int ts_count_lines(const char* s);
 int ts_sheet(wc_model* m, int n, double size, double y, int vertical, double k_scale);
 /* Particle of host grid vertex (i, j) of a ts_sheet. */
 int ts_sheet_particle(const wc_model* m, int n, int i, int j);
+/* Pin the two corners of a ts_sheet's row j = n - 1 (host vertices (0, n-1) and (n-1, n-1)) at
+ * their current positions moved by `move` (metres; NULL: where they are), the hanging sheets' two
+ * pins. Returns wc_state_set_pins' status. */
+weft_status ts_pin_far_corners(wc_state* s, int n, const double* move);
 /* |a - b| / |b| over n doubles (|a - b| when b is zero). */
 double ts_rel_diff(const double* a, const double* b, int n);
 
