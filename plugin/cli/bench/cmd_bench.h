@@ -88,7 +88,7 @@ typedef struct bench_methods {
     int n_forcing;
 } bench_methods;
 
-/* The usage texts' lines on the four options; `preconds` is the command's default list. */
+/* The usage texts' lines on the five options; `preconds` is the command's default list. */
 #define BENCH_METHOD_HELP(preconds)                                                                       \
     "  --preconds LIST      PCG's preconditioners: block_jacobi, amg or all (default " preconds ");\n"  \
     "                       the other solvers have none (shown -)\n"                                     \
@@ -117,8 +117,8 @@ bench_method bench_method_of(const wc_sim_def* sd);
 /* "amg" / "block_jacobi", or "-" when the solver is not PCG. */
 const char* bench_precond_label(wc_solver_type solver, const bench_method* b);
 /* "amg bdf2 n3 ls" style short label: the preconditioner (PCG only), then the integrator, Newton
- * count and line search when not be, 1, off, and the forcing term (\"f0.01\") with more than one
- * Newton iteration; "" for another solver's default method. */
+ * count and line search when not be, 1, off, and the forcing term ("f0.01") with more than one
+ * Newton iteration and an iterative solver; "" for another solver's default method. */
 const char* bench_method_short(wc_solver_type solver, const bench_method* b, char* buf, size_t size);
 /* Preconditioner and integrator names ("...,all"). -1 on an unknown name. */
 int bench_parse_preconds(const char* text, wc_precond_type* out);

@@ -132,7 +132,7 @@ const char* bench_method_short(wc_solver_type solver, const bench_method* b, cha
     if (b->integrator != WC_INTEGRATOR_BE) ADD("%s", wc_integrator_name(b->integrator));
     if (b->newton != 1) ADD("n%d", b->newton);
     if (b->line_search) ADD("ls");
-    if (b->newton > 1) ADD("f%g", b->forcing);
+    if (b->newton > 1 && solver != WC_SOLVER_DIRECT) ADD("f%g", b->forcing);
 #undef ADD
     return buf;
 }
