@@ -66,7 +66,9 @@
  * error that the next iteration removes (after the first Baraff-Witkin step |S grad Phi| is still
  * 0.85-1.45x the first system's residual on the 32^2 hanging sheet with TR-BDF2). step.c solves it to forcing x its
  * own residual, never past tolerance x the solver's floor; not where a friction pass follows (it
- * reads the contact forces off that solve), nor with the direct solver. The later iterations'
+ * reads the contact forces off that solve), nor while mesh-collider feature pairs or self-contact
+ * pairs are in the system (loose, a roof's ridge cut through a sheet dropped on it in one frame of
+ * tests/test_mesh_features.c's 60), nor with the direct solver. The later iterations'
  * solves are unchanged (tolerance x their own right-hand side): held instead to the first
  * system's absolute target, a cloth resting on a sphere with Newton 2 never settled
  * (tests/test_mesh_collider.c's drop: 0.056 m/s after 150 frames, asleep before).

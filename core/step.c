@@ -331,10 +331,12 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     /* inexact Newton (newton.h "Inexact"): a first iterate that further iterations correct is
        solved to forcing x its own residual only, never past tolerance x the floor (the goal
        tolerance' x max(r0, floor') with tolerance' = forcing, floor' = floor x tolerance /
-       forcing); not where a friction pass reads its contact forces off it */
+       forcing); not where a friction pass reads its contact forces off it, nor where mesh or
+       self-contact pairs are in the system */
     const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
     const double forcing = s->def.newton_forcing;
-    const int loose = solver != WC_SOLVER_DIRECT && stuck == 0 && wc_newton_wanted(&s->def) &&
+    const int pairs = (s->pairs && s->pairs->n > 0) || (s->self_pairs && s->self_pairs->n > 0);
+    const int loose = solver != WC_SOLVER_DIRECT && stuck == 0 && !pairs && wc_newton_wanted(&s->def) &&
                       s->def.newton_iterations > 1 && forcing > tolerance;
     if (loose) {
         wc_solver_set_tolerance(s->solver, forcing);
