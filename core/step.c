@@ -290,6 +290,36 @@ void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_
     if (!res->converged) ++st->not_converged;
 }
 
+/* The substep's first solve of its system into s->dv, counted in st. Inexact Newton (newton.h
+ * "Inexact"): a first iterate that further iterations correct is solved to forcing x its own
+ * residual only, never past tolerance x the floor (the goal tolerance' x max(r0, floor') with
+ * tolerance' = forcing, floor' = floor x tolerance / forcing); not where a friction pass reads its
+ * contact forces off it (stuck > 0), nor where mesh or self-contact pairs are in the system. res
+ * carries the tight solve's scale, Newton's reference. */
+static weft_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_solve_result* res,
+                               wc_step_stats* st) {
+    const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
+    const double forcing = s->def.newton_forcing;
+    const int pairs = (s->pairs && s->pairs->n > 0) || (s->self_pairs && s->self_pairs->n > 0);
+    const int loose = solver != WC_SOLVER_DIRECT && stuck == 0 && !pairs && wc_newton_wanted(&s->def) &&
+                      s->def.newton_iterations > 1 && forcing > tolerance;
+    if (!loose) {
+        weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
+        wc_step_stats_add_solve(st, solver, res);
+        return status;
+    }
+    wc_solver_set_tolerance(s->solver, forcing);
+    wc_solver_set_residual_floor(s->solver, floor * tolerance / forcing);
+    weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
+    wc_solver_set_tolerance(s->solver, tolerance);
+    wc_solver_set_residual_floor(s->solver, floor);
+    res->scale = fmax(res->residual0, floor);
+    wc_solve_result counted = *res;
+    counted.residual = 0.0;   /* held to the forcing term: counted if it missed that (step.h) */
+    wc_step_stats_add_solve(st, solver, &counted);
+    return status;
+}
+
 /* One backward-Euler or BDF2 substep of length h (TR-BDF2: its stage `stage`, 1 or 2, of the
  * substep of length h) ending at frame fraction alpha1. Does not roll back:
  * returns non-OK when the result must be discarded, judged as `judge` says. The last resorts use
@@ -328,29 +358,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
-    /* inexact Newton (newton.h "Inexact"): a first iterate that further iterations correct is
-       solved to forcing x its own residual only, never past tolerance x the floor (the goal
-       tolerance' x max(r0, floor') with tolerance' = forcing, floor' = floor x tolerance /
-       forcing); not where a friction pass reads its contact forces off it, nor where mesh or
-       self-contact pairs are in the system */
-    const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
-    const double forcing = s->def.newton_forcing;
-    const int pairs = (s->pairs && s->pairs->n > 0) || (s->self_pairs && s->self_pairs->n > 0);
-    const int loose = solver != WC_SOLVER_DIRECT && stuck == 0 && !pairs && wc_newton_wanted(&s->def) &&
-                      s->def.newton_iterations > 1 && forcing > tolerance;
-    if (loose) {
-        wc_solver_set_tolerance(s->solver, forcing);
-        wc_solver_set_residual_floor(s->solver, floor * tolerance / forcing);
-    }
-    weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
-    if (loose) {
-        wc_solver_set_tolerance(s->solver, tolerance);
-        wc_solver_set_residual_floor(s->solver, floor);
-        res.scale = fmax(res.residual0, floor);   /* Newton's reference, as a tight solve has it */
-    }
-    wc_solve_result counted = res;
-    if (loose) counted.residual = 0.0;   /* held to the forcing term: counted if it missed that (step.h) */
-    wc_step_stats_add_solve(st, solver, &counted);
+    weft_status status = first_solve(s, solver, stuck, &res, st);
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
        instead, and the system is solved again from this dv (the stuck set only shrinks) */
     for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && stuck > 0; ++pass) {
