@@ -39,8 +39,9 @@
  * L-stable and second order; one-step: nothing is carried from one substep to the next, so
  * teleports, resets, sleep and snapshots need nothing new (hist_valid stays 0). Each stage is
  * prepared, solved, advanced, strain-limited, projected and judged as a substep of its own length
- * (pins and colliders interpolated to its end, contacts filtered per stage); a failed stage rolls
- * the whole substep back (robust_substep). Stage 1's corrected start x_n, v_n are kept in
+ * (pins and colliders interpolated to its end, contacts filtered per stage), except for the
+ * total-energy gain, judged over the whole substep at stage 2's end (step.h "TR-BDF2's energy");
+ * a failed stage rolls the whole substep back (robust_substep). Stage 1's corrected start x_n, v_n are kept in
  * x_prev, v_prev (unused by a TR-BDF2 cloth otherwise) and the stage's uncorrected start in xs:
  * stage 2's contact correction moves x_n with x_g as BDF2's does. f(x_n, v_n) is the assembly's
  * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0.
