@@ -17,7 +17,12 @@ static void trbdf2_begin(wc_state* s, double h, int stage, wc_integ* ig) {
     ig->vstar = s->vstar;
     ig->mom = s->mom;
     ig->air_implicit = s->model->n_tris > 0 && (s->def.air.normal_drag != 0.0 || s->def.air.tangent_drag != 0.0);
+}
+
+void wc_integ_solved(wc_state* s, const wc_integ* ig) {
+    if (ig->stage != 1) return;
     memcpy(s->xs, s->x, 3 * (size_t)s->model->n_particles * sizeof(double));
+    memcpy(s->vs, s->v, 3 * (size_t)s->model->n_particles * sizeof(double));
 }
 
 void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig) { trbdf2_begin(s, h, 2, ig); }
@@ -70,10 +75,10 @@ static void trbdf2_prepare(wc_state* s, const wc_integ* ig) {
         return;
     }
     for (int k = 0; k < n3; ++k) {
-        double back = TR_C2 * (s->xs[k] - s->x_prev[k]);   /* c2 (x_g - x_n), x_g uncorrected */
+        double back = TR_C2 * (s->xs[k] - s->x_prev[k]);   /* c2 (x_g - x_n), x_g as stage 1 solved it */
         s->xb[k] = s->x[k] + back;
         s->vstar[k] = s->v[k] + back / he;
-        s->mom[k] = TR_C2 * (s->v[k] - s->v_prev[k]);
+        s->mom[k] = TR_C2 * (s->vs[k] - s->v_prev[k]);   /* c2 (v_g - v_n), v_g as solved */
     }
 }
 

@@ -42,8 +42,13 @@
  * (pins and colliders interpolated to its end, contacts filtered per stage), except for the
  * total-energy gain, judged over the whole substep at stage 2's end (step.h "TR-BDF2's energy");
  * a failed stage rolls the whole substep back (robust_substep). Stage 1's corrected start x_n, v_n are kept in
- * x_prev, v_prev (unused by a TR-BDF2 cloth otherwise) and the stage's uncorrected start in xs:
- * stage 2's contact correction moves x_n with x_g as BDF2's does. f(x_n, v_n) is the assembly's
+ * x_prev, v_prev (unused by a TR-BDF2 cloth otherwise), and stage 1's x_g, v_g as its solve gave
+ * them (x = xb + he v, pins snapped) in xs, vs (wc_integ_solved): the corrections that follow a
+ * solve (strain limiting, the colliders' projection, the self-collision stage) and stage 2's
+ * contact correction move x_g and v_g but enter neither c2 (x_g - x_n) nor c2 (v_g - v_n), so a
+ * collision response is not extrapolated into stage 2's motion (as BDF2's contact correction
+ * moves x_n with x_g). Measured on suit_on_body with TR-BDF2: rollbacks 2 -> 1 (frame 63's
+ * went; frame 16's, the body starting to turn, stays). f(x_n, v_n) is the assembly's
  * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0.
  * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
  * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
@@ -73,6 +78,11 @@ typedef struct wc_integ {
 /* Start of a substep of length h, before pins and contacts: BE or BDF2 (rules above); a BDF2
  * cloth's positions are kept in s->xs. A TR-BDF2 cloth: the start of the substep's stage 1. */
 void wc_integ_begin(wc_state* s, double h, wc_integ* ig);
+/* After a stage's positions are solved (x = xb + he v, pins snapped), before the corrections that
+ * follow them (strain limiting, the colliders' projection, self-collision): TR-BDF2's stage 1
+ * keeps x and v in s->xs, s->vs as stage 2's x_g, v_g, so that those corrections are not
+ * extrapolated into stage 2's motion (above); nothing for the others. */
+void wc_integ_solved(wc_state* s, const wc_integ* ig);
 /* TR-BDF2: the start of stage 2 of the substep of length h (after stage 1 advanced x, v). */
 void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig);
 /* After the assembly (s->f = f0 at the stage's start): TR-BDF2 stage 1's mom = he M^-1 f0, and

@@ -449,6 +449,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     else
         for (int k = 0; k < n3; ++k) s->x[k] += h * s->v[k];
     snap_pins(s, &ig, alpha1);
+    wc_integ_solved(s, &ig);
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
     t0 = t1;

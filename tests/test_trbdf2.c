@@ -10,6 +10,7 @@
  *    in the end (Newton 2 + line search); bit-identical on 1 and 2 threads.
  *  - Air drag (implicit for TR-BDF2): a flat sheet moving along its normal slows as
  *    v0 exp(-r t); the error at 1 s falls ~4x per halving of h (backward Euler's explicit drag: 2x).
+ *  - Stage 2's base: the corrections after stage 1's solve are not extrapolated (formula check).
  *  - A 32^2 sheet's flat start (no air) rolls a TR-BDF2 substep back (both stages) and retries it; the same
  *    on 1 and 2 threads, pins on target. (Snapshots, teleports, no allocation per step, the GPU's
  *    refusal and the bad enum value: tests/test_api_snapshot.c, test_api_frame.c, test_api_gpu.c,
@@ -18,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "bdf2.h"
 #include "collide.h"
 #include "drop_on_sphere.h"
 #include "one_spring.h"
@@ -280,8 +282,49 @@ static void test_rollback_threads(void) {
     wc_model_free(&m);
 }
 
+/* Stage 2's base after stage 1 and a correction (bdf2.h): with x_g, v_g as stage 1 solved them
+ * and the corrections that follow (a collider's projection, strain limiting, self-collision)
+ * moving them by dx, dvc, stage 2 starts from the corrected x_g + dx, v_g + dvc but extrapolates
+ * only what the solve did: xb = x_g + dx + c2 (x_g - x_n), mom = c2 (v_g - v_n),
+ * vstar = v_g + dvc + c2 (x_g - x_n) / he. Without the correction, the textbook stage. */
+static void test_corrections_not_extrapolated(void) {
+    const double g = WC_TRBDF2_GAMMA, c2 = (1.0 - g) * (1.0 - g) / (g * (2.0 - g)), h = 0.01;
+    wc_model m;
+    spring_model(&m, 10.0, 0.02);
+    for (int corrected = 0; corrected < 2; ++corrected) {
+        wc_state* s = oscillator(&m, WC_INTEGRATOR_TRBDF2);
+        const double xn[3] = {s->x[3], s->x[4], s->x[5]}, vn[3] = {s->v[3], s->v[4], s->v[5]};
+        wc_integ ig;
+        wc_integ_begin(s, h, &ig);
+        wc_integ_prepare(s, &ig);
+        const double xg[3] = {xn[0] + 0.003, xn[1] - 0.001, xn[2]}, vg[3] = {vn[0] - 0.3, vn[1] - 0.1, 0.05};
+        const double dx[3] = {0.0, 0.002, -0.001}, dvc[3] = {0.0, 0.2, -0.1};
+        v3_copy(s->x + 3, xg);
+        v3_copy(s->v + 3, vg);
+        wc_integ_solved(s, &ig);
+        if (corrected) {
+            v3_add(s->x + 3, s->x + 3, dx);
+            v3_add(s->v + 3, s->v + 3, dvc);
+        }
+        wc_integ_begin_stage2(s, h, &ig);
+        wc_integ_prepare(s, &ig);
+        CHECK_EQ_INT(ig.stage, 2);
+        CHECK_NEAR(ig.he, g * h / 2.0, 1e-15);
+        for (int c = 0; c < 3; ++c) {
+            double xs = s->x[3 + c], back = c2 * (xg[c] - xn[c]);
+            CHECK_NEAR(s->xb[3 + c], xs + back, 1e-15);
+            CHECK_NEAR(s->mom[3 + c], c2 * (vg[c] - vn[c]), 1e-15);
+            CHECK_NEAR(s->vstar[3 + c], s->v[3 + c] + back / ig.he, 1e-12);
+            if (corrected) CHECK_NEAR(xs, xg[c] + dx[c], 1e-15);
+        }
+        wc_state_destroy(s);
+    }
+    wc_model_free(&m);
+}
+
 int main(void) {
     RUN_TEST(test_convergence_order);
+    RUN_TEST(test_corrections_not_extrapolated);
     RUN_TEST(test_energy_never_gained);
     RUN_TEST(test_air_drag_order);
     RUN_TEST(test_pins);
