@@ -94,10 +94,16 @@
  * 0.95 where 6 power iterations gave 0.91 on the finest level, 0.955 where 30 gave 0.947 on the
  * next), the prolongator's D^-1 once per entry of P instead of once per block of A (6.1 ->
  * 3.4, with the restrict kernels), restrict-qualified 3x3 kernels (Galerkin 16.7 -> 13.4), the
- * QR on contiguous columns (2.0 -> 1.6). Tried and left out: reusing the prolongators across a substep's Newton iterations (the
- * Galerkin products redone from the new A): 11.55 -> 17.55 PCG iterations per solve on the 100^2
- * sheet, 9.7 -> 14.3 on the 64^2; a fused 6x6 P^T T kernel (6.1 -> 6.5 ms); skipping the
- * columns of T that P^T T never reads (12 % of the products; no gain measurable under load). */
+ * QR on contiguous columns (2.0 -> 1.6). Tried and left out: reusing the prolongators across a
+ * substep's Newton iterations (the Galerkin products redone from the new A): 11.55 -> 17.55 PCG
+ * iterations per solve on the 100^2 sheet, 9.7 -> 14.3 on the 64^2; the whole hierarchy of a
+ * substep's last Newton system kept for the next substep's first (same step, no contact pairs;
+ * linearised at x(w_1) and at x_{n+1}, nearly the same positions; 2026-11-27): on the 100^2
+ * sheet (30 frames, 1 thread) 9.4 -> 49.7 iterations per solve with BE (one solve at the cap)
+ * and 8.9 -> 38.4 with TR-BDF2, 168 -> 386 and 367 -> 1112 ms a frame (the first iterate
+ * stretches the stiff springs, and c = 1 - rest/l > 0 gives them a transverse stiffness c k that
+ * the next substep's system no longer has); a fused 6x6 P^T T kernel (6.1 -> 6.5 ms); skipping
+ * the columns of T that P^T T never reads (12 % of the products; no gain measurable under load). */
 #ifndef WEFT_CORE_AMG_H
 #define WEFT_CORE_AMG_H
 #include "diag.h"
