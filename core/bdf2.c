@@ -22,7 +22,6 @@ static void trbdf2_begin(wc_state* s, double h, int stage, wc_integ* ig) {
 void wc_integ_solved(wc_state* s, const wc_integ* ig) {
     if (ig->stage != 1) return;
     memcpy(s->xs, s->x, 3 * (size_t)s->model->n_particles * sizeof(double));
-    memcpy(s->vs, s->v, 3 * (size_t)s->model->n_particles * sizeof(double));
 }
 
 void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig) { trbdf2_begin(s, h, 2, ig); }
@@ -78,7 +77,7 @@ static void trbdf2_prepare(wc_state* s, const wc_integ* ig) {
         double back = TR_C2 * (s->xs[k] - s->x_prev[k]);   /* c2 (x_g - x_n), x_g as stage 1 solved it */
         s->xb[k] = s->x[k] + back;
         s->vstar[k] = s->v[k] + back / he;
-        s->mom[k] = TR_C2 * (s->vs[k] - s->v_prev[k]);   /* c2 (v_g - v_n), v_g as solved */
+        s->mom[k] = TR_C2 * (s->v[k] - s->v_prev[k]);     /* c2 (v_g - v_n), v_g corrected */
     }
 }
 

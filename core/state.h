@@ -145,9 +145,8 @@ typedef struct wc_state {
     int hist_valid0;            /* the history at the start of the substep (rollback) */
     double hist_h0;
     double *x_prev0, *v_prev0;  /* (n x 3) */
-    /* integrator scratch of a substep (bdf2.h), (n x 3) each; vs: TR-BDF2 stage 1's velocities
-       as solved (wc_integ_solved) */
-    double *xb, *xs, *vs, *vstar, *mom;
+    /* integrator scratch of a substep (bdf2.h), (n x 3) each */
+    double *xb, *xs, *vstar, *mom;
     /* Newton scratch (newton.h), (n x 3) each unless noted */
     double *nw_w, *nw_d, *nw_x, *nw_v, *nw_zero, *nw_g, *nw_fb;
     double* nw_fa;              /* (n x 9) friction's diagonal blocks */
