@@ -41,17 +41,17 @@
  * prepared, solved, advanced, strain-limited, projected and judged as a substep of its own length
  * (pins and colliders interpolated to its end, contacts filtered per stage), except for the
  * total-energy gain, judged over the whole substep at stage 2's end (step.h "TR-BDF2's energy");
- * a failed stage rolls the whole substep back (robust_substep). Stage 1's corrected start x_n, v_n are kept in
- * x_prev, v_prev (unused by a TR-BDF2 cloth otherwise), and stage 1's x_g as its solve gave it
- * (x = xb + he v, pins snapped) in xs (wc_integ_solved): the position corrections that follow a
- * solve (strain limiting, the colliders' projection, the self-collision stage) and stage 2's
+ * a failed stage rolls the whole substep back (robust_substep). Stage 1's corrected start x_n,
+ * v_n are kept in x_prev, v_prev (unused by a TR-BDF2 cloth otherwise), and stage 1's x_g as its
+ * solve gave it (x = xb + he v, pins snapped) in xs (wc_integ_solved): the position corrections
+ * that follow a solve (strain limiting, the colliders' projection, the self-collision stage) and stage 2's
  * contact correction move x_g but do not enter c2 (x_g - x_n), so a push out of a collider or
  * another layer is not extrapolated into stage 2's motion (as BDF2's contact correction moves
  * x_n with x_g). The velocities' corrections do enter mom = c2 (v_g - v_n). Measured with
  * TR-BDF2 and Newton 2 (2026-11-27; docs/bench/trbdf2_rollbacks.md), rollbacks / kinetic energy
- * against the reference on the drape, and the suit's rollbacks: corrected x_g and v_g (before)
- * 2 / 1.63x, 2; solved x_g (this) 1 / 1.80x, 1; solved x_g and v_g 3 / 2.18x, 1; solved v_g only
- * 1 / 1.63x, 2. f(x_n, v_n) is the assembly's
+ * against the reference on the drape, and the suit's rollbacks: corrected x_g and v_g (as
+ * before, with the whole-substep energy judge) 2 / 1.63x, 2; solved x_g (this) 1 / 1.80x, 1;
+ * solved x_g and v_g 3 / 2.18x, 1; solved v_g only 1 / 1.63x, 2. f(x_n, v_n) is the assembly's
  * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0.
  * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
  * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
