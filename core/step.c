@@ -340,13 +340,15 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     wc_substep_measure before = {0};
     before.kinetic = wc_state_kinetic_energy(s);
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
-    if (judge_energy) before.total = wc_state_total_energy(s, &before.elastic);
-    if (judge_energy && stage == 1) {
-        carry->start_total = before.total;
-        carry->start_elastic = before.elastic;
-    } else if (judge_energy && stage == 2) {
-        before.total = carry->start_total;   /* judged from the substep's start */
+    if (judge_energy && stage == 2) {   /* judged from the substep's start */
+        before.total = carry->start_total;
         before.elastic = carry->start_elastic;
+    } else if (judge_energy) {
+        before.total = wc_state_total_energy(s, &before.elastic);
+        if (stage == 1) {
+            carry->start_total = before.total;
+            carry->start_elastic = before.elastic;
+        }
     }
     wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
     if (s->self) wc_self_begin(s->self, s->x); /* the previous substep's end: free of crossings */
