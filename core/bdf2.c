@@ -81,6 +81,46 @@ static void trbdf2_prepare(wc_state* s, const wc_integ* ig) {
     }
 }
 
+/* TR-BDF2's collider contacts in the xb form (bdf2.h "Contacts"): a particle in contact moves along
+ * the normals as the collider does over the stage, plus the gap begin left it to close, and ends
+ * with the collider's normal velocity. */
+void wc_integ_contacts(wc_state* s, const wc_integ* ig) {
+    const wc_contacts* ct = &s->contacts;
+    if (!ig->stage || !ct->vel || ct->active == 0) return;
+    const double he = ig->he, h = ig->h;
+    for (int i = 0; i < s->model->n_particles; ++i) {
+        const int* cid = ct->collider + 2 * i;
+        if (cid[0] < 0) continue;
+        int two = cid[1] >= 0;
+        const double* n = ct->normal + 6 * i;
+        const double* vc = ct->vel + 6 * i;
+        double* v = s->v + 3 * i;
+        const double* x = s->x + 3 * i;
+        double* xb = s->xb + 3 * i;
+        double* z = s->filter.z + 3 * i;
+        double a[2] = {0.0, 0.0}, gap[2] = {0.0, 0.0}, d[3], back[3];
+        v3_sub(back, xb, x);
+        for (int c = 0; c < 1 + two; ++c) {
+            double vr[3];
+            v3_sub(vr, v, vc + 3 * c);
+            a[c] = -v3_dot(vr, n + 3 * c);                       /* the relative normal speed -> 0 */
+            double close = -h * (v3_dot(z, n + 3 * c) - a[c]);   /* begin's z: -max(gap, 0) / h - vr.n */
+            gap[c] = h * v3_dot(vc + 3 * c, n + 3 * c) - close - he * v3_dot(vc + 3 * c, n + 3 * c) -
+                     v3_dot(back, n + 3 * c);
+        }
+        v3_span2(n, a[0], n + 3, a[1], two, d);
+        v3_add(v, v, d);
+        v3_span2(n, gap[0], n + 3, gap[1], two, d);
+        v3_add(xb, xb, d);
+        v3_zero(z);   /* v_new.n = vc.n: x_new = xb + he v_new lands on the shell */
+        for (int c = 0; c < 3; ++c) {
+            s->vstar[3 * i + c] = v[c] + (xb[c] - x[c]) / he;
+            if (ig->stage == 1) s->v_prev[3 * i + c] = v[c];
+            else s->mom[3 * i + c] = TR_C2 * (v[c] - s->v_prev[3 * i + c]);
+        }
+    }
+}
+
 void wc_integ_forces(wc_state* s, const wc_integ* ig) {
     const wc_model* m = s->model;
     if (ig->air_implicit) {

@@ -234,18 +234,6 @@ static double ortho(const double* n1, const double* n2, double* e) {
     return l;
 }
 
-/* The smallest delta with n1.delta = a1 (and n2.delta = a2 when two): delta in span(n1, n2). */
-static void solve_pair(const double* n1, double a1, const double* n2, double a2, int two, double* delta) {
-    if (!two) {
-        v3_scale(delta, n1, a1);
-        return;
-    }
-    double c = v3_dot(n1, n2), g = 1.0 - c * c;
-    double al = (a1 - c * a2) / g, be = (a2 - c * a1) / g;
-    v3_scale(delta, n1, al);
-    v3_axpy(delta, be, n2);
-}
-
 /* Nearest delta to 0 with n_k.delta >= a_k (k < cnt <= 2, normals not parallel when two).
  * Returns 0 when delta = 0 already satisfies them. */
 static int halfspaces(const double* n1, double a1, const double* n2, double a2, int cnt, double* delta) {
@@ -266,7 +254,7 @@ static int halfspaces(const double* n1, double a1, const double* n2, double a2, 
         v3_scale(delta, n2, a2);
         return 1;
     }
-    solve_pair(n1, a1, n2, a2, 1, delta);
+    v3_span2(n1, a1, n2, a2, 1, delta);
     return 1;
 }
 
@@ -327,7 +315,7 @@ static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int e
         }
         if (!any) break;
         if (active[0] && active[1] && ortho(n, n + 3, e) >= PARALLEL_MIN)
-            solve_pair(n, -d[0], n + 3, -d[1], 1, delta);
+            v3_span2(n, -d[0], n + 3, -d[1], 1, delta);
         else if (active[0])
             v3_scale(delta, n, -d[0]);
         else
@@ -453,7 +441,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
     }
     double* S = f->S + 9 * i;
     free_projector(n, cnt, S);
-    solve_pair(n, a[0], n + 3, cnt > 1 ? a[1] : 0.0, cnt > 1, f->z + 3 * i);
+    v3_span2(n, a[0], n + 3, cnt > 1 ? a[1] : 0.0, cnt > 1, f->z + 3 * i);
     f->ndof[i] = (unsigned char)cnt;
     return 1;
 }

@@ -205,17 +205,18 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     apply_pins(s, ig, alpha1);
     substep_colliders(s, alpha1, h);
+    double e0 = begin_gain && s->n_all > 0 ? wc_state_total_energy(s, NULL) : 0.0;
+    if (s->n_all > 0) wc_contacts_begin(&s->contacts, s->all, s->n_all, s->x, s->v, h, &s->filter, &s->par);
+    /* the substep's start after the contacts' correction: the mesh colliders' crossing test */
+    if (s->n_mesh > 0 && s->x_sub) memcpy(s->x_sub, s->x, 3 * (size_t)n * sizeof(double));
+    wc_integ_prepare(s, ig);
     if (s->n_all > 0) {
-        double e0 = begin_gain ? wc_state_total_energy(s, NULL) : 0.0;
-        wc_contacts_begin(&s->contacts, s->all, s->n_all, s->x, s->v, h, &s->filter, &s->par);
+        wc_integ_contacts(s, ig);   /* TR-BDF2: the contacts' normal velocities (bdf2.h) */
         if (begin_gain) {
             double gain = wc_state_total_energy(s, NULL) - e0;
             if (gain > 0) *begin_gain += gain;
         }
     }
-    /* the substep's start after the contacts' correction: the mesh colliders' crossing test */
-    if (s->n_mesh > 0 && s->x_sub) memcpy(s->x_sub, s->x, 3 * (size_t)n * sizeof(double));
-    wc_integ_prepare(s, ig);
     /* the mesh colliders' feature pairs at the substep's start (mesh_pairs.h) */
     if (s->n_mesh > 0 && s->pairs) {
         wc_mesh_pairs_find(s->pairs, (const wc_mesh_collider* const*)s->mesh, s->n_mesh, m, &s->filter, NULL, s->x,

@@ -27,6 +27,19 @@ static inline void v3_cross(double* o, const double* a, const double* b) {
 }
 static inline int v3_finite(const double* a) { return isfinite(a[0]) && isfinite(a[1]) && isfinite(a[2]); }
 
+/* The smallest delta with n1.delta = a1 (and n2.delta = a2 when two; unit normals, not parallel):
+ * delta in span(n1, n2). */
+static inline void v3_span2(const double* n1, double a1, const double* n2, double a2, int two, double* delta) {
+    if (!two) {
+        v3_scale(delta, n1, a1);
+        return;
+    }
+    double c = v3_dot(n1, n2), g = 1.0 - c * c;
+    double al = (a1 - c * a2) / g, be = (a2 - c * a1) / g;
+    v3_scale(delta, n1, al);
+    v3_axpy(delta, be, n2);
+}
+
 static inline void m3_zero(double* m) { memset(m, 0, 9 * sizeof(double)); }
 static inline void m3_identity(double* m, double s) { m3_zero(m); m[0] = m[4] = m[8] = s; }
 /* o = a b^T * s */
