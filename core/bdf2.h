@@ -67,8 +67,9 @@
  * particle leaves the stage at the collider's normal velocity; vstar = v + (xb - x) / he, mom and
  * (stage 1) v_prev follow the new v. The tangential motion is the stage's own. Measured
  * (2026-11-27, TR-BDF2 + Newton 2; README "TR-BDF2's contacts"): the 64^2 drape's largest strain
- * 28.5 % -> 3.8 % and its kinetic energy 1.80x -> 0.72x the converged reference's; the suit's last
- * rollback gone. BDF2's contacts keep backward Euler's landing (not measured with this).
+ * 28.5 % -> 3.8 % and its kinetic energy 1.80x -> 0.72x the converged reference's (2.0 % and 0.68x
+ * with friction's prediction of the stage's momentum, collide.h wc_contacts_friction's mom); the
+ * suit's last rollback gone. BDF2's contacts keep backward Euler's landing (not measured with this).
  * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
  * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
  * f_air(v_new) ~ f_air(v_start) - L dv with L the row-sum (lumped) drag Jacobian per particle

@@ -30,7 +30,8 @@
  *    the first, deepest collider), z the normal velocity change begin prescribed. The constraint
  *    impulse q it would need to stick (to end the substep with no slip) is predicted twice:
  *      alone:            q = m (z - u) - h f   (-S q = m u + h S f is the tangential momentum it
- *                        would have with no friction);
+ *                        would have with no friction; less m mom where the integrator adds
+ *                        M mom to the momentum: TR-BDF2's stages, collide.h);
  *      held by springs:  q = A_ii (z - u) - b_i, its neighbours keeping their velocities (a
  *                        particle dragged along by the cloth cannot stop by itself).
  *    Coulomb for each: B = sum mu_k max(N_k, 0), N_k the components of q on the normals (the
@@ -538,20 +539,21 @@ static int contact_state(const wc_contacts* ct, const wc_collider* c, int nc, co
 }
 
 static int friction_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                             const double* f, double h, wc_filter* flt, double* A, const int* diag, double* b,
-                             int i) {
+                             const double* f, const double* mom, double h, wc_filter* flt, double* A,
+                             const int* diag, double* b, int i) {
     double Sn[9], u[3];
     int cnt = contact_state(ct, c, nc, v, i, Sn, u);
     if (cnt == 0 || flt->ndof[i] != cnt || !(mass[i] > 0.0)) return 0;
     const int* cid = ct->collider + 2 * i;
     const double* cn = ct->normal + 6 * i;
     double m = mass[i], *Aii = A + 9 * (size_t)diag[i], *bi = b + 3 * i;
-    /* the impulse to stick, for the particle alone: q = m (z - u) - h f; and with its neighbours
-       keeping their velocities: q = A_ii (z - u) - b_i (its springs resist stopping it) */
+    /* the impulse to stick, for the particle alone: q = m (z - u - mom) - h f; and with its
+       neighbours keeping their velocities: q = A_ii (z - u) - b_i (its springs resist stopping it) */
     double w0[3], qa[3], qn[3], rta[3], rtn[3];
     v3_sub(w0, flt->z + 3 * i, u);
     v3_scale(qa, w0, m);
     v3_axpy(qa, -h, f + 3 * i);
+    if (mom) v3_axpy(qa, -m, mom + 3 * i);
     m3_mulv(qn, Aii, w0);
     v3_sub(qn, qn, bi);
     double ba = coulomb(c, cid, cn, cnt, Sn, qa, rta), bn = coulomb(c, cid, cn, cnt, Sn, qn, rtn);
@@ -572,15 +574,15 @@ static int friction_particle(wc_contacts* ct, const wc_collider* c, int nc, cons
 }
 
 int wc_contacts_friction(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                         const double* f, double h, wc_filter* filter, double* A, const int* diag, double* b,
-                         wc_par* par) {
+                         const double* f, const double* mom, double h, wc_filter* filter, double* A,
+                         const int* diag, double* b, wc_par* par) {
     int n = ct->n, used = par->threads;
     WC_PAR_REGION(par)
     {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
         if (t == 0) used = nt;
         wc_par_range(n, t, nt, &lo, &hi);
-        for (int i = lo; i < hi; ++i) cnt += friction_particle(ct, c, nc, v, mass, f, h, filter, A, diag, b, i);
+        for (int i = lo; i < hi; ++i) cnt += friction_particle(ct, c, nc, v, mass, f, mom, h, filter, A, diag, b, i);
         par->partial[8 * t] = cnt;
     }
     return sum_partials(par, used);

@@ -96,10 +96,13 @@ int wc_contacts_begin(wc_contacts* ct, const wc_collider* c, int nc, double* x, 
  * held by its springs (A_ii (z - u) - b_i): S = 0, z -= u, ndof 3, ct->stick; otherwise it slides
  * with friction as the implicit damping force -c S (v_new - vc) (A_ii += h c S, b_i -= h c u)
  * sized so that the particle alone gets exactly Coulomb's impulse (never a reversed slip). A
- * stuck particle moves with its collider. Returns the number of sticking particles. */
+ * stuck particle moves with its collider. mom (n x 3, m/s; NULL for none): the integrator's
+ * momentum term, M mom on the right-hand side besides h f (TR-BDF2's stages, bdf2.h: in the
+ * trapezoidal stage M mom = h f_n, the explicit half of the force), so the particle alone is
+ * predicted as m (z - u - mom) - h f. Returns the number of sticking particles. */
 int wc_contacts_friction(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                         const double* f, double h, wc_filter* filter, double* A, const int* diag, double* b,
-                         wc_par* par);
+                         const double* f, const double* mom, double h, wc_filter* filter, double* A,
+                         const int* diag, double* b, wc_par* par);
 /* Step 3b, after a solve, r = A dv - b (n x 3): the particle alone was only a prediction. A
  * sticking particle whose holding impulse in the solved cloth (r_i in its free directions)
  * exceeds mu times its normal impulses (r_i on the normals) slides instead, as in step 2 with

@@ -265,8 +265,8 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     /* friction: static as constraints (filter), kinetic as implicit damping (A, b): the solve sees both */
     int stuck = 0;
     if (s->n_all > 0 && s->contacts.active > 0)
-        stuck = wc_contacts_friction(&s->contacts, s->all, s->n_all, s->v, m->mass, s->f, ig->he,
-                                     &s->filter, s->A, m->pattern.diag, s->b, &s->par);
+        stuck = wc_contacts_friction(&s->contacts, s->all, s->n_all, s->v, m->mass, s->f, ig->stage ? ig->mom : NULL,
+                                     ig->he, &s->filter, s->A, m->pattern.diag, s->b, &s->par);
     /* the solves' residual floor (solve.h): the impulse gravity gives the unpinned particles in
        this substep, so a cloth at rest does not chase rounding noise */
     wc_solver_set_residual_floor(s->solver, wc_state_residual_floor(s, ig->he));

@@ -113,7 +113,7 @@ static void sim_filtered_solve(sim* s) {
 static void sim_solve(sim* s, double h) {
     for (int i = 0; i < s->n; ++i) m3_identity(s->A + 9 * i, s->mass[i]);
     for (int k = 0; k < 3 * s->n; ++k) s->b[k] = h * s->force[k];
-    int stuck = wc_contacts_friction(&s->ct, s->c, s->nc, s->v, s->mass, s->force, h, &s->f, s->A, s->diag, s->b,
+    int stuck = wc_contacts_friction(&s->ct, s->c, s->nc, s->v, s->mass, s->force, NULL, h, &s->f, s->A, s->diag, s->b,
                                      &s->par);
     sim_filtered_solve(s);
     for (int pass = 0; pass < 4 && stuck > 0; ++pass) {

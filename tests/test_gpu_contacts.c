@@ -420,7 +420,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     upload_A(g, A);
     upload3(g, &g->b, b);
     upload3(g, &g->ftot, f);
-    int st_cpu = wc_contacts_friction(&s->contacts, c, nc, s->v, m.mass, f, h, &s->filter, A, m.pattern.diag, b,
+    int st_cpu = wc_contacts_friction(&s->contacts, c, nc, s->v, m.mass, f, NULL, h, &s->filter, A, m.pattern.diag, b,
                                       &s->par);
     wg_contacts_friction(g, s, h);
     int n_stick = 0;
