@@ -2,8 +2,8 @@
  * through a test-local substep with a block-diagonal system (particles alone: A = m I, plus the
  * kinetic friction's damping), solved per particle through the filter, r = A dv - b; positions
  * then move x += h v. Friction is checked against Coulomb's closed forms for a particle alone
- * (sliding to rest, landing, a groove, an incline, a moving plane); test_step_contacts checks it
- * on cloth. */
+ * (sliding to rest, landing, a groove, an incline, a moving plane, an integrator's momentum
+ * term); test_step_contacts checks it on cloth. */
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
@@ -328,6 +328,42 @@ static void test_friction_slide_to_rest(void) {
         }
 }
 
+/* The integrator's momentum term (wc_contacts_friction's mom: TR-BDF2's trapezoidal stage, where
+ * M mom = h f_n is the explicit half of the force, bdf2.h): the particle alone gets M mom + h f,
+ * so a particle resting on a plane under gravity has the normal impulse 2 m g h, and a slip
+ * mu g h < u0 <= 2 mu g h stops dead in one substep. Predicted without mom (as before), the
+ * particle alone had half that bound: it slid, and kept 0.5 mu g h of its slip. */
+static void test_friction_momentum_term(void) {
+    const double h = 0.01, g = 9.81, mu = 0.5, u0 = 1.5 * mu * g * h;
+    for (int with = 0; with < 2; ++with) {
+        wc_collider c = plane(0, 1, 0, 0.0);
+        c.friction = mu;
+        sim s;
+        sim_init(&s, 1, 1);
+        set_gravity(&s, g);
+        v3_set(s.v, u0, 0.0, 0.0);
+        double mom[3];
+        v3_scale(mom, s.force, h / s.mass[0]);
+        sim_reset_filter(&s);
+        CHECK_EQ_INT(sim_begin(&s, &c, 1, h), 1);
+        m3_identity(s.A, s.mass[0]);
+        for (int k = 0; k < 3; ++k) s.b[k] = h * s.force[k] + s.mass[0] * mom[k];
+        int stuck = wc_contacts_friction(&s.ct, s.c, s.nc, s.v, s.mass, s.force, with ? mom : NULL, h, &s.f, s.A,
+                                         s.diag, s.b, &s.par);
+        sim_filtered_solve(&s);
+        int changed = stuck ? wc_contacts_friction_recheck(&s.ct, s.c, s.nc, s.v, s.mass, s.r, &s.f, s.A, s.diag,
+                                                           s.b, &s.par)
+                            : 0;
+        CHECK_EQ_INT(stuck, with);
+        CHECK_EQ_INT(changed, 0);
+        double slip = s.v[0] + s.dv[0];
+        if (with) CHECK_NEAR(slip, 0.0, 1e-15);
+        else CHECK_NEAR(slip, u0 - mu * g * h, 1e-12);
+        CHECK_NEAR(s.v[1] + s.dv[1], 0.0, 1e-15);   /* it stays on the plane */
+        sim_free(&s);
+    }
+}
+
 /* Coulomb at a landing: a particle reaching a plane gets the normal impulse that stops its
  * approach, m vn' (vn' = vn - d / h: the constraint lands it on the shell at the end of the
  * substep), plus m g h; friction takes up to mu times that from its tangential momentum
@@ -623,6 +659,7 @@ int main(void) {
     RUN_TEST(test_slide_off_sphere);
     RUN_TEST(test_friction_slide_to_rest);
     RUN_TEST(test_friction_landing);
+    RUN_TEST(test_friction_momentum_term);
     RUN_TEST(test_friction_groove);
     RUN_TEST(test_friction_incline);
     RUN_TEST(test_friction_drag);
