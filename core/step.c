@@ -195,7 +195,8 @@ static void substep_colliders(wc_state* s, double alpha1, double h) {
 /* Constraints, forces, assembly and friction of a substep of length ig->h ending at frame fraction
  * alpha1: fills s->filter, s->A and s->b (contacts may correct positions) and the integrator's
  * xb, vstar, mom (bdf2.h). begin_gain (J, may be NULL): += the total energy the contacts' position
- * correction put in (0 when it lowered it). Returns the contacts that stick. */
+ * correction (and TR-BDF2's contact velocities, wc_integ_contacts) put in (0 when it lowered it).
+ * Returns the contacts that stick. */
 static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression compression, double* begin_gain,
                    wc_step_stats* st) {
     const wc_model* m = s->model;
