@@ -24,6 +24,7 @@
 #include "check.h"
 #include "bdf2.h"
 #include "collide.h"
+#include "colliders.h"
 #include "drop_on_sphere.h"
 #include "one_spring.h"
 #include "step.h"
@@ -338,11 +339,7 @@ static void test_contact_formula(void) {
     const double h = 0.02, gap = 0.003, vc = 0.1;
     for (int stage = 1; stage <= 2; ++stage) {
         wc_state* s = oscillator(&m, WC_INTEGRATOR_TRBDF2);
-        wc_collider c;
-        memset(&c, 0, sizeof c);
-        c.type = WC_COLLIDER_PLANE;
-        v3_set(c.normal, 0, 1, 0);
-        c.offset = s->x[4] - gap;   /* the particle 3 mm above the plane (thickness 0) */
+        wc_collider c = plane(0, 1, 0, s->x[4] - gap);   /* the particle 3 mm above it (thickness 0) */
         v3_set(c.velocity, 0, vc, 0);
         wc_diag dg = {0};
         CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &dg), WEFT_OK);
@@ -386,10 +383,7 @@ static void test_drape_strain(void) {
     wc_model m;
     CHECK(ts_sheet(&m, 48, 1.0, 0.3, 0, 1.0));
     wc_state* s = sheet(&m, 2, 1, 0);
-    wc_collider c;
-    memset(&c, 0, sizeof c);
-    c.type = WC_COLLIDER_SPHERE;
-    c.radius = 0.25;
+    wc_collider c = sphere(0, 0, 0, 0.25);
     c.thickness = 0.005;
     c.friction = 0.3;
     wc_diag dg = {0};
