@@ -32,6 +32,32 @@ size_t wg_tex_bytes(const wg_tex* t) {
     return (size_t)t->w * (size_t)t->h * 4u * (size_t)wg_tex_components(t->internal, NULL);
 }
 
+/* Zeros into a new texture, on the GPU (a framebuffer clear: no upload). A texture's first
+ * contents are undefined: Mesa gives zeros, NVIDIA's driver what its memory held before (seen:
+ * NaN from another texture's data), and a pass that multiplies an unwritten texel by 0 then
+ * makes NaN. Clears follow the scissor test and the colour mask: gl_state's known state has
+ * the one off and the other open. */
+static void clear_zero(GLuint id, GLenum internal) {
+    int is_int = 0;
+    wg_tex_components(internal, &is_int);
+    GLint prev = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &prev);
+    GLuint fb = 0;
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fb);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, id, 0);
+    const GLenum att = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &att);
+    if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE) {
+        const GLint zi[4] = {0, 0, 0, 0};
+        const GLfloat zf[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (is_int) glClearBufferiv(GL_COLOR, 0, zi);
+        else glClearBufferfv(GL_COLOR, 0, zf);
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)prev);
+    glDeleteFramebuffers(1, &fb);
+}
+
 int wg_tex_create(wg_tex* t, GLenum internal, int w, int h, const void* data, char* err, size_t err_len) {
     memset(t, 0, sizeof *t);
     if (w < 1) w = 1;
@@ -53,6 +79,7 @@ int wg_tex_create(wg_tex* t, GLenum internal, int w, int h, const void* data, ch
     GLenum e = glGetError();
     if (e == GL_NO_ERROR) {
         if (data) glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, format, type, data);
+        else clear_zero(t->id, internal);
         e = glGetError();
     }
     glBindTexture(GL_TEXTURE_2D, (GLuint)prev);

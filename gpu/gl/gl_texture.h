@@ -15,8 +15,8 @@ typedef struct wg_tex {
 } wg_tex;
 
 /* Create a w x h texture of the internal format, filled from data (rows of w texels in the
- * format's natural client layout: float or int components); NULL leaves the contents undefined
- * (the solver clears what it reads through a framebuffer).
+ * format's natural client layout: float or int components), or with zeros where data is NULL
+ * (GL leaves a new texture's contents undefined: gl_texture.c).
  * Returns 1, or 0 with the GL error in err. */
 int wg_tex_create(wg_tex* t, GLenum internal, int w, int h, const void* data, char* err, size_t err_len);
 /* Replace a rectangle (same client layout as wg_tex_create). */

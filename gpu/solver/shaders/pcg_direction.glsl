@@ -12,9 +12,13 @@ out vec4 o0;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
-    vec3 c = ld(t1, i).xyz;
-    if (u_first == 0 && texelFetch(t5, ivec2(0), 0).x != 0.0) { o0 = vec4(c, 0.0); return; }
-    float beta = u_first != 0 ? 0.0 : texelFetch(t4, ivec2(0), 0).z;
-    vec3 v = ld(t0, i).xyz + beta * c;
+    vec3 v = ld(t0, i).xyz;
+    if (u_first == 0) {
+        // the old c is read only here: at a start or restart it may hold anything (a texture's
+        // first contents are undefined, and a diverged solve leaves NaN), and 0 * NaN is NaN
+        vec3 c = ld(t1, i).xyz;
+        if (texelFetch(t5, ivec2(0), 0).x != 0.0) { o0 = vec4(c, 0.0); return; }
+        v += texelFetch(t4, ivec2(0), 0).z * c;
+    }
     o0 = vec4(filter_apply(ld(t2, i), ld(t3, i), v), 0.0);
 }
