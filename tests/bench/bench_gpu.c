@@ -21,6 +21,7 @@
 
 #include "clock.h"
 #include "egl_context.h"
+#include "gpu_compute_copy.h"
 #include "sort.h"
 #include "step.h"
 #include "wg_sim.h"
@@ -131,7 +132,7 @@ int main(int argc, char** argv) {
     printf("| particles | CPU ms/frame | GPU ms/frame | CPU/GPU | GPU forces | assemble | solve | collide+integrate | "
            "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB |\n"
            "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-    double bw[MAX_SIZES][4];
+    double bw[MAX_SIZES][6];
     int bw_n[MAX_SIZES];
     for (int k = 0; k < n_sizes; ++k) {
         int n = sizes[k];
@@ -173,16 +174,25 @@ int main(int argc, char** argv) {
         fflush(stdout);
         bw_n[k] = m.n_particles;
         wg_sim_debug_bandwidth(g, 10, &bw[k][0], &bw[k][1], &bw[k][2], &bw[k][3]);
+        gpu_compute_copy(m.n_particles, 10, &bw[k][4], &bw[k][5]);
         wg_sim_destroy(g);
         wc_state_destroy(s);
         wc_state_destroy(c);
         wc_model_free(&m);
     }
     printf("\n## SpMV pass against a copy pass (effective bandwidth; the ratio is the physical-limit measure)\n\n"
-           "| particles | SpMV ms | SpMV GB/s | copy ms | copy GB/s | SpMV / copy |\n|---|---|---|---|---|---|\n");
+           "The copy pass is the solver's (a fragment shader rendering into a texture); beside it the same copy by a "
+           "compute shader (GL 4.3: texture to image, and shader storage buffer to buffer; - where the context has "
+           "none), which tells how much of the device a fragment-shader pass reaches.\n\n"
+           "| particles | SpMV ms | SpMV GB/s | copy ms | copy GB/s | SpMV / copy | compute copy, texture GB/s | "
+           "compute copy, buffer GB/s |\n|---|---|---|---|---|---|---|---|\n");
     for (int k = 0; k < n_sizes; ++k) {
         double gs = bw[k][2] / (bw[k][0] * 1e6), gc = bw[k][3] / (bw[k][1] * 1e6);
-        printf("| %d | %.3f | %.2f | %.3f | %.2f | %.0f %% |\n", bw_n[k], bw[k][0], gs, bw[k][1], gc, 100.0 * gs / gc);
+        printf("| %d | %.3f | %.2f | %.3f | %.2f | %.0f %% |", bw_n[k], bw[k][0], gs, bw[k][1], gc, 100.0 * gs / gc);
+        for (int c = 4; c < 6; ++c)
+            if (bw[k][c] > 0.0) printf(" %.2f |", bw[k][3] / (bw[k][c] * 1e6));
+            else printf(" - |");
+        printf("\n");
     }
     wg_device_destroy(dev);
     wg_gl_end(gl);
