@@ -1,0 +1,56 @@
+#!/bin/bash
+# Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
+# this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
+#   bash .dev/run.sh OUTDIR [small]     (small: tiny sizes, to try the script on llvmpipe)
+O=${1:-/tmp/out}; SMALL=${2:-}
+mkdir -p "$O"
+R=$PWD
+tar xJf .dev/libs.tar.xz -C .dev && tar xJf .dev/bins.tar.xz && mkdir -p build-dev/tests/tmp
+export LD_LIBRARY_PATH=$R/.dev/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+for d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do [ -d $d ] && export LD_LIBRARY_PATH=$LD_LIBRARY_PATH:$d; done
+for j in /usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json /usr/share/glvnd/egl_vendor.d/10_nvidia.json; do
+  [ -f $j ] && { export __EGL_VENDOR_LIBRARY_FILENAMES=$j; break; }; done
+mkdir -p /work; [ -e /work/main ] || ln -s "$R" /work/main
+probe() { timeout 60 build-dev/tests/bench/bench_gpu --sizes 8 --frames 1 --skip-cpu > /tmp/probe.txt 2>&1 && grep -qi "nvidia" /tmp/probe.txt; }
+{
+  ls -la /dev/nvidia* /dev/dri 2>&1 | head; timeout 15 find / -xdev \( -name "libEGL_nvidia*" -o -name "10_nvidia.json" -o -name "libEGL.so*" \) 2>/dev/null | head
+  if probe; then echo "probe: ok (default)"; else cat /tmp/probe.txt; export WEFT_EGL_DEVICE=0;
+    if probe; then echo "probe: ok (WEFT_EGL_DEVICE=0)"; else cat /tmp/probe.txt; unset WEFT_EGL_DEVICE; mkdir -p .dev/glaside; mv .dev/lib/libEGL* .dev/lib/libGL* .dev/lib/libOpenGL* .dev/glaside/;
+      if probe; then echo "probe: ok (system glvnd)"; else cat /tmp/probe.txt; echo "probe: FAILED"; fi; fi; fi
+  grep -i "egl\|opengl" /tmp/probe.txt | head -3
+} 2>&1 | tee "$O/0_probe.log"
+grep -q "probe: FAILED" "$O/0_probe.log" && [ -z "$SMALL" ] && exit 1
+{
+  date; uname -a; nproc; free -g | head -2
+  nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv 2>&1
+  echo "EGL vendor json: ${__EGL_VENDOR_LIBRARY_FILENAMES:-none}"; ls /usr/local/nvidia/lib64 2>/dev/null | grep -i "egl\|glx\|gldispatch" | head
+  echo "--- missing libs:"; for b in build-dev/weft build-dev/tests/bench/bench_gpu; do ldd $b | grep "not found"; done
+  echo "--- GPU tests"
+  for t in test_api_gpu test_gpu_solver test_gpu_contacts test_render test_api_render test_render_errors test_cli_gpu_runs; do
+    s=$(date +%s.%N); timeout 150 build-dev/tests/$t > "$O/t_$t.txt" 2>&1; rc=$?
+    awk -v t=$t -v rc=$rc -v s=$s -v e=$(date +%s.%N) 'BEGIN{printf "%-20s rc=%d  %.1f s\n", t, rc, e-s}'
+    [ $rc -ne 0 ] && tail -25 "$O/t_$t.txt"
+  done
+  grep -h "context\|device\|renderer\|OpenGL" "$O/t_test_api_gpu.txt" | head -8
+  echo "--- test_cli_gpu_runs table"; grep "|" "$O/t_test_cli_gpu_runs.txt"
+} 2>&1 | tee "$O/a_info_tests.log"
+cat "$O"/t_*.txt > "$O/b_tests_full.log"; rm -f "$O"/t_*.txt
+if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,100,316; F=5; fi
+timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1 | tee "$O/c_bench_gpu_30it.md"
+# the sample scenes: ms/frame on the GPU, on the CPU with the GPU's method, and the CPU at its defaults
+{
+  echo "| scene | run | ms/frame median | solves | iterations mean | rollbacks | max strain |"; echo "|---|---|---|---|---|---|---|"
+  FR=90; [ -n "$SMALL" ] && FR=3
+  for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
+    M="--precond block_jacobi --integrator be --newton 1 --line-search off"
+    for run in "gpu|--backend gpu $M --threads 1" "cpu-same-method-1t|--backend cpu $M --threads 1" "cpu-defaults-1t|--backend cpu --threads 1" "cpu-defaults-16t|--backend cpu --threads 16"; do
+      name=${run%%|*}; args=${run#*|}
+      timeout 120 build-dev/weft run sample_scenes/$sc.json --frames $FR --quiet --stats /tmp/st.json $args > /tmp/run.txt 2>&1 || { echo "| $sc | $name | FAILED rc=$? $(tail -c 300 /tmp/run.txt | tr '\n' ' ') |"; continue; }
+      python3 -c "import json,sys;s=json.load(open('/tmp/st.json'));it=s.get('iterations',{});print('| $sc | $name | %.2f | %s | %.1f | %s | %.4f |'%(s['ms_per_frame']['median'],s.get('solves'),it.get('mean',0),s.get('rollbacks'),s.get('max_strain',0)))"
+    done
+  done
+} 2>&1 | tee "$O/d_scenes.md"
+PS=sheet100,sheet64; PF=30; [ -n "$SMALL" ] && PS=sheet16 && PF=3
+timeout 400 build-dev/weft bench peers --backend gpu --scenes $PS --substeps 1,2,4 --preconds block_jacobi --newton 1 --threads 1 --frames $PF --md "$O/e_peers.md" 2>&1 | tail -30
+timeout 200 build-dev/tests/bench/bench_gpu --sizes $SZC --frames 3 --tolerance 1e-4 --iterations 3000 2>&1 | tee "$O/f_bench_gpu_converged.md"
+echo done
