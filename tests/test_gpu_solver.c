@@ -142,6 +142,13 @@ static void test_reductions_and_large_sheet(void) {
         CHECK(fabs(gs - sum) <= 1e-6 * sum + 1e-6);
         CHECK(gm == 3.5);
     }
+    /* +inf (the checks' mark of a non-finite state) in a max reduction stays +inf: the levels
+       once blended sum and max with float weights, and 0 inf is NaN */
+    for (int i = 0; i < 4097; ++i) v[i] = 1.0;
+    v[2000] = INFINITY;
+    double gi = wg_sim_debug_reduce(g, v, 4097, 1);
+    printf("  reduce   4097 with +inf: max %g\n", gi);
+    CHECK(isinf(gi) && gi > 0.0);
     free(v);
     /* and the 300 x 300 sheet steps on the GPU (30 PCG iterations: llvmpipe is slow) */
     s->def.solver.max_iterations = 30;
