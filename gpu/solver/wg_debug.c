@@ -145,6 +145,8 @@ void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_cop
 
 double wg_sim_debug_rho(const wg_sim* g) { return g->rho_valid ? g->rho : 0.0; }
 
+long long wg_sim_debug_passes(const wg_sim* g) { return g->passes; }
+
 weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag) {
     float* lo = wc_calloc(&g->alloc, (size_t)g->nb * 4u, sizeof(float));
     float* hi = wc_calloc(&g->alloc, (size_t)g->nb * 2u, sizeof(float));

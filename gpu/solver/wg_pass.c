@@ -141,6 +141,7 @@ void wg_run(wg_sim* g, int count, const wg_tex* const* out, int n_out) {
     glUniform1i(wg_program_loc(g->prog, "u_shift"), g->shift);
     glBindVertexArray(g->dev->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    ++g->passes;
 }
 
 void wg_run_texel(wg_sim* g, const wg_tex* out, int x) {
@@ -152,6 +153,7 @@ void wg_run_texel(wg_sim* g, const wg_tex* out, int x) {
     glUniform1i(wg_program_loc(g->prog, "u_shift"), g->shift);
     glBindVertexArray(g->dev->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    ++g->passes;
 }
 
 int wg_chain_create(wg_sim* g, wg_chain* ch, int w, int h, char* err, size_t err_len) {

@@ -97,5 +97,8 @@ double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode);
  * with glFinish around them, and the bytes each moves (for the bandwidth ratio). */
 void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_copy, double* bytes_spmv,
                             double* bytes_copy);
+/* Passes (draws) run by this cloth since its creation: a step's fixed cost on a GPU is about
+ * passes x a per-pass cost (benchmarks difference it around a frame). */
+long long wg_sim_debug_passes(const wg_sim* g);
 
 #endif

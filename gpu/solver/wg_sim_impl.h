@@ -97,6 +97,7 @@ struct wg_sim {
     wg_tex r[2], c[2], t, q, part, rz;
     wg_tex sc[2][3];            /* PCG scalars, ping-pong */
     int sc_cur;
+    long long passes;           /* draws run (wg_run, wg_run_texel): wg_sim_debug_passes */
     wg_tex lanczos;             /* 32 x 1: (alpha, beta) per Lanczos step */
     wg_tex chk_p, chk_s, corr;
     wg_chain red_p[2], red_s;

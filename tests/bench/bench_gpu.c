@@ -130,8 +130,8 @@ int main(int argc, char** argv) {
            "GPU from GL timer queries%s.\n\n",
            wg_gl_context_description(gl), iterations, tolerance, frames, threads, dev->has_timer ? "" : " (unavailable here)");
     printf("| particles | CPU ms/frame | GPU ms/frame | CPU/GPU | GPU forces | assemble | solve | collide+integrate | "
-           "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB | GPU passes/frame |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     double bw[MAX_SIZES][6];
     int bw_n[MAX_SIZES];
     for (int k = 0; k < n_sizes; ++k) {
@@ -146,16 +146,18 @@ int main(int argc, char** argv) {
             fprintf(stderr, "bench_gpu: %d x %d: %s\n", n, n, d.message);
             return 1;
         }
-        double tc[MAX_FRAMES], tg[MAX_FRAMES], stage[4][MAX_FRAMES];
+        double tc[MAX_FRAMES], tg[MAX_FRAMES], stage[4][MAX_FRAMES], passes[MAX_FRAMES];
         wc_step_stats st, sc;
         memset(&sc, 0, sizeof sc);
         for (int f = 0; f <= frames; ++f) {
             double t0 = wc_now_ms();
             if (!skip_cpu) wc_step_frame(c, 1.0 / 30.0, &sc, &d);
             double t1 = wc_now_ms();
+            long long p0 = wg_sim_debug_passes(g);
             wg_sim_step_frame(g, s, 1.0 / 30.0, &st, &d);
             double t2 = wc_now_ms();
             if (f == 0) continue;
+            passes[f - 1] = (double)(wg_sim_debug_passes(g) - p0);
             tc[f - 1] = t1 - t0;
             tg[f - 1] = t2 - t1;
             stage[0][f - 1] = st.ms.forces;
@@ -167,10 +169,11 @@ int main(int argc, char** argv) {
         double e = 0.0;
         for (int i = 0; i < 3 * m.n_particles && !skip_cpu; ++i) e = fmax(e, fabs(s->x[i] - c->x[i]));
         double mc = skip_cpu ? NAN : wc_sort_median(tc, frames), mg = wc_sort_median(tg, frames);
-        printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2g | %.2g | %.2g | %.1f |\n", m.n_particles, mc,
+        printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2g | %.2g | %.2g | %.1f | %.0f |\n", m.n_particles, mc,
                mg, mc / mg, wc_sort_median(stage[0], frames), wc_sort_median(stage[1], frames),
                wc_sort_median(stage[2], frames), wc_sort_median(stage[3], frames), skip_cpu ? NAN : sc.residual,
-               st.residual, skip_cpu ? NAN : e, (double)wg_sim_gpu_bytes(g) / (1024.0 * 1024.0));
+               st.residual, skip_cpu ? NAN : e, (double)wg_sim_gpu_bytes(g) / (1024.0 * 1024.0),
+               wc_sort_median(passes, frames));
         fflush(stdout);
         bw_n[k] = m.n_particles;
         wg_sim_debug_bandwidth(g, 10, &bw[k][0], &bw[k][1], &bw[k][2], &bw[k][3]);
