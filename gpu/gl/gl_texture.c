@@ -33,9 +33,9 @@ size_t wg_tex_bytes(const wg_tex* t) {
 }
 
 /* Zeros into a new texture, on the GPU (a framebuffer clear: no upload). A texture's first
- * contents are undefined: Mesa gives zeros, NVIDIA's driver what its memory held before (seen:
- * NaN from another texture's data), and a pass that multiplies an unwritten texel by 0 then
- * makes NaN. Clears follow the scissor test and the colour mask: gl_state's known state has
+ * contents are undefined: Mesa gives zeros, NVIDIA's driver what its memory held before (on an
+ * H100: non-finite values, since 0 times them broke PCG's start), and a pass that multiplies an
+ * unwritten texel by 0 then makes NaN. Clears follow the scissor test and the colour mask: gl_state's known state has
  * the one off and the other open. */
 static void clear_zero(GLuint id, GLenum internal) {
     int is_int = 0;
