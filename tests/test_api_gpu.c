@@ -160,6 +160,17 @@ static void test_backend_choice(void) {
     if (saved) setenv("WEFT_EGL_DEVICE", saved, 1);
     else unsetenv("WEFT_EGL_DEVICE");
     free(saved);
+
+    /* WEFT_GPU_PASSES picks fragment or compute passes; anything else is refused by name */
+    const char* passes = getenv("WEFT_GPU_PASSES");
+    char* saved_passes = passes ? strdup(passes) : NULL;
+    setenv("WEFT_GPU_PASSES", "vertex", 1);
+    memset(&g_log, 0, sizeof g_log);
+    CHECK(make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS, WEFT_ERROR_GPU) == NULL);
+    CHECK(strstr(g_log.last, "WEFT_GPU_PASSES='vertex'") != NULL);
+    if (saved_passes) setenv("WEFT_GPU_PASSES", saved_passes, 1);
+    else unsetenv("WEFT_GPU_PASSES");
+    free(saved_passes);
 }
 
 static void test_direct_refused(void) {

@@ -27,11 +27,25 @@ static GLuint compile(GLenum type, const char* src, const char* name, char* err,
         char log[1024] = "";
         glGetShaderInfoLog(sh, sizeof log, NULL, log);
         wg_errorf(err, err_len, "GLSL %s shader '%s' does not compile: %s",
-                  type == GL_VERTEX_SHADER ? "vertex" : "fragment", name, log);
+                  type == GL_VERTEX_SHADER ? "vertex" : type == GL_COMPUTE_SHADER ? "compute" : "fragment", name, log);
         glDeleteShader(sh);
         return 0;
     }
     return sh;
+}
+
+/* Sampler uniforms t0..t15 to texture units 0..15. (The previous program is not put back: it may
+ * be one deleted while current, whose name dies as soon as another program is used; gpu/ sets its
+ * program before every draw and wg_gl_end restores a host's.) */
+static void bind_samplers(GLuint prog) {
+    glUseProgram(prog);
+    for (int k = 0; k < WG_PROGRAM_MAX_SAMPLERS; ++k) {
+        char tname[8];
+        snprintf(tname, sizeof tname, "t%d", k);
+        GLint loc = glGetUniformLocation(prog, tname);
+        if (loc >= 0) glUniform1i(loc, k);
+    }
+    glUseProgram(0);
 }
 
 int wg_program_build(wg_program* p, const char* name, const char* vs, const char* fs, char* err, size_t err_len) {
@@ -65,17 +79,30 @@ int wg_program_build(wg_program* p, const char* name, const char* vs, const char
         glDeleteProgram(prog);
         return 0;
     }
-    /* (the previous program is not put back: it may be one deleted while current, whose name
-       dies as soon as another program is used; gpu/ sets its program before every draw and
-       wg_gl_end restores a host's) */
-    glUseProgram(prog);
-    for (int k = 0; k < WG_PROGRAM_MAX_SAMPLERS; ++k) {
-        char tname[8];
-        snprintf(tname, sizeof tname, "t%d", k);
-        GLint loc = glGetUniformLocation(prog, tname);
-        if (loc >= 0) glUniform1i(loc, k);
+    bind_samplers(prog);
+    p->id = prog;
+    return 1;
+}
+
+int wg_program_build_compute(wg_program* p, const char* name, const char* cs, char* err, size_t err_len) {
+    memset(p, 0, sizeof *p);
+    p->name = name;
+    GLuint c = compile(GL_COMPUTE_SHADER, cs, name, err, err_len);
+    if (!c) return 0;
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, c);
+    glLinkProgram(prog);
+    glDeleteShader(c);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = "";
+        glGetProgramInfoLog(prog, sizeof log, NULL, log);
+        wg_errorf(err, err_len, "GLSL compute program '%s' does not link: %s", name, log);
+        glDeleteProgram(prog);
+        return 0;
     }
-    glUseProgram(0);
+    bind_samplers(prog);
     p->id = prog;
     return 1;
 }

@@ -23,6 +23,9 @@ typedef struct wg_program {
  * uniforms named t0..t15 to texture units 0..15. Leaves program 0 in use. Returns 1, or 0 with
  * the compiler's or linker's log in err. */
 int wg_program_build(wg_program* p, const char* name, const char* vs, const char* fs, char* err, size_t err_len);
+/* The same for one compute shader (GL 4.3): samplers t0..t15 to units 0..15, images by their
+ * own layout(binding). */
+int wg_program_build_compute(wg_program* p, const char* name, const char* cs, char* err, size_t err_len);
 void wg_program_destroy(wg_program* p);
 
 /* Location of a uniform (-1 when the program does not use it). name must outlive the program

@@ -7,6 +7,7 @@
 
 #include "gl_texture.h"
 #include "gpu_error.h"
+#include "wg_compute.h"
 
 typedef struct wg_shader_source {
     const char* name;
@@ -89,12 +90,23 @@ static int float_targets_work(wg_device* d, char* err, size_t err_len) {
     int ok = status == GL_FRAMEBUFFER_COMPLETE;
     float out[4] = {0, 0, 0, 0};
     if (ok) {
-        glViewport(0, 0, 1, 1);
         glUseProgram(d->prog[WGP_COPY].id);
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, a.id);
-        glBindVertexArray(d->vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
+        if (d->compute) {   /* the copy pass as the solver runs it: into an image */
+            GLuint prog = d->prog[WGP_COPY].id;
+            glUniform2i(glGetUniformLocation(prog, "u_wg_origin"), 0, 0);
+            glUniform2i(glGetUniformLocation(prog, "u_wg_size"), 1, 1);
+            glUniform1i(glGetUniformLocation(prog, "u_wg_nout"), 1);
+            glBindImageTexture(0, b.id, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        } else {
+            glViewport(0, 0, 1, 1);
+            glBindVertexArray(d->vao);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
         glReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, out);
         ok = memcmp(in, out, sizeof in) == 0;
         if (!ok)
@@ -125,6 +137,20 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     }
     memset(d, 0, sizeof *d);
     d->gl = gl;
+    const char* passes = getenv("WEFT_GPU_PASSES");
+    if (passes && strcmp(passes, "compute") == 0) {
+        if (!GLEW_VERSION_4_3) {
+            wg_errorf(err, err_len, "WEFT_GPU_PASSES=compute needs OpenGL 4.3 compute shaders; this context is %s",
+                      (const char*)glGetString(GL_VERSION));
+            wg_device_destroy(d);
+            return WEFT_ERROR_GPU;
+        }
+        d->compute = 1;
+    } else if (passes && *passes && strcmp(passes, "fragment") != 0) {
+        wg_errorf(err, err_len, "WEFT_GPU_PASSES='%.40s' is not 'fragment' or 'compute'", passes);
+        wg_device_destroy(d);
+        return WEFT_ERROR_GPU;
+    }
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         const char* body = shader_source(kPassNames[p]);
@@ -140,7 +166,15 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
             wg_errorf(err, err_len, "out of memory");
             return WEFT_ERROR_OUT_OF_MEMORY;
         }
-        int ok = wg_program_build(&d->prog[p], kPassNames[p], wg_fullscreen_vs, src, err, err_len);
+        int ok;
+        if (d->compute) {
+            char* cs = wg_compute_source(gl, src);
+            ok = cs && wg_program_build_compute(&d->prog[p], kPassNames[p], cs, err, err_len);
+            if (!cs) wg_errorf(err, err_len, "shader '%s': out of memory, or no #version line", kPassNames[p]);
+            wg_gl_free(gl, cs);
+        } else {
+            ok = wg_program_build(&d->prog[p], kPassNames[p], wg_fullscreen_vs, src, err, err_len);
+        }
         wg_gl_free(gl, src);
         if (!ok) {
             wg_device_destroy(d);

@@ -133,7 +133,28 @@ static GLuint fbo_for(wg_sim* g, const wg_tex* const* out, int n_out) {
     return fbo;
 }
 
+/* A compute pass (wg_compute.h): the outputs as images 0..n_out-1, one invocation per texel of
+ * the w x h rectangle at (x0, 0), then a barrier for whatever reads them next (texelFetch,
+ * read-backs, copies). */
+static void dispatch(wg_sim* g, int count, const wg_tex* const* out, int n_out, int x0, int w, int h) {
+    for (int j = 0; j < n_out; ++j)
+        glBindImageTexture((GLuint)j, out[j]->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out[j]->internal);
+    glUniform1i(wg_program_loc(g->prog, "u_n"), count);
+    glUniform1i(wg_program_loc(g->prog, "u_shift"), g->shift);
+    glUniform2i(wg_program_loc(g->prog, "u_wg_origin"), x0, 0);
+    glUniform2i(wg_program_loc(g->prog, "u_wg_size"), w, h);
+    glUniform1i(wg_program_loc(g->prog, "u_wg_nout"), n_out);
+    glDispatchCompute((GLuint)((w + 63) / 64), (GLuint)h, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    ++g->passes;
+}
+
 void wg_run(wg_sim* g, int count, const wg_tex* const* out, int n_out) {
+    if (g->dev->compute) {
+        dispatch(g, count, out, n_out, 0, out[0]->w, out[0]->h);
+        return;
+    }
     GLuint fbo = fbo_for(g, out, n_out);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glViewport(0, 0, out[0]->w, out[0]->h);
@@ -146,6 +167,10 @@ void wg_run(wg_sim* g, int count, const wg_tex* const* out, int n_out) {
 
 void wg_run_texel(wg_sim* g, const wg_tex* out, int x) {
     const wg_tex* const o[1] = {out};
+    if (g->dev->compute) {
+        dispatch(g, 1, o, 1, x, 1, 1);
+        return;
+    }
     GLuint fbo = fbo_for(g, o, 1);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
     glViewport(x, 0, 1, 1);

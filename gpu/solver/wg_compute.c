@@ -1,0 +1,100 @@
+/* Fragment-pass sources as compute shaders (see wg_compute.h). */
+#include "wg_compute.h"
+
+#include <stdio.h>
+#include <string.h>
+
+typedef struct text {
+    char* s;
+    size_t n, cap;
+} text;
+
+static void put(text* t, const char* p, size_t n) {
+    if (t->n + n + 1 > t->cap) return;   /* sized up front: never taken */
+    memcpy(t->s + t->n, p, n);
+    t->n += n;
+    t->s[t->n] = '\0';
+}
+
+static void puts_(text* t, const char* p) { put(t, p, strlen(p)); }
+
+/* q with every gl_FragCoord written as wg_frag_coord. */
+static void put_coord(text* t, const char* q) {
+    for (const char* f = strstr(q, "gl_FragCoord"); f; f = strstr(q, "gl_FragCoord")) {
+        put(t, q, (size_t)(f - q));
+        puts_(t, "wg_frag_coord");
+        q = f + strlen("gl_FragCoord");
+    }
+    puts_(t, q);
+}
+
+static const char kPrelude[] =
+    "#version 430 core\n"
+    "layout(local_size_x = 64, local_size_y = 1) in;\n"
+    "uniform ivec2 u_wg_origin;   // the first texel written (wg_run_texel: (x, 0))\n"
+    "uniform ivec2 u_wg_size;     // the texels written: the fragment path's viewport\n"
+    "uniform int u_wg_nout;       // the outputs bound (images 0 .. u_wg_nout - 1)\n"
+    "vec4 wg_frag_coord;          // what gl_FragCoord was\n";
+
+char* wg_compute_source(wg_gl_context* gl, const char* frag) {
+    const char* ver = strncmp(frag, "#version", 8) == 0 ? frag : strstr(frag, "\n#version");
+    if (!ver) return NULL;
+    if (ver != frag) ++ver;   /* the directive's line, not a comment that names it */
+    size_t len = strlen(frag), extra = 4096;
+    for (const char* p = strstr(frag, "gl_FragCoord"); p; p = strstr(p + 1, "gl_FragCoord")) extra += 1;
+    text t = {wg_gl_alloc(gl, len + extra), 0, len + extra};
+    if (!t.s) return NULL;
+    t.s[0] = '\0';
+    char kind[8] = {0};   /* per output k: 1 float, 2 vec2, 4 vec4; 0 none */
+    puts_(&t, kPrelude);   /* first: Mesa wants #version on line 1 (common.glsl's header comment is dropped) */
+    const char* p = strchr(ver, '\n');
+    p = p ? p + 1 : ver + strlen(ver);
+    while (*p) {
+        const char* e = strchr(p, '\n');
+        size_t n = e ? (size_t)(e - p) + 1 : strlen(p);
+        char line[512];
+        size_t m = n < sizeof line - 1 ? n : sizeof line - 1;
+        memcpy(line, p, m);
+        line[m] = '\0';
+        char type[8];
+        int k = -1;
+        if (strncmp(line, "out ", 4) == 0 && sscanf(line + 4, "%7s o%d;", type, &k) == 2 && k >= 0 && k < 8) {
+            kind[k] = (char)(strcmp(type, "vec4") == 0 ? 4 : strcmp(type, "vec2") == 0 ? 2 : 1);
+            put(&t, line + 4, strlen(line + 4));   /* a global: `vec4 o0;` */
+        } else if (strncmp(line, "void main()", 11) == 0) {
+            puts_(&t, "void wg_main()");
+            put_coord(&t, line + 11);
+        } else {
+            put_coord(&t, line);
+        }
+        p += n;
+    }
+    char buf[256];
+    for (int k = 0; k < 8; ++k)
+        if (kind[k]) {
+            snprintf(buf, sizeof buf, "\nlayout(binding = %d) writeonly uniform image2D wg_img%d;", k, k);
+            puts_(&t, buf);
+        }
+    puts_(&t, "\nvoid main() {\n"
+              "    ivec2 g = ivec2(gl_GlobalInvocationID.xy);\n"
+              "    if (g.x >= u_wg_size.x || g.y >= u_wg_size.y) return;\n"
+              "    ivec2 p = u_wg_origin + g;\n"
+              "    wg_frag_coord = vec4(vec2(p) + 0.5, 0.5, 1.0);\n");
+    static const char* const zero[5] = {"", "0.0", "vec2(0.0)", "", "vec4(0.0)"};
+    static const char* const widen[5] = {"", "vec4(o%d, 0.0, 0.0, 0.0)", "vec4(o%d, 0.0, 0.0)", "", "o%d"};
+    for (int k = 0; k < 8; ++k)
+        if (kind[k]) {
+            snprintf(buf, sizeof buf, "    o%d = %s;\n", k, zero[(int)kind[k]]);
+            puts_(&t, buf);
+        }
+    puts_(&t, "    wg_main();\n");
+    for (int k = 0; k < 8; ++k)
+        if (kind[k]) {
+            char v[32];
+            snprintf(v, sizeof v, widen[(int)kind[k]], k);
+            snprintf(buf, sizeof buf, "    if (u_wg_nout > %d) imageStore(wg_img%d, p, %s);\n", k, k, v);
+            puts_(&t, buf);
+        }
+    puts_(&t, "}\n");
+    return t.s;
+}

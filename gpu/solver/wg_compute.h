@@ -1,0 +1,21 @@
+/* The solver's passes as compute shaders (GL 4.3), from the same fragment-shader sources: on a
+ * compute part like the H100 a fragment pass reaches ~100-125 GB/s where a compute shader copies
+ * at 1.6-2.6 TB/s (docs/bench/gpu_h100.md). Chosen per device by WEFT_GPU_PASSES=compute
+ * (wg_device.h); the default stays the fragment passes.
+ *
+ * The transformation (wg_compute_source): the #version line becomes 430 with a 64 x 1 work
+ * group; gl_FragCoord becomes a global the generated main() sets from the invocation's texel;
+ * the `out` declarations (o0..o7) become globals, zeroed before the pass's own main (renamed
+ * wg_main) runs and then stored with imageStore into the images bound at units 0..7. wg_run
+ * dispatches one invocation per texel of the output (the fragment path's viewport) and puts a
+ * memory barrier after it, so the next pass's texelFetch sees the writes. */
+#ifndef WEFT_GPU_SOLVER_COMPUTE_H
+#define WEFT_GPU_SOLVER_COMPUTE_H
+
+#include "egl_context.h"
+
+/* The compute source of a composed pass source (common.glsl + body); an allocation of gl's (free
+ * with wg_gl_free), or NULL when out of memory or when the source has no #version line. */
+char* wg_compute_source(wg_gl_context* gl, const char* frag);
+
+#endif
