@@ -36,16 +36,23 @@ grep -q "probe: FAILED" "$O/0_probe.log" && [ -z "$SMALL" ] && exit 1
 } 2>&1 | tee "$O/a_info_tests.log"
 cat "$O"/t_*.txt > "$O/b_tests_full.log"; rm -f "$O"/t_*.txt
 if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,100,316; F=5; fi
-timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1 | tee "$O/c_bench_gpu_30it.md"
+# both kinds of passes (gpu/README.md "Compute-shader passes"), one after the other
+{ timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
+  echo; WEFT_GPU_PASSES=compute timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
+  echo; echo "--- GPU tests with compute passes"
+  for t in test_gpu_solver test_gpu_contacts test_api_gpu; do
+    WEFT_GPU_PASSES=compute timeout 150 build-dev/tests/$t > /tmp/tc.txt 2>&1; echo "$t (compute) rc=$?"; tail -3 /tmp/tc.txt
+  done; } 2>&1 | tee "$O/c_bench_gpu_30it.md"
 # the sample scenes: ms/frame on the GPU, on the CPU with the GPU's method, and the CPU at its defaults
 {
   echo "| scene | run | ms/frame median | solves | iterations mean | rollbacks | max strain |"; echo "|---|---|---|---|---|---|---|"
   FR=90; [ -n "$SMALL" ] && FR=3
   for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
     M="--precond block_jacobi --integrator be --newton 1 --line-search off"
-    for run in "gpu|--backend gpu $M --threads 1" "cpu-same-method-1t|--backend cpu $M --threads 1" "cpu-defaults-1t|--backend cpu --threads 1" "cpu-defaults-16t|--backend cpu --threads 16"; do
-      name=${run%%|*}; args=${run#*|}
-      timeout 120 build-dev/weft run sample_scenes/$sc.json --frames $FR --quiet --stats /tmp/st.json $args > /tmp/run.txt 2>&1 || { echo "| $sc | $name | FAILED rc=$? $(tail -c 300 /tmp/run.txt | tr '\n' ' ') |"; continue; }
+    for run in "gpu|--backend gpu $M --threads 1" "gpu-compute|--backend gpu $M --threads 1 --compute-env" "cpu-same-method-1t|--backend cpu $M --threads 1" "cpu-defaults-1t|--backend cpu --threads 1" "cpu-defaults-16t|--backend cpu --threads 16"; do
+      name=${run%%|*}; args=${run#*|}; envp=fragment
+      case "$args" in *--compute-env) args=${args% --compute-env}; envp=compute;; esac
+      WEFT_GPU_PASSES=$envp timeout 120 build-dev/weft run sample_scenes/$sc.json --frames $FR --quiet --stats /tmp/st.json $args > /tmp/run.txt 2>&1 || { echo "| $sc | $name | FAILED rc=$? $(tail -c 300 /tmp/run.txt | tr '\n' ' ') |"; continue; }
       python3 -c "import json,sys;s=json.load(open('/tmp/st.json'));it=s.get('iterations',{});print('| $sc | $name | %.2f | %s | %.1f | %s | %.4f |'%(s['ms_per_frame']['median'],s.get('solves'),it.get('mean',0),s.get('rollbacks'),s.get('max_strain',0)))"
     done
   done
