@@ -93,6 +93,20 @@ static float* vertices(weft_context* ctx, weft_cloth cloth, weft_space space, fl
 
 static int g_software = -1;   /* the GPU context's renderer is a software rasteriser */
 
+/* Set an environment variable for a check; returns its old value (NULL: unset) for env_restore. */
+static char* env_set(const char* name, const char* value) {
+    const char* old = getenv(name);
+    char* saved = old ? strdup(old) : NULL;
+    setenv(name, value, 1);
+    return saved;
+}
+
+static void env_restore(const char* name, char* saved) {
+    if (saved) setenv(name, saved, 1);
+    else unsetenv(name);
+    free(saved);
+}
+
 static void test_backend_choice(void) {
     memset(&g_log, 0, sizeof g_log);
     weft_context* gpu = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS, WEFT_OK);
@@ -129,9 +143,7 @@ static void test_backend_choice(void) {
     weft_context_destroy(fallback);
 
     /* WEFT_EGL_DEVICE still picks (or here, refuses) the headless device */
-    const char* old = getenv("WEFT_EGL_DEVICE");
-    char* saved = old ? strdup(old) : NULL;
-    setenv("WEFT_EGL_DEVICE", "no-such-device", 1);
+    char* saved = env_set("WEFT_EGL_DEVICE", "no-such-device");
     memset(&g_log, 0, sizeof g_log);
     CHECK(make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS, WEFT_ERROR_GPU) == NULL);
     CHECK(strstr(g_log.last, "no-such-device") != NULL);
@@ -157,20 +169,14 @@ static void test_backend_choice(void) {
         printf("no software device here: %s\n", g_log.last);
         CHECK(strstr(g_log.last, "EGL_MESA_device_software") != NULL);
     }
-    if (saved) setenv("WEFT_EGL_DEVICE", saved, 1);
-    else unsetenv("WEFT_EGL_DEVICE");
-    free(saved);
+    env_restore("WEFT_EGL_DEVICE", saved);
 
     /* WEFT_GPU_PASSES picks fragment or compute passes; anything else is refused by name */
-    const char* passes = getenv("WEFT_GPU_PASSES");
-    char* saved_passes = passes ? strdup(passes) : NULL;
-    setenv("WEFT_GPU_PASSES", "vertex", 1);
+    saved = env_set("WEFT_GPU_PASSES", "vertex");
     memset(&g_log, 0, sizeof g_log);
     CHECK(make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS, WEFT_ERROR_GPU) == NULL);
     CHECK(strstr(g_log.last, "WEFT_GPU_PASSES='vertex'") != NULL);
-    if (saved_passes) setenv("WEFT_GPU_PASSES", saved_passes, 1);
-    else unsetenv("WEFT_GPU_PASSES");
-    free(saved_passes);
+    env_restore("WEFT_GPU_PASSES", saved);
 }
 
 static void test_direct_refused(void) {

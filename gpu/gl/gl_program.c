@@ -48,6 +48,22 @@ static void bind_samplers(GLuint prog) {
     glUseProgram(0);
 }
 
+/* After glLinkProgram: the link's verdict (its log in err), then the samplers; p->id on success. */
+static int finish(wg_program* p, GLuint prog, const char* what, char* err, size_t err_len) {
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[1024] = "";
+        glGetProgramInfoLog(prog, sizeof log, NULL, log);
+        wg_errorf(err, err_len, "GLSL %s '%s' does not link: %s", what, p->name, log);
+        glDeleteProgram(prog);
+        return 0;
+    }
+    bind_samplers(prog);
+    p->id = prog;
+    return 1;
+}
+
 int wg_program_build(wg_program* p, const char* name, const char* vs, const char* fs, char* err, size_t err_len) {
     memset(p, 0, sizeof *p);
     p->name = name;
@@ -70,18 +86,7 @@ int wg_program_build(wg_program* p, const char* name, const char* vs, const char
     glLinkProgram(prog);
     glDeleteShader(v);
     glDeleteShader(f);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = "";
-        glGetProgramInfoLog(prog, sizeof log, NULL, log);
-        wg_errorf(err, err_len, "GLSL program '%s' does not link: %s", name, log);
-        glDeleteProgram(prog);
-        return 0;
-    }
-    bind_samplers(prog);
-    p->id = prog;
-    return 1;
+    return finish(p, prog, "program", err, err_len);
 }
 
 int wg_program_build_compute(wg_program* p, const char* name, const char* cs, char* err, size_t err_len) {
@@ -93,18 +98,7 @@ int wg_program_build_compute(wg_program* p, const char* name, const char* cs, ch
     glAttachShader(prog, c);
     glLinkProgram(prog);
     glDeleteShader(c);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[1024] = "";
-        glGetProgramInfoLog(prog, sizeof log, NULL, log);
-        wg_errorf(err, err_len, "GLSL compute program '%s' does not link: %s", name, log);
-        glDeleteProgram(prog);
-        return 0;
-    }
-    bind_samplers(prog);
-    p->id = prog;
-    return 1;
+    return finish(p, prog, "compute program", err, err_len);
 }
 
 void wg_program_destroy(wg_program* p) {
