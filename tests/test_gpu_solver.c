@@ -11,6 +11,7 @@
 #include "solver_impl.h"
 #include "step.h"
 #include "test_support.h"
+#include "wg_compute.h"
 #include "wg_sim.h"
 
 static wg_gl_context* gl;
@@ -412,6 +413,36 @@ static void test_direct_refused(void) {
     wc_model_free(&m);
 }
 
+/* wg_compute.c's transformation of a pass source, on an awkward one: a comment that names
+ * #version before the directive, a line longer than any fixed buffer, a vec2 output. */
+static void test_compute_source(void) {
+    char src[2048];
+    int at = snprintf(src, sizeof src,
+                      "// the #version line comes next\n#version 330 core\nuniform int u_n;\nout vec4 o0;\nout vec2 o1;\n"
+                      "void main() { float s = 0.0");
+    for (int k = 0; k < 60; ++k) at += snprintf(src + at, sizeof src - (size_t)at, " + gl_FragCoord.x");
+    snprintf(src + at, sizeof src - (size_t)at, "; o0 = vec4(s); o1 = vec2(gl_FragCoord.y); }\n");
+    char* cs = wg_compute_source(gl, src);
+    CHECK(cs != NULL);
+    if (!cs) return;
+    CHECK(strncmp(cs, "#version 430 core\n", 18) == 0);
+    CHECK(strstr(cs, "gl_FragCoord") == NULL);
+    CHECK(strstr(cs, "\nvec4 o0;") != NULL && strstr(cs, "\nvec2 o1;") != NULL);
+    CHECK(strstr(cs, "void wg_main() { float s = 0.0 + wg_frag_coord.x") != NULL);
+    CHECK(strstr(cs, "o1 = vec2(wg_frag_coord.y); }") != NULL);   /* the end of the 1000-character line */
+    CHECK(strstr(cs, "if (u_wg_nout > 1) imageStore(wg_img1, p, vec4(o1, 0.0, 0.0));") != NULL);
+    if (GLEW_VERSION_4_3) {   /* and it compiles */
+        wg_program prog;
+        char err[512] = "";
+        int ok = wg_program_build_compute(&prog, "test", cs, err, sizeof err);
+        if (!ok) printf("  %s\n", err);
+        CHECK(ok);
+        if (ok) wg_program_destroy(&prog);
+    }
+    wg_gl_free(gl, cs);
+    CHECK(wg_compute_source(gl, "void main() {}\n") == NULL);   /* no #version line */
+}
+
 int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
@@ -436,6 +467,7 @@ int main(void) {
     RUN_TEST(test_whole_run);
     RUN_TEST(test_texture_limit);
     RUN_TEST(test_direct_refused);
+    RUN_TEST(test_compute_source);
     wg_device_destroy(dev);
     wg_gl_end(gl);
     wg_gl_context_destroy(gl);

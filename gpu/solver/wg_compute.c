@@ -7,10 +7,14 @@
 typedef struct text {
     char* s;
     size_t n, cap;
+    int overflow;   /* sized up front, so never set; checked all the same */
 } text;
 
 static void put(text* t, const char* p, size_t n) {
-    if (t->n + n + 1 > t->cap) return;   /* sized up front: never taken */
+    if (t->n + n + 1 > t->cap) {
+        t->overflow = 1;
+        return;
+    }
     memcpy(t->s + t->n, p, n);
     t->n += n;
     t->s[t->n] = '\0';
@@ -34,7 +38,7 @@ static const char kPrelude[] =
     "uniform ivec2 u_wg_origin;   // the first texel written (wg_run_texel: (x, 0))\n"
     "uniform ivec2 u_wg_size;     // the texels written: the fragment path's viewport\n"
     "uniform int u_wg_nout;       // the outputs bound (images 0 .. u_wg_nout - 1)\n"
-    "vec4 wg_frag_coord;          // what gl_FragCoord was\n";
+    "vec4 wg_frag_coord;          // the fragment path's coordinate of this texel\n";
 
 char* wg_compute_source(wg_gl_context* gl, const char* frag) {
     const char* ver = strncmp(frag, "#version", 8) == 0 ? frag : strstr(frag, "\n#version");
@@ -42,33 +46,38 @@ char* wg_compute_source(wg_gl_context* gl, const char* frag) {
     if (ver != frag) ++ver;   /* the directive's line, not a comment that names it */
     size_t len = strlen(frag), extra = 4096;
     for (const char* p = strstr(frag, "gl_FragCoord"); p; p = strstr(p + 1, "gl_FragCoord")) extra += 1;
-    text t = {wg_gl_alloc(gl, len + extra), 0, len + extra};
-    if (!t.s) return NULL;
-    t.s[0] = '\0';
+    /* first the lines (out declarations, main's name) into body, then gl_FragCoord into t */
+    text body = {wg_gl_alloc(gl, len + 1), 0, len + 1, 0};
+    text t = {wg_gl_alloc(gl, len + extra), 0, len + extra, 0};
+    if (!body.s || !t.s) {
+        wg_gl_free(gl, body.s);
+        wg_gl_free(gl, t.s);
+        return NULL;
+    }
+    body.s[0] = t.s[0] = '\0';
     char kind[8] = {0};   /* per output k: 1 float, 2 vec2, 4 vec4; 0 none */
-    puts_(&t, kPrelude);   /* first: Mesa wants #version on line 1 (common.glsl's header comment is dropped) */
     const char* p = strchr(ver, '\n');
     p = p ? p + 1 : ver + strlen(ver);
     while (*p) {
         const char* e = strchr(p, '\n');
         size_t n = e ? (size_t)(e - p) + 1 : strlen(p);
-        char line[512];
-        size_t m = n < sizeof line - 1 ? n : sizeof line - 1;
-        memcpy(line, p, m);
-        line[m] = '\0';
         char type[8];
         int k = -1;
-        if (strncmp(line, "out ", 4) == 0 && sscanf(line + 4, "%7s o%d;", type, &k) == 2 && k >= 0 && k < 8) {
+        if (strncmp(p, "out ", 4) == 0 && sscanf(p + 4, "%7s o%d;", type, &k) == 2 && k >= 0 && k < 8) {
             kind[k] = (char)(strcmp(type, "vec4") == 0 ? 4 : strcmp(type, "vec2") == 0 ? 2 : 1);
-            put(&t, line + 4, strlen(line + 4));   /* a global: `vec4 o0;` */
-        } else if (strncmp(line, "void main()", 11) == 0) {
-            puts_(&t, "void wg_main()");
-            put_coord(&t, line + 11);
+            put(&body, p + 4, n - 4);   /* a global: `vec4 o0;` */
+        } else if (strncmp(p, "void main()", 11) == 0) {
+            puts_(&body, "void wg_main()");
+            put(&body, p + 11, n - 11);
         } else {
-            put_coord(&t, line);
+            put(&body, p, n);
         }
         p += n;
     }
+    puts_(&t, kPrelude);   /* first: Mesa wants #version on line 1 (common.glsl's header comment is dropped) */
+    put_coord(&t, body.s);
+    t.overflow |= body.overflow;
+    wg_gl_free(gl, body.s);
     char buf[256];
     for (int k = 0; k < 8; ++k)
         if (kind[k]) {
@@ -96,5 +105,9 @@ char* wg_compute_source(wg_gl_context* gl, const char* frag) {
             puts_(&t, buf);
         }
     puts_(&t, "}\n");
+    if (t.overflow) {
+        wg_gl_free(gl, t.s);
+        return NULL;
+    }
     return t.s;
 }
