@@ -5,18 +5,19 @@
 #include <stdio.h>
 
 #include "clock.h"
+#include "gl_program.h"
 
 static const char* const k_tex_src =
     "#version 430\n"
     "layout(local_size_x = 256) in;\n"
-    "uniform sampler2D src;\n"
+    "uniform sampler2D t0;   // unit 0 (wg_program_build_compute)\n"
     "layout(rgba32f, binding = 0) writeonly uniform image2D dst;\n"
     "uniform int u_n;\n"
     "void main() {\n"
     "    int i = int(gl_GlobalInvocationID.x);\n"
     "    if (i >= u_n) return;\n"
     "    ivec2 p = ivec2(i & 1023, i >> 10);\n"
-    "    imageStore(dst, p, texelFetch(src, p, 0));\n"
+    "    imageStore(dst, p, texelFetch(t0, p, 0));\n"
     "}\n";
 
 static const char* const k_buf_src =
@@ -29,28 +30,6 @@ static const char* const k_buf_src =
     "    int i = int(gl_GlobalInvocationID.x);\n"
     "    if (i < u_n) b[i] = a[i];\n"
     "}\n";
-
-static GLuint program(const char* src) {
-    GLuint sh = glCreateShader(GL_COMPUTE_SHADER), p = 0;
-    glShaderSource(sh, 1, &src, NULL);
-    glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (ok) {
-        p = glCreateProgram();
-        glAttachShader(p, sh);
-        glLinkProgram(p);
-        glGetProgramiv(p, GL_LINK_STATUS, &ok);
-        if (!ok) glDeleteProgram(p), p = 0;
-    }
-    if (!ok) {
-        char log[512] = "";
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        fprintf(stderr, "gpu_compute_copy: %s\n", log);
-    }
-    glDeleteShader(sh);
-    return p;
-}
 
 static double timed(GLuint prog, int n, int reps) {
     glUseProgram(prog);
@@ -70,12 +49,18 @@ static double timed(GLuint prog, int n, int reps) {
 int gpu_compute_copy(int n, int reps, double* ms_tex, double* ms_buf) {
     *ms_tex = *ms_buf = -1.0;
     if (!GLEW_VERSION_4_3 || n < 1 || reps < 1) return 0;
-    GLuint pt = program(k_tex_src), pb = program(k_buf_src);
-    if (!pt || !pb) {
-        if (pt) glDeleteProgram(pt);
-        if (pb) glDeleteProgram(pb);
+    wg_program prog_tex, prog_buf;
+    char err[512];
+    if (!wg_program_build_compute(&prog_tex, "copy (texture)", k_tex_src, err, sizeof err)) {
+        fprintf(stderr, "gpu_compute_copy: %s\n", err);
         return 0;
     }
+    if (!wg_program_build_compute(&prog_buf, "copy (buffer)", k_buf_src, err, sizeof err)) {
+        fprintf(stderr, "gpu_compute_copy: %s\n", err);
+        wg_program_destroy(&prog_tex);
+        return 0;
+    }
+    GLuint pt = prog_tex.id, pb = prog_buf.id;
     int w = n < 1024 ? n : 1024, h = (n + 1023) / 1024;
     GLuint tex[2], buf[2];
     glGenTextures(2, tex);
@@ -89,8 +74,6 @@ int gpu_compute_copy(int n, int reps, double* ms_tex, double* ms_buf) {
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, tex[0]);
     glBindImageTexture(0, tex[1], 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glUseProgram(pt);
-    glUniform1i(glGetUniformLocation(pt, "src"), 0);
     *ms_tex = timed(pt, n, reps);
     glGenBuffers(2, buf);
     for (int k = 0; k < 2; ++k) {
@@ -107,7 +90,7 @@ int gpu_compute_copy(int n, int reps, double* ms_tex, double* ms_buf) {
     glBindTexture(GL_TEXTURE_2D, 0);
     glDeleteTextures(2, tex);
     glUseProgram(0);
-    glDeleteProgram(pt);
-    glDeleteProgram(pb);
+    wg_program_destroy(&prog_tex);
+    wg_program_destroy(&prog_buf);
     return glGetError() == GL_NO_ERROR;
 }
