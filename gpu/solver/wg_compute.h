@@ -13,9 +13,15 @@
 #define WEFT_GPU_SOLVER_COMPUTE_H
 
 #include "egl_context.h"
+#include "gl_program.h"
+#include "gl_texture.h"
 
 /* The compute source of a composed pass source (common.glsl + body); an allocation of gl's (free
  * with wg_gl_free), or NULL when out of memory or when the source has no #version line. */
 char* wg_compute_source(wg_gl_context* gl, const char* frag);
+/* Run program p (in use, its inputs and own uniforms set) over the w x h texels at (x0, 0): the
+ * outputs as images 0..n_out-1, then the barrier for whatever reads them next (texelFetch,
+ * read-backs, copies). */
+void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int x0, int w, int h);
 
 #endif

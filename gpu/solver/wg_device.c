@@ -94,13 +94,8 @@ static int float_targets_work(wg_device* d, char* err, size_t err_len) {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, a.id);
         if (d->compute) {   /* the copy pass as the solver runs it: into an image */
-            GLuint prog = d->prog[WGP_COPY].id;
-            glUniform2i(glGetUniformLocation(prog, "u_wg_origin"), 0, 0);
-            glUniform2i(glGetUniformLocation(prog, "u_wg_size"), 1, 1);
-            glUniform1i(glGetUniformLocation(prog, "u_wg_nout"), 1);
-            glBindImageTexture(0, b.id, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glDispatchCompute(1, 1, 1);
-            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            const wg_tex* const out_b[1] = {&b};
+            wg_compute_dispatch(&d->prog[WGP_COPY], out_b, 1, 0, 1, 1);
             glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         } else {
             glViewport(0, 0, 1, 1);

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "gpu_error.h"
+#include "wg_compute.h"
 #include "wg_sim_impl.h"
 
 void wg_layout_size(const wg_sim* g, int count, int* w, int* h) {
@@ -133,20 +134,11 @@ static GLuint fbo_for(wg_sim* g, const wg_tex* const* out, int n_out) {
     return fbo;
 }
 
-/* A compute pass (wg_compute.h): the outputs as images 0..n_out-1, one invocation per texel of
- * the w x h rectangle at (x0, 0), then a barrier for whatever reads them next (texelFetch,
- * read-backs, copies). */
+/* A compute pass (wg_compute.h) over the w x h texels at (x0, 0). */
 static void dispatch(wg_sim* g, int count, const wg_tex* const* out, int n_out, int x0, int w, int h) {
-    for (int j = 0; j < n_out; ++j)
-        glBindImageTexture((GLuint)j, out[j]->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out[j]->internal);
     glUniform1i(wg_program_loc(g->prog, "u_n"), count);
     glUniform1i(wg_program_loc(g->prog, "u_shift"), g->shift);
-    glUniform2i(wg_program_loc(g->prog, "u_wg_origin"), x0, 0);
-    glUniform2i(wg_program_loc(g->prog, "u_wg_size"), w, h);
-    glUniform1i(wg_program_loc(g->prog, "u_wg_nout"), n_out);
-    glDispatchCompute((GLuint)((w + 63) / 64), (GLuint)h, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    wg_compute_dispatch(g->prog, out, n_out, x0, w, h);
     ++g->passes;
 }
 
