@@ -49,10 +49,12 @@ if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,
   FR=90; [ -n "$SMALL" ] && FR=3
   for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
     M="--precond block_jacobi --integrator be --newton 1 --line-search off"
-    for run in "gpu|--backend gpu $M --threads 1" "gpu-compute|--backend gpu $M --threads 1 --compute-env" "cpu-same-method-1t|--backend cpu $M --threads 1" "cpu-defaults-1t|--backend cpu --threads 1" "cpu-defaults-16t|--backend cpu --threads 16"; do
-      name=${run%%|*}; args=${run#*|}; envp=fragment
-      case "$args" in *--compute-env) args=${args% --compute-env}; envp=compute;; esac
-      WEFT_GPU_PASSES=$envp timeout 120 build-dev/weft run sample_scenes/$sc.json --frames $FR --quiet --stats /tmp/st.json $args > /tmp/run.txt 2>&1 || { echo "| $sc | $name | FAILED rc=$? $(tail -c 300 /tmp/run.txt | tr '\n' ' ') |"; continue; }
+    # name|WEFT_GPU_PASSES|weft run options
+    for run in "gpu|fragment|--backend gpu $M --threads 1" "gpu-compute|compute|--backend gpu $M --threads 1" \
+               "cpu-same-method-1t|fragment|--backend cpu $M --threads 1" "cpu-defaults-1t|fragment|--backend cpu --threads 1" \
+               "cpu-defaults-16t|fragment|--backend cpu --threads 16"; do
+      IFS='|' read -r name passes args <<< "$run"
+      WEFT_GPU_PASSES=$passes timeout 120 build-dev/weft run sample_scenes/$sc.json --frames $FR --quiet --stats /tmp/st.json $args > /tmp/run.txt 2>&1 || { echo "| $sc | $name | FAILED rc=$? $(tail -c 300 /tmp/run.txt | tr '\n' ' ') |"; continue; }
       python3 -c "import json,sys;s=json.load(open('/tmp/st.json'));it=s.get('iterations',{});print('| $sc | $name | %.2f | %s | %.1f | %s | %.4f |'%(s['ms_per_frame']['median'],s.get('solves'),it.get('mean',0),s.get('rollbacks'),s.get('max_strain',0)))"
     done
   done
