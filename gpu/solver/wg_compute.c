@@ -112,6 +112,13 @@ char* wg_compute_source(wg_gl_context* gl, const char* frag) {
     return t.s;
 }
 
+/* after a dispatch: its image writes visible to whatever reads them next (texelFetch, read-backs,
+   copies) */
+static void barrier_after(void) {
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+}
+
 void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int x0, int w, int h) {
     for (int j = 0; j < n_out; ++j)
         glBindImageTexture((GLuint)j, out[j]->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out[j]->internal);
@@ -119,6 +126,11 @@ void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int
     glUniform2i(wg_program_loc(p, "u_wg_size"), w, h);
     glUniform1i(wg_program_loc(p, "u_wg_nout"), n_out);
     glDispatchCompute((GLuint)((w + 63) / 64), (GLuint)h, 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+    barrier_after();
+}
+
+void wg_compute_dispatch_groups(const wg_tex* out, int groups) {
+    glBindImageTexture(0, out->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out->internal);
+    glDispatchCompute((GLuint)groups, 1, 1);
+    barrier_after();
 }

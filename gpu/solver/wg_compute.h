@@ -23,5 +23,8 @@ char* wg_compute_source(wg_gl_context* gl, const char* frag);
  * outputs as images 0..n_out-1, then the barrier for whatever reads them next (texelFetch,
  * read-backs, copies). */
 void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int x0, int w, int h);
+/* Run a native compute program in use (reduce_groups.glsl) as `groups` work groups, out as image
+ * 0, then the same barrier. */
+void wg_compute_dispatch_groups(const wg_tex* out, int groups);
 
 #endif

@@ -21,7 +21,7 @@ static const char* const kPassNames[WGP_COUNT] = {
     "check_particles", "check_springs", "reduce", "copy", "strain_springs", "strain_gather",
     "normals", "host_output", "lanczos_start", "transform", "copy_texel",
     "contact_begin", "contact_friction", "contact_recheck", "contact_end", "contact_project",
-    "contact_diag",
+    "contact_diag", "reduce_groups",
 };
 
 static const char* shader_source(const char* name) {
@@ -150,6 +150,13 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     for (int p = 0; p < WGP_COUNT; ++p) {
         const char* body = shader_source(kPassNames[p]);
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
+        if (p == WGP_REDUCE_GROUPS) {   /* a compute shader of its own, not a transformed fragment pass */
+            if (d->compute && !wg_program_build_compute(&d->prog[p], kPassNames[p], body, err, err_len)) {
+                wg_device_destroy(d);
+                return WEFT_ERROR_GPU;
+            }
+            continue;
+        }
         const char* missing = NULL;
         char* src = compose(gl, common ? common : "", body, &missing);
         if (!src) {

@@ -15,6 +15,7 @@ typedef enum wg_pass_id {
     WGP_NORMALS, WGP_HOST_OUTPUT, WGP_LANCZOS_START, WGP_TRANSFORM, WGP_COPY_TEXEL,
     WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
     WGP_CONTACT_DIAG,
+    WGP_REDUCE_GROUPS,          /* compute passes only: a native compute shader (reduce_groups.glsl) */
     WGP_COUNT
 } wg_pass_id;
 

@@ -173,9 +173,25 @@ void wg_run_texel(wg_sim* g, const wg_tex* out, int x) {
     ++g->passes;
 }
 
+/* Work groups of reduce_groups.glsl's first dispatch over `texels`: ~1024 texels a group (4 per
+   invocation), at most 1024 groups, so that the second dispatch (one group) has at most 1024. */
+static int reduce_groups(long long texels) {
+    long long k = (texels + 1023) / 1024;
+    return k < 1 ? 1 : k > 1024 ? 1024 : (int)k;
+}
+
 int wg_chain_create(wg_sim* g, wg_chain* ch, int w, int h, char* err, size_t err_len) {
-    (void)g;
     memset(ch, 0, sizeof *ch);
+    if (g->dev->compute) {   /* one or two dispatches: each level is as wide as its dispatch's groups */
+        int k = reduce_groups((long long)w * h);
+        if (k > 1) {
+            if (!wg_tex_create(&ch->level[0], GL_RGBA32F, k, 1, NULL, err, err_len)) return 0;
+            ++ch->n_levels;
+        }
+        if (!wg_tex_create(&ch->level[ch->n_levels], GL_RGBA32F, 1, 1, NULL, err, err_len)) return 0;
+        ++ch->n_levels;
+        return 1;
+    }
     do {
         w = (w + 7) / 8;
         h = (h + 7) / 8;
@@ -195,6 +211,20 @@ void wg_chain_destroy(wg_chain* ch) {
 }
 
 const wg_tex* wg_reduce(wg_sim* g, wg_chain* ch, const wg_tex* src, int m0, int m1, int m2, int m3) {
+    if (g->dev->compute) {
+        wg_use(g, WGP_REDUCE_GROUPS);
+        wg_u4i(g, "u_mode", m0, m1, m2, m3);
+        const wg_tex* in = src;
+        for (int k = 0; k < ch->n_levels; ++k) {
+            wg_in(g, 0, in);
+            wg_u2i(g, "u_in", in->w, in->h);
+            wg_u1i(g, "u_groups", ch->level[k].w);
+            wg_compute_dispatch_groups(&ch->level[k], ch->level[k].w);
+            ++g->passes;
+            in = &ch->level[k];
+        }
+        return in;
+    }
     wg_use(g, WGP_REDUCE);
     wg_u4i(g, "u_mode", m0, m1, m2, m3);
     const wg_tex* in = src;

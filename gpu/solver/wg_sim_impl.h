@@ -25,7 +25,9 @@ typedef struct wg_fbo_entry {
     GLuint tex[WG_MAX_OUT];
 } wg_fbo_entry;
 
-/* The levels of an 8 x 8 reduction of a w x h array down to one texel. */
+/* The levels of a reduction of a w x h array down to one texel: 8 x 8 blocks a level (fragment
+ * passes), or one or two dispatches of reduce_groups.glsl (compute passes: a level as wide as its
+ * dispatch's work groups). */
 typedef struct wg_chain {
     int n_levels;
     wg_tex level[WG_REDUCE_LEVELS];
