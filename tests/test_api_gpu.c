@@ -463,6 +463,7 @@ static void test_two_contexts(void) {
 typedef struct host_bindings {
     GLint draw_fbo, read_fbo, program, active_texture, tex[8], viewport[4], vao, array_buffer, pack_buffer,
         unpack_buffer, copy_read, copy_write, pack_alignment, renderbuffer;
+    GLint image[8], image_access[8], image_format[8];   /* image units (GL 4.2; compute passes write 0..7) */
 } host_bindings;
 
 static void record(host_bindings* h) {
@@ -485,6 +486,11 @@ static void record(host_bindings* h) {
     glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &h->copy_write);
     glGetIntegerv(GL_PACK_ALIGNMENT, &h->pack_alignment);
     glGetIntegerv(GL_RENDERBUFFER_BINDING, &h->renderbuffer);
+    for (int u = 0; GLEW_VERSION_4_2 && u < 8; ++u) {
+        glGetIntegeri_v(GL_IMAGE_BINDING_NAME, (GLuint)u, &h->image[u]);
+        glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, (GLuint)u, &h->image_access[u]);
+        glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, (GLuint)u, &h->image_format[u]);
+    }
 }
 
 static void compare(const host_bindings* a, const host_bindings* b, const char* when) {
@@ -507,6 +513,11 @@ static void compare(const host_bindings* a, const host_bindings* b, const char* 
     SAME(copy_write);
     SAME(pack_alignment);
     SAME(renderbuffer);
+    for (int u = 0; u < 8; ++u) {
+        SAME(image[u]);
+        SAME(image_access[u]);
+        SAME(image_format[u]);
+    }
 #undef SAME
 }
 
@@ -541,7 +552,10 @@ static void test_host_current(void) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)u);
         glBindTexture(GL_TEXTURE_2D, tex[u]);
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 4, 4, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        /* the host's images on the units the compute passes write */
+        if (GLEW_VERSION_4_2) glBindImageTexture((GLuint)u, tex[u], 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA8);
     }
+    CHECK(GLEW_VERSION_4_2);   /* llvmpipe's core context is 4.5, and so is every GPU we ran */
     glActiveTexture(GL_TEXTURE5);
     wg_program prog;
     memset(&prog, 0, sizeof prog);

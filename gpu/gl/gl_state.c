@@ -50,6 +50,16 @@ void wg_gl_state_save(wg_gl_saved_state* s) {
         glGetIntegerv(GL_TEXTURE_BINDING_2D, &s->texture_2d[u]);
     }
     glActiveTexture((GLenum)s->active_texture);
+    s->has_images = GLEW_VERSION_4_2 ? 1 : 0;
+    for (int u = 0; s->has_images && u < WG_GL_STATE_IMAGE_UNITS; ++u) {
+        wg_gl_image_binding* b = &s->image[u];
+        glGetIntegeri_v(GL_IMAGE_BINDING_NAME, (GLuint)u, &b->name);
+        glGetIntegeri_v(GL_IMAGE_BINDING_LEVEL, (GLuint)u, &b->level);
+        glGetIntegeri_v(GL_IMAGE_BINDING_LAYER, (GLuint)u, &b->layer);
+        glGetIntegeri_v(GL_IMAGE_BINDING_ACCESS, (GLuint)u, &b->access);
+        glGetIntegeri_v(GL_IMAGE_BINDING_FORMAT, (GLuint)u, &b->format);
+        glGetBooleani_v(GL_IMAGE_BINDING_LAYERED, (GLuint)u, &b->layered);
+    }
     glGetIntegerv(GL_VIEWPORT, s->viewport);
     glGetFloatv(GL_COLOR_CLEAR_VALUE, s->clear_color);
     glGetFloatv(GL_DEPTH_CLEAR_VALUE, &s->clear_depth);
@@ -92,6 +102,11 @@ void wg_gl_state_restore(const wg_gl_saved_state* s) {
         glBindTexture(GL_TEXTURE_2D, (GLuint)s->texture_2d[u]);
     }
     glActiveTexture((GLenum)s->active_texture);
+    for (int u = 0; s->has_images && u < WG_GL_STATE_IMAGE_UNITS; ++u) {
+        const wg_gl_image_binding* b = &s->image[u];
+        glBindImageTexture((GLuint)u, (GLuint)b->name, b->level, b->layered, b->layer, (GLenum)b->access,
+                           (GLenum)b->format);
+    }
     glViewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
     glClearColor(s->clear_color[0], s->clear_color[1], s->clear_color[2], s->clear_color[3]);
     glClearDepth(s->clear_depth);

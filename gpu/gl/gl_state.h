@@ -8,6 +8,12 @@
 
 #define WG_GL_STATE_MAX_ENABLES 28
 #define WG_GL_STATE_TEXTURE_UNITS 16   /* the units gpu/'s programs sample (t0..t15) */
+#define WG_GL_STATE_IMAGE_UNITS 8      /* the image units compute passes write (images 0..7) */
+
+typedef struct wg_gl_image_binding {
+    GLint name, level, layer, access, format;
+    GLboolean layered;
+} wg_gl_image_binding;
 
 typedef struct wg_gl_saved_state {
     GLint draw_fbo, read_fbo, renderbuffer, program, vao, array_buffer, pack_buffer;
@@ -15,6 +21,8 @@ typedef struct wg_gl_saved_state {
     GLint unpack_buffer, unpack_alignment, unpack_row_length, unpack_skip_rows, unpack_skip_pixels;
     GLint active_texture;
     GLint texture_2d[WG_GL_STATE_TEXTURE_UNITS];   /* 2D texture bound on units 0..15 */
+    int has_images;                                /* GL 4.2: image units saved */
+    wg_gl_image_binding image[WG_GL_STATE_IMAGE_UNITS];
     GLint viewport[4];
     GLfloat clear_color[4];
     GLfloat clear_depth;
