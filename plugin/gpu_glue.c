@@ -86,7 +86,7 @@ weft_status wa_gpu_context_init(weft_context* ctx, int only_hardware, int* softw
         return st;
     }
     ctx->device = dev;
-    snprintf(err, err_len, "%s%s", dev->renderer, dev->compute ? " (compute-shader passes)" : "");
+    snprintf(err, err_len, "%s%s", dev->renderer, dev->compute ? " (compute-shader passes)" : " (fragment-shader passes)");
     return WEFT_OK;
 }
 

@@ -132,6 +132,7 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     }
     memset(d, 0, sizeof *d);
     d->gl = gl;
+    /* compute passes where the context has GL 4.3, unless WEFT_GPU_PASSES says otherwise */
     const char* passes = getenv("WEFT_GPU_PASSES");
     if (passes && strcmp(passes, "compute") == 0) {
         if (!GLEW_VERSION_4_3) {
@@ -145,6 +146,8 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
         wg_errorf(err, err_len, "WEFT_GPU_PASSES='%.40s' is not 'fragment' or 'compute'", passes);
         wg_device_destroy(d);
         return WEFT_ERROR_GPU;
+    } else {
+        d->compute = !(passes && *passes) && GLEW_VERSION_4_3;
     }
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {

@@ -33,9 +33,10 @@ typedef struct wg_device {
 
 /* Compile every program and check that RGBA32F textures can be rendered into and read back
  * exactly (a context lacking float render targets is refused: WEFT_ERROR_GPU naming what is
- * missing). Inside wg_gl_begin. The passes are fragment shaders unless the environment sets
- * WEFT_GPU_PASSES=compute (GL 4.3 compute shaders from the same sources: wg_compute.h); any
- * other value, or compute on a context without GL 4.3, is WEFT_ERROR_GPU with a message. */
+ * missing). Inside wg_gl_begin. The passes are compute shaders made from the same sources
+ * (wg_compute.h) where the context has GL 4.3, fragment shaders rendering into FBOs elsewhere;
+ * the environment's WEFT_GPU_PASSES=fragment or =compute picks one. Any other value, or compute
+ * on a context without GL 4.3, is WEFT_ERROR_GPU with a message. */
 weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len);
 /* Inside wg_gl_begin (or with the context current). NULL is ignored. */
 void wg_device_destroy(wg_device* d);

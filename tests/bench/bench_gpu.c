@@ -8,7 +8,7 @@
  * with the step's checks off nothing rolls a bad step back), and the effective
  * bandwidth of the SpMV pass against a plain copy pass of the particle array.
  *
- *   [WEFT_GPU_PASSES=compute] bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--tolerance 0] [--threads 0]
+ *   [WEFT_GPU_PASSES=fragment|compute] bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--tolerance 0] [--threads 0]
  *             [--skip-cpu]
  * (--tolerance T > 0: PCG stops at T or the iteration cap, for the error of converged steps)
  *
@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
     printf("# GPU backend vs CPU backend\n\n%s; the passes are %s\n\nPCG, %d iterations per solve at most (tolerance %g), 1 "
            "substep of 1/30 s per frame, median of %d frames after one warm-up frame; CPU threads: %d (0 = OpenMP "
            "default). Stages of the GPU from GL timer queries%s.\n\n",
-           wg_gl_context_description(gl), dev->compute ? "compute shaders (WEFT_GPU_PASSES=compute)" : "fragment shaders",
+           wg_gl_context_description(gl), dev->compute ? "compute shaders" : "fragment shaders",
            iterations, tolerance, frames, threads, dev->has_timer ? "" : " (unavailable here)");
     printf("| particles | CPU ms/frame | GPU ms/frame | CPU/GPU | GPU forces | assemble | solve | collide+integrate | "
            "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB | GPU passes/frame |\n"
