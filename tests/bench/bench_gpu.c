@@ -185,11 +185,12 @@ int main(int argc, char** argv) {
         wc_model_free(&m);
     }
     printf("\n## SpMV pass against a copy pass (effective bandwidth; the ratio is the physical-limit measure)\n\n"
-           "The copy pass is the solver's (a fragment shader rendering into a texture); beside it the same copy by a "
-           "compute shader (GL 4.3: texture to image, and shader storage buffer to buffer; - where the context has "
-           "none), which tells how much of the device a fragment-shader pass reaches.\n\n"
+           "The copy pass is the solver's (%s); beside it the same copy by a hand-written compute shader (GL 4.3: "
+           "texture to image, and shader storage buffer to buffer; - where the context has none), which tells how "
+           "much of the device the solver's passes reach.\n\n"
            "| particles | SpMV ms | SpMV GB/s | copy ms | copy GB/s | SpMV / copy | compute copy, texture GB/s | "
-           "compute copy, buffer GB/s |\n|---|---|---|---|---|---|---|---|\n");
+           "compute copy, buffer GB/s |\n|---|---|---|---|---|---|---|---|\n",
+           dev->compute ? "a compute shader writing an image" : "a fragment shader rendering into a texture");
     for (int k = 0; k < n_sizes; ++k) {
         double gs = bw[k][2] / (bw[k][0] * 1e6), gc = bw[k][3] / (bw[k][1] * 1e6);
         printf("| %d | %.3f | %.2f | %.3f | %.2f | %.0f %% |", bw_n[k], bw[k][0], gs, bw[k][1], gc, 100.0 * gs / gc);

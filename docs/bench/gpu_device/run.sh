@@ -1,8 +1,10 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small]     (small: tiny sizes, to try the script on llvmpipe)
-O=${1:-/tmp/out}; SMALL=${2:-}
+#   bash .dev/run.sh OUTDIR [small|gpu]
+# small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
+# sample scenes, converged bench without its CPU columns), to fit a short lease.
+O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
 tar xJf .dev/libs.tar.xz -C .dev && tar xJf .dev/bins.tar.xz && mkdir -p build-dev/tests/tmp
@@ -36,12 +38,13 @@ grep -q "probe: FAILED" "$O/0_probe.log" && [ -z "$SMALL" ] && exit 1
 } 2>&1 | tee "$O/a_info_tests.log"
 cat "$O"/t_*.txt > "$O/b_tests_full.log"; rm -f "$O"/t_*.txt
 if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,100,316; F=5; fi
-# both kinds of passes (gpu/README.md "Compute-shader passes"), one after the other
-{ timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
+# both kinds of passes (gpu/README.md "Compute-shader passes"; compute is the default on GL 4.3),
+# one after the other
+{ WEFT_GPU_PASSES=fragment timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
   echo; WEFT_GPU_PASSES=compute timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
-  echo; echo "--- GPU tests with compute passes"
+  echo; echo "--- GPU tests with fragment passes"
   for t in test_gpu_solver test_gpu_contacts test_api_gpu; do
-    WEFT_GPU_PASSES=compute timeout 150 build-dev/tests/$t > /tmp/tc.txt 2>&1; echo "$t (compute) rc=$?"; tail -3 /tmp/tc.txt
+    WEFT_GPU_PASSES=fragment timeout 150 build-dev/tests/$t > /tmp/tc.txt 2>&1; echo "$t (fragment) rc=$?"; tail -3 /tmp/tc.txt
   done; } 2>&1 | tee "$O/c_bench_gpu_30it.md"
 # the sample scenes: ms/frame on the GPU, on the CPU with the GPU's method, and the CPU at its defaults
 {
@@ -50,9 +53,10 @@ if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,
   for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
     M="--precond block_jacobi --integrator be --newton 1 --line-search off"
     # name|WEFT_GPU_PASSES|weft run options
-    for run in "gpu|fragment|--backend gpu $M --threads 1" "gpu-compute|compute|--backend gpu $M --threads 1" \
+    for run in "gpu-fragment|fragment|--backend gpu $M --threads 1" "gpu-compute|compute|--backend gpu $M --threads 1" \
                "cpu-same-method-1t|fragment|--backend cpu $M --threads 1" "cpu-defaults-1t|fragment|--backend cpu --threads 1" \
                "cpu-defaults-16t|fragment|--backend cpu --threads 16"; do
+      [ "$MODE" = gpu ] && [ "${run#cpu}" != "$run" ] && continue
       IFS='|' read -r name passes args <<< "$run"
       WEFT_GPU_PASSES=$passes timeout 120 build-dev/weft run sample_scenes/$sc.json --frames $FR --quiet --stats /tmp/st.json $args > /tmp/run.txt 2>&1 || { echo "| $sc | $name | FAILED rc=$? $(tail -c 300 /tmp/run.txt | tr '\n' ' ') |"; continue; }
       python3 -c "import json,sys;s=json.load(open('/tmp/st.json'));it=s.get('iterations',{});print('| $sc | $name | %.2f | %s | %.1f | %s | %.4f |'%(s['ms_per_frame']['median'],s.get('solves'),it.get('mean',0),s.get('rollbacks'),s.get('max_strain',0)))"
@@ -60,6 +64,12 @@ if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,
   done
 } 2>&1 | tee "$O/d_scenes.md"
 PS=sheet100,sheet64; PF=30; [ -n "$SMALL" ] && PS=sheet16 && PF=3
-timeout 400 build-dev/weft bench peers --backend gpu --scenes $PS --substeps 1,2,4 --preconds block_jacobi --newton 1 --threads 1 --frames $PF --md "$O/e_peers.md" 2>&1 | tail -30
-timeout 200 build-dev/tests/bench/bench_gpu --sizes $SZC --frames 3 --tolerance 1e-4 --iterations 3000 2>&1 | tee "$O/f_bench_gpu_converged.md"
+for passes in compute fragment; do
+  WEFT_GPU_PASSES=$passes timeout 400 build-dev/weft bench peers --backend gpu --scenes $PS --substeps 1,2,4 --preconds block_jacobi --newton 1 --threads 1 --frames $PF --md "$O/e_peers_$passes.md" 2>&1 | tail -30
+done
+SKIP=; [ "$MODE" = gpu ] && SKIP=--skip-cpu
+for passes in compute fragment; do
+  echo "WEFT_GPU_PASSES=$passes"
+  WEFT_GPU_PASSES=$passes timeout 200 build-dev/tests/bench/bench_gpu --sizes $SZC --frames 3 --tolerance 1e-4 --iterations 3000 $SKIP 2>&1
+done | tee "$O/f_bench_gpu_converged.md"
 echo done
