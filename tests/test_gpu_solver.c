@@ -111,6 +111,20 @@ static void test_assembly_and_spmv(void) {
     double es = max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
     printf("  SpMV relative error %.2e\n", es);
     CHECK(es < 1e-5);
+    if (dev->compute) {
+        /* the compute SpMV's 3 work groups in rows of one (the 2D dispatch of a cloth past
+           65535 groups, ~4M particles), on a new x (rows the dispatch missed would keep the
+           last product) */
+        int keep = dev->max_groups_x;
+        dev->max_groups_x = 1;
+        for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
+        CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
+        wc_bsr_mul(&m.pattern, s->A, x, yc, &s->par);
+        double e2 = max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
+        printf("  SpMV in a 2D dispatch (groups in rows of 1): relative error %.2e\n", e2);
+        CHECK(e2 < 1e-5);
+        dev->max_groups_x = keep;
+    }
     free(A), free(b), free(S), free(z), free(ndof), free(x), free(y), free(yc);
     wg_sim_destroy(g);
     wc_state_destroy(s);

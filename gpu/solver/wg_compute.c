@@ -119,6 +119,34 @@ static void barrier_after(void) {
                     GL_TEXTURE_UPDATE_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
 }
 
+/* s after its #version line (s itself when it has none) */
+static const char* after_version(const char* s) {
+    const char* v = strncmp(s, "#version", 8) == 0 ? s : strstr(s, "\n#version");
+    if (!v) return s;
+    const char* e = strchr(v + 1, '\n');
+    return e ? e + 1 : v + strlen(v);
+}
+
+char* wg_compute_native_source(wg_gl_context* gl, const char* common, const char* body) {
+    static const char kHead[] = "#version 430 core\nvec4 wg_frag_coord;   // common.glsl's gl_FragCoord (unused here)\n";
+    common = after_version(common);
+    body = after_version(body);
+    size_t n = strlen(kHead) + strlen(common) + strlen(body) + 2;
+    for (const char* p = strstr(common, "gl_FragCoord"); p; p = strstr(p + 1, "gl_FragCoord")) n += 1;
+    text t = {wg_gl_alloc(gl, n), 0, n, 0};
+    if (!t.s) return NULL;
+    t.s[0] = '\0';
+    puts_(&t, kHead);
+    put_coord(&t, common);
+    puts_(&t, "\n");
+    puts_(&t, body);
+    if (t.overflow) {
+        wg_gl_free(gl, t.s);
+        return NULL;
+    }
+    return t.s;
+}
+
 void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int x0, int w, int h) {
     for (int j = 0; j < n_out; ++j)
         glBindImageTexture((GLuint)j, out[j]->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out[j]->internal);
@@ -129,8 +157,14 @@ void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int
     barrier_after();
 }
 
-void wg_compute_dispatch_groups(const wg_tex* out, int groups) {
+void wg_compute_dispatch_groups(const wg_tex* out, int groups, int max_x) {
     glBindImageTexture(0, out->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out->internal);
-    glDispatchCompute((GLuint)groups, 1, 1);
+    /* past max_x groups along x (GL guarantees 65535): rows of max_x (the shader's linear group
+       id is y * max_x + x; the last row's surplus groups find no texel) */
+    const int X = max_x > 0 ? max_x : 65535;
+    if (groups <= X)
+        glDispatchCompute((GLuint)groups, 1, 1);
+    else
+        glDispatchCompute((GLuint)X, (GLuint)((groups + X - 1) / X), 1);
     barrier_after();
 }

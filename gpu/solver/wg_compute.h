@@ -20,12 +20,18 @@
 /* The compute source of a composed pass source (common.glsl + body); an allocation of gl's (free
  * with wg_gl_free), or NULL when out of memory or when the source has no #version line. */
 char* wg_compute_source(wg_gl_context* gl, const char* frag);
+/* A native compute shader's source (a body written as a compute shader, like reduce_groups.glsl
+ * or spmv_groups.glsl): #version 430, then common.glsl without its #version line (its
+ * gl_FragCoord a dummy global), then the body without its own #version line. An allocation of
+ * gl's, or NULL when out of memory. */
+char* wg_compute_native_source(wg_gl_context* gl, const char* common, const char* body);
 /* Run program p (in use, its inputs and own uniforms set) over the w x h texels at (x0, 0): the
  * outputs as images 0..n_out-1, then the barrier for whatever reads them next (texelFetch,
  * read-backs, copies). */
 void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int x0, int w, int h);
-/* Run a native compute program in use (reduce_groups.glsl) as `groups` work groups, out as image
+/* Run a native compute program in use (reduce_groups.glsl, spmv_groups.glsl) as `groups` work
+ * groups (in rows of max_x past max_x of them: the shader counts groups linearly), out as image
  * 0, then the same barrier. */
-void wg_compute_dispatch_groups(const wg_tex* out, int groups);
+void wg_compute_dispatch_groups(const wg_tex* out, int groups, int max_x);
 
 #endif

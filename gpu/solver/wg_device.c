@@ -21,7 +21,7 @@ static const char* const kPassNames[WGP_COUNT] = {
     "check_particles", "check_springs", "reduce", "copy", "strain_springs", "strain_gather",
     "normals", "host_output", "lanczos_start", "transform", "copy_texel",
     "contact_begin", "contact_friction", "contact_recheck", "contact_end", "contact_project",
-    "contact_diag", "reduce_groups",
+    "contact_diag", "reduce_groups", "spmv_groups",
 };
 
 static const char* shader_source(const char* name) {
@@ -153,8 +153,13 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     for (int p = 0; p < WGP_COUNT; ++p) {
         const char* body = shader_source(kPassNames[p]);
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
-        if (p == WGP_REDUCE_GROUPS) {   /* a compute shader of its own, not a transformed fragment pass */
-            if (d->compute && !wg_program_build_compute(&d->prog[p], kPassNames[p], body, err, err_len)) {
+        if (p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS) {   /* compute shaders of their own */
+            if (!d->compute) continue;
+            char* cs = wg_compute_native_source(gl, common ? common : "", body);
+            int ok = cs && wg_program_build_compute(&d->prog[p], kPassNames[p], cs, err, err_len);
+            if (!cs) wg_errorf(err, err_len, "shader '%s': out of memory", kPassNames[p]);
+            wg_gl_free(gl, cs);
+            if (!ok) {
                 wg_device_destroy(d);
                 return WEFT_ERROR_GPU;
             }
@@ -186,6 +191,7 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
             return WEFT_ERROR_GPU;
         }
     }
+    if (d->compute) glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &d->max_groups_x);
     glGenVertexArrays(1, &d->vao);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &d->max_texture_size);
     glGetIntegerv(GL_MAX_DRAW_BUFFERS, &d->max_draw_buffers);

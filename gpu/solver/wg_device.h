@@ -15,7 +15,7 @@ typedef enum wg_pass_id {
     WGP_NORMALS, WGP_HOST_OUTPUT, WGP_LANCZOS_START, WGP_TRANSFORM, WGP_COPY_TEXEL,
     WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
     WGP_CONTACT_DIAG,
-    WGP_REDUCE_GROUPS,          /* compute passes only: a native compute shader (reduce_groups.glsl) */
+    WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
     WGP_COUNT
 } wg_pass_id;
 
@@ -28,6 +28,8 @@ typedef struct wg_device {
     int software;               /* 1 on a software rasteriser (llvmpipe, softpipe, swrast) */
     int has_timer;              /* GL_TIMESTAMP queries work */
     int compute;                /* the passes are compute shaders (wg_compute.h), not fragment shaders */
+    int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
+                                   wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];
 } wg_device;
 

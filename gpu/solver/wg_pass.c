@@ -157,6 +157,13 @@ void wg_run(wg_sim* g, int count, const wg_tex* const* out, int n_out) {
     ++g->passes;
 }
 
+void wg_run_groups(wg_sim* g, int count, const wg_tex* out, int groups) {
+    glUniform1i(wg_program_loc(g->prog, "u_n"), count);
+    glUniform1i(wg_program_loc(g->prog, "u_shift"), g->shift);
+    wg_compute_dispatch_groups(out, groups, g->dev->max_groups_x);
+    ++g->passes;
+}
+
 void wg_run_texel(wg_sim* g, const wg_tex* out, int x) {
     const wg_tex* const o[1] = {out};
     if (g->dev->compute) {
@@ -219,8 +226,7 @@ const wg_tex* wg_reduce(wg_sim* g, wg_chain* ch, const wg_tex* src, int m0, int 
             wg_in(g, 0, in);
             wg_u2i(g, "u_in", in->w, in->h);
             wg_u1i(g, "u_groups", ch->level[k].w);
-            wg_compute_dispatch_groups(&ch->level[k], ch->level[k].w);
-            ++g->passes;
+            wg_run_groups(g, 1, &ch->level[k], ch->level[k].w);
             in = &ch->level[k];
         }
         return in;

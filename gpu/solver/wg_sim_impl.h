@@ -151,6 +151,9 @@ void wg_umat3(wg_sim* g, const char* name, const double* row_major);
 /* Draw the program in use into the outputs (same size), one fragment per texel; count = items
  * of the output array (u_n). */
 void wg_run(wg_sim* g, int count, const wg_tex* const* out, int n_out);
+/* Compute passes only: dispatch the native compute program in use (*_groups.glsl) as `groups`
+ * work groups writing out (image 0); count = items (u_n). */
+void wg_run_groups(wg_sim* g, int count, const wg_tex* out, int groups);
 /* Draw the program in use into texel (x, 0) of out only. */
 void wg_run_texel(wg_sim* g, const wg_tex* out, int x);
 #define WG_RUN(g, count, ...) \

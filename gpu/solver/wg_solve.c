@@ -54,7 +54,7 @@ static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
 }
 
 void wg_spmv(wg_sim* g, const wg_tex* x, int filter) {
-    wg_use(g, WGP_SPMV);
+    wg_use(g, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV);
     wg_in(g, 0, &g->pblocks);
     wg_in(g, 1, &g->block);
     wg_in(g, 2, &g->A0);
@@ -63,6 +63,12 @@ void wg_spmv(wg_sim* g, const wg_tex* x, int filter) {
     wg_in(g, 5, &g->S0);
     wg_in(g, 6, &g->S1);
     wg_u1i(g, "u_filter", filter);
+    if (g->dev->compute) {   /* spmv_groups.glsl: 4 invocations a row, 256 a group */
+        long long texels = (long long)g->q.w * g->q.h;
+        wg_u1i(g, "u_texels", (int)texels);
+        wg_run_groups(g, g->n, &g->q, (int)((4 * texels + 255) / 256));
+        return;
+    }
     WG_RUN(g, g->n, &g->q);
 }
 

@@ -1,0 +1,47 @@
+#version 430 core
+// spmv.glsl as a compute shader of its own (built only where the passes are compute shaders:
+// wg_device.c; wg_spmv runs it there): the same q = A x (with u_filter, q = S (A x) and w = x.q),
+// but 4 invocations a row (CSR-vector) instead of one. Lane l of row i takes the row's blocks
+// start + l, start + l + 4, ...: neighbouring invocations read neighbouring blocks (coalesced),
+// where one invocation a row reads blocks ~13 apart from its neighbours. The lanes' partial sums
+// meet in shared memory; lane 0 writes the texel. Texels past u_n (to the texture's end, u_texels)
+// are written as zeros, as every pass does.
+layout(local_size_x = 256, local_size_y = 1) in;
+uniform isampler2D t0;  // particle blocks (row start, row end, diagonal block, -)
+uniform isampler2D t1;  // block (row, column, -, -)
+uniform sampler2D t2;   // A lo
+uniform sampler2D t3;   // A hi
+uniform sampler2D t4;   // x
+uniform sampler2D t5;   // S0
+uniform sampler2D t6;   // S1
+uniform int u_filter;
+uniform int u_texels;
+layout(binding = 0) writeonly uniform image2D wg_img0;
+shared vec3 part[256];
+
+void main() {
+    int t = int(gl_LocalInvocationID.x), lane = t & 3;
+    int group = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);   // 2D past 65535 groups
+    int i = (256 * group + t) >> 2;
+    vec3 y = vec3(0.0);
+    if (i < u_n) {
+        ivec4 r = ldi(t0, i);
+        for (int k = r.x + lane; k < r.y; k += 4) y += sym(ld(t2, k), ld(t3, k).xy) * ld(t4, ldi(t1, k).y).xyz;
+    }
+    part[t] = y;
+    memoryBarrierShared();
+    barrier();
+    if (lane == 0 && i < u_texels) {
+        vec4 o = vec4(0.0);
+        if (i < u_n) {
+            y = (part[t] + part[t + 1]) + (part[t + 2] + part[t + 3]);
+            if (u_filter != 0) {
+                y = filter_apply(ld(t5, i), ld(t6, i), y);
+                o = vec4(y, dot(ld(t4, i).xyz, y));
+            } else {
+                o = vec4(y, 0.0);
+            }
+        }
+        imageStore(wg_img0, tc(i), o);
+    }
+}
