@@ -1,9 +1,10 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
-# sample scenes, converged bench without its CPU columns), to fit a short lease.
+# sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
+# default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -22,6 +23,21 @@ probe() { timeout 60 build-dev/tests/bench/bench_gpu --sizes 8 --frames 1 --skip
   grep -i "egl\|opengl" /tmp/probe.txt | head -3
 } 2>&1 | tee "$O/0_probe.log"
 grep -q "probe: FAILED" "$O/0_probe.log" && [ -z "$SMALL" ] && exit 1
+if [ "$MODE" = quick ]; then   # what fits the last minutes of a lease: the default passes only
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    timeout 120 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 5 2>&1
+    for t in test_gpu_solver test_gpu_contacts test_api_gpu; do
+      timeout 60 build-dev/tests/$t > /tmp/tc.txt 2>&1; echo "$t rc=$?"; grep -i "spmv\|fail\|checks" /tmp/tc.txt | head -5
+    done
+    M="--backend gpu --precond block_jacobi --integrator be --newton 1 --line-search off --threads 1"
+    for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
+      timeout 30 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json $M > /dev/null 2>&1 &&
+      python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | %.2f | %s | %.1f | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('rollbacks')))"
+    done
+    timeout 60 build-dev/weft bench peers --backend gpu --scenes sheet100 --substeps 1,2 --preconds block_jacobi --newton 1 --threads 1 --frames 30 --md "$O/e_peers.md" > /dev/null 2>&1
+    grep "^| sheet100 | 10000" "$O/e_peers.md"; } 2>&1 | tee "$O/q_quick.md"
+  exit 0
+fi
 {
   date; uname -a; nproc; free -g | head -2
   nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv 2>&1
