@@ -1,21 +1,47 @@
 // Per particle: the start vector of the Lanczos estimate of Chebyshev's rho (core/solve_rho.c):
-// r = S g, g a fixed pseudo-random vector in [-0.5, 0.5)^3 (a 32-bit integer hash of the index;
-// core uses splitmix64, which GLSL 3.30 cannot: another start vector, the same estimate).
+// r = S g, g a fixed pseudo-random vector in [-0.5, 0.5)^3, component k of particle i
+// core's start_value(3 i + k): splitmix64, here in 32-bit halves (GLSL 3.30 has no 64-bit
+// integers), so both backends start from the same vector to float rounding. The estimate's
+// extrapolation of lambda_min is sensitive to the start vector: with another one (a 32-bit
+// hash, before) the drape system of test_gpu_solver gave rho 0.9995 on both backends where
+// core's start gives 0.998119, and Chebyshev took 240 iterations instead of 130.
 // w = r.r, for the |g| that starts the recorded CG steps (wg_solve.c).
 uniform sampler2D t0;   // S0
 uniform sampler2D t1;   // S1
 out vec4 o0;
 
-float h01(uint x) {
-    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-    return float(x >> 8) * (1.0 / 16777216.0) - 0.5;
+// 64-bit unsigned integers as uvec2(high, low)
+uvec2 add64(uvec2 a, uvec2 b) {
+    uint lo = a.y + b.y;
+    return uvec2(a.x + b.x + (lo < a.y ? 1u : 0u), lo);
+}
+uvec2 mul32(uint a, uint b) {   // the full 64-bit product, by 16-bit halves
+    uint a0 = a & 0xFFFFu, a1 = a >> 16, b0 = b & 0xFFFFu, b1 = b >> 16;
+    uint p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0, p11 = a1 * b1;
+    uint mid = (p00 >> 16) + (p01 & 0xFFFFu) + (p10 & 0xFFFFu);
+    return uvec2(p11 + (p01 >> 16) + (p10 >> 16) + (mid >> 16), (p00 & 0xFFFFu) | (mid << 16));
+}
+uvec2 mul64(uvec2 a, uvec2 b) {   // modulo 2^64
+    uvec2 p = mul32(a.y, b.y);
+    return uvec2(p.x + a.x * b.y + a.y * b.x, p.y);
+}
+uvec2 xor_shr(uvec2 z, int s) {   // z ^ (z >> s), 0 < s < 32
+    return z ^ uvec2(z.x >> s, (z.y >> s) | (z.x << (32 - s)));
+}
+
+float start_value(uint k) {
+    uvec2 z = add64(uvec2(0u, k), uvec2(0x9E3779B9u, 0x7F4A7C15u));
+    z = mul64(xor_shr(z, 30), uvec2(0xBF58476Du, 0x1CE4E5B9u));
+    z = mul64(xor_shr(z, 27), uvec2(0x94D049BBu, 0x133111EBu));
+    z = xor_shr(z, 31);
+    return float(z.x >> 8) * (1.0 / 16777216.0) - 0.5;   // (z >> 11) / 2^53 - 0.5 to float
 }
 
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
     uint k = uint(3 * i);
-    vec3 g = vec3(h01(k + 0x9E3779B9u), h01(k + 1u + 0x9E3779B9u), h01(k + 2u + 0x9E3779B9u));
+    vec3 g = vec3(start_value(k), start_value(k + 1u), start_value(k + 2u));
     vec3 r = filter_apply(ld(t0, i), ld(t1, i), g);
     o0 = vec4(r, dot(r, r));
 }
