@@ -62,6 +62,16 @@ static wc_state* hanging(wc_model* m, int n, wc_solver_type solver, int warm) {
     return sheet_state(m, n, solver, warm, 1);
 }
 
+/* The GPU's q = A x for a fresh random x against core's product with the CPU's A (relative). */
+static double spmv_error(wg_sim* g, const wc_model* m, wc_state* s, double* x, double* y, double* yc) {
+    int n = m->n_particles;
+    wc_diag d = {0};
+    for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
+    CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
+    wc_bsr_mul(&m->pattern, s->A, x, yc, &s->par);
+    return max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
+}
+
 static void test_assembly_and_spmv(void) {
     wc_model m;
     wc_state* s = hanging(&m, 13, WC_SOLVER_PCG, 5);
@@ -105,10 +115,7 @@ static void test_assembly_and_spmv(void) {
     double* y = calloc((size_t)n * 3, sizeof(double));
     double* yc = calloc((size_t)n * 3, sizeof(double));
     srand(3);
-    for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
-    CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
-    wc_bsr_mul(&m.pattern, s->A, x, yc, &s->par);
-    double es = max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
+    double es = spmv_error(g, &m, s, x, y, yc);
     printf("  SpMV relative error %.2e\n", es);
     CHECK(es < 1e-5);
     if (dev->compute) {
@@ -117,10 +124,7 @@ static void test_assembly_and_spmv(void) {
            last product) */
         int keep = dev->max_groups_x;
         dev->max_groups_x = 1;
-        for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
-        CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
-        wc_bsr_mul(&m.pattern, s->A, x, yc, &s->par);
-        double e2 = max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
+        double e2 = spmv_error(g, &m, s, x, y, yc);
         printf("  SpMV in a 2D dispatch (groups in rows of 1): relative error %.2e\n", e2);
         CHECK(e2 < 1e-5);
         dev->max_groups_x = keep;

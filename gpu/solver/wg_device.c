@@ -155,9 +155,14 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
         if (p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS) {   /* compute shaders of their own */
             if (!d->compute) continue;
-            char* cs = wg_compute_native_source(gl, common ? common : "", body);
+            const char* missing = NULL;
+            char* src = compose(gl, "", body, &missing);   /* its includes */
+            char* cs = src ? wg_compute_native_source(gl, common ? common : "", src) : NULL;
             int ok = cs && wg_program_build_compute(&d->prog[p], kPassNames[p], cs, err, err_len);
-            if (!cs) wg_errorf(err, err_len, "shader '%s': out of memory", kPassNames[p]);
+            if (!cs)
+                wg_errorf(err, err_len, "shader '%s': %s%.40s", kPassNames[p], missing ? "unknown include " : "out of memory",
+                          missing ? missing : "");
+            wg_gl_free(gl, src);
             wg_gl_free(gl, cs);
             if (!ok) {
                 wg_device_destroy(d);

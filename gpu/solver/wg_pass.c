@@ -218,27 +218,21 @@ void wg_chain_destroy(wg_chain* ch) {
 }
 
 const wg_tex* wg_reduce(wg_sim* g, wg_chain* ch, const wg_tex* src, int m0, int m1, int m2, int m3) {
-    if (g->dev->compute) {
-        wg_use(g, WGP_REDUCE_GROUPS);
-        wg_u4i(g, "u_mode", m0, m1, m2, m3);
-        const wg_tex* in = src;
-        for (int k = 0; k < ch->n_levels; ++k) {
-            wg_in(g, 0, in);
-            wg_u2i(g, "u_in", in->w, in->h);
-            wg_u1i(g, "u_groups", ch->level[k].w);
-            wg_run_groups(g, 1, &ch->level[k], ch->level[k].w);
-            in = &ch->level[k];
-        }
-        return in;
-    }
-    wg_use(g, WGP_REDUCE);
+    const int groups = g->dev->compute;   /* reduce_groups.glsl: a level as wide as its work groups */
+    wg_use(g, groups ? WGP_REDUCE_GROUPS : WGP_REDUCE);
     wg_u4i(g, "u_mode", m0, m1, m2, m3);
     const wg_tex* in = src;
     for (int k = 0; k < ch->n_levels; ++k) {
+        const wg_tex* out = &ch->level[k];
         wg_in(g, 0, in);
         wg_u2i(g, "u_in", in->w, in->h);
-        WG_RUN(g, ch->level[k].w * ch->level[k].h, &ch->level[k]);
-        in = &ch->level[k];
+        if (groups) {
+            wg_u1i(g, "u_groups", out->w);
+            wg_run_groups(g, 1, out, out->w);
+        } else {
+            WG_RUN(g, out->w * out->h, out);
+        }
+        in = out;
     }
     return in;
 }

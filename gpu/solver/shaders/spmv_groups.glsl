@@ -7,14 +7,7 @@
 // meet in shared memory; lane 0 writes the texel. Texels past u_n (to the texture's end, u_texels)
 // are written as zeros, as every pass does.
 layout(local_size_x = 256, local_size_y = 1) in;
-uniform isampler2D t0;  // particle blocks (row start, row end, diagonal block, -)
-uniform isampler2D t1;  // block (row, column, -, -)
-uniform sampler2D t2;   // A lo
-uniform sampler2D t3;   // A hi
-uniform sampler2D t4;   // x
-uniform sampler2D t5;   // S0
-uniform sampler2D t6;   // S1
-uniform int u_filter;
+#pragma weft include spmv_inputs
 uniform int u_texels;
 layout(binding = 0) writeonly uniform image2D wg_img0;
 shared vec3 part[256];
