@@ -14,7 +14,7 @@ shared vec3 part[256];
 
 void main() {
     int t = int(gl_LocalInvocationID.x), lane = t & 3;
-    int group = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);   // 2D past 65535 groups
+    int group = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x);   // 2D past max_groups_x
     int i = (256 * group + t) >> 2;
     vec3 y = vec3(0.0);
     if (i < u_n) {
