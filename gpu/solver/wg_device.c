@@ -153,25 +153,12 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     for (int p = 0; p < WGP_COUNT; ++p) {
         const char* body = shader_source(kPassNames[p]);
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
-        if (p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS) {   /* compute shaders of their own */
-            if (!d->compute) continue;
-            const char* missing = NULL;
-            char* src = compose(gl, "", body, &missing);   /* its includes */
-            char* cs = src ? wg_compute_native_source(gl, common ? common : "", src) : NULL;
-            int ok = cs && wg_program_build_compute(&d->prog[p], kPassNames[p], cs, err, err_len);
-            if (!cs)
-                wg_errorf(err, err_len, "shader '%s': %s%.40s", kPassNames[p], missing ? "unknown include " : "out of memory",
-                          missing ? missing : "");
-            wg_gl_free(gl, src);
-            wg_gl_free(gl, cs);
-            if (!ok) {
-                wg_device_destroy(d);
-                return WEFT_ERROR_GPU;
-            }
-            continue;
-        }
+        /* reduce_groups and spmv_groups are compute shaders of their own: common.glsl goes after
+           their #version line (wg_compute_native_source), and they exist only with compute passes */
+        const int native = p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS;
+        if (native && !d->compute) continue;
         const char* missing = NULL;
-        char* src = compose(gl, common ? common : "", body, &missing);
+        char* src = compose(gl, native || !common ? "" : common, body, &missing);
         if (!src) {
             wg_device_destroy(d);
             if (missing) {
@@ -183,7 +170,7 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
         }
         int ok;
         if (d->compute) {
-            char* cs = wg_compute_source(gl, src);
+            char* cs = native ? wg_compute_native_source(gl, common ? common : "", src) : wg_compute_source(gl, src);
             ok = cs && wg_program_build_compute(&d->prog[p], kPassNames[p], cs, err, err_len);
             if (!cs) wg_errorf(err, err_len, "shader '%s': out of memory, or no #version line", kPassNames[p]);
             wg_gl_free(gl, cs);
