@@ -153,6 +153,9 @@ done:
 static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_next, int* mark, int* buf) {
     const wc_allocator* al = &a->alloc;
     int n = L->n, cpa = L->cpa;
+    /* unsmoothed aggregation (prolong_weight 0): P = P_tent, row i = its own aggregate's nodes
+       only, so T and the next level keep no blocks that would stay zero (the GPU's multigrid) */
+    const int smoothed = a->opts.prolong_weight > 0.0;
     /* P: row i = the coarse nodes of the aggregates of i and its strong neighbours */
     TRY(L->p_start = WC_NEW(al, int, n + 1));
     for (int pass = 0; pass < 2; ++pass) {
@@ -160,7 +163,7 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
         for (int i = 0; i < n; ++i) {
             int len = 0;
             for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-                if (is_strong(L, k) || L->col[k] == i)
+                if (smoothed && (is_strong(L, k) || L->col[k] == i))
                     for (int q = 0; q < cpa; ++q) buf[len++] = cpa * L->agg[L->col[k]] + q;
             for (int q = 0; q < cpa; ++q) buf[len++] = cpa * L->agg[i] + q;
             len = sort_unique(buf, len);
@@ -180,7 +183,7 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
     for (int i = 0; i < n; ++i) {
         L->p_self[i] = wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], cpa * L->agg[i]);
         for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-            L->a_to_p[k] = (is_strong(L, k) || L->col[k] == i)
+            L->a_to_p[k] = smoothed && (is_strong(L, k) || L->col[k] == i)
                                ? wc_amg_find(L->p_col, L->p_start[i], L->p_start[i + 1], cpa * L->agg[L->col[k]])
                                : -1;
     }
