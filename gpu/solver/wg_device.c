@@ -22,6 +22,8 @@ static const char* const kPassNames[WGP_COUNT] = {
     "normals", "host_output", "lanczos_start", "transform", "copy_texel",
     "contact_begin", "contact_friction", "contact_recheck", "contact_end", "contact_project",
     "contact_diag", "reduce_groups", "spmv_groups",
+    "amg_project", "amg_galerkin", "amg_dinv", "amg_power", "amg_smooth", "amg_restrict", "amg_dot",
+    "amg_factor_groups", "amg_coarse_groups",
 };
 
 static const char* shader_source(const char* name) {
@@ -155,8 +157,10 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
         /* reduce_groups and spmv_groups are compute shaders of their own: common.glsl goes after
            their #version line (wg_compute_native_source), and they exist only with compute passes */
-        const int native = p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS;
-        if (native && !d->compute) continue;
+        const int native = p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS || p == WGP_AMG_FACTOR_GROUPS ||
+                           p == WGP_AMG_COARSE_GROUPS;
+        /* the multigrid runs on compute passes only (wg_amg.h) */
+        if ((native || p >= WGP_AMG_PROJECT) && !d->compute) continue;
         const char* missing = NULL;
         char* src = compose(gl, native || !common ? "" : common, body, &missing);
         if (!src) {

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "gpu_error.h"
+#include "wg_amg.h"
 #include "wg_sim_impl.h"
 
 #define WG_MIN_SHIFT 10
@@ -41,7 +42,7 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     const wg_chain* ch[] = {&g->red_p[0], &g->red_p[1], &g->red_s};
     for (int c = 0; c < 3; ++c)
         for (int k = 0; k < ch[c]->n_levels; ++k) bytes += wg_tex_bytes(&ch[c]->level[k]);
-    return bytes;
+    return bytes + wg_amg_bytes(g);
 }
 
 void wg_sim_forget(wg_sim* g) {
@@ -53,6 +54,7 @@ void wg_sim_forget(wg_sim* g) {
 void wg_sim_destroy(wg_sim* g) {
     if (!g) return;
     wg_contacts_destroy(g);
+    wg_amg_destroy(g);
     if (g->forget_gl) goto memory;
     wg_tex* t[96];
     int n = all_textures(g, t, 96);
@@ -241,10 +243,14 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend has no direct solver (CHOLMOD runs on the CPU only): choose pcg, jacobi or "
                        "chebyshev, or the CPU backend");
-    if (s->def.solver.preconditioner != WC_PRECOND_BLOCK_JACOBI)
+    if (s->def.solver.preconditioner == WC_PRECOND_AMG && !dev->compute)
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
-                       "the GPU backend has the block-Jacobi preconditioner only (the %s preconditioner runs on the "
-                       "CPU backend)", wc_precond_name(s->def.solver.preconditioner));
+                       "the GPU's multigrid preconditioner runs on compute-shader passes (OpenGL 4.3); this context "
+                       "runs fragment passes: choose block_jacobi, or the CPU backend");
+    if (s->def.solver.preconditioner != WC_PRECOND_BLOCK_JACOBI && s->def.solver.preconditioner != WC_PRECOND_AMG)
+        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+                       "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
+                       "preconditioner runs on the CPU backend)", wc_precond_name(s->def.solver.preconditioner));
     if (s->n_mesh > 0)
         return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
                        "the GPU backend has no triangle-mesh colliders (%d given in def->mesh_colliders): use the CPU "
@@ -309,6 +315,7 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
         }
     }
     if (ok && wg_contacts_create(g, s, err, sizeof err) != WEFT_OK) ok = 0;
+    if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG && !wg_amg_create(g, err, sizeof err)) ok = 0;
     if (!ok) {
         wg_sim_destroy(g);
         return wc_fail(diag, strstr(err, "out of memory") ? WEFT_ERROR_OUT_OF_MEMORY : WEFT_ERROR_GPU,

@@ -52,6 +52,7 @@ typedef enum wg_stage {
 } wg_stage;
 
 typedef struct wg_contact_sim wg_contact_sim;   /* wg_contacts.c */
+typedef struct wg_amg wg_amg;                   /* wg_amg.h */
 
 struct wg_sim {
     wg_device* dev;
@@ -121,6 +122,8 @@ struct wg_sim {
     int rho_valid;
     int prepared;
     wg_contact_sim* contacts;   /* NULL when the cloth never had colliders */
+    wg_amg* amg;                /* the multigrid (wg_amg.h) when the preconditioner is amg, else NULL */
+    int amg_on;                 /* PCG's solve in progress preconditions with it */
     GLuint stamps[WG_MAX_STAMPS];
     int stamp_stage[WG_MAX_STAMPS];
     int n_stamps;

@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "wg_amg.h"
 #include "wg_sim_impl.h"
 
 /* sc[cur] -> sc[other] */
@@ -90,11 +91,18 @@ static void update(wg_sim* g, pcg_vecs* v, int first) {
     WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
     v->dv = 1 - v->dv;
     v->r = 1 - v->r;
+    if (!g->amg_on) return;
+    /* the multigrid's z = M^-1 r replaces the block-Jacobi t, and (r.z, r.r) the update's */
+    const wg_tex* z = wg_amg_apply(g, &g->r[v->r]);
+    wg_use(g, WGP_AMG_DOT);
+    wg_in(g, 0, &g->r[v->r]);
+    wg_in(g, 1, z);
+    WG_RUN(g, g->n, &g->part);
 }
 
 static void direction(wg_sim* g, pcg_vecs* v, int first) {
     wg_use(g, WGP_PCG_DIRECTION);
-    wg_in(g, 0, &g->t);
+    wg_in(g, 0, g->amg_on ? g->amg->z : &g->t);
     wg_in(g, 1, &g->c[v->c]);
     wg_in(g, 2, &g->S0);
     wg_in(g, 3, &g->S1);
@@ -356,7 +364,12 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
     }
     project(g, dv_in, &g->sv[0], 0);
     weft_status st;
-    if (type == WC_SOLVER_PCG) st = solve_pcg(g, o, out, res);
+    if (type == WC_SOLVER_PCG && g->amg) {
+        wg_amg_setup(g);
+        g->amg_on = 1;
+        st = solve_pcg(g, o, out, res);
+        g->amg_on = 0;
+    } else if (type == WC_SOLVER_PCG) st = solve_pcg(g, o, out, res);
     else if (type == WC_SOLVER_JACOBI || type == WC_SOLVER_CHEBYSHEV)
         st = solve_jacobi(g, o, type == WC_SOLVER_CHEBYSHEV, out, res);
     else {

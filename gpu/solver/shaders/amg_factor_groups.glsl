@@ -1,0 +1,73 @@
+#version 430 core
+// The dense Cholesky factor of the multigrid's coarsest level (core/amg_setup.c coarse_factor),
+// once per setup, by one work group (the level has at most WG_AMG_DENSE_NODES nodes, wg_amg.h),
+// in place in image 0 (read-write: wg_amg.c binds it so): texel (c, r) = M[r][c], L (lower) at
+// the end. Column by column (left-looking): one invocation takes the pivot, then the group the
+// column's rows below it. A pivot that is not positive, or has lost more than 5 of float's 7
+// digits against its own diagonal entry, gets 1 and its row and column are decoupled: a
+// semi-definite coarse operator's null directions. (Core's double factor compares with 1e-14 x
+// the largest diagonal entry; in float that bound would decouple the soft unknowns of a stiff
+// level: a transverse direction's pivot is ~1e-6 of a stretch direction's, which float's
+// rounding of the largest swamps.) The matrix lives in the image, not in an array of the
+// invocation: 96^2 floats were past llvmpipe's stack for one (its factor came out zero).
+#pragma weft include amg_blocks
+layout(local_size_x = 64, local_size_y = 1) in;
+uniform isampler2D t0;  // rows
+uniform isampler2D t1;  // cols
+uniform sampler2D t2;   // blocks, row 0
+uniform sampler2D t3;   // row 1
+uniform sampler2D t4;   // row 2
+layout(binding = 0, rgba32f) coherent uniform image2D wg_img0;
+shared int decouple;
+
+float M(int r, int c) { return imageLoad(wg_img0, ivec2(c, r)).x; }
+void put(int r, int c, float v) { imageStore(wg_img0, ivec2(c, r), vec4(v, 0.0, 0.0, 0.0)); }
+void sync() {
+    memoryBarrierImage();
+    memoryBarrierShared();
+    barrier();
+}
+
+void main() {
+    int t = int(gl_LocalInvocationID.x), d = 3 * u_n;
+    for (int q = t; q < d * d; q += 64) put(q / d, q % d, 0.0);
+    sync();
+    for (int i = t; i < u_n; i += 64) {
+        ivec4 r = ldi(t0, i);
+        for (int k = r.x; k < r.y; ++k) {
+            int j = ldi(t1, k).x;
+            vec3 b0 = ld(t2, k).xyz, b1 = ld(t3, k).xyz, b2 = ld(t4, k).xyz;
+            for (int c = 0; c < 3; ++c) {
+                put(3 * i, 3 * j + c, b0[c]);
+                put(3 * i + 1, 3 * j + c, b1[c]);
+                put(3 * i + 2, 3 * j + c, b2[c]);
+            }
+        }
+    }
+    sync();
+    for (int j = 0; j < d; ++j) {
+        if (t == 0) {
+            float s = M(j, j), own = s;
+            for (int k = 0; k < j; ++k) s -= M(j, k) * M(j, k);
+            decouple = (!(s > 1e-5 * own) || isinf(s)) ? 1 : 0;
+            if (decouple != 0) {
+                for (int k = 0; k < j; ++k) put(j, k, 0.0);
+                s = 1.0;
+            }
+            put(j, j, sqrt(s));
+        }
+        sync();
+        float l = M(j, j);
+        for (int i = j + 1 + t; i < d; i += 64) {
+            float x = 0.0;
+            if (decouple == 0) {
+                x = M(i, j);
+                for (int k = 0; k < j; ++k) x -= M(i, k) * M(j, k);
+            }
+            put(i, j, x / l);
+        }
+        sync();
+    }
+    for (int q = t; q < d * d; q += 64)
+        if (q % d > q / d) put(q / d, q % d, 0.0);
+}

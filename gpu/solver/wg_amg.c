@@ -1,0 +1,327 @@
+/* The GPU's multigrid preconditioner (wg_amg.h): the hierarchy's textures from core's
+ * aggregates, the per-solve setup passes and the V-cycle. */
+#include <string.h>
+
+#include "gpu_error.h"
+#include "wg_amg.h"
+
+wc_amg_opts wg_amg_opts(void) {
+    wc_amg_opts o = wc_default_amg_opts();
+    o.coarse_max = WG_AMG_DENSE_NODES;
+    o.rotations = 0;
+    o.prolong_weight = 0.0;
+    o.lanczos = 0;
+    o.power_iterations = WG_AMG_POWER;
+    o.coarse_iterations = WG_AMG_POWER;
+    o.current_positions = 0;
+    o.couplings = 0;
+    return o;
+}
+
+#define TRY(x) \
+    do { \
+        if (!(x)) goto fail; \
+    } while (0)
+
+/* int4 items (a, b, c, d) per entry into a new RGBA32I array */
+static int upload_i4(wg_sim* g, wg_tex* t, int count, const int* v, char* err, size_t el) {
+    return wg_array_create(g, t, GL_RGBA32I, count, v, err, el);
+}
+
+/* One level's textures from core's level L (N: the next one, NULL on the coarsest); P: the finer
+ * level of core's hierarchy (NULL on level 0) for the Galerkin and member lists. */
+static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const wc_amg_level* L, int* buf,
+                        char* err, size_t el) {
+    G->n = L->n;
+    G->nb = L->n_blocks;
+    int cap = (L->n > L->n_blocks ? L->n : L->n_blocks);
+    if (P && P->n_blocks > cap) cap = P->n_blocks;
+    if (P && P->n > cap) cap = P->n;
+    int* v = wc_calloc(&g->alloc, 4u * (size_t)(cap + 1), sizeof(int));
+    if (!v) {
+        wg_errorf(err, el, "out of memory");
+        return 0;
+    }
+    for (int i = 0; i < L->n; ++i) {
+        v[4 * i] = L->row_start[i];
+        v[4 * i + 1] = L->row_start[i + 1];
+        v[4 * i + 2] = L->diag[i];
+        v[4 * i + 3] = L->agg ? L->agg[i] : -1;
+    }
+    TRY(upload_i4(g, &G->rows, L->n, v, err, el));
+    memset(v, 0, 4u * sizeof(int) * (size_t)L->n_blocks);
+    for (int k = 0; k < L->n_blocks; ++k) v[4 * k] = L->col[k];
+    TRY(upload_i4(g, &G->cols, L->n_blocks, v, err, el));
+    if (P) {
+        /* each finer block (i, j) sums into this level's block (agg i, agg j) */
+        int* start = buf; /* (nb + 1) */
+        memset(start, 0, sizeof(int) * (size_t)(L->n_blocks + 1));
+        int* slot = buf + L->n_blocks + 1; /* (P->n_blocks) */
+        for (int i = 0; i < P->n; ++i)
+            for (int k = P->row_start[i]; k < P->row_start[i + 1]; ++k) {
+                int I = P->agg[i], J = P->agg[P->col[k]];
+                int K = wc_amg_find(L->col, L->row_start[I], L->row_start[I + 1], J);
+                if (K < 0) {
+                    wg_errorf(err, el, "multigrid: block (%d, %d) missing from level pattern", I, J);
+                    goto fail;
+                }
+                slot[k] = K;
+                ++start[K + 1];
+            }
+        for (int K = 0; K < L->n_blocks; ++K) start[K + 1] += start[K];
+        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
+        for (int K = 0; K < L->n_blocks; ++K) {
+            v[4 * K] = start[K];
+            v[4 * K + 1] = start[K + 1];
+        }
+        TRY(upload_i4(g, &G->gal_range, L->n_blocks, v, err, el));
+        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
+        for (int k = 0; k < P->n_blocks; ++k) v[4 * start[slot[k]]++] = k;
+        TRY(upload_i4(g, &G->gal_list, P->n_blocks, v, err, el));
+        /* members of each aggregate, ascending */
+        memset(start, 0, sizeof(int) * (size_t)(L->n + 1));
+        for (int i = 0; i < P->n; ++i) ++start[P->agg[i] + 1];
+        for (int I = 0; I < L->n; ++I) start[I + 1] += start[I];
+        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
+        for (int I = 0; I < L->n; ++I) {
+            v[4 * I] = start[I];
+            v[4 * I + 1] = start[I + 1];
+        }
+        TRY(upload_i4(g, &G->mem_range, L->n, v, err, el));
+        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
+        for (int i = 0; i < P->n; ++i) v[4 * start[P->agg[i]]++] = i;
+        TRY(upload_i4(g, &G->mem_list, P->n, v, err, el));
+        TRY(wg_array_create(g, &G->r, GL_RGBA32F, L->n, NULL, err, el));
+    }
+    for (int c = 0; c < 3; ++c) {
+        TRY(wg_array_create(g, &G->a[c], GL_RGBA32F, L->n_blocks, NULL, err, el));
+        TRY(wg_array_create(g, &G->dinv[c], GL_RGBA32F, L->n, NULL, err, el));
+    }
+    for (int c = 0; c < 2; ++c) {
+        TRY(wg_array_create(g, &G->x[c], GL_RGBA32F, L->n, NULL, err, el));
+        TRY(wg_array_create(g, &G->d[c], GL_RGBA32F, L->n, NULL, err, el));
+        TRY(wg_array_create(g, &G->v[c], GL_RGBA32F, L->n, NULL, err, el));
+    }
+    TRY(wg_array_create(g, &G->part, GL_RGBA32F, L->n, NULL, err, el));
+    TRY(wg_chain_create(g, &G->red, G->part.w, G->part.h, err, el));
+    /* core's start vector (amg_build.c), so that both backends estimate from the same one */
+    double* sv = wc_calloc(&g->alloc, 3u * (size_t)L->n, sizeof(double));
+    float* f = wc_calloc(&g->alloc, 4u * (size_t)L->n, sizeof(float));
+    if (!sv || !f) {
+        wc_free(&g->alloc, sv);
+        wc_free(&g->alloc, f);
+        wg_errorf(err, el, "out of memory");
+        goto fail;
+    }
+    wc_amg_start_vector(sv, L->n);
+    for (int i = 0; i < L->n; ++i)
+        for (int c = 0; c < 3; ++c) f[4 * i + c] = (float)sv[3 * i + c];
+    int ok = wg_array_create(g, &G->v0, GL_RGBA32F, L->n, f, err, el);
+    wc_free(&g->alloc, sv);
+    wc_free(&g->alloc, f);
+    TRY(ok);
+    wc_free(&g->alloc, v);
+    return 1;
+fail:
+    wc_free(&g->alloc, v);
+    return 0;
+}
+
+static int level_textures(wg_amg_level* G, wg_tex** out) {
+    wg_tex* list[] = {&G->rows, &G->cols, &G->a[0], &G->a[1], &G->a[2], &G->dinv[0], &G->dinv[1], &G->dinv[2],
+                      &G->gal_range, &G->gal_list, &G->mem_range, &G->mem_list, &G->r, &G->x[0], &G->x[1], &G->d[0],
+                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part};
+    int n = (int)(sizeof list / sizeof list[0]);
+    for (int k = 0; k < n; ++k) out[k] = list[k];
+    return n;
+}
+
+int wg_amg_create(wg_sim* g, char* err, size_t el) {
+    wc_amg_opts o = wg_amg_opts();
+    wc_amg* ca = NULL;
+    wc_diag d = {0};
+    if (wc_amg_create(&ca, g->m, &o, &g->alloc, &d) != WEFT_OK) {
+        wg_errorf(err, el, "multigrid: %s", d.message);
+        return 0;
+    }
+    wg_amg* a = wc_calloc(&g->alloc, 1, sizeof *a);
+    int* buf = NULL;
+    if (!a) goto oom;
+    g->amg = a;
+    a->n_levels = ca->n_levels;
+    a->sweeps = o.sweeps;
+    a->ratio = o.chebyshev_ratio;
+    int cap = 1;
+    for (int l = 0; l < ca->n_levels; ++l) {
+        int c = ca->lev[l].n_blocks + 1 + (l > 0 ? ca->lev[l - 1].n_blocks : 0);
+        if (c > cap) cap = c;
+    }
+    buf = wc_calloc(&g->alloc, (size_t)cap, sizeof(int));
+    if (!buf) goto oom;
+    for (int l = 0; l < ca->n_levels; ++l)
+        if (!level_create(g, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, err, el)) goto fail;
+    const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
+    a->dense = C->n <= WG_AMG_DENSE_NODES;
+    if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
+    wc_free(&g->alloc, buf);
+    wc_amg_destroy(ca);
+    return 1;
+oom:
+    wg_errorf(err, el, "out of memory");
+fail:
+    wc_free(&g->alloc, buf);
+    wc_amg_destroy(ca);
+    return 0;
+}
+
+void wg_amg_destroy(wg_sim* g) {
+    wg_amg* a = g->amg;
+    if (!a) return;
+    if (!g->forget_gl) {
+        for (int l = 0; l < a->n_levels; ++l) {
+            wg_tex* t[32];
+            int n = level_textures(&a->lev[l], t);
+            for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
+            wg_chain_destroy(&a->lev[l].red);
+        }
+        wg_tex_destroy(&a->coarse_L);
+    }
+    wc_free(&g->alloc, a);
+    g->amg = NULL;
+}
+
+size_t wg_amg_bytes(const wg_sim* g) {
+    wg_amg* a = g->amg;
+    if (!a) return 0;
+    size_t bytes = a->coarse_L.id ? wg_tex_bytes(&a->coarse_L) : 0;
+    for (int l = 0; l < a->n_levels; ++l) {
+        wg_tex* t[32];
+        int n = level_textures(&a->lev[l], t);
+        for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
+        for (int k = 0; k < a->lev[l].red.n_levels; ++k) bytes += wg_tex_bytes(&a->lev[l].red.level[k]);
+    }
+    return bytes;
+}
+
+static void in3(wg_sim* g, int unit, const wg_tex* t) {
+    for (int c = 0; c < 3; ++c) wg_in(g, unit + c, t + c);
+}
+
+void wg_amg_setup(wg_sim* g) {
+    wg_amg* a = g->amg;
+    wg_amg_level* F = &a->lev[0];
+    wg_use(g, WGP_AMG_PROJECT);
+    wg_in(g, 0, &g->block);
+    wg_in(g, 1, &g->A0);
+    wg_in(g, 2, &g->A1);
+    wg_in(g, 3, &g->S0);
+    wg_in(g, 4, &g->S1);
+    WG_RUN(g, F->nb, &F->a[0], &F->a[1], &F->a[2]);
+    for (int l = 0; l < a->n_levels; ++l) {
+        wg_amg_level* L = &a->lev[l];
+        if (l > 0) {
+            wg_use(g, WGP_AMG_GALERKIN);
+            wg_in(g, 0, &L->gal_range);
+            wg_in(g, 1, &L->gal_list);
+            in3(g, 2, a->lev[l - 1].a);
+            WG_RUN(g, L->nb, &L->a[0], &L->a[1], &L->a[2]);
+        }
+        if (l == a->n_levels - 1 && a->dense) {
+            /* one work group, factoring in place: the image bound read-write (wg_run_groups binds
+               its output write-only) */
+            wg_use(g, WGP_AMG_FACTOR_GROUPS);
+            wg_in(g, 0, &L->rows);
+            wg_in(g, 1, &L->cols);
+            in3(g, 2, L->a);
+            wg_u1i(g, "u_n", L->n);
+            wg_u1i(g, "u_shift", g->shift);
+            glBindImageTexture(0, a->coarse_L.id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+            glDispatchCompute(1, 1, 1);
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            ++g->passes;
+            break;
+        }
+        wg_use(g, WGP_AMG_DINV);
+        wg_in(g, 0, &L->rows);
+        in3(g, 1, L->a);
+        WG_RUN(g, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
+        const wg_tex* v = &L->v0;
+        wg_use(g, WGP_AMG_POWER);
+        wg_in(g, 0, &L->rows);
+        wg_in(g, 1, &L->cols);
+        in3(g, 2, L->a);
+        in3(g, 5, L->dinv);
+        for (int it = 0; it < WG_AMG_POWER; ++it) {
+            wg_in(g, 8, v);
+            WG_RUN(g, L->n, &L->v[it & 1], &L->part);
+            v = &L->v[it & 1];
+        }
+        L->bound = wg_reduce(g, &L->red, &L->part, 0, 0, 0, 0);
+    }
+}
+
+/* One smoothing step on level L (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse
+ * correction xc added first (NULL: none), into xo and dout. */
+static void smooth(wg_sim* g, const wg_amg* a, const wg_amg_level* L, const wg_tex* r, const wg_tex* x,
+                   const wg_tex* d, const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout) {
+    wg_use(g, WGP_AMG_SMOOTH);
+    wg_in(g, 0, &L->rows);
+    wg_in(g, 1, &L->cols);
+    in3(g, 2, L->a);
+    in3(g, 5, L->dinv);
+    wg_in(g, 8, r);
+    wg_in(g, 9, x ? x : r);
+    wg_in(g, 10, d ? d : r);
+    wg_in(g, 11, L->bound);
+    wg_in(g, 12, xc ? xc : r);
+    wg_u1i(g, "u_step", step);
+    wg_u1i(g, "u_zero", x == NULL);
+    wg_u1i(g, "u_prolong", xc != NULL);
+    wg_u1f(g, "u_ratio", a->ratio);
+    WG_RUN(g, L->n, xo, dout);
+}
+
+/* The V-cycle from level l on r; returns the texture holding x. */
+static const wg_tex* vcycle(wg_sim* g, wg_amg* a, int l, const wg_tex* r) {
+    wg_amg_level* L = &a->lev[l];
+    if (l == a->n_levels - 1) {
+        if (a->dense) {
+            wg_use(g, WGP_AMG_COARSE_GROUPS);
+            wg_in(g, 0, &a->coarse_L);
+            wg_in(g, 1, r);
+            wg_run_groups(g, L->n, &L->x[1], 1);
+            return &L->x[1];
+        }
+        int c = 0;
+        smooth(g, a, L, r, NULL, NULL, NULL, -1, &L->x[0], &L->d[0]);
+        for (int s = 1; s < WG_AMG_COARSE_SWEEPS; ++s, c = 1 - c)
+            smooth(g, a, L, r, &L->x[c], NULL, NULL, -1, &L->x[1 - c], &L->d[1 - c]);
+        return &L->x[c];
+    }
+    wg_amg_level* N = &a->lev[l + 1];
+    int c = 0;
+    smooth(g, a, L, r, NULL, NULL, NULL, 0, &L->x[0], &L->d[0]);
+    for (int k = 1; k < a->sweeps; ++k, c = 1 - c)
+        smooth(g, a, L, r, &L->x[c], &L->d[c], NULL, k, &L->x[1 - c], &L->d[1 - c]);
+    wg_use(g, WGP_AMG_RESTRICT);
+    wg_in(g, 0, &N->mem_range);
+    wg_in(g, 1, &N->mem_list);
+    wg_in(g, 2, &L->rows);
+    wg_in(g, 3, &L->cols);
+    in3(g, 4, L->a);
+    wg_in(g, 7, r);
+    wg_in(g, 8, &L->x[c]);
+    WG_RUN(g, N->n, &N->r);
+    const wg_tex* xc = vcycle(g, a, l + 1, &N->r);
+    smooth(g, a, L, r, &L->x[c], NULL, xc, 0, &L->x[1 - c], &L->d[1 - c]);
+    c = 1 - c;
+    for (int k = 1; k < a->sweeps; ++k, c = 1 - c)
+        smooth(g, a, L, r, &L->x[c], &L->d[c], NULL, k, &L->x[1 - c], &L->d[1 - c]);
+    return &L->x[c];
+}
+
+const wg_tex* wg_amg_apply(wg_sim* g, const wg_tex* r) {
+    wg_amg* a = g->amg;
+    a->z = vcycle(g, a, 0, r);
+    return a->z;
+}

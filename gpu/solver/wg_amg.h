@@ -1,0 +1,66 @@
+/* The multigrid preconditioner of the GPU's PCG (private to gpu/solver): aggregation multigrid
+ * with the aggregates core builds (core/amg_build.c, wc_amg_create with wg_amg_opts()), its
+ * near-null space the three translations per aggregate and its prolongator unsmoothed (P =
+ * P_tent: identity blocks from each node to its aggregate), so that every coarse operator is a
+ * plain sum of finer blocks (one gather pass a level) and the prolongation folds into the
+ * smoother's first pass. The CPU's default multigrid (rotations, smoothed prolongator) needs
+ * Galerkin triple products on the GPU: not done. The same method runs on the CPU with
+ * wg_amg_opts() (tests/test_gpu_amg.c compares the two).
+ *
+ * Per solve (wg_amg_setup, passes only, nothing read back): the projected fine operator S A S +
+ * a (I - S) as full blocks, each coarse level's Galerkin sums, the block-diagonal inverses,
+ * WG_AMG_POWER power iterations per level for lambda_max(D^-1 A) (their Rayleigh quotient stays
+ * in a 1 x 1 texture that the smoother reads), and the coarsest level's dense Cholesky factor.
+ * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
+ * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
+ *
+ * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
+ * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). */
+#ifndef WEFT_GPU_SOLVER_AMG_H
+#define WEFT_GPU_SOLVER_AMG_H
+
+#include "amg.h"
+#include "wg_sim_impl.h"
+
+#define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
+                                   (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
+#define WG_AMG_POWER 12         /* power iterations per level and setup */
+#define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
+                                   (a mesh of many pieces that does not coarsen) */
+
+typedef struct wg_amg_level {
+    int n, nb;
+    wg_tex rows;                /* nodes: (block start, end, diagonal block, aggregate or -1) */
+    wg_tex cols;                /* blocks: (column, -, -, -) */
+    wg_tex a[3];                /* blocks: rows 0..2 of the level's operator */
+    wg_tex dinv[3];             /* nodes: rows of the inverse diagonal block */
+    wg_tex gal_range, gal_list; /* level >= 1, per block: the finer level's blocks summed into it */
+    wg_tex mem_range, mem_list; /* level >= 1, per node: the finer level's nodes of its aggregate */
+    wg_tex r, x[2], d[2];       /* V-cycle vectors (level 0's r is PCG's) */
+    wg_tex v0, v[2], part;      /* power iterations: start (core's), iterates, (v.Av, v.Dv) */
+    wg_chain red;
+    const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
+} wg_amg_level;
+
+typedef struct wg_amg {
+    int n_levels;
+    int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
+    int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
+    double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
+    wg_amg_level lev[WC_AMG_MAX_LEVELS];
+    wg_tex coarse_L;            /* 3n x 3n texels: the coarsest level's factor */
+    const wg_tex* z;            /* the last V-cycle's result (level 0) */
+} wg_amg;
+
+/* The hierarchy core builds for the GPU (and for a CPU run of the same method). */
+wc_amg_opts wg_amg_opts(void);
+/* g->amg for g's model: patterns and lists uploaded; 0 with err on failure. */
+int wg_amg_create(wg_sim* g, char* err, size_t err_len);
+void wg_amg_destroy(wg_sim* g);
+size_t wg_amg_bytes(const wg_sim* g);
+/* The values for the prepared system (A0/A1, S0/S1). */
+void wg_amg_setup(wg_sim* g);
+/* z = M^-1 r (one V-cycle); returns z's texture (the hierarchy's own, valid until the next call). */
+const wg_tex* wg_amg_apply(wg_sim* g, const wg_tex* r);
+
+#endif

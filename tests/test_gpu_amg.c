@@ -1,0 +1,320 @@
+/* The GPU's multigrid preconditioner (gpu/solver/wg_amg.h) on a real EGL context (llvmpipe
+ * without a GPU): PCG with it reaches CHOLMOD's answer on real systems (a hanging sheet, a larger
+ * one, a sheet draped over a sphere with contacts and friction), in as many iterations as the
+ * same method on the CPU (core's multigrid with wg_amg_opts(): a second backend) and in far fewer
+ * than with block Jacobi; a whole run matches the CPU's; a context with fragment passes refuses
+ * it with a message. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "egl_context.h"
+#include "solver_impl.h"
+#include "step.h"
+#include "test_support.h"
+#include "wg_amg.h"
+#include "wg_sim.h"
+
+static wg_gl_context* gl;
+static wg_device* dev;
+
+static double max_abs(const double* a, int n) {
+    double m = 0.0;
+    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i]));
+    return m;
+}
+
+static double max_diff(const double* a, const double* b, int n) {
+    double m = 0.0;
+    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i] - b[i]));
+    return m;
+}
+
+static wc_sim_def amg_def(void) {
+    wc_sim_def def = wc_default_sim_def();
+    def.solver.type = WC_SOLVER_PCG;
+    def.solver.preconditioner = WC_PRECOND_AMG;
+    def.sleep_speed = 0.0;
+    return def;
+}
+
+/* An n x n sheet hanging from its two top corners, stepped `warm` frames on the CPU, its state
+ * rounded to float (the same input on both backends). */
+static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
+    if (!ts_sheet(m, n, 1.0, 1.0, 1, k_scale)) return NULL;
+    wc_sim_def def = amg_def();
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
+    wc_pin pins[2] = {{ts_sheet_particle(m, n, 0, n - 1), {0, 0, 0}, {0, 0, 0}},
+                      {ts_sheet_particle(m, n, n - 1, n - 1), {0, 0, 0}, {0, 0, 0}}};
+    for (int k = 0; k < 2; ++k) memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
+    wc_state_set_pins(s, pins, 2, &d);
+    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    for (int k = 0; k < 3 * m->n_particles; ++k) {
+        s->x[k] = (float)s->x[k];
+        s->v[k] = (float)s->v[k];
+    }
+    return s;
+}
+
+/* A 24 x 24 sheet dropped on a sphere and draped over it for 20 frames on the CPU. */
+static wc_state* draped(wc_model* m) {
+    if (!ts_sheet(m, 24, 1.0, 0.47, 0, 1.0)) return NULL;
+    wc_sim_def def = amg_def();
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
+    wc_collider c;
+    memset(&c, 0, sizeof c);
+    c.type = WC_COLLIDER_SPHERE;
+    c.radius = 0.45;
+    c.thickness = 0.005;
+    c.friction = 0.3;
+    wc_state_set_colliders(s, &c, 1, &d);
+    for (int f = 0; f < 20; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    return s;
+}
+
+/* `count` separate 3 x 3-vertex patches, 0.1 m apart, each hanging from a corner (3 frames on
+ * the CPU): a mesh whose coarsening stops at one aggregate a piece, above the dense factor's
+ * size. */
+static wc_state* patches(wc_model* m, int count) {
+    int nv = 9 * count, nq = 4 * count;
+    double* pos = calloc((size_t)nv * 3, sizeof(double));
+    int* sizes = calloc((size_t)nq, sizeof(int));
+    int* idx = calloc((size_t)nq * 4, sizeof(int));
+    for (int p = 0; p < count; ++p) {
+        for (int v = 0; v < 9; ++v) {
+            double* x = pos + 3 * (9 * p + v);
+            x[0] = 0.1 * p + 0.02 * (v % 3);
+            x[1] = 1.0;
+            x[2] = 0.02 * (v / 3);
+        }
+        for (int q = 0; q < 4; ++q) {
+            int i = q % 2, j = q / 2, *c = idx + 4 * (4 * p + q);
+            sizes[4 * p + q] = 4;
+            c[0] = 9 * p + i + 3 * j;
+            c[1] = 9 * p + i + 3 * (j + 1);
+            c[2] = 9 * p + i + 1 + 3 * (j + 1);
+            c[3] = 9 * p + i + 1 + 3 * j;
+        }
+    }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    weft_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    free(pos), free(sizes), free(idx);
+    if (st != WEFT_OK) return NULL;
+    wc_model_def mdef = wc_default_model_def();
+    st = wc_model_build(m, &src, &mdef, NULL, &d);
+    wc_source_mesh_free(&src);
+    if (st != WEFT_OK) return NULL;
+    wc_sim_def def = amg_def();
+    wc_state* s = NULL;
+    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
+    wc_pin* pins = calloc((size_t)count, sizeof *pins);
+    for (int p = 0; p < count; ++p) {
+        pins[p].particle = m->host_to_particle[9 * p];
+        memcpy(pins[p].target, s->x + 3 * pins[p].particle, sizeof pins[p].target);
+    }
+    wc_state_set_pins(s, pins, count, &d);
+    free(pins);
+    for (int f = 0; f < 3; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    return s;
+}
+
+/* One system three ways on the GPU side (multigrid, block Jacobi) and two on the CPU (the same
+ * multigrid, CHOLMOD). same_coarse 0: the CPU factors a coarsest level the GPU smooths (more
+ * than WG_AMG_DENSE_NODES nodes): the iterations are not compared. */
+static void check_system(const char* name, wc_model* m, wc_state* s, int same_coarse) {
+    const double h = 1.0 / 30.0;
+    int n = m->n_particles;
+    wc_diag d = {0};
+    s->def.solver.tolerance = 1e-4;
+    s->def.solver.max_iterations = 3000;
+    wg_sim* g = NULL;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    if (!g) {
+        fprintf(stderr, "%s\n", d.message);
+        return;
+    }
+    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(s, h, 1.0, &st);
+    wc_solver_opts o = s->def.solver;
+    o.type = WC_SOLVER_DIRECT;
+    wc_solver* direct = NULL;
+    CHECK(wc_solver_create(&direct, m, &o, 1, NULL, &d) == WEFT_OK);
+    double* ref = calloc((size_t)n * 3, sizeof(double));
+    double* dv = calloc((size_t)n * 3, sizeof(double));
+    double* dc = calloc((size_t)n * 3, sizeof(double));
+    wc_solve_result rd, rg, rc, rb;
+    CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WEFT_OK);
+    CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WEFT_OK);
+    weft_status gs = wg_sim_debug_solve(g, WC_SOLVER_PCG, dv, &rg, &d);
+    double err = max_diff(dv, ref, 3 * n) / max_abs(ref, 3 * n);
+    /* the CPU's PCG with the same multigrid (core's, built with the GPU's options) */
+    o.type = WC_SOLVER_PCG;
+    wc_solver* cpu = NULL;
+    CHECK(wc_solver_create(&cpu, m, &o, 0, NULL, &d) == WEFT_OK);
+    wc_amg_destroy(cpu->amg);
+    cpu->amg = NULL;
+    wc_amg_opts ao = wg_amg_opts();
+    CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WEFT_OK);
+    wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h));
+    wc_solve(cpu, WC_SOLVER_PCG, s->A, s->b, &s->filter, dc, &s->par, &rc);
+    double err_cpu = max_diff(dc, ref, 3 * n) / max_abs(ref, 3 * n);
+    /* block Jacobi on the GPU, for scale */
+    wc_state* sb = NULL;
+    wc_sim_def bdef = s->def;
+    bdef.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
+    wg_sim* gb = NULL;
+    CHECK(wc_state_create(&sb, m, &bdef, NULL, &d) == WEFT_OK);
+    CHECK(wg_sim_create(dev, sb, NULL, &gb, &d) == WEFT_OK);
+    memset(dc, 0, sizeof(double) * 3 * (size_t)n);
+    CHECK(wg_sim_debug_prepare(gb, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+    CHECK(wg_sim_debug_set_system(gb, s->A, s->b, &s->filter, &d) == WEFT_OK);
+    wg_sim_debug_solve(gb, WC_SOLVER_PCG, dc, &rb, &d);
+    printf("  %-24s %5d particles, %d levels (coarsest %d nodes, %s): GPU multigrid %3d iterations (residual %.2e, "
+           "error vs CHOLMOD %.2e), CPU same method %3d (%.2e), GPU block Jacobi %4d\n",
+           name, n, g->amg->n_levels, g->amg->lev[g->amg->n_levels - 1].n, g->amg->dense ? "factored" : "smoothed",
+           rg.iterations, rg.residual, err, rc.iterations, err_cpu, rb.iterations);
+    CHECK(g->amg->dense == same_coarse);
+    CHECK(gs == WEFT_OK);
+    CHECK(rg.converged);
+    CHECK(rg.residual <= 1e-4);
+    CHECK(err <= 5.0 * (err_cpu / rc.residual) * rg.residual + 1e-4);
+    /* float against double: the same method within a few iterations */
+    if (same_coarse) CHECK(rg.iterations <= 1.5 * rc.iterations + 3);
+    if (n > 500) CHECK(3 * rg.iterations < rb.iterations);
+    if (g->amg->n_levels == 1) CHECK(rg.iterations <= 3); /* one level: the dense factor is the inverse (in float) */
+    wg_sim_destroy(gb);
+    wc_state_destroy(sb);
+    wc_solver_destroy(cpu);
+    wc_solver_destroy(direct);
+    free(ref), free(dv), free(dc);
+    wg_sim_destroy(g);
+}
+
+static void test_solves(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 32, 3, 1.0);
+    CHECK(s != NULL);
+    if (!s) return;
+    check_system("hanging 32 x 32", &m, s, 1);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+    s = hanging(&m, 64, 3, 1000.0);
+    CHECK(s != NULL);
+    if (!s) return;
+    check_system("hanging 64 x 64, k x1000", &m, s, 1);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+    s = draped(&m);
+    CHECK(s != NULL);
+    if (!s) return;
+    printf("  draped: %d particles in contact\n", s->contacts.active);
+    CHECK(s->contacts.active >= 20);
+    check_system("draped over a sphere", &m, s, 1);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+    s = hanging(&m, 4, 3, 1.0);
+    CHECK(s != NULL);
+    if (!s) return;
+    check_system("hanging 4 x 4 (one level)", &m, s, 1);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+    s = hanging(&m, 5, 3, 1.0);
+    CHECK(s != NULL);
+    if (!s) return;
+    check_system("hanging 5 x 5 (one level)", &m, s, 1);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+    s = patches(&m, 40);
+    CHECK(s != NULL);
+    if (!s) return;
+    check_system("40 separate patches", &m, s, 0);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* 60 frames of a 16 x 16 sheet falling from two pins, GPU (multigrid) against CPU (its default
+ * multigrid): both converge every solve, so the end states agree to float rounding. */
+static void test_whole_run(void) {
+    wc_model m;
+    if (!ts_sheet(&m, 16, 1.0, 1.0, 0, 1.0)) return;
+    wc_sim_def def = amg_def();
+    wc_state *c = NULL, *s = NULL;
+    wc_diag d = {0};
+    CHECK(wc_state_create(&c, &m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_OK);
+    wc_pin pins[2] = {{ts_sheet_particle(&m, 16, 0, 15), {0, 0, 0}, {0, 0, 0}},
+                      {ts_sheet_particle(&m, 16, 15, 15), {0, 0, 0}, {0, 0, 0}}};
+    for (int k = 0; k < 2; ++k) memcpy(pins[k].target, c->x + 3 * pins[k].particle, sizeof pins[k].target);
+    wc_state_set_pins(c, pins, 2, &d);
+    wc_state_set_pins(s, pins, 2, &d);
+    wg_sim* g = NULL;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    if (!g) return;
+    int ok = 1, it_g = 0, it_c = 0, n = m.n_particles;
+    wc_step_stats sg, sc;
+    for (int f = 0; f < 60 && ok; ++f) {
+        ok &= wg_sim_step_frame(g, s, 1.0 / 30.0, &sg, &d) == WEFT_OK;
+        ok &= wc_step_frame(c, 1.0 / 30.0, &sc, &d) == WEFT_OK;
+        it_g += sg.iterations;
+        it_c += sc.iterations;
+    }
+    CHECK(ok);
+    CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
+    double e = max_diff(s->x, c->x, 3 * n);
+    printf("  60 frames: max |x_gpu - x_cpu| = %.3g m; PCG iterations GPU %d, CPU %d\n", e, it_g, it_c);
+    CHECK(e < 0.002);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_state_destroy(c);
+    wc_model_free(&m);
+}
+
+/* Fragment passes have no multigrid: the cloth is refused, naming what would work. */
+static void test_fragment_refused(void) {
+    wc_model m;
+    if (!ts_sheet(&m, 8, 1.0, 1.0, 0, 1.0)) return;
+    wc_sim_def def = amg_def();
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_OK);
+    int compute = dev->compute;
+    dev->compute = 0;
+    wg_sim* g = NULL;
+    weft_status st = wg_sim_create(dev, s, NULL, &g, &d);
+    dev->compute = compute;
+    printf("  fragment passes: %s\n", d.message);
+    CHECK(st == WEFT_ERROR_UNSUPPORTED);
+    CHECK(g == NULL);
+    CHECK(strstr(d.message, "compute-shader") != NULL && strstr(d.message, "block_jacobi") != NULL);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+int main(void) {
+    wg_gl_context_desc cd;
+    memset(&cd, 0, sizeof cd);
+    char err[512];
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WEFT_OK || wg_gl_begin(gl, err, sizeof err) != WEFT_OK ||
+        wg_device_create(gl, &dev, err, sizeof err) != WEFT_OK) {
+        fprintf(stderr, "no GL context or device: %s\n", err);
+        return 1;
+    }
+    printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
+    if (dev->compute) {
+        RUN_TEST(test_solves);
+        RUN_TEST(test_whole_run);
+    }
+    RUN_TEST(test_fragment_refused);
+    wg_device_destroy(dev);
+    wg_gl_end(gl);
+    wg_gl_context_destroy(gl);
+    return TEST_SUMMARY();
+}
