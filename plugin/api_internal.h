@@ -233,6 +233,9 @@ weft_status wa_gl_context_new(weft_context* ctx, void** out, char* err, size_t e
 weft_status wa_gpu_context_init(weft_context* ctx, int probe_only_hardware, int* software, char* err, size_t err_len);
 /* Destroy the device (inside wg_gl_begin/end); the GL context is released by wa_render_release. */
 void wa_gpu_context_release(weft_context* ctx);
+/* 1 when the context's GPU device runs compute-shader passes, the ones that have the multigrid
+ * preconditioner (gpu/solver/wg_amg.h); 0 otherwise (fragment passes, no device). */
+int wa_gpu_has_multigrid(const weft_context* ctx);
 /* Upload a freshly built cloth (weft_cloth_create); failures recorded with fn. */
 weft_status wa_gpu_cloth_create(weft_context* ctx, wa_cloth* c, const char* fn);
 void wa_gpu_cloth_destroy(wa_cloth* c);

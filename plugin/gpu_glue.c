@@ -90,6 +90,10 @@ weft_status wa_gpu_context_init(weft_context* ctx, int only_hardware, int* softw
     return WEFT_OK;
 }
 
+int wa_gpu_has_multigrid(const weft_context* ctx) {
+    return ctx->device && ((const wg_device*)ctx->device)->compute;
+}
+
 void wa_gpu_context_release(weft_context* ctx) {
     if (!ctx->device) return;
     char err[512] = "";
@@ -308,6 +312,10 @@ weft_status wa_gpu_context_init(weft_context* ctx, int only_hardware, int* softw
     return WEFT_ERROR_UNSUPPORTED;
 }
 void wa_gpu_context_release(weft_context* ctx) { (void)ctx; }
+int wa_gpu_has_multigrid(const weft_context* ctx) {
+    (void)ctx;
+    return 0;
+}
 weft_status wa_gpu_cloth_create(weft_context* ctx, wa_cloth* c, const char* fn) {
     (void)c;
     return wa_gl_begin(ctx, fn);

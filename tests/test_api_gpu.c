@@ -92,6 +92,7 @@ static float* vertices(weft_context* ctx, weft_cloth cloth, weft_space space, fl
 }
 
 static int g_software = -1;   /* the GPU context's renderer is a software rasteriser */
+static int g_compute = -1;    /* the GPU context runs compute-shader passes */
 
 /* Set an environment variable for a check; returns its old value (NULL: unset) for env_restore. */
 static char* env_set(const char* name, const char* value) {
@@ -131,6 +132,7 @@ static void test_backend_choice(void) {
     const char* passes_env = getenv("WEFT_GPU_PASSES");
     int gl43 = driver_has_gl43(), want_compute = passes_env && *passes_env ? strcmp(passes_env, "compute") == 0 : gl43;
     CHECK(strstr(g_log.last, want_compute ? "(compute-shader passes)" : "(fragment-shader passes)") != NULL);
+    g_compute = want_compute;
     g_software = strstr(g_log.last, "llvmpipe") || strstr(g_log.last, "softpipe") || strstr(g_log.last, "swrast");
     printf("GPU context: %s\n", g_log.last);
     weft_context_destroy(gpu);
@@ -220,8 +222,8 @@ static void test_direct_refused(void) {
     printf("direct on the GPU: %s\n", weft_context_last_error(ctx));
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
-    /* what only the CPU backend has: the multigrid preconditioner, BDF2, Newton, line search,
-       self-collision, TR-BDF2 (k == 6) */
+    /* the multigrid (k == 0): the GPU's own on compute passes, refused on fragment passes; what
+       only the CPU backend has: BDF2, Newton, line search, self-collision, TR-BDF2 (k == 6) */
     def.solver = WEFT_SOLVER_PCG;
     static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1}; /* sewing (k == 4), self-collision (5): CPU only */
     for (int k = 0; k < 7; ++k) {
@@ -237,7 +239,18 @@ static void test_direct_refused(void) {
         if (k == 3) d2.line_search = 1;
         if (k == 5) d2.self_collision = 1;
         if (k == 6) d2.integrator = WEFT_INTEGRATOR_TRBDF2;
+        if (k == 0 && g_compute == 1) {
+            CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_OK);
+            weft_cloth_info mi;
+            CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &mi), WEFT_OK);
+            CHECK_EQ_INT(mi.preconditioner, WEFT_PRECOND_AMG);
+            CHECK(step(ctx, cloth, 3));
+            CHECK_EQ_INT(weft_cloth_destroy(ctx, cloth), WEFT_OK);
+            cloth.id = 0;
+            continue;
+        }
         CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_ERROR_UNSUPPORTED);
+        if (k == 0) CHECK(strstr(weft_context_last_error(ctx), "compute-shader passes") != NULL);
         if (k == 5) CHECK(strstr(weft_context_last_error(ctx), "self-collision") != NULL);
         CHECK(cloth.id == 0);
         printf("CPU-only option %d on the GPU: %s\n", k, weft_context_last_error(ctx));
@@ -252,7 +265,8 @@ static void test_direct_refused(void) {
     weft_cloth_info info;
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
     CHECK_EQ_INT(info.backend, WEFT_BACKEND_GPU);
-    CHECK_EQ_INT(info.preconditioner, WEFT_PRECOND_BLOCK_JACOBI);
+    /* the multigrid where the passes have it (compute), block Jacobi on fragment passes */
+    CHECK_EQ_INT(info.preconditioner, g_compute == 1 ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI);
     CHECK_EQ_INT(info.integrator, WEFT_INTEGRATOR_BACKWARD_EULER);
     CHECK_EQ_INT(info.newton_iterations, 1);
     CHECK_EQ_INT(info.line_search, 0);
