@@ -2,7 +2,8 @@
  * `--backend cpu` and with `--backend gpu` (llvmpipe through EGL where there is no GPU), the last
  * OBJ frames compared. Scenes: the hanging sheet, a drape on a sphere over the ground
  * (tablecloth), moving attachments on a turning body (poncho), wind (flag) and the skirt on
- * capsules spinning (skirt_turning).
+ * capsules spinning (skirt_turning). Each scene twice: block Jacobi on both backends, then the
+ * multigrid on both (the GPU's default on compute passes).
  *
  * What separates the two: the GPU computes in float, the CPU in double; each solve stops at a
  * relative residual of 1e-4, so the two follow different iterates at that level, and contacts
@@ -20,16 +21,17 @@ static obj_frame cpu_frame, gpu_frame;
 
 typedef struct scene_case {
     const char* name;
-    double bound;   /* max |x_gpu - x_cpu| / bbox diagonal */
+    double bound;   /* max |x_gpu - x_cpu| / bbox diagonal, block Jacobi on both */
+    double bound_amg; /* the same with the multigrid on both (the GPU's own, core's default) */
 } scene_case;
 
-static int run(const char* scene, const char* backend, const char* dir) {
+static int run(const char* scene, const char* backend, const char* precond, const char* dir) {
     char args[2048];
-    /* the GPU's method on both backends (the CPU's defaults: multigrid, two Newton iterations) */
+    /* the GPU's method on both backends (the CPU's defaults: two Newton iterations) */
     snprintf(args, sizeof args,
              "run '%s/sample_scenes/%s.json' --frames 60 --threads 1 --quiet --backend %s --out '%s' "
-             "--precond block_jacobi --integrator be --newton 1 --line-search off",
-             WEFT_SOURCE_DIR, scene, backend, dir);
+             "--precond %s --integrator be --newton 1 --line-search off",
+             WEFT_SOURCE_DIR, scene, backend, dir, precond);
     ts_cli_result r;
     ts_run_cli(args, &r);
     if (r.rc != 0) fprintf(stderr, "weft %s: rc %d: %s\n", args, r.rc, r.err);
@@ -38,28 +40,39 @@ static int run(const char* scene, const char* backend, const char* dir) {
 
 int main(void) {
     const scene_case cases[] = {
-        /* measured on llvmpipe / on an H100 (NVIDIA 580, README "The GPU backend") */
-        {"hanging_sheet", 0.005},   /* 5.5e-4 / 4.8e-4 */
-        {"tablecloth", 0.05},       /* 1.4e-2 / 1.6e-2: contacts with friction, stick or slide a threshold */
-        {"poncho_shoulders", 0.05}, /* 9.3e-3 / 1.3e-2 */
-        {"flag", 0.3},              /* 9.5e-2 / 0.19: its solves stop at the 300-iteration cap on
-                                       both backends (residual ~4e-4 CPU, ~5e-3 GPU: float PCG
-                                       converges slower on these stiff systems), so each follows
-                                       its own unconverged iterates in a fluttering flag, and a
-                                       device's own float rounding sets where it flies: this
-                                       bound says only that it flies in the same place */
-        {"skirt_turning", 0.01},    /* 1.8e-4 / 2.5e-4 */
+        /* block Jacobi measured on llvmpipe / on an H100 (NVIDIA 580, README "The GPU backend");
+           the multigrid on llvmpipe (2026-11-28; the two backends' multigrids differ: core's
+           default with rotations, the GPU's unsmoothed of translations, so each takes its own
+           iterates to the same tolerance) */
+        {"hanging_sheet", 0.005, 0.005},   /* 5.5e-4 / 4.8e-4; multigrid 3.0e-4 */
+        {"tablecloth", 0.05, 0.05},        /* 1.4e-2 / 1.6e-2; 9.2e-3: contacts with friction, stick or
+                                              slide a threshold */
+        {"poncho_shoulders", 0.05, 0.08},  /* 9.3e-3 / 1.3e-2; 3.7e-2 */
+        {"flag", 0.3, 0.3},                /* 9.5e-2 (0.14 in a later run) / 0.19; 9.1e-2. With
+                                              block Jacobi its solves stop at the 300-iteration
+                                              cap on both backends (residual ~4e-4 CPU, ~5e-3
+                                              GPU: float PCG converges slower on these stiff
+                                              systems); the multigrid converges every solve but
+                                              the first (at rest, where float stalls near 4e-4).
+                                              Either way a fluttering flag amplifies each
+                                              device's own rounding: this bound says only that
+                                              it flies in the same place */
+        {"skirt_turning", 0.01, 0.01},     /* 1.8e-4 / 2.5e-4; 1.1e-3 */
     };
-    printf("%-18s %10s %12s %12s\n", "scene", "vertices", "max |dx| m", "/ diagonal");
-    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
-        char dc[1024], dg[1100], pc[1200], pg[1200];
-        snprintf(dc, sizeof dc, "%s", cf_fresh_dir(cases[k].name));
+    printf("%-18s %-12s %10s %12s %12s\n", "scene", "precond.", "vertices", "max |dx| m", "/ diagonal");
+    for (size_t q = 0; q < 2 * (sizeof cases / sizeof cases[0]); ++q) {
+        const size_t k = q / 2;
+        const char* precond = q % 2 ? "amg" : "block_jacobi";
+        const double bound = q % 2 ? cases[k].bound_amg : cases[k].bound;
+        char dc[1024], dg[1100], pc[1200], pg[1200], tag[128];
+        snprintf(tag, sizeof tag, "%s_%s", cases[k].name, precond);
+        snprintf(dc, sizeof dc, "%s", cf_fresh_dir(tag));
         snprintf(dg, sizeof dg, "%s_gpu", dc);
         char cmd[2200];
         snprintf(cmd, sizeof cmd, "rm -rf '%s'", dg);
         CHECK(system(cmd) == 0);
-        CHECK(run(cases[k].name, "cpu", dc) == 0);
-        CHECK(run(cases[k].name, "gpu", dg) == 0);
+        CHECK(run(cases[k].name, "cpu", precond, dc) == 0);
+        CHECK(run(cases[k].name, "gpu", precond, dg) == 0);
         snprintf(pc, sizeof pc, "%s/frame_0059.obj", dc);
         snprintf(pg, sizeof pg, "%s/frame_0059.obj", dg);
         CHECK(cf_read_obj(pc, &cpu_frame) == 0);
@@ -81,9 +94,10 @@ int main(void) {
         }
         double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                            (hi[2] - lo[2]) * (hi[2] - lo[2]));
-        printf("%-18s %10d %12.3g %12.3g  (bound %g)\n", cases[k].name, cpu_frame.n_v, e, e / diag, cases[k].bound);
+        printf("%-18s %-12s %10d %12.3g %12.3g  (bound %g)\n", cases[k].name, precond, cpu_frame.n_v, e, e / diag,
+               bound);
         CHECK(finite);
-        CHECK(e / diag <= cases[k].bound);
+        CHECK(e / diag <= bound);
     }
     return TEST_SUMMARY();
 }

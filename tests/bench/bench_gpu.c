@@ -9,8 +9,10 @@
  * bandwidth of the SpMV pass against a plain copy pass of the particle array.
  *
  *   [WEFT_GPU_PASSES=fragment|compute] bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--tolerance 0] [--threads 0]
- *             [--skip-cpu]
- * (--tolerance T > 0: PCG stops at T or the iteration cap, for the error of converged steps)
+ *             [--skip-cpu] [--precond block_jacobi|amg]
+ * (--tolerance T > 0: PCG stops at T or the iteration cap, for the error of converged steps;
+ * --precond: PCG's preconditioner on both backends, block Jacobi by default; amg is core's
+ * default multigrid on the CPU and the GPU's own, unsmoothed one, gpu/solver/wg_amg.h)
  *
  * llvmpipe runs the passes on the CPU's cores: its figures say what the GL path costs there, not
  * what a GPU does. Run it where an NVIDIA device is visible to EGL for GPU figures. */
@@ -64,9 +66,10 @@ static int build_sheet(wc_model* m, int n) {
     return st == WEFT_OK;
 }
 
-static wc_state* make_state(const wc_model* m, int n, int iterations, double tolerance, int threads) {
+static wc_state* make_state(const wc_model* m, int n, int iterations, double tolerance, int threads, wc_precond_type pc) {
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = WC_SOLVER_PCG;
+    def.solver.preconditioner = pc;
     def.solver.tolerance = tolerance;
     def.solver.max_iterations = iterations;
     def.sleep_speed = 0.0;
@@ -93,6 +96,7 @@ static wc_state* make_state(const wc_model* m, int n, int iterations, double tol
 int main(int argc, char** argv) {
     int sizes[MAX_SIZES] = {32, 100, 316, 1000}, n_sizes = 4, frames = 5, iterations = 30, threads = 0, skip_cpu = 0;
     double tolerance = 0.0;
+    wc_precond_type pc = WC_PRECOND_BLOCK_JACOBI;
     for (int a = 1; a < argc; ++a) {
         if (!strcmp(argv[a], "--sizes") && a + 1 < argc) {
             n_sizes = 0;
@@ -105,6 +109,9 @@ int main(int argc, char** argv) {
             tolerance = atof(argv[++a]);
         } else if (!strcmp(argv[a], "--threads") && a + 1 < argc) {
             threads = atoi(argv[++a]);
+        } else if (!strcmp(argv[a], "--precond") && a + 1 < argc && (!strcmp(argv[a + 1], "amg") ||
+                                                                      !strcmp(argv[a + 1], "block_jacobi"))) {
+            pc = !strcmp(argv[++a], "amg") ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
         } else if (!strcmp(argv[a], "--skip-cpu")) {
             skip_cpu = 1;
         } else {
@@ -125,29 +132,30 @@ int main(int argc, char** argv) {
         fprintf(stderr, "bench_gpu: %s\n", err);
         return 1;
     }
-    printf("# GPU backend vs CPU backend\n\n%s; the passes are %s\n\nPCG, %d iterations per solve at most (tolerance %g), 1 "
+    printf("# GPU backend vs CPU backend\n\n%s; the passes are %s\n\nPCG (%s), %d iterations per solve at most (tolerance %g), 1 "
            "substep of 1/30 s per frame, median of %d frames after one warm-up frame; CPU threads: %d (0 = OpenMP "
            "default). Stages of the GPU from GL timer queries%s.\n\n",
-           wg_gl_context_description(gl), dev->compute ? "compute shaders" : "fragment shaders",
+           wg_gl_context_description(gl), dev->compute ? "compute shaders" : "fragment shaders", wc_precond_name(pc),
            iterations, tolerance, frames, threads, dev->has_timer ? "" : " (unavailable here)");
     printf("| particles | CPU ms/frame | GPU ms/frame | CPU/GPU | GPU forces | assemble | solve | collide+integrate | "
-           "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB | GPU passes/frame |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB | GPU passes/frame | it./frame CPU | GPU |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     double bw[MAX_SIZES][6];
     int bw_n[MAX_SIZES];
     for (int k = 0; k < n_sizes; ++k) {
         int n = sizes[k];
         wc_model m;
         if (!build_sheet(&m, n)) continue;
-        wc_state* c = make_state(&m, n, iterations, tolerance, threads);
-        wc_state* s = make_state(&m, n, iterations, tolerance, threads);
+        wc_state* c = make_state(&m, n, iterations, tolerance, threads, pc);
+        wc_state* s = make_state(&m, n, iterations, tolerance, threads, pc);
         wg_sim* g = NULL;
         wc_diag d = {0};
         if (!c || !s || wg_sim_create(dev, s, NULL, &g, &d) != WEFT_OK) {
             fprintf(stderr, "bench_gpu: %d x %d: %s\n", n, n, d.message);
             return 1;
         }
-        double tc[MAX_FRAMES], tg[MAX_FRAMES], stage[4][MAX_FRAMES], passes[MAX_FRAMES];
+        double tc[MAX_FRAMES], tg[MAX_FRAMES], stage[4][MAX_FRAMES], passes[MAX_FRAMES], itc[MAX_FRAMES],
+            itg[MAX_FRAMES];
         wc_step_stats st, sc;
         memset(&sc, 0, sizeof sc);
         for (int f = 0; f <= frames; ++f) {
@@ -159,6 +167,8 @@ int main(int argc, char** argv) {
             double t2 = wc_now_ms();
             if (f == 0) continue;
             passes[f - 1] = (double)(wg_sim_debug_passes(g) - p0);
+            itc[f - 1] = sc.iterations;
+            itg[f - 1] = st.iterations;
             tc[f - 1] = t1 - t0;
             tg[f - 1] = t2 - t1;
             stage[0][f - 1] = st.ms.forces;
@@ -170,11 +180,12 @@ int main(int argc, char** argv) {
         double e = 0.0;
         for (int i = 0; i < 3 * m.n_particles && !skip_cpu; ++i) e = fmax(e, fabs(s->x[i] - c->x[i]));
         double mc = skip_cpu ? NAN : wc_sort_median(tc, frames), mg = wc_sort_median(tg, frames);
-        printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2g | %.2g | %.2g | %.1f | %.0f |\n", m.n_particles, mc,
+        printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2g | %.2g | %.2g | %.1f | %.0f | %.0f | %.0f |\n",
+               m.n_particles, mc,
                mg, mc / mg, wc_sort_median(stage[0], frames), wc_sort_median(stage[1], frames),
                wc_sort_median(stage[2], frames), wc_sort_median(stage[3], frames), skip_cpu ? NAN : sc.residual,
                st.residual, skip_cpu ? NAN : e, (double)wg_sim_gpu_bytes(g) / (1024.0 * 1024.0),
-               wc_sort_median(passes, frames));
+               wc_sort_median(passes, frames), skip_cpu ? NAN : wc_sort_median(itc, frames), wc_sort_median(itg, frames));
         fflush(stdout);
         bw_n[k] = m.n_particles;
         wg_sim_debug_bandwidth(g, 10, &bw[k][0], &bw[k][1], &bw[k][2], &bw[k][3]);
