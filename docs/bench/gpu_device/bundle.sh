@@ -9,7 +9,7 @@
 # carry it).
 set -e
 B=build-dev
-BINS="$B/weft $B/plugin/libweft.so.7.7.0 $B/tests/test_gpu_solver $B/tests/test_gpu_contacts $B/tests/test_api_gpu
+BINS="$B/weft $B/plugin/libweft.so.7.7.0 $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_gpu_contacts $B/tests/test_api_gpu
       $B/tests/test_cli_gpu_runs $B/tests/test_render $B/tests/test_api_render $B/tests/test_render_errors
       $B/tests/bench/bench_gpu $B/tests/bench/bench_render"
 T=$(mktemp -d)

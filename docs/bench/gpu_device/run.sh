@@ -1,10 +1,11 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
-# default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min.
+# default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
+# amg: the GPU's multigrid against block Jacobi (its test, converged steps, the scenes, peers).
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -23,6 +24,22 @@ probe() { timeout 60 build-dev/tests/bench/bench_gpu --sizes 8 --frames 1 --skip
   grep -i "egl\|opengl" /tmp/probe.txt | head -3
 } 2>&1 | tee "$O/0_probe.log"
 grep -q "probe: FAILED" "$O/0_probe.log" && [ -z "$SMALL" ] && exit 1
+if [ "$MODE" = amg ]; then   # the multigrid (gpu/solver/wg_amg.h) against block Jacobi, GPU only
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    timeout 90 build-dev/tests/test_gpu_amg > /tmp/ta.txt 2>&1; echo "test_gpu_amg rc=$?"; grep -v " ok$" /tmp/ta.txt
+    for pc in amg block_jacobi; do
+      timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond $pc 2>&1
+    done
+    for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
+      for pc in amg block_jacobi; do
+        timeout 60 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json --backend gpu --precond $pc > /dev/null 2>&1 &&
+        python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | $pc | %.2f | %s | %.1f | %s | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('not_converged'),s.get('rollbacks')))"
+      done
+    done
+    timeout 90 build-dev/weft bench peers --backend gpu --scenes sheet100 --substeps 1,2 --preconds amg,block_jacobi --newton 1 --threads 1 --frames 30 --md "$O/e_peers.md" > /dev/null 2>&1
+    grep "^| sheet100 | 10000" "$O/e_peers.md"; } 2>&1 | tee "$O/g_amg.md"
+  exit 0
+fi
 if [ "$MODE" = quick ]; then   # what fits the last minutes of a lease: the default passes only
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
     timeout 120 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 5 2>&1

@@ -213,9 +213,12 @@ typedef enum weft_solver {
 
 /* PCG's preconditioner. */
 typedef enum weft_preconditioner {
-    WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: AMG on the CPU, block Jacobi on the GPU */
+    WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: AMG on the CPU and on a GPU with compute-
+                                       shader passes (OpenGL 4.3), block Jacobi on fragment passes */
     WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
-    WEFT_PRECOND_AMG = 2            /* smoothed-aggregation multigrid V-cycle (CPU backend only) */
+    WEFT_PRECOND_AMG = 2            /* multigrid V-cycle: smoothed aggregation with rotations on the
+                                       CPU; on the GPU (compute passes only) unsmoothed aggregation
+                                       of translations (gpu/solver/wg_amg.h) */
 } weft_preconditioner;
 
 /* Time integrator of each substep. */
