@@ -17,18 +17,6 @@
 static wg_gl_context* gl;
 static wg_device* dev;
 
-static double max_abs(const double* a, int n) {
-    double m = 0.0;
-    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i]));
-    return m;
-}
-
-static double max_diff(const double* a, const double* b, int n) {
-    double m = 0.0;
-    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i] - b[i]));
-    return m;
-}
-
 /* A hanging n x n sheet pinned at its two top corners (the thesis's scene), stepped `warm`
  * frames on the CPU so that the system is not the trivial rest one. */
 static wc_state* sheet_state(wc_model* m, int n, wc_solver_type solver, int warm, int vertical) {
@@ -69,7 +57,7 @@ static double spmv_error(wg_sim* g, const wc_model* m, wc_state* s, double* x, d
     for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
     CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
     wc_bsr_mul(&m->pattern, s->A, x, yc, &s->par);
-    return max_diff(y, yc, 3 * n) / max_abs(yc, 3 * n);
+    return ts_max_diff(y, yc, 3 * n) / ts_max_abs(yc, 3 * n);
 }
 
 static void test_assembly_and_spmv(void) {
@@ -98,14 +86,14 @@ static void test_assembly_and_spmv(void) {
     /* b is a small sum of large terms: spring forces k (l - rest) near equilibrium against gravity.
        In float, l carries a rounding of ~6e-8 l, so each term k (l - rest) one of ~6e-8 k l: b's
        error is relative to h k l, the size of the terms float rounds (A's to its largest entry). */
-    double sa = max_abs(s->A, 9 * nb), kl = 0.0;
+    double sa = ts_max_abs(s->A, 9 * nb), kl = 0.0;
     for (int k = 0; k < m.n_springs; ++k) kl = fmax(kl, m.material.k[m.springs[k].type] * m.springs[k].rest);
-    double ea = max_diff(A, s->A, 9 * nb) / sa, eb = max_diff(b, s->b, 3 * n) / (h * kl);
+    double ea = ts_max_diff(A, s->A, 9 * nb) / sa, eb = ts_max_diff(b, s->b, 3 * n) / (h * kl);
     printf("  13x13 sheet: A relative error %.2e, b %.2e (of h k l)\n", ea, eb);
     CHECK(ea < 1e-5);
     CHECK(eb < 1e-5);
-    CHECK(max_diff(S, s->filter.S, 9 * n) < 1e-6);
-    CHECK(max_diff(z, s->filter.z, 3 * n) < 1e-5 * (1.0 + max_abs(s->filter.z, 3 * n)));
+    CHECK(ts_max_diff(S, s->filter.S, 9 * n) < 1e-6);
+    CHECK(ts_max_diff(z, s->filter.z, 3 * n) < 1e-5 * (1.0 + ts_max_abs(s->filter.z, 3 * n)));
     int same_ndof = 1;
     for (int i = 0; i < n; ++i) same_ndof &= ndof[i] == s->filter.ndof[i];
     CHECK(same_ndof);
@@ -243,7 +231,7 @@ static void test_solvers_vs_direct(void) {
         /* the same system on both (the CPU's A and b rounded to float): solvers, not assemblies, compared */
         CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WEFT_OK);
         weft_status gs = wg_sim_debug_solve(g, type, dv, &rg, &d);
-        double err = max_diff(dv, ref, 3 * n) / max_abs(ref, 3 * n);
+        double err = ts_max_diff(dv, ref, 3 * n) / ts_max_abs(ref, 3 * n);
         /* the CPU's own solver at the same tolerance: the error any solver stopping there has */
         wc_solver* cpu = NULL;
         o.type = type;
@@ -252,7 +240,7 @@ static void test_solvers_vs_direct(void) {
         double* dc = calloc((size_t)n * 3, sizeof(double));
         wc_solve_result rc;
         wc_solve(cpu, type, s->A, s->b, &s->filter, dc, &s->par, &rc);
-        double err_cpu = max_diff(dc, ref, 3 * n) / max_abs(ref, 3 * n);
+        double err_cpu = ts_max_diff(dc, ref, 3 * n) / ts_max_abs(ref, 3 * n);
         if (type == WC_SOLVER_CHEBYSHEV) {
             /* the same start vector (lanczos_start.glsl ports core's splitmix64): the same
                estimate to float rounding (with a 32-bit hash instead the drape's differed by
@@ -386,7 +374,7 @@ static void test_whole_run(void) {
         }
         CHECK(ok);
         CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
-        double e = max_diff(s->x, c->x, 3 * n);
+        double e = ts_max_diff(s->x, c->x, 3 * n);
         double drop = c->x[3 * ts_sheet_particle(&m, 16, 0, 0) + 1] - 1.0;
         printf("  60 frames, %-9s: max |x_gpu - x_cpu| = %.3g m on a 1 m sheet (its far corner moved %.3g m); "
                "iterations GPU %d CPU %d\n", wc_solver_name(types[k]), e, drop, iters_g, iters_c);

@@ -16,12 +16,6 @@
 
 #define N 16
 
-static double max_abs_diff(const double* a, const double* b, int n) {
-    double worst = 0.0;
-    for (int k = 0; k < n; ++k) worst = fmax(worst, fabs(a[k] - b[k]));
-    return worst;
-}
-
 /* ||S (b - A x)|| (filter z of the pins is zero: still pins) */
 static double filtered_residual(const wc_model* m, const wc_state* s, const double* b, const double* x) {
     int n = m->n_particles;
@@ -90,7 +84,7 @@ static void test_floor(void) {
     CHECK_EQ_INT(wc_solve(plain, WC_SOLVER_PCG, s->A, small, &s->filter, d0, &s->par, &r0), WEFT_OK);
     CHECK_EQ_INT(wc_solve(floored, WC_SOLVER_PCG, s->A, small, &s->filter, d1, &s->par, &r1), WEFT_OK);
     CHECK_EQ_INT(wc_solve(direct, WC_SOLVER_DIRECT, s->A, small, &s->filter, ref, &s->par, &rd), WEFT_OK);
-    double true1 = filtered_residual(&m, s, small, d1), err1 = max_abs_diff(d1, ref, n3);
+    double true1 = filtered_residual(&m, s, small, d1), err1 = ts_max_diff(d1, ref, n3);
     printf("  right-hand side x 1e-6 (|S b| = %.3g): %d iterations to its own residual, %d to the floor "
            "(true residual %.3g = %.3g x floor); |dv - CHOLMOD| %.3g m/s (tolerance x g h = %.3g)\n",
            r0.residual0, r0.iterations, r1.iterations, true1, true1 / floor, err1, 1e-4 * 9.81 * h);

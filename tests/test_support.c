@@ -166,3 +166,15 @@ weft_status ts_pin_far_corners(wc_state* s, int n, const double* move) {
     wc_diag diag = {0};
     return wc_state_set_pins(s, pins, 2, &diag);
 }
+
+double ts_max_abs(const double* a, int n) {
+    double m = 0.0;
+    for (int k = 0; k < n; ++k) m = fmax(m, fabs(a[k]));
+    return m;
+}
+
+double ts_max_diff(const double* a, const double* b, int n) {
+    double m = 0.0;
+    for (int k = 0; k < n; ++k) m = fmax(m, fabs(a[k] - b[k]));
+    return m;
+}

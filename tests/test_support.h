@@ -40,5 +40,8 @@ int ts_sheet_particle(const wc_model* m, int n, int i, int j);
 weft_status ts_pin_far_corners(wc_state* s, int n, const double* move);
 /* |a - b| / |b| over n doubles (|a - b| when b is zero). */
 double ts_rel_diff(const double* a, const double* b, int n);
+/* max |a_k| and max |a_k - b_k| over n doubles. */
+double ts_max_abs(const double* a, int n);
+double ts_max_diff(const double* a, const double* b, int n);
 
 #endif

@@ -28,6 +28,25 @@ static int upload_i4(wg_sim* g, wg_tex* t, int count, const int* v, char* err, s
     return wg_array_create(g, t, GL_RGBA32I, count, v, err, el);
 }
 
+/* The n_items items grouped by key (counting sort, items ascending within a group), uploaded as
+ * range (per group: first, end) and list (per position: the item), int4 arrays. start: n_groups
+ * + 1 ints of scratch (not key); v: int4 scratch for max(n_groups, n_items) items. */
+static int upload_groups(wg_sim* g, wg_tex* range, wg_tex* list, int n_groups, int n_items, const int* key, int* start,
+                         int* v, char* err, size_t el) {
+    memset(start, 0, sizeof(int) * (size_t)(n_groups + 1));
+    for (int k = 0; k < n_items; ++k) ++start[key[k] + 1];
+    for (int K = 0; K < n_groups; ++K) start[K + 1] += start[K];
+    memset(v, 0, 4u * sizeof(int) * (size_t)(n_groups > n_items ? n_groups : n_items));
+    for (int K = 0; K < n_groups; ++K) {
+        v[4 * K] = start[K];
+        v[4 * K + 1] = start[K + 1];
+    }
+    if (!upload_i4(g, range, n_groups, v, err, el)) return 0;
+    memset(v, 0, 4u * sizeof(int) * (size_t)n_items);
+    for (int k = 0; k < n_items; ++k) v[4 * start[key[k]]++] = k;
+    return upload_i4(g, list, n_items, v, err, el);
+}
+
 /* One level's textures from core's level L (N: the next one, NULL on the coarsest); P: the finer
  * level of core's hierarchy (NULL on level 0) for the Galerkin and member lists. */
 static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const wc_amg_level* L, int* buf,
@@ -55,7 +74,6 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
     if (P) {
         /* each finer block (i, j) sums into this level's block (agg i, agg j) */
         int* start = buf; /* (nb + 1) */
-        memset(start, 0, sizeof(int) * (size_t)(L->n_blocks + 1));
         int* slot = buf + L->n_blocks + 1; /* (P->n_blocks) */
         for (int i = 0; i < P->n; ++i)
             for (int k = P->row_start[i]; k < P->row_start[i + 1]; ++k) {
@@ -66,31 +84,10 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
                     goto fail;
                 }
                 slot[k] = K;
-                ++start[K + 1];
             }
-        for (int K = 0; K < L->n_blocks; ++K) start[K + 1] += start[K];
-        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
-        for (int K = 0; K < L->n_blocks; ++K) {
-            v[4 * K] = start[K];
-            v[4 * K + 1] = start[K + 1];
-        }
-        TRY(upload_i4(g, &G->gal_range, L->n_blocks, v, err, el));
-        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
-        for (int k = 0; k < P->n_blocks; ++k) v[4 * start[slot[k]]++] = k;
-        TRY(upload_i4(g, &G->gal_list, P->n_blocks, v, err, el));
+        TRY(upload_groups(g, &G->gal_range, &G->gal_list, L->n_blocks, P->n_blocks, slot, start, v, err, el));
         /* members of each aggregate, ascending */
-        memset(start, 0, sizeof(int) * (size_t)(L->n + 1));
-        for (int i = 0; i < P->n; ++i) ++start[P->agg[i] + 1];
-        for (int I = 0; I < L->n; ++I) start[I + 1] += start[I];
-        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
-        for (int I = 0; I < L->n; ++I) {
-            v[4 * I] = start[I];
-            v[4 * I + 1] = start[I + 1];
-        }
-        TRY(upload_i4(g, &G->mem_range, L->n, v, err, el));
-        memset(v, 0, 4u * sizeof(int) * (size_t)(cap + 1));
-        for (int i = 0; i < P->n; ++i) v[4 * start[P->agg[i]]++] = i;
-        TRY(upload_i4(g, &G->mem_list, P->n, v, err, el));
+        TRY(upload_groups(g, &G->mem_range, &G->mem_list, L->n, P->n, P->agg, start, v, err, el));
         TRY(wg_array_create(g, &G->r, GL_RGBA32F, L->n, NULL, err, el));
     }
     for (int c = 0; c < 3; ++c) {
