@@ -19,18 +19,6 @@
 static wg_gl_context* gl;
 static wg_device* dev;
 
-static double max_abs(const double* a, int n) {
-    double m = 0.0;
-    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i]));
-    return m;
-}
-
-static double max_diff(const double* a, const double* b, int n) {
-    double m = 0.0;
-    for (int i = 0; i < n; ++i) m = fmax(m, fabs(a[i] - b[i]));
-    return m;
-}
-
 static wc_sim_def amg_def(void) {
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = WC_SOLVER_PCG;
@@ -47,10 +35,7 @@ static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
     wc_state* s = NULL;
     wc_diag d = {0};
     if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
-    wc_pin pins[2] = {{ts_sheet_particle(m, n, 0, n - 1), {0, 0, 0}, {0, 0, 0}},
-                      {ts_sheet_particle(m, n, n - 1, n - 1), {0, 0, 0}, {0, 0, 0}}};
-    for (int k = 0; k < 2; ++k) memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
-    wc_state_set_pins(s, pins, 2, &d);
+    ts_pin_far_corners(s, n, NULL);
     for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
     for (int k = 0; k < 3 * m->n_particles; ++k) {
         s->x[k] = (float)s->x[k];
@@ -126,8 +111,11 @@ static wc_state* patches(wc_model* m, int count) {
 
 /* One system three ways on the GPU side (multigrid, block Jacobi) and two on the CPU (the same
  * multigrid, CHOLMOD). same_coarse 0: the CPU factors a coarsest level the GPU smooths (more
- * than WG_AMG_DENSE_NODES nodes): the iterations are not compared. */
-static void check_system(const char* name, wc_model* m, wc_state* s, int same_coarse) {
+ * than WG_AMG_DENSE_NODES nodes): the iterations are not compared. at_rest: a stiff sheet's
+ * first step, whose residual float cannot compute below ~5e-4 of |b| (the rows' sums cancel
+ * terms ~1e4 x larger: wg_solve.c's float floor): both GPU solves stop there, converged as far
+ * as float allows, instead of restarting until their cap (3000 iterations before the floor). */
+static void check_system(const char* name, wc_model* m, wc_state* s, int same_coarse, int at_rest) {
     const double h = 1.0 / 30.0;
     int n = m->n_particles;
     wc_diag d = {0};
@@ -154,7 +142,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WEFT_OK);
     CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WEFT_OK);
     weft_status gs = wg_sim_debug_solve(g, WC_SOLVER_PCG, dv, &rg, &d);
-    double err = max_diff(dv, ref, 3 * n) / max_abs(ref, 3 * n);
+    double err = ts_max_diff(dv, ref, 3 * n) / ts_max_abs(ref, 3 * n);
     /* the CPU's PCG with the same multigrid (core's, built with the GPU's options) */
     o.type = WC_SOLVER_PCG;
     wc_solver* cpu = NULL;
@@ -165,7 +153,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WEFT_OK);
     wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h));
     wc_solve(cpu, WC_SOLVER_PCG, s->A, s->b, &s->filter, dc, &s->par, &rc);
-    double err_cpu = max_diff(dc, ref, 3 * n) / max_abs(ref, 3 * n);
+    double err_cpu = ts_max_diff(dc, ref, 3 * n) / ts_max_abs(ref, 3 * n);
     /* block Jacobi on the GPU, for scale */
     wc_state* sb = NULL;
     wc_sim_def bdef = s->def;
@@ -184,11 +172,14 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     CHECK(g->amg->dense == same_coarse);
     CHECK(gs == WEFT_OK);
     CHECK(rg.converged);
-    CHECK(rg.residual <= 1e-4);
-    CHECK(err <= 5.0 * (err_cpu / rc.residual) * rg.residual + 1e-4);
+    CHECK(rb.converged);
+    CHECK(rg.residual <= (at_rest ? 1e-3 : 1e-4));
+    if (at_rest) CHECK(err <= 1e-3);
+    else CHECK(err <= 5.0 * (err_cpu / rc.residual) * rg.residual + 1e-4);
     /* float against double: the same method within a few iterations */
     if (same_coarse) CHECK(rg.iterations <= 1.5 * rc.iterations + 3);
     if (n > 500) CHECK(3 * rg.iterations < rb.iterations);
+    if (at_rest) CHECK(rb.iterations < 1000);
     if (g->amg->n_levels == 1) CHECK(rg.iterations <= 3); /* one level: the dense factor is the inverse (in float) */
     wg_sim_destroy(gb);
     wc_state_destroy(sb);
@@ -199,45 +190,34 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
 }
 
 static void test_solves(void) {
-    wc_model m;
-    wc_state* s = hanging(&m, 32, 3, 1.0);
-    CHECK(s != NULL);
-    if (!s) return;
-    check_system("hanging 32 x 32", &m, s, 1);
-    wc_state_destroy(s);
-    wc_model_free(&m);
-    s = hanging(&m, 64, 3, 1000.0);
-    CHECK(s != NULL);
-    if (!s) return;
-    check_system("hanging 64 x 64, k x1000", &m, s, 1);
-    wc_state_destroy(s);
-    wc_model_free(&m);
-    s = draped(&m);
-    CHECK(s != NULL);
-    if (!s) return;
-    printf("  draped: %d particles in contact\n", s->contacts.active);
-    CHECK(s->contacts.active >= 20);
-    check_system("draped over a sphere", &m, s, 1);
-    wc_state_destroy(s);
-    wc_model_free(&m);
-    s = hanging(&m, 4, 3, 1.0);
-    CHECK(s != NULL);
-    if (!s) return;
-    check_system("hanging 4 x 4 (one level)", &m, s, 1);
-    wc_state_destroy(s);
-    wc_model_free(&m);
-    s = hanging(&m, 5, 3, 1.0);
-    CHECK(s != NULL);
-    if (!s) return;
-    check_system("hanging 5 x 5 (one level)", &m, s, 1);
-    wc_state_destroy(s);
-    wc_model_free(&m);
-    s = patches(&m, 40);
-    CHECK(s != NULL);
-    if (!s) return;
-    check_system("40 separate patches", &m, s, 0);
-    wc_state_destroy(s);
-    wc_model_free(&m);
+    static const struct {
+        const char* name;
+        int kind, n, warm, same_coarse, at_rest; /* kind 0: hanging n x n; 1: draped; 2: 40 patches */
+        double k_scale;
+    } cases[] = {
+        {"hanging 32 x 32", 0, 32, 3, 1, 0, 1.0},
+        {"hanging 32 x 32, at rest", 0, 32, 0, 1, 1, 1.0},
+        {"hanging 64 x 64, k x1000", 0, 64, 3, 1, 0, 1000.0},
+        {"draped over a sphere", 1, 24, 20, 1, 0, 1.0},
+        {"hanging 4 x 4 (one level)", 0, 4, 3, 1, 0, 1.0},
+        {"hanging 5 x 5 (one level)", 0, 5, 3, 1, 0, 1.0},
+        {"40 separate patches", 2, 40, 3, 0, 0, 1.0},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        wc_model m;
+        wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
+                      : cases[k].kind == 1 ? draped(&m)
+                                           : patches(&m, cases[k].n);
+        CHECK(s != NULL);
+        if (!s) return;
+        if (cases[k].kind == 1) {
+            printf("  draped: %d particles in contact\n", s->contacts.active);
+            CHECK(s->contacts.active >= 20);
+        }
+        check_system(cases[k].name, &m, s, cases[k].same_coarse, cases[k].at_rest);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
 }
 
 /* 60 frames of a 16 x 16 sheet falling from two pins, GPU (multigrid) against CPU (its default
@@ -250,11 +230,8 @@ static void test_whole_run(void) {
     wc_diag d = {0};
     CHECK(wc_state_create(&c, &m, &def, NULL, &d) == WEFT_OK);
     CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_OK);
-    wc_pin pins[2] = {{ts_sheet_particle(&m, 16, 0, 15), {0, 0, 0}, {0, 0, 0}},
-                      {ts_sheet_particle(&m, 16, 15, 15), {0, 0, 0}, {0, 0, 0}}};
-    for (int k = 0; k < 2; ++k) memcpy(pins[k].target, c->x + 3 * pins[k].particle, sizeof pins[k].target);
-    wc_state_set_pins(c, pins, 2, &d);
-    wc_state_set_pins(s, pins, 2, &d);
+    ts_pin_far_corners(c, 16, NULL);
+    ts_pin_far_corners(s, 16, NULL);
     wg_sim* g = NULL;
     CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
     if (!g) return;
@@ -268,7 +245,7 @@ static void test_whole_run(void) {
     }
     CHECK(ok);
     CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
-    double e = max_diff(s->x, c->x, 3 * n);
+    double e = ts_max_diff(s->x, c->x, 3 * n);
     printf("  60 frames: max |x_gpu - x_cpu| = %.3g m; PCG iterations GPU %d, CPU %d\n", e, it_g, it_c);
     CHECK(e < 0.002);
     wg_sim_destroy(g);

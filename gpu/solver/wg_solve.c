@@ -31,7 +31,8 @@ static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* 
     g->sc_cur = b;
 }
 
-static void residual(wg_sim* g, const wg_tex* x, const wg_tex* out) {
+/* out = S (b - A x); with size, also |A| |x| per particle (residual.glsl) */
+static void residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, const wg_tex* size) {
     wg_use(g, WGP_RESIDUAL);
     wg_in(g, 0, &g->pblocks);
     wg_in(g, 1, &g->block);
@@ -41,8 +42,11 @@ static void residual(wg_sim* g, const wg_tex* x, const wg_tex* out) {
     wg_in(g, 5, &g->b);
     wg_in(g, 6, &g->S0);
     wg_in(g, 7, &g->S1);
-    WG_RUN(g, g->n, out);
+    if (size) WG_RUN(g, g->n, out, size);
+    else WG_RUN(g, g->n, out);
 }
+
+static void residual(wg_sim* g, const wg_tex* x, const wg_tex* out) { residual2(g, x, out, NULL); }
 
 static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
     wg_use(g, WGP_PROJECT);
@@ -128,11 +132,18 @@ static void read_scalars(wg_sim* g, float s0[4], float s1[4], float s2[4]) {
     wg_read1(g, &g->sc[g->sc_cur][2], s2);
 }
 
-/* |S (b - A x)|^2 of x (into r[spare]); one texel read back. */
-static double true_residual2(wg_sim* g, const wg_tex* x, const wg_tex* out) {
-    residual(g, x, out);
+/* |S (b - A x)|^2 of x (into r[spare]); one texel read back. With floor: also the residual's
+ * float floor, 2^-24 |(|A| |x|)| (residual.glsl; the unit roundoff of the sums the product
+ * makes), into *floor (g->t is its scratch: update() rewrites it before direction() reads it). */
+static double true_residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, double* floor) {
+    residual2(g, x, out, floor ? &g->t : NULL);
     float v[4];
     wg_read1(g, wg_reduce(g, &g->red_p[0], out, 0, 0, 0, 0), v);
+    if (floor) {
+        float a[4];
+        wg_read1(g, wg_reduce(g, &g->red_p[0], &g->t, 0, 0, 0, 0), a);
+        *floor = ldexp(sqrt((double)a[3]), -24);
+    }
     return (double)v[3];
 }
 
@@ -169,11 +180,16 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
                 res->residual = 0.0;
                 return WEFT_OK;
             }
-            /* confirm with the true residual; on drift restart from it */
+            /* confirm with the true residual; on drift restart from it. Float cannot compute a
+               residual below ~2^-24 |(|A| |dv|)|: a solve whose goal lies under that floor (a
+               stiff cloth at rest: the sums cancel a smooth dv's large terms) stops there, as
+               converged as float allows, where it would restart until its cap (the flag's first
+               solve: 300 iterations at ~4e-4) */
             project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 0);
             v.dv = 1 - v.dv;
-            rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r]);
-            if (sqrt(rt) <= (double)s2[1]) {
+            double fl = 0.0;
+            rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r], &fl);
+            if (sqrt(rt) <= fmax((double)s2[1], fl)) {
                 converged = 1;
                 break;
             }
@@ -196,7 +212,7 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
     if (!converged) {
         project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 0);
         v.dv = 1 - v.dv;
-        rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r]);
+        rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r], NULL);
     }
     read_scalars(g, s0, s1, s2);
     res->residual0 = (double)s2[0];
