@@ -21,6 +21,7 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.coarse_iterations = 0;
     o.couplings = 1;
     o.cross_dense_dofs = WC_AMG_CROSS_DENSE_DOFS;
+    o.values = 1;
     return o;
 }
 
@@ -174,7 +175,7 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
         if (pass == 0) {
             L->p_start[n] = nnz;
             TRY(L->p_col = WC_NEW(al, int, nnz));
-            TRY(L->p_val = WC_NEW(al, double, 9 * (size_t)nnz));
+            if (a->opts.values) TRY(L->p_val = WC_NEW(al, double, 9 * (size_t)nnz));
         }
     }
     int nnz_p = L->p_start[n];
@@ -223,7 +224,7 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
         if (pass == 0) {
             L->t_start[n] = nnz;
             TRY(L->t_col = WC_NEW(al, int, nnz));
-            TRY(L->t_val = WC_NEW(al, double, 9 * (size_t)nnz));
+            if (a->opts.values) TRY(L->t_val = WC_NEW(al, double, 9 * (size_t)nnz));
         }
     }
     /* next level: row I = union of T's rows of the fine rows in aggregate... of P^T's row I */
@@ -266,6 +267,7 @@ oom:
 
 static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
     const wc_allocator* al = &a->alloc;
+    if (!a->opts.values) return 1;
     if (own_val) TRY(L->val = WC_NEW(al, double, 9 * (size_t)L->n_blocks));
     TRY(L->Dinv = WC_NEW(al, double, 9 * (size_t)L->group * L->n));
     if (L->group == 2) {
@@ -370,7 +372,7 @@ weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* op
         L->agg = NULL;
     }
     a->coarse_dense = L->n <= 8 * o.coarse_max;
-    if (a->coarse_dense) {
+    if (a->coarse_dense && o.values) {
         a->coarse_dofs = 3 * L->n;
         TRY(a->coarse_L = WC_NEW(&a->alloc, double, (size_t)a->coarse_dofs * a->coarse_dofs));
         TRY(a->coarse_y = WC_NEW(&a->alloc, double, a->coarse_dofs));

@@ -150,6 +150,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     wc_amg_destroy(cpu->amg);
     cpu->amg = NULL;
     wc_amg_opts ao = wg_amg_opts();
+    ao.values = 1;
     CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WEFT_OK);
     wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h));
     wc_solve(cpu, WC_SOLVER_PCG, s->A, s->b, &s->filter, dc, &s->par, &rc);

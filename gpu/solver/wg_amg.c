@@ -15,6 +15,7 @@ wc_amg_opts wg_amg_opts(void) {
     o.coarse_iterations = WG_AMG_POWER;
     o.current_positions = 0;
     o.couplings = 0;
+    o.values = 0; /* patterns and aggregates: the values live in textures */
     return o;
 }
 

@@ -52,7 +52,8 @@ typedef struct wg_amg {
     const wg_tex* z;            /* the last V-cycle's result (level 0) */
 } wg_amg;
 
-/* The hierarchy core builds for the GPU (and for a CPU run of the same method). */
+/* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
+ * sets values 1). */
 wc_amg_opts wg_amg_opts(void);
 /* g->amg for g's model: patterns and lists uploaded; 0 with err on failure. */
 int wg_amg_create(wg_sim* g, char* err, size_t err_len);
