@@ -292,7 +292,46 @@ static void test_phases_and_options(void) {
     free_scene(&sc);
 }
 
+/* values 0 (the GPU's request, gpu/solver/wg_amg.h): the same levels, patterns and aggregates as
+ * with values, and none of the value arrays; unsmoothed aggregation (prolong_weight 0) keeps
+ * only each node's own aggregate in P's rows. */
+static void test_patterns_only(void) {
+    wc_model m;
+    if (!ts_sheet(&m, 40, 1.0, 1.0, 0, 1.0)) {
+        CHECK(0);
+        return;
+    }
+    wc_amg *full = NULL, *bare = NULL;
+    wc_amg_opts o = wc_default_amg_opts();
+    o.rotations = 0;
+    o.prolong_weight = 0.0;
+    o.coarse_max = 32;
+    wc_diag d = {0};
+    CHECK(wc_amg_create(&full, &m, &o, NULL, &d) == WEFT_OK);
+    o.values = 0;
+    CHECK(wc_amg_create(&bare, &m, &o, NULL, &d) == WEFT_OK);
+    if (!full || !bare) return;
+    CHECK(full->n_levels == bare->n_levels && bare->n_levels >= 3);
+    for (int l = 0; l < bare->n_levels; ++l) {
+        const wc_amg_level *F = &full->lev[l], *B = &bare->lev[l];
+        CHECK(F->n == B->n && F->n_blocks == B->n_blocks);
+        CHECK(memcmp(F->row_start, B->row_start, sizeof(int) * (size_t)(F->n + 1)) == 0);
+        CHECK(memcmp(F->col, B->col, sizeof(int) * (size_t)F->n_blocks) == 0);
+        if (l + 1 < bare->n_levels) {
+            CHECK(memcmp(F->agg, B->agg, sizeof(int) * (size_t)F->n) == 0);
+            CHECK(B->p_val == NULL && B->t_val == NULL);
+            for (int i = 0; i < B->n; ++i) CHECK(B->p_start[i + 1] - B->p_start[i] == 1);
+        }
+        CHECK(B->val == NULL && B->Dinv == NULL && B->x == NULL);
+    }
+    CHECK(bare->coarse_L == NULL);
+    wc_amg_destroy(full);
+    wc_amg_destroy(bare);
+    wc_model_free(&m);
+}
+
 int main(void) {
+    RUN_TEST(test_patterns_only);
     RUN_TEST(test_lanczos_chain);
     RUN_TEST(test_real_systems);
     RUN_TEST(test_sewn_tube);
