@@ -155,8 +155,9 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     for (int p = 0; p < WGP_COUNT; ++p) {
         const char* body = shader_source(kPassNames[p]);
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
-        /* reduce_groups and spmv_groups are compute shaders of their own: common.glsl goes after
-           their #version line (wg_compute_native_source), and they exist only with compute passes */
+        /* reduce_groups, spmv_groups and the multigrid's amg_factor_groups and amg_coarse_groups
+           are compute shaders of their own: common.glsl goes after their #version line
+           (wg_compute_native_source), and they exist only with compute passes */
         const int native = p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS || p == WGP_AMG_FACTOR_GROUPS ||
                            p == WGP_AMG_COARSE_GROUPS;
         /* the multigrid runs on compute passes only (wg_amg.h) */

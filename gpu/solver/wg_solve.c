@@ -184,12 +184,13 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
                residual below ~2^-24 |(|A| |dv|)|: a solve whose goal lies under that floor (a
                stiff cloth at rest: the sums cancel a smooth dv's large terms) stops there, as
                converged as float allows, where it would restart until its cap (the flag's first
-               solve: 300 iterations at ~4e-4) */
+               solve: 300 iterations at ~4e-4). The floor counts up to 100x the goal: a floor
+               beyond that (an iterate far too large) is no reason to stop */
             project(g, &g->sv[v.dv], &g->sv[1 - v.dv], 0);
             v.dv = 1 - v.dv;
             double fl = 0.0;
             rt = true_residual2(g, &g->sv[v.dv], &g->r[1 - v.r], &fl);
-            if (sqrt(rt) <= fmax((double)s2[1], fl)) {
+            if (sqrt(rt) <= fmax((double)s2[1], fmin(fl, 100.0 * (double)s2[1]))) {
                 converged = 1;
                 break;
             }
