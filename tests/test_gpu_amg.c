@@ -1,9 +1,11 @@
 /* The GPU's multigrid preconditioner (gpu/solver/wg_amg.h) on a real EGL context (llvmpipe
- * without a GPU): PCG with it reaches CHOLMOD's answer on real systems (a hanging sheet, a larger
- * one, a sheet draped over a sphere with contacts and friction), in as many iterations as the
- * same method on the CPU (core's multigrid with wg_amg_opts(): a second backend) and in far fewer
- * than with block Jacobi; a whole run matches the CPU's; a context with fragment passes refuses
- * it with a message. */
+ * without a GPU): PCG with it reaches CHOLMOD's answer on real systems (hanging sheets, a stiff
+ * one, a sheet draped over a sphere with contacts and friction, one-level sheets whose only level
+ * is the dense factor, separate patches whose coarsest level is smoothed), in as many iterations
+ * as the same method on the CPU (core's multigrid with wg_amg_opts(): a second backend) and in
+ * far fewer than with block Jacobi; a stiff sheet at rest stops at float's floor (wg_solve.c)
+ * instead of its cap; a whole run matches the CPU's; a context with fragment passes refuses it
+ * with a message. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
