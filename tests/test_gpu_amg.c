@@ -46,24 +46,6 @@ static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
     return s;
 }
 
-/* A 24 x 24 sheet dropped on a sphere and draped over it for 20 frames on the CPU. */
-static wc_state* draped(wc_model* m) {
-    if (!ts_sheet(m, 24, 1.0, 0.47, 0, 1.0)) return NULL;
-    wc_sim_def def = amg_def();
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
-    wc_collider c;
-    memset(&c, 0, sizeof c);
-    c.type = WC_COLLIDER_SPHERE;
-    c.radius = 0.45;
-    c.thickness = 0.005;
-    c.friction = 0.3;
-    wc_state_set_colliders(s, &c, 1, &d);
-    for (int f = 0; f < 20; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    return s;
-}
-
 /* `count` separate 3 x 3-vertex patches, 0.1 m apart, each hanging from a corner (3 frames on
  * the CPU): a mesh whose coarsening stops at one aggregate a piece, above the dense factor's
  * size. */
@@ -206,10 +188,11 @@ static void test_solves(void) {
         {"hanging 5 x 5 (one level)", 0, 5, 3, 1, 0, 1.0},
         {"40 separate patches", 2, 40, 3, 0, 0, 1.0},
     };
+    const wc_sim_def def = amg_def();
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         wc_model m;
         wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
-                      : cases[k].kind == 1 ? draped(&m)
+                      : cases[k].kind == 1 ? ts_draped(&m, cases[k].n, &def, cases[k].warm)
                                            : patches(&m, cases[k].n);
         CHECK(s != NULL);
         if (!s) return;

@@ -180,22 +180,10 @@ static void test_reductions_and_large_sheet(void) {
 /* A 10 x 10 sheet dropped on a sphere and draped over it for 20 frames on the CPU: contacts and
  * friction in the system. */
 static wc_state* draped(wc_model* m, wc_solver_type solver) {
-    if (!ts_sheet(m, 10, 1.0, 0.47, 0, 1.0)) return NULL;
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = solver;
     def.sleep_speed = 0.0;
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
-    wc_collider c;
-    memset(&c, 0, sizeof c);
-    c.type = WC_COLLIDER_SPHERE;
-    c.radius = 0.45;
-    c.thickness = 0.005;
-    c.friction = 0.3;
-    wc_state_set_colliders(s, &c, 1, &d);
-    for (int f = 0; f < 20; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    return s;
+    return ts_draped(m, 10, &def, 20);
 }
 
 static void test_solvers_vs_direct(void) {

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "step.h"
 
 static void grid_positions(double* pos, int nx, int ny, double sx, double sy) {
     for (int j = 0; j < ny; ++j)
@@ -165,6 +166,25 @@ weft_status ts_pin_far_corners(wc_state* s, int n, const double* move) {
         for (int c = 0; c < 3; ++c) pins[k].target[c] = s->x[3 * pins[k].particle + c] + (move ? move[c] : 0.0);
     wc_diag diag = {0};
     return wc_state_set_pins(s, pins, 2, &diag);
+}
+
+wc_state* ts_draped(wc_model* m, int n, const wc_sim_def* def, int frames) {
+    if (!ts_sheet(m, n, 1.0, 0.47, 0, 1.0)) return NULL;
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, def, NULL, &d) != WEFT_OK) {
+        wc_model_free(m);
+        return NULL;
+    }
+    wc_collider c;
+    memset(&c, 0, sizeof c);
+    c.type = WC_COLLIDER_SPHERE;
+    c.radius = 0.45;
+    c.thickness = 0.005;
+    c.friction = 0.3;
+    wc_state_set_colliders(s, &c, 1, &d);
+    for (int f = 0; f < frames; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    return s;
 }
 
 double ts_max_abs(const double* a, int n) {

@@ -40,6 +40,10 @@ int ts_sheet_particle(const wc_model* m, int n, int i, int j);
 weft_status ts_pin_far_corners(wc_state* s, int n, const double* move);
 /* |a - b| / |b| over n doubles (|a - b| when b is zero). */
 double ts_rel_diff(const double* a, const double* b, int n);
+/* An n x n ts_sheet (1 m) dropped from 0.47 m onto a sphere (radius 0.45 at the origin,
+ * thickness 0.005, friction 0.3) and draped over it for `frames` frames on the CPU with def: a
+ * system with contacts and friction. NULL on failure (m is then not built or freed). */
+wc_state* ts_draped(wc_model* m, int n, const wc_sim_def* def, int frames);
 /* max |a_k| and max |a_k - b_k| over n doubles. */
 double ts_max_abs(const double* a, int n);
 double ts_max_diff(const double* a, const double* b, int n);
