@@ -3,14 +3,7 @@
 // normalised: over the few iterations a setup takes (wg_amg.h) |v| grows by lambda_max^k, far
 // from float's range.
 #pragma weft include amg_blocks
-uniform isampler2D t0;  // rows
-uniform isampler2D t1;  // cols
-uniform sampler2D t2;   // blocks, row 0
-uniform sampler2D t3;   // row 1
-uniform sampler2D t4;   // row 2
-uniform sampler2D t5;   // D^-1, row 0
-uniform sampler2D t6;   // row 1
-uniform sampler2D t7;   // row 2
+#pragma weft include amg_level_inputs
 uniform sampler2D t8;   // v
 out vec4 o0;
 out vec4 o1;

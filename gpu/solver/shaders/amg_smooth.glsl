@@ -6,14 +6,7 @@
 // u_prolong the coarse correction is added first: x_j + xc[aggregate(j)] wherever x is read (the
 // prolongation of unsmoothed aggregation fused into the first step after it).
 #pragma weft include amg_blocks
-uniform isampler2D t0;  // rows (start, end, diagonal block, aggregate)
-uniform isampler2D t1;  // cols
-uniform sampler2D t2;   // blocks, row 0
-uniform sampler2D t3;   // row 1
-uniform sampler2D t4;   // row 2
-uniform sampler2D t5;   // D^-1, row 0
-uniform sampler2D t6;   // row 1
-uniform sampler2D t7;   // row 2
+#pragma weft include amg_level_inputs
 uniform sampler2D t8;   // r
 uniform sampler2D t9;   // x
 uniform sampler2D t10;  // d of the previous step
