@@ -48,8 +48,9 @@ static int upload_groups(wg_sim* g, wg_tex* range, wg_tex* list, int n_groups, i
     return upload_i4(g, list, n_items, v, err, el);
 }
 
-/* One level's textures from core's level L (N: the next one, NULL on the coarsest); P: the finer
- * level of core's hierarchy (NULL on level 0) for the Galerkin and member lists. */
+/* One level's textures from core's level L; P: the finer level of core's hierarchy (NULL on level
+ * 0) for the Galerkin and member lists. Level 0 has no pattern or blocks of its own: its passes
+ * read the system's (use_level). */
 static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const wc_amg_level* L, int* buf,
                         char* err, size_t el) {
     G->n = L->n;
@@ -69,10 +70,14 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
         v[4 * i + 3] = L->agg ? L->agg[i] : -1;
     }
     TRY(upload_i4(g, &G->rows, L->n, v, err, el));
-    memset(v, 0, 4u * sizeof(int) * (size_t)L->n_blocks);
-    for (int k = 0; k < L->n_blocks; ++k) v[4 * k] = L->col[k];
-    TRY(upload_i4(g, &G->cols, L->n_blocks, v, err, el));
-    if (P) {
+    if (P) {   /* the finest level reads the system's own pattern and blocks (amg_level_inputs.glsl) */
+        memset(v, 0, 4u * sizeof(int) * (size_t)L->n_blocks);
+        for (int i = 0; i < L->n; ++i)
+            for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                v[4 * k] = i;
+                v[4 * k + 1] = L->col[k];
+            }
+        TRY(upload_i4(g, &G->cols, L->n_blocks, v, err, el));
         /* each finer block (i, j) sums into this level's block (agg i, agg j) */
         int* start = buf; /* (nb + 1) */
         int* slot = buf + L->n_blocks + 1; /* (P->n_blocks) */
@@ -92,7 +97,7 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
         TRY(wg_array_create(g, &G->r, GL_RGBA32F, L->n, NULL, err, el));
     }
     for (int c = 0; c < 3; ++c) {
-        TRY(wg_array_create(g, &G->a[c], GL_RGBA32F, L->n_blocks, NULL, err, el));
+        if (P) TRY(wg_array_create(g, &G->a[c], GL_RGBA32F, L->n_blocks, NULL, err, el));
         TRY(wg_array_create(g, &G->dinv[c], GL_RGBA32F, L->n, NULL, err, el));
     }
     for (int c = 0; c < 2; ++c) {
@@ -205,32 +210,55 @@ static void in3(wg_sim* g, int unit, const wg_tex* t) {
     for (int c = 0; c < 3; ++c) wg_in(g, unit + c, t + c);
 }
 
+/* The pass p (a coarse level's) or its form over the finest level, p's *_FINE. */
+static wg_pass_id level_pass(wg_pass_id p, int l) {
+    if (l > 0) return p;
+    switch (p) {
+    case WGP_AMG_GALERKIN: return WGP_AMG_GALERKIN_FINE;
+    case WGP_AMG_DINV: return WGP_AMG_DINV_FINE;
+    case WGP_AMG_POWER: return WGP_AMG_POWER_FINE;
+    case WGP_AMG_SMOOTH: return WGP_AMG_SMOOTH_FINE;
+    case WGP_AMG_RESTRICT: return WGP_AMG_RESTRICT_FINE;
+    case WGP_AMG_FACTOR_GROUPS: return WGP_AMG_FACTOR_GROUPS_FINE;
+    default: return p;
+    }
+}
+
+/* Level l's pass p with the level's inputs on units 0..8 (amg_level_inputs.glsl): rows, then on
+ * level 0 the system's blocks (row, column), A and S, on coarser levels the level's cols and
+ * blocks; then D^-1 unless the pass makes it. */
+static void use_level(wg_sim* g, const wg_amg* a, int l, wg_pass_id p) {
+    const wg_amg_level* L = &a->lev[l];
+    wg_use(g, level_pass(p, l));
+    wg_in(g, 0, &L->rows);
+    if (l == 0) {
+        wg_in(g, 1, &g->block);
+        wg_in(g, 2, &g->A0);
+        wg_in(g, 3, &g->A1);
+        wg_in(g, 4, &g->S0);
+        wg_in(g, 5, &g->S1);
+        if (p != WGP_AMG_DINV) in3(g, 6, L->dinv);
+    } else {
+        wg_in(g, 1, &L->cols);
+        in3(g, 2, L->a);
+        if (p != WGP_AMG_DINV) in3(g, 5, L->dinv);
+    }
+}
+
 void wg_amg_setup(wg_sim* g) {
     wg_amg* a = g->amg;
-    wg_amg_level* F = &a->lev[0];
-    wg_use(g, WGP_AMG_PROJECT);
-    wg_in(g, 0, &g->block);
-    wg_in(g, 1, &g->A0);
-    wg_in(g, 2, &g->A1);
-    wg_in(g, 3, &g->S0);
-    wg_in(g, 4, &g->S1);
-    WG_RUN(g, F->nb, &F->a[0], &F->a[1], &F->a[2]);
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* L = &a->lev[l];
         if (l > 0) {
-            wg_use(g, WGP_AMG_GALERKIN);
-            wg_in(g, 0, &L->gal_range);
-            wg_in(g, 1, &L->gal_list);
-            in3(g, 2, a->lev[l - 1].a);
+            use_level(g, a, l - 1, WGP_AMG_GALERKIN);
+            wg_in(g, 9, &L->gal_range);
+            wg_in(g, 10, &L->gal_list);
             WG_RUN(g, L->nb, &L->a[0], &L->a[1], &L->a[2]);
         }
         if (l == a->n_levels - 1 && a->dense) {
             /* one work group, factoring in place: the image bound read-write (wg_run_groups binds
                its output write-only) */
-            wg_use(g, WGP_AMG_FACTOR_GROUPS);
-            wg_in(g, 0, &L->rows);
-            wg_in(g, 1, &L->cols);
-            in3(g, 2, L->a);
+            use_level(g, a, l, WGP_AMG_FACTOR_GROUPS);
             wg_u1i(g, "u_n", L->n);
             wg_u1i(g, "u_shift", g->shift);
             glBindImageTexture(0, a->coarse_L.id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
@@ -239,18 +267,12 @@ void wg_amg_setup(wg_sim* g) {
             ++g->passes;
             break;
         }
-        wg_use(g, WGP_AMG_DINV);
-        wg_in(g, 0, &L->rows);
-        in3(g, 1, L->a);
+        use_level(g, a, l, WGP_AMG_DINV);
         WG_RUN(g, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
         const wg_tex* v = &L->v0;
-        wg_use(g, WGP_AMG_POWER);
-        wg_in(g, 0, &L->rows);
-        wg_in(g, 1, &L->cols);
-        in3(g, 2, L->a);
-        in3(g, 5, L->dinv);
+        use_level(g, a, l, WGP_AMG_POWER);
         for (int it = 0; it < WG_AMG_POWER; ++it) {
-            wg_in(g, 8, v);
+            wg_in(g, 9, v);
             WG_RUN(g, L->n, &L->v[it & 1], &L->part);
             v = &L->v[it & 1];
         }
@@ -258,29 +280,29 @@ void wg_amg_setup(wg_sim* g) {
     }
 }
 
-/* One smoothing step on level L (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse
- * correction xc added first (NULL: none), into xo and dout. */
-static void smooth(wg_sim* g, const wg_amg* a, const wg_amg_level* L, const wg_tex* r, const wg_tex* x,
-                   const wg_tex* d, const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout) {
-    wg_use(g, WGP_AMG_SMOOTH);
-    wg_in(g, 0, &L->rows);
-    wg_in(g, 1, &L->cols);
-    in3(g, 2, L->a);
-    in3(g, 5, L->dinv);
-    wg_in(g, 8, r);
-    wg_in(g, 9, x ? x : r);
-    wg_in(g, 10, d ? d : r);
-    wg_in(g, 11, L->bound);
-    wg_in(g, 12, xc ? xc : r);
+/* One smoothing step on level l (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse
+ * correction xc added first (NULL: none), into xo and dout; and (r.xo, r.r) into dot unless NULL. */
+static void smooth(wg_sim* g, const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, const wg_tex* d,
+                   const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout, const wg_tex* dot) {
+    const wg_amg_level* L = &a->lev[l];
+    use_level(g, a, l, WGP_AMG_SMOOTH);
+    wg_in(g, 9, r);
+    wg_in(g, 10, x ? x : r);
+    wg_in(g, 11, d ? d : r);
+    wg_in(g, 12, L->bound);
+    wg_in(g, 13, xc ? xc : r);
     wg_u1i(g, "u_step", step);
     wg_u1i(g, "u_zero", x == NULL);
     wg_u1i(g, "u_prolong", xc != NULL);
     wg_u1f(g, "u_ratio", a->ratio);
-    WG_RUN(g, L->n, xo, dout);
+    wg_u1i(g, "u_dot", dot != NULL);
+    if (dot) WG_RUN(g, L->n, xo, dout, dot);
+    else WG_RUN(g, L->n, xo, dout);
 }
 
-/* The V-cycle from level l on r; returns the texture holding x. */
-static const wg_tex* vcycle(wg_sim* g, wg_amg* a, int l, const wg_tex* r) {
+/* The V-cycle from level l on r; returns the texture holding x. dot (level 0): the last smoothing
+ * step's (r.x, r.r) go there, or, where level 0 is the coarsest and factored, amg_dot's. */
+static const wg_tex* vcycle(wg_sim* g, wg_amg* a, int l, const wg_tex* r, const wg_tex* dot) {
     wg_amg_level* L = &a->lev[l];
     if (l == a->n_levels - 1) {
         if (a->dense) {
@@ -288,38 +310,38 @@ static const wg_tex* vcycle(wg_sim* g, wg_amg* a, int l, const wg_tex* r) {
             wg_in(g, 0, &a->coarse_L);
             wg_in(g, 1, r);
             wg_run_groups(g, L->n, &L->x[1], 1);
+            if (dot) {
+                wg_use(g, WGP_AMG_DOT);
+                wg_in(g, 0, r);
+                wg_in(g, 1, &L->x[1]);
+                WG_RUN(g, L->n, dot);
+            }
             return &L->x[1];
         }
         int c = 0;
-        smooth(g, a, L, r, NULL, NULL, NULL, -1, &L->x[0], &L->d[0]);
-        for (int s = 1; s < WG_AMG_COARSE_SWEEPS; ++s, c = 1 - c)
-            smooth(g, a, L, r, &L->x[c], NULL, NULL, -1, &L->x[1 - c], &L->d[1 - c]);
+        for (int s = 0; s < WG_AMG_COARSE_SWEEPS; ++s, c = 1 - c)
+            smooth(g, a, l, r, s ? &L->x[c] : NULL, NULL, NULL, -1, &L->x[1 - c], &L->d[1 - c],
+                   s == WG_AMG_COARSE_SWEEPS - 1 ? dot : NULL);
         return &L->x[c];
     }
     wg_amg_level* N = &a->lev[l + 1];
     int c = 0;
-    smooth(g, a, L, r, NULL, NULL, NULL, 0, &L->x[0], &L->d[0]);
-    for (int k = 1; k < a->sweeps; ++k, c = 1 - c)
-        smooth(g, a, L, r, &L->x[c], &L->d[c], NULL, k, &L->x[1 - c], &L->d[1 - c]);
-    wg_use(g, WGP_AMG_RESTRICT);
-    wg_in(g, 0, &N->mem_range);
-    wg_in(g, 1, &N->mem_list);
-    wg_in(g, 2, &L->rows);
-    wg_in(g, 3, &L->cols);
-    in3(g, 4, L->a);
-    wg_in(g, 7, r);
-    wg_in(g, 8, &L->x[c]);
+    for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
+        smooth(g, a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL);
+    use_level(g, a, l, WGP_AMG_RESTRICT);
+    wg_in(g, 9, &N->mem_range);
+    wg_in(g, 10, &N->mem_list);
+    wg_in(g, 11, r);
+    wg_in(g, 12, &L->x[c]);
     WG_RUN(g, N->n, &N->r);
-    const wg_tex* xc = vcycle(g, a, l + 1, &N->r);
-    smooth(g, a, L, r, &L->x[c], NULL, xc, 0, &L->x[1 - c], &L->d[1 - c]);
-    c = 1 - c;
-    for (int k = 1; k < a->sweeps; ++k, c = 1 - c)
-        smooth(g, a, L, r, &L->x[c], &L->d[c], NULL, k, &L->x[1 - c], &L->d[1 - c]);
+    const wg_tex* xc = vcycle(g, a, l + 1, &N->r, NULL);
+    for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
+        smooth(g, a, l, r, &L->x[c], k ? &L->d[c] : NULL, k ? NULL : xc, k, &L->x[1 - c], &L->d[1 - c],
+               k == a->sweeps - 1 ? dot : NULL);
     return &L->x[c];
 }
 
-const wg_tex* wg_amg_apply(wg_sim* g, const wg_tex* r) {
+void wg_amg_apply(wg_sim* g, const wg_tex* r, const wg_tex* dot) {
     wg_amg* a = g->amg;
-    a->z = vcycle(g, a, 0, r);
-    return a->z;
+    a->z = vcycle(g, a, 0, r, dot);
 }

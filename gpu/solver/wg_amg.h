@@ -7,8 +7,10 @@
  * Galerkin triple products on the GPU: not done. The same method runs on the CPU with
  * wg_amg_opts() (tests/test_gpu_amg.c compares the two).
  *
- * Per solve (wg_amg_setup, passes only, nothing read back): the projected fine operator S A S +
- * a (I - S) as full blocks, each coarse level's Galerkin sums, the block-diagonal inverses,
+ * The finest level's operator, the projected S A S + a (I - S), is never stored: its passes read
+ * A's symmetric blocks and the filter (amg_level_inputs.glsl), with the V-cycle's vectors kept in
+ * range(S). Per solve (wg_amg_setup, passes only, nothing read back): each coarse level's Galerkin
+ * sums (the first from the projected blocks made on the fly), the block-diagonal inverses,
  * WG_AMG_POWER power iterations per level for lambda_max(D^-1 A) (their Rayleigh quotient stays
  * in a 1 x 1 texture that the smoother reads), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
@@ -31,8 +33,9 @@
 typedef struct wg_amg_level {
     int n, nb;
     wg_tex rows;                /* nodes: (block start, end, diagonal block, aggregate or -1) */
-    wg_tex cols;                /* blocks: (column, -, -, -) */
-    wg_tex a[3];                /* blocks: rows 0..2 of the level's operator */
+    wg_tex cols;                /* level >= 1, blocks: (row, column, -, -) (level 0: the system's) */
+    wg_tex a[3];                /* level >= 1, blocks: rows 0..2 of the level's operator (level 0:
+                                   read from A and the filter, amg_level_inputs.glsl) */
     wg_tex dinv[3];             /* nodes: rows of the inverse diagonal block */
     wg_tex gal_range, gal_list; /* level >= 1, per block: the finer level's blocks summed into it */
     wg_tex mem_range, mem_list; /* level >= 1, per node: the finer level's nodes of its aggregate */
@@ -61,7 +64,8 @@ void wg_amg_destroy(wg_sim* g);
 size_t wg_amg_bytes(const wg_sim* g);
 /* The values for the prepared system (A0/A1, S0/S1). */
 void wg_amg_setup(wg_sim* g);
-/* z = M^-1 r (one V-cycle); returns z's texture (the hierarchy's own, valid until the next call). */
-const wg_tex* wg_amg_apply(wg_sim* g, const wg_tex* r);
+/* z = M^-1 r (one V-cycle) into g->amg->z (the hierarchy's own texture, valid until the next
+ * call), and PCG's partial products (r.z, r.r) per particle into dot. */
+void wg_amg_apply(wg_sim* g, const wg_tex* r, const wg_tex* dot);
 
 #endif

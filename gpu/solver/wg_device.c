@@ -22,9 +22,15 @@ static const char* const kPassNames[WGP_COUNT] = {
     "normals", "host_output", "lanczos_start", "transform", "copy_texel",
     "contact_begin", "contact_friction", "contact_recheck", "contact_end", "contact_project",
     "contact_diag", "reduce_groups", "spmv_groups",
-    "amg_project", "amg_galerkin", "amg_dinv", "amg_power", "amg_smooth", "amg_restrict", "amg_dot",
+    "amg_galerkin", "amg_dinv", "amg_power", "amg_smooth", "amg_restrict", "amg_dot",
     "amg_factor_groups", "amg_coarse_groups",
+    "amg_galerkin_fine", "amg_dinv_fine", "amg_power_fine", "amg_smooth_fine", "amg_restrict_fine",
+    "amg_factor_groups_fine",
 };
+
+/* A pass named X_fine is X.glsl compiled with WG_AMG_FINE defined (amg_level_inputs.glsl). */
+static const char kFineSuffix[] = "_fine";
+static const char kFineDefine[] = "#define WG_AMG_FINE 1\n";
 
 static const char* shader_source(const char* name) {
     for (const wg_shader_source* s = wg_shader_sources; s->name; ++s)
@@ -33,11 +39,13 @@ static const char* shader_source(const char* name) {
 }
 
 /* common.glsl + body, each "#pragma weft include NAME" line of the body replaced by NAME.glsl
- * (one level). Returns an allocated string, or NULL (out of memory, or an unknown include: then
- * *missing names it). */
-static char* compose(wg_gl_context* gl, const char* common, const char* body, const char** missing) {
+ * (one level), and define (lines of #define) at the body's start, after its #version line where
+ * it has one (a native compute shader's). Returns an allocated string, or NULL (out of memory, or
+ * an unknown include: then *missing names it). */
+static char* compose(wg_gl_context* gl, const char* common, const char* body, const char* define,
+                     const char** missing) {
     static const char kTag[] = "#pragma weft include ";
-    size_t n = strlen(common) + strlen(body) + 2;
+    size_t n = strlen(common) + strlen(body) + strlen(define) + 3;
     for (const char* p = strstr(body, kTag); p; p = strstr(p + 1, kTag)) {
         char name[64];
         if (sscanf(p + sizeof kTag - 1, "%63s", name) != 1) continue;
@@ -52,6 +60,17 @@ static char* compose(wg_gl_context* gl, const char* common, const char* body, co
     if (!out) return NULL;
     size_t at = (size_t)snprintf(out, n, "%s\n", common);
     const char* p = body;
+    if (strncmp(body, "#version", 8) == 0) {
+        const char* eol = strchr(body, '\n');
+        size_t l = eol ? (size_t)(eol - body) + 1 : strlen(body);
+        memcpy(out + at, body, l);
+        at += l;
+        p = body + l;
+        if (!eol) out[at++] = '\n';
+    }
+    size_t dl = strlen(define);
+    memcpy(out + at, define, dl);
+    at += dl;
     for (const char* q = strstr(p, kTag); q; q = strstr(p, kTag)) {
         memcpy(out + at, p, (size_t)(q - p));
         at += (size_t)(q - p);
@@ -153,17 +172,26 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     }
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
-        const char* body = shader_source(kPassNames[p]);
+        char base[64];
+        const char* name = kPassNames[p];
+        size_t nl = strlen(name), sl = sizeof kFineSuffix - 1;
+        const int fine = nl > sl && nl - sl < sizeof base && strcmp(name + nl - sl, kFineSuffix) == 0;
+        if (fine) {
+            memcpy(base, name, nl - sl);
+            base[nl - sl] = '\0';
+            name = base;
+        }
+        const char* body = shader_source(name);
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
         /* reduce_groups, spmv_groups and the multigrid's amg_factor_groups and amg_coarse_groups
            are compute shaders of their own: common.glsl goes after their #version line
            (wg_compute_native_source), and they exist only with compute passes */
         const int native = p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS || p == WGP_AMG_FACTOR_GROUPS ||
-                           p == WGP_AMG_COARSE_GROUPS;
+                           p == WGP_AMG_COARSE_GROUPS || p == WGP_AMG_FACTOR_GROUPS_FINE;
         /* the multigrid runs on compute passes only (wg_amg.h) */
-        if ((native || p >= WGP_AMG_PROJECT) && !d->compute) continue;
+        if ((native || p >= WGP_AMG_GALERKIN) && !d->compute) continue;
         const char* missing = NULL;
-        char* src = compose(gl, native || !common ? "" : common, body, &missing);
+        char* src = compose(gl, native || !common ? "" : common, body, fine ? kFineDefine : "", &missing);
         if (!src) {
             wg_device_destroy(d);
             if (missing) {

@@ -16,9 +16,12 @@ typedef enum wg_pass_id {
     WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
     WGP_CONTACT_DIAG,
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
-    /* the multigrid preconditioner (wg_amg.h), compute passes only; the last two native */
-    WGP_AMG_PROJECT, WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,
+    /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
+       its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
+    WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,
     WGP_AMG_FACTOR_GROUPS, WGP_AMG_COARSE_GROUPS,
+    WGP_AMG_GALERKIN_FINE, WGP_AMG_DINV_FINE, WGP_AMG_POWER_FINE, WGP_AMG_SMOOTH_FINE, WGP_AMG_RESTRICT_FINE,
+    WGP_AMG_FACTOR_GROUPS_FINE,
     WGP_COUNT
 } wg_pass_id;
 

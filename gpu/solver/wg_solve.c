@@ -92,16 +92,18 @@ static void update(wg_sim* g, pcg_vecs* v, int first) {
     wg_in(g, 6, &g->sc[g->sc_cur][0]);
     wg_in(g, 7, &g->sc[g->sc_cur][1]);
     wg_u1i(g, "u_first", first);
-    WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
+    wg_u1i(g, "u_jacobi", !g->amg_on);
+    if (!g->amg_on) {
+        WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
+        v->dv = 1 - v->dv;
+        v->r = 1 - v->r;
+        return;
+    }
+    /* the multigrid's z = M^-1 r replaces the block-Jacobi t, and its (r.z, r.r) the update's */
+    WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r]);
     v->dv = 1 - v->dv;
     v->r = 1 - v->r;
-    if (!g->amg_on) return;
-    /* the multigrid's z = M^-1 r replaces the block-Jacobi t, and (r.z, r.r) the update's */
-    const wg_tex* z = wg_amg_apply(g, &g->r[v->r]);
-    wg_use(g, WGP_AMG_DOT);
-    wg_in(g, 0, &g->r[v->r]);
-    wg_in(g, 1, z);
-    WG_RUN(g, g->n, &g->part);
+    wg_amg_apply(g, &g->r[v->r], &g->part);
 }
 
 static void direction(wg_sim* g, pcg_vecs* v, int first) {
@@ -366,14 +368,18 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
                      const wg_tex** out, wc_solve_result* res) {
     memset(res, 0, sizeof *res);
     res->solver = type;
-    /* the preconditioner, and the initial guess projected into sv[0] */
-    wg_use(g, WGP_DINV);
-    wg_in(g, 0, &g->pblocks);
-    wg_in(g, 1, &g->A0);
-    wg_in(g, 2, &g->A1);
-    wg_in(g, 3, &g->S0);
-    wg_in(g, 4, &g->S1);
-    WG_RUN(g, g->n, &g->D0, &g->D1);
+    /* the preconditioner (block Jacobi's unless PCG has the multigrid), and the initial guess
+       projected into sv[0] */
+    const int amg = type == WC_SOLVER_PCG && g->amg;
+    if (!amg) {
+        wg_use(g, WGP_DINV);
+        wg_in(g, 0, &g->pblocks);
+        wg_in(g, 1, &g->A0);
+        wg_in(g, 2, &g->A1);
+        wg_in(g, 3, &g->S0);
+        wg_in(g, 4, &g->S1);
+        WG_RUN(g, g->n, &g->D0, &g->D1);
+    }
     /* Chebyshev's rho first: its CG steps use every solver iterate (sv included) as scratch */
     if (type == WC_SOLVER_CHEBYSHEV && !(o->chebyshev_rho > 0.0) && !g->rho_valid) {
         g->rho = estimate_rho(g, o);
@@ -381,7 +387,7 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
     }
     project(g, dv_in, &g->sv[0], 0);
     weft_status st;
-    if (type == WC_SOLVER_PCG && g->amg) {
+    if (amg) {
         wg_amg_setup(g);
         g->amg_on = 1;
         st = solve_pcg(g, o, out, res);

@@ -1,20 +1,11 @@
 // The GPU multigrid's levels (wg_amg.c; an include, not a pass). A level's operator is held as
 // full 3x3 blocks in three textures, row r of block k in texel k of texture r (xyz): the
 // projected fine operator S A S + a (I - S) is not symmetric block by block, nor are the
-// Galerkin sums of its blocks. Pattern: rows = (block start, end, diagonal block, aggregate of
-// the node on the next level or -1), cols = (column, -, -, -).
+// Galerkin sums of its blocks. Patterns: amg_level_inputs.glsl.
 mat3 blk_rows(vec3 r0, vec3 r1, vec3 r2) { return transpose(mat3(r0, r1, r2)); }
 mat3 blk(sampler2D a0, sampler2D a1, sampler2D a2, int k) { return blk_rows(ld(a0, k).xyz, ld(a1, k).xyz, ld(a2, k).xyz); }
 // row r of m as a texel
 vec4 blk_row(mat3 m, int r) { return vec4(m[0][r], m[1][r], m[2][r], 0.0); }
-
-// Row i of y = A x on a level.
-vec3 lvl_row(isampler2D rows, isampler2D cols, sampler2D a0, sampler2D a1, sampler2D a2, sampler2D x, int i) {
-    ivec4 r = ldi(rows, i);
-    vec3 y = vec3(0.0);
-    for (int k = r.x; k < r.y; ++k) y += blk(a0, a1, a2, k) * ld(x, ldi(cols, k).x).xyz;
-    return y;
-}
 
 // The Chebyshev smoother's bound on lambda_max(D^-1 A) from the power iterations' reduction
 // (x: sum v.Av, y: sum v.Dv): 1.1 x the Rayleigh quotient (core/amg.h WC_AMG_SAFETY), or 2

@@ -1,10 +1,8 @@
 // Per node of a level: the inverse of its diagonal block (core/amg_setup.c block_inverse: the
-// inverse of the mean diagonal where the block is singular or its inverse not finite).
+// inverse of the mean diagonal where the block is singular or its inverse not finite). The
+// level's inputs: amg_level_inputs.glsl (D^-1 itself is this pass's output, not read).
 #pragma weft include amg_blocks
-uniform isampler2D t0;  // rows (start, end, diagonal block, aggregate)
-uniform sampler2D t1;   // blocks, row 0
-uniform sampler2D t2;   // row 1
-uniform sampler2D t3;   // row 2
+#pragma weft include amg_level_inputs
 out vec4 o0;
 out vec4 o1;
 out vec4 o2;
@@ -12,7 +10,7 @@ out vec4 o2;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    mat3 D = blk(t1, t2, t3, ldi(t0, i).z);
+    mat3 D = op_diag(i);
     float det = determinant(D);
     mat3 inv;
     if (det != 0.0 && !isnan(det) && !isinf(det)) inv = inverse(D);

@@ -10,13 +10,11 @@
 // level: a transverse direction's pivot is ~1e-6 of a stretch direction's, which float's
 // rounding of the largest swamps.) The matrix lives in the image, not in an array of the
 // invocation: 96^2 floats were past llvmpipe's stack for one (its factor came out zero).
+// The level's inputs: amg_level_inputs.glsl (the finest level's form where the hierarchy has one
+// level).
 #pragma weft include amg_blocks
+#pragma weft include amg_level_inputs
 layout(local_size_x = 64, local_size_y = 1) in;
-uniform isampler2D t0;  // rows
-uniform isampler2D t1;  // cols
-uniform sampler2D t2;   // blocks, row 0
-uniform sampler2D t3;   // row 1
-uniform sampler2D t4;   // row 2
 layout(binding = 0, rgba32f) coherent uniform image2D wg_img0;
 shared int decouple;
 
@@ -35,8 +33,9 @@ void main() {
     for (int i = t; i < u_n; i += 64) {
         ivec4 r = ldi(t0, i);
         for (int k = r.x; k < r.y; ++k) {
-            int j = ldi(t1, k).x;
-            vec3 b0 = ld(t2, k).xyz, b1 = ld(t3, k).xyz, b2 = ld(t4, k).xyz;
+            int j = ldi(t1, k).y;
+            mat3 B = op_block(k);
+            vec3 b0 = blk_row(B, 0).xyz, b1 = blk_row(B, 1).xyz, b2 = blk_row(B, 2).xyz;
             for (int c = 0; c < 3; ++c) {
                 put(3 * i, 3 * j + c, b0[c]);
                 put(3 * i + 1, 3 * j + c, b1[c]);

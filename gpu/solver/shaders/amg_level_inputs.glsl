@@ -1,10 +1,104 @@
-// The inputs of the multigrid's passes over one level's operator and its smoother, amg_power.glsl
-// and amg_smooth.glsl (an include of both, not a pass; wg_amg.c binds them in this order).
-uniform isampler2D t0;  // rows (start, end, diagonal block, aggregate)
+// One level's operator and smoother for the multigrid's passes over it (an include, not a pass;
+// wg_amg.c bind_level binds units 0..8 in this order, the passes' own inputs start at t9).
+// Two forms, the same functions:
+//  - a coarse level (and the finest of a one-level hierarchy): full 3x3 blocks in three textures
+//    (amg_blocks.glsl), the Galerkin sums;
+//  - the finest level (WG_AMG_FINE: the *_fine passes, wg_device.c): P^ = S A S + a (I - S),
+//    a_i = trace(A_ii) / 3 (core/amg_setup.c project_fine), read from the system's own symmetric
+//    blocks (24 bytes a block) and the filter, where a copy of P^ as full blocks took 48 and a
+//    pass per solve. The V-cycle's vectors on it stay in range(S) (PCG's r is filtered, D^-1 and
+//    P^ keep range(S), and the coarse correction is filtered as it is prolonged: op_prolong), and
+//    there P^ x = S (A x), one filter per row. Filtering the correction changes no S z, the part
+//    PCG uses: P^ and D are block diagonal over range(S) + null(S), so the null part never feeds
+//    back into range(S).
+// Pattern: rows = (block start, end, diagonal block, aggregate on the next level or -1), cols =
+// (row, column, -, -) per block (the system's own block texture on the finest level).
+uniform isampler2D t0;  // rows
 uniform isampler2D t1;  // cols
+#ifdef WG_AMG_FINE
+uniform sampler2D t2;   // A lo
+uniform sampler2D t3;   // A hi
+uniform sampler2D t4;   // S0
+uniform sampler2D t5;   // S1
+uniform sampler2D t6;   // D^-1, row 0
+uniform sampler2D t7;   // row 1
+uniform sampler2D t8;   // row 2
+
+mat3 op_filter(int i) { return filter_S(ld(t4, i), ld(t5, i)); }
+bool op_filtered(int i) { return ld(t5, i).z != 0.0; }
+mat3 op_a(int k) { return sym(ld(t2, k), ld(t3, k).xy); }
+
+// Block k of P^ (row i, column j).
+mat3 op_block(int k) {
+    ivec4 b = ldi(t1, k);
+    mat3 A = op_a(k), o = A;
+    if (op_filtered(b.y)) o = o * op_filter(b.y);
+    if (op_filtered(b.x)) {
+        mat3 S = op_filter(b.x);
+        o = S * o;
+        if (b.x == b.y) {
+            float a = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+            if (!(a > 0.0) || isinf(a)) a = 1.0;
+            o += a * (mat3(1.0) - S);
+        }
+    }
+    return o;
+}
+mat3 op_dinv(int i) { return blk(t6, t7, t8, i); }
+// The coarse correction xc of node j's aggregate, as added to x_j: filtered (above).
+vec3 op_prolong(int j, vec3 xc) { return filter_apply(ld(t4, j), ld(t5, j), xc); }
+
+// Row i of P^ x for x in range(S) (the V-cycle's vectors), x_j + op_prolong(j, xc[agg j]) read
+// with prolong: S_i (A x)_i.
+vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
+    ivec4 r = ldi(t0, i);
+    vec3 y = vec3(0.0);
+    for (int k = r.x; k < r.y; ++k) {
+        int j = ldi(t1, k).y;
+        vec3 xj = ld(x, j).xyz;
+        if (prolong) xj += op_prolong(j, ld(xc, ldi(t0, j).w).xyz);
+        y += op_a(k) * xj;
+    }
+    return filter_apply(ld(t4, i), ld(t5, i), y);
+}
+// Row i of P^ x for any x (the power iterations, from core's unfiltered start vector).
+vec3 op_row_any(int i, sampler2D x) {
+    ivec4 r = ldi(t0, i);
+    vec3 y = vec3(0.0);
+    for (int k = r.x; k < r.y; ++k) {
+        int j = ldi(t1, k).y;
+        y += op_a(k) * filter_apply(ld(t4, j), ld(t5, j), ld(x, j).xyz);
+    }
+    if (!op_filtered(i)) return y;
+    mat3 A = op_a(r.z), S = op_filter(i);
+    float a = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+    if (!(a > 0.0) || isinf(a)) a = 1.0;
+    vec3 xi = ld(x, i).xyz;
+    return S * y + a * (xi - S * xi);
+}
+#else
 uniform sampler2D t2;   // blocks, row 0
 uniform sampler2D t3;   // row 1
 uniform sampler2D t4;   // row 2
 uniform sampler2D t5;   // D^-1, row 0
 uniform sampler2D t6;   // row 1
 uniform sampler2D t7;   // row 2
+
+mat3 op_block(int k) { return blk(t2, t3, t4, k); }
+mat3 op_dinv(int i) { return blk(t5, t6, t7, i); }
+vec3 op_prolong(int j, vec3 xc) { return xc; }
+
+vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
+    ivec4 r = ldi(t0, i);
+    vec3 y = vec3(0.0);
+    for (int k = r.x; k < r.y; ++k) {
+        int j = ldi(t1, k).y;
+        vec3 xj = ld(x, j).xyz;
+        if (prolong) xj += ld(xc, ldi(t0, j).w).xyz;
+        y += op_block(k) * xj;
+    }
+    return y;
+}
+vec3 op_row_any(int i, sampler2D x) { return op_row(i, x, x, false); }
+#endif
+mat3 op_diag(int i) { return op_block(ldi(t0, i).z); }

@@ -4,38 +4,38 @@
 // u_step -1: weighted block Jacobi, d = D^-1 t / bound (the coarsest level's sweeps when it has
 // no dense factor). u_zero: x = 0 (the first step before the coarse correction: t = r). With
 // u_prolong the coarse correction is added first: x_j + xc[aggregate(j)] wherever x is read (the
-// prolongation of unsmoothed aggregation fused into the first step after it).
+// prolongation of unsmoothed aggregation fused into the first step after it; filtered on the
+// finest level, op_prolong). u_dot (the finest level's last step): o2 = (r.x', r.r), PCG's
+// partial products with z = x' (bound as a third output). The level's inputs:
+// amg_level_inputs.glsl.
 #pragma weft include amg_blocks
 #pragma weft include amg_level_inputs
-uniform sampler2D t8;   // r
-uniform sampler2D t9;   // x
-uniform sampler2D t10;  // d of the previous step
-uniform sampler2D t11;  // the power iterations' reduction (lvl_bound)
-uniform sampler2D t12;  // xc: the next level's solution (u_prolong)
+uniform sampler2D t9;   // r
+uniform sampler2D t10;  // x
+uniform sampler2D t11;  // d of the previous step
+uniform sampler2D t12;  // the power iterations' reduction (lvl_bound)
+uniform sampler2D t13;  // xc: the next level's solution (u_prolong)
 uniform int u_step;
 uniform int u_zero;
 uniform int u_prolong;
 uniform float u_ratio;
+uniform int u_dot;
 out vec4 o0;
 out vec4 o1;
-
-vec3 xval(int j) {
-    vec3 x = ld(t9, j).xyz;
-    if (u_prolong != 0) x += ld(t12, ldi(t0, j).w).xyz;
-    return x;
-}
+out vec4 o2;
 
 void main() {
     int i = self_index();
-    if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
-    vec3 t = ld(t8, i).xyz, x = vec3(0.0);
+    if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
+    vec3 r = ld(t9, i).xyz, t = r, x = vec3(0.0);
     if (u_zero == 0) {
-        ivec4 r = ldi(t0, i);
-        for (int k = r.x; k < r.y; ++k) t -= blk(t2, t3, t4, k) * xval(ldi(t1, k).x);
-        x = xval(i);
+        bool prolong = u_prolong != 0;
+        t -= op_row(i, t10, t13, prolong);
+        x = ld(t10, i).xyz;
+        if (prolong) x += op_prolong(i, ld(t13, ldi(t0, i).w).xyz);
     }
-    vec3 e = blk(t5, t6, t7, i) * t;
-    float b = lvl_bound(t11);
+    vec3 e = op_dinv(i) * t;
+    float b = lvl_bound(t12);
     vec3 d;
     if (u_step < 0) {
         d = e / b;
@@ -51,9 +51,10 @@ void main() {
                 c2 = 2.0 * rn / delta;
                 rho = rn;
             }
-            d = c1 * ld(t10, i).xyz + c2 * e;
+            d = c1 * ld(t11, i).xyz + c2 * e;
         }
     }
     o0 = vec4(x + d, 0.0);
     o1 = vec4(d, 0.0);
+    o2 = u_dot != 0 ? vec4(dot(r, x + d), dot(r, r), 0.0, 0.0) : vec4(0.0);
 }

@@ -1,7 +1,8 @@
 // Per particle, one PCG update (core/solve_pcg.c wcs_pcg_update): dv += alpha c, r -= alpha q,
 // t = D~^{-1} r, and the partial products (r.t, r.r) for the next reduction. alpha comes from the
 // scalar texture (0 once the solve is done, and with u_first: the start of a solve or a restart).
-// Outputs: o0 = dv, o1 = r, o2 = t, o3 = (r.t, r.r, -, -).
+// Outputs: o0 = dv, o1 = r, o2 = t, o3 = (r.t, r.r, -, -). u_jacobi 0 (the multigrid preconditions:
+// wg_solve.c binds o0 and o1 only): no t.
 uniform sampler2D t0;   // dv
 uniform sampler2D t1;   // r
 uniform sampler2D t2;   // c
@@ -11,6 +12,7 @@ uniform sampler2D t5;   // D~^{-1} hi
 uniform sampler2D t6;   // scalars 0 (delta, alpha, beta, rr)
 uniform sampler2D t7;   // scalars 1 (done, diverged, iterations, converged)
 uniform int u_first;
+uniform int u_jacobi;
 out vec4 o0;
 out vec4 o1;
 out vec4 o2;
@@ -27,7 +29,7 @@ void main() {
             r -= alpha * ld(t3, i).xyz;
         }
     }
-    vec3 t = sym(ld(t4, i), ld(t5, i).xy) * r;
+    vec3 t = u_jacobi != 0 ? sym(ld(t4, i), ld(t5, i).xy) * r : vec3(0.0);
     o0 = vec4(dv, 0.0);
     o1 = vec4(r, 0.0);
     o2 = vec4(t, 0.0);
