@@ -48,19 +48,9 @@ mat3 op_dinv(int i) { return blk(t6, t7, t8, i); }
 // The coarse correction xc of node j's aggregate, as added to x_j: filtered (above).
 vec3 op_prolong(int j, vec3 xc) { return filter_apply(ld(t4, j), ld(t5, j), xc); }
 
-// Row i of P^ x for x in range(S) (the V-cycle's vectors), x_j + op_prolong(j, xc[agg j]) read
-// with prolong: S_i (A x)_i.
-vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
-    ivec4 r = ldi(t0, i);
-    vec3 y = vec3(0.0);
-    for (int k = r.x; k < r.y; ++k) {
-        int j = ldi(t1, k).y;
-        vec3 xj = ld(x, j).xyz;
-        if (prolong) xj += op_prolong(j, ld(xc, ldi(t0, j).w).xyz);
-        y += op_a(k) * xj;
-    }
-    return filter_apply(ld(t4, i), ld(t5, i), y);
-}
+// op_row's parts (below): for x in range(S) (the V-cycle's vectors) row i of P^ x is S_i (A x)_i.
+vec3 op_mul(int k, vec3 x) { return op_a(k) * x; }
+vec3 op_row_end(int i, vec3 y) { return filter_apply(ld(t4, i), ld(t5, i), y); }
 // Row i of P^ x for any x (the power iterations, from core's unfiltered start vector).
 vec3 op_row_any(int i, sampler2D x) {
     ivec4 r = ldi(t0, i);
@@ -88,17 +78,24 @@ mat3 op_block(int k) { return blk(t2, t3, t4, k); }
 mat3 op_dinv(int i) { return blk(t5, t6, t7, i); }
 vec3 op_prolong(int j, vec3 xc) { return xc; }
 
+vec3 op_mul(int k, vec3 x) { return op_block(k) * x; }
+vec3 op_row_end(int i, vec3 y) { return y; }
+#endif
+mat3 op_diag(int i) { return op_block(ldi(t0, i).z); }
+
+// Row i of the level's operator times x, x_j + op_prolong(j, xc[agg j]) read with prolong (on the
+// finest level x in range(S): above).
 vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
     ivec4 r = ldi(t0, i);
     vec3 y = vec3(0.0);
     for (int k = r.x; k < r.y; ++k) {
         int j = ldi(t1, k).y;
         vec3 xj = ld(x, j).xyz;
-        if (prolong) xj += ld(xc, ldi(t0, j).w).xyz;
-        y += op_block(k) * xj;
+        if (prolong) xj += op_prolong(j, ld(xc, ldi(t0, j).w).xyz);
+        y += op_mul(k, xj);
     }
-    return y;
+    return op_row_end(i, y);
 }
+#ifndef WG_AMG_FINE
 vec3 op_row_any(int i, sampler2D x) { return op_row(i, x, x, false); }
 #endif
-mat3 op_diag(int i) { return op_block(ldi(t0, i).z); }
