@@ -1,5 +1,6 @@
-// Per particle: PCG's partial products (r.z, r.r) with z the multigrid's V-cycle (pcg_update.glsl
-// makes them with its block-Jacobi t).
+// Per particle: PCG's partial products (r.z, r.r) with z the multigrid's V-cycle, where the cycle
+// ends in the coarsest level's dense solve (a one-level hierarchy); otherwise the finest level's
+// last smoothing step makes them (amg_smooth.glsl u_dot).
 uniform sampler2D t0;   // r
 uniform sampler2D t1;   // z
 out vec4 o0;
