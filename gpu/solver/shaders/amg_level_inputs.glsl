@@ -1,5 +1,5 @@
 // One level's operator and smoother for the multigrid's passes over it (an include, not a pass;
-// wg_amg.c bind_level binds units 0..8 in this order, the passes' own inputs start at t9).
+// wg_amg.c use_level binds units 0..8 in this order, the passes' own inputs start at t9).
 // Two forms, the same functions:
 //  - a coarse level (and the finest of a one-level hierarchy): full 3x3 blocks in three textures
 //    (amg_blocks.glsl), the Galerkin sums;
@@ -27,6 +27,11 @@ uniform sampler2D t8;   // row 2
 mat3 op_filter(int i) { return filter_S(ld(t4, i), ld(t5, i)); }
 bool op_filtered(int i) { return ld(t5, i).z != 0.0; }
 mat3 op_a(int k) { return sym(ld(t2, k), ld(t3, k).xy); }
+// a_i of a diagonal block A_ii: its mean diagonal, 1 where that is not positive and finite.
+float op_scale(mat3 A) {
+    float a = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
+    return (!(a > 0.0) || isinf(a)) ? 1.0 : a;
+}
 
 // Block k of P^ (row i, column j).
 mat3 op_block(int k) {
@@ -36,11 +41,7 @@ mat3 op_block(int k) {
     if (op_filtered(b.x)) {
         mat3 S = op_filter(b.x);
         o = S * o;
-        if (b.x == b.y) {
-            float a = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
-            if (!(a > 0.0) || isinf(a)) a = 1.0;
-            o += a * (mat3(1.0) - S);
-        }
+        if (b.x == b.y) o += op_scale(A) * (mat3(1.0) - S);
     }
     return o;
 }
@@ -60,11 +61,9 @@ vec3 op_row_any(int i, sampler2D x) {
         y += op_a(k) * filter_apply(ld(t4, j), ld(t5, j), ld(x, j).xyz);
     }
     if (!op_filtered(i)) return y;
-    mat3 A = op_a(r.z), S = op_filter(i);
-    float a = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
-    if (!(a > 0.0) || isinf(a)) a = 1.0;
+    mat3 S = op_filter(i);
     vec3 xi = ld(x, i).xyz;
-    return S * y + a * (xi - S * xi);
+    return S * y + op_scale(op_a(r.z)) * (xi - S * xi);
 }
 #else
 uniform sampler2D t2;   // blocks, row 0
