@@ -330,7 +330,7 @@ typedef struct wc_amg {
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */
-weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,
+wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,
                           wc_diag* diag);
 void wc_amg_destroy(wc_amg* a);
 
@@ -343,7 +343,7 @@ void wc_amg_apply(wc_amg* a, const double* r, double* z, wc_par* par);
  * on (amg_cross.c): room for `capacity` active terms, allocated here (no allocation in a setup);
  * NULL detaches them (the multigrid of A's pattern alone, the behaviour before). */
 struct wc_coupling;
-weft_status wc_amg_set_coupling(wc_amg* a, const struct wc_coupling* c, int capacity, wc_diag* diag);
+wc_status wc_amg_set_coupling(wc_amg* a, const struct wc_coupling* c, int capacity, wc_diag* diag);
 
 /* Operator complexity (sum of blocks over levels / fine blocks) and grid complexity. */
 double wc_amg_operator_complexity(const wc_amg* a);

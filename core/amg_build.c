@@ -306,17 +306,17 @@ oom:
     return 0;
 }
 
-weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,
+wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,
                           wc_diag* diag) {
-    if (!out || !m) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
+    if (!out || !m) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
     *out = NULL;
     wc_amg_opts o = opts ? *opts : wc_default_amg_opts();
     if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || o.cross_dense_dofs < 0 || o.cross_dense_dofs > 4096 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
         !(o.prolong_weight >= 0 && o.prolong_weight < 2))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations >= 0, cross_dense_dofs in [0, 4096], smooth_weight in (0, 2), prolong_weight in [0, 2)");
     wc_amg* a = WC_NEW(alloc, wc_amg, 1);
-    if (!a) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
+    if (!a) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
     if (alloc) a->alloc = *alloc;
     a->opts = o;
     a->fine_bound_scale = 1.0;
@@ -381,13 +381,13 @@ weft_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* op
     wc_free(&a->alloc, pending);
     wc_free(&a->alloc, buf);
     *out = a;
-    return WEFT_OK;
+    return WC_OK;
 oom:
     wc_free(&a->alloc, mark);
     wc_free(&a->alloc, pending);
     wc_free(&a->alloc, buf);
     wc_amg_destroy(a);
-    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG hierarchy for %d particles", n);
+    return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "AMG hierarchy for %d particles", n);
 }
 
 void wc_amg_destroy(wc_amg* a) {

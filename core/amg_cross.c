@@ -50,12 +50,12 @@ void wc_amg_cross_destroy(wc_amg* a) {
     }
 }
 
-weft_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_diag* diag) {
-    if (!a) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_set_coupling: NULL hierarchy");
+wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_diag* diag) {
+    if (!a) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_amg_set_coupling: NULL hierarchy");
     wc_amg_cross_destroy(a);
     a->coupling = NULL;
-    if (!c || !a->opts.couplings) return WEFT_OK;
-    if (capacity < 1) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_amg_set_coupling: capacity %d", capacity);
+    if (!c || !a->opts.couplings) return WC_OK;
+    if (capacity < 1) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_amg_set_coupling: capacity %d", capacity);
     const wc_allocator* al = &a->alloc;
     for (int l = 0; l < a->n_levels; ++l) {
         wc_amg_level* L = &a->lev[l];
@@ -94,10 +94,10 @@ weft_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, w
         if (!X->c || !X->s || !X->dadd || !X->y) goto oom;
     }
     a->coupling = c;
-    return WEFT_OK;
+    return WC_OK;
 oom:
     wc_amg_cross_destroy(a);
-    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "AMG: room for %d couplings", capacity);
+    return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "AMG: room for %d couplings", capacity);
 }
 
 /* A list level's gather index: each node's entries in entry (so term) order, by a counting sort. */

@@ -65,14 +65,14 @@ typedef struct build_item {
     int node, lo, hi;
 } build_item;
 
-weft_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator* alloc, wc_diag* diag) {
+wc_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator* alloc, wc_diag* diag) {
     memset(b, 0, sizeof(*b));
     if (alloc) b->alloc = *alloc;
-    if (n < 0) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "bvh: %d primitives", n);
+    if (n < 0) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "bvh: %d primitives", n);
     for (int i = 0; i < 6 * n; ++i)
-        if (!isfinite(boxes[i])) return wc_fail(diag, WEFT_ERROR_NONFINITE, "bvh: box of primitive %d is not finite", i / 6);
+        if (!isfinite(boxes[i])) return wc_fail(diag, WC_ERROR_NONFINITE, "bvh: box of primitive %d is not finite", i / 6);
     b->n_prims = n;
-    if (n == 0) return WEFT_OK;
+    if (n == 0) return WC_OK;
     b->n_nodes = 2 * n - 1;
     b->box = WC_NEW(&b->alloc, double, (size_t)b->n_nodes * 6);
     b->child = WC_NEW(&b->alloc, int, (size_t)b->n_nodes * 2);
@@ -83,7 +83,7 @@ weft_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocat
         wc_free(&b->alloc, prims);
         wc_free(&b->alloc, stack);
         wc_bvh_free(b);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bvh: out of memory for %d primitives", n);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bvh: out of memory for %d primitives", n);
     }
     for (int i = 0; i < n; ++i) prims[i] = i;
     int top = 0;
@@ -118,7 +118,7 @@ weft_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocat
     wc_free(&b->alloc, prims);
     wc_free(&b->alloc, stack);
     wc_bvh_refit(b, boxes);
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wc_bvh_free(wc_bvh* b) {

@@ -22,7 +22,7 @@ typedef struct wc_bvh {
 } wc_bvh;
 
 /* Build the tree over n >= 0 boxes (n x 6: min xyz, max xyz, finite, min <= max). */
-weft_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator* alloc, wc_diag* diag);
+wc_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator* alloc, wc_diag* diag);
 void wc_bvh_free(wc_bvh* b);
 /* New boxes for the same primitives (n_prims x 6); the tree's shape is kept. */
 void wc_bvh_refit(wc_bvh* b, const double* boxes);

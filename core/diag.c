@@ -2,7 +2,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-weft_status wc_fail(wc_diag* d, weft_status status, const char* fmt, ...) {
+wc_status wc_fail(wc_diag* d, wc_status status, const char* fmt, ...) {
     if (!d) return status;
     va_list ap;
     va_start(ap, fmt);
@@ -25,6 +25,16 @@ void wc_log(const wc_diag* d, wc_log_level level, const char* fmt, ...) {
 
 void wc_diag_clear(wc_diag* d) {
     if (!d) return;
-    d->status = WEFT_OK;
+    d->status = WC_OK;
     d->message[0] = '\0';
+}
+
+const char* wc_status_string(wc_status status) {
+    switch (status) {
+#define WC_STATUS_CASE_(name, value, msg) \
+    case name: return msg;
+        WC_STATUS_LIST(WC_STATUS_CASE_)
+#undef WC_STATUS_CASE_
+    }
+    return "unknown status";
 }

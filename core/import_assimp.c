@@ -202,27 +202,27 @@ static int looks_binary(const unsigned char* b, size_t n) {
     return 0;
 }
 
-static weft_status probe_file(const char* path, unsigned char* head, size_t* n_head,
+static wc_status probe_file(const char* path, unsigned char* head, size_t* n_head,
                               wc_diag* diag) {
     errno = 0;
     FILE* f = fopen(path, "rb");
     if (!f)
-        return wc_fail(diag, WEFT_ERROR_IO, "cannot open '%s': %s", path,
+        return wc_fail(diag, WC_ERROR_IO, "cannot open '%s': %s", path,
                        errno ? strerror(errno) : "fopen failed");
     *n_head = fread(head, 1, WC_IMPORT_HEAD, f);
     int err = ferror(f);
     int saved = errno;
     fclose(f);
     if (err)
-        return wc_fail(diag, WEFT_ERROR_IO, "cannot read '%s': %s", path,
+        return wc_fail(diag, WC_ERROR_IO, "cannot read '%s': %s", path,
                        saved ? strerror(saved) : "read error");
     if (*n_head == 0)
-        return wc_fail(diag, WEFT_ERROR_IMPORT, "cannot import '%s': the file is empty (0 bytes)",
+        return wc_fail(diag, WC_ERROR_IMPORT, "cannot import '%s': the file is empty (0 bytes)",
                        path);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-static weft_status check_raw_finite(const struct aiScene* s, const instance* inst, size_t n_inst,
+static wc_status check_raw_finite(const struct aiScene* s, const instance* inst, size_t n_inst,
                                     const char* path, wc_diag* diag) {
     for (size_t i = 0; i < n_inst; ++i) {
         const struct aiMesh* m = s->mMeshes[inst[i].mesh];
@@ -230,44 +230,44 @@ static weft_status check_raw_finite(const struct aiScene* s, const instance* ins
         for (unsigned v = 0; v < m->mNumVertices; ++v) {
             const struct aiVector3D* p = &m->mVertices[v];
             if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->z))
-                return wc_fail(diag, WEFT_ERROR_NONFINITE,
+                return wc_fail(diag, WC_ERROR_NONFINITE,
                                "'%s': mesh '%s' (#%u) has a non-finite position (%g, %g, %g) "
                                "at its vertex %u (assimp's order before joining)",
                                path, m->mName.data, inst[i].mesh, (double)p->x, (double)p->y,
                                (double)p->z, v);
         }
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* Every mesh's faces index its own vertices. assimp's importers can return a scene that breaks
  * this for a damaged file (found by fuzz/fuzz_import: a binary PLY whose face list reads past its
  * vertices), and aiProcess_JoinIdenticalVertices then reads out of bounds and crashes inside
  * assimp 5.2.5. It runs on every mesh of the scene, selected or not, so every mesh is checked. */
-static weft_status check_faces(const struct aiScene* s, const char* path, wc_diag* diag) {
+static wc_status check_faces(const struct aiScene* s, const char* path, wc_diag* diag) {
     for (unsigned i = 0; i < s->mNumMeshes; ++i) {
         const struct aiMesh* m = s->mMeshes[i];
         if (!m) continue;   /* walk_node reports references to it */
         if ((m->mNumVertices > 0 && !m->mVertices) || (m->mNumFaces > 0 && !m->mFaces))
-            return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' has no %s (corrupt file)", path,
+            return wc_fail(diag, WC_ERROR_IMPORT, "'%s': mesh '%s' has no %s (corrupt file)", path,
                            m->mName.data, m->mVertices ? "faces" : "positions");
         for (unsigned f = 0; f < m->mNumFaces; ++f) {
             const struct aiFace* face = &m->mFaces[f];
             if (face->mNumIndices > 0 && !face->mIndices)
-                return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' face %u has no indices (corrupt file)",
+                return wc_fail(diag, WC_ERROR_IMPORT, "'%s': mesh '%s' face %u has no indices (corrupt file)",
                                path, m->mName.data, f);
             for (unsigned k = 0; k < face->mNumIndices; ++k)
                 if (face->mIndices[k] >= m->mNumVertices)
-                    return wc_fail(diag, WEFT_ERROR_IMPORT,
+                    return wc_fail(diag, WC_ERROR_IMPORT,
                                    "'%s': mesh '%s' face %u uses vertex %u of %u (corrupt file)", path,
                                    m->mName.data, f, face->mIndices[k], m->mNumVertices);
         }
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* Concatenate the instances into out (allocated with alloc). Scene already joined. */
-static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
+static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
                               const struct aiScene* s, const instance* inst, size_t n_inst,
                               double scale, const char* path, wc_diag* diag) {
     long long nv = 0, np = 0, nc = 0;
@@ -275,14 +275,14 @@ static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
     for (size_t i = 0; i < n_inst; ++i) {
         const struct aiMesh* m = s->mMeshes[inst[i].mesh];
         if (m->mNumVertices > 0 && !m->mVertices)
-            return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': mesh '%s' has no positions", path,
+            return wc_fail(diag, WC_ERROR_IMPORT, "'%s': mesh '%s' has no positions", path,
                            m->mName.data);
         nv += m->mNumVertices;
         for (unsigned f = 0; f < m->mNumFaces; ++f) {
             const struct aiFace* face = &m->mFaces[f];
             for (unsigned k = 0; k < face->mNumIndices; ++k)
                 if (face->mIndices[k] >= m->mNumVertices)
-                    return wc_fail(diag, WEFT_ERROR_IMPORT,
+                    return wc_fail(diag, WC_ERROR_IMPORT,
                                    "'%s': mesh '%s' face %u uses vertex %u of %u (corrupt file)",
                                    path, m->mName.data, f, face->mIndices[k], m->mNumVertices);
             if (face->mNumIndices == 1) ++n_points;
@@ -290,11 +290,11 @@ static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
             else if (face->mNumIndices >= 3) { ++np; nc += face->mNumIndices; }
         }
         if (nv > INT_MAX / 3 || np >= INT_MAX || nc > INT_MAX)
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "'%s': too many vertices or polygons",
+            return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "'%s': too many vertices or polygons",
                            path);
     }
     if (np == 0)
-        return wc_fail(diag, WEFT_ERROR_EMPTY_MESH,
+        return wc_fail(diag, WC_ERROR_EMPTY_MESH,
                        "'%s': no polygons with >= 3 corners in %zu mesh instance(s) (%lld "
                        "vertices, %d points, %d lines)", path, n_inst, nv, n_points, n_lines);
 
@@ -306,7 +306,7 @@ static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
     m.poly_verts = WC_NEW(&m.alloc, int, (size_t)nc);
     if (!m.pos || !m.poly_start || !m.poly_verts) {
         wc_source_mesh_free(&m);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "'%s': out of memory for %lld vertices",
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory for %lld vertices",
                        path, nv);
     }
     int base = 0, q = 0, c = 0;
@@ -321,7 +321,7 @@ static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
             if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
                 int bad = base + (int)v;
                 wc_source_mesh_free(&m);
-                return wc_fail(diag, WEFT_ERROR_NONFINITE,
+                return wc_fail(diag, WC_ERROR_NONFINITE,
                                "'%s': vertex %d (mesh '%s') is not finite after applying the node "
                                "transform and scale %g", path, bad, am->mName.data, scale);
             }
@@ -343,30 +343,30 @@ static weft_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
     m.n_meshes = (int)n_inst;
     m.unit_scale = scale;
     *out = m;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* Unit factor of the file (metres per file unit) before the user's scale. */
-static weft_status file_unit(const struct aiScene* s, const char* path, double* unit,
+static wc_status file_unit(const struct aiScene* s, const char* path, double* unit,
                              wc_diag* diag) {
     *unit = 1.0;
-    if (!is_fbx_scene(s, path)) return WEFT_OK;
+    if (!is_fbx_scene(s, path)) return WC_OK;
     double usf = 1.0;   /* FBX default: centimetres */
     const struct aiMetadataEntry* e = meta_find(s, "UnitScaleFactor");
     if (e && !meta_number(e, &usf))
-        return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': FBX UnitScaleFactor has metadata type %d",
+        return wc_fail(diag, WC_ERROR_IMPORT, "'%s': FBX UnitScaleFactor has metadata type %d",
                        path, (int)e->mType);
     if (!(isfinite(usf) && usf > 0.0))
-        return wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': invalid FBX UnitScaleFactor %g", path, usf);
+        return wc_fail(diag, WC_ERROR_IMPORT, "'%s': invalid FBX UnitScaleFactor %g", path, usf);
     *unit = usf / 100.0;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* The importer's settings (the same for files and memory); NULL on allocation failure. */
 static struct aiPropertyStore* new_props(const char* name, wc_diag* diag) {
     struct aiPropertyStore* props = aiCreatePropertyStore();
     if (!props) {
-        wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "import '%s': no property store", name);
+        wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "import '%s': no property store", name);
         return NULL;
     }
     aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, 0);
@@ -378,31 +378,31 @@ static struct aiPropertyStore* new_props(const char* name, wc_diag* diag) {
 }
 
 /* Options checked and defaulted (scale 0 -> 1, select "" -> NULL). */
-static weft_status check_opts(const wc_import_opts* opts, const char* name, wc_import_opts* o,
+static wc_status check_opts(const wc_import_opts* opts, const char* name, wc_import_opts* o,
                               wc_diag* diag) {
     *o = opts ? *opts : wc_default_import_opts();
     if (o->scale == 0.0) o->scale = 1.0;
     if (!(isfinite(o->scale) && o->scale > 0.0))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "import '%s': scale %g must be finite and > 0 (0 means 1)", name, o->scale);
     if (o->select && !o->select[0]) o->select = NULL;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* The rest of an import, shared by files and memory: scene (NULL: assimp failed) -> *out.
  * Releases scene and props. */
-static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
+static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
                                 const struct aiScene* scene, struct aiPropertyStore* props,
                                 const char* path, const unsigned char* head, size_t n_head,
                                 const wc_import_opts* opts, wc_diag* diag) {
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     wc_import_opts o = *opts;
     if (!scene) {
         const char* why = aiGetErrorString();   /* process-global in assimp: copy it now */
         char reason[256];
         snprintf(reason, sizeof reason, "%s", why && why[0] ? why : "unknown error");
         aiReleasePropertyStore(props);
-        return wc_fail(diag, WEFT_ERROR_IMPORT, "cannot import '%s': %s", path, reason);
+        return wc_fail(diag, WC_ERROR_IMPORT, "cannot import '%s': %s", path, reason);
     }
 
     instance* inst = NULL;
@@ -416,19 +416,19 @@ static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
         /* assimp's OBJ importer accepts any bytes and returns zero meshes: tell an unreadable
          * file (UTF-16, binary garbage) apart from a readable one without geometry. */
         if (looks_utf16(head, n_head))
-            st = wc_fail(diag, WEFT_ERROR_IMPORT,
+            st = wc_fail(diag, WC_ERROR_IMPORT,
                          "cannot import '%s': it looks like UTF-16 text, which assimp reads as "
                          "no meshes; re-save it as UTF-8 or ASCII", path);
         else if (ends_with_ci(path, ".obj") && looks_binary(head, n_head))
-            st = wc_fail(diag, WEFT_ERROR_IMPORT,
+            st = wc_fail(diag, WC_ERROR_IMPORT,
                          "cannot import '%s': assimp found no meshes and the file holds binary "
                          "bytes (corrupt, or not an OBJ file)", path);
         else
-            st = wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "'%s' has no meshes", path);
+            st = wc_fail(diag, WC_ERROR_EMPTY_MESH, "'%s' has no meshes", path);
         goto done;
     }
     st = file_unit(scene, path, &unit, diag);
-    if (st != WEFT_OK) goto done;
+    if (st != WC_OK) goto done;
 
     w.mode = SEL_ALL;
     if (o.select) {
@@ -449,7 +449,7 @@ static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
                     if (scene->mMeshes[i]) name_list_add(&meshes, scene->mMeshes[i]->mName.data);
                 name_list_finish(&nodes);
                 name_list_finish(&meshes);
-                st = wc_fail(diag, WEFT_ERROR_IMPORT,
+                st = wc_fail(diag, WC_ERROR_IMPORT,
                              "'%s': no node or mesh named '%s'; meshes (%u): %s; nodes (%d): %s",
                              path, o.select, scene->mNumMeshes, meshes.buf, n_nodes, nodes.buf);
                 goto done;
@@ -459,23 +459,23 @@ static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
     }
     walk_node(&w, scene->mRootNode, identity, 0, 0);   /* count */
     if (w.too_deep) {
-        st = wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': node hierarchy deeper than %d levels", path,
+        st = wc_fail(diag, WC_ERROR_IMPORT, "'%s': node hierarchy deeper than %d levels", path,
                      WC_IMPORT_MAX_DEPTH);
         goto done;
     }
     if (w.bad_mesh_ref) {
-        st = wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': a node references a missing mesh", path);
+        st = wc_fail(diag, WC_ERROR_IMPORT, "'%s': a node references a missing mesh", path);
         goto done;
     }
     if (w.n_inst == 0) {
-        st = wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "'%s': %s%s%s has no mesh instances", path,
+        st = wc_fail(diag, WC_ERROR_EMPTY_MESH, "'%s': %s%s%s has no mesh instances", path,
                      o.select ? (w.mode == SEL_NODE ? "node '" : "mesh '") : "the scene",
                      o.select ? o.select : "", o.select ? "'" : "");
         goto done;
     }
     inst = WC_NEW(alloc, instance, w.n_inst);
     if (!inst) {
-        st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
+        st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
         goto done;
     }
     w.inst = inst;
@@ -483,20 +483,20 @@ static weft_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
     walk_node(&w, scene->mRootNode, identity, 0, 0);   /* fill */
 
     st = check_raw_finite(scene, inst, w.n_inst, path, diag);
-    if (st == WEFT_OK) st = check_faces(scene, path, diag);   /* before assimp's post-processing */
-    if (st != WEFT_OK) goto done;
+    if (st == WC_OK) st = check_faces(scene, path, diag);   /* before assimp's post-processing */
+    if (st != WC_OK) goto done;
 
     scene = aiApplyPostProcessing(scene, aiProcess_JoinIdenticalVertices);
     if (!scene) {   /* assimp released the scene */
         char reason[256];
         const char* why = aiGetErrorString();
         snprintf(reason, sizeof reason, "%s", why && why[0] ? why : "unknown error");
-        st = wc_fail(diag, WEFT_ERROR_IMPORT, "'%s': joining identical vertices failed: %s", path,
+        st = wc_fail(diag, WC_ERROR_IMPORT, "'%s': joining identical vertices failed: %s", path,
                      reason);
         goto done;
     }
     st = build_mesh(out, alloc, scene, inst, w.n_inst, unit * o.scale, path, diag);
-    if (st == WEFT_OK)
+    if (st == WC_OK)
         wc_log(diag, WC_LOG_INFO,
                "imported '%s': %d vertices, %d polygons, %d mesh instance(s), %g m per unit",
                path, out->n_verts, out->n_polys, out->n_meshes, out->unit_scale);
@@ -505,59 +505,59 @@ done:
     wc_free(alloc, inst);
     if (scene) aiReleaseImport(scene);
     aiReleasePropertyStore(props);
-    if (st != WEFT_OK) memset(out, 0, sizeof *out);
+    if (st != WC_OK) memset(out, 0, sizeof *out);
     return st;
 }
 
-weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
+wc_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
                            const wc_import_opts* opts, wc_diag* diag) {
-    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: out is NULL");
+    if (!out) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "import: out is NULL");
     memset(out, 0, sizeof *out);
     if (!path || !path[0])
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: path is %s",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "import: path is %s",
                        path ? "empty" : "NULL");
     wc_import_opts o;
-    weft_status st = check_opts(opts, path, &o, diag);
-    if (st != WEFT_OK) return st;
+    wc_status st = check_opts(opts, path, &o, diag);
+    if (st != WC_OK) return st;
 
     unsigned char head[WC_IMPORT_HEAD];
     size_t n_head = 0;
     st = probe_file(path, head, &n_head, diag);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     st = wc_import_precheck_file(path, head, n_head, diag);   /* inputs known to hang assimp */
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
 
     struct aiPropertyStore* props = new_props(path, diag);
-    if (!props) return WEFT_ERROR_OUT_OF_MEMORY;
+    if (!props) return WC_ERROR_OUT_OF_MEMORY;
     const struct aiScene* scene = aiImportFileExWithProperties(path, 0, NULL, props);
     return import_scene(out, alloc, scene, props, path, head, n_head, &o, diag);
 }
 
-weft_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
+wc_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
                              size_t size, const char* hint, const wc_import_opts* opts,
                              wc_diag* diag) {
-    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: out is NULL");
+    if (!out) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "import: out is NULL");
     memset(out, 0, sizeof *out);
-    if (!data) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: data is NULL");
+    if (!data) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "import: data is NULL");
     if (!hint || !hint[0] || strlen(hint) > WC_IMPORT_MAX_HINT)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "import: the format hint is %s",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "import: the format hint is %s",
                        !hint ? "NULL" : hint[0] ? "too long" : "empty");
     char name[WC_IMPORT_MAX_HINT + 16];
     snprintf(name, sizeof name, "<memory>.%s", hint);   /* messages; FBX by its extension too */
     wc_import_opts o;
-    weft_status st = check_opts(opts, name, &o, diag);
-    if (st != WEFT_OK) return st;
+    wc_status st = check_opts(opts, name, &o, diag);
+    if (st != WC_OK) return st;
     if (size == 0)
-        return wc_fail(diag, WEFT_ERROR_IMPORT, "cannot import '%s': the buffer is empty (0 bytes)",
+        return wc_fail(diag, WC_ERROR_IMPORT, "cannot import '%s': the buffer is empty (0 bytes)",
                        name);
     if (size > UINT_MAX)   /* assimp takes an unsigned length */
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "cannot import '%s': %zu bytes is too large",
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "cannot import '%s': %zu bytes is too large",
                        name, size);
     st = wc_import_precheck_memory(data, size, name, diag);   /* inputs known to hang assimp */
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     size_t n_head = size < WC_IMPORT_HEAD ? size : WC_IMPORT_HEAD;
     struct aiPropertyStore* props = new_props(name, diag);
-    if (!props) return WEFT_ERROR_OUT_OF_MEMORY;
+    if (!props) return WC_ERROR_OUT_OF_MEMORY;
     const struct aiScene* scene =
         aiImportFileFromMemoryWithProperties(data, (unsigned)size, 0, hint, props);
     return import_scene(out, alloc, scene, props, name, data, n_head, &o, diag);

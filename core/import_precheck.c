@@ -73,45 +73,45 @@ static int duplicate_element(const unsigned char* b, size_t n, char dup[32]) {
     return 0;
 }
 
-static weft_status ply_header(const unsigned char* b, size_t n, int whole, const char* name, wc_diag* diag);
+static wc_status ply_header(const unsigned char* b, size_t n, int whole, const char* name, wc_diag* diag);
 
-static weft_status no_end_header(const char* name, wc_diag* diag) {
-    return wc_fail(diag, WEFT_ERROR_IMPORT,
+static wc_status no_end_header(const char* name, wc_diag* diag) {
+    return wc_fail(diag, WC_ERROR_IMPORT,
                    "cannot import '%s': a PLY file whose header has no end_header line within its "
                    "first %u bytes (truncated or damaged header)", name, WC_PRECHECK_PLY_HEADER_MAX);
 }
 
-weft_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag) {
+wc_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag) {
     if (starts_ply(data, size)) {
         size_t n = size < WC_PRECHECK_PLY_HEADER_MAX ? size : WC_PRECHECK_PLY_HEADER_MAX;
         return ply_header(data, n, n == size, name, diag);
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_import_precheck_file(const char* path, const unsigned char* head, size_t n_head, wc_diag* diag) {
-    if (!starts_ply(head, n_head)) return WEFT_OK;
+wc_status wc_import_precheck_file(const char* path, const unsigned char* head, size_t n_head, wc_diag* diag) {
+    if (!starts_ply(head, n_head)) return WC_OK;
     unsigned char* buf = malloc(WC_PRECHECK_PLY_HEADER_MAX);
-    if (!buf) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "import '%s': out of memory", path);
+    if (!buf) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "import '%s': out of memory", path);
     errno = 0;
     FILE* f = fopen(path, "rb");
     if (!f) {
         free(buf);
-        return wc_fail(diag, WEFT_ERROR_IO, "cannot open '%s': %s", path, errno ? strerror(errno) : "fopen failed");
+        return wc_fail(diag, WC_ERROR_IO, "cannot open '%s': %s", path, errno ? strerror(errno) : "fopen failed");
     }
     size_t n = fread(buf, 1, WC_PRECHECK_PLY_HEADER_MAX, f);
     int whole = n < WC_PRECHECK_PLY_HEADER_MAX || fgetc(f) == EOF;
     fclose(f);
-    weft_status st = ply_header(buf, n, whole, path, diag);
+    wc_status st = ply_header(buf, n, whole, path, diag);
     free(buf);
     return st;
 }
 
-static weft_status ply_header(const unsigned char* b, size_t n, int whole, const char* name, wc_diag* diag) {
+static wc_status ply_header(const unsigned char* b, size_t n, int whole, const char* name, wc_diag* diag) {
     if (!holds_line(b, n, "end_header", whole)) return no_end_header(name, diag);
     char dup[32];
     if (duplicate_element(b, n, dup))
-        return wc_fail(diag, WEFT_ERROR_IMPORT,
+        return wc_fail(diag, WC_ERROR_IMPORT,
                        "cannot import '%s': the PLY header declares the element '%s' twice (damaged header)", name, dup);
-    return WEFT_OK;
+    return WC_OK;
 }

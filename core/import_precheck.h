@@ -11,8 +11,8 @@
 #define WC_PRECHECK_PLY_HEADER_MAX (1u << 20)
 
 /* The whole input in memory; name for messages. */
-weft_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag);
+wc_status wc_import_precheck_memory(const unsigned char* data, size_t size, const char* name, wc_diag* diag);
 /* A file whose first n_head bytes are head (reads more of it only when a check needs to). */
-weft_status wc_import_precheck_file(const char* path, const unsigned char* head, size_t n_head, wc_diag* diag);
+wc_status wc_import_precheck_file(const char* path, const unsigned char* head, size_t n_head, wc_diag* diag);
 
 #endif

@@ -40,27 +40,27 @@ static void swept_boxes(wc_mesh_collider* m) {
     }
 }
 
-weft_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int n_verts, const int* tris,
+wc_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int n_verts, const int* tris,
                                     int n_tris, double thickness, double friction, const wc_allocator* alloc,
                                     wc_diag* diag) {
-    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "mesh collider: NULL output");
+    if (!out) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "mesh collider: NULL output");
     *out = NULL;
-    if (!x || !tris) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "mesh collider: NULL positions or triangles");
+    if (!x || !tris) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "mesh collider: NULL positions or triangles");
     if (n_verts < 3 || n_tris < 1)
-        return wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "mesh collider: %d vertices and %d triangles (needs >= 3 and >= 1)",
+        return wc_fail(diag, WC_ERROR_EMPTY_MESH, "mesh collider: %d vertices and %d triangles (needs >= 3 and >= 1)",
                        n_verts, n_tris);
     if (!(thickness >= 0 && thickness < INFINITY) || !(friction >= 0 && friction < INFINITY))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "mesh collider: thickness %g and friction %g must be finite and >= 0", thickness, friction);
     if (!positions_ok(x, n_verts))
-        return wc_fail(diag, WEFT_ERROR_NONFINITE, "mesh collider: non-finite (or beyond 1e30) vertex position");
+        return wc_fail(diag, WC_ERROR_NONFINITE, "mesh collider: non-finite (or beyond 1e30) vertex position");
     for (int k = 0; k < 3 * n_tris; ++k)
         if (tris[k] < 0 || tris[k] >= n_verts)
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "mesh collider: triangle %d: vertex index %d out of range [0, %d)",
+            return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "mesh collider: triangle %d: vertex index %d out of range [0, %d)",
                            k / 3, tris[k], n_verts);
     wc_allocator A = alloc ? *alloc : (wc_allocator){0};
     wc_mesh_collider* m = WC_NEW(&A, wc_mesh_collider, 1);
-    if (!m) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "mesh collider: out of memory");
+    if (!m) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "mesh collider: out of memory");
     m->alloc = A;
     m->n_verts = n_verts;
     m->n_tris = n_tris;
@@ -76,19 +76,19 @@ weft_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int
     m->boxes = WC_NEW(&A, double, 6 * (size_t)n_tris);
     if (!ok || !m->nrm_a || !m->nrm_b || !m->boxes) {
         wc_mesh_collider_destroy(m);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "mesh collider: out of memory (%d triangles)", n_tris);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "mesh collider: out of memory (%d triangles)", n_tris);
     }
     memcpy(m->tris, tris, nt3 * sizeof(int));
     memcpy(m->rest, x, nv3 * sizeof(double));
     wc_mesh_collider_set_all(m, x, NULL);
     swept_boxes(m);
-    weft_status st = wc_bvh_build(&m->bvh, m->boxes, n_tris, &A, diag);
-    if (st != WEFT_OK) {
+    wc_status st = wc_bvh_build(&m->bvh, m->boxes, n_tris, &A, diag);
+    if (st != WC_OK) {
         wc_mesh_collider_destroy(m);
         return st;
     }
     *out = m;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wc_mesh_collider_destroy(wc_mesh_collider* m) {
@@ -100,17 +100,17 @@ void wc_mesh_collider_destroy(wc_mesh_collider* m) {
     wc_free(&A, m);
 }
 
-weft_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag) {
-    if (!m || !x) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "mesh collider positions: NULL argument");
+wc_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag) {
+    if (!m || !x) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "mesh collider positions: NULL argument");
     if (!positions_ok(x, m->n_verts))
-        return wc_fail(diag, WEFT_ERROR_NONFINITE, "mesh collider positions: non-finite (or beyond 1e30) value");
+        return wc_fail(diag, WC_ERROR_NONFINITE, "mesh collider positions: non-finite (or beyond 1e30) value");
     memcpy(m->to, x, 3 * (size_t)m->n_verts * sizeof(double));
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag) {
-    weft_status st = wc_mesh_collider_set_target(m, x, diag);
-    if (st != WEFT_OK) return st;
+wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag) {
+    wc_status st = wc_mesh_collider_set_target(m, x, diag);
+    if (st != WC_OK) return st;
     size_t nv3 = 3 * (size_t)m->n_verts * sizeof(double);
     memcpy(m->from, x, nv3);
     memcpy(m->xa, x, nv3);
@@ -123,7 +123,7 @@ weft_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_di
         swept_boxes(m);
         wc_bvh_refit(&m->bvh, m->boxes);
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 int wc_mesh_collider_moving(const wc_mesh_collider* m) {

@@ -50,16 +50,16 @@ typedef struct wc_mesh_collider {
 
 /* x (n_verts x 3, finite, |x| <= 1e30, m), tris (n_tris x 3, in [0, n_verts)), n_tris >= 1,
  * thickness and friction finite and >= 0. from = to = xa = xb = x. */
-weft_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int n_verts, const int* tris,
+wc_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int n_verts, const int* tris,
                                     int n_tris, double thickness, double friction, const wc_allocator* alloc,
                                     wc_diag* diag);
 void wc_mesh_collider_destroy(wc_mesh_collider* m);
 
 /* The positions at the end of the next frame (n_verts x 3, m, world; validated: finite,
  * |x| <= 1e30; on error nothing changes). */
-weft_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag);
+wc_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag);
 /* Jump (teleport, reset, snapshot restore): from = to = xa = xb = x, velocities zero (validated). */
-weft_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag);
+wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag);
 /* 1 when from != to (the collider moves in this frame). */
 int wc_mesh_collider_moving(const wc_mesh_collider* m);
 /* End of a frame: from = to. */

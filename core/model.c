@@ -101,48 +101,48 @@ static void tmp_free(build_tmp* t, const wc_allocator* a) {
     wc_free(a, t->sides);
 }
 
-static weft_status validate_def(const wc_model_def* d, wc_diag* diag) {
+static wc_status validate_def(const wc_model_def* d, wc_diag* diag) {
     if (!(d->weld_tolerance >= 0.0) || !isfinite(d->weld_tolerance))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "weld_tolerance must be finite and >= 0 (got %g)", d->weld_tolerance);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "weld_tolerance must be finite and >= 0 (got %g)", d->weld_tolerance);
     if (!(d->degenerate_area >= 0.0) || !isfinite(d->degenerate_area))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "degenerate_area must be finite and >= 0 (got %g)", d->degenerate_area);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "degenerate_area must be finite and >= 0 (got %g)", d->degenerate_area);
     if (!(d->bend_min_angle_deg >= 90.0 && d->bend_min_angle_deg <= 180.0))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "bend_min_angle_deg must be in [90, 180] (got %g)", d->bend_min_angle_deg);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "bend_min_angle_deg must be in [90, 180] (got %g)", d->bend_min_angle_deg);
     const wc_material* m = &d->material;
     if (!(m->density > 0.0) || !isfinite(m->density))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "material density must be finite and > 0 (got %g)", m->density);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "material density must be finite and > 0 (got %g)", m->density);
     if (!(m->uniform_mass >= 0.0) || !isfinite(m->uniform_mass))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "material uniform_mass must be finite and >= 0 (got %g)", m->uniform_mass);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "material uniform_mass must be finite and >= 0 (got %g)", m->uniform_mass);
     for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t)
         if (!(m->k[t] >= 0.0) || !isfinite(m->k[t]) || !(m->d[t] >= 0.0) || !isfinite(m->d[t]))
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "material k and d must be finite and >= 0 (spring type %d)", t);
+            return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "material k and d must be finite and >= 0 (spring type %d)", t);
     if (!(d->sew_distance >= 0.0) || !isfinite(d->sew_distance))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance must be finite and >= 0 (got %g)", d->sew_distance);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "sew_distance must be finite and >= 0 (got %g)", d->sew_distance);
     if (!(d->seam_close_time >= 0.0) || !isfinite(d->seam_close_time))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam_close_time must be finite and >= 0 (got %g)",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "seam_close_time must be finite and >= 0 (got %g)",
                        d->seam_close_time);
     if (d->n_seam_pairs < 0)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam pair count must be >= 0 (got %d)", d->n_seam_pairs);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "seam pair count must be >= 0 (got %d)", d->n_seam_pairs);
     if (d->n_seam_pairs > 0 && (!d->seam_a || !d->seam_b))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "%d seam pairs but seam_a or seam_b is NULL", d->n_seam_pairs);
-    return WEFT_OK;
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "%d seam pairs but seam_a or seam_b is NULL", d->n_seam_pairs);
+    return WC_OK;
 }
 
-weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_model_def* def,
+wc_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_model_def* def,
                            const wc_allocator* alloc, wc_diag* diag) {
-    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "model build: out is NULL");
+    if (!out) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "model build: out is NULL");
     memset(out, 0, sizeof *out);
-    if (!src || !def) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "model build: NULL source or def");
-    weft_status st = validate_def(def, diag);
-    if (st != WEFT_OK) return st;
+    if (!src || !def) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "model build: NULL source or def");
+    wc_status st = validate_def(def, diag);
+    if (st != WC_OK) return st;
     if (src->n_verts <= 0 || src->n_polys <= 0)
-        return wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "mesh has no polygons (%d vertices, %d polygons)", src->n_verts, src->n_polys);
+        return wc_fail(diag, WC_ERROR_EMPTY_MESH, "mesh has no polygons (%d vertices, %d polygons)", src->n_verts, src->n_polys);
     for (int i = 0; i < def->n_seam_pairs; ++i) {
         int a = def->seam_a[i], b = def->seam_b[i];
         if (a < 0 || a >= src->n_verts || b < 0 || b >= src->n_verts)
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "seam %d: vertex pair (%d, %d) outside the mesh's %d vertices",
+            return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "seam %d: vertex pair (%d, %d) outside the mesh's %d vertices",
                            i, a, b, src->n_verts);
-        if (a == b) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam %d sews vertex %d to itself", i, a);
+        if (a == b) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "seam %d sews vertex %d to itself", i, a);
     }
 
     wc_model* m = out;
@@ -236,7 +236,7 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     if (nt == 0) {
         tmp_free(&t, A);
         memset(out, 0, sizeof *out);
-        return wc_fail(diag, WEFT_ERROR_EMPTY_MESH,
+        return wc_fail(diag, WC_ERROR_EMPTY_MESH,
                        "mesh has no usable triangles (%d polygons, all degenerate or duplicate)", npoly);
     }
 
@@ -324,7 +324,7 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     m->n_components = wc_components(np, m->tris, nt, m->particle_component, A);
     if (m->n_components < 0) goto oom;
     st = wc_winged_edge_build_sorted(&m->we, A, np, m->tris, nt, t.mask, t.sides, diag);
-    if (st != WEFT_OK) goto fail;
+    if (st != WC_OK) goto fail;
     r->boundary_loops = wc_boundary_loops(&m->we, A);
     if (r->boundary_loops < 0) goto oom;
     for (int e = 0; e < m->we.n_edges; ++e) {
@@ -338,10 +338,10 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     /* 7. springs */
     wc_spring_input spring_in = {np, m->rest_pos, &m->we, m->tri_quad, nq, t.quads, def->bend_min_angle_deg};
     st = wc_build_springs(&spring_in, &m->springs, &m->n_springs, m->spring_type_start, A, diag);
-    if (st != WEFT_OK) goto fail;
+    if (st != WC_OK) goto fail;
     /* 7a. seams: found, then appended as WC_SPRING_SEAM springs */
     st = wc_model_sew(m, def, diag);
-    if (st != WEFT_OK) goto fail;
+    if (st != WC_OK) goto fail;
     STAGE_DONE(springs);
 
     /* 7b. block pattern of the implicit system and per-row lists */
@@ -404,10 +404,10 @@ weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_mo
     tmp_free(&t, A);
     r->ms.total = wc_now_ms() - t_start;
 #undef STAGE_DONE
-    return WEFT_OK;
+    return WC_OK;
 
 oom:
-    st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "model build: out of memory (%d vertices, %d polygons)", nh, npoly);
+    st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "model build: out of memory (%d vertices, %d polygons)", nh, npoly);
 fail:
     tmp_free(&t, A);
     wc_model_free(m);

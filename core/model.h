@@ -128,14 +128,14 @@ typedef struct wc_model {
 } wc_model;
 
 /* Build the model. On failure *out is left zeroed and diag says why. */
-weft_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_model_def* def,
+wc_status wc_model_build(wc_model* out, const wc_source_mesh* src, const wc_model_def* def,
                            const wc_allocator* alloc, wc_diag* diag);
 void wc_model_free(wc_model* m);
 
 /* Build stage (sew_springs.c): finds m's seams (def's sew_distance and host pairs, mapped through
  * host_to_particle; a pair on an unused vertex or on one particle is refused) and appends their
  * WC_SPRING_SEAM springs to m->springs. Needs particles, components and the winged edge. */
-weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag);
+wc_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag);
 
 /* Append a warning to the report (printf-style; truncated, counted when the list is full). */
 void wc_report_warn(wc_import_report* r, const char* fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -268,7 +268,7 @@ static void trace(wc_state* s, int it, double phi, const double* w) {
 
 enum { R_FIRST, R_STEP, R_GRADIENT };   /* which linearisation the constraint residual comes from */
 
-weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
+wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
                               double residual_scale, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles, n3 = 3 * n;
@@ -294,7 +294,7 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
             }
         }
         double phi0 = wc_newton_potential(s, ig, w);
-        if (!isfinite(phi0)) return wc_fail(diag, WEFT_ERROR_NONFINITE, "newton: non-finite potential at the first iterate");
+        if (!isfinite(phi0)) return wc_fail(diag, WC_ERROR_NONFINITE, "newton: non-finite potential at the first iterate");
         trace(s, 0, phi0, w);
         wc_state_mul_system(s, w, s->nw_g);
         for (int k = 0; k < n3; ++k) s->nw_g[k] -= s->b[k];
@@ -344,9 +344,9 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
         if (!(gn > tol * gref)) break;
         memset(d, 0, (size_t)n3 * sizeof(double));
         wc_solve_result res;
-        weft_status status = wc_solve(s->solver, solver, s->A, s->nw_g, &fz, d, &s->par, &res);
+        wc_status status = wc_solve(s->solver, solver, s->A, s->nw_g, &fz, d, &s->par, &res);
         wc_step_stats_add_solve(st, solver, &res);
-        if (status != WEFT_OK) break;
+        if (status != WC_OK) break;
         double slope = -dot3(s, s->nw_g, d);   /* grad Phi . d */
         if (!(slope < 0.0)) break;
         alpha = 1.0;
@@ -389,5 +389,5 @@ weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type so
         }
     }
     st->ms.solve += wc_now_ms() - t0 - system_ms;   /* solves and line searches (the systems: forces, assemble) */
-    return WEFT_OK;
+    return WC_OK;
 }

@@ -109,7 +109,7 @@ void wc_newton_capture(wc_state* s);
  * the last linearisation (wc_contacts_end reads the contact impulses there). Solves are added to
  * st. energy_cap (J): the energy guard's bound (above; HUGE_VAL: no guard). Returns OK unless the
  * first iterate itself is non-finite. */
-weft_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
+wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solver, wc_compression compression,
                               double residual_scale, int want_r, double energy_cap, wc_step_stats* st, wc_diag* diag);
 
 /* The incremental potential Phi(w) of the current substep (J), for tests; valid after

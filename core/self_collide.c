@@ -30,18 +30,18 @@ static void fill_edges(const wc_winged_edge* we, int* edges) {
  * (a vertex is never tested against a triangle or edge it is sewn to): sewn panels are not welded,
  * so their elements overlap along the seam by construction, and pushing them apart would fight
  * the seam. CSR of each particle's seam partners; NULL arrays when the model has no seams. */
-static weft_status seam_links_build(const wc_model* m, const wc_allocator* A, int** start_out, int** nbr_out) {
+static wc_status seam_links_build(const wc_model* m, const wc_allocator* A, int** start_out, int** nbr_out) {
     *start_out = NULL;
     *nbr_out = NULL;
     int s0 = m->spring_type_start[WC_SPRING_SEAM], s1 = m->spring_type_start[WC_SPRING_SEAM + 1];
-    if (s1 <= s0) return WEFT_OK;
+    if (s1 <= s0) return WC_OK;
     int n = m->n_particles;
     int* start = WC_NEW(A, int, (size_t)n + 1);
     int* nbr = WC_NEW(A, int, 2 * (size_t)(s1 - s0));
     if (!start || !nbr) {
         wc_free(A, start);
         wc_free(A, nbr);
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     for (int k = s0; k < s1; ++k) {
         ++start[m->springs[k].a + 1];
@@ -52,7 +52,7 @@ static weft_status seam_links_build(const wc_model* m, const wc_allocator* A, in
     if (!fill) {
         wc_free(A, start);
         wc_free(A, nbr);
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     for (int k = s0; k < s1; ++k) {
         int a = m->springs[k].a, b = m->springs[k].b;
@@ -62,7 +62,7 @@ static weft_status seam_links_build(const wc_model* m, const wc_allocator* A, in
     wc_free(A, fill);
     *start_out = start;
     *nbr_out = nbr;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* 1 when particles a and b are one particle or sewn together. */
@@ -168,16 +168,16 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc);
 }
 
-weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,
+wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,
                            wc_diag* diag) {
     if (out) *out = NULL;
-    if (!out || !m) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "self-collision: NULL argument");
+    if (!out || !m) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "self-collision: NULL argument");
     if (!(thickness > 0) || !isfinite(thickness))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "self-collision: thickness %g m must be finite and > 0",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "self-collision: thickness %g m must be finite and > 0",
                        thickness);
     wc_allocator A = alloc ? *alloc : (wc_allocator){0};
     wc_self* sc = WC_NEW(&A, wc_self, 1);
-    if (!sc) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+    if (!sc) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
     sc->alloc = A;
     sc->thickness = thickness;
     sc->eta = thickness / 100.0;
@@ -205,24 +205,24 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
         !sc->in_zone || !sc->zone || !sc->active || !sc->tangled || !sc->dirty ||
         !sc->dirty_next) {
         wc_self_destroy(sc);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
-    if (seam_links_build(m, &A, &sc->seam_start, &sc->seam_nbr) != WEFT_OK) {
+    if (seam_links_build(m, &A, &sc->seam_start, &sc->seam_nbr) != WC_OK) {
         wc_self_destroy(sc);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
     fill_edges(&m->we, sc->edges);
     boxes(m, sc->edges, sc->n_edges, NULL, m->rest_pos, thickness, sc->tri_box, sc->edge_box);
-    weft_status st = wc_bvh_build(&sc->tri_bvh, sc->tri_box, sc->n_tris, &A, diag);
-    if (st == WEFT_OK) st = wc_bvh_build(&sc->edge_bvh, sc->edge_box, sc->n_edges, &A, diag);
-    if (st == WEFT_OK) {
+    wc_status st = wc_bvh_build(&sc->tri_bvh, sc->tri_box, sc->n_tris, &A, diag);
+    if (st == WC_OK) st = wc_bvh_build(&sc->edge_bvh, sc->edge_box, sc->n_edges, &A, diag);
+    if (st == WC_OK) {
         sc->edge_max = WC_NEW(&A, int, (size_t)sc->edge_bvh.n_nodes + 1);
         sc->tri_mask = WC_NEW(&A, unsigned char, (size_t)sc->tri_bvh.n_nodes + 1);
         sc->edge_mask = WC_NEW(&A, unsigned char, (size_t)sc->edge_bvh.n_nodes + 1);
         if (!sc->edge_max || !sc->tri_mask || !sc->edge_mask)
-            st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+            st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
     }
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         wc_self_destroy(sc);
         return st;
     }
@@ -234,7 +234,7 @@ weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, c
     sc->tangled_pairs = mark_tangled(sc, m);
     memcpy(sc->x_start, m->rest_pos, 3 * (size_t)n * sizeof(double));
     *out = sc;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wc_self_begin(wc_self* sc, const double* x) { memcpy(sc->x_start, x, 3 * (size_t)sc->n * sizeof(double)); }
@@ -711,7 +711,7 @@ int wc_self_intersections_brute(const wc_model* m, const double* x) {
     const wc_winged_edge* we = &m->we;
     wc_allocator A = {0};
     int *ls, *ln;
-    if (seam_links_build(m, &A, &ls, &ln) != WEFT_OK) return -1;
+    if (seam_links_build(m, &A, &ls, &ln) != WC_OK) return -1;
     for (int e = 0; e < we->n_edges; ++e) {
         if (wc_we_repeats_previous(we, e)) continue;
         for (int t = 0; t < m->n_tris; ++t)
@@ -735,23 +735,23 @@ static int visit_count(void* user, int t) {
     return 0;
 }
 
-weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
+wc_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
                                   wc_diag* diag) {
     if (count) *count = 0;
-    if (!m || !x || !count) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "self intersections: NULL argument");
-    if (m->n_tris == 0) return WEFT_OK;
+    if (!m || !x || !count) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "self intersections: NULL argument");
+    if (m->n_tris == 0) return WC_OK;
     wc_allocator A = alloc ? *alloc : (wc_allocator){0};
     double* tb = WC_NEW(&A, double, 6 * (size_t)m->n_tris);
-    if (!tb) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
+    if (!tb) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
     boxes(m, NULL, 0, NULL, x, 0.0, tb, NULL);
     int *ls, *ln;
-    if (seam_links_build(m, &A, &ls, &ln) != WEFT_OK) {
+    if (seam_links_build(m, &A, &ls, &ln) != WC_OK) {
         wc_free(&A, tb);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self intersections: out of memory");
     }
     wc_bvh bvh;
-    weft_status st = wc_bvh_build(&bvh, tb, m->n_tris, &A, diag);
-    if (st != WEFT_OK) {
+    wc_status st = wc_bvh_build(&bvh, tb, m->n_tris, &A, diag);
+    if (st != WC_OK) {
         wc_free(&A, tb);
         wc_free(&A, ls);
         wc_free(&A, ln);
@@ -774,5 +774,5 @@ weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_a
     wc_free(&A, ls);
     wc_free(&A, ln);
     *count = c.count;
-    return WEFT_OK;
+    return WC_OK;
 }

@@ -135,7 +135,7 @@ typedef struct wc_self {
 } wc_self;
 
 /* thickness: m, finite and > 0. */
-weft_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,
+wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,
                            wc_diag* diag);
 void wc_self_destroy(wc_self* sc);
 
@@ -180,7 +180,7 @@ int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visi
  * particle or sewn (as above) excluded; every unique edge against every triangle) at positions x
  * (n x 3), through a temporary BVH (allocates: not for inside a step). *count receives the
  * number. */
-weft_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
+wc_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
                                   wc_diag* diag);
 /* The same by brute force, O(edges x triangles) (tests); -1 when out of memory. */
 int wc_self_intersections_brute(const wc_model* m, const double* x);

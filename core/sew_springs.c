@@ -21,7 +21,7 @@ static void add_pair(pair_w* pw, int* n, int a, int b, double w) {
     ++*n;
 }
 
-weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
+wc_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
     const wc_allocator* A = &m->alloc;
     const int np = m->n_particles, npairs = def->n_seam_pairs;
     int* pa = WC_NEW(A, int, npairs + 1);
@@ -30,14 +30,14 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
     for (int i = 0; i < npairs; ++i) {
         pa[i] = m->host_to_particle[def->seam_a[i]];
         pb[i] = m->host_to_particle[def->seam_b[i]];
-        weft_status st = WEFT_OK;
+        wc_status st = WC_OK;
         if (pa[i] < 0 || pb[i] < 0)
-            st = wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam %d: vertex %d is in no kept triangle (no particle)", i,
+            st = wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "seam %d: vertex %d is in no kept triangle (no particle)", i,
                          pa[i] < 0 ? def->seam_a[i] : def->seam_b[i]);
         else if (pa[i] == pb[i])
-            st = wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "seam %d: vertices %d and %d are welded into one particle", i,
+            st = wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "seam %d: vertices %d and %d are welded into one particle", i,
                          def->seam_a[i], def->seam_b[i]);
-        if (st != WEFT_OK) {
+        if (st != WC_OK) {
             wc_free(A, pa);
             wc_free(A, pb);
             return st;
@@ -52,7 +52,7 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
     pa = pb = NULL;
     if (m->n_seams == 0) {
         m->spring_type_start[WC_SPRING_SEAM + 1] = m->n_springs;
-        return WEFT_OK;
+        return WC_OK;
     }
 
     pair_w* pw = WC_NEW(A, pair_w, 3 * (size_t)m->n_seams);
@@ -107,12 +107,12 @@ weft_status wc_model_sew(wc_model* m, const wc_model_def* def, wc_diag* diag) {
     m->spring_type_start[WC_SPRING_SEAM + 1] = ns;
     wc_free(A, pw);
     wc_free(A, keys);
-    return WEFT_OK;
+    return WC_OK;
 oom_pw:
     wc_free(A, pw);
     wc_free(A, keys);
 oom:
     wc_free(A, pa);
     wc_free(A, pb);
-    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "model build: out of memory while sewing (%d seams)", m->n_seams);
+    return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "model build: out of memory while sewing (%d seams)", m->n_seams);
 }

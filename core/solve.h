@@ -9,7 +9,7 @@
  *              reference for the others.
  * Residual reported by every solver: ||S (b - A dv)||_2 / ||S (b - A z)||_2 (0 when the
  * denominator is 0). Iterative solvers watch for divergence (non-finite values, residual above
- * divergence_factor x the initial one) and return WEFT_ERROR_SOLVER_DIVERGED. */
+ * divergence_factor x the initial one) and return WC_ERROR_SOLVER_DIVERGED. */
 #ifndef WEFT_CORE_SOLVE_H
 #define WEFT_CORE_SOLVE_H
 #include "diag.h"
@@ -53,7 +53,7 @@ typedef struct wc_solver_opts {
 wc_solver_opts wc_default_solver_opts(void);
 
 typedef struct wc_solve_result {
-    weft_status status;         /* OK, SOLVER_DIVERGED, FACTORIZATION (direct: not positive definite) */
+    wc_status status;         /* OK, SOLVER_DIVERGED, FACTORIZATION (direct: not positive definite) */
     wc_solver_type solver;      /* which solver ran */
     int iterations;             /* 1 for direct */
     int converged;              /* residual <= tolerance (direct: always when status is OK) */
@@ -69,7 +69,7 @@ typedef struct wc_solver wc_solver;   /* workspace: vectors, preconditioner, CHO
 /* Allocate everything a solve needs for this model (nothing is allocated per solve; m must outlive
  * the solver). The direct solver's symbolic analysis is done here when opts->type is DIRECT or
  * want_direct is set. */
-weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
+wc_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
                              const wc_allocator* alloc, wc_diag* diag);
 void wc_solver_destroy(wc_solver* s);
 /* The multigrid's rotations (amg.h) are taken about these positions (n x 3, metres), read at
@@ -97,12 +97,12 @@ double wc_solver_tolerance(const wc_solver* s);
  * multigrid preconditioner carries up to `capacity` active terms through its hierarchy (amg.h,
  * wc_amg_set_coupling; allocated here). */
 struct wc_coupling;
-weft_status wc_solver_set_coupling(wc_solver* s, const struct wc_coupling* c, int capacity, wc_diag* diag);
+wc_status wc_solver_set_coupling(wc_solver* s, const struct wc_coupling* c, int capacity, wc_diag* diag);
 
 /* Solve with solver `type` (its options from create, tolerance etc.). dv: (n x 3), on input the
  * initial guess (projected to z + S dv), on output the solution. Never leaves non-finite values
  * in dv: on divergence dv holds the last finite iterate or z. */
-weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const double* b, const wc_filter* f,
+wc_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const double* b, const wc_filter* f,
                      double* dv, wc_par* par, wc_solve_result* res);
 
 /* Estimate the spectral radius of the filtered, under-relaxed (chebyshev_gamma) block-Jacobi

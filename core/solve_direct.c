@@ -29,9 +29,9 @@
  * CLI sets OpenBLAS's to --threads).
  *
  * Each solver owns its cholmod_common (no shared state); CHOLMOD printing is off (print = 0, no
- * error handler) and its status is translated: NOT_POSDEF -> WEFT_ERROR_FACTORIZATION (dv is
- * left at the projected initial guess), OUT_OF_MEMORY -> WEFT_ERROR_OUT_OF_MEMORY, anything else
- * failing -> WEFT_ERROR_FACTORIZATION. */
+ * error handler) and its status is translated: NOT_POSDEF -> WC_ERROR_FACTORIZATION (dv is
+ * left at the projected initial guess), OUT_OF_MEMORY -> WC_ERROR_OUT_OF_MEMORY, anything else
+ * failing -> WC_ERROR_FACTORIZATION. */
 #include <suitesparse/cholmod.h>
 #include <math.h>
 #include "solver_impl.h"
@@ -83,9 +83,9 @@ static int solve_factor(wcs_direct* d) {
     return ok;
 }
 
-static weft_status translate(int cholmod_status) {
-    if (cholmod_status == CHOLMOD_OUT_OF_MEMORY) return WEFT_ERROR_OUT_OF_MEMORY;
-    return WEFT_ERROR_FACTORIZATION;
+static wc_status translate(int cholmod_status) {
+    if (cholmod_status == CHOLMOD_OUT_OF_MEMORY) return WC_ERROR_OUT_OF_MEMORY;
+    return WC_ERROR_FACTORIZATION;
 }
 
 /* K->x = upper blocks of P (A NULL: the identity). */
@@ -113,12 +113,12 @@ static void fill_values(wc_solver* s, const double* A, const wc_filter* f, wc_pa
     }
 }
 
-weft_status wcs_direct_create(wc_solver* s, wc_diag* diag) {
+wc_status wcs_direct_create(wc_solver* s, wc_diag* diag) {
     const wc_bsr_pattern* p = &s->m->pattern;
     wcs_direct* d = WC_NEW(&s->alloc, wcs_direct, 1);
-    if (!d) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "direct solver state");
+    if (!d) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "direct solver state");
     s->direct = d;
-    if (!cholmod_start(&d->cc)) return wc_fail(diag, WEFT_ERROR_FACTORIZATION, "cholmod_start failed");
+    if (!cholmod_start(&d->cc)) return wc_fail(diag, WC_ERROR_FACTORIZATION, "cholmod_start failed");
     d->started = 1;
     d->cc.print = 0;
     d->cc.error_handler = NULL;
@@ -130,7 +130,7 @@ weft_status wcs_direct_create(wc_solver* s, wc_diag* diag) {
     size_t nnz = 0;
     for (int j = 0; j < n; ++j) nnz += 9 * (size_t)(p->diag[j] - p->row_start[j]) + 6;
     if (nnz > (size_t)0x7fffffff)
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "direct solver: %zu matrix entries exceed int indices", nnz);
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "direct solver: %zu matrix entries exceed int indices", nnz);
     d->K = cholmod_allocate_sparse(N, N, nnz, 1, 1, 1, CHOLMOD_REAL, &d->cc);
     d->B = cholmod_zeros(N, 1, CHOLMOD_REAL, &d->cc);
     if (!d->K || !d->B)
@@ -167,7 +167,7 @@ weft_status wcs_direct_create(wc_solver* s, wc_diag* diag) {
                        d->cc.status);
     wc_log(diag, WC_LOG_DEBUG, "direct solver: %zu x %zu, %zu entries, factor %s, nnz(L) %.0f", N, N, nnz,
            d->L->is_super ? "supernodal" : "simplicial", d->cc.lnz);
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wcs_direct_destroy(wc_solver* s) {
@@ -198,15 +198,15 @@ int wcs_direct_apply(wc_solver* s, const double* r, double* t) {
 }
 
 /* On entry (after wcs_begin) dv is the projected initial guess and s->r holds S (b - A z). */
-weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res) {
     wcs_direct* d = s->direct;
     const size_t N = 3 * (size_t)s->n;
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     fill_values(s, A, f, par);
     int ok = factorize(d);
     if (!ok || d->cc.status != CHOLMOD_OK || d->L->minor < d->L->n) {
-        st = (ok && d->cc.status >= CHOLMOD_OK) ? WEFT_ERROR_FACTORIZATION : translate(d->cc.status);
+        st = (ok && d->cc.status >= CHOLMOD_OK) ? WC_ERROR_FACTORIZATION : translate(d->cc.status);
     } else if (wc_coupling_active(s->coupling) > 0) {
         /* couplings outside the pattern (coupling.h): PCG on the whole system, preconditioned
            by this factor of its in-pattern part */
@@ -226,9 +226,9 @@ weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, con
         }
     }
     res->iterations = 1;
-    if (st == WEFT_OK && !wcs_all_finite(dv, s->n)) st = WEFT_ERROR_FACTORIZATION;
-    if (st != WEFT_OK && !wcs_all_finite(dv, s->n)) wcs_fallback(f, dv, s->n);
+    if (st == WC_OK && !wcs_all_finite(dv, s->n)) st = WC_ERROR_FACTORIZATION;
+    if (st != WC_OK && !wcs_all_finite(dv, s->n)) wcs_fallback(f, dv, s->n);
     res->residual = sqrt(wcs_filtered_residual(s, A, b, f, dv, s->q, par)) / res->scale;
-    res->converged = st == WEFT_OK;
+    res->converged = st == WC_OK;
     return st;
 }

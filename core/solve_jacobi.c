@@ -67,13 +67,13 @@ static double sweep(wc_solver* s, const double* A, const double* b, const wc_fil
     return check ? wcs_sum(s, 0) : 0.0;
 }
 
-weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+wc_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res, int chebyshev) {
     const wc_solver_opts* o = &s->opts;
     const double res0 = res->residual0, goal = o->tolerance * res->scale;
     const double gamma = chebyshev ? o->chebyshev_gamma : 1.0;
     const int delay = o->chebyshev_delay > 1 ? o->chebyshev_delay : 1;
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
 
     wcs_build_precond(s, A, f, par);
     double rho = 0.0;
@@ -99,7 +99,7 @@ weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, con
             rn = sqrt(rr);
             if (k == 0) limit = o->divergence_factor * fmax(res0, rn);
             if (!isfinite(rn) || rn > limit) {
-                st = WEFT_ERROR_SOLVER_DIVERGED;
+                st = WC_ERROR_SOLVER_DIVERGED;
                 break;
             }
             if (rn <= goal) {

@@ -144,11 +144,11 @@ void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* pa
     }
 }
 
-weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                           wc_par* par, wc_solve_result* res) {
     const wc_solver_opts* o = &s->opts;
     const double res0 = res->residual0, goal = o->tolerance * res->scale;
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     int it = 0, converged = 0;
     double delta, rr, rr_final = -1.0;
 
@@ -170,7 +170,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
     wcs_pcg_direction(s, f, 0.0, par);
     for (;;) {
         if (!isfinite(rr) || !(delta >= 0.0) || !isfinite(delta) || sqrt(rr) > limit) {
-            st = WEFT_ERROR_SOLVER_DIVERGED;
+            st = WC_ERROR_SOLVER_DIVERGED;
             break;
         }
         if (sqrt(rr) <= goal) {
@@ -193,7 +193,7 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
         double cq = wcs_pcg_filter_dot(s, f, s->c, s->q, par);
         double alpha = delta / cq;
         if (!(cq > 0.0) || !isfinite(alpha)) {
-            st = WEFT_ERROR_SOLVER_DIVERGED;
+            st = WC_ERROR_SOLVER_DIVERGED;
             break;
         }
         double delta_old = delta;
@@ -208,6 +208,6 @@ weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const 
     res->iterations = it;
     res->residual = sqrt(rr_final) / res->scale;
     res->converged = converged || res->residual <= o->tolerance;
-    if (st == WEFT_OK && !isfinite(res->residual)) st = WEFT_ERROR_SOLVER_DIVERGED;
+    if (st == WC_OK && !isfinite(res->residual)) st = WC_ERROR_SOLVER_DIVERGED;
     return st;
 }

@@ -46,39 +46,39 @@ wc_solver_opts wc_default_solver_opts(void) {
     return o;
 }
 
-static weft_status check_opts(const wc_solver_opts* o, wc_diag* diag) {
+static wc_status check_opts(const wc_solver_opts* o, wc_diag* diag) {
     if (!(o->type >= 0 && o->type < WC_SOLVER_COUNT))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "unknown solver type %d", (int)o->type);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "unknown solver type %d", (int)o->type);
     if (!(o->preconditioner >= 0 && o->preconditioner < WC_PRECOND_COUNT))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "unknown preconditioner %d", (int)o->preconditioner);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "unknown preconditioner %d", (int)o->preconditioner);
     if (!(o->tolerance >= 0.0) || !isfinite(o->tolerance))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "solver tolerance must be finite and >= 0 (got %g)",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "solver tolerance must be finite and >= 0 (got %g)",
                        o->tolerance);
     if (o->max_iterations < 1 || o->check_every < 1 || o->chebyshev_delay < 0)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "solver max_iterations and check_every must be >= 1, chebyshev_delay >= 0");
     if (!(o->chebyshev_rho >= 0.0 && o->chebyshev_rho < 1.0))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "chebyshev_rho must be in [0, 1) (got %g)",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "chebyshev_rho must be in [0, 1) (got %g)",
                        o->chebyshev_rho);
     if (!(o->chebyshev_gamma > 0.0 && o->chebyshev_gamma <= 1.0))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "chebyshev_gamma must be in (0, 1] (got %g)",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "chebyshev_gamma must be in (0, 1] (got %g)",
                        o->chebyshev_gamma);
     if (!(o->divergence_factor > 1.0) || !isfinite(o->divergence_factor))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "divergence_factor must be finite and > 1 (got %g)",
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "divergence_factor must be finite and > 1 (got %g)",
                        o->divergence_factor);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
+wc_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_opts* opts, int want_direct,
                              const wc_allocator* alloc, wc_diag* diag) {
-    if (!out || !m || !opts) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_solver_create: NULL argument");
+    if (!out || !m || !opts) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_solver_create: NULL argument");
     *out = NULL;
     if (m->n_particles < 1 || m->pattern.n_rows != m->n_particles)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_solver_create: model has no particles or no pattern");
-    weft_status st = check_opts(opts, diag);
-    if (st != WEFT_OK) return st;
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_solver_create: model has no particles or no pattern");
+    wc_status st = check_opts(opts, diag);
+    if (st != WC_OK) return st;
     wc_solver* s = WC_NEW(alloc, wc_solver, 1);
-    if (!s) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "solver workspace");
+    if (!s) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "solver workspace");
     if (alloc) s->alloc = *alloc;
     s->m = m;
     s->opts = *opts;
@@ -92,24 +92,24 @@ weft_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver
     s->t = WC_NEW(&s->alloc, double, 3 * (size_t)s->n);
     if (!s->partial || !s->Dinv || !s->r || !s->c || !s->q || !s->t) {
         wc_solver_destroy(s);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "solver vectors for %d particles", m->n_particles);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "solver vectors for %d particles", m->n_particles);
     }
     if (opts->preconditioner == WC_PRECOND_AMG) {
         st = wc_amg_create(&s->amg, m, NULL, &s->alloc, diag);
-        if (st != WEFT_OK) {
+        if (st != WC_OK) {
             wc_solver_destroy(s);
             return st;
         }
     }
     if (want_direct || opts->type == WC_SOLVER_DIRECT) {
         st = wcs_direct_create(s, diag);
-        if (st != WEFT_OK) {
+        if (st != WC_OK) {
             wc_solver_destroy(s);
             return st;
         }
     }
     *out = s;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wc_solver_set_positions(wc_solver* s, const double* x) {
@@ -132,10 +132,10 @@ double wc_solver_tolerance(const wc_solver* s) {
     return s ? s->opts.tolerance : 0.0;
 }
 
-weft_status wc_solver_set_coupling(wc_solver* s, const wc_coupling* c, int capacity, wc_diag* diag) {
-    if (!s) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "wc_solver_set_coupling: NULL solver");
+wc_status wc_solver_set_coupling(wc_solver* s, const wc_coupling* c, int capacity, wc_diag* diag) {
+    if (!s) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_solver_set_coupling: NULL solver");
     s->coupling = c;
-    return s->amg ? wc_amg_set_coupling(s->amg, c, capacity, diag) : WEFT_OK;
+    return s->amg ? wc_amg_set_coupling(s->amg, c, capacity, diag) : WC_OK;
 }
 
 void wc_solver_destroy(wc_solver* s) {
@@ -177,16 +177,16 @@ double wc_solver_estimate_rho(wc_solver* s, const double* A_val, const wc_filter
     return s->rho;
 }
 
-weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const double* b, const wc_filter* f,
+wc_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const double* b, const wc_filter* f,
                      double* dv, wc_par* par, wc_solve_result* res) {
     wc_solve_result local;
     if (!res) res = &local;
     memset(res, 0, sizeof *res);
     res->solver = type;
     if (!s || !A_val || !b || !f || !dv || !par || f->n != s->n || !(type >= 0 && type < WC_SOLVER_COUNT))
-        return res->status = WEFT_ERROR_INVALID_ARGUMENT;
-    if (type == WC_SOLVER_DIRECT && !s->direct) return res->status = WEFT_ERROR_CALL_ORDER;
-    weft_status st = WEFT_OK;
+        return res->status = WC_ERROR_INVALID_ARGUMENT;
+    if (type == WC_SOLVER_DIRECT && !s->direct) return res->status = WC_ERROR_CALL_ORDER;
+    wc_status st = WC_OK;
     if (wcs_begin(s, A_val, b, f, dv, par, res, &st)) return res->status = st;
     switch (type) {
     case WC_SOLVER_PCG: st = wcs_solve_pcg(s, A_val, b, f, dv, par, res); break;
@@ -197,7 +197,7 @@ weft_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, con
     /* the last guard of the contract: never hand back non-finite values */
     if (!wcs_all_finite(dv, s->n)) {
         wcs_fallback(f, dv, s->n);
-        if (st == WEFT_OK) st = type == WC_SOLVER_DIRECT ? WEFT_ERROR_FACTORIZATION : WEFT_ERROR_SOLVER_DIVERGED;
+        if (st == WC_OK) st = type == WC_SOLVER_DIRECT ? WC_ERROR_FACTORIZATION : WC_ERROR_SOLVER_DIVERGED;
     }
     res->status = st;
     return st;
@@ -296,15 +296,15 @@ void wcs_fallback(const wc_filter* f, double* dv, int n) {
 }
 
 int wcs_begin(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
-              wc_solve_result* res, weft_status* status) {
+              wc_solve_result* res, wc_status* status) {
     double rr0 = wcs_filtered_residual(s, A, b, f, f->z, s->r, par);
     res->residual0 = sqrt(rr0);
     res->scale = fmax(res->residual0, s->residual_floor);
-    *status = WEFT_OK;
+    *status = WC_OK;
     if (!isfinite(rr0)) {
         wcs_fallback(f, dv, s->n);
         res->residual = INFINITY;
-        *status = res->solver == WC_SOLVER_DIRECT ? WEFT_ERROR_FACTORIZATION : WEFT_ERROR_SOLVER_DIVERGED;
+        *status = res->solver == WC_SOLVER_DIRECT ? WC_ERROR_FACTORIZATION : WC_ERROR_SOLVER_DIVERGED;
         return 1;
     }
     if (rr0 == 0.0) {   /* S (b - A z) = 0: y = 0 solves the projected system, dv = z */

@@ -72,7 +72,7 @@ void wcs_fallback(const wc_filter* f, double* dv, int n);
  * replaced by z), fills res->residual0 = ||S (b - A z)|| and leaves S (b - A z) in s->r. Returns 1 when the solve is already finished: a zero
  * right-hand side (dv = z, residual 0) or a non-finite one (dv = z, SOLVER_DIVERGED). */
 int wcs_begin(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
-              wc_solve_result* res, weft_status* status);
+              wc_solve_result* res, wc_status* status);
 
 /* PCG steps (solve_pcg.c), also used by the Lanczos estimate:
  *   filter_dot: q = S q, returns c . q;
@@ -84,20 +84,20 @@ void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, doubl
 void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par);
 
 /* The solvers; res->residual0 is filled by wcs_begin before they are called. */
-weft_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                           wc_par* par, wc_solve_result* res);
-weft_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+wc_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res, int chebyshev);
 /* The rho Chebyshev uses for I - gamma D~^{-1} P (solve_rho.c); s->Dinv must be built. Uses
  * s->r, c, q, t as scratch. */
 double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_par* par);
 
-weft_status wcs_direct_create(wc_solver* s, wc_diag* diag);
+wc_status wcs_direct_create(wc_solver* s, wc_diag* diag);
 void wcs_direct_destroy(wc_solver* s);
 /* t = P^{-1} r through the current factor (PCG's preconditioner in a direct solve with
  * couplings); returns 0 when CHOLMOD's solve failed. */
 int wcs_direct_apply(wc_solver* s, const double* r, double* t);
-weft_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
+wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res);
 
 #endif

@@ -13,26 +13,26 @@ void wc_source_mesh_free(wc_source_mesh* m) {
     memset(m, 0, sizeof *m);
 }
 
-weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* alloc,
+wc_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* alloc,
                                        const double* positions, int n_verts,
                                        const int* poly_sizes, int n_polys, const int* indices,
                                        double scale, wc_diag* diag) {
-    if (!out) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "source mesh: out is NULL");
+    if (!out) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "source mesh: out is NULL");
     memset(out, 0, sizeof *out);
     if (n_verts < 0 || n_polys < 0)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "source mesh: negative count (n_verts %d, n_polys %d)", n_verts, n_polys);
     if (n_verts > INT_MAX / 3)
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "source mesh: n_verts %d is too large",
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "source mesh: n_verts %d is too large",
                        n_verts);
     if (n_verts > 0 && !positions)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "source mesh: positions is NULL with n_verts %d", n_verts);
     if (n_polys > 0 && !poly_sizes)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "source mesh: poly_sizes is NULL with n_polys %d", n_polys);
     if (!(isfinite(scale) && scale > 0.0))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "source mesh: scale %g must be finite and > 0", scale);
 
     /* Corner counts: every polygon's indices are checked, kept ones are >= 3 corners. */
@@ -41,23 +41,23 @@ weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* 
     for (int p = 0; p < n_polys; ++p) {
         int s = poly_sizes[p];
         if (s < 1)
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+            return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                            "source mesh: polygon %d has %d corners (must be >= 1)", p, s);
         n_idx += s;
         if (n_idx > INT_MAX)
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE,
+            return wc_fail(diag, WC_ERROR_OUT_OF_RANGE,
                            "source mesh: more than %d polygon corners", INT_MAX);
         if (s == 1) ++n_points;
         else if (s == 2) ++n_lines;
         else { ++n_keep; n_keep_corners += s; }
     }
     if (n_idx > 0 && !indices)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "source mesh: indices is NULL with %lld polygon corners", n_idx);
     for (long long k = 0, p = 0, end = n_polys > 0 ? poly_sizes[0] : 0; k < n_idx; ++k) {
         while (k >= end) end += poly_sizes[++p];
         if (indices[k] < 0 || indices[k] >= n_verts)
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE,
+            return wc_fail(diag, WC_ERROR_OUT_OF_RANGE,
                            "source mesh: indices[%lld] = %d (corner %lld of polygon %lld) is "
                            "outside [0, %d)", k, indices[k], k - (end - poly_sizes[p]), p, n_verts);
     }
@@ -65,13 +65,13 @@ weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* 
         const double* x = positions + 3 * (size_t)v;
         for (int c = 0; c < 3; ++c) {
             if (!isfinite(x[c]) || !isfinite(x[c] * scale))
-                return wc_fail(diag, WEFT_ERROR_NONFINITE,
+                return wc_fail(diag, WC_ERROR_NONFINITE,
                                "source mesh: vertex %d is not finite (%g, %g, %g, scale %g)", v,
                                x[0], x[1], x[2], scale);
         }
     }
     if (n_keep == 0)
-        return wc_fail(diag, WEFT_ERROR_EMPTY_MESH,
+        return wc_fail(diag, WC_ERROR_EMPTY_MESH,
                        "source mesh: no polygons with >= 3 corners (%d vertices, %d points, "
                        "%d lines)", n_verts, n_points, n_lines);
 
@@ -83,7 +83,7 @@ weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* 
     m.poly_verts = WC_NEW(&m.alloc, int, (size_t)n_keep_corners);
     if (!m.pos || !m.poly_start || !m.poly_verts) {
         wc_source_mesh_free(&m);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY,
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY,
                        "source mesh: out of memory for %d vertices, %d polygons", n_verts, n_keep);
     }
     for (size_t i = 0; i < 3 * (size_t)n_verts; ++i) m.pos[i] = positions[i] * scale;
@@ -105,5 +105,5 @@ weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* 
     m.n_meshes = 1;
     m.unit_scale = scale;
     *out = m;
-    return WEFT_OK;
+    return WC_OK;
 }

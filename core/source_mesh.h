@@ -26,7 +26,7 @@ typedef struct wc_source_mesh {
  * with < 1 corners (INVALID_ARGUMENT), index out of range (OUT_OF_RANGE), NaN/Inf position or
  * position x scale (NONFINITE), scale not finite or <= 0 (INVALID_ARGUMENT), no polygon with
  * >= 3 corners (EMPTY_MESH). Messages name the offending vertex/polygon/index. */
-weft_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* alloc,
+wc_status wc_source_mesh_from_arrays(wc_source_mesh* out, const wc_allocator* alloc,
                                        const double* positions, int n_verts,
                                        const int* poly_sizes, int n_polys, const int* indices,
                                        double scale, wc_diag* diag);
@@ -60,7 +60,7 @@ wc_import_opts wc_default_import_opts(void);
  * with >= 3 corners), NONFINITE (NaN/Inf position), INVALID_ARGUMENT, OUT_OF_MEMORY.
  * Not thread-safe against other assimp users in the process: assimp's last-error string is
  * global. */
-weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
+wc_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const char* path,
                            const wc_import_opts* opts, wc_diag* diag);
 
 /* The same from a buffer in memory (assimp's read-from-memory): hint is the format's file
@@ -69,7 +69,7 @@ weft_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const
  * buffers) makes assimp 5.2.5 open them by path from the file system: its memory reader falls
  * back to the default one (seen with strace: "mtllib /tmp/x.mtl" in a buffer opens /tmp/x.mtl).
  * Errors as wc_import_file (IMPORT for an empty buffer). */
-weft_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
+wc_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
                              size_t size, const char* hint, const wc_import_opts* opts,
                              wc_diag* diag);
 

@@ -20,7 +20,7 @@ static double dist(const double* pos, int a, int b) {
     return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_out,
+wc_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_out,
                              int type_start[WC_SPRING_TYPE_COUNT + 1], const wc_allocator* alloc,
                              wc_diag* diag) {
     const wc_winged_edge* we = in->we;
@@ -28,7 +28,7 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
     *out = NULL;
     *n_out = 0;
     if (np >= (1 << 30))
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "springs: %d particles is too many", np);
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "springs: %d particles is too many", np);
 
     /* polygon-edge adjacency (CSR) for the bend springs */
     int* deg = WC_NEW(alloc, int, np + 1);
@@ -137,12 +137,12 @@ weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_
     wc_free(alloc, fill);
     *out = springs;
     *n_out = m;
-    return WEFT_OK;
+    return WC_OK;
 
 oom:
     wc_free(alloc, c.items);
     wc_free(alloc, deg);
     wc_free(alloc, adj);
     wc_free(alloc, fill);
-    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "springs: out of memory");
+    return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "springs: out of memory");
 }

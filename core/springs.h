@@ -20,7 +20,7 @@ typedef struct wc_spring_input {
 } wc_spring_input;
 
 /* Allocates *out (n springs, sorted by type then (a, b)); fills type_start. */
-weft_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_out,
+wc_status wc_build_springs(const wc_spring_input* in, wc_spring** out, int* n_out,
                              int type_start[WC_SPRING_TYPE_COUNT + 1], const wc_allocator* alloc,
                              wc_diag* diag);
 

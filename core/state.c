@@ -59,8 +59,8 @@ static int finite_n(const double* a, int n) {
     return 1;
 }
 
-static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
-#define BAD(...) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, __VA_ARGS__)
+static wc_status validate_def(const wc_sim_def* d, wc_diag* diag) {
+#define BAD(...) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, __VA_ARGS__)
     if (!finite_n(d->gravity, 3)) BAD("sim def: gravity must be finite");
     if (!finite_n(d->air.wind, 3)) BAD("sim def: air.wind must be finite");
     if (!(d->air.normal_drag >= 0 && d->air.normal_drag < INFINITY)) BAD("sim def: air.normal_drag must be finite and >= 0");
@@ -89,7 +89,7 @@ static weft_status validate_def(const wc_sim_def* d, wc_diag* diag) {
         BAD("sim def: self_thickness %g m must be finite and > 0", d->self_thickness);
     if (d->self_in_solve != 0 && d->self_in_solve != 1) BAD("sim def: self_in_solve must be 0 or 1");
 #undef BAD
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wc_state_mul_system(wc_state* s, const double* x, double* y) {
@@ -127,16 +127,16 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s);
 }
 
-weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,
+wc_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,
                             wc_diag* diag) {
     if (out) *out = NULL;
-    if (!out || !m || !def) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "state create: NULL argument");
-    if (m->n_particles < 1) return wc_fail(diag, WEFT_ERROR_EMPTY_MESH, "state create: the model has no particles");
-    weft_status st = validate_def(def, diag);
-    if (st != WEFT_OK) return st;
+    if (!out || !m || !def) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "state create: NULL argument");
+    if (m->n_particles < 1) return wc_fail(diag, WC_ERROR_EMPTY_MESH, "state create: the model has no particles");
+    wc_status st = validate_def(def, diag);
+    if (st != WC_OK) return st;
     wc_allocator A = alloc ? *alloc : (wc_allocator){0};
     wc_state* s = WC_NEW(&A, wc_state, 1);
-    if (!s) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory");
+    if (!s) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "state create: out of memory");
     s->model = m;
     s->def = *def;
     s->seam_scale = wc_seam_scale(m, 0.0);
@@ -196,19 +196,19 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
         !s->contacts.released || !s->contacts_save.collider || !s->contacts_save.normal ||
         !s->contacts_save.released || !s->contacts.stick || !s->contacts.vel || !s->contacts.pushed || !vecs_ok) {
         wc_state_destroy(s);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "state create: out of memory (%d particles)", n);
     }
     st = wc_solver_create(&s->solver, m, &s->def.solver, s->def.direct_fallback, &A, diag);
-    if (st == WEFT_OK) wc_solver_set_positions(s->solver, s->x); /* the multigrid's rotations (amg.h) */
-    if (st == WEFT_OK && s->def.self_collision) st = wc_self_create(&s->self, m, s->def.self_thickness, &A, diag);
-    if (st == WEFT_OK && s->def.self_collision && s->def.self_in_solve) {
+    if (st == WC_OK) wc_solver_set_positions(s->solver, s->x); /* the multigrid's rotations (amg.h) */
+    if (st == WC_OK && s->def.self_collision) st = wc_self_create(&s->self, m, s->def.self_thickness, &A, diag);
+    if (st == WC_OK && s->def.self_collision && s->def.self_in_solve) {
         /* room for one pair per particle and per edge (self_pairs.h; more are counted) */
         int cap = n + s->self->n_edges + 64;
         s->self_pairs = wc_self_pairs_create(cap, n, s->self->n_edges, &A);
-        if (!s->self_pairs) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "state create: self-contact pairs");
+        if (!s->self_pairs) st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "state create: self-contact pairs");
         else st = wc_solver_set_coupling(s->solver, &s->self_pairs->coupling, cap, diag);
     }
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         wc_state_destroy(s);
         return st;
     }
@@ -220,7 +220,7 @@ weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def*
     s->input_air = s->def.air;
     s->all = s->colliders;
     *out = s;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 static int pin_equal(const wc_pin* a, const wc_pin* b) {
@@ -233,40 +233,40 @@ static int collider_equal(const wc_collider* a, const wc_collider* b) {
            a->thickness == b->thickness && a->friction == b->friction && v3_equal(a->velocity, b->velocity);
 }
 
-weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag) {
-    if (!s || (n > 0 && !pins)) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: NULL argument");
+wc_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag) {
+    if (!s || (n > 0 && !pins)) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set pins: NULL argument");
     if (n < 0 || n > s->def.max_pins)
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: %d pins, capacity is %d", n, s->def.max_pins);
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "set pins: %d pins, capacity is %d", n, s->def.max_pins);
     int np = s->model->n_particles;
     int* at = s->pin_scratch;   /* per particle: -1, or -2 - k for new pin k (O(n) checks) */
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     int k = 0;
     for (; k < n; ++k) {
         const wc_pin* p = &pins[k];
         if (p->particle < 0 || p->particle >= np) {
-            st = wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set pins: pin %d: particle %d is out of range [0, %d)", k,
+            st = wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "set pins: pin %d: particle %d is out of range [0, %d)", k,
                          p->particle, np);
             break;
         }
         if (!v3_finite(p->target) || !v3_finite(p->free_axis)) {
-            st = wc_fail(diag, WEFT_ERROR_NONFINITE, "set pins: pin %d: non-finite target or axis", k);
+            st = wc_fail(diag, WC_ERROR_NONFINITE, "set pins: pin %d: non-finite target or axis", k);
             break;
         }
         double len = v3_norm(p->free_axis);
         if (len != 0.0 && fabs(len - 1.0) > 1e-6) {
-            st = wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pin %d: free_axis must be zero or unit (|a| = %g)",
+            st = wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set pins: pin %d: free_axis must be zero or unit (|a| = %g)",
                          k, len);
             break;
         }
         if (at[p->particle] <= -2) {
-            st = wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set pins: pins %d and %d both hold particle %d",
+            st = wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set pins: pins %d and %d both hold particle %d",
                          -2 - at[p->particle], k, p->particle);
             break;
         }
         at[p->particle] = -2 - k;
     }
     for (int j = 0; j < k; ++j) at[pins[j].particle] = -1;
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     /* where each new pin starts: its old target if the particle was pinned, else where it is
        (reads s->pins and s->x only, so pin_from can be written in place) */
     for (int j = 0; j < s->n_pins; ++j) at[s->pins[j].particle] = j;
@@ -280,27 +280,27 @@ weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* d
     if (n > 0) memcpy(s->pins, pins, (size_t)n * sizeof(wc_pin));
     s->n_pins = n;
     if (changed) wc_state_wake(s);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag) {
-    if (!s || (n > 0 && !c)) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: NULL argument");
+wc_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag) {
+    if (!s || (n > 0 && !c)) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set colliders: NULL argument");
     if (n < 0 || n > s->def.max_colliders)
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "set colliders: %d colliders, capacity is %d", n,
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "set colliders: %d colliders, capacity is %d", n,
                        s->def.max_colliders);
     for (int k = 0; k < n; ++k) {
         const wc_collider* q = &c[k];
         if (q->type < WC_COLLIDER_PLANE || q->type > WC_COLLIDER_CAPSULE)
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: unknown type %d", k, q->type);
+            return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: unknown type %d", k, q->type);
         if (!v3_finite(q->normal) || !isfinite(q->offset) || !v3_finite(q->center) || !v3_finite(q->a) ||
             !v3_finite(q->b) || !isfinite(q->radius) || !isfinite(q->thickness) || !isfinite(q->friction) ||
             !v3_finite(q->velocity) || !isfinite(q->push_speed))
-            return wc_fail(diag, WEFT_ERROR_NONFINITE, "set colliders: collider %d: non-finite value", k);
+            return wc_fail(diag, WC_ERROR_NONFINITE, "set colliders: collider %d: non-finite value", k);
         if (q->radius < 0 || q->thickness < 0 || q->friction < 0 || q->push_speed < 0)
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+            return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                            "set colliders: collider %d: radius, thickness, friction and push_speed must be >= 0", k);
         if (q->type == WC_COLLIDER_PLANE && fabs(v3_norm(q->normal) - 1.0) > 1e-6)
-            return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: plane normal must be unit", k);
+            return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set colliders: collider %d: plane normal must be unit", k);
     }
     int changed = n != s->n_colliders;
     for (int k = 0; k < n && !changed; ++k) changed = !collider_equal(&c[k], &s->colliders[k]);
@@ -309,16 +309,16 @@ weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_
     if (n != s->n_colliders)
         for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1;
     s->n_colliders = n;
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* mesh, int n, wc_diag* diag) {
-    if (!s || (n > 0 && !mesh)) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: NULL argument");
-    if (n < 0) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: %d colliders", n);
-    if (s->n_mesh > 0) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: already attached");
+wc_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* mesh, int n, wc_diag* diag) {
+    if (!s || (n > 0 && !mesh)) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "attach mesh colliders: NULL argument");
+    if (n < 0) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "attach mesh colliders: %d colliders", n);
+    if (s->n_mesh > 0) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "attach mesh colliders: already attached");
     for (int k = 0; k < n; ++k)
-        if (!mesh[k]) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "attach mesh colliders: collider %d is NULL", k);
-    if (n == 0) return WEFT_OK;
+        if (!mesh[k]) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "attach mesh colliders: collider %d is NULL", k);
+    if (n == 0) return WC_OK;
     wc_collider* all = WC_NEW(&s->alloc, wc_collider, (size_t)s->def.max_colliders + (size_t)n + 1);
     double* xs = WC_NEW(&s->alloc, double, 3 * (size_t)s->model->n_particles);
     /* feature pairs: room for two per cloth edge and per cloth triangle (mesh_pairs.h) */
@@ -329,7 +329,7 @@ weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const*
         wc_free(&s->alloc, all);
         wc_free(&s->alloc, xs);
         wc_mesh_pairs_destroy(pairs, &s->alloc);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "attach mesh colliders: out of memory");
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "attach mesh colliders: out of memory");
     }
     s->all_colliders = all;
     s->x_sub = xs;
@@ -338,33 +338,33 @@ weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const*
     s->n_mesh = n;
     for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1; /* indices shift */
     wc_state_wake(s);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_state_set_mesh_target(wc_state* s, int k, const double* x, wc_diag* diag) {
-    if (!s || !x) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "mesh collider positions: NULL argument");
+wc_status wc_state_set_mesh_target(wc_state* s, int k, const double* x, wc_diag* diag) {
+    if (!s || !x) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "mesh collider positions: NULL argument");
     if (k < 0 || k >= s->n_mesh)
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_RANGE, "mesh collider positions: index %d, the cloth has %d", k, s->n_mesh);
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "mesh collider positions: index %d, the cloth has %d", k, s->n_mesh);
     wc_mesh_collider* m = s->mesh[k];
     int changed = memcmp(m->to, x, 3 * (size_t)m->n_verts * sizeof(double)) != 0;
-    weft_status st = wc_mesh_collider_set_target(m, x, diag);
-    if (st != WEFT_OK) return st;
+    wc_status st = wc_mesh_collider_set_target(m, x, diag);
+    if (st != WC_OK) return st;
     if (changed) wc_state_wake(s);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag) {
-    if (!s || !x) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "set positions: NULL argument");
+wc_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag) {
+    if (!s || !x) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "set positions: NULL argument");
     int n3 = 3 * s->model->n_particles;
     if (!finite_n(x, n3) || (v && !finite_n(v, n3)))
-        return wc_fail(diag, WEFT_ERROR_NONFINITE, "set positions: non-finite position or velocity");
+        return wc_fail(diag, WC_ERROR_NONFINITE, "set positions: non-finite position or velocity");
     memcpy(s->x, x, (size_t)n3 * sizeof(double));
     if (v) memcpy(s->v, v, (size_t)n3 * sizeof(double));
     else memset(s->v, 0, (size_t)n3 * sizeof(double));
     memset(s->dv, 0, (size_t)n3 * sizeof(double));
     s->hist_valid = 0;   /* BDF2 starts again with a backward-Euler step */
     wc_state_wake(s);
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wc_state_wake(wc_state* s) {

@@ -187,26 +187,26 @@ typedef struct wc_state {
 void wc_state_mul_system(wc_state* s, const double* x, double* y);
 
 /* Positions start at the model's rest positions, velocities at zero. */
-weft_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,
+wc_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* def, const wc_allocator* alloc,
                             wc_diag* diag);
 void wc_state_destroy(wc_state* s);
 
 /* Replace the pins (validated: count within capacity, particle in range, finite targets, axis
  * zero or unit). A pin whose particle was already pinned keeps moving from its old target;
  * a new pin starts from the particle's current position. On error nothing changes. */
-weft_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag);
+wc_status wc_state_set_pins(wc_state* s, const wc_pin* pins, int n, wc_diag* diag);
 /* Replace the colliders (validated: count, type, finite, radius/thickness/friction >= 0, unit
  * plane normal). On error nothing changes. */
-weft_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag);
+wc_status wc_state_set_colliders(wc_state* s, const wc_collider* c, int n, wc_diag* diag);
 /* Attach n mesh colliders (borrowed: they must outlive the state), once, at creation time
  * (allocates the substep's collider list). On error nothing changes. */
-weft_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* mesh, int n, wc_diag* diag);
+wc_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* mesh, int n, wc_diag* diag);
 /* Mesh collider k's positions at the end of the next frame (n_verts x 3, m; validated, on error
  * nothing changes); wakes the cloth when they differ from the current ones. */
-weft_status wc_state_set_mesh_target(wc_state* s, int k, const double* x, wc_diag* diag);
+wc_status wc_state_set_mesh_target(wc_state* s, int k, const double* x, wc_diag* diag);
 /* Set every particle's position and velocity (n x 3 each; v may be NULL for zero); refused when
  * any value is non-finite. */
-weft_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag);
+wc_status wc_state_set_positions(wc_state* s, const double* x, const double* v, wc_diag* diag);
 
 /* Wake the cloth (if asleep; the next step reports woke) and restart its rest timer. */
 void wc_state_wake(wc_state* s);

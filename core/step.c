@@ -143,27 +143,27 @@ int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
     return judge == WC_JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
 }
 
-weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
+wc_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
                              int judge, int judge_energy, double pin_energy, double h, const char* solver,
                              wc_diag* diag) {
     if (!after->finite)
-        return wc_fail(diag, WEFT_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h, solver);
-    if (judge == WC_JUDGE_FINITE) return WEFT_OK;
+        return wc_fail(diag, WC_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h, solver);
+    if (judge == WC_JUDGE_FINITE) return WC_OK;
     if (!(after->strain <= s->def.fail_strain))
-        return wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
+        return wc_fail(diag, WC_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
                        solver, after->strain, s->def.fail_strain);
     double floor = energy_floor(s) + pin_energy;
     if (after->kinetic > s->def.fail_energy_growth * (before->kinetic + floor))
-        return wc_fail(diag, WEFT_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J", h,
+        return wc_fail(diag, WC_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J", h,
                        solver, after->kinetic, before->kinetic);
     if (judge_energy) {
         double allowed = energy_allowance(s, before);
         if (after->total - before->total > allowed)
-            return wc_fail(diag, WEFT_ERROR_STEP_FAILED,
+            return wc_fail(diag, WC_ERROR_STEP_FAILED,
                            "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
                            h, solver, after->total - before->total, allowed);
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* The colliders of a substep from frame fraction s->sub_alpha0 to alpha1 (length h) into
@@ -298,7 +298,7 @@ void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_
  * tolerance' = forcing, floor' = floor x tolerance / forcing); not where a friction pass reads its
  * contact forces off it (stuck > 0), nor where mesh or self-contact pairs are in the system. res
  * carries the tight solve's scale, Newton's reference. */
-static weft_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_solve_result* res,
+static wc_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_solve_result* res,
                                wc_step_stats* st) {
     const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
     const double forcing = s->def.newton_forcing;
@@ -306,13 +306,13 @@ static weft_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc
     const int loose = solver != WC_SOLVER_DIRECT && stuck == 0 && !pairs && wc_newton_wanted(&s->def) &&
                       s->def.newton_iterations > 1 && forcing > tolerance;
     if (!loose) {
-        weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
+        wc_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
         wc_step_stats_add_solve(st, solver, res);
         return status;
     }
     wc_solver_set_tolerance(s->solver, forcing);
     wc_solver_set_residual_floor(s->solver, floor * tolerance / forcing);
-    weft_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
+    wc_status status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
     wc_solver_set_tolerance(s->solver, tolerance);
     wc_solver_set_residual_floor(s->solver, floor);
     res->scale = fmax(res->residual0, floor);
@@ -335,7 +335,7 @@ typedef struct stage_energy {
  * Does not roll back: returns non-OK when the result must be discarded, judged as `judge` says.
  * The last resorts use the direct solver with the compressed springs' geometric term dropped (a
  * positive-definite system). */
-static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_solver_type solver, int judge,
+static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_solver_type solver, int judge,
                               double pin_energy, stage_energy* carry, wc_step_stats* st, wc_diag* diag) {
     const wc_model* m = s->model;
     int n = m->n_particles;
@@ -384,10 +384,10 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
-    weft_status status = first_solve(s, solver, stuck, &res, st);
+    wc_status status = first_solve(s, solver, stuck, &res, st);
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
        instead, and the system is solved again from this dv (the stuck set only shrinks) */
-    for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && stuck > 0; ++pass) {
+    for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && stuck > 0; ++pass) {
         wc_state_mul_system(s, s->dv, s->r);
         for (int k = 0; k < 3 * n; ++k) s->r[k] -= s->b[k];
         int changed = wc_contacts_friction_recheck(&s->contacts, s->all, s->n_all, s->v, m->mass, s->r,
@@ -403,7 +403,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
        the exact term instead (re-solving there too cost suit_on_body 1441 ms a frame instead of
        191: the active set chatters between the passes) */
     if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0 && !wc_newton_wanted(&s->def))
-        for (int pass = 0; pass < WC_MESH_PAIR_PASSES && status == WEFT_OK; ++pass) {
+        for (int pass = 0; pass < WC_MESH_PAIR_PASSES && status == WC_OK; ++pass) {
             int changed = wc_mesh_pairs_recheck(s->pairs, s->x, ig.vstar, s->dv, ig.he, s->A, s->b, NULL, NULL);
             if (changed == 0) break;
             ++st->mesh_pair_passes;
@@ -411,7 +411,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
             wc_step_stats_add_solve(st, solver, &res);
         }
     if (s->self_pairs && s->self_pairs->n > 0 && !wc_newton_wanted(&s->def))
-        for (int pass = 0; pass < WC_SELF_PAIR_PASSES && status == WEFT_OK; ++pass) {
+        for (int pass = 0; pass < WC_SELF_PAIR_PASSES && status == WC_OK; ++pass) {
             int changed = wc_self_pairs_recheck(s->self_pairs, m, s->x, ig.vstar, s->dv, ig.he, s->A, s->b);
             if (changed == 0) break;
             ++st->self_pair_passes;
@@ -421,7 +421,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     t1 = wc_now_ms();
     st->ms.solve += t1 - t0;
     t0 = t1;
-    if (status != WEFT_OK) {
+    if (status != WC_OK) {
         wc_fail(diag, status, "substep (h = %g s, %s): the solver failed (status %d)", h, wc_solver_name(solver), (int)status);
         return status;
     }
@@ -431,7 +431,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     int newton = wc_newton_wanted(&s->def);
     if (newton) {
         status = wc_newton_iterate(s, &ig, solver, compression, res.scale, in_contact, energy_cap, st, diag);
-        if (status != WEFT_OK) return status;
+        if (status != WC_OK) return status;
     }
     t0 = wc_now_ms();
     if (in_contact) {
@@ -520,7 +520,7 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
     status = wc_substep_judge(s, &before, &after, judge, judge_energy && stage != 1, pin_energy, h,
                               wc_solver_name(solver), diag);
     st->max_strain = strain;
-    if (status == WEFT_OK && ig.bdf2) ++st->bdf2_substeps;
+    if (status == WC_OK && ig.bdf2) ++st->bdf2_substeps;
     t1 = wc_now_ms();
     st->ms.integrate += t1 - t0;
     return status;
@@ -528,14 +528,14 @@ static weft_status stage_step(wc_state* s, double h, int stage, double alpha1, w
 
 /* One substep of length h ending at frame fraction alpha1 (from s->sub_alpha0): a stage_step, or
  * TR-BDF2's two (stage 1 to the fraction gamma of the way, bdf2.h). */
-static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+static wc_status substep(wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                            double pin_energy, wc_step_stats* st, wc_diag* diag) {
     if (s->def.integrator != WC_INTEGRATOR_TRBDF2)
         return stage_step(s, h, 0, alpha1, solver, judge, pin_energy, NULL, st, diag);
     double a0 = s->sub_alpha0, ag = a0 + WC_TRBDF2_GAMMA * (alpha1 - a0);
     stage_energy carry = {0.0, 0.0, 0.0};
-    weft_status status = stage_step(s, h, 1, ag, solver, judge, pin_energy, &carry, st, diag);
-    if (status != WEFT_OK) return status;
+    wc_status status = stage_step(s, h, 1, ag, solver, judge, pin_energy, &carry, st, diag);
+    if (status != WC_OK) return status;
     s->sub_alpha0 = ag;
     status = stage_step(s, h, 2, alpha1, solver, judge, pin_energy, &carry, st, diag);
     s->sub_alpha0 = a0;
@@ -544,9 +544,9 @@ static weft_status substep(wc_state* s, double h, double alpha1, wc_solver_type 
 
 /* A substep of length h from frame fraction alpha0 to alpha1, retried on failure with halved
  * steps and then with the last-resort solver. On final failure the state is as it was. */
-static weft_status robust_substep(wc_state* s, double h, double alpha0, double alpha1, double pin_energy,
+static wc_status robust_substep(wc_state* s, double h, double alpha0, double alpha1, double pin_energy,
                                   wc_step_stats* st, wc_diag* diag, const wc_step_ops* ops) {
-    wc_diag local = {WEFT_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
+    wc_diag local = {WC_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
     ops->save(ops->user, s);
     wc_solver_type user = s->def.solver.type;
     /* the last resorts: the finest pieces (judged on all but the energy gain), then the whole
@@ -565,23 +565,23 @@ static weft_status robust_substep(wc_state* s, double h, double alpha0, double a
             if (halvings > 0) ++st->halvings;
             if (last_resort) ++st->direct_fallbacks;
         }
-        weft_status ok = WEFT_OK;
+        wc_status ok = WC_OK;
         double residual = st->residual; /* a discarded try's residual (inf when it blew up) is not reported */
-        for (int p = 0; p < pieces && ok == WEFT_OK; ++p) {
+        for (int p = 0; p < pieces && ok == WC_OK; ++p) {
             double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
             s->sub_alpha0 = alpha0 + (alpha1 - alpha0) * p / pieces;
             ok = ops->substep(ops->user, s, h / pieces, a1, solver, judge, pin_energy, st, &local);
         }
-        if (ok == WEFT_OK) {
+        if (ok == WC_OK) {
             st->substeps += pieces;
-            return WEFT_OK;
+            return WC_OK;
         }
         wc_log(diag, WC_LOG_WARN, "rolled back: %s", local.message);
         st->residual = residual;
         ops->restore(ops->user, s);
     }
     ++st->failures;
-    return WEFT_ERROR_STEP_FAILED;
+    return WC_ERROR_STEP_FAILED;
 }
 
 static int air_equal(const wc_air* a, const wc_air* b) {
@@ -589,7 +589,7 @@ static int air_equal(const wc_air* a, const wc_air* b) {
 }
 
 /* A frame of a sleeping cloth: time advances exactly as the substeps would advance it. */
-static weft_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double t_start) {
+static wc_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double t_start) {
     if (s->def.substep_dt > 0) {
         const double h = s->def.substep_dt;
         s->accumulator += dt;
@@ -610,7 +610,7 @@ static weft_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double
     st->max_strain = s->sleep_strain;
     st->kinetic_energy = 0.0;
     st->ms.total = wc_now_ms() - t_start;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* After a successful active frame: the rest timer, and falling asleep. */
@@ -631,13 +631,13 @@ static void rest_timer(wc_state* s, double dt, double max_speed, wc_step_stats* 
     }
 }
 
-weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops) {
+wc_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops) {
     wc_step_stats local;
     wc_step_stats* st = stats ? stats : &local;
     memset(st, 0, sizeof *st);
-    if (!s) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "step: NULL state");
+    if (!s) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "step: NULL state");
     if (!(dt > 0) || !isfinite(dt) || dt > 1e3)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "step: frame time %g s must be finite, > 0 and <= 1000", dt);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "step: frame time %g s must be finite, > 0 and <= 1000", dt);
     double t_start = wc_now_ms();
     /* gravity and air are plain fields of def: a change since the last frame wakes the cloth */
     if (!v3_equal(s->def.gravity, s->input_gravity) || !air_equal(&s->def.air, &s->input_air)) {
@@ -659,14 +659,14 @@ weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_d
     }
     double pin_energy = 0.5 * s->total_mass * pin_speed2; /* what moving pins may add to the kinetic energy */
 
-    weft_status result = WEFT_OK;
+    wc_status result = WC_OK;
     if (s->def.substep_dt > 0) {
         s->accumulator += dt;
         double h = s->def.substep_dt, consumed = 0.0, budget = s->accumulator;
         while (s->accumulator >= h * (1.0 - 1e-9)) {
             double a0 = consumed / budget, a1 = (consumed + h) / budget;
             if (a1 > 1.0) a1 = 1.0;
-            if (robust_substep(s, h, a0, a1, pin_energy, st, diag, ops) != WEFT_OK) result = WEFT_ERROR_STEP_FAILED;
+            if (robust_substep(s, h, a0, a1, pin_energy, st, diag, ops) != WC_OK) result = WC_ERROR_STEP_FAILED;
             s->accumulator -= h;
             consumed += h;
             s->time += h;
@@ -676,8 +676,8 @@ weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_d
         int n = s->def.substeps;
         double h = dt / n;
         for (int k = 0; k < n; ++k) {
-            if (robust_substep(s, h, (double)k / n, (double)(k + 1) / n, pin_energy, st, diag, ops) != WEFT_OK)
-                result = WEFT_ERROR_STEP_FAILED;
+            if (robust_substep(s, h, (double)k / n, (double)(k + 1) / n, pin_energy, st, diag, ops) != WC_OK)
+                result = WC_ERROR_STEP_FAILED;
             s->time += h;
         }
     }
@@ -687,19 +687,19 @@ weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_d
     st->contacts = s->contacts.active;
     double max_speed = 0.0;
     ops->measure(ops->user, s, &max_speed, &st->kinetic_energy, &st->max_strain);
-    if (result == WEFT_OK) rest_timer(s, dt, max_speed, st, ops);
+    if (result == WC_OK) rest_timer(s, dt, max_speed, st, ops);
     else s->rest_time = 0.0;
     if (st->fell_asleep) st->kinetic_energy = 0.0;
     st->ms.total = wc_now_ms() - t_start;
-    if (result != WEFT_OK)
+    if (result != WC_OK)
         return wc_fail(diag, result, "step: %d substep(s) failed after every retry; the state was kept finite",
                        st->failures);
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* ---- the CPU backend's operations ------------------------------------------------------------ */
 
-static weft_status cpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+static wc_status cpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                                double pin_energy, wc_step_stats* st, wc_diag* diag) {
     (void)user;
     return substep(s, h, alpha1, solver, judge, pin_energy, st, diag);
@@ -723,7 +723,7 @@ static void cpu_measure(void* user, const wc_state* s, double* max_speed, double
     *max_strain = wc_max_stretch_strain(s->model, s->x);
 }
 
-weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
+wc_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
     wc_step_ops ops = {NULL, cpu_substep, cpu_save, cpu_restore, cpu_measure, NULL, WC_SOLVER_DIRECT};
     return wc_step_frame_ops(s, dt, stats, diag, &ops);
 }

@@ -7,7 +7,7 @@
  * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
  * geometric term dropped (a positive-definite system): in the finest pieces (judged on all but
  * the energy gain), then in one piece accepted whenever it is finite; if that also fails the
- * state is left as it was before the substep and the frame reports WEFT_ERROR_STEP_FAILED.
+ * state is left as it was before the substep and the frame reports WC_ERROR_STEP_FAILED.
  * Positions are never left non-finite.
  *
  * TR-BDF2's energy (bdf2.h): each stage is judged as a substep of its own length (finite,
@@ -86,7 +86,7 @@ typedef struct wc_step_stats {
 void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st);
 
 /* Simulate dt seconds (> 0, finite). stats may be NULL. */
-weft_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag);
+wc_status wc_step_frame(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag);
 
 /* ---- the frame driver, shared with the GPU backend (gpu/solver) ------------------------------
  * wc_step_frame is wc_step_frame_ops with the CPU's operations. Another backend supplies its own
@@ -120,7 +120,7 @@ typedef struct wc_substep_measure {
 int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy);
 /* The step's verdict on a substep (step.h's checks, in that order); non-OK with the message in
  * diag when it must be discarded. */
-weft_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
+wc_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
                              int judge, int judge_energy, double pin_energy, double h, const char* solver,
                              wc_diag* diag);
 
@@ -129,7 +129,7 @@ typedef struct wc_step_ops {
     /* One try of a substep of length h ending at frame fraction alpha1 with `solver`, judged as
      * `judge`; non-OK discards it (the driver then calls restore). Positions and velocities of s
      * need not be kept current by a backend that holds them elsewhere. */
-    weft_status (*substep)(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+    wc_status (*substep)(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                            double pin_energy, wc_step_stats* st, wc_diag* diag);
     void (*save)(void* user, wc_state* s);      /* remember the substep's start */
     void (*restore)(void* user, wc_state* s);   /* go back to it */
@@ -141,6 +141,6 @@ typedef struct wc_step_ops {
     wc_solver_type last_resort_solver;          /* CPU: DIRECT */
 } wc_step_ops;
 
-weft_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops);
+wc_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops);
 
 #endif

@@ -20,18 +20,18 @@ int wc_we_opposite_vertex(const wc_winged_edge* we, int f, int e) {
     return -1;
 }
 
-weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
+wc_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
                                         const int* tris, int n_faces, const unsigned char* side_polygon,
                                         const wc_keyed* sides, wc_diag* diag) {
     memset(we, 0, sizeof *we);
     if (n_verts < 0 || n_faces < 0 || (n_faces > 0 && (!tris || !sides)))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "winged edge: bad arguments");
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "winged edge: bad arguments");
     const int n_sides = 3 * n_faces;
     for (int f = 0; f < n_faces; ++f) {
         const int* t = tris + 3 * f;
         for (int k = 0; k < 3; ++k)
             if (t[k] < 0 || t[k] >= n_verts || t[k] == t[(k + 1) % 3])
-                return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+                return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                                "winged edge: face %d has a bad or repeated vertex", f);
     }
     we->vert_edge = WC_NEW(alloc, int, n_verts > 0 ? n_verts : 1);
@@ -87,9 +87,9 @@ weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* 
     we->n_verts = n_verts;
     we->n_edges = ne;
     we->n_faces = n_faces;
-    return WEFT_OK;
+    return WC_OK;
 
 oom:
     wc_winged_edge_free(we, alloc);
-    return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "winged edge: out of memory (%d faces)", n_faces);
+    return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "winged edge: out of memory (%d faces)", n_faces);
 }

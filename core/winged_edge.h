@@ -39,7 +39,7 @@ typedef struct wc_winged_edge {
  * orientation pass; only its grouping of equal keys and its vals (3 face + side) are used, so
  * any order-preserving renumbering of the vertices since then is fine. */
 struct wc_keyed;
-weft_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
+wc_status wc_winged_edge_build_sorted(wc_winged_edge* we, const wc_allocator* alloc, int n_verts,
                                         const int* tris, int n_faces, const unsigned char* side_polygon,
                                         const struct wc_keyed* sides, wc_diag* diag);
 void wc_winged_edge_free(wc_winged_edge* we, const wc_allocator* alloc);

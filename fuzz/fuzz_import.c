@@ -24,8 +24,8 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     wc_diag d;
     memset(&d, 0, sizeof d);
     wc_import_opts o = wc_default_import_opts();
-    weft_status st = wc_import_memory(&src, NULL, data + 1, size - 1, hint, &o, &d);
-    if (st != WEFT_OK) {
+    wc_status st = wc_import_memory(&src, NULL, data + 1, size - 1, hint, &o, &d);
+    if (st != WC_OK) {
         FUZZ_CHECK(d.message[0] != '\0', "status %d without a message", (int)st);
         return 0;
     }
@@ -37,7 +37,7 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     wc_model m;
     memset(&d, 0, sizeof d);
     st = wc_model_build(&m, &src, &def, NULL, &d);
-    if (st == WEFT_OK) {
+    if (st == WC_OK) {
         FUZZ_CHECK(m.n_host_verts == src.n_verts, "%d host vertices of %d", m.n_host_verts, src.n_verts);
         for (int i = 0; i < m.n_host_verts; ++i)
             FUZZ_CHECK(m.host_to_particle[i] >= -1 && m.host_to_particle[i] < m.n_particles, "host map");

@@ -49,7 +49,7 @@ static int too_costly(const uint8_t* data, size_t size) {
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (too_costly(data, size)) return 0;
     scene s;
-    wc_diag d;
+    cli_diag d;
     memset(&d, 0, sizeof d);
     weft_status st = scene_parse(&s, (const char*)data, size, WEFT_SOURCE_DIR "/sample_scenes/fuzz.json", &d);
     if (st != WEFT_OK) {

@@ -151,6 +151,8 @@ struct weft_context {
 
 /* ---- context.c helpers ----------------------------------------------------------------------- */
 
+/* Core's (and gpu/'s) status as the ABI's. */
+weft_status wa_status(wc_status s);
 /* Record a failed call (status, message, logger at ERROR); returns status. */
 weft_status wa_fail(weft_context* ctx, weft_status status, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 /* Record a successful call; returns WEFT_OK. */

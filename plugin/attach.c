@@ -111,7 +111,7 @@ weft_status wa_bind_attachments(weft_context* ctx, wa_cloth* c, const weft_attac
         for (int i = 0; i < c->model.n_particles; ++i) mark[i] = -1;
         wa_pin_targets(c, c->attachment_xf);
         wc_diag d = wa_core_diag(ctx);
-        st = wc_state_set_pins(c->state, c->pins, total, &d);
+        st = wa_status(wc_state_set_pins(c->state, c->pins, total, &d));
         if (st != WEFT_OK) wa_fail(ctx, st, "%s: %s: %s", fn, prefix, d.message);
     } else {
         st = wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (%d pins)", fn, total);

@@ -26,14 +26,14 @@ static weft_status read_mesh(weft_context* ctx, const weft_cloth_def* def, wc_so
         wc_import_opts o = wc_default_import_opts();
         o.scale = def->unit_scale;
         o.select = def->mesh.select;
-        st = wc_import_file(src, &ctx->alloc, def->mesh.path, &o, &d);
+        st = wa_status(wc_import_file(src, &ctx->alloc, def->mesh.path, &o, &d));
     } else {
         int n = def->mesh.n_vertices;
         double* pos = WC_NEW(&ctx->alloc, double, 3 * (size_t)n);
         if (!pos) return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (%d vertices)", fn, n);
         for (int i = 0; i < 3 * n; ++i) pos[i] = (double)def->mesh.positions[i];
-        st = wc_source_mesh_from_arrays(src, &ctx->alloc, pos, n, def->mesh.face_sizes, def->mesh.n_faces,
-                                        def->mesh.indices, def->unit_scale, &d);
+        st = wa_status(wc_source_mesh_from_arrays(src, &ctx->alloc, pos, n, def->mesh.face_sizes, def->mesh.n_faces,
+                                        def->mesh.indices, def->unit_scale, &d));
         wc_free(&ctx->alloc, pos);
     }
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->mesh: %s", fn, d.message);
@@ -107,13 +107,13 @@ static weft_status build_cloth(weft_context* ctx, wa_cloth* c, const weft_cloth_
 
     wc_sim_def sd = sim_def_of(ctx, def);
     wc_diag d = wa_core_diag(ctx);
-    weft_status st = wc_state_create(&c->state, m, &sd, A, &d);
+    weft_status st = wa_status(wc_state_create(&c->state, m, &sd, A, &d));
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, d.message);
 
     /* particles start at transform x rest (rest positions are object space, metres) */
     wa_xform_from_floats(&c->object, def->transform);
     for (int i = 0; i < n; ++i) wa_xform_point(&c->object, m->rest_pos + 3 * i, c->scratch + 3 * i);
-    st = wc_state_set_positions(c->state, c->scratch, NULL, &d);
+    st = wa_status(wc_state_set_positions(c->state, c->scratch, NULL, &d));
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->transform: %s", fn, d.message);
     c->no_history = 1;
 
@@ -129,7 +129,7 @@ static weft_status build_cloth(weft_context* ctx, wa_cloth* c, const weft_cloth_
         wa_xform_from_floats(&c->collider_xf[k], cd->transform);
     }
     wa_world_colliders(c, c->collider_xf, c->collider_xf, 0.0);
-    st = wc_state_set_colliders(c->state, c->wc_colliders, nc, &d);
+    st = wa_status(wc_state_set_colliders(c->state, c->wc_colliders, nc, &d));
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->colliders: %s", fn, d.message);
 
     st = wa_build_mesh_colliders(ctx, c, def, fn);
@@ -189,7 +189,7 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
     md.seam_b = def->seam_b;
     md.seam_close_time = def->seam_close_time;
     wc_diag d = wa_core_diag(ctx);
-    st = wc_model_build(&c->model, &src, &md, &ctx->alloc, &d);
+    st = wa_status(wc_model_build(&c->model, &src, &md, &ctx->alloc, &d));
     wc_source_mesh_free(&src);
     if (st != WEFT_OK) {
         wa_cloth_free(c);

@@ -293,7 +293,7 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
     }
 
     wa_pin_targets(c, c->attachment_next);
-    if (st == WEFT_OK) st = wc_state_set_pins(s, c->pins, c->n_pins, &d);
+    if (st == WEFT_OK) st = wa_status(wc_state_set_pins(s, c->pins, c->n_pins, &d));
     if (st == WEFT_OK) {
         if (reset || teleport) {
             for (int k = 0; k < c->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
@@ -301,7 +301,7 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
             rotate_points(s->pin_from, c->n_pins, Rc, c->object.t);
         }
         wa_world_colliders(c, c->collider_next, c->collider_xf, (reset || teleport) ? 0.0 : dt);
-        st = wc_state_set_colliders(s, c->wc_colliders, c->n_colliders, &d);
+        st = wa_status(wc_state_set_colliders(s, c->wc_colliders, c->n_colliders, &d));
         if (st == WEFT_OK) wa_mesh_frame(c, fr, reset || teleport);
     }
     if (st == WEFT_OK && fr->wind) v3_copy(s->def.air.wind, fr->wind);
@@ -317,9 +317,9 @@ weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_fram
         if (rst != WEFT_OK)
             st = rst;
         else if (!in_range)
-            st = wc_fail(&d, WEFT_ERROR_STEP_FAILED,
+            st = wa_status(wc_fail(&d, WC_ERROR_STEP_FAILED,
                          "the step took host vertex %d to a coordinate of %g, beyond the %g the float outputs hold",
-                         bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
+                         bad_vertex, bad_value, WA_MAX_OUTPUT_COORD));
     }
     if (st != WEFT_OK) {
         if (c->gpu) {

@@ -32,7 +32,7 @@ weft_status weft_cloth_check_collisions(weft_context* ctx, weft_cloth cloth, wef
     }
     wc_diag d = wa_core_diag(ctx);
     int count = 0;
-    weft_status st = wc_self_intersections(&c->model, c->state->x, &ctx->alloc, &count, &d);
+    weft_status st = wa_status(wc_self_intersections(&c->model, c->state->x, &ctx->alloc, &count, &d));
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, d.message);
     out->self_intersections = count;
     double mesh = wc_mesh_max_penetration((const wc_mesh_collider* const*)c->mesh, c->n_mesh, c->state->x,

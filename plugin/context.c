@@ -30,6 +30,28 @@ weft_context_def weft_default_context_def(void) {
     return d;
 }
 
+weft_status wa_status(wc_status s) {
+    switch (s) {
+    case WC_OK: return WEFT_OK;
+    case WC_ERROR_INVALID_ARGUMENT: return WEFT_ERROR_INVALID_ARGUMENT;
+    case WC_ERROR_OUT_OF_MEMORY: return WEFT_ERROR_OUT_OF_MEMORY;
+    case WC_ERROR_IO: return WEFT_ERROR_IO;
+    case WC_ERROR_IMPORT: return WEFT_ERROR_IMPORT;
+    case WC_ERROR_EMPTY_MESH: return WEFT_ERROR_EMPTY_MESH;
+    case WC_ERROR_NONFINITE: return WEFT_ERROR_NONFINITE;
+    case WC_ERROR_OUT_OF_RANGE: return WEFT_ERROR_OUT_OF_RANGE;
+    case WC_ERROR_SOLVER_DIVERGED: return WEFT_ERROR_SOLVER_DIVERGED;
+    case WC_ERROR_SOLVER_NOT_CONVERGED: return WEFT_ERROR_SOLVER_NOT_CONVERGED;
+    case WC_ERROR_FACTORIZATION: return WEFT_ERROR_FACTORIZATION;
+    case WC_ERROR_STEP_FAILED: return WEFT_ERROR_STEP_FAILED;
+    case WC_ERROR_CALL_ORDER: return WEFT_ERROR_CALL_ORDER;
+    case WC_ERROR_UNSUPPORTED: return WEFT_ERROR_UNSUPPORTED;
+    case WC_ERROR_SNAPSHOT_MISMATCH: return WEFT_ERROR_SNAPSHOT_MISMATCH;
+    case WC_ERROR_GPU: return WEFT_ERROR_GPU;
+    }
+    return WEFT_ERROR_INVALID_ARGUMENT;   /* not reached: every core status is listed */
+}
+
 /* core's (and gpu's) log level as the ABI's */
 static weft_log_level abi_level(wc_log_level level) {
     switch (level) {

@@ -24,7 +24,7 @@
 #define GL_OF(ctx) ((wg_gl_context*)(ctx)->gl)
 #define SIM_OF(c) ((wg_sim*)(c)->gpu)
 
-static weft_status gl_begin(weft_context* ctx, char* err, size_t err_len) { return wg_gl_begin(GL_OF(ctx), err, err_len); }
+static weft_status gl_begin(weft_context* ctx, char* err, size_t err_len) { return wa_status(wg_gl_begin(GL_OF(ctx), err, err_len)); }
 
 static void gl_end(weft_context* ctx) { wg_gl_end(GL_OF(ctx)); }
 
@@ -45,7 +45,7 @@ weft_status wa_gl_context_new(weft_context* ctx, void** out, char* err, size_t e
     gd.log_user = ctx;
     gd.allocator = ctx->alloc;
     wg_gl_context* gl = NULL;
-    weft_status st = wg_gl_context_create(&gd, &gl, err, err_len);
+    weft_status st = wa_status(wg_gl_context_create(&gd, &gl, err, err_len));
     *out = gl;
     return st;
 }
@@ -72,7 +72,7 @@ weft_status wa_gpu_context_init(weft_context* ctx, int only_hardware, int* softw
         return st;
     }
     wg_device* dev = NULL;
-    st = wg_device_create(gl, &dev, err, err_len);
+    st = wa_status(wg_device_create(gl, &dev, err, err_len));
     if (st == WEFT_OK && only_hardware && dev->software) {
         *software = 1;
         snprintf(err, err_len, "%s", dev->renderer);
@@ -113,7 +113,7 @@ weft_status wa_gpu_cloth_create(weft_context* ctx, wa_cloth* c, const char* fn) 
     if (st != WEFT_OK) return st;
     wc_diag d = wa_core_diag(ctx);
     wg_sim* g = NULL;
-    st = wg_sim_create((wg_device*)ctx->device, c->state, c->host_rest, &g, &d);
+    st = wa_status(wg_sim_create((wg_device*)ctx->device, c->state, c->host_rest, &g, &d));
     wa_gl_end(ctx);
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: GPU backend: %s", fn, d.message);
     c->gpu = g;
@@ -137,13 +137,13 @@ void wa_gpu_cloth_destroy(wa_cloth* c) {
 
 weft_status wa_gpu_download_raw(weft_context* ctx, wa_cloth* c, const char* fn) {
     wc_diag d = wa_core_diag(ctx);
-    weft_status st = wg_sim_download(SIM_OF(c), c->state, &d);
+    weft_status st = wa_status(wg_sim_download(SIM_OF(c), c->state, &d));
     return st == WEFT_OK ? st : wa_fail(ctx, st, "%s: %s", fn, d.message);
 }
 
 weft_status wa_gpu_upload_raw(weft_context* ctx, wa_cloth* c, const char* fn) {
     wc_diag d = wa_core_diag(ctx);
-    weft_status st = wg_sim_upload(SIM_OF(c), c->state, &d);
+    weft_status st = wa_status(wg_sim_upload(SIM_OF(c), c->state, &d));
     return st == WEFT_OK ? st : wa_fail(ctx, st, "%s: %s", fn, d.message);
 }
 
@@ -164,7 +164,7 @@ weft_status wa_gpu_upload(weft_context* ctx, wa_cloth* c, const char* fn) {
 }
 
 weft_status wa_gpu_transfer(wa_cloth* c, int upload, wc_diag* d) {
-    return upload ? wg_sim_upload(SIM_OF(c), c->state, d) : wg_sim_download(SIM_OF(c), c->state, d);
+    return wa_status(upload ? wg_sim_upload(SIM_OF(c), c->state, d) : wg_sim_download(SIM_OF(c), c->state, d));
 }
 
 void wa_gpu_backup(wa_cloth* c) { wg_sim_backup(SIM_OF(c)); }
@@ -175,7 +175,7 @@ void wa_gpu_transform(wa_cloth* c, const double* Rx, const double* tx, const dou
 }
 
 weft_status wa_gpu_step_frame(wa_cloth* c, double dt, wc_step_stats* ss, wc_diag* d) {
-    return wg_sim_step_frame(SIM_OF(c), c->state, dt, ss, d);
+    return wa_status(wg_sim_step_frame(SIM_OF(c), c->state, dt, ss, d));
 }
 
 int wa_gpu_outputs_in_range(wa_cloth* c, const wa_xform* T, int* vertex, double* value, weft_status* st,
@@ -206,7 +206,7 @@ int wa_gpu_outputs_in_range(wa_cloth* c, const wa_xform* T, int* vertex, double*
         if (bound <= WA_MAX_OUTPUT_COORD && unused_ok) return 1;
     }
     /* the bound could exceed the limit: the exact check on the downloaded positions */
-    *st = wg_sim_download(SIM_OF(c), c->state, d);
+    *st = wa_status(wg_sim_download(SIM_OF(c), c->state, d));
     if (*st != WEFT_OK) return 0;
     return wa_outputs_in_range(c, T, vertex, value);
 }
@@ -227,7 +227,7 @@ weft_status wa_gpu_vertices(weft_context* ctx, wa_cloth* c, int object, float* p
     r.position_offset = position_offset;
     r.normal_offset = normal_offset;
     wc_diag d = wa_core_diag(ctx);
-    weft_status st = wg_sim_output(SIM_OF(c), &r, &d);
+    weft_status st = wa_status(wg_sim_output(SIM_OF(c), &r, &d));
     return st == WEFT_OK ? st : wa_fail(ctx, st, "%s: %s", fn, d.message);
 }
 
@@ -327,7 +327,7 @@ weft_status wa_gpu_download(weft_context* ctx, wa_cloth* c, const char* fn) { re
 weft_status wa_gpu_upload(weft_context* ctx, wa_cloth* c, const char* fn) { return wa_gpu_cloth_create(ctx, c, fn); }
 weft_status wa_gpu_transfer(wa_cloth* c, int upload, wc_diag* d) {
     (void)c, (void)upload;
-    return wc_fail(d, WEFT_ERROR_UNSUPPORTED, "this libweft.so was built without WEFT_GPU");
+    return wa_status(wc_fail(d, WC_ERROR_UNSUPPORTED, "this libweft.so was built without WEFT_GPU"));
 }
 void wa_gpu_backup(wa_cloth* c) { (void)c; }
 void wa_gpu_restore_backup(wa_cloth* c) { (void)c; }
@@ -336,7 +336,7 @@ void wa_gpu_transform(wa_cloth* c, const double* Rx, const double* tx, const dou
 }
 weft_status wa_gpu_step_frame(wa_cloth* c, double dt, wc_step_stats* ss, wc_diag* d) {
     (void)c, (void)dt, (void)ss;
-    return wc_fail(d, WEFT_ERROR_UNSUPPORTED, "this libweft.so was built without WEFT_GPU");
+    return wa_status(wc_fail(d, WC_ERROR_UNSUPPORTED, "this libweft.so was built without WEFT_GPU"));
 }
 int wa_gpu_outputs_in_range(wa_cloth* c, const wa_xform* T, int* vertex, double* value, weft_status* st,
                             wc_diag* d) {

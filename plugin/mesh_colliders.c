@@ -82,7 +82,7 @@ weft_status wa_validate_mesh_colliders(const weft_mesh_collider_def* m, int n, c
 }
 
 /* The def's mesh as a source mesh (metres, object space). */
-static weft_status read_source(weft_context* ctx, const weft_mesh_collider_def* def, wc_source_mesh* src, wc_diag* d) {
+static wc_status read_source(weft_context* ctx, const weft_mesh_collider_def* def, wc_source_mesh* src, wc_diag* d) {
     if (def->mesh.path) {
         wc_import_opts o = wc_default_import_opts();
         o.scale = def->unit_scale;
@@ -92,7 +92,7 @@ static weft_status read_source(weft_context* ctx, const weft_mesh_collider_def* 
     int n = def->mesh.n_vertices, nf = def->mesh.n_faces;
     double* pos = WC_NEW(&ctx->alloc, double, 3 * (size_t)n);
     int* sizes = WC_NEW(&ctx->alloc, int, (size_t)nf);
-    weft_status st = WEFT_ERROR_OUT_OF_MEMORY;
+    wc_status st = WC_ERROR_OUT_OF_MEMORY;
     if (pos && sizes) {
         for (int i = 0; i < 3 * n; ++i) pos[i] = (double)def->mesh.positions[i];
         for (int f = 0; f < nf; ++f) sizes[f] = def->mesh.face_sizes ? def->mesh.face_sizes[f] : 3;
@@ -106,7 +106,7 @@ static weft_status read_source(weft_context* ctx, const weft_mesh_collider_def* 
 }
 
 /* Triangles of every polygon of src (allocated into *tris, count *nt). */
-static weft_status triangulate(weft_context* ctx, const wc_source_mesh* src, int** tris, int* nt, wc_diag* d) {
+static wc_status triangulate(weft_context* ctx, const wc_source_mesh* src, int** tris, int* nt, wc_diag* d) {
     long long total = 0;
     int kmax = 3;
     for (int p = 0; p < src->n_polys; ++p) {
@@ -114,14 +114,14 @@ static weft_status triangulate(weft_context* ctx, const wc_source_mesh* src, int
         total += k - 2;
         if (k > kmax) kmax = k;
     }
-    if (total < 1 || total > 0x7fffffffLL / 3) return wc_fail(d, WEFT_ERROR_EMPTY_MESH, "%lld triangles", total);
+    if (total < 1 || total > 0x7fffffffLL / 3) return wc_fail(d, WC_ERROR_EMPTY_MESH, "%lld triangles", total);
     *tris = WC_NEW(&ctx->alloc, int, 3 * (size_t)total);
     unsigned char* mask = WC_NEW(&ctx->alloc, unsigned char, (size_t)kmax);
     int* scratch = WC_NEW(&ctx->alloc, int, (size_t)kmax);
     if (!*tris || !mask || !scratch) {
         wc_free(&ctx->alloc, mask);
         wc_free(&ctx->alloc, scratch);
-        return wc_fail(d, WEFT_ERROR_OUT_OF_MEMORY, "out of memory (%lld triangles)", total);
+        return wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "out of memory (%lld triangles)", total);
     }
     int at = 0;
     for (int p = 0; p < src->n_polys; ++p) {
@@ -131,7 +131,7 @@ static weft_status triangulate(weft_context* ctx, const wc_source_mesh* src, int
     *nt = at;
     wc_free(&ctx->alloc, mask);
     wc_free(&ctx->alloc, scratch);
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* World positions transform x rest of collider k into c->mesh_scratch. */
@@ -157,15 +157,15 @@ weft_status wa_build_mesh_colliders(weft_context* ctx, wa_cloth* c, const weft_c
         wc_diag d = wa_core_diag(ctx);
         wc_source_mesh src;
         memset(&src, 0, sizeof src);
-        weft_status st = read_source(ctx, md, &src, &d);
+        wc_status st = read_source(ctx, md, &src, &d);
         int* tris = NULL;
         int nt = 0;
-        if (st == WEFT_OK) st = triangulate(ctx, &src, &tris, &nt, &d);
-        if (st == WEFT_OK)
+        if (st == WC_OK) st = triangulate(ctx, &src, &tris, &nt, &d);
+        if (st == WC_OK)
             st = wc_mesh_collider_create(&c->mesh[k], src.pos, src.n_verts, tris, nt, md->thickness, md->friction, A, &d);
         wc_free(A, tris);
         wc_source_mesh_free(&src);
-        if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->mesh_colliders[%d].mesh: %s", fn, k, d.message);
+        if (st != WC_OK) return wa_fail(ctx, wa_status(st), "%s: def->mesh_colliders[%d].mesh: %s", fn, k, d.message);
         c->mesh[k]->push_speed = md->push_speed;
         wa_xform_from_floats(&c->mesh_xf[k], md->transform);
         if (c->mesh[k]->n_verts > most) most = c->mesh[k]->n_verts;
@@ -175,12 +175,12 @@ weft_status wa_build_mesh_colliders(weft_context* ctx, wa_cloth* c, const weft_c
     for (int k = 0; k < n; ++k) {
         wc_diag d = wa_core_diag(ctx);
         world_positions(c, k, &c->mesh_xf[k]);
-        weft_status st = wc_mesh_collider_set_all(c->mesh[k], c->mesh_scratch, &d);
+        weft_status st = wa_status(wc_mesh_collider_set_all(c->mesh[k], c->mesh_scratch, &d));
         if (st != WEFT_OK)
             return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: def->mesh_colliders[%d].transform: %s", fn, k, d.message);
     }
     wc_diag d = wa_core_diag(ctx);
-    weft_status st = wc_state_attach_mesh_colliders(c->state, c->mesh, n, &d);
+    weft_status st = wa_status(wc_state_attach_mesh_colliders(c->state, c->mesh, n, &d));
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, d.message);
     return WEFT_OK;
 }
@@ -215,7 +215,7 @@ void wa_mesh_frame(wa_cloth* c, const weft_frame* fr, int jump) {
                1e30 stays finite, and wc_state_set_mesh_target checks it */
             world_positions(c, k, &c->mesh_next[k]);
             wc_diag d = wa_core_diag(c->ctx);
-            if (wc_state_set_mesh_target(c->state, k, c->mesh_scratch, &d) != WEFT_OK)
+            if (wc_state_set_mesh_target(c->state, k, c->mesh_scratch, &d) != WC_OK)
                 wa_log(c->ctx, WEFT_LOG_WARN, "mesh collider %d: %s (kept where it was)", k, d.message);
         }
         if (jump) {
@@ -259,7 +259,7 @@ weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, weft_cloth 
     }
     for (int i = 0; i < 3 * n_vertices; ++i) c->mesh_scratch[i] = (double)positions[i];
     wc_diag d = wa_core_diag(ctx);
-    weft_status st = wc_state_set_mesh_target(c->state, index, c->mesh_scratch, &d);
+    weft_status st = wa_status(wc_state_set_mesh_target(c->state, index, c->mesh_scratch, &d));
     if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, d.message);
     c->mesh_pending[index] = 1;
     return wa_ok(ctx);

@@ -76,7 +76,7 @@ static weft_status ensure_renderer(weft_context* ctx) {
     char err[512] = "";
     if (ctx->gl) {   /* the GPU backend's GL context (one per weft_context) */
         wg_renderer* r = NULL;
-        weft_status st = wg_renderer_create((wg_gl_context*)ctx->gl, NULL, &r, err, sizeof err);
+        weft_status st = wa_status(wg_renderer_create((wg_gl_context*)ctx->gl, NULL, &r, err, sizeof err));
         if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
         ctx->renderer = r;
         return WEFT_OK;
@@ -86,7 +86,7 @@ static weft_status ensure_renderer(weft_context* ctx) {
     if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
     wg_gl_context* gl = glv;
     wg_renderer* r = NULL;   /* the renderer makes its context current around its GL calls */
-    st = wg_renderer_create(gl, NULL, &r, err, sizeof err);
+    st = wa_status(wg_renderer_create(gl, NULL, &r, err, sizeof err));
     if (st != WEFT_OK) {
         wg_gl_context_destroy(gl);
         return wa_fail(ctx, st, "weft_render: %s", err);
@@ -174,13 +174,13 @@ weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_d
     cam.height = def->height;
 
     char err[512] = "";
-    st = wg_render((wg_renderer*)ctx->renderer, &cam, &mesh, 1, shapes, nc, rgba, err, sizeof err);
+    st = wa_status(wg_render((wg_renderer*)ctx->renderer, &cam, &mesh, 1, shapes, nc, rgba, err, sizeof err));
     if (st != WEFT_OK) {
         st = wa_fail(ctx, st, "weft_render: %s", err);
         goto done;
     }
     if (def->png_path) {
-        st = wg_png_write(def->png_path, rgba, def->width, def->height, err, sizeof err);
+        st = wa_status(wg_png_write(def->png_path, rgba, def->width, def->height, err, sizeof err));
         if (st != WEFT_OK) {
             st = wa_fail(ctx, st, "weft_render: %s", err);
             goto done;

@@ -30,7 +30,7 @@ static inline int make_scene(scene* sc, int n, double k_scale, int kind, int fra
     def.threads = 1;
     def.sleep_speed = 0;
     wc_diag d = {0};
-    if (wc_state_create(&sc->s, &sc->m, &def, NULL, &d) != WEFT_OK) return 0;
+    if (wc_state_create(&sc->s, &sc->m, &def, NULL, &d) != WC_OK) return 0;
     wc_state* s = sc->s;
     if (kind == DRAPE) {
         wc_collider c = {0};
@@ -39,7 +39,7 @@ static inline int make_scene(scene* sc, int n, double k_scale, int kind, int fra
         c.center[1] = 0.65;
         c.thickness = 0.005;
         c.friction = 0.3;
-        CHECK(wc_state_set_colliders(s, &c, 1, &d) == WEFT_OK);
+        CHECK(wc_state_set_colliders(s, &c, 1, &d) == WC_OK);
     } else {
         wc_pin pins[3] = {{0}};
         pins[0].particle = ts_sheet_particle(&sc->m, n, 0, 0);
@@ -51,7 +51,7 @@ static inline int make_scene(scene* sc, int n, double k_scale, int kind, int fra
             pins[0].free_axis[0] = pins[1].free_axis[0] = 1.0;
             pins[2].free_axis[2] = 1.0;
         }
-        CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
+        CHECK(wc_state_set_pins(s, pins, np, &d) == WC_OK);
     }
     for (int f = 0; f < frames; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
     wc_step_stats st = {0};
@@ -73,7 +73,7 @@ static inline wc_solver* amg_solver(const wc_model* m, double tol, const wc_allo
     o.max_iterations = 500;
     wc_solver* sv = NULL;
     wc_diag d = {0};
-    CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WEFT_OK);
+    CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WC_OK);
     return sv;
 }
 

@@ -25,13 +25,13 @@ static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* wo
     c[1].thickness = 0.005;
     c[1].friction = 0.4;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &dg), WC_OK);
     *slept = 0;
     if (bdf2) *bdf2 = 0;
     *worst_depth = 0.0;
     for (int f = 0; f < 360 && !*slept; ++f) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
         if (bdf2) *bdf2 += st.bdf2_substeps;
         *slept = st.fell_asleep;
         for (int i = 0; i < s->model->n_particles; ++i) {

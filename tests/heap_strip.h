@@ -21,7 +21,7 @@ static void heap_strip(wc_model* m, wc_collider* floor) {
     }
     wc_model_def mdef = wc_default_model_def();
     wc_diag dg = {0};
-    CHECK(wc_model_build(m, &src, &mdef, NULL, &dg) == WEFT_OK);
+    CHECK(wc_model_build(m, &src, &mdef, NULL, &dg) == WC_OK);
     wc_source_mesh_free(&src);
     memset(floor, 0, sizeof *floor);
     floor->type = WC_COLLIDER_PLANE;

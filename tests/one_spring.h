@@ -14,13 +14,13 @@ static inline void spring_model(wc_model* m, double k, double mass) {
     int sizes[1] = {3}, idx[3] = {0, 1, 2};
     wc_source_mesh src;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &dg), WC_OK);
     wc_model_def def = wc_default_model_def();
     def.reorder = 0;
     def.material.uniform_mass = mass;
     def.material.k[WC_SPRING_STRETCH] = k;
     def.material.d[WC_SPRING_STRETCH] = 0.0;
-    CHECK_EQ_INT(wc_model_build(m, &src, &def, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(m, &src, &def, NULL, &dg), WC_OK);
     int keep = -1;
     for (int s = 0; s < m->n_springs; ++s)
         if (m->springs[s].a == 0 && m->springs[s].b == 1) keep = s;
@@ -46,9 +46,9 @@ static inline wc_state* spring_state(const wc_model* m, wc_integrator integ) {
     sd.fail_energy_gain = 0.0;
     wc_state* s = NULL;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WC_OK);
     wc_pin pins[2] = {{0, {0, 0, 0}, {0, 0, 0}}, {2, {0, 0.7, 0.3}, {0, 0, 0}}};
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
     return s;
 }
 

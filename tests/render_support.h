@@ -145,11 +145,11 @@ static inline int rs_open(wc_log_fn log, wg_gl_context** ctx, wg_renderer** r) {
     memset(&desc, 0, sizeof desc);
     desc.log = log;
     char err[1024];
-    if (wg_gl_context_create(&desc, ctx, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&desc, ctx, err, sizeof err) != WC_OK) {
         fprintf(stderr, "no headless GL context: %s\n", err);
         return 0;
     }
-    if (wg_renderer_create(*ctx, NULL, r, err, sizeof err) != WEFT_OK) {
+    if (wg_renderer_create(*ctx, NULL, r, err, sizeof err) != WC_OK) {
         fprintf(stderr, "renderer: %s\n", err);
         wg_gl_context_destroy(*ctx);
         return 0;

@@ -65,12 +65,12 @@ static inline void tube_free(tube* t) {
     free(t->idx);
 }
 
-static inline weft_status tube_model(wc_model* m, const wc_model_def* def, wc_diag* d) {
+static inline wc_status tube_model(wc_model* m, const wc_model_def* def, wc_diag* d) {
     tube t;
     tube_make(&t);
     wc_source_mesh src;
-    weft_status st = wc_source_mesh_from_arrays(&src, NULL, t.pos, t.nv, t.sizes, t.nf, t.idx, 1.0, d);
-    if (st == WEFT_OK) st = wc_model_build(m, &src, def, NULL, d);
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, t.pos, t.nv, t.sizes, t.nf, t.idx, 1.0, d);
+    if (st == WC_OK) st = wc_model_build(m, &src, def, NULL, d);
     wc_source_mesh_free(&src);
     tube_free(&t);
     return st;

@@ -24,15 +24,15 @@ static void check_solve(scene* sc, const char* what, int max_amg_iterations) {
     amg_check_spd(sv->amg, s, what);
     double *ref = calloc(n3, sizeof *ref), *dv = calloc(n3, sizeof *dv);
     wc_solve_result res;
-    CHECK(wc_solve(sv, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res) == WEFT_OK);
-    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WEFT_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res) == WC_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WC_OK);
     CHECK(res.converged);
     double err = ts_rel_diff(dv, ref, n3);
     int it_tight = res.iterations;
     /* iterations to 1e-4 from zero: AMG against block Jacobi */
     sv->opts.tolerance = 1e-4;
     memset(dv, 0, sizeof(double) * n3);
-    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WEFT_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WC_OK);
     int it_amg = res.iterations;
     CHECK(res.converged);
     sv->opts.preconditioner = WC_PRECOND_BLOCK_JACOBI;
@@ -148,7 +148,7 @@ static void test_rigid_modes(void) {
     CHECK_EQ_INT(o.rotations, 1); /* the default, chosen by measurement (amg.h) */
     wc_amg* a = NULL;
     wc_diag d = {0};
-    CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WEFT_OK);
+    CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WC_OK);
     const wc_amg_level* L0 = &a->lev[0];
     int n = sc.m.n_particles;
     const double* x = sc.m.rest_pos;
@@ -290,10 +290,10 @@ static void test_rotations_win(void) {
         wc_diag d = {0};
         wc_amg_destroy(sv->amg);
         sv->amg = NULL;
-        CHECK(wc_amg_create(&sv->amg, &sc.m, &o, &sv->alloc, &d) == WEFT_OK);
+        CHECK(wc_amg_create(&sv->amg, &sc.m, &o, &sv->alloc, &d) == WC_OK);
         double* dv = calloc(3 * sc.m.n_particles, sizeof *dv);
         wc_solve_result res;
-        CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WEFT_OK);
+        CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WC_OK);
         CHECK(res.converged);
         its[rot] = res.iterations;
         free(dv);
@@ -354,13 +354,13 @@ static void test_shuffled(void) {
     scene sc;
     memset(&sc, 0, sizeof sc);
     wc_diag d = {0};
-    CHECK(wc_model_build(&sc.m, &src, &md, NULL, &d) == WEFT_OK);
+    CHECK(wc_model_build(&sc.m, &src, &md, NULL, &d) == WC_OK);
     wc_source_mesh_free(&src);
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = WC_SOLVER_DIRECT;
     def.threads = 1;
     def.sleep_speed = 0;
-    CHECK(wc_state_create(&sc.s, &sc.m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&sc.s, &sc.m, &def, NULL, &d) == WC_OK);
     /* pinned along its top edge (the waist), falling for a few frames */
     wc_pin* pins = calloc(n, sizeof *pins);
     int np = 0;
@@ -371,7 +371,7 @@ static void test_shuffled(void) {
             ++np;
         }
     CHECK(np == n);
-    CHECK(wc_state_set_pins(sc.s, pins, np, &d) == WEFT_OK);
+    CHECK(wc_state_set_pins(sc.s, pins, np, &d) == WC_OK);
     for (int f = 0; f < 6; ++f) wc_step_frame(sc.s, 1.0 / 30.0, NULL, &d);
     wc_step_stats stt = {0};
     wc_substep_prepare(sc.s, 1.0 / 30.0, 1.0, &stt);
@@ -424,7 +424,7 @@ static void test_degenerate(void) {
         CHECK_EQ_INT(sv->amg->n_levels, 1);
         double* dv = calloc(3 * sc.m.n_particles, sizeof *dv);
         wc_solve_result res;
-        CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WEFT_OK);
+        CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WC_OK);
         CHECK(res.converged);
         CHECK(res.iterations <= 2);
         free(dv);
@@ -445,14 +445,14 @@ static void test_degenerate(void) {
     }
     wc_source_mesh src;
     wc_diag d = {0};
-    CHECK(wc_source_mesh_from_arrays(&src, NULL, pos, 3 * nt, sizes, nt, idx, 1.0, &d) == WEFT_OK);
+    CHECK(wc_source_mesh_from_arrays(&src, NULL, pos, 3 * nt, sizes, nt, idx, 1.0, &d) == WC_OK);
     memset(&sc, 0, sizeof sc);
     wc_model_def md = wc_default_model_def();
-    CHECK(wc_model_build(&sc.m, &src, &md, NULL, &d) == WEFT_OK);
+    CHECK(wc_model_build(&sc.m, &src, &md, NULL, &d) == WC_OK);
     wc_source_mesh_free(&src);
     wc_sim_def def = wc_default_sim_def();
     def.threads = 1;
-    CHECK(wc_state_create(&sc.s, &sc.m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&sc.s, &sc.m, &def, NULL, &d) == WC_OK);
     wc_step_stats stt = {0};
     wc_substep_prepare(sc.s, 1.0 / 30.0, 1.0, &stt);
     wc_solver* sv = amg_solver(&sc.m, 1e-8, NULL);
@@ -460,7 +460,7 @@ static void test_degenerate(void) {
            sv->amg->lev[sv->amg->n_levels - 1].n, sv->amg->coarse_dense);
     double* dv = calloc(3 * sc.m.n_particles, sizeof *dv);
     wc_solve_result res;
-    CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WEFT_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WC_OK);
     CHECK(res.converged);
     free(dv);
     wc_solver_destroy(sv);

@@ -171,9 +171,9 @@ static wc_amg* hierarchy(wc_state* s, int dense_dofs, wc_par* par) {
     o.cross_dense_dofs = dense_dofs;
     wc_amg* a = NULL;
     wc_diag d = {0};
-    CHECK(wc_amg_create(&a, s->model, &o, NULL, &d) == WEFT_OK);
+    CHECK(wc_amg_create(&a, s->model, &o, NULL, &d) == WC_OK);
     if (!a) return NULL;
-    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->cap, &d) == WEFT_OK);
+    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->cap, &d) == WC_OK);
     a->pos = s->x; /* the solver's rotations: about the current positions */
     wc_amg_setup(a, s->A, &s->filter, par);
     return a;
@@ -217,7 +217,7 @@ static void test_hierarchy(void) {
 static int solve(wc_state* s, double* dv) {
     memset(dv, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
     wc_solve_result res;
-    CHECK_EQ_INT(wc_solve(s->solver, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res), WEFT_OK);
+    CHECK_EQ_INT(wc_solve(s->solver, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res), WC_OK);
     CHECK(res.converged);
     return res.iterations;
 }
@@ -233,9 +233,9 @@ static void test_iterations(void) {
     /* room for every term: each level holds all of them (wc_amg.cross_terms) */
     for (int l = 0; l < amg_of(s)->n_levels; ++l) CHECK_EQ_INT(amg_of(s)->cross_terms[l], active);
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 0, &d), WEFT_OK); /* the pattern's hierarchy alone */
+    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 0, &d), WC_OK); /* the pattern's hierarchy alone */
     int it_without = solve(s, without);
-    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), &s->self_pairs->coupling, active / 2, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), &s->self_pairs->coupling, active / 2, &d), WC_OK);
     long dropped0 = amg_of(s)->cross_dropped;
     int it_half = solve(s, half);
     long dropped = amg_of(s)->cross_dropped - dropped0;
@@ -250,9 +250,9 @@ static void test_iterations(void) {
     CHECK(dropped > 0);
     CHECK(ts_rel_diff(without, with, n3) < 1e-5); /* both to residual 1e-8 */
     CHECK(ts_rel_diff(half, with, n3) < 1e-5);
-    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 5, &d), WEFT_OK);
-    CHECK(wc_amg_set_coupling(NULL, NULL, 5, &d) == WEFT_ERROR_INVALID_ARGUMENT);
-    CHECK(wc_amg_set_coupling(amg_of(s), &s->self_pairs->coupling, 0, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wc_amg_set_coupling(amg_of(s), NULL, 5, &d), WC_OK);
+    CHECK(wc_amg_set_coupling(NULL, NULL, 5, &d) == WC_ERROR_INVALID_ARGUMENT);
+    CHECK(wc_amg_set_coupling(amg_of(s), &s->self_pairs->coupling, 0, &d) == WC_ERROR_INVALID_ARGUMENT);
     free(with);
     free(without);
     free(half);

@@ -80,9 +80,9 @@ static int solve_iterations(wc_solver* sv, wc_state* s, double* err) {
     int n3 = 3 * s->model->n_particles;
     double *ref = calloc(n3, sizeof *ref), *dv = calloc(n3, sizeof *dv);
     wc_solve_result res;
-    CHECK(wc_solve(sv, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res) == WEFT_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res) == WC_OK);
     sv->opts.tolerance = 1e-8;
-    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WEFT_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WC_OK);
     CHECK(res.converged);
     double num = 0, den = 0;
     for (int k = 0; k < n3; ++k) {
@@ -92,7 +92,7 @@ static int solve_iterations(wc_solver* sv, wc_state* s, double* err) {
     *err = sqrt(num / (den > 0 ? den : 1));
     sv->opts.tolerance = 1e-4;
     memset(dv, 0, sizeof(double) * n3);
-    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WEFT_OK);
+    CHECK(wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res) == WC_OK);
     CHECK(res.converged);
     free(ref);
     free(dv);
@@ -214,7 +214,7 @@ static void test_sewn_tube(void) {
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
     def.sew_distance = SEW;
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     CHECK(m.n_seams > 0);
     wc_sim_def sd = wc_default_sim_def();
     sd.solver.type = WC_SOLVER_PCG;
@@ -222,7 +222,7 @@ static void test_sewn_tube(void) {
     sd.threads = 1;
     sd.sleep_speed = 0;
     wc_state* s = NULL;
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     if (!s) return;
     wc_pin pins[NW + 1];
     memset(pins, 0, sizeof pins);
@@ -230,13 +230,13 @@ static void test_sewn_tube(void) {
         pins[j].particle = m.host_to_particle[tube_vertex(0, 0, j)];
         memcpy(pins[j].target, s->x + 3 * pins[j].particle, sizeof pins[j].target);
     }
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, NW + 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, NW + 1, &d), WC_OK);
     wc_amg* a = s->solver->amg;
     CHECK(a && a->fine_bound_scale == WC_AMG_SEAM_BOUND);
     if (!a) return;
     double worst_lz = 1e300, worst_pw = 1e300;
     for (int f = 0; f < 20; ++f) {
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30.0, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30.0, NULL, &d), WC_OK);
         wc_amg_level* L = &a->lev[0];
         double conv = fmax(wc_amg_eigen_estimate(L, 400, 0, a->opts.pair_blocks, &s->par),
                            wc_amg_eigen_estimate(L, 60, 1, a->opts.pair_blocks, &s->par));
@@ -264,7 +264,7 @@ static void test_phases_and_options(void) {
     wc_solve_result res;
     for (int r = 0; r < 3; ++r) {
         memset(dv, 0, sizeof dv);
-        CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WEFT_OK);
+        CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, dv, &sc.s->par, &res) == WC_OK);
     }
     CHECK(sv->amg->setups == 3);
     double sum = 0.0;
@@ -280,13 +280,13 @@ static void test_phases_and_options(void) {
     o.coarse_iterations = -1;
     wc_amg* a = (wc_amg*)&o; /* a non-NULL sentinel: create must set it to NULL */
     wc_diag d = {0};
-    CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WC_ERROR_INVALID_ARGUMENT);
     CHECK(a == NULL);
     CHECK(strstr(d.message, "coarse_iterations") != NULL);
     o = wc_default_amg_opts();
     o.power_iterations = 0;
     d.message[0] = '\0';
-    CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(wc_amg_create(&a, &sc.m, &o, NULL, &d) == WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(d.message, "power_iterations") != NULL);
     wc_solver_destroy(sv);
     free_scene(&sc);
@@ -307,9 +307,9 @@ static void test_patterns_only(void) {
     o.prolong_weight = 0.0;
     o.coarse_max = 32;
     wc_diag d = {0};
-    CHECK(wc_amg_create(&full, &m, &o, NULL, &d) == WEFT_OK);
+    CHECK(wc_amg_create(&full, &m, &o, NULL, &d) == WC_OK);
     o.values = 0;
-    CHECK(wc_amg_create(&bare, &m, &o, NULL, &d) == WEFT_OK);
+    CHECK(wc_amg_create(&bare, &m, &o, NULL, &d) == WC_OK);
     if (!full || !bare) return;
     CHECK(full->n_levels == bare->n_levels && bare->n_levels >= 3);
     for (int l = 0; l < bare->n_levels; ++l) {

@@ -114,8 +114,8 @@ static int driver_has_gl43(void) {
     wg_gl_context_desc d;
     memset(&d, 0, sizeof d);
     wg_gl_context* gl = NULL;
-    if (wg_gl_context_create(&d, &gl, err, sizeof err) != WEFT_OK) return 0;
-    int has = wg_gl_begin(gl, err, sizeof err) == WEFT_OK && GLEW_VERSION_4_3;
+    if (wg_gl_context_create(&d, &gl, err, sizeof err) != WC_OK) return 0;
+    int has = wg_gl_begin(gl, err, sizeof err) == WC_OK && GLEW_VERSION_4_3;
     wg_gl_end(gl);
     wg_gl_context_destroy(gl);
     return has;

@@ -28,7 +28,7 @@ static double oscillator_error(const wc_model* m, wc_integrator integ, int n, do
     int bdf2_steps = 0;
     for (int k = 0; k < n; ++k) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WC_OK);
         bdf2_steps += st.bdf2_substeps;
     }
     if (integ == WC_INTEGRATOR_BDF2) CHECK_EQ_INT(bdf2_steps, n - 1);   /* the first step is BE */
@@ -68,7 +68,7 @@ static wc_state* sheet(const wc_model* m, int newton, int ls, int threads) {
     d.threads = threads;
     wc_state* s = NULL;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &dg), WC_OK);
     return s;
 }
 
@@ -83,13 +83,13 @@ static void test_pins_and_history(void) {
     pins[1].particle = ts_sheet_particle(&m, N, N - 1, N - 1);
     wc_diag dg = {0};
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
     int bdf2 = 0, substeps = 0;
     for (int f = 0; f < 30; ++f) {
         for (int k = 0; k < 2; ++k) pins[k].target[0] += 0.01;
-        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
         bdf2 += st.bdf2_substeps;
         substeps += st.substeps;
         for (int k = 0; k < 2; ++k) CHECK(v3_equal(s->x + 3 * pins[k].particle, pins[k].target));
@@ -99,17 +99,17 @@ static void test_pins_and_history(void) {
     CHECK(bdf2 >= substeps - 8);   /* the first substep, and those after a halving, are BE */
     CHECK(s->hist_valid);
     /* set_positions restarts the history */
-    CHECK_EQ_INT(wc_state_set_positions(s, s->x, s->v, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_positions(s, s->x, s->v, &dg), WC_OK);
     CHECK(!s->hist_valid);
     wc_step_stats st;
-    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
     CHECK_EQ_INT(st.bdf2_substeps, 0);
-    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
     CHECK_EQ_INT(st.bdf2_substeps, st.substeps);
     /* another frame length: BE once, then BDF2 again */
-    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &dg), WC_OK);
     CHECK_EQ_INT(st.bdf2_substeps, 0);
-    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &dg), WC_OK);
     CHECK_EQ_INT(st.bdf2_substeps, st.substeps);
     wc_state_destroy(s);
     wc_model_free(&m);

@@ -12,9 +12,9 @@ static wc_model build(const wc_source_mesh* src, int reorder) {
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
     def.reorder = reorder;
-    weft_status st = wc_model_build(&m, src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "build failed: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_model_build(&m, src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "build failed: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     return m;
 }
 
@@ -118,7 +118,7 @@ static void test_rcm_shuffled(void) {
     for (int k = 0; k < grid.n_polys; ++k) sizes[k] = grid.poly_start[k + 1] - grid.poly_start[k];
     wc_source_mesh shuffled;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&shuffled, NULL, pos, nv, sizes, grid.n_polys, pv, 1.0, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&shuffled, NULL, pos, nv, sizes, grid.n_polys, pv, 1.0, &d), WC_OK);
     wc_model plain = build(&shuffled, 0), rcm = build(&shuffled, 1);
     printf("  bandwidth shuffled %d, rcm %d (grid %d x %d)\n", bandwidth(&plain), bandwidth(&rcm), nx, ny);
     CHECK(bandwidth(&plain) > 10 * nx);

@@ -28,9 +28,9 @@ static wc_model build_model(const wc_source_mesh* src) {
     wc_model_def def = wc_default_model_def();
     def.material.k[0] = 900.0, def.material.k[1] = 300.0, def.material.k[2] = 70.0;
     def.material.d[0] = 2.0, def.material.d[1] = 0.7, def.material.d[2] = 0.3;
-    weft_status st = wc_model_build(&m, src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "build failed: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_model_build(&m, src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "build failed: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     return m;
 }
 
@@ -261,7 +261,7 @@ static void check_single_triangle(const double* pos, double area, const double* 
     wc_source_mesh src;
     int sizes[1] = {3}, idx[3] = {0, 1, 2};
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &d), WC_OK);
     wc_model m = build_model(&src);
     wc_source_mesh_free(&src);
     CHECK_EQ_INT(m.n_particles, 3);

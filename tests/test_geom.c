@@ -242,7 +242,7 @@ static void test_bvh_against_brute(void) {
         double* boxes = malloc(sizeof(double) * 6 * (n + 1));
         random_boxes(boxes, n, 1);
         wc_bvh b;
-        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WEFT_OK);
+        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WC_OK);
         CHECK_EQ_INT(b.n_nodes, n ? 2 * n - 1 : 0);
         hits h = {0, malloc(sizeof(int) * (n + 1))};
         int mismatches = 0;
@@ -282,7 +282,7 @@ static void test_bvh_against_brute(void) {
     }
     double bad[6] = {0, 0, 0, NAN, 1, 1};
     wc_bvh b;
-    CHECK(wc_bvh_build(&b, bad, 1, NULL, NULL) == WEFT_ERROR_NONFINITE);
+    CHECK(wc_bvh_build(&b, bad, 1, NULL, NULL) == WC_ERROR_NONFINITE);
 }
 
 int main(void) {

@@ -36,7 +36,7 @@ static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
     wc_sim_def def = amg_def();
     wc_state* s = NULL;
     wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
     ts_pin_far_corners(s, n, NULL);
     for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
     for (int k = 0; k < 3 * m->n_particles; ++k) {
@@ -72,16 +72,16 @@ static wc_state* patches(wc_model* m, int count) {
     }
     wc_source_mesh src;
     wc_diag d = {0};
-    weft_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
     free(pos), free(sizes), free(idx);
-    if (st != WEFT_OK) return NULL;
+    if (st != WC_OK) return NULL;
     wc_model_def mdef = wc_default_model_def();
     st = wc_model_build(m, &src, &mdef, NULL, &d);
     wc_source_mesh_free(&src);
-    if (st != WEFT_OK) return NULL;
+    if (st != WC_OK) return NULL;
     wc_sim_def def = amg_def();
     wc_state* s = NULL;
-    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
     wc_pin* pins = calloc((size_t)count, sizeof *pins);
     for (int p = 0; p < count; ++p) {
         pins[p].particle = m->host_to_particle[9 * p];
@@ -106,36 +106,36 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     s->def.solver.tolerance = 1e-4;
     s->def.solver.max_iterations = 3000;
     wg_sim* g = NULL;
-    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!g) {
         fprintf(stderr, "%s\n", d.message);
         return;
     }
-    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, h, 1.0, &st);
     wc_solver_opts o = s->def.solver;
     o.type = WC_SOLVER_DIRECT;
     wc_solver* direct = NULL;
-    CHECK(wc_solver_create(&direct, m, &o, 1, NULL, &d) == WEFT_OK);
+    CHECK(wc_solver_create(&direct, m, &o, 1, NULL, &d) == WC_OK);
     double* ref = calloc((size_t)n * 3, sizeof(double));
     double* dv = calloc((size_t)n * 3, sizeof(double));
     double* dc = calloc((size_t)n * 3, sizeof(double));
     wc_solve_result rd, rg, rc, rb;
-    CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WEFT_OK);
-    CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WEFT_OK);
-    weft_status gs = wg_sim_debug_solve(g, WC_SOLVER_PCG, dv, &rg, &d);
+    CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WC_OK);
+    CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WC_OK);
+    wc_status gs = wg_sim_debug_solve(g, WC_SOLVER_PCG, dv, &rg, &d);
     double err = ts_max_diff(dv, ref, 3 * n) / ts_max_abs(ref, 3 * n);
     /* the CPU's PCG with the same multigrid (core's, built with the GPU's options) */
     o.type = WC_SOLVER_PCG;
     wc_solver* cpu = NULL;
-    CHECK(wc_solver_create(&cpu, m, &o, 0, NULL, &d) == WEFT_OK);
+    CHECK(wc_solver_create(&cpu, m, &o, 0, NULL, &d) == WC_OK);
     wc_amg_destroy(cpu->amg);
     cpu->amg = NULL;
     wc_amg_opts ao = wg_amg_opts();
     ao.values = 1;
-    CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WEFT_OK);
+    CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WC_OK);
     wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h));
     wc_solve(cpu, WC_SOLVER_PCG, s->A, s->b, &s->filter, dc, &s->par, &rc);
     double err_cpu = ts_max_diff(dc, ref, 3 * n) / ts_max_abs(ref, 3 * n);
@@ -144,18 +144,18 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     wc_sim_def bdef = s->def;
     bdef.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
     wg_sim* gb = NULL;
-    CHECK(wc_state_create(&sb, m, &bdef, NULL, &d) == WEFT_OK);
-    CHECK(wg_sim_create(dev, sb, NULL, &gb, &d) == WEFT_OK);
+    CHECK(wc_state_create(&sb, m, &bdef, NULL, &d) == WC_OK);
+    CHECK(wg_sim_create(dev, sb, NULL, &gb, &d) == WC_OK);
     memset(dc, 0, sizeof(double) * 3 * (size_t)n);
-    CHECK(wg_sim_debug_prepare(gb, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
-    CHECK(wg_sim_debug_set_system(gb, s->A, s->b, &s->filter, &d) == WEFT_OK);
+    CHECK(wg_sim_debug_prepare(gb, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
+    CHECK(wg_sim_debug_set_system(gb, s->A, s->b, &s->filter, &d) == WC_OK);
     wg_sim_debug_solve(gb, WC_SOLVER_PCG, dc, &rb, &d);
     printf("  %-24s %5d particles, %d levels (coarsest %d nodes, %s): GPU multigrid %3d iterations (residual %.2e, "
            "error vs CHOLMOD %.2e), CPU same method %3d (%.2e), GPU block Jacobi %4d\n",
            name, n, g->amg->n_levels, g->amg->lev[g->amg->n_levels - 1].n, g->amg->dense ? "factored" : "smoothed",
            rg.iterations, rg.residual, err, rc.iterations, err_cpu, rb.iterations);
     CHECK(g->amg->dense == same_coarse);
-    CHECK(gs == WEFT_OK);
+    CHECK(gs == WC_OK);
     CHECK(rg.converged);
     CHECK(rb.converged);
     CHECK(rg.residual <= (at_rest ? 1e-3 : 1e-4));
@@ -214,23 +214,23 @@ static void test_whole_run(void) {
     wc_sim_def def = amg_def();
     wc_state *c = NULL, *s = NULL;
     wc_diag d = {0};
-    CHECK(wc_state_create(&c, &m, &def, NULL, &d) == WEFT_OK);
-    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&c, &m, &def, NULL, &d) == WC_OK);
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_OK);
     ts_pin_far_corners(c, 16, NULL);
     ts_pin_far_corners(s, 16, NULL);
     wg_sim* g = NULL;
-    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!g) return;
     int ok = 1, it_g = 0, it_c = 0, n = m.n_particles;
     wc_step_stats sg, sc;
     for (int f = 0; f < 60 && ok; ++f) {
-        ok &= wg_sim_step_frame(g, s, 1.0 / 30.0, &sg, &d) == WEFT_OK;
-        ok &= wc_step_frame(c, 1.0 / 30.0, &sc, &d) == WEFT_OK;
+        ok &= wg_sim_step_frame(g, s, 1.0 / 30.0, &sg, &d) == WC_OK;
+        ok &= wc_step_frame(c, 1.0 / 30.0, &sc, &d) == WC_OK;
         it_g += sg.iterations;
         it_c += sc.iterations;
     }
     CHECK(ok);
-    CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
+    CHECK(wg_sim_download(g, s, &d) == WC_OK);
     double e = ts_max_diff(s->x, c->x, 3 * n);
     printf("  60 frames: max |x_gpu - x_cpu| = %.3g m; PCG iterations GPU %d, CPU %d\n", e, it_g, it_c);
     CHECK(e < 0.002);
@@ -247,14 +247,14 @@ static void test_fragment_refused(void) {
     wc_sim_def def = amg_def();
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_OK);
     int compute = dev->compute;
     dev->compute = 0;
     wg_sim* g = NULL;
-    weft_status st = wg_sim_create(dev, s, NULL, &g, &d);
+    wc_status st = wg_sim_create(dev, s, NULL, &g, &d);
     dev->compute = compute;
     printf("  fragment passes: %s\n", d.message);
-    CHECK(st == WEFT_ERROR_UNSUPPORTED);
+    CHECK(st == WC_ERROR_UNSUPPORTED);
     CHECK(g == NULL);
     CHECK(strstr(d.message, "compute-shader") != NULL && strstr(d.message, "block_jacobi") != NULL);
     wc_state_destroy(s);
@@ -265,8 +265,8 @@ int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
     char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WEFT_OK || wg_gl_begin(gl, err, sizeof err) != WEFT_OK ||
-        wg_device_create(gl, &dev, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
+        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
         fprintf(stderr, "no GL context or device: %s\n", err);
         return 1;
     }

@@ -330,17 +330,17 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     sd.threads = 1;
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     wc_collider c[2];
     int nc = make_colliders(kind, moving, c);
-    CHECK_EQ_INT(wc_state_set_colliders(s, c, nc, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, nc, &d), WC_OK);
     memcpy(c, s->colliders, (size_t)nc * sizeof *c);
     const double h = 1.0 / 60.0;
     int n = m.n_particles, nb = m.pattern.n_blocks;
     scatter(s, c, nc, h);
 
     wg_sim* g = NULL;
-    CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+    CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WC_OK);
     if (!g) {
         printf("    wg_sim_create: %s\n", d.message);
         wc_state_destroy(s);
@@ -401,8 +401,8 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     /* redo begin on the GPU from the original input (x, filter were changed: re-upload) */
     {
         wc_state* s2 = NULL;
-        CHECK_EQ_INT(wc_state_create(&s2, &m, &sd, NULL, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_state_set_colliders(s2, c, nc, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_create(&s2, &m, &sd, NULL, &d), WC_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s2, c, nc, &d), WC_OK);
         rng = seed;
         scatter(s2, c, nc, h);
         wg_sim_upload(g, s2, &d);
@@ -540,9 +540,9 @@ static void test_no_capacity(void) {
     sd.max_colliders = 0;
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     wg_sim* g = NULL;
-    CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+    CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WC_OK);
     if (g) {
         CHECK(g->contacts == NULL);
         CHECK_EQ_INT(wg_contacts_active(g), 0);
@@ -565,8 +565,8 @@ static void test_drop_frames(void) {
         sd.threads = 1;
         wc_state *s = NULL, *sc = NULL;
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_state_create(&sc, &m, &sd, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
+        CHECK_EQ_INT(wc_state_create(&sc, &m, &sd, NULL, &d), WC_OK);
         wc_collider c[2];
         memset(c, 0, sizeof c);
         c[0].type = type;
@@ -584,26 +584,26 @@ static void test_drop_frames(void) {
         c[1].normal[1] = 1.0;
         c[1].thickness = 0.01;
         c[1].friction = 0.4;
-        CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_state_set_colliders(sc, c, 2, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &d), WC_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(sc, c, 2, &d), WC_OK);
         wg_sim* g = NULL;
-        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WC_OK);
         if (!g) {
             printf("  wg_sim_create: %s\n", d.message);
             wc_state_destroy(s), wc_state_destroy(sc), wc_model_free(&m);
             continue;
         }
-        weft_status st = WEFT_OK;
+        wc_status st = WC_OK;
         wc_step_stats gst, cst;
         memset(&gst, 0, sizeof gst);
         memset(&cst, 0, sizeof cst);
-        for (int f = 0; f < 45 && st == WEFT_OK; ++f) {
+        for (int f = 0; f < 45 && st == WC_OK; ++f) {
             st = wg_sim_step_frame(g, s, 1.0 / 30, &gst, &d);
-            CHECK_EQ_INT(wc_step_frame(sc, 1.0 / 30, &cst, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(sc, 1.0 / 30, &cst, &d), WC_OK);
         }
-        CHECK_EQ_INT(st, WEFT_OK);
-        if (st != WEFT_OK) printf("  step: %s\n", d.message);
-        CHECK_EQ_INT(wg_sim_download(g, s, &d), WEFT_OK);
+        CHECK_EQ_INT(st, WC_OK);
+        if (st != WC_OK) printf("  step: %s\n", d.message);
+        CHECK_EQ_INT(wg_sim_download(g, s, &d), WC_OK);
         int np = m.n_particles;
         double worst = 0, diff = 0;
         for (int i = 0; i < np; ++i) {
@@ -639,18 +639,18 @@ static void test_incline(void) {
         sd.gravity[0] = 9.81 * sin(th), sd.gravity[1] = -9.81 * cos(th), sd.gravity[2] = 0.0;
         wc_state *s = NULL, *sc = NULL;
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_state_create(&sc, &m, &sd, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
+        CHECK_EQ_INT(wc_state_create(&sc, &m, &sd, NULL, &d), WC_OK);
         wc_collider c;
         memset(&c, 0, sizeof c);
         c.type = WC_COLLIDER_PLANE;
         c.normal[1] = 1.0;
         c.thickness = 0.01;
         c.friction = mu;
-        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_state_set_colliders(sc, &c, 1, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WC_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(sc, &c, 1, &d), WC_OK);
         wg_sim* g = NULL;
-        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WEFT_OK);
+        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WC_OK);
         if (!g) {
             wc_state_destroy(s), wc_state_destroy(sc), wc_model_free(&m);
             continue;
@@ -659,13 +659,13 @@ static void test_incline(void) {
         double x0 = 0;
         for (int i = 0; i < np; ++i) x0 += s->x[3 * i] / np;
         wc_step_stats gst, cst;
-        weft_status st = WEFT_OK;
-        for (int f = 0; f < 30 && st == WEFT_OK; ++f) {
+        wc_status st = WC_OK;
+        for (int f = 0; f < 30 && st == WC_OK; ++f) {
             st = wg_sim_step_frame(g, s, 1.0 / 30, &gst, &d);
-            CHECK_EQ_INT(wc_step_frame(sc, 1.0 / 30, &cst, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(sc, 1.0 / 30, &cst, &d), WC_OK);
         }
-        CHECK_EQ_INT(st, WEFT_OK);
-        CHECK_EQ_INT(wg_sim_download(g, s, &d), WEFT_OK);
+        CHECK_EQ_INT(st, WC_OK);
+        CHECK_EQ_INT(wg_sim_download(g, s, &d), WC_OK);
         double xg = 0, xc = 0;
         for (int i = 0; i < np; ++i) xg += s->x[3 * i] / np, xc += sc->x[3 * i] / np;
         xg -= x0, xc -= x0;
@@ -691,15 +691,15 @@ int main(void) {
     wg_gl_context_desc desc;
     memset(&desc, 0, sizeof desc);
     char err[1024];
-    if (wg_gl_context_create(&desc, &g_ctx, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&desc, &g_ctx, err, sizeof err) != WC_OK) {
         fprintf(stderr, "no headless GL context: %s\n", err);
         return 1;
     }
-    if (wg_gl_begin(g_ctx, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_begin(g_ctx, err, sizeof err) != WC_OK) {
         fprintf(stderr, "wg_gl_begin: %s\n", err);
         return 1;
     }
-    if (wg_device_create(g_ctx, &g_dev, err, sizeof err) != WEFT_OK) {
+    if (wg_device_create(g_ctx, &g_dev, err, sizeof err) != WC_OK) {
         fprintf(stderr, "wg_device_create: %s\n", err);
         return 1;
     }

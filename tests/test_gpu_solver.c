@@ -26,7 +26,7 @@ static wc_state* sheet_state(wc_model* m, int n, wc_solver_type solver, int warm
     def.sleep_speed = 0.0;
     wc_state* s = NULL;
     wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) {
         fprintf(stderr, "state: %s\n", d.message);
         return NULL;
     }
@@ -55,7 +55,7 @@ static double spmv_error(wg_sim* g, const wc_model* m, wc_state* s, double* x, d
     int n = m->n_particles;
     wc_diag d = {0};
     for (int k = 0; k < 3 * n; ++k) x[k] = (double)rand() / RAND_MAX - 0.5;
-    CHECK(wg_sim_debug_spmv(g, x, y, &d) == WEFT_OK);
+    CHECK(wg_sim_debug_spmv(g, x, y, &d) == WC_OK);
     wc_bsr_mul(&m->pattern, s->A, x, yc, &s->par);
     return ts_max_diff(y, yc, 3 * n) / ts_max_abs(yc, 3 * n);
 }
@@ -67,7 +67,7 @@ static void test_assembly_and_spmv(void) {
     if (!s) return;
     wc_diag d = {0};
     wg_sim* g = NULL;
-    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!g) {
         fprintf(stderr, "%s\n", d.message);
         return;
@@ -79,7 +79,7 @@ static void test_assembly_and_spmv(void) {
     double* S = calloc((size_t)n * 9, sizeof(double));
     double* z = calloc((size_t)n * 3, sizeof(double));
     unsigned char* ndof = calloc((size_t)n, 1);
-    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, A, b, S, z, ndof, NULL, &d) == WEFT_OK);
+    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, A, b, S, z, ndof, NULL, &d) == WC_OK);
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, h, 1.0, &st);
@@ -130,7 +130,7 @@ static void test_reductions_and_large_sheet(void) {
     if (!s) return;
     wc_diag d = {0};
     wg_sim* g = NULL;
-    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!g) return;
     const int sizes[] = {1, 7, 1000, 4097, 90000};
     double* v = calloc(90000, sizeof(double));
@@ -160,13 +160,13 @@ static void test_reductions_and_large_sheet(void) {
     /* and the 300 x 300 sheet steps on the GPU (30 PCG iterations: llvmpipe is slow) */
     s->def.solver.max_iterations = 30;
     wc_step_stats st;
-    weft_status r = wg_sim_step_frame(g, s, 1.0 / 30.0, &st, &d);
-    CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
+    wc_status r = wg_sim_step_frame(g, s, 1.0 / 30.0, &st, &d);
+    CHECK(wg_sim_download(g, s, &d) == WC_OK);
     int finite = 1;
     for (int k = 0; k < 3 * m.n_particles; ++k) finite &= isfinite(s->x[k]) != 0;
     printf("  300 x 300 sheet: one frame on the GPU, status %d, %d iterations, max strain %.3g\n", (int)r,
            st.iterations, st.max_strain);
-    CHECK(r == WEFT_OK);
+    CHECK(r == WC_OK);
     CHECK(finite);
     wg_sim_destroy(g);
     wc_state_destroy(s);
@@ -200,30 +200,30 @@ static void test_solvers_vs_direct(void) {
         s->def.solver.max_iterations = type == WC_SOLVER_JACOBI ? 30000 : 3000;
         wc_diag d = {0};
         wg_sim* g = NULL;
-        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
         if (!g) return;
         int n = m.n_particles;
         double h = 1.0 / 30.0;
-        CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+        CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
         wc_step_stats st;
         memset(&st, 0, sizeof st);
         wc_substep_prepare(s, h, 1.0, &st);
         wc_solver* direct = NULL;
         wc_solver_opts o = s->def.solver;
         o.type = WC_SOLVER_DIRECT;
-        CHECK(wc_solver_create(&direct, &m, &o, 1, NULL, &d) == WEFT_OK);
+        CHECK(wc_solver_create(&direct, &m, &o, 1, NULL, &d) == WC_OK);
         double* ref = calloc((size_t)n * 3, sizeof(double));
         double* dv = calloc((size_t)n * 3, sizeof(double));
         wc_solve_result rd, rg;
-        CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WEFT_OK);
+        CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WC_OK);
         /* the same system on both (the CPU's A and b rounded to float): solvers, not assemblies, compared */
-        CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WEFT_OK);
-        weft_status gs = wg_sim_debug_solve(g, type, dv, &rg, &d);
+        CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WC_OK);
+        wc_status gs = wg_sim_debug_solve(g, type, dv, &rg, &d);
         double err = ts_max_diff(dv, ref, 3 * n) / ts_max_abs(ref, 3 * n);
         /* the CPU's own solver at the same tolerance: the error any solver stopping there has */
         wc_solver* cpu = NULL;
         o.type = type;
-        CHECK(wc_solver_create(&cpu, &m, &o, 0, NULL, &d) == WEFT_OK);
+        CHECK(wc_solver_create(&cpu, &m, &o, 0, NULL, &d) == WC_OK);
         wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h)); /* as the GPU's prepare set its own */
         double* dc = calloc((size_t)n * 3, sizeof(double));
         wc_solve_result rc;
@@ -240,7 +240,7 @@ static void test_solvers_vs_direct(void) {
         printf("  %-9s GPU: %5d iterations, residual %.2e (%s), error vs CHOLMOD %.2e; CPU: %5d, %.2e, %.2e\n",
                wc_solver_name(type), rg.iterations, rg.residual, rg.converged ? "converged" : "not converged", err,
                rc.iterations, rc.residual, err_cpu);
-        CHECK(gs == WEFT_OK);
+        CHECK(gs == WC_OK);
         CHECK(rg.converged);
         CHECK(rg.residual <= 1e-4);
         /* the error left at a given residual is the system's conditioning: per unit of residual,
@@ -254,7 +254,7 @@ static void test_solvers_vs_direct(void) {
             wc_solver_opts co = o;
             co.max_iterations = 20;
             wc_solver* capped = NULL;
-            CHECK(wc_solver_create(&capped, &m, &co, 0, NULL, &d) == WEFT_OK);
+            CHECK(wc_solver_create(&capped, &m, &co, 0, NULL, &d) == WC_OK);
             for (int q = 0; q < 3 * n; ++q) dc[q] = dv[q] = 0.5 * ref[q];
             wc_solve(capped, WC_SOLVER_CHEBYSHEV, s->A, s->b, &s->filter, dc, &s->par, &rc);
             wg_sim_debug_invalidate_rho(g);
@@ -286,13 +286,13 @@ static void test_divergence(void) {
         wc_diag d = {0};
         s->v[3 * 5 + 1] = NAN;
         wg_sim* g = NULL;
-        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
         if (!g) return;
         int n = m.n_particles;
-        CHECK(wg_sim_debug_prepare(g, s, 1.0 / 30.0, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WEFT_OK);
+        CHECK(wg_sim_debug_prepare(g, s, 1.0 / 30.0, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
         wc_solve_result r;
         double* dv = calloc((size_t)n * 3, sizeof(double));
-        weft_status st = wg_sim_debug_solve(g, types[k], dv, &r, &d);
+        wc_status st = wg_sim_debug_solve(g, types[k], dv, &r, &d);
         int finite = 1;
         for (int q = 0; q < 3 * n; ++q) finite &= isfinite(dv[q]) != 0;
         /* the CPU on the same input */
@@ -300,29 +300,29 @@ static void test_divergence(void) {
         memset(&sst, 0, sizeof sst);
         wc_substep_prepare(s, 1.0 / 30.0, 1.0, &sst);
         wc_solver* cpu = NULL;
-        CHECK(wc_solver_create(&cpu, &m, &s->def.solver, 0, NULL, &d) == WEFT_OK);
+        CHECK(wc_solver_create(&cpu, &m, &s->def.solver, 0, NULL, &d) == WC_OK);
         double* dc = calloc((size_t)n * 3, sizeof(double));
         wc_solve_result rc;
-        weft_status sc = wc_solve(cpu, types[k], s->A, s->b, &s->filter, dc, &s->par, &rc);
+        wc_status sc = wc_solve(cpu, types[k], s->A, s->b, &s->filter, dc, &s->par, &rc);
         printf("  %-9s NaN in b: GPU status %d, CPU status %d\n", wc_solver_name(types[k]), (int)st, (int)sc);
         CHECK(finite);
-        CHECK(st == WEFT_ERROR_SOLVER_DIVERGED);
-        CHECK(sc == WEFT_ERROR_SOLVER_DIVERGED);
+        CHECK(st == WC_ERROR_SOLVER_DIVERGED);
+        CHECK(sc == WC_ERROR_SOLVER_DIVERGED);
         /* the cloth made finite again: the next solve must not inherit the NaN the diverged one
            left in the solver's textures. PCG's start once formed S (t + 0 c) from the old c:
            0 NaN is NaN on NVIDIA's driver (seen there with a new texture's stale contents), while
            llvmpipe folds 0 x to 0, so on llvmpipe this passed before the fix too */
         s->v[3 * 5 + 1] = 0.0;
         wc_substep_prepare(s, 1.0 / 30.0, 1.0, &sst);
-        CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WEFT_OK);
+        CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WC_OK);
         memset(dv, 0, (size_t)n * 3 * sizeof(double));
         wc_solve_result r2;
-        weft_status st2 = wg_sim_debug_solve(g, types[k], dv, &r2, &d);
+        wc_status st2 = wg_sim_debug_solve(g, types[k], dv, &r2, &d);
         finite = 1;
         for (int q = 0; q < 3 * n; ++q) finite &= isfinite(dv[q]) != 0;
         printf("  %-9s then a finite system: GPU status %d, %d iterations, residual %.2e\n", wc_solver_name(types[k]),
                (int)st2, r2.iterations, r2.residual);
-        CHECK_EQ_INT(st2, WEFT_OK);
+        CHECK_EQ_INT(st2, WC_OK);
         CHECK(finite);
         if (types[k] == WC_SOLVER_PCG) CHECK(r2.converged);
         free(dv), free(dc);
@@ -348,20 +348,20 @@ static void test_whole_run(void) {
         wc_state_create(&s, &m, &c->def, NULL, &d);
         wc_state_set_pins(s, c->pins, c->n_pins, &d);
         wg_sim* g = NULL;
-        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_OK);
+        CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
         if (!g) return;
         int ok = 1, n = m.n_particles;
         wc_step_stats sg, sc;
         int iters_g = 0, iters_c = 0;
         for (int f = 0; f < 60 && ok; ++f) {
-            ok &= wg_sim_step_frame(g, s, 1.0 / 30.0, &sg, &d) == WEFT_OK;
+            ok &= wg_sim_step_frame(g, s, 1.0 / 30.0, &sg, &d) == WC_OK;
             if (!ok) fprintf(stderr, "GPU frame %d: %s\n", f, d.message);
-            ok &= wc_step_frame(c, 1.0 / 30.0, &sc, &d) == WEFT_OK;
+            ok &= wc_step_frame(c, 1.0 / 30.0, &sc, &d) == WC_OK;
             iters_g += sg.iterations;
             iters_c += sc.iterations;
         }
         CHECK(ok);
-        CHECK(wg_sim_download(g, s, &d) == WEFT_OK);
+        CHECK(wg_sim_download(g, s, &d) == WC_OK);
         double e = ts_max_diff(s->x, c->x, 3 * n);
         double drop = c->x[3 * ts_sheet_particle(&m, 16, 0, 0) + 1] - 1.0;
         printf("  60 frames, %-9s: max |x_gpu - x_cpu| = %.3g m on a 1 m sheet (its far corner moved %.3g m); "
@@ -389,10 +389,10 @@ static void test_texture_limit(void) {
     wc_diag d = {0};
     wg_sim* g = NULL;
     double x0 = s->x[0];
-    weft_status st = wg_sim_create(dev, s, NULL, &g, &d);
+    wc_status st = wg_sim_create(dev, s, NULL, &g, &d);
     dev->max_texture_size = saved;
     printf("  texture limit 4: status %d, \"%s\"\n", (int)st, d.message);
-    CHECK(st == WEFT_ERROR_GPU);
+    CHECK(st == WC_ERROR_GPU);
     CHECK(g == NULL);
     CHECK(strstr(d.message, "169 particles") != NULL && strstr(d.message, "4 x 4") != NULL);
     CHECK(s->x[0] == x0);
@@ -407,7 +407,7 @@ static void test_direct_refused(void) {
     if (!s) return;
     wc_diag d = {0};
     wg_sim* g = NULL;
-    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WEFT_ERROR_UNSUPPORTED);
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_ERROR_UNSUPPORTED);
     CHECK(g == NULL && strstr(d.message, "no direct solver") != NULL);
     wc_state_destroy(s);
     wc_model_free(&m);
@@ -447,15 +447,15 @@ int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
     char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK) {
         fprintf(stderr, "no GL context: %s\n", err);
         return 1;
     }
-    if (wg_gl_begin(gl, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_begin(gl, err, sizeof err) != WC_OK) {
         fprintf(stderr, "wg_gl_begin: %s\n", err);
         return 1;
     }
-    if (wg_device_create(gl, &dev, err, sizeof err) != WEFT_OK) {
+    if (wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
         fprintf(stderr, "device: %s\n", err);
         return 1;
     }

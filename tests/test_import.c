@@ -51,13 +51,13 @@ static const char* base_name(const char* p) {
 }
 
 /* Import must fail with status; message names the file (and holds `also` if given). */
-static void expect_import_fail(const char* path, const wc_import_opts* o, weft_status want,
+static void expect_import_fail(const char* path, const wc_import_opts* o, wc_status want,
                                const char* also) {
     wc_source_mesh m;
     memset(&m, 0xAB, sizeof m);
     wc_diag d;
     memset(&d, 0, sizeof d);
-    weft_status st = wc_import_file(&m, NULL, path, o, &d);
+    wc_status st = wc_import_file(&m, NULL, path, o, &d);
     CHECK_EQ_INT(st, want);
     CHECK_EQ_INT(d.status, want);
     CHECK(is_zeroed(&m));
@@ -103,7 +103,7 @@ static void test_obj_polygons(void) {
     wc_source_mesh m;
     wc_diag d;
     memset(&d, 0, sizeof d);
-    CHECK_EQ_INT(wc_import_file(&m, NULL, path, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, NULL, &d), WC_OK);
     CHECK_EQ_INT(m.n_verts, 11);
     CHECK_EQ_INT(m.n_polys, 4);
     CHECK_EQ_INT(m.n_points, 1);
@@ -132,7 +132,7 @@ static void test_obj_polygons(void) {
     CHECK_NEAR(o.scale, 1.0, 0);
     CHECK(o.select == NULL);
     o.scale = 0.5;
-    CHECK_EQ_INT(wc_import_file(&m, &a, path, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, &a, path, &o, &d), WC_OK);
     CHECK_NEAR(m.unit_scale, 0.5, 0);
     check_pos(&m, 7, 1.25, 1.0, 0, 0);
     CHECK(m.alloc.user == &c);
@@ -145,7 +145,7 @@ static void test_obj_polygons(void) {
         c.allocs = c.frees = 0;
         c.fail_after = k;
         memset(&m, 0xAB, sizeof m);
-        CHECK_EQ_INT(wc_import_file(&m, &a, path, &o, &d), WEFT_ERROR_OUT_OF_MEMORY);
+        CHECK_EQ_INT(wc_import_file(&m, &a, path, &o, &d), WC_ERROR_OUT_OF_MEMORY);
         CHECK(is_zeroed(&m));
         CHECK_EQ_INT(c.allocs, c.frees);
     }
@@ -213,7 +213,7 @@ static void test_fbx_units_and_transforms(void) {
     wc_source_mesh m;
     wc_diag d;
     memset(&d, 0, sizeof d);
-    CHECK_EQ_INT(wc_import_file(&m, NULL, fbx, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, fbx, NULL, &d), WC_OK);
     CHECK_NEAR(m.unit_scale, 0.01, 1e-15);
     CHECK_EQ_INT(m.n_meshes, 2);
     CHECK_EQ_INT(m.n_verts, 7);
@@ -231,7 +231,7 @@ static void test_fbx_units_and_transforms(void) {
     wc_import_opts o = wc_default_import_opts();
     o.scale = 2;
     o.select = "B";
-    CHECK_EQ_INT(wc_import_file(&m, NULL, fbx, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, fbx, &o, &d), WC_OK);
     CHECK_NEAR(m.unit_scale, 0.02, 1e-15);
     CHECK_EQ_INT(m.n_verts, 3);
     CHECK_EQ_INT(m.n_meshes, 1);
@@ -241,7 +241,7 @@ static void test_fbx_units_and_transforms(void) {
     /* UnitScaleFactor 2.54 (inches): metres per unit 0.0254, exact despite assimp's float */
     CHECK(edit_file(fbx, "\"UnitScaleFactor\", \"double\", \"Number\", \"\", 1\n",
                     "\"UnitScaleFactor\", \"double\", \"Number\", \"\", 2.54\n"));
-    CHECK_EQ_INT(wc_import_file(&m, NULL, fbx, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, fbx, NULL, &d), WC_OK);
     CHECK_NEAR(m.unit_scale, 0.0254, 1e-17);
     check_pos(&m, 6, 4 * 0.0254, 9 * 0.0254, 2 * 0.0254, 1e-7);
     wc_source_mesh_free(&m);
@@ -308,7 +308,7 @@ static void test_gltf_nodes_and_selection(void) {
     wc_diag d;
     memset(&d, 0, sizeof d);
     const double tol = 1e-6;
-    CHECK_EQ_INT(wc_import_file(&m, NULL, path, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, NULL, &d), WC_OK);
     CHECK_EQ_INT(m.n_meshes, 3);     /* Square twice (Left, Right), Tri once */
     CHECK_EQ_INT(m.n_verts, 11);
     CHECK_EQ_INT(m.n_polys, 5);
@@ -324,33 +324,33 @@ static void test_gltf_nodes_and_selection(void) {
 
     wc_import_opts o = wc_default_import_opts();
     o.select = "Group";   /* a node: with its subtree */
-    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WC_OK);
     CHECK_EQ_INT(m.n_meshes, 2);
     CHECK_EQ_INT(m.n_verts, 8);
     check_pos(&m, 6, 1, 2, 5, tol);
     wc_source_mesh_free(&m);
 
     o.select = "Right";
-    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WC_OK);
     CHECK_EQ_INT(m.n_verts, 4);
     check_pos(&m, 1, 3, 2, 5, tol);
     wc_source_mesh_free(&m);
 
     o.select = "Square";   /* no node of that name: the mesh, at every node that uses it */
-    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WC_OK);
     CHECK_EQ_INT(m.n_meshes, 2);
     CHECK_EQ_INT(m.n_verts, 8);
     check_pos(&m, 2, -1, 1, 5, tol);
     wc_source_mesh_free(&m);
 
     o.select = "Tri";
-    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WC_OK);
     CHECK_EQ_INT(m.n_verts, 3);
     check_pos(&m, 2, 0, 11, 0, tol);
     wc_source_mesh_free(&m);
 
     o.select = "Nope";
-    expect_import_fail(path, &o, WEFT_ERROR_IMPORT, "'Nope'");
+    expect_import_fail(path, &o, WC_ERROR_IMPORT, "'Nope'");
     memset(&m, 0, sizeof m);
     wc_import_file(&m, NULL, path, &o, &d);
     CHECK(strstr(d.message, "'Square'") && strstr(d.message, "'Tri'"));
@@ -365,9 +365,9 @@ static void test_gltf_nodes_and_selection(void) {
                                 "o a_rather_long_object_name_%02d\nv 0 0 %d\nv 1 0 %d\nv 0 1 %d\n"
                                 "f %d %d %d\n", i, i, i, i, 3 * i + 1, 3 * i + 2, 3 * i + 3);
     const char* many = ts_write_tmp("many.obj", obj);
-    expect_import_fail(many, &o, WEFT_ERROR_IMPORT, "...; nodes (61)");
+    expect_import_fail(many, &o, WC_ERROR_IMPORT, "...; nodes (61)");
     o.select = "a_rather_long_object_name_42";
-    CHECK_EQ_INT(wc_import_file(&m, NULL, many, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, many, &o, &d), WC_OK);
     CHECK_EQ_INT(m.n_verts, 3);
     check_pos(&m, 0, 0, 0, 42, 0);
     wc_source_mesh_free(&m);
@@ -378,12 +378,12 @@ static void test_gltf_nodes_and_selection(void) {
 static void test_bad_files(void) {
     wc_diag d;
     memset(&d, 0, sizeof d);
-    CHECK_EQ_INT(wc_import_file(NULL, NULL, "x.obj", NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
-    expect_import_fail(NULL, NULL, WEFT_ERROR_INVALID_ARGUMENT, "NULL");
-    expect_import_fail("", NULL, WEFT_ERROR_INVALID_ARGUMENT, "empty");
-    expect_import_fail(ts_tmp_path("does_not_exist.obj"), NULL, WEFT_ERROR_IO, NULL);
-    expect_import_fail(WEFT_TEST_TMPDIR, NULL, WEFT_ERROR_IO, NULL);   /* a directory */
-    expect_import_fail(write_bytes("empty.obj", "", 0), NULL, WEFT_ERROR_IMPORT, "empty");
+    CHECK_EQ_INT(wc_import_file(NULL, NULL, "x.obj", NULL, &d), WC_ERROR_INVALID_ARGUMENT);
+    expect_import_fail(NULL, NULL, WC_ERROR_INVALID_ARGUMENT, "NULL");
+    expect_import_fail("", NULL, WC_ERROR_INVALID_ARGUMENT, "empty");
+    expect_import_fail(ts_tmp_path("does_not_exist.obj"), NULL, WC_ERROR_IO, NULL);
+    expect_import_fail(WEFT_TEST_TMPDIR, NULL, WC_ERROR_IO, NULL);   /* a directory */
+    expect_import_fail(write_bytes("empty.obj", "", 0), NULL, WC_ERROR_IMPORT, "empty");
 
     unsigned char junk[512];
     uint32_t s = 12345u;
@@ -392,9 +392,9 @@ static void test_bad_files(void) {
         junk[i] = (unsigned char)(s >> 24);
     }
     junk[3] = 0x01;   /* a control byte early on, whatever the generator gives */
-    expect_import_fail(write_bytes("garbage.fbx", junk, sizeof junk), NULL, WEFT_ERROR_IMPORT,
+    expect_import_fail(write_bytes("garbage.fbx", junk, sizeof junk), NULL, WC_ERROR_IMPORT,
                        NULL);
-    expect_import_fail(write_bytes("garbage.obj", junk, sizeof junk), NULL, WEFT_ERROR_IMPORT,
+    expect_import_fail(write_bytes("garbage.obj", junk, sizeof junk), NULL, WC_ERROR_IMPORT,
                        NULL);
     /* No truncated-FBX case: assimp 5.2.5's FBX parser leaks its element tree when it throws
      * "FBX-Parser unexpected end of file" (fixed upstream by assimp PR #5067), which ASan reports.
@@ -407,33 +407,33 @@ static void test_bad_files(void) {
     u16[n++] = 0xFF;
     u16[n++] = 0xFE;
     for (const char* c = text; *c; ++c) { u16[n++] = (unsigned char)*c; u16[n++] = 0; }
-    expect_import_fail(write_bytes("utf16.obj", u16, n), NULL, WEFT_ERROR_IMPORT, "UTF-16");
-    expect_import_fail(write_bytes("utf16_nobom.obj", u16 + 2, n - 2), NULL, WEFT_ERROR_IMPORT,
+    expect_import_fail(write_bytes("utf16.obj", u16, n), NULL, WC_ERROR_IMPORT, "UTF-16");
+    expect_import_fail(write_bytes("utf16_nobom.obj", u16 + 2, n - 2), NULL, WC_ERROR_IMPORT,
                        "UTF-16");
 
     expect_import_fail(ts_write_tmp("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), NULL,
-                       WEFT_ERROR_NONFINITE, "vertex 1");
+                       WC_ERROR_NONFINITE, "vertex 1");
     expect_import_fail(ts_write_tmp("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n"), NULL,
-                       WEFT_ERROR_NONFINITE, "vertex 2");
+                       WC_ERROR_NONFINITE, "vertex 2");
     wc_import_opts o = wc_default_import_opts();
     o.scale = 1e300;   /* finite in the file, overflows once scaled */
     expect_import_fail(ts_write_tmp("big.obj", "v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n"), &o,
-                       WEFT_ERROR_NONFINITE, "vertex 1");
+                       WC_ERROR_NONFINITE, "vertex 1");
     expect_import_fail(ts_write_tmp("verts_only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), NULL,
-                       WEFT_ERROR_EMPTY_MESH, NULL);
+                       WC_ERROR_EMPTY_MESH, NULL);
     expect_import_fail(ts_write_tmp("comments.obj", "# nothing here\n\n"), NULL,
-                       WEFT_ERROR_EMPTY_MESH, NULL);
+                       WC_ERROR_EMPTY_MESH, NULL);
     expect_import_fail(ts_write_tmp("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\n"),
-                       NULL, WEFT_ERROR_EMPTY_MESH, "2 lines");
+                       NULL, WC_ERROR_EMPTY_MESH, "2 lines");
 
     const char* ok = ts_write_tmp("mixed.obj", k_mixed_obj);
     o.scale = -1;
-    expect_import_fail(ok, &o, WEFT_ERROR_INVALID_ARGUMENT, "scale");
+    expect_import_fail(ok, &o, WC_ERROR_INVALID_ARGUMENT, "scale");
     o.scale = NAN;
-    expect_import_fail(ok, &o, WEFT_ERROR_INVALID_ARGUMENT, "scale");
+    expect_import_fail(ok, &o, WC_ERROR_INVALID_ARGUMENT, "scale");
     o.scale = 0;   /* zero means the default */
     wc_source_mesh m;
-    CHECK_EQ_INT(wc_import_file(&m, NULL, ok, &o, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_import_file(&m, NULL, ok, &o, &d), WC_OK);
     CHECK_NEAR(m.unit_scale, 1.0, 0);
     wc_source_mesh_free(&m);
     wc_source_mesh_free(NULL);
@@ -448,7 +448,7 @@ typedef struct arrays_case {
     int np;
     const int* idx;
     double scale;
-    weft_status want;
+    wc_status want;
     const char* msg;
 } arrays_case;
 
@@ -461,7 +461,7 @@ static void test_from_arrays(void) {
     wc_source_mesh m;
     wc_diag d;
     memset(&d, 0, sizeof d);
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&m, &a, pos, 5, sizes, 4, idx, 2.0, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&m, &a, pos, 5, sizes, 4, idx, 2.0, &d), WC_OK);
     CHECK_EQ_INT(m.n_verts, 5);
     CHECK_EQ_INT(m.n_polys, 2);
     CHECK_EQ_INT(m.n_lines, 1);
@@ -480,7 +480,7 @@ static void test_from_arrays(void) {
         c.fail_after = k;
         memset(&m, 0xAB, sizeof m);
         CHECK_EQ_INT(wc_source_mesh_from_arrays(&m, &a, pos, 5, sizes, 4, idx, 1.0, &d),
-                     WEFT_ERROR_OUT_OF_MEMORY);
+                     WC_ERROR_OUT_OF_MEMORY);
         CHECK(is_zeroed(&m));
         CHECK_EQ_INT(c.allocs, c.frees);
     }
@@ -493,31 +493,31 @@ static void test_from_arrays(void) {
     static const int big_idx[] = {0, 1, 2, 3, 1, 4, 5, 0, 4, 3};
     static const int lines[] = {2, 2};
     const arrays_case cases[] = {
-        {pos, -1, sizes, 4, idx, 1, WEFT_ERROR_INVALID_ARGUMENT, "negative"},
-        {pos, 5, sizes, -4, idx, 1, WEFT_ERROR_INVALID_ARGUMENT, "negative"},
-        {NULL, 5, sizes, 4, idx, 1, WEFT_ERROR_INVALID_ARGUMENT, "positions"},
-        {pos, 5, NULL, 4, idx, 1, WEFT_ERROR_INVALID_ARGUMENT, "poly_sizes"},
-        {pos, 5, sizes, 4, NULL, 1, WEFT_ERROR_INVALID_ARGUMENT, "indices"},
-        {pos, 5, bad_size, 4, idx, 1, WEFT_ERROR_INVALID_ARGUMENT, "polygon 1"},
-        {pos, 5, sizes, 4, neg_idx, 1, WEFT_ERROR_OUT_OF_RANGE, "indices[5] = -1"},
-        {pos, 5, sizes, 4, big_idx, 1, WEFT_ERROR_OUT_OF_RANGE,
+        {pos, -1, sizes, 4, idx, 1, WC_ERROR_INVALID_ARGUMENT, "negative"},
+        {pos, 5, sizes, -4, idx, 1, WC_ERROR_INVALID_ARGUMENT, "negative"},
+        {NULL, 5, sizes, 4, idx, 1, WC_ERROR_INVALID_ARGUMENT, "positions"},
+        {pos, 5, NULL, 4, idx, 1, WC_ERROR_INVALID_ARGUMENT, "poly_sizes"},
+        {pos, 5, sizes, 4, NULL, 1, WC_ERROR_INVALID_ARGUMENT, "indices"},
+        {pos, 5, bad_size, 4, idx, 1, WC_ERROR_INVALID_ARGUMENT, "polygon 1"},
+        {pos, 5, sizes, 4, neg_idx, 1, WC_ERROR_OUT_OF_RANGE, "indices[5] = -1"},
+        {pos, 5, sizes, 4, big_idx, 1, WC_ERROR_OUT_OF_RANGE,
          "indices[6] = 5 (corner 2 of polygon 1)"},
-        {nan_pos, 5, sizes, 4, idx, 1, WEFT_ERROR_NONFINITE, "vertex 2"},
-        {inf_pos, 5, sizes, 4, idx, 1, WEFT_ERROR_NONFINITE, "vertex 4"},
-        {big_pos, 5, sizes, 4, idx, 1e10, WEFT_ERROR_NONFINITE, "vertex 3"},
-        {pos, 5, sizes, 4, idx, 0, WEFT_ERROR_INVALID_ARGUMENT, "scale"},
-        {pos, 5, sizes, 4, idx, -1, WEFT_ERROR_INVALID_ARGUMENT, "scale"},
-        {pos, 5, sizes, 4, idx, NAN, WEFT_ERROR_INVALID_ARGUMENT, "scale"},
-        {pos, 5, sizes, 4, idx, INFINITY, WEFT_ERROR_INVALID_ARGUMENT, "scale"},
-        {pos, 5, lines, 2, idx, 1, WEFT_ERROR_EMPTY_MESH, "2 lines"},
-        {NULL, 0, NULL, 0, NULL, 1, WEFT_ERROR_EMPTY_MESH, "no polygons"},
+        {nan_pos, 5, sizes, 4, idx, 1, WC_ERROR_NONFINITE, "vertex 2"},
+        {inf_pos, 5, sizes, 4, idx, 1, WC_ERROR_NONFINITE, "vertex 4"},
+        {big_pos, 5, sizes, 4, idx, 1e10, WC_ERROR_NONFINITE, "vertex 3"},
+        {pos, 5, sizes, 4, idx, 0, WC_ERROR_INVALID_ARGUMENT, "scale"},
+        {pos, 5, sizes, 4, idx, -1, WC_ERROR_INVALID_ARGUMENT, "scale"},
+        {pos, 5, sizes, 4, idx, NAN, WC_ERROR_INVALID_ARGUMENT, "scale"},
+        {pos, 5, sizes, 4, idx, INFINITY, WC_ERROR_INVALID_ARGUMENT, "scale"},
+        {pos, 5, lines, 2, idx, 1, WC_ERROR_EMPTY_MESH, "2 lines"},
+        {NULL, 0, NULL, 0, NULL, 1, WC_ERROR_EMPTY_MESH, "no polygons"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         const arrays_case* k = &cases[i];
         c.allocs = c.frees = 0;
         c.fail_after = -1;
         memset(&m, 0xAB, sizeof m);
-        weft_status st = wc_source_mesh_from_arrays(&m, &a, k->pos, k->nv, k->sizes, k->np,
+        wc_status st = wc_source_mesh_from_arrays(&m, &a, k->pos, k->nv, k->sizes, k->np,
                                                     k->idx, k->scale, &d);
         CHECK_EQ_INT(st, k->want);
         CHECK(is_zeroed(&m));
@@ -527,7 +527,7 @@ static void test_from_arrays(void) {
             fprintf(stderr, "  case %zu -> %d: %s\n", i, (int)st, d.message);
     }
     CHECK_EQ_INT(wc_source_mesh_from_arrays(NULL, NULL, pos, 5, sizes, 4, idx, 1, &d),
-                 WEFT_ERROR_INVALID_ARGUMENT);
+                 WC_ERROR_INVALID_ARGUMENT);
 }
 
 /* ---- the shared meshes (when present) ---------------------------------------------------- */
@@ -549,9 +549,9 @@ static void test_shared_meshes(void) {
         wc_source_mesh m;
         wc_diag d;
         memset(&d, 0, sizeof d);
-        weft_status st = wc_import_file(&m, NULL, path, NULL, &d);
-        CHECK_EQ_INT(st, WEFT_OK);
-        if (st != WEFT_OK) {
+        wc_status st = wc_import_file(&m, NULL, path, NULL, &d);
+        CHECK_EQ_INT(st, WC_OK);
+        if (st != WC_OK) {
             fprintf(stderr, "  %s: %s\n", e->d_name, d.message);
             continue;
         }
@@ -579,7 +579,7 @@ static void test_shared_meshes(void) {
         if (strcmp(e->d_name, "assimp_cubes_with_names_ascii7500.fbx") == 0) {
             wc_import_opts o = wc_default_import_opts();
             o.select = "\xD0\x9A\xD1\x83\xD0\xB1\x31";   /* "Куб1": two nodes, two meshes */
-            CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_import_file(&m, NULL, path, &o, &d), WC_OK);
             CHECK_EQ_INT(m.n_meshes, 2);
             wc_source_mesh_free(&m);
         }

@@ -113,7 +113,7 @@ static void square(tmesh* m, int n, double s) {
 static wc_mesh_collider* make_collider(const tmesh* t, double thickness, double friction) {
     wc_mesh_collider* mc = NULL;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_mesh_collider_create(&mc, t->x, t->nv, t->t, t->nt, thickness, friction, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc, t->x, t->nv, t->t, t->nt, thickness, friction, NULL, &d), WC_OK);
     return mc;
 }
 
@@ -191,21 +191,21 @@ static void drop_on(const char* name, const tmesh* t, double thickness, double f
         sd.newton_iterations = newton;
         sd.line_search = 1;
     }
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     wc_mesh_collider* mc = make_collider(t, thickness, friction);
-    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WC_OK);
     wc_collider floor;
     memset(&floor, 0, sizeof floor);
     floor.type = WC_COLLIDER_PLANE;
     v3_set(floor.normal, 0, 1, 0);
     floor.thickness = 0.01;
     floor.friction = 0.5;
-    CHECK_EQ_INT(wc_state_set_colliders(s, &floor, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, &floor, 1, &d), WC_OK);
     double worst_pen = 0.0, worst_shell = -HUGE_VAL;
     int contacts = 0, failed = 0, rollbacks = 0, pairs = 0;
     for (int f = 0; f < 150; ++f) {
         wc_step_stats st;
-        if (wc_step_frame(s, 1.0 / 30, &st, &d) != WEFT_OK) ++failed;
+        if (wc_step_frame(s, 1.0 / 30, &st, &d) != WC_OK) ++failed;
         contacts = st.contacts;
         rollbacks += st.rollbacks;
         pairs += st.mesh_pairs_active;
@@ -252,20 +252,20 @@ static void test_fast_bar(void) {
     wc_diag d = {0};
     wc_sim_def sd = wc_default_sim_def();
     sd.strain_limit = 0.1;
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);
     pins[0].particle = ts_sheet_particle(&m, n, 0, n - 1);
     pins[1].particle = ts_sheet_particle(&m, n, n - 1, n - 1);
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, m.rest_pos + 3 * pins[k].particle);
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WC_OK);
     /* a bar 2 m long (x), 2 cm x 2 cm, across the sheet's lower part, rising as it goes */
     double lo[3] = {-1.0, 0.1, -0.01}, hi[3] = {1.0, 0.12, 0.01};
     box(&g_mesh, lo, hi);
     double z0 = -0.35, speed = 15.0, rise = 4.0, dt = 1.0 / 25;
     for (int v = 0; v < g_mesh.nv; ++v) g_mesh.x[3 * v + 2] += z0;
     wc_mesh_collider* mc = make_collider(&g_mesh, 0.005, 0.3);
-    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WC_OK);
     int np = m.n_particles, crossed = 0, failed = 0;
     double* prev = malloc(3 * (size_t)np * sizeof(double));
     double* target = malloc(3 * (size_t)g_mesh.nv * sizeof(double));
@@ -277,8 +277,8 @@ static void test_fast_bar(void) {
             target[3 * v + 2] += speed * dt * (f + 1);
             target[3 * v + 1] += rise * dt * (f + 1);
         }
-        CHECK_EQ_INT(wc_state_set_mesh_target(s, 0, target, &d), WEFT_OK);
-        if (wc_step_frame(s, dt, NULL, &d) != WEFT_OK) ++failed;
+        CHECK_EQ_INT(wc_state_set_mesh_target(s, 0, target, &d), WC_OK);
+        if (wc_step_frame(s, dt, NULL, &d) != WC_OK) ++failed;
         /* one substep per frame: the collider's last substep is the whole frame (xa -> xb) */
         for (int i = 0; i < np; ++i) {
             double t, w[3];
@@ -339,9 +339,9 @@ static void test_projection_uncrosses(void) {
         tgt[3 * k + 2] -= 0.3;
     }
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_mesh_collider_set_all(mc, tgt, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_mesh_collider_set_all(mc, tgt, &d), WC_OK);
     for (int k = 0; k < g_mesh.nv; ++k) tgt[3 * k + 2] += 0.6;
-    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, tgt, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, tgt, &d), WC_OK);
     wc_mesh_collider_substep(mc, 0.0, 1.0, 0.04);
     double p0[3] = {0.1, 0.0, 0.1}, p[3] = {0.1, 0.0, 0.1}, pv[3] = {0, 0, 0};
     CHECK_EQ_INT(wc_contacts_project_from(&ct, &c, 1, NULL, p0, p, pv, &par), 1);
@@ -368,7 +368,7 @@ static void test_begin_catches_crossing(void) {
     memcpy(tgt, g_mesh.x, 3 * (size_t)g_mesh.nv * sizeof(double));
     for (int k = 0; k < 8; ++k) tgt[3 * k + 2] += 0.6;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, tgt, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, tgt, &d), WC_OK);
     double h = 0.04;
     wc_mesh_collider_substep(mc, 0.0, 1.0, h);
     wc_collider c;
@@ -406,14 +406,14 @@ static double carried(double friction, double v, int frames) {
     wc_diag d = {0};
     wc_sim_def sd = wc_default_sim_def();
     sd.substeps = 2;
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     square(&g_mesh, 6, 3.0);
     wc_mesh_collider* mc = make_collider(&g_mesh, 0.005, friction);
-    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WC_OK);
     double dt = 1.0 / 30;
     int failed = 0;
     for (int f = 0; f < 20; ++f) /* settle */
-        if (wc_step_frame(s, dt, NULL, &d) != WEFT_OK) ++failed;
+        if (wc_step_frame(s, dt, NULL, &d) != WC_OK) ++failed;
     double x0 = 0.0, x1 = 0.0;
     for (int i = 0; i < m.n_particles; ++i) x0 += s->x[3 * i] / m.n_particles;
     double* target = malloc(3 * (size_t)g_mesh.nv * sizeof(double));
@@ -424,8 +424,8 @@ static double carried(double friction, double v, int frames) {
             double stretch = g_mesh.x[3 * k] > 1.4 ? 1.01 : 1.0;
             target[3 * k] += v * dt * (f + 1) * stretch;
         }
-        CHECK_EQ_INT(wc_state_set_mesh_target(s, 0, target, &d), WEFT_OK);
-        if (wc_step_frame(s, dt, NULL, &d) != WEFT_OK) ++failed;
+        CHECK_EQ_INT(wc_state_set_mesh_target(s, 0, target, &d), WC_OK);
+        if (wc_step_frame(s, dt, NULL, &d) != WC_OK) ++failed;
     }
     for (int i = 0; i < m.n_particles; ++i) x1 += s->x[3 * i] / m.n_particles;
     double y_min = HUGE_VAL;

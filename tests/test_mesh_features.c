@@ -144,25 +144,25 @@ static void drop(const char* name, const tmesh* body, int frames, int newton, tr
         sd.newton_iterations = newton;
         sd.line_search = 1;
     }
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     if (tr) {
         s->newton_trace = on_iterate;
         s->newton_trace_user = tr;
     }
     wc_mesh_collider* mc = NULL;
-    CHECK_EQ_INT(wc_mesh_collider_create(&mc, body->x, body->nv, body->t, body->nt, 0.005, 0.4, NULL, &d), WEFT_OK);
-    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc, body->x, body->nv, body->t, body->nt, 0.005, 0.4, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WC_OK);
     wc_collider floor;
     memset(&floor, 0, sizeof floor);
     floor.type = WC_COLLIDER_PLANE;
     v3_set(floor.normal, 0, 1, 0);
     floor.thickness = 0.005;
     floor.friction = 0.5;
-    CHECK_EQ_INT(wc_state_set_colliders(s, &floor, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, &floor, 1, &d), WC_OK);
     memset(r, 0, sizeof *r);
     for (int f = 0; f < frames; ++f) {
         wc_step_stats st;
-        if (wc_step_frame(s, 1.0 / 30, &st, &d) != WEFT_OK) ++r->failed;
+        if (wc_step_frame(s, 1.0 / 30, &st, &d) != WC_OK) ++r->failed;
         r->rollbacks += st.rollbacks;
         r->pairs += st.mesh_pairs;
         r->active += st.mesh_pairs_active;
@@ -218,7 +218,7 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
     const double th = 0.005, h = 1.0 / 30;
     wc_diag d = {0};
     wc_mesh_collider* mc = NULL;
-    CHECK_EQ_INT(wc_mesh_collider_create(&mc, body->x, body->nv, body->t, body->nt, th, 0.4, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc, body->x, body->nv, body->t, body->nt, th, 0.4, NULL, &d), WC_OK);
     wc_mesh_collider_substep(mc, 0.0, 1.0, h);
     wc_model m;
     CHECK(ts_sheet(&m, 2, 1.0, y, 0, 1.0));

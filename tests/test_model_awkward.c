@@ -6,11 +6,11 @@
 #include "test_support.h"
 #include "weld.h"
 
-static weft_status build_arrays(wc_model* m, const double* pos, int nv, const int* sizes, int np,
+static wc_status build_arrays(wc_model* m, const double* pos, int nv, const int* sizes, int np,
                                 const int* idx, wc_diag* d) {
     wc_source_mesh src;
-    weft_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, np, idx, 1.0, d);
-    if (st != WEFT_OK) return st;
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, np, idx, 1.0, d);
+    if (st != WC_OK) return st;
     wc_model_def def = wc_default_model_def();
     st = wc_model_build(m, &src, &def, NULL, d);
     wc_source_mesh_free(&src);
@@ -46,7 +46,7 @@ static void test_non_manifold_edge(void) {
     int sizes[] = {3, 3, 3}, idx[] = {0, 1, 2, 1, 0, 3, 0, 1, 4};
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 5, sizes, 3, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 5, sizes, 3, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.non_manifold_edges, 1);
     CHECK_EQ_INT(m.report.edges, 8);           /* 6 outer edges + the shared edge + one copy */
     CHECK_EQ_INT(m.report.springs[WC_SPRING_STRETCH], 7);
@@ -67,7 +67,7 @@ static void test_degenerate_and_duplicates(void) {
     int sizes[] = {4, 3, 3, 3}, idx[] = {0, 1, 2, 3, 4, 5, 6, 0, 1, 1, 2, 1, 0};
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 8, sizes, 4, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 8, sizes, 4, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.degenerate_triangles, 2);
     CHECK_EQ_INT(m.report.duplicate_faces, 1);
     CHECK_EQ_INT(m.report.triangles, 2);
@@ -100,7 +100,7 @@ static void test_inconsistent_winding(void) {
         }
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 12, sizes, 6, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 12, sizes, 6, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.flipped_faces, 2); /* the minority: one quad's two triangles */
     CHECK_EQ_INT(m.report.non_orientable_components, 0);
     CHECK(consistently_wound(&m));
@@ -142,7 +142,7 @@ static void test_moebius_strip(void) {
     }
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 2 * SEG, sizes, SEG, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 2 * SEG, sizes, SEG, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.non_orientable_components, 1);
     CHECK_EQ_INT(m.report.components, 1);
     CHECK_EQ_INT(m.report.boundary_loops, 1); /* a Moebius strip has one boundary loop */
@@ -156,7 +156,7 @@ static void test_points_lines_and_components(void) {
     int sizes[] = {3, 2, 3, 1}, idx[] = {0, 1, 2, 0, 3, 3, 4, 5, 1};
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 6, sizes, 4, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 6, sizes, 4, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.polygons[1], 1);
     CHECK_EQ_INT(m.report.polygons[2], 1);
     CHECK_EQ_INT(m.report.polygons[3], 2);
@@ -175,7 +175,7 @@ static void test_concave_polygon(void) {
     int sizes[] = {6}, idx[] = {0, 1, 2, 3, 4, 5};
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 6, sizes, 1, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 6, sizes, 1, idx, &d), WC_OK);
     CHECK_EQ_INT(m.n_tris, 4);
     double area = 0;
     for (int t = 0; t < m.n_tris; ++t) area += m.tri_rest_area[t];
@@ -201,7 +201,7 @@ static void test_huge_polygon(void) {
     }
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, K, sizes, 1, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, K, sizes, 1, idx, &d), WC_OK);
     CHECK_EQ_INT(m.n_tris, K - 2);
     double area = 0;
     for (int t = 0; t < m.n_tris; ++t) area += m.tri_rest_area[t];
@@ -220,7 +220,7 @@ static void test_mixed_quad_triangle(void) {
     int sizes[] = {4, 3}, idx[] = {0, 1, 2, 3, 1, 4, 2};
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 5, sizes, 2, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, pos, 5, sizes, 2, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.springs[WC_SPRING_STRETCH], 6);
     CHECK_EQ_INT(m.report.springs[WC_SPRING_SHEAR], 3);
     int wing = 0;
@@ -237,7 +237,7 @@ static void test_closed_surfaces(void) {
     int idx[] = {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7};
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, cube, 8, sizes, 6, idx, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, cube, 8, sizes, 6, idx, &d), WC_OK);
     CHECK_EQ_INT(m.report.boundary_edges, 0);
     CHECK_EQ_INT(m.report.boundary_loops, 0);
     CHECK_EQ_INT(m.n_particles - m.we.n_edges + m.n_tris, 2);
@@ -261,7 +261,7 @@ static void test_closed_surfaces(void) {
             ts[i * V + j] = 4;
             memcpy(ti + 4 * (i * V + j), q, sizeof q);
         }
-    CHECK_EQ_INT(build_arrays(&m, tor, U * V, ts, U * V, ti, &d), WEFT_OK);
+    CHECK_EQ_INT(build_arrays(&m, tor, U * V, ts, U * V, ti, &d), WC_OK);
     CHECK_EQ_INT(m.n_particles - m.we.n_edges + m.n_tris, 0);
     CHECK_EQ_INT(m.report.boundary_loops, 0);
     CHECK_EQ_INT(m.report.springs[WC_SPRING_STRETCH], 2 * U * V);
@@ -277,26 +277,26 @@ static void test_nothing_usable(void) {
     wc_model m;
     memset(&m, 0x5a, sizeof m);
     wc_diag d = {0};
-    CHECK_EQ_INT(build_arrays(&m, pos, 3, sizes, 2, idx, &d), WEFT_ERROR_EMPTY_MESH);
+    CHECK_EQ_INT(build_arrays(&m, pos, 3, sizes, 2, idx, &d), WC_ERROR_EMPTY_MESH);
     CHECK(strstr(d.message, "no usable triangles") != NULL);
     CHECK(m.n_particles == 0 && m.rest_pos == NULL && m.springs == NULL);
     wc_model_free(&m); /* freeing a zeroed model is harmless */
 
     int only_lines[] = {2}, li[] = {0, 1};
-    CHECK_EQ_INT(build_arrays(&m, pos, 3, only_lines, 1, li, &d), WEFT_ERROR_EMPTY_MESH);
+    CHECK_EQ_INT(build_arrays(&m, pos, 3, only_lines, 1, li, &d), WC_ERROR_EMPTY_MESH);
 
     /* bad definition values are refused before any work */
     wc_source_mesh src;
     ts_quad_grid(&src, 3, 3, 1, 1, 0);
     wc_model_def def = wc_default_model_def();
     def.weld_tolerance = NAN;
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(d.message, "weld_tolerance") != NULL);
     def = wc_default_model_def();
     def.material.density = -1;
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(d.message, "density") != NULL);
-    CHECK_EQ_INT(wc_model_build(&m, NULL, &def, NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wc_model_build(&m, NULL, &def, NULL, &d), WC_ERROR_INVALID_ARGUMENT);
     wc_source_mesh_free(&src);
 }
 

@@ -48,12 +48,12 @@ static void build_file(wc_model* m, const char* path, double user_scale) {
     wc_diag d = {0};
     wc_import_opts o = wc_default_import_opts();
     o.scale = user_scale;
-    weft_status st = wc_import_file(&src, NULL, path, &o, &d);
-    if (st != WEFT_OK) fprintf(stderr, "%s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_import_file(&src, NULL, path, &o, &d);
+    if (st != WC_OK) fprintf(stderr, "%s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     wc_model_def def = wc_default_model_def();
     st = wc_model_build(m, &src, &def, NULL, &d);
-    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK_EQ_INT(st, WC_OK);
     /* the host map: every file vertex goes to the particle at its (welded) position */
     int bad = 0;
     for (int v = 0; v < src.n_verts; ++v) {

@@ -11,9 +11,9 @@ static wc_model build(const wc_source_mesh* src, double weld_tol) {
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
     def.weld_tolerance = weld_tol;
-    weft_status st = wc_model_build(&m, src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "build failed: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_model_build(&m, src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "build failed: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     return m;
 }
 
@@ -181,7 +181,7 @@ static void test_weld_tolerance(void) {
     int sizes[] = {3, 3}, idx[] = {0, 1, 2, 3, 4, 5};
     wc_source_mesh src;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 6, sizes, 2, idx, 1.0, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 6, sizes, 2, idx, 1.0, &d), WC_OK);
     wc_model loose = build(&src, 1e-3), tight = build(&src, 1e-6);
     CHECK_EQ_INT(loose.n_particles, 4);
     CHECK_EQ_INT(loose.report.components, 1);

@@ -85,12 +85,12 @@ static void test_random_soups(void) {
         for (int i = 0; i < total; ++i) idx[i] = rand_int(nv);
         wc_source_mesh src;
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, np, idx, 1.0, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, np, idx, 1.0, &d), WC_OK);
         wc_model_def def = wc_default_model_def();
         def.weld_tolerance = rand_int(3) == 0 ? 0.0 : 1e-6;
         wc_model m;
-        weft_status st = wc_model_build(&m, &src, &def, NULL, &d);
-        if (st == WEFT_OK) {
+        wc_status st = wc_model_build(&m, &src, &def, NULL, &d);
+        if (st == WC_OK) {
             ++built;
             if (!model_invariants_hold(&m, nv)) {
                 ++broken;
@@ -99,7 +99,7 @@ static void test_random_soups(void) {
             wc_model_free(&m);
         } else {
             ++refused;
-            CHECK(st == WEFT_ERROR_EMPTY_MESH);
+            CHECK(st == WC_ERROR_EMPTY_MESH);
             CHECK(m.n_particles == 0 && m.springs == NULL);
         }
         wc_source_mesh_free(&src);

@@ -80,8 +80,8 @@ static wc_state* sheet_state(const wc_model* m, int newton, int line_search, int
     d.sleep_speed = 0.0;
     wc_state* s = NULL;
     wc_diag diag = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WEFT_OK);
-    CHECK_EQ_INT(ts_pin_far_corners(s, N, NULL), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WC_OK);
+    CHECK_EQ_INT(ts_pin_far_corners(s, N, NULL), WC_OK);
     return s;
 }
 
@@ -109,9 +109,9 @@ static void test_potential_never_increases(void) {
                     pins[k].target[0] += sign * 0.4;
                     pins[k].target[1] += sign * 0.3;
                 }
-                CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &diag), WEFT_OK);
+                CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &diag), WC_OK);
             }
-            CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WC_OK);
             backtracks += st.backtracks;
             extra += st.newton_iterations;
         }
@@ -135,7 +135,7 @@ static void test_potential_matches(void) {
     wc_state* s = sheet_state(&m, 2, 1, 1, 0.0);
     wc_step_stats st;
     wc_diag diag = {0};
-    for (int f = 0; f < 5; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WEFT_OK);
+    for (int f = 0; f < 5; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WC_OK);
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, 1.0 / 30, 1.0, &st);
     wc_integ ig = {0, 1.0 / 30, 1.0 / 30, s->x, s->v, NULL, 0, 0, 0};
@@ -164,7 +164,7 @@ static void test_flat_sheet_energy(void) {
         wc_diag diag = {0};
         double e = total_energy(s);
         for (int f = 0; f < 24; ++f) {
-            CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WC_OK);
             CHECK_EQ_INT(st.rollbacks, 0);
             double e1 = total_energy(s);
             if (e1 - e > rise[mode]) rise[mode] = e1 - e;
@@ -206,7 +206,7 @@ static void landing(int forcing) {
     if (!forcing) d.newton_forcing = 0.0;
     wc_state* s = NULL;
     wc_diag diag = {0};
-    CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WC_OK);
     wc_collider c[2];
     memset(c, 0, sizeof c);
     c[0].type = WC_COLLIDER_SPHERE;
@@ -219,11 +219,11 @@ static void landing(int forcing) {
         c[k].friction = 0.3;
         c[k].push_speed = 0.05;
     }
-    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &diag), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, 2, &diag), WC_OK);
     wc_step_stats st;
     int guarded = 0, rollbacks = 0;
     for (int f = 0; f < 9; ++f) {
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WC_OK);
         rollbacks += st.rollbacks;
         guarded += st.energy_iterations;
     }
@@ -251,8 +251,8 @@ static void test_bitwise(void) {
     wc_step_stats st;
     wc_diag diag = {0};
     for (int f = 0; f < 10; ++f) {
-        CHECK_EQ_INT(wc_step_frame(a, 1.0 / 30, &st, &diag), WEFT_OK);
-        CHECK_EQ_INT(wc_step_frame(b, 1.0 / 30, &st, &diag), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(a, 1.0 / 30, &st, &diag), WC_OK);
+        CHECK_EQ_INT(wc_step_frame(b, 1.0 / 30, &st, &diag), WC_OK);
     }
     CHECK(memcmp(a->x, b->x, (size_t)n3 * sizeof(double)) == 0);
     CHECK(memcmp(a->v, b->v, (size_t)n3 * sizeof(double)) == 0);
@@ -275,7 +275,7 @@ static void test_bad_def(void) {
         if (k >= 4) d.newton_forcing = k == 4 ? -0.1 : k == 5 ? 1.0 : NAN;
         wc_state* s = NULL;
         wc_diag diag = {0};
-        CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WEFT_ERROR_INVALID_ARGUMENT);
+        CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WC_ERROR_INVALID_ARGUMENT);
         CHECK(s == NULL);
         CHECK(strstr(diag.message, field[k]) != NULL);
     }

@@ -32,8 +32,8 @@ static wc_state* swing_state(const wc_model* m, wc_integrator ig, int newton, wc
     if (solver == WC_SOLVER_DIRECT && newton > 3) d.solver.tolerance = 1e-10;
     wc_state* s = NULL;
     wc_diag diag = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WEFT_OK);
-    CHECK_EQ_INT(ts_pin_far_corners(s, N, NULL), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WC_OK);
+    CHECK_EQ_INT(ts_pin_far_corners(s, N, NULL), WC_OK);
     return s;
 }
 
@@ -47,7 +47,7 @@ static run_totals run(wc_state* s, int frames) {
     wc_step_stats st;
     wc_diag diag = {0};
     for (int f = 0; f < frames; ++f) {
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &diag), WC_OK);
         t.iterations += st.iterations;
         t.solves += st.solves;
         t.rollbacks += st.rollbacks;

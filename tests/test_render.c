@@ -33,7 +33,7 @@ static void test_context_info(void) {
     CHECK(!wg_gl_context_is_host(g_ctx));
     /* begin makes it current, end gives the thread back no context */
     char err[256];
-    CHECK_EQ_INT(wg_gl_begin(g_ctx, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_gl_begin(g_ctx, err, sizeof err), WC_OK);
     CHECK(eglGetCurrentContext() != EGL_NO_CONTEXT);
     /* a core profile: asked of GL, not read from GL_VERSION (Mesa writes "Core Profile" there,
        NVIDIA's driver does not) */
@@ -42,7 +42,7 @@ static void test_context_info(void) {
     glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
     CHECK(version != NULL);
     CHECK((profile & GL_CONTEXT_CORE_PROFILE_BIT) != 0);
-    CHECK_EQ_INT(wg_gl_begin(g_ctx, err, sizeof err), WEFT_ERROR_CALL_ORDER);
+    CHECK_EQ_INT(wg_gl_begin(g_ctx, err, sizeof err), WC_ERROR_CALL_ORDER);
     CHECK(strstr(err, "not nestable") != NULL);
     wg_gl_end(g_ctx);
     CHECK(eglGetCurrentContext() == EGL_NO_CONTEXT);
@@ -73,7 +73,7 @@ static void test_sphere_sky_and_light(void) {
     sphere.rgb[0] = sphere.rgb[1] = sphere.rgb[2] = 0.8f;
     unsigned char* img = image_alloc(cam.width, cam.height);
     char err[512];
-    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &sphere, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &sphere, 1, img, err, sizeof err), WC_OK);
     pinhole p;
     pinhole_of(&cam, &p);
     /* on-axis sphere: a circle of angular radius asin(r / d) */
@@ -134,7 +134,7 @@ static void test_quad_front_and_back(void) {
     char err[512];
     for (int flipped = 0; flipped <= 1; ++flipped) {
         wg_mesh m = quad_mesh(&q, flipped, 0);
-        CHECK_EQ_INT(wg_render(g_r, &cam, &m, 1, NULL, 0, img, err, sizeof err), WEFT_OK);
+        CHECK_EQ_INT(wg_render(g_r, &cam, &m, 1, NULL, 0, img, err, sizeof err), WC_OK);
         /* front faces the camera when counter-clockwise: front_rgb, else back_rgb */
         check_quad(img, &cam, flipped ? m.back_rgb : m.front_rgb);
         pinhole p;
@@ -148,7 +148,7 @@ static void test_quad_front_and_back(void) {
             CHECK(c[0] > c[2] + 60);
         /* given normals (pointing to the front side) draw the same picture as computed ones */
         wg_mesh mn = quad_mesh(&q, flipped, 1);
-        CHECK_EQ_INT(wg_render(g_r, &cam, &mn, 1, NULL, 0, img2, err, sizeof err), WEFT_OK);
+        CHECK_EQ_INT(wg_render(g_r, &cam, &mn, 1, NULL, 0, img2, err, sizeof err), WC_OK);
         int maxdiff = 0;
         for (size_t i = 0; i < 4u * 200 * 150; ++i) {
             int d = abs((int)img[i] - (int)img2[i]);
@@ -168,7 +168,7 @@ static void test_capsule_silhouette(void) {
     memcpy(cap.transform, rot, sizeof rot);
     unsigned char* img = image_alloc(200, 150);
     char err[512];
-    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &cap, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &cap, 1, img, err, sizeof err), WC_OK);
     pinhole p;
     pinhole_of(&cam, &p);
     /* tip: the end sphere (centre 0.5 m off the axis) seen at atan(0.5/5) + asin(r/|c|) */
@@ -195,7 +195,7 @@ static void test_plane_checker(void) {
     wg_shape plane = shape_at(WG_SHAPE_PLANE, ox, oy, oz, 0, 0);
     unsigned char* img = image_alloc(240, 180);
     char err[512];
-    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &plane, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &plane, 1, img, err, sizeof err), WC_OK);
     pinhole p;
     pinhole_of(&cam, &p);
     const double half = 1.0, cell = 0.2, margin = 0.15 * cell;
@@ -259,7 +259,7 @@ static void test_auto_framing_math(void) {
         wg_camera cam = {{0}, {0}, {v[6], v[7] + 1.5f, v[8]}, 20.0f + 60.0f * (v[9] + 1.0f),
                          64 + (int)(200 * (v[10] + 1)), 64 + (int)(200 * (v[11] + 1))};
         char err[256];
-        CHECK_EQ_INT(wg_camera_frame_auto(&cam, bmin, bmax, err, sizeof err), WEFT_OK);
+        CHECK_EQ_INT(wg_camera_frame_auto(&cam, bmin, bmax, err, sizeof err), WC_OK);
         pinhole p;
         pinhole_of(&cam, &p);
         for (int c = 0; c < 8; ++c) {
@@ -290,7 +290,7 @@ static void test_auto_framing_render(void) {
     wg_camera cam = {{1, 1, 1}, {1, 1, 1}, {0, 1, 0}, 35.0f, 160, 100};
     unsigned char* img = image_alloc(160, 100);
     char err[512];
-    CHECK_EQ_INT(wg_render(g_r, &cam, &box, 1, NULL, 0, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, &box, 1, NULL, 0, img, err, sizeof err), WC_OK);
     int border_sky = 0, border = 0, inside = 0;
     for (int y = 0; y < 100; ++y)
         for (int x = 0; x < 160; ++x) {
@@ -315,9 +315,9 @@ static void test_png_round_trip(void) {
     wg_mesh m = quad_mesh(&q, 0, 0);
     unsigned char* img = image_alloc(64, 48);
     char err[512];
-    CHECK_EQ_INT(wg_render(g_r, &cam, &m, 1, &sphere, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, &m, 1, &sphere, 1, img, err, sizeof err), WC_OK);
     const char* path = ts_tmp_path("render_round_trip.png");
-    CHECK_EQ_INT(wg_png_write(path, img, 64, 48, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_png_write(path, img, 64, 48, err, sizeof err), WC_OK);
     png_image pi;
     memset(&pi, 0, sizeof pi);
     pi.version = PNG_IMAGE_VERSION;
@@ -342,21 +342,21 @@ static void test_samples_and_resize(void) {
     char err[512];
     wg_renderer_desc d1 = {1};
     wg_renderer* r1 = NULL;
-    CHECK_EQ_INT(wg_renderer_create(g_ctx, &d1, &r1, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_renderer_create(g_ctx, &d1, &r1, err, sizeof err), WC_OK);
     wg_shape sphere = shape_at(WG_SHAPE_SPHERE, 0, 0, 0, 1.0f, 0);
     unsigned char* a = image_alloc(200, 150);
     unsigned char* b = image_alloc(200, 150);
     unsigned char* small = image_alloc(50, 40);
     wg_camera cam = front_camera(200, 150), cam_small = front_camera(50, 40);
-    CHECK_EQ_INT(wg_render(r1, &cam, NULL, 0, &sphere, 1, a, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(r1, &cam, NULL, 0, &sphere, 1, a, err, sizeof err), WC_OK);
     CHECK_EQ_INT(wg_renderer_samples(r1), 1);
     pinhole p;
     pinhole_of(&cam, &p);
     check_sphere_silhouette(a, &cam, 100.0, 75.0, p.focal * tan(asin(0.2)));
-    CHECK_EQ_INT(wg_render(r1, &cam_small, NULL, 0, &sphere, 1, small, err, sizeof err), WEFT_OK);
-    CHECK_EQ_INT(wg_render(r1, &cam, NULL, 0, &sphere, 1, b, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(r1, &cam_small, NULL, 0, &sphere, 1, small, err, sizeof err), WC_OK);
+    CHECK_EQ_INT(wg_render(r1, &cam, NULL, 0, &sphere, 1, b, err, sizeof err), WC_OK);
     CHECK(memcmp(a, b, 4 * 200 * 150) == 0); /* same picture after a resize and back */
-    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &sphere, 1, b, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, NULL, 0, &sphere, 1, b, err, sizeof err), WC_OK);
     printf("  MSAA samples used by default: %d\n", wg_renderer_samples(g_r));
     CHECK(wg_renderer_samples(g_r) >= 1);
     wg_renderer_destroy(r1);

@@ -24,7 +24,7 @@ static int untouched(const unsigned char* img, size_t n) {
     do {                                                                                       \
         char err_[512] = "";                                                                   \
         unsigned char* img_ = image_alloc(16, 16);                                             \
-        weft_status st_ = wg_render(g_r, cam, meshes, nm, shapes, ns, img_, err_, sizeof err_); \
+        wc_status st_ = wg_render(g_r, cam, meshes, nm, shapes, ns, img_, err_, sizeof err_); \
         CHECK_EQ_INT(st_, status);                                                             \
         CHECK(strstr(err_, words) != NULL);                                                    \
         CHECK(untouched(img_, 4 * 16 * 16));                                                   \
@@ -37,79 +37,79 @@ static void test_render_errors(void) {
     wg_camera ok = front_camera(16, 16), c;
     wg_shape sphere = shape_at(WG_SHAPE_SPHERE, 0, 0, 0, 1.0f, 0);
     c = ok; c.width = 0;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_INVALID_ARGUMENT, "0 x 16");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_INVALID_ARGUMENT, "0 x 16");
     c = ok; c.height = -3;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_INVALID_ARGUMENT, "1..8192");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_INVALID_ARGUMENT, "1..8192");
     c = ok; c.width = 8193;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_INVALID_ARGUMENT, "8193");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_INVALID_ARGUMENT, "8193");
     c = ok; c.eye[1] = NAN;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_NONFINITE, "eye");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_NONFINITE, "eye");
     c = ok; c.target[2] = INFINITY;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_NONFINITE, "target");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_NONFINITE, "target");
     c = ok; c.fov_y_deg = NAN;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_NONFINITE, "fov_y_deg");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_NONFINITE, "fov_y_deg");
     c = ok; c.fov_y_deg = 180.0f;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_INVALID_ARGUMENT, "(0, 180)");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_INVALID_ARGUMENT, "(0, 180)");
     c = ok; c.up[0] = 0; c.up[1] = 0; c.up[2] = 2;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_INVALID_ARGUMENT, "parallel");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_INVALID_ARGUMENT, "parallel");
     c = ok; c.up[1] = 0;
-    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WEFT_ERROR_INVALID_ARGUMENT, "zero vector");
+    EXPECT_RENDER_ERROR(&c, NULL, 0, &sphere, 1, WC_ERROR_INVALID_ARGUMENT, "zero vector");
 
     wg_mesh m = quad_mesh(&q, 0, 0);
     q.tris[4] = 4;
-    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WEFT_ERROR_OUT_OF_RANGE, "meshes[0].triangles[4] = 4");
+    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WC_ERROR_OUT_OF_RANGE, "meshes[0].triangles[4] = 4");
     m = quad_mesh(&q, 0, 0);
     q.pos[7] = NAN;
-    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WEFT_ERROR_NONFINITE, "meshes[0].positions[7]");
+    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WC_ERROR_NONFINITE, "meshes[0].positions[7]");
     m = quad_mesh(&q, 0, 1);
     q.nrm[2] = INFINITY;
-    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WEFT_ERROR_NONFINITE, "normals");
+    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WC_ERROR_NONFINITE, "normals");
     m = quad_mesh(&q, 0, 0);
     m.n_triangles = -1;
-    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WEFT_ERROR_INVALID_ARGUMENT, "n_triangles = -1");
+    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WC_ERROR_INVALID_ARGUMENT, "n_triangles = -1");
     m = quad_mesh(&q, 0, 0);
     m.positions = NULL;
-    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WEFT_ERROR_INVALID_ARGUMENT, "positions is NULL");
-    EXPECT_RENDER_ERROR(&ok, NULL, 2, NULL, 0, WEFT_ERROR_INVALID_ARGUMENT,
+    EXPECT_RENDER_ERROR(&ok, &m, 1, NULL, 0, WC_ERROR_INVALID_ARGUMENT, "positions is NULL");
+    EXPECT_RENDER_ERROR(&ok, NULL, 2, NULL, 0, WC_ERROR_INVALID_ARGUMENT,
                         "n_meshes = 2 with meshes NULL");
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &sphere, -1, WEFT_ERROR_INVALID_ARGUMENT, "n_shapes = -1");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &sphere, -1, WC_ERROR_INVALID_ARGUMENT, "n_shapes = -1");
 
     wg_shape s = sphere;
     s.radius = 0;
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WEFT_ERROR_INVALID_ARGUMENT, "shapes[0].radius");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WC_ERROR_INVALID_ARGUMENT, "shapes[0].radius");
     s = sphere;
     s.type = (wg_shape_type)7;
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WEFT_ERROR_INVALID_ARGUMENT, "shapes[0].type = 7");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WC_ERROR_INVALID_ARGUMENT, "shapes[0].type = 7");
     s = sphere;
     s.transform[5] = 0;
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WEFT_ERROR_INVALID_ARGUMENT, "singular");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WC_ERROR_INVALID_ARGUMENT, "singular");
     s = sphere;
     s.transform[3] = 0.5f;
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WEFT_ERROR_INVALID_ARGUMENT, "last row");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WC_ERROR_INVALID_ARGUMENT, "last row");
     s = sphere;
     s.transform[13] = NAN;
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WEFT_ERROR_NONFINITE, "shapes[0]");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WC_ERROR_NONFINITE, "shapes[0]");
     s = shape_at(WG_SHAPE_CAPSULE, 0, 0, 0, 0.2f, -1.0f);
-    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WEFT_ERROR_INVALID_ARGUMENT, "half_height");
+    EXPECT_RENDER_ERROR(&ok, NULL, 0, &s, 1, WC_ERROR_INVALID_ARGUMENT, "half_height");
 
     char err[256];
     CHECK_EQ_INT(wg_render(g_r, &ok, NULL, 0, &sphere, 1, NULL, err, sizeof err),
-                 WEFT_ERROR_INVALID_ARGUMENT);
+                 WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(err, "rgba_out") != NULL);
     CHECK_EQ_INT(wg_render(NULL, &ok, NULL, 0, &sphere, 1, NULL, err, sizeof err),
-                 WEFT_ERROR_INVALID_ARGUMENT);
+                 WC_ERROR_INVALID_ARGUMENT);
     /* after all that, the renderer still works */
     unsigned char* img = image_alloc(16, 16);
-    CHECK_EQ_INT(wg_render(g_r, &ok, NULL, 0, &sphere, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &ok, NULL, 0, &sphere, 1, img, err, sizeof err), WC_OK);
     free(img);
     float bmin[3] = {0, 0, 0}, bmax[3] = {1, -1, 1};
     c = ok;
     CHECK_EQ_INT(wg_camera_frame_auto(&c, bmin, bmax, err, sizeof err),
-                 WEFT_ERROR_INVALID_ARGUMENT);
+                 WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(err, "min > max") != NULL);
     wg_renderer_desc bad = {-1};
     wg_renderer* r = NULL;
-    CHECK_EQ_INT(wg_renderer_create(g_ctx, &bad, &r, err, sizeof err), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wg_renderer_create(g_ctx, &bad, &r, err, sizeof err), WC_ERROR_INVALID_ARGUMENT);
     CHECK(r == NULL && strstr(err, "samples") != NULL);
 }
 
@@ -117,16 +117,16 @@ static void test_png_errors(void) {
     unsigned char rgba[4 * 4 * 4] = {0};
     char err[512];
     const char* path = "/nonexistent-weft-dir/out.png";
-    CHECK_EQ_INT(wg_png_write(path, rgba, 4, 4, err, sizeof err), WEFT_ERROR_IO);
+    CHECK_EQ_INT(wg_png_write(path, rgba, 4, 4, err, sizeof err), WC_ERROR_IO);
     CHECK(strstr(err, path) != NULL && strstr(err, "No such file") != NULL);
     /* a directory is not a file */
-    CHECK_EQ_INT(wg_png_write(WEFT_TEST_TMPDIR, rgba, 4, 4, err, sizeof err), WEFT_ERROR_IO);
+    CHECK_EQ_INT(wg_png_write(WEFT_TEST_TMPDIR, rgba, 4, 4, err, sizeof err), WC_ERROR_IO);
     CHECK(strstr(err, WEFT_TEST_TMPDIR) != NULL);
     CHECK_EQ_INT(wg_png_write(ts_tmp_path("never.png"), rgba, 0, 4, err, sizeof err),
-                 WEFT_ERROR_INVALID_ARGUMENT);
+                 WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(err, "0 x 4") != NULL);
     CHECK_EQ_INT(wg_png_write(ts_tmp_path("never.png"), NULL, 4, 4, err, sizeof err),
-                 WEFT_ERROR_INVALID_ARGUMENT);
+                 WC_ERROR_INVALID_ARGUMENT);
     FILE* f = fopen(ts_tmp_path("never.png"), "rb");
     CHECK(f == NULL);
     if (f) fclose(f);
@@ -138,12 +138,12 @@ static void test_device_choice(void) {
     wg_gl_context_desc desc;
     memset(&desc, 0, sizeof desc);
     setenv("WEFT_EGL_DEVICE", "bogus", 1);
-    CHECK_EQ_INT(wg_gl_context_create(&desc, &ctx, err, sizeof err), WEFT_ERROR_GPU);
+    CHECK_EQ_INT(wg_gl_context_create(&desc, &ctx, err, sizeof err), WC_ERROR_GPU);
     CHECK(ctx == NULL);
     CHECK(strstr(err, "WEFT_EGL_DEVICE='bogus'") != NULL && strstr(err, "surfaceless") != NULL);
     printf("  WEFT_EGL_DEVICE=bogus: %s\n", err);
     setenv("WEFT_EGL_DEVICE", "99", 1);
-    CHECK_EQ_INT(wg_gl_context_create(&desc, &ctx, err, sizeof err), WEFT_ERROR_GPU);
+    CHECK_EQ_INT(wg_gl_context_create(&desc, &ctx, err, sizeof err), WC_ERROR_GPU);
     CHECK(strstr(err, "WEFT_EGL_DEVICE=99") != NULL);
     unsetenv("WEFT_EGL_DEVICE");
     /* the desc's override wins over the environment; each named way either works and renders or
@@ -151,17 +151,17 @@ static void test_device_choice(void) {
     const char* picks[3] = {"software", "surfaceless", "0"};
     for (int k = 0; k < 3; ++k) {
         desc.device = picks[k];
-        weft_status st = wg_gl_context_create(&desc, &ctx, err, sizeof err);
+        wc_status st = wg_gl_context_create(&desc, &ctx, err, sizeof err);
         printf("  device '%s': %s\n", picks[k],
-               st == WEFT_OK ? wg_gl_context_description(ctx) : err);
-        CHECK(st == WEFT_OK || (st == WEFT_ERROR_GPU && err[0] != '\0'));
-        if (st != WEFT_OK) continue;
+               st == WC_OK ? wg_gl_context_description(ctx) : err);
+        CHECK(st == WC_OK || (st == WC_ERROR_GPU && err[0] != '\0'));
+        if (st != WC_OK) continue;
         wg_renderer* r = NULL;
-        CHECK_EQ_INT(wg_renderer_create(ctx, NULL, &r, err, sizeof err), WEFT_OK);
+        CHECK_EQ_INT(wg_renderer_create(ctx, NULL, &r, err, sizeof err), WC_OK);
         wg_camera cam = front_camera(40, 30);
         wg_shape sphere = shape_at(WG_SHAPE_SPHERE, 0, 0, 0, 1.0f, 0);
         unsigned char* img = image_alloc(40, 30);
-        CHECK_EQ_INT(wg_render(r, &cam, NULL, 0, &sphere, 1, img, err, sizeof err), WEFT_OK);
+        CHECK_EQ_INT(wg_render(r, &cam, NULL, 0, &sphere, 1, img, err, sizeof err), WC_OK);
         CHECK(!is_sky(img, 40, 30, 20, 15, 6) && is_sky(img, 40, 30, 0, 0, 1));
         free(img);
         wg_renderer_destroy(r);
@@ -180,10 +180,10 @@ static void test_host_context(void) {
     wg_mesh m = quad_mesh(&q, 0, 0);
     unsigned char* ref = image_alloc(120, 90);
     unsigned char* img = image_alloc(120, 90);
-    CHECK_EQ_INT(wg_render(g_r, &cam, &m, 1, &sphere, 1, ref, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(g_r, &cam, &m, 1, &sphere, 1, ref, err, sizeof err), WC_OK);
 
     /* the "host": g_ctx made current by hand, with state of its own */
-    CHECK_EQ_INT(wg_gl_begin(g_ctx, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_gl_begin(g_ctx, err, sizeof err), WC_OK);
     EGLContext host_egl = eglGetCurrentContext();
     GLuint host_fbo = 0, host_rbo = 0, host_vao = 0;
     glGenRenderbuffers(1, &host_rbo);
@@ -209,12 +209,12 @@ static void test_host_context(void) {
     memset(&hd, 0, sizeof hd);
     hd.host_current = 1;
     wg_gl_context* host = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WC_OK);
     CHECK(wg_gl_context_is_host(host));
     CHECK(strstr(wg_gl_context_description(host), "host context") != NULL);
     wg_renderer* hr = NULL;
-    CHECK_EQ_INT(wg_renderer_create(host, NULL, &hr, err, sizeof err), WEFT_OK);
-    CHECK_EQ_INT(wg_render(hr, &cam, &m, 1, &sphere, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_renderer_create(host, NULL, &hr, err, sizeof err), WC_OK);
+    CHECK_EQ_INT(wg_render(hr, &cam, &m, 1, &sphere, 1, img, err, sizeof err), WC_OK);
     CHECK(memcmp(img, ref, 4 * 120 * 90) == 0);
 
     GLint v[4], i;
@@ -249,10 +249,10 @@ static void test_host_context(void) {
     memset(&other, 0, sizeof other);
     wg_gl_context* own = NULL;
     wg_renderer* own_r = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&other, &own, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_gl_context_create(&other, &own, err, sizeof err), WC_OK);
     CHECK(eglGetCurrentContext() == host_egl);
-    CHECK_EQ_INT(wg_renderer_create(own, NULL, &own_r, err, sizeof err), WEFT_OK);
-    CHECK_EQ_INT(wg_render(own_r, &cam, &m, 1, &sphere, 1, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_renderer_create(own, NULL, &own_r, err, sizeof err), WC_OK);
+    CHECK_EQ_INT(wg_render(own_r, &cam, &m, 1, &sphere, 1, img, err, sizeof err), WC_OK);
     CHECK(eglGetCurrentContext() == host_egl);
     CHECK(memcmp(img, ref, 4 * 120 * 90) == 0);
     wg_renderer_destroy(own_r);
@@ -270,7 +270,7 @@ static void test_host_context(void) {
     CHECK(eglGetCurrentContext() == EGL_NO_CONTEXT);
 
     /* no host context current: a clear GPU error */
-    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_ERROR_GPU);
+    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WC_ERROR_GPU);
     CHECK(host == NULL && strstr(err, "no OpenGL context is current") != NULL);
     free(ref);
     free(img);
@@ -304,19 +304,19 @@ static void test_allocator(void) {
     wg_gl_context* ctx = NULL;
     wg_renderer* r = NULL;
     char err[512];
-    CHECK_EQ_INT(wg_gl_context_create(&d, &ctx, err, sizeof err), WEFT_OK);
-    CHECK_EQ_INT(wg_renderer_create(ctx, NULL, &r, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_gl_context_create(&d, &ctx, err, sizeof err), WC_OK);
+    CHECK_EQ_INT(wg_renderer_create(ctx, NULL, &r, err, sizeof err), WC_OK);
     wg_camera cam = front_camera(64, 64);
     wg_mesh m = quad_mesh(&q, 0, 0);
     unsigned char* img = image_alloc(64, 64);
-    CHECK_EQ_INT(wg_render(r, &cam, &m, 1, NULL, 0, img, err, sizeof err), WEFT_OK);
+    CHECK_EQ_INT(wg_render(r, &cam, &m, 1, NULL, 0, img, err, sizeof err), WC_OK);
     free(img);
     wg_renderer_destroy(r);
     wg_gl_context_destroy(ctx);
     CHECK(c.total >= 3);
     CHECK_EQ_INT(c.live, 0);
     d.allocator.free = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&d, &ctx, err, sizeof err), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wg_gl_context_create(&d, &ctx, err, sizeof err), WC_ERROR_INVALID_ARGUMENT);
 }
 int main(void) {
     if (!rs_open(NULL, &g_ctx, &g_r)) return 1;

@@ -39,7 +39,7 @@ static void test_floor(void) {
     wc_sim_def sd = wc_default_sim_def();
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     /* two corners pinned fully, a third on a line (it still counts in the floor) */
     wc_pin pins[3];
     memset(pins, 0, sizeof pins);
@@ -48,8 +48,8 @@ static void test_floor(void) {
     pins[2].particle = ts_sheet_particle(&m, N, N / 2, N - 1);
     v3_set(pins[2].free_axis, 1.0, 0.0, 0.0);
     for (int k = 0; k < 3; ++k) v3_copy(pins[k].target, m.rest_pos + 3 * pins[k].particle);
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 3, &d), WEFT_OK);
-    for (int f = 0; f < 5; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 3, &d), WC_OK);
+    for (int f = 0; f < 5; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WC_OK);
 
     const double h = 1.0 / 30;
     double m2 = 0.0;
@@ -71,9 +71,9 @@ static void test_floor(void) {
     o.tolerance = 1e-4;
     o.max_iterations = 1000;
     wc_solver *plain = NULL, *floored = NULL, *direct = NULL;
-    CHECK_EQ_INT(wc_solver_create(&plain, &m, &o, 0, NULL, &d), WEFT_OK);
-    CHECK_EQ_INT(wc_solver_create(&floored, &m, &o, 0, NULL, &d), WEFT_OK);
-    CHECK_EQ_INT(wc_solver_create(&direct, &m, &o, 1, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_solver_create(&plain, &m, &o, 0, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_solver_create(&floored, &m, &o, 0, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_solver_create(&direct, &m, &o, 1, NULL, &d), WC_OK);
     wc_solver_set_residual_floor(floored, floor);
     wc_solver_set_residual_floor(floored, NAN);  /* ignored */
     wc_solver_set_residual_floor(floored, -1.0); /* ignored */
@@ -81,9 +81,9 @@ static void test_floor(void) {
     double *d0 = calloc((size_t)n3, sizeof(double)), *d1 = calloc((size_t)n3, sizeof(double));
     double* ref = calloc((size_t)n3, sizeof(double));
     wc_solve_result r0, r1, rd;
-    CHECK_EQ_INT(wc_solve(plain, WC_SOLVER_PCG, s->A, small, &s->filter, d0, &s->par, &r0), WEFT_OK);
-    CHECK_EQ_INT(wc_solve(floored, WC_SOLVER_PCG, s->A, small, &s->filter, d1, &s->par, &r1), WEFT_OK);
-    CHECK_EQ_INT(wc_solve(direct, WC_SOLVER_DIRECT, s->A, small, &s->filter, ref, &s->par, &rd), WEFT_OK);
+    CHECK_EQ_INT(wc_solve(plain, WC_SOLVER_PCG, s->A, small, &s->filter, d0, &s->par, &r0), WC_OK);
+    CHECK_EQ_INT(wc_solve(floored, WC_SOLVER_PCG, s->A, small, &s->filter, d1, &s->par, &r1), WC_OK);
+    CHECK_EQ_INT(wc_solve(direct, WC_SOLVER_DIRECT, s->A, small, &s->filter, ref, &s->par, &rd), WC_OK);
     double true1 = filtered_residual(&m, s, small, d1), err1 = ts_max_diff(d1, ref, n3);
     printf("  right-hand side x 1e-6 (|S b| = %.3g): %d iterations to its own residual, %d to the floor "
            "(true residual %.3g = %.3g x floor); |dv - CHOLMOD| %.3g m/s (tolerance x g h = %.3g)\n",
@@ -99,8 +99,8 @@ static void test_floor(void) {
     /* the real right-hand side, above the floor: the same iterates with and without it */
     memset(d0, 0, (size_t)n3 * sizeof(double));
     memset(d1, 0, (size_t)n3 * sizeof(double));
-    CHECK_EQ_INT(wc_solve(plain, WC_SOLVER_PCG, s->A, s->b, &s->filter, d0, &s->par, &r0), WEFT_OK);
-    CHECK_EQ_INT(wc_solve(floored, WC_SOLVER_PCG, s->A, s->b, &s->filter, d1, &s->par, &r1), WEFT_OK);
+    CHECK_EQ_INT(wc_solve(plain, WC_SOLVER_PCG, s->A, s->b, &s->filter, d0, &s->par, &r0), WC_OK);
+    CHECK_EQ_INT(wc_solve(floored, WC_SOLVER_PCG, s->A, s->b, &s->filter, d1, &s->par, &r1), WC_OK);
     printf("  real right-hand side |S b| = %.3g (%.1f x the floor): %d and %d iterations\n", r0.residual0,
            r0.residual0 / floor, r0.iterations, r1.iterations);
     CHECK(r0.residual0 > floor);

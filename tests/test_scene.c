@@ -20,7 +20,7 @@
 
 static scene S;   /* static: large enough to keep off the stack */
 
-static weft_status parse(const char* text, wc_diag* d) {
+static weft_status parse(const char* text, cli_diag* d) {
     memset(d, 0, sizeof *d);
     return scene_parse(&S, text, strlen(text), "scene.json", d);
 }
@@ -28,7 +28,7 @@ static weft_status parse(const char* text, wc_diag* d) {
 /* text must be refused; the message must start with the file name and contain `field` (and
  * `detail` when not NULL). */
 static void expect_bad(const char* text, const char* field, const char* detail) {
-    wc_diag d;
+    cli_diag d;
     weft_status st = parse(text, &d);
     CHECK(st != WEFT_OK);
     CHECK(d.status == st);
@@ -199,7 +199,7 @@ static void test_bad_settings(void) {
 
 /* A minimal grid scene: every default in place, and the documented grid layout. */
 static void test_defaults_and_grid(void) {
-    wc_diag d;
+    cli_diag d;
     weft_status st = parse("{" GRID "}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
     if (st != WEFT_OK) {
@@ -302,7 +302,7 @@ static void test_full_scene(void) {
         " \"solver\": {\"type\": \"chebyshev\", \"tolerance\": 1e-6, \"max_iterations\": 50},\n"
         " \"time\": {\"fps\": 24, \"substeps\": 4, \"frames\": 0},\n"
         " \"threads\": 2}\n";
-    wc_diag d;
+    cli_diag d;
     weft_status st = parse(text, &d);
     CHECK_EQ_INT(st, WEFT_OK);
     if (st != WEFT_OK) {
@@ -364,7 +364,7 @@ static void test_full_scene(void) {
 
 /* Selects on each side, with a tolerance taking two rows, and after a transform. */
 static void test_select_and_transform(void) {
-    wc_diag d;
+    cli_diag d;
     CHECK_EQ_INT(parse("{\"mesh\": {\"grid\": {\"n\": [5, 4], \"size\": [2, 3]}}, \"pins\": ["
                        "{\"select\": {\"axis\": \"x\", \"side\": \"min\"}},"
                        "{\"select\": {\"axis\": \"z\", \"side\": \"min\", \"tolerance\": 1.01}},"
@@ -414,7 +414,7 @@ static void test_file_mesh_and_pins(void) {
                                           "{\"mesh\": {\"file\": \"scene_mesh.obj\", \"scale\": 0.5},"
                                           " \"pins\": [{\"vertices\": [1, 4, 1]}, {\"vertices\": [0]},"
                                           "            {\"select\": {\"axis\": \"x\", \"side\": \"min\"}}]}");
-    wc_diag d = {0};
+    cli_diag d = {0};
     weft_status st = scene_load(&S, scene_path, &d);
     CHECK_EQ_INT(st, WEFT_OK);
     if (st != WEFT_OK) {
@@ -448,8 +448,9 @@ static void test_unused_vertex(void) {
     static const double pos[] = {0, 0, 0, 1, 0, 0, 0, 0, 1, 9, 0, 0};
     static const int sizes[] = {3}, idx[] = {0, 1, 2};
     memset(&S, 0, sizeof S);
-    wc_diag d = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&S.src, NULL, pos, 4, sizes, 1, idx, 1.0, &d), WEFT_OK);
+    cli_diag d = {0};
+    wc_diag cd = {0};
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&S.src, NULL, pos, 4, sizes, 1, idx, 1.0, &cd), WC_OK);
     S.n_pins = 2;
     S.pins = calloc(2, sizeof(scene_pin));
     S.pins[0].from_select = 1;   /* x max: vertex 1, not the unused vertex 3 at x = 9 */
@@ -471,7 +472,7 @@ static void test_unused_vertex(void) {
 /* Moving pins group by motion; the shorthand velocity is a motion; one vertex in two entries
  * with different values is refused, naming both entries. */
 static void test_pin_groups_and_conflicts(void) {
-    wc_diag d;
+    cli_diag d;
     CHECK_EQ_INT(parse("{" GRID ", \"pins\": [{\"vertices\": [3], \"velocity\": [0, 1, -2]},"
                        " {\"vertices\": [0], \"free_axis\": [0, 0, 2]},"
                        " {\"vertices\": [3, 7], \"motion\": {\"velocity\": [0, 1, -2]}}]}",
@@ -509,7 +510,7 @@ static void test_pin_groups_and_conflicts(void) {
 /* T(t) against the vector form of the same motion, p' = pivot + Rodrigues(p - pivot) + velocity
  * tau + amplitude sin(2 pi hz tau), computed here independently of the matrices. */
 static void test_motion_closed_form(void) {
-    wc_diag d;
+    cli_diag d;
     CHECK_EQ_INT(parse("{" GRID ", \"pins\": [{\"vertices\": [0], \"motion\": {\"pivot\": [1, 2, 3],"
                        " \"velocity\": [0.5, -1, 0.25], \"spin_axis\": [0, 3, 4], \"spin_deg_per_s\": 90,"
                        " \"oscillate\": {\"amplitude\": [0.1, 0.2, -0.3], \"hz\": 1.5}, \"start\": 0.5}}]}",
@@ -593,7 +594,7 @@ static void test_bad_motion(void) {
 
 /* The object: motion, inertia and teleports as written; defaults when absent. */
 static void test_object(void) {
-    wc_diag d;
+    cli_diag d;
     CHECK_EQ_INT(parse("{" GRID "}", &d), WEFT_OK);
     CHECK(scene_motion_is_still(&S.object.motion));
     CHECK(S.object.linear_inertia == 1 && S.object.angular_inertia == 1 && S.object.n_teleports == 0);
@@ -619,7 +620,7 @@ static void test_object(void) {
 }
 
 static void test_camera(void) {
-    wc_diag d;
+    cli_diag d;
     CHECK_EQ_INT(parse("{" GRID "}", &d), WEFT_OK);
     CHECK_EQ_INT(S.camera.framed, 0);
     CHECK_EQ_INT(S.camera.width, 640);

@@ -39,16 +39,16 @@ static int folded_strip(wc_model* m, int nu, int nz) {
     }
     wc_model_def def = wc_default_model_def();
     wc_diag d = {0};
-    weft_status st = wc_model_build(m, &src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "folded_strip: %s\n", d.message);
+    wc_status st = wc_model_build(m, &src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "folded_strip: %s\n", d.message);
     wc_source_mesh_free(&src);
-    return st == WEFT_OK;
+    return st == WC_OK;
 }
 
 static int crossings(const wc_model* m, const double* x) {
     int c = -1;
     wc_diag d = {0};
-    CHECK(wc_self_intersections(m, x, NULL, &c, &d) == WEFT_OK);
+    CHECK(wc_self_intersections(m, x, NULL, &c, &d) == WC_OK);
     return c;
 }
 
@@ -81,11 +81,11 @@ static void test_sewn_overlap_not_counted(void) {
     for (int sewn = 0; sewn < 2; ++sewn) {
         wc_source_mesh src;
         wc_diag d = {0};
-        CHECK(wc_source_mesh_from_arrays(&src, NULL, pos, 50, sizes, 32, idx, 1.0, &d) == WEFT_OK);
+        CHECK(wc_source_mesh_from_arrays(&src, NULL, pos, 50, sizes, 32, idx, 1.0, &d) == WC_OK);
         wc_model_def def = wc_default_model_def();
         def.sew_distance = sewn ? 0.005 : 0.0;
         wc_model m;
-        CHECK(wc_model_build(&m, &src, &def, NULL, &d) == WEFT_OK);
+        CHECK(wc_model_build(&m, &src, &def, NULL, &d) == WC_OK);
         int c = crossings(&m, m.rest_pos);
         printf("  overlapping panels %s: %d seams, %d crossing pairs (brute force %d)\n", sewn ? "sewn" : "apart",
                m.n_seams, c, wc_self_intersections_brute(&m, m.rest_pos));
@@ -98,7 +98,7 @@ static void test_sewn_overlap_not_counted(void) {
         }
         /* a state created on it: the rest shape's crossings are the tangled pairs left alone */
         wc_self* sc = NULL;
-        CHECK(wc_self_create(&sc, &m, 0.003, NULL, &d) == WEFT_OK);
+        CHECK(wc_self_create(&sc, &m, 0.003, NULL, &d) == WC_OK);
         if (sc) CHECK_EQ_INT(sc->tangled_pairs, c);
         wc_self_destroy(sc);
         wc_model_free(&m);
@@ -323,7 +323,7 @@ static run_result simulate(const wc_model* m, wc_sim_def def, const wc_pin* pins
     wc_state* s = NULL;
     wc_diag d = {0};
     d.log = log_fn;
-    CHECK(wc_state_create(&s, m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&s, m, &def, NULL, &d) == WC_OK);
     if (!s) {
         fprintf(stderr, "state: %s\n", d.message);
         r.failed = frames;
@@ -334,14 +334,14 @@ static run_result simulate(const wc_model* m, wc_sim_def def, const wc_pin* pins
         s->self->detect_all = detect_all;
         s->self->zone_strain = zone_strain;
     }
-    if (x_start) CHECK(wc_state_set_positions(s, x_start, NULL, &d) == WEFT_OK);
-    if (np) CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
-    if (nc) CHECK(wc_state_set_colliders(s, c, nc, &d) == WEFT_OK);
+    if (x_start) CHECK(wc_state_set_positions(s, x_start, NULL, &d) == WC_OK);
+    if (np) CHECK(wc_state_set_pins(s, pins, np, &d) == WC_OK);
+    if (nc) CHECK(wc_state_set_colliders(s, c, nc, &d) == WC_OK);
     double ms = 0;
     for (int f = 0; f < frames; ++f) {
         wc_step_stats st;
         double t0 = wc_now_ms();
-        if (wc_step_frame(s, 1.0 / 60, &st, &d) != WEFT_OK) ++r.failed;
+        if (wc_step_frame(s, 1.0 / 60, &st, &d) != WC_OK) ++r.failed;
         ms += wc_now_ms() - t0;
         r.unresolved += st.self_unresolved;
         r.impacts += st.self_impacts;
@@ -514,11 +514,11 @@ static void test_two_layers(void) {
     def.self_thickness = th;
     wc_state* st = NULL;
     wc_diag d = {0};
-    CHECK(wc_state_create(&st, &m, &def, NULL, &d) == WEFT_OK);
-    CHECK(wc_state_set_colliders(st, &floor, 1, &d) == WEFT_OK);
+    CHECK(wc_state_create(&st, &m, &def, NULL, &d) == WC_OK);
+    CHECK(wc_state_set_colliders(st, &floor, 1, &d) == WC_OK);
     int crossed = 0;
     for (int f = 0; f < 60; ++f) {
-        CHECK(wc_step_frame(st, 1.0 / 60, NULL, &d) == WEFT_OK);
+        CHECK(wc_step_frame(st, 1.0 / 60, NULL, &d) == WC_OK);
         crossed += crossings(&m, st->x) > 0;
     }
     CHECK_EQ_INT(crossed, 0);
@@ -545,9 +545,9 @@ static void test_two_layers(void) {
     wc_state_destroy(st);
     /* without self-collision they fall through each other onto the floor */
     def.self_collision = 0;
-    CHECK(wc_state_create(&st, &m, &def, NULL, &d) == WEFT_OK);
-    CHECK(wc_state_set_colliders(st, &floor, 1, &d) == WEFT_OK);
-    for (int f = 0; f < 60; ++f) CHECK(wc_step_frame(st, 1.0 / 60, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&st, &m, &def, NULL, &d) == WC_OK);
+    CHECK(wc_state_set_colliders(st, &floor, 1, &d) == WC_OK);
+    for (int f = 0; f < 60; ++f) CHECK(wc_step_frame(st, 1.0 / 60, NULL, &d) == WC_OK);
     min_gap = 1e9;
     for (int v = 0; v < nv; ++v) {
         int a = m.host_to_particle[v], b = m.host_to_particle[v + nv];
@@ -568,7 +568,7 @@ static void test_bad_inputs(void) {
         def.self_thickness = bad[k];
         wc_state* s = (wc_state*)1;
         wc_diag d = {0};
-        CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+        CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_ERROR_INVALID_ARGUMENT);
         CHECK(s == NULL);
         CHECK(strstr(d.message, "self_thickness") != NULL);
     }
@@ -576,17 +576,17 @@ static void test_bad_inputs(void) {
     def.self_collision = 2;
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_ERROR_INVALID_ARGUMENT);
     CHECK(strstr(d.message, "self_collision") != NULL);
     def = sim_def(1);
     def.self_in_solve = -1;
-    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_ERROR_INVALID_ARGUMENT);
     CHECK(s == NULL);
     CHECK(strstr(d.message, "self_in_solve") != NULL);
     wc_self* sc = NULL;
-    CHECK(wc_self_create(&sc, &m, NAN, NULL, &d) == WEFT_ERROR_INVALID_ARGUMENT && sc == NULL);
+    CHECK(wc_self_create(&sc, &m, NAN, NULL, &d) == WC_ERROR_INVALID_ARGUMENT && sc == NULL);
     int c = 7;
-    CHECK(wc_self_intersections(&m, NULL, NULL, &c, &d) == WEFT_ERROR_INVALID_ARGUMENT && c == 0);
+    CHECK(wc_self_intersections(&m, NULL, NULL, &c, &d) == WC_ERROR_INVALID_ARGUMENT && c == 0);
     wc_model_free(&m);
 }
 

@@ -200,7 +200,7 @@ static void test_solve_against_dense(void) {
         memset(dv, 0, (size_t)N3 * sizeof(double));
         wc_solve_result res;
         wc_solver_type type = variant == 2 ? WC_SOLVER_DIRECT : WC_SOLVER_PCG;
-        CHECK_EQ_INT(wc_solve(s->solver, type, s->A, s->b, &s->filter, dv, &s->par, &res), WEFT_OK);
+        CHECK_EQ_INT(wc_solve(s->solver, type, s->A, s->b, &s->filter, dv, &s->par, &res), WC_OK);
         double err = ts_rel_diff(dv, ref, N3), without = ts_rel_diff(ref0, ref, N3);
         printf("  %s: %d active couplings, %d iterations, residual %.2g; off the dense solve by %.2g (the "
                "system without the couplings: %.2g off)\n",
@@ -244,12 +244,12 @@ static drop_result drop(const wc_model* m, int in_solve, int threads) {
     def.threads = threads;
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK(wc_state_create(&s, m, &def, &al, &d) == WEFT_OK);
+    CHECK(wc_state_create(&s, m, &def, &al, &d) == WC_OK);
     int n = m->n_particles;
     double* x = malloc(3 * (size_t)n * sizeof(double));
     two_layers_shifted(m, N, SIZE, x);
     for (int hv = N * N; hv < 2 * N * N; ++hv) x[3 * m->host_to_particle[hv] + 1] += 0.02;   /* 2 cm up */
-    CHECK(wc_state_set_positions(s, x, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_set_positions(s, x, NULL, &d) == WC_OK);
     /* the bottom layer pinned at its rim, where it is */
     wc_pin* pins = calloc((size_t)N * N, sizeof *pins);
     int np = 0;
@@ -260,18 +260,18 @@ static drop_result drop(const wc_model* m, int in_solve, int threads) {
         v3_copy(pins[np].target, x + 3 * pins[np].particle);
         ++np;
     }
-    CHECK(wc_state_set_pins(s, pins, np, &d) == WEFT_OK);
+    CHECK(wc_state_set_pins(s, pins, np, &d) == WC_OK);
     long before = cnt.allocs;
     for (int f = 0; f < 30; ++f) {
         wc_step_stats st;
-        CHECK(wc_step_frame(s, 1.0 / 30, &st, &d) == WEFT_OK);
+        CHECK(wc_step_frame(s, 1.0 / 30, &st, &d) == WC_OK);
         r.impacts += st.self_impacts;
         r.proximity += st.self_proximity;
         r.zones += st.self_zones;
         r.pairs += st.self_pairs_active;
         r.rollbacks += st.rollbacks;
         int c = -1;
-        CHECK(wc_self_intersections(m, s->x, NULL, &c, &d) == WEFT_OK);
+        CHECK(wc_self_intersections(m, s->x, NULL, &c, &d) == WC_OK);
         r.crossings_frames += c != 0;
     }
     r.allocs_in_steps = cnt.allocs - before;

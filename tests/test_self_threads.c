@@ -32,17 +32,17 @@ static run simulate(const wc_model* m, const wc_collider* floor, int threads, in
     def.threads = threads;
     wc_state* s = NULL;
     wc_diag d = {0};
-    CHECK(wc_state_create(&s, m, &def, NULL, &d) == WEFT_OK);
+    CHECK(wc_state_create(&s, m, &def, NULL, &d) == WC_OK);
     if (!s || !r.xv) {
         r.failed = 1;
         return r;
     }
     CHECK_EQ_INT(s->par.threads, threads);
     s->self->passes = passes;
-    CHECK(wc_state_set_colliders(s, floor, 1, &d) == WEFT_OK);
+    CHECK(wc_state_set_colliders(s, floor, 1, &d) == WC_OK);
     for (int f = 0; f < FRAMES; ++f) {
         wc_step_stats st;
-        if (wc_step_frame(s, 1.0 / 60, &st, &d) != WEFT_OK) ++r.failed;
+        if (wc_step_frame(s, 1.0 / 60, &st, &d) != WC_OK) ++r.failed;
         r.impacts += st.self_impacts;
         r.zones += st.self_zones;
         r.proximity += st.self_proximity;

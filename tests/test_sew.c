@@ -35,7 +35,7 @@ static void test_tube_seams_found(void) {
     wc_model m;
     wc_diag d = {0};
     wc_model_def def = sew_def(0.0);
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     CHECK_EQ_INT(m.report.components, 2);
     CHECK_EQ_INT(m.report.seams, 0);
     CHECK_EQ_INT(m.report.panels, 2);
@@ -43,7 +43,7 @@ static void test_tube_seams_found(void) {
     wc_model_free(&m);
 
     def = sew_def(SEW);
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     printf("tube: %d seams (expected %d), panels %d -> %d, %d seam springs\n", m.report.seams, TUBE_SEAMS,
            m.report.components, m.report.panels, m.report.springs[WC_SPRING_SEAM]);
     CHECK_EQ_INT(m.report.seams, TUBE_SEAMS);
@@ -69,7 +69,7 @@ static void test_tube_seams_found(void) {
 
     /* a smaller distance than the gap sews nothing */
     def = sew_def(0.5 * GAP);
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     CHECK_EQ_INT(m.report.seams, 0);
     CHECK_EQ_INT(m.report.panels, 2);
     wc_model_free(&m);
@@ -101,10 +101,10 @@ static void test_vertex_pairs_once(void) {
             }
     wc_source_mesh src;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 18, sizes, 8, idx, 1.0, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 18, sizes, 8, idx, 1.0, &d), WC_OK);
     wc_model_def def = sew_def(0.002);
     wc_model m;
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_OK);
     CHECK_EQ_INT(m.report.seams, 3);
     CHECK_EQ_INT(m.report.panels, 1);
     CHECK_EQ_INT(m.report.springs[WC_SPRING_SEAM], 3);
@@ -230,7 +230,7 @@ static void test_seam_forces_fd(void) {
     wc_model_def def = sew_def(SEW);
     def.material.k[WC_SPRING_SEAM] = 3000.0; /* distinct from stretch, so a wrong type lookup shows */
     def.material.d[WC_SPRING_SEAM] = 1.5;
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     /* energy of the pair springs == sum over seams of k/2 |p - (1-t) q0 - t q1|^2 */
     int n = m.n_particles;
     double* x = malloc(sizeof(double) * 3 * n);
@@ -272,7 +272,7 @@ static run_result hang(const wc_model* m, const int* pinned, int n_pins, int fra
     wc_state* s = NULL;
     wc_diag d = {0};
     d.log = debug_log;
-    if (wc_state_create(&s, m, &sd, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&s, m, &sd, NULL, &d) != WC_OK) {
         fprintf(stderr, "state: %s\n", d.message);
         CHECK(0);
         return r;
@@ -282,11 +282,11 @@ static run_result hang(const wc_model* m, const int* pinned, int n_pins, int fra
         pins[k].particle = pinned[k];
         v3_copy(pins[k].target, m->rest_pos + 3 * pinned[k]);
     }
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, n_pins, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, n_pins, &d), WC_OK);
     for (int f = 0; f < frames; ++f) {
         wc_step_stats st;
-        weft_status ok = wc_step_frame(s, 1.0 / 60.0, &st, &d);
-        if (ok != WEFT_OK) {
+        wc_status ok = wc_step_frame(s, 1.0 / 60.0, &st, &d);
+        if (ok != WC_OK) {
             fprintf(stderr, "frame %d: %s\n", f, d.message);
             break;
         }
@@ -325,7 +325,7 @@ static void test_tube_hangs_sewn(void) {
     wc_model m;
     wc_diag d = {0};
     wc_model_def def = sew_def(SEW);
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     int pins[NW + 1];
     int np = top_row(&m, 0, pins); /* only panel A is held: B hangs from the seams */
     run_result r = hang(&m, pins, np, 120, 0, max_gap);
@@ -342,7 +342,7 @@ static void test_tube_hangs_sewn(void) {
 
     /* the same mesh unsewn: panel B falls off */
     def = sew_def(0.0);
-    CHECK_EQ_INT(tube_model(&m, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
     np = top_row(&m, 0, pins);
     drop = hang(&m, pins, np, 120, 0, b_drop);
     printf("unsewn tube after 2 s: B dropped %.3g m\n", drop.gap);
@@ -355,9 +355,9 @@ static void test_amg_with_seams(void) {
     wc_model sewn, apart;
     wc_diag d = {0};
     wc_model_def def = sew_def(SEW);
-    CHECK_EQ_INT(tube_model(&sewn, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&sewn, &def, &d), WC_OK);
     def = sew_def(0.0);
-    CHECK_EQ_INT(tube_model(&apart, &def, &d), WEFT_OK);
+    CHECK_EQ_INT(tube_model(&apart, &def, &d), WC_OK);
     int pins[2 * (NW + 1)];
     int np = top_row(&sewn, 0, pins);
     run_result rs = hang(&sewn, pins, np, 30, 1, max_gap);
@@ -411,13 +411,13 @@ static void test_host_pairs_close(void) {
     }
     wc_source_mesh src;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, NV, sizes, NF, idx, 1.0, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, NV, sizes, NF, idx, 1.0, &d), WC_OK);
     wc_model_def def = sew_def(0.0);
     def.n_seam_pairs = SHEET_N;
     def.seam_a = sa;
     def.seam_b = sb;
     wc_model m;
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_OK);
     CHECK_EQ_INT(m.report.seams, SHEET_N);
     CHECK_EQ_INT(m.report.panels, 1);
     CHECK_NEAR(max_gap(&m, m.rest_pos), 0.3, 1e-12);
@@ -465,11 +465,11 @@ static void test_host_pairs_close(void) {
 
 /* ---- bad inputs -------------------------------------------------------------------------------- */
 
-static void expect_refused(const wc_source_mesh* src, const wc_model_def* def, weft_status want, const char* word) {
+static void expect_refused(const wc_source_mesh* src, const wc_model_def* def, wc_status want, const char* word) {
     wc_model m;
     memset(&m, 0x5a, sizeof m);
     wc_diag d = {0};
-    weft_status st = wc_model_build(&m, src, def, NULL, &d);
+    wc_status st = wc_model_build(&m, src, def, NULL, &d);
     CHECK_EQ_INT(st, want);
     CHECK(strstr(d.message, word) != NULL);
     CHECK(m.n_particles == 0 && m.springs == NULL && m.seams == NULL && m.n_seams == 0);
@@ -481,34 +481,34 @@ static void test_core_bad_inputs(void) {
     ts_quad_grid(&src, 4, 4, 1.0, 1.0, 0);
     int a[2] = {0, 3}, b[2] = {15, 3}, far[1] = {16}, neg[1] = {-1};
     wc_model_def def = sew_def(NAN);
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "sew_distance");
     def = sew_def(-0.001);
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "sew_distance");
     def = sew_def(INFINITY);
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "sew_distance");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "sew_distance");
     def = sew_def(0.0);
     def.seam_close_time = -1.0;
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "seam_close_time");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "seam_close_time");
     def.seam_close_time = NAN;
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "seam_close_time");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "seam_close_time");
     def = sew_def(0.0);
     def.n_seam_pairs = -1;
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "count");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "count");
     def.n_seam_pairs = 1;
     def.seam_a = a;
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "NULL");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "NULL");
     def.seam_b = far;
-    expect_refused(&src, &def, WEFT_ERROR_OUT_OF_RANGE, "outside");
+    expect_refused(&src, &def, WC_ERROR_OUT_OF_RANGE, "outside");
     def.seam_b = neg;
-    expect_refused(&src, &def, WEFT_ERROR_OUT_OF_RANGE, "outside");
+    expect_refused(&src, &def, WC_ERROR_OUT_OF_RANGE, "outside");
     def.n_seam_pairs = 2;
     def.seam_b = b;
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "itself");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "itself");
     /* the good pair alone builds */
     def.n_seam_pairs = 1;
     wc_model m;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_OK);
     CHECK_EQ_INT(m.report.seams, 1);
     CHECK_EQ_INT(m.report.panels, 1);
     wc_model_free(&m);
@@ -520,7 +520,7 @@ static void test_core_bad_inputs(void) {
     def.n_seam_pairs = 1;
     def.seam_a = wa;
     def.seam_b = wb;
-    expect_refused(&src, &def, WEFT_ERROR_INVALID_ARGUMENT, "welded");
+    expect_refused(&src, &def, WC_ERROR_INVALID_ARGUMENT, "welded");
     wc_source_mesh_free(&src);
 }
 int main(void) {

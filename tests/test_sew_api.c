@@ -200,7 +200,7 @@ static scene S; /* large: off the stack */
 static void expect_scene_bad(const char* mesh, const char* word) {
     char text[512];
     snprintf(text, sizeof text, "{\"mesh\": {\"grid\": {\"n\": [3, 3], \"size\": [1, 1]}%s}}", mesh);
-    wc_diag d = {0};
+    cli_diag d = {0};
     weft_status st = scene_parse(&S, text, strlen(text), "scene.json", &d);
     CHECK(st != WEFT_OK);
     CHECK(strstr(d.message, word) != NULL);
@@ -212,7 +212,8 @@ static void expect_scene_bad(const char* mesh, const char* word) {
 static void test_scene(void) {
     const char* good = "{\"mesh\": {\"grid\": {\"n\": [3, 3], \"size\": [1, 1]}, \"sew_distance\": 0.001, "
                        "\"seam_close_time\": 0.25, \"seams\": [[0, 8], [2, 6]]}}";
-    wc_diag d = {0};
+    cli_diag d = {0};
+    wc_diag cd = {0};
     CHECK_EQ_INT(scene_parse(&S, good, strlen(good), "scene.json", &d), WEFT_OK);
     CHECK_NEAR(S.model_def.sew_distance, 0.001, 0);
     CHECK_NEAR(S.model_def.seam_close_time, 0.25, 0);
@@ -220,7 +221,7 @@ static void test_scene(void) {
     CHECK(S.model_def.seam_a == S.seam_a && S.model_def.seam_b == S.seam_b);
     if (S.seam_a && S.seam_b) CHECK(S.seam_a[1] == 2 && S.seam_b[1] == 6 && S.seam_a[0] == 0 && S.seam_b[0] == 8);
     wc_model m;
-    CHECK_EQ_INT(wc_model_build(&m, &S.src, &S.model_def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &S.src, &S.model_def, NULL, &cd), WC_OK);
     CHECK_EQ_INT(m.report.seams, 2);
     wc_model_free(&m);
     scene_free(&S);

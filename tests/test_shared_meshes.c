@@ -36,16 +36,16 @@ static void check_row(const char* dir, char** col) {
     wc_source_mesh src;
     wc_diag d = {0};
     wc_import_opts o = wc_default_import_opts();
-    weft_status st = wc_import_file(&src, NULL, path, &o, &d);
-    if (st != WEFT_OK) fprintf(stderr, "%s: %s\n", file, d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
-    if (st != WEFT_OK) return;
+    wc_status st = wc_import_file(&src, NULL, path, &o, &d);
+    if (st != WC_OK) fprintf(stderr, "%s: %s\n", file, d.message);
+    CHECK_EQ_INT(st, WC_OK);
+    if (st != WC_OK) return;
     wc_model m;
     wc_model_def def = wc_default_model_def();
     def.weld_tolerance = 1e-12; /* exact positions: the manifest counts distinct positions */
     st = wc_model_build(&m, &src, &def, NULL, &d);
-    CHECK_EQ_INT(st, WEFT_OK);
-    if (st != WEFT_OK) {
+    CHECK_EQ_INT(st, WC_OK);
+    if (st != WC_OK) {
         wc_source_mesh_free(&src);
         return;
     }

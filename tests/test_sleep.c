@@ -29,12 +29,12 @@ static void rig_make(rig* r, double sleep_speed, double sleep_time) {
     sd.sleep_speed = sleep_speed;
     sd.sleep_time = sleep_time;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_create(&r->s, &r->m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&r->s, &r->m, &sd, NULL, &d), WC_OK);
     memset(r->pins, 0, sizeof r->pins);
     r->pins[0].particle = ts_sheet_particle(&r->m, N, 0, N - 1);
     r->pins[1].particle = ts_sheet_particle(&r->m, N, N - 1, N - 1);
     for (int k = 0; k < 2; ++k) v3_copy(r->pins[k].target, r->m.rest_pos + 3 * r->pins[k].particle);
-    CHECK_EQ_INT(wc_state_set_pins(r->s, r->pins, 2, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(r->s, r->pins, 2, &d), WC_OK);
 }
 
 static void rig_free(rig* r) {
@@ -45,7 +45,7 @@ static void rig_free(rig* r) {
 static wc_step_stats step(wc_state* s) {
     wc_step_stats st;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_step_frame(s, DT, &st, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, DT, &st, &d), WC_OK);
     return st;
 }
 
@@ -153,14 +153,14 @@ static void test_wake_rules(void) {
         far.type = WC_COLLIDER_SPHERE;
         v3_set(far.center, 0.0, -50.0, 0.0);
         far.radius = 1.0;
-        CHECK_EQ_INT(wc_state_set_colliders(a.s, &far, 1, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(a.s, &far, 1, &d), WC_OK);
         run_to_sleep(a.s);
         const int n3 = 3 * a.m.n_particles;
         double* x = malloc(sizeof(double) * (size_t)n3);
         memcpy(x, a.s->x, sizeof(double) * (size_t)n3);
         /* unchanged inputs, set again as a host does every frame: still asleep */
-        CHECK_EQ_INT(wc_state_set_pins(a.s, a.pins, 2, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_state_set_colliders(a.s, &far, 1, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(a.s, a.pins, 2, &d), WC_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(a.s, &far, 1, &d), WC_OK);
         a.s->def.gravity[1] = -9.81;
         CHECK(step(a.s).asleep);
         CHECK(same_x(a.s, x));
@@ -169,12 +169,12 @@ static void test_wake_rules(void) {
         switch ((wake_kind)w) {
         case W_PIN:
             a.pins[0].target[0] -= 0.01;
-            CHECK_EQ_INT(wc_state_set_pins(a.s, a.pins, 2, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_state_set_pins(a.s, a.pins, 2, &d), WC_OK);
             break;
         case W_COLLIDER:   /* into the sheet (the plane z = 0), from behind */
             v3_set(far.center, 0.0, 0.75, -0.08);
             far.radius = 0.1;
-            CHECK_EQ_INT(wc_state_set_colliders(a.s, &far, 1, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_state_set_colliders(a.s, &far, 1, &d), WC_OK);
             break;
         case W_GRAVITY: a.s->def.gravity[0] = 3.0; break;
         case W_WIND: v3_set(a.s->def.air.wind, 0.0, 0.0, 5.0); break;
@@ -183,7 +183,7 @@ static void test_wake_rules(void) {
             double* y = malloc(sizeof(double) * (size_t)n3);
             memcpy(y, x, sizeof(double) * (size_t)n3);
             for (int i = 0; i < a.m.n_particles; ++i) y[3 * i + 2] += 0.01 * (y[3 * i + 1] - 1.0);
-            CHECK_EQ_INT(wc_state_set_positions(a.s, y, NULL, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_state_set_positions(a.s, y, NULL, &d), WC_OK);
             memcpy(x, y, sizeof(double) * (size_t)n3);
             free(y);
             break;
@@ -237,7 +237,7 @@ static void test_never_sleeps(void) {
             p[k].target[2] += 0.02 * (1.0 - cos(3.0 * f * DT));
         }
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_state_set_pins(b.s, p, 2, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(b.s, p, 2, &d), WC_OK);
         CHECK(!step(b.s).fell_asleep);
     }
     CHECK(!a.s->asleep && !b.s->asleep);
@@ -274,7 +274,7 @@ static void test_bad_def(void) {
         else sd.sleep_time = bad[k - 3];
         wc_state* s = (wc_state*)&m;
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_ERROR_INVALID_ARGUMENT);
         CHECK(s == NULL);
         CHECK(strstr(d.message, k < 3 ? "sleep_speed" : "sleep_time") != NULL);
     }

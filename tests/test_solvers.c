@@ -40,9 +40,9 @@ static wc_model build_model(const wc_source_mesh* src) {
     wc_model m;
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
-    weft_status st = wc_model_build(&m, src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "build failed: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_model_build(&m, src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "build failed: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     return m;
 }
 static wc_model grid_model(int nx, int ny, int tris) {   /* 1 m x 1 m quads or 1 m x 0.8 m triangles */
@@ -246,12 +246,12 @@ static int dense_solve(const wc_model* m, const sys* s, double* dv) {
 static wc_solver* make_solver(const wc_model* m, wc_solver_opts o, const wc_allocator* alloc) {
     wc_solver* sv = NULL;
     wc_diag d = {0};
-    weft_status st = wc_solver_create(&sv, m, &o, 1, alloc, &d);
-    if (st != WEFT_OK) fprintf(stderr, "solver create: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_solver_create(&sv, m, &o, 1, alloc, &d);
+    if (st != WC_OK) fprintf(stderr, "solver create: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     return sv;
 }
-static weft_status run(wc_solver* sv, wc_solver_type t, const sys* s, double* dv, int threads, wc_solve_result* res) {
+static wc_status run(wc_solver* sv, wc_solver_type t, const sys* s, double* dv, int threads, wc_solve_result* res) {
     wc_par par;
     wc_par_init(&par, threads);
     for (int i = 0; i < 3 * s->n; ++i) dv[i] = 0.0;
@@ -320,7 +320,7 @@ static void check_direct_dense(const wc_model* m, int nx) {
     double* dv = calloc(3 * (size_t)s.n, sizeof(double));
     double* ref = calloc(3 * (size_t)s.n, sizeof(double));
     wc_solve_result res;
-    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WC_OK);
     CHECK_EQ_INT(res.solver, WC_SOLVER_DIRECT);
     CHECK_EQ_INT(res.iterations, 1);
     CHECK(res.converged);
@@ -356,11 +356,11 @@ static void check_iterative(const wc_model* m, int nx) {
     double* dv = calloc(3 * (size_t)s.n, sizeof(double));
     double* ref = calloc(3 * (size_t)s.n, sizeof(double));
     wc_solve_result res;
-    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, ref, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, ref, 1, &res), WC_OK);
     double r0 = proj_residual(m, &s, s.f.z);
     for (int k = 0; k < 3; ++k) {
-        weft_status st = run(sv, all_types[k], &s, dv, 1, &res);
-        CHECK_EQ_INT(st, WEFT_OK);
+        wc_status st = run(sv, all_types[k], &s, dv, 1, &res);
+        CHECK_EQ_INT(st, WC_OK);
         CHECK_EQ_INT(res.solver, all_types[k]);
         CHECK(res.converged);
         CHECK(res.iterations > 0 && res.iterations < o.max_iterations);
@@ -376,17 +376,17 @@ static void check_iterative(const wc_model* m, int nx) {
     wc_par_init(&par, 1);
     rng r = {6};
     for (int i = 0; i < 3 * s.n; ++i) dv[i] = urand(&r);
-    CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_PCG, s.A, s.b, &s.f, dv, &par, &res), WEFT_OK);
+    CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_PCG, s.A, s.b, &s.f, dv, &par, &res), WC_OK);
     CHECK(res.converged && ts_rel_diff(dv, ref, 3 * s.n) <= 1e-6);
     check_constraints(&s, dv);
     for (int i = 0; i < 3 * s.n; ++i) dv[i] = ref[i];
-    CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_PCG, s.A, s.b, &s.f, dv, &par, &res), WEFT_OK);
+    CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_PCG, s.A, s.b, &s.f, dv, &par, &res), WC_OK);
     CHECK(res.converged && res.iterations == 0);
     /* Chebyshev with a given rho (no estimate) converges as well */
     wc_solver_destroy(sv);
     o.chebyshev_rho = 0.998;
     sv = make_solver(m, o, NULL);
-    CHECK_EQ_INT(run(sv, WC_SOLVER_CHEBYSHEV, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_CHEBYSHEV, &s, dv, 1, &res), WC_OK);
     CHECK(res.converged && res.residual <= o.tolerance);
     CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-6);
     free(dv);
@@ -407,11 +407,11 @@ static void test_direct_keeps_host_openmp(void) {
     CHECK_EQ_INT(omp_get_max_active_levels(), host);
     double* dv = calloc(3 * (size_t)s.n, sizeof(double));
     wc_solve_result res;
-    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WC_OK);
     CHECK(res.converged);
     CHECK_EQ_INT(omp_get_max_active_levels(), host);
     for (int k = 0; k < 9 * s.nb; ++k) s.A[k] = -s.A[k]; /* negative definite: the factorisation fails */
-    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_ERROR_FACTORIZATION);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WC_ERROR_FACTORIZATION);
     CHECK_EQ_INT(omp_get_max_active_levels(), host);
     free(dv);
     wc_solver_destroy(sv);
@@ -442,7 +442,7 @@ static void test_pcg_tolerance(void) {
         o.max_iterations = 5000;
         wc_solver* sv = make_solver(&m, o, NULL);
         wc_solve_result res;
-        CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WEFT_OK);
+        CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WC_OK);
         CHECK(res.converged && res.residual <= tol);
         if (last >= 0) CHECK(res.iterations < last);
         last = res.iterations;
@@ -454,7 +454,7 @@ static void test_pcg_tolerance(void) {
     o.max_iterations = 40;
     wc_solver* sv = make_solver(&m, o, NULL);
     wc_solve_result res;
-    CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WC_OK);
     CHECK_EQ_INT(res.iterations, 40);
     CHECK(!res.converged);
     wc_solver_destroy(sv);
@@ -481,9 +481,9 @@ static void test_jacobi_divergence(void) {
     wc_solver* sv = make_solver(&m, o, NULL);
     wc_solve_result res;
     for (int k = 1; k <= 2; ++k) {
-        weft_status st = run(sv, all_types[k], &s, dv, 1, &res);
-        CHECK_EQ_INT(st, WEFT_ERROR_SOLVER_DIVERGED);
-        CHECK_EQ_INT(res.status, WEFT_ERROR_SOLVER_DIVERGED);
+        wc_status st = run(sv, all_types[k], &s, dv, 1, &res);
+        CHECK_EQ_INT(st, WC_ERROR_SOLVER_DIVERGED);
+        CHECK_EQ_INT(res.status, WC_ERROR_SOLVER_DIVERGED);
         CHECK(!res.converged);
         CHECK(res.iterations < 100);   /* caught early, not at the cap */
         int finite = 1;
@@ -491,9 +491,9 @@ static void test_jacobi_divergence(void) {
         CHECK(finite);
         check_constraints(&s, dv);
     }
-    CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_PCG, &s, dv, 1, &res), WC_OK);
     CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-6);
-    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WC_OK);
     CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-10);
     wc_solver_destroy(sv);
     free(dv);
@@ -520,7 +520,7 @@ static void test_direct_not_spd(void) {
         if (nx <= 12) CHECK(!dense_solve(&m, &s, dv));
         wc_solver* sv = make_solver(&m, wc_default_solver_opts(), NULL);
         wc_solve_result res;
-        CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_ERROR_FACTORIZATION);
+        CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WC_ERROR_FACTORIZATION);
         CHECK(!res.converged);
         int finite = 1;
         for (int i = 0; i < 3 * s.n; ++i) finite &= isfinite(dv[i]) ? 1 : 0;
@@ -529,7 +529,7 @@ static void test_direct_not_spd(void) {
         /* recovery on the same solver */
         sys_free(&s);
         s = cloth_system(&m, nx, 33);
-        CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WEFT_OK);
+        CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, dv, 1, &res), WC_OK);
         CHECK(proj_residual(&m, &s, dv) / proj_residual(&m, &s, s.f.z) <= 1e-10);
         wc_solver_destroy(sv);
         free(dv);
@@ -591,10 +591,10 @@ static void test_rho_and_jacobi_closed_form(void) {
     wc_solver_invalidate_rho(sv);
     CHECK_NEAR(wc_solver_estimate_rho(sv, s.A, &s.f, &par), 1.0 - o.chebyshev_gamma, 1e-12);
     wc_solve_result res;
-    CHECK_EQ_INT(run(sv, WC_SOLVER_JACOBI, &s, dv, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_JACOBI, &s, dv, 1, &res), WC_OK);
     CHECK_EQ_INT(res.iterations, 1);
     CHECK(res.converged);
-    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, ref, 1, &res), WEFT_OK);
+    CHECK_EQ_INT(run(sv, WC_SOLVER_DIRECT, &s, ref, 1, &res), WC_OK);
     CHECK(ts_rel_diff(dv, ref, 3 * s.n) <= 1e-13);
     wc_solver_destroy(sv);
     free(dv);
@@ -615,26 +615,26 @@ static void test_edge_cases(void) {
     double* dv = calloc(3 * (size_t)s.n, sizeof(double));
     wc_solve_result res;
     for (int k = 0; k < 4; ++k) {
-        CHECK_EQ_INT(run(sv, all_types[k], &s, dv, 1, &res), WEFT_OK);
+        CHECK_EQ_INT(run(sv, all_types[k], &s, dv, 1, &res), WC_OK);
         CHECK(memcmp(dv, s.f.z, sizeof(double) * 3 * (size_t)s.n) == 0);
         CHECK(res.converged && res.residual == 0.0 && res.iterations == 0);
     }
     s.b[7] = NAN;
     for (int k = 0; k < 4; ++k) {
-        weft_status st = run(sv, all_types[k], &s, dv, 1, &res);
-        CHECK_EQ_INT(st, k == 3 ? WEFT_ERROR_FACTORIZATION : WEFT_ERROR_SOLVER_DIVERGED);
+        wc_status st = run(sv, all_types[k], &s, dv, 1, &res);
+        CHECK_EQ_INT(st, k == 3 ? WC_ERROR_FACTORIZATION : WC_ERROR_SOLVER_DIVERGED);
         CHECK(memcmp(dv, s.f.z, sizeof(double) * 3 * (size_t)s.n) == 0);
     }
-    CHECK_EQ_INT(wc_solve(sv, (wc_solver_type)7, s.A, s.b, &s.f, dv, &par, &res), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wc_solve(sv, (wc_solver_type)7, s.A, s.b, &s.f, dv, &par, &res), WC_ERROR_INVALID_ARGUMENT);
     wc_solver_destroy(sv);
     /* without want_direct the direct solver is not analysed */
     wc_solver_opts o = wc_default_solver_opts();
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_solver_create(&sv, &m, &o, 0, NULL, &d), WEFT_OK);
-    CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_DIRECT, s.A, s.b, &s.f, dv, &par, &res), WEFT_ERROR_CALL_ORDER);
+    CHECK_EQ_INT(wc_solver_create(&sv, &m, &o, 0, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_solve(sv, WC_SOLVER_DIRECT, s.A, s.b, &s.f, dv, &par, &res), WC_ERROR_CALL_ORDER);
     wc_solver_destroy(sv);
     o.chebyshev_gamma = 1.5;
-    CHECK_EQ_INT(wc_solver_create(&sv, &m, &o, 0, NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK_EQ_INT(wc_solver_create(&sv, &m, &o, 0, NULL, &d), WC_ERROR_INVALID_ARGUMENT);
     CHECK(sv == NULL);
     free(dv);
     sys_free(&s);
@@ -704,7 +704,7 @@ static void print_comparison(void) {
                 for (int i = 0; i < 3 * s.n; ++i) ref[i] = dv[i];
             printf("  %-10s %8.0e %6d %5d %5d %10.2e %10.2e %9.2f %9.3f%s\n", wc_solver_name(rows[k].t), rows[k].tol,
                    rows[k].max_it, threads, res.iterations, res.residual, ts_rel_diff(dv, ref, 3 * s.n), best,
-                   best / (res.iterations > 0 ? res.iterations : 1), res.status == WEFT_OK ? "" : "  (failed)");
+                   best / (res.iterations > 0 ? res.iterations : 1), res.status == WC_OK ? "" : "  (failed)");
         }
         wc_solver_destroy(sv);
     }

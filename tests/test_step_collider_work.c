@@ -39,8 +39,8 @@ static void test_push_out_is_not_charged(void) {
     d.threads = 1;
     wc_state* s = NULL;
     log_rec rec = {0};
-    wc_diag diag = {WEFT_OK, "", on_log, &rec};
-    CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WEFT_OK);
+    wc_diag diag = {WC_OK, "", on_log, &rec};
+    CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WC_OK);
     int mid = ts_sheet_particle(&m, N, 1, 1);
     const double* p = s->x + 3 * mid;
     wc_collider c;
@@ -48,7 +48,7 @@ static void test_push_out_is_not_charged(void) {
     c.type = WC_COLLIDER_SPHERE;
     v3_set(c.center, p[0], p[1] - (R - DEPTH), p[2]);
     c.radius = R;
-    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &diag), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &diag), WC_OK);
 
     /* the energy after the push, from positions alone: the middle particle DEPTH higher */
     const double e_rest = total_energy(s, s->x);
@@ -63,7 +63,7 @@ static void test_push_out_is_not_charged(void) {
     CHECK(e_pushed - e_rest > 1e-4);
 
     wc_step_stats st;
-    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &diag), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &diag), WC_OK);
     CHECK_EQ_INT(st.rollbacks, 0);
     CHECK_EQ_INT(rec.energy_rollbacks, 0);
     /* the middle particle is on the sphere (not inside it), the step only dissipated */

@@ -40,15 +40,15 @@ static void test_nothing_ends_inside(void) {
         wc_state* s = NULL;
         wc_diag d = {0};
         wc_sim_def sd = wc_default_sim_def();
-        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
         wc_collider cs[2] = {make(type), make(WC_COLLIDER_PLANE)};
         int nc = type == WC_COLLIDER_PLANE ? 1 : 2;
-        CHECK_EQ_INT(wc_state_set_colliders(s, cs, nc, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s, cs, nc, &d), WC_OK);
         double worst = 0;
         int contacts = 0;
         for (int f = 0; f < 90; ++f) {
             wc_step_stats st;
-            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &d), WC_OK);
             contacts = st.contacts;
             for (int i = 0; i < m.n_particles; ++i)
                 for (int c = 0; c < nc; ++c) {
@@ -75,16 +75,16 @@ static void test_iterative_solvers_match_cholmod(void) {
     wc_sim_def sd = wc_default_sim_def();
     sd.solver.tolerance = 1e-10;
     sd.solver.max_iterations = 20000;
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     wc_collider c = make(WC_COLLIDER_SPHERE);
-    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WC_OK);
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);
     pins[0].particle = ts_sheet_particle(&m, n, 0, 0);
     pins[1].particle = ts_sheet_particle(&m, n, n - 1, 0);
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, m.rest_pos + 3 * pins[k].particle);
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WEFT_OK);
-    for (int f = 0; f < 40; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WC_OK);
+    for (int f = 0; f < 40; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WC_OK);
 
     wc_step_stats st;
     memset(&st, 0, sizeof st);
@@ -105,16 +105,16 @@ static void test_iterative_solvers_match_cholmod(void) {
     double* ref = calloc((size_t)n3, sizeof(double));
     double* dv = calloc((size_t)n3, sizeof(double));
     wc_solve_result res;
-    CHECK_EQ_INT(wc_solve(s->solver, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res), WEFT_OK);
+    CHECK_EQ_INT(wc_solve(s->solver, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &res), WC_OK);
     CHECK(res.residual < 1e-10);
     const wc_solver_type its[] = {WC_SOLVER_PCG, WC_SOLVER_JACOBI, WC_SOLVER_CHEBYSHEV};
     for (int k = 0; k < 3; ++k) {
         memset(dv, 0, sizeof(double) * (size_t)n3);
-        weft_status r = wc_solve(s->solver, its[k], s->A, s->b, &s->filter, dv, &s->par, &res);
+        wc_status r = wc_solve(s->solver, its[k], s->A, s->b, &s->filter, dv, &s->par, &res);
         double err = ts_rel_diff(dv, ref, n3);
         printf("  %-9s: %s, %4d iterations, residual %.2g, error against CHOLMOD %.2g\n", wc_solver_name(its[k]),
-               r == WEFT_OK ? "ok" : "failed", res.iterations, res.residual, err);
-        CHECK_EQ_INT(r, WEFT_OK);
+               r == WC_OK ? "ok" : "failed", res.iterations, res.residual, err);
+        CHECK_EQ_INT(r, WC_OK);
         CHECK(res.converged);
         CHECK(err < 1e-6);
         /* constrained directions are exact for every solver */
@@ -144,8 +144,8 @@ static wc_state* friction_state(const wc_model* m, const wc_collider* c, int nc,
     sd.threads = 1;
     sd.air.normal_drag = sd.air.tangent_drag = 0.0;
     sd.substeps = substeps;
-    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &d), WEFT_OK);
-    CHECK_EQ_INT(wc_state_set_colliders(s, c, nc, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, c, nc, &d), WC_OK);
     return s;
 }
 
@@ -184,7 +184,7 @@ static void capstan_run(int n1, int n2, double mu, double* moved, double* rise, 
     wc_model m;
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_OK);
     double* x = calloc(3 * (size_t)m.n_particles, sizeof(double));
     for (int v = 0; v < src.n_verts; ++v) {
         int i = v % nx, p = m.host_to_particle[v];
@@ -206,13 +206,13 @@ static void capstan_run(int n1, int n2, double mu, double* moved, double* rise, 
     c.thickness = th;
     c.friction = mu;
     wc_state* s = friction_state(&m, &c, 1, 16);
-    CHECK_EQ_INT(wc_state_set_positions(s, x, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_positions(s, x, NULL, &d), WC_OK);
     int end = m.host_to_particle[0]; /* the bottom of the left (light) side */
     *moved = *strain = 0.0;
     *rollbacks = 0;
     for (int f = 0; f < 24; ++f) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, &st, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, &st, &d), WC_OK);
         *rollbacks += st.rollbacks;
         *strain = fmax(*strain, st.max_strain);
         for (int i = 0; i < m.n_particles; ++i) {
@@ -262,7 +262,7 @@ static void patch_on_plane(wc_model* m, const wc_collider* c, double theta, wc_s
         v3_axpy(x + 3 * i, c->thickness, c->normal);
     }
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_set_positions(s, x, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_positions(s, x, NULL, &d), WC_OK);
     free(x);
 }
 
@@ -289,7 +289,7 @@ static void test_patch_incline(void) {
         int rollbacks = 0;
         for (int f = 0; f < frames; ++f) {
             wc_step_stats st;
-            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, &st, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, &st, &d), WC_OK);
             rollbacks += st.rollbacks;
         }
         double down[3] = {-cos(th), -sin(th), 0}, lo = HUGE_VAL, hi = -HUGE_VAL, off = 0.0;
@@ -340,7 +340,7 @@ static void test_patch_dragged(void) {
     wc_diag d = {0};
     double worst = 0.0, beyond = 0.0, prev = 0.0, back = 0.0;
     for (int f = 1; f <= 12; ++f) {
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, NULL, &d), WC_OK);
         double expect = fmin(V, mu * g * f / 24.0), lo = HUGE_VAL;
         for (int i = 0; i < m.n_particles; ++i) {
             double vx = s->v[3 * i];
@@ -381,12 +381,12 @@ static void draped_run(double mu, double* strain, int* rollbacks, int* contacts)
     wc_model m;
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_OK);
     wc_source_mesh_free(&src);
     wc_state* s = NULL;
     wc_sim_def sd = wc_default_sim_def(); /* air, one substep: the report's settings */
     sd.threads = 1;
-    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
     wc_collider c;
     memset(&c, 0, sizeof c);
     c.type = WC_COLLIDER_SPHERE;
@@ -394,7 +394,7 @@ static void draped_run(double mu, double* strain, int* rollbacks, int* contacts)
     c.radius = 0.3;
     c.thickness = 0.005;
     c.friction = mu;
-    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WC_OK);
     wc_pin pins[13];
     memset(pins, 0, sizeof pins);
     *strain = 0.0;
@@ -405,9 +405,9 @@ static void draped_run(double mu, double* strain, int* rollbacks, int* contacts)
             v3_copy(pins[i].target, m.rest_pos + 3 * pins[i].particle);
             pins[i].target[0] += 0.3 * (f < 30 ? f : 30) / 30.0;
         }
-        CHECK_EQ_INT(wc_state_set_pins(s, pins, n, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, n, &d), WC_OK);
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, &st, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 24, &st, &d), WC_OK);
         *strain = fmax(*strain, st.max_strain);
         *rollbacks += st.rollbacks;
         if (st.contacts > *contacts) *contacts = st.contacts;

@@ -30,8 +30,8 @@ static wc_state* make(const wc_model* m, double gain, const double* move) {
     d.threads = 1;
     wc_state* s = NULL;
     wc_diag diag = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WEFT_OK);
-    CHECK_EQ_INT(ts_pin_far_corners(s, N, move), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &diag), WC_OK);
+    CHECK_EQ_INT(ts_pin_far_corners(s, N, move), WC_OK);
     return s;
 }
 
@@ -59,7 +59,7 @@ static void test_linearised_free_fall(void) {
     double e0 = total_energy(s);
     wc_step_stats st;
     wc_diag diag = {0};
-    CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WC_OK);
     CHECK_EQ_INT(st.rollbacks, 0);
     /* a free particle far from the pins fell g h^2 (backward Euler: v1 = g h, x1 = h v1) */
     int far = ts_sheet_particle(m, N, N / 2, 0);
@@ -77,12 +77,12 @@ static void test_check_rolls_back(void) {
     const double h = 1.0 / 12, drop = 9.81 * h * h, rest = 1.0 / (N - 1);
     wc_state* s = make(m, 0.01, NULL);
     log_rec rec = {0};
-    wc_diag diag = {WEFT_OK, "", on_log, &rec};
+    wc_diag diag = {WC_OK, "", on_log, &rec};
     const double scale = s->total_mass * 9.81 * sqrt(2.0); /* M |g| D, nothing elastic at rest */
     const double e_start = total_energy(s);
     for (int f = 0; f < 6; ++f) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, h, &st, &diag), WC_OK);
         if (f == 0) {
             CHECK(st.rollbacks >= 1 && st.halvings >= 1);
             CHECK(rec.energy_rollbacks >= 1);
@@ -101,15 +101,15 @@ static void test_sources_are_not_judged(void) {
     const double up[3] = {0.0, 0.05, 0.0};
     wc_state* s = make(m, 0.01, up);
     log_rec rec = {0};
-    wc_diag diag = {WEFT_OK, "", on_log, &rec};
+    wc_diag diag = {WC_OK, "", on_log, &rec};
     wc_step_stats st;
     for (int f = 0; f < 4; ++f) {
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &diag), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 60, &st, &diag), WC_OK);
         wc_pin pins[2];
         memcpy(pins, s->pins, sizeof pins);
         for (int k = 0; k < 2; ++k) pins[k].target[1] += up[1];
         wc_diag d2 = {0};
-        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d2), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d2), WC_OK);
     }
     CHECK_EQ_INT(rec.energy_rollbacks, 0);
     wc_state_destroy(s);
@@ -124,7 +124,7 @@ static void test_bad_gain(void) {
         d.fail_energy_gain = bad[k];
         wc_state* s = NULL;
         wc_diag diag = {0};
-        CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WEFT_ERROR_INVALID_ARGUMENT);
+        CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WC_ERROR_INVALID_ARGUMENT);
         CHECK(s == NULL);
         CHECK(strstr(diag.message, "fail_energy_gain") != NULL);
     }

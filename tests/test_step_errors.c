@@ -52,11 +52,11 @@ static int same(const snap* s) {
         snap s_;                                                          \
         take(&s_);                                                        \
         wc_diag d_ = {0};                                                 \
-        weft_status r_ = (call);                                          \
+        wc_status r_ = (call);                                          \
         CHECK_EQ_INT(r_, status);                                         \
         CHECK(d_.message[0] != '\0');                                     \
         CHECK(same(&s_));                                                 \
-        if (r_ != WEFT_OK) printf("  refused: %s\n", d_.message);         \
+        if (r_ != WC_OK) printf("  refused: %s\n", d_.message);         \
     } while (0)
 
 static void test_bad_sim_defs(void) {
@@ -78,8 +78,8 @@ static void test_bad_sim_defs(void) {
         int dummy;
         wc_state* s = (wc_state*)(void*)&dummy; /* must come back NULL */
         wc_diag d = {0};
-        weft_status r = wc_state_create(&s, &g_model, &cases[k].def, NULL, &d);
-        CHECK(r != WEFT_OK);
+        wc_status r = wc_state_create(&s, &g_model, &cases[k].def, NULL, &d);
+        CHECK(r != WC_OK);
         CHECK(s == NULL);
         CHECK(d.message[0] != '\0');
         printf("  %-22s -> %s\n", cases[k].what, d.message);
@@ -97,7 +97,7 @@ static void test_bad_materials(void) {
         if (k == 3) def.material.d[WC_SPRING_BEND] = -1;
         wc_model m;
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WEFT_ERROR_INVALID_ARGUMENT);
+        CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &d), WC_ERROR_INVALID_ARGUMENT);
         CHECK(m.n_particles == 0 && m.rest_pos == NULL);
         printf("  material case %d -> %s\n", k, d.message);
     }
@@ -107,22 +107,22 @@ static void test_bad_materials(void) {
 static void test_bad_pins(void) {
     wc_pin good = {0, {0, 1, 0}, {0, 0, 0}};
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_set_pins(g_state, &good, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(g_state, &good, 1, &d), WC_OK);
     wc_pin p = good;
     p.particle = g_model.n_particles;
-    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WEFT_ERROR_OUT_OF_RANGE);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WC_ERROR_OUT_OF_RANGE);
     p.particle = -1;
-    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WEFT_ERROR_OUT_OF_RANGE);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WC_ERROR_OUT_OF_RANGE);
     p = good;
     p.target[2] = NAN;
-    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WEFT_ERROR_NONFINITE);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WC_ERROR_NONFINITE);
     p = good;
     v3_set(p.free_axis, 0, 2, 0);
-    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, &p, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
     wc_pin two[2] = {good, good};
-    EXPECT_REFUSED(wc_state_set_pins(g_state, two, 2, &d_), WEFT_ERROR_INVALID_ARGUMENT);
-    EXPECT_REFUSED(wc_state_set_pins(g_state, NULL, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
-    EXPECT_REFUSED(wc_state_set_pins(g_state, &good, g_model.n_particles + 1, &d_), WEFT_ERROR_OUT_OF_RANGE);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, two, 2, &d_), WC_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, NULL, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_pins(g_state, &good, g_model.n_particles + 1, &d_), WC_ERROR_OUT_OF_RANGE);
 }
 
 static void test_bad_colliders(void) {
@@ -131,42 +131,42 @@ static void test_bad_colliders(void) {
     good.type = WC_COLLIDER_SPHERE;
     good.radius = 0.2;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_set_colliders(g_state, &good, 1, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(g_state, &good, 1, &d), WC_OK);
     wc_collider c = good;
     c.type = 7;
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
     c = good;
     c.center[0] = NAN;
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_NONFINITE);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_NONFINITE);
     c = good;
     c.radius = -1;
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
     c = good;
     c.type = WC_COLLIDER_PLANE;
     v3_set(c.normal, 0, 0.5, 0);
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
     c = good;
     c.friction = -0.1;
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
     c = good;
     c.push_speed = -0.01;
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_INVALID_ARGUMENT);
     c = good;
     c.push_speed = NAN;
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WEFT_ERROR_NONFINITE);
-    EXPECT_REFUSED(wc_state_set_colliders(g_state, &good, 1000, &d_), WEFT_ERROR_OUT_OF_RANGE);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &c, 1, &d_), WC_ERROR_NONFINITE);
+    EXPECT_REFUSED(wc_state_set_colliders(g_state, &good, 1000, &d_), WC_ERROR_OUT_OF_RANGE);
 }
 
 static void test_bad_frames_and_positions(void) {
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_step_frame(g_state, 1.0 / 30, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_step_frame(g_state, 1.0 / 30, NULL, &d), WC_OK);
     const double bad_dt[] = {0.0, -1.0 / 30, NAN, INFINITY, 1e9};
     for (size_t k = 0; k < sizeof bad_dt / sizeof bad_dt[0]; ++k)
-        EXPECT_REFUSED(wc_step_frame(g_state, bad_dt[k], NULL, &d_), WEFT_ERROR_INVALID_ARGUMENT);
+        EXPECT_REFUSED(wc_step_frame(g_state, bad_dt[k], NULL, &d_), WC_ERROR_INVALID_ARGUMENT);
     double* x = malloc(sizeof(double) * 3 * g_model.n_particles);
     memcpy(x, g_model.rest_pos, sizeof(double) * 3 * g_model.n_particles);
     x[7] = NAN;
-    EXPECT_REFUSED(wc_state_set_positions(g_state, x, NULL, &d_), WEFT_ERROR_NONFINITE);
+    EXPECT_REFUSED(wc_state_set_positions(g_state, x, NULL, &d_), WC_ERROR_NONFINITE);
     free(x);
 }
 
@@ -176,7 +176,7 @@ int main(void) {
     sd.max_pins = 3;
     sd.max_colliders = 2;
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_create(&g_state, &g_model, &sd, NULL, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&g_state, &g_model, &sd, NULL, &d), WC_OK);
     RUN_TEST(test_bad_sim_defs);
     RUN_TEST(test_bad_materials);
     RUN_TEST(test_bad_pins);

@@ -13,9 +13,9 @@
 static wc_state* make_state(const wc_model* m, wc_sim_def def) {
     wc_state* s = NULL;
     wc_diag d = {0};
-    weft_status st = wc_state_create(&s, m, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "state: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_state_create(&s, m, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "state: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     return s;
 }
 
@@ -30,14 +30,14 @@ static void test_spring_mass_closed_form(void) {
     int sizes[1] = {3}, idx[3] = {0, 1, 2};
     wc_source_mesh src;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_source_mesh_from_arrays(&src, NULL, pos, 3, sizes, 1, idx, 1.0, &dg), WC_OK);
     wc_model_def def = wc_default_model_def();
     def.reorder = 0;
     def.material.uniform_mass = 0.02;
     def.material.k[WC_SPRING_STRETCH] = 300.0;
     def.material.d[WC_SPRING_STRETCH] = 0.4;
     wc_model m;
-    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_model_build(&m, &src, &def, NULL, &dg), WC_OK);
     /* keep only spring 0-1 */
     int keep = -1;
     for (int s = 0; s < m.n_springs; ++s)
@@ -58,7 +58,7 @@ static void test_spring_mass_closed_form(void) {
         sd.solver.tolerance = 1e-14;
         wc_state* s = make_state(&m, sd);
         wc_pin pins[2] = {{0, {0, 0, 0}, {0, 0, 0}}, {2, {0, 0.7, 0.3}, {0, 0, 0}}};
-        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
         double u0 = 0.1, v0 = -0.3;
         s->x[3] = r + u0;
         s->v[3] = v0;
@@ -71,7 +71,7 @@ static void test_spring_mass_closed_form(void) {
         double complex l1 = (tr + disc) / 2, l2 = (tr - disc) / 2;
         double worst = 0;
         for (int n = 1; n <= 90; ++n) {
-            CHECK_EQ_INT(wc_step_frame(s, h, NULL, &dg), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, h, NULL, &dg), WC_OK);
             double complex p1 = cpow(l1, n), p2 = cpow(l2, n);
             double complex c = (p1 - p2) / (l1 - l2), e = (l1 * p2 - l2 * p1) / (l1 - l2);
             /* T^n = c T + e I */
@@ -113,7 +113,7 @@ static void pin_top_corners(wc_state* s, const wc_model* m, int n) {
     pins[1].particle = ts_sheet_particle(m, n, n - 1, n - 1);
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, m->rest_pos + 3 * pins[k].particle);
     wc_diag d = {0};
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &d), WC_OK);
 }
 
 static void test_hanging_sheet_comes_to_rest(void) {
@@ -127,7 +127,7 @@ static void test_hanging_sheet_comes_to_rest(void) {
     double before = worst_imbalance(&m, s);
     wc_diag d = {0};
     wc_step_stats st;
-    for (int f = 0; f < 600; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &d), WEFT_OK);
+    for (int f = 0; f < 600; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &d), WC_OK);
     double after = worst_imbalance(&m, s);
     printf("  net force / weight: %.3g at rest shape, %.3g after 20 s; kinetic energy %.3g J; strain %.3g\n", before,
            after, st.kinetic_energy, st.max_strain);
@@ -161,7 +161,7 @@ static void test_energy_never_grows(void) {
         double e0 = wc_state_kinetic_energy(s) + wc_spring_energy(&m, s->x), prev = e0, worst = 0;
         wc_diag d = {0};
         for (int f = 0; f < 120; ++f) {
-            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WC_OK);
             double e = wc_state_kinetic_energy(s) + wc_spring_energy(&m, s->x);
             if ((e - prev) / e0 > worst) worst = (e - prev) / e0;
             prev = e;
@@ -199,8 +199,8 @@ static void test_pins_exact(void) {
             pins[k].target[0] += 0.3 * sin(2 * t);
             pins[k].target[1] += 0.1 * t;
         }
-        CHECK_EQ_INT(wc_state_set_pins(s, pins, 3, &d), WEFT_OK);
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, 3, &d), WC_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WC_OK);
         for (int k = 0; k < 2; ++k)
             if (memcmp(s->x + 3 * pins[k].particle, pins[k].target, 3 * sizeof(double)) != 0) ++bad;
         const double* x = s->x + 3 * pins[2].particle;
@@ -230,8 +230,8 @@ static void test_bit_identical(void) {
         c.thickness = 0.01;
         c.friction = 0.3;
         wc_diag d = {0};
-        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WEFT_OK);
-        for (int f = 0; f < 30; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &d), WC_OK);
+        for (int f = 0; f < 30; ++f) CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, NULL, &d), WC_OK);
         if (run == 0) memcpy(first, s->x, sizeof(double) * 3 * m.n_particles);
         else CHECK(memcmp(first, s->x, sizeof(double) * 3 * m.n_particles) == 0);
         wc_state_destroy(s);

@@ -18,7 +18,7 @@ static int run_sheet(double k_scale, wc_solver_type solver, int frames, double s
     if (squeeze != 1.0) sd.compression = WC_COMPRESSION_FULL;
     wc_state* s = NULL;
     wc_diag d = {0};
-    int ok = wc_state_create(&s, &m, &sd, NULL, &d) == WEFT_OK;
+    int ok = wc_state_create(&s, &m, &sd, NULL, &d) == WC_OK;
     if (ok && squeeze != 1.0) { /* start crumpled: every spring compressed */
         for (int i = 0; i < m.n_particles; ++i) {
             s->x[3 * i] *= squeeze;
@@ -30,14 +30,14 @@ static int run_sheet(double k_scale, wc_solver_type solver, int frames, double s
     pins[0].particle = ts_sheet_particle(&m, n, 0, n - 1);
     pins[1].particle = ts_sheet_particle(&m, n, n - 1, n - 1);
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, m.rest_pos + 3 * pins[k].particle);
-    ok = ok && wc_state_set_pins(s, pins, 2, &d) == WEFT_OK;
+    ok = ok && wc_state_set_pins(s, pins, 2, &d) == WC_OK;
     memset(total, 0, sizeof *total);
     *worst_strain = 0;
     int nonfinite = 0;
     for (int f = 0; f < frames && ok; ++f) {
         wc_step_stats st;
-        weft_status r = wc_step_frame(s, 1.0 / 30, &st, &d);
-        if (r != WEFT_OK && r != WEFT_ERROR_STEP_FAILED) ok = 0;
+        wc_status r = wc_step_frame(s, 1.0 / 30, &st, &d);
+        if (r != WC_OK && r != WC_ERROR_STEP_FAILED) ok = 0;
         for (int i = 0; i < 3 * m.n_particles; ++i)
             if (!isfinite(s->x[i]) || !isfinite(s->v[i])) ++nonfinite;
         total->iterations += st.iterations;

@@ -22,9 +22,9 @@ static wc_model build_grid(int nx, int ny, double sx, double sy) {
     wc_model m;
     wc_diag d = {0};
     wc_model_def def = wc_default_model_def();
-    weft_status st = wc_model_build(&m, &src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "build failed: %s\n", d.message);
-    CHECK_EQ_INT(st, WEFT_OK);
+    wc_status st = wc_model_build(&m, &src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "build failed: %s\n", d.message);
+    CHECK_EQ_INT(st, WC_OK);
     wc_source_mesh_free(&src);
     return m;
 }

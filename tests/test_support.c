@@ -42,7 +42,7 @@ void ts_quad_grid(wc_source_mesh* out, int nx, int ny, double sx, double sy, int
             }
         }
     wc_diag d = {0};
-    if (wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nq, idx, 1.0, &d) != WEFT_OK)
+    if (wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nq, idx, 1.0, &d) != WC_OK)
         fprintf(stderr, "ts_quad_grid: %s\n", d.message);
     free(grid);
     free(pos);
@@ -66,7 +66,7 @@ void ts_tri_grid(wc_source_mesh* out, int nx, int ny, double sx, double sy) {
             t += 2;
         }
     wc_diag dg = {0};
-    if (wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nt, idx, 1.0, &dg) != WEFT_OK)
+    if (wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nt, idx, 1.0, &dg) != WC_OK)
         fprintf(stderr, "ts_tri_grid: %s\n", dg.message);
     free(pos);
     free(sizes);
@@ -112,10 +112,10 @@ int ts_sheet(wc_model* m, int n, double size, double y, int vertical, double k_s
         def.material.d[t] *= k_scale;
     }
     wc_diag d = {0};
-    weft_status st = wc_model_build(m, &src, &def, NULL, &d);
-    if (st != WEFT_OK) fprintf(stderr, "ts_sheet: %s\n", d.message);
+    wc_status st = wc_model_build(m, &src, &def, NULL, &d);
+    if (st != WC_OK) fprintf(stderr, "ts_sheet: %s\n", d.message);
     wc_source_mesh_free(&src);
-    return st == WEFT_OK;
+    return st == WC_OK;
 }
 
 int ts_sheet_particle(const wc_model* m, int n, int i, int j) { return m->host_to_particle[i + n * j]; }
@@ -157,7 +157,7 @@ double ts_rel_diff(const double* a, const double* b, int n) {
     return sqrt(num / (den > 0 ? den : 1));
 }
 
-weft_status ts_pin_far_corners(wc_state* s, int n, const double* move) {
+wc_status ts_pin_far_corners(wc_state* s, int n, const double* move) {
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);
     pins[0].particle = ts_sheet_particle(s->model, n, 0, n - 1);
@@ -172,7 +172,7 @@ wc_state* ts_draped(wc_model* m, int n, const wc_sim_def* def, int frames) {
     if (!ts_sheet(m, n, 1.0, 0.47, 0, 1.0)) return NULL;
     wc_state* s = NULL;
     wc_diag d = {0};
-    if (wc_state_create(&s, m, def, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&s, m, def, NULL, &d) != WC_OK) {
         wc_model_free(m);
         return NULL;
     }

@@ -37,7 +37,7 @@ int ts_sheet_particle(const wc_model* m, int n, int i, int j);
 /* Pin the two corners of a ts_sheet's row j = n - 1 (host vertices (0, n-1) and (n-1, n-1)) at
  * their current positions moved by `move` (metres; NULL: where they are), the hanging sheets' two
  * pins. Returns wc_state_set_pins' status. */
-weft_status ts_pin_far_corners(wc_state* s, int n, const double* move);
+wc_status ts_pin_far_corners(wc_state* s, int n, const double* move);
 /* |a - b| / |b| over n doubles (|a - b| when b is zero). */
 double ts_rel_diff(const double* a, const double* b, int n);
 /* An n x n ts_sheet (1 m) dropped from 0.47 m onto a sphere (radius 0.45 at the origin,

@@ -46,7 +46,7 @@ static double oscillator_error(const wc_model* m, int n, double w) {
     wc_diag dg = {0};
     for (int k = 0; k < n; ++k) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WC_OK);
         CHECK_EQ_INT(st.rollbacks, 0);
         CHECK_EQ_INT(st.bdf2_substeps, 0);
     }
@@ -90,7 +90,7 @@ static void test_energy_never_gained(void) {
         double e0 = osc_energy(s, mass, k), prev = e0;
         for (int step = 0; step < 80; ++step) {   /* 10 periods, 8 steps each */
             wc_step_stats st;
-            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 8, &st, &dg), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 8, &st, &dg), WC_OK);
             double e = osc_energy(s, mass, k);
             CHECK(e <= prev * (1.0 + 1e-12));
             prev = e;
@@ -117,11 +117,11 @@ static double drag_error(const wc_model* m, wc_integrator integ, int n, double* 
     sd.sleep_speed = 0.0;
     wc_state* s = NULL;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WC_OK);
     for (int i = 0; i < m->n_particles; ++i) s->v[3 * i + 1] = 1.0;
     for (int k = 0; k < n; ++k) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WC_OK);
     }
     const double r = sd.air.normal_drag / wc_default_model_def().material.density;
     *r_out = r;
@@ -160,7 +160,7 @@ static wc_state* sheet(const wc_model* m, int newton, int ls, int threads) {
     d.threads = threads;
     wc_state* s = NULL;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &d, NULL, &dg), WC_OK);
     return s;
 }
 
@@ -176,12 +176,12 @@ static void test_pins(void) {
         pins[1].particle = ts_sheet_particle(&m, N, N - 1, N - 1);
         wc_diag dg = {0};
         for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
-        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
         for (int f = 0; f < 30; ++f) {
             for (int k = 0; k < 2; ++k) pins[k].target[0] += 0.01;
-            CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+            CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
             wc_step_stats st;
-            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+            CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
             CHECK_EQ_INT(st.bdf2_substeps, 0);
             for (int k = 0; k < 2; ++k) CHECK(v3_equal(s->x + 3 * pins[k].particle, pins[k].target));
             CHECK_NEAR(s->v[3 * pins[0].particle], 0.3, 1e-9);
@@ -255,11 +255,11 @@ static void run_flat_start(const wc_model* m, int threads, double* x_out, int* r
     pins[1].particle = ts_sheet_particle(m, n, n - 1, n - 1);
     for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_pins(s, pins, 2, &dg), WC_OK);
     *rollbacks = 0;
     for (int f = 0; f < 45; ++f) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
         *rollbacks += st.rollbacks;
         for (int k = 0; k < 2; ++k) CHECK(v3_equal(s->x + 3 * pins[k].particle, pins[k].target));
     }
@@ -342,7 +342,7 @@ static void test_contact_formula(void) {
         wc_collider c = plane(0, 1, 0, s->x[4] - gap);   /* the particle 3 mm above it (thickness 0) */
         v3_set(c.velocity, 0, vc, 0);
         wc_diag dg = {0};
-        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &dg), WC_OK);
         v3_set(s->v + 3, 0.2, -0.5, 0.0);
         wc_integ ig;
         wc_integ_begin(s, h, &ig);
@@ -387,12 +387,12 @@ static void test_drape_strain(void) {
     c.thickness = 0.005;
     c.friction = 0.3;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_set_colliders(s, &c, 1, &dg), WC_OK);
     double worst = 0.0;
     int rollbacks = 0;
     for (int f = 0; f < 30; ++f) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
         rollbacks += st.rollbacks;
         worst = fmax(worst, wc_max_stretch_strain(&m, s->x));
     }

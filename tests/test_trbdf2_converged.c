@@ -59,7 +59,7 @@ static double whirl_error(const wc_model* m, int n, const double* exact) {
     wc_diag dg = {0};
     for (int k = 0; k < n; ++k) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WC_OK);
         CHECK_EQ_INT(st.rollbacks, 0);
     }
     double e[3];
@@ -108,7 +108,7 @@ static void tumble(const wc_model* m, int n, double* x_out) {
     sd.fail_energy_gain = 0.0;
     wc_state* s = NULL;
     wc_diag dg = {0};
-    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WEFT_OK);
+    CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &dg), WC_OK);
     double c[3] = {0, 0, 0};
     for (int i = 0; i < m->n_particles; ++i) v3_add(c, c, s->x + 3 * i);
     v3_scale(c, c, 1.0 / m->n_particles);
@@ -121,7 +121,7 @@ static void tumble(const wc_model* m, int n, double* x_out) {
     }
     for (int k = 0; k < n; ++k) {
         wc_step_stats st;
-        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WEFT_OK);
+        CHECK_EQ_INT(wc_step_frame(s, 1.0 / n, &st, &dg), WC_OK);
         CHECK_EQ_INT(st.rollbacks, 0);
     }
     memcpy(x_out, s->x, 3 * (size_t)m->n_particles * sizeof(double));

@@ -28,10 +28,10 @@ static inline int two_layers(wc_model* m, int n, double s, double y0, double y1)
     }
     wc_source_mesh src;
     wc_diag d = {0};
-    int ok = wc_source_mesh_from_arrays(&src, NULL, pos, 2 * nv, sizes, 2 * np, idx, 1.0, &d) == WEFT_OK;
+    int ok = wc_source_mesh_from_arrays(&src, NULL, pos, 2 * nv, sizes, 2 * np, idx, 1.0, &d) == WC_OK;
     if (ok) {
         wc_model_def def = wc_default_model_def();
-        ok = wc_model_build(m, &src, &def, NULL, &d) == WEFT_OK;
+        ok = wc_model_build(m, &src, &def, NULL, &d) == WC_OK;
         wc_source_mesh_free(&src);
     }
     if (!ok) fprintf(stderr, "two_layers: %s\n", d.message);
@@ -60,7 +60,7 @@ static inline void two_layers_shifted(const wc_model* m, int n, double s, double
 static inline wc_state* two_layers_approaching(const wc_model* m, int n, double s, double speed, const wc_sim_def* def) {
     wc_state* st = NULL;
     wc_diag d = {0};
-    if (wc_state_create(&st, m, def, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&st, m, def, NULL, &d) != WC_OK) {
         fprintf(stderr, "two_layers_approaching: %s\n", d.message);
         return NULL;
     }
@@ -69,7 +69,7 @@ static inline wc_state* two_layers_approaching(const wc_model* m, int n, double 
     double* v = calloc(3 * (size_t)np, sizeof(double));
     two_layers_shifted(m, n, s, x);
     for (int hv = n * n; hv < 2 * n * n; ++hv) v[3 * m->host_to_particle[hv] + 1] = -speed;
-    int ok = wc_state_set_positions(st, x, v, &d) == WEFT_OK;
+    int ok = wc_state_set_positions(st, x, v, &d) == WC_OK;
     free(x);
     free(v);
     if (!ok) {

@@ -100,26 +100,26 @@ static void clear_gl_errors(void) {
     }
 }
 
-static weft_status parse_pick(const char* s, wg_pick* pick, int* index) {
+static wc_status parse_pick(const char* s, wg_pick* pick, int* index) {
     *pick = WG_PICK_AUTO;
     *index = -1;
-    if (!s || !*s) return WEFT_OK;
+    if (!s || !*s) return WC_OK;
     if (strcmp(s, "software") == 0) {
         *pick = WG_PICK_SOFTWARE;
-        return WEFT_OK;
+        return WC_OK;
     }
     if (strcmp(s, "surfaceless") == 0) {
         *pick = WG_PICK_SURFACELESS;
-        return WEFT_OK;
+        return WC_OK;
     }
     char* end = NULL;
     long v = strtol(s, &end, 10);
     if (end != s && *end == '\0' && v >= 0 && v < 1000000 && s[0] >= '0' && s[0] <= '9') {
         *pick = WG_PICK_INDEX;
         *index = (int)v;
-        return WEFT_OK;
+        return WC_OK;
     }
-    return WEFT_ERROR_GPU;
+    return WC_ERROR_GPU;
 }
 
 /* ---- candidates ---- */
@@ -182,15 +182,15 @@ static int list_candidates(const wg_gl_context* ctx, wg_candidate* cands, int* n
 
 /* ---- opening one candidate ---- */
 
-static weft_status egl_fail(char* err, size_t err_len, const char* label, const char* call) {
+static wc_status egl_fail(char* err, size_t err_len, const char* label, const char* call) {
     EGLint e = eglGetError();
     wg_errorf(err, err_len, "%s: %s failed: %s (0x%04x)", label, call, wg_egl_error_name(e),
               (unsigned)e);
-    return WEFT_ERROR_GPU;
+    return WC_ERROR_GPU;
 }
 
 /* After a context is current: GLEW and the GL version. */
-static weft_status init_glew(const char* label, char* err, size_t err_len) {
+static wc_status init_glew(const char* label, char* err, size_t err_len) {
     glewExperimental = GL_TRUE;
     GLenum g = glewInit();
     /* Debian's GLEW is built for GLX: with an EGL context it loads every GL entry point and then
@@ -202,26 +202,26 @@ static weft_status init_glew(const char* label, char* err, size_t err_len) {
         else
             wg_errorf(err, err_len, "%s: glewInit failed: %s (%u)", label,
                       (const char*)glewGetErrorString(g), (unsigned)g);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     const char* version = (const char*)glGetString(GL_VERSION);
     if (!GLEW_VERSION_3_3) {
         wg_errorf(err, err_len, "%s: OpenGL 3.3 is required, the context has '%s'", label,
                   version ? version : "(no GL_VERSION)");
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     /* The entry points gpu/ calls beyond GL 1.1 (GLVND stubs; NULL would mean a broken GLEW). */
     if (!glGenVertexArrays || !glGenFramebuffers || !glBlitFramebuffer ||
         !glRenderbufferStorageMultisample || !glCreateShader || !glBufferData ||
         !glVertexAttribPointer || !glUniformMatrix4fv) {
         wg_errorf(err, err_len, "%s: glewInit left OpenGL 3.3 entry points unresolved", label);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     clear_gl_errors();
-    return WEFT_OK;
+    return WC_OK;
 }
 
-static weft_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, char* err,
+static wc_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, char* err,
                                   size_t err_len) {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     int references = has_ext(client, "EGL_KHR_display_reference");
@@ -239,7 +239,7 @@ static weft_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, cha
     if (!eglInitialize(dpy, &major, &minor))
         return egl_fail(err, err_len, c->label, "eglInitialize");
 
-    weft_status st = WEFT_ERROR_GPU;
+    wc_status st = WC_ERROR_GPU;
     EGLContext egl_ctx = EGL_NO_CONTEXT;
     const char* ext = eglQueryString(dpy, EGL_EXTENSIONS);
     if (!has_ext(ext, "EGL_KHR_surfaceless_context")) {
@@ -283,7 +283,7 @@ static weft_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, cha
         goto fail;
     }
     st = init_glew(c->label, err, err_len);
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         goto fail;
     }
@@ -294,7 +294,7 @@ static weft_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, cha
     ctx->dpy = dpy;
     ctx->egl_ctx = egl_ctx;
     ctx->terminate_display = references;
-    return WEFT_OK;
+    return WC_OK;
 
 fail:
     if (egl_ctx != EGL_NO_CONTEXT) eglDestroyContext(dpy, egl_ctx);
@@ -325,15 +325,15 @@ static void restore_egl_current(const wg_gl_context* ctx, EGLDisplay dpy) {
     }
 }
 
-static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, char* err,
+static wc_status create_headless(wg_gl_context* ctx, const char* pick_text, char* err,
                                    size_t err_len) {
     wg_pick pick;
     int want_index;
-    if (parse_pick(pick_text, &pick, &want_index) != WEFT_OK) {
+    if (parse_pick(pick_text, &pick, &want_index) != WC_OK) {
         wg_errorf(err, err_len,
                   "WEFT_EGL_DEVICE='%.64s' is not a device index, 'software' or 'surfaceless'",
                   pick_text);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     wg_candidate cands[WG_MAX_DEVICES + 1];
     int n_devices = 0;
@@ -346,7 +346,7 @@ static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, ch
         if (want_index >= n_devices) {
             wg_errorf(err, err_len, "WEFT_EGL_DEVICE=%d: eglQueryDevicesEXT found %d device(s)",
                       want_index, n_devices);
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
         order[n_order++] = want_index;
     } else if (pick == WG_PICK_SOFTWARE) {
@@ -360,13 +360,13 @@ static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, ch
                       "WEFT_EGL_DEVICE=software: none of the %d EGL device(s) advertises "
                       "EGL_MESA_device_software",
                       n_devices);
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
     } else if (pick == WG_PICK_SURFACELESS) {
         if (n == n_devices) {
             wg_errorf(err, err_len,
                       "WEFT_EGL_DEVICE=surfaceless: EGL lacks EGL_MESA_platform_surfaceless");
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
         order[n_order++] = n - 1;
     } else {
@@ -376,7 +376,7 @@ static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, ch
         if (n_order == 0) {
             wg_errorf(err, err_len,
                       "no EGL device found (eglQueryDevicesEXT: none; no surfaceless platform)");
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
     }
 
@@ -385,11 +385,11 @@ static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, ch
     char one[512];
     for (int k = 0; k < n_order; ++k) {
         const wg_candidate* c = &cands[order[k]];
-        weft_status st = open_candidate(ctx, c, one, sizeof one);
-        if (st == WEFT_OK) {
+        wc_status st = open_candidate(ctx, c, one, sizeof one);
+        if (st == WC_OK) {
             restore_egl_current(ctx, ctx->dpy);
             wg_gl_log(ctx, WC_LOG_INFO, "weft gpu: using %s", ctx->description);
-            return WEFT_OK;
+            return WC_OK;
         }
         if (n_order > 1) wg_gl_log(ctx, WC_LOG_WARN, "weft gpu: skipped %s", one);
         size_t used = strlen(tried);
@@ -400,36 +400,36 @@ static weft_status create_headless(wg_gl_context* ctx, const char* pick_text, ch
         wg_errorf(err, err_len, "%s", tried);
     else
         wg_errorf(err, err_len, "no EGL device could be used: %s", tried);
-    return WEFT_ERROR_GPU;
+    return WC_ERROR_GPU;
 }
 
-static weft_status create_host(wg_gl_context* ctx, char* err, size_t err_len) {
+static wc_status create_host(wg_gl_context* ctx, char* err, size_t err_len) {
     const char* label = "host context";
-    weft_status st = init_glew(label, err, err_len);
-    if (st != WEFT_OK) return st;
+    wc_status st = init_glew(label, err, err_len);
+    if (st != WC_OK) return st;
     const char* renderer = (const char*)glGetString(GL_RENDERER);
     const char* version = (const char*)glGetString(GL_VERSION);
     snprintf(ctx->description, sizeof ctx->description, "%s: %s, OpenGL %s", label,
              renderer ? renderer : "?", version ? version : "?");
     wg_gl_log(ctx, WC_LOG_INFO, "weft gpu: using %s", ctx->description);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context** out, char* err,
+wc_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context** out, char* err,
                                  size_t err_len) {
     wg_errorf(err, err_len, "%s", "");
     if (!out) {
         wg_errorf(err, err_len, "wg_gl_context_create: out is NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     *out = NULL;
     if (!desc) {
         wg_errorf(err, err_len, "wg_gl_context_create: desc is NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if ((desc->allocator.alloc == NULL) != (desc->allocator.free == NULL)) {
         wg_errorf(err, err_len, "wg_gl_context_create: allocator needs both alloc and free");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     wc_allocator alloc = desc->allocator;
     if (!alloc.alloc) {
@@ -440,7 +440,7 @@ weft_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context**
     wg_gl_context* ctx = (wg_gl_context*)alloc.alloc(sizeof *ctx, alloc.user);
     if (!ctx) {
         wg_errorf(err, err_len, "wg_gl_context_create: out of memory");
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     memset(ctx, 0, sizeof *ctx);
     ctx->host = desc->host_current != 0;
@@ -450,19 +450,19 @@ weft_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context**
     ctx->dpy = EGL_NO_DISPLAY;
     ctx->egl_ctx = EGL_NO_CONTEXT;
 
-    weft_status st;
+    wc_status st;
     if (ctx->host) {
         st = create_host(ctx, err, err_len);
     } else {
         const char* pick = desc->device ? desc->device : getenv("WEFT_EGL_DEVICE");
         st = create_headless(ctx, pick, err, err_len);
     }
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         alloc.free(ctx, alloc.user);
         return st;
     }
     *out = ctx;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wg_gl_context_destroy(wg_gl_context* ctx) {
@@ -488,41 +488,41 @@ int wg_gl_context_is_host(const wg_gl_context* ctx) {
 
 /* ---- begin / end ---- */
 
-weft_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len) {
+wc_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len) {
     if (!ctx) {
         wg_errorf(err, err_len, "wg_gl_begin: context is NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (ctx->inside) {
         wg_errorf(err, err_len, "wg_gl_begin: already inside wg_gl_begin (not nestable)");
-        return WEFT_ERROR_CALL_ORDER;
+        return WC_ERROR_CALL_ORDER;
     }
     if (ctx->host) {
         if (glGetString(GL_VERSION) == NULL) {
             wg_errorf(err, err_len,
                       "host context: no OpenGL context is current on this thread "
                       "(glGetString(GL_VERSION) returned NULL)");
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
         wg_gl_state_save(&ctx->saved);
         wg_gl_state_set_defaults(0);   /* the host's buffers, alignments, blending... never reach gpu/'s passes */
     } else {
         save_egl_current(ctx);
         if (!eglBindAPI(EGL_OPENGL_API)) {
-            weft_status st =
+            wc_status st =
                 egl_fail(err, err_len, "headless context", "eglBindAPI(EGL_OPENGL_API)");
             eglBindAPI(ctx->prev_api);
             return st;
         }
         if (!eglMakeCurrent(ctx->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx->egl_ctx)) {
-            weft_status st = egl_fail(err, err_len, "headless context", "eglMakeCurrent");
+            wc_status st = egl_fail(err, err_len, "headless context", "eglMakeCurrent");
             eglBindAPI(ctx->prev_api);
             return st;
         }
     }
     clear_gl_errors();
     ctx->inside = 1;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wg_gl_end(wg_gl_context* ctx) {

@@ -7,7 +7,7 @@
  *   1. WEFT_EGL_DEVICE (or wg_gl_context_desc.device): "<index>" (an eglQueryDevicesEXT index),
  *      "software" (the device advertising EGL_MESA_device_software) or "surfaceless"
  *      (EGL_PLATFORM_SURFACELESS_MESA). When set, only that one is tried; anything else is an
- *      error (WEFT_ERROR_GPU).
+ *      error (WC_ERROR_GPU).
  *   2. Otherwise: devices advertising EGL_NV_device_cuda, then other non-software devices (DRM),
  *      then Mesa's software device, then the surfaceless platform.
  * The context is OpenGL 4.5..3.3 core (the highest the driver gives), created without a config
@@ -24,7 +24,7 @@
 #include <stddef.h>
 
 #include "alloc.h"   /* core's wc_allocator */
-#include "diag.h"    /* core's wc_log_fn / wc_log_level, and weft_status (weft/weft_status.h) */
+#include "diag.h"    /* core's wc_log_fn / wc_log_level, and wc_status (status.h) */
 
 #ifdef __cplusplus
 extern "C" {
@@ -47,10 +47,10 @@ typedef struct wg_gl_context_desc {
 
 /* Create the context and initialise GLEW in it (headless: makes it current for the duration of
  * the call, then restores whatever EGL context the thread had; host_current: the host's context
- * must be current now, and GL 3.3 is checked in it). Errors: WEFT_ERROR_INVALID_ARGUMENT (NULL),
- * WEFT_ERROR_OUT_OF_MEMORY, WEFT_ERROR_GPU (err names the EGL/GLEW call and its error code, or
+ * must be current now, and GL 3.3 is checked in it). Errors: WC_ERROR_INVALID_ARGUMENT (NULL),
+ * WC_ERROR_OUT_OF_MEMORY, WC_ERROR_GPU (err names the EGL/GLEW call and its error code, or
  * the bad WEFT_EGL_DEVICE value). *out is NULL on failure. err may be NULL. */
-weft_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context** out, char* err,
+wc_status wg_gl_context_create(const wg_gl_context_desc* desc, wg_gl_context** out, char* err,
                                  size_t err_len);
 
 /* Release everything (context, display reference). A headless context must not be inside
@@ -71,8 +71,8 @@ int wg_gl_context_is_host(const wg_gl_context* ctx);
  * textures of units 0..15, viewport, clear colour/depth, depth/colour masks and function, front
  * face, polygon mode, enable bits: depth test, cull face, blend, scissor, stencil, multisample,
  * sRGB, polygon offset, rasterizer discard, alpha-to-coverage, primitive restart), then set gpu/'s
- * known values (wg_gl_state_set_defaults(0)). Clears pending glGetError()s. Must be paired with wg_gl_end(); not nestable. Errors: WEFT_ERROR_GPU. */
-weft_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len);
+ * known values (wg_gl_state_set_defaults(0)). Clears pending glGetError()s. Must be paired with wg_gl_end(); not nestable. Errors: WC_ERROR_GPU. */
+wc_status wg_gl_begin(wg_gl_context* ctx, char* err, size_t err_len);
 /* Restore what wg_gl_begin() saved (the host's GL state, or the thread's previous EGL context). */
 void wg_gl_end(wg_gl_context* ctx);
 

@@ -32,44 +32,44 @@ static double normalize3(double v[3]) {
     return n;
 }
 
-weft_status wg_camera_check_lens(const wg_camera* cam, char* err, size_t err_len) {
+wc_status wg_camera_check_lens(const wg_camera* cam, char* err, size_t err_len) {
     if (!cam) {
         wg_errorf(err, err_len, "camera is NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (cam->width < 1 || cam->width > WG_MAX_IMAGE_SIZE || cam->height < 1 ||
         cam->height > WG_MAX_IMAGE_SIZE) {
         wg_errorf(err, err_len, "camera size %d x %d: width and height must be in 1..%d",
                   cam->width, cam->height, WG_MAX_IMAGE_SIZE);
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (!isfinite(cam->fov_y_deg) || !finite3(cam->up)) {
         wg_errorf(err, err_len, "camera fov_y_deg or up is not finite (fov %g, up %g %g %g)",
                   (double)cam->fov_y_deg, (double)cam->up[0], (double)cam->up[1],
                   (double)cam->up[2]);
-        return WEFT_ERROR_NONFINITE;
+        return WC_ERROR_NONFINITE;
     }
     if (!(cam->fov_y_deg > 0.0f && cam->fov_y_deg < 180.0f)) {
         wg_errorf(err, err_len, "camera fov_y_deg = %g must be in (0, 180)",
                   (double)cam->fov_y_deg);
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (cam->up[0] == 0.0f && cam->up[1] == 0.0f && cam->up[2] == 0.0f) {
         wg_errorf(err, err_len, "camera up is the zero vector");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wg_camera_basis_of(const wg_camera* cam, wg_camera_basis* b, char* err,
+wc_status wg_camera_basis_of(const wg_camera* cam, wg_camera_basis* b, char* err,
                                size_t err_len) {
-    weft_status st = wg_camera_check_lens(cam, err, err_len);
-    if (st != WEFT_OK) return st;
+    wc_status st = wg_camera_check_lens(cam, err, err_len);
+    if (st != WC_OK) return st;
     if (!finite3(cam->eye) || !finite3(cam->target)) {
         wg_errorf(err, err_len, "camera eye (%g %g %g) or target (%g %g %g) is not finite",
                   (double)cam->eye[0], (double)cam->eye[1], (double)cam->eye[2],
                   (double)cam->target[0], (double)cam->target[1], (double)cam->target[2]);
-        return WEFT_ERROR_NONFINITE;
+        return WC_ERROR_NONFINITE;
     }
     double up[3];
     for (int i = 0; i < 3; ++i) {
@@ -80,32 +80,32 @@ weft_status wg_camera_basis_of(const wg_camera* cam, wg_camera_basis* b, char* e
     double dist = normalize3(b->f);
     if (!(dist > 0)) {
         wg_errorf(err, err_len, "camera eye and target are the same point");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     normalize3(up);
     cross3(b->f, up, b->s);
     if (normalize3(b->s) < 1e-6) {
         wg_errorf(err, err_len, "camera up (%g %g %g) is parallel to the view direction",
                   (double)cam->up[0], (double)cam->up[1], (double)cam->up[2]);
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     cross3(b->s, b->f, b->u);
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wg_camera_matrices(const wg_camera* cam, float znear, float zfar, float view[16],
+wc_status wg_camera_matrices(const wg_camera* cam, float znear, float zfar, float view[16],
                                float proj[16], char* err, size_t err_len) {
     wg_camera_basis b;
-    weft_status st = wg_camera_basis_of(cam, &b, err, err_len);
-    if (st != WEFT_OK) return st;
+    wc_status st = wg_camera_basis_of(cam, &b, err, err_len);
+    if (st != WC_OK) return st;
     if (!view || !proj) {
         wg_errorf(err, err_len, "wg_camera_matrices: view or proj is NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (!isfinite(znear) || !isfinite(zfar) || !(znear > 0.0f) || !(zfar > znear)) {
         wg_errorf(err, err_len, "near %g / far %g: need 0 < near < far", (double)znear,
                   (double)zfar);
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     memset(view, 0, 16 * sizeof(float));
     for (int i = 0; i < 3; ++i) {
@@ -127,7 +127,7 @@ weft_status wg_camera_matrices(const wg_camera* cam, float znear, float zfar, fl
     proj[10] = (float)((fa + n) / (n - fa));
     proj[11] = -1.0f;
     proj[14] = (float)(2.0 * fa * n / (n - fa));
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* Extent of a ball of radius r after the linear part of m, along world axis i: r |row i|. */
@@ -177,24 +177,24 @@ int wg_scene_bounds(const wg_mesh* meshes, int n_meshes, const wg_shape* shapes,
     return 1;
 }
 
-weft_status wg_camera_frame_auto(wg_camera* cam, const float bmin[3], const float bmax[3],
+wc_status wg_camera_frame_auto(wg_camera* cam, const float bmin[3], const float bmax[3],
                                  char* err, size_t err_len) {
-    weft_status st = wg_camera_check_lens(cam, err, err_len);
-    if (st != WEFT_OK) return st;
+    wc_status st = wg_camera_check_lens(cam, err, err_len);
+    if (st != WC_OK) return st;
     if (!bmin || !bmax) {
         wg_errorf(err, err_len, "wg_camera_frame_auto: box is NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (!finite3(bmin) || !finite3(bmax)) {
         wg_errorf(err, err_len, "box to frame is not finite");
-        return WEFT_ERROR_NONFINITE;
+        return WC_ERROR_NONFINITE;
     }
     double c[3], half[3];
     for (int i = 0; i < 3; ++i) {
         if (bmin[i] > bmax[i]) {
             wg_errorf(err, err_len, "box to frame has min > max on axis %d (%g > %g)", i,
                       (double)bmin[i], (double)bmax[i]);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         c[i] = 0.5 * ((double)bmin[i] + (double)bmax[i]);
         half[i] = 0.5 * ((double)bmax[i] - (double)bmin[i]);
@@ -227,7 +227,7 @@ weft_status wg_camera_frame_auto(wg_camera* cam, const float bmin[3], const floa
         cam->target[i] = (float)c[i];
         cam->eye[i] = (float)(c[i] + d * dir[i]);
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wg_mat4_mul(float out[16], const float a[16], const float b[16]) {

@@ -10,9 +10,9 @@ typedef struct wg_camera_basis {
 } wg_camera_basis;
 
 /* Size, fov and up of cam (not eye/target). */
-weft_status wg_camera_check_lens(const wg_camera* cam, char* err, size_t err_len);
+wc_status wg_camera_check_lens(const wg_camera* cam, char* err, size_t err_len);
 /* Lens checks plus eye/target: finite, distinct, up not parallel to the view. */
-weft_status wg_camera_basis_of(const wg_camera* cam, wg_camera_basis* b, char* err, size_t err_len);
+wc_status wg_camera_basis_of(const wg_camera* cam, wg_camera_basis* b, char* err, size_t err_len);
 
 /* out = a * b (column-major 4x4). out may not alias a or b. */
 void wg_mat4_mul(float out[16], const float a[16], const float b[16]);

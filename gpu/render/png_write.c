@@ -40,21 +40,21 @@ static int write_rows(png_structp png, png_infop info, FILE* fp, const unsigned 
     return 1;
 }
 
-weft_status wg_png_write(const char* path, const unsigned char* rgba, int w, int h, char* err,
+wc_status wg_png_write(const char* path, const unsigned char* rgba, int w, int h, char* err,
                          size_t err_len) {
     wg_errorf(err, err_len, "%s", "");
     if (!path || !rgba) {
         wg_errorf(err, err_len, "wg_png_write: %s is NULL", path ? "rgba" : "path");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     if (w < 1 || h < 1 || w > (1 << 24) || h > (1 << 24)) {
         wg_errorf(err, err_len, "%s: picture size %d x %d is not in 1..2^24", path, w, h);
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     FILE* fp = fopen(path, "wb");
     if (!fp) {
         wg_errorf(err, err_len, "%s: cannot open for writing: %s", path, strerror(errno));
-        return WEFT_ERROR_IO;
+        return WC_ERROR_IO;
     }
     wg_png_failure failure = {"out of memory"};
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &failure, on_png_error,
@@ -72,7 +72,7 @@ weft_status wg_png_write(const char* path, const unsigned char* rgba, int w, int
     if (!ok) {
         remove(path);
         wg_errorf(err, err_len, "%s: writing the PNG failed: %s", path, failure.message);
-        return WEFT_ERROR_IO;
+        return WC_ERROR_IO;
     }
-    return WEFT_OK;
+    return WC_OK;
 }

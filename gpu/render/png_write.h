@@ -4,7 +4,7 @@
 
 #include <stddef.h>
 
-#include "weft/weft_status.h"
+#include "status.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -13,7 +13,7 @@ extern "C" {
 /* Write rgba (w x h x 4 bytes, rows top to bottom) to path as an 8-bit RGB PNG (alpha dropped).
  * Errors: INVALID_ARGUMENT (NULL, w or h outside 1..2^24), IO (the file cannot be opened or
  * written; err names the file and the reason; a partly written file is removed). */
-weft_status wg_png_write(const char* path, const unsigned char* rgba, int w, int h, char* err,
+wc_status wg_png_write(const char* path, const unsigned char* rgba, int w, int h, char* err,
                          size_t err_len);
 
 #ifdef __cplusplus

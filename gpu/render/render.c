@@ -39,17 +39,17 @@ static const float kIdentity3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
 /* ---- scratch memory ---- */
 
-static weft_status ensure_scratch(wg_renderer* r, size_t bytes, char* err, size_t err_len) {
-    if (bytes <= r->scratch_cap) return WEFT_OK;
+static wc_status ensure_scratch(wg_renderer* r, size_t bytes, char* err, size_t err_len) {
+    if (bytes <= r->scratch_cap) return WC_OK;
     void* p = wg_gl_alloc(r->ctx, bytes);
     if (!p) {
         wg_errorf(err, err_len, "wg_render: out of memory (%zu bytes of scratch)", bytes);
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     wg_gl_free(r->ctx, r->scratch);
     r->scratch = p;
     r->scratch_cap = bytes;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* ---- create / destroy ---- */
@@ -65,9 +65,9 @@ static void delete_gl_objects(wg_renderer* r) {
     r->shape_vbo = r->shape_ibo = 0;
 }
 
-static weft_status create_gl_objects(wg_renderer* r, int samples, char* err, size_t err_len) {
-    weft_status st = wg_programs_create(&r->prog, err, err_len);
-    if (st != WEFT_OK) return st;
+static wc_status create_gl_objects(wg_renderer* r, int samples, char* err, size_t err_len) {
+    wc_status st = wg_programs_create(&r->prog, err, err_len);
+    if (st != WC_OK) return st;
     /* Our VAO is bound before any element buffer, so a host's VAO never records ours. */
     glGenVertexArrays(1, &r->vao);
     glBindVertexArray(r->vao);
@@ -86,7 +86,7 @@ static weft_status create_gl_objects(wg_renderer* r, int samples, char* err, siz
     size_t vbytes = (size_t)nv * WG_VERTEX_FLOATS * sizeof(float);
     size_t ibytes = (size_t)ni * sizeof(unsigned);
     st = ensure_scratch(r, vbytes + ibytes, err, err_len);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     float* v = (float*)r->scratch;
     unsigned* idx = (unsigned*)((char*)r->scratch + vbytes);
     wg_capsule_build(1.0f, 0.0f, WG_ROUND_SLICES, WG_ROUND_STACKS, v, idx);
@@ -110,52 +110,52 @@ static weft_status create_gl_objects(wg_renderer* r, int samples, char* err, siz
     if (e != GL_NO_ERROR) {
         wg_errorf(err, err_len, "wg_renderer_create: %s (0x%04x) while creating buffers",
                   wg_gl_error_name(e), (unsigned)e);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wg_renderer_create(wg_gl_context* ctx, const wg_renderer_desc* desc, wg_renderer** out,
+wc_status wg_renderer_create(wg_gl_context* ctx, const wg_renderer_desc* desc, wg_renderer** out,
                                char* err, size_t err_len) {
     wg_errorf(err, err_len, "%s", "");
     if (!out || !ctx) {
         wg_errorf(err, err_len, "wg_renderer_create: %s is NULL", out ? "ctx" : "out");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     *out = NULL;
     int samples = desc ? desc->samples : 0;
     if (samples < 0 || samples > 64) {
         wg_errorf(err, err_len, "wg_renderer_create: samples = %d must be in 0..64", samples);
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     wg_renderer* r = (wg_renderer*)wg_gl_alloc(ctx, sizeof *r);
     if (!r) {
         wg_errorf(err, err_len, "wg_renderer_create: out of memory");
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     memset(r, 0, sizeof *r);
     r->ctx = ctx;
-    weft_status st = wg_gl_begin(ctx, err, err_len);
-    if (st != WEFT_OK) {
+    wc_status st = wg_gl_begin(ctx, err, err_len);
+    if (st != WC_OK) {
         wg_gl_free(ctx, r);
         return st;
     }
     st = create_gl_objects(r, samples, err, err_len);
-    if (st != WEFT_OK) delete_gl_objects(r);
+    if (st != WC_OK) delete_gl_objects(r);
     wg_gl_end(ctx);
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         wg_gl_free(ctx, r->scratch);
         wg_gl_free(ctx, r);
         return st;
     }
     *out = r;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wg_renderer_destroy(wg_renderer* r) {
     if (!r) return;
     char err[256];
-    if (wg_gl_begin(r->ctx, err, sizeof err) == WEFT_OK) {
+    if (wg_gl_begin(r->ctx, err, sizeof err) == WC_OK) {
         delete_gl_objects(r);
         wg_gl_end(r->ctx);
     } else {
@@ -177,11 +177,11 @@ static int finite_n(const float* v, size_t n) {
     return 1;
 }
 
-static weft_status validate_meshes(const wg_mesh* meshes, int n_meshes, char* err, size_t err_len) {
+static wc_status validate_meshes(const wg_mesh* meshes, int n_meshes, char* err, size_t err_len) {
     if (n_meshes < 0 || (n_meshes > 0 && !meshes)) {
         wg_errorf(err, err_len, "n_meshes = %d with meshes %s", n_meshes,
                   meshes ? "given" : "NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     for (int k = 0; k < n_meshes; ++k) {
         const wg_mesh* m = &meshes[k];
@@ -189,12 +189,12 @@ static weft_status validate_meshes(const wg_mesh* meshes, int n_meshes, char* er
             m->n_triangles > INT_MAX / 3) {
             wg_errorf(err, err_len, "meshes[%d]: n_vertices = %d / n_triangles = %d out of range",
                       k, m->n_vertices, m->n_triangles);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         if ((m->n_vertices > 0 && !m->positions) || (m->n_triangles > 0 && !m->triangles)) {
             wg_errorf(err, err_len, "meshes[%d]: %s is NULL", k,
                       m->n_vertices > 0 && !m->positions ? "positions" : "triangles");
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         for (int i = 0; i < 3 * m->n_triangles; ++i) {
             int v = m->triangles[i];
@@ -202,33 +202,33 @@ static weft_status validate_meshes(const wg_mesh* meshes, int n_meshes, char* er
                 wg_errorf(err, err_len,
                           "meshes[%d].triangles[%d] = %d is outside the %d vertices", k, i, v,
                           m->n_vertices);
-                return WEFT_ERROR_OUT_OF_RANGE;
+                return WC_ERROR_OUT_OF_RANGE;
             }
         }
         size_t n3 = 3 * (size_t)m->n_vertices;
         for (size_t i = 0; i < n3; ++i)
             if (!isfinite(m->positions[i])) {
                 wg_errorf(err, err_len, "meshes[%d].positions[%zu] is not finite", k, i);
-                return WEFT_ERROR_NONFINITE;
+                return WC_ERROR_NONFINITE;
             }
         if (m->normals && !finite_n(m->normals, n3)) {
             wg_errorf(err, err_len, "meshes[%d].normals has a non-finite value", k);
-            return WEFT_ERROR_NONFINITE;
+            return WC_ERROR_NONFINITE;
         }
         if (!finite_n(m->front_rgb, 3) || !finite_n(m->back_rgb, 3)) {
             wg_errorf(err, err_len, "meshes[%d]: front_rgb or back_rgb is not finite", k);
-            return WEFT_ERROR_NONFINITE;
+            return WC_ERROR_NONFINITE;
         }
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
-static weft_status validate_shapes(const wg_shape* shapes, int n_shapes, char* err,
+static wc_status validate_shapes(const wg_shape* shapes, int n_shapes, char* err,
                                    size_t err_len) {
     if (n_shapes < 0 || (n_shapes > 0 && !shapes)) {
         wg_errorf(err, err_len, "n_shapes = %d with shapes %s", n_shapes,
                   shapes ? "given" : "NULL");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     for (int k = 0; k < n_shapes; ++k) {
         const wg_shape* s = &shapes[k];
@@ -237,13 +237,13 @@ static weft_status validate_shapes(const wg_shape* shapes, int n_shapes, char* e
             wg_errorf(err, err_len,
                       "shapes[%d].type = %d is not plane (0), sphere (1) or capsule (2)", k,
                       (int)s->type);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         if (!finite_n(s->transform, 16) || !isfinite(s->radius) || !isfinite(s->half_height) ||
             !finite_n(s->rgb, 3)) {
             wg_errorf(err, err_len,
                       "shapes[%d]: transform, radius, half_height or rgb is not finite", k);
-            return WEFT_ERROR_NONFINITE;
+            return WC_ERROR_NONFINITE;
         }
         const float* m = s->transform;
         float nm[9];
@@ -251,23 +251,23 @@ static weft_status validate_shapes(const wg_shape* shapes, int n_shapes, char* e
             fabsf(m[15] - 1.0f) > 1e-6f) {
             wg_errorf(err, err_len, "shapes[%d].transform: last row (%g %g %g %g) is not (0 0 0 1)",
                       k, (double)m[3], (double)m[7], (double)m[11], (double)m[15]);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         if (!wg_normal_matrix(m, nm)) {
             wg_errorf(err, err_len, "shapes[%d].transform is singular", k);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         if (s->type != WG_SHAPE_PLANE && !(s->radius > 0.0f)) {
             wg_errorf(err, err_len, "shapes[%d].radius = %g must be > 0", k, (double)s->radius);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
         if (s->type == WG_SHAPE_CAPSULE && !(s->half_height >= 0.0f)) {
             wg_errorf(err, err_len, "shapes[%d].half_height = %g must be >= 0", k,
                       (double)s->half_height);
-            return WEFT_ERROR_INVALID_ARGUMENT;
+            return WC_ERROR_INVALID_ARGUMENT;
         }
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* ---- scene layout ---- */
@@ -519,7 +519,7 @@ static void lights(const wg_camera_basis* b, float key[3], float fill[3]) {
 }
 
 /* Everything between wg_gl_begin and wg_gl_end; the picture ends up bottom-up in r->scratch. */
-static weft_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_camera_basis* b,
+static wc_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_camera_basis* b,
                                  const float view_proj[16], const wg_mesh* meshes, int n_meshes,
                                  const wg_shape* shapes, int n_shapes, const wg_layout* L,
                                  char* err, size_t err_len) {
@@ -527,7 +527,7 @@ static weft_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_
         wg_errorf(err, err_len,
                   "host context: the current GL context is not the one the renderer was "
                   "created in");
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     int w = cam->width, h = cam->height;
     if (w > r->max_renderbuffer_size || h > r->max_renderbuffer_size || w > r->max_viewport[0] ||
@@ -537,14 +537,14 @@ static weft_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_
                   "%d x %d)",
                   w, h, (int)r->max_renderbuffer_size, (int)r->max_viewport[0],
                   (int)r->max_viewport[1]);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
-    weft_status st = wg_target_ensure(&r->target, w, h, r->samples_wanted, err, err_len);
-    if (st != WEFT_OK && r->samples_wanted > 1) {
+    wc_status st = wg_target_ensure(&r->target, w, h, r->samples_wanted, err, err_len);
+    if (st != WC_OK && r->samples_wanted > 1) {
         wg_gl_log(r->ctx, WC_LOG_WARN, "weft gpu: %s; rendering without MSAA", err);
         st = wg_target_ensure(&r->target, w, h, 1, err, err_len);
     }
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     r->samples_used = r->target.samples;
 
     wg_gl_state_set_defaults(r->target.samples > 1);
@@ -577,9 +577,9 @@ static weft_status draw_and_read(wg_renderer* r, const wg_camera* cam, const wg_
     if (e != GL_NO_ERROR) {
         wg_errorf(err, err_len, "rendering %d x %d failed: %s (0x%04x)", w, h, wg_gl_error_name(e),
                   (unsigned)e);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
 static size_t scratch_needed(const wg_camera* cam, const wg_mesh* meshes, int n_meshes,
@@ -598,26 +598,26 @@ static size_t scratch_needed(const wg_camera* cam, const wg_mesh* meshes, int n_
     return need;
 }
 
-weft_status wg_render(wg_renderer* r, const wg_camera* cam_in, const wg_mesh* meshes, int n_meshes,
+wc_status wg_render(wg_renderer* r, const wg_camera* cam_in, const wg_mesh* meshes, int n_meshes,
                       const wg_shape* shapes, int n_shapes, unsigned char* rgba_out, char* err,
                       size_t err_len) {
     wg_errorf(err, err_len, "%s", "");
     if (!r || !cam_in || !rgba_out) {
         wg_errorf(err, err_len, "wg_render: %s is NULL",
                   !r ? "renderer" : !cam_in ? "camera" : "rgba_out");
-        return WEFT_ERROR_INVALID_ARGUMENT;
+        return WC_ERROR_INVALID_ARGUMENT;
     }
     wg_camera cam = *cam_in;
-    weft_status st = wg_camera_check_lens(&cam, err, err_len);
-    if (st == WEFT_OK) st = validate_meshes(meshes, n_meshes, err, err_len);
-    if (st == WEFT_OK) st = validate_shapes(shapes, n_shapes, err, err_len);
-    if (st != WEFT_OK) return st;
+    wc_status st = wg_camera_check_lens(&cam, err, err_len);
+    if (st == WC_OK) st = validate_meshes(meshes, n_meshes, err, err_len);
+    if (st == WC_OK) st = validate_shapes(shapes, n_shapes, err, err_len);
+    if (st != WC_OK) return st;
     for (int i = 0; i < 3; ++i)
         if (!isfinite(cam.eye[i]) || !isfinite(cam.target[i])) {
             wg_errorf(err, err_len, "camera eye (%g %g %g) or target (%g %g %g) is not finite",
                       (double)cam.eye[0], (double)cam.eye[1], (double)cam.eye[2],
                       (double)cam.target[0], (double)cam.target[1], (double)cam.target[2]);
-            return WEFT_ERROR_NONFINITE;
+            return WC_ERROR_NONFINITE;
         }
 
     const float* fallback = cam.target;
@@ -636,30 +636,30 @@ weft_status wg_render(wg_renderer* r, const wg_camera* cam_in, const wg_mesh* me
                 bmax[i] = fallback[i] + 0.5f;
             }
         st = wg_camera_frame_auto(&cam, bmin, bmax, err, err_len);
-        if (st != WEFT_OK) return st;
+        if (st != WC_OK) return st;
     }
     wg_camera_basis b;
     st = wg_camera_basis_of(&cam, &b, err, err_len);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     float znear, zfar, view[16], proj[16], view_proj[16];
     depth_range(&b, &L, &znear, &zfar);
     st = wg_camera_matrices(&cam, znear, zfar, view, proj, err, err_len);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     wg_mat4_mul(view_proj, proj, view);
 
     st = ensure_scratch(r, scratch_needed(&cam, meshes, n_meshes, n_shapes), err, err_len);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     st = wg_gl_begin(r->ctx, err, err_len);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
     st = draw_and_read(r, &cam, &b, view_proj, meshes, n_meshes, shapes, n_shapes, &L, err,
                        err_len);
     wg_gl_end(r->ctx);
-    if (st != WEFT_OK) return st;
+    if (st != WC_OK) return st;
 
     /* GL rows run bottom-up; ours top-down. */
     size_t row = 4 * (size_t)cam.width;
     const unsigned char* src = (const unsigned char*)r->scratch;
     for (int y = 0; y < cam.height; ++y)
         memcpy(rgba_out + (size_t)y * row, src + (size_t)(cam.height - 1 - y) * row, row);
-    return WEFT_OK;
+    return WC_OK;
 }

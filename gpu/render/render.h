@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "egl_context.h"   /* wg_gl_context; weft_status */
+#include "egl_context.h"   /* wg_gl_context; wc_status */
 
 #ifdef __cplusplus
 extern "C" {
@@ -72,7 +72,7 @@ typedef struct wg_renderer_desc {
 /* Compile the shaders and build the static geometry in ctx (which must outlive the renderer).
  * desc may be NULL (defaults). Errors: INVALID_ARGUMENT, OUT_OF_MEMORY, GPU (compile/link log or
  * GL error in err). */
-weft_status wg_renderer_create(wg_gl_context* ctx, const wg_renderer_desc* desc, wg_renderer** out,
+wc_status wg_renderer_create(wg_gl_context* ctx, const wg_renderer_desc* desc, wg_renderer** out,
                                char* err, size_t err_len);
 /* Delete the GL objects (inside wg_gl_begin/end of its context: a host_current context's host
  * context must be current) and free. NULL is ignored. */
@@ -94,7 +94,7 @@ void wg_renderer_destroy(wg_renderer* r);
  * OUT_OF_RANGE (a triangle index outside the mesh's vertices), NONFINITE (NaN/Inf in the camera,
  * positions, normals, colours, transforms, radii), OUT_OF_MEMORY, GPU (no context, framebuffer
  * incomplete or larger than the driver allows, a GL error: err says which). */
-weft_status wg_render(wg_renderer* r, const wg_camera* cam, const wg_mesh* meshes, int n_meshes,
+wc_status wg_render(wg_renderer* r, const wg_camera* cam, const wg_mesh* meshes, int n_meshes,
                       const wg_shape* shapes, int n_shapes, unsigned char* rgba_out, char* err,
                       size_t err_len);
 
@@ -110,13 +110,13 @@ int wg_scene_bounds(const wg_mesh* meshes, int n_meshes, const wg_shape* shapes,
  * seen from the front-right and above (relative to cam->up), keeping up, fov and size. A box
  * of zero size is framed as a box of 1 m. Errors: INVALID_ARGUMENT (NULL, fov, size, up zero,
  * min > max), NONFINITE. */
-weft_status wg_camera_frame_auto(wg_camera* cam, const float bmin[3], const float bmax[3],
+wc_status wg_camera_frame_auto(wg_camera* cam, const float bmin[3], const float bmax[3],
                                  char* err, size_t err_len);
 
 /* Column-major 4x4 view and OpenGL projection matrices (clip = proj * view * world) of cam with
  * the given near/far distances: what wg_render uses, for callers that project points.
  * Errors as wg_camera_frame_auto. */
-weft_status wg_camera_matrices(const wg_camera* cam, float znear, float zfar, float view[16],
+wc_status wg_camera_matrices(const wg_camera* cam, float znear, float zfar, float view[16],
                                float proj[16], char* err, size_t err_len);
 
 #ifdef __cplusplus

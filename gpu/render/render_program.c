@@ -68,14 +68,14 @@ static GLuint link(const char* vs_src, const char* fs_src, const char* name, cha
     return wg_program_build(&prog, name, vs_src, fs_src, err, err_len) ? prog.id : 0;
 }
 
-weft_status wg_programs_create(wg_programs* p, char* err, size_t err_len) {
+wc_status wg_programs_create(wg_programs* p, char* err, size_t err_len) {
     memset(p, 0, sizeof *p);
     p->shade = link(kShadeVs, kShadeFs, "shading", err, err_len);
-    if (!p->shade) return WEFT_ERROR_GPU;
+    if (!p->shade) return WC_ERROR_GPU;
     p->background = link(wg_fullscreen_vs, kBackgroundFs, "background", err, err_len);   /* one triangle */
     if (!p->background) {
         wg_programs_destroy(p);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     p->u_model = glGetUniformLocation(p->shade, "u_model");
     p->u_normal_matrix = glGetUniformLocation(p->shade, "u_normal_matrix");
@@ -89,7 +89,7 @@ weft_status wg_programs_create(wg_programs* p, char* err, size_t err_len) {
     p->u_top_rgb = glGetUniformLocation(p->background, "u_top_rgb");
     p->u_bottom_rgb = glGetUniformLocation(p->background, "u_bottom_rgb");
     p->u_height = glGetUniformLocation(p->background, "u_height");
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wg_programs_destroy(wg_programs* p) {

@@ -5,7 +5,7 @@
 #include <GL/glew.h>
 #include <stddef.h>
 
-#include "weft/weft_status.h"
+#include "status.h"
 
 /* Attribute locations of the shading program. */
 #define WG_ATTRIB_POSITION 0
@@ -19,9 +19,9 @@ typedef struct wg_programs {
     GLint u_top_rgb, u_bottom_rgb, u_height;
 } wg_programs;
 
-/* Compile and link both (a current context is needed). Errors: WEFT_ERROR_GPU with the
+/* Compile and link both (a current context is needed). Errors: WC_ERROR_GPU with the
  * compiler's or linker's log. */
-weft_status wg_programs_create(wg_programs* p, char* err, size_t err_len);
+wc_status wg_programs_create(wg_programs* p, char* err, size_t err_len);
 void wg_programs_destroy(wg_programs* p);
 
 /* Lighting constants shared by the shader and by documentation/tests: final colour =

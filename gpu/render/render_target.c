@@ -25,31 +25,31 @@ static GLuint make_rbo(GLenum format, int width, int height, int samples) {
     return rbo;
 }
 
-static weft_status check_fbo(const char* what, int width, int height, int samples, char* err,
+static wc_status check_fbo(const char* what, int width, int height, int samples, char* err,
                              size_t err_len) {
     GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     GLenum gl_err = glGetError();
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         wg_errorf(err, err_len, "%s framebuffer %d x %d (%d samples) is incomplete: %s (0x%04x)",
                   what, width, height, samples, wg_fbo_status_name(status), (unsigned)status);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     if (gl_err != GL_NO_ERROR) {
         wg_errorf(err, err_len, "%s framebuffer %d x %d (%d samples): %s (0x%04x)", what, width,
                   height, samples, wg_gl_error_name(gl_err), (unsigned)gl_err);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status wg_target_ensure(wg_target* t, int width, int height, int samples, char* err,
+wc_status wg_target_ensure(wg_target* t, int width, int height, int samples, char* err,
                              size_t err_len) {
-    if (t->fbo && t->width == width && t->height == height && t->samples == samples) return WEFT_OK;
+    if (t->fbo && t->width == width && t->height == height && t->samples == samples) return WC_OK;
     wg_target_destroy(t);
     t->width = width;
     t->height = height;
     t->samples = samples;
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     if (samples > 1) {
         t->ms_color = make_rbo(GL_RGBA8, width, height, samples);
         t->ms_depth = make_rbo(GL_DEPTH_COMPONENT24, width, height, samples);
@@ -61,7 +61,7 @@ weft_status wg_target_ensure(wg_target* t, int width, int height, int samples, c
                                   t->ms_depth);
         st = check_fbo("multisampled", width, height, samples, err, err_len);
     }
-    if (st == WEFT_OK) {
+    if (st == WC_OK) {
         t->color = make_rbo(GL_RGBA8, width, height, 1);
         if (samples <= 1) t->depth = make_rbo(GL_DEPTH_COMPONENT24, width, height, 1);
         glGenFramebuffers(1, &t->fbo);
@@ -73,7 +73,7 @@ weft_status wg_target_ensure(wg_target* t, int width, int height, int samples, c
         st = check_fbo(samples > 1 ? "resolve" : "colour + depth", width, height, 1, err, err_len);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    if (st != WEFT_OK) wg_target_destroy(t);
+    if (st != WC_OK) wg_target_destroy(t);
     return st;
 }
 

@@ -6,7 +6,7 @@
 #include <GL/glew.h>
 #include <stddef.h>
 
-#include "weft/weft_status.h"
+#include "status.h"
 
 typedef struct wg_target {
     int width, height, samples;   /* 0 x 0 before the first wg_target_ensure */
@@ -16,7 +16,7 @@ typedef struct wg_target {
 
 /* (Re)allocate for this size and sample count unless it already matches. On failure everything
  * is deleted and err names the incomplete status or GL error. */
-weft_status wg_target_ensure(wg_target* t, int width, int height, int samples, char* err,
+wc_status wg_target_ensure(wg_target* t, int width, int height, int samples, char* err,
                              size_t err_len);
 void wg_target_destroy(wg_target* t);
 /* Framebuffer to draw into. */

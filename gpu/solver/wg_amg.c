@@ -143,7 +143,7 @@ int wg_amg_create(wg_sim* g, char* err, size_t el) {
     wc_amg_opts o = wg_amg_opts();
     wc_amg* ca = NULL;
     wc_diag d = {0};
-    if (wc_amg_create(&ca, g->m, &o, &g->alloc, &d) != WEFT_OK) {
+    if (wc_amg_create(&ca, g->m, &o, &g->alloc, &d) != WC_OK) {
         wg_errorf(err, el, "multigrid: %s", d.message);
         return 0;
     }

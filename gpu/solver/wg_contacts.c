@@ -47,23 +47,23 @@ static void swap_tex(wg_tex* a, wg_tex* b) {
     *b = t;
 }
 
-weft_status wg_contacts_create(wg_sim* g, const wc_state* s, char* err, size_t err_len) {
+wc_status wg_contacts_create(wg_sim* g, const wc_state* s, char* err, size_t err_len) {
     g->contacts = NULL;
     int mc = s->def.max_colliders;
-    if (mc <= 0) return WEFT_OK;
+    if (mc <= 0) return WC_OK;
     if (g->dev->max_draw_buffers < 8) {
         wg_errorf(err, err_len, "the GL context has %d draw buffers; contacts need 8", g->dev->max_draw_buffers);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     if (mc > g->dev->max_texture_size) {
         wg_errorf(err, err_len, "%d colliders do not fit in the device's %d-texel textures", mc,
                   g->dev->max_texture_size);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     wg_contact_sim* cs = wc_calloc(&g->alloc, 1, sizeof *cs);
     if (!cs) {
         wg_errorf(err, err_len, "out of memory");
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     g->contacts = cs;
     cs->max_colliders = mc;
@@ -96,10 +96,10 @@ weft_status wg_contacts_create(wg_sim* g, const wc_state* s, char* err, size_t e
     if (!wg_array_create(g, &cs->A1, g->A1.internal, g->nb, NULL, err, err_len)) goto fail;
     if (!wg_tex_create(&cs->cols, GL_RGBA32F, 5, mc, NULL, err, err_len)) goto fail;
     if (!wg_chain_create(g, &cs->chain, cs->c1.t[0].w, cs->c1.t[0].h, err, err_len)) goto fail;
-    return WEFT_OK;
+    return WC_OK;
 fail:
     wg_contacts_destroy(g);
-    return strstr(err, "out of memory") ? WEFT_ERROR_OUT_OF_MEMORY : WEFT_ERROR_GPU;
+    return strstr(err, "out of memory") ? WC_ERROR_OUT_OF_MEMORY : WC_ERROR_GPU;
 }
 
 void wg_contacts_destroy(wg_sim* g) {

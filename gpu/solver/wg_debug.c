@@ -59,12 +59,12 @@ static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, do
     return 1;
 }
 
-weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
+wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
                                  double* z, unsigned char* ndof, double* x, wc_diag* diag) {
     wg_step_upload_pins(g, s);
     g->x.keep = g->x.cur;
     wg_step_prepare(g, s, h, alpha1, s->def.compression);
-    if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+    if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
     if (b) read_vec(g, &g->b, g->n, b);
     if (z) read_vec(g, &g->z, g->n, z);
     if (x) read_vec(g, wg_ring_cur(&g->x), g->n, x);
@@ -74,7 +74,7 @@ weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1
         if (!s0 || !s1) {
             wc_free(&g->alloc, s0);
             wc_free(&g->alloc, s1);
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+            return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
         }
         wg_array_read(g, &g->S0, g->n, s0);
         wg_array_read(g, &g->S1, g->n, s1);
@@ -86,11 +86,11 @@ weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1
         wc_free(&g->alloc, s1);
     }
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug prepare: %s", wg_gl_error_name(e));
-    return WEFT_OK;
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "debug prepare: %s", wg_gl_error_name(e));
+    return WC_OK;
 }
 
-weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag) {
+wc_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag) {
     const wc_solver_opts* o = &g->debug_opts;
     const wg_tex* in = wg_ring_cur(&g->dv);
     if (dv) {
@@ -99,20 +99,20 @@ weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_so
         in = &g->dv.t[k];
     }
     const wg_tex* out = NULL;
-    weft_status st = wg_solve(g, o, type, in, &out, res);
+    wc_status st = wg_solve(g, o, type, in, &out, res);
     if (dv && out) read_vec(g, out, g->n, dv);
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug solve: %s", wg_gl_error_name(e));
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "debug solve: %s", wg_gl_error_name(e));
     return st;
 }
 
-weft_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag) {
+wc_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag) {
     upload_vec(g, &g->t, g->n, x);
     wg_spmv(g, &g->t, 0);
     read_vec(g, &g->q, g->n, y);
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug spmv: %s", wg_gl_error_name(e));
-    return WEFT_OK;
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "debug spmv: %s", wg_gl_error_name(e));
+    return WC_OK;
 }
 
 double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode) {
@@ -147,13 +147,13 @@ double wg_sim_debug_rho(const wg_sim* g) { return g->rho_valid ? g->rho : 0.0; }
 
 long long wg_sim_debug_passes(const wg_sim* g) { return g->passes; }
 
-weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag) {
+wc_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag) {
     float* lo = wc_calloc(&g->alloc, (size_t)g->nb * 4u, sizeof(float));
     float* hi = wc_calloc(&g->alloc, (size_t)g->nb * 2u, sizeof(float));
     if (!lo || !hi) {
         wc_free(&g->alloc, lo);
         wc_free(&g->alloc, hi);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
     }
     for (int k = 0; k < g->nb; ++k) pack_sym(A + 9 * k, lo + 4 * k, hi + 2 * k);
     wg_array_upload(g, &g->A0, g->nb, lo);
@@ -168,7 +168,7 @@ weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b,
         if (!s0 || !s1) {
             wc_free(&g->alloc, s0);
             wc_free(&g->alloc, s1);
-            return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+            return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
         }
         for (int i = 0; i < g->n; ++i) {
             pack_sym(f->S + 9 * i, s0 + 4 * i, s1 + 4 * i);
@@ -180,8 +180,8 @@ weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b,
         wc_free(&g->alloc, s1);
     }
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "debug set system: %s", wg_gl_error_name(e));
-    return WEFT_OK;
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "debug set system: %s", wg_gl_error_name(e));
+    return WC_OK;
 }
 
 void wg_sim_debug_invalidate_rho(wg_sim* g) { g->rho_valid = 0; }

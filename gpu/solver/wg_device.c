@@ -144,12 +144,12 @@ static int float_targets_work(wg_device* d, char* err, size_t err_len) {
     return ok;
 }
 
-weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len) {
+wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len) {
     *out = NULL;
     wg_device* d = wg_gl_alloc(gl, sizeof *d);
     if (!d) {
         wg_errorf(err, err_len, "out of memory");
-        return WEFT_ERROR_OUT_OF_MEMORY;
+        return WC_ERROR_OUT_OF_MEMORY;
     }
     memset(d, 0, sizeof *d);
     d->gl = gl;
@@ -160,13 +160,13 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
             wg_errorf(err, err_len, "WEFT_GPU_PASSES=compute needs OpenGL 4.3 compute shaders; this context is %s",
                       (const char*)glGetString(GL_VERSION));
             wg_device_destroy(d);
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
         d->compute = 1;
     } else if (passes && *passes && strcmp(passes, "fragment") != 0) {
         wg_errorf(err, err_len, "WEFT_GPU_PASSES='%.40s' is not 'fragment' or 'compute'", passes);
         wg_device_destroy(d);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     } else {
         d->compute = !(passes && *passes) && GLEW_VERSION_4_3;
     }
@@ -196,10 +196,10 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
             wg_device_destroy(d);
             if (missing) {
                 wg_errorf(err, err_len, "shader '%s': unknown include '%.40s'", kPassNames[p], missing);
-                return WEFT_ERROR_GPU;
+                return WC_ERROR_GPU;
             }
             wg_errorf(err, err_len, "out of memory");
-            return WEFT_ERROR_OUT_OF_MEMORY;
+            return WC_ERROR_OUT_OF_MEMORY;
         }
         int ok;
         if (d->compute) {
@@ -213,7 +213,7 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
         wg_gl_free(gl, src);
         if (!ok) {
             wg_device_destroy(d);
-            return WEFT_ERROR_GPU;
+            return WC_ERROR_GPU;
         }
     }
     if (d->compute) glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &d->max_groups_x);
@@ -226,11 +226,11 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     if (d->max_draw_buffers < 4) {
         wg_errorf(err, err_len, "the GL context has %d draw buffers; the solver needs 4", d->max_draw_buffers);
         wg_device_destroy(d);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     if (!float_targets_work(d, err, err_len)) {
         wg_device_destroy(d);
-        return WEFT_ERROR_GPU;
+        return WC_ERROR_GPU;
     }
     GLuint q = 0;
     glGenQueries(1, &q);
@@ -241,7 +241,7 @@ weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size
     glDeleteQueries(1, &q);
     glGetError();
     *out = d;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void wg_device_forget(wg_device* d) {

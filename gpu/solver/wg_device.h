@@ -40,12 +40,12 @@ typedef struct wg_device {
 } wg_device;
 
 /* Compile every program and check that RGBA32F textures can be rendered into and read back
- * exactly (a context lacking float render targets is refused: WEFT_ERROR_GPU naming what is
+ * exactly (a context lacking float render targets is refused: WC_ERROR_GPU naming what is
  * missing). Inside wg_gl_begin. The passes are compute shaders made from the same sources
  * (wg_compute.h) where the context has GL 4.3, fragment shaders rendering into FBOs elsewhere;
  * the environment's WEFT_GPU_PASSES=fragment or =compute picks one. Any other value, or compute
- * on a context without GL 4.3, is WEFT_ERROR_GPU with a message. */
-weft_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len);
+ * on a context without GL 4.3, is WC_ERROR_GPU with a message. */
+wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len);
 /* Inside wg_gl_begin (or with the context current). NULL is ignored. */
 void wg_device_destroy(wg_device* d);
 /* Free the memory only (no GL call): the context is gone or cannot be made current. */

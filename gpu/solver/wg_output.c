@@ -38,7 +38,7 @@ static void to_host_memory(wg_sim* g, const wg_tex* t, float* out) {
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 }
 
-weft_status wg_sim_output(wg_sim* g, const wg_output_request* q, wc_diag* diag) {
+wc_status wg_sim_output(wg_sim* g, const wg_output_request* q, wc_diag* diag) {
     glGetError();
     int want_n = q->normals || q->normal_buffer;
     if (want_n) {
@@ -88,6 +88,6 @@ weft_status wg_sim_output(wg_sim* g, const wg_output_request* q, wc_diag* diag) 
     }
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "GPU output: %s", wg_gl_error_name(e));
-    return WEFT_OK;
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "GPU output: %s", wg_gl_error_name(e));
+    return WC_OK;
 }

@@ -236,40 +236,40 @@ fail:
     return 0;
 }
 
-weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag) {
+wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag) {
     *out = NULL;
     const wc_model* m = s->model;
     if (s->def.solver.type == WC_SOLVER_DIRECT)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no direct solver (CHOLMOD runs on the CPU only): choose pcg, jacobi or "
                        "chebyshev, or the CPU backend");
     if (s->def.solver.preconditioner == WC_PRECOND_AMG && !dev->compute)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU's multigrid preconditioner runs on compute-shader passes (OpenGL 4.3); this context "
                        "runs fragment passes: choose block_jacobi, or the CPU backend");
     if (s->def.solver.preconditioner != WC_PRECOND_BLOCK_JACOBI && s->def.solver.preconditioner != WC_PRECOND_AMG)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
                        "preconditioner runs on the CPU backend)", wc_precond_name(s->def.solver.preconditioner));
     if (s->n_mesh > 0)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no triangle-mesh colliders (%d given in def->mesh_colliders): use the CPU "
                        "backend, or the plane, sphere and capsule colliders", s->n_mesh);
     if (s->def.integrator != WC_INTEGRATOR_BE || s->def.newton_iterations != 1 || s->def.line_search)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend runs one backward-Euler step per substep without line search (asked: "
                        "integrator %s, %d Newton iteration(s), line search %s; BDF2, TR-BDF2, Newton and line search run on "
                        "the CPU backend only)",
                        wc_integrator_name(s->def.integrator), s->def.newton_iterations, s->def.line_search ? "on" : "off");
     if (m->n_seams > 0)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no sewing (this cloth has %d seams): sew on the CPU backend", m->n_seams);
     if (s->def.self_collision)
-        return wc_fail(diag, WEFT_ERROR_UNSUPPORTED,
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
-    if (!g) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
+    if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
     g->alloc = alloc;
     g->dev = dev;
     g->m = m;
@@ -288,7 +288,7 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
     while (g->shift < 30 && ((biggest + (1LL << g->shift) - 1) >> g->shift) > dev->max_texture_size) ++g->shift;
     if ((1LL << g->shift) > dev->max_texture_size || biggest > 0x7fffffffLL) {
         wc_free(&alloc, g);
-        return wc_fail(diag, WEFT_ERROR_GPU,
+        return wc_fail(diag, WC_ERROR_GPU,
                        "GPU cloth: %lld items in one array (%d particles, %d springs, %d blocks) do not fit in the "
                        "device's %d x %d textures", biggest, m->n_particles, m->n_springs, m->pattern.n_blocks,
                        dev->max_texture_size, dev->max_texture_size);
@@ -300,7 +300,7 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
              (g->rb = wc_calloc(&alloc, (size_t)(g->n > g->nh ? g->n : g->nh) * 4u, sizeof(float)));
     if (!ok) {
         wg_sim_destroy(g);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
     }
     for (int i = 0; i < g->n; ++i) g->pin_map_cpu[i] = -1;
     glGenFramebuffers(1, &g->scratch_fbo);
@@ -314,20 +314,20 @@ weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_
             ok = 0;
         }
     }
-    if (ok && wg_contacts_create(g, s, err, sizeof err) != WEFT_OK) ok = 0;
+    if (ok && wg_contacts_create(g, s, err, sizeof err) != WC_OK) ok = 0;
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG && !wg_amg_create(g, err, sizeof err)) ok = 0;
     if (!ok) {
         wg_sim_destroy(g);
-        return wc_fail(diag, strstr(err, "out of memory") ? WEFT_ERROR_OUT_OF_MEMORY : WEFT_ERROR_GPU,
+        return wc_fail(diag, strstr(err, "out of memory") ? WC_ERROR_OUT_OF_MEMORY : WC_ERROR_GPU,
                        "GPU cloth (%d particles, %d springs): %s", m->n_particles, m->n_springs, err);
     }
-    weft_status st = wg_sim_upload(g, s, diag);
-    if (st != WEFT_OK) {
+    wc_status st = wg_sim_upload(g, s, diag);
+    if (st != WC_OK) {
         wg_sim_destroy(g);
         return st;
     }
     *out = g;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 /* ---- state moves ----------------------------------------------------------------------------- */
@@ -346,7 +346,7 @@ static void from_f4(const float* in, int n, double* a) {
         for (int c = 0; c < 3; ++c) a[3 * i + c] = (double)in[4 * i + c];
 }
 
-weft_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
+wc_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
     to_f4(s->x, g->n, g->rb);
     wg_array_upload(g, wg_ring_cur(&g->x), g->n, g->rb);
     to_f4(s->v, g->n, g->rb);
@@ -356,11 +356,11 @@ weft_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
     if (g->contacts) wg_contacts_upload(g, s);
     g->rho_valid = 0;
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "GPU cloth: state upload: %s", wg_gl_error_name(e));
-    return WEFT_OK;
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "GPU cloth: state upload: %s", wg_gl_error_name(e));
+    return WC_OK;
 }
 
-weft_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag) {
+wc_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag) {
     wg_array_read(g, wg_ring_cur(&g->x), g->n, g->rb);
     from_f4(g->rb, g->n, s->x);
     wg_array_read(g, wg_ring_cur(&g->v), g->n, g->rb);
@@ -369,8 +369,8 @@ weft_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag) {
     from_f4(g->rb, g->n, s->dv);
     if (g->contacts) wg_contacts_download(g, s);
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return wc_fail(diag, WEFT_ERROR_GPU, "GPU cloth: state read-back: %s", wg_gl_error_name(e));
-    return WEFT_OK;
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "GPU cloth: state read-back: %s", wg_gl_error_name(e));
+    return WC_OK;
 }
 
 void wg_sim_backup(wg_sim* g) {

@@ -18,10 +18,10 @@
 typedef struct wg_sim wg_sim;
 
 /* Upload the model and the state; host_rest (n_host_verts x 3, object space, m; NULL: zeros) is
- * where outputs put host vertices no polygon uses. Refused: the direct solver (WEFT_ERROR_UNSUPPORTED: it does
- * not exist on the GPU), arrays beyond the device's texture limits (WEFT_ERROR_GPU naming the
- * array, its size and the limit), GL errors (WEFT_ERROR_GPU). */
-weft_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
+ * where outputs put host vertices no polygon uses. Refused: the direct solver (WC_ERROR_UNSUPPORTED: it does
+ * not exist on the GPU), arrays beyond the device's texture limits (WC_ERROR_GPU naming the
+ * array, its size and the limit), GL errors (WC_ERROR_GPU). */
+wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
 void wg_sim_destroy(wg_sim* g);
 /* Free the CPU memory only, when the GL context is gone or cannot be made current (the host's
  * context in WEFT_GL_HOST_CURRENT mode: its GL objects go with that context). */
@@ -30,12 +30,12 @@ void wg_sim_forget(wg_sim* g);
 /* wc_step_frame on the GPU (same schedule, retries, judging, stats, sleeping; the last resorts
  * run the cloth's own solver, with the compressed springs' geometric term dropped, in place of
  * the direct solver: st->direct_fallbacks counts those last-resort tries). */
-weft_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
+wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
 
 /* Read x, v, dv and the contact arrays back into s (exact: float values widened to double). */
-weft_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag);
+wc_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag);
 /* Send s's x, v, dv and contact arrays (rounded to float). */
-weft_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag);
+wc_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag);
 
 /* The frame's back-up of the state textures (taken before a step the caller may undo) and its
  * restore. */
@@ -64,7 +64,7 @@ typedef struct wg_output_request {
     unsigned normal_buffer;
     size_t position_offset, normal_offset;   /* bytes */
 } wg_output_request;
-weft_status wg_sim_output(wg_sim* g, const wg_output_request* req, wc_diag* diag);
+wc_status wg_sim_output(wg_sim* g, const wg_output_request* req, wc_diag* diag);
 
 /* Bytes of GPU memory held (textures). */
 size_t wg_sim_gpu_bytes(const wg_sim* g);
@@ -75,14 +75,14 @@ size_t wg_sim_gpu_bytes(const wg_sim* g);
  * at frame fraction alpha1, as the step does, then read back: A (pattern.n_blocks x 9, row-major
  * blocks), b (n x 3), the filter S (n x 9), z (n x 3), ndof (n) and x (n x 3; contacts may have
  * moved particles). Any output may be NULL. */
-weft_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
+wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
                                  double* z, unsigned char* ndof, double* x, wc_diag* diag);
 /* Solve the system the last prepare built with the cloth's solver from the initial guess dv
  * (n x 3, in/out, NULL: the state's warm start); the result as core's wc_solve_result. */
-weft_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);
+wc_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);
 /* Replace the prepared A (pattern.n_blocks x 9, row-major; symmetric blocks), b (n x 3) and,
  * when f is not NULL, the filter (S, z, ndof) with the caller's, rounded to float. */
-weft_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag);
+wc_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag);
 /* Forget Chebyshev's cached rho (the next Chebyshev solve estimates it again), and set the
  * options wg_sim_debug_solve uses (the state's at creation until then). */
 void wg_sim_debug_invalidate_rho(wg_sim* g);
@@ -90,7 +90,7 @@ void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o);
 /* Chebyshev's cached rho estimate (0 when none). */
 double wg_sim_debug_rho(const wg_sim* g);
 /* y = A x with the last prepared A (n x 3 each). */
-weft_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag);
+wc_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag);
 /* Sum (mode 0) or max (mode 1) of n values through the reduction passes (n <= particles). */
 double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode);
 /* Wall time (ms) of `reps` runs of one SpMV pass and one copy pass of the same size, measured

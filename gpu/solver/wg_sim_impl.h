@@ -190,7 +190,7 @@ void wg_spmv(wg_sim* g, const wg_tex* x, int filter);
 
 /* Solve the prepared system (A0/A1, b, S0/S1, z) from the initial guess in dv_in; the result is
  * left in *out (one of g->sv). */
-weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,
+wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,
                      const wg_tex** out, wc_solve_result* res);
 
 /* ---- contacts (wg_contacts.c): colliders with thickness and friction ------------------------- */
@@ -199,7 +199,7 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
  * the state has colliders (s->n_colliders > 0). Colliders come from s->colliders each substep.
  * Contact state (per particle: colliders, normals, released, stick) lives in the contact sim's
  * own textures (rings, rolled back with the substep through wg_contacts_save/restore). */
-weft_status wg_contacts_create(wg_sim* g, const wc_state* s, char* err, size_t err_len);
+wc_status wg_contacts_create(wg_sim* g, const wc_state* s, char* err, size_t err_len);
 void wg_contacts_destroy(wg_sim* g);
 /* 1: after the pins pass (S0, S1, z hold the pins): find contacts, correct positions (a new
  * g->x.cur), write their constraints into S0/S1/z. */

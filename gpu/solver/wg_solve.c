@@ -149,7 +149,7 @@ static double true_residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, doub
     return (double)v[3];
 }
 
-static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** out, wc_solve_result* res) {
+static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** out, wc_solve_result* res) {
     pcg_vecs v = {0, 0, 0};
     const int K = o->check_every > 0 ? o->check_every : 10, max_it = o->max_iterations;
     /* residual0 from z, then the initial guess (sv[0], projected) */
@@ -161,14 +161,14 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
     scalars(g, o, 0, r0, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
     direction(g, &v, 1);
     float s0[4], s1[4], s2[4];
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     int converged = 0, queued = 0;
     double rt = -1.0;
     for (;;) {
         read_scalars(g, s0, s1, s2);
         if (s1[0] != 0.0f) {
             if (s1[1] != 0.0f) {
-                st = WEFT_ERROR_SOLVER_DIVERGED;
+                st = WC_ERROR_SOLVER_DIVERGED;
                 break;
             }
             if (s1[3] == 0.0f) break;   /* the iteration cap */
@@ -180,7 +180,7 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
                 res->iterations = 0;
                 res->converged = 1;
                 res->residual = 0.0;
-                return WEFT_OK;
+                return WC_OK;
             }
             /* confirm with the true residual; on drift restart from it. Float cannot compute a
                residual below ~2^-24 |(|A| |dv|)|: a solve whose goal lies under that floor (a
@@ -228,9 +228,9 @@ static weft_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** 
         v.dv = 1 - v.dv;
         res->residual = 1.0;
         res->converged = 0;
-        st = WEFT_ERROR_SOLVER_DIVERGED;
+        st = WC_ERROR_SOLVER_DIVERGED;
     }
-    if (st == WEFT_OK && !isfinite(res->residual)) st = WEFT_ERROR_SOLVER_DIVERGED;
+    if (st == WC_OK && !isfinite(res->residual)) st = WC_ERROR_SOLVER_DIVERGED;
     *out = &g->sv[v.dv];
     return st;
 }
@@ -286,7 +286,7 @@ static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
     return wc_rho_from_lanczos(alpha, beta, k, o->chebyshev_gamma);
 }
 
-static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev, const wg_tex** out,
+static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev, const wg_tex** out,
                                 wc_solve_result* res) {
     const double gamma = chebyshev ? o->chebyshev_gamma : 1.0;
     const int delay = o->chebyshev_delay > 1 ? o->chebyshev_delay : 1;
@@ -302,14 +302,14 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
         res->iterations = 0;
         res->converged = res0 == 0.0;
         res->residual = res0 == 0.0 ? 0.0 : 1.0;
-        return res0 == 0.0 ? WEFT_OK : WEFT_ERROR_SOLVER_DIVERGED;
+        return res0 == 0.0 ? WC_OK : WC_ERROR_SOLVER_DIVERGED;
     }
     double rho = chebyshev ? (o->chebyshev_rho > 0.0 ? o->chebyshev_rho : g->rho) : 0.0;
     res->scale = fmax(res0, g->residual_floor);
     const double goal = o->tolerance * res->scale;
     double limit = o->divergence_factor * res0, rn = res0, omega = 1.0;
     int x = 0, prev = 1, nxt = 2, k = 0, converged = 0;
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     wg_use(g, WGP_JACOBI_SWEEP);
     for (;; ++k) {
         int check = (k % check_every == 0) || k >= o->max_iterations;
@@ -335,7 +335,7 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
             rn = sqrt((double)v[3]);
             if (k == 0) limit = o->divergence_factor * fmax(res0, rn);
             if (!isfinite(rn) || rn > limit) {
-                st = WEFT_ERROR_SOLVER_DIVERGED;
+                st = WC_ERROR_SOLVER_DIVERGED;
                 break;
             }
             if (rn <= goal) {
@@ -364,7 +364,7 @@ static weft_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshe
     return st;
 }
 
-weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,
+wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,
                      const wg_tex** out, wc_solve_result* res) {
     memset(res, 0, sizeof *res);
     res->solver = type;
@@ -386,7 +386,7 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
         g->rho_valid = 1;
     }
     project(g, dv_in, &g->sv[0], 0);
-    weft_status st;
+    wc_status st;
     if (amg) {
         wg_amg_setup(g);
         g->amg_on = 1;
@@ -397,7 +397,7 @@ weft_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, co
         st = solve_jacobi(g, o, type == WC_SOLVER_CHEBYSHEV, out, res);
     else {
         *out = &g->sv[0];
-        st = WEFT_ERROR_UNSUPPORTED;
+        st = WC_ERROR_UNSUPPORTED;
     }
     res->status = st;
     return st;

@@ -150,7 +150,7 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
 
 #define FRICTION_PASSES 4   /* as core/step.c */
 
-static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                                double pin_energy, wc_step_stats* st, wc_diag* diag) {
     wg_sim* g = user;
     wc_substep_measure before = {0}, after = {0};
@@ -163,9 +163,9 @@ static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1,
     wc_solver_opts opts = s->def.solver;
     const wg_tex* dvres = NULL;
     wc_solve_result res;
-    weft_status status = wg_solve(g, &opts, solver, wg_ring_cur(&g->dv), &dvres, &res);
+    wc_status status = wg_solve(g, &opts, solver, wg_ring_cur(&g->dv), &dvres, &res);
     wc_step_stats_add_solve(st, solver, &res);
-    for (int pass = 0; pass < FRICTION_PASSES && status == WEFT_OK && s->n_colliders > 0 && g->contacts; ++pass) {
+    for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && s->n_colliders > 0 && g->contacts; ++pass) {
         if (!wg_contacts_recheck(g, s, dvres, h)) break;
         ++st->friction_passes;
         /* the next solve starts from this one's result: keep it out of the solver's iterates */
@@ -175,7 +175,7 @@ static weft_status gpu_substep(void* user, wc_state* s, double h, double alpha1,
         wc_step_stats_add_solve(st, solver, &res);
     }
     g->last_solve = res;
-    if (status != WEFT_OK)
+    if (status != WC_OK)
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);
     int nd = wg_ring_other(&g->dv, 0);
@@ -301,7 +301,7 @@ static void collect_stamps(wg_sim* g, wc_step_stats* st) {
     }
 }
 
-weft_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
+wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
     wc_step_stats local;
     wc_step_stats* st = stats ? stats : &local;
     double t0 = wc_now_ms();
@@ -316,14 +316,14 @@ weft_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* 
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     wg_step_upload_pins(g, s);
     wc_step_ops ops = {g, gpu_substep, gpu_save, gpu_restore, gpu_measure, gpu_sleep, s->def.solver.type};
-    weft_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
-    if (r == WEFT_OK && s->n_colliders > 0 && g->contacts && !st->asleep) {
+    wc_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
+    if (r == WC_OK && s->n_colliders > 0 && g->contacts && !st->asleep) {
         s->contacts.active = wg_contacts_active(g);
         st->contacts = s->contacts.active;
     }
     GLenum e = glGetError();
-    if ((g->gl_error || e != GL_NO_ERROR) && r == WEFT_OK)
-        r = wc_fail(diag, WEFT_ERROR_GPU, "GPU step: GL error %s", e != GL_NO_ERROR ? wg_gl_error_name(e) : "in a pass");
+    if ((g->gl_error || e != GL_NO_ERROR) && r == WC_OK)
+        r = wc_fail(diag, WC_ERROR_GPU, "GPU step: GL error %s", e != GL_NO_ERROR ? wg_gl_error_name(e) : "in a pass");
     if (g->dev->has_timer && g->n_stamps >= 2) collect_stamps(g, st);
     else if (!st->asleep) st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble;
     return r;

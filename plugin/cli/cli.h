@@ -4,6 +4,8 @@
 #define WEFT_CLI_H
 #include <stdio.h>
 
+#include "weft/weft_status.h"
+
 enum {
     CLI_EXIT_OK = 0,
     CLI_EXIT_FAILURE = 1,   /* the command ran and failed (e.g. a file that cannot be imported) */
@@ -42,6 +44,16 @@ int cli_usage_error(const char* command, void (*usage)(FILE*), const char* fmt, 
 /* With threads > 0, OpenBLAS's thread count (CHOLMOD's BLAS) set to threads (blas_threads.c).
  * Returns OpenBLAS's thread count after it, or -1 when the BLAS is not OpenBLAS (nothing set). */
 int cli_blas_threads(int threads);
+
+/* A failure of the tool's own code (scene files, arguments): the public status and a message
+ * naming the file and field. */
+typedef struct cli_diag {
+    weft_status status;
+    char message[512];      /* "" when ok */
+} cli_diag;
+
+/* Record a failure (printf-style) and return status. */
+weft_status cli_fail(cli_diag* d, weft_status status, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 
 /* Print "weft: <message>" to stderr as exactly one line (newlines in message become spaces). */
 void cli_error(const char* message);

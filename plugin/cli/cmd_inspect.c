@@ -81,8 +81,8 @@ static int parse_args(int argc, char** argv, inspect_args* a) {
 }
 
 /* One line on stderr. Import errors already name the file; model errors get it prefixed. */
-static int fail(const char* file, const wc_diag* diag, weft_status status) {
-    const char* what = diag->message[0] ? diag->message : weft_status_string(status);
+static int fail(const char* file, const wc_diag* diag, wc_status status) {
+    const char* what = diag->message[0] ? diag->message : wc_status_string(status);
     char line[1024];
     if (file) snprintf(line, sizeof line, "%s: %s", file, what);
     cli_error(file ? line : what);
@@ -97,13 +97,13 @@ int cli_inspect_run(int argc, char** argv) {
     const wc_allocator alloc = {0};   /* malloc/free */
     wc_diag diag = {0};
     wc_source_mesh src = {0};
-    weft_status st = wc_import_file(&src, &alloc, a.file, &a.import, &diag);
-    if (st != WEFT_OK) return fail(NULL, &diag, st);
+    wc_status st = wc_import_file(&src, &alloc, a.file, &a.import, &diag);
+    if (st != WC_OK) return fail(NULL, &diag, st);
 
     wc_model model = {0};
     st = wc_model_build(&model, &src, &a.model, &alloc, &diag);
     wc_source_mesh_free(&src);
-    if (st != WEFT_OK) return fail(a.file, &diag, st);
+    if (st != WC_OK) return fail(a.file, &diag, st);
 
     if (a.json) {
         if (cli_report_json(stdout, a.file, &model.report) != 0) {

@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
     def.sleep_speed = 0;
     wc_state* s;
     wc_diag d = {0};
-    if (wc_state_create(&s, &m, &def, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&s, &m, &def, NULL, &d) != WC_OK) {
         fprintf(stderr, "state: %s\n", d.message);
         return 1;
     }
@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
     for (int f = 0; f < frames; ++f) {
         wc_step_stats st = {0};
         double t0 = wc_now_ms(), c0 = wc_cpu_ms();
-        if (wc_step_frame(s, 1.0 / 30.0, &st, &d) != WEFT_OK) fprintf(stderr, "frame %d: %s\n", f, d.message);
+        if (wc_step_frame(s, 1.0 / 30.0, &st, &d) != WC_OK) fprintf(stderr, "frame %d: %s\n", f, d.message);
         ms[f] = wc_now_ms() - t0;
         cpu[f] = wc_cpu_ms() - c0;
         solves += st.solves;

@@ -99,23 +99,23 @@ int main(int argc, char** argv) {
     wc_source_mesh src;
     wc_model model;
     wc_state* state = NULL;
-    if (wc_source_mesh_from_arrays(&src, NULL, posd, nv, sizes, nq, idx, 1.0, &d) != WEFT_OK) return 1;
+    if (wc_source_mesh_from_arrays(&src, NULL, posd, nv, sizes, nq, idx, 1.0, &d) != WC_OK) return 1;
     wc_model_def md = wc_default_model_def();
-    if (wc_model_build(&model, &src, &md, NULL, &d) != WEFT_OK) return 1;
+    if (wc_model_build(&model, &src, &md, NULL, &d) != WC_OK) return 1;
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = threads;
     /* the plugin's CPU defaults (plugin/cloth_create.c resolve_defaults) */
     sd.solver.preconditioner = WC_PRECOND_AMG;
     sd.newton_iterations = 2;
     sd.line_search = 1;
-    if (wc_state_create(&state, &model, &sd, NULL, &d) != WEFT_OK) return 1;
+    if (wc_state_create(&state, &model, &sd, NULL, &d) != WC_OK) return 1;
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);
     for (int k = 0; k < 2; ++k) {
         pins[k].particle = model.host_to_particle[pinned[k]];
         memcpy(pins[k].target, model.rest_pos + 3 * pins[k].particle, sizeof pins[k].target);
     }
-    if (wc_state_set_pins(state, pins, 2, &d) != WEFT_OK) return 1;
+    if (wc_state_set_pins(state, pins, 2, &d) != WC_OK) return 1;
 
     const double dt = 1.0 / 30.0;
     long long it_api = 0, it_core = 0;
@@ -127,7 +127,8 @@ int main(int argc, char** argv) {
         fr.attachment_transforms = identity;
         weft_frame_stats fs;
         wc_step_stats ss;
-        weft_status a, b;
+        weft_status a;
+        wc_status b;
         double ta, tb;   /* the two calls in alternating order, so neither always runs first */
         if (f % 2 == 0) {
             double t0 = now_ms();
@@ -144,7 +145,7 @@ int main(int argc, char** argv) {
             tb = t1 - t0;
             ta = now_ms() - t1;
         }
-        if (a != WEFT_OK || b != WEFT_OK) return 1;
+        if (a != WEFT_OK || b != WC_OK) return 1;
         double t2 = now_ms();
         int count = 0;
         weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_WORLD, out, NULL, nv, &count);

@@ -55,15 +55,15 @@ static int build_sheet(wc_model* m, int n) {
         }
     wc_source_mesh src;
     wc_diag d = {0};
-    weft_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
     free(pos), free(sizes), free(idx);
-    if (st == WEFT_OK) {
+    if (st == WC_OK) {
         wc_model_def def = wc_default_model_def();
         st = wc_model_build(m, &src, &def, NULL, &d);
         wc_source_mesh_free(&src);
     }
-    if (st != WEFT_OK) fprintf(stderr, "bench_gpu: model %d x %d: %s\n", n, n, d.message);
-    return st == WEFT_OK;
+    if (st != WC_OK) fprintf(stderr, "bench_gpu: model %d x %d: %s\n", n, n, d.message);
+    return st == WC_OK;
 }
 
 static wc_state* make_state(const wc_model* m, int n, int iterations, double tolerance, int threads, wc_precond_type pc) {
@@ -85,7 +85,7 @@ static wc_state* make_state(const wc_model* m, int n, int iterations, double tol
     def.max_pins = 2;
     wc_state* s = NULL;
     wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WEFT_OK) return NULL;
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
     wc_pin pins[2] = {{m->host_to_particle[n * (n - 1)], {0, 0, 0}, {0, 0, 0}},
                       {m->host_to_particle[n * n - 1], {0, 0, 0}, {0, 0, 0}}};
     for (int k = 0; k < 2; ++k) memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
@@ -127,8 +127,8 @@ int main(int argc, char** argv) {
     wg_gl_context* gl = NULL;
     wg_device* dev = NULL;
     char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WEFT_OK || wg_gl_begin(gl, err, sizeof err) != WEFT_OK ||
-        wg_device_create(gl, &dev, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
+        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
         fprintf(stderr, "bench_gpu: %s\n", err);
         return 1;
     }
@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
         wc_state* s = make_state(&m, n, iterations, tolerance, threads, pc);
         wg_sim* g = NULL;
         wc_diag d = {0};
-        if (!c || !s || wg_sim_create(dev, s, NULL, &g, &d) != WEFT_OK) {
+        if (!c || !s || wg_sim_create(dev, s, NULL, &g, &d) != WC_OK) {
             fprintf(stderr, "bench_gpu: %d x %d: %s\n", n, n, d.message);
             return 1;
         }

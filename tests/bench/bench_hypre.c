@@ -73,11 +73,11 @@ static int build_model(wc_model* m, int n, double y0, double k_scale) {
         }
     wc_source_mesh src;
     wc_diag d = {0};
-    weft_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
     free(pos);
     free(sizes);
     free(idx);
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         fprintf(stderr, "bench_hypre: mesh: %s\n", d.message);
         return -1;
     }
@@ -85,8 +85,8 @@ static int build_model(wc_model* m, int n, double y0, double k_scale) {
     for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) def.material.k[t] *= k_scale;
     st = wc_model_build(m, &src, &def, NULL, &d);
     wc_source_mesh_free(&src);
-    if (st != WEFT_OK) fprintf(stderr, "bench_hypre: model: %s\n", d.message);
-    return st == WEFT_OK ? 0 : -1;
+    if (st != WC_OK) fprintf(stderr, "bench_hypre: model: %s\n", d.message);
+    return st == WC_OK ? 0 : -1;
 }
 
 /* A state stepped `frames` frames (direct solver, 1/30 s, one substep), then the next substep's
@@ -100,11 +100,11 @@ static wc_state* prepare_system(const wc_model* m, int n, int kind, int frames, 
     sd.sleep_speed = 0.0;
     wc_state* s = NULL;
     wc_diag d = {0};
-    if (wc_state_create(&s, m, &sd, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&s, m, &sd, NULL, &d) != WC_OK) {
         fprintf(stderr, "bench_hypre: state: %s\n", d.message);
         return NULL;
     }
-    weft_status st = WEFT_OK;
+    wc_status st = WC_OK;
     if (kind == 0) {
         const int corner[2] = {n * (n - 1), n * n - 1};
         wc_pin pins[2];
@@ -123,11 +123,11 @@ static wc_state* prepare_system(const wc_model* m, int n, int kind, int frames, 
         c.friction = 0.3;
         st = wc_state_set_colliders(s, &c, 1, &d);
     }
-    for (int f = 0; f < frames && st == WEFT_OK; ++f) {
+    for (int f = 0; f < frames && st == WC_OK; ++f) {
         wc_step_stats ss;
         wc_step_frame(s, 1.0 / 30.0, &ss, &d);
     }
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         fprintf(stderr, "bench_hypre: %s\n", d.message);
         wc_state_destroy(s);
         return NULL;
@@ -358,7 +358,7 @@ static int run_system(const opts* o, int n, const char* name, int kind, double k
         wc_solver* ws = NULL;
         wc_diag d = {0};
         wc_solve_result res;
-        if (wc_solver_create(&ws, &m, &so, 1, NULL, &d) != WEFT_OK) {
+        if (wc_solver_create(&ws, &m, &so, 1, NULL, &d) != WC_OK) {
             fprintf(stderr, "bench_hypre: solver: %s\n", d.message);
             rc = -1;
         } else {
@@ -374,7 +374,7 @@ static int run_system(const opts* o, int n, const char* name, int kind, double k
         for (int t = 0; t < WC_PRECOND_COUNT && rc == 0; ++t) {
             so.preconditioner = (wc_precond_type)t;
             ws = NULL;
-            if (wc_solver_create(&ws, &m, &so, 0, NULL, &d) != WEFT_OK) {
+            if (wc_solver_create(&ws, &m, &so, 0, NULL, &d) != WC_OK) {
                 fprintf(stderr, "bench_hypre: solver: %s\n", d.message);
                 rc = -1;
                 break;

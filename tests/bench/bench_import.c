@@ -62,11 +62,11 @@ static int make_grid(wc_source_mesh* out, int n, int quads, int split) {
             }
         }
     wc_diag d = {0};
-    weft_status st = wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, npoly, idx, 1.0, &d);
+    wc_status st = wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, npoly, idx, 1.0, &d);
     free(pos);
     free(sizes);
     free(idx);
-    return st == WEFT_OK;
+    return st == WC_OK;
 }
 
 static int write_obj(const wc_source_mesh* m, const char* path) {
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
             wc_model m;
             wc_diag d = {0};
             wc_model_def def = wc_default_model_def();
-            if (wc_model_build(&m, &src, &def, NULL, &d) != WEFT_OK) {
+            if (wc_model_build(&m, &src, &def, NULL, &d) != WC_OK) {
                 fprintf(stderr, "build failed: %s\n", d.message);
                 return 1;
             }
@@ -134,9 +134,9 @@ int main(int argc, char** argv) {
                     wc_diag d = {0};
                     wc_import_opts o = wc_default_import_opts();
                     double t0 = wc_now_ms();
-                    weft_status st = wc_import_file(&im, NULL, path, &o, &d);
+                    wc_status st = wc_import_file(&im, NULL, path, &o, &d);
                     t[8][r] = wc_now_ms() - t0;
-                    if (st == WEFT_OK) wc_source_mesh_free(&im);
+                    if (st == WC_OK) wc_source_mesh_free(&im);
                     else fprintf(stderr, "import failed: %s\n", d.message);
                 }
                 obj_ms = wc_sort_median(t[8], runs);

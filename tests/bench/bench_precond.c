@@ -58,7 +58,7 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
     def.fail_energy_gain = 0;
     wc_state* s;
     wc_diag d = {0};
-    if (wc_state_create(&s, &m, &def, NULL, &d) != WEFT_OK) {
+    if (wc_state_create(&s, &m, &def, NULL, &d) != WC_OK) {
         fprintf(stderr, "state: %s\n", d.message);
         wc_model_free(&m);
         return;
@@ -98,7 +98,7 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
         o.max_iterations = 1000;
         wc_solver* sv;
         double c0 = wc_now_ms();
-        if (wc_solver_create(&sv, &m, &o, 0, NULL, &d) != WEFT_OK) {
+        if (wc_solver_create(&sv, &m, &o, 0, NULL, &d) != WC_OK) {
             fprintf(stderr, "solver: %s\n", d.message);
             continue;
         }
@@ -113,7 +113,7 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
             c0 = wc_now_ms();
             wc_model mc = m;
             if (g_current) mc.rest_pos = s->x;
-            if (wc_amg_create(&sv->amg, &mc, &ao, &sv->alloc, &d) != WEFT_OK) {
+            if (wc_amg_create(&sv->amg, &mc, &ao, &sv->alloc, &d) != WC_OK) {
                 fprintf(stderr, "amg: %s\n", d.message);
                 wc_solver_destroy(sv);
                 continue;

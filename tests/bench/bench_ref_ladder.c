@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
         if (!air) d.air.normal_drag = d.air.tangent_drag = 0.0;
         wc_state* s = NULL;
         wc_diag dg = {0};
-        if (wc_state_create(&s, &m, &d, NULL, &dg) != WEFT_OK) {
+        if (wc_state_create(&s, &m, &d, NULL, &dg) != WC_OK) {
             fprintf(stderr, "state: %s\n", dg.message);
             return 1;
         }
@@ -60,11 +60,11 @@ int main(int argc, char** argv) {
         pins[0].particle = ts_sheet_particle(&m, n, 0, n - 1);
         pins[1].particle = ts_sheet_particle(&m, n, n - 1, n - 1);
         for (int k = 0; k < 2; ++k) v3_copy(pins[k].target, s->x + 3 * pins[k].particle);
-        if (wc_state_set_pins(s, pins, 2, &dg) != WEFT_OK) return 1;
+        if (wc_state_set_pins(s, pins, 2, &dg) != WC_OK) return 1;
         int rollbacks = 0;
         for (int f = 0; f < frames; ++f) {
             wc_step_stats st;
-            if (wc_step_frame(s, 1.0 / 30, &st, &dg) != WEFT_OK) {
+            if (wc_step_frame(s, 1.0 / 30, &st, &dg) != WC_OK) {
                 fprintf(stderr, "step: %s\n", dg.message);
                 return 1;
             }

@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
     wg_gl_context_desc desc;
     memset(&desc, 0, sizeof desc);
     wg_gl_context* ctx = NULL;
-    if (wg_gl_context_create(&desc, &ctx, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&desc, &ctx, err, sizeof err) != WC_OK) {
         fprintf(stderr, "bench_render: %s\n", err);
         return 1;
     }
@@ -109,20 +109,20 @@ int main(int argc, char** argv) {
         wg_renderer_desc rd = {samples};
         wg_renderer* r = NULL;
         double t0 = now_ms();
-        if (wg_renderer_create(ctx, &rd, &r, err, sizeof err) != WEFT_OK) {
+        if (wg_renderer_create(ctx, &rd, &r, err, sizeof err) != WC_OK) {
             fprintf(stderr, "bench_render: %s\n", err);
             rc = 1;
             break;
         }
         double t1 = now_ms();
-        if (wg_render(r, &cam, &cloth, 1, shapes, 2, img, err, sizeof err) != WEFT_OK) {
+        if (wg_render(r, &cam, &cloth, 1, shapes, 2, img, err, sizeof err) != WC_OK) {
             fprintf(stderr, "bench_render: %s\n", err);
             rc = 1;
         }
         double t2 = now_ms();
         for (int k = 0; k < runs && rc == 0; ++k) {
             double a = now_ms();
-            if (wg_render(r, &cam, &cloth, 1, shapes, 2, img, err, sizeof err) != WEFT_OK) {
+            if (wg_render(r, &cam, &cloth, 1, shapes, 2, img, err, sizeof err) != WC_OK) {
                 fprintf(stderr, "bench_render: %s\n", err);
                 rc = 1;
             }
@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
         wg_renderer_destroy(r);
     }
     if (rc == 0 && png) {
-        if (wg_png_write(png, img, w, h, err, sizeof err) != WEFT_OK) {
+        if (wg_png_write(png, img, w, h, err, sizeof err) != WC_OK) {
             fprintf(stderr, "bench_render: %s\n", err);
             rc = 1;
         } else {

@@ -169,13 +169,13 @@ const char* bench_gpu_description(void);
 void bench_gpu_close(void);
 
 /* A wg_sim of one state on the process's device (bench_gpu_open first); every call wraps its GL
- * work in wg_gl_begin/wg_gl_end. The direct solver is refused (WEFT_ERROR_UNSUPPORTED). */
+ * work in wg_gl_begin/wg_gl_end. The direct solver is refused (WC_ERROR_UNSUPPORTED). */
 typedef struct bench_gpu_sim bench_gpu_sim;
-weft_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag);
+wc_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag);
 /* wg_sim_step_frame (pins and colliders taken from s, as wc_step_frame). */
-weft_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
+wc_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
 /* wg_sim_download: s->x, v, dv and contacts filled from the GPU. */
-weft_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag);
+wc_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag);
 void bench_gpu_sim_destroy(bench_gpu_sim* g);
 
 /* ---- scenes (cmd_bench_sim.c) ---- */
@@ -210,7 +210,7 @@ typedef struct bench_scene {
  *              speeding up evenly to BENCH_GARMENT_SPIN over BENCH_GARMENT_RAMP (a twirl).
  * Default material with every spring stiffness times k_scale and the density times mass_scale.
  * On failure *out is zeroed and diag says why. */
-weft_status bench_scene_build(bench_scene* out, const char* name, const char* garment, double k_scale,
+wc_status bench_scene_build(bench_scene* out, const char* name, const char* garment, double k_scale,
                               double mass_scale, wc_diag* diag);
 void bench_scene_free(bench_scene* s);
 
@@ -259,7 +259,7 @@ typedef struct bench_run {
 } bench_run;
 
 /* Simulate; 0 on success, -1 when the state (or the GPU sim) cannot be created or a GPU call
- * fails (diag says why). A frame whose step fails (WEFT_ERROR_STEP_FAILED) is counted, not fatal.
+ * fails (diag says why). A frame whose step fails (WC_ERROR_STEP_FAILED) is counted, not fatal.
  * On the GPU, positions are downloaded after each frame (outside its timing) so that the energy,
  * strain and finiteness checks and the final positions are the CPU's. */
 int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* out, wc_diag* diag);
@@ -349,7 +349,7 @@ typedef struct bench_body {
 } bench_body;
 /* The band count whose triangle count 4 m (m - 1) is nearest target_tris (m >= 3). */
 int bench_body_rings(int target_tris);
-weft_status bench_body_create(bench_body* out, int rings, const double* center, const double* radii, double thickness,
+wc_status bench_body_create(bench_body* out, int rings, const double* center, const double* radii, double thickness,
                               double friction, wc_diag* diag);
 void bench_body_free(bench_body* b);
 

@@ -636,7 +636,7 @@ int bench_accuracy_run(int argc, char** argv) {
     for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si) {
         bench_scene bs;
         wc_diag d = {0};
-        if (bench_scene_build(&bs, a.scenes[si], a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+        if (bench_scene_build(&bs, a.scenes[si], a.com.garment, 1.0, 1.0, &d) != WC_OK) {
             cli_error(d.message);
             rc = CLI_EXIT_FAILURE;
             break;

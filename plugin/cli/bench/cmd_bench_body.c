@@ -17,18 +17,18 @@ int bench_body_rings(int target_tris) {
     return best;
 }
 
-weft_status bench_body_create(bench_body* out, int rings, const double* center, const double* radii, double thickness,
+wc_status bench_body_create(bench_body* out, int rings, const double* center, const double* radii, double thickness,
                               double friction, wc_diag* diag) {
     memset(out, 0, sizeof *out);
     if (rings < 3 || rings > 4096)
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "bench body: %d latitude bands (expected 3 to 4096)", rings);
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "bench body: %d latitude bands (expected 3 to 4096)", rings);
     const int m = rings, nlon = 2 * m;
     const int nv = 2 + (m - 1) * nlon, nt = 2 * nlon * (m - 1);
     out->x = malloc(sizeof(double) * 3 * (size_t)nv);
     out->tris = malloc(sizeof(int) * 3 * (size_t)nt);
     if (!out->x || !out->tris) {
         bench_body_free(out);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bench body: out of memory for %d triangles", nt);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bench body: out of memory for %d triangles", nt);
     }
     const double pi = 3.14159265358979323846;
     /* vertex 0 the north pole (+y), 1 + (i - 1) nlon + j ring i (1 .. m - 1) longitude j, nv - 1 south */
@@ -79,8 +79,8 @@ weft_status bench_body_create(bench_body* out, int rings, const double* center, 
         for (int d = 0; d < 3; ++d) x[3 * v + d] = center[d] + radii[d] * x[3 * v + d];
     out->n_verts = nv;
     out->n_tris = nt;
-    const weft_status st = wc_mesh_collider_create(&out->mesh, out->x, nv, out->tris, nt, thickness, friction, NULL, diag);
-    if (st != WEFT_OK) bench_body_free(out);
+    const wc_status st = wc_mesh_collider_create(&out->mesh, out->x, nv, out->tris, nt, thickness, friction, NULL, diag);
+    if (st != WC_OK) bench_body_free(out);
     return st;
 }
 

@@ -121,7 +121,7 @@ static int run_one(const bench_scene* bs, int rings, const collide_args* a, coll
     memset(out, 0, sizeof *out);
     bench_body body;
     const double center[3] = {0.0, 0.0, 0.0}, radii[3] = {BODY_RADIUS, BODY_RADIUS, BODY_RADIUS};
-    if (bench_body_create(&body, rings, center, radii, BODY_THICKNESS, BODY_FRICTION, d) != WEFT_OK) return -1;
+    if (bench_body_create(&body, rings, center, radii, BODY_THICKNESS, BODY_FRICTION, d) != WC_OK) return -1;
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = a->com.threads;
     sd.substeps = 1;
@@ -139,11 +139,11 @@ static int run_one(const bench_scene* bs, int rings, const collide_args* a, coll
     double* ms = malloc(sizeof(double) * 4 * (size_t)F);
     if (!ms) {
         bench_body_free(&body);
-        return wc_fail(d, WEFT_ERROR_OUT_OF_MEMORY, "bench collide: out of memory"), -1;
+        return wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "bench collide: out of memory"), -1;
     }
     wc_mesh_collider* const mesh[1] = {body.mesh};
-    if (wc_state_create(&s, &bs->model, &sd, NULL, d) != WEFT_OK ||
-        wc_state_attach_mesh_colliders(s, mesh, 1, d) != WEFT_OK) {
+    if (wc_state_create(&s, &bs->model, &sd, NULL, d) != WC_OK ||
+        wc_state_attach_mesh_colliders(s, mesh, 1, d) != WC_OK) {
         wc_state_destroy(s);
         bench_body_free(&body);
         free(ms);
@@ -187,11 +187,11 @@ static int run_one(const bench_scene* bs, int rings, const collide_args* a, coll
     out->iterations = subs > 0 ? (double)iters / (double)subs : 0.0;
     const wc_mesh_collider* const cm[1] = {body.mesh};
     out->penetration = wc_mesh_max_penetration(cm, 1, s->x, bs->model.n_particles);
-    const weft_status is = wc_self_intersections(&bs->model, s->x, NULL, &out->intersections, d);
+    const wc_status is = wc_self_intersections(&bs->model, s->x, NULL, &out->intersections, d);
     wc_state_destroy(s);
     bench_body_free(&body);
     free(ms);
-    return is == WEFT_OK ? 0 : -1;
+    return is == WC_OK ? 0 : -1;
 }
 
 enum {
@@ -267,7 +267,7 @@ int bench_collide_run(int argc, char** argv) {
         char name[32];
         snprintf(name, sizeof name, "drape%d", a.cloth[c]);
         bench_scene bs;
-        if (bench_scene_build(&bs, name, a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+        if (bench_scene_build(&bs, name, a.com.garment, 1.0, 1.0, &d) != WC_OK) {
             cli_error(d.message);
             rc = CLI_EXIT_FAILURE;
             break;

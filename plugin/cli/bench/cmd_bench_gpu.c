@@ -26,19 +26,19 @@ int bench_gpu_open(char* msg, size_t size) {
     char err[512] = "";
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
-    if (wg_gl_context_create(&cd, &g_gl, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_context_create(&cd, &g_gl, err, sizeof err) != WC_OK) {
         snprintf(msg, size, "--backend gpu: cannot create a headless GL context: %s", err);
         return -1;
     }
-    if (wg_gl_begin(g_gl, err, sizeof err) != WEFT_OK) {
+    if (wg_gl_begin(g_gl, err, sizeof err) != WC_OK) {
         snprintf(msg, size, "--backend gpu: cannot make the GL context current: %s", err);
         wg_gl_context_destroy(g_gl);
         g_gl = NULL;
         return -1;
     }
-    weft_status st = wg_device_create(g_gl, &g_dev, err, sizeof err);
+    wc_status st = wg_device_create(g_gl, &g_dev, err, sizeof err);
     wg_gl_end(g_gl);
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         snprintf(msg, size, "--backend gpu: the GPU solver cannot run on %s: %s", wg_gl_context_description(g_gl),
                  err);
         wg_gl_context_destroy(g_gl);
@@ -55,7 +55,7 @@ void bench_gpu_close(void) {
     if (!g_gl) return;
     char err[256];
     if (g_dev) {
-        if (wg_gl_begin(g_gl, err, sizeof err) == WEFT_OK) {
+        if (wg_gl_begin(g_gl, err, sizeof err) == WC_OK) {
             wg_device_destroy(g_dev);
             wg_gl_end(g_gl);
         } else {
@@ -68,41 +68,41 @@ void bench_gpu_close(void) {
 }
 
 /* wg_gl_begin, or a failed status in diag. */
-static weft_status begin(wc_diag* diag) {
+static wc_status begin(wc_diag* diag) {
     char err[512];
-    if (!g_dev) return wc_fail(diag, WEFT_ERROR_GPU, "bench: the GPU device is not open");
-    if (wg_gl_begin(g_gl, err, sizeof err) != WEFT_OK) return wc_fail(diag, WEFT_ERROR_GPU, "bench: %s", err);
-    return WEFT_OK;
+    if (!g_dev) return wc_fail(diag, WC_ERROR_GPU, "bench: the GPU device is not open");
+    if (wg_gl_begin(g_gl, err, sizeof err) != WC_OK) return wc_fail(diag, WC_ERROR_GPU, "bench: %s", err);
+    return WC_OK;
 }
 
-weft_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag) {
+wc_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag) {
     *out = NULL;
     bench_gpu_sim* g = calloc(1, sizeof *g);
-    if (!g) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bench: out of memory");
-    weft_status st = begin(diag);
-    if (st == WEFT_OK) {
+    if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bench: out of memory");
+    wc_status st = begin(diag);
+    if (st == WC_OK) {
         st = wg_sim_create(g_dev, s, NULL, &g->sim, diag);
         wg_gl_end(g_gl);
     }
-    if (st != WEFT_OK) {
+    if (st != WC_OK) {
         free(g);
         return st;
     }
     *out = g;
-    return WEFT_OK;
+    return WC_OK;
 }
 
-weft_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag) {
-    weft_status r = begin(diag);
-    if (r != WEFT_OK) return r;
+wc_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag) {
+    wc_status r = begin(diag);
+    if (r != WC_OK) return r;
     r = wg_sim_step_frame(g->sim, s, dt, st, diag);
     wg_gl_end(g_gl);
     return r;
 }
 
-weft_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag) {
-    weft_status r = begin(diag);
-    if (r != WEFT_OK) return r;
+wc_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag) {
+    wc_status r = begin(diag);
+    if (r != WC_OK) return r;
     r = wg_sim_download(g->sim, s, diag);
     wg_gl_end(g_gl);
     return r;
@@ -111,7 +111,7 @@ weft_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag)
 void bench_gpu_sim_destroy(bench_gpu_sim* g) {
     if (!g) return;
     wc_diag d = {0};
-    if (begin(&d) == WEFT_OK) {
+    if (begin(&d) == WC_OK) {
         wg_sim_destroy(g->sim);
         wg_gl_end(g_gl);
     } else {
@@ -133,20 +133,20 @@ const char* bench_gpu_description(void) { return ""; }
 
 void bench_gpu_close(void) {}
 
-weft_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag) {
+wc_status bench_gpu_sim_create(const wc_state* s, bench_gpu_sim** out, wc_diag* diag) {
     (void)s;
     *out = NULL;
-    return wc_fail(diag, WEFT_ERROR_UNSUPPORTED, "%s", NO_GPU);
+    return wc_fail(diag, WC_ERROR_UNSUPPORTED, "%s", NO_GPU);
 }
 
-weft_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag) {
+wc_status bench_gpu_sim_step(bench_gpu_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag) {
     (void)g, (void)s, (void)dt, (void)st;
-    return wc_fail(diag, WEFT_ERROR_UNSUPPORTED, "%s", NO_GPU);
+    return wc_fail(diag, WC_ERROR_UNSUPPORTED, "%s", NO_GPU);
 }
 
-weft_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag) {
+wc_status bench_gpu_sim_download(bench_gpu_sim* g, wc_state* s, wc_diag* diag) {
     (void)g, (void)s;
-    return wc_fail(diag, WEFT_ERROR_UNSUPPORTED, "%s", NO_GPU);
+    return wc_fail(diag, WC_ERROR_UNSUPPORTED, "%s", NO_GPU);
 }
 
 void bench_gpu_sim_destroy(bench_gpu_sim* g) { (void)g; }

@@ -312,7 +312,7 @@ int bench_iterations_run(int argc, char** argv) {
     for (int j = 0; j < n_jobs && rc == CLI_EXIT_OK; ++j) {
         bench_scene bs;
         wc_diag d = {0};
-        if (bench_scene_build(&bs, jobs[j].scene, a.com.garment, jobs[j].k, 1.0, &d) != WEFT_OK) {
+        if (bench_scene_build(&bs, jobs[j].scene, a.com.garment, jobs[j].k, 1.0, &d) != WC_OK) {
             cli_error(d.message);
             rc = CLI_EXIT_FAILURE;
             break;

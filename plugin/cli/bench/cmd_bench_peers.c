@@ -356,7 +356,7 @@ static int run_weft(const peers_args* a, const bench_scene* bs, const weft_row* 
 static int run_scene(const peers_args* a, const char* blender, const char* name, bench_table* t, header_info* h) {
     bench_scene bs;
     wc_diag d = {0};
-    if (bench_scene_build(&bs, name, a->com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+    if (bench_scene_build(&bs, name, a->com.garment, 1.0, 1.0, &d) != WC_OK) {
         cli_error(d.message);
         return CLI_EXIT_FAILURE;
     }

@@ -65,7 +65,7 @@ static int scene_json(const char* name, const char* garment, char* json, size_t 
     if (!strcmp(name, "garment")) {
         char path[1024];
         if (!garment || json_escape(garment, path, sizeof path) != 0) {
-            wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "garment: unusable mesh path");
+            wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "garment: unusable mesh path");
             return -1;
         }
         snprintf(json, size,
@@ -74,14 +74,14 @@ static int scene_json(const char* name, const char* garment, char* json, size_t 
                  path);
         return 0;
     }
-    wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT,
+    wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
             "unknown scene '%s' (expected sheetN, hangN, drape, drapeN or garment; N from 2 to 2048)", name);
     return -1;
 }
 
 /* Every pinned host vertex of the scene's pin groups as one pin of its particle (vertices without
  * a particle skipped, welded twins merged), fully pinned or on its free axis, at rest. */
-static weft_status bench_pins_resolve(bench_pins* out, const scene* sc, const wc_model* m, wc_diag* diag) {
+static wc_status bench_pins_resolve(bench_pins* out, const scene* sc, const wc_model* m, wc_diag* diag) {
     int total = 0;
     for (int g = 0; g < sc->n_pin_groups; ++g) total += sc->pin_groups[g].n_vertices;
     out->pins = calloc((size_t)total + 1, sizeof(wc_pin));
@@ -89,7 +89,7 @@ static weft_status bench_pins_resolve(bench_pins* out, const scene* sc, const wc
     unsigned char* seen = calloc((size_t)m->n_particles + 1, 1);
     if (!out->pins || !out->start || !seen) {
         free(seen);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bench: out of memory for %d pins", total);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bench: out of memory for %d pins", total);
     }
     out->n = 0;
     for (int g = 0; g < sc->n_pin_groups; ++g) {
@@ -108,7 +108,7 @@ static weft_status bench_pins_resolve(bench_pins* out, const scene* sc, const wc
         }
     }
     free(seen);
-    return WEFT_OK;
+    return WC_OK;
 }
 
 static void bench_pins_free(bench_pins* p) {
@@ -117,20 +117,22 @@ static void bench_pins_free(bench_pins* p) {
     memset(p, 0, sizeof *p);
 }
 
-weft_status bench_scene_build(bench_scene* out, const char* name, const char* garment, double k_scale,
+wc_status bench_scene_build(bench_scene* out, const char* name, const char* garment, double k_scale,
                               double mass_scale, wc_diag* diag) {
     memset(out, 0, sizeof *out);
     char json[1536];
     if (scene_json(name, garment, json, sizeof json, diag) != 0) return diag->status;
     snprintf(out->name, sizeof out->name, "%s", name);
-    weft_status st = scene_parse(&out->sc, json, strlen(json), name, diag);
-    if (st != WEFT_OK) return st;
+    cli_diag sd = {0};
+    if (scene_parse(&out->sc, json, strlen(json), name, &sd) != WEFT_OK)
+        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "%s", sd.message);
+    wc_status st;
     wc_material* mat = &out->sc.model_def.material;
     for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) mat->k[t] *= k_scale;
     mat->density *= mass_scale;
     st = wc_model_build(&out->model, &out->sc.src, &out->sc.model_def, NULL, diag);
-    if (st == WEFT_OK) st = bench_pins_resolve(&out->pins, &out->sc, &out->model, diag);
-    if (st != WEFT_OK) {
+    if (st == WC_OK) st = bench_pins_resolve(&out->pins, &out->sc, &out->model, diag);
+    if (st != WC_OK) {
         bench_scene_free(out);
         return st;
     }
@@ -141,7 +143,7 @@ weft_status bench_scene_build(bench_scene* out, const char* name, const char* ga
     }
     out->diag = sqrt(d2);
     if (!strcmp(name, "garment")) out->spin = BENCH_GARMENT_SPIN;
-    return WEFT_OK;
+    return WC_OK;
 }
 
 void bench_scene_free(bench_scene* s) {
@@ -182,7 +184,7 @@ static double probe_error(wc_state* p, const wc_state* s, double h, double alpha
     const int n = s->model->n_particles;
     const size_t n3 = 3 * (size_t)n;
     wc_diag d = {0};
-    if (wc_state_set_positions(p, s->x, s->v, &d) != WEFT_OK) return -1.0;
+    if (wc_state_set_positions(p, s->x, s->v, &d) != WC_OK) return -1.0;
     memcpy(p->dv, s->dv, n3 * sizeof(double));
     memcpy(p->contacts.collider, s->contacts.collider, 2 * (size_t)n * sizeof(int));
     memcpy(p->contacts.normal, s->contacts.normal, 6 * (size_t)n * sizeof(double));
@@ -197,7 +199,7 @@ static double probe_error(wc_state* p, const wc_state* s, double h, double alpha
     memcpy(dv_ref, p->dv, n3 * sizeof(double));
     wc_solve_result r_it, r_ref;
     wc_solve(p->solver, s->def.solver.type, p->A, p->b, &p->filter, dv_it, &p->par, &r_it);
-    if (wc_solve(p->solver, WC_SOLVER_DIRECT, p->A, p->b, &p->filter, dv_ref, &p->par, &r_ref) != WEFT_OK)
+    if (wc_solve(p->solver, WC_SOLVER_DIRECT, p->A, p->b, &p->filter, dv_ref, &p->par, &r_ref) != WC_OK)
         return -1.0;
     double num = 0.0, den = 0.0;
     for (size_t k = 0; k < n3; ++k) {
@@ -234,11 +236,11 @@ static void displace_start(wc_state* s, const bench_scene* bs, double eps) {
     }
 }
 
-static weft_status make_state(wc_state** out, const bench_scene* bs, const wc_sim_def* sd, wc_diag* diag) {
-    weft_status st = wc_state_create(out, &bs->model, sd, NULL, diag);
-    if (st == WEFT_OK) st = wc_state_set_pins(*out, bs->pins.pins, bs->pins.n, diag);
-    if (st == WEFT_OK) st = wc_state_set_colliders(*out, bs->sc.colliders, bs->sc.n_colliders, diag);
-    if (st != WEFT_OK) {
+static wc_status make_state(wc_state** out, const bench_scene* bs, const wc_sim_def* sd, wc_diag* diag) {
+    wc_status st = wc_state_create(out, &bs->model, sd, NULL, diag);
+    if (st == WC_OK) st = wc_state_set_pins(*out, bs->pins.pins, bs->pins.n, diag);
+    if (st == WC_OK) st = wc_state_set_colliders(*out, bs->sc.colliders, bs->sc.n_colliders, diag);
+    if (st != WC_OK) {
         wc_state_destroy(*out);
         *out = NULL;
     }
@@ -265,17 +267,17 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     const int gpu = o->backend == BENCH_GPU;
     wc_state *s = NULL, *p = NULL;
     bench_gpu_sim* g = NULL;
-    if (make_state(&s, bs, &sd, diag) != WEFT_OK) return -1;
+    if (make_state(&s, bs, &sd, diag) != WC_OK) return -1;
     if (o->displace > 0) displace_start(s, bs, o->displace);
     /* the GPU's sim mirrors s: s keeps pins, colliders, time and stats; x, v, dv live on the GPU */
-    if (gpu && bench_gpu_sim_create(s, &g, diag) != WEFT_OK) {
+    if (gpu && bench_gpu_sim_create(s, &g, diag) != WC_OK) {
         wc_state_destroy(s);
         return -1;
     }
     if (o->probe_frames > 0 && !gpu) { /* the linear-solve error is the CPU's only */
         wc_sim_def pd = sd;
         pd.direct_fallback = 1; /* analyses CHOLMOD at creation whatever the solver */
-        if (make_state(&p, bs, &pd, diag) != WEFT_OK) {
+        if (make_state(&p, bs, &pd, diag) != WC_OK) {
             wc_state_destroy(s);
             bench_gpu_sim_destroy(g);
             return -1;
@@ -297,7 +299,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         bench_gpu_sim_destroy(g);
         wc_state_destroy(s);
         wc_state_destroy(p);
-        wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "bench: out of memory");
+        wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bench: out of memory");
         return -1;
     }
     const double dt = 1.0 / o->fps;
@@ -335,10 +337,10 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         }
         if (gpu) {
             /* timed by the step's own stats (st.ms); the download is outside them */
-            const weft_status fs = bench_gpu_sim_step(g, s, dt, &st, &d);
-            weft_status ds = WEFT_OK;
-            if (fs == WEFT_OK || fs == WEFT_ERROR_STEP_FAILED) ds = bench_gpu_sim_download(g, s, &d);
-            if ((fs != WEFT_OK && fs != WEFT_ERROR_STEP_FAILED) || ds != WEFT_OK) {
+            const wc_status fs = bench_gpu_sim_step(g, s, dt, &st, &d);
+            wc_status ds = WC_OK;
+            if (fs == WC_OK || fs == WC_ERROR_STEP_FAILED) ds = bench_gpu_sim_download(g, s, &d);
+            if ((fs != WC_OK && fs != WC_ERROR_STEP_FAILED) || ds != WC_OK) {
                 wc_fail(diag, d.status, "%s (frame %d on the GPU)", d.message, f + 1);
                 gpu_error = 1;
                 break;

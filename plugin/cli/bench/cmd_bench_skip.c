@@ -150,13 +150,13 @@ static int cfg_frame(skip_cfg* c, wc_step_stats* st, wc_diag* d) {
         wc_step_frame(c->s, 1.0 / FPS, st, d);
         return 0;
     }
-    const weft_status r = bench_gpu_sim_step(c->g, c->s, 1.0 / FPS, st, d);
-    return r == WEFT_OK || r == WEFT_ERROR_STEP_FAILED ? 0 : -1;
+    const wc_status r = bench_gpu_sim_step(c->g, c->s, 1.0 / FPS, st, d);
+    return r == WC_OK || r == WC_ERROR_STEP_FAILED ? 0 : -1;
 }
 
 /* The positions into c->s->x (the GPU's read back; the CPU's are there). */
 static int cfg_positions(skip_cfg* c, wc_diag* d) {
-    return c->g && bench_gpu_sim_download(c->g, c->s, d) != WEFT_OK ? -1 : 0;
+    return c->g && bench_gpu_sim_download(c->g, c->s, d) != WC_OK ? -1 : 0;
 }
 
 /* The configuration's state (and, on the GPU, its sim); the asleep one is stepped until it falls
@@ -176,8 +176,8 @@ static int cfg_create(skip_cfg* c, const bench_scene* bs, int backend, int confi
     if (config == K_CAP) sd.solver.tolerance = 0.0;
     if (config == K_ASLEEP) sd.sleep_speed = wc_default_sim_def().sleep_speed;
     if (config == K_SELF && backend != BENCH_GPU) sd.self_collision = 1; /* the GPU has none */
-    if (wc_state_create(&c->s, &bs->model, &sd, NULL, d) != WEFT_OK) return -1;
-    weft_status st = wc_state_set_pins(c->s, bs->pins.pins, bs->pins.n, d);
+    if (wc_state_create(&c->s, &bs->model, &sd, NULL, d) != WC_OK) return -1;
+    wc_status st = wc_state_set_pins(c->s, bs->pins.pins, bs->pins.n, d);
     wc_collider col;
     memset(&col, 0, sizeof col);
     col.type = WC_COLLIDER_SPHERE;
@@ -188,26 +188,26 @@ static int cfg_create(skip_cfg* c, const bench_scene* bs, int backend, int confi
     const double* lo = bs->model.report.bbox_min;
     const double* hi = bs->model.report.bbox_max;
     v3_set(col.center, 0.5 * (lo[0] + hi[0]), lo[1] - (config == K_FAR ? 10.0 : 0.3), 0.5 * (lo[2] + hi[2]));
-    if (st == WEFT_OK && (config == K_FAR || config == K_CONTACT)) st = wc_state_set_colliders(c->s, &col, 1, d);
-    if (st == WEFT_OK && (config == K_MESH_FAR || config == K_MESH_CONTACT) && backend != BENCH_GPU) {
+    if (st == WC_OK && (config == K_FAR || config == K_CONTACT)) st = wc_state_set_colliders(c->s, &col, 1, d);
+    if (st == WC_OK && (config == K_MESH_FAR || config == K_MESH_CONTACT) && backend != BENCH_GPU) {
         /* the GPU has no mesh colliders: its rows are the baseline again */
         double center[3];
         v3_set(center, col.center[0], lo[1] - (config == K_MESH_FAR ? 10.0 : 0.3), col.center[2]);
         const double radii[3] = {col.radius, col.radius, col.radius};
         st = bench_body_create(&c->body, MESH_RINGS, center, radii, col.thickness, col.friction, d);
         c->mesh[0] = c->body.mesh;
-        if (st == WEFT_OK) st = wc_state_attach_mesh_colliders(c->s, c->mesh, 1, d);
+        if (st == WC_OK) st = wc_state_attach_mesh_colliders(c->s, c->mesh, 1, d);
     }
     const size_t n3 = 3 * (size_t)bs->model.n_particles;
     c->ms = malloc(sizeof(double) * 6 * (size_t)frames);
     c->x0 = malloc(sizeof(double) * n3);
     c->pins = malloc(sizeof(wc_pin) * (size_t)(bs->pins.n + 1));
-    if (st != WEFT_OK || !c->ms || !c->x0 || !c->pins) {
-        if (st == WEFT_OK) wc_fail(d, WEFT_ERROR_OUT_OF_MEMORY, "bench skip: out of memory");
+    if (st != WC_OK || !c->ms || !c->x0 || !c->pins) {
+        if (st == WC_OK) wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "bench skip: out of memory");
         cfg_free(c);
         return -1;
     }
-    if (backend == BENCH_GPU && bench_gpu_sim_create(c->s, &c->g, d) != WEFT_OK) {
+    if (backend == BENCH_GPU && bench_gpu_sim_create(c->s, &c->g, d) != WC_OK) {
         cfg_free(c);
         return -1;
     }
@@ -330,7 +330,7 @@ int bench_skip_run(int argc, char** argv) {
     if (bench_open_backends(a.backends, a.n_backends) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
     bench_scene bs;
     wc_diag d = {0};
-    if (bench_scene_build(&bs, a.scene, a.com.garment, 1.0, 1.0, &d) != WEFT_OK) {
+    if (bench_scene_build(&bs, a.scene, a.com.garment, 1.0, 1.0, &d) != WC_OK) {
         cli_error(d.message);
         return CLI_EXIT_FAILURE;
     }

@@ -282,7 +282,7 @@ int bench_stability_run(int argc, char** argv) {
         for (int mi = 0; mi < a.n_mass && rc == CLI_EXIT_OK; ++mi) {
             bench_scene bs;
             wc_diag d = {0};
-            if (bench_scene_build(&bs, a.scene, a.com.garment, a.stiffness[ki], a.mass[mi], &d) != WEFT_OK) {
+            if (bench_scene_build(&bs, a.scene, a.com.garment, a.stiffness[ki], a.mass[mi], &d) != WC_OK) {
                 cli_error(d.message);
                 rc = CLI_EXIT_FAILURE;
                 break;

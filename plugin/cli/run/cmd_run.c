@@ -296,7 +296,7 @@ int cli_run_run(int argc, char** argv) {
 
     run_ctx c;
     memset(&c, 0, sizeof c);
-    wc_diag d = {0};
+    cli_diag d = {0};
     weft_status st = scene_load(&c.sc, a.scene, &d);
     if (st != WEFT_OK) return fail(NULL, "%s", d.message[0] ? d.message : weft_status_string(st));
     if (a.frames >= 0) c.sc.frames = a.frames;

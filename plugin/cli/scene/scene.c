@@ -66,7 +66,7 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
         s->mesh_file = resolve_path(c->file, file);
         if (select) s->mesh_select = scene_strdup(select);
         if (!s->mesh_file || (select && !s->mesh_select))
-            return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+            return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
         return 0;
     }
     if (sj_get(mesh, "scale")) return sj_fail(c, "mesh.scale", "applies to \"file\" meshes only (a grid is in metres)");
@@ -280,26 +280,26 @@ static void line_column(const char* text, size_t offset, int* line, int* column)
     }
 }
 
-weft_status scene_parse(scene* out, const char* text, size_t len, const char* name, wc_diag* diag) {
+weft_status scene_parse(scene* out, const char* text, size_t len, const char* name, cli_diag* diag) {
     memset(out, 0, sizeof *out);
-    wc_diag local = {0};
+    cli_diag local = {0};
     if (!diag) diag = &local;
     if (!name) name = "scene";
-    if (!text) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "%s: no text", name);
+    if (!text) return cli_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "%s: no text", name);
     const char* end = NULL;
     cJSON* root = cJSON_ParseWithLengthOpts(text, len, &end, 0);
     if (!root) {
         int line, column;
         size_t at = end && end >= text ? (size_t)(end - text) : 0;
         line_column(text, at, &line, &column);
-        return wc_fail(diag, WEFT_ERROR_SCENE, "%s: invalid JSON near line %d, column %d", name, line, column);
+        return cli_fail(diag, WEFT_ERROR_SCENE, "%s: invalid JSON near line %d, column %d", name, line, column);
     }
     for (size_t i = (size_t)(end - text); i < len; ++i)
         if (text[i] != ' ' && text[i] != '\t' && text[i] != '\n' && text[i] != '\r') {
             int line, column;
             line_column(text, i, &line, &column);
             cJSON_Delete(root);
-            return wc_fail(diag, WEFT_ERROR_SCENE, "%s: unexpected text after the JSON object at line %d, column %d",
+            return cli_fail(diag, WEFT_ERROR_SCENE, "%s: unexpected text after the JSON object at line %d, column %d",
                            name, line, column);
         }
 
@@ -330,13 +330,13 @@ weft_status scene_parse(scene* out, const char* text, size_t len, const char* na
     return WEFT_OK;
 }
 
-weft_status scene_load(scene* out, const char* path, wc_diag* diag) {
+weft_status scene_load(scene* out, const char* path, cli_diag* diag) {
     memset(out, 0, sizeof *out);
-    wc_diag local = {0};
+    cli_diag local = {0};
     if (!diag) diag = &local;
-    if (!path) return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "scene: path is NULL");
+    if (!path) return cli_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "scene: path is NULL");
     FILE* f = fopen(path, "rb");
-    if (!f) return wc_fail(diag, WEFT_ERROR_IO, "%s: cannot open the scene file", path);
+    if (!f) return cli_fail(diag, WEFT_ERROR_IO, "%s: cannot open the scene file", path);
     size_t cap = 4096, len = 0;
     char* text = malloc(cap);
     while (text) {
@@ -344,7 +344,7 @@ weft_status scene_load(scene* out, const char* path, wc_diag* diag) {
             if (cap >= SCENE_MAX_FILE_BYTES) {
                 free(text);
                 fclose(f);
-                return wc_fail(diag, WEFT_ERROR_SCENE, "%s: the scene file is larger than %d bytes", path,
+                return cli_fail(diag, WEFT_ERROR_SCENE, "%s: the scene file is larger than %d bytes", path,
                                SCENE_MAX_FILE_BYTES);
             }
             char* grown = realloc(text, cap * 2);
@@ -362,10 +362,10 @@ weft_status scene_load(scene* out, const char* path, wc_diag* diag) {
     }
     int read_error = ferror(f);
     fclose(f);
-    if (!text) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
+    if (!text) return cli_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", path);
     if (read_error) {
         free(text);
-        return wc_fail(diag, WEFT_ERROR_IO, "%s: cannot read the scene file", path);
+        return cli_fail(diag, WEFT_ERROR_IO, "%s: cannot read the scene file", path);
     }
     text[len] = '\0';
     weft_status st = scene_parse(out, text, len, path, diag);

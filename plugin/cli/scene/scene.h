@@ -9,6 +9,7 @@
 #define WEFT_CLI_SCENE_H
 #include <stddef.h>
 
+#include "cli.h"
 #include "collide.h"
 #include "model.h"
 #include "scene_motion.h"
@@ -141,9 +142,9 @@ typedef struct scene {
 /* Read and validate the scene file at path (errors: IO, or SCENE with "PATH: FIELD: problem",
  * or the importer's status for a mesh file that cannot be imported, prefixed "PATH: mesh.file:").
  * On failure *out is zeroed. */
-weft_status scene_load(scene* out, const char* path, wc_diag* diag);
+weft_status scene_load(scene* out, const char* path, cli_diag* diag);
 /* The same from JSON text; name is used in messages and its folder resolves relative mesh files. */
-weft_status scene_parse(scene* out, const char* text, size_t len, const char* name, wc_diag* diag);
+weft_status scene_parse(scene* out, const char* text, size_t len, const char* name, cli_diag* diag);
 void scene_free(scene* s);
 
 /* The collider's rest placement in the public API's local conventions (plane y = 0 with normal

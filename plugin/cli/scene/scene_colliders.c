@@ -68,7 +68,7 @@ int scene_parse_colliders(const sj_ctx* c, const cJSON* root, scene* s) {
     s->colliders = calloc((size_t)n, sizeof(wc_collider));
     s->collider_motion = calloc((size_t)n, sizeof(scene_motion));
     if (!s->colliders || !s->collider_motion)
-        return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+        return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     for (const cJSON* it = cols->child; it; it = it->next) {
         char path[64];
         snprintf(path, sizeof path, "colliders[%d]", s->n_colliders + s->n_mesh_colliders);

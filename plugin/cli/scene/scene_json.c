@@ -13,9 +13,9 @@ int sj_fail(const sj_ctx* c, const char* field, const char* fmt, ...) {
     vsnprintf(what, sizeof what, fmt, ap);
     va_end(ap);
     if (field && field[0])
-        wc_fail(c->diag, WEFT_ERROR_SCENE, "%s: %s: %s", c->file, field, what);
+        cli_fail(c->diag, WEFT_ERROR_SCENE, "%s: %s: %s", c->file, field, what);
     else
-        wc_fail(c->diag, WEFT_ERROR_SCENE, "%s: %s", c->file, what);
+        cli_fail(c->diag, WEFT_ERROR_SCENE, "%s: %s", c->file, what);
     return -1;
 }
 

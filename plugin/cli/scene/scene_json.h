@@ -7,11 +7,11 @@
 #define WEFT_CLI_SCENE_JSON_H
 #include <cjson/cJSON.h>
 
-#include "diag.h"
+#include "cli.h"
 
 typedef struct sj_ctx {
     const char* file;   /* scene file name as the user gave it (message prefix) */
-    wc_diag* diag;
+    cli_diag* diag;
 } sj_ctx;
 
 /* Bounds of a number field. */

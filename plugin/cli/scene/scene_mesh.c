@@ -5,18 +5,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-weft_status scene_make_grid(wc_source_mesh* out, int nx, int nz, double sx, double sz, wc_diag* diag) {
+weft_status scene_make_grid(wc_source_mesh* out, int nx, int nz, double sx, double sz, cli_diag* diag) {
     memset(out, 0, sizeof *out);
     if (nx < 2 || nz < 2 || (long long)nx * nz > SCENE_GRID_MAX_VERTICES || !(sx > 0) || !(sz > 0) ||
         !isfinite(sx) || !isfinite(sz))
-        return wc_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "grid: invalid size %d x %d, %g x %g m", nx, nz, sx, sz);
+        return cli_fail(diag, WEFT_ERROR_INVALID_ARGUMENT, "grid: invalid size %d x %d, %g x %g m", nx, nz, sx, sz);
     const int nv = nx * nz, nq = (nx - 1) * (nz - 1);
     double* pos = malloc(sizeof(double) * 3 * (size_t)nv);
     int* sizes = malloc(sizeof(int) * (size_t)nq);
     int* idx = malloc(sizeof(int) * 4 * (size_t)nq);
     weft_status st;
     if (!pos || !sizes || !idx) {
-        st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "grid: out of memory for %d vertices", nv);
+        st = cli_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "grid: out of memory for %d vertices", nv);
     } else {
         for (int j = 0; j < nz; ++j)
             for (int i = 0; i < nx; ++i) {
@@ -35,7 +35,9 @@ weft_status scene_make_grid(wc_source_mesh* out, int nx, int nz, double sx, doub
                 idx[4 * q + 2] = a + nx + 1;
                 idx[4 * q + 3] = a + 1;
             }
-        st = wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nq, idx, 1.0, diag);
+        wc_diag d = {0};
+        st = (weft_status)wc_source_mesh_from_arrays(out, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+        if (st != WEFT_OK) cli_fail(diag, st, "%s", d.message);
     }
     free(pos);
     free(sizes);
@@ -51,26 +53,25 @@ void scene_transform_points(const double t[16], double* pos, int n) {
     }
 }
 
-weft_status scene_mesh_make(scene* s, const char* name, wc_diag* diag) {
-    wc_diag d = {0};
-    d.log = diag->log;
-    d.log_user = diag->log_user;
+weft_status scene_mesh_make(scene* s, const char* name, cli_diag* diag) {
     weft_status st;
     if (s->mesh_is_grid) {
+        cli_diag d = {0};
         st = scene_make_grid(&s->src, s->grid_n[0], s->grid_n[1], s->grid_size[0], s->grid_size[1], &d);
-        if (st != WEFT_OK) return wc_fail(diag, st, "%s: mesh.grid: %s", name, d.message);
+        if (st != WEFT_OK) return cli_fail(diag, st, "%s: mesh.grid: %s", name, d.message);
     } else {
         wc_import_opts opts = wc_default_import_opts();
         opts.scale = s->mesh_scale;
         opts.select = s->mesh_select;
-        st = wc_import_file(&s->src, NULL, s->mesh_file, &opts, &d);
-        if (st != WEFT_OK) return wc_fail(diag, st, "%s: mesh.file: %s", name, d.message);
+        wc_diag d = {0};
+        st = (weft_status)wc_import_file(&s->src, NULL, s->mesh_file, &opts, &d);
+        if (st != WEFT_OK) return cli_fail(diag, st, "%s: mesh.file: %s", name, d.message);
     }
     if (s->has_transform) {
         scene_transform_points(s->transform, s->src.pos, s->src.n_verts);
         for (int i = 0; i < 3 * s->src.n_verts; ++i)
             if (!isfinite(s->src.pos[i]))
-                return wc_fail(diag, WEFT_ERROR_SCENE, "%s: transform: vertex %d becomes non-finite", name, i / 3);
+                return cli_fail(diag, WEFT_ERROR_SCENE, "%s: transform: vertex %d becomes non-finite", name, i / 3);
     }
     return WEFT_OK;
 }
@@ -84,7 +85,7 @@ static unsigned char* used_vertices(const wc_source_mesh* m) {
 }
 
 static weft_status select_vertices(scene_pin* p, const wc_source_mesh* m, const unsigned char* used, const char* name,
-                                   int index, wc_diag* diag) {
+                                   int index, cli_diag* diag) {
     const int ax = p->select_axis;
     double extreme = p->select_max ? -INFINITY : INFINITY;
     for (int v = 0; v < m->n_verts; ++v) {
@@ -99,19 +100,19 @@ static weft_status select_vertices(scene_pin* p, const wc_source_mesh* m, const 
     for (int v = 0; v < m->n_verts; ++v)
         n += used[v] && fabs(m->pos[3 * (size_t)v + ax] - extreme) <= p->select_tolerance;
     p->vertices = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
-    if (!p->vertices) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+    if (!p->vertices) return cli_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
     for (int v = 0; v < m->n_verts; ++v)
         if (used[v] && fabs(m->pos[3 * (size_t)v + ax] - extreme) <= p->select_tolerance)
             p->vertices[p->n_vertices++] = v;
     if (p->n_vertices == 0)   /* only when the mesh has no used vertex, which the importer refuses */
-        return wc_fail(diag, WEFT_ERROR_SCENE, "%s: pins[%d].select: selects no vertex", name, index);
+        return cli_fail(diag, WEFT_ERROR_SCENE, "%s: pins[%d].select: selects no vertex", name, index);
     return WEFT_OK;
 }
 
-weft_status scene_mesh_check_pins(scene* s, const char* name, wc_diag* diag) {
+weft_status scene_mesh_check_pins(scene* s, const char* name, cli_diag* diag) {
     if (s->n_pins == 0) return WEFT_OK;
     unsigned char* used = used_vertices(&s->src);
-    if (!used) return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+    if (!used) return cli_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
     weft_status st = WEFT_OK;
     for (int i = 0; i < s->n_pins && st == WEFT_OK; ++i) {
         scene_pin* p = &s->pins[i];
@@ -122,10 +123,10 @@ weft_status scene_mesh_check_pins(scene* s, const char* name, wc_diag* diag) {
         for (int k = 0; k < p->n_vertices && st == WEFT_OK; ++k) {
             int v = p->vertices[k];
             if (v >= s->src.n_verts)
-                st = wc_fail(diag, WEFT_ERROR_SCENE, "%s: pins[%d].vertices[%d]: %d is out of range (mesh has %d vertices)",
+                st = cli_fail(diag, WEFT_ERROR_SCENE, "%s: pins[%d].vertices[%d]: %d is out of range (mesh has %d vertices)",
                              name, i, k, v, s->src.n_verts);
             else if (!used[v])
-                st = wc_fail(diag, WEFT_ERROR_SCENE,
+                st = cli_fail(diag, WEFT_ERROR_SCENE,
                              "%s: pins[%d].vertices[%d]: vertex %d is a corner of no polygon (it is not simulated)",
                              name, i, k, v);
         }

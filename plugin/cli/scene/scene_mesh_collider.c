@@ -36,7 +36,7 @@ static int import_positions(const sj_ctx* c, const char* field, const char* file
     o.select = m->select;
     wc_diag d = {0};
     memset(src, 0, sizeof *src);
-    weft_status st = wc_import_file(src, NULL, file, &o, &d);
+    weft_status st = (weft_status)wc_import_file(src, NULL, file, &o, &d);
     if (st != WEFT_OK) return sj_fail(c, field, "%s", d.message);
     return 0;
 }
@@ -64,7 +64,7 @@ static int parse_frames(const sj_ctx* c, const cJSON* fr, const char* path, scen
         char name[1024], where[1400];
         snprintf(name, sizeof name, pattern, first + k);
         char* file = scene_resolve_path(c->file, name);
-        if (!file) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+        if (!file) return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
         snprintf(where, sizeof where, "%s (frame file %s)", pf, name);
         wc_source_mesh src;
         if (import_positions(c, where, file, m, &src) < 0) {
@@ -87,7 +87,7 @@ static int parse_frames(const sj_ctx* c, const cJSON* fr, const char* path, scen
             m->frames = malloc(sizeof(double) * 3 * (size_t)m->n_verts * (size_t)count);
             if (!m->frames) {
                 wc_source_mesh_free(&src);
-                return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+                return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
             }
         }
         memcpy(m->frames + 3 * (size_t)m->n_verts * k, src.pos, sizeof(double) * 3 * (size_t)m->n_verts);
@@ -103,7 +103,7 @@ int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* pa
     if (sj_check_object(c, item, path, keys, COUNT(keys)) < 0) return -1;
     if (!s->mesh_colliders) {
         s->mesh_colliders = calloc((size_t)room, sizeof(scene_mesh_collider));
-        if (!s->mesh_colliders) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+        if (!s->mesh_colliders) return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     }
     scene_mesh_collider* m = &s->mesh_colliders[s->n_mesh_colliders++];
     m->scale = 1.0;
@@ -121,7 +121,7 @@ int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* pa
     if (sj_number(c, item, path, "friction", SJ_NONNEGATIVE, &m->friction) < 0) return -1;
     if (sj_number(c, item, path, "push_speed", SJ_NONNEGATIVE, &m->push_speed) < 0) return -1;
     if (select && !(m->select = scene_strdup(select)))
-        return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+        return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     if (sj_numbers(c, item, path, "transform", 16, m->transform) < 0) return -1;
     double rigid[16], scale = 0.0;
     sj_join(field, sizeof field, path, "transform");
@@ -138,7 +138,7 @@ int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* pa
     if (file) {
         sj_join(field, sizeof field, path, "file");
         if (!(m->file = scene_resolve_path(c->file, file)))
-            return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+            return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
         wc_source_mesh src;
         if (import_positions(c, field, m->file, m, &src) < 0) return -1;
         m->n_verts = src.n_verts;

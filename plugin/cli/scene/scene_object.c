@@ -13,7 +13,7 @@ static int parse_teleports(const sj_ctx* c, const cJSON* obj, scene_object* o) {
     const int n = cJSON_GetArraySize(list);
     if (n == 0) return 0;
     o->teleports = calloc((size_t)n, sizeof(scene_teleport));
-    if (!o->teleports) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+    if (!o->teleports) return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     static const char* const keys[] = {"frame", "translate"};
     for (const cJSON* it = list->child; it; it = it->next) {
         char path[64];

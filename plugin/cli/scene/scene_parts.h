@@ -28,10 +28,10 @@ char* scene_resolve_path(const char* name, const char* file);
 
 /* mesh.sew_distance and mesh.seams (scene_seams.c), and the seams' vertices against the made mesh. */
 int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s);
-weft_status scene_check_seams(const scene* s, const char* name, wc_diag* diag);
+weft_status scene_check_seams(const scene* s, const char* name, cli_diag* diag);
 
 /* After scene_mesh_check_pins: fill s->pin_groups, refusing a host vertex named by two entries
  * with a different free_axis or motion (SCENE, naming the later entry's field). */
-weft_status scene_group_pins(scene* s, const char* name, wc_diag* diag);
+weft_status scene_group_pins(scene* s, const char* name, cli_diag* diag);
 
 #endif

@@ -14,7 +14,7 @@ static int parse_vertices(const sj_ctx* c, const cJSON* verts, const char* path,
                        cJSON_IsArray(verts) ? "an empty array" : sj_type_name(verts));
     p->n_vertices = cJSON_GetArraySize(verts);
     p->vertices = malloc(sizeof(int) * (size_t)p->n_vertices);
-    if (!p->vertices) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+    if (!p->vertices) return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     int k = 0;
     for (const cJSON* it = verts->child; it; it = it->next, ++k) {
         double v = cJSON_IsNumber(it) ? it->valuedouble : NAN;
@@ -88,7 +88,7 @@ int scene_parse_pins(const sj_ctx* c, const cJSON* root, scene* s) {
     int n = cJSON_GetArraySize(pins);
     if (n == 0) return 0;
     s->pins = calloc((size_t)n, sizeof(scene_pin));
-    if (!s->pins) return wc_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
+    if (!s->pins) return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
     for (const cJSON* it = pins->child; it; it = it->next) {
         char path[64];
         snprintf(path, sizeof path, "pins[%d]", s->n_pins);
@@ -102,7 +102,7 @@ static int same_group(const scene_pin* p, const scene_pin_group* g) {
            p->free_axis[2] == g->free_axis[2] && scene_motion_equal(&p->motion, &g->motion);
 }
 
-weft_status scene_group_pins(scene* s, const char* name, wc_diag* diag) {
+weft_status scene_group_pins(scene* s, const char* name, cli_diag* diag) {
     if (s->n_pins == 0) return WEFT_OK;
     const int nv = s->src.n_verts;
     int* owner = malloc(sizeof(int) * (size_t)(nv > 0 ? nv : 1));     /* pins entry of each vertex */
@@ -111,7 +111,7 @@ weft_status scene_group_pins(scene* s, const char* name, wc_diag* diag) {
     if (!owner || !group_of || !s->pin_groups) {
         free(owner);
         free(group_of);
-        return wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+        return cli_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
     }
     for (int v = 0; v < nv; ++v) owner[v] = -1;
     weft_status st = WEFT_OK;
@@ -135,7 +135,7 @@ weft_status scene_group_pins(scene* s, const char* name, wc_diag* diag) {
                     snprintf(field, sizeof field, "pins[%d].select", i);
                 else
                     snprintf(field, sizeof field, "pins[%d].vertices[%d]", i, k);
-                st = wc_fail(diag, WEFT_ERROR_SCENE, "%s: %s: vertex %d is already pinned by pins[%d] with a "
+                st = cli_fail(diag, WEFT_ERROR_SCENE, "%s: %s: vertex %d is already pinned by pins[%d] with a "
                              "different free_axis or motion", name, field, v, o);
             } else if (o < 0) {
                 owner[v] = i;
@@ -146,7 +146,7 @@ weft_status scene_group_pins(scene* s, const char* name, wc_diag* diag) {
     for (int g = 0; g < s->n_pin_groups && st == WEFT_OK; ++g) {
         scene_pin_group* pg = &s->pin_groups[g];
         pg->vertices = malloc(sizeof(int) * (size_t)(pg->n_vertices > 0 ? pg->n_vertices : 1));
-        if (!pg->vertices) st = wc_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
+        if (!pg->vertices) st = cli_fail(diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", name);
         pg->n_vertices = 0;
     }
     for (int v = 0; v < nv && st == WEFT_OK; ++v)   /* ascending host order */

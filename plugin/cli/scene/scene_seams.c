@@ -40,12 +40,12 @@ int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s) {
     return 0;
 }
 
-weft_status scene_check_seams(const scene* s, const char* name, wc_diag* diag) {
+weft_status scene_check_seams(const scene* s, const char* name, cli_diag* diag) {
     for (int i = 0; i < s->model_def.n_seam_pairs; ++i)
         for (int k = 0; k < 2; ++k) {
             int v = k ? s->seam_b[i] : s->seam_a[i];
             if (v >= s->src.n_verts)
-                return wc_fail(diag, WEFT_ERROR_SCENE, "%s: mesh.seams[%d]: vertex %d is outside the mesh's %d vertices",
+                return cli_fail(diag, WEFT_ERROR_SCENE, "%s: mesh.seams[%d]: vertex %d is outside the mesh's %d vertices",
                                name, i, v, s->src.n_verts);
         }
     return WEFT_OK;
