@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Regenerate every table and plot in docs/bench/ (and so in the README's "Performance and
-# accuracy" section) with a Release build of this checkout:
+# Regenerate the `weft bench` tables and plots of docs/bench/ (summarised in docs/bench/README.md)
+# and gpu.md with a Release build of this checkout:
 #
 #   cmake -S . -B build -DCMAKE_BUILD_TYPE=Release && cmake --build build -j
 #   bash docs/bench/regenerate.sh [BUILD_DIR] [THREADS]
 #
-# About 3 h on a 2-core machine (estimated, not yet run in full: the last full run, without the
-# issue-12 axes, took 1.5 h), most of it `weft bench accuracy`: its reference runs at 32
+# About 3 h on a 2-core machine (an estimate: the preconditioner, integrator and Newton axes
+# double the last full run's 1.5 h), most of it `weft bench accuracy`: its reference runs at 32
 # substeps per frame and again at 64 (the check that it is converged in time: halving its step
 # must move it by < 0.1 % of the bounding-box diagonal; at 8 substeps backward Euler misses that
 # by ~3x), and PCG runs with both preconditioners. sheet256 is left out of accuracy (alone about
@@ -26,7 +26,7 @@ out="$here"
 # run time against error: every solver, PCG with block_jacobi and amg (the default --preconds)
 "$weft" bench accuracy --scenes sheet32,sheet64,sheet100,drape,garment --threads "$threads" --ref-substeps 32 \
   --csv "$out/accuracy.csv" --md "$out/accuracy.md" --plot "$out/accuracy.png"
-# the methods of issue 12 at the issue's settings (tolerance 1e-4, cap 300): preconditioner x
+# the methods at the library's settings (tolerance 1e-4, cap 300): preconditioner x
 # integrator x Newton iterations (line search on with 3), 1 and 2 substeps per frame
 "$weft" bench accuracy --scenes sheet32,sheet64,sheet100,drape,garment --threads "$threads" --ref-substeps 32 \
   --solvers pcg,direct --tolerances 1e-4 --iterations 300 --substeps 1,2 --preconds all --integrators all \
@@ -37,7 +37,7 @@ out="$here"
   --csv "$out/stability.csv" --md "$out/stability.md" --plot "$out/stability.png"
 "$weft" bench skip --threads 1 --csv "$out/skip.csv" --md "$out/skip.md"
 # collision detection's cost over cloth (1k..100k particles) and body (1k..80k triangles) sizes,
-# self-collision on; the issue-13 goal row (hours on a loaded 2-core machine: the 100k sheet)
+# self-collision on; the goal row at 160 x 160 (hours on a loaded 2-core machine: the 100k sheet)
 OPENBLAS_NUM_THREADS=1 "$weft" bench collide --threads 1 --settle 3 --frames 3 \
   --csv "$out/collide.csv" --md "$out/collide.md"
 "$weft" bench peers --threads 1 --csv "$out/peers.csv" --md "$out/peers.md"
