@@ -2,108 +2,52 @@
  * Jones & McCormick 2015) as PCG's preconditioner on the projected system
  *     P^ = S A S + a (I - S),   a_i = trace(A_ii) / 3,
  * which has the same solution in range(S) as B&W's filtered system (its null(S) part decouples;
- * the scale a_i only keeps constrained rows as stiff as their neighbours, as Dirichlet rows in
- * any AMG). PCG filters what the V-cycle returns (c = S (M^-1 r + beta c)), so the preconditioner
- * it sees is S M^-1 S: symmetric, and positive definite on range(S).
+ * the scale a_i keeps constrained rows as stiff as their neighbours, as Dirichlet rows in any
+ * AMG). PCG filters what the V-cycle returns (c = S (M^-1 r + beta c)), so the preconditioner it
+ * sees is S M^-1 S: symmetric, and positive definite on range(S).
  *
  * Near-null space (wc_amg_opts.rotations): the three translations per aggregate (0), or the six
- * rigid-body modes, 3 translations + 3 infinitesimal rotations (x_i - c) x e_k, c the centroid
- * (1, the default; Tamstorf et al. 2015; core/amg_tent.c). With rotations every aggregate
- * becomes TWO coarse 3-dof nodes (2a: the first three orthonormal columns, 2a + 1: the last
- * three), so every level stays 3x3 block-sparse and every operator is the BSR of bsr.h (the
- * V-cycle, the Chebyshev smoother and the dense coarse solve are unchanged). The tentative
- * prolongator is the Q of a QR per aggregate of its (3 n_agg) x 6 near-null block (modified
- * Gram-Schmidt, each column twice); a column whose part orthogonal to the earlier ones is below
- * WC_AMG_DEPENDENT x its norm (a 1-node aggregate: its three rotations; a 2-node or collinear
- * one: the rotation about its line) is dropped: its column of P_tent is zero and the coarse
- * unknown is "dead" (its Galerkin row and column are zero; the setup puts the block's mean live
- * diagonal there, so it decouples and stays 0). The coarse near-null space is the R factor (the
- * SA recursion: B_l = P_tent R): node 2a carries rows 0-2 of R_a, node 2a + 1 rows 3-5; coarse
- * levels aggregate the PAIRS (2a, 2a + 1) as one unit (a pair never splits, and the pair's two
- * rows share their columns), and their smoother's block diagonal is 6x6 per pair (pair_blocks):
- * with 3x3 blocks D^-1 A had outlying eigenvalues (translation-rotation coupling inside a pair:
- * lambda_max 3.3 where 6 power iterations saw 1.9), the Chebyshev smoother went past its bound
- * and 8 % of the 64^2 sheet's solves broke down (indefinite); with 6x6 blocks the estimate is
- * within 1.2x and none did. The rotations are taken about the CURRENT positions
- * (current_positions, wc_amg.pos = the state's x via wc_solver_set_positions): every setup
- * redoes the QR (no allocation; ~1-2 % of a setup); a solver with no positions (tests,
- * benchmarks) uses the rest positions' P_tent built at wc_amg_create. Rest vs current positions
- * (bench_precond --current): the same on a hanging sheet (9/15 vs 9/14), 23/18 vs 17/15 on a
- * sheet draped over a sphere (x1/x1000), 17/13/14 vs 13/11/10 in test_amg (drape, line pins,
- * stiff x1000): current positions win where the cloth is far from its rest shape.
- * Measured (iterations to 1e-4, exact; ms on a loaded 2-core machine, noisy):
- *   - bench_precond, 64^2 / 128^2 sheets at x1 and x1000 (the smoother table's systems):
- *     translations 12/27/17/11, rigid modes 9/14/13/8 (current positions); operator complexity
- *     1.18 -> 1.73, grid complexity 1.12 -> 1.25, wc_amg_create 3-8 -> 12-33 ms on 64^2; setup
- *     per solve 4-8 -> 11-20 ms on 64^2, one iteration ~1.5x (the coarse level holds 4x the
- *     blocks). Aggressive coarsening (aggregates of aggregates: operator complexity 1.04) took
- *     19/29/21/15 (translations 24/49/30/21): not worth its cheaper cycle.
- *   - weft bench iterations (stepping 1.5 s, BE, docs/bench/iterations.md): 64^2 sheet at
- *     x1/x10/x100/x1e3/x1e4 15.1/30.0/32.0/34.0/43.9 -> 8.8/9.2/11.7/13.0/16.0 (growth 2.91 ->
- *     1.82); sheets 32^2/64^2/128^2 12.5/15.1/18.7 -> 7.0/8.8/11.5; drape 15.5 -> 9.2; the
- *     544-vertex garment 13.2 -> 8.0; every solve converged.
- *   - time per solve (setup + PCG, min of 10-15 repeated solves of one system, 1 thread): the
- *     64^2 sheet x1 18.8 -> 23.9 ms, x1000 37.6 -> 43.0, the 128^2 sheet x1 181 -> 243 (setup
- *     3.9 -> 10.9, 27 -> 72 ms; one iteration 1.2-1.5x): on these sheets the fewer iterations do
- *     not pay for the dearer setup and cycle yet; on the 30k-vertex garment below they do.
- *     Rotations are the default because only they meet issue 12's iteration goals, and the
- *     large garment is faster. Tried and left out: shear springs lumped out of P's pattern
- *     (operator complexity 1.48, 10/10/10 iterations, but 1 % of the stiff sheet's and the
- *     drape's solves broke down).
- *   - the 30k-vertex dance garment (sample_scenes/codimipc_dance.json, 1 frame, no self-
- *     collision, 1 thread): 87 -> 65.5 iterations per solve (max 112 -> 87), the solve stage
- *     4.56 -> 3.76 s, setup 80 -> 168 ms per solve.
+ * rigid-body modes, 3 translations + 3 infinitesimal rotations (x_i - c) x e_k about the centroid
+ * c (1, the default; amg_tent.c). With rotations every aggregate becomes TWO coarse 3-dof nodes
+ * (2a: the first three orthonormal columns, 2a + 1: the last three), so every level stays the 3x3
+ * BSR of bsr.h. The tentative prolongator is the Q of a QR per aggregate of its (3 n_agg) x 6
+ * near-null block (modified Gram-Schmidt, each column twice); a column whose part orthogonal to
+ * the earlier ones is below WC_AMG_DEPENDENT x its norm (a 1-node aggregate's rotations, a 2-node
+ * or collinear one's rotation about its line) is dropped: that coarse unknown is "dead" (zero
+ * Galerkin row and column; the setup puts the block's mean live diagonal there, so it decouples
+ * and stays 0). The coarse near-null space is the R factor (node 2a carries rows 0-2 of R_a, node
+ * 2a + 1 rows 3-5); coarse levels aggregate the PAIRS (2a, 2a + 1) as one unit and smooth with a
+ * 6x6 block diagonal per pair (pair_blocks), whose translation-rotation coupling 3x3 blocks miss.
+ * The rotations are taken about the CURRENT positions (current_positions; wc_amg.pos, the state's
+ * x via wc_solver_set_positions): every setup redoes the QR, allocating nothing; a solver with no
+ * positions (tests, benchmarks) uses the rest positions' P_tent built at wc_amg_create.
  *
  * Couplings outside the pattern (coupling.h: the self-contact pairs between layers that share no
- * spring; amg_cross.c, wc_amg_cross): the hierarchy carries them as one sparse vector per term
- * and level (or, on a small coarse level, one dense matrix), so every level's operator is the
- * Galerkin product of the whole system's, not of its pattern's (which the aggregates, following
- * the mesh, cannot see across layers). On the two 21 x 21 layers of tests/test_amg_cross.c
- * (3,160 active couplings) PCG to 1e-8 takes 50 iterations with them, 212 without;
- * test_self_pairs' 276 couplings to 1e-10: 23 against 162.
+ * spring; amg_cross.c, wc_amg_cross): the hierarchy carries them as one sparse vector per term and
+ * level (or, on a small coarse level, one dense matrix), so every level's operator is the
+ * Galerkin product of the whole system's, not of its pattern's.
  *
- * Built once per model (wc_amg_create, pattern only; the GPU backend can upload these flat
- * arrays as it uploads the BSR pattern):
+ * Built once per model (wc_amg_create, pattern only; the GPU backend uploads these flat arrays):
  *   - aggregates per level (greedy, Vanek's three phases) over the "strong" graph: on the finest
- *     level the stretch and shear springs (bend springs join particles two edges apart; they are
- *     lumped onto the diagonal when the prolongator is smoothed), on coarse levels every block;
+ *     level the stretch and shear springs (bend springs, two edges apart, are lumped onto the
+ *     diagonal when the prolongator is smoothed), on coarse levels every block;
  *   - the smoothed prolongator's pattern (row i: the coarse nodes of the aggregates of i's strong
  *     neighbours and its own), its transpose, the pattern of T = P^ P and of the Galerkin
  *     operator P^T P^ P; with rotations the aggregates' node lists and P_tent about the rest
  *     positions.
  * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
  * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (Lanczos from a fixed start,
- * 6 steps on the finest level and WC_AMG_COARSE_LANCZOS on the others, times a safety factor;
- * amg_eigen.c), the smoothed
- * prolongator P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal),
- * the Galerkin operators and the coarsest level's dense Cholesky factor.
+ * wc_amg_opts.power_iterations steps on the finest level and WC_AMG_COARSE_LANCZOS on the others,
+ * times WC_AMG_SAFETY; amg_eigen.c), the smoothed prolongator P = (I - omega_p D^-1 P^_F) P_tent
+ * (P^_F: weak blocks lumped onto the diagonal), the Galerkin operators and the coarsest level's
+ * dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
- * D^-1 A, the same before and after the coarse correction), exact solve on the coarsest level.
- * Chosen by measurement (tests/bench/bench_precond, 64^2 and 128^2 hanging sheets, stiffness x1
- * and x1000, iterations to 1e-4): weighted Jacobi 1 sweep 26/57/34/23, 2 sweeps 18/41/24/16,
- * Chebyshev degree 2 12/27/17/11, degree 3 11/21/14/10; block Jacobi alone 508/944/1000+/1000+.
- * The largest eigenvalue needs estimating: a Gershgorin bound was 204 where it is 1.9 (the
- * blocks are anisotropic), which left the smoother doing nothing. Every kernel runs over rows (or
- * pairs) in parallel with no reduction, and the per-solve QR runs serially, so the result does
- * not depend on the thread count.
- * The setup's cost (issue 12; the 100^2 sheet at the library's defaults, 1 thread, CPU ms per
- * solve, the minimum over 20 setups of one system, tests/bench/bench_amg_setup --repeat 20):
- * 34.5 ms before (shares: Galerkin T = A P 27 % and P^T T 20 %, 30 power iterations on the
- * coarse levels 19 %, prolongator 17 %, QR 6 %, fine power iterations 6 %), 25-26.5 after:
- * Lanczos instead of power iterations (coarse levels 6.8 -> 2.9 ms, and closer to lambda_max:
- * 0.95 where 6 power iterations gave 0.91 on the finest level, 0.955 where 30 gave 0.947 on the
- * next), the prolongator's D^-1 once per entry of P instead of once per block of A (6.1 ->
- * 3.4, with the restrict kernels), restrict-qualified 3x3 kernels (Galerkin 16.7 -> 13.4), the
- * QR on contiguous columns (2.0 -> 1.6). Tried and left out: reusing the prolongators across a
- * substep's Newton iterations (the Galerkin products redone from the new A): 11.55 -> 17.55 PCG
- * iterations per solve on the 100^2 sheet, 9.7 -> 14.3 on the 64^2; the whole hierarchy of a
- * substep's last Newton system kept for the next substep's first (same step, no contact pairs;
- * linearised at x(w_1) and at x_{n+1}, nearly the same positions; 2026-11-27): on the 100^2
- * sheet (30 frames, 1 thread) 9.4 -> 49.7 iterations per solve with BE (one solve at the cap)
- * and 8.9 -> 38.4 with TR-BDF2, 168 -> 386 and 367 -> 1112 ms a frame (the first iterate
- * stretches the stiff springs, and c = 1 - rest/l > 0 gives them a transverse stiffness c k that
- * the next substep's system no longer has); a fused 6x6 P^T T kernel (6.1 -> 6.5 ms); skipping
- * the columns of T that P^T T never reads (12 % of the products; no gain measurable under load). */
+ * D^-1 A, the same before and after the coarse correction), an exact solve on the coarsest level.
+ * The eigenvalue must be estimated, not bounded (a Gershgorin bound leaves the smoother doing
+ * nothing), and must not fall short (the Chebyshev smoother then amplifies the modes above its
+ * bound and the V-cycle turns indefinite). Every kernel runs over rows (or pairs) in parallel with
+ * no reduction, and the per-solve QR serially: the result does not depend on the thread count.
+ * Why these choices, and what they cost: docs/design/multigrid.md. */
 #ifndef WEFT_CORE_AMG_H
 #define WEFT_CORE_AMG_H
 #include "diag.h"
@@ -118,32 +62,20 @@
 #define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the Lanczos Ritz value (or the power
                                    iterations' Rayleigh quotient): both are lower bounds */
 #define WC_AMG_COARSE_POWER 30  /* lanczos 0: power iterations on the coarse levels (the finest takes
-                                   wc_amg_opts.power_iterations): with 6 the 6x6-pair levels'
-                                   estimate fell 1.33x short of lambda_max (suit_on_body frame 80:
-                                   1.48 x 1.1 against 1.97), the Chebyshev smoother amplified the
-                                   modes above its bound and PCG broke down; coarse levels are
-                                   small (12 % of the fine nodes in all), so 30 cost little */
+                                   wc_amg_opts.power_iterations): fewer fall short of lambda_max on
+                                   the 6x6-pair levels; coarse levels are small, so 30 cost little */
 #define WC_AMG_COARSE_LANCZOS 12 /* Lanczos steps on the coarse levels (the default estimator,
-                                   amg_eigen.c): on the 100^2 sheet's 2312-node level 10 steps gave
-                                   0.955 x lambda_max (60 steps' Ritz value) where 30 power
-                                   iterations gave 0.947 (tests/bench/bench_amg_setup); 12 for a
-                                   margin, at 0.25 ms a step there where 30 power iterations cost
-                                   6-7 ms per solve */
+                                   amg_eigen.c): closer to lambda_max than WC_AMG_COARSE_POWER
+                                   power iterations, at a fraction of their cost */
 /* Seams (sew.h) between a vertex and a point of an edge couple three particles: for that
  * block, w^T D^-1 w = 3 where a spring's is 2, so D^-1 A has eigenvalues up to 3/2 of the spring
  * network's in modes local to the seams, which power iterations from a spread start
- * underestimate; the Chebyshev smoother beyond its bound then makes the V-cycle indefinite (PCG
- * broke down on a sewn tube). The finest level's bound is raised by this factor when the model
- * has such seams (tests/test_sew.c: the iterations stay within 1.3x of the unsewn tube's), with
- * the power method only: Lanczos (the default, amg_eigen.c) finds those modes (test_amg_setup's
- * sewn tube: 1.1 x its 6-step estimate >= 1.03 lambda_max; the power method's 0.90). */
+ * underestimate. With the power method (lanczos 0) the finest level's bound is raised by this
+ * factor when the model has such seams; Lanczos (the default, amg_eigen.c) finds those modes. */
 #define WC_AMG_SEAM_BOUND 1.5
 /* The finest level's Lanczos steps (or power iterations) when it holds couplings (amg_cross.c):
  * a vertex-triangle term spreads over four particles, so D^-1 A has modes up to 4 where a spring
- * network's stop at 2, local to the contacts, which 6 steps from a spread start miss. The dance's
- * frame-3 solve that broke down (PCG: r^T M^-1 r < 0, 26,954 couplings): lambda_max(D^-1 A) =
- * 2.464 (40-60 steps), Ritz values 1.90 / 2.20 / 2.31 / 2.33 / 2.46 after 6 / 8 / 10 / 12 / 16
- * steps; x WC_AMG_SAFETY, 10 steps and more cover it. */
+ * network's stop at 2, local to the contacts, which 6 steps from a spread start miss. */
 #define WC_AMG_CROSS_LANCZOS 12
 /* A coarse level with at most this many unknowns holds its couplings as one dense matrix
  * (wc_amg_cross.dense; 8 MB at most). */
@@ -207,8 +139,7 @@ typedef struct wc_amg_opts {
     int values;                 /* 1 (default): the arrays a setup and a V-cycle fill; 0: the
                                    patterns and aggregates only (wc_amg_setup and wc_amg_apply must
                                    not be called): what the GPU's multigrid uploads (gpu/solver/
-                                   wg_amg.h). A 1000^2 sheet's unsmoothed hierarchy: 1.77 GB at
-                                   its peak and 1.24 s with the values, 0.14 GB and 0.2 s without */
+                                   wg_amg.h), in a fraction of the memory and time */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -231,10 +162,10 @@ typedef struct wc_amg_cross {
     int* node;                  /* (cap_entries) */
     double* val;                /* (cap_entries x 3) */
     double* dense;              /* (3n x 3n) a small level (3n <= WC_AMG_CROSS_DENSE_DOFS, below level
-                                   0): sum_k c_k v_k v_k^T summed, no entries (a term's vector
-                                   reaches ~15 of 174 nodes on the dance's third level: 600k
-                                   entries where the whole matrix has 270k); the levels below a
-                                   dense one get theirs by the dense Galerkin product P^T X P */
+                                   0): sum_k c_k v_k v_k^T summed, no entries (on a small level the
+                                   terms' vectors hold more entries than the matrix); the levels
+                                   below a dense one get theirs by the dense Galerkin product
+                                   P^T X P */
     double* gal;                /* (3 n_above x 3n) that product's X P, when the level above is dense */
     double* dadd;               /* (n x 9 x group) the terms' part of the block diagonal, laid out as
                                    Dinv (a pair level: node i's blocks to i & ~1 and i | 1) */
@@ -341,7 +272,7 @@ void wc_amg_apply(wc_amg* a, const double* r, double* z, wc_par* par);
 
 /* Carry the couplings outside the pattern (coupling.h) through the hierarchy from the next setup
  * on (amg_cross.c): room for `capacity` active terms, allocated here (no allocation in a setup);
- * NULL detaches them (the multigrid of A's pattern alone, the behaviour before). */
+ * NULL detaches them (the multigrid of A's pattern alone). */
 struct wc_coupling;
 wc_status wc_amg_set_coupling(wc_amg* a, const struct wc_coupling* c, int capacity, wc_diag* diag);
 
