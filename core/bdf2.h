@@ -47,12 +47,9 @@
  * that follow a solve (strain limiting, the colliders' projection, the self-collision stage) and stage 2's
  * contact correction move x_g but do not enter c2 (x_g - x_n), so a push out of a collider or
  * another layer is not extrapolated into stage 2's motion (as BDF2's contact correction moves
- * x_n with x_g). The velocities' corrections do enter mom = c2 (v_g - v_n). Measured with
- * TR-BDF2 and Newton 2 (2026-11-27; docs/bench/trbdf2_rollbacks.md), rollbacks / kinetic energy
- * against the reference on the drape, and the suit's rollbacks: corrected x_g and v_g (as
- * before, with the whole-substep energy judge) 2 / 1.63x, 2; solved x_g (this) 1 / 1.80x, 1;
- * solved x_g and v_g 3 / 2.18x, 1; solved v_g only 1 / 1.63x, 2. f(x_n, v_n) is the assembly's
- * f0 (springs with damping, gravity, air); a particle of zero mass gets mom = 0.
+ * x_n with x_g). The velocities' corrections do enter mom = c2 (v_g - v_n) (docs/design/solver.md
+ * has the alternatives measured). f(x_n, v_n) is the assembly's f0 (springs with damping,
+ * gravity, air); a particle of zero mass gets mom = 0.
  * Contacts (TR-BDF2; wc_integ_contacts). Begin prescribes backward Euler's landing: the normal
  * velocity vc.n - gap / h (gap: what is left between the particle and the shell after the push
  * out, closed over the stage) that puts x_n + h v_new on the shell. In the xb form that is wrong:
@@ -65,11 +62,9 @@
  * begin's push out), xb's normal part to x.n + (h - he) vc.n - gap and z's to 0, so that
  * x_new = xb + he v_new with v_new.n = vc.n lands on the shell as it is at the stage's end and the
  * particle leaves the stage at the collider's normal velocity; vstar = v + (xb - x) / he, mom and
- * (stage 1) v_prev follow the new v. The tangential motion is the stage's own. Measured
- * (2026-11-27, TR-BDF2 + Newton 2; README "TR-BDF2's contacts"): the 64^2 drape's largest strain
- * 28.5 % -> 3.8 % and its kinetic energy 1.80x -> 0.72x the converged reference's (2.0 % and 0.68x
- * with friction's prediction of the stage's momentum, collide.h wc_contacts_friction's mom); the
- * suit's last rollback gone. BDF2's contacts keep backward Euler's landing (not measured with this).
+ * (stage 1) v_prev follow the new v. The tangential motion is the stage's own; friction's
+ * prediction includes the stage's momentum (collide.h wc_contacts_friction's mom). BDF2's contacts
+ * keep backward Euler's landing.
  * Air drag: BE and BDF2 take it explicitly (the force at the substep's start, a first-order
  * term). TR-BDF2 makes it implicit in velocity with the geometry of the stage's start,
  * f_air(v_new) ~ f_air(v_start) - L dv with L the row-sum (lumped) drag Jacobian per particle
