@@ -47,8 +47,8 @@ typedef struct wc_sim_def {
     double newton_forcing;      /* inexact Newton (newton.h "Inexact"), in [0, 1): with more than
                                    one Newton iteration, the substep's first system is solved to
                                    this relative residual (when above the solver's tolerance; never
-                                   past tolerance x the floor); 0: to the tolerance, as before
-                                   2026-11-27. Default 1e-2 */
+                                   past tolerance x the floor); 0: to the tolerance. Default
+                                   1e-2 */
     int substeps;               /* substeps per frame when substep_dt is 0 (1) */
     double substep_dt;          /* s; > 0: fixed substep length with an accumulator instead */
     wc_compression compression; /* DROP */
