@@ -34,8 +34,7 @@
  *      length the solve left them, moving only particles outside the zones: the cloth around a
  *      zone follows it instead of tearing from it, and the next detection pass checks what
  *      that moved (self_zones.c). Taking the stretched spring's other end into the zone
- *      instead freezes the cloth: on the dance (sample_scenes/README.md) one zone ended holding
- *      the whole garment, 6 cm into the body (8 cm at worst).
+ *      instead freezes the cloth (one zone ends up holding a whole garment).
  * Impulses are distributed over the 4 particles with the barycentric / edge weights w and the
  * inverse masses (Bridson section 7.1): a change D of the relative normal displacement moves
  * particle i by w_i inv_m_i D / sum_j (w_j^2 inv_m_j) along the normal. Pinned particles (filter
@@ -74,8 +73,8 @@
  * only the tree nodes with a dirty element below (wc_bvh_query_masked). A pair with no dirty
  * particle has not moved since a pass found it needing nothing, so the scan marks the queries
  * the unfiltered one would, and the serial visit of a marked query is unfiltered: the result is
- * that of checking every pair (detect_all), bit for bit. See README "Self-collision" for
- * measured numbers. */
+ * that of checking every pair (detect_all), bit for bit. Measured cost and behaviour:
+ * docs/design/self_collision.md. */
 #ifndef WEFT_CORE_SELF_COLLIDE_H
 #define WEFT_CORE_SELF_COLLIDE_H
 #include "bvh.h"
