@@ -1,18 +1,17 @@
-/* Issue 12's goal on the bundled scenes, over the frames where 2e50674 rolled back (`weft run`,
- * defaults, 1 thread; the 90-frame table is in sample_scenes/README.md):
- *   - tablecloth.json, frames 1-8: the landing on the sphere (frame 7) gained 0.151 J in two
- *     Newton iterations and was rolled back; the Newton energy guard (core/newton.h) iterates on;
- *   - suit_on_body.json, frames 1-5: the body pushing the suit out of itself (frames 2-4) was
- *     charged to the step by the energy judge (core/step.c: the colliders' position corrections
- *     are not charged);
- *   - suit_on_body.json, frames 1-82: at frame 80 PCG broke down in the multigrid (its coarse
- *     6x6-pair level's lambda_max bound fell 1.33x short after 6 power iterations); the coarse
- *     levels now take WC_AMG_COARSE_POWER (core/amg.h); since then Lanczos (amg_eigen.c);
+/* The bundled scenes at the defaults (`weft run`, 1 thread) over the frames that stress a
+ * recovery rule; each run must end with 0 rollbacks and no solve at its iteration cap:
+ *   - tablecloth.json, frames 1-8: the landing on the sphere (frame 7), where two Newton
+ *     iterations leave energy the step's judge would roll back; Newton's energy guard
+ *     (core/newton.h) iterates on;
+ *   - suit_on_body.json, frames 1-5: the body pushes the suit out of itself (frames 2-4); the
+ *     energy judge does not charge the colliders' position corrections (core/step.c);
+ *   - suit_on_body.json, frames 1-82: at frame 80 the multigrid's coarse 6x6-pair levels need an
+ *     eigenvalue estimate that does not fall short (core/amg.h, amg_eigen.c), or PCG breaks down;
  *   - hanging_sheet.json and sweeping_sphere.json with TR-BDF2 (--integrator trbdf2), frames
- *     1-21: in frame 20 the sheet swings through its lowest point and the trapezoidal stage ends
- *     0.056 J above the substep's start (allowed 0.022 J), which the composite step dissipates
- *     again; the energy judge now spans both stages (step.h "TR-BDF2's energy").
- * Each run must end with 0 rollbacks and no solve at its iteration cap. */
+ *     1-21: in frame 20 the sheet swings through its lowest point, where the trapezoidal stage
+ *     alone ends above the substep's start energy and the whole substep does not; the energy
+ *     judge spans both stages (step.h "TR-BDF2's energy").
+ * docs/design/solver.md explains each rule. */
 #include <cjson/cJSON.h>
 #include <stdio.h>
 #include <string.h>

@@ -3,8 +3,8 @@
  *  - A damped spring whirling round its pinned end (the spring's direction turns ~2 rad in 1 s):
  *    the position error at t = 1 s against an independent RK4 solution of the same ODE
  *    m x'' = -(k (|x| - r) + d (v . u)) u, u = x / |x|, at 20000 steps falls ~4x per halving of
- *    h. With the damping's directions frozen at the stage's start (the code before issue 12's
- *    refresh) it fell ~2x: first order.
+ *    h. With the damping's directions frozen at the stage's start (as backward Euler and BDF2
+ *    keep them) it falls ~2x: first order.
  *  - A small sheet tumbling in air (no gravity, spinning about an in-plane axis: the triangles'
  *    normals turn, so the drag's geometry changes within a stage): self-convergence, the
  *    difference between runs at n and 2n steps falls ~4x per halving (with the air's geometry

@@ -1,4 +1,4 @@
-/* The reference's convergence in time, frame by frame (issue 12; docs/bench/accuracy_methods_sheet32.md
+/* The reference's convergence in time, frame by frame (docs/bench/accuracy_methods_sheet32.md
  * section 6): the N x N hanging sheet (1 m, flat at first, two corners of one edge pinned; the
  * same sheet as `weft bench accuracy`'s sheetN, built by tests/test_support.c) stepped by TR-BDF2
  * with direct solves and Newton + line search (tolerance 1e-10) at S, 2S, 4S, ... substeps per

@@ -204,7 +204,7 @@ class ClothDef(_Struct):
                 ("attachments", POINTER(AttachmentDef)), ("n_colliders", c_int),
                 ("colliders", POINTER(ColliderDef)), ("n_mesh_colliders", c_int),
                 ("mesh_colliders", POINTER(MeshColliderDef)),
-                # sewing (README "Sewing")
+                # sewing (docs/design/sewing.md)
                 ("sew_distance", c_double), ("sew_stiffness", c_double),
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
                 ("seam_close_time", c_double),
