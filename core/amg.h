@@ -15,9 +15,11 @@
  * the earlier ones is below WC_AMG_DEPENDENT x its norm (a 1-node aggregate's rotations, a 2-node
  * or collinear one's rotation about its line) is dropped: that coarse unknown is "dead" (zero
  * Galerkin row and column; the setup puts the block's mean live diagonal there, so it decouples
- * and stays 0). The coarse near-null space is the R factor (node 2a carries rows 0-2 of R_a, node
- * 2a + 1 rows 3-5); coarse levels aggregate the PAIRS (2a, 2a + 1) as one unit and smooth with a
- * 6x6 block diagonal per pair (pair_blocks), whose translation-rotation coupling 3x3 blocks miss.
+ * and stays 0). The coarse near-null space is the R factor (the SA recursion B_l = P_tent R: node
+ * 2a carries rows 0-2 of R_a, node 2a + 1 rows 3-5); coarse levels aggregate the PAIRS
+ * (2a, 2a + 1) as one unit (a pair never splits; its two rows share their columns) and smooth
+ * with a 6x6 block diagonal per pair (pair_blocks), whose translation-rotation coupling 3x3
+ * blocks miss.
  * The rotations are taken about the CURRENT positions (current_positions; wc_amg.pos, the state's
  * x via wc_solver_set_positions): every setup redoes the QR, allocating nothing; a solver with no
  * positions (tests, benchmarks) uses the rest positions' P_tent built at wc_amg_create.
