@@ -21,5 +21,8 @@ wc_status wc_fail(wc_diag* d, wc_status status, const char* fmt, ...)
 void wc_log(const wc_diag* d, wc_log_level level, const char* fmt, ...)
     __attribute__((format(printf, 3, 4)));
 void wc_diag_clear(wc_diag* d);
+/* Put a printf-style prefix before the message of a failure already recorded (nothing is logged
+ * again); returns status, the failure's. */
+wc_status wc_diag_prefix(wc_diag* d, wc_status status, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 
 #endif

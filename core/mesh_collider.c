@@ -154,3 +154,10 @@ void wc_mesh_collider_substep(wc_mesh_collider* m, double a0, double a1, double 
     swept_boxes(m);
     wc_bvh_refit(&m->bvh, m->boxes);
 }
+
+void wc_mesh_collider_serial(wc_mesh_collider* m, wc_serial* k) {
+    size_t nv3 = 3 * (size_t)m->n_verts * sizeof(double);
+    wc_serial_bytes(k, m->from, nv3);
+    wc_serial_bytes(k, m->to, nv3);
+    if (wc_serial_reading(k)) wc_mesh_collider_substep(m, 0.0, 0.0, 0.0);
+}

@@ -28,6 +28,7 @@
 #ifndef WEFT_CORE_MESH_COLLIDER_H
 #define WEFT_CORE_MESH_COLLIDER_H
 #include "bvh.h"
+#include "serial.h"
 
 typedef struct wc_mesh_collider {
     int n_verts, n_tris;
@@ -66,6 +67,9 @@ int wc_mesh_collider_moving(const wc_mesh_collider* m);
 void wc_mesh_collider_end_frame(wc_mesh_collider* m);
 /* The substep from frame fraction a0 to a1 (0 <= a0 <= a1 <= 1), of length h (s, > 0). */
 void wc_mesh_collider_substep(wc_mesh_collider* m, double a0, double a1, double h);
+/* Its part of a snapshot (serial.h): from and to (n_verts x 3 each); reading also sets the
+ * substep positions to from (the derived arrays are recomputed by every substep). */
+void wc_mesh_collider_serial(wc_mesh_collider* m, wc_serial* k);
 
 /* ---- queries (mesh_query.c) ------------------------------------------------------------------ */
 
