@@ -1,69 +1,38 @@
-/* Cloth creation (def -> host mesh -> wc_model -> wc_state, attachments bound, colliders placed),
- * destruction and the info query. Everything a frame needs is allocated here (and in
- * weft_cloth_set_attachments): weft_cloth_step allocates nothing. */
+/* Cloth creation, destruction, attachments and the info query: the def validated, converted to
+ * core's wc_cloth_def (the backend's defaults resolved through its table) and built by core
+ * (core/cloth.h), which allocates everything a frame needs. */
 #include <string.h>
 #include "api_internal.h"
 
-void wa_cloth_free(wa_cloth* c) {
-    if (!c) return;
-    wc_allocator a = c->ctx->alloc;
-    wa_gpu_cloth_destroy(c);   /* inside the context's GL context */
-    wc_state_destroy(c->state);
-    wa_free_mesh_colliders(c); /* after the state, which borrowed them */
-    wc_model_free(&c->model);
-    void* arrays[] = {c->host_rest, c->attachments, c->attachment_xf, c->attachment_next, c->pin_particle,
-                      c->pin_attachment, c->pin_local, c->pins, c->colliders, c->collider_xf, c->collider_next,
-                      c->wc_colliders, c->scratch, c->mark, c->backup};
-    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&a, arrays[i]);
-    wc_free(&a, c);
+/* The ABI's mesh description as core's. */
+static wc_mesh_desc mesh_desc(const weft_mesh_desc* m, double unit_scale) {
+    wc_mesh_desc o = {m->path, m->select, m->positions, m->n_vertices, m->face_sizes, m->n_faces, m->indices, unit_scale};
+    return o;
 }
 
-/* The host mesh from the def's file or arrays (positions float -> double, times unit_scale). */
-static weft_status read_mesh(weft_context* ctx, const weft_cloth_def* def, wc_source_mesh* src, const char* fn) {
-    wc_diag d = wa_core_diag(ctx);
-    weft_status st;
-    if (def->mesh.path) {
-        wc_import_opts o = wc_default_import_opts();
-        o.scale = def->unit_scale;
-        o.select = def->mesh.select;
-        st = wa_status(wc_import_file(src, &ctx->alloc, def->mesh.path, &o, &d));
-    } else {
-        int n = def->mesh.n_vertices;
-        double* pos = WC_NEW(&ctx->alloc, double, 3 * (size_t)n);
-        if (!pos) return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (%d vertices)", fn, n);
-        for (int i = 0; i < 3 * n; ++i) pos[i] = (double)def->mesh.positions[i];
-        st = wa_status(wc_source_mesh_from_arrays(src, &ctx->alloc, pos, n, def->mesh.face_sizes, def->mesh.n_faces,
-                                        def->mesh.indices, def->unit_scale, &d));
-        wc_free(&ctx->alloc, pos);
+/* Attachment defs as core's (out: n entries). */
+static void attachment_defs(const weft_attachment_def* a, int n, wc_cloth_attachment_def* out) {
+    for (int i = 0; i < n; ++i) {
+        wc_cloth_attachment_def o = {a[i].vertices, a[i].n_vertices, a[i].bind_transform, a[i].free_axis};
+        out[i] = o;
     }
-    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->mesh: %s", fn, d.message);
-    return WEFT_OK;
 }
 
-/* The backends' defaults for the DEFAULT / 0 / -1 choices of the def (README "Defaults", where
- * the measurements behind them are). CPU: the multigrid preconditioner, backward Euler, two
- * Newton iterations with line search (zero rollbacks over 90 frames on five of the six sample
- * scenes, one on the sixth; one Baraff-Witkin step rolls back 19 times on the hanging sheet).
- * GPU: its own multigrid on compute-shader passes (every sample scene's solves converge, in 1.1-2.2x
- * less time on llvmpipe but the skirt's; README "The GPU's multigrid"), block Jacobi on fragment
- * passes; one backward-Euler step without search, all it has. */
+/* The def's DEFAULT / 0 / -1 choices from the backend's table (docs/design/cloth.md "Defaults"). */
 static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def, wc_sim_def* s) {
-    int gpu = ctx->backend == WEFT_BACKEND_GPU;
+    wc_backend_defaults b;
+    ctx->ops->defaults(ctx->device, &b);
     s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
-                               : gpu && !wa_gpu_has_multigrid(ctx)               ? WC_PRECOND_BLOCK_JACOBI
-                                                                                  : WC_PRECOND_AMG;
+                                                                                  : b.preconditioner;
     s->integrator = def->integrator == WEFT_INTEGRATOR_BDF2     ? WC_INTEGRATOR_BDF2
                     : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
                                                                 : WC_INTEGRATOR_BE;
-    s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : gpu ? 1 : 2;
-    s->line_search = def->line_search >= 0 ? def->line_search : gpu ? 0 : 1;
-    /* self-collision: on the CPU, on by default for a garment (a cloth with a body, i.e. a mesh
-       collider, or with seams), where crossings are what a user sees first and the frame already
-       pays for collision; off otherwise (it costs 10-20% of a one-thread frame on a cloth that
-       does not touch itself, README "Self-collision"). GPU: off (it has no self-collision). */
+    s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : b.newton_iterations;
+    s->line_search = def->line_search >= 0 ? def->line_search : b.line_search;
+    /* a garment: a cloth with a body (a mesh collider) or with seams */
     int garment = def->n_mesh_colliders > 0 || def->sew_distance > 0 || def->n_seams > 0;
-    s->self_collision = def->self_collision >= 0 ? def->self_collision : !gpu && garment;
+    s->self_collision = def->self_collision >= 0 ? def->self_collision : garment && b.garment_self_collision;
     s->self_thickness = def->self_collision_thickness;
 }
 
@@ -89,91 +58,7 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
     return s;
 }
 
-/* Everything after the model: state, initial positions, colliders, attachments, backup. */
-static weft_status build_cloth(weft_context* ctx, wa_cloth* c, const weft_cloth_def* def, const char* fn) {
-    const wc_model* m = &c->model;
-    int n = m->n_particles;
-    wc_allocator* A = &ctx->alloc;
-    c->scratch = WC_NEW(A, double, 3 * (size_t)n);
-    c->mark = WC_NEW(A, int, (size_t)n);
-    int nc = def->n_colliders;
-    c->colliders = WC_NEW(A, wa_collider, (size_t)nc + 1);
-    c->collider_xf = WC_NEW(A, wa_xform, (size_t)nc + 1);
-    c->collider_next = WC_NEW(A, wa_xform, (size_t)nc + 1);
-    c->wc_colliders = WC_NEW(A, wc_collider, (size_t)nc + 1);
-    if (!c->scratch || !c->mark || !c->colliders || !c->collider_xf || !c->collider_next || !c->wc_colliders)
-        return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
-    for (int i = 0; i < n; ++i) c->mark[i] = -1;
-
-    wc_sim_def sd = sim_def_of(ctx, def);
-    wc_diag d = wa_core_diag(ctx);
-    weft_status st = wa_status(wc_state_create(&c->state, m, &sd, A, &d));
-    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, d.message);
-
-    /* particles start at transform x rest (rest positions are object space, metres) */
-    wa_xform_from_floats(&c->object, def->transform);
-    for (int i = 0; i < n; ++i) wa_xform_point(&c->object, m->rest_pos + 3 * i, c->scratch + 3 * i);
-    st = wa_status(wc_state_set_positions(c->state, c->scratch, NULL, &d));
-    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->transform: %s", fn, d.message);
-    c->no_history = 1;
-
-    c->n_colliders = nc;
-    for (int k = 0; k < nc; ++k) {
-        const weft_collider_def* cd = &def->colliders[k];
-        wa_collider* q = &c->colliders[k];
-        q->type = (int)cd->type;
-        q->radius = cd->type == WEFT_COLLIDER_PLANE ? 0.0 : cd->radius;
-        q->half_height = cd->type == WEFT_COLLIDER_CAPSULE ? cd->half_height : 0.0;
-        q->thickness = cd->thickness;
-        q->friction = cd->friction;
-        wa_xform_from_floats(&c->collider_xf[k], cd->transform);
-    }
-    wa_world_colliders(c, c->collider_xf, c->collider_xf, 0.0);
-    st = wa_status(wc_state_set_colliders(c->state, c->wc_colliders, nc, &d));
-    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: def->colliders: %s", fn, d.message);
-
-    st = wa_build_mesh_colliders(ctx, c, def, fn);
-    if (st != WEFT_OK) return st;
-
-    /* also allocates the backup for this attachment set */
-    return wa_bind_attachments(ctx, c, def->attachments, def->n_attachments, fn, "def->attachments");
-}
-
-weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft_cloth* out) {
-    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
-    static const char fn[] = "weft_cloth_create";
-    if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    if (!out) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: out is NULL", fn);
-    out->id = 0;
-    if (!def) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: def is NULL", fn);
-    char msg[400];
-    weft_status st = wa_validate_cloth_def(def, msg, sizeof msg);
-    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, msg);
-
-    wa_cloth* c = WC_NEW(&ctx->alloc, wa_cloth, 1);
-    if (!c) return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
-    c->ctx = ctx;
-    c->max_frame_time = def->max_frame_time;
-    c->linear_inertia = def->linear_inertia;
-    c->angular_inertia = def->angular_inertia;
-
-    wc_source_mesh src;
-    memset(&src, 0, sizeof src);
-    st = read_mesh(ctx, def, &src, fn);
-    if (st != WEFT_OK) {
-        wa_cloth_free(c);
-        return st;
-    }
-    c->unit_scale = src.unit_scale;
-    c->n_host = src.n_verts;
-    c->host_rest = WC_NEW(&ctx->alloc, double, 3 * (size_t)src.n_verts);
-    if (!c->host_rest) {
-        wc_source_mesh_free(&src);
-        wa_cloth_free(c);
-        return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
-    }
-    memcpy(c->host_rest, src.pos, 3 * (size_t)src.n_verts * sizeof(double));
-
+static wc_model_def model_def_of(const weft_cloth_def* def) {
     wc_model_def md = wc_default_model_def();
     md.weld_tolerance = def->weld_tolerance;
     md.material.density = def->material.density;
@@ -188,34 +73,72 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
     md.seam_a = def->seam_a;
     md.seam_b = def->seam_b;
     md.seam_close_time = def->seam_close_time;
+    return md;
+}
+
+/* The def as core's, its arrays into the given ones (n_attachments, n_colliders and
+ * n_mesh_colliders entries). */
+static wc_cloth_def cloth_def_of(const weft_context* ctx, const weft_cloth_def* def, wc_cloth_attachment_def* att,
+                                 wc_cloth_collider_def* col, wc_cloth_mesh_def* mesh) {
+    wc_cloth_def o;
+    memset(&o, 0, sizeof o);
+    o.mesh = mesh_desc(&def->mesh, def->unit_scale);
+    o.model = model_def_of(def);
+    o.sim = sim_def_of(ctx, def);
+    o.transform = def->transform;
+    o.max_frame_time = def->max_frame_time;
+    o.linear_inertia = def->linear_inertia;
+    o.angular_inertia = def->angular_inertia;
+    attachment_defs(def->attachments, def->n_attachments, att);
+    o.attachments = att;
+    o.n_attachments = def->n_attachments;
+    for (int k = 0; k < def->n_colliders; ++k) {
+        const weft_collider_def* c = &def->colliders[k];
+        wc_cloth_collider_def q = {(int)c->type, c->radius, c->half_height, c->thickness, c->friction, c->transform};
+        col[k] = q;   /* weft_collider_type and wc_collider_type share their numbering */
+    }
+    o.colliders = col;
+    o.n_colliders = def->n_colliders;
+    for (int k = 0; k < def->n_mesh_colliders; ++k) {
+        const weft_mesh_collider_def* m = &def->mesh_colliders[k];
+        wc_cloth_mesh_def q = {mesh_desc(&m->mesh, m->unit_scale), m->thickness, m->friction, m->push_speed,
+                               m->transform};
+        mesh[k] = q;
+    }
+    o.mesh_colliders = mesh;
+    o.n_mesh_colliders = def->n_mesh_colliders;
+    return o;
+}
+
+weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft_cloth* out) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
+    static const char fn[] = "weft_cloth_create";
+    if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
+    if (!out) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: out is NULL", fn);
+    out->id = 0;
+    if (!def) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: def is NULL", fn);
+    char msg[400];
+    weft_status st = wa_validate_cloth_def(def, msg, sizeof msg);
+    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, msg);
+
+    wc_cloth_attachment_def* att = WC_NEW(&ctx->alloc, wc_cloth_attachment_def, (size_t)def->n_attachments + 1);
+    wc_cloth_collider_def* col = WC_NEW(&ctx->alloc, wc_cloth_collider_def, (size_t)def->n_colliders + 1);
+    wc_cloth_mesh_def* mesh = WC_NEW(&ctx->alloc, wc_cloth_mesh_def, (size_t)def->n_mesh_colliders + 1);
+    wc_cloth* c = NULL;
     wc_diag d = wa_core_diag(ctx);
-    st = wa_status(wc_model_build(&c->model, &src, &md, &ctx->alloc, &d));
-    wc_source_mesh_free(&src);
-    if (st != WEFT_OK) {
-        wa_cloth_free(c);
-        return wa_fail(ctx, st, "%s: def->mesh: %s", fn, d.message);
+    if (!att || !col || !mesh) {
+        st = wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
+    } else {
+        wc_cloth_def cd = cloth_def_of(ctx, def, att, col, mesh);
+        wc_status cs = wc_cloth_create(&c, &cd, ctx->ops, ctx->device, &ctx->alloc, &d);
+        if (cs != WC_OK) st = wa_fail_core(ctx, fn, cs, &d);
     }
-    st = build_cloth(ctx, c, def, fn);
-    if (st != WEFT_OK) {
-        wa_cloth_free(c);
-        return st;
-    }
-    int bad_vertex = -1;
-    double bad_value = 0.0;
-    if (!wa_outputs_in_range(c, &c->object, &bad_vertex, &bad_value)) {
-        wa_cloth_free(c);
-        return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE,
-                       "%s: def->mesh: host vertex %d has a coordinate of %g (after unit_scale and transform), "
-                       "beyond the %g the float outputs hold", fn, bad_vertex, bad_value, WA_MAX_OUTPUT_COORD);
-    }
-    /* GPU backend: the model and the state built above go to textures (the direct solver is
-     * refused there: WEFT_ERROR_UNSUPPORTED with wg_sim_create's message) */
-    if (ctx->backend == WEFT_BACKEND_GPU && (st = wa_gpu_cloth_create(ctx, c, fn)) != WEFT_OK) {
-        wa_cloth_free(c);
-        return st;
-    }
+    wc_free(&ctx->alloc, att);
+    wc_free(&ctx->alloc, col);
+    wc_free(&ctx->alloc, mesh);
+    if (st != WEFT_OK) return st;
     if (!wa_register(ctx, c, out)) {
-        wa_cloth_free(c);
+        wa_cloth_free(ctx, c);
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (handle table)", fn);
     }
     for (int k = 0; k < c->model.report.n_warnings; ++k) wa_log(ctx, WEFT_LOG_WARN, "%s: %s", fn, c->model.report.warnings[k]);
@@ -225,10 +148,10 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
 weft_status weft_cloth_destroy(weft_context* ctx, weft_cloth cloth) {
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    wa_cloth* c = wa_lookup(ctx, cloth, "weft_cloth_destroy");
+    wc_cloth* c = wa_lookup(ctx, cloth, "weft_cloth_destroy");
     if (!c) return WEFT_ERROR_INVALID_HANDLE;
     wa_unregister(ctx, cloth);
-    wa_cloth_free(c);
+    wa_cloth_free(ctx, c);
     return wa_ok(ctx);
 }
 
@@ -237,24 +160,27 @@ weft_status weft_cloth_set_attachments(weft_context* ctx, weft_cloth cloth, cons
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_set_attachments";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    wa_cloth* c = wa_lookup(ctx, cloth, fn);
+    wc_cloth* c = wa_lookup(ctx, cloth, fn);
     if (!c) return WEFT_ERROR_INVALID_HANDLE;
     if (n < 0) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: n = %d is negative", fn, n);
     if (n > 0 && !attachments) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: attachments is NULL with n = %d", fn, n);
-    /* binding reads the current positions: a GPU cloth's mirror is refreshed first */
-    if (c->gpu) {
-        weft_status dst = wa_gpu_download(ctx, c, fn);
-        if (dst != WEFT_OK) return dst;
-    }
-    weft_status st = wa_bind_attachments(ctx, c, attachments, n, fn, "attachments");
-    return st == WEFT_OK ? wa_ok(ctx) : st;
+    char msg[400];
+    weft_status st = wa_validate_attachments(attachments, n, c->n_host, "attachments", msg, sizeof msg);
+    if (st != WEFT_OK) return wa_fail(ctx, st, "%s: %s", fn, msg);
+    wc_cloth_attachment_def* att = WC_NEW(&ctx->alloc, wc_cloth_attachment_def, (size_t)n + 1);
+    if (!att) return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
+    attachment_defs(attachments, n, att);
+    wc_diag d = wa_core_diag(ctx);
+    wc_status cs = wc_cloth_set_attachments(c, att, n, "attachments", &d);
+    wc_free(&ctx->alloc, att);
+    return cs == WC_OK ? wa_ok(ctx) : wa_fail_core(ctx, fn, cs, &d);
 }
 
 weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out) {
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_get_info";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    wa_cloth* c = wa_lookup(ctx, cloth, fn);
+    wc_cloth* c = wa_lookup(ctx, cloth, fn);
     if (!c) return WEFT_ERROR_INVALID_HANDLE;
     if (!out) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: out is NULL", fn);
     const wc_model* m = &c->model;

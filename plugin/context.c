@@ -1,5 +1,5 @@
-/* The context: def defaults and validation, the allocator and logger bridges to core
- * (wc_allocator, wc_diag, also handed to gpu/), the last error/status, and the handle table.
+/* The helpers every API file uses: core's statuses as the ABI's, the last error/status, the
+ * logger bridges to core (wc_diag, wc_log_fn, also handed to gpu/), and the handle table.
  *
  * Handles: a weft_cloth id packs (from the high bits) a 16-bit context tag, a 4-bit type tag,
  * a 20-bit slot generation and a 24-bit slot index. The context tag comes from the context's
@@ -11,24 +11,12 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 #include "api_internal.h"
 
 #define WA_TYPE_CLOTH 0xAu
 #define WA_SLOT_BITS 24
 #define WA_GEN_BITS 20
 #define WA_MAX_SLOTS (1 << WA_SLOT_BITS)
-
-weft_context_def weft_default_context_def(void) {
-    weft_context_def d;
-    memset(&d, 0, sizeof d);
-    d.backend = WEFT_BACKEND_AUTO;
-    d.threads = 0;
-    d.log_level = WEFT_LOG_WARN;
-    d.gl_mode = WEFT_GL_HEADLESS;
-    d.internal_cookie = WA_COOKIE_CONTEXT;
-    return d;
-}
 
 weft_status wa_status(wc_status s) {
     switch (s) {
@@ -70,109 +58,6 @@ void wa_core_log(wc_log_level level, const char* message, void* user) {
     if (ctx->def.log && l >= ctx->def.log_level) ctx->def.log(l, message, ctx->def.log_user);
 }
 
-static weft_status create_fail(const weft_context_def* def, weft_status st, const char* fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static weft_status create_fail(const weft_context_def* def, weft_status st, const char* fmt, ...) {
-    if (def && def->log) {
-        char msg[512];
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(msg, sizeof msg, fmt, ap);
-        va_end(ap);
-        def->log(WEFT_LOG_ERROR, msg, def->log_user);
-    }
-    return st;
-}
-
-static uint32_t make_tag(const weft_context* ctx) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    uint64_t z = (uint64_t)(uintptr_t)ctx ^ ((uint64_t)ts.tv_nsec << 20) ^ (uint64_t)ts.tv_sec;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    uint32_t tag = (uint32_t)(z & 0xFFFFu);
-    return tag ? tag : 0x5EED;
-}
-
-/* Errors of create go to def->log (there is no context to hold them). An ABI mismatch is
- * checked first and then the def is not read at all (its layout may be another ABI's). */
-weft_status weft_context_create(int abi, const weft_context_def* def, weft_context** out) {
-    if (out) *out = NULL;
-    if (abi != WEFT_ABI) return WEFT_ERROR_ABI_MISMATCH;
-    if (!def) return WEFT_ERROR_INVALID_ARGUMENT;
-    /* a def that skipped weft_default_context_def() may hold a garbage logger: not called */
-    if (def->internal_cookie != WA_COOKIE_CONTEXT) return WEFT_ERROR_INVALID_ARGUMENT;
-    if (!out) return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: out is NULL");
-    if ((unsigned)def->backend > WEFT_BACKEND_GPU)
-        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: def->backend %d is not a weft_backend",
-                           (int)def->backend);
-    if (def->threads < 0)
-        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: def->threads %d is negative",
-                           def->threads);
-    if ((unsigned)def->log_level > WEFT_LOG_ERROR)
-        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT,
-                           "weft_context_create: def->log_level %d is not a weft_log_level", (int)def->log_level);
-    if ((unsigned)def->gl_mode > WEFT_GL_HOST_CURRENT)
-        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT, "weft_context_create: def->gl_mode %d is not a weft_gl_mode",
-                           (int)def->gl_mode);
-    if ((def->allocator.alloc == NULL) != (def->allocator.free == NULL))
-        return create_fail(def, WEFT_ERROR_INVALID_ARGUMENT,
-                           "weft_context_create: def->allocator: alloc and free must both be set or both be NULL");
-    wc_allocator a = {def->allocator.alloc, def->allocator.free, def->allocator.user};
-    weft_context* ctx = WC_NEW(&a, weft_context, 1);
-    if (!ctx) return create_fail(def, WEFT_ERROR_OUT_OF_MEMORY, "weft_context_create: out of memory");
-    ctx->def = *def;
-    ctx->backend = WEFT_BACKEND_CPU;
-    ctx->alloc = a;
-    ctx->last_status = WEFT_OK;
-    ctx->last_error[0] = '\0';
-    ctx->tag = make_tag(ctx);
-    /* The backend: GPU asked for must work (its GL context and device are made now); AUTO takes
-     * the GPU only on a hardware device (a software rasteriser is slower than the CPU solvers). */
-    if (def->backend != WEFT_BACKEND_CPU) {
-        char why[512] = "";
-        int software = 0;
-        const int automatic = def->backend == WEFT_BACKEND_AUTO;
-        weft_status st = wa_gpu_context_init(ctx, automatic, &software, why, sizeof why);
-        if (st != WEFT_OK && !automatic) {
-            wc_free(&a, ctx);
-            return create_fail(def, st, "weft_context_create: def->backend GPU: %s", why);
-        }
-        if (st == WEFT_OK && !software) {
-            ctx->backend = WEFT_BACKEND_GPU;
-            wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: GPU backend (%s%s): %s",
-                   automatic ? "AUTO: hardware device" : "asked for",
-                   def->gl_mode == WEFT_GL_HOST_CURRENT ? ", host's GL context" : ", headless EGL", why);
-        } else if (st == WEFT_OK) {
-            wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: CPU backend (AUTO: the GPU device is a software "
-                   "rasteriser: %s)", why);
-        } else {
-            wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: CPU backend (AUTO: no GPU backend: %s)", why);
-        }
-    } else {
-        wa_log(ctx, WEFT_LOG_INFO, "weft_context_create: CPU backend (asked for)");
-    }
-    *out = ctx;
-    return WEFT_OK;
-}
-
-void weft_context_destroy(weft_context* ctx) {
-    if (!ctx) return;
-    if (!wa_call_idle(ctx)) {   /* threading contract broken: leak the context rather than free it under a call */
-        wa_log(ctx, WEFT_LOG_ERROR, "weft_context_destroy: another thread is inside a call on this context: "
-               "not destroyed (threading contract, weft.h)");
-        return;
-    }
-    for (int i = 0; i < ctx->n_slots; ++i)
-        if (ctx->slots[i].cloth) wa_cloth_free(ctx->slots[i].cloth);
-    wa_gpu_context_release(ctx);   /* the device before its GL context */
-    wa_render_release(ctx);
-    wc_allocator a = ctx->alloc;
-    wc_free(&a, ctx->slots);
-    wc_free(&a, ctx);
-}
-
 /* The message of the last failed call: a later successful call leaves it in place (its status,
  * weft_context_last_status, says OK). */
 const char* weft_context_last_error(const weft_context* ctx) {
@@ -193,6 +78,10 @@ weft_status wa_fail(weft_context* ctx, weft_status status, const char* fmt, ...)
     ctx->last_status = status;
     if (ctx->def.log && ctx->def.log_level <= WEFT_LOG_ERROR) ctx->def.log(WEFT_LOG_ERROR, ctx->last_error, ctx->def.log_user);
     return status;
+}
+
+weft_status wa_fail_core(weft_context* ctx, const char* fn, wc_status st, const wc_diag* d) {
+    return wa_fail(ctx, wa_status(st), "%s: %s", fn, d->message);
 }
 
 weft_status wa_ok(weft_context* ctx) {
@@ -225,7 +114,7 @@ static uint64_t encode(const weft_context* ctx, int slot, uint32_t gen) {
            ((uint64_t)(gen & ((1u << WA_GEN_BITS) - 1)) << WA_SLOT_BITS) | (uint64_t)slot;
 }
 
-wa_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn) {
+wc_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn) {
     if (h.id == 0) {
         wa_fail(ctx, WEFT_ERROR_INVALID_HANDLE, "%s: cloth is the null handle", fn);
         return NULL;
@@ -250,7 +139,7 @@ wa_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn) {
     return ctx->slots[slot].cloth;
 }
 
-int wa_register(weft_context* ctx, wa_cloth* c, weft_cloth* out) {
+int wa_register(weft_context* ctx, wc_cloth* c, weft_cloth* out) {
     int slot = -1;
     for (int i = 0; i < ctx->n_slots; ++i)
         if (!ctx->slots[i].cloth) {
@@ -281,4 +170,9 @@ void wa_unregister(weft_context* ctx, weft_cloth h) {
     ctx->slots[slot].cloth = NULL;
     uint32_t g = (ctx->slots[slot].generation + 1) & ((1u << WA_GEN_BITS) - 1);
     ctx->slots[slot].generation = g ? g : 1;
+}
+
+void wa_cloth_free(weft_context* ctx, wc_cloth* c) {
+    wc_diag d = wa_core_diag(ctx);
+    if (wc_cloth_destroy(c, &d) != WC_OK) wa_log(ctx, WEFT_LOG_WARN, "weft_cloth_destroy: %s", d.message);
 }

@@ -1,6 +1,7 @@
 /* weft_render: a preview picture of one cloth and its colliders, drawn by gpu/'s off-screen
- * renderer. The GL context (headless EGL, or the host's current one in WEFT_GL_HOST_CURRENT
- * mode) and the renderer are created by the first call and kept by the weft_context, so a context
+ * renderer. The renderer is created by the first call and kept by the weft_context, in the GL
+ * context of the backend's device (the GPU backend's) or, without one, in a GL context of its
+ * own (headless EGL, or the host's current one in WEFT_GL_HOST_CURRENT mode), so a CPU context
  * that never renders never touches EGL. Buffers of a call are allocated per call through the
  * context's allocator (rendering is not part of a step). Built without WEFT_GPU, weft_render
  * reports WEFT_ERROR_UNSUPPORTED. */
@@ -70,45 +71,48 @@ static wg_shape_type shape_type(int collider_type) {
     return (wg_shape_type)collider_type;
 }
 
-/* The context's GL context and renderer, created on first use. */
+/* The renderer, created on first use in the backend's GL context, or (a backend without one)
+ * in a GL context of its own made now: headless or the host's, per def.gl_mode. */
 static weft_status ensure_renderer(weft_context* ctx) {
     if (ctx->renderer) return WEFT_OK;
     char err[512] = "";
-    if (ctx->gl) {   /* the GPU backend's GL context (one per weft_context) */
-        wg_renderer* r = NULL;
-        weft_status st = wa_status(wg_renderer_create((wg_gl_context*)ctx->gl, NULL, &r, err, sizeof err));
+    wg_gl_context* shared = wa_backend_gl_context(ctx);
+    wg_gl_context* gl = shared;
+    if (!gl) {
+        wg_gl_context_desc gd;
+        memset(&gd, 0, sizeof gd);
+        gd.host_current = ctx->def.gl_mode == WEFT_GL_HOST_CURRENT;
+        gd.log = wa_core_log;
+        gd.log_user = ctx;
+        gd.allocator = ctx->alloc;
+        weft_status st = wa_status(wg_gl_context_create(&gd, &gl, err, sizeof err));
         if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
-        ctx->renderer = r;
-        return WEFT_OK;
     }
-    void* glv = NULL;
-    weft_status st = wa_gl_context_new(ctx, &glv, err, sizeof err);
-    if (st != WEFT_OK) return wa_fail(ctx, st, "weft_render: %s", err);
-    wg_gl_context* gl = glv;
     wg_renderer* r = NULL;   /* the renderer makes its context current around its GL calls */
-    st = wa_status(wg_renderer_create(gl, NULL, &r, err, sizeof err));
+    weft_status st = wa_status(wg_renderer_create(gl, NULL, &r, err, sizeof err));
     if (st != WEFT_OK) {
-        wg_gl_context_destroy(gl);
+        if (!shared) wg_gl_context_destroy(gl);
         return wa_fail(ctx, st, "weft_render: %s", err);
     }
-    ctx->gl = gl;
     ctx->renderer = r;
-    wa_log(ctx, WEFT_LOG_INFO, "weft_render: %s", wg_gl_context_description(gl));
+    if (!shared) {
+        ctx->render_gl = gl;
+        wa_log(ctx, WEFT_LOG_INFO, "weft_render: %s", wg_gl_context_description(gl));
+    }
     return WEFT_OK;
 }
 
 void wa_render_release(weft_context* ctx) {
-    if (!ctx->gl) return;
     /* In WEFT_GL_HOST_CURRENT mode the host's context must be current here to delete the GL
      * objects; without one they die with the host's context (the memory is freed either way). */
     wg_renderer_destroy((wg_renderer*)ctx->renderer);
-    wg_gl_context_destroy((wg_gl_context*)ctx->gl);
-    ctx->gl = NULL;
+    wg_gl_context_destroy((wg_gl_context*)ctx->render_gl);
     ctx->renderer = NULL;
+    ctx->render_gl = NULL;
 }
 
 /* Column-major float 4x4 of an affine transform (R row-major). */
-static void xform_to_floats(const wa_xform* x, float* m) {
+static void xform_to_floats(const wc_xform* x, float* m) {
     for (int c = 0; c < 3; ++c)
         for (int r = 0; r < 3; ++r) m[4 * c + r] = (float)x->R[3 * r + c];
     m[3] = m[7] = m[11] = 0.0f;
@@ -121,7 +125,7 @@ static void xform_to_floats(const wa_xform* x, float* m) {
 weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_def* def) {
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    wa_cloth* c = wa_lookup(ctx, cloth, "weft_render");
+    wc_cloth* c = wa_lookup(ctx, cloth, "weft_render");
     if (!c) return ctx->last_status;
     weft_status st = check_def(ctx, def);
     if (st != WEFT_OK) return st;
@@ -144,7 +148,7 @@ weft_status weft_render(weft_context* ctx, weft_cloth cloth, const weft_render_d
     if (st == WEFT_OK) st = weft_cloth_get_triangles(ctx, cloth, tris, nt, &count);
     if (st != WEFT_OK) goto done;
     for (int i = 0; i < nc; ++i) {
-        const wa_collider* k = &c->colliders[i];
+        const wc_cloth_collider* k = &c->colliders[i];
         memset(&shapes[i], 0, sizeof shapes[i]);
         shapes[i].type = shape_type(k->type);
         xform_to_floats(&c->collider_xf[i], shapes[i].transform);
