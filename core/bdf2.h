@@ -19,9 +19,9 @@
  * Every substep of a BDF2 cloth that gets past its contact correction moves the history on
  * (x_prev = x_n after the correction, v_prev = v_n, hist_h = h); the step's save/restore keeps it
  * with the substep's start, so a rolled-back try leaves it as it was. It is invalidated by
- * wc_state_set_positions, falling asleep (wc_state_set_sleep, the rest timer), and by the plugin's
- * RESET and TELEPORT; the plugin's inertia carry transforms it with x and v (cloth_frame.c); a
- * snapshot holds it (plugin/snapshot.c).
+ * wc_state_set_positions, falling asleep (wc_state_set_sleep, the rest timer), and by the cloth's
+ * RESET and TELEPORT; the cloth's inertia carry transforms it with x and v (cloth_cpu.c); a
+ * snapshot holds it (cloth_snapshot.c).
  * Contacts: the position correction of wc_contacts_begin moves x_n by c; x_{n-1} is taken moved
  * by the same c (xb = x_n + (x_n^uncorrected - x_prev) / 3), so a correction is not extrapolated
  * into a velocity. Pins: z and the final snap put x_{n+1} = xb + he v_{n+1} on the target.

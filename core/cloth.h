@@ -10,11 +10,11 @@
  *  - the collision check (cloth_check.c).
  * Where the particles are stepped is the backend's (cloth_backend.h), chosen at creation.
  *
- * Creation (cloth.c) and weft_cloth_set_attachments-like rebinding (cloth_attach.c) allocate
- * everything a frame needs: a frame allocates nothing. Callers read the struct's fields and
- * change the cloth only through these functions. Host transforms given to a cloth are rigid and
- * finite (the caller checks them: xform.h). Errors come back as a status with the message in
- * the diag; on any error the cloth is as it was before the call. */
+ * Creation (cloth_build.c) and a new binding of attachments (cloth_attach.c) allocate everything
+ * a frame needs: a frame allocates nothing. Callers read the struct's fields and change the
+ * cloth only through these functions. Host transforms given to a cloth are rigid and finite (the
+ * caller checks them: xform.h). Errors come back as a status with the message in the diag; a
+ * refused call changes nothing (a device failing a transfer aside: wc_cloth_restore). */
 #ifndef WEFT_CORE_CLOTH_H
 #define WEFT_CORE_CLOTH_H
 #include <stdint.h>
@@ -211,7 +211,8 @@ typedef struct wc_snapshot_stamp {
 wc_status wc_cloth_save(wc_cloth* c, const wc_snapshot_stamp* stamp, void* buf, wc_diag* d);
 /* Restore a snapshot of `size` bytes (at least the snapshot's own); refused (nothing changes):
  * truncated, not a snapshot of this format, another library (SNAPSHOT_MISMATCH), damaged
- * (checksum or implausible content), another model (SNAPSHOT_MISMATCH). */
+ * (checksum or implausible content), another model (SNAPSHOT_MISMATCH). A device that then fails
+ * the upload leaves the state restored and its own particles as they were (the status says so). */
 wc_status wc_cloth_restore(wc_cloth* c, const wc_snapshot_stamp* stamp, const void* buf, size_t size, wc_diag* d);
 
 #endif

@@ -15,13 +15,13 @@
  *   collision_check.c  weft_cloth_check_collisions
  *   snapshot.c         weft_cloth_save / restore
  *   render.c           weft_render: preview pictures through gpu/'s renderer
- * Each API file calls context.c's helpers and core; none calls another API file's functions
- * but the public ones (weft_render reads the vertices through weft_cloth_get_vertices). */
+ * Calls run one way: the API files call context.c's helpers, the validation (transform.c,
+ * cloth_def.c, mesh_colliders.c), backend.c and core; nothing calls back up (weft_render reads
+ * the vertices through the public weft_cloth_get_vertices). */
 #ifndef WEFT_PLUGIN_API_INTERNAL_H
 #define WEFT_PLUGIN_API_INTERNAL_H
 #include <stdatomic.h>
 #include <stdint.h>
-#include "call_guard.h"
 #include "cloth.h"
 #include "weft/weft.h"
 

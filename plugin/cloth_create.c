@@ -3,6 +3,7 @@
  * (core/cloth.h), which allocates everything a frame needs. */
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 
 /* The ABI's mesh description as core's. */
 static wc_mesh_desc mesh_desc(const weft_mesh_desc* m, double unit_scale) {

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 #include "clock.h"
 
 #define WA_FRAME_FLAGS ((uint32_t)(WEFT_FRAME_TELEPORT | WEFT_FRAME_RESET))

@@ -3,6 +3,7 @@
  * host vertex in world or object space, triangles as host vertex indices. */
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 
 weft_status weft_cloth_get_vertices(weft_context* ctx, weft_cloth cloth, weft_space space, float* positions,
                                     float* normals, int capacity, int* count) {

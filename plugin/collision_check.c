@@ -2,6 +2,7 @@
  * a collider, at its current positions (core/cloth_check.c). */
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 
 weft_status weft_cloth_check_collisions(weft_context* ctx, weft_cloth cloth, weft_collision_check* out) {
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */

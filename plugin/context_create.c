@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 #include "api_internal.h"
+#include "call_guard.h"
 
 weft_context_def weft_default_context_def(void) {
     weft_context_def d;

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 
 weft_mesh_collider_def weft_default_mesh_collider_def(void) {
     weft_mesh_collider_def d;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "api_internal.h"
+#include "call_guard.h"
 
 #ifdef WEFT_HAVE_GPU
 #include "egl_context.h"

@@ -2,6 +2,7 @@
  * (the format, its checks and the device transfers: core/cloth_snapshot.c). A snapshot carries
  * this library's ABI and version and is refused by another's. */
 #include "api_internal.h"
+#include "call_guard.h"
 
 static wc_snapshot_stamp library_stamp(void) {
     wc_snapshot_stamp s = {WEFT_ABI, (uint32_t)(WEFT_VERSION_MAJOR << 16 | WEFT_VERSION_MINOR << 8 | WEFT_VERSION_PATCH)};
