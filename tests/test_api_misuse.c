@@ -226,6 +226,8 @@ static weft_frame good_frame(void) {
       st = weft_cloth_restore(f->ctx, f->cloth, f->snap, f->snap_size); f->snap[f->snap_size / 2] ^= 1;)  \
     X(restore_other_version, WEFT_ERROR_SNAPSHOT_MISMATCH, "another library version", f->snap[12] ^= 1;   \
       st = weft_cloth_restore(f->ctx, f->cloth, f->snap, f->snap_size); f->snap[12] ^= 1;)               \
+    X(restore_other_version_format, WEFT_ERROR_SNAPSHOT_MISMATCH, "(format WEFTSNP3, ABI", f->snap[8] ^= 2;  \
+      st = weft_cloth_restore(f->ctx, f->cloth, f->snap, f->snap_size); f->snap[8] ^= 2;)                \
     X(restore_other_model, WEFT_ERROR_SNAPSHOT_MISMATCH, "another model",                                 \
       st = weft_cloth_restore(f->ctx, f->cloth, f->other_snap, f->snap_size + 4096);)                     \
     /* weft_cloth_set_attachments */                                                                      \
