@@ -19,7 +19,7 @@
 #include "fuzz.h"
 #include "fuzz_grid.h"
 
-/* the checksum of plugin/snapshot.c (private there; the harness recomputes it to get past it) */
+/* the checksum of core/cloth_snapshot.c (private there; the harness recomputes it to get past it) */
 static uint64_t mix(uint64_t h, uint64_t w) {
     h ^= w + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
     h *= 0xBF58476D1CE4E5B9ull;

@@ -107,7 +107,7 @@ static inline void ag_apply(const float* M, const double* p, double* out) {
 }
 
 /* World positions (n_particles x 3, particle order) from a weft_cloth_save buffer: they start at
- * byte 64 (plugin/snapshot.c documents the layout). */
+ * byte 64 (core/cloth_snapshot.c documents the layout). */
 static inline void ag_snapshot_positions(const void* snapshot, int n_particles, double* out) {
     memcpy(out, (const unsigned char*)snapshot + 64, sizeof(double) * 3 * (size_t)n_particles);
 }

@@ -78,7 +78,7 @@ static void test_core_equivalence(void) {
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = 1;
     sd.max_colliders = 0;
-    /* the plugin's CPU defaults (plugin/cloth_create.c resolve_defaults) */
+    /* the CPU backend's defaults (core/cloth_cpu.c, resolved by plugin/cloth_create.c) */
     sd.solver.preconditioner = WC_PRECOND_AMG;
     sd.newton_iterations = 2;
     sd.line_search = 1;

@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
     if (wc_model_build(&model, &src, &md, NULL, &d) != WC_OK) return 1;
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = threads;
-    /* the plugin's CPU defaults (plugin/cloth_create.c resolve_defaults) */
+    /* the CPU backend's defaults (core/cloth_cpu.c, resolved by plugin/cloth_create.c) */
     sd.solver.preconditioner = WC_PRECOND_AMG;
     sd.newton_iterations = 2;
     sd.line_search = 1;
