@@ -7,7 +7,7 @@
  * Split: the terms' diagonal blocks c w_a^2 n n^T live in A itself (the owner adds them, so the
  * block-diagonal and multigrid preconditioners, and the direct solver's factor, see them); the
  * off-diagonal blocks c w_a w_b n n^T (a != b) only in products, through
- * wc_coupling_mul_offdiag_add, which the linear solvers (solver_impl.h: wcs_mul, wcs_residual)
+ * wc_coupling_mul_offdiag_add, which the linear solvers (solve_kernels.h: wcs_mul, wcs_residual)
  * and the step's residuals add after the pattern's product. The sum is symmetric, and positive
  * semi-definite for c >= 0 (each whole term is), so the system stays SPD.
  *

@@ -19,10 +19,9 @@
  *
  * Threads: CHOLMOD 3 (SuiteSparse 5.x) opens OpenMP regions of its own inside the supernodal
  * factorisation, each with a compile-time num_threads(CHOLMOD_OMP_NUM_THREADS) = 4 whatever the
- * machine or the solver's thread count: thousands of small fork-joins per factorisation. On the
- * project's 2-core machine that made a direct TR-BDF2 run of the 32^2 sheet at 8 substeps cost
- * 740 ms a frame, 161 ms with those regions serial (1 thread, idle machine; most of the
- * difference was futex system time). So every CHOLMOD call runs with the calling thread's
+ * machine or the solver's thread count: thousands of small fork-joins per factorisation, which
+ * cost several times the factorisation itself on cloth-sized systems (measured in
+ * docs/core_measurements.md). So every CHOLMOD call runs with the calling thread's
  * max-active-levels at 0 (cholmod_serial_begin: a per-thread setting since OpenMP 5.0, restored
  * after the call, so neither the host's other threads nor Weft's own regions see it). The dense
  * supernodal work still goes through the BLAS, whose threads are the host's to set (the `weft`
@@ -34,7 +33,8 @@
  * failing -> WC_ERROR_FACTORIZATION. */
 #include <suitesparse/cholmod.h>
 #include <math.h>
-#include "solver_impl.h"
+#include "solve_direct.h"
+#include "solve_pcg.h"
 #include "vec3.h"
 
 struct wcs_direct {
@@ -186,7 +186,8 @@ void wcs_direct_destroy(wc_solver* s) {
     s->direct = NULL;
 }
 
-int wcs_direct_apply(wc_solver* s, const double* r, double* t) {
+/* t = P^{-1} r through the current factor; 0 when CHOLMOD's solve failed. */
+static int apply_factor(wc_solver* s, const double* r, double* t) {
     wcs_direct* d = s->direct;
     const size_t N = 3 * (size_t)s->n;
     double* rhs = (double*)d->B->x;
@@ -197,7 +198,26 @@ int wcs_direct_apply(wc_solver* s, const double* r, double* t) {
     return 1;
 }
 
-/* On entry (after wcs_begin) dv is the projected initial guess and s->r holds S (b - A z). */
+/* PCG's update step (solve_pcg_steps.h) with this factor as the preconditioner: t = P^{-1} r
+ * (t = r where CHOLMOD's solve fails). */
+static void pcg_update_direct(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
+    const double *c = s->c, *q = s->q;
+    double *r = s->r, *t = s->t;
+    double acc_r = 0.0, acc_d = 0.0;
+    (void)par;
+    if (alpha != 0.0)
+        for (int k = 0; k < 3 * s->n; ++k) {
+            if (dv) dv[k] += alpha * c[k];
+            r[k] -= alpha * q[k];
+        }
+    for (int k = 0; k < 3 * s->n; ++k) acc_r += r[k] * r[k];
+    if (!apply_factor(s, r, t))
+        for (int k = 0; k < 3 * s->n; ++k) t[k] = r[k];
+    for (int k = 0; k < 3 * s->n; ++k) acc_d += r[k] * t[k];
+    *rr = acc_r;
+    *delta = acc_d;
+}
+
 wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                              wc_par* par, wc_solve_result* res) {
     wcs_direct* d = s->direct;
@@ -210,10 +230,7 @@ wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const
     } else if (wc_coupling_active(s->coupling) > 0) {
         /* couplings outside the pattern (coupling.h): PCG on the whole system, preconditioned
            by this factor of its in-pattern part */
-        s->pcg_direct = 1;
-        st = wcs_solve_pcg(s, A, b, f, dv, par, res);
-        s->pcg_direct = 0;
-        return st;
+        return wcs_pcg_run(s, A, b, f, dv, par, res, pcg_update_direct);
     } else {
         double* rhs = (double*)d->B->x;
         for (size_t k = 0; k < N; ++k) rhs[k] = s->r[k];

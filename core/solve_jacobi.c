@@ -25,7 +25,8 @@
  * Per iteration: one matrix sweep and one vector pass; the residual norm is accumulated in that
  * pass only every check_every iterations. */
 #include <math.h>
-#include "solver_impl.h"
+#include "solve_jacobi.h"
+#include "solve_rho.h"
 #include "vec3.h"
 
 double wc_chebyshev_omega(int k, int delay, double rho, double omega) {

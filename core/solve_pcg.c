@@ -1,13 +1,13 @@
 /* Modified preconditioned conjugate gradient of Baraff & Witkin (1998) section 5.3: CG on the
  * projected system with every search direction filtered (c = S (P^{-1} r + beta c)), so the
- * iterate stays in z + range(S), and the filtered block-diagonal preconditioner
- * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one.
+ * iterate stays in z + range(S). Preconditioner: the filtered block-diagonal
+ * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one, or the multigrid
+ * V-cycle (amg.h); the direct solver runs the same iterations with its factor (wcs_pcg_run).
  *
  * Stopping: ||r||_2 <= tolerance max(||S (b - A z)||_2, floor) (solve.h) with r the recursively
- * updated residual. When
- * that test passes, the true residual S (b - A dv) is computed; if it is above the tolerance (the
- * recursion drifted) r is replaced by it and CG restarts from dv, until the cap. The reported
- * residual is always the true one of the returned dv.
+ * updated residual. When that test passes, the true residual S (b - A dv) is computed; if it is
+ * above the tolerance (the recursion drifted) r is replaced by it and CG restarts from dv, until
+ * the cap. The reported residual is always the true one of the returned dv.
  *
  * Divergence: a non-finite value, a residual above divergence_factor x max(initial residual of
  * z, of the initial guess), or c^T S A c <= 0 (P not positive definite along c) stop the
@@ -15,55 +15,8 @@
  * is applied). */
 #include <math.h>
 #include "clock.h"
-#include "solver_impl.h"
+#include "solve_pcg.h"
 #include "vec3.h"
-
-double wcs_pcg_filter_dot(wc_solver* s, const wc_filter* f, const double* c, double* q, wc_par* par) {
-    WC_PAR_REGION(par)
-    {
-        int c0, c1;
-        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        for (int k = c0; k < c1; ++k) {
-            int lo, hi;
-            wcs_chunk_rows(s, k, &lo, &hi);
-            double acc = 0.0;
-            for (int i = lo; i < hi; ++i) {
-                wc_filter_apply(f, i, q + 3 * i, q + 3 * i);
-                acc += v3_dot(c + 3 * i, q + 3 * i);
-            }
-            s->partial[k] = acc;
-        }
-    }
-    return wcs_sum(s, 0);
-}
-
-void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
-    const double *c = s->c, *q = s->q, *Dinv = s->Dinv;
-    double *r = s->r, *t = s->t;
-    WC_PAR_REGION(par)
-    {
-        int c0, c1;
-        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        for (int k = c0; k < c1; ++k) {
-            int lo, hi;
-            wcs_chunk_rows(s, k, &lo, &hi);
-            double acc_d = 0.0, acc_r = 0.0;
-            for (int i = lo; i < hi; ++i) {
-                if (alpha != 0.0) {
-                    if (dv) v3_axpy(dv + 3 * i, alpha, c + 3 * i);
-                    v3_axpy(r + 3 * i, -alpha, q + 3 * i);
-                }
-                m3_mulv(t + 3 * i, Dinv + 9 * i, r + 3 * i);
-                acc_d += v3_dot(r + 3 * i, t + 3 * i);
-                acc_r += v3_dot(r + 3 * i, r + 3 * i);
-            }
-            s->partial[k] = acc_d;
-            s->partial[s->n_chunks + k] = acc_r;
-        }
-    }
-    *delta = wcs_sum(s, 0);
-    *rr = wcs_sum(s, 1);
-}
 
 /* wcs_pcg_update with the multigrid preconditioner: t = V-cycle(r). */
 static void pcg_update_amg(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
@@ -104,66 +57,24 @@ static void pcg_update_amg(wc_solver* s, double alpha, double* dv, double* delta
     *delta = wcs_sum(s, 0);
 }
 
-/* wcs_pcg_update with the direct solver's factor as the preconditioner (solve_direct.c, with
- * couplings): t = P^{-1} r. */
-static void pcg_update_direct(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
-    const double *c = s->c, *q = s->q;
-    double *r = s->r, *t = s->t;
-    double acc_r = 0.0, acc_d = 0.0;
-    (void)par;
-    if (alpha != 0.0)
-        for (int k = 0; k < 3 * s->n; ++k) {
-            if (dv) dv[k] += alpha * c[k];
-            r[k] -= alpha * q[k];
-        }
-    for (int k = 0; k < 3 * s->n; ++k) acc_r += r[k] * r[k];
-    if (!wcs_direct_apply(s, r, t))
-        for (int k = 0; k < 3 * s->n; ++k) t[k] = r[k];
-    for (int k = 0; k < 3 * s->n; ++k) acc_d += r[k] * t[k];
-    *rr = acc_r;
-    *delta = acc_d;
-}
-
-void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par) {
-    double *c = s->c;
-    const double* t = s->t;
-    WC_PAR_REGION(par)
-    {
-        int lo, hi;
-        wc_par_range(s->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            double v[3];
-            if (beta != 0.0) {
-                v3_scale(v, c + 3 * i, beta);
-                v3_add(v, v, t + 3 * i);
-            } else {
-                v3_copy(v, t + 3 * i);
-            }
-            wc_filter_apply(f, i, v, c + 3 * i);
-        }
-    }
-}
-
 wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
-                          wc_par* par, wc_solve_result* res) {
+                        wc_par* par, wc_solve_result* res) {
+    const int amg = s->amg && s->opts.preconditioner == WC_PRECOND_AMG;
+    double t_setup = wc_now_ms();
+    if (amg) wc_amg_setup(s->amg, A, f, par);
+    else wcs_build_precond(s, A, f, par);
+    res->setup_ms += wc_now_ms() - t_setup;
+    return wcs_pcg_run(s, A, b, f, dv, par, res, amg ? pcg_update_amg : wcs_pcg_update);
+}
+
+wc_status wcs_pcg_run(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
+                      wc_solve_result* res, wcs_pcg_update_fn update) {
     const wc_solver_opts* o = &s->opts;
     const double res0 = res->residual0, goal = o->tolerance * res->scale;
     wc_status st = WC_OK;
     int it = 0, converged = 0;
     double delta, rr, rr_final = -1.0;
 
-    const int amg = s->amg && o->preconditioner == WC_PRECOND_AMG;
-    void (*update)(wc_solver*, double, double*, double*, double*, wc_par*) =
-        s->pcg_direct ? pcg_update_direct : amg ? pcg_update_amg : wcs_pcg_update;
-    double t_setup = wc_now_ms();
-    if (s->pcg_direct) {
-        /* factorised by the caller (solve_direct.c) */
-    } else if (amg) {
-        wc_amg_setup(s->amg, A, f, par);
-    } else {
-        wcs_build_precond(s, A, f, par);
-    }
-    res->setup_ms += wc_now_ms() - t_setup;
     rr = wcs_filtered_residual(s, A, b, f, dv, s->r, par);
     const double limit = o->divergence_factor * fmax(res0, sqrt(rr));
     update(s, 0.0, dv, &delta, &rr, par);

@@ -4,14 +4,12 @@
  * D~^{-1} P is self-adjoint in the D~ inner product, so its eigenvalues lambda are real and
  * positive (P SPD) and rho(G) = max(1 - gamma lambda_min, gamma lambda_max - 1). They are
  * estimated by Lanczos in that inner product, run as WCS_RHO_ITERATIONS steps of PCG (the same
- * kernels, D~ preconditioner) on P y = g, g a fixed pseudo-random vector in range(S): the CG
- * coefficients give the Lanczos tridiagonal T (diag 1/alpha_j + beta_{j-1}/alpha_{j-1},
- * off-diagonal sqrt(beta_{j-1})/alpha_{j-1}), whose extreme eigenvalues (bisection on Sturm
- * counts) are Ritz values inside [lambda_min, lambda_max]. Same cost as as many power
- * iterations (one matrix sweep each), far closer: on cloth systems the power-iteration ratio
- * creeps up like 1 - C/k whatever the true rho (12 x 12 grid, default material: 0.98 after 20
- * iterations for h = 1/30 .. 1/100 where rho is 0.9976 .. 0.9968, 0.974 at h = 1/333 where it
- * is 0.9887), 20 Lanczos steps give 0.9868 for that last one.
+ * steps, solve_pcg_steps.h, D~ preconditioner) on P y = g, g a fixed pseudo-random vector in
+ * range(S): the CG coefficients give the Lanczos tridiagonal T (diag 1/alpha_j +
+ * beta_{j-1}/alpha_{j-1}, off-diagonal sqrt(beta_{j-1})/alpha_{j-1}), whose extreme eigenvalues
+ * (bisection on Sturm counts) are Ritz values inside [lambda_min, lambda_max]. Same cost as as
+ * many power iterations (one matrix sweep each), far closer: on cloth systems the power-iteration
+ * ratio creeps up like 1 - C/k whatever the true rho.
  *
  * On stiff cloth lambda_min is still unresolved after 20 steps (Ritz values approach it roughly
  * like C/k^2), and underestimating rho costs Chebyshev more than overestimating it (iterations
@@ -19,12 +17,11 @@
  * extrapolated from the steps 15 and 20 with that C/k^2 model, and rho is clamped to
  * [Ritz value, WCS_RHO_MAX]: the cap 1 - 5e-4 is about the slowest rate a default solve
  * (tolerance 1e-4 within 300 iterations) can use: 1 - rho ~ (ln(1e4) / 300)^2 / 2.
- * Measured (Chebyshev iterations to 1e-8 on 12 x 12 / 40 x 40 grids, h = 1/30, 1/333, 1/1000):
- * this choice 550 140 60 / 2980 1100 560; the raw Ritz value 710 160 60 / 10140 2040 380;
- * 1 - 0.3 (1 - Ritz) 280 200 100 / 5470 1050 220; best fixed rho about 280 / 1250. */
+ * The comparisons behind these choices are in docs/core_measurements.md. */
 #include <math.h>
 #include <stdint.h>
-#include "solver_impl.h"
+#include "solve_pcg_steps.h"
+#include "solve_rho.h"
 #include "vec3.h"
 
 #define WCS_RHO_MAX 0.9995

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
-#include "solver_impl.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
 

@@ -24,7 +24,7 @@
 #include "test_support.h"
 #include "coupling.h"
 #include "self_pairs.h"
-#include "solver_impl.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "two_layers.h"
 

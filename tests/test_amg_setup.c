@@ -16,7 +16,7 @@
 #include <string.h>
 #include "amg.h"
 #include "check.h"
-#include "solver_impl.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "sew_tube.h"
 #include "test_support.h"

@@ -12,7 +12,7 @@
 
 #include "check.h"
 #include "egl_context.h"
-#include "solver_impl.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
 #include "wg_amg.h"

@@ -19,7 +19,7 @@
 #include <string.h>
 #include "amg.h"
 #include "clock.h"
-#include "solver_impl.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
 

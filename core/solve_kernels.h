@@ -1,5 +1,5 @@
-/* Private to the linear solvers (solver.c, solve_pcg.c, solve_jacobi.c, solve_direct.c): the
- * wc_solver workspace and the kernels they share. Not part of the core's contract.
+/* Private to the linear solvers (solver.c and the solve_*.c it dispatches to): the wc_solver
+ * workspace and the kernels every solver shares. Not part of the core's contract.
  *
  * Notation: P = S A S + I - S is the projected (filtered) matrix, D~ its block diagonal
  * (D~_i = S_i A_ii S_i + I - S_i), z the prescribed velocity change. Every iterate dv lies in the
@@ -9,14 +9,13 @@
  * sequentially, and the chunk sums in chunk order: the result does not depend on the thread count
  * (wc_par_dot is deterministic only for a given count), so a solve is bit-identical on any number
  * of threads. */
-#ifndef WEFT_CORE_SOLVER_IMPL_H
-#define WEFT_CORE_SOLVER_IMPL_H
+#ifndef WEFT_CORE_SOLVE_KERNELS_H
+#define WEFT_CORE_SOLVE_KERNELS_H
 #include "amg.h"
 #include "coupling.h"
 #include "solve.h"
 
 #define WCS_CHUNK 256           /* particles per reduction chunk */
-#define WCS_RHO_ITERATIONS 20   /* Lanczos steps of wc_solver_estimate_rho */
 
 typedef struct wcs_direct wcs_direct;   /* CHOLMOD state, solve_direct.c */
 
@@ -38,8 +37,6 @@ struct wc_solver {
     wc_amg* amg;                /* NULL unless opts.preconditioner is AMG */
     double residual_floor;      /* wc_solver_set_residual_floor (0: none) */
     const wc_coupling* coupling; /* wc_solver_set_coupling (NULL: none) */
-    int pcg_direct;             /* 1 inside a direct solve with couplings: PCG preconditioned by
-                                   the factor (solve_direct.c) */
 };
 
 /* Rows [lo, hi) of chunk c. */
@@ -67,37 +64,5 @@ void wcs_project(const wc_filter* f, double* dv, wc_par* par);
 int wcs_all_finite(const double* v, int n);
 /* dv = z (components of z that are not finite become 0). */
 void wcs_fallback(const wc_filter* f, double* dv, int n);
-
-/* Shared start of every solve: projects the initial guess (dv = z + S dv; a non-finite guess is
- * replaced by z), fills res->residual0 = ||S (b - A z)|| and leaves S (b - A z) in s->r. Returns 1 when the solve is already finished: a zero
- * right-hand side (dv = z, residual 0) or a non-finite one (dv = z, SOLVER_DIVERGED). */
-int wcs_begin(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
-              wc_solve_result* res, wc_status* status);
-
-/* PCG steps (solve_pcg.c), also used by the Lanczos estimate:
- *   filter_dot: q = S q, returns c . q;
- *   update: dv += alpha c (dv may be NULL), r -= alpha q (alpha 0 skips both), t = D~^{-1} r,
- *           *delta = r . t, *rr = r . r;
- *   direction: c = S (t + beta c). */
-double wcs_pcg_filter_dot(wc_solver* s, const wc_filter* f, const double* c, double* q, wc_par* par);
-void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par);
-void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par);
-
-/* The solvers; res->residual0 is filled by wcs_begin before they are called. */
-wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
-                          wc_par* par, wc_solve_result* res);
-wc_status wcs_solve_jacobi(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
-                             wc_par* par, wc_solve_result* res, int chebyshev);
-/* The rho Chebyshev uses for I - gamma D~^{-1} P (solve_rho.c); s->Dinv must be built. Uses
- * s->r, c, q, t as scratch. */
-double wcs_estimate_rho(wc_solver* s, const double* A, const wc_filter* f, wc_par* par);
-
-wc_status wcs_direct_create(wc_solver* s, wc_diag* diag);
-void wcs_direct_destroy(wc_solver* s);
-/* t = P^{-1} r through the current factor (PCG's preconditioner in a direct solve with
- * couplings); returns 0 when CHOLMOD's solve failed. */
-int wcs_direct_apply(wc_solver* s, const double* r, double* t);
-wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
-                             wc_par* par, wc_solve_result* res);
 
 #endif
