@@ -92,7 +92,7 @@
 #ifndef WEFT_CORE_NEWTON_H
 #define WEFT_CORE_NEWTON_H
 #include "bdf2.h"
-#include "step.h"
+#include "step_stats.h"
 
 /* 1 when the def asks for more than one Baraff-Witkin step (iterations > 1 or line search). */
 int wc_newton_wanted(const wc_sim_def* d);

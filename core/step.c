@@ -282,16 +282,6 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
     (void)prepare(s, &ig, alpha1, s->def.compression, NULL, st);
 }
 
-void wc_step_stats_add_solve(wc_step_stats* st, wc_solver_type solver, const wc_solve_result* res) {
-    st->solver = solver;
-    ++st->solves;
-    st->precond_ms += res->setup_ms;
-    st->iterations += res->iterations;
-    if (res->iterations > st->max_iterations) st->max_iterations = res->iterations;
-    if (res->residual > st->residual) st->residual = res->residual;
-    if (!res->converged) ++st->not_converged;
-}
-
 /* The substep's first solve of its system into s->dv, counted in st. Inexact Newton (newton.h
  * "Inexact"): a first iterate that further iterations correct is solved to forcing x its own
  * residual only, never past tolerance x the floor (the goal tolerance' x max(r0, floor') with
