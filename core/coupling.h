@@ -1,8 +1,9 @@
 /* Couplings of the implicit system that its block pattern has no room for: rank-one terms
  *   A += c (J^T J),   J = [w_1 n^T, ..., w_cnt n^T] on particles p_1 .. p_cnt (cnt <= 4),
  * between particles that share no spring (bsr.h: the pattern has blocks only for particles that
- * share one). The self-contact pairs (self_pairs.h) are its user: a cloth vertex against a
- * triangle of another part of the same cloth, or two edges, far apart on the mesh.
+ * share one). Its user: the coupled penalty-pair lists (penalty_pairs.h), the self-contact pairs
+ * (self_pairs.h): a cloth vertex against a triangle of another part of the same cloth, or two
+ * edges, far apart on the mesh.
  *
  * Split: the terms' diagonal blocks c w_a^2 n n^T live in A itself (the owner adds them, so the
  * block-diagonal and multigrid preconditioners, and the direct solver's factor, see them); the

@@ -1,5 +1,32 @@
-/* The mesh colliders' feature contacts as penalty terms of the implicit solve (rules and
- * formulas in mesh_pairs.h). */
+/* Finding the mesh colliders' feature pairs (mesh_pairs.h) at a substep's start.
+ *
+ * Sharp: a body edge is sharp in a substep when it is convex (the other triangle's far vertex
+ * behind the first's plane) and its triangles' normals at the substep's start turn by more than
+ * 30 degrees (WC_MESH_PAIR_SHARP_COS), or when it is a boundary or non-manifold edge; a body
+ * vertex is sharp when one of its edges is. On a smooth or finely tessellated body the
+ * particles' contacts carry the cloth, and pairs there would fight them.
+ *
+ * Detection (wc_mesh_pairs_find, at the substep's start, after wc_contacts_begin and before the
+ * forces; serial, in index order): for every cloth edge (p, q) the sharp body edges (r, s) and
+ * the sharp body vertices r of the body triangles whose swept box its box (start and inertial
+ * end, inflated by the reach) meets, and for every cloth triangle (p, q, u) the sharp body
+ * vertices; each body feature once per cloth feature. A pair is kept when the closest points at
+ * the start (cloth at x_n, body at xa) are interior to both features (a closest point at a cloth
+ * vertex is that particle's own contact; a body vertex nearest a cloth triangle's edge is the
+ * vertex-edge pair's) and closer than the contact distance d_c = 2 thickness + 1.5 h (approach
+ * speed along the pair's direction, cloth at v_n against the body point's velocity, when
+ * positive): the pair is in the system before it touches. The cloth point and every particle
+ * of the cloth feature must be in front of the body at the start (signed distance >= 0), and an
+ * edge-edge pair's direction within the body edge's normal cone (between its two triangles'
+ * normals): a garment that starts through the body comes out by its particles' push-out, which
+ * a pair must not fight; and a pair found deeper than push_speed x h inside the thickness is let
+ * out at push_speed as the particles are (its rest moved to g0 + push_speed h).
+ * Frozen for the substep: the cloth point's weights w (edge: 1 - a, a; triangle: barycentric),
+ * the unit normal n from the body point to the cloth point at the start (the body triangle's
+ * normal when they coincide), and off = n . b1 + thickness with b1 the body point at the
+ * substep's END (xb, the same weights on the body feature: the body moves linearly, the pair
+ * sees where it will be); k by penalty_pairs.h's rule. A pair whose particles lack a block in
+ * the pattern (bsr.h: blocks exist for particles sharing a spring) is skipped and counted. */
 #include "mesh_pairs.h"
 #include <math.h>
 #include <string.h>
@@ -71,22 +98,19 @@ static int sharp_build(wc_mesh_sharp* t, const wc_mesh_collider* mc, const wc_al
 
 wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_collider* const* mc, int nm,
                                     const wc_allocator* a) {
-    if (cap < 1) cap = 1;
     if (n_particles < 0) n_particles = 0;
     if (nm < 0 || (nm > 0 && !mc)) return NULL;
     wc_mesh_pairs* p = WC_NEW(a, wc_mesh_pairs, 1);
     if (!p) return NULL;
     memset(p, 0, sizeof *p);
-    p->pair = WC_NEW(a, wc_mesh_pair, (size_t)cap);
     p->behind = WC_NEW(a, signed char, (size_t)n_particles + 1);
     p->sharp = WC_NEW(a, wc_mesh_sharp, (size_t)nm + 1);
-    if (!p->pair || !p->behind || !p->sharp) {
+    if (!wc_penalty_pairs_init(&p->list, cap, 1, a) || !p->behind || !p->sharp) {
         wc_mesh_pairs_destroy(p, a);
         return NULL;
     }
     memset(p->sharp, 0, ((size_t)nm + 1) * sizeof(wc_mesh_sharp));
     p->n_mesh = nm;
-    p->cap = cap;
     p->n_particles = n_particles;
     for (int k = 0; k < nm; ++k)
         if (!sharp_build(&p->sharp[k], mc[k], a)) {
@@ -102,7 +126,7 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
         for (int k = 0; k < p->n_mesh; ++k) sharp_free(&p->sharp[k], a);
     wc_free(a, p->sharp);
     wc_free(a, p->behind);
-    wc_free(a, p->pair);
+    wc_penalty_pairs_free(&p->list, a);
     wc_free(a, p);
 }
 
@@ -140,18 +164,6 @@ static void sharp_update(wc_mesh_sharp* t, const wc_mesh_collider* mc) {
     }
 }
 
-/* index of block (i, j) in the pattern, -1 when it has none */
-static int find_block(const wc_bsr_pattern* pt, int i, int j) {
-    int lo = pt->row_start[i], hi = pt->row_start[i + 1] - 1;
-    while (lo <= hi) {
-        int mid = (lo + hi) / 2, c = pt->col[mid];
-        if (c == j) return mid;
-        if (c < j) lo = mid + 1;
-        else hi = mid - 1;
-    }
-    return -1;
-}
-
 typedef struct find_ctx {
     wc_mesh_pairs* pp;
     const wc_mesh_collider* mc;
@@ -176,10 +188,6 @@ static int seen_before(find_ctx* c, int a, int b) {
         ++c->n_seen;
     }
     return 0;
-}
-
-static int pinned(const find_ctx* c, int i) {
-    return c->f && c->f->ndof[i] == 3 && !(c->stick && c->stick[i]);
 }
 
 /* Keep the pair: cloth weights w (cnt), cloth point cp0 and body point bp0 at the start, body
@@ -214,39 +222,16 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
         if (*bh < 0) *bh = wc_mesh_closest(c->mc, 0, c->x + 3 * c->cloth[k], HUGE_VAL, NULL, NULL) < 0.0;
         if (*bh) return;
     }
-    double inv = 0.0;
-    for (int k = 0; k < cnt; ++k)
-        if (!pinned(c, c->cloth[k])) inv += w[k] * w[k] * c->m->inv_mass[c->cloth[k]];
+    double inv = wc_penalty_inv_mass(c->m, c->f, c->stick, cnt, c->cloth, w);
     if (!(inv > 0.0)) return;
-    wc_mesh_pairs* pp = c->pp;
-    wc_mesh_pair pr;
-    memset(&pr, 0, sizeof pr);
-    pr.cnt = cnt;
-    for (int a = 0; a < cnt; ++a) {
-        pr.p[a] = c->cloth[a];
-        pr.w[a] = w[a];
-        for (int b = 0; b < cnt; ++b) {
-            pr.blk[3 * a + b] = find_block(&c->m->pattern, c->cloth[a], c->cloth[b]);
-            if (pr.blk[3 * a + b] < 0) {
-                ++pp->skipped;
-                return;
-            }
-        }
-    }
-    v3_copy(pr.n, n);
-    pr.off = v3_dot(n, bp1) + th;
+    double off = v3_dot(n, bp1) + th;
     /* a pair found deeper than push_speed x h inside the thickness (a garment that started
        through a rim) is let out at push_speed, as its particles are (collide.h): the spring's
        rest is moved to where the cap allows this substep */
     const double cap = c->mc->push_speed * c->h;
-    const double g0 = v3_dot(n, cp0) - pr.off;
-    if (cap > 0.0 && g0 + cap < 0.0) pr.off += g0 + cap;
-    pr.k = WC_MESH_PAIR_KAPPA / (inv * c->he * c->he);
-    if (pp->n >= pp->cap) {
-        ++pp->overflow;
-        return;
-    }
-    pp->pair[pp->n++] = pr;
+    const double g0 = v3_dot(n, cp0) - off;
+    if (cap > 0.0 && g0 + cap < 0.0) off += g0 + cap;
+    wc_penalty_pairs_add(&c->pp->list, &c->m->pattern, cnt, c->cloth, w, n, off, wc_penalty_stiffness(inv, c->he));
 }
 
 static void lerp(double* o, const double* a, const double* b, double t) {
@@ -329,7 +314,7 @@ static void feature_box(const find_ctx* c, int cnt, double r, double* box) {
 
 int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int nm, const wc_model* m,
                        const wc_filter* f, const unsigned char* stick, const double* x, const double* v, double h, double he) {
-    pp->n = pp->overflow = pp->skipped = 0;
+    wc_penalty_pairs_clear(&pp->list);
     if (!(h > 0.0) || !(he > 0.0)) return 0;
     for (int k = 0; k < nm; ++k) {
         memset(pp->behind, -1, (size_t)pp->n_particles);
@@ -366,116 +351,5 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
             wc_bvh_query(&mc[k]->bvh, box, visit_vertex, &c);
         }
     }
-    return pp->n;
-}
-
-/* n . sum w_i y_i */
-static double along(const wc_mesh_pair* pr, const double* y) {
-    double s = 0.0;
-    for (int a = 0; a < pr->cnt; ++a) s += pr->w[a] * v3_dot(pr->n, y + 3 * pr->p[a]);
-    return s;
-}
-
-/* sign x the pair's terms: A += sign he^2 k w_a w_b n n^T (fa: the diagonal blocks too), b and fb
- * += sign he f_a with the linearised gap glin */
-static void add_terms(const wc_mesh_pair* pr, double sign, double glin, double he, double* A,
-                      double* b, double* fa, double* fb) {
-    double nn[9];
-    m3_outer(nn, pr->n, pr->n, 1.0);
-    for (int a = 0; a < pr->cnt; ++a) {
-        int i = pr->p[a];
-        double fi = -sign * he * pr->k * glin * pr->w[a];
-        v3_axpy(b + 3 * i, fi, pr->n);
-        if (fb) v3_axpy(fb + 3 * i, fi, pr->n);
-        for (int c = 0; c < pr->cnt; ++c) {
-            double s = sign * he * he * pr->k * pr->w[a] * pr->w[c];
-            m3_axpy(A + 9 * (size_t)pr->blk[3 * a + c], s, nn);
-            if (fa && c == a) m3_axpy(fa + 9 * (size_t)i, s, nn);
-        }
-    }
-}
-
-/* the gap linearised for the first system: g(x_n) + he n.sum w (v*) (the w-dependent part is A's) */
-static double gap_rhs(const wc_mesh_pair* pr, const double* x, const double* vstar, double he) {
-    return along(pr, x) - pr->off + he * along(pr, vstar);
-}
-
-int wc_mesh_pairs_assemble(wc_mesh_pairs* pp, const wc_model* m, const double* x, const double* vstar,
-                           const double* f_ext, double he, double* A, double* b, double* f_total) {
-    int active = 0;
-    for (int k = 0; k < pp->n; ++k) {
-        wc_mesh_pair* pr = &pp->pair[k];
-        double g = gap_rhs(pr, x, vstar, he);
-        if (f_ext)
-            for (int a = 0; a < pr->cnt; ++a) {
-                int i = pr->p[a];
-                g += he * he * pr->w[a] * v3_dot(pr->n, f_ext + 3 * i) * m->inv_mass[i];
-            }
-        pr->active = g < 0.0;
-        if (!pr->active) continue;
-        ++active;
-        add_terms(pr, 1.0, gap_rhs(pr, x, vstar, he), he, A, b, NULL, NULL);
-        if (f_total) {
-            double g0 = along(pr, x) - pr->off;
-            if (g0 < 0.0)
-                for (int a = 0; a < pr->cnt; ++a) v3_axpy(f_total + 3 * pr->p[a], -pr->k * g0 * pr->w[a], pr->n);
-        }
-    }
-    return active;
-}
-
-int wc_mesh_pairs_recheck(wc_mesh_pairs* pp, const double* x, const double* vstar,
-                          const double* dv, double he, double* A, double* b, double* fa, double* fb) {
-    int changed = 0;
-    for (int k = 0; k < pp->n; ++k) {
-        wc_mesh_pair* pr = &pp->pair[k];
-        double g = gap_rhs(pr, x, vstar, he) + he * along(pr, dv);
-        int want = g < 0.0;
-        if (want == pr->active) continue;
-        add_terms(pr, want ? 1.0 : -1.0, gap_rhs(pr, x, vstar, he), he, A, b, fa, fb);
-        pr->active = want;
-        ++changed;
-    }
-    return changed;
-}
-
-double wc_mesh_pairs_energy(const wc_mesh_pairs* pp, const double* x) {
-    double e = 0.0;
-    for (int k = 0; k < pp->n; ++k) {
-        const wc_mesh_pair* pr = &pp->pair[k];
-        double g = along(pr, x) - pr->off;
-        if (g < 0.0) e += 0.5 * pr->k * g * g;
-    }
-    return e;
-}
-
-int wc_mesh_pairs_newton(const wc_mesh_pairs* pp, const double* x, double he, double* A, double* g_out) {
-    int touching = 0;
-    double nn[9];
-    for (int k = 0; k < pp->n; ++k) {
-        const wc_mesh_pair* pr = &pp->pair[k];
-        double g = along(pr, x) - pr->off;
-        if (!(g < 0.0)) continue;
-        ++touching;
-        m3_outer(nn, pr->n, pr->n, 1.0);
-        for (int a = 0; a < pr->cnt; ++a) {
-            v3_axpy(g_out + 3 * pr->p[a], -he * pr->k * g * pr->w[a], pr->n);
-            for (int c = 0; c < pr->cnt; ++c)
-                m3_axpy(A + 9 * (size_t)pr->blk[3 * a + c], he * he * pr->k * pr->w[a] * pr->w[c], nn);
-        }
-    }
-    return touching;
-}
-
-double wc_mesh_pair_eval(const wc_mesh_pair* pr, const double* x, double* f, double* J) {
-    double g = along(pr, x) - pr->off;
-    int cnt = pr->cnt;
-    memset(f, 0, 3 * (size_t)cnt * sizeof(double));
-    memset(J, 0, 9 * (size_t)cnt * cnt * sizeof(double));
-    if (!(g < 0.0)) return 0.0;
-    for (int a = 0; a < cnt; ++a) {
-        v3_axpy(f + 3 * a, -pr->k * g * pr->w[a], pr->n);
-        for (int c = 0; c < cnt; ++c) m3_outer(J + 9 * (a * cnt + c), pr->n, pr->n, -pr->k * pr->w[a] * pr->w[c]);
-    }
-    return 0.5 * pr->k * g * g;
+    return pp->list.n;
 }

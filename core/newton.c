@@ -1,5 +1,87 @@
-/* Newton iterations with a backtracking line search (the potential, constraints and stopping
- * rules are in newton.h). */
+/* Newton iterations with a backtracking line search on a substep's incremental potential
+ * (newton.h): how they work and why.
+ *
+ * Unknown: the velocity change w = v_{n+1} - v_n; x(w) = xb + he (v_n + w) (BE: xb = x_n, he = h).
+ * The potential minimised (its gradient is the step's equations of motion, times -1):
+ *   Phi(w) = 1/2 (w - mom)^T M (w - mom)                   inertia (BE: mom = 0)
+ *          + U(x(w))                                       springs: sum k/2 (|L| - rest)^2
+ *          - f_ext . (x(w) - x_n)                           gravity + air, frozen at the substep start
+ *          - he/2 (v_n + w)^T D0 (v_n + w)                  spring damping D0 = dF/dv at x_n, frozen
+ *          + 1/2 w^T Fa w - Fb . w                          kinetic friction as assembled (frozen)
+ *          + he/2 w^T L w                                   TR-BDF2's implicit air drag (bdf2.h)
+ *          + sum k/2 min(g(x(w)), 0)^2                      penalty pairs (penalty_pairs.h)
+ *   grad Phi = M (w - mom) - he (f_springs(x) + D0 v + f_ext) + Fa w - Fb (+ the pairs' forces),
+ *   Hessian  ~ A = M - he D0 - he^2 K(x) + Fa   (K with the step's compression mode: by default the
+ *              compressed springs' negative geometric term is dropped, so A is SPD and every
+ *              filtered Newton direction is a descent direction of Phi).
+ * Forces without a potential enter frozen: air (drag and wind, explicit in the step anyway) is the
+ * constant force f_ext evaluated at (x_n, v_n), i.e. a linear potential; kinetic friction is the
+ * implicit damping that wc_contacts_friction put into A and b (Fa, Fb: a quadratic potential with
+ * the slide/stick decisions of the first solve kept); spring damping uses the directions of the
+ * substep's start. With these frozen, the first Newton step from x(w0) = x_n (w0 = -vstar) is
+ * exactly the Baraff-Witkin step. The penalty pairs enter exactly (their potential and its
+ * linearisation at x(w), active where g(x(w)) < 0), which is why step.c does not recheck them
+ * when Newton iterates.
+ *
+ * Refreshed, in TR-BDF2's stages: every further iteration re-freezes the non-potential terms at
+ * its own iterate w_k before it linearises, so that the gradient is the true equation's residual
+ * there and a converged stage solves the implicit equation itself, not one with the start's
+ * geometry (second order in time where the frozen form was first order):
+ *  - spring damping: D0 := -d u u^T with u the directions at x(w_k) (the damping force at w_k is
+ *    then exact: -d (dv . u) u); the Jacobian stays Baraff-Witkin's (no d/dx of the directions);
+ *  - TR-BDF2's implicit air (bdf2.h), when no contact is active in the stage: L := L(x(w_k)) and
+ *    f_ext := M g + f_air(x(w_k), v_n + w_k) + L w_k, so -he f_ext + he L w, the potential's air
+ *    gradient, is -he (M g + f_air) at w_k. With contacts the air's geometry stays the stage
+ *    start's: the lumped L over-damps a lone vertex sliding on a floor, which the frozen form
+ *    relies on.
+ * Backward Euler and BDF2 keep the frozen damping (and take the air explicitly): refreshed, BE
+ * with Newton 2 + line search lost test_api_motion's linear-inertia invariance, and BE is first
+ * order anyway. Phi is thus a new (convex) function from each iteration on: its value is
+ * recomputed at w_k after the refresh, and the line search and the flat-stop compare within one
+ * iteration. Without damping and air (or with Newton 1) nothing changes.
+ *
+ * Constraints (filter S, z). Every accepted iterate satisfies (I - S) w = (I - S) z exactly as
+ * the first solve does: the first iterate takes the prescribed part in full,
+ * w~0 = z + S w0 (pins on their targets, contacts at their normal velocity, sticking particles
+ * moving with their collider, free particles staying at x_n), and the line search of the first
+ * step runs only along its free part d0 = w1 - w~0 = S (w1 - w0), from Phi(w~0) to the
+ * Baraff-Witkin solution w1 at alpha = 1. Later iterations solve A d = -grad Phi with the same S
+ * and z = 0, so d stays in the free directions.
+ *
+ * Line search: alpha = 1, 1/2, ... (at most NW_BACKTRACKS halvings) until Armijo's
+ * Phi(w + alpha d) <= Phi(w) + NW_ARMIJO alpha grad.d (the first step: the slope of its quadratic
+ * model, A0 w~0 - b0, since grad Phi at w~0 is not evaluated); none found: the iterate stays
+ * (first step: w~0) and Newton stops. Without line search alpha = 1.
+ * Stops early: the filtered gradient |S grad Phi| at or below the linear solver's tolerance times
+ * the first system's |S (b - A z)|; a direction that does not descend; a failed solve (the
+ * iterate before it is kept); with line search, a decrease of Phi below NW_FLAT of its size.
+ * The friction recheck is not repeated.
+ *
+ * Inexact (Eisenstat & Walker 1996; wc_sim_def.newton_forcing, default 1e-2, 0 off): with more
+ * than one Newton iteration, the substep's first system need not be solved past the nonlinear
+ * error that the next iteration removes (after the first Baraff-Witkin step |S grad Phi| is still
+ * of the order of the first system's residual). step.c solves it to forcing x its own residual,
+ * never past tolerance x the solver's floor; not where a friction pass follows (it reads the
+ * contact forces off that solve), nor while penalty pairs are in the system (loose, a roof's
+ * ridge can cut through a sheet dropped on it), nor with the direct solver. The later
+ * iterations' solves are unchanged (tolerance x their own right-hand side): held instead to the
+ * first system's absolute target, a cloth resting on a sphere with Newton 2 never settled.
+ *
+ * Energy guard (energy_cap < HUGE_VAL; when it judges the substep's energy, the step passes the
+ * total energy, kinetic + springs + gravity's potential, of the substep's start after the
+ * contacts' position correction plus the gain its judge allows, fail_energy_gain x scale):
+ * after newton_iterations, up to NW_ENERGY_EXTRA more iterations are taken while the accepted
+ * iterate's total energy is above energy_cap. (A cap at the start's energy itself, no allowance,
+ * iterates on for gains of no consequence in cloth at rest.) Where the first linearised step
+ * overshoots (a cloth landing: the particles that stop pull their falling neighbours, and the
+ * springs' linearisation at x_n stretches them far beyond the solution), two iterations may leave
+ * the iterate with energy nothing supplied, which the judge rolls back; the exact minimiser of
+ * Phi dissipates (for the convex part of U), so iterating on towards it is the cure, and costs one
+ * solve per extra iteration instead of a rollback's two halved substeps. Counted in
+ * st->energy_iterations (and st->newton_iterations).
+ *
+ * Reductions are over fixed chunks of particles and springs: the result does not depend on the
+ * thread count. The measurements behind these choices: docs/core_measurements.md. */
 #include "newton.h"
 #include <math.h>
 #include <string.h>
@@ -7,6 +89,7 @@
 #include "clock.h"
 #include "forces.h"
 #include "mesh_pairs.h"
+#include "penalty_pairs.h"
 #include "self_pairs.h"
 #include "vec3.h"
 
@@ -152,13 +235,14 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
         }
     }
     phi += chunk_total(part, sc);
-    /* the mesh colliders' feature pairs (mesh_pairs.h): k/2 min(g(x(w)), 0)^2, serial */
-    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0) phi += wc_mesh_pairs_energy(s->pairs, x);
-    if (s->self_pairs && s->self_pairs->n > 0) phi += wc_self_pairs_energy(s->self_pairs, x);
+    /* the penalty pairs (penalty_pairs.h: the mesh colliders' feature pairs, the self-contact
+       pairs): k/2 min(g(x(w)), 0)^2, serial */
+    if (s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0) phi += wc_penalty_pairs_energy(&s->pairs->list, x);
+    if (s->self_pairs && s->self_pairs->list.n > 0) phi += wc_penalty_pairs_energy(&s->self_pairs->list, x);
     return phi;
 }
 
-/* TR-BDF2's implicit air at the iterate (newton.h "Refreshed"): air_lump = L(x(w)) and
+/* TR-BDF2's implicit air at the iterate ("Refreshed" above): air_lump = L(x(w)) and
  * f_ext = M g + f_air(x(w), v_n + w) + L(x(w)) w, so that -he f_ext + he L w, the potential's
  * air gradient, is -he (M g + f_air) at w itself. Expects positions(s, ig, w) done. */
 static void refresh_air(wc_state* s, const double* w) {
@@ -184,7 +268,7 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
     wc_eval_springs_at(m, s->nw_x, s->nw_zero, compression, s->seam_scale, &s->par, s->se);
     const double* vv = s->nw_v;
     double* kv0 = s->nw_kv0;
-    const int refresh = ig->stage != 0;   /* TR-BDF2's stages only (newton.h "Refreshed") */
+    const int refresh = ig->stage != 0;   /* TR-BDF2's stages only ("Refreshed" above) */
     wc_spring_eval* se = s->se;
     WC_PAR_REGION(&s->par)
     {
@@ -199,7 +283,7 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
             m3_mulv_add(se[k].f, se[k].kv, dv);
         }
     }
-    if (ig->air_implicit && !have_friction(s)) refresh_air(s, w);   /* contacts: frozen (newton.h) */
+    if (ig->air_implicit && !have_friction(s)) refresh_air(s, w);   /* contacts: frozen ("Refreshed") */
     double t1 = wc_now_ms();
     st->ms.forces += t1 - t0;
     wc_assemble(m, se, s->f_ext, s->nw_zero, ig->he, &s->par, s->A, s->nw_g, NULL);
@@ -231,9 +315,9 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
             }
         }
     }
-    /* the feature pairs touching at x(w): their force and stiffness (serial: rows shared) */
-    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0) wc_mesh_pairs_newton(s->pairs, s->nw_x, he, A, g);
-    if (s->self_pairs && s->self_pairs->n > 0) wc_self_pairs_newton(s->self_pairs, m, s->nw_x, he, A, g);
+    /* the penalty pairs touching at x(w): their force and stiffness (serial: rows shared) */
+    if (s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0) wc_penalty_pairs_newton(&s->pairs->list, m, s->nw_x, he, A, g);
+    if (s->self_pairs && s->self_pairs->list.n > 0) wc_penalty_pairs_newton(&s->self_pairs->list, m, s->nw_x, he, A, g);
     st->ms.assemble += wc_now_ms() - t1;
 }
 
@@ -329,7 +413,7 @@ wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solv
     for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
         if (it >= s->def.newton_iterations) {
             /* past the configured count only while the iterate holds more energy than the
-               substep started with (newton.h, "Energy guard") */
+               substep started with ("Energy guard" above) */
             if (!(iterate_energy(s, ig, w) > energy_cap)) break;
             ++st->energy_iterations;
         }

@@ -1,4 +1,20 @@
-/* Self-contacts as penalty terms of the implicit solve (rules and formulas in self_pairs.h). */
+/* Finding the self-contact pairs (self_pairs.h) at a substep's start.
+ *
+ * Detection (wc_self_pairs_find, at the substep's start, before the assembly), on the
+ * self-collision trees refitted over the boxes of x_n and x_n + 1.5 h v_n inflated by the
+ * thickness (so the broad phase covers the contact distance below): vertex i against triangle t
+ * (i not in t) and edge e against edge f > e (no shared particle), pairs with a particle sewn to
+ * the other side or made only of particles tangled at rest skipped (self_collide.h's rules). The
+ * closest points at the start must be interior to both features (barycentric weights and edge
+ * parameters above 1e-6: a vertex nearest an edge or a vertex is left to the stage) and closer
+ * than th + thickness + 1.5 h a (a: the approach speed along the pair's direction at v_n, when
+ * positive), with th = min(thickness, the pair's distance at rest) as in the stage. Frozen for
+ * the substep: the weights w (vertex-triangle: 1, -b1, -b2, -b3; edge-edge: 1-s, s, -(1-t), -t),
+ * the unit normal n from the second feature to the first at the start, off = WC_SELF_PAIR_MARGIN
+ * th, and k by penalty_pairs.h's rule.
+ * Deterministic on any thread count: the detection runs its queries (every vertex, then every
+ * edge) on sc->threads threads in fixed ranges, counting first, then writing each query's pairs
+ * where the prefix sum of the counts puts them (the serial list, in query order). */
 #include "self_pairs.h"
 #include <math.h>
 #include <string.h>
@@ -12,24 +28,19 @@
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
 
 wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, const wc_allocator* a) {
-    if (cap < 1) cap = 1;
     if (n_particles < 0) n_particles = 0;
     if (n_edges < 0) n_edges = 0;
     wc_self_pairs* sp = WC_NEW(a, wc_self_pairs, 1);
     if (!sp) return NULL;
     memset(sp, 0, sizeof *sp);
-    sp->term = WC_NEW(a, wc_coupling_term, (size_t)cap);
-    sp->th = WC_NEW(a, double, (size_t)cap);
-    sp->k = WC_NEW(a, double, (size_t)cap);
     sp->x_pred = WC_NEW(a, double, 3 * (size_t)n_particles + 1);
     sp->start = WC_NEW(a, int, (size_t)n_particles + n_edges + 1);
-    if (!sp->term || !sp->th || !sp->k || !sp->x_pred || !sp->start) {
+    if (!wc_penalty_pairs_init(&sp->list, cap, 0, a) || !sp->x_pred || !sp->start) {
         wc_self_pairs_destroy(sp, a);
         return NULL;
     }
-    sp->cap = cap;
     sp->n_particles = n_particles;
-    sp->coupling.t = sp->term;
+    sp->coupling.t = sp->list.term;
     return sp;
 }
 
@@ -37,9 +48,7 @@ void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a) {
     if (!sp) return;
     wc_free(a, sp->start);
     wc_free(a, sp->x_pred);
-    wc_free(a, sp->k);
-    wc_free(a, sp->th);
-    wc_free(a, sp->term);
+    wc_penalty_pairs_free(&sp->list, a);
     wc_free(a, sp);
 }
 
@@ -56,35 +65,21 @@ typedef struct find_ctx {
     int pos;        /* where the next kept pair goes */
 } find_ctx;
 
-static int pinned(const find_ctx* c, int i) { return c->f && c->f->ndof[i] == 3; }
-
 /* Keep the pair ids (w, at distance d along n at the start; th its rest gap) when it is close
  * enough for its approach speed and has an unpinned particle. */
 static void keep(find_ctx* c, const int* ids, const double* w, const double* n, double d, double th) {
-    double vrel = 0.0, inv = 0.0;
-    for (int a = 0; a < 4; ++a) {
-        vrel += w[a] * v3_dot(n, c->v + 3 * ids[a]);
-        if (!pinned(c, ids[a])) inv += w[a] * w[a] * c->m->inv_mass[ids[a]];
-    }
+    double vrel = 0.0;
+    for (int a = 0; a < 4; ++a) vrel += w[a] * v3_dot(n, c->v + 3 * ids[a]);
+    double inv = wc_penalty_inv_mass(c->m, c->f, NULL, 4, ids, w);
     double approach = vrel < 0.0 ? -vrel : 0.0;
     if (!(d < th + c->sc->thickness + 1.5 * c->h * approach) || !(inv > 0.0)) return;
-    wc_self_pairs* sp = c->sp;
     if (c->counting) {
         ++c->count;
         return;
     }
     int at = c->pos++;
-    if (at >= sp->cap) return;   /* counted as overflow by the caller */
-    wc_coupling_term* t = &sp->term[at];
-    t->cnt = 4;
-    for (int a = 0; a < 4; ++a) {
-        t->p[a] = ids[a];
-        t->w[a] = w[a];
-    }
-    v3_copy(t->n, n);
-    t->c = 0.0;
-    sp->th[at] = WC_SELF_PAIR_MARGIN * th;
-    sp->k[at] = WC_SELF_PAIR_KAPPA / (inv * c->he * c->he);
+    if (at >= c->sp->list.cap) return;   /* counted as overflow by the caller */
+    wc_penalty_pairs_set(&c->sp->list, at, 4, ids, w, n, WC_SELF_PAIR_MARGIN * th, wc_penalty_stiffness(inv, c->he));
 }
 
 static int tangled_all(const wc_self* sc, const int* ids) {
@@ -167,8 +162,7 @@ static void find_query(find_ctx* c, int q) {
 
 int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const wc_filter* f, const double* x,
                        const double* v, double h, double he) {
-    sp->n = 0;
-    sp->overflow = 0;
+    wc_penalty_pairs_clear(&sp->list);
     sp->coupling.n = 0;
     if (sc->n_tris == 0) return 0;
     int n = m->n_particles, nq = n + sc->n_edges;
@@ -206,114 +200,14 @@ int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const 
             int lo, hi;
             wc_par_range(nq, wc_par_tid(), wc_par_nt(), &lo, &hi);
             find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};
-            for (int q = lo; q < hi && start[q] < sp->cap; ++q) {
+            for (int q = lo; q < hi && start[q] < sp->list.cap; ++q) {
                 c.pos = start[q];
                 find_query(&c, q);
             }
         }
     }
-    sp->n = total < sp->cap ? total : sp->cap;
-    sp->overflow = total - sp->n;
-    sp->coupling.n = sp->n;
-    return sp->n;
-}
-
-/* n . sum w_i y_i */
-static double along(const wc_coupling_term* t, const double* y) {
-    double s = 0.0;
-    for (int a = 0; a < 4; ++a) s += t->w[a] * v3_dot(t->n, y + 3 * t->p[a]);
-    return s;
-}
-
-/* sign x the pair's terms: A's diagonal blocks += sign he^2 k w_a^2 n n^T, b += sign he f_a with
- * the linearised gap glin; the coupling coefficient to match */
-static void add_terms(wc_self_pairs* sp, const wc_model* m, int k, double sign, double glin, double he, double* A,
-                      double* b) {
-    wc_coupling_term* t = &sp->term[k];
-    double nn[9];
-    m3_outer(nn, t->n, t->n, 1.0);
-    for (int a = 0; a < 4; ++a) {
-        int i = t->p[a];
-        if (b) v3_axpy(b + 3 * i, -sign * he * sp->k[k] * glin * t->w[a], t->n);
-        m3_axpy(A + 9 * (size_t)m->pattern.diag[i], sign * he * he * sp->k[k] * t->w[a] * t->w[a], nn);
-    }
-    t->c = sign > 0.0 ? he * he * sp->k[k] : 0.0;
-}
-
-static double gap_rhs(const wc_self_pairs* sp, int k, const double* x, const double* vstar, double he) {
-    const wc_coupling_term* t = &sp->term[k];
-    return along(t, x) - sp->th[k] + he * along(t, vstar);
-}
-
-int wc_self_pairs_assemble(wc_self_pairs* sp, const wc_model* m, const double* x, const double* vstar,
-                           const double* f_ext, double he, double* A, double* b, double* f_total) {
-    int active = 0;
-    for (int k = 0; k < sp->n; ++k) {
-        wc_coupling_term* t = &sp->term[k];
-        t->c = 0.0;
-        double glin = gap_rhs(sp, k, x, vstar, he), g = glin;
-        if (f_ext)
-            for (int a = 0; a < 4; ++a) {
-                int i = t->p[a];
-                g += he * he * t->w[a] * v3_dot(t->n, f_ext + 3 * i) * m->inv_mass[i];
-            }
-        if (!(g < 0.0)) continue;
-        ++active;
-        add_terms(sp, m, k, 1.0, glin, he, A, b);
-        if (f_total) {
-            double g0 = along(t, x) - sp->th[k];
-            if (g0 < 0.0)
-                for (int a = 0; a < 4; ++a) v3_axpy(f_total + 3 * t->p[a], -sp->k[k] * g0 * t->w[a], t->n);
-        }
-    }
-    return active;
-}
-
-int wc_self_pairs_recheck(wc_self_pairs* sp, const wc_model* m, const double* x, const double* vstar,
-                          const double* dv, double he, double* A, double* b) {
-    int changed = 0;
-    for (int k = 0; k < sp->n; ++k) {
-        wc_coupling_term* t = &sp->term[k];
-        double glin = gap_rhs(sp, k, x, vstar, he);
-        int want = glin + he * along(t, dv) < 0.0, is = t->c > 0.0;
-        if (want == is) continue;
-        add_terms(sp, m, k, want ? 1.0 : -1.0, glin, he, A, b);
-        ++changed;
-    }
-    return changed;
-}
-
-double wc_self_pairs_energy(const wc_self_pairs* sp, const double* x) {
-    double e = 0.0;
-    for (int k = 0; k < sp->n; ++k) {
-        double g = along(&sp->term[k], x) - sp->th[k];
-        if (g < 0.0) e += 0.5 * sp->k[k] * g * g;
-    }
-    return e;
-}
-
-int wc_self_pairs_newton(wc_self_pairs* sp, const wc_model* m, const double* x, double he, double* A,
-                         double* g_out) {
-    int touching = 0;
-    for (int k = 0; k < sp->n; ++k) {
-        double g = along(&sp->term[k], x) - sp->th[k];
-        sp->term[k].c = 0.0;
-        if (!(g < 0.0)) continue;
-        ++touching;
-        add_terms(sp, m, k, 1.0, g, he, A, g_out);   /* the exact gap at x: force and stiffness */
-    }
-    return touching;
-}
-
-double wc_self_pair_eval(const wc_self_pairs* sp, int k, const double* x, double* f, double* J) {
-    const wc_coupling_term* t = &sp->term[k];
-    double g = along(t, x) - sp->th[k];
-    memset(f, 0, 12 * sizeof(double));
-    memset(J, 0, 144 * sizeof(double));
-    if (!(g < 0.0)) return 0.0;
-    for (int a = 0; a < 4; ++a) {
-        v3_axpy(f + 3 * a, -sp->k[k] * g * t->w[a], t->n);
-        for (int c = 0; c < 4; ++c) m3_outer(J + 9 * (a * 4 + c), t->n, t->n, -sp->k[k] * t->w[a] * t->w[c]);
-    }
-    return 0.5 * sp->k[k] * g * g;
+    sp->list.n = total < sp->list.cap ? total : sp->list.cap;
+    sp->list.overflow = total - sp->list.n;
+    sp->coupling.n = sp->list.n;
+    return sp->list.n;
 }

@@ -8,6 +8,7 @@
 #include "mesh_collider.h"
 #include "mesh_pairs.h"
 #include "newton.h"
+#include "penalty_pairs.h"
 #include "self_collide.h"
 #include "self_pairs.h"
 #include "strain_limit.h"
@@ -222,9 +223,9 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     if (s->n_mesh > 0 && s->pairs) {
         wc_mesh_pairs_find(s->pairs, (const wc_mesh_collider* const*)s->mesh, s->n_mesh, m, &s->filter, NULL, s->x,
                            s->v, h, ig->he);
-        st->mesh_pairs += s->pairs->n;
-        st->mesh_pair_overflow += s->pairs->overflow;
-        st->mesh_pair_skipped += s->pairs->skipped;
+        st->mesh_pairs += s->pairs->list.n;
+        st->mesh_pair_overflow += s->pairs->list.overflow;
+        st->mesh_pair_skipped += s->pairs->list.skipped;
     }
     /* the self-contact pairs at the substep's start (self_pairs.h) */
     if (s->self_pairs) {
@@ -232,8 +233,8 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
         double ts = wc_now_ms();
         s->self->threads = s->par.threads; /* detection threads (self_pairs.h) */
         wc_self_pairs_find(s->self_pairs, s->self, m, &s->filter, s->x, s->v, h, ig->he);
-        st->self_pairs += s->self_pairs->n;
-        st->self_pair_overflow += s->self_pairs->overflow;
+        st->self_pairs += s->self_pairs->list.n;
+        st->self_pair_overflow += s->self_pairs->list.overflow;
         double te = wc_now_ms();
         st->ms.self_collide += te - ts;
         t0 += te - ts;
@@ -252,12 +253,12 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     wc_integ_forces(s, ig);
     if (ig->mom)
         for (int i = 0; i < n; ++i) v3_axpy(s->b + 3 * i, m->mass[i], ig->mom + 3 * i);
-    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0)
+    if (s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0)
         st->mesh_pairs_active +=
-            wc_mesh_pairs_assemble(s->pairs, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
-    if (s->self_pairs && s->self_pairs->n > 0)
+            wc_penalty_pairs_assemble(&s->pairs->list, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
+    if (s->self_pairs && s->self_pairs->list.n > 0)
         st->self_pairs_active +=
-            wc_self_pairs_assemble(s->self_pairs, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
+            wc_penalty_pairs_assemble(&s->self_pairs->list, m, s->x, ig->vstar, s->f_ext, ig->he, s->A, s->b, s->f);
     if (wc_newton_wanted(&s->def)) wc_newton_capture(s);
     t1 = wc_now_ms();
     st->ms.assemble += t1 - t0;
@@ -292,7 +293,7 @@ static wc_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_s
                                wc_step_stats* st) {
     const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
     const double forcing = s->def.newton_forcing;
-    const int pairs = (s->pairs && s->pairs->n > 0) || (s->self_pairs && s->self_pairs->n > 0);
+    const int pairs = (s->pairs && s->pairs->list.n > 0) || (s->self_pairs && s->self_pairs->list.n > 0);
     const int loose = solver != WC_SOLVER_DIRECT && stuck == 0 && !pairs && wc_newton_wanted(&s->def) &&
                       s->def.newton_iterations > 1 && forcing > tolerance;
     if (!loose) {
@@ -309,6 +310,23 @@ static wc_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_s
     wc_solve_result counted = *res;
     counted.residual = 0.0;   /* held to the forcing term: counted if it missed that (step.h) */
     wc_step_stats_add_solve(st, solver, &counted);
+    return status;
+}
+
+/* After the first solve (s->dv) without Newton iterations: the pairs of pp whose solved gap
+ * disagrees with their state switch (penalty_pairs.h) and the system is solved again from s->dv,
+ * WC_PENALTY_PASSES times at most, each pass counted in *passes and its solve in st and res. With
+ * Newton iterations the next iterations see the pairs' exact terms instead: re-solving there as
+ * well makes the active set chatter between the passes. */
+static wc_status pair_passes(wc_state* s, wc_penalty_pairs* pp, const wc_integ* ig, wc_solver_type solver,
+                             wc_solve_result* res, int* passes, wc_step_stats* st) {
+    wc_status status = WC_OK;
+    for (int pass = 0; pass < WC_PENALTY_PASSES && status == WC_OK; ++pass) {
+        if (wc_penalty_pairs_recheck(pp, s->model, s->x, ig->vstar, s->dv, ig->he, s->A, s->b) == 0) break;
+        ++*passes;
+        status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, res);
+        wc_step_stats_add_solve(st, solver, res);
+    }
     return status;
 }
 
@@ -350,14 +368,14 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     h = ig.h;   /* TR-BDF2: the stage's length */
     double collide_gain = 0.0; /* J */
     int stuck = prepare(s, &ig, alpha1, compression, judge_energy ? &collide_gain : NULL, st);
-    if (s->self_pairs && s->self_pairs->overflow > 0)
+    if (s->self_pairs && s->self_pairs->list.overflow > 0)
         wc_log(diag, WC_LOG_WARN, "substep (h = %g s): %d self-contact pairs past the list's capacity %d were left out of the solve",
-               h, s->self_pairs->overflow, s->self_pairs->cap);
-    if (s->pairs && (s->pairs->overflow > 0 || s->pairs->skipped > 0))
+               h, s->self_pairs->list.overflow, s->self_pairs->list.cap);
+    if (s->pairs && (s->pairs->list.overflow > 0 || s->pairs->list.skipped > 0))
         wc_log(diag, WC_LOG_WARN,
                "substep (h = %g s): %d mesh feature pairs past the list's capacity %d and %d without pattern "
                "blocks were left out of the solve",
-               h, s->pairs->overflow, s->pairs->cap, s->pairs->skipped);
+               h, s->pairs->list.overflow, s->pairs->list.cap, s->pairs->list.skipped);
     /* the colliders' position corrections (begin's push out of the shells, project's at the end)
        are collision responses: a collider pushing a particle out does work on the cloth, which
        the energy judge does not charge to the step (as the self-collision stage's below). The
@@ -388,26 +406,12 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
         status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
         wc_step_stats_add_solve(st, solver, &res);
     }
-    /* the feature pairs whose solved gap disagrees with their state switch, and the system is
-       solved again from this dv (mesh_pairs.h); with Newton iterations the next iterations see
-       the exact term instead (re-solving there too cost suit_on_body 1441 ms a frame instead of
-       191: the active set chatters between the passes) */
-    if (s->n_mesh > 0 && s->pairs && s->pairs->n > 0 && !wc_newton_wanted(&s->def))
-        for (int pass = 0; pass < WC_MESH_PAIR_PASSES && status == WC_OK; ++pass) {
-            int changed = wc_mesh_pairs_recheck(s->pairs, s->x, ig.vstar, s->dv, ig.he, s->A, s->b, NULL, NULL);
-            if (changed == 0) break;
-            ++st->mesh_pair_passes;
-            status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
-            wc_step_stats_add_solve(st, solver, &res);
-        }
-    if (s->self_pairs && s->self_pairs->n > 0 && !wc_newton_wanted(&s->def))
-        for (int pass = 0; pass < WC_SELF_PAIR_PASSES && status == WC_OK; ++pass) {
-            int changed = wc_self_pairs_recheck(s->self_pairs, m, s->x, ig.vstar, s->dv, ig.he, s->A, s->b);
-            if (changed == 0) break;
-            ++st->self_pair_passes;
-            status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
-            wc_step_stats_add_solve(st, solver, &res);
-        }
+    /* the penalty pairs (the mesh colliders' feature pairs, then the self-contact pairs) whose
+       solved gap disagrees with their state switch, and the system is solved again */
+    if (status == WC_OK && s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0 && !wc_newton_wanted(&s->def))
+        status = pair_passes(s, &s->pairs->list, &ig, solver, &res, &st->mesh_pair_passes, st);
+    if (status == WC_OK && s->self_pairs && s->self_pairs->list.n > 0 && !wc_newton_wanted(&s->def))
+        status = pair_passes(s, &s->self_pairs->list, &ig, solver, &res, &st->self_pair_passes, st);
     t1 = wc_now_ms();
     st->ms.solve += t1 - t0;
     t0 = t1;

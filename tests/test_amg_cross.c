@@ -173,7 +173,7 @@ static wc_amg* hierarchy(wc_state* s, int dense_dofs, wc_par* par) {
     wc_diag d = {0};
     CHECK(wc_amg_create(&a, s->model, &o, NULL, &d) == WC_OK);
     if (!a) return NULL;
-    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->cap, &d) == WC_OK);
+    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->list.cap, &d) == WC_OK);
     a->pos = s->x; /* the solver's rotations: about the current positions */
     wc_amg_setup(a, s->A, &s->filter, par);
     return a;

@@ -113,7 +113,7 @@ typedef struct trace_rec {
 static void on_iterate(void* user, const wc_state* s, int it, double phi, const double* w) {
     (void)w;
     trace_rec* tr = user;
-    if (s->pairs && s->pairs->n == 0) return;
+    if (s->pairs && s->pairs->list.n == 0) return;
     if (it > 0) {
         double rise = phi - tr->last;
         if (rise > 1e-12 * fabs(tr->last) + 1e-15) {
@@ -207,9 +207,9 @@ static void test_ridge_and_apex(void) {
 }
 
 /* One pair's energy at x (n x 3) */
-static double pair_energy(const wc_mesh_pair* pr, const double* x) {
+static double pair_energy(const wc_penalty_pairs* pl, int k, const double* x) {
     double f[9], J[81];
-    return wc_mesh_pair_eval(pr, x, f, J);
+    return wc_penalty_pair_eval(pl, k, x, f, J);
 }
 
 /* The pair term against finite differences of its energy, and its assembly (A, b), for the first
@@ -229,14 +229,16 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
     wc_mesh_pairs* pp = wc_mesh_pairs_create(64, m.n_particles, &cm, 1, NULL);
     CHECK(pp != NULL);
     wc_mesh_pairs_find(pp, &cm, 1, &m, NULL, NULL, x, v, h, h);
-    const wc_mesh_pair* pr = NULL;
-    for (int k = 0; k < pp->n && !pr; ++k)
-        if (pp->pair[k].cnt == cnt) pr = &pp->pair[k];
-    CHECK(pr != NULL);
-    if (!pr) goto done;
+    const wc_penalty_pairs* pl = &pp->list;
+    int k = -1;
+    for (int j = 0; j < pl->n && k < 0; ++j)
+        if (pl->term[j].cnt == cnt) k = j;
+    CHECK(k >= 0);
+    if (k < 0) goto done;
+    const wc_coupling_term* pr = &pl->term[k];
     /* finite differences of E (forces) and of the forces (Jacobian), central, step 1e-7 m */
     double f[9], J[81], worst_f = 0.0, worst_J = 0.0, fmx = 0.0, Jmax = 0.0;
-    double e = wc_mesh_pair_eval(pr, x, f, J);
+    double e = wc_penalty_pair_eval(pl, k, x, f, J);
     const double eps = 1e-7;
     for (int b = 0; b < cnt; ++b)
         for (int c = 0; c < 3; ++c) {
@@ -245,11 +247,11 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
             memcpy(xm, x, sizeof x);
             xp[3 * pr->p[b] + c] += eps;
             xm[3 * pr->p[b] + c] -= eps;
-            double fd = -(pair_energy(pr, xp) - pair_energy(pr, xm)) / (2 * eps);
+            double fd = -(pair_energy(pl, k, xp) - pair_energy(pl, k, xm)) / (2 * eps);
             worst_f = fmax(worst_f, fabs(fd - f[3 * b + c]));
             fmx = fmax(fmx, fabs(f[3 * b + c]));
-            wc_mesh_pair_eval(pr, xp, fp, Jd);
-            wc_mesh_pair_eval(pr, xm, fm, Jd);
+            wc_penalty_pair_eval(pl, k, xp, fp, Jd);
+            wc_penalty_pair_eval(pl, k, xm, fm, Jd);
             for (int a = 0; a < cnt; ++a)
                 for (int r = 0; r < 3; ++r) {
                     double jd = (fp[3 * a + r] - fm[3 * a + r]) / (2 * eps); /* dF_a,r / dx_b,c */
@@ -259,21 +261,22 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
                 }
         }
     /* the assembly: this pair alone into zero A and b, linearised at x with v* = 0 */
-    wc_mesh_pair one = *pr;
-    wc_mesh_pairs single = {1, 1, 0, 0, &one, 0, NULL, 0, NULL};
+    wc_penalty_pairs single;
+    CHECK(wc_penalty_pairs_init(&single, 1, 1, NULL));
+    CHECK_EQ_INT(wc_penalty_pairs_add(&single, &m.pattern, pr->cnt, pr->p, pr->w, pr->n, pl->off[k], pl->k[k]), 1);
     int nb = m.pattern.n_blocks;
     double* A = calloc(9 * (size_t)nb, sizeof(double));
     double bb[12] = {0}, vstar[12] = {0}, worst_A = 0.0, worst_b = 0.0;
-    CHECK_EQ_INT(wc_mesh_pairs_assemble(&single, &m, x, vstar, NULL, h, A, bb, NULL), 1);
+    CHECK_EQ_INT(wc_penalty_pairs_assemble(&single, &m, x, vstar, NULL, h, A, bb, NULL), 1);
     for (int a = 0; a < cnt; ++a) {
         for (int r = 0; r < 3; ++r) worst_b = fmax(worst_b, fabs(bb[3 * pr->p[a] + r] - h * f[3 * a + r]));
         for (int c = 0; c < cnt; ++c)
             for (int q = 0; q < 9; ++q)
-                worst_A = fmax(worst_A, fabs(A[9 * one.blk[3 * a + c] + q] + h * h * J[9 * (a * cnt + c) + q]));
+                worst_A = fmax(worst_A, fabs(A[9 * single.blk[WC_PENALTY_MAX * a + c] + q] + h * h * J[9 * (a * cnt + c) + q]));
     }
     printf("  %s pair (particles %d %d %d, gap %.3g m, E %.3g J): |f - (-dE/dx)_fd| %.3g of %.3g N, "
            "|J - (df/dx)_fd| %.3g of %.3g N/m; assembled A, b off by %.3g, %.3g\n",
-           name, pr->p[0], pr->p[1], cnt == 3 ? pr->p[2] : -1, -sqrt(2 * e / pr->k), e, worst_f, fmx, worst_J,
+           name, pr->p[0], pr->p[1], cnt == 3 ? pr->p[2] : -1, -sqrt(2 * e / pl->k[k]), e, worst_f, fmx, worst_J,
            Jmax, worst_A, worst_b);
     CHECK(e > 0.0);
     CHECK(worst_f <= 1e-6 * fmx);
@@ -281,6 +284,7 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
     CHECK(worst_A <= 1e-12 * h * h * Jmax);
     CHECK(worst_b <= 1e-12 * h * fmx);
     free(A);
+    wc_penalty_pairs_free(&single, NULL);
 done:
     (void)n;
     wc_mesh_pairs_destroy(pp, NULL);

@@ -45,21 +45,21 @@ static wc_state* approaching(const wc_model* m, const wc_sim_def* def) {
 }
 
 /* Energy of pair k at x (self_pairs.h's formula, written out) */
-static double pair_energy(const wc_self_pairs* sp, int k, const double* x) {
+static double pair_energy(const wc_penalty_pairs* sp, int k, const double* x) {
     const wc_coupling_term* t = &sp->term[k];
-    double g = -sp->th[k];
+    double g = -sp->off[k];
     for (int a = 0; a < 4; ++a) g += t->w[a] * v3_dot(t->n, x + 3 * t->p[a]);
     return g < 0.0 ? 0.5 * sp->k[k] * g * g : 0.0;
 }
 
-static void check_pair_fd(const wc_self_pairs* sp, int k, const double* x0, int n) {
+static void check_pair_fd(const wc_penalty_pairs* sp, int k, const double* x0, int n) {
     double* x = malloc(3 * (size_t)n * sizeof(double));
     memcpy(x, x0, 3 * (size_t)n * sizeof(double));
     const wc_coupling_term* t = &sp->term[k];
     /* push the pair into contact: its first particle moves 2 thicknesses against n */
     v3_axpy(x + 3 * t->p[0], -2.0 * TH / t->w[0], t->n);
     double f[12], J[144], fp[12], Jp[144], fm[12], Jm[144];
-    double e = wc_self_pair_eval(sp, k, x, f, J);
+    double e = wc_penalty_pair_eval(sp, k, x, f, J);
     CHECK(e > 0.0);
     const double eps = 1e-7;
     double worst_f = 0.0, worst_j = 0.0, fscale = 0.0, jscale = 0.0;
@@ -71,10 +71,10 @@ static void check_pair_fd(const wc_self_pairs* sp, int k, const double* x0, int 
             double keep = *xi;
             *xi = keep + eps;
             double ep = pair_energy(sp, k, x);
-            wc_self_pair_eval(sp, k, x, fp, Jp);
+            wc_penalty_pair_eval(sp, k, x, fp, Jp);
             *xi = keep - eps;
             double em = pair_energy(sp, k, x);
-            wc_self_pair_eval(sp, k, x, fm, Jm);
+            wc_penalty_pair_eval(sp, k, x, fm, Jm);
             *xi = keep;
             worst_f = fmax(worst_f, fabs(-(ep - em) / (2 * eps) - f[3 * b + c]));
             for (int a = 0; a < 4; ++a)
@@ -98,7 +98,7 @@ static void test_pair_derivatives(void) {
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
-    wc_self_pairs* sp = s->self_pairs;
+    wc_penalty_pairs* sp = s->self_pairs ? &s->self_pairs->list : NULL;
     CHECK(sp && sp->n > 0);
     int vt = -1, ee = -1;
     for (int k = 0; k < sp->n; ++k) {
@@ -156,7 +156,7 @@ static void dense_system(const wc_state* s, int with_coupling, double* K) {
                 for (int c = 0; c < 3; ++c)
                     K[(size_t)(3 * i + r) * N3 + 3 * p->col[k] + c] = s->A[9 * (size_t)k + 3 * r + c];
     if (!with_coupling) return;
-    const wc_self_pairs* sp = s->self_pairs;
+    const wc_penalty_pairs* sp = &s->self_pairs->list;
     for (int q = 0; q < sp->n; ++q) {
         const wc_coupling_term* t = &sp->term[q];
         if (!(t->c > 0)) continue;
