@@ -1,4 +1,4 @@
-/* One frame = substeps of backward Euler with rollback (see step.h). */
+/* One frame = substeps of backward Euler, BDF2 or TR-BDF2 with rollback and retries (step.h). */
 #include "step.h"
 #include <math.h>
 #include <string.h>
@@ -287,8 +287,8 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
  * "Inexact"): a first iterate that further iterations correct is solved to forcing x its own
  * residual only, never past tolerance x the floor (the goal tolerance' x max(r0, floor') with
  * tolerance' = forcing, floor' = floor x tolerance / forcing); not where a friction pass reads its
- * contact forces off it (stuck > 0), nor where mesh or self-contact pairs are in the system. res
- * carries the tight solve's scale, Newton's reference. */
+ * contact forces off it (stuck > 0), nor where penalty pairs are in the system. res carries the
+ * tight solve's scale, Newton's reference. */
 static wc_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_solve_result* res,
                                wc_step_stats* st) {
     const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
@@ -382,8 +382,8 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
        Newton energy guard's bound (newton.h): the energy after begin's correction plus the gain
        the judge allows, so that Newton iterates on exactly where the judge would roll back.
        TR-BDF2: stage 1 keeps its own bound (its gain is not judged, but iterating on towards the
-       trapezoidal solution is what made the 64^2 sheet 0.93 % off instead of 1.17 %); stage 2
-       has the substep's (step.h "TR-BDF2's energy"). */
+       trapezoidal solution makes the stage more accurate); stage 2 has the substep's (step.h
+       "TR-BDF2's energy"). */
     double energy_cap = HUGE_VAL;
     if (judge_energy && stage == 2)
         energy_cap = carry->start_total + carry->excluded + collide_gain + energy_allowance(s, &before);

@@ -1,26 +1,23 @@
 /* Advancing a state by one frame: substeps of backward Euler or BDF2 (bdf2.h) (forces -> assembly
  * -> constraints -> solve, with Newton iterations and a line search when def asks (newton.h) ->
- * contacts -> positions -> strain limit), each checked for failure (non-finite
- * values, strain above fail_strain, kinetic-energy blow-up, total energy rising with nothing to
- * supply it; the colliders' and self-collision's position corrections are collision responses
- * that do work on the cloth, and their energy is not charged to the step). A failed substep is rolled back and retried with half the step (up to
- * max_halvings times: 2, 4, 8 pieces), then with the direct solver and the compressed springs'
- * geometric term dropped (a positive-definite system): in the finest pieces (judged on all but
- * the energy gain), then in one piece accepted whenever it is finite; if that also fails the
- * state is left as it was before the substep and the frame reports WC_ERROR_STEP_FAILED.
- * Positions are never left non-finite.
+ * contacts -> positions -> strain limit), each checked for failure: non-finite values, strain
+ * above fail_strain, kinetic-energy blow-up, total energy rising with nothing to supply it (the
+ * colliders' and self-collision's position corrections are collision responses that do work on
+ * the cloth, and their energy is not charged to the step). A failed substep is rolled back and
+ * retried with half the step (up to max_halvings times: 2, 4, 8 pieces), then with the direct
+ * solver and the compressed springs' geometric term dropped (a positive-definite system): in the
+ * finest pieces (judged on all but the energy gain), then in one piece accepted whenever it is
+ * finite; if that also fails the state is left as it was before the substep and the frame
+ * reports WC_ERROR_STEP_FAILED. Positions are never left non-finite.
  *
  * TR-BDF2's energy (bdf2.h): each stage is judged as a substep of its own length (finite,
  * strain, kinetic blow-up), but the total-energy gain is judged once, at the end of stage 2,
- * from the substep's start (the collision responses of both stages left out); the Newton energy
- * guard (newton.h) runs in stage 2 against that bound, in stage 1 against stage 1's own (its
- * extra iterations are what brings the 64^2 sheet to 0.93 % of the reference at one step per
- * frame, 1.17 % without them), but stage 1 is not rolled back for it. Stage 1 is the trapezoidal
- * rule, which does not dissipate: where a swing passes its lowest point it may end above the
- * substep's start by more than the allowance while the composite step does not (the 32^2
- * hanging sheet, frame 20: +0.056 J after stage 1 against 0.022 J allowed, rolled back when each
- * stage was judged on its own; tests/test_sample_rollbacks.c). A substep gaining energy as a
- * whole is still rolled back (tests/test_trbdf2.c's flat start).
+ * from the substep's start (the collision responses of both stages left out): stage 1, the
+ * trapezoidal rule, does not dissipate, and where a swing passes its lowest point it may end
+ * above the substep's start by more than the allowance while the composite step does not
+ * (tests/test_sample_rollbacks.c). A substep gaining energy as a whole is still rolled back. The
+ * Newton energy guard (newton.h) runs in stage 2 against that bound, in stage 1 against stage
+ * 1's own, but stage 1 is not rolled back for it.
  *
  * Sleeping (state.h has the wake rules). A frame first compares def.gravity and def.air with the
  * previous frame's (a change wakes the cloth). A sleeping cloth's frame then only advances time
