@@ -1,13 +1,13 @@
-/* The mesh colliders' feature contacts in the implicit solve (core/mesh_pairs.c): a coarse sheet
- * (25 cm between particles) dropped onto a roof-shaped prism whose sharp ridge runs between two
- * columns of particles, and onto a pyramid whose apex is under the middle of one cloth triangle.
- * Every particle stays out of the bodies either way (its own contacts); the ridge and the apex
- * would cut through the cloth between the particles. Checked after every frame, by brute force
- * and independently of the pairs: no body edge intersects a cloth triangle (segment-triangle
- * test), and no particle is behind a body's surface. Also: the pair term's force and Jacobian
- * against finite differences of its energy (one edge-edge, one vertex-triangle pair, found by the
- * detection), its assembly into A and b, and Newton's potential non-increasing along its line
- * search while pairs are active. */
+/* The mesh colliders' feature contacts in the implicit solve (core/mesh_pairs.c,
+ * core/penalty_pairs.c): a coarse sheet (25 cm between particles) dropped onto a roof-shaped prism
+ * whose sharp ridge runs between two columns of particles, and onto a pyramid whose apex is under
+ * the middle of one cloth triangle. Every particle stays out of the bodies either way (its own
+ * contacts); the ridge and the apex would cut through the cloth between the particles. Checked
+ * after every frame, by brute force and independently of the pairs: no body edge intersects a
+ * cloth triangle (segment-triangle test), and no particle is behind a body's surface. Also: the
+ * pair term's force and Jacobian against finite differences of its energy (one edge-edge, one
+ * vertex-triangle pair, found by the detection), its assembly into A and b, and Newton's potential
+ * non-increasing along its line search while pairs are active. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

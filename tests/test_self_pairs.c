@@ -1,4 +1,5 @@
-/* Self-contacts inside the implicit solve (core/self_pairs.h, core/coupling.h):
+/* Self-contacts inside the implicit solve (core/self_pairs.h, core/penalty_pairs.h,
+ * core/coupling.h):
  *   - each pair's force and stiffness against finite differences of its energy (a
  *     vertex-triangle and an edge-edge pair);
  *   - the substep's system with the off-pattern couplings solved by PCG (block-Jacobi and
@@ -44,7 +45,7 @@ static wc_state* approaching(const wc_model* m, const wc_sim_def* def) {
     return s;
 }
 
-/* Energy of pair k at x (self_pairs.h's formula, written out) */
+/* Energy of pair k at x (penalty_pairs.h's formula, written out) */
 static double pair_energy(const wc_penalty_pairs* sp, int k, const double* x) {
     const wc_coupling_term* t = &sp->term[k];
     double g = -sp->off[k];
