@@ -17,7 +17,8 @@
 #include "penalty_pairs.h"
 #include "vec3.h"
 
-enum { G = 3 };   /* vertices per side of the sheet */
+enum { G = 3 };                  /* vertices per side of the sheet */
+static const double HE = 1.0 / 60; /* the system's step, s */
 
 /* 1 when the pattern has block (i, j) */
 static int has_block(const wc_bsr_pattern* pt, int i, int j) {
@@ -51,7 +52,7 @@ static pair_def spring_pair(const wc_model* m) {
     d.n[1] = 1.0;
     double y = 0.5 * m->rest_pos[3 * d.p[0] + 1] + 0.5 * m->rest_pos[3 * d.p[1] + 1];
     d.off = y + 0.002;
-    d.k = wc_penalty_stiffness(wc_penalty_inv_mass(m, NULL, NULL, d.cnt, d.p, d.w), 1.0 / 60);
+    d.k = wc_penalty_stiffness(wc_penalty_inv_mass(m, NULL, NULL, d.cnt, d.p, d.w), HE);
     return d;
 }
 
@@ -59,7 +60,6 @@ static void test_two_kinds_same_system(void) {
     wc_model m;
     CHECK(ts_sheet(&m, G, 1.0, 0.0, 0, 1.0));
     const int n3 = 3 * m.n_particles, nb = m.pattern.n_blocks;
-    const double he = 1.0 / 60;
     pair_def d = spring_pair(&m);
     wc_penalty_pairs in, co;
     CHECK(wc_penalty_pairs_init(&in, 4, 1, NULL));
@@ -72,10 +72,10 @@ static void test_two_kinds_same_system(void) {
     double *b_in = calloc(n3, sizeof(double)), *b_co = calloc(n3, sizeof(double));
     double *vstar = calloc(n3, sizeof(double)), *x = calloc(n3, sizeof(double));
     double *y_in = calloc(n3, sizeof(double)), *y_co = calloc(n3, sizeof(double));
-    CHECK_EQ_INT(wc_penalty_pairs_assemble(&in, &m, m.rest_pos, vstar, NULL, he, A_in, b_in, NULL), 1);
-    CHECK_EQ_INT(wc_penalty_pairs_assemble(&co, &m, m.rest_pos, vstar, NULL, he, A_co, b_co, NULL), 1);
+    CHECK_EQ_INT(wc_penalty_pairs_assemble(&in, &m, m.rest_pos, vstar, NULL, HE, A_in, b_in, NULL), 1);
+    CHECK_EQ_INT(wc_penalty_pairs_assemble(&co, &m, m.rest_pos, vstar, NULL, HE, A_co, b_co, NULL), 1);
     CHECK(in.active[0] == 1 && co.active[0] == 1);
-    CHECK(co.term[0].c == he * he * d.k);
+    CHECK(co.term[0].c == HE * HE * d.k);
     CHECK(wc_coupling_active(&cpl) == 1);
     for (int k = 0; k < n3; ++k) x[k] = 0.1 * (k % 7) - 0.3;
     system_mul(&m, A_in, NULL, x, y_in);
@@ -98,7 +98,6 @@ static void test_recheck_and_newton(void) {
     wc_model m;
     CHECK(ts_sheet(&m, G, 1.0, 0.0, 0, 1.0));
     const int n3 = 3 * m.n_particles, nb = m.pattern.n_blocks;
-    const double he = 1.0 / 60;
     pair_def d = spring_pair(&m);
     for (int kind = 0; kind < 2; ++kind) {
         wc_penalty_pairs pp;
@@ -109,29 +108,29 @@ static void test_recheck_and_newton(void) {
         double *b = calloc(n3, sizeof(double)), *vstar = calloc(n3, sizeof(double));
         double *dv = calloc(n3, sizeof(double)), *g = calloc(n3, sizeof(double));
         for (int k = 0; k < 9 * nb; ++k) A[k] = A0[k] = (k % 9) % 4 == 0 ? 1.0 : 0.0;   /* identity blocks */
-        CHECK_EQ_INT(wc_penalty_pairs_assemble(&pp, &m, m.rest_pos, vstar, NULL, he, A, b, NULL), 1);
+        CHECK_EQ_INT(wc_penalty_pairs_assemble(&pp, &m, m.rest_pos, vstar, NULL, HE, A, b, NULL), 1);
         /* a solve that lifts both particles 6 mm over the substep: the gap opens, the pair is released */
-        dv[3 * d.p[0] + 1] = dv[3 * d.p[1] + 1] = 0.006 / he;
-        CHECK_EQ_INT(wc_penalty_pairs_recheck(&pp, &m, m.rest_pos, vstar, dv, he, A, b), 1);
+        dv[3 * d.p[0] + 1] = dv[3 * d.p[1] + 1] = 0.006 / HE;
+        CHECK_EQ_INT(wc_penalty_pairs_recheck(&pp, &m, m.rest_pos, vstar, dv, HE, A, b), 1);
         CHECK(pp.active[0] == 0 && pp.term[0].c == 0.0);
         CHECK(ts_max_diff(A, A0, 9 * nb) <= 1e-12);
         CHECK(ts_max_abs(b, n3) <= 1e-12);
-        CHECK_EQ_INT(wc_penalty_pairs_recheck(&pp, &m, m.rest_pos, vstar, dv, he, A, b), 0);
+        CHECK_EQ_INT(wc_penalty_pairs_recheck(&pp, &m, m.rest_pos, vstar, dv, HE, A, b), 0);
         /* one that leaves them where they are: taken back */
         memset(dv, 0, n3 * sizeof(double));
-        CHECK_EQ_INT(wc_penalty_pairs_recheck(&pp, &m, m.rest_pos, vstar, dv, he, A, b), 1);
-        CHECK(pp.active[0] == 1 && pp.term[0].c == he * he * d.k);
+        CHECK_EQ_INT(wc_penalty_pairs_recheck(&pp, &m, m.rest_pos, vstar, dv, HE, A, b), 1);
+        CHECK(pp.active[0] == 1 && pp.term[0].c == HE * HE * d.k);
         /* Newton: touching at the rest positions (g = -2 mm), not 1 cm higher */
         double e = wc_penalty_pairs_energy(&pp, m.rest_pos);
         CHECK_NEAR(e, 0.5 * d.k * 0.002 * 0.002, 1e-9 * e);
-        CHECK_EQ_INT(wc_penalty_pairs_newton(&pp, &m, m.rest_pos, he, A, g), 1);
+        CHECK_EQ_INT(wc_penalty_pairs_newton(&pp, &m, m.rest_pos, HE, A, g), 1);
         CHECK(pp.active[0] == 1 && g[3 * d.p[0] + 1] > 0.0);
         double* x = malloc(n3 * sizeof(double));
         memcpy(x, m.rest_pos, n3 * sizeof(double));
         x[3 * d.p[0] + 1] += 0.01;
         x[3 * d.p[1] + 1] += 0.01;
         CHECK(wc_penalty_pairs_energy(&pp, x) == 0.0);
-        CHECK_EQ_INT(wc_penalty_pairs_newton(&pp, &m, x, he, A, g), 0);
+        CHECK_EQ_INT(wc_penalty_pairs_newton(&pp, &m, x, HE, A, g), 0);
         CHECK(pp.active[0] == 0 && pp.term[0].c == 0.0);
         free(A), free(A0), free(b), free(vstar), free(dv), free(g), free(x);
         wc_penalty_pairs_free(&pp, NULL);
