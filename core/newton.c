@@ -316,8 +316,10 @@ static void newton_system(wc_state* s, const wc_integ* ig, const double* w, wc_c
         }
     }
     /* the penalty pairs touching at x(w): their force and stiffness (serial: rows shared) */
-    if (s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0) wc_penalty_pairs_newton(&s->pairs->list, m, s->nw_x, he, A, g);
-    if (s->self_pairs && s->self_pairs->list.n > 0) wc_penalty_pairs_newton(&s->self_pairs->list, m, s->nw_x, he, A, g);
+    if (s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0)
+        wc_penalty_pairs_newton(&s->pairs->list, m, s->nw_x, he, A, g);
+    if (s->self_pairs && s->self_pairs->list.n > 0)
+        wc_penalty_pairs_newton(&s->self_pairs->list, m, s->nw_x, he, A, g);
     st->ms.assemble += wc_now_ms() - t1;
 }
 

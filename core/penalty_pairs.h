@@ -16,8 +16,9 @@
  * Stiffness: k = WC_PENALTY_KAPPA m_eff / he^2, 1 / m_eff = sum_a w_a^2 / m_a over the pair's
  * unpinned particles: the pair adds KAPPA times its point's own inertia along n to the system,
  * and holds a load F at a penetration F he^2 / (KAPPA m_eff) (a particle's weight: g he^2 /
- * KAPPA). No damping (the integrator's own dissipation damps it), no friction. The capacity is fixed at creation; pairs past it are counted, not
- * silently dropped. Serial, in list order: the result does not depend on the thread count. */
+ * KAPPA). No damping (the integrator's own dissipation damps it), no friction. The capacity is
+ * fixed at creation; pairs past it are counted, not silently dropped. Serial, in list order: the
+ * result does not depend on the thread count. */
 #ifndef WEFT_CORE_PENALTY_PAIRS_H
 #define WEFT_CORE_PENALTY_PAIRS_H
 #include "alloc.h"

@@ -272,7 +272,8 @@ static void check_pair(const char* name, const tmesh* body, double y, int cnt) {
         for (int r = 0; r < 3; ++r) worst_b = fmax(worst_b, fabs(bb[3 * pr->p[a] + r] - h * f[3 * a + r]));
         for (int c = 0; c < cnt; ++c)
             for (int q = 0; q < 9; ++q)
-                worst_A = fmax(worst_A, fabs(A[9 * single.blk[WC_PENALTY_MAX * a + c] + q] + h * h * J[9 * (a * cnt + c) + q]));
+                worst_A = fmax(worst_A, fabs(A[9 * single.blk[WC_PENALTY_MAX * a + c] + q] +
+                                             h * h * J[9 * (a * cnt + c) + q]));
     }
     printf("  %s pair (particles %d %d %d, gap %.3g m, E %.3g J): |f - (-dE/dx)_fd| %.3g of %.3g N, "
            "|J - (df/dx)_fd| %.3g of %.3g N/m; assembled A, b off by %.3g, %.3g\n",
