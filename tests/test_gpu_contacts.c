@@ -75,7 +75,7 @@ static int make_colliders(int kind, int moving, wc_collider* c) {
 static float* g_buf;
 
 static void read3(wg_sim* g, const wg_tex* t, double* out) {
-    wg_array_read(g, t, g->n, g_buf);
+    wg_array_read(&g->layout, t, g->n, g_buf);
     for (int i = 0; i < g->n; ++i)
         for (int c = 0; c < 3; ++c) out[3 * i + c] = g_buf[4 * i + c];
 }
@@ -85,7 +85,7 @@ static void upload3(wg_sim* g, const wg_tex* t, const double* a) {
         for (int c = 0; c < 3; ++c) g_buf[4 * i + c] = (float)a[3 * i + c];
         g_buf[4 * i + 3] = 0.0f;
     }
-    wg_array_upload(g, t, g->n, g_buf);
+    wg_array_upload(&g->layout, t, g->n, g_buf);
 }
 
 static void upload_filter(wg_sim* g, const wc_filter* f) {
@@ -95,13 +95,13 @@ static void upload_filter(wg_sim* g, const wc_filter* f) {
         float* p = g_buf + 4 * i;
         p[0] = (float)S[0], p[1] = (float)S[1], p[2] = (float)S[2], p[3] = (float)S[4];
     }
-    wg_array_upload(g, &g->S0, n, g_buf);
+    wg_array_upload(&g->layout, &g->S0, n, g_buf);
     for (int i = 0; i < n; ++i) {
         const double* S = f->S + 9 * i;
         float* p = g_buf + 4 * i;
         p[0] = (float)S[5], p[1] = (float)S[8], p[2] = (float)f->ndof[i], p[3] = 0.0f;
     }
-    wg_array_upload(g, &g->S1, n, g_buf);
+    wg_array_upload(&g->layout, &g->S1, n, g_buf);
     upload3(g, &g->z, f->z);
 }
 
@@ -109,8 +109,8 @@ static void upload_filter(wg_sim* g, const wc_filter* f) {
 static void read_filter(wg_sim* g, double* S, int* ndof, double* z) {
     int n = g->n;
     float* b1 = malloc((size_t)n * 16);
-    wg_array_read(g, &g->S0, n, g_buf);
-    wg_array_read(g, &g->S1, n, b1);
+    wg_array_read(&g->layout, &g->S0, n, g_buf);
+    wg_array_read(&g->layout, &g->S1, n, b1);
     for (int i = 0; i < n; ++i) {
         const float* a = g_buf + 4 * i;
         const float* b = b1 + 4 * i;
@@ -131,8 +131,8 @@ static void upload_A(wg_sim* g, const double* A) {
         lo[4 * k] = (float)a[0], lo[4 * k + 1] = (float)a[1], lo[4 * k + 2] = (float)a[2], lo[4 * k + 3] = (float)a[4];
         hi[2 * k] = (float)a[5], hi[2 * k + 1] = (float)a[8];
     }
-    wg_array_upload(g, &g->A0, nb, lo);
-    wg_array_upload(g, &g->A1, nb, hi);
+    wg_array_upload(&g->layout, &g->A0, nb, lo);
+    wg_array_upload(&g->layout, &g->A1, nb, hi);
     free(lo);
     free(hi);
 }
@@ -141,8 +141,8 @@ static void read_A(wg_sim* g, double* A) {
     int nb = g->nb;
     float* lo = malloc((size_t)nb * 16);
     float* hi = malloc((size_t)nb * 16);
-    wg_array_read(g, &g->A0, nb, lo);
-    wg_array_read(g, &g->A1, nb, hi);
+    wg_array_read(&g->layout, &g->A0, nb, lo);
+    wg_array_read(&g->layout, &g->A1, nb, hi);
     for (int k = 0; k < nb; ++k) {
         const float* a = lo + 4 * k;
         const float* b = hi + 4 * k;
@@ -182,7 +182,7 @@ static void take_gpu(wg_sim* g, wc_state* s, snap* out) {
     tmp.released = out->released;
     tmp.stick = out->stick;
     s->contacts = tmp;
-    wg_contacts_download(g, s);
+    wg_contacts_download(g->contacts, s);
     out->active = s->contacts.active;
     s->contacts = keep;
 }
@@ -350,7 +350,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     CHECK(g->contacts != NULL);
     g_buf = realloc(g_buf, (size_t)(n > nb ? n : nb) * 16);
     wg_sim_upload(g, s, &d);
-    wg_contacts_upload(g, s);
+    wg_contacts_upload(g->contacts, s);
     upload_filter(g, &s->filter);
 
     double* x = malloc((size_t)n * 3 * sizeof(double));
@@ -372,14 +372,14 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     /* 1. begin */
     g->x.keep = g->x.cur;   /* as the step's save does */
     g->v.keep = g->v.cur;
-    wg_contacts_save(g);
+    wg_contacts_save(g->contacts);
     int x_start = g->x.cur, v_start = g->v.cur;
     take_gpu(g, s, &before);
     int act_cpu = wc_contacts_begin(&s->contacts, c, nc, s->x, s->v, h, &s->filter, &s->par);
-    wg_contacts_begin(g, s, h);
+    wg_contacts_begin(g->contacts, s, h);
     read3(g, wg_ring_cur(&g->x), x);
     double ex = err_of(x, s->x, 3 * n);
-    int act_gpu = wg_contacts_active(g);
+    int act_gpu = wg_contacts_active(g->contacts);
     int two = 0;
     for (int i = 0; i < n; ++i) two += s->contacts.collider[2 * i + 1] >= 0;
     printf("    begin: %d in contact (%d with two), gpu %d; x err %.2g\n", act_cpu, two, act_gpu, ex);
@@ -391,13 +391,13 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     compare_contacts(&s->contacts, &gs, n, 1, "begin");
 
     /* save / restore: back to the state before begin, then forward again */
-    wg_contacts_restore(g);
+    wg_contacts_restore(g->contacts);
     take_gpu(g, s, &gs);
     int diff = memcmp(gs.collider, before.collider, (size_t)n * 2 * sizeof(int)) != 0 ||
                memcmp(gs.normal, before.normal, (size_t)n * 6 * sizeof(double)) != 0 ||
                memcmp(gs.released, before.released, (size_t)n) != 0;
     CHECK(!diff);
-    CHECK_EQ_INT(wg_contacts_active(g), before.active);
+    CHECK_EQ_INT(wg_contacts_active(g->contacts), before.active);
     /* redo begin on the GPU from the original input (x, filter were changed: re-upload) */
     {
         wc_state* s2 = NULL;
@@ -409,7 +409,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
         upload_filter(g, &s2->filter);
         wc_state_destroy(s2);
     }
-    wg_contacts_begin(g, s, h);
+    wg_contacts_begin(g->contacts, s, h);
     read3(g, wg_ring_cur(&g->x), x);
     CHECK(err_of(x, s->x, 3 * n) < 1e-5);
     take_gpu(g, s, &gs);
@@ -422,7 +422,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     upload3(g, &g->ftot, f);
     int st_cpu = wc_contacts_friction(&s->contacts, c, nc, s->v, m.mass, f, NULL, h, &s->filter, A, m.pattern.diag, b,
                                       &s->par);
-    wg_contacts_friction(g, s, h);
+    wg_contacts_friction(g->contacts, s, h);
     int n_stick = 0;
     compare_filter(g, &s->filter, "friction", &n_stick);
     take_gpu(g, s, &gs);
@@ -454,7 +454,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     }
     int ch_cpu = wc_contacts_friction_recheck(&s->contacts, c, nc, s->v, m.mass, r, &s->filter, A, m.pattern.diag, b,
                                               &s->par);
-    int ch_gpu = wg_contacts_recheck(g, s, &g->sv[0], h);
+    int ch_gpu = wg_contacts_recheck(g->contacts, s, &g->sv[0]);
     compare_filter(g, &s->filter, "recheck", NULL);
     take_gpu(g, s, &gs);
     compare_contacts(&s->contacts, &gs, n, 1, "recheck");
@@ -484,10 +484,10 @@ static void run_case(int kind, int moving, unsigned long long seed) {
         for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
     }
     wc_contacts_end(&s->contacts, nc, r, &s->par);
-    wg_contacts_end(g, s, &g->sv[1]);
+    wg_contacts_end(g->contacts, s, &g->sv[1]);
     int rel = 0;
     for (int i = 0; i < n; ++i) rel += s->contacts.released[i];
-    act_gpu = wg_contacts_active(g);
+    act_gpu = wg_contacts_active(g->contacts);
     printf("    end: %d still in contact (gpu %d), %d released\n", s->contacts.active, act_gpu, rel);
     CHECK_EQ_INT(act_gpu, s->contacts.active);
     CHECK(rel > 0);
@@ -499,7 +499,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     for (int i = 0; i < 3 * n; ++i) s->x[i] = fr(x[i] + h * s->v[i] * 2.0);
     upload3(g, wg_ring_cur(&g->x), s->x);
     int moved = wc_contacts_project(&s->contacts, c, nc, &s->filter, s->x, s->v, &s->par);
-    wg_contacts_project(g, s);
+    wg_contacts_project(g->contacts, s);
     /* the substep's start (saved) is never written: a rollback can return to it */
     CHECK(g->x.cur != x_start);
     CHECK(g->v.cur != v_start);
@@ -545,7 +545,7 @@ static void test_no_capacity(void) {
     CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WC_OK);
     if (g) {
         CHECK(g->contacts == NULL);
-        CHECK_EQ_INT(wg_contacts_active(g), 0);
+        CHECK_EQ_INT(wg_contacts_active(g->contacts), 0);
         wg_sim_destroy(g);
     }
     wc_state_destroy(s);

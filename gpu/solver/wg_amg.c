@@ -25,14 +25,14 @@ wc_amg_opts wg_amg_opts(void) {
     } while (0)
 
 /* int4 items (a, b, c, d) per entry into a new RGBA32I array */
-static int upload_i4(wg_sim* g, wg_tex* t, int count, const int* v, char* err, size_t el) {
-    return wg_array_create(g, t, GL_RGBA32I, count, v, err, el);
+static int upload_i4(const wg_layout* L, wg_tex* t, int count, const int* v, char* err, size_t el) {
+    return wg_array_create(L, t, GL_RGBA32I, count, v, err, el);
 }
 
 /* The n_items items grouped by key (counting sort, items ascending within a group), uploaded as
  * range (per group: first, end) and list (per position: the item), int4 arrays. start: n_groups
  * + 1 ints of scratch (not key); v: int4 scratch for max(n_groups, n_items) items. */
-static int upload_groups(wg_sim* g, wg_tex* range, wg_tex* list, int n_groups, int n_items, const int* key, int* start,
+static int upload_groups(const wg_layout* L, wg_tex* range, wg_tex* list, int n_groups, int n_items, const int* key, int* start,
                          int* v, char* err, size_t el) {
     memset(start, 0, sizeof(int) * (size_t)(n_groups + 1));
     for (int k = 0; k < n_items; ++k) ++start[key[k] + 1];
@@ -42,23 +42,24 @@ static int upload_groups(wg_sim* g, wg_tex* range, wg_tex* list, int n_groups, i
         v[4 * K] = start[K];
         v[4 * K + 1] = start[K + 1];
     }
-    if (!upload_i4(g, range, n_groups, v, err, el)) return 0;
+    if (!upload_i4(L, range, n_groups, v, err, el)) return 0;
     memset(v, 0, 4u * sizeof(int) * (size_t)n_items);
     for (int k = 0; k < n_items; ++k) v[4 * start[key[k]]++] = k;
-    return upload_i4(g, list, n_items, v, err, el);
+    return upload_i4(L, list, n_items, v, err, el);
 }
 
 /* One level's textures from core's level L; P: the finer level of core's hierarchy (NULL on level
  * 0) for the Galerkin and member lists. Level 0 has no pattern or blocks of its own: its passes
  * read the system's (use_level). */
-static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const wc_amg_level* L, int* buf,
+static int level_create(wg_runner* run, wg_amg_level* G, const wc_amg_level* P, const wc_amg_level* L, int* buf,
                         char* err, size_t el) {
+    const wg_layout* L0 = run->layout;
     G->n = L->n;
     G->nb = L->n_blocks;
     int cap = (L->n > L->n_blocks ? L->n : L->n_blocks);
     if (P && P->n_blocks > cap) cap = P->n_blocks;
     if (P && P->n > cap) cap = P->n;
-    int* v = wc_calloc(&g->alloc, 4u * (size_t)(cap + 1), sizeof(int));
+    int* v = wc_calloc(&L0->alloc, 4u * (size_t)(cap + 1), sizeof(int));
     if (!v) {
         wg_errorf(err, el, "out of memory");
         return 0;
@@ -69,7 +70,7 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
         v[4 * i + 2] = L->diag[i];
         v[4 * i + 3] = L->agg ? L->agg[i] : -1;
     }
-    TRY(upload_i4(g, &G->rows, L->n, v, err, el));
+    TRY(upload_i4(L0, &G->rows, L->n, v, err, el));
     if (P) {   /* the finest level reads the system's own pattern and blocks (amg_level_inputs.glsl) */
         memset(v, 0, 4u * sizeof(int) * (size_t)L->n_blocks);
         for (int i = 0; i < L->n; ++i)
@@ -77,7 +78,7 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
                 v[4 * k] = i;
                 v[4 * k + 1] = L->col[k];
             }
-        TRY(upload_i4(g, &G->cols, L->n_blocks, v, err, el));
+        TRY(upload_i4(L0, &G->cols, L->n_blocks, v, err, el));
         /* each finer block (i, j) sums into this level's block (agg i, agg j) */
         int* start = buf; /* (nb + 1) */
         int* slot = buf + L->n_blocks + 1; /* (P->n_blocks) */
@@ -91,42 +92,42 @@ static int level_create(wg_sim* g, wg_amg_level* G, const wc_amg_level* P, const
                 }
                 slot[k] = K;
             }
-        TRY(upload_groups(g, &G->gal_range, &G->gal_list, L->n_blocks, P->n_blocks, slot, start, v, err, el));
+        TRY(upload_groups(L0, &G->gal_range, &G->gal_list, L->n_blocks, P->n_blocks, slot, start, v, err, el));
         /* members of each aggregate, ascending */
-        TRY(upload_groups(g, &G->mem_range, &G->mem_list, L->n, P->n, P->agg, start, v, err, el));
-        TRY(wg_array_create(g, &G->r, GL_RGBA32F, L->n, NULL, err, el));
+        TRY(upload_groups(L0, &G->mem_range, &G->mem_list, L->n, P->n, P->agg, start, v, err, el));
+        TRY(wg_array_create(L0, &G->r, GL_RGBA32F, L->n, NULL, err, el));
     }
     for (int c = 0; c < 3; ++c) {
-        if (P) TRY(wg_array_create(g, &G->a[c], GL_RGBA32F, L->n_blocks, NULL, err, el));
-        TRY(wg_array_create(g, &G->dinv[c], GL_RGBA32F, L->n, NULL, err, el));
+        if (P) TRY(wg_array_create(L0, &G->a[c], GL_RGBA32F, L->n_blocks, NULL, err, el));
+        TRY(wg_array_create(L0, &G->dinv[c], GL_RGBA32F, L->n, NULL, err, el));
     }
     for (int c = 0; c < 2; ++c) {
-        TRY(wg_array_create(g, &G->x[c], GL_RGBA32F, L->n, NULL, err, el));
-        TRY(wg_array_create(g, &G->d[c], GL_RGBA32F, L->n, NULL, err, el));
-        TRY(wg_array_create(g, &G->v[c], GL_RGBA32F, L->n, NULL, err, el));
+        TRY(wg_array_create(L0, &G->x[c], GL_RGBA32F, L->n, NULL, err, el));
+        TRY(wg_array_create(L0, &G->d[c], GL_RGBA32F, L->n, NULL, err, el));
+        TRY(wg_array_create(L0, &G->v[c], GL_RGBA32F, L->n, NULL, err, el));
     }
-    TRY(wg_array_create(g, &G->part, GL_RGBA32F, L->n, NULL, err, el));
-    TRY(wg_chain_create(g, &G->red, G->part.w, G->part.h, err, el));
+    TRY(wg_array_create(L0, &G->part, GL_RGBA32F, L->n, NULL, err, el));
+    TRY(wg_chain_create(run, &G->red, G->part.w, G->part.h, err, el));
     /* core's start vector (amg_build.c), so that both backends estimate from the same one */
-    double* sv = wc_calloc(&g->alloc, 3u * (size_t)L->n, sizeof(double));
-    float* f = wc_calloc(&g->alloc, 4u * (size_t)L->n, sizeof(float));
+    double* sv = wc_calloc(&L0->alloc, 3u * (size_t)L->n, sizeof(double));
+    float* f = wc_calloc(&L0->alloc, 4u * (size_t)L->n, sizeof(float));
     if (!sv || !f) {
-        wc_free(&g->alloc, sv);
-        wc_free(&g->alloc, f);
+        wc_free(&L0->alloc, sv);
+        wc_free(&L0->alloc, f);
         wg_errorf(err, el, "out of memory");
         goto fail;
     }
     wc_amg_start_vector(sv, L->n);
     for (int i = 0; i < L->n; ++i)
         for (int c = 0; c < 3; ++c) f[4 * i + c] = (float)sv[3 * i + c];
-    int ok = wg_array_create(g, &G->v0, GL_RGBA32F, L->n, f, err, el);
-    wc_free(&g->alloc, sv);
-    wc_free(&g->alloc, f);
+    int ok = wg_array_create(L0, &G->v0, GL_RGBA32F, L->n, f, err, el);
+    wc_free(&L0->alloc, sv);
+    wc_free(&L0->alloc, f);
     TRY(ok);
-    wc_free(&g->alloc, v);
+    wc_free(&L0->alloc, v);
     return 1;
 fail:
-    wc_free(&g->alloc, v);
+    wc_free(&L0->alloc, v);
     return 0;
 }
 
@@ -139,18 +140,22 @@ static int level_textures(wg_amg_level* G, wg_tex** out) {
     return n;
 }
 
-int wg_amg_create(wg_sim* g, char* err, size_t el) {
+int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
+                  size_t el) {
+    *out = NULL;
+    const wc_allocator* alloc = &run->layout->alloc;
     wc_amg_opts o = wg_amg_opts();
     wc_amg* ca = NULL;
     wc_diag d = {0};
-    if (wc_amg_create(&ca, g->m, &o, &g->alloc, &d) != WC_OK) {
+    if (wc_amg_create(&ca, m, &o, alloc, &d) != WC_OK) {
         wg_errorf(err, el, "multigrid: %s", d.message);
         return 0;
     }
-    wg_amg* a = wc_calloc(&g->alloc, 1, sizeof *a);
+    wg_amg* a = wc_calloc(alloc, 1, sizeof *a);
     int* buf = NULL;
     if (!a) goto oom;
-    g->amg = a;
+    a->run = run;
+    a->sys = *sys;
     a->n_levels = ca->n_levels;
     a->sweeps = o.sweeps;
     a->ratio = o.chebyshev_ratio;
@@ -159,28 +164,29 @@ int wg_amg_create(wg_sim* g, char* err, size_t el) {
         int c = ca->lev[l].n_blocks + 1 + (l > 0 ? ca->lev[l - 1].n_blocks : 0);
         if (c > cap) cap = c;
     }
-    buf = wc_calloc(&g->alloc, (size_t)cap, sizeof(int));
+    buf = wc_calloc(alloc, (size_t)cap, sizeof(int));
     if (!buf) goto oom;
     for (int l = 0; l < ca->n_levels; ++l)
-        if (!level_create(g, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, err, el)) goto fail;
+        if (!level_create(run, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, err, el)) goto fail;
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
-    wc_free(&g->alloc, buf);
+    wc_free(alloc, buf);
     wc_amg_destroy(ca);
+    *out = a;
     return 1;
 oom:
     wg_errorf(err, el, "out of memory");
 fail:
-    wc_free(&g->alloc, buf);
+    wc_free(alloc, buf);
     wc_amg_destroy(ca);
+    wg_amg_destroy(a);
     return 0;
 }
 
-void wg_amg_destroy(wg_sim* g) {
-    wg_amg* a = g->amg;
+static void release(wg_amg* a, int gl) {
     if (!a) return;
-    if (!g->forget_gl) {
+    if (gl) {
         for (int l = 0; l < a->n_levels; ++l) {
             wg_tex* t[32];
             int n = level_textures(&a->lev[l], t);
@@ -189,25 +195,26 @@ void wg_amg_destroy(wg_sim* g) {
         }
         wg_tex_destroy(&a->coarse_L);
     }
-    wc_free(&g->alloc, a);
-    g->amg = NULL;
+    wc_free(&a->run->layout->alloc, a);
 }
 
-size_t wg_amg_bytes(const wg_sim* g) {
-    wg_amg* a = g->amg;
+void wg_amg_destroy(wg_amg* a) { release(a, 1); }
+void wg_amg_forget(wg_amg* a) { release(a, 0); }
+
+size_t wg_amg_bytes(const wg_amg* a) {
     if (!a) return 0;
     size_t bytes = a->coarse_L.id ? wg_tex_bytes(&a->coarse_L) : 0;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_tex* t[32];
-        int n = level_textures(&a->lev[l], t);
+        int n = level_textures((wg_amg_level*)&a->lev[l], t);
         for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
-        for (int k = 0; k < a->lev[l].red.n_levels; ++k) bytes += wg_tex_bytes(&a->lev[l].red.level[k]);
+        bytes += wg_chain_bytes(&a->lev[l].red);
     }
     return bytes;
 }
 
-static void in3(wg_sim* g, int unit, const wg_tex* t) {
-    for (int c = 0; c < 3; ++c) wg_in(g, unit + c, t + c);
+static void in3(wg_runner* run, int unit, const wg_tex* t) {
+    for (int c = 0; c < 3; ++c) wg_in(run, unit + c, t + c);
 }
 
 /* The pass p (a coarse level's) or its form over the finest level, p's *_FINE. */
@@ -227,121 +234,116 @@ static wg_pass_id level_pass(wg_pass_id p, int l) {
 /* Level l's pass p with the level's inputs on units 0..8 (amg_level_inputs.glsl): rows, then on
  * level 0 the system's blocks (row, column), A and S, on coarser levels the level's cols and
  * blocks; then D^-1 unless the pass makes it. */
-static void use_level(wg_sim* g, const wg_amg* a, int l, wg_pass_id p) {
+static void use_level(const wg_amg* a, int l, wg_pass_id p) {
+    wg_runner* run = a->run;
     const wg_amg_level* L = &a->lev[l];
-    wg_use(g, level_pass(p, l));
-    wg_in(g, 0, &L->rows);
+    wg_use(run, level_pass(p, l));
+    wg_in(run, 0, &L->rows);
     if (l == 0) {
-        wg_in(g, 1, &g->block);
-        wg_in(g, 2, &g->A0);
-        wg_in(g, 3, &g->A1);
-        wg_in(g, 4, &g->S0);
-        wg_in(g, 5, &g->S1);
-        if (p != WGP_AMG_DINV) in3(g, 6, L->dinv);
+        wg_in(run, 1, a->sys.block);
+        wg_in(run, 2, a->sys.a_lo);
+        wg_in(run, 3, a->sys.a_hi);
+        wg_in(run, 4, a->sys.s0);
+        wg_in(run, 5, a->sys.s1);
+        if (p != WGP_AMG_DINV) in3(run, 6, L->dinv);
     } else {
-        wg_in(g, 1, &L->cols);
-        in3(g, 2, L->a);
-        if (p != WGP_AMG_DINV) in3(g, 5, L->dinv);
+        wg_in(run, 1, &L->cols);
+        in3(run, 2, L->a);
+        if (p != WGP_AMG_DINV) in3(run, 5, L->dinv);
     }
 }
 
-void wg_amg_setup(wg_sim* g) {
-    wg_amg* a = g->amg;
+void wg_amg_setup(wg_amg* a) {
+    wg_runner* run = a->run;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* L = &a->lev[l];
         if (l > 0) {
-            use_level(g, a, l - 1, WGP_AMG_GALERKIN);
-            wg_in(g, 9, &L->gal_range);
-            wg_in(g, 10, &L->gal_list);
-            WG_RUN(g, L->nb, &L->a[0], &L->a[1], &L->a[2]);
+            use_level(a, l - 1, WGP_AMG_GALERKIN);
+            wg_in(run, 9, &L->gal_range);
+            wg_in(run, 10, &L->gal_list);
+            WG_RUN(run, L->nb, &L->a[0], &L->a[1], &L->a[2]);
         }
         if (l == a->n_levels - 1 && a->dense) {
             /* one work group, factoring in place: the image bound read-write (wg_run_groups binds
                its output write-only) */
-            use_level(g, a, l, WGP_AMG_FACTOR_GROUPS);
-            wg_u1i(g, "u_n", L->n);
-            wg_u1i(g, "u_shift", g->shift);
-            glBindImageTexture(0, a->coarse_L.id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-            glDispatchCompute(1, 1, 1);
-            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-            ++g->passes;
+            use_level(a, l, WGP_AMG_FACTOR_GROUPS);
+            wg_run_in_place(run, L->n, &a->coarse_L);
             break;
         }
-        use_level(g, a, l, WGP_AMG_DINV);
-        WG_RUN(g, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
+        use_level(a, l, WGP_AMG_DINV);
+        WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
         const wg_tex* v = &L->v0;
-        use_level(g, a, l, WGP_AMG_POWER);
+        use_level(a, l, WGP_AMG_POWER);
         for (int it = 0; it < WG_AMG_POWER; ++it) {
-            wg_in(g, 9, v);
-            WG_RUN(g, L->n, &L->v[it & 1], &L->part);
+            wg_in(run, 9, v);
+            WG_RUN(run, L->n, &L->v[it & 1], &L->part);
             v = &L->v[it & 1];
         }
-        L->bound = wg_reduce(g, &L->red, &L->part, 0, 0, 0, 0);
+        L->bound = wg_reduce(run, &L->red, &L->part, 0, 0, 0, 0);
     }
 }
 
 /* One smoothing step on level l (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse
  * correction xc added first (NULL: none), into xo and dout; and (r.xo, r.r) into dot unless NULL. */
-static void smooth(wg_sim* g, const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, const wg_tex* d,
+static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, const wg_tex* d,
                    const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout, const wg_tex* dot) {
+    wg_runner* run = a->run;
     const wg_amg_level* L = &a->lev[l];
-    use_level(g, a, l, WGP_AMG_SMOOTH);
-    wg_in(g, 9, r);
-    wg_in(g, 10, x ? x : r);
-    wg_in(g, 11, d ? d : r);
-    wg_in(g, 12, L->bound);
-    wg_in(g, 13, xc ? xc : r);
-    wg_u1i(g, "u_step", step);
-    wg_u1i(g, "u_zero", x == NULL);
-    wg_u1i(g, "u_prolong", xc != NULL);
-    wg_u1f(g, "u_ratio", a->ratio);
-    wg_u1i(g, "u_dot", dot != NULL);
-    if (dot) WG_RUN(g, L->n, xo, dout, dot);
-    else WG_RUN(g, L->n, xo, dout);
+    use_level(a, l, WGP_AMG_SMOOTH);
+    wg_in(run, 9, r);
+    wg_in(run, 10, x ? x : r);
+    wg_in(run, 11, d ? d : r);
+    wg_in(run, 12, L->bound);
+    wg_in(run, 13, xc ? xc : r);
+    wg_u1i(run, "u_step", step);
+    wg_u1i(run, "u_zero", x == NULL);
+    wg_u1i(run, "u_prolong", xc != NULL);
+    wg_u1f(run, "u_ratio", a->ratio);
+    wg_u1i(run, "u_dot", dot != NULL);
+    if (dot) WG_RUN(run, L->n, xo, dout, dot);
+    else WG_RUN(run, L->n, xo, dout);
 }
 
 /* The V-cycle from level l on r; returns the texture holding x. dot (level 0): the last smoothing
  * step's (r.x, r.r) go there, or, where level 0 is the coarsest and factored, amg_dot's. */
-static const wg_tex* vcycle(wg_sim* g, wg_amg* a, int l, const wg_tex* r, const wg_tex* dot) {
+static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot) {
+    wg_runner* run = a->run;
     wg_amg_level* L = &a->lev[l];
     if (l == a->n_levels - 1) {
         if (a->dense) {
-            wg_use(g, WGP_AMG_COARSE_GROUPS);
-            wg_in(g, 0, &a->coarse_L);
-            wg_in(g, 1, r);
-            wg_run_groups(g, L->n, &L->x[1], 1);
+            wg_use(run, WGP_AMG_COARSE_GROUPS);
+            wg_in(run, 0, &a->coarse_L);
+            wg_in(run, 1, r);
+            wg_run_groups(run, L->n, &L->x[1], 1);
             if (dot) {
-                wg_use(g, WGP_AMG_DOT);
-                wg_in(g, 0, r);
-                wg_in(g, 1, &L->x[1]);
-                WG_RUN(g, L->n, dot);
+                wg_use(run, WGP_AMG_DOT);
+                wg_in(run, 0, r);
+                wg_in(run, 1, &L->x[1]);
+                WG_RUN(run, L->n, dot);
             }
             return &L->x[1];
         }
         int c = 0;
         for (int s = 0; s < WG_AMG_COARSE_SWEEPS; ++s, c = 1 - c)
-            smooth(g, a, l, r, s ? &L->x[c] : NULL, NULL, NULL, -1, &L->x[1 - c], &L->d[1 - c],
+            smooth(a, l, r, s ? &L->x[c] : NULL, NULL, NULL, -1, &L->x[1 - c], &L->d[1 - c],
                    s == WG_AMG_COARSE_SWEEPS - 1 ? dot : NULL);
         return &L->x[c];
     }
     wg_amg_level* N = &a->lev[l + 1];
     int c = 0;
     for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
-        smooth(g, a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL);
-    use_level(g, a, l, WGP_AMG_RESTRICT);
-    wg_in(g, 9, &N->mem_range);
-    wg_in(g, 10, &N->mem_list);
-    wg_in(g, 11, r);
-    wg_in(g, 12, &L->x[c]);
-    WG_RUN(g, N->n, &N->r);
-    const wg_tex* xc = vcycle(g, a, l + 1, &N->r, NULL);
+        smooth(a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL);
+    use_level(a, l, WGP_AMG_RESTRICT);
+    wg_in(run, 9, &N->mem_range);
+    wg_in(run, 10, &N->mem_list);
+    wg_in(run, 11, r);
+    wg_in(run, 12, &L->x[c]);
+    WG_RUN(run, N->n, &N->r);
+    const wg_tex* xc = vcycle(a, l + 1, &N->r, NULL);
     for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
-        smooth(g, a, l, r, &L->x[c], k ? &L->d[c] : NULL, k ? NULL : xc, k, &L->x[1 - c], &L->d[1 - c],
+        smooth(a, l, r, &L->x[c], k ? &L->d[c] : NULL, k ? NULL : xc, k, &L->x[1 - c], &L->d[1 - c],
                k == a->sweeps - 1 ? dot : NULL);
     return &L->x[c];
 }
 
-void wg_amg_apply(wg_sim* g, const wg_tex* r, const wg_tex* dot) {
-    wg_amg* a = g->amg;
-    a->z = vcycle(g, a, 0, r, dot);
-}
+void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot) { a->z = vcycle(a, 0, r, dot); }

@@ -22,7 +22,8 @@
 #define WEFT_GPU_SOLVER_AMG_H
 
 #include "amg.h"
-#include "wg_sim_impl.h"
+#include "model.h"
+#include "wg_reduce.h"
 
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
@@ -45,7 +46,17 @@ typedef struct wg_amg_level {
     const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
 } wg_amg_level;
 
+/* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
+ * contacts may trade the values behind them between setups). */
+typedef struct wg_amg_system {
+    const wg_tex* block;        /* blocks: (row, column, -, -) */
+    const wg_tex *a_lo, *a_hi;  /* A's symmetric blocks */
+    const wg_tex *s0, *s1;      /* the filter */
+} wg_amg_system;
+
 typedef struct wg_amg {
+    wg_runner* run;
+    wg_amg_system sys;
     int n_levels;
     int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
@@ -58,14 +69,17 @@ typedef struct wg_amg {
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
  * sets values 1). */
 wc_amg_opts wg_amg_opts(void);
-/* g->amg for g's model: patterns and lists uploaded; 0 with err on failure. */
-int wg_amg_create(wg_sim* g, char* err, size_t err_len);
-void wg_amg_destroy(wg_sim* g);
-size_t wg_amg_bytes(const wg_sim* g);
-/* The values for the prepared system (A0/A1, S0/S1). */
-void wg_amg_setup(wg_sim* g);
-/* z = M^-1 r (one V-cycle) into g->amg->z (the hierarchy's own texture, valid until the next
- * call), and PCG's partial products (r.z, r.r) per particle into dot. */
-void wg_amg_apply(wg_sim* g, const wg_tex* r, const wg_tex* dot);
+/* The multigrid of model m's system: patterns and lists uploaded; 0 with err on failure. */
+int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
+                  size_t err_len);
+void wg_amg_destroy(wg_amg* a);
+/* Free the memory only (the GL context is gone). */
+void wg_amg_forget(wg_amg* a);
+size_t wg_amg_bytes(const wg_amg* a);
+/* The values for the prepared system (A, S). */
+void wg_amg_setup(wg_amg* a);
+/* z = M^-1 r (one V-cycle) into a->z (the hierarchy's own texture, valid until the next call),
+ * and PCG's partial products (r.z, r.r) per particle into dot. */
+void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot);
 
 #endif

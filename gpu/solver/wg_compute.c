@@ -168,3 +168,9 @@ void wg_compute_dispatch_groups(const wg_tex* out, int groups, int max_x) {
         glDispatchCompute((GLuint)X, (GLuint)((groups + X - 1) / X), 1);
     barrier_after();
 }
+
+void wg_compute_dispatch_in_place(const wg_tex* img) {
+    glBindImageTexture(0, img->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}

@@ -33,5 +33,8 @@ void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int
  * groups (in rows of max_x past max_x of them: the shader counts groups linearly), out as image
  * 0, then the same barrier. */
 void wg_compute_dispatch_groups(const wg_tex* out, int groups, int max_x);
+/* Run a native compute program in use as one work group that reads and writes img in place
+ * (image 0, bound read-write as RGBA32F), then a barrier for texture fetches and image access. */
+void wg_compute_dispatch_in_place(const wg_tex* img);
 
 #endif

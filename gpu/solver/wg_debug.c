@@ -8,7 +8,7 @@
 
 
 static void read_vec(wg_sim* g, const wg_tex* t, int count, double* out) {
-    wg_array_read(g, t, count, g->rb);
+    wg_array_read(&g->layout, t, count, g->rb);
     for (int i = 0; i < count; ++i)
         for (int c = 0; c < 3; ++c) out[3 * i + c] = g->rb[4 * i + c];
 }
@@ -16,7 +16,7 @@ static void read_vec(wg_sim* g, const wg_tex* t, int count, double* out) {
 static void upload_vec(wg_sim* g, const wg_tex* t, int count, const double* in) {
     for (int i = 0; i < count; ++i)
         for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)in[3 * i + c] : 0.0f;
-    wg_array_upload(g, t, count, g->rb);
+    wg_array_upload(&g->layout, t, count, g->rb);
 }
 
 /* A symmetric row-major 3x3 block m as the two texels (a00 a01 a02 a11 | a12 a22) the passes
@@ -45,13 +45,13 @@ static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, do
         wc_free(&g->alloc, b);
         return 0;
     }
-    wg_array_read(g, lo, count, a);
+    wg_array_read(&g->layout, lo, count, a);
     /* hi is RG32F: read through an RGBA copy */
     wg_tex tmp;
     char err[128];
-    if (!wg_array_create(g, &tmp, GL_RGBA32F, count, NULL, err, sizeof err)) return 0;
-    wg_copy(g, &tmp, hi);
-    wg_array_read(g, &tmp, count, b);
+    if (!wg_array_create(&g->layout, &tmp, GL_RGBA32F, count, NULL, err, sizeof err)) return 0;
+    wg_copy(&g->run, &tmp, hi);
+    wg_array_read(&g->layout, &tmp, count, b);
     wg_tex_destroy(&tmp);
     for (int k = 0; k < count; ++k) unpack_sym(a + 4 * k, b + 4 * k, out + 9 * k);
     wc_free(&g->alloc, a);
@@ -62,7 +62,7 @@ static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, do
 wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
                                  double* z, unsigned char* ndof, double* x, wc_diag* diag) {
     wg_step_upload_pins(g, s);
-    g->x.keep = g->x.cur;
+    wg_ring_save(&g->x);
     wg_step_prepare(g, s, h, alpha1, s->def.compression);
     if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
     if (b) read_vec(g, &g->b, g->n, b);
@@ -76,8 +76,8 @@ wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, 
             wc_free(&g->alloc, s1);
             return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
         }
-        wg_array_read(g, &g->S0, g->n, s0);
-        wg_array_read(g, &g->S1, g->n, s1);
+        wg_array_read(&g->layout, &g->S0, g->n, s0);
+        wg_array_read(&g->layout, &g->S1, g->n, s1);
         for (int i = 0; i < g->n; ++i) {
             if (S) unpack_sym(s0 + 4 * i, s1 + 4 * i, S + 9 * i);
             if (ndof) ndof[i] = (unsigned char)s1[4 * i + 2];
@@ -119,9 +119,9 @@ double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode) {
     if (n > g->n) n = g->n;
     for (int i = 0; i < g->n; ++i)
         for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = (c == 0 && i < n) ? (float)values[i] : 0.0f;
-    wg_array_upload(g, &g->part, g->n, g->rb);
+    wg_array_upload(&g->layout, &g->part, g->n, g->rb);
     float r[4];
-    wg_read1(g, wg_reduce(g, &g->red_p[1], &g->part, mode, mode, mode, mode), r);
+    wg_read1(&g->layout, wg_reduce(&g->run, &g->red_p[1], &g->part, mode, mode, mode, mode), r);
     return r[0];
 }
 
@@ -132,7 +132,7 @@ void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_cop
     for (int k = 0; k < reps; ++k) wg_spmv(g, &g->c[0], 0);
     glFinish();
     double t1 = wc_now_ms();
-    for (int k = 0; k < reps; ++k) wg_copy(g, &g->t, &g->c[0]);
+    for (int k = 0; k < reps; ++k) wg_copy(&g->run, &g->t, &g->c[0]);
     glFinish();
     double t2 = wc_now_ms();
     *ms_spmv = (t1 - t0) / reps;
@@ -145,7 +145,7 @@ void wg_sim_debug_bandwidth(wg_sim* g, int reps, double* ms_spmv, double* ms_cop
 
 double wg_sim_debug_rho(const wg_sim* g) { return g->rho_valid ? g->rho : 0.0; }
 
-long long wg_sim_debug_passes(const wg_sim* g) { return g->passes; }
+long long wg_sim_debug_passes(const wg_sim* g) { return g->run.passes; }
 
 wc_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, const wc_filter* f, wc_diag* diag) {
     float* lo = wc_calloc(&g->alloc, (size_t)g->nb * 4u, sizeof(float));
@@ -156,8 +156,8 @@ wc_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, c
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
     }
     for (int k = 0; k < g->nb; ++k) pack_sym(A + 9 * k, lo + 4 * k, hi + 2 * k);
-    wg_array_upload(g, &g->A0, g->nb, lo);
-    wg_array_upload(g, &g->A1, g->nb, hi);
+    wg_array_upload(&g->layout, &g->A0, g->nb, lo);
+    wg_array_upload(&g->layout, &g->A1, g->nb, hi);
     wc_free(&g->alloc, lo);
     wc_free(&g->alloc, hi);
     upload_vec(g, &g->b, g->n, b);
@@ -174,8 +174,8 @@ wc_status wg_sim_debug_set_system(wg_sim* g, const double* A, const double* b, c
             pack_sym(f->S + 9 * i, s0 + 4 * i, s1 + 4 * i);
             s1[4 * i + 2] = (float)f->ndof[i];
         }
-        wg_array_upload(g, &g->S0, g->n, s0);
-        wg_array_upload(g, &g->S1, g->n, s1);
+        wg_array_upload(&g->layout, &g->S0, g->n, s0);
+        wg_array_upload(&g->layout, &g->S1, g->n, s1);
         wc_free(&g->alloc, s0);
         wc_free(&g->alloc, s1);
     }

@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "gpu_error.h"
-#include "wg_amg.h"
 #include "wg_sim_impl.h"
 
 #define WG_MIN_SHIFT 10
@@ -39,10 +38,8 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     int n = all_textures((wg_sim*)g, t, 96);
     size_t bytes = 0;
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
-    const wg_chain* ch[] = {&g->red_p[0], &g->red_p[1], &g->red_s};
-    for (int c = 0; c < 3; ++c)
-        for (int k = 0; k < ch[c]->n_levels; ++k) bytes += wg_tex_bytes(&ch[c]->level[k]);
-    return bytes + wg_amg_bytes(g);
+    bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
+    return bytes + wg_amg_bytes(g->amg);
 }
 
 void wg_sim_forget(wg_sim* g) {
@@ -53,19 +50,23 @@ void wg_sim_forget(wg_sim* g) {
 
 void wg_sim_destroy(wg_sim* g) {
     if (!g) return;
-    wg_contacts_destroy(g);
-    wg_amg_destroy(g);
-    if (g->forget_gl) goto memory;
+    if (g->forget_gl) {
+        wg_contacts_forget(g->contacts);
+        wg_amg_forget(g->amg);
+        goto memory;
+    }
+    wg_contacts_destroy(g->contacts);
+    wg_amg_destroy(g->amg);
     wg_tex* t[96];
     int n = all_textures(g, t, 96);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
     wg_chain_destroy(&g->red_p[0]);
     wg_chain_destroy(&g->red_p[1]);
     wg_chain_destroy(&g->red_s);
-    for (int k = 0; k < g->n_fbo; ++k) glDeleteFramebuffers(1, &g->fbo[k].fbo);
-    if (g->scratch_fbo) glDeleteFramebuffers(1, &g->scratch_fbo);
+    wg_runner_destroy(&g->run);
+    wg_layout_destroy(&g->layout);
+    wg_stamps_destroy(&g->stamps);
     if (g->pbo) glDeleteBuffers(1, &g->pbo);
-    if (g->dev->has_timer) glDeleteQueries(WG_MAX_STAMPS, g->stamps);
 memory:;
     wc_allocator a = g->alloc;
     wc_free(&a, g->pin_particle);
@@ -96,10 +97,10 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
         f[4 * i] = (float)m->mass[i];
         f[4 * i + 1] = (float)m->inv_mass[i];
     }
-    TRY(wg_array_create(g, &g->mass, GL_RGBA32F, n, f, err, el));
+    TRY(wg_array_create(&g->layout, &g->mass, GL_RGBA32F, n, f, err, el));
     for (int i = 0; i < n; ++i)
         for (int c = 0; c < 4; ++c) f[4 * i + c] = c < 3 ? (float)m->rest_pos[3 * i + c] : 0.0f;
-    TRY(wg_array_create(g, &g->rest, GL_RGBA32F, n, f, err, el));
+    TRY(wg_array_create(&g->layout, &g->rest, GL_RGBA32F, n, f, err, el));
     wc_free(&g->alloc, f);
     f = NULL;
 
@@ -111,8 +112,8 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
         ia[4 * s + 2] = m->springs[s].type;
         f[s] = (float)m->springs[s].rest;
     }
-    TRY(wg_array_create(g, &g->spring, GL_RGBA32I, ns, ia, err, el));
-    TRY(wg_array_create(g, &g->spring_rest, GL_R32F, ns, f, err, el));
+    TRY(wg_array_create(&g->layout, &g->spring, GL_RGBA32I, ns, ia, err, el));
+    TRY(wg_array_create(&g->layout, &g->spring_rest, GL_R32F, ns, f, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, f);
     ia = NULL;
@@ -121,7 +122,7 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
     TRY(ia = i4(g, nt));
     for (int t = 0; t < nt; ++t)
         for (int c = 0; c < 3; ++c) ia[4 * t + c] = m->tris[3 * t + c];
-    TRY(wg_array_create(g, &g->tri, GL_RGBA32I, nt, ia, err, el));
+    TRY(wg_array_create(&g->layout, &g->tri, GL_RGBA32I, nt, ia, err, el));
     wc_free(&g->alloc, ia);
     ia = NULL;
 
@@ -136,8 +137,8 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
         ib[4 * i + 1] = p->row_start[i + 1];
         ib[4 * i + 2] = p->diag[i];
     }
-    TRY(wg_array_create(g, &g->rows, GL_RGBA32I, n, ia, err, el));
-    TRY(wg_array_create(g, &g->pblocks, GL_RGBA32I, n, ib, err, el));
+    TRY(wg_array_create(&g->layout, &g->rows, GL_RGBA32I, n, ia, err, el));
+    TRY(wg_array_create(&g->layout, &g->pblocks, GL_RGBA32I, n, ib, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, ib);
     ia = ib = NULL;
@@ -153,10 +154,10 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
             ia[4 * k + 2] = p->row_spring_sign[k] > 0 ? m->springs[s].b : m->springs[s].a;
             ia[4 * k + 3] = p->row_spring_block[k];
         }
-    TRY(wg_array_create(g, &g->row_entry, GL_RGBA32I, ne, ia, err, el));
+    TRY(wg_array_create(&g->layout, &g->row_entry, GL_RGBA32I, ne, ia, err, el));
     wc_free(&g->alloc, ia);
     ia = NULL;
-    TRY(wg_array_create(g, &g->row_tri, GL_R32I, 3 * nt, p->row_tri, err, el));
+    TRY(wg_array_create(&g->layout, &g->row_tri, GL_R32I, 3 * nt, p->row_tri, err, el));
 
     /* blocks (row, column, list start, end); the list of a diagonal block is its row's springs,
        of an off-diagonal block (i, j) the springs joining i and j (inverted from row_spring_block) */
@@ -181,18 +182,18 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
             ia[4 * k + 3] = pos;
         }
     wc_free(&g->alloc, cnt);
-    TRY(wg_array_create(g, &g->block, GL_RGBA32I, nb, ia, err, el));
-    TRY(wg_array_create(g, &g->block_list, GL_R32I, pos, ib, err, el));
+    TRY(wg_array_create(&g->layout, &g->block, GL_RGBA32I, nb, ia, err, el));
+    TRY(wg_array_create(&g->layout, &g->block_list, GL_R32I, pos, ib, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, ib);
     ia = ib = NULL;
 
-    TRY(wg_array_create(g, &g->host_map, GL_R32I, nh, m->host_to_particle, err, el));
+    TRY(wg_array_create(&g->layout, &g->host_map, GL_R32I, nh, m->host_to_particle, err, el));
     TRY(f = f4(g, nh));
     if (host_rest)
         for (int h = 0; h < nh; ++h)
             for (int c = 0; c < 3; ++c) f[4 * h + c] = (float)host_rest[3 * h + c];
-    TRY(wg_array_create(g, &g->host_rest, GL_RGBA32F, nh, f, err, el));
+    TRY(wg_array_create(&g->layout, &g->host_rest, GL_RGBA32F, nh, f, err, el));
     ok = 1;
 fail:
     wc_free(&g->alloc, f);
@@ -205,32 +206,32 @@ fail:
 static int create_scratch(wg_sim* g, char* err, size_t el) {
     int n = g->n, ns = g->ns, nb = g->nb;
     for (int j = 0; j < 3; ++j) {
-        TRY(wg_array_create(g, &g->x.t[j], GL_RGBA32F, n, NULL, err, el));
-        TRY(wg_array_create(g, &g->v.t[j], GL_RGBA32F, n, NULL, err, el));
-        TRY(wg_array_create(g, &g->dv.t[j], GL_RGBA32F, n, NULL, err, el));
-        TRY(wg_array_create(g, &g->sv[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(&g->layout, &g->x.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(&g->layout, &g->v.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(&g->layout, &g->dv.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(&g->layout, &g->sv[j], GL_RGBA32F, n, NULL, err, el));
     }
     wg_tex* pv[] = {&g->x_bak, &g->v_bak, &g->dv_bak, &g->S0, &g->S1, &g->z, &g->b, &g->ftot, &g->D0,
                     &g->r[0], &g->r[1], &g->c[0], &g->c[1], &g->t, &g->q, &g->part, &g->rz, &g->chk_p, &g->nrm};
-    for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(g, pv[k], GL_RGBA32F, n, NULL, err, el));
-    TRY(wg_array_create(g, &g->D1, GL_RG32F, n, NULL, err, el));
+    for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(&g->layout, pv[k], GL_RGBA32F, n, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->D1, GL_RG32F, n, NULL, err, el));
     wg_tex* ps[] = {&g->sf, &g->sw, &g->sj, &g->chk_s, &g->corr};
-    for (size_t k = 0; k < sizeof ps / sizeof ps[0]; ++k) TRY(wg_array_create(g, ps[k], GL_RGBA32F, ns, NULL, err, el));
-    TRY(wg_array_create(g, &g->fair, GL_RGBA32F, g->nt, NULL, err, el));
-    TRY(wg_array_create(g, &g->A0, GL_RGBA32F, nb, NULL, err, el));
-    TRY(wg_array_create(g, &g->A1, GL_RG32F, nb, NULL, err, el));
-    TRY(wg_array_create(g, &g->host_pos, GL_RGBA32F, g->nh, NULL, err, el));
-    TRY(wg_array_create(g, &g->host_nrm, GL_RGBA32F, g->nh, NULL, err, el));
-    TRY(wg_array_create(g, &g->pin_map, GL_R32I, n, g->pin_map_cpu, err, el));
-    TRY(wg_array_create(g, &g->pin_from, GL_RGBA32F, g->pin_cap, NULL, err, el));
-    TRY(wg_array_create(g, &g->pin_target, GL_RGBA32F, g->pin_cap, NULL, err, el));
-    TRY(wg_array_create(g, &g->pin_axis, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    for (size_t k = 0; k < sizeof ps / sizeof ps[0]; ++k) TRY(wg_array_create(&g->layout, ps[k], GL_RGBA32F, ns, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->fair, GL_RGBA32F, g->nt, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->A0, GL_RGBA32F, nb, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->A1, GL_RG32F, nb, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->host_pos, GL_RGBA32F, g->nh, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->host_nrm, GL_RGBA32F, g->nh, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->pin_map, GL_R32I, n, g->pin_map_cpu, err, el));
+    TRY(wg_array_create(&g->layout, &g->pin_from, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->pin_target, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    TRY(wg_array_create(&g->layout, &g->pin_axis, GL_RGBA32F, g->pin_cap, NULL, err, el));
     for (int a = 0; a < 2; ++a)
         for (int j = 0; j < 3; ++j) TRY(wg_tex_create(&g->sc[a][j], GL_RGBA32F, 1, 1, NULL, err, el));
     TRY(wg_tex_create(&g->lanczos, GL_RGBA32F, 32, 1, NULL, err, el));
-    TRY(wg_chain_create(g, &g->red_p[0], g->part.w, g->part.h, err, el));
-    TRY(wg_chain_create(g, &g->red_p[1], g->part.w, g->part.h, err, el));
-    TRY(wg_chain_create(g, &g->red_s, g->chk_s.w, g->chk_s.h, err, el));
+    TRY(wg_chain_create(&g->run, &g->red_p[0], g->part.w, g->part.h, err, el));
+    TRY(wg_chain_create(&g->run, &g->red_p[1], g->part.w, g->part.h, err, el));
+    TRY(wg_chain_create(&g->run, &g->red_s, g->chk_s.w, g->chk_s.h, err, el));
     return 1;
 fail:
     return 0;
@@ -284,9 +285,9 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};
     for (int k = 0; k < 5; ++k)
         if (counts[k] > biggest) biggest = counts[k];
-    g->shift = WG_MIN_SHIFT;
-    while (g->shift < 30 && ((biggest + (1LL << g->shift) - 1) >> g->shift) > dev->max_texture_size) ++g->shift;
-    if ((1LL << g->shift) > dev->max_texture_size || biggest > 0x7fffffffLL) {
+    int shift = WG_MIN_SHIFT;
+    while (shift < 30 && ((biggest + (1LL << shift) - 1) >> shift) > dev->max_texture_size) ++shift;
+    if ((1LL << shift) > dev->max_texture_size || biggest > 0x7fffffffLL) {
         wc_free(&alloc, g);
         return wc_fail(diag, WC_ERROR_GPU,
                        "GPU cloth: %lld items in one array (%d particles, %d springs, %d blocks) do not fit in the "
@@ -303,10 +304,11 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
     }
     for (int i = 0; i < g->n; ++i) g->pin_map_cpu[i] = -1;
-    glGenFramebuffers(1, &g->scratch_fbo);
+    ok = wg_layout_init(&g->layout, shift, dev->max_texture_size, alloc, err, sizeof err);
+    wg_runner_init(&g->run, dev, &g->layout);
+    wg_stamps_create(&g->stamps, dev->has_timer);
     glGenBuffers(1, &g->pbo);
-    if (dev->has_timer) glGenQueries(WG_MAX_STAMPS, g->stamps);
-    ok = upload_model(g, host_rest, err, sizeof err) && create_scratch(g, err, sizeof err);
+    ok = ok && upload_model(g, host_rest, err, sizeof err) && create_scratch(g, err, sizeof err);
     if (ok) {
         GLenum e = glGetError();
         if (e != GL_NO_ERROR) {
@@ -314,8 +316,15 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
             ok = 0;
         }
     }
-    if (ok && wg_contacts_create(g, s, err, sizeof err) != WC_OK) ok = 0;
-    if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG && !wg_amg_create(g, err, sizeof err)) ok = 0;
+    if (ok) {
+        const wg_contact_cloth cloth = {g->n, g->nb, &g->x, &g->v, &g->S0, &g->S1, &g->z, &g->b, &g->A0, &g->A1,
+                                        &g->mass, &g->ftot, &g->pblocks, &g->block, g->rb};
+        ok = wg_contacts_create(&g->run, &cloth, s->def.max_colliders, &g->contacts, err, sizeof err) == WC_OK;
+    }
+    if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
+        const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1};
+        ok = wg_amg_create(&g->run, g->m, &sys, &g->amg, err, sizeof err);
+    }
     if (!ok) {
         wg_sim_destroy(g);
         return wc_fail(diag, strstr(err, "out of memory") ? WC_ERROR_OUT_OF_MEMORY : WC_ERROR_GPU,
@@ -348,12 +357,12 @@ static void from_f4(const float* in, int n, double* a) {
 
 wc_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
     to_f4(s->x, g->n, g->rb);
-    wg_array_upload(g, wg_ring_cur(&g->x), g->n, g->rb);
+    wg_array_upload(&g->layout, wg_ring_cur(&g->x), g->n, g->rb);
     to_f4(s->v, g->n, g->rb);
-    wg_array_upload(g, wg_ring_cur(&g->v), g->n, g->rb);
+    wg_array_upload(&g->layout, wg_ring_cur(&g->v), g->n, g->rb);
     to_f4(s->dv, g->n, g->rb);
-    wg_array_upload(g, wg_ring_cur(&g->dv), g->n, g->rb);
-    if (g->contacts) wg_contacts_upload(g, s);
+    wg_array_upload(&g->layout, wg_ring_cur(&g->dv), g->n, g->rb);
+    wg_contacts_upload(g->contacts, s);
     g->rho_valid = 0;
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "GPU cloth: state upload: %s", wg_gl_error_name(e));
@@ -361,46 +370,47 @@ wc_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
 }
 
 wc_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag) {
-    wg_array_read(g, wg_ring_cur(&g->x), g->n, g->rb);
+    wg_array_read(&g->layout, wg_ring_cur(&g->x), g->n, g->rb);
     from_f4(g->rb, g->n, s->x);
-    wg_array_read(g, wg_ring_cur(&g->v), g->n, g->rb);
+    wg_array_read(&g->layout, wg_ring_cur(&g->v), g->n, g->rb);
     from_f4(g->rb, g->n, s->v);
-    wg_array_read(g, wg_ring_cur(&g->dv), g->n, g->rb);
+    wg_array_read(&g->layout, wg_ring_cur(&g->dv), g->n, g->rb);
     from_f4(g->rb, g->n, s->dv);
-    if (g->contacts) wg_contacts_download(g, s);
+    wg_contacts_download(g->contacts, s);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "GPU cloth: state read-back: %s", wg_gl_error_name(e));
     return WC_OK;
 }
 
 void wg_sim_backup(wg_sim* g) {
-    wg_copy(g, &g->x_bak, wg_ring_cur(&g->x));
-    wg_copy(g, &g->v_bak, wg_ring_cur(&g->v));
-    wg_copy(g, &g->dv_bak, wg_ring_cur(&g->dv));
-    wg_contacts_backup(g);
+    wg_copy(&g->run, &g->x_bak, wg_ring_cur(&g->x));
+    wg_copy(&g->run, &g->v_bak, wg_ring_cur(&g->v));
+    wg_copy(&g->run, &g->dv_bak, wg_ring_cur(&g->dv));
+    wg_contacts_backup(g->contacts);
 }
 
 void wg_sim_restore_backup(wg_sim* g) {
-    wg_copy(g, wg_ring_cur(&g->x), &g->x_bak);
-    wg_copy(g, wg_ring_cur(&g->v), &g->v_bak);
-    wg_copy(g, wg_ring_cur(&g->dv), &g->dv_bak);
-    wg_contacts_restore_backup(g);
+    wg_copy(&g->run, wg_ring_cur(&g->x), &g->x_bak);
+    wg_copy(&g->run, wg_ring_cur(&g->v), &g->v_bak);
+    wg_copy(&g->run, wg_ring_cur(&g->dv), &g->dv_bak);
+    wg_contacts_restore_backup(g->contacts);
     g->rho_valid = 0;
 }
 
 void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3],
                             const double Rd[9]) {
+    wg_runner* run = &g->run;
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0), nd = wg_ring_other(&g->dv, 0);
-    wg_use(g, WGP_TRANSFORM);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, wg_ring_cur(&g->v));
-    wg_in(g, 2, wg_ring_cur(&g->dv));
-    wg_umat3(g, "u_rx", Rx);
-    wg_u3f(g, "u_tx", tx);
-    wg_umat3(g, "u_rv", Rv);
-    wg_u3f(g, "u_dv", dv);
-    wg_umat3(g, "u_rd", Rd);
-    WG_RUN(g, g->n, &g->x.t[nx], &g->v.t[nv], &g->dv.t[nd]);
+    wg_use(run, WGP_TRANSFORM);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, wg_ring_cur(&g->v));
+    wg_in(run, 2, wg_ring_cur(&g->dv));
+    wg_umat3(run, "u_rx", Rx);
+    wg_u3f(run, "u_tx", tx);
+    wg_umat3(run, "u_rv", Rv);
+    wg_u3f(run, "u_dv", dv);
+    wg_umat3(run, "u_rd", Rd);
+    WG_RUN(run, g->n, &g->x.t[nx], &g->v.t[nv], &g->dv.t[nd]);
     g->x.cur = g->x.keep = nx;
     g->v.cur = g->v.keep = nv;
     g->dv.cur = g->dv.keep = nd;
@@ -411,14 +421,15 @@ void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const d
 }
 
 double wg_sim_max_abs(wg_sim* g) {
-    wg_use(g, WGP_CHECK_PARTICLES);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, wg_ring_cur(&g->v));
-    wg_in(g, 2, &g->mass);
+    wg_runner* run = &g->run;
+    wg_use(run, WGP_CHECK_PARTICLES);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, wg_ring_cur(&g->v));
+    wg_in(run, 2, &g->mass);
     double zero[3] = {0, 0, 0};
-    wg_u3f(g, "u_gravity", zero);
-    WG_RUN(g, g->n, &g->chk_p);
+    wg_u3f(run, "u_gravity", zero);
+    WG_RUN(run, g->n, &g->chk_p);
     float r[4];
-    wg_read1(g, wg_reduce(g, &g->red_p[0], &g->chk_p, 0, 0, 1, 1), r);
+    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->chk_p, 0, 0, 1, 1), r);
     return (double)r[2];
 }

@@ -10,71 +10,74 @@
 #include <math.h>
 #include <string.h>
 
-#include "wg_amg.h"
 #include "wg_sim_impl.h"
 
 /* sc[cur] -> sc[other] */
 static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* t2, const wg_tex* t3, int max_it) {
+    wg_runner* run = &g->run;
     int a = g->sc_cur, b = 1 - a;
-    wg_use(g, WGP_PCG_SCALARS);
-    wg_in(g, 0, &g->sc[a][0]);
-    wg_in(g, 1, &g->sc[a][1]);
-    wg_in(g, 2, t2 ? t2 : &g->sc[a][0]);
-    wg_in(g, 3, t3 ? t3 : &g->sc[a][0]);
-    wg_in(g, 4, &g->sc[a][2]);
-    wg_u1i(g, "u_mode", mode);
-    wg_u1f(g, "u_tolerance", o->tolerance);
-    wg_u1f(g, "u_divergence", o->divergence_factor);
-    wg_u1f(g, "u_max_iterations", (double)max_it);
-    wg_u1f(g, "u_floor", g->residual_floor);
-    WG_RUN(g, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+    wg_use(run, WGP_PCG_SCALARS);
+    wg_in(run, 0, &g->sc[a][0]);
+    wg_in(run, 1, &g->sc[a][1]);
+    wg_in(run, 2, t2 ? t2 : &g->sc[a][0]);
+    wg_in(run, 3, t3 ? t3 : &g->sc[a][0]);
+    wg_in(run, 4, &g->sc[a][2]);
+    wg_u1i(run, "u_mode", mode);
+    wg_u1f(run, "u_tolerance", o->tolerance);
+    wg_u1f(run, "u_divergence", o->divergence_factor);
+    wg_u1f(run, "u_max_iterations", (double)max_it);
+    wg_u1f(run, "u_floor", g->residual_floor);
+    WG_RUN(run, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
     g->sc_cur = b;
 }
 
 /* out = S (b - A x); with size, also |A| |x| per particle (residual.glsl) */
 static void residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, const wg_tex* size) {
-    wg_use(g, WGP_RESIDUAL);
-    wg_in(g, 0, &g->pblocks);
-    wg_in(g, 1, &g->block);
-    wg_in(g, 2, &g->A0);
-    wg_in(g, 3, &g->A1);
-    wg_in(g, 4, x);
-    wg_in(g, 5, &g->b);
-    wg_in(g, 6, &g->S0);
-    wg_in(g, 7, &g->S1);
-    if (size) WG_RUN(g, g->n, out, size);
-    else WG_RUN(g, g->n, out);
+    wg_runner* run = &g->run;
+    wg_use(run, WGP_RESIDUAL);
+    wg_in(run, 0, &g->pblocks);
+    wg_in(run, 1, &g->block);
+    wg_in(run, 2, &g->A0);
+    wg_in(run, 3, &g->A1);
+    wg_in(run, 4, x);
+    wg_in(run, 5, &g->b);
+    wg_in(run, 6, &g->S0);
+    wg_in(run, 7, &g->S1);
+    if (size) WG_RUN(run, g->n, out, size);
+    else WG_RUN(run, g->n, out);
 }
 
 static void residual(wg_sim* g, const wg_tex* x, const wg_tex* out) { residual2(g, x, out, NULL); }
 
 static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
-    wg_use(g, WGP_PROJECT);
-    wg_in(g, 0, in);
-    wg_in(g, 1, &g->S0);
-    wg_in(g, 2, &g->S1);
-    wg_in(g, 3, &g->z);
-    wg_u1i(g, "u_to_z", to_z);
-    WG_RUN(g, g->n, out);
+    wg_runner* run = &g->run;
+    wg_use(run, WGP_PROJECT);
+    wg_in(run, 0, in);
+    wg_in(run, 1, &g->S0);
+    wg_in(run, 2, &g->S1);
+    wg_in(run, 3, &g->z);
+    wg_u1i(run, "u_to_z", to_z);
+    WG_RUN(run, g->n, out);
 }
 
 void wg_spmv(wg_sim* g, const wg_tex* x, int filter) {
-    wg_use(g, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV);
-    wg_in(g, 0, &g->pblocks);
-    wg_in(g, 1, &g->block);
-    wg_in(g, 2, &g->A0);
-    wg_in(g, 3, &g->A1);
-    wg_in(g, 4, x);
-    wg_in(g, 5, &g->S0);
-    wg_in(g, 6, &g->S1);
-    wg_u1i(g, "u_filter", filter);
+    wg_runner* run = &g->run;
+    wg_use(run, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV);
+    wg_in(run, 0, &g->pblocks);
+    wg_in(run, 1, &g->block);
+    wg_in(run, 2, &g->A0);
+    wg_in(run, 3, &g->A1);
+    wg_in(run, 4, x);
+    wg_in(run, 5, &g->S0);
+    wg_in(run, 6, &g->S1);
+    wg_u1i(run, "u_filter", filter);
     if (g->dev->compute) {   /* spmv_groups.glsl: 4 invocations a row, 256 a group */
         long long texels = (long long)g->q.w * g->q.h;
-        wg_u1i(g, "u_texels", (int)texels);
-        wg_run_groups(g, g->n, &g->q, (int)((4 * texels + 255) / 256));
+        wg_u1i(run, "u_texels", (int)texels);
+        wg_run_groups(run, g->n, &g->q, (int)((4 * texels + 255) / 256));
         return;
     }
-    WG_RUN(g, g->n, &g->q);
+    WG_RUN(run, g->n, &g->q);
 }
 
 typedef struct pcg_vecs {
@@ -82,83 +85,88 @@ typedef struct pcg_vecs {
 } pcg_vecs;
 
 static void update(wg_sim* g, pcg_vecs* v, int first) {
-    wg_use(g, WGP_PCG_UPDATE);
-    wg_in(g, 0, &g->sv[v->dv]);
-    wg_in(g, 1, &g->r[v->r]);
-    wg_in(g, 2, &g->c[v->c]);
-    wg_in(g, 3, &g->q);
-    wg_in(g, 4, &g->D0);
-    wg_in(g, 5, &g->D1);
-    wg_in(g, 6, &g->sc[g->sc_cur][0]);
-    wg_in(g, 7, &g->sc[g->sc_cur][1]);
-    wg_u1i(g, "u_first", first);
-    wg_u1i(g, "u_jacobi", !g->amg_on);
+    wg_runner* run = &g->run;
+    wg_use(run, WGP_PCG_UPDATE);
+    wg_in(run, 0, &g->sv[v->dv]);
+    wg_in(run, 1, &g->r[v->r]);
+    wg_in(run, 2, &g->c[v->c]);
+    wg_in(run, 3, &g->q);
+    wg_in(run, 4, &g->D0);
+    wg_in(run, 5, &g->D1);
+    wg_in(run, 6, &g->sc[g->sc_cur][0]);
+    wg_in(run, 7, &g->sc[g->sc_cur][1]);
+    wg_u1i(run, "u_first", first);
+    wg_u1i(run, "u_jacobi", !g->amg_on);
     if (!g->amg_on) {
-        WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
+        WG_RUN(run, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
         v->dv = 1 - v->dv;
         v->r = 1 - v->r;
         return;
     }
     /* the multigrid's z = M^-1 r replaces the block-Jacobi t, and its (r.z, r.r) the update's */
-    WG_RUN(g, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r]);
+    WG_RUN(run, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r]);
     v->dv = 1 - v->dv;
     v->r = 1 - v->r;
-    wg_amg_apply(g, &g->r[v->r], &g->part);
+    wg_amg_apply(g->amg, &g->r[v->r], &g->part);
 }
 
 static void direction(wg_sim* g, pcg_vecs* v, int first) {
-    wg_use(g, WGP_PCG_DIRECTION);
-    wg_in(g, 0, g->amg_on ? g->amg->z : &g->t);
-    wg_in(g, 1, &g->c[v->c]);
-    wg_in(g, 2, &g->S0);
-    wg_in(g, 3, &g->S1);
-    wg_in(g, 4, &g->sc[g->sc_cur][0]);
-    wg_in(g, 5, &g->sc[g->sc_cur][1]);
-    wg_u1i(g, "u_first", first);
-    WG_RUN(g, g->n, &g->c[1 - v->c]);
+    wg_runner* run = &g->run;
+    wg_use(run, WGP_PCG_DIRECTION);
+    wg_in(run, 0, g->amg_on ? g->amg->z : &g->t);
+    wg_in(run, 1, &g->c[v->c]);
+    wg_in(run, 2, &g->S0);
+    wg_in(run, 3, &g->S1);
+    wg_in(run, 4, &g->sc[g->sc_cur][0]);
+    wg_in(run, 5, &g->sc[g->sc_cur][1]);
+    wg_u1i(run, "u_first", first);
+    WG_RUN(run, g->n, &g->c[1 - v->c]);
     v->c = 1 - v->c;
 }
 
 /* One PCG iteration, queued. */
 static void pcg_iteration(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, int max_it) {
+    wg_runner* run = &g->run;
     wg_spmv(g, &g->c[v->c], 1);
-    scalars(g, o, 1, wg_reduce(g, &g->red_p[0], &g->q, 0, 0, 0, 0), NULL, max_it);
+    scalars(g, o, 1, wg_reduce(run, &g->red_p[0], &g->q, 0, 0, 0, 0), NULL, max_it);
     update(g, v, 0);
-    scalars(g, o, 2, NULL, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+    scalars(g, o, 2, NULL, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
     direction(g, v, 0);
 }
 
 static void read_scalars(wg_sim* g, float s0[4], float s1[4], float s2[4]) {
-    wg_read1(g, &g->sc[g->sc_cur][0], s0);
-    wg_read1(g, &g->sc[g->sc_cur][1], s1);
-    wg_read1(g, &g->sc[g->sc_cur][2], s2);
+    wg_read1(&g->layout, &g->sc[g->sc_cur][0], s0);
+    wg_read1(&g->layout, &g->sc[g->sc_cur][1], s1);
+    wg_read1(&g->layout, &g->sc[g->sc_cur][2], s2);
 }
 
 /* |S (b - A x)|^2 of x (into r[spare]); one texel read back. With floor: also the residual's
  * float floor, 2^-24 |(|A| |x|)| (residual.glsl; the unit roundoff of the sums the product
  * makes), into *floor (g->t is its scratch: update() rewrites it before direction() reads it). */
 static double true_residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, double* floor) {
+    wg_runner* run = &g->run;
     residual2(g, x, out, floor ? &g->t : NULL);
     float v[4];
-    wg_read1(g, wg_reduce(g, &g->red_p[0], out, 0, 0, 0, 0), v);
+    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], out, 0, 0, 0, 0), v);
     if (floor) {
         float a[4];
-        wg_read1(g, wg_reduce(g, &g->red_p[0], &g->t, 0, 0, 0, 0), a);
+        wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->t, 0, 0, 0, 0), a);
         *floor = ldexp(sqrt((double)a[3]), -24);
     }
     return (double)v[3];
 }
 
 static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** out, wc_solve_result* res) {
+    wg_runner* run = &g->run;
     pcg_vecs v = {0, 0, 0};
     const int K = o->check_every > 0 ? o->check_every : 10, max_it = o->max_iterations;
     /* residual0 from z, then the initial guess (sv[0], projected) */
     residual(g, &g->z, &g->rz);
-    const wg_tex* r0 = wg_reduce(g, &g->red_p[0], &g->rz, 0, 0, 0, 0);
+    const wg_tex* r0 = wg_reduce(run, &g->red_p[0], &g->rz, 0, 0, 0, 0);
     residual(g, &g->sv[0], &g->r[0]);
     update(g, &v, 1);
     /* keep residual0's reduction: red_p[0] is reused by the next reductions, so scalars read it now */
-    scalars(g, o, 0, r0, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+    scalars(g, o, 0, r0, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
     direction(g, &v, 1);
     float s0[4], s1[4], s2[4];
     wc_status st = WC_OK;
@@ -199,7 +207,7 @@ static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** ou
             if (s1[2] >= (float)max_it) break;
             v.r = 1 - v.r;   /* r = the true residual */
             update(g, &v, 1);
-            scalars(g, o, 3, NULL, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+            scalars(g, o, 3, NULL, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
             direction(g, &v, 1);
             rt = -1.0;
             continue;
@@ -238,35 +246,32 @@ static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** ou
 /* Chebyshev's rho: 20 CG steps of the PCG passes on P y = S g (core/solve_rho.c), their alpha and
  * beta recorded per step into g->lanczos on the GPU and read back once. */
 static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
+    wg_runner* run = &g->run;
     wc_solver_opts lo = *o;
     lo.tolerance = 0.0;
     lo.divergence_factor = 1e30;
     pcg_vecs v = {0, 0, 0};
-    wg_use(g, WGP_LANCZOS_START);
-    wg_in(g, 0, &g->S0);
-    wg_in(g, 1, &g->S1);
-    WG_RUN(g, g->n, &g->r[0]);
-    const wg_tex* rn = wg_reduce(g, &g->red_p[0], &g->r[0], 0, 0, 0, 0);   /* w: |g|^2 */
+    wg_use(run, WGP_LANCZOS_START);
+    wg_in(run, 0, &g->S0);
+    wg_in(run, 1, &g->S1);
+    WG_RUN(run, g->n, &g->r[0]);
+    const wg_tex* rn = wg_reduce(run, &g->red_p[0], &g->r[0], 0, 0, 0, 0);   /* w: |g|^2 */
     update(g, &v, 1);
     /* residual0 = |g|, tolerance 0: the GPU marks the steps done only when r vanishes */
-    scalars(g, &lo, 0, rn, wg_reduce(g, &g->red_p[1], &g->part, 0, 0, 0, 0), 1 << 20);
+    scalars(g, &lo, 0, rn, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), 1 << 20);
     direction(g, &v, 1);
     float first[4];
-    wg_read1(g, &g->sc[g->sc_cur][0], first);
+    wg_read1(&g->layout, &g->sc[g->sc_cur][0], first);
     if (first[3] == 0.0f) return 0.0;   /* no free direction anywhere */
     if (!(first[0] > 0.0f) || !isfinite(first[0])) return 0.9995;
     for (int k = 0; k < 20; ++k) {
         pcg_iteration(g, &lo, &v, 1 << 20);
-        wg_use(g, WGP_COPY_TEXEL);
-        wg_in(g, 0, &g->sc[g->sc_cur][0]);
-        wg_run_texel(g, &g->lanczos, k);
+        wg_use(run, WGP_COPY_TEXEL);
+        wg_in(run, 0, &g->sc[g->sc_cur][0]);
+        wg_run_texel(run, &g->lanczos, k);
     }
     float rec[32 * 4];
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->scratch_fbo);
-    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->lanczos.id, 0);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, 20, 1, GL_RGBA, GL_FLOAT, rec);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    wg_read_texels(&g->layout, &g->lanczos, 0, 20, rec);
     double alpha[20], beta[20], delta0 = first[0];
     int k = 0;
     for (; k < 20; ++k) {
@@ -288,12 +293,13 @@ static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
 
 static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev, const wg_tex** out,
                                 wc_solve_result* res) {
+    wg_runner* run = &g->run;
     const double gamma = chebyshev ? o->chebyshev_gamma : 1.0;
     const int delay = o->chebyshev_delay > 1 ? o->chebyshev_delay : 1;
     const int check_every = o->check_every > 0 ? o->check_every : 10;
     residual(g, &g->z, &g->rz);
     float r0[4];
-    wg_read1(g, wg_reduce(g, &g->red_p[0], &g->rz, 0, 0, 0, 0), r0);
+    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->rz, 0, 0, 0, 0), r0);
     const double res0 = sqrt((double)r0[3]);
     res->residual0 = res0;
     if (!isfinite(res0) || res0 == 0.0) {
@@ -310,28 +316,28 @@ static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev,
     double limit = o->divergence_factor * res0, rn = res0, omega = 1.0;
     int x = 0, prev = 1, nxt = 2, k = 0, converged = 0;
     wc_status st = WC_OK;
-    wg_use(g, WGP_JACOBI_SWEEP);
+    wg_use(run, WGP_JACOBI_SWEEP);
     for (;; ++k) {
         int check = (k % check_every == 0) || k >= o->max_iterations;
         if (chebyshev) omega = wc_chebyshev_omega(k, delay, rho, omega);
-        wg_use(g, WGP_JACOBI_SWEEP);
-        wg_in(g, 0, &g->pblocks);
-        wg_in(g, 1, &g->block);
-        wg_in(g, 2, &g->A0);
-        wg_in(g, 3, &g->A1);
-        wg_in(g, 4, &g->sv[x]);
-        wg_in(g, 5, &g->b);
-        wg_in(g, 6, &g->S0);
-        wg_in(g, 7, &g->S1);
-        wg_in(g, 8, &g->D0);
-        wg_in(g, 9, &g->D1);
-        wg_in(g, 10, &g->sv[prev]);
-        wg_u1f(g, "u_gamma", gamma);
-        wg_u1f(g, "u_omega", omega);
-        WG_RUN(g, g->n, &g->sv[nxt]);
+        wg_use(run, WGP_JACOBI_SWEEP);
+        wg_in(run, 0, &g->pblocks);
+        wg_in(run, 1, &g->block);
+        wg_in(run, 2, &g->A0);
+        wg_in(run, 3, &g->A1);
+        wg_in(run, 4, &g->sv[x]);
+        wg_in(run, 5, &g->b);
+        wg_in(run, 6, &g->S0);
+        wg_in(run, 7, &g->S1);
+        wg_in(run, 8, &g->D0);
+        wg_in(run, 9, &g->D1);
+        wg_in(run, 10, &g->sv[prev]);
+        wg_u1f(run, "u_gamma", gamma);
+        wg_u1f(run, "u_omega", omega);
+        WG_RUN(run, g->n, &g->sv[nxt]);
         if (check) {
             float v[4];
-            wg_read1(g, wg_reduce(g, &g->red_p[0], &g->sv[nxt], 0, 0, 0, 0), v);
+            wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->sv[nxt], 0, 0, 0, 0), v);
             rn = sqrt((double)v[3]);
             if (k == 0) limit = o->divergence_factor * fmax(res0, rn);
             if (!isfinite(rn) || rn > limit) {
@@ -366,19 +372,20 @@ static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev,
 
 wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,
                      const wg_tex** out, wc_solve_result* res) {
+    wg_runner* run = &g->run;
     memset(res, 0, sizeof *res);
     res->solver = type;
     /* the preconditioner (block Jacobi's unless PCG has the multigrid), and the initial guess
        projected into sv[0] */
     const int amg = type == WC_SOLVER_PCG && g->amg;
     if (!amg) {
-        wg_use(g, WGP_DINV);
-        wg_in(g, 0, &g->pblocks);
-        wg_in(g, 1, &g->A0);
-        wg_in(g, 2, &g->A1);
-        wg_in(g, 3, &g->S0);
-        wg_in(g, 4, &g->S1);
-        WG_RUN(g, g->n, &g->D0, &g->D1);
+        wg_use(run, WGP_DINV);
+        wg_in(run, 0, &g->pblocks);
+        wg_in(run, 1, &g->A0);
+        wg_in(run, 2, &g->A1);
+        wg_in(run, 3, &g->S0);
+        wg_in(run, 4, &g->S1);
+        WG_RUN(run, g->n, &g->D0, &g->D1);
     }
     /* Chebyshev's rho first: its CG steps use every solver iterate (sv included) as scratch */
     if (type == WC_SOLVER_CHEBYSHEV && !(o->chebyshev_rho > 0.0) && !g->rho_valid) {
@@ -388,7 +395,7 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
     project(g, dv_in, &g->sv[0], 0);
     wc_status st;
     if (amg) {
-        wg_amg_setup(g);
+        wg_amg_setup(g->amg);
         g->amg_on = 1;
         st = solve_pcg(g, o, out, res);
         g->amg_on = 0;

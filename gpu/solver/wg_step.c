@@ -12,6 +12,11 @@
 #include "gpu_error.h"
 #include "wg_sim_impl.h"
 
+/* What a timestamp (wg_stamps.h) starts: the stages of the step's statistics. */
+typedef enum wg_stage {
+    WG_STAGE_COLLIDE, WG_STAGE_FORCES, WG_STAGE_ASSEMBLE, WG_STAGE_SOLVE, WG_STAGE_INTEGRATE, WG_STAGE_COUNT
+} wg_stage;
+
 /* Pins of this frame: the particle map when the pinned set changed, targets every frame. */
 void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
     int n_pins = s->n_pins < g->pin_cap ? s->n_pins : g->pin_cap;
@@ -24,126 +29,122 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
             g->pin_map_cpu[s->pins[k].particle] = k;
         }
         g->n_pins_uploaded = n_pins;
-        wg_array_upload(g, &g->pin_map, g->n, g->pin_map_cpu);
+        wg_array_upload(&g->layout, &g->pin_map, g->n, g->pin_map_cpu);
     }
     if (n_pins == 0) return;
     float* f = g->pin_scratch;
     for (int k = 0; k < n_pins; ++k)
         for (int c = 0; c < 4; ++c) f[4 * k + c] = c < 3 ? (float)s->pin_from[3 * k + c] : 0.0f;
-    wg_array_upload(g, &g->pin_from, n_pins, f);
+    wg_array_upload(&g->layout, &g->pin_from, n_pins, f);
     for (int k = 0; k < n_pins; ++k)
         for (int c = 0; c < 4; ++c) f[4 * k + c] = c < 3 ? (float)s->pins[k].target[c] : 0.0f;
-    wg_array_upload(g, &g->pin_target, n_pins, f);
+    wg_array_upload(&g->layout, &g->pin_target, n_pins, f);
     for (int k = 0; k < n_pins; ++k)
         for (int c = 0; c < 4; ++c) f[4 * k + c] = c < 3 ? (float)s->pins[k].free_axis[c] : 0.0f;
-    wg_array_upload(g, &g->pin_axis, n_pins, f);
+    wg_array_upload(&g->layout, &g->pin_axis, n_pins, f);
 }
 
 static void bind_pins(wg_sim* g, int unit0) {
-    wg_in(g, unit0, &g->pin_map);
-    wg_in(g, unit0 + 1, &g->pin_from);
-    wg_in(g, unit0 + 2, &g->pin_target);
-    wg_in(g, unit0 + 3, &g->pin_axis);
-    wg_u1i(g, "u_n_pins", g->n_pins_uploaded);
+    wg_runner* run = &g->run;
+    wg_in(run, unit0, &g->pin_map);
+    wg_in(run, unit0 + 1, &g->pin_from);
+    wg_in(run, unit0 + 2, &g->pin_target);
+    wg_in(run, unit0 + 3, &g->pin_axis);
+    wg_u1i(run, "u_n_pins", g->n_pins_uploaded);
 }
 
 /* The checks of the current x, v into texels `slot` (particles) and slot + 1 (springs) of
  * g->lanczos' last texels (28..31): (kinetic, -m g.x, max |coordinate|, max v.v) and (spring
  * energy, max stretch strain). */
 static void checks(wg_sim* g, const wc_state* s, int slot) {
-    wg_use(g, WGP_CHECK_PARTICLES);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, wg_ring_cur(&g->v));
-    wg_in(g, 2, &g->mass);
-    wg_u3f(g, "u_gravity", s->def.gravity);
-    WG_RUN(g, g->n, &g->chk_p);
-    const wg_tex* rp = wg_reduce(g, &g->red_p[0], &g->chk_p, 0, 0, 1, 1);
-    wg_use(g, WGP_COPY_TEXEL);
-    wg_in(g, 0, rp);
-    wg_run_texel(g, &g->lanczos, 28 + slot);
-    wg_use(g, WGP_CHECK_SPRINGS);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, &g->spring);
-    wg_in(g, 2, &g->spring_rest);
-    wg_u3f(g, "u_k", s->model->material.k);
-    WG_RUN(g, g->ns, &g->chk_s);
-    const wg_tex* rs = wg_reduce(g, &g->red_s, &g->chk_s, 0, 1, 0, 0);
-    wg_use(g, WGP_COPY_TEXEL);
-    wg_in(g, 0, rs);
-    wg_run_texel(g, &g->lanczos, 29 + slot);
+    wg_runner* run = &g->run;
+    wg_use(run, WGP_CHECK_PARTICLES);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, wg_ring_cur(&g->v));
+    wg_in(run, 2, &g->mass);
+    wg_u3f(run, "u_gravity", s->def.gravity);
+    WG_RUN(run, g->n, &g->chk_p);
+    const wg_tex* rp = wg_reduce(run, &g->red_p[0], &g->chk_p, 0, 0, 1, 1);
+    wg_use(run, WGP_COPY_TEXEL);
+    wg_in(run, 0, rp);
+    wg_run_texel(run, &g->lanczos, 28 + slot);
+    wg_use(run, WGP_CHECK_SPRINGS);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, &g->spring);
+    wg_in(run, 2, &g->spring_rest);
+    wg_u3f(run, "u_k", s->model->material.k);
+    WG_RUN(run, g->ns, &g->chk_s);
+    const wg_tex* rs = wg_reduce(run, &g->red_s, &g->chk_s, 0, 1, 0, 0);
+    wg_use(run, WGP_COPY_TEXEL);
+    wg_in(run, 0, rs);
+    wg_run_texel(run, &g->lanczos, 29 + slot);
 }
 
-static void read_checks(wg_sim* g, float out[16]) {
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->scratch_fbo);
-    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->lanczos.id, 0);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    glReadPixels(28, 0, 4, 1, GL_RGBA, GL_FLOAT, out);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-}
+static void read_checks(wg_sim* g, float out[16]) { wg_read_texels(&g->layout, &g->lanczos, 28, 4, out); }
 
 /* Pins, contacts, springs, air, assembly: s->filter's GPU twin (S0, S1, z), A0/A1, b. */
 void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression) {
     g->residual_floor = wc_state_residual_floor(s, h); /* the solves' floor, as core's prepare */
     const wc_model* m = g->m;
-    wg_stamp(g, WG_STAGE_COLLIDE);
-    wg_use(g, WGP_PINS);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, wg_ring_cur(&g->v));
+    wg_runner* run = &g->run;
+    wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
+    wg_use(run, WGP_PINS);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, wg_ring_cur(&g->v));
     bind_pins(g, 2);
-    wg_u1f(g, "u_h", h);
-    wg_u1f(g, "u_alpha1", alpha1);
-    WG_RUN(g, g->n, &g->S0, &g->S1, &g->z);
-    if (s->n_colliders > 0 && g->contacts) wg_contacts_begin(g, s, h);
+    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_alpha1", alpha1);
+    WG_RUN(run, g->n, &g->S0, &g->S1, &g->z);
+    if (s->n_colliders > 0) wg_contacts_begin(g->contacts, s, h);
 
-    wg_stamp(g, WG_STAGE_FORCES);
-    wg_use(g, WGP_SPRINGS);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, wg_ring_cur(&g->v));
-    wg_in(g, 2, &g->spring);
-    wg_in(g, 3, &g->spring_rest);
-    wg_in(g, 4, &g->rest);
-    wg_u3f(g, "u_k", m->material.k);
-    wg_u3f(g, "u_d", m->material.d);
-    wg_u1f(g, "u_h", h);
-    wg_u1i(g, "u_compression_drop", compression == WC_COMPRESSION_DROP);
-    WG_RUN(g, g->ns, &g->sf, &g->sw, &g->sj);
+    wg_stamp(&g->stamps, WG_STAGE_FORCES);
+    wg_use(run, WGP_SPRINGS);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, wg_ring_cur(&g->v));
+    wg_in(run, 2, &g->spring);
+    wg_in(run, 3, &g->spring_rest);
+    wg_in(run, 4, &g->rest);
+    wg_u3f(run, "u_k", m->material.k);
+    wg_u3f(run, "u_d", m->material.d);
+    wg_u1f(run, "u_h", h);
+    wg_u1i(run, "u_compression_drop", compression == WC_COMPRESSION_DROP);
+    WG_RUN(run, g->ns, &g->sf, &g->sw, &g->sj);
     const wc_air* air = &s->def.air;
     int use_air = (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && g->nt > 0;
     if (use_air) {
-        wg_use(g, WGP_AIR);
-        wg_in(g, 0, wg_ring_cur(&g->x));
-        wg_in(g, 1, wg_ring_cur(&g->v));
-        wg_in(g, 2, &g->tri);
-        wg_u3f(g, "u_wind", air->wind);
-        wg_u2f(g, "u_drag", air->normal_drag, air->tangent_drag);
-        WG_RUN(g, g->nt, &g->fair);
+        wg_use(run, WGP_AIR);
+        wg_in(run, 0, wg_ring_cur(&g->x));
+        wg_in(run, 1, wg_ring_cur(&g->v));
+        wg_in(run, 2, &g->tri);
+        wg_u3f(run, "u_wind", air->wind);
+        wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
+        WG_RUN(run, g->nt, &g->fair);
     }
 
-    wg_stamp(g, WG_STAGE_ASSEMBLE);
-    wg_use(g, WGP_ASSEMBLE_B);
-    wg_in(g, 0, &g->mass);
-    wg_in(g, 1, &g->rows);
-    wg_in(g, 2, &g->row_entry);
-    wg_in(g, 3, &g->sf);
-    wg_in(g, 4, &g->sw);
-    wg_in(g, 5, &g->row_tri);
-    wg_in(g, 6, &g->fair);
-    wg_u1f(g, "u_h", h);
-    wg_u3f(g, "u_gravity", s->def.gravity);
-    wg_u1i(g, "u_use_air", use_air);
-    WG_RUN(g, g->n, &g->b, &g->ftot);
-    wg_use(g, WGP_ASSEMBLE_A);
-    wg_in(g, 0, &g->block);
-    wg_in(g, 1, &g->block_list);
-    wg_in(g, 2, &g->mass);
-    wg_in(g, 3, &g->sf);
-    wg_in(g, 4, &g->sw);
-    wg_in(g, 5, &g->sj);
-    WG_RUN(g, g->nb, &g->A0, &g->A1);
+    wg_stamp(&g->stamps, WG_STAGE_ASSEMBLE);
+    wg_use(run, WGP_ASSEMBLE_B);
+    wg_in(run, 0, &g->mass);
+    wg_in(run, 1, &g->rows);
+    wg_in(run, 2, &g->row_entry);
+    wg_in(run, 3, &g->sf);
+    wg_in(run, 4, &g->sw);
+    wg_in(run, 5, &g->row_tri);
+    wg_in(run, 6, &g->fair);
+    wg_u1f(run, "u_h", h);
+    wg_u3f(run, "u_gravity", s->def.gravity);
+    wg_u1i(run, "u_use_air", use_air);
+    WG_RUN(run, g->n, &g->b, &g->ftot);
+    wg_use(run, WGP_ASSEMBLE_A);
+    wg_in(run, 0, &g->block);
+    wg_in(run, 1, &g->block_list);
+    wg_in(run, 2, &g->mass);
+    wg_in(run, 3, &g->sf);
+    wg_in(run, 4, &g->sw);
+    wg_in(run, 5, &g->sj);
+    WG_RUN(run, g->nb, &g->A0, &g->A1);
     if (s->n_colliders > 0 && g->contacts) {
-        wg_stamp(g, WG_STAGE_COLLIDE);
-        wg_contacts_friction(g, s, h);
+        wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
+        wg_contacts_friction(g->contacts, s, h);
     }
     g->prepared = 1;
 }
@@ -153,24 +154,25 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
 static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                                double pin_energy, wc_step_stats* st, wc_diag* diag) {
     wg_sim* g = user;
+    wg_runner* run = &g->run;
     wc_substep_measure before = {0}, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     float chk[16];
     checks(g, s, 0);   /* the start's measures, read back with the end's */
 
     wg_step_prepare(g, s, h, alpha1, judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression);
-    wg_stamp(g, WG_STAGE_SOLVE);
+    wg_stamp(&g->stamps, WG_STAGE_SOLVE);
     wc_solver_opts opts = s->def.solver;
     const wg_tex* dvres = NULL;
     wc_solve_result res;
     wc_status status = wg_solve(g, &opts, solver, wg_ring_cur(&g->dv), &dvres, &res);
     wc_step_stats_add_solve(st, solver, &res);
     for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && s->n_colliders > 0 && g->contacts; ++pass) {
-        if (!wg_contacts_recheck(g, s, dvres, h)) break;
+        if (!wg_contacts_recheck(g->contacts, s, dvres)) break;
         ++st->friction_passes;
         /* the next solve starts from this one's result: keep it out of the solver's iterates */
         int nd = wg_ring_other(&g->dv, 0);
-        wg_copy(g, &g->dv.t[nd], dvres);
+        wg_copy(run, &g->dv.t[nd], dvres);
         status = wg_solve(g, &opts, solver, &g->dv.t[nd], &dvres, &res);
         wc_step_stats_add_solve(st, solver, &res);
     }
@@ -179,19 +181,19 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);
     int nd = wg_ring_other(&g->dv, 0);
-    wg_copy(g, &g->dv.t[nd], dvres);
+    wg_copy(run, &g->dv.t[nd], dvres);
 
-    wg_stamp(g, WG_STAGE_INTEGRATE);
-    if (s->n_colliders > 0 && g->contacts) wg_contacts_end(g, s, &g->dv.t[nd]);
+    wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
+    if (s->n_colliders > 0) wg_contacts_end(g->contacts, s, &g->dv.t[nd]);
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
-    wg_use(g, WGP_INTEGRATE);
-    wg_in(g, 0, wg_ring_cur(&g->x));
-    wg_in(g, 1, wg_ring_cur(&g->v));
-    wg_in(g, 2, &g->dv.t[nd]);
+    wg_use(run, WGP_INTEGRATE);
+    wg_in(run, 0, wg_ring_cur(&g->x));
+    wg_in(run, 1, wg_ring_cur(&g->v));
+    wg_in(run, 2, &g->dv.t[nd]);
     bind_pins(g, 3);
-    wg_u1f(g, "u_h", h);
-    wg_u1f(g, "u_alpha1", alpha1);
-    WG_RUN(g, g->n, &g->x.t[nx], &g->v.t[nv]);
+    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_alpha1", alpha1);
+    WG_RUN(run, g->n, &g->x.t[nx], &g->v.t[nv]);
     g->x.cur = nx;
     g->v.cur = nv;
     g->dv.cur = nd;
@@ -199,40 +201,40 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         /* core stops early once no spring is above the limit; here every pass runs (a pass with
            nothing to correct changes nothing) */
         for (int pass = 0; pass < s->def.strain_passes; ++pass) {
-            wg_use(g, WGP_STRAIN_SPRINGS);
-            wg_in(g, 0, wg_ring_cur(&g->x));
-            wg_in(g, 1, &g->spring);
-            wg_in(g, 2, &g->spring_rest);
-            wg_in(g, 3, &g->mass);
-            wg_in(g, 4, &g->S0);
-            wg_in(g, 5, &g->S1);
-            wg_u1f(g, "u_limit", s->def.strain_limit);
-            WG_RUN(g, g->ns, &g->corr);
+            wg_use(run, WGP_STRAIN_SPRINGS);
+            wg_in(run, 0, wg_ring_cur(&g->x));
+            wg_in(run, 1, &g->spring);
+            wg_in(run, 2, &g->spring_rest);
+            wg_in(run, 3, &g->mass);
+            wg_in(run, 4, &g->S0);
+            wg_in(run, 5, &g->S1);
+            wg_u1f(run, "u_limit", s->def.strain_limit);
+            WG_RUN(run, g->ns, &g->corr);
             int sx = wg_ring_other(&g->x, 0), sv = wg_ring_other(&g->v, 0);
-            wg_use(g, WGP_STRAIN_GATHER);
-            wg_in(g, 0, wg_ring_cur(&g->x));
-            wg_in(g, 1, wg_ring_cur(&g->v));
-            wg_in(g, 2, &g->rows);
-            wg_in(g, 3, &g->row_entry);
-            wg_in(g, 4, &g->corr);
-            wg_in(g, 5, &g->mass);
-            wg_in(g, 6, &g->S0);
-            wg_in(g, 7, &g->S1);
-            wg_in(g, 8, &g->spring);
-            wg_u1f(g, "u_h", h);
-            WG_RUN(g, g->n, &g->x.t[sx], &g->v.t[sv]);
+            wg_use(run, WGP_STRAIN_GATHER);
+            wg_in(run, 0, wg_ring_cur(&g->x));
+            wg_in(run, 1, wg_ring_cur(&g->v));
+            wg_in(run, 2, &g->rows);
+            wg_in(run, 3, &g->row_entry);
+            wg_in(run, 4, &g->corr);
+            wg_in(run, 5, &g->mass);
+            wg_in(run, 6, &g->S0);
+            wg_in(run, 7, &g->S1);
+            wg_in(run, 8, &g->spring);
+            wg_u1f(run, "u_h", h);
+            WG_RUN(run, g->n, &g->x.t[sx], &g->v.t[sv]);
             g->x.cur = sx;
             g->v.cur = sv;
         }
     }
     if (s->n_colliders > 0 && g->contacts) {
-        wg_stamp(g, WG_STAGE_COLLIDE);
-        wg_contacts_project(g, s);
+        wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
+        wg_contacts_project(g->contacts, s);
     }
-    wg_stamp(g, WG_STAGE_INTEGRATE);
+    wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
     checks(g, s, 2);
     read_checks(g, chk);
-    wg_stamp(g, WG_STAGE_COUNT);
+    wg_stamp(&g->stamps, WG_STAGE_COUNT);
     if (glGetError() != GL_NO_ERROR) g->gl_error = 1;
 
     before.kinetic = chk[0];
@@ -248,18 +250,18 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
 
 static void gpu_save(void* user, wc_state* s) {
     wg_sim* g = user;
-    g->x.keep = g->x.cur;
-    g->v.keep = g->v.cur;
-    g->dv.keep = g->dv.cur;
-    if (s->n_colliders > 0 && g->contacts) wg_contacts_save(g);
+    wg_ring_save(&g->x);
+    wg_ring_save(&g->v);
+    wg_ring_save(&g->dv);
+    if (s->n_colliders > 0) wg_contacts_save(g->contacts);
 }
 
 static void gpu_restore(void* user, wc_state* s) {
     wg_sim* g = user;
-    g->x.cur = g->x.keep;
-    g->v.cur = g->v.keep;
-    g->dv.cur = g->dv.keep;
-    if (s->n_colliders > 0 && g->contacts) wg_contacts_restore(g);
+    wg_ring_restore(&g->x);
+    wg_ring_restore(&g->v);
+    wg_ring_restore(&g->dv);
+    if (s->n_colliders > 0) wg_contacts_restore(g->contacts);
     g->rho_valid = 0;
 }
 
@@ -280,32 +282,23 @@ static void gpu_sleep(void* user, wc_state* s) {
     wg_sim_transform_state(g, I, z3, Z, z3, I);   /* v = 0; the warm start kept, as core does */
 }
 
-static void collect_stamps(wg_sim* g, wc_step_stats* st) {
-    if (!g->dev->has_timer || g->n_stamps < 2) return;
-    st->ms.forces = st->ms.assemble = st->ms.solve = st->ms.collide = st->ms.integrate = 0.0;
-    GLuint64 prev = 0;
-    for (int k = 0; k < g->n_stamps; ++k) {
-        GLuint64 t = 0;
-        glGetQueryObjectui64v(g->stamps[k], GL_QUERY_RESULT, &t);
-        if (k > 0 && g->stamp_stage[k - 1] != WG_STAGE_COUNT) {
-            double ms = (double)(t - prev) * 1e-6;
-            switch (g->stamp_stage[k - 1]) {
-            case WG_STAGE_COLLIDE: st->ms.collide += ms; break;
-            case WG_STAGE_FORCES: st->ms.forces += ms; break;
-            case WG_STAGE_ASSEMBLE: st->ms.assemble += ms; break;
-            case WG_STAGE_SOLVE: st->ms.solve += ms; break;
-            default: st->ms.integrate += ms; break;
-            }
-        }
-        prev = t;
-    }
+/* The frame's stamps as the statistics' milliseconds per stage; 0 when there are none. */
+static int collect_stamps(wg_sim* g, wc_step_stats* st) {
+    double ms[WG_STAGE_COUNT] = {0};
+    if (!wg_stamps_collect(&g->stamps, ms, WG_STAGE_COUNT)) return 0;
+    st->ms.collide = ms[WG_STAGE_COLLIDE];
+    st->ms.forces = ms[WG_STAGE_FORCES];
+    st->ms.assemble = ms[WG_STAGE_ASSEMBLE];
+    st->ms.solve = ms[WG_STAGE_SOLVE];
+    st->ms.integrate = ms[WG_STAGE_INTEGRATE];
+    return 1;
 }
 
 wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag) {
     wc_step_stats local;
     wc_step_stats* st = stats ? stats : &local;
     double t0 = wc_now_ms();
-    g->n_stamps = 0;
+    wg_stamps_reset(&g->stamps);
     g->gl_error = 0;
     glGetError();
     glDisable(GL_BLEND);
@@ -318,13 +311,12 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     wc_step_ops ops = {g, gpu_substep, gpu_save, gpu_restore, gpu_measure, gpu_sleep, s->def.solver.type};
     wc_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
     if (r == WC_OK && s->n_colliders > 0 && g->contacts && !st->asleep) {
-        s->contacts.active = wg_contacts_active(g);
+        s->contacts.active = wg_contacts_active(g->contacts);
         st->contacts = s->contacts.active;
     }
     GLenum e = glGetError();
     if ((g->gl_error || e != GL_NO_ERROR) && r == WC_OK)
         r = wc_fail(diag, WC_ERROR_GPU, "GPU step: GL error %s", e != GL_NO_ERROR ? wg_gl_error_name(e) : "in a pass");
-    if (g->dev->has_timer && g->n_stamps >= 2) collect_stamps(g, st);
-    else if (!st->asleep) st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble;
+    if (!collect_stamps(g, st) && !st->asleep) st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble;
     return r;
 }

@@ -1,0 +1,65 @@
+/* Plane, sphere and capsule contacts with thickness and Coulomb friction on the GPU: the five
+ * steps of core/collide.c as passes over one cloth, with the same rules, called by the substep
+ * (wg_step.c) only when the state has colliders. Colliders come from s->colliders at each hook
+ * that reads them. Contact state (per particle: colliders, normals, released, stick) lives in
+ * the contacts' own textures, in rings rolled back with the substep (save/restore) and backed up
+ * with the frame (backup/restore_backup).
+ *
+ * The contacts receive the cloth's textures they read and change (wg_contact_cloth: pointers into
+ * the cloth, which keep their addresses): a pass that changes the filter, b or A writes into a
+ * scratch texture of the same format, which then trades values with the cloth's. Every function
+ * takes NULL (a cloth without colliders) and does nothing; calls are made with the cloth's GL
+ * context current. */
+#ifndef WEFT_GPU_SOLVER_CONTACTS_H
+#define WEFT_GPU_SOLVER_CONTACTS_H
+
+#include "state.h"
+#include "status.h"
+#include "wg_reduce.h"
+#include "wg_ring.h"
+
+typedef struct wg_contact_cloth {
+    int n, nb;                  /* particles, blocks */
+    wg_ring *x, *v;             /* begin and project write a new cur, never the ring's keep */
+    wg_tex *s0, *s1, *z, *b;    /* the substep's filter and right-hand side */
+    wg_tex *a_lo, *a_hi;        /* the substep's matrix A (symmetric blocks) */
+    const wg_tex *mass, *ftot, *pblocks, *block;
+    float* scratch;             /* n x 4 floats of staging (uploads, read-backs) */
+} wg_contact_cloth;
+
+typedef struct wg_contacts wg_contacts;
+
+/* The contacts of a cloth with room for max_colliders (*out NULL and WC_OK when it is 0): WC_OK,
+ * or WC_ERROR_GPU (fewer than 8 draw buffers, too many colliders for the device's textures, GL
+ * errors) or WC_ERROR_OUT_OF_MEMORY with err. */
+wc_status wg_contacts_create(wg_runner* r, const wg_contact_cloth* cloth, int max_colliders, wg_contacts** out,
+                             char* err, size_t err_len);
+void wg_contacts_destroy(wg_contacts* cs);
+/* Free the memory only (the GL context is gone). */
+void wg_contacts_forget(wg_contacts* cs);
+
+/* 1: after the pins pass (s0, s1, z hold the pins): find contacts, correct positions (a new x
+ * cur), write their constraints into s0/s1/z. */
+void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double h);
+/* 2: after assembly (A in block layout, b, ftot): Coulomb friction; may change s0/s1/z, the
+ * diagonal blocks of A and b. */
+void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h);
+/* 3b: after a solve whose result is dv: sticking contacts the solved cloth overloads slide;
+ * returns 1 when something changed (the caller solves again). Reads back one texel. */
+int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv);
+/* 4: after v += dv (dv the solve's result): release contacts whose normal impulse pulls inward. */
+void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv);
+/* 5: after positions advanced and strain limiting: push x out of collider shells, remove inward
+ * normal velocity (new x and v cur). */
+void wg_contacts_project(wg_contacts* cs, const wc_state* s);
+/* Particles in contact now (read back: one texel). */
+int wg_contacts_active(wg_contacts* cs);
+void wg_contacts_save(wg_contacts* cs);             /* the substep's start */
+void wg_contacts_restore(wg_contacts* cs);          /* rollback to it */
+void wg_contacts_backup(wg_contacts* cs);           /* the frame's back-up (wg_sim_backup) */
+void wg_contacts_restore_backup(wg_contacts* cs);
+/* The contact arrays of the CPU mirror (s->contacts) from and to the textures (snapshots). */
+void wg_contacts_download(wg_contacts* cs, wc_state* s);
+void wg_contacts_upload(wg_contacts* cs, const wc_state* s);
+
+#endif

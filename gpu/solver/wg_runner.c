@@ -1,0 +1,96 @@
+/* Running a cloth's passes (see wg_runner.h). */
+#include "wg_runner.h"
+
+#include <string.h>
+
+#include "wg_compute.h"
+
+void wg_runner_init(wg_runner* r, wg_device* dev, const wg_layout* layout) {
+    memset(r, 0, sizeof *r);
+    r->dev = dev;
+    r->layout = layout;
+}
+
+void wg_runner_destroy(wg_runner* r) { wg_fbo_cache_destroy(&r->fbo); }
+
+void wg_use(wg_runner* r, wg_pass_id p) {
+    r->prog = &r->dev->prog[p];
+    glUseProgram(r->prog->id);
+}
+
+void wg_in(wg_runner* r, int unit, const wg_tex* t) {
+    (void)r;
+    glActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    glBindTexture(GL_TEXTURE_2D, t->id);
+}
+
+void wg_u1i(wg_runner* r, const char* name, int v) { glUniform1i(wg_program_loc(r->prog, name), v); }
+void wg_u1f(wg_runner* r, const char* name, double v) { glUniform1f(wg_program_loc(r->prog, name), (float)v); }
+void wg_u2f(wg_runner* r, const char* name, double a, double b) {
+    glUniform2f(wg_program_loc(r->prog, name), (float)a, (float)b);
+}
+void wg_u3f(wg_runner* r, const char* name, const double* v) {
+    glUniform3f(wg_program_loc(r->prog, name), (float)v[0], (float)v[1], (float)v[2]);
+}
+void wg_u2i(wg_runner* r, const char* name, int a, int b) { glUniform2i(wg_program_loc(r->prog, name), a, b); }
+void wg_u4i(wg_runner* r, const char* name, int a, int b, int c, int d) {
+    glUniform4i(wg_program_loc(r->prog, name), a, b, c, d);
+}
+void wg_umat3(wg_runner* r, const char* name, const double* rm) {
+    float m[9];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m[3 * j + i] = (float)rm[3 * i + j];   /* column-major */
+    glUniformMatrix3fv(wg_program_loc(r->prog, name), 1, GL_FALSE, m);
+}
+
+/* u_n and the layout's u_shift, which every pass reads */
+static void set_size(wg_runner* r, int count) {
+    glUniform1i(wg_program_loc(r->prog, "u_n"), count);
+    glUniform1i(wg_program_loc(r->prog, "u_shift"), r->layout->shift);
+}
+
+/* A fragment pass over the w x h texels at (x0, 0). */
+static void draw(wg_runner* r, int count, const wg_tex* const* out, int n_out, int x0, int w, int h) {
+    wg_fbo_bind(&r->fbo, out, n_out);
+    glViewport(x0, 0, w, h);
+    set_size(r, count);
+    glBindVertexArray(r->dev->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    ++r->passes;
+}
+
+/* A compute pass (wg_compute.h) over the w x h texels at (x0, 0). */
+static void dispatch(wg_runner* r, int count, const wg_tex* const* out, int n_out, int x0, int w, int h) {
+    set_size(r, count);
+    wg_compute_dispatch(r->prog, out, n_out, x0, w, h);
+    ++r->passes;
+}
+
+void wg_run(wg_runner* r, int count, const wg_tex* const* out, int n_out) {
+    if (r->dev->compute) dispatch(r, count, out, n_out, 0, out[0]->w, out[0]->h);
+    else draw(r, count, out, n_out, 0, out[0]->w, out[0]->h);
+}
+
+void wg_run_texel(wg_runner* r, const wg_tex* out, int x) {
+    const wg_tex* const o[1] = {out};
+    if (r->dev->compute) dispatch(r, 1, o, 1, x, 1, 1);
+    else draw(r, 1, o, 1, x, 1, 1);
+}
+
+void wg_run_groups(wg_runner* r, int count, const wg_tex* out, int groups) {
+    set_size(r, count);
+    wg_compute_dispatch_groups(out, groups, r->dev->max_groups_x);
+    ++r->passes;
+}
+
+void wg_run_in_place(wg_runner* r, int count, const wg_tex* img) {
+    set_size(r, count);
+    wg_compute_dispatch_in_place(img);
+    ++r->passes;
+}
+
+void wg_copy(wg_runner* r, const wg_tex* dst, const wg_tex* src) {
+    wg_use(r, WGP_COPY);
+    wg_in(r, 0, src);
+    WG_RUN(r, dst->w * dst->h, dst);
+}

@@ -1,0 +1,52 @@
+/* Running one cloth's passes. A pass is a program of the device (wg_device.h) put in use with
+ * its inputs bound, then its uniforms set, then run over its output arrays: a draw into a
+ * cached framebuffer (fragment passes, wg_fbo_cache.h) or a dispatch writing images (compute
+ * passes, wg_compute.h), one fragment or invocation per texel; every run is counted. The runner
+ * knows the device and the cloth's layout, nothing else of the cloth. Calls are made with the
+ * cloth's GL context current. */
+#ifndef WEFT_GPU_SOLVER_RUNNER_H
+#define WEFT_GPU_SOLVER_RUNNER_H
+
+#include "wg_device.h"
+#include "wg_fbo_cache.h"
+#include "wg_layout.h"
+
+typedef struct wg_runner {
+    wg_device* dev;
+    const wg_layout* layout;
+    wg_fbo_cache fbo;
+    wg_program* prog;           /* the program in use */
+    long long passes;           /* passes run since init */
+} wg_runner;
+
+void wg_runner_init(wg_runner* r, wg_device* dev, const wg_layout* layout);
+void wg_runner_destroy(wg_runner* r);
+
+void wg_use(wg_runner* r, wg_pass_id p);
+void wg_in(wg_runner* r, int unit, const wg_tex* t);
+void wg_u1i(wg_runner* r, const char* name, int v);
+void wg_u1f(wg_runner* r, const char* name, double v);
+void wg_u2f(wg_runner* r, const char* name, double a, double b);
+void wg_u3f(wg_runner* r, const char* name, const double* v);
+void wg_u2i(wg_runner* r, const char* name, int a, int b);
+void wg_u4i(wg_runner* r, const char* name, int a, int b, int c, int d);
+void wg_umat3(wg_runner* r, const char* name, const double* row_major);
+
+/* Run the program in use into the outputs (all of one size), one fragment or invocation per
+ * texel; count = items of the output array (u_n). */
+void wg_run(wg_runner* r, int count, const wg_tex* const* out, int n_out);
+#define WG_RUN(r, count, ...) \
+    wg_run((r), (count), (const wg_tex* const[]){__VA_ARGS__}, \
+           (int)(sizeof((const wg_tex* const[]){__VA_ARGS__}) / sizeof(const wg_tex*)))
+/* Run the program in use into texel (x, 0) of out only. */
+void wg_run_texel(wg_runner* r, const wg_tex* out, int x);
+/* Compute passes only: dispatch the native compute program in use (*_groups.glsl) as `groups`
+ * work groups writing out (image 0); count = items (u_n). */
+void wg_run_groups(wg_runner* r, int count, const wg_tex* out, int groups);
+/* Compute passes only: one work group of the native compute program in use, reading and writing
+ * img in place (image 0, RGBA32F); count = items (u_n). */
+void wg_run_in_place(wg_runner* r, int count, const wg_tex* img);
+/* dst = src (same size), a copy pass. */
+void wg_copy(wg_runner* r, const wg_tex* dst, const wg_tex* src);
+
+#endif
