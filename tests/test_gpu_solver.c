@@ -3,6 +3,7 @@
  * SpMV, reductions on sizes that are not powers of two, every GPU solver against CHOLMOD's
  * direct solve of the same system, and whole runs GPU vs CPU. */
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,7 +13,8 @@
 #include "step.h"
 #include "test_support.h"
 #include "wg_compute.h"
-#include "wg_sim.h"
+#include "wg_passes.h"
+#include "wg_sim_impl.h"
 
 static wg_gl_context* gl;
 static wg_device* dev;
@@ -443,6 +445,77 @@ static void test_compute_source(void) {
     CHECK(wg_compute_source(gl, "void main() {}\n") == NULL);   /* no #version line */
 }
 
+/* A pass's input table against its program (wg_passes.h): the samplers the shader reads are
+ * exactly the table's names, bound to units in the table's order (a declared but unread sampler
+ * is no input); a name missing from either side is refused, naming the pass and the uniform. */
+static void test_pass_inputs(void) {
+    static const char fs[] = "#version 330 core\n"
+                             "uniform sampler2D x;\n"
+                             "uniform isampler2D rows;\n"
+                             "uniform sampler2D unread;\n"
+                             "out vec4 o0;\n"
+                             "void main() { o0 = texelFetch(x, ivec2(0), 0) + vec4(texelFetch(rows, ivec2(0), 0)); }\n";
+    typedef struct probe_in {
+        const wg_tex *x, *rows, *y;
+    } probe_in;
+    const wg_pass_input exact[] = {{"rows", offsetof(probe_in, rows)}, {"x", offsetof(probe_in, x)}};
+    const wg_pass_input missing[] = {{"rows", offsetof(probe_in, rows)}, {"x", offsetof(probe_in, x)},
+                                     {"y", offsetof(probe_in, y)}};
+    const wg_pass_input extra[] = {{"x", offsetof(probe_in, x)}};
+    wg_program prog;
+    char err[512] = "";
+    CHECK(wg_program_build(&prog, "probe", wg_fullscreen_vs, fs, err, sizeof err));
+    if (!prog.id) return;
+    wg_pass_info pass = {"probe", exact, 2, sizeof(probe_in), 0, 0};
+    CHECK(wg_pass_bind_inputs(prog.id, &pass, err, sizeof err));
+    GLint unit_rows = -1, unit_x = -1;
+    glGetUniformiv(prog.id, glGetUniformLocation(prog.id, "rows"), &unit_rows);
+    glGetUniformiv(prog.id, glGetUniformLocation(prog.id, "x"), &unit_x);
+    CHECK(unit_rows == 0 && unit_x == 1);
+    pass.in = missing;
+    pass.n_in = 3;
+    CHECK(!wg_pass_bind_inputs(prog.id, &pass, err, sizeof err));
+    printf("  missing: %s\n", err);
+    CHECK(strstr(err, "'probe'") != NULL && strstr(err, "'y'") != NULL);
+    pass.in = extra;
+    pass.n_in = 1;
+    CHECK(!wg_pass_bind_inputs(prog.id, &pass, err, sizeof err));
+    printf("  extra: %s\n", err);
+    CHECK(strstr(err, "'probe'") != NULL && strstr(err, "'rows'") != NULL);
+    wg_program_destroy(&prog);
+    CHECK(glGetError() == GL_NO_ERROR);
+}
+
+/* A call site that breaks a pass's contract (an input left NULL, another pass's input struct)
+ * binds nothing there; the runner keeps the fault, and the next frame reports it as a GPU error
+ * naming the pass and the input. */
+static void test_pass_fault(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 6, WC_SOLVER_PCG, 0);
+    if (!s) return;
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
+    if (!g) {
+        wc_state_destroy(s);
+        wc_model_free(&m);
+        return;
+    }
+    CHECK(g->run.fault[0] == '\0');
+    WG_USE(&g->run, WGP_TRANSFORM, &(wg_transform_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v)});
+    printf("  %s\n", g->run.fault);
+    CHECK(strstr(g->run.fault, "'transform'") != NULL && strstr(g->run.fault, "'dv'") != NULL);
+    CHECK(wg_sim_step_frame(g, s, 1.0 / 30.0, NULL, &d) == WC_ERROR_GPU);
+    CHECK(strstr(d.message, "'dv'") != NULL);
+    g->run.fault[0] = '\0';
+    WG_USE(&g->run, WGP_TRANSFORM, &(wg_src_in){.src = wg_ring_cur(&g->x)});
+    printf("  %s\n", g->run.fault);
+    CHECK(strstr(g->run.fault, "'transform'") != NULL && strstr(g->run.fault, "input struct") != NULL);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
@@ -468,6 +541,8 @@ int main(void) {
     RUN_TEST(test_texture_limit);
     RUN_TEST(test_direct_refused);
     RUN_TEST(test_compute_source);
+    RUN_TEST(test_pass_inputs);
+    RUN_TEST(test_pass_fault);
     wg_device_destroy(dev);
     wg_gl_end(gl);
     wg_gl_context_destroy(gl);

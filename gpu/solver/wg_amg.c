@@ -213,10 +213,6 @@ size_t wg_amg_bytes(const wg_amg* a) {
     return bytes;
 }
 
-static void in3(wg_runner* run, int unit, const wg_tex* t) {
-    for (int c = 0; c < 3; ++c) wg_in(run, unit + c, t + c);
-}
-
 /* The pass p (a coarse level's) or its form over the finest level, p's *_FINE. */
 static wg_pass_id level_pass(wg_pass_id p, int l) {
     if (l > 0) return p;
@@ -231,53 +227,58 @@ static wg_pass_id level_pass(wg_pass_id p, int l) {
     }
 }
 
-/* Level l's pass p with the level's inputs on units 0..8 (amg_level_inputs.glsl): rows, then on
- * level 0 the system's blocks (row, column), A and S, on coarser levels the level's cols and
- * blocks; then D^-1 unless the pass makes it. */
-static void use_level(const wg_amg* a, int l, wg_pass_id p) {
-    wg_runner* run = a->run;
+/* Level l's inputs (amg_level_inputs.glsl): its pattern, its operator (on the finest level the
+ * system's blocks, A and S; on a coarser one the level's blocks) and its D^-1. Each pass's table
+ * takes those its shader reads. */
+static wg_amg_in level_in(const wg_amg* a, int l) {
     const wg_amg_level* L = &a->lev[l];
-    wg_use(run, level_pass(p, l));
-    wg_in(run, 0, &L->rows);
+    wg_amg_in in = {.rows = &L->rows, .dinv0 = &L->dinv[0], .dinv1 = &L->dinv[1], .dinv2 = &L->dinv[2]};
     if (l == 0) {
-        wg_in(run, 1, a->sys.block);
-        wg_in(run, 2, a->sys.a_lo);
-        wg_in(run, 3, a->sys.a_hi);
-        wg_in(run, 4, a->sys.s0);
-        wg_in(run, 5, a->sys.s1);
-        if (p != WGP_AMG_DINV) in3(run, 6, L->dinv);
+        in.cols = a->sys.block;
+        in.a_lo = a->sys.a_lo;
+        in.a_hi = a->sys.a_hi;
+        in.S0 = a->sys.S0;
+        in.S1 = a->sys.S1;
     } else {
-        wg_in(run, 1, &L->cols);
-        in3(run, 2, L->a);
-        if (p != WGP_AMG_DINV) in3(run, 5, L->dinv);
+        in.cols = &L->cols;
+        in.a0 = &L->a[0];
+        in.a1 = &L->a[1];
+        in.a2 = &L->a[2];
     }
+    return in;
+}
+
+/* Level l's form of pass p with its inputs. */
+static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in) {
+    WG_USE(a->run, level_pass(p, l), in);
 }
 
 void wg_amg_setup(wg_amg* a) {
     wg_runner* run = a->run;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* L = &a->lev[l];
+        wg_amg_in in = level_in(a, l);
         if (l > 0) {
-            use_level(a, l - 1, WGP_AMG_GALERKIN);
-            wg_in(run, 9, &L->gal_range);
-            wg_in(run, 10, &L->gal_list);
+            wg_amg_in finer = level_in(a, l - 1);
+            finer.gal_range = &L->gal_range;
+            finer.gal_list = &L->gal_list;
+            use_level(a, l - 1, WGP_AMG_GALERKIN, &finer);
             WG_RUN(run, L->nb, &L->a[0], &L->a[1], &L->a[2]);
         }
         if (l == a->n_levels - 1 && a->dense) {
             /* one work group, factoring in place: the image bound read-write (wg_run_groups binds
                its output write-only) */
-            use_level(a, l, WGP_AMG_FACTOR_GROUPS);
+            use_level(a, l, WGP_AMG_FACTOR_GROUPS, &in);
             wg_run_in_place(run, L->n, &a->coarse_L);
             break;
         }
-        use_level(a, l, WGP_AMG_DINV);
+        use_level(a, l, WGP_AMG_DINV, &in);
         WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
-        const wg_tex* v = &L->v0;
-        use_level(a, l, WGP_AMG_POWER);
+        in.v = &L->v0;
         for (int it = 0; it < WG_AMG_POWER; ++it) {
-            wg_in(run, 9, v);
+            use_level(a, l, WGP_AMG_POWER, &in);
             WG_RUN(run, L->n, &L->v[it & 1], &L->part);
-            v = &L->v[it & 1];
+            in.v = &L->v[it & 1];
         }
         L->bound = wg_reduce(run, &L->red, &L->part, 0, 0, 0, 0);
     }
@@ -289,12 +290,13 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
                    const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout, const wg_tex* dot) {
     wg_runner* run = a->run;
     const wg_amg_level* L = &a->lev[l];
-    use_level(a, l, WGP_AMG_SMOOTH);
-    wg_in(run, 9, r);
-    wg_in(run, 10, x ? x : r);
-    wg_in(run, 11, d ? d : r);
-    wg_in(run, 12, L->bound);
-    wg_in(run, 13, xc ? xc : r);
+    wg_amg_in in = level_in(a, l);
+    in.r = r;
+    in.x = x ? x : r;   /* unread where NULL: u_zero, u_prolong, the first step */
+    in.d = d ? d : r;
+    in.bound = L->bound;
+    in.xc = xc ? xc : r;
+    use_level(a, l, WGP_AMG_SMOOTH, &in);
     wg_u1i(run, "u_step", step);
     wg_u1i(run, "u_zero", x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
@@ -311,14 +313,10 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
     wg_amg_level* L = &a->lev[l];
     if (l == a->n_levels - 1) {
         if (a->dense) {
-            wg_use(run, WGP_AMG_COARSE_GROUPS);
-            wg_in(run, 0, &a->coarse_L);
-            wg_in(run, 1, r);
+            WG_USE(run, WGP_AMG_COARSE_GROUPS, &(wg_amg_in){.factor = &a->coarse_L, .r = r});
             wg_run_groups(run, L->n, &L->x[1], 1);
             if (dot) {
-                wg_use(run, WGP_AMG_DOT);
-                wg_in(run, 0, r);
-                wg_in(run, 1, &L->x[1]);
+                WG_USE(run, WGP_AMG_DOT, &(wg_amg_in){.r = r, .z = &L->x[1]});
                 WG_RUN(run, L->n, dot);
             }
             return &L->x[1];
@@ -333,11 +331,12 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
     int c = 0;
     for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
         smooth(a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL);
-    use_level(a, l, WGP_AMG_RESTRICT);
-    wg_in(run, 9, &N->mem_range);
-    wg_in(run, 10, &N->mem_list);
-    wg_in(run, 11, r);
-    wg_in(run, 12, &L->x[c]);
+    wg_amg_in in = level_in(a, l);
+    in.mem_range = &N->mem_range;
+    in.mem_list = &N->mem_list;
+    in.r = r;
+    in.x = &L->x[c];
+    use_level(a, l, WGP_AMG_RESTRICT, &in);
     WG_RUN(run, N->n, &N->r);
     const wg_tex* xc = vcycle(a, l + 1, &N->r, NULL);
     for (int k = 0; k < a->sweeps; ++k, c = 1 - c)

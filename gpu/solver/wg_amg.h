@@ -51,7 +51,7 @@ typedef struct wg_amg_level {
 typedef struct wg_amg_system {
     const wg_tex* block;        /* blocks: (row, column, -, -) */
     const wg_tex *a_lo, *a_hi;  /* A's symmetric blocks */
-    const wg_tex *s0, *s1;      /* the filter */
+    const wg_tex *S0, *S1;      /* the filter */
 } wg_amg_system;
 
 typedef struct wg_amg {

@@ -148,12 +148,8 @@ static int upload_colliders(wg_contacts* cs, const wc_state* s) {
 static void diag_pass(wg_contacts* cs) {
     wg_runner* run = cs->run;
     const wg_contact_cloth* g = &cs->cl;
-    wg_use(run, WGP_CONTACT_DIAG);
-    wg_in(run, 0, g->block);
-    wg_in(run, 1, g->a_lo);
-    wg_in(run, 2, g->a_hi);
-    wg_in(run, 3, &cs->ad0);
-    wg_in(run, 4, &cs->ad1);
+    WG_USE(run, WGP_CONTACT_DIAG, &(wg_contact_diag_in){.block = g->block, .a_lo = g->a_lo, .a_hi = g->a_hi,
+        .aii_lo = &cs->ad0, .aii_hi = &cs->ad1});
     WG_RUN(run, g->nb, &cs->A0, &cs->A1);
     swap_tex(g->a_lo, &cs->A0);
     swap_tex(g->a_hi, &cs->A1);
@@ -166,20 +162,14 @@ void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double h) {
     int nc = upload_colliders(cs, s);
     int nx = wg_ring_other(g->x, 0);
     int j0 = wg_ring_other(&cs->c0, 0), j1 = wg_ring_other(&cs->c1, 0), j2 = wg_ring_other(&cs->c2, 0);
-    wg_use(run, WGP_CONTACT_BEGIN);
-    wg_in(run, 0, wg_ring_cur(g->x));
-    wg_in(run, 1, wg_ring_cur(g->v));
-    wg_in(run, 2, g->s0);
-    wg_in(run, 3, g->s1);
-    wg_in(run, 4, g->z);
-    wg_in(run, 5, wg_ring_cur(&cs->c0));
-    wg_in(run, 15, &cs->cols);
+    WG_USE(run, WGP_CONTACT_BEGIN, &(wg_contact_begin_in){.x = wg_ring_cur(g->x), .v = wg_ring_cur(g->v), .S0 = g->S0,
+        .S1 = g->S1, .z = g->z, .c0 = wg_ring_cur(&cs->c0), .colliders = &cs->cols});
     wg_u1f(run, "u_h", h);
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &g->x->t[nx], &cs->S0, &cs->S1, &cs->z, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2]);
     g->x->cur = nx;
-    swap_tex(g->s0, &cs->S0);
-    swap_tex(g->s1, &cs->S1);
+    swap_tex(g->S0, &cs->S0);
+    swap_tex(g->S1, &cs->S1);
     swap_tex(g->z, &cs->z);
     cs->c0.cur = j0;
     cs->c1.cur = j1;
@@ -192,26 +182,15 @@ void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h) {
     const wg_contact_cloth* g = &cs->cl;
     int nc = upload_colliders(cs, s);
     int j0 = wg_ring_other(&cs->c0, 0);
-    wg_use(run, WGP_CONTACT_FRICTION);
-    wg_in(run, 0, wg_ring_cur(g->v));
-    wg_in(run, 1, g->mass);
-    wg_in(run, 2, g->ftot);
-    wg_in(run, 3, g->s0);
-    wg_in(run, 4, g->s1);
-    wg_in(run, 5, g->z);
-    wg_in(run, 6, g->b);
-    wg_in(run, 7, g->pblocks);
-    wg_in(run, 8, g->a_lo);
-    wg_in(run, 9, g->a_hi);
-    wg_in(run, 10, wg_ring_cur(&cs->c0));
-    wg_in(run, 11, wg_ring_cur(&cs->c1));
-    wg_in(run, 12, wg_ring_cur(&cs->c2));
-    wg_in(run, 15, &cs->cols);
+    WG_USE(run, WGP_CONTACT_FRICTION, &(wg_contact_friction_in){.v = wg_ring_cur(g->v), .mass = g->mass,
+        .ftot = g->ftot, .S0 = g->S0, .S1 = g->S1, .z = g->z, .b = g->b, .pblocks = g->pblocks, .a_lo = g->a_lo,
+        .a_hi = g->a_hi, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1), .c2 = wg_ring_cur(&cs->c2),
+        .colliders = &cs->cols});
     wg_u1f(run, "u_h", h);
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->ad0, &cs->ad1);
-    swap_tex(g->s0, &cs->S0);
-    swap_tex(g->s1, &cs->S1);
+    swap_tex(g->S0, &cs->S0);
+    swap_tex(g->S1, &cs->S1);
     swap_tex(g->z, &cs->z);
     swap_tex(g->b, &cs->b);
     cs->c0.cur = j0;
@@ -224,26 +203,14 @@ int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
     const wg_contact_cloth* g = &cs->cl;
     int nc = upload_colliders(cs, s);
     int j0 = wg_ring_other(&cs->c0, 0), j2 = wg_ring_other(&cs->c2, 0);
-    wg_use(run, WGP_CONTACT_RECHECK);
-    wg_in(run, 0, wg_ring_cur(g->v));
-    wg_in(run, 1, g->mass);
-    wg_in(run, 2, dv);
-    wg_in(run, 3, g->s0);
-    wg_in(run, 4, g->s1);
-    wg_in(run, 5, g->z);
-    wg_in(run, 6, g->b);
-    wg_in(run, 7, g->pblocks);
-    wg_in(run, 8, g->block);
-    wg_in(run, 9, g->a_lo);
-    wg_in(run, 10, g->a_hi);
-    wg_in(run, 11, wg_ring_cur(&cs->c0));
-    wg_in(run, 12, wg_ring_cur(&cs->c1));
-    wg_in(run, 13, wg_ring_cur(&cs->c2));
-    wg_in(run, 15, &cs->cols);
+    WG_USE(run, WGP_CONTACT_RECHECK, &(wg_contact_recheck_in){.v = wg_ring_cur(g->v), .mass = g->mass, .dv = dv,
+        .S0 = g->S0, .S1 = g->S1, .z = g->z, .b = g->b, .pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
+        .a_hi = g->a_hi, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1), .c2 = wg_ring_cur(&cs->c2),
+        .colliders = &cs->cols});
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->c2.t[j2], &cs->ad0, &cs->ad1);
-    swap_tex(g->s0, &cs->S0);
-    swap_tex(g->s1, &cs->S1);
+    swap_tex(g->S0, &cs->S0);
+    swap_tex(g->S1, &cs->S1);
     swap_tex(g->z, &cs->z);
     swap_tex(g->b, &cs->b);
     cs->c0.cur = j0;
@@ -260,17 +227,9 @@ void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
     const wg_contact_cloth* g = &cs->cl;
     int nc = s->n_colliders < cs->max_colliders ? s->n_colliders : cs->max_colliders;
     int j0 = wg_ring_other(&cs->c0, 0), j1 = wg_ring_other(&cs->c1, 0), j2 = wg_ring_other(&cs->c2, 0);
-    wg_use(run, WGP_CONTACT_END);
-    wg_in(run, 0, g->pblocks);
-    wg_in(run, 1, g->block);
-    wg_in(run, 2, g->a_lo);
-    wg_in(run, 3, g->a_hi);
-    wg_in(run, 4, dv);
-    wg_in(run, 5, g->b);
-    wg_in(run, 6, wg_ring_cur(&cs->c0));
-    wg_in(run, 7, wg_ring_cur(&cs->c1));
-    wg_in(run, 8, wg_ring_cur(&cs->c2));
-    wg_in(run, 15, &cs->cols);
+    WG_USE(run, WGP_CONTACT_END, &(wg_contact_end_in){.pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
+        .a_hi = g->a_hi, .dv = dv, .b = g->b, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1),
+        .c2 = wg_ring_cur(&cs->c2)});
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2]);
     cs->c0.cur = j0;
@@ -285,12 +244,8 @@ void wg_contacts_project(wg_contacts* cs, const wc_state* s) {
     int nc = upload_colliders(cs, s);
     if (nc <= 0) return;
     int nx = wg_ring_other(g->x, 0), nv = wg_ring_other(g->v, 0);
-    wg_use(run, WGP_CONTACT_PROJECT);
-    wg_in(run, 0, wg_ring_cur(g->x));
-    wg_in(run, 1, wg_ring_cur(g->v));
-    wg_in(run, 2, g->s1);
-    wg_in(run, 3, wg_ring_cur(&cs->c0));
-    wg_in(run, 15, &cs->cols);
+    WG_USE(run, WGP_CONTACT_PROJECT, &(wg_contact_project_in){.x = wg_ring_cur(g->x), .v = wg_ring_cur(g->v),
+        .S1 = g->S1, .c0 = wg_ring_cur(&cs->c0), .colliders = &cs->cols});
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &g->x->t[nx], &g->v->t[nv]);
     g->x->cur = nx;

@@ -21,7 +21,7 @@
 typedef struct wg_contact_cloth {
     int n, nb;                  /* particles, blocks */
     wg_ring *x, *v;             /* begin and project write a new cur, never the ring's keep */
-    wg_tex *s0, *s1, *z, *b;    /* the substep's filter and right-hand side */
+    wg_tex *S0, *S1, *z, *b;    /* the substep's filter and right-hand side */
     wg_tex *a_lo, *a_hi;        /* the substep's matrix A (symmetric blocks) */
     const wg_tex *mass, *ftot, *pblocks, *block;
     float* scratch;             /* n x 4 floats of staging (uploads, read-backs) */
@@ -38,10 +38,10 @@ void wg_contacts_destroy(wg_contacts* cs);
 /* Free the memory only (the GL context is gone). */
 void wg_contacts_forget(wg_contacts* cs);
 
-/* 1: after the pins pass (s0, s1, z hold the pins): find contacts, correct positions (a new x
- * cur), write their constraints into s0/s1/z. */
+/* 1: after the pins pass (S0, S1, z hold the pins): find contacts, correct positions (a new x
+ * cur), write their constraints into S0/S1/z. */
 void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double h);
-/* 2: after assembly (A in block layout, b, ftot): Coulomb friction; may change s0/s1/z, the
+/* 2: after assembly (A in block layout, b, ftot): Coulomb friction; may change S0/S1/z, the
  * diagonal blocks of A and b. */
 void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h);
 /* 3b: after a solve whose result is dv: sticking contacts the solved cloth overloads slide;

@@ -15,19 +15,6 @@ typedef struct wg_shader_source {
 } wg_shader_source;
 extern const wg_shader_source wg_shader_sources[];   /* generated: cmake/embed_shaders.cmake */
 
-static const char* const kPassNames[WGP_COUNT] = {
-    "springs", "air", "assemble_b", "assemble_a", "pins", "dinv", "project", "residual",
-    "spmv", "pcg_update", "pcg_direction", "pcg_scalars", "jacobi_sweep", "integrate",
-    "check_particles", "check_springs", "reduce", "copy", "strain_springs", "strain_gather",
-    "normals", "host_output", "lanczos_start", "transform", "copy_texel",
-    "contact_begin", "contact_friction", "contact_recheck", "contact_end", "contact_project",
-    "contact_diag", "reduce_groups", "spmv_groups",
-    "amg_galerkin", "amg_dinv", "amg_power", "amg_smooth", "amg_restrict", "amg_dot",
-    "amg_factor_groups", "amg_coarse_groups",
-    "amg_galerkin_fine", "amg_dinv_fine", "amg_power_fine", "amg_smooth_fine", "amg_restrict_fine",
-    "amg_factor_groups_fine",
-};
-
 /* A pass named X_fine is X.glsl compiled with WG_AMG_FINE defined (amg_level_inputs.glsl). */
 static const char kFineSuffix[] = "_fine";
 static const char kFineDefine[] = "#define WG_AMG_FINE 1\n";
@@ -173,7 +160,8 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];
-        const char* name = kPassNames[p];
+        const wg_pass_info* pass = &wg_passes[p];
+        const char* name = pass->name;
         size_t nl = strlen(name), sl = sizeof kFineSuffix - 1;
         const int fine = nl > sl && nl - sl < sizeof base && strcmp(name + nl - sl, kFineSuffix) == 0;
         if (fine) {
@@ -183,19 +171,16 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         }
         const char* body = shader_source(name);
         if (!body) continue;   /* a pass whose shader is not in this build is never run */
-        /* reduce_groups, spmv_groups and the multigrid's amg_factor_groups and amg_coarse_groups
-           are compute shaders of their own: common.glsl goes after their #version line
-           (wg_compute_native_source), and they exist only with compute passes */
-        const int native = p == WGP_REDUCE_GROUPS || p == WGP_SPMV_GROUPS || p == WGP_AMG_FACTOR_GROUPS ||
-                           p == WGP_AMG_COARSE_GROUPS || p == WGP_AMG_FACTOR_GROUPS_FINE;
-        /* the multigrid runs on compute passes only (wg_amg.h) */
-        if ((native || p >= WGP_AMG_GALERKIN) && !d->compute) continue;
+        /* a native compute shader (*_groups.glsl) has common.glsl put after its #version line
+           (wg_compute_native_source); it and the multigrid's passes exist only with compute passes */
+        const int native = pass->native;
+        if (pass->compute_only && !d->compute) continue;
         const char* missing = NULL;
         char* src = compose(gl, native || !common ? "" : common, body, fine ? kFineDefine : "", &missing);
         if (!src) {
             wg_device_destroy(d);
             if (missing) {
-                wg_errorf(err, err_len, "shader '%s': unknown include '%.40s'", kPassNames[p], missing);
+                wg_errorf(err, err_len, "shader '%s': unknown include '%.40s'", pass->name, missing);
                 return WC_ERROR_GPU;
             }
             wg_errorf(err, err_len, "out of memory");
@@ -204,13 +189,14 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         int ok;
         if (d->compute) {
             char* cs = native ? wg_compute_native_source(gl, common ? common : "", src) : wg_compute_source(gl, src);
-            ok = cs && wg_program_build_compute(&d->prog[p], kPassNames[p], cs, err, err_len);
-            if (!cs) wg_errorf(err, err_len, "shader '%s': out of memory, or no #version line", kPassNames[p]);
+            ok = cs && wg_program_build_compute(&d->prog[p], pass->name, cs, err, err_len);
+            if (!cs) wg_errorf(err, err_len, "shader '%s': out of memory, or no #version line", pass->name);
             wg_gl_free(gl, cs);
         } else {
-            ok = wg_program_build(&d->prog[p], kPassNames[p], wg_fullscreen_vs, src, err, err_len);
+            ok = wg_program_build(&d->prog[p], pass->name, wg_fullscreen_vs, src, err, err_len);
         }
         wg_gl_free(gl, src);
+        if (ok) ok = wg_pass_bind_inputs(d->prog[p].id, pass, err, err_len);
         if (!ok) {
             wg_device_destroy(d);
             return WC_ERROR_GPU;

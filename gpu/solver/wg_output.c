@@ -28,11 +28,8 @@ wc_status wg_sim_output(wg_sim* g, const wg_output_request* q, wc_diag* diag) {
     glGetError();
     int want_n = q->normals || q->normal_buffer;
     if (want_n) {
-        wg_use(run, WGP_NORMALS);
-        wg_in(run, 0, wg_ring_cur(&g->x));
-        wg_in(run, 1, &g->rows);
-        wg_in(run, 2, &g->row_tri);
-        wg_in(run, 3, &g->tri);
+        WG_USE(run, WGP_NORMALS, &(wg_normals_in){.x = wg_ring_cur(&g->x), .rows = &g->rows, .row_tri = &g->row_tri,
+            .tri = &g->tri});
         WG_RUN(run, g->n, &g->nrm);
     }
     double Rinv[9], inv[9], s = q->unit_scale > 0 ? q->unit_scale : 1.0;
@@ -50,11 +47,8 @@ wc_status wg_sim_output(wg_sim* g, const wg_output_request* q, wc_diag* diag) {
     Rinv[7] = (R[1] * R[6] - R[0] * R[7]) * id;
     Rinv[8] = (R[0] * R[4] - R[1] * R[3]) * id;
     for (int k = 0; k < 9; ++k) inv[k] = Rinv[k] / s;
-    wg_use(run, WGP_HOST_OUTPUT);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, &g->nrm);
-    wg_in(run, 2, &g->host_map);
-    wg_in(run, 3, &g->host_rest);
+    WG_USE(run, WGP_HOST_OUTPUT, &(wg_host_output_in){.x = wg_ring_cur(&g->x), .normal = &g->nrm,
+        .host_map = &g->host_map, .host_rest = &g->host_rest});
     wg_u1i(run, "u_to_object", q->to_object);
     wg_umat3(run, "u_R", R);
     wg_u3f(run, "u_t", q->t);

@@ -50,12 +50,12 @@ size_t wg_chain_bytes(const wg_chain* ch) {
 
 const wg_tex* wg_reduce(wg_runner* r, wg_chain* ch, const wg_tex* src, int m0, int m1, int m2, int m3) {
     const int groups = r->dev->compute;   /* reduce_groups.glsl: a level as wide as its work groups */
-    wg_use(r, groups ? WGP_REDUCE_GROUPS : WGP_REDUCE);
-    wg_u4i(r, "u_mode", m0, m1, m2, m3);
+    const wg_pass_id pass = groups ? WGP_REDUCE_GROUPS : WGP_REDUCE;
     const wg_tex* in = src;
     for (int k = 0; k < ch->n_levels; ++k) {
         const wg_tex* out = &ch->level[k];
-        wg_in(r, 0, in);
+        WG_USE(r, pass, &(wg_src_in){.src = in});
+        wg_u4i(r, "u_mode", m0, m1, m2, m3);
         wg_u2i(r, "u_in", in->w, in->h);
         if (groups) {
             wg_u1i(r, "u_groups", out->w);

@@ -3,6 +3,7 @@
 
 #include <string.h>
 
+#include "gpu_error.h"
 #include "wg_compute.h"
 
 void wg_runner_init(wg_runner* r, wg_device* dev, const wg_layout* layout) {
@@ -13,15 +14,23 @@ void wg_runner_init(wg_runner* r, wg_device* dev, const wg_layout* layout) {
 
 void wg_runner_destroy(wg_runner* r) { wg_fbo_cache_destroy(&r->fbo); }
 
-void wg_use(wg_runner* r, wg_pass_id p) {
+void wg_use_pass(wg_runner* r, wg_pass_id p, const void* in, size_t in_size) {
+    const wg_pass_info* pass = &wg_passes[p];
     r->prog = &r->dev->prog[p];
     glUseProgram(r->prog->id);
-}
-
-void wg_in(wg_runner* r, int unit, const wg_tex* t) {
-    (void)r;
-    glActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-    glBindTexture(GL_TEXTURE_2D, t->id);
+    if (in_size != pass->in_size) {
+        if (!r->fault[0])
+            wg_errorf(r->fault, sizeof r->fault, "pass '%s' given an input struct of %zu bytes, not its %zu",
+                      pass->name, in_size, pass->in_size);
+        return;
+    }
+    for (int k = 0; k < pass->n_in; ++k) {
+        const wg_tex* t = *(const wg_tex* const*)((const char*)in + pass->in[k].field);
+        if (!t && !r->fault[0])
+            wg_errorf(r->fault, sizeof r->fault, "pass '%s': input '%s' not given", pass->name, pass->in[k].name);
+        glActiveTexture(GL_TEXTURE0 + (GLenum)k);
+        glBindTexture(GL_TEXTURE_2D, t ? t->id : 0);
+    }
 }
 
 void wg_u1i(wg_runner* r, const char* name, int v) { glUniform1i(wg_program_loc(r->prog, name), v); }
@@ -90,7 +99,6 @@ void wg_run_in_place(wg_runner* r, int count, const wg_tex* img) {
 }
 
 void wg_copy(wg_runner* r, const wg_tex* dst, const wg_tex* src) {
-    wg_use(r, WGP_COPY);
-    wg_in(r, 0, src);
+    WG_USE(r, WGP_COPY, &(wg_src_in){.src = src});
     WG_RUN(r, dst->w * dst->h, dst);
 }

@@ -1,9 +1,13 @@
 /* Running one cloth's passes. A pass is a program of the device (wg_device.h) put in use with
- * its inputs bound, then its uniforms set, then run over its output arrays: a draw into a
- * cached framebuffer (fragment passes, wg_fbo_cache.h) or a dispatch writing images (compute
- * passes, wg_compute.h), one fragment or invocation per texel; every run is counted. The runner
- * knows the device and the cloth's layout, nothing else of the cloth. Calls are made with the
- * cloth's GL context current. */
+ * its inputs (WG_USE: the pass's input struct, wg_passes.h), then its uniforms set by name, then
+ * run over its output arrays: a draw into a cached framebuffer (fragment passes,
+ * wg_fbo_cache.h) or a dispatch writing images (compute passes, wg_compute.h), one fragment or
+ * invocation per texel; every run is counted. The runner knows the device and the cloth's
+ * layout, nothing else of the cloth. Calls are made with the cloth's GL context current.
+ *
+ * A call site that breaks a pass's contract (an input struct of another size, an input left
+ * NULL) is a bug: the runner binds no texture there and keeps the first such fault's message in
+ * `fault`, which the frame reports as a GPU error (wg_sim_step_frame). */
 #ifndef WEFT_GPU_SOLVER_RUNNER_H
 #define WEFT_GPU_SOLVER_RUNNER_H
 
@@ -17,13 +21,16 @@ typedef struct wg_runner {
     wg_fbo_cache fbo;
     wg_program* prog;           /* the program in use */
     long long passes;           /* passes run since init */
+    char fault[128];            /* the first broken pass contract ("" when none) */
 } wg_runner;
 
 void wg_runner_init(wg_runner* r, wg_device* dev, const wg_layout* layout);
 void wg_runner_destroy(wg_runner* r);
 
-void wg_use(wg_runner* r, wg_pass_id p);
-void wg_in(wg_runner* r, int unit, const wg_tex* t);
+/* Put pass p in use with its inputs: in points at p's input struct (size in_size), each field
+ * of p's table bound to its texture unit. */
+void wg_use_pass(wg_runner* r, wg_pass_id p, const void* in, size_t in_size);
+#define WG_USE(r, p, ...) wg_use_pass((r), (p), (__VA_ARGS__), sizeof *(__VA_ARGS__))
 void wg_u1i(wg_runner* r, const char* name, int v);
 void wg_u1f(wg_runner* r, const char* name, double v);
 void wg_u2f(wg_runner* r, const char* name, double a, double b);

@@ -401,10 +401,8 @@ void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], c
                             const double Rd[9]) {
     wg_runner* run = &g->run;
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0), nd = wg_ring_other(&g->dv, 0);
-    wg_use(run, WGP_TRANSFORM);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, wg_ring_cur(&g->v));
-    wg_in(run, 2, wg_ring_cur(&g->dv));
+    WG_USE(run, WGP_TRANSFORM, &(wg_transform_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .dv = wg_ring_cur(&g->dv)});
     wg_umat3(run, "u_rx", Rx);
     wg_u3f(run, "u_tx", tx);
     wg_umat3(run, "u_rv", Rv);
@@ -422,10 +420,8 @@ void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const d
 
 double wg_sim_max_abs(wg_sim* g) {
     wg_runner* run = &g->run;
-    wg_use(run, WGP_CHECK_PARTICLES);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, wg_ring_cur(&g->v));
-    wg_in(run, 2, &g->mass);
+    WG_USE(run, WGP_CHECK_PARTICLES, &(wg_check_particles_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .mass = &g->mass});
     double zero[3] = {0, 0, 0};
     wg_u3f(run, "u_gravity", zero);
     WG_RUN(run, g->n, &g->chk_p);

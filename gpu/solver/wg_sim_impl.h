@@ -64,7 +64,8 @@ struct wg_sim {
     wg_tex r[2], c[2], t, q, part, rz;
     wg_tex sc[2][3];            /* PCG scalars, ping-pong */
     int sc_cur;
-    wg_tex lanczos;             /* 32 x 1: (alpha, beta) per Lanczos step */
+    wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the
+                                   substep's checks (28..31, wg_step.c) */
     wg_tex chk_p, chk_s, corr;
     wg_chain red_p[2], red_s;
     wg_tex nrm, host_pos, host_nrm;

@@ -16,12 +16,8 @@
 static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* t2, const wg_tex* t3, int max_it) {
     wg_runner* run = &g->run;
     int a = g->sc_cur, b = 1 - a;
-    wg_use(run, WGP_PCG_SCALARS);
-    wg_in(run, 0, &g->sc[a][0]);
-    wg_in(run, 1, &g->sc[a][1]);
-    wg_in(run, 2, t2 ? t2 : &g->sc[a][0]);
-    wg_in(run, 3, t3 ? t3 : &g->sc[a][0]);
-    wg_in(run, 4, &g->sc[a][2]);
+    WG_USE(run, WGP_PCG_SCALARS, &(wg_pcg_scalars_in){.scalars0 = &g->sc[a][0], .scalars1 = &g->sc[a][1],
+        .sum = t2 ? t2 : &g->sc[a][0], .dots = t3 ? t3 : &g->sc[a][0], .scalars2 = &g->sc[a][2]});
     wg_u1i(run, "u_mode", mode);
     wg_u1f(run, "u_tolerance", o->tolerance);
     wg_u1f(run, "u_divergence", o->divergence_factor);
@@ -34,15 +30,8 @@ static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* 
 /* out = S (b - A x); with size, also |A| |x| per particle (residual.glsl) */
 static void residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, const wg_tex* size) {
     wg_runner* run = &g->run;
-    wg_use(run, WGP_RESIDUAL);
-    wg_in(run, 0, &g->pblocks);
-    wg_in(run, 1, &g->block);
-    wg_in(run, 2, &g->A0);
-    wg_in(run, 3, &g->A1);
-    wg_in(run, 4, x);
-    wg_in(run, 5, &g->b);
-    wg_in(run, 6, &g->S0);
-    wg_in(run, 7, &g->S1);
+    WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
+        .a_hi = &g->A1, .x = x, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
     if (size) WG_RUN(run, g->n, out, size);
     else WG_RUN(run, g->n, out);
 }
@@ -51,25 +40,15 @@ static void residual(wg_sim* g, const wg_tex* x, const wg_tex* out) { residual2(
 
 static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
     wg_runner* run = &g->run;
-    wg_use(run, WGP_PROJECT);
-    wg_in(run, 0, in);
-    wg_in(run, 1, &g->S0);
-    wg_in(run, 2, &g->S1);
-    wg_in(run, 3, &g->z);
+    WG_USE(run, WGP_PROJECT, &(wg_project_in){.dv = in, .S0 = &g->S0, .S1 = &g->S1, .z = &g->z});
     wg_u1i(run, "u_to_z", to_z);
     WG_RUN(run, g->n, out);
 }
 
 void wg_spmv(wg_sim* g, const wg_tex* x, int filter) {
     wg_runner* run = &g->run;
-    wg_use(run, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV);
-    wg_in(run, 0, &g->pblocks);
-    wg_in(run, 1, &g->block);
-    wg_in(run, 2, &g->A0);
-    wg_in(run, 3, &g->A1);
-    wg_in(run, 4, x);
-    wg_in(run, 5, &g->S0);
-    wg_in(run, 6, &g->S1);
+    WG_USE(run, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV, &(wg_spmv_in){.pblocks = &g->pblocks, .block = &g->block,
+        .a_lo = &g->A0, .a_hi = &g->A1, .x = x, .S0 = &g->S0, .S1 = &g->S1});
     wg_u1i(run, "u_filter", filter);
     if (g->dev->compute) {   /* spmv_groups.glsl: 4 invocations a row, 256 a group */
         long long texels = (long long)g->q.w * g->q.h;
@@ -86,15 +65,8 @@ typedef struct pcg_vecs {
 
 static void update(wg_sim* g, pcg_vecs* v, int first) {
     wg_runner* run = &g->run;
-    wg_use(run, WGP_PCG_UPDATE);
-    wg_in(run, 0, &g->sv[v->dv]);
-    wg_in(run, 1, &g->r[v->r]);
-    wg_in(run, 2, &g->c[v->c]);
-    wg_in(run, 3, &g->q);
-    wg_in(run, 4, &g->D0);
-    wg_in(run, 5, &g->D1);
-    wg_in(run, 6, &g->sc[g->sc_cur][0]);
-    wg_in(run, 7, &g->sc[g->sc_cur][1]);
+    WG_USE(run, WGP_PCG_UPDATE, &(wg_pcg_update_in){.dv = &g->sv[v->dv], .r = &g->r[v->r], .c = &g->c[v->c], .q = &g->q,
+        .dinv_lo = &g->D0, .dinv_hi = &g->D1, .scalars0 = &g->sc[g->sc_cur][0], .scalars1 = &g->sc[g->sc_cur][1]});
     wg_u1i(run, "u_first", first);
     wg_u1i(run, "u_jacobi", !g->amg_on);
     if (!g->amg_on) {
@@ -112,13 +84,8 @@ static void update(wg_sim* g, pcg_vecs* v, int first) {
 
 static void direction(wg_sim* g, pcg_vecs* v, int first) {
     wg_runner* run = &g->run;
-    wg_use(run, WGP_PCG_DIRECTION);
-    wg_in(run, 0, g->amg_on ? g->amg->z : &g->t);
-    wg_in(run, 1, &g->c[v->c]);
-    wg_in(run, 2, &g->S0);
-    wg_in(run, 3, &g->S1);
-    wg_in(run, 4, &g->sc[g->sc_cur][0]);
-    wg_in(run, 5, &g->sc[g->sc_cur][1]);
+    WG_USE(run, WGP_PCG_DIRECTION, &(wg_pcg_direction_in){.t = g->amg_on ? g->amg->z : &g->t, .c = &g->c[v->c],
+        .S0 = &g->S0, .S1 = &g->S1, .scalars0 = &g->sc[g->sc_cur][0], .scalars1 = &g->sc[g->sc_cur][1]});
     wg_u1i(run, "u_first", first);
     WG_RUN(run, g->n, &g->c[1 - v->c]);
     v->c = 1 - v->c;
@@ -251,9 +218,7 @@ static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
     lo.tolerance = 0.0;
     lo.divergence_factor = 1e30;
     pcg_vecs v = {0, 0, 0};
-    wg_use(run, WGP_LANCZOS_START);
-    wg_in(run, 0, &g->S0);
-    wg_in(run, 1, &g->S1);
+    WG_USE(run, WGP_LANCZOS_START, &(wg_lanczos_start_in){.S0 = &g->S0, .S1 = &g->S1});
     WG_RUN(run, g->n, &g->r[0]);
     const wg_tex* rn = wg_reduce(run, &g->red_p[0], &g->r[0], 0, 0, 0, 0);   /* w: |g|^2 */
     update(g, &v, 1);
@@ -266,8 +231,7 @@ static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
     if (!(first[0] > 0.0f) || !isfinite(first[0])) return 0.9995;
     for (int k = 0; k < 20; ++k) {
         pcg_iteration(g, &lo, &v, 1 << 20);
-        wg_use(run, WGP_COPY_TEXEL);
-        wg_in(run, 0, &g->sc[g->sc_cur][0]);
+        WG_USE(run, WGP_COPY_TEXEL, &(wg_src_in){.src = &g->sc[g->sc_cur][0]});
         wg_run_texel(run, &g->lanczos, k);
     }
     float rec[32 * 4];
@@ -316,22 +280,12 @@ static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev,
     double limit = o->divergence_factor * res0, rn = res0, omega = 1.0;
     int x = 0, prev = 1, nxt = 2, k = 0, converged = 0;
     wc_status st = WC_OK;
-    wg_use(run, WGP_JACOBI_SWEEP);
     for (;; ++k) {
         int check = (k % check_every == 0) || k >= o->max_iterations;
         if (chebyshev) omega = wc_chebyshev_omega(k, delay, rho, omega);
-        wg_use(run, WGP_JACOBI_SWEEP);
-        wg_in(run, 0, &g->pblocks);
-        wg_in(run, 1, &g->block);
-        wg_in(run, 2, &g->A0);
-        wg_in(run, 3, &g->A1);
-        wg_in(run, 4, &g->sv[x]);
-        wg_in(run, 5, &g->b);
-        wg_in(run, 6, &g->S0);
-        wg_in(run, 7, &g->S1);
-        wg_in(run, 8, &g->D0);
-        wg_in(run, 9, &g->D1);
-        wg_in(run, 10, &g->sv[prev]);
+        WG_USE(run, WGP_JACOBI_SWEEP, &(wg_jacobi_sweep_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
+            .a_hi = &g->A1, .x = &g->sv[x], .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .dinv_lo = &g->D0,
+            .dinv_hi = &g->D1, .x_prev = &g->sv[prev]});
         wg_u1f(run, "u_gamma", gamma);
         wg_u1f(run, "u_omega", omega);
         WG_RUN(run, g->n, &g->sv[nxt]);
@@ -379,12 +333,8 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
        projected into sv[0] */
     const int amg = type == WC_SOLVER_PCG && g->amg;
     if (!amg) {
-        wg_use(run, WGP_DINV);
-        wg_in(run, 0, &g->pblocks);
-        wg_in(run, 1, &g->A0);
-        wg_in(run, 2, &g->A1);
-        wg_in(run, 3, &g->S0);
-        wg_in(run, 4, &g->S1);
+        WG_USE(run, WGP_DINV, &(wg_dinv_in){.pblocks = &g->pblocks, .a_lo = &g->A0, .a_hi = &g->A1, .S0 = &g->S0,
+            .S1 = &g->S1});
         WG_RUN(run, g->n, &g->D0, &g->D1);
     }
     /* Chebyshev's rho first: its CG steps use every solver iterate (sv included) as scratch */

@@ -44,43 +44,55 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
     wg_array_upload(&g->layout, &g->pin_axis, n_pins, f);
 }
 
-static void bind_pins(wg_sim* g, int unit0) {
-    wg_runner* run = &g->run;
-    wg_in(run, unit0, &g->pin_map);
-    wg_in(run, unit0 + 1, &g->pin_from);
-    wg_in(run, unit0 + 2, &g->pin_target);
-    wg_in(run, unit0 + 3, &g->pin_axis);
-    wg_u1i(run, "u_n_pins", g->n_pins_uploaded);
-}
+/* The step's checks of one state, reduced on the GPU: check_particles.glsl's sums and maxima over
+ * the particles and check_springs.glsl's over the springs, the measures core's judge compares. */
+typedef struct wg_checks {
+    float kinetic;              /* sum of m v.v / 2 */
+    float gravity;              /* sum of -m g.x: gravity's potential energy */
+    float max_coord;            /* largest |coordinate| of x and v; +inf when one is not finite */
+    float max_v2;               /* largest v.v */
+    float elastic;              /* sum of the springs' k (l - rest)^2 / 2 */
+    float max_strain;           /* largest stretch strain (l - rest) / rest */
+} wg_checks;
 
-/* The checks of the current x, v into texels `slot` (particles) and slot + 1 (springs) of
- * g->lanczos' last texels (28..31): (kinetic, -m g.x, max |coordinate|, max v.v) and (spring
- * energy, max stretch strain). */
+/* Where the checks of a state land: texels CHECKS + slot (particles) and CHECKS + slot + 1
+ * (springs) of g->lanczos, whose texels 0..19 are Chebyshev's Lanczos record; the substep puts
+ * its start's checks in slot START and its end's in END and reads all four texels at once. */
+enum { CHECKS = 28, CHECKS_START = 0, CHECKS_END = 2 };
+
+/* The checks of the current x, v into the slot's two texels. */
 static void checks(wg_sim* g, const wc_state* s, int slot) {
     wg_runner* run = &g->run;
-    wg_use(run, WGP_CHECK_PARTICLES);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, wg_ring_cur(&g->v));
-    wg_in(run, 2, &g->mass);
+    WG_USE(run, WGP_CHECK_PARTICLES, &(wg_check_particles_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .mass = &g->mass});
     wg_u3f(run, "u_gravity", s->def.gravity);
     WG_RUN(run, g->n, &g->chk_p);
     const wg_tex* rp = wg_reduce(run, &g->red_p[0], &g->chk_p, 0, 0, 1, 1);
-    wg_use(run, WGP_COPY_TEXEL);
-    wg_in(run, 0, rp);
-    wg_run_texel(run, &g->lanczos, 28 + slot);
-    wg_use(run, WGP_CHECK_SPRINGS);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, &g->spring);
-    wg_in(run, 2, &g->spring_rest);
+    WG_USE(run, WGP_COPY_TEXEL, &(wg_src_in){.src = rp});
+    wg_run_texel(run, &g->lanczos, CHECKS + slot);
+    WG_USE(run, WGP_CHECK_SPRINGS, &(wg_check_springs_in){.x = wg_ring_cur(&g->x), .spring = &g->spring,
+        .spring_rest = &g->spring_rest});
     wg_u3f(run, "u_k", s->model->material.k);
     WG_RUN(run, g->ns, &g->chk_s);
     const wg_tex* rs = wg_reduce(run, &g->red_s, &g->chk_s, 0, 1, 0, 0);
-    wg_use(run, WGP_COPY_TEXEL);
-    wg_in(run, 0, rs);
-    wg_run_texel(run, &g->lanczos, 29 + slot);
+    WG_USE(run, WGP_COPY_TEXEL, &(wg_src_in){.src = rs});
+    wg_run_texel(run, &g->lanczos, CHECKS + slot + 1);
 }
 
-static void read_checks(wg_sim* g, float out[16]) { wg_read_texels(&g->layout, &g->lanczos, 28, 4, out); }
+/* A slot's two texels (the particles' channels, then the springs') as checks. */
+static wg_checks checks_of(const float t[8]) {
+    wg_checks c = {.kinetic = t[0], .gravity = t[1], .max_coord = t[2], .max_v2 = t[3], .elastic = t[4],
+                   .max_strain = t[5]};
+    return c;
+}
+
+/* Read the start's and (end not NULL) the end's checks back: one read-back of four texels. */
+static void read_checks(wg_sim* g, wg_checks* start, wg_checks* end) {
+    float t[16];
+    wg_read_texels(&g->layout, &g->lanczos, CHECKS, 4, t);
+    *start = checks_of(t + 4 * CHECKS_START);
+    if (end) *end = checks_of(t + 4 * CHECKS_END);
+}
 
 /* Pins, contacts, springs, air, assembly: s->filter's GPU twin (S0, S1, z), A0/A1, b. */
 void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression) {
@@ -88,22 +100,17 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
     const wc_model* m = g->m;
     wg_runner* run = &g->run;
     wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
-    wg_use(run, WGP_PINS);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, wg_ring_cur(&g->v));
-    bind_pins(g, 2);
+    WG_USE(run, WGP_PINS, &(wg_pins_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v), .pin_map = &g->pin_map,
+        .pin_from = &g->pin_from, .pin_target = &g->pin_target, .pin_axis = &g->pin_axis});
+    wg_u1i(run, "u_n_pins", g->n_pins_uploaded);
     wg_u1f(run, "u_h", h);
     wg_u1f(run, "u_alpha1", alpha1);
     WG_RUN(run, g->n, &g->S0, &g->S1, &g->z);
     if (s->n_colliders > 0) wg_contacts_begin(g->contacts, s, h);
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
-    wg_use(run, WGP_SPRINGS);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, wg_ring_cur(&g->v));
-    wg_in(run, 2, &g->spring);
-    wg_in(run, 3, &g->spring_rest);
-    wg_in(run, 4, &g->rest);
+    WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v), .spring = &g->spring,
+        .spring_rest = &g->spring_rest, .rest = &g->rest});
     wg_u3f(run, "u_k", m->material.k);
     wg_u3f(run, "u_d", m->material.d);
     wg_u1f(run, "u_h", h);
@@ -112,35 +119,21 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
     const wc_air* air = &s->def.air;
     int use_air = (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && g->nt > 0;
     if (use_air) {
-        wg_use(run, WGP_AIR);
-        wg_in(run, 0, wg_ring_cur(&g->x));
-        wg_in(run, 1, wg_ring_cur(&g->v));
-        wg_in(run, 2, &g->tri);
+        WG_USE(run, WGP_AIR, &(wg_air_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v), .tri = &g->tri});
         wg_u3f(run, "u_wind", air->wind);
         wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
         WG_RUN(run, g->nt, &g->fair);
     }
 
     wg_stamp(&g->stamps, WG_STAGE_ASSEMBLE);
-    wg_use(run, WGP_ASSEMBLE_B);
-    wg_in(run, 0, &g->mass);
-    wg_in(run, 1, &g->rows);
-    wg_in(run, 2, &g->row_entry);
-    wg_in(run, 3, &g->sf);
-    wg_in(run, 4, &g->sw);
-    wg_in(run, 5, &g->row_tri);
-    wg_in(run, 6, &g->fair);
+    WG_USE(run, WGP_ASSEMBLE_B, &(wg_assemble_b_in){.mass = &g->mass, .rows = &g->rows, .row_entry = &g->row_entry,
+        .spring_f = &g->sf, .spring_w = &g->sw, .row_tri = &g->row_tri, .tri_air = &g->fair});
     wg_u1f(run, "u_h", h);
     wg_u3f(run, "u_gravity", s->def.gravity);
     wg_u1i(run, "u_use_air", use_air);
     WG_RUN(run, g->n, &g->b, &g->ftot);
-    wg_use(run, WGP_ASSEMBLE_A);
-    wg_in(run, 0, &g->block);
-    wg_in(run, 1, &g->block_list);
-    wg_in(run, 2, &g->mass);
-    wg_in(run, 3, &g->sf);
-    wg_in(run, 4, &g->sw);
-    wg_in(run, 5, &g->sj);
+    WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
+        .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj});
     WG_RUN(run, g->nb, &g->A0, &g->A1);
     if (s->n_colliders > 0 && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
@@ -157,8 +150,7 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     wg_runner* run = &g->run;
     wc_substep_measure before = {0}, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
-    float chk[16];
-    checks(g, s, 0);   /* the start's measures, read back with the end's */
+    checks(g, s, CHECKS_START);   /* the start's measures, read back with the end's */
 
     wg_step_prepare(g, s, h, alpha1, judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression);
     wg_stamp(&g->stamps, WG_STAGE_SOLVE);
@@ -186,11 +178,10 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
     if (s->n_colliders > 0) wg_contacts_end(g->contacts, s, &g->dv.t[nd]);
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
-    wg_use(run, WGP_INTEGRATE);
-    wg_in(run, 0, wg_ring_cur(&g->x));
-    wg_in(run, 1, wg_ring_cur(&g->v));
-    wg_in(run, 2, &g->dv.t[nd]);
-    bind_pins(g, 3);
+    WG_USE(run, WGP_INTEGRATE, &(wg_integrate_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .dv = &g->dv.t[nd], .pin_map = &g->pin_map, .pin_from = &g->pin_from, .pin_target = &g->pin_target,
+        .pin_axis = &g->pin_axis});
+    wg_u1i(run, "u_n_pins", g->n_pins_uploaded);
     wg_u1f(run, "u_h", h);
     wg_u1f(run, "u_alpha1", alpha1);
     WG_RUN(run, g->n, &g->x.t[nx], &g->v.t[nv]);
@@ -201,26 +192,14 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         /* core stops early once no spring is above the limit; here every pass runs (a pass with
            nothing to correct changes nothing) */
         for (int pass = 0; pass < s->def.strain_passes; ++pass) {
-            wg_use(run, WGP_STRAIN_SPRINGS);
-            wg_in(run, 0, wg_ring_cur(&g->x));
-            wg_in(run, 1, &g->spring);
-            wg_in(run, 2, &g->spring_rest);
-            wg_in(run, 3, &g->mass);
-            wg_in(run, 4, &g->S0);
-            wg_in(run, 5, &g->S1);
+            WG_USE(run, WGP_STRAIN_SPRINGS, &(wg_strain_springs_in){.x = wg_ring_cur(&g->x), .spring = &g->spring,
+                .spring_rest = &g->spring_rest, .mass = &g->mass, .S0 = &g->S0, .S1 = &g->S1});
             wg_u1f(run, "u_limit", s->def.strain_limit);
             WG_RUN(run, g->ns, &g->corr);
             int sx = wg_ring_other(&g->x, 0), sv = wg_ring_other(&g->v, 0);
-            wg_use(run, WGP_STRAIN_GATHER);
-            wg_in(run, 0, wg_ring_cur(&g->x));
-            wg_in(run, 1, wg_ring_cur(&g->v));
-            wg_in(run, 2, &g->rows);
-            wg_in(run, 3, &g->row_entry);
-            wg_in(run, 4, &g->corr);
-            wg_in(run, 5, &g->mass);
-            wg_in(run, 6, &g->S0);
-            wg_in(run, 7, &g->S1);
-            wg_in(run, 8, &g->spring);
+            WG_USE(run, WGP_STRAIN_GATHER, &(wg_strain_gather_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+                .rows = &g->rows, .row_entry = &g->row_entry, .corr = &g->corr, .mass = &g->mass, .S0 = &g->S0,
+                .S1 = &g->S1, .spring = &g->spring});
             wg_u1f(run, "u_h", h);
             WG_RUN(run, g->n, &g->x.t[sx], &g->v.t[sv]);
             g->x.cur = sx;
@@ -232,18 +211,19 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         wg_contacts_project(g->contacts, s);
     }
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
-    checks(g, s, 2);
-    read_checks(g, chk);
+    checks(g, s, CHECKS_END);
+    wg_checks start, end;
+    read_checks(g, &start, &end);
     wg_stamp(&g->stamps, WG_STAGE_COUNT);
     if (glGetError() != GL_NO_ERROR) g->gl_error = 1;
 
-    before.kinetic = chk[0];
-    before.elastic = (double)chk[0] + (double)chk[4];
-    before.total = before.elastic + (double)chk[1];
-    after.finite = isfinite(chk[10]) != 0;
-    after.kinetic = chk[8];
-    after.total = (double)chk[8] + (double)chk[12] + (double)chk[9];
-    after.strain = chk[13];
+    before.kinetic = start.kinetic;
+    before.elastic = (double)start.kinetic + (double)start.elastic;
+    before.total = before.elastic + (double)start.gravity;
+    after.finite = isfinite(end.max_coord) != 0;
+    after.kinetic = end.kinetic;
+    after.total = (double)end.kinetic + (double)end.elastic + (double)end.gravity;
+    after.strain = end.max_strain;
     if (!after.finite) after.strain = HUGE_VAL;
     return wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
 }
@@ -267,12 +247,12 @@ static void gpu_restore(void* user, wc_state* s) {
 
 static void gpu_measure(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain) {
     wg_sim* g = user;
-    float chk[16];
-    checks(g, s, 0);
-    read_checks(g, chk);
-    *kinetic = chk[0];
-    *max_speed = sqrt((double)chk[3]);
-    *max_strain = chk[5];
+    checks(g, s, CHECKS_START);
+    wg_checks now;
+    read_checks(g, &now, NULL);
+    *kinetic = now.kinetic;
+    *max_speed = sqrt((double)now.max_v2);
+    *max_strain = now.max_strain;
 }
 
 static void gpu_sleep(void* user, wc_state* s) {
@@ -317,6 +297,7 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     GLenum e = glGetError();
     if ((g->gl_error || e != GL_NO_ERROR) && r == WC_OK)
         r = wc_fail(diag, WC_ERROR_GPU, "GPU step: GL error %s", e != GL_NO_ERROR ? wg_gl_error_name(e) : "in a pass");
+    if (g->run.fault[0] && r == WC_OK) r = wc_fail(diag, WC_ERROR_GPU, "GPU step: %s", g->run.fault);
     if (!collect_stamps(g, st) && !st->asleep) st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble;
     return r;
 }

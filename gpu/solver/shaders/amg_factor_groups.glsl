@@ -31,9 +31,9 @@ void main() {
     for (int q = t; q < d * d; q += 64) put(q / d, q % d, 0.0);
     sync();
     for (int i = t; i < u_n; i += 64) {
-        ivec4 r = ldi(t0, i);
+        ivec4 r = ldi(rows, i);
         for (int k = r.x; k < r.y; ++k) {
-            int j = ldi(t1, k).y;
+            int j = ldi(cols, k).y;
             mat3 B = op_block(k);
             vec3 b0 = blk_row(B, 0).xyz, b1 = blk_row(B, 1).xyz, b2 = blk_row(B, 2).xyz;
             for (int c = 0; c < 3; ++c) {

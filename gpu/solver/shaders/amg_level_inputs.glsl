@@ -1,5 +1,5 @@
 // One level's operator and smoother for the multigrid's passes over it (an include, not a pass;
-// wg_amg.c use_level binds units 0..8 in this order, the passes' own inputs start at t9).
+// wg_amg.c level_in gives these inputs, and each pass's table in wg_passes.c names those it reads).
 // Two forms, the same functions:
 //  - a coarse level (and the finest of a one-level hierarchy): full 3x3 blocks in three textures
 //    (amg_blocks.glsl), the Galerkin sums;
@@ -13,20 +13,20 @@
 //    back into range(S).
 // Pattern: rows = (block start, end, diagonal block, aggregate on the next level or -1), cols =
 // (row, column, -, -) per block (the system's own block texture on the finest level).
-uniform isampler2D t0;  // rows
-uniform isampler2D t1;  // cols
+uniform isampler2D rows;
+uniform isampler2D cols;
 #ifdef WG_AMG_FINE
-uniform sampler2D t2;   // A lo
-uniform sampler2D t3;   // A hi
-uniform sampler2D t4;   // S0
-uniform sampler2D t5;   // S1
-uniform sampler2D t6;   // D^-1, row 0
-uniform sampler2D t7;   // row 1
-uniform sampler2D t8;   // row 2
+uniform sampler2D a_lo;
+uniform sampler2D a_hi;
+uniform sampler2D S0;
+uniform sampler2D S1;
+uniform sampler2D dinv0; // D^-1, row 0
+uniform sampler2D dinv1; // row 1
+uniform sampler2D dinv2; // row 2
 
-mat3 op_filter(int i) { return filter_S(ld(t4, i), ld(t5, i)); }
-bool op_filtered(int i) { return ld(t5, i).z != 0.0; }
-mat3 op_a(int k) { return sym(ld(t2, k), ld(t3, k).xy); }
+mat3 op_filter(int i) { return filter_S(ld(S0, i), ld(S1, i)); }
+bool op_filtered(int i) { return ld(S1, i).z != 0.0; }
+mat3 op_a(int k) { return sym(ld(a_lo, k), ld(a_hi, k).xy); }
 // a_i of a diagonal block A_ii: its mean diagonal, 1 where that is not positive and finite.
 float op_scale(mat3 A) {
     float a = (A[0][0] + A[1][1] + A[2][2]) / 3.0;
@@ -35,7 +35,7 @@ float op_scale(mat3 A) {
 
 // Block k of P^ (row i, column j).
 mat3 op_block(int k) {
-    ivec4 b = ldi(t1, k);
+    ivec4 b = ldi(cols, k);
     mat3 A = op_a(k), o = A;
     if (op_filtered(b.y)) o = o * op_filter(b.y);
     if (op_filtered(b.x)) {
@@ -45,20 +45,20 @@ mat3 op_block(int k) {
     }
     return o;
 }
-mat3 op_dinv(int i) { return blk(t6, t7, t8, i); }
+mat3 op_dinv(int i) { return blk(dinv0, dinv1, dinv2, i); }
 // The coarse correction xc of node j's aggregate, as added to x_j: filtered (above).
-vec3 op_prolong(int j, vec3 xc) { return filter_apply(ld(t4, j), ld(t5, j), xc); }
+vec3 op_prolong(int j, vec3 xc) { return filter_apply(ld(S0, j), ld(S1, j), xc); }
 
 // op_row's parts (below): for x in range(S) (the V-cycle's vectors) row i of P^ x is S_i (A x)_i.
 vec3 op_mul(int k, vec3 x) { return op_a(k) * x; }
-vec3 op_row_end(int i, vec3 y) { return filter_apply(ld(t4, i), ld(t5, i), y); }
+vec3 op_row_end(int i, vec3 y) { return filter_apply(ld(S0, i), ld(S1, i), y); }
 // Row i of P^ x for any x (the power iterations, from core's unfiltered start vector).
 vec3 op_row_any(int i, sampler2D x) {
-    ivec4 r = ldi(t0, i);
+    ivec4 r = ldi(rows, i);
     vec3 y = vec3(0.0);
     for (int k = r.x; k < r.y; ++k) {
-        int j = ldi(t1, k).y;
-        y += op_a(k) * filter_apply(ld(t4, j), ld(t5, j), ld(x, j).xyz);
+        int j = ldi(cols, k).y;
+        y += op_a(k) * filter_apply(ld(S0, j), ld(S1, j), ld(x, j).xyz);
     }
     if (!op_filtered(i)) return y;
     mat3 S = op_filter(i);
@@ -66,31 +66,31 @@ vec3 op_row_any(int i, sampler2D x) {
     return S * y + op_scale(op_a(r.z)) * (xi - S * xi);
 }
 #else
-uniform sampler2D t2;   // blocks, row 0
-uniform sampler2D t3;   // row 1
-uniform sampler2D t4;   // row 2
-uniform sampler2D t5;   // D^-1, row 0
-uniform sampler2D t6;   // row 1
-uniform sampler2D t7;   // row 2
+uniform sampler2D a0;    // blocks, row 0
+uniform sampler2D a1;    // row 1
+uniform sampler2D a2;    // row 2
+uniform sampler2D dinv0; // D^-1, row 0
+uniform sampler2D dinv1; // row 1
+uniform sampler2D dinv2; // row 2
 
-mat3 op_block(int k) { return blk(t2, t3, t4, k); }
-mat3 op_dinv(int i) { return blk(t5, t6, t7, i); }
+mat3 op_block(int k) { return blk(a0, a1, a2, k); }
+mat3 op_dinv(int i) { return blk(dinv0, dinv1, dinv2, i); }
 vec3 op_prolong(int j, vec3 xc) { return xc; }
 
 vec3 op_mul(int k, vec3 x) { return op_block(k) * x; }
 vec3 op_row_end(int i, vec3 y) { return y; }
 #endif
-mat3 op_diag(int i) { return op_block(ldi(t0, i).z); }
+mat3 op_diag(int i) { return op_block(ldi(rows, i).z); }
 
 // Row i of the level's operator times x, x_j + op_prolong(j, xc[agg j]) read with prolong (on the
 // finest level x in range(S): above).
 vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
-    ivec4 r = ldi(t0, i);
+    ivec4 r = ldi(rows, i);
     vec3 y = vec3(0.0);
     for (int k = r.x; k < r.y; ++k) {
-        int j = ldi(t1, k).y;
+        int j = ldi(cols, k).y;
         vec3 xj = ld(x, j).xyz;
-        if (prolong) xj += op_prolong(j, ld(xc, ldi(t0, j).w).xyz);
+        if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
         y += op_mul(k, xj);
     }
     return op_row_end(i, y);

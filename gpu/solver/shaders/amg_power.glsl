@@ -4,16 +4,16 @@
 // from float's range. The level's inputs: amg_level_inputs.glsl.
 #pragma weft include amg_blocks
 #pragma weft include amg_level_inputs
-uniform sampler2D t9;   // v
+uniform sampler2D v;
 out vec4 o0;
 out vec4 o1;
 
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
-    vec3 av = op_row_any(i, t9);
-    vec3 v = ld(t9, i).xyz;
-    vec3 dv = op_diag(i) * v;
+    vec3 av = op_row_any(i, v);
+    vec3 vi = ld(v, i).xyz;
+    vec3 dv = op_diag(i) * vi;
     o0 = vec4(op_dinv(i) * av, 0.0);
-    o1 = vec4(dot(v, av), dot(v, dv), 0.0, 0.0);
+    o1 = vec4(dot(vi, av), dot(vi, dv), 0.0, 0.0);
 }

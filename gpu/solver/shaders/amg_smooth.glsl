@@ -10,11 +10,11 @@
 // amg_level_inputs.glsl.
 #pragma weft include amg_blocks
 #pragma weft include amg_level_inputs
-uniform sampler2D t9;   // r
-uniform sampler2D t10;  // x
-uniform sampler2D t11;  // d of the previous step
-uniform sampler2D t12;  // the power iterations' reduction (lvl_bound)
-uniform sampler2D t13;  // xc: the next level's solution (u_prolong)
+uniform sampler2D r;
+uniform sampler2D x;
+uniform sampler2D d;     // the previous step's d
+uniform sampler2D bound; // the power iterations' reduction (lvl_bound)
+uniform sampler2D xc;    // the next level's solution (u_prolong)
 uniform int u_step;
 uniform int u_zero;
 uniform int u_prolong;
@@ -27,22 +27,22 @@ out vec4 o2;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    vec3 r = ld(t9, i).xyz, t = r, x = vec3(0.0);
+    vec3 ri = ld(r, i).xyz, t = ri, xi = vec3(0.0);
     if (u_zero == 0) {
         bool prolong = u_prolong != 0;
-        t -= op_row(i, t10, t13, prolong);
-        x = ld(t10, i).xyz;
-        if (prolong) x += op_prolong(i, ld(t13, ldi(t0, i).w).xyz);
+        t -= op_row(i, x, xc, prolong);
+        xi = ld(x, i).xyz;
+        if (prolong) xi += op_prolong(i, ld(xc, ldi(rows, i).w).xyz);
     }
     vec3 e = op_dinv(i) * t;
-    float b = lvl_bound(t12);
-    vec3 d;
+    float b = lvl_bound(bound);
+    vec3 di;
     if (u_step < 0) {
-        d = e / b;
+        di = e / b;
     } else {
         float a = b / u_ratio, theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
         if (u_step == 0) {
-            d = e / theta;
+            di = e / theta;
         } else {
             float rho = 1.0 / sigma, c1 = 0.0, c2 = 0.0;
             for (int s = 0; s < u_step; ++s) {
@@ -51,10 +51,10 @@ void main() {
                 c2 = 2.0 * rn / delta;
                 rho = rn;
             }
-            d = c1 * ld(t11, i).xyz + c2 * e;
+            di = c1 * ld(d, i).xyz + c2 * e;
         }
     }
-    o0 = vec4(x + d, 0.0);
-    o1 = vec4(d, 0.0);
-    o2 = u_dot != 0 ? vec4(dot(r, x + d), dot(r, r), 0.0, 0.0) : vec4(0.0);
+    o0 = vec4(xi + di, 0.0);
+    o1 = vec4(di, 0.0);
+    o2 = u_dot != 0 ? vec4(dot(ri, xi + di), dot(ri, ri), 0.0, 0.0) : vec4(0.0);
 }

@@ -1,29 +1,29 @@
 // Per block k of the BSR pattern (row i, column j): A_ii = m_i I - sum of J over row i's springs,
 // A_ij = sum of J over the springs joining i and j (core/assemble.c). Blocks are symmetric.
 // Outputs: o0 = (a00, a01, a02, a11), o1 = (a12, a22) of block k.
-uniform isampler2D t0;  // block (row, column, list start, list end)
-uniform isampler2D t1;  // block spring lists (spring)
-uniform sampler2D t2;   // mass (m, 1/m)
-uniform sampler2D t3;   // springs o0 (f, J00)
-uniform sampler2D t4;   // springs o1 (w, J11)
-uniform sampler2D t5;   // springs o2 (J01, J02, J12, J22)
+uniform isampler2D block;      // (row, column, spring list start, end)
+uniform isampler2D block_list; // per list entry: spring
+uniform sampler2D mass;        // (m, 1/m)
+uniform sampler2D spring_f;    // springs.glsl o0: (f, J00)
+uniform sampler2D spring_w;    // springs.glsl o1: (w, J11)
+uniform sampler2D spring_j;    // springs.glsl o2: (J01, J02, J12, J22)
 out vec4 o0;
 out vec2 o1;
 
 void main() {
     int k = self_index();
     if (k >= u_n) { o0 = vec4(0.0); o1 = vec2(0.0); return; }
-    ivec4 bi = ldi(t0, k);
+    ivec4 bi = ldi(block, k);
     vec4 lo = vec4(0.0);
     vec2 hi = vec2(0.0);
     for (int e = bi.z; e < bi.w; ++e) {
-        int s = ldi(t1, e).x;
-        vec4 a = ld(t3, s), b = ld(t4, s), c = ld(t5, s);
+        int s = ldi(block_list, e).x;
+        vec4 a = ld(spring_f, s), b = ld(spring_w, s), c = ld(spring_j, s);
         lo += vec4(a.w, c.x, c.y, b.w);
         hi += c.zw;
     }
     if (bi.x == bi.y) {
-        float m = ld(t2, bi.x).x;
+        float m = ld(mass, bi.x).x;
         lo = vec4(m, 0.0, 0.0, m) - lo;
         hi = vec2(0.0, m) - hi;
     }

@@ -2,13 +2,13 @@
 // of each incident triangle), the spring forces f_total = f_ext + sum sign f_s, and the right-hand
 // side b_i = h (f_total + h sum sign w_s), sign = +1 where i is the spring's end a.
 // Outputs: o0 = b, o1 = f_total.
-uniform sampler2D t0;   // mass (m, 1/m)
-uniform isampler2D t1;  // row ranges (spring_start, spring_end, tri_start, tri_end)
-uniform isampler2D t2;  // row spring entries (spring, sign, other particle, block)
-uniform sampler2D t3;   // springs o0 (f, J00)
-uniform sampler2D t4;   // springs o1 (w, J11)
-uniform isampler2D t5;  // row triangle entries (triangle)
-uniform sampler2D t6;   // triangle air forces
+uniform sampler2D mass;       // (m, 1/m)
+uniform isampler2D rows;      // (spring start, end, triangle start, end)
+uniform isampler2D row_entry; // per row entry: (spring, sign, other particle, block)
+uniform sampler2D spring_f;   // springs.glsl o0: (f, J00)
+uniform sampler2D spring_w;   // springs.glsl o1: (w, J11)
+uniform isampler2D row_tri;   // per row entry: triangle
+uniform sampler2D tri_air;    // per triangle: its air force (air.glsl)
 uniform float u_h;
 uniform vec3 u_gravity;
 uniform int u_use_air;
@@ -18,20 +18,20 @@ out vec4 o1;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
-    float m = ld(t0, i).x;
-    ivec4 rr = ldi(t1, i);
+    float m = ld(mass, i).x;
+    ivec4 rr = ldi(rows, i);
     vec3 f = m * u_gravity;
     if (u_use_air != 0) {
         vec3 acc = vec3(0.0);
-        for (int k = rr.z; k < rr.w; ++k) acc += ld(t6, ldi(t5, k).x).xyz;
+        for (int k = rr.z; k < rr.w; ++k) acc += ld(tri_air, ldi(row_tri, k).x).xyz;
         f += acc * (1.0 / 3.0);
     }
     vec3 kv = vec3(0.0);
     for (int k = rr.x; k < rr.y; ++k) {
-        ivec4 e = ldi(t2, k);
+        ivec4 e = ldi(row_entry, k);
         float sg = float(e.y);
-        f += sg * ld(t3, e.x).xyz;
-        kv += sg * ld(t4, e.x).xyz;
+        f += sg * ld(spring_f, e.x).xyz;
+        kv += sg * ld(spring_w, e.x).xyz;
     }
     o0 = vec4(u_h * (f + u_h * kv), 0.0);
     o1 = vec4(f, 0.0);

@@ -6,12 +6,12 @@
 // get no contact. Contact state: C0 = (collider 1, collider 2, released, stick) (-1: none),
 // C1 = (normal 1, in contact), C2 = (normal 2, changed).
 // Outputs: o0 = x, o1 = S0, o2 = S1, o3 = z, o4 = C0, o5 = C1, o6 = C2.
-uniform sampler2D t0;   // x
-uniform sampler2D t1;   // v (start of the substep)
-uniform sampler2D t2;   // S0 (pins)
-uniform sampler2D t3;   // S1 (pins)
-uniform sampler2D t4;   // z (pins)
-uniform sampler2D t5;   // C0 of the last substep
+uniform sampler2D x;
+uniform sampler2D v;    // the substep's start
+uniform sampler2D S0;   // pins.glsl
+uniform sampler2D S1;   // pins.glsl
+uniform sampler2D z;    // pins.glsl
+uniform sampler2D c0;   // C0 of the last substep
 uniform float u_h;
 uniform int u_nc;
 out vec4 o0;
@@ -27,13 +27,13 @@ void main() {
     int i = self_index();
     o4 = vec4(-1.0, -1.0, 0.0, 0.0); o5 = vec4(0.0); o6 = vec4(0.0);
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); o3 = vec4(0.0); o4 = vec4(0.0); return; }
-    vec4 x4 = ld(t0, i);
-    vec3 xi = x4.xyz, vi = ld(t1, i).xyz;
-    vec4 s1 = ld(t3, i);
-    o0 = x4; o1 = ld(t2, i); o2 = s1; o3 = ld(t4, i);
+    vec4 x4 = ld(x, i);
+    vec3 xi = x4.xyz, vi = ld(v, i).xyz;
+    vec4 s1 = ld(S1, i);
+    o0 = x4; o1 = ld(S0, i); o2 = s1; o3 = ld(z, i);
     if (s1.z >= 2.0) return;   // pinned (line or point): no contact
     o1 = vec4(1.0, 0.0, 0.0, 1.0); o2 = vec4(0.0, 1.0, 0.0, 0.0); o3 = vec4(0.0);
-    vec4 c = ld(t5, i);
+    vec4 c = ld(c0, i);
     bool released = c.z != 0.0;
     int h0 = int(c.x), h1 = int(c.y);
     float sl = slop_at(xi);

@@ -2,15 +2,15 @@
 // impulse of each contact is r's component along its normal in the basis of the two normals; a
 // negative one releases that contact (released = 1, the others compacted to the front).
 // Outputs: o0 = C0, o1 = C1 (in contact in w), o2 = C2.
-uniform isampler2D t0;  // particle blocks (row start, row end, diagonal block, -)
-uniform isampler2D t1;  // block (row, column, -, -)
-uniform sampler2D t2;   // A lo
-uniform sampler2D t3;   // A hi
-uniform sampler2D t4;   // dv
-uniform sampler2D t5;   // b
-uniform sampler2D t6;   // C0
-uniform sampler2D t7;   // C1
-uniform sampler2D t8;   // C2
+uniform isampler2D pblocks; // (block row start, end, diagonal block, -)
+uniform isampler2D block;   // (row, column, -, -)
+uniform sampler2D a_lo;
+uniform sampler2D a_hi;
+uniform sampler2D dv;
+uniform sampler2D b;
+uniform sampler2D c0;
+uniform sampler2D c1;
+uniform sampler2D c2;
 uniform int u_nc;
 out vec4 o0;
 out vec4 o1;
@@ -21,27 +21,27 @@ out vec4 o2;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    vec4 c = ld(t6, i), c1 = ld(t7, i), c2 = ld(t8, i);
+    vec4 c = ld(c0, i), c1i = ld(c1, i), c2i = ld(c2, i);
     int k0 = int(c.x), k1 = int(c.y);
     int cnt = (k0 >= 0 ? 1 : 0) + (k1 >= 0 ? 1 : 0);
     if (cnt == 0 || k0 >= u_nc || k1 >= u_nc) {
-        o0 = vec4(-1.0, -1.0, 0.0, c.w); o1 = vec4(c1.xyz, 0.0); o2 = vec4(c2.xyz, 0.0);
+        o0 = vec4(-1.0, -1.0, 0.0, c.w); o1 = vec4(c1i.xyz, 0.0); o2 = vec4(c2i.xyz, 0.0);
         return;
     }
-    ivec4 pb = ldi(t0, i);
-    vec3 r = -ld(t5, i).xyz;
-    for (int k = pb.x; k < pb.y; ++k) r += sym(ld(t2, k), ld(t3, k).xy) * ld(t4, ldi(t1, k).y).xyz;
-    vec2 imp = contact_impulses(r, c1.xyz, c2.xyz, cnt);
+    ivec4 pb = ldi(pblocks, i);
+    vec3 r = -ld(b, i).xyz;
+    for (int k = pb.x; k < pb.y; ++k) r += sym(ld(a_lo, k), ld(a_hi, k).xy) * ld(dv, ldi(block, k).y).xyz;
+    vec2 imp = contact_impulses(r, c1i.xyz, c2i.xyz, cnt);
     float released = 0.0;
     int keep = 0;
     vec2 kid = vec2(-1.0);
     vec3 kn0 = vec3(0.0), kn1 = vec3(0.0);
     if (imp.x < 0.0) released = 1.0;
-    else { kid.x = c.x; kn0 = c1.xyz; keep = 1; }
+    else { kid.x = c.x; kn0 = c1i.xyz; keep = 1; }
     if (cnt > 1) {
         if (imp.y < 0.0) released = 1.0;
-        else if (keep == 0) { kid.x = c.y; kn0 = c2.xyz; keep = 1; }
-        else { kid.y = c.y; kn1 = c2.xyz; keep = 2; }
+        else if (keep == 0) { kid.x = c.y; kn0 = c2i.xyz; keep = 1; }
+        else { kid.y = c.y; kn1 = c2i.xyz; keep = 2; }
     }
     o0 = vec4(kid, released, c.w);
     o1 = vec4(kn0, keep > 0 ? 1.0 : 0.0);

@@ -1,10 +1,7 @@
-// Included by the contact passes (#pragma weft include contact_geometry): the colliders' texture
-// is bound to unit 15 (t15) by wg_contacts.c.
-uniform sampler2D t15;   // colliders
-#define WG_COLS t15
-// ---- collider geometry (core/collide.c, in float): WG_COLS is the colliders' texture, one row
-// per collider: (type, radius, thickness, friction), (plane normal, offset), (center / a, -),
-// (b, -), (velocity, -).
+// Included by the contact passes (#pragma weft include contact_geometry): collider geometry
+// (core/collide.c, in float). The colliders' texture has one row per collider: (type, radius,
+// thickness, friction), (plane normal, offset), (center / a, -), (b, -), (velocity, -).
+uniform sampler2D colliders;
 const float HUGE_D = 1e30;
 const float SLOP = 1e-9;
 // "On the shell" in float: SLOP is below float resolution at metre scale, so the GPU widens it
@@ -12,7 +9,7 @@ const float SLOP = 1e-9;
 float slop_at(vec3 p) { vec3 a = abs(p); return SLOP + 1e-6 * max(1.0, max(a.x, max(a.y, a.z))); }
 const float PARALLEL_MIN = 0.1;
 const int CORRECT_PASSES = 4;
-vec4 col(int k, int j) { return texelFetch(WG_COLS, ivec2(j, k), 0); }
+vec4 col(int k, int j) { return texelFetch(colliders, ivec2(j, k), 0); }
 
 float ball_distance(vec3 p, vec3 q, float r, bool has_u, vec3 u, out vec3 n) {
     vec3 d = p - q;

@@ -3,10 +3,10 @@
 // PROJECT_ROUNDS times), then give v the nearest value with no inward relative normal velocity
 // on the (up to two deepest) shells it lies on (d < SLOP).
 // Outputs: o0 = x, o1 = v.
-uniform sampler2D t0;   // x
-uniform sampler2D t1;   // v
-uniform sampler2D t2;   // S1 (ndof in z)
-uniform sampler2D t3;   // C0 (stick in w)
+uniform sampler2D x;
+uniform sampler2D v;
+uniform sampler2D S1;   // ndof in z
+uniform sampler2D c0;   // stick in w
 uniform int u_nc;
 out vec4 o0;
 out vec4 o1;
@@ -36,29 +36,29 @@ vec3 halfspaces(vec3 n1, float a1, vec3 n2, float a2, int cnt) {
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
-    vec4 x4 = ld(t0, i), v4 = ld(t1, i);
+    vec4 x4 = ld(x, i), v4 = ld(v, i);
     o0 = x4; o1 = v4;
-    if (ld(t2, i).z == 3.0 && ld(t3, i).w == 0.0) return;   // a pin
-    vec3 x = x4.xyz, v = v4.xyz;
+    if (ld(S1, i).z == 3.0 && ld(c0, i).w == 0.0) return;   // a pin
+    vec3 xp = x4.xyz, vp = v4.xyz;
     B2 b;
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {
-        deepest2(x, b);
+        deepest2(xp, b);
         if (b.cnt == 0 || !(b.d.x < 0.0)) break;
-        push_out(b, x);
+        push_out(b, xp);
     }
-    deepest2(x, b);
+    deepest2(xp, b);
     int cnt = 0;
     float a0 = 0.0, a1 = 0.0;
-    float sl = slop_at(x);
+    float sl = slop_at(xp);
     if (b.cnt > 0 && b.d.x < sl) {
-        a0 = dot(col(b.k.x, 4).xyz, b.n0) - dot(v, b.n0);
+        a0 = dot(col(b.k.x, 4).xyz, b.n0) - dot(vp, b.n0);
         cnt = 1;
         if (b.cnt > 1 && b.d.y < sl) {
-            a1 = dot(col(b.k.y, 4).xyz, b.n1) - dot(v, b.n1);
+            a1 = dot(col(b.k.y, 4).xyz, b.n1) - dot(vp, b.n1);
             cnt = 2;
         }
     }
-    if (cnt > 0) v += halfspaces(b.n0, a0, b.n1, a1, cnt);
-    o0 = vec4(x, x4.w);
-    o1 = vec4(v, v4.w);
+    if (cnt > 0) vp += halfspaces(b.n0, a0, b.n1, a1, cnt);
+    o0 = vec4(xp, x4.w);
+    o1 = vec4(vp, v4.w);
 }

@@ -3,10 +3,10 @@
 // with u_inv = R^-1 / scale, normals by R^-1 renormalised). A host vertex no polygon uses has no
 // particle: its rest position moves rigidly with the object (u_object: world = R p + t; in object
 // space it is the rest position / scale), with a zero normal.
-uniform sampler2D t0;   // x (particles)
-uniform sampler2D t1;   // particle normals
-uniform isampler2D t2;  // particle of each host vertex (-1: unused)
-uniform sampler2D t3;   // host rest positions (object space, m)
+uniform sampler2D x;
+uniform sampler2D normal;    // per particle (normals.glsl)
+uniform isampler2D host_map; // per host vertex: its particle (-1: unused)
+uniform sampler2D host_rest; // per host vertex: rest position (object space, m)
 uniform int u_to_object;
 uniform mat3 u_R;       // object rotation (world from object)
 uniform vec3 u_t;       // object translation
@@ -19,20 +19,20 @@ out vec4 o1;
 void main() {
     int h = self_index();
     if (h >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
-    int p = ldi(t2, h).x;
+    int p = ldi(host_map, h).x;
     if (p < 0) {
-        vec3 r = ld(t3, h).xyz;
+        vec3 r = ld(host_rest, h).xyz;
         o0 = vec4(u_to_object != 0 ? r * u_inv_scale : u_R * r + u_t, 0.0);
         o1 = vec4(0.0);
         return;
     }
-    vec3 x = ld(t0, p).xyz, n = ld(t1, p).xyz;
+    vec3 xh = ld(x, p).xyz, n = ld(normal, p).xyz;
     if (u_to_object != 0) {
-        x = u_inv * (x - u_t);
+        xh = u_inv * (xh - u_t);
         n = u_rinv * n;
         float l = length(n);
         n = l > 0.0 ? n / l : vec3(0.0);
     }
-    o0 = vec4(x, 0.0);
+    o0 = vec4(xh, 0.0);
     o1 = vec4(n, 0.0);
 }

@@ -6,8 +6,8 @@
 // hash, before) the drape system of test_gpu_solver gave rho 0.9995 on both backends where
 // core's start gives 0.998119, and Chebyshev took 240 iterations instead of 130.
 // w = r.r, for the |g| that starts the recorded CG steps (wg_solve.c).
-uniform sampler2D t0;   // S0
-uniform sampler2D t1;   // S1
+uniform sampler2D S0;
+uniform sampler2D S1;
 out vec4 o0;
 
 // 64-bit unsigned integers as uvec2(high, low)
@@ -42,6 +42,6 @@ void main() {
     if (i >= u_n) { o0 = vec4(0.0); return; }
     uint k = uint(3 * i);
     vec3 g = vec3(start_value(k), start_value(k + 1u), start_value(k + 2u));
-    vec3 r = filter_apply(ld(t0, i), ld(t1, i), g);
+    vec3 r = filter_apply(ld(S0, i), ld(S1, i), g);
     o0 = vec4(r, dot(r, r));
 }

@@ -3,12 +3,12 @@
 // to its target, t1 = from + alpha1 (target - from): want = (t1 - x) / h - v; fully pinned:
 // S = 0, z = want (ndof 3); a line pin with unit axis d: S = d d^T, z = want - (want.d) d (ndof 2).
 // Outputs: o0 = S0, o1 = S1 (s12, s22, ndof, -), o2 = z.
-uniform sampler2D t0;   // x
-uniform sampler2D t1;   // v
-uniform isampler2D t2;  // pin of each particle (-1: none)
-uniform sampler2D t3;   // pin from (frame start target)
-uniform sampler2D t4;   // pin target (frame end)
-uniform sampler2D t5;   // pin free axis (zero: fully pinned)
+uniform sampler2D x;
+uniform sampler2D v;
+uniform isampler2D pin_map;   // per particle: its pin (-1: none)
+uniform sampler2D pin_from;   // per pin: target at the frame start
+uniform sampler2D pin_target; // target at the frame end
+uniform sampler2D pin_axis;   // free axis (zero: fully pinned)
 uniform float u_h;
 uniform float u_alpha1;
 uniform int u_n_pins;
@@ -21,11 +21,11 @@ void main() {
     o0 = vec4(1.0, 0.0, 0.0, 1.0); o1 = vec4(0.0, 1.0, 0.0, 0.0); o2 = vec4(0.0);
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
     if (u_n_pins == 0) return;
-    int k = ldi(t2, i).x;
+    int k = ldi(pin_map, i).x;
     if (k < 0) return;
-    vec3 from = ld(t3, k).xyz, to = ld(t4, k).xyz, axis = ld(t5, k).xyz;
+    vec3 from = ld(pin_from, k).xyz, to = ld(pin_target, k).xyz, axis = ld(pin_axis, k).xyz;
     vec3 t1v = from + u_alpha1 * (to - from);
-    vec3 want = (t1v - ld(t0, i).xyz) / u_h - ld(t1, i).xyz;
+    vec3 want = (t1v - ld(x, i).xyz) / u_h - ld(v, i).xyz;
     if (axis == vec3(0.0)) {
         o0 = vec4(0.0); o1 = vec4(0.0, 0.0, 3.0, 0.0); o2 = vec4(want, 0.0);
     } else {

@@ -8,7 +8,7 @@
 // group's result at texel (k, 0) of image 0, so with u_groups 1 texel (0, 0) holds the whole
 // reduction. Neighbouring invocations read neighbouring texels (coalesced).
 layout(local_size_x = 256, local_size_y = 1) in;
-uniform sampler2D t0;
+uniform sampler2D src;
 uniform ivec2 u_in;
 uniform ivec4 u_mode;
 uniform int u_groups;
@@ -26,7 +26,7 @@ void main() {
     int total = u_in.x * u_in.y, stride = 256 * u_groups;
     vec4 acc = vec4(0.0);
     for (int i = 256 * k + t; i < total; i += stride)
-        acc = combine(acc, texelFetch(t0, ivec2(i % u_in.x, i / u_in.x), 0), take_max);
+        acc = combine(acc, texelFetch(src, ivec2(i % u_in.x, i / u_in.x), 0), take_max);
     part[t] = acc;
     memoryBarrierShared();
     barrier();

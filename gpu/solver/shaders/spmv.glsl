@@ -6,10 +6,10 @@ out vec4 o0;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
-    vec3 y = bsr_row(t0, t1, t2, t3, t4, i);
+    vec3 y = bsr_row(pblocks, block, a_lo, a_hi, x, i);
     if (u_filter != 0) {
-        y = filter_apply(ld(t5, i), ld(t6, i), y);
-        o0 = vec4(y, dot(ld(t4, i).xyz, y));
+        y = filter_apply(ld(S0, i), ld(S1, i), y);
+        o0 = vec4(y, dot(ld(x, i).xyz, y));
     } else {
         o0 = vec4(y, 0.0);
     }

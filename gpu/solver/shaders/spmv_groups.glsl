@@ -18,8 +18,8 @@ void main() {
     int i = (256 * group + t) >> 2;
     vec3 y = vec3(0.0);
     if (i < u_n) {
-        ivec4 r = ldi(t0, i);
-        for (int k = r.x + lane; k < r.y; k += 4) y += sym(ld(t2, k), ld(t3, k).xy) * ld(t4, ldi(t1, k).y).xyz;
+        ivec4 r = ldi(pblocks, i);
+        for (int k = r.x + lane; k < r.y; k += 4) y += sym(ld(a_lo, k), ld(a_hi, k).xy) * ld(x, ldi(block, k).y).xyz;
     }
     part[t] = y;
     memoryBarrierShared();
@@ -29,8 +29,8 @@ void main() {
         if (i < u_n) {
             y = (part[t] + part[t + 1]) + (part[t + 2] + part[t + 3]);
             if (u_filter != 0) {
-                y = filter_apply(ld(t5, i), ld(t6, i), y);
-                o = vec4(y, dot(ld(t4, i).xyz, y));
+                y = filter_apply(ld(S0, i), ld(S1, i), y);
+                o = vec4(y, dot(ld(x, i).xyz, y));
             } else {
                 o = vec4(y, 0.0);
             }

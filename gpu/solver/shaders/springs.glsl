@@ -4,11 +4,11 @@
 //   f_a = -(k (l - rest) + d (v_a - v_b).u) u
 //   kx = -k ((1 - c) u u^T + c I),  kv = -d u u^T,  J = h kv + h^2 kx,  w = kx (v_a - v_b)
 // Outputs: o0 = (f, J00), o1 = (w, J11), o2 = (J01, J02, J12, J22).
-uniform sampler2D t0;   // x (particles)
-uniform sampler2D t1;   // v (particles)
-uniform isampler2D t2;  // spring (a, b, type, -)
-uniform sampler2D t3;   // spring rest length (r)
-uniform sampler2D t4;   // rest positions (particles)
+uniform sampler2D x;
+uniform sampler2D v;
+uniform isampler2D spring;     // (a, b, type, -)
+uniform sampler2D spring_rest; // rest length
+uniform sampler2D rest;        // rest positions
 uniform vec3 u_k;
 uniform vec3 u_d;
 uniform float u_h;
@@ -20,25 +20,25 @@ out vec4 o2;
 void main() {
     int s = self_index();
     if (s >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    ivec4 sp = ldi(t2, s);
-    float rest = ld(t3, s).r;
-    vec3 xa = ld(t0, sp.x).xyz, xb = ld(t0, sp.y).xyz;
-    vec3 dv = ld(t1, sp.x).xyz - ld(t1, sp.y).xyz;
+    ivec4 sp = ldi(spring, s);
+    float rest_len = ld(spring_rest, s).r;
+    vec3 xa = ld(x, sp.x).xyz, xb = ld(x, sp.y).xyz;
+    vec3 dv = ld(v, sp.x).xyz - ld(v, sp.y).xyz;
     vec3 L = xa - xb;
     float l = length(L);
     vec3 u = vec3(0.0);
     float c = 0.0;
-    if (l > 0.0 && l >= 1e-12 * rest) {
+    if (l > 0.0 && l >= 1e-12 * rest_len) {
         u = L / l;
-        c = 1.0 - rest / l;
+        c = 1.0 - rest_len / l;
         if (u_compression_drop != 0 && c < 0.0) c = 0.0;
     } else {
-        vec3 R = ld(t4, sp.x).xyz - ld(t4, sp.y).xyz;
+        vec3 R = ld(rest, sp.x).xyz - ld(rest, sp.y).xyz;
         float r = length(R);
         if (r > 0.0) u = R / r;
     }
     float k = u_k[sp.z], d = u_d[sp.z];
-    float fs = k * (l - rest) + d * dot(dv, u);
+    float fs = k * (l - rest_len) + d * dot(dv, u);
     vec3 f = -fs * u;
     mat3 uu = outerProduct(u, u);
     mat3 kx = -k * ((1.0 - c) * uu + c * mat3(1.0));

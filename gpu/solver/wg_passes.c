@@ -1,0 +1,243 @@
+/* The passes' input tables (see wg_passes.h) and their check against a built program. */
+#include "wg_passes.h"
+
+#include <string.h>
+#include <GL/glew.h>
+
+#include "gpu_error.h"
+
+#define IN(T, f) {#f, offsetof(T, f)}
+#define N(tab) ((int)(sizeof tab / sizeof tab[0]))
+/* A table that lists every field of its struct (the struct holds only input pointers). */
+#define WHOLE(T, tab) _Static_assert(sizeof(T) == sizeof tab / sizeof tab[0] * sizeof(const wg_tex*), #T)
+
+static const wg_pass_input springs[] = {IN(wg_springs_in, x), IN(wg_springs_in, v), IN(wg_springs_in, spring),
+                                        IN(wg_springs_in, spring_rest), IN(wg_springs_in, rest)};
+WHOLE(wg_springs_in, springs);
+static const wg_pass_input air[] = {IN(wg_air_in, x), IN(wg_air_in, v), IN(wg_air_in, tri)};
+WHOLE(wg_air_in, air);
+static const wg_pass_input assemble_b[] = {
+    IN(wg_assemble_b_in, mass), IN(wg_assemble_b_in, rows), IN(wg_assemble_b_in, row_entry),
+    IN(wg_assemble_b_in, spring_f), IN(wg_assemble_b_in, spring_w), IN(wg_assemble_b_in, row_tri),
+    IN(wg_assemble_b_in, tri_air)};
+WHOLE(wg_assemble_b_in, assemble_b);
+static const wg_pass_input assemble_a[] = {
+    IN(wg_assemble_a_in, block), IN(wg_assemble_a_in, block_list), IN(wg_assemble_a_in, mass),
+    IN(wg_assemble_a_in, spring_f), IN(wg_assemble_a_in, spring_w), IN(wg_assemble_a_in, spring_j)};
+WHOLE(wg_assemble_a_in, assemble_a);
+static const wg_pass_input pins[] = {IN(wg_pins_in, x), IN(wg_pins_in, v), IN(wg_pins_in, pin_map),
+                                     IN(wg_pins_in, pin_from), IN(wg_pins_in, pin_target), IN(wg_pins_in, pin_axis)};
+WHOLE(wg_pins_in, pins);
+static const wg_pass_input integrate[] = {
+    IN(wg_integrate_in, x), IN(wg_integrate_in, v), IN(wg_integrate_in, dv), IN(wg_integrate_in, pin_map),
+    IN(wg_integrate_in, pin_from), IN(wg_integrate_in, pin_target), IN(wg_integrate_in, pin_axis)};
+WHOLE(wg_integrate_in, integrate);
+static const wg_pass_input dinv[] = {IN(wg_dinv_in, pblocks), IN(wg_dinv_in, a_lo), IN(wg_dinv_in, a_hi),
+                                     IN(wg_dinv_in, S0), IN(wg_dinv_in, S1)};
+WHOLE(wg_dinv_in, dinv);
+static const wg_pass_input project[] = {IN(wg_project_in, dv), IN(wg_project_in, S0), IN(wg_project_in, S1),
+                                        IN(wg_project_in, z)};
+WHOLE(wg_project_in, project);
+static const wg_pass_input residual[] = {
+    IN(wg_residual_in, pblocks), IN(wg_residual_in, block), IN(wg_residual_in, a_lo), IN(wg_residual_in, a_hi),
+    IN(wg_residual_in, x), IN(wg_residual_in, b), IN(wg_residual_in, S0), IN(wg_residual_in, S1)};
+WHOLE(wg_residual_in, residual);
+static const wg_pass_input spmv[] = {IN(wg_spmv_in, pblocks), IN(wg_spmv_in, block), IN(wg_spmv_in, a_lo),
+                                     IN(wg_spmv_in, a_hi), IN(wg_spmv_in, x), IN(wg_spmv_in, S0), IN(wg_spmv_in, S1)};
+WHOLE(wg_spmv_in, spmv);
+static const wg_pass_input pcg_update[] = {
+    IN(wg_pcg_update_in, dv), IN(wg_pcg_update_in, r), IN(wg_pcg_update_in, c), IN(wg_pcg_update_in, q),
+    IN(wg_pcg_update_in, dinv_lo), IN(wg_pcg_update_in, dinv_hi), IN(wg_pcg_update_in, scalars0),
+    IN(wg_pcg_update_in, scalars1)};
+WHOLE(wg_pcg_update_in, pcg_update);
+static const wg_pass_input pcg_direction[] = {
+    IN(wg_pcg_direction_in, t), IN(wg_pcg_direction_in, c), IN(wg_pcg_direction_in, S0),
+    IN(wg_pcg_direction_in, S1), IN(wg_pcg_direction_in, scalars0), IN(wg_pcg_direction_in, scalars1)};
+WHOLE(wg_pcg_direction_in, pcg_direction);
+static const wg_pass_input pcg_scalars[] = {
+    IN(wg_pcg_scalars_in, scalars0), IN(wg_pcg_scalars_in, scalars1), IN(wg_pcg_scalars_in, sum),
+    IN(wg_pcg_scalars_in, dots), IN(wg_pcg_scalars_in, scalars2)};
+WHOLE(wg_pcg_scalars_in, pcg_scalars);
+static const wg_pass_input jacobi_sweep[] = {
+    IN(wg_jacobi_sweep_in, pblocks), IN(wg_jacobi_sweep_in, block),   IN(wg_jacobi_sweep_in, a_lo),
+    IN(wg_jacobi_sweep_in, a_hi),    IN(wg_jacobi_sweep_in, x),       IN(wg_jacobi_sweep_in, b),
+    IN(wg_jacobi_sweep_in, S0),      IN(wg_jacobi_sweep_in, S1),      IN(wg_jacobi_sweep_in, dinv_lo),
+    IN(wg_jacobi_sweep_in, dinv_hi), IN(wg_jacobi_sweep_in, x_prev)};
+WHOLE(wg_jacobi_sweep_in, jacobi_sweep);
+static const wg_pass_input check_particles[] = {IN(wg_check_particles_in, x), IN(wg_check_particles_in, v),
+                                                IN(wg_check_particles_in, mass)};
+WHOLE(wg_check_particles_in, check_particles);
+static const wg_pass_input check_springs[] = {IN(wg_check_springs_in, x), IN(wg_check_springs_in, spring),
+                                              IN(wg_check_springs_in, spring_rest)};
+WHOLE(wg_check_springs_in, check_springs);
+static const wg_pass_input src[] = {IN(wg_src_in, src)};
+WHOLE(wg_src_in, src);
+static const wg_pass_input strain_springs[] = {
+    IN(wg_strain_springs_in, x),    IN(wg_strain_springs_in, spring), IN(wg_strain_springs_in, spring_rest),
+    IN(wg_strain_springs_in, mass), IN(wg_strain_springs_in, S0),     IN(wg_strain_springs_in, S1)};
+WHOLE(wg_strain_springs_in, strain_springs);
+static const wg_pass_input strain_gather[] = {
+    IN(wg_strain_gather_in, x),    IN(wg_strain_gather_in, v),  IN(wg_strain_gather_in, rows),
+    IN(wg_strain_gather_in, row_entry), IN(wg_strain_gather_in, corr), IN(wg_strain_gather_in, mass),
+    IN(wg_strain_gather_in, S0),   IN(wg_strain_gather_in, S1), IN(wg_strain_gather_in, spring)};
+WHOLE(wg_strain_gather_in, strain_gather);
+static const wg_pass_input normals[] = {IN(wg_normals_in, x), IN(wg_normals_in, rows), IN(wg_normals_in, row_tri),
+                                        IN(wg_normals_in, tri)};
+WHOLE(wg_normals_in, normals);
+static const wg_pass_input host_output[] = {IN(wg_host_output_in, x), IN(wg_host_output_in, normal),
+                                            IN(wg_host_output_in, host_map), IN(wg_host_output_in, host_rest)};
+WHOLE(wg_host_output_in, host_output);
+static const wg_pass_input lanczos_start[] = {IN(wg_lanczos_start_in, S0), IN(wg_lanczos_start_in, S1)};
+WHOLE(wg_lanczos_start_in, lanczos_start);
+static const wg_pass_input transform[] = {IN(wg_transform_in, x), IN(wg_transform_in, v), IN(wg_transform_in, dv)};
+WHOLE(wg_transform_in, transform);
+
+static const wg_pass_input contact_begin[] = {
+    IN(wg_contact_begin_in, x),  IN(wg_contact_begin_in, v), IN(wg_contact_begin_in, S0),
+    IN(wg_contact_begin_in, S1), IN(wg_contact_begin_in, z), IN(wg_contact_begin_in, c0),
+    IN(wg_contact_begin_in, colliders)};
+WHOLE(wg_contact_begin_in, contact_begin);
+static const wg_pass_input contact_friction[] = {
+    IN(wg_contact_friction_in, v),    IN(wg_contact_friction_in, mass),    IN(wg_contact_friction_in, ftot),
+    IN(wg_contact_friction_in, S0),   IN(wg_contact_friction_in, S1),      IN(wg_contact_friction_in, z),
+    IN(wg_contact_friction_in, b),    IN(wg_contact_friction_in, pblocks), IN(wg_contact_friction_in, a_lo),
+    IN(wg_contact_friction_in, a_hi), IN(wg_contact_friction_in, c0),      IN(wg_contact_friction_in, c1),
+    IN(wg_contact_friction_in, c2),   IN(wg_contact_friction_in, colliders)};
+WHOLE(wg_contact_friction_in, contact_friction);
+static const wg_pass_input contact_recheck[] = {
+    IN(wg_contact_recheck_in, v),    IN(wg_contact_recheck_in, mass),  IN(wg_contact_recheck_in, dv),
+    IN(wg_contact_recheck_in, S0),   IN(wg_contact_recheck_in, S1),    IN(wg_contact_recheck_in, z),
+    IN(wg_contact_recheck_in, b),    IN(wg_contact_recheck_in, pblocks), IN(wg_contact_recheck_in, block),
+    IN(wg_contact_recheck_in, a_lo), IN(wg_contact_recheck_in, a_hi),  IN(wg_contact_recheck_in, c0),
+    IN(wg_contact_recheck_in, c1),   IN(wg_contact_recheck_in, c2),    IN(wg_contact_recheck_in, colliders)};
+WHOLE(wg_contact_recheck_in, contact_recheck);
+static const wg_pass_input contact_end[] = {
+    IN(wg_contact_end_in, pblocks), IN(wg_contact_end_in, block), IN(wg_contact_end_in, a_lo),
+    IN(wg_contact_end_in, a_hi),    IN(wg_contact_end_in, dv),    IN(wg_contact_end_in, b),
+    IN(wg_contact_end_in, c0),      IN(wg_contact_end_in, c1),    IN(wg_contact_end_in, c2)};
+WHOLE(wg_contact_end_in, contact_end);
+static const wg_pass_input contact_project[] = {
+    IN(wg_contact_project_in, x), IN(wg_contact_project_in, v), IN(wg_contact_project_in, S1),
+    IN(wg_contact_project_in, c0), IN(wg_contact_project_in, colliders)};
+WHOLE(wg_contact_project_in, contact_project);
+static const wg_pass_input contact_diag[] = {IN(wg_contact_diag_in, block), IN(wg_contact_diag_in, a_lo),
+                                             IN(wg_contact_diag_in, a_hi), IN(wg_contact_diag_in, aii_lo),
+                                             IN(wg_contact_diag_in, aii_hi)};
+WHOLE(wg_contact_diag_in, contact_diag);
+
+/* The multigrid's passes: a level's inputs in its form (amg_level_inputs.glsl), then the pass's
+   own. On a coarse level the Galerkin sum and D^-1 read the blocks alone (no pattern); D^-1 is
+   read by the passes that apply it. */
+#define AMG(f) IN(wg_amg_in, f)
+#define FINE_OP AMG(cols), AMG(a_lo), AMG(a_hi), AMG(S0), AMG(S1)
+#define COARSE_OP AMG(cols), AMG(a0), AMG(a1), AMG(a2)
+#define DINV AMG(dinv0), AMG(dinv1), AMG(dinv2)
+static const wg_pass_input amg_galerkin[] = {AMG(a0), AMG(a1), AMG(a2), AMG(gal_range), AMG(gal_list)};
+static const wg_pass_input amg_galerkin_fine[] = {FINE_OP, AMG(gal_range), AMG(gal_list)};
+static const wg_pass_input amg_dinv[] = {AMG(rows), AMG(a0), AMG(a1), AMG(a2)};
+static const wg_pass_input amg_dinv_fine[] = {AMG(rows), FINE_OP};
+static const wg_pass_input amg_power[] = {AMG(rows), COARSE_OP, DINV, AMG(v)};
+static const wg_pass_input amg_power_fine[] = {AMG(rows), FINE_OP, DINV, AMG(v)};
+static const wg_pass_input amg_smooth[] = {AMG(rows), COARSE_OP, DINV, AMG(r), AMG(x), AMG(d), AMG(bound), AMG(xc)};
+static const wg_pass_input amg_smooth_fine[] = {AMG(rows), FINE_OP, DINV,     AMG(r),
+                                                AMG(x),    AMG(d),  AMG(bound), AMG(xc)};
+static const wg_pass_input amg_restrict[] = {AMG(rows), COARSE_OP, AMG(mem_range), AMG(mem_list), AMG(r), AMG(x)};
+static const wg_pass_input amg_restrict_fine[] = {AMG(rows), FINE_OP, AMG(mem_range), AMG(mem_list), AMG(r), AMG(x)};
+static const wg_pass_input amg_factor[] = {AMG(rows), COARSE_OP};
+static const wg_pass_input amg_factor_fine[] = {AMG(rows), FINE_OP};
+static const wg_pass_input amg_coarse[] = {AMG(factor), AMG(r)};
+static const wg_pass_input amg_dot[] = {AMG(r), AMG(z)};
+
+#define PASS(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 0}
+#define COMPUTE(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 1}
+#define NATIVE(name, tab, T) {name, tab, N(tab), sizeof(T), 1, 1}
+
+const wg_pass_info wg_passes[WGP_COUNT] = {
+    [WGP_SPRINGS] = PASS("springs", springs, wg_springs_in),
+    [WGP_AIR] = PASS("air", air, wg_air_in),
+    [WGP_ASSEMBLE_B] = PASS("assemble_b", assemble_b, wg_assemble_b_in),
+    [WGP_ASSEMBLE_A] = PASS("assemble_a", assemble_a, wg_assemble_a_in),
+    [WGP_PINS] = PASS("pins", pins, wg_pins_in),
+    [WGP_DINV] = PASS("dinv", dinv, wg_dinv_in),
+    [WGP_PROJECT] = PASS("project", project, wg_project_in),
+    [WGP_RESIDUAL] = PASS("residual", residual, wg_residual_in),
+    [WGP_SPMV] = PASS("spmv", spmv, wg_spmv_in),
+    [WGP_PCG_UPDATE] = PASS("pcg_update", pcg_update, wg_pcg_update_in),
+    [WGP_PCG_DIRECTION] = PASS("pcg_direction", pcg_direction, wg_pcg_direction_in),
+    [WGP_PCG_SCALARS] = PASS("pcg_scalars", pcg_scalars, wg_pcg_scalars_in),
+    [WGP_JACOBI_SWEEP] = PASS("jacobi_sweep", jacobi_sweep, wg_jacobi_sweep_in),
+    [WGP_INTEGRATE] = PASS("integrate", integrate, wg_integrate_in),
+    [WGP_CHECK_PARTICLES] = PASS("check_particles", check_particles, wg_check_particles_in),
+    [WGP_CHECK_SPRINGS] = PASS("check_springs", check_springs, wg_check_springs_in),
+    [WGP_REDUCE] = PASS("reduce", src, wg_src_in),
+    [WGP_COPY] = PASS("copy", src, wg_src_in),
+    [WGP_STRAIN_SPRINGS] = PASS("strain_springs", strain_springs, wg_strain_springs_in),
+    [WGP_STRAIN_GATHER] = PASS("strain_gather", strain_gather, wg_strain_gather_in),
+    [WGP_NORMALS] = PASS("normals", normals, wg_normals_in),
+    [WGP_HOST_OUTPUT] = PASS("host_output", host_output, wg_host_output_in),
+    [WGP_LANCZOS_START] = PASS("lanczos_start", lanczos_start, wg_lanczos_start_in),
+    [WGP_TRANSFORM] = PASS("transform", transform, wg_transform_in),
+    [WGP_COPY_TEXEL] = PASS("copy_texel", src, wg_src_in),
+    [WGP_CONTACT_BEGIN] = PASS("contact_begin", contact_begin, wg_contact_begin_in),
+    [WGP_CONTACT_FRICTION] = PASS("contact_friction", contact_friction, wg_contact_friction_in),
+    [WGP_CONTACT_RECHECK] = PASS("contact_recheck", contact_recheck, wg_contact_recheck_in),
+    [WGP_CONTACT_END] = PASS("contact_end", contact_end, wg_contact_end_in),
+    [WGP_CONTACT_PROJECT] = PASS("contact_project", contact_project, wg_contact_project_in),
+    [WGP_CONTACT_DIAG] = PASS("contact_diag", contact_diag, wg_contact_diag_in),
+    [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
+    [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
+    [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),
+    [WGP_AMG_DINV] = COMPUTE("amg_dinv", amg_dinv, wg_amg_in),
+    [WGP_AMG_POWER] = COMPUTE("amg_power", amg_power, wg_amg_in),
+    [WGP_AMG_SMOOTH] = COMPUTE("amg_smooth", amg_smooth, wg_amg_in),
+    [WGP_AMG_RESTRICT] = COMPUTE("amg_restrict", amg_restrict, wg_amg_in),
+    [WGP_AMG_DOT] = COMPUTE("amg_dot", amg_dot, wg_amg_in),
+    [WGP_AMG_FACTOR_GROUPS] = NATIVE("amg_factor_groups", amg_factor, wg_amg_in),
+    [WGP_AMG_COARSE_GROUPS] = NATIVE("amg_coarse_groups", amg_coarse, wg_amg_in),
+    [WGP_AMG_GALERKIN_FINE] = COMPUTE("amg_galerkin_fine", amg_galerkin_fine, wg_amg_in),
+    [WGP_AMG_DINV_FINE] = COMPUTE("amg_dinv_fine", amg_dinv_fine, wg_amg_in),
+    [WGP_AMG_POWER_FINE] = COMPUTE("amg_power_fine", amg_power_fine, wg_amg_in),
+    [WGP_AMG_SMOOTH_FINE] = COMPUTE("amg_smooth_fine", amg_smooth_fine, wg_amg_in),
+    [WGP_AMG_RESTRICT_FINE] = COMPUTE("amg_restrict_fine", amg_restrict_fine, wg_amg_in),
+    [WGP_AMG_FACTOR_GROUPS_FINE] = NATIVE("amg_factor_groups_fine", amg_factor_fine, wg_amg_in),
+};
+
+static int is_sampler(GLenum type) {
+    return type == GL_SAMPLER_2D || type == GL_INT_SAMPLER_2D || type == GL_UNSIGNED_INT_SAMPLER_2D;
+}
+
+int wg_pass_bind_inputs(GLuint program, const wg_pass_info* pass, char* err, size_t err_len) {
+    if (pass->n_in > WG_MAX_INPUTS) {
+        wg_errorf(err, err_len, "pass '%s': %d inputs, more than the %d texture units a pass may use", pass->name,
+                  pass->n_in, WG_MAX_INPUTS);
+        return 0;
+    }
+    int seen[WG_MAX_INPUTS] = {0};
+    GLint active = 0;
+    glGetProgramiv(program, GL_ACTIVE_UNIFORMS, &active);
+    for (GLint k = 0; k < active; ++k) {
+        char name[64];
+        GLint size = 0;
+        GLenum type = 0;
+        glGetActiveUniform(program, (GLuint)k, sizeof name, NULL, &size, &type, name);
+        if (!is_sampler(type)) continue;
+        int j = 0;
+        while (j < pass->n_in && strcmp(pass->in[j].name, name) != 0) ++j;
+        if (j == pass->n_in) {
+            wg_errorf(err, err_len, "pass '%s': its shader reads sampler '%s', which is not in the pass's input table",
+                      pass->name, name);
+            return 0;
+        }
+        seen[j] = 1;
+    }
+    for (int j = 0; j < pass->n_in; ++j)
+        if (!seen[j]) {
+            wg_errorf(err, err_len, "pass '%s': input '%s' of its table is not a sampler its shader reads", pass->name,
+                      pass->in[j].name);
+            return 0;
+        }
+    glUseProgram(program);
+    for (int j = 0; j < pass->n_in; ++j) glUniform1i(glGetUniformLocation(program, pass->in[j].name), j);
+    glUseProgram(0);
+    return 1;
+}

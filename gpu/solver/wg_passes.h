@@ -1,0 +1,226 @@
+/* Every pass of the solver and its inputs by name.
+ *
+ * A pass is a shader of gpu/solver/shaders (X_fine: X.glsl compiled with WG_AMG_FINE, the
+ * multigrid's form over the finest level). Its inputs are its sampler uniforms, declared in the
+ * shader by name (`uniform sampler2D x;`) and listed in the pass's table (wg_passes.c) with the
+ * field of its input struct (below) that holds the texture. The table is the contract: when the
+ * device builds the program it checks that the program's active samplers are exactly the
+ * table's names and assigns their texture units in the table's order (wg_pass_bind_inputs); a
+ * pass run binds each unit from the caller's struct (wg_runner.h WG_USE), with no look-up by
+ * name. Scalar uniforms (u_*) stay set by name through the program's location cache.
+ *
+ * A field of an input struct points at the texture to read. Fields a pass's table does not name
+ * are not read (wg_amg_in serves every multigrid pass, each naming its own); a named field left
+ * NULL is a broken contract that the runner reports (wg_runner.h). */
+#ifndef WEFT_GPU_SOLVER_PASSES_H
+#define WEFT_GPU_SOLVER_PASSES_H
+
+#include <stddef.h>
+
+#include "gl_texture.h"
+
+typedef enum wg_pass_id {
+    WGP_SPRINGS, WGP_AIR, WGP_ASSEMBLE_B, WGP_ASSEMBLE_A, WGP_PINS, WGP_DINV, WGP_PROJECT, WGP_RESIDUAL,
+    WGP_SPMV, WGP_PCG_UPDATE, WGP_PCG_DIRECTION, WGP_PCG_SCALARS, WGP_JACOBI_SWEEP, WGP_INTEGRATE,
+    WGP_CHECK_PARTICLES, WGP_CHECK_SPRINGS, WGP_REDUCE, WGP_COPY, WGP_STRAIN_SPRINGS, WGP_STRAIN_GATHER,
+    WGP_NORMALS, WGP_HOST_OUTPUT, WGP_LANCZOS_START, WGP_TRANSFORM, WGP_COPY_TEXEL,
+    WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
+    WGP_CONTACT_DIAG,
+    WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
+    /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
+       its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
+    WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,
+    WGP_AMG_FACTOR_GROUPS, WGP_AMG_COARSE_GROUPS,
+    WGP_AMG_GALERKIN_FINE, WGP_AMG_DINV_FINE, WGP_AMG_POWER_FINE, WGP_AMG_SMOOTH_FINE, WGP_AMG_RESTRICT_FINE,
+    WGP_AMG_FACTOR_GROUPS_FINE,
+    WGP_COUNT
+} wg_pass_id;
+
+#define WG_MAX_INPUTS 16        /* texture units a pass may use (GL guarantees 16 per stage) */
+
+/* One input: the sampler's name in the shader, and the offset in the pass's input struct of the
+ * field that holds its texture (a const wg_tex*). Its texture unit is its index in the table. */
+typedef struct wg_pass_input {
+    const char* name;
+    size_t field;
+} wg_pass_input;
+
+typedef struct wg_pass_info {
+    const char* name;           /* the pass, for messages; its shader's name (X_fine: X.glsl) */
+    const wg_pass_input* in;    /* its inputs in texture-unit order */
+    int n_in;
+    size_t in_size;             /* sizeof its input struct (checked at each run) */
+    int native;                 /* a compute shader of its own (*_groups.glsl) */
+    int compute_only;           /* built only where the passes are compute shaders */
+} wg_pass_info;
+
+extern const wg_pass_info wg_passes[WGP_COUNT];
+
+/* Check program (linked; its name `pass` for messages) against the pass's input table and bind
+ * its samplers to their units: every active sampler uniform must be in the table and every table
+ * name an active sampler. Returns 1, or 0 with a message naming the pass and the uniform. Leaves
+ * program 0 in use. */
+int wg_pass_bind_inputs(GLuint program, const wg_pass_info* pass, char* err, size_t err_len);
+
+/* ---- input structs ----------------------------------------------------------------------------
+ * Particle arrays: x, v, dv (positions, velocities, a velocity change), mass (m, 1/m), rest (rest
+ * positions); S0, S1, z the constraint filter (S's symmetric block, (s12, s22, ndof, -), z);
+ * rows (spring start, end, triangle start, end of the particle's lists), pblocks (block row
+ * start, end, diagonal block, -). Springs: spring (a, b, type, -), spring_rest (rest length).
+ * Blocks: block (row, column, spring list start, end), a_lo / a_hi (A's symmetric blocks). */
+
+typedef struct wg_springs_in {  /* springs.glsl: per spring, force and Jacobian blocks */
+    const wg_tex *x, *v, *spring, *spring_rest, *rest;
+} wg_springs_in;
+
+typedef struct wg_air_in {      /* air.glsl: per triangle, wind and drag */
+    const wg_tex *x, *v, *tri;  /* tri: (a, b, c, -) */
+} wg_air_in;
+
+typedef struct wg_assemble_b_in {   /* assemble_b.glsl: per particle, b and f_total */
+    const wg_tex *mass, *rows;
+    const wg_tex* row_entry;        /* per row spring entry: (spring, sign, other particle, block) */
+    const wg_tex *spring_f, *spring_w;   /* springs.glsl's outputs 0 (f, J00) and 1 (w, J11) */
+    const wg_tex* row_tri;          /* per row triangle entry: triangle */
+    const wg_tex* tri_air;          /* air.glsl's output */
+} wg_assemble_b_in;
+
+typedef struct wg_assemble_a_in {   /* assemble_a.glsl: per block of A */
+    const wg_tex *block, *block_list;    /* block_list: the springs of each block's list */
+    const wg_tex* mass;
+    const wg_tex *spring_f, *spring_w, *spring_j;   /* springs.glsl's outputs 0, 1, 2 */
+} wg_assemble_a_in;
+
+typedef struct wg_pins_in {     /* pins.glsl: the pins' filter */
+    const wg_tex *x, *v;
+    const wg_tex* pin_map;      /* per particle: its pin or -1 */
+    const wg_tex *pin_from, *pin_target, *pin_axis;   /* per pin */
+} wg_pins_in;
+
+typedef struct wg_integrate_in {    /* integrate.glsl: v += dv, x += h v, pins snapped */
+    const wg_tex *x, *v, *dv;
+    const wg_tex *pin_map, *pin_from, *pin_target, *pin_axis;
+} wg_integrate_in;
+
+typedef struct wg_dinv_in {     /* dinv.glsl: the block-Jacobi preconditioner */
+    const wg_tex *pblocks, *a_lo, *a_hi, *S0, *S1;
+} wg_dinv_in;
+
+typedef struct wg_project_in {  /* project.glsl: dv = z + S dv */
+    const wg_tex *dv, *S0, *S1, *z;
+} wg_project_in;
+
+typedef struct wg_residual_in { /* residual.glsl: S (b - A x) */
+    const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1;
+} wg_residual_in;
+
+typedef struct wg_spmv_in {     /* spmv.glsl and spmv_groups.glsl: q = A x, or S (A x) */
+    const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *S0, *S1;
+} wg_spmv_in;
+
+typedef struct wg_pcg_update_in {   /* pcg_update.glsl */
+    const wg_tex *dv, *r, *c, *q;
+    const wg_tex *dinv_lo, *dinv_hi;     /* block Jacobi's D~^-1 (symmetric blocks) */
+    const wg_tex *scalars0, *scalars1;   /* pcg_scalars.glsl's outputs 0 and 1 */
+} wg_pcg_update_in;
+
+typedef struct wg_pcg_direction_in {    /* pcg_direction.glsl: c = S (t + beta c) */
+    const wg_tex* t;            /* the preconditioned residual */
+    const wg_tex *c, *S0, *S1, *scalars0, *scalars1;
+} wg_pcg_direction_in;
+
+typedef struct wg_pcg_scalars_in {  /* pcg_scalars.glsl: the scalars of the next step */
+    const wg_tex *scalars0, *scalars1, *scalars2;
+    const wg_tex* sum;          /* a reduction whose w is the sum wanted (residual0^2, c.q) */
+    const wg_tex* dots;         /* a reduction whose xy are (delta, r.r) */
+} wg_pcg_scalars_in;
+
+typedef struct wg_jacobi_sweep_in { /* jacobi_sweep.glsl */
+    const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1, *dinv_lo, *dinv_hi;
+    const wg_tex* x_prev;       /* the iterate before x (Chebyshev) */
+} wg_jacobi_sweep_in;
+
+typedef struct wg_check_particles_in {  /* check_particles.glsl */
+    const wg_tex *x, *v, *mass;
+} wg_check_particles_in;
+
+typedef struct wg_check_springs_in {    /* check_springs.glsl */
+    const wg_tex *x, *spring, *spring_rest;
+} wg_check_springs_in;
+
+typedef struct wg_src_in {      /* reduce, reduce_groups, copy, copy_texel: one texture read */
+    const wg_tex* src;
+} wg_src_in;
+
+typedef struct wg_strain_springs_in {   /* strain_springs.glsl: per spring, its correction */
+    const wg_tex *x, *spring, *spring_rest, *mass, *S0, *S1;
+} wg_strain_springs_in;
+
+typedef struct wg_strain_gather_in {    /* strain_gather.glsl */
+    const wg_tex *x, *v, *rows, *row_entry;
+    const wg_tex* corr;         /* strain_springs.glsl's output */
+    const wg_tex *mass, *S0, *S1, *spring;
+} wg_strain_gather_in;
+
+typedef struct wg_normals_in {  /* normals.glsl */
+    const wg_tex *x, *rows, *row_tri, *tri;
+} wg_normals_in;
+
+typedef struct wg_host_output_in {  /* host_output.glsl */
+    const wg_tex *x;
+    const wg_tex* normal;       /* normals.glsl's output */
+    const wg_tex* host_map;     /* per host vertex: its particle or -1 */
+    const wg_tex* host_rest;    /* per host vertex: rest position, object space */
+} wg_host_output_in;
+
+typedef struct wg_lanczos_start_in {    /* lanczos_start.glsl */
+    const wg_tex *S0, *S1;
+} wg_lanczos_start_in;
+
+typedef struct wg_transform_in {    /* transform.glsl */
+    const wg_tex *x, *v, *dv;
+} wg_transform_in;
+
+/* The contact passes: c0, c1, c2 the contact state (wg_contacts.c), colliders one row per
+ * collider (contact_geometry.glsl). */
+typedef struct wg_contact_begin_in {
+    const wg_tex *x, *v, *S0, *S1, *z, *c0, *colliders;
+} wg_contact_begin_in;
+
+typedef struct wg_contact_friction_in {
+    const wg_tex *v, *mass, *ftot, *S0, *S1, *z, *b, *pblocks, *a_lo, *a_hi, *c0, *c1, *c2, *colliders;
+} wg_contact_friction_in;
+
+typedef struct wg_contact_recheck_in {
+    const wg_tex *v, *mass, *dv, *S0, *S1, *z, *b, *pblocks, *block, *a_lo, *a_hi, *c0, *c1, *c2, *colliders;
+} wg_contact_recheck_in;
+
+typedef struct wg_contact_end_in {
+    const wg_tex *pblocks, *block, *a_lo, *a_hi, *dv, *b, *c0, *c1, *c2;
+} wg_contact_end_in;
+
+typedef struct wg_contact_project_in {
+    const wg_tex *x, *v, *S1, *c0, *colliders;
+} wg_contact_project_in;
+
+typedef struct wg_contact_diag_in {
+    const wg_tex *block, *a_lo, *a_hi;
+    const wg_tex *aii_lo, *aii_hi;  /* per particle: its diagonal block */
+} wg_contact_diag_in;
+
+/* Every multigrid pass (amg_*.glsl): a level's inputs (amg_level_inputs.glsl), in one of two
+ * forms, then the pass's own; each pass's table names those its shader reads. */
+typedef struct wg_amg_in {
+    const wg_tex *rows, *cols;  /* the level's pattern (cols: the system's block on the finest) */
+    const wg_tex *a_lo, *a_hi, *S0, *S1;     /* the finest level: the system's A and filter */
+    const wg_tex *a0, *a1, *a2;              /* a coarse level: its operator's block rows */
+    const wg_tex *dinv0, *dinv1, *dinv2;     /* the level's D^-1, by rows */
+    const wg_tex *gal_range, *gal_list;      /* galerkin: the finer blocks of each block */
+    const wg_tex *mem_range, *mem_list;      /* restrict: the nodes of each aggregate */
+    const wg_tex *r, *x, *d, *xc, *v, *z;    /* vectors: residual, iterate, step, coarse
+                                                correction, power iterate, V-cycle result */
+    const wg_tex* bound;        /* the power iterations' reduction */
+    const wg_tex* factor;       /* the coarsest level's dense factor */
+} wg_amg_in;
+
+#endif
