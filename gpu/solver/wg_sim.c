@@ -87,6 +87,7 @@ static int* i1(wg_sim* g, int n) { return wc_calloc(&g->alloc, (size_t)(n > 0 ? 
     } while (0)
 
 static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el) {
+    const wg_layout* L = &g->layout;
     const wc_model* m = g->m;
     const wc_bsr_pattern* p = &m->pattern;
     int n = g->n, ns = g->ns, nt = g->nt, nb = g->nb, nh = g->nh, ok = 0;
@@ -97,10 +98,10 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
         f[4 * i] = (float)m->mass[i];
         f[4 * i + 1] = (float)m->inv_mass[i];
     }
-    TRY(wg_array_create(&g->layout, &g->mass, GL_RGBA32F, n, f, err, el));
+    TRY(wg_array_create(L, &g->mass, GL_RGBA32F, n, f, err, el));
     for (int i = 0; i < n; ++i)
         for (int c = 0; c < 4; ++c) f[4 * i + c] = c < 3 ? (float)m->rest_pos[3 * i + c] : 0.0f;
-    TRY(wg_array_create(&g->layout, &g->rest, GL_RGBA32F, n, f, err, el));
+    TRY(wg_array_create(L, &g->rest, GL_RGBA32F, n, f, err, el));
     wc_free(&g->alloc, f);
     f = NULL;
 
@@ -112,8 +113,8 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
         ia[4 * s + 2] = m->springs[s].type;
         f[s] = (float)m->springs[s].rest;
     }
-    TRY(wg_array_create(&g->layout, &g->spring, GL_RGBA32I, ns, ia, err, el));
-    TRY(wg_array_create(&g->layout, &g->spring_rest, GL_R32F, ns, f, err, el));
+    TRY(wg_array_create(L, &g->spring, GL_RGBA32I, ns, ia, err, el));
+    TRY(wg_array_create(L, &g->spring_rest, GL_R32F, ns, f, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, f);
     ia = NULL;
@@ -122,7 +123,7 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
     TRY(ia = i4(g, nt));
     for (int t = 0; t < nt; ++t)
         for (int c = 0; c < 3; ++c) ia[4 * t + c] = m->tris[3 * t + c];
-    TRY(wg_array_create(&g->layout, &g->tri, GL_RGBA32I, nt, ia, err, el));
+    TRY(wg_array_create(L, &g->tri, GL_RGBA32I, nt, ia, err, el));
     wc_free(&g->alloc, ia);
     ia = NULL;
 
@@ -137,8 +138,8 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
         ib[4 * i + 1] = p->row_start[i + 1];
         ib[4 * i + 2] = p->diag[i];
     }
-    TRY(wg_array_create(&g->layout, &g->rows, GL_RGBA32I, n, ia, err, el));
-    TRY(wg_array_create(&g->layout, &g->pblocks, GL_RGBA32I, n, ib, err, el));
+    TRY(wg_array_create(L, &g->rows, GL_RGBA32I, n, ia, err, el));
+    TRY(wg_array_create(L, &g->pblocks, GL_RGBA32I, n, ib, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, ib);
     ia = ib = NULL;
@@ -154,10 +155,10 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
             ia[4 * k + 2] = p->row_spring_sign[k] > 0 ? m->springs[s].b : m->springs[s].a;
             ia[4 * k + 3] = p->row_spring_block[k];
         }
-    TRY(wg_array_create(&g->layout, &g->row_entry, GL_RGBA32I, ne, ia, err, el));
+    TRY(wg_array_create(L, &g->row_entry, GL_RGBA32I, ne, ia, err, el));
     wc_free(&g->alloc, ia);
     ia = NULL;
-    TRY(wg_array_create(&g->layout, &g->row_tri, GL_R32I, 3 * nt, p->row_tri, err, el));
+    TRY(wg_array_create(L, &g->row_tri, GL_R32I, 3 * nt, p->row_tri, err, el));
 
     /* blocks (row, column, list start, end); the list of a diagonal block is its row's springs,
        of an off-diagonal block (i, j) the springs joining i and j (inverted from row_spring_block) */
@@ -182,18 +183,18 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
             ia[4 * k + 3] = pos;
         }
     wc_free(&g->alloc, cnt);
-    TRY(wg_array_create(&g->layout, &g->block, GL_RGBA32I, nb, ia, err, el));
-    TRY(wg_array_create(&g->layout, &g->block_list, GL_R32I, pos, ib, err, el));
+    TRY(wg_array_create(L, &g->block, GL_RGBA32I, nb, ia, err, el));
+    TRY(wg_array_create(L, &g->block_list, GL_R32I, pos, ib, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, ib);
     ia = ib = NULL;
 
-    TRY(wg_array_create(&g->layout, &g->host_map, GL_R32I, nh, m->host_to_particle, err, el));
+    TRY(wg_array_create(L, &g->host_map, GL_R32I, nh, m->host_to_particle, err, el));
     TRY(f = f4(g, nh));
     if (host_rest)
         for (int h = 0; h < nh; ++h)
             for (int c = 0; c < 3; ++c) f[4 * h + c] = (float)host_rest[3 * h + c];
-    TRY(wg_array_create(&g->layout, &g->host_rest, GL_RGBA32F, nh, f, err, el));
+    TRY(wg_array_create(L, &g->host_rest, GL_RGBA32F, nh, f, err, el));
     ok = 1;
 fail:
     wc_free(&g->alloc, f);
@@ -204,28 +205,29 @@ fail:
 }
 
 static int create_scratch(wg_sim* g, char* err, size_t el) {
+    const wg_layout* L = &g->layout;
     int n = g->n, ns = g->ns, nb = g->nb;
     for (int j = 0; j < 3; ++j) {
-        TRY(wg_array_create(&g->layout, &g->x.t[j], GL_RGBA32F, n, NULL, err, el));
-        TRY(wg_array_create(&g->layout, &g->v.t[j], GL_RGBA32F, n, NULL, err, el));
-        TRY(wg_array_create(&g->layout, &g->dv.t[j], GL_RGBA32F, n, NULL, err, el));
-        TRY(wg_array_create(&g->layout, &g->sv[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(L, &g->x.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(L, &g->v.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(L, &g->dv.t[j], GL_RGBA32F, n, NULL, err, el));
+        TRY(wg_array_create(L, &g->sv[j], GL_RGBA32F, n, NULL, err, el));
     }
     wg_tex* pv[] = {&g->x_bak, &g->v_bak, &g->dv_bak, &g->S0, &g->S1, &g->z, &g->b, &g->ftot, &g->D0,
                     &g->r[0], &g->r[1], &g->c[0], &g->c[1], &g->t, &g->q, &g->part, &g->rz, &g->chk_p, &g->nrm};
-    for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(&g->layout, pv[k], GL_RGBA32F, n, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->D1, GL_RG32F, n, NULL, err, el));
+    for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(L, pv[k], GL_RGBA32F, n, NULL, err, el));
+    TRY(wg_array_create(L, &g->D1, GL_RG32F, n, NULL, err, el));
     wg_tex* ps[] = {&g->sf, &g->sw, &g->sj, &g->chk_s, &g->corr};
-    for (size_t k = 0; k < sizeof ps / sizeof ps[0]; ++k) TRY(wg_array_create(&g->layout, ps[k], GL_RGBA32F, ns, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->fair, GL_RGBA32F, g->nt, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->A0, GL_RGBA32F, nb, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->A1, GL_RG32F, nb, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->host_pos, GL_RGBA32F, g->nh, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->host_nrm, GL_RGBA32F, g->nh, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->pin_map, GL_R32I, n, g->pin_map_cpu, err, el));
-    TRY(wg_array_create(&g->layout, &g->pin_from, GL_RGBA32F, g->pin_cap, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->pin_target, GL_RGBA32F, g->pin_cap, NULL, err, el));
-    TRY(wg_array_create(&g->layout, &g->pin_axis, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    for (size_t k = 0; k < sizeof ps / sizeof ps[0]; ++k) TRY(wg_array_create(L, ps[k], GL_RGBA32F, ns, NULL, err, el));
+    TRY(wg_array_create(L, &g->fair, GL_RGBA32F, g->nt, NULL, err, el));
+    TRY(wg_array_create(L, &g->A0, GL_RGBA32F, nb, NULL, err, el));
+    TRY(wg_array_create(L, &g->A1, GL_RG32F, nb, NULL, err, el));
+    TRY(wg_array_create(L, &g->host_pos, GL_RGBA32F, g->nh, NULL, err, el));
+    TRY(wg_array_create(L, &g->host_nrm, GL_RGBA32F, g->nh, NULL, err, el));
+    TRY(wg_array_create(L, &g->pin_map, GL_R32I, n, g->pin_map_cpu, err, el));
+    TRY(wg_array_create(L, &g->pin_from, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    TRY(wg_array_create(L, &g->pin_target, GL_RGBA32F, g->pin_cap, NULL, err, el));
+    TRY(wg_array_create(L, &g->pin_axis, GL_RGBA32F, g->pin_cap, NULL, err, el));
     for (int a = 0; a < 2; ++a)
         for (int j = 0; j < 3; ++j) TRY(wg_tex_create(&g->sc[a][j], GL_RGBA32F, 1, 1, NULL, err, el));
     TRY(wg_tex_create(&g->lanczos, GL_RGBA32F, 32, 1, NULL, err, el));

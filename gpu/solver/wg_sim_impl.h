@@ -50,8 +50,7 @@ struct wg_sim {
 
     /* state */
     wg_ring x, v, dv;
-    wg_tex x_bak, v_bak, dv_bak;
-    int bak_x, bak_v, bak_dv;   /* ring indices the back-up was taken from */
+    wg_tex x_bak, v_bak, dv_bak;   /* the frame's back-up (wg_sim_backup) */
 
     /* substep scratch */
     wg_tex S0, S1, z;           /* filter */
@@ -73,13 +72,10 @@ struct wg_sim {
     float* rb;                  /* read-back scratch: max(n, nh) x 4 floats */
 
     /* frame */
-    wc_solver_type last_solver;
-    wc_solve_result last_solve;
     wc_solver_opts debug_opts;  /* wg_sim_debug_solve's options (the state's at creation) */
     double rho;                 /* Chebyshev's cached estimate */
     double residual_floor;      /* the solves' residual floor of this substep (core/solve.h; 0: none) */
     int rho_valid;
-    int prepared;
     wg_contacts* contacts;      /* NULL when the cloth has no room for colliders */
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
     int amg_on;                 /* PCG's solve in progress preconditions with it */

@@ -139,7 +139,6 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
         wg_contacts_friction(g->contacts, s, h);
     }
-    g->prepared = 1;
 }
 
 #define FRICTION_PASSES 4   /* as core/step.c */
@@ -168,7 +167,6 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         status = wg_solve(g, &opts, solver, &g->dv.t[nd], &dvres, &res);
         wc_step_stats_add_solve(st, solver, &res);
     }
-    g->last_solve = res;
     if (status != WC_OK)
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);
