@@ -17,7 +17,9 @@
  * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
  *
  * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
- * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). */
+ * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
+ * given the cloth's runner and the textures of its system (wg_amg_system) and knows nothing else
+ * of the cloth. */
 #ifndef WEFT_GPU_SOLVER_AMG_H
 #define WEFT_GPU_SOLVER_AMG_H
 

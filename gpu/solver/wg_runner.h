@@ -31,6 +31,8 @@ void wg_runner_destroy(wg_runner* r);
  * of p's table bound to its texture unit. */
 void wg_use_pass(wg_runner* r, wg_pass_id p, const void* in, size_t in_size);
 #define WG_USE(r, p, ...) wg_use_pass((r), (p), (__VA_ARGS__), sizeof *(__VA_ARGS__))
+/* Scalar uniforms of the program in use, by name (a string literal: gl_program.h caches the
+ * location per program); doubles are set as floats. */
 void wg_u1i(wg_runner* r, const char* name, int v);
 void wg_u1f(wg_runner* r, const char* name, double v);
 void wg_u2f(wg_runner* r, const char* name, double a, double b);
