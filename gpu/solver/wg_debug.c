@@ -49,7 +49,11 @@ static int read_sym(wg_sim* g, const wg_tex* lo, const wg_tex* hi, int count, do
     /* hi is RG32F: read through an RGBA copy */
     wg_tex tmp;
     char err[128];
-    if (!wg_array_create(&g->layout, &tmp, GL_RGBA32F, count, NULL, err, sizeof err)) return 0;
+    if (!wg_array_create(&g->layout, &tmp, GL_RGBA32F, count, NULL, err, sizeof err)) {
+        wc_free(&g->alloc, a);
+        wc_free(&g->alloc, b);
+        return 0;
+    }
     wg_copy(&g->run, &tmp, hi);
     wg_array_read(&g->layout, &tmp, count, b);
     wg_tex_destroy(&tmp);
