@@ -1,15 +1,14 @@
 /* The solver's passes as compute shaders (GL 4.3), from the same fragment-shader sources: on a
- * compute part like the H100 a fragment pass reaches ~100-125 GB/s where a compute shader copies
- * at 1.6-2.6 TB/s (docs/bench/gpu_h100.md), and the solver's step ran 1.6-3.4x faster with these
- * passes there. The default on every GL 4.3 context; WEFT_GPU_PASSES=fragment keeps the fragment
- * passes (wg_device.h).
+ * compute part a fragment pass reaches a small share of the bandwidth a compute shader does, and
+ * the solver's step runs faster with these passes (docs/bench/gpu_h100.md). The default on every
+ * GL 4.3 context; WEFT_GPU_PASSES=fragment keeps the fragment passes (wg_device.h).
  *
  * The transformation (wg_compute_source): the #version line becomes 430 with a 64 x 1 work
  * group; gl_FragCoord becomes a global the generated main() sets from the invocation's texel;
  * the `out` declarations (o0..o7) become globals, zeroed before the pass's own main (renamed
- * wg_main) runs and then stored with imageStore into the images bound at units 0..7. wg_run
- * dispatches one invocation per texel of the output (the fragment path's viewport) and puts a
- * memory barrier after it, so the next pass's texelFetch sees the writes. */
+ * wg_main) runs and then stored with imageStore into the images bound at units 0..7. A run
+ * (wg_runner.h) dispatches one invocation per texel of the output (the fragment path's viewport)
+ * and puts a memory barrier after it, so the next pass's texelFetch sees the writes. */
 #ifndef WEFT_GPU_SOLVER_COMPUTE_H
 #define WEFT_GPU_SOLVER_COMPUTE_H
 

@@ -12,12 +12,13 @@
 
 #include "wg_sim_impl.h"
 
-/* sc[cur] -> sc[other] */
-static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* t2, const wg_tex* t3, int max_it) {
+/* sc[cur] -> sc[other] (pcg_scalars.glsl's mode; sum and dots: reductions, NULL where the mode
+ * reads none) */
+static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* sum, const wg_tex* dots, int max_it) {
     wg_runner* run = &g->run;
     int a = g->sc_cur, b = 1 - a;
     WG_USE(run, WGP_PCG_SCALARS, &(wg_pcg_scalars_in){.scalars0 = &g->sc[a][0], .scalars1 = &g->sc[a][1],
-        .sum = t2 ? t2 : &g->sc[a][0], .dots = t3 ? t3 : &g->sc[a][0], .scalars2 = &g->sc[a][2]});
+        .sum = sum ? sum : &g->sc[a][0], .dots = dots ? dots : &g->sc[a][0], .scalars2 = &g->sc[a][2]});
     wg_u1i(run, "u_mode", mode);
     wg_u1f(run, "u_tolerance", o->tolerance);
     wg_u1f(run, "u_divergence", o->divergence_factor);

@@ -1,10 +1,9 @@
 // Per particle: the start vector of the Lanczos estimate of Chebyshev's rho (core/solve_rho.c):
 // r = S g, g a fixed pseudo-random vector in [-0.5, 0.5)^3, component k of particle i
 // core's start_value(3 i + k): splitmix64, here in 32-bit halves (GLSL 3.30 has no 64-bit
-// integers), so both backends start from the same vector to float rounding. The estimate's
-// extrapolation of lambda_min is sensitive to the start vector: with another one (a 32-bit
-// hash, before) the drape system of test_gpu_solver gave rho 0.9995 on both backends where
-// core's start gives 0.998119, and Chebyshev took 240 iterations instead of 130.
+// integers), so both backends start from the same vector to float rounding: the estimate's
+// extrapolation of lambda_min is sensitive to the start vector, and another one can leave rho
+// far from core's and Chebyshev taking many more iterations.
 // w = r.r, for the |g| that starts the recorded CG steps (wg_solve.c).
 uniform sampler2D S0;
 uniform sampler2D S1;

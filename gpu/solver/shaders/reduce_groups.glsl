@@ -1,7 +1,7 @@
 #version 430 core
 // A reduction as compute shaders (built only where the passes are compute shaders, after
 // common.glsl as every pass: wg_device.c): one or two dispatches of this program instead of
-// reduce.glsl's 8 x 8 levels (wg_pass.c wg_reduce). Work group k of u_groups combines the
+// reduce.glsl's 8 x 8 levels (wg_reduce.c). Work group k of u_groups combines the
 // texels i = 256 k + t + 256 u_groups j of the whole w x h input (every texel, as reduce.glsl
 // does: passes write zeros past their items), channel c summed (u_mode[c] 0) or maximised (1):
 // first along each invocation's stride, then across the group in shared memory. It stores the
