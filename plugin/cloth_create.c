@@ -31,6 +31,7 @@ static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def,
                                                                 : WC_INTEGRATOR_BE;
     s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : b.newton_iterations;
     s->line_search = def->line_search >= 0 ? def->line_search : b.line_search;
+    if (def->newton_forcing >= 0) s->newton_forcing = def->newton_forcing;   /* else the core's */
     /* a garment: a cloth with a body (a mesh collider) or with seams */
     int garment = def->n_mesh_colliders > 0 || def->sew_distance > 0 || def->n_seams > 0;
     s->self_collision = def->self_collision >= 0 ? def->self_collision : garment && b.garment_self_collision;
@@ -212,6 +213,7 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.n_panels = m->n_panels;
     i.self_collision = sd->self_collision;
     i.self_collision_thickness = sd->self_thickness;
+    i.newton_forcing = sd->newton_forcing;
     *out = i;
     return wa_ok(ctx);
 }

@@ -45,6 +45,7 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.self_collision = -1;
     d.self_collision_thickness = 0.003;
     d.internal_cookie = WA_COOKIE_CLOTH;
+    d.newton_forcing = -1.0;
     return d;
 }
 
@@ -180,6 +181,10 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
              d->newton_iterations);
     if (d->line_search < -1 || d->line_search > 1)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->line_search = %d must be -1 (default), 0 or 1", d->line_search);
+    if (!isfinite(d->newton_forcing)) FAIL(WEFT_ERROR_NONFINITE, "def->newton_forcing is not finite");
+    if (d->newton_forcing != -1.0 && !(d->newton_forcing >= 0 && d->newton_forcing < 1))
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->newton_forcing = %g must be -1 (default) or in [0, 1)",
+             d->newton_forcing);
     if (d->substeps < 1 || d->substeps > 100000)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->substeps = %d must be in [1, 100000]", d->substeps);
     RANGE(d->max_frame_time, 0.0, 1000.0, 1, "def->max_frame_time");

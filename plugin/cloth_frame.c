@@ -82,6 +82,22 @@ static void fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_st
     o->self_zones = st->self_zones;
     o->self_unresolved = st->self_unresolved;
     o->ms_self_collide = st->ms.self_collide;
+    o->newton_steps = st->newton_iterations;
+    o->line_search_backtracks = st->backtracks;
+    o->energy_steps = st->energy_iterations;
+    o->friction_passes = st->friction_passes;
+    o->bdf2_substeps = st->bdf2_substeps;
+    o->self_proximity = st->self_proximity;
+    o->self_zone_relaxed = st->self_zone_relaxed;
+    o->self_pairs = st->self_pairs;
+    o->self_pairs_active = st->self_pairs_active;
+    o->self_pair_passes = st->self_pair_passes;
+    o->self_pair_overflow = st->self_pair_overflow;
+    o->mesh_pairs = st->mesh_pairs;
+    o->mesh_pairs_active = st->mesh_pairs_active;
+    o->mesh_pair_passes = st->mesh_pair_passes;
+    o->mesh_pair_overflow = st->mesh_pair_overflow;
+    o->mesh_pair_skipped = st->mesh_pair_skipped;
 }
 
 weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr, weft_frame_stats* stats) {

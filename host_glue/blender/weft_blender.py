@@ -31,7 +31,7 @@ the add-on steps the cloth and writes the result (object space) into the object'
 
 The Weft Python bindings (host_glue/python/weft) are imported from sys.path or from ../python
 next to this file; the library from the add-on preferences, else $WEFT_LIBRARY, else
-libweft.so.7. Blender calls the handler on its main thread, which is weft's threading contract
+libweft.so.8. Blender calls the handler on its main thread, which is weft's threading contract
 (one context, used by one thread).
 """
 import os
@@ -405,7 +405,7 @@ class WeftObjectSettings(bpy.types.PropertyGroup):
 class WeftPreferences(bpy.types.AddonPreferences):
     bl_idname = __name__
     library_path: bpy.props.StringProperty(name="libweft.so", subtype="FILE_PATH",
-                                           description="Empty: $WEFT_LIBRARY or libweft.so.7")
+                                           description="Empty: $WEFT_LIBRARY or libweft.so.8")
 
     def draw(self, context):
         self.layout.prop(self, "library_path")

@@ -29,6 +29,13 @@
                                          weft_cloth_info* out))                                    \
     X(weft_status, weft_cloth_check_collisions, (weft_context* ctx, weft_cloth cloth,              \
                                                  weft_collision_check* out))                       \
+    X(weft_status, weft_cloth_get_energy, (weft_context* ctx, weft_cloth cloth,                    \
+                                           weft_cloth_energy* out))                                \
+    X(weft_status, weft_cloth_get_report, (weft_context* ctx, weft_cloth cloth,                    \
+                                           weft_import_report* out))                               \
+    X(weft_status, weft_mesh_read, (weft_context* ctx, const char* path, const char* select,       \
+                                    double unit_scale, weft_mesh_data* out))                       \
+    X(void, weft_mesh_free, (weft_context* ctx, weft_mesh_data* mesh))                             \
     X(weft_frame, weft_default_frame, (void))                                                      \
     X(weft_status, weft_cloth_set_mesh_collider_vertices, (weft_context* ctx, weft_cloth cloth,    \
                                                            int index, const float* positions,      \

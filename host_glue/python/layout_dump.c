@@ -143,6 +143,7 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, self_collision);
     FIELD(weft_cloth_def, self_collision_thickness);
     FIELD(weft_cloth_def, internal_cookie);
+    FIELD(weft_cloth_def, newton_forcing);
     struct_end();
 
     STRUCT(weft_cloth_info);
@@ -166,6 +167,7 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, n_panels);
     FIELD(weft_cloth_info, self_collision);
     FIELD(weft_cloth_info, self_collision_thickness);
+    FIELD(weft_cloth_info, newton_forcing);
     struct_end();
 
     STRUCT(weft_frame);
@@ -209,11 +211,80 @@ static void dump_structs(void) {
     FIELD(weft_frame_stats, self_zones);
     FIELD(weft_frame_stats, self_unresolved);
     FIELD(weft_frame_stats, ms_self_collide);
+    FIELD(weft_frame_stats, newton_steps);
+    FIELD(weft_frame_stats, line_search_backtracks);
+    FIELD(weft_frame_stats, energy_steps);
+    FIELD(weft_frame_stats, friction_passes);
+    FIELD(weft_frame_stats, bdf2_substeps);
+    FIELD(weft_frame_stats, self_proximity);
+    FIELD(weft_frame_stats, self_zone_relaxed);
+    FIELD(weft_frame_stats, self_pairs);
+    FIELD(weft_frame_stats, self_pairs_active);
+    FIELD(weft_frame_stats, self_pair_passes);
+    FIELD(weft_frame_stats, self_pair_overflow);
+    FIELD(weft_frame_stats, mesh_pairs);
+    FIELD(weft_frame_stats, mesh_pairs_active);
+    FIELD(weft_frame_stats, mesh_pair_passes);
+    FIELD(weft_frame_stats, mesh_pair_overflow);
+    FIELD(weft_frame_stats, mesh_pair_skipped);
     struct_end();
 
     STRUCT(weft_collision_check);
     FIELD(weft_collision_check, self_intersections);
     FIELD(weft_collision_check, max_penetration);
+    struct_end();
+
+    STRUCT(weft_cloth_energy);
+    FIELD(weft_cloth_energy, kinetic);
+    FIELD(weft_cloth_energy, elastic);
+    FIELD(weft_cloth_energy, gravity);
+    FIELD(weft_cloth_energy, mass);
+    FIELD(weft_cloth_energy, center_of_mass);
+    struct_end();
+
+    STRUCT(weft_import_report);
+    FIELD(weft_import_report, source_vertices);
+    FIELD(weft_import_report, unused_vertices);
+    FIELD(weft_import_report, welded_vertices);
+    FIELD(weft_import_report, particles);
+    FIELD(weft_import_report, polygons);
+    FIELD(weft_import_report, triangles);
+    FIELD(weft_import_report, degenerate_triangles);
+    FIELD(weft_import_report, duplicate_faces);
+    FIELD(weft_import_report, flipped_faces);
+    FIELD(weft_import_report, non_orientable_components);
+    FIELD(weft_import_report, edges);
+    FIELD(weft_import_report, boundary_edges);
+    FIELD(weft_import_report, non_manifold_edges);
+    FIELD(weft_import_report, boundary_loops);
+    FIELD(weft_import_report, components);
+    FIELD(weft_import_report, springs);
+    FIELD(weft_import_report, seams);
+    FIELD(weft_import_report, panels);
+    FIELD(weft_import_report, bbox_min);
+    FIELD(weft_import_report, bbox_max);
+    FIELD(weft_import_report, unit_scale);
+    FIELD(weft_import_report, weld_distance);
+    FIELD(weft_import_report, ms_weld);
+    FIELD(weft_import_report, ms_triangulate);
+    FIELD(weft_import_report, ms_clean);
+    FIELD(weft_import_report, ms_orient);
+    FIELD(weft_import_report, ms_topology);
+    FIELD(weft_import_report, ms_springs);
+    FIELD(weft_import_report, ms_pattern);
+    FIELD(weft_import_report, ms_total);
+    FIELD(weft_import_report, n_warnings);
+    FIELD(weft_import_report, warnings_dropped);
+    FIELD(weft_import_report, warnings);
+    struct_end();
+
+    STRUCT(weft_mesh_data);
+    FIELD(weft_mesh_data, n_vertices);
+    FIELD(weft_mesh_data, n_faces);
+    FIELD(weft_mesh_data, positions);
+    FIELD(weft_mesh_data, face_sizes);
+    FIELD(weft_mesh_data, indices);
+    FIELD(weft_mesh_data, unit_scale);
     struct_end();
 
     STRUCT(weft_render_def);
@@ -284,6 +355,9 @@ int main(void) {
     CONSTANT(WEFT_SPACE_OBJECT);
     CONSTANT(WEFT_FRAME_TELEPORT);
     CONSTANT(WEFT_FRAME_RESET);
+    CONSTANT(WEFT_REPORT_POLYGON_SIDES);
+    CONSTANT(WEFT_REPORT_MAX_WARNINGS);
+    CONSTANT(WEFT_REPORT_WARNING_LENGTH);
     printf("\n  }\n}\n");
     return 0;
 }

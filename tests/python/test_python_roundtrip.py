@@ -71,6 +71,38 @@ class RoundTrip(unittest.TestCase):
         # object space = the host's mesh (identity object transform): the same numbers
         np.testing.assert_array_equal(cloth.get_vertices(weft.Space.OBJECT), out)
 
+    def test_energy_report_and_mesh_file(self):
+        """weft_cloth_get_energy in free fall (backward Euler loses what it gains in kinetic
+        energy), weft_cloth_get_report of a grid, weft_mesh_read of an OBJ the test writes; a bad
+        path raises with the library's message."""
+        cloth = self.make()
+        e0 = cloth.get_energy()
+        self.assertAlmostEqual(e0.mass, cloth.info.total_mass, places=12)
+        self.assertEqual(e0.kinetic, 0.0)
+        cloth.step(H)
+        e1 = cloth.get_energy()
+        self.assertAlmostEqual(e1.kinetic, 0.5 * e1.mass * (G * H) ** 2, delta=1e-3 * e1.kinetic)
+        total0 = e0.kinetic + e0.elastic + e0.gravity
+        total1 = e1.kinetic + e1.elastic + e1.gravity
+        self.assertAlmostEqual(total1, total0 - e1.kinetic, delta=1e-3 * e1.kinetic)
+        report = cloth.get_report()
+        self.assertEqual(report["particles"], 36)
+        self.assertEqual(report["polygons"][4], 25)
+        self.assertEqual(report["springs"][0], 60)
+        self.assertIsInstance(report["warnings"], list)
+        path = os.path.join(os.environ.get("WEFT_TEST_TMPDIR", "/tmp"), "python_read_mesh.obj")
+        with open(path, "w") as f:
+            f.write("v 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\nf 1 2 3 4\n")
+        pos, sizes, idx, scale = self.ctx.read_mesh(path, unit_scale=0.5)
+        np.testing.assert_array_equal(pos, [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
+        np.testing.assert_array_equal(sizes, [4])
+        np.testing.assert_array_equal(idx, [0, 1, 2, 3])
+        self.assertEqual(scale, 0.5)
+        with self.assertRaises(weft.WeftError) as e:
+            self.ctx.read_mesh(path + ".missing")
+        self.assertEqual(e.exception.status, weft.Status.IO)
+        self.assertIn("python_read_mesh.obj.missing", e.exception.message)
+
     def test_seams(self):
         # two copies of the grid, the second 1 mm above: sew_distance sews every boundary
         # vertex of one to the other's boundary; a host pair sews a vertex to itself: refused

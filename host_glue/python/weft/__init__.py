@@ -1,8 +1,8 @@
-"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 7).
+"""Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 8).
 
     import numpy as np, weft
     with weft.Context() as ctx:          # library: Context(library=path), else $WEFT_LIBRARY,
-                                         # else libweft.so.7 on the dlopen search path
+                                         # else libweft.so.8 on the dlopen search path
         cloth = ctx.create_cloth(positions=P, faces=F,          # P (n, 3) float32, F (m, 4) int
                                  attachments=[weft.Attachment(pinned_vertex_indices)])
         for frame in range(60):
@@ -84,7 +84,7 @@ class Library:
 
 
 def load_library(path=None):
-    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.7 (dlopen search path)."""
+    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.8 (dlopen search path)."""
     return Library(path)
 
 
@@ -240,6 +240,21 @@ class Context:
             self.close()
         except Exception:
             pass
+
+    def read_mesh(self, path, select=None, unit_scale=1.0):
+        """A mesh file as weft_cloth_create reads it (weft_mesh_read): (positions (n, 3)
+        float64 in metres, face_sizes (m,) int32, indices int32, unit_scale applied)."""
+        md = MeshData()
+        self._check(self.lib.weft_mesh_read(self._handle(), os.fsencode(path),
+                                            None if select is None else select.encode(),
+                                            float(unit_scale), ctypes.byref(md)))
+        try:
+            pos = np.ctypeslib.as_array(md.positions, (md.n_vertices, 3)).copy()
+            sizes = np.ctypeslib.as_array(md.face_sizes, (md.n_faces,)).copy()
+            idx = np.ctypeslib.as_array(md.indices, (int(sizes.sum()),)).copy()
+            return pos, sizes, idx, md.unit_scale
+        finally:
+            self.lib.weft_mesh_free(self._handle(), ctypes.byref(md))
 
     def create_cloth(self, positions=None, faces=None, *, face_sizes=None, indices=None,
                      path=None, select=None, transform=None, attachments=(), colliders=(),
@@ -427,6 +442,25 @@ class Cloth:
         ctx = self.context
         ctx._check(ctx.lib.weft_cloth_check_collisions(ctx._handle(), self._h(), ctypes.byref(out)))
         return out
+
+    def get_energy(self):
+        """The current state's energies (J) and mass distribution: a ClothEnergy (kinetic,
+        elastic, gravity, mass, center_of_mass)."""
+        out = ClothEnergy()
+        ctx = self.context
+        ctx._check(ctx.lib.weft_cloth_get_energy(ctx._handle(), self._h(), ctypes.byref(out)))
+        return out
+
+    def get_report(self):
+        """The import report of the cloth's mesh as a dict (weft_import_report's fields; the
+        warnings as a list of str)."""
+        out = ImportReport()
+        ctx = self.context
+        ctx._check(ctx.lib.weft_cloth_get_report(ctx._handle(), self._h(), ctypes.byref(out)))
+        report = out.to_dict()
+        report["warnings"] = [out.warnings[k].value.decode("utf-8", "replace")
+                              for k in range(out.n_warnings)]
+        return report
 
     def destroy(self):
         if self._handle is not None and self.context._ptr is not None:

@@ -7,9 +7,9 @@ import enum
 from ctypes import (POINTER, CFUNCTYPE, c_char_p, c_double, c_float, c_int, c_int64, c_size_t,
                     c_ubyte, c_uint32, c_uint64, c_void_p)
 
-ABI = 7                    # WEFT_ABI of the weft.h mirrored here
-VERSION = (0, 7, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
-DEFAULT_LIBRARY = "libweft.so.7"
+ABI = 8                    # WEFT_ABI of the weft.h mirrored here
+VERSION = (0, 8, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
+DEFAULT_LIBRARY = "libweft.so.8"
 
 # ------------------------------------------------------------------------------------------------
 # Enums and constants (names without their C prefix; c_constants() gives the C names)
@@ -96,6 +96,9 @@ class Space(enum.IntEnum):
 
 FRAME_TELEPORT = 1 << 0
 FRAME_RESET = 1 << 1
+REPORT_POLYGON_SIDES = 8       # weft_import_report.polygons[k]: k-gons, [8] 8 or more
+REPORT_MAX_WARNINGS = 16
+REPORT_WARNING_LENGTH = 256
 
 _ENUM_C_PREFIX = {Status: "WEFT_ERROR_", LogLevel: "WEFT_LOG_", Backend: "WEFT_BACKEND_",
                   GlMode: "WEFT_GL_", SpringType: "WEFT_SPRING_", Solver: "WEFT_SOLVER_",
@@ -107,7 +110,9 @@ def c_constants():
     """{C name: value} of every constant mirrored here (compared with weft.h by the tests)."""
     out = {"WEFT_ABI": ABI, "WEFT_VERSION_MAJOR": VERSION[0], "WEFT_VERSION_MINOR": VERSION[1],
            "WEFT_VERSION_PATCH": VERSION[2], "WEFT_FRAME_TELEPORT": FRAME_TELEPORT,
-           "WEFT_FRAME_RESET": FRAME_RESET}
+           "WEFT_FRAME_RESET": FRAME_RESET, "WEFT_REPORT_POLYGON_SIDES": REPORT_POLYGON_SIDES,
+           "WEFT_REPORT_MAX_WARNINGS": REPORT_MAX_WARNINGS,
+           "WEFT_REPORT_WARNING_LENGTH": REPORT_WARNING_LENGTH}
     for cls, prefix in _ENUM_C_PREFIX.items():
         for member in cls:
             name = "WEFT_OK" if member is Status.OK else prefix + member.name
@@ -209,7 +214,7 @@ class ClothDef(_Struct):
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
                 ("seam_close_time", c_double),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
-                ("internal_cookie", c_uint32)]
+                ("internal_cookie", c_uint32), ("newton_forcing", c_double)]
 
 
 class ClothInfo(_Struct):
@@ -220,7 +225,8 @@ class ClothInfo(_Struct):
                 ("snapshot_size", c_size_t), ("backend", c_int), ("preconditioner", c_int),
                 ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int),
                 ("n_seams", c_int), ("n_panels", c_int),
-                ("self_collision", c_int), ("self_collision_thickness", c_double)]
+                ("self_collision", c_int), ("self_collision_thickness", c_double),
+                ("newton_forcing", c_double)]
 
 
 class Frame(_Struct):
@@ -241,11 +247,44 @@ class FrameStats(_Struct):
                 ("kinetic_energy", c_double), ("time", c_double), ("frame", c_int64),
                 ("asleep", c_int), ("fell_asleep", c_int), ("woke", c_int),
                 ("self_impacts", c_int), ("self_zones", c_int), ("self_unresolved", c_int),
-                ("ms_self_collide", c_double)]
+                ("ms_self_collide", c_double),
+                # the solve, self-collision and mesh contacts in detail
+                ("newton_steps", c_int), ("line_search_backtracks", c_int), ("energy_steps", c_int),
+                ("friction_passes", c_int), ("bdf2_substeps", c_int), ("self_proximity", c_int),
+                ("self_zone_relaxed", c_int), ("self_pairs", c_int), ("self_pairs_active", c_int),
+                ("self_pair_passes", c_int), ("self_pair_overflow", c_int), ("mesh_pairs", c_int),
+                ("mesh_pairs_active", c_int), ("mesh_pair_passes", c_int),
+                ("mesh_pair_overflow", c_int), ("mesh_pair_skipped", c_int)]
 
 
 class CollisionCheck(_Struct):
     _fields_ = [("self_intersections", c_int), ("max_penetration", c_double)]
+
+
+class ClothEnergy(_Struct):
+    _fields_ = [("kinetic", c_double), ("elastic", c_double), ("gravity", c_double),
+                ("mass", c_double), ("center_of_mass", c_double * 3)]
+
+
+class ImportReport(_Struct):
+    _fields_ = [("source_vertices", c_int), ("unused_vertices", c_int), ("welded_vertices", c_int),
+                ("particles", c_int), ("polygons", c_int * (REPORT_POLYGON_SIDES + 1)),
+                ("triangles", c_int), ("degenerate_triangles", c_int), ("duplicate_faces", c_int),
+                ("flipped_faces", c_int), ("non_orientable_components", c_int), ("edges", c_int),
+                ("boundary_edges", c_int), ("non_manifold_edges", c_int), ("boundary_loops", c_int),
+                ("components", c_int), ("springs", c_int * 4), ("seams", c_int), ("panels", c_int),
+                ("bbox_min", c_double * 3), ("bbox_max", c_double * 3), ("unit_scale", c_double),
+                ("weld_distance", c_double), ("ms_weld", c_double), ("ms_triangulate", c_double),
+                ("ms_clean", c_double), ("ms_orient", c_double), ("ms_topology", c_double),
+                ("ms_springs", c_double), ("ms_pattern", c_double), ("ms_total", c_double),
+                ("n_warnings", c_int), ("warnings_dropped", c_int),
+                ("warnings", (ctypes.c_char * REPORT_WARNING_LENGTH) * REPORT_MAX_WARNINGS)]
+
+
+class MeshData(_Struct):
+    _fields_ = [("n_vertices", c_int), ("n_faces", c_int), ("positions", POINTER(c_double)),
+                ("face_sizes", POINTER(c_int)), ("indices", POINTER(c_int)),
+                ("unit_scale", c_double)]
 
 
 class RenderDef(_Struct):
@@ -262,7 +301,8 @@ STRUCTS = {"weft_version_info": VersionInfo, "weft_allocator": Allocator,
            "weft_mesh_collider_def": MeshColliderDef,
            "weft_cloth_def": ClothDef, "weft_cloth_info": ClothInfo, "weft_frame": Frame,
            "weft_frame_stats": FrameStats, "weft_render_def": RenderDef,
-           "weft_collision_check": CollisionCheck}
+           "weft_collision_check": CollisionCheck, "weft_cloth_energy": ClothEnergy,
+           "weft_import_report": ImportReport, "weft_mesh_data": MeshData}
 
 # ------------------------------------------------------------------------------------------------
 # The library
@@ -289,6 +329,10 @@ PROTOTYPES = {
     "weft_cloth_set_attachments": (c_int, [_CTX, ClothHandle, POINTER(AttachmentDef), c_int]),
     "weft_cloth_get_info": (c_int, [_CTX, ClothHandle, POINTER(ClothInfo)]),
     "weft_cloth_check_collisions": (c_int, [_CTX, ClothHandle, POINTER(CollisionCheck)]),
+    "weft_cloth_get_energy": (c_int, [_CTX, ClothHandle, POINTER(ClothEnergy)]),
+    "weft_cloth_get_report": (c_int, [_CTX, ClothHandle, POINTER(ImportReport)]),
+    "weft_mesh_read": (c_int, [_CTX, c_char_p, c_char_p, c_double, POINTER(MeshData)]),
+    "weft_mesh_free": (None, [_CTX, POINTER(MeshData)]),
     "weft_default_frame": (Frame, []),
     "weft_cloth_step": (c_int, [_CTX, ClothHandle, POINTER(Frame), POINTER(FrameStats)]),
     "weft_cloth_get_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_void_p, c_int,

@@ -78,12 +78,12 @@ extern "C" {
 
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
-#define WEFT_VERSION_MINOR 7
+#define WEFT_VERSION_MINOR 8
 #define WEFT_VERSION_PATCH 0
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
-#define WEFT_ABI 7
+#define WEFT_ABI 8
 
 typedef struct weft_version_info {
     int major, minor, patch;
@@ -375,6 +375,11 @@ typedef struct weft_cloth_def {
                                    GPU: off, and it refuses 1 with UNSUPPORTED) */
     double self_collision_thickness; /* m, finite and > 0 (0.003) */
     uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
+    /* Inexact Newton: with newton_iterations > 1, a substep's first linear solve stops at this
+     * relative residual when it is above the tolerance (the later solves at the tolerance), so
+     * the first, furthest-from-converged iterate costs fewer iterations. */
+    double newton_forcing;      /* in [0, 1); 0: every solve to the tolerance; -1 (default): the
+                                   backend's choice (1e-2) */
 } weft_cloth_def;
 
 WEFT_API weft_cloth_def weft_default_cloth_def(void);
@@ -422,6 +427,7 @@ typedef struct weft_cloth_info {
     int n_panels;               /* connected components left once seams join them */
     int self_collision;         /* 0 or 1 */
     double self_collision_thickness; /* m */
+    double newton_forcing;      /* what the def's newton_forcing resolved to, in [0, 1) */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
@@ -438,6 +444,90 @@ typedef struct weft_collision_check {
 /* Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), OUT_OF_MEMORY. On the GPU backend the
  * positions are read back first. */
 WEFT_API weft_status weft_cloth_check_collisions(weft_context* ctx, weft_cloth cloth, weft_collision_check* out);
+
+/* Mechanical energy and mass distribution of the cloth's current state (any backend; on the GPU
+ * the positions and velocities are read back first). Their sum kinetic + elastic + gravity is
+ * the total energy a conservative system keeps. */
+typedef struct weft_cloth_energy {
+    double kinetic;             /* J: sum of m |v|^2 / 2 over the particles */
+    double elastic;             /* J: the springs' potential energy (stretch, shear, bend, seams) */
+    double gravity;             /* J: sum of -m g . x (g the cloth's gravity, x world positions:
+                                   relative to the world origin) */
+    double mass;                /* kg */
+    double center_of_mass[3];   /* m, world */
+} weft_cloth_energy;
+
+/* Errors: INVALID_HANDLE, INVALID_ARGUMENT (out NULL), GPU (the read-back). Nothing changes. */
+WEFT_API weft_status weft_cloth_get_energy(weft_context* ctx, weft_cloth cloth, weft_cloth_energy* out);
+
+/* Sizes of weft_import_report's arrays. */
+enum {
+    WEFT_REPORT_POLYGON_SIDES = 8,   /* polygons[k] counts k-gons; polygons[8] counts 8 or more */
+    WEFT_REPORT_MAX_WARNINGS = 16,   /* warnings kept (more are counted in warnings_dropped) */
+    WEFT_REPORT_WARNING_LENGTH = 256 /* bytes of each warning, terminating zero included */
+};
+
+/* What weft_cloth_create made of the mesh: the source as read, the simulated model after
+ * welding and cleaning, the springs, and the warnings it logged. */
+typedef struct weft_import_report {
+    int source_vertices;        /* host vertices */
+    int unused_vertices;        /* host vertices no polygon uses (not simulated) */
+    int welded_vertices;        /* host vertices merged into another one's particle */
+    int particles;
+    int polygons[WEFT_REPORT_POLYGON_SIDES + 1]; /* source polygons by corner count ([3]
+                                   triangles .. [8] 8 or more); [1] points and [2] lines, which
+                                   are ignored; [0] is 0 */
+    int triangles;              /* kept for the simulation */
+    int degenerate_triangles;   /* zero area or a repeated particle: dropped */
+    int duplicate_faces;        /* the same three particles as an earlier triangle: dropped */
+    int flipped_faces;          /* rewound so that each component's winding agrees */
+    int non_orientable_components;
+    int edges;
+    int boundary_edges;
+    int non_manifold_edges;     /* particle pairs shared by more than two triangles */
+    int boundary_loops;
+    int components;             /* connected components of the triangle mesh */
+    int springs[4];             /* per weft_spring_type, then [3] the seam springs */
+    int seams;                  /* seams sewn: by sew_distance plus the host pairs */
+    int panels;                 /* components left once the seams join them */
+    double bbox_min[3], bbox_max[3]; /* m, object space, over the particles */
+    double unit_scale;          /* metres per mesh unit applied (FBX's UnitScaleFactor included) */
+    double weld_distance;       /* m: the absolute weld distance used */
+    /* wall time of each stage of building the model (ms) */
+    double ms_weld, ms_triangulate, ms_clean, ms_orient, ms_topology, ms_springs, ms_pattern, ms_total;
+    int n_warnings;             /* entries of warnings in use (<= WEFT_REPORT_MAX_WARNINGS) */
+    int warnings_dropped;       /* warnings beyond those */
+    char warnings[WEFT_REPORT_MAX_WARNINGS][WEFT_REPORT_WARNING_LENGTH]; /* one line each */
+} weft_import_report;
+
+/* The import report of the cloth's mesh (the same on every backend). Errors: INVALID_HANDLE,
+ * INVALID_ARGUMENT (out NULL). */
+WEFT_API weft_status weft_cloth_get_report(weft_context* ctx, weft_cloth cloth, weft_import_report* out);
+
+/* A mesh file read into host arrays, exactly as weft_cloth_create (and a mesh collider) reads it:
+ * the same assimp import, vertex order and unit scale, no welding or cleaning. For hosts that
+ * need a file's vertices or polygons themselves (picking vertices to pin, writing results with
+ * the file's faces). Positions are double: the values the simulation starts from. */
+typedef struct weft_mesh_data {
+    int n_vertices;
+    int n_faces;                /* polygons of 3 or more corners (points and lines are dropped) */
+    double* positions;          /* (n_vertices x 3) m: file coordinates x unit_scale */
+    int* face_sizes;            /* (n_faces) corners of each polygon */
+    int* indices;               /* (sum of face_sizes) vertex indices, in the file's winding */
+    double unit_scale;          /* metres per file unit applied: the unit_scale asked for times
+                                   FBX's UnitScaleFactor */
+} weft_mesh_data;
+
+/* Read path (select: a node or mesh name as weft_mesh_desc.select, NULL for every mesh) with
+ * unit_scale metres per unit (finite, > 0). The arrays come from the context's allocator:
+ * release them with weft_mesh_free. Errors (*out zeroed): INVALID_ARGUMENT (NULL path or out,
+ * empty path, unit_scale out of range), IO, IMPORT, EMPTY_MESH, NONFINITE (a coordinate in the
+ * file), OUT_OF_MEMORY. */
+WEFT_API weft_status weft_mesh_read(weft_context* ctx, const char* path, const char* select, double unit_scale,
+                                    weft_mesh_data* out);
+/* Release what weft_mesh_read allocated and zero *mesh (NULL, or a zeroed mesh: nothing). Use the
+ * context that read it. */
+WEFT_API void weft_mesh_free(weft_context* ctx, weft_mesh_data* mesh);
 
 /* ============================================================================================= */
 /* Per frame                                                                                     */
@@ -503,6 +593,25 @@ typedef struct weft_frame_stats {
     int self_zones;             /* rigid impact zones formed */
     int self_unresolved;        /* pairs left colliding when the zone loop gave up (0 normally) */
     double ms_self_collide;     /* wall time of the self-collision stage */
+    /* the solve in detail, summed over the frame's substeps */
+    int newton_steps;           /* Newton iterations taken after each substep's first solve */
+    int line_search_backtracks; /* step halvings of the line search */
+    int energy_steps;           /* Newton iterations the energy guard added past newton_iterations */
+    int friction_passes;        /* extra solves because sticking contacts had to slide */
+    int bdf2_substeps;          /* steps taken as BDF2 (TR-BDF2: its BDF2 stages) */
+    /* self-collision in detail, summed over the substeps (0 when it is off) */
+    int self_proximity;         /* proximity impulses of the self-collision stage */
+    int self_zone_relaxed;      /* stretch-spring corrections around its impact zones */
+    int self_pairs;             /* self-contact pairs found for the implicit solve */
+    int self_pairs_active;      /* ... of them active in the first system */
+    int self_pair_passes;       /* extra solves because their active set changed */
+    int self_pair_overflow;     /* pairs past the list's capacity (dropped, logged as a warning) */
+    /* the mesh colliders' feature contacts in the solve, summed over the substeps */
+    int mesh_pairs;             /* edge-edge and body-vertex/cloth-triangle pairs found */
+    int mesh_pairs_active;      /* ... of them active in the first system */
+    int mesh_pair_passes;       /* extra solves because their active set changed */
+    int mesh_pair_overflow;     /* pairs past the list's capacity (dropped, logged as a warning) */
+    int mesh_pair_skipped;      /* pairs whose particles the system has no block for (dropped) */
 } weft_frame_stats;
 
 /* Advance by fr->dt. Errors (state unchanged): INVALID_ARGUMENT (NULL, dt <= 0 or above
