@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include "fuzz.h"
 #include "scene.h"
+#include "scene_colliders.h"
 
 #ifndef WEFT_SOURCE_DIR
 #error "WEFT_SOURCE_DIR must be defined"
@@ -58,7 +59,7 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     for (int p = 0; p < s.n_pins; ++p)
         for (int k = 0; k < s.pins[p].n_vertices; ++k)
-            FUZZ_CHECK(s.pins[p].vertices[k] >= 0 && s.pins[p].vertices[k] < s.src.n_verts, "pin vertex %d",
+            FUZZ_CHECK(s.pins[p].vertices[k] >= 0 && s.pins[p].vertices[k] < s.mesh.n_vertices, "pin vertex %d",
                        s.pins[p].vertices[k]);
     for (int c = 0; c < s.n_colliders; ++c) {
         double xf[16], half_height;

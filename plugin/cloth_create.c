@@ -214,6 +214,7 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.self_collision = sd->self_collision;
     i.self_collision_thickness = sd->self_thickness;
     i.newton_forcing = sd->newton_forcing;
+    i.threads = c->state->par.threads;
     *out = i;
     return wa_ok(ctx);
 }

@@ -63,6 +63,7 @@ static void test_report(void) {
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
     CHECK_EQ_INT(info.n_particles, r.particles);
     CHECK_EQ_INT(info.n_vertices, r.source_vertices);
+    CHECK_EQ_INT(info.threads, 1);   /* the context's */
 
     /* bad calls: a message naming the problem, nothing written */
     CHECK_EQ_INT(weft_cloth_get_report(ctx, cloth, NULL), WEFT_ERROR_INVALID_ARGUMENT);

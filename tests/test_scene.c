@@ -12,6 +12,7 @@
 
 #include "check.h"
 #include "scene.h"
+#include "scene_colliders.h"
 #include "scene_mesh.h"
 #include "scene_xform.h"
 #include "test_support.h"
@@ -36,7 +37,7 @@ static void expect_bad(const char* text, const char* field, const char* detail) 
     CHECK(strstr(d.message, field) != NULL);
     if (detail) CHECK(strstr(d.message, detail) != NULL);
     CHECK(strchr(d.message, '\n') == NULL);
-    CHECK(S.src.pos == NULL && S.pins == NULL && S.colliders == NULL);
+    CHECK(S.mesh.positions == NULL && S.pins == NULL && S.colliders == NULL);
     if (st == WEFT_OK || !strstr(d.message, field) || (detail && !strstr(d.message, detail)))
         fprintf(stderr, "  scene: %s\n  message: %s (wanted %s)\n", text, d.message, field);
     scene_free(&S);
@@ -206,49 +207,45 @@ static void test_defaults_and_grid(void) {
         fprintf(stderr, "  %s\n", d.message);
         return;
     }
-    const wc_material dm = wc_default_material();
-    const wc_model_def dd = wc_default_model_def();
-    const wc_sim_def ds = wc_default_sim_def();
-    CHECK(memcmp(&S.model_def.material, &dm, sizeof dm) == 0);
-    CHECK(S.model_def.weld_tolerance == dd.weld_tolerance);
-    CHECK(memcmp(S.sim.gravity, ds.gravity, sizeof ds.gravity) == 0);
-    CHECK(memcmp(&S.sim.air, &ds.air, sizeof ds.air) == 0);
-    CHECK_EQ_INT(S.sim.solver.type, ds.solver.type);
-    CHECK(S.sim.solver.tolerance == ds.solver.tolerance);
-    CHECK_EQ_INT(S.sim.solver.max_iterations, ds.solver.max_iterations);
-    CHECK_EQ_INT(S.sim.solver.check_every, ds.solver.check_every);
-    CHECK(S.sim.solver.chebyshev_gamma == ds.solver.chebyshev_gamma);
-    CHECK_EQ_INT(S.sim.substeps, ds.substeps);
-    CHECK(S.sim.strain_limit == ds.strain_limit);
-    CHECK_EQ_INT(S.sim.threads, ds.threads);
-    CHECK_EQ_INT(S.sim.max_colliders, ds.max_colliders);
-    CHECK_EQ_INT(S.preconditioner, -1);   /* the library's defaults */
-    CHECK_EQ_INT(S.integrator, -1);
-    CHECK_EQ_INT(S.newton_iterations, 0);
-    CHECK_EQ_INT(S.line_search, -1);
-    CHECK_EQ_INT(S.self_collision, -1);
-    CHECK(S.sim.self_thickness == ds.self_thickness);
+    const weft_cloth_def dd = weft_default_cloth_def();   /* the library's defaults */
+    CHECK(memcmp(&S.def.material, &dd.material, sizeof dd.material) == 0);
+    CHECK(S.def.weld_tolerance == dd.weld_tolerance);
+    CHECK(memcmp(S.def.gravity, dd.gravity, sizeof dd.gravity) == 0);
+    CHECK(memcmp(S.def.wind, dd.wind, sizeof dd.wind) == 0);
+    CHECK(S.def.air_drag_normal == dd.air_drag_normal && S.def.air_drag_tangent == dd.air_drag_tangent);
+    CHECK_EQ_INT(S.def.solver, dd.solver);
+    CHECK(S.def.tolerance == dd.tolerance);
+    CHECK_EQ_INT(S.def.max_iterations, dd.max_iterations);
+    CHECK_EQ_INT(S.def.substeps, dd.substeps);
+    CHECK(S.def.strain_limit == dd.strain_limit);
+    CHECK_EQ_INT(S.threads, 0);
+    CHECK_EQ_INT(S.def.preconditioner, WEFT_PRECOND_DEFAULT);
+    CHECK_EQ_INT(S.def.integrator, WEFT_INTEGRATOR_DEFAULT);
+    CHECK_EQ_INT(S.def.newton_iterations, 0);
+    CHECK_EQ_INT(S.def.line_search, -1);
+    CHECK_EQ_INT(S.def.self_collision, -1);
+    CHECK(S.def.self_collision_thickness == dd.self_collision_thickness);
     scene_free(&S);
     st = parse("{" GRID ", \"self_collision\": true, \"self_thickness\": 0.005}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
-    CHECK_EQ_INT(S.self_collision, 1);
-    CHECK(S.sim.self_thickness == 0.005);
+    CHECK_EQ_INT(S.def.self_collision, 1);
+    CHECK(S.def.self_collision_thickness == 0.005);
     scene_free(&S);
     st = parse("{" GRID ", \"self_collision\": false}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
-    CHECK_EQ_INT(S.self_collision, 0);
+    CHECK_EQ_INT(S.def.self_collision, 0);
     scene_free(&S);
     st = parse("{" GRID ", \"solver\": {\"preconditioner\": \"amg\", \"newton_iterations\": 3, \"line_search\": true},"
                " \"time\": {\"integrator\": \"bdf2\"}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
-    CHECK_EQ_INT(S.preconditioner, WC_PRECOND_AMG);
-    CHECK_EQ_INT(S.integrator, WC_INTEGRATOR_BDF2);
-    CHECK_EQ_INT(S.newton_iterations, 3);
-    CHECK_EQ_INT(S.line_search, 1);
+    CHECK_EQ_INT(S.def.preconditioner, WEFT_PRECOND_AMG);
+    CHECK_EQ_INT(S.def.integrator, WEFT_INTEGRATOR_BDF2);
+    CHECK_EQ_INT(S.def.newton_iterations, 3);
+    CHECK_EQ_INT(S.def.line_search, 1);
     scene_free(&S);
     st = parse("{" GRID ", \"time\": {\"integrator\": \"trbdf2\"}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
-    CHECK_EQ_INT(S.integrator, WC_INTEGRATOR_TRBDF2);
+    CHECK_EQ_INT(S.def.integrator, WEFT_INTEGRATOR_TRBDF2);
     scene_free(&S);
     st = parse("{" GRID ", \"time\": {\"integrator\": \"tr-bdf2\"}}", &d);
     CHECK(st != WEFT_OK);
@@ -262,20 +259,21 @@ static void test_defaults_and_grid(void) {
     CHECK_EQ_INT(S.mesh_is_grid, 1);
 
     /* 4 x 3 vertices over 1.5 m (X) x 1 m (Z): vertex i + 4 j at (-0.75 + 0.5 i, 0, -0.5 + 0.5 j). */
-    CHECK_EQ_INT(S.src.n_verts, 12);
-    CHECK_EQ_INT(S.src.n_polys, 6);
+    CHECK_EQ_INT(S.mesh.n_vertices, 12);
+    CHECK_EQ_INT(S.mesh.n_faces, 6);
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 4; ++i) {
-            const double* p = S.src.pos + 3 * (i + 4 * j);
+            const double* p = S.mesh.positions + 3 * (i + 4 * j);
             CHECK_NEAR(p[0], -0.75 + 0.5 * i, 1e-15);
             CHECK_NEAR(p[1], 0.0, 0.0);
             CHECK_NEAR(p[2], -0.5 + 0.5 * j, 1e-15);
         }
     /* Every quad has 4 corners, the four grid neighbours, and its normal along +Y. */
-    for (int q = 0; q < S.src.n_polys; ++q) {
-        CHECK_EQ_INT(S.src.poly_start[q + 1] - S.src.poly_start[q], 4);
-        const int* c = S.src.poly_verts + S.src.poly_start[q];
-        const double *a = S.src.pos + 3 * c[0], *b = S.src.pos + 3 * c[1], *e = S.src.pos + 3 * c[2];
+    for (int q = 0; q < S.mesh.n_faces; ++q) {
+        CHECK_EQ_INT(S.mesh.face_start[q + 1] - S.mesh.face_start[q], 4);
+        CHECK_EQ_INT(S.mesh.face_sizes[q], 4);
+        const int* c = S.mesh.indices + S.mesh.face_start[q];
+        const double *a = S.mesh.positions + 3 * c[0], *b = S.mesh.positions + 3 * c[1], *e = S.mesh.positions + 3 * c[2];
         double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {e[0] - a[0], e[1] - a[1], e[2] - a[2]};
         CHECK(u[2] * v[0] - u[0] * v[2] > 0);   /* y component of u x v */
         CHECK_EQ_INT(c[0], (q % 3) + 4 * (q / 3));
@@ -309,11 +307,13 @@ static void test_full_scene(void) {
         fprintf(stderr, "  %s\n", d.message);
         return;
     }
-    const wc_material* m = &S.model_def.material;
-    CHECK(m->density == 0.2 && m->uniform_mass == 0);
-    CHECK(m->k[WC_SPRING_STRETCH] == 4000 && m->k[WC_SPRING_SHEAR] == 400 && m->k[WC_SPRING_BEND] == 0);
-    CHECK(m->d[WC_SPRING_STRETCH] == 1 && m->d[WC_SPRING_SHEAR] == 0.25 && m->d[WC_SPRING_BEND] == 0);
-    CHECK(S.model_def.weld_tolerance == 0);
+    const weft_material* m = &S.def.material;
+    CHECK(m->density == 0.2);
+    CHECK(m->stiffness[WEFT_SPRING_STRETCH] == 4000 && m->stiffness[WEFT_SPRING_SHEAR] == 400 &&
+          m->stiffness[WEFT_SPRING_BEND] == 0);
+    CHECK(m->damping[WEFT_SPRING_STRETCH] == 1 && m->damping[WEFT_SPRING_SHEAR] == 0.25 &&
+          m->damping[WEFT_SPRING_BEND] == 0);
+    CHECK(S.def.weld_tolerance == 0);
     CHECK_EQ_INT(S.n_pins, 2);
     CHECK_EQ_INT(S.pins[0].n_vertices, 2);
     CHECK_EQ_INT(S.pins[0].vertices[1], 4);
@@ -327,38 +327,37 @@ static void test_full_scene(void) {
     CHECK_EQ_INT(S.pins[1].n_vertices, 5);   /* the row j = 3: vertices 15..19 */
     for (int k = 0; k < S.pins[1].n_vertices; ++k) CHECK_EQ_INT(S.pins[1].vertices[k], 15 + k);
     CHECK_EQ_INT(S.n_colliders, 3);
-    const wc_collider* c = S.colliders;
-    CHECK_EQ_INT(c[0].type, WC_COLLIDER_PLANE);
+    const scene_collider* c = S.colliders;
+    CHECK_EQ_INT(c[0].type, WEFT_COLLIDER_PLANE);
     CHECK_NEAR(c[0].normal[1], 1.0, 0.0);
     CHECK_NEAR(c[0].offset, -1.0, 0.0);
     CHECK_NEAR(c[0].thickness, 0.005, 0.0);
     CHECK_NEAR(c[0].friction, 0.3, 0.0);
-    CHECK_EQ_INT(c[1].type, WC_COLLIDER_SPHERE);
+    CHECK_EQ_INT(c[1].type, WEFT_COLLIDER_SPHERE);
     CHECK(c[1].center[1] == -0.5 && c[1].radius == 0.25 && c[1].thickness == 0.01 && c[1].friction == 0.5);
-    CHECK_EQ_INT(c[2].type, WC_COLLIDER_CAPSULE);
+    CHECK_EQ_INT(c[2].type, WEFT_COLLIDER_CAPSULE);
     CHECK(c[2].a[0] == -1 && c[2].b[0] == 1 && c[2].b[1] == -1 && c[2].radius == 0.1);
-    CHECK(c[2].velocity[0] == 0 && c[2].velocity[1] == 0 && c[2].velocity[2] == 0);
-    CHECK(S.sim.gravity[0] == 0 && S.sim.gravity[1] == -3.7 && S.sim.gravity[2] == 0);
-    CHECK(S.sim.air.wind[0] == 2 && S.sim.air.wind[2] == 1);
-    CHECK(S.sim.air.normal_drag == 0.7 && S.sim.air.tangent_drag == 0);
-    CHECK(S.sim.strain_limit == 0.1);
-    CHECK_EQ_INT(S.sim.solver.type, WC_SOLVER_CHEBYSHEV);
-    CHECK(S.sim.solver.tolerance == 1e-6);
-    CHECK_EQ_INT(S.sim.solver.max_iterations, 50);
+    CHECK(scene_motion_is_still(&c[2].motion));
+    CHECK(S.def.gravity[0] == 0 && S.def.gravity[1] == -3.7 && S.def.gravity[2] == 0);
+    CHECK(S.def.wind[0] == 2 && S.def.wind[2] == 1);
+    CHECK(S.def.air_drag_normal == 0.7 && S.def.air_drag_tangent == 0);
+    CHECK(S.def.strain_limit == 0.1);
+    CHECK_EQ_INT(S.def.solver, WEFT_SOLVER_CHEBYSHEV);
+    CHECK(S.def.tolerance == 1e-6);
+    CHECK_EQ_INT(S.def.max_iterations, 50);
     CHECK(S.fps == 24);
-    CHECK_EQ_INT(S.sim.substeps, 4);
+    CHECK_EQ_INT(S.def.substeps, 4);
     CHECK_EQ_INT(S.frames, 0);
-    CHECK_EQ_INT(S.sim.threads, 2);
+    CHECK_EQ_INT(S.threads, 2);
     scene_free(&S);
 
-    /* More colliders than the default capacity raise it. */
+    /* Many colliders: the library takes them all (its capacity is the count given). */
     char many[4096] = "{" GRID ", \"colliders\": [";
     for (int i = 0; i < 20; ++i)
         strcat(many, i ? ", {\"type\": \"plane\", \"normal\": [0, 1, 0]}" : "{\"type\": \"plane\", \"normal\": [0, 1, 0]}");
     strcat(many, "]}");
     CHECK_EQ_INT(parse(many, &d), WEFT_OK);
     CHECK_EQ_INT(S.n_colliders, 20);
-    CHECK(S.sim.max_colliders >= 20);
     scene_free(&S);
 }
 
@@ -389,11 +388,11 @@ static void test_select_and_transform(void) {
                        &d),
                  WEFT_OK);
     CHECK_EQ_INT(S.has_transform, 1);
-    for (int v = 0; v < S.src.n_verts; ++v) {
+    for (int v = 0; v < S.mesh.n_vertices; ++v) {
         int i = v % 5, j = v / 5;
-        CHECK_NEAR(S.src.pos[3 * v + 0], -1.0 + 0.5 * i, 1e-15);
-        CHECK_NEAR(S.src.pos[3 * v + 1], 2.0 - (-1.5 + j), 1e-15);
-        CHECK_NEAR(S.src.pos[3 * v + 2], 0.0, 1e-15);
+        CHECK_NEAR(S.mesh.positions[3 * v + 0], -1.0 + 0.5 * i, 1e-15);
+        CHECK_NEAR(S.mesh.positions[3 * v + 1], 2.0 - (-1.5 + j), 1e-15);
+        CHECK_NEAR(S.mesh.positions[3 * v + 2], 0.0, 1e-15);
     }
     CHECK_EQ_INT(S.n_pins, 1);
     if (S.n_pins == 1) {
@@ -422,9 +421,9 @@ static void test_file_mesh_and_pins(void) {
         return;
     }
     CHECK_EQ_INT(S.mesh_is_grid, 0);
-    CHECK_EQ_INT(S.src.n_verts, 6);
-    CHECK_NEAR(S.src.pos[3 * 5 + 0], 0.5, 1e-12);
-    CHECK_NEAR(S.src.pos[3 * 5 + 2], 0.5, 1e-12);
+    CHECK_EQ_INT(S.mesh.n_vertices, 6);
+    CHECK_NEAR(S.mesh.positions[3 * 5 + 0], 0.5, 1e-12);
+    CHECK_NEAR(S.mesh.positions[3 * 5 + 2], 0.5, 1e-12);
     CHECK_EQ_INT(S.pins[2].n_vertices, 3);   /* x = 0: vertices 0, 2, 3 */
     CHECK_EQ_INT(S.n_pin_groups, 1);
     if (S.n_pin_groups == 1) {
@@ -449,8 +448,7 @@ static void test_unused_vertex(void) {
     static const int sizes[] = {3}, idx[] = {0, 1, 2};
     memset(&S, 0, sizeof S);
     cli_diag d = {0};
-    wc_diag cd = {0};
-    CHECK_EQ_INT(wc_source_mesh_from_arrays(&S.src, NULL, pos, 4, sizes, 1, idx, 1.0, &cd), WC_OK);
+    CHECK_EQ_INT(scene_mesh_from_arrays(&S.mesh, pos, 4, sizes, 1, idx, &d), WEFT_OK);
     S.n_pins = 2;
     S.pins = calloc(2, sizeof(scene_pin));
     S.pins[0].from_select = 1;   /* x max: vertex 1, not the unused vertex 3 at x = 9 */
@@ -491,7 +489,7 @@ static void test_pin_groups_and_conflicts(void) {
         /* vertex 3 = (i 3, j 0) at (0.75, 0, -0.5) moves to rest + velocity t */
         double m[16], p[3];
         scene_motion_at(&g[0].motion, 0.25, m);
-        const double* r = S.src.pos + 3 * 3;
+        const double* r = S.mesh.positions + 3 * 3;
         for (int k = 0; k < 3; ++k) p[k] = m[k] * r[0] + m[4 + k] * r[1] + m[8 + k] * r[2] + m[12 + k];
         CHECK_NEAR(p[0], 0.75, 1e-15);
         CHECK_NEAR(p[1], 0.25, 1e-15);
@@ -598,7 +596,7 @@ static void test_object(void) {
     CHECK_EQ_INT(parse("{" GRID "}", &d), WEFT_OK);
     CHECK(scene_motion_is_still(&S.object.motion));
     CHECK(S.object.linear_inertia == 1 && S.object.angular_inertia == 1 && S.object.n_teleports == 0);
-    CHECK(S.collider_motion == NULL);
+    CHECK(S.colliders == NULL);
     scene_free(&S);
     CHECK_EQ_INT(parse("{" GRID ", \"object\": {\"motion\": {\"spin_deg_per_s\": 45, \"spin_axis\": [2, 0, 0]},"
                        " \"linear_inertia\": 0.25, \"angular_inertia\": 0,"
@@ -615,7 +613,7 @@ static void test_object(void) {
         CHECK(S.object.teleports[0].frame == 2 && S.object.teleports[0].translate[0] == 1);
         CHECK(S.object.teleports[1].frame == 9 && S.object.teleports[1].translate[2] == -3);
     }
-    CHECK(S.collider_motion && S.collider_motion[0].velocity[1] == 2);
+    CHECK(S.colliders && S.colliders[0].motion.velocity[1] == 2);
     scene_free(&S);
 }
 
@@ -679,9 +677,9 @@ static void check_rigid(const double t[16]) {
 static void test_collider_placement(void) {
     static const double normals[][3] = {{0, 1, 0}, {0, -1, 0}, {1e-9, -1, 0}, {0.6, 0, 0.8}, {-0.48, -0.6, 0.64}};
     for (int i = 0; i < 5; ++i) {
-        wc_collider c;
+        scene_collider c;
         memset(&c, 0, sizeof c);
-        c.type = WC_COLLIDER_PLANE;
+        c.type = WEFT_COLLIDER_PLANE;
         const double* n0 = normals[i];
         const double len = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
         for (int k = 0; k < 3; ++k) c.normal[k] = n0[k] / len;
@@ -698,9 +696,9 @@ static void test_collider_placement(void) {
             CHECK_NEAR(c.normal[0] * w[0] + c.normal[1] * w[1] + c.normal[2] * w[2], -0.7, 1e-13);
         }
     }
-    wc_collider s;
+    scene_collider s;
     memset(&s, 0, sizeof s);
-    s.type = WC_COLLIDER_SPHERE;
+    s.type = WEFT_COLLIDER_SPHERE;
     s.center[0] = 1;
     s.center[1] = -2;
     s.center[2] = 0.5;
@@ -712,9 +710,9 @@ static void test_collider_placement(void) {
     static const double ends[][6] = {{-0.5, 0.4, 0, 0.5, 0.4, 0}, {0, 1, 0, 0, -1, 0}, {1, 2, 3, 1, 2, 3},
                                      {0.1, 0.2, 0.3, -0.7, 1.1, 0.9}};
     for (int i = 0; i < 4; ++i) {
-        wc_collider c;
+        scene_collider c;
         memset(&c, 0, sizeof c);
-        c.type = WC_COLLIDER_CAPSULE;
+        c.type = WEFT_COLLIDER_CAPSULE;
         memcpy(c.a, ends[i], sizeof c.a);
         memcpy(c.b, ends[i] + 3, sizeof c.b);
         scene_collider_placement(&c, t, &h);

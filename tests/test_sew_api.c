@@ -204,7 +204,7 @@ static void expect_scene_bad(const char* mesh, const char* word) {
     weft_status st = scene_parse(&S, text, strlen(text), "scene.json", &d);
     CHECK(st != WEFT_OK);
     CHECK(strstr(d.message, word) != NULL);
-    CHECK(S.seam_a == NULL && S.src.pos == NULL);
+    CHECK(S.seam_a == NULL && S.mesh.positions == NULL);
     printf("  scene refused: %s\n", d.message);
     scene_free(&S);
 }
@@ -213,22 +213,36 @@ static void test_scene(void) {
     const char* good = "{\"mesh\": {\"grid\": {\"n\": [3, 3], \"size\": [1, 1]}, \"sew_distance\": 0.001, "
                        "\"seam_close_time\": 0.25, \"seams\": [[0, 8], [2, 6]]}}";
     cli_diag d = {0};
-    wc_diag cd = {0};
     CHECK_EQ_INT(scene_parse(&S, good, strlen(good), "scene.json", &d), WEFT_OK);
-    CHECK_NEAR(S.model_def.sew_distance, 0.001, 0);
-    CHECK_NEAR(S.model_def.seam_close_time, 0.25, 0);
-    CHECK_EQ_INT(S.model_def.n_seam_pairs, 2);
-    CHECK(S.model_def.seam_a == S.seam_a && S.model_def.seam_b == S.seam_b);
+    CHECK_NEAR(S.def.sew_distance, 0.001, 0);
+    CHECK_NEAR(S.def.seam_close_time, 0.25, 0);
+    CHECK_EQ_INT(S.def.n_seams, 2);
+    CHECK(S.def.seam_a == S.seam_a && S.def.seam_b == S.seam_b);
     if (S.seam_a && S.seam_b) CHECK(S.seam_a[1] == 2 && S.seam_b[1] == 6 && S.seam_a[0] == 0 && S.seam_b[0] == 8);
-    wc_model m;
-    CHECK_EQ_INT(wc_model_build(&m, &S.src, &S.model_def, NULL, &cd), WC_OK);
-    CHECK_EQ_INT(m.report.seams, 2);
-    wc_model_free(&m);
+    /* the scene's def and mesh as the library takes them: both seams sewn */
+    float pos[27];
+    for (int i = 0; i < 27; ++i) pos[i] = (float)S.mesh.positions[i];
+    weft_cloth_def def = S.def;
+    def.mesh.positions = pos;
+    def.mesh.n_vertices = S.mesh.n_vertices;
+    def.mesh.face_sizes = S.mesh.face_sizes;
+    def.mesh.n_faces = S.mesh.n_faces;
+    def.mesh.indices = S.mesh.indices;
+    weft_context_def cd = weft_default_context_def();
+    cd.backend = WEFT_BACKEND_CPU;
+    weft_context* ctx = NULL;
+    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
+    weft_cloth cloth = {0};
+    weft_import_report report;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_get_report(ctx, cloth, &report), WEFT_OK);
+    CHECK_EQ_INT(report.seams, 2);
+    weft_context_destroy(ctx);
     scene_free(&S);
     /* defaults: no sewing */
     const char* plain = "{\"mesh\": {\"grid\": {\"n\": [3, 3], \"size\": [1, 1]}}}";
     CHECK_EQ_INT(scene_parse(&S, plain, strlen(plain), "scene.json", &d), WEFT_OK);
-    CHECK(S.model_def.sew_distance == 0.0 && S.model_def.n_seam_pairs == 0 && S.seam_a == NULL);
+    CHECK(S.def.sew_distance == 0.0 && S.def.n_seams == 0 && S.seam_a == NULL);
     scene_free(&S);
     expect_scene_bad(", \"sew_distance\": -1", "mesh.sew_distance");
     expect_scene_bad(", \"seam_close_time\": -1", "mesh.seam_close_time");

@@ -41,6 +41,10 @@ int cli_option_value(int argc, char** argv, int* i, const char* name, const char
 int cli_usage_error(const char* command, void (*usage)(FILE*), const char* fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* Sort v[0..n) ascending in place and return its median (the mean of the two middle values for
+ * even n; 0 for n <= 0): timings and statistics (median.c). */
+double cli_sort_median(double* v, int n);
+
 /* With threads > 0, OpenBLAS's thread count (CHOLMOD's BLAS) set to threads (blas_threads.c).
  * Returns OpenBLAS's thread count after it, or -1 when the BLAS is not OpenBLAS (nothing set). */
 int cli_blas_threads(int threads);

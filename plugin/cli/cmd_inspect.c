@@ -1,20 +1,18 @@
-/* `weft inspect FILE`: import a mesh, build the cloth model and print the import report.
+/* `weft inspect FILE`: a cloth made of the file through the public API (weft_cloth_create on a
+ * CPU context: import, weld, winged edge, springs) and its import report (weft_cloth_get_report).
  * Exit codes: 0 ok, 1 the file could not be imported or modelled (one line on stderr, nothing
  * on stdout), 2 bad command line. */
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
-#include "model.h"
 #include "report.h"
-#include "source_mesh.h"
 #include "weft/weft.h"
 
 typedef struct inspect_args {
     const char* file;
     int json;
-    wc_import_opts import;
-    wc_model_def model;
+    weft_cloth_def def;     /* mesh.select, unit_scale, weld_tolerance, sew_distance from the options */
 } inspect_args;
 
 void cli_inspect_usage(FILE* out) {
@@ -58,20 +56,19 @@ static int parse_args(int argc, char** argv, inspect_args* a) {
             a->json = 1;
         } else if ((m = cli_option_value(argc, argv, &i, "--scale", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            if (cli_parse_double(value, &a->import.scale) != 0 || !(a->import.scale > 0))
+            if (cli_parse_double(value, &a->def.unit_scale) != 0 || !(a->def.unit_scale > 0))
                 return usage_error("--scale must be a finite number > 0, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--weld-tolerance", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            if (cli_parse_double(value, &a->model.weld_tolerance) != 0 ||
-                !(a->model.weld_tolerance >= 0))
+            if (cli_parse_double(value, &a->def.weld_tolerance) != 0 || !(a->def.weld_tolerance >= 0))
                 return usage_error("--weld-tolerance must be a finite number >= 0, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--sew-distance", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            if (cli_parse_double(value, &a->model.sew_distance) != 0 || !(a->model.sew_distance >= 0))
+            if (cli_parse_double(value, &a->def.sew_distance) != 0 || !(a->def.sew_distance >= 0))
                 return usage_error("--sew-distance must be a finite number >= 0, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--select", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            a->import.select = value;
+            a->def.mesh.select = value;
         } else {
             return usage_error("unknown option '%s'", arg);
         }
@@ -80,42 +77,47 @@ static int parse_args(int argc, char** argv, inspect_args* a) {
     return -1;
 }
 
-/* One line on stderr. Import errors already name the file; model errors get it prefixed. */
-static int fail(const char* file, const wc_diag* diag, wc_status status) {
-    const char* what = diag->message[0] ? diag->message : wc_status_string(status);
+/* One line on stderr: the library's message without the call's prefix, the file's name in front
+ * unless the message names it already. */
+static int fail(const char* file, const char* message) {
+    static const char* const prefixes[] = {"weft_cloth_create: ", "def->mesh: "};
+    for (int k = 0; k < 2; ++k)
+        if (strncmp(message, prefixes[k], strlen(prefixes[k])) == 0) message += strlen(prefixes[k]);
     char line[1024];
-    if (file) snprintf(line, sizeof line, "%s: %s", file, what);
-    cli_error(file ? line : what);
+    if (strstr(message, file)) snprintf(line, sizeof line, "%s", message);
+    else snprintf(line, sizeof line, "%s: %s", file, message);
+    cli_error(line);
     return CLI_EXIT_FAILURE;
 }
 
 int cli_inspect_run(int argc, char** argv) {
-    inspect_args a = {NULL, 0, wc_default_import_opts(), wc_default_model_def()};
+    inspect_args a = {NULL, 0, weft_default_cloth_def()};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 
-    const wc_allocator alloc = {0};   /* malloc/free */
-    wc_diag diag = {0};
-    wc_source_mesh src = {0};
-    wc_status st = wc_import_file(&src, &alloc, a.file, &a.import, &diag);
-    if (st != WC_OK) return fail(NULL, &diag, st);
-
-    wc_model model = {0};
-    st = wc_model_build(&model, &src, &a.model, &alloc, &diag);
-    wc_source_mesh_free(&src);
-    if (st != WC_OK) return fail(a.file, &diag, st);
-
-    if (a.json) {
-        if (cli_report_json(stdout, a.file, &model.report) != 0) {
+    weft_context_def cd = weft_default_context_def();
+    cd.backend = WEFT_BACKEND_CPU;
+    weft_context* ctx = NULL;
+    weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
+    if (st != WEFT_OK) return fail(a.file, weft_status_string(st));
+    a.def.mesh.path = a.file;
+    a.def.sleep_speed = 0.0;
+    weft_cloth cloth = {0};
+    weft_import_report report;
+    st = weft_cloth_create(ctx, &a.def, &cloth);
+    if (st == WEFT_OK) st = weft_cloth_get_report(ctx, cloth, &report);
+    if (st != WEFT_OK) {
+        rc = fail(a.file, weft_context_last_error(ctx));
+    } else if (a.json) {
+        rc = CLI_EXIT_OK;
+        if (cli_report_json(stdout, a.file, &report) != 0) {
             cli_error("out of memory while writing the JSON report");
             rc = CLI_EXIT_FAILURE;
-        } else {
-            rc = CLI_EXIT_OK;
         }
     } else {
-        cli_report_text(stdout, a.file, &model.report);
+        cli_report_text(stdout, a.file, &report);
         rc = CLI_EXIT_OK;
     }
-    wc_model_free(&model);
+    weft_context_destroy(ctx);
     return rc;
 }

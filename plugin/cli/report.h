@@ -3,10 +3,10 @@
 #define WEFT_CLI_REPORT_H
 #include <stdio.h>
 
-#include "model.h"
+#include "weft/weft.h"
 
-void cli_report_text(FILE* out, const char* file, const wc_import_report* r);
+void cli_report_text(FILE* out, const char* file, const weft_import_report* r);
 /* Returns 0, or -1 when the JSON could not be built (out of memory); nothing is printed then. */
-int cli_report_json(FILE* out, const char* file, const wc_import_report* r);
+int cli_report_json(FILE* out, const char* file, const weft_import_report* r);
 
 #endif

@@ -20,52 +20,52 @@ static void add_vec3(cJSON* obj, const char* key, const double v[3], int* ok) {
 
 /* Wall time of each model-build stage (ms): not part of the import facts, but what a user tuning
  * a large import wants to see. */
-static void add_timing(cJSON* root, const wc_import_report* r, int* ok) {
+static void add_timing(cJSON* root, const weft_import_report* r, int* ok) {
     cJSON* t = cJSON_AddObjectToObject(root, "build_ms");
     if (!t) {
         *ok = 0;
         return;
     }
     const char* names[] = {"weld", "triangulate", "clean", "orient", "topology", "springs", "pattern", "total"};
-    const double values[] = {r->ms.weld, r->ms.triangulate, r->ms.clean, r->ms.orient,
-                             r->ms.topology, r->ms.springs, r->ms.pattern, r->ms.total};
+    const double values[] = {r->ms_weld, r->ms_triangulate, r->ms_clean, r->ms_orient,
+                             r->ms_topology, r->ms_springs, r->ms_pattern, r->ms_total};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
         if (!cJSON_AddNumberToObject(t, names[i], values[i])) *ok = 0;
 }
 
-static void add_polygons(cJSON* root, const wc_import_report* r, int* ok) {
+static void add_polygons(cJSON* root, const weft_import_report* r, int* ok) {
     cJSON* polys = cJSON_AddObjectToObject(root, "polygons");
     if (!polys) {
         *ok = 0;
         return;
     }
-    for (int k = 3; k <= WC_MAX_POLY_SIDES; ++k) {
+    for (int k = 3; k <= WEFT_REPORT_POLYGON_SIDES; ++k) {
         if (!r->polygons[k]) continue;
         char key[8];
-        snprintf(key, sizeof key, k < WC_MAX_POLY_SIDES ? "%d" : "%d+", k);
+        snprintf(key, sizeof key, k < WEFT_REPORT_POLYGON_SIDES ? "%d" : "%d+", k);
         add_int(polys, key, r->polygons[k], ok);
     }
 }
 
-static void add_springs(cJSON* root, const wc_import_report* r, int* ok) {
+static void add_springs(cJSON* root, const weft_import_report* r, int* ok) {
     cJSON* springs = cJSON_AddObjectToObject(root, "springs");
     if (!springs) {
         *ok = 0;
         return;
     }
-    add_int(springs, "stretch", r->springs[WC_SPRING_STRETCH], ok);
-    add_int(springs, "shear", r->springs[WC_SPRING_SHEAR], ok);
-    add_int(springs, "bend", r->springs[WC_SPRING_BEND], ok);
-    add_int(springs, "seam", r->springs[WC_SPRING_SEAM], ok);
+    add_int(springs, "stretch", r->springs[WEFT_SPRING_STRETCH], ok);
+    add_int(springs, "shear", r->springs[WEFT_SPRING_SHEAR], ok);
+    add_int(springs, "bend", r->springs[WEFT_SPRING_BEND], ok);
+    add_int(springs, "seam", r->springs[3]   /* seam */, ok);
 }
 
-static void add_warnings(cJSON* root, const wc_import_report* r, int* ok) {
+static void add_warnings(cJSON* root, const weft_import_report* r, int* ok) {
     cJSON* list = cJSON_AddArrayToObject(root, "warnings");
     if (!list) {
         *ok = 0;
         return;
     }
-    for (int i = 0; i < r->n_warnings && i < WC_MAX_WARNINGS; ++i) {
+    for (int i = 0; i < r->n_warnings && i < WEFT_REPORT_MAX_WARNINGS; ++i) {
         cJSON* s = cJSON_CreateString(r->warnings[i]);
         if (!s || !cJSON_AddItemToArray(list, s)) {
             cJSON_Delete(s);
@@ -75,7 +75,7 @@ static void add_warnings(cJSON* root, const wc_import_report* r, int* ok) {
     add_int(root, "warnings_dropped", r->warnings_dropped, ok);
 }
 
-int cli_report_json(FILE* out, const char* file, const wc_import_report* r) {
+int cli_report_json(FILE* out, const char* file, const weft_import_report* r) {
     cJSON* root = cJSON_CreateObject();
     int ok = root != NULL;
     if (ok && !cJSON_AddStringToObject(root, "file", file)) ok = 0;

@@ -9,11 +9,11 @@ static void row_vec(FILE* out, const char* label, const double v[3]) {
     fprintf(out, "  %-26s %.6g  %.6g  %.6g\n", label, v[0], v[1], v[2]);
 }
 
-void cli_report_text(FILE* out, const char* file, const wc_import_report* r) {
-    static const char* const side_names[WC_MAX_POLY_SIDES + 1] = {
+void cli_report_text(FILE* out, const char* file, const weft_import_report* r) {
+    static const char* const side_names[WEFT_REPORT_POLYGON_SIDES + 1] = {
         NULL, NULL, NULL, "triangles", "quads", "pentagons", "hexagons", "heptagons", "8+ sides"};
     int n_polys = 0;
-    for (int k = 3; k <= WC_MAX_POLY_SIDES; ++k) n_polys += r->polygons[k];
+    for (int k = 3; k <= WEFT_REPORT_POLYGON_SIDES; ++k) n_polys += r->polygons[k];
     const double size[3] = {r->bbox_max[0] - r->bbox_min[0], r->bbox_max[1] - r->bbox_min[1],
                             r->bbox_max[2] - r->bbox_min[2]};
 
@@ -24,7 +24,7 @@ void cli_report_text(FILE* out, const char* file, const wc_import_report* r) {
     row_int(out, "  unused", r->unused_vertices);
     row_int(out, "  welded", r->welded_vertices);
     row_int(out, "polygons", n_polys);
-    for (int k = 3; k <= WC_MAX_POLY_SIDES; ++k)
+    for (int k = 3; k <= WEFT_REPORT_POLYGON_SIDES; ++k)
         if (r->polygons[k]) {
             char label[32];
             snprintf(label, sizeof label, "  %s", side_names[k]);
@@ -53,17 +53,17 @@ void cli_report_text(FILE* out, const char* file, const wc_import_report* r) {
     row_vec(out, "size (m)", size);
 
     fputs("springs\n", out);
-    row_int(out, "stretch", r->springs[WC_SPRING_STRETCH]);
-    row_int(out, "shear", r->springs[WC_SPRING_SHEAR]);
-    row_int(out, "bend", r->springs[WC_SPRING_BEND]);
-    row_int(out, "seam", r->springs[WC_SPRING_SEAM]);
+    row_int(out, "stretch", r->springs[WEFT_SPRING_STRETCH]);
+    row_int(out, "shear", r->springs[WEFT_SPRING_SHEAR]);
+    row_int(out, "bend", r->springs[WEFT_SPRING_BEND]);
+    row_int(out, "seam", r->springs[3]);
 
     if (r->n_warnings == 0) {
         fputs("warnings: none\n", out);
         return;
     }
     fprintf(out, "warnings: %d\n", r->n_warnings + r->warnings_dropped);
-    for (int i = 0; i < r->n_warnings && i < WC_MAX_WARNINGS; ++i)
+    for (int i = 0; i < r->n_warnings && i < WEFT_REPORT_MAX_WARNINGS; ++i)
         fprintf(out, "  - %s\n", r->warnings[i]);
     if (r->warnings_dropped) fprintf(out, "  (%d more not listed)\n", r->warnings_dropped);
 }

@@ -226,7 +226,7 @@ class ClothInfo(_Struct):
                 ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int),
                 ("n_seams", c_int), ("n_panels", c_int),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
-                ("newton_forcing", c_double)]
+                ("newton_forcing", c_double), ("threads", c_int)]
 
 
 class Frame(_Struct):

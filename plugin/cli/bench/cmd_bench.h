@@ -21,7 +21,9 @@
 #define WEFT_CLI_CMD_BENCH_H
 #include <stdio.h>
 
+#include "model.h"
 #include "scene.h"
+#include "source_mesh.h"
 #include "step.h"
 
 /* Backends of accuracy, stability, skip and peers (weft_backend's values). */
@@ -193,6 +195,12 @@ typedef struct bench_pins {
 typedef struct bench_scene {
     char name[32];
     scene sc;               /* the scene as parsed: mesh, material, pins, colliders */
+    /* the scene in core's forms, for the runs that step a wc_state */
+    wc_source_mesh src;
+    wc_model_def model_def;
+    wc_sim_def sim;
+    int n_colliders;
+    wc_collider* colliders;
     wc_model model;
     bench_pins pins;
     double diag;            /* bounding-box diagonal of the cloth at rest (m) */

@@ -507,7 +507,7 @@ static void print_header(FILE* out, const void* ctx) {
 /* The reference's sim def: direct solver, the reference's integrator, --ref-newton Newton
  * iterations (more than one: line search on, tolerance 1e-10), `substeps`. */
 static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int substeps) {
-    wc_sim_def sd = bs->sc.sim;
+    wc_sim_def sd = bs->sim;
     sd.threads = a->com.threads;
     if (a->undamped || a->no_air) sd.air.normal_drag = sd.air.tangent_drag = 0.0;
     sd.solver.type = WC_SOLVER_DIRECT;
@@ -677,7 +677,7 @@ int bench_accuracy_run(int argc, char** argv) {
                  c->method.integrator != WC_INTEGRATOR_BE || c->method.newton != 1 || c->method.line_search))
                 continue;
             o.backend = backend;
-            o.sim = bs.sc.sim;
+            o.sim = bs.sim;
             o.sim.threads = a.com.threads;
             if (a.undamped || a.no_air) o.sim.air.normal_drag = o.sim.air.tangent_drag = 0.0;
             o.sim.solver.type = c->solver;

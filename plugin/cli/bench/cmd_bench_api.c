@@ -38,11 +38,11 @@ static int make_attachments(const bench_scene* bs, weft_attachment_def* att, int
 int bench_api_run_defaults(const bench_scene* bs, double fps, int frames, int threads, bench_run* out, char* msg,
                            size_t size) {
     memset(out, 0, sizeof *out);
-    if (bs->sc.n_colliders > 0) {
+    if (bs->n_colliders > 0) {
         snprintf(msg, size, "%s: the defaults run has no colliders", bs->name);
         return -1;
     }
-    const wc_source_mesh* src = &bs->sc.src;
+    const wc_source_mesh* src = &bs->src;
     const int nv = src->n_verts, np = bs->model.n_particles;
     int n_pinned = 0;
     for (int g = 0; g < bs->sc.n_pin_groups; ++g) n_pinned += bs->sc.pin_groups[g].n_vertices;

@@ -95,7 +95,7 @@ static void work_dir_remove(const work_dir* w) {
  * whose corners are distinct particles. */
 static int write_obj(const char* path, const bench_scene* bs, char* msg, size_t msg_size) {
     const wc_model* m = &bs->model;
-    const wc_source_mesh* src = &bs->sc.src;
+    const wc_source_mesh* src = &bs->src;
     FILE* f = fopen(path, "w");
     if (!f) {
         say(msg, msg_size, "cannot write %s: %s", path, strerror(errno));
@@ -140,7 +140,7 @@ static int write_job(const work_dir* w, const bench_scene* bs, int frames, char*
     for (int k = 0; k < bs->pins.n && pins; ++k) cJSON_AddItemToArray(pins, cJSON_CreateNumber(bs->pins.pins[k].particle));
     cJSON_AddStringToObject(job, "mesh", w->obj);
     cJSON_AddNumberToObject(job, "frames", frames);
-    cJSON_AddItemToObject(job, "gravity", cJSON_CreateDoubleArray(bs->sc.sim.gravity, 3));
+    cJSON_AddItemToObject(job, "gravity", cJSON_CreateDoubleArray(bs->sim.gravity, 3));
     char* text = cJSON_Print(job);
     cJSON_Delete(job);
     FILE* f = text ? fopen(w->job, "w") : NULL;

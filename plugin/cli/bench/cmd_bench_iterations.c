@@ -321,7 +321,7 @@ int bench_iterations_run(int argc, char** argv) {
             bench_run_opts o;
             memset(&o, 0, sizeof o);
             o.backend = BENCH_CPU;
-            o.sim = bs.sc.sim;
+            o.sim = bs.sim;
             o.sim.threads = a.com.threads;
             o.sim.solver.type = goals[g].solver;
             o.sim.solver.tolerance = a.tolerance;

@@ -283,7 +283,7 @@ static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, con
     snprintf(b[C_FRAMES], 96, "%d", a->frames);
     snprintf(b[C_WEFT_THREADS], 96, "%d", weft_threads);
     snprintf(b[C_BLENDER_THREADS], 96, blender ? "%d" : "-", br->threads);
-    snprintf(b[C_SOLVER], 96, "%s", w->defaults ? "default" : wc_solver_name(bs->sc.sim.solver.type));
+    snprintf(b[C_SOLVER], 96, "%s", w->defaults ? "default" : wc_solver_name(bs->sim.solver.type));
     if (w->defaults) snprintf(b[C_SUBSTEPS], 96, "default");
     else snprintf(b[C_SUBSTEPS], 96, "%d", w->substeps);
     bench_fmt(b[C_WEFT_MS], 96, "%.4g", r->ms_median);
@@ -318,7 +318,7 @@ static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, con
     if (w->defaults) {
         for (int k = C_PRECOND; k <= C_LINE_SEARCH; ++k) snprintf(b[k], 96, "default");
     } else {
-        snprintf(b[C_PRECOND], 96, "%s", bench_precond_label(bs->sc.sim.solver.type, &w->method));
+        snprintf(b[C_PRECOND], 96, "%s", bench_precond_label(bs->sim.solver.type, &w->method));
         snprintf(b[C_INTEGRATOR], 96, "%s", wc_integrator_name(w->method.integrator));
         snprintf(b[C_NEWTON], 96, "%d", w->method.newton);
         snprintf(b[C_LINE_SEARCH], 96, "%s", w->method.line_search ? "on" : "off");
@@ -340,7 +340,7 @@ static int run_weft(const peers_args* a, const bench_scene* bs, const weft_row* 
     bench_run_opts o;
     memset(&o, 0, sizeof o);
     o.backend = w->backend;
-    o.sim = bs->sc.sim;
+    o.sim = bs->sim;
     o.sim.threads = a->com.threads;
     o.sim.substeps = w->substeps;
     bench_method_apply(&w->method, &o.sim);
@@ -375,11 +375,11 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
         snprintf(h->settings, sizeof h->settings, "%s", br.settings);
         h->blender_threads = br.threads;
     }
-    h->solver = bs.sc.sim.solver;
+    h->solver = bs.sim.solver;
     /* the rows: backend x method x substeps, then the library's defaults (CPU) */
     static weft_row rows[BENCH_MAX_BACKENDS * BENCH_MAX_LIST * BENCH_MAX_LIST + 1];
     bench_method meth[BENCH_MAX_LIST];
-    const int n_meth = bench_methods_expand(&a->meth, bs.sc.sim.solver.type, meth, BENCH_MAX_LIST);
+    const int n_meth = bench_methods_expand(&a->meth, bs.sim.solver.type, meth, BENCH_MAX_LIST);
     int n_rows = 0;
     for (int bi = 0; bi < a->n_backends; ++bi)
         for (int mi = 0; mi < n_meth; ++mi) {
@@ -404,7 +404,7 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
             if (rows[q].defaults) snprintf(label, sizeof label, "defaults (weft_default_cloth_def)");
             else
                 snprintf(label, sizeof label, "%d substep(s) %s", rows[q].substeps,
-                         bench_method_short(bs.sc.sim.solver.type, &rows[q].method, msg, sizeof msg));
+                         bench_method_short(bs.sim.solver.type, &rows[q].method, msg, sizeof msg));
             fprintf(stderr, "  weft (%s) %s: %.3g ms/frame, %.1f it./solve; blender: %.3g ms/frame\n",
                     bench_backend_name(rows[q].backend), label, r.ms_median, bench_run_iterations_per_solve(&r),
                     blender ? br.ms_median : NAN);

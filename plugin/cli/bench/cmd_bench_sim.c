@@ -117,6 +117,52 @@ static void bench_pins_free(bench_pins* p) {
     memset(p, 0, sizeof *p);
 }
 
+/* The scene's mesh, model def, sim def and colliders in core's forms. */
+static wc_status scene_to_core(bench_scene* bs, wc_diag* diag) {
+    const scene* s = &bs->sc;
+    const weft_cloth_def* d = &s->def;
+    wc_status st = wc_source_mesh_from_arrays(&bs->src, NULL, s->mesh.positions, s->mesh.n_vertices,
+                                              s->mesh.face_sizes, s->mesh.n_faces, s->mesh.indices, 1.0, diag);
+    if (st != WC_OK) return st;
+    bs->model_def = wc_default_model_def();
+    bs->model_def.weld_tolerance = d->weld_tolerance;
+    bs->model_def.material.density = d->material.density;
+    for (int t = 0; t < 3; ++t) {
+        bs->model_def.material.k[t] = d->material.stiffness[t];
+        bs->model_def.material.d[t] = d->material.damping[t];
+    }
+    bs->sim = wc_default_sim_def();
+    for (int k = 0; k < 3; ++k) {
+        bs->sim.gravity[k] = d->gravity[k];
+        bs->sim.air.wind[k] = d->wind[k];
+    }
+    bs->sim.air.normal_drag = d->air_drag_normal;
+    bs->sim.air.tangent_drag = d->air_drag_tangent;
+    bs->sim.solver.type = (wc_solver_type)d->solver;
+    bs->sim.solver.tolerance = d->tolerance;
+    bs->sim.solver.max_iterations = d->max_iterations;
+    bs->sim.substeps = d->substeps;
+    bs->sim.strain_limit = d->strain_limit;
+    bs->sim.threads = s->threads;
+    bs->n_colliders = s->n_colliders;
+    bs->colliders = calloc((size_t)s->n_colliders + 1, sizeof(wc_collider));
+    if (!bs->colliders) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bench: out of memory");
+    for (int i = 0; i < s->n_colliders; ++i) {
+        const scene_collider* c = &s->colliders[i];
+        wc_collider* w = &bs->colliders[i];
+        w->type = (int)c->type;   /* the same numbering */
+        v3_copy(w->normal, c->normal);
+        w->offset = c->offset;
+        v3_copy(w->center, c->center);
+        v3_copy(w->a, c->a);
+        v3_copy(w->b, c->b);
+        w->radius = c->radius;
+        w->thickness = c->thickness;
+        w->friction = c->friction;
+    }
+    return WC_OK;
+}
+
 wc_status bench_scene_build(bench_scene* out, const char* name, const char* garment, double k_scale,
                               double mass_scale, wc_diag* diag) {
     memset(out, 0, sizeof *out);
@@ -126,11 +172,15 @@ wc_status bench_scene_build(bench_scene* out, const char* name, const char* garm
     cli_diag sd = {0};
     if (scene_parse(&out->sc, json, strlen(json), name, &sd) != WEFT_OK)
         return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "%s", sd.message);
-    wc_status st;
-    wc_material* mat = &out->sc.model_def.material;
+    wc_status st = scene_to_core(out, diag);
+    if (st != WC_OK) {
+        bench_scene_free(out);
+        return st;
+    }
+    wc_material* mat = &out->model_def.material;
     for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) mat->k[t] *= k_scale;
     mat->density *= mass_scale;
-    st = wc_model_build(&out->model, &out->sc.src, &out->sc.model_def, NULL, diag);
+    st = wc_model_build(&out->model, &out->src, &out->model_def, NULL, diag);
     if (st == WC_OK) st = bench_pins_resolve(&out->pins, &out->sc, &out->model, diag);
     if (st != WC_OK) {
         bench_scene_free(out);
@@ -150,6 +200,8 @@ void bench_scene_free(bench_scene* s) {
     if (!s) return;
     bench_pins_free(&s->pins);
     if (s->model.n_particles > 0) wc_model_free(&s->model);
+    wc_source_mesh_free(&s->src);
+    free(s->colliders);
     scene_free(&s->sc);
     memset(s, 0, sizeof *s);
 }
@@ -239,7 +291,7 @@ static void displace_start(wc_state* s, const bench_scene* bs, double eps) {
 static wc_status make_state(wc_state** out, const bench_scene* bs, const wc_sim_def* sd, wc_diag* diag) {
     wc_status st = wc_state_create(out, &bs->model, sd, NULL, diag);
     if (st == WC_OK) st = wc_state_set_pins(*out, bs->pins.pins, bs->pins.n, diag);
-    if (st == WC_OK) st = wc_state_set_colliders(*out, bs->sc.colliders, bs->sc.n_colliders, diag);
+    if (st == WC_OK) st = wc_state_set_colliders(*out, bs->colliders, bs->n_colliders, diag);
     if (st != WC_OK) {
         wc_state_destroy(*out);
         *out = NULL;
@@ -262,7 +314,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     const size_t n3 = 3 * (size_t)n;
     wc_sim_def sd = o->sim;
     sd.max_pins = bs->pins.n > 0 ? bs->pins.n : 1;
-    sd.max_colliders = bs->sc.n_colliders > 16 ? bs->sc.n_colliders : 16;
+    sd.max_colliders = bs->n_colliders > 16 ? bs->n_colliders : 16;
     sd.sleep_speed = 0.0; /* these benchmarks time active steps: a cloth that came to rest is not put to sleep */
     const int gpu = o->backend == BENCH_GPU;
     wc_state *s = NULL, *p = NULL;

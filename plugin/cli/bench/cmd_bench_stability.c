@@ -294,7 +294,7 @@ int bench_stability_run(int argc, char** argv) {
                     bench_run_opts o;
                     memset(&o, 0, sizeof o);
                     o.backend = pn.backend[s];
-                    o.sim = bs.sc.sim;
+                    o.sim = bs.sim;
                     o.sim.threads = a.com.threads;
                     o.sim.solver.type = pn.solver[s];
                     o.sim.substeps = 1;

@@ -1,5 +1,5 @@
 /* `weft run SCENE.json`: load a scene, hand it to the public API (libweft.so, as any host does:
- * run_host.c), step every frame with the transforms of the scene's motions, and write OBJ
+ * host/scene_host.c), step every frame with the transforms of the scene's motions, and write OBJ
  * frames, a stats JSON, a progress line and a summary table. Exit codes: 0 ok (frames whose step
  * failed after every recovery are counted, not fatal), 1 the scene is invalid or something else
  * failed (one line on stderr), 2 bad command line. */
@@ -9,24 +9,22 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "cli.h"
+#include "names.h"
 #include "run.h"
-#include "run_host.h"
 #include "run_progress.h"
 #include "scene.h"
+#include "scene_host.h"
 #include "weft/weft.h"
 
 
 typedef struct run_args {
     const char* scene;
     int frames;            /* -1: the scene's */
-    int solver;            /* -1: the scene's, else wc_solver_type */
-    int integrator;        /* -2: the scene's, else -1 default or wc_integrator */
-    int precond;           /* -2: the scene's, else -1 default or wc_precond_type */
+    int solver;            /* -1: the scene's, else a weft_solver */
+    int integrator;        /* -1: the scene's, else a weft_integrator (DEFAULT for "default") */
+    int precond;           /* -1: the scene's, else a weft_preconditioner (DEFAULT for "default") */
     int newton;            /* -1: the scene's, else 1..100 */
     int line_search;       /* -2: the scene's, else 0 or 1 */
     const char* out;       /* folder for OBJ frames, NULL: none */
@@ -107,18 +105,18 @@ static int parse_args(int argc, char** argv, run_args* a) {
                 return usage_error("--frames must be an integer in [0, 100000000], not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--solver", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            a->solver = wc_solver_from_name(value);
+            a->solver = cli_solver_from_name(value);
             if (a->solver < 0)
                 return usage_error("unknown solver '%s' (expected pcg, jacobi, chebyshev or direct)", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--integrator", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            a->integrator = strcmp(value, "default") == 0 ? -1 : wc_integrator_from_name(value);
-            if (a->integrator < 0 && strcmp(value, "default") != 0)
+            a->integrator = strcmp(value, "default") == 0 ? WEFT_INTEGRATOR_DEFAULT : cli_integrator_from_name(value);
+            if (a->integrator < 0)
                 return usage_error("--integrator: unknown integrator '%s' (expected be, bdf2, trbdf2 or default)", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--precond", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
-            a->precond = strcmp(value, "default") == 0 ? -1 : wc_precond_from_name(value);
-            if (a->precond < 0 && strcmp(value, "default") != 0)
+            a->precond = strcmp(value, "default") == 0 ? WEFT_PRECOND_DEFAULT : cli_precond_from_name(value);
+            if (a->precond < 0)
                 return usage_error("--precond: unknown preconditioner '%s' (expected block_jacobi, amg or default)",
                                    value);
         } else if ((m = cli_option_value(argc, argv, &i, "--newton", &value)) != 0) {
@@ -163,7 +161,7 @@ static int parse_args(int argc, char** argv, run_args* a) {
 /* Everything a run owns, released by run_release. */
 typedef struct run_ctx {
     scene sc;
-    run_host host;
+    scene_host host;
     char* path;            /* output path buffer */
     size_t path_cap;
     run_record rec;
@@ -171,7 +169,7 @@ typedef struct run_ctx {
 } run_ctx;
 
 static void run_release(run_ctx* c) {
-    run_host_destroy(&c->host);
+    scene_host_destroy(&c->host);
     scene_free(&c->sc);
     free(c->path);
     run_record_free(&c->rec);
@@ -187,16 +185,6 @@ static int fail(run_ctx* c, const char* fmt, ...) {
     if (c) run_progress_end(&c->progress);
     cli_error(line);
     return CLI_EXIT_FAILURE;
-}
-
-/* OpenMP threads a call uses: the request, or OpenMP's default for 0 (as the library does). */
-static int resolved_threads(int requested) {
-    if (requested > 0) return requested;
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
 }
 
 static weft_render_def render_def(const scene_camera* cam, const char* png_path) {
@@ -233,14 +221,14 @@ static int prepare_outputs(run_ctx* c, const run_args* a) {
 static int write_frame(run_ctx* c, const run_args* a, int f, double t) {
     if (a->out) {
         snprintf(c->path, c->path_cap, "%s/frame_%04d.obj", a->out, f);
-        if (run_write_obj(c->path, c->host.positions, &c->sc.src, f, t) != 0)
+        if (run_write_obj(c->path, c->host.positions, &c->sc.mesh, f, t) != 0)
             return fail(c, "cannot write '%s': %s", c->path, strerror(errno));
     }
     if (a->render) {
         snprintf(c->path, c->path_cap, "%s/frame_%04d.png", a->render, f);
         const weft_render_def rd = render_def(&c->sc.camera, c->path);
         if (weft_render(c->host.ctx, c->host.cloth, &rd) != WEFT_OK)
-            return fail(c, "%s: frame %d: render: %s", a->scene, f, run_host_error(&c->host));
+            return fail(c, "%s: frame %d: render: %s", a->scene, f, scene_host_error(&c->host));
     }
     return CLI_EXIT_OK;
 }
@@ -253,7 +241,7 @@ static int simulate(run_ctx* c, const run_args* a) {
     int checked = 0;
     for (int f = 1; f <= c->sc.frames && rc == CLI_EXIT_OK; ++f) {
         checked = 0;
-        const weft_frame fr = run_host_frame(&c->host, &c->sc, f, dt);
+        const weft_frame fr = scene_host_frame(&c->host, &c->sc, f, dt);
         weft_frame_stats stats;
         memset(&stats, 0, sizeof stats);
         const double t0 = run_now_ms();
@@ -262,15 +250,15 @@ static int simulate(run_ctx* c, const run_args* a) {
         if (st == WEFT_ERROR_STEP_FAILED)   /* the cloth is as before the call; the run goes on */
             run_record_failed_frame(&c->rec, f - 1, ms);
         else if (st != WEFT_OK)
-            return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
+            return fail(c, "%s: frame %d: %s", a->scene, f, scene_host_error(&c->host));
         else
             run_record_frame(&c->rec, f - 1, ms, &stats);
-        st = run_host_read_positions(&c->host);
-        if (st != WEFT_OK) return fail(c, "%s: frame %d: %s", a->scene, f, run_host_error(&c->host));
+        st = scene_host_read_positions(&c->host);
+        if (st != WEFT_OK) return fail(c, "%s: frame %d: %s", a->scene, f, scene_host_error(&c->host));
         c->rec.nonfinite_outputs += run_record_bbox(&c->rec, c->host.positions, c->host.info.n_vertices);
         if (a->stats) { /* the stats' per-frame crossings and penetration: a check at every frame */
             if (weft_cloth_check_collisions(c->host.ctx, c->host.cloth, &chk) != WEFT_OK)
-                return fail(c, "%s: frame %d: collision check: %s", a->scene, f, run_host_error(&c->host));
+                return fail(c, "%s: frame %d: collision check: %s", a->scene, f, scene_host_error(&c->host));
             run_record_check(&c->rec, f - 1, &chk);
             checked = 1;
         }
@@ -282,7 +270,7 @@ static int simulate(run_ctx* c, const run_args* a) {
        the last frame when it made one) */
     if (rc == CLI_EXIT_OK) {
         if (!checked && weft_cloth_check_collisions(c->host.ctx, c->host.cloth, &chk) != WEFT_OK)
-            return fail(c, "%s: collision check: %s", a->scene, run_host_error(&c->host));
+            return fail(c, "%s: collision check: %s", a->scene, scene_host_error(&c->host));
         c->rec.self_intersections = chk.self_intersections;
         c->rec.max_penetration = chk.max_penetration;
     }
@@ -290,7 +278,7 @@ static int simulate(run_ctx* c, const run_args* a) {
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, -2, -2, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2};
+    run_args a = {NULL, -1, -1, -1, -1, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 
@@ -300,18 +288,22 @@ int cli_run_run(int argc, char** argv) {
     weft_status st = scene_load(&c.sc, a.scene, &d);
     if (st != WEFT_OK) return fail(NULL, "%s", d.message[0] ? d.message : weft_status_string(st));
     if (a.frames >= 0) c.sc.frames = a.frames;
-    if (a.solver >= 0) c.sc.sim.solver.type = (wc_solver_type)a.solver;
-    if (a.threads >= 0) c.sc.sim.threads = a.threads;
-    if (a.integrator > -2) c.sc.integrator = a.integrator;
-    if (a.precond > -2) c.sc.preconditioner = a.precond;
-    if (a.newton > 0) c.sc.newton_iterations = a.newton;
-    if (a.line_search > -2) c.sc.line_search = a.line_search;
-    if (a.self_collision > -2) c.sc.self_collision = a.self_collision;
-    cli_blas_threads(c.sc.sim.threads); /* CHOLMOD's BLAS: as many threads as the run (0: its own) */
+    weft_cloth_def* def = &c.sc.def;
+    if (a.solver >= 0) def->solver = (weft_solver)a.solver;
+    if (a.threads >= 0) c.sc.threads = a.threads;
+    if (a.integrator >= 0) def->integrator = (weft_integrator)a.integrator;
+    if (a.precond >= 0) def->preconditioner = (weft_preconditioner)a.precond;
+    if (a.newton > 0) def->newton_iterations = a.newton;
+    if (a.line_search > -2) def->line_search = a.line_search;
+    if (a.self_collision > -2) def->self_collision = a.self_collision;
+    cli_blas_threads(c.sc.threads); /* CHOLMOD's BLAS: as many threads as the run (0: its own) */
 
     char msg[1024];
-    const run_host_opts opts = {a.backend, c.sc.sim.threads};
-    if (run_host_create(&c.host, &c.sc, &opts, a.scene, msg, sizeof msg) != WEFT_OK) {
+    scene_host_opts opts;
+    memset(&opts, 0, sizeof opts);
+    opts.backend = a.backend;
+    opts.threads = c.sc.threads;
+    if (scene_host_create(&c.host, &c.sc, &opts, a.scene, msg, sizeof msg) != WEFT_OK) {
         rc = fail(NULL, "%s", msg);
     } else if (run_record_init(&c.rec, c.sc.frames) != 0) {
         rc = fail(NULL, "%s: out of memory", a.scene);
@@ -325,7 +317,7 @@ int cli_run_run(int argc, char** argv) {
                                in->n_particles,
                                in->n_triangles,
                                in->n_springs[0] + in->n_springs[1] + in->n_springs[2],
-                               wc_solver_name(c.sc.sim.solver.type),
+                               cli_solver_name(def->solver),
                                /* what the library resolved the scene's choices (or its defaults) to */
                                in->preconditioner == WEFT_PRECOND_AMG ? "amg" : "block_jacobi",
                                in->integrator == WEFT_INTEGRATOR_BDF2     ? "bdf2"
@@ -334,8 +326,8 @@ int cli_run_run(int argc, char** argv) {
                                in->newton_iterations,
                                in->line_search,
                                weft_context_backend(c.host.ctx) == WEFT_BACKEND_GPU ? "gpu" : "cpu",
-                               c.sc.sim.substeps,
-                               resolved_threads(c.sc.sim.threads),
+                               def->substeps,
+                               in->threads,
                                c.sc.fps,
                                a.out,
                                a.render,

@@ -1,11 +1,11 @@
 /* `weft run`: what the frame loop records, and its outputs (OBJ frames, the stats JSON, the
- * summary table). cmd_run.c drives the simulation through the public API (run_host.c);
+ * summary table). cmd_run.c drives the simulation through the public API (host/scene_host.c);
  * run_record.c accumulates, run_output.c and run_summary.c write. */
 #ifndef WEFT_CLI_RUN_H
 #define WEFT_CLI_RUN_H
 #include <stdio.h>
 
-#include "source_mesh.h"
+#include "scene_types.h"
 #include "weft/weft.h"
 
 enum { RUN_STAGES = 6 };   /* forces, assemble, solve, collide, integrate, total */
@@ -92,7 +92,7 @@ double run_mean_iterations(const run_record* r);
 
 /* One frame as OBJ: `v` lines for the n_verts host positions (n_verts x 3, m), then the source
  * polygons as 1-based `f` lines. 0, or -1 when the file cannot be written. */
-int run_write_obj(const char* path, const float* pos, const wc_source_mesh* src, int frame, double time);
+int run_write_obj(const char* path, const float* pos, const scene_mesh* mesh, int frame, double time);
 /* The stats JSON (keys in sample_scenes/README.md). 0, or -1 (cannot write / out of memory). */
 int run_write_stats(const char* path, const run_info* info, const run_record* rec);
 void run_print_summary(FILE* out, const run_info* info, const run_record* rec);

@@ -18,19 +18,19 @@ static const char* fmt_float(char* buf, float v) {
     return buf;
 }
 
-int run_write_obj(const char* path, const float* pos, const wc_source_mesh* src, int frame, double time) {
+int run_write_obj(const char* path, const float* pos, const scene_mesh* mesh, int frame, double time) {
     FILE* f = fopen(path, "w");
     if (!f) return -1;
-    fprintf(f, "# weft frame %d, t = %.9g s: %d vertices, %d polygons (metres, Y up)\n", frame, time, src->n_verts,
-            src->n_polys);
+    fprintf(f, "# weft frame %d, t = %.9g s: %d vertices, %d polygons (metres, Y up)\n", frame, time, mesh->n_vertices,
+            mesh->n_faces);
     char a[32], b[32], c[32];
-    for (int v = 0; v < src->n_verts; ++v) {
+    for (int v = 0; v < mesh->n_vertices; ++v) {
         const float* p = pos + 3 * (size_t)v;
         fprintf(f, "v %s %s %s\n", fmt_float(a, p[0]), fmt_float(b, p[1]), fmt_float(c, p[2]));
     }
-    for (int q = 0; q < src->n_polys; ++q) {
+    for (int q = 0; q < mesh->n_faces; ++q) {
         fputc('f', f);
-        for (int k = src->poly_start[q]; k < src->poly_start[q + 1]; ++k) fprintf(f, " %d", src->poly_verts[k] + 1);
+        for (int k = mesh->face_start[q]; k < mesh->face_start[q + 1]; ++k) fprintf(f, " %d", mesh->indices[k] + 1);
         fputc('\n', f);
     }
     int bad = ferror(f);

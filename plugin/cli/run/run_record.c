@@ -1,6 +1,7 @@
 /* `weft run`: accumulating the per-frame statistics, and their summaries. */
 #include "run.h"
-#include "sort.h"
+
+#include "cli.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -112,7 +113,7 @@ run_summary_stats run_summarise(const double* values, int n, int stride, double*
         scratch[i] = values[(size_t)i * stride];
         sum += scratch[i];
     }
-    s.median = wc_sort_median(scratch, n);   /* sorts scratch: p95 and max read it below */
+    s.median = cli_sort_median(scratch, n);   /* sorts scratch: p95 and max read it below */
     int rank = (int)ceil(0.95 * n);   /* nearest rank */
     s.p95 = scratch[(rank > 0 ? rank : 1) - 1];
     s.mean = sum / n;

@@ -7,39 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "names.h"
 #include "scene_mesh.h"
 #include "scene_parts.h"
+#include "scene_path.h"
 
 /* Largest counts a scene may ask for (guards against typos such as 1e9 frames). */
 enum { MAX_FRAMES = 100000000, MAX_SUBSTEPS = 100000, MAX_ITERATIONS = 100000000, MAX_THREADS = 1024 };
-
-char* scene_strdup(const char* s) {
-    size_t n = strlen(s) + 1;
-    char* d = malloc(n);
-    if (d) memcpy(d, s, n);
-    return d;
-}
-
-/* name's folder joined with file, or file itself when absolute or name has no folder. */
-static char* resolve_path(const char* name, const char* file) {
-    const char* slash = strrchr(name, '/');
-    if (file[0] == '/' || !slash) return scene_strdup(file);
-    size_t dir = (size_t)(slash - name) + 1, n = strlen(file) + 1;
-    char* out = malloc(dir + n);
-    if (!out) return NULL;
-    memcpy(out, name, dir);
-    memcpy(out + dir, file, n);
-    return out;
-}
-
-char* scene_resolve_path(const char* name, const char* file) { return resolve_path(name, file); }
-
-int scene_require(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const char* hint) {
-    if (sj_get(obj, key)) return 0;
-    char path[160];
-    sj_join(path, sizeof path, parent, key);
-    return sj_fail(c, path, "missing%s%s", hint ? " " : "", hint ? hint : "");
-}
 
 static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     const cJSON* mesh = sj_get(root, "mesh");
@@ -52,18 +26,18 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     if (has_file == has_grid)
         return sj_fail(c, "mesh", has_file ? "give either \"file\" or \"grid\", not both"
                                            : "needs \"file\" or \"grid\"");
-    if (sj_number(c, mesh, "mesh", "weld_tolerance", SJ_NONNEGATIVE, &s->model_def.weld_tolerance) < 0)
+    if (sj_number(c, mesh, "mesh", "weld_tolerance", SJ_NONNEGATIVE, &s->def.weld_tolerance) < 0)
         return -1;
-    if (s->model_def.weld_tolerance > 1)
+    if (s->def.weld_tolerance > 1)
         return sj_fail(c, "mesh.weld_tolerance", "must be in [0, 1] (a fraction of the bounding-box diagonal), not %g",
-                       s->model_def.weld_tolerance);
+                       s->def.weld_tolerance);
     if (has_file) {
         const char* file = NULL;
         const char* select = NULL;
         if (sj_string(c, mesh, "mesh", "file", &file) < 0) return -1;
         if (sj_number(c, mesh, "mesh", "scale", SJ_POSITIVE, &s->mesh_scale) < 0) return -1;
         if (sj_string(c, mesh, "mesh", "select", &select) < 0) return -1;
-        s->mesh_file = resolve_path(c->file, file);
+        s->mesh_file = scene_resolve_path(c->file, file);
         if (select) s->mesh_select = scene_strdup(select);
         if (!s->mesh_file || (select && !s->mesh_select))
             return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
@@ -76,7 +50,7 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     static const char* const gkeys[] = {"n", "size"};
     if (sj_check_object(c, grid, "mesh.grid", gkeys, COUNT(gkeys)) < 0) return -1;
     const cJSON* n = sj_get(grid, "n");
-    if (scene_require(c, grid, "mesh.grid", "n", "([NX, NZ] vertices along X and Z)") < 0) return -1;
+    if (sj_require(c, grid, "mesh.grid", "n", "([NX, NZ] vertices along X and Z)") < 0) return -1;
     if (!cJSON_IsArray(n) || cJSON_GetArraySize(n) != 2)
         return sj_fail(c, "mesh.grid.n", "must be an array of 2 integers >= 2, not %s", sj_type_name(n));
     for (int k = 0; k < 2; ++k) {
@@ -92,7 +66,7 @@ static int parse_mesh(const sj_ctx* c, const cJSON* root, scene* s) {
     if ((long long)s->grid_n[0] * s->grid_n[1] > SCENE_GRID_MAX_VERTICES)
         return sj_fail(c, "mesh.grid.n", "%d x %d vertices is more than %d", s->grid_n[0], s->grid_n[1],
                        SCENE_GRID_MAX_VERTICES);
-    if (scene_require(c, grid, "mesh.grid", "size", "([SX, SZ] metres)") < 0) return -1;
+    if (sj_require(c, grid, "mesh.grid", "size", "([SX, SZ] metres)") < 0) return -1;
     if (sj_numbers(c, grid, "mesh.grid", "size", 2, s->grid_size) < 0) return -1;
     for (int k = 0; k < 2; ++k)
         if (!(s->grid_size[k] > 0)) {
@@ -127,8 +101,8 @@ static int parse_spring_values(const sj_ctx* c, const cJSON* mat, const char* ke
     if (sj_check_object(c, obj, path, keys, COUNT(keys)) < 0) return -1;
     /* Stiffness: stretch > 0 (a sheet without it has no shape); shear and bend may be 0.
      * Damping: >= 0 for every type. */
-    for (int t = 0; t < WC_SPRING_MESH_TYPES; ++t) {
-        sj_range range = (key[0] == 'k' && t == WC_SPRING_STRETCH) ? SJ_POSITIVE : SJ_NONNEGATIVE;
+    for (int t = 0; t < 3; ++t) {   /* keys[] in weft_spring_type's order */
+        sj_range range = (key[0] == 'k' && t == WEFT_SPRING_STRETCH) ? SJ_POSITIVE : SJ_NONNEGATIVE;
         if (sj_number(c, obj, path, keys[t], range, &values[t]) < 0) return -1;
     }
     return 0;
@@ -143,24 +117,11 @@ static int parse_material(const sj_ctx* c, const cJSON* root, scene* s) {
     if (sj_get(mat, "uniform_mass"))   /* the public API lumps mass by area only */
         return sj_fail(c, "material.uniform_mass", "is no longer supported (the public API has no per-particle "
                                                    "mass): give material.density in kg/m^2");
-    wc_material* m = &s->model_def.material;
+    weft_material* m = &s->def.material;
     if (sj_number(c, mat, "material", "density", SJ_POSITIVE, &m->density) < 0) return -1;
-    if (parse_spring_values(c, mat, "k", m->k) < 0) return -1;
-    if (parse_spring_values(c, mat, "d", m->d) < 0) return -1;
+    if (parse_spring_values(c, mat, "k", m->stiffness) < 0) return -1;
+    if (parse_spring_values(c, mat, "d", m->damping) < 0) return -1;
     return 0;
-}
-
-int scene_axis_vector(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, double* v) {
-    int r = sj_numbers(c, obj, parent, key, 3, v);
-    if (r <= 0) return r;
-    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (!(len > 1e-300) || !isfinite(len)) {
-        char path[128];
-        sj_join(path, sizeof path, parent, key);
-        return sj_fail(c, path, "must be a nonzero vector");
-    }
-    for (int k = 0; k < 3; ++k) v[k] /= len;
-    return 1;
 }
 
 static int parse_wind(const sj_ctx* c, const cJSON* root, scene* s) {
@@ -169,9 +130,9 @@ static int parse_wind(const sj_ctx* c, const cJSON* root, scene* s) {
     if (r <= 0) return r;
     static const char* const keys[] = {"velocity", "normal_drag", "tangent_drag"};
     if (sj_check_object(c, wind, "wind", keys, COUNT(keys)) < 0) return -1;
-    if (sj_numbers(c, wind, "wind", "velocity", 3, s->sim.air.wind) < 0) return -1;
-    if (sj_number(c, wind, "wind", "normal_drag", SJ_NONNEGATIVE, &s->sim.air.normal_drag) < 0) return -1;
-    if (sj_number(c, wind, "wind", "tangent_drag", SJ_NONNEGATIVE, &s->sim.air.tangent_drag) < 0) return -1;
+    if (sj_numbers(c, wind, "wind", "velocity", 3, s->def.wind) < 0) return -1;
+    if (sj_number(c, wind, "wind", "normal_drag", SJ_NONNEGATIVE, &s->def.air_drag_normal) < 0) return -1;
+    if (sj_number(c, wind, "wind", "tangent_drag", SJ_NONNEGATIVE, &s->def.air_drag_tangent) < 0) return -1;
     return 0;
 }
 
@@ -185,32 +146,31 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
     const char* type = NULL;
     if (sj_string(c, solver, "solver", "type", &type) < 0) return -1;
     if (type) {
-        int t = wc_solver_from_name(type);
+        int t = cli_solver_from_name(type);
         if (t < 0)
             return sj_fail(c, "solver.type", "unknown solver \"%s\" (expected pcg, jacobi, chebyshev or direct)",
                            type);
-        s->sim.solver.type = (wc_solver_type)t;
+        s->def.solver = (weft_solver)t;
     }
-    if (sj_number(c, solver, "solver", "tolerance", SJ_NONNEGATIVE, &s->sim.solver.tolerance) < 0) return -1;
-    if (!(s->sim.solver.tolerance < 1))
-        return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual), not %g", s->sim.solver.tolerance);
-    if (sj_int(c, solver, "solver", "max_iterations", 1, MAX_ITERATIONS, &s->sim.solver.max_iterations) < 0)
-        return -1;
+    if (sj_number(c, solver, "solver", "tolerance", SJ_NONNEGATIVE, &s->def.tolerance) < 0) return -1;
+    if (!(s->def.tolerance < 1))
+        return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual), not %g", s->def.tolerance);
+    if (sj_int(c, solver, "solver", "max_iterations", 1, MAX_ITERATIONS, &s->def.max_iterations) < 0) return -1;
     const char* pre = NULL;
     if (sj_string(c, solver, "solver", "preconditioner", &pre) < 0) return -1;
     if (pre) {
-        int p = strcmp(pre, "default") == 0 ? -1 : wc_precond_from_name(pre);
-        if (p < 0 && strcmp(pre, "default") != 0)
+        int p = strcmp(pre, "default") == 0 ? WEFT_PRECOND_DEFAULT : cli_precond_from_name(pre);
+        if (p < 0)
             return sj_fail(c, "solver.preconditioner",
                            "unknown preconditioner \"%s\" (expected block_jacobi, amg or default)", pre);
-        s->preconditioner = p;
+        s->def.preconditioner = (weft_preconditioner)p;
     }
-    if (sj_int(c, solver, "solver", "newton_iterations", 1, 100, &s->newton_iterations) < 0) return -1;
+    if (sj_int(c, solver, "solver", "newton_iterations", 1, 100, &s->def.newton_iterations) < 0) return -1;
     const cJSON* ls = cJSON_GetObjectItemCaseSensitive(solver, "line_search");
     if (ls) {
         if (!cJSON_IsBool(ls))
             return sj_fail(c, "solver.line_search", "must be true or false, not %s", sj_type_name(ls));
-        s->line_search = cJSON_IsTrue(ls) ? 1 : 0;
+        s->def.line_search = cJSON_IsTrue(ls) ? 1 : 0;
     }
     return 0;
 }
@@ -224,13 +184,13 @@ static int parse_time(const sj_ctx* c, const cJSON* root, scene* s) {
     const char* integ = NULL;
     if (sj_string(c, time, "time", "integrator", &integ) < 0) return -1;
     if (integ) {
-        int t = strcmp(integ, "default") == 0 ? -1 : wc_integrator_from_name(integ);
-        if (t < 0 && strcmp(integ, "default") != 0)
+        int t = strcmp(integ, "default") == 0 ? WEFT_INTEGRATOR_DEFAULT : cli_integrator_from_name(integ);
+        if (t < 0)
             return sj_fail(c, "time.integrator", "unknown integrator \"%s\" (expected be, bdf2, trbdf2 or default)", integ);
-        s->integrator = t;
+        s->def.integrator = (weft_integrator)t;
     }
     if (sj_number(c, time, "time", "fps", SJ_POSITIVE, &s->fps) < 0) return -1;
-    if (sj_int(c, time, "time", "substeps", 1, MAX_SUBSTEPS, &s->sim.substeps) < 0) return -1;
+    if (sj_int(c, time, "time", "substeps", 1, MAX_SUBSTEPS, &s->def.substeps) < 0) return -1;
     if (sj_int(c, time, "time", "frames", 0, MAX_FRAMES, &s->frames) < 0) return -1;
     return 0;
 }
@@ -241,9 +201,9 @@ static int parse_self_collision(const sj_ctx* c, const cJSON* root, scene* s) {
     if (on) {
         if (!cJSON_IsBool(on))
             return sj_fail(c, "self_collision", "must be true or false, not %s", sj_type_name(on));
-        s->self_collision = cJSON_IsTrue(on) ? 1 : 0;
+        s->def.self_collision = cJSON_IsTrue(on) ? 1 : 0;
     }
-    return sj_number(c, root, "", "self_thickness", SJ_POSITIVE, &s->sim.self_thickness) < 0 ? -1 : 0;
+    return sj_number(c, root, "", "self_thickness", SJ_POSITIVE, &s->def.self_collision_thickness) < 0 ? -1 : 0;
 }
 
 /* Everything except the mesh contents and the pin ranges. */
@@ -259,10 +219,10 @@ static int parse_root(const sj_ctx* c, const cJSON* root, scene* s) {
         scene_parse_pins(c, root, s) < 0 || scene_parse_colliders(c, root, s) < 0 ||
         scene_parse_object(c, root, s) < 0 || scene_parse_camera(c, root, s) < 0)
         return -1;
-    if (sj_numbers(c, root, "", "gravity", 3, s->sim.gravity) < 0 || parse_wind(c, root, s) < 0) return -1;
-    if (sj_number(c, root, "", "strain_limit", SJ_NONNEGATIVE, &s->sim.strain_limit) < 0) return -1;
+    if (sj_numbers(c, root, "", "gravity", 3, s->def.gravity) < 0 || parse_wind(c, root, s) < 0) return -1;
+    if (sj_number(c, root, "", "strain_limit", SJ_NONNEGATIVE, &s->def.strain_limit) < 0) return -1;
     if (parse_solver(c, root, s) < 0 || parse_time(c, root, s) < 0) return -1;
-    if (sj_int(c, root, "", "threads", 0, MAX_THREADS, &s->sim.threads) < 0) return -1;
+    if (sj_int(c, root, "", "threads", 0, MAX_THREADS, &s->threads) < 0) return -1;
     return parse_self_collision(c, root, s);
 }
 
@@ -305,13 +265,7 @@ weft_status scene_parse(scene* out, const char* text, size_t len, const char* na
 
     scene* s = out;
     s->mesh_scale = 1.0;
-    s->model_def = wc_default_model_def();
-    s->sim = wc_default_sim_def();
-    s->preconditioner = -1;
-    s->integrator = -1;
-    s->newton_iterations = 0;
-    s->line_search = -1;
-    s->self_collision = -1;
+    s->def = weft_default_cloth_def();   /* the library's defaults where the scene says nothing */
     s->fps = SCENE_DEFAULT_FPS;
     s->frames = SCENE_DEFAULT_FRAMES;
     sj_ctx c = {name, diag};
@@ -377,13 +331,12 @@ void scene_free(scene* s) {
     if (!s) return;
     free(s->mesh_file);
     free(s->mesh_select);
-    wc_source_mesh_free(&s->src);
+    scene_mesh_free(&s->mesh);
     for (int i = 0; i < s->n_pins; ++i) free(s->pins[i].vertices);
     free(s->pins);
     for (int i = 0; i < s->n_pin_groups; ++i) free(s->pin_groups[i].vertices);
     free(s->pin_groups);
     free(s->colliders);
-    free(s->collider_motion);
     scene_free_mesh_colliders(s);
     free(s->object.teleports);
     free(s->seam_a);

@@ -22,7 +22,7 @@ int scene_parse_camera(const sj_ctx* c, const cJSON* root, scene* s) {
                        "missing (give both \"eye\" and \"target\", or neither for automatic framing)");
     if (sj_numbers(c, obj, "camera", "eye", 3, cam->eye) < 0) return -1;
     if (sj_numbers(c, obj, "camera", "target", 3, cam->target) < 0) return -1;
-    if (scene_axis_vector(c, obj, "camera", "up", cam->up) < 0) return -1;
+    if (sj_unit_vector(c, obj, "camera", "up", cam->up) < 0) return -1;
     if (sj_number(c, obj, "camera", "fov_deg", SJ_POSITIVE, &cam->fov_deg) < 0) return -1;
     if (!(cam->fov_deg < 180)) return sj_fail(c, "camera.fov_deg", "must be in (0, 180), not %g", cam->fov_deg);
     if (sj_int(c, obj, "camera", "width", 1, SCENE_MAX_IMAGE_SIDE, &cam->width) < 0) return -1;

@@ -154,3 +154,23 @@ int sj_array(const sj_ctx* c, const cJSON* obj, const char* parent, const char* 
     *out = v;
     return 1;
 }
+
+int sj_require(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const char* hint) {
+    if (sj_get(obj, key)) return 0;
+    char path[160];
+    sj_join(path, sizeof path, parent, key);
+    return sj_fail(c, path, "missing%s%s", hint ? " " : "", hint ? hint : "");
+}
+
+int sj_unit_vector(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, double* v) {
+    int r = sj_numbers(c, obj, parent, key, 3, v);
+    if (r <= 0) return r;
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(len > 1e-300) || !isfinite(len)) {
+        char path[128];
+        sj_join(path, sizeof path, parent, key);
+        return sj_fail(c, path, "must be a nonzero vector");
+    }
+    for (int k = 0; k < 3; ++k) v[k] /= len;
+    return 1;
+}

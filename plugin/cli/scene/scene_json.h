@@ -48,6 +48,11 @@ int sj_object(const sj_ctx* c, const cJSON* obj, const char* parent, const char*
 /* Array (returned pointer borrowed), any length. */
 int sj_array(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const cJSON** out);
 
+/* "PARENT.KEY: missing[ hint]" unless obj has key; 0 or -1. */
+int sj_require(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, const char* hint);
+/* An optional nonzero 3-vector, normalised to unit length. */
+int sj_unit_vector(const sj_ctx* c, const cJSON* obj, const char* parent, const char* key, double* v);
+
 /* Name of a JSON value's type for messages ("a string", "an array", ...). */
 const char* sj_type_name(const cJSON* v);
 

@@ -7,7 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene_mesh.h"
 #include "scene_parts.h"
+#include "scene_path.h"
 #include "scene_xform.h"
 
 /* A pattern with exactly one integer conversion (%d, %Nd or %0Nd, N at most 3 digits) and no
@@ -29,15 +31,11 @@ static int pattern_ok(const char* p) {
     return conv == 1;
 }
 
+/* The file as the library will read it (weft_mesh_read): its vertices in metres. */
 static int import_positions(const sj_ctx* c, const char* field, const char* file, const scene_mesh_collider* m,
-                            wc_source_mesh* src) {
-    wc_import_opts o = wc_default_import_opts();
-    o.scale = m->scale;
-    o.select = m->select;
-    wc_diag d = {0};
-    memset(src, 0, sizeof *src);
-    weft_status st = (weft_status)wc_import_file(src, NULL, file, &o, &d);
-    if (st != WEFT_OK) return sj_fail(c, field, "%s", d.message);
+                            scene_mesh* src) {
+    cli_diag d = {0};
+    if (scene_mesh_read(src, file, m->select, m->scale, &d) != WEFT_OK) return sj_fail(c, field, "%s", d.message);
     return 0;
 }
 
@@ -49,9 +47,9 @@ static int parse_frames(const sj_ctx* c, const cJSON* fr, const char* path, scen
     const char* pattern = NULL;
     int first = 0, count = 0;
     m->frames_fps = 0.0;
-    if (scene_require(c, fr, field, "pattern", "(a printf pattern such as \"body_%04d.obj\")") < 0) return -1;
-    if (scene_require(c, fr, field, "count", NULL) < 0) return -1;
-    if (scene_require(c, fr, field, "fps", NULL) < 0) return -1;
+    if (sj_require(c, fr, field, "pattern", "(a printf pattern such as \"body_%04d.obj\")") < 0) return -1;
+    if (sj_require(c, fr, field, "count", NULL) < 0) return -1;
+    if (sj_require(c, fr, field, "fps", NULL) < 0) return -1;
     if (sj_string(c, fr, field, "pattern", &pattern) < 0) return -1;
     if (sj_int(c, fr, field, "first", 0, 100000000, &first) < 0) return -1;
     if (sj_int(c, fr, field, "count", 1, 100000, &count) < 0) return -1;
@@ -66,7 +64,7 @@ static int parse_frames(const sj_ctx* c, const cJSON* fr, const char* path, scen
         char* file = scene_resolve_path(c->file, name);
         if (!file) return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
         snprintf(where, sizeof where, "%s (frame file %s)", pf, name);
-        wc_source_mesh src;
+        scene_mesh src;
         if (import_positions(c, where, file, m, &src) < 0) {
             free(file);
             return -1;
@@ -74,25 +72,25 @@ static int parse_frames(const sj_ctx* c, const cJSON* fr, const char* path, scen
         if (k == 0 && !has_file) {
             m->file = file;
             file = NULL;
-            m->n_verts = src.n_verts;
+            m->n_verts = src.n_vertices;
         }
         free(file);
-        if (src.n_verts != m->n_verts) {
-            int nv = src.n_verts;
-            wc_source_mesh_free(&src);
+        if (src.n_vertices != m->n_verts) {
+            int nv = src.n_vertices;
+            scene_mesh_free(&src);
             return sj_fail(c, where, "has %d vertices, the collider's mesh %d (every frame needs the same vertices)", nv,
                            m->n_verts);
         }
         if (!m->frames) {
             m->frames = malloc(sizeof(double) * 3 * (size_t)m->n_verts * (size_t)count);
             if (!m->frames) {
-                wc_source_mesh_free(&src);
+                scene_mesh_free(&src);
                 return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
             }
         }
-        memcpy(m->frames + 3 * (size_t)m->n_verts * k, src.pos, sizeof(double) * 3 * (size_t)m->n_verts);
+        memcpy(m->frames + 3 * (size_t)m->n_verts * k, src.positions, sizeof(double) * 3 * (size_t)m->n_verts);
         m->n_frames = k + 1;
-        wc_source_mesh_free(&src);
+        scene_mesh_free(&src);
     }
     return 0;
 }
@@ -139,10 +137,10 @@ int scene_parse_mesh_collider(const sj_ctx* c, const cJSON* item, const char* pa
         sj_join(field, sizeof field, path, "file");
         if (!(m->file = scene_resolve_path(c->file, file)))
             return cli_fail(c->diag, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", c->file), -1;
-        wc_source_mesh src;
+        scene_mesh src;
         if (import_positions(c, field, m->file, m, &src) < 0) return -1;
-        m->n_verts = src.n_verts;
-        wc_source_mesh_free(&src);
+        m->n_verts = src.n_vertices;
+        scene_mesh_free(&src);
     }
     if (fr) {
         if (!cJSON_IsObject(fr)) {

@@ -20,8 +20,8 @@ static int parse_teleports(const sj_ctx* c, const cJSON* obj, scene_object* o) {
         snprintf(path, sizeof path, "object.teleport[%d]", o->n_teleports);
         scene_teleport* t = &o->teleports[o->n_teleports];
         if (sj_check_object(c, it, path, keys, COUNT(keys)) < 0) return -1;
-        if (scene_require(c, it, path, "frame", "(the frame it happens in, an integer >= 1)") < 0) return -1;
-        if (scene_require(c, it, path, "translate", "([x, y, z] metres)") < 0) return -1;
+        if (sj_require(c, it, path, "frame", "(the frame it happens in, an integer >= 1)") < 0) return -1;
+        if (sj_require(c, it, path, "translate", "([x, y, z] metres)") < 0) return -1;
         if (sj_int(c, it, path, "frame", 1, MAX_TELEPORT_FRAME, &t->frame) < 0) return -1;
         if (sj_numbers(c, it, path, "translate", 3, t->translate) < 0) return -1;
         if (o->n_teleports > 0 && t->frame <= o->teleports[o->n_teleports - 1].frame) {

@@ -38,13 +38,13 @@ static int parse_select(const sj_ctx* c, const cJSON* sel, const char* path, sce
     const char* axis = NULL;
     const char* side = NULL;
     sj_join(sub, sizeof sub, field, "axis");
-    if (scene_require(c, sel, field, "axis", "(\"x\", \"y\" or \"z\")") < 0) return -1;
+    if (sj_require(c, sel, field, "axis", "(\"x\", \"y\" or \"z\")") < 0) return -1;
     if (sj_string(c, sel, field, "axis", &axis) < 0) return -1;
     if (strlen(axis) != 1 || axis[0] < 'x' || axis[0] > 'z')
         return sj_fail(c, sub, "must be \"x\", \"y\" or \"z\", not \"%s\"", axis);
     p->select_axis = axis[0] - 'x';
     sj_join(sub, sizeof sub, field, "side");
-    if (scene_require(c, sel, field, "side", "(\"max\" or \"min\")") < 0) return -1;
+    if (sj_require(c, sel, field, "side", "(\"max\" or \"min\")") < 0) return -1;
     if (sj_string(c, sel, field, "side", &side) < 0) return -1;
     if (strcmp(side, "max") != 0 && strcmp(side, "min") != 0)
         return sj_fail(c, sub, "must be \"max\" or \"min\", not \"%s\"", side);
@@ -65,7 +65,7 @@ static int parse_pin(const sj_ctx* c, const cJSON* item, const char* path, scene
     if (!verts == !sel)
         return sj_fail(c, path, verts ? "give either \"vertices\" or \"select\", not both"
                                       : "needs \"vertices\" or \"select\"");
-    if (scene_axis_vector(c, item, path, "free_axis", p->free_axis) < 0) return -1;
+    if (sj_unit_vector(c, item, path, "free_axis", p->free_axis) < 0) return -1;
     const cJSON* motion = sj_get(item, "motion");
     if (motion && sj_get(item, "velocity")) {
         char field[128];
@@ -104,7 +104,7 @@ static int same_group(const scene_pin* p, const scene_pin_group* g) {
 
 weft_status scene_group_pins(scene* s, const char* name, cli_diag* diag) {
     if (s->n_pins == 0) return WEFT_OK;
-    const int nv = s->src.n_verts;
+    const int nv = s->mesh.n_vertices;
     int* owner = malloc(sizeof(int) * (size_t)(nv > 0 ? nv : 1));     /* pins entry of each vertex */
     int* group_of = malloc(sizeof(int) * (size_t)s->n_pins);           /* group of each entry */
     s->pin_groups = calloc((size_t)s->n_pins, sizeof(scene_pin_group));

@@ -1,13 +1,13 @@
-/* Scene sewing (sew.h): mesh.sew_distance (m, >= 0), mesh.seams ([[a, b], ...], host vertex
- * indices of the mesh, a != b) and mesh.seam_close_time (s, >= 0), read into model_def; indices
- * are checked against the mesh once it is made. */
+/* Scene sewing (README "Sewing"): mesh.sew_distance (m, >= 0), mesh.seams ([[a, b], ...], host
+ * vertex indices of the mesh, a != b) and mesh.seam_close_time (s, >= 0), read into the cloth
+ * def; indices are checked against the mesh once it is made. */
 #include <stdio.h>
 #include <stdlib.h>
 #include "scene_parts.h"
 
 int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s) {
-    if (sj_number(c, mesh, "mesh", "sew_distance", SJ_NONNEGATIVE, &s->model_def.sew_distance) < 0) return -1;
-    if (sj_number(c, mesh, "mesh", "seam_close_time", SJ_NONNEGATIVE, &s->model_def.seam_close_time) < 0) return -1;
+    if (sj_number(c, mesh, "mesh", "sew_distance", SJ_NONNEGATIVE, &s->def.sew_distance) < 0) return -1;
+    if (sj_number(c, mesh, "mesh", "seam_close_time", SJ_NONNEGATIVE, &s->def.seam_close_time) < 0) return -1;
     const cJSON* list = NULL;
     int r = sj_array(c, mesh, "mesh", "seams", &list);
     if (r <= 0) return r;
@@ -34,19 +34,19 @@ int scene_parse_seams(const sj_ctx* c, const cJSON* mesh, scene* s) {
         s->seam_a[i] = v[0];
         s->seam_b[i] = v[1];
     }
-    s->model_def.n_seam_pairs = n;
-    s->model_def.seam_a = s->seam_a;
-    s->model_def.seam_b = s->seam_b;
+    s->def.n_seams = n;
+    s->def.seam_a = s->seam_a;
+    s->def.seam_b = s->seam_b;
     return 0;
 }
 
 weft_status scene_check_seams(const scene* s, const char* name, cli_diag* diag) {
-    for (int i = 0; i < s->model_def.n_seam_pairs; ++i)
+    for (int i = 0; i < s->def.n_seams; ++i)
         for (int k = 0; k < 2; ++k) {
             int v = k ? s->seam_b[i] : s->seam_a[i];
-            if (v >= s->src.n_verts)
+            if (v >= s->mesh.n_vertices)
                 return cli_fail(diag, WEFT_ERROR_SCENE, "%s: mesh.seams[%d]: vertex %d is outside the mesh's %d vertices",
-                               name, i, v, s->src.n_verts);
+                               name, i, v, s->mesh.n_vertices);
         }
     return WEFT_OK;
 }

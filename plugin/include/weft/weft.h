@@ -428,6 +428,8 @@ typedef struct weft_cloth_info {
     int self_collision;         /* 0 or 1 */
     double self_collision_thickness; /* m */
     double newton_forcing;      /* what the def's newton_forcing resolved to, in [0, 1) */
+    int threads;                /* OpenMP threads a call uses: weft_context_def.threads, or
+                                   OpenMP's default (the core count) for 0 */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);

@@ -1,36 +1,23 @@
-/* `weft run` as a host of the public API: scene -> context, cloth def, attachments, colliders;
+/* A scene as a host of the public API: scene -> context, cloth def, attachments, colliders;
  * scene motions -> per-frame transforms. */
-#include "run_host.h"
+#include "scene_host.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene_colliders.h"
 #include "scene_xform.h"
 
 static void capture_log(weft_log_level level, const char* message, void* user) {
-    run_host* h = user;
+    scene_host* h = user;
     if (level >= WEFT_LOG_ERROR) snprintf(h->log_error, sizeof h->log_error, "%s", message);
 }
 
-const char* run_host_error(const run_host* h) {
+const char* scene_host_error(const scene_host* h) {
     const char* m = h->ctx ? weft_context_last_error(h->ctx) : h->log_error;
     return m && m[0] ? m : "unknown error";
-}
-
-static weft_solver solver_of(wc_solver_type t) {
-    switch (t) {
-    case WC_SOLVER_JACOBI: return WEFT_SOLVER_JACOBI;
-    case WC_SOLVER_CHEBYSHEV: return WEFT_SOLVER_CHEBYSHEV;
-    case WC_SOLVER_DIRECT: return WEFT_SOLVER_DIRECT;
-    default: return WEFT_SOLVER_PCG;
-    }
-}
-
-static weft_collider_type collider_type_of(int t) {
-    return t == WC_COLLIDER_PLANE ? WEFT_COLLIDER_PLANE
-         : t == WC_COLLIDER_CAPSULE ? WEFT_COLLIDER_CAPSULE : WEFT_COLLIDER_SPHERE;
 }
 
 /* The mesh as the library will read it. A file goes by path, with the scene transform split
@@ -50,63 +37,30 @@ static int describe_mesh(const scene* s, weft_cloth_def* def, double placement[1
         return 0;
     }
     xf_identity(placement);
-    const wc_source_mesh* m = &s->src;
-    float* pos = malloc(sizeof(float) * 3 * (size_t)(m->n_verts > 0 ? m->n_verts : 1));
-    int* sizes = malloc(sizeof(int) * (size_t)(m->n_polys > 0 ? m->n_polys : 1));
+    const scene_mesh* m = &s->mesh;
+    float* pos = malloc(sizeof(float) * 3 * (size_t)(m->n_vertices > 0 ? m->n_vertices : 1));
+    int* sizes = malloc(sizeof(int) * (size_t)(m->n_faces > 0 ? m->n_faces : 1));
     if (!pos || !sizes) {
         free(pos);
         free(sizes);
         return -1;
     }
-    for (int i = 0; i < 3 * m->n_verts; ++i) pos[i] = (float)m->pos[i];
-    for (int q = 0; q < m->n_polys; ++q) sizes[q] = m->poly_start[q + 1] - m->poly_start[q];
+    for (int i = 0; i < 3 * m->n_vertices; ++i) pos[i] = (float)m->positions[i];
+    for (int q = 0; q < m->n_faces; ++q) sizes[q] = m->face_sizes[q];
     def->mesh.positions = pos;
-    def->mesh.n_vertices = m->n_verts;
+    def->mesh.n_vertices = m->n_vertices;
     def->mesh.face_sizes = sizes;
-    def->mesh.n_faces = m->n_polys;
-    def->mesh.indices = m->poly_verts;
+    def->mesh.n_faces = m->n_faces;
+    def->mesh.indices = m->indices;
     def->unit_scale = 1.0;
     *pos_out = pos;
     *sizes_out = sizes;
     return 0;
 }
 
+/* What a host sets itself beside the scene's cloth def: the frame length it steps at and the
+ * object's inertia. */
 static void describe_settings(const scene* s, weft_cloth_def* def) {
-    const wc_material* mat = &s->model_def.material;
-    def->weld_tolerance = s->model_def.weld_tolerance;
-    def->sew_distance = s->model_def.sew_distance;   /* sewing (sew.h): seams from mesh.seams */
-    def->sew_stiffness = 0.0;                         /* the stretch stiffness */
-    def->n_seams = s->model_def.n_seam_pairs;
-    def->seam_a = s->seam_a;
-    def->seam_b = s->seam_b;
-    def->seam_close_time = s->model_def.seam_close_time;
-    def->material.density = mat->density;
-    for (int t = 0; t < 3; ++t) {   /* WC_SPRING_* and WEFT_SPRING_* share the order */
-        def->material.stiffness[t] = mat->k[t];
-        def->material.damping[t] = mat->d[t];
-    }
-    for (int k = 0; k < 3; ++k) {
-        def->gravity[k] = s->sim.gravity[k];
-        def->wind[k] = s->sim.air.wind[k];
-    }
-    def->air_drag_normal = s->sim.air.normal_drag;
-    def->air_drag_tangent = s->sim.air.tangent_drag;
-    def->solver = solver_of(s->sim.solver.type);
-    def->tolerance = s->sim.solver.tolerance;
-    def->max_iterations = s->sim.solver.max_iterations;
-    def->preconditioner = s->preconditioner == WC_PRECOND_AMG            ? WEFT_PRECOND_AMG
-                          : s->preconditioner == WC_PRECOND_BLOCK_JACOBI ? WEFT_PRECOND_BLOCK_JACOBI
-                                                                         : WEFT_PRECOND_DEFAULT;
-    def->integrator = s->integrator == WC_INTEGRATOR_BDF2     ? WEFT_INTEGRATOR_BDF2
-                      : s->integrator == WC_INTEGRATOR_TRBDF2 ? WEFT_INTEGRATOR_TRBDF2
-                      : s->integrator == WC_INTEGRATOR_BE     ? WEFT_INTEGRATOR_BACKWARD_EULER
-                                                          : WEFT_INTEGRATOR_DEFAULT;
-    def->newton_iterations = s->newton_iterations;
-    def->line_search = s->line_search;
-    def->self_collision = s->self_collision;
-    def->self_collision_thickness = s->sim.self_thickness;
-    def->substeps = s->sim.substeps;
-    def->strain_limit = s->sim.strain_limit;
     if (def->max_frame_time < 1.0 / s->fps) def->max_frame_time = 1.0 / s->fps;
     def->linear_inertia = s->object.linear_inertia;
     def->angular_inertia = s->object.angular_inertia;
@@ -115,7 +69,7 @@ static void describe_settings(const scene* s, weft_cloth_def* def) {
 /* has_particle[v] = 1 for host vertices the library simulates. A vertex whose polygons were all
  * dropped (degenerate) has no particle; the library reports it with a zero normal, which a
  * vertex of a kept (non-degenerate) triangle never has. NULL when out of memory. */
-static unsigned char* simulated_vertices(run_host* h, weft_status* st) {
+static unsigned char* simulated_vertices(scene_host* h, weft_status* st) {
     const int n = h->info.n_vertices;
     float* normals = malloc(sizeof(float) * 3 * (size_t)(n > 0 ? n : 1));
     unsigned char* has = malloc((size_t)(n > 0 ? n : 1));
@@ -138,7 +92,7 @@ static unsigned char* simulated_vertices(run_host* h, weft_status* st) {
  * "select" chose is skipped when it has no particle (a "vertices" entry naming one is refused by
  * the library, with the vertex in the message). att: (n_attachments), its vertex lists are
  * allocated here (the caller frees them). *oom = 1 when out of memory. */
-static weft_status attach_pins(run_host* h, const scene* s, weft_attachment_def* att, int* oom) {
+static weft_status attach_pins(scene_host* h, const scene* s, weft_attachment_def* att, int* oom) {
     int any_select = 0;
     for (int i = 0; i < s->n_pins; ++i) any_select |= s->pins[i].from_select;
     const int n = h->info.n_vertices;
@@ -184,24 +138,27 @@ static void explain_attachment(const scene* s, const char* lib, char* note, size
 }
 
 /* Release h and return st (msg already written). */
-static weft_status give_up(run_host* h, weft_status st) {
-    run_host_destroy(h);
+static weft_status give_up(scene_host* h, weft_status st) {
+    scene_host_destroy(h);
     return st;
 }
 
-/* The scene's mesh colliders as defs (*out allocated, NULL when none) and h's per-frame arrays. */
-static int describe_mesh_colliders(run_host* h, const scene* s, weft_mesh_collider_def** out) {
+/* The scene's mesh colliders, then the opts' extra ones, as defs (*out allocated, NULL when
+ * none), and h's per-frame arrays (the extra ones' transforms: their defs'). */
+static int describe_mesh_colliders(scene_host* h, const scene* s, const scene_host_opts* opts,
+                                   weft_mesh_collider_def** out) {
     *out = NULL;
-    h->n_mesh = s->n_mesh_colliders;
+    h->n_scene_mesh = s->n_mesh_colliders;
+    h->n_mesh = s->n_mesh_colliders + opts->n_mesh_colliders;
     if (h->n_mesh == 0) return 0;
     int most = 1;
-    for (int i = 0; i < h->n_mesh; ++i)
+    for (int i = 0; i < s->n_mesh_colliders; ++i)
         if (s->mesh_colliders[i].n_verts > most) most = s->mesh_colliders[i].n_verts;
     *out = calloc((size_t)h->n_mesh, sizeof **out);
     h->mesh_xf = calloc(16 * (size_t)h->n_mesh, sizeof(float));
     h->mesh_verts = calloc(3 * (size_t)most, sizeof(float));
     if (!*out || !h->mesh_xf || !h->mesh_verts) return -1;
-    for (int i = 0; i < h->n_mesh; ++i) {
+    for (int i = 0; i < s->n_mesh_colliders; ++i) {
         const scene_mesh_collider* m = &s->mesh_colliders[i];
         weft_mesh_collider_def* d = &(*out)[i];
         *d = weft_default_mesh_collider_def();
@@ -213,11 +170,32 @@ static int describe_mesh_colliders(run_host* h, const scene* s, weft_mesh_collid
         d->friction = m->friction;
         if (m->push_speed >= 0) d->push_speed = m->push_speed;
     }
+    for (int i = 0; i < opts->n_mesh_colliders; ++i) {
+        (*out)[s->n_mesh_colliders + i] = opts->mesh_colliders[i];
+        memcpy(h->mesh_xf + 16 * (size_t)(s->n_mesh_colliders + i), opts->mesh_colliders[i].transform,
+               16 * sizeof(float));
+    }
     return 0;
 }
 
+/* The scene's colliders placed in the API's local conventions (col: n_colliders defs; their
+ * rest placements into h->collider_rest). */
+static void describe_colliders(scene_host* h, const scene* s, weft_collider_def* col) {
+    for (int i = 0; i < h->n_colliders; ++i) {
+        const scene_collider* c = &s->colliders[i];
+        double* rest = h->collider_rest + 16 * (size_t)i;
+        col[i] = weft_default_collider_def();
+        col[i].type = c->type;
+        scene_collider_placement(c, rest, &col[i].half_height);
+        if (c->type != WEFT_COLLIDER_PLANE) col[i].radius = c->radius;
+        col[i].thickness = c->thickness;
+        col[i].friction = c->friction;
+        xf_to_float(rest, col[i].transform);
+    }
+}
+
 /* Mesh collider i at time t: motion x transform, and (vertex animation) its vertices. */
-static void mesh_collider_frame(run_host* h, const scene* s, int i, double t) {
+static void mesh_collider_frame(scene_host* h, const scene* s, int i, double t) {
     const scene_mesh_collider* m = &s->mesh_colliders[i];
     double mo[16], M[16];
     scene_motion_at(&m->motion, t, mo);
@@ -241,9 +219,12 @@ static void mesh_collider_frame(run_host* h, const scene* s, int i, double t) {
     (void)weft_cloth_set_mesh_collider_vertices(h->ctx, h->cloth, i, h->mesh_verts, m->n_verts);
 }
 
-weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* opts, const char* name, char* msg,
-                            size_t cap) {
-    memset(h, 0, sizeof *h);
+/* The context: the borrowed one, or a new one (its creation errors caught by the logger). */
+static weft_status open_context(scene_host* h, const scene_host_opts* opts) {
+    if (opts->ctx) {
+        h->ctx = opts->ctx;
+        return WEFT_OK;
+    }
     weft_context_def cd = weft_default_context_def();
     cd.backend = opts->backend;
     cd.threads = opts->threads;
@@ -251,8 +232,16 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
     cd.log_user = h;
     cd.log_level = WEFT_LOG_ERROR;
     weft_status st = weft_context_create(WEFT_ABI, &cd, &h->ctx);
+    h->own_ctx = st == WEFT_OK;
+    return st;
+}
+
+weft_status scene_host_create(scene_host* h, const scene* s, const scene_host_opts* opts, const char* name,
+                              char* msg, size_t cap) {
+    memset(h, 0, sizeof *h);
+    weft_status st = open_context(h, opts);
     if (st != WEFT_OK) {
-        snprintf(msg, cap, "%s: cannot create a context: %s", name, run_host_error(h));
+        snprintf(msg, cap, "%s: cannot create a context: %s", name, scene_host_error(h));
         return give_up(h, st);
     }
 
@@ -268,32 +257,22 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
     float* mesh_pos = NULL;
     int* mesh_sizes = NULL;
     weft_mesh_collider_def* mcol = NULL;
-    weft_cloth_def def = weft_default_cloth_def();
+    weft_cloth_def def = s->def;
     int oom = !att || !col || !h->attachment_xf || !h->collider_xf || !h->collider_rest ||
               describe_mesh(s, &def, h->object_rest, &mesh_pos, &mesh_sizes) != 0;
-    int mismatch = 0;   /* cannot happen: the library and the scene import with the same code */
+    int mismatch = 0;   /* cannot happen: the library and the scene read the mesh with the same code */
     if (!oom) {
         describe_settings(s, &def);
         xf_to_float(h->object_rest, def.transform);
-        for (int i = 0; i < h->n_colliders; ++i) {
-            const wc_collider* c = &s->colliders[i];
-            double* rest = h->collider_rest + 16 * (size_t)i;
-            col[i] = weft_default_collider_def();
-            col[i].type = collider_type_of(c->type);
-            scene_collider_placement(c, rest, &col[i].half_height);
-            if (c->type != WC_COLLIDER_PLANE) col[i].radius = c->radius;
-            col[i].thickness = c->thickness;
-            col[i].friction = c->friction;
-            xf_to_float(rest, col[i].transform);
-        }
+        describe_colliders(h, s, col);
         def.n_colliders = h->n_colliders;
         def.colliders = h->n_colliders > 0 ? col : NULL;
-        if (describe_mesh_colliders(h, s, &mcol) != 0) oom = 1;
+        if (describe_mesh_colliders(h, s, opts, &mcol) != 0) oom = 1;
         def.n_mesh_colliders = h->n_mesh;
         def.mesh_colliders = mcol;
         if (!oom) st = weft_cloth_create(h->ctx, &def, &h->cloth);
         if (st == WEFT_OK) st = weft_cloth_get_info(h->ctx, h->cloth, &h->info);
-        if (st == WEFT_OK && h->info.n_vertices != s->src.n_verts) mismatch = 1;
+        if (st == WEFT_OK && h->info.n_vertices != s->mesh.n_vertices) mismatch = 1;
         else if (st == WEFT_OK && h->n_attachments > 0) st = attach_pins(h, s, att, &oom);
     }
     if (att)
@@ -309,45 +288,43 @@ weft_status run_host_create(run_host* h, const scene* s, const run_host_opts* op
     }
     if (mismatch) {
         snprintf(msg, cap, "%s: the library read %d host vertices from the mesh, the scene %d", name,
-                 h->info.n_vertices, s->src.n_verts);
+                 h->info.n_vertices, s->mesh.n_vertices);
         return give_up(h, WEFT_ERROR_IMPORT);
     }
     if (st != WEFT_OK) {
         char note[160];
-        explain_attachment(s, run_host_error(h), note, sizeof note);
-        snprintf(msg, cap, "%s: %s%s", name, run_host_error(h), note);
+        explain_attachment(s, scene_host_error(h), note, sizeof note);
+        snprintf(msg, cap, "%s: %s%s", name, scene_host_error(h), note);
         return give_up(h, st);
     }
     h->positions = malloc(sizeof(float) * 3 * (size_t)(h->info.n_vertices > 0 ? h->info.n_vertices : 1));
-    st = h->positions ? run_host_read_positions(h) : WEFT_ERROR_OUT_OF_MEMORY;
+    st = h->positions ? scene_host_read_positions(h) : WEFT_ERROR_OUT_OF_MEMORY;
     if (st != WEFT_OK) {
-        snprintf(msg, cap, "%s: %s", name, h->positions ? run_host_error(h) : "out of memory");
+        snprintf(msg, cap, "%s: %s", name, h->positions ? scene_host_error(h) : "out of memory");
         return give_up(h, st);
     }
     return WEFT_OK;
 }
 
-void run_host_destroy(run_host* h) {
-    weft_context_destroy(h->ctx);   /* and the cloth */
+void scene_host_destroy(scene_host* h) {
+    if (h->own_ctx) weft_context_destroy(h->ctx);   /* and the cloth */
+    else if (h->ctx && h->cloth.id) weft_cloth_destroy(h->ctx, h->cloth);
     free(h->attachment_xf);
     free(h->collider_xf);
     free(h->collider_rest);
     free(h->mesh_xf);
     free(h->mesh_verts);
-    h->mesh_xf = h->mesh_verts = NULL;
     free(h->positions);
-    h->ctx = NULL;
-    h->attachment_xf = h->collider_xf = h->positions = NULL;
-    h->collider_rest = NULL;
+    memset(h, 0, sizeof *h);
 }
 
-weft_status run_host_read_positions(run_host* h) {
+weft_status scene_host_read_positions(scene_host* h) {
     int count = 0;
     return weft_cloth_get_vertices(h->ctx, h->cloth, WEFT_SPACE_WORLD, h->positions, NULL, h->info.n_vertices,
                                    &count);
 }
 
-weft_frame run_host_frame(run_host* h, const scene* s, int frame, double dt) {
+weft_frame scene_host_frame(scene_host* h, const scene* s, int frame, double dt) {
     const double t = frame * dt;
     weft_frame fr = weft_default_frame();
     fr.dt = dt;
@@ -370,13 +347,13 @@ weft_frame run_host_frame(run_host* h, const scene* s, int frame, double dt) {
         xf_to_float(out, h->attachment_xf + 16 * (size_t)i);
     }
     for (int i = 0; i < h->n_colliders; ++i) {     /* colliders: motion * rest placement */
-        scene_motion_at(&s->collider_motion[i], t, m);
+        scene_motion_at(&s->colliders[i].motion, t, m);
         xf_mul(m, h->collider_rest + 16 * (size_t)i, out);
         xf_to_float(out, h->collider_xf + 16 * (size_t)i);
     }
     fr.attachment_transforms = h->n_attachments > 0 ? h->attachment_xf : NULL;
     fr.collider_transforms = h->n_colliders > 0 ? h->collider_xf : NULL;
-    for (int i = 0; i < h->n_mesh; ++i) mesh_collider_frame(h, s, i, t);   /* mesh colliders: the same, or vertices */
+    for (int i = 0; i < h->n_scene_mesh; ++i) mesh_collider_frame(h, s, i, t);   /* motion x transform, or vertices */
     fr.mesh_collider_transforms = h->n_mesh > 0 ? h->mesh_xf : NULL;
     return fr;
 }
