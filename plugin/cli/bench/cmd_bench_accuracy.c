@@ -1,19 +1,28 @@
-/* `weft bench accuracy`: run time against error. For every scene, a reference run (direct solver,
- * --ref-substeps substeps per frame) and its check at twice the substeps (is it converged in
- * time?), then every configuration solver x preconditioner (PCG) x integrator x Newton iterations
- * x tolerance x iteration cap x substeps per frame (the direct solver: no tolerance or cap), each
- * simulated for --seconds. Errors:
- * the linear-solve error against CHOLMOD on the same system, the trajectory error against the
- * reference at the end, the largest strain and the energy drift. Timing: median ms per frame.
- * --backend cpu,gpu runs every configuration on each backend (the reference stays the CPU's
- * direct solver; the GPU has no direct solver and no linear-solve probe). */
+/* `weft bench accuracy`: run time against error, through the public API. For every scene, a
+ * reference run (direct solver, --ref-substeps substeps per frame) and its check at twice the
+ * substeps (is it converged in time?), then every configuration solver x preconditioner (PCG) x
+ * integrator x Newton iterations x tolerance x iteration cap x substeps per frame (the direct
+ * solver: no tolerance or cap), each simulated for --seconds. Errors: the trajectory error
+ * against the reference at the end, the largest strain, the energy drift and the swing of the
+ * centre of mass. Timing: median ms per weft_cloth_step call. --backend cpu,gpu runs every
+ * configuration on each backend (the reference stays the CPU's direct solver; the GPU has no
+ * direct solver). The linear-solve error against CHOLMOD on the step's own system, and the
+ * scene's sensitivity to its start, need the solver's internals: tests/bench/bench_linear_error
+ * and tests/bench/bench_sensitivity measure them. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_commands.h"
+#include "bench_method.h"
+#include "bench_plot.h"
+#include "bench_run.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
+#include "names.h"
 
 #ifndef WEFT_SAMPLE_SCENES
 #define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
@@ -26,7 +35,7 @@ typedef struct acc_args {
     const char* scenes[MAX_SCENES];
     int n_scenes;
     char scene_buf[512];
-    wc_solver_type solvers[BENCH_MAX_LIST];
+    weft_solver solvers[BENCH_MAX_LIST];
     int n_solvers;
     double tolerances[BENCH_MAX_LIST];
     int n_tolerances;
@@ -40,15 +49,12 @@ typedef struct acc_args {
     int ref_check;          /* 1: the reference again at 2 x ref_substeps, their difference shown */
     int ref_halvings;       /* the check's ladder: ref_substeps x 2, 4, ... 2^ref_halvings (>= 1) */
     int ref_only;           /* 1: the reference and its ladder only, no configurations */
-    double ref_displace[BENCH_MAX_LIST];   /* m: the reference again from a start displaced this much */
-    int n_ref_displace;
-    wc_integrator ref_integrator;
+    weft_integrator ref_integrator;
     int undamped;           /* 1: no air drag and no spring damping, in every run (reference included) */
     int no_air;             /* 1: no air drag in every run (reference included) */
     int ref_newton;         /* the reference's Newton iterations (> 1: line search, tolerance 1e-10) */
     bench_methods meth;
     double seconds, fps;
-    int probes;
     int backends[BENCH_MAX_BACKENDS];
     int n_backends;
     bench_common com;
@@ -62,7 +68,6 @@ void bench_accuracy_usage(FILE* out) {
           "                           [--ref-integrator NAME]\n"
           "                           [--ref-newton N] [--undamped] [--no-air]\n"
           "                           [--no-ref-check] [--ref-halvings N] [--ref-only]\n"
-          "                           [--ref-displace LIST|none]\n"
           "                           [--seconds T] [--fps F] [--probes N]\n"
           "                           [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                           [--plot FILE.png] [--backend LIST] [--quiet]\n"
@@ -75,15 +80,14 @@ void bench_accuracy_usage(FILE* out) {
           "configuration solver x preconditioner (PCG only) x integrator x Newton iterations x\n"
           "tolerance x iteration cap x substeps per frame (direct: no tolerance or cap), each\n"
           "simulated for --seconds at --fps. Per configuration:\n"
-          "  ms/frame     median wall time of one frame's step\n"
+          "  ms/frame     median wall time of one frame's weft_cloth_step call\n"
           "  it./solve    solver iterations per linear solve, mean (iterations / solves: Newton\n"
           "               iterations and friction passes are solves); max it.: the largest\n"
           "  setup ms     the preconditioner's setup time per solve (part of the solve stage)\n"
-          "  lin. err     ||dv - dv_direct|| / ||dv_direct||: the solver's answer against CHOLMOD's on\n"
-          "               the same system (same initial guess), for the first substep of --probes\n"
-          "               evenly spread frames (largest and mean); CPU rows only: the probe\n"
-          "               solves on the CPU, so GPU rows show - (not measured)\n"
-          "  traj. err    RMS and largest particle distance to the reference run at the end,\n"
+          "  lin. err     not measured here (-): the solver's answer against CHOLMOD's on the\n"
+          "               step's own system needs the solver's internals; tests/bench/\n"
+          "               bench_linear_error measures it\n"
+          "  traj. err    RMS and largest vertex distance to the reference run at the end,\n"
           "               divided by the cloth's bounding-box diagonal\n"
           "  max strain   largest stretch-spring strain (l - rest) / rest at the end of any frame\n"
           "  energy drift (E_end - E_start) / (M |g| D): E = kinetic + spring + gravity, M the\n"
@@ -96,7 +100,7 @@ void bench_accuracy_usage(FILE* out) {
           out);
     fputs(          "options (lists are comma-separated):\n"
           "  --quick              seconds-long preset: sheet16,drape16,garment, tolerance 1e-3,\n"
-          "                       iterations 20,100, substeps 1,2, 0.3 s, 2 probes, 1 thread (later\n"
+          "                       iterations 20,100, substeps 1,2, 0.3 s, 1 thread (later\n"
           "                       options still apply)\n"
           "  --scenes LIST        sheetN (N x N particles, 1 m, flat at first, hanging from two\n"
           "                       corners), hangN (the same sheet hanging upright from the start),\n"
@@ -127,17 +131,11 @@ void bench_accuracy_usage(FILE* out) {
           "                       each against the previous (default 1); the table shows each halving's\n"
           "                       RMS difference and the observed order log2(previous / this)\n"
           "  --ref-only           the reference and its check only (no configurations)\n"
-          "  --ref-displace LIST  the scene's sensitivity: the reference again from a start whose unpinned\n"
-          "                       particles are each displaced by this many metres (in (0, 0.01]) along a\n"
-          "                       fixed pseudo-random direction, its end against the reference's (a\n"
-          "                       `reference_displaced` row). A halving figure within 2x of the largest\n"
-          "                       such difference is marked as at the scene's floor: the scene's\n"
-          "                       sensitivity, not the step's error (default 1e-8; --quick: none; none:\n"
-          "                       no displaced run)\n"
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
-          "  --probes N           frames whose linear-solve error is measured (default 6; 0: none;\n"
-          "                       CPU rows only)\n"
+          "  --probes N           accepted and ignored: the linear-solve error is measured by\n"
+          "                       tests/bench/bench_linear_error (the scene's sensitivity to its start,\n"
+          "                       formerly --ref-displace, by tests/bench/bench_sensitivity)\n"
           "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
           "  --garment FILE       the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
           "  --csv FILE           write every measurement as CSV\n"
@@ -170,14 +168,11 @@ static void defaults(void* args, int quick) {
     a->ref_substeps = 8;
     a->ref_check = 1;
     a->ref_halvings = 1;
-    a->ref_integrator = WC_INTEGRATOR_TRBDF2;   /* issue 12: converged in time (README) */
+    a->ref_integrator = WEFT_INTEGRATOR_TRBDF2;   /* converged in time (README "Run time against error") */
     a->ref_newton = 3;
-    a->n_ref_displace = quick ? 0 : 1;   /* the full runs show the scene's floor beside the check */
-    a->ref_displace[0] = 1e-8;
     bench_methods_default(&a->meth, quick ? "block_jacobi,amg" : "block_jacobi,amg");
     a->seconds = quick ? 0.3 : 2.0;
     a->fps = 30;
-    a->probes = quick ? 2 : 6;
     a->backends[0] = BENCH_CPU;
     a->n_backends = 1;
 }
@@ -202,8 +197,8 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 1, 512, &a->ref_substeps) != 0);
     if (OPT("--ref-integrator")) {
         if (m < 0) return m;
-        const int g = wc_integrator_from_name(*v);
-        a->ref_integrator = g >= 0 ? (wc_integrator)g : WC_INTEGRATOR_BE;
+        const int g = cli_integrator_from_name(*v);
+        a->ref_integrator = g >= 0 ? (weft_integrator)g : WEFT_INTEGRATOR_BACKWARD_EULER;
         return g < 0 ? -2 : 1;
     }
     if (!strcmp(argv[*i], "--no-air")) {
@@ -220,16 +215,20 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         a->ref_only = 1;
         return 1;
     }
+    /* what moved to tests/bench (docs/design/tool.md): --probes is accepted for recorded command
+       lines (nothing is probed here), --ref-displace says where it went */
+    if (OPT("--probes")) {
+        int n = 0;
+        if (m > 0 && cli_parse_int(*v, 0, 1000000, &n) == 0 && n > 0)
+            fprintf(stderr, "weft bench accuracy: --probes %d ignored: the linear-solve error is "
+                            "tests/bench/bench_linear_error's\n", n);
+        return BAD(cli_parse_int(*v, 0, 1000000, &n) != 0);
+    }
     if (OPT("--ref-displace")) {
-        if (m < 0) return m;
-        if (!strcmp(*v, "none")) {
-            a->n_ref_displace = 0;
-            return 1;
-        }
-        a->n_ref_displace = bench_parse_doubles(*v, 0, 0.01, a->ref_displace);
-        for (int k = 0; k < a->n_ref_displace; ++k)
-            if (!(a->ref_displace[k] > 0)) a->n_ref_displace = -1;
-        return a->n_ref_displace < 0 ? -2 : 1;
+        if (m > 0)
+            fprintf(stderr, "weft bench accuracy: --ref-displace moved to tests/bench/bench_sensitivity (it displaces "
+                            "particles inside the state)\n");
+        return m < 0 ? m : -2;
     }
     if (!strcmp(argv[*i], "--no-ref-check")) {
         a->ref_check = 0;
@@ -239,7 +238,6 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--seconds"))
         return BAD(cli_parse_double(*v, &a->seconds) != 0 || !(a->seconds > 0 && a->seconds <= 3600));
     if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
-    if (OPT("--probes")) return BAD(cli_parse_int(*v, 0, 1000000, &a->probes) != 0);
     if (OPT("--backend")) return BAD((a->n_backends = bench_parse_backends(*v, a->backends)) < 0);
 #undef OPT
 #undef BAD
@@ -261,19 +259,17 @@ static const char* const csv_cols[N_COLS] = {
     "ms_precond_per_solve", "converged_fraction", "com_err_max", "kinetic_ratio", "newton_forcing"};
 static const char* const md_cols[N_COLS] = {
     NULL /* "backend" with two backends */, "scene", NULL, NULL, "solver", "tol.", "cap", "substeps", NULL, "ms/frame", NULL, NULL, NULL, NULL, NULL,
-    NULL, "max it.", NULL, "rollbacks", NULL, NULL, NULL, "lin. err (max)", "traj. err RMS",
+    NULL, "max it.", NULL, "rollbacks", NULL, NULL, NULL, NULL /* lin. err: "-" here */, "traj. err RMS",
     "traj. err max", "max strain", "energy drift", "precond.", "integrator", "Newton", NULL, NULL, "it./solve",
     "setup ms/solve", NULL, "c.o.m. err max", "KE ratio", "forcing"};
 
 typedef struct config {
-    wc_solver_type solver;
+    weft_solver solver;
     bench_method method;
     double tolerance;
     int cap;
     int substeps;
-    int reference;          /* 1: the reference, 2: its check at twice the substeps, 3: it from a
-                               displaced start (--ref-displace) */
-    double displace;        /* m, reference 3's */
+    int reference;          /* 1: the reference, 2: its check at twice the substeps */
 } config;
 
 /* The swing against the reference, over every frame: the largest distance between the centres of
@@ -306,15 +302,12 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     const char* cell[N_COLS];
     snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(backend));
     snprintf(b[C_SCENE], 48, "%s", bs->name);
-    snprintf(b[C_PARTICLES], 48, "%d", bs->model.n_particles);
-    static const char* const roles[4] = {"config", "reference", "reference_check", "reference_displaced"};
+    snprintf(b[C_PARTICLES], 48, "%d", r->particles);
+    static const char* const roles[3] = {"config", "reference", "reference_check"};
     snprintf(b[C_ROLE], 48, "%s", roles[c->reference]);
-    if (c->reference == 3)
-        snprintf(b[C_SOLVER], 48, "%s (reference displaced %.3g m)", wc_solver_name(c->solver), c->displace);
-    else
-        snprintf(b[C_SOLVER], 48, "%s%s", wc_solver_name(c->solver),
-                 c->reference == 2 ? " (2x reference)" : c->reference ? " (reference)" : "");
-    if (c->solver == WC_SOLVER_DIRECT) {
+    snprintf(b[C_SOLVER], 48, "%s%s", cli_solver_name(c->solver),
+             c->reference == 2 ? " (2x reference)" : c->reference ? " (reference)" : "");
+    if (c->solver == WEFT_SOLVER_DIRECT) {
         snprintf(b[C_TOL], 48, "-");
         snprintf(b[C_CAP], 48, "-");
     } else {
@@ -331,22 +324,17 @@ static int add_row(bench_table* t, int backend, const bench_scene* bs, const con
     snprintf(b[C_ROLLBACKS], 48, "%d", r->rollbacks);
     snprintf(b[C_FALLBACKS], 48, "%d", r->direct_fallbacks);
     snprintf(b[C_FAILURES], 48, "%d", r->failures);
-    if (r->probes > 0) {
-        bench_fmt(b[C_LIN_MEAN], 48, "%.3g", r->lin_err_mean);
-        bench_fmt(b[C_LIN_MAX], 48, "%.3g", r->lin_err_max);
-    } else {
-        snprintf(b[C_LIN_MEAN], 48, "-");
-        snprintf(b[C_LIN_MAX], 48, "-");
-    }
+    snprintf(b[C_LIN_MEAN], 48, "-");   /* tests/bench/bench_linear_error */
+    snprintf(b[C_LIN_MAX], 48, "-");
     bench_fmt(b[C_TRAJ_RMS], 48, "%.3g", rms);
     bench_fmt(b[C_TRAJ_MAX], 48, "%.3g", max);
     bench_fmt(b[C_STRAIN], 48, "%.3g", r->max_strain);
     bench_fmt(b[C_DRIFT], 48, "%.3g", (r->energy_end - r->energy0) / r->energy_scale);
     snprintf(b[C_PRECOND], 48, "%s", bench_precond_label(c->solver, &c->method));
-    snprintf(b[C_INTEGRATOR], 48, "%s", wc_integrator_name(c->method.integrator));
+    snprintf(b[C_INTEGRATOR], 48, "%s", cli_integrator_name(c->method.integrator));
     snprintf(b[C_NEWTON], 48, "%d", c->method.newton);
     snprintf(b[C_LINE_SEARCH], 48, "%s", c->method.line_search ? "on" : "off");
-    if (c->method.newton > 1 && c->solver != WC_SOLVER_DIRECT) bench_fmt(b[C_FORCING], 48, "%g", c->method.forcing);
+    if (c->method.newton > 1 && c->solver != WEFT_SOLVER_DIRECT) bench_forcing_label(c->method.forcing, b[C_FORCING], 48);
     else snprintf(b[C_FORCING], 48, "-");
     snprintf(b[C_SOLVES], 48, "%lld", r->solves);
     bench_fmt(b[C_ITER_SOLVE], 48, "%.1f", bench_run_iterations_per_solve(r));
@@ -365,7 +353,7 @@ static int configs_for(const acc_args* a, int n, config* out, int cap) {
     bench_method meth[BENCH_MAX_LIST * BENCH_MAX_LIST * BENCH_MAX_LIST];
     int k = 0;
     for (int s = 0; s < a->n_solvers; ++s) {
-        const int direct = a->solvers[s] == WC_SOLVER_DIRECT;
+        const int direct = a->solvers[s] == WEFT_SOLVER_DIRECT;
         const int n_meth = bench_methods_expand(&a->meth, a->solvers[s], meth, (int)(sizeof meth / sizeof meth[0]));
         for (int q = 0; q < n_meth * (direct ? 1 : a->n_tolerances * a->n_caps); ++q)
             for (int u = 0; u < n_subs && k < cap; ++u) {
@@ -378,7 +366,6 @@ static int configs_for(const acc_args* a, int n, config* out, int cap) {
                 g->cap = direct ? 1 : a->caps[c];
                 g->substeps = subs[u];
                 g->reference = 0;
-                g->displace = 0.0;
             }
     }
     return k;
@@ -394,34 +381,17 @@ typedef struct ref_check {
 } ref_check;
 
 #define MAX_HALVINGS 6
-
-/* The reference against itself from a displaced start (--ref-displace): the scene's sensitivity. */
-typedef struct ref_displaced {
-    char scene[32];
-    double displace;        /* m */
-    double rms, max;        /* the difference at the end / bounding-box diagonal */
-} ref_displaced;
-
 #define REF_GOAL 1e-3       /* the reference is converged when halving its step moves it by < 0.1 % */
-#define FLOOR_RATIO 2.0     /* a halving figure within this factor of a displaced start's difference
-                               is the scene's sensitivity, not the step's error */
 
 typedef struct header_info {
     const acc_args* a;
     int frames, threads;
     const ref_check* checks;
     int n_checks;
-    const ref_displaced* displaced;
-    int n_displaced;
 } header_info;
 
-/* The largest end difference of the scene's displaced references (its sensitivity floor), 0 when
- * it has none. */
-static double sensitivity_floor(const header_info* h, const char* scene) {
-    double floor = 0.0;
-    for (int k = 0; k < h->n_displaced; ++k)
-        if (!strcmp(h->displaced[k].scene, scene) && h->displaced[k].rms > floor) floor = h->displaced[k].rms;
-    return floor;
+static const char* integrator_words(weft_integrator g) {
+    return g == WEFT_INTEGRATOR_BDF2 ? "BDF2" : g == WEFT_INTEGRATOR_TRBDF2 ? "TR-BDF2" : "backward Euler";
 }
 
 static void print_header(FILE* out, const void* ctx) {
@@ -435,16 +405,16 @@ static void print_header(FILE* out, const void* ctx) {
     fprintf(out, "%s. %d OpenMP thread(s), %s. %g s simulated at %g fps (%d frames). Reference: the direct "
                  "solver (CHOLMOD), %s, %d Newton iteration(s)%s, at %d substeps per frame, on the CPU.\n\n",
             bench_backend_note(a->backends, a->n_backends, note, sizeof note), threads,
-            bench_blas_note(&a->com, blas, sizeof blas), a->seconds, a->fps, frames,
-            a->ref_integrator == WC_INTEGRATOR_BDF2 ? "BDF2" : a->ref_integrator == WC_INTEGRATOR_TRBDF2 ? "TR-BDF2" : "backward Euler", a->ref_newton,
-            a->ref_newton > 1 ? " with line search, tolerance 1e-10" : "", a->ref_substeps);
+            bench_blas_note(&a->com, blas, sizeof blas), a->seconds, a->fps, frames, integrator_words(a->ref_integrator),
+            a->ref_newton, a->ref_newton > 1 ? " with line search, tolerance 1e-10" : "", a->ref_substeps);
     if (a->undamped) fprintf(out, "Undamped (--undamped): no air drag and no spring damping in any run.\n\n");
     else if (a->no_air) fprintf(out, "No air (--no-air): no air drag in any run (spring damping kept).\n\n");
     if (h->n_checks > 0) {
         fprintf(out, "Is the reference converged in time? The same run at %d substeps per frame against it at the "
                      "end, as %% of the bounding-box diagonal (goal < %g %%; the ref. halving figure). With "
                      "--ref-halvings, every further halving against the previous one and the observed order "
-                     "log2(previous RMS diff / this one):\n\n"
+                     "log2(previous RMS diff / this one). A scene's own sensitivity to its start, below which no "
+                     "reference converges, is tests/bench/bench_sensitivity's:\n\n"
                      "| scene | substeps | check substeps | ref. halving RMS diff (%%) | max diff (%%) | order | "
                      "goal < %g %% |\n"
                      "|---|---|---|---|---|---|---|\n",
@@ -454,115 +424,105 @@ static void print_header(FILE* out, const void* ctx) {
             char order[32];
             if (isnan(c->order)) snprintf(order, sizeof order, "-");
             else bench_fmt(order, sizeof order, "%.2f", c->order);
-            const double floor = sensitivity_floor(h, c->scene);
-            char at_floor[96] = "";
-            if (floor > 0 && c->rms <= FLOOR_RATIO * floor)
-                snprintf(at_floor, sizeof at_floor, "; at the scene's floor, %.3g %%", 100 * floor);
-            fprintf(out, "| %s | %d | %d | %.3g | %.3g | %s | %s%s |\n", c->scene, c->substeps / 2, c->substeps,
+            fprintf(out, "| %s | %d | %d | %.3g | %.3g | %s | %s |\n", c->scene, c->substeps / 2, c->substeps,
                     100 * c->rms, 100 * c->max, order,
-                    c->max < REF_GOAL ? "met" : c->rms < REF_GOAL ? "met (RMS only)" : "not met", at_floor);
-        }
-        fputc('\n', out);
-    }
-    if (h->n_displaced > 0) {
-        fprintf(out, "How sensitive is the scene? The reference again from a start whose unpinned particles are "
-                     "each displaced by d along a fixed pseudo-random direction (--ref-displace), against the "
-                     "reference at the end, as %% of the diagonal. A difference this size owes nothing to the "
-                     "step: a halving figure at or below it is the scene's sensitivity at this horizon, and no "
-                     "reference can be converged below it:\n\n"
-                     "| scene | d (m) | RMS diff (%%) | max diff (%%) |\n"
-                     "|---|---|---|---|\n");
-        for (int k = 0; k < h->n_displaced; ++k) {
-            const ref_displaced* r = &h->displaced[k];
-            fprintf(out, "| %s | %.3g | %.3g | %.3g |\n", r->scene, r->displace, 100 * r->rms, 100 * r->max);
+                    c->max < REF_GOAL ? "met" : c->rms < REF_GOAL ? "met (RMS only)" : "not met");
         }
         fputc('\n', out);
     }
     if (gpu)
         fputs("GPU rows: the trajectory error is against the same CPU reference; lin. err is not measured "
-              "(-: the probe solves on the CPU); the direct solver does not exist on the GPU, so its "
-              "configurations have no GPU row.\n\n",
+              "on either backend here; the direct solver does not exist on the GPU, so its configurations "
+              "have no GPU row.\n\n",
               out);
-    fputs("- ms/frame: median wall time of one frame's step.\n"
+    fputs("- ms/frame: median wall time of one frame's weft_cloth_step call (its stats' ms_total: the step and "
+          "the library's bookkeeping around it).\n"
           "- precond.: PCG's preconditioner (- for the other solvers); integrator: be (backward Euler), bdf2 or trbdf2; "
           "Newton: linearised solves per substep (line search on when the CSV's line_search says so); forcing: "
           "inexact Newton's first solve of a substep stops at this relative residual (0: at the tolerance; "
-          "- with one Newton iteration or the direct solver).\n"
+          "default: the library's; - with one Newton iteration or the direct solver).\n"
           "- it./solve: solver iterations per linear solve, mean over the run (Newton iterations and friction "
           "passes are solves); max it.: the largest in one solve; setup ms/solve: the preconditioner's setup "
           "time per solve.\n"
-          "- lin. err: ||dv - dv_direct|| / ||dv_direct|| of one substep's linear solve against CHOLMOD on the "
-          "same system (wc_substep_prepare, same initial guess), largest over the probed frames.\n"
-          "- traj. err: RMS / largest particle distance to the reference run at the end, divided by the cloth's "
-          "bounding-box diagonal.\n"
+          "- lin. err (CSV: -): the linear-solve error against CHOLMOD on the step's own system needs the "
+          "solver's internals, not the public API: tests/bench/bench_linear_error.\n"
+          "- traj. err: RMS / largest host-vertex distance to the reference run at the end (float positions, "
+          "as weft_cloth_get_vertices gives them), divided by the cloth's bounding-box diagonal.\n"
           "- max strain: largest stretch-spring strain (l - rest) / rest at the end of any frame.\n"
           "- energy drift: (E_end - E_start) / (M |g| D), E = kinetic + spring + gravitational energy "
-          "(negative: dissipated; compare with the reference row).\n"
+          "(weft_cloth_get_energy; negative: dissipated; compare with the reference row).\n"
           "- c.o.m. err max: largest distance between the centres of mass of the run and the reference over "
           "every frame, divided by the diagonal (the swing's phase and amplitude); KE ratio: kinetic energy "
           "summed over the frames / the reference's (< 1: the swing lost energy to numerical damping).\n\n",
           out);
 }
 
-/* The reference's sim def: direct solver, the reference's integrator, --ref-newton Newton
- * iterations (more than one: line search on, tolerance 1e-10), `substeps`. */
-static wc_sim_def reference_def(const acc_args* a, const bench_scene* bs, int substeps) {
-    wc_sim_def sd = bs->sim;
-    sd.threads = a->com.threads;
-    if (a->undamped || a->no_air) sd.air.normal_drag = sd.air.tangent_drag = 0.0;
-    sd.solver.type = WC_SOLVER_DIRECT;
-    sd.substeps = substeps;
-    const bench_method m = {WC_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1,
-                            wc_default_sim_def().newton_forcing};
-    bench_method_apply(&m, &sd);
-    if (a->ref_newton > 1) sd.solver.tolerance = 1e-10;
-    return sd;
-}
-
-/* The reference's run options: CPU, --fps, `frames`, reference_def at --ref-substeps. */
-static bench_run_opts reference_opts(const acc_args* a, const bench_scene* bs, int frames) {
+/* The run options of the scene with the command's damping and air, sleeping off. */
+static bench_run_opts run_opts(const acc_args* a, const bench_scene* bs, int frames) {
     bench_run_opts o;
     memset(&o, 0, sizeof o);
+    o.backend = BENCH_CPU;
     o.fps = a->fps;
     o.frames = frames;
-    o.sim = reference_def(a, bs, a->ref_substeps);
+    o.def = bench_run_def(bs);
+    if (a->undamped || a->no_air) o.def.air_drag_normal = o.def.air_drag_tangent = 0.0;
+    if (a->undamped)
+        for (int k = 0; k < 3; ++k) o.def.material.damping[k] = 0.0;
+    return o;
+}
+
+/* The reference's method: the direct solver, --ref-integrator, --ref-newton Newton iterations
+ * (more than one: line search on, tolerance 1e-10). */
+static bench_method reference_method(const acc_args* a) {
+    const bench_method m = {WEFT_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1, -1.0};
+    return m;
+}
+
+/* The reference's run options at `substeps`. */
+static bench_run_opts reference_opts(const acc_args* a, const bench_scene* bs, int frames, int substeps) {
+    bench_run_opts o = run_opts(a, bs, frames);
+    o.def.solver = WEFT_SOLVER_DIRECT;
+    o.def.substeps = substeps;
+    const bench_method m = reference_method(a);
+    bench_method_apply(&m, &o.def);
+    if (a->ref_newton > 1) o.def.tolerance = 1e-10;
     return o;
 }
 
 /* The reference run of a scene (row added) and, when asked, its check at twice the substeps and
- * the further halvings (rows added, check[0 .. ref_halvings - 1] filled). 0, or -1 with diag. */
+ * the further halvings (rows added, check[0 .. ref_halvings - 1] filled). 0, or -1 with msg. */
 static int run_reference(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, bench_run* rr,
-                         ref_check* check, wc_diag* d) {
-    bench_run_opts o = reference_opts(a, bs, frames);
-    if (!a->com.quiet) fprintf(stderr, "%s (%d particles): reference run...\n", bs->name, bs->model.n_particles);
-    if (bench_run_scene(bs, &o, rr, d) != 0) return -1;
-    config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 1, 0.0};
+                         ref_check* check, char* msg, size_t size) {
+    bench_run_opts o = reference_opts(a, bs, frames, a->ref_substeps);
+    if (!a->com.quiet) fprintf(stderr, "%s: reference run...\n", bs->name);
+    if (bench_run_scene(bs, &o, rr, msg, size) != 0) return -1;
+    config ref = {WEFT_SOLVER_DIRECT, reference_method(a), 0, 1, a->ref_substeps, 1};
     add_row(t, BENCH_CPU, bs, &ref, rr, 0.0, 0.0, (swing_err){0.0, 1.0});
     if (!a->ref_check) return 0;
     bench_run prev = *rr, r2;   /* prev: the coarser run of the halving (rr for the first: not freed here) */
     for (int k = 0; k < a->ref_halvings; ++k) {
         const int subs = a->ref_substeps << (k + 1);
         if (!a->com.quiet) fprintf(stderr, "  the reference at %d substeps (its check)...\n", subs);
-        o.sim = reference_def(a, bs, subs);
-        if (bench_run_scene(bs, &o, &r2, d) != 0) {
+        o = reference_opts(a, bs, frames, subs);
+        if (bench_run_scene(bs, &o, &r2, msg, size) != 0) {
             if (k > 0) bench_run_free(&prev);
             bench_run_free(rr);
             return -1;
         }
         double rms, max;
         ref_check* c = &check[k];
-        bench_distance(r2.x, prev.x, bs->model.n_particles, &rms, &max);
+        bench_distance(r2.x, prev.x, r2.vertices, &rms, &max);
         snprintf(c->scene, sizeof c->scene, "%s", bs->name);
         c->substeps = subs;
-        c->rms = rms / bs->diag;
-        c->max = max / bs->diag;
+        c->rms = rms / rr->diag;
+        c->max = max / rr->diag;
         c->order = k > 0 && c->rms > 0 ? log2(check[k - 1].rms / c->rms) : NAN;
         if (!a->com.quiet)
             fprintf(stderr, "  %d vs %d substeps: RMS %.3g %%, max %.3g %% of the diagonal, order %.2f\n", subs,
                     subs / 2, 100 * c->rms, 100 * c->max, c->order);
         ref.substeps = subs;
         ref.reference = 2;
-        add_row(t, BENCH_CPU, bs, &ref, &r2, c->rms, c->max, swing_against(&r2, &prev, bs->diag));
+        add_row(t, BENCH_CPU, bs, &ref, &r2, c->rms, c->max, swing_against(&r2, &prev, rr->diag));
         if (k > 0) bench_run_free(&prev);
         prev = r2;
     }
@@ -570,29 +530,35 @@ static int run_reference(const acc_args* a, const bench_scene* bs, int frames, b
     return 0;
 }
 
-/* The reference run again from each --ref-displace start (rows added, out[0 .. n_ref_displace - 1]
- * filled): the scene's sensitivity at the end. 0, or -1 with diag. */
-static int run_displaced(const acc_args* a, const bench_scene* bs, int frames, bench_table* t, const bench_run* rr,
-                         ref_displaced* out, wc_diag* d) {
-    bench_run_opts o = reference_opts(a, bs, frames);
-    for (int k = 0; k < a->n_ref_displace; ++k) {
-        bench_run r;
-        o.displace = a->ref_displace[k];
-        if (!a->com.quiet) fprintf(stderr, "  the reference from a start displaced by %g m...\n", o.displace);
-        if (bench_run_scene(bs, &o, &r, d) != 0) return -1;
-        ref_displaced* c = &out[k];
-        snprintf(c->scene, sizeof c->scene, "%s", bs->name);
-        c->displace = o.displace;
-        bench_distance(r.x, rr->x, bs->model.n_particles, &c->rms, &c->max);
-        c->rms /= bs->diag;
-        c->max /= bs->diag;
-        if (!a->com.quiet)
-            fprintf(stderr, "  displaced by %g m: RMS %.3g %%, max %.3g %% of the diagonal\n", o.displace,
-                    100 * c->rms, 100 * c->max);
-        config ref = {WC_SOLVER_DIRECT, bench_method_of(&o.sim), 0, 1, a->ref_substeps, 3, o.displace};
-        add_row(t, BENCH_CPU, bs, &ref, &r, c->rms, c->max, swing_against(&r, rr, bs->diag));
-        bench_run_free(&r);
+/* One configuration on one backend against the reference rr (row and plot point added). 0, or -1
+ * with msg. */
+static int run_config(const acc_args* a, const bench_scene* bs, const config* c, int backend, int frames,
+                      const bench_run* rr, bench_table* t, bench_point* pt, char* msg, size_t size) {
+    bench_run_opts o = run_opts(a, bs, frames);
+    o.backend = backend;
+    o.def.solver = c->solver;
+    o.def.tolerance = c->tolerance;
+    if (c->solver != WEFT_SOLVER_DIRECT) o.def.max_iterations = c->cap;
+    o.def.substeps = c->substeps;
+    bench_method_apply(&c->method, &o.def);
+    bench_run r;
+    if (bench_run_scene(bs, &o, &r, msg, size) != 0) return -1;
+    double rms, max;
+    bench_distance(r.x, rr->x, r.vertices, &rms, &max);
+    rms /= rr->diag;
+    max /= rr->diag;
+    if (!a->com.quiet) {
+        char label[64];
+        fprintf(stderr, "  %s %s %s tol %g cap %d substeps %d: %.2f ms/frame, %.1f it./solve, traj. err %.3g\n",
+                bench_backend_name(backend), cli_solver_name(c->solver),
+                bench_method_short(c->solver, &c->method, label, sizeof label), c->tolerance, c->cap, c->substeps,
+                r.ms_median, bench_run_iterations_per_solve(&r), rms);
     }
+    add_row(t, backend, bs, c, &r, rms, max, swing_against(&r, rr, rr->diag));
+    pt->solver = (int)c->solver;
+    pt->ms = r.ms_median;
+    pt->error = rms;
+    bench_run_free(&r);
     return 0;
 }
 
@@ -613,17 +579,19 @@ int bench_accuracy_run(int argc, char** argv) {
     /* the plot's panels: a scene, or (two backends) a scene on a backend */
     char(*panel_buf)[48] = calloc((size_t)(a.n_scenes * a.n_backends), sizeof *panel_buf);
     const char** panels = calloc((size_t)(a.n_scenes * a.n_backends), sizeof(char*));
-    bench_point* pts = malloc(sizeof *pts * (size_t)max_points);
-    config* cfg = malloc(sizeof *cfg * (size_t)max_cfg);
+    bench_point* pts = malloc(sizeof *pts * (size_t)(max_points > 0 ? max_points : 1));
+    config* cfg = malloc(sizeof *cfg * (size_t)(max_cfg > 0 ? max_cfg : 1));
     ref_check checks[MAX_SCENES * MAX_HALVINGS];
-    ref_displaced displaced[MAX_SCENES * BENCH_MAX_LIST];
-    int n_pts = 0, n_checks = 0, n_displaced = 0, threads = 1;
+    int n_pts = 0, n_checks = 0, threads = 1;
     rc = CLI_EXIT_OK;
     if (!pts || !cfg || !panel_buf || !panels) {
         cli_error("out of memory");
         rc = CLI_EXIT_FAILURE;
     }
-    if (rc == CLI_EXIT_OK) rc = bench_open_backends(a.backends, a.n_backends);
+    /* the reference is the CPU's: its context is open whatever --backend says */
+    int open[BENCH_MAX_BACKENDS + 1] = {BENCH_CPU};
+    memcpy(open + 1, a.backends, sizeof(int) * (size_t)a.n_backends);
+    if (rc == CLI_EXIT_OK) rc = bench_open_backends(open, 1 + a.n_backends, a.com.threads);
     for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si)
         for (int bi = 0; bi < a.n_backends; ++bi) {
             const int pi = si * a.n_backends + bi;
@@ -633,90 +601,47 @@ int bench_accuracy_run(int argc, char** argv) {
                 snprintf(panel_buf[pi], sizeof panel_buf[pi], "%s", a.scenes[si]);
             panels[pi] = panel_buf[pi];
         }
+    char msg[1024];
     for (int si = 0; si < a.n_scenes && rc == CLI_EXIT_OK; ++si) {
         bench_scene bs;
-        wc_diag d = {0};
-        if (bench_scene_build(&bs, a.scenes[si], a.com.garment, 1.0, 1.0, &d) != WC_OK) {
-            cli_error(d.message);
+        if (bench_scene_build(&bs, a.scenes[si], a.com.garment, 1.0, 1.0, msg, sizeof msg) != 0) {
+            cli_error(msg);
             rc = CLI_EXIT_FAILURE;
             break;
         }
-        if (a.undamped)
-            for (int k = 0; k < WC_SPRING_TYPE_COUNT; ++k) bs.model.material.d[k] = 0.0;
         bench_run rr;
-        if (run_reference(&a, &bs, frames, &t, &rr, &checks[n_checks], &d) != 0) {
-            cli_error(d.message);
+        if (run_reference(&a, &bs, frames, &t, &rr, &checks[n_checks], msg, sizeof msg) != 0) {
+            cli_error(msg);
             bench_scene_free(&bs);
             rc = CLI_EXIT_FAILURE;
             break;
         }
         n_checks += a.ref_check ? a.ref_halvings : 0;
-        if (run_displaced(&a, &bs, frames, &t, &rr, &displaced[n_displaced], &d) != 0) {
-            cli_error(d.message);
-            bench_run_free(&rr);
-            bench_scene_free(&bs);
-            rc = CLI_EXIT_FAILURE;
-            break;
-        }
-        n_displaced += a.n_ref_displace;
-        wc_par par;
-        wc_par_init(&par, a.com.threads);
-        threads = par.threads;
-        bench_run_opts o;
-        memset(&o, 0, sizeof o);
-        o.fps = a.fps;
-        o.frames = frames;
-        const int n_cfg = a.ref_only ? 0 : configs_for(&a, bs.model.n_particles, cfg, max_cfg);
+        threads = rr.threads;
+        const int n_cfg = a.ref_only ? 0 : configs_for(&a, rr.particles, cfg, max_cfg);
         for (int q = 0; q < n_cfg * a.n_backends && rc == CLI_EXIT_OK; ++q) {
-            const int bi = q / n_cfg, k = q % n_cfg, backend = a.backends[bi];
-            const config* c = &cfg[k];
+            const int bi = q / n_cfg, backend = a.backends[bi];
+            const config* c = &cfg[q % n_cfg];
             /* the GPU has no direct solver and runs PCG with block Jacobi, backward Euler, one Newton
              * iteration only: the other configurations have no GPU row */
-            if (backend == BENCH_GPU &&
-                (c->solver == WC_SOLVER_DIRECT || c->method.precond != WC_PRECOND_BLOCK_JACOBI ||
-                 c->method.integrator != WC_INTEGRATOR_BE || c->method.newton != 1 || c->method.line_search))
+            if (backend == BENCH_GPU && (c->solver == WEFT_SOLVER_DIRECT || !bench_method_on_gpu(&c->method)))
                 continue;
-            o.backend = backend;
-            o.sim = bs.sim;
-            o.sim.threads = a.com.threads;
-            if (a.undamped || a.no_air) o.sim.air.normal_drag = o.sim.air.tangent_drag = 0.0;
-            o.sim.solver.type = c->solver;
-            o.sim.solver.tolerance = c->tolerance;
-            if (c->solver != WC_SOLVER_DIRECT) o.sim.solver.max_iterations = c->cap;
-            o.sim.substeps = c->substeps;
-            bench_method_apply(&c->method, &o.sim);
-            o.probe_frames = backend == BENCH_GPU ? 0 : a.probes; /* the probe is the CPU's */
-            bench_run r;
-            if (bench_run_scene(&bs, &o, &r, &d) != 0) {
-                cli_error(d.message);
+            bench_point pt = {si * a.n_backends + bi, 0, 0.0, 0.0};
+            if (run_config(&a, &bs, c, backend, frames, &rr, &t, &pt, msg, sizeof msg) != 0) {
+                cli_error(msg);
                 rc = CLI_EXIT_FAILURE;
                 break;
             }
-            double rms, max;
-            bench_distance(r.x, rr.x, bs.model.n_particles, &rms, &max);
-            rms /= bs.diag;
-            max /= bs.diag;
-            if (!a.com.quiet) {
-                char label[64];
-                fprintf(stderr, "  [%d/%d] %s %s %s tol %g cap %d substeps %d: %.2f ms/frame, %.1f it./solve, "
-                        "traj. err %.3g\n", q + 1, n_cfg * a.n_backends, bench_backend_name(backend),
-                        wc_solver_name(c->solver), bench_method_short(c->solver, &c->method, label, sizeof label),
-                        c->tolerance, c->cap, c->substeps, r.ms_median, bench_run_iterations_per_solve(&r), rms);
-            }
-            add_row(&t, backend, &bs, c, &r, rms, max, swing_against(&r, &rr, bs.diag));
-            if (n_pts < max_points)
-                pts[n_pts++] = (bench_point){si * a.n_backends + bi, (int)c->solver, r.ms_median, rms};
-            bench_run_free(&r);
+            if (n_pts < max_points) pts[n_pts++] = pt;
         }
         bench_run_free(&rr);
         bench_scene_free(&bs);
     }
     if (rc == CLI_EXIT_OK) {
-        const header_info h = {&a, frames, threads, checks, n_checks, displaced, n_displaced};
+        const header_info h = {&a, frames, threads, checks, n_checks};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     if (rc == CLI_EXIT_OK && a.com.plot) {
-        char msg[256];
         if (bench_plot_accuracy(a.com.plot, panels, a.n_scenes * a.n_backends, pts, n_pts,
                                 "trajectory RMS error / bbox diagonal", msg, sizeof msg) != 0) {
             cli_error(msg);

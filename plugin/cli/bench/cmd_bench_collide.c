@@ -1,24 +1,28 @@
 /* `weft bench collide`: what collision detection costs per frame against the cloth's size and the
  * body's. A square sheet (drapeN: 1 m x 1 m, N x N particles, 5 cm above the body, no pins) falls
- * onto a triangle-mesh sphere (cmd_bench_body.c: radius 0.25 m, about T triangles) with
- * self-collision on, one step per frame at 30 frames/s, on the CPU (wc_step_frame). Per (N, T):
- * frames are stepped until the sheet touches the body (warm-up), then a few frames are timed; the
- * medians of the step's own stage times (total, collide: the colliders' passes, the mesh contacts;
- * self-collide; solve) and the collision share (collide + self) / total. The error side of each
- * row: the deepest penetration of a particle into the body (wc_mesh_max_penetration) and the
- * self-intersecting edge-triangle pairs (wc_self_intersections) at the last frame. The goal of
- * issue 13 (self-collision and a 20k-triangle body under 30 % of the frame at 25,600 particles)
- * is judged on the row N = 160 with the body nearest 20,000 triangles. */
+ * onto a triangle-mesh sphere (bench_body.c: radius 0.25 m, about T triangles) with
+ * self-collision on, one step per frame at 30 frames/s, through the public API on a CPU context
+ * (weft_cloth_step, the library's defaults otherwise). Per (N, T): frames are stepped until the
+ * sheet touches the body (warm-up), then a few frames are timed; the medians of the stage times
+ * the frame stats report (total: the whole call; collide: the colliders' passes, the mesh
+ * contacts; self-collide; solve) and the collision share (collide + self) / total. The error side
+ * of each row, from weft_cloth_check_collisions at the last frame: the deepest penetration of a
+ * particle into the body and the self-intersecting edge-triangle pairs. The goal (self-collision
+ * and a 20k-triangle body under 30 % of the frame at 25,600 particles) is judged on the row
+ * N = 160 with the body nearest 20,000 triangles. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_body.h"
+#include "bench_commands.h"
+#include "bench_run.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
-#include "self_collide.h"
-#include "sort.h"
-#include "vec3.h"
+#include "scene_host.h"
 
 #define FPS 30.0
 #define BODY_RADIUS 0.25        /* m: the drape scene's sphere */
@@ -41,7 +45,8 @@ void bench_collide_usage(FILE* out) {
     fputs("usage: weft bench collide [--quick] [--cloth LIST] [--body LIST] [--frames N] [--settle N]\n"
           "                          [--max-warmup N] [--threads N] [--csv FILE] [--md FILE] [--quiet]\n"
           "\n"
-          "The cost of collision detection per frame against cloth size and body size (CPU).\n"
+          "The cost of collision detection per frame against cloth size and body size (CPU, through\n"
+          "the public API: weft_cloth_step).\n"
           "A 1 m x 1 m sheet of N x N particles (scene drapeN: 5 cm above the body, no pins) falls onto\n"
           "a triangle-mesh sphere (UV sphere, radius 0.25 m, thickness 5 mm, friction 0.3) with\n"
           "self-collision on (thickness 3 mm), one step per frame (substeps 1) at 30 frames/s, the\n"
@@ -113,85 +118,101 @@ typedef struct collide_run {
     int contacts;           /* particles in contact at the last frame */
     long long self_proximity, self_impacts, self_zones, self_unresolved;
     double iterations;      /* per substep, mean over the timed frames */
+    long long substeps_timed;
     double penetration;     /* m, at the last frame */
     int intersections;      /* self-intersecting edge-triangle pairs at the last frame */
+    int threads;            /* OpenMP threads of a call (weft_cloth_info) */
 } collide_run;
 
-static int run_one(const bench_scene* bs, int rings, const collide_args* a, collide_run* out, wc_diag* d) {
-    memset(out, 0, sizeof *out);
-    bench_body body;
-    const double center[3] = {0.0, 0.0, 0.0}, radii[3] = {BODY_RADIUS, BODY_RADIUS, BODY_RADIUS};
-    if (bench_body_create(&body, rings, center, radii, BODY_THICKNESS, BODY_FRICTION, d) != WC_OK) return -1;
-    wc_sim_def sd = wc_default_sim_def();
-    sd.threads = a->com.threads;
-    sd.substeps = 1;
-    sd.sleep_speed = 0.0;
-    sd.max_pins = 1;
-    sd.max_colliders = 1;
-    sd.self_collision = 1;
-    /* the library's CPU defaults (plugin/cloth_create.c resolve_defaults): the multigrid
-       preconditioner, two Newton iterations with line search */
-    sd.solver.preconditioner = WC_PRECOND_AMG;
-    sd.newton_iterations = 2;
-    sd.line_search = 1;
-    wc_state* s = NULL;
+/* The timed frames' medians and the last frame's checks of a created cloth (after the warm-up). */
+static int time_frames(scene_host* h, const scene* sc, const collide_args* a, collide_run* out, char* msg,
+                       size_t size) {
     const int F = a->frames;
     double* ms = malloc(sizeof(double) * 4 * (size_t)F);
     if (!ms) {
-        bench_body_free(&body);
-        return wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "bench collide: out of memory"), -1;
-    }
-    wc_mesh_collider* const mesh[1] = {body.mesh};
-    if (wc_state_create(&s, &bs->model, &sd, NULL, d) != WC_OK ||
-        wc_state_attach_mesh_colliders(s, mesh, 1, d) != WC_OK) {
-        wc_state_destroy(s);
-        bench_body_free(&body);
-        free(ms);
+        snprintf(msg, size, "bench collide: out of memory");
         return -1;
     }
-    out->n = (int)lround(sqrt((double)bs->model.n_particles));
-    out->particles = bs->model.n_particles;
-    out->tris = body.n_tris;
-    wc_step_stats st;
+    weft_frame_stats st;
+    int f = 0, rc = 0;
     out->warmup = -1;
-    for (int f = 0; f < a->max_warmup && out->warmup < 0; ++f) {
-        wc_step_frame(s, 1.0 / FPS, &st, d);
-        if (st.contacts > 0) out->warmup = f + 1;
+    for (; f < a->max_warmup && out->warmup < 0 && rc == 0; ++f) {
+        const weft_frame fr = scene_host_frame(h, sc, f + 1, 1.0 / FPS);
+        rc = weft_cloth_step(h->ctx, h->cloth, &fr, &st) == WEFT_OK ? 0 : -1;
+        if (rc == 0 && st.contacts > 0) out->warmup = f + 1;
     }
-    for (int f = 0; f < a->settle; ++f) wc_step_frame(s, 1.0 / FPS, &st, d);
-    long long iters = 0, subs = 0;
-    for (int f = 0; f < F; ++f) {
-        wc_step_frame(s, 1.0 / FPS, &st, d);
-        ms[f] = st.ms.total;
-        ms[F + f] = st.ms.collide;
-        ms[2 * F + f] = st.ms.self_collide;
-        ms[3 * F + f] = st.ms.solve;
+    for (int k = 0; k < a->settle + F && rc == 0; ++k, ++f) {
+        const weft_frame fr = scene_host_frame(h, sc, f + 1, 1.0 / FPS);
+        memset(&st, 0, sizeof st);
+        const weft_status s = weft_cloth_step(h->ctx, h->cloth, &fr, &st);
+        rc = s == WEFT_OK || s == WEFT_ERROR_STEP_FAILED ? 0 : -1;
+        const int t = k - a->settle;
+        if (rc != 0 || t < 0) continue;
+        ms[t] = st.ms_total;
+        ms[F + t] = st.ms_collide;
+        ms[2 * F + t] = st.ms_self_collide;
+        ms[3 * F + t] = st.ms_solve;
         out->self_proximity += st.self_proximity;
         out->self_impacts += st.self_impacts;
         out->self_zones += st.self_zones;
         out->self_unresolved += st.self_unresolved;
-        iters += st.iterations;
-        subs += st.substeps;
+        out->iterations += st.iterations;
+        out->substeps_timed += st.substeps;
         out->contacts = st.contacts;
     }
-    out->total_min = out->total_max = ms[0];
-    for (int f = 1; f < F; ++f) {
-        out->total_min = fmin(out->total_min, ms[f]);
-        out->total_max = fmax(out->total_max, ms[f]);
+    weft_collision_check chk;
+    if (rc == 0 && weft_cloth_check_collisions(h->ctx, h->cloth, &chk) != WEFT_OK) rc = -1;
+    if (rc != 0) {
+        snprintf(msg, size, "bench collide: %s", scene_host_error(h));
+        free(ms);
+        return -1;
     }
-    out->total = wc_sort_median(ms, F);
-    out->collide = wc_sort_median(ms + F, F);
-    out->self = wc_sort_median(ms + 2 * F, F);
-    out->solve = wc_sort_median(ms + 3 * F, F);
+    out->total_min = out->total_max = ms[0];
+    for (int k = 1; k < F; ++k) {
+        out->total_min = fmin(out->total_min, ms[k]);
+        out->total_max = fmax(out->total_max, ms[k]);
+    }
+    out->total = cli_sort_median(ms, F);
+    out->collide = cli_sort_median(ms + F, F);
+    out->self = cli_sort_median(ms + 2 * F, F);
+    out->solve = cli_sort_median(ms + 3 * F, F);
     out->share = out->total > 0 ? (out->collide + out->self) / out->total : NAN;
-    out->iterations = subs > 0 ? (double)iters / (double)subs : 0.0;
-    const wc_mesh_collider* const cm[1] = {body.mesh};
-    out->penetration = wc_mesh_max_penetration(cm, 1, s->x, bs->model.n_particles);
-    const wc_status is = wc_self_intersections(&bs->model, s->x, NULL, &out->intersections, d);
-    wc_state_destroy(s);
-    bench_body_free(&body);
+    out->iterations = out->substeps_timed > 0 ? out->iterations / (double)out->substeps_timed : 0.0;
+    out->penetration = chk.max_penetration;
+    out->intersections = chk.self_intersections;
     free(ms);
-    return is == WC_OK ? 0 : -1;
+    return 0;
+}
+
+/* One (sheet, body) configuration: the drape scene without its sphere, the mesh body under it. */
+static int run_one(const bench_scene* bs, int rings, const collide_args* a, collide_run* out, char* msg, size_t size) {
+    memset(out, 0, sizeof *out);
+    bench_body body;
+    const double center[3] = {0.0, 0.0, 0.0}, radii[3] = {BODY_RADIUS, BODY_RADIUS, BODY_RADIUS};
+    if (bench_body_create(&body, rings, center, radii, msg, size) != 0) return -1;
+    scene sc = bs->sc;   /* the library's defaults, self-collision on, the mesh body instead of the sphere */
+    sc.def = bench_run_def(bs);
+    sc.def.substeps = 1;
+    sc.def.self_collision = 1;
+    sc.n_colliders = 0;
+    sc.fps = FPS;
+    const weft_mesh_collider_def mesh = bench_body_collider(&body, BODY_THICKNESS, BODY_FRICTION);
+    scene_host_opts ho;
+    memset(&ho, 0, sizeof ho);
+    ho.ctx = bench_backend_context(BENCH_CPU);
+    ho.mesh_colliders = &mesh;
+    ho.n_mesh_colliders = 1;
+    scene_host h;
+    int rc = scene_host_create(&h, &sc, &ho, bs->name, msg, size) == WEFT_OK ? 0 : -1;
+    bench_body_free(&body);   /* read at creation */
+    if (rc != 0) return -1;
+    out->n = (int)lround(sqrt((double)h.info.n_particles));
+    out->particles = h.info.n_particles;
+    out->tris = 4 * rings * (rings - 1);
+    out->threads = h.info.threads;
+    rc = time_frames(&h, &sc, a, out, msg, size);
+    scene_host_destroy(&h);
+    return rc;
 }
 
 enum {
@@ -217,12 +238,12 @@ static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     char blas[64];
     fprintf(out,
-            "## weft bench collide\n\nbackend: CPU (core's wc_step_frame). %d OpenMP thread(s), %s. A 1 m sheet "
+            "## weft bench collide\n\nbackend: CPU (weft_cloth_step). %d OpenMP thread(s), %s. A 1 m sheet "
             "of N x N particles (drapeN) falling onto a triangle-mesh sphere (radius 0.25 m), self-collision on "
             "(3 mm), one step per frame at 30 frames/s, the library's CPU solver defaults (PCG with the "
             "multigrid preconditioner, two Newton iterations with line search); after the first touch (warm-up: frames until it, "
-            "then %d more), %d frames timed per configuration; medians of the step's own stage times (ms per "
-            "frame). collide: the colliders' passes (mesh contacts: BVH refit and queries); self: "
+            "then %d more), %d frames timed per configuration; medians of the stage times weft_cloth_step reports "
+            "(ms per frame; total: the whole call). collide: the colliders' passes (mesh contacts: BVH refit and queries); self: "
             "self-collision; share: (collide + self) / total. min/max: the fastest and slowest timed "
             "frame (total). Error side, at the last frame: the deepest penetration into the body and the "
             "self-intersecting edge-triangle pairs (both 0 when the collisions are resolved).\n\n",
@@ -252,7 +273,12 @@ int bench_collide_run(int argc, char** argv) {
         cli_error("bench collide: out of memory");
         return CLI_EXIT_FAILURE;
     }
-    wc_diag d = {0};
+    char msg[1024];
+    const int cpu = BENCH_CPU;
+    if (bench_open_backends(&cpu, 1, a.com.threads) != CLI_EXIT_OK) {
+        free(runs);
+        return CLI_EXIT_FAILURE;
+    }
     /* the body nearest GOAL_TRIS triangles among those asked for */
     int goal_body = -1;
     for (int b = 0; b < a.n_body; ++b) {
@@ -267,8 +293,8 @@ int bench_collide_run(int argc, char** argv) {
         char name[32];
         snprintf(name, sizeof name, "drape%d", a.cloth[c]);
         bench_scene bs;
-        if (bench_scene_build(&bs, name, a.com.garment, 1.0, 1.0, &d) != WC_OK) {
-            cli_error(d.message);
+        if (bench_scene_build(&bs, name, a.com.garment, 1.0, 1.0, msg, sizeof msg) != 0) {
+            cli_error(msg);
             rc = CLI_EXIT_FAILURE;
             break;
         }
@@ -278,8 +304,8 @@ int bench_collide_run(int argc, char** argv) {
             if (!a.com.quiet)
                 fprintf(stderr, "[%d/%d] %d x %d particles, body of %d triangles\n", c * a.n_body + b + 1, nr,
                         a.cloth[c], a.cloth[c], 4 * rings * (rings - 1));
-            if (run_one(&bs, rings, &a, r, &d) != 0) {
-                cli_error(d.message);
+            if (run_one(&bs, rings, &a, r, msg, sizeof msg) != 0) {
+                cli_error(msg);
                 rc = CLI_EXIT_FAILURE;
             }
             if (a.cloth[c] == GOAL_N && b == goal_body) goal = r;
@@ -288,8 +314,6 @@ int bench_collide_run(int argc, char** argv) {
     }
     bench_table t;
     bench_table_init(&t, N_COLS, csv_cols, md_cols);
-    wc_par par;
-    wc_par_init(&par, a.com.threads);
     for (int q = 0; q < nr && rc < 0; ++q) {
         const collide_run* r = &runs[q];
         char c[N_COLS][64];
@@ -318,7 +342,7 @@ int bench_collide_run(int argc, char** argv) {
         if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
     }
     if (rc < 0) {
-        const header_info h = {&a, par.threads, goal};
+        const header_info h = {&a, runs[0].threads, goal};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     bench_table_free(&t);

@@ -1,9 +1,10 @@
 /* `weft bench iterations`: how many solver iterations a linear solve takes, by resolution and by
  * stiffness. The hanging sheets of --sizes (default stiffness), one sheet (--stiffness-size) with
  * every spring stiffness times each --stiffness factor, and the --scenes (drape, garment), at one
- * substep per frame, for each solver x preconditioner (PCG) x integrator x Newton iterations: PCG
+ * substep per frame, through the public API (weft_cloth_step on a CPU context), for each solver x
+ * preconditioner (PCG) x integrator x Newton iterations: PCG
  * iterations per solve (mean, largest), the fraction of solves that converged, the
- * preconditioner's setup and the solve stage's time per solve. Then the goals of issue 12,
+ * preconditioner's setup and the solve stage's time per solve. Then the goals,
  * met or not per method: every row's mean at most --goal-mean iterations with every solve
  * converged, and the mean growing at most --goal-growth x from the smallest sheet to the largest
  * and from the smallest stiffness factor to the largest. */
@@ -12,9 +13,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_commands.h"
+#include "bench_method.h"
+#include "bench_run.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
-#include "par.h"
+#include "names.h"
 
 #ifndef WEFT_SAMPLE_SCENES
 #define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
@@ -32,7 +38,7 @@ typedef struct it_args {
     const char* scenes[MAX_SCENES];
     int n_scenes;
     char scene_buf[512];
-    wc_solver_type solvers[BENCH_MAX_LIST];
+    weft_solver solvers[BENCH_MAX_LIST];
     int n_solvers;
     bench_methods meth;
     double tolerance;
@@ -52,8 +58,8 @@ void bench_iterations_usage(FILE* out) {
           "                             [--garment FILE] [--csv FILE] [--md FILE] [--quiet]\n"
           "\n"
           "Solver iterations per linear solve, by resolution and stiffness (CPU). Rows, each at one\n"
-          "substep per frame (1/--fps s) for --seconds, stepped by core's wc_step_frame (its\n"
-          "rollbacks on, as a user runs it):\n"
+          "substep per frame (1/--fps s) for --seconds, stepped through the public API\n"
+          "(weft_cloth_step, its rollbacks on, as a user runs it):\n"
           "  size       sheetN for every N of --sizes (N x N particles, 1 m, hanging from two corners)\n"
           "  stiffness  the sheet of --stiffness-size with every spring stiffness times each factor\n"
           "  scene      each of --scenes (drape: a 64 x 64 sheet falling onto a sphere; garment: the\n"
@@ -165,7 +171,7 @@ typedef struct job {
 
 /* One solver x method's goal figures. */
 typedef struct method_goals {
-    wc_solver_type solver;
+    weft_solver solver;
     bench_method method;
     double worst_mean;      /* the largest it./solve over every row */
     char worst_row[48];
@@ -186,7 +192,7 @@ static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const it_args* a = h->a;
     char blas[64];
-    fprintf(out, "## weft bench iterations\n\nbackend: CPU (core's wc_step_frame). %d OpenMP thread(s), %s. One "
+    fprintf(out, "## weft bench iterations\n\nbackend: CPU (weft_cloth_step). %d OpenMP thread(s), %s. One "
                  "substep per frame at %g fps, %g s per row, tolerance %g, cap %d; rollbacks on (a rolled-back "
                  "substep's halves are solves too).\n\n",
             h->threads, bench_blas_note(&a->com, blas, sizeof blas), a->fps, a->seconds, a->tolerance, a->cap);
@@ -201,8 +207,8 @@ static void print_header(FILE* out, const void* ctx) {
         const method_goals* g = &h->g[k];
         const double gs = g->size_last / g->size_first, gk = g->k_last / g->k_first;
         fprintf(out, "| %s | %s | %s | %d%s | %.1f (%s) | %.3g | %s | %.2f | %s | %.2f | %s |\n",
-                wc_solver_name(g->solver), bench_precond_label(g->solver, &g->method),
-                wc_integrator_name(g->method.integrator), g->method.newton, g->method.line_search ? " (ls)" : "",
+                cli_solver_name(g->solver), bench_precond_label(g->solver, &g->method),
+                cli_integrator_name(g->method.integrator), g->method.newton, g->method.line_search ? " (ls)" : "",
                 g->worst_mean, g->worst_row, g->worst_converged,
                 met(g->worst_mean <= a->goal_mean && g->worst_converged >= 1.0), gs,
                 a->n_sizes > 1 ? met(gs <= a->goal_growth) : "-", gk,
@@ -236,17 +242,17 @@ static int make_jobs(const it_args* a, job* out, int cap) {
     return n;
 }
 
-static int add_row(bench_table* t, const job* j, const bench_scene* bs, wc_solver_type solver,
+static int add_row(bench_table* t, const job* j, const bench_scene* bs, weft_solver solver,
                    const bench_method* m, const bench_run* r) {
     char b[N_COLS][48];
     const char* cell[N_COLS];
     snprintf(b[C_GROUP], 48, "%s", j->group);
     snprintf(b[C_SCENE], 48, "%s", bs->name);
-    snprintf(b[C_PARTICLES], 48, "%d", bs->model.n_particles);
+    snprintf(b[C_PARTICLES], 48, "%d", r->particles);
     snprintf(b[C_STIFFNESS], 48, "%g", j->k);
-    snprintf(b[C_SOLVER], 48, "%s", wc_solver_name(solver));
+    snprintf(b[C_SOLVER], 48, "%s", cli_solver_name(solver));
     snprintf(b[C_PRECOND], 48, "%s", bench_precond_label(solver, m));
-    snprintf(b[C_INTEGRATOR], 48, "%s", wc_integrator_name(m->integrator));
+    snprintf(b[C_INTEGRATOR], 48, "%s", cli_integrator_name(m->integrator));
     snprintf(b[C_NEWTON], 48, "%d", m->newton);
     snprintf(b[C_LINE_SEARCH], 48, "%s", m->line_search ? "on" : "off");
     snprintf(b[C_FRAMES], 48, "%d", r->frames);
@@ -304,16 +310,16 @@ int bench_iterations_run(int argc, char** argv) {
         }
     }
     const int frames = (int)lround(a.seconds * a.fps) > 0 ? (int)lround(a.seconds * a.fps) : 1;
-    wc_par par;
-    wc_par_init(&par, a.com.threads);
     bench_table t;
     bench_table_init(&t, N_COLS, csv_cols, md_cols);
-    rc = CLI_EXIT_OK;
+    const int cpu = BENCH_CPU;
+    rc = bench_open_backends(&cpu, 1, a.com.threads);
+    int threads = 1;
+    char msg[1024];
     for (int j = 0; j < n_jobs && rc == CLI_EXIT_OK; ++j) {
         bench_scene bs;
-        wc_diag d = {0};
-        if (bench_scene_build(&bs, jobs[j].scene, a.com.garment, jobs[j].k, 1.0, &d) != WC_OK) {
-            cli_error(d.message);
+        if (bench_scene_build(&bs, jobs[j].scene, a.com.garment, jobs[j].k, 1.0, msg, sizeof msg) != 0) {
+            cli_error(msg);
             rc = CLI_EXIT_FAILURE;
             break;
         }
@@ -321,29 +327,29 @@ int bench_iterations_run(int argc, char** argv) {
             bench_run_opts o;
             memset(&o, 0, sizeof o);
             o.backend = BENCH_CPU;
-            o.sim = bs.sim;
-            o.sim.threads = a.com.threads;
-            o.sim.solver.type = goals[g].solver;
-            o.sim.solver.tolerance = a.tolerance;
-            o.sim.solver.max_iterations = a.cap;
-            o.sim.substeps = 1;
-            bench_method_apply(&goals[g].method, &o.sim);
+            o.def = bench_run_def(&bs);
+            o.def.solver = goals[g].solver;
+            o.def.tolerance = a.tolerance;
+            o.def.max_iterations = a.cap;
+            o.def.substeps = 1;
+            bench_method_apply(&goals[g].method, &o.def);
             o.fps = a.fps;
             o.frames = frames;
             bench_run r;
-            if (bench_run_scene(&bs, &o, &r, &d) != 0) {
-                cli_error(d.message);
+            if (bench_run_scene(&bs, &o, &r, msg, sizeof msg) != 0) {
+                cli_error(msg);
                 rc = CLI_EXIT_FAILURE;
                 break;
             }
             if (!a.com.quiet) {
                 char label[64];
                 fprintf(stderr, "%s k x%g (%d particles) %s %s: %.1f it./solve (max %d), %.3g converged, "
-                        "%.2f ms/frame\n", bs.name, jobs[j].k, bs.model.n_particles, wc_solver_name(goals[g].solver),
+                        "%.2f ms/frame\n", bs.name, jobs[j].k, r.particles, cli_solver_name(goals[g].solver),
                         bench_method_short(goals[g].solver, &goals[g].method, label, sizeof label),
                         bench_run_iterations_per_solve(&r), r.max_iterations, bench_run_converged_fraction(&r),
                         r.ms_median);
             }
+            threads = r.threads;
             note_goals(&goals[g], &a, &jobs[j], j, a.n_sizes, &r);
             if (add_row(&t, &jobs[j], &bs, goals[g].solver, &goals[g].method, &r) != 0) {
                 cli_error("out of memory");
@@ -354,7 +360,7 @@ int bench_iterations_run(int argc, char** argv) {
         bench_scene_free(&bs);
     }
     if (rc == CLI_EXIT_OK) {
-        const header_info h = {&a, par.threads, goals, n_g};
+        const header_info h = {&a, threads, goals, n_g};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     bench_table_free(&t);

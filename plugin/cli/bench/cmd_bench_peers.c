@@ -1,8 +1,8 @@
 /* `weft bench peers`: Weft beside Blender's own cloth solver. For every scene, Blender's cloth
  * (its defaults, 5 quality steps per frame; host_glue/blender/peer_cloth_bench.py run by a child
- * `blender -b`, see cmd_bench_blender.c) and Weft (the scene's defaults: PCG, at each --substeps
- * count x preconditioner x integrator x Newton iterations; and once through the public API at
- * weft_default_cloth_def(), whatever the library resolves that to) simulate the same mesh, the
+ * `blender -b`, see bench_blender.c) and Weft through the public API (PCG at each --substeps
+ * count x preconditioner x integrator x Newton iterations; and once at weft_default_cloth_def(),
+ * whatever the library resolves that to) simulate the same mesh, the
  * same pinned particles (held still) and the same number of frames with the same thread count;
  * the table gives both medians of ms per frame, their ratio, and how far each cloth's lowest
  * point hangs below its pins at the end (a sanity number, not an error: the two material models
@@ -13,10 +13,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_blender.h"
+#include "bench_commands.h"
+#include "bench_method.h"
+#include "bench_run.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
-#include "cmd_bench_blender.h"
-#include "par.h"
+#include "names.h"
+#include "scene_host.h"
 
 #ifndef WEFT_SAMPLE_SCENES
 #define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
@@ -65,7 +71,7 @@ void bench_peers_usage(FILE* out) {
           "the public API with weft_default_cloth_def() (the `defaults` row, CPU: whatever solver,\n"
           "preconditioner, integrator, Newton iterations and substeps the library chooses; sleeping\n"
           "off). Both use --threads threads (Blender: -t N). Per row:\n"
-          "  ms/frame        median wall time of one frame (Weft: wc_step_frame; Blender: one\n"
+          "  ms/frame        median wall time of one frame (Weft: weft_cloth_step; Blender: one\n"
           "                  scene.frame_set, its cloth evaluation included)\n"
           "  Blender / Weft  the ratio of the two medians (> 1: Weft is faster)\n"
           "  drop            how far the lowest point hangs below the highest pin at the end (m):\n"
@@ -94,8 +100,8 @@ void bench_peers_usage(FILE* out) {
           "  --csv FILE       write every row as CSV\n"
           "  --md FILE        write the Markdown table to FILE instead of stdout\n"
           "  --backend LIST   cpu, gpu or cpu,gpu (default cpu): Weft's rows on each backend beside\n"
-          "                   the same Blender run (gpu: gpu/'s wg_sim_step_frame on a headless EGL\n"
-          "                   context; --threads is then the CPU side's only)\n"
+          "                   the same Blender run (gpu: weft_cloth_step on a GPU context, headless\n"
+          "                   EGL; --threads is then the CPU side's only)\n"
           "  --quiet          no progress lines on stderr\n"
           "  -h, --help       show this help\n",
           out);
@@ -170,26 +176,26 @@ static const char* const md_cols[N_COLS] = {
     "Blender / Weft", "Weft drop (m)", "Blender drop (m)", NULL, NULL, "notes", "Weft config", "precond.",
     "integrator", "Newton", NULL, "it./solve", NULL};
 
-/* How far the lowest point of x lies below the highest pin at rest (or below the highest rest
- * point when nothing is pinned). */
-static double drop_below_pins(const bench_scene* bs, const double* x) {
-    const wc_model* m = &bs->model;
+/* How far the lowest point of x (n x 3) lies below the highest pinned rest point (rest: the
+ * particles' rest positions, pins their indices; with no pin, below the highest rest point). */
+static double drop_below_pins(const float* rest, int n_rest, const int* pins, int n_pins, const float* x, int n) {
     double top = -INFINITY, low = INFINITY;
-    for (int k = 0; k < bs->pins.n; ++k) top = fmax(top, bs->pins.start[3 * k + 1]);
-    if (bs->pins.n == 0)
-        for (int i = 0; i < m->n_particles; ++i) top = fmax(top, m->rest_pos[3 * i + 1]);
-    for (int i = 0; i < m->n_particles; ++i) low = isnan(x[3 * i + 1]) ? NAN : fmin(low, x[3 * i + 1]);
+    for (int k = 0; k < n_pins; ++k) top = fmax(top, rest[3 * (size_t)pins[k] + 1]);
+    if (n_pins == 0)
+        for (int i = 0; i < n_rest; ++i) top = fmax(top, rest[3 * (size_t)i + 1]);
+    for (int i = 0; i < n; ++i) low = isnan(x[3 * (size_t)i + 1]) ? NAN : fmin(low, x[3 * (size_t)i + 1]);
     return top - low;
 }
 
-/* The largest distance of a pinned particle of x from its rest position. */
-static double pin_drift(const bench_scene* bs, const double* x) {
+/* The largest distance of a pinned particle of Blender's result from its rest position. */
+static double pin_drift(const bench_peer_mesh* pm, const double* x) {
     double worst = 0.0;
-    for (int k = 0; k < bs->pins.n; ++k) {
-        const double* p = x + 3 * bs->pins.pins[k].particle;
-        const double* r = bs->pins.start + 3 * k;
-        const double d = sqrt((p[0] - r[0]) * (p[0] - r[0]) + (p[1] - r[1]) * (p[1] - r[1]) + (p[2] - r[2]) * (p[2] - r[2]));
-        if (!(d <= worst)) worst = d;
+    for (int k = 0; k < pm->n_pins; ++k) {
+        const double* p = x + 3 * (size_t)pm->pins[k];
+        const float* r = pm->x + 3 * (size_t)pm->pins[k];
+        double d2 = 0.0;
+        for (int c = 0; c < 3; ++c) d2 += (p[c] - r[c]) * (p[c] - r[c]);
+        if (!(sqrt(d2) <= worst)) worst = sqrt(d2);
     }
     return worst;
 }
@@ -199,7 +205,9 @@ typedef struct header_info {
     int weft_threads, blender_threads;
     char version[32];
     char settings[768];
-    wc_solver_opts solver;  /* Weft's (the scenes' default) */
+    weft_solver solver;     /* Weft's scene rows' (the scenes' default) */
+    double tolerance;
+    int max_iterations;
     char missing[1024];     /* why there is no Blender ("": there is) */
     struct {
         char scene[32];
@@ -208,7 +216,7 @@ typedef struct header_info {
     int n_sum;
 } header_info;
 
-#define PEERS_GOAL 10.0     /* issue 12: Weft at its defaults >= 10 x faster than Blender */
+#define PEERS_GOAL 10.0     /* the goal: Weft at its defaults >= 10 x faster than Blender */
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
@@ -250,11 +258,11 @@ static void print_header(FILE* out, const void* ctx) {
     fprintf(out,
             "- Weft: the scene's defaults (default material; %s solver, relative tolerance %g, at most %d "
             "iterations) at %g frames per second, the substeps per frame given in the table; each frame one "
-            "timed wc_step_frame (CPU) or wg_sim_step_frame (GPU, its positions read back after the frame, "
+            "timed weft_cloth_step on the CPU's or the GPU's context (positions read back after the frame, "
             "outside its time); precond., integrator and Newton as in the table. The `defaults` row: the "
-            "library at weft_default_cloth_def() through the public API (weft_cloth_step; its own material, solver, "
-            "preconditioner, integrator, Newton iterations and substeps; sleeping off), on the CPU.\n",
-            wc_solver_name(h->solver.type), h->solver.tolerance, h->solver.max_iterations, a->fps);
+            "library at weft_default_cloth_def() (its own material, solver, preconditioner, integrator, "
+            "Newton iterations and substeps; sleeping off), on the CPU.\n",
+            cli_solver_name(h->solver), h->tolerance, h->max_iterations, a->fps);
     fputs("- ms/frame: median over the frames. Blender / Weft: the ratio of the medians (> 1: Weft is faster).\n"
           "- Time: Blender's cloth ignores the frame rate; its frame is a fixed unit in which gravity is scaled "
           "by 0.001, i.e. it falls like 1/31.6 s per frame (within 5% of Weft's 1/30 s).\n"
@@ -272,18 +280,18 @@ typedef struct weft_row {
     bench_method method;
 } weft_row;
 
-static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, const peers_args* a, int weft_threads,
-                   const bench_blender_result* br, const bench_run* r) {
+static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, const peers_args* a,
+                   const bench_peer_mesh* pm, const bench_blender_result* br, const bench_run* r) {
     char b[N_COLS][96];
     const char* cell[N_COLS];
     const int blender = br->x != NULL; /* 0: no Blender on this machine */
     snprintf(b[C_BACKEND], 96, "%s", bench_backend_name(w->backend));
     snprintf(b[C_SCENE], 96, "%s", bs->name);
-    snprintf(b[C_PARTICLES], 96, "%d", bs->model.n_particles);
+    snprintf(b[C_PARTICLES], 96, "%d", r->particles);
     snprintf(b[C_FRAMES], 96, "%d", a->frames);
-    snprintf(b[C_WEFT_THREADS], 96, "%d", weft_threads);
+    snprintf(b[C_WEFT_THREADS], 96, "%d", r->threads);
     snprintf(b[C_BLENDER_THREADS], 96, blender ? "%d" : "-", br->threads);
-    snprintf(b[C_SOLVER], 96, "%s", w->defaults ? "default" : wc_solver_name(bs->sim.solver.type));
+    snprintf(b[C_SOLVER], 96, "%s", w->defaults ? "default" : cli_solver_name(bs->sc.def.solver));
     if (w->defaults) snprintf(b[C_SUBSTEPS], 96, "default");
     else snprintf(b[C_SUBSTEPS], 96, "%d", w->substeps);
     bench_fmt(b[C_WEFT_MS], 96, "%.4g", r->ms_median);
@@ -294,10 +302,14 @@ static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, con
         snprintf(b[C_BLENDER_MS], 96, "-");
         snprintf(b[C_RATIO], 96, "-");
     }
-    bench_fmt(b[C_WEFT_DROP], 96, "%.3f", drop_below_pins(bs, r->x));
-    const double drift = blender ? pin_drift(bs, br->x) : 0.0;
+    bench_fmt(b[C_WEFT_DROP], 96, "%.3f", drop_below_pins(pm->x, pm->n, pm->pins, pm->n_pins, r->x, r->vertices));
+    const double drift = blender ? pin_drift(pm, br->x) : 0.0;
     if (blender) {
-        bench_fmt(b[C_BLENDER_DROP], 96, "%.3f", drop_below_pins(bs, br->x));
+        float* bx = malloc(sizeof(float) * 3 * (size_t)(br->n_verts > 0 ? br->n_verts : 1));
+        for (int i = 0; bx && i < 3 * br->n_verts; ++i) bx[i] = (float)br->x[i];
+        bench_fmt(b[C_BLENDER_DROP], 96, "%.3f",
+                  bx ? drop_below_pins(pm->x, pm->n, pm->pins, pm->n_pins, bx, br->n_verts) : NAN);
+        free(bx);
         bench_fmt(b[C_PIN_DRIFT], 96, "%.3g", drift);
         snprintf(b[C_VERSION], 96, "%s", br->version);
     } else {
@@ -318,8 +330,8 @@ static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, con
     if (w->defaults) {
         for (int k = C_PRECOND; k <= C_LINE_SEARCH; ++k) snprintf(b[k], 96, "default");
     } else {
-        snprintf(b[C_PRECOND], 96, "%s", bench_precond_label(bs->sim.solver.type, &w->method));
-        snprintf(b[C_INTEGRATOR], 96, "%s", wc_integrator_name(w->method.integrator));
+        snprintf(b[C_PRECOND], 96, "%s", bench_precond_label(bs->sc.def.solver, &w->method));
+        snprintf(b[C_INTEGRATOR], 96, "%s", cli_integrator_name(w->method.integrator));
         snprintf(b[C_NEWTON], 96, "%d", w->method.newton);
         snprintf(b[C_LINE_SEARCH], 96, "%s", w->method.line_search ? "on" : "off");
     }
@@ -329,45 +341,66 @@ static int add_row(bench_table* t, const weft_row* w, const bench_scene* bs, con
     return bench_table_add(t, cell);
 }
 
-/* One Weft run of a row. 0, or -1 with the message on stderr. */
+/* One Weft run of a row: the scene's def with the row's method and substeps, or (the defaults
+ * row) the scene's def as it is, the library's defaults. 0, or -1 with the message on stderr. */
 static int run_weft(const peers_args* a, const bench_scene* bs, const weft_row* w, bench_run* r) {
-    if (w->defaults) {
-        char msg[1024];
-        if (bench_api_run_defaults(bs, a->fps, a->frames, a->com.threads, r, msg, sizeof msg) == 0) return 0;
-        cli_error(msg);
-        return -1;
-    }
     bench_run_opts o;
     memset(&o, 0, sizeof o);
     o.backend = w->backend;
-    o.sim = bs->sim;
-    o.sim.threads = a->com.threads;
-    o.sim.substeps = w->substeps;
-    bench_method_apply(&w->method, &o.sim);
+    o.def = bench_run_def(bs);
+    if (!w->defaults) {
+        o.def.substeps = w->substeps;
+        bench_method_apply(&w->method, &o.def);
+    }
     o.fps = a->fps;
     o.frames = a->frames;
-    wc_diag d = {0};
-    if (bench_run_scene(bs, &o, r, &d) == 0) return 0;
-    cli_error(d.message);
+    char msg[1024];
+    if (bench_run_scene(bs, &o, r, msg, sizeof msg) == 0) return 0;
+    cli_error(msg);
     return -1;
+}
+
+/* The cloth as Blender gets it: the library's rest positions of the scene's cloth, welded twins
+ * merged (a cloth made on the CPU context for the purpose). 0, or -1 with the message on stderr. */
+static int peer_mesh(const bench_scene* bs, bench_peer_mesh* pm) {
+    scene sc = bs->sc;
+    sc.def = bench_run_def(bs);
+    scene_host_opts ho;
+    memset(&ho, 0, sizeof ho);
+    ho.ctx = bench_backend_context(BENCH_CPU);
+    scene_host h;
+    char msg[1024];
+    if (scene_host_create(&h, &sc, &ho, bs->name, msg, sizeof msg) != WEFT_OK) {
+        cli_error(msg);
+        return -1;
+    }
+    const int rc = bench_peer_mesh_make(pm, &bs->sc, h.positions, h.info.n_vertices, bs->name);
+    scene_host_destroy(&h);
+    if (rc != 0) cli_error("out of memory");
+    return rc;
 }
 
 /* One scene: Blender once (when there is one), then Weft's rows. */
 static int run_scene(const peers_args* a, const char* blender, const char* name, bench_table* t, header_info* h) {
     bench_scene bs;
-    wc_diag d = {0};
-    if (bench_scene_build(&bs, name, a->com.garment, 1.0, 1.0, &d) != WC_OK) {
-        cli_error(d.message);
+    char msg[1024];
+    if (bench_scene_build(&bs, name, a->com.garment, 1.0, 1.0, msg, sizeof msg) != 0) {
+        cli_error(msg);
         return CLI_EXIT_FAILURE;
     }
     bs.spin = 0.0; /* the garment's waist held still: Blender's pins do not move */
+    bench_peer_mesh pm;
+    if (peer_mesh(&bs, &pm) != 0) {
+        bench_scene_free(&bs);
+        return CLI_EXIT_FAILURE;
+    }
     bench_blender_result br;
     memset(&br, 0, sizeof br);
-    char msg[1024];
     if (blender) {
-        if (!a->com.quiet) fprintf(stderr, "%s (%d particles): blender...\n", bs.name, bs.model.n_particles);
-        if (bench_blender_run(blender, a->script, &bs, a->frames, a->com.threads, a->timeout, &br, msg, sizeof msg) != 0) {
+        if (!a->com.quiet) fprintf(stderr, "%s (%d particles): blender...\n", bs.name, pm.n);
+        if (bench_blender_run(blender, a->script, &pm, a->frames, a->com.threads, a->timeout, &br, msg, sizeof msg) != 0) {
             cli_error(msg);
+            bench_peer_mesh_free(&pm);
             bench_scene_free(&bs);
             return CLI_EXIT_FAILURE;
         }
@@ -375,19 +408,18 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
         snprintf(h->settings, sizeof h->settings, "%s", br.settings);
         h->blender_threads = br.threads;
     }
-    h->solver = bs.sim.solver;
+    h->solver = bs.sc.def.solver;
+    h->tolerance = bs.sc.def.tolerance;
+    h->max_iterations = bs.sc.def.max_iterations;
     /* the rows: backend x method x substeps, then the library's defaults (CPU) */
     static weft_row rows[BENCH_MAX_BACKENDS * BENCH_MAX_LIST * BENCH_MAX_LIST + 1];
     bench_method meth[BENCH_MAX_LIST];
-    const int n_meth = bench_methods_expand(&a->meth, bs.sim.solver.type, meth, BENCH_MAX_LIST);
+    const int n_meth = bench_methods_expand(&a->meth, bs.sc.def.solver, meth, BENCH_MAX_LIST);
     int n_rows = 0;
     for (int bi = 0; bi < a->n_backends; ++bi)
         for (int mi = 0; mi < n_meth; ++mi) {
             const bench_method* m = &meth[mi];
-            /* the GPU: block Jacobi, backward Euler, one Newton iteration only */
-            if (a->backends[bi] == BENCH_GPU && (m->precond != WC_PRECOND_BLOCK_JACOBI ||
-                                                 m->integrator != WC_INTEGRATOR_BE || m->newton != 1 || m->line_search))
-                continue;
+            if (a->backends[bi] == BENCH_GPU && !bench_method_on_gpu(m)) continue;   /* what the GPU runs */
             for (int k = 0; k < a->n_substeps; ++k)
                 rows[n_rows++] = (weft_row){a->backends[bi], 0, a->substeps[k], *m};
         }
@@ -399,12 +431,13 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
             rc = CLI_EXIT_FAILURE;
             break;
         }
+        h->weft_threads = r.threads;
         if (!a->com.quiet) {
             char label[64];
             if (rows[q].defaults) snprintf(label, sizeof label, "defaults (weft_default_cloth_def)");
             else
                 snprintf(label, sizeof label, "%d substep(s) %s", rows[q].substeps,
-                         bench_method_short(bs.sim.solver.type, &rows[q].method, msg, sizeof msg));
+                         bench_method_short(bs.sc.def.solver, &rows[q].method, msg, sizeof msg));
             fprintf(stderr, "  weft (%s) %s: %.3g ms/frame, %.1f it./solve; blender: %.3g ms/frame\n",
                     bench_backend_name(rows[q].backend), label, r.ms_median, bench_run_iterations_per_solve(&r),
                     blender ? br.ms_median : NAN);
@@ -414,13 +447,14 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
             h->sum[h->n_sum].blender_ms = blender ? br.ms_median : NAN;
             h->sum[h->n_sum++].defaults_ms = r.ms_median;
         }
-        if (add_row(t, &rows[q], &bs, a, h->weft_threads, &br, &r) != 0) {
+        if (add_row(t, &rows[q], &bs, a, &pm, &br, &r) != 0) {
             cli_error("out of memory");
             rc = CLI_EXIT_FAILURE;
         }
         bench_run_free(&r);
     }
     if (blender) bench_blender_free(&br);
+    bench_peer_mesh_free(&pm);
     bench_scene_free(&bs);
     return rc;
 }
@@ -442,15 +476,16 @@ int bench_peers_run(int argc, char** argv) {
         fprintf(stderr, "weft: %s: Weft's rows only\n", msg);
         snprintf(h.missing, sizeof h.missing, "%s", msg);
     }
-    wc_par par;
-    wc_par_init(&par, a.com.threads);
-    h.weft_threads = par.threads;
+    h.weft_threads = a.com.threads;
     bench_table t;
     const char* md[N_COLS];
     memcpy(md, md_cols, sizeof md);
     if (a.n_backends > 1) md[C_BACKEND] = "backend";
     bench_table_init(&t, N_COLS, csv_cols, md);
-    rc = bench_open_backends(a.backends, a.n_backends);
+    /* the peer mesh and the defaults row run on the CPU whatever --backend says */
+    int open[BENCH_MAX_BACKENDS + 1] = {BENCH_CPU};
+    memcpy(open + 1, a.backends, sizeof(int) * (size_t)a.n_backends);
+    rc = bench_open_backends(open, 1 + a.n_backends, a.com.threads);
     for (int s = 0; s < a.n_scenes && rc == CLI_EXIT_OK; ++s)
         rc = run_scene(&a, h.missing[0] ? NULL : blender, a.scenes[s], &t, &h);
     if (rc == CLI_EXIT_OK) rc = bench_write_tables(&a.com, &t, print_header, &h);

@@ -3,17 +3,21 @@
  * to a baseline that uses none (no air, no collider, still pins), plus the solver forced to its
  * iteration cap instead of stopping at its tolerance, and the cloth asleep. Per configuration:
  * the median per-stage wall time of a frame, the ratio to the baseline and what the baseline (or
- * the skip) saves. Core steps (wc_step_frame), as the other `weft bench` commands time them, and/or
- * (--backend) gpu/'s wg_sim_step_frame on the process's headless device. */
+ * the skip) saves. Every configuration is a cloth of the public API (weft_cloth_step on the
+ * backend's context: the CPU's and/or, with --backend, a GPU's). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_body.h"
+#include "bench_commands.h"
+#include "bench_run.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
-#include "sort.h"
-#include "vec3.h"
+#include "scene_host.h"
 
 #define FPS 60.0
 #define SLEEP_CAP_S 60.0    /* simulated seconds the asleep row waits for the cloth to come to rest */
@@ -110,137 +114,155 @@ typedef struct skip_run {
     int asleep_frames;      /* timed frames the cloth slept through */
     int warmup;             /* frames before the timed ones (asleep: until it fell asleep; -1: never) */
     int unchanged;          /* 1: positions bit-identical across the timed frames */
+    int particles, threads; /* the cloth's (weft_cloth_info) */
 } skip_run;
 
-/* The pins' targets at the end of frame f: turned about the y axis by spin x t. */
-static void pin_targets(const bench_scene* bs, double spin, int f, wc_pin* out) {
-    const double angle = spin * (f + 1) / FPS, c = cos(angle), s = sin(angle);
-    for (int k = 0; k < bs->pins.n; ++k) {
-        const double* r = bs->pins.start + 3 * k;
-        out[k] = bs->pins.pins[k];
-        v3_set(out[k].target, c * r[0] + s * r[2], r[1], -s * r[0] + c * r[2]);
-    }
-}
-
-/* One configuration's state and its per-frame timings. */
+/* One configuration's cloth and its per-frame timings. */
 typedef struct skip_cfg {
-    wc_state* s;
-    bench_gpu_sim* g;       /* the GPU's sim of s (s its mirror), or NULL: the CPU */
+    scene sc;               /* the scene with this configuration's def and colliders (arrays shared) */
+    scene_collider sphere;  /* its sphere collider, when it has one */
+    bench_body body;        /* the mesh rows' sphere (a mesh collider of host arrays) */
+    scene_host h;
+    int live;               /* 1: h holds a cloth */
     double* ms;             /* (6 x frames) */
-    double* x0;             /* positions before the timed frames */
-    wc_pin* pins;           /* (n pins) scratch */
-    bench_body body;        /* the mesh rows' sphere (attached to s, which it outlives) */
-    wc_mesh_collider* mesh[1]; /* the list attached to s (the state keeps the pointer) */
+    float* x0;              /* positions before the timed frames */
     long long iterations, substeps;
 } skip_cfg;
 
 static void cfg_free(skip_cfg* c) {
-    bench_gpu_sim_destroy(c->g);
-    wc_state_destroy(c->s);
+    if (c->live) scene_host_destroy(&c->h);
     bench_body_free(&c->body);
     free(c->ms);
     free(c->x0);
-    free(c->pins);
     memset(c, 0, sizeof *c);
 }
 
-/* One frame on the configuration's backend; -1 on a GPU failure (a failed step is not one). */
-static int cfg_frame(skip_cfg* c, wc_step_stats* st, wc_diag* d) {
-    if (!c->g) {
-        wc_step_frame(c->s, 1.0 / FPS, st, d);
-        return 0;
+/* One frame (f: 0-based) with the configuration's pins (turning about the vertical axis at 1 rad/s
+ * for `+ moving pins`); -1 with msg when the step is refused (a failed step is not). */
+static int cfg_frame(skip_cfg* c, int config, int f, weft_frame_stats* st, char* msg, size_t size) {
+    weft_frame fr = scene_host_frame(&c->h, &c->sc, f + 1, 1.0 / FPS);
+    if (config == K_PINS) {
+        const double angle = (f + 1) / FPS, co = cos(angle), si = sin(angle);
+        for (int i = 0; i < c->h.n_attachments; ++i) {
+            float* m = c->h.attachment_xf + 16 * (size_t)i;
+            memset(m, 0, 16 * sizeof(float));
+            m[0] = (float)co, m[2] = (float)-si, m[5] = 1.0f, m[8] = (float)si, m[10] = (float)co, m[15] = 1.0f;
+        }
     }
-    const wc_status r = bench_gpu_sim_step(c->g, c->s, 1.0 / FPS, st, d);
-    return r == WC_OK || r == WC_ERROR_STEP_FAILED ? 0 : -1;
+    memset(st, 0, sizeof *st);
+    const weft_status s = weft_cloth_step(c->h.ctx, c->h.cloth, &fr, st);
+    if (s == WEFT_OK || s == WEFT_ERROR_STEP_FAILED) return 0;
+    snprintf(msg, size, "frame %d: %s", f + 1, scene_host_error(&c->h));
+    return -1;
 }
 
-/* The positions into c->s->x (the GPU's read back; the CPU's are there). */
-static int cfg_positions(skip_cfg* c, wc_diag* d) {
-    return c->g && bench_gpu_sim_download(c->g, c->s, d) != WC_OK ? -1 : 0;
+/* The configuration's def and colliders on the scene: the baseline (no air, no collider, still
+ * pins, the core of one Baraff-Witkin step: block Jacobi PCG, backward Euler, one Newton
+ * iteration, no line search, no self-collision) plus its one feature. */
+static int cfg_scene(skip_cfg* c, const bench_scene* bs, int backend, int config, char* msg, size_t size) {
+    c->sc = bs->sc;
+    weft_cloth_def* d = &c->sc.def;
+    *d = bench_run_def(bs);
+    const weft_cloth_def dflt = weft_default_cloth_def();
+    d->preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
+    d->integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+    d->newton_iterations = 1;
+    d->line_search = 0;
+    d->self_collision = config == K_SELF && backend != BENCH_GPU;   /* the GPU has none */
+    d->air_drag_normal = d->air_drag_tangent = 0.0;
+    if (config == K_DRAG || config == K_WIND || config == K_ASLEEP) {
+        d->air_drag_normal = dflt.air_drag_normal;
+        d->air_drag_tangent = dflt.air_drag_tangent;
+    }
+    if (config == K_WIND) d->wind[0] = 3.0;
+    if (config == K_CAP) d->tolerance = 0.0;
+    if (config == K_ASLEEP) d->sleep_speed = dflt.sleep_speed;
+    c->sc.fps = FPS;
+    c->sc.n_colliders = 0;
+    c->sc.n_mesh_colliders = 0;
+    /* below the middle of the cloth's rest bounding box (the scene's mesh) */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < bs->sc.mesh.n_vertices; ++v)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = fmin(lo[k], bs->sc.mesh.positions[3 * v + k]);
+            hi[k] = fmax(hi[k], bs->sc.mesh.positions[3 * v + k]);
+        }
+    memset(&c->sphere, 0, sizeof c->sphere);
+    c->sphere.type = WEFT_COLLIDER_SPHERE;
+    c->sphere.radius = 0.25;
+    c->sphere.thickness = 0.005;
+    c->sphere.friction = 0.3;
+    c->sphere.motion = scene_motion_still();
+    c->sphere.center[0] = 0.5 * (lo[0] + hi[0]);
+    c->sphere.center[1] = lo[1] - (config == K_FAR || config == K_MESH_FAR ? 10.0 : 0.3);
+    c->sphere.center[2] = 0.5 * (lo[2] + hi[2]);
+    if (config == K_FAR || config == K_CONTACT) {
+        c->sc.colliders = &c->sphere;
+        c->sc.n_colliders = 1;
+    }
+    if ((config == K_MESH_FAR || config == K_MESH_CONTACT) && backend != BENCH_GPU) {
+        /* the GPU has no mesh colliders: its rows are the baseline again */
+        const double r[3] = {c->sphere.radius, c->sphere.radius, c->sphere.radius};
+        if (bench_body_create(&c->body, MESH_RINGS, c->sphere.center, r, msg, size) != 0) return -1;
+    }
+    return 0;
 }
 
-/* The configuration's state (and, on the GPU, its sim); the asleep one is stepped until it falls
- * asleep (out->warmup). */
-static int cfg_create(skip_cfg* c, const bench_scene* bs, int backend, int config, int frames, int threads,
-                      skip_run* out, wc_diag* d) {
+/* The configuration's cloth; the asleep one is stepped until it falls asleep (out->warmup). */
+static int cfg_create(skip_cfg* c, const bench_scene* bs, int backend, int config, int frames, skip_run* out,
+                      char* msg, size_t size) {
     memset(c, 0, sizeof *c);
     memset(out, 0, sizeof *out);
-    wc_sim_def sd = wc_default_sim_def();
-    sd.threads = threads;
-    sd.max_pins = bs->pins.n > 0 ? bs->pins.n : 1;
-    sd.max_colliders = 1;
-    sd.air.normal_drag = sd.air.tangent_drag = 0.0;
-    sd.sleep_speed = 0.0;
-    if (config == K_DRAG || config == K_WIND || config == K_ASLEEP) sd.air = wc_default_sim_def().air;
-    if (config == K_WIND) v3_set(sd.air.wind, 3.0, 0.0, 0.0);
-    if (config == K_CAP) sd.solver.tolerance = 0.0;
-    if (config == K_ASLEEP) sd.sleep_speed = wc_default_sim_def().sleep_speed;
-    if (config == K_SELF && backend != BENCH_GPU) sd.self_collision = 1; /* the GPU has none */
-    if (wc_state_create(&c->s, &bs->model, &sd, NULL, d) != WC_OK) return -1;
-    wc_status st = wc_state_set_pins(c->s, bs->pins.pins, bs->pins.n, d);
-    wc_collider col;
-    memset(&col, 0, sizeof col);
-    col.type = WC_COLLIDER_SPHERE;
-    col.radius = 0.25;
-    col.thickness = 0.005;
-    col.friction = 0.3;
-    /* below the middle of the cloth's rest bounding box */
-    const double* lo = bs->model.report.bbox_min;
-    const double* hi = bs->model.report.bbox_max;
-    v3_set(col.center, 0.5 * (lo[0] + hi[0]), lo[1] - (config == K_FAR ? 10.0 : 0.3), 0.5 * (lo[2] + hi[2]));
-    if (st == WC_OK && (config == K_FAR || config == K_CONTACT)) st = wc_state_set_colliders(c->s, &col, 1, d);
-    if (st == WC_OK && (config == K_MESH_FAR || config == K_MESH_CONTACT) && backend != BENCH_GPU) {
-        /* the GPU has no mesh colliders: its rows are the baseline again */
-        double center[3];
-        v3_set(center, col.center[0], lo[1] - (config == K_MESH_FAR ? 10.0 : 0.3), col.center[2]);
-        const double radii[3] = {col.radius, col.radius, col.radius};
-        st = bench_body_create(&c->body, MESH_RINGS, center, radii, col.thickness, col.friction, d);
-        c->mesh[0] = c->body.mesh;
-        if (st == WC_OK) st = wc_state_attach_mesh_colliders(c->s, c->mesh, 1, d);
+    if (cfg_scene(c, bs, backend, config, msg, size) != 0) return -1;
+    scene_host_opts ho;
+    memset(&ho, 0, sizeof ho);
+    ho.ctx = bench_backend_context(backend);
+    weft_mesh_collider_def mesh = bench_body_collider(&c->body, c->sphere.thickness, c->sphere.friction);
+    if (c->body.n_verts > 0) {
+        ho.mesh_colliders = &mesh;
+        ho.n_mesh_colliders = 1;
     }
-    const size_t n3 = 3 * (size_t)bs->model.n_particles;
-    c->ms = malloc(sizeof(double) * 6 * (size_t)frames);
-    c->x0 = malloc(sizeof(double) * n3);
-    c->pins = malloc(sizeof(wc_pin) * (size_t)(bs->pins.n + 1));
-    if (st != WC_OK || !c->ms || !c->x0 || !c->pins) {
-        if (st == WC_OK) wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "bench skip: out of memory");
+    if (scene_host_create(&c->h, &c->sc, &ho, bs->name, msg, size) != WEFT_OK) {
         cfg_free(c);
         return -1;
     }
-    if (backend == BENCH_GPU && bench_gpu_sim_create(c->s, &c->g, d) != WC_OK) {
+    c->live = 1;
+    const size_t n3 = 3 * (size_t)c->h.info.n_vertices;
+    c->ms = malloc(sizeof(double) * 6 * (size_t)frames);
+    c->x0 = malloc(sizeof(float) * (n3 > 0 ? n3 : 1));
+    if (!c->ms || !c->x0) {
+        snprintf(msg, size, "bench skip: out of memory");
         cfg_free(c);
         return -1;
     }
     if (config == K_ASLEEP) {
         out->warmup = -1;
-        wc_step_stats ws;
+        weft_frame_stats ws;
         for (int f = 0; f < (int)(SLEEP_CAP_S * FPS) && out->warmup < 0; ++f) {
-            if (cfg_frame(c, &ws, d) != 0) {
+            if (cfg_frame(c, config, f, &ws, msg, size) != 0) {
                 cfg_free(c);
                 return -1;
             }
             if (ws.fell_asleep) out->warmup = f + 1;
         }
     }
-    if (cfg_positions(c, d) != 0) {
+    if (scene_host_read_positions(&c->h) != WEFT_OK) {
+        snprintf(msg, size, "%s", scene_host_error(&c->h));
         cfg_free(c);
         return -1;
     }
-    memcpy(c->x0, c->s->x, sizeof(double) * n3);
+    memcpy(c->x0, c->h.positions, sizeof(float) * n3);
     return 0;
 }
 
-/* Timed frame f of a configuration; -1 on a GPU failure. */
-static int cfg_step(skip_cfg* c, const bench_scene* bs, int config, int f, int frames, skip_run* out, wc_diag* d) {
-    wc_step_stats ss;
-    if (config == K_PINS) {
-        pin_targets(bs, 1.0, f, c->pins);
-        wc_state_set_pins(c->s, c->pins, bs->pins.n, d); /* the GPU uploads s's pins every frame */
-    }
-    if (cfg_frame(c, &ss, d) != 0) return -1;
+/* Timed frame f of a configuration; -1 with msg on a refused step. */
+static int cfg_step(skip_cfg* c, int config, int f, int frames, skip_run* out, char* msg, size_t size) {
+    weft_frame_stats ss;
+    /* the asleep row continues from where its warm-up left it */
+    if (cfg_frame(c, config, out->warmup > 0 ? out->warmup + f : f, &ss, msg, size) != 0) return -1;
     /* collide: the colliders' passes and self-collision */
-    const double stage[6] = {ss.ms.forces,  ss.ms.assemble,  ss.ms.solve, ss.ms.collide + ss.ms.self_collide,
-                             ss.ms.integrate, ss.ms.total};
+    const double stage[6] = {ss.ms_forces, ss.ms_assemble, ss.ms_solve, ss.ms_collide + ss.ms_self_collide,
+                             ss.ms_integrate, ss.ms_total};
     for (int k = 0; k < 6; ++k) c->ms[(size_t)k * frames + f] = stage[k];
     c->iterations += ss.iterations;
     c->substeps += ss.substeps;
@@ -250,12 +272,17 @@ static int cfg_step(skip_cfg* c, const bench_scene* bs, int config, int f, int f
     return 0;
 }
 
-static int cfg_finish(skip_cfg* c, const bench_scene* bs, int frames, skip_run* out, wc_diag* d) {
-    if (cfg_positions(c, d) != 0) return -1;
+static int cfg_finish(skip_cfg* c, int frames, skip_run* out, char* msg, size_t size) {
+    if (scene_host_read_positions(&c->h) != WEFT_OK) {
+        snprintf(msg, size, "%s", scene_host_error(&c->h));
+        return -1;
+    }
     out->frames = frames;
-    for (int k = 0; k < 6; ++k) out->stage[k] = wc_sort_median(c->ms + (size_t)k * frames, frames);
+    for (int k = 0; k < 6; ++k) out->stage[k] = cli_sort_median(c->ms + (size_t)k * frames, frames);
     out->iterations = c->substeps > 0 ? (double)c->iterations / (double)c->substeps : 0.0;
-    out->unchanged = memcmp(c->x0, c->s->x, sizeof(double) * 3 * (size_t)bs->model.n_particles) == 0;
+    out->unchanged = memcmp(c->x0, c->h.positions, sizeof(float) * 3 * (size_t)c->h.info.n_vertices) == 0;
+    out->particles = c->h.info.n_particles;
+    out->threads = c->h.info.threads;
     return 0;
 }
 
@@ -295,8 +322,8 @@ static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     char note[1024], blas[64];
     fprintf(out, "## weft bench skip\n\n%s. %d OpenMP thread(s), %s. Scene %s (%d particles), %d frames timed "
-                 "per configuration at 60 frames/s, one substep per frame; medians of the step's own "
-                 "per-stage wall time (wc_step_frame's or wg_sim_step_frame's stats, ms per frame).\n\n",
+                 "per configuration at 60 frames/s, one substep per frame; medians of the per-stage wall time "
+                 "weft_cloth_step reports (weft_frame_stats, ms per frame; total: the whole call).\n\n",
             bench_backend_note(h->a->backends, h->a->n_backends, note, sizeof note), h->threads,
             bench_blas_note(&h->a->com, blas, sizeof blas), h->a->scene,
             h->particles, h->a->frames);
@@ -318,7 +345,7 @@ static void print_header(FILE* out, const void* ctx) {
           "constraints) and with it the solver's iterations: the pass a feature adds shows in its own "
           "stage (air: forces; colliders: collide), the rest of the difference is the solve of a "
           "different motion. Stages do not add up to the total: the rest is bookkeeping (failure "
-          "checks, energy, strain).\n\n",
+          "checks, energy, strain, and the library's backup of the state for a failed call).\n\n",
           out);
 }
 
@@ -327,11 +354,11 @@ int bench_skip_run(int argc, char** argv) {
     int rc = bench_parse_args(argc, argv, "weft bench skip", bench_skip_usage, defaults, own_option, &a, &a.com);
     if (rc >= 0) return rc;
     if (a.com.plot) return cli_usage_error("weft bench skip", bench_skip_usage, "--plot: this command has no plot");
-    if (bench_open_backends(a.backends, a.n_backends) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
+    if (bench_open_backends(a.backends, a.n_backends, a.com.threads) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
     bench_scene bs;
-    wc_diag d = {0};
-    if (bench_scene_build(&bs, a.scene, a.com.garment, 1.0, 1.0, &d) != WC_OK) {
-        cli_error(d.message);
+    char msg[1024];
+    if (bench_scene_build(&bs, a.scene, a.com.garment, 1.0, 1.0, msg, sizeof msg) != 0) {
+        cli_error(msg);
         return CLI_EXIT_FAILURE;
     }
     /* every configuration of every backend is stepped in turn, one frame each, so that the
@@ -346,8 +373,8 @@ int bench_skip_run(int argc, char** argv) {
         if (!a.com.quiet)
             fprintf(stderr, "[%d/%d] %s%s%s%s\n", q + 1, nb * N_CONFIGS, nb > 1 ? bench_backend_name(a.backends[b]) : "",
                     nb > 1 ? " " : "", config_name[k], k == K_ASLEEP ? ": stepping until it falls asleep" : "");
-        if (cfg_create(&cfg[b][k], &bs, a.backends[b], k, a.frames, a.com.threads, &runs[b][k], &d) != 0) {
-            cli_error(d.message);
+        if (cfg_create(&cfg[b][k], &bs, a.backends[b], k, a.frames, &runs[b][k], msg, sizeof msg) != 0) {
+            cli_error(msg);
             rc = CLI_EXIT_FAILURE;
         }
     }
@@ -355,15 +382,15 @@ int bench_skip_run(int argc, char** argv) {
     for (int f = 0; f < a.frames && rc < 0; ++f)
         for (int q = 0; q < nb * N_CONFIGS && rc < 0; ++q) {
             const int b = q / N_CONFIGS, k = q % N_CONFIGS;
-            if (cfg_step(&cfg[b][k], &bs, k, f, a.frames, &runs[b][k], &d) != 0) {
-                cli_error(d.message);
+            if (cfg_step(&cfg[b][k], k, f, a.frames, &runs[b][k], msg, sizeof msg) != 0) {
+                cli_error(msg);
                 rc = CLI_EXIT_FAILURE;
             }
         }
     for (int q = 0; q < nb * N_CONFIGS; ++q) {
         const int b = q / N_CONFIGS, k = q % N_CONFIGS;
-        if (rc < 0 && cfg_finish(&cfg[b][k], &bs, a.frames, &runs[b][k], &d) != 0) {
-            cli_error(d.message);
+        if (rc < 0 && cfg_finish(&cfg[b][k], a.frames, &runs[b][k], msg, sizeof msg) != 0) {
+            cli_error(msg);
             rc = CLI_EXIT_FAILURE;
         }
         cfg_free(&cfg[b][k]);
@@ -373,8 +400,6 @@ int bench_skip_run(int argc, char** argv) {
     memcpy(md, md_cols, sizeof md);
     if (nb > 1) md[C_BACKEND] = "backend";
     bench_table_init(&t, N_COLS, csv_cols, md);
-    wc_par par;
-    wc_par_init(&par, a.com.threads);
     for (int q = 0; q < nb * N_CONFIGS && rc < 0; ++q) {
         const int b = q / N_CONFIGS, k = q % N_CONFIGS;
         const skip_run* r = &runs[b][k];
@@ -385,7 +410,7 @@ int bench_skip_run(int argc, char** argv) {
         char c[N_COLS][96];
         snprintf(c[C_BACKEND], 96, "%s", bench_backend_name(a.backends[b]));
         snprintf(c[C_SCENE], 96, "%s", bs.name);
-        snprintf(c[C_PARTICLES], 96, "%d", bs.model.n_particles);
+        snprintf(c[C_PARTICLES], 96, "%d", r->particles);
         snprintf(c[C_CONFIG], 96, "%s", config_name[k]);
         snprintf(c[C_FRAMES], 96, "%d", r->frames);
         snprintf(c[C_WARMUP], 96, "%d", r->warmup);
@@ -408,7 +433,8 @@ int bench_skip_run(int argc, char** argv) {
         if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
     }
     if (rc < 0) {
-        const header_info h = {&a, bs.model.n_particles, par.threads, (const skip_run(*)[N_CONFIGS])runs};
+        const header_info h = {&a, runs[0][K_BASE].particles, runs[0][K_BASE].threads,
+                               (const skip_run(*)[N_CONFIGS])runs};
         rc = bench_write_tables(&a.com, &t, print_header, &h);
     }
     bench_table_free(&t);

@@ -1,16 +1,25 @@
 /* `weft bench stability`: a grid over step length x stiffness x mass x solver x method
- * (preconditioner for PCG, integrator, Newton iterations: cmd_bench_method.c). Each cell simulates
+ * (preconditioner for PCG, integrator, Newton iterations: bench_method.c). Each cell simulates
  * one scene (default: a 32 x 32 sheet hanging from two corners) for a fixed time at one substep
  * per frame and is judged: failed (a non-finite value, strain above --fail-strain, energy growth
  * above --fail-energy, or a substep that failed every retry), recovered (it needed rollbacks) or
- * survived. --backend cpu,gpu runs the grid on each backend (the direct solver on the CPU only). */
+ * survived. --backend cpu,gpu runs the grid on each backend (the direct solver on the CPU only).
+ * Every cell steps the library through the public API (weft_cloth_step; the energy from
+ * weft_cloth_get_energy). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_commands.h"
+#include "bench_method.h"
+#include "bench_plot.h"
+#include "bench_run.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
+#include "names.h"
 
 #ifndef WEFT_SAMPLE_SCENES
 #define WEFT_SAMPLE_SCENES "sample_scenes"   /* for the usage text; the default is set in cmd_bench.c */
@@ -18,7 +27,7 @@
 
 typedef struct stab_args {
     const char* scene;
-    wc_solver_type solvers[BENCH_MAX_LIST];
+    weft_solver solvers[BENCH_MAX_LIST];
     int n_solvers;
     double steps[BENCH_MAX_LIST];
     int n_steps;
@@ -175,7 +184,7 @@ static const char* short_reason(const bench_run* r, const char* why) {
 typedef struct panels {
     int n;
     int backend[MAX_PANELS];
-    wc_solver_type solver[MAX_PANELS];
+    weft_solver solver[MAX_PANELS];
     bench_method method[MAX_PANELS];
     char name[MAX_PANELS][64];
     char method_name[MAX_PANELS][48];  /* bench_method_short, "-" when empty */
@@ -187,16 +196,14 @@ static void panels_make(const stab_args* a, panels* p) {
     bench_method meth[MAX_PANELS];
     for (int b = 0; b < a->n_backends; ++b)
         for (int s = 0; s < a->n_solvers; ++s) {
-            if (a->backends[b] == BENCH_GPU && a->solvers[s] == WC_SOLVER_DIRECT) {
+            if (a->backends[b] == BENCH_GPU && a->solvers[s] == WEFT_SOLVER_DIRECT) {
                 p->skipped_direct = 1;
                 continue;
             }
             const int n_meth = bench_methods_expand(&a->meth, a->solvers[s], meth, MAX_PANELS);
             for (int k = 0; k < n_meth && p->n < MAX_PANELS; ++k) {
                 const bench_method* m = &meth[k];
-                if (a->backends[b] == BENCH_GPU && (m->precond != WC_PRECOND_BLOCK_JACOBI ||
-                                                    m->integrator != WC_INTEGRATOR_BE || m->newton != 1 || m->line_search))
-                    continue;
+                if (a->backends[b] == BENCH_GPU && !bench_method_on_gpu(m)) continue;
                 p->backend[p->n] = a->backends[b];
                 p->solver[p->n] = a->solvers[s];
                 p->method[p->n] = *m;
@@ -206,10 +213,10 @@ static void panels_make(const stab_args* a, panels* p) {
                 const char* sep = strcmp(mn, "-") ? " " : "";
                 const char* shown = strcmp(mn, "-") ? mn : "";
                 if (a->n_backends > 1)
-                    snprintf(p->name[p->n], sizeof p->name[p->n], "%s%s%s (%s)", wc_solver_name(a->solvers[s]), sep,
+                    snprintf(p->name[p->n], sizeof p->name[p->n], "%s%s%s (%s)", cli_solver_name(a->solvers[s]), sep,
                              shown, bench_backend_name(a->backends[b]));
                 else
-                    snprintf(p->name[p->n], sizeof p->name[p->n], "%s%s%s", wc_solver_name(a->solvers[s]), sep, shown);
+                    snprintf(p->name[p->n], sizeof p->name[p->n], "%s%s%s", cli_solver_name(a->solvers[s]), sep, shown);
                 ++p->n;
             }
         }
@@ -245,7 +252,7 @@ static void print_header(FILE* out, const void* ctx) {
         int count[3] = {0, 0, 0};
         for (int k = 0; k < per_solver; ++k) ++count[outcome[s * per_solver + k]];
         if (two) fprintf(out, "| %s ", bench_backend_name(pn->backend[s]));
-        fprintf(out, "| %s | %s | %d | %d | %d |\n", wc_solver_name(pn->solver[s]), pn->method_name[s], count[0],
+        fprintf(out, "| %s | %s | %d | %d | %d |\n", cli_solver_name(pn->solver[s]), pn->method_name[s], count[0],
                 count[1], count[2]);
     }
     fputc('\n', out);
@@ -276,42 +283,39 @@ int bench_stability_run(int argc, char** argv) {
     if (rc == CLI_EXIT_OK && n_cells == 0)
         rc = cli_usage_error("weft bench stability", bench_stability_usage,
                              "--backend gpu --solvers direct: the direct solver does not exist on the GPU");
-    if (rc == CLI_EXIT_OK) rc = bench_open_backends(a.backends, a.n_backends);
+    if (rc == CLI_EXIT_OK) rc = bench_open_backends(a.backends, a.n_backends, a.com.threads);
     int particles = 0, threads = 1, done = 0;
+    char msg[1024];
     for (int ki = 0; ki < a.n_stiffness && rc == CLI_EXIT_OK; ++ki)
         for (int mi = 0; mi < a.n_mass && rc == CLI_EXIT_OK; ++mi) {
             bench_scene bs;
-            wc_diag d = {0};
-            if (bench_scene_build(&bs, a.scene, a.com.garment, a.stiffness[ki], a.mass[mi], &d) != WC_OK) {
-                cli_error(d.message);
+            if (bench_scene_build(&bs, a.scene, a.com.garment, a.stiffness[ki], a.mass[mi], msg, sizeof msg) != 0) {
+                cli_error(msg);
                 rc = CLI_EXIT_FAILURE;
                 break;
             }
-            particles = bs.model.n_particles;
             const int row = ki * a.n_mass + mi;
             for (int s = 0; s < pn.n && rc == CLI_EXIT_OK; ++s)
                 for (int c = 0; c < a.n_steps; ++c) {
                     bench_run_opts o;
                     memset(&o, 0, sizeof o);
                     o.backend = pn.backend[s];
-                    o.sim = bs.sim;
-                    o.sim.threads = a.com.threads;
-                    o.sim.solver.type = pn.solver[s];
-                    o.sim.substeps = 1;
-                    bench_method_apply(&pn.method[s], &o.sim);
+                    o.def = bench_run_def(&bs);
+                    o.def.solver = pn.solver[s];
+                    o.def.substeps = 1;
+                    bench_method_apply(&pn.method[s], &o.def);
                     o.fps = 1.0 / a.steps[c];
                     o.frames = (int)ceil(a.seconds / a.steps[c] - 1e-9);
                     o.fail_strain = a.fail_strain;
                     o.fail_energy = a.fail_energy;
                     bench_run r;
-                    if (bench_run_scene(&bs, &o, &r, &d) != 0) {
-                        cli_error(d.message);
+                    if (bench_run_scene(&bs, &o, &r, msg, sizeof msg) != 0) {
+                        cli_error(msg);
                         rc = CLI_EXIT_FAILURE;
                         break;
                     }
-                    wc_par par;
-                    wc_par_init(&par, a.com.threads);
-                    threads = par.threads;
+                    threads = r.threads;
+                    particles = r.particles;
                     char why[48], step[24], b[N_COLS][48];
                     const int out = judge(&a, &r, why, sizeof why);
                     const int idx = (s * n_rows + row) * a.n_steps + c;
@@ -322,7 +326,7 @@ int bench_stability_run(int argc, char** argv) {
                     snprintf(b[C_BACKEND], 48, "%s", bench_backend_name(pn.backend[s]));
                     snprintf(b[C_SCENE], 48, "%s", bs.name);
                     snprintf(b[C_PARTICLES], 48, "%d", particles);
-                    snprintf(b[C_SOLVER], 48, "%s", wc_solver_name(pn.solver[s]));
+                    snprintf(b[C_SOLVER], 48, "%s", cli_solver_name(pn.solver[s]));
                     snprintf(b[C_STEP], 48, "%s", step);
                     snprintf(b[C_STIFFNESS], 48, "%g", a.stiffness[ki]);
                     snprintf(b[C_MASS], 48, "%g", a.mass[mi]);
@@ -339,7 +343,7 @@ int bench_stability_run(int argc, char** argv) {
                     bench_fmt(b[C_ITER], 48, "%.1f", r.iterations);
                     bench_fmt(b[C_MS], 48, "%.2f", r.ms_median);
                     snprintf(b[C_PRECOND], 48, "%s", bench_precond_label(pn.solver[s], &pn.method[s]));
-                    snprintf(b[C_INTEGRATOR], 48, "%s", wc_integrator_name(pn.method[s].integrator));
+                    snprintf(b[C_INTEGRATOR], 48, "%s", cli_integrator_name(pn.method[s].integrator));
                     snprintf(b[C_NEWTON], 48, "%d", pn.method[s].newton);
                     snprintf(b[C_LINE_SEARCH], 48, "%s", pn.method[s].line_search ? "on" : "off");
                     bench_fmt(b[C_ITER_SOLVE], 48, "%.1f", bench_run_iterations_per_solve(&r));

@@ -13,8 +13,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench_args.h"
+#include "bench_backend.h"
+#include "bench_commands.h"
+#include "bench_table.h"
 #include "cli.h"
-#include "cmd_bench.h"
 #include "cmd_bench_torture.h"
 
 typedef struct tort_args {

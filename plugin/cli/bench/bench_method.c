@@ -1,13 +1,14 @@
-/* The method axes of `weft bench accuracy`, `stability`, `iterations` and `peers`: PCG's
- * preconditioner, the time integrator, Newton iterations per substep, the line search and inexact
- * Newton's forcing term, parsed from --preconds, --integrators, --newton, --line-search and
- * --newton-forcing, expanded per solver and applied to a wc_sim_def. */
+/* The method axes of the benchmarks (bench_method.h): parsed, expanded per solver, applied to a
+ * weft_cloth_def, labelled. */
 #define _POSIX_C_SOURCE 200809L
+#include "bench_method.h"
+
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
-#include "cmd_bench.h"
+#include "names.h"
 
 /* Split a comma list into names (each < 32 characters, at most BENCH_MAX_LIST); -1 when empty,
  * too long or with an empty item. */
@@ -25,26 +26,26 @@ static int split(const char* text, char names[BENCH_MAX_LIST][32]) {
     }
 }
 
-int bench_parse_preconds(const char* text, wc_precond_type* out) {
+int bench_parse_preconds(const char* text, weft_preconditioner* out) {
     if (text && !strcmp(text, "all")) text = "block_jacobi,amg";
     char names[BENCH_MAX_LIST][32];
     const int n = split(text, names);
     for (int k = 0; k < n; ++k) {
-        const int t = wc_precond_from_name(names[k]);
+        const int t = cli_precond_from_name(names[k]);
         if (t < 0) return -1;
-        out[k] = (wc_precond_type)t;
+        out[k] = (weft_preconditioner)t;
     }
     return n;
 }
 
-int bench_parse_integrators(const char* text, wc_integrator* out) {
+int bench_parse_integrators(const char* text, weft_integrator* out) {
     if (text && !strcmp(text, "all")) text = "be,bdf2,trbdf2";
     char names[BENCH_MAX_LIST][32];
     const int n = split(text, names);
     for (int k = 0; k < n; ++k) {
-        const int t = wc_integrator_from_name(names[k]);
+        const int t = cli_integrator_from_name(names[k]);
         if (t < 0) return -1;
-        out[k] = (wc_integrator)t;
+        out[k] = (weft_integrator)t;
     }
     return n;
 }
@@ -55,7 +56,7 @@ void bench_methods_default(bench_methods* m, const char* preconds) {
     m->n_integrators = bench_parse_integrators("be", m->integrators);
     m->n_newton = bench_parse_ints("1", 1, 100, m->newton);
     m->line_search = -1;
-    m->forcing[0] = wc_default_sim_def().newton_forcing;
+    m->forcing[0] = -1.0;   /* the library's (weft_cloth_def.newton_forcing) */
     m->n_forcing = 1;
 }
 
@@ -79,15 +80,15 @@ int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const 
 
 int bench_methods_max(const bench_methods* m) { return m->n_preconds * m->n_integrators * m->n_newton * m->n_forcing; }
 
-int bench_methods_expand(const bench_methods* m, wc_solver_type solver, bench_method* out, int cap) {
-    const int n_pre = solver == WC_SOLVER_PCG ? m->n_preconds : 1;
+int bench_methods_expand(const bench_methods* m, weft_solver solver, bench_method* out, int cap) {
+    const int n_pre = solver == WEFT_SOLVER_PCG ? m->n_preconds : 1;
     int k = 0;
     for (int p = 0; p < n_pre; ++p)
         for (int g = 0; g < m->n_integrators; ++g)
             for (int w = 0; w < m->n_newton; ++w)
                 for (int f = 0; f < m->n_forcing && k < cap; ++f) {
                     bench_method* b = &out[k++];
-                    b->precond = solver == WC_SOLVER_PCG ? m->preconds[p] : WC_PRECOND_BLOCK_JACOBI;
+                    b->precond = solver == WEFT_SOLVER_PCG ? m->preconds[p] : WEFT_PRECOND_BLOCK_JACOBI;
                     b->integrator = m->integrators[g];
                     b->newton = m->newton[w];
                     b->line_search = m->line_search >= 0 ? m->line_search : m->newton[w] > 1;
@@ -96,29 +97,30 @@ int bench_methods_expand(const bench_methods* m, wc_solver_type solver, bench_me
     return k;
 }
 
-void bench_method_apply(const bench_method* b, wc_sim_def* sd) {
-    sd->solver.preconditioner = b->precond;
-    sd->integrator = b->integrator;
-    sd->newton_iterations = b->newton;
-    sd->line_search = b->line_search;
-    sd->newton_forcing = b->forcing;
+void bench_method_apply(const bench_method* b, weft_cloth_def* def) {
+    def->preconditioner = b->precond;
+    def->integrator = b->integrator;
+    def->newton_iterations = b->newton;
+    def->line_search = b->line_search;
+    def->newton_forcing = b->forcing;
 }
 
-bench_method bench_method_of(const wc_sim_def* sd) {
-    bench_method b;
-    b.precond = sd->solver.preconditioner;
-    b.integrator = sd->integrator;
-    b.newton = sd->newton_iterations;
-    b.line_search = sd->line_search;
-    b.forcing = sd->newton_forcing;
-    return b;
+int bench_method_on_gpu(const bench_method* b) {
+    return b->precond == WEFT_PRECOND_BLOCK_JACOBI && b->integrator == WEFT_INTEGRATOR_BACKWARD_EULER &&
+           b->newton == 1 && !b->line_search;
 }
 
-const char* bench_precond_label(wc_solver_type solver, const bench_method* b) {
-    return solver == WC_SOLVER_PCG ? wc_precond_name(b->precond) : "-";
+const char* bench_precond_label(weft_solver solver, const bench_method* b) {
+    return solver == WEFT_SOLVER_PCG ? cli_precond_name(b->precond) : "-";
 }
 
-const char* bench_method_short(wc_solver_type solver, const bench_method* b, char* buf, size_t size) {
+const char* bench_forcing_label(double forcing, char* buf, size_t size) {
+    if (forcing < 0) snprintf(buf, size, "default");
+    else snprintf(buf, size, "%g", forcing);
+    return buf;
+}
+
+const char* bench_method_short(weft_solver solver, const bench_method* b, char* buf, size_t size) {
     size_t at = 0;
     buf[0] = '\0';
 #define ADD(...)                                                                    \
@@ -128,11 +130,11 @@ const char* bench_method_short(wc_solver_type solver, const bench_method* b, cha
         w_ = snprintf(buf + at, size - at, __VA_ARGS__);                            \
         if (w_ > 0 && (size_t)w_ < size - at) at += (size_t)w_;                     \
     } while (0)
-    if (solver == WC_SOLVER_PCG) ADD("%s", wc_precond_name(b->precond));
-    if (b->integrator != WC_INTEGRATOR_BE) ADD("%s", wc_integrator_name(b->integrator));
+    if (solver == WEFT_SOLVER_PCG) ADD("%s", cli_precond_name(b->precond));
+    if (b->integrator != WEFT_INTEGRATOR_BACKWARD_EULER) ADD("%s", cli_integrator_name(b->integrator));
     if (b->newton != 1) ADD("n%d", b->newton);
     if (b->line_search) ADD("ls");
-    if (b->newton > 1 && solver != WC_SOLVER_DIRECT) ADD("f%g", b->forcing);
+    if (b->newton > 1 && solver != WEFT_SOLVER_DIRECT && b->forcing >= 0) ADD("f%g", b->forcing);
 #undef ADD
     return buf;
 }

@@ -1,13 +1,19 @@
-/* Collision bodies of the benchmarks built in code: a closed UV sphere (or an ellipsoid: the
- * sphere scaled per axis) as a triangle mesh, wound counter-clockwise seen from outside (the
- * outward side mesh_collider.h expects), and its mesh collider. */
+/* Collision bodies of the benchmarks built in code (bench_body.h): a closed UV sphere (or an
+ * ellipsoid) wound counter-clockwise seen from outside, the outward side weft.h's mesh colliders
+ * expect. */
 #define _POSIX_C_SOURCE 200809L
+#include "bench_body.h"
+
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "cmd_bench.h"
-#include "vec3.h"
+static void set3(double* v, double x, double y, double z) {
+    v[0] = x;
+    v[1] = y;
+    v[2] = z;
+}
 
 int bench_body_rings(int target_tris) {
     /* 4 m (m - 1) triangles: 2 nlon (m - 1) with nlon = 2 m longitudes, m latitude bands */
@@ -17,31 +23,34 @@ int bench_body_rings(int target_tris) {
     return best;
 }
 
-wc_status bench_body_create(bench_body* out, int rings, const double* center, const double* radii, double thickness,
-                              double friction, wc_diag* diag) {
+int bench_body_create(bench_body* out, int rings, const double* center, const double* radii, char* msg, size_t size) {
     memset(out, 0, sizeof *out);
-    if (rings < 3 || rings > 4096)
-        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "bench body: %d latitude bands (expected 3 to 4096)", rings);
+    if (rings < 3 || rings > 4096) {
+        snprintf(msg, size, "bench body: %d latitude bands (expected 3 to 4096)", rings);
+        return -1;
+    }
     const int m = rings, nlon = 2 * m;
     const int nv = 2 + (m - 1) * nlon, nt = 2 * nlon * (m - 1);
-    out->x = malloc(sizeof(double) * 3 * (size_t)nv);
+    double* x = malloc(sizeof(double) * 3 * (size_t)nv);
+    out->x = malloc(sizeof(float) * 3 * (size_t)nv);
     out->tris = malloc(sizeof(int) * 3 * (size_t)nt);
-    if (!out->x || !out->tris) {
+    if (!x || !out->x || !out->tris) {
+        free(x);
         bench_body_free(out);
-        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "bench body: out of memory for %d triangles", nt);
+        snprintf(msg, size, "bench body: out of memory for %d triangles", nt);
+        return -1;
     }
     const double pi = 3.14159265358979323846;
     /* vertex 0 the north pole (+y), 1 + (i - 1) nlon + j ring i (1 .. m - 1) longitude j, nv - 1 south */
-    double* x = out->x;
-    v3_set(x, 0.0, 1.0, 0.0);
+    set3(x, 0.0, 1.0, 0.0);
     for (int i = 1; i < m; ++i) {
         const double th = pi * i / m;
         for (int j = 0; j < nlon; ++j) {
             const double ph = 2.0 * pi * j / nlon;
-            v3_set(x + 3 * (1 + (i - 1) * nlon + j), sin(th) * cos(ph), cos(th), sin(th) * sin(ph));
+            set3(x + 3 * (1 + (i - 1) * nlon + j), sin(th) * cos(ph), cos(th), sin(th) * sin(ph));
         }
     }
-    v3_set(x + 3 * (nv - 1), 0.0, -1.0, 0.0);
+    set3(x + 3 * (nv - 1), 0.0, -1.0, 0.0);
     int* t = out->tris;
     int k = 0;
 #define RING(i, j) (1 + ((i) - 1) * nlon + ((j) % nlon))
@@ -66,27 +75,38 @@ wc_status bench_body_create(bench_body* out, int rings, const double* center, co
     for (int q = 0; q < nt; ++q) {
         int* a = t + 3 * q;
         double e1[3], e2[3], n[3], c[3];
-        v3_sub(e1, x + 3 * a[1], x + 3 * a[0]);
-        v3_sub(e2, x + 3 * a[2], x + 3 * a[0]);
-        v3_cross(n, e1, e2);
-        for (int d = 0; d < 3; ++d) c[d] = x[3 * a[0] + d] + x[3 * a[1] + d] + x[3 * a[2] + d];
-        if (v3_dot(n, c) < 0) {
+        for (int d = 0; d < 3; ++d) {
+            e1[d] = x[3 * a[1] + d] - x[3 * a[0] + d];
+            e2[d] = x[3 * a[2] + d] - x[3 * a[0] + d];
+            c[d] = x[3 * a[0] + d] + x[3 * a[1] + d] + x[3 * a[2] + d];
+        }
+        set3(n, e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]);
+        if (n[0] * c[0] + n[1] * c[1] + n[2] * c[2] < 0) {
             const int s = a[1];
             a[1] = a[2], a[2] = s;
         }
     }
     for (int v = 0; v < nv; ++v)
-        for (int d = 0; d < 3; ++d) x[3 * v + d] = center[d] + radii[d] * x[3 * v + d];
+        for (int d = 0; d < 3; ++d) out->x[3 * v + d] = (float)(center[d] + radii[d] * x[3 * v + d]);
+    free(x);
     out->n_verts = nv;
     out->n_tris = nt;
-    const wc_status st = wc_mesh_collider_create(&out->mesh, out->x, nv, out->tris, nt, thickness, friction, NULL, diag);
-    if (st != WC_OK) bench_body_free(out);
-    return st;
+    return 0;
 }
 
 void bench_body_free(bench_body* b) {
-    if (b->mesh) wc_mesh_collider_destroy(b->mesh);
     free(b->x);
     free(b->tris);
     memset(b, 0, sizeof *b);
+}
+
+weft_mesh_collider_def bench_body_collider(const bench_body* b, double thickness, double friction) {
+    weft_mesh_collider_def d = weft_default_mesh_collider_def();
+    d.mesh.positions = b->x;
+    d.mesh.n_vertices = b->n_verts;
+    d.mesh.indices = b->tris;
+    d.mesh.n_faces = b->n_tris;   /* face_sizes NULL: triangles */
+    d.thickness = thickness;
+    d.friction = friction;
+    return d;
 }

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cmd_bench.h"
+#include "bench_table.h"
 
 void bench_table_init(bench_table* t, int n_cols, const char* const* cols, const char* const* md_cols) {
     memset(t, 0, sizeof *t);

@@ -1,6 +1,6 @@
-/* Blender's cloth solver as a child process for `weft bench peers` (see cmd_bench_blender.h). */
+/* Blender's cloth solver as a child process for `weft bench peers` (see bench_blender.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "cmd_bench_blender.h"
+#include "bench_blender.h"
 
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -17,7 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "sort.h"
+#include "cli.h"
 
 extern char** environ;
 
@@ -91,34 +91,94 @@ static void work_dir_remove(const work_dir* w) {
 
 /* ---------- the job ---------- */
 
-/* One OBJ vertex per particle (rest positions, particle order) and one face per source polygon
- * whose corners are distinct particles. */
-static int write_obj(const char* path, const bench_scene* bs, char* msg, size_t msg_size) {
-    const wc_model* m = &bs->model;
-    const wc_source_mesh* src = &bs->src;
+/* Order of float triples, for merging equal positions. */
+static const float* g_sort_x;
+static int cmp_position(const void* a, const void* b) {
+    const float *p = g_sort_x + 3 * (size_t)*(const int*)a, *q = g_sort_x + 3 * (size_t)*(const int*)b;
+    for (int k = 0; k < 3; ++k)
+        if (p[k] != q[k]) return p[k] < q[k] ? -1 : 1;
+    return 0;
+}
+
+int bench_peer_mesh_make(bench_peer_mesh* out, const scene* s, const float* rest, int n_vertices, const char* name) {
+    memset(out, 0, sizeof *out);
+    out->name = name;
+    out->mesh = &s->mesh;
+    for (int k = 0; k < 3; ++k) out->gravity[k] = s->def.gravity[k];
+    const size_t nv = (size_t)(n_vertices > 0 ? n_vertices : 1);
+    int* order = malloc(sizeof(int) * nv);
+    out->of_vertex = malloc(sizeof(int) * nv);
+    out->x = malloc(sizeof(float) * 3 * nv);
+    int total = 0;
+    for (int g = 0; g < s->n_pin_groups; ++g) total += s->pin_groups[g].n_vertices;
+    out->pins = malloc(sizeof(int) * (size_t)(total + 1));
+    unsigned char* seen = NULL;
+    if (!order || !out->of_vertex || !out->x || !out->pins) goto oom;
+    /* welded twins report the same rest position: one particle per distinct position, in the
+       order of their first host vertex */
+    for (int v = 0; v < n_vertices; ++v) order[v] = v;
+    g_sort_x = rest;
+    qsort(order, (size_t)n_vertices, sizeof(int), cmp_position);
+    for (int v = 0; v < n_vertices; ++v) out->of_vertex[v] = -1;
+    for (int k = 0; k < n_vertices;) {   /* each run of equal positions: its smallest host vertex */
+        int e = k + 1, first = order[k];
+        while (e < n_vertices && cmp_position(&order[k], &order[e]) == 0) first = order[e] < first ? order[e] : first, ++e;
+        for (int j = k; j < e; ++j) out->of_vertex[order[j]] = first;
+        k = e;
+    }
+    for (int v = 0; v < n_vertices; ++v)   /* number the particles in host order */
+        if (out->of_vertex[v] == v) {
+            memcpy(out->x + 3 * (size_t)out->n, rest + 3 * (size_t)v, 3 * sizeof(float));
+            order[v] = out->n++;
+        }
+    for (int v = 0; v < n_vertices; ++v) out->of_vertex[v] = order[out->of_vertex[v]];
+    seen = calloc((size_t)out->n + 1, 1);
+    if (!seen) goto oom;
+    for (int g = 0; g < s->n_pin_groups; ++g)
+        for (int k = 0; k < s->pin_groups[g].n_vertices; ++k) {
+            const int p = out->of_vertex[s->pin_groups[g].vertices[k]];
+            if (!seen[p]) out->pins[out->n_pins++] = p;
+            seen[p] = 1;
+        }
+    free(seen);
+    free(order);
+    return 0;
+oom:
+    free(order);
+    bench_peer_mesh_free(out);
+    return -1;
+}
+
+void bench_peer_mesh_free(bench_peer_mesh* m) {
+    free(m->x);
+    free(m->of_vertex);
+    free(m->pins);
+    memset(m, 0, sizeof *m);
+}
+
+/* One OBJ vertex per particle (rest positions) and one face per source polygon whose corners are
+ * distinct particles. */
+static int write_obj(const char* path, const bench_peer_mesh* pm, char* msg, size_t msg_size) {
+    const scene_mesh* src = pm->mesh;
     FILE* f = fopen(path, "w");
     if (!f) {
         say(msg, msg_size, "cannot write %s: %s", path, strerror(errno));
         return -1;
     }
-    fprintf(f, "# %s: %d particles of weft's model, in particle order\n", bs->name, m->n_particles);
-    for (int i = 0; i < m->n_particles; ++i) {
-        const double* x = m->rest_pos + 3 * i;
-        fprintf(f, "v %.9g %.9g %.9g\n", x[0], x[1], x[2]);
+    fprintf(f, "# %s: %d particles of weft's cloth\n", pm->name, pm->n);
+    for (int i = 0; i < pm->n; ++i) {
+        const float* x = pm->x + 3 * (size_t)i;
+        fprintf(f, "v %.9g %.9g %.9g\n", (double)x[0], (double)x[1], (double)x[2]);
     }
     int faces = 0;
-    for (int k = 0; k < src->n_polys; ++k) {
-        const int a = src->poly_start[k], b = src->poly_start[k + 1];
+    for (int k = 0; k < src->n_faces; ++k) {
+        const int a = src->face_start[k], b = src->face_start[k + 1];
         int ok = b - a >= 3;
-        for (int c = a; c < b && ok; ++c) {
-            const int v = src->poly_verts[c];
-            const int p = (v >= 0 && v < m->n_host_verts) ? m->host_to_particle[v] : -1;
-            ok = p >= 0;
-            for (int e = a; e < c && ok; ++e) ok = m->host_to_particle[src->poly_verts[e]] != p;
-        }
+        for (int c = a; c < b && ok; ++c)
+            for (int e = a; e < c && ok; ++e) ok = pm->of_vertex[src->indices[e]] != pm->of_vertex[src->indices[c]];
         if (!ok) continue;
         fputc('f', f);
-        for (int c = a; c < b; ++c) fprintf(f, " %d", m->host_to_particle[src->poly_verts[c]] + 1);
+        for (int c = a; c < b; ++c) fprintf(f, " %d", pm->of_vertex[src->indices[c]] + 1);
         fputc('\n', f);
         ++faces;
     }
@@ -128,19 +188,19 @@ static int write_obj(const char* path, const bench_scene* bs, char* msg, size_t 
         return -1;
     }
     if (faces == 0) {
-        say(msg, msg_size, "%s: no face to give Blender", bs->name);
+        say(msg, msg_size, "%s: no face to give Blender", pm->name);
         return -1;
     }
     return 0;
 }
 
-static int write_job(const work_dir* w, const bench_scene* bs, int frames, char* msg, size_t msg_size) {
+static int write_job(const work_dir* w, const bench_peer_mesh* pm, int frames, char* msg, size_t msg_size) {
     cJSON* job = cJSON_CreateObject();
     cJSON* pins = cJSON_AddArrayToObject(job, "pins");
-    for (int k = 0; k < bs->pins.n && pins; ++k) cJSON_AddItemToArray(pins, cJSON_CreateNumber(bs->pins.pins[k].particle));
+    for (int k = 0; k < pm->n_pins && pins; ++k) cJSON_AddItemToArray(pins, cJSON_CreateNumber(pm->pins[k]));
     cJSON_AddStringToObject(job, "mesh", w->obj);
     cJSON_AddNumberToObject(job, "frames", frames);
-    cJSON_AddItemToObject(job, "gravity", cJSON_CreateDoubleArray(bs->sim.gravity, 3));
+    cJSON_AddItemToObject(job, "gravity", cJSON_CreateDoubleArray(pm->gravity, 3));
     char* text = cJSON_Print(job);
     cJSON_Delete(job);
     FILE* f = text ? fopen(w->job, "w") : NULL;
@@ -266,7 +326,7 @@ static void settings_text(const cJSON* s, char* out, size_t size) {
     }
 }
 
-static int parse_result(const char* path, const bench_scene* bs, int frames, bench_blender_result* out, char* msg,
+static int parse_result(const char* path, const bench_peer_mesh* pm, int frames, bench_blender_result* out, char* msg,
                         size_t msg_size) {
     char* text = read_file(path);
     if (!text) {
@@ -275,7 +335,7 @@ static int parse_result(const char* path, const bench_scene* bs, int frames, ben
     }
     cJSON* root = cJSON_Parse(text);
     free(text);
-    const int n = bs->model.n_particles;
+    const int n = pm->n;
     const cJSON* version = cJSON_GetObjectItemCaseSensitive(root, "blender");
     const cJSON* threads = cJSON_GetObjectItemCaseSensitive(root, "threads");
     const cJSON* verts = cJSON_GetObjectItemCaseSensitive(root, "vertices");
@@ -283,13 +343,13 @@ static int parse_result(const char* path, const bench_scene* bs, int frames, ben
     if (!root || !cJSON_IsString(version) || !cJSON_IsNumber(threads) || !cJSON_IsNumber(verts)) {
         say(msg, msg_size, "blender's result %s is not what peer_cloth_bench.py writes", path);
     } else if (verts->valueint != n) {
-        say(msg, msg_size, "%s: blender's mesh has %d vertices, weft's %d particles", bs->name, verts->valueint, n);
+        say(msg, msg_size, "%s: blender's mesh has %d vertices, weft's %d particles", pm->name, verts->valueint, n);
     } else if (!(out->ms = malloc(sizeof(double) * (size_t)frames)) || !(out->x = malloc(sizeof(double) * 3 * (size_t)n))) {
         say(msg, msg_size, "out of memory");
     } else if (number_array(cJSON_GetObjectItemCaseSensitive(root, "ms"), out->ms, frames) != 0) {
-        say(msg, msg_size, "%s: blender's result does not have %d finite frame times", bs->name, frames);
+        say(msg, msg_size, "%s: blender's result does not have %d finite frame times", pm->name, frames);
     } else if (number_array(cJSON_GetObjectItemCaseSensitive(root, "positions"), out->x, 3 * n) != 0) {
-        say(msg, msg_size, "%s: blender's result does not have %d finite positions", bs->name, n);
+        say(msg, msg_size, "%s: blender's result does not have %d finite positions", pm->name, n);
     } else {
         snprintf(out->version, sizeof out->version, "%s", version->valuestring);
         out->threads = threads->valueint;
@@ -299,7 +359,7 @@ static int parse_result(const char* path, const bench_scene* bs, int frames, ben
         double* tmp = malloc(sizeof(double) * (size_t)frames);
         if (tmp) {
             memcpy(tmp, out->ms, sizeof(double) * (size_t)frames);
-            out->ms_median = wc_sort_median(tmp, frames);
+            out->ms_median = cli_sort_median(tmp, frames);
             free(tmp);
             rc = 0;
         } else {
@@ -317,7 +377,7 @@ void bench_blender_free(bench_blender_result* r) {
     memset(r, 0, sizeof *r);
 }
 
-int bench_blender_run(const char* blender, const char* script, const bench_scene* bs, int frames, int threads,
+int bench_blender_run(const char* blender, const char* script, const bench_peer_mesh* pm, int frames, int threads,
                       double timeout_s, bench_blender_result* out, char* msg, size_t msg_size) {
     memset(out, 0, sizeof *out);
     if (access(script, R_OK) != 0) {
@@ -326,8 +386,8 @@ int bench_blender_run(const char* blender, const char* script, const bench_scene
     }
     work_dir w;
     if (work_dir_make(&w, msg, msg_size) != 0) return -1;
-    int rc = write_obj(w.obj, bs, msg, msg_size);
-    if (rc == 0) rc = write_job(&w, bs, frames, msg, msg_size);
+    int rc = write_obj(w.obj, pm, msg, msg_size);
+    if (rc == 0) rc = write_job(&w, pm, frames, msg, msg_size);
     if (rc == 0) {
         char nthreads[16];
         snprintf(nthreads, sizeof nthreads, "%d", threads);
@@ -350,7 +410,7 @@ int bench_blender_run(const char* blender, const char* script, const bench_scene
         argv[k] = NULL;
         rc = run_child(argv, w.log, timeout_s, msg, msg_size);
     }
-    if (rc == 0) rc = parse_result(w.result, bs, frames, out, msg, msg_size);
+    if (rc == 0) rc = parse_result(w.result, pm, frames, out, msg, msg_size);
     if (rc != 0) bench_blender_free(out);
     work_dir_remove(&w);
     return rc;

@@ -7,13 +7,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cmd_bench.h"
+#include "bench_plot.h"
+#include "names.h"
+
+enum { N_SOLVERS = 4 };   /* weft_solver's values */
 
 /* Colour map 0 entries. */
-enum { COL_WHITE = 0, COL_BLACK = 1, COL_SOLVER = 2 /* + wc_solver_type */, COL_GRID = 6, COL_SURVIVED = 7,
+enum { COL_WHITE = 0, COL_BLACK = 1, COL_SOLVER = 2 /* + weft_solver */, COL_GRID = 6, COL_SURVIVED = 7,
        COL_RECOVERED = 8, COL_FAILED = 9, N_COLOURS = 10 };
 
-static const char* const solver_glyph[WC_SOLVER_COUNT] = {"#(840)", "#(841)", "#(842)", "#(843)"};
+static const char* const solver_glyph[N_SOLVERS] = {"#(840)", "#(841)", "#(842)", "#(843)"};
 
 static void set_colours(void) {
     static const int rgb[N_COLOURS][3] = {
@@ -112,7 +115,7 @@ int bench_plot_accuracy(const char* path, const char* const* panel_names, int n_
         plcol0(COL_BLACK);
         plbox("bcnstl", 0, 0, "bcnstvl", 0, 0);
         pllab("ms per frame (median)", y_label, panel_names[p]);
-        for (int s = 0; s < WC_SOLVER_COUNT; ++s) {
+        for (int s = 0; s < N_SOLVERS; ++s) {
             int n = 0;
             for (int i = 0; i < n_pts; ++i) {
                 const bench_point* q = &pts[i];
@@ -151,13 +154,13 @@ int bench_plot_accuracy(const char* path, const char* const* panel_names, int n_
         }
         plschr(0, 0.8);
         if (p == 0) {
-            PLINT opt[WC_SOLVER_COUNT + 1], tcol[WC_SOLVER_COUNT + 1], lcol[WC_SOLVER_COUNT + 1],
-                lsty[WC_SOLVER_COUNT + 1], scol[WC_SOLVER_COUNT + 1], snum[WC_SOLVER_COUNT + 1];
-            PLFLT lwid[WC_SOLVER_COUNT + 1], sscale[WC_SOLVER_COUNT + 1];
-            const char* text[WC_SOLVER_COUNT + 1];
-            const char* sym[WC_SOLVER_COUNT + 1];
-            for (int s = 0; s <= WC_SOLVER_COUNT; ++s) {
-                int front = s == WC_SOLVER_COUNT;
+            PLINT opt[N_SOLVERS + 1], tcol[N_SOLVERS + 1], lcol[N_SOLVERS + 1],
+                lsty[N_SOLVERS + 1], scol[N_SOLVERS + 1], snum[N_SOLVERS + 1];
+            PLFLT lwid[N_SOLVERS + 1], sscale[N_SOLVERS + 1];
+            const char* text[N_SOLVERS + 1];
+            const char* sym[N_SOLVERS + 1];
+            for (int s = 0; s <= N_SOLVERS; ++s) {
+                int front = s == N_SOLVERS;
                 opt[s] = PL_LEGEND_LINE | PL_LEGEND_SYMBOL;
                 tcol[s] = COL_BLACK;
                 lcol[s] = scol[s] = front ? COL_BLACK : COL_SOLVER + s;
@@ -166,12 +169,12 @@ int bench_plot_accuracy(const char* path, const char* const* panel_names, int n_
                 sscale[s] = front ? 1.4 : 1.0;
                 snum[s] = 1;
                 sym[s] = front ? "#(840)" : solver_glyph[s];
-                text[s] = front ? "Pareto front" : wc_solver_name((wc_solver_type)s);
+                text[s] = front ? "Pareto front" : cli_solver_name((weft_solver)s);
             }
             PLFLT lw, lh;
             pllegend(&lw, &lh, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
                      PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE, 0.02, 0.02, 0.08, COL_WHITE,
-                     COL_BLACK, 1, 0, 0, WC_SOLVER_COUNT + 1, opt, 0.6, 0.7, 1.6, 1.0, tcol, text, NULL, NULL,
+                     COL_BLACK, 1, 0, 0, N_SOLVERS + 1, opt, 0.6, 0.7, 1.6, 1.0, tcol, text, NULL, NULL,
                      NULL, NULL, lcol, lsty, lwid, scol, sscale, snum, sym);
         }
     }
