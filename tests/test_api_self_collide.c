@@ -163,6 +163,9 @@ static int run_fold(int self_collision, int* frames_crossing, weft_frame_stats* 
         total->self_impacts += st.self_impacts;
         total->self_zones += st.self_zones;
         total->self_unresolved += st.self_unresolved;
+        total->self_pairs += st.self_pairs;
+        total->self_pairs_active += st.self_pairs_active;
+        total->self_pair_overflow += st.self_pair_overflow;
         total->ms_self_collide += st.ms_self_collide;
         total->ms_total += st.ms_total;
         weft_collision_check chk;
@@ -189,6 +192,9 @@ static void test_fold(void) {
     /* no CHECK on on.self_impacts: the self-contact pairs in the solve (core/self_pairs.h) now
        stop the fold before the stage after the solve has a collision to correct (0 here) */
     CHECK(on.ms_self_collide > 0);
+    /* the frame stats' detail: the fold's self-contact pairs, none overflowing; none when off */
+    CHECK(on.self_pairs > 0 && on.self_pairs_active <= on.self_pairs && on.self_pair_overflow == 0);
+    CHECK_EQ_INT(off.self_pairs, 0);
     CHECK(off_frames > 0);
     CHECK_EQ_INT(off.self_impacts, 0);
 }
