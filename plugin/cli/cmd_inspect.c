@@ -101,7 +101,6 @@ int cli_inspect_run(int argc, char** argv) {
     weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
     if (st != WEFT_OK) return fail(a.file, weft_status_string(st));
     a.def.mesh.path = a.file;
-    a.def.sleep_speed = 0.0;
     weft_cloth cloth = {0};
     weft_import_report report;
     st = weft_cloth_create(ctx, &a.def, &cloth);
