@@ -91,7 +91,8 @@ static void work_dir_remove(const work_dir* w) {
 
 /* ---------- the job ---------- */
 
-/* Order of float triples, for merging equal positions. */
+/* Order of float triples, for merging equal positions (qsort passes no context: the positions
+ * sorted are g_sort_x's; the tool runs one thread). */
 static const float* g_sort_x;
 static int cmp_position(const void* a, const void* b) {
     const float *p = g_sort_x + 3 * (size_t)*(const int*)a, *q = g_sort_x + 3 * (size_t)*(const int*)b;
@@ -122,7 +123,8 @@ int bench_peer_mesh_make(bench_peer_mesh* out, const scene* s, const float* rest
     for (int v = 0; v < n_vertices; ++v) out->of_vertex[v] = -1;
     for (int k = 0; k < n_vertices;) {   /* each run of equal positions: its smallest host vertex */
         int e = k + 1, first = order[k];
-        while (e < n_vertices && cmp_position(&order[k], &order[e]) == 0) first = order[e] < first ? order[e] : first, ++e;
+        for (; e < n_vertices && cmp_position(&order[k], &order[e]) == 0; ++e)
+            if (order[e] < first) first = order[e];
         for (int j = k; j < e; ++j) out->of_vertex[order[j]] = first;
         k = e;
     }

@@ -2,12 +2,12 @@
  * (its defaults, 5 quality steps per frame; host_glue/blender/peer_cloth_bench.py run by a child
  * `blender -b`, see bench_blender.c) and Weft through the public API (PCG at each --substeps
  * count x preconditioner x integrator x Newton iterations; and once at weft_default_cloth_def(),
- * whatever the library resolves that to) simulate the same mesh, the
- * same pinned particles (held still) and the same number of frames with the same thread count;
- * the table gives both medians of ms per frame, their ratio, and how far each cloth's lowest
- * point hangs below its pins at the end (a sanity number, not an error: the two material models
- * differ). Without Blender the command says so and prints Weft's rows alone. --backend cpu,gpu
- * runs Weft on each backend beside the same Blender run. */
+ * whatever the library resolves that to) simulate the same mesh, the same pinned particles (held
+ * still) and the same number of frames with the same thread count; the table gives both medians
+ * of ms per frame, their ratio, and how far each cloth's lowest point hangs below its pins at the
+ * end (a sanity number, not an error: the two material models differ). Without Blender the
+ * command says so and prints Weft's rows alone. --backend cpu,gpu runs Weft on each backend
+ * beside the same Blender run. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
