@@ -7,7 +7,7 @@
  *    collider placement, mesh-collider targets (cloth_frame.c, cloth_attach.c,
  *    cloth_colliders.c, cloth_mesh.c);
  *  - the whole-frame backup and rollback, and snapshots (cloth_snapshot.c);
- *  - the collision check (cloth_check.c).
+ *  - the collision check (cloth_check.c) and the state's energies (cloth_energy.c).
  * Where the particles are stepped is the backend's (cloth_backend.h), chosen at creation.
  *
  * Creation (cloth_build.c) and a new binding of attachments (cloth_attach.c) allocate everything
@@ -198,6 +198,19 @@ void wc_cloth_backend_stats(const wc_cloth* c, wc_backend_stats* out);
 /* Crossings of the cloth with itself at its current positions, and the deepest particle behind
  * the surface of any collider (m, thickness not included). */
 wc_status wc_cloth_check_collisions(wc_cloth* c, int* self_intersections, double* max_penetration, wc_diag* d);
+
+/* ---- energies (cloth_energy.c) ------------------------------------------------------------- */
+
+typedef struct wc_cloth_energy {
+    double kinetic;             /* J: sum of m |v|^2 / 2 */
+    double elastic;             /* J: the springs' potential energy */
+    double gravity;             /* J: sum of -m g . x, relative to the world origin */
+    double mass;                /* kg */
+    double center_of_mass[3];   /* m, world */
+} wc_cloth_energy;
+
+/* The current state's energies, mass and centre of mass. */
+wc_status wc_cloth_energy_of(wc_cloth* c, wc_cloth_energy* out, wc_diag* d);
 
 /* ---- snapshots (cloth_snapshot.c) ----------------------------------------------------------- */
 

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 
 _Static_assert(WEFT_REPORT_POLYGON_SIDES == WC_MAX_POLY_SIDES, "polygon histogram sizes differ");
 _Static_assert(WEFT_REPORT_MAX_WARNINGS == WC_MAX_WARNINGS, "warning counts differ");
@@ -12,7 +13,7 @@ weft_status weft_cloth_get_report(weft_context* ctx, weft_cloth cloth, weft_impo
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_get_report";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    wa_cloth* c = wa_lookup(ctx, cloth, fn);
+    wc_cloth* c = wa_lookup(ctx, cloth, fn);
     if (!c) return WEFT_ERROR_INVALID_HANDLE;
     if (!out) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: out is NULL", fn);
     const wc_import_report* r = &c->model.report;

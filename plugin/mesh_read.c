@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 #include "api_internal.h"
+#include "call_guard.h"
 #include "source_mesh.h"
 
 void weft_mesh_free(weft_context* ctx, weft_mesh_data* mesh) {
