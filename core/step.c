@@ -1,4 +1,4 @@
-/* One frame = substeps of backward Euler, BDF2 or TR-BDF2 with rollback and retries (step.h). */
+/* The CPU substep: backward Euler, BDF2 or TR-BDF2's stages, judged; the CPU's frame (step.h). */
 #include "step.h"
 #include <math.h>
 #include <string.h>
@@ -104,68 +104,6 @@ static void restore(wc_state* s) {
     wc_integ_restore(s);
 }
 
-/* Bounding-box diagonal of the rest shape (m). */
-static double rest_diagonal(const wc_model* m) {
-    double d2 = 0.0;
-    for (int c = 0; c < 3; ++c) d2 += (m->report.bbox_max[c] - m->report.bbox_min[c]) * (m->report.bbox_max[c] - m->report.bbox_min[c]);
-    return sqrt(d2);
-}
-
-/* Energy scale below which kinetic-energy growth is not judged: what gravity, moving pins and
- * moving colliders could plausibly put into the cloth. */
-static double energy_floor(const wc_state* s) {
-    const wc_model* m = s->model;
-    double speed2 = 1.0 + 2.0 * v3_norm(s->def.gravity) * rest_diagonal(m) + v3_dot(s->def.air.wind, s->def.air.wind);
-    for (int k = 0; k < s->n_colliders; ++k) speed2 += v3_dot(s->colliders[k].velocity, s->colliders[k].velocity);
-    for (int k = 0; k < s->n_mesh; ++k) speed2 += s->mesh[k]->max_speed * s->mesh[k]->max_speed;
-    return 0.5 * s->total_mass * speed2;
-}
-
-/* 1 when nothing in this frame can put energy into the cloth: pins still, colliders still, no
- * host seam ramp, no wind (gravity is in the total energy; drag and friction only take energy out). */
-static int sourceless(const wc_state* s, double pin_energy) {
-    if (pin_energy > 0 || v3_dot(s->def.air.wind, s->def.air.wind) > 0) return 0;
-    if (s->seam_ramping) return 0; /* host seams shortening their rest length do work (sew.h) */
-    for (int k = 0; k < s->n_colliders; ++k)
-        if (v3_dot(s->colliders[k].velocity, s->colliders[k].velocity) > 0) return 0;
-    for (int k = 0; k < s->n_mesh; ++k)
-        if (wc_mesh_collider_moving(s->mesh[k])) return 0;
-    return 1;
-}
-
-/* The energy gain the judge allows a substep (J): fail_energy_gain x (M |g| D + the kinetic and
- * spring energy at its start). */
-static double energy_allowance(const wc_state* s, const wc_substep_measure* before) {
-    double scale = s->total_mass * v3_norm(s->def.gravity) * rest_diagonal(s->model) + before->elastic;
-    return s->def.fail_energy_gain * scale;
-}
-
-int wc_substep_judges_energy(const wc_state* s, int judge, double pin_energy) {
-    return judge == WC_JUDGE_ALL && s->def.fail_energy_gain > 0 && sourceless(s, pin_energy);
-}
-
-wc_status wc_substep_judge(const wc_state* s, const wc_substep_measure* before, const wc_substep_measure* after,
-                             int judge, int judge_energy, double pin_energy, double h, const char* solver,
-                             wc_diag* diag) {
-    if (!after->finite)
-        return wc_fail(diag, WC_ERROR_NONFINITE, "substep (h = %g s, %s): non-finite position or velocity", h, solver);
-    if (judge == WC_JUDGE_FINITE) return WC_OK;
-    if (!(after->strain <= s->def.fail_strain))
-        return wc_fail(diag, WC_ERROR_STEP_FAILED, "substep (h = %g s, %s): strain %.3g above fail_strain %.3g", h,
-                       solver, after->strain, s->def.fail_strain);
-    double floor = energy_floor(s) + pin_energy;
-    if (after->kinetic > s->def.fail_energy_growth * (before->kinetic + floor))
-        return wc_fail(diag, WC_ERROR_STEP_FAILED, "substep (h = %g s, %s): kinetic energy %.3g J grew from %.3g J", h,
-                       solver, after->kinetic, before->kinetic);
-    if (judge_energy) {
-        double allowed = energy_allowance(s, before);
-        if (after->total - before->total > allowed)
-            return wc_fail(diag, WC_ERROR_STEP_FAILED,
-                           "substep (h = %g s, %s): total energy rose by %.3g J with nothing to supply it (allowed %.3g J)",
-                           h, solver, after->total - before->total, allowed);
-    }
-    return WC_OK;
-}
 
 /* The colliders of a substep from frame fraction s->sub_alpha0 to alpha1 (length h) into
  * s->all / s->n_all: the mesh colliders first (indices 0 .. n_mesh - 1, moved to this substep:
@@ -308,7 +246,7 @@ static wc_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_s
     wc_solver_set_residual_floor(s->solver, floor);
     res->scale = fmax(res->residual0, floor);
     wc_solve_result counted = *res;
-    counted.residual = 0.0;   /* held to the forcing term: counted if it missed that (step.h) */
+    counted.residual = 0.0;   /* held to the forcing term: counted if it missed that (step_stats.h) */
     wc_step_stats_add_solve(st, solver, &counted);
     return status;
 }
@@ -330,7 +268,7 @@ static wc_status pair_passes(wc_state* s, wc_penalty_pairs* pp, const wc_integ* 
     return status;
 }
 
-/* TR-BDF2's total-energy judgement spans the whole substep (step.h "TR-BDF2's energy"): stage 1
+/* TR-BDF2's total-energy judgement spans the whole substep (step_judge.h "TR-BDF2's energy"): stage 1
  * fills this in, stage 2 is judged against it. */
 typedef struct stage_energy {
     double start_total;     /* J: total energy at the substep's start (stage 1's before.total) */
@@ -382,13 +320,13 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
        Newton energy guard's bound (newton.h): the energy after begin's correction plus the gain
        the judge allows, so that Newton iterates on exactly where the judge would roll back.
        TR-BDF2: stage 1 keeps its own bound (its gain is not judged, but iterating on towards the
-       trapezoidal solution makes the stage more accurate); stage 2 has the substep's (step.h
-       "TR-BDF2's energy"). */
+       trapezoidal solution makes the stage more accurate); stage 2 has the substep's
+       (step_judge.h "TR-BDF2's energy"). */
     double energy_cap = HUGE_VAL;
     if (judge_energy && stage == 2)
-        energy_cap = carry->start_total + carry->excluded + collide_gain + energy_allowance(s, &before);
+        energy_cap = carry->start_total + carry->excluded + collide_gain + wc_substep_energy_allowance(s, &before);
     else if (judge_energy)
-        energy_cap = wc_state_total_energy(s, NULL) + energy_allowance(s, &before);
+        energy_cap = wc_state_total_energy(s, NULL) + wc_substep_energy_allowance(s, &before);
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -536,160 +474,6 @@ static wc_status substep(wc_state* s, double h, double alpha1, wc_solver_type so
     return status;
 }
 
-/* A substep of length h from frame fraction alpha0 to alpha1, retried on failure with halved
- * steps and then with the last-resort solver. On final failure the state is as it was. */
-static wc_status robust_substep(wc_state* s, double h, double alpha0, double alpha1, double pin_energy,
-                                  wc_step_stats* st, wc_diag* diag, const wc_step_ops* ops) {
-    wc_diag local = {WC_OK, "", NULL, NULL}; /* a recovered failure is a warning, not the caller's error */
-    ops->save(ops->user, s);
-    wc_solver_type user = s->def.solver.type;
-    /* the last resorts: the finest pieces (judged on all but the energy gain), then the whole
-       substep at once, accepted whenever finite (a cloth under pins that jump a kilometre in a
-       frame blows up in small pieces, and is merely stretched by one) */
-    int tries = s->def.max_halvings + 1 + (s->def.direct_fallback ? 2 : 0);
-    for (int t = 0; t < tries; ++t) {
-        int last_resort = t > s->def.max_halvings;
-        int finest = t == s->def.max_halvings + 1;
-        int halvings = !last_resort ? t : finest ? s->def.max_halvings : 0;
-        int judge = !last_resort ? WC_JUDGE_ALL : finest ? WC_JUDGE_NO_GAIN : WC_JUDGE_FINITE;
-        wc_solver_type solver = last_resort ? ops->last_resort_solver : user;
-        int pieces = 1 << halvings;
-        if (t > 0) {
-            ++st->rollbacks;
-            if (halvings > 0) ++st->halvings;
-            if (last_resort) ++st->direct_fallbacks;
-        }
-        wc_status ok = WC_OK;
-        double residual = st->residual; /* a discarded try's residual (inf when it blew up) is not reported */
-        for (int p = 0; p < pieces && ok == WC_OK; ++p) {
-            double a1 = alpha0 + (alpha1 - alpha0) * (p + 1) / pieces;
-            s->sub_alpha0 = alpha0 + (alpha1 - alpha0) * p / pieces;
-            ok = ops->substep(ops->user, s, h / pieces, a1, solver, judge, pin_energy, st, &local);
-        }
-        if (ok == WC_OK) {
-            st->substeps += pieces;
-            return WC_OK;
-        }
-        wc_log(diag, WC_LOG_WARN, "rolled back: %s", local.message);
-        st->residual = residual;
-        ops->restore(ops->user, s);
-    }
-    ++st->failures;
-    return WC_ERROR_STEP_FAILED;
-}
-
-static int air_equal(const wc_air* a, const wc_air* b) {
-    return v3_equal(a->wind, b->wind) && a->normal_drag == b->normal_drag && a->tangent_drag == b->tangent_drag;
-}
-
-/* A frame of a sleeping cloth: time advances exactly as the substeps would advance it. */
-static wc_status sleep_frame(wc_state* s, double dt, wc_step_stats* st, double t_start) {
-    if (s->def.substep_dt > 0) {
-        const double h = s->def.substep_dt;
-        s->accumulator += dt;
-        while (s->accumulator >= h * (1.0 - 1e-9)) {
-            s->accumulator -= h;
-            s->time += h;
-        }
-        if (s->accumulator < 0) s->accumulator = 0;
-    } else {
-        const double h = dt / s->def.substeps;
-        for (int k = 0; k < s->def.substeps; ++k) s->time += h;
-    }
-    for (int k = 0; k < s->n_mesh; ++k) wc_mesh_collider_end_frame(s->mesh[k]);
-    ++s->frame;
-    st->asleep = 1;
-    st->solver = s->def.solver.type;
-    st->contacts = s->contacts.active;
-    st->max_strain = s->sleep_strain;
-    st->kinetic_energy = 0.0;
-    st->ms.total = wc_now_ms() - t_start;
-    return WC_OK;
-}
-
-/* After a successful active frame: the rest timer, and falling asleep. */
-static void rest_timer(wc_state* s, double dt, double max_speed, wc_step_stats* st, const wc_step_ops* ops) {
-    if (!(s->def.sleep_speed > 0)) return;
-    if (!(max_speed < s->def.sleep_speed)) {
-        s->rest_time = 0.0;
-        return;
-    }
-    s->rest_time += dt;
-    if (s->rest_time >= s->def.sleep_time) {
-        memset(s->v, 0, 3 * (size_t)s->model->n_particles * sizeof(double));
-        s->hist_valid = 0;   /* BDF2 restarts with backward Euler when it wakes */
-        if (ops->sleep) ops->sleep(ops->user, s);
-        s->asleep = 1;
-        s->sleep_strain = st->max_strain;
-        st->fell_asleep = 1;
-    }
-}
-
-wc_status wc_step_frame_ops(wc_state* s, double dt, wc_step_stats* stats, wc_diag* diag, const wc_step_ops* ops) {
-    wc_step_stats local;
-    wc_step_stats* st = stats ? stats : &local;
-    memset(st, 0, sizeof *st);
-    if (!s) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "step: NULL state");
-    if (!(dt > 0) || !isfinite(dt) || dt > 1e3)
-        return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "step: frame time %g s must be finite, > 0 and <= 1000", dt);
-    double t_start = wc_now_ms();
-    /* gravity and air are plain fields of def: a change since the last frame wakes the cloth */
-    if (!v3_equal(s->def.gravity, s->input_gravity) || !air_equal(&s->def.air, &s->input_air)) {
-        wc_state_wake(s);
-        v3_copy(s->input_gravity, s->def.gravity);
-        s->input_air = s->def.air;
-    }
-    if (s->asleep) return sleep_frame(s, dt, st, t_start);
-    s->seam_scale = wc_seam_scale(s->model, s->time + dt); /* constant over the frame (sew.h) */
-    s->seam_ramping = wc_seam_scale(s->model, s->time) > 0.0;
-    st->woke = s->woke;
-    s->woke = 0;
-    double pin_speed2 = 0.0;
-    for (int k = 0; k < s->n_pins; ++k) {
-        double d[3];
-        v3_sub(d, s->pins[k].target, s->pin_from + 3 * k);
-        double v2 = v3_dot(d, d) / (dt * dt);
-        if (v2 > pin_speed2) pin_speed2 = v2;
-    }
-    double pin_energy = 0.5 * s->total_mass * pin_speed2; /* what moving pins may add to the kinetic energy */
-
-    wc_status result = WC_OK;
-    if (s->def.substep_dt > 0) {
-        s->accumulator += dt;
-        double h = s->def.substep_dt, consumed = 0.0, budget = s->accumulator;
-        while (s->accumulator >= h * (1.0 - 1e-9)) {
-            double a0 = consumed / budget, a1 = (consumed + h) / budget;
-            if (a1 > 1.0) a1 = 1.0;
-            if (robust_substep(s, h, a0, a1, pin_energy, st, diag, ops) != WC_OK) result = WC_ERROR_STEP_FAILED;
-            s->accumulator -= h;
-            consumed += h;
-            s->time += h;
-        }
-        if (s->accumulator < 0) s->accumulator = 0;
-    } else {
-        int n = s->def.substeps;
-        double h = dt / n;
-        for (int k = 0; k < n; ++k) {
-            if (robust_substep(s, h, (double)k / n, (double)(k + 1) / n, pin_energy, st, diag, ops) != WC_OK)
-                result = WC_ERROR_STEP_FAILED;
-            s->time += h;
-        }
-    }
-    for (int k = 0; k < s->n_pins; ++k) v3_copy(s->pin_from + 3 * k, s->pins[k].target);
-    for (int k = 0; k < s->n_mesh; ++k) wc_mesh_collider_end_frame(s->mesh[k]);
-    ++s->frame;
-    st->contacts = s->contacts.active;
-    double max_speed = 0.0;
-    ops->measure(ops->user, s, &max_speed, &st->kinetic_energy, &st->max_strain);
-    if (result == WC_OK) rest_timer(s, dt, max_speed, st, ops);
-    else s->rest_time = 0.0;
-    if (st->fell_asleep) st->kinetic_energy = 0.0;
-    st->ms.total = wc_now_ms() - t_start;
-    if (result != WC_OK)
-        return wc_fail(diag, result, "step: %d substep(s) failed after every retry; the state was kept finite",
-                       st->failures);
-    return WC_OK;
-}
 
 /* ---- the CPU backend's operations ------------------------------------------------------------ */
 

@@ -1,7 +1,7 @@
 /* What a frame reports (wc_step_stats): the substeps, solves and iterations it took, its retries,
  * contacts and self-collision work, its end state and its wall time per stage. Filled by the frame
- * driver (step.h) and the parts it calls (Newton, newton.h; the GPU backend's substeps); every
- * count is summed over the frame. */
+ * driver (step_driver.h) and the parts it calls (the CPU substep, step.c; Newton, newton.h; the GPU
+ * backend's substeps); every count is summed over the frame. */
 #ifndef WEFT_CORE_STEP_STATS_H
 #define WEFT_CORE_STEP_STATS_H
 #include "solve.h"
