@@ -1,4 +1,5 @@
-/* Colliders and the contact handling of a substep (see collide.h for the sequence).
+/* The contacts of a substep: begin, end and project (collide.h has the sequence; friction is
+ * collide_friction.c's).
  *
  * Choices made here (all deterministic, per particle, no allocation):
  *  - Which particles: begin constrains particles whose filter ndof is 0 or 1 on entry (the step
@@ -25,35 +26,6 @@
  *    reach of this substep lands exactly on the shell at its end (instead of stopping in mid
  *    air). Never outward: a contact adds no separating velocity. project then removes the inward relative
  *    normal velocity left on the shell.
- *  - friction (after the assembly), per particle, with m its mass, f its force, u = S (v - vc)
- *    its relative velocity in the free directions S the normal constraints leave (relative to
- *    the first, deepest collider), z the normal velocity change begin prescribed. The constraint
- *    impulse q it would need to stick (to end the substep with no slip) is predicted twice:
- *      alone:            q = m (z - u) - h f   (-S q = m u + h S f is the tangential momentum it
- *                        would have with no friction; less m mom where the integrator adds
- *                        M mom to the momentum: TR-BDF2's stages, collide.h);
- *      held by springs:  q = A_ii (z - u) - b_i, its neighbours keeping their velocities (a
- *                        particle dragged along by the cloth cannot stop by itself).
- *    Coulomb for each: B = sum mu_k max(N_k, 0), N_k the components of q on the normals (the
- *    landing and centripetal changes, and the tension of springs pressing it on the collider: a
- *    capstan, included). It sticks when |S q| <= B for both: S = 0 and z -= u (all three DOF
- *    constrained: it moves with its collider, and the solve carries the holding force to the
- *    springs around it). Otherwise it slides, the friction being the implicit damping force
- *    -c S (v_new - vc), h c = B / w (B of the particle alone), w the slip expected at the end
- *    of the substep: (|S q| - B) / m alone, which leaves the particle alone with exactly
- *    Coulomb's p (1 - B / |p|), never reversed, and a piece of cloth sliding as one too; when
- *    that is not positive (alone it would stop, its springs say no), (|S q| - B) / (t^T A_ii t)
- *    of the held prediction (t = S q / |S q|). A damping, implicit, only takes energy out of the
- *    cloth (an explicit impulse -B p / |p|, the same for the particle alone, fed energy into
- *    cloth particles whose p was mostly spring force the solve then balanced). Two contacts:
- *    their bounds add up. Exact for a particle alone (a plane, an incline, a landing, a groove,
- *    a moving collider dragging it: test_collide).
- *  - friction recheck (after each solve, by the step): the predictions do not see the whole
- *    cloth. A sticking particle whose holding impulse in the solved system (r_i in its free
- *    directions) exceeds mu times its normal impulses (r_i on the normals) slides instead, with
- *    w = (|r_t| - B) / m, and the step solves again (the stuck set only shrinks; a few passes at
- *    most): e.g. a strip over a cylinder that cannot hold (test_step_contacts' capstan) lets go
- *    from its loaded ends inwards.
  *  - end: the normal impulse of each contact is the component along its normal of r_i in the
  *    (non-orthogonal) basis of the two normals; a negative one releases that contact.
  *  - project: picks the two deepest colliders and pushes x out of them as above (re-picked up
@@ -95,65 +67,6 @@
                                   starts (or ends up) up to this far inside a body is found and let
                                   out (at its push_speed); deeper ones are not seen */
 
-static void set_up(double* n) { v3_set(n, 0.0, 1.0, 0.0); }
-
-/* Signed distance to a ball of radius r around q; u (unit or NULL) is the capsule axis, used to
- * pick a normal perpendicular to it when p is on the axis. */
-static double ball_distance(const double* p, const double* q, double r, const double* u, double* n) {
-    double d[3];
-    v3_sub(d, p, q);
-    double len = v3_norm(d);
-    if (len > 0.0) {
-        v3_scale(n, d, 1.0 / len);
-        return len - r;
-    }
-    set_up(n);
-    if (u) {
-        /* up, or x when the axis is near vertical, made perpendicular to the axis */
-        double w[3];
-        v3_copy(w, n);
-        v3_axpy(w, -v3_dot(w, u), u);
-        if (v3_dot(w, w) < 0.25) {
-            v3_set(w, 1.0, 0.0, 0.0);
-            v3_axpy(w, -v3_dot(w, u), u);
-        }
-        v3_scale(n, w, 1.0 / v3_norm(w));
-    }
-    return -r;
-}
-
-double wc_collider_distance(const wc_collider* c, const double* p, double* normal) {
-    switch (c->type) {
-    case WC_COLLIDER_PLANE:
-        v3_copy(normal, c->normal);
-        return v3_dot(c->normal, p) - c->offset;
-    case WC_COLLIDER_SPHERE:
-        return ball_distance(p, c->center, c->radius, NULL, normal);
-    case WC_COLLIDER_CAPSULE: {
-        double ab[3], ap[3], q[3], u[3];
-        v3_sub(ab, c->b, c->a);
-        v3_sub(ap, p, c->a);
-        double l2 = v3_dot(ab, ab);
-        if (!(l2 > 0.0)) return ball_distance(p, c->a, c->radius, NULL, normal);
-        double t = v3_dot(ap, ab) / l2;
-        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-        v3_copy(q, c->a);
-        v3_axpy(q, t, ab);
-        v3_scale(u, ab, 1.0 / sqrt(l2));
-        return ball_distance(p, q, c->radius, u, normal);
-    }
-    case WC_COLLIDER_MESH: {
-        double d = c->mesh ? wc_mesh_closest(c->mesh, 1, p, HUGE_VAL, normal, NULL) : HUGE_VAL;
-        if (d < HUGE_VAL) return d;
-        set_up(normal);
-        return HUGE_VAL;
-    }
-    default:
-        set_up(normal);
-        return HUGE_VAL;
-    }
-}
-
 /* d - thickness and the normal. */
 static double shell_distance(const wc_collider* c, const double* p, double* n) {
     return wc_collider_distance(c, p, n) - c->thickness;
@@ -178,7 +91,7 @@ static void query(const wc_collider* c, const double* p, int end, double move, h
     if (c->type == WC_COLLIDER_MESH) {
         double d = wc_mesh_closest(c->mesh, end, p, mesh_reach(c, move), H->n, H->vc);
         H->d = d < HUGE_VAL ? d - c->thickness : HUGE_VAL;
-        if (!(d < HUGE_VAL)) set_up(H->n);
+        if (!(d < HUGE_VAL)) v3_set(H->n, 0.0, 1.0, 0.0); /* up, as wc_collider_distance */
         return;
     }
     H->d = shell_distance(c, p, H->n);
@@ -348,15 +261,15 @@ static int held_contact(const wc_contacts* ct, int i, int k) {
     return ct->collider[2 * i] == k || ct->collider[2 * i + 1] == k;
 }
 
-/* Count per thread into par->partial, then sum in thread order. */
-static int sum_partials(const wc_par* par, int used) {
+/* ---- shared with the friction (collide.h) ---------------------------------------------------- */
+
+int wc_contacts_sum_counts(const wc_par* par, int used) {
     double s = 0.0;
     for (int t = 0; t < used; ++t) s += par->partial[8 * t];
     return (int)s;
 }
 
-/* Free-direction projector of one or two contact normals: S = I - n1 n1^T (- e2 e2^T). */
-static void free_projector(const double* n, int cnt, double* S) {
+void wc_contacts_free_projector(const double* n, int cnt, double* S) {
     double P[9], e2[3];
     m3_identity(S, 1.0);
     m3_outer(P, n, n, 1.0);
@@ -366,6 +279,17 @@ static void free_projector(const double* n, int cnt, double* S) {
         m3_outer(P, e2, e2, 1.0);
         m3_axpy(S, -1.0, P);
     }
+}
+
+void wc_contacts_normal_impulses(const double* r, const double* n, int cnt, double* imp) {
+    double r1 = v3_dot(r, n);
+    if (cnt == 1) {
+        imp[0] = r1;
+        return;
+    }
+    double r2 = v3_dot(r, n + 3), c = v3_dot(n, n + 3), g = 1.0 - c * c;
+    imp[0] = (r1 - c * r2) / g;
+    imp[1] = (r2 - c * r1) / g;
 }
 
 static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double* x, const double* v, double h,
@@ -441,7 +365,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
         if (ct->vel) v3_copy(ct->vel + 6 * i + 3 * s, b.h[s].vc);
     }
     double* S = f->S + 9 * i;
-    free_projector(n, cnt, S);
+    wc_contacts_free_projector(n, cnt, S);
     v3_span2(n, a[0], n + 3, cnt > 1 ? a[1] : 0.0, cnt > 1, f->z + 3 * i);
     f->ndof[i] = (unsigned char)cnt;
     return 1;
@@ -458,163 +382,9 @@ int wc_contacts_begin(wc_contacts* ct, const wc_collider* c, int nc, double* x, 
         for (int i = lo; i < hi; ++i) cnt += begin_particle(ct, c, nc, x, v, h, f, i);
         par->partial[8 * t] = cnt;
     }
-    ct->active = sum_partials(par, used);
+    ct->active = wc_contacts_sum_counts(par, used);
     ct->h = h;
     return ct->active;
-}
-
-/* Normal impulse of each contact of particle i over the substep (N s; the constraint force times
- * h): the components of r_i in the basis of the contact normals. */
-static void contact_impulses(const double* r, const double* n, int cnt, double* imp) {
-    double r1 = v3_dot(r, n);
-    if (cnt == 1) {
-        imp[0] = r1;
-        return;
-    }
-    double r2 = v3_dot(r, n + 3), c = v3_dot(n, n + 3), g = 1.0 - c * c;
-    imp[0] = (r1 - c * r2) / g;
-    imp[1] = (r2 - c * r1) / g;
-}
-
-/* Kinetic friction as the damping force -c S (v_new - vc): A_ii += h c S, b_i -= h c u. Its impulse
- * h c |u_new| is the Coulomb bound B when |u_new| = w, the slip speed expected at the end of the
- * substep: h c = B / w. Implicit damping only ever takes energy out of the cloth. */
-static void slide(double bound, double w, const double* S, const double* u, double* Aii, double* bi) {
-    if (!(bound > 0.0) || !(w > 0.0)) return;
-    double hc = bound / w;
-    m3_axpy(Aii, hc, S);
-    v3_axpy(bi, -hc, u);
-}
-
-/* Coulomb for a predicted or solved constraint impulse q of particle i: returns the bound
- * B = sum mu_k max(N_k, 0) (N_k the components of q on the normals) and rt = Sn q, the part that
- * friction would have to hold. */
-static double coulomb(const wc_collider* c, const int* cid, const double* cn, int cnt, const double* Sn,
-                      const double* q, double* rt) {
-    double imp[2], bound = 0.0;
-    contact_impulses(q, cn, cnt, imp);
-    for (int s = 0; s < cnt; ++s) bound += c[cid[s]].friction * fmax(imp[s], 0.0);
-    m3_mulv(rt, Sn, q);
-    return bound;
-}
-
-static int holds(double bound, double held) { return bound > 0.0 && held <= bound * (1.0 + 1e-9); }
-
-/* Write particle i's filter and friction: stick (S = 0, z = z_n - u) or slide (S = Sn, z = z_n,
- * the damping of slide() with bound B and expected slip w). */
-static int apply_mode(wc_contacts* ct, int stick, double bound, double w, int cnt, const double* Sn,
-                      const double* u, wc_filter* flt, double* Aii, double* bi, int i) {
-    double* S = flt->S + 9 * i;
-    double* z = flt->z + 3 * i;
-    double zt[3];
-    m3_mulv(zt, Sn, z);
-    v3_sub(z, z, zt); /* the normal part z_n (a stuck particle's z is z_n - u) */
-    if (stick) {
-        v3_sub(z, z, u);
-        m3_zero(S);
-        flt->ndof[i] = 3;
-        ct->stick[i] = 1;
-        return 1;
-    }
-    for (int k = 0; k < 9; ++k) S[k] = Sn[k];
-    flt->ndof[i] = (unsigned char)cnt;
-    ct->stick[i] = 0;
-    slide(bound, w, Sn, u, Aii, bi);
-    return 0;
-}
-
-/* The relative velocity of particle i in the free directions Sn of its contacts (relative to
- * the first collider); returns the number of contacts (0: none, or friction 0 on all). */
-static int contact_state(const wc_contacts* ct, const wc_collider* c, int nc, const double* v, int i, double* Sn,
-                         double* u) {
-    const int* cid = ct->collider + 2 * i;
-    int cnt = (cid[0] >= 0) + (cid[1] >= 0);
-    if (cnt == 0 || cid[0] >= nc || cid[1] >= nc) return 0;
-    if (!(c[cid[0]].friction > 0.0) && !(cnt > 1 && c[cid[1]].friction > 0.0)) return 0;
-    free_projector(ct->normal + 6 * i, cnt, Sn);
-    double vr[3];
-    v3_sub(vr, v + 3 * i, ct->vel ? ct->vel + 6 * i : c[cid[0]].velocity);
-    m3_mulv(u, Sn, vr);
-    return cnt;
-}
-
-static int friction_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                             const double* f, const double* mom, double h, wc_filter* flt, double* A,
-                             const int* diag, double* b, int i) {
-    double Sn[9], u[3];
-    int cnt = contact_state(ct, c, nc, v, i, Sn, u);
-    if (cnt == 0 || flt->ndof[i] != cnt || !(mass[i] > 0.0)) return 0;
-    const int* cid = ct->collider + 2 * i;
-    const double* cn = ct->normal + 6 * i;
-    double m = mass[i], *Aii = A + 9 * (size_t)diag[i], *bi = b + 3 * i;
-    /* the impulse to stick, for the particle alone: q = m (z - u - mom) - h f; and with its
-       neighbours keeping their velocities: q = A_ii (z - u) - b_i (its springs resist stopping it) */
-    double w0[3], qa[3], qn[3], rta[3], rtn[3];
-    v3_sub(w0, flt->z + 3 * i, u);
-    v3_scale(qa, w0, m);
-    v3_axpy(qa, -h, f + 3 * i);
-    if (mom) v3_axpy(qa, -m, mom + 3 * i);
-    m3_mulv(qn, Aii, w0);
-    v3_sub(qn, qn, bi);
-    double ba = coulomb(c, cid, cn, cnt, Sn, qa, rta), bn = coulomb(c, cid, cn, cnt, Sn, qn, rtn);
-    double ha = v3_norm(rta), hn = v3_norm(rtn);
-    int stick = holds(ba, ha) && holds(bn, hn);
-    /* expected slip: what friction leaves of the holding impulse of the particle alone (exact
-       for it, and for a piece of cloth sliding as one); when that one would stop but its
-       springs would not let it, what is left against its springs */
-    double w = (ha - ba) / m;
-    if (!(w > 0.0) && hn > bn) {
-        double t[3], At[3];
-        v3_scale(t, rtn, 1.0 / hn);
-        m3_mulv(At, Aii, t);
-        double stiff = v3_dot(t, At);
-        if (stiff > 0.0) w = (hn - bn) / stiff;
-    }
-    return apply_mode(ct, stick, ba, w, cnt, Sn, u, flt, Aii, bi, i);
-}
-
-int wc_contacts_friction(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                         const double* f, const double* mom, double h, wc_filter* filter, double* A,
-                         const int* diag, double* b, wc_par* par) {
-    int n = ct->n, used = par->threads;
-    WC_PAR_REGION(par)
-    {
-        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
-        if (t == 0) used = nt;
-        wc_par_range(n, t, nt, &lo, &hi);
-        for (int i = lo; i < hi; ++i) cnt += friction_particle(ct, c, nc, v, mass, f, mom, h, filter, A, diag, b, i);
-        par->partial[8 * t] = cnt;
-    }
-    return sum_partials(par, used);
-}
-
-/* A sticking particle whose holding impulse in the solved system exceeds its Coulomb bound
- * slides instead; returns 1 when it did. */
-static int recheck_particle(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                            const double* r, wc_filter* flt, double* A, const int* diag, double* b, int i) {
-    if (!ct->stick[i]) return 0;
-    double Sn[9], u[3], rt[3];
-    int cnt = contact_state(ct, c, nc, v, i, Sn, u);
-    if (cnt == 0) return 0;
-    double bound = coulomb(c, ct->collider + 2 * i, ct->normal + 6 * i, cnt, Sn, r + 3 * i, rt), held = v3_norm(rt);
-    if (holds(bound, held)) return 0;
-    apply_mode(ct, 0, bound, (held - bound) / mass[i], cnt, Sn, u, flt, A + 9 * (size_t)diag[i], b + 3 * i, i);
-    return 1;
-}
-
-int wc_contacts_friction_recheck(wc_contacts* ct, const wc_collider* c, int nc, const double* v, const double* mass,
-                                 const double* r, wc_filter* filter, double* A, const int* diag, double* b,
-                                 wc_par* par) {
-    int n = ct->n, used = par->threads;
-    WC_PAR_REGION(par)
-    {
-        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi, cnt = 0;
-        if (t == 0) used = nt;
-        wc_par_range(n, t, nt, &lo, &hi);
-        for (int i = lo; i < hi; ++i) cnt += recheck_particle(ct, c, nc, v, mass, r, filter, A, diag, b, i);
-        par->partial[8 * t] = cnt;
-    }
-    return sum_partials(par, used);
 }
 
 static int end_particle(wc_contacts* ct, int nc, const double* r, int i) {
@@ -627,7 +397,7 @@ static int end_particle(wc_contacts* ct, int nc, const double* r, int i) {
         return 0;
     }
     double imp[2];
-    contact_impulses(r + 3 * i, cn, cnt, imp);
+    wc_contacts_normal_impulses(r + 3 * i, cn, cnt, imp);
     int released = 0, keep = 0;
     int kid[2] = {-1, -1};
     double kn[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
@@ -657,7 +427,7 @@ void wc_contacts_end(wc_contacts* ct, int nc, const double* r, wc_par* par) {
         for (int i = lo; i < hi; ++i) cnt += end_particle(ct, nc, r, i);
         par->partial[8 * t] = cnt;
     }
-    ct->active = sum_partials(par, used);
+    ct->active = wc_contacts_sum_counts(par, used);
 }
 
 /* The two smallest shell distances over all colliders (parallel second normal dropped). */
@@ -749,5 +519,5 @@ int wc_contacts_project_from(const wc_contacts* ct, const wc_collider* c, int nc
         }
         par->partial[8 * t] = cnt;
     }
-    return sum_partials(par, used);
+    return wc_contacts_sum_counts(par, used);
 }

@@ -5,6 +5,8 @@
 #include "assemble.h"
 #include "bdf2.h"
 #include "clock.h"
+#include "collide.h"
+#include "collide_friction.h"
 #include "mesh_collider.h"
 #include "mesh_pairs.h"
 #include "newton.h"

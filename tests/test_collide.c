@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
+#include "collide_friction.h"
 #include "colliders.h"
 
 /* ---- a test-local substep ---- */

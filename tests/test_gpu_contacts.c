@@ -13,6 +13,7 @@
 
 #include "check.h"
 #include "collide.h"
+#include "collide_friction.h"
 #include "egl_context.h"
 #include "state.h"
 #include "test_support.h"
