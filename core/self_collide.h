@@ -5,13 +5,12 @@
  * can bring a crossing back), on the substep's start positions x_start (copied by
  * wc_self_begin at the top of the substep: the end of the previous, accepted substep) and its end
  * positions x (the integrator's result):
- *   1. Broad phase: two AABB trees (bvh.h), over the triangles and over the (unique) edges, built
- *      once at creation and refitted over the swept boxes x_start U x inflated by the thickness.
- *      Pairs sharing a particle, or a particle and one it is sewn to (sew.h: sewn panels are not
- *      welded, so their elements overlap along the seam by construction), are excluded; so are
- *      pairs whose particles all belong to edge-triangle pairs that cross in the rest shape (a
- *      garment that starts tangled: preventing new crossings cannot undo those, and fighting
- *      them locks impact zones and stretches the cloth).
+ *   1. Broad phase (self_broad.h): two AABB trees (bvh.h), over the triangles and over the
+ *      (unique) edges, built once at creation and refitted over the swept boxes x_start U x
+ *      inflated by the thickness. Pairs sharing a particle, or a particle and one it is sewn to,
+ *      are excluded; so are pairs whose particles all belong to edge-triangle pairs that cross in
+ *      the rest shape (self_crossings.h; a garment that starts tangled: preventing new crossings
+ *      cannot undo those, and fighting them locks impact zones and stretches the cloth).
  *   2. Proximity (at x_start): vertex-triangle and edge-edge pairs closer than the pair's
  *      thickness (min(thickness, the pair's distance at rest), so a mesh finer than the thickness
  *      is not pushed against itself) get their relative normal displacement over the substep
@@ -19,71 +18,46 @@
  *      and a bounded repulsion that separates them to the thickness over a few substeps.
  *   3. Continuous (x_start -> x, linear): up to WC_SELF_PASSES passes of inelastic impulses on
  *      the pairs that collide (geom.h's CCD within eta = thickness / 100).
- *   4. Impact zones for what is left: the particles of every colliding pair are merged
- *      (union-find); each zone's displacements are replaced by its rigid motion (linear
+ *   4. Impact zones for what is left (self_zones.h): the particles of every colliding pair are
+ *      merged (union-find); each zone's displacements are replaced by its rigid motion (linear
  *      momentum kept, angular momentum to first order; an exact rotation); detect again (pairs
  *      inside one zone cannot collide: along the linear path x_start -> x they move by one
  *      affine map, (1 - t) I + t R, invertible for turns under half a revolution), merge,
  *      repeat, at most WC_SELF_ZONE_ITERS times (in the worst case everything ends in one zone
- *      that moves rigidly: no crossing). A zone's rigid motion keeps the springs inside it at
- *      their start length but stretches those that cross its boundary when the solve moved
- *      their outer end away: a zone that holds a particle at every substep (layers pressed
- *      together) would stretch its springs a little more each substep, up to tearing. So after
- *      each rigid motion the stretch springs are relaxed (Provot's strain limit, Gauss-Seidel,
- *      up to WC_SELF_RELAX_PASSES passes) to the larger of (1 + zone_strain) x rest and the
- *      length the solve left them, moving only particles outside the zones: the cloth around a
- *      zone follows it instead of tearing from it, and the next detection pass checks what
- *      that moved (self_zones.c). Taking the stretched spring's other end into the zone
- *      instead freezes the cloth (one zone ends up holding a whole garment).
+ *      that moves rigidly: no crossing). After each rigid motion the stretch springs it stretched
+ *      are relaxed (up to WC_SELF_RELAX_PASSES passes) to the larger of (1 + zone_strain) x rest
+ *      and the length the solve left them, moving only particles outside the zones, and the next
+ *      detection pass checks what that moved.
+ * Stages 2 to 4 run as passes over the candidate pairs (self_pass.h: the parallel scan, and the
+ * later passes' dirty sets; bit-identical for any number of threads).
  * Impulses are distributed over the 4 particles with the barycentric / edge weights w and the
  * inverse masses (Bridson section 7.1): a change D of the relative normal displacement moves
  * particle i by w_i inv_m_i D / sum_j (w_j^2 inv_m_j) along the normal. Pinned particles (filter
- * ndof 3 that is not a sticking contact) have inverse mass 0 (in a zone: a mass 1e8 x the
- * zone's heaviest, and their own motion is kept).
+ * ndof 3 that is not a sticking contact) have inverse mass 0 (in a zone: a mass 1e8 x their
+ * own, and their own motion is kept).
  * Corrections are position changes dx of the end positions, turned into velocity changes
  * dv = dx / he (he = h for backward Euler, 2h/3 for BDF2), which keeps x = xb + he v of both
  * integrators (bdf2.h). The stage allocates nothing: its candidates are visited in the trees
  * (no pair buffers), and its zone accumulators are (n) arrays allocated at creation.
- * Parallel detection (threads > 1, OpenMP; core/par.h's fixed contiguous ranges): every pass
- * first scans all vertices and edges read-only, on as many threads as sc->threads, and marks in
- * active[] (n + n_edges bytes, allocated at creation: nothing can overflow) each query that has
- * at least one pair needing action at the pass's starting positions (a proximity impulse, a CCD
- * collision, in the zone loop a collision between two zones); a query's mark stops at its
- * first such pair. Then one thread visits the marked queries alone, in index order, with the
- * serial code above (re-evaluated on the current positions, impulses applied in place). A mark
- * depends only on the positions, never on the thread count, so the result is bit-identical
- * for any number of threads. A pair that only starts needing action after an earlier impulse
- * of the same pass waits for the next pass (the serial stage caught it in the same pass); the
- * guarantee is unchanged: the loop still ends only on a pass that found nothing to do (its
- * scan then covered every pair at the final positions) or in the zones, whose detection
- * passes visit exactly the pairs the serial loop did (a pair skipped at a pass's start as
- * inside one zone stays so: zones only grow within a pass).
  * The close pairs are also penalty terms of the substep's implicit solve (self_pairs.h, on by
  * default with self-collision: sim def self_in_solve), so both sides of a contact move together in
  * the solve and this stage has little left to correct; it stays the guarantee.
  * A cloth that starts a substep free of crossings ends it free of them, unless the zone loop
  * runs out of iterations (stats.unresolved counts the pairs still colliding then; with pins
  * that move against each other inside one zone this can happen).
- * Cost: O((n + edges) log n) queries per pass; a cloth not touching itself does one pass (the
- * proximity and CCD tests at once; an edge queries only the edges of higher index, a pair whose
- * start boxes are far apart relative to its motion skips the closest-point tests, and the CCD's
- * cubic runs only when the pair's relative motion can close its start distance). Every pass
- * after the first scans only the pairs with a dirty particle (one of a pair an earlier pass
- * acted on or counted, a zone's member, one the relaxation moved): a clean vertex or edge visits
- * only the tree nodes with a dirty element below (wc_bvh_query_masked). A pair with no dirty
- * particle has not moved since a pass found it needing nothing, so the scan marks the queries
- * the unfiltered one would, and the serial visit of a marked query is unfiltered: the result is
- * that of checking every pair (detect_all), bit for bit. Measured cost and behaviour:
- * docs/design/self_collision.md. */
+ * Measured cost and behaviour: docs/design/self_collision.md. */
 #ifndef WEFT_CORE_SELF_COLLIDE_H
 #define WEFT_CORE_SELF_COLLIDE_H
 #include "bvh.h"
 #include "filter.h"
 #include "model.h"
+/* the stage's parts, each with its contract: users of the stage get them with it */
+#include "self_broad.h"
+#include "self_crossings.h"
+#include "self_zones.h"
 
 #define WC_SELF_PASSES 4        /* CCD impulse passes before impact zones */
 #define WC_SELF_ZONE_ITERS 200  /* impact-zone merge iterations at most */
-#define WC_SELF_ZONE_STRIDE 20  /* doubles per zone accumulator */
 #define WC_SELF_ZONE_STRAIN 0.1 /* wc_self.zone_strain's default */
 #define WC_SELF_RELAX_PASSES 8  /* relaxation passes after each rigid motion, at most */
 
@@ -124,8 +98,8 @@ typedef struct wc_self {
     unsigned char* tri_mask;  /* (tri_bvh.n_nodes), edge_mask (edge_bvh.n_nodes): 1 for a node */
     unsigned char* edge_mask; /* with an element of a dirty particle under it */
     int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
-    double* zone;       /* (n x WC_SELF_ZONE_STRIDE) per-zone accumulators (self_zones.c) */
-    int* seam_start;    /* (n + 1) CSR of each particle's seam partners (sew.h; NULL: no seams): */
+    double* zone;       /* (n x WC_SELF_ZONE_STRIDE) per-zone accumulators (self_zones.h) */
+    int* seam_start;    /* (n + 1) CSR of each particle's seam partners (self_broad.h; NULL: none): */
     int* seam_nbr;      /* a particle is never tested against an element it is sewn to */
     unsigned char* tangled; /* (n) 1: the particle belongs to an edge-triangle pair that crosses in
                            the rest shape; pairs made only of such particles are skipped */
@@ -146,42 +120,5 @@ void wc_self_begin(wc_self* sc, const double* x);
  * st (may be NULL). Returns st->unresolved's contribution (0 when no crossing is left). */
 int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, const unsigned char* stick, double he,
                     double* x, double* v, wc_self_stats* st);
-
-/* For tests: replace the displacements d = x - x_start of the particles of each zone (parent, n:
- * union-find roots; only particles with in[i] != 0) by the zone's rigid motion (mass m, inverse
- * mass inv_m 0 = pinned): its centre of mass moves by the zone's mean displacement (linear
- * momentum kept exactly), and it turns about it by the angle and axis omega = I^-1 L of its
- * angular momentum over the start positions (kept to first order in the angle), an exact
- * rotation, so distances inside a zone keep their start length. */
-void wc_self_rigidify(int n, const double* x_start, double* x, const double* mass, const double* inv_m, int* parent,
-                      const unsigned char* in, double* acc);
-
-/* After wc_self_rigidify: shortens every stretch spring longer than rest x (1 + the larger of
- * floor and its strain at x_old, the positions before the zones) by moving its ends outside the
- * zones (in[] 0) in proportion to their inverse masses inv_m (0: pinned, never moved), up to
- * passes Gauss-Seidel passes in spring order (deterministic), stopping at a pass that moves
- * nothing; moved (may be NULL) gets 1 for each particle moved. Returns the corrections made. */
-int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
-                        const double* inv_m, double floor, int passes, unsigned char* moved);
-
-/* For the in-solve self-contact pairs (self_pairs.h), on this list's trees and seams:
- *   linked: 1 when particles a and b are one particle or sewn together;
- *   refit: both trees over the boxes of x0 U x1 (n x 3 each; x0 may be NULL) inflated by r;
- *   edges_above: visit(user, f) for every edge f > e whose tree box overlaps box (each edge pair
- *   once from its lower edge; stops when visit returns non-zero and returns that). */
-int wc_self_linked(const wc_self* sc, int a, int b);
-/* b (6) = the box of the nv particles v at x_start (NULL: skipped) and at x, inflated by r. */
-void wc_self_swept_box(double* b, const int* v, int nv, const double* x_start, const double* x, double r);
-void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
-int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user);
-
-/* Edge-triangle pairs that cross (an edge passes through a triangle's interior; pairs sharing a
- * particle or sewn (as above) excluded; every unique edge against every triangle) at positions x
- * (n x 3), through a temporary BVH (allocates: not for inside a step). *count receives the
- * number. */
-wc_status wc_self_intersections(const wc_model* m, const double* x, const wc_allocator* alloc, int* count,
-                                  wc_diag* diag);
-/* The same by brute force, O(edges x triangles) (tests); -1 when out of memory. */
-int wc_self_intersections_brute(const wc_model* m, const double* x);
 
 #endif

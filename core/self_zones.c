@@ -1,9 +1,9 @@
-/* Impact zones (self_collide.h, stage 4): a zone's rigid motion, and the springs it stretched
- * relaxed by moving the particles outside the zones. */
+/* Impact zones (self_zones.h): a zone's rigid motion, and the springs it stretched relaxed by
+ * moving the particles outside the zones. */
 #include <math.h>
 #include <string.h>
 
-#include "self_collide.h"
+#include "self_zones.h"
 #include "union_find.h"
 #include "vec3.h"
 
