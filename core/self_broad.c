@@ -1,7 +1,6 @@
 /* Self-collision's broad phase and seam links (self_broad.h). */
 #include "self_broad.h"
 #include "par.h"
-#include "self_collide.h"
 
 wc_status wc_self_seam_links(const wc_model* m, const wc_allocator* A, int** start_out, int** nbr_out) {
     *start_out = NULL;

@@ -10,8 +10,7 @@
 #define WEFT_CORE_SELF_BROAD_H
 #include "bvh.h"
 #include "model.h"
-
-struct wc_self; /* self_collide.h */
+#include "self_data.h"
 
 /* The seam links of m: the CSR of each particle's seam partners (*start_out (n + 1), *nbr_out),
  * allocated from A; both NULL when the model has no seams, or on WC_ERROR_OUT_OF_MEMORY. */
@@ -34,10 +33,10 @@ static inline int wc_self_seam_linked(const int* start, const int* nbr, int a, i
  *   edges_above: visit(user, f) for every edge f > e whose tree box overlaps box (each edge pair
  *   once from its lower edge; stops when visit returns non-zero and returns that); _masked: only
  *   in the nodes of the edge tree whose mask is set (mask NULL: all). */
-int wc_self_linked(const struct wc_self* sc, int a, int b);
-void wc_self_refit(struct wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
-int wc_self_edges_above(const struct wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user);
-int wc_self_edges_above_masked(const struct wc_self* sc, int e, const double* box, const unsigned char* mask,
+int wc_self_linked(const wc_self* sc, int a, int b);
+void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
+int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user);
+int wc_self_edges_above_masked(const wc_self* sc, int e, const double* box, const unsigned char* mask,
                                wc_bvh_visit_fn visit, void* user);
 
 /* b (6) = the box of the nv particles v at x_start (NULL: skipped) and at x, inflated by r. */

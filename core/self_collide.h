@@ -24,10 +24,10 @@
  *      inside one zone cannot collide: along the linear path x_start -> x they move by one
  *      affine map, (1 - t) I + t R, invertible for turns under half a revolution), merge,
  *      repeat, at most WC_SELF_ZONE_ITERS times (in the worst case everything ends in one zone
- *      that moves rigidly: no crossing). After each rigid motion the stretch springs it stretched
- *      are relaxed (up to WC_SELF_RELAX_PASSES passes) to the larger of (1 + zone_strain) x rest
- *      and the length the solve left them, moving only particles outside the zones, and the next
- *      detection pass checks what that moved.
+ *      that moves rigidly: no crossing). After each rigid motion the stretch springs the zones
+ *      stretched are relaxed (up to WC_SELF_RELAX_PASSES passes) to the larger of
+ *      (1 + zone_strain) x rest and the length the solve left them, moving only particles outside
+ *      the zones, and the next detection pass checks what that moved.
  * Stages 2 to 4 run as passes over the candidate pairs (self_pass.h: the parallel scan, and the
  * later passes' dirty sets; bit-identical for any number of threads).
  * Impulses are distributed over the 4 particles with the barycentric / edge weights w and the
@@ -48,9 +48,9 @@
  * Measured cost and behaviour: docs/design/self_collision.md. */
 #ifndef WEFT_CORE_SELF_COLLIDE_H
 #define WEFT_CORE_SELF_COLLIDE_H
-#include "bvh.h"
 #include "filter.h"
 #include "model.h"
+#include "self_data.h"
 /* the stage's parts, each with its contract: users of the stage get them with it */
 #include "self_broad.h"
 #include "self_crossings.h"
@@ -69,43 +69,6 @@ typedef struct wc_self_stats {
     int unresolved;     /* pairs still colliding when the zone loop gave up (0 normally) */
     int relaxed;        /* stretch-spring corrections after the zones' rigid motions */
 } wc_self_stats;
-
-typedef struct wc_self {
-    double thickness;   /* m, > 0 */
-    double eta;         /* m: CCD tolerance, thickness / 100 */
-    int passes;         /* CCD impulse passes before the zones (WC_SELF_PASSES); tests set 0 (no
-                           CCD impulse: every collision goes to the zones) to drive the zones */
-    int detect_all;     /* tests: 1 = every pass checks every pair (default 0: after the first,
-                           only the pairs with a dirty particle) */
-    double zone_strain; /* the springs a zone stretched are relaxed to this strain, or what the
-                           solve left, if more (WC_SELF_ZONE_STRAIN; infinity: not relaxed) */
-    int n, n_tris, n_edges;
-    int* edges;         /* (n_edges x 2) particle pairs, each vertex pair once */
-    wc_bvh tri_bvh, edge_bvh;
-    double* tri_box;    /* (n_tris x 6) */
-    double* edge_box;   /* (n_edges x 6) */
-    double* x_start;    /* (n x 3) m: positions at the start of the substep */
-    double* x_old;      /* (n x 3) m: end positions before the stage */
-    double* inv_mass;   /* (n) 1/kg, 0 for pinned, this substep */
-    int* parent;        /* (n) union-find of the impact zones */
-    unsigned char* in_zone; /* (n) 1: the particle is in a zone */
-    unsigned char* active;  /* (n + n_edges) 1: the query (vertex i, then edge n + e) has a pair
-                               that needs action this pass (parallel scan's result) */
-    int* edge_max;      /* (edge_bvh.n_nodes) the largest edge index under each node: an edge's
-                           query skips the subtrees of lower edges (each pair visited once) */
-    unsigned char* dirty;     /* (n) each: 1 for a particle whose pairs the next pass must check */
-    unsigned char* dirty_next; /* (wc_self_resolve: the dirty set and the one being marked) */
-    unsigned char* tri_mask;  /* (tri_bvh.n_nodes), edge_mask (edge_bvh.n_nodes): 1 for a node */
-    unsigned char* edge_mask; /* with an element of a dirty particle under it */
-    int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
-    double* zone;       /* (n x WC_SELF_ZONE_STRIDE) per-zone accumulators (self_zones.h) */
-    int* seam_start;    /* (n + 1) CSR of each particle's seam partners (self_broad.h; NULL: none): */
-    int* seam_nbr;      /* a particle is never tested against an element it is sewn to */
-    unsigned char* tangled; /* (n) 1: the particle belongs to an edge-triangle pair that crosses in
-                           the rest shape; pairs made only of such particles are skipped */
-    int tangled_pairs;  /* those crossing pairs (0 for a mesh that starts untangled) */
-    wc_allocator alloc;
-} wc_self;
 
 /* thickness: m, finite and > 0. */
 wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, const wc_allocator* alloc,

@@ -4,7 +4,6 @@
 #include "geom.h"
 #include "par.h"
 #include "self_broad.h"
-#include "self_collide.h"
 #include "union_find.h"
 #include "vec3.h"
 
@@ -229,8 +228,8 @@ static int edge_edge(pass_ctx* c, int e, int f) {
     const int* E = c->sc->edges;
     int a0 = E[2 * e], a1 = E[2 * e + 1], b0 = E[2 * f], b1 = E[2 * f + 1];
     const int *ls = c->sc->seam_start, *ln = c->sc->seam_nbr;
-    if (wc_self_seam_linked(ls, ln, a0, b0) || wc_self_seam_linked(ls, ln, a0, b1) || wc_self_seam_linked(ls, ln, a1, b0) ||
-        wc_self_seam_linked(ls, ln, a1, b1))
+    if (wc_self_seam_linked(ls, ln, a0, b0) || wc_self_seam_linked(ls, ln, a0, b1) ||
+        wc_self_seam_linked(ls, ln, a1, b0) || wc_self_seam_linked(ls, ln, a1, b1))
         return 0;
     const unsigned char* tg = c->sc->tangled;
     if (tg[a0] && tg[a1] && tg[b0] && tg[b1]) return 0;

@@ -31,8 +31,7 @@
 #ifndef WEFT_CORE_SELF_PASS_H
 #define WEFT_CORE_SELF_PASS_H
 #include "model.h"
-
-struct wc_self; /* self_collide.h */
+#include "self_data.h"
 
 /* What a pass does with the pairs that need action. */
 enum {
@@ -46,7 +45,7 @@ enum {
  * trees first. Returns the CCD collisions found (given an impulse where one applies); *prox (may
  * be NULL) gets the proximity impulses; touched (may be NULL) 1 for the particles of every pair
  * acted on or counted (the next pass's dirty set). */
-int wc_self_pass(struct wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty,
+int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty,
                  unsigned char* touched);
 
 #endif
