@@ -421,7 +421,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     if (s->self && all_finite(s->x, n3) && all_finite(s->v, n3)) {
         wc_self_stats ss = {0, 0, 0, 0, 0};
         double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
-        s->self->threads = s->par.threads; /* detection threads (self_collide.h) */
+        s->self->threads = s->par.threads; /* detection threads (self_pass.h) */
         wc_self_resolve(s->self, m, &s->filter, s->n_all > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
         /* moving a vertex out of a collision stretches its springs: that energy comes from the
            collision response (a contact force), not from a failing linearisation, so the

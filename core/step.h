@@ -3,8 +3,7 @@
  * stages (bdf2.h): pins and contacts into the filter -> forces -> assembly -> friction -> solve,
  * with Newton iterations and a line search when def asks (newton.h) -> contacts' release ->
  * positions -> strain limit -> the colliders' projection -> self-collision, then judged
- * (step_judge.h); a substep that fails is rolled back by the driver. The substep allocates
- * nothing: every array it uses is the state's. */
+ * (step_judge.h, with "TR-BDF2's energy"); a substep that fails is rolled back by the driver. */
 #ifndef WEFT_CORE_STEP_H
 #define WEFT_CORE_STEP_H
 #include "state.h"
