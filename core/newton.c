@@ -81,7 +81,8 @@
  * st->energy_iterations (and st->newton_iterations).
  *
  * Reductions are over fixed chunks of particles and springs: the result does not depend on the
- * thread count. The measurements behind these choices: docs/core_measurements.md. */
+ * thread count. The measurements behind these choices: docs/design/solver.md, "Newton iterations
+ * and line search" and "Integrators"; the penalty pairs': docs/design/contacts.md. */
 #include "newton.h"
 #include <math.h>
 #include <string.h>

@@ -21,7 +21,7 @@
  * factorisation, each with a compile-time num_threads(CHOLMOD_OMP_NUM_THREADS) = 4 whatever the
  * machine or the solver's thread count: thousands of small fork-joins per factorisation, which
  * cost several times the factorisation itself on cloth-sized systems (measured in
- * docs/core_measurements.md). So every CHOLMOD call runs with the calling thread's
+ * docs/design/solver.md, "Linear solvers"). So every CHOLMOD call runs with the calling thread's
  * max-active-levels at 0 (cholmod_serial_begin: a per-thread setting since OpenMP 5.0, restored
  * after the call, so neither the host's other threads nor Weft's own regions see it). The dense
  * supernodal work still goes through the BLAS, whose threads are the host's to set (the `weft`

@@ -17,7 +17,7 @@
  * extrapolated from the steps 15 and 20 with that C/k^2 model, and rho is clamped to
  * [Ritz value, WCS_RHO_MAX]: the cap 1 - 5e-4 is about the slowest rate a default solve
  * (tolerance 1e-4 within 300 iterations) can use: 1 - rho ~ (ln(1e4) / 300)^2 / 2.
- * The comparisons behind these choices are in docs/core_measurements.md. */
+ * The comparisons behind these choices: docs/design/solver.md, "Linear solvers". */
 #include <math.h>
 #include <stdint.h>
 #include "solve_pcg_steps.h"
