@@ -117,7 +117,7 @@ void bench_accuracy_usage(FILE* out) {
           out);
     fputs(BENCH_METHOD_HELP("block_jacobi,amg")
           "  --ref-substeps N     substeps per frame of the reference run (default 8: sheet32's halving\n"
-          "                       figure 0.11 %, README \"Run time against error\")\n"
+          "                       figure 0.11 %, docs/bench/README.md \"Accuracy at one step per frame\")\n"
           "  --ref-integrator NAME  be, bdf2 or trbdf2 (default): the reference's integrator (TR-BDF2:\n"
           "                       second order with its stages solved, L-stable)\n"
           "  --ref-newton N       the reference's Newton iterations per substep (default 3; more than 1: with\n"
@@ -134,8 +134,8 @@ void bench_accuracy_usage(FILE* out) {
           "  --seconds T          simulated time (default 2)\n"
           "  --fps F              frames per second (default 30)\n"
           "  --probes N           accepted and ignored: the linear-solve error is measured by\n"
-          "                       tests/bench/bench_linear_error (the scene's sensitivity to its start,\n"
-          "                       formerly --ref-displace, by tests/bench/bench_sensitivity)\n"
+          "                       tests/bench/bench_linear_error (and the scene's sensitivity to a\n"
+          "                       displaced start by tests/bench/bench_sensitivity)\n"
           "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
           "  --garment FILE       the garment mesh (default " WEFT_SAMPLE_SCENES "/skirt.obj)\n"
           "  --csv FILE           write every measurement as CSV\n"
@@ -168,7 +168,8 @@ static void defaults(void* args, int quick) {
     a->ref_substeps = 8;
     a->ref_check = 1;
     a->ref_halvings = 1;
-    a->ref_integrator = WEFT_INTEGRATOR_TRBDF2;   /* converged in time (README "Run time against error") */
+    /* converged in time (docs/bench/README.md, "Accuracy at one step per frame") */
+    a->ref_integrator = WEFT_INTEGRATOR_TRBDF2;
     a->ref_newton = 3;
     bench_methods_default(&a->meth, quick ? "block_jacobi,amg" : "block_jacobi,amg");
     a->seconds = quick ? 0.3 : 2.0;
@@ -215,8 +216,9 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         a->ref_only = 1;
         return 1;
     }
-    /* what moved to tests/bench (docs/design/tool.md): --probes is accepted for recorded command
-       lines (nothing is probed here), --ref-displace says where it went */
+    /* measured in tests/bench (docs/design/tool.md): --probes is accepted so that recorded
+       command lines still run (nothing is probed here); --ref-displace is refused, naming
+       bench_sensitivity */
     if (OPT("--probes")) {
         int n = 0;
         if (m > 0 && cli_parse_int(*v, 0, 1000000, &n) == 0 && n > 0)
