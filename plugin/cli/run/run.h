@@ -17,9 +17,9 @@ typedef struct run_info {
     int particles, triangles, springs;
     const char* solver;         /* configured solver's name */
     const char* preconditioner; /* "block_jacobi" or "amg", as the library resolved it */
-    const char* integrator;     /* "be" or "bdf2" */
-    int newton_iterations;      /* >= 1 */
-    int line_search;            /* 0 off, 1 on */
+    const char* integrator;     /* "be", "bdf2" or "trbdf2", as the library resolved it */
+    int newton_iterations;      /* >= 1, as resolved */
+    int line_search;            /* 0 off, 1 on, as resolved */
     const char* backend;        /* "cpu" or "gpu" */
     int substeps;               /* per frame */
     int threads;                /* OpenMP threads per call */
