@@ -1,4 +1,5 @@
-/* The import report as one JSON object (Debian's cJSON). Keys are documented in README.md. */
+/* The import report as one JSON object (Debian's cJSON). Keys are documented in
+ * docs/design/model.md. */
 #include "report.h"
 
 #include <cjson/cJSON.h>

@@ -71,8 +71,8 @@ fi
 } 2>&1 | tee "$O/a_info_tests.log"
 cat "$O"/t_*.txt > "$O/b_tests_full.log"; rm -f "$O"/t_*.txt
 if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,100,316; F=5; fi
-# both kinds of passes (gpu/README.md "Compute-shader passes"; compute is the default on GL 4.3),
-# one after the other
+# both kinds of passes (docs/design/gpu.md, "Compute-shader passes"; compute is the default on
+# GL 4.3), one after the other
 { WEFT_GPU_PASSES=fragment timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
   echo; WEFT_GPU_PASSES=compute timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
   echo; echo "--- GPU tests with fragment passes"

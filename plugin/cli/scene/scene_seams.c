@@ -1,6 +1,6 @@
-/* Scene sewing (README "Sewing"): mesh.sew_distance (m, >= 0), mesh.seams ([[a, b], ...], host
- * vertex indices of the mesh, a != b) and mesh.seam_close_time (s, >= 0), read into the cloth
- * def; indices are checked against the mesh once it is made. */
+/* Scene sewing (docs/design/sewing.md): mesh.sew_distance (m, >= 0), mesh.seams ([[a, b], ...],
+ * host vertex indices of the mesh, a != b) and mesh.seam_close_time (s, >= 0), read into the
+ * cloth def; indices are checked against the mesh once it is made. */
 #include <stdio.h>
 #include <stdlib.h>
 #include "scene_parts.h"

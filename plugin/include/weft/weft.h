@@ -223,7 +223,7 @@ typedef enum weft_preconditioner {
 
 /* Time integrator of each substep. */
 typedef enum weft_integrator {
-    WEFT_INTEGRATOR_DEFAULT = 0,        /* the backend's choice (see README "Defaults") */
+    WEFT_INTEGRATOR_DEFAULT = 0,        /* the backend's choice (docs/design/cloth.md, "Defaults") */
     WEFT_INTEGRATOR_BACKWARD_EULER = 1, /* first order (Baraff & Witkin 1998) */
     WEFT_INTEGRATOR_BDF2 = 2,           /* second order (Choi & Ko 2002; CPU backend only) */
     WEFT_INTEGRATOR_TRBDF2 = 3          /* second order, L-stable, one-step: a trapezoidal stage then a
@@ -350,7 +350,7 @@ typedef struct weft_cloth_def {
     int n_mesh_colliders;
     const weft_mesh_collider_def* mesh_colliders; /* (n_mesh_colliders), read at creation */
 
-    /* Sewing (README "Sewing"): zero-rest-length springs that join panels (connected
+    /* Sewing (docs/design/sewing.md): zero-rest-length springs that join panels (connected
      * components). sew_distance: every boundary vertex sews to the closest point (a vertex or a
      * point on an edge) of ANOTHER panel's boundary within this distance. seam_a[i] sews to
      * seam_b[i] (host vertex indices, vertex to vertex), however far apart they start: the
@@ -366,9 +366,9 @@ typedef struct weft_cloth_def {
                                    start distance to 0 over this simulated time, so panels that
                                    start apart are drawn together, not snapped; 0: at once */
 
-    /* Self-collision (README "Self-collision"): the cloth against itself, its panels, layers
-     * and separate pieces included; a cloth that starts a substep free of crossings ends it
-     * free of them. Vertex-triangle and edge-edge pairs closer than the thickness are pushed
+    /* Self-collision (docs/design/self_collision.md): the cloth against itself, its panels,
+     * layers and separate pieces included; a cloth that starts a substep free of crossings ends
+     * it free of them. Vertex-triangle and edge-edge pairs closer than the thickness are pushed
      * apart to it. */
     int self_collision;         /* 1 on, 0 off, -1 (default): the backend's choice (CPU: on for a
                                    garment, a cloth with mesh colliders or seams, off otherwise;
