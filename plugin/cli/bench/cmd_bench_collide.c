@@ -250,14 +250,14 @@ static void print_header(FILE* out, const void* ctx) {
             h->threads, bench_blas_note(&h->a->com, blas, sizeof blas), h->a->settle, h->a->frames);
     if (h->goal)
         fprintf(out,
-                "Goal (issue 13): self-collision plus a 20k-triangle body under %.0f %% of the frame at 25,600 "
+                "Goal: self-collision plus a 20k-triangle body under %.0f %% of the frame at 25,600 "
                 "particles, one step per frame: %s: %.1f %% (collide %.3f + self %.3f of %.3f ms; body %d "
                 "triangles; %.1f points %s the goal).\n\n",
                 100.0 * GOAL_SHARE, h->goal->share < GOAL_SHARE ? "met" : "NOT met", 100.0 * h->goal->share,
                 h->goal->collide, h->goal->self, h->goal->total, h->goal->tris,
                 100.0 * fabs(h->goal->share - GOAL_SHARE), h->goal->share < GOAL_SHARE ? "under" : "over");
     else
-        fprintf(out, "Goal (issue 13, 20k-triangle body at 160 x 160 particles): not run here (needs --cloth "
+        fprintf(out, "Goal (a 20k-triangle body at 160 x 160 particles): not run here (needs --cloth "
                      "160 and a --body near 20000).\n\n");
 }
 

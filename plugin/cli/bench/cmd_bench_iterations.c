@@ -70,7 +70,7 @@ void bench_iterations_usage(FILE* out) {
           "  converged      the fraction of solves that reached the tolerance before the cap\n"
           "  setup ms       the preconditioner's setup time per solve\n"
           "  solve ms       the solve stage's time per solve (setup included)\n"
-          "Goals (issue 12), met or not per method: every row's mean <= --goal-mean with every solve\n"
+          "Goals, met or not per method: every row's mean <= --goal-mean with every solve\n"
           "converged; the mean grows <= --goal-growth x from the smallest to the largest sheet, and\n"
           "from the smallest to the largest stiffness factor.\n"
           "\n"
