@@ -1,6 +1,6 @@
 /* Core's status codes. Every fallible core (and gpu/) function returns one, with the detail in a
- * wc_diag (diag.h). The plugin maps them onto the public wc_status (plugin/status_map.c); the
- * values are the same numbers for readability, not by contract. */
+ * wc_diag (diag.h). The plugin maps them onto the public weft_status (wa_status, plugin/context.c);
+ * the values are the same numbers for readability, not by contract. */
 #ifndef WEFT_CORE_STATUS_H
 #define WEFT_CORE_STATUS_H
 
