@@ -45,12 +45,11 @@
 
 #define PI 3.14159265358979323846
 #define FPS 60.0
-/* Colliders' friction. Zero on purpose: with any friction (0.02 already) the garment catches on
- * the torso and over-stretches (a core issue under investigation; see host_glue/README.md). */
+/* Colliders' friction: 0 unless --friction says otherwise (what friction changes in the walk:
+ * host_glue/README.md). */
 #define DEFAULT_FRICTION 0.0
-/* A game's frame budget: the solver stops here even when the residual is still above the
- * tolerance (the library's default cap is 300; the poncho rarely converges to 1e-4 sooner, and
- * 100 iterations look the same at a third of the cost). */
+/* A game's budget: each linear solve stops here even when its residual is still above the
+ * tolerance (the library's default cap is 300). */
 #define DEFAULT_MAX_ITERATIONS 100
 
 /* ============================================================================================= */
@@ -67,7 +66,7 @@ typedef struct options {
     int png_every;              /* 0: no PNG */
     int png_width, png_height;
     double friction;            /* Coulomb coefficient of every collider */
-    int max_iterations;         /* solver iteration cap per frame */
+    int max_iterations;         /* iteration cap of each linear solve */
     int threads;                /* weft_context_def.threads (0: OpenMP's default) */
     int quiet;
 } options;
@@ -85,7 +84,7 @@ static void usage(FILE* f) {
             "  --png-size WxH   PNG size in pixels (default 640x480)\n"
             "  --report FILE    write a JSON report of every frame (transforms, pins, stats)\n"
             "  --friction MU    Coulomb friction of every collider, >= 0 (default %g)\n"
-            "  --max-iterations N  solver iteration cap per frame (default %d)\n"
+            "  --max-iterations N  iteration cap of each linear solve (default %d)\n"
             "  --threads N      Weft's OpenMP threads, 0: one per core (default 0)\n"
             "  --quiet          print the summary only, not a line per frame\n",
             ENGINE_LOOP_DEFAULT_LIBRARY, ENGINE_LOOP_DEFAULT_MESH, DEFAULT_FRICTION,
