@@ -1,8 +1,7 @@
 """Weft for Python: ctypes bindings of libweft.so (plugin/include/weft/weft.h, ABI 8).
 
     import numpy as np, weft
-    with weft.Context() as ctx:          # library: Context(library=path), else $WEFT_LIBRARY,
-                                         # else libweft.so.8 on the dlopen search path
+    with weft.Context() as ctx:          # the library: see find_library
         cloth = ctx.create_cloth(positions=P, faces=F,          # P (n, 3) float32, F (m, 4) int
                                  attachments=[weft.Attachment(pinned_vertex_indices)])
         for frame in range(60):
@@ -18,6 +17,11 @@ converted once). get_vertices / get_triangles fill caller-provided arrays (no al
 allocate one array per call. A transform is either a (4, 4) matrix m[row, col] (a C-ordered one
 is converted; an F-ordered float32 one is passed as is), or 16 floats already in weft's
 column-major order; stacks are (n, 4, 4) or (n, 16).
+
+The library (find_library): Context(library=path) or Library(path), else $WEFT_LIBRARY, else the
+copy inside this package (weft/libweft.so.8, put there when the package was built with
+$WEFT_LIBRARY set: host_glue/python/setup.py), else libweft.so.8 on the dlopen search path. The
+first that applies is opened, never a later one instead; its ABI must be this module's.
 
 Threading: weft.h's contract. A Context and its cloths must be used by one thread at a time;
 different Contexts may run on different threads (ctypes releases the GIL during each call).
@@ -53,16 +57,41 @@ class WeftError(Exception):
         super().__init__("%s: %s" % (name, message) if message else name)
 
 
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+__version__ = "%d.%d.%d" % VERSION   # the package's version: the library version it was made for
+
+
+def find_library(path=None):
+    """Which libweft.so to open, as (path, source), without opening it. The first that applies:
+    path ("argument"), $WEFT_LIBRARY ("WEFT_LIBRARY"), weft/libweft.so.8 inside this package
+    ("package"), libweft.so.8 on the dlopen search path ("search path")."""
+    if path:
+        return str(path), "argument"
+    if os.environ.get("WEFT_LIBRARY"):
+        return os.environ["WEFT_LIBRARY"], "WEFT_LIBRARY"
+    bundled = os.path.join(_PACKAGE_DIR, DEFAULT_LIBRARY)
+    if os.path.isfile(bundled):
+        return bundled, "package"
+    return DEFAULT_LIBRARY, "search path"
+
+
 class Library:
-    """libweft.so opened with ctypes: every function of weft.h as an attribute, ABI checked."""
+    """libweft.so opened with ctypes: every function of weft.h as an attribute, ABI checked.
+    path: the file (find_library); source: how it was chosen."""
 
     def __init__(self, path=None):
-        path = path or os.environ.get("WEFT_LIBRARY") or DEFAULT_LIBRARY
+        path, self.source = find_library(path)
         self.path = str(path)
         try:
             self.dll = ctypes.CDLL(self.path, mode=os.RTLD_NOW | os.RTLD_LOCAL)
         except OSError as e:
-            raise WeftError(Status.IO, "%s: cannot open: %s" % (self.path, e)) from None
+            message = "%s: cannot open: %s" % (self.path, e)
+            if self.source == "search path":   # say everything that was looked for
+                message += (" (looked for: a library argument: none; $WEFT_LIBRARY: unset; "
+                            "%s in this package, %s: absent, a package built without "
+                            "$WEFT_LIBRARY carries none; then %s on the dlopen search path)"
+                            % (DEFAULT_LIBRARY, _PACKAGE_DIR, DEFAULT_LIBRARY))
+            raise WeftError(Status.IO, message) from None
         for name, (restype, argtypes) in PROTOTYPES.items():
             try:
                 fn = getattr(self.dll, name)
@@ -84,7 +113,7 @@ class Library:
 
 
 def load_library(path=None):
-    """Open libweft.so: path, else $WEFT_LIBRARY, else libweft.so.8 (dlopen search path)."""
+    """Open libweft.so: path, else as find_library says."""
     return Library(path)
 
 
