@@ -1,0 +1,82 @@
+"""`pip install host_glue/python` into fresh venvs, offline, then the bindings' tests run against
+the installed package, not the source tree.
+
+    test_python_package.py PACKAGE_SOURCE LIBRARY WORK_DIR
+
+Two venvs under WORK_DIR (emptied first), `--system-site-packages` so that NumPy, pip and
+setuptools are Debian's; `--without-pip`, as the venv's own copy of pip would be Debian's too
+(and costs seconds to install). Each gets `python -m pip install --no-index --no-build-isolation`
+of PACKAGE_SOURCE: one with $WEFT_LIBRARY=LIBRARY (the package carries the library), one without.
+Then, from a folder outside the source tree, with PYTHONPATH and WEFT_LIBRARY unset:
+test_python_roundtrip.py and installed_package_checks.py (copied there) with the first venv,
+installed_package_checks.py with the second (no library anywhere; then LD_LIBRARY_PATH).
+The source folder must be left as it was (setup.py builds in a temporary folder).
+The environment's LD_PRELOAD (the ASan runtime in a sanitizer build) reaches only the runs that
+load the library, not pip."""
+import filecmp
+import os
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE, LIBRARY, WORK = (os.path.abspath(a) for a in sys.argv[1:4])
+PYTHON = sys.executable
+
+
+def env_for(loads_library, **extra):
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "WEFT_LIBRARY")}
+    if not loads_library:
+        env.pop("LD_PRELOAD", None)
+    env.update(extra)
+    return env
+
+
+def run(args, env, cwd=WORK):
+    print("+ " + " ".join(args), flush=True)
+    done = subprocess.run(args, env=env, cwd=cwd)
+    if done.returncode != 0:
+        sys.exit("test_python_package: exit %d from %s" % (done.returncode, " ".join(args)))
+
+
+def make_venv(name, **build_env):
+    venv = os.path.join(WORK, name)
+    run([PYTHON, "-m", "venv", "--system-site-packages", "--without-pip", venv], env_for(False))
+    python = os.path.join(venv, "bin", "python")
+    run([python, "-m", "pip", "install", "--no-index", "--no-build-isolation", "--no-cache-dir",
+         "--quiet", SOURCE], env_for(False, **build_env))
+    return python
+
+
+def main():
+    shutil.rmtree(WORK, ignore_errors=True)
+    outside = os.path.join(WORK, "outside")
+    os.makedirs(outside)
+    for script in ("test_python_roundtrip.py", "installed_package_checks.py"):
+        shutil.copy(os.path.join(HERE, script), outside)
+    source_before = sorted(os.listdir(SOURCE))
+
+    bundled = make_venv("venv_bundled", WEFT_LIBRARY=LIBRARY)
+    bare = make_venv("venv_bare")
+    if sorted(os.listdir(SOURCE)) != source_before:
+        sys.exit("test_python_package: pip install wrote into %s: %s"
+                 % (SOURCE, sorted(set(os.listdir(SOURCE)) - set(source_before))))
+    where = subprocess.run([bundled, "-c", "import os, weft; print(os.path.dirname(weft.__file__))"],
+                           env=env_for(False), cwd=outside, capture_output=True, text=True,
+                           check=True)
+    copy = os.path.join(where.stdout.strip(), "libweft.so.8")
+    if not filecmp.cmp(copy, LIBRARY, shallow=False):
+        sys.exit("test_python_package: %s is not a copy of %s" % (copy, LIBRARY))
+
+    run([bundled, "test_python_roundtrip.py"], env_for(True), cwd=outside)
+    run([bundled, "installed_package_checks.py", "bundled"], env_for(True), cwd=outside)
+    run([bare, "installed_package_checks.py", "bare"], env_for(True), cwd=outside)
+    search = os.pathsep.join(filter(None, [os.path.dirname(LIBRARY),
+                                           os.environ.get("LD_LIBRARY_PATH")]))
+    run([bare, "installed_package_checks.py", "search-path"],
+        env_for(True, LD_LIBRARY_PATH=search), cwd=outside)
+    print("test_python_package: the installed package passed (%s)" % WORK)
+
+
+if __name__ == "__main__":
+    main()
