@@ -20,6 +20,9 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "wef
 from _abi import DEFAULT_LIBRARY  # noqa: E402  (the name the package looks for: libweft.so.8)
 
 LIBRARY = os.environ.get("WEFT_LIBRARY", "")
+if LIBRARY and not os.path.isabs(LIBRARY):
+    sys.exit("weft: WEFT_LIBRARY=%s: give an absolute path (pip runs this build in another "
+             "folder)" % LIBRARY)
 if LIBRARY and not os.path.isfile(LIBRARY):
     sys.exit("weft: WEFT_LIBRARY=%s: no such file (the library to put in the package)" % LIBRARY)
 

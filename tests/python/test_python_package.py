@@ -6,7 +6,8 @@ the installed package, not the source tree.
 Two venvs under WORK_DIR (emptied first), `--system-site-packages` so that NumPy, pip and
 setuptools are Debian's; `--without-pip`, as the venv's own copy of pip would be Debian's too
 (and costs seconds to install). Each gets `python -m pip install --no-index --no-build-isolation`
-of PACKAGE_SOURCE: one with $WEFT_LIBRARY=LIBRARY (the package carries the library), one without.
+of PACKAGE_SOURCE: one with $WEFT_LIBRARY=LIBRARY (the package carries the library), one without
+(after two refused builds: $WEFT_LIBRARY naming no file, and a relative one).
 Then, from a folder outside the source tree, with PYTHONPATH and WEFT_LIBRARY unset:
 test_python_roundtrip.py and installed_package_checks.py (copied there) with the first venv,
 installed_package_checks.py with the second (no library anywhere; then LD_LIBRARY_PATH).
@@ -39,13 +40,32 @@ def run(args, env, cwd=WORK):
         sys.exit("test_python_package: exit %d from %s" % (done.returncode, " ".join(args)))
 
 
-def make_venv(name, **build_env):
+def pip_install(python, **build_env):
+    return [python, "-m", "pip", "install", "--no-index", "--no-build-isolation", "--no-cache-dir",
+            "--quiet", SOURCE], env_for(False, **build_env)
+
+
+def make_venv(name):
     venv = os.path.join(WORK, name)
     run([PYTHON, "-m", "venv", "--system-site-packages", "--without-pip", venv], env_for(False))
-    python = os.path.join(venv, "bin", "python")
-    run([python, "-m", "pip", "install", "--no-index", "--no-build-isolation", "--no-cache-dir",
-         "--quiet", SOURCE], env_for(False, **build_env))
-    return python
+    return os.path.join(venv, "bin", "python")
+
+
+def refused_build(python):
+    """$WEFT_LIBRARY naming no file at build time: pip fails, saying so, and installs nothing."""
+    missing = os.path.join(WORK, "missing", "libweft.so.8")
+    for library, said in ((missing, "WEFT_LIBRARY=%s: no such file" % missing),
+                          ("libweft.so.8", "WEFT_LIBRARY=libweft.so.8: give an absolute path")):
+        args, env = pip_install(python, WEFT_LIBRARY=library)
+        done = subprocess.run(args, env=env, cwd=WORK, capture_output=True, text=True)
+        if done.returncode == 0 or said not in done.stdout + done.stderr:
+            sys.exit("test_python_package: WEFT_LIBRARY=%s: expected a failed build saying %r, "
+                     "got exit %d:\n%s%s" % (library, said, done.returncode, done.stdout,
+                                            done.stderr))
+        print("  WEFT_LIBRARY=%s refused: %s" % (library, said))
+    if subprocess.run([python, "-c", "import weft"], env=env_for(False), cwd=WORK,
+                      capture_output=True).returncode == 0:
+        sys.exit("test_python_package: a refused build left a weft package in the venv")
 
 
 def main():
@@ -56,8 +76,11 @@ def main():
         shutil.copy(os.path.join(HERE, script), outside)
     source_before = sorted(os.listdir(SOURCE))
 
-    bundled = make_venv("venv_bundled", WEFT_LIBRARY=LIBRARY)
+    bundled = make_venv("venv_bundled")
+    run(*pip_install(bundled, WEFT_LIBRARY=LIBRARY))
     bare = make_venv("venv_bare")
+    refused_build(bare)
+    run(*pip_install(bare))
     if sorted(os.listdir(SOURCE)) != source_before:
         sys.exit("test_python_package: pip install wrote into %s: %s"
                  % (SOURCE, sorted(set(os.listdir(SOURCE)) - set(source_before))))
