@@ -13,6 +13,7 @@ packages=(
   libpng-dev                      # preview renderer: PNG output (gpu/png_write.c)
   libcjson-dev                    # JSON (weft inspect --json, scene files)
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
+  python3-pip python3-venv python3-setuptools python3-wheel   # pip install ./host_glue/python, offline
   blender                         # the add-on test (tests/blender) and `weft bench peers`: ~480 MB, ~25 s to install
   libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
   libhypre-dev                    # tests/bench/bench_hypre only (BoomerAMG beside Weft's preconditioners):

@@ -5,8 +5,8 @@
 #   lib/cmake/weft/weftConfig.cmake, weftConfigVersion.cmake, weftTargets*.cmake
 #                                             find_package(weft) -> weft::weft
 #   bin/weft                                  the command-line tool
-#   share/weft/host_glue/                     loader sources, engine-loop example, Python bindings,
-#                                             Blender add-on
+#   share/weft/host_glue/                     loader sources, engine-loop example, Python bindings
+#                                             (a pip package), Blender add-on
 # (lib/ is CMAKE_INSTALL_LIBDIR: lib/<multiarch> for a /usr prefix on Debian.)
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -57,5 +57,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/host_glue/examples/engine_loop.c
   ${PROJECT_SOURCE_DIR}/host_glue/examples/toy_engine.c DESTINATION ${WEFT_GLUE_DIR}/examples)
 install(FILES ${PROJECT_SOURCE_DIR}/host_glue/python/weft/__init__.py ${PROJECT_SOURCE_DIR}/host_glue/python/weft/_abi.py
   DESTINATION ${WEFT_GLUE_DIR}/python/weft)
+install(FILES ${PROJECT_SOURCE_DIR}/host_glue/python/pyproject.toml
+  ${PROJECT_SOURCE_DIR}/host_glue/python/setup.py DESTINATION ${WEFT_GLUE_DIR}/python)
 install(FILES ${PROJECT_SOURCE_DIR}/host_glue/blender/weft_blender.py
   DESTINATION ${WEFT_GLUE_DIR}/blender)

@@ -15,7 +15,8 @@ for f in include/weft/weft.h include/weft/weft_status.h "$libdir/libweft.so" \
          "$libdir/libweft.so.8" "$libdir/pkgconfig/weft.pc" "$libdir/cmake/weft/weftConfig.cmake" \
          "$libdir/cmake/weft/weftConfigVersion.cmake" "$libdir/cmake/weft/weftTargets.cmake" \
          bin/weft share/weft/host_glue/loader/weft_loader.c share/weft/host_glue/python/weft/__init__.py \
-         share/weft/host_glue/python/weft/_abi.py \
+         share/weft/host_glue/python/weft/_abi.py share/weft/host_glue/python/pyproject.toml \
+         share/weft/host_glue/python/setup.py \
          share/weft/host_glue/blender/weft_blender.py; do
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
