@@ -4,8 +4,9 @@ $WEFT_LIBRARY, when set at build time, names the library to copy into the packag
 weft/libweft.so.8 (weft.find_library's third choice); the wheel is then tagged for this platform
 (py3-none-<platform>: ctypes needs no particular Python ABI). Without it the package is pure
 Python and finds the library at run time. setuptools' scratch folders (build/, *.egg-info) go to
-a temporary folder, so the source folder may be read-only (an installed share/weft/host_glue/python)
-and no copy of an earlier build's library can end up in a later package.
+a temporary folder, so the source folder may be read-only (an installed
+share/weft/host_glue/python) and no copy of an earlier build's library can end up in a later
+package.
 """
 import atexit
 import os

@@ -6,7 +6,7 @@ order weft.find_library documents. argv[1] says which install this is:
   bare         built without it, $WEFT_LIBRARY unset, no libweft.so.8 on the search path: the
                error names each place looked in
   search-path  built without it, LD_LIBRARY_PATH holding libweft.so.8: found there
-Environment: WEFT_FIXTURE_OLD_ABI, WEFT_FIXTURE_ABI, WEFT_FIXTURE_NO_SYMBOLS (tests/loader_fixtures).
+Environment: WEFT_FIXTURE_OLD_ABI, WEFT_FIXTURE_ABI, WEFT_FIXTURE_NO_SYMBOLS (the loader fixtures).
 """
 import ctypes
 import importlib.metadata

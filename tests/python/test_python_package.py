@@ -52,7 +52,8 @@ def make_venv(name):
 
 
 def refused_build(python):
-    """$WEFT_LIBRARY naming no file at build time: pip fails, saying so, and installs nothing."""
+    """$WEFT_LIBRARY naming no file, or relative, at build time: pip fails saying so, and
+    installs nothing."""
     missing = os.path.join(WORK, "missing", "libweft.so.8")
     for library, said in ((missing, "WEFT_LIBRARY=%s: no such file" % missing),
                           ("libweft.so.8", "WEFT_LIBRARY=libweft.so.8: give an absolute path")):
@@ -84,10 +85,9 @@ def main():
     if sorted(os.listdir(SOURCE)) != source_before:
         sys.exit("test_python_package: pip install wrote into %s: %s"
                  % (SOURCE, sorted(set(os.listdir(SOURCE)) - set(source_before))))
-    where = subprocess.run([bundled, "-c", "import os, weft; print(os.path.dirname(weft.__file__))"],
-                           env=env_for(False), cwd=outside, capture_output=True, text=True,
-                           check=True)
-    copy = os.path.join(where.stdout.strip(), "libweft.so.8")
+    where = subprocess.run([bundled, "-c", "import weft; print(weft.__file__)"], cwd=outside,
+                           env=env_for(False), capture_output=True, text=True, check=True)
+    copy = os.path.join(os.path.dirname(where.stdout.strip()), "libweft.so.8")
     if not filecmp.cmp(copy, LIBRARY, shallow=False):
         sys.exit("test_python_package: %s is not a copy of %s" % (copy, LIBRARY))
 
