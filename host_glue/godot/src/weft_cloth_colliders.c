@@ -1,0 +1,136 @@
+/* WeftCloth's colliders from Godot shapes: SphereShape, CapsuleShape (Godot's axis is local Z,
+ * its height the cylinder part) and PlaneShape (normal and distance) on CollisionShape nodes,
+ * mapped onto weft's sphere, capsule (local Y, half_height) and plane (local y = 0). */
+#include <math.h>
+#include <string.h>
+
+#include "weft_cloth_node.h"
+
+static void mat_mul(const float a[16], const float b[16], float out[16]) {
+    for (int c = 0; c < 4; c++) {
+        for (int r = 0; r < 4; r++) {
+            float s = 0.0f;
+            for (int k = 0; k < 4; k++) s += a[4 * k + r] * b[4 * c + k];
+            out[4 * c + r] = s;
+        }
+    }
+}
+
+static void mat_identity(float m[16]) {
+    memset(m, 0, 16 * sizeof(float));
+    m[0] = m[5] = m[10] = m[15] = 1.0f;
+}
+
+static double call_real(godot_object* obj, const char* method) {
+    godot_variant v = gd_call(obj, method, 0, NULL, NULL);
+    double x = gd->godot_variant_as_real(&v);
+    gd->godot_variant_destroy(&v);
+    return x;
+}
+
+/* One CollisionShape: its weft def and the frame from the shape's frame to weft's. */
+static int shape_collider(wg_cloth* c, godot_object* node, weft_collider_def* def, float local[16]) {
+    godot_variant dis = gd_call(node, "is_disabled", 0, NULL, NULL);
+    int disabled = gd->godot_variant_as_bool(&dis);
+    gd->godot_variant_destroy(&dis);
+    godot_object* shape = gd_call_object(node, "get_shape", 0, NULL);
+    if (disabled || !shape) return 0;
+    *def = weft_default_collider_def();
+    def->thickness = c->collider_thickness;
+    def->friction = c->collider_friction;
+    mat_identity(local);
+    if (gd_is_class(shape, "SphereShape")) {
+        def->type = WEFT_COLLIDER_SPHERE;
+        def->radius = call_real(shape, "get_radius");
+    } else if (gd_is_class(shape, "CapsuleShape")) {
+        def->type = WEFT_COLLIDER_CAPSULE;
+        def->radius = call_real(shape, "get_radius");
+        def->half_height = 0.5 * call_real(shape, "get_height");
+        /* rotation +90 degrees about X: weft's local Y onto Godot's local Z */
+        local[5] = 0.0f;
+        local[6] = 1.0f;
+        local[9] = -1.0f;
+        local[10] = 0.0f;
+    } else if (gd_is_class(shape, "PlaneShape")) {
+        def->type = WEFT_COLLIDER_PLANE;
+        godot_variant pv = gd_call(shape, "get_plane", 0, NULL, NULL);
+        godot_plane p = gd->godot_variant_as_plane(&pv);
+        gd->godot_variant_destroy(&pv);
+        float e[4];   /* Plane: normal (Vector3), then d */
+        memcpy(e, &p, sizeof e);
+        /* a frame whose Y is the normal, at normal * d */
+        float n[3] = {e[0], e[1], e[2]};
+        float t[3] = {1.0f, 0.0f, 0.0f};
+        if (n[0] > 0.9f || n[0] < -0.9f) {
+            t[0] = 0.0f;
+            t[2] = 1.0f;
+        }
+        float z[3] = {t[1] * n[2] - t[2] * n[1], t[2] * n[0] - t[0] * n[2], t[0] * n[1] - t[1] * n[0]};
+        float zl = sqrtf(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
+        for (int i = 0; i < 3; i++) z[i] /= zl;
+        float x[3] = {n[1] * z[2] - n[2] * z[1], n[2] * z[0] - n[0] * z[2], n[0] * z[1] - n[1] * z[0]};
+        for (int i = 0; i < 3; i++) {
+            local[i] = x[i];
+            local[4 + i] = n[i];
+            local[8 + i] = z[i];
+            local[12 + i] = n[i] * e[3];
+        }
+    } else {
+        return 0;
+    }
+    return 1;
+}
+
+static void walk(wg_cloth* c, godot_object* node, weft_collider_def* defs, int depth) {
+    if (depth > 16 || c->n_colliders >= WG_MAX_COLLIDERS) return;
+    if (node != c->owner && gd_is_class(node, "CollisionShape")) {
+        wg_collider* col = &c->colliders[c->n_colliders];
+        if (shape_collider(c, node, &defs[c->n_colliders], col->local)) {
+            godot_variant arg;
+            gd->godot_variant_new_object(&arg, node);
+            const godot_variant* args[1] = {&arg};
+            godot_variant pv = gd_call(c->owner, "get_path_to", 1, args, NULL);
+            col->path = gd->godot_variant_as_node_path(&pv);
+            gd->godot_variant_destroy(&pv);
+            gd->godot_variant_destroy(&arg);
+            col->node = node;
+            c->n_colliders++;
+        }
+    }
+    godot_variant kids = gd_call(node, "get_children", 0, NULL, NULL);
+    godot_array a = gd->godot_variant_as_array(&kids);
+    for (godot_int i = 0; i < gd->godot_array_size(&a); i++) {
+        godot_variant k = gd->godot_array_get(&a, i);
+        godot_object* child = gd->godot_variant_as_object(&k);
+        gd->godot_variant_destroy(&k);
+        if (child) walk(c, child, defs, depth + 1);
+    }
+    gd->godot_array_destroy(&a);
+    gd->godot_variant_destroy(&kids);
+}
+
+int wg_cloth_find_colliders(wg_cloth* c, weft_collider_def* defs) {
+    c->n_colliders = 0;
+    godot_object* root = gd_get_node(c->owner, &c->colliders_root);
+    if (!root) {
+        char path[256];
+        gd_error("WeftCloth: colliders_root '%s' is not a node: no colliders",
+                 gd_node_path_text(&c->colliders_root, path, sizeof path));
+        return 0;
+    }
+    walk(c, root, defs, 0);
+    wg_cloth_collider_transforms(c);
+    for (int i = 0; i < c->n_colliders; i++) memcpy(defs[i].transform, c->collider_xf + 16 * i, 16 * sizeof(float));
+    return c->n_colliders;
+}
+
+void wg_cloth_collider_transforms(wg_cloth* c) {
+    for (int i = 0; i < c->n_colliders; i++) {
+        wg_collider* col = &c->colliders[i];
+        godot_object* node = gd_get_node(c->owner, &col->path);
+        if (!node) continue;   /* removed from the tree: it stays where it was */
+        float g[16];
+        gd_global_transform(node, g, NULL);
+        mat_mul(g, col->local, c->collider_xf + 16 * i);
+    }
+}

@@ -1,0 +1,337 @@
+/* WeftCloth's life: created with Weft's defaults, the cloth built at _ready from the node's
+ * mesh (surface 0, triangles), stepped in _physics_process with the node's and the colliders'
+ * global transforms, and the result written into an ArrayMesh the node shows. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "weft_cloth_node.h"
+
+enum { GD_ARRAY_VERTEX = 0, GD_ARRAY_NORMAL = 1, GD_ARRAY_INDEX = 8, GD_PRIMITIVE_TRIANGLES = 4 };
+
+static void* cloth_create(godot_object* owner, void* method_data) {
+    (void)method_data;
+    wg_cloth* c = calloc(1, sizeof *c);
+    if (!c) return NULL;
+    c->owner = owner;
+    weft_cloth_def d = weft_default_cloth_def();
+    c->density = d.material.density;
+    for (int i = 0; i < 3; i++) {
+        c->stiffness[i] = d.material.stiffness[i];
+        c->damping[i] = d.material.damping[i];
+        c->wind[i] = d.wind[i];
+    }
+    c->tolerance = d.tolerance;
+    c->substeps = d.substeps;
+    c->max_iterations = d.max_iterations;
+    c->backend = WEFT_BACKEND_CPU;
+    weft_collider_def cd = weft_default_collider_def();
+    c->collider_thickness = cd.thickness;
+    c->collider_friction = cd.friction;
+    gd->godot_pool_int_array_new(&c->pinned_vertices);
+    godot_string parent = gd->godot_string_chars_to_utf8("..");
+    gd->godot_node_path_new(&c->colliders_root, &parent);
+    gd->godot_string_destroy(&parent);
+    gd->godot_variant_new_nil(&c->mesh);
+    gd->godot_variant_new_nil(&c->material);
+    return c;
+}
+
+static void cloth_release(wg_cloth* c) {
+    if (c->ctx) weft_context_destroy(c->ctx);   /* destroys the cloth */
+    c->ctx = NULL;
+    c->cloth.id = 0;
+    free(c->positions);
+    free(c->normals);
+    c->positions = c->normals = NULL;
+    for (int i = 0; i < c->n_colliders; i++) gd->godot_node_path_destroy(&c->colliders[i].path);
+    c->n_colliders = 0;
+    if (c->has_arrays) gd->godot_array_destroy(&c->arrays);
+    c->has_arrays = 0;
+}
+
+static void cloth_destroy(godot_object* owner, void* method_data, void* user) {
+    (void)owner;
+    (void)method_data;
+    wg_cloth* c = user;
+    if (!c) return;
+    cloth_release(c);
+    gd->godot_variant_destroy(&c->mesh);
+    gd->godot_variant_destroy(&c->material);
+    gd->godot_pool_int_array_destroy(&c->pinned_vertices);
+    gd->godot_node_path_destroy(&c->colliders_root);
+    free(c);
+}
+
+static void weft_log(weft_log_level level, const char* message, void* user) {
+    wg_cloth* c = user;
+    char name[128];
+    gd_node_name(c->owner, name, sizeof name);
+    if (level >= WEFT_LOG_ERROR) {
+        gd_error("WeftCloth '%s': %s", name, message);
+    } else {
+        gd_warning("WeftCloth '%s': %s", name, message);
+    }
+}
+
+/* The node's surface 0 as Weft host arrays: positions (scaled by the node's scale) and triangles
+ * wound counter-clockwise (Godot's front faces are clockwise). */
+static int read_surface(wg_cloth* c, float** pos, int** tris, int* n_tris) {
+    char name[128];
+    gd_node_name(c->owner, name, sizeof name);
+    godot_object* mesh = gd_call_object(c->owner, "get_mesh", 0, NULL);
+    if (!mesh) {
+        gd_error("WeftCloth '%s': the MeshInstance has no mesh", name);
+        return 0;
+    }
+    godot_variant zero;
+    gd->godot_variant_new_int(&zero, 0);
+    const godot_variant* args[1] = {&zero};
+    godot_variant av = gd_call(mesh, "surface_get_arrays", 1, args, NULL);
+    godot_variant mat = gd_call(mesh, "surface_get_material", 1, args, NULL);
+    gd->godot_variant_destroy(&c->material);
+    c->material = mat;
+    c->arrays = gd->godot_variant_as_array(&av);
+    c->has_arrays = 1;
+    gd->godot_variant_destroy(&av);
+    if (gd->godot_array_size(&c->arrays) <= GD_ARRAY_INDEX) {
+        gd_error("WeftCloth '%s': the mesh has no surface 0", name);
+        return 0;
+    }
+    godot_variant vv = gd->godot_array_get(&c->arrays, GD_ARRAY_VERTEX);
+    godot_pool_vector3_array verts = gd->godot_variant_as_pool_vector3_array(&vv);
+    godot_variant iv = gd->godot_array_get(&c->arrays, GD_ARRAY_INDEX);
+    godot_pool_int_array idx = gd->godot_variant_as_pool_int_array(&iv);
+    int n = (int)gd->godot_pool_vector3_array_size(&verts);
+    int ni = (int)gd->godot_pool_int_array_size(&idx);
+    int nt = ni > 0 ? ni / 3 : n / 3;
+    *pos = malloc((size_t)(n > 0 ? n : 1) * 3 * sizeof(float));
+    *tris = malloc((size_t)(nt > 0 ? nt : 1) * 3 * sizeof(int));
+    if (*pos && *tris) {
+        godot_pool_vector3_array_read_access* r = gd->godot_pool_vector3_array_read(&verts);
+        const float* v = (const float*)gd->godot_pool_vector3_array_read_access_ptr(r);
+        for (int i = 0; i < n; i++) {
+            for (int k = 0; k < 3; k++) (*pos)[3 * i + k] = v[3 * i + k] * c->scale[k];
+        }
+        gd->godot_pool_vector3_array_read_access_destroy(r);
+        godot_pool_int_array_read_access* ir = gd->godot_pool_int_array_read(&idx);
+        const godot_int* ip = gd->godot_pool_int_array_read_access_ptr(ir);
+        for (int t = 0; t < nt; t++) {
+            int a = ni > 0 ? ip[3 * t] : 3 * t, b = ni > 0 ? ip[3 * t + 1] : 3 * t + 1;
+            int d = ni > 0 ? ip[3 * t + 2] : 3 * t + 2;
+            (*tris)[3 * t] = a;
+            (*tris)[3 * t + 1] = d;
+            (*tris)[3 * t + 2] = b;
+        }
+        gd->godot_pool_int_array_read_access_destroy(ir);
+    }
+    gd->godot_pool_int_array_destroy(&idx);
+    gd->godot_variant_destroy(&iv);
+    gd->godot_pool_vector3_array_destroy(&verts);
+    gd->godot_variant_destroy(&vv);
+    gd->godot_variant_destroy(&zero);
+    *n_tris = nt;
+    c->n_vertices = n;
+    return *pos && *tris && n > 0 && nt > 0;
+}
+
+/* Replace the surface's vertex and normal arrays with the result and show it. */
+static void write_mesh(wg_cloth* c) {
+    godot_pool_vector3_array arr[2];
+    const float* src[2] = {c->positions, c->normals};
+    for (int k = 0; k < 2; k++) {
+        gd->godot_pool_vector3_array_new(&arr[k]);
+        gd->godot_pool_vector3_array_resize(&arr[k], c->n_vertices);
+        godot_pool_vector3_array_write_access* w = gd->godot_pool_vector3_array_write(&arr[k]);
+        float* p = (float*)gd->godot_pool_vector3_array_write_access_ptr(w);
+        memcpy(p, src[k], (size_t)c->n_vertices * 3 * sizeof(float));
+        gd->godot_pool_vector3_array_write_access_destroy(w);
+        godot_variant v;
+        gd->godot_variant_new_pool_vector3_array(&v, &arr[k]);
+        gd->godot_array_set(&c->arrays, k == 0 ? GD_ARRAY_VERTEX : GD_ARRAY_NORMAL, &v);
+        gd->godot_variant_destroy(&v);
+        gd->godot_pool_vector3_array_destroy(&arr[k]);
+    }
+    godot_object* mesh = gd->godot_variant_as_object(&c->mesh);
+    godot_variant zero, prim, arrays;
+    gd->godot_variant_new_int(&zero, 0);
+    gd->godot_variant_new_int(&prim, GD_PRIMITIVE_TRIANGLES);
+    gd->godot_variant_new_array(&arrays, &c->arrays);
+    const godot_variant* rm[1] = {&zero};
+    godot_variant count = gd_call(mesh, "get_surface_count", 0, NULL, NULL);
+    if (gd->godot_variant_as_int(&count) > 0) gd->godot_variant_destroy((godot_variant[]){gd_call(mesh, "surface_remove", 1, rm, NULL)});
+    gd->godot_variant_destroy(&count);
+    const godot_variant* add[2] = {&prim, &arrays};
+    gd->godot_variant_destroy((godot_variant[]){gd_call(mesh, "add_surface_from_arrays", 2, add, NULL)});
+    const godot_variant* setm[2] = {&zero, &c->material};
+    if (gd->godot_variant_get_type(&c->material) == GODOT_VARIANT_TYPE_OBJECT) {
+        gd->godot_variant_destroy((godot_variant[]){gd_call(mesh, "surface_set_material", 2, setm, NULL)});
+    }
+    gd->godot_variant_destroy(&arrays);
+    gd->godot_variant_destroy(&prim);
+    gd->godot_variant_destroy(&zero);
+}
+
+static int fetch_result(wg_cloth* c) {
+    int count = 0;
+    weft_status s = weft_cloth_get_vertices(c->ctx, c->cloth, WEFT_SPACE_OBJECT, c->positions, c->normals,
+                                            c->n_vertices, &count);
+    if (s != WEFT_OK) return 0;
+    for (int i = 0; i < c->n_vertices; i++) {
+        for (int k = 0; k < 3; k++) c->positions[3 * i + k] /= c->scale[k];
+    }
+    return 1;
+}
+
+static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
+    (void)owner;
+    (void)md;
+    (void)argc;
+    (void)argv;
+    wg_cloth* c = user;
+    godot_variant nil;
+    gd->godot_variant_new_nil(&nil);
+    cloth_release(c);
+    float object[16];
+    gd_global_transform(c->owner, object, c->scale);
+
+    weft_context_def cd = weft_default_context_def();
+    cd.backend = (weft_backend)c->backend;
+    cd.log = weft_log;
+    cd.log_user = c;
+    if (weft_context_create(WEFT_ABI, &cd, &c->ctx) != WEFT_OK) return nil;   /* logged */
+
+    float* pos = NULL;
+    int* tris = NULL;
+    int n_tris = 0;
+    weft_collider_def colliders[WG_MAX_COLLIDERS];
+    if (!read_surface(c, &pos, &tris, &n_tris)) goto fail;
+    c->positions = malloc((size_t)c->n_vertices * 3 * sizeof(float));
+    c->normals = malloc((size_t)c->n_vertices * 3 * sizeof(float));
+    if (!c->positions || !c->normals) goto fail;
+
+    weft_cloth_def d = weft_default_cloth_def();
+    d.mesh.positions = pos;
+    d.mesh.n_vertices = c->n_vertices;
+    d.mesh.indices = tris;
+    d.mesh.n_faces = n_tris;
+    int* sizes = malloc((size_t)n_tris * sizeof(int));
+    if (!sizes) goto fail;
+    for (int t = 0; t < n_tris; t++) sizes[t] = 3;
+    d.mesh.face_sizes = sizes;
+    memcpy(d.transform, object, sizeof object);
+    d.material.density = c->density;
+    for (int i = 0; i < 3; i++) {
+        d.material.stiffness[i] = c->stiffness[i];
+        d.material.damping[i] = c->damping[i];
+        d.wind[i] = c->wind[i];
+    }
+    d.tolerance = c->tolerance;
+    d.substeps = (int)c->substeps;
+    d.max_iterations = (int)c->max_iterations;
+
+    weft_attachment_def pin = weft_default_attachment_def();
+    godot_pool_int_array_read_access* pr = gd->godot_pool_int_array_read(&c->pinned_vertices);
+    int n_pins = (int)gd->godot_pool_int_array_size(&c->pinned_vertices);
+    int* pins = malloc((size_t)(n_pins > 0 ? n_pins : 1) * sizeof(int));
+    if (pins) {
+        const godot_int* p = gd->godot_pool_int_array_read_access_ptr(pr);
+        for (int i = 0; i < n_pins; i++) pins[i] = (int)p[i];
+    }
+    gd->godot_pool_int_array_read_access_destroy(pr);
+    if (!pins) {
+        free(sizes);
+        goto fail;
+    }
+    pin.vertices = pins;
+    pin.n_vertices = n_pins;
+    memcpy(pin.bind_transform, object, sizeof object);   /* pins follow the node */
+    d.n_attachments = n_pins > 0 ? 1 : 0;
+    d.attachments = &pin;
+    d.n_colliders = wg_cloth_find_colliders(c, colliders);
+    d.colliders = colliders;
+
+    weft_status s = weft_cloth_create(c->ctx, &d, &c->cloth);   /* a failure is logged */
+    free(sizes);
+    free(pins);
+    if (s != WEFT_OK || !fetch_result(c)) goto fail;
+    free(pos);
+    free(tris);
+
+    godot_class_constructor make = gd->godot_get_class_constructor("ArrayMesh");
+    gd->godot_variant_destroy(&c->mesh);
+    gd->godot_variant_new_object(&c->mesh, make());   /* the variant holds the reference */
+    write_mesh(c);
+    const godot_variant* args[1] = {&c->mesh};
+    godot_variant r = gd_call(c->owner, "set_mesh", 1, args, NULL);
+    gd->godot_variant_destroy(&r);
+    c->frames = 0;
+    return nil;
+fail:
+    free(pos);
+    free(tris);
+    cloth_release(c);
+    return nil;
+}
+
+static godot_variant cloth_physics_process(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
+    (void)owner;
+    (void)md;
+    wg_cloth* c = user;
+    godot_variant nil;
+    gd->godot_variant_new_nil(&nil);
+    if (!c->ctx || argc < 1) return nil;
+    float object[16];
+    gd_global_transform(c->owner, object, NULL);
+    wg_cloth_collider_transforms(c);
+    weft_frame fr = weft_default_frame();
+    fr.dt = gd->godot_variant_as_real(argv[0]);
+    fr.object_transform = object;
+    fr.attachment_transforms = object;   /* at most one attachment: the pins, on the node */
+    fr.collider_transforms = c->n_colliders > 0 ? c->collider_xf : NULL;
+    if (weft_cloth_step(c->ctx, c->cloth, &fr, NULL) != WEFT_OK) return nil;   /* logged; unchanged */
+    if (fetch_result(c)) write_mesh(c);
+    c->frames++;
+    return nil;
+}
+
+/* Methods for scripts: is_simulating() -> bool, get_frames() -> int (frames stepped since
+ * _ready). */
+static godot_variant cloth_is_simulating(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
+    (void)owner;
+    (void)md;
+    (void)argc;
+    (void)argv;
+    godot_variant v;
+    gd->godot_variant_new_bool(&v, ((wg_cloth*)user)->ctx != NULL);
+    return v;
+}
+
+static godot_variant cloth_get_frames(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
+    (void)owner;
+    (void)md;
+    (void)argc;
+    (void)argv;
+    godot_variant v;
+    gd->godot_variant_new_int(&v, ((wg_cloth*)user)->frames);
+    return v;
+}
+
+void wg_cloth_register(void* handle) {
+    godot_instance_create_func create = {cloth_create, NULL, NULL};
+    godot_instance_destroy_func destroy = {cloth_destroy, NULL, NULL};
+    gdns->godot_nativescript_register_class(handle, "WeftCloth", "MeshInstance", create, destroy);
+    godot_method_attributes attr = {GODOT_METHOD_RPC_MODE_DISABLED};
+    struct {
+        const char* name;
+        godot_variant (*fn)(godot_object*, void*, void*, int, godot_variant**);
+    } methods[] = {{"_ready", cloth_ready},
+                   {"_physics_process", cloth_physics_process},
+                   {"is_simulating", cloth_is_simulating},
+                   {"get_frames", cloth_get_frames}};
+    for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+        godot_instance_method m = {methods[i].fn, NULL, NULL};
+        gdns->godot_nativescript_register_method(handle, "WeftCloth", methods[i].name, attr, m);
+    }
+    wg_cloth_register_properties(handle);
+}

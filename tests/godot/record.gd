@@ -1,0 +1,77 @@
+# Run by test_godot.py: `godot3-server --path PROJECT -s res://record.gd` with
+#   WEFT_GODOT_MODE=flag    step flag.tscn for WEFT_GODOT_FRAMES physics frames, then write the
+#                           Flag's rest mesh, settings, colliders and its mesh's vertices (read
+#                           back from the node's ArrayMesh) as JSON to WEFT_GODOT_OUT, and quit
+#   WEFT_GODOT_MODE=broken  broken settings (a NaN property, a mesh path that does not exist, a
+#                           colliders_root that names no node): step a few frames, write what the
+#                           nodes report, quit
+extends SceneTree
+
+var mode = ""
+var out_path = ""
+var n_frames = 0
+var flag = null
+var rest = null
+var broken = []
+var ticks = 0
+
+func _initialize():
+	mode = OS.get_environment("WEFT_GODOT_MODE")
+	out_path = OS.get_environment("WEFT_GODOT_OUT")
+	n_frames = int(OS.get_environment("WEFT_GODOT_FRAMES"))
+	var scene = load("res://flag.tscn").instance()
+	flag = scene.get_node("Flag")
+	rest = flag.mesh.surface_get_arrays(0)
+	if mode == "broken":
+		flag.stiffness_stretch = NAN   # refused: stays 4000
+		flag.colliders_root = NodePath("NoSuchNode")
+		var lost = MeshInstance.new()
+		lost.name = "Lost"
+		lost.mesh = load("res://no_such_mesh.tres")   # Godot: cannot load; the mesh stays null
+		lost.set_script(load("res://weft_cloth.gdns"))
+		scene.add_child(lost)
+		broken.append(lost)
+	root.add_child(scene)
+
+func _transform_list(t):
+	return [t.basis.x.x, t.basis.x.y, t.basis.x.z, 0, t.basis.y.x, t.basis.y.y, t.basis.y.z, 0,
+		t.basis.z.x, t.basis.z.y, t.basis.z.z, 0, t.origin.x, t.origin.y, t.origin.z, 1]
+
+func _vec_list(a):
+	var l = []
+	for v in a:
+		l.append(v.x)
+		l.append(v.y)
+		l.append(v.z)
+	return l
+
+func _iteration(delta):   # before the nodes' _physics_process
+	ticks += 1
+	var stepped = flag.get_frames() if flag.has_method("get_frames") else -1
+	if stepped < n_frames and ticks < n_frames + 10:
+		return
+	var d = {"frames": stepped, "dt": delta, "simulating": flag.is_simulating()}
+	if mode == "flag":
+		d["transform"] = _transform_list(flag.global_transform)
+		d["rest"] = _vec_list(rest[Mesh.ARRAY_VERTEX])
+		d["indices"] = Array(rest[Mesh.ARRAY_INDEX])
+		d["positions"] = _vec_list(flag.mesh.surface_get_arrays(0)[Mesh.ARRAY_VERTEX])
+		d["pinned"] = Array(flag.pinned_vertices)
+		var material = {}
+		for k in ["density", "stiffness_stretch", "stiffness_shear", "stiffness_bend", "damping_stretch",
+				"damping_shear", "damping_bend", "substeps", "max_iterations", "tolerance",
+				"collider_thickness", "collider_friction"]:
+			material[k] = flag.get(k)
+		d["settings"] = material
+		var ball = flag.get_node("../Ball/Shape")
+		d["ball"] = {"center": [ball.global_transform.origin.x, ball.global_transform.origin.y,
+			ball.global_transform.origin.z], "radius": ball.shape.radius}
+	else:
+		d["stiffness_stretch"] = flag.stiffness_stretch
+		d["lost_simulating"] = broken[0].is_simulating()
+	var f = File.new()
+	f.open(out_path, File.WRITE)
+	f.store_string(to_json(d))
+	f.close()
+	quit()
+	return true

@@ -1,0 +1,165 @@
+"""WeftCloth in a headless Godot (godot3-server) against `weft run` of the same scene.
+
+    test_godot.py GODOT_SERVER LIBWEFT_GODOT WEFT_CLI PROJECT_DIR RECORD_GD
+
+1. The example project (host_glue/godot/example) is copied to a scratch folder with its .gdnlib
+   pointing at the built library, and flag.tscn runs for FRAMES physics frames (record.gd). The
+   flag's mesh, settings, ball and final vertices (read back from the node's ArrayMesh) come
+   back as JSON.
+2. The same scene as a `weft run` scene file: the Godot mesh as an OBJ (triangles wound
+   counter-clockwise, as the plugin hands them to Weft; vertices written in first-use order, so
+   that the file's order and assimp's are the same), the node's transform, the pins, the ball
+   and the ground plane, the same material and solver settings, 60 fps. Its last frame must
+   match Godot's: largest distance below MAX_DIFF m (both run the same library on the same
+   input; what differs is rounding on the way: Godot's JSON and the OBJ text), while the flag
+   has moved more than MIN_MOTION m (the comparison is not of two resting meshes).
+3. Broken settings: a NaN property, a mesh path that does not exist and a colliders_root that
+   names no node give Godot errors naming each, the process exits 0 (no crash), the NaN is not
+   taken and the node without a mesh does not simulate.
+Exit 77 (skipped) when godot3-server is missing.
+"""
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+FRAMES = 40
+MAX_DIFF = 5e-4
+MIN_MOTION = 0.2
+
+
+def fail(msg):
+    print("FAIL:", msg)
+    sys.exit(1)
+
+
+def run_godot(server, project, mode, out, tmp):
+    env = dict(os.environ, WEFT_GODOT_MODE=mode, WEFT_GODOT_OUT=out, WEFT_GODOT_FRAMES=str(FRAMES),
+               LANG="C.UTF-8", HOME=tmp, XDG_DATA_HOME=tmp, XDG_CONFIG_HOME=tmp, XDG_CACHE_HOME=tmp)
+    p = subprocess.run([server, "--path", project, "-s", "res://record.gd"], env=env,
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    print(f"--- godot3-server ({mode}) exit {p.returncode}\n{p.stdout}")
+    if p.returncode != 0:
+        fail(f"godot3-server exited {p.returncode} in mode {mode}")
+    if "SCRIPT ERROR" in p.stdout:
+        fail(f"record.gd failed in mode {mode}")
+    if not os.path.exists(out):
+        fail(f"record.gd wrote no {out} in mode {mode}")
+    with open(out) as f:
+        return json.load(f), p.stdout
+
+
+def transform_point(m, p):
+    return [m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] for r in range(3)]
+
+
+def weft_scene(g, tmp):
+    rest = [g["rest"][3 * i:3 * i + 3] for i in range(len(g["rest"]) // 3)]
+    idx = g["indices"]
+    tris = [(idx[t], idx[t + 2], idx[t + 1]) for t in range(0, len(idx), 3)]   # counter-clockwise
+    order = []
+    new_of = {}
+    for t in tris:
+        for v in t:
+            if v not in new_of:
+                new_of[v] = len(order)
+                order.append(v)
+    if len(order) != len(rest):
+        fail("the Godot mesh has vertices no triangle uses")
+    with open(os.path.join(tmp, "flag.obj"), "w") as f:
+        for v in order:
+            f.write("v %.9g %.9g %.9g\n" % tuple(rest[v]))
+        for t in tris:
+            f.write("f %d %d %d\n" % tuple(new_of[v] + 1 for v in t))
+    s = g["settings"]
+    scene = {
+        "description": "host_glue/godot/example/flag.tscn as a weft run scene (test_godot.py)",
+        "mesh": {"file": "flag.obj"},
+        "transform": g["transform"],
+        "material": {"density": s["density"],
+                     "k": {"stretch": s["stiffness_stretch"], "shear": s["stiffness_shear"],
+                           "bend": s["stiffness_bend"]},
+                     "d": {"stretch": s["damping_stretch"], "shear": s["damping_shear"],
+                           "bend": s["damping_bend"]}},
+        "pins": [{"vertices": [new_of[v] for v in g["pinned"]]}],
+        "colliders": [
+            {"type": "sphere", "center": g["ball"]["center"], "radius": g["ball"]["radius"],
+             "thickness": s["collider_thickness"], "friction": s["collider_friction"]},
+            {"type": "plane", "normal": [0, 1, 0], "offset": 0,
+             "thickness": s["collider_thickness"], "friction": s["collider_friction"]}],
+        "solver": {"type": "pcg", "tolerance": s["tolerance"], "max_iterations": s["max_iterations"]},
+        "time": {"fps": round(1.0 / g["dt"]), "substeps": s["substeps"], "frames": g["frames"]},
+    }
+    path = os.path.join(tmp, "flag.json")
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return path, order
+
+
+def read_obj(path):
+    with open(path) as f:
+        return [[float(x) for x in line.split()[1:4]] for line in f if line.startswith("v ")]
+
+
+def main():
+    server, lib, weft_cli, project_src, record = sys.argv[1:6]
+    if not shutil.which(server):
+        print(f"skipped: {server} is not installed (Debian: godot3-server)")
+        sys.exit(77)
+    tmp = tempfile.mkdtemp(prefix="weft_godot_", dir=os.environ.get("WEFT_TEST_TMPDIR"))
+    project = os.path.join(tmp, "project")
+    shutil.copytree(project_src, project)
+    shutil.copy(record, project)
+    with open(os.path.join(project, "weft.gdnlib")) as f:
+        gdnlib = f.read()
+    with open(os.path.join(project, "weft.gdnlib"), "w") as f:
+        f.write(gdnlib.replace("res://bin/libweft_godot.so", os.path.abspath(lib)))
+
+    # 1, 2: Godot against weft run
+    g, _ = run_godot(server, project, "flag", os.path.join(tmp, "flag_out.json"), tmp)
+    if not g["simulating"] or g["frames"] != FRAMES:
+        fail(f"the flag did not simulate {FRAMES} frames: {g['simulating']}, {g['frames']}")
+    scene, order = weft_scene(g, tmp)
+    out = os.path.join(tmp, "weft_run")
+    p = subprocess.run([weft_cli, "run", scene, "--out", out, "--quiet", "--threads", "1"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    print(f"--- weft run exit {p.returncode}\n{p.stdout}")
+    if p.returncode != 0:
+        fail("weft run failed")
+    ref = read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
+    m = g["transform"]
+    n = len(order)
+    godot_world = [transform_point(m, g["positions"][3 * i:3 * i + 3]) for i in range(n)]
+    rest_world = [transform_point(m, g["rest"][3 * i:3 * i + 3]) for i in range(n)]
+    diff = max(math.dist(godot_world[v], ref[k]) for k, v in enumerate(order))
+    motion = max(math.dist(godot_world[i], rest_world[i]) for i in range(n))
+    if any(not math.isfinite(x) for p in godot_world for x in p):
+        fail("non-finite positions from Godot")
+    print(f"frame {FRAMES}: largest Godot - weft run distance {diff:.3g} m (limit {MAX_DIFF}), "
+          f"largest motion from rest {motion:.3g} m (at least {MIN_MOTION})")
+    if diff > MAX_DIFF:
+        fail("Godot's flag differs from weft run's")
+    if motion < MIN_MOTION:
+        fail("the flag barely moved")
+
+    # 3: broken settings
+    b, log = run_godot(server, project, "broken", os.path.join(tmp, "broken_out.json"), tmp)
+    expected = ["property stiffness_stretch = nan is not a finite number",
+                "no_such_mesh.tres",
+                "WeftCloth 'Lost': the MeshInstance has no mesh",
+                "colliders_root 'NoSuchNode' is not a node"]
+    for e in expected:
+        if e not in log:
+            fail(f"no error containing {e!r}")
+    if b["stiffness_stretch"] != 4000 or b["lost_simulating"] or not b["simulating"]:
+        fail(f"broken settings: {b}")
+    print("broken settings: each named in a Godot error, no crash; the flag still simulates")
+    shutil.rmtree(tmp)
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main()
