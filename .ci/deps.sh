@@ -14,6 +14,7 @@ packages=(
   libcjson-dev                    # JSON (weft inspect --json, scene files)
   python3-numpy                   # host_glue/python bindings and their tests (/usr/bin/python3)
   python3-pip python3-venv python3-setuptools python3-wheel   # pip install ./host_glue/python, offline
+  godot3-server                   # the Godot plugin's test (tests/godot): headless Godot 3.2, ~21 MB
   blender                         # the add-on test (tests/blender) and `weft bench peers`: ~480 MB, ~25 s to install
   libplplot-dev plplot-driver-cairo   # weft bench plots (PLplot, pngcairo device)
   libhypre-dev                    # tests/bench/bench_hypre only (BoomerAMG beside Weft's preconditioners):
