@@ -93,7 +93,6 @@ static void walk(wg_cloth* c, godot_object* node, weft_collider_def* defs, int d
             col->path = gd->godot_variant_as_node_path(&pv);
             gd->godot_variant_destroy(&pv);
             gd->godot_variant_destroy(&arg);
-            col->node = node;
             c->n_colliders++;
         }
     }

@@ -13,8 +13,8 @@
 #define WG_MAX_COLLIDERS 64
 
 typedef struct wg_collider {
-    godot_object* node;         /* the CollisionShape (looked up again by path every frame) */
-    godot_node_path path;       /* from the WeftCloth node */
+    godot_node_path path;       /* the CollisionShape, from the WeftCloth node (looked up every
+                                   frame: a shape freed since _ready is simply skipped) */
     float local[16];            /* shape frame -> weft's collider frame (capsule axis, plane) */
 } wg_collider;
 
