@@ -5,13 +5,15 @@
  * selection and the list of mesh instances (node tree walked from the root, world transforms
  * accumulated), check the raw positions of those meshes for NaN/Inf, then run
  * aiProcess_JoinIdenticalVertices (JoinIdenticalVertices treats a NaN position as equal to
- * anything, so the check must come first) and concatenate the instances.
+ * anything, so the check must come first) and concatenate the instances. An OBJ's vertices are
+ * then renumbered by its own `v` lines (import_obj_order.h).
  *
  * Found with assimp 5.2.5: the FBX importer applies every node's Lcl transform (and pre/post
  * rotations and pivots) but neither GlobalSettings UpAxis/FrontAxis/CoordAxis (the root node stays
  * identity) nor UnitScaleFactor (centimetres per file unit; only in aiScene::mMetaData, as a
  * float). We apply UnitScaleFactor / 100 ourselves and leave the axes as the file has them. */
 #include "source_mesh.h"
+#include "import_obj_order.h"
 #include "import_precheck.h"
 #include <assimp/cimport.h>
 #include <assimp/config.h>
@@ -222,6 +224,38 @@ static wc_status probe_file(const char* path, unsigned char* head, size_t* n_hea
     return WC_OK;
 }
 
+/* The whole file in *text (allocated with alloc, size bytes). */
+static wc_status read_all(const char* path, const wc_allocator* alloc, char** text, size_t* size,
+                            wc_diag* diag) {
+    *text = NULL;
+    *size = 0;
+    errno = 0;
+    FILE* f = fopen(path, "rb");
+    if (!f)
+        return wc_fail(diag, WC_ERROR_IO, "cannot open '%s': %s", path,
+                       errno ? strerror(errno) : "fopen failed");
+    long n = -1;
+    if (fseek(f, 0, SEEK_END) == 0) n = ftell(f);
+    if (n < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        fclose(f);
+        return wc_fail(diag, WC_ERROR_IO, "cannot read '%s': not seekable", path);
+    }
+    *text = WC_NEW(alloc, char, (size_t)n + 1);
+    if (!*text) {
+        fclose(f);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory for %ld bytes", path, n);
+    }
+    *size = fread(*text, 1, (size_t)n, f);
+    int err = ferror(f);
+    fclose(f);
+    if (err) {
+        wc_free(alloc, *text);
+        *text = NULL;
+        return wc_fail(diag, WC_ERROR_IO, "cannot read '%s'", path);
+    }
+    return WC_OK;
+}
+
 static wc_status check_raw_finite(const struct aiScene* s, const instance* inst, size_t n_inst,
                                     const char* path, wc_diag* diag) {
     for (size_t i = 0; i < n_inst; ++i) {
@@ -266,10 +300,49 @@ static wc_status check_faces(const struct aiScene* s, const char* path, wc_diag*
     return WC_OK;
 }
 
-/* Concatenate the instances into out (allocated with alloc). Scene already joined. */
+/* o = scale x (t p): one vertex in metres; 0 when it is not finite. */
+static int place(double o[3], const struct aiVector3D* p, const double t[12], double scale) {
+    const double x = p->x, y = p->y, z = p->z;
+    for (int r = 0; r < 3; ++r)
+        o[r] = scale * (t[4 * r] * x + t[4 * r + 1] * y + t[4 * r + 2] * z + t[4 * r + 3]);
+    return isfinite(o[0]) && isfinite(o[1]) && isfinite(o[2]);
+}
+
+static wc_status bad_vertex(wc_source_mesh* m, int v, const struct aiMesh* am, double scale,
+                              const char* path, wc_diag* diag) {
+    wc_source_mesh_free(m);
+    return wc_fail(diag, WC_ERROR_NONFINITE,
+                   "'%s': vertex %d (mesh '%s') is not finite after applying the node "
+                   "transform and scale %g", path, v, am->mName.data, scale);
+}
+
+/* Drop the vertices of m (nv of them, n_corners corners) that no polygon uses, keeping the
+ * order of the rest; returns how many are left, or -1 when out of memory. */
+static int keep_used(wc_source_mesh* m, int nv, int n_corners) {
+    int* to = WC_NEW(&m->alloc, int, (size_t)nv + 1);
+    if (!to) return -1;
+    for (int v = 0; v < nv; ++v) to[v] = -1;
+    for (int i = 0; i < n_corners; ++i) to[m->poly_verts[i]] = 0;
+    int n = 0;
+    for (int v = 0; v < nv; ++v) {
+        if (to[v] < 0) continue;
+        memmove(m->pos + 3 * (size_t)n, m->pos + 3 * (size_t)v, 3 * sizeof(double));
+        to[v] = n++;
+    }
+    for (int i = 0; i < n_corners; ++i) m->poly_verts[i] = to[m->poly_verts[i]];
+    wc_free(&m->alloc, to);
+    return n;
+}
+
+/* Concatenate the instances into out (allocated with alloc). Scene already joined.
+ * With obj (and poly_face from wc_obj_match_faces) the vertices are the file's `v` lines instead:
+ * each corner writes its assimp position to its `v` line's vertex, and a `v` line no polygon uses
+ * keeps its own position times scale; used_only keeps only the `v` lines the polygons use (a
+ * selection), still in file order. */
 static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
                               const struct aiScene* s, const instance* inst, size_t n_inst,
-                              double scale, const char* path, wc_diag* diag) {
+                              double scale, const wc_obj_text* obj, const int* poly_face,
+                              int used_only, const char* path, wc_diag* diag) {
     long long nv = 0, np = 0, nc = 0;
     int n_points = 0, n_lines = 0;
     for (size_t i = 0; i < n_inst; ++i) {
@@ -293,6 +366,7 @@ static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
             return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "'%s': too many vertices or polygons",
                            path);
     }
+    if (obj) nv = obj->n_v;
     if (np == 0)
         return wc_fail(diag, WC_ERROR_EMPTY_MESH,
                        "'%s': no polygons with >= 3 corners in %zu mesh instance(s) (%lld "
@@ -309,33 +383,33 @@ static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory for %lld vertices",
                        path, nv);
     }
+    if (obj)
+        for (long long v = 0; v < 3 * nv; ++v) m.pos[v] = scale * (double)obj->v[v];
     int base = 0, q = 0, c = 0;
     for (size_t i = 0; i < n_inst; ++i) {
         const struct aiMesh* am = s->mMeshes[inst[i].mesh];
-        const double* t = inst[i].m;
-        for (unsigned v = 0; v < am->mNumVertices; ++v) {
-            double x = am->mVertices[v].x, y = am->mVertices[v].y, z = am->mVertices[v].z;
-            double* o = m.pos + 3 * (size_t)(base + (int)v);
-            for (int r = 0; r < 3; ++r)
-                o[r] = scale * (t[4 * r] * x + t[4 * r + 1] * y + t[4 * r + 2] * z + t[4 * r + 3]);
-            if (!isfinite(o[0]) || !isfinite(o[1]) || !isfinite(o[2])) {
-                int bad = base + (int)v;
-                wc_source_mesh_free(&m);
-                return wc_fail(diag, WC_ERROR_NONFINITE,
-                               "'%s': vertex %d (mesh '%s') is not finite after applying the node "
-                               "transform and scale %g", path, bad, am->mName.data, scale);
-            }
-        }
+        for (unsigned v = 0; v < am->mNumVertices && !obj; ++v)
+            if (!place(m.pos + 3 * (size_t)(base + (int)v), &am->mVertices[v], inst[i].m, scale))
+                return bad_vertex(&m, base + (int)v, am, scale, path, diag);
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
             const struct aiFace* face = &am->mFaces[f];
             if (face->mNumIndices < 3) continue;
+            const int* file_v = obj ? obj->face_v + obj->face_start[poly_face[q]] : NULL;
             m.poly_start[q++] = c;
-            for (unsigned k = 0; k < face->mNumIndices; ++k)
-                m.poly_verts[c++] = base + (int)face->mIndices[k];
+            for (unsigned k = 0; k < face->mNumIndices; ++k) {
+                const unsigned v = face->mIndices[k];
+                if (obj && !place(m.pos + 3 * (size_t)file_v[k], &am->mVertices[v], inst[i].m, scale))
+                    return bad_vertex(&m, file_v[k], am, scale, path, diag);
+                m.poly_verts[c++] = obj ? file_v[k] : base + (int)v;
+            }
         }
         base += (int)am->mNumVertices;
     }
     m.poly_start[q] = c;
+    if (obj && used_only && (nv = keep_used(&m, (int)nv, c)) < 0) {
+        wc_source_mesh_free(&m);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
+    }
     m.n_verts = (int)nv;
     m.n_polys = (int)np;
     m.n_points = n_points;
@@ -389,12 +463,36 @@ static wc_status check_opts(const wc_import_opts* opts, const char* name, wc_imp
     return WC_OK;
 }
 
+/* The OBJ's own numbering for the selected instances: *obj read from text and *poly_face (one
+ * per polygon of the instances, allocated here) from wc_obj_match_faces. */
+static wc_status obj_order(const struct aiScene* s, const instance* inst, size_t n_inst,
+                             const char* text, size_t size, const wc_allocator* alloc,
+                             const char* path, wc_obj_text* obj, int** poly_face, wc_diag* diag) {
+    size_t np = 0;
+    for (size_t i = 0; i < n_inst; ++i)
+        for (unsigned f = 0; f < s->mMeshes[inst[i].mesh]->mNumFaces; ++f)
+            np += s->mMeshes[inst[i].mesh]->mFaces[f].mNumIndices >= 3;
+    unsigned* meshes = WC_NEW(alloc, unsigned, n_inst);
+    *poly_face = WC_NEW(alloc, int, np + 1);
+    wc_status st = WC_OK;
+    if (!meshes || !*poly_face)
+        st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
+    for (size_t i = 0; i < n_inst && st == WC_OK; ++i) meshes[i] = inst[i].mesh;
+    if (st == WC_OK) st = wc_obj_text_read(obj, alloc, text, size, path, diag);
+    if (st == WC_OK)
+        st = wc_obj_match_faces(s, meshes, n_inst, obj, *poly_face, alloc, path, diag);
+    wc_free(alloc, meshes);
+    return st;
+}
+
 /* The rest of an import, shared by files and memory: scene (NULL: assimp failed) -> *out.
- * Releases scene and props. */
+ * text (text_size bytes) is the OBJ file's content, or NULL for other formats. Releases scene
+ * and props. */
 static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
                                 const struct aiScene* scene, struct aiPropertyStore* props,
                                 const char* path, const unsigned char* head, size_t n_head,
-                                const wc_import_opts* opts, wc_diag* diag) {
+                                const char* text, size_t text_size, const wc_import_opts* opts,
+                                wc_diag* diag) {
     wc_status st = WC_OK;
     wc_import_opts o = *opts;
     if (!scene) {
@@ -406,6 +504,9 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
     }
 
     instance* inst = NULL;
+    wc_obj_text obj;
+    memset(&obj, 0, sizeof obj);
+    int* poly_face = NULL;
     walk w;
     memset(&w, 0, sizeof w);
     w.scene = scene;
@@ -495,7 +596,13 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
                      reason);
         goto done;
     }
-    st = build_mesh(out, alloc, scene, inst, w.n_inst, unit * o.scale, path, diag);
+    if (text && !is_fbx_scene(scene, path)) {   /* OBJ: number vertices by the `v` lines */
+        st = obj_order(scene, inst, w.n_inst, text, text_size, alloc, path, &obj, &poly_face,
+                       diag);
+        if (st != WC_OK) goto done;
+    }
+    st = build_mesh(out, alloc, scene, inst, w.n_inst, unit * o.scale, poly_face ? &obj : NULL,
+                    poly_face, o.select != NULL, path, diag);
     if (st == WC_OK)
         wc_log(diag, WC_LOG_INFO,
                "imported '%s': %d vertices, %d polygons, %d mesh instance(s), %g m per unit",
@@ -503,6 +610,8 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
 
 done:
     wc_free(alloc, inst);
+    wc_free(alloc, poly_face);
+    wc_obj_text_free(&obj);
     if (scene) aiReleaseImport(scene);
     aiReleasePropertyStore(props);
     if (st != WC_OK) memset(out, 0, sizeof *out);
@@ -529,8 +638,19 @@ wc_status wc_import_file(wc_source_mesh* out, const wc_allocator* alloc, const c
 
     struct aiPropertyStore* props = new_props(path, diag);
     if (!props) return WC_ERROR_OUT_OF_MEMORY;
+    char* text = NULL;
+    size_t text_size = 0;
+    if (ends_with_ci(path, ".obj")) {
+        st = read_all(path, alloc, &text, &text_size, diag);
+        if (st != WC_OK) {
+            aiReleasePropertyStore(props);
+            return st;
+        }
+    }
     const struct aiScene* scene = aiImportFileExWithProperties(path, 0, NULL, props);
-    return import_scene(out, alloc, scene, props, path, head, n_head, &o, diag);
+    st = import_scene(out, alloc, scene, props, path, head, n_head, text, text_size, &o, diag);
+    wc_free(alloc, text);
+    return st;
 }
 
 wc_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const void* data,
@@ -560,5 +680,7 @@ wc_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const
     if (!props) return WC_ERROR_OUT_OF_MEMORY;
     const struct aiScene* scene =
         aiImportFileFromMemoryWithProperties(data, (unsigned)size, 0, hint, props);
-    return import_scene(out, alloc, scene, props, name, data, n_head, &o, diag);
+    const int obj = ends_with_ci(name, ".obj");
+    return import_scene(out, alloc, scene, props, name, data, n_head, obj ? data : NULL,
+                        obj ? size : 0, &o, diag);
 }

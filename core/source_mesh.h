@@ -1,5 +1,5 @@
 /* The host's mesh before any processing: positions in the host's own vertex order (split seam
- * vertices included) and polygons as index lists into them. Built from a file (assimp) or from
+ * vertices included; for an OBJ file, its `v` lines) and polygons as index lists into them. Built from a file (assimp) or from
  * host arrays. Units: metres (file units times unit_scale). */
 #ifndef WEFT_CORE_SOURCE_MESH_H
 #define WEFT_CORE_SOURCE_MESH_H
@@ -47,11 +47,20 @@ wc_import_opts wc_default_import_opts(void);
 /* Import every mesh of a scene (node transforms applied) or the one selected by name.
  * FBX UnitScaleFactor is honoured (cm when it is 1). Errors name the file and assimp's reason.
  *
- * Host vertex order: the node tree is walked depth first from the root (children in order);
- * each mesh a node references is one instance (a mesh used by two nodes is emitted twice), with
- * the node's accumulated world transform applied. Instances are concatenated in that order, each
- * in assimp's vertex order after aiProcess_JoinIdenticalVertices (which joins only vertices equal
- * in every attribute, so UV seams and split normals stay split). Polygons keep their corner count
+ * Host vertex order, OBJ (a file or memory named .obj): the file's own `v` lines in file order,
+ * one host vertex per line (duplicate lines at one position stay separate vertices and weld;
+ * a line no polygon uses is a vertex without a particle). With select, only the `v` lines the
+ * selected polygons use, still in file order. assimp does the import; obj_text.c reads which `v`
+ * line each corner names and import_obj_order.c matches assimp's faces to the `f` lines (refusing
+ * the file with IMPORT if a face matches none).
+ * Host vertex order, other formats (FBX, glTF, ...): assimp's. The node tree is walked depth
+ * first from the root (children in order); each mesh a node references is one instance (a mesh
+ * used by two nodes is emitted twice), with the node's accumulated world transform applied.
+ * Instances are concatenated in that order, each in assimp's vertex order after
+ * aiProcess_JoinIdenticalVertices (which joins only vertices equal in every attribute, so UV
+ * seams and split normals stay split). assimp 5.2's C API does not keep FBX control-point
+ * indices, so an FBX mesh is in first-use order over its polygons, not control-point order.
+ * Polygons keep their corner count
  * (no triangulation); faces of 1 and 2 indices are counted in n_points/n_lines and dropped.
  * Axes are left as the file has them (FBX UpAxis/FrontAxis are not applied; assimp 5.2.5 applies
  * node transforms only). unit_scale = file unit (FBX: UnitScaleFactor / 100, else 1) x scale.

@@ -21,10 +21,11 @@ static weft_context* new_context(void) {
 /* A 2 x 2 quad grid whose quads have their own vertices: 16 host vertices welding to 9. */
 static const char* split_grid_obj(void) {
     return ts_write_tmp("api_measure_grid.obj",
-                        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"
-                        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                        "f 1/1 2/2 5/3 4/4\nf 2/5 3/6 6/7 5/8\nf 4/9 5/10 8/11 7/12\nf 5/13 6/14 9/15 8/16\n"
+                        /* 2x2 quads, each with its own four v lines (split at every edge) */
+                        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"
+                        "v 0 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 1 1 0\nv 2 1 0\nv 2 2 0\nv 1 2 0\n"
+                        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                        "f 1/1 2/2 3/3 4/4\nf 5/1 6/2 7/3 8/4\nf 9/1 10/2 11/3 12/4\nf 13/1 14/2 15/3 16/4\n"
                         "l 1 2\n");
 }
 
@@ -144,7 +145,7 @@ static void test_mesh_read(void) {
     CHECK_EQ_INT(md.n_faces, 4);   /* the line is dropped */
     CHECK_NEAR(md.unit_scale, 0.5, 0.0);
     for (int f = 0; f < md.n_faces; ++f) CHECK_EQ_INT(md.face_sizes[f], 4);
-    /* the first quad, 1/1 2/2 5/3 4/4: its own four vertices at (0 0) (1 0) (1 1) (0 1) x 0.5 */
+    /* the first quad, 1/1 2/2 3/3 4/4: its own four vertices at (0 0) (1 0) (1 1) (0 1) x 0.5 */
     static const double q0[4][2] = {{0, 0}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
     for (int k = 0; k < 4; ++k) {
         const double* p = md.positions + 3 * md.indices[k];

@@ -26,16 +26,14 @@ static double vec(const cJSON* obj, const char* key, int i) {
  * the importer sees 16 vertices that weld to 9 particles. */
 static const char* grid_obj(void) {
     static const char text[] =
-        "# 2x2 quads, per-quad UVs\n"
-        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"
+        "# 2x2 quads, each with its own vertices and UVs (split at every quad edge)\n"
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"
+        "v 0 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 1 1 0\nv 2 1 0\nv 2 2 0\nv 1 2 0\n"
         "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-        "f 1/1 2/2 5/3 4/4\n"
-        "f 2/5 3/6 6/7 5/8\n"
-        "f 4/9 5/10 8/11 7/12\n"
-        "f 5/13 6/14 9/15 8/16\n";
+        "f 1/1 2/2 3/3 4/4\n"
+        "f 5/1 6/2 7/3 8/4\n"
+        "f 9/1 10/2 11/3 12/4\n"
+        "f 13/1 14/2 15/3 16/4\n";
     return ts_write_tmp("cli_grid.obj", text);
 }
 

@@ -116,11 +116,12 @@ static void test_obj_polygons(void) {
         CHECK_EQ_INT(poly_size(&m, 2), 5);
         CHECK_EQ_INT(poly_size(&m, 3), 4);
         check_well_formed(&m);
-        /* host order = first use in the faces, which here is file order */
-        static const int want[] = {0, 1, 2, 3, 0, 1, 2, 4, 5, 6, 7, 8, 3, 2, 9, 10};
+        /* host order = the file's v lines (the last face uses v 11 before v 10) */
+        static const int want[] = {0, 1, 2, 3, 0, 1, 2, 4, 5, 6, 7, 8, 3, 2, 10, 9};
         for (int k = 0; k < 16; ++k) CHECK_EQ_INT(m.poly_verts[k], want[k]);
         check_pos(&m, 7, 2.5, 2, 0, 0);
-        check_pos(&m, 10, 0, 0, 1, 0);
+        check_pos(&m, 9, 0, 0, 1, 0);
+        check_pos(&m, 10, 1, 0, 1, 0);
     }
     wc_source_mesh_free(&m);
     CHECK(is_zeroed(&m));

@@ -11,20 +11,22 @@
 
 enum { N = 6 };
 
+/* Every quad with its own four `v` lines and UVs (as exporters write UV seams): the file's
+ * vertices are split at every quad edge, and welding joins them. */
 static const char* write_uv_split_obj(void) {
     static char text[1 << 16];
     size_t len = 0;
-    len += (size_t)snprintf(text + len, sizeof text - len, "# %dx%d quad grid, every quad with its own UVs\n", N, N);
-    for (int j = 0; j < N; ++j)
-        for (int i = 0; i < N; ++i)
-            len += (size_t)snprintf(text + len, sizeof text - len, "v %g %g 0\n", 0.2 * i, 0.2 * j);
+    len += (size_t)snprintf(text + len, sizeof text - len, "# %dx%d quad grid, every quad with its own vertices and UVs\n", N, N);
     int q = 0;
     for (int j = 0; j + 1 < N; ++j)
         for (int i = 0; i + 1 < N; ++i, ++q) {
-            len += (size_t)snprintf(text + len, sizeof text - len, "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n");
-            int c[4] = {j * N + i, j * N + i + 1, (j + 1) * N + i + 1, (j + 1) * N + i};
-            len += (size_t)snprintf(text + len, sizeof text - len, "f %d/%d %d/%d %d/%d %d/%d\n", c[0] + 1,
-                                    4 * q + 1, c[1] + 1, 4 * q + 2, c[2] + 1, 4 * q + 3, c[3] + 1, 4 * q + 4);
+            static const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            for (int k = 0; k < 4; ++k)
+                len += (size_t)snprintf(text + len, sizeof text - len, "v %g %g 0\nvt %d %d\n",
+                                        0.2 * (i + corner[k][0]), 0.2 * (j + corner[k][1]), corner[k][0],
+                                        corner[k][1]);
+            len += (size_t)snprintf(text + len, sizeof text - len, "f %d/%d %d/%d %d/%d %d/%d\n", 4 * q + 1,
+                                    4 * q + 1, 4 * q + 2, 4 * q + 2, 4 * q + 3, 4 * q + 3, 4 * q + 4, 4 * q + 4);
         }
     return ts_write_tmp("uv_split_grid.obj", text);
 }
@@ -71,7 +73,7 @@ static void test_obj_with_uv_seams(void) {
     CHECK(path != NULL);
     wc_model m;
     build_file(&m, path, 1.0);
-    /* assimp keeps vertices with different UVs apart: 4 per quad; welding joins them */
+    /* one host vertex per `v` line: 4 per quad; welding joins them */
     CHECK_EQ_INT(m.n_host_verts, 4 * (N - 1) * (N - 1));
     CHECK_EQ_INT(m.report.welded_vertices, 4 * (N - 1) * (N - 1) - N * N);
     check_grid_model(&m, 1.0);

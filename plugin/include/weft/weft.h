@@ -33,9 +33,13 @@
  *    the last row must be (0, 0, 0, 1). Transforms must be rigid (a rotation, |det - 1| and
  *    |R^T R - I| below 1e-3, plus a translation): scale the mesh instead (unit_scale, or bake
  *    the object's scale into the host arrays).
- *  - Vertex order: results come back in the host's own vertex order (the mesh's vertex array
- *    order for host arrays; assimp's order, documented in core/source_mesh.h, for files), split
- *    seam vertices included: welded vertices share one particle and report the same position.
+ *  - Vertex order: results come back in the host's own vertex order, split seam vertices
+ *    included: welded vertices share one particle and report the same position. Host arrays:
+ *    their order. OBJ files: the file's `v` lines in order, one vertex each (used or not; with
+ *    mesh.select, the `v` lines the selected faces use, in file order), so results, pins by index
+ *    and point caches lay over the user's own mesh. Other files (FBX, glTF): assimp's order
+ *    (first use over the polygons; FBX control-point order is not recoverable through assimp),
+ *    documented in core/source_mesh.h. weft_mesh_read reports the same order.
  *  - Every fallible call returns a weft_status. On failure nothing changes (the cloth's state,
  *    its outputs and every caller buffer are exactly as before), the context's last error holds
  *    a message naming the argument/field, and the logger (if any) receives it at ERROR level.
