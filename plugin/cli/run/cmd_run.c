@@ -34,11 +34,13 @@ typedef struct run_args {
     weft_backend backend;
     int quiet;
     int self_collision;    /* -2: the scene's, else 0 or 1 */
+    const char* cache;     /* point cache path (.pc2 or .mdd), NULL: none */
 } run_args;
 
 void cli_run_usage(FILE* out) {
     fputs("usage: weft run SCENE.json [--frames N] [--solver pcg|jacobi|chebyshev|direct]\n"
-          "                [--out DIR] [--stats FILE.json] [--render DIR] [--threads N]\n"
+          "                [--out DIR] [--cache FILE.pc2|FILE.mdd] [--stats FILE.json] [--render DIR]\n"
+          "                [--threads N]\n"
           "                [--backend cpu|gpu|auto] [--integrator be|bdf2|trbdf2] [--precond block_jacobi|amg]\n"
           "                [--newton N] [--line-search on|off] [--self-collision on|off] [--quiet]\n"
           "\n"
@@ -60,6 +62,10 @@ void cli_run_usage(FILE* out) {
           "                         vertex in the mesh's own order, then its polygons\n"
           "  --stats FILE.json      write timings, solver and recovery counts as one JSON object\n"
           "                         (and check every frame for crossings and penetration)\n"
+          "  --cache FILE           write a point cache of frame 0 (rest) and every frame: FILE.pc2\n"
+          "                         (PC2) or FILE.mdd (MDD), host vertices in the mesh's own order\n"
+          "                         (an OBJ's v lines), metres, as the OBJ frames; for Blender's\n"
+          "                         Mesh Cache modifier, 3ds Max, Maya\n"
           "  --render DIR           write DIR/frame_0001.png ... through weft_render(), seen from\n"
           "                         the scene's camera\n"
           "  --threads N            OpenMP threads (>= 0; 0: OpenMP's default)\n"
@@ -144,6 +150,11 @@ static int parse_args(int argc, char** argv, run_args* a) {
         } else if ((m = cli_option_value(argc, argv, &i, "--out", &value)) != 0) {
             if (m < 0 || !value[0]) return usage_error("%s needs a folder", arg);
             a->out = value;
+        } else if ((m = cli_option_value(argc, argv, &i, "--cache", &value)) != 0) {
+            if (m < 0 || !value[0]) return usage_error("%s needs a file name", arg);
+            if (run_cache_kind(value) < 0)
+                return usage_error("--cache: '%s' must end in .pc2 or .mdd", value);
+            a->cache = value;
         } else if ((m = cli_option_value(argc, argv, &i, "--stats", &value)) != 0) {
             if (m < 0 || !value[0]) return usage_error("%s needs a file name", arg);
             a->stats = value;
@@ -166,6 +177,7 @@ typedef struct run_ctx {
     size_t path_cap;
     run_record rec;
     run_progress progress;
+    run_cache cache;       /* --cache, while open */
 } run_ctx;
 
 static void run_release(run_ctx* c) {
@@ -173,6 +185,7 @@ static void run_release(run_ctx* c) {
     scene_free(&c->sc);
     free(c->path);
     run_record_free(&c->rec);
+    run_cache_close(&c->cache, 0);   /* a run that did not finish leaves no cache */
 }
 
 static int fail(run_ctx* c, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -214,6 +227,12 @@ static int prepare_outputs(run_ctx* c, const run_args* a) {
         c->path = malloc(c->path_cap);
         if (!c->path) return fail(c, "out of memory");
     }
+    if (a->cache) {   /* frame 0 (the rest shape) and every frame */
+        const int n = c->host.info.n_vertices;
+        if (run_cache_open(&c->cache, a->cache, n, c->sc.frames + 1, c->sc.fps) != 0 ||
+            run_cache_sample(&c->cache, c->host.positions, n) != 0)
+            return fail(c, "cannot write '%s': %s", a->cache, strerror(errno));
+    }
     return CLI_EXIT_OK;
 }
 
@@ -224,6 +243,8 @@ static int write_frame(run_ctx* c, const run_args* a, int f, double t) {
         if (run_write_obj(c->path, c->host.positions, &c->sc.mesh, f, t) != 0)
             return fail(c, "cannot write '%s': %s", c->path, strerror(errno));
     }
+    if (a->cache && run_cache_sample(&c->cache, c->host.positions, c->host.info.n_vertices) != 0)
+        return fail(c, "cannot write '%s': %s", a->cache, strerror(errno));
     if (a->render) {
         snprintf(c->path, c->path_cap, "%s/frame_%04d.png", a->render, f);
         const weft_render_def rd = render_def(&c->sc.camera, c->path);
@@ -266,6 +287,8 @@ static int simulate(run_ctx* c, const run_args* a) {
         run_progress_update(&c->progress, f);
     }
     run_progress_end(&c->progress);
+    if (rc == CLI_EXIT_OK && a->cache && run_cache_close(&c->cache, 1) != 0)
+        return fail(c, "cannot write '%s': %s", a->cache, strerror(errno));
     /* the collision check of the last frame (the rest shape when no frame ran; --stats' check of
        the last frame when it made one) */
     if (rc == CLI_EXIT_OK) {
@@ -278,7 +301,7 @@ static int simulate(run_ctx* c, const run_args* a) {
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, -1, -1, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2};
+    run_args a = {NULL, -1, -1, -1, -1, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2, NULL};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 

@@ -100,4 +100,23 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* rec);
 /* Create a folder and its missing parents (like mkdir -p). 0, or -1 with errno set. */
 int run_make_dirs(const char* path);
 
+/* --cache: a point cache (PC2 or MDD, by the file's extension; layouts in run_cache.c). */
+enum { RUN_CACHE_PC2 = 0, RUN_CACHE_MDD = 1 };
+typedef struct run_cache {
+    FILE* f;          /* the .part file being written */
+    char* part;       /* path + ".part" */
+    const char* path;
+    int kind;         /* RUN_CACHE_PC2 or RUN_CACHE_MDD */
+    int big;          /* big-endian (MDD) */
+} run_cache;
+/* The kind for path's extension (.pc2 or .mdd, any case), or -1. */
+int run_cache_kind(const char* path);
+/* Start path.part with the header for samples samples of n_points points at fps frames per
+ * second. 0, or -1 with errno set (EINVAL: not .pc2 or .mdd); run_cache_close(c, 0) after. */
+int run_cache_open(run_cache* c, const char* path, int n_points, int samples, double fps);
+/* Append one sample: n_points x 3 floats (m). 0, or -1 with errno set. */
+int run_cache_sample(run_cache* c, const float* pos, int n_points);
+/* keep: rename path.part to path; else remove it. 0, or -1 with errno set (the part removed). */
+int run_cache_close(run_cache* c, int keep);
+
 #endif
