@@ -1,6 +1,6 @@
 /* The host's mesh before any processing: positions in the host's own vertex order (split seam
- * vertices included; for an OBJ file, its `v` lines) and polygons as index lists into them. Built from a file (assimp) or from
- * host arrays. Units: metres (file units times unit_scale). */
+ * vertices included; for an OBJ file, its `v` lines) and polygons as index lists into them.
+ * Built from a file (assimp) or from host arrays. Units: metres (file units times unit_scale). */
 #ifndef WEFT_CORE_SOURCE_MESH_H
 #define WEFT_CORE_SOURCE_MESH_H
 #include "alloc.h"
@@ -60,8 +60,8 @@ wc_import_opts wc_default_import_opts(void);
  * aiProcess_JoinIdenticalVertices (which joins only vertices equal in every attribute, so UV
  * seams and split normals stay split). assimp 5.2's C API does not keep FBX control-point
  * indices, so an FBX mesh is in first-use order over its polygons, not control-point order.
- * Polygons keep their corner count
- * (no triangulation); faces of 1 and 2 indices are counted in n_points/n_lines and dropped.
+ * Polygons keep their corner count (no triangulation); faces of 1 and 2 indices are counted in
+ * n_points/n_lines and dropped.
  * Axes are left as the file has them (FBX UpAxis/FrontAxis are not applied; assimp 5.2.5 applies
  * node transforms only). unit_scale = file unit (FBX: UnitScaleFactor / 100, else 1) x scale.
  * Errors (*out zeroed): IO (cannot open/read), IMPORT (assimp failed, empty/UTF-16/binary-garbage

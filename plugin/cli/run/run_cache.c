@@ -4,34 +4,28 @@
  * failed run leaves no half-written cache.
  *
  * Layouts, as Blender's Mesh Cache modifier reads them (source/blender/modifiers/intern/
- * MOD_meshcache_pc2.cc and MOD_meshcache_mdd.cc), also read by 3ds Max and Maya:
+ * MOD_meshcache_pc2 and MOD_meshcache_mdd), also read by 3ds Max and Maya:
  *   PC2, little-endian: char[12] "POINTCACHE2\0", int32 version 1, int32 numPoints,
  *        float startFrame, float sampleRate, int32 numSamples, then numSamples x numPoints x
  *        float[3]. Here startFrame 0 and sampleRate 1 (one sample per frame).
  *   MDD, big-endian: int32 numFrames, int32 numPoints, float times[numFrames] (s), then
  *        numFrames x numPoints x float[3]. Here times[k] = k / fps. */
+#define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "run.h"
 
-static int ends_with(const char* s, const char* suffix) {
-    size_t n = strlen(s), m = strlen(suffix);
-    if (m > n) return 0;
-    for (size_t i = 0; i < m; ++i) {
-        char a = s[n - m + i];
-        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
-        if (a != suffix[i]) return 0;
-    }
-    return 1;
-}
-
+/* The extension compared without case through POSIX strcasecmp (the tool sees only weft.h, so
+ * it cannot share core's matcher). */
 int run_cache_kind(const char* path) {
-    if (ends_with(path, ".pc2")) return RUN_CACHE_PC2;
-    if (ends_with(path, ".mdd")) return RUN_CACHE_MDD;
+    const char* dot = strrchr(path, '.');
+    if (dot && strcasecmp(dot, ".pc2") == 0) return RUN_CACHE_PC2;
+    if (dot && strcasecmp(dot, ".mdd") == 0) return RUN_CACHE_MDD;
     return -1;
 }
 
