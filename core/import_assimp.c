@@ -204,13 +204,21 @@ static int looks_binary(const unsigned char* b, size_t n) {
     return 0;
 }
 
-static wc_status probe_file(const char* path, unsigned char* head, size_t* n_head,
-                              wc_diag* diag) {
+/* fopen(path, "rb") into *f, or IO naming the file and the reason. */
+static wc_status open_file(const char* path, FILE** f, wc_diag* diag) {
     errno = 0;
-    FILE* f = fopen(path, "rb");
-    if (!f)
+    *f = fopen(path, "rb");
+    if (!*f)
         return wc_fail(diag, WC_ERROR_IO, "cannot open '%s': %s", path,
                        errno ? strerror(errno) : "fopen failed");
+    return WC_OK;
+}
+
+static wc_status probe_file(const char* path, unsigned char* head, size_t* n_head,
+                              wc_diag* diag) {
+    FILE* f;
+    wc_status st = open_file(path, &f, diag);
+    if (st != WC_OK) return st;
     *n_head = fread(head, 1, WC_IMPORT_HEAD, f);
     int err = ferror(f);
     int saved = errno;
@@ -229,11 +237,9 @@ static wc_status read_all(const char* path, const wc_allocator* alloc, char** te
                             wc_diag* diag) {
     *text = NULL;
     *size = 0;
-    errno = 0;
-    FILE* f = fopen(path, "rb");
-    if (!f)
-        return wc_fail(diag, WC_ERROR_IO, "cannot open '%s': %s", path,
-                       errno ? strerror(errno) : "fopen failed");
+    FILE* f;
+    wc_status st = open_file(path, &f, diag);
+    if (st != WC_OK) return st;
     long n = -1;
     if (fseek(f, 0, SEEK_END) == 0) n = ftell(f);
     if (n < 0 || fseek(f, 0, SEEK_SET) != 0) {
