@@ -1,11 +1,11 @@
 /* The library's GDNative entry points: Godot calls them when the .gdnlib is loaded. */
 #include "weft_cloth_node.h"
 
-#define WG_EXPORT __attribute__((visibility("default")))
+#define WGD_EXPORT __attribute__((visibility("default")))
 
-WG_EXPORT void godot_gdnative_init(godot_gdnative_init_options* options);
-WG_EXPORT void godot_gdnative_terminate(godot_gdnative_terminate_options* options);
-WG_EXPORT void godot_nativescript_init(void* handle);
+WGD_EXPORT void godot_gdnative_init(godot_gdnative_init_options* options);
+WGD_EXPORT void godot_gdnative_terminate(godot_gdnative_terminate_options* options);
+WGD_EXPORT void godot_nativescript_init(void* handle);
 
 void godot_gdnative_init(godot_gdnative_init_options* options) {
     if (!gd_api_init(options)) {
@@ -18,5 +18,5 @@ void godot_gdnative_terminate(godot_gdnative_terminate_options* options) {
 }
 
 void godot_nativescript_init(void* handle) {
-    if (gdns) wg_cloth_register(handle);
+    if (gdns) wgd_cloth_register(handle);
 }

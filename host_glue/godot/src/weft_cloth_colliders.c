@@ -29,7 +29,7 @@ static double call_real(godot_object* obj, const char* method) {
 }
 
 /* One CollisionShape: its weft def and the frame from the shape's frame to weft's. */
-static int shape_collider(wg_cloth* c, godot_object* node, weft_collider_def* def, float local[16]) {
+static int shape_collider(wgd_cloth* c, godot_object* node, weft_collider_def* def, float local[16]) {
     godot_variant dis = gd_call(node, "is_disabled", 0, NULL, NULL);
     int disabled = gd->godot_variant_as_bool(&dis);
     gd->godot_variant_destroy(&dis);
@@ -81,10 +81,10 @@ static int shape_collider(wg_cloth* c, godot_object* node, weft_collider_def* de
     return 1;
 }
 
-static void walk(wg_cloth* c, godot_object* node, weft_collider_def* defs, int depth) {
-    if (depth > 16 || c->n_colliders >= WG_MAX_COLLIDERS) return;
+static void walk(wgd_cloth* c, godot_object* node, weft_collider_def* defs, int depth) {
+    if (depth > 16 || c->n_colliders >= WGD_MAX_COLLIDERS) return;
     if (node != c->owner && gd_is_class(node, "CollisionShape")) {
-        wg_collider* col = &c->colliders[c->n_colliders];
+        wgd_collider* col = &c->colliders[c->n_colliders];
         if (shape_collider(c, node, &defs[c->n_colliders], col->local)) {
             godot_variant arg;
             gd->godot_variant_new_object(&arg, node);
@@ -108,7 +108,7 @@ static void walk(wg_cloth* c, godot_object* node, weft_collider_def* defs, int d
     gd->godot_variant_destroy(&kids);
 }
 
-int wg_cloth_find_colliders(wg_cloth* c, weft_collider_def* defs) {
+int wgd_cloth_find_colliders(wgd_cloth* c, weft_collider_def* defs) {
     c->n_colliders = 0;
     godot_object* root = gd_get_node(c->owner, &c->colliders_root);
     if (!root) {
@@ -118,14 +118,14 @@ int wg_cloth_find_colliders(wg_cloth* c, weft_collider_def* defs) {
         return 0;
     }
     walk(c, root, defs, 0);
-    wg_cloth_collider_transforms(c);
+    wgd_cloth_collider_transforms(c);
     for (int i = 0; i < c->n_colliders; i++) memcpy(defs[i].transform, c->collider_xf + 16 * i, 16 * sizeof(float));
     return c->n_colliders;
 }
 
-void wg_cloth_collider_transforms(wg_cloth* c) {
+void wgd_cloth_collider_transforms(wgd_cloth* c) {
     for (int i = 0; i < c->n_colliders; i++) {
-        wg_collider* col = &c->colliders[i];
+        wgd_collider* col = &c->colliders[i];
         godot_object* node = gd_get_node(c->owner, &col->path);
         if (!node) continue;   /* removed from the tree: it stays where it was */
         float g[16];

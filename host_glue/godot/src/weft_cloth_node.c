@@ -11,7 +11,7 @@ enum { GD_ARRAY_VERTEX = 0, GD_ARRAY_NORMAL = 1, GD_ARRAY_INDEX = 8, GD_PRIMITIV
 
 static void* cloth_create(godot_object* owner, void* method_data) {
     (void)method_data;
-    wg_cloth* c = calloc(1, sizeof *c);
+    wgd_cloth* c = calloc(1, sizeof *c);
     if (!c) return NULL;
     c->owner = owner;
     weft_cloth_def d = weft_default_cloth_def();
@@ -37,7 +37,7 @@ static void* cloth_create(godot_object* owner, void* method_data) {
     return c;
 }
 
-static void cloth_release(wg_cloth* c) {
+static void cloth_release(wgd_cloth* c) {
     if (c->ctx) weft_context_destroy(c->ctx);   /* destroys the cloth */
     c->ctx = NULL;
     c->cloth.id = 0;
@@ -53,7 +53,7 @@ static void cloth_release(wg_cloth* c) {
 static void cloth_destroy(godot_object* owner, void* method_data, void* user) {
     (void)owner;
     (void)method_data;
-    wg_cloth* c = user;
+    wgd_cloth* c = user;
     if (!c) return;
     cloth_release(c);
     gd->godot_variant_destroy(&c->mesh);
@@ -64,7 +64,7 @@ static void cloth_destroy(godot_object* owner, void* method_data, void* user) {
 }
 
 static void weft_log(weft_log_level level, const char* message, void* user) {
-    wg_cloth* c = user;
+    wgd_cloth* c = user;
     char name[128];
     gd_node_name(c->owner, name, sizeof name);
     if (level >= WEFT_LOG_ERROR) {
@@ -76,7 +76,7 @@ static void weft_log(weft_log_level level, const char* message, void* user) {
 
 /* The node's surface 0 as Weft host arrays: positions (scaled by the node's scale) and triangles
  * wound counter-clockwise (Godot's front faces are clockwise). */
-static int read_surface(wg_cloth* c, float** pos, int** tris, int* n_tris) {
+static int read_surface(wgd_cloth* c, float** pos, int** tris, int* n_tris) {
     char name[128];
     gd_node_name(c->owner, name, sizeof name);
     godot_object* mesh = gd_call_object(c->owner, "get_mesh", 0, NULL);
@@ -136,7 +136,7 @@ static int read_surface(wg_cloth* c, float** pos, int** tris, int* n_tris) {
 }
 
 /* Replace the surface's vertex and normal arrays with the result and show it. */
-static void write_mesh(wg_cloth* c) {
+static void write_mesh(wgd_cloth* c) {
     godot_pool_vector3_array arr[2];
     const float* src[2] = {c->positions, c->normals};
     for (int k = 0; k < 2; k++) {
@@ -172,7 +172,7 @@ static void write_mesh(wg_cloth* c) {
     gd->godot_variant_destroy(&zero);
 }
 
-static int fetch_result(wg_cloth* c) {
+static int fetch_result(wgd_cloth* c) {
     int count = 0;
     weft_status s = weft_cloth_get_vertices(c->ctx, c->cloth, WEFT_SPACE_OBJECT, c->positions, c->normals,
                                             c->n_vertices, &count);
@@ -188,7 +188,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     (void)md;
     (void)argc;
     (void)argv;
-    wg_cloth* c = user;
+    wgd_cloth* c = user;
     godot_variant nil;
     gd->godot_variant_new_nil(&nil);
     cloth_release(c);
@@ -204,7 +204,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     float* pos = NULL;
     int* tris = NULL;
     int n_tris = 0;
-    weft_collider_def colliders[WG_MAX_COLLIDERS];
+    weft_collider_def colliders[WGD_MAX_COLLIDERS];
     if (!read_surface(c, &pos, &tris, &n_tris)) goto fail;
     c->positions = malloc((size_t)c->n_vertices * 3 * sizeof(float));
     c->normals = malloc((size_t)c->n_vertices * 3 * sizeof(float));
@@ -248,7 +248,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     memcpy(pin.bind_transform, object, sizeof object);   /* pins follow the node */
     d.n_attachments = n_pins > 0 ? 1 : 0;
     d.attachments = &pin;
-    d.n_colliders = wg_cloth_find_colliders(c, colliders);
+    d.n_colliders = wgd_cloth_find_colliders(c, colliders);
     d.colliders = colliders;
 
     weft_status s = weft_cloth_create(c->ctx, &d, &c->cloth);   /* a failure is logged */
@@ -277,13 +277,13 @@ fail:
 static godot_variant cloth_physics_process(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
     (void)owner;
     (void)md;
-    wg_cloth* c = user;
+    wgd_cloth* c = user;
     godot_variant nil;
     gd->godot_variant_new_nil(&nil);
     if (!c->ctx || argc < 1) return nil;
     float object[16];
     gd_global_transform(c->owner, object, NULL);
-    wg_cloth_collider_transforms(c);
+    wgd_cloth_collider_transforms(c);
     weft_frame fr = weft_default_frame();
     fr.dt = gd->godot_variant_as_real(argv[0]);
     fr.object_transform = object;
@@ -303,7 +303,7 @@ static godot_variant cloth_is_simulating(godot_object* owner, void* md, void* us
     (void)argc;
     (void)argv;
     godot_variant v;
-    gd->godot_variant_new_bool(&v, ((wg_cloth*)user)->ctx != NULL);
+    gd->godot_variant_new_bool(&v, ((wgd_cloth*)user)->ctx != NULL);
     return v;
 }
 
@@ -313,11 +313,11 @@ static godot_variant cloth_get_frames(godot_object* owner, void* md, void* user,
     (void)argc;
     (void)argv;
     godot_variant v;
-    gd->godot_variant_new_int(&v, ((wg_cloth*)user)->frames);
+    gd->godot_variant_new_int(&v, ((wgd_cloth*)user)->frames);
     return v;
 }
 
-void wg_cloth_register(void* handle) {
+void wgd_cloth_register(void* handle) {
     godot_instance_create_func create = {cloth_create, NULL, NULL};
     godot_instance_destroy_func destroy = {cloth_destroy, NULL, NULL};
     gdns->godot_nativescript_register_class(handle, "WeftCloth", "MeshInstance", create, destroy);
@@ -333,5 +333,5 @@ void wg_cloth_register(void* handle) {
         godot_instance_method m = {methods[i].fn, NULL, NULL};
         gdns->godot_nativescript_register_method(handle, "WeftCloth", methods[i].name, attr, m);
     }
-    wg_cloth_register_properties(handle);
+    wgd_cloth_register_properties(handle);
 }

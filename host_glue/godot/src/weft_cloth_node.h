@@ -10,15 +10,16 @@
 #include "gd_api.h"
 #include "weft/weft.h"
 
-#define WG_MAX_COLLIDERS 64
+/* The godot plugin's names start with wgd_ (gpu/ owns wg_). */
+#define WGD_MAX_COLLIDERS 64
 
-typedef struct wg_collider {
+typedef struct wgd_collider {
     godot_node_path path;       /* the CollisionShape, from the WeftCloth node (looked up every
                                    frame: a shape freed since _ready is simply skipped) */
     float local[16];            /* shape frame -> weft's collider frame (capsule axis, plane) */
-} wg_collider;
+} wgd_collider;
 
-typedef struct wg_cloth {
+typedef struct wgd_cloth {
     godot_object* owner;        /* the MeshInstance */
 
     /* exported properties (weft_cloth_def fields, read at _ready) */
@@ -42,24 +43,24 @@ typedef struct wg_cloth {
     float scale[3];             /* the node's scale, baked into the positions Weft gets */
     float* positions;           /* (n_vertices x 3) object space, the last result */
     float* normals;
-    float collider_xf[WG_MAX_COLLIDERS * 16]; /* (n_colliders x 16) world */
+    float collider_xf[WGD_MAX_COLLIDERS * 16]; /* (n_colliders x 16) world */
     int n_colliders;
-    wg_collider colliders[WG_MAX_COLLIDERS];
+    wgd_collider colliders[WGD_MAX_COLLIDERS];
     godot_array arrays;         /* the surface's arrays, vertex and normal replaced each frame */
     godot_variant mesh;         /* the ArrayMesh the node shows (held: a reference) */
     godot_variant material;     /* the source surface's material */
     int has_arrays;
     int64_t frames;
-} wg_cloth;
+} wgd_cloth;
 
 /* NativeScript registration of the class, its methods and its properties. */
-void wg_cloth_register(void* handle);
-void wg_cloth_register_properties(void* handle);
+void wgd_cloth_register(void* handle);
+void wgd_cloth_register_properties(void* handle);
 
 /* Colliders: every enabled CollisionShape (sphere, capsule, plane) under colliders_root.
- * Fills c->colliders and defs (at most WG_MAX_COLLIDERS); returns the count. */
-int wg_cloth_find_colliders(wg_cloth* c, weft_collider_def* defs);
+ * Fills c->colliders and defs (at most WGD_MAX_COLLIDERS); returns the count. */
+int wgd_cloth_find_colliders(wgd_cloth* c, weft_collider_def* defs);
 /* Each collider's current world transform into c->collider_xf. */
-void wg_cloth_collider_transforms(wg_cloth* c);
+void wgd_cloth_collider_transforms(wgd_cloth* c);
 
 #endif

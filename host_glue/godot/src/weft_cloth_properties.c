@@ -13,12 +13,12 @@ typedef enum { P_REAL, P_INT, P_VECTOR3, P_INT_ARRAY, P_NODE_PATH } prop_kind;
 typedef struct prop {
     const char* name;
     prop_kind kind;
-    size_t offset;              /* into wg_cloth */
+    size_t offset;              /* into wgd_cloth */
     godot_property_hint hint;
     const char* hint_string;
 } prop;
 
-#define F(field) offsetof(wg_cloth, field)
+#define F(field) offsetof(wgd_cloth, field)
 static const prop PROPS[] = {
     {"density", P_REAL, F(density), GODOT_PROPERTY_HINT_NONE, ""},                 /* kg/m^2 */
     {"stiffness_stretch", P_REAL, F(stiffness[0]), GODOT_PROPERTY_HINT_NONE, ""},  /* N/m */
@@ -50,7 +50,7 @@ static godot_variant_type variant_type(prop_kind k) {
     return GODOT_VARIANT_TYPE_NIL;
 }
 
-static godot_variant get_value(const prop* p, const wg_cloth* c) {
+static godot_variant get_value(const prop* p, const wgd_cloth* c) {
     const char* field = (const char*)c + p->offset;
     godot_variant v;
     switch (p->kind) {
@@ -73,7 +73,7 @@ static godot_variant get_value(const prop* p, const wg_cloth* c) {
 static void set_value(godot_object* owner, void* method_data, void* user, godot_variant* value) {
     (void)owner;
     const prop* p = method_data;
-    wg_cloth* c = user;
+    wgd_cloth* c = user;
     char* field = (char*)c + p->offset;
     switch (p->kind) {
     case P_REAL: {
@@ -121,7 +121,7 @@ static godot_variant get_property(godot_object* owner, void* method_data, void* 
     return get_value(method_data, user);
 }
 
-void wg_cloth_register_properties(void* handle) {
+void wgd_cloth_register_properties(void* handle) {
     /* no default_value: the inspector shows a fresh instance's values (Weft's defaults) */
     for (size_t i = 0; i < sizeof PROPS / sizeof PROPS[0]; i++) {
         const prop* p = &PROPS[i];
