@@ -29,6 +29,8 @@ typedef struct scan {
     wc_obj_text* t;
     int fill;         /* 0: count into n_v, n_faces, n_corners; 1: write the arrays too */
     long long n_corners;
+    long long cap;    /* face_v's length when filling: the polygons' corners (a point's or a
+                         line's corners are read before they are known not to be a polygon's) */
     const char* name;
     wc_diag* diag;
 } scan;
@@ -66,7 +68,7 @@ static wc_status read_f(scan* s, const char* p, int line) {
             return wc_fail(s->diag, WC_ERROR_IMPORT,
                            "'%s' line %d: face corner %d does not name one of the %d v lines "
                            "before it", s->name, line, k + 1, t->n_v);
-        if (s->fill) t->face_v[s->n_corners] = i > 0 ? (int)i - 1 : t->n_v + (int)i;
+        if (s->fill && s->n_corners < s->cap) t->face_v[s->n_corners] = i > 0 ? (int)i - 1 : t->n_v + (int)i;
         ++s->n_corners;
         ++k;
         while (*end && !is_space(*end) && *end != '\n') ++end;   /* "/vt/vn" */
@@ -142,6 +144,7 @@ wc_status wc_obj_text_read(wc_obj_text* out, const wc_allocator* alloc, const ch
     }
     if (st == WC_OK) {
         s.fill = 1;
+        s.cap = s.n_corners;
         st = scan_text(&s, buf);
     }
     wc_free(A, buf);

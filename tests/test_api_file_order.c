@@ -203,10 +203,30 @@ static void test_cli_frames(void) {
     }
 }
 
+/* Points and lines among the faces, one of them the file's last line: only the polygons count,
+ * in file order, over the file's v lines (a line's corners are read before it is known not to be
+ * a polygon: they must not be kept). */
+static void test_lines_among_faces(void) {
+    const char* path = ts_write_tmp("file_order_lines.obj",
+                                    "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nl 1 2\nf 1 2\n"
+                                    "f 4 3 2\nf 1\nf 1 4 3\nf 2 3\n");
+    weft_context* ctx = new_context();
+    weft_mesh_data md;
+    CHECK_EQ_INT(weft_mesh_read(ctx, path, NULL, 1.0, &md), WEFT_OK);
+    CHECK_EQ_INT(md.n_vertices, 4);
+    CHECK_EQ_INT(md.n_faces, 2);
+    static const int want[6] = {3, 2, 1, 0, 3, 2};
+    for (int c = 0; c < 6 && md.n_faces == 2; ++c) CHECK_EQ_INT(md.indices[c], want[c]);
+    for (int k = 0; k < 3; ++k) CHECK_NEAR(md.positions[3 * 2 + k], k == 1 ? 0.0 : 1.0, 0.0);
+    weft_mesh_free(ctx, &md);
+    weft_context_destroy(ctx);
+}
+
 int main(void) {
     sheet_path = write_shuffled_sheet();
     RUN_TEST(test_api_order);
     RUN_TEST(test_seam_twins);
     RUN_TEST(test_cli_frames);
+    RUN_TEST(test_lines_among_faces);
     return TEST_SUMMARY();
 }
