@@ -2,9 +2,11 @@
 #   WEFT_GODOT_MODE=flag    step flag.tscn for WEFT_GODOT_FRAMES physics frames, then write the
 #                           Flag's rest mesh, settings, colliders and its mesh's vertices (read
 #                           back from the node's ArrayMesh) as JSON to WEFT_GODOT_OUT, and quit
+#   WEFT_GODOT_MODE=skirt   the same for skirt.tscn's Skirt (attached to a bone, a body mesh
+#                           collider), with the waist vertices, the body's mesh and transform
 #   WEFT_GODOT_MODE=broken  broken settings (a NaN property, a mesh path that does not exist, a
-#                           colliders_root that names no node): step a few frames, write what the
-#                           nodes report, quit
+#                           colliders_root that names no node, bad bone attachments and bodies):
+#                           step a few frames, write what the nodes report, quit
 extends SceneTree
 
 var mode = ""
@@ -13,15 +15,21 @@ var n_frames = 0
 var flag = null
 var rest = null
 var broken = []
+var body = null
 var ticks = 0
 
 func _initialize():
 	mode = OS.get_environment("WEFT_GODOT_MODE")
 	out_path = OS.get_environment("WEFT_GODOT_OUT")
 	n_frames = int(OS.get_environment("WEFT_GODOT_FRAMES"))
-	var scene = load("res://flag.tscn").instance()
-	flag = scene.get_node("Flag")
+	var scene = load("res://skirt.tscn" if mode == "skirt" else "res://flag.tscn").instance()
+	flag = scene.get_node("Skirt" if mode == "skirt" else "Flag")
 	rest = flag.mesh.surface_get_arrays(0)
+	if mode == "skirt":
+		var b = scene.get_node("Body/BodyMesh")
+		body = {"transform": _transform_list(b.transform), "rest": _vec_list(b.mesh.get_mesh_arrays()[Mesh.ARRAY_VERTEX]),
+			"indices": Array(b.mesh.get_mesh_arrays()[Mesh.ARRAY_INDEX]),
+			"degrees_per_second": scene.get_node("Body").degrees_per_second}
 	if mode == "broken":
 		flag.stiffness_stretch = NAN   # refused: stays 4000
 		flag.colliders_root = NodePath("NoSuchNode")
@@ -31,6 +39,29 @@ func _initialize():
 		lost.set_script(load("res://weft_cloth.gdns"))
 		scene.add_child(lost)
 		broken.append(lost)
+		var sk = Skeleton.new()
+		sk.name = "Skeleton"
+		sk.add_bone("hips")
+		scene.add_child(sk)
+		# name: [attach_skeleton, attach_bones, attach_vertices, body]
+		var bad = {"NoSkeleton": ["NoSuchSkeleton", ["hips"], [PoolIntArray([0])], ""],
+			"NotSkeleton": ["../Ball", ["hips"], [PoolIntArray([0])], ""],
+			"NoBone": ["../Skeleton", ["nope"], [PoolIntArray([0])], ""],
+			"Mismatch": ["../Skeleton", ["hips"], [], ""],
+			"NotVertices": ["../Skeleton", ["hips"], ["zero"], ""],
+			"NoBody": ["", [], [], "NoSuchBody"],
+			"NotBody": ["", [], [], "../Ball"]}
+		for name in bad:
+			var m = MeshInstance.new()
+			m.name = name
+			m.mesh = PlaneMesh.new()
+			m.set_script(load("res://weft_cloth.gdns"))
+			m.attach_skeleton = NodePath(bad[name][0])
+			m.attach_bones = PoolStringArray(bad[name][1])
+			m.attach_vertices = bad[name][2]
+			m.body = NodePath(bad[name][3])
+			scene.add_child(m)
+			broken.append(m)
 	root.add_child(scene)
 
 func _transform_list(t):
@@ -51,7 +82,7 @@ func _iteration(delta):   # before the nodes' _physics_process
 	if stepped < n_frames and ticks < n_frames + 10:
 		return
 	var d = {"frames": stepped, "dt": delta, "simulating": flag.is_simulating()}
-	if mode == "flag":
+	if mode != "broken":
 		d["transform"] = _transform_list(flag.global_transform)
 		d["rest"] = _vec_list(rest[Mesh.ARRAY_VERTEX])
 		d["indices"] = Array(rest[Mesh.ARRAY_INDEX])
@@ -63,12 +94,18 @@ func _iteration(delta):   # before the nodes' _physics_process
 				"collider_thickness", "collider_friction"]:
 			material[k] = flag.get(k)
 		d["settings"] = material
-		var ball = flag.get_node("../Ball/Shape")
-		d["ball"] = {"center": [ball.global_transform.origin.x, ball.global_transform.origin.y,
-			ball.global_transform.origin.z], "radius": ball.shape.radius}
+		if mode == "flag":
+			var ball = flag.get_node("../Ball/Shape")
+			d["ball"] = {"center": [ball.global_transform.origin.x, ball.global_transform.origin.y,
+				ball.global_transform.origin.z], "radius": ball.shape.radius}
+		else:
+			d["attached"] = Array(flag.attach_vertices[0])
+			d["body"] = body
 	else:
 		d["stiffness_stretch"] = flag.stiffness_stretch
 		d["lost_simulating"] = broken[0].is_simulating()
+		for m in broken:
+			d[m.name + "_simulating"] = m.is_simulating()
 	var f = File.new()
 	f.open(out_path, File.WRITE)
 	f.store_string(to_json(d))

@@ -56,9 +56,10 @@ def transform_point(m, p):
     return [m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] for r in range(3)]
 
 
-def weft_scene(g, tmp):
-    rest = [g["rest"][3 * i:3 * i + 3] for i in range(len(g["rest"]) // 3)]
-    idx = g["indices"]
+def write_obj(rest_flat, idx, path):
+    """A Godot surface as an OBJ, triangles wound counter-clockwise, vertices in first-use order.
+    Returns that order (OBJ vertex k is Godot vertex order[k]) and its inverse."""
+    rest = [rest_flat[3 * i:3 * i + 3] for i in range(len(rest_flat) // 3)]
     tris = [(idx[t], idx[t + 2], idx[t + 1]) for t in range(0, len(idx), 3)]   # counter-clockwise
     order = []
     new_of = {}
@@ -69,30 +70,60 @@ def weft_scene(g, tmp):
                 order.append(v)
     if len(order) != len(rest):
         fail("the Godot mesh has vertices no triangle uses")
-    with open(os.path.join(tmp, "flag.obj"), "w") as f:
+    with open(path, "w") as f:
         for v in order:
             f.write("v %.9g %.9g %.9g\n" % tuple(rest[v]))
         for t in tris:
             f.write("f %d %d %d\n" % tuple(new_of[v] + 1 for v in t))
+    return order, new_of
+
+
+def settings_scene(g, name):
+    """The parts of a weft run scene every Godot scene shares: mesh, transform, settings, time."""
     s = g["settings"]
-    scene = {
-        "description": "host_glue/godot/example/flag.tscn as a weft run scene (test_godot.py)",
-        "mesh": {"file": "flag.obj"},
+    return {
+        "description": f"host_glue/godot/example/{name}.tscn as a weft run scene (test_godot.py)",
+        "mesh": {"file": f"{name}.obj"},
         "transform": g["transform"],
         "material": {"density": s["density"],
                      "k": {"stretch": s["stiffness_stretch"], "shear": s["stiffness_shear"],
                            "bend": s["stiffness_bend"]},
                      "d": {"stretch": s["damping_stretch"], "shear": s["damping_shear"],
                            "bend": s["damping_bend"]}},
+        "solver": {"type": "pcg", "tolerance": s["tolerance"], "max_iterations": s["max_iterations"]},
+        "time": {"fps": round(1.0 / g["dt"]), "substeps": s["substeps"], "frames": g["frames"]},
+    }
+
+
+def skirt_scene(g, tmp):
+    """skirt.tscn: the waist on the bone as pins spinning with the body, the body (its Godot mesh
+    as an OBJ) as a mesh collider with the same spin."""
+    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, "skirt.obj"))
+    b = g["body"]
+    write_obj(b["rest"], b["indices"], os.path.join(tmp, "body.obj"))
+    s = g["settings"]
+    spin = {"pivot": [0, 0, 0], "spin_axis": [0, 1, 0], "spin_deg_per_s": b["degrees_per_second"]}
+    scene = settings_scene(g, "skirt")
+    scene["pins"] = [{"vertices": [new_of[v] for v in g["attached"]], "motion": spin}]
+    scene["colliders"] = [{"type": "mesh", "file": "body.obj", "transform": b["transform"], "motion": spin,
+                           "thickness": s["collider_thickness"], "friction": s["collider_friction"]}]
+    path = os.path.join(tmp, "skirt.json")
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return path, order
+
+
+def weft_scene(g, tmp):
+    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, "flag.obj"))
+    s = g["settings"]
+    scene = settings_scene(g, "flag")
+    scene.update({
         "pins": [{"vertices": [new_of[v] for v in g["pinned"]]}],
         "colliders": [
             {"type": "sphere", "center": g["ball"]["center"], "radius": g["ball"]["radius"],
              "thickness": s["collider_thickness"], "friction": s["collider_friction"]},
             {"type": "plane", "normal": [0, 1, 0], "offset": 0,
-             "thickness": s["collider_thickness"], "friction": s["collider_friction"]}],
-        "solver": {"type": "pcg", "tolerance": s["tolerance"], "max_iterations": s["max_iterations"]},
-        "time": {"fps": round(1.0 / g["dt"]), "substeps": s["substeps"], "frames": g["frames"]},
-    }
+             "thickness": s["collider_thickness"], "friction": s["collider_friction"]}]})
     path = os.path.join(tmp, "flag.json")
     with open(path, "w") as f:
         json.dump(scene, f, indent=1)
@@ -102,6 +133,34 @@ def weft_scene(g, tmp):
 def read_obj(path):
     with open(path) as f:
         return [[float(x) for x in line.split()[1:4]] for line in f if line.startswith("v ")]
+
+
+def compare(server, project, weft_cli, tmp, mode, make_scene):
+    g, _ = run_godot(server, project, mode, os.path.join(tmp, mode + "_out.json"), tmp)
+    if not g["simulating"] or g["frames"] != FRAMES:
+        fail(f"the {mode} did not simulate {FRAMES} frames: {g['simulating']}, {g['frames']}")
+    scene, order = make_scene(g, tmp)
+    out = os.path.join(tmp, "weft_run_" + mode)
+    p = subprocess.run([weft_cli, "run", scene, "--out", out, "--quiet", "--threads", "1"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    print(f"--- weft run exit {p.returncode}\n{p.stdout}")
+    if p.returncode != 0:
+        fail("weft run failed")
+    ref = read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
+    m = g["transform"]
+    n = len(order)
+    godot_world = [transform_point(m, g["positions"][3 * i:3 * i + 3]) for i in range(n)]
+    rest_world = [transform_point(m, g["rest"][3 * i:3 * i + 3]) for i in range(n)]
+    diff = max(math.dist(godot_world[v], ref[k]) for k, v in enumerate(order))
+    motion = max(math.dist(godot_world[i], rest_world[i]) for i in range(n))
+    if any(not math.isfinite(x) for p in godot_world for x in p):
+        fail("non-finite positions from Godot")
+    print(f"{mode}, frame {FRAMES}: largest Godot - weft run distance {diff:.3g} m (limit {MAX_DIFF}), "
+          f"largest motion from rest {motion:.3g} m (at least {MIN_MOTION})")
+    if diff > MAX_DIFF:
+        fail(f"Godot's {mode} differs from weft run's")
+    if motion < MIN_MOTION:
+        fail(f"the {mode} barely moved")
 
 
 def main():
@@ -118,44 +177,36 @@ def main():
     with open(os.path.join(project, "weft.gdnlib"), "w") as f:
         f.write(gdnlib.replace("res://bin/libweft_godot.so", os.path.abspath(lib)))
 
-    # 1, 2: Godot against weft run
-    g, _ = run_godot(server, project, "flag", os.path.join(tmp, "flag_out.json"), tmp)
-    if not g["simulating"] or g["frames"] != FRAMES:
-        fail(f"the flag did not simulate {FRAMES} frames: {g['simulating']}, {g['frames']}")
-    scene, order = weft_scene(g, tmp)
-    out = os.path.join(tmp, "weft_run")
-    p = subprocess.run([weft_cli, "run", scene, "--out", out, "--quiet", "--threads", "1"],
-                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
-    print(f"--- weft run exit {p.returncode}\n{p.stdout}")
-    if p.returncode != 0:
-        fail("weft run failed")
-    ref = read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
-    m = g["transform"]
-    n = len(order)
-    godot_world = [transform_point(m, g["positions"][3 * i:3 * i + 3]) for i in range(n)]
-    rest_world = [transform_point(m, g["rest"][3 * i:3 * i + 3]) for i in range(n)]
-    diff = max(math.dist(godot_world[v], ref[k]) for k, v in enumerate(order))
-    motion = max(math.dist(godot_world[i], rest_world[i]) for i in range(n))
-    if any(not math.isfinite(x) for p in godot_world for x in p):
-        fail("non-finite positions from Godot")
-    print(f"frame {FRAMES}: largest Godot - weft run distance {diff:.3g} m (limit {MAX_DIFF}), "
-          f"largest motion from rest {motion:.3g} m (at least {MIN_MOTION})")
-    if diff > MAX_DIFF:
-        fail("Godot's flag differs from weft run's")
-    if motion < MIN_MOTION:
-        fail("the flag barely moved")
+    # 1, 2: Godot against weft run, the flag and the skirt
+    compare(server, project, weft_cli, tmp, "flag", weft_scene)
+    compare(server, project, weft_cli, tmp, "skirt", skirt_scene)
 
     # 3: broken settings
     b, log = run_godot(server, project, "broken", os.path.join(tmp, "broken_out.json"), tmp)
     expected = ["property stiffness_stretch = nan is not a finite number",
                 "no_such_mesh.tres",
                 "WeftCloth 'Lost': the MeshInstance has no mesh",
-                "colliders_root 'NoSuchNode' is not a node"]
+                "colliders_root 'NoSuchNode' is not a node",
+                "WeftCloth 'NoSkeleton': attach_skeleton 'NoSuchSkeleton' is not a node",
+                "WeftCloth 'NotSkeleton': attach_skeleton '../Ball' is not a Skeleton",
+                "WeftCloth 'NoBone': attach_bones[0] 'nope' is not a bone of Skeleton '../Skeleton'",
+                "WeftCloth 'Mismatch': attach_bones has 1 names but attach_vertices 0 vertex lists",
+                "WeftCloth 'NotVertices': attach_vertices[0] is not a PoolIntArray of vertex indices",
+                "WeftCloth 'NoBody': body 'NoSuchBody' is not a node: no mesh collider",
+                "WeftCloth 'NotBody': body '../Ball' is not a MeshInstance: no mesh collider"]
     for e in expected:
         if e not in log:
             fail(f"no error containing {e!r}")
     if b["stiffness_stretch"] != 4000 or b["lost_simulating"] or not b["simulating"]:
         fail(f"broken settings: {b}")
+    # a bad attachment leaves its cloth unbuilt (it would fall off); a bad body only loses the
+    # collider
+    for name in ["NoSkeleton", "NotSkeleton", "NoBone", "Mismatch", "NotVertices"]:
+        if b[name + "_simulating"]:
+            fail(f"{name} simulates despite its bad attachment: {b}")
+    for name in ["NoBody", "NotBody"]:
+        if not b[name + "_simulating"]:
+            fail(f"{name} does not simulate: {b}")
     print("broken settings: each named in a Godot error, no crash; the flag still simulates")
     shutil.rmtree(tmp)
     print("PASS")

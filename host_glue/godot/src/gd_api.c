@@ -62,13 +62,10 @@ godot_object* gd_get_node(godot_object* node, const godot_node_path* path) {
     return o;
 }
 
-void gd_global_transform(godot_object* spatial, float m[16], float scale[3]) {
-    godot_variant v = gd_call(spatial, "get_global_transform", 0, NULL, NULL);
-    godot_transform t = gd->godot_variant_as_transform(&v);
-    gd->godot_variant_destroy(&v);
+void gd_rigid_matrix(const godot_transform* t, float m[16], float scale[3]) {
     float e[12];   /* Transform: basis rows (elements[3], Vector3 each), then the origin */
     _Static_assert(sizeof(godot_transform) == sizeof e, "Godot's real_t is float");
-    memcpy(e, &t, sizeof e);
+    memcpy(e, t, sizeof e);
     for (int c = 0; c < 3; c++) {
         float col[3] = {e[0 * 3 + c], e[1 * 3 + c], e[2 * 3 + c]};
         float len = sqrtf(col[0] * col[0] + col[1] * col[1] + col[2] * col[2]);
@@ -90,6 +87,28 @@ void gd_global_transform(godot_object* spatial, float m[16], float scale[3]) {
     m[13] = e[10];
     m[14] = e[11];
     m[15] = 1.0f;
+}
+
+void gd_global_transform(godot_object* spatial, float m[16], float scale[3]) {
+    godot_variant v = gd_call(spatial, "get_global_transform", 0, NULL, NULL);
+    godot_transform t = gd->godot_variant_as_transform(&v);
+    gd->godot_variant_destroy(&v);
+    gd_rigid_matrix(&t, m, scale);
+}
+
+void gd_bone_global_transform(godot_object* skeleton, int bone, float m[16]) {
+    godot_variant sv = gd_call(skeleton, "get_global_transform", 0, NULL, NULL);
+    godot_transform s = gd->godot_variant_as_transform(&sv);
+    godot_variant arg;
+    gd->godot_variant_new_int(&arg, bone);
+    const godot_variant* args[1] = {&arg};
+    godot_variant pv = gd_call(skeleton, "get_bone_global_pose", 1, args, NULL);
+    godot_transform p = gd->godot_variant_as_transform(&pv);
+    godot_transform w = gd->godot_transform_operator_multiply(&s, &p);
+    gd_rigid_matrix(&w, m, NULL);
+    gd->godot_variant_destroy(&pv);
+    gd->godot_variant_destroy(&arg);
+    gd->godot_variant_destroy(&sv);
 }
 
 static void gd_report(int error, const char* fmt, va_list ap) {

@@ -23,9 +23,14 @@ int gd_is_class(godot_object* obj, const char* name);
 /* node.get_node_or_null(path) for a path given as text. */
 godot_object* gd_get_node(godot_object* node, const godot_node_path* path);
 
-/* A node's global transform as a column-major rigid 4x4 (weft.h's convention): the basis is
- * orthonormalised, and its column lengths (the scale) go to scale when not NULL. */
+/* A Transform as a column-major rigid 4x4 (weft.h's convention): the basis is orthonormalised,
+ * and its column lengths (the scale) go to scale when not NULL. */
+void gd_rigid_matrix(const godot_transform* t, float m[16], float scale[3]);
+/* A node's global transform, as gd_rigid_matrix makes it. */
 void gd_global_transform(godot_object* spatial, float m[16], float scale[3]);
+/* A Skeleton bone's world transform (the skeleton's global transform times the bone's global
+ * pose: its rest, custom pose and animated pose), rigid. */
+void gd_bone_global_transform(godot_object* skeleton, int bone, float m[16]);
 
 /* Errors and warnings through Godot's own (stderr, the editor's Errors tab). printf-style. */
 void gd_error(const char* fmt, ...) __attribute__((format(printf, 1, 2)));

@@ -6,8 +6,9 @@
 #include <string.h>
 
 #include "weft_cloth_node.h"
+#include "wgd_mesh.h"
 
-enum { GD_ARRAY_VERTEX = 0, GD_ARRAY_NORMAL = 1, GD_ARRAY_INDEX = 8, GD_PRIMITIVE_TRIANGLES = 4 };
+enum { GD_PRIMITIVE_TRIANGLES = 4 };
 
 static void* cloth_create(godot_object* owner, void* method_data) {
     (void)method_data;
@@ -32,6 +33,13 @@ static void* cloth_create(godot_object* owner, void* method_data) {
     godot_string parent = gd->godot_string_chars_to_utf8("..");
     gd->godot_node_path_new(&c->colliders_root, &parent);
     gd->godot_string_destroy(&parent);
+    godot_string empty;
+    gd->godot_string_new(&empty);
+    godot_node_path* paths[4] = {&c->attach_skeleton, &c->body, &c->skeleton_path, &c->body_path};
+    for (int i = 0; i < 4; i++) gd->godot_node_path_new(paths[i], &empty);
+    gd->godot_string_destroy(&empty);
+    gd->godot_pool_string_array_new(&c->attach_bones);
+    gd->godot_array_new(&c->attach_vertices);
     gd->godot_variant_new_nil(&c->mesh);
     gd->godot_variant_new_nil(&c->material);
     return c;
@@ -46,6 +54,8 @@ static void cloth_release(wgd_cloth* c) {
     c->positions = c->normals = NULL;
     for (int i = 0; i < c->n_colliders; i++) gd->godot_node_path_destroy(&c->colliders[i].path);
     c->n_colliders = 0;
+    c->n_attachments = c->first_bone = 0;
+    c->has_body = 0;
     if (c->has_arrays) gd->godot_array_destroy(&c->arrays);
     c->has_arrays = 0;
 }
@@ -60,6 +70,10 @@ static void cloth_destroy(godot_object* owner, void* method_data, void* user) {
     gd->godot_variant_destroy(&c->material);
     gd->godot_pool_int_array_destroy(&c->pinned_vertices);
     gd->godot_node_path_destroy(&c->colliders_root);
+    godot_node_path* paths[4] = {&c->attach_skeleton, &c->body, &c->skeleton_path, &c->body_path};
+    for (int i = 0; i < 4; i++) gd->godot_node_path_destroy(paths[i]);
+    gd->godot_pool_string_array_destroy(&c->attach_bones);
+    gd->godot_array_destroy(&c->attach_vertices);
     free(c);
 }
 
@@ -74,8 +88,8 @@ static void weft_log(weft_log_level level, const char* message, void* user) {
     }
 }
 
-/* The node's surface 0 as Weft host arrays: positions (scaled by the node's scale) and triangles
- * wound counter-clockwise (Godot's front faces are clockwise). */
+/* The node's surface 0 as Weft host arrays (wgd_mesh.h), its arrays and material kept for
+ * write_mesh. */
 static int read_surface(wgd_cloth* c, float** pos, int** tris, int* n_tris) {
     char name[128];
     gd_node_name(c->owner, name, sizeof name);
@@ -87,52 +101,17 @@ static int read_surface(wgd_cloth* c, float** pos, int** tris, int* n_tris) {
     godot_variant zero;
     gd->godot_variant_new_int(&zero, 0);
     const godot_variant* args[1] = {&zero};
-    godot_variant av = gd_call(mesh, "surface_get_arrays", 1, args, NULL);
     godot_variant mat = gd_call(mesh, "surface_get_material", 1, args, NULL);
+    gd->godot_variant_destroy(&zero);
     gd->godot_variant_destroy(&c->material);
     c->material = mat;
-    c->arrays = gd->godot_variant_as_array(&av);
+    int has = wgd_mesh_surface(mesh, &c->arrays);
     c->has_arrays = 1;
-    gd->godot_variant_destroy(&av);
-    if (gd->godot_array_size(&c->arrays) <= GD_ARRAY_INDEX) {
+    if (!has) {
         gd_error("WeftCloth '%s': the mesh has no surface 0", name);
         return 0;
     }
-    godot_variant vv = gd->godot_array_get(&c->arrays, GD_ARRAY_VERTEX);
-    godot_pool_vector3_array verts = gd->godot_variant_as_pool_vector3_array(&vv);
-    godot_variant iv = gd->godot_array_get(&c->arrays, GD_ARRAY_INDEX);
-    godot_pool_int_array idx = gd->godot_variant_as_pool_int_array(&iv);
-    int n = (int)gd->godot_pool_vector3_array_size(&verts);
-    int ni = (int)gd->godot_pool_int_array_size(&idx);
-    int nt = ni > 0 ? ni / 3 : n / 3;
-    *pos = malloc((size_t)(n > 0 ? n : 1) * 3 * sizeof(float));
-    *tris = malloc((size_t)(nt > 0 ? nt : 1) * 3 * sizeof(int));
-    if (*pos && *tris) {
-        godot_pool_vector3_array_read_access* r = gd->godot_pool_vector3_array_read(&verts);
-        const float* v = (const float*)gd->godot_pool_vector3_array_read_access_ptr(r);
-        for (int i = 0; i < n; i++) {
-            for (int k = 0; k < 3; k++) (*pos)[3 * i + k] = v[3 * i + k] * c->scale[k];
-        }
-        gd->godot_pool_vector3_array_read_access_destroy(r);
-        godot_pool_int_array_read_access* ir = gd->godot_pool_int_array_read(&idx);
-        const godot_int* ip = gd->godot_pool_int_array_read_access_ptr(ir);
-        for (int t = 0; t < nt; t++) {
-            int a = ni > 0 ? ip[3 * t] : 3 * t, b = ni > 0 ? ip[3 * t + 1] : 3 * t + 1;
-            int d = ni > 0 ? ip[3 * t + 2] : 3 * t + 2;
-            (*tris)[3 * t] = a;
-            (*tris)[3 * t + 1] = d;
-            (*tris)[3 * t + 2] = b;
-        }
-        gd->godot_pool_int_array_read_access_destroy(ir);
-    }
-    gd->godot_pool_int_array_destroy(&idx);
-    gd->godot_variant_destroy(&iv);
-    gd->godot_pool_vector3_array_destroy(&verts);
-    gd->godot_variant_destroy(&vv);
-    gd->godot_variant_destroy(&zero);
-    *n_tris = nt;
-    c->n_vertices = n;
-    return *pos && *tris && n > 0 && nt > 0;
+    return wgd_mesh_triangles(&c->arrays, c->scale, pos, &c->n_vertices, tris, n_tris);
 }
 
 /* Replace the surface's vertex and normal arrays with the result and show it. */
@@ -148,7 +127,7 @@ static void write_mesh(wgd_cloth* c) {
         gd->godot_pool_vector3_array_write_access_destroy(w);
         godot_variant v;
         gd->godot_variant_new_pool_vector3_array(&v, &arr[k]);
-        gd->godot_array_set(&c->arrays, k == 0 ? GD_ARRAY_VERTEX : GD_ARRAY_NORMAL, &v);
+        gd->godot_array_set(&c->arrays, k == 0 ? WGD_ARRAY_VERTEX : WGD_ARRAY_NORMAL, &v);
         gd->godot_variant_destroy(&v);
         gd->godot_pool_vector3_array_destroy(&arr[k]);
     }
@@ -204,7 +183,14 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     float* pos = NULL;
     int* tris = NULL;
     int n_tris = 0;
+    int* pins = NULL;
+    int* bone_vertices = NULL;
+    int* sizes = NULL;
+    float* body_pos = NULL;
+    int* body_tris = NULL;
     weft_collider_def colliders[WGD_MAX_COLLIDERS];
+    weft_attachment_def attachments[1 + WGD_MAX_BONE_ATTACHMENTS];
+    weft_mesh_collider_def body;
     if (!read_surface(c, &pos, &tris, &n_tris)) goto fail;
     c->positions = malloc((size_t)c->n_vertices * 3 * sizeof(float));
     c->normals = malloc((size_t)c->n_vertices * 3 * sizeof(float));
@@ -215,7 +201,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     d.mesh.n_vertices = c->n_vertices;
     d.mesh.indices = tris;
     d.mesh.n_faces = n_tris;
-    int* sizes = malloc((size_t)n_tris * sizeof(int));
+    sizes = malloc((size_t)n_tris * sizeof(int));
     if (!sizes) goto fail;
     for (int t = 0; t < n_tris; t++) sizes[t] = 3;
     d.mesh.face_sizes = sizes;
@@ -230,33 +216,40 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     d.substeps = (int)c->substeps;
     d.max_iterations = (int)c->max_iterations;
 
-    weft_attachment_def pin = weft_default_attachment_def();
     godot_pool_int_array_read_access* pr = gd->godot_pool_int_array_read(&c->pinned_vertices);
     int n_pins = (int)gd->godot_pool_int_array_size(&c->pinned_vertices);
-    int* pins = malloc((size_t)(n_pins > 0 ? n_pins : 1) * sizeof(int));
+    pins = malloc((size_t)(n_pins > 0 ? n_pins : 1) * sizeof(int));
     if (pins) {
         const godot_int* p = gd->godot_pool_int_array_read_access_ptr(pr);
         for (int i = 0; i < n_pins; i++) pins[i] = (int)p[i];
     }
     gd->godot_pool_int_array_read_access_destroy(pr);
-    if (!pins) {
-        free(sizes);
-        goto fail;
+    if (!pins) goto fail;
+    c->n_attachments = 0;
+    if (n_pins > 0) {   /* the pins follow the node: attachment slot 0 */
+        attachments[0] = weft_default_attachment_def();
+        attachments[0].vertices = pins;
+        attachments[0].n_vertices = n_pins;
+        memcpy(attachments[0].bind_transform, object, sizeof object);
+        c->n_attachments = 1;
     }
-    pin.vertices = pins;
-    pin.n_vertices = n_pins;
-    memcpy(pin.bind_transform, object, sizeof object);   /* pins follow the node */
-    d.n_attachments = n_pins > 0 ? 1 : 0;
-    d.attachments = &pin;
+    if (wgd_cloth_bone_attachments(c, attachments + c->n_attachments, &bone_vertices) < 0) goto fail;
+    d.n_attachments = c->n_attachments;
+    d.attachments = attachments;
     d.n_colliders = wgd_cloth_find_colliders(c, colliders);
     d.colliders = colliders;
+    d.n_mesh_colliders = wgd_cloth_body_collider(c, &body, &body_pos, &body_tris);
+    d.mesh_colliders = &body;
 
     weft_status s = weft_cloth_create(c->ctx, &d, &c->cloth);   /* a failure is logged */
-    free(sizes);
-    free(pins);
     if (s != WEFT_OK || !fetch_result(c)) goto fail;
     free(pos);
     free(tris);
+    free(sizes);
+    free(pins);
+    free(bone_vertices);
+    free(body_pos);
+    free(body_tris);
 
     godot_class_constructor make = gd->godot_get_class_constructor("ArrayMesh");
     gd->godot_variant_destroy(&c->mesh);
@@ -270,6 +263,11 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
 fail:
     free(pos);
     free(tris);
+    free(sizes);
+    free(pins);
+    free(bone_vertices);
+    free(body_pos);
+    free(body_tris);
     cloth_release(c);
     return nil;
 }
@@ -284,11 +282,15 @@ static godot_variant cloth_physics_process(godot_object* owner, void* md, void* 
     float object[16];
     gd_global_transform(c->owner, object, NULL);
     wgd_cloth_collider_transforms(c);
+    wgd_cloth_bone_transforms(c);
+    wgd_cloth_body_transform(c);
+    if (c->first_bone > 0) memcpy(c->attach_xf, object, sizeof object);   /* the pins: on the node */
     weft_frame fr = weft_default_frame();
     fr.dt = gd->godot_variant_as_real(argv[0]);
     fr.object_transform = object;
-    fr.attachment_transforms = object;   /* at most one attachment: the pins, on the node */
+    fr.attachment_transforms = c->n_attachments > 0 ? c->attach_xf : NULL;
     fr.collider_transforms = c->n_colliders > 0 ? c->collider_xf : NULL;
+    fr.mesh_collider_transforms = c->has_body ? c->body_xf : NULL;
     if (weft_cloth_step(c->ctx, c->cloth, &fr, NULL) != WEFT_OK) return nil;   /* logged; unchanged */
     if (fetch_result(c)) write_mesh(c);
     c->frames++;

@@ -12,6 +12,7 @@
 
 /* The godot plugin's names start with wgd_ (gpu/ owns wg_). */
 #define WGD_MAX_COLLIDERS 64
+#define WGD_MAX_BONE_ATTACHMENTS 64
 
 typedef struct wgd_collider {
     godot_node_path path;       /* the CollisionShape, from the WeftCloth node (looked up every
@@ -35,6 +36,10 @@ typedef struct wgd_cloth {
     godot_node_path colliders_root;
     double collider_thickness;
     double collider_friction;
+    godot_node_path attach_skeleton;        /* a Skeleton; empty: no bone attachments */
+    godot_pool_string_array attach_bones;   /* bone names ... */
+    godot_array attach_vertices;            /* ... and a PoolIntArray of vertices for each */
+    godot_node_path body;                   /* a MeshInstance: a mesh collider; empty: none */
 
     /* built at _ready */
     weft_context* ctx;
@@ -46,6 +51,14 @@ typedef struct wgd_cloth {
     float collider_xf[WGD_MAX_COLLIDERS * 16]; /* (n_colliders x 16) world */
     int n_colliders;
     wgd_collider colliders[WGD_MAX_COLLIDERS];
+    int n_attachments;          /* the pins' (when there are pins: slot 0), then the bones' */
+    int first_bone;             /* the first bone's slot */
+    int bone_index[WGD_MAX_BONE_ATTACHMENTS];
+    godot_node_path skeleton_path;   /* attach_skeleton as _ready found it */
+    float attach_xf[(1 + WGD_MAX_BONE_ATTACHMENTS) * 16]; /* (n_attachments x 16) world */
+    int has_body;
+    godot_node_path body_path;  /* body as _ready found it */
+    float body_xf[16];          /* the body's world transform (rigid; its scale is in the mesh) */
     godot_array arrays;         /* the surface's arrays, vertex and normal replaced each frame */
     godot_variant mesh;         /* the ArrayMesh the node shows (held: a reference) */
     godot_variant material;     /* the source surface's material */
@@ -62,5 +75,21 @@ void wgd_cloth_register_properties(void* handle);
 int wgd_cloth_find_colliders(wgd_cloth* c, weft_collider_def* defs);
 /* Each collider's current world transform into c->collider_xf. */
 void wgd_cloth_collider_transforms(wgd_cloth* c);
+
+/* Bone attachments (attach_skeleton, attach_bones, attach_vertices), one def each into defs (at
+ * most WGD_MAX_BONE_ATTACHMENTS), their vertex lists in *storage (malloc'ed; the caller frees
+ * it), the bones into c. Returns the count (0: none asked), or -1 after a Godot error naming
+ * the property at fault. */
+int wgd_cloth_bone_attachments(wgd_cloth* c, weft_attachment_def* defs, int** storage);
+/* Each bone's current world transform into c->attach_xf from slot c->first_bone. */
+void wgd_cloth_bone_transforms(wgd_cloth* c);
+
+/* The body (a MeshInstance) as a rigid mesh collider: its surface 0 with its node's scale baked
+ * in, at its node's global transform. *pos and *tris (malloc'ed) back def->mesh until the cloth
+ * is built; the caller frees them. Returns 1 (c->has_body), 0 when body is empty or after a
+ * Godot error naming it (no mesh collider then). */
+int wgd_cloth_body_collider(wgd_cloth* c, weft_mesh_collider_def* def, float** pos, int** tris);
+/* The body's current world transform into c->body_xf (kept when the node is gone). */
+void wgd_cloth_body_transform(wgd_cloth* c);
 
 #endif

@@ -8,7 +8,7 @@
 
 #include "weft_cloth_node.h"
 
-typedef enum { P_REAL, P_INT, P_VECTOR3, P_INT_ARRAY, P_NODE_PATH } prop_kind;
+typedef enum { P_REAL, P_INT, P_VECTOR3, P_INT_ARRAY, P_NODE_PATH, P_STRING_ARRAY, P_ARRAY } prop_kind;
 
 typedef struct prop {
     const char* name;
@@ -36,6 +36,10 @@ static const prop PROPS[] = {
     {"colliders_root", P_NODE_PATH, F(colliders_root), GODOT_PROPERTY_HINT_NONE, ""},
     {"collider_thickness", P_REAL, F(collider_thickness), GODOT_PROPERTY_HINT_NONE, ""},  /* m */
     {"collider_friction", P_REAL, F(collider_friction), GODOT_PROPERTY_HINT_NONE, ""},
+    {"attach_skeleton", P_NODE_PATH, F(attach_skeleton), GODOT_PROPERTY_HINT_NONE, ""},
+    {"attach_bones", P_STRING_ARRAY, F(attach_bones), GODOT_PROPERTY_HINT_NONE, ""},
+    {"attach_vertices", P_ARRAY, F(attach_vertices), GODOT_PROPERTY_HINT_NONE, ""},
+    {"body", P_NODE_PATH, F(body), GODOT_PROPERTY_HINT_NONE, ""},
 };
 #undef F
 
@@ -46,6 +50,8 @@ static godot_variant_type variant_type(prop_kind k) {
     case P_VECTOR3: return GODOT_VARIANT_TYPE_VECTOR3;
     case P_INT_ARRAY: return GODOT_VARIANT_TYPE_POOL_INT_ARRAY;
     case P_NODE_PATH: return GODOT_VARIANT_TYPE_NODE_PATH;
+    case P_STRING_ARRAY: return GODOT_VARIANT_TYPE_POOL_STRING_ARRAY;
+    case P_ARRAY: return GODOT_VARIANT_TYPE_ARRAY;
     }
     return GODOT_VARIANT_TYPE_NIL;
 }
@@ -65,6 +71,10 @@ static godot_variant get_value(const prop* p, const wgd_cloth* c) {
     }
     case P_INT_ARRAY: gd->godot_variant_new_pool_int_array(&v, (const godot_pool_int_array*)field); break;
     case P_NODE_PATH: gd->godot_variant_new_node_path(&v, (const godot_node_path*)field); break;
+    case P_STRING_ARRAY:
+        gd->godot_variant_new_pool_string_array(&v, (const godot_pool_string_array*)field);
+        break;
+    case P_ARRAY: gd->godot_variant_new_array(&v, (const godot_array*)field); break;
     default: gd->godot_variant_new_nil(&v); break;
     }
     return v;
@@ -111,6 +121,18 @@ static void set_value(godot_object* owner, void* method_data, void* user, godot_
         godot_node_path np = gd->godot_variant_as_node_path(value);
         gd->godot_node_path_destroy((godot_node_path*)field);
         *(godot_node_path*)field = np;
+        break;
+    }
+    case P_STRING_ARRAY: {
+        godot_pool_string_array a = gd->godot_variant_as_pool_string_array(value);
+        gd->godot_pool_string_array_destroy((godot_pool_string_array*)field);
+        *(godot_pool_string_array*)field = a;
+        break;
+    }
+    case P_ARRAY: {
+        godot_array a = gd->godot_variant_as_array(value);
+        gd->godot_array_destroy((godot_array*)field);
+        *(godot_array*)field = a;
         break;
     }
     }
