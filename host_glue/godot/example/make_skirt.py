@@ -1,6 +1,7 @@
 """Writes skirt.tscn: a skirt (an open cone, SEGMENTS around x RINGS down, as an ArrayMesh in the
-scene) attached at its waist ring to the bone "hips" of a Skeleton inside a turning body (a
-cylinder: the skirt's mesh collider). Run: python3 make_skirt.py > skirt.tscn"""
+scene) attached at its waist ring to the bone "hips" of a Skeleton inside a turning body (a cone
+widening from the waist to below the hem, 3 mm inside the skirt, within the collider's
+thickness: the skirt rests on it from the start, and its friction turns the skirt). Run: python3 make_skirt.py > skirt.tscn"""
 import math
 
 SEGMENTS, RINGS = 24, 7
@@ -34,7 +35,7 @@ surfaces/0 = {{
 
 [sub_resource type="CylinderMesh" id=2]
 top_radius = 0.11
-bottom_radius = 0.11
+bottom_radius = 0.45
 height = 1.0
 radial_segments = 24
 rings = 1
