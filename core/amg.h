@@ -40,9 +40,10 @@
  * Rebuilt by every solve (wc_amg_setup, no allocation): the projected fine operator, the block
  * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (Lanczos from a fixed start,
  * wc_amg_opts.power_iterations steps on the finest level and WC_AMG_COARSE_LANCZOS on the others,
- * times WC_AMG_SAFETY; amg_eigen.c), the smoothed prolongator P = (I - omega_p D^-1 P^_F) P_tent
- * (P^_F: weak blocks lumped onto the diagonal), the Galerkin operators and the coarsest level's
- * dense Cholesky factor.
+ * times WC_AMG_SAFETY; amg_eigen.c; while wc_amg.hold_bounds is set, a setup may reuse the last
+ * fresh estimates instead: wc_amg_opts.bound_reuse), the smoothed prolongator
+ * P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal), the Galerkin
+ * operators and the coarsest level's dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
  * D^-1 A, the same before and after the coarse correction), an exact solve on the coarsest level.
  * The eigenvalue must be estimated, not bounded (a Gershgorin bound leaves the smoother doing
@@ -138,6 +139,12 @@ typedef struct wc_amg_opts {
     int cross_dense_dofs;       /* a coarse level with at most this many unknowns holds its couplings
                                    as one dense matrix (wc_amg_cross.dense): WC_AMG_CROSS_DENSE_DOFS
                                    (0: term lists on every level, tests) */
+    int bound_reuse;            /* while wc_amg.hold_bounds is set, up to this many setups in a row
+                                   skip the eigenvalue estimates and take the last fresh setup's
+                                   per level x bound_margin (the Galerkin products are still
+                                   redone); 0: every setup estimates (see wc_amg.hold_bounds) */
+    double bound_margin;        /* >= 1: a reused estimate x this (the matrix may have stiffened
+                                   since; a bound above lambda_max only weakens the smoother) */
     int values;                 /* 1 (default): the arrays a setup and a V-cycle fill; 0: the
                                    patterns and aggregates only (wc_amg_setup and wc_amg_apply must
                                    not be called): what the GPU's multigrid uploads (gpu/solver/
@@ -196,6 +203,8 @@ typedef struct wc_amg_level {
     int* pair_blk;              /* (n) group 2: block (i, i ^ 1) in row i (rows 2a and 2a + 1
                                    have the same columns) */
     double bound;               /* estimate of the largest eigenvalue of D^-1 A (per solve) */
+    double estimate;            /* the last fresh estimate (before WC_AMG_SAFETY), what a setup
+                                   that reuses bounds scales (wc_amg_opts.bound_reuse) */
     double* ev;                 /* (n x 3) the power iterations' vector */
     double* partial;            /* (ceil(n / 256) x 2) per-chunk partial sums (thread-count free) */
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
@@ -255,6 +264,15 @@ typedef struct wc_amg {
                                    over every setup */
     int cross_terms[WC_AMG_MAX_LEVELS]; /* terms each level held at the last setup (a stat: fewer
                                    than the active terms where some did not fit) */
+    int hold_bounds;            /* set by the caller around solves whose matrices are close (a
+                                   substep's Newton solves after its first): while set, setups
+                                   reuse the estimates (wc_amg_opts.bound_reuse); 0: every setup
+                                   estimates afresh. Only a setup with it set reuses, so a solve
+                                   depends on its own system and the substep's first one */
+    int bound_age;              /* setups that reused the estimates since the last fresh one */
+    int bounds_reused;          /* 1: the last setup reused the estimates */
+    long bound_fallbacks;       /* solves that failed on reused bounds and were redone with a
+                                   fresh setup (solve_pcg.c) */
     const double* pos;          /* (n x 3) m, borrowed: with rotations and current_positions, the
                                    positions every setup takes the rotations about (the state's
                                    x, wc_solver_set_positions); NULL: the rest positions' P_tent

@@ -1,6 +1,7 @@
 /* The largest eigenvalue of D^-1 A on one multigrid level (amg.h), the Chebyshev smoother's and
- * the prolongator smoothing's bound; rebuilt by every setup from a fixed start vector
- * (wc_amg_start_vector), so a solve depends on its system only (snapshots restore bit-exactly).
+ * the prolongator smoothing's bound; rebuilt by every setup (but those that reuse the last one's,
+ * wc_amg_opts.bound_reuse) from a fixed start vector (wc_amg_start_vector), so an estimate depends
+ * on its system only (snapshots restore bit-exactly).
  * Two estimators, both lower bounds of lambda_max (a Rayleigh quotient, a Ritz value), times
  * WC_AMG_SAFETY:
  *   - Lanczos (wc_amg_opts.lanczos = 1, the default): k steps of the symmetric Lanczos process

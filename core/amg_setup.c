@@ -155,15 +155,22 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
 }
 
 /* L->bound: the largest eigenvalue of D^-1 A (amg_eigen.c) x WC_AMG_SAFETY; fine: the finest
- * level (its iterations are wc_amg_opts.power_iterations, the coarse levels' coarse_iterations). */
-static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, wc_par* par) {
+ * level (its iterations are wc_amg_opts.power_iterations, the coarse levels' coarse_iterations).
+ * reuse: the level's last fresh estimate x bound_margin instead (wc_amg_opts.bound_reuse). */
+static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, int reuse, wc_par* par) {
     const wc_amg_opts* o = &a->opts;
     int steps = fine ? o->power_iterations
                      : o->coarse_iterations > 0 ? o->coarse_iterations
                      : o->lanczos ? WC_AMG_COARSE_LANCZOS
                                   : WC_AMG_COARSE_POWER;
     if (fine && L->cross && L->cross->n_terms > 0 && steps < WC_AMG_CROSS_LANCZOS) steps = WC_AMG_CROSS_LANCZOS;
-    double lambda = wc_amg_eigen_estimate(L, steps, o->lanczos, o->pair_blocks, par);
+    double lambda;
+    if (reuse) {
+        lambda = o->bound_margin * L->estimate;
+    } else {
+        lambda = wc_amg_eigen_estimate(L, steps, o->lanczos, o->pair_blocks, par);
+        L->estimate = lambda;
+    }
     L->bound = lambda > 0 ? WC_AMG_SAFETY * lambda : 2.0;
     /* seams (amg.h, WC_AMG_SEAM_BOUND): the power method misses their local modes; Lanczos finds
        them (tests/test_amg_setup.c, the sewn tube: 1.1 x its estimate >= 1.03 lambda_max where
@@ -460,6 +467,10 @@ static void lap(wc_amg* a, wc_amg_phase p, double* t) {
 
 void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     double t0 = wc_now_ms(), t = wc_cpu_ms();
+    /* reuse the estimates only after a fresh setup, and bound_reuse times in a row at most */
+    const int reuse = a->hold_bounds && a->setups > 0 && a->bound_age < a->opts.bound_reuse;
+    a->bound_age = reuse ? a->bound_age + 1 : 0;
+    a->bounds_reused = reuse;
     if (a->opts.rotations && a->opts.current_positions && a->pos && a->n_levels > 1) {
         /* P_tent and the R factors about the current positions (amg.h), level by level */
         wc_amg_rigid_modes(&a->lev[0], a->pos);
@@ -473,7 +484,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
         diagonal(L, a->opts.pair_blocks, par);
         lap(a, WC_AMG_PHASE_DIAGONAL, &t);
-        largest_eigenvalue(a, L, l == 0, par);
+        largest_eigenvalue(a, L, l == 0, reuse, par);
         lap(a, l == 0 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
         prolongator(L, a->opts.prolong_weight, par);
         lap(a, WC_AMG_PHASE_PROLONG, &t);
@@ -488,7 +499,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     } else {
         diagonal(&a->lev[a->n_levels - 1], a->opts.pair_blocks, par);
         lap(a, WC_AMG_PHASE_DIAGONAL, &t);
-        largest_eigenvalue(a, &a->lev[a->n_levels - 1], a->n_levels == 1, par);
+        largest_eigenvalue(a, &a->lev[a->n_levels - 1], a->n_levels == 1, reuse, par);
         lap(a, a->n_levels == 1 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
     }
     ++a->setups;

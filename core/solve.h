@@ -77,6 +77,12 @@ void wc_solver_destroy(wc_solver* s);
  * the model's rest positions. No effect without the multigrid or its rotations. */
 void wc_solver_set_positions(wc_solver* s, const double* x);
 
+/* hold 1: the solves that follow have matrices close to the last one's (a substep's Newton
+ * solves after its first), so the multigrid may reuse that solve's eigenvalue estimates
+ * (amg.h, wc_amg_opts.bound_reuse; a solve that fails on them is redone with fresh ones);
+ * hold 0 (the default): every solve estimates afresh. No effect without the multigrid. */
+void wc_solver_hold_bounds(wc_solver* s, int hold);
+
 /* The residual's floor (absolute, the units of S (b - A z); >= 0, finite; 0, the default: none):
  * solves stop at tolerance x max(||S (b - A z)||, floor) instead of tolerance x ||S (b - A z)||.
  * A relative tolerance alone asks a cloth at rest (its forces balanced, its right-hand side

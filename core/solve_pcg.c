@@ -64,7 +64,22 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
     if (amg) wc_amg_setup(s->amg, A, f, par);
     else wcs_build_precond(s, A, f, par);
     res->setup_ms += wc_now_ms() - t_setup;
-    return wcs_pcg_run(s, A, b, f, dv, par, res, amg ? pcg_update_amg : wcs_pcg_update);
+    wc_status st = wcs_pcg_run(s, A, b, f, dv, par, res, amg ? pcg_update_amg : wcs_pcg_update);
+    if (amg && s->amg->bounds_reused && (st != WC_OK || !res->converged)) {
+        /* the reused eigenvalue bounds may have fallen short of this matrix's (the smoother then
+           amplifies the modes above them and the V-cycle can turn indefinite): a fresh setup, and
+           PCG again from the last iterate */
+        int it = res->iterations, hold = s->amg->hold_bounds;
+        ++s->amg->bound_fallbacks;
+        t_setup = wc_now_ms();
+        s->amg->hold_bounds = 0;
+        wc_amg_setup(s->amg, A, f, par);
+        s->amg->hold_bounds = hold;
+        res->setup_ms += wc_now_ms() - t_setup;
+        st = wcs_pcg_run(s, A, b, f, dv, par, res, pcg_update_amg);
+        res->iterations += it;
+    }
+    return st;
 }
 
 wc_status wcs_pcg_run(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,

@@ -119,6 +119,10 @@ void wc_solver_set_positions(wc_solver* s, const double* x) {
     if (s && s->amg) s->amg->pos = x;
 }
 
+void wc_solver_hold_bounds(wc_solver* s, int hold) {
+    if (s && s->amg) s->amg->hold_bounds = hold != 0;
+}
+
 void wc_solver_set_residual_floor(wc_solver* s, double floor) {
     if (s && floor >= 0.0 && isfinite(floor)) s->residual_floor = floor;
 }

@@ -364,7 +364,9 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     int in_contact = s->n_all > 0 && s->contacts.active > 0;
     int newton = wc_newton_wanted(&s->def);
     if (newton) {
+        wc_solver_hold_bounds(s->solver, 1);   /* Newton's systems are near the first solve's */
         status = wc_newton_iterate(s, &ig, solver, compression, res.scale, in_contact, energy_cap, st, diag);
+        wc_solver_hold_bounds(s->solver, 0);
         if (status != WC_OK) return status;
     }
     t0 = wc_now_ms();
