@@ -68,8 +68,10 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
     if (amg && s->amg->bounds_reused && (st != WC_OK || !res->converged)) {
         /* the reused eigenvalue bounds may have fallen short of this matrix's (the smoother then
            amplifies the modes above them and the V-cycle can turn indefinite): a fresh setup, and
-           PCG again from the last iterate */
+           PCG again, from the last iterate when it merely ran out of iterations, from z (the
+           constraints' values, as a solve without a guess starts) when it diverged */
         int it = res->iterations, hold = s->amg->hold_bounds;
+        if (st != WC_OK) wcs_fallback(f, dv, s->n);
         ++s->amg->bound_fallbacks;
         t_setup = wc_now_ms();
         s->amg->hold_bounds = 0;
