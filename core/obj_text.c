@@ -64,7 +64,7 @@ static wc_status read_f(scan* s, const char* p, int line) {
         char* end;
         errno = 0;
         long i = strtol(p, &end, 10);
-        if (end == p || errno || i == 0 || i > t->n_v || -i > t->n_v)
+        if (end == p || errno || i == 0 || i > t->n_v || i < -(long)t->n_v)
             return wc_fail(s->diag, WC_ERROR_IMPORT,
                            "'%s' line %d: face corner %d does not name one of the %d v lines "
                            "before it", s->name, line, k + 1, t->n_v);
