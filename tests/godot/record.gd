@@ -4,8 +4,12 @@
 #                           back from the node's ArrayMesh) as JSON to WEFT_GODOT_OUT, and quit
 #   WEFT_GODOT_MODE=skirt   the same for skirt.tscn's Skirt (attached to a bone, a body mesh
 #                           collider), with the waist vertices, the body's mesh and transform
+#   WEFT_GODOT_MODE=skinned the same for skinned_skirt.tscn (the body skinned to a turning bone)
+#   WEFT_GODOT_MODE=bend    bend.tscn (written by test_godot.py): its Cloth's frames and the body
+#                           vertices the plugin skinned (get_body_vertices)
 #   WEFT_GODOT_MODE=broken  broken settings (a NaN property, a mesh path that does not exist, a
-#                           colliders_root that names no node, bad bone attachments and bodies):
+#                           colliders_root that names no node, bad bone attachments and bodies,
+#                           skinned bodies with a bad skin):
 #                           step a few frames, write what the nodes report, quit
 extends SceneTree
 
@@ -22,14 +26,19 @@ func _initialize():
 	mode = OS.get_environment("WEFT_GODOT_MODE")
 	out_path = OS.get_environment("WEFT_GODOT_OUT")
 	n_frames = int(OS.get_environment("WEFT_GODOT_FRAMES"))
-	var scene = load("res://skirt.tscn" if mode == "skirt" else "res://flag.tscn").instance()
-	flag = scene.get_node("Skirt" if mode == "skirt" else "Flag")
+	# mode: [scene, cloth node, body node, the node turning it]
+	var scenes = {"skirt": ["skirt.tscn", "Skirt", "Body/BodyMesh", "Body"],
+		"skinned": ["skinned_skirt.tscn", "Skirt", "Body/Skeleton/BodyMesh", "Body/Skeleton"],
+		"bend": ["bend.tscn", "Cloth", "", ""]}
+	var s = scenes.get(mode, ["flag.tscn", "Flag", "", ""])
+	var scene = load("res://" + s[0]).instance()
+	flag = scene.get_node(s[1])
 	rest = flag.mesh.surface_get_arrays(0)
-	if mode == "skirt":
-		var b = scene.get_node("Body/BodyMesh")
-		body = {"transform": _transform_list(b.transform), "rest": _vec_list(b.mesh.get_mesh_arrays()[Mesh.ARRAY_VERTEX]),
-			"indices": Array(b.mesh.get_mesh_arrays()[Mesh.ARRAY_INDEX]),
-			"degrees_per_second": scene.get_node("Body").degrees_per_second}
+	if s[2] != "":
+		var b = scene.get_node(s[2])
+		body = {"transform": _transform_list(b.transform), "rest": _vec_list(b.mesh.surface_get_arrays(0)[Mesh.ARRAY_VERTEX]),
+			"indices": Array(b.mesh.surface_get_arrays(0)[Mesh.ARRAY_INDEX]),
+			"degrees_per_second": scene.get_node(s[3]).degrees_per_second}
 	if mode == "broken":
 		flag.stiffness_stretch = NAN   # refused: stays 4000
 		flag.colliders_root = NodePath("NoSuchNode")
@@ -43,6 +52,25 @@ func _initialize():
 		sk.name = "Skeleton"
 		sk.add_bone("hips")
 		scene.add_child(sk)
+		# skinned bodies that are wrong: a vertex weighted to a bind the skin lacks, a bind naming
+		# no bone
+		var skin = Skin.new()
+		skin.add_bind(0, Transform())
+		skin.set_bind_name(0, "no_such_bone")
+		for body_name in ["BadBindBody", "BadBoneNameBody"]:
+			var arrays = []
+			arrays.resize(Mesh.ARRAY_MAX)
+			arrays[Mesh.ARRAY_VERTEX] = PoolVector3Array([Vector3(0, 0, 0), Vector3(1, 0, 0), Vector3(0, 0, 1)])
+			arrays[Mesh.ARRAY_BONES] = PoolIntArray([0, 0, 0, 0, 0, 0, 0, 0, 3 if body_name == "BadBindBody" else 0, 0, 0, 0])
+			arrays[Mesh.ARRAY_WEIGHTS] = PoolRealArray([1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0])
+			var b = MeshInstance.new()
+			b.name = body_name
+			b.mesh = ArrayMesh.new()
+			b.mesh.add_surface_from_arrays(Mesh.PRIMITIVE_TRIANGLES, arrays)
+			b.skeleton = NodePath("../Skeleton")
+			if body_name == "BadBoneNameBody":
+				b.skin = skin
+			scene.add_child(b)
 		# name: [attach_skeleton, attach_bones, attach_vertices, body]
 		var bad = {"NoSkeleton": ["NoSuchSkeleton", ["hips"], [PoolIntArray([0])], ""],
 			"NotSkeleton": ["../Ball", ["hips"], [PoolIntArray([0])], ""],
@@ -50,7 +78,9 @@ func _initialize():
 			"Mismatch": ["../Skeleton", ["hips"], [], ""],
 			"NotVertices": ["../Skeleton", ["hips"], ["zero"], ""],
 			"NoBody": ["", [], [], "NoSuchBody"],
-			"NotBody": ["", [], [], "../Ball"]}
+			"NotBody": ["", [], [], "../Ball"],
+			"BadBind": ["", [], [], "../BadBindBody"],
+			"BadBoneName": ["", [], [], "../BadBoneNameBody"]}
 		for name in bad:
 			var m = MeshInstance.new()
 			m.name = name
@@ -82,7 +112,9 @@ func _iteration(delta):   # before the nodes' _physics_process
 	if stepped < n_frames and ticks < n_frames + 10:
 		return
 	var d = {"frames": stepped, "dt": delta, "simulating": flag.is_simulating()}
-	if mode != "broken":
+	if mode == "bend":
+		d["body_vertices"] = _vec_list(flag.get_body_vertices())
+	elif mode != "broken":
 		d["transform"] = _transform_list(flag.global_transform)
 		d["rest"] = _vec_list(rest[Mesh.ARRAY_VERTEX])
 		d["indices"] = Array(rest[Mesh.ARRAY_INDEX])

@@ -11,13 +11,18 @@
    that the file's order and assimp's are the same), the node's transform, the pins, the ball
    and the ground plane, the same material and solver settings, 60 fps. The same for skirt.tscn
    (the waist's bone attachment as pins and the body as a mesh collider, both spinning as the
-   body does; limit MAX_DIFF_SKIRT, and the body must matter). Its last frame must
+   body does; limit MAX_DIFF_SKIRT, and the body must matter: weft run without it, or with it
+   not turning, must be BODY_MATTERS away) and for skinned_skirt.tscn (its body is skinned to a
+   turning bone; for weft run it is the rigid spinning body of skirt.tscn). Its last frame must
    match Godot's: largest distance below MAX_DIFF m (both run the same library on the same
    input; what differs is rounding on the way: Godot's JSON and the OBJ text), while the flag
    has moved more than MIN_MOTION m (the comparison is not of two resting meshes).
+   bend.tscn (bend_scene.py): a two-bone skinned body, bent over the run; the world vertices the
+   plugin skinned (get_body_vertices) must be bend_scene's closed form within MAX_DIFF_SKIN.
 3. Broken settings: a NaN property, a mesh path that does not exist and a colliders_root that
    names no node give Godot errors naming each, the process exits 0 (no crash), the NaN is not
-   taken and the node without a mesh does not simulate.
+   taken and the node without a mesh does not simulate; so do bad attachments and bodies
+   (skinned ones with a bad skin included: those nodes simulate without the body).
 Exit 77 (skipped) when godot3-server is missing.
 """
 import json
@@ -28,6 +33,8 @@ import subprocess
 import sys
 import tempfile
 
+import bend_scene
+
 FRAMES = 40
 MAX_DIFF = 5e-4
 # The skirt rests on its turning body with friction: a change of its spin rate by a relative 1e-6
@@ -37,6 +44,9 @@ MAX_DIFF = 5e-4
 MAX_DIFF_SKIRT = 5e-3
 BODY_MATTERS = 1e-2
 MIN_MOTION = 0.2
+# bend.tscn's skinned body against the closed form: float arithmetic and Godot's 16-bit weights
+# (a 1/65535 error over a 1 m arm) are far below it
+MAX_DIFF_SKIN = 1e-4
 
 
 def fail(msg):
@@ -103,19 +113,20 @@ def settings_scene(g, name):
     }
 
 
-def skirt_scene(g, tmp):
+def skirt_scene(g, tmp, name="skirt"):
     """skirt.tscn: the waist on the bone as pins spinning with the body, the body (its Godot mesh
-    as an OBJ) as a mesh collider with the same spin."""
-    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, "skirt.obj"))
+    as an OBJ) as a mesh collider with the same spin. skinned_skirt.tscn is the same scene for
+    weft run: there the body turns because its one bone does (all its weights are on it)."""
+    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, name + ".obj"))
     b = g["body"]
-    write_obj(b["rest"], b["indices"], os.path.join(tmp, "body.obj"))
+    write_obj(b["rest"], b["indices"], os.path.join(tmp, name + "_body.obj"))
     s = g["settings"]
     spin = {"pivot": [0, 0, 0], "spin_axis": [0, 1, 0], "spin_deg_per_s": b["degrees_per_second"]}
-    scene = settings_scene(g, "skirt")
+    scene = settings_scene(g, name)
     scene["pins"] = [{"vertices": [new_of[v] for v in g["attached"]], "motion": spin}]
-    scene["colliders"] = [{"type": "mesh", "file": "body.obj", "transform": b["transform"], "motion": spin,
+    scene["colliders"] = [{"type": "mesh", "file": name + "_body.obj", "transform": b["transform"], "motion": spin,
                            "thickness": s["collider_thickness"], "friction": s["collider_friction"]}]
-    path = os.path.join(tmp, "skirt.json")
+    path = os.path.join(tmp, name + ".json")
     with open(path, "w") as f:
         json.dump(scene, f, indent=1)
     return path, order
@@ -143,6 +154,17 @@ def read_obj(path):
         return [[float(x) for x in line.split()[1:4]] for line in f if line.startswith("v ")]
 
 
+def run_variant(weft_cli, scene, out):
+    """weft run of a scene dict (written next to out); its last frame."""
+    with open(out + ".json", "w") as f:
+        json.dump(scene, f)
+    q = subprocess.run([weft_cli, "run", out + ".json", "--out", out, "--quiet", "--threads", "1"],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    if q.returncode != 0:
+        fail(f"weft run of {out}.json failed: {q.stdout}")
+    return read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
+
+
 def compare(server, project, weft_cli, tmp, mode, make_scene, limit):
     g, _ = run_godot(server, project, mode, os.path.join(tmp, mode + "_out.json"), tmp)
     if not g["simulating"] or g["frames"] != FRAMES:
@@ -155,36 +177,55 @@ def compare(server, project, weft_cli, tmp, mode, make_scene, limit):
     if p.returncode != 0:
         fail("weft run failed")
     ref = read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
-    if mode == "skirt":   # the same without the body: the collider must change the result
+    variants = {}
+    if g.get("body"):   # the same without the body, and with a body that does not turn
         with open(scene) as f:
-            bare = json.load(f)
-        bare["colliders"] = []
-        with open(scene + ".bare.json", "w") as f:
-            json.dump(bare, f)
-        q = subprocess.run([weft_cli, "run", scene + ".bare.json", "--out", out + "_bare", "--quiet", "--threads",
-                            "1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
-        if q.returncode != 0:
-            fail(f"weft run without the body failed: {q.stdout}")
-        bare_ref = read_obj(os.path.join(out + "_bare", "frame_%04d.obj" % FRAMES))
+            base = json.load(f)
+        still = json.loads(json.dumps(base))
+        del still["colliders"][0]["motion"]
+        variants = {"without the body": run_variant(weft_cli, dict(base, colliders=[]), out + "_bare"),
+                    "with a body that does not turn": run_variant(weft_cli, still, out + "_still")}
     m = g["transform"]
     n = len(order)
     godot_world = [transform_point(m, g["positions"][3 * i:3 * i + 3]) for i in range(n)]
     rest_world = [transform_point(m, g["rest"][3 * i:3 * i + 3]) for i in range(n)]
     diff = max(math.dist(godot_world[v], ref[k]) for k, v in enumerate(order))
-    if mode == "skirt":
-        body = max(math.dist(godot_world[v], bare_ref[k]) for k, v in enumerate(order))
-        print(f"skirt: largest distance from weft run without the body {body:.3g} m (at least {BODY_MATTERS})")
-        if body < BODY_MATTERS:
-            fail("the body does not change the skirt")
     motion = max(math.dist(godot_world[i], rest_world[i]) for i in range(n))
     if any(not math.isfinite(x) for p in godot_world for x in p):
         fail("non-finite positions from Godot")
     print(f"{mode}, frame {FRAMES}: largest Godot - weft run distance {diff:.3g} m (limit {limit}), "
           f"largest motion from rest {motion:.3g} m (at least {MIN_MOTION})")
+    for what, other in variants.items():
+        d = max(math.dist(godot_world[v], other[k]) for k, v in enumerate(order))
+        print(f"{mode}: largest distance from weft run {what} {d:.3g} m (at least {BODY_MATTERS})")
+        if d < BODY_MATTERS:
+            fail(f"the {mode}'s body does not matter: Godot's result is that of weft run {what}")
     if diff > limit:
         fail(f"Godot's {mode} differs from weft run's")
     if motion < MIN_MOTION:
         fail(f"the {mode} barely moved")
+
+
+def check_bend(server, project, tmp):
+    """bend.tscn: the body vertices the plugin skinned against bend_scene's closed form."""
+    with open(os.path.join(project, "bend.tscn"), "w") as f:
+        f.write(bend_scene.scene())
+    g, _ = run_godot(server, project, "bend", os.path.join(tmp, "bend_out.json"), tmp)
+    if not g["simulating"] or g["frames"] != FRAMES:
+        fail(f"the bend scene's cloth did not simulate {FRAMES} frames: {g['simulating']}, {g['frames']}")
+    got = [g["body_vertices"][3 * i:3 * i + 3] for i in range(len(g["body_vertices"]) // 3)]
+    want = bend_scene.skinned(FRAMES * g["dt"])
+    rest = bend_scene.skinned(0.0)
+    if len(got) != len(want):
+        fail(f"bend: the plugin has {len(got)} body vertices, the tube {len(want)}")
+    diff = max(math.dist(a, b) for a, b in zip(got, want))
+    bent = max(math.dist(a, b) for a, b in zip(want, rest))
+    print(f"bend, frame {FRAMES}: largest distance of the plugin's skinned body from the closed form {diff:.3g} m "
+          f"(limit {MAX_DIFF_SKIN}); the bend moves it by {bent:.3g} m")
+    if diff > MAX_DIFF_SKIN:
+        fail("the plugin's skinned body is not where Godot skins it")
+    if bent < 0.1:
+        fail("bend: the bone's bend barely moves the body")
 
 
 def main():
@@ -205,6 +246,9 @@ def main():
     compare(server, project, weft_cli, tmp, "flag", weft_scene, MAX_DIFF)
     compare(server, project, weft_cli, tmp, "skirt", skirt_scene, MAX_DIFF_SKIRT)
 
+    compare(server, project, weft_cli, tmp, "skinned", lambda g, t: skirt_scene(g, t, "skinned"), MAX_DIFF_SKIRT)
+    check_bend(server, project, tmp)
+
     # 3: broken settings
     b, log = run_godot(server, project, "broken", os.path.join(tmp, "broken_out.json"), tmp)
     expected = ["property stiffness_stretch = nan is not a finite number",
@@ -217,7 +261,10 @@ def main():
                 "WeftCloth 'Mismatch': attach_bones has 1 names but attach_vertices 0 vertex lists",
                 "WeftCloth 'NotVertices': attach_vertices[0] is not a PoolIntArray of vertex indices",
                 "WeftCloth 'NoBody': body 'NoSuchBody' is not a node: no mesh collider",
-                "WeftCloth 'NotBody': body '../Ball' is not a MeshInstance: no mesh collider"]
+                "WeftCloth 'NotBody': body '../Ball' is not a MeshInstance: no mesh collider",
+                "WeftCloth 'BadBind': body '../BadBindBody': vertex 2 is weighted to bind 3; its skin has 1 binds",
+                "WeftCloth 'BadBoneName': body '../BadBoneNameBody': its Skin's bind 0 names bone 'no_such_bone', "
+                "which its Skeleton does not have"]
     for e in expected:
         if e not in log:
             fail(f"no error containing {e!r}")
@@ -228,7 +275,7 @@ def main():
     for name in ["NoSkeleton", "NotSkeleton", "NoBone", "Mismatch", "NotVertices"]:
         if b[name + "_simulating"]:
             fail(f"{name} simulates despite its bad attachment: {b}")
-    for name in ["NoBody", "NotBody"]:
+    for name in ["NoBody", "NotBody", "BadBind", "BadBoneName"]:
         if not b[name + "_simulating"]:
             fail(f"{name} does not simulate: {b}")
     print("broken settings: each named in a Godot error, no crash; the flag still simulates")

@@ -55,7 +55,7 @@ static void cloth_release(wgd_cloth* c) {
     for (int i = 0; i < c->n_colliders; i++) gd->godot_node_path_destroy(&c->colliders[i].path);
     c->n_colliders = 0;
     c->n_attachments = c->first_bone = 0;
-    c->has_body = 0;
+    wgd_cloth_body_release(c);
     if (c->has_arrays) gd->godot_array_destroy(&c->arrays);
     c->has_arrays = 0;
 }
@@ -186,7 +186,6 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     int* pins = NULL;
     int* bone_vertices = NULL;
     int* sizes = NULL;
-    float* body_pos = NULL;
     int* body_tris = NULL;
     weft_collider_def colliders[WGD_MAX_COLLIDERS];
     weft_attachment_def attachments[1 + WGD_MAX_BONE_ATTACHMENTS];
@@ -238,7 +237,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     d.attachments = attachments;
     d.n_colliders = wgd_cloth_find_colliders(c, colliders);
     d.colliders = colliders;
-    d.n_mesh_colliders = wgd_cloth_body_collider(c, &body, &body_pos, &body_tris);
+    d.n_mesh_colliders = wgd_cloth_body_collider(c, &body, &body_tris);
     d.mesh_colliders = &body;
 
     weft_status s = weft_cloth_create(c->ctx, &d, &c->cloth);   /* a failure is logged */
@@ -248,7 +247,6 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     free(sizes);
     free(pins);
     free(bone_vertices);
-    free(body_pos);
     free(body_tris);
 
     godot_class_constructor make = gd->godot_get_class_constructor("ArrayMesh");
@@ -266,7 +264,6 @@ fail:
     free(sizes);
     free(pins);
     free(bone_vertices);
-    free(body_pos);
     free(body_tris);
     cloth_release(c);
     return nil;
@@ -283,14 +280,14 @@ static godot_variant cloth_physics_process(godot_object* owner, void* md, void* 
     gd_global_transform(c->owner, object, NULL);
     wgd_cloth_collider_transforms(c);
     wgd_cloth_bone_transforms(c);
-    wgd_cloth_body_transform(c);
+    wgd_cloth_body_update(c);
     if (c->first_bone > 0) memcpy(c->attach_xf, object, sizeof object);   /* the pins: on the node */
     weft_frame fr = weft_default_frame();
     fr.dt = gd->godot_variant_as_real(argv[0]);
     fr.object_transform = object;
     fr.attachment_transforms = c->n_attachments > 0 ? c->attach_xf : NULL;
     fr.collider_transforms = c->n_colliders > 0 ? c->collider_xf : NULL;
-    fr.mesh_collider_transforms = c->has_body ? c->body_xf : NULL;
+    fr.mesh_collider_transforms = c->has_body && !c->body_skinned ? c->body_xf : NULL;
     if (weft_cloth_step(c->ctx, c->cloth, &fr, NULL) != WEFT_OK) return nil;   /* logged; unchanged */
     if (fetch_result(c)) write_mesh(c);
     c->frames++;
@@ -298,7 +295,8 @@ static godot_variant cloth_physics_process(godot_object* owner, void* md, void* 
 }
 
 /* Methods for scripts: is_simulating() -> bool, get_frames() -> int (frames stepped since
- * _ready). */
+ * _ready), get_body_vertices() -> PoolVector3Array (the body's world vertices the last frame
+ * collided with: what a skinned body was skinned to). */
 static godot_variant cloth_is_simulating(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
     (void)owner;
     (void)md;
@@ -307,6 +305,15 @@ static godot_variant cloth_is_simulating(godot_object* owner, void* md, void* us
     godot_variant v;
     gd->godot_variant_new_bool(&v, ((wgd_cloth*)user)->ctx != NULL);
     return v;
+}
+
+static godot_variant cloth_get_body_vertices(godot_object* owner, void* md, void* user, int argc,
+                                            godot_variant** argv) {
+    (void)owner;
+    (void)md;
+    (void)argc;
+    (void)argv;
+    return wgd_cloth_body_vertices(user);
 }
 
 static godot_variant cloth_get_frames(godot_object* owner, void* md, void* user, int argc, godot_variant** argv) {
@@ -330,7 +337,8 @@ void wgd_cloth_register(void* handle) {
     } methods[] = {{"_ready", cloth_ready},
                    {"_physics_process", cloth_physics_process},
                    {"is_simulating", cloth_is_simulating},
-                   {"get_frames", cloth_get_frames}};
+                   {"get_frames", cloth_get_frames},
+                   {"get_body_vertices", cloth_get_body_vertices}};
     for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
         godot_instance_method m = {methods[i].fn, NULL, NULL};
         gdns->godot_nativescript_register_method(handle, "WeftCloth", methods[i].name, attr, m);

@@ -9,6 +9,7 @@
 
 #include "gd_api.h"
 #include "weft/weft.h"
+#include "wgd_skin.h"
 
 /* The godot plugin's names start with wgd_ (gpu/ owns wg_). */
 #define WGD_MAX_COLLIDERS 64
@@ -57,8 +58,13 @@ typedef struct wgd_cloth {
     godot_node_path skeleton_path;   /* attach_skeleton as _ready found it */
     float attach_xf[(1 + WGD_MAX_BONE_ATTACHMENTS) * 16]; /* (n_attachments x 16) world */
     int has_body;
+    int body_skinned;           /* the body is skinned (skin): body_pos is world, per frame */
     godot_node_path body_path;  /* body as _ready found it */
     float body_xf[16];          /* the body's world transform (rigid; its scale is in the mesh) */
+    float* body_pos;            /* (body_n_vertices x 3) rigid: mesh space, the node's scale baked
+                                   in; skinned: world, this frame's */
+    int body_n_vertices;
+    wgd_skin skin;              /* a skinned body's skinning */
     godot_array arrays;         /* the surface's arrays, vertex and normal replaced each frame */
     godot_variant mesh;         /* the ArrayMesh the node shows (held: a reference) */
     godot_variant material;     /* the source surface's material */
@@ -84,12 +90,17 @@ int wgd_cloth_bone_attachments(wgd_cloth* c, weft_attachment_def* defs, int** st
 /* Each bone's current world transform into c->attach_xf from slot c->first_bone. */
 void wgd_cloth_bone_transforms(wgd_cloth* c);
 
-/* The body (a MeshInstance) as a rigid mesh collider: its surface 0 with its node's scale baked
- * in, at its node's global transform. *pos and *tris (malloc'ed) back def->mesh until the cloth
- * is built; the caller frees them. Returns 1 (c->has_body), 0 when body is empty or after a
- * Godot error naming it (no mesh collider then). */
-int wgd_cloth_body_collider(wgd_cloth* c, weft_mesh_collider_def* def, float** pos, int** tris);
-/* The body's current world transform into c->body_xf (kept when the node is gone). */
-void wgd_cloth_body_transform(wgd_cloth* c);
+/* The body (a MeshInstance) as a mesh collider from its surface 0: skinned (world vertices,
+ * identity transform) when Godot draws it skinned, else rigid (its node's scale baked in, at its
+ * node's global transform). *tris (malloc'ed) backs def->mesh until the cloth is built; the
+ * caller frees it (the positions are c's). Returns 1 (c->has_body), 0 when body is empty or after
+ * a Godot error naming it (no mesh collider then). */
+int wgd_cloth_body_collider(wgd_cloth* c, weft_mesh_collider_def* def, int** tris);
+/* Before a step: the body's world transform into c->body_xf, or a skinned body's world vertices
+ * handed to Weft (weft_cloth_set_mesh_collider_vertices). A body gone from the tree stays. */
+void wgd_cloth_body_update(wgd_cloth* c);
+/* The body's world vertices of the last frame (PoolVector3Array; empty without a body). */
+godot_variant wgd_cloth_body_vertices(const wgd_cloth* c);
+void wgd_cloth_body_release(wgd_cloth* c);
 
 #endif

@@ -4,7 +4,8 @@
 
 #include "gd_api.h"
 
-enum { WGD_ARRAY_VERTEX = 0, WGD_ARRAY_NORMAL = 1, WGD_ARRAY_BONES = 6, WGD_ARRAY_INDEX = 8 };
+enum { WGD_ARRAY_VERTEX = 0, WGD_ARRAY_NORMAL = 1, WGD_ARRAY_BONES = 6, WGD_ARRAY_WEIGHTS = 7,
+       WGD_ARRAY_INDEX = 8 };
 
 /* mesh.surface_get_arrays(0) into *arrays (the caller destroys it). Returns 0 when the mesh has
  * no surface 0 (then *arrays is an empty array all the same). */
