@@ -5,6 +5,8 @@
 #   WEFT_GODOT_MODE=skirt   the same for skirt.tscn's Skirt (attached to a bone, a body mesh
 #                           collider), with the waist vertices, the body's mesh and transform
 #   WEFT_GODOT_MODE=skinned the same for skinned_skirt.tscn (the body skinned to a turning bone)
+#   WEFT_GODOT_MODE=scaled  flag.tscn with scaled colliders: the flag as for flag, and each
+#                           collider's shape sizes and global transform
 #   WEFT_GODOT_MODE=bend    bend.tscn (written by test_godot.py): its Cloth's frames and the body
 #                           vertices the plugin skinned (get_body_vertices)
 #   WEFT_GODOT_MODE=broken  broken settings (a NaN property, a mesh path that does not exist, a
@@ -39,6 +41,8 @@ func _initialize():
 		body = {"transform": _transform_list(b.transform), "rest": _vec_list(b.mesh.surface_get_arrays(0)[Mesh.ARRAY_VERTEX]),
 			"indices": Array(b.mesh.surface_get_arrays(0)[Mesh.ARRAY_INDEX]),
 			"degrees_per_second": scene.get_node(s[3]).degrees_per_second}
+	if mode == "scaled":
+		_scale_colliders(scene)
 	if mode == "broken":
 		flag.stiffness_stretch = NAN   # refused: stays 4000
 		flag.colliders_root = NodePath("NoSuchNode")
@@ -94,6 +98,54 @@ func _initialize():
 			broken.append(m)
 	root.add_child(scene)
 
+# flag.tscn with scaled colliders: the ball (radius 0.2) in a body scaled 1.5, a capsule in a
+# body turned and scaled 1.25 (along the flag's pinned edge, beyond the ball), the ground plane (its normal tilted in its own frame) in a body
+# turned, then scaled non-uniformly, and a sphere scaled non-uniformly (refused) where the flag
+# falls
+func _scale_colliders(scene):
+	scene.get_node("Ball").scale = Vector3(1.5, 1.5, 1.5)
+	scene.get_node("Ball/Shape").shape.radius = 0.2
+	var bar = CapsuleShape.new()
+	bar.radius = 0.06
+	bar.height = 0.8
+	var xf = Transform(Basis(Vector3(0, 1, 0), deg2rad(-30)).scaled(Vector3(1.25, 1.25, 1.25)), Vector3(-0.26, 1.25, -0.15))
+	_static_shape(scene, "Bar", xf, bar)
+	var ground = scene.get_node("Ground/Shape")
+	ground.shape = PlaneShape.new()
+	ground.shape.plane = Plane(Vector3(0.3, 1, 0.2).normalized(), 0.2)
+	var squash = Basis(Vector3(2, 0, 0), Vector3(0, 0.5, 0), Vector3(0, 0, 1))
+	scene.get_node("Ground").transform = Transform(squash * Basis(Vector3(0, 0, 1), deg2rad(25)), Vector3(0, 0.75, 0))
+	var egg = SphereShape.new()
+	egg.radius = 0.15
+	_static_shape(scene, "Squashed", Transform(squash, Vector3(-0.3, 1.3, 0)), egg)
+
+func _static_shape(scene, name, xf, shape):
+	var body = StaticBody.new()
+	body.name = name
+	body.transform = xf
+	var cs = CollisionShape.new()
+	cs.name = "Shape"
+	cs.shape = shape
+	body.add_child(cs)
+	scene.add_child(body)
+
+# Every CollisionShape under the scene: its shape's sizes and its global transform.
+func _colliders(scene):
+	var l = []
+	for body in scene.get_children():
+		var cs = body.get_node_or_null("Shape")
+		if cs == null:
+			continue
+		var c = {"name": body.name, "transform": _transform_list(cs.global_transform)}
+		if cs.shape is SphereShape:
+			c["sphere"] = cs.shape.radius
+		elif cs.shape is CapsuleShape:
+			c["capsule"] = [cs.shape.radius, cs.shape.height]
+		elif cs.shape is PlaneShape:
+			c["plane"] = [cs.shape.plane.x, cs.shape.plane.y, cs.shape.plane.z, cs.shape.plane.d]
+		l.append(c)
+	return l
+
 func _transform_list(t):
 	return [t.basis.x.x, t.basis.x.y, t.basis.x.z, 0, t.basis.y.x, t.basis.y.y, t.basis.y.z, 0,
 		t.basis.z.x, t.basis.z.y, t.basis.z.z, 0, t.origin.x, t.origin.y, t.origin.z, 1]
@@ -126,11 +178,13 @@ func _iteration(delta):   # before the nodes' _physics_process
 				"collider_thickness", "collider_friction"]:
 			material[k] = flag.get(k)
 		d["settings"] = material
+		if mode == "scaled":
+			d["colliders"] = _colliders(flag.get_parent())
 		if mode == "flag":
 			var ball = flag.get_node("../Ball/Shape")
 			d["ball"] = {"center": [ball.global_transform.origin.x, ball.global_transform.origin.y,
 				ball.global_transform.origin.z], "radius": ball.shape.radius}
-		else:
+		elif body != null:
 			d["attached"] = Array(flag.attach_vertices[0])
 			d["body"] = body
 	else:

@@ -34,6 +34,7 @@ import sys
 import tempfile
 
 import bend_scene
+import scaled_colliders
 
 FRAMES = 40
 MAX_DIFF = 5e-4
@@ -132,6 +133,18 @@ def skirt_scene(g, tmp, name="skirt"):
     return path, order
 
 
+def scaled_scene(g, tmp):
+    """The flag with scaled colliders: as flag, its colliders as scaled_colliders makes them."""
+    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, "scaled.obj"))
+    scene = settings_scene(g, "scaled")
+    scene["pins"] = [{"vertices": [new_of[v] for v in g["pinned"]]}]
+    scene["colliders"] = [c for c in (scaled_colliders.weft_collider(c, g["settings"]) for c in g["colliders"]) if c]
+    path = os.path.join(tmp, "scaled.json")
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return path, order
+
+
 def weft_scene(g, tmp):
     order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, "flag.obj"))
     s = g["settings"]
@@ -165,8 +178,37 @@ def run_variant(weft_cli, scene, out):
     return read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
 
 
-def compare(server, project, weft_cli, tmp, mode, make_scene, limit):
-    g, _ = run_godot(server, project, mode, os.path.join(tmp, mode + "_out.json"), tmp)
+def body_variants(g, base):
+    """The skirt's scene without its body, and with a body that does not turn."""
+    still = json.loads(json.dumps(base))
+    del still["colliders"][0]["motion"]
+    return {"without the body": dict(base, colliders=[]), "with a body that does not turn": still}
+
+
+def scaled_variants(g, base):
+    """The scaled flag's scene with each scaled collider unscaled in turn, and with the refused
+    (non-uniformly scaled) sphere taken as a sphere of its radius times its smallest scale."""
+    out = {}
+    kept = [c for c in g["colliders"] if scaled_colliders.weft_collider(c, g["settings"])]
+    for i, c in enumerate(kept):
+        other = json.loads(json.dumps(base))
+        other["colliders"][i] = scaled_colliders.weft_collider(c, g["settings"], unscaled=True)
+        out[f"with {c['name']} unscaled"] = other
+    for c in g["colliders"]:
+        if c not in kept:
+            m = c["transform"]
+            small = min(math.dist(m[4 * k:4 * k + 3], [0, 0, 0]) for k in range(3))
+            sphere = scaled_colliders.weft_collider(c, g["settings"], unscaled=True)   # unscaled: never refused
+            sphere["radius"] *= small
+            out[f"with {c['name']} as a sphere of radius {sphere['radius']:.3g}"] = dict(
+                base, colliders=base["colliders"] + [sphere])
+    return out
+
+
+def compare(server, project, weft_cli, tmp, mode, make_scene, limit, variants_of=lambda g, base: {}):
+    """Godot's mode against weft run of make_scene's scene within limit; and each scene
+    variants_of gives (what the plugin must not be doing) at least BODY_MATTERS away."""
+    g, log = run_godot(server, project, mode, os.path.join(tmp, mode + "_out.json"), tmp)
     if not g["simulating"] or g["frames"] != FRAMES:
         fail(f"the {mode} did not simulate {FRAMES} frames: {g['simulating']}, {g['frames']}")
     scene, order = make_scene(g, tmp)
@@ -177,14 +219,10 @@ def compare(server, project, weft_cli, tmp, mode, make_scene, limit):
     if p.returncode != 0:
         fail("weft run failed")
     ref = read_obj(os.path.join(out, "frame_%04d.obj" % FRAMES))
-    variants = {}
-    if g.get("body"):   # the same without the body, and with a body that does not turn
-        with open(scene) as f:
-            base = json.load(f)
-        still = json.loads(json.dumps(base))
-        del still["colliders"][0]["motion"]
-        variants = {"without the body": run_variant(weft_cli, dict(base, colliders=[]), out + "_bare"),
-                    "with a body that does not turn": run_variant(weft_cli, still, out + "_still")}
+    with open(scene) as f:
+        base = json.load(f)
+    variants = {what: run_variant(weft_cli, other, f"{out}_{k}")
+                for k, (what, other) in enumerate(variants_of(g, base).items())}
     m = g["transform"]
     n = len(order)
     godot_world = [transform_point(m, g["positions"][3 * i:3 * i + 3]) for i in range(n)]
@@ -199,11 +237,12 @@ def compare(server, project, weft_cli, tmp, mode, make_scene, limit):
         d = max(math.dist(godot_world[v], other[k]) for k, v in enumerate(order))
         print(f"{mode}: largest distance from weft run {what} {d:.3g} m (at least {BODY_MATTERS})")
         if d < BODY_MATTERS:
-            fail(f"the {mode}'s body does not matter: Godot's result is that of weft run {what}")
+            fail(f"{mode}: Godot's result is that of weft run {what}")
     if diff > limit:
         fail(f"Godot's {mode} differs from weft run's")
     if motion < MIN_MOTION:
         fail(f"the {mode} barely moved")
+    return log
 
 
 def check_bend(server, project, tmp):
@@ -242,11 +281,17 @@ def main():
     with open(os.path.join(project, "weft.gdnlib"), "w") as f:
         f.write(gdnlib.replace("res://bin/libweft_godot.so", os.path.abspath(lib)))
 
-    # 1, 2: Godot against weft run, the flag and the skirt
+    # 1, 2: Godot against weft run: the flag, the skirt, the skirt on a skinned body, the flag
+    # with scaled colliders; a skinned body against the closed form
     compare(server, project, weft_cli, tmp, "flag", weft_scene, MAX_DIFF)
-    compare(server, project, weft_cli, tmp, "skirt", skirt_scene, MAX_DIFF_SKIRT)
-
-    compare(server, project, weft_cli, tmp, "skinned", lambda g, t: skirt_scene(g, t, "skinned"), MAX_DIFF_SKIRT)
+    compare(server, project, weft_cli, tmp, "skirt", skirt_scene, MAX_DIFF_SKIRT, body_variants)
+    compare(server, project, weft_cli, tmp, "skinned", lambda g, t: skirt_scene(g, t, "skinned"), MAX_DIFF_SKIRT,
+            body_variants)
+    log = compare(server, project, weft_cli, tmp, "scaled", scaled_scene, MAX_DIFF, scaled_variants)
+    refused = ("WeftCloth 'Flag': collider '../Squashed/Shape' has a non-uniform scale (2, 0.5, 1), which would make "
+               "its sphere an ellipsoid: not a collider")
+    if refused not in log:
+        fail(f"no error containing {refused!r}")
     check_bend(server, project, tmp)
 
     # 3: broken settings

@@ -18,8 +18,14 @@
 typedef struct wgd_collider {
     godot_node_path path;       /* the CollisionShape, from the WeftCloth node (looked up every
                                    frame: a shape freed since _ready is simply skipped) */
-    float local[16];            /* shape frame -> weft's collider frame (capsule axis, plane) */
+    float local[16];            /* the node's rigid frame -> weft's collider frame (capsule axis,
+                                   plane) */
+    float scale[3];             /* the node's global scale at _ready (sizes, plane) */
+    int scale_warned;           /* a later change of scale was reported */
 } wgd_collider;
+
+/* Scales whose axes differ by no more than this fraction are uniform. */
+#define WGD_UNIFORM_SCALE 1e-4f
 
 typedef struct wgd_cloth {
     godot_object* owner;        /* the MeshInstance */
