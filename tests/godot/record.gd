@@ -7,11 +7,14 @@
 #   WEFT_GODOT_MODE=skinned the same for skinned_skirt.tscn (the body skinned to a turning bone)
 #   WEFT_GODOT_MODE=scaled  flag.tscn with scaled colliders: the flag as for flag, and each
 #                           collider's shape sizes and global transform
+#   WEFT_GODOT_MODE=surfaces flag.tscn with its mesh split into two surfaces: the flag as for
+#                           flag (its one-surface rest mesh and pins), its pins in the surfaces
+#                           joined, and each surface's material, arrays and final vertices
 #   WEFT_GODOT_MODE=bend    bend.tscn (written by test_godot.py): its Cloth's frames and the body
 #                           vertices the plugin skinned (get_body_vertices)
 #   WEFT_GODOT_MODE=broken  broken settings (a NaN property, a mesh path that does not exist, a
 #                           colliders_root that names no node, bad bone attachments and bodies,
-#                           skinned bodies with a bad skin):
+#                           skinned bodies with a bad skin, a surface of lines):
 #                           step a few frames, write what the nodes report, quit
 extends SceneTree
 
@@ -23,6 +26,8 @@ var rest = null
 var broken = []
 var body = null
 var ticks = 0
+var pinned = null
+var flag_rest_surfaces = []
 
 func _initialize():
 	mode = OS.get_environment("WEFT_GODOT_MODE")
@@ -43,6 +48,11 @@ func _initialize():
 			"degrees_per_second": scene.get_node(s[3]).degrees_per_second}
 	if mode == "scaled":
 		_scale_colliders(scene)
+	if mode == "surfaces":
+		pinned = Array(flag.pinned_vertices)
+		_split_surfaces(flag)
+		for k in range(flag.mesh.get_surface_count()):
+			flag_rest_surfaces.append(flag.mesh.surface_get_arrays(k)[Mesh.ARRAY_VERTEX])
 	if mode == "broken":
 		flag.stiffness_stretch = NAN   # refused: stays 4000
 		flag.colliders_root = NodePath("NoSuchNode")
@@ -75,6 +85,19 @@ func _initialize():
 			if body_name == "BadBoneNameBody":
 				b.skin = skin
 			scene.add_child(b)
+		# a cloth whose mesh has a surface of lines after one of triangles: refused
+		var lines = ArrayMesh.new()
+		for primitive in [Mesh.PRIMITIVE_TRIANGLES, Mesh.PRIMITIVE_LINES]:
+			var arrays = []
+			arrays.resize(Mesh.ARRAY_MAX)
+			arrays[Mesh.ARRAY_VERTEX] = PoolVector3Array([Vector3(0, 1, 0), Vector3(1, 1, 0), Vector3(0, 1, 1), Vector3(1, 1, 1)])
+			lines.add_surface_from_arrays(primitive, arrays)
+		var lined = MeshInstance.new()
+		lined.name = "Lines"
+		lined.mesh = lines
+		lined.set_script(load("res://weft_cloth.gdns"))
+		scene.add_child(lined)
+		broken.append(lined)
 		# name: [attach_skeleton, attach_bones, attach_vertices, body]
 		var bad = {"NoSkeleton": ["NoSuchSkeleton", ["hips"], [PoolIntArray([0])], ""],
 			"NotSkeleton": ["../Ball", ["hips"], [PoolIntArray([0])], ""],
@@ -97,6 +120,46 @@ func _initialize():
 			scene.add_child(m)
 			broken.append(m)
 	root.add_child(scene)
+
+# The flag's mesh as two surfaces (its triangles left and right of its middle, each with its own
+# vertices: the middle column twice) with materials "left" and "right"; its pins renumbered.
+func _split_surfaces(flag):
+	var a = flag.mesh.surface_get_arrays(0)
+	var verts = a[Mesh.ARRAY_VERTEX]
+	var idx = a[Mesh.ARRAY_INDEX]
+	var mesh = ArrayMesh.new()
+	var joined = {}   # flag vertex -> its index in the two surfaces joined (the last side's)
+	var first = 0
+	for side in [0, 1]:
+		var local = {}
+		var v = PoolVector3Array()
+		var ix = PoolIntArray()
+		for t in range(0, idx.size(), 3):
+			var cx = (verts[idx[t]].x + verts[idx[t + 1]].x + verts[idx[t + 2]].x) / 3
+			if (cx < 0) != (side == 0):
+				continue
+			for j in range(3):
+				var o = idx[t + j]
+				if not local.has(o):
+					local[o] = v.size()
+					v.append(verts[o])
+				ix.append(local[o])
+		var arrays = []
+		arrays.resize(Mesh.ARRAY_MAX)
+		arrays[Mesh.ARRAY_VERTEX] = v
+		arrays[Mesh.ARRAY_INDEX] = ix
+		mesh.add_surface_from_arrays(Mesh.PRIMITIVE_TRIANGLES, arrays)
+		var m = SpatialMaterial.new()
+		m.resource_name = "left" if side == 0 else "right"
+		mesh.surface_set_material(side, m)
+		for o in local:
+			joined[o] = first + local[o]
+		first += v.size()
+	flag.mesh = mesh
+	var pins = PoolIntArray()
+	for p in flag.pinned_vertices:
+		pins.append(joined[p])
+	flag.pinned_vertices = pins
 
 # flag.tscn with scaled colliders: the ball (radius 0.2) in a body scaled 1.5, a capsule in a
 # body turned and scaled 1.25 (along the flag's pinned edge, beyond the ball), the ground plane (its normal tilted in its own frame) in a body
@@ -171,7 +234,16 @@ func _iteration(delta):   # before the nodes' _physics_process
 		d["rest"] = _vec_list(rest[Mesh.ARRAY_VERTEX])
 		d["indices"] = Array(rest[Mesh.ARRAY_INDEX])
 		d["positions"] = _vec_list(flag.mesh.surface_get_arrays(0)[Mesh.ARRAY_VERTEX])
-		d["pinned"] = Array(flag.pinned_vertices)
+		d["pinned"] = Array(flag.pinned_vertices) if pinned == null else pinned
+		if mode == "surfaces":   # each surface's rest and simulated vertices, and material
+			d["joined_pinned"] = Array(flag.pinned_vertices)
+			d["surfaces"] = []
+			for k in range(flag.mesh.get_surface_count()):
+				var m = flag.mesh.surface_get_material(k)
+				d["surfaces"].append({"material": m.resource_name if m != null else "",
+					"rest": _vec_list(flag_rest_surfaces[k]),
+					"indices": Array(flag.mesh.surface_get_arrays(k)[Mesh.ARRAY_INDEX]),
+					"positions": _vec_list(flag.mesh.surface_get_arrays(k)[Mesh.ARRAY_VERTEX])})
 		var material = {}
 		for k in ["density", "stiffness_stretch", "stiffness_shear", "stiffness_bend", "damping_stretch",
 				"damping_shear", "damping_bend", "substeps", "max_iterations", "tolerance",
@@ -180,7 +252,7 @@ func _iteration(delta):   # before the nodes' _physics_process
 		d["settings"] = material
 		if mode == "scaled":
 			d["colliders"] = _colliders(flag.get_parent())
-		if mode == "flag":
+		if mode == "flag" or mode == "surfaces":
 			var ball = flag.get_node("../Ball/Shape")
 			d["ball"] = {"center": [ball.global_transform.origin.x, ball.global_transform.origin.y,
 				ball.global_transform.origin.z], "radius": ball.shape.radius}

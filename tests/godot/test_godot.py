@@ -17,12 +17,17 @@
    match Godot's: largest distance below MAX_DIFF m (both run the same library on the same
    input; what differs is rounding on the way: Godot's JSON and the OBJ text), while the flag
    has moved more than MIN_MOTION m (the comparison is not of two resting meshes).
+   A two-surface flag against weft run of its surfaces joined (the plugin's vertex order: the
+   flag's last frame moves by about 2 cm with the order of its vertices alone, weft run of the
+   flag against weft run of its OBJ with the vertex order reversed: contact with the ball makes
+   it sensitive to the solver's rounding), its seam welded, its materials kept.
    bend.tscn (bend_scene.py): a two-bone skinned body, bent over the run; the world vertices the
    plugin skinned (get_body_vertices) must be bend_scene's closed form within MAX_DIFF_SKIN.
 3. Broken settings: a NaN property, a mesh path that does not exist and a colliders_root that
    names no node give Godot errors naming each, the process exits 0 (no crash), the NaN is not
    taken and the node without a mesh does not simulate; so do bad attachments and bodies
-   (skinned ones with a bad skin included: those nodes simulate without the body).
+   (skinned ones with a bad skin included: those nodes simulate without the body) and a mesh
+   with a surface of lines (not simulated).
 Exit 77 (skipped) when godot3-server is missing.
 """
 import json
@@ -75,18 +80,20 @@ def transform_point(m, p):
     return [m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r] for r in range(3)]
 
 
-def write_obj(rest_flat, idx, path):
-    """A Godot surface as an OBJ, triangles wound counter-clockwise, vertices in first-use order.
-    Returns that order (OBJ vertex k is Godot vertex order[k]) and its inverse."""
+def write_obj(rest_flat, idx, path, keep_order=False):
+    """A Godot surface as an OBJ, triangles wound counter-clockwise, vertices in first-use order
+    (or in Godot's order: keep_order). Returns that order (OBJ vertex k is Godot vertex order[k])
+    and its inverse."""
     rest = [rest_flat[3 * i:3 * i + 3] for i in range(len(rest_flat) // 3)]
     tris = [(idx[t], idx[t + 2], idx[t + 1]) for t in range(0, len(idx), 3)]   # counter-clockwise
     order = []
     new_of = {}
-    for t in tris:
-        for v in t:
-            if v not in new_of:
-                new_of[v] = len(order)
-                order.append(v)
+    for v in (range(len(rest)) if keep_order else (v for t in tris for v in t)):
+        if v not in new_of:
+            new_of[v] = len(order)
+            order.append(v)
+    if keep_order and len({v for t in tris for v in t}) != len(rest):
+        fail("the Godot mesh has vertices no triangle uses")
     if len(order) != len(rest):
         fail("the Godot mesh has vertices no triangle uses")
     with open(path, "w") as f:
@@ -145,10 +152,10 @@ def scaled_scene(g, tmp):
     return path, order
 
 
-def weft_scene(g, tmp):
-    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, "flag.obj"))
+def weft_scene(g, tmp, name="flag", keep_order=False):
+    order, new_of = write_obj(g["rest"], g["indices"], os.path.join(tmp, name + ".obj"), keep_order)
     s = g["settings"]
-    scene = settings_scene(g, "flag")
+    scene = settings_scene(g, name)
     scene.update({
         "pins": [{"vertices": [new_of[v] for v in g["pinned"]]}],
         "colliders": [
@@ -156,7 +163,7 @@ def weft_scene(g, tmp):
              "thickness": s["collider_thickness"], "friction": s["collider_friction"]},
             {"type": "plane", "normal": [0, 1, 0], "offset": 0,
              "thickness": s["collider_thickness"], "friction": s["collider_friction"]}]})
-    path = os.path.join(tmp, "flag.json")
+    path = os.path.join(tmp, name + ".json")
     with open(path, "w") as f:
         json.dump(scene, f, indent=1)
     return path, order
@@ -245,6 +252,42 @@ def compare(server, project, weft_cli, tmp, mode, make_scene, limit, variants_of
     return log
 
 
+def check_surfaces(server, project, weft_cli, tmp):
+    """The flag's mesh split into two surfaces (record.gd): weft run of the surfaces joined as
+    the plugin documents it (surface 1's vertices after surface 0's) against each surface's
+    vertices as the plugin wrote them back; the seam's two copies of a vertex must stay together
+    (Weft welds them) and each surface keeps its material."""
+    g, _ = run_godot(server, project, "surfaces", os.path.join(tmp, "surfaces_out.json"), tmp)
+    if not g["simulating"] or g["frames"] != FRAMES:
+        fail(f"the two-surface flag did not simulate {FRAMES} frames: {g['simulating']}, {g['frames']}")
+    rest, indices, positions = [], [], []
+    for surface in g["surfaces"]:
+        indices += [len(rest) // 3 + i for i in surface["indices"]]
+        rest += surface["rest"]
+        positions += surface["positions"]
+    joined = dict(g, rest=rest, indices=indices, pinned=g["joined_pinned"])
+    scene, order = weft_scene(joined, tmp, "surfaces", keep_order=True)
+    ref = run_variant(weft_cli, json.load(open(scene)), os.path.join(tmp, "weft_run_surfaces"))
+    m = g["transform"]
+    world = [transform_point(m, positions[3 * i:3 * i + 3]) for i in range(len(positions) // 3)]
+    diff = max(math.dist(world[v], ref[k]) for k, v in enumerate(order))
+    twins = {}
+    for i in range(len(world)):
+        twins.setdefault(tuple(rest[3 * i:3 * i + 3]), []).append(world[i])
+    seam = [w for w in twins.values() if len(w) > 1]
+    apart = max(math.dist(w[0], w[1]) for w in seam) if seam else math.inf
+    materials = [surface["material"] for surface in g["surfaces"]]
+    print(f"surfaces: {len(g['surfaces'])} surfaces, materials {materials}; largest distance from weft run of them "
+          f"joined {diff:.3g} m (limit {MAX_DIFF}); {len(seam)} seam vertices, their copies at most {apart:.3g} m "
+          f"apart (limit {MAX_DIFF})")
+    if materials != ["left", "right"]:
+        fail("the two-surface flag lost a surface or its material")
+    if diff > MAX_DIFF:
+        fail("the two-surface flag differs from weft run of its surfaces joined")
+    if not seam or apart > MAX_DIFF:
+        fail("the two-surface flag's seam came apart")
+
+
 def check_bend(server, project, tmp):
     """bend.tscn: the body vertices the plugin skinned against bend_scene's closed form."""
     with open(os.path.join(project, "bend.tscn"), "w") as f:
@@ -292,6 +335,7 @@ def main():
                "its sphere an ellipsoid: not a collider")
     if refused not in log:
         fail(f"no error containing {refused!r}")
+    check_surfaces(server, project, weft_cli, tmp)
     check_bend(server, project, tmp)
 
     # 3: broken settings
@@ -300,6 +344,7 @@ def main():
                 "no_such_mesh.tres",
                 "WeftCloth 'Lost': the MeshInstance has no mesh",
                 "colliders_root 'NoSuchNode' is not a node",
+                "WeftCloth 'Lines': surface 1 of its mesh is not triangles (primitive 1)",
                 "WeftCloth 'NoSkeleton': attach_skeleton 'NoSuchSkeleton' is not a node",
                 "WeftCloth 'NotSkeleton': attach_skeleton '../Ball' is not a Skeleton",
                 "WeftCloth 'NoBone': attach_bones[0] 'nope' is not a bone of Skeleton '../Skeleton'",
@@ -315,9 +360,9 @@ def main():
             fail(f"no error containing {e!r}")
     if b["stiffness_stretch"] != 4000 or b["lost_simulating"] or not b["simulating"]:
         fail(f"broken settings: {b}")
-    # a bad attachment leaves its cloth unbuilt (it would fall off); a bad body only loses the
-    # collider
-    for name in ["NoSkeleton", "NotSkeleton", "NoBone", "Mismatch", "NotVertices"]:
+    # a bad attachment or surface leaves its cloth unbuilt (it would fall off); a bad body only
+    # loses the collider
+    for name in ["Lines", "NoSkeleton", "NotSkeleton", "NoBone", "Mismatch", "NotVertices"]:
         if b[name + "_simulating"]:
             fail(f"{name} simulates despite its bad attachment: {b}")
     for name in ["NoBody", "NotBody", "BadBind", "BadBoneName"]:

@@ -25,7 +25,7 @@ int wgd_cloth_body_collider(wgd_cloth* c, weft_mesh_collider_def* def, int** tri
     }
     godot_object* mesh = gd_call_object(node, "get_mesh", 0, NULL);
     godot_array arrays;
-    int ok = mesh && wgd_mesh_surface(mesh, &arrays);
+    int ok = mesh && wgd_mesh_surface(mesh, 0, &arrays);
     int skinned = 0;
     if (mesh) {
         float scale[3];

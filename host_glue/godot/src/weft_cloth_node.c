@@ -1,5 +1,5 @@
 /* WeftCloth's life: created with Weft's defaults, the cloth built at _ready from the node's
- * mesh (surface 0, triangles), stepped in _physics_process with the node's and the colliders'
+ * mesh (all its surfaces, triangles: weft_cloth_surfaces.c), stepped in _physics_process with the node's and the colliders'
  * global transforms, and the result written into an ArrayMesh the node shows. */
 #include <math.h>
 #include <stdlib.h>
@@ -7,8 +7,6 @@
 
 #include "weft_cloth_node.h"
 #include "wgd_mesh.h"
-
-enum { GD_PRIMITIVE_TRIANGLES = 4 };
 
 static void* cloth_create(godot_object* owner, void* method_data) {
     (void)method_data;
@@ -41,7 +39,6 @@ static void* cloth_create(godot_object* owner, void* method_data) {
     gd->godot_pool_string_array_new(&c->attach_bones);
     gd->godot_array_new(&c->attach_vertices);
     gd->godot_variant_new_nil(&c->mesh);
-    gd->godot_variant_new_nil(&c->material);
     return c;
 }
 
@@ -56,8 +53,7 @@ static void cloth_release(wgd_cloth* c) {
     c->n_colliders = 0;
     c->n_attachments = c->first_bone = 0;
     wgd_cloth_body_release(c);
-    if (c->has_arrays) gd->godot_array_destroy(&c->arrays);
-    c->has_arrays = 0;
+    wgd_cloth_surfaces_release(c);
 }
 
 static void cloth_destroy(godot_object* owner, void* method_data, void* user) {
@@ -67,7 +63,6 @@ static void cloth_destroy(godot_object* owner, void* method_data, void* user) {
     if (!c) return;
     cloth_release(c);
     gd->godot_variant_destroy(&c->mesh);
-    gd->godot_variant_destroy(&c->material);
     gd->godot_pool_int_array_destroy(&c->pinned_vertices);
     gd->godot_node_path_destroy(&c->colliders_root);
     godot_node_path* paths[4] = {&c->attach_skeleton, &c->body, &c->skeleton_path, &c->body_path};
@@ -86,69 +81,6 @@ static void weft_log(weft_log_level level, const char* message, void* user) {
     } else {
         gd_warning("WeftCloth '%s': %s", name, message);
     }
-}
-
-/* The node's surface 0 as Weft host arrays (wgd_mesh.h), its arrays and material kept for
- * write_mesh. */
-static int read_surface(wgd_cloth* c, float** pos, int** tris, int* n_tris) {
-    char name[128];
-    gd_node_name(c->owner, name, sizeof name);
-    godot_object* mesh = gd_call_object(c->owner, "get_mesh", 0, NULL);
-    if (!mesh) {
-        gd_error("WeftCloth '%s': the MeshInstance has no mesh", name);
-        return 0;
-    }
-    godot_variant zero;
-    gd->godot_variant_new_int(&zero, 0);
-    const godot_variant* args[1] = {&zero};
-    godot_variant mat = gd_call(mesh, "surface_get_material", 1, args, NULL);
-    gd->godot_variant_destroy(&zero);
-    gd->godot_variant_destroy(&c->material);
-    c->material = mat;
-    int has = wgd_mesh_surface(mesh, &c->arrays);
-    c->has_arrays = 1;
-    if (!has) {
-        gd_error("WeftCloth '%s': the mesh has no surface 0", name);
-        return 0;
-    }
-    return wgd_mesh_triangles(&c->arrays, c->scale, pos, &c->n_vertices, tris, n_tris);
-}
-
-/* Replace the surface's vertex and normal arrays with the result and show it. */
-static void write_mesh(wgd_cloth* c) {
-    godot_pool_vector3_array arr[2];
-    const float* src[2] = {c->positions, c->normals};
-    for (int k = 0; k < 2; k++) {
-        gd->godot_pool_vector3_array_new(&arr[k]);
-        gd->godot_pool_vector3_array_resize(&arr[k], c->n_vertices);
-        godot_pool_vector3_array_write_access* w = gd->godot_pool_vector3_array_write(&arr[k]);
-        float* p = (float*)gd->godot_pool_vector3_array_write_access_ptr(w);
-        memcpy(p, src[k], (size_t)c->n_vertices * 3 * sizeof(float));
-        gd->godot_pool_vector3_array_write_access_destroy(w);
-        godot_variant v;
-        gd->godot_variant_new_pool_vector3_array(&v, &arr[k]);
-        gd->godot_array_set(&c->arrays, k == 0 ? WGD_ARRAY_VERTEX : WGD_ARRAY_NORMAL, &v);
-        gd->godot_variant_destroy(&v);
-        gd->godot_pool_vector3_array_destroy(&arr[k]);
-    }
-    godot_object* mesh = gd->godot_variant_as_object(&c->mesh);
-    godot_variant zero, prim, arrays;
-    gd->godot_variant_new_int(&zero, 0);
-    gd->godot_variant_new_int(&prim, GD_PRIMITIVE_TRIANGLES);
-    gd->godot_variant_new_array(&arrays, &c->arrays);
-    const godot_variant* rm[1] = {&zero};
-    godot_variant count = gd_call(mesh, "get_surface_count", 0, NULL, NULL);
-    if (gd->godot_variant_as_int(&count) > 0) gd->godot_variant_destroy((godot_variant[]){gd_call(mesh, "surface_remove", 1, rm, NULL)});
-    gd->godot_variant_destroy(&count);
-    const godot_variant* add[2] = {&prim, &arrays};
-    gd->godot_variant_destroy((godot_variant[]){gd_call(mesh, "add_surface_from_arrays", 2, add, NULL)});
-    const godot_variant* setm[2] = {&zero, &c->material};
-    if (gd->godot_variant_get_type(&c->material) == GODOT_VARIANT_TYPE_OBJECT) {
-        gd->godot_variant_destroy((godot_variant[]){gd_call(mesh, "surface_set_material", 2, setm, NULL)});
-    }
-    gd->godot_variant_destroy(&arrays);
-    gd->godot_variant_destroy(&prim);
-    gd->godot_variant_destroy(&zero);
 }
 
 static int fetch_result(wgd_cloth* c) {
@@ -190,7 +122,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     weft_collider_def colliders[WGD_MAX_COLLIDERS];
     weft_attachment_def attachments[1 + WGD_MAX_BONE_ATTACHMENTS];
     weft_mesh_collider_def body;
-    if (!read_surface(c, &pos, &tris, &n_tris)) goto fail;
+    if (!wgd_cloth_read_surfaces(c, &pos, &tris, &n_tris)) goto fail;
     c->positions = malloc((size_t)c->n_vertices * 3 * sizeof(float));
     c->normals = malloc((size_t)c->n_vertices * 3 * sizeof(float));
     if (!c->positions || !c->normals) goto fail;
@@ -252,7 +184,7 @@ static godot_variant cloth_ready(godot_object* owner, void* md, void* user, int 
     godot_class_constructor make = gd->godot_get_class_constructor("ArrayMesh");
     gd->godot_variant_destroy(&c->mesh);
     gd->godot_variant_new_object(&c->mesh, make());   /* the variant holds the reference */
-    write_mesh(c);
+    wgd_cloth_write_surfaces(c);
     const godot_variant* args[1] = {&c->mesh};
     godot_variant r = gd_call(c->owner, "set_mesh", 1, args, NULL);
     gd->godot_variant_destroy(&r);
@@ -289,7 +221,7 @@ static godot_variant cloth_physics_process(godot_object* owner, void* md, void* 
     fr.collider_transforms = c->n_colliders > 0 ? c->collider_xf : NULL;
     fr.mesh_collider_transforms = c->has_body && !c->body_skinned ? c->body_xf : NULL;
     if (weft_cloth_step(c->ctx, c->cloth, &fr, NULL) != WEFT_OK) return nil;   /* logged; unchanged */
-    if (fetch_result(c)) write_mesh(c);
+    if (fetch_result(c)) wgd_cloth_write_surfaces(c);
     c->frames++;
     return nil;
 }

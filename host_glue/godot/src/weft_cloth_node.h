@@ -71,16 +71,28 @@ typedef struct wgd_cloth {
                                    in; skinned: world, this frame's */
     int body_n_vertices;
     wgd_skin skin;              /* a skinned body's skinning */
-    godot_array arrays;         /* the surface's arrays, vertex and normal replaced each frame */
+    int n_surfaces;             /* the mesh's surfaces, joined into the one cloth: */
+    godot_array* surfaces;      /* (n_surfaces) each one's arrays, vertex and normal replaced each
+                                   frame */
+    godot_variant* materials;   /* (n_surfaces) each one's material */
+    int* surface_first;         /* (n_surfaces + 1) each one's first vertex in the cloth */
     godot_variant mesh;         /* the ArrayMesh the node shows (held: a reference) */
-    godot_variant material;     /* the source surface's material */
-    int has_arrays;
     int64_t frames;
 } wgd_cloth;
 
 /* NativeScript registration of the class, its methods and its properties. */
 void wgd_cloth_register(void* handle);
 void wgd_cloth_register_properties(void* handle);
+
+/* The node's mesh as one cloth: every surface (triangles; an error names a surface that is not)
+ * as Weft host arrays, surface k's vertices after those of the surfaces before it (the node's
+ * scale baked in). *pos and *tris are malloc'ed (the caller frees them, also on failure); the
+ * surfaces' arrays and materials stay in c for wgd_cloth_write_surfaces. Returns 0 after a Godot
+ * error. */
+int wgd_cloth_read_surfaces(wgd_cloth* c, float** pos, int** tris, int* n_tris);
+/* The result (c->positions, c->normals) into each surface of c->mesh, with its material. */
+void wgd_cloth_write_surfaces(wgd_cloth* c);
+void wgd_cloth_surfaces_release(wgd_cloth* c);
 
 /* Colliders: every enabled CollisionShape (sphere, capsule, plane) under colliders_root.
  * Fills c->colliders and defs (at most WGD_MAX_COLLIDERS); returns the count. */

@@ -3,9 +3,9 @@
 
 #include <stdlib.h>
 
-int wgd_mesh_surface(godot_object* mesh, godot_array* arrays) {
+int wgd_mesh_surface(godot_object* mesh, int surface, godot_array* arrays) {
     godot_variant zero;
-    gd->godot_variant_new_int(&zero, 0);
+    gd->godot_variant_new_int(&zero, surface);
     const godot_variant* args[1] = {&zero};
     godot_variant av = gd_call(mesh, "surface_get_arrays", 1, args, NULL);
     *arrays = gd->godot_variant_as_array(&av);

@@ -7,9 +7,9 @@
 enum { WGD_ARRAY_VERTEX = 0, WGD_ARRAY_NORMAL = 1, WGD_ARRAY_BONES = 6, WGD_ARRAY_WEIGHTS = 7,
        WGD_ARRAY_INDEX = 8 };
 
-/* mesh.surface_get_arrays(0) into *arrays (the caller destroys it). Returns 0 when the mesh has
- * no surface 0 (then *arrays is an empty array all the same). */
-int wgd_mesh_surface(godot_object* mesh, godot_array* arrays);
+/* mesh.surface_get_arrays(surface) into *arrays (the caller destroys it). Returns 0 when the mesh
+ * has no such surface (then *arrays is an empty array all the same). */
+int wgd_mesh_surface(godot_object* mesh, int surface, godot_array* arrays);
 
 /* The surface's vertices (each axis times scale[k]: the node's scale baked in) and triangles
  * wound counter-clockwise (Godot's front faces are clockwise; an unindexed surface is taken three
