@@ -45,10 +45,10 @@ static void plane_frame(const godot_transform* t, const float m[16], const float
                              e[3 * ((r + 1) % 3) + (c + 2) % 3] * e[3 * ((r + 2) % 3) + (c + 1) % 3];
         }
     }
-    float det = e[0] * cof[0] + e[1] * cof[1] + e[2] * cof[2];
+    float sign = e[0] * cof[0] + e[1] * cof[1] + e[2] * cof[2] < 0.0f ? -1.0f : 1.0f;   /* the determinant's */
     float nw[3], pw[3], n[3], p[3];
     for (int r = 0; r < 3; r++) {
-        nw[r] = (cof[3 * r] * plane[0] + cof[3 * r + 1] * plane[1] + cof[3 * r + 2] * plane[2]) * (det < 0 ? -1.0f : 1.0f);
+        nw[r] = sign * (cof[3 * r] * plane[0] + cof[3 * r + 1] * plane[1] + cof[3 * r + 2] * plane[2]);
         pw[r] = (e[3 * r] * plane[0] + e[3 * r + 1] * plane[1] + e[3 * r + 2] * plane[2]) * plane[3];
     }
     for (int i = 0; i < 3; i++) {   /* into the rigid frame: R^T */
@@ -75,7 +75,8 @@ static void plane_frame(const godot_transform* t, const float m[16], const float
 }
 
 /* One CollisionShape: its weft def and the frame from the node's rigid frame to weft's. */
-static int shape_collider(wgd_cloth* c, godot_object* node, const char* path, weft_collider_def* def, wgd_collider* col) {
+static int shape_collider(wgd_cloth* c, godot_object* node, const char* path, weft_collider_def* def,
+                          wgd_collider* col) {
     godot_variant dis = gd_call(node, "is_disabled", 0, NULL, NULL);
     int disabled = gd->godot_variant_as_bool(&dis);
     gd->godot_variant_destroy(&dis);

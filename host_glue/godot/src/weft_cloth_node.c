@@ -1,6 +1,7 @@
 /* WeftCloth's life: created with Weft's defaults, the cloth built at _ready from the node's
- * mesh (all its surfaces, triangles: weft_cloth_surfaces.c), stepped in _physics_process with the node's and the colliders'
- * global transforms, and the result written into an ArrayMesh the node shows. */
+ * mesh (all its surfaces, triangles: weft_cloth_surfaces.c), stepped in _physics_process with
+ * the node's, the colliders' and the body's poses, and the result written into an ArrayMesh the
+ * node shows. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -215,7 +215,9 @@ int wgd_skin_world(wgd_skin* s, godot_object* node, float* out) {
             float w = s->weight[WGD_BONES_PER_VERTEX * v + j];
             if (w == 0.0f) continue;
             const float* m = s->world + XF * s->bind[WGD_BONES_PER_VERTEX * v + j];
-            for (int r = 0; r < 3; r++) q[r] += w * (m[3 * r] * p[0] + m[3 * r + 1] * p[1] + m[3 * r + 2] * p[2] + m[9 + r]);
+            for (int r = 0; r < 3; r++) {
+                q[r] += w * (m[3 * r] * p[0] + m[3 * r + 1] * p[1] + m[3 * r + 2] * p[2] + m[9 + r]);
+            }
         }
         memcpy(out + 3 * v, q, sizeof q);
     }
