@@ -32,6 +32,15 @@ godot_variant gd_call(godot_object* obj, const char* method, int argc, const god
     return result;
 }
 
+godot_variant gd_call_int(godot_object* obj, const char* method, int64_t arg) {
+    godot_variant a;
+    gd->godot_variant_new_int(&a, arg);
+    const godot_variant* args[1] = {&a};
+    godot_variant r = gd_call(obj, method, 1, args, NULL);
+    gd->godot_variant_destroy(&a);
+    return r;
+}
+
 godot_object* gd_call_object(godot_object* obj, const char* method, int argc, const godot_variant** args) {
     godot_variant v = gd_call(obj, method, argc, args, NULL);
     godot_object* o = gd->godot_variant_get_type(&v) == GODOT_VARIANT_TYPE_OBJECT ? gd->godot_variant_as_object(&v) : NULL;
@@ -60,6 +69,17 @@ godot_object* gd_get_node(godot_object* node, const godot_node_path* path) {
     godot_object* o = gd_call_object(node, "get_node_or_null", 1, args);
     gd->godot_variant_destroy(&arg);
     return o;
+}
+
+int gd_find_bone(godot_object* skeleton, const godot_string* name) {
+    godot_variant sv;
+    gd->godot_variant_new_string(&sv, name);
+    const godot_variant* args[1] = {&sv};
+    godot_variant r = gd_call(skeleton, "find_bone", 1, args, NULL);
+    int bone = (int)gd->godot_variant_as_int(&r);
+    gd->godot_variant_destroy(&r);
+    gd->godot_variant_destroy(&sv);
+    return bone;
 }
 
 void gd_rigid_matrix(const godot_transform* t, float m[16], float scale[3]) {

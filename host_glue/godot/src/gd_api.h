@@ -16,12 +16,17 @@ int gd_api_init(const godot_gdnative_init_options* options);
 /* obj.method(args...) through the object's dynamic dispatch (scripts included). The result is
  * the caller's to destroy (nil when the call failed; then *ok is 0 when ok is not NULL). */
 godot_variant gd_call(godot_object* obj, const char* method, int argc, const godot_variant** args, int* ok);
+/* obj.method(arg) with one int argument; the result is the caller's to destroy. */
+godot_variant gd_call_int(godot_object* obj, const char* method, int64_t arg);
 /* A call whose result is an object (NULL if not one); the variant is destroyed. */
 godot_object* gd_call_object(godot_object* obj, const char* method, int argc, const godot_variant** args);
 /* obj.get_class() == name, or obj inherits name (obj.is_class(name)). */
 int gd_is_class(godot_object* obj, const char* name);
 /* node.get_node_or_null(path) for a path given as text. */
 godot_object* gd_get_node(godot_object* node, const godot_node_path* path);
+
+/* skeleton.find_bone(name): the bone's index, -1 when there is none. */
+int gd_find_bone(godot_object* skeleton, const godot_string* name);
 
 /* A Transform as a column-major rigid 4x4 (weft.h's convention): the basis is orthonormalised,
  * and its column lengths (the scale) go to scale when not NULL. */

@@ -67,13 +67,7 @@ int wgd_cloth_bone_attachments(wgd_cloth* c, weft_attachment_def* defs, int** st
     for (int i = 0; i < n; i++) {
         godot_string s = gd->godot_pool_string_array_get(&c->attach_bones, i);
         gd_string_text(&s, bone, sizeof bone);
-        godot_variant sv;
-        gd->godot_variant_new_string(&sv, &s);
-        const godot_variant* args[1] = {&sv};
-        godot_variant r = gd_call(sk, "find_bone", 1, args, NULL);
-        c->bone_index[i] = (int)gd->godot_variant_as_int(&r);
-        gd->godot_variant_destroy(&r);
-        gd->godot_variant_destroy(&sv);
+        c->bone_index[i] = gd_find_bone(sk, &s);
         gd->godot_string_destroy(&s);
         if (c->bone_index[i] < 0) {
             gd_error("WeftCloth '%s': attach_bones[%d] '%s' is not a bone of Skeleton '%s'", name, i, bone, path);

@@ -10,15 +10,6 @@
 
 enum { GD_PRIMITIVE_TRIANGLES = 4 };
 
-static godot_variant call_int_arg(godot_object* obj, const char* method, int arg) {
-    godot_variant a;
-    gd->godot_variant_new_int(&a, arg);
-    const godot_variant* args[1] = {&a};
-    godot_variant r = gd_call(obj, method, 1, args, NULL);
-    gd->godot_variant_destroy(&a);
-    return r;
-}
-
 /* Surface k's arrays, material and triangles appended to *pos / *tris (grown with realloc). */
 static int read_one(wgd_cloth* c, godot_object* mesh, int k, const char* name, float** pos, int** tris, int* n_tris) {
     /* ArrayMesh says; other meshes (PrimitiveMesh: triangles) have no such method for scripts */
@@ -34,7 +25,7 @@ static int read_one(wgd_cloth* c, godot_object* mesh, int k, const char* name, f
         gd_error("WeftCloth '%s': surface %d of its mesh is not triangles (primitive %d)", name, k, (int)primitive);
         return 0;
     }
-    c->materials[k] = call_int_arg(mesh, "surface_get_material", k);
+    c->materials[k] = gd_call_int(mesh, "surface_get_material", k);
     wgd_mesh_surface(mesh, k, &c->surfaces[k]);
     c->n_surfaces = k + 1;
     float* p = NULL;
@@ -110,7 +101,7 @@ void wgd_cloth_write_surfaces(wgd_cloth* c) {
     godot_object* mesh = gd->godot_variant_as_object(&c->mesh);
     godot_variant cv = gd_call(mesh, "get_surface_count", 0, NULL, NULL);
     for (int k = (int)gd->godot_variant_as_int(&cv) - 1; k >= 0; k--) {
-        gd->godot_variant_destroy((godot_variant[]){call_int_arg(mesh, "surface_remove", k)});
+        gd->godot_variant_destroy((godot_variant[]){gd_call_int(mesh, "surface_remove", k)});
     }
     gd->godot_variant_destroy(&cv);
     godot_variant prim;

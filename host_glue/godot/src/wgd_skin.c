@@ -9,26 +9,18 @@
 enum { XF = 12 };
 _Static_assert(sizeof(godot_transform) == XF * sizeof(float), "Godot's real_t is float");
 
-/* obj.method() or obj.method(arg) (arg >= 0) returning a Transform. */
+/* obj.method(arg), or obj.method() when arg < 0, as a Transform / an int. */
 static godot_transform call_transform(godot_object* obj, const char* method, int arg) {
-    godot_variant a;
-    gd->godot_variant_new_int(&a, arg);
-    const godot_variant* args[1] = {&a};
-    godot_variant v = gd_call(obj, method, arg >= 0 ? 1 : 0, args, NULL);
+    godot_variant v = arg >= 0 ? gd_call_int(obj, method, arg) : gd_call(obj, method, 0, NULL, NULL);
     godot_transform t = gd->godot_variant_as_transform(&v);
     gd->godot_variant_destroy(&v);
-    gd->godot_variant_destroy(&a);
     return t;
 }
 
 static int64_t call_int(godot_object* obj, const char* method, int arg) {
-    godot_variant a;
-    gd->godot_variant_new_int(&a, arg);
-    const godot_variant* args[1] = {&a};
-    godot_variant v = gd_call(obj, method, arg >= 0 ? 1 : 0, args, NULL);
+    godot_variant v = arg >= 0 ? gd_call_int(obj, method, arg) : gd_call(obj, method, 0, NULL, NULL);
     int64_t x = gd->godot_variant_as_int(&v);
     gd->godot_variant_destroy(&v);
-    gd->godot_variant_destroy(&a);
     return x;
 }
 
@@ -75,27 +67,13 @@ static int read_binds(wgd_skin* s, godot_object* node, godot_object* skeleton, c
             godot_transform g = global_rest(skeleton, i, n_bones);
             pose = gd->godot_transform_affine_inverse(&g);
         } else {
-            godot_variant a;
-            gd->godot_variant_new_int(&a, i);
-            const godot_variant* args[1] = {&a};
-            godot_variant nv = gd_call(skin, "get_bind_name", 1, args, NULL);
+            godot_variant nv = gd_call_int(skin, "get_bind_name", i);
             godot_string name = gd->godot_variant_as_string(&nv);
             char text[128];
             gd_string_text(&name, text, sizeof text);
-            if (text[0] != '\0') {
-                godot_variant sv;
-                gd->godot_variant_new_string(&sv, &name);
-                const godot_variant* fargs[1] = {&sv};
-                godot_variant r = gd_call(skeleton, "find_bone", 1, fargs, NULL);
-                s->bone[i] = (int)gd->godot_variant_as_int(&r);
-                gd->godot_variant_destroy(&r);
-                gd->godot_variant_destroy(&sv);
-            } else {
-                s->bone[i] = (int)call_int(skin, "get_bind_bone", i);
-            }
+            s->bone[i] = text[0] != '\0' ? gd_find_bone(skeleton, &name) : (int)call_int(skin, "get_bind_bone", i);
             gd->godot_string_destroy(&name);
             gd->godot_variant_destroy(&nv);
-            gd->godot_variant_destroy(&a);
             if (s->bone[i] < 0 || s->bone[i] >= n_bones) {
                 if (text[0] != '\0') {
                     gd_error("%s: its Skin's bind %d names bone '%s', which its Skeleton does not have", who, i, text);
