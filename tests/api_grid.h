@@ -44,14 +44,18 @@ static inline void ag_grid(ag_mesh* m, int n, double size, double y, int vertica
     if (!split)
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) ag_point(n, size, y, vertical, i, j, m->pos + 3 * (i + n * j));
+    /* horizontal: (i along X, j along Z) is clockwise from +Y; reverse it. The order is chosen
+       outside the loops: GCC 12.2's -O3 loop vectorizer got `vertical ? k : 3 - k` inside them
+       wrong when vertical is not a constant (some quads came out with two corners swapped). */
+    static const int ccw[4] = {0, 1, 2, 3}, cw[4] = {3, 2, 1, 0};
+    const int* order = vertical ? ccw : cw;
     int q = 0;
     for (int j = 0; j + 1 < n; ++j)
         for (int i = 0; i + 1 < n; ++i, ++q) {
             int ci[4] = {i, i + 1, i + 1, i}, cj[4] = {j, j, j + 1, j + 1};
             m->sizes[q] = 4;
             for (int k = 0; k < 4; ++k) {
-                /* horizontal: (i along X, j along Z) is clockwise from +Y; reverse it */
-                int kk = vertical ? k : 3 - k;
+                int kk = order[k];
                 if (split) {
                     ag_point(n, size, y, vertical, ci[kk], cj[kk], m->pos + 3 * (4 * q + k));
                     m->idx[4 * q + k] = 4 * q + k;
