@@ -173,6 +173,30 @@ typedef struct wc_cloth_frame {
  * so. *st receives the step's statistics. */
 wc_status wc_cloth_step(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* st, wc_diag* d);
 
+/* ---- many cloths in one call (cloth_batch.c) ------------------------------------------------ */
+
+/* One cloth of a batch: its frame in, its result out. */
+typedef struct wc_cloth_batch_item {
+    wc_cloth* cloth;
+    wc_cloth_frame frame;
+    wc_step_stats stats;        /* out: wc_cloth_step's */
+    wc_status status;           /* out: wc_cloth_step's */
+    double ms;                  /* out: wall time of this cloth's own step */
+    wc_diag diag;               /* the cloth's own: its failure's message; its logger is called from
+                                   the thread that steps the cloth (not always the caller's) */
+    int index;                  /* the caller's (not read) */
+} wc_cloth_batch_item;
+
+/* Step every item's cloth with its frame: distinct cloths of one backend and device, inside one
+ * begin/end of the device. Each cloth's result, status and message are wc_cloth_step's, bit for
+ * bit. On a backend with `concurrent`, when there are at least as many cloths as threads (the
+ * cloths' own thread count) and more than one of each, the cloths are stepped at once, one per
+ * thread, each on one thread (the step gives the same bits on any thread count: core/par.h), the
+ * largest first; otherwise one after the other, each on all its threads. The items may be
+ * reordered. Not WC_OK only when the group could not begin: then d says why, every item's status
+ * and diag hold it, and no cloth changed. Allocates nothing. */
+wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d);
+
 /* ---- attachments and mesh colliders (cloth_attach.c, cloth_mesh.c) ------------------------- */
 
 /* Bind attachments to the cloth's current positions, replacing the old ones; `what` names the

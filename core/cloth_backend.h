@@ -13,6 +13,8 @@
  * Device and groups. A backend may need a per-context device (GL context and programs), made by
  * device_create and shared by the context's cloths; its operations on a cloth run between
  * begin and end (one GL begin/end around a group of operations: a frame, a transfer, an output).
+ * A batch (cloth_batch.c) steps many cloths of one device inside one begin/end: one after the
+ * other, or at once on several threads where the backend says `concurrent`.
  * Every entry is set (a backend that has nothing to do supplies a function that does nothing). */
 #ifndef WEFT_CORE_CLOTH_BACKEND_H
 #define WEFT_CORE_CLOTH_BACKEND_H
@@ -79,6 +81,8 @@ typedef struct wc_backend_stats {
 typedef struct wc_cloth_backend {
     const char* name;           /* "CPU", "GPU" */
     int mirror;                 /* 1: the state's particle arrays are a mirror (see the top) */
+    int concurrent;             /* 1: different cloths of a device may step at once on different
+                                   threads (nothing shared between them); 0: one at a time */
 
     /* ---- the device, per context ---- */
     /* Make the device (*out; NULL where a backend needs none). With only_hardware and a software

@@ -120,6 +120,7 @@ static void stats(const wc_cloth* c, wc_backend_stats* out) { (void)c, (void)out
 const wc_cloth_backend wc_cloth_cpu = {
     .name = "CPU",
     .mirror = 0,
+    .concurrent = 1,   /* a cloth's step touches its own state only */
     .device_create = device_create,
     .device_destroy = device_destroy,
     .defaults = defaults,

@@ -1,9 +1,10 @@
 /* One host frame of a cloth (wc_cloth_step).
  *
- * Everything happens inside one backend begin/end. The whole mutable state is first saved into
- * the cloth's preallocated backup (cloth_snapshot.c; a backend with a mirror backs its particles
- * up on the device), so that a frame failing every recovery leaves the cloth exactly as before
- * the call. Nothing is allocated.
+ * Everything happens inside one backend begin/end (wc_cloth_step's own, or a batch's group:
+ * cloth_batch.c). The whole mutable state is first saved into the cloth's preallocated backup
+ * (cloth_snapshot.c; a backend with a mirror backs its particles up on the device), so that a
+ * frame failing every recovery leaves the cloth exactly as before the call. Nothing is
+ * allocated.
  *
  * The object transform (T1 at the end of the frame; T0 the previous one, p its origin, R its
  * rotation) moves the simulation only through inertia, teleport and reset; the cloth itself is
@@ -144,14 +145,14 @@ static wc_status check_range(wc_cloth* c, const wc_xform* T1, wc_diag* d) {
                    value, WC_CLOTH_MAX_COORD);
 }
 
-wc_status wc_cloth_step(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* ss, wc_diag* d) {
+/* The frame inside the backend's begin/end (wc_cloth_step, and a batch's group). */
+wc_status wc_cloth_step_grouped(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* ss, wc_diag* d) {
     memset(ss, 0, sizeof *ss);
     if (!(fr->dt > 0.0) || fr->dt > c->settings.max_frame_time)
         return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "dt = %g s must be in (0, max_frame_time = %g s]", fr->dt,
                        c->settings.max_frame_time);
     const wc_cloth_backend* b = c->backend;
-    wc_status st = b->begin(c->device, d);
-    if (st != WC_OK) return st;
+    wc_status st = WC_OK;
     wc_cloth_backup(c);
     const double dt = fr->dt;
     const int reset = fr->reset != 0;
@@ -185,12 +186,10 @@ wc_status wc_cloth_step(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* ss
     if (st == WC_OK) st = check_range(c, &T1, d);
     if (st != WC_OK) {
         wc_cloth_rollback(c);
-        b->end(c->device);
         size_t used = strlen(d->message);
         snprintf(d->message + used, sizeof d->message - used, "%s", RESTORED);
         return st;
     }
-    b->end(c->device);
 
     c->object = T1;
     if (jump) v3_zero(c->object_velocity);
@@ -200,4 +199,16 @@ wc_status wc_cloth_step(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* ss
     for (int i = 0; i < c->n_colliders; ++i) c->collider_xf[i] = c->collider_next[i];
     wc_cloth_mesh_frame_done(c);
     return WC_OK;
+}
+
+wc_status wc_cloth_step(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* ss, wc_diag* d) {
+    memset(ss, 0, sizeof *ss);
+    if (!(fr->dt > 0.0) || fr->dt > c->settings.max_frame_time)
+        return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "dt = %g s must be in (0, max_frame_time = %g s]", fr->dt,
+                       c->settings.max_frame_time);
+    wc_status st = c->backend->begin(c->device, d);
+    if (st != WC_OK) return st;
+    st = wc_cloth_step_grouped(c, fr, ss, d);
+    c->backend->end(c->device);
+    return st;
 }

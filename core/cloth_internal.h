@@ -9,6 +9,10 @@ wc_status wc_cloth_bind(wc_cloth* c, const wc_cloth_attachment_def* a, int n, co
 /* Pin targets from the given bone transforms into c->pins (count c->n_pins). */
 void wc_cloth_pin_targets(const wc_cloth* c, const wc_xform* bones);
 
+/* ---- cloth_frame.c ---- */
+/* wc_cloth_step's frame inside a begin/end the caller holds (a batch's group: cloth_batch.c). */
+wc_status wc_cloth_step_grouped(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* st, wc_diag* d);
+
 /* ---- cloth_colliders.c ---- */
 /* Allocate and place the analytic colliders of the def (at rest) and give them to the state. */
 wc_status wc_cloth_build_colliders(wc_cloth* c, const wc_cloth_collider_def* defs, int n, wc_diag* d);

@@ -2,7 +2,8 @@
  * facade: every bad input is refused with a clear message and leaves the cloth's snapshot
  * bytes unchanged; a failed frame is rolled back; snapshots restore bit-identically; the cloth
  * calls its backend inside begin/end groups, downloads a mirror before reading the particles and
- * uploads it after changing them; the tables are complete; xform and serial basics. */
+ * uploads it after changing them; a batch on a backend that is not concurrent is one group; the
+ * tables are complete; xform and serial basics. */
 #include <stdlib.h>
 #include "api_grid.h"
 #include "check.h"
@@ -370,11 +371,50 @@ static void test_backend_calls(void) {
     CHECK_EQ_INT(wc_cloth_destroy(c, &d), WC_OK);
 }
 
+/* A batch on a backend that is not concurrent (as the GPU's) runs in one begin/end group, one
+ * cloth after the other; a cloth whose frame fails is rolled back alone, with its own message. */
+static void test_batch_one_group(void) {
+    wc_cloth_backend b = recording();
+    b.concurrent = 0;
+    memset(&g_rec, 0, sizeof g_rec);
+    wc_cloth* c[3] = {make(&b, 0.0), make(&b, 0.0), make(&b, 0.0)};
+    unsigned char* before = snapshot(c[1]);
+    float far[16];
+    ag_identity(far);
+    far[12] = 1e31f;
+    wc_cloth_batch_item items[3];
+    memset(items, 0, sizeof items);
+    for (int k = 0; k < 3; ++k) {
+        items[k].cloth = c[k];
+        items[k].frame = frame();
+        items[k].index = k;
+    }
+    items[1].frame.attachment_transforms = far;   /* beyond the outputs' range: rolled back */
+    int begins = g_rec.begins;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_cloth_step_batch(items, 3, &d), WC_OK);
+    CHECK_EQ_INT(g_rec.begins, begins + 1);
+    CHECK_EQ_INT(g_rec.ends, g_rec.begins);
+    CHECK_EQ_INT(g_rec.misplaced, 0);
+    for (int k = 0; k < 3; ++k) {
+        CHECK_EQ_INT(items[k].index, k);   /* not reordered: one after the other */
+        CHECK_EQ_INT(items[k].status, k == 1 ? WC_ERROR_STEP_FAILED : WC_OK);
+        CHECK_EQ_INT(c[k]->state->frame, k == 1 ? 0 : 1);
+    }
+    CHECK(strstr(items[1].diag.message, "(the cloth was restored to its state before the call)") != NULL);
+    unsigned char* after = snapshot(c[1]);
+    CHECK(memcmp(before, after, c[1]->snapshot_size) == 0);
+    free(before);
+    free(after);
+    for (int k = 0; k < 3; ++k) CHECK_EQ_INT(wc_cloth_destroy(c[k], &d), WC_OK);
+}
+
 static void test_tables(void) {
     const wc_cloth_backend* tables[2] = {&wc_cloth_cpu, NULL};
 #ifdef WEFT_TEST_HAVE_GPU
     tables[1] = &wg_cloth_backend;
     CHECK(wg_cloth_backend.mirror == 1);
+    CHECK(wg_cloth_backend.concurrent == 0);   /* one GL context: a batch's cloths in turn */
     wc_backend_defaults g;
     wg_cloth_backend.defaults(NULL, &g);   /* no device: fragment passes, block Jacobi */
     CHECK_EQ_INT(g.preconditioner, WC_PRECOND_BLOCK_JACOBI);
@@ -395,6 +435,7 @@ static void test_tables(void) {
     CHECK_EQ_INT(cpu.line_search, 1);
     CHECK_EQ_INT(cpu.garment_self_collision, 1);
     CHECK(wc_cloth_cpu.mirror == 0);
+    CHECK(wc_cloth_cpu.concurrent == 1);
     void* device = (void*)&cpu;
     int software = 1;
     char info[64];
@@ -456,6 +497,7 @@ int main(void) {
     RUN_TEST(test_create_refused);
     RUN_TEST(test_failed_frame_rolls_back);
     RUN_TEST(test_backend_calls);
+    RUN_TEST(test_batch_one_group);
     RUN_TEST(test_tables);
     RUN_TEST(test_xform_and_serial);
     ag_free(&g_mesh);

@@ -254,6 +254,7 @@ static void stats(const wc_cloth* c, wc_backend_stats* out) {
 const wc_cloth_backend wg_cloth_backend = {
     .name = "GPU",
     .mirror = 1,
+    .concurrent = 0,   /* one GL context: its passes run one cloth after the other */
     .device_create = device_create,
     .device_destroy = device_destroy,
     .defaults = defaults,
