@@ -10,6 +10,7 @@
  *   cloth_def.c        defaults of the cloth/attachment/collider defs and the frame, validation
  *   cloth_create.c     weft_cloth_def -> wc_cloth_def, cloth create/destroy, attachments, info
  *   cloth_frame.c      weft_cloth_step: frame validation, the core frame, statistics
+ *   context_step.c     weft_context_step: many cloths in one call (core's batch)
  *   cloth_output.c     vertices, triangles, GL buffers
  *   mesh_colliders.c   mesh collider def defaults and validation, new vertices for a frame
  *   collision_check.c  weft_cloth_check_collisions
@@ -37,7 +38,20 @@
 typedef struct wa_slot {
     uint32_t generation;        /* bumped at every destroy; never 0 */
     wc_cloth* cloth;            /* NULL when free */
+    uint32_t batch_call;        /* weft_context_step: the call that took the cloth (== the
+                                   context's batch_calls: the running one) */
+    int batch_index;            /* ... at this index of its cloths array */
 } wa_slot;
+
+/* What one cloth of a weft_context_step logs while it steps, kept for the calling thread to pass
+ * on (the logger is called from the calling thread only; the cloth may run on another). */
+#define WA_BATCH_LOG_LINES 4
+typedef struct wa_batch_log {
+    const weft_context* ctx;    /* its logger's level filters what is kept */
+    int n, dropped;             /* lines kept, lines beyond WA_BATCH_LOG_LINES */
+    weft_log_level level[WA_BATCH_LOG_LINES];
+    char line[WA_BATCH_LOG_LINES][256];
+} wa_batch_log;
 
 struct weft_context {
     weft_context_def def;       /* as given (logger, level, threads) */
@@ -50,6 +64,11 @@ struct weft_context {
     uint32_t tag;               /* per-context handle tag (16 bits) */
     int n_slots, cap_slots;
     wa_slot* slots;
+    /* weft_context_step's scratch, cap_slots of each (grown with the slots: a batch allocates
+       nothing): core's items, and each item's kept log lines */
+    wc_cloth_batch_item* batch_items;
+    wa_batch_log* batch_logs;
+    uint32_t batch_calls;       /* weft_context_step calls made */
     void* render_gl;            /* wg_gl_context* of weft_render when the backend's device has
                                    none (render.c): made by the first call */
     void* renderer;             /* wg_renderer* (in the device's GL context or render_gl) */
@@ -77,12 +96,26 @@ wc_diag wa_core_diag(weft_context* ctx);
 void wa_core_log(wc_log_level level, const char* message, void* user);
 /* The cloth a handle names, or NULL (then the failure is recorded, prefixed with fn). */
 wc_cloth* wa_lookup(weft_context* ctx, weft_cloth h, const char* fn);
-/* Register a cloth in a free slot; 0 on allocation failure. */
+/* Register a cloth in a free slot (growing the slots and weft_context_step's scratch); 0 on
+ * allocation failure. */
 int wa_register(weft_context* ctx, wc_cloth* c, weft_cloth* out);
+/* The slot of a handle that wa_lookup accepted. */
+wa_slot* wa_slot_of(weft_context* ctx, weft_cloth h);
 /* Release the slot of a handle that wa_lookup accepted. */
 void wa_unregister(weft_context* ctx, weft_cloth h);
 /* Destroy a cloth; objects its backend had to leave to the host's GL context are logged (WARN). */
 void wa_cloth_free(weft_context* ctx, wc_cloth* c);
+
+/* ---- cloth_frame.c: one frame's conversion (weft_cloth_step, weft_context_step) -------------- */
+
+/* Validate a frame for cloth c (nothing changes); messages "fn: <name>dt ..." where name is how
+ * the frame is spelt ("fr->", "frames[3]."). */
+weft_status wa_validate_frame(weft_context* ctx, const wc_cloth* c, const weft_frame* fr, const char* fn,
+                              const char* name);
+/* The frame as core's. */
+wc_cloth_frame wa_core_frame(const weft_frame* fr);
+/* Core's statistics (and the state's clock) as the ABI's; ms_total is the caller's. */
+void wa_fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_state* s, double ms_total);
 
 /* ---- backend.c ------------------------------------------------------------------------------- */
 

@@ -151,10 +151,22 @@ int wa_register(weft_context* ctx, wc_cloth* c, weft_cloth* out) {
             int cap = ctx->cap_slots ? 2 * ctx->cap_slots : 8;
             if (cap > WA_MAX_SLOTS) return 0;
             wa_slot* s = WC_NEW(&ctx->alloc, wa_slot, (size_t)cap);
-            if (!s) return 0;
+            /* weft_context_step's scratch: one item and one log per cloth the slots can hold */
+            wc_cloth_batch_item* items = WC_NEW(&ctx->alloc, wc_cloth_batch_item, (size_t)cap);
+            wa_batch_log* logs = WC_NEW(&ctx->alloc, wa_batch_log, (size_t)cap);
+            if (!s || !items || !logs) {
+                wc_free(&ctx->alloc, s);
+                wc_free(&ctx->alloc, items);
+                wc_free(&ctx->alloc, logs);
+                return 0;
+            }
             if (ctx->n_slots) memcpy(s, ctx->slots, (size_t)ctx->n_slots * sizeof(wa_slot));
             wc_free(&ctx->alloc, ctx->slots);
+            wc_free(&ctx->alloc, ctx->batch_items);
+            wc_free(&ctx->alloc, ctx->batch_logs);
             ctx->slots = s;
+            ctx->batch_items = items;
+            ctx->batch_logs = logs;
             ctx->cap_slots = cap;
         }
         slot = ctx->n_slots++;
@@ -164,6 +176,8 @@ int wa_register(weft_context* ctx, wc_cloth* c, weft_cloth* out) {
     out->id = encode(ctx, slot, ctx->slots[slot].generation);
     return 1;
 }
+
+wa_slot* wa_slot_of(weft_context* ctx, weft_cloth h) { return &ctx->slots[h.id & (WA_MAX_SLOTS - 1)]; }
 
 void wa_unregister(weft_context* ctx, weft_cloth h) {
     int slot = (int)(h.id & (WA_MAX_SLOTS - 1));

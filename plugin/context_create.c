@@ -99,6 +99,8 @@ void weft_context_destroy(weft_context* ctx) {
     wa_backend_release(ctx);
     wc_allocator a = ctx->alloc;
     wc_free(&a, ctx->slots);
+    wc_free(&a, ctx->batch_items);
+    wc_free(&a, ctx->batch_logs);
     wc_free(&a, ctx);
 }
 

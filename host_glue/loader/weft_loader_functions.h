@@ -42,6 +42,9 @@
                                                            int n_vertices))                        \
     X(weft_status, weft_cloth_step, (weft_context* ctx, weft_cloth cloth, const weft_frame* fr,    \
                                      weft_frame_stats* stats))                                     \
+    X(weft_status, weft_context_step, (weft_context* ctx, int n, const weft_cloth* cloths,         \
+                                       const weft_frame* frames, weft_frame_stats* stats,          \
+                                       weft_status* statuses))                                     \
     X(weft_status, weft_cloth_get_vertices, (weft_context* ctx, weft_cloth cloth,                  \
                                              weft_space space, float* positions, float* normals,   \
                                              int capacity, int* count))                            \

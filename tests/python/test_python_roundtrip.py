@@ -269,6 +269,41 @@ class RoundTrip(unittest.TestCase):
             cloth.step(H)
         self.assertEqual(e.exception.status, weft.Status.INVALID_HANDLE)
 
+    def test_step_all_is_the_single_steps(self):
+        # three cloths in one weft_context_step per frame against the same cloths stepped one by
+        # one (weft_cloth_step) in a second context: the same positions, bit for bit
+        other = weft.Context(threads=self.ctx_threads())
+        try:
+            kws = [dict(attachments=[weft.Attachment([0, 5])]), dict(), dict(solver=weft.Solver.JACOBI)]
+            batch = [self.make(**kw) for kw in kws]
+            alone = [other.create_cloth(self.pos, self.faces, air_drag_normal=0.0,
+                                        air_drag_tangent=0.0, **kw) for kw in kws]
+            for f in range(8):
+                pin = dict(attachment_transforms=[translation(0.01 * f, 0.0, 0.0)])
+                frames = [pin, dict(wind=(1.0, 0.0, 0.0)), dict()]
+                stats = self.ctx.step_all([(c, H, fr) for c, fr in zip(batch, frames)])
+                self.assertEqual([s.frame for s in stats], [f + 1] * 3)
+                for c, fr in zip(alone, frames):
+                    c.step(H, **fr)
+            for a, b in zip(batch, alone):
+                self.assertEqual(a.get_vertices().tobytes(), b.get_vertices().tobytes())
+            # a bad entry: reported at its index, the others still step, the bad one unchanged
+            snap = batch[1].save()
+            with self.assertRaises(weft.WeftError) as e:
+                self.ctx.step_all([(batch[0], H), (batch[1], float("nan")), (batch[2], H)])
+            self.assertEqual(e.exception.status, weft.Status.NONFINITE)
+            self.assertEqual(e.exception.statuses, [weft.Status.OK, weft.Status.NONFINITE,
+                                                    weft.Status.OK])
+            self.assertIn("frames[1].dt is NaN", e.exception.message)
+            self.assertEqual(e.exception.stats[0].frame, 9)
+            self.assertEqual(batch[1].save(), snap)
+            print("\n  step_all with a NaN dt at 1:", e.exception, file=sys.stderr)
+        finally:
+            other.close()
+
+    def ctx_threads(self):
+        return 0   # both contexts on OpenMP's default, as setUp's
+
     def test_abi_mismatch_and_bad_library(self):
         lib = self.ctx.lib
         d = lib.weft_default_context_def()

@@ -249,6 +249,33 @@ class Context:
     def backend(self):
         return Backend(self.lib.weft_context_backend(self._handle()))
 
+    def step_all(self, steps):
+        """Advance many cloths of this context in one call (weft_context_step): steps is a list
+        of (cloth, dt) or (cloth, dt, frame) with frame a dict of Cloth.step's keyword
+        arguments. Returns one FrameStats per entry. When some cloth failed (the others still
+        stepped) raises WeftError with the first failure's status and message, its `statuses`
+        (a Status per entry) and `stats` attached."""
+        n = len(steps)
+        handles, frames, keep = (ClothHandle * n)(), (Frame * n)(), []
+        for i, entry in enumerate(steps):
+            cloth, dt = entry[0], entry[1]
+            frame = entry[2] if len(entry) > 2 else {}
+            if cloth.context is not self:
+                raise WeftError(Status.INVALID_HANDLE, "steps[%d]: the cloth belongs to another "
+                                "context" % i)
+            handles[i] = cloth._handle if cloth._handle is not None else ClothHandle(0)
+            frames[i], arrays = cloth._frame(dt, **frame)
+            keep.append(arrays)
+        stats, statuses = (FrameStats * n)(), (c_int * n)()
+        status = self.lib.weft_context_step(self._handle(), n, handles, frames, stats, statuses)
+        result = list(stats)
+        if status != Status.OK:
+            error = WeftError(status, self.last_error)
+            error.statuses = [Status(s) for s in statuses]
+            error.stats = result
+            raise error
+        return result
+
     def close(self):
         """Destroy the context and all its cloths (their Cloth objects become unusable)."""
         if self._ptr is not None:
@@ -511,13 +538,11 @@ class Cloth:
                                                       len(attachments)))
         self.info = self.get_info()
 
-    def step(self, dt, *, object_transform=None, attachment_transforms=None,
-             collider_transforms=None, wind=None, teleport=False, reset=False, flags=0,
-             mesh_collider_transforms=None):
-        """Advance by dt seconds (weft_cloth_step); transforms at the end of the frame (None:
-        unchanged). Returns the FrameStats."""
-        ctx = self.context
-        fr = ctx.lib.weft_default_frame()
+    def _frame(self, dt, *, object_transform=None, attachment_transforms=None,
+               collider_transforms=None, wind=None, teleport=False, reset=False, flags=0,
+               mesh_collider_transforms=None):
+        """A Frame of step's arguments and the arrays it points into (keep them alive)."""
+        fr = self.context.lib.weft_default_frame()
         fr.dt = float(dt)
         fr.flags = int(flags) | (FRAME_TELEPORT if teleport else 0) | (FRAME_RESET if reset else 0)
         keep = []
@@ -539,6 +564,14 @@ class Cloth:
         if wind is not None:
             keep.append(np.array(wind, dtype=np.float64).reshape(3))
             fr.wind = _ptr(keep[-1], c_double)
+        return fr, keep
+
+    def step(self, dt, **frame):
+        """Advance by dt seconds (weft_cloth_step). Keyword arguments: object_transform,
+        attachment_transforms, collider_transforms, mesh_collider_transforms (at the end of the
+        frame; None: unchanged), wind, teleport, reset, flags. Returns the FrameStats."""
+        ctx = self.context
+        fr, _keep = self._frame(dt, **frame)
         stats = FrameStats()
         ctx._check(ctx.lib.weft_cloth_step(ctx._handle(), self._h(), ctypes.byref(fr),
                                            ctypes.byref(stats)))

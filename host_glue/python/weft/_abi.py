@@ -335,6 +335,8 @@ PROTOTYPES = {
     "weft_mesh_free": (None, [_CTX, POINTER(MeshData)]),
     "weft_default_frame": (Frame, []),
     "weft_cloth_step": (c_int, [_CTX, ClothHandle, POINTER(Frame), POINTER(FrameStats)]),
+    "weft_context_step": (c_int, [_CTX, c_int, POINTER(ClothHandle), POINTER(Frame),
+                                  POINTER(FrameStats), POINTER(c_int)]),
     "weft_cloth_get_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_void_p, c_int,
                                         POINTER(c_int)]),
     "weft_cloth_get_triangles": (c_int, [_CTX, ClothHandle, c_void_p, c_int, POINTER(c_int)]),

@@ -628,6 +628,25 @@ typedef struct weft_frame_stats {
 WEFT_API weft_status weft_cloth_step(weft_context* ctx, weft_cloth cloth, const weft_frame* fr,
                                      weft_frame_stats* stats);
 
+/* Advance n cloths of the context in one call, cloths[i] by frames[i] (arrays of n; stats and
+ * statuses may be NULL). Each cloth gets exactly what weft_cloth_step would give it (the same
+ * checks, state, statistics and status; its positions bit for bit), so a batch and n single
+ * calls are interchangeable. What the batch adds: on the CPU the cloths run at once over the
+ * context's threads (with at least as many cloths as threads, one thread each, else one after
+ * the other on all of them); on the GPU one switch to the GL context serves every cloth (their
+ * pass chains run one after the other). stats[i].ms_total is the wall time of cloth i's own step.
+ * A bad entry (a NULL, stale or foreign handle, a cloth named twice: the second, a frame that
+ * weft_cloth_step refuses) or a cloth whose step fails is left unchanged and reported at its
+ * index: statuses[i] (WEFT_OK for the others), a message "weft_context_step: cloths[i]: ..." or
+ * "...: frames[i].dt ..." to the logger; the other cloths still step. Returns WEFT_OK when every
+ * cloth stepped, else the status of the lowest failing index, whose message is the context's last
+ * error (with how many failed). stats[i] is written for the cloths that stepped only. Refused as
+ * a whole (nothing steps, statuses untouched): INVALID_ARGUMENT (n < 0, cloths or frames NULL
+ * with n > 0). n = 0 does nothing. What a cloth logs while it steps reaches the logger after the
+ * steps, from the calling thread (at most 4 lines per cloth, then a count). */
+WEFT_API weft_status weft_context_step(weft_context* ctx, int n, const weft_cloth* cloths, const weft_frame* frames,
+                                       weft_frame_stats* stats, weft_status* statuses);
+
 /* ============================================================================================= */
 /* Results                                                                                       */
 /* ============================================================================================= */
