@@ -1,6 +1,7 @@
 /* The threading contract (weft.h), run under ThreadSanitizer by CI (build-tsan, .ci/run) and as
  * an ordinary test everywhere else:
- *  - two contexts stepping on two threads at once give exactly the results of one thread alone;
+ *  - two contexts stepping on two threads at once (one through weft_cloth_step, one through
+ *    weft_context_step) give exactly the results of one thread alone;
  *  - one thread creating and destroying cloths in one context while another steps in another;
  *  - a host breaking the contract (a second thread entering a context while the first is inside
  *    a call) is refused with WEFT_ERROR_CONCURRENT_CALL and nothing of the context changes: the
@@ -42,6 +43,7 @@ typedef struct run {
     weft_context* ctx;
     weft_cloth cloth;
     double phase;          /* each thread moves its pins differently */
+    int batch;             /* 1: weft_context_step (a batch of one), 0: weft_cloth_step */
     float out[3 * GRID * GRID];
     int failures;
 } run;
@@ -53,7 +55,9 @@ static void step_frames(run* r) {
         weft_frame fr = weft_default_frame();
         fr.dt = 1.0 / 30.0;
         fr.attachment_transforms = bone;
-        if (weft_cloth_step(r->ctx, r->cloth, &fr, NULL) != WEFT_OK) ++r->failures;
+        weft_status st = r->batch ? weft_context_step(r->ctx, 1, &r->cloth, &fr, NULL, NULL)
+                                  : weft_cloth_step(r->ctx, r->cloth, &fr, NULL);
+        if (st != WEFT_OK) ++r->failures;
     }
     int count = 0;
     if (weft_cloth_get_vertices(r->ctx, r->cloth, WEFT_SPACE_WORLD, r->out, NULL, GRID * GRID, &count) != WEFT_OK)
@@ -70,7 +74,7 @@ static void test_two_contexts_two_threads(void) {
     ag_grid(&m, GRID, 1.0, 0.0, 0, 0);
     run r[2], ref[2];
     for (int k = 0; k < 2; ++k) {
-        r[k] = (run){.ctx = new_context(NULL), .phase = k ? -1.0 : 1.0};
+        r[k] = (run){.ctx = new_context(NULL), .phase = k ? -1.0 : 1.0, .batch = k};
         ref[k] = (run){.ctx = new_context(NULL), .phase = r[k].phase};
         CHECK_EQ_INT(new_cloth(r[k].ctx, &m, &r[k].cloth), WEFT_OK);
         CHECK_EQ_INT(new_cloth(ref[k].ctx, &m, &ref[k].cloth), WEFT_OK);
@@ -181,7 +185,7 @@ static void gate_log(weft_log_level level, const char* message, void* user) {
 
 typedef struct intruder {
     gate* g;
-    weft_status info, step, save, create, destroy_cloth;
+    weft_status info, step, batch, batch_status, save, create, destroy_cloth;
 } intruder;
 
 static void* intruder_thread(void* arg) {
@@ -196,6 +200,8 @@ static void* intruder_thread(void* arg) {
     weft_frame fr = weft_default_frame();
     fr.dt = 1.0 / 60.0;
     in->step = weft_cloth_step(g->ctx, g->existing, &fr, NULL);
+    in->batch_status = (weft_status)12345;
+    in->batch = weft_context_step(g->ctx, 1, &g->existing, &fr, NULL, &in->batch_status);
     unsigned char buf[64];
     in->save = weft_cloth_save(g->ctx, g->existing, buf, sizeof buf);
     weft_cloth_def def = weft_default_cloth_def();
@@ -243,6 +249,8 @@ static void test_two_threads_one_context_refused(void) {
     CHECK_EQ_INT(g.nested_status, WEFT_OK);
     CHECK_EQ_INT(in.info, WEFT_ERROR_CONCURRENT_CALL);
     CHECK_EQ_INT(in.step, WEFT_ERROR_CONCURRENT_CALL);
+    CHECK_EQ_INT(in.batch, WEFT_ERROR_CONCURRENT_CALL);
+    CHECK_EQ_INT(in.batch_status, 12345);   /* nothing written */
     CHECK_EQ_INT(in.save, WEFT_ERROR_CONCURRENT_CALL);
     CHECK_EQ_INT(in.create, WEFT_ERROR_CONCURRENT_CALL);
     CHECK_EQ_INT(in.destroy_cloth, WEFT_ERROR_CONCURRENT_CALL);
