@@ -6,6 +6,7 @@
  *   torture     random host inputs                          cmd_bench_torture.c
  *   skip        the cost of unused features, sleeping       cmd_bench_skip.c
  *   collide     collision detection's cost                  cmd_bench_collide.c
+ *   crowd       many cloths: batched against unbatched      cmd_bench_crowd.c
  * Each takes its own arguments (argv[0] its name) and returns a CLI exit code. */
 #ifndef WEFT_CLI_BENCH_COMMANDS_H
 #define WEFT_CLI_BENCH_COMMANDS_H
@@ -25,5 +26,7 @@ int bench_skip_run(int argc, char** argv);
 void bench_skip_usage(FILE* out);
 int bench_collide_run(int argc, char** argv);
 void bench_collide_usage(FILE* out);
+int bench_crowd_run(int argc, char** argv);
+void bench_crowd_usage(FILE* out);
 
 #endif

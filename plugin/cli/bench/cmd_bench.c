@@ -1,5 +1,5 @@
 /* `weft bench SUBCOMMAND`: dispatch to `accuracy`, `iterations`, `stability`, `peers`, `torture`,
- * `skip` or `collide` (bench_commands.h), then close the backends' contexts they opened. */
+ * `skip`, `collide` or `crowd` (bench_commands.h), then close the backends' contexts they opened. */
 #include <string.h>
 
 #include "bench_backend.h"
@@ -14,6 +14,7 @@ void cli_bench_usage(FILE* out) {
           "       weft bench torture [OPTIONS]     random host inputs: crashes, hangs, NaN outputs\n"
           "       weft bench skip [OPTIONS]        per-stage cost of unused features, and of a sleeping cloth\n"
           "       weft bench collide [OPTIONS]     collision detection's cost over cloth and body sizes\n"
+          "       weft bench crowd [OPTIONS]       N cloths: one call each against one weft_context_step\n"
           "       weft bench SUBCOMMAND --help     a subcommand's options\n"
           "\n"
           "Benchmarks of the simulator, through the public API (libweft.so) as a host runs it.\n"
@@ -41,6 +42,7 @@ int cli_bench_run(int argc, char** argv) {
     else if (!strcmp(sub, "torture")) rc = bench_torture_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "skip")) rc = bench_skip_run(argc - 1, argv + 1);
     else if (!strcmp(sub, "collide")) rc = bench_collide_run(argc - 1, argv + 1);
+    else if (!strcmp(sub, "crowd")) rc = bench_crowd_run(argc - 1, argv + 1);
     else return cli_usage_error("weft bench", cli_bench_usage, "unknown subcommand '%s'", sub);
     bench_close_backends(); /* the contexts the subcommand opened */
     return rc;
