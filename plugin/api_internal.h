@@ -90,6 +90,8 @@ weft_status wa_ok(weft_context* ctx);
 void wa_log(weft_context* ctx, weft_log_level level, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
 /* A core diag for one call (no logger for errors; warnings forwarded). */
 wc_diag wa_core_diag(weft_context* ctx);
+/* Core's (and gpu/'s) log level as the ABI's. */
+weft_log_level wa_log_level(wc_log_level level);
 /* The logger bridge of wa_core_diag, a wc_log_fn with user = the weft_context: core's and gpu/'s
  * DEBUG..WARN go to the context's logger (level mapped, filtered by def.log_level); ERRORs are
  * dropped (they come back as statuses and are reported once, prefixed, by wa_fail). */

@@ -40,8 +40,7 @@ weft_status wa_status(wc_status s) {
     return WEFT_ERROR_INVALID_ARGUMENT;   /* not reached: every core status is listed */
 }
 
-/* core's (and gpu's) log level as the ABI's */
-static weft_log_level abi_level(wc_log_level level) {
+weft_log_level wa_log_level(wc_log_level level) {
     switch (level) {
     case WC_LOG_DEBUG: return WEFT_LOG_DEBUG;
     case WC_LOG_INFO: return WEFT_LOG_INFO;
@@ -54,7 +53,7 @@ static weft_log_level abi_level(wc_log_level level) {
 void wa_core_log(wc_log_level level, const char* message, void* user) {
     weft_context* ctx = user;
     if (level >= WC_LOG_ERROR) return;   /* reported once, prefixed, through wa_fail */
-    weft_log_level l = abi_level(level);
+    weft_log_level l = wa_log_level(level);
     if (ctx->def.log && l >= ctx->def.log_level) ctx->def.log(l, message, ctx->def.log_user);
 }
 

@@ -22,7 +22,7 @@ static void keep_line(wc_log_level level, const char* message, void* user) {
     wa_batch_log* log = user;
     const weft_context* ctx = log->ctx;
     if (level >= WC_LOG_ERROR) return;   /* failures come back as the cloth's status */
-    weft_log_level l = level == WC_LOG_DEBUG ? WEFT_LOG_DEBUG : level == WC_LOG_INFO ? WEFT_LOG_INFO : WEFT_LOG_WARN;
+    weft_log_level l = wa_log_level(level);
     if (!ctx->def.log || l < ctx->def.log_level) return;
     if (log->n == WA_BATCH_LOG_LINES) {
         ++log->dropped;
