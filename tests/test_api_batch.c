@@ -18,7 +18,7 @@
 #include "api_grid.h"
 #include "check.h"
 
-#define FRAMES 24
+#define FRAMES 16
 #define DT (1.0 / 60.0)
 #define MAX_CLOTHS 8
 
