@@ -11,6 +11,7 @@
 #include "sew.h"
 #include "step.h"
 #include "test_support.h"
+#include "sew_sheets.h"
 #include "sew_tube.h"
 #include "vec3.h"
 
@@ -375,31 +376,7 @@ static void test_amg_with_seams(void) {
     wc_model_free(&apart);
 }
 
-/* Host seam pairs: two sheets 0.3 m apart, B's top row sewn to A's, pulled shut. */
-#define SHEET_N 7
-
-static void two_sheets(double* pos, int* sizes, int* idx, double apart) {
-    int f = 0;
-    for (int panel = 0; panel < 2; ++panel) {
-        for (int j = 0; j < SHEET_N; ++j)
-            for (int i = 0; i < SHEET_N; ++i) {
-                double* p = pos + 3 * (panel * SHEET_N * SHEET_N + j * SHEET_N + i);
-                p[0] = 0.3 * i / (SHEET_N - 1);
-                p[1] = TOP - 0.3 * j / (SHEET_N - 1);
-                p[2] = panel * apart;
-            }
-        for (int j = 0; j + 1 < SHEET_N; ++j)
-            for (int i = 0; i + 1 < SHEET_N; ++i, ++f) {
-                int a = panel * SHEET_N * SHEET_N + j * SHEET_N + i;
-                sizes[f] = 4;
-                idx[4 * f] = a;
-                idx[4 * f + 1] = a + 1;
-                idx[4 * f + 2] = a + 1 + SHEET_N;
-                idx[4 * f + 3] = a + SHEET_N;
-            }
-    }
-}
-
+/* Host seam pairs: two sheets 0.3 m apart, B's top row sewn to A's, pulled shut (sew_sheets.h). */
 static void test_host_pairs_close(void) {
     enum { NV = 2 * SHEET_N * SHEET_N, NF = 2 * (SHEET_N - 1) * (SHEET_N - 1) };
     double pos[3 * NV];
