@@ -222,10 +222,11 @@ static void test_direct_refused(void) {
     printf("direct on the GPU: %s\n", weft_context_last_error(ctx));
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
-    /* the multigrid (k == 0): the GPU's own on compute passes, refused on fragment passes; what
-       only the CPU backend has: BDF2, Newton, line search, self-collision, TR-BDF2 (k == 6) */
+    /* the multigrid (k == 0): the GPU's own on compute passes, refused on fragment passes;
+       sewing (k == 4) runs on the GPU (test_api_gpu_sew.c); what only the CPU backend has: BDF2,
+       Newton, line search, self-collision (k == 5), TR-BDF2 (k == 6) */
     def.solver = WEFT_SOLVER_PCG;
-    static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1}; /* sewing (k == 4), self-collision (5): CPU only */
+    static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1};
     for (int k = 0; k < 7; ++k) {
         weft_cloth_def d2 = def;
         if (k == 4) {
@@ -239,11 +240,12 @@ static void test_direct_refused(void) {
         if (k == 3) d2.line_search = 1;
         if (k == 5) d2.self_collision = 1;
         if (k == 6) d2.integrator = WEFT_INTEGRATOR_TRBDF2;
-        if (k == 0 && g_compute == 1) {
+        if ((k == 0 && g_compute == 1) || k == 4) {
             CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_OK);
             weft_cloth_info mi;
             CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &mi), WEFT_OK);
-            CHECK_EQ_INT(mi.preconditioner, WEFT_PRECOND_AMG);
+            if (k == 0) CHECK_EQ_INT(mi.preconditioner, WEFT_PRECOND_AMG);
+            if (k == 4) CHECK_EQ_INT(mi.n_seams, 1);
             CHECK(step(ctx, cloth, 3));
             CHECK_EQ_INT(weft_cloth_destroy(ctx, cloth), WEFT_OK);
             cloth.id = 0;
@@ -254,7 +256,6 @@ static void test_direct_refused(void) {
         if (k == 5) CHECK(strstr(weft_context_last_error(ctx), "self-collision") != NULL);
         CHECK(cloth.id == 0);
         printf("CPU-only option %d on the GPU: %s\n", k, weft_context_last_error(ctx));
-        if (k == 4) CHECK(strstr(weft_context_last_error(ctx), "sewing") != NULL);
     }
     CHECK(strstr(weft_context_last_error(ctx), "GPU backend") != NULL);
     /* the context is still usable; DEFAULT resolves to what the GPU has */

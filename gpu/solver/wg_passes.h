@@ -66,7 +66,8 @@ int wg_pass_bind_inputs(GLuint program, const wg_pass_info* pass, char* err, siz
  * Particle arrays: x, v, dv (positions, velocities, a velocity change), mass (m, 1/m), rest (rest
  * positions); S0, S1, z the constraint filter (S's symmetric block, (s12, s22, ndof, -), z);
  * rows (spring start, end, triangle start, end of the particle's lists), pblocks (block row
- * start, end, diagonal block, -). Springs: spring (a, b, type, -), spring_rest (rest length).
+ * start, end, diagonal block, -). Springs: spring (a, b, type, -), spring_rest (rest length,
+ * stiffness weight w).
  * Blocks: block (row, column, spring list start, end), a_lo / a_hi (A's symmetric blocks). */
 
 typedef struct wg_springs_in {  /* springs.glsl: per spring, force and Jacobian blocks */

@@ -41,6 +41,9 @@ void wg_u2f(wg_runner* r, const char* name, double a, double b) {
 void wg_u3f(wg_runner* r, const char* name, const double* v) {
     glUniform3f(wg_program_loc(r->prog, name), (float)v[0], (float)v[1], (float)v[2]);
 }
+void wg_u4f(wg_runner* r, const char* name, const double* v) {
+    glUniform4f(wg_program_loc(r->prog, name), (float)v[0], (float)v[1], (float)v[2], (float)v[3]);
+}
 void wg_u2i(wg_runner* r, const char* name, int a, int b) { glUniform2i(wg_program_loc(r->prog, name), a, b); }
 void wg_u4i(wg_runner* r, const char* name, int a, int b, int c, int d) {
     glUniform4i(wg_program_loc(r->prog, name), a, b, c, d);

@@ -37,6 +37,7 @@ void wg_u1i(wg_runner* r, const char* name, int v);
 void wg_u1f(wg_runner* r, const char* name, double v);
 void wg_u2f(wg_runner* r, const char* name, double a, double b);
 void wg_u3f(wg_runner* r, const char* name, const double* v);
+void wg_u4f(wg_runner* r, const char* name, const double* v);
 void wg_u2i(wg_runner* r, const char* name, int a, int b);
 void wg_u4i(wg_runner* r, const char* name, int a, int b, int c, int d);
 void wg_umat3(wg_runner* r, const char* name, const double* row_major);

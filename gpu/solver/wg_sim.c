@@ -106,15 +106,16 @@ static int upload_model(wg_sim* g, const double* host_rest, char* err, size_t el
     f = NULL;
 
     TRY(ia = i4(g, ns));
-    TRY(f = wc_calloc(&g->alloc, (size_t)(ns > 0 ? ns : 1), sizeof(float)));
+    TRY(f = wc_calloc(&g->alloc, (size_t)(ns > 0 ? ns : 1) * 2u, sizeof(float)));
     for (int s = 0; s < ns; ++s) {
         ia[4 * s] = m->springs[s].a;
         ia[4 * s + 1] = m->springs[s].b;
         ia[4 * s + 2] = m->springs[s].type;
-        f[s] = (float)m->springs[s].rest;
+        f[2 * s] = (float)m->springs[s].rest;
+        f[2 * s + 1] = (float)m->springs[s].w;
     }
     TRY(wg_array_create(L, &g->spring, GL_RGBA32I, ns, ia, err, el));
-    TRY(wg_array_create(L, &g->spring_rest, GL_R32F, ns, f, err, el));
+    TRY(wg_array_create(L, &g->spring_rest, GL_RG32F, ns, f, err, el));
     wc_free(&g->alloc, ia);
     wc_free(&g->alloc, f);
     ia = NULL;
@@ -264,9 +265,6 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
                        "integrator %s, %d Newton iteration(s), line search %s; BDF2, TR-BDF2, Newton and line search run on "
                        "the CPU backend only)",
                        wc_integrator_name(s->def.integrator), s->def.newton_iterations, s->def.line_search ? "on" : "off");
-    if (m->n_seams > 0)
-        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend has no sewing (this cloth has %d seams): sew on the CPU backend", m->n_seams);
     if (s->def.self_collision)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");

@@ -77,6 +77,9 @@ size_t wg_sim_gpu_bytes(const wg_sim* g);
  * moved particles). Any output may be NULL. */
 wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
                                  double* z, unsigned char* ndof, double* x, wc_diag* diag);
+/* The springs' elastic energy (J, seams at s->seam_scale) and largest stretch strain at the
+ * current positions, as the step's checks measure them on the GPU. */
+void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
 /* Solve the system the last prepare built with the cloth's solver from the initial guess dv
  * (n x 3, in/out, NULL: the state's warm start); the result as core's wc_solve_result. */
 wc_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);

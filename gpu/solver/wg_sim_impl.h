@@ -29,7 +29,7 @@ struct wg_sim {
     wg_tex mass;                /* particles: (m, 1/m) */
     wg_tex rest;                /* particles: rest positions */
     wg_tex spring;              /* springs: (a, b, type, -) */
-    wg_tex spring_rest;         /* springs: rest length */
+    wg_tex spring_rest;         /* springs: (rest length, stiffness weight w) */
     wg_tex tri;                 /* triangles: (a, b, c, -) */
     wg_tex rows;                /* particles: (spring start, end, triangle start, end) of their lists */
     wg_tex pblocks;             /* particles: (block row start, end, diagonal block, -) */
@@ -93,6 +93,9 @@ void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], c
 
 void wg_step_upload_pins(wg_sim* g, const wc_state* s);
 void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression);
+/* The springs' checks of the current x (check_springs.glsl, reduced and read back): the elastic
+ * energy (J) and the largest stretch strain. */
+void wg_step_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
 

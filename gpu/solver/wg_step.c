@@ -12,6 +12,9 @@
 #include "gpu_error.h"
 #include "wg_sim_impl.h"
 
+/* springs.glsl and check_springs.glsl take the stiffness and damping of every spring type in a vec4 */
+_Static_assert(WC_SPRING_TYPE_COUNT == 4, "one vec4 component per spring type");
+
 /* What a timestamp (wg_stamps.h) starts: the stages of the step's statistics. */
 typedef enum wg_stage {
     WG_STAGE_COLLIDE, WG_STAGE_FORCES, WG_STAGE_ASSEMBLE, WG_STAGE_SOLVE, WG_STAGE_INTEGRATE, WG_STAGE_COUNT
@@ -51,7 +54,7 @@ typedef struct wg_checks {
     float gravity;              /* sum of -m g.x: gravity's potential energy */
     float max_coord;            /* largest |coordinate| of x and v; +inf when one is not finite */
     float max_v2;               /* largest v.v */
-    float elastic;              /* sum of the springs' k (l - rest)^2 / 2 */
+    float elastic;              /* sum of the springs' w k e^2 / 2 (e: wc_spring_extension) */
     float max_strain;           /* largest stretch strain (l - rest) / rest */
 } wg_checks;
 
@@ -72,7 +75,8 @@ static void checks(wg_sim* g, const wc_state* s, int slot) {
     wg_run_texel(run, &g->lanczos, CHECKS + slot);
     WG_USE(run, WGP_CHECK_SPRINGS, &(wg_check_springs_in){.x = wg_ring_cur(&g->x), .spring = &g->spring,
         .spring_rest = &g->spring_rest});
-    wg_u3f(run, "u_k", s->model->material.k);
+    wg_u4f(run, "u_k", s->model->material.k);
+    wg_u1f(run, "u_seam_scale", s->seam_scale);
     WG_RUN(run, g->ns, &g->chk_s);
     const wg_tex* rs = wg_reduce(run, &g->red_s, &g->chk_s, 0, 1, 0, 0);
     WG_USE(run, WGP_COPY_TEXEL, &(wg_src_in){.src = rs});
@@ -111,9 +115,10 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
     WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v), .spring = &g->spring,
         .spring_rest = &g->spring_rest, .rest = &g->rest});
-    wg_u3f(run, "u_k", m->material.k);
-    wg_u3f(run, "u_d", m->material.d);
+    wg_u4f(run, "u_k", m->material.k);
+    wg_u4f(run, "u_d", m->material.d);
     wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_seam_scale", s->seam_scale);   /* the host pairs' ramp, constant over the frame */
     wg_u1i(run, "u_compression_drop", compression == WC_COMPRESSION_DROP);
     WG_RUN(run, g->ns, &g->sf, &g->sw, &g->sj);
     const wc_air* air = &s->def.air;
@@ -250,6 +255,14 @@ static void gpu_measure(void* user, const wc_state* s, double* max_speed, double
     read_checks(g, &now, NULL);
     *kinetic = now.kinetic;
     *max_speed = sqrt((double)now.max_v2);
+    *max_strain = now.max_strain;
+}
+
+void wg_step_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain) {
+    checks(g, s, CHECKS_START);
+    wg_checks now;
+    read_checks(g, &now, NULL);
+    *elastic = now.elastic;
     *max_strain = now.max_strain;
 }
 

@@ -5,7 +5,7 @@
 // Output: o0 = (c u, -).
 uniform sampler2D x;
 uniform isampler2D spring;     // (a, b, type, -)
-uniform sampler2D spring_rest; // rest length
+uniform sampler2D spring_rest; // (rest length, stiffness weight w)
 uniform sampler2D mass;        // (m, 1/m)
 uniform sampler2D S0;
 uniform sampler2D S1;

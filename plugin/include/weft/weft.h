@@ -359,7 +359,7 @@ typedef struct weft_cloth_def {
      * point on an edge) of ANOTHER panel's boundary within this distance. seam_a[i] sews to
      * seam_b[i] (host vertex indices, vertex to vertex), however far apart they start: the
      * implicit solve pulls them together over the first frames. Seams are part of the model
-     * (snapshots of a cloth with other seams are refused). The GPU backend refuses seams. */
+     * (snapshots of a cloth with other seams are refused). Both backends sew. */
     double sew_distance;        /* m, after unit_scale; 0 (default): off */
     double sew_stiffness;       /* N/m per seam; 0 (default): material.stiffness[STRETCH]. Seam
                                    damping is material.damping[STRETCH] */
