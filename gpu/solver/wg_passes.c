@@ -14,6 +14,16 @@
 static const wg_pass_input springs[] = {IN(wg_springs_in, x), IN(wg_springs_in, v), IN(wg_springs_in, spring),
                                         IN(wg_springs_in, spring_rest), IN(wg_springs_in, rest)};
 WHOLE(wg_springs_in, springs);
+static const wg_pass_input newton_springs[] = {
+    IN(wg_newton_springs_in, x), IN(wg_newton_springs_in, v), IN(wg_newton_springs_in, w),
+    IN(wg_newton_springs_in, spring), IN(wg_newton_springs_in, spring_rest), IN(wg_newton_springs_in, rest)};
+WHOLE(wg_newton_springs_in, newton_springs);
+static const wg_pass_input newton_gradient[] = {IN(wg_newton_gradient_in, hf), IN(wg_newton_gradient_in, w),
+                                                IN(wg_newton_gradient_in, mass)};
+WHOLE(wg_newton_gradient_in, newton_gradient);
+static const wg_pass_input newton_step[] = {IN(wg_newton_step_in, w), IN(wg_newton_step_in, d),
+                                            IN(wg_newton_step_in, g)};
+WHOLE(wg_newton_step_in, newton_step);
 static const wg_pass_input air[] = {IN(wg_air_in, x), IN(wg_air_in, v), IN(wg_air_in, tri)};
 WHOLE(wg_air_in, air);
 static const wg_pass_input assemble_b[] = {
@@ -184,6 +194,9 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_CONTACT_END] = PASS("contact_end", contact_end, wg_contact_end_in),
     [WGP_CONTACT_PROJECT] = PASS("contact_project", contact_project, wg_contact_project_in),
     [WGP_CONTACT_DIAG] = PASS("contact_diag", contact_diag, wg_contact_diag_in),
+    [WGP_NEWTON_SPRINGS] = PASS("newton_springs", newton_springs, wg_newton_springs_in),
+    [WGP_NEWTON_GRADIENT] = PASS("newton_gradient", newton_gradient, wg_newton_gradient_in),
+    [WGP_NEWTON_STEP] = PASS("newton_step", newton_step, wg_newton_step_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),

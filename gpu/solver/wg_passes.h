@@ -26,6 +26,7 @@ typedef enum wg_pass_id {
     WGP_NORMALS, WGP_HOST_OUTPUT, WGP_LANCZOS_START, WGP_TRANSFORM, WGP_COPY_TEXEL,
     WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
     WGP_CONTACT_DIAG,
+    WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP,   /* Newton's further iterations (wg_newton.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
@@ -73,6 +74,18 @@ int wg_pass_bind_inputs(GLuint program, const wg_pass_info* pass, char* err, siz
 typedef struct wg_springs_in {  /* springs.glsl: per spring, force and Jacobian blocks */
     const wg_tex *x, *v, *spring, *spring_rest, *rest;
 } wg_springs_in;
+
+typedef struct wg_newton_springs_in {  /* newton_springs.glsl: per spring, Newton's system at w */
+    const wg_tex *x, *v, *w, *spring, *spring_rest, *rest;
+} wg_newton_springs_in;
+
+typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w) */
+    const wg_tex *hf, *w, *mass;        /* hf: assemble_b's h f_total */
+} wg_newton_gradient_in;
+
+typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + d and g.d */
+    const wg_tex *w, *d, *g;
+} wg_newton_step_in;
 
 typedef struct wg_air_in {      /* air.glsl: per triangle, wind and drag */
     const wg_tex *x, *v, *tri;  /* tri: (a, b, c, -) */

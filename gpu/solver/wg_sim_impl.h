@@ -66,6 +66,9 @@ struct wg_sim {
     wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the
                                    substep's checks (28..31, wg_step.c) */
     wg_tex chk_p, chk_s, corr;
+    wg_tex nw_w[2];             /* Newton's iterates, ping-pong (wg_newton.c; made only with Newton) */
+    wg_tex nw_zero;             /* zeros: Newton's initial guess and z */
+    wg_tex nw_hf, nw_gd;        /* h f_total at the iterate; g.d per particle */
     wg_chain red_p[2], red_s;
     wg_tex nrm, host_pos, host_nrm;
     GLuint pbo;
@@ -79,6 +82,7 @@ struct wg_sim {
     wg_contacts* contacts;      /* NULL when the cloth has no room for colliders */
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
     int amg_on;                 /* PCG's solve in progress preconditions with it */
+    int newton;                 /* more than one Newton iteration: the nw_* textures exist */
     int gl_error;               /* a GL error seen in this frame */
     int forget_gl;              /* destroy: free memory only (wg_sim_forget) */
 };
@@ -96,6 +100,14 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
 /* The springs' checks of the current x (check_springs.glsl, reduced and read back): the elastic
  * energy (J) and the largest stretch strain. */
 void wg_step_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
+
+/* ---- Newton's further iterations (wg_newton.c) ------------------------------------------------ */
+
+/* After the substep's first solve (*dv its result, residual_scale its wc_solve_result.scale): up
+ * to newton_iterations - 1 Newton steps without line search (core/newton.c's rules), solves
+ * added to st; *dv becomes the accepted iterate (g->nw_w). Cloths without colliders only. */
+void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type solver, wc_compression compression,
+                       double residual_scale, const wg_tex** dv, wc_step_stats* st);
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
 

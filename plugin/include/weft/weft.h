@@ -317,7 +317,7 @@ typedef struct weft_cloth_def {
     weft_integrator integrator; /* DEFAULT (backward Euler on both backends) */
     int newton_iterations;      /* linearised solves per substep, 1..100; 0 (default): the
                                    backend's choice (CPU 2, GPU 1). 1 without line search is
-                                   one Baraff-Witkin step */
+                                   one Baraff-Witkin step. GPU: above 1 only without colliders */
     int line_search;            /* backtracking line search on the incremental potential:
                                    1 on, 0 off, -1 (default): the backend's choice (CPU on,
                                    GPU off) */
@@ -396,7 +396,8 @@ WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, and mesh colliders),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, mesh colliders,
+ * self-collision, BDF2 / TR-BDF2, the line search, Newton iterations above 1 with colliders),
  * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
  * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
