@@ -193,5 +193,5 @@ void wg_sim_debug_invalidate_rho(wg_sim* g) { g->rho_valid = 0; }
 void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o) { g->debug_opts = *o; }
 
 void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain) {
-    wg_step_spring_checks(g, s, elastic, max_strain);
+    wg_checks_springs(g, s, elastic, max_strain);
 }

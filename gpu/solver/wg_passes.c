@@ -19,7 +19,8 @@ static const wg_pass_input newton_springs[] = {
     IN(wg_newton_springs_in, spring), IN(wg_newton_springs_in, spring_rest), IN(wg_newton_springs_in, rest)};
 WHOLE(wg_newton_springs_in, newton_springs);
 static const wg_pass_input newton_gradient[] = {IN(wg_newton_gradient_in, hf), IN(wg_newton_gradient_in, w),
-                                                IN(wg_newton_gradient_in, mass)};
+                                                IN(wg_newton_gradient_in, mass), IN(wg_newton_gradient_in, x),
+                                                IN(wg_newton_gradient_in, v)};
 WHOLE(wg_newton_gradient_in, newton_gradient);
 static const wg_pass_input newton_step[] = {IN(wg_newton_step_in, w), IN(wg_newton_step_in, d),
                                             IN(wg_newton_step_in, g)};

@@ -79,8 +79,8 @@ typedef struct wg_newton_springs_in {  /* newton_springs.glsl: per spring, Newto
     const wg_tex *x, *v, *w, *spring, *spring_rest, *rest;
 } wg_newton_springs_in;
 
-typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w) */
-    const wg_tex *hf, *w, *mass;        /* hf: assemble_b's h f_total */
+typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w), x(w), v(w) */
+    const wg_tex *hf, *w, *mass, *x, *v;   /* hf: assemble_b's h f_total; x, v: x_n, v_n */
 } wg_newton_gradient_in;
 
 typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + d and g.d */

@@ -1,6 +1,7 @@
 /* Private to gpu/solver: one cloth on the GPU, the struct behind wg_sim.h, shared by the files
- * that make up the cloth (wg_sim.c creation and state moves, wg_step.c the substep, wg_solve.c
- * the solvers, wg_output.c outputs, wg_debug.c the test entry points). It sits on the pass
+ * that make up the cloth (wg_sim.c creation and state moves, wg_step.c the substep, wg_newton.c
+ * its Newton iterations, wg_checks.c its checks, wg_solve.c the solvers, wg_output.c outputs,
+ * wg_debug.c the test entry points). It sits on the pass
  * machinery (wg_layout.h, wg_runner.h, wg_reduce.h, wg_ring.h, wg_stamps.h) and owns the
  * contacts (wg_contacts.h) and the multigrid (wg_amg.h), which see only the textures it hands
  * them. Its arrays follow wg_layout.h; its state arrays are rings (wg_ring.h). */
@@ -64,7 +65,7 @@ struct wg_sim {
     wg_tex sc[2][3];            /* PCG scalars, ping-pong */
     int sc_cur;
     wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the
-                                   substep's checks (28..31, wg_step.c) */
+                                   substep's checks (28..31, wg_checks.c) */
     wg_tex chk_p, chk_s, corr;
     wg_tex nw_w[2];             /* Newton's iterates, ping-pong (wg_newton.c; made only with Newton) */
     wg_tex nw_zero;             /* zeros: Newton's initial guess and z */
@@ -97,17 +98,40 @@ void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], c
 
 void wg_step_upload_pins(wg_sim* g, const wc_state* s);
 void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression);
-/* The springs' checks of the current x (check_springs.glsl, reduced and read back): the elastic
- * energy (J) and the largest stretch strain. */
-void wg_step_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
+
+/* ---- the step's checks (wg_checks.c) --------------------------------------------------------- */
+
+typedef struct wg_checks {
+    float kinetic;              /* sum of m v.v / 2 */
+    float gravity;              /* sum of -m g.x: gravity's potential energy */
+    float max_coord;            /* largest |coordinate| of x and v; +inf when one is not finite */
+    float max_v2;               /* largest v.v */
+    float elastic;              /* sum of the springs' w k e^2 / 2 (e: wc_spring_extension) */
+    float max_strain;           /* largest stretch strain (l - rest) / rest */
+} wg_checks;
+
+enum { WG_CHECKS_START = 0, WG_CHECKS_END = 2 };   /* the slots of a substep's start and end */
+
+/* The checks of the state (x, v) into a slot (passes and reductions, nothing read back). */
+void wg_checks_run(wg_sim* g, const wc_state* s, const wg_tex* x, const wg_tex* v, int slot);
+/* Read the start's and (end not NULL) the end's checks back: one read-back of four texels. */
+void wg_checks_read(wg_sim* g, wg_checks* start, wg_checks* end);
+/* The total energy (J: kinetic, springs, gravity's potential; core's wc_state_total_energy) of
+ * the state (x, v), through the end's slot, read back. */
+double wg_checks_energy(wg_sim* g, const wc_state* s, const wg_tex* x, const wg_tex* v);
+/* The springs' checks of the current x, read back: the elastic energy (J) and the largest
+ * stretch strain. */
+void wg_checks_springs(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
 
 /* ---- Newton's further iterations (wg_newton.c) ------------------------------------------------ */
 
 /* After the substep's first solve (*dv its result, residual_scale its wc_solve_result.scale): up
- * to newton_iterations - 1 Newton steps without line search (core/newton.c's rules), solves
- * added to st; *dv becomes the accepted iterate (g->nw_w). Cloths without colliders only. */
+ * to newton_iterations - 1 Newton steps without line search (core/newton.c's rules), and up to
+ * core's NW_ENERGY_EXTRA more while the iterate's total energy is above energy_cap (J; HUGE_VAL:
+ * no guard); solves and iterations added to st; *dv becomes the accepted iterate (g->nw_w).
+ * Cloths without colliders only. */
 void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type solver, wc_compression compression,
-                       double residual_scale, const wg_tex** dv, wc_step_stats* st);
+                       double residual_scale, double energy_cap, const wg_tex** dv, wc_step_stats* st);
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
 

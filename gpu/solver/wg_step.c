@@ -47,57 +47,6 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
     wg_array_upload(&g->layout, &g->pin_axis, n_pins, f);
 }
 
-/* The step's checks of one state, reduced on the GPU: check_particles.glsl's sums and maxima over
- * the particles and check_springs.glsl's over the springs, the measures core's judge compares. */
-typedef struct wg_checks {
-    float kinetic;              /* sum of m v.v / 2 */
-    float gravity;              /* sum of -m g.x: gravity's potential energy */
-    float max_coord;            /* largest |coordinate| of x and v; +inf when one is not finite */
-    float max_v2;               /* largest v.v */
-    float elastic;              /* sum of the springs' w k e^2 / 2 (e: wc_spring_extension) */
-    float max_strain;           /* largest stretch strain (l - rest) / rest */
-} wg_checks;
-
-/* Where the checks of a state land: texels CHECKS + slot (particles) and CHECKS + slot + 1
- * (springs) of g->lanczos, whose texels 0..19 are Chebyshev's Lanczos record; the substep puts
- * its start's checks in slot START and its end's in END and reads all four texels at once. */
-enum { CHECKS = 28, CHECKS_START = 0, CHECKS_END = 2 };
-
-/* The checks of the current x, v into the slot's two texels. */
-static void checks(wg_sim* g, const wc_state* s, int slot) {
-    wg_runner* run = &g->run;
-    WG_USE(run, WGP_CHECK_PARTICLES, &(wg_check_particles_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .mass = &g->mass});
-    wg_u3f(run, "u_gravity", s->def.gravity);
-    WG_RUN(run, g->n, &g->chk_p);
-    const wg_tex* rp = wg_reduce(run, &g->red_p[0], &g->chk_p, 0, 0, 1, 1);
-    WG_USE(run, WGP_COPY_TEXEL, &(wg_src_in){.src = rp});
-    wg_run_texel(run, &g->lanczos, CHECKS + slot);
-    WG_USE(run, WGP_CHECK_SPRINGS, &(wg_check_springs_in){.x = wg_ring_cur(&g->x), .spring = &g->spring,
-        .spring_rest = &g->spring_rest});
-    wg_u4f(run, "u_k", s->model->material.k);
-    wg_u1f(run, "u_seam_scale", s->seam_scale);
-    WG_RUN(run, g->ns, &g->chk_s);
-    const wg_tex* rs = wg_reduce(run, &g->red_s, &g->chk_s, 0, 1, 0, 0);
-    WG_USE(run, WGP_COPY_TEXEL, &(wg_src_in){.src = rs});
-    wg_run_texel(run, &g->lanczos, CHECKS + slot + 1);
-}
-
-/* A slot's two texels (the particles' channels, then the springs') as checks. */
-static wg_checks checks_of(const float t[8]) {
-    wg_checks c = {.kinetic = t[0], .gravity = t[1], .max_coord = t[2], .max_v2 = t[3], .elastic = t[4],
-                   .max_strain = t[5]};
-    return c;
-}
-
-/* Read the start's and (end not NULL) the end's checks back: one read-back of four texels. */
-static void read_checks(wg_sim* g, wg_checks* start, wg_checks* end) {
-    float t[16];
-    wg_read_texels(&g->layout, &g->lanczos, CHECKS, 4, t);
-    *start = checks_of(t + 4 * CHECKS_START);
-    if (end) *end = checks_of(t + 4 * CHECKS_END);
-}
-
 /* Pins, contacts, springs, air, assembly: s->filter's GPU twin (S0, S1, z), A0/A1, b. */
 void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression) {
     g->residual_floor = wc_state_residual_floor(s, h); /* the solves' floor, as core's prepare */
@@ -148,13 +97,22 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
 
 #define FRICTION_PASSES 4   /* as core/step.c */
 
+/* The judge's measure of a substep's start from its checks. */
+static wc_substep_measure start_measure(const wg_checks* c) {
+    wc_substep_measure m = {0};
+    m.kinetic = c->kinetic;
+    m.elastic = (double)c->kinetic + (double)c->elastic;
+    m.total = m.elastic + (double)c->gravity;
+    return m;
+}
+
 static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
                                double pin_energy, wc_step_stats* st, wc_diag* diag) {
     wg_sim* g = user;
     wg_runner* run = &g->run;
-    wc_substep_measure before = {0}, after = {0};
+    wc_substep_measure before, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
-    checks(g, s, CHECKS_START);   /* the start's measures, read back with the end's */
+    wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_START);   /* read back with the end's */
 
     const wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
     wg_step_prepare(g, s, h, alpha1, compression);
@@ -193,7 +151,18 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     if (status != WC_OK)
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);
-    if (g->newton) wg_newton_iterate(g, s, h, solver, compression, res.scale, &dvres, st);
+    if (g->newton) {
+        /* Newton's energy guard (core/step.c): the start's energy plus what the judge allows; the
+           start's checks read back now (one more read-back a substep) */
+        double energy_cap = HUGE_VAL;
+        if (judge_energy) {
+            wg_checks start;
+            wg_checks_read(g, &start, NULL);
+            wc_substep_measure m0 = start_measure(&start);
+            energy_cap = m0.total + wc_substep_energy_allowance(s, &m0);
+        }
+        wg_newton_iterate(g, s, h, solver, compression, res.scale, energy_cap, &dvres, st);
+    }
     int nd = wg_ring_other(&g->dv, 0);
     wg_copy(run, &g->dv.t[nd], dvres);
 
@@ -233,15 +202,13 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         wg_contacts_project(g->contacts, s);
     }
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
-    checks(g, s, CHECKS_END);
+    wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_END);
     wg_checks start, end;
-    read_checks(g, &start, &end);
+    wg_checks_read(g, &start, &end);
     wg_stamp(&g->stamps, WG_STAGE_COUNT);
     if (glGetError() != GL_NO_ERROR) g->gl_error = 1;
 
-    before.kinetic = start.kinetic;
-    before.elastic = (double)start.kinetic + (double)start.elastic;
-    before.total = before.elastic + (double)start.gravity;
+    before = start_measure(&start);
     after.finite = isfinite(end.max_coord) != 0;
     after.kinetic = end.kinetic;
     after.total = (double)end.kinetic + (double)end.elastic + (double)end.gravity;
@@ -269,19 +236,11 @@ static void gpu_restore(void* user, wc_state* s) {
 
 static void gpu_measure(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain) {
     wg_sim* g = user;
-    checks(g, s, CHECKS_START);
+    wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_START);
     wg_checks now;
-    read_checks(g, &now, NULL);
+    wg_checks_read(g, &now, NULL);
     *kinetic = now.kinetic;
     *max_speed = sqrt((double)now.max_v2);
-    *max_strain = now.max_strain;
-}
-
-void wg_step_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain) {
-    checks(g, s, CHECKS_START);
-    wg_checks now;
-    read_checks(g, &now, NULL);
-    *elastic = now.elastic;
     *max_strain = now.max_strain;
 }
 
