@@ -1,8 +1,8 @@
 /* Newton iterations on the GPU backend through the public API (real EGL: llvmpipe without a
- * GPU): a 1 m sheet held by two corners swinging down, with two Newton iterations without line
- * search on both backends (PCG with block Jacobi), GPU against CPU; the GPU's Newton steps
- * counted and its rollbacks at Newton 2 against Newton 1; Newton above 1 with colliders refused
- * on the GPU, naming them, the context intact. */
+ * GPU): a 1 m sheet held by two corners swinging down, with two Newton iterations without and
+ * with the line search on both backends (PCG with block Jacobi), GPU against CPU; the GPU's
+ * Newton steps counted and its rollbacks at Newton 2 against Newton 1; Newton with colliders
+ * refused on the GPU, naming them, the context intact. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -16,7 +16,7 @@
 static int g_pins[2];
 static weft_attachment_def g_att;
 
-static weft_cloth_def sheet_def(const ag_mesh* m, int newton) {
+static weft_cloth_def sheet_def(const ag_mesh* m, int newton, int line_search) {
     g_pins[0] = 0;
     g_pins[1] = N - 1;
     g_att = weft_default_attachment_def();
@@ -29,7 +29,7 @@ static weft_cloth_def sheet_def(const ag_mesh* m, int newton) {
     def.solver = WEFT_SOLVER_PCG;
     def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
     def.newton_iterations = newton;
-    def.line_search = 0;
+    def.line_search = line_search;
     return def;
 }
 
@@ -44,12 +44,12 @@ static weft_context* make_ctx(weft_backend backend) {
 
 typedef struct run_result {
     float pos[3 * N * N];
-    int rollbacks, newton_steps, solves, ok;
+    int rollbacks, newton_steps, solves, backtracks, ok;
 } run_result;
 
-static void run(weft_context* ctx, const ag_mesh* m, int newton, run_result* r) {
+static void run(weft_context* ctx, const ag_mesh* m, int newton, int line_search, run_result* r) {
     memset(r, 0, sizeof *r);
-    weft_cloth_def def = sheet_def(m, newton);
+    weft_cloth_def def = sheet_def(m, newton, line_search);
     weft_cloth cloth = {0};
     weft_status st = weft_cloth_create(ctx, &def, &cloth);
     CHECK_EQ_INT(st, WEFT_OK);
@@ -67,6 +67,7 @@ static void run(weft_context* ctx, const ag_mesh* m, int newton, run_result* r) 
         r->rollbacks += fs.rollbacks;
         r->newton_steps += fs.newton_steps;
         r->solves += fs.solves;
+        r->backtracks += fs.line_search_backtracks;
     }
     int n = 0;
     CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_WORLD, r->pos, NULL, N * N, &n), WEFT_OK);
@@ -84,7 +85,7 @@ static double max_distance(const float* a, const float* b) {
     return most;
 }
 
-static run_result cpu2, gpu2, gpu1, cpu1;
+static run_result cpu2, gpu2, gpu1, cpu1, cpu_ls, gpu_ls;
 
 static void test_newton_vs_cpu(void) {
     ag_mesh m;
@@ -92,10 +93,12 @@ static void test_newton_vs_cpu(void) {
     weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
     weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
     if (!cpu || !gpu) return;
-    run(cpu, &m, 2, &cpu2);
-    run(gpu, &m, 2, &gpu2);
-    run(gpu, &m, 1, &gpu1);
-    run(cpu, &m, 1, &cpu1);
+    run(cpu, &m, 2, 0, &cpu2);
+    run(gpu, &m, 2, 0, &gpu2);
+    run(gpu, &m, 1, 0, &gpu1);
+    run(cpu, &m, 1, 0, &cpu1);
+    run(cpu, &m, 2, 1, &cpu_ls);
+    run(gpu, &m, 2, 1, &gpu_ls);
     if (cpu2.ok && gpu2.ok && gpu1.ok && cpu1.ok) {
         double d2 = max_distance(gpu2.pos, cpu2.pos), d1 = max_distance(gpu1.pos, cpu1.pos);
         double n1 = max_distance(cpu2.pos, cpu1.pos), drop = 0.0;
@@ -113,6 +116,15 @@ static void test_newton_vs_cpu(void) {
         CHECK(gpu2.rollbacks <= gpu1.rollbacks);
         CHECK(gpu2.rollbacks <= cpu2.rollbacks);
     }
+    if (cpu_ls.ok && gpu_ls.ok) {
+        double d = max_distance(gpu_ls.pos, cpu_ls.pos);
+        printf("  Newton 2 with the line search: GPU vs CPU %.3g m; CPU %d solves, %d backtracks, %d rollbacks; GPU %d "
+               "solves, %d backtracks, %d rollbacks\n", d, cpu_ls.solves, cpu_ls.backtracks, cpu_ls.rollbacks,
+               gpu_ls.solves, gpu_ls.backtracks, gpu_ls.rollbacks);
+        CHECK(d < 5e-3);
+        CHECK(gpu_ls.newton_steps > 0);
+        CHECK(gpu_ls.rollbacks <= cpu_ls.rollbacks);
+    }
     weft_context_destroy(cpu);
     weft_context_destroy(gpu);
     ag_free(&m);
@@ -124,7 +136,7 @@ static void test_colliders_refused(void) {
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
     weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
     if (!gpu) return;
-    weft_cloth_def def = sheet_def(&m, 2);
+    weft_cloth_def def = sheet_def(&m, 2, 0);
     weft_collider_def sph = weft_default_collider_def();
     sph.type = WEFT_COLLIDER_SPHERE;
     sph.radius = 0.3;
@@ -136,6 +148,10 @@ static void test_colliders_refused(void) {
     printf("  Newton 2 with a collider on the GPU: %s\n", weft_context_last_error(gpu));
     CHECK(strstr(weft_context_last_error(gpu), "colliders") != NULL);
     def.newton_iterations = 1;
+    def.line_search = 1;
+    CHECK_EQ_INT(weft_cloth_create(gpu, &def, &cloth), WEFT_ERROR_UNSUPPORTED);
+    CHECK(strstr(weft_context_last_error(gpu), "line search on") != NULL);
+    def.line_search = 0;
     CHECK_EQ_INT(weft_cloth_create(gpu, &def, &cloth), WEFT_OK);
     CHECK_EQ_INT(weft_cloth_destroy(gpu, cloth), WEFT_OK);
     weft_context_destroy(gpu);

@@ -3,7 +3,9 @@
  * (llvmpipe without a GPU): the assembled A and b of a substep and the springs' checks (elastic
  * energy, strain) for the sewn tube (seams by distance, vertex to edge: weights 1-t, t and the
  * negative -t(1-t)) and for the host-pair sheets at points of their rest-length ramp (pulling,
- * slack, closed), each at a perturbed state so that every seam is stretched its own way. */
+ * slack, closed), each at a perturbed state so that every seam is stretched its own way; and the
+ * line search's measure of the incremental potential's change between two iterates
+ * (wg_newton.c) against core's wc_newton_potential, seams included. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +13,7 @@
 #include "check.h"
 #include "egl_context.h"
 #include "forces.h"
+#include "newton.h"
 #include "sew_sheets.h"
 #include "sew_tube.h"
 #include "step.h"
@@ -23,12 +26,13 @@ static wg_device* dev;
 /* A state of m with the given pins (particles, held where they are), stepped `warm` frames on the
  * CPU, then moved by up to `noise` metres and m/s per coordinate and rounded to float (what the
  * GPU's textures hold), so both backends see the same input. */
-static wc_state* perturbed_state(wc_model* m, const int* pinned, int n_pins, int warm, double noise) {
+static wc_state* perturbed_state(wc_model* m, const int* pinned, int n_pins, int warm, double noise, int newton) {
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = WC_SOLVER_PCG;
     def.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
-    def.newton_iterations = 1;
-    def.line_search = 0;
+    def.newton_iterations = newton;
+    def.line_search = newton > 1;
+    def.max_colliders = 0;   /* the GPU runs Newton on cloths without colliders */
     def.sleep_speed = 0.0;
     wc_state* s = NULL;
     wc_diag d = {0};
@@ -120,7 +124,7 @@ static void test_tube(void) {
         negative += m.springs[k].w < 0.0;
     CHECK(negative > 0);
     int top[2] = {m.host_to_particle[tube_vertex(0, 0, 0)], m.host_to_particle[tube_vertex(0, 0, NW)]};
-    wc_state* s = perturbed_state(&m, top, 2, 3, 0.01);
+    wc_state* s = perturbed_state(&m, top, 2, 3, 0.01, 1);
     CHECK(s != NULL);
     if (s) compare_system("sewn tube", &m, s);
     wc_state_destroy(s);
@@ -153,7 +157,7 @@ static void test_host_pairs(void) {
     static const double scales[] = {1.0, 0.5, 0.0};
     static const char* names[] = {"host pairs, ramp start", "host pairs, mid-ramp", "host pairs, closed"};
     for (int c = 0; c < 3; ++c) {
-        wc_state* s = perturbed_state(&m, top, SHEET_N, 0, 0.04);
+        wc_state* s = perturbed_state(&m, top, SHEET_N, 0, 0.04, 1);
         CHECK(s != NULL);
         if (!s) continue;
         s->seam_scale = scales[c];
@@ -162,6 +166,57 @@ static void test_host_pairs(void) {
     }
     wc_model_free(&m);
     wc_source_mesh_free(&src);
+}
+
+/* Phi(wb) - Phi(wa) on the GPU (the line search's measure) against core's potential in double, for
+ * iterates a Newton step apart (wa random, wb = wa + a smaller random step), and for a step of
+ * one hundredth of that. */
+static void test_potential_change(void) {
+    wc_model m;
+    wc_diag d = {0};
+    wc_model_def def = wc_default_model_def();
+    def.sew_distance = SEW;
+    CHECK_EQ_INT(tube_model(&m, &def, &d), WC_OK);
+    int top[2] = {m.host_to_particle[tube_vertex(0, 0, 0)], m.host_to_particle[tube_vertex(0, 0, NW)]};
+    wc_state* s = perturbed_state(&m, top, 2, 3, 0.01, 2);
+    CHECK(s != NULL);
+    wg_sim* g = NULL;
+    if (s) CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
+    if (!g) {
+        fprintf(stderr, "%s\n", d.message);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+        return;
+    }
+    int n3 = 3 * m.n_particles;
+    double h = 1.0 / 30.0;
+    double* wa = calloc((size_t)n3, sizeof(double));
+    double* wb = calloc((size_t)n3, sizeof(double));
+    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(s, h, 1.0, &st);   /* captures the frozen damping and f_ext (newton.h) */
+    wc_integ ig;
+    wc_integ_begin(s, h, &ig);
+    srand(11);
+    static const double steps[] = {0.05, 5e-4};
+    for (int c = 0; c < 2; ++c) {
+        for (int k = 0; k < n3; ++k) {
+            wa[k] = (float)(0.1 * ((double)rand() / RAND_MAX - 0.5));
+            wb[k] = (float)(wa[k] + steps[c] * ((double)rand() / RAND_MAX - 0.5));
+        }
+        double cpu = wc_newton_potential(s, &ig, wb) - wc_newton_potential(s, &ig, wa);
+        double gpu = wg_sim_debug_phi_change(g, s, h, wa, wb);
+        double rel = fabs(gpu - cpu) / fabs(cpu);
+        printf("  sewn tube, iterates %.0e m/s apart: Phi change %.6g J on the GPU, %.6g J in double (%.2e of it)\n",
+               steps[c], gpu, cpu, rel);
+        CHECK(cpu != 0.0);
+        CHECK(rel < 1e-3);
+    }
+    free(wa), free(wb);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_model_free(&m);
 }
 
 int main(void) {
@@ -179,6 +234,7 @@ int main(void) {
     printf("device: %s\n", dev->renderer);
     RUN_TEST(test_tube);
     RUN_TEST(test_host_pairs);
+    RUN_TEST(test_potential_change);
     wg_device_destroy(dev);
     wg_gl_end(gl);
     wg_gl_context_destroy(gl);

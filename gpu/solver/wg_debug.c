@@ -195,3 +195,9 @@ void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o) { g->debug_opts =
 void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain) {
     wg_checks_springs(g, s, elastic, max_strain);
 }
+
+double wg_sim_debug_phi_change(wg_sim* g, const wc_state* s, double h, const double* wa, const double* wb) {
+    upload_vec(g, &g->nw_w[0], g->n, wa);
+    upload_vec(g, &g->nw_w[1], g->n, wb);
+    return wg_newton_phi_change(g, s, h, &g->nw_w[0], &g->nw_w[1]);
+}

@@ -1,14 +1,19 @@
-/* Newton's further iterations of a backward-Euler substep on the GPU: core/newton.c without the
- * line search. At the iterate w (the velocity change; x(w) = x_n + h (v_n + w)): the springs'
+/* Newton's iterations and line search of a backward-Euler substep on the GPU, as core/newton.c
+ * (without friction's frozen terms: colliders are refused with Newton at creation). At the
+ * iterate w (the velocity change; x(w) = x_n + h (v_n + w)): the springs'
  * elastic forces and stiffness at x(w) with the substep start's damping directions
  * (newton_springs.glsl), h f_total (assemble_b.glsl), g = -grad Phi(w) = h f_total - M w
  * (newton_gradient.glsl) into b and A into its blocks; stop when |S g| is within the solver's
  * tolerance of the first solve's scale (a reduction read back); solve A d = g under the substep's
  * filter S with z = 0 (so every iterate keeps the first one's prescribed part); stop unless d
- * descends (g.d > 0, a reduction read back); w += d. The energy guard as core's: past
+ * descends (g.d > 0, a reduction read back); w += d, or with the line search w + alpha d for the
+ * first alpha of 1, 1/2, ... that passes Armijo's test on the incremental potential Phi. Phi's
+ * change between two iterates is summed term by term (newton_phi_particles.glsl,
+ * newton_phi_springs.glsl: two reductions read back), not each Phi, so that float keeps the
+ * digits the test compares; the first step's search runs from w~0 = z + S (-v_n) towards the
+ * first solve's result as core's. The energy guard as core's: past
  * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
- * (the step's checks at x(w), v(w), read back) is above the cap. Colliders are refused with
- * Newton at creation (wg_sim_create): kinetic friction's frozen terms are not carried here. */
+ * (the step's checks at x(w), v(w), read back) is above the cap. */
 #include <math.h>
 
 #include "wg_sim_impl.h"
@@ -57,17 +62,89 @@ static double filtered_norm2(wg_sim* g) {
 
 #define NW_ENERGY_EXTRA 4   /* core/newton.c's: iterations past newton_iterations at most while the
                                iterate holds more energy than the cap */
+#define NW_ARMIJO 1e-4      /* core/newton.c's sufficient-decrease constant */
+#define NW_BACKTRACKS 12    /* and its halvings of a step at most */
+
+/* One of Newton's iterate textures that is neither a nor b. */
+static wg_tex* spare(wg_sim* g, const wg_tex* a, const wg_tex* b) {
+    int k = 0;
+    while (&g->nw_w[k] == a || &g->nw_w[k] == b) ++k;
+    return &g->nw_w[k];
+}
+
+/* trial = w + alpha d; returns sum g.d (a reduction read back). */
+static double step_to(wg_sim* g, const wg_tex* w, const wg_tex* d, const wg_tex* gr, double alpha, const wg_tex* trial) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_NEWTON_STEP, &(wg_newton_step_in){.w = w, .d = d, .g = gr});
+    wg_u1f(run, "u_alpha", alpha);
+    WG_RUN(run, g->n, trial, &g->nw_gd);
+    float v[4];
+    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->nw_gd, 0, 0, 0, 0), v);
+    return (double)v[0];
+}
+
+/* the particles' and the springs' changes summed */
+double wg_newton_phi_change(wg_sim* g, const wc_state* s, double h, const wg_tex* wa, const wg_tex* wb) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_NEWTON_PHI_PARTICLES, &(wg_newton_phi_particles_in){.wa = wa, .wb = wb, .mass = &g->mass,
+        .fext = &g->nw_fext});
+    wg_u1f(run, "u_h", h);
+    WG_RUN(run, g->n, &g->nw_gd);
+    float p[4], q[4];
+    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->nw_gd, 0, 0, 0, 0), p);
+    WG_USE(run, WGP_NEWTON_PHI_SPRINGS, &(wg_newton_phi_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .wa = wa, .wb = wb, .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
+    wg_u4f(run, "u_k", g->m->material.k);
+    wg_u4f(run, "u_d", g->m->material.d);
+    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_seam_scale", s->seam_scale);
+    WG_RUN(run, g->ns, &g->chk_s);
+    wg_read1(&g->layout, wg_reduce(run, &g->red_s, &g->chk_s, 0, 0, 0, 0), q);
+    return (double)p[0] + (double)q[0];
+}
+
+/* The line search of the first step (core/newton.c): from w~0 = z + S (-v_n) along d0 = w1 - w~0,
+ * alpha = 1 (w1 itself), 1/2, ... until Armijo's test against the slope of the first system's
+ * quadratic model holds. Returns the accepted iterate, or w~0 with *stop set. */
+static const wg_tex* first_search(wg_sim* g, const wc_state* s, double h, const wg_tex* w1, int* stop,
+                                  wc_step_stats* st) {
+    wg_runner* run = &g->run;
+    wg_tex* w0 = spare(g, w1, NULL);
+    WG_USE(run, WGP_NEWTON_START, &(wg_newton_start_in){.v = wg_ring_cur(&g->v), .w1 = w1, .S0 = &g->S0,
+        .S1 = &g->S1, .z = &g->z});
+    WG_RUN(run, g->n, w0, &g->nw_d);
+    /* (A w~0 - b) . d0 = -S (b - A w~0) . d0, d0 being in S's range */
+    WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
+        .a_hi = &g->A1, .x = w0, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+    WG_RUN(run, g->n, &g->rz);
+    wg_tex* trial = spare(g, w1, w0);
+    const double slope = -step_to(g, w0, &g->nw_d, &g->rz, 1.0, trial);
+    double alpha = 1.0;
+    for (int b = 0; b <= NW_BACKTRACKS; ++b, alpha *= 0.5) {
+        const wg_tex* at = w1;
+        if (b > 0) {
+            step_to(g, w0, &g->nw_d, &g->rz, alpha, trial);
+            at = trial;
+        }
+        if (wg_newton_phi_change(g, s, h, w0, at) <= NW_ARMIJO * alpha * (slope < 0.0 ? slope : 0.0)) return at;
+        ++st->backtracks;
+    }
+    *stop = 1;
+    return w0;
+}
 
 void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type solver, wc_compression compression,
                        double residual_scale, double energy_cap, const wg_tex** dv, wc_step_stats* st) {
-    wg_runner* run = &g->run;
-    int cur = 0;
-    wg_copy(run, &g->nw_w[cur], *dv);
+    const wg_tex* w = &g->nw_w[0];
+    wg_copy(&g->run, &g->nw_w[0], *dv);
+    const int ls = s->def.line_search != 0;
+    int stop = 0;
+    if (ls) w = first_search(g, s, h, w, &stop, st);
     const double tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
     wc_solver_opts opts = s->def.solver;
     const int guard = energy_cap < HUGE_VAL;
-    for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0); ++it) {
-        newton_system(g, s, h, &g->nw_w[cur], compression);
+    for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
+        newton_system(g, s, h, w, compression);
         if (it >= s->def.newton_iterations) {
             /* past the configured count only while the iterate holds more energy than the
                substep may end with (core/newton.h "Energy guard") */
@@ -87,14 +164,25 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type so
         g->z = z;
         wc_step_stats_add_solve(st, solver, &res);
         if (status != WC_OK) break;   /* the iterate before it is kept, as core's */
-        int next = 1 - cur;
-        WG_USE(run, WGP_NEWTON_STEP, &(wg_newton_step_in){.w = &g->nw_w[cur], .d = d, .g = &g->b});
-        WG_RUN(run, g->n, &g->nw_w[next], &g->nw_gd);
-        float slope[4];
-        wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->nw_gd, 0, 0, 0, 0), slope);
-        if (!((double)slope[0] > 0.0)) break;   /* grad Phi . d = -g.d must be negative */
-        cur = next;
+        wg_tex* trial = spare(g, w, NULL);
+        const double slope = -step_to(g, w, d, &g->b, 1.0, trial);   /* grad Phi . d */
+        if (!(slope < 0.0)) break;
+        if (ls) {
+            /* alpha = 1, 1/2, ... until Armijo's test holds; none: the iterate stays, Newton stops
+               (core's flat-potential stop, a decrease below 1e-13 of Phi, is below float's
+               resolution: not tested) */
+            double alpha = 1.0;
+            int ok = wg_newton_phi_change(g, s, h, w, trial) <= NW_ARMIJO * alpha * slope;
+            for (int b = 1; b <= NW_BACKTRACKS && !ok; ++b) {
+                alpha *= 0.5;
+                ++st->backtracks;
+                step_to(g, w, d, &g->b, alpha, trial);
+                ok = wg_newton_phi_change(g, s, h, w, trial) <= NW_ARMIJO * alpha * slope;
+            }
+            if (!ok) break;
+        }
+        w = trial;
         ++st->newton_iterations;
     }
-    *dv = &g->nw_w[cur];
+    *dv = w;
 }

@@ -25,6 +25,19 @@ WHOLE(wg_newton_gradient_in, newton_gradient);
 static const wg_pass_input newton_step[] = {IN(wg_newton_step_in, w), IN(wg_newton_step_in, d),
                                             IN(wg_newton_step_in, g)};
 WHOLE(wg_newton_step_in, newton_step);
+static const wg_pass_input newton_start[] = {IN(wg_newton_start_in, v), IN(wg_newton_start_in, w1),
+                                             IN(wg_newton_start_in, S0), IN(wg_newton_start_in, S1),
+                                             IN(wg_newton_start_in, z)};
+WHOLE(wg_newton_start_in, newton_start);
+static const wg_pass_input newton_phi_particles[] = {
+    IN(wg_newton_phi_particles_in, wa), IN(wg_newton_phi_particles_in, wb), IN(wg_newton_phi_particles_in, mass),
+    IN(wg_newton_phi_particles_in, fext)};
+WHOLE(wg_newton_phi_particles_in, newton_phi_particles);
+static const wg_pass_input newton_phi_springs[] = {
+    IN(wg_newton_phi_springs_in, x), IN(wg_newton_phi_springs_in, v), IN(wg_newton_phi_springs_in, wa),
+    IN(wg_newton_phi_springs_in, wb), IN(wg_newton_phi_springs_in, spring), IN(wg_newton_phi_springs_in, spring_rest),
+    IN(wg_newton_phi_springs_in, rest)};
+WHOLE(wg_newton_phi_springs_in, newton_phi_springs);
 static const wg_pass_input air[] = {IN(wg_air_in, x), IN(wg_air_in, v), IN(wg_air_in, tri)};
 WHOLE(wg_air_in, air);
 static const wg_pass_input assemble_b[] = {
@@ -198,6 +211,9 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_NEWTON_SPRINGS] = PASS("newton_springs", newton_springs, wg_newton_springs_in),
     [WGP_NEWTON_GRADIENT] = PASS("newton_gradient", newton_gradient, wg_newton_gradient_in),
     [WGP_NEWTON_STEP] = PASS("newton_step", newton_step, wg_newton_step_in),
+    [WGP_NEWTON_START] = PASS("newton_start", newton_start, wg_newton_start_in),
+    [WGP_NEWTON_PHI_PARTICLES] = PASS("newton_phi_particles", newton_phi_particles, wg_newton_phi_particles_in),
+    [WGP_NEWTON_PHI_SPRINGS] = PASS("newton_phi_springs", newton_phi_springs, wg_newton_phi_springs_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),

@@ -26,7 +26,9 @@ typedef enum wg_pass_id {
     WGP_NORMALS, WGP_HOST_OUTPUT, WGP_LANCZOS_START, WGP_TRANSFORM, WGP_COPY_TEXEL,
     WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
     WGP_CONTACT_DIAG,
-    WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP,   /* Newton's further iterations (wg_newton.c) */
+    /* Newton's further iterations and line search (wg_newton.c) */
+    WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP, WGP_NEWTON_START, WGP_NEWTON_PHI_PARTICLES,
+    WGP_NEWTON_PHI_SPRINGS,
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
@@ -83,9 +85,21 @@ typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -
     const wg_tex *hf, *w, *mass, *x, *v;   /* hf: assemble_b's h f_total; x, v: x_n, v_n */
 } wg_newton_gradient_in;
 
-typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + d and g.d */
+typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + alpha d and g.d */
     const wg_tex *w, *d, *g;
 } wg_newton_step_in;
+
+typedef struct wg_newton_start_in {     /* newton_start.glsl: the line search's first start and direction */
+    const wg_tex *v, *w1, *S0, *S1, *z;
+} wg_newton_start_in;
+
+typedef struct wg_newton_phi_particles_in {   /* newton_phi_particles.glsl: the potential's change */
+    const wg_tex *wa, *wb, *mass, *fext;
+} wg_newton_phi_particles_in;
+
+typedef struct wg_newton_phi_springs_in {     /* newton_phi_springs.glsl: the potential's change */
+    const wg_tex *x, *v, *wa, *wb, *spring, *spring_rest, *rest;
+} wg_newton_phi_springs_in;
 
 typedef struct wg_air_in {      /* air.glsl: per triangle, wind and drag */
     const wg_tex *x, *v, *tri;  /* tri: (a, b, c, -) */

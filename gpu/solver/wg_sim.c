@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "gpu_error.h"
+#include "newton.h"
 #include "wg_sim_impl.h"
 
 #define WG_MIN_SHIFT 10
@@ -23,7 +24,8 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
                       &g->S0, &g->S1, &g->z, &g->sf, &g->sw, &g->sj, &g->fair, &g->b, &g->ftot, &g->A0, &g->A1,
                       &g->D0, &g->D1, &g->sv[0], &g->sv[1], &g->sv[2], &g->r[0], &g->r[1], &g->c[0], &g->c[1],
                       &g->t, &g->q, &g->part, &g->rz, &g->lanczos, &g->chk_p, &g->chk_s, &g->corr, &g->nrm,
-                      &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_zero, &g->nw_hf, &g->nw_gd};
+                      &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd,
+                      &g->nw_d, &g->nw_fext};
     for (size_t i = 0; i < sizeof list / sizeof list[0] && k < cap; ++i) out[k++] = list[i];
     wg_ring* rings[] = {&g->x, &g->v, &g->dv};
     for (int r = 0; r < 3; ++r)
@@ -219,7 +221,8 @@ static int create_scratch(wg_sim* g, char* err, size_t el) {
     for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(L, pv[k], GL_RGBA32F, n, NULL, err, el));
     TRY(wg_array_create(L, &g->D1, GL_RG32F, n, NULL, err, el));
     if (g->newton) {
-        wg_tex* pn[] = {&g->nw_w[0], &g->nw_w[1], &g->nw_zero, &g->nw_hf, &g->nw_gd};
+        wg_tex* pn[] = {&g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd, &g->nw_d,
+                        &g->nw_fext};
         for (size_t k = 0; k < sizeof pn / sizeof pn[0]; ++k) TRY(wg_array_create(L, pn[k], GL_RGBA32F, n, NULL, err, el));
     }
     wg_tex* ps[] = {&g->sf, &g->sw, &g->sj, &g->chk_s, &g->corr};
@@ -263,16 +266,15 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no triangle-mesh colliders (%d given in def->mesh_colliders): use the CPU "
                        "backend, or the plane, sphere and capsule colliders", s->n_mesh);
-    if (s->def.integrator != WC_INTEGRATOR_BE || s->def.line_search)
+    if (s->def.integrator != WC_INTEGRATOR_BE)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend runs backward Euler without line search (asked: integrator %s, line search %s; "
-                       "BDF2, TR-BDF2 and the line search run on the CPU backend only)",
-                       wc_integrator_name(s->def.integrator), s->def.line_search ? "on" : "off");
-    if (s->def.newton_iterations > 1 && s->def.max_colliders > 0)
+                       "the GPU backend runs backward Euler (asked: integrator %s; BDF2 and TR-BDF2 run on the CPU "
+                       "backend only)", wc_integrator_name(s->def.integrator));
+    if (wc_newton_wanted(&s->def) && s->def.max_colliders > 0)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend runs %d Newton iterations only on a cloth without colliders (this one has room "
-                       "for %d): choose newton_iterations 1, or the CPU backend", s->def.newton_iterations,
-                       s->def.max_colliders);
+                       "the GPU backend runs Newton iterations (asked: %d, line search %s) only on a cloth without "
+                       "colliders (this one has room for %d): choose newton_iterations 1 without line search, or the "
+                       "CPU backend", s->def.newton_iterations, s->def.line_search ? "on" : "off", s->def.max_colliders);
     if (s->def.self_collision)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
@@ -289,7 +291,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     g->nh = m->n_host_verts;
     g->pin_cap = s->def.max_pins > 0 ? s->def.max_pins : g->n;
     g->debug_opts = s->def.solver;
-    g->newton = s->def.newton_iterations > 1;
+    g->newton = wc_newton_wanted(&s->def);
     long long biggest = g->n;
     long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};
     for (int k = 0; k < 5; ++k)

@@ -18,9 +18,11 @@
 typedef struct wg_sim wg_sim;
 
 /* Upload the model and the state; host_rest (n_host_verts x 3, object space, m; NULL: zeros) is
- * where outputs put host vertices no polygon uses. Refused: the direct solver (WC_ERROR_UNSUPPORTED: it does
- * not exist on the GPU), arrays beyond the device's texture limits (WC_ERROR_GPU naming the
- * array, its size and the limit), GL errors (WC_ERROR_GPU). */
+ * where outputs put host vertices no polygon uses. Refused with WC_ERROR_UNSUPPORTED (what the GPU
+ * does not have): the direct solver, the multigrid on fragment passes and other preconditioners,
+ * mesh colliders, BDF2 and TR-BDF2, Newton iterations or the line search with colliders,
+ * self-collision; with WC_ERROR_GPU: arrays beyond the device's texture limits (naming the
+ * array, its size and the limit), GL errors. */
 wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
 void wg_sim_destroy(wg_sim* g);
 /* Free the CPU memory only, when the GL context is gone or cannot be made current (the host's
@@ -80,6 +82,10 @@ wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, 
 /* The springs' elastic energy (J, seams at s->seam_scale) and largest stretch strain at the
  * current positions, as the step's checks measure them on the GPU. */
 void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
+/* The change Phi(wb) - Phi(wa) (J) of the line search's incremental potential between two
+ * iterates (n x 3 velocity changes) of the substep of length h the last prepare built, as the
+ * line search measures it (a cloth made with Newton iterations or the line search only). */
+double wg_sim_debug_phi_change(wg_sim* g, const wc_state* s, double h, const double* wa, const double* wb);
 /* Solve the system the last prepare built with the cloth's solver from the initial guess dv
  * (n x 3, in/out, NULL: the state's warm start); the result as core's wc_solve_result. */
 wc_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);

@@ -67,9 +67,10 @@ struct wg_sim {
     wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the
                                    substep's checks (28..31, wg_checks.c) */
     wg_tex chk_p, chk_s, corr;
-    wg_tex nw_w[2];             /* Newton's iterates, ping-pong (wg_newton.c; made only with Newton) */
+    wg_tex nw_w[3];             /* Newton's iterates and trials (wg_newton.c; made only with Newton) */
     wg_tex nw_zero;             /* zeros: Newton's initial guess and z */
-    wg_tex nw_hf, nw_gd;        /* h f_total at the iterate; g.d per particle */
+    wg_tex nw_hf, nw_gd;        /* h f_total at the iterate; per-particle scratch of the reductions */
+    wg_tex nw_d, nw_fext;       /* the line search's first direction; the substep's external force */
     wg_chain red_p[2], red_s;
     wg_tex nrm, host_pos, host_nrm;
     GLuint pbo;
@@ -83,7 +84,8 @@ struct wg_sim {
     wg_contacts* contacts;      /* NULL when the cloth has no room for colliders */
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
     int amg_on;                 /* PCG's solve in progress preconditions with it */
-    int newton;                 /* more than one Newton iteration: the nw_* textures exist */
+    int newton;                 /* Newton iterations above 1 or the line search (core's
+                                   wc_newton_wanted): the nw_* textures exist */
     int gl_error;               /* a GL error seen in this frame */
     int forget_gl;              /* destroy: free memory only (wg_sim_forget) */
 };
@@ -125,13 +127,16 @@ void wg_checks_springs(wg_sim* g, const wc_state* s, double* elastic, double* ma
 
 /* ---- Newton's further iterations (wg_newton.c) ------------------------------------------------ */
 
-/* After the substep's first solve (*dv its result, residual_scale its wc_solve_result.scale): up
- * to newton_iterations - 1 Newton steps without line search (core/newton.c's rules), and up to
+/* After the substep's first solve (*dv its result, residual_scale its wc_solve_result.scale): the
+ * line search of its step when asked, up to newton_iterations - 1 Newton steps (with the line
+ * search when asked; core/newton.c's rules), and up to
  * core's NW_ENERGY_EXTRA more while the iterate's total energy is above energy_cap (J; HUGE_VAL:
  * no guard); solves and iterations added to st; *dv becomes the accepted iterate (g->nw_w).
  * Cloths without colliders only. */
 void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type solver, wc_compression compression,
                        double residual_scale, double energy_cap, const wg_tex** dv, wc_step_stats* st);
+/* Phi(wb) - Phi(wa) of the prepared substep (two reductions read back). */
+double wg_newton_phi_change(wg_sim* g, const wc_state* s, double h, const wg_tex* wa, const wg_tex* wb);
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
 

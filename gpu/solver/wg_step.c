@@ -85,7 +85,8 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
     wg_u1f(run, "u_h", h);
     wg_u3f(run, "u_gravity", s->def.gravity);
     wg_u1i(run, "u_use_air", use_air);
-    WG_RUN(run, g->n, &g->b, &g->ftot);
+    if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
+    else WG_RUN(run, g->n, &g->b, &g->ftot);
     WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
         .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj});
     WG_RUN(run, g->nb, &g->A0, &g->A1);
@@ -123,7 +124,7 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     /* inexact Newton (core/step.c first_solve): with further iterations to correct it, the first
        solve stops at forcing x its own residual; res.scale stays the tight solve's */
     const double tolerance = opts.tolerance, floor = g->residual_floor, forcing = s->def.newton_forcing;
-    const int loose = g->newton && !g->contacts && forcing > tolerance;
+    const int loose = s->def.newton_iterations > 1 && !g->contacts && forcing > tolerance;
     if (loose) {
         opts.tolerance = forcing;
         g->residual_floor = floor * tolerance / forcing;

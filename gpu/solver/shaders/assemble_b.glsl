@@ -1,7 +1,7 @@
 // Per particle i (core/assemble.c by rows): the external force m_i g (+ a third of the air force
 // of each incident triangle), the spring forces f_total = f_ext + sum sign f_s, and the right-hand
 // side b_i = h (f_total + h sum sign w_s), sign = +1 where i is the spring's end a.
-// Outputs: o0 = b, o1 = f_total.
+// Outputs: o0 = b, o1 = f_total, o2 = the external force (Newton's line search).
 uniform sampler2D mass;       // (m, 1/m)
 uniform isampler2D rows;      // (spring start, end, triangle start, end)
 uniform isampler2D row_entry; // per row entry: (spring, sign, other particle, block)
@@ -14,10 +14,11 @@ uniform vec3 u_gravity;
 uniform int u_use_air;
 out vec4 o0;
 out vec4 o1;
+out vec4 o2;
 
 void main() {
     int i = self_index();
-    if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
+    if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
     float m = ld(mass, i).x;
     ivec4 rr = ldi(rows, i);
     vec3 f = m * u_gravity;
@@ -26,6 +27,7 @@ void main() {
         for (int k = rr.z; k < rr.w; ++k) acc += ld(tri_air, ldi(row_tri, k).x).xyz;
         f += acc * (1.0 / 3.0);
     }
+    o2 = vec4(f, 0.0);
     vec3 kv = vec3(0.0);
     for (int k = rr.x; k < rr.y; ++k) {
         ivec4 e = ldi(row_entry, k);

@@ -320,7 +320,7 @@ typedef struct weft_cloth_def {
                                    one Baraff-Witkin step. GPU: above 1 only without colliders */
     int line_search;            /* backtracking line search on the incremental potential:
                                    1 on, 0 off, -1 (default): the backend's choice (CPU on,
-                                   GPU off) */
+                                   GPU off). GPU: on only without colliders */
     int substeps;               /* implicit steps per frame (1) */
     double max_frame_time;      /* s: a longer weft_frame.dt is refused (0.25) */
     double strain_limit;        /* 0 off (default); 0.1 caps stretch springs at 110% of rest */
