@@ -1,10 +1,11 @@
 /* A frame on the GPU: core's frame driver (wc_step_frame_ops: schedule, retries, judging, stats,
  * sleeping) with this file's substep, save/restore and measures. A substep is the chain of
  * passes of core/step.c's substep(): pins (and contacts) into the filter, springs, air, assembly
- * of b by particles and of A by blocks, (friction), the solve, (contact release), integration
- * with the pins snapped, strain limiting, (contact projection), and the checks as reductions:
- * one read-back of four texels per substep feeds core's judge. Rollback moves no data: the
- * state rings keep the substep's start. */
+ * of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and line
+ * search: wg_newton.c), (contact release), integration with the pins snapped, strain limiting,
+ * (contact projection), and the checks as reductions (wg_checks.c): one read-back of four texels
+ * per substep feeds core's judge. Rollback moves no data: the state rings keep the substep's
+ * start. */
 #include <math.h>
 #include <string.h>
 
