@@ -1,10 +1,12 @@
 /* Newton iterations on the GPU backend through the public API (real EGL: llvmpipe without a
  * GPU): a 1 m sheet held by two corners swinging down, with two Newton iterations without and
  * with the line search on both backends (PCG with block Jacobi), GPU against CPU; the GPU's
- * Newton steps counted and its rollbacks at Newton 2 against Newton 1; Newton with colliders
- * refused on the GPU, naming them, the context intact. */
+ * Newton steps counted and its rollbacks at Newton 2 against Newton 1; frames of 0.1 s at Newton
+ * 3, where the line search backtracks; Newton with colliders refused on the GPU, naming them, the
+ * context intact. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "api_grid.h"
@@ -47,9 +49,11 @@ typedef struct run_result {
     int rollbacks, newton_steps, solves, backtracks, ok;
 } run_result;
 
-static void run(weft_context* ctx, const ag_mesh* m, int newton, int line_search, run_result* r) {
+static void run_frames(weft_context* ctx, const ag_mesh* m, int newton, int line_search, int frames, double dt,
+                       run_result* r) {
     memset(r, 0, sizeof *r);
     weft_cloth_def def = sheet_def(m, newton, line_search);
+    def.max_frame_time = dt;
     weft_cloth cloth = {0};
     weft_status st = weft_cloth_create(ctx, &def, &cloth);
     CHECK_EQ_INT(st, WEFT_OK);
@@ -58,8 +62,8 @@ static void run(weft_context* ctx, const ag_mesh* m, int newton, int line_search
         return;
     }
     weft_frame fr = weft_default_frame();
-    fr.dt = 1.0 / 60.0;
-    for (int f = 0; f < FRAMES; ++f) {
+    fr.dt = dt;
+    for (int f = 0; f < frames; ++f) {
         weft_frame_stats fs;
         st = weft_cloth_step(ctx, cloth, &fr, &fs);
         CHECK_EQ_INT(st, WEFT_OK);
@@ -73,6 +77,10 @@ static void run(weft_context* ctx, const ag_mesh* m, int newton, int line_search
     CHECK_EQ_INT(weft_cloth_get_vertices(ctx, cloth, WEFT_SPACE_WORLD, r->pos, NULL, N * N, &n), WEFT_OK);
     r->ok = 1;
     CHECK_EQ_INT(weft_cloth_destroy(ctx, cloth), WEFT_OK);
+}
+
+static void run(weft_context* ctx, const ag_mesh* m, int newton, int line_search, run_result* r) {
+    run_frames(ctx, m, newton, line_search, FRAMES, 1.0 / 60.0, r);
 }
 
 static double max_distance(const float* a, const float* b) {
@@ -130,6 +138,32 @@ static void test_newton_vs_cpu(void) {
     ag_free(&m);
 }
 
+/* Ten frames of 0.1 s in one substep each at Newton 3 with the line search: the search backtracks
+ * on both backends, the GPU as often as the CPU within a few, and the two end close. */
+static void test_backtracking(void) {
+    ag_mesh m;
+    ag_grid(&m, N, 1.0, 1.5, 0, 0);
+    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
+    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
+    if (!cpu || !gpu) return;
+    run_frames(cpu, &m, 3, 1, 10, 0.1, &cpu_ls);
+    run_frames(gpu, &m, 3, 1, 10, 0.1, &gpu_ls);
+    if (cpu_ls.ok && gpu_ls.ok) {
+        double d = max_distance(gpu_ls.pos, cpu_ls.pos);
+        printf("  0.1 s frames at Newton 3 with the search: GPU vs CPU %.3g m; backtracks CPU %d, GPU %d; Newton steps "
+               "CPU %d, GPU %d; rollbacks CPU %d, GPU %d\n", d, cpu_ls.backtracks, gpu_ls.backtracks,
+               cpu_ls.newton_steps, gpu_ls.newton_steps, cpu_ls.rollbacks, gpu_ls.rollbacks);
+        CHECK(cpu_ls.backtracks > 0);
+        CHECK(gpu_ls.backtracks > 0);
+        CHECK(abs(gpu_ls.backtracks - cpu_ls.backtracks) <= cpu_ls.backtracks / 4 + 2);
+        CHECK(gpu_ls.rollbacks <= cpu_ls.rollbacks);
+        CHECK(d < 0.05);   /* a 1 m sheet falling ~1 m in steps of 0.1 s, solved to 1e-4 in float and double */
+    }
+    weft_context_destroy(cpu);
+    weft_context_destroy(gpu);
+    ag_free(&m);
+}
+
 /* Newton 2 with a collider on the GPU: refused, naming the colliders; the context still works. */
 static void test_colliders_refused(void) {
     ag_mesh m;
@@ -160,6 +194,7 @@ static void test_colliders_refused(void) {
 
 int main(void) {
     RUN_TEST(test_newton_vs_cpu);
+    RUN_TEST(test_backtracking);
     RUN_TEST(test_colliders_refused);
     return TEST_SUMMARY();
 }
