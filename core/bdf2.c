@@ -71,6 +71,7 @@ static void trbdf2_prepare(wc_state* s, const wc_integ* ig) {
         }
         memcpy(s->x_prev, s->x, (size_t)n3 * sizeof(double));
         memcpy(s->v_prev, s->v, (size_t)n3 * sizeof(double));
+        memset(s->stage1_impulse, 0, (size_t)n3 * sizeof(double));   /* a stage 1 without contacts */
         return;
     }
     for (int k = 0; k < n3; ++k) {
@@ -119,6 +120,22 @@ void wc_integ_contacts(wc_state* s, const wc_integ* ig) {
             else s->mom[3 * i + c] = TR_C2 * (v[c] - s->v_prev[3 * i + c]);
         }
     }
+}
+
+int wc_integ_contact_impulses(wc_state* s, const wc_integ* ig) {
+    if (!ig->stage) return 1;
+    int n = s->model->n_particles;
+    const int* cid = s->contacts.collider;
+    if (ig->stage == 1) {
+        for (int i = 0; i < n; ++i) {
+            double* q = s->stage1_impulse + 3 * i;
+            if (cid[2 * i] >= 0) v3_copy(q, s->r + 3 * i);
+            else v3_zero(q);
+        }
+        return 0;
+    }
+    for (int k = 0; k < 3 * n; ++k) s->r[k] += s->stage1_impulse[k];
+    return 1;
 }
 
 void wc_integ_forces(wc_state* s, const wc_integ* ig) {

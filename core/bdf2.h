@@ -112,6 +112,16 @@ void wc_integ_prepare(wc_state* s, wc_integ* ig);
  * xb form (above, "Contacts"): v, xb, vstar, mom, v_prev (stage 1) and the filter's z of each
  * particle in contact. Nothing for backward Euler, BDF2 or a particle without contact. */
 void wc_integ_contacts(wc_state* s, const wc_integ* ig);
+/* TR-BDF2's contact release, after a stage's solve with contacts (s->r = A dv - b): returns 1 when
+ * wc_contacts_end is to release contacts on s->r now. Stage 1 keeps its particles' impulses and
+ * returns 0: its contacts are held into stage 2; stage 2 adds them to its own s->r, so a contact is
+ * released on the substep's impulse. The trapezoidal stage does not damp a stiff mode: the
+ * constraint force of a particle resting on a collider under a ringing neighbour flips sign from
+ * stage to stage, and released on one stage's pull it fell into the collider in the next (free,
+ * d = 0 is not re-caught after a release), the projection pushing it back out with spring energy
+ * that kept the cloth from ever coming to rest (docs/design/solver.md). Backward Euler and BDF2:
+ * returns 1. */
+int wc_integ_contact_impulses(wc_state* s, const wc_integ* ig);
 /* The history into / back from the substep's start copy (no-ops for a BE cloth). */
 void wc_integ_save(wc_state* s);
 void wc_integ_restore(wc_state* s);

@@ -147,6 +147,8 @@ typedef struct wc_state {
     double *x_prev0, *v_prev0;  /* (n x 3) */
     /* integrator scratch of a substep (bdf2.h), (n x 3) each */
     double *xb, *xs, *vstar, *mom;
+    double* stage1_impulse;     /* TR-BDF2: stage 1's contact impulses, added to stage 2's in the
+                                   release test (wc_integ_contact_impulses) */
     /* Newton scratch (newton.h), (n x 3) each unless noted */
     double *nw_w, *nw_d, *nw_x, *nw_v, *nw_zero, *nw_g, *nw_fb;
     double* nw_fa;              /* (n x 9) friction's diagonal blocks */

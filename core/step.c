@@ -376,7 +376,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
             for (int k = 0; k < n3; ++k) s->r[k] -= s->b[k];
         }
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
-        wc_contacts_end(&s->contacts, s->n_all, s->r, &s->par);
+        if (wc_integ_contact_impulses(s, &ig)) wc_contacts_end(&s->contacts, s->n_all, s->r, &s->par);
     } else {
         for (int k = 0; k < n3; ++k) s->v[k] += s->dv[k];
     }
