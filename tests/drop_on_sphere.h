@@ -9,9 +9,12 @@
 #include "step.h"
 #include "vec3.h"
 
-/* Sets the two colliders on s and steps it; *slept: it fell asleep; *bdf2 (may be NULL): the BDF2
- * substeps taken; *worst_depth: the deepest any particle went behind a collider's surface (m). */
-static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* worst_depth) {
+/* Sets the two colliders on s, the sphere of the given radius (m; its centre stays at (0.1, 0.25,
+ * 0.05)), and steps it; *slept: it fell asleep; *frames: the frames stepped; *bdf2 (may be NULL):
+ * the BDF2 substeps taken; *worst_depth: the deepest any particle went behind a collider's surface
+ * (m). */
+static inline void drop_on_sphere_radius(wc_state* s, double radius, int* slept, int* frames, int* bdf2,
+                                         double* worst_depth) {
     wc_collider c[2];
     memset(c, 0, sizeof c);
     c[0].type = WC_COLLIDER_PLANE;
@@ -21,7 +24,7 @@ static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* wo
     c[0].friction = 0.4;
     c[1].type = WC_COLLIDER_SPHERE;
     v3_set(c[1].center, 0.1, 0.25, 0.05);
-    c[1].radius = 0.25;
+    c[1].radius = radius;
     c[1].thickness = 0.005;
     c[1].friction = 0.4;
     wc_diag dg = {0};
@@ -29,7 +32,9 @@ static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* wo
     *slept = 0;
     if (bdf2) *bdf2 = 0;
     *worst_depth = 0.0;
+    *frames = 0;
     for (int f = 0; f < 360 && !*slept; ++f) {
+        ++*frames;
         wc_step_stats st;
         CHECK_EQ_INT(wc_step_frame(s, 1.0 / 30, &st, &dg), WC_OK);
         if (bdf2) *bdf2 += st.bdf2_substeps;
@@ -42,6 +47,12 @@ static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* wo
             }
         }
     }
+}
+
+/* The scene as above with the sphere's radius 0.25 m. */
+static inline void drop_on_sphere(wc_state* s, int* slept, int* bdf2, double* worst_depth) {
+    int frames;
+    drop_on_sphere_radius(s, 0.25, slept, &frames, bdf2, worst_depth);
 }
 
 #endif

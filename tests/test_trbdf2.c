@@ -242,6 +242,32 @@ static void test_colliders_friction_sleep_threads(void) {
     wc_model_free(&m);
 }
 
+/* The same drop with the sphere's radius moved by rounding-sized amounts (-1e-9 to +1e-9 m): the
+ * outcome is chaotic, and each must come to rest within the 360 frames. It guards the release of
+ * TR-BDF2's contacts on the substep's impulse (bdf2.h wc_integ_contact_impulses): released on one
+ * stage's impulse, a corner lying on the floor under a ringing fold let go on one stage's pull,
+ * fell 2-3 mm into the floor in the next (a released particle on the shell is not caught again,
+ * collide.c), and the projection's push back out fed the fold 5-17 mJ; 4 of these 8 perturbed
+ * drops never came to rest. */
+static void test_drop_sleeps_perturbed(void) {
+    wc_model m;
+    CHECK(ts_sheet(&m, N, 1.0, 0.6, 0, 1.0));
+    const double dr[9] = {0.0, -1e-9, -7.5e-10, -5e-10, -2.5e-10, 2.5e-10, 5e-10, 7.5e-10, 1e-9};
+    printf("  frames to rest:");
+    for (int k = 0; k < 9; ++k) {
+        wc_state* s = sheet(&m, 2, 1, 1);
+        int slept, frames;
+        double depth;
+        drop_on_sphere_radius(s, 0.25 + dr[k], &slept, &frames, NULL, &depth);
+        printf(" %+.2g: %d%s", dr[k], frames, slept ? "" : " (moving)");
+        CHECK(slept);
+        CHECK(depth < 1e-9);
+        wc_state_destroy(s);
+    }
+    printf("\n");
+    wc_model_free(&m);
+}
+
 /* The 32^2 sheet flat at first, hanging from two corners in still air (no drag), one linearised
  * step per stage: its flat start gains energy in a stage and is rolled back (the whole substep, both stages) and
  * retried in halves; the result is the same on 1 and 2 threads and the pins stay on target. */
@@ -408,6 +434,7 @@ int main(void) {
     RUN_TEST(test_air_drag_order);
     RUN_TEST(test_pins);
     RUN_TEST(test_colliders_friction_sleep_threads);
+    RUN_TEST(test_drop_sleeps_perturbed);
     RUN_TEST(test_contact_formula);
     RUN_TEST(test_drape_strain);
     RUN_TEST(test_rollback_threads);
