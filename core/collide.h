@@ -12,7 +12,8 @@
  *      the system is solved again)
  *   4. wc_contacts_end      after the solve: the constraint force (A dv - b)_i / h along n of each
  *                           contact; a contact whose force pulls the particle towards the
- *                           collider is released for the next substep.
+ *                           collider is released for the next substep (TR-BDF2: after stage 2,
+ *                           on both stages' forces together, bdf2.h wc_integ_contact_impulses).
  *   5. wc_contacts_project  after positions are advanced: any particle still inside a collider's
  *                           shell is moved to it and its inward relative normal velocity removed.
  * Pinned particles (filter ndof 3, not from a sticking contact) are never touched. */

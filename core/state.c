@@ -103,8 +103,8 @@ void wc_state_destroy(wc_state* s) {
     double* arrays[] = {s->x, s->v, s->pin_from, s->x0, s->v0, s->dv0, s->f_ext, s->f, s->b, s->dv, s->r,
                         s->tri_scratch, s->spring_scratch, s->A, s->filter.S, s->filter.z,
                         s->contacts.normal, s->contacts_save.normal, s->x_prev, s->v_prev, s->x_prev0, s->v_prev0,
-                        s->xb, s->xs, s->vstar, s->mom, s->stage1_impulse, s->nw_w, s->nw_d, s->nw_x, s->nw_v, s->nw_zero, s->nw_g,
-                        s->nw_fb, s->nw_fa, s->air_lump, s->nw_kv0, s->nw_partial};
+                        s->xb, s->xs, s->vstar, s->mom, s->stage1_impulse, s->nw_w, s->nw_d, s->nw_x, s->nw_v,
+                        s->nw_zero, s->nw_g, s->nw_fb, s->nw_fa, s->air_lump, s->nw_kv0, s->nw_partial};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&a, arrays[i]);
     wc_free(&a, s->pins);
     wc_free(&a, s->pin_scratch);
