@@ -4,26 +4,17 @@
  * dense Cholesky factor (or smoothed, when it could not be coarsened enough). */
 #include <string.h>
 #include "amg.h"
+#include "bsr_rows.h"
 #include "vec3.h"
 
-/* t = r - A x (the level's BSR part; residual() adds the couplings). */
+/* t = r - A x (the level's BSR part; residual() adds the couplings); t = r when x is NULL. */
 static void residual_bsr(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            double acc[3] = {r[3 * i], r[3 * i + 1], r[3 * i + 2]};
-            if (x)
-                for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
-                    const double* B = L->val + 9 * (size_t)k;
-                    const double* xj = x + 3 * L->col[k];
-                    acc[0] -= B[0] * xj[0] + B[1] * xj[1] + B[2] * xj[2];
-                    acc[1] -= B[3] * xj[0] + B[4] * xj[1] + B[5] * xj[2];
-                    acc[2] -= B[6] * xj[0] + B[7] * xj[1] + B[8] * xj[2];
-                }
-            v3_copy(t + 3 * i, acc);
-        }
+        if (x) wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, r, -1.0, x, t);
+        else if (hi > lo) memcpy(t + 3 * (size_t)lo, r + 3 * (size_t)lo, sizeof(double) * 3 * (size_t)(hi - lo));
     }
 }
 
@@ -74,9 +65,7 @@ static void prolong(const wc_amg_level* L, const double* xc, double* x, wc_par* 
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i)
-            for (int e = L->p_start[i]; e < L->p_start[i + 1]; ++e)
-                m3_mulv_add(x + 3 * i, L->p_val + 9 * (size_t)e, xc + 3 * L->p_col[e]);
+        wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, xc, x);
     }
 }
 

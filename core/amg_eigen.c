@@ -14,24 +14,23 @@
 #include <math.h>
 #include <string.h>
 #include "amg.h"
+#include "bsr_rows.h"
 #include "vec3.h"
 
 /* t = A w on the chunk's rows; returns (w . A w) and adds (w . D w) into *den (D: the block
- * diagonal, 3x3 or the pair's 6x6); next = D^-1 t on the chunk (for pairs through L->t, chunks
- * hold whole pairs). */
+ * diagonal, 3x3 or the pair's 6x6); next = D^-1 t on the chunk, t in L->t (chunks hold whole
+ * pairs). */
 static double chunk_apply(const wc_amg_level* L, int lo, int hi, int pair_blocks, const double* w, double* next,
                           double* den) {
     double num = 0.0, dsum = 0.0;
     const double* xw = L->cross && L->cross->n_terms > 0 ? L->cross->y : NULL; /* apply_all's X w */
+    wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, xw, 1.0, w, L->t);
     for (int i = lo; i < hi; ++i) {
-        double t[3] = {0, 0, 0}, dw[3] = {0, 0, 0};
-        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-            m3_mulv_add(t, L->val + 9 * (size_t)k, w + 3 * L->col[k]);
-        if (xw) v3_add(t, t, xw + 3 * i);
+        const double* t = L->t + 3 * i;
+        double dw[3] = {0, 0, 0};
         wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
         num += v3_dot(w + 3 * i, t);
         if (L->group == 1) m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
-        else v3_copy(L->t + 3 * i, t);
         dsum += v3_dot(w + 3 * i, dw);
     }
     if (L->group == 2)

@@ -1,4 +1,5 @@
 #include "bsr.h"
+#include "bsr_rows.h"
 #include <string.h>
 #include "model.h"
 #include "sort.h"
@@ -127,11 +128,7 @@ void wc_bsr_mul(const wc_bsr_pattern* p, const double* val, const double* x, dou
     {
         int lo, hi;
         wc_par_range(p->n_rows, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            double acc[3] = {0, 0, 0};
-            for (int b = p->row_start[i]; b < p->row_start[i + 1]; ++b) m3_mulv_add(acc, val + 9 * b, x + 3 * p->col[b]);
-            v3_copy(y + 3 * i, acc);
-        }
+        wc_bsr_rows(p->row_start, p->col, val, lo, hi, NULL, 1.0, x, y);
     }
 }
 
@@ -141,10 +138,6 @@ void wc_bsr_residual(const wc_bsr_pattern* p, const double* val, const double* b
     {
         int lo, hi;
         wc_par_range(p->n_rows, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            double acc[3] = {0, 0, 0};
-            for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k) m3_mulv_add(acc, val + 9 * k, x + 3 * p->col[k]);
-            v3_sub(y + 3 * i, b + 3 * i, acc);
-        }
+        wc_bsr_rows(p->row_start, p->col, val, lo, hi, b, -1.0, x, y);
     }
 }

@@ -1,0 +1,201 @@
+/* The block kernels' scalar and vector versions (the vector ones where this CPU has them)
+ * against products computed here in long double:
+ *   - the 3x3-block row kernel (core/bsr_rows.h): random patterns with empty rows, long rows and
+ *     the last block at the very end of its array (the vector loop must not read past it: arrays
+ *     are allocated to their exact size, so ASan would see it), y = s + sign A x with s NULL, s
+ *     distinct and s aliasing y, rows split in two calls as two threads would;
+ *   - the pair products of the multigrid setup (core/block_pair.h): z += M [T0 T1] and
+ *     z += M^T [T0 T1] on exact-size arrays, z's values outside the pair untouched. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "block_pair.h"
+#include "bsr_rows.h"
+#include "check.h"
+
+static unsigned rng = 12345u;
+static unsigned next_bits(void) {
+    rng = rng * 1664525u + 1013904223u;
+    return rng >> 8;
+}
+/* in [-1, 1) with a full 48-bit mantissa (products and sums round) */
+static double uniform(void) {
+    double hi = next_bits(), lo = next_bits();
+    return (hi * 16777216.0 + lo) / 140737488355328.0 - 1.0;
+}
+
+typedef struct pattern {
+    int n, nb;
+    int* row_start;
+    int* col;
+    double* val;
+} pattern;
+
+/* n rows; row i holds up to max_row blocks at random columns (some rows none) */
+static pattern make_pattern(int n, int max_row) {
+    pattern p = {n, 0, malloc(sizeof(int) * (size_t)(n + 1)), NULL, NULL};
+    p.row_start[0] = 0;
+    for (int i = 0; i < n; ++i) {
+        int len = (int)((uniform() + 1.0) * 0.5 * (max_row + 1));
+        if (len > max_row) len = max_row;
+        if (i % 7 == 3) len = 0;
+        p.row_start[i + 1] = p.row_start[i] + len;
+    }
+    p.nb = p.row_start[n];
+    p.col = malloc(sizeof(int) * (size_t)(p.nb > 0 ? p.nb : 1));
+    p.val = malloc(sizeof(double) * 9 * (size_t)(p.nb > 0 ? p.nb : 1));
+    for (int k = 0; k < p.nb; ++k) {
+        int c = (int)((uniform() + 1.0) * 0.5 * n);
+        p.col[k] = c < n ? c : n - 1;
+        for (int e = 0; e < 9; ++e) p.val[9 * k + e] = uniform() * 1e3;
+    }
+    return p;
+}
+
+static void free_pattern(pattern* p) {
+    free(p->row_start);
+    free(p->col);
+    free(p->val);
+}
+
+/* y = s + sign A x in long double, the reference; returns the largest |term| sum per row */
+static void reference(const pattern* p, const double* s, double sign, const double* x, long double* y,
+                      double* scale) {
+    for (int i = 0; i < p->n; ++i) {
+        long double acc[3] = {0, 0, 0};
+        double mag[3] = {0, 0, 0};
+        for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) {
+                    double t = p->val[9 * k + 3 * r + c] * x[3 * p->col[k] + c];
+                    acc[r] += t;
+                    mag[r] += fabs(t);
+                }
+        for (int r = 0; r < 3; ++r) {
+            y[3 * i + r] = (s ? (long double)s[3 * i + r] : 0.0L) + sign * acc[r];
+            scale[3 * i + r] = mag[r] + (s ? fabs(s[3 * i + r]) : 0.0);
+        }
+    }
+}
+
+/* f on rows [lo, hi) in two calls (as two threads would split them), against the reference */
+static void check_kernel(wc_bsr_rows_fn f, const char* name, const pattern* p, double sign, int with_s,
+                         int alias, double* out) {
+    const int n = p->n;
+    double* x = calloc(3 * (size_t)n, sizeof(double)); /* exact size: the last x_j ends the array */
+    double* s = calloc(3 * (size_t)n, sizeof(double));
+    double* y = malloc(sizeof(double) * 3 * (size_t)n);
+    long double* ref = malloc(sizeof(long double) * 3 * (size_t)n);
+    double* scale = malloc(sizeof(double) * 3 * (size_t)n);
+    for (int q = 0; q < 3 * n; ++q) {
+        x[q] = uniform();
+        s[q] = uniform() * 10.0;
+        y[q] = NAN;
+    }
+    reference(p, with_s ? s : NULL, sign, x, ref, scale);
+    const double* sp = NULL;
+    if (with_s && alias) {
+        memcpy(y, s, sizeof(double) * 3 * (size_t)n);
+        sp = y;
+    } else if (with_s) {
+        sp = s;
+    }
+    int mid = n / 3;
+    f(p->row_start, p->col, p->val, 0, mid, sp, sign, x, y);
+    f(p->row_start, p->col, p->val, mid, n, sp, sign, x, y);
+    double worst = 0.0;
+    for (int q = 0; q < 3 * n; ++q) {
+        double err = fabs((double)((long double)y[q] - ref[q]));
+        double rel = err / (scale[q] > 0 ? scale[q] : 1.0);
+        if (rel > worst) worst = rel;
+        CHECK(isfinite(y[q]));
+    }
+    printf("  %-6s n %5d blocks %6d sign %+.0f s %s: largest error %.2e of the row's |terms|\n", name, n, p->nb,
+           sign, with_s ? (alias ? "aliasing y" : "given") : "NULL", worst);
+    CHECK(worst < 1e-13); /* rounding of a sum of at most 3 x 40 terms (n u = 2.7e-14) */
+    if (out) memcpy(out, y, sizeof(double) * 3 * (size_t)n);
+    free(x);
+    free(s);
+    free(y);
+    free(ref);
+    free(scale);
+}
+
+/* z (18) += M' [T0 T1], M' = M or M^T, against long double; z sits inside a guarded array */
+static void check_pair(wc_pair_fn f, const char* name, int transposed) {
+    double worst = 0.0;
+    for (int trial = 0; trial < 200; ++trial) {
+        double M[9], T[18], z0[18];
+        for (int q = 0; q < 9; ++q) M[q] = uniform() * 100.0;
+        for (int q = 0; q < 18; ++q) T[q] = uniform();
+        for (int q = 0; q < 18; ++q) z0[q] = uniform() * 10.0;
+        double* Tx = malloc(sizeof T); /* exact size: T[18] is past the end */
+        double* g = malloc(sizeof(double) * 20); /* z with a guard on each side */
+        memcpy(Tx, T, sizeof T);
+        g[0] = g[19] = 12345.0;
+        memcpy(g + 1, z0, sizeof z0);
+        f(g + 1, M, Tx);
+        CHECK(g[0] == 12345.0 && g[19] == 12345.0);
+        for (int b = 0; b < 2; ++b)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) {
+                    long double acc = z0[9 * b + 3 * r + c];
+                    double mag = fabs(z0[9 * b + 3 * r + c]);
+                    for (int k = 0; k < 3; ++k) {
+                        double m = transposed ? M[3 * k + r] : M[3 * r + k];
+                        acc += (long double)m * T[9 * b + 3 * k + c];
+                        mag += fabs(m * T[9 * b + 3 * k + c]);
+                    }
+                    double err = fabs((double)((long double)g[1 + 9 * b + 3 * r + c] - acc)) / mag;
+                    if (err > worst) worst = err;
+                }
+        free(Tx);
+        free(g);
+    }
+    printf("  %-6s pair %s: largest error %.2e of |terms|\n", name, transposed ? "z += M^T T" : "z += M T  ", worst);
+    CHECK(worst < 1e-15);
+}
+
+int main(void) {
+    wc_pair_kernels ps = wc_pair_kernels_scalar(), pv = wc_pair_kernels_vector(), pc = wc_pair_kernels_get();
+    printf("vector pair kernels: %s\n", pv.mul_add ? "yes (AVX2 + FMA)" : "none on this build or CPU");
+    check_pair(ps.mul_add, "scalar", 0);
+    check_pair(ps.tmul_add, "scalar", 1);
+    if (pv.mul_add) {
+        check_pair(pv.mul_add, "vector", 0);
+        check_pair(pv.tmul_add, "vector", 1);
+    }
+    check_pair(pc.mul_add, "chosen", 0);
+    check_pair(pc.tmul_add, "chosen", 1);
+    wc_bsr_rows_fn vec = wc_bsr_rows_vector();
+    printf("vector kernel: %s\n", vec ? "yes (AVX2 + FMA)" : "none on this build or CPU");
+    const int sizes[][2] = {{1, 1}, {5, 3}, {200, 13}, {1000, 40}, {64, 0}};
+    for (size_t t = 0; t < sizeof sizes / sizeof sizes[0]; ++t) {
+        pattern p = make_pattern(sizes[t][0], sizes[t][1]);
+        for (int mode = 0; mode < 4; ++mode) {
+            double sign = mode == 0 || mode == 2 ? 1.0 : -1.0;
+            int with_s = mode >= 1, alias = mode == 3;
+            unsigned seed = rng;
+            double* a = malloc(sizeof(double) * 3 * (size_t)p.n);
+            double* b = malloc(sizeof(double) * 3 * (size_t)p.n);
+            check_kernel(wc_bsr_rows_scalar, "scalar", &p, sign, with_s, alias, a);
+            if (vec) {
+                rng = seed; /* the same x and s */
+                check_kernel(vec, "vector", &p, sign, with_s, alias, b);
+                double worst = 0.0;
+                for (int q = 0; q < 3 * p.n; ++q) {
+                    double d = fabs(a[q] - b[q]) / (fabs(a[q]) + 1.0);
+                    if (d > worst) worst = d;
+                }
+                CHECK(worst < 1e-11);
+            }
+            rng = seed;
+            check_kernel(wc_bsr_rows, "chosen", &p, sign, with_s, alias, NULL);
+            free(a);
+            free(b);
+        }
+        free_pattern(&p);
+    }
+    return TEST_SUMMARY();
+}
