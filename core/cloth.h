@@ -196,6 +196,8 @@ typedef struct wc_cloth_batch_item {
  * reordered. Not WC_OK only when the group could not begin: then d says why, every item's status
  * and diag hold it, and no cloth changed. Allocates nothing. */
 wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d);
+/* Put the items back in the order of their `index` (after wc_cloth_step_batch). Allocates nothing. */
+void wc_cloth_batch_sort_by_index(wc_cloth_batch_item* items, int n);
 
 /* ---- attachments and mesh colliders (cloth_attach.c, cloth_mesh.c) ------------------------- */
 

@@ -12,7 +12,6 @@
  * parallel loops use fixed ranges and ordered reductions, so a step's result does not depend on
  * its thread count (par.h; tests/test_self_threads.c, tests/test_api_batch.c).
  * Nothing is allocated. */
-#include <stdlib.h>
 #include <string.h>
 #include "clock.h"
 #include "cloth_internal.h"
@@ -29,13 +28,30 @@ static void step_item(wc_cloth_batch_item* it, int one_thread) {
 }
 
 /* Larger cloths (particles) first; ties in the caller's order. */
-static int larger_first(const void* a, const void* b) {
-    const wc_cloth_batch_item* x = a;
-    const wc_cloth_batch_item* y = b;
+static int larger_first(const wc_cloth_batch_item* x, const wc_cloth_batch_item* y) {
     int nx = x->cloth->model.n_particles, ny = y->cloth->model.n_particles;
     if (nx != ny) return nx > ny ? -1 : 1;
     return (x->index > y->index) - (x->index < y->index);
 }
+
+static int by_index(const wc_cloth_batch_item* x, const wc_cloth_batch_item* y) {
+    return (x->index > y->index) - (x->index < y->index);
+}
+
+/* Insertion sort in place: a batch is tens of cloths, and qsort may call malloc (glibc's merge
+ * sort does for arrays over 1 KB), which a step must not. */
+static void sort_items(wc_cloth_batch_item* items, int n,
+                       int (*cmp)(const wc_cloth_batch_item*, const wc_cloth_batch_item*)) {
+    for (int k = 1; k < n; ++k) {
+        if (cmp(&items[k - 1], &items[k]) <= 0) continue;
+        wc_cloth_batch_item t = items[k];
+        int j = k;
+        for (; j > 0 && cmp(&items[j - 1], &t) > 0; --j) items[j] = items[j - 1];
+        items[j] = t;
+    }
+}
+
+void wc_cloth_batch_sort_by_index(wc_cloth_batch_item* items, int n) { sort_items(items, n, by_index); }
 
 wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d) {
     if (n <= 0) return WC_OK;
@@ -56,7 +72,7 @@ wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d) {
     for (int k = 0; k < n; ++k)
         if (items[k].cloth->state->par.threads > threads) threads = items[k].cloth->state->par.threads;
     if (b->concurrent && threads > 1 && n >= threads) {
-        qsort(items, (size_t)n, sizeof *items, larger_first);
+        sort_items(items, n, larger_first);
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
 #endif

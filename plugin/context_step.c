@@ -10,7 +10,6 @@
  * and passed to the host's logger afterwards, cloth by cloth in the array's order, from the
  * calling thread. */
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include "api_internal.h"
 #include "call_guard.h"
@@ -55,11 +54,6 @@ static void note(first_failure* f, const weft_context* ctx, weft_status st, int 
     f->index = index;
     f->status = st;
     snprintf(f->message, sizeof f->message, "%s", ctx->last_error);
-}
-
-static int by_index(const void* a, const void* b) {
-    int x = ((const wc_cloth_batch_item*)a)->index, y = ((const wc_cloth_batch_item*)b)->index;
-    return (x > y) - (x < y);
 }
 
 /* The next call's mark for the slots (0 is never one: fresh slots hold it). */
@@ -117,7 +111,7 @@ weft_status weft_context_step(weft_context* ctx, int n, const weft_cloth* cloths
     }
     wc_diag d = wa_core_diag(ctx);
     wc_cloth_step_batch(ctx->batch_items, m, &d);   /* a group that cannot begin: every item's status */
-    qsort(ctx->batch_items, (size_t)m, sizeof *ctx->batch_items, by_index);
+    wc_cloth_batch_sort_by_index(ctx->batch_items, m);
     for (int k = 0; k < m; ++k) {
         const wc_cloth_batch_item* it = &ctx->batch_items[k];
         pass_on(ctx, it->diag.log_user, it->index);
