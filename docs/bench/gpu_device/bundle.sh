@@ -9,7 +9,10 @@
 # carry it).
 set -e
 B=build-dev
-BINS="$B/weft $B/plugin/libweft.so.7.7.0 $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_gpu_contacts $B/tests/test_api_gpu
+LIB=$(ls $B/plugin/libweft.so.*.*.*)   # the versioned file (libweft.so.ABI.MINOR.PATCH)
+SONAME=$(ls $B/plugin/libweft.so.* | grep -E 'libweft\.so\.[0-9]+$')
+BINS="$B/weft $LIB $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_gpu_contacts $B/tests/test_api_gpu
+      $B/tests/test_gpu_sew $B/tests/test_api_gpu_sew $B/tests/test_api_gpu_newton $B/tests/test_api_batch
       $B/tests/test_cli_gpu_runs $B/tests/test_render $B/tests/test_api_render $B/tests/test_render_errors
       $B/tests/bench/bench_gpu $B/tests/bench/bench_render"
 T=$(mktemp -d)
@@ -19,6 +22,6 @@ for b in $BINS; do ldd "$b" | awk '$3 ~ /^\//{print $1, $3}'; done | sort -u |
     while read -r so path; do cp -L "$path" "$T/lib/$so"; done
 tar cJf .dev/libs.tar.xz -C "$T" lib
 rm -rf "$T"
-tar cJf .dev/bins.tar.xz $BINS $B/plugin/libweft.so $B/plugin/libweft.so.7
+tar cJf .dev/bins.tar.xz $BINS $B/plugin/libweft.so $SONAME
 cp docs/bench/gpu_device/run.sh .dev/run.sh
 ls -la .dev

@@ -1,11 +1,13 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
-# amg: the GPU's multigrid against block Jacobi (its test, converged steps, the scenes, peers).
+# amg: the GPU's multigrid against block Jacobi (its test, converged steps, the scenes, peers);
+# newton: sewing, Newton and the line search on the GPU (their tests, the hanging sheet's rollbacks
+# at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments batched / unbatched).
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -38,6 +40,21 @@ if [ "$MODE" = amg ]; then   # the multigrid (gpu/solver/wg_amg.h) against block
     done
     timeout 90 build-dev/weft bench peers --backend gpu --scenes sheet100 --substeps 1,2 --preconds amg,block_jacobi --newton 1 --threads 1 --frames 30 --md "$O/e_peers.md" > /dev/null 2>&1
     grep "^| sheet100 | 10000" "$O/e_peers.md"; } 2>&1 | tee "$O/g_amg.md"
+  exit 0
+fi
+if [ "$MODE" = newton ]; then   # sewing, Newton, line search and batching on the GPU
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    for t in test_gpu_sew test_api_gpu_sew test_api_gpu_newton test_api_batch; do
+      timeout 120 build-dev/tests/$t > /tmp/tn.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|bound|rollback" /tmp/tn.txt | head -8
+    done
+    echo "| scene | newton | line search | ms/frame median | solves | rollbacks |"; echo "|---|---|---|---|---|---|"
+    for sc in hanging_sheet flag; do
+      for nl in "1 off" "2 off" "2 on"; do set -- $nl
+        timeout 60 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json --backend gpu --newton $1 --line-search $2 > /dev/null 2>&1 &&
+        python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | $1 | $2 | %.2f | %s | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('rollbacks')))"
+      done
+    done
+    timeout 240 build-dev/weft bench crowd --backend gpu --frames 10 2>&1 | tail -20; } 2>&1 | tee "$O/h_newton_crowd.md"
   exit 0
 fi
 if [ "$MODE" = quick ]; then   # what fits the last minutes of a lease: the default passes only
