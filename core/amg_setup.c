@@ -366,35 +366,60 @@ static void galerkin_pairs_ap(wc_amg_level* L, wc_par* par) {
     }
 }
 
+/* The next level's rows 2a, 2a + 1 for pairs lo..hi-1, the blocks (I, J) with J's pair >= a (P^T A P
+ * is symmetric: half the products): B (slot pair of row I) += P0^T [T0 T1], B' (row I + 1) += P1^T
+ * [T0 T1], with P0^T, P1^T transposed once per fine row so that PAIR_ADD (z += A [P0 P1], as in
+ * T = A P) serves both products. */
+#define WC_PAIRS_PTAP_ROWS(L, N, lo, hi, PAIR_ADD)                                                     \
+    for (int a = (lo); a < (hi); ++a) {                                                                 \
+        int I = 2 * a, c0 = (N)->row_start[I], c1 = (N)->row_start[I + 1], d0 = c1;                     \
+        memset((N)->val + 9 * (size_t)c0, 0, 9 * sizeof(double) * (size_t)((N)->row_start[I + 2] - c0)); \
+        int s0 = c0; /* first slot of row I at a column >= I */                                         \
+        while ((N)->col[s0] < I) ++s0;                                                                  \
+        /* P^T's rows 2a and 2a + 1 list the same fine rows; the entries for 2a + 1 follow */           \
+        for (int s = (L)->pt_start[I]; s < (L)->pt_start[I + 1]; ++s) {                                 \
+            int i = (L)->pt_row[s], slot = s0, k = (L)->t_start[i], t1 = (L)->t_start[i + 1];           \
+            while (k < t1 && (L)->t_col[k] < I) k += 2;                                                 \
+            const double* P0 = (L)->p_val + 9 * (size_t)(L)->pt_entry[s];                              \
+            double Q0[9], Q1[9]; /* P0^T, P1^T */                                                       \
+            for (int r = 0; r < 3; ++r)                                                                 \
+                for (int c = 0; c < 3; ++c) {                                                           \
+                    Q0[3 * r + c] = P0[3 * c + r];                                                      \
+                    Q1[3 * r + c] = P0[9 + 3 * c + r];                                                  \
+                }                                                                                       \
+            for (; k < t1; k += 2) {                                                                    \
+                while ((N)->col[slot] != (L)->t_col[k]) ++slot; /* T's row i is in N's row I */         \
+                const double* T = (L)->t_val + 9 * (size_t)k;                                           \
+                PAIR_ADD((N)->val + 9 * (size_t)slot, Q0, T);                                           \
+                PAIR_ADD((N)->val + 9 * (size_t)(slot - c0 + d0), Q1, T);                               \
+            }                                                                                           \
+        }                                                                                               \
+    }
+
+static void pairs_ptap_rows(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
+    WC_PAIRS_PTAP_ROWS(L, N, lo, hi, pair_mul_add)
+}
+
+#ifdef WC_PAIRS_AP_AVX2
+__attribute__((target("avx2,fma"))) static void pairs_ptap_rows_avx2(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
+    WC_PAIRS_PTAP_ROWS(L, N, lo, hi, pair_mul_add_avx2)
+}
+#endif
+
+/* N = P^T T on a pair level; AVX2 + FMA where the CPU has them. */
 static void galerkin_pairs_ptap(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
-    /* the blocks (I, J) of pair a with J's pair >= a (P^T A P is symmetric): half the products */
+#ifdef WC_PAIRS_AP_AVX2
+    const int vec = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(N->n / 2, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int a = lo; a < hi; ++a) {
-            int I = 2 * a, c0 = N->row_start[I], c1 = N->row_start[I + 1], d0 = c1;
-            memset(N->val + 9 * (size_t)c0, 0, 9 * sizeof(double) * (size_t)(N->row_start[I + 2] - c0));
-            int s0 = c0; /* first slot of row I at a column >= I */
-            while (N->col[s0] < I) ++s0;
-            /* P^T's rows 2a and 2a + 1 list the same fine rows; the entries for 2a + 1 follow */
-            for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
-                int i = L->pt_row[s], slot = s0, k = L->t_start[i], t1 = L->t_start[i + 1];
-                while (k < t1 && L->t_col[k] < I) k += 2;
-                const double* P0 = L->p_val + 9 * (size_t)L->pt_entry[s];
-                const double* P1 = P0 + 9;
-                for (; k < t1; k += 2) {
-                    while (N->col[slot] != L->t_col[k]) ++slot; /* T's row i is in N's row I */
-                    const double *T0 = L->t_val + 9 * (size_t)k, *T1 = T0 + 9;
-                    double* B0 = N->val + 9 * (size_t)slot;
-                    double* B1 = N->val + 9 * (size_t)(slot - c0 + d0);
-                    m3_tmul_add(B0, P0, T0);
-                    m3_tmul_add(B0 + 9, P0, T1);
-                    m3_tmul_add(B1, P1, T0);
-                    m3_tmul_add(B1 + 9, P1, T1);
-                }
-            }
-        }
+#ifdef WC_PAIRS_AP_AVX2
+        if (vec) pairs_ptap_rows_avx2(L, N, lo, hi);
+        else
+#endif
+            pairs_ptap_rows(L, N, lo, hi);
     }
     /* the others by symmetry: (I, J) = (J, I)^T, written by pair I / 2 from pair J / 2's rows */
     WC_PAR_REGION(par)
