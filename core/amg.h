@@ -278,6 +278,13 @@ typedef struct wc_amg {
                                    x, wc_solver_set_positions); NULL: the rest positions' P_tent
                                    from wc_amg_create. What it yields (P_tent, R, dead) is derived
                                    per solve from the state: snapshots hold nothing of it */
+    double* tent_pos;           /* (n x 3) with rotations and current_positions: the positions the
+                                   current P_tent, R and dead were built from; a setup whose pos
+                                   holds the same bits (a substep's Newton and friction solves
+                                   share the substep's x) keeps them: the same function of the
+                                   same input, so bit-identical to rebuilding */
+    int tent_valid;             /* 1: tent_pos describes the current P_tent */
+    long tent_kept;             /* setups that kept P_tent (a stat) */
 } wc_amg;
 
 /* The hierarchy's patterns for this model (no values). */

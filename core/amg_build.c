@@ -373,6 +373,7 @@ wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts
         wc_free(&a->alloc, L->agg);
         L->agg = NULL;
     }
+    if (o.rotations && o.current_positions && a->n_levels > 1) TRY(a->tent_pos = WC_NEW(&a->alloc, double, 3 * (size_t)n));
     a->coarse_dense = L->n <= 8 * o.coarse_max;
     if (a->coarse_dense && o.values) {
         a->coarse_dofs = 3 * L->n;
@@ -405,6 +406,7 @@ void wc_amg_destroy(wc_amg* a) {
     wc_amg_cross_destroy(a);
     wc_free(&al, a->coarse_L);
     wc_free(&al, a->coarse_y);
+    wc_free(&al, a->tent_pos);
     wc_free(&al, a);
 }
 

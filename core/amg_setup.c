@@ -545,9 +545,19 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     a->bound_age = reuse ? a->bound_age + 1 : 0;
     a->bounds_reused = reuse;
     if (a->opts.rotations && a->opts.current_positions && a->pos && a->n_levels > 1) {
-        /* P_tent and the R factors about the current positions (amg.h), level by level */
-        wc_amg_rigid_modes(&a->lev[0], a->pos);
-        for (int l = 0; l + 1 < a->n_levels; ++l) wc_amg_tentative(&a->lev[l], &a->lev[l + 1], a->lev[l + 1].n / 2);
+        /* P_tent and the R factors about the current positions (amg.h), level by level, unless
+         * they were built from the same positions */
+        const size_t bytes = 3 * (size_t)a->lev[0].n * sizeof(double);
+        if (a->tent_pos && a->tent_valid && memcmp(a->tent_pos, a->pos, bytes) == 0) {
+            ++a->tent_kept;
+        } else {
+            wc_amg_rigid_modes(&a->lev[0], a->pos);
+            for (int l = 0; l + 1 < a->n_levels; ++l) wc_amg_tentative(&a->lev[l], &a->lev[l + 1], a->lev[l + 1].n / 2);
+            if (a->tent_pos) {
+                memcpy(a->tent_pos, a->pos, bytes);
+                a->tent_valid = 1;
+            }
+        }
         lap(a, WC_AMG_PHASE_TENT, &t);
     }
     project_fine(&a->lev[0], A, f, par);
