@@ -209,64 +209,6 @@ static void prolongator_plain(wc_amg_level* L, double w, wc_par* par) {
     }
 }
 
-/* Z (the pair of 3x3 blocks at z) += A P_tent(src) (the pair at tent + 18 src). */
-static inline void gather(double* restrict z, const double* restrict A, const double* restrict tent) {
-    m3_mul_add(z, A, tent);
-    m3_mul_add(z + 9, A, tent + 9);
-}
-
-static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
-    const double w = weight / L->bound;
-    if (!L->tent) {
-        prolongator_plain(L, w, par);
-        return;
-    }
-    const int g = L->group; /* rows handled together: a pair's on a pair level */
-    WC_PAR_REGION(par)
-    {
-        int lo, hi;
-        wc_par_range(L->n / g, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int u = lo; u < hi; ++u) {
-            const int b = g * u;
-            for (int i = b; i < b + g; ++i) {
-                double* row = L->p_val + 9 * (size_t)L->p_start[i];
-                memset(row, 0, 9 * sizeof(double) * (size_t)(L->p_start[i + 1] - L->p_start[i]));
-            }
-            if (w != 0.0) {
-                for (int i = b; i < b + g; ++i) { /* Z_e of row i into its entries */
-                    double W[9] = {0};
-                    int weak = 0;
-                    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
-                        const double* A = L->val + 9 * (size_t)k;
-                        if (L->a_to_p[k] < 0) {
-                            for (int q = 0; q < 9; ++q) W[q] += A[q];
-                            weak = 1;
-                            continue;
-                        }
-                        gather(L->p_val + 9 * (size_t)L->a_to_p[k], A, L->tent + 18 * (size_t)L->col[k]);
-                    }
-                    if (weak) gather(L->p_val + 9 * (size_t)L->p_self[i], W, L->tent + 18 * (size_t)i);
-                }
-                /* P_e = -w D^-1 Z_e, entry by entry (a pair's rows have the same entries) */
-                const int len = L->p_start[b + 1] - L->p_start[b];
-                for (int off = 0; off < len; ++off) {
-                    double Z[2][9], out[9];
-                    for (int i = b; i < b + g; ++i) memcpy(Z[i - b], L->p_val + 9 * (size_t)(L->p_start[i] + off), sizeof Z[0]);
-                    for (int i = b; i < b + g; ++i) {
-                        memset(out, 0, sizeof out);
-                        const double* D = L->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */
-                        for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j]);
-                        double* P = L->p_val + 9 * (size_t)(L->p_start[i] + off);
-                        for (int q = 0; q < 9; ++q) P[q] = -w * out[q];
-                    }
-                }
-            }
-            for (int i = b; i < b + g; ++i)
-                for (int q = 0; q < 18; ++q) L->p_val[9 * (size_t)L->p_self[i] + q] += L->tent[18 * (size_t)i + q];
-        }
-    }
-}
-
 /* Dead unknowns of a rotation level (amg.h): their Galerkin rows and columns are zero; the
  * block's mean live diagonal (or 1) on the diagonal decouples them. */
 static void revive_dead(wc_amg_level* N, wc_par* par) {
@@ -348,6 +290,80 @@ __attribute__((target("avx2,fma"))) static void pairs_ap_rows_avx2(wc_amg_level*
 }
 #define WC_PAIRS_AP_AVX2 1
 #endif
+
+/* The smoothed prolongator's rows of aggregates' pairs lo..hi-1 (units of L->group rows): P = (I - w
+ * D^-1 A_F) P_tent, each entry e of row i first Z_e = sum A_ik P_tent(k) over the strong blocks k
+ * whose coarse node is e (weak blocks summed into the row's own entry), then P_e = -w D^-1 Z_e,
+ * plus P_tent on the row's own entries. PAIR_ADD(z, A, P) adds A [P0 P1] into the slot pair z. */
+#define WC_PROLONG_ROWS(L, w, lo, hi, PAIR_ADD)                                                        \
+    for (int u = (lo); u < (hi); ++u) {                                                                 \
+        const int g = (L)->group, b = g * u;                                                            \
+        for (int i = b; i < b + g; ++i) {                                                               \
+            double* row = (L)->p_val + 9 * (size_t)(L)->p_start[i];                                     \
+            memset(row, 0, 9 * sizeof(double) * (size_t)((L)->p_start[i + 1] - (L)->p_start[i]));       \
+        }                                                                                               \
+        if ((w) != 0.0) {                                                                               \
+            for (int i = b; i < b + g; ++i) { /* Z_e of row i into its entries */                       \
+                double W[9] = {0};                                                                      \
+                int weak = 0;                                                                           \
+                for (int k = (L)->row_start[i]; k < (L)->row_start[i + 1]; ++k) {                       \
+                    const double* A = (L)->val + 9 * (size_t)k;                                         \
+                    if ((L)->a_to_p[k] < 0) {                                                           \
+                        for (int q = 0; q < 9; ++q) W[q] += A[q];                                       \
+                        weak = 1;                                                                       \
+                        continue;                                                                       \
+                    }                                                                                   \
+                    PAIR_ADD((L)->p_val + 9 * (size_t)(L)->a_to_p[k], A, (L)->tent + 18 * (size_t)(L)->col[k]); \
+                }                                                                                       \
+                if (weak) PAIR_ADD((L)->p_val + 9 * (size_t)(L)->p_self[i], W, (L)->tent + 18 * (size_t)i); \
+            }                                                                                           \
+            /* P_e = -w D^-1 Z_e, entry by entry (a pair's rows have the same entries) */               \
+            const int len = (L)->p_start[b + 1] - (L)->p_start[b];                                      \
+            for (int off = 0; off < len; ++off) {                                                       \
+                double Z[2][9], out[9];                                                                 \
+                for (int i = b; i < b + g; ++i)                                                         \
+                    memcpy(Z[i - b], (L)->p_val + 9 * (size_t)((L)->p_start[i] + off), sizeof Z[0]);    \
+                for (int i = b; i < b + g; ++i) {                                                       \
+                    memset(out, 0, sizeof out);                                                         \
+                    const double* D = (L)->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */    \
+                    for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j]);                       \
+                    double* P = (L)->p_val + 9 * (size_t)((L)->p_start[i] + off);                       \
+                    for (int q = 0; q < 9; ++q) P[q] = -(w) * out[q];                                   \
+                }                                                                                       \
+            }                                                                                           \
+        }                                                                                               \
+        for (int i = b; i < b + g; ++i)                                                                 \
+            for (int q = 0; q < 18; ++q) (L)->p_val[9 * (size_t)(L)->p_self[i] + q] += (L)->tent[18 * (size_t)i + q]; \
+    }
+
+static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) { WC_PROLONG_ROWS(L, w, lo, hi, pair_mul_add) }
+
+#ifdef WC_PAIRS_AP_AVX2
+__attribute__((target("avx2,fma"))) static void prolong_rows_avx2(wc_amg_level* L, double w, int lo, int hi) {
+    WC_PROLONG_ROWS(L, w, lo, hi, pair_mul_add_avx2)
+}
+#endif
+
+static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
+    const double w = weight / L->bound;
+    if (!L->tent) {
+        prolongator_plain(L, w, par);
+        return;
+    }
+#ifdef WC_PAIRS_AP_AVX2
+    const int vec = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(L->n / L->group, wc_par_tid(), wc_par_nt(), &lo, &hi);
+#ifdef WC_PAIRS_AP_AVX2
+        if (vec) prolong_rows_avx2(L, w, lo, hi);
+        else
+#endif
+            prolong_rows(L, w, lo, hi);
+    }
+}
 
 /* T = A P on a pair level, rows in parallel; AVX2 + FMA where the CPU has them (bsr_rows.h). */
 static void galerkin_pairs_ap(wc_amg_level* L, wc_par* par) {
