@@ -9,6 +9,11 @@
  * Then, on the last system's levels, the eigenvalue estimate (amg_eigen.c) beside a converged one
  * (60 Lanczos steps, 400 power iterations).
  *
+ * The memory limit: the bytes the last system's PCG iterations must move (the model below) over
+ * their CPU time (the fastest of 10 solves from zero), beside a copy (memcpy) of the same working
+ * set on the same core (source and destination together that size; the fastest of 20); and the share of the frames' wall time spent outside
+ * the linear solves (run it on a quiet machine for that one).
+ *
  * --repeat R: the last system's setup R more times, each phase's minimum over them (a shared
  * machine's load inflates the sums; the minimum is what the code costs).
  *
@@ -26,6 +31,63 @@
 static int cmp_double(const void* a, const void* b) {
     double x = *(const double*)a, y = *(const double*)b;
     return (x > y) - (x < y);
+}
+
+/* Bytes a 3x3-block BSR product must move at least once: values, column indices, row starts. */
+static double bsr_bytes(int n_rows, int n_blocks) { return 76.0 * n_blocks + 4.0 * (n_rows + 1); }
+
+/* Bytes one V-cycle (amg_cycle.c, Chebyshev smoothing with `sweeps` steps) must move, each kernel
+ * reading its matrix and its vectors once and writing its output once (no reuse between kernels):
+ * per level 2 sweeps operator products, 2 sweeps block-diagonal applications, the restriction
+ * and the prolongation (P's values and indices), about 8 sweeps + 6 passes over 3n-vectors; the
+ * coarsest level's dense factor twice. *working_set: the distinct bytes (matrices, P, D^-1, 4
+ * vectors a level). */
+static double vcycle_bytes(const wc_amg* a, double* working_set) {
+    const int s = a->opts.sweeps;
+    double bytes = 0.0, ws = 0.0;
+    for (int l = 0; l < a->n_levels; ++l) {
+        const wc_amg_level* L = &a->lev[l];
+        const double vec = 24.0 * L->n, op = bsr_bytes(L->n, L->n_blocks), dinv = 72.0 * L->group * L->n;
+        if (l == a->n_levels - 1) {
+            if (a->coarse_dense) {
+                const double dense = 8.0 * (double)a->coarse_dofs * a->coarse_dofs;
+                bytes += 2.0 * dense + 4.0 * vec;
+                ws += dense + 3.0 * vec;
+            } else {
+                bytes += WC_AMG_COARSE_SWEEPS * (op + dinv + 4.0 * vec);
+                ws += op + dinv + 3.0 * vec;
+            }
+            continue;
+        }
+        const double pb = bsr_bytes(L->n, L->p_start[L->n]) + 4.0 * L->p_start[L->n]; /* P and P^T's index */
+        bytes += 2.0 * s * (op + dinv) + 2.0 * pb + (8.0 * s + 6.0) * vec;
+        ws += op + dinv + pb + 4.0 * vec;
+    }
+    *working_set = ws;
+    return bytes;
+}
+
+/* Copy bandwidth (bytes read + written per ms) of a memcpy of `size` bytes, the fastest of 20. */
+static double copy_rate(size_t size) {
+    char *src = malloc(size), *dst = malloc(size);
+    if (!src || !dst) {
+        free(src);
+        free(dst);
+        return 0.0;
+    }
+    memset(src, 1, size);
+    memset(dst, 0, size);
+    double best = 1e300;
+    for (int r = 0; r < 20; ++r) {
+        double t0 = wc_cpu_ms();
+        memcpy(dst, src, size);
+        double t = wc_cpu_ms() - t0;
+        if (t < best && t > 0) best = t;
+        src[r % size] = dst[(r * 7) % size]; /* keeps the copies */
+    }
+    free(src);
+    free(dst);
+    return best < 1e300 ? 2.0 * (double)size / best : 0.0;
 }
 
 int main(int argc, char** argv) {
@@ -77,7 +139,7 @@ int main(int argc, char** argv) {
     double* ms = malloc(sizeof(double) * (size_t)frames);
     double* cpu = malloc(sizeof(double) * (size_t)frames);
     long solves = 0, iterations = 0;
-    double precond = 0.0, solve = 0.0;
+    double precond = 0.0, solve = 0.0, wall_total = 0.0;
     for (int f = 0; f < frames; ++f) {
         wc_step_stats st = {0};
         double t0 = wc_now_ms(), c0 = wc_cpu_ms();
@@ -88,6 +150,7 @@ int main(int argc, char** argv) {
         iterations += st.iterations;
         precond += st.precond_ms;
         solve += st.ms.solve;
+        wall_total += ms[f];
     }
     qsort(ms, (size_t)frames, sizeof *ms, cmp_double);
     qsort(cpu, (size_t)frames, sizeof *cpu, cmp_double);
@@ -98,6 +161,42 @@ int main(int argc, char** argv) {
            "setup %.2f, PCG %.2f\n\n",
            ms[frames / 2], cpu[frames / 2], solves, (double)solves / frames, iterations * per, solve * per, precond * per,
            (solve - precond) * per);
+    { /* the last system's PCG iterations against the memory limit (vcycle_bytes): the system solved
+         again from zero 10 times, CPU ms of its iterations (the solve less its setup), the fastest */
+        const wc_amg_level* F = &amg->lev[0];
+        const int n3 = 3 * F->n;
+        double* dv = malloc(sizeof(double) * (size_t)n3);
+        double pcg_ms = 1e300;
+        int it = 0;
+        for (int r = 0; r < 10 && dv; ++r) {
+            memset(dv, 0, sizeof(double) * (size_t)n3);
+            double setup0 = 0.0, setup1 = 0.0;
+            for (int p = 0; p < WC_AMG_PHASES; ++p) setup0 += amg->phase_ms[p];
+            wc_solve_result res;
+            double c0 = wc_cpu_ms();
+            wc_solve(s->solver, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res);
+            double c = wc_cpu_ms() - c0;
+            for (int p = 0; p < WC_AMG_PHASES; ++p) setup1 += amg->phase_ms[p];
+            if (c - (setup1 - setup0) < pcg_ms) pcg_ms = c - (setup1 - setup0);
+            it = res.iterations;
+        }
+        free(dv);
+        const double vec = 24.0 * F->n;
+        double ws = 0.0, vb = vcycle_bytes(amg, &ws);
+        const double fine = bsr_bytes(F->n, F->n_blocks) + 3.0 * vec; /* A's product: A, x, y */
+        /* a solve: it + 2 fine products (the filtered residuals), it + 1 V-cycles, and per
+           iteration about 15 passes over 3n-vectors (the filtered dot, the updates, the direction) */
+        const double bytes = (it + 2.0) * fine + (it + 1.0) * vb + it * 15.0 * vec;
+        ws += bsr_bytes(F->n, F->n_blocks) + 6.0 * vec;
+        const double rate = pcg_ms > 0 && pcg_ms < 1e300 ? bytes / pcg_ms : 0.0, copy = copy_rate((size_t)(ws / 2));
+        printf("memory: the last system's PCG iterations (%d) move >= %.2f MB (working set %.2f MB) in %.2f CPU ms: "
+               "%.1f GB/s; a copy of %.2f MB (source and destination: the same working set) on this core: %.1f GB/s "
+               "(PCG at %.0f %% of it)\n",
+               it, bytes / 1e6, ws / 1e6, pcg_ms, rate / 1e6, ws / 2e6, copy / 1e6, copy > 0 ? 100.0 * rate / copy : 0.0);
+        printf("outside the linear solves: %.0f %% of the frames' wall time (forces, assembly, the line search's "
+               "potentials, the step's checks)\n\n",
+               wall_total > 0 ? 100.0 * (1.0 - solve / wall_total) : 0.0);
+    }
     printf("| setup phase | CPU ms/solve | share |\n|---|---|---|\n");
     for (int p = 0; p < WC_AMG_PHASES; ++p) setup_sum += amg->phase_ms[p];
     for (int p = 0; p < WC_AMG_PHASES; ++p)
