@@ -4,9 +4,9 @@
 #include <string.h>
 #include "vec3.h"
 
-#define TR_C2 0.20710678118654752   /* (1 - gamma)^2 / (gamma (2 - gamma)) = (sqrt(2) - 1) / 2 */
+#define TR_C2 WC_TRBDF2_C2
 
-static void trbdf2_begin(wc_state* s, double h, int stage, wc_integ* ig) {
+static void trbdf2_begin(const wc_state* s, double h, int stage, wc_integ* ig) {
     const double g = WC_TRBDF2_GAMMA;
     ig->bdf2 = 0;
     ig->stage = stage;
@@ -26,9 +26,9 @@ void wc_integ_solved(wc_state* s, const wc_integ* ig) {
 
 void wc_integ_begin_stage2(wc_state* s, double h, wc_integ* ig) { trbdf2_begin(s, h, 2, ig); }
 
-void wc_integ_begin(wc_state* s, double h, wc_integ* ig) {
+void wc_integ_coefficients(const wc_state* s, double h, int stage, wc_integ* ig) {
     if (s->def.integrator == WC_INTEGRATOR_TRBDF2) {
-        trbdf2_begin(s, h, 1, ig);
+        trbdf2_begin(s, h, stage == 2 ? 2 : 1, ig);
         return;
     }
     ig->stage = 0;
@@ -42,7 +42,11 @@ void wc_integ_begin(wc_state* s, double h, wc_integ* ig) {
     ig->xb = s->x;
     ig->vstar = s->v;
     ig->mom = NULL;
-    if (bdf2_cloth) memcpy(s->xs, s->x, 3 * (size_t)s->model->n_particles * sizeof(double));
+}
+
+void wc_integ_begin(wc_state* s, double h, wc_integ* ig) {
+    wc_integ_coefficients(s, h, 1, ig);
+    if (s->def.integrator == WC_INTEGRATOR_BDF2) memcpy(s->xs, s->x, 3 * (size_t)s->model->n_particles * sizeof(double));
 }
 
 void wc_integ_base(const wc_state* s, const wc_integ* ig, int i, double* out) {

@@ -89,6 +89,14 @@ typedef struct wc_integ {
 } wc_integ;
 
 #define WC_TRBDF2_GAMMA 0.58578643762690485   /* 2 - sqrt(2) */
+#define WC_TRBDF2_C2 0.20710678118654752      /* (1 - gamma)^2 / (gamma (2 - gamma)) = (sqrt(2) - 1) / 2 */
+
+/* The coefficients of a substep of length h (TR-BDF2: of its stage `stage`, 1 or 2; ignored for
+ * the others) without touching the state's arrays: bdf2, h, he, stage, xb_form, air_implicit, and
+ * the pointers as wc_integ_begin leaves them (a BDF2 step's xb, vstar, mom are set by
+ * wc_integ_prepare: they are in use where bdf2 or stage is set). The GPU backend takes its
+ * coefficients from here. */
+void wc_integ_coefficients(const wc_state* s, double h, int stage, wc_integ* ig);
 
 /* Start of a substep of length h, before pins and contacts: BE or BDF2 (rules above); a BDF2
  * cloth's positions are kept in s->xs. A TR-BDF2 cloth: the start of the substep's stage 1. */
