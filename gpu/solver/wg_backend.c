@@ -99,7 +99,8 @@ static wc_status device_destroy(void* device, wc_diag* d) {
 }
 
 /* The multigrid preconditioner where the passes are compute shaders (block Jacobi on fragment
- * passes); one backward-Euler step without search and no self-collision, all the GPU has. */
+ * passes); one linearised step without search (Newton needs a cloth without colliders there)
+ * and no self-collision, all the GPU has. */
 static void defaults(const void* device, wc_backend_defaults* out) {
     const wg_backend_device* bd = device;
     out->preconditioner = bd && bd->dev->compute ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
@@ -160,12 +161,14 @@ static void restore_backup(wc_cloth* c) {
     (void)wg_sim_download(SIM(c), c->state, &quiet);
 }
 
-/* One pass: teleport x' = dT x, v' = dT.R v; inertia x' = Rc x + (p0 - Rc p0),
- * v' = Rc v + (V0 - Rc V0) + clin dV. */
+/* One pass: teleport x' = dT x, v' = dT.R v (BDF2's history dropped); inertia
+ * x' = Rc x + (p0 - Rc p0), v' = Rc v + (V0 - Rc V0) + clin dV, and a second pass for BDF2's
+ * history when it is valid. */
 static void carry(wc_cloth* c, const wc_carry* k) {
     const double zero[3] = {0.0, 0.0, 0.0};
     if (k->teleport) {
         wg_sim_transform(SIM(c), k->dT.R, k->dT.t, k->dT.R, zero);
+        c->state->hist_valid = 0;   /* BDF2 restarts with a backward-Euler substep */
         return;
     }
     double Rx[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, tx[3] = {0.0, 0.0, 0.0}, dv[3] = {0.0, 0.0, 0.0};
@@ -179,6 +182,12 @@ static void carry(wc_cloth* c, const wc_carry* k) {
     }
     if (k->linear) v3_axpy(dv, k->clin, k->dV);
     wg_sim_transform(SIM(c), Rx, tx, Rx, dv);
+    if (c->state->hist_valid) {
+        /* BDF2's history as x and v, and as if the cloth had always moved that much faster:
+           x_prev -= hist_h clin dV (cloth_backend.h wc_carry) */
+        if (k->linear) v3_axpy(tx, -k->clin * c->state->hist_h, k->dV);
+        wg_sim_transform_history(SIM(c), Rx, tx, Rx, dv);
+    }
 }
 
 static wc_status download(wc_cloth* c, wc_diag* d) { return wg_sim_download(SIM(c), c->state, d); }

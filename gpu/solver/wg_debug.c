@@ -67,7 +67,9 @@ wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, 
                                  double* z, unsigned char* ndof, double* x, wc_diag* diag) {
     wg_step_upload_pins(g, s);
     wg_ring_save(&g->x);
-    wg_step_prepare(g, s, h, alpha1, s->def.compression);
+    wc_integ ig;
+    wc_integ_coefficients(s, h, 1, &ig);
+    wg_step_prepare(g, s, &ig, alpha1, s->def.compression);
     if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
     if (b) read_vec(g, &g->b, g->n, b);
     if (z) read_vec(g, &g->z, g->n, z);
@@ -199,5 +201,7 @@ void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, d
 double wg_sim_debug_phi_change(wg_sim* g, const wc_state* s, double h, const double* wa, const double* wb) {
     upload_vec(g, &g->nw_w[0], g->n, wa);
     upload_vec(g, &g->nw_w[1], g->n, wb);
-    return wg_newton_phi_change(g, s, h, &g->nw_w[0], &g->nw_w[1]);
+    wc_integ ig;
+    wc_integ_coefficients(s, h, 1, &ig);
+    return wg_newton_phi_change(g, s, &ig, &g->nw_w[0], &g->nw_w[1]);
 }

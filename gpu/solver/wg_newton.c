@@ -1,8 +1,10 @@
-/* Newton's iterations and line search of a backward-Euler substep on the GPU, as core/newton.c
- * (without friction's frozen terms: colliders are refused with Newton at creation). At the
- * iterate w (the velocity change; x(w) = x_n + h (v_n + w)): the springs'
- * elastic forces and stiffness at x(w) with the substep start's damping directions
- * (newton_springs.glsl), h f_total (assemble_b.glsl), g = -grad Phi(w) = h f_total - M w
+/* Newton's iterations and line search of a substep on the GPU, as core/newton.c (without
+ * friction's frozen terms: colliders are refused with Newton at creation), for backward Euler,
+ * BDF2 and TR-BDF2's stages through core's coefficients (he, xb, v*, mom; core/bdf2.h). At the
+ * iterate w (the velocity change; x(w) = xb + he (v_n + w)): the springs' elastic forces and
+ * stiffness at x(w) with the substep start's damping directions, or in TR-BDF2's stages those at
+ * x(w) and the implicit air refreshed there too (newton_springs.glsl; core/newton.h "Refreshed"),
+ * he f_total (assemble_b.glsl), g = -grad Phi(w) = he f_total - M (w - mom)
  * (newton_gradient.glsl) into b and A into its blocks; stop when |S g| is within the solver's
  * tolerance of the first solve's scale (a reduction read back); solve A d = g under the substep's
  * filter S with z = 0 (so every iterate keeps the first one's prescribed part); stop unless d
@@ -10,7 +12,7 @@
  * first alpha of 1, 1/2, ... that passes Armijo's test on the incremental potential Phi. Phi's
  * change between two iterates is summed term by term (newton_phi_particles.glsl,
  * newton_phi_springs.glsl: two reductions read back), not each Phi, so that float keeps the
- * digits the test compares; the first step's search runs from w~0 = z + S (-v_n) towards the
+ * digits the test compares; the first step's search runs from w~0 = z + S (-v*) towards the
  * first solve's result as core's. The energy guard as core's: past
  * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
  * (the step's checks at x(w), v(w), read back) is above the cap. */
@@ -20,33 +22,54 @@
 
 /* Newton's system at w: A0/A1 and b = -grad Phi(w); the iterate's x(w), v(w) into the rings'
  * free slots (the integration after the iterations writes them anew). */
-static void newton_system(wg_sim* g, const wc_state* s, double h, const wg_tex* w, wc_compression compression) {
+static void newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* w,
+                          wc_compression compression) {
     const wc_model* m = g->m;
     wg_runner* run = &g->run;
-    WG_USE(run, WGP_NEWTON_SPRINGS, &(wg_newton_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .w = w, .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
-    wg_u4f(run, "u_k", m->material.k);
-    wg_u4f(run, "u_d", m->material.d);
-    wg_u1f(run, "u_h", h);
-    wg_u1f(run, "u_seam_scale", s->seam_scale);
-    wg_u1i(run, "u_compression_drop", compression == WC_COMPRESSION_DROP);
-    WG_RUN(run, g->ns, &g->sf, &g->sw, &g->sj);
-    /* the air of the substep's start stays in fair (frozen, as core's f_ext) */
+    const double he = ig->he;
+    const wg_tex* xw = &g->x.t[wg_ring_other(&g->x, 0)];
+    const wg_tex* vw = &g->v.t[wg_ring_other(&g->v, 0)];
+    const wg_tex *xb = wg_integ_xb(g, ig), *mom = wg_integ_mom(g, ig);
     const wc_air* air = &s->def.air;
     int use_air = (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && g->nt > 0;
+    if (ig->air_implicit) {
+        /* TR-BDF2's air refreshed at the iterate (core/newton.c refresh_air): x(w), v(w) first
+           (newton_gradient.glsl's outputs 1 and 2; its output 0 is redone below), then the air's
+           force and lumped Jacobian there */
+        WG_USE(run, WGP_NEWTON_GRADIENT, &(wg_newton_gradient_in){.hf = &g->nw_zero, .w = w, .mass = &g->mass,
+            .xb = xb, .mom = mom, .v = wg_ring_cur(&g->v)});
+        wg_u1f(run, "u_h", he);
+        WG_RUN(run, g->n, &g->b, xw, vw);
+        WG_USE(run, WGP_AIR, &(wg_air_in){.x = xw, .v = vw, .tri = &g->tri});
+        wg_u3f(run, "u_wind", air->wind);
+        wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
+        WG_RUN(run, g->nt, &g->fair);
+        wg_step_air_lump(g, s, xw);
+    }
+    WG_USE(run, WGP_NEWTON_SPRINGS, &(wg_newton_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .w = w, .xb = xb, .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
+    wg_u4f(run, "u_k", m->material.k);
+    wg_u4f(run, "u_d", m->material.d);
+    wg_u1f(run, "u_h", he);
+    wg_u1f(run, "u_seam_scale", s->seam_scale);
+    wg_u1i(run, "u_compression_drop", compression == WC_COMPRESSION_DROP);
+    wg_u1i(run, "u_refresh", ig->stage != 0);
+    WG_RUN(run, g->ns, &g->sf, &g->sw, &g->sj);
+    /* otherwise the air of the substep's start stays in fair (frozen, as core's f_ext) */
     WG_USE(run, WGP_ASSEMBLE_B, &(wg_assemble_b_in){.mass = &g->mass, .rows = &g->rows, .row_entry = &g->row_entry,
-        .spring_f = &g->sf, .spring_w = &g->sw, .row_tri = &g->row_tri, .tri_air = &g->fair});
-    wg_u1f(run, "u_h", h);
+        .spring_f = &g->sf, .spring_w = &g->sw, .row_tri = &g->row_tri, .tri_air = &g->fair, .mom = &g->mass});
+    wg_u1f(run, "u_h", he);
     wg_u3f(run, "u_gravity", s->def.gravity);
     wg_u1i(run, "u_use_air", use_air);
-    WG_RUN(run, g->n, &g->nw_hf, &g->ftot);
+    wg_u1i(run, "u_mom", 0);
+    if (ig->air_implicit) WG_RUN(run, g->n, &g->nw_hf, &g->ftot, &g->nw_fext);   /* f_ext at the iterate */
+    else WG_RUN(run, g->n, &g->nw_hf, &g->ftot);
     WG_USE(run, WGP_NEWTON_GRADIENT, &(wg_newton_gradient_in){.hf = &g->nw_hf, .w = w, .mass = &g->mass,
-        .x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v)});
-    wg_u1f(run, "u_h", h);
-    WG_RUN(run, g->n, &g->b, &g->x.t[wg_ring_other(&g->x, 0)], &g->v.t[wg_ring_other(&g->v, 0)]);
-    WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
-        .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj});
-    WG_RUN(run, g->nb, &g->A0, &g->A1);
+        .xb = xb, .mom = mom, .v = wg_ring_cur(&g->v)});
+    wg_u1f(run, "u_h", he);
+    WG_RUN(run, g->n, &g->b, xw, vw);
+    wg_step_assemble_a(g, ig->air_implicit ? he : 0.0);
+    g->nw_refreshed = ig->stage != 0;
 }
 
 /* |S b|^2 (residual.glsl at x = 0), read back. */
@@ -83,34 +106,41 @@ static double step_to(wg_sim* g, const wg_tex* w, const wg_tex* d, const wg_tex*
     return (double)v[0];
 }
 
-/* the particles' and the springs' changes summed */
-double wg_newton_phi_change(wg_sim* g, const wc_state* s, double h, const wg_tex* wa, const wg_tex* wb) {
+/* the particles' and the springs' changes summed; after a refresh (g->nw_refreshed) wa is the
+   iterate it was made at */
+double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb) {
     wg_runner* run = &g->run;
+    const double h = ig->he;
     WG_USE(run, WGP_NEWTON_PHI_PARTICLES, &(wg_newton_phi_particles_in){.wa = wa, .wb = wb, .mass = &g->mass,
-        .fext = &g->nw_fext});
+        .fext = &g->nw_fext, .mom = wg_integ_mom(g, ig), .air_lo = ig->air_implicit ? &g->air_lo : &g->mass,
+        .air_hi = ig->air_implicit ? &g->air_hi : &g->mass});
     wg_u1f(run, "u_h", h);
+    wg_u1i(run, "u_air", ig->air_implicit);
+    wg_u1i(run, "u_air_at_wa", ig->air_implicit && g->nw_refreshed);
     WG_RUN(run, g->n, &g->nw_gd);
     float p[4], q[4];
     wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->nw_gd, 0, 0, 0, 0), p);
     WG_USE(run, WGP_NEWTON_PHI_SPRINGS, &(wg_newton_phi_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .wa = wa, .wb = wb, .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
+        .wa = wa, .wb = wb, .xb = wg_integ_xb(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest,
+        .rest = &g->rest});
     wg_u4f(run, "u_k", g->m->material.k);
     wg_u4f(run, "u_d", g->m->material.d);
     wg_u1f(run, "u_h", h);
     wg_u1f(run, "u_seam_scale", s->seam_scale);
+    wg_u1i(run, "u_refresh", g->nw_refreshed);
     WG_RUN(run, g->ns, &g->chk_s);
     wg_read1(&g->layout, wg_reduce(run, &g->red_s, &g->chk_s, 0, 0, 0, 0), q);
     return (double)p[0] + (double)q[0];
 }
 
-/* The line search of the first step (core/newton.c): from w~0 = z + S (-v_n) along d0 = w1 - w~0,
+/* The line search of the first step (core/newton.c): from w~0 = z + S (-v*) along d0 = w1 - w~0,
  * alpha = 1 (w1 itself), 1/2, ... until Armijo's test against the slope of the first system's
  * quadratic model holds. Returns the accepted iterate, or w~0 with *stop set. */
-static const wg_tex* first_search(wg_sim* g, const wc_state* s, double h, const wg_tex* w1, int* stop,
+static const wg_tex* first_search(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* w1, int* stop,
                                   wc_step_stats* st) {
     wg_runner* run = &g->run;
     wg_tex* w0 = spare(g, w1, NULL);
-    WG_USE(run, WGP_NEWTON_START, &(wg_newton_start_in){.v = wg_ring_cur(&g->v), .w1 = w1, .S0 = &g->S0,
+    WG_USE(run, WGP_NEWTON_START, &(wg_newton_start_in){.v = wg_integ_vstar(g, ig), .w1 = w1, .S0 = &g->S0,
         .S1 = &g->S1, .z = &g->z});
     WG_RUN(run, g->n, w0, &g->nw_d);
     /* (A w~0 - b) . d0 = -S (b - A w~0) . d0, d0 being in S's range */
@@ -126,25 +156,27 @@ static const wg_tex* first_search(wg_sim* g, const wc_state* s, double h, const 
             step_to(g, w0, &g->nw_d, &g->rz, alpha, trial);
             at = trial;
         }
-        if (wg_newton_phi_change(g, s, h, w0, at) <= NW_ARMIJO * alpha * (slope < 0.0 ? slope : 0.0)) return at;
+        if (wg_newton_phi_change(g, s, ig, w0, at) <= NW_ARMIJO * alpha * (slope < 0.0 ? slope : 0.0)) return at;
         ++st->backtracks;
     }
     *stop = 1;
     return w0;
 }
 
-void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type solver, wc_compression compression,
-                       double residual_scale, double energy_cap, const wg_tex** dv, wc_step_stats* st) {
+void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solver_type solver,
+                       wc_compression compression, double residual_scale, double energy_cap, const wg_tex** dv,
+                       wc_step_stats* st) {
     const wg_tex* w = &g->nw_w[0];
+    g->nw_refreshed = 0;
     wg_copy(&g->run, &g->nw_w[0], *dv);
     const int ls = s->def.line_search != 0;
     int stop = 0;
-    if (ls) w = first_search(g, s, h, w, &stop, st);
+    if (ls) w = first_search(g, s, ig, w, &stop, st);
     const double tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
     wc_solver_opts opts = s->def.solver;
     const int guard = energy_cap < HUGE_VAL;
     for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
-        newton_system(g, s, h, w, compression);
+        newton_system(g, s, ig, w, compression);
         if (it >= s->def.newton_iterations) {
             /* past the configured count only while the iterate holds more energy than the
                substep may end with (core/newton.h "Energy guard") */
@@ -172,12 +204,12 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type so
                (core's flat-potential stop, a decrease below 1e-13 of Phi, is below float's
                resolution: not tested) */
             double alpha = 1.0;
-            int ok = wg_newton_phi_change(g, s, h, w, trial) <= NW_ARMIJO * alpha * slope;
+            int ok = wg_newton_phi_change(g, s, ig, w, trial) <= NW_ARMIJO * alpha * slope;
             for (int b = 1; b <= NW_BACKTRACKS && !ok; ++b) {
                 alpha *= 0.5;
                 ++st->backtracks;
                 step_to(g, w, d, &g->b, alpha, trial);
-                ok = wg_newton_phi_change(g, s, h, w, trial) <= NW_ARMIJO * alpha * slope;
+                ok = wg_newton_phi_change(g, s, ig, w, trial) <= NW_ARMIJO * alpha * slope;
             }
             if (!ok) break;
         }

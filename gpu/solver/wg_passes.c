@@ -11,16 +11,17 @@
 /* A table that lists every field of its struct (the struct holds only input pointers). */
 #define WHOLE(T, tab) _Static_assert(sizeof(T) == sizeof tab / sizeof tab[0] * sizeof(const wg_tex*), #T)
 
-static const wg_pass_input springs[] = {IN(wg_springs_in, x), IN(wg_springs_in, v), IN(wg_springs_in, spring),
-                                        IN(wg_springs_in, spring_rest), IN(wg_springs_in, rest)};
+static const wg_pass_input springs[] = {IN(wg_springs_in, x), IN(wg_springs_in, v), IN(wg_springs_in, vstar),
+                                        IN(wg_springs_in, spring), IN(wg_springs_in, spring_rest),
+                                        IN(wg_springs_in, rest)};
 WHOLE(wg_springs_in, springs);
 static const wg_pass_input newton_springs[] = {
     IN(wg_newton_springs_in, x), IN(wg_newton_springs_in, v), IN(wg_newton_springs_in, w),
-    IN(wg_newton_springs_in, spring), IN(wg_newton_springs_in, spring_rest), IN(wg_newton_springs_in, rest)};
+    IN(wg_newton_springs_in, xb), IN(wg_newton_springs_in, spring), IN(wg_newton_springs_in, spring_rest), IN(wg_newton_springs_in, rest)};
 WHOLE(wg_newton_springs_in, newton_springs);
 static const wg_pass_input newton_gradient[] = {IN(wg_newton_gradient_in, hf), IN(wg_newton_gradient_in, w),
-                                                IN(wg_newton_gradient_in, mass), IN(wg_newton_gradient_in, x),
-                                                IN(wg_newton_gradient_in, v)};
+                                                IN(wg_newton_gradient_in, mass), IN(wg_newton_gradient_in, xb),
+                                                IN(wg_newton_gradient_in, mom), IN(wg_newton_gradient_in, v)};
 WHOLE(wg_newton_gradient_in, newton_gradient);
 static const wg_pass_input newton_step[] = {IN(wg_newton_step_in, w), IN(wg_newton_step_in, d),
                                             IN(wg_newton_step_in, g)};
@@ -31,29 +32,38 @@ static const wg_pass_input newton_start[] = {IN(wg_newton_start_in, v), IN(wg_ne
 WHOLE(wg_newton_start_in, newton_start);
 static const wg_pass_input newton_phi_particles[] = {
     IN(wg_newton_phi_particles_in, wa), IN(wg_newton_phi_particles_in, wb), IN(wg_newton_phi_particles_in, mass),
-    IN(wg_newton_phi_particles_in, fext)};
+    IN(wg_newton_phi_particles_in, fext), IN(wg_newton_phi_particles_in, mom),
+    IN(wg_newton_phi_particles_in, air_lo), IN(wg_newton_phi_particles_in, air_hi)};
 WHOLE(wg_newton_phi_particles_in, newton_phi_particles);
 static const wg_pass_input newton_phi_springs[] = {
     IN(wg_newton_phi_springs_in, x), IN(wg_newton_phi_springs_in, v), IN(wg_newton_phi_springs_in, wa),
-    IN(wg_newton_phi_springs_in, wb), IN(wg_newton_phi_springs_in, spring), IN(wg_newton_phi_springs_in, spring_rest),
-    IN(wg_newton_phi_springs_in, rest)};
+    IN(wg_newton_phi_springs_in, wb), IN(wg_newton_phi_springs_in, xb), IN(wg_newton_phi_springs_in, spring),
+    IN(wg_newton_phi_springs_in, spring_rest), IN(wg_newton_phi_springs_in, rest)};
 WHOLE(wg_newton_phi_springs_in, newton_phi_springs);
+static const wg_pass_input integ_prepare[] = {
+    IN(wg_integ_prepare_in, x), IN(wg_integ_prepare_in, v), IN(wg_integ_prepare_in, xs),
+    IN(wg_integ_prepare_in, xp), IN(wg_integ_prepare_in, vp)};
+WHOLE(wg_integ_prepare_in, integ_prepare);
+static const wg_pass_input air_lump[] = {IN(wg_air_lump_in, x), IN(wg_air_lump_in, rows),
+                                         IN(wg_air_lump_in, row_tri), IN(wg_air_lump_in, tri)};
+WHOLE(wg_air_lump_in, air_lump);
 static const wg_pass_input air[] = {IN(wg_air_in, x), IN(wg_air_in, v), IN(wg_air_in, tri)};
 WHOLE(wg_air_in, air);
 static const wg_pass_input assemble_b[] = {
     IN(wg_assemble_b_in, mass), IN(wg_assemble_b_in, rows), IN(wg_assemble_b_in, row_entry),
     IN(wg_assemble_b_in, spring_f), IN(wg_assemble_b_in, spring_w), IN(wg_assemble_b_in, row_tri),
-    IN(wg_assemble_b_in, tri_air)};
+    IN(wg_assemble_b_in, tri_air), IN(wg_assemble_b_in, mom)};
 WHOLE(wg_assemble_b_in, assemble_b);
 static const wg_pass_input assemble_a[] = {
     IN(wg_assemble_a_in, block), IN(wg_assemble_a_in, block_list), IN(wg_assemble_a_in, mass),
-    IN(wg_assemble_a_in, spring_f), IN(wg_assemble_a_in, spring_w), IN(wg_assemble_a_in, spring_j)};
+    IN(wg_assemble_a_in, spring_f), IN(wg_assemble_a_in, spring_w), IN(wg_assemble_a_in, spring_j),
+    IN(wg_assemble_a_in, air_lo), IN(wg_assemble_a_in, air_hi)};
 WHOLE(wg_assemble_a_in, assemble_a);
-static const wg_pass_input pins[] = {IN(wg_pins_in, x), IN(wg_pins_in, v), IN(wg_pins_in, pin_map),
+static const wg_pass_input pins[] = {IN(wg_pins_in, x), IN(wg_pins_in, v), IN(wg_pins_in, xp), IN(wg_pins_in, pin_map),
                                      IN(wg_pins_in, pin_from), IN(wg_pins_in, pin_target), IN(wg_pins_in, pin_axis)};
 WHOLE(wg_pins_in, pins);
 static const wg_pass_input integrate[] = {
-    IN(wg_integrate_in, x), IN(wg_integrate_in, v), IN(wg_integrate_in, dv), IN(wg_integrate_in, pin_map),
+    IN(wg_integrate_in, xb), IN(wg_integrate_in, v), IN(wg_integrate_in, dv), IN(wg_integrate_in, pin_map),
     IN(wg_integrate_in, pin_from), IN(wg_integrate_in, pin_target), IN(wg_integrate_in, pin_axis)};
 WHOLE(wg_integrate_in, integrate);
 static const wg_pass_input dinv[] = {IN(wg_dinv_in, pblocks), IN(wg_dinv_in, a_lo), IN(wg_dinv_in, a_hi),
@@ -214,6 +224,8 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_NEWTON_START] = PASS("newton_start", newton_start, wg_newton_start_in),
     [WGP_NEWTON_PHI_PARTICLES] = PASS("newton_phi_particles", newton_phi_particles, wg_newton_phi_particles_in),
     [WGP_NEWTON_PHI_SPRINGS] = PASS("newton_phi_springs", newton_phi_springs, wg_newton_phi_springs_in),
+    [WGP_INTEG_PREPARE] = PASS("integ_prepare", integ_prepare, wg_integ_prepare_in),
+    [WGP_AIR_LUMP] = PASS("air_lump", air_lump, wg_air_lump_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),

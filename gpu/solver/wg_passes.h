@@ -29,6 +29,8 @@ typedef enum wg_pass_id {
     /* Newton's further iterations and line search (wg_newton.c) */
     WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP, WGP_NEWTON_START, WGP_NEWTON_PHI_PARTICLES,
     WGP_NEWTON_PHI_SPRINGS,
+    /* BDF2 and TR-BDF2 (core/bdf2.h): the integrator's vectors, TR-BDF2's implicit air */
+    WGP_INTEG_PREPARE, WGP_AIR_LUMP,
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
@@ -74,15 +76,15 @@ int wg_pass_bind_inputs(GLuint program, const wg_pass_info* pass, char* err, siz
  * Blocks: block (row, column, spring list start, end), a_lo / a_hi (A's symmetric blocks). */
 
 typedef struct wg_springs_in {  /* springs.glsl: per spring, force and Jacobian blocks */
-    const wg_tex *x, *v, *spring, *spring_rest, *rest;
+    const wg_tex *x, *v, *vstar, *spring, *spring_rest, *rest;   /* vstar: bdf2.h's v* (BE: v) */
 } wg_springs_in;
 
 typedef struct wg_newton_springs_in {  /* newton_springs.glsl: per spring, Newton's system at w */
-    const wg_tex *x, *v, *w, *spring, *spring_rest, *rest;
+    const wg_tex *x, *v, *w, *xb, *spring, *spring_rest, *rest;   /* xb: bdf2.h's (BE: x) */
 } wg_newton_springs_in;
 
 typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w), x(w), v(w) */
-    const wg_tex *hf, *w, *mass, *x, *v;   /* hf: assemble_b's h f_total; x, v: x_n, v_n */
+    const wg_tex *hf, *w, *mass, *xb, *mom, *v;   /* hf: assemble_b's h f_total; v: v_n; xb, mom: bdf2.h's */
 } wg_newton_gradient_in;
 
 typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + alpha d and g.d */
@@ -94,12 +96,23 @@ typedef struct wg_newton_start_in {     /* newton_start.glsl: the line search's 
 } wg_newton_start_in;
 
 typedef struct wg_newton_phi_particles_in {   /* newton_phi_particles.glsl: the potential's change */
-    const wg_tex *wa, *wb, *mass, *fext;
+    const wg_tex *wa, *wb, *mass, *fext, *mom;
+    const wg_tex *air_lo, *air_hi;   /* the lumped drag Jacobian (air_lump.glsl) */
 } wg_newton_phi_particles_in;
 
 typedef struct wg_newton_phi_springs_in {     /* newton_phi_springs.glsl: the potential's change */
-    const wg_tex *x, *v, *wa, *wb, *spring, *spring_rest, *rest;
+    const wg_tex *x, *v, *wa, *wb, *xb, *spring, *spring_rest, *rest;
 } wg_newton_phi_springs_in;
+
+typedef struct wg_integ_prepare_in {   /* integ_prepare.glsl: per particle, xb, v*, mom, the history */
+    const wg_tex *x, *v;            /* corrected by the contacts */
+    const wg_tex* xs;               /* BDF2: x uncorrected; TR-BDF2's stage 2: stage 1's solved x_g */
+    const wg_tex *xp, *vp;          /* the history (BDF2's x_{n-1}, v_{n-1}; TR-BDF2's x_n, v_n) */
+} wg_integ_prepare_in;
+
+typedef struct wg_air_lump_in {    /* air_lump.glsl: per particle, the lumped drag Jacobian */
+    const wg_tex *x, *rows, *row_tri, *tri;
+} wg_air_lump_in;
 
 typedef struct wg_air_in {      /* air.glsl: per triangle, wind and drag */
     const wg_tex *x, *v, *tri;  /* tri: (a, b, c, -) */
@@ -111,22 +124,24 @@ typedef struct wg_assemble_b_in {   /* assemble_b.glsl: per particle, b and f_to
     const wg_tex *spring_f, *spring_w;   /* springs.glsl's outputs 0 (f, J00) and 1 (w, J11) */
     const wg_tex* row_tri;          /* per row triangle entry: triangle */
     const wg_tex* tri_air;          /* air.glsl's output */
+    const wg_tex* mom;              /* the integrator's momentum term (read with u_mom 1) */
 } wg_assemble_b_in;
 
 typedef struct wg_assemble_a_in {   /* assemble_a.glsl: per block of A */
     const wg_tex *block, *block_list;    /* block_list: the springs of each block's list */
     const wg_tex* mass;
     const wg_tex *spring_f, *spring_w, *spring_j;   /* springs.glsl's outputs 0, 1, 2 */
+    const wg_tex *air_lo, *air_hi;  /* air_lump.glsl's outputs (read with u_air_he != 0) */
 } wg_assemble_a_in;
 
 typedef struct wg_pins_in {     /* pins.glsl: the pins' filter */
-    const wg_tex *x, *v;
+    const wg_tex *x, *v, *xp;   /* xp: the integrator's history (pins.glsl) */
     const wg_tex* pin_map;      /* per particle: its pin or -1 */
     const wg_tex *pin_from, *pin_target, *pin_axis;   /* per pin */
 } wg_pins_in;
 
-typedef struct wg_integrate_in {    /* integrate.glsl: v += dv, x += h v, pins snapped */
-    const wg_tex *x, *v, *dv;
+typedef struct wg_integrate_in {    /* integrate.glsl: v += dv, x = xb + he v, pins snapped */
+    const wg_tex *xb, *v, *dv;
     const wg_tex *pin_map, *pin_from, *pin_target, *pin_axis;
 } wg_integrate_in;
 

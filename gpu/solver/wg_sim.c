@@ -25,10 +25,11 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
                       &g->D0, &g->D1, &g->sv[0], &g->sv[1], &g->sv[2], &g->r[0], &g->r[1], &g->c[0], &g->c[1],
                       &g->t, &g->q, &g->part, &g->rz, &g->lanczos, &g->chk_p, &g->chk_s, &g->corr, &g->nrm,
                       &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd,
-                      &g->nw_d, &g->nw_fext};
+                      &g->nw_d, &g->nw_fext, &g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom,
+                      &g->air_lo, &g->air_hi};
     for (size_t i = 0; i < sizeof list / sizeof list[0] && k < cap; ++i) out[k++] = list[i];
-    wg_ring* rings[] = {&g->x, &g->v, &g->dv};
-    for (int r = 0; r < 3; ++r)
+    wg_ring* rings[] = {&g->x, &g->v, &g->dv, &g->xp, &g->vp};
+    for (int r = 0; r < 5; ++r)
         for (int j = 0; j < 3 && k < cap; ++j) out[k++] = &rings[r]->t[j];
     for (int a = 0; a < 2; ++a)
         for (int j = 0; j < 3 && k < cap; ++j) out[k++] = &g->sc[a][j];
@@ -36,8 +37,8 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
 }
 
 size_t wg_sim_gpu_bytes(const wg_sim* g) {
-    wg_tex* t[96];
-    int n = all_textures((wg_sim*)g, t, 96);
+    wg_tex* t[128];
+    int n = all_textures((wg_sim*)g, t, 128);
     size_t bytes = 0;
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
@@ -59,8 +60,8 @@ void wg_sim_destroy(wg_sim* g) {
     }
     wg_contacts_destroy(g->contacts);
     wg_amg_destroy(g->amg);
-    wg_tex* t[96];
-    int n = all_textures(g, t, 96);
+    wg_tex* t[128];
+    int n = all_textures(g, t, 128);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
     wg_chain_destroy(&g->red_p[0]);
     wg_chain_destroy(&g->red_p[1]);
@@ -225,6 +226,15 @@ static int create_scratch(wg_sim* g, char* err, size_t el) {
                         &g->nw_fext};
         for (size_t k = 0; k < sizeof pn / sizeof pn[0]; ++k) TRY(wg_array_create(L, pn[k], GL_RGBA32F, n, NULL, err, el));
     }
+    if (g->integ) {
+        for (int j = 0; j < 3; ++j) {
+            TRY(wg_array_create(L, &g->xp.t[j], GL_RGBA32F, n, NULL, err, el));
+            TRY(wg_array_create(L, &g->vp.t[j], GL_RGBA32F, n, NULL, err, el));
+        }
+        wg_tex* pi[] = {&g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom, &g->air_lo, &g->air_hi};
+        for (size_t k = 0; k < sizeof pi / sizeof pi[0]; ++k) TRY(wg_array_create(L, pi[k], GL_RGBA32F, n, NULL, err, el));
+        if (!g->newton) TRY(wg_array_create(L, &g->nw_fext, GL_RGBA32F, n, NULL, err, el));   /* stage 1's o2 */
+    }
     wg_tex* ps[] = {&g->sf, &g->sw, &g->sj, &g->chk_s, &g->corr};
     for (size_t k = 0; k < sizeof ps / sizeof ps[0]; ++k) TRY(wg_array_create(L, ps[k], GL_RGBA32F, ns, NULL, err, el));
     TRY(wg_array_create(L, &g->fair, GL_RGBA32F, g->nt, NULL, err, el));
@@ -266,10 +276,12 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no triangle-mesh colliders (%d given in def->mesh_colliders): use the CPU "
                        "backend, or the plane, sphere and capsule colliders", s->n_mesh);
-    if (s->def.integrator != WC_INTEGRATOR_BE)
+    if (s->def.integrator == WC_INTEGRATOR_TRBDF2 && s->def.max_colliders > 0)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend runs backward Euler (asked: integrator %s; BDF2 and TR-BDF2 run on the CPU "
-                       "backend only)", wc_integrator_name(s->def.integrator));
+                       "the GPU backend runs TR-BDF2 only on a cloth without colliders (this one has room for %d): "
+                       "TR-BDF2's contacts (the stages' landing on the collider and the contact impulses held from "
+                       "stage 1 to stage 2) are not carried on the GPU; choose BDF2 or backward Euler, no colliders, or "
+                       "the CPU backend", s->def.max_colliders);
     if (wc_newton_wanted(&s->def) && s->def.max_colliders > 0)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend runs Newton iterations (asked: %d, line search %s) only on a cloth without "
@@ -292,6 +304,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     g->pin_cap = s->def.max_pins > 0 ? s->def.max_pins : g->n;
     g->debug_opts = s->def.solver;
     g->newton = wc_newton_wanted(&s->def);
+    g->integ = s->def.integrator != WC_INTEGRATOR_BE;
     long long biggest = g->n;
     long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};
     for (int k = 0; k < 5; ++k)
@@ -373,6 +386,12 @@ wc_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag) {
     wg_array_upload(&g->layout, wg_ring_cur(&g->v), g->n, g->rb);
     to_f4(s->dv, g->n, g->rb);
     wg_array_upload(&g->layout, wg_ring_cur(&g->dv), g->n, g->rb);
+    if (g->integ) {   /* the history (BDF2's; scratch for TR-BDF2), read where s->hist_valid says */
+        to_f4(s->x_prev, g->n, g->rb);
+        wg_array_upload(&g->layout, wg_ring_cur(&g->xp), g->n, g->rb);
+        to_f4(s->v_prev, g->n, g->rb);
+        wg_array_upload(&g->layout, wg_ring_cur(&g->vp), g->n, g->rb);
+    }
     wg_contacts_upload(g->contacts, s);
     g->rho_valid = 0;
     GLenum e = glGetError();
@@ -387,6 +406,12 @@ wc_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag) {
     from_f4(g->rb, g->n, s->v);
     wg_array_read(&g->layout, wg_ring_cur(&g->dv), g->n, g->rb);
     from_f4(g->rb, g->n, s->dv);
+    if (g->integ) {
+        wg_array_read(&g->layout, wg_ring_cur(&g->xp), g->n, g->rb);
+        from_f4(g->rb, g->n, s->x_prev);
+        wg_array_read(&g->layout, wg_ring_cur(&g->vp), g->n, g->rb);
+        from_f4(g->rb, g->n, s->v_prev);
+    }
     wg_contacts_download(g->contacts, s);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "GPU cloth: state read-back: %s", wg_gl_error_name(e));
@@ -397,6 +422,10 @@ void wg_sim_backup(wg_sim* g) {
     wg_copy(&g->run, &g->x_bak, wg_ring_cur(&g->x));
     wg_copy(&g->run, &g->v_bak, wg_ring_cur(&g->v));
     wg_copy(&g->run, &g->dv_bak, wg_ring_cur(&g->dv));
+    if (g->integ) {
+        wg_copy(&g->run, &g->xp_bak, wg_ring_cur(&g->xp));
+        wg_copy(&g->run, &g->vp_bak, wg_ring_cur(&g->vp));
+    }
     wg_contacts_backup(g->contacts);
 }
 
@@ -404,6 +433,10 @@ void wg_sim_restore_backup(wg_sim* g) {
     wg_copy(&g->run, wg_ring_cur(&g->x), &g->x_bak);
     wg_copy(&g->run, wg_ring_cur(&g->v), &g->v_bak);
     wg_copy(&g->run, wg_ring_cur(&g->dv), &g->dv_bak);
+    if (g->integ) {
+        wg_copy(&g->run, wg_ring_cur(&g->xp), &g->xp_bak);
+        wg_copy(&g->run, wg_ring_cur(&g->vp), &g->vp_bak);
+    }
     wg_contacts_restore_backup(g->contacts);
     g->rho_valid = 0;
 }
@@ -427,6 +460,25 @@ void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], c
 
 void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3]) {
     wg_sim_transform_state(g, Rx, tx, Rv, dv, Rv);
+}
+
+void wg_sim_transform_history(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9],
+                              const double dv[3]) {
+    if (!g->integ) return;
+    wg_runner* run = &g->run;
+    static const double Z[9] = {0};
+    int nx = wg_ring_other(&g->xp, 0), nv = wg_ring_other(&g->vp, 0);
+    /* the transform pass with the history as x and v (its third output, the warm start's, unused) */
+    WG_USE(run, WGP_TRANSFORM, &(wg_transform_in){.x = wg_ring_cur(&g->xp), .v = wg_ring_cur(&g->vp),
+        .dv = wg_ring_cur(&g->vp)});
+    wg_umat3(run, "u_rx", Rx);
+    wg_u3f(run, "u_tx", tx);
+    wg_umat3(run, "u_rv", Rv);
+    wg_u3f(run, "u_dv", dv);
+    wg_umat3(run, "u_rd", Z);
+    WG_RUN(run, g->n, &g->xp.t[nx], &g->vp.t[nv]);
+    g->xp.cur = g->xp.keep = nx;
+    g->vp.cur = g->vp.keep = nv;
 }
 
 double wg_sim_max_abs(wg_sim* g) {

@@ -20,7 +20,7 @@ typedef struct wg_sim wg_sim;
 /* Upload the model and the state; host_rest (n_host_verts x 3, object space, m; NULL: zeros) is
  * where outputs put host vertices no polygon uses. Refused with WC_ERROR_UNSUPPORTED (what the GPU
  * does not have): the direct solver, the multigrid on fragment passes and other preconditioners,
- * mesh colliders, BDF2 and TR-BDF2, Newton iterations or the line search with colliders,
+ * mesh colliders, TR-BDF2 with colliders, Newton iterations or the line search with colliders,
  * self-collision; with WC_ERROR_GPU: arrays beyond the device's texture limits (naming the
  * array, its size and the limit), GL errors. */
 wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
@@ -34,19 +34,24 @@ void wg_sim_forget(wg_sim* g);
  * the direct solver: st->direct_fallbacks counts those last-resort tries). */
 wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st, wc_diag* diag);
 
-/* Read x, v, dv and the contact arrays back into s (exact: float values widened to double). */
+/* Read x, v, dv, the integrator's history (x_prev, v_prev; BDF2 and TR-BDF2) and the contact
+ * arrays back into s (exact: float values widened to double). */
 wc_status wg_sim_download(wg_sim* g, wc_state* s, wc_diag* diag);
-/* Send s's x, v, dv and contact arrays (rounded to float). */
+/* Send s's x, v, dv, history and contact arrays (rounded to float). */
 wc_status wg_sim_upload(wg_sim* g, const wc_state* s, wc_diag* diag);
 
-/* The frame's back-up of the state textures (taken before a step the caller may undo) and its
- * restore. */
+/* The frame's back-up of the state textures, history included (taken before a step the caller
+ * may undo), and its restore. */
 void wg_sim_backup(wg_sim* g);
 void wg_sim_restore_backup(wg_sim* g);
 
 /* x' = Rx x + tx, v' = Rv v + dv for every particle (teleports, inertia), on the GPU; the
  * solver's warm start turns with the velocities (dv' = Rv dv). Row-major 3x3 matrices. */
 void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3]);
+/* The same for BDF2's history (x_prev' = Rx x_prev + tx, v_prev' = Rv v_prev + dv); nothing for a
+ * backward-Euler cloth. The caller decides whether the history is valid (s->hist_valid). */
+void wg_sim_transform_history(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9],
+                              const double dv[3]);
 
 /* Largest |coordinate| of any position or velocity (+inf when one is not finite), measured on
  * the GPU (one small read-back). */
@@ -73,8 +78,9 @@ size_t wg_sim_gpu_bytes(const wg_sim* g);
 
 /* ---- for tests and benchmarks ---------------------------------------------------------------- */
 
-/* Run a substep's preparation (pins, contacts, forces, assembly) for a substep of length h ending
- * at frame fraction alpha1, as the step does, then read back: A (pattern.n_blocks x 9, row-major
+/* Run a substep's preparation (pins, contacts, the integrator's vectors, forces, assembly) for a
+ * substep of length h ending at frame fraction alpha1, as the step does (TR-BDF2: its stage 1;
+ * BDF2: a BDF2 step where s's history is valid for h, and the history moves on), then read back: A (pattern.n_blocks x 9, row-major
  * blocks), b (n x 3), the filter S (n x 9), z (n x 3), ndof (n) and x (n x 3; contacts may have
  * moved particles). Any output may be NULL. */
 wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, double* A, double* b, double* S,
@@ -83,7 +89,8 @@ wc_status wg_sim_debug_prepare(wg_sim* g, wc_state* s, double h, double alpha1, 
  * current positions, as the step's checks measure them on the GPU. */
 void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, double* max_strain);
 /* The change Phi(wb) - Phi(wa) (J) of the line search's incremental potential between two
- * iterates (n x 3 velocity changes) of the substep of length h the last prepare built, as the
+ * iterates (n x 3 velocity changes) of the substep of length h the last prepare built (TR-BDF2:
+ * its stage 1), as the
  * line search measures it (a cloth made with Newton iterations or the line search only). */
 double wg_sim_debug_phi_change(wg_sim* g, const wc_state* s, double h, const double* wa, const double* wb);
 /* Solve the system the last prepare built with the cloth's solver from the initial guess dv

@@ -8,6 +8,7 @@
 #ifndef WEFT_GPU_SOLVER_SIM_IMPL_H
 #define WEFT_GPU_SOLVER_SIM_IMPL_H
 
+#include "bdf2.h"
 #include "wg_amg.h"
 #include "wg_contacts.h"
 #include "wg_layout.h"
@@ -53,6 +54,13 @@ struct wg_sim {
     wg_ring x, v, dv;
     wg_tex x_bak, v_bak, dv_bak;   /* the frame's back-up (wg_sim_backup) */
 
+    /* the integrator's (made only for BDF2 and TR-BDF2, core/bdf2.h) */
+    wg_ring xp, vp;             /* history: BDF2's x_{n-1}, v_{n-1}; TR-BDF2's stage 1 start x_n, v_n */
+    wg_tex xp_bak, vp_bak;      /* their frame back-up */
+    wg_tex xs;                  /* TR-BDF2: stage 1's x_g as its solve gave it */
+    wg_tex xb, vstar, mom;      /* the substep's (stage's) base position, v*, momentum term */
+    wg_tex air_lo, air_hi;      /* TR-BDF2's implicit air: the lumped drag Jacobian per particle */
+
     /* substep scratch */
     wg_tex S0, S1, z;           /* filter */
     wg_tex sf, sw, sj;          /* spring outputs */
@@ -86,6 +94,9 @@ struct wg_sim {
     int amg_on;                 /* PCG's solve in progress preconditions with it */
     int newton;                 /* Newton iterations above 1 or the line search (core's
                                    wc_newton_wanted): the nw_* textures exist */
+    int integ;                  /* BDF2 or TR-BDF2: the integrator's textures exist (nw_fext too) */
+    int nw_refreshed;           /* Newton in a TR-BDF2 stage: the damping and air were refreshed at
+                                   the iterate (core/newton.h "Refreshed"); the potential's terms follow */
     int gl_error;               /* a GL error seen in this frame */
     int forget_gl;              /* destroy: free memory only (wg_sim_forget) */
 };
@@ -99,7 +110,19 @@ void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], c
 /* ---- the substep (wg_step.c), also run alone by the debug entry points ------------------------ */
 
 void wg_step_upload_pins(wg_sim* g, const wc_state* s);
-void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression);
+/* Pins, contacts, the integrator's vectors (a BDF2 cloth's history moves on: s->hist_valid,
+ * hist_h), springs, air, assembly of the substep (stage) with core's coefficients ig
+ * (wc_integ_coefficients) ending at frame fraction alpha1. */
+void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, wc_compression compression);
+/* The textures of ig's xb, v* and mom (backward Euler: x, v and zeros; mom needs Newton's
+ * textures there). */
+const wg_tex* wg_integ_xb(wg_sim* g, const wc_integ* ig);
+const wg_tex* wg_integ_vstar(wg_sim* g, const wc_integ* ig);
+const wg_tex* wg_integ_mom(wg_sim* g, const wc_integ* ig);
+/* TR-BDF2's lumped drag Jacobian at positions x into air_lo / air_hi (air_lump.glsl). */
+void wg_step_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x);
+/* A from the springs' outputs sf, sw, sj, plus air_he L on the diagonal (0: no air term). */
+void wg_step_assemble_a(wg_sim* g, double air_he);
 
 /* ---- the step's checks (wg_checks.c) --------------------------------------------------------- */
 
@@ -132,11 +155,13 @@ void wg_checks_springs(wg_sim* g, const wc_state* s, double* elastic, double* ma
  * search when asked; core/newton.c's rules), and up to
  * core's NW_ENERGY_EXTRA more while the iterate's total energy is above energy_cap (J; HUGE_VAL:
  * no guard); solves and iterations added to st; *dv becomes the accepted iterate (g->nw_w).
- * Cloths without colliders only. */
-void wg_newton_iterate(wg_sim* g, const wc_state* s, double h, wc_solver_type solver, wc_compression compression,
-                       double residual_scale, double energy_cap, const wg_tex** dv, wc_step_stats* st);
-/* Phi(wb) - Phi(wa) of the prepared substep (two reductions read back). */
-double wg_newton_phi_change(wg_sim* g, const wc_state* s, double h, const wg_tex* wa, const wg_tex* wb);
+ * ig: the substep's (stage's) coefficients (x(w) = xb + he (v_n + w), core/newton.h; TR-BDF2's
+ * stages refreshed). Cloths without colliders only. */
+void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solver_type solver,
+                       wc_compression compression, double residual_scale, double energy_cap, const wg_tex** dv,
+                       wc_step_stats* st);
+/* Phi(wb) - Phi(wa) of the prepared substep with coefficients ig (two reductions read back). */
+double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb);
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
 

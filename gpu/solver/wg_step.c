@@ -1,6 +1,8 @@
 /* A frame on the GPU: core's frame driver (wc_step_frame_ops: schedule, retries, judging, stats,
- * sleeping) with this file's substep, save/restore and measures. A substep is the chain of
- * passes of core/step.c's substep(): pins (and contacts) into the filter, springs, air, assembly
+ * sleeping) with this file's substep, save/restore and measures. A substep (TR-BDF2: each of its
+ * two stages) is the chain of passes of core/step.c's stage_step(), with core's integrator
+ * coefficients (core/bdf2.h wc_integ_coefficients): pins (and contacts) into the filter, the
+ * integrator's xb, v*, mom and history (BDF2, TR-BDF2), springs, air, assembly
  * of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and line
  * search: wg_newton.c), (contact release), integration with the pins snapped, strain limiting,
  * (contact projection), and the checks as reductions (wg_checks.c): one read-back of four texels
@@ -48,26 +50,64 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
     wg_array_upload(&g->layout, &g->pin_axis, n_pins, f);
 }
 
-/* Pins, contacts, springs, air, assembly: s->filter's GPU twin (S0, S1, z), A0/A1, b. */
-void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_compression compression) {
-    g->residual_floor = wc_state_residual_floor(s, h); /* the solves' floor, as core's prepare */
+const wg_tex* wg_integ_xb(wg_sim* g, const wc_integ* ig) { return ig->xb_form ? &g->xb : wg_ring_cur(&g->x); }
+const wg_tex* wg_integ_vstar(wg_sim* g, const wc_integ* ig) {
+    return ig->bdf2 || ig->stage ? &g->vstar : wg_ring_cur(&g->v);
+}
+const wg_tex* wg_integ_mom(wg_sim* g, const wc_integ* ig) { return ig->bdf2 || ig->stage ? &g->mom : &g->nw_zero; }
+
+/* The integrator's xb, v*, mom after the contacts' correction (integ_prepare.glsl; core/bdf2.c
+ * wc_integ_prepare), x_start the substep's x before it; a BDF2 cloth's history moves on. */
+static void integ_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, const wg_tex* x_start) {
+    wg_runner* run = &g->run;
+    const int mode = ig->stage == 1 ? 2 : ig->stage == 2 ? 3 : ig->bdf2 ? 1 : 0;
+    WG_USE(run, WGP_INTEG_PREPARE, &(wg_integ_prepare_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .xs = ig->stage == 2 ? &g->xs : x_start, .xp = wg_ring_cur(&g->xp), .vp = wg_ring_cur(&g->vp)});
+    wg_u1i(run, "u_mode", mode);
+    wg_u1f(run, "u_h", ig->h);
+    wg_u1f(run, "u_he", ig->he);
+    wg_u1f(run, "u_c2", WC_TRBDF2_C2);
+    if (mode == 3) {   /* stage 2 reads stage 1's start from the history, which stays */
+        WG_RUN(run, g->n, &g->xb, &g->vstar, &g->mom);
+        return;
+    }
+    int px = wg_ring_other(&g->xp, 0), pv = wg_ring_other(&g->vp, 0);
+    WG_RUN(run, g->n, &g->xb, &g->vstar, &g->mom, &g->xp.t[px], &g->vp.t[pv]);
+    g->xp.cur = px;
+    g->vp.cur = pv;
+    if (s->def.integrator == WC_INTEGRATOR_BDF2) {
+        s->hist_h = ig->h;
+        s->hist_valid = 1;
+    }
+}
+
+/* Pins, contacts, the integrator's vectors, springs, air, assembly: s->filter's GPU twin (S0, S1,
+ * z), A0/A1, b (wg_sim_impl.h). */
+void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, wc_compression compression) {
+    const double h = ig->h, he = ig->he;
+    g->residual_floor = wc_state_residual_floor(s, he); /* the solves' floor, as core's prepare */
     const wc_model* m = g->m;
     wg_runner* run = &g->run;
     wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
-    WG_USE(run, WGP_PINS, &(wg_pins_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v), .pin_map = &g->pin_map,
-        .pin_from = &g->pin_from, .pin_target = &g->pin_target, .pin_axis = &g->pin_axis});
+    const wg_tex* x_start = wg_ring_cur(&g->x);   /* kept until integ_prepare: the contacts write another slot */
+    WG_USE(run, WGP_PINS, &(wg_pins_in){.x = x_start, .v = wg_ring_cur(&g->v),
+        .xp = g->integ ? wg_ring_cur(&g->xp) : x_start, .pin_map = &g->pin_map, .pin_from = &g->pin_from,
+        .pin_target = &g->pin_target, .pin_axis = &g->pin_axis});
     wg_u1i(run, "u_n_pins", g->n_pins_uploaded);
-    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_he", he);
+    wg_u1f(run, "u_base_x", ig->bdf2 ? 1.0 / 3.0 : ig->stage == 2 ? WC_TRBDF2_C2 : 0.0);   /* wc_integ_base */
+    wg_u1f(run, "u_base_v", ig->stage == 1 ? he : 0.0);
     wg_u1f(run, "u_alpha1", alpha1);
     WG_RUN(run, g->n, &g->S0, &g->S1, &g->z);
     if (s->n_colliders > 0) wg_contacts_begin(g->contacts, s, h);
+    if (g->integ) integ_prepare(g, s, ig, x_start);
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
-    WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v), .spring = &g->spring,
-        .spring_rest = &g->spring_rest, .rest = &g->rest});
+    WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+        .vstar = wg_integ_vstar(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
     wg_u4f(run, "u_k", m->material.k);
     wg_u4f(run, "u_d", m->material.d);
-    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_h", he);
     wg_u1f(run, "u_seam_scale", s->seam_scale);   /* the host pairs' ramp, constant over the frame */
     wg_u1i(run, "u_compression_drop", compression == WC_COMPRESSION_DROP);
     WG_RUN(run, g->ns, &g->sf, &g->sw, &g->sj);
@@ -79,22 +119,41 @@ void wg_step_prepare(wg_sim* g, const wc_state* s, double h, double alpha1, wc_c
         wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
         WG_RUN(run, g->nt, &g->fair);
     }
+    if (ig->air_implicit) wg_step_air_lump(g, s, wg_ring_cur(&g->x));
 
     wg_stamp(&g->stamps, WG_STAGE_ASSEMBLE);
+    const int mom_mode = ig->stage == 1 ? 2 : ig->bdf2 || ig->stage ? 1 : 0;   /* assemble_b.glsl's u_mom */
     WG_USE(run, WGP_ASSEMBLE_B, &(wg_assemble_b_in){.mass = &g->mass, .rows = &g->rows, .row_entry = &g->row_entry,
-        .spring_f = &g->sf, .spring_w = &g->sw, .row_tri = &g->row_tri, .tri_air = &g->fair});
-    wg_u1f(run, "u_h", h);
+        .spring_f = &g->sf, .spring_w = &g->sw, .row_tri = &g->row_tri, .tri_air = &g->fair,
+        .mom = mom_mode == 1 ? &g->mom : &g->mass});
+    wg_u1f(run, "u_h", he);
     wg_u3f(run, "u_gravity", s->def.gravity);
     wg_u1i(run, "u_use_air", use_air);
-    if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
+    wg_u1i(run, "u_mom", mom_mode);
+    if (mom_mode == 2) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext, &g->mom);   /* stage 1: mom = he f0 / m */
+    else if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
     else WG_RUN(run, g->n, &g->b, &g->ftot);
-    WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
-        .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj});
-    WG_RUN(run, g->nb, &g->A0, &g->A1);
+    wg_step_assemble_a(g, ig->air_implicit ? he : 0.0);
     if (s->n_colliders > 0 && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
-        wg_contacts_friction(g->contacts, s, h);
+        wg_contacts_friction(g->contacts, s, he);
     }
+}
+
+void wg_step_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_AIR_LUMP, &(wg_air_lump_in){.x = x, .rows = &g->rows, .row_tri = &g->row_tri, .tri = &g->tri});
+    wg_u2f(run, "u_drag", s->def.air.normal_drag, s->def.air.tangent_drag);
+    WG_RUN(run, g->n, &g->air_lo, &g->air_hi);
+}
+
+void wg_step_assemble_a(wg_sim* g, double air_he) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
+        .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj, .air_lo = air_he != 0.0 ? &g->air_lo : &g->mass,
+        .air_hi = air_he != 0.0 ? &g->air_hi : &g->mass});
+    wg_u1f(run, "u_air_he", air_he);
+    WG_RUN(run, g->nb, &g->A0, &g->A1);
 }
 
 #define FRICTION_PASSES 4   /* as core/step.c */
@@ -108,16 +167,28 @@ static wc_substep_measure start_measure(const wg_checks* c) {
     return m;
 }
 
-static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
-                               double pin_energy, wc_step_stats* st, wc_diag* diag) {
-    wg_sim* g = user;
+/* TR-BDF2's total-energy judgement spans the whole substep (core/step.c stage_energy): stage 1
+ * fills this in, stage 2 is judged against it. */
+typedef struct stage_energy {
+    double start_total;     /* J: total energy at the substep's start */
+    double start_elastic;   /* J: its measure's elastic part (the allowance's scale) */
+} stage_energy;
+
+/* One backward-Euler or BDF2 substep of length h, or TR-BDF2's stage `stage` (1 or 2) of the
+ * substep of length h with `carry` from stage 1 to stage 2, ending at frame fraction alpha1
+ * (core/step.c stage_step). Does not roll back: returns non-OK when the result must be discarded. */
+static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double alpha1, wc_solver_type solver,
+                           int judge, double pin_energy, stage_energy* carry, wc_step_stats* st, wc_diag* diag) {
     wg_runner* run = &g->run;
     wc_substep_measure before, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_START);   /* read back with the end's */
 
+    wc_integ ig;
+    wc_integ_coefficients(s, h, stage, &ig);
+    h = ig.h;   /* TR-BDF2: the stage's length */
     const wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
-    wg_step_prepare(g, s, h, alpha1, compression);
+    wg_step_prepare(g, s, &ig, alpha1, compression);
     wg_stamp(&g->stamps, WG_STAGE_SOLVE);
     wc_solver_opts opts = s->def.solver;
     const wg_tex* dvres = NULL;
@@ -154,16 +225,20 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);
     if (g->newton) {
-        /* Newton's energy guard (core/step.c): the start's energy plus what the judge allows; the
-           start's checks read back now (one more read-back a substep) */
+        /* Newton's energy guard (core/step.c): the start's energy plus what the judge allows (TR-BDF2's
+           stage 2: the substep's start's); the start's checks read back now (one more read-back) */
         double energy_cap = HUGE_VAL;
         if (judge_energy) {
             wg_checks start;
             wg_checks_read(g, &start, NULL);
             wc_substep_measure m0 = start_measure(&start);
+            if (stage == 2) {
+                m0.total = carry->start_total;
+                m0.elastic = carry->start_elastic;
+            }
             energy_cap = m0.total + wc_substep_energy_allowance(s, &m0);
         }
-        wg_newton_iterate(g, s, h, solver, compression, res.scale, energy_cap, &dvres, st);
+        wg_newton_iterate(g, s, &ig, solver, compression, res.scale, energy_cap, &dvres, st);
     }
     int nd = wg_ring_other(&g->dv, 0);
     wg_copy(run, &g->dv.t[nd], dvres);
@@ -171,16 +246,17 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
     if (s->n_colliders > 0) wg_contacts_end(g->contacts, s, &g->dv.t[nd]);
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
-    WG_USE(run, WGP_INTEGRATE, &(wg_integrate_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
+    WG_USE(run, WGP_INTEGRATE, &(wg_integrate_in){.xb = wg_integ_xb(g, &ig), .v = wg_ring_cur(&g->v),
         .dv = &g->dv.t[nd], .pin_map = &g->pin_map, .pin_from = &g->pin_from, .pin_target = &g->pin_target,
         .pin_axis = &g->pin_axis});
     wg_u1i(run, "u_n_pins", g->n_pins_uploaded);
-    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_he", ig.he);
     wg_u1f(run, "u_alpha1", alpha1);
     WG_RUN(run, g->n, &g->x.t[nx], &g->v.t[nv]);
     g->x.cur = nx;
     g->v.cur = nv;
     g->dv.cur = nd;
+    if (stage == 1) wg_copy(run, &g->xs, wg_ring_cur(&g->x));   /* x_g as solved (core/bdf2.c wc_integ_solved) */
     if (s->def.strain_limit > 0 && s->def.strain_passes > 0) {
         /* core stops early once no spring is above the limit; here every pass runs (a pass with
            nothing to correct changes nothing) */
@@ -193,7 +269,7 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
             WG_USE(run, WGP_STRAIN_GATHER, &(wg_strain_gather_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
                 .rows = &g->rows, .row_entry = &g->row_entry, .corr = &g->corr, .mass = &g->mass, .S0 = &g->S0,
                 .S1 = &g->S1, .spring = &g->spring});
-            wg_u1f(run, "u_h", h);
+            wg_u1f(run, "u_h", ig.he);
             WG_RUN(run, g->n, &g->x.t[sx], &g->v.t[sv]);
             g->x.cur = sx;
             g->v.cur = sv;
@@ -211,12 +287,39 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     if (glGetError() != GL_NO_ERROR) g->gl_error = 1;
 
     before = start_measure(&start);
+    if (stage == 2) {   /* judged from the substep's start (core/step_judge.h "TR-BDF2's energy") */
+        before.total = carry->start_total;
+        before.elastic = carry->start_elastic;
+    } else if (stage == 1) {
+        carry->start_total = before.total;
+        carry->start_elastic = before.elastic;
+    }
     after.finite = isfinite(end.max_coord) != 0;
     after.kinetic = end.kinetic;
     after.total = (double)end.kinetic + (double)end.elastic + (double)end.gravity;
     after.strain = end.max_strain;
     if (!after.finite) after.strain = HUGE_VAL;
-    return wc_substep_judge(s, &before, &after, judge, judge_energy, pin_energy, h, wc_solver_name(solver), diag);
+    status = wc_substep_judge(s, &before, &after, judge, judge_energy && stage != 1, pin_energy, h,
+                              wc_solver_name(solver), diag);
+    if (status == WC_OK && ig.bdf2) ++st->bdf2_substeps;
+    return status;
+}
+
+/* One substep of length h ending at frame fraction alpha1: a gpu_stage, or TR-BDF2's two (stage 1
+ * to the fraction gamma of the way; core/step.c substep). */
+static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, wc_solver_type solver, int judge,
+                               double pin_energy, wc_step_stats* st, wc_diag* diag) {
+    wg_sim* g = user;
+    if (s->def.integrator != WC_INTEGRATOR_TRBDF2)
+        return gpu_stage(g, s, h, 0, alpha1, solver, judge, pin_energy, NULL, st, diag);
+    double a0 = s->sub_alpha0, ag = a0 + WC_TRBDF2_GAMMA * (alpha1 - a0);
+    stage_energy carry = {0.0, 0.0};
+    wc_status status = gpu_stage(g, s, h, 1, ag, solver, judge, pin_energy, &carry, st, diag);
+    if (status != WC_OK) return status;
+    s->sub_alpha0 = ag;
+    status = gpu_stage(g, s, h, 2, alpha1, solver, judge, pin_energy, &carry, st, diag);
+    s->sub_alpha0 = a0;
+    return status;
 }
 
 static void gpu_save(void* user, wc_state* s) {
@@ -224,6 +327,12 @@ static void gpu_save(void* user, wc_state* s) {
     wg_ring_save(&g->x);
     wg_ring_save(&g->v);
     wg_ring_save(&g->dv);
+    if (g->integ) {   /* the history with the substep's start (core/bdf2.c wc_integ_save) */
+        wg_ring_save(&g->xp);
+        wg_ring_save(&g->vp);
+        s->hist_valid0 = s->hist_valid;
+        s->hist_h0 = s->hist_h;
+    }
     if (s->n_colliders > 0) wg_contacts_save(g->contacts);
 }
 
@@ -232,6 +341,12 @@ static void gpu_restore(void* user, wc_state* s) {
     wg_ring_restore(&g->x);
     wg_ring_restore(&g->v);
     wg_ring_restore(&g->dv);
+    if (g->integ) {
+        wg_ring_restore(&g->xp);
+        wg_ring_restore(&g->vp);
+        s->hist_valid = s->hist_valid0;
+        s->hist_h = s->hist_h0;
+    }
     if (s->n_colliders > 0) wg_contacts_restore(g->contacts);
     g->rho_valid = 0;
 }

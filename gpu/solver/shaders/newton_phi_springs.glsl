@@ -1,11 +1,14 @@
 // Per spring, its part of the change of the incremental potential between the iterates wa and wb
-// (core/newton.c wc_newton_potential): w k/2 (e(x(wb))^2 - e(x(wa))^2) with core's extension e
-// (seams: their ramp, pulling only), and the frozen damping's -h/2 (dvb.kv0 dvb - dva.kv0 dva),
-// kv0 the damping block at x_n, dv = v_a - v_b at v(w) = v_n + w. Output: o0 = (the change, -, -, -).
+// (core/newton.c wc_newton_potential; h the system's step, x(w) = xb + h (v_n + w)):
+// w k/2 (e(x(wb))^2 - e(x(wa))^2) with core's extension e (seams: their ramp, pulling only), and
+// the damping's -h/2 (dvb.kv0 dvb - dva.kv0 dva), kv0 the damping block at x_n (frozen) or, in
+// TR-BDF2's stages (u_refresh), at x(wa), the iterate it was refreshed at; dv = v_a - v_b at
+// v(w) = v_n + w. Output: o0 = (the change, -, -, -).
 uniform sampler2D x;            // x_n
 uniform sampler2D v;            // v_n
 uniform sampler2D wa;
 uniform sampler2D wb;
+uniform sampler2D xb;           // the integrator's base position (backward Euler: x_n)
 uniform isampler2D spring;      // (a, b, type, -)
 uniform sampler2D spring_rest;  // (rest length, stiffness weight w)
 uniform sampler2D rest;         // rest positions
@@ -13,6 +16,7 @@ uniform vec4 u_k;
 uniform vec4 u_d;
 uniform float u_h;
 uniform float u_seam_scale;
+uniform int u_refresh;
 out vec4 o0;
 #pragma weft include spring_blocks
 
@@ -30,11 +34,13 @@ void main() {
     vec3 v0 = ld(v, sp.x).xyz - ld(v, sp.y).xyz;
     vec3 dva = v0 + ld(wa, sp.x).xyz - ld(wa, sp.y).xyz, dvb = v0 + ld(wb, sp.x).xyz - ld(wb, sp.y).xyz;
     vec3 L0 = ld(x, sp.x).xyz - ld(x, sp.y).xyz;
+    vec3 Lb = ld(xb, sp.x).xyz - ld(xb, sp.y).xyz;
     vec3 R = ld(rest, sp.x).xyz - ld(rest, sp.y).xyz;
     vec3 f;
     mat3 kx0, kv0;
-    spring_blocks(sp.z, rw, L0, vec3(0.0), R, 0.0, u_d[sp.z], u_seam_scale, true, f, kx0, kv0);
-    float ea = extension(sp.z, rw, length(L0 + u_h * dva)), eb = extension(sp.z, rw, length(L0 + u_h * dvb));
+    spring_blocks(sp.z, rw, u_refresh != 0 ? Lb + u_h * dva : L0, vec3(0.0), R, 0.0, u_d[sp.z], u_seam_scale, true, f,
+                  kx0, kv0);
+    float ea = extension(sp.z, rw, length(Lb + u_h * dva)), eb = extension(sp.z, rw, length(Lb + u_h * dvb));
     float elastic = 0.5 * u_k[sp.z] * rw.y * (eb - ea) * (eb + ea);
     float damping = -0.5 * u_h * (dot(dvb, kv0 * dvb) - dot(dva, kv0 * dva));
     o0 = vec4(elastic + damping, 0.0, 0.0, 0.0);

@@ -1,11 +1,13 @@
-// Per spring, Newton's system at the iterate w of a backward-Euler substep (core/newton.c
-// newton_system): the elastic force and stiffness kx at x(w) = x_n + h (v_n + w), the damping
-// with the substep start's directions (kv0 at x_n, frozen) at v(w) = v_n + w, so
-// f = f_elastic(x(w)) + kv0 (v_a - v_b), J = h kv0 + h^2 kx(x(w)); the third output's w part is 0
-// (no h^2 kx v* term: Newton's right-hand side is -grad Phi). Same outputs as springs.glsl.
+// Per spring, Newton's system at the iterate w of a substep (core/newton.c newton_system; h the
+// system's step, bdf2.h he): the elastic force and stiffness kx at x(w) = xb + h (v_n + w)
+// (backward Euler: xb = x_n), the damping at v(w) = v_n + w with the substep start's directions
+// (kv0 at x_n, frozen) or, refreshed (u_refresh: TR-BDF2's stages, core/newton.h), with those at
+// x(w), so f = f_elastic(x(w)) + kv0 (v_a - v_b), J = h kv0 + h^2 kx(x(w)); the third output's w
+// part is 0 (no h^2 kx v* term: Newton's right-hand side is -grad Phi). Same outputs as springs.glsl.
 uniform sampler2D x;           // x_n
 uniform sampler2D v;           // v_n
 uniform sampler2D w;           // the iterate
+uniform sampler2D xb;          // the integrator's base position (backward Euler: x_n)
 uniform isampler2D spring;     // (a, b, type, -)
 uniform sampler2D spring_rest; // (rest length, stiffness weight w)
 uniform sampler2D rest;        // rest positions
@@ -14,6 +16,7 @@ uniform vec4 u_d;
 uniform float u_h;
 uniform float u_seam_scale;
 uniform int u_compression_drop;
+uniform int u_refresh;
 out vec4 o0;
 out vec4 o1;
 out vec4 o2;
@@ -26,12 +29,12 @@ void main() {
     vec2 rw = ld(spring_rest, s).xy;
     vec3 va = ld(v, sp.x).xyz + ld(w, sp.x).xyz, vb = ld(v, sp.y).xyz + ld(w, sp.y).xyz;
     vec3 L0 = ld(x, sp.x).xyz - ld(x, sp.y).xyz;
-    vec3 L = L0 + u_h * (va - vb);
+    vec3 L = ld(xb, sp.x).xyz - ld(xb, sp.y).xyz + u_h * (va - vb);
     vec3 R = ld(rest, sp.x).xyz - ld(rest, sp.y).xyz;
     vec3 fd, fe;
     mat3 kx0, kv0, kx, kv;
-    // the damping at x_n (stiffness 0), the elastic part at x(w) (damping 0)
-    spring_blocks(sp.z, rw, L0, va - vb, R, 0.0, u_d[sp.z], u_seam_scale, u_compression_drop != 0, fd, kx0, kv0);
+    // the damping at x_n or x(w) (stiffness 0), the elastic part at x(w) (damping 0)
+    spring_blocks(sp.z, rw, u_refresh != 0 ? L : L0, va - vb, R, 0.0, u_d[sp.z], u_seam_scale, u_compression_drop != 0, fd, kx0, kv0);
     spring_blocks(sp.z, rw, L, vec3(0.0), R, u_k[sp.z], 0.0, u_seam_scale, u_compression_drop != 0, fe, kx, kv);
     mat3 J = u_h * kv0 + (u_h * u_h) * kx;
     o0 = vec4(fe + fd, J[0][0]);

@@ -1,7 +1,7 @@
-// Per particle, the line search's first step (core/newton.c): its start w~0 = z + S (-v_n) (the
-// prescribed part in full, the free particles at x_n) and its direction d = w1 - w~0 towards the
-// first solve's result w1. Outputs: o0 = w~0, o1 = d.
-uniform sampler2D v;            // v_n
+// Per particle, the line search's first step (core/newton.c): its start w~0 = z + S (-v*) (the
+// prescribed part in full, the free particles at x_n: x(-v*) = x_n, bdf2.h's v*; backward Euler:
+// v_n) and its direction d = w1 - w~0 towards the first solve's result w1. Outputs: o0 = w~0, o1 = d.
+uniform sampler2D v;            // v* (backward Euler: v_n)
 uniform sampler2D w1;
 uniform sampler2D S0;
 uniform sampler2D S1;

@@ -1,8 +1,10 @@
 // Per spring: force on end a and the blocks of core/forces.c (Baraff & Witkin; spring_blocks.glsl,
-// seams included), for a substep of length h: J = h kv + h^2 kx and w = kx (v_a - v_b).
+// seams included), for a system of step h (bdf2.h he): J = h kv + h^2 kx and w = kx (v*_a - v*_b)
+// with the integrator's v* (core/bdf2.h vstar; backward Euler: v).
 // Outputs: o0 = (f, J00), o1 = (w, J11), o2 = (J01, J02, J12, J22).
 uniform sampler2D x;
 uniform sampler2D v;
+uniform sampler2D vstar;       // the velocity of the h K v* term
 uniform isampler2D spring;     // (a, b, type, -)
 uniform sampler2D spring_rest; // (rest length, stiffness weight w)
 uniform sampler2D rest;        // rest positions
@@ -29,6 +31,6 @@ void main() {
                   f, kx, kv);
     mat3 J = u_h * kv + (u_h * u_h) * kx;
     o0 = vec4(f, J[0][0]);
-    o1 = vec4(kx * dv, J[1][1]);
+    o1 = vec4(kx * (ld(vstar, sp.x).xyz - ld(vstar, sp.y).xyz), J[1][1]);
     o2 = vec4(J[1][0], J[2][0], J[2][1], J[2][2]);
 }
