@@ -223,9 +223,9 @@ static void test_direct_refused(void) {
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
     /* the multigrid (k == 0): the GPU's own on compute passes, refused on fragment passes;
-       Newton and its line search (k == 2, 3, without colliders: test_api_gpu_newton.c) and
-       sewing (k == 4) run on the GPU; what only the CPU backend has: BDF2 (k == 1),
-       self-collision (k == 5), TR-BDF2 (k == 6) */
+       Newton and its line search (k == 2, 3, without colliders: test_api_gpu_newton.c),
+       sewing (k == 4), BDF2 (k == 1) and TR-BDF2 (k == 6, without colliders: test_api_gpu_bdf2.c)
+       run on the GPU; what only the CPU backend has: self-collision (k == 5) */
     def.solver = WEFT_SOLVER_PCG;
     static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1};
     for (int k = 0; k < 7; ++k) {
@@ -241,7 +241,7 @@ static void test_direct_refused(void) {
         if (k == 3) d2.line_search = 1;
         if (k == 5) d2.self_collision = 1;
         if (k == 6) d2.integrator = WEFT_INTEGRATOR_TRBDF2;
-        if ((k == 0 && g_compute == 1) || k == 2 || k == 3 || k == 4) {
+        if ((k == 0 && g_compute == 1) || k == 1 || k == 2 || k == 3 || k == 4 || k == 6) {
             CHECK_EQ_INT(weft_cloth_create(ctx, &d2, &cloth), WEFT_OK);
             weft_cloth_info mi;
             CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &mi), WEFT_OK);
@@ -249,6 +249,8 @@ static void test_direct_refused(void) {
             if (k == 2) CHECK_EQ_INT(mi.newton_iterations, 3);
             if (k == 3) CHECK_EQ_INT(mi.line_search, 1);
             if (k == 4) CHECK_EQ_INT(mi.n_seams, 1);
+            if (k == 1) CHECK_EQ_INT(mi.integrator, WEFT_INTEGRATOR_BDF2);
+            if (k == 6) CHECK_EQ_INT(mi.integrator, WEFT_INTEGRATOR_TRBDF2);
             CHECK(step(ctx, cloth, 3));
             CHECK_EQ_INT(weft_cloth_destroy(ctx, cloth), WEFT_OK);
             cloth.id = 0;
