@@ -6,8 +6,9 @@
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
 # amg: the GPU's multigrid against block Jacobi (its test, converged steps, the scenes, peers);
-# newton: sewing, Newton and the line search on the GPU (their tests, the hanging sheet's rollbacks
-# at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments batched / unbatched).
+# newton: sewing, Newton, the line search, BDF2 and TR-BDF2 on the GPU (their tests, the hanging
+# sheet's rollbacks at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments
+# batched / unbatched).
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -42,9 +43,9 @@ if [ "$MODE" = amg ]; then   # the multigrid (gpu/solver/wg_amg.h) against block
     grep "^| sheet100 | 10000" "$O/e_peers.md"; } 2>&1 | tee "$O/g_amg.md"
   exit 0
 fi
-if [ "$MODE" = newton ]; then   # sewing, Newton, line search and batching on the GPU
+if [ "$MODE" = newton ]; then   # sewing, Newton, line search, BDF2 / TR-BDF2 and batching on the GPU
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_sew test_api_gpu_sew test_api_gpu_newton test_api_batch; do
+    for t in test_gpu_sew test_api_gpu_sew test_api_gpu_newton test_gpu_bdf2 test_api_gpu_bdf2 test_api_batch; do
       timeout 120 build-dev/tests/$t > /tmp/tn.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|bound|rollback" /tmp/tn.txt | head -8
     done
     echo "| scene | newton | line search | ms/frame median | solves | rollbacks |"; echo "|---|---|---|---|---|---|"

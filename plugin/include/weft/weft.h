@@ -229,9 +229,10 @@ typedef enum weft_preconditioner {
 typedef enum weft_integrator {
     WEFT_INTEGRATOR_DEFAULT = 0,        /* the backend's choice (docs/design/cloth.md, "Defaults") */
     WEFT_INTEGRATOR_BACKWARD_EULER = 1, /* first order (Baraff & Witkin 1998) */
-    WEFT_INTEGRATOR_BDF2 = 2,           /* second order (Choi & Ko 2002; CPU backend only) */
+    WEFT_INTEGRATOR_BDF2 = 2,           /* second order (Choi & Ko 2002; both backends) */
     WEFT_INTEGRATOR_TRBDF2 = 3          /* second order, L-stable, one-step: a trapezoidal stage then a
-                                           BDF2 stage per substep (Bank et al. 1985; CPU backend only) */
+                                           BDF2 stage per substep (Bank et al. 1985; the GPU backend
+                                           runs it on a cloth without colliders) */
 } weft_integrator;
 
 /* Pins: host vertices bound to a host transform (a bone, an object, or the world). At bind time
@@ -397,7 +398,7 @@ WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
  * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, mesh colliders,
- * self-collision, BDF2 / TR-BDF2, the line search, Newton iterations above 1 with colliders),
+ * self-collision, and with colliders TR-BDF2, the line search or Newton iterations above 1),
  * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
  * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
