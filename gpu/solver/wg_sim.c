@@ -441,21 +441,29 @@ void wg_sim_restore_backup(wg_sim* g) {
     g->rho_valid = 0;
 }
 
-void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3],
-                            const double Rd[9]) {
+/* The transform pass over the rings x, v and (not NULL) dv: x' = Rx x + tx, v' = Rv v + dvel,
+ * dv' = Rd dv, each ring's new slot its state and start. */
+static void transform_rings(wg_sim* g, wg_ring* x, wg_ring* v, wg_ring* dv, const double Rx[9], const double tx[3],
+                            const double Rv[9], const double dvel[3], const double Rd[9]) {
     wg_runner* run = &g->run;
-    int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0), nd = wg_ring_other(&g->dv, 0);
-    WG_USE(run, WGP_TRANSFORM, &(wg_transform_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .dv = wg_ring_cur(&g->dv)});
+    int nx = wg_ring_other(x, 0), nv = wg_ring_other(v, 0), nd = dv ? wg_ring_other(dv, 0) : 0;
+    WG_USE(run, WGP_TRANSFORM, &(wg_transform_in){.x = wg_ring_cur(x), .v = wg_ring_cur(v),
+        .dv = wg_ring_cur(dv ? dv : v)});   /* without dv: its output is not written */
     wg_umat3(run, "u_rx", Rx);
     wg_u3f(run, "u_tx", tx);
     wg_umat3(run, "u_rv", Rv);
-    wg_u3f(run, "u_dv", dv);
+    wg_u3f(run, "u_dv", dvel);
     wg_umat3(run, "u_rd", Rd);
-    WG_RUN(run, g->n, &g->x.t[nx], &g->v.t[nv], &g->dv.t[nd]);
-    g->x.cur = g->x.keep = nx;
-    g->v.cur = g->v.keep = nv;
-    g->dv.cur = g->dv.keep = nd;
+    if (dv) WG_RUN(run, g->n, &x->t[nx], &v->t[nv], &dv->t[nd]);
+    else WG_RUN(run, g->n, &x->t[nx], &v->t[nv]);
+    x->cur = x->keep = nx;
+    v->cur = v->keep = nv;
+    if (dv) dv->cur = dv->keep = nd;
+}
+
+void wg_sim_transform_state(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3],
+                            const double Rd[9]) {
+    transform_rings(g, &g->x, &g->v, &g->dv, Rx, tx, Rv, dv, Rd);
 }
 
 void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9], const double dv[3]) {
@@ -464,21 +472,7 @@ void wg_sim_transform(wg_sim* g, const double Rx[9], const double tx[3], const d
 
 void wg_sim_transform_history(wg_sim* g, const double Rx[9], const double tx[3], const double Rv[9],
                               const double dv[3]) {
-    if (!g->integ) return;
-    wg_runner* run = &g->run;
-    static const double Z[9] = {0};
-    int nx = wg_ring_other(&g->xp, 0), nv = wg_ring_other(&g->vp, 0);
-    /* the transform pass with the history as x and v (its third output, the warm start's, unused) */
-    WG_USE(run, WGP_TRANSFORM, &(wg_transform_in){.x = wg_ring_cur(&g->xp), .v = wg_ring_cur(&g->vp),
-        .dv = wg_ring_cur(&g->vp)});
-    wg_umat3(run, "u_rx", Rx);
-    wg_u3f(run, "u_tx", tx);
-    wg_umat3(run, "u_rv", Rv);
-    wg_u3f(run, "u_dv", dv);
-    wg_umat3(run, "u_rd", Z);
-    WG_RUN(run, g->n, &g->xp.t[nx], &g->vp.t[nv]);
-    g->xp.cur = g->xp.keep = nx;
-    g->vp.cur = g->vp.keep = nv;
+    if (g->integ) transform_rings(g, &g->xp, &g->vp, NULL, Rx, tx, Rv, dv, Rv);
 }
 
 double wg_sim_max_abs(wg_sim* g) {
