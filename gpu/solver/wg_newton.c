@@ -44,7 +44,7 @@ static void newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, cons
         wg_u3f(run, "u_wind", air->wind);
         wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
         WG_RUN(run, g->nt, &g->fair);
-        wg_step_air_lump(g, s, xw);
+        wg_integ_air_lump(g, s, xw);
     }
     WG_USE(run, WGP_NEWTON_SPRINGS, &(wg_newton_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
         .w = w, .xb = xb, .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
@@ -68,7 +68,7 @@ static void newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, cons
         .xb = xb, .mom = mom, .v = wg_ring_cur(&g->v)});
     wg_u1f(run, "u_h", he);
     WG_RUN(run, g->n, &g->b, xw, vw);
-    wg_step_assemble_a(g, ig->air_implicit ? he : 0.0);
+    wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0);
     g->nw_refreshed = ig->stage != 0;
 }
 

@@ -1,7 +1,7 @@
 /* Private to gpu/solver: one cloth on the GPU, the struct behind wg_sim.h, shared by the files
- * that make up the cloth (wg_sim.c creation and state moves, wg_step.c the substep, wg_newton.c
- * its Newton iterations, wg_checks.c its checks, wg_solve.c the solvers, wg_output.c outputs,
- * wg_debug.c the test entry points). It sits on the pass
+ * that make up the cloth (wg_sim.c creation and state moves, wg_step.c the substep, wg_integ.c
+ * its integrator's terms, wg_newton.c its Newton iterations, wg_checks.c its checks, wg_solve.c
+ * the solvers, wg_output.c outputs, wg_debug.c the test entry points). It sits on the pass
  * machinery (wg_layout.h, wg_runner.h, wg_reduce.h, wg_ring.h, wg_stamps.h) and owns the
  * contacts (wg_contacts.h) and the multigrid (wg_amg.h), which see only the textures it hands
  * them. Its arrays follow wg_layout.h; its state arrays are rings (wg_ring.h). */
@@ -114,15 +114,21 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s);
  * hist_h), springs, air, assembly of the substep (stage) with core's coefficients ig
  * (wc_integ_coefficients) ending at frame fraction alpha1. */
 void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, wc_compression compression);
+
+/* ---- the integrator's terms (wg_integ.c), for the substep and Newton's systems ----------------- */
+
 /* The textures of ig's xb, v* and mom (backward Euler: x, v and zeros; mom needs Newton's
  * textures there). */
 const wg_tex* wg_integ_xb(wg_sim* g, const wc_integ* ig);
 const wg_tex* wg_integ_vstar(wg_sim* g, const wc_integ* ig);
 const wg_tex* wg_integ_mom(wg_sim* g, const wc_integ* ig);
+/* xb, v*, mom after the contacts' correction (x_start: the substep's x before it), a BDF2
+ * cloth's history moving on (integ_prepare.glsl; core/bdf2.c wc_integ_prepare). */
+void wg_integ_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, const wg_tex* x_start);
 /* TR-BDF2's lumped drag Jacobian at positions x into air_lo / air_hi (air_lump.glsl). */
-void wg_step_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x);
+void wg_integ_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x);
 /* A from the springs' outputs sf, sw, sj, plus air_he L on the diagonal (0: no air term). */
-void wg_step_assemble_a(wg_sim* g, double air_he);
+void wg_integ_assemble_a(wg_sim* g, double air_he);
 
 /* ---- the step's checks (wg_checks.c) --------------------------------------------------------- */
 

@@ -50,37 +50,6 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
     wg_array_upload(&g->layout, &g->pin_axis, n_pins, f);
 }
 
-const wg_tex* wg_integ_xb(wg_sim* g, const wc_integ* ig) { return ig->xb_form ? &g->xb : wg_ring_cur(&g->x); }
-const wg_tex* wg_integ_vstar(wg_sim* g, const wc_integ* ig) {
-    return ig->bdf2 || ig->stage ? &g->vstar : wg_ring_cur(&g->v);
-}
-const wg_tex* wg_integ_mom(wg_sim* g, const wc_integ* ig) { return ig->bdf2 || ig->stage ? &g->mom : &g->nw_zero; }
-
-/* The integrator's xb, v*, mom after the contacts' correction (integ_prepare.glsl; core/bdf2.c
- * wc_integ_prepare), x_start the substep's x before it; a BDF2 cloth's history moves on. */
-static void integ_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, const wg_tex* x_start) {
-    wg_runner* run = &g->run;
-    const int mode = ig->stage == 1 ? 2 : ig->stage == 2 ? 3 : ig->bdf2 ? 1 : 0;
-    WG_USE(run, WGP_INTEG_PREPARE, &(wg_integ_prepare_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .xs = ig->stage == 2 ? &g->xs : x_start, .xp = wg_ring_cur(&g->xp), .vp = wg_ring_cur(&g->vp)});
-    wg_u1i(run, "u_mode", mode);
-    wg_u1f(run, "u_h", ig->h);
-    wg_u1f(run, "u_he", ig->he);
-    wg_u1f(run, "u_c2", WC_TRBDF2_C2);
-    if (mode == 3) {   /* stage 2 reads stage 1's start from the history, which stays */
-        WG_RUN(run, g->n, &g->xb, &g->vstar, &g->mom);
-        return;
-    }
-    int px = wg_ring_other(&g->xp, 0), pv = wg_ring_other(&g->vp, 0);
-    WG_RUN(run, g->n, &g->xb, &g->vstar, &g->mom, &g->xp.t[px], &g->vp.t[pv]);
-    g->xp.cur = px;
-    g->vp.cur = pv;
-    if (s->def.integrator == WC_INTEGRATOR_BDF2) {
-        s->hist_h = ig->h;
-        s->hist_valid = 1;
-    }
-}
-
 /* Pins, contacts, the integrator's vectors, springs, air, assembly: s->filter's GPU twin (S0, S1,
  * z), A0/A1, b (wg_sim_impl.h). */
 void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, wc_compression compression) {
@@ -100,7 +69,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     wg_u1f(run, "u_alpha1", alpha1);
     WG_RUN(run, g->n, &g->S0, &g->S1, &g->z);
     if (s->n_colliders > 0) wg_contacts_begin(g->contacts, s, h);
-    if (g->integ) integ_prepare(g, s, ig, x_start);
+    if (g->integ) wg_integ_prepare(g, s, ig, x_start);
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
     WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
@@ -119,7 +88,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
         wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
         WG_RUN(run, g->nt, &g->fair);
     }
-    if (ig->air_implicit) wg_step_air_lump(g, s, wg_ring_cur(&g->x));
+    if (ig->air_implicit) wg_integ_air_lump(g, s, wg_ring_cur(&g->x));
 
     wg_stamp(&g->stamps, WG_STAGE_ASSEMBLE);
     const int mom_mode = ig->stage == 1 ? 2 : ig->bdf2 || ig->stage ? 1 : 0;   /* assemble_b.glsl's u_mom */
@@ -133,27 +102,11 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     if (mom_mode == 2) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext, &g->mom);   /* stage 1: mom = he f0 / m */
     else if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
     else WG_RUN(run, g->n, &g->b, &g->ftot);
-    wg_step_assemble_a(g, ig->air_implicit ? he : 0.0);
+    wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0);
     if (s->n_colliders > 0 && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
         wg_contacts_friction(g->contacts, s, he);
     }
-}
-
-void wg_step_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x) {
-    wg_runner* run = &g->run;
-    WG_USE(run, WGP_AIR_LUMP, &(wg_air_lump_in){.x = x, .rows = &g->rows, .row_tri = &g->row_tri, .tri = &g->tri});
-    wg_u2f(run, "u_drag", s->def.air.normal_drag, s->def.air.tangent_drag);
-    WG_RUN(run, g->n, &g->air_lo, &g->air_hi);
-}
-
-void wg_step_assemble_a(wg_sim* g, double air_he) {
-    wg_runner* run = &g->run;
-    WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
-        .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj, .air_lo = air_he != 0.0 ? &g->air_lo : &g->mass,
-        .air_hi = air_he != 0.0 ? &g->air_hi : &g->mass});
-    wg_u1f(run, "u_air_he", air_he);
-    WG_RUN(run, g->nb, &g->A0, &g->A1);
 }
 
 #define FRICTION_PASSES 4   /* as core/step.c */
