@@ -6,13 +6,15 @@
  * accumulated), check the raw positions of those meshes for NaN/Inf, then run
  * aiProcess_JoinIdenticalVertices (JoinIdenticalVertices treats a NaN position as equal to
  * anything, so the check must come first) and concatenate the instances. An OBJ's vertices are
- * then renumbered by its own `v` lines (import_obj_order.h).
+ * then renumbered by its own `v` lines (import_obj_order.h), an FBX's by its control points
+ * (import_fbx_order.h, reading the file's geometry with fbx_geometry.h).
  *
  * Found with assimp 5.2.5: the FBX importer applies every node's Lcl transform (and pre/post
  * rotations and pivots) but neither GlobalSettings UpAxis/FrontAxis/CoordAxis (the root node stays
  * identity) nor UnitScaleFactor (centimetres per file unit; only in aiScene::mMetaData, as a
  * float). We apply UnitScaleFactor / 100 ourselves and leave the axes as the file has them. */
 #include "source_mesh.h"
+#include "import_fbx_order.h"
 #include "import_obj_order.h"
 #include "import_precheck.h"
 #include <assimp/cimport.h>
@@ -118,10 +120,7 @@ static void name_list_finish(name_list* l) {
 
 /* ---- node walk -------------------------------------------------------------------------- */
 
-typedef struct instance {
-    unsigned mesh;
-    double m[12];   /* rows 0..2 of the world transform (row-major, column vectors) */
-} instance;
+typedef wc_import_instance instance;
 
 enum { SEL_ALL, SEL_NODE, SEL_MESH };
 
@@ -161,6 +160,7 @@ static void walk_node(walk* w, const struct aiNode* node, const double parent[16
         if (w->inst) {
             instance* in = &w->inst[w->n_inst];
             in->mesh = mi;
+            in->node = node;
             memcpy(in->m, world, sizeof in->m);
         }
         ++w->n_inst;
@@ -341,14 +341,14 @@ static int keep_used(wc_source_mesh* m, int nv, int n_corners) {
 }
 
 /* Concatenate the instances into out (allocated with alloc). Scene already joined.
- * With obj (and poly_face from wc_obj_match_faces) the vertices are the file's `v` lines instead:
- * each corner writes its assimp position to its `v` line's vertex, and a `v` line no polygon uses
- * keeps its own position times scale; used_only keeps only the `v` lines the polygons use (a
- * selection), still in file order. */
+ * With order (an OBJ's `v` lines, an FBX's control points) the vertices are the file's instead:
+ * each corner writes its assimp position to its file vertex, and a file vertex no polygon uses
+ * keeps its own position times scale; used_only keeps only the file vertices the polygons use
+ * (a selection), still in file order. */
 static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
                               const struct aiScene* s, const instance* inst, size_t n_inst,
-                              double scale, const wc_obj_text* obj, const int* poly_face,
-                              int used_only, const char* path, wc_diag* diag) {
+                              double scale, const wc_file_order* order, int used_only,
+                              const char* path, wc_diag* diag) {
     long long nv = 0, np = 0, nc = 0;
     int n_points = 0, n_lines = 0;
     for (size_t i = 0; i < n_inst; ++i) {
@@ -372,7 +372,10 @@ static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
             return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "'%s': too many vertices or polygons",
                            path);
     }
-    if (obj) nv = obj->n_v;
+    if (order && order->n_corners != nc)
+        return wc_fail(diag, WC_ERROR_IMPORT, "'%s': %lld corners, the file's order has %d",
+                       path, nc, order->n_corners);   /* the matchers count as this loop */
+    if (order) nv = order->n_v;
     if (np == 0)
         return wc_fail(diag, WC_ERROR_EMPTY_MESH,
                        "'%s': no polygons with >= 3 corners in %zu mesh instance(s) (%lld "
@@ -389,30 +392,30 @@ static wc_status build_mesh(wc_source_mesh* out, const wc_allocator* alloc,
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory for %lld vertices",
                        path, nv);
     }
-    if (obj)
-        for (long long v = 0; v < 3 * nv; ++v) m.pos[v] = scale * (double)obj->v[v];
+    if (order)
+        for (long long v = 0; v < 3 * nv; ++v) m.pos[v] = scale * order->v[v];
     int base = 0, q = 0, c = 0;
     for (size_t i = 0; i < n_inst; ++i) {
         const struct aiMesh* am = s->mMeshes[inst[i].mesh];
-        for (unsigned v = 0; v < am->mNumVertices && !obj; ++v)
+        for (unsigned v = 0; v < am->mNumVertices && !order; ++v)
             if (!place(m.pos + 3 * (size_t)(base + (int)v), &am->mVertices[v], inst[i].m, scale))
                 return bad_vertex(&m, base + (int)v, am, scale, path, diag);
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
             const struct aiFace* face = &am->mFaces[f];
             if (face->mNumIndices < 3) continue;
-            const int* file_v = obj ? obj->face_v + obj->face_start[poly_face[q]] : NULL;
             m.poly_start[q++] = c;
-            for (unsigned k = 0; k < face->mNumIndices; ++k) {
+            for (unsigned k = 0; k < face->mNumIndices; ++k, ++c) {
                 const unsigned v = face->mIndices[k];
-                if (obj && !place(m.pos + 3 * (size_t)file_v[k], &am->mVertices[v], inst[i].m, scale))
-                    return bad_vertex(&m, file_v[k], am, scale, path, diag);
-                m.poly_verts[c++] = obj ? file_v[k] : base + (int)v;
+                const int file_v = order ? order->corner_v[c] : -1;
+                if (order && !place(m.pos + 3 * (size_t)file_v, &am->mVertices[v], inst[i].m, scale))
+                    return bad_vertex(&m, file_v, am, scale, path, diag);
+                m.poly_verts[c] = order ? file_v : base + (int)v;
             }
         }
         base += (int)am->mNumVertices;
     }
     m.poly_start[q] = c;
-    if (obj && used_only && (nv = keep_used(&m, (int)nv, c)) < 0) {
+    if (order && used_only && (nv = keep_used(&m, (int)nv, c)) < 0) {
         wc_source_mesh_free(&m);
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
     }
@@ -469,31 +472,73 @@ static wc_status check_opts(const wc_import_opts* opts, const char* name, wc_imp
     return WC_OK;
 }
 
-/* The OBJ's own numbering for the selected instances: *obj read from text and *poly_face (one
- * per polygon of the instances, allocated here) from wc_obj_match_faces. */
+/* The OBJ's own numbering for the instances: its `v` lines, and each corner's `v` line from
+ * wc_obj_match_faces (the file's `f` line of each polygon). */
 static wc_status obj_order(const struct aiScene* s, const instance* inst, size_t n_inst,
                              const char* text, size_t size, const wc_allocator* alloc,
-                             const char* path, wc_obj_text* obj, int** poly_face, wc_diag* diag) {
-    size_t np = 0;
+                             const char* path, wc_file_order* order, wc_diag* diag) {
+    size_t np = 0, nc = 0;
     for (size_t i = 0; i < n_inst; ++i)
-        for (unsigned f = 0; f < s->mMeshes[inst[i].mesh]->mNumFaces; ++f)
-            np += s->mMeshes[inst[i].mesh]->mFaces[f].mNumIndices >= 3;
+        for (unsigned f = 0; f < s->mMeshes[inst[i].mesh]->mNumFaces; ++f) {
+            const unsigned k = s->mMeshes[inst[i].mesh]->mFaces[f].mNumIndices;
+            np += k >= 3;
+            nc += k >= 3 ? k : 0;
+        }
+    if (nc > INT_MAX)
+        return wc_fail(diag, WC_ERROR_OUT_OF_RANGE, "'%s': too many polygon corners", path);
     unsigned* meshes = WC_NEW(alloc, unsigned, n_inst);
-    *poly_face = WC_NEW(alloc, int, np + 1);
+    int* poly_face = WC_NEW(alloc, int, np + 1);
+    wc_obj_text obj;
+    memset(&obj, 0, sizeof obj);
     wc_status st = WC_OK;
-    if (!meshes || !*poly_face)
+    if (!meshes || !poly_face)
         st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "'%s': out of memory", path);
     for (size_t i = 0; i < n_inst && st == WC_OK; ++i) meshes[i] = inst[i].mesh;
-    if (st == WC_OK) st = wc_obj_text_read(obj, alloc, text, size, path, diag);
+    if (st == WC_OK) st = wc_obj_text_read(&obj, alloc, text, size, path, diag);
     if (st == WC_OK)
-        st = wc_obj_match_faces(s, meshes, n_inst, obj, *poly_face, alloc, path, diag);
+        st = wc_obj_match_faces(s, meshes, n_inst, &obj, poly_face, alloc, path, diag);
+    if (st == WC_OK) st = wc_file_order_alloc(order, alloc, obj.n_v, (int)nc, path, diag);
+    for (long long v = 0; st == WC_OK && v < 3LL * obj.n_v; ++v) order->v[v] = (double)obj.v[v];
+    for (size_t q = 0, c = 0; st == WC_OK && q < np; ++q)
+        for (int k = obj.face_start[poly_face[q]]; k < obj.face_start[poly_face[q] + 1]; ++k)
+            order->corner_v[c++] = obj.face_v[k];
+    wc_obj_text_free(&obj);
+    wc_free(alloc, poly_face);
     wc_free(alloc, meshes);
     return st;
 }
 
+/* The FBX's own numbering for the instances: its control points (import_fbx_order.h), from the
+ * file's bytes (data, size). */
+static wc_status fbx_order(const struct aiScene* s, const instance* inst, size_t n_inst,
+                             const void* data, size_t size, const wc_allocator* alloc,
+                             const char* path, wc_file_order* order, wc_diag* diag) {
+    wc_fbx_geometries geo;
+    wc_status st = wc_fbx_geometry_read(&geo, alloc, data, size, path, diag);
+    if (st == WC_OK) st = wc_fbx_file_order(s, inst, n_inst, &geo, order, alloc, path, diag);
+    wc_fbx_geometry_free(&geo);
+    return st;
+}
+
+/* An FBX file (data, or read from path when NULL) whose geometry fbx_geometry.c refuses; the
+ * reason is in diag. */
+static int fbx_damaged(const char* data, size_t size, const char* path,
+                       const wc_allocator* alloc, wc_diag* diag) {
+    char* own = NULL;
+    wc_diag quiet;
+    memset(&quiet, 0, sizeof quiet);
+    if (!data && read_all(path, alloc, &own, &size, &quiet) != WC_OK) return 0;
+    wc_fbx_geometries geo;
+    const int bad = wc_fbx_geometry_read(&geo, alloc, data ? data : own, size, path, diag) ==
+                    WC_ERROR_IMPORT;
+    wc_fbx_geometry_free(&geo);
+    wc_free(alloc, own);
+    return bad;
+}
+
 /* The rest of an import, shared by files and memory: scene (NULL: assimp failed) -> *out.
- * text (text_size bytes) is the OBJ file's content, or NULL for other formats. Releases scene
- * and props. */
+ * text (text_size bytes) is the file's content when the caller has it (NULL: a file at path
+ * read here when it turns out to be FBX). Releases scene and props. */
 static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
                                 const struct aiScene* scene, struct aiPropertyStore* props,
                                 const char* path, const unsigned char* head, size_t n_head,
@@ -510,9 +555,9 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
     }
 
     instance* inst = NULL;
-    wc_obj_text obj;
-    memset(&obj, 0, sizeof obj);
-    int* poly_face = NULL;
+    wc_file_order order;
+    memset(&order, 0, sizeof order);
+    char* own_text = NULL;
     walk w;
     memset(&w, 0, sizeof w);
     w.scene = scene;
@@ -530,6 +575,8 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
             st = wc_fail(diag, WC_ERROR_IMPORT,
                          "cannot import '%s': assimp found no meshes and the file holds binary "
                          "bytes (corrupt, or not an OBJ file)", path);
+        else if (is_fbx_scene(scene, path) && fbx_damaged(text, text_size, path, alloc, diag))
+            st = WC_ERROR_IMPORT;   /* assimp drops a geometry it cannot read: say why */
         else
             st = wc_fail(diag, WC_ERROR_EMPTY_MESH, "'%s' has no meshes", path);
         goto done;
@@ -602,13 +649,19 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
                      reason);
         goto done;
     }
-    if (text && !is_fbx_scene(scene, path)) {   /* OBJ: number vertices by the `v` lines */
-        st = obj_order(scene, inst, w.n_inst, text, text_size, alloc, path, &obj, &poly_face,
-                       diag);
-        if (st != WC_OK) goto done;
+    if (is_fbx_scene(scene, path)) {   /* number vertices by the control points */
+        if (!text) {
+            st = read_all(path, alloc, &own_text, &text_size, diag);
+            text = own_text;
+        }
+        if (st == WC_OK)
+            st = fbx_order(scene, inst, w.n_inst, text, text_size, alloc, path, &order, diag);
+    } else if (text && ends_with_ci(path, ".obj")) {   /* number vertices by the `v` lines */
+        st = obj_order(scene, inst, w.n_inst, text, text_size, alloc, path, &order, diag);
     }
-    st = build_mesh(out, alloc, scene, inst, w.n_inst, unit * o.scale, poly_face ? &obj : NULL,
-                    poly_face, o.select != NULL, path, diag);
+    if (st != WC_OK) goto done;
+    st = build_mesh(out, alloc, scene, inst, w.n_inst, unit * o.scale,
+                    order.corner_v ? &order : NULL, o.select != NULL, path, diag);
     if (st == WC_OK)
         wc_log(diag, WC_LOG_INFO,
                "imported '%s': %d vertices, %d polygons, %d mesh instance(s), %g m per unit",
@@ -616,8 +669,8 @@ static wc_status import_scene(wc_source_mesh* out, const wc_allocator* alloc,
 
 done:
     wc_free(alloc, inst);
-    wc_free(alloc, poly_face);
-    wc_obj_text_free(&obj);
+    wc_file_order_free(&order);
+    wc_free(alloc, own_text);
     if (scene) aiReleaseImport(scene);
     aiReleasePropertyStore(props);
     if (st != WC_OK) memset(out, 0, sizeof *out);
@@ -686,7 +739,5 @@ wc_status wc_import_memory(wc_source_mesh* out, const wc_allocator* alloc, const
     if (!props) return WC_ERROR_OUT_OF_MEMORY;
     const struct aiScene* scene =
         aiImportFileFromMemoryWithProperties(data, (unsigned)size, 0, hint, props);
-    const int obj = ends_with_ci(name, ".obj");
-    return import_scene(out, alloc, scene, props, name, data, n_head, obj ? data : NULL,
-                        obj ? size : 0, &o, diag);
+    return import_scene(out, alloc, scene, props, name, data, n_head, data, size, &o, diag);
 }

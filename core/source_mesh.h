@@ -1,5 +1,5 @@
 /* The host's mesh before any processing: positions in the host's own vertex order (split seam
- * vertices included; for an OBJ file, its `v` lines) and polygons as index lists into them.
+ * vertices included; for an OBJ file, its `v` lines; for FBX, its control points) and polygons as index lists into them.
  * Built from a file (assimp) or from host arrays. Units: metres (file units times unit_scale). */
 #ifndef WEFT_CORE_SOURCE_MESH_H
 #define WEFT_CORE_SOURCE_MESH_H
@@ -53,19 +53,27 @@ wc_import_opts wc_default_import_opts(void);
  * selected polygons use, still in file order. assimp does the import; obj_text.c reads which `v`
  * line each corner names and import_obj_order.c matches assimp's faces to the `f` lines (refusing
  * the file with IMPORT if a face matches none).
- * Host vertex order, other formats (FBX, glTF, ...): assimp's. The node tree is walked depth
+ * Host vertex order, FBX (binary or ASCII 7.x): the control points of each mesh Geometry, in file
+ * order, used or not; with select, only those the selected polygons use, still in file order.
+ * fbx_geometry.c reads the file's Vertices and PolygonVertexIndex (assimp 5.2 keeps no
+ * control-point indices) and import_fbx_order.c matches assimp's polygons to the file's, one
+ * block of vertices per (node, Geometry) in instance order, each with its node's transform (a
+ * corner takes assimp's position; an unused control point its own, rounded to float as assimp
+ * reads it, transformed). A corrupt geometry or a polygon that matches none refuses the file
+ * with IMPORT rather than reporting a wrong order.
+ * Host vertex order, other formats (glTF, PLY, ...): assimp's. The node tree is walked depth
  * first from the root (children in order); each mesh a node references is one instance (a mesh
  * used by two nodes is emitted twice), with the node's accumulated world transform applied.
  * Instances are concatenated in that order, each in assimp's vertex order after
  * aiProcess_JoinIdenticalVertices (which joins only vertices equal in every attribute, so UV
- * seams and split normals stay split). assimp 5.2's C API does not keep FBX control-point
- * indices, so an FBX mesh is in first-use order over its polygons, not control-point order.
+ * seams and split normals stay split).
  * Polygons keep their corner count (no triangulation); faces of 1 and 2 indices are counted in
  * n_points/n_lines and dropped.
  * Axes are left as the file has them (FBX UpAxis/FrontAxis are not applied; assimp 5.2.5 applies
  * node transforms only). unit_scale = file unit (FBX: UnitScaleFactor / 100, else 1) x scale.
  * Errors (*out zeroed): IO (cannot open/read), IMPORT (assimp failed, empty/UTF-16/binary-garbage
- * file, unknown select name: the message lists the names), EMPTY_MESH (no meshes, or no polygon
+ * file, unknown select name: the message lists the names; an OBJ or FBX whose own order cannot
+ * be read or matched), EMPTY_MESH (no meshes, or no polygon
  * with >= 3 corners), NONFINITE (NaN/Inf position), INVALID_ARGUMENT, OUT_OF_MEMORY.
  * Not thread-safe against other assimp users in the process: assimp's last-error string is
  * global. */

@@ -37,9 +37,16 @@
  *    included: welded vertices share one particle and report the same position. Host arrays:
  *    their order. OBJ files: the file's `v` lines in order, one vertex each (used or not; with
  *    mesh.select, the `v` lines the selected faces use, in file order), so results, pins by index
- *    and point caches lay over the user's own mesh. Other files (FBX, glTF): assimp's order
- *    (first use over the polygons; FBX control-point order is not recoverable through assimp),
- *    documented in core/source_mesh.h. weft_mesh_read reports the same order.
+ *    and point caches lay over the user's own mesh. FBX files (binary or ASCII 7.x): each mesh
+ *    Geometry's control points (`Vertices`) in file order, used or not (with mesh.select, the
+ *    control points the selected polygons use, in file order); a control point several polygons
+ *    share is one vertex, and control points at one position (a seam the file splits) stay
+ *    separate vertices that weld. Several meshes or instances: one block per (node, Geometry)
+ *    in the import's node order (depth first from the root; a Geometry at two nodes gives two
+ *    blocks, each with its node's transform). A file whose polygons cannot be matched to
+ *    assimp's is refused with WEFT_ERROR_IMPORT. Other files (glTF, PLY, ...): assimp's order
+ *    (first use over the polygons), documented in core/source_mesh.h. weft_mesh_read reports
+ *    the same order.
  *  - Every fallible call returns a weft_status. On failure nothing changes (the cloth's state,
  *    its outputs and every caller buffer are exactly as before), the context's last error holds
  *    a message naming the argument/field, and the logger (if any) receives it at ERROR level.
