@@ -1,0 +1,267 @@
+/* Minimal FBX 7.4 files written by the tests (test_fbx_order.c): one Geometry of type "Mesh" with
+ * the given control points and polygons, one Model with a Lcl Translation, connected to the
+ * root; binary (node records with 32-bit offsets, arrays raw or zlib-deflated) or ASCII.
+ * Enough for assimp 5.2 to import, and written independently of core/fbx_geometry.c. Also
+ * hands back the byte offsets a corruption test patches. Header-only; polygons of at most 8
+ * corners. */
+#ifndef WEFT_TESTS_FBX_WRITER_H
+#define WEFT_TESTS_FBX_WRITER_H
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <zlib.h>
+
+typedef struct fw_mesh {
+    int n_points;
+    const double* points;     /* (n_points x 3) */
+    int n_polys;
+    const int* sizes;         /* (n_polys) corners */
+    const int* corners;       /* control point of each corner */
+    double translation[3];    /* the Model's Lcl Translation */
+    int compress;             /* binary: deflate the arrays */
+} fw_mesh;
+
+typedef struct fw_buf {
+    unsigned char* b;
+    size_t n, cap;
+    /* offsets of interest, filled while writing */
+    size_t geometry_record;   /* the Geometry record (its EndOffset field) */
+    size_t vertices_array;    /* the Vertices array property's type byte */
+    size_t index_array;       /* the PolygonVertexIndex array property's type byte */
+} fw_buf;
+
+static inline void fw_put(fw_buf* w, const void* p, size_t n) {
+    if (w->n + n > w->cap) {
+        w->cap = 2 * (w->n + n) + 256;
+        w->b = realloc(w->b, w->cap);
+        if (!w->b) abort();
+    }
+    memcpy(w->b + w->n, p, n);
+    w->n += n;
+}
+
+static inline void fw_u32(fw_buf* w, uint32_t v) {
+    unsigned char b[4] = {(unsigned char)v, (unsigned char)(v >> 8), (unsigned char)(v >> 16),
+                          (unsigned char)(v >> 24)};
+    fw_put(w, b, 4);
+}
+
+static inline void fw_patch32(fw_buf* w, size_t at, uint32_t v) {
+    for (int i = 0; i < 4; ++i) w->b[at + (size_t)i] = (unsigned char)(v >> (8 * i));
+}
+
+/* A record: header with placeholders, then the name. Returns the record's offset. */
+static inline size_t fw_begin(fw_buf* w, const char* name) {
+    size_t at = w->n;
+    fw_u32(w, 0);
+    fw_u32(w, 0);
+    fw_u32(w, 0);
+    unsigned char len = (unsigned char)strlen(name);
+    fw_put(w, &len, 1);
+    fw_put(w, name, len);
+    return at;
+}
+
+/* After the properties (n of them, from props_at on). */
+static inline void fw_props(fw_buf* w, size_t rec, uint32_t n) {
+    fw_patch32(w, rec + 4, n);
+    fw_patch32(w, rec + 8, (uint32_t)(w->n - (rec + 13 + w->b[rec + 12])));
+}
+
+/* End a record; with children, the NULL record that closes their list first. */
+static inline void fw_end(fw_buf* w, size_t rec, int children) {
+    if (children) {
+        static const unsigned char zero[13] = {0};
+        fw_put(w, zero, sizeof zero);
+    }
+    fw_patch32(w, rec, (uint32_t)w->n);
+}
+
+static inline void fw_str(fw_buf* w, const char* s, size_t len) {
+    fw_put(w, "S", 1);
+    fw_u32(w, (uint32_t)len);
+    fw_put(w, s, len);
+}
+
+static inline void fw_i32(fw_buf* w, int32_t v) {
+    fw_put(w, "I", 1);
+    fw_u32(w, (uint32_t)v);
+}
+
+static inline void fw_i64(fw_buf* w, int64_t v) {
+    fw_put(w, "L", 1);
+    fw_u32(w, (uint32_t)(uint64_t)v);
+    fw_u32(w, (uint32_t)((uint64_t)v >> 32));
+}
+
+static inline void fw_f64(fw_buf* w, double d) {
+    uint64_t u;
+    memcpy(&u, &d, sizeof u);
+    fw_put(w, "D", 1);
+    fw_u32(w, (uint32_t)u);
+    fw_u32(w, (uint32_t)(u >> 32));
+}
+
+/* An array property of type 'd' or 'i' (little-endian elements in raw, n elements). */
+static inline void fw_array(fw_buf* w, char type, const unsigned char* raw, uint32_t n,
+                            size_t elem, int compress) {
+    fw_put(w, &type, 1);
+    fw_u32(w, n);
+    size_t bytes = (size_t)n * elem;
+    if (!compress) {
+        fw_u32(w, 0);
+        fw_u32(w, (uint32_t)bytes);
+        fw_put(w, raw, bytes);
+        return;
+    }
+    uLongf zn = compressBound((uLong)bytes);
+    unsigned char* z = malloc(zn);
+    if (!z || compress2(z, &zn, raw, (uLong)bytes, 6) != Z_OK) abort();
+    fw_u32(w, 1);
+    fw_u32(w, (uint32_t)zn);
+    fw_put(w, z, zn);
+    free(z);
+}
+
+/* A leaf record with one property written by the caller between fw_begin and this. */
+static inline void fw_leaf_i32(fw_buf* w, const char* name, int32_t v) {
+    size_t r = fw_begin(w, name);
+    fw_i32(w, v);
+    fw_props(w, r, 1);
+    fw_end(w, r, 0);
+}
+
+/* The binary file of m (version 7400). */
+static inline fw_buf fw_binary(const fw_mesh* m) {
+    fw_buf w;
+    memset(&w, 0, sizeof w);
+    fw_put(&w, "Kaydara FBX Binary  \0\x1a\0", 23);
+    fw_u32(&w, 7400);
+
+    size_t h = fw_begin(&w, "FBXHeaderExtension");
+    fw_props(&w, h, 0);
+    fw_leaf_i32(&w, "FBXHeaderVersion", 1003);
+    fw_leaf_i32(&w, "FBXVersion", 7400);
+    fw_end(&w, h, 1);
+
+    size_t gs = fw_begin(&w, "GlobalSettings");
+    fw_props(&w, gs, 0);
+    fw_leaf_i32(&w, "Version", 1000);
+    size_t p70 = fw_begin(&w, "Properties70");
+    fw_props(&w, p70, 0);
+    size_t p = fw_begin(&w, "P");
+    fw_str(&w, "UnitScaleFactor", 15);
+    fw_str(&w, "double", 6);
+    fw_str(&w, "Number", 6);
+    fw_str(&w, "", 0);
+    fw_f64(&w, 1.0);
+    fw_props(&w, p, 5);
+    fw_end(&w, p, 0);
+    fw_end(&w, p70, 1);
+    fw_end(&w, gs, 1);
+
+    size_t obj = fw_begin(&w, "Objects");
+    fw_props(&w, obj, 0);
+    size_t g = fw_begin(&w, "Geometry");
+    w.geometry_record = g;
+    fw_i64(&w, 1001);
+    fw_str(&w, "sheet\0\1Geometry", 15);
+    fw_str(&w, "Mesh", 4);
+    fw_props(&w, g, 3);
+    size_t r = fw_begin(&w, "Vertices");
+    unsigned char* raw = malloc(8 * 3 * (size_t)m->n_points + 8);
+    for (int i = 0; i < 3 * m->n_points; ++i) {
+        uint64_t u;
+        memcpy(&u, &m->points[i], 8);
+        for (int k = 0; k < 8; ++k) raw[8 * (size_t)i + (size_t)k] = (unsigned char)(u >> (8 * k));
+    }
+    w.vertices_array = w.n;
+    fw_array(&w, 'd', raw, (uint32_t)(3 * m->n_points), 8, m->compress);
+    fw_props(&w, r, 1);
+    fw_end(&w, r, 0);
+    free(raw);
+    int n_idx = 0;
+    for (int q = 0; q < m->n_polys; ++q) n_idx += m->sizes[q];
+    raw = malloc(4 * (size_t)n_idx + 4);
+    for (int q = 0, c = 0; q < m->n_polys; ++q)
+        for (int k = 0; k < m->sizes[q]; ++k, ++c) {
+            int32_t v = k + 1 == m->sizes[q] ? -m->corners[c] - 1 : m->corners[c];
+            for (int b = 0; b < 4; ++b) raw[4 * (size_t)c + (size_t)b] = (unsigned char)((uint32_t)v >> (8 * b));
+        }
+    r = fw_begin(&w, "PolygonVertexIndex");
+    w.index_array = w.n;
+    fw_array(&w, 'i', raw, (uint32_t)n_idx, 4, m->compress);
+    fw_props(&w, r, 1);
+    fw_end(&w, r, 0);
+    free(raw);
+    fw_leaf_i32(&w, "GeometryVersion", 124);
+    fw_end(&w, g, 1);
+
+    size_t mo = fw_begin(&w, "Model");
+    fw_i64(&w, 2001);
+    fw_str(&w, "sheet\0\1Model", 12);
+    fw_str(&w, "Mesh", 4);
+    fw_props(&w, mo, 3);
+    fw_leaf_i32(&w, "Version", 232);
+    p70 = fw_begin(&w, "Properties70");
+    fw_props(&w, p70, 0);
+    p = fw_begin(&w, "P");
+    fw_str(&w, "Lcl Translation", 15);
+    fw_str(&w, "Lcl Translation", 15);
+    fw_str(&w, "", 0);
+    fw_str(&w, "A", 1);
+    for (int k = 0; k < 3; ++k) fw_f64(&w, m->translation[k]);
+    fw_props(&w, p, 7);
+    fw_end(&w, p, 0);
+    fw_end(&w, p70, 1);
+    fw_end(&w, mo, 1);
+    fw_end(&w, obj, 1);
+
+    size_t con = fw_begin(&w, "Connections");
+    fw_props(&w, con, 0);
+    const int64_t links[2][2] = {{1001, 2001}, {2001, 0}};
+    for (int i = 0; i < 2; ++i) {
+        size_t c = fw_begin(&w, "C");
+        fw_str(&w, "OO", 2);
+        fw_i64(&w, links[i][0]);
+        fw_i64(&w, links[i][1]);
+        fw_props(&w, c, 3);
+        fw_end(&w, c, 0);
+    }
+    fw_end(&w, con, 1);
+    static const unsigned char zero[13] = {0};
+    fw_put(&w, zero, sizeof zero);   /* the top-level list's NULL record */
+    return w;
+}
+
+/* The ASCII file of m (FBX 7.4 text), malloc'd and NUL-terminated. */
+static inline char* fw_ascii(const fw_mesh* m) {
+    size_t cap = 4096 + 80 * (size_t)m->n_points + 16 * 8 * (size_t)m->n_polys, n = 0;
+    char* t = malloc(cap);
+    if (!t) abort();
+#define FW_PRINT(...) (n += (size_t)snprintf(t + n, cap - n, __VA_ARGS__))
+    FW_PRINT("; FBX 7.4.0 project file\n; written by Weft's tests\n\n"
+             "FBXHeaderExtension:  {\n\tFBXHeaderVersion: 1003\n\tFBXVersion: 7400\n}\n"
+             "GlobalSettings:  {\n\tVersion: 1000\n\tProperties70:  {\n"
+             "\t\tP: \"UnitScaleFactor\", \"double\", \"Number\", \"\",1\n\t}\n}\n\n"
+             "; Object properties\n;------\n\nObjects:  {\n"
+             "\tGeometry: 1001, \"Geometry::sheet\", \"Mesh\" {\n\t\tVertices: *%d {\n\t\t\ta: ",
+             3 * m->n_points);
+    for (int i = 0; i < 3 * m->n_points; ++i) FW_PRINT("%s%.17g", i ? "," : "", m->points[i]);
+    int n_idx = 0;
+    for (int q = 0; q < m->n_polys; ++q) n_idx += m->sizes[q];
+    FW_PRINT("\n\t\t} \n\t\tPolygonVertexIndex: *%d {\n\t\t\ta: ", n_idx);
+    for (int q = 0, c = 0; q < m->n_polys; ++q)
+        for (int k = 0; k < m->sizes[q]; ++k, ++c)
+            FW_PRINT("%s%d", c ? "," : "", k + 1 == m->sizes[q] ? -m->corners[c] - 1 : m->corners[c]);
+    FW_PRINT("\n\t\t} \n\t\tGeometryVersion: 124\n\t}\n"
+             "\tModel: 2001, \"Model::sheet\", \"Mesh\" {\n\t\tVersion: 232\n\t\tProperties70:  {\n"
+             "\t\t\tP: \"Lcl Translation\", \"Lcl Translation\", \"\", \"A\",%.17g,%.17g,%.17g\n"
+             "\t\t}\n\t}\n}\n\nConnections:  {\n\tC: \"OO\",1001,2001\n\tC: \"OO\",2001,0\n}\n",
+             m->translation[0], m->translation[1], m->translation[2]);
+#undef FW_PRINT
+    return t;
+}
+
+#endif
