@@ -166,19 +166,24 @@ static void check_pin_selection(const double* rest, int nv, const pins* p) {
     double top = -INFINITY;
     for (int i = 0; i < nv; ++i) top = fmax(top, rest[3 * i + 1]);
     CHECK_NEAR(top, 1.54, 1e-4);   /* the poncho's fold, sample_scenes/make_poncho.py */
-    int count[2] = {0, 0};
+    int count[2] = {0, 0}, hosts[2] = {0, 0};
+    unsigned columns[2] = {0, 0};   /* bit c: a vertex at |x| = 10 + 2.5 c cm */
     for (int i = 0; i < nv; ++i) {
         double x = rest[3 * i];
         if (rest[3 * i + 1] < top - 1e-4 || fabs(x) <= 0.09 || fabs(x) >= 0.21) continue;
         int side = x > 0 ? 0 : 1;
-        ++count[side];
+        ++hosts[side];
+        columns[side] |= 1u << (int)lround((fabs(x) - 0.10) / 0.025);
         CHECK(contains(p->v[side], p->n[side], i));
     }
-    /* 2.5 cm columns: |x| = 10, 12.5, 15, 17.5, 20 cm on each side */
+    for (int s = 0; s < 2; ++s)
+        for (unsigned c = columns[s]; c; c >>= 1) count[s] += (int)(c & 1u);
+    /* 2.5 cm columns: |x| = 10, 12.5, 15, 17.5, 20 cm on each side (the FBX's control points:
+     * several polygon corners at each, every one of them pinned) */
     CHECK_EQ_INT(count[0], 5);
     CHECK_EQ_INT(count[1], 5);
-    CHECK_EQ_INT(p->n[0], count[0]);
-    CHECK_EQ_INT(p->n[1], count[1]);
+    CHECK_EQ_INT(p->n[0], hosts[0]);
+    CHECK_EQ_INT(p->n[1], hosts[1]);
 }
 
 #ifdef ENGINE_LOOP_PNG
