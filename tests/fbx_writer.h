@@ -132,6 +132,20 @@ static inline void fw_leaf_i32(fw_buf* w, const char* name, int32_t v) {
     fw_end(w, r, 0);
 }
 
+/* A Properties70 block of one P record: four strings, then n doubles. */
+static inline void fw_properties70(fw_buf* w, const char* name, const char* type,
+                                   const char* label, const char* flags, const double* v, int n) {
+    size_t p70 = fw_begin(w, "Properties70");
+    fw_props(w, p70, 0);
+    size_t p = fw_begin(w, "P");
+    const char* s[4] = {name, type, label, flags};
+    for (int i = 0; i < 4; ++i) fw_str(w, s[i], strlen(s[i]));
+    for (int i = 0; i < n; ++i) fw_f64(w, v[i]);
+    fw_props(w, p, (uint32_t)(4 + n));
+    fw_end(w, p, 0);
+    fw_end(w, p70, 1);
+}
+
 /* The binary file of m (version 7400). */
 static inline fw_buf fw_binary(const fw_mesh* m) {
     fw_buf w;
@@ -148,17 +162,8 @@ static inline fw_buf fw_binary(const fw_mesh* m) {
     size_t gs = fw_begin(&w, "GlobalSettings");
     fw_props(&w, gs, 0);
     fw_leaf_i32(&w, "Version", 1000);
-    size_t p70 = fw_begin(&w, "Properties70");
-    fw_props(&w, p70, 0);
-    size_t p = fw_begin(&w, "P");
-    fw_str(&w, "UnitScaleFactor", 15);
-    fw_str(&w, "double", 6);
-    fw_str(&w, "Number", 6);
-    fw_str(&w, "", 0);
-    fw_f64(&w, 1.0);
-    fw_props(&w, p, 5);
-    fw_end(&w, p, 0);
-    fw_end(&w, p70, 1);
+    const double one = 1.0;
+    fw_properties70(&w, "UnitScaleFactor", "double", "Number", "", &one, 1);
     fw_end(&w, gs, 1);
 
     size_t obj = fw_begin(&w, "Objects");
@@ -204,17 +209,7 @@ static inline fw_buf fw_binary(const fw_mesh* m) {
     fw_str(&w, "Mesh", 4);
     fw_props(&w, mo, 3);
     fw_leaf_i32(&w, "Version", 232);
-    p70 = fw_begin(&w, "Properties70");
-    fw_props(&w, p70, 0);
-    p = fw_begin(&w, "P");
-    fw_str(&w, "Lcl Translation", 15);
-    fw_str(&w, "Lcl Translation", 15);
-    fw_str(&w, "", 0);
-    fw_str(&w, "A", 1);
-    for (int k = 0; k < 3; ++k) fw_f64(&w, m->translation[k]);
-    fw_props(&w, p, 7);
-    fw_end(&w, p, 0);
-    fw_end(&w, p70, 1);
+    fw_properties70(&w, "Lcl Translation", "Lcl Translation", "", "A", m->translation, 3);
     fw_end(&w, mo, 1);
     fw_end(&w, obj, 1);
 
