@@ -1,6 +1,7 @@
-/* Minimal FBX 7.4 files written by the tests (test_fbx_order.c): one Geometry of type "Mesh" with
- * the given control points and polygons, one Model with a Lcl Translation, connected to the
- * root; binary (node records with 32-bit offsets, arrays raw or zlib-deflated) or ASCII.
+/* Minimal FBX 7.4 files written by the tests (test_fbx_order.c): Geometry objects of type "Mesh"
+ * with the given control points and polygons, Models with a Lcl Translation showing them,
+ * connected to the root; binary (node records with 32-bit offsets, arrays raw or
+ * zlib-deflated) or ASCII (one geometry, one model).
  * Enough for assimp 5.2 to import, and written independently of core/fbx_geometry.c. Also
  * hands back the byte offsets a corruption test patches. Header-only; polygons of at most 8
  * corners. */
@@ -146,8 +147,51 @@ static inline void fw_properties70(fw_buf* w, const char* name, const char* type
     fw_end(w, p70, 1);
 }
 
-/* The binary file of m (version 7400). */
-static inline fw_buf fw_binary(const fw_mesh* m) {
+/* Geometry g (id 1001 + g, named "sheet" then "sheet1", ...) of m. */
+static inline void fw_geometry(fw_buf* w, const fw_mesh* m, int g) {
+    char name[32];
+    int len = snprintf(name, sizeof name, g ? "sheet%d" : "sheet", g);
+    memcpy(name + len, "\0\1Geometry", 10);
+    size_t rec = fw_begin(w, "Geometry");
+    if (g == 0) w->geometry_record = rec;
+    fw_i64(w, 1001 + g);
+    fw_str(w, name, (size_t)len + 10);
+    fw_str(w, "Mesh", 4);
+    fw_props(w, rec, 3);
+    size_t r = fw_begin(w, "Vertices");
+    unsigned char* raw = malloc(8 * 3 * (size_t)m->n_points + 8);
+    for (int i = 0; i < 3 * m->n_points; ++i) {
+        uint64_t u;
+        memcpy(&u, &m->points[i], 8);
+        for (int k = 0; k < 8; ++k) raw[8 * (size_t)i + (size_t)k] = (unsigned char)(u >> (8 * k));
+    }
+    if (g == 0) w->vertices_array = w->n;
+    fw_array(w, 'd', raw, (uint32_t)(3 * m->n_points), 8, m->compress);
+    fw_props(w, r, 1);
+    fw_end(w, r, 0);
+    free(raw);
+    int n_idx = 0;
+    for (int q = 0; q < m->n_polys; ++q) n_idx += m->sizes[q];
+    raw = malloc(4 * (size_t)n_idx + 4);
+    for (int q = 0, c = 0; q < m->n_polys; ++q)
+        for (int k = 0; k < m->sizes[q]; ++k, ++c) {
+            int32_t v = k + 1 == m->sizes[q] ? -m->corners[c] - 1 : m->corners[c];
+            for (int b = 0; b < 4; ++b) raw[4 * (size_t)c + (size_t)b] = (unsigned char)((uint32_t)v >> (8 * b));
+        }
+    r = fw_begin(w, "PolygonVertexIndex");
+    if (g == 0) w->index_array = w->n;
+    fw_array(w, 'i', raw, (uint32_t)n_idx, 4, m->compress);
+    fw_props(w, r, 1);
+    fw_end(w, r, 0);
+    free(raw);
+    fw_leaf_i32(w, "GeometryVersion", 124);
+    fw_end(w, rec, 1);
+}
+
+/* A binary file (version 7400) of n_geo geometries and n_models Models under the root, model k
+ * (id 2001 + k) showing geometry model_geo[k] at its translation model_t[k]. */
+static inline fw_buf fw_binary_scene(const fw_mesh* geo, int n_geo, const int* model_geo,
+                                     const double (*model_t)[3], int n_models) {
     fw_buf w;
     memset(&w, 0, sizeof w);
     fw_put(&w, "Kaydara FBX Binary  \0\x1a\0", 23);
@@ -168,59 +212,31 @@ static inline fw_buf fw_binary(const fw_mesh* m) {
 
     size_t obj = fw_begin(&w, "Objects");
     fw_props(&w, obj, 0);
-    size_t g = fw_begin(&w, "Geometry");
-    w.geometry_record = g;
-    fw_i64(&w, 1001);
-    fw_str(&w, "sheet\0\1Geometry", 15);
-    fw_str(&w, "Mesh", 4);
-    fw_props(&w, g, 3);
-    size_t r = fw_begin(&w, "Vertices");
-    unsigned char* raw = malloc(8 * 3 * (size_t)m->n_points + 8);
-    for (int i = 0; i < 3 * m->n_points; ++i) {
-        uint64_t u;
-        memcpy(&u, &m->points[i], 8);
-        for (int k = 0; k < 8; ++k) raw[8 * (size_t)i + (size_t)k] = (unsigned char)(u >> (8 * k));
+    for (int g = 0; g < n_geo; ++g) fw_geometry(&w, &geo[g], g);
+    for (int k = 0; k < n_models; ++k) {
+        char name[32];
+        int len = snprintf(name, sizeof name, k ? "sheet%d" : "sheet", k);
+        memcpy(name + len, "\0\1Model", 7);
+        size_t mo = fw_begin(&w, "Model");
+        fw_i64(&w, 2001 + k);
+        fw_str(&w, name, (size_t)len + 7);
+        fw_str(&w, "Mesh", 4);
+        fw_props(&w, mo, 3);
+        fw_leaf_i32(&w, "Version", 232);
+        fw_properties70(&w, "Lcl Translation", "Lcl Translation", "", "A", model_t[k], 3);
+        fw_end(&w, mo, 1);
     }
-    w.vertices_array = w.n;
-    fw_array(&w, 'd', raw, (uint32_t)(3 * m->n_points), 8, m->compress);
-    fw_props(&w, r, 1);
-    fw_end(&w, r, 0);
-    free(raw);
-    int n_idx = 0;
-    for (int q = 0; q < m->n_polys; ++q) n_idx += m->sizes[q];
-    raw = malloc(4 * (size_t)n_idx + 4);
-    for (int q = 0, c = 0; q < m->n_polys; ++q)
-        for (int k = 0; k < m->sizes[q]; ++k, ++c) {
-            int32_t v = k + 1 == m->sizes[q] ? -m->corners[c] - 1 : m->corners[c];
-            for (int b = 0; b < 4; ++b) raw[4 * (size_t)c + (size_t)b] = (unsigned char)((uint32_t)v >> (8 * b));
-        }
-    r = fw_begin(&w, "PolygonVertexIndex");
-    w.index_array = w.n;
-    fw_array(&w, 'i', raw, (uint32_t)n_idx, 4, m->compress);
-    fw_props(&w, r, 1);
-    fw_end(&w, r, 0);
-    free(raw);
-    fw_leaf_i32(&w, "GeometryVersion", 124);
-    fw_end(&w, g, 1);
-
-    size_t mo = fw_begin(&w, "Model");
-    fw_i64(&w, 2001);
-    fw_str(&w, "sheet\0\1Model", 12);
-    fw_str(&w, "Mesh", 4);
-    fw_props(&w, mo, 3);
-    fw_leaf_i32(&w, "Version", 232);
-    fw_properties70(&w, "Lcl Translation", "Lcl Translation", "", "A", m->translation, 3);
-    fw_end(&w, mo, 1);
     fw_end(&w, obj, 1);
 
     size_t con = fw_begin(&w, "Connections");
     fw_props(&w, con, 0);
-    const int64_t links[2][2] = {{1001, 2001}, {2001, 0}};
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 2 * n_models; ++i) {   /* model k: its geometry, then it to the root */
+        const int k = i / 2;
+        const int64_t from = i % 2 ? 2001 + k : 1001 + model_geo[k], to = i % 2 ? 0 : 2001 + k;
         size_t c = fw_begin(&w, "C");
         fw_str(&w, "OO", 2);
-        fw_i64(&w, links[i][0]);
-        fw_i64(&w, links[i][1]);
+        fw_i64(&w, from);
+        fw_i64(&w, to);
         fw_props(&w, c, 3);
         fw_end(&w, c, 0);
     }
@@ -228,6 +244,12 @@ static inline fw_buf fw_binary(const fw_mesh* m) {
     static const unsigned char zero[13] = {0};
     fw_put(&w, zero, sizeof zero);   /* the top-level list's NULL record */
     return w;
+}
+
+/* The binary file of m alone: one geometry, one model. */
+static inline fw_buf fw_binary(const fw_mesh* m) {
+    const int geo0 = 0;
+    return fw_binary_scene(m, 1, &geo0, (const double(*)[3])m->translation, 1);
 }
 
 /* The ASCII file of m (FBX 7.4 text), malloc'd and NUL-terminated. */

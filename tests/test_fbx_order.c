@@ -4,7 +4,7 @@
  * with raw and with deflated arrays, and as ASCII: weft_mesh_read's vertex i and the cloth's
  * vertex i at every frame are the file's control point i (node translation and cm applied),
  * checked against the same mesh given as host arrays in that order (an independent path); the
- * twins report one position. poncho.fbx maps one to one onto its control points, and the poncho
+ * twins report one position. Two geometries under three models come back as three blocks. poncho.fbx maps one to one onto its control points, and the poncho
  * scene's pins sit where make_poncho.py puts the shoulders. Corrupt files (truncated, bad
  * offsets, counts past the end, a broken deflate stream, an index past the control points, a
  * polygon assimp did not import as the file has it) are refused with IMPORT and a message. */
@@ -231,6 +231,53 @@ static void test_unused_point(void) {
     float a[NP * 3];
     get(ctx, cloth, a);
     for (int k = 0; k < 3; ++k) CHECK_NEAR(a[3 * unused + k], placed(unused, k), 1e-6);
+    weft_context_destroy(ctx);
+}
+
+/* Two geometries and three models, the first geometry shown twice: one block of host vertices
+ * per model in the node order, each its geometry's control points at the model's translation;
+ * the polygons of each block index into it. */
+static void test_several_geometries(void) {
+    static const double tri_pts[5][3] = {{0, 0, 300}, {40, 0, 300}, {0, 40, 300}, {40, 40, 300}, {9, 9, 9}};
+    static const int tri_sizes[2] = {3, 3}, tri_corners[6] = {0, 1, 2, 2, 1, 3};
+    fw_mesh geo[2] = {sheet_mesh(1), sheet_mesh(0)};
+    geo[1].n_points = 5;   /* the last one unused */
+    geo[1].points = &tri_pts[0][0];
+    geo[1].n_polys = 2;
+    geo[1].sizes = tri_sizes;
+    geo[1].corners = tri_corners;
+    static const int model_geo[3] = {0, 1, 0};
+    static const double model_t[3][3] = {{10, 50, -20}, {0, 0, 0}, {-300, 10, 0}};
+    fw_buf b = fw_binary_scene(geo, 2, model_geo, model_t, 3);
+    const char* path = write_file("fbx_order_three_models.fbx", b.b, b.n);
+    free(b.b);
+    weft_context* ctx = new_context();
+    weft_mesh_data md;
+    CHECK_EQ_INT(weft_mesh_read(ctx, path, NULL, 1.0, &md), WEFT_OK);
+    CHECK_EQ_INT(md.n_vertices, 2 * NP + 5);
+    CHECK_EQ_INT(md.n_faces, 2 * NQ + 2);
+    if (md.n_vertices == 2 * NP + 5 && md.n_faces == 2 * NQ + 2) {
+        int base = 0, c = 0;
+        for (int k = 0; k < 3; ++k) {
+            const fw_mesh* g = &geo[model_geo[k]];
+            for (int v = 0; v < g->n_points; ++v)
+                for (int a = 0; a < 3; ++a)
+                    CHECK_NEAR(md.positions[3 * (base + v) + a], CM * (g->points[3 * v + a] + model_t[k][a]), 1e-9);
+            int n_idx = 0;
+            for (int q = 0; q < g->n_polys; ++q) n_idx += g->sizes[q];
+            for (int i = 0; i < n_idx; ++i, ++c) CHECK_EQ_INT(md.indices[c], base + g->corners[i]);
+            base += g->n_points;
+        }
+    }
+    weft_mesh_free(ctx, &md);
+    CHECK_EQ_INT(weft_mesh_read(ctx, path, "sheet2", 1.0, &md), WEFT_OK);   /* one node */
+    CHECK_EQ_INT(md.n_vertices, NG + NT);   /* the selected polygons' control points */
+    for (int v = 0, k = 0; v < NP && md.n_vertices == NG + NT; ++v) {
+        if (cp[v][0] == 500.0) continue;    /* the unused one is left out */
+        for (int a = 0; a < 3; ++a) CHECK_NEAR(md.positions[3 * k + a], CM * (cp[v][a] + model_t[2][a]), 1e-9);
+        ++k;
+    }
+    weft_mesh_free(ctx, &md);
     weft_context_destroy(ctx);
 }
 
@@ -483,6 +530,7 @@ int main(void) {
     RUN_TEST(test_binary_deflated);
     RUN_TEST(test_ascii);
     RUN_TEST(test_unused_point);
+    RUN_TEST(test_several_geometries);
     RUN_TEST(test_poncho);
     RUN_TEST(test_truncated);
     RUN_TEST(test_corrupt_binary);
