@@ -1,7 +1,8 @@
-/* Minimal FBX 7.4 files written by the tests (test_fbx_order.c): Geometry objects of type "Mesh"
+/* Minimal FBX 7.4 / 7.5 files written by the tests (test_fbx_order.c): Geometry objects of type "Mesh"
  * with the given control points and polygons, Models with a Lcl Translation showing them,
  * connected to the root; binary (node records with 32-bit offsets, arrays raw or
- * zlib-deflated) or ASCII (one geometry, one model).
+ * zlib-deflated; 32-bit record offsets for 7400, 64-bit for 7500) or ASCII (7.4, one geometry, one
+ * model).
  * Enough for assimp 5.2 to import, and written independently of core/fbx_geometry.c. Also
  * hands back the byte offsets a corruption test patches. Header-only; polygons of at most 8
  * corners. */
@@ -21,6 +22,7 @@ typedef struct fw_mesh {
     const int* corners;       /* control point of each corner */
     double translation[3];    /* the Model's Lcl Translation */
     int compress;             /* binary: deflate the arrays */
+    int version;              /* binary: 7400 (32-bit record offsets, also for 0) or 7500 (64-bit) */
 } fw_mesh;
 
 typedef struct fw_buf {
@@ -30,6 +32,7 @@ typedef struct fw_buf {
     size_t geometry_record;   /* the Geometry record (its EndOffset field) */
     size_t vertices_array;    /* the Vertices array property's type byte */
     size_t index_array;       /* the PolygonVertexIndex array property's type byte */
+    int wide;                 /* 64-bit record header fields (version 7500) */
 } fw_buf;
 
 static inline void fw_put(fw_buf* w, const void* p, size_t n) {
@@ -52,12 +55,19 @@ static inline void fw_patch32(fw_buf* w, size_t at, uint32_t v) {
     for (int i = 0; i < 4; ++i) w->b[at + (size_t)i] = (unsigned char)(v >> (8 * i));
 }
 
-/* A record: header with placeholders, then the name. Returns the record's offset. */
+/* Bytes of one record header field: 4, or 8 from version 7500. */
+static inline size_t fw_field(const fw_buf* w) { return w->wide ? 8 : 4; }
+
+/* NULL record: the end of a list of records. */
+static inline void fw_null(fw_buf* w) {
+    static const unsigned char zero[25] = {0};
+    fw_put(w, zero, 3 * fw_field(w) + 1);
+}
+
+/* A record: header with placeholders (zero), then the name. Returns the record's offset. */
 static inline size_t fw_begin(fw_buf* w, const char* name) {
     size_t at = w->n;
-    fw_u32(w, 0);
-    fw_u32(w, 0);
-    fw_u32(w, 0);
+    for (int i = 0; i < (w->wide ? 6 : 3); ++i) fw_u32(w, 0);
     unsigned char len = (unsigned char)strlen(name);
     fw_put(w, &len, 1);
     fw_put(w, name, len);
@@ -66,16 +76,14 @@ static inline size_t fw_begin(fw_buf* w, const char* name) {
 
 /* After the properties (n of them, from props_at on). */
 static inline void fw_props(fw_buf* w, size_t rec, uint32_t n) {
-    fw_patch32(w, rec + 4, n);
-    fw_patch32(w, rec + 8, (uint32_t)(w->n - (rec + 13 + w->b[rec + 12])));
+    const size_t f = fw_field(w), name_end = rec + 3 * f + 1 + w->b[rec + 3 * f];
+    fw_patch32(w, rec + f, n);
+    fw_patch32(w, rec + 2 * f, (uint32_t)(w->n - name_end));
 }
 
 /* End a record; with children, the NULL record that closes their list first. */
 static inline void fw_end(fw_buf* w, size_t rec, int children) {
-    if (children) {
-        static const unsigned char zero[13] = {0};
-        fw_put(w, zero, sizeof zero);
-    }
+    if (children) fw_null(w);
     fw_patch32(w, rec, (uint32_t)w->n);
 }
 
@@ -188,19 +196,21 @@ static inline void fw_geometry(fw_buf* w, const fw_mesh* m, int g) {
     fw_end(w, rec, 1);
 }
 
-/* A binary file (version 7400) of n_geo geometries and n_models Models under the root, model k
+/* A binary file (geo[0].version) of n_geo geometries and n_models Models under the root, model k
  * (id 2001 + k) showing geometry model_geo[k] at its translation model_t[k]. */
 static inline fw_buf fw_binary_scene(const fw_mesh* geo, int n_geo, const int* model_geo,
                                      const double (*model_t)[3], int n_models) {
     fw_buf w;
     memset(&w, 0, sizeof w);
+    const int version = geo[0].version ? geo[0].version : 7400;
+    w.wide = version >= 7500;
     fw_put(&w, "Kaydara FBX Binary  \0\x1a\0", 23);
-    fw_u32(&w, 7400);
+    fw_u32(&w, (uint32_t)version);
 
     size_t h = fw_begin(&w, "FBXHeaderExtension");
     fw_props(&w, h, 0);
     fw_leaf_i32(&w, "FBXHeaderVersion", 1003);
-    fw_leaf_i32(&w, "FBXVersion", 7400);
+    fw_leaf_i32(&w, "FBXVersion", version);
     fw_end(&w, h, 1);
 
     size_t gs = fw_begin(&w, "GlobalSettings");
@@ -241,8 +251,7 @@ static inline fw_buf fw_binary_scene(const fw_mesh* geo, int n_geo, const int* m
         fw_end(&w, c, 0);
     }
     fw_end(&w, con, 1);
-    static const unsigned char zero[13] = {0};
-    fw_put(&w, zero, sizeof zero);   /* the top-level list's NULL record */
+    fw_null(&w);   /* the top-level list's end */
     return w;
 }
 

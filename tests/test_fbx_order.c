@@ -1,7 +1,7 @@
 /* Results of an FBX mesh come back in the file's control-point order. A 6 x 6 sheet whose
  * control points are shuffled, with its x = 3 column split into twin control points (a seam) and
  * one control point no polygon uses, is written by the test (fbx_writer.h) as binary FBX 7.4
- * with raw and with deflated arrays, and as ASCII: weft_mesh_read's vertex i and the cloth's
+ * with raw and with deflated arrays, as binary 7.5 (64-bit records), and as ASCII: weft_mesh_read's vertex i and the cloth's
  * vertex i at every frame are the file's control point i (node translation and cm applied),
  * checked against the same mesh given as host arrays in that order (an independent path); the
  * twins report one position. Two geometries under three models come back as three blocks. poncho.fbx maps one to one onto its control points, and the poncho
@@ -80,7 +80,7 @@ static void make_sheet(void) {
     }
 }
 
-static fw_mesh sheet_mesh(int compress) {
+static fw_mesh sheet_mesh(int compress, int version) {
     fw_mesh m;
     memset(&m, 0, sizeof m);
     m.n_points = NP;
@@ -90,6 +90,7 @@ static fw_mesh sheet_mesh(int compress) {
     m.corners = &quads[0][0];
     memcpy(m.translation, shift, sizeof shift);
     m.compress = compress;
+    m.version = version;
     return m;
 }
 
@@ -103,8 +104,8 @@ static const char* write_file(const char* name, const void* data, size_t n) {
     return path;
 }
 
-static const char* write_binary(const char* name, int compress) {
-    fw_mesh m = sheet_mesh(compress);
+static const char* write_binary(const char* name, int compress, int version) {
+    fw_mesh m = sheet_mesh(compress, version);
     fw_buf b = fw_binary(&m);
     const char* path = write_file(name, b.b, b.n);
     free(b.b);
@@ -112,7 +113,7 @@ static const char* write_binary(const char* name, int compress) {
 }
 
 static const char* write_ascii(const char* name) {
-    fw_mesh m = sheet_mesh(0);
+    fw_mesh m = sheet_mesh(0, 0);
     char* t = fw_ascii(&m);
     const char* path = write_file(name, t, strlen(t));
     free(t);
@@ -209,8 +210,9 @@ static void check_sheet_file(const char* path) {
     weft_context_destroy(ctx);
 }
 
-static void test_binary_raw(void) { check_sheet_file(write_binary("fbx_order_raw.fbx", 0)); }
-static void test_binary_deflated(void) { check_sheet_file(write_binary("fbx_order_zlib.fbx", 1)); }
+static void test_binary_raw(void) { check_sheet_file(write_binary("fbx_order_raw.fbx", 0, 7400)); }
+static void test_binary_deflated(void) { check_sheet_file(write_binary("fbx_order_zlib.fbx", 1, 7400)); }
+static void test_binary_7500(void) { check_sheet_file(write_binary("fbx_order_7500.fbx", 1, 7500)); }
 static void test_ascii(void) { check_sheet_file(write_ascii("fbx_order_ascii.fbx")); }
 
 /* The unused control point keeps its own position (translated, cm) and has no particle. */
@@ -240,7 +242,7 @@ static void test_unused_point(void) {
 static void test_several_geometries(void) {
     static const double tri_pts[5][3] = {{0, 0, 300}, {40, 0, 300}, {0, 40, 300}, {40, 40, 300}, {9, 9, 9}};
     static const int tri_sizes[2] = {3, 3}, tri_corners[6] = {0, 1, 2, 2, 1, 3};
-    fw_mesh geo[2] = {sheet_mesh(1), sheet_mesh(0)};
+    fw_mesh geo[2] = {sheet_mesh(1, 7400), sheet_mesh(0, 7400)};
     geo[1].n_points = 5;   /* the last one unused */
     geo[1].points = &tri_pts[0][0];
     geo[1].n_polys = 2;
@@ -378,8 +380,8 @@ static void expect_reader_fail(const unsigned char* data, size_t n, const char* 
 
 /* Every prefix of a binary file, raw and deflated: refused or read, never past the data. */
 static void test_truncated(void) {
-    for (int z = 0; z < 2; ++z) {
-        fw_mesh m = sheet_mesh(z);
+    for (int z = 0; z < 3; ++z) {   /* raw 7400, deflated 7400, deflated 7500 */
+        fw_mesh m = sheet_mesh(z > 0, z == 2 ? 7500 : 7400);
         fw_buf b = fw_binary(&m);
         int refused = 0;
         for (size_t n = 0; n < b.n; ++n) {
@@ -420,12 +422,12 @@ static void test_truncated(void) {
 }
 
 static void test_corrupt_binary(void) {
-    fw_mesh m = sheet_mesh(0);
+    fw_mesh m = sheet_mesh(0, 7400);
     fw_buf b = fw_binary(&m);
     unsigned char* c = malloc(b.n);
 
     memcpy(c, b.b, b.n);   /* the Geometry's end offset past the file */
-    fw_buf w = {c, b.n, b.n, 0, 0, 0};
+    fw_buf w = {c, b.n, b.n, 0, 0, 0, 0};
     fw_patch32(&w, b.geometry_record, (uint32_t)b.n + 100);
     expect_reader_fail(c, b.n, "end offset");
     fw_patch32(&w, b.geometry_record, (uint32_t)b.geometry_record);   /* before its own header */
@@ -452,7 +454,7 @@ static void test_corrupt_binary(void) {
     weft_context_destroy(ctx);
     free(b.b);
 
-    m = sheet_mesh(1);     /* a broken deflate stream */
+    m = sheet_mesh(1, 7400);   /* a broken deflate stream */
     b = fw_binary(&m);
     c = realloc(c, b.n);
     memcpy(c, b.b, b.n);
@@ -470,7 +472,7 @@ static void test_corrupt_binary(void) {
 }
 
 static void test_corrupt_ascii(void) {
-    fw_mesh m = sheet_mesh(0);
+    fw_mesh m = sheet_mesh(0, 0);
     char* t = fw_ascii(&m);
     char* star = strstr(t, "Vertices: *");
     CHECK(star != NULL);
@@ -499,7 +501,7 @@ static void test_unmatched_polygon(void) {
     const struct aiScene* s = aiImportFile(path, aiProcess_JoinIdenticalVertices);
     CHECK(s != NULL && s->mNumMeshes == 1);
     if (!s) return;
-    fw_mesh m = sheet_mesh(0);
+    fw_mesh m = sheet_mesh(0, 7400);
     fw_buf b = fw_binary(&m);
     wc_fbx_geometries g;
     wc_diag d;
@@ -528,6 +530,7 @@ int main(void) {
     make_sheet();
     RUN_TEST(test_binary_raw);
     RUN_TEST(test_binary_deflated);
+    RUN_TEST(test_binary_7500);
     RUN_TEST(test_ascii);
     RUN_TEST(test_unused_point);
     RUN_TEST(test_several_geometries);
