@@ -236,6 +236,21 @@ static void test_unused_point(void) {
     weft_context_destroy(ctx);
 }
 
+/* The same from memory (wc_import_memory, hint "fbx"): the buffer is the file. */
+static void test_memory(void) {
+    fw_mesh m = sheet_mesh(1, 7400);
+    fw_buf b = fw_binary(&m);
+    wc_source_mesh src;
+    wc_diag d;
+    memset(&d, 0, sizeof d);
+    CHECK_EQ_INT(wc_import_memory(&src, NULL, b.b, b.n, "fbx", NULL, &d), WC_OK);
+    CHECK_EQ_INT(src.n_verts, NP);
+    for (int v = 0; v < src.n_verts && v < NP; ++v)
+        for (int a = 0; a < 3; ++a) CHECK_NEAR(src.pos[3 * v + a], placed(v, a), 1e-9);
+    wc_source_mesh_free(&src);
+    free(b.b);
+}
+
 /* Two geometries and three models, the first geometry shown twice: one block of host vertices
  * per model in the node order, each its geometry's control points at the model's translation;
  * the polygons of each block index into it. */
@@ -533,6 +548,7 @@ int main(void) {
     RUN_TEST(test_binary_7500);
     RUN_TEST(test_ascii);
     RUN_TEST(test_unused_point);
+    RUN_TEST(test_memory);
     RUN_TEST(test_several_geometries);
     RUN_TEST(test_poncho);
     RUN_TEST(test_truncated);
