@@ -7,6 +7,7 @@ set -euo pipefail
 packages=(
   gcc g++ make cmake pkg-config   # toolchain (g++ only because assimp's CMake config wants CXX)
   libassimp-dev                   # mesh import
+  zlib1g-dev                      # FBX's deflated arrays (core/fbx_geometry.c)
   libsuitesparse-dev              # CHOLMOD
   libopenblas0-pthread            # fast BLAS behind CHOLMOD (switches libblas.so.3)
   libglew-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri   # GPU backend, headless EGL
