@@ -10,7 +10,6 @@
 
 #define FBX_MAGIC "Kaydara FBX Binary  "   /* then NUL, 0x1A, 0x00 and a uint32 version */
 #define FBX_HEADER 27
-#define FBX_MAX_DEPTH 32                     /* ASCII brace nesting tracked */
 #define FBX_MAX_RATIO 1032                   /* deflate expands at most ~1032:1 */
 
 /* One array as the file stores it, before decoding. */
@@ -272,7 +271,7 @@ static wc_status ascii_array(const finder* f, size_t i, const char* key, raw_arr
  * mesh geometry, and its Vertices and PolygonVertexIndex arrays are recorded. */
 static wc_status find_ascii(finder* f) {
     int depth = 0, mesh_depth = -1;
-    int objects[FBX_MAX_DEPTH + 1] = {0};   /* block at this depth is Objects */
+    int in_objects = 0;                     /* the open top-level block is Objects */
     const unsigned char* key = NULL;        /* the last key at this depth, and its length */
     size_t key_len = 0;
     const unsigned char* str = NULL;        /* the last string since that key */
@@ -290,9 +289,8 @@ static wc_status find_ascii(finder* f) {
             i = q ? (size_t)(q - f->d) + 1 : f->size;
         } else if (c == '{') {
             ++depth;
-            if (depth <= FBX_MAX_DEPTH)
-                objects[depth] = depth == 1 && key && text_is(key, key_len, "Objects");
-            if (depth == 2 && objects[1] && key && text_is(key, key_len, "Geometry") && str &&
+            if (depth == 1) in_objects = key && text_is(key, key_len, "Objects");
+            if (depth == 2 && in_objects && key && text_is(key, key_len, "Geometry") && str &&
                 text_is(str, str_len, "Mesh")) {
                 if (f->n_geo == INT_MAX)
                     return wc_fail(f->diag, WC_ERROR_IMPORT, "'%s': too many FBX Geometry objects", f->name);
