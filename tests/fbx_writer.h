@@ -23,6 +23,8 @@ typedef struct fw_mesh {
     double translation[3];    /* the Model's Lcl Translation */
     int compress;             /* binary: deflate the arrays */
     int version;              /* binary: 7400 (32-bit record offsets, also for 0) or 7500 (64-bit) */
+    const int* materials;     /* binary: each polygon's material index (a LayerElementMaterial
+                                 mapped by polygon), or NULL */
 } fw_mesh;
 
 typedef struct fw_buf {
@@ -133,12 +135,57 @@ static inline void fw_array(fw_buf* w, char type, const unsigned char* raw, uint
     free(z);
 }
 
-/* A leaf record with one property written by the caller between fw_begin and this. */
+/* A leaf record with one integer or string property. */
 static inline void fw_leaf_i32(fw_buf* w, const char* name, int32_t v) {
     size_t r = fw_begin(w, name);
     fw_i32(w, v);
     fw_props(w, r, 1);
     fw_end(w, r, 0);
+}
+
+static inline void fw_leaf_str(fw_buf* w, const char* name, const char* v) {
+    size_t r = fw_begin(w, name);
+    fw_str(w, v, strlen(v));
+    fw_props(w, r, 1);
+    fw_end(w, r, 0);
+}
+
+/* Little-endian int32 elements (n of them), malloc'd. */
+static inline unsigned char* fw_le32(const int* v, int n) {
+    unsigned char* raw = malloc(4 * (size_t)n + 4);
+    if (!raw) abort();
+    for (int i = 0; i < n; ++i)
+        for (int b = 0; b < 4; ++b) raw[4 * (size_t)i + (size_t)b] = (unsigned char)((uint32_t)v[i] >> (8 * b));
+    return raw;
+}
+
+/* The polygons' materials: a LayerElementMaterial (by polygon, index to direct) and the Layer
+ * that uses it. */
+static inline void fw_materials(fw_buf* w, const fw_mesh* m) {
+    size_t le = fw_begin(w, "LayerElementMaterial");
+    fw_i32(w, 0);
+    fw_props(w, le, 1);
+    fw_leaf_i32(w, "Version", 101);
+    fw_leaf_str(w, "Name", "");
+    fw_leaf_str(w, "MappingInformationType", "ByPolygon");
+    fw_leaf_str(w, "ReferenceInformationType", "IndexToDirect");
+    size_t r = fw_begin(w, "Materials");
+    unsigned char* raw = fw_le32(m->materials, m->n_polys);
+    fw_array(w, 'i', raw, (uint32_t)m->n_polys, 4, 0);
+    free(raw);
+    fw_props(w, r, 1);
+    fw_end(w, r, 0);
+    fw_end(w, le, 1);
+    size_t layer = fw_begin(w, "Layer");
+    fw_i32(w, 0);
+    fw_props(w, layer, 1);
+    fw_leaf_i32(w, "Version", 100);
+    size_t e = fw_begin(w, "LayerElement");
+    fw_props(w, e, 0);
+    fw_leaf_str(w, "Type", "LayerElementMaterial");
+    fw_leaf_i32(w, "TypedIndex", 0);
+    fw_end(w, e, 1);
+    fw_end(w, layer, 1);
 }
 
 /* A Properties70 block of one P record: four strings, then n doubles. */
@@ -193,6 +240,7 @@ static inline void fw_geometry(fw_buf* w, const fw_mesh* m, int g) {
     fw_end(w, r, 0);
     free(raw);
     fw_leaf_i32(w, "GeometryVersion", 124);
+    if (m->materials) fw_materials(w, m);
     fw_end(w, rec, 1);
 }
 

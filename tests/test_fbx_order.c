@@ -4,7 +4,8 @@
  * with raw and with deflated arrays, as binary 7.5 (64-bit records), and as ASCII: weft_mesh_read's vertex i and the cloth's
  * vertex i at every frame are the file's control point i (node translation and cm applied),
  * checked against the same mesh given as host arrays in that order (an independent path); the
- * twins report one position. Two geometries under three models come back as three blocks. poncho.fbx maps one to one onto its control points, and the poncho
+ * twins report one position. Two geometries under three models come back as three blocks, a
+ * geometry split by material as one. poncho.fbx maps one to one onto its control points, and the poncho
  * scene's pins sit where make_poncho.py puts the shoulders. Corrupt files (truncated, bad
  * offsets, counts past the end, a broken deflate stream, an index past the control points, a
  * polygon assimp did not import as the file has it) are refused with IMPORT and a message. */
@@ -249,6 +250,36 @@ static void test_memory(void) {
         for (int a = 0; a < 3; ++a) CHECK_NEAR(src.pos[3 * v + a], placed(v, a), 1e-9);
     wc_source_mesh_free(&src);
     free(b.b);
+}
+
+/* Materials split a geometry: assimp 5.2 makes one mesh per material (in order of first use),
+ * each with that material's polygons in file order; the node's meshes stay one block of the
+ * geometry's control points, and the polygons come back grouped by mesh. */
+static void test_material_split(void) {
+    int mat[NQ];
+    for (int q = 0; q < NQ; ++q) mat[q] = q % 3 == 0 ? 1 : 0;
+    fw_mesh m = sheet_mesh(0, 7400);
+    m.materials = mat;
+    fw_buf b = fw_binary(&m);
+    const char* path = write_file("fbx_order_materials.fbx", b.b, b.n);
+    free(b.b);
+    const struct aiScene* s = aiImportFile(path, 0);   /* what assimp makes of it */
+    CHECK(s != NULL && s->mNumMeshes == 2);
+    if (s) aiReleaseImport(s);
+    weft_context* ctx = new_context();
+    weft_mesh_data md;
+    CHECK_EQ_INT(weft_mesh_read(ctx, path, NULL, 1.0, &md), WEFT_OK);
+    CHECK_EQ_INT(md.n_vertices, NP);
+    CHECK_EQ_INT(md.n_faces, NQ);
+    for (int v = 0; v < md.n_vertices && v < NP; ++v)
+        for (int a = 0; a < 3; ++a) CHECK_NEAR(md.positions[3 * v + a], placed(v, a), 1e-9);
+    int c = 0;   /* material 1 first (polygon 0 has it), then material 0 */
+    for (int pass = 0; pass < 2 && md.n_faces == NQ; ++pass)
+        for (int q = 0; q < NQ; ++q)
+            if (mat[q] == 1 - pass)
+                for (int k = 0; k < 4; ++k, ++c) CHECK_EQ_INT(md.indices[c], quads[q][k]);
+    weft_mesh_free(ctx, &md);
+    weft_context_destroy(ctx);
 }
 
 /* Two geometries and three models, the first geometry shown twice: one block of host vertices
@@ -550,6 +581,7 @@ int main(void) {
     RUN_TEST(test_unused_point);
     RUN_TEST(test_memory);
     RUN_TEST(test_several_geometries);
+    RUN_TEST(test_material_split);
     RUN_TEST(test_poncho);
     RUN_TEST(test_truncated);
     RUN_TEST(test_corrupt_binary);
