@@ -28,10 +28,12 @@ typedef struct wc_fbx_geometries {
  * `Vertices: *N { a: ... }` and `PolygonVertexIndex: *N { a: ... }`. Every offset, count and
  * inflated size is checked against the data. PolygonVertexIndex marks the last corner of each
  * polygon as -(i+1); corners after the last marked one form one more polygon.
- * Errors (*out zeroed): IMPORT naming the file, the Geometry (its index) and what is wrong (a
- * record past the end, an array count that does not fit, an inflate failure, an index outside
- * the control points, a Geometry without `Vertices` or a count not a multiple of 3);
- * OUT_OF_MEMORY. A file without Geometry objects gives n = 0. */
+ * Errors (*out zeroed): IMPORT naming the file, the Geometry (its index in file order) and what
+ * is wrong (a record past the end of its list, an array count that does not fit its bytes, an
+ * inflate failure, an unknown encoding, an ASCII array not in that form or with another count
+ * of numbers, a Geometry block not closed, an index outside the control points (none without
+ * `Vertices`), a `Vertices` count not a multiple of 3); OUT_OF_MEMORY. A file without mesh
+ * Geometry objects gives n = 0; a Geometry without PolygonVertexIndex has no polygons. */
 wc_status wc_fbx_geometry_read(wc_fbx_geometries* out, const wc_allocator* alloc,
                                  const void* data, size_t size, const char* name, wc_diag* diag);
 
