@@ -1,14 +1,15 @@
 /* Results of an FBX mesh come back in the file's control-point order. A 6 x 6 sheet whose
- * control points are shuffled, with its x = 3 column split into twin control points (a seam) and
- * one control point no polygon uses, is written by the test (fbx_writer.h) as binary FBX 7.4
- * with raw and with deflated arrays, as binary 7.5 (64-bit records), and as ASCII: weft_mesh_read's vertex i and the cloth's
- * vertex i at every frame are the file's control point i (node translation and cm applied),
- * checked against the same mesh given as host arrays in that order (an independent path); the
- * twins report one position. Two geometries under three models come back as three blocks, a
- * geometry split by material as one. poncho.fbx maps one to one onto its control points, and the poncho
- * scene's pins sit where make_poncho.py puts the shoulders. Corrupt files (truncated, bad
- * offsets, counts past the end, a broken deflate stream, an index past the control points, a
- * polygon assimp did not import as the file has it) are refused with IMPORT and a message. */
+ * control points are shuffled, with its x = 3 column split into twin control points (a seam)
+ * and one control point no polygon uses, is written by the test (fbx_writer.h) as binary FBX
+ * 7.4 with raw and with deflated arrays, as binary 7.5 (64-bit records) and as ASCII:
+ * weft_mesh_read's vertex i and the cloth's vertex i at every frame are the file's control
+ * point i (node translation and cm applied), checked against the same mesh given as host arrays
+ * in that order (an independent path); the twins report one position. Two geometries under
+ * three models come back as three blocks, a geometry split by material as one. poncho.fbx maps
+ * one to one onto its control points, and the poncho scene's pins sit where make_poncho.py puts
+ * the shoulders. Corrupt files (truncated, bad offsets, counts past the end, a broken deflate
+ * stream, an index past the control points, a polygon assimp did not import as the file has it)
+ * are refused with IMPORT and a message. */
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
