@@ -172,3 +172,35 @@ int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char*
     }
     return 0;
 }
+
+int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const double* bound2,
+                      wc_bvh_visit_fn visit, void* user) {
+    if (b->n_nodes == 0) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        const double* nb = b->box + 6 * node;
+        if (!wc_box_overlap(nb, box) || wc_box_dist2(nb, p) > *bound2) continue;
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0) {
+            int r = visit(user, ch[1]);
+            if (r) return r;
+        } else {
+            stack[top++] = ch[1];
+            stack[top++] = ch[0];
+        }
+    }
+    return 0;
+}
+
+int wc_bvh_descend_nearest(const wc_bvh* b, const double* p) {
+    if (b->n_nodes == 0) return -1;
+    int node = 0;
+    while (b->child[2 * node] >= 0) {
+        const int* ch = b->child + 2 * node;
+        node = wc_box_dist2(b->box + 6 * ch[1], p) < wc_box_dist2(b->box + 6 * ch[0], p) ? ch[1] : ch[0];
+    }
+    return b->child[2 * node + 1];
+}

@@ -34,6 +34,14 @@ int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void
 /* The same, skipping every node whose mask (n_nodes bytes) is 0 (mask NULL: wc_bvh_query). */
 int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
                         void* user);
+/* Nearest-point queries: the same traversal (preorder, left child first), also skipping every
+ * node whose box lies farther from p than sqrt(*bound2); the visitor may lower *bound2 as it
+ * finds nearer primitives (a node's box holds its primitives, so a skipped one is no nearer). */
+int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const double* bound2,
+                      wc_bvh_visit_fn visit, void* user);
+/* The primitive reached from the root by always stepping into the child whose box is nearer p
+ * (a cheap first guess at the nearest one; -1 when the tree is empty). */
+int wc_bvh_descend_nearest(const wc_bvh* b, const double* p);
 /* mask (n_nodes): the caller set every leaf's byte (leaf_of[prim]); sets each internal node's to
  * the OR of its children's, so a node is 1 when a primitive under it is. */
 void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);
@@ -42,6 +50,16 @@ void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);
 void wc_box_empty(double* box);
 void wc_box_add(double* box, const double* p);
 void wc_box_inflate(double* box, double r);
+/* Squared distance from p to the box (0 inside). */
+static inline double wc_box_dist2(const double* box, const double* p) {
+    double s = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double g = box[k] - p[k];
+        if (g < 0.0) g = p[k] - box[3 + k];
+        if (g > 0.0) s += g * g;
+    }
+    return s;
+}
 static inline int wc_box_overlap(const double* a, const double* b) {
     return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }

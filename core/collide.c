@@ -210,8 +210,10 @@ static void best2_prune(best2* b) {
 /* Move p out of the shells of colliders ks[0..cnt) (cnt <= 2): a collider found inside becomes
  * active and stays so; each pass moves p by the smallest step that puts every active one at
  * distance 0 (linearised: exact for planes, Newton steps for curved colliders), the whole move
- * being at most cap (m; HUGE_VAL: none): the last step is shortened to it. *moved_by (may be
- * NULL) gets the length of the path. Returns 1 when p moved. */
+ * being at most cap (m; HUGE_VAL: none): the last step is shortened to it. hs are the
+ * candidates measured at p on entry (the first pass does not measure them again) and at p on
+ * return when p did not move. *moved_by (may be NULL) gets the length of the path. Returns 1
+ * when p moved. */
 static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int end, double move, double cap,
                     double* p, double* moved_by) {
     int active[2] = {0, 0}, moved = 0;
@@ -220,7 +222,7 @@ static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int e
         double d[2], n[6], delta[3], e[3];
         int any = 0;
         for (int s = 0; s < cnt; ++s) {
-            requery(&c[ks[s]], p, end, move, &hs[s]);
+            if (pass > 0) requery(&c[ks[s]], p, end, move, &hs[s]);
             d[s] = hs[s].d;
             v3_copy(n + 3 * s, hs[s].n);
             if (!(d[s] < HUGE_VAL)) d[s] = 0.0; /* a mesh that moved out of reach: nothing to push */
@@ -343,10 +345,10 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
 
     /* position correction onto / outside both kept shells (or towards them, by the cap) */
     double cap = ct->pushed ? push_cap(c, b.k, b.cnt, h) : HUGE_VAL;
-    push_out(c, b.k, b.h, b.cnt, 0, move, cap, xi, ct->pushed ? ct->pushed + i : NULL);
+    int moved = push_out(c, b.k, b.h, b.cnt, 0, move, cap, xi, ct->pushed ? ct->pushed + i : NULL);
     double d[2] = {0.0, 0.0}, n[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (int s = 0; s < b.cnt; ++s) {
-        requery(&c[b.k[s]], xi, 0, move, &b.h[s]);
+        if (moved) requery(&c[b.k[s]], xi, 0, move, &b.h[s]);
         d[s] = b.h[s].d < HUGE_VAL ? b.h[s].d : 0.0;
         v3_copy(n + 3 * s, b.h[s].n);
     }
@@ -473,17 +475,22 @@ static int project_particle(const wc_collider* c, int nc, const double* x0, cons
     }
     best2 b;
     double spent = 0.0; /* m moved by this projection (the cap's share) */
+    int fresh = 0;      /* b is deepest2 at xi */
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {
         deepest2(c, nc, xi, move, &b);
+        fresh = 1;
         if (b.cnt == 0 || !(b.h[0].d < 0.0)) break;
         double cap = pushed ? push_cap(c, b.k, b.cnt, h) : HUGE_VAL, by = 0.0;
         if (cap < HUGE_VAL) cap = fmax(0.0, cap - *pushed - spent);
         if (!(cap > 0.0)) break;
-        moved |= push_out(c, b.k, b.h, b.cnt, 1, move, cap, xi, &by);
+        if (push_out(c, b.k, b.h, b.cnt, 1, move, cap, xi, &by)) {
+            moved = 1;
+            fresh = 0;
+        }
         spent += by;
     }
     /* velocity: no inward relative normal velocity on the shells it lies on */
-    deepest2(c, nc, xi, move, &b);
+    if (!fresh) deepest2(c, nc, xi, move, &b);
     int cnt = 0;
     double a[2];
     for (int s = 0; s < b.cnt; ++s) {

@@ -45,6 +45,7 @@ static void sharp_free(wc_mesh_sharp* t, const wc_allocator* a) {
     wc_free(a, t->edge_many);
     wc_free(a, t->sharp_edge);
     wc_free(a, t->sharp_vert);
+    wc_free(a, t->node_mask);
 }
 
 /* The collider's distinct edges: its 3 n_tris triangle edges sorted by (min, max) vertex. */
@@ -55,8 +56,10 @@ static int sharp_build(wc_mesh_sharp* t, const wc_mesh_collider* mc, const wc_al
     t->edge_many = WC_NEW(a, unsigned char, (size_t)nh);
     t->sharp_edge = WC_NEW(a, unsigned char, (size_t)nh);
     t->sharp_vert = WC_NEW(a, unsigned char, (size_t)mc->n_verts + 1);
+    t->node_mask = WC_NEW(a, unsigned char, (size_t)mc->bvh.n_nodes + 1);
     wc_keyed* keys = WC_NEW(a, wc_keyed, (size_t)nh);
-    if (!t->tri_edge || !t->edge_tri || !t->edge_many || !t->sharp_edge || !t->sharp_vert || !keys) {
+    if (!t->tri_edge || !t->edge_tri || !t->edge_many || !t->sharp_edge || !t->sharp_vert || !t->node_mask ||
+        !keys) {
         wc_free(a, keys);
         return 0;
     }
@@ -162,6 +165,17 @@ static void sharp_update(wc_mesh_sharp* t, const wc_mesh_collider* mc) {
         t->sharp_edge[e] = 1;
         t->sharp_vert[r] = t->sharp_vert[s] = 1;
     }
+    /* the detection's visitors skip a triangle without a sharp vertex (a sharp edge's vertices
+       are sharp) or a degenerate one: the BVH need not go where there are only such */
+    const wc_bvh* b = &mc->bvh;
+    for (int tr = 0; tr < mc->n_tris; ++tr) {
+        const int* v = mc->tris + 3 * tr;
+        const double* n = mc->nrm_a + 3 * tr;
+        int degenerate = n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0;
+        t->node_mask[b->leaf_of[tr]] =
+            (unsigned char)(!degenerate && (t->sharp_vert[v[0]] | t->sharp_vert[v[1]] | t->sharp_vert[v[2]]));
+    }
+    wc_bvh_mask_up(b, t->node_mask);
 }
 
 typedef struct find_ctx {
@@ -320,6 +334,7 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         memset(pp->behind, -1, (size_t)pp->n_particles);
         if (k >= pp->n_mesh) break; /* not the colliders it was created for */
         sharp_update(&pp->sharp[k], mc[k]);
+        if (!pp->sharp[k].node_mask[0]) continue; /* nothing sharp: no pairs */
         find_ctx c;
         memset(&c, 0, sizeof c);
         c.pp = pp;
@@ -342,13 +357,13 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
             c.cloth[1] = we->edges[e].v[1];
             c.n_seen = 0;
             feature_box(&c, 2, r, box);
-            wc_bvh_query(&mc[k]->bvh, box, visit_edge, &c);
+            wc_bvh_query_masked(&mc[k]->bvh, box, c.sh->node_mask, visit_edge, &c);
         }
         for (int t = 0; t < m->n_tris; ++t) {
             memcpy(c.cloth, m->tris + 3 * t, 3 * sizeof(int));
             c.n_seen = 0;
             feature_box(&c, 3, r, box);
-            wc_bvh_query(&mc[k]->bvh, box, visit_vertex, &c);
+            wc_bvh_query_masked(&mc[k]->bvh, box, c.sh->node_mask, visit_vertex, &c);
         }
     }
     return pp->list.n;

@@ -23,6 +23,8 @@ typedef struct wc_mesh_sharp {
     unsigned char* edge_many;  /* (n_edges) 1: more than two triangles (non-manifold) */
     unsigned char* sharp_edge; /* (n_edges) this substep */
     unsigned char* sharp_vert; /* (n_verts) this substep */
+    unsigned char* node_mask;  /* (the BVH's n_nodes) this substep: 1 above a non-degenerate
+                                  triangle with a sharp vertex (the only ones that give pairs) */
 } wc_mesh_sharp;
 
 typedef struct wc_mesh_pairs {

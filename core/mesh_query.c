@@ -14,11 +14,22 @@ typedef struct closest_q {
     const double* nrm;         /* their normals */
     const double* p;
     double best;               /* squared distance */
+    double bound2;             /* prune: no triangle farther than this (squared) can matter */
+    double slack;              /* m: rounding allowance of the prune (near_bound2) */
     double cos;                /* |cos| of the side-deciding triangle */
     double side;               /* +1 outside, -1 inside */
     int tri;
     double w[3], q[3];
 } closest_q;
+
+/* The prune's bound for a best squared distance d2: a triangle whose box is farther than this
+ * can neither become the closest nor tie with it (closest_visit's tolerance is 1e-10 d2 + 1e-24,
+ * far inside the bound's 2e-9 d2 + slack), so skipping it leaves the result bit for bit as a
+ * full search: the visits that decide it happen in the same order. */
+static double near_bound2(double d2, double slack) {
+    double r = sqrt(d2) * (1.0 + 1e-9) + slack;
+    return r * r;
+}
 
 static int closest_visit(void* user, int t) {
     closest_q* c = user;
@@ -44,6 +55,7 @@ static int closest_visit(void* user, int t) {
         c->side = dn < 0.0 ? -1.0 : 1.0;
         if (d2 < c->best) c->best = d2;
     }
+    c->bound2 = fmin(c->bound2, near_bound2(c->best, c->slack));
     return 0;
 }
 
@@ -54,18 +66,48 @@ static void query_box(const double* p, double r, double* box) {
     }
 }
 
+/* A first guess (the triangle reached by descending towards p) and its squared distance; -1
+ * when it is degenerate or the tree is empty. */
+static int first_guess(const closest_q* c, double* d2) {
+    int t = wc_bvh_descend_nearest(&c->m->bvh, c->p);
+    if (t < 0) return -1;
+    const double* n = c->nrm + 3 * t;
+    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) return -1;
+    const int* v = c->m->tris + 3 * t;
+    *d2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], NULL, NULL);
+    return t;
+}
+
+/* The closest triangle among those whose boxes meet box: the BVH's preorder, skipping the boxes
+ * beyond the prune's bound, which starts at the guess's (a triangle in box, so never below the
+ * closest one's distance). */
+static void search(closest_q* c, const double* box, int guess, double guess_d2) {
+    const wc_bvh* b = &c->m->bvh;
+    c->tri = -1;
+    c->best = HUGE_VAL;
+    c->bound2 = HUGE_VAL;
+    if (c->m->exhaustive) {
+        wc_bvh_query(b, box, closest_visit, c);
+        return;
+    }
+    if (guess >= 0 && wc_box_overlap(b->box + 6 * b->leaf_of[guess], box))
+        c->bound2 = near_bound2(guess_d2, c->slack);
+    wc_bvh_query_near(b, box, c->p, &c->bound2, closest_visit, c);
+}
+
 double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, double reach, double* n, double* vc) {
     closest_q c;
     c.m = m;
     c.x = end ? m->xb : m->xa;
     c.nrm = end ? m->nrm_b : m->nrm_a;
     c.p = p;
-    c.tri = -1;
-    c.best = HUGE_VAL;
+    c.slack = 1e-11 * (1.0 + fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2]))));
+    double guess_d2 = HUGE_VAL;
+    int guess = m->exhaustive ? -1 : first_guess(&c, &guess_d2);
     if (isfinite(reach)) {
         double box[6];
         query_box(p, reach, box);
-        wc_bvh_query(&m->bvh, box, closest_visit, &c);
+        search(&c, box, guess, guess_d2);
         if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
     } else {
         /* grow the box until the closest triangle found lies within it (then it is the closest) */
@@ -79,11 +121,9 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
         double r = fmax(m->thickness, 1e-3);
         for (;;) {
             double box[6];
-            c.tri = -1;
-            c.best = HUGE_VAL;
             if (r >= diag) r = HUGE_VAL;
             query_box(p, r, box);
-            wc_bvh_query(&m->bvh, box, closest_visit, &c);
+            search(&c, box, guess, guess_d2);
             if ((c.tri >= 0 && sqrt(c.best) <= r) || r == HUGE_VAL) break;
             r *= 4.0;
         }
