@@ -46,8 +46,9 @@ typedef struct wc_mesh_collider {
     double push_speed;         /* m/s, >= 0: wc_collider.push_speed (0 at create; the owner sets it) */
     double h;                  /* s: length of the current substep (0 before any) */
     double max_speed;          /* m/s: fastest vertex of the current substep */
-    int exhaustive;            /* 0 (create); 1: closest-point queries visit every triangle in
-                                  reach, unpruned (the reference a test checks the prune against) */
+    int exhaustive;            /* 0 (create); 1: the searches skip no triangle they could
+                                  (closest points: every one in reach; feature pairs, mesh_pairs.h:
+                                  smooth ones too): the reference a test checks the prunes against */
     wc_allocator alloc;
 } wc_mesh_collider;
 

@@ -334,7 +334,8 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         memset(pp->behind, -1, (size_t)pp->n_particles);
         if (k >= pp->n_mesh) break; /* not the colliders it was created for */
         sharp_update(&pp->sharp[k], mc[k]);
-        if (!pp->sharp[k].node_mask[0]) continue; /* nothing sharp: no pairs */
+        const unsigned char* mask = mc[k]->exhaustive ? NULL : pp->sharp[k].node_mask;
+        if (mask && !mask[0]) continue; /* nothing sharp: no pairs */
         find_ctx c;
         memset(&c, 0, sizeof c);
         c.pp = pp;
@@ -357,13 +358,13 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
             c.cloth[1] = we->edges[e].v[1];
             c.n_seen = 0;
             feature_box(&c, 2, r, box);
-            wc_bvh_query_masked(&mc[k]->bvh, box, c.sh->node_mask, visit_edge, &c);
+            wc_bvh_query_masked(&mc[k]->bvh, box, mask, visit_edge, &c);
         }
         for (int t = 0; t < m->n_tris; ++t) {
             memcpy(c.cloth, m->tris + 3 * t, 3 * sizeof(int));
             c.n_seen = 0;
             feature_box(&c, 3, r, box);
-            wc_bvh_query_masked(&mc[k]->bvh, box, c.sh->node_mask, visit_vertex, &c);
+            wc_bvh_query_masked(&mc[k]->bvh, box, mask, visit_vertex, &c);
         }
     }
     return pp->list.n;
