@@ -194,13 +194,3 @@ int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const
     }
     return 0;
 }
-
-int wc_bvh_descend_nearest(const wc_bvh* b, const double* p) {
-    if (b->n_nodes == 0) return -1;
-    int node = 0;
-    while (b->child[2 * node] >= 0) {
-        const int* ch = b->child + 2 * node;
-        node = wc_box_dist2(b->box + 6 * ch[1], p) < wc_box_dist2(b->box + 6 * ch[0], p) ? ch[1] : ch[0];
-    }
-    return b->child[2 * node + 1];
-}

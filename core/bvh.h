@@ -39,9 +39,6 @@ int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char*
  * finds nearer primitives (a node's box holds its primitives, so a skipped one is no nearer). */
 int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const double* bound2,
                       wc_bvh_visit_fn visit, void* user);
-/* The primitive reached from the root by always stepping into the child whose box is nearer p
- * (a cheap first guess at the nearest one; -1 when the tree is empty). */
-int wc_bvh_descend_nearest(const wc_bvh* b, const double* p);
 /* mask (n_nodes): the caller set every leaf's byte (leaf_of[prim]); sets each internal node's to
  * the OR of its children's, so a node is 1 when a primitive under it is. */
 void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);

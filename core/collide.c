@@ -85,11 +85,12 @@ static double mesh_reach(const wc_collider* c, double move);
 
 /* The candidate of collider c for a particle at p that moves by at most `move` (m) in the
  * substep: analytic colliders as wc_collider_distance; a mesh at its substep start (end 0) or
- * end (end 1), closest points within mesh_reach. */
-static void query(const wc_collider* c, const double* p, int end, double move, hit* H) {
+ * end (end 1), closest points within mesh_reach, through the particle's cached candidates nr
+ * (NULL: none). */
+static void query(const wc_collider* c, const double* p, int end, double move, hit* H, wc_mesh_near* nr) {
     H->plane = 0;
     if (c->type == WC_COLLIDER_MESH) {
-        double d = wc_mesh_closest(c->mesh, end, p, mesh_reach(c, move), H->n, H->vc);
+        double d = wc_mesh_closest_near(c->mesh, nr, end, p, mesh_reach(c, move), H->n, H->vc);
         H->d = d < HUGE_VAL ? d - c->thickness : HUGE_VAL;
         if (!(d < HUGE_VAL)) v3_set(H->n, 0.0, 1.0, 0.0); /* up, as wc_collider_distance */
         return;
@@ -99,14 +100,14 @@ static void query(const wc_collider* c, const double* p, int end, double move, h
 }
 
 /* Re-measure a candidate at a moved p: a plane candidate keeps its plane, the rest query again. */
-static void requery(const wc_collider* c, const double* p, int end, double move, hit* H) {
+static void requery(const wc_collider* c, const double* p, int end, double move, hit* H, wc_mesh_near* nr) {
     if (H->plane) {
         double dp[3];
         v3_sub(dp, p, H->q);
         H->d = v3_dot(dp, H->n) - c->thickness;
         return;
     }
-    query(c, p, end, move, H);
+    query(c, p, end, move, H, nr);
 }
 
 /* A mesh triangle crossed by the path p0 -> p1 over the substep (the earliest): a plane
@@ -127,7 +128,7 @@ static int crossing(const wc_collider* c, const double* p0, const double* p1, in
         v3_axpy(H->vc, w[k], m->vel + 3 * v[k]);
     }
     H->plane = 1;
-    requery(c, p, end, 0.0, H);
+    requery(c, p, end, 0.0, H, NULL);
     return 1;
 }
 
@@ -137,6 +138,21 @@ static int crossing(const wc_collider* c, const double* p0, const double* p1, in
 static double mesh_reach(const wc_collider* c, double move) {
     const wc_mesh_collider* m = c->mesh;
     return c->thickness + move + m->h * m->max_speed + DEEP_REACH + 1e-6;
+}
+
+/* A particle's cached mesh candidates (wc_contacts.near): row[k] for collider k < n. */
+typedef struct near_of {
+    wc_mesh_near* row;
+    int n;
+} near_of;
+
+static wc_mesh_near* near_entry(const near_of* nf, int k) {
+    return nf && nf->row && k < nf->n ? nf->row + k : NULL;
+}
+
+static near_of particle_near(const wc_contacts* ct, int i) {
+    near_of nf = {ct->near ? ct->near + (size_t)i * (size_t)ct->n_near : NULL, ct->n_near};
+    return nf;
 }
 
 /* e = unit part of n2 orthogonal to n1; returns its length before normalising (0..1). */
@@ -215,14 +231,14 @@ static void best2_prune(best2* b) {
  * return when p did not move. *moved_by (may be NULL) gets the length of the path. Returns 1
  * when p moved. */
 static int push_out(const wc_collider* c, const int* ks, hit* hs, int cnt, int end, double move, double cap,
-                    double* p, double* moved_by) {
+                    double* p, double* moved_by, const near_of* nf) {
     int active[2] = {0, 0}, moved = 0;
     double used = 0.0;
     for (int pass = 0; pass < CORRECT_PASSES && used < cap; ++pass) {
         double d[2], n[6], delta[3], e[3];
         int any = 0;
         for (int s = 0; s < cnt; ++s) {
-            if (pass > 0) requery(&c[ks[s]], p, end, move, &hs[s]);
+            if (pass > 0) requery(&c[ks[s]], p, end, move, &hs[s], near_entry(nf, ks[s]));
             d[s] = hs[s].d;
             v3_copy(n + 3 * s, hs[s].n);
             if (!(d[s] < HUGE_VAL)) d[s] = 0.0; /* a mesh that moved out of reach: nothing to push */
@@ -298,6 +314,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
                           wc_filter* f, int i) {
     int* cid = ct->collider + 2 * i;
     double* cn = ct->normal + 6 * i;
+    near_of nf = particle_near(ct, i);
     if (ct->pushed) ct->pushed[i] = 0.0;
     if (f->ndof[i] >= 2) {
         cid[0] = cid[1] = -1;
@@ -328,7 +345,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
             best2_add(&b, k, &H);
             continue;
         }
-        query(&c[k], xi, 0, move, &H);
+        query(&c[k], xi, 0, move, &H, near_entry(&nf, k));
         if (!(H.d < HUGE_VAL)) continue;
         v3_sub(vr, vi, H.vc);
         double vn = v3_dot(vr, H.n);
@@ -345,10 +362,10 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
 
     /* position correction onto / outside both kept shells (or towards them, by the cap) */
     double cap = ct->pushed ? push_cap(c, b.k, b.cnt, h) : HUGE_VAL;
-    int moved = push_out(c, b.k, b.h, b.cnt, 0, move, cap, xi, ct->pushed ? ct->pushed + i : NULL);
+    int moved = push_out(c, b.k, b.h, b.cnt, 0, move, cap, xi, ct->pushed ? ct->pushed + i : NULL, &nf);
     double d[2] = {0.0, 0.0}, n[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     for (int s = 0; s < b.cnt; ++s) {
-        if (moved) requery(&c[b.k[s]], xi, 0, move, &b.h[s]);
+        if (moved) requery(&c[b.k[s]], xi, 0, move, &b.h[s], near_entry(&nf, b.k[s]));
         d[s] = b.h[s].d < HUGE_VAL ? b.h[s].d : 0.0;
         v3_copy(n + 3 * s, b.h[s].n);
     }
@@ -434,11 +451,11 @@ void wc_contacts_end(wc_contacts* ct, int nc, const double* r, wc_par* par) {
 
 /* The two smallest shell distances over all colliders (parallel second normal dropped). */
 /* (at the substep's end; reach: for the meshes) */
-static void deepest2(const wc_collider* c, int nc, const double* p, double move, best2* b) {
+static void deepest2(const wc_collider* c, int nc, const double* p, double move, best2* b, const near_of* nf) {
     best2_init(b);
     for (int k = 0; k < nc; ++k) {
         hit H;
-        query(&c[k], p, 1, move, &H);
+        query(&c[k], p, 1, move, &H, near_entry(nf, k));
         if (H.d < HUGE_VAL) best2_add(b, k, &H);
     }
     best2_prune(b);
@@ -464,7 +481,7 @@ static int uncross(const wc_collider* c, int nc, const double* x0, double* xi, d
 
 /* pushed: how far begin moved it (a cap's share already used; NULL: no cap), h the substep. */
 static int project_particle(const wc_collider* c, int nc, const double* x0, const double* pushed, double h,
-                           double* xi, double* vi) {
+                           double* xi, double* vi, const near_of* nf) {
     int moved = 0;
     double move = 0.0;
     if (x0) {
@@ -477,20 +494,20 @@ static int project_particle(const wc_collider* c, int nc, const double* x0, cons
     double spent = 0.0; /* m moved by this projection (the cap's share) */
     int fresh = 0;      /* b is deepest2 at xi */
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {
-        deepest2(c, nc, xi, move, &b);
+        deepest2(c, nc, xi, move, &b, nf);
         fresh = 1;
         if (b.cnt == 0 || !(b.h[0].d < 0.0)) break;
         double cap = pushed ? push_cap(c, b.k, b.cnt, h) : HUGE_VAL, by = 0.0;
         if (cap < HUGE_VAL) cap = fmax(0.0, cap - *pushed - spent);
         if (!(cap > 0.0)) break;
-        if (push_out(c, b.k, b.h, b.cnt, 1, move, cap, xi, &by)) {
+        if (push_out(c, b.k, b.h, b.cnt, 1, move, cap, xi, &by, nf)) {
             moved = 1;
             fresh = 0;
         }
         spent += by;
     }
     /* velocity: no inward relative normal velocity on the shells it lies on */
-    if (!fresh) deepest2(c, nc, xi, move, &b);
+    if (!fresh) deepest2(c, nc, xi, move, &b, nf);
     int cnt = 0;
     double a[2];
     for (int s = 0; s < b.cnt; ++s) {
@@ -521,8 +538,9 @@ int wc_contacts_project_from(const wc_contacts* ct, const wc_collider* c, int nc
         wc_par_range(n, t, nt, &lo, &hi);
         for (int i = lo; i < hi; ++i) {
             if (f && f->ndof[i] == 3 && !ct->stick[i]) continue; /* a pin */
+            near_of nf = particle_near(ct, i);
             cnt += project_particle(c, nc, x0 ? x0 + 3 * i : NULL, ct->pushed ? ct->pushed + i : NULL, ct->h,
-                                   x + 3 * i, v + 3 * i);
+                                   x + 3 * i, v + 3 * i, &nf);
         }
         par->partial[8 * t] = cnt;
     }

@@ -40,6 +40,10 @@ typedef struct wc_contacts {
                                   this substep (project's share of a push_speed cap is the rest);
                                   not state. NULL: no cap applies */
     double h;                  /* s: the substep begin ran for (the caps' length) */
+    struct wc_mesh_near* near; /* (n x n_near) each particle's candidate triangles of the mesh
+                                  colliders 0 .. n_near - 1 (mesh_collider.h): the same answers,
+                                  cheaper; not state. NULL: none */
+    int n_near;
 } wc_contacts;
 
 /* Step 1. x is corrected in place; f gets the contact constraints of non-pinned particles.

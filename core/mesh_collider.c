@@ -112,6 +112,9 @@ wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag
     wc_status st = wc_mesh_collider_set_target(m, x, diag);
     if (st != WC_OK) return st;
     size_t nv3 = 3 * (size_t)m->n_verts * sizeof(double);
+    double jump = 0.0;
+    for (int i = 0; i < 3 * m->n_verts; ++i) jump = fmax(jump, fmax(fabs(x[i] - m->xa[i]), fabs(x[i] - m->xb[i])));
+    m->travel += jump;
     memcpy(m->from, x, nv3);
     memcpy(m->xa, x, nv3);
     memcpy(m->xb, x, nv3);
@@ -135,18 +138,21 @@ void wc_mesh_collider_end_frame(wc_mesh_collider* m) {
 }
 
 void wc_mesh_collider_substep(wc_mesh_collider* m, double a0, double a1, double h) {
-    double vmax2 = 0.0;
+    double vmax2 = 0.0, jump = 0.0;
     for (int i = 0; i < 3 * m->n_verts; i += 3) {
         for (int c = 0; c < 3; ++c) {
             double f = m->from[i + c], d = m->to[i + c] - f;
             /* a fraction of exactly 1 lands exactly on the target */
-            m->xa[i + c] = a0 >= 1.0 ? m->to[i + c] : f + a0 * d;
-            m->xb[i + c] = a1 >= 1.0 ? m->to[i + c] : f + a1 * d;
+            double xa = a0 >= 1.0 ? m->to[i + c] : f + a0 * d, xb = a1 >= 1.0 ? m->to[i + c] : f + a1 * d;
+            jump = fmax(jump, fmax(fabs(xa - m->xa[i + c]), fabs(xb - m->xb[i + c])));
+            m->xa[i + c] = xa;
+            m->xb[i + c] = xb;
             m->vel[i + c] = h > 0.0 ? (m->xb[i + c] - m->xa[i + c]) / h : 0.0;
         }
         double v2 = v3_dot(m->vel + i, m->vel + i);
         if (v2 > vmax2) vmax2 = v2;
     }
+    m->travel += jump;
     m->h = h;
     m->max_speed = sqrt(vmax2);
     tri_normals(m, m->xa, m->nrm_a);

@@ -46,6 +46,9 @@ typedef struct wc_mesh_collider {
     double push_speed;         /* m/s, >= 0: wc_collider.push_speed (0 at create; the owner sets it) */
     double h;                  /* s: length of the current substep (0 before any) */
     double max_speed;          /* m/s: fastest vertex of the current substep */
+    double travel;             /* m: how far the swept triangle boxes may have moved since creation
+                                  (the sum over substeps and jumps of the largest vertex
+                                  displacement, max norm; wc_mesh_near's validity) */
     int exhaustive;            /* 0 (create); 1: the searches skip no triangle they could
                                   (closest points: every one in reach; feature pairs, mesh_pairs.h:
                                   smooth ones too): the reference a test checks the prunes against */
@@ -82,6 +85,25 @@ void wc_mesh_collider_serial(wc_mesh_collider* m, wc_serial* k);
  * HUGE_VAL (n, vc untouched) when no triangle is within reach (m) of p. reach HUGE_VAL: no
  * bound (the box grows until it holds the closest triangle). n, vc may be NULL. */
 double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, double reach, double* n, double* vc);
+
+/* One point's candidate triangles, kept between its closest-point queries (a particle's, over
+ * a substep and from substep to substep): those whose swept boxes met a gathering box (its
+ * query's box grown by a margin), in the BVH's leaf order. A later query whose box, grown by
+ * how far the boxes may have moved since (travel), still lies inside the gathering box visits
+ * only these, in the same order as the tree would: the same answer, bit for bit. Derived, never
+ * state; count -1: empty (wc_mesh_near_clear). */
+#define WC_MESH_NEAR_MAX 48
+typedef struct wc_mesh_near {
+    double p[3];               /* m: the gathering box's centre */
+    double half;               /* m: its half width */
+    double travel;             /* the collider's travel when gathered */
+    int count;                 /* candidates; -1: none gathered (or more than WC_MESH_NEAR_MAX) */
+    int tri[WC_MESH_NEAR_MAX];
+} wc_mesh_near;
+void wc_mesh_near_clear(wc_mesh_near* e, int n);
+/* wc_mesh_closest through e (one point's entry for this collider; NULL: none): the same result. */
+double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
+                            double* n, double* vc);
 
 /* Continuous query: the earliest time t in [0, 1] at which a point moving linearly from p0 (at
  * the substep's start) to p1 (at its end) crosses a triangle of the mesh moving from xa to xb,

@@ -66,48 +66,72 @@ static void query_box(const double* p, double r, double* box) {
     }
 }
 
-/* A first guess (the triangle reached by descending towards p) and its squared distance; -1
- * when it is degenerate or the tree is empty. */
-static int first_guess(const closest_q* c, double* d2) {
-    int t = wc_bvh_descend_nearest(&c->m->bvh, c->p);
-    if (t < 0) return -1;
-    const double* n = c->nrm + 3 * t;
-    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) return -1;
-    const int* v = c->m->tris + 3 * t;
-    *d2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], NULL, NULL);
-    return t;
-}
-
 /* The closest triangle among those whose boxes meet box: the BVH's preorder, skipping the boxes
- * beyond the prune's bound, which starts at the guess's (a triangle in box, so never below the
- * closest one's distance). */
-static void search(closest_q* c, const double* box, int guess, double guess_d2) {
+ * beyond the prune's bound (exhaustive: none skipped). */
+static void search(closest_q* c, const double* box) {
     const wc_bvh* b = &c->m->bvh;
     c->tri = -1;
     c->best = HUGE_VAL;
     c->bound2 = HUGE_VAL;
-    if (c->m->exhaustive) {
+    if (c->m->exhaustive)
         wc_bvh_query(b, box, closest_visit, c);
-        return;
+    else
+        wc_bvh_query_near(b, box, c->p, &c->bound2, closest_visit, c);
+}
+
+/* The same over a cached candidate list (in the tree's leaf order): the triangles whose boxes
+ * meet box, in the order the tree visits them, the prune's far ones skipped. */
+static void search_list(closest_q* c, const double* box, const int* tris, int count) {
+    const wc_bvh* b = &c->m->bvh;
+    c->tri = -1;
+    c->best = HUGE_VAL;
+    c->bound2 = HUGE_VAL;
+    for (int k = 0; k < count; ++k) {
+        const double* lb = b->box + 6 * b->leaf_of[tris[k]];
+        if (wc_box_overlap(lb, box) && !(wc_box_dist2(lb, c->p) > c->bound2)) closest_visit(c, tris[k]);
     }
-    if (guess >= 0 && wc_box_overlap(b->box + 6 * b->leaf_of[guess], box))
-        c->bound2 = near_bound2(guess_d2, c->slack);
-    wc_bvh_query_near(b, box, c->p, &c->bound2, closest_visit, c);
+}
+
+static void closest_init(closest_q* c, const wc_mesh_collider* m, int end, const double* p) {
+    c->m = m;
+    c->x = end ? m->xb : m->xa;
+    c->nrm = end ? m->nrm_b : m->nrm_a;
+    c->p = p;
+    c->slack = 1e-11 * (1.0 + fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2]))));
+}
+
+/* The signed distance, normal and surface velocity of a search's result (closest_visit's). */
+static double closest_result(const closest_q* c, double* n, double* vc) {
+    const wc_mesh_collider* m = c->m;
+    const double* p = c->p;
+    double dist = sqrt(c->best), d, nn[3];
+    const double* fn = c->nrm + 3 * c->tri;
+    if ((c->w[0] > FACE_W && c->w[1] > FACE_W && c->w[2] > FACE_W) || !(dist > 1e-12)) {
+        double dp[3];
+        v3_sub(dp, p, c->q);
+        v3_copy(nn, fn);
+        d = v3_dot(dp, fn);
+    } else {
+        v3_sub(nn, p, c->q);
+        v3_scale(nn, nn, c->side / dist);
+        d = c->side * dist;
+    }
+    if (n) v3_copy(n, nn);
+    if (vc) {
+        const int* v = m->tris + 3 * c->tri;
+        v3_zero(vc);
+        for (int k = 0; k < 3; ++k) v3_axpy(vc, c->w[k], m->vel + 3 * v[k]);
+    }
+    return d;
 }
 
 double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, double reach, double* n, double* vc) {
     closest_q c;
-    c.m = m;
-    c.x = end ? m->xb : m->xa;
-    c.nrm = end ? m->nrm_b : m->nrm_a;
-    c.p = p;
-    c.slack = 1e-11 * (1.0 + fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2]))));
-    double guess_d2 = HUGE_VAL;
-    int guess = m->exhaustive ? -1 : first_guess(&c, &guess_d2);
+    closest_init(&c, m, end, p);
     if (isfinite(reach)) {
         double box[6];
         query_box(p, reach, box);
-        search(&c, box, guess, guess_d2);
+        search(&c, box);
         if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
     } else {
         /* grow the box until the closest triangle found lies within it (then it is the closest) */
@@ -123,31 +147,66 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
             double box[6];
             if (r >= diag) r = HUGE_VAL;
             query_box(p, r, box);
-            search(&c, box, guess, guess_d2);
+            search(&c, box);
             if ((c.tri >= 0 && sqrt(c.best) <= r) || r == HUGE_VAL) break;
             r *= 4.0;
         }
         if (c.tri < 0) return HUGE_VAL;
     }
-    double dist = sqrt(c.best), d, nn[3];
-    const double* fn = c.nrm + 3 * c.tri;
-    if ((c.w[0] > FACE_W && c.w[1] > FACE_W && c.w[2] > FACE_W) || !(dist > 1e-12)) {
-        double dp[3];
-        v3_sub(dp, p, c.q);
-        v3_copy(nn, fn);
-        d = v3_dot(dp, fn);
-    } else {
-        v3_sub(nn, p, c.q);
-        v3_scale(nn, nn, c.side / dist);
-        d = c.side * dist;
+    return closest_result(&c, n, vc);
+}
+
+/* ---- cached candidates (wc_mesh_near) -------------------------------------------------------- */
+
+#define NEAR_MARGIN 0.5        /* a gathering box's half width: the query's reach times 1 + this */
+
+void wc_mesh_near_clear(wc_mesh_near* e, int n) {
+    for (int i = 0; i < n; ++i) e[i].count = -1;
+}
+
+static int gather_visit(void* user, int t) {
+    wc_mesh_near* e = user;
+    if (e->count >= WC_MESH_NEAR_MAX) {
+        e->count = -1;
+        return 1;
     }
-    if (n) v3_copy(n, nn);
-    if (vc) {
-        const int* v = m->tris + 3 * c.tri;
-        v3_zero(vc);
-        for (int k = 0; k < 3; ++k) v3_axpy(vc, c.w[k], m->vel + 3 * v[k]);
+    e->tri[e->count++] = t;
+    return 0;
+}
+
+/* 1 when every box that meets the query box (p, reach) now met e's gathering box when it was
+ * gathered: the query box grown by the boxes' travel since lies inside it (with room for
+ * rounding). */
+static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* p, double reach) {
+    if (e->count < 0) return 0;
+    double off = 0.0, scale = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        off = fmax(off, fabs(p[k] - e->p[k]));
+        scale = fmax(scale, fabs(p[k]));
     }
-    return d;
+    return off + reach + (m->travel - e->travel) + 1e-12 * (scale + e->half) <= e->half;
+}
+
+double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
+                            double* n, double* vc) {
+    if (!e || m->exhaustive || !isfinite(reach)) return wc_mesh_closest(m, end, p, reach, n, vc);
+    if (!near_covers(m, e, p, reach)) {
+        double gbox[6];
+        v3_copy(e->p, p);
+        e->half = reach * (1.0 + NEAR_MARGIN);
+        e->travel = m->travel;
+        e->count = 0;
+        query_box(p, e->half, gbox);
+        wc_bvh_query(&m->bvh, gbox, gather_visit, e); /* leaves in preorder: the tree's order */
+        if (e->count < 0) return wc_mesh_closest(m, end, p, reach, n, vc);
+    }
+    closest_q c;
+    double box[6];
+    closest_init(&c, m, end, p);
+    query_box(p, reach, box);
+    search_list(&c, box, e->tri, e->count);
+    if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
+    return closest_result(&c, n, vc);
 }
 
 typedef struct ccd_q {

@@ -118,6 +118,7 @@ void wc_state_destroy(wc_state* s) {
     wc_free(&a, s->contacts.stick);
     wc_free(&a, s->contacts.vel);
     wc_free(&a, s->contacts.pushed);
+    wc_free(&a, s->contacts.near);
     wc_free(&a, s->all_colliders);
     wc_free(&a, s->x_sub);
     wc_mesh_pairs_destroy(s->pairs, &a);
@@ -321,19 +322,26 @@ wc_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* m
     if (n == 0) return WC_OK;
     wc_collider* all = WC_NEW(&s->alloc, wc_collider, (size_t)s->def.max_colliders + (size_t)n + 1);
     double* xs = WC_NEW(&s->alloc, double, 3 * (size_t)s->model->n_particles);
+    /* each particle's cached candidate triangles of each mesh (mesh_collider.h) */
+    size_t n_near = (size_t)s->model->n_particles * (size_t)n;
+    wc_mesh_near* near = WC_NEW(&s->alloc, wc_mesh_near, n_near);
     /* feature pairs: room for two per cloth edge and per cloth triangle (mesh_pairs.h) */
     wc_mesh_pairs* pairs = wc_mesh_pairs_create(2 * (s->model->we.n_edges + s->model->n_tris) + 64,
                                                  s->model->n_particles, (const wc_mesh_collider* const*)mesh, n,
                                                  &s->alloc);
-    if (!all || !xs || !pairs) {
+    if (!all || !xs || !pairs || !near) {
         wc_free(&s->alloc, all);
         wc_free(&s->alloc, xs);
+        wc_free(&s->alloc, near);
         wc_mesh_pairs_destroy(pairs, &s->alloc);
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "attach mesh colliders: out of memory");
     }
     s->all_colliders = all;
     s->x_sub = xs;
     s->pairs = pairs;
+    wc_mesh_near_clear(near, (int)n_near);
+    s->contacts.near = near;
+    s->contacts.n_near = n;
     s->mesh = mesh;
     s->n_mesh = n;
     for (int i = 0; i < 2 * s->model->n_particles; ++i) s->contacts.collider[i] = -1; /* indices shift */

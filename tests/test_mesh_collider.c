@@ -321,7 +321,7 @@ static void test_projection_uncrosses(void) {
     int cid[2] = {-1, -1};
     double cn[6] = {0}, cv[6] = {0};
     unsigned char rel = 0, stick = 0;
-    wc_contacts ct = {1, cid, cn, &rel, &stick, 0, cv, NULL, 0.0};
+    wc_contacts ct = {1, cid, cn, &rel, &stick, 0, cv, NULL, 0.0, NULL, 0};
     wc_par par;
     wc_par_init(&par, 1);
     wc_mesh_collider_substep(mc, 0.0, 1.0, 0.04);
@@ -379,7 +379,7 @@ static void test_begin_catches_crossing(void) {
     int cid[2] = {-1, -1};
     double cn[6] = {0}, cv[6] = {0}, S[9], z[3];
     unsigned char rel = 0, stick = 0, ndof = 0;
-    wc_contacts ct = {1, cid, cn, &rel, &stick, 0, cv, NULL, 0.0};
+    wc_contacts ct = {1, cid, cn, &rel, &stick, 0, cv, NULL, 0.0, NULL, 0};
     wc_filter f = {1, S, z, &ndof};
     wc_filter_free_particle(&f, 0);
     wc_par par;
