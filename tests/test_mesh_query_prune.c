@@ -135,7 +135,39 @@ static void random_point(const wc_mesh_collider* mc, int end, double* p) {
     if (urand() < 0.8) v3_axpy(p, srand1(0.03), dir);
 }
 
-static int g_checked, g_found;
+static int g_checked, g_found, g_walked;
+
+/* Walkers: points that keep their cached candidates (wc_mesh_near) from query to query while
+ * they move by small random steps (now and then a jump), against the full search. */
+enum { WALKERS = 16 };
+static double g_walker[3 * WALKERS];
+static wc_mesh_near g_near[WALKERS];
+
+static void walk(wc_mesh_collider* mc) {
+    for (int i = 0; i < WALKERS; ++i) {
+        double* p = g_walker + 3 * i;
+        if (urand() < 0.05) {
+            random_point(mc, 0, p);
+        } else {
+            double dir[3];
+            rand_unit(dir);
+            v3_axpy(p, urand() < 0.5 ? 0.002 * urand() : 0.02 * urand(), dir);
+        }
+        int end = urand() < 0.5;
+        double reach = urand() < 0.5 ? 0.03 : 0.01 + 0.03 * urand();
+        double n0[3] = {0, 0, 0}, v0[3] = {0, 0, 0}, n1[3] = {0, 0, 0}, v1[3] = {0, 0, 0};
+        mc->exhaustive = 1;
+        double d1 = wc_mesh_closest(mc, end, p, reach, n1, v1);
+        mc->exhaustive = 0;
+        double d0 = wc_mesh_closest_near(mc, &g_near[i], end, p, reach, n0, v0);
+        int same = memcmp(&d0, &d1, sizeof d0) == 0 && memcmp(n0, n1, sizeof n0) == 0 &&
+                   memcmp(v0, v1, sizeof v0) == 0;
+        if (!same) printf("  cached differs at (%.17g %.17g %.17g), end %d, reach %g: %.17g vs %.17g\n", p[0], p[1],
+                          p[2], end, reach, d0, d1);
+        CHECK(same);
+        ++g_walked;
+    }
+}
 
 /* Pruned against exhaustive (bit for bit) and brute force (to rounding) at random points. */
 static void compare_queries(wc_mesh_collider* mc, int n_points) {
@@ -171,6 +203,8 @@ static void compare_queries(wc_mesh_collider* mc, int n_points) {
  * random fractions, a teleport and a reset to the frame's start between them. */
 static void moving_body(const tmesh* t, double thickness) {
     wc_mesh_collider* mc = make_collider(t, thickness);
+    for (int i = 0; i < WALKERS; ++i) random_point(mc, 0, g_walker + 3 * i);
+    wc_mesh_near_clear(g_near, WALKERS);
     double* target = malloc(3 * (size_t)t->nv * sizeof(double));
     wc_diag d = {0};
     double carry[3] = {0, 0, 0};
@@ -182,6 +216,7 @@ static void moving_body(const tmesh* t, double thickness) {
             CHECK_EQ_INT(wc_mesh_collider_set_all(mc, target, &d), WC_OK);
             wc_mesh_collider_substep(mc, 0.0, 0.0, 0.0);
             compare_queries(mc, 25);
+            walk(mc);
             continue;
         }
         CHECK_EQ_INT(wc_mesh_collider_set_target(mc, target, &d), WC_OK);
@@ -190,11 +225,13 @@ static void moving_body(const tmesh* t, double thickness) {
             double a1 = s == 2 ? 1.0 : a0 + urand() * (1.0 - a0);
             wc_mesh_collider_substep(mc, a0, a1, 0.01);
             compare_queries(mc, 25);
+            for (int w = 0; w < 4; ++w) walk(mc);
             a0 = a1;
         }
         if (f == 3) { /* a rollback to the frame's start: its first substep again */
             wc_mesh_collider_substep(mc, 0.0, 0.5, 0.01);
             compare_queries(mc, 25);
+            walk(mc);
         }
         wc_mesh_collider_end_frame(mc);
     }
@@ -205,7 +242,7 @@ static void moving_body(const tmesh* t, double thickness) {
 static void test_closest_matches_full_search(void) {
     static tmesh t;
     double c[3] = {0.1, 0.2, -0.1};
-    g_checked = g_found = 0;
+    g_checked = g_found = g_walked = 0;
     lumpy_sphere(&t, 14, 24, 0.3, c, 0.01);
     moving_body(&t, 0.005);
     lumpy_sphere(&t, 6, 8, 0.3, c, 0.05); /* coarse and very lumpy: sharp bends */
@@ -213,7 +250,8 @@ static void test_closest_matches_full_search(void) {
     double lo[3] = {-0.3, -0.1, -0.2}, hi[3] = {0.3, 0.1, 0.2};
     box(&t, lo, hi, 1);
     moving_body(&t, 0.01);
-    printf("  %d queries: pruned = full search bit for bit, %d within reach = brute force\n", g_checked, g_found);
+    printf("  %d queries: pruned = full search bit for bit, %d within reach = brute force; %d by walkers with "
+           "cached candidates = full search bit for bit\n", g_checked, g_found, g_walked);
     CHECK(g_found > g_checked / 3);
 }
 
