@@ -86,21 +86,24 @@ void wc_mesh_collider_serial(wc_mesh_collider* m, wc_serial* k);
  * bound (the box grows until it holds the closest triangle). n, vc may be NULL. */
 double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, double reach, double* n, double* vc);
 
-/* One point's candidate triangles, kept between its closest-point queries (a particle's, over
- * a substep and from substep to substep): those whose swept boxes met a gathering box (its
- * query's box grown by a margin), in the BVH's leaf order. A later query whose box, grown by
- * how far the boxes may have moved since (travel), still lies inside the gathering box visits
- * only these, in the same order as the tree would: the same answer, bit for bit. Derived, never
- * state; count -1: empty (wc_mesh_near_clear). */
+/* A query box's candidate triangles, kept from query to query (a particle's closest points,
+ * over a substep and from substep to substep; a cloth feature's pairs): those whose swept boxes
+ * met a gathering box (a query's box grown by a margin), in the BVH's leaf order. A later query
+ * box that, grown by how far the boxes may have moved since (travel), still lies inside the
+ * gathering box needs only these, visited in that order: the tree would visit the same ones in
+ * the same order, so the answer is the same, bit for bit. Derived, never state; count -1: empty
+ * (wc_mesh_near_clear), or more than WC_MESH_NEAR_MAX met the box. */
 #define WC_MESH_NEAR_MAX 48
 typedef struct wc_mesh_near {
-    double p[3];               /* m: the gathering box's centre */
-    double half;               /* m: its half width */
+    double box[6];             /* m: the gathering box */
     double travel;             /* the collider's travel when gathered */
-    int count;                 /* candidates; -1: none gathered (or more than WC_MESH_NEAR_MAX) */
+    int count;
     int tri[WC_MESH_NEAR_MAX];
 } wc_mesh_near;
 void wc_mesh_near_clear(wc_mesh_near* e, int n);
+/* Makes e cover box (6: min xyz, max xyz), gathering again when it does not; 0 when it cannot
+ * (too many candidates: query the tree). */
+int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* box);
 /* wc_mesh_closest through e (one point's entry for this collider; NULL: none): the same result. */
 double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
                             double* n, double* vc);

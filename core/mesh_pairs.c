@@ -129,8 +129,18 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
         for (int k = 0; k < p->n_mesh; ++k) sharp_free(&p->sharp[k], a);
     wc_free(a, p->sharp);
     wc_free(a, p->behind);
+    wc_free(a, p->near);
     wc_penalty_pairs_free(&p->list, a);
     wc_free(a, p);
+}
+
+int wc_mesh_pairs_keep_candidates(wc_mesh_pairs* p, int n_features, const wc_allocator* a) {
+    size_t n = (size_t)(n_features > 0 ? n_features : 0) * (size_t)p->n_mesh;
+    wc_free(a, p->near);
+    p->near = WC_NEW(a, wc_mesh_near, n + 1);
+    p->n_features = p->near ? n_features : 0;
+    if (p->near) wc_mesh_near_clear(p->near, (int)n);
+    return p->near != NULL;
 }
 
 /* The vertex of triangle t not on edge (r, s) */
@@ -312,6 +322,21 @@ static int visit_vertex(void* user, int t) {
     return 0;
 }
 
+/* The body triangles whose boxes meet box and whose mask byte is set (mask NULL: all) to visit,
+ * in the BVH's order: through the feature's kept candidates e when they cover box, else the tree. */
+static void visit_near(find_ctx* c, wc_mesh_near* e, const unsigned char* mask, const double* box,
+                       wc_bvh_visit_fn visit) {
+    const wc_bvh* b = &c->mc->bvh;
+    if (e && !c->mc->exhaustive && wc_mesh_near_fit(c->mc, e, box)) {
+        for (int k = 0; k < e->count; ++k) {
+            int leaf = b->leaf_of[e->tri[k]];
+            if ((!mask || mask[leaf]) && wc_box_overlap(b->box + 6 * leaf, box)) visit(c, e->tri[k]);
+        }
+        return;
+    }
+    wc_bvh_query_masked(b, box, mask, visit, c);
+}
+
 /* box of the cloth feature at the start and at its inertial end x + h v, inflated by r */
 static void feature_box(const find_ctx* c, int cnt, double r, double* box) {
     wc_box_empty(box);
@@ -335,6 +360,9 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         if (k >= pp->n_mesh) break; /* not the colliders it was created for */
         sharp_update(&pp->sharp[k], mc[k]);
         const unsigned char* mask = mc[k]->exhaustive ? NULL : pp->sharp[k].node_mask;
+        wc_mesh_near* near = pp->n_features >= m->we.n_edges + m->n_tris && pp->near
+                                 ? pp->near + (size_t)k * (size_t)pp->n_features
+                                 : NULL;
         if (mask && !mask[0]) continue; /* nothing sharp: no pairs */
         find_ctx c;
         memset(&c, 0, sizeof c);
@@ -358,13 +386,13 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
             c.cloth[1] = we->edges[e].v[1];
             c.n_seen = 0;
             feature_box(&c, 2, r, box);
-            wc_bvh_query_masked(&mc[k]->bvh, box, mask, visit_edge, &c);
+            visit_near(&c, near ? near + e : NULL, mask, box, visit_edge);
         }
         for (int t = 0; t < m->n_tris; ++t) {
             memcpy(c.cloth, m->tris + 3 * t, 3 * sizeof(int));
             c.n_seen = 0;
             feature_box(&c, 3, r, box);
-            wc_bvh_query_masked(&mc[k]->bvh, box, mask, visit_vertex, &c);
+            visit_near(&c, near ? near + we->n_edges + t : NULL, mask, box, visit_vertex);
         }
     }
     return pp->list.n;

@@ -34,6 +34,9 @@ typedef struct wc_mesh_pairs {
     int n_particles;
     signed char* behind;       /* (n_particles) scratch of a detection: -1 not looked at, 1 the
                                   particle is behind the body's surface at the start, 0 not */
+    int n_features;            /* cloth edges + cloth triangles with kept candidates (0: none) */
+    wc_mesh_near* near;        /* (n_mesh x n_features) each cloth feature's candidate body
+                                  triangles (mesh_collider.h): the same pairs, cheaper */
 } wc_mesh_pairs;
 
 struct wc_model;
@@ -45,6 +48,9 @@ struct wc_filter;
 wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_collider* const* mc, int nm,
                                     const wc_allocator* a);
 void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a);
+/* Keep each cloth feature's candidates between detections: room for n_features (the model's
+ * winged edges + its triangles). 0 on out of memory (then none are kept). */
+int wc_mesh_pairs_keep_candidates(wc_mesh_pairs* p, int n_features, const wc_allocator* a);
 
 /* Detection against the nm mesh colliders (each after wc_mesh_collider_substep of this substep
  * of length h s; he the system's step, bdf2.h, for k): x, v (n x 3, m, m/s) the cloth at the

@@ -2,6 +2,7 @@
  * continuous crossing, deepest penetration. Read-only; the visitors' state lives on the caller's
  * stack, so any number of threads may query at once. */
 #include <math.h>
+#include <string.h>
 #include "geom.h"
 #include "mesh_collider.h"
 #include "vec3.h"
@@ -158,7 +159,7 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
 
 /* ---- cached candidates (wc_mesh_near) -------------------------------------------------------- */
 
-#define NEAR_MARGIN 0.5        /* a gathering box's half width: the query's reach times 1 + this */
+#define NEAR_MARGIN 0.5        /* a gathering box: the query's grown by this times its largest half width */
 
 void wc_mesh_near_clear(wc_mesh_near* e, int n) {
     for (int i = 0; i < n; ++i) e[i].count = -1;
@@ -174,36 +175,38 @@ static int gather_visit(void* user, int t) {
     return 0;
 }
 
-/* 1 when every box that meets the query box (p, reach) now met e's gathering box when it was
- * gathered: the query box grown by the boxes' travel since lies inside it (with room for
- * rounding). */
-static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* p, double reach) {
+/* 1 when every triangle box that meets box now met e's gathering box when it was gathered:
+ * box grown by the boxes' travel since lies inside it (with room for rounding). */
+static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* box) {
     if (e->count < 0) return 0;
-    double off = 0.0, scale = 1.0;
-    for (int k = 0; k < 3; ++k) {
-        off = fmax(off, fabs(p[k] - e->p[k]));
-        scale = fmax(scale, fabs(p[k]));
-    }
-    return off + reach + (m->travel - e->travel) + 1e-12 * (scale + e->half) <= e->half;
+    double scale = 1.0;
+    for (int k = 0; k < 6; ++k) scale = fmax(scale, fabs(e->box[k]));
+    double grow = (m->travel - e->travel) + 1e-12 * scale;
+    for (int k = 0; k < 3; ++k)
+        if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k])) return 0;
+    return 1;
+}
+
+int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* box) {
+    if (near_covers(m, e, box)) return 1;
+    double half = 0.0;
+    for (int k = 0; k < 3; ++k) half = fmax(half, 0.5 * (box[3 + k] - box[k]));
+    memcpy(e->box, box, sizeof e->box);
+    wc_box_inflate(e->box, NEAR_MARGIN * half);
+    e->travel = m->travel;
+    e->count = 0;
+    wc_bvh_query(&m->bvh, e->box, gather_visit, e); /* leaves in preorder: the tree's order */
+    return e->count >= 0;
 }
 
 double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
                             double* n, double* vc) {
     if (!e || m->exhaustive || !isfinite(reach)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    if (!near_covers(m, e, p, reach)) {
-        double gbox[6];
-        v3_copy(e->p, p);
-        e->half = reach * (1.0 + NEAR_MARGIN);
-        e->travel = m->travel;
-        e->count = 0;
-        query_box(p, e->half, gbox);
-        wc_bvh_query(&m->bvh, gbox, gather_visit, e); /* leaves in preorder: the tree's order */
-        if (e->count < 0) return wc_mesh_closest(m, end, p, reach, n, vc);
-    }
-    closest_q c;
     double box[6];
-    closest_init(&c, m, end, p);
     query_box(p, reach, box);
+    if (!wc_mesh_near_fit(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
+    closest_q c;
+    closest_init(&c, m, end, p);
     search_list(&c, box, e->tri, e->count);
     if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
     return closest_result(&c, n, vc);

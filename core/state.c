@@ -329,7 +329,8 @@ wc_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* m
     wc_mesh_pairs* pairs = wc_mesh_pairs_create(2 * (s->model->we.n_edges + s->model->n_tris) + 64,
                                                  s->model->n_particles, (const wc_mesh_collider* const*)mesh, n,
                                                  &s->alloc);
-    if (!all || !xs || !pairs || !near) {
+    if (!all || !xs || !pairs || !near ||
+        !wc_mesh_pairs_keep_candidates(pairs, s->model->we.n_edges + s->model->n_tris, &s->alloc)) {
         wc_free(&s->alloc, all);
         wc_free(&s->alloc, xs);
         wc_free(&s->alloc, near);
