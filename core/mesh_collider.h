@@ -92,7 +92,8 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
  * box that, grown by how far the boxes may have moved since (travel), still lies inside the
  * gathering box needs only these, visited in that order: the tree would visit the same ones in
  * the same order, so the answer is the same, bit for bit. Derived, never state; count -1: empty
- * (wc_mesh_near_clear), or more than WC_MESH_NEAR_MAX met the box. */
+ * (wc_mesh_near_clear); -2: more than WC_MESH_NEAR_MAX met the box (the queries it covers go to
+ * the tree without gathering again). */
 #define WC_MESH_NEAR_MAX 48
 typedef struct wc_mesh_near {
     double box[6];             /* m: the gathering box */

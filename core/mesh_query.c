@@ -168,7 +168,7 @@ void wc_mesh_near_clear(wc_mesh_near* e, int n) {
 static int gather_visit(void* user, int t) {
     wc_mesh_near* e = user;
     if (e->count >= WC_MESH_NEAR_MAX) {
-        e->count = -1;
+        e->count = -2; /* remembered: queries inside this box go to the tree without gathering */
         return 1;
     }
     e->tri[e->count++] = t;
@@ -178,7 +178,7 @@ static int gather_visit(void* user, int t) {
 /* 1 when every triangle box that meets box now met e's gathering box when it was gathered:
  * box grown by the boxes' travel since lies inside it (with room for rounding). */
 static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* box) {
-    if (e->count < 0) return 0;
+    if (e->count == -1) return 0;
     double scale = 1.0;
     for (int k = 0; k < 6; ++k) scale = fmax(scale, fabs(e->box[k]));
     double grow = (m->travel - e->travel) + 1e-12 * scale;
@@ -188,7 +188,7 @@ static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const d
 }
 
 int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* box) {
-    if (near_covers(m, e, box)) return 1;
+    if (near_covers(m, e, box)) return e->count >= 0; /* -2: too many there, the tree it is */
     double half = 0.0;
     for (int k = 0; k < 3; ++k) half = fmax(half, 0.5 * (box[3 + k] - box[k]));
     memcpy(e->box, box, sizeof e->box);

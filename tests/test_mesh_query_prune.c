@@ -135,7 +135,7 @@ static void random_point(const wc_mesh_collider* mc, int end, double* p) {
     if (urand() < 0.8) v3_axpy(p, srand1(0.03), dir);
 }
 
-static int g_checked, g_found, g_walked;
+static int g_checked, g_found, g_walked, g_overflowed;
 
 /* Walkers: points that keep their cached candidates (wc_mesh_near) from query to query while
  * they move by small random steps (now and then a jump), against the full search. */
@@ -154,7 +154,7 @@ static void walk(wc_mesh_collider* mc) {
             v3_axpy(p, urand() < 0.5 ? 0.002 * urand() : 0.02 * urand(), dir);
         }
         int end = urand() < 0.5;
-        double reach = urand() < 0.5 ? 0.03 : 0.01 + 0.03 * urand();
+        double u = urand(), reach = u < 0.1 ? 0.25 : u < 0.5 ? 0.03 : 0.01 + 0.03 * urand(); /* 0.25: too many */
         double n0[3] = {0, 0, 0}, v0[3] = {0, 0, 0}, n1[3] = {0, 0, 0}, v1[3] = {0, 0, 0};
         mc->exhaustive = 1;
         double d1 = wc_mesh_closest(mc, end, p, reach, n1, v1);
@@ -166,6 +166,7 @@ static void walk(wc_mesh_collider* mc) {
                           p[2], end, reach, d0, d1);
         CHECK(same);
         ++g_walked;
+        g_overflowed += g_near[i].count == -2;
     }
 }
 
@@ -242,7 +243,7 @@ static void moving_body(const tmesh* t, double thickness) {
 static void test_closest_matches_full_search(void) {
     static tmesh t;
     double c[3] = {0.1, 0.2, -0.1};
-    g_checked = g_found = g_walked = 0;
+    g_checked = g_found = g_walked = g_overflowed = 0;
     lumpy_sphere(&t, 14, 24, 0.3, c, 0.01);
     moving_body(&t, 0.005);
     lumpy_sphere(&t, 6, 8, 0.3, c, 0.05); /* coarse and very lumpy: sharp bends */
@@ -251,7 +252,9 @@ static void test_closest_matches_full_search(void) {
     box(&t, lo, hi, 1);
     moving_body(&t, 0.01);
     printf("  %d queries: pruned = full search bit for bit, %d within reach = brute force; %d by walkers with "
-           "cached candidates = full search bit for bit\n", g_checked, g_found, g_walked);
+           "cached candidates = full search bit for bit (%d with too many candidates)\n", g_checked, g_found, g_walked,
+           g_overflowed);
+    CHECK(g_overflowed > 0 && g_overflowed < g_walked / 2);
     CHECK(g_found > g_checked / 3);
 }
 
