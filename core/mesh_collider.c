@@ -114,7 +114,7 @@ wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag
     size_t nv3 = 3 * (size_t)m->n_verts * sizeof(double);
     double jump = 0.0;
     for (int i = 0; i < 3 * m->n_verts; ++i) jump = fmax(jump, fmax(fabs(x[i] - m->xa[i]), fabs(x[i] - m->xb[i])));
-    m->travel += jump;
+    m->travel = nextafter(m->travel + jump, INFINITY); /* never below the sum: a bound */
     memcpy(m->from, x, nv3);
     memcpy(m->xa, x, nv3);
     memcpy(m->xb, x, nv3);
@@ -152,7 +152,7 @@ void wc_mesh_collider_substep(wc_mesh_collider* m, double a0, double a1, double 
         double v2 = v3_dot(m->vel + i, m->vel + i);
         if (v2 > vmax2) vmax2 = v2;
     }
-    m->travel += jump;
+    m->travel = nextafter(m->travel + jump, INFINITY); /* never below the sum: a bound */
     m->h = h;
     m->max_speed = sqrt(vmax2);
     tri_normals(m, m->xa, m->nrm_a);

@@ -1,6 +1,7 @@
-/* Queries of the triangle-mesh colliders (mesh_collider.h): closest point with the side rules,
- * continuous crossing, deepest penetration. Read-only; the visitors' state lives on the caller's
- * stack, so any number of threads may query at once. */
+/* Queries of the triangle-mesh colliders (mesh_collider.h): closest point with the side rules
+ * (also through a point's kept candidates, wc_mesh_near), continuous crossing, deepest
+ * penetration. Read-only on the collider; the visitors' state lives on the caller's stack and a
+ * kept query writes only its own entry, so any number of threads may query at once. */
 #include <math.h>
 #include <string.h>
 #include "geom.h"
@@ -181,7 +182,7 @@ static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const d
     if (e->count == -1) return 0;
     double scale = 1.0;
     for (int k = 0; k < 6; ++k) scale = fmax(scale, fabs(e->box[k]));
-    double grow = (m->travel - e->travel) + 1e-12 * scale;
+    double grow = (m->travel - e->travel) * (1.0 + 1e-12) + 1e-12 * scale;
     for (int k = 0; k < 3; ++k)
         if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k])) return 0;
     return 1;
