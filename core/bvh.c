@@ -152,15 +152,18 @@ void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask) {
     }
 }
 
-int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
-                        void* user) {
+/* The preorder walk of every query: nodes outside box, masked out (mask) or farther from p than
+ * sqrt(*bound2) (p non-NULL) are skipped. */
+static int traverse(const wc_bvh* b, const double* box, const unsigned char* mask, const double* p,
+                    const double* bound2, wc_bvh_visit_fn visit, void* user) {
     if (b->n_nodes == 0) return 0;
     int stack[WC_BVH_MAX_DEPTH + 2];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        if ((mask && !mask[node]) || !wc_box_overlap(b->box + 6 * node, box)) continue;
+        const double* nb = b->box + 6 * node;
+        if ((mask && !mask[node]) || !wc_box_overlap(nb, box) || (p && wc_box_dist2(nb, p) > *bound2)) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
             int r = visit(user, ch[1]);
@@ -173,24 +176,12 @@ int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char*
     return 0;
 }
 
+int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
+                        void* user) {
+    return traverse(b, box, mask, NULL, NULL, visit, user);
+}
+
 int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const double* bound2,
                       wc_bvh_visit_fn visit, void* user) {
-    if (b->n_nodes == 0) return 0;
-    int stack[WC_BVH_MAX_DEPTH + 2];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        int node = stack[--top];
-        const double* nb = b->box + 6 * node;
-        if (!wc_box_overlap(nb, box) || wc_box_dist2(nb, p) > *bound2) continue;
-        const int* ch = b->child + 2 * node;
-        if (ch[0] < 0) {
-            int r = visit(user, ch[1]);
-            if (r) return r;
-        } else {
-            stack[top++] = ch[1];
-            stack[top++] = ch[0];
-        }
-    }
-    return 0;
+    return traverse(b, box, NULL, p, bound2, visit, user);
 }
