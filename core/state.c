@@ -324,7 +324,7 @@ wc_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* m
     double* xs = WC_NEW(&s->alloc, double, 3 * (size_t)s->model->n_particles);
     /* each particle's cached candidate triangles of each mesh (mesh_collider.h) */
     size_t n_near = (size_t)s->model->n_particles * (size_t)n;
-    wc_mesh_near* near = WC_NEW(&s->alloc, wc_mesh_near, n_near);
+    wc_mesh_near* near = WC_NEW(&s->alloc, wc_mesh_near, n_near + 1);
     /* feature pairs: room for two per cloth edge and per cloth triangle (mesh_pairs.h) */
     wc_mesh_pairs* pairs = wc_mesh_pairs_create(2 * (s->model->we.n_edges + s->model->n_tris) + 64,
                                                  s->model->n_particles, (const wc_mesh_collider* const*)mesh, n,
