@@ -269,6 +269,16 @@ typedef struct wc_amg {
                                    reuse the estimates (wc_amg_opts.bound_reuse); 0: every setup
                                    estimates afresh. Only a setup with it set reuses, so a solve
                                    depends on its own system and the substep's first one */
+    int hold_coarse;            /* set by the caller around solves whose systems differ from the
+                                   last one's in a few rows (a substep's friction passes: contacts
+                                   that stop sticking): while set, a setup refreshes the finest
+                                   level only (its projected operator, block diagonal and couplings,
+                                   with the last fresh bound x bound_margin) and keeps the coarse
+                                   levels and prolongators of the last full setup. The V-cycle stays
+                                   SPD (a convergent smoother plus an SPD coarse correction), so PCG
+                                   stays correct; a solve that fails on it is redone fresh */
+    int coarse_kept;            /* 1: the last setup kept the coarse levels (hold_coarse) */
+    long coarse_keeps;          /* setups that kept the coarse levels (a stat) */
     int bound_age;              /* setups that reused the estimates since the last fresh one */
     int bounds_reused;          /* 1: the last setup reused the estimates */
     long bound_fallbacks;       /* solves that failed on reused bounds and were redone with a

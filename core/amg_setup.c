@@ -554,8 +554,33 @@ static void lap(wc_amg* a, wc_amg_phase p, double* t) {
     *t = now;
 }
 
+/* hold_coarse's setup (amg.h): the finest level's values for A under f, the rest kept. The
+ * fine bound is the last fresh estimate x bound_margin; bound_age is left alone, so the Newton
+ * solves that follow reuse (or not) exactly as they would after the full setup. */
+static void setup_fine_only(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
+    double t = wc_cpu_ms();
+    wc_amg_level* L = &a->lev[0];
+    project_fine(L, A, f, par);
+    wc_amg_cross_fine(a, f);
+    lap(a, WC_AMG_PHASE_PROJECT, &t);
+    diagonal(L, a->opts.pair_blocks, par);
+    lap(a, WC_AMG_PHASE_DIAGONAL, &t);
+    largest_eigenvalue(a, L, 1, 1, par);
+    lap(a, WC_AMG_PHASE_EIGEN_FINE, &t);
+    a->bounds_reused = 1;
+    a->coarse_kept = 1;
+    ++a->coarse_keeps;
+}
+
 void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     double t0 = wc_now_ms(), t = wc_cpu_ms();
+    if (a->hold_coarse && a->setups > 0 && a->n_levels > 1) {
+        setup_fine_only(a, A, f, par);
+        ++a->setups;
+        a->setup_ms = wc_now_ms() - t0;
+        return;
+    }
+    a->coarse_kept = 0;
     /* reuse the estimates only after a fresh setup, and bound_reuse times in a row at most */
     const int reuse = a->hold_bounds && a->setups > 0 && a->bound_age < a->opts.bound_reuse;
     a->bound_age = reuse ? a->bound_age + 1 : 0;

@@ -82,6 +82,11 @@ void wc_solver_set_positions(wc_solver* s, const double* x);
  * (amg.h, wc_amg_opts.bound_reuse; a solve that fails on them is redone with fresh ones);
  * hold 0 (the default): every solve estimates afresh. No effect without the multigrid. */
 void wc_solver_hold_bounds(wc_solver* s, int hold);
+/* hold 1: the solves that follow differ from the last one in a few rows (a substep's friction
+ * passes), so the multigrid refreshes its finest level only and keeps the coarse levels of its
+ * last full setup (amg.h, wc_amg.hold_coarse; a solve that fails on them is redone fresh);
+ * hold 0 (the default): full setups. No effect without the multigrid. */
+void wc_solver_hold_coarse(wc_solver* s, int hold);
 
 /* The residual's floor (absolute, the units of S (b - A z); >= 0, finite; 0, the default: none):
  * solves stop at tolerance x max(||S (b - A z)||, floor) instead of tolerance x ||S (b - A z)||.

@@ -67,16 +67,19 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
     wc_status st = wcs_pcg_run(s, A, b, f, dv, par, res, amg ? pcg_update_amg : wcs_pcg_update);
     if (amg && s->amg->bounds_reused && (st != WC_OK || !res->converged)) {
         /* the reused eigenvalue bounds may have fallen short of this matrix's (the smoother then
-           amplifies the modes above them and the V-cycle can turn indefinite): a fresh setup, and
+           amplifies the modes above them and the V-cycle can turn indefinite), or the kept coarse
+           levels (hold_coarse) may serve this system poorly: a fresh setup, and
            PCG again, from the last iterate when it merely ran out of iterations, from z (the
            constraints' values, as a solve without a guess starts) when it diverged */
-        int it = res->iterations, hold = s->amg->hold_bounds;
+        int it = res->iterations, hold = s->amg->hold_bounds, hold_coarse = s->amg->hold_coarse;
         if (st != WC_OK) wcs_fallback(f, dv, s->n);
         ++s->amg->bound_fallbacks;
         t_setup = wc_now_ms();
         s->amg->hold_bounds = 0;
+        s->amg->hold_coarse = 0;
         wc_amg_setup(s->amg, A, f, par);
         s->amg->hold_bounds = hold;
+        s->amg->hold_coarse = hold_coarse;
         res->setup_ms += wc_now_ms() - t_setup;
         st = wcs_pcg_run(s, A, b, f, dv, par, res, pcg_update_amg);
         res->iterations += it;

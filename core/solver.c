@@ -123,6 +123,10 @@ void wc_solver_hold_bounds(wc_solver* s, int hold) {
     if (s && s->amg) s->amg->hold_bounds = hold != 0;
 }
 
+void wc_solver_hold_coarse(wc_solver* s, int hold) {
+    if (s && s->amg) s->amg->hold_coarse = hold != 0;
+}
+
 void wc_solver_set_residual_floor(wc_solver* s, double floor) {
     if (s && floor >= 0.0 && isfinite(floor)) s->residual_floor = floor;
 }

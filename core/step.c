@@ -335,6 +335,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     wc_status status = first_solve(s, solver, stuck, &res, st);
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
        instead, and the system is solved again from this dv (the stuck set only shrinks) */
+    wc_solver_hold_coarse(s->solver, 1);   /* a pass changes a few contacts' rows (solve.h) */
     for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && stuck > 0; ++pass) {
         wc_state_mul_system(s, s->dv, s->r);
         for (int k = 0; k < 3 * n; ++k) s->r[k] -= s->b[k];
@@ -346,6 +347,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
         status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
         wc_step_stats_add_solve(st, solver, &res);
     }
+    wc_solver_hold_coarse(s->solver, 0);
     /* the penalty pairs (the mesh colliders' feature pairs, then the self-contact pairs) whose
        solved gap disagrees with their state switch, and the system is solved again */
     if (status == WC_OK && s->n_mesh > 0 && s->pairs && s->pairs->list.n > 0 && !wc_newton_wanted(&s->def))
