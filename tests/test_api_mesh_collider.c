@@ -5,8 +5,8 @@
  * weft_cloth_set_mesh_collider_vertices lift the sheet; bad inputs (NaN, wrong vertex count,
  * index out of range, bad collider index, negative thickness, no cookie, non-rigid transform)
  * are refused with a clear error and the state intact (the snapshot bytes unchanged); a snapshot
- * round trip with a deforming mesh collider is bit-exact; the GPU backend refuses mesh colliders
- * with UNSUPPORTED (when built with the GPU). */
+ * round trip with a deforming mesh collider is bit-exact. The GPU backend's mesh colliders:
+ * test_api_gpu_mesh. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -322,29 +322,6 @@ static void test_snapshot_round_trip(void) {
     weft_context_destroy(ctx);
 }
 
-#ifdef WEFT_TEST_HAVE_GPU
-static void test_gpu_refuses(void) {
-    weft_context_def cd = weft_default_context_def();
-    cd.backend = WEFT_BACKEND_GPU;
-    weft_context* ctx = NULL;
-    if (weft_context_create(WEFT_ABI, &cd, &ctx) != WEFT_OK) {
-        printf("  no GPU context here: skipped\n");
-        return;
-    }
-    weft_mesh_collider_def m = box_def();
-    weft_cloth_def def = sheet_def(&m, 1);
-    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
-    weft_cloth c;
-    weft_status st = weft_cloth_create(ctx, &def, &c);
-    printf("  GPU backend: %s: %s\n", weft_status_string(st), weft_context_last_error(ctx));
-    CHECK_EQ_INT(st, WEFT_ERROR_UNSUPPORTED);
-    CHECK(strstr(weft_context_last_error(ctx), "mesh collider") != NULL);
-    def.n_mesh_colliders = 0;
-    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &c), WEFT_OK);
-    weft_context_destroy(ctx);
-}
-#endif
-
 /* weft_cloth_check_collisions' max_penetration against the box's slabs and a sphere's radius,
  * computed here from the cloth's vertices: a sheet created half inside the box (y = 0.2, the box's
  * top at 0.3), nothing stepped; then a sheet through an analytic sphere. */
@@ -411,9 +388,6 @@ int main(void) {
     RUN_TEST(test_bad_inputs);
     RUN_TEST(test_snapshot_round_trip);
     RUN_TEST(test_check_penetration);
-#ifdef WEFT_TEST_HAVE_GPU
-    RUN_TEST(test_gpu_refuses);
-#endif
     ag_free(&g_sheet);
     return TEST_SUMMARY();
 }

@@ -10,9 +10,14 @@
  * A pass writes into wg_ring_other(ring, 0), never the current one nor keep: save and restore
  * move indices only.
  *
- * Colliders: a 5 x max_colliders RGBA32F texture, rewritten from s->colliders by every hook that
- * reads them. Rows: (type, radius, thickness, friction), (plane normal, offset), (center or a,
- * -), (b, -), (velocity, -). Everything is float: the results agree with core/collide.c to float
+ * Colliders: a 5 x (mesh colliders + max_colliders) RGBA32F texture, rewritten by every hook that
+ * reads them: the meshes first (core/step.c's order, so the contacts' collider ids are core's),
+ * then s->colliders. Rows: (type, radius, thickness, friction), (plane normal, offset), (center
+ * or a, -), (b, push_speed), (velocity, -); a mesh's are wg_mesh_row's, its body in wg_mesh's
+ * textures, moved to each substep by begin. begin also writes, per particle, the first contact's
+ * surface velocity (which friction and recheck take relative velocities to: a mesh's is per
+ * point) and the length of its correction (which project's push_speed cap subtracts); with
+ * meshes, project searches them within the particle's move since begin's x (x_sub). Everything is float: the results agree with core/collide.c to float
  * precision. One deliberate difference: SLOP (1e-9 m) is below float resolution at metre scale,
  * so the shaders widen it to SLOP + 1e-6 max(1, |p|inf) wherever collide.c uses it (begin's
  * contact tests, project's "on the shell": a particle just pushed out lies within a few ulps of
@@ -21,11 +26,16 @@
 
 #include "gpu_error.h"
 #include "wg_contacts.h"
+#include "wg_mesh.h"
 
 struct wg_contacts {
     wg_runner* run;
     wg_contact_cloth cl;        /* the cloth's textures */
-    int max_colliders;
+    int max_colliders;          /* analytic ones */
+    wg_mesh mesh;
+    wg_tex cvel;                /* begin's o7 (n): first contact's surface velocity, correction length */
+    wg_tex x_sub;               /* x after begin (n; meshes only) */
+    double h;                   /* begin's substep */
     wg_ring c0, c1, c2;
     wg_tex cols;                /* 5 x max_colliders */
     float* col_buf;             /* 20 x max_colliders */
@@ -49,11 +59,13 @@ static void release(wg_contacts* cs, int gl) {
         for (int r = 0; r < 3; ++r)
             for (int j = 0; j < 3; ++j) wg_tex_destroy(&rings[r]->t[j]);
         for (int r = 0; r < 3; ++r) wg_tex_destroy(&cs->bk[r]);
-        wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->A0, &cs->A1, &cs->cols};
+        wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->A0, &cs->A1, &cs->cols,
+                        &cs->cvel, &cs->x_sub};
         for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) wg_tex_destroy(pv[k]);
         wg_chain_destroy(&cs->chain);
     }
     const wc_allocator* alloc = &cs->run->layout->alloc;
+    wg_mesh_release(&cs->mesh, gl);
     wc_free(alloc, cs->col_buf);
     wc_free(alloc, cs);
 }
@@ -61,10 +73,10 @@ static void release(wg_contacts* cs, int gl) {
 void wg_contacts_destroy(wg_contacts* cs) { release(cs, 1); }
 void wg_contacts_forget(wg_contacts* cs) { release(cs, 0); }
 
-wc_status wg_contacts_create(wg_runner* run, const wg_contact_cloth* cloth, int max_colliders, wg_contacts** out,
-                             char* err, size_t err_len) {
+wc_status wg_contacts_create(wg_runner* run, const wg_contact_cloth* cloth, int max_colliders,
+                             wc_mesh_collider* const* mesh, int n_mesh, wg_contacts** out, char* err, size_t err_len) {
     *out = NULL;
-    int mc = max_colliders;
+    int mc = max_colliders + n_mesh;
     if (mc <= 0) return WC_OK;
     const wg_device* dev = run->dev;
     const wg_layout* L = run->layout;
@@ -83,7 +95,7 @@ wc_status wg_contacts_create(wg_runner* run, const wg_contact_cloth* cloth, int 
     }
     cs->run = run;
     cs->cl = *cloth;
-    cs->max_colliders = mc;
+    cs->max_colliders = max_colliders;
     cs->col_buf = wc_calloc(&L->alloc, (size_t)mc * 20u, sizeof(float));
     if (!cs->col_buf) {
         wg_errorf(err, err_len, "out of memory");
@@ -106,7 +118,8 @@ wc_status wg_contacts_create(wg_runner* run, const wg_contact_cloth* cloth, int 
         if (!wg_array_create(L, &cs->bk[r], GL_RGBA32F, n, init, err, err_len)) goto fail;
         rings[r]->cur = rings[r]->keep = 0;
     }
-    wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1};
+    wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->cvel, &cs->x_sub};
+    if (!wg_mesh_init(&cs->mesh, L, mesh, n_mesh, err, err_len)) goto fail;
     for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k)
         if (!wg_array_create(L, pv[k], GL_RGBA32F, n, NULL, err, err_len)) goto fail;
     if (!wg_array_create(L, &cs->A0, cloth->a_lo->internal, cloth->nb, NULL, err, err_len)) goto fail;
@@ -120,12 +133,18 @@ fail:
     return strstr(err, "out of memory") ? WC_ERROR_OUT_OF_MEMORY : WC_ERROR_GPU;
 }
 
-/* s->colliders into the colliders' texture; returns the count used (clamped to the capacity). */
+/* The analytic colliders in use: s->n_colliders clamped to the capacity. */
+static int analytic(const wg_contacts* cs, const wc_state* s) {
+    return s->n_colliders < cs->max_colliders ? s->n_colliders : cs->max_colliders;
+}
+
+/* The meshes and s->colliders into the colliders' texture; returns the count of rows used. */
 static int upload_colliders(wg_contacts* cs, const wc_state* s) {
-    int nc = s->n_colliders < cs->max_colliders ? s->n_colliders : cs->max_colliders;
+    int nm = cs->mesh.n_mesh, nc = nm + analytic(cs, s);
     if (nc <= 0) return 0;
-    for (int k = 0; k < nc; ++k) {
-        const wc_collider* c = &s->colliders[k];
+    for (int k = 0; k < nm; ++k) wg_mesh_row(&cs->mesh, k, cs->col_buf + 20 * k);
+    for (int k = nm; k < nc; ++k) {
+        const wc_collider* c = &s->colliders[k - nm];
         float* p = cs->col_buf + 20 * k;
         memset(p, 0, 20 * sizeof(float));
         p[0] = (float)c->type;
@@ -139,6 +158,7 @@ static int upload_colliders(wg_contacts* cs, const wc_state* s) {
             p[16 + j] = (float)c->velocity[j];
         }
         p[7] = (float)c->offset;
+        p[15] = (float)c->push_speed;
     }
     wg_tex_upload(&cs->cols, 0, 0, 5, nc, cs->col_buf);
     return nc;
@@ -155,19 +175,23 @@ static void diag_pass(wg_contacts* cs) {
     swap_tex(g->a_hi, &cs->A1);
 }
 
-void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double h) {
+void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double h) {
     if (!cs) return;
     wg_runner* run = cs->run;
     const wg_contact_cloth* g = &cs->cl;
+    wg_mesh_substep(&cs->mesh, run->layout, s->sub_alpha0, alpha1, h);
+    cs->h = h;
     int nc = upload_colliders(cs, s);
     int nx = wg_ring_other(g->x, 0);
     int j0 = wg_ring_other(&cs->c0, 0), j1 = wg_ring_other(&cs->c1, 0), j2 = wg_ring_other(&cs->c2, 0);
     WG_USE(run, WGP_CONTACT_BEGIN, &(wg_contact_begin_in){.x = wg_ring_cur(g->x), .v = wg_ring_cur(g->v), .S0 = g->S0,
-        .S1 = g->S1, .z = g->z, .c0 = wg_ring_cur(&cs->c0), .colliders = &cs->cols});
+        .S1 = g->S1, .z = g->z, .c0 = wg_ring_cur(&cs->c0), .colliders = &cs->cols, .mesh_vert = &cs->mesh.vert,
+        .mesh_tri = &cs->mesh.tri, .mesh_node = &cs->mesh.node});
     wg_u1f(run, "u_h", h);
     wg_u1i(run, "u_nc", nc);
-    WG_RUN(run, g->n, &g->x->t[nx], &cs->S0, &cs->S1, &cs->z, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2]);
+    WG_RUN(run, g->n, &g->x->t[nx], &cs->S0, &cs->S1, &cs->z, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2], &cs->cvel);
     g->x->cur = nx;
+    if (cs->mesh.n_mesh > 0) wg_copy(run, &cs->x_sub, &g->x->t[nx]);   /* project's start of the moves */
     swap_tex(g->S0, &cs->S0);
     swap_tex(g->S1, &cs->S1);
     swap_tex(g->z, &cs->z);
@@ -185,7 +209,7 @@ void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h) {
     WG_USE(run, WGP_CONTACT_FRICTION, &(wg_contact_friction_in){.v = wg_ring_cur(g->v), .mass = g->mass,
         .ftot = g->ftot, .S0 = g->S0, .S1 = g->S1, .z = g->z, .b = g->b, .pblocks = g->pblocks, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1), .c2 = wg_ring_cur(&cs->c2),
-        .colliders = &cs->cols});
+        .cvel = &cs->cvel, .colliders = &cs->cols});
     wg_u1f(run, "u_h", h);
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->ad0, &cs->ad1);
@@ -206,7 +230,7 @@ int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
     WG_USE(run, WGP_CONTACT_RECHECK, &(wg_contact_recheck_in){.v = wg_ring_cur(g->v), .mass = g->mass, .dv = dv,
         .S0 = g->S0, .S1 = g->S1, .z = g->z, .b = g->b, .pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1), .c2 = wg_ring_cur(&cs->c2),
-        .colliders = &cs->cols});
+        .cvel = &cs->cvel, .colliders = &cs->cols});
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->c2.t[j2], &cs->ad0, &cs->ad1);
     swap_tex(g->S0, &cs->S0);
@@ -225,7 +249,7 @@ void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
     if (!cs) return;
     wg_runner* run = cs->run;
     const wg_contact_cloth* g = &cs->cl;
-    int nc = s->n_colliders < cs->max_colliders ? s->n_colliders : cs->max_colliders;
+    int nc = cs->mesh.n_mesh + analytic(cs, s);
     int j0 = wg_ring_other(&cs->c0, 0), j1 = wg_ring_other(&cs->c1, 0), j2 = wg_ring_other(&cs->c2, 0);
     WG_USE(run, WGP_CONTACT_END, &(wg_contact_end_in){.pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .dv = dv, .b = g->b, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1),
@@ -244,9 +268,12 @@ void wg_contacts_project(wg_contacts* cs, const wc_state* s) {
     int nc = upload_colliders(cs, s);
     if (nc <= 0) return;
     int nx = wg_ring_other(g->x, 0), nv = wg_ring_other(g->v, 0);
-    WG_USE(run, WGP_CONTACT_PROJECT, &(wg_contact_project_in){.x = wg_ring_cur(g->x), .v = wg_ring_cur(g->v),
-        .S1 = g->S1, .c0 = wg_ring_cur(&cs->c0), .colliders = &cs->cols});
+    const wg_tex* x = wg_ring_cur(g->x);
+    WG_USE(run, WGP_CONTACT_PROJECT, &(wg_contact_project_in){.x = x, .v = wg_ring_cur(g->v), .S1 = g->S1,
+        .c0 = wg_ring_cur(&cs->c0), .colliders = &cs->cols, .x_sub = cs->mesh.n_mesh > 0 ? &cs->x_sub : x,
+        .cvel = &cs->cvel, .mesh_vert = &cs->mesh.vert, .mesh_tri = &cs->mesh.tri, .mesh_node = &cs->mesh.node});
     wg_u1i(run, "u_nc", nc);
+    wg_u1f(run, "u_h", cs->h);
     WG_RUN(run, g->n, &g->x->t[nx], &g->v->t[nv]);
     g->x->cur = nx;
     g->v->cur = nv;

@@ -1,7 +1,9 @@
-/* Plane, sphere and capsule contacts with thickness and Coulomb friction on the GPU: the five
- * steps of core/collide.c as passes over one cloth, with the same rules, called by the substep
- * (wg_step.c) only when the state has colliders. Colliders come from s->colliders at each hook
- * that reads them. Contact state (per particle: colliders, normals, released, stick) lives in
+/* Plane, sphere, capsule and triangle-mesh contacts with thickness and Coulomb friction on the
+ * GPU: the five steps of core/collide.c as passes over one cloth, with the same rules, called by
+ * the substep (wg_step.c) only when the state has colliders. Colliders come from the state's
+ * mesh colliders (s->mesh, first, as core numbers them) and s->colliders at each hook that reads
+ * them. Not on the GPU: the meshes' continuous tests (a particle whose path crossed a moving
+ * triangle within a substep) and their sharp features' penalty pairs (core/mesh_pairs.h). Contact state (per particle: colliders, normals, released, stick) lives in
  * the contacts' own textures, in rings rolled back with the substep (save/restore) and backed up
  * with the frame (backup/restore_backup).
  *
@@ -13,6 +15,7 @@
 #ifndef WEFT_GPU_SOLVER_CONTACTS_H
 #define WEFT_GPU_SOLVER_CONTACTS_H
 
+#include "mesh_collider.h"
 #include "state.h"
 #include "status.h"
 #include "wg_reduce.h"
@@ -29,18 +32,20 @@ typedef struct wg_contact_cloth {
 
 typedef struct wg_contacts wg_contacts;
 
-/* The contacts of a cloth with room for max_colliders (*out NULL and WC_OK when it is 0): WC_OK,
- * or WC_ERROR_GPU (fewer than 8 draw buffers, too many colliders for the device's textures, GL
- * errors) or WC_ERROR_OUT_OF_MEMORY with err. */
-wc_status wg_contacts_create(wg_runner* r, const wg_contact_cloth* cloth, int max_colliders, wg_contacts** out,
-                             char* err, size_t err_len);
+/* The contacts of a cloth with room for max_colliders analytic colliders and the n_mesh mesh
+ * colliders mesh (borrowed: the state's; *out NULL and WC_OK when there are none): WC_OK, or
+ * WC_ERROR_GPU (fewer than 8 draw buffers, too many colliders or mesh elements for the device's
+ * textures, GL errors) or WC_ERROR_OUT_OF_MEMORY with err. */
+wc_status wg_contacts_create(wg_runner* r, const wg_contact_cloth* cloth, int max_colliders,
+                             wc_mesh_collider* const* mesh, int n_mesh, wg_contacts** out, char* err, size_t err_len);
 void wg_contacts_destroy(wg_contacts* cs);
 /* Free the memory only (the GL context is gone). */
 void wg_contacts_forget(wg_contacts* cs);
 
-/* 1: after the pins pass (S0, S1, z hold the pins): find contacts, correct positions (a new x
- * cur), write their constraints into S0/S1/z. */
-void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double h);
+/* 1: after the pins pass (S0, S1, z hold the pins): move the meshes to the substep from
+ * s->sub_alpha0 to alpha1 of length h, find contacts, correct positions (a new x cur), write
+ * their constraints into S0/S1/z. */
+void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double h);
 /* 2: after assembly (A in block layout, b, ftot): Coulomb friction; may change S0/S1/z, the
  * diagonal blocks of A and b. */
 void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h);

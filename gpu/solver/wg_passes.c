@@ -129,21 +129,23 @@ WHOLE(wg_transform_in, transform);
 static const wg_pass_input contact_begin[] = {
     IN(wg_contact_begin_in, x),  IN(wg_contact_begin_in, v), IN(wg_contact_begin_in, S0),
     IN(wg_contact_begin_in, S1), IN(wg_contact_begin_in, z), IN(wg_contact_begin_in, c0),
-    IN(wg_contact_begin_in, colliders)};
+    IN(wg_contact_begin_in, colliders), IN(wg_contact_begin_in, mesh_vert), IN(wg_contact_begin_in, mesh_tri),
+    IN(wg_contact_begin_in, mesh_node)};
 WHOLE(wg_contact_begin_in, contact_begin);
 static const wg_pass_input contact_friction[] = {
     IN(wg_contact_friction_in, v),    IN(wg_contact_friction_in, mass),    IN(wg_contact_friction_in, ftot),
     IN(wg_contact_friction_in, S0),   IN(wg_contact_friction_in, S1),      IN(wg_contact_friction_in, z),
     IN(wg_contact_friction_in, b),    IN(wg_contact_friction_in, pblocks), IN(wg_contact_friction_in, a_lo),
     IN(wg_contact_friction_in, a_hi), IN(wg_contact_friction_in, c0),      IN(wg_contact_friction_in, c1),
-    IN(wg_contact_friction_in, c2),   IN(wg_contact_friction_in, colliders)};
+    IN(wg_contact_friction_in, c2),   IN(wg_contact_friction_in, cvel),    IN(wg_contact_friction_in, colliders)};
 WHOLE(wg_contact_friction_in, contact_friction);
 static const wg_pass_input contact_recheck[] = {
     IN(wg_contact_recheck_in, v),    IN(wg_contact_recheck_in, mass),  IN(wg_contact_recheck_in, dv),
     IN(wg_contact_recheck_in, S0),   IN(wg_contact_recheck_in, S1),    IN(wg_contact_recheck_in, z),
     IN(wg_contact_recheck_in, b),    IN(wg_contact_recheck_in, pblocks), IN(wg_contact_recheck_in, block),
     IN(wg_contact_recheck_in, a_lo), IN(wg_contact_recheck_in, a_hi),  IN(wg_contact_recheck_in, c0),
-    IN(wg_contact_recheck_in, c1),   IN(wg_contact_recheck_in, c2),    IN(wg_contact_recheck_in, colliders)};
+    IN(wg_contact_recheck_in, c1),   IN(wg_contact_recheck_in, c2),    IN(wg_contact_recheck_in, cvel),
+    IN(wg_contact_recheck_in, colliders)};
 WHOLE(wg_contact_recheck_in, contact_recheck);
 static const wg_pass_input contact_end[] = {
     IN(wg_contact_end_in, pblocks), IN(wg_contact_end_in, block), IN(wg_contact_end_in, a_lo),
@@ -152,7 +154,9 @@ static const wg_pass_input contact_end[] = {
 WHOLE(wg_contact_end_in, contact_end);
 static const wg_pass_input contact_project[] = {
     IN(wg_contact_project_in, x), IN(wg_contact_project_in, v), IN(wg_contact_project_in, S1),
-    IN(wg_contact_project_in, c0), IN(wg_contact_project_in, colliders)};
+    IN(wg_contact_project_in, c0), IN(wg_contact_project_in, colliders), IN(wg_contact_project_in, x_sub),
+    IN(wg_contact_project_in, cvel), IN(wg_contact_project_in, mesh_vert), IN(wg_contact_project_in, mesh_tri),
+    IN(wg_contact_project_in, mesh_node)};
 WHOLE(wg_contact_project_in, contact_project);
 static const wg_pass_input contact_diag[] = {IN(wg_contact_diag_in, block), IN(wg_contact_diag_in, a_lo),
                                              IN(wg_contact_diag_in, a_hi), IN(wg_contact_diag_in, aii_lo),

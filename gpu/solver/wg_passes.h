@@ -225,17 +225,19 @@ typedef struct wg_transform_in {    /* transform.glsl */
 } wg_transform_in;
 
 /* The contact passes: c0, c1, c2 the contact state (wg_contacts.c), colliders one row per
- * collider (contact_geometry.glsl). */
+ * collider (contact_geometry.glsl), mesh_* the mesh colliders' vertices, triangles and BVH nodes
+ * (wg_mesh.c, contact_query.glsl), cvel begin's per-particle output (the first contact's surface
+ * velocity, the correction's length). */
 typedef struct wg_contact_begin_in {
-    const wg_tex *x, *v, *S0, *S1, *z, *c0, *colliders;
+    const wg_tex *x, *v, *S0, *S1, *z, *c0, *colliders, *mesh_vert, *mesh_tri, *mesh_node;
 } wg_contact_begin_in;
 
 typedef struct wg_contact_friction_in {
-    const wg_tex *v, *mass, *ftot, *S0, *S1, *z, *b, *pblocks, *a_lo, *a_hi, *c0, *c1, *c2, *colliders;
+    const wg_tex *v, *mass, *ftot, *S0, *S1, *z, *b, *pblocks, *a_lo, *a_hi, *c0, *c1, *c2, *cvel, *colliders;
 } wg_contact_friction_in;
 
 typedef struct wg_contact_recheck_in {
-    const wg_tex *v, *mass, *dv, *S0, *S1, *z, *b, *pblocks, *block, *a_lo, *a_hi, *c0, *c1, *c2, *colliders;
+    const wg_tex *v, *mass, *dv, *S0, *S1, *z, *b, *pblocks, *block, *a_lo, *a_hi, *c0, *c1, *c2, *cvel, *colliders;
 } wg_contact_recheck_in;
 
 typedef struct wg_contact_end_in {
@@ -243,7 +245,7 @@ typedef struct wg_contact_end_in {
 } wg_contact_end_in;
 
 typedef struct wg_contact_project_in {
-    const wg_tex *x, *v, *S1, *c0, *colliders;
+    const wg_tex *x, *v, *S1, *c0, *colliders, *x_sub, *cvel, *mesh_vert, *mesh_tri, *mesh_node;
 } wg_contact_project_in;
 
 typedef struct wg_contact_diag_in {

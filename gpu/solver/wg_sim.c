@@ -272,10 +272,6 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
                        "preconditioner runs on the CPU backend)", wc_precond_name(s->def.solver.preconditioner));
-    if (s->n_mesh > 0)
-        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend has no triangle-mesh colliders (%d given in def->mesh_colliders): use the CPU "
-                       "backend, or the plane, sphere and capsule colliders", s->n_mesh);
     if (s->def.integrator == WC_INTEGRATOR_TRBDF2 && s->def.max_colliders > 0)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend runs TR-BDF2 only on a cloth without colliders (this one has room for %d): "
@@ -343,7 +339,8 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     if (ok) {
         const wg_contact_cloth cloth = {g->n, g->nb, &g->x, &g->v, &g->S0, &g->S1, &g->z, &g->b, &g->A0, &g->A1,
                                         &g->mass, &g->ftot, &g->pblocks, &g->block, g->rb};
-        ok = wg_contacts_create(&g->run, &cloth, s->def.max_colliders, &g->contacts, err, sizeof err) == WC_OK;
+        ok = wg_contacts_create(&g->run, &cloth, s->def.max_colliders, s->mesh, s->n_mesh, &g->contacts, err,
+                                sizeof err) == WC_OK;
     }
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1};

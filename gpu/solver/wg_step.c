@@ -50,6 +50,9 @@ void wg_step_upload_pins(wg_sim* g, const wc_state* s) {
     wg_array_upload(&g->layout, &g->pin_axis, n_pins, f);
 }
 
+/* 1 when the substep has colliders: mesh colliders or analytic ones. */
+static int colliding(const wc_state* s) { return s->n_mesh + s->n_colliders > 0; }
+
 /* Pins, contacts, the integrator's vectors, springs, air, assembly: s->filter's GPU twin (S0, S1,
  * z), A0/A1, b (wg_sim_impl.h). */
 void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, wc_compression compression) {
@@ -68,7 +71,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     wg_u1f(run, "u_base_v", ig->stage == 1 ? he : 0.0);
     wg_u1f(run, "u_alpha1", alpha1);
     WG_RUN(run, g->n, &g->S0, &g->S1, &g->z);
-    if (s->n_colliders > 0) wg_contacts_begin(g->contacts, s, h);
+    if (colliding(s)) wg_contacts_begin(g->contacts, s, alpha1, h);
     if (g->integ) wg_integ_prepare(g, s, ig, x_start);
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
@@ -103,7 +106,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     else if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
     else WG_RUN(run, g->n, &g->b, &g->ftot);
     wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0);
-    if (s->n_colliders > 0 && g->contacts) {
+    if (colliding(s) && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
         wg_contacts_friction(g->contacts, s, he);
     }
@@ -165,7 +168,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     } else {
         wc_step_stats_add_solve(st, solver, &res);
     }
-    for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && s->n_colliders > 0 && g->contacts; ++pass) {
+    for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && colliding(s) && g->contacts; ++pass) {
         if (!wg_contacts_recheck(g->contacts, s, dvres)) break;
         ++st->friction_passes;
         /* the next solve starts from this one's result: keep it out of the solver's iterates */
@@ -197,7 +200,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wg_copy(run, &g->dv.t[nd], dvres);
 
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
-    if (s->n_colliders > 0) wg_contacts_end(g->contacts, s, &g->dv.t[nd]);
+    if (colliding(s)) wg_contacts_end(g->contacts, s, &g->dv.t[nd]);
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
     WG_USE(run, WGP_INTEGRATE, &(wg_integrate_in){.xb = wg_integ_xb(g, &ig), .v = wg_ring_cur(&g->v),
         .dv = &g->dv.t[nd], .pin_map = &g->pin_map, .pin_from = &g->pin_from, .pin_target = &g->pin_target,
@@ -228,7 +231,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
             g->v.cur = sv;
         }
     }
-    if (s->n_colliders > 0 && g->contacts) {
+    if (colliding(s) && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
         wg_contacts_project(g->contacts, s);
     }
@@ -286,7 +289,7 @@ static void gpu_save(void* user, wc_state* s) {
         s->hist_valid0 = s->hist_valid;
         s->hist_h0 = s->hist_h;
     }
-    if (s->n_colliders > 0) wg_contacts_save(g->contacts);
+    if (colliding(s)) wg_contacts_save(g->contacts);
 }
 
 static void gpu_restore(void* user, wc_state* s) {
@@ -300,7 +303,7 @@ static void gpu_restore(void* user, wc_state* s) {
         s->hist_valid = s->hist_valid0;
         s->hist_h = s->hist_h0;
     }
-    if (s->n_colliders > 0) wg_contacts_restore(g->contacts);
+    if (colliding(s)) wg_contacts_restore(g->contacts);
     g->rho_valid = 0;
 }
 
@@ -349,7 +352,7 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     wg_step_upload_pins(g, s);
     wc_step_ops ops = {g, gpu_substep, gpu_save, gpu_restore, gpu_measure, gpu_sleep, s->def.solver.type};
     wc_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
-    if (r == WC_OK && s->n_colliders > 0 && g->contacts && !st->asleep) {
+    if (r == WC_OK && colliding(s) && g->contacts && !st->asleep) {
         s->contacts.active = wg_contacts_active(g->contacts);
         st->contacts = s->contacts.active;
     }

@@ -4,8 +4,11 @@
 // push x out onto the shells, write the filter S = I - n1 n1^T (- e2 e2^T) and z (relative
 // normal velocity -max(d, 0) / h after dv). Particles with pin ndof >= 2 keep their filter and
 // get no contact. Contact state: C0 = (collider 1, collider 2, released, stick) (-1: none),
-// C1 = (normal 1, in contact), C2 = (normal 2, changed).
-// Outputs: o0 = x, o1 = S0, o2 = S1, o3 = z, o4 = C0, o5 = C1, o6 = C2.
+// C1 = (normal 1, in contact), C2 = (normal 2, changed). A mesh's candidate is its closest point
+// within reach at the substep's start (contact_query.glsl); a collider with a push_speed caps
+// the correction at push_speed x h (the share used goes to project through o7.w).
+// Outputs: o0 = x, o1 = S0, o2 = S1, o3 = z, o4 = C0, o5 = C1, o6 = C2, o7 = (the first contact's
+// surface velocity, the correction's length).
 uniform sampler2D x;
 uniform sampler2D v;    // the substep's start
 uniform sampler2D S0;   // pins.glsl
@@ -21,11 +24,13 @@ out vec4 o3;
 out vec4 o4;
 out vec4 o5;
 out vec4 o6;
+out vec4 o7;
 #pragma weft include contact_geometry
+#pragma weft include contact_query
 
 void main() {
     int i = self_index();
-    o4 = vec4(-1.0, -1.0, 0.0, 0.0); o5 = vec4(0.0); o6 = vec4(0.0);
+    o4 = vec4(-1.0, -1.0, 0.0, 0.0); o5 = vec4(0.0); o6 = vec4(0.0); o7 = vec4(0.0);
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); o3 = vec4(0.0); o4 = vec4(0.0); return; }
     vec4 x4 = ld(x, i);
     vec3 xi = x4.xyz, vi = ld(v, i).xyz;
@@ -36,30 +41,35 @@ void main() {
     vec4 c = ld(c0, i);
     bool released = c.z != 0.0;
     int h0 = int(c.x), h1 = int(c.y);
-    float sl = slop_at(xi);
+    float sl = slop_at(xi), move = u_h * length(vi);
     B2 b;
     b2_init(b);
     for (int k = 0; k < u_nc; ++k) {
-        vec3 n;
-        float d = shell_distance(k, xi, n);
+        vec3 n, vc;
+        float d = query(k, xi, 0, move, n, vc);
         if (!(d < HUGE_D)) continue;
-        vec3 vr = vi - col(k, 4).xyz;
+        vec3 vr = vi - vc;
         float vn = dot(vr, n);
         bool take;
         if (h0 == k || h1 == k) take = d < u_h * length(vr) + sl;
         else take = d < -sl || (!released && d < u_h * max(0.0, -vn) + sl);
-        if (take) b2_add(b, k, d, n);
+        if (take) b2_add(b, k, d, n, vc);
     }
     b2_prune(b);
     if (b.cnt == 0) return;
-    push_out(b, xi);
-    vec3 n0, n1 = vec3(0.0), e2;
-    float d0 = shell_distance(b.k.x, xi, n0), d1 = 0.0;
-    if (b.cnt > 1) d1 = shell_distance(b.k.y, xi, n1);
+    float pushed;
+    push_out(b, 0, move, push_cap(b, u_h), xi, pushed);
+    vec3 n0, n1 = vec3(0.0), vc0, vc1 = vec3(0.0), e2;
+    float d0 = query(b.k.x, xi, 0, move, n0, vc0), d1 = 0.0;
+    if (!(d0 < HUGE_D)) d0 = 0.0;
+    if (b.cnt > 1) {
+        d1 = query(b.k.y, xi, 0, move, n1, vc1);
+        if (!(d1 < HUGE_D)) d1 = 0.0;
+    }
     int cnt = b.cnt;
     if (cnt == 2 && ortho(n0, n1, e2) < PARALLEL_MIN) cnt = 1;
-    float a0 = (u_h > 0.0 ? -max(d0, 0.0) / u_h : 0.0) - dot(vi - col(b.k.x, 4).xyz, n0), a1 = 0.0;
-    if (cnt > 1) a1 = (u_h > 0.0 ? -max(d1, 0.0) / u_h : 0.0) - dot(vi - col(b.k.y, 4).xyz, n1);
+    float a0 = (u_h > 0.0 ? -max(d0, 0.0) / u_h : 0.0) - dot(vi - vc0, n0), a1 = 0.0;
+    if (cnt > 1) a1 = (u_h > 0.0 ? -max(d1, 0.0) / u_h : 0.0) - dot(vi - vc1, n1);
     mat3 S = mat3(1.0) - outerProduct(n0, n0);
     if (cnt == 2) S -= outerProduct(e2, e2);
     o0 = vec4(xi, x4.w);
@@ -69,4 +79,5 @@ void main() {
     o4 = vec4(float(b.k.x), cnt > 1 ? float(b.k.y) : -1.0, 0.0, 0.0);
     o5 = vec4(n0, 1.0);
     o6 = vec4(cnt > 1 ? n1 : vec3(0.0), 0.0);
+    o7 = vec4(vc0, pushed);
 }

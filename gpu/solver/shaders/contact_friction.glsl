@@ -18,6 +18,7 @@ uniform sampler2D a_hi;
 uniform sampler2D c0;
 uniform sampler2D c1;
 uniform sampler2D c2;
+uniform sampler2D cvel;     // the first contact's surface velocity (contact_begin's o7)
 uniform float u_h;
 uniform int u_nc;
 out vec4 o0;
@@ -49,7 +50,7 @@ void main() {
     if (int(s1.z) != cnt || !(m > 0.0)) return;
     vec3 n0 = ld(c1, i).xyz, n1 = ld(c2, i).xyz;
     mat3 Sn = free_projector(n0, n1, cnt);
-    vec3 u = Sn * (ld(v, i).xyz - col(k0, 4).xyz);
+    vec3 u = Sn * (ld(v, i).xyz - ld(cvel, i).xyz);
     mat3 A = sym(a0, a1.xy);
     vec3 w0 = zi.xyz - u;
     vec3 qa = m * w0 - u_h * ld(ftot, i).xyz;

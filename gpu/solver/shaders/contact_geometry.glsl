@@ -1,6 +1,7 @@
 // Included by the contact passes (#pragma weft include contact_geometry): collider geometry
 // (core/collide.c, in float). The colliders' texture has one row per collider: (type, radius,
-// thickness, friction), (plane normal, offset), (center / a, -), (b, -), (velocity, -).
+// thickness, friction), (plane normal, offset), (center / a, -), (b, push_speed), (velocity, -);
+// the meshes come first, with rows of their own (contact_query.glsl).
 uniform sampler2D colliders;
 const float HUGE_D = 1e30;
 const float SLOP = 1e-9;
@@ -64,41 +65,22 @@ vec3 solve_pair(vec3 n1, float a1, vec3 n2, float a2, bool two) {
     return n1 * ((a1 - c * a2) / g) + n2 * ((a2 - c * a1) / g);
 }
 
-struct B2 { ivec2 k; vec2 d; vec3 n0; vec3 n1; int cnt; };
-void b2_init(out B2 b) { b.k = ivec2(-1); b.d = vec2(HUGE_D); b.n0 = vec3(0.0); b.n1 = vec3(0.0); b.cnt = 0; }
-void b2_add(inout B2 b, int k, float d, vec3 n) {
+// The two smallest candidates (collider, shell distance, normal, surface velocity).
+struct B2 { ivec2 k; vec2 d; vec3 n0; vec3 n1; vec3 v0; vec3 v1; int cnt; };
+void b2_init(out B2 b) {
+    b.k = ivec2(-1); b.d = vec2(HUGE_D); b.n0 = vec3(0.0); b.n1 = vec3(0.0); b.v0 = vec3(0.0); b.v1 = vec3(0.0);
+    b.cnt = 0;
+}
+void b2_add(inout B2 b, int k, float d, vec3 n, vec3 vc) {
     if (b.cnt == 0 || d < b.d.x) {
-        b.k.y = b.k.x; b.d.y = b.d.x; b.n1 = b.n0;
-        b.k.x = k; b.d.x = d; b.n0 = n;
+        b.k.y = b.k.x; b.d.y = b.d.x; b.n1 = b.n0; b.v1 = b.v0;
+        b.k.x = k; b.d.x = d; b.n0 = n; b.v0 = vc;
     } else if (b.cnt == 1 || d < b.d.y) {
-        b.k.y = k; b.d.y = d; b.n1 = n;
+        b.k.y = k; b.d.y = d; b.n1 = n; b.v1 = vc;
     }
     if (b.cnt < 2) ++b.cnt;
 }
 void b2_prune(inout B2 b) {
     vec3 e;
     if (b.cnt == 2 && ortho(b.n0, b.n1, e) < PARALLEL_MIN) { b.cnt = 1; b.k.y = -1; }
-}
-
-// Move p out of the shells of b's colliders (core/collide.c push_out).
-bool push_out(B2 b, inout vec3 p) {
-    bool act0 = false, act1 = false, moved = false;
-    for (int pass = 0; pass < CORRECT_PASSES; ++pass) {
-        vec3 n0, n1 = vec3(0.0), e;
-        float d0 = shell_distance(b.k.x, p, n0), d1 = 0.0;
-        if (d0 < 0.0) act0 = true;
-        if (b.cnt > 1) {
-            d1 = shell_distance(b.k.y, p, n1);
-            if (d1 < 0.0) act1 = true;
-        }
-        if (!act0 && !act1) break;
-        vec3 delta;
-        if (act0 && act1 && ortho(n0, n1, e) >= PARALLEL_MIN) delta = solve_pair(n0, -d0, n1, -d1, true);
-        else if (act0) delta = -d0 * n0;
-        else delta = -d1 * n1;
-        if (delta == vec3(0.0)) break;
-        p += delta;
-        moved = true;
-    }
-    return moved;
 }

@@ -1,24 +1,30 @@
 // Contacts, step 5 (core/collide.c wc_contacts_project), per particle but the pinned ones (ndof 3
 // without stick): push x out of the two deepest colliders' shells (re-picked up to
 // PROJECT_ROUNDS times), then give v the nearest value with no inward relative normal velocity
-// on the (up to two deepest) shells it lies on (d < SLOP).
+// on the (up to two deepest) shells it lies on (d < SLOP). Meshes at the substep's end, searched
+// within the particle's move since begin (x - x_sub); a collider with a push_speed caps the
+// push at what begin left of push_speed x h (cvel.w: begin's share).
 // Outputs: o0 = x, o1 = v.
 uniform sampler2D x;
 uniform sampler2D v;
 uniform sampler2D S1;   // ndof in z
 uniform sampler2D c0;   // stick in w
+uniform sampler2D x_sub;   // x after begin (x itself without meshes)
+uniform sampler2D cvel;    // begin's o7: the correction's length in w
 uniform int u_nc;
+uniform float u_h;
 out vec4 o0;
 out vec4 o1;
 #pragma weft include contact_geometry
+#pragma weft include contact_query
 const int PROJECT_ROUNDS = 3;
 
-void deepest2(vec3 p, out B2 b) {
+void deepest2(vec3 p, float move, out B2 b) {
     b2_init(b);
     for (int k = 0; k < u_nc; ++k) {
-        vec3 n;
-        float d = shell_distance(k, p, n);
-        if (d < HUGE_D) b2_add(b, k, d, n);
+        vec3 n, vc;
+        float d = query(k, p, 1, move, n, vc);
+        if (d < HUGE_D) b2_add(b, k, d, n, vc);
     }
     b2_prune(b);
 }
@@ -40,21 +46,28 @@ void main() {
     o0 = x4; o1 = v4;
     if (ld(S1, i).z == 3.0 && ld(c0, i).w == 0.0) return;   // a pin
     vec3 xp = x4.xyz, vp = v4.xyz;
+    float move = length(xp - ld(x_sub, i).xyz), pushed = ld(cvel, i).w, spent = 0.0;
     B2 b;
+    bool fresh = false;   // b is deepest2 at xp
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {
-        deepest2(xp, b);
+        deepest2(xp, move, b);
+        fresh = true;
         if (b.cnt == 0 || !(b.d.x < 0.0)) break;
-        push_out(b, xp);
+        float cap = push_cap(b, u_h), by;
+        if (cap < HUGE_D) cap = max(0.0, cap - pushed - spent);
+        if (!(cap > 0.0)) break;
+        if (push_out(b, 1, move, cap, xp, by)) fresh = false;
+        spent += by;
     }
-    deepest2(xp, b);
+    if (!fresh) deepest2(xp, move, b);
     int cnt = 0;
     float a0 = 0.0, a1 = 0.0;
     float sl = slop_at(xp);
     if (b.cnt > 0 && b.d.x < sl) {
-        a0 = dot(col(b.k.x, 4).xyz, b.n0) - dot(vp, b.n0);
+        a0 = dot(b.v0, b.n0) - dot(vp, b.n0);
         cnt = 1;
         if (b.cnt > 1 && b.d.y < sl) {
-            a1 = dot(col(b.k.y, 4).xyz, b.n1) - dot(vp, b.n1);
+            a1 = dot(b.v1, b.n1) - dot(vp, b.n1);
             cnt = 2;
         }
     }

@@ -18,6 +18,7 @@ uniform sampler2D a_hi;
 uniform sampler2D c0;
 uniform sampler2D c1;
 uniform sampler2D c2;
+uniform sampler2D cvel;     // the first contact's surface velocity (contact_begin's o7)
 uniform int u_nc;
 out vec4 o0;
 out vec4 o1;
@@ -49,7 +50,7 @@ void main() {
     if (!(mu0 > 0.0) && !(cnt > 1 && mu1 > 0.0)) return;
     vec3 n0 = ld(c1, i).xyz, n1 = c2i.xyz;
     mat3 Sn = free_projector(n0, n1, cnt);
-    vec3 u = Sn * (ld(v, i).xyz - col(k0, 4).xyz);
+    vec3 u = Sn * (ld(v, i).xyz - ld(cvel, i).xyz);
     vec3 r = -bi.xyz;
     for (int k = pb.x; k < pb.y; ++k) r += sym(ld(a_lo, k), ld(a_hi, k).xy) * ld(dv, ldi(block, k).y).xyz;
     vec2 imp = contact_impulses(r, n0, n1, cnt);

@@ -1,0 +1,134 @@
+/* The mesh colliders' textures (wg_mesh.h). Boxes go to float rounded outwards, so that a box
+ * still holds its triangles' float vertices and a query's float box meets every node core's
+ * would. */
+#include <math.h>
+#include <string.h>
+
+#include "gpu_error.h"
+#include "wg_mesh.h"
+
+static float down(double x) {
+    float f = (float)x;
+    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+}
+
+static float up(double x) {
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+void wg_mesh_release(wg_mesh* g, int gl) {
+    if (gl) {
+        wg_tex_destroy(&g->vert);
+        wg_tex_destroy(&g->tri);
+        wg_tex_destroy(&g->node);
+    }
+    wc_free(&g->alloc, g->vert0);
+    wc_free(&g->alloc, g->tri0);
+    wc_free(&g->alloc, g->node0);
+    wc_free(&g->alloc, g->staging);
+    g->vert0 = g->tri0 = g->node0 = NULL;
+    g->staging = NULL;
+}
+
+int wg_mesh_init(wg_mesh* g, const wg_layout* L, wc_mesh_collider* const* mesh, int n_mesh, char* err,
+                 size_t err_len) {
+    memset(g, 0, sizeof *g);
+    g->alloc = L->alloc;
+    g->n_mesh = n_mesh;
+    g->mesh = mesh;
+    int nm = n_mesh > 0 ? n_mesh : 1;
+    g->vert0 = wc_calloc(&g->alloc, (size_t)nm, sizeof(int));
+    g->tri0 = wc_calloc(&g->alloc, (size_t)nm, sizeof(int));
+    g->node0 = wc_calloc(&g->alloc, (size_t)nm, sizeof(int));
+    long long nv = 0, nt = 0, nn = 0;
+    for (int k = 0; k < n_mesh; ++k) {
+        if (g->vert0) g->vert0[k] = (int)nv;
+        if (g->tri0) g->tri0[k] = (int)nt;
+        if (g->node0) g->node0[k] = (int)nn;
+        nv += mesh[k]->n_verts;
+        nt += mesh[k]->n_tris;
+        nn += mesh[k]->bvh.n_nodes;
+    }
+    /* indices travel as floats: exact below 2^24 */
+    if (3 * nv >= (1LL << 24) || 3 * nt >= (1LL << 24) || 2 * nn >= (1LL << 24)) {
+        wg_errorf(err, err_len, "mesh colliders of %lld vertices and %lld triangles in all: the GPU takes fewer than "
+                  "5.5 million of each", nv, nt);
+        return 0;
+    }
+    g->n_vert = (int)nv;
+    g->n_tri = (int)nt;
+    g->n_node = (int)nn;
+    long long most = 3 * nv > 3 * nt ? 3 * nv : 3 * nt;
+    if (2 * nn > most) most = 2 * nn;
+    if (most < 1) most = 1;
+    g->staging = wc_calloc(&g->alloc, (size_t)most * 4u, sizeof(float));
+    if (!g->vert0 || !g->tri0 || !g->node0 || !g->staging) {
+        wg_errorf(err, err_len, "out of memory");
+        return 0;
+    }
+    return wg_array_create(L, &g->vert, GL_RGBA32F, (int)(3 * nv > 0 ? 3 * nv : 1), NULL, err, err_len) &&
+           wg_array_create(L, &g->tri, GL_RGBA32F, (int)(3 * nt > 0 ? 3 * nt : 1), NULL, err, err_len) &&
+           wg_array_create(L, &g->node, GL_RGBA32F, (int)(2 * nn > 0 ? 2 * nn : 1), NULL, err, err_len);
+}
+
+static void put3(float* o, const double* p, float w) {
+    o[0] = (float)p[0];
+    o[1] = (float)p[1];
+    o[2] = (float)p[2];
+    o[3] = w;
+}
+
+void wg_mesh_substep(wg_mesh* g, const wg_layout* L, double a0, double a1, double h) {
+    if (g->n_mesh == 0) return;
+    for (int k = 0; k < g->n_mesh; ++k) wc_mesh_collider_substep(g->mesh[k], a0, a1, h);
+    float* o = g->staging;
+    for (int k = 0; k < g->n_mesh; ++k) {
+        const wc_mesh_collider* m = g->mesh[k];
+        for (int i = 0; i < m->n_verts; ++i) {
+            float* q = o + 12 * (size_t)(g->vert0[k] + i);
+            put3(q, m->xa + 3 * i, 0.0f);
+            put3(q + 4, m->xb + 3 * i, 0.0f);
+            put3(q + 8, m->vel + 3 * i, 0.0f);
+        }
+    }
+    wg_array_upload(L, &g->vert, 3 * g->n_vert, o);
+    for (int k = 0; k < g->n_mesh; ++k) {
+        const wc_mesh_collider* m = g->mesh[k];
+        for (int t = 0; t < m->n_tris; ++t) {
+            float* q = o + 12 * (size_t)(g->tri0[k] + t);
+            for (int c = 0; c < 3; ++c) q[c] = (float)(g->vert0[k] + m->tris[3 * t + c]);
+            q[3] = 0.0f;
+            put3(q + 4, m->nrm_a + 3 * t, 0.0f);
+            put3(q + 8, m->nrm_b + 3 * t, 0.0f);
+        }
+    }
+    wg_array_upload(L, &g->tri, 3 * g->n_tri, o);
+    for (int k = 0; k < g->n_mesh; ++k) {
+        const wc_bvh* b = &g->mesh[k]->bvh;
+        for (int j = 0; j < b->n_nodes; ++j) {
+            float* q = o + 8 * (size_t)(g->node0[k] + j);
+            const double* bx = b->box + 6 * j;
+            const int* ch = b->child + 2 * j;
+            int leaf = ch[0] < 0;
+            for (int c = 0; c < 3; ++c) {
+                q[c] = down(bx[c]);
+                q[4 + c] = up(bx[3 + c]);
+            }
+            q[3] = leaf ? -1.0f : (float)(g->node0[k] + ch[0]);
+            q[7] = (float)(leaf ? g->tri0[k] + ch[1] : g->node0[k] + ch[1]);
+        }
+    }
+    wg_array_upload(L, &g->node, 2 * g->n_node, o);
+}
+
+void wg_mesh_row(const wg_mesh* g, int k, float* row) {
+    const wc_mesh_collider* m = g->mesh[k];
+    memset(row, 0, 20 * sizeof(float));
+    row[0] = 3.0f;   /* WC_COLLIDER_MESH */
+    row[2] = (float)m->thickness;
+    row[3] = (float)m->friction;
+    row[4] = (float)g->node0[k];
+    row[5] = (float)(m->h * m->max_speed);
+    row[15] = (float)m->push_speed;
+}

@@ -1,0 +1,204 @@
+/* Shared by the GPU contact tests (test_gpu_contacts.c, test_gpu_mesh_contacts.c): a seeded
+ * random source, float rounding, and moving a cloth's contact arrays between the GPU and the CPU
+ * (uploads, read-backs, the contact state through wg_contacts_download) with their comparisons
+ * (CHECKs) to float precision. */
+#ifndef WEFT_TESTS_GPU_CONTACTS_SUPPORT_H
+#define WEFT_TESTS_GPU_CONTACTS_SUPPORT_H
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "state.h"
+#include "wg_sim_impl.h"
+
+static unsigned long long rng = 0x9E3779B97F4A7C15ull;
+static inline double urand(void) {
+    rng ^= rng << 13;
+    rng ^= rng >> 7;
+    rng ^= rng << 17;
+    return (double)(rng >> 11) / 9007199254740992.0;
+}
+static inline double srnd(double s) { return s * (2.0 * urand() - 1.0); }
+static inline double fr(double a) { return (double)(float)a; }
+static inline void frv(double* a, int n) {
+    for (int i = 0; i < n; ++i) a[i] = fr(a[i]);
+}
+
+static float* g_buf;
+
+static inline void read3(wg_sim* g, const wg_tex* t, double* out) {
+    wg_array_read(&g->layout, t, g->n, g_buf);
+    for (int i = 0; i < g->n; ++i)
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = g_buf[4 * i + c];
+}
+
+static inline void upload3(wg_sim* g, const wg_tex* t, const double* a) {
+    for (int i = 0; i < g->n; ++i) {
+        for (int c = 0; c < 3; ++c) g_buf[4 * i + c] = (float)a[3 * i + c];
+        g_buf[4 * i + 3] = 0.0f;
+    }
+    wg_array_upload(&g->layout, t, g->n, g_buf);
+}
+
+static inline void upload_filter(wg_sim* g, const wc_filter* f) {
+    int n = g->n;
+    for (int i = 0; i < n; ++i) {
+        const double* S = f->S + 9 * i;
+        float* p = g_buf + 4 * i;
+        p[0] = (float)S[0], p[1] = (float)S[1], p[2] = (float)S[2], p[3] = (float)S[4];
+    }
+    wg_array_upload(&g->layout, &g->S0, n, g_buf);
+    for (int i = 0; i < n; ++i) {
+        const double* S = f->S + 9 * i;
+        float* p = g_buf + 4 * i;
+        p[0] = (float)S[5], p[1] = (float)S[8], p[2] = (float)f->ndof[i], p[3] = 0.0f;
+    }
+    wg_array_upload(&g->layout, &g->S1, n, g_buf);
+    upload3(g, &g->z, f->z);
+}
+
+/* S (n x 9), ndof (n), z (n x 3) of the GPU filter. */
+static inline void read_filter(wg_sim* g, double* S, int* ndof, double* z) {
+    int n = g->n;
+    float* b1 = malloc((size_t)n * 16);
+    wg_array_read(&g->layout, &g->S0, n, g_buf);
+    wg_array_read(&g->layout, &g->S1, n, b1);
+    for (int i = 0; i < n; ++i) {
+        const float* a = g_buf + 4 * i;
+        const float* b = b1 + 4 * i;
+        double m[9] = {a[0], a[1], a[2], a[1], a[3], b[0], a[2], b[0], b[1]};
+        memcpy(S + 9 * i, m, sizeof m);
+        ndof[i] = (int)b[2];
+    }
+    free(b1);
+    read3(g, &g->z, z);
+}
+
+static inline void upload_A(wg_sim* g, const double* A) {
+    int nb = g->nb;
+    float* lo = malloc((size_t)nb * 16);
+    float* hi = malloc((size_t)nb * 8);
+    for (int k = 0; k < nb; ++k) {
+        const double* a = A + 9 * k;
+        lo[4 * k] = (float)a[0], lo[4 * k + 1] = (float)a[1], lo[4 * k + 2] = (float)a[2], lo[4 * k + 3] = (float)a[4];
+        hi[2 * k] = (float)a[5], hi[2 * k + 1] = (float)a[8];
+    }
+    wg_array_upload(&g->layout, &g->A0, nb, lo);
+    wg_array_upload(&g->layout, &g->A1, nb, hi);
+    free(lo);
+    free(hi);
+}
+
+static inline void read_A(wg_sim* g, double* A) {
+    int nb = g->nb;
+    float* lo = malloc((size_t)nb * 16);
+    float* hi = malloc((size_t)nb * 16);
+    wg_array_read(&g->layout, &g->A0, nb, lo);
+    wg_array_read(&g->layout, &g->A1, nb, hi);
+    for (int k = 0; k < nb; ++k) {
+        const float* a = lo + 4 * k;
+        const float* b = hi + 4 * k;
+        double m[9] = {a[0], a[1], a[2], a[1], a[3], b[0], a[2], b[0], b[1]};
+        memcpy(A + 9 * k, m, sizeof m);
+    }
+    free(lo);
+    free(hi);
+}
+
+/* max |a - b| / scale over n values, scale = 1 + max |b| (absolute near 1, relative above). */
+static inline double err_of(const double* a, const double* b, int n) {
+    double e = 0, s = 0;
+    for (int i = 0; i < n; ++i) {
+        double d = fabs(a[i] - b[i]);
+        if (d > e) e = d;
+        if (fabs(b[i]) > s) s = fabs(b[i]);
+    }
+    return e / (1.0 + s);
+}
+
+/* GPU contact state read back through wg_contacts_download into a scratch wc_contacts. */
+typedef struct snap {
+    int* collider;
+    double* normal;
+    unsigned char* released;
+    unsigned char* stick;
+    int active;
+} snap;
+
+static inline void take_gpu(wg_sim* g, wc_state* s, snap* out) {
+    /* download into s->contacts_save's arrays (unused by these tests), then copy out */
+    wc_contacts keep = s->contacts;
+    wc_contacts tmp = keep;
+    tmp.collider = out->collider;
+    tmp.normal = out->normal;
+    tmp.released = out->released;
+    tmp.stick = out->stick;
+    s->contacts = tmp;
+    wg_contacts_download(g->contacts, s);
+    out->active = s->contacts.active;
+    s->contacts = keep;
+}
+
+/* The contact state of the CPU (ct) and of the GPU (gs) alike but for the particles skip marks
+ * (NULL: none). */
+static inline int compare_contacts(const wc_contacts* ct, const snap* gs, int n, int with_stick, const char* what,
+                                   const unsigned char* skip) {
+    int bad_id = 0, bad_rel = 0, bad_stick = 0;
+    double en = 0;
+    for (int i = 0; i < n; ++i) {
+        if (skip && skip[i]) continue;
+        if (ct->collider[2 * i] != gs->collider[2 * i] || ct->collider[2 * i + 1] != gs->collider[2 * i + 1]) {
+            if (bad_id < 3)
+                printf("    %s: particle %d colliders cpu (%d %d) gpu (%d %d)\n", what, i, ct->collider[2 * i],
+                       ct->collider[2 * i + 1], gs->collider[2 * i], gs->collider[2 * i + 1]);
+            ++bad_id;
+        }
+        bad_rel += ct->released[i] != gs->released[i];
+        if (with_stick) bad_stick += ct->stick[i] != gs->stick[i];
+        for (int c = 0; c < 6; ++c) {
+            double d = fabs(ct->normal[6 * i + c] - gs->normal[6 * i + c]);
+            if (ct->collider[2 * i + c / 3] >= 0 && d > en) en = d;
+        }
+    }
+    printf("    %s: collider ids %d differ, released %d, stick %d, normals err %.2g\n", what, bad_id, bad_rel,
+           bad_stick, en);
+    CHECK_EQ_INT(bad_id, 0);
+    CHECK_EQ_INT(bad_rel, 0);
+    CHECK_EQ_INT(bad_stick, 0);
+    CHECK(en < 2e-5);
+    return bad_id + bad_rel + bad_stick;
+}
+
+/* The GPU's filter and the CPU's f alike but for the particles skip marks (NULL: none). */
+static inline void compare_filter(wg_sim* g, const wc_filter* f, const char* what, int* n_stick,
+                                  const unsigned char* skip) {
+    int n = g->n;
+    double* S = malloc((size_t)n * 9 * sizeof(double));
+    double* z = malloc((size_t)n * 3 * sizeof(double));
+    int* nd = malloc((size_t)n * sizeof(int));
+    read_filter(g, S, nd, z);
+    for (int i = 0; i < n; ++i)
+        if (skip && skip[i]) {
+            memcpy(S + 9 * i, f->S + 9 * i, 9 * sizeof(double));
+            memcpy(z + 3 * i, f->z + 3 * i, 3 * sizeof(double));
+            nd[i] = f->ndof[i];
+        }
+    int bad_nd = 0, stick = 0;
+    for (int i = 0; i < n; ++i) {
+        bad_nd += nd[i] != f->ndof[i];
+        stick += f->ndof[i] == 3;
+    }
+    double eS = err_of(S, f->S, 9 * n), ez = err_of(z, f->z, 3 * n);
+    printf("    %s: ndof %d differ (%d particles ndof 3), S err %.2g, z err %.2g\n", what, bad_nd, stick, eS, ez);
+    CHECK_EQ_INT(bad_nd, 0);
+    CHECK(eS < 1e-5);
+    CHECK(ez < 1e-5);
+    if (n_stick) *n_stick = stick;
+    free(S);
+    free(z);
+    free(nd);
+}
+
+#endif
