@@ -13,7 +13,7 @@ LIB=$(ls $B/plugin/libweft.so.*.*.*)   # the versioned file (libweft.so.ABI.MINO
 SONAME=$(ls $B/plugin/libweft.so.* | grep -E 'libweft\.so\.[0-9]+$')
 BINS="$B/weft $LIB $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_gpu_contacts $B/tests/test_api_gpu
       $B/tests/test_gpu_sew $B/tests/test_api_gpu_sew $B/tests/test_api_gpu_newton $B/tests/test_api_batch
-      $B/tests/test_gpu_bdf2 $B/tests/test_api_gpu_bdf2
+      $B/tests/test_gpu_bdf2 $B/tests/test_api_gpu_bdf2 $B/tests/test_gpu_mesh_contacts $B/tests/test_api_gpu_mesh
       $B/tests/test_cli_gpu_runs $B/tests/test_render $B/tests/test_api_render $B/tests/test_render_errors
       $B/tests/bench/bench_gpu $B/tests/bench/bench_render"
 T=$(mktemp -d)

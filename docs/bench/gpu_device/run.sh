@@ -61,7 +61,7 @@ fi
 if [ "$MODE" = quick ]; then   # what fits the last minutes of a lease: the default passes only
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
     timeout 120 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 5 2>&1
-    for t in test_gpu_solver test_gpu_contacts test_api_gpu; do
+    for t in test_gpu_solver test_gpu_contacts test_gpu_mesh_contacts test_api_gpu_mesh test_api_gpu; do
       timeout 60 build-dev/tests/$t > /tmp/tc.txt 2>&1; echo "$t rc=$?"; grep -i "spmv\|fail\|checks" /tmp/tc.txt | head -5
     done
     M="--backend gpu --precond block_jacobi --integrator be --newton 1 --line-search off --threads 1"
@@ -79,7 +79,7 @@ fi
   echo "EGL vendor json: ${__EGL_VENDOR_LIBRARY_FILENAMES:-none}"; ls /usr/local/nvidia/lib64 2>/dev/null | grep -i "egl\|glx\|gldispatch" | head
   echo "--- missing libs:"; for b in build-dev/weft build-dev/tests/bench/bench_gpu; do ldd $b | grep "not found"; done
   echo "--- GPU tests"
-  for t in test_api_gpu test_gpu_solver test_gpu_contacts test_render test_api_render test_render_errors test_cli_gpu_runs; do
+  for t in test_api_gpu test_gpu_solver test_gpu_contacts test_gpu_mesh_contacts test_api_gpu_mesh test_render test_api_render test_render_errors test_cli_gpu_runs; do
     s=$(date +%s.%N); timeout 150 build-dev/tests/$t > "$O/t_$t.txt" 2>&1; rc=$?
     awk -v t=$t -v rc=$rc -v s=$s -v e=$(date +%s.%N) 'BEGIN{printf "%-20s rc=%d  %.1f s\n", t, rc, e-s}'
     [ $rc -ne 0 ] && tail -25 "$O/t_$t.txt"
@@ -94,7 +94,7 @@ if [ -n "$SMALL" ]; then SZ=16,32; SZC=16; F=2; else SZ=32,100,316,1000; SZC=32,
 { WEFT_GPU_PASSES=fragment timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
   echo; WEFT_GPU_PASSES=compute timeout 240 build-dev/tests/bench/bench_gpu --sizes $SZ --frames $F 2>&1
   echo; echo "--- GPU tests with fragment passes"
-  for t in test_gpu_solver test_gpu_contacts test_api_gpu; do
+  for t in test_gpu_solver test_gpu_contacts test_gpu_mesh_contacts test_api_gpu; do
     WEFT_GPU_PASSES=fragment timeout 150 build-dev/tests/$t > /tmp/tc.txt 2>&1; echo "$t (fragment) rc=$?"; tail -3 /tmp/tc.txt
   done; } 2>&1 | tee "$O/c_bench_gpu_30it.md"
 # the sample scenes: ms/frame on the GPU, on the CPU with the GPU's method, and the CPU at its defaults
