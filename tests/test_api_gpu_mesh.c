@@ -7,7 +7,8 @@
  * end: the largest vertex distance GPU - CPU and the rollbacks on both. The CPU also runs the
  * body's sharp features as penalty pairs (core/mesh_pairs.h), which the GPU does not: on the
  * smooth body the two stay close. Bad vertex inputs are refused as on the CPU (status and
- * message), the state intact; a snapshot with a deforming mesh collider replays bit-exactly. */
+ * message), the state intact; a snapshot with a deforming mesh collider replays bit-exactly; Newton
+ * iterations and TR-BDF2 with a mesh collider are refused, naming it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -272,6 +273,29 @@ static void test_snapshot(void) {
     weft_context_destroy(ctx);
 }
 
+/* What the GPU does not run with a mesh collider is refused at creation, naming it; the context
+ * goes on. */
+static void test_refusals(void) {
+    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
+    CHECK(ctx != NULL);
+    if (!ctx) return;
+    weft_mesh_collider_def m = body_def(0);
+    for (int r = 0; r < 2; ++r) {
+        weft_cloth_def def = sheet_def(&m);
+        if (r == 0) def.newton_iterations = 2;
+        else def.integrator = WEFT_INTEGRATOR_TRBDF2;
+        weft_cloth c;
+        weft_status st = weft_cloth_create(ctx, &def, &c);
+        printf("  %s: %s: %s\n", r == 0 ? "Newton 2" : "TR-BDF2", weft_status_string(st), weft_context_last_error(ctx));
+        CHECK_EQ_INT(st, WEFT_ERROR_UNSUPPORTED);
+        CHECK(strstr(weft_context_last_error(ctx), "1 mesh colliders") != NULL);
+    }
+    weft_cloth_def def = sheet_def(&m);
+    weft_cloth c;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &def, &c), WEFT_OK);
+    weft_context_destroy(ctx);
+}
+
 int main(void) {
     weft_context* probe = make_ctx(WEFT_BACKEND_GPU);
     if (!probe) {
@@ -283,6 +307,7 @@ int main(void) {
     RUN_TEST(test_vs_cpu);
     RUN_TEST(test_bad_inputs);
     RUN_TEST(test_snapshot);
+    RUN_TEST(test_refusals);
     ag_free(&g_sheet);
     return TEST_SUMMARY();
 }

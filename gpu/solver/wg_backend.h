@@ -1,9 +1,9 @@
 /* The GPU backend of a cloth (core/cloth_backend.h) over wg_sim: the device is a GL context
  * (headless EGL or the host's current one) with its wg_device, shared by the context's cloths;
  * each cloth's particles live in its wg_sim's textures and the wc_state holds their mirror.
- * What the GPU lacks is refused at create (wg_sim_create's refusals: the direct solver, mesh
- * colliders, self-collision, BDF2 / TR-BDF2, Newton and line search with colliders, the multigrid on
- * fragment passes). */
+ * What the GPU lacks is refused at create (wg_sim_create's refusals: the direct solver,
+ * self-collision, TR-BDF2, Newton and line search with colliders, the multigrid on fragment
+ * passes). */
 #ifndef WEFT_GPU_SOLVER_BACKEND_H
 #define WEFT_GPU_SOLVER_BACKEND_H
 

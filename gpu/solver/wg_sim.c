@@ -272,20 +272,27 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
                        "preconditioner runs on the CPU backend)", wc_precond_name(s->def.solver.preconditioner));
-    if (s->def.integrator == WC_INTEGRATOR_TRBDF2 && s->def.max_colliders > 0)
+    int colliders = s->def.max_colliders > 0 || s->n_mesh > 0;
+    if (s->def.integrator == WC_INTEGRATOR_TRBDF2 && colliders)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend runs TR-BDF2 only on a cloth without colliders (this one has room for %d): "
-                       "TR-BDF2's contacts (the stages' landing on the collider and the contact impulses held from "
-                       "stage 1 to stage 2) are not carried on the GPU; choose BDF2 or backward Euler, no colliders, or "
-                       "the CPU backend", s->def.max_colliders);
-    if (wc_newton_wanted(&s->def) && s->def.max_colliders > 0)
+                       "the GPU backend runs TR-BDF2 only on a cloth without colliders (this one has room for %d, and "
+                       "%d mesh colliders): TR-BDF2's contacts (the stages' landing on the collider and the contact "
+                       "impulses held from stage 1 to stage 2) are not carried on the GPU; choose BDF2 or backward "
+                       "Euler, no colliders, or the CPU backend", s->def.max_colliders, s->n_mesh);
+    if (wc_newton_wanted(&s->def) && colliders)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend runs Newton iterations (asked: %d, line search %s) only on a cloth without "
-                       "colliders (this one has room for %d): choose newton_iterations 1 without line search, or the "
-                       "CPU backend", s->def.newton_iterations, s->def.line_search ? "on" : "off", s->def.max_colliders);
+                       "colliders (this one has room for %d, and %d mesh colliders): choose newton_iterations 1 "
+                       "without line search, or the CPU backend", s->def.newton_iterations,
+                       s->def.line_search ? "on" : "off", s->def.max_colliders, s->n_mesh);
     if (s->def.self_collision)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
+    if (s->n_mesh > 0)
+        wc_log(diag, WC_LOG_INFO,
+               "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU; the CPU's continuous test "
+               "(a vertex's path through a moving triangle within a substep) and its penalty pairs at the body's "
+               "sharp edges and corners do not (docs/design/gpu.md)", s->n_mesh);
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");

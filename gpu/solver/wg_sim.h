@@ -20,8 +20,8 @@ typedef struct wg_sim wg_sim;
 /* Upload the model and the state; host_rest (n_host_verts x 3, object space, m; NULL: zeros) is
  * where outputs put host vertices no polygon uses. Refused with WC_ERROR_UNSUPPORTED (what the GPU
  * does not have): the direct solver, the multigrid on fragment passes and other preconditioners,
- * mesh colliders, TR-BDF2 with colliders, Newton iterations or the line search with colliders,
- * self-collision; with WC_ERROR_GPU: arrays beyond the device's texture limits (naming the
+ * TR-BDF2 with colliders (mesh colliders included), Newton iterations or the line search with
+ * colliders, self-collision; with WC_ERROR_GPU: arrays beyond the device's texture limits (naming the
  * array, its size and the limit), GL errors. */
 wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
 void wg_sim_destroy(wg_sim* g);

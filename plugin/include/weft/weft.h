@@ -274,8 +274,10 @@ typedef struct weft_collider_def {   /* every number finite, even those the type
     uint32_t internal_cookie;   /* set by weft_default_collider_def() */
 } weft_collider_def;
 
-/* A triangle-mesh collider: a body (rigid, or deforming/skinned) the cloth collides with, on the
- * CPU backend (a GPU cloth with one is refused with WEFT_ERROR_UNSUPPORTED). The mesh comes from
+/* A triangle-mesh collider: a body (rigid, or deforming/skinned) the cloth collides with, on
+ * either backend (the GPU keeps the cloth's vertices out of it, without the CPU's continuous test
+ * of a vertex's path through a moving triangle nor its penalty pairs at the body's sharp edges and
+ * corners: docs/design/gpu.md). The mesh comes from
  * a file (mesh.path, mesh.select: the same assimp import as a cloth's, polygons triangulated, no
  * welding) or from host arrays (mesh.positions, mesh.n_vertices, mesh.indices; mesh.face_sizes /
  * n_faces as for a cloth, or face_sizes NULL for n_faces triangles of 3 indices each). Winding:
@@ -404,8 +406,8 @@ WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, mesh colliders,
- * self-collision, and with colliders TR-BDF2, the line search or Newton iterations above 1),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, self-collision, and
+ * with colliders, mesh colliders included, TR-BDF2, the line search or Newton iterations above 1),
  * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
  * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
