@@ -1,6 +1,6 @@
 /* Helpers of the public-API tests (test_api_*.c): grid meshes as host float arrays, 4x4
- * column-major transforms, a counting allocator and a capturing logger. Header-only, public
- * header only. */
+ * column-major transforms, a counting allocator, a capturing logger, a snapshot comparison.
+ * Header-only, public header only. */
 #ifndef WEFT_TESTS_API_GRID_H
 #define WEFT_TESTS_API_GRID_H
 #include <math.h>
@@ -147,6 +147,15 @@ static inline void ag_log_fn(weft_log_level level, const char* message, void* us
     if ((int)level >= 0 && (int)level < 4) ++l->count[level];
     strncpy(l->last, message, sizeof l->last - 1);
     l->last[sizeof l->last - 1] = '\0';
+}
+
+/* 1 when the cloth's snapshot now is ref's bytes (sz of them); 0 when it differs or cannot be
+ * taken. */
+static inline int ag_same_snapshot(weft_context* ctx, weft_cloth c, const unsigned char* ref, size_t sz) {
+    unsigned char* now = malloc(sz);
+    int same = now && weft_cloth_save(ctx, c, now, sz) == WEFT_OK && memcmp(now, ref, sz) == 0;
+    free(now);
+    return same;
 }
 
 #endif

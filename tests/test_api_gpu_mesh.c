@@ -166,14 +166,6 @@ static void test_vs_cpu(void) {
     }
 }
 
-static int same_snapshot(weft_context* ctx, weft_cloth c, const unsigned char* ref, size_t sz) {
-    unsigned char* now = malloc(sz);
-    CHECK_EQ_INT(weft_cloth_save(ctx, c, now, sz), WEFT_OK);
-    int same = memcmp(now, ref, sz) == 0;
-    free(now);
-    return same;
-}
-
 /* Bad vertex inputs: the same status and message on both backends, the GPU's state intact. */
 static void test_bad_inputs(void) {
     weft_context* ctx[2] = {make_ctx(WEFT_BACKEND_CPU), make_ctx(WEFT_BACKEND_GPU)};
@@ -217,7 +209,7 @@ static void test_bad_inputs(void) {
         CHECK_EQ_INT(st[1], rows[r].want);
         CHECK_EQ_INT(st[0], st[1]);
         CHECK(strcmp(msg[0], msg[1]) == 0);
-        CHECK(same_snapshot(ctx[1], c[1], ref, sz));
+        CHECK(ag_same_snapshot(ctx[1], c[1], ref, sz));
     }
     /* and it steps on as before */
     CHECK_EQ_INT(weft_cloth_step(ctx[1], c[1], &fr, NULL), WEFT_OK);
@@ -246,7 +238,7 @@ static void test_snapshot(void) {
         int f0 = 0;
         if (pass == 1) {
             CHECK_EQ_INT(weft_cloth_restore(ctx, c, s10, sz), WEFT_OK);
-            CHECK(same_snapshot(ctx, c, s10, sz));
+            CHECK(ag_same_snapshot(ctx, c, s10, sz));
             f0 = 10;
         }
         for (int f = f0; f < 25; ++f) {
