@@ -2,10 +2,11 @@
  * GPU: the five steps of core/collide.c as passes over one cloth, with the same rules, called by
  * the substep (wg_step.c) only when the state has colliders. Colliders come from the state's
  * mesh colliders (s->mesh, first, as core numbers them) and s->colliders at each hook that reads
- * them. Not on the GPU: the meshes' continuous tests (a particle whose path crossed a moving
- * triangle within a substep) and their sharp features' penalty pairs (core/mesh_pairs.h). Contact state (per particle: colliders, normals, released, stick) lives in
- * the contacts' own textures, in rings rolled back with the substep (save/restore) and backed up
- * with the frame (backup/restore_backup).
+ * them, with the meshes' continuous tests (a particle whose path crosses a moving triangle within
+ * the substep). Not on the GPU: the meshes' sharp features as penalty pairs (core/mesh_pairs.h).
+ * Contact state (per particle: colliders, normals, released, stick) lives in the contacts' own
+ * textures, in rings rolled back with the substep (save/restore) and backed up with the frame
+ * (backup/restore_backup).
  *
  * The contacts receive the cloth's textures they read and change (wg_contact_cloth: pointers into
  * the cloth, which keep their addresses): a pass that changes the filter, b or A writes into a

@@ -290,9 +290,8 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
                        "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
     if (s->n_mesh > 0)
         wc_log(diag, WC_LOG_INFO,
-               "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU; the CPU's continuous test "
-               "(a vertex's path through a moving triangle within a substep) and its penalty pairs at the body's "
-               "sharp edges and corners do not (docs/design/gpu.md)", s->n_mesh);
+               "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "
+               "the CPU's penalty pairs at the body's sharp edges and corners do not (docs/design/gpu.md)", s->n_mesh);
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");

@@ -4,8 +4,10 @@
 // push x out onto the shells, write the filter S = I - n1 n1^T (- e2 e2^T) and z (relative
 // normal velocity -max(d, 0) / h after dv). Particles with pin ndof >= 2 keep their filter and
 // get no contact. Contact state: C0 = (collider 1, collider 2, released, stick) (-1: none),
-// C1 = (normal 1, in contact), C2 = (normal 2, changed). A mesh's candidate is its closest point
-// within reach at the substep's start (contact_query.glsl); a collider with a push_speed caps
+// C1 = (normal 1, in contact), C2 = (normal 2, changed). A mesh's candidate is the first triangle
+// the particle's path x -> x + h v crosses (contact_ccd.glsl: always taken, on that triangle's
+// plane), else its closest point within reach at the substep's start (contact_query.glsl); a
+// collider with a push_speed caps
 // the correction at push_speed x h (the share used goes to project through o7.w).
 // Outputs: o0 = x, o1 = S0, o2 = S1, o3 = z, o4 = C0, o5 = C1, o6 = C2, o7 = (the first contact's
 // surface velocity, the correction's length).
@@ -27,6 +29,7 @@ out vec4 o6;
 out vec4 o7;
 #pragma weft include contact_geometry
 #pragma weft include contact_query
+#pragma weft include contact_ccd
 
 void main() {
     int i = self_index();
@@ -42,28 +45,35 @@ void main() {
     bool released = c.z != 0.0;
     int h0 = int(c.x), h1 = int(c.y);
     float sl = slop_at(xi), move = u_h * length(vi);
+    vec3 x1 = xi + u_h * vi;
     B2 b;
     b2_init(b);
     for (int k = 0; k < u_nc; ++k) {
         vec3 n, vc;
-        float d = query(k, xi, 0, move, n, vc);
+        vec4 q;
+        float d;
+        if (crossing(k, xi, x1, 0, xi, d, n, vc, q)) {
+            b2_add(b, k, d, n, vc, q);
+            continue;
+        }
+        d = query(k, xi, 0, move, n, vc);
         if (!(d < HUGE_D)) continue;
         vec3 vr = vi - vc;
         float vn = dot(vr, n);
         bool take;
         if (h0 == k || h1 == k) take = d < u_h * length(vr) + sl;
         else take = d < -sl || (!released && d < u_h * max(0.0, -vn) + sl);
-        if (take) b2_add(b, k, d, n, vc);
+        if (take) b2_add(b, k, d, n, vc, vec4(0.0));
     }
     b2_prune(b);
     if (b.cnt == 0) return;
     float pushed;
     push_out(b, 0, move, push_cap(b, u_h), xi, pushed);
     vec3 n0, n1 = vec3(0.0), vc0, vc1 = vec3(0.0), e2;
-    float d0 = query(b.k.x, xi, 0, move, n0, vc0), d1 = 0.0;
+    float d0 = requery(b.k.x, b.q0, b.n0, b.v0, xi, 0, move, n0, vc0), d1 = 0.0;
     if (!(d0 < HUGE_D)) d0 = 0.0;
     if (b.cnt > 1) {
-        d1 = query(b.k.y, xi, 0, move, n1, vc1);
+        d1 = requery(b.k.y, b.q1, b.n1, b.v1, xi, 0, move, n1, vc1);
         if (!(d1 < HUGE_D)) d1 = 0.0;
     }
     int cnt = b.cnt;

@@ -65,18 +65,19 @@ vec3 solve_pair(vec3 n1, float a1, vec3 n2, float a2, bool two) {
     return n1 * ((a1 - c * a2) / g) + n2 * ((a2 - c * a1) / g);
 }
 
-// The two smallest candidates (collider, shell distance, normal, surface velocity).
-struct B2 { ivec2 k; vec2 d; vec3 n0; vec3 n1; vec3 v0; vec3 v1; int cnt; };
+// The two smallest candidates (collider, shell distance, normal, surface velocity; q: a mesh
+// triangle's plane the particle's path crosses, its point and 1 in w, else 0).
+struct B2 { ivec2 k; vec2 d; vec3 n0; vec3 n1; vec3 v0; vec3 v1; vec4 q0; vec4 q1; int cnt; };
 void b2_init(out B2 b) {
     b.k = ivec2(-1); b.d = vec2(HUGE_D); b.n0 = vec3(0.0); b.n1 = vec3(0.0); b.v0 = vec3(0.0); b.v1 = vec3(0.0);
-    b.cnt = 0;
+    b.q0 = vec4(0.0); b.q1 = vec4(0.0); b.cnt = 0;
 }
-void b2_add(inout B2 b, int k, float d, vec3 n, vec3 vc) {
+void b2_add(inout B2 b, int k, float d, vec3 n, vec3 vc, vec4 q) {
     if (b.cnt == 0 || d < b.d.x) {
-        b.k.y = b.k.x; b.d.y = b.d.x; b.n1 = b.n0; b.v1 = b.v0;
-        b.k.x = k; b.d.x = d; b.n0 = n; b.v0 = vc;
+        b.k.y = b.k.x; b.d.y = b.d.x; b.n1 = b.n0; b.v1 = b.v0; b.q1 = b.q0;
+        b.k.x = k; b.d.x = d; b.n0 = n; b.v0 = vc; b.q0 = q;
     } else if (b.cnt == 1 || d < b.d.y) {
-        b.k.y = k; b.d.y = d; b.n1 = n; b.v1 = vc;
+        b.k.y = k; b.d.y = d; b.n1 = n; b.v1 = vc; b.q1 = q;
     }
     if (b.cnt < 2) ++b.cnt;
 }

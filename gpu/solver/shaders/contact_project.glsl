@@ -1,9 +1,11 @@
 // Contacts, step 5 (core/collide.c wc_contacts_project), per particle but the pinned ones (ndof 3
 // without stick): push x out of the two deepest colliders' shells (re-picked up to
 // PROJECT_ROUNDS times), then give v the nearest value with no inward relative normal velocity
-// on the (up to two deepest) shells it lies on (d < SLOP). Meshes at the substep's end, searched
-// within the particle's move since begin (x - x_sub); a collider with a push_speed caps the
-// push at what begin left of push_speed x h (cvel.w: begin's share).
+// on the (up to two deepest) shells it lies on (d < SLOP). Meshes at the substep's end: first a
+// particle whose path since begin (x_sub -> x) crossed a triangle goes back in front of the first
+// it crossed, at the thickness, its inward velocity relative to it removed (contact_ccd.glsl);
+// then the closest points, searched within the particle's move since begin. A collider with a
+// push_speed caps the push at what begin left of push_speed x h (cvel.w: begin's share).
 // Outputs: o0 = x, o1 = v.
 uniform sampler2D x;
 uniform sampler2D v;
@@ -17,6 +19,7 @@ out vec4 o0;
 out vec4 o1;
 #pragma weft include contact_geometry
 #pragma weft include contact_query
+#pragma weft include contact_ccd
 const int PROJECT_ROUNDS = 3;
 
 void deepest2(vec3 p, float move, out B2 b) {
@@ -24,7 +27,7 @@ void deepest2(vec3 p, float move, out B2 b) {
     for (int k = 0; k < u_nc; ++k) {
         vec3 n, vc;
         float d = query(k, p, 1, move, n, vc);
-        if (d < HUGE_D) b2_add(b, k, d, n, vc);
+        if (d < HUGE_D) b2_add(b, k, d, n, vc, vec4(0.0));
     }
     b2_prune(b);
 }
@@ -46,7 +49,17 @@ void main() {
     o0 = x4; o1 = v4;
     if (ld(S1, i).z == 3.0 && ld(c0, i).w == 0.0) return;   // a pin
     vec3 xp = x4.xyz, vp = v4.xyz;
-    float move = length(xp - ld(x_sub, i).xyz), pushed = ld(cvel, i).w, spent = 0.0;
+    vec3 x0 = ld(x_sub, i).xyz;
+    for (int k = 0; k < u_nc; ++k) {   // collide.c uncross
+        float d;
+        vec3 n, vc;
+        vec4 q;
+        if (!crossing(k, x0, xp, 1, xp, d, n, vc, q)) continue;
+        if (d < 0.0) xp -= d * n;
+        float a = dot(vc, n) - dot(vp, n);
+        if (a > 0.0) vp += a * n;
+    }
+    float move = length(xp - x0), pushed = ld(cvel, i).w, spent = 0.0;
     B2 b;
     bool fresh = false;   // b is deepest2 at xp
     for (int round = 0; round < PROJECT_ROUNDS; ++round) {

@@ -145,6 +145,17 @@ float query(int k, vec3 p, int end, float move, out vec3 n, out vec3 vc) {
     return shell_distance(k, p, n);
 }
 
+// core's requery: a plane candidate (q.w 1: a crossed triangle's plane) keeps its plane, normal
+// and velocity, the rest query again.
+float requery(int k, vec4 q, vec3 pn, vec3 pv, vec3 p, int end, float move, out vec3 n, out vec3 vc) {
+    if (q.w != 0.0) {
+        n = pn;
+        vc = pv;
+        return dot(p - q.xyz, pn) - col(k, 0).z;
+    }
+    return query(k, p, end, move, n, vc);
+}
+
 // The push_speed cap (m) of the contacts in b over a substep of length h; HUGE_D: none.
 float push_cap(B2 b, float h) {
     float cap = HUGE_D;
@@ -162,11 +173,11 @@ bool push_out(B2 b, int end, float move, float cap, inout vec3 p, out float used
     used = 0.0;
     for (int pass = 0; pass < CORRECT_PASSES && used < cap; ++pass) {
         vec3 n0, n1 = vec3(0.0), vc, e;
-        float d0 = query(b.k.x, p, end, move, n0, vc), d1 = 0.0;
+        float d0 = requery(b.k.x, b.q0, b.n0, b.v0, p, end, move, n0, vc), d1 = 0.0;
         if (!(d0 < HUGE_D)) d0 = 0.0;   // a mesh that moved out of reach: nothing to push
         if (d0 < 0.0) act0 = true;
         if (b.cnt > 1) {
-            d1 = query(b.k.y, p, end, move, n1, vc);
+            d1 = requery(b.k.y, b.q1, b.n1, b.v1, p, end, move, n1, vc);
             if (!(d1 < HUGE_D)) d1 = 0.0;
             if (d1 < 0.0) act1 = true;
         }

@@ -275,9 +275,8 @@ typedef struct weft_collider_def {   /* every number finite, even those the type
 } weft_collider_def;
 
 /* A triangle-mesh collider: a body (rigid, or deforming/skinned) the cloth collides with, on
- * either backend (the GPU keeps the cloth's vertices out of it, without the CPU's continuous test
- * of a vertex's path through a moving triangle nor its penalty pairs at the body's sharp edges and
- * corners: docs/design/gpu.md). The mesh comes from
+ * either backend (the GPU keeps the cloth's vertices out of it as the CPU does, without the CPU's
+ * penalty pairs at the body's sharp edges and corners: docs/design/gpu.md). The mesh comes from
  * a file (mesh.path, mesh.select: the same assimp import as a cloth's, polygons triangulated, no
  * welding) or from host arrays (mesh.positions, mesh.n_vertices, mesh.indices; mesh.face_sizes /
  * n_faces as for a cloth, or face_sizes NULL for n_faces triangles of 3 indices each). Winding:
