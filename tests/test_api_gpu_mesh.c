@@ -136,7 +136,10 @@ static double distance(const run_result* a, const run_result* b) {
     double d = 0.0;
     for (int i = 0; i < N * N; ++i) {
         double s = 0.0;
-        for (int k = 0; k < 3; ++k) s += (a->pos[3 * i + k] - b->pos[3 * i + k]) * (a->pos[3 * i + k] - b->pos[3 * i + k]);
+        for (int k = 0; k < 3; ++k) {
+            double e = a->pos[3 * i + k] - b->pos[3 * i + k];
+            s += e * e;
+        }
         d = fmax(d, sqrt(s));
     }
     return d;

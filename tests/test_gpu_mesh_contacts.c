@@ -113,7 +113,8 @@ static void run_case(int kind, int moving, double push, int plane, unsigned long
     if (moving) {
         double* tgt = malloc(3 * (size_t)g_body.nv * sizeof(double));
         for (int i = 0; i < g_body.nv; ++i)
-            for (int k = 0; k < 3; ++k) tgt[3 * i + k] = fr(g_body.x[3 * i + k] + (k == 0 ? 0.06 : k == 1 ? 0.03 : 0.0));
+            for (int k = 0; k < 3; ++k)
+                tgt[3 * i + k] = fr(g_body.x[3 * i + k] + (k == 0 ? 0.06 : k == 1 ? 0.03 : 0.0));
         CHECK_EQ_INT(wc_state_set_mesh_target(s, 0, tgt, &d), WC_OK);
         free(tgt);
     }
@@ -198,7 +199,8 @@ static void run_case(int kind, int moving, double push, int plane, unsigned long
         epx = fmax(epx, err_of(x + 3 * i, s->x + 3 * i, 3));
         epv = fmax(epv, err_of(vg + 3 * i, s->v + 3 * i, 3));
         /* the GPU's positions against the body (core's query, double) */
-        if (i > 0 && push == 0.0) worst = fmax(worst, mc->thickness - wc_mesh_closest(mc, 1, x + 3 * i, HUGE_VAL, NULL, NULL));
+        if (i > 0 && push == 0.0)
+            worst = fmax(worst, mc->thickness - wc_mesh_closest(mc, 1, x + 3 * i, HUGE_VAL, NULL, NULL));
     }
     printf("    project: %d moved, %d paths crossed the body (put back); x err %.2g, v err %.2g; deepest into the "
            "shell %.2g m\n", moved, crossed, epx, epv, worst);

@@ -17,7 +17,8 @@
  * textures, moved to each substep by begin. begin also writes, per particle, the first contact's
  * surface velocity (which friction and recheck take relative velocities to: a mesh's is per
  * point) and the length of its correction (which project's push_speed cap subtracts); with
- * meshes, project searches them within the particle's move since begin's x (x_sub). Everything is float: the results agree with core/collide.c to float
+ * meshes, project starts the particles' paths (the continuous test, the search's reach) at
+ * begin's x (x_sub). Everything is float: the results agree with core/collide.c to float
  * precision. One deliberate difference: SLOP (1e-9 m) is below float resolution at metre scale,
  * so the shaders widen it to SLOP + 1e-6 max(1, |p|inf) wherever collide.c uses it (begin's
  * contact tests, project's "on the shell": a particle just pushed out lies within a few ulps of
@@ -34,11 +35,11 @@ struct wg_contacts {
     int max_colliders;          /* analytic ones */
     wg_mesh mesh;
     wg_tex cvel;                /* begin's o7 (n): first contact's surface velocity, correction length */
-    wg_tex x_sub;               /* x after begin (n; meshes only) */
+    wg_tex x_sub;               /* x after begin (n; read with meshes only) */
     double h;                   /* begin's substep */
     wg_ring c0, c1, c2;
-    wg_tex cols;                /* 5 x max_colliders */
-    float* col_buf;             /* 20 x max_colliders */
+    wg_tex cols;                /* 5 x (meshes + max_colliders) */
+    float* col_buf;             /* 20 x (meshes + max_colliders) */
     wg_tex S0, S1, z, b;        /* scratch of the filter and b (n) */
     wg_tex ad0, ad1;            /* per particle: A_ii (lo, hi) */
     wg_tex A0, A1;              /* scratch of A (nb) */
