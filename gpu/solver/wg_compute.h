@@ -28,10 +28,10 @@ char* wg_compute_native_source(wg_gl_context* gl, const char* common, const char
  * outputs as images 0..n_out-1, then the barrier for whatever reads them next (texelFetch,
  * read-backs, copies). */
 void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int x0, int w, int h);
-/* Run a native compute program in use (reduce_groups.glsl, spmv_groups.glsl) as `groups` work
- * groups (in rows of max_x past max_x of them: the shader counts groups linearly), out as image
- * 0, then the same barrier. */
-void wg_compute_dispatch_groups(const wg_tex* out, int groups, int max_x);
+/* Run a native compute program in use (reduce_groups.glsl, spmv_groups.glsl, ...) as `groups`
+ * work groups (in rows of max_x past max_x of them: the shader counts groups linearly), the
+ * outputs as images 0..n_out-1, then the same barrier. */
+void wg_compute_dispatch_groups(const wg_tex* const* out, int n_out, int groups, int max_x);
 /* Run a native compute program in use as one work group that reads and writes img in place
  * (image 0, bound read-write as RGBA32F), then a barrier for texture fetches and image access. */
 void wg_compute_dispatch_in_place(const wg_tex* img);

@@ -121,6 +121,19 @@ wc_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag
     return WC_OK;
 }
 
+wc_status wg_sim_debug_pcg_dots(wg_sim* g, int rows, const double* c, const double* r, double* q, double* t,
+                                double dots[3], wc_diag* diag) {
+    if (rows < 1 || rows > g->n) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "debug dots: %d rows of %d", rows, g->n);
+    upload_vec(g, &g->c[0], g->n, c);
+    upload_vec(g, &g->r[0], g->n, r);
+    wg_solve_debug_dots(g, rows, dots);
+    read_vec(g, &g->q, rows, q);
+    read_vec(g, &g->t, rows, t);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "debug dots: %s", wg_gl_error_name(e));
+    return WC_OK;
+}
+
 double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode) {
     if (n > g->n) n = g->n;
     for (int i = 0; i < g->n; ++i)

@@ -31,7 +31,9 @@ typedef enum wg_pass_id {
     WGP_NEWTON_PHI_SPRINGS,
     /* BDF2 and TR-BDF2 (core/bdf2.h): the integrator's vectors, TR-BDF2's implicit air */
     WGP_INTEG_PREPARE, WGP_AIR_LUMP,
-    WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS,   /* compute passes only: native compute shaders (*_groups.glsl) */
+    /* compute passes only: native compute shaders (*_groups.glsl); PCG's update and scalars with
+       their reductions' levels folded in (wg_solve.c) */
+    WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS,
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
     WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,

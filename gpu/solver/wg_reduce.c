@@ -48,11 +48,13 @@ size_t wg_chain_bytes(const wg_chain* ch) {
     return bytes;
 }
 
-const wg_tex* wg_reduce(wg_runner* r, wg_chain* ch, const wg_tex* src, int m0, int m1, int m2, int m3) {
+/* levels [0, levels) of the chain over src; returns the last one run (src when none) */
+static const wg_tex* run_levels(wg_runner* r, wg_chain* ch, const wg_tex* src, int levels, int m0, int m1, int m2,
+                                int m3) {
     const int groups = r->dev->compute;   /* reduce_groups.glsl: a level as wide as its work groups */
     const wg_pass_id pass = groups ? WGP_REDUCE_GROUPS : WGP_REDUCE;
     const wg_tex* in = src;
-    for (int k = 0; k < ch->n_levels; ++k) {
+    for (int k = 0; k < levels; ++k) {
         const wg_tex* out = &ch->level[k];
         WG_USE(r, pass, &(wg_src_in){.src = in});
         wg_u4i(r, "u_mode", m0, m1, m2, m3);
@@ -66,4 +68,18 @@ const wg_tex* wg_reduce(wg_runner* r, wg_chain* ch, const wg_tex* src, int m0, i
         in = out;
     }
     return in;
+}
+
+const wg_tex* wg_reduce(wg_runner* r, wg_chain* ch, const wg_tex* src, int m0, int m1, int m2, int m3) {
+    return run_levels(r, ch, src, ch->n_levels, m0, m1, m2, m3);
+}
+
+const wg_tex* wg_reduce_sums(wg_runner* r, wg_chain* ch, const wg_tex* src, int* count) {
+    if (!r->dev->compute) {
+        *count = 1;
+        return wg_reduce(r, ch, src, 0, 0, 0, 0);
+    }
+    const wg_tex* t = run_levels(r, ch, src, ch->n_levels - 1, 0, 0, 0, 0);
+    *count = t->w * t->h;
+    return t;
 }

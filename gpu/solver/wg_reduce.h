@@ -22,5 +22,10 @@ size_t wg_chain_bytes(const wg_chain* ch);
 /* Reduce src down to one texel: channel c summed (mode 0) or maximised (1). Returns the 1 x 1
  * result, the chain's last level (valid until the chain's next reduction). */
 const wg_tex* wg_reduce(wg_runner* r, wg_chain* ch, const wg_tex* src, int m0, int m1, int m2, int m3);
+/* A sum (every channel) left for its reader to finish: compute passes run every level but the
+ * last and return the texture whose first *count texels (layout order, at most 1,024; the source
+ * itself when it has that few) sum to the result, for a pass that finishes it in one group
+ * (pcg_scalars_groups.glsl); fragment passes run the whole chain (*count = 1). */
+const wg_tex* wg_reduce_sums(wg_runner* r, wg_chain* ch, const wg_tex* src, int* count);
 
 #endif

@@ -90,8 +90,13 @@ void wg_run_texel(wg_runner* r, const wg_tex* out, int x) {
 }
 
 void wg_run_groups(wg_runner* r, int count, const wg_tex* out, int groups) {
+    const wg_tex* const o[1] = {out};
+    wg_run_groups_into(r, count, groups, o, 1);
+}
+
+void wg_run_groups_into(wg_runner* r, int count, int groups, const wg_tex* const* out, int n_out) {
     set_size(r, count);
-    wg_compute_dispatch_groups(out, groups, r->dev->max_groups_x);
+    wg_compute_dispatch_groups(out, n_out, groups, r->dev->max_groups_x);
     ++r->passes;
 }
 

@@ -53,6 +53,11 @@ void wg_run_texel(wg_runner* r, const wg_tex* out, int x);
 /* Compute passes only: dispatch the native compute program in use (*_groups.glsl) as `groups`
  * work groups writing out (image 0); count = items (u_n). */
 void wg_run_groups(wg_runner* r, int count, const wg_tex* out, int groups);
+/* The same with outputs out[0..n_out-1] as images 0..n_out-1 (WG_RUN_GROUPS lists them). */
+void wg_run_groups_into(wg_runner* r, int count, int groups, const wg_tex* const* out, int n_out);
+#define WG_RUN_GROUPS(r, count, groups, ...) \
+    wg_run_groups_into((r), (count), (groups), (const wg_tex* const[]){__VA_ARGS__}, \
+                       (int)(sizeof((const wg_tex* const[]){__VA_ARGS__}) / sizeof(const wg_tex*)))
 /* Compute passes only: one work group of the native compute program in use, reading and writing
  * img in place (image 0, RGBA32F); count = items (u_n). */
 void wg_run_in_place(wg_runner* r, int count, const wg_tex* img);

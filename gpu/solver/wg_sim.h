@@ -107,6 +107,12 @@ void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o);
 double wg_sim_debug_rho(const wg_sim* g);
 /* y = A x with the last prepared A (n x 3 each). */
 wc_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag);
+/* PCG's fused products over the first `rows` rows (1 <= rows <= particles) with the last prepared
+ * system: c and r (n x 3) uploaded, q = S (A c) and t = D^-1 r (the block-Jacobi inverse made from
+ * A) read back into q and t (rows x 3), and dots = (c.q, r.t, r.r) as the solve's scalars pass
+ * finishes them (compute passes: from the fused passes' per-group partial sums). */
+wc_status wg_sim_debug_pcg_dots(wg_sim* g, int rows, const double* c, const double* r, double* q, double* t,
+                                double dots[3], wc_diag* diag);
 /* Sum (mode 0) or max (mode 1) of n values through the reduction passes (n <= particles). */
 double wg_sim_debug_reduce(wg_sim* g, const double* values, int n, int mode);
 /* Wall time (ms) of `reps` runs of one SpMV pass and one copy pass of the same size, measured

@@ -70,6 +70,7 @@ struct wg_sim {
     wg_tex D0, D1;              /* preconditioner */
     wg_tex sv[3];               /* solver iterates */
     wg_tex r[2], c[2], t, q, part, rz;
+    wg_tex gpart;               /* compute passes: PCG's per-work-group partial sums (wg_solve.c) */
     wg_tex sc[2][3];            /* PCG scalars, ping-pong */
     int sc_cur;
     wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the
@@ -173,6 +174,10 @@ double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, co
 
 /* g->q = A x over the prepared blocks; with filter, q = S (A x) and w = x.q (PCG's step). */
 void wg_spmv(wg_sim* g, const wg_tex* x, int filter);
+/* wg_sim_debug_pcg_dots: over rows [0, rows), q = S (A c[0]) and c[0].q, then (with D^-1 made
+ * from A) the update at a solve's start from r[0], t = D^-1 r, and (r.t, r.r), the sums finished
+ * by the scalars pass as PCG's are: out = (c.q, r.t, r.r). */
+void wg_solve_debug_dots(wg_sim* g, int rows, double out[3]);
 
 /* Solve the prepared system (A0/A1, b, S0/S1, z) from the initial guess in dv_in; the result is
  * left in *out (one of g->sv). */

@@ -12,19 +12,49 @@
 
 #include "wg_sim_impl.h"
 
-/* sc[cur] -> sc[other] (pcg_scalars.glsl's mode; sum and dots: reductions, NULL where the mode
- * reads none) */
-static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, const wg_tex* sum, const wg_tex* dots, int max_it) {
+/* A sum that the scalars pass finishes: the first `count` texels of tex (layout order) add up to
+ * it. Compute passes leave per-work-group partials (the fused passes' or a reduction's first
+ * level, wg_reduce_sums); fragment passes a whole reduction (count 1). */
+typedef struct wg_sums {
+    const wg_tex* tex;
+    int count;
+} wg_sums;
+
+static const wg_sums kNoSums = {NULL, 0};
+
+static wg_sums sums_of(wg_sim* g, wg_chain* ch, const wg_tex* src) {
+    wg_sums s;
+    s.tex = wg_reduce_sums(&g->run, ch, src, &s.count);
+    return s;
+}
+
+/* Work groups of a 256-invocation dispatch over every texel of a particle array */
+static int groups_of(const wg_sim* g, int per_texel) {
+    long long texels = (long long)g->q.w * g->q.h;
+    return (int)((per_texel * texels + 255) / 256);
+}
+
+/* sc[cur] -> sc[other] (pcg_scalars_rules.glsl's mode; sum and dots: kNoSums where the mode reads
+ * none). Compute passes: one work group that finishes both sums first (pcg_scalars_groups.glsl). */
+static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, wg_sums sum, wg_sums dots, int max_it) {
     wg_runner* run = &g->run;
     int a = g->sc_cur, b = 1 - a;
-    WG_USE(run, WGP_PCG_SCALARS, &(wg_pcg_scalars_in){.scalars0 = &g->sc[a][0], .scalars1 = &g->sc[a][1],
-        .sum = sum ? sum : &g->sc[a][0], .dots = dots ? dots : &g->sc[a][0], .scalars2 = &g->sc[a][2]});
+    const int groups = g->dev->compute;
+    WG_USE(run, groups ? WGP_PCG_SCALARS_GROUPS : WGP_PCG_SCALARS, &(wg_pcg_scalars_in){.scalars0 = &g->sc[a][0],
+        .scalars1 = &g->sc[a][1], .sum = sum.tex ? sum.tex : &g->sc[a][0], .dots = dots.tex ? dots.tex : &g->sc[a][0],
+        .scalars2 = &g->sc[a][2]});
     wg_u1i(run, "u_mode", mode);
     wg_u1f(run, "u_tolerance", o->tolerance);
     wg_u1f(run, "u_divergence", o->divergence_factor);
     wg_u1f(run, "u_max_iterations", (double)max_it);
     wg_u1f(run, "u_floor", g->residual_floor);
-    WG_RUN(run, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+    if (groups) {
+        wg_u1i(run, "u_sum_n", sum.count);
+        wg_u1i(run, "u_dots_n", dots.count);
+        WG_RUN_GROUPS(run, 1, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+    } else {
+        WG_RUN(run, 1, &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+    }
     g->sc_cur = b;
 }
 
@@ -46,41 +76,72 @@ static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
     WG_RUN(run, g->n, out);
 }
 
-void wg_spmv(wg_sim* g, const wg_tex* x, int filter) {
+/* q = A x over rows [0, rows) (g->n but in a test); with filter, q = S (A x) and its w = x.q. With
+ * partials (compute passes only): also the sums of w per work group into gpart. Returns the
+ * work groups run (0 for a fragment pass). */
+static int spmv_rows(wg_sim* g, const wg_tex* x, int filter, int rows, int partials) {
     wg_runner* run = &g->run;
     WG_USE(run, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV, &(wg_spmv_in){.pblocks = &g->pblocks, .block = &g->block,
         .a_lo = &g->A0, .a_hi = &g->A1, .x = x, .S0 = &g->S0, .S1 = &g->S1});
     wg_u1i(run, "u_filter", filter);
-    if (g->dev->compute) {   /* spmv_groups.glsl: 4 invocations a row, 256 a group */
-        long long texels = (long long)g->q.w * g->q.h;
-        wg_u1i(run, "u_texels", (int)texels);
-        wg_run_groups(run, g->n, &g->q, (int)((4 * texels + 255) / 256));
-        return;
+    if (!g->dev->compute) {
+        WG_RUN(run, rows, &g->q);
+        return 0;
     }
-    WG_RUN(run, g->n, &g->q);
+    /* spmv_groups.glsl: 4 invocations a row, 256 a group */
+    const int groups = groups_of(g, 4);
+    wg_u1i(run, "u_texels", g->q.w * g->q.h);
+    wg_u1i(run, "u_partials", partials);
+    if (partials) WG_RUN_GROUPS(run, rows, groups, &g->q, &g->gpart);
+    else WG_RUN_GROUPS(run, rows, groups, &g->q);
+    return groups;
+}
+
+void wg_spmv(wg_sim* g, const wg_tex* x, int filter) { spmv_rows(g, x, filter, g->n, 0); }
+
+/* PCG's q = S (A c) and the sum c.q for scalars(): compute passes fold the sum's first level into
+ * the SpMV (a partial a work group); fragment passes reduce q's w. */
+static wg_sums spmv_dot(wg_sim* g, const wg_tex* c, int rows) {
+    if (!g->dev->compute) {
+        spmv_rows(g, c, 1, rows, 0);
+        return sums_of(g, &g->red_p[0], &g->q);
+    }
+    return (wg_sums){&g->gpart, spmv_rows(g, c, 1, rows, 1)};
 }
 
 typedef struct pcg_vecs {
     int dv, r, c;   /* indices into g->sv (0/1), g->r, g->c */
 } pcg_vecs;
 
-static void update(wg_sim* g, pcg_vecs* v, int first) {
+/* dv += alpha c, r -= alpha q, z = M^-1 r over rows [0, rows), and the sums (r.z, r.r) for
+ * scalars(). Block Jacobi on compute passes: one pass with the sums' first level folded in
+ * (pcg_update_groups.glsl); fragment passes reduce the update's partial products; the multigrid
+ * gives z and the products itself. */
+static wg_sums update(wg_sim* g, pcg_vecs* v, int first, int rows) {
     wg_runner* run = &g->run;
-    WG_USE(run, WGP_PCG_UPDATE, &(wg_pcg_update_in){.dv = &g->sv[v->dv], .r = &g->r[v->r], .c = &g->c[v->c], .q = &g->q,
-        .dinv_lo = &g->D0, .dinv_hi = &g->D1, .scalars0 = &g->sc[g->sc_cur][0], .scalars1 = &g->sc[g->sc_cur][1]});
+    const int groups = g->dev->compute && !g->amg_on;
+    WG_USE(run, groups ? WGP_PCG_UPDATE_GROUPS : WGP_PCG_UPDATE, &(wg_pcg_update_in){.dv = &g->sv[v->dv],
+        .r = &g->r[v->r], .c = &g->c[v->c], .q = &g->q, .dinv_lo = &g->D0, .dinv_hi = &g->D1,
+        .scalars0 = &g->sc[g->sc_cur][0], .scalars1 = &g->sc[g->sc_cur][1]});
     wg_u1i(run, "u_first", first);
     wg_u1i(run, "u_jacobi", !g->amg_on);
-    if (!g->amg_on) {
-        WG_RUN(run, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r], &g->t, &g->part);
-        v->dv = 1 - v->dv;
-        v->r = 1 - v->r;
-        return;
-    }
-    /* the multigrid's z = M^-1 r replaces the block-Jacobi t, and its (r.z, r.r) the update's */
-    WG_RUN(run, g->n, &g->sv[1 - v->dv], &g->r[1 - v->r]);
+    const wg_tex *dv = &g->sv[1 - v->dv], *r = &g->r[1 - v->r];
     v->dv = 1 - v->dv;
     v->r = 1 - v->r;
-    wg_amg_apply(g->amg, &g->r[v->r], &g->part);
+    if (groups) {
+        const int k = groups_of(g, 1);
+        wg_u1i(run, "u_texels", g->q.w * g->q.h);
+        WG_RUN_GROUPS(run, rows, k, dv, r, &g->t, &g->gpart);
+        return (wg_sums){&g->gpart, k};
+    }
+    if (!g->amg_on) {
+        WG_RUN(run, rows, dv, r, &g->t, &g->part);
+        return sums_of(g, &g->red_p[1], &g->part);
+    }
+    /* the multigrid's z = M^-1 r replaces the block-Jacobi t, and its (r.z, r.r) the update's */
+    WG_RUN(run, rows, dv, r);
+    wg_amg_apply(g->amg, r, &g->part);
+    return sums_of(g, &g->red_p[1], &g->part);
 }
 
 static void direction(wg_sim* g, pcg_vecs* v, int first) {
@@ -92,13 +153,12 @@ static void direction(wg_sim* g, pcg_vecs* v, int first) {
     v->c = 1 - v->c;
 }
 
-/* One PCG iteration, queued. */
+/* One PCG iteration, queued: with block Jacobi on compute passes five passes (SpMV with c.q's
+ * partials, alpha, update with (r.z, r.r)'s partials, beta, direction). */
 static void pcg_iteration(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, int max_it) {
-    wg_runner* run = &g->run;
-    wg_spmv(g, &g->c[v->c], 1);
-    scalars(g, o, 1, wg_reduce(run, &g->red_p[0], &g->q, 0, 0, 0, 0), NULL, max_it);
-    update(g, v, 0);
-    scalars(g, o, 2, NULL, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+    scalars(g, o, 1, spmv_dot(g, &g->c[v->c], g->n), kNoSums, max_it);
+    wg_sums dots = update(g, v, 0, g->n);
+    scalars(g, o, 2, kNoSums, dots, max_it);
     direction(g, v, 0);
 }
 
@@ -125,16 +185,15 @@ static double true_residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, doub
 }
 
 static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** out, wc_solve_result* res) {
-    wg_runner* run = &g->run;
     pcg_vecs v = {0, 0, 0};
     const int K = o->check_every > 0 ? o->check_every : 10, max_it = o->max_iterations;
     /* residual0 from z, then the initial guess (sv[0], projected) */
     residual(g, &g->z, &g->rz);
-    const wg_tex* r0 = wg_reduce(run, &g->red_p[0], &g->rz, 0, 0, 0, 0);
+    const wg_sums r0 = sums_of(g, &g->red_p[0], &g->rz);
     residual(g, &g->sv[0], &g->r[0]);
-    update(g, &v, 1);
+    const wg_sums dots = update(g, &v, 1, g->n);
     /* keep residual0's reduction: red_p[0] is reused by the next reductions, so scalars read it now */
-    scalars(g, o, 0, r0, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+    scalars(g, o, 0, r0, dots, max_it);
     direction(g, &v, 1);
     float s0[4], s1[4], s2[4];
     wc_status st = WC_OK;
@@ -174,8 +233,8 @@ static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** ou
             }
             if (s1[2] >= (float)max_it) break;
             v.r = 1 - v.r;   /* r = the true residual */
-            update(g, &v, 1);
-            scalars(g, o, 3, NULL, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), max_it);
+            const wg_sums d = update(g, &v, 1, g->n);
+            scalars(g, o, 3, kNoSums, d, max_it);
             direction(g, &v, 1);
             rt = -1.0;
             continue;
@@ -221,10 +280,10 @@ static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
     pcg_vecs v = {0, 0, 0};
     WG_USE(run, WGP_LANCZOS_START, &(wg_lanczos_start_in){.S0 = &g->S0, .S1 = &g->S1});
     WG_RUN(run, g->n, &g->r[0]);
-    const wg_tex* rn = wg_reduce(run, &g->red_p[0], &g->r[0], 0, 0, 0, 0);   /* w: |g|^2 */
-    update(g, &v, 1);
+    const wg_sums rn = sums_of(g, &g->red_p[0], &g->r[0]);   /* w: |g|^2 */
+    const wg_sums dots = update(g, &v, 1, g->n);
     /* residual0 = |g|, tolerance 0: the GPU marks the steps done only when r vanishes */
-    scalars(g, &lo, 0, rn, wg_reduce(run, &g->red_p[1], &g->part, 0, 0, 0, 0), 1 << 20);
+    scalars(g, &lo, 0, rn, dots, 1 << 20);
     direction(g, &v, 1);
     float first[4];
     wg_read1(&g->layout, &g->sc[g->sc_cur][0], first);
@@ -323,6 +382,30 @@ static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev,
     *out = &g->sv[nxt];
     res->residual = rn / res->scale;
     return st;
+}
+
+void wg_solve_debug_dots(wg_sim* g, int rows, double out[3]) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_DINV, &(wg_dinv_in){.pblocks = &g->pblocks, .a_lo = &g->A0, .a_hi = &g->A1, .S0 = &g->S0,
+        .S1 = &g->S1});
+    WG_RUN(run, g->n, &g->D0, &g->D1);
+    wc_solver_opts o;
+    memset(&o, 0, sizeof o);
+    o.divergence_factor = 1e30;
+    const int amg = g->amg_on;
+    g->amg_on = 0;
+    float s0[4], s1[4], s2[4];
+    /* mode 0 reads residual0 = sqrt(sum) and (delta, rr) = dots: c.q first (compute passes keep
+       one set of partials at a time), then the update's pair */
+    scalars(g, &o, 0, spmv_dot(g, &g->c[0], rows), kNoSums, 1);
+    read_scalars(g, s0, s1, s2);
+    out[0] = (double)s2[0] * (double)s2[0];
+    pcg_vecs v = {0, 0, 0};
+    scalars(g, &o, 0, kNoSums, update(g, &v, 1, rows), 1);
+    read_scalars(g, s0, s1, s2);
+    out[1] = s0[0];
+    out[2] = s0[3];
+    g->amg_on = amg;
 }
 
 wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, const wg_tex* dv_in,

@@ -6,7 +6,8 @@
  * the distance between the two backends' positions after the frames (the error that comes with
  * the speed: 30 iterations of block-diagonal PCG are far from converged on fine sheets, and
  * with the step's checks off nothing rolls a bad step back), and the effective
- * bandwidth of the SpMV pass against a plain copy pass of the particle array.
+ * bandwidth of the SpMV pass against a plain copy pass of the particle array. With tolerance 0 it
+ * also counts the passes a PCG iteration queues (two more frames, at the cap and 10 past it).
  *
  *   [WEFT_GPU_PASSES=fragment|compute] bench_gpu [--sizes 32,100,316,1000] [--frames 5] [--iterations 30] [--tolerance 0] [--threads 0]
  *             [--skip-cpu] [--precond block_jacobi|amg]
@@ -138,8 +139,8 @@ int main(int argc, char** argv) {
            wg_gl_context_description(gl), dev->compute ? "compute shaders" : "fragment shaders", wc_precond_name(pc),
            iterations, tolerance, frames, threads, dev->has_timer ? "" : " (unavailable here)");
     printf("| particles | CPU ms/frame | GPU ms/frame | CPU/GPU | GPU forces | assemble | solve | collide+integrate | "
-           "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB | GPU passes/frame | it./frame CPU | GPU |\n"
-           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "residual CPU | residual GPU | max |x_gpu - x_cpu| (m) | GPU MiB | GPU passes/frame | it./frame CPU | GPU | GPU passes/iteration |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     double bw[MAX_SIZES][6];
     int bw_n[MAX_SIZES];
     for (int k = 0; k < n_sizes; ++k) {
@@ -179,13 +180,27 @@ int main(int argc, char** argv) {
         wg_sim_download(g, s, &d);
         double e = 0.0;
         for (int i = 0; i < 3 * m.n_particles && !skip_cpu; ++i) e = fmax(e, fabs(s->x[i] - c->x[i]));
+        /* passes a PCG iteration (fixed iterations only): a frame at the cap + 10 against one at the
+           cap, after the measured frames */
+        double per_it = NAN;
+        if (tolerance == 0.0) {
+            long long p[3] = {wg_sim_debug_passes(g), 0, 0};
+            for (int j = 1; j < 3; ++j) {
+                s->def.solver.max_iterations = iterations + 10 * (j - 1);
+                wg_sim_step_frame(g, s, 1.0 / 30.0, &st, &d);
+                p[j] = wg_sim_debug_passes(g);
+            }
+            s->def.solver.max_iterations = iterations;
+            per_it = (double)((p[2] - p[1]) - (p[1] - p[0])) / 10.0;
+        }
         double mc = skip_cpu ? NAN : wc_sort_median(tc, frames), mg = wc_sort_median(tg, frames);
-        printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2g | %.2g | %.2g | %.1f | %.0f | %.0f | %.0f |\n",
+        printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2g | %.2g | %.2g | %.1f | %.0f | %.0f | %.0f | %.1f |\n",
                m.n_particles, mc,
                mg, mc / mg, wc_sort_median(stage[0], frames), wc_sort_median(stage[1], frames),
                wc_sort_median(stage[2], frames), wc_sort_median(stage[3], frames), skip_cpu ? NAN : sc.residual,
                st.residual, skip_cpu ? NAN : e, (double)wg_sim_gpu_bytes(g) / (1024.0 * 1024.0),
-               wc_sort_median(passes, frames), skip_cpu ? NAN : wc_sort_median(itc, frames), wc_sort_median(itg, frames));
+               wc_sort_median(passes, frames), skip_cpu ? NAN : wc_sort_median(itc, frames), wc_sort_median(itg, frames),
+               per_it);
         fflush(stdout);
         bw_n[k] = m.n_particles;
         wg_sim_debug_bandwidth(g, 10, &bw[k][0], &bw[k][1], &bw[k][2], &bw[k][3]);

@@ -5,12 +5,17 @@
 // start + l, start + l + 4, ...: neighbouring invocations read neighbouring blocks (coalesced),
 // where one invocation a row reads blocks ~13 apart from its neighbours. The lanes' partial sums
 // meet in shared memory; lane 0 writes the texel. Texels past u_n (to the texture's end, u_texels)
-// are written as zeros, as every pass does.
+// are written as zeros, as every pass does. With u_partials (PCG: the first level of p.Ap folded
+// in), the group's sum of w over its 64 rows goes to texel tc(group) of image 1, as (0, 0, 0, sum),
+// which pcg_scalars_groups.glsl finishes.
 layout(local_size_x = 256, local_size_y = 1) in;
 #pragma weft include spmv_inputs
 uniform int u_texels;
+uniform int u_partials;
 layout(binding = 0) writeonly uniform image2D wg_img0;
+layout(binding = 1) writeonly uniform image2D wg_img1;
 shared vec3 part[256];
+shared float wsum[64];
 
 void main() {
     int t = int(gl_LocalInvocationID.x), lane = t & 3;
@@ -24,8 +29,8 @@ void main() {
     part[t] = y;
     memoryBarrierShared();
     barrier();
+    vec4 o = vec4(0.0);
     if (lane == 0 && i < u_texels) {
-        vec4 o = vec4(0.0);
         if (i < u_n) {
             y = (part[t] + part[t + 1]) + (part[t + 2] + part[t + 3]);
             if (u_filter != 0) {
@@ -36,5 +41,16 @@ void main() {
             }
         }
         imageStore(wg_img0, tc(i), o);
+    }
+    if (u_partials != 0) {   // a uniform: the whole group takes the barriers below, or none of it
+        if (lane == 0) wsum[t >> 2] = o.w;
+        memoryBarrierShared();
+        barrier();
+        for (int s = 32; s > 0; s >>= 1) {
+            if (t < s) wsum[t] += wsum[t + s];
+            memoryBarrierShared();
+            barrier();
+        }
+        if (t == 0) imageStore(wg_img1, tc(group), vec4(0.0, 0.0, 0.0, wsum[0]));
     }
 }
