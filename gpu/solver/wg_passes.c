@@ -84,6 +84,14 @@ static const wg_pass_input pcg_update[] = {
     IN(wg_pcg_update_in, dinv_lo), IN(wg_pcg_update_in, dinv_hi), IN(wg_pcg_update_in, scalars0),
     IN(wg_pcg_update_in, scalars1)};
 WHOLE(wg_pcg_update_in, pcg_update);
+#define UG(f) IN(wg_pcg_update_groups_in, f)
+static const wg_pass_input pcg_update_groups[] = {UG(dv),       UG(r),        UG(c),        UG(q),         UG(dinv_lo),
+                                                  UG(dinv_hi),  UG(scalars0), UG(scalars1), UG(scalars2), UG(sum)};
+WHOLE(wg_pcg_update_groups_in, pcg_update_groups);
+#define DG(f) IN(wg_pcg_direction_groups_in, f)
+static const wg_pass_input pcg_direction_groups[] = {DG(t),        DG(c),        DG(S0),       DG(S1),
+                                                     DG(scalars0), DG(scalars1), DG(scalars2), DG(dots)};
+WHOLE(wg_pcg_direction_groups_in, pcg_direction_groups);
 static const wg_pass_input pcg_direction[] = {
     IN(wg_pcg_direction_in, t), IN(wg_pcg_direction_in, c), IN(wg_pcg_direction_in, S0),
     IN(wg_pcg_direction_in, S1), IN(wg_pcg_direction_in, scalars0), IN(wg_pcg_direction_in, scalars1)};
@@ -232,8 +240,9 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_AIR_LUMP] = PASS("air_lump", air_lump, wg_air_lump_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
-    [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update, wg_pcg_update_in),
+    [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),
     [WGP_PCG_SCALARS_GROUPS] = NATIVE("pcg_scalars_groups", pcg_scalars, wg_pcg_scalars_in),
+    [WGP_PCG_DIRECTION_GROUPS] = NATIVE("pcg_direction_groups", pcg_direction_groups, wg_pcg_direction_groups_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),
     [WGP_AMG_DINV] = COMPUTE("amg_dinv", amg_dinv, wg_amg_in),
     [WGP_AMG_POWER] = COMPUTE("amg_power", amg_power, wg_amg_in),

@@ -31,9 +31,9 @@ typedef enum wg_pass_id {
     WGP_NEWTON_PHI_SPRINGS,
     /* BDF2 and TR-BDF2 (core/bdf2.h): the integrator's vectors, TR-BDF2's implicit air */
     WGP_INTEG_PREPARE, WGP_AIR_LUMP,
-    /* compute passes only: native compute shaders (*_groups.glsl); PCG's update and scalars with
-       their reductions' levels folded in (wg_solve.c) */
-    WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS,
+    /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
+       direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
+    WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
     WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,
@@ -163,22 +163,34 @@ typedef struct wg_spmv_in {     /* spmv.glsl and spmv_groups.glsl: q = A x, or S
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *S0, *S1;
 } wg_spmv_in;
 
-typedef struct wg_pcg_update_in {   /* pcg_update.glsl */
+typedef struct wg_pcg_update_in {   /* pcg_update.glsl: dv += alpha c, r -= alpha q, t = D~^-1 r */
     const wg_tex *dv, *r, *c, *q;
     const wg_tex *dinv_lo, *dinv_hi;     /* block Jacobi's D~^-1 (symmetric blocks) */
     const wg_tex *scalars0, *scalars1;   /* pcg_scalars.glsl's outputs 0 and 1 */
 } wg_pcg_update_in;
+
+typedef struct wg_pcg_update_groups_in {   /* pcg_update_groups.glsl: the update, alpha folded in */
+    const wg_tex *dv, *r, *c, *q, *dinv_lo, *dinv_hi, *scalars0, *scalars1;   /* as wg_pcg_update_in */
+    const wg_tex* scalars2;
+    const wg_tex* sum;          /* u_fold: the SpMV's per-group partials of c.q */
+} wg_pcg_update_groups_in;
 
 typedef struct wg_pcg_direction_in {    /* pcg_direction.glsl: c = S (t + beta c) */
     const wg_tex* t;            /* the preconditioned residual */
     const wg_tex *c, *S0, *S1, *scalars0, *scalars1;
 } wg_pcg_direction_in;
 
-typedef struct wg_pcg_scalars_in {  /* pcg_scalars.glsl: the scalars of the next step */
+typedef struct wg_pcg_scalars_in {  /* pcg_scalars(_groups).glsl: the scalars of the next step */
     const wg_tex *scalars0, *scalars1, *scalars2;
-    const wg_tex* sum;          /* a reduction whose w is the sum wanted (residual0^2, c.q) */
-    const wg_tex* dots;         /* a reduction whose xy are (delta, r.r) */
+    const wg_tex* sum;          /* a reduction (_groups: partials) whose w is the sum wanted (residual0^2, c.q) */
+    const wg_tex* dots;         /* a reduction (_groups: partials) whose xy are (delta, r.r) */
 } wg_pcg_scalars_in;
+
+typedef struct wg_pcg_direction_groups_in {   /* pcg_direction_groups.glsl: beta folded in */
+    const wg_tex *t, *c, *S0, *S1;             /* as wg_pcg_direction_in */
+    const wg_tex *scalars0, *scalars1, *scalars2;
+    const wg_tex* dots;         /* the update's per-group partials of (r.z, r.r) */
+} wg_pcg_direction_groups_in;
 
 typedef struct wg_jacobi_sweep_in { /* jacobi_sweep.glsl */
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1, *dinv_lo, *dinv_hi;

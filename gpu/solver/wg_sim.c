@@ -23,7 +23,8 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
     wg_tex* list[] = {&g->pin_map, &g->pin_from, &g->pin_target, &g->pin_axis, &g->x_bak, &g->v_bak, &g->dv_bak,
                       &g->S0, &g->S1, &g->z, &g->sf, &g->sw, &g->sj, &g->fair, &g->b, &g->ftot, &g->A0, &g->A1,
                       &g->D0, &g->D1, &g->sv[0], &g->sv[1], &g->sv[2], &g->r[0], &g->r[1], &g->c[0], &g->c[1],
-                      &g->t, &g->q, &g->part, &g->gpart, &g->rz, &g->lanczos, &g->chk_p, &g->chk_s, &g->corr, &g->nrm,
+                      &g->t, &g->q, &g->part, &g->gpart[0], &g->gpart[1], &g->rz, &g->lanczos, &g->chk_p, &g->chk_s,
+                      &g->corr, &g->nrm,
                       &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd,
                       &g->nw_d, &g->nw_fext, &g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom,
                       &g->air_lo, &g->air_hi};
@@ -221,9 +222,10 @@ static int create_scratch(wg_sim* g, char* err, size_t el) {
                     &g->r[0], &g->r[1], &g->c[0], &g->c[1], &g->t, &g->q, &g->part, &g->rz, &g->chk_p, &g->nrm};
     for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) TRY(wg_array_create(L, pv[k], GL_RGBA32F, n, NULL, err, el));
     TRY(wg_array_create(L, &g->D1, GL_RG32F, n, NULL, err, el));
-    if (g->dev->compute) {   /* a partial sum per SpMV work group (64 rows), the most any PCG pass writes */
+    if (g->dev->compute) {   /* a partial sum per work group: the SpMV's of 64 rows, the update's of 256 */
         long long texels = (long long)g->q.w * g->q.h;
-        TRY(wg_array_create(L, &g->gpart, GL_RGBA32F, (int)((texels + 63) / 64), NULL, err, el));
+        TRY(wg_array_create(L, &g->gpart[0], GL_RGBA32F, (int)((texels + 63) / 64), NULL, err, el));
+        TRY(wg_array_create(L, &g->gpart[1], GL_RGBA32F, (int)((texels + 255) / 256), NULL, err, el));
     }
     if (g->newton) {
         wg_tex* pn[] = {&g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd, &g->nw_d,

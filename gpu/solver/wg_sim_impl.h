@@ -70,7 +70,8 @@ struct wg_sim {
     wg_tex D0, D1;              /* preconditioner */
     wg_tex sv[3];               /* solver iterates */
     wg_tex r[2], c[2], t, q, part, rz;
-    wg_tex gpart;               /* compute passes: PCG's per-work-group partial sums (wg_solve.c) */
+    wg_tex gpart[2];            /* compute passes: PCG's per-work-group partial sums, the SpMV's and the
+                                   update's (wg_solve.c: the update reads the first as it writes the second) */
     wg_tex sc[2][3];            /* PCG scalars, ping-pong */
     int sc_cur;
     wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the

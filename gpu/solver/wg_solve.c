@@ -34,6 +34,20 @@ static int groups_of(const wg_sim* g, int per_texel) {
     return (int)((per_texel * texels + 255) / 256);
 }
 
+/* The most partials a pass finishes in every work group (a scalars step folded into the pass
+ * after it: each group reads them all, a few texels an invocation). */
+#define FOLD_MAX 1024
+
+/* pcg_scalars_rules.glsl's uniforms, on the program in use */
+static void rules_uniforms(wg_sim* g, const wc_solver_opts* o, int mode, int max_it) {
+    wg_runner* run = &g->run;
+    wg_u1i(run, "u_mode", mode);
+    wg_u1f(run, "u_tolerance", o->tolerance);
+    wg_u1f(run, "u_divergence", o->divergence_factor);
+    wg_u1f(run, "u_max_iterations", (double)max_it);
+    wg_u1f(run, "u_floor", g->residual_floor);
+}
+
 /* sc[cur] -> sc[other] (pcg_scalars_rules.glsl's mode; sum and dots: kNoSums where the mode reads
  * none). Compute passes: one work group that finishes both sums first (pcg_scalars_groups.glsl). */
 static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, wg_sums sum, wg_sums dots, int max_it) {
@@ -43,11 +57,7 @@ static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, wg_sums sum, w
     WG_USE(run, groups ? WGP_PCG_SCALARS_GROUPS : WGP_PCG_SCALARS, &(wg_pcg_scalars_in){.scalars0 = &g->sc[a][0],
         .scalars1 = &g->sc[a][1], .sum = sum.tex ? sum.tex : &g->sc[a][0], .dots = dots.tex ? dots.tex : &g->sc[a][0],
         .scalars2 = &g->sc[a][2]});
-    wg_u1i(run, "u_mode", mode);
-    wg_u1f(run, "u_tolerance", o->tolerance);
-    wg_u1f(run, "u_divergence", o->divergence_factor);
-    wg_u1f(run, "u_max_iterations", (double)max_it);
-    wg_u1f(run, "u_floor", g->residual_floor);
+    rules_uniforms(g, o, mode, max_it);
     if (groups) {
         wg_u1i(run, "u_sum_n", sum.count);
         wg_u1i(run, "u_dots_n", dots.count);
@@ -77,7 +87,7 @@ static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
 }
 
 /* q = A x over rows [0, rows) (g->n but in a test); with filter, q = S (A x) and its w = x.q. With
- * partials (compute passes only): also the sums of w per work group into gpart. Returns the
+ * partials (compute passes only): also the sums of w per work group into gpart[0]. Returns the
  * work groups run (0 for a fragment pass). */
 static int spmv_rows(wg_sim* g, const wg_tex* x, int filter, int rows, int partials) {
     wg_runner* run = &g->run;
@@ -92,7 +102,7 @@ static int spmv_rows(wg_sim* g, const wg_tex* x, int filter, int rows, int parti
     const int groups = groups_of(g, 4);
     wg_u1i(run, "u_texels", g->q.w * g->q.h);
     wg_u1i(run, "u_partials", partials);
-    if (partials) WG_RUN_GROUPS(run, rows, groups, &g->q, &g->gpart);
+    if (partials) WG_RUN_GROUPS(run, rows, groups, &g->q, &g->gpart[0]);
     else WG_RUN_GROUPS(run, rows, groups, &g->q);
     return groups;
 }
@@ -106,34 +116,57 @@ static wg_sums spmv_dot(wg_sim* g, const wg_tex* c, int rows) {
         spmv_rows(g, c, 1, rows, 0);
         return sums_of(g, &g->red_p[0], &g->q);
     }
-    return (wg_sums){&g->gpart, spmv_rows(g, c, 1, rows, 1)};
+    return (wg_sums){&g->gpart[0], spmv_rows(g, c, 1, rows, 1)};
 }
 
 typedef struct pcg_vecs {
     int dv, r, c;   /* indices into g->sv (0/1), g->r, g->c */
 } pcg_vecs;
 
+/* Block Jacobi's update on compute passes (pcg_update_groups.glsl): dv, r, t and the partials of
+ * (r.t, r.r) in one pass; with alpha (o, max_it), also alpha's scalars step (mode 1, from the
+ * SpMV's partials cq) before the update, in every work group. */
+static wg_sums update_groups(wg_sim* g, pcg_vecs* v, int first, int rows, const wc_solver_opts* alpha, wg_sums cq,
+                             int max_it) {
+    wg_runner* run = &g->run;
+    const int a = g->sc_cur, b = 1 - a;
+    WG_USE(run, WGP_PCG_UPDATE_GROUPS, &(wg_pcg_update_groups_in){.dv = &g->sv[v->dv], .r = &g->r[v->r],
+        .c = &g->c[v->c], .q = &g->q, .dinv_lo = &g->D0, .dinv_hi = &g->D1, .scalars0 = &g->sc[a][0],
+        .scalars1 = &g->sc[a][1], .scalars2 = &g->sc[a][2], .sum = alpha ? cq.tex : &g->sc[a][0]});
+    wg_u1i(run, "u_first", first);
+    wg_u1i(run, "u_jacobi", 1);
+    wg_u1i(run, "u_fold", alpha != NULL);
+    wg_u1i(run, "u_sum_n", alpha ? cq.count : 0);
+    wg_u1i(run, "u_texels", g->q.w * g->q.h);
+    if (alpha) rules_uniforms(g, alpha, 1, max_it);
+    const wg_tex *dv = &g->sv[1 - v->dv], *r = &g->r[1 - v->r];
+    v->dv = 1 - v->dv;
+    v->r = 1 - v->r;
+    const int k = groups_of(g, 1);
+    if (alpha) {
+        WG_RUN_GROUPS(run, rows, k, dv, r, &g->t, &g->gpart[1], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+        g->sc_cur = b;
+    } else {
+        WG_RUN_GROUPS(run, rows, k, dv, r, &g->t, &g->gpart[1]);
+    }
+    return (wg_sums){&g->gpart[1], k};
+}
+
 /* dv += alpha c, r -= alpha q, z = M^-1 r over rows [0, rows), and the sums (r.z, r.r) for
  * scalars(). Block Jacobi on compute passes: one pass with the sums' first level folded in
- * (pcg_update_groups.glsl); fragment passes reduce the update's partial products; the multigrid
- * gives z and the products itself. */
+ * (update_groups); fragment passes reduce the update's partial products; the multigrid gives z
+ * and the products itself. */
 static wg_sums update(wg_sim* g, pcg_vecs* v, int first, int rows) {
     wg_runner* run = &g->run;
-    const int groups = g->dev->compute && !g->amg_on;
-    WG_USE(run, groups ? WGP_PCG_UPDATE_GROUPS : WGP_PCG_UPDATE, &(wg_pcg_update_in){.dv = &g->sv[v->dv],
-        .r = &g->r[v->r], .c = &g->c[v->c], .q = &g->q, .dinv_lo = &g->D0, .dinv_hi = &g->D1,
-        .scalars0 = &g->sc[g->sc_cur][0], .scalars1 = &g->sc[g->sc_cur][1]});
+    if (g->dev->compute && !g->amg_on) return update_groups(g, v, first, rows, NULL, kNoSums, 0);
+    WG_USE(run, WGP_PCG_UPDATE, &(wg_pcg_update_in){.dv = &g->sv[v->dv], .r = &g->r[v->r], .c = &g->c[v->c],
+        .q = &g->q, .dinv_lo = &g->D0, .dinv_hi = &g->D1, .scalars0 = &g->sc[g->sc_cur][0],
+        .scalars1 = &g->sc[g->sc_cur][1]});
     wg_u1i(run, "u_first", first);
     wg_u1i(run, "u_jacobi", !g->amg_on);
     const wg_tex *dv = &g->sv[1 - v->dv], *r = &g->r[1 - v->r];
     v->dv = 1 - v->dv;
     v->r = 1 - v->r;
-    if (groups) {
-        const int k = groups_of(g, 1);
-        wg_u1i(run, "u_texels", g->q.w * g->q.h);
-        WG_RUN_GROUPS(run, rows, k, dv, r, &g->t, &g->gpart);
-        return (wg_sums){&g->gpart, k};
-    }
     if (!g->amg_on) {
         WG_RUN(run, rows, dv, r, &g->t, &g->part);
         return sums_of(g, &g->red_p[1], &g->part);
@@ -153,13 +186,42 @@ static void direction(wg_sim* g, pcg_vecs* v, int first) {
     v->c = 1 - v->c;
 }
 
-/* One PCG iteration, queued: with block Jacobi on compute passes five passes (SpMV with c.q's
- * partials, alpha, update with (r.z, r.r)'s partials, beta, direction). */
+/* The next direction with beta's scalars step (mode 2, from the update's partials) folded in
+ * (pcg_direction_groups.glsl). */
+static void direction_groups(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, wg_sums dots, int max_it) {
+    wg_runner* run = &g->run;
+    const int a = g->sc_cur, b = 1 - a;
+    WG_USE(run, WGP_PCG_DIRECTION_GROUPS, &(wg_pcg_direction_groups_in){.t = g->amg_on ? g->amg->z : &g->t,
+        .c = &g->c[v->c], .S0 = &g->S0, .S1 = &g->S1, .scalars0 = &g->sc[a][0], .scalars1 = &g->sc[a][1],
+        .scalars2 = &g->sc[a][2], .dots = dots.tex});
+    rules_uniforms(g, o, 2, max_it);
+    wg_u1i(run, "u_dots_n", dots.count);
+    wg_u1i(run, "u_texels", g->q.w * g->q.h);
+    WG_RUN_GROUPS(run, g->n, groups_of(g, 1), &g->c[1 - v->c], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2]);
+    g->sc_cur = b;
+    v->c = 1 - v->c;
+}
+
+/* One PCG iteration, queued. Compute passes fold each sum's first level into the pass that makes
+ * its input, and each scalars step into the pass after it where that pass can finish the sum in
+ * every work group (at most FOLD_MAX partials): block Jacobi then takes 3 passes (SpMV, update,
+ * direction) up to 65,536 particles, 4 up to 262,144 and 5 beyond; fragment passes 7 or more. */
 static void pcg_iteration(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, int max_it) {
-    scalars(g, o, 1, spmv_dot(g, &g->c[v->c], g->n), kNoSums, max_it);
-    wg_sums dots = update(g, v, 0, g->n);
-    scalars(g, o, 2, kNoSums, dots, max_it);
-    direction(g, v, 0);
+    const wg_sums cq = spmv_dot(g, &g->c[v->c], g->n);
+    const int fold = g->dev->compute;
+    wg_sums dots;
+    if (fold && !g->amg_on && cq.count <= FOLD_MAX) {
+        dots = update_groups(g, v, 0, g->n, o, cq, max_it);
+    } else {
+        scalars(g, o, 1, cq, kNoSums, max_it);
+        dots = update(g, v, 0, g->n);
+    }
+    if (fold && dots.count <= FOLD_MAX) {
+        direction_groups(g, o, v, dots, max_it);
+    } else {
+        scalars(g, o, 2, kNoSums, dots, max_it);
+        direction(g, v, 0);
+    }
 }
 
 static void read_scalars(wg_sim* g, float s0[4], float s1[4], float s2[4]) {

@@ -11,7 +11,7 @@ void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); o3 = vec4(0.0); return; }
     vec3 dvi, ri, t;
-    pcg_update_row(i, dvi, ri, t);
+    pcg_update_row(i, pcg_alpha(texelFetch(scalars0, ivec2(0), 0), texelFetch(scalars1, ivec2(0), 0)), dvi, ri, t);
     o0 = vec4(dvi, 0.0);
     o1 = vec4(ri, 0.0);
     o2 = vec4(t, 0.0);
