@@ -4,12 +4,13 @@
 // end u_texels), and the group's sums (r.t, r.r) at texel tc(group) of image 3, which the next
 // scalars step finishes. The block-Jacobi z = D~^-1 r is applied in the same pass.
 // With u_fold, the scalars step before it (alpha, pcg_scalars_rules.glsl's mode 1) is folded in
-// too: every group finishes the SpMV's u_sum_n partials of c.q (in pcg_scalars_groups.glsl's
+// too: every group finishes the SpMV's u_sum_n partials of c.q (group_sum.glsl: in one fixed
 // order, so every group gets the same sum) and applies the rules; group 0 writes the scalars
 // (images 4..6).
 layout(local_size_x = 256, local_size_y = 1) in;
 #pragma weft include pcg_update_row
 #pragma weft include pcg_scalars_rules
+#pragma weft include group_sum
 uniform sampler2D scalars2;
 uniform sampler2D sum;      // u_fold: the SpMV's partials, w summing to c.q
 uniform int u_fold;
@@ -22,7 +23,6 @@ layout(binding = 3) writeonly uniform image2D wg_img3;
 layout(binding = 4) writeonly uniform image2D wg_img4;
 layout(binding = 5) writeonly uniform image2D wg_img5;
 layout(binding = 6) writeonly uniform image2D wg_img6;
-shared vec2 part[256];
 
 void main() {
     int t = int(gl_LocalInvocationID.x);
@@ -30,24 +30,13 @@ void main() {
     int i = 256 * group + t;
     vec4 s0 = texelFetch(scalars0, ivec2(0), 0), s1 = texelFetch(scalars1, ivec2(0), 0);
     if (u_fold != 0) {   // a uniform: the whole group takes the barriers, or none of it
-        float acc = 0.0;
-        for (int k = t; k < u_sum_n; k += 256) acc += ld(sum, k).w;
-        part[t] = vec2(acc, 0.0);
-        memoryBarrierShared();
-        barrier();
-        for (int s = 128; s > 0; s >>= 1) {   // the group's sum into part[0]
-            if (t < s) part[t] += part[t + s];
-            memoryBarrierShared();
-            barrier();
-        }
         vec4 s2 = texelFetch(scalars2, ivec2(0), 0);
-        pcg_scalars_rules(s0, s1, s2, part[0].x, vec2(0.0));
+        pcg_scalars_rules(s0, s1, s2, partials_sum(sum, u_sum_n).w, vec2(0.0));
         if (group == 0 && t == 0) {
             imageStore(wg_img4, ivec2(0), s0);
             imageStore(wg_img5, ivec2(0), s1);
             imageStore(wg_img6, ivec2(0), s2);
         }
-        barrier();   // part[0] read by all before the products below reuse it
     }
     vec3 dvi = vec3(0.0), ri = vec3(0.0), z = vec3(0.0);
     if (i < u_n) pcg_update_row(i, pcg_alpha(s0, s1), dvi, ri, z);
@@ -56,13 +45,6 @@ void main() {
         imageStore(wg_img1, tc(i), vec4(ri, 0.0));
         imageStore(wg_img2, tc(i), vec4(z, 0.0));
     }
-    part[t] = vec2(dot(ri, z), dot(ri, ri));
-    memoryBarrierShared();
-    barrier();
-    for (int s = 128; s > 0; s >>= 1) {   // the group's sum into part[0]
-        if (t < s) part[t] += part[t + s];
-        memoryBarrierShared();
-        barrier();
-    }
-    if (t == 0) imageStore(wg_img3, tc(group), vec4(part[0], 0.0, 0.0));
+    vec4 psum = group_sum(vec4(dot(ri, z), dot(ri, ri), 0.0, 0.0));
+    if (t == 0) imageStore(wg_img3, tc(group), psum);
 }

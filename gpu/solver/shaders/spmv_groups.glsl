@@ -10,12 +10,12 @@
 // which pcg_scalars_groups.glsl finishes.
 layout(local_size_x = 256, local_size_y = 1) in;
 #pragma weft include spmv_inputs
+#pragma weft include group_sum
 uniform int u_texels;
 uniform int u_partials;
 layout(binding = 0) writeonly uniform image2D wg_img0;
 layout(binding = 1) writeonly uniform image2D wg_img1;
 shared vec3 part[256];
-shared float wsum[64];
 
 void main() {
     int t = int(gl_LocalInvocationID.x), lane = t & 3;
@@ -43,14 +43,7 @@ void main() {
         imageStore(wg_img0, tc(i), o);
     }
     if (u_partials != 0) {   // a uniform: the whole group takes the barriers below, or none of it
-        if (lane == 0) wsum[t >> 2] = o.w;
-        memoryBarrierShared();
-        barrier();
-        for (int s = 32; s > 0; s >>= 1) {
-            if (t < s) wsum[t] += wsum[t + s];
-            memoryBarrierShared();
-            barrier();
-        }
-        if (t == 0) imageStore(wg_img1, tc(group), vec4(0.0, 0.0, 0.0, wsum[0]));
+        vec4 psum = group_sum(vec4(0.0, 0.0, 0.0, o.w));   // o is zero but in lane 0 of a row
+        if (t == 0) imageStore(wg_img1, tc(group), psum);
     }
 }
