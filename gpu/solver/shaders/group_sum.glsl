@@ -2,21 +2,26 @@
 // sum, not a pass). Every invocation of the group calls them, in uniform control flow (they take
 // barriers), and gets the same result, added in one fixed order.
 shared vec4 wg_group_part[256];
+shared vec4 wg_group_part16[16];
 
-// the group's sum of every invocation's v (a shared-memory tree)
+// the group's sum of every invocation's v: 16 runs of 16 summed by 16 invocations, then the 16
+// sums by every invocation (two barriers, where a tree takes nine: a barrier is costly on a CPU
+// driver such as llvmpipe)
 vec4 group_sum(vec4 v) {
     int t = int(gl_LocalInvocationIndex);
     wg_group_part[t] = v;
     memoryBarrierShared();
     barrier();
-    for (int s = 128; s > 0; s >>= 1) {
-        if (t < s) wg_group_part[t] += wg_group_part[t + s];
-        memoryBarrierShared();
-        barrier();
+    if (t < 16) {
+        vec4 run = vec4(0.0);
+        for (int k = 0; k < 16; ++k) run += wg_group_part[16 * t + k];
+        wg_group_part16[t] = run;
     }
-    vec4 sum = wg_group_part[0];
-    barrier();   // read by every invocation before a next call writes the array
-    return sum;
+    memoryBarrierShared();
+    barrier();
+    vec4 sum = vec4(0.0);
+    for (int k = 0; k < 16; ++k) sum += wg_group_part16[k];
+    return sum;   // a next call writes wg_group_part16 only after its first barrier, when all have read it
 }
 
 // the sum of texels tc(0) .. tc(n - 1) of src (per-group partials): strided runs, then the tree
