@@ -347,7 +347,7 @@ static void test_pcg_dots_and_iterates(void) {
         printf("  PCG capped at %2d: iterations GPU %d CPU %d, residual GPU %.4g CPU %.4g, iterates %.2g apart\n", caps[k],
                rg.iterations, rc.iterations, rg.residual, rc.residual, e);
         CHECK(rg.iterations == rc.iterations);
-        /* float's rounding grows with the iterations (2.3e-7, 2.9e-6, 9.6e-5 here) */
+        /* float's rounding grows with the iterations (5.1e-8, 2.9e-6, 9.7e-5 here) */
         CHECK(e <= 2e-5 * caps[k]);
         CHECK(fabs(rg.residual - rc.residual) <= 1e-3 * rc.residual);
         wc_solver_destroy(cpu);

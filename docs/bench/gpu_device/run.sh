@@ -1,14 +1,16 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
 # amg: the GPU's multigrid against block Jacobi (its test, converged steps, the scenes, peers);
 # newton: sewing, Newton, the line search, BDF2 and TR-BDF2 on the GPU (their tests, the hanging
 # sheet's rollbacks at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments
-# batched / unbatched).
+# batched / unbatched); passes: PCG's folded passes (docs/bench/gpu.md, "Fewer passes"): the
+# solver test, passes a frame and a PCG iteration with ms a step on both kinds of passes, the
+# multigrid's converged steps, the scenes: ~4 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -56,6 +58,21 @@ if [ "$MODE" = newton ]; then   # sewing, Newton, line search, BDF2 / TR-BDF2 an
       done
     done
     timeout 240 build-dev/weft bench crowd --backend gpu --frames 10 2>&1 | tail -20; } 2>&1 | tee "$O/h_newton_crowd.md"
+  exit 0
+fi
+if [ "$MODE" = passes ]; then   # PCG's folded passes: counts and ms a step, the fused sums' test
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    timeout 90 build-dev/tests/test_gpu_solver > /tmp/ts.txt 2>&1; echo "test_gpu_solver rc=$?"
+    grep -E "rows:|capped at|FAIL" /tmp/ts.txt
+    for passes in compute fragment; do
+      WEFT_GPU_PASSES=$passes timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 5 --skip-cpu 2>&1
+    done
+    timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1
+    M="--backend gpu --precond block_jacobi --integrator be --newton 1 --line-search off --threads 1"
+    for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
+      timeout 30 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json $M > /dev/null 2>&1 &&
+      python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | %.2f | %s | %.1f | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('rollbacks')))"
+    done; } 2>&1 | tee "$O/p_passes.md"
   exit 0
 fi
 if [ "$MODE" = quick ]; then   # what fits the last minutes of a lease: the default passes only
