@@ -5,8 +5,8 @@ shared vec4 wg_group_part[256];
 shared vec4 wg_group_part16[16];
 
 // the group's sum of every invocation's v: 16 runs of 16 summed by 16 invocations, then the 16
-// sums by every invocation (two barriers, where a tree takes nine: a barrier is costly on a CPU
-// driver such as llvmpipe)
+// sums by every invocation (two barriers, where a tree takes nine; a CPU driver such as llvmpipe
+// runs the group's invocations as coroutines that switch at each barrier)
 vec4 group_sum(vec4 v) {
     int t = int(gl_LocalInvocationIndex);
     wg_group_part[t] = v;
@@ -24,7 +24,7 @@ vec4 group_sum(vec4 v) {
     return sum;   // a next call writes wg_group_part16 only after its first barrier, when all have read it
 }
 
-// the sum of texels tc(0) .. tc(n - 1) of src (per-group partials): strided runs, then the tree
+// the sum of texels tc(0) .. tc(n - 1) of src (per-group partials): strided runs, then group_sum
 vec4 partials_sum(sampler2D src, int n) {
     vec4 acc = vec4(0.0);
     for (int k = int(gl_LocalInvocationIndex); k < n; k += 256) acc += ld(src, k);
