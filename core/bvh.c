@@ -3,27 +3,6 @@
 #include <math.h>
 #include <string.h>
 
-void wc_box_empty(double* box) {
-    for (int k = 0; k < 3; ++k) {
-        box[k] = INFINITY;
-        box[3 + k] = -INFINITY;
-    }
-}
-
-void wc_box_add(double* box, const double* p) {
-    for (int k = 0; k < 3; ++k) {
-        if (p[k] < box[k]) box[k] = p[k];
-        if (p[k] > box[3 + k]) box[3 + k] = p[k];
-    }
-}
-
-void wc_box_inflate(double* box, double r) {
-    for (int k = 0; k < 3; ++k) {
-        box[k] -= r;
-        box[3 + k] += r;
-    }
-}
-
 static void box_union(double* o, const double* a, const double* b) {
     for (int k = 0; k < 3; ++k) {
         o[k] = a[k] < b[k] ? a[k] : b[k];

@@ -6,6 +6,7 @@
  * it deforms far from the build shape). Queries are read-only and may run on many threads. */
 #ifndef WEFT_CORE_BVH_H
 #define WEFT_CORE_BVH_H
+#include <math.h>
 #include "alloc.h"
 #include "diag.h"
 
@@ -43,10 +44,26 @@ int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const
  * the OR of its children's, so a node is 1 when a primitive under it is. */
 void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);
 
-/* Box helpers: an empty box (min +inf, max -inf), growing one by a point, inflating by r. */
-void wc_box_empty(double* box);
-void wc_box_add(double* box, const double* p);
-void wc_box_inflate(double* box, double r);
+/* Box helpers: an empty box (min +inf, max -inf), growing one by a point, inflating by r (inline:
+ * the self-collision trees' boxes are recomputed several times a substep). */
+static inline void wc_box_empty(double* box) {
+    for (int k = 0; k < 3; ++k) {
+        box[k] = INFINITY;
+        box[3 + k] = -INFINITY;
+    }
+}
+static inline void wc_box_add(double* box, const double* p) {
+    for (int k = 0; k < 3; ++k) {
+        if (p[k] < box[k]) box[k] = p[k];
+        if (p[k] > box[3 + k]) box[3 + k] = p[k];
+    }
+}
+static inline void wc_box_inflate(double* box, double r) {
+    for (int k = 0; k < 3; ++k) {
+        box[k] -= r;
+        box[3 + k] += r;
+    }
+}
 /* Squared distance from p to the box (0 inside). */
 static inline double wc_box_dist2(const double* box, const double* p) {
     double s = 0.0;
