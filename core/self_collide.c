@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "self_near.h"
 #include "self_pass.h"
 #include "union_find.h"
 
@@ -83,6 +84,7 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->tangled);
     wc_free(&a, sc->seam_start);
     wc_free(&a, sc->seam_nbr);
+    wc_self_near_free(sc);
     wc_free(&a, sc);
 }
 
@@ -125,7 +127,7 @@ wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, con
         wc_self_destroy(sc);
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
-    if (wc_self_seam_links(m, &A, &sc->seam_start, &sc->seam_nbr) != WC_OK) {
+    if (wc_self_near_alloc(sc) != WC_OK || wc_self_seam_links(m, &A, &sc->seam_start, &sc->seam_nbr) != WC_OK) {
         wc_self_destroy(sc);
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }

@@ -42,6 +42,16 @@ typedef struct wc_self {
     unsigned char* tangled; /* (n) 1: the particle belongs to an edge-triangle pair that crosses in
                            the rest shape; pairs made only of such particles are skipped */
     int tangled_pairs;  /* those crossing pairs (0 for a mesh that starts untangled) */
+    /* the queries' kept candidates (self_near.h): */
+    double* near_anchor; /* (n x 6) each particle's box of its positions at the last gathering */
+    int* near_cand;     /* ((n + n_edges) x WC_SELF_NEAR_CAP) each query's candidates, leaf order */
+    int* near_count;    /* (n + n_edges) how many; -1: more than the cap (the query walks the tree) */
+    double* near_ahead; /* (n x 3) scratch: where the anchors reach ahead to */
+    double near_gap;    /* m: the bound's gap (self_near.h) */
+    int near_gathers;   /* gatherings so far (a count for tests and measurements) */
+    int near_kept;      /* 1: lists gathered */
+    int near_use;       /* 1: the current phase's queries go through the lists */
+    int near_off;       /* tests: 1 = no lists (every query walks the trees) */
     wc_allocator alloc;
 } wc_self;
 

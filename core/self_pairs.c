@@ -23,6 +23,7 @@
 #include "model.h"
 #include "par.h"
 #include "self_collide.h"
+#include "self_near.h"
 #include "vec3.h"
 
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
@@ -151,12 +152,12 @@ static void find_query(find_ctx* c, int q) {
     if (q < n) {
         wc_self_swept_box(b, &q, 1, c->x, c->sp->x_pred, 0.0);
         c->query = q;
-        wc_bvh_query(&sc->tri_bvh, b, visit_tri, c);
+        wc_self_near_tris(sc, q, b, NULL, visit_tri, c);
     } else {
         int e = q - n;
         wc_self_swept_box(b, sc->edges + 2 * e, 2, c->x, c->sp->x_pred, 0.0);
         c->query = e;
-        wc_self_edges_above(sc, e, b, visit_edge, c);
+        wc_self_near_edges(sc, e, b, NULL, visit_edge, c);
     }
 }
 
@@ -174,6 +175,7 @@ int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const 
         for (int k = lo; k < hi; ++k) xp[k] = x[k] + 1.5 * h * v[k];
     }
     wc_self_refit(sc, m, x, xp, sc->thickness);
+    wc_self_near_prepare(sc, m, x, xp, sc->thickness);
     int total;
     if (sc->threads <= 1) {
         find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};

@@ -4,6 +4,7 @@
 #include "geom.h"
 #include "par.h"
 #include "self_broad.h"
+#include "self_near.h"
 #include "union_find.h"
 #include "vec3.h"
 
@@ -303,14 +304,14 @@ static int query(pass_ctx* c, int q) {
         wc_self_swept_box(b, &q, 1, sc->x_start, c->x, 0.0);
         c->query = q;
         const unsigned char* mask = dirty && !dirty[q] ? sc->tri_mask : NULL;
-        return wc_bvh_query_masked(&sc->tri_bvh, b, mask, visit_tri, c) != 0;
+        return wc_self_near_tris(sc, q, b, mask, visit_tri, c) != 0;
     }
     /* the edge's own box (not inflated twice: the tree's boxes carry r) */
     const int* ev = sc->edges + 2 * (q - sc->n);
     wc_self_swept_box(b, ev, 2, sc->x_start, c->x, 0.0);
     c->query = q - sc->n;
     const unsigned char* mask = dirty && !dirty[ev[0]] && !dirty[ev[1]] ? sc->edge_mask : NULL;
-    return wc_self_edges_above_masked(sc, q - sc->n, b, mask, visit_edge_above, c) != 0;
+    return wc_self_near_edges(sc, q - sc->n, b, mask, visit_edge_above, c) != 0;
 }
 
 /* The trees' masks: a leaf is dirty when one of its element's particles is (dirty[]), a node when
@@ -336,6 +337,7 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
     int nq = sc->n + sc->n_edges;
     /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
     wc_self_refit(sc, m, sc->x_start, x, r);
+    wc_self_near_prepare(sc, m, sc->x_start, x, r);
     if (dirty) mark_dirty(sc, m, dirty);
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
