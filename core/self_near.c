@@ -53,7 +53,7 @@ int wc_self_near_covers(const wc_self* sc, const double* x0, const double* x1, d
 typedef struct gather_ctx {
     const wc_self* sc;
     const wc_model* m;
-    int query;      /* vertex, or the first particle pair of the edge */
+    int query;      /* vertex queries: the vertex */
     int a, b;       /* edge queries: the edge's particles */
     int* out;       /* the query's WC_SELF_NEAR_CAP slots */
     int count;

@@ -253,7 +253,7 @@ static void test_lists_vs_trees(void) {
     }
     printf("  %lld queries, %lld visits; the lists kept over %d motions, gathered again for %d\n", ct.queries,
            ct.visits, kept, gathered);
-    CHECK(ct.visits > 10 * ct.queries / 10); /* the queries had candidates */
+    CHECK(ct.visits > ct.queries); /* the queries had candidates */
     CHECK(kept >= 9);
     CHECK(gathered >= 9);
 }
