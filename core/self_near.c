@@ -131,14 +131,35 @@ static void gather(wc_self* sc, const wc_model* m, const double* x0, const doubl
     wc_self_refit(sc, m, x0, x1, r);   /* the phase's boxes again */
 }
 
-void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
+void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
+                          int may_gather) {
     sc->near_use = 0;
     if (sc->near_off) return;
-    if (!wc_self_near_covers(sc, x0, x1, r)) {
-        gather(sc, m, x0, x1, r);
-        if (!wc_self_near_covers(sc, x0, x1, r)) return;   /* non-finite positions */
+    if (wc_self_near_covers(sc, x0, x1, r)) {
+        sc->near_use = 1;
+        ++sc->near_served;
+        return;
     }
+    if (!may_gather) return;
+    if (sc->near_wait > 0) {
+        --sc->near_wait;
+        return;
+    }
+    if (sc->near_kept && sc->near_served <= 1 && !sc->near_waited) {
+        /* the last lists served only the phase that gathered them: wait (2, 4, ... 32 phases)
+           before gathering again */
+        sc->near_backoff = sc->near_backoff ? (sc->near_backoff < 32 ? 2 * sc->near_backoff : 32) : 2;
+        sc->near_wait = sc->near_backoff - 1;
+        sc->near_waited = 1;
+        return;
+    }
+    if (sc->near_served > 1) sc->near_backoff = 0;
+    gather(sc, m, x0, x1, r);
+    sc->near_served = 0;
+    sc->near_waited = 0;
+    if (!wc_self_near_covers(sc, x0, x1, r)) return;   /* non-finite positions */
     sc->near_use = 1;
+    sc->near_served = 1;
 }
 
 /* The kept list of query q in the trees' leaf order: the leaf test of wc_bvh_query_masked (mask,

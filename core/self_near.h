@@ -43,10 +43,14 @@ wc_status wc_self_near_alloc(wc_self* sc);
 void wc_self_near_free(wc_self* sc);
 
 /* Before a phase's queries, with the trees just refitted over the boxes of x0 U x1 (n x 3 each)
- * inflated by r <= thickness (wc_self_refit): keep the lists when the bound above covers x0, x1
- * and r, else gather them again at x0, x1 (on sc->threads threads). With sc->near_off the
- * queries walk the trees. */
-void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
+ * inflated by r <= thickness (wc_self_refit): use the lists when the bound above covers x0, x1
+ * and r; else, when may_gather (a phase that visits every query: the in-solve pairs' detection,
+ * the stage's first pass), gather them again at x0, x1 (on sc->threads threads), unless the
+ * last lists served only the phase that gathered them (motion faster than the margin): then the
+ * next 2, 4, ... 32 such phases walk the trees before gathering again. Otherwise the phase's
+ * queries walk the trees. With sc->near_off they always do. */
+void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
+                          int may_gather);
 
 /* 1 when the lists gathered cover positions x0, x1 and boxes inflated by r (the bound above). */
 int wc_self_near_covers(const wc_self* sc, const double* x0, const double* x1, double r);

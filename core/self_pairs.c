@@ -175,7 +175,7 @@ int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const 
         for (int k = lo; k < hi; ++k) xp[k] = x[k] + 1.5 * h * v[k];
     }
     wc_self_refit(sc, m, x, xp, sc->thickness);
-    wc_self_near_prepare(sc, m, x, xp, sc->thickness);
+    wc_self_near_prepare(sc, m, x, xp, sc->thickness, 1);
     int total;
     if (sc->threads <= 1) {
         find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};

@@ -83,7 +83,9 @@ typedef struct counts {
  * trees, compared; and against brute force. */
 static void compare_queries(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r, counts* ct) {
     wc_self_refit(sc, m, x0, x1, r);
-    wc_self_near_prepare(sc, m, x0, x1, r);
+    sc->near_wait = 0;
+    sc->near_waited = 1; /* gather whenever the lists do not cover (no waiting after a short-lived list) */
+    wc_self_near_prepare(sc, m, x0, x1, r, 1);
     CHECK_EQ_INT(sc->near_use, 1);
     static rec a, b;
     unsigned char* tmask = malloc((size_t)sc->tri_bvh.n_nodes + 1);
