@@ -50,7 +50,8 @@ typedef struct wc_self {
     double near_gap;    /* m: the bound's gap (self_near.h) */
     int near_gathers;   /* gatherings so far (a count for tests and measurements) */
     int near_kept;      /* 1: lists gathered */
-    int near_served;    /* phases the current lists served (the gathering one included) */
+    int near_served;    /* full phases (self_near.h) the current lists served, the gathering one
+                           included */
     int near_wait, near_backoff, near_waited; /* phases to walk the trees before gathering again,
                            that wait's length, 1 right after one (self_near.c) */
     int near_use;       /* 1: the current phase's queries go through the lists */

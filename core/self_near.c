@@ -137,7 +137,7 @@ void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, cons
     if (sc->near_off) return;
     if (wc_self_near_covers(sc, x0, x1, r)) {
         sc->near_use = 1;
-        ++sc->near_served;
+        sc->near_served += may_gather;
         return;
     }
     if (!may_gather) return;
@@ -145,15 +145,16 @@ void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, cons
         --sc->near_wait;
         return;
     }
-    if (sc->near_kept && sc->near_served <= 1 && !sc->near_waited) {
-        /* the last lists served only the phase that gathered them: wait (2, 4, ... 32 phases)
-           before gathering again */
+    if (sc->near_kept && sc->near_served <= 2 && !sc->near_waited) {
+        /* the last lists served at most one full phase after the one that gathered them, less
+           than a gathering costs (its walks use boxes grown by the margin): wait (2, 4, ... 32
+           full phases) before gathering again */
         sc->near_backoff = sc->near_backoff ? (sc->near_backoff < 32 ? 2 * sc->near_backoff : 32) : 2;
         sc->near_wait = sc->near_backoff - 1;
         sc->near_waited = 1;
         return;
     }
-    if (sc->near_served > 1) sc->near_backoff = 0;
+    if (sc->near_served > 2) sc->near_backoff = 0;
     gather(sc, m, x0, x1, r);
     sc->near_served = 0;
     sc->near_waited = 0;

@@ -46,9 +46,10 @@ void wc_self_near_free(wc_self* sc);
  * inflated by r <= thickness (wc_self_refit): use the lists when the bound above covers x0, x1
  * and r; else, when may_gather (a phase that visits every query: the in-solve pairs' detection,
  * the stage's first pass), gather them again at x0, x1 (on sc->threads threads), unless the
- * last lists served only the phase that gathered them (motion faster than the margin): then the
- * next 2, 4, ... 32 such phases walk the trees before gathering again. Otherwise the phase's
- * queries walk the trees. With sc->near_off they always do. */
+ * last lists served at most one such phase after the one that gathered them (motion faster than
+ * the margin: a gathering costs more than a walk): then the next 2, 4, ... 32 such phases walk
+ * the trees before gathering again. Otherwise the phase's queries walk the trees. With
+ * sc->near_off they always do. */
 void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
                           int may_gather);
 
