@@ -132,15 +132,14 @@ static void gather(wc_self* sc, const wc_model* m, const double* x0, const doubl
 }
 
 void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
-                          int may_gather) {
+                          int full) {
     sc->near_use = 0;
-    if (sc->near_off) return;
+    if (sc->near_off || !full) return;
     if (wc_self_near_covers(sc, x0, x1, r)) {
         sc->near_use = 1;
-        sc->near_served += may_gather;
+        ++sc->near_served;
         return;
     }
-    if (!may_gather) return;
     if (sc->near_wait > 0) {
         --sc->near_wait;
         return;

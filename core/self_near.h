@@ -43,15 +43,16 @@ wc_status wc_self_near_alloc(wc_self* sc);
 void wc_self_near_free(wc_self* sc);
 
 /* Before a phase's queries, with the trees just refitted over the boxes of x0 U x1 (n x 3 each)
- * inflated by r <= thickness (wc_self_refit): use the lists when the bound above covers x0, x1
- * and r; else, when may_gather (a phase that visits every query: the in-solve pairs' detection,
- * the stage's first pass), gather them again at x0, x1 (on sc->threads threads), unless the
- * last lists served at most one such phase after the one that gathered them (motion faster than
- * the margin: a gathering costs more than a walk): then the next 2, 4, ... 32 such phases walk
- * the trees before gathering again. Otherwise the phase's queries walk the trees. With
- * sc->near_off they always do. */
+ * inflated by r <= thickness (wc_self_refit). Only a full phase (one that visits every query:
+ * the in-solve pairs' detection, the stage's first pass) uses the lists; the stage's later
+ * passes, which visit only what is dirty, walk the trees (checking the bound there would cost
+ * as much as they do). A full phase uses the lists when the bound above covers x0, x1 and r, or
+ * else gathers them again at x0, x1 (on sc->threads threads), unless the last lists served at
+ * most one full phase after the one that gathered them (motion faster than the margin: a
+ * gathering costs more than a walk): then the next 2, 4, ... 32 full phases walk the trees
+ * before gathering again. With sc->near_off every query walks the trees. */
 void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
-                          int may_gather);
+                          int full);
 
 /* 1 when the lists gathered cover positions x0, x1 and boxes inflated by r (the bound above). */
 int wc_self_near_covers(const wc_self* sc, const double* x0, const double* x1, double r);

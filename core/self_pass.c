@@ -337,7 +337,7 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
     int nq = sc->n + sc->n_edges;
     /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
     wc_self_refit(sc, m, sc->x_start, x, r);
-    wc_self_near_prepare(sc, m, sc->x_start, x, r, dirty == NULL); /* gathers only for a full scan */
+    wc_self_near_prepare(sc, m, sc->x_start, x, r, dirty == NULL); /* the lists serve full scans */
     if (dirty) mark_dirty(sc, m, dirty);
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
