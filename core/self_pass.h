@@ -27,7 +27,8 @@
  * only the tree nodes with a dirty element below (wc_bvh_query_masked). A pair with no dirty
  * particle has not moved since a pass found it needing nothing, so the scan marks the queries
  * the unfiltered one would, and the serial visit of a marked query is unfiltered: the result is
- * that of checking every pair (detect_all), bit for bit. */
+ * that of checking every pair (detect_all), bit for bit. The first pass's queries go through
+ * their kept candidates (self_near.h) while those still hold: the same visits as the trees'. */
 #ifndef WEFT_CORE_SELF_PASS_H
 #define WEFT_CORE_SELF_PASS_H
 #include "model.h"
