@@ -29,15 +29,6 @@ static size_t coarse_values(const wc_amg* a, double* out) {
     return k;
 }
 
-static double rel_diff(const double* a, const double* b, int n3) {
-    double num = 0, den = 0;
-    for (int k = 0; k < n3; ++k) {
-        num += (a[k] - b[k]) * (a[k] - b[k]);
-        den += b[k] * b[k];
-    }
-    return sqrt(num / (den > 0 ? den : 1));
-}
-
 static int solve(wc_solver* sv, wc_state* s, const double* A, const wc_filter* f, wc_solver_type type,
                  double* dv) {
     wc_solve_result res;
@@ -100,7 +91,7 @@ static void test_kept_coarse(void) {
     double *ref = calloc(n3, sizeof *ref), *dv = calloc(n3, sizeof *dv);
     solve(sv, s, A2, &f2, WC_SOLVER_DIRECT, ref);
     int it_fresh = solve(fresh, s, A2, &f2, WC_SOLVER_PCG, dv); /* system 2, fresh: the yardstick */
-    CHECK(rel_diff(dv, ref, n3) < 1e-6);
+    CHECK(ts_rel_diff(dv, ref, n3) < 1e-6);
 
     wc_solver_hold_coarse(sv, 1); /* no full setup yet: the first is full */
     solve(sv, s, s->A, &f1, WC_SOLVER_PCG, dv);
@@ -119,7 +110,7 @@ static void test_kept_coarse(void) {
     CHECK(memcmp(L->Dinv, F->Dinv, sizeof(double) * 9 * (size_t)L->group * L->n) == 0);
     CHECK(L->estimate == estimate);
     CHECK(fabs(L->bound - WC_AMG_SAFETY * a->opts.bound_margin * estimate) <= 1e-12 * L->bound);
-    double e_ref = rel_diff(dv, ref, n3);
+    double e_ref = ts_rel_diff(dv, ref, n3);
     printf("  %d contacts stuck -> sliding: iterations to 1e-8 fresh %d, kept coarse levels %d; "
            "vs CHOLMOD %.1e\n", contacts, it_fresh, it_kept, e_ref);
     CHECK(e_ref < 1e-6);
@@ -138,9 +129,9 @@ static void test_kept_coarse(void) {
     wc_status st = wc_solve(sv, WC_SOLVER_PCG, s->A, s->b, &s->filter, dv, &s->par, &res);
     printf("  fine estimate x 0.05: %s, %ld redone, %d iterations in all, vs CHOLMOD %.1e\n",
            st == WC_OK && res.converged ? "converged" : "FAILED", a->bound_fallbacks, res.iterations,
-           rel_diff(dv, ref, n3));
+           ts_rel_diff(dv, ref, n3));
     CHECK(st == WC_OK && res.converged && a->bound_fallbacks == 1 && !a->coarse_kept);
-    CHECK(rel_diff(dv, ref, n3) < 1e-6);
+    CHECK(ts_rel_diff(dv, ref, n3) < 1e-6);
     CHECK(a->hold_coarse); /* the caller's setting survives the fallback */
     wc_solver_hold_coarse(sv, 0);
     solve(sv, s, s->A, &s->filter, WC_SOLVER_PCG, dv);

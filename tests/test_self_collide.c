@@ -9,6 +9,7 @@
 #include <string.h>
 #include "check.h"
 #include "heap_strip.h"
+#include "overlap_panels.h"
 #include "clock.h"
 #include "self_collide.h"
 #include "step.h"
@@ -54,38 +55,15 @@ static int crossings(const wc_model* m, const double* x) {
 
 /* ---- the counter ---------------------------------------------------------------------------- */
 
-/* A horizontal panel (5 x 5 vertices, 0.1 m, y = 0) and a vertical one (x = 0.097, reaching 1 mm
- * below the first's plane, its columns 3 mm off the first's): built apart, the second's edges pass
- * through the first's triangles along its x = 0.1 edge and the first's edges through the second's;
- * sewn at 5 mm, every such pair has a particle sewn to the other element, which the rules exclude
- * (sewn panels overlap along their seam by construction). */
+/* overlap_panels.h's panels: built apart, the second's edges pass through the first's triangles
+ * along its x = 0.1 edge and the first's edges through the second's; sewn at 5 mm, every such pair
+ * has a particle sewn to the other element, which the rules exclude (sewn panels overlap along
+ * their seam by construction). */
 static void test_sewn_overlap_not_counted(void) {
-    double pos[2 * 25 * 3];
-    int idx[2 * 16 * 4], sizes[2 * 16];
-    for (int i = 0; i < 5; ++i)
-        for (int j = 0; j < 5; ++j) {
-            v3_set(pos + 3 * (5 * i + j), 0.025 * i, 0.0, 0.025 * j);
-            v3_set(pos + 3 * (25 + 5 * i + j), 0.097, -0.001 + 0.0125 * i, 0.003 + 0.025 * j);
-        }
-    int f = 0;
-    for (int L = 0; L < 2; ++L)
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j, ++f) {
-                int o = 25 * L + 5 * i + j;
-                sizes[f] = 4;
-                idx[4 * f] = o;
-                idx[4 * f + 1] = o + 1;
-                idx[4 * f + 2] = o + 6;
-                idx[4 * f + 3] = o + 5;
-            }
     for (int sewn = 0; sewn < 2; ++sewn) {
-        wc_source_mesh src;
         wc_diag d = {0};
-        CHECK(wc_source_mesh_from_arrays(&src, NULL, pos, 50, sizes, 32, idx, 1.0, &d) == WC_OK);
-        wc_model_def def = wc_default_model_def();
-        def.sew_distance = sewn ? 0.005 : 0.0;
         wc_model m;
-        CHECK(wc_model_build(&m, &src, &def, NULL, &d) == WC_OK);
+        overlap_panels(&m, sewn);
         int c = crossings(&m, m.rest_pos);
         printf("  overlapping panels %s: %d seams, %d crossing pairs (brute force %d)\n", sewn ? "sewn" : "apart",
                m.n_seams, c, wc_self_intersections_brute(&m, m.rest_pos));
@@ -102,7 +80,6 @@ static void test_sewn_overlap_not_counted(void) {
         if (sc) CHECK_EQ_INT(sc->tangled_pairs, c);
         wc_self_destroy(sc);
         wc_model_free(&m);
-        wc_source_mesh_free(&src);
     }
 }
 

@@ -18,6 +18,7 @@
 #include <string.h>
 #include "check.h"
 #include "heap_strip.h"
+#include "overlap_panels.h"
 #include "self_collide.h"
 #include "self_near.h"
 #include "step.h"
@@ -207,35 +208,6 @@ static void folded(const wc_model* m, double* x) {
     }
 }
 
-/* test_self_collide's overlapping panels (tangled at rest when not sewn). */
-static void panels(wc_model* m, int sewn) {
-    double pos[2 * 25 * 3];
-    int idx[2 * 16 * 4], sizes[2 * 16];
-    for (int i = 0; i < 5; ++i)
-        for (int j = 0; j < 5; ++j) {
-            v3_set(pos + 3 * (5 * i + j), 0.025 * i, 0.0, 0.025 * j);
-            v3_set(pos + 3 * (25 + 5 * i + j), 0.097, -0.001 + 0.0125 * i, 0.003 + 0.025 * j);
-        }
-    int f = 0;
-    for (int L = 0; L < 2; ++L)
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j, ++f) {
-                int o = 25 * L + 5 * i + j;
-                sizes[f] = 4;
-                idx[4 * f] = o;
-                idx[4 * f + 1] = o + 1;
-                idx[4 * f + 2] = o + 6;
-                idx[4 * f + 3] = o + 5;
-            }
-    wc_source_mesh src;
-    wc_diag d = {0};
-    CHECK(wc_source_mesh_from_arrays(&src, NULL, pos, 50, sizes, 32, idx, 1.0, &d) == WC_OK);
-    wc_model_def def = wc_default_model_def();
-    def.sew_distance = sewn ? 0.005 : 0.0;
-    CHECK(wc_model_build(m, &src, &def, NULL, &d) == WC_OK);
-    wc_source_mesh_free(&src);
-}
-
 static void test_lists_vs_trees(void) {
     counts ct = {0, 0};
     int kept = 0, gathered = 0;
@@ -248,7 +220,7 @@ static void test_lists_vs_trees(void) {
     free(x);
     wc_model_free(&m);
     for (int sewn = 0; sewn < 2; ++sewn) {
-        panels(&m, sewn);
+        overlap_panels(&m, sewn);
         CHECK(sewn ? m.n_seams >= 5 : m.n_seams == 0);
         motions(&m, m.rest_pos, 0.003, &ct, &kept, &gathered);
         wc_model_free(&m);
