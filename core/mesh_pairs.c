@@ -31,6 +31,7 @@
 #include <math.h>
 #include <string.h>
 #include "filter.h"
+#include "par.h"
 #include "geom.h"
 #include "sort.h"
 #include "model.h"
@@ -106,7 +107,8 @@ wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_coll
     wc_mesh_pairs* p = WC_NEW(a, wc_mesh_pairs, 1);
     if (!p) return NULL;
     memset(p, 0, sizeof *p);
-    p->behind = WC_NEW(a, signed char, (size_t)n_particles + 1);
+    p->behind = WC_NEW(a, _Atomic signed char, (size_t)n_particles + 1);
+    p->threads = 1;
     p->sharp = WC_NEW(a, wc_mesh_sharp, (size_t)nm + 1);
     if (!wc_penalty_pairs_init(&p->list, cap, 1, a) || !p->behind || !p->sharp) {
         wc_mesh_pairs_destroy(p, a);
@@ -128,8 +130,12 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
     if (p->sharp)
         for (int k = 0; k < p->n_mesh; ++k) sharp_free(&p->sharp[k], a);
     wc_free(a, p->sharp);
-    wc_free(a, p->behind);
+    wc_free(a, (void*)p->behind);
     wc_free(a, p->near);
+    if (p->stage)
+        for (int t = 0; t < p->threads; ++t) wc_penalty_pairs_free(&p->stage[t], a);
+    wc_free(a, p->stage);
+    wc_free(a, p->resume);
     wc_penalty_pairs_free(&p->list, a);
     wc_free(a, p);
 }
@@ -141,6 +147,36 @@ int wc_mesh_pairs_keep_candidates(wc_mesh_pairs* p, int n_features, const wc_all
     p->n_features = p->near ? n_features : 0;
     if (p->near) wc_mesh_near_clear(p->near, (int)n);
     return p->near != NULL;
+}
+
+/* A thread's stage holds a share of the capacity: its pairs are few against it (most features
+ * have none), and a stage that fills up hands the rest of its range to the serial pass. */
+int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, const wc_allocator* a) {
+    if (p->stage)
+        for (int t = 0; t < p->threads; ++t) wc_penalty_pairs_free(&p->stage[t], a);
+    wc_free(a, p->stage);
+    wc_free(a, p->resume);
+    p->stage = NULL;
+    p->resume = NULL;
+    p->threads = 1;
+    if (threads <= 1) return 1;
+    p->stage = WC_NEW(a, wc_penalty_pairs, (size_t)threads);
+    p->resume = WC_NEW(a, int, 2 * (size_t)threads);
+    if (!p->stage || !p->resume) goto fail;
+    memset(p->stage, 0, (size_t)threads * sizeof *p->stage);
+    for (int t = 0; t < threads; ++t)
+        if (!wc_penalty_pairs_init(&p->stage[t], stage_cap > 0 ? stage_cap : p->list.cap / threads + 64, 1, a)) {
+            for (int u = 0; u < t; ++u) wc_penalty_pairs_free(&p->stage[u], a);
+            goto fail;
+        }
+    p->threads = threads;
+    return 1;
+fail:
+    wc_free(a, p->stage);
+    wc_free(a, p->resume);
+    p->stage = NULL;
+    p->resume = NULL;
+    return 0;
 }
 
 /* The vertex of triangle t not on edge (r, s) */
@@ -190,6 +226,7 @@ static void sharp_update(wc_mesh_sharp* t, const wc_mesh_collider* mc) {
 
 typedef struct find_ctx {
     wc_mesh_pairs* pp;
+    wc_penalty_pairs* out; /* where kept pairs go: the list, or a thread's stage */
     const wc_mesh_collider* mc;
     const wc_mesh_sharp* sh;
     const wc_model* m;
@@ -242,9 +279,13 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     /* the cloth point and the feature's particles in front of the body at the start */
     if (wc_mesh_closest(c->mc, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
     for (int k = 0; k < cnt; ++k) {
-        signed char* bh = &c->pp->behind[c->cloth[k]];
-        if (*bh < 0) *bh = wc_mesh_closest(c->mc, 0, c->x + 3 * c->cloth[k], HUGE_VAL, NULL, NULL) < 0.0;
-        if (*bh) return;
+        _Atomic signed char* bh = &c->pp->behind[c->cloth[k]];
+        signed char b = atomic_load_explicit(bh, memory_order_relaxed);
+        if (b < 0) {
+            b = wc_mesh_closest(c->mc, 0, c->x + 3 * c->cloth[k], HUGE_VAL, NULL, NULL) < 0.0;
+            atomic_store_explicit(bh, b, memory_order_relaxed);
+        }
+        if (b) return;
     }
     double inv = wc_penalty_inv_mass(c->m, c->f, c->stick, cnt, c->cloth, w);
     if (!(inv > 0.0)) return;
@@ -255,7 +296,7 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     const double cap = c->mc->push_speed * c->h;
     const double g0 = v3_dot(n, cp0) - off;
     if (cap > 0.0 && g0 + cap < 0.0) off += g0 + cap;
-    wc_penalty_pairs_add(&c->pp->list, &c->m->pattern, cnt, c->cloth, w, n, off, wc_penalty_stiffness(inv, c->he));
+    wc_penalty_pairs_add(c->out, &c->m->pattern, cnt, c->cloth, w, n, off, wc_penalty_stiffness(inv, c->he));
 }
 
 static void lerp(double* o, const double* a, const double* b, double t) {
@@ -351,22 +392,61 @@ static void feature_box(const find_ctx* c, int cnt, double r, double* box) {
     wc_box_inflate(box, r);
 }
 
+/* The pairs of cloth feature q (the model's winged edges, then its triangles) into c->out. */
+static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
+    const wc_winged_edge* we = &c->m->we;
+    double box[6];
+    c->n_seen = 0;
+    if (q < we->n_edges) {
+        if (wc_we_repeats_previous(we, q)) return;
+        c->cloth[0] = we->edges[q].v[0];
+        c->cloth[1] = we->edges[q].v[1];
+        feature_box(c, 2, r, box);
+        visit_near(c, near ? near + q : NULL, mask, box, visit_edge);
+        return;
+    }
+    memcpy(c->cloth, c->m->tris + 3 * (q - we->n_edges), 3 * sizeof(int));
+    feature_box(c, 3, r, box);
+    visit_near(c, near ? near + q : NULL, mask, box, visit_vertex);
+}
+
+/* Features lo..hi-1 of thread t into its stage, until the stage would overflow: resume[2t] is the
+ * first feature not staged (the stage holds exactly the features before it), resume[2t + 1] hi. */
+static void stage_range(find_ctx c, int t, int lo, int hi, wc_mesh_near* near, const unsigned char* mask, double r) {
+    wc_penalty_pairs* st = &c.pp->stage[t];
+    wc_penalty_pairs_clear(st);
+    c.out = st;
+    int q = lo;
+    for (; q < hi; ++q) {
+        int n0 = st->n, skipped0 = st->skipped;
+        find_feature(&c, q, near, mask, r);
+        if (st->overflow > 0) { /* undo this feature: the serial pass finds it again */
+            st->n = n0;
+            st->skipped = skipped0;
+            st->overflow = 0;
+            break;
+        }
+    }
+    c.pp->resume[2 * t] = q;
+    c.pp->resume[2 * t + 1] = hi;
+}
+
 int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int nm, const wc_model* m,
                        const wc_filter* f, const unsigned char* stick, const double* x, const double* v, double h, double he) {
     wc_penalty_pairs_clear(&pp->list);
     if (!(h > 0.0) || !(he > 0.0)) return 0;
+    const int nq = m->we.n_edges + m->n_tris;
     for (int k = 0; k < nm; ++k) {
-        memset(pp->behind, -1, (size_t)pp->n_particles);
         if (k >= pp->n_mesh) break; /* not the colliders it was created for */
+        for (int i = 0; i < pp->n_particles; ++i) atomic_store_explicit(&pp->behind[i], -1, memory_order_relaxed);
         sharp_update(&pp->sharp[k], mc[k]);
         const unsigned char* mask = mc[k]->exhaustive ? NULL : pp->sharp[k].node_mask;
-        wc_mesh_near* near = pp->n_features >= m->we.n_edges + m->n_tris && pp->near
-                                 ? pp->near + (size_t)k * (size_t)pp->n_features
-                                 : NULL;
+        wc_mesh_near* near = pp->n_features >= nq && pp->near ? pp->near + (size_t)k * (size_t)pp->n_features : NULL;
         if (mask && !mask[0]) continue; /* nothing sharp: no pairs */
         find_ctx c;
         memset(&c, 0, sizeof c);
         c.pp = pp;
+        c.out = &pp->list;
         c.mc = mc[k];
         c.sh = &pp->sharp[k];
         c.m = m;
@@ -378,21 +458,22 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         c.he = he;
         /* reach: the contact distance with the body's fastest vertex approaching */
         double r = 2.0 * mc[k]->thickness + 1.5 * h * mc[k]->max_speed;
-        double box[6];
-        const wc_winged_edge* we = &m->we;
-        for (int e = 0; e < we->n_edges; ++e) {
-            if (wc_we_repeats_previous(we, e)) continue;
-            c.cloth[0] = we->edges[e].v[0];
-            c.cloth[1] = we->edges[e].v[1];
-            c.n_seen = 0;
-            feature_box(&c, 2, r, box);
-            visit_near(&c, near ? near + e : NULL, mask, box, visit_edge);
+        if (pp->threads <= 1 || !pp->stage) {
+            for (int q = 0; q < nq; ++q) find_feature(&c, q, near, mask, r);
+            continue;
         }
-        for (int t = 0; t < m->n_tris; ++t) {
-            memcpy(c.cloth, m->tris + 3 * t, 3 * sizeof(int));
-            c.n_seen = 0;
-            feature_box(&c, 3, r, box);
-            visit_near(&c, near ? near + we->n_edges + t : NULL, mask, box, visit_vertex);
+        /* each thread stages its fixed range; then, in range order, its staged pairs and the
+           rest of its range (where its stage filled up) are appended: the serial list */
+        int nt = 1;
+        WC_PAR_REGION(pp) {
+            int t = wc_par_tid(), lo, hi;
+            if (t == 0) nt = wc_par_nt();
+            wc_par_range(nq, t, wc_par_nt(), &lo, &hi);
+            stage_range(c, t, lo, hi, near, mask, r);
+        }
+        for (int t = 0; t < nt; ++t) {
+            wc_penalty_pairs_append(&pp->list, &pp->stage[t]);
+            for (int q = pp->resume[2 * t]; q < pp->resume[2 * t + 1]; ++q) find_feature(&c, q, near, mask, r);
         }
     }
     return pp->list.n;

@@ -9,6 +9,7 @@
  * order: deterministic on any thread count. */
 #ifndef WEFT_CORE_MESH_PAIRS_H
 #define WEFT_CORE_MESH_PAIRS_H
+#include <stdatomic.h>
 #include "alloc.h"
 #include "mesh_collider.h"
 #include "penalty_pairs.h"
@@ -32,11 +33,16 @@ typedef struct wc_mesh_pairs {
     int n_mesh;
     wc_mesh_sharp* sharp;      /* (n_mesh) */
     int n_particles;
-    signed char* behind;       /* (n_particles) scratch of a detection: -1 not looked at, 1 the
-                                  particle is behind the body's surface at the start, 0 not */
+    _Atomic signed char* behind; /* (n_particles) scratch of a detection: -1 not looked at, 1 the
+                                  particle is behind the body's surface at the start, 0 not
+                                  (threads may both fill one in: the same value) */
     int n_features;            /* cloth edges + cloth triangles with kept candidates (0: none) */
     wc_mesh_near* near;        /* (n_mesh x n_features) each cloth feature's candidate body
                                   triangles (mesh_collider.h): the same pairs, cheaper */
+    int threads;               /* detection threads (par.h's ranges; 1: serial) */
+    wc_penalty_pairs* stage;   /* (threads) each thread's pairs before they are appended in order */
+    int* resume;               /* (threads x 2) the feature where a thread's stage filled up, its
+                                  range's end: the rest of its range is found serially */
 } wc_mesh_pairs;
 
 struct wc_model;
@@ -51,6 +57,11 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a);
 /* Keep each cloth feature's candidates between detections: room for n_features (the model's
  * winged edges + its triangles). 0 on out of memory (then none are kept). */
 int wc_mesh_pairs_keep_candidates(wc_mesh_pairs* p, int n_features, const wc_allocator* a);
+/* Find the pairs on `threads` threads (>= 1; 1: serial): each thread stages the pairs of its
+ * fixed range of cloth features in room for stage_cap pairs (<= 0: the list's capacity over the
+ * threads, plus 64), and the ranges are appended in order, so the list is the serial one on any
+ * thread count. 0 on out of memory (then the detection stays serial). */
+int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, const wc_allocator* a);
 
 /* Detection against the nm mesh colliders (each after wc_mesh_collider_substep of this substep
  * of length h s; he the system's step, bdf2.h, for k): x, v (n x 3, m, m/s) the cloth at the

@@ -101,6 +101,22 @@ int wc_penalty_pairs_add(wc_penalty_pairs* pp, const wc_bsr_pattern* pt, int cnt
     return 1;
 }
 
+void wc_penalty_pairs_append(wc_penalty_pairs* dst, const wc_penalty_pairs* src) {
+    dst->skipped += src->skipped;
+    for (int j = 0; j < src->n; ++j) {
+        if (dst->n >= dst->cap) {
+            ++dst->overflow;
+            continue;
+        }
+        int at = dst->n++;
+        dst->term[at] = src->term[j];
+        dst->off[at] = src->off[j];
+        dst->k[at] = src->k[j];
+        dst->active[at] = src->active[j];
+        if (dst->blk && src->blk) memcpy(dst->blk + BLK * (size_t)at, src->blk + BLK * (size_t)j, BLK * sizeof(int));
+    }
+}
+
 /* n . sum w_a y_a */
 static double along(const wc_coupling_term* t, const double* y) {
     double s = 0.0;

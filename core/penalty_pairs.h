@@ -65,6 +65,9 @@ double wc_penalty_stiffness(double inv_mass, double he);
  * and not kept; past the capacity it is counted in overflow. Returns 1 when kept. */
 int wc_penalty_pairs_add(wc_penalty_pairs* pp, const wc_bsr_pattern* pt, int cnt, const int* p, const double* w,
                          const double* n, double off, double k);
+/* Appends src's pairs to dst in order, as wc_penalty_pairs_add would have (both in-pattern or both
+ * coupled): pairs past dst's capacity counted in its overflow; src's skipped added to dst's. */
+void wc_penalty_pairs_append(wc_penalty_pairs* dst, const wc_penalty_pairs* src);
 /* Writes pair `at` (< cap) of a coupled list, inactive, without touching n: for detections that
  * place each pair where a serial one would have put it (self_pairs.c's parallel one). */
 void wc_penalty_pairs_set(wc_penalty_pairs* pp, int at, int cnt, const int* p, const double* w, const double* n,

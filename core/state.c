@@ -330,7 +330,8 @@ wc_status wc_state_attach_mesh_colliders(wc_state* s, wc_mesh_collider* const* m
                                                  s->model->n_particles, (const wc_mesh_collider* const*)mesh, n,
                                                  &s->alloc);
     if (!all || !xs || !pairs || !near ||
-        !wc_mesh_pairs_keep_candidates(pairs, s->model->we.n_edges + s->model->n_tris, &s->alloc)) {
+        !wc_mesh_pairs_keep_candidates(pairs, s->model->we.n_edges + s->model->n_tris, &s->alloc) ||
+        !wc_mesh_pairs_set_threads(pairs, s->par.threads, 0, &s->alloc)) {
         wc_free(&s->alloc, all);
         wc_free(&s->alloc, xs);
         wc_free(&s->alloc, near);

@@ -301,6 +301,67 @@ static void test_pair_term(void) {
     check_pair("vertex-triangle", &body, 0.302, 3);
 }
 
+/* 1 when lists a and b hold the same pairs bit for bit, with the same counts */
+static int same_list(const wc_penalty_pairs* a, const wc_penalty_pairs* b) {
+    if (a->n != b->n || a->overflow != b->overflow || a->skipped != b->skipped) return 0;
+    for (int j = 0; j < a->n; ++j)
+        if (memcmp(&a->term[j], &b->term[j], sizeof a->term[j]) || a->off[j] != b->off[j] || a->k[j] != b->k[j] ||
+            a->active[j] != b->active[j] || memcmp(a->blk + 16 * j, b->blk + 16 * j, 16 * sizeof(int)))
+            return 0;
+    return 1;
+}
+
+/* The detection on 2 and 3 threads (each thread's range staged, then appended in order) gives the
+ * serial list: a 21 x 21 sheet falling onto a roof ridge and a pyramid's apex, with stages that
+ * fill up (the rest of a range found serially) and a list that overflows. */
+static void test_pairs_threads(void) {
+    const double th = 0.005, h = 1.0 / 30;
+    wc_diag d = {0};
+    tmesh roof_m, pyr_m;
+    roof(&roof_m, 0.125, 0.3, 0.25, 0.8);
+    pyramid(&pyr_m, 0.62, 0.57, 0.1, 0.254);
+    wc_mesh_collider* mc[2] = {NULL, NULL};
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc[0], roof_m.x, roof_m.nv, roof_m.t, roof_m.nt, th, 0.4, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc[1], pyr_m.x, pyr_m.nv, pyr_m.t, pyr_m.nt, th, 0.4, NULL, &d), WC_OK);
+    for (int k = 0; k < 2; ++k) wc_mesh_collider_substep(mc[k], 0.0, 1.0, h);
+    const wc_mesh_collider* cm[2] = {mc[0], mc[1]};
+    wc_model m;
+    CHECK(ts_sheet(&m, 21, 1.0, 0.256, 0, 1.0));
+    int n = m.n_particles, nf = m.we.n_edges + m.n_tris;
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    double* v = calloc(3 * (size_t)n, sizeof(double));
+    memcpy(x, m.rest_pos, 3 * (size_t)n * sizeof(double));
+    for (int i = 0; i < n; ++i) v[3 * i + 1] = -0.2 - 0.01 * (i % 7);
+    const int caps[2] = {4 * nf, 9}; /* room for all; a list that overflows */
+    int found = 0;
+    for (int ci = 0; ci < 2; ++ci) {
+        wc_mesh_pairs* serial = wc_mesh_pairs_create(caps[ci], n, cm, 2, NULL);
+        CHECK(serial && wc_mesh_pairs_keep_candidates(serial, nf, NULL));
+        wc_mesh_pairs_find(serial, cm, 2, &m, NULL, NULL, x, v, h, h);
+        if (ci == 0) found = serial->list.n;
+        else CHECK(serial->list.overflow > 0);
+        const int threads[3] = {2, 3, 2}, stage_caps[3] = {0, 1, 5};
+        for (int r = 0; r < 3; ++r) {
+            wc_mesh_pairs* par = wc_mesh_pairs_create(caps[ci], n, cm, 2, NULL);
+            CHECK(par && wc_mesh_pairs_keep_candidates(par, nf, NULL));
+            CHECK(wc_mesh_pairs_set_threads(par, threads[r], stage_caps[r], NULL));
+            for (int rep = 0; rep < 2; ++rep) { /* the second time through the kept candidates */
+                wc_mesh_pairs_find(par, cm, 2, &m, NULL, NULL, x, v, h, h);
+                CHECK(same_list(&serial->list, &par->list));
+            }
+            wc_mesh_pairs_destroy(par, NULL);
+        }
+        wc_mesh_pairs_destroy(serial, NULL);
+    }
+    printf("  %d pairs (%d features) found alike on 1, 2 and 3 threads, with stages of room 1, 5 and the "
+           "default, and with a list of room 9\n", found, nf);
+    CHECK(found > 20);
+    free(x);
+    free(v);
+    for (int k = 0; k < 2; ++k) wc_mesh_collider_destroy(mc[k]);
+    wc_model_free(&m);
+}
+
 /* Newton with a line search, pairs active: Phi never rises from one accepted iterate to the next */
 static void test_newton_descends(void) {
     tmesh body;
@@ -318,6 +379,7 @@ static void test_newton_descends(void) {
 
 int main(void) {
     RUN_TEST(test_pair_term);
+    RUN_TEST(test_pairs_threads);
     RUN_TEST(test_newton_descends);
     RUN_TEST(test_ridge_and_apex);
     return TEST_SUMMARY();
