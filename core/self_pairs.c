@@ -13,8 +13,8 @@
  * the unit normal n from the second feature to the first at the start, off = WC_SELF_PAIR_MARGIN
  * th, and k by penalty_pairs.h's rule.
  * Deterministic on any thread count: the detection runs its queries (every vertex, then every
- * edge) on sc->threads threads in fixed ranges, counting first, then writing each query's pairs
- * where the prefix sum of the counts puts them (the serial list, in query order). */
+ * edge) on sp->threads threads in fixed ranges, each thread into its own stage, and appends the
+ * stages in range order (the serial list, in query order). */
 #include "self_pairs.h"
 #include <math.h>
 #include <string.h>
@@ -28,18 +28,35 @@
 
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
 
-wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, const wc_allocator* a) {
+wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, int threads, int stage_cap,
+                                    const wc_allocator* a) {
     if (n_particles < 0) n_particles = 0;
-    if (n_edges < 0) n_edges = 0;
+    (void)n_edges;
+    if (threads < 1) threads = 1;
     wc_self_pairs* sp = WC_NEW(a, wc_self_pairs, 1);
     if (!sp) return NULL;
     memset(sp, 0, sizeof *sp);
     sp->x_pred = WC_NEW(a, double, 3 * (size_t)n_particles + 1);
-    sp->start = WC_NEW(a, int, (size_t)n_particles + n_edges + 1);
-    if (!wc_penalty_pairs_init(&sp->list, cap, 0, a) || !sp->x_pred || !sp->start) {
+    if (!wc_penalty_pairs_init(&sp->list, cap, 0, a) || !sp->x_pred) {
         wc_self_pairs_destroy(sp, a);
         return NULL;
     }
+    if (threads > 1) {
+        sp->stage = WC_NEW(a, wc_penalty_pairs, (size_t)threads);
+        sp->resume = WC_NEW(a, int, 2 * (size_t)threads);
+        if (!sp->stage || !sp->resume) {
+            wc_self_pairs_destroy(sp, a);
+            return NULL;
+        }
+        for (int t = 0; t < threads; ++t) {
+            if (!wc_penalty_pairs_init(&sp->stage[t], stage_cap > 0 ? stage_cap : sp->list.cap / threads + 64, 0, a)) {
+                sp->threads = t;
+                wc_self_pairs_destroy(sp, a);
+                return NULL;
+            }
+        }
+    }
+    sp->threads = threads;
     sp->n_particles = n_particles;
     sp->coupling.t = sp->list.term;
     return sp;
@@ -47,7 +64,10 @@ wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, const
 
 void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a) {
     if (!sp) return;
-    wc_free(a, sp->start);
+    if (sp->stage)
+        for (int t = 0; t < sp->threads; ++t) wc_penalty_pairs_free(&sp->stage[t], a);
+    wc_free(a, sp->stage);
+    wc_free(a, sp->resume);
     wc_free(a, sp->x_pred);
     wc_penalty_pairs_free(&sp->list, a);
     wc_free(a, sp);
@@ -61,9 +81,8 @@ typedef struct find_ctx {
     const double *x, *v;
     double h, he;
     int query;
-    int counting;   /* 1: only count the pairs kept (the parallel first pass) */
-    int count;      /* pairs counted */
-    int pos;        /* where the next kept pair goes */
+    wc_penalty_pairs* out; /* the list, or a thread's stage */
+    int pos;        /* where the next kept pair goes in out (past its capacity: counted only) */
 } find_ctx;
 
 /* Keep the pair ids (w, at distance d along n at the start; th its rest gap) when it is close
@@ -74,13 +93,9 @@ static void keep(find_ctx* c, const int* ids, const double* w, const double* n, 
     double inv = wc_penalty_inv_mass(c->m, c->f, NULL, 4, ids, w);
     double approach = vrel < 0.0 ? -vrel : 0.0;
     if (!(d < th + c->sc->thickness + 1.5 * c->h * approach) || !(inv > 0.0)) return;
-    if (c->counting) {
-        ++c->count;
-        return;
-    }
     int at = c->pos++;
-    if (at >= c->sp->list.cap) return;   /* counted as overflow by the caller */
-    wc_penalty_pairs_set(&c->sp->list, at, 4, ids, w, n, WC_SELF_PAIR_MARGIN * th, wc_penalty_stiffness(inv, c->he));
+    if (at >= c->out->cap) return;   /* counted as overflow by the caller */
+    wc_penalty_pairs_set(c->out, at, 4, ids, w, n, WC_SELF_PAIR_MARGIN * th, wc_penalty_stiffness(inv, c->he));
 }
 
 static int tangled_all(const wc_self* sc, const int* ids) {
@@ -176,38 +191,41 @@ int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const 
     }
     wc_self_refit(sc, m, x, xp, sc->thickness);
     wc_self_near_prepare(sc, m, x, xp, sc->thickness, 1);
-    int total;
-    if (sc->threads <= 1) {
-        find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};
+    find_ctx c = {sp, sc, m, f, x, v, h, he, 0, &sp->list, 0};
+    if (sp->threads <= 1 || !sp->stage) {
         for (int q = 0; q < nq; ++q) find_query(&c, q);
-        total = c.pos;
     } else {
-        /* count each query's pairs in parallel, place them by the prefix sum, write them in
-           parallel: the list is the serial one, on any thread count */
-        int* start = sp->start;
-        WC_PAR_REGION(sc) {
-            int lo, hi;
-            wc_par_range(nq, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 1, 0, 0};
-            for (int q = lo; q < hi; ++q) {
-                c.count = 0;
-                find_query(&c, q);
-                start[q + 1] = c.count;
+        /* each thread stages its fixed range; then, in range order, its staged pairs and the rest
+           of its range (where its stage filled up) are appended: the serial list */
+        int nt = 1;
+        WC_PAR_REGION(sp) {
+            int t = wc_par_tid(), lo, hi, q;
+            if (t == 0) nt = wc_par_nt();
+            wc_par_range(nq, t, wc_par_nt(), &lo, &hi);
+            wc_penalty_pairs* st = &sp->stage[t];
+            find_ctx ct = {sp, sc, m, f, x, v, h, he, 0, st, 0};
+            for (q = lo; q < hi; ++q) {
+                int pos0 = ct.pos;
+                find_query(&ct, q);
+                if (ct.pos > st->cap) { /* undo this query: the serial pass finds it again */
+                    ct.pos = pos0;
+                    break;
+                }
             }
+            st->n = ct.pos;
+            st->overflow = st->skipped = 0;
+            sp->resume[2 * t] = q;
+            sp->resume[2 * t + 1] = hi;
         }
-        start[0] = 0;
-        for (int q = 0; q < nq; ++q) start[q + 1] += start[q];
-        total = start[nq];
-        WC_PAR_REGION(sc) {
-            int lo, hi;
-            wc_par_range(nq, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            find_ctx c = {sp, sc, m, f, x, v, h, he, 0, 0, 0, 0};
-            for (int q = lo; q < hi && start[q] < sp->list.cap; ++q) {
-                c.pos = start[q];
-                find_query(&c, q);
-            }
+        for (int t = 0; t < nt; ++t) {
+            wc_penalty_pairs_append(&sp->list, &sp->stage[t]);
+            c.pos = sp->list.n + sp->list.overflow;
+            for (int q = sp->resume[2 * t]; q < sp->resume[2 * t + 1]; ++q) find_query(&c, q);
+            sp->list.n = c.pos < sp->list.cap ? c.pos : sp->list.cap;
+            sp->list.overflow = c.pos - sp->list.n;
         }
     }
+    int total = sp->threads <= 1 || !sp->stage ? c.pos : sp->list.n + sp->list.overflow;
     sp->list.n = total < sp->list.cap ? total : sp->list.cap;
     sp->list.overflow = total - sp->list.n;
     sp->coupling.n = sp->list.n;

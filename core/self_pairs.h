@@ -24,18 +24,24 @@ typedef struct wc_self_pairs {
     wc_penalty_pairs list;     /* the pairs of the current substep (coupled) */
     wc_coupling coupling;      /* the list's terms as the solvers' couplings (n, list.term) */
     double* x_pred;            /* (n_particles x 3) scratch: x_n + 1.5 h v_n */
-    int* start;                /* (n_particles + n_edges + 1) scratch of a parallel detection:
-                                  where each query's pairs start in the list */
     int n_particles;
+    int threads;               /* detection threads (par.h's ranges; 1: serial) */
+    wc_penalty_pairs* stage;   /* (threads) each thread's pairs before they are appended in order */
+    int* resume;               /* (threads x 2) the query where a thread's stage filled up, its
+                                  range's end: the rest of its range is found serially */
 } wc_self_pairs;
 
 struct wc_model;
 struct wc_filter;
 struct wc_self;
 
-/* Capacity cap >= 1 for a cloth of n_particles whose self-collision list has n_edges edges.
- * NULL on out of memory. */
-wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, const wc_allocator* a);
+/* Capacity cap >= 1 for a cloth of n_particles whose self-collision list has n_edges edges, found
+ * on `threads` threads (>= 1): each thread stages the pairs of its fixed range of queries in room
+ * for stage_cap pairs (<= 0: cap over the threads, plus 64), and the ranges are appended in order,
+ * so the list is the serial one on any thread count; a range whose stage fills up is finished
+ * serially, in its place. NULL on out of memory. */
+wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, int threads, int stage_cap,
+                                    const wc_allocator* a);
 void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a);
 
 /* Detection (self_pairs.c): sc the cloth's self-collision list (its trees are refitted here), f (NULL:

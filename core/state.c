@@ -205,7 +205,7 @@ wc_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* d
     if (st == WC_OK && s->def.self_collision && s->def.self_in_solve) {
         /* room for one pair per particle and per edge (self_pairs.h; more are counted) */
         int cap = n + s->self->n_edges + 64;
-        s->self_pairs = wc_self_pairs_create(cap, n, s->self->n_edges, &A);
+        s->self_pairs = wc_self_pairs_create(cap, n, s->self->n_edges, s->par.threads, 0, &A);
         if (!s->self_pairs) st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "state create: self-contact pairs");
         else st = wc_solver_set_coupling(s->solver, &s->self_pairs->coupling, cap, diag);
     }

@@ -115,6 +115,51 @@ static void test_pair_derivatives(void) {
     wc_model_free(&m);
 }
 
+/* 1 when lists a and b hold the same pairs bit for bit, with the same counts */
+static int same_list(const wc_penalty_pairs* a, const wc_penalty_pairs* b) {
+    if (a->n != b->n || a->overflow != b->overflow || a->skipped != b->skipped) return 0;
+    for (int j = 0; j < a->n; ++j)
+        if (memcmp(&a->term[j], &b->term[j], sizeof a->term[j]) || a->off[j] != b->off[j] || a->k[j] != b->k[j] ||
+            a->active[j] != b->active[j])
+            return 0;
+    return 1;
+}
+
+/* The detection on 2 and 3 threads (each thread's range of queries staged, then appended in order)
+ * gives the serial list, with stages that fill up (the rest of a range found serially) and a list
+ * that overflows. */
+static void test_pairs_threads(void) {
+    wc_model m;
+    layers(&m);
+    wc_sim_def def = def_self(1);
+    wc_state* s = approaching(&m, &def);
+    const double h = 1.0 / 60;
+    int n = m.n_particles, ne = s->self->n_edges, found = 0;
+    const int caps[2] = {n + ne + 64, 7};
+    for (int ci = 0; ci < 2; ++ci) {
+        wc_self_pairs* serial = wc_self_pairs_create(caps[ci], n, ne, 1, 0, NULL);
+        CHECK(serial != NULL);
+        wc_self_pairs_find(serial, s->self, &m, &s->filter, s->x, s->v, h, h);
+        if (ci == 0) found = serial->list.n;
+        else CHECK(serial->list.overflow > 0);
+        const int threads[3] = {2, 3, 2}, stage_caps[3] = {0, 1, 5};
+        for (int r = 0; r < 3; ++r) {
+            wc_self_pairs* par = wc_self_pairs_create(caps[ci], n, ne, threads[r], stage_caps[r], NULL);
+            CHECK(par != NULL);
+            wc_self_pairs_find(par, s->self, &m, &s->filter, s->x, s->v, h, h);
+            CHECK(same_list(&serial->list, &par->list));
+            CHECK_EQ_INT(par->coupling.n, serial->coupling.n);
+            wc_self_pairs_destroy(par, NULL);
+        }
+        wc_self_pairs_destroy(serial, NULL);
+    }
+    printf("  %d pairs found alike on 1, 2 and 3 threads, with stages of room 1, 5 and the default, and with a "
+           "list of room 7\n", found);
+    CHECK(found > 20);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 /* Dense Gaussian elimination with partial pivoting: solves K y = r (K overwritten). */
 static void dense_solve(double* K, double* r, int N3) {
     for (int c = 0; c < N3; ++c) {
@@ -308,6 +353,7 @@ static void test_drop_on_layer(void) {
 
 int main(void) {
     RUN_TEST(test_pair_derivatives);
+    RUN_TEST(test_pairs_threads);
     RUN_TEST(test_solve_against_dense);
     RUN_TEST(test_drop_on_layer);
     return TEST_SUMMARY();
