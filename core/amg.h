@@ -320,8 +320,8 @@ double wc_amg_grid_complexity(const wc_amg* a);
 /* ---- private to amg_*.c ---- */
 /* Level 0's near-null rows (rest positions about their centroid), L's tentative prolongator
  * (QR per aggregate, amg.h) and N's near-null rows (the R factors) and dead unknowns; the
- * arrays are allocated by the caller. */
-void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg);
+ * arrays are allocated by the caller. The aggregates on par's threads (NULL: serial). */
+void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg, wc_par* par);
 void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */

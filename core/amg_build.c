@@ -364,7 +364,7 @@ wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts
             for (int g = 0; g < n_agg; ++g) L->agg_start[g + 1] += L->agg_start[g];
             for (int g = 0; g < n_agg; ++g) mark[g] = L->agg_start[g];
             for (int i = 0; i < L->n; ++i) L->agg_node[mark[L->agg[i]]++] = i;
-            wc_amg_tentative(L, N, n_agg);
+            wc_amg_tentative(L, N, n_agg, NULL);
         }
         ++a->n_levels;
         L = N;

@@ -124,31 +124,46 @@ static void coarse_solve(wc_amg* a, const double* r, double* x) {
 }
 
 /* Chebyshev smoothing of x (from zero when `zero`) on [bound / ratio, bound]: `steps` matrix
- * products; d is L->r's scratch of the level (restricted residuals use the next level's). */
+ * products; d is L->r's scratch of the level (restricted residuals use the next level's). Each
+ * direction update and the step of x along it share one pass over the rows. */
 static void chebyshev(wc_amg_level* L, double ratio, int steps, const double* r, double* x, int zero, double* d,
                       wc_par* par) {
     const double b = L->bound, a = b / ratio;
     const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
     double rho = 1.0 / sigma;
-    if (zero) memcpy(L->t, r, sizeof(double) * 3 * (size_t)L->n);
-    else residual(L, r, x, L->t, par);
-    jacobi(L, 1.0 / theta, L->t, d, 1, par);
-    for (int k = 0; k < steps; ++k) {
-        if (zero && k == 0) memcpy(x, d, sizeof(double) * 3 * (size_t)L->n);
-        else
-            for (int q = 0; q < 3 * L->n; ++q) x[q] += d[q];
-        if (k + 1 == steps) break;
+    const double* t = r; /* the residual at x = 0 */
+    if (!zero) {
+        residual(L, r, x, L->t, par);
+        t = L->t;
+    }
+    WC_PAR_REGION(par)
+    { /* d = D^-1 t / theta; x = d, or x += d */
+        int lo, hi;
+        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        for (int i = lo; i < hi; ++i) {
+            double e[3];
+            wc_amg_dinv(L, i, t, e);
+            v3_scale(d + 3 * i, e, 1.0 / theta);
+            if (zero) v3_copy(x + 3 * i, d + 3 * i);
+            else
+                for (int c = 0; c < 3; ++c) x[3 * i + c] += d[3 * i + c];
+        }
+    }
+    for (int k = 1; k < steps; ++k) {
         residual(L, r, x, L->t, par);
         double rho_new = 1.0 / (2.0 * sigma - rho);
         double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
         WC_PAR_REGION(par)
-        {
+        { /* d = c1 d + c2 D^-1 t; x += d */
             int lo, hi;
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
             for (int i = lo; i < hi; ++i) {
                 double e[3];
                 wc_amg_dinv(L, i, L->t, e);
-                for (int c = 0; c < 3; ++c) d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
+                for (int c = 0; c < 3; ++c) {
+                    d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
+                    x[3 * i + c] += d[3 * i + c];
+                }
             }
         }
         rho = rho_new;

@@ -593,7 +593,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
             ++a->tent_kept;
         } else {
             wc_amg_rigid_modes(&a->lev[0], a->pos);
-            for (int l = 0; l + 1 < a->n_levels; ++l) wc_amg_tentative(&a->lev[l], &a->lev[l + 1], a->lev[l + 1].n / 2);
+            for (int l = 0; l + 1 < a->n_levels; ++l) wc_amg_tentative(&a->lev[l], &a->lev[l + 1], a->lev[l + 1].n / 2, par);
             if (a->tent_pos) {
                 memcpy(a->tent_pos, a->pos, bytes);
                 a->tent_valid = 1;

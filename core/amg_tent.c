@@ -67,9 +67,10 @@ static void qr_local(wc_amg_level* L, const int* nodes, int m, double* Q, double
             for (int c = 0; c < 6; ++c) RB(L->tent, nodes[s], r, c) = Q[c * rows + 3 * s + r];
 }
 
-void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg) {
+/* Aggregates lo..hi-1: each writes only its own nodes' rows of P_tent and its own coarse rows. */
+static void tentative_range(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
     double Q[6 * 3 * TENT_LOCAL];
-    for (int a = 0; a < n_agg; ++a) {
+    for (int a = lo; a < hi; ++a) {
         const int* nodes = L->agg_node + L->agg_start[a];
         int m = L->agg_start[a + 1] - L->agg_start[a];
         double R[36] = {0};
@@ -113,5 +114,18 @@ void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg) {
         for (int q = 0; q < 2; ++q)
             for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 6; ++c) RB(N->nns, 2 * a + q, r, c) = R[6 * (3 * q + r) + c];
+    }
+}
+
+void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg, wc_par* par) {
+    if (!par || par->threads <= 1) {
+        tentative_range(L, N, 0, n_agg);
+        return;
+    }
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(n_agg, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        tentative_range(L, N, lo, hi);
     }
 }

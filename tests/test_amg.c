@@ -262,7 +262,23 @@ static void test_dependent_columns(void) {
     N.nns = nns2;
     N.dead = dead;
     wc_amg_rigid_modes(&L, pos);
-    wc_amg_tentative(&L, &N, NA);
+    wc_amg_tentative(&L, &N, NA, NULL);
+    /* the aggregates on 2 and 3 threads: the same bits */
+    for (int threads = 2; threads <= 3; ++threads) {
+        double tent1[18 * NN], nns1[18 * 2 * NA];
+        unsigned char dead1[3 * 2 * NA];
+        memcpy(tent1, tent, sizeof tent);
+        memcpy(nns1, nns2, sizeof nns2);
+        memcpy(dead1, dead, sizeof dead);
+        memset(tent, 0, sizeof tent);
+        memset(nns2, 0, sizeof nns2);
+        memset(dead, 9, sizeof dead);
+        wc_par par;
+        wc_par_init(&par, threads);
+        wc_amg_tentative(&L, &N, NA, &par);
+        CHECK(memcmp(tent1, tent, sizeof tent) == 0 && memcmp(nns1, nns2, sizeof nns2) == 0 &&
+              memcmp(dead1, dead, sizeof dead) == 0);
+    }
     int want[NA] = {3, 1, 1, 0};
     for (int g = 0; g < NA; ++g) {
         int count = 0;
