@@ -157,6 +157,23 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
     } else {
         d->compute = !(passes && *passes) && GLEW_VERSION_4_3;
     }
+    /* the PCG solve's form: WEFT_GPU_SOLVE=group or =passes forces one (wg_solve_mode) */
+    const char* solve = getenv("WEFT_GPU_SOLVE");
+    if (solve && strcmp(solve, "group") == 0) {
+        if (!d->compute) {
+            wg_errorf(err, err_len, "WEFT_GPU_SOLVE=group needs compute-shader passes (OpenGL 4.3, WEFT_GPU_PASSES "
+                      "compute); this context runs fragment passes");
+            wg_device_destroy(d);
+            return WC_ERROR_GPU;
+        }
+        d->solve = WG_SOLVE_GROUP;
+    } else if (solve && strcmp(solve, "passes") == 0) {
+        d->solve = WG_SOLVE_PASSES;
+    } else if (solve && *solve) {
+        wg_errorf(err, err_len, "WEFT_GPU_SOLVE='%.40s' is not 'group' or 'passes'", solve);
+        wg_device_destroy(d);
+        return WC_ERROR_GPU;
+    }
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];

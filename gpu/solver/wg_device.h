@@ -11,6 +11,15 @@
 #include "status.h"
 #include "wg_passes.h"
 
+/* How PCG with the block-Jacobi preconditioner runs on compute passes (wg_solve.c): the whole
+ * solve in one work group (pcg_group.glsl) for a cloth of at most WG_GROUP_MAX_PARTICLES
+ * particles on a hardware device, the multi-pass chain above that and on software rasterisers;
+ * WEFT_GPU_SOLVE=group or =passes forces one. */
+typedef enum wg_solve_mode { WG_SOLVE_AUTO = 0, WG_SOLVE_GROUP, WG_SOLVE_PASSES } wg_solve_mode;
+/* The most particles the one-group solve takes: its shared memory holds one vector of them
+ * (3 floats each, within the 32 KiB every GL 4.3 device has), its 1,024 invocations 3 rows each. */
+#define WG_GROUP_MAX_PARTICLES 2560
+
 typedef struct wg_device {
     wg_gl_context* gl;
     wg_program prog[WGP_COUNT];
@@ -20,6 +29,7 @@ typedef struct wg_device {
     int software;               /* 1 on a software rasteriser (llvmpipe, softpipe, swrast) */
     int has_timer;              /* GL_TIMESTAMP queries work */
     int compute;                /* the passes are compute shaders (wg_compute.h), not fragment shaders */
+    wg_solve_mode solve;        /* WEFT_GPU_SOLVE's choice (compute passes) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];
@@ -31,7 +41,9 @@ typedef struct wg_device {
  * (wg_compute.h) where the context has GL 4.3, fragment shaders rendering into FBOs elsewhere;
  * the environment's WEFT_GPU_PASSES=fragment or =compute picks one. Any other value, or compute
  * on a context without GL 4.3, is WC_ERROR_GPU with a message, as is a pass whose shader's
- * samplers are not its table's (the message names the pass and the sampler). */
+ * samplers are not its table's (the message names the pass and the sampler). WEFT_GPU_SOLVE
+ * (wg_solve_mode) is read here too: "group", "passes" or unset/empty; any other value, or group
+ * on fragment passes, is WC_ERROR_GPU with a message naming it. */
 wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t err_len);
 /* Inside wg_gl_begin (or with the context current). NULL is ignored. */
 void wg_device_destroy(wg_device* d);

@@ -92,6 +92,10 @@ WHOLE(wg_pcg_update_groups_in, pcg_update_groups);
 static const wg_pass_input pcg_direction_groups[] = {DG(t),        DG(c),        DG(S0),       DG(S1),
                                                      DG(scalars0), DG(scalars1), DG(scalars2), DG(dots)};
 WHOLE(wg_pcg_direction_groups_in, pcg_direction_groups);
+#define PG(f) IN(wg_pcg_group_in, f)
+static const wg_pass_input pcg_group[] = {PG(pblocks), PG(block), PG(a_lo), PG(a_hi), PG(b),
+                                          PG(S0),      PG(S1),    PG(z),    PG(dv)};
+WHOLE(wg_pcg_group_in, pcg_group);
 static const wg_pass_input pcg_direction[] = {
     IN(wg_pcg_direction_in, t), IN(wg_pcg_direction_in, c), IN(wg_pcg_direction_in, S0),
     IN(wg_pcg_direction_in, S1), IN(wg_pcg_direction_in, scalars0), IN(wg_pcg_direction_in, scalars1)};
@@ -243,6 +247,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),
     [WGP_PCG_SCALARS_GROUPS] = NATIVE("pcg_scalars_groups", pcg_scalars, wg_pcg_scalars_in),
     [WGP_PCG_DIRECTION_GROUPS] = NATIVE("pcg_direction_groups", pcg_direction_groups, wg_pcg_direction_groups_in),
+    [WGP_PCG_GROUP] = NATIVE("pcg_group", pcg_group, wg_pcg_group_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),
     [WGP_AMG_DINV] = COMPUTE("amg_dinv", amg_dinv, wg_amg_in),
     [WGP_AMG_POWER] = COMPUTE("amg_power", amg_power, wg_amg_in),

@@ -27,7 +27,7 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
                       &g->corr, &g->nrm,
                       &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd,
                       &g->nw_d, &g->nw_fext, &g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom,
-                      &g->air_lo, &g->air_hi};
+                      &g->air_lo, &g->air_hi, &g->grp};
     for (size_t i = 0; i < sizeof list / sizeof list[0] && k < cap; ++i) out[k++] = list[i];
     wg_ring* rings[] = {&g->x, &g->v, &g->dv, &g->xp, &g->vp};
     for (int r = 0; r < 5; ++r)
@@ -226,6 +226,7 @@ static int create_scratch(wg_sim* g, char* err, size_t el) {
         long long texels = (long long)g->q.w * g->q.h;
         TRY(wg_array_create(L, &g->gpart[0], GL_RGBA32F, (int)((texels + 63) / 64), NULL, err, el));
         TRY(wg_array_create(L, &g->gpart[1], GL_RGBA32F, (int)((texels + 255) / 256), NULL, err, el));
+        TRY(wg_tex_create(&g->grp, GL_RGBA32F, 1, 1, NULL, err, el));
     }
     if (g->newton) {
         wg_tex* pn[] = {&g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd, &g->nw_d,
@@ -291,6 +292,11 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
                        "colliders (this one has room for %d, and %d mesh colliders): choose newton_iterations 1 "
                        "without line search, or the CPU backend", s->def.newton_iterations,
                        s->def.line_search ? "on" : "off", s->def.max_colliders, s->n_mesh);
+    if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES &&
+        s->def.solver.type == WC_SOLVER_PCG && s->def.solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
+        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
+                       "WEFT_GPU_SOLVE=group solves cloths of at most %d particles in one work group; this one has %d: "
+                       "unset it or set WEFT_GPU_SOLVE=passes", WG_GROUP_MAX_PARTICLES, m->n_particles);
     if (s->def.self_collision)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");

@@ -73,6 +73,7 @@ struct wg_sim {
     wg_tex gpart[2];            /* compute passes: PCG's per-work-group partial sums, the SpMV's and the
                                    update's (wg_solve.c: the update reads the first as it writes the second) */
     wg_tex sc[2][3];            /* PCG scalars, ping-pong */
+    wg_tex grp;                 /* compute passes, 1 x 1: the one-group solve's result (pcg_group.glsl) */
     int sc_cur;
     wg_tex lanczos;             /* 32 x 1: Chebyshev's Lanczos steps (texels 0..19, wg_solve.c) and the
                                    substep's checks (28..31, wg_checks.c) */

@@ -6,8 +6,11 @@
  * queued passes change nothing. The host reads the flags back every check_every iterations to
  * stop queueing (and to confirm convergence with the true residual, restarting from it on drift
  * as core's PCG does), and the result once at the end. Jacobi and Chebyshev measure the residual
- * every check_every iterations (a reduction and one texel read back), as on the CPU. */
+ * every check_every iterations (a reduction and one texel read back), as on the CPU. A small
+ * cloth's block-Jacobi PCG runs instead as one dispatch of one work group that does all of the
+ * above, host loop included (pcg_group.glsl; wg_device.h wg_solve_mode says where). */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "wg_sim_impl.h"
@@ -332,6 +335,57 @@ static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** ou
     return st;
 }
 
+/* PCG with block Jacobi in one work group (pcg_group.glsl): one dispatch from the guess dv_in to
+ * the result in sv[0], the scalars left as the chain leaves them, then one read-back of them and
+ * of the group's result texel; res filled by solve_pcg's rules. */
+static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* dv_in, const wg_tex** out,
+                             wc_solve_result* res) {
+    wg_runner* run = &g->run;
+    const int max_it = o->max_iterations, b = 1 - g->sc_cur;
+    WG_USE(run, WGP_PCG_GROUP, &(wg_pcg_group_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
+        .a_hi = &g->A1, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .z = &g->z, .dv = dv_in});
+    rules_uniforms(g, o, 0, max_it);
+    wg_u1i(run, "u_texels", g->q.w * g->q.h);
+    wg_u1i(run, "u_guard", 4 * (max_it + 1) + 100);
+    WG_RUN_GROUPS(run, g->n, 1, &g->sv[0], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2], &g->grp);
+    g->sc_cur = b;
+    *out = &g->sv[0];
+    float s0[4], s1[4], s2[4], rg[4];
+    read_scalars(g, s0, s1, s2);
+    wg_read1(&g->layout, &g->grp, rg);
+    if (rg[2] < 0.0f) {   /* the shader's limit below the host's: a bug */
+        if (!run->fault[0]) snprintf(run->fault, sizeof run->fault, "pcg_group: %d particles past its limit", g->n);
+        res->residual = 1.0;
+        return WC_ERROR_GPU;
+    }
+    if (rg[2] > 0.0f) {   /* zero right-hand side: dv = z */
+        res->converged = 1;
+        return WC_OK;
+    }
+    res->residual0 = (double)s2[0];
+    res->scale = fmax(res->residual0, g->residual_floor);
+    res->iterations = (int)s1[2];
+    res->residual = sqrt((double)rg[0]) / res->scale;
+    res->converged = rg[1] != 0.0f || res->residual <= o->tolerance;
+    wc_status st = s1[1] != 0.0f ? WC_ERROR_SOLVER_DIVERGED : WC_OK;
+    if (!isfinite(res->residual0)) {   /* the shader left dv = z */
+        res->residual = 1.0;
+        res->converged = 0;
+        st = WC_ERROR_SOLVER_DIVERGED;
+    }
+    if (st == WC_OK && !isfinite(res->residual)) st = WC_ERROR_SOLVER_DIVERGED;
+    return st;
+}
+
+/* PCG with block Jacobi in one work group: compute passes and a cloth within the group's limit,
+ * on a hardware device (a software rasteriser runs one work group on one thread, where it runs a
+ * pass over all its cores: the chain is faster there), or where WEFT_GPU_SOLVE=group forces it */
+static int group_wanted(const wg_sim* g) {
+    const wg_device* d = g->dev;
+    if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES) return 0;
+    return d->solve == WG_SOLVE_GROUP || !d->software;
+}
+
 /* Chebyshev's rho: 20 CG steps of the PCG passes on P y = S g (core/solve_rho.c), their alpha and
  * beta recorded per step into g->lanczos on the GPU and read back once. */
 static double estimate_rho(wg_sim* g, const wc_solver_opts* o) {
@@ -478,6 +532,11 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
     /* the preconditioner (block Jacobi's unless PCG has the multigrid), and the initial guess
        projected into sv[0] */
     const int amg = type == WC_SOLVER_PCG && g->amg;
+    if (type == WC_SOLVER_PCG && !amg && group_wanted(g)) {
+        wc_status st = solve_group(g, o, dv_in, out, res);
+        res->status = st;
+        return st;
+    }
     if (!amg) {
         WG_USE(run, WGP_DINV, &(wg_dinv_in){.pblocks = &g->pblocks, .a_lo = &g->A0, .a_hi = &g->A1, .S0 = &g->S0,
             .S1 = &g->S1});

@@ -1,5 +1,6 @@
 // Per particle: dv = z + S dv (constrained particles; free ones unchanged). A non-finite guess is
-// replaced by z. With u_to_z, dv = z (the answer of a zero right-hand side).
+// replaced by z. With u_to_z, dv = z (the answer of a zero right-hand side). project_row.glsl.
+#pragma weft include project_row
 uniform sampler2D dv;
 uniform sampler2D S0;
 uniform sampler2D S1;
@@ -10,9 +11,5 @@ out vec4 o0;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
-    vec3 d = ld(dv, i).xyz, zi = ld(z, i).xyz;
-    vec4 s1 = ld(S1, i);
-    if (u_to_z != 0 || !finite3(d)) { o0 = vec4(zi, 0.0); return; }
-    if (s1.z != 0.0) d = zi + filter_S(ld(S0, i), s1) * d;
-    o0 = vec4(d, 0.0);
+    o0 = vec4(project_row(ld(dv, i).xyz, ld(z, i).xyz, ld(S0, i), ld(S1, i), u_to_z != 0), 0.0);
 }
