@@ -1,7 +1,7 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
@@ -10,7 +10,10 @@
 # sheet's rollbacks at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments
 # batched / unbatched); passes: PCG's folded passes (docs/bench/gpu.md, "Fewer passes"): the
 # solver test, passes a frame and a PCG iteration with ms a step on both kinds of passes, the
-# multigrid's converged steps, the scenes: ~4 min.
+# multigrid's converged steps, the scenes (the chain forced: WEFT_GPU_SOLVE=passes): ~4 min;
+# group: block-Jacobi PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its
+# tests, bench_gpu's ms and passes a frame at 256 to 2,500 particles, fixed and converged, the
+# scenes with block Jacobi both ways): ~3 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -60,7 +63,27 @@ if [ "$MODE" = newton ]; then   # sewing, Newton, line search, BDF2 / TR-BDF2 an
     timeout 240 build-dev/weft bench crowd --backend gpu --frames 10 2>&1 | tail -20; } 2>&1 | tee "$O/h_newton_crowd.md"
   exit 0
 fi
+if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass chain
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    for t in test_gpu_group test_api_gpu_group; do
+      timeout 120 build-dev/tests/$t > /tmp/tg.txt 2>&1; echo "$t rc=$?"; grep -E "particles:|group vs|FAIL" /tmp/tg.txt
+    done
+    for solve in group passes; do
+      WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --skip-cpu 2>&1 | head -12
+      WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --tolerance 1e-4 --iterations 1000 --skip-cpu 2>&1 | head -12
+    done
+    echo "| scene | solve | ms/frame median | solves | iterations mean | rollbacks |"; echo "|---|---|---|---|---|---|"
+    M="--backend gpu --precond block_jacobi --integrator be --newton 1 --line-search off --threads 1"
+    for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
+      for solve in group passes; do
+        WEFT_GPU_SOLVE=$solve timeout 60 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json $M > /tmp/run.txt 2>&1 || { echo "| $sc | $solve | FAILED $(tail -c 200 /tmp/run.txt | tr '\n' ' ') |"; continue; }
+        python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | $solve | %.2f | %s | %.1f | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('rollbacks')))"
+      done
+    done; } 2>&1 | tee "$O/q_group.md"
+  exit 0
+fi
 if [ "$MODE" = passes ]; then   # PCG's folded passes: counts and ms a step, the fused sums' test
+  export WEFT_GPU_SOLVE=passes   # the chain, where the one-group solve would take the small sizes
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
     timeout 90 build-dev/tests/test_gpu_solver > /tmp/ts.txt 2>&1; echo "test_gpu_solver rc=$?"
     grep -E "rows:|capped at|FAIL" /tmp/ts.txt
