@@ -11,8 +11,8 @@
 #include "api_grid.h"
 #include "check.h"
 
-#define N 12            /* grid vertices per side: a 1 m sheet of 144 particles */
-#define FRAMES 20
+#define N 10            /* grid vertices per side: a 1 m sheet of 100 particles */
+#define FRAMES 12
 
 static ag_log g_log;
 
@@ -106,7 +106,7 @@ static void test_group_vs_passes(void) {
     }
     printf("group vs passes after %d frames: max |dx| %.3g m, the sheet fell %.3g m; iterations %d / %d\n", FRAMES,
            max_d, drop, it_a, it_b);
-    CHECK(drop > 0.1);
+    CHECK(drop > 0.05);
     /* the same float steps summed in another order, each solve converged to its tolerance */
     CHECK(max_d < 1e-3);
     CHECK(abs(it_a - it_b) <= FRAMES);

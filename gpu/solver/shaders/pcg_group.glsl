@@ -8,7 +8,7 @@
 // float floor (restarting from it as the host does), and at the end the true residual.
 //
 // Invocation t owns rows t, t + 1024, t + 2048 and keeps their dv, r, c, q, t and D~^-1 in
-// registers; the vector an SpMV or a residual reads from its neighbours (c, or the iterate) is in
+// registers (about 63 floats: a GPU may spill some to its L1); the vector an SpMV or a residual reads from its neighbours (c, or the iterate) is in
 // shared memory, which the sums reuse as scratch. Sums: each invocation's rows in order, then
 // 32 runs of 32 invocations, then the 32 runs, the same order in every invocation (every
 // invocation holds the same scalars, so the control flow is uniform for the barriers).
@@ -43,7 +43,8 @@ shared float sh[3 * GRP_MAX];
 
 int T;                      // this invocation
 vec3 xdv[R], xr[R], xc[R], xq[R], xt[R];
-mat3 xd[R];
+vec4 xdl[R];                // D~^-1 as symmetric blocks (common.glsl's sym): 18 floats, not 27
+vec2 xdh[R];
 
 int row(int k) { return T + G * k; }
 void put(int i, vec3 v) { sh[3 * i] = v.x; sh[3 * i + 1] = v.y; sh[3 * i + 2] = v.z; }
@@ -106,7 +107,7 @@ vec2 precondition() {
     vec2 acc = vec2(0.0);
     for (int k = 0; k < R; ++k)
         if (row(k) < u_n) {
-            xt[k] = xd[k] * xr[k];
+            xt[k] = sym(xdl[k], xdh[k]) * xr[k];
             acc += vec2(dot(xr[k], xt[k]), dot(xr[k], xr[k]));
         }
     return sum2(acc);
@@ -149,7 +150,9 @@ void main() {
             int i = row(k);
             int dk = ldi(pblocks, i).z;
             vec4 f0 = ld(S0, i), f1 = ld(S1, i);
-            xd[k] = dinv_block(sym(ld(a_lo, dk), ld(a_hi, dk).xy), f0, f1);
+            mat3 inv = dinv_block(sym(ld(a_lo, dk), ld(a_hi, dk).xy), f0, f1);
+            xdl[k] = sym_lo(inv);
+            xdh[k] = sym_hi(inv);
             xdv[k] = project_row(ld(dv, i).xyz, ld(z, i).xyz, f0, f1, false);
             xc[k] = ld(z, i).xyz;
         }
