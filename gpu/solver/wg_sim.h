@@ -21,8 +21,9 @@ typedef struct wg_sim wg_sim;
  * where outputs put host vertices no polygon uses. Refused with WC_ERROR_UNSUPPORTED (what the GPU
  * does not have): the direct solver, the multigrid on fragment passes and other preconditioners,
  * TR-BDF2 with colliders (mesh colliders included), Newton iterations or the line search with
- * colliders, self-collision; with WC_ERROR_GPU: arrays beyond the device's texture limits (naming the
- * array, its size and the limit), GL errors. */
+ * colliders, self-collision, block-Jacobi PCG past WG_GROUP_MAX_PARTICLES particles where
+ * WEFT_GPU_SOLVE=group forces the one-group solve (wg_device.h); with WC_ERROR_GPU: arrays beyond
+ * the device's texture limits (naming the array, its size and the limit), GL errors. */
 wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
 void wg_sim_destroy(wg_sim* g);
 /* Free the CPU memory only, when the GL context is gone or cannot be made current (the host's
