@@ -8,8 +8,8 @@
 // float floor (restarting from it as the host does), and at the end the true residual.
 //
 // Invocation t owns rows t, t + 1024, t + 2048 and keeps their dv, r, c, q, t and D~^-1 in
-// registers (about 63 floats: a GPU may spill some to its L1); the vector an SpMV or a residual reads from its neighbours (c, or the iterate) is in
-// shared memory, which the sums reuse as scratch. Sums: each invocation's rows in order, then
+// registers (63 floats: a GPU may spill some to its L1); the vector an SpMV or a residual reads
+// from its neighbours (c, or the iterate) is in shared memory, which the sums reuse as scratch. Sums: each invocation's rows in order, then
 // 32 runs of 32 invocations, then the 32 runs, the same order in every invocation (every
 // invocation holds the same scalars, so the control flow is uniform for the barriers).
 // Outputs: image 0 dv (zeros past u_n to u_texels), images 1..3 the scalars s0..s2 as the chain
@@ -38,7 +38,7 @@ layout(binding = 4) writeonly uniform image2D wg_img4;
 
 #define G 1024
 #define R 3
-#define GRP_MAX 2560        // wg_solve.c's WG_GROUP_MAX_PARTICLES; 3 GRP_MAX floats of shared memory
+#define GRP_MAX 2560        // wg_device.h's WG_GROUP_MAX_PARTICLES; 3 GRP_MAX floats of shared memory
 shared float sh[3 * GRP_MAX];
 
 int T;                      // this invocation
