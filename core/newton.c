@@ -338,6 +338,13 @@ static void friction_terms(wc_state* s) {
     for (int k = 0; k < 3 * m->n_particles; ++k) s->nw_fb[k] = s->b[k] - s->nw_fb[k];
 }
 
+void wc_newton_debug_system(wc_state* s, const wc_integ* ig, const double* w, wc_compression compression) {
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    friction_terms(s);
+    newton_system(s, ig, w, compression, &st);
+}
+
 /* Total energy (J) of the iterate w: kinetic of v_n + w, springs and gravity's potential at x(w)
  * (the measure of wc_state_total_energy, the step's energy judge). Leaves x(w), v(w) in nw_x, nw_v. */
 static double iterate_energy(wc_state* s, const wc_integ* ig, const double* w) {

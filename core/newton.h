@@ -41,4 +41,10 @@ wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solv
  * wc_newton_capture of the substep and before its positions advance. */
 double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w);
 
+/* For tests: friction's frozen terms (into s->nw_fa, s->nw_fb: what the friction pass added to A's
+ * diagonal blocks and to b since wc_newton_capture, as wc_newton_iterate's start takes them; once
+ * per prepared substep) and Newton's system at the iterate w: A into s->A, -grad Phi(w) into
+ * s->nw_g, x(w) into s->nw_x. */
+void wc_newton_debug_system(wc_state* s, const wc_integ* ig, const double* w, wc_compression compression);
+
 #endif

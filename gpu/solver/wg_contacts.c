@@ -287,6 +287,13 @@ int wg_contacts_active(wg_contacts* cs) {
     return (int)(r[3] + 0.5f);
 }
 
+int wg_contacts_stuck(wg_contacts* cs) {
+    if (!cs) return 0;
+    float r[4];
+    wg_read1(cs->run->layout, wg_reduce(cs->run, &cs->chain, wg_ring_cur(&cs->c0), 0, 0, 0, 0), r);
+    return (int)(r[3] + 0.5f);
+}
+
 void wg_contacts_save(wg_contacts* cs) {
     if (!cs) return;
     wg_ring_save(&cs->c0);

@@ -60,6 +60,8 @@ void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv);
 void wg_contacts_project(wg_contacts* cs, const wc_state* s);
 /* Particles in contact now (read back: one texel). */
 int wg_contacts_active(wg_contacts* cs);
+/* Particles whose contacts stick after the friction pass and its rechecks (read back: one texel). */
+int wg_contacts_stuck(wg_contacts* cs);
 void wg_contacts_save(wg_contacts* cs);             /* the substep's start */
 void wg_contacts_restore(wg_contacts* cs);          /* rollback to it */
 void wg_contacts_backup(wg_contacts* cs);           /* the frame's back-up (wg_sim_backup) */

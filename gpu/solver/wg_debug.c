@@ -218,3 +218,23 @@ double wg_sim_debug_phi_change(wg_sim* g, const wc_state* s, double h, const dou
     wc_integ_coefficients(s, h, 1, &ig);
     return wg_newton_phi_change(g, s, &ig, &g->nw_w[0], &g->nw_w[1]);
 }
+
+wc_status wg_sim_debug_newton_system(wg_sim* g, const wc_state* s, double h, const double* w, double* A, double* grad,
+                                     double* fa, double* fb, wc_diag* diag) {
+    if (!g->newton) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "debug: a cloth without Newton iterations");
+    wc_integ ig;
+    wc_integ_coefficients(s, h, 1, &ig);
+    if (g->nw_friction) wg_newton_friction(g, 1);
+    upload_vec(g, &g->nw_w[0], g->n, w);
+    wg_newton_system(g, s, &ig, &g->nw_w[0], s->def.compression);
+    if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+    if (grad) read_vec(g, &g->b, g->n, grad);
+    if (fa && g->nw_friction && !read_sym(g, &g->nw_fa[0], &g->nw_fa[1], g->n, fa))
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+    if (fa && !g->nw_friction) memset(fa, 0, (size_t)g->n * 9u * sizeof(double));
+    if (fb && g->nw_friction) read_vec(g, &g->nw_fb, g->n, fb);
+    if (fb && !g->nw_friction) memset(fb, 0, (size_t)g->n * 3u * sizeof(double));
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return wc_fail(diag, WC_ERROR_GPU, "debug Newton system: %s", wg_gl_error_name(e));
+    return WC_OK;
+}

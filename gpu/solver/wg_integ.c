@@ -43,11 +43,13 @@ void wg_integ_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x) {
     WG_RUN(run, g->n, &g->air_lo, &g->air_hi);
 }
 
-void wg_integ_assemble_a(wg_sim* g, double air_he) {
+void wg_integ_assemble_a(wg_sim* g, double air_he, int friction) {
     wg_runner* run = &g->run;
     WG_USE(run, WGP_ASSEMBLE_A, &(wg_assemble_a_in){.block = &g->block, .block_list = &g->block_list, .mass = &g->mass,
         .spring_f = &g->sf, .spring_w = &g->sw, .spring_j = &g->sj, .air_lo = air_he != 0.0 ? &g->air_lo : &g->mass,
-        .air_hi = air_he != 0.0 ? &g->air_hi : &g->mass});
+        .air_hi = air_he != 0.0 ? &g->air_hi : &g->mass, .fric_lo = friction ? &g->nw_fa[0] : &g->mass,
+        .fric_hi = friction ? &g->nw_fa[1] : &g->mass});
     wg_u1f(run, "u_air_he", air_he);
+    wg_u1i(run, "u_friction", friction);
     WG_RUN(run, g->nb, &g->A0, &g->A1);
 }

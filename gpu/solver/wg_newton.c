@@ -1,45 +1,56 @@
-/* Newton's iterations and line search of a substep on the GPU, as core/newton.c (without
- * friction's frozen terms: colliders are refused with Newton at creation), for backward Euler,
- * BDF2 and TR-BDF2's stages through core's coefficients (he, xb, v*, mom; core/bdf2.h). At the
- * iterate w (the velocity change; x(w) = xb + he (v_n + w)): the springs' elastic forces and
+/* Newton's iterations and line search of a substep on the GPU, as core/newton.c, for backward
+ * Euler, BDF2 and TR-BDF2's stages through core's coefficients (he, xb, v*, mom; core/bdf2.h). At
+ * the iterate w (the velocity change; x(w) = xb + he (v_n + w)): the springs' elastic forces and
  * stiffness at x(w) with the substep start's damping directions, or in TR-BDF2's stages those at
  * x(w) and the implicit air refreshed there too (newton_springs.glsl; core/newton.h "Refreshed"),
- * he f_total (assemble_b.glsl), g = -grad Phi(w) = he f_total - M (w - mom)
- * (newton_gradient.glsl) into b and A into its blocks; stop when |S g| is within the solver's
- * tolerance of the first solve's scale (a reduction read back); solve A d = g under the substep's
- * filter S with z = 0 (so every iterate keeps the first one's prescribed part); stop unless d
+ * he f_total (assemble_b.glsl), g = -grad Phi(w) = he f_total - M (w - mom) + Fb - Fa w
+ * (newton_gradient.glsl) into b and A + Fa into its blocks, Fa and Fb kinetic friction's terms as
+ * the substep's friction pass and its rechecks assembled them, frozen (newton_friction.glsl: the
+ * difference to a capture taken before that pass, as core's wc_newton_capture / friction_terms;
+ * the rechecks are not repeated); stop when |S g| is within the solver's tolerance of the first
+ * solve's scale (a reduction read back); solve A d = g under the substep's filter S, contacts
+ * included, with z = 0 (so every iterate keeps the first one's prescribed part); stop unless d
  * descends (g.d > 0, a reduction read back); w += d, or with the line search w + alpha d for the
  * first alpha of 1, 1/2, ... that passes Armijo's test on the incremental potential Phi. Phi's
  * change between two iterates is summed term by term (newton_phi_particles.glsl,
  * newton_phi_springs.glsl: two reductions read back), not each Phi, so that float keeps the
  * digits the test compares; the first step's search runs from w~0 = z + S (-v*) towards the
- * first solve's result as core's. The energy guard as core's: past
- * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
- * (the step's checks at x(w), v(w), read back) is above the cap. */
+ * first solve's result as core's. The energy guard as core's: past newton_iterations, up to
+ * NW_ENERGY_EXTRA more iterations while the iterate's total energy (the step's checks at x(w),
+ * v(w), read back) is above the cap, tested before the iteration's system is built, so that the
+ * last linearisation (the contacts' release reads its residual) is core's. */
 #include <math.h>
 
 #include "wg_sim_impl.h"
 
-/* Newton's system at w: A0/A1 and b = -grad Phi(w); the iterate's x(w), v(w) into the rings'
- * free slots (the integration after the iterations writes them anew). */
-static void newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* w,
-                          wc_compression compression) {
+/* newton_gradient.glsl at w with h f_total hf into out (its output 0), x(w) and v(w) into the
+ * rings' free slots (xw, vw); friction: its frozen terms in out. */
+static void gradient_pass(wg_sim* g, const wc_integ* ig, const wg_tex* hf, const wg_tex* w, int friction,
+                          const wg_tex* out, const wg_tex* xw, const wg_tex* vw) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_NEWTON_GRADIENT, &(wg_newton_gradient_in){.hf = hf, .w = w, .mass = &g->mass,
+        .xb = wg_integ_xb(g, ig), .mom = wg_integ_mom(g, ig), .v = wg_ring_cur(&g->v),
+        .fric_lo = friction ? &g->nw_fa[0] : &g->mass, .fric_hi = friction ? &g->nw_fa[1] : &g->mass,
+        .fric_b = friction ? &g->nw_fb : &g->mass});
+    wg_u1f(run, "u_h", ig->he);
+    wg_u1i(run, "u_friction", friction);
+    WG_RUN(run, g->n, out, xw, vw);
+}
+
+void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* w,
+                      wc_compression compression) {
     const wc_model* m = g->m;
     wg_runner* run = &g->run;
     const double he = ig->he;
     const wg_tex* xw = &g->x.t[wg_ring_other(&g->x, 0)];
     const wg_tex* vw = &g->v.t[wg_ring_other(&g->v, 0)];
-    const wg_tex *xb = wg_integ_xb(g, ig), *mom = wg_integ_mom(g, ig);
     const wc_air* air = &s->def.air;
     int use_air = (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && g->nt > 0;
     if (ig->air_implicit) {
         /* TR-BDF2's air refreshed at the iterate (core/newton.c refresh_air): x(w), v(w) first
-           (newton_gradient.glsl's outputs 1 and 2; its output 0 is redone below), then the air's
+           (the gradient pass's outputs 1 and 2; its output 0 is redone below), then the air's
            force and lumped Jacobian there */
-        WG_USE(run, WGP_NEWTON_GRADIENT, &(wg_newton_gradient_in){.hf = &g->nw_zero, .w = w, .mass = &g->mass,
-            .xb = xb, .mom = mom, .v = wg_ring_cur(&g->v)});
-        wg_u1f(run, "u_h", he);
-        WG_RUN(run, g->n, &g->b, xw, vw);
+        gradient_pass(g, ig, &g->nw_zero, w, 0, &g->b, xw, vw);
         WG_USE(run, WGP_AIR, &(wg_air_in){.x = xw, .v = vw, .tri = &g->tri});
         wg_u3f(run, "u_wind", air->wind);
         wg_u2f(run, "u_drag", air->normal_drag, air->tangent_drag);
@@ -47,7 +58,7 @@ static void newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, cons
         wg_integ_air_lump(g, s, xw);
     }
     WG_USE(run, WGP_NEWTON_SPRINGS, &(wg_newton_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .w = w, .xb = xb, .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
+        .w = w, .xb = wg_integ_xb(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
     wg_u4f(run, "u_k", m->material.k);
     wg_u4f(run, "u_d", m->material.d);
     wg_u1f(run, "u_h", he);
@@ -64,12 +75,19 @@ static void newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, cons
     wg_u1i(run, "u_mom", 0);
     if (ig->air_implicit) WG_RUN(run, g->n, &g->nw_hf, &g->ftot, &g->nw_fext);   /* f_ext at the iterate */
     else WG_RUN(run, g->n, &g->nw_hf, &g->ftot);
-    WG_USE(run, WGP_NEWTON_GRADIENT, &(wg_newton_gradient_in){.hf = &g->nw_hf, .w = w, .mass = &g->mass,
-        .xb = xb, .mom = mom, .v = wg_ring_cur(&g->v)});
-    wg_u1f(run, "u_h", he);
-    WG_RUN(run, g->n, &g->b, xw, vw);
-    wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0);
+    gradient_pass(g, ig, &g->nw_hf, w, g->nw_friction, &g->b, xw, vw);
+    wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, g->nw_friction);
     g->nw_refreshed = ig->stage != 0;
+}
+
+void wg_newton_friction(wg_sim* g, int terms) {
+    wg_runner* run = &g->run;
+    WG_USE(run, WGP_NEWTON_FRICTION, &(wg_newton_friction_in){.pblocks = &g->pblocks, .a_lo = &g->A0, .a_hi = &g->A1,
+        .b = &g->b, .cap_lo = terms ? &g->nw_cap[0] : &g->mass, .cap_hi = terms ? &g->nw_cap[1] : &g->mass,
+        .cap_b = terms ? &g->nw_cap[2] : &g->mass});
+    wg_u1i(run, "u_terms", terms);
+    if (terms) WG_RUN(run, g->n, &g->nw_fa[0], &g->nw_fa[1], &g->nw_fb);
+    else WG_RUN(run, g->n, &g->nw_cap[0], &g->nw_cap[1], &g->nw_cap[2]);
 }
 
 /* |S b|^2 (residual.glsl at x = 0), read back. */
@@ -111,10 +129,13 @@ static double step_to(wg_sim* g, const wg_tex* w, const wg_tex* d, const wg_tex*
 double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb) {
     wg_runner* run = &g->run;
     const double h = ig->he;
+    const int fric = g->nw_friction;
     WG_USE(run, WGP_NEWTON_PHI_PARTICLES, &(wg_newton_phi_particles_in){.wa = wa, .wb = wb, .mass = &g->mass,
         .fext = &g->nw_fext, .mom = wg_integ_mom(g, ig), .air_lo = ig->air_implicit ? &g->air_lo : &g->mass,
-        .air_hi = ig->air_implicit ? &g->air_hi : &g->mass});
+        .air_hi = ig->air_implicit ? &g->air_hi : &g->mass, .fric_lo = fric ? &g->nw_fa[0] : &g->mass,
+        .fric_hi = fric ? &g->nw_fa[1] : &g->mass, .fric_b = fric ? &g->nw_fb : &g->mass});
     wg_u1f(run, "u_h", h);
+    wg_u1i(run, "u_friction", fric);
     wg_u1i(run, "u_air", ig->air_implicit);
     wg_u1i(run, "u_air_at_wa", ig->air_implicit && g->nw_refreshed);
     WG_RUN(run, g->n, &g->nw_gd);
@@ -165,25 +186,31 @@ static const wg_tex* first_search(wg_sim* g, const wc_state* s, const wc_integ* 
 
 void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solver_type solver,
                        wc_compression compression, double residual_scale, double energy_cap, const wg_tex** dv,
-                       wc_step_stats* st) {
+                       const wg_tex** r_dv, wc_step_stats* st) {
+    wg_runner* run = &g->run;
     const wg_tex* w = &g->nw_w[0];
     g->nw_refreshed = 0;
-    wg_copy(&g->run, &g->nw_w[0], *dv);
+    if (g->nw_friction) wg_newton_friction(g, 1);
+    wg_copy(run, &g->nw_w[0], *dv);
     const int ls = s->def.line_search != 0;
     int stop = 0;
     if (ls) w = first_search(g, s, ig, w, &stop, st);
+    const wg_tex* rv = NULL;   /* the contacts' residual vector: NULL while the first system is the last */
     const double tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
     wc_solver_opts opts = s->def.solver;
     const int guard = energy_cap < HUGE_VAL;
     for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
-        newton_system(g, s, ig, w, compression);
         if (it >= s->def.newton_iterations) {
             /* past the configured count only while the iterate holds more energy than the
-               substep may end with (core/newton.h "Energy guard") */
-            double e = wg_checks_energy(g, s, &g->x.t[wg_ring_other(&g->x, 0)], &g->v.t[wg_ring_other(&g->v, 0)]);
-            if (!(e > energy_cap)) break;
+               substep may end with (core/newton.h "Energy guard"): x(w), v(w) into the free slots */
+            const wg_tex* xw = &g->x.t[wg_ring_other(&g->x, 0)];
+            const wg_tex* vw = &g->v.t[wg_ring_other(&g->v, 0)];
+            gradient_pass(g, ig, &g->nw_zero, w, 0, &g->nw_gd, xw, vw);
+            if (!(wg_checks_energy(g, s, xw, vw) > energy_cap)) break;
             ++st->energy_iterations;
         }
+        wg_newton_system(g, s, ig, w, compression);
+        rv = &g->nw_zero;   /* core's R_GRADIENT: -g at w */
         double gn = sqrt(filtered_norm2(g));
         if (!(gn > tol * residual_scale)) break;
         /* A d = g from d = 0 with the filter's z = 0 (the iterate already holds the prescribed part) */
@@ -199,11 +226,11 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
         wg_tex* trial = spare(g, w, NULL);
         const double slope = -step_to(g, w, d, &g->b, 1.0, trial);   /* grad Phi . d */
         if (!(slope < 0.0)) break;
+        double alpha = 1.0;
         if (ls) {
             /* alpha = 1, 1/2, ... until Armijo's test holds; none: the iterate stays, Newton stops
                (core's flat-potential stop, a decrease below 1e-13 of Phi, is below float's
                resolution: not tested) */
-            double alpha = 1.0;
             int ok = wg_newton_phi_change(g, s, ig, w, trial) <= NW_ARMIJO * alpha * slope;
             for (int b = 1; b <= NW_BACKTRACKS && !ok; ++b) {
                 alpha *= 0.5;
@@ -213,8 +240,17 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
             }
             if (!ok) break;
         }
+        if (g->contacts) {
+            /* core's R_STEP: the step alpha d from the last system's iterate (nw_d is free after the
+               first search) */
+            WG_USE(run, WGP_NEWTON_STEP, &(wg_newton_step_in){.w = &g->nw_zero, .d = d, .g = &g->b});
+            wg_u1f(run, "u_alpha", alpha);
+            WG_RUN(run, g->n, &g->nw_d, &g->nw_gd);
+            rv = &g->nw_d;
+        }
         w = trial;
         ++st->newton_iterations;
     }
     *dv = w;
+    *r_dv = rv ? rv : w;
 }

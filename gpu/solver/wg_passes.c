@@ -21,7 +21,9 @@ static const wg_pass_input newton_springs[] = {
 WHOLE(wg_newton_springs_in, newton_springs);
 static const wg_pass_input newton_gradient[] = {IN(wg_newton_gradient_in, hf), IN(wg_newton_gradient_in, w),
                                                 IN(wg_newton_gradient_in, mass), IN(wg_newton_gradient_in, xb),
-                                                IN(wg_newton_gradient_in, mom), IN(wg_newton_gradient_in, v)};
+                                                IN(wg_newton_gradient_in, mom), IN(wg_newton_gradient_in, v),
+                                                IN(wg_newton_gradient_in, fric_lo), IN(wg_newton_gradient_in, fric_hi),
+                                                IN(wg_newton_gradient_in, fric_b)};
 WHOLE(wg_newton_gradient_in, newton_gradient);
 static const wg_pass_input newton_step[] = {IN(wg_newton_step_in, w), IN(wg_newton_step_in, d),
                                             IN(wg_newton_step_in, g)};
@@ -33,8 +35,15 @@ WHOLE(wg_newton_start_in, newton_start);
 static const wg_pass_input newton_phi_particles[] = {
     IN(wg_newton_phi_particles_in, wa), IN(wg_newton_phi_particles_in, wb), IN(wg_newton_phi_particles_in, mass),
     IN(wg_newton_phi_particles_in, fext), IN(wg_newton_phi_particles_in, mom),
-    IN(wg_newton_phi_particles_in, air_lo), IN(wg_newton_phi_particles_in, air_hi)};
+    IN(wg_newton_phi_particles_in, air_lo), IN(wg_newton_phi_particles_in, air_hi),
+    IN(wg_newton_phi_particles_in, fric_lo), IN(wg_newton_phi_particles_in, fric_hi),
+    IN(wg_newton_phi_particles_in, fric_b)};
 WHOLE(wg_newton_phi_particles_in, newton_phi_particles);
+static const wg_pass_input newton_friction[] = {
+    IN(wg_newton_friction_in, pblocks), IN(wg_newton_friction_in, a_lo), IN(wg_newton_friction_in, a_hi),
+    IN(wg_newton_friction_in, b), IN(wg_newton_friction_in, cap_lo), IN(wg_newton_friction_in, cap_hi),
+    IN(wg_newton_friction_in, cap_b)};
+WHOLE(wg_newton_friction_in, newton_friction);
 static const wg_pass_input newton_phi_springs[] = {
     IN(wg_newton_phi_springs_in, x), IN(wg_newton_phi_springs_in, v), IN(wg_newton_phi_springs_in, wa),
     IN(wg_newton_phi_springs_in, wb), IN(wg_newton_phi_springs_in, xb), IN(wg_newton_phi_springs_in, spring),
@@ -57,7 +66,8 @@ WHOLE(wg_assemble_b_in, assemble_b);
 static const wg_pass_input assemble_a[] = {
     IN(wg_assemble_a_in, block), IN(wg_assemble_a_in, block_list), IN(wg_assemble_a_in, mass),
     IN(wg_assemble_a_in, spring_f), IN(wg_assemble_a_in, spring_w), IN(wg_assemble_a_in, spring_j),
-    IN(wg_assemble_a_in, air_lo), IN(wg_assemble_a_in, air_hi)};
+    IN(wg_assemble_a_in, air_lo), IN(wg_assemble_a_in, air_hi), IN(wg_assemble_a_in, fric_lo),
+    IN(wg_assemble_a_in, fric_hi)};
 WHOLE(wg_assemble_a_in, assemble_a);
 static const wg_pass_input pins[] = {IN(wg_pins_in, x), IN(wg_pins_in, v), IN(wg_pins_in, xp), IN(wg_pins_in, pin_map),
                                      IN(wg_pins_in, pin_from), IN(wg_pins_in, pin_target), IN(wg_pins_in, pin_axis)};
@@ -240,6 +250,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_NEWTON_START] = PASS("newton_start", newton_start, wg_newton_start_in),
     [WGP_NEWTON_PHI_PARTICLES] = PASS("newton_phi_particles", newton_phi_particles, wg_newton_phi_particles_in),
     [WGP_NEWTON_PHI_SPRINGS] = PASS("newton_phi_springs", newton_phi_springs, wg_newton_phi_springs_in),
+    [WGP_NEWTON_FRICTION] = PASS("newton_friction", newton_friction, wg_newton_friction_in),
     [WGP_INTEG_PREPARE] = PASS("integ_prepare", integ_prepare, wg_integ_prepare_in),
     [WGP_AIR_LUMP] = PASS("air_lump", air_lump, wg_air_lump_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),

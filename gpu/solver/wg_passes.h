@@ -28,7 +28,7 @@ typedef enum wg_pass_id {
     WGP_CONTACT_DIAG,
     /* Newton's further iterations and line search (wg_newton.c) */
     WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP, WGP_NEWTON_START, WGP_NEWTON_PHI_PARTICLES,
-    WGP_NEWTON_PHI_SPRINGS,
+    WGP_NEWTON_PHI_SPRINGS, WGP_NEWTON_FRICTION,
     /* BDF2 and TR-BDF2 (core/bdf2.h): the integrator's vectors, TR-BDF2's implicit air */
     WGP_INTEG_PREPARE, WGP_AIR_LUMP,
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
@@ -89,6 +89,7 @@ typedef struct wg_newton_springs_in {  /* newton_springs.glsl: per spring, Newto
 
 typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w), x(w), v(w) */
     const wg_tex *hf, *w, *mass, *xb, *mom, *v;   /* hf: assemble_b's h f_total; v: v_n; xb, mom: bdf2.h's */
+    const wg_tex *fric_lo, *fric_hi, *fric_b;     /* friction's frozen Fa, Fb (newton_friction.glsl) */
 } wg_newton_gradient_in;
 
 typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + alpha d and g.d */
@@ -102,7 +103,13 @@ typedef struct wg_newton_start_in {     /* newton_start.glsl: the line search's 
 typedef struct wg_newton_phi_particles_in {   /* newton_phi_particles.glsl: the potential's change */
     const wg_tex *wa, *wb, *mass, *fext, *mom;
     const wg_tex *air_lo, *air_hi;   /* the lumped drag Jacobian (air_lump.glsl) */
+    const wg_tex *fric_lo, *fric_hi, *fric_b;   /* friction's frozen Fa, Fb (newton_friction.glsl) */
 } wg_newton_phi_particles_in;
+
+typedef struct wg_newton_friction_in {   /* newton_friction.glsl: friction's frozen terms, or their capture */
+    const wg_tex *pblocks, *a_lo, *a_hi, *b;
+    const wg_tex *cap_lo, *cap_hi, *cap_b;   /* the capture (read with u_terms = 1) */
+} wg_newton_friction_in;
 
 typedef struct wg_newton_phi_springs_in {     /* newton_phi_springs.glsl: the potential's change */
     const wg_tex *x, *v, *wa, *wb, *xb, *spring, *spring_rest, *rest;
@@ -136,6 +143,7 @@ typedef struct wg_assemble_a_in {   /* assemble_a.glsl: per block of A */
     const wg_tex* mass;
     const wg_tex *spring_f, *spring_w, *spring_j;   /* springs.glsl's outputs 0, 1, 2 */
     const wg_tex *air_lo, *air_hi;  /* air_lump.glsl's outputs (read with u_air_he != 0) */
+    const wg_tex *fric_lo, *fric_hi;   /* friction's frozen Fa (newton_friction.glsl; read with u_friction) */
 } wg_assemble_a_in;
 
 typedef struct wg_pins_in {     /* pins.glsl: the pins' filter */

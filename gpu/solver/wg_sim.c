@@ -27,7 +27,8 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
                       &g->corr, &g->nrm,
                       &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd,
                       &g->nw_d, &g->nw_fext, &g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom,
-                      &g->air_lo, &g->air_hi, &g->grp};
+                      &g->air_lo, &g->air_hi, &g->grp, &g->nw_fa[0], &g->nw_fa[1], &g->nw_fb, &g->nw_cap[0],
+                      &g->nw_cap[1], &g->nw_cap[2]};
     for (size_t i = 0; i < sizeof list / sizeof list[0] && k < cap; ++i) out[k++] = list[i];
     wg_ring* rings[] = {&g->x, &g->v, &g->dv, &g->xp, &g->vp};
     for (int r = 0; r < 5; ++r)
@@ -233,6 +234,10 @@ static int create_scratch(wg_sim* g, char* err, size_t el) {
                         &g->nw_fext};
         for (size_t k = 0; k < sizeof pn / sizeof pn[0]; ++k) TRY(wg_array_create(L, pn[k], GL_RGBA32F, n, NULL, err, el));
     }
+    if (g->nw_friction) {
+        wg_tex* pf[] = {&g->nw_fa[0], &g->nw_fa[1], &g->nw_fb, &g->nw_cap[0], &g->nw_cap[1], &g->nw_cap[2]};
+        for (size_t k = 0; k < sizeof pf / sizeof pf[0]; ++k) TRY(wg_array_create(L, pf[k], GL_RGBA32F, n, NULL, err, el));
+    }
     if (g->integ) {
         for (int j = 0; j < 3; ++j) {
             TRY(wg_array_create(L, &g->xp.t[j], GL_RGBA32F, n, NULL, err, el));
@@ -286,12 +291,6 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
                        "%d mesh colliders): TR-BDF2's contacts (the stages' landing on the collider and the contact "
                        "impulses held from stage 1 to stage 2) are not carried on the GPU; choose BDF2 or backward "
                        "Euler, no colliders, or the CPU backend", s->def.max_colliders, s->n_mesh);
-    if (wc_newton_wanted(&s->def) && colliders)
-        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend runs Newton iterations (asked: %d, line search %s) only on a cloth without "
-                       "colliders (this one has room for %d, and %d mesh colliders): choose newton_iterations 1 "
-                       "without line search, or the CPU backend", s->def.newton_iterations,
-                       s->def.line_search ? "on" : "off", s->def.max_colliders, s->n_mesh);
     if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES &&
         s->def.solver.type == WC_SOLVER_PCG && s->def.solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
@@ -318,6 +317,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     g->pin_cap = s->def.max_pins > 0 ? s->def.max_pins : g->n;
     g->debug_opts = s->def.solver;
     g->newton = wc_newton_wanted(&s->def);
+    g->nw_friction = g->newton && colliders;
     g->integ = s->def.integrator != WC_INTEGRATOR_BE;
     long long biggest = g->n;
     long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};

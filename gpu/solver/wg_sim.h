@@ -94,6 +94,13 @@ void wg_sim_debug_spring_checks(wg_sim* g, const wc_state* s, double* elastic, d
  * its stage 1), as the
  * line search measures it (a cloth made with Newton iterations or the line search only). */
 double wg_sim_debug_phi_change(wg_sim* g, const wc_state* s, double h, const double* wa, const double* wb);
+/* Newton's system (a cloth made with Newton iterations or the line search) of the substep of
+ * length h the last prepare built, at the iterate w (n x 3): friction's frozen terms taken from
+ * what the prepare's friction pass added (once per prepare), then A (pattern.n_blocks x 9) and
+ * -grad Phi(w) (n x 3) read back, and friction's Fa (n x 9) and Fb (n x 3; zeros on a cloth
+ * without colliders). Any output may be NULL. */
+wc_status wg_sim_debug_newton_system(wg_sim* g, const wc_state* s, double h, const double* w, double* A, double* grad,
+                                     double* fa, double* fb, wc_diag* diag);
 /* Solve the system the last prepare built with the cloth's solver from the initial guess dv
  * (n x 3, in/out, NULL: the state's warm start); the result as core's wc_solve_result. */
 wc_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solve_result* res, wc_diag* diag);

@@ -81,7 +81,10 @@ struct wg_sim {
     wg_tex nw_w[3];             /* Newton's iterates and trials (wg_newton.c; made only with Newton) */
     wg_tex nw_zero;             /* zeros: Newton's initial guess and z */
     wg_tex nw_hf, nw_gd;        /* h f_total at the iterate; per-particle scratch of the reductions */
-    wg_tex nw_d, nw_fext;       /* the line search's first direction; the substep's external force */
+    wg_tex nw_d, nw_fext;       /* the line search's first direction (then the accepted step, the
+                                   contacts' residual: wg_newton_iterate); the substep's external force */
+    wg_tex nw_fa[2], nw_fb;     /* kinetic friction's frozen terms (per particle: Fa lo, hi; Fb) */
+    wg_tex nw_cap[3];           /* their capture before the friction pass (A_ii lo, hi; b) */
     wg_chain red_p[2], red_s;
     wg_tex nrm, host_pos, host_nrm;
     GLuint pbo;
@@ -97,6 +100,8 @@ struct wg_sim {
     int amg_on;                 /* PCG's solve in progress preconditions with it */
     int newton;                 /* Newton iterations above 1 or the line search (core's
                                    wc_newton_wanted): the nw_* textures exist */
+    int nw_friction;            /* Newton on a cloth with colliders: nw_fa, nw_fb, nw_cap exist and
+                                   Newton's systems and potential take friction's frozen terms */
     int integ;                  /* BDF2 or TR-BDF2: the integrator's textures exist (nw_fext too) */
     int nw_refreshed;           /* Newton in a TR-BDF2 stage: the damping and air were refreshed at
                                    the iterate (core/newton.h "Refreshed"); the potential's terms follow */
@@ -130,8 +135,9 @@ const wg_tex* wg_integ_mom(wg_sim* g, const wc_integ* ig);
 void wg_integ_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, const wg_tex* x_start);
 /* TR-BDF2's lumped drag Jacobian at positions x into air_lo / air_hi (air_lump.glsl). */
 void wg_integ_air_lump(wg_sim* g, const wc_state* s, const wg_tex* x);
-/* A from the springs' outputs sf, sw, sj, plus air_he L on the diagonal (0: no air term). */
-void wg_integ_assemble_a(wg_sim* g, double air_he);
+/* A from the springs' outputs sf, sw, sj, plus air_he L on the diagonal (0: no air term) and,
+ * with friction, kinetic friction's frozen Fa (nw_fa: Newton's systems). */
+void wg_integ_assemble_a(wg_sim* g, double air_he, int friction);
 
 /* ---- the step's checks (wg_checks.c) --------------------------------------------------------- */
 
@@ -159,16 +165,29 @@ void wg_checks_springs(wg_sim* g, const wc_state* s, double* elastic, double* ma
 
 /* ---- Newton's further iterations (wg_newton.c) ------------------------------------------------ */
 
-/* After the substep's first solve (*dv its result, residual_scale its wc_solve_result.scale): the
- * line search of its step when asked, up to newton_iterations - 1 Newton steps (with the line
- * search when asked; core/newton.c's rules), and up to
- * core's NW_ENERGY_EXTRA more while the iterate's total energy is above energy_cap (J; HUGE_VAL:
- * no guard); solves and iterations added to st; *dv becomes the accepted iterate (g->nw_w).
- * ig: the substep's (stage's) coefficients (x(w) = xb + he (v_n + w), core/newton.h; TR-BDF2's
- * stages refreshed). Cloths without colliders only. */
+/* Kinetic friction's frozen terms (core/newton.c wc_newton_capture, friction_terms; with
+ * g->nw_friction): capture A's diagonal blocks and b before the substep's friction pass
+ * (terms = 0), or, after its rechecks, turn what they added into nw_fa, nw_fb (terms = 1). */
+void wg_newton_friction(wg_sim* g, int terms);
+/* Newton's system at the iterate w: A0/A1 (friction's Fa on the diagonal) and b = -grad Phi(w);
+ * the iterate's x(w), v(w) into the rings' free slots (the integration after the iterations
+ * writes them anew). */
+void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* w, wc_compression compression);
+
+/* After the substep's first solve (*dv its result, residual_scale its wc_solve_result.scale) and
+ * its friction rechecks: friction's frozen terms (wg_newton_friction), the line search of its step
+ * when asked, up to newton_iterations - 1 Newton steps (with the line search when asked;
+ * core/newton.c's rules), and up to core's NW_ENERGY_EXTRA more while the iterate's total energy
+ * is above energy_cap (J; HUGE_VAL: no guard); solves and iterations added to st; *dv becomes the
+ * accepted iterate (g->nw_w). ig: the substep's (stage's) coefficients (x(w) = xb + he (v_n + w),
+ * core/newton.h; TR-BDF2's stages refreshed). On return A0/A1 and b hold the last linearisation
+ * and *r_dv the vector whose residual A r_dv - b there is core's constraint residual (the
+ * contacts' release reads it, wg_contacts_end): the iterate itself when no further system was
+ * built, zeros when the last system was built at the accepted iterate, the accepted step
+ * alpha d (nw_d) when a step was taken from it. */
 void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solver_type solver,
                        wc_compression compression, double residual_scale, double energy_cap, const wg_tex** dv,
-                       wc_step_stats* st);
+                       const wg_tex** r_dv, wc_step_stats* st);
 /* Phi(wb) - Phi(wa) of the prepared substep with coefficients ig (two reductions read back). */
 double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb);
 

@@ -105,9 +105,10 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     if (mom_mode == 2) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext, &g->mom);   /* stage 1: mom = he f0 / m */
     else if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
     else WG_RUN(run, g->n, &g->b, &g->ftot);
-    wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0);
+    wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, 0);
     if (colliding(s) && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
+        if (g->nw_friction) wg_newton_friction(g, 0);   /* friction's terms are told apart by it later */
         wg_contacts_friction(g->contacts, s, he);
     }
 }
@@ -147,12 +148,14 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wg_step_prepare(g, s, &ig, alpha1, compression);
     wg_stamp(&g->stamps, WG_STAGE_SOLVE);
     wc_solver_opts opts = s->def.solver;
-    const wg_tex* dvres = NULL;
+    const wg_tex *dvres = NULL, *rdv = NULL;
     wc_solve_result res;
     /* inexact Newton (core/step.c first_solve): with further iterations to correct it, the first
-       solve stops at forcing x its own residual; res.scale stays the tight solve's */
+       solve stops at forcing x its own residual, unless a contact sticks (a friction recheck
+       reads its forces off that solve: the count read back); res.scale stays the tight solve's */
     const double tolerance = opts.tolerance, floor = g->residual_floor, forcing = s->def.newton_forcing;
-    const int loose = s->def.newton_iterations > 1 && !g->contacts && forcing > tolerance;
+    const int loose = s->def.newton_iterations > 1 && forcing > tolerance &&
+                      !(colliding(s) && wg_contacts_stuck(g->contacts) > 0);
     if (loose) {
         opts.tolerance = forcing;
         g->residual_floor = floor * tolerance / forcing;
@@ -194,13 +197,14 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
             }
             energy_cap = m0.total + wc_substep_energy_allowance(s, &m0);
         }
-        wg_newton_iterate(g, s, &ig, solver, compression, res.scale, energy_cap, &dvres, st);
+        wg_newton_iterate(g, s, &ig, solver, compression, res.scale, energy_cap, &dvres, &rdv, st);
     }
     int nd = wg_ring_other(&g->dv, 0);
     wg_copy(run, &g->dv.t[nd], dvres);
 
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
-    if (colliding(s)) wg_contacts_end(g->contacts, s, &g->dv.t[nd]);
+    /* the release reads the last linearisation's residual (core/newton.h wc_newton_iterate) */
+    if (colliding(s)) wg_contacts_end(g->contacts, s, rdv ? rdv : &g->dv.t[nd]);
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
     WG_USE(run, WGP_INTEGRATE, &(wg_integrate_in){.xb = wg_integ_xb(g, &ig), .v = wg_ring_cur(&g->v),
         .dv = &g->dv.t[nd], .pin_map = &g->pin_map, .pin_from = &g->pin_from, .pin_target = &g->pin_target,

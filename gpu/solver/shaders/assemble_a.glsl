@@ -1,6 +1,7 @@
 // Per block k of the BSR pattern (row i, column j): A_ii = m_i I - sum of J over row i's springs,
 // A_ij = sum of J over the springs joining i and j (core/assemble.c); TR-BDF2's implicit air adds
-// he L_i to A_ii (core/bdf2.c wc_integ_forces; u_air_he = 0: none). Blocks are symmetric.
+// he L_i to A_ii (core/bdf2.c wc_integ_forces; u_air_he = 0: none); Newton's systems add kinetic
+// friction's frozen Fa_i to A_ii (u_friction; core/newton.c newton_system). Blocks are symmetric.
 // Outputs: o0 = (a00, a01, a02, a11), o1 = (a12, a22) of block k.
 uniform isampler2D block;      // (row, column, spring list start, end)
 uniform isampler2D block_list; // per list entry: spring
@@ -10,7 +11,10 @@ uniform sampler2D spring_w;    // springs.glsl o1: (w, J11)
 uniform sampler2D spring_j;    // springs.glsl o2: (J01, J02, J12, J22)
 uniform sampler2D air_lo;      // per particle: the lumped drag Jacobian L (air_lump.glsl o0, o1)
 uniform sampler2D air_hi;
+uniform sampler2D fric_lo;     // per particle: friction's Fa (newton_friction.glsl o0, o1)
+uniform sampler2D fric_hi;
 uniform float u_air_he;
+uniform int u_friction;
 out vec4 o0;
 out vec2 o1;
 
@@ -33,6 +37,10 @@ void main() {
         if (u_air_he != 0.0) {
             lo += u_air_he * ld(air_lo, bi.x);
             hi += u_air_he * ld(air_hi, bi.x).xy;
+        }
+        if (u_friction != 0) {
+            lo += ld(fric_lo, bi.x);
+            hi += ld(fric_hi, bi.x).xy;
         }
     }
     o0 = lo;
