@@ -223,7 +223,8 @@ static void test_direct_refused(void) {
     CHECK(strstr(weft_context_last_error(ctx), "weft_cloth_create") != NULL);
     CHECK(strstr(weft_context_last_error(ctx), "direct") != NULL);
     /* the multigrid (k == 0): the GPU's own on compute passes, refused on fragment passes;
-       Newton and its line search (k == 2, 3, without colliders: test_api_gpu_newton.c),
+       Newton and its line search (k == 2, 3: test_api_gpu_newton.c, with colliders
+       test_api_gpu_newton_contacts.c),
        sewing (k == 4), BDF2 (k == 1) and TR-BDF2 (k == 6, without colliders: test_api_gpu_bdf2.c)
        run on the GPU; what only the CPU backend has: self-collision (k == 5) */
     def.solver = WEFT_SOLVER_PCG;

@@ -32,7 +32,7 @@ static wc_state* perturbed_state(wc_model* m, const int* pinned, int n_pins, int
     def.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
     def.newton_iterations = newton;
     def.line_search = newton > 1;
-    def.max_colliders = 0;   /* the GPU runs Newton on cloths without colliders */
+    def.max_colliders = 0;   /* no colliders: the sewn system alone */
     def.sleep_speed = 0.0;
     wc_state* s = NULL;
     wc_diag d = {0};
