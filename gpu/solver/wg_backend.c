@@ -99,8 +99,9 @@ static wc_status device_destroy(void* device, wc_diag* d) {
 }
 
 /* The multigrid preconditioner where the passes are compute shaders (block Jacobi on fragment
- * passes); one linearised step without search (Newton needs a cloth without colliders there)
- * and no self-collision, all the GPU has. */
+ * passes); one linearised step without search (the GPU's Newton iterations cost a few
+ * read-backs a substep each: asked for, not the default) and no self-collision, which the GPU
+ * has not. */
 static void defaults(const void* device, wc_backend_defaults* out) {
     const wg_backend_device* bd = device;
     out->preconditioner = bd && bd->dev->compute ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;

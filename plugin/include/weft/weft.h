@@ -326,10 +326,10 @@ typedef struct weft_cloth_def {
     weft_integrator integrator; /* DEFAULT (backward Euler on both backends) */
     int newton_iterations;      /* linearised solves per substep, 1..100; 0 (default): the
                                    backend's choice (CPU 2, GPU 1). 1 without line search is
-                                   one Baraff-Witkin step. GPU: above 1 only without colliders */
+                                   one Baraff-Witkin step */
     int line_search;            /* backtracking line search on the incremental potential:
                                    1 on, 0 off, -1 (default): the backend's choice (CPU on,
-                                   GPU off). GPU: on only without colliders */
+                                   GPU off) */
     int substeps;               /* implicit steps per frame (1) */
     double max_frame_time;      /* s: a longer weft_frame.dt is refused (0.25) */
     double strain_limit;        /* 0 off (default); 0.1 caps stretch springs at 110% of rest */
