@@ -106,9 +106,10 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     else if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
     else WG_RUN(run, g->n, &g->b, &g->ftot);
     wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, 0);
+    /* Newton tells friction's terms apart by this capture (zero where no friction pass runs) */
+    if (g->nw_friction) wg_newton_friction(g, 0);
     if (colliding(s) && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
-        if (g->nw_friction) wg_newton_friction(g, 0);   /* friction's terms are told apart by it later */
         wg_contacts_friction(g->contacts, s, he);
     }
 }
