@@ -147,6 +147,18 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     h = ig.h;   /* TR-BDF2: the stage's length */
     const wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
     wg_step_prepare(g, s, &ig, alpha1, compression);
+    /* the colliders' position corrections (begin's push out of the shells, project's) are
+       collision responses: the energy they put in is left out of the judgement, as core's
+       collide_gain (core/step.c stage_step); begin's measured now (two texels read back), and
+       Newton's energy guard starts from the energy after it. TR-BDF2 has no colliders here. */
+    const int judge_collide = judge_energy && colliding(s) && g->contacts && stage == 0;
+    double collide_gain = 0.0, begin_total = 0.0;   /* J */
+    if (judge_collide) {
+        wg_checks start;
+        wg_checks_read(g, &start, NULL);
+        begin_total = wg_checks_energy(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v));
+        collide_gain = fmax(begin_total - start_measure(&start).total, 0.0);
+    }
     wg_stamp(&g->stamps, WG_STAGE_SOLVE);
     wc_solver_opts opts = s->def.solver;
     const wg_tex *dvres = NULL, *rdv = NULL;
@@ -185,8 +197,9 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);
     if (g->newton) {
-        /* Newton's energy guard (core/step.c): the start's energy plus what the judge allows (TR-BDF2's
-           stage 2: the substep's start's); the start's checks read back now (one more read-back) */
+        /* Newton's energy guard (core/step.c): the start's energy (after begin's correction with
+           colliders; TR-BDF2's stage 2: the substep's start's) plus what the judge allows; the
+           start's checks read back now (one more read-back) */
         double energy_cap = HUGE_VAL;
         if (judge_energy) {
             wg_checks start;
@@ -196,7 +209,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
                 m0.total = carry->start_total;
                 m0.elastic = carry->start_elastic;
             }
-            energy_cap = m0.total + wc_substep_energy_allowance(s, &m0);
+            energy_cap = (judge_collide ? begin_total : m0.total) + wc_substep_energy_allowance(s, &m0);
         }
         wg_newton_iterate(g, s, &ig, solver, compression, res.scale, energy_cap, &dvres, &rdv, st);
     }
@@ -236,8 +249,10 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
             g->v.cur = sv;
         }
     }
+    double project_from = 0.0;   /* J: before the projection (judge_collide) */
     if (colliding(s) && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
+        if (judge_collide) project_from = wg_checks_energy(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v));
         wg_contacts_project(g->contacts, s);
     }
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
@@ -258,6 +273,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     after.finite = isfinite(end.max_coord) != 0;
     after.kinetic = end.kinetic;
     after.total = (double)end.kinetic + (double)end.elastic + (double)end.gravity;
+    if (judge_collide) after.total -= collide_gain + fmax(after.total - project_from, 0.0);
     after.strain = end.max_strain;
     if (!after.finite) after.strain = HUGE_VAL;
     status = wc_substep_judge(s, &before, &after, judge, judge_energy && stage != 1, pin_energy, h,
