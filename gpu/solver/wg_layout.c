@@ -56,13 +56,21 @@ int wg_array_create(const wg_layout* L, wg_tex* t, GLenum internal, int count, c
 }
 
 void wg_array_upload(const wg_layout* L, const wg_tex* t, int count, const void* data) {
-    if (count <= 0) return;
-    int W = 1 << L->shift, comp = wg_tex_components(t->internal, NULL);
-    int full = count >> L->shift, rest = count - (full << L->shift);
-    if (full > 0) wg_tex_upload(t, 0, 0, count < W ? count : W, full, data);
-    if (rest > 0) {
-        const unsigned char* p = (const unsigned char*)data + (size_t)full * W * comp * 4u;
-        wg_tex_upload(t, 0, full, rest, 1, p);
+    wg_array_upload_range(L, t, 0, count, data);
+}
+
+void wg_array_upload_range(const wg_layout* L, const wg_tex* t, int first, int count, const void* data) {
+    const int W = 1 << L->shift;
+    const size_t item = (size_t)wg_tex_components(t->internal, NULL) * 4u;
+    const unsigned char* p = (const unsigned char*)data;
+    for (int i = first, end = first + count; i < end;) {
+        int row = i >> L->shift, col = i & (W - 1), len = end - i < W - col ? end - i : W - col;
+        int rows = col == 0 ? (end - i) >> L->shift : 0;
+        if (rows > 0) len = (end - i < W ? end - i : W);   /* whole rows in one upload */
+        else rows = 1;
+        wg_tex_upload(t, col, row, len, rows, p);
+        i += len * rows;
+        p += (size_t)len * rows * item;
     }
 }
 

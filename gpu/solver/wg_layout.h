@@ -33,6 +33,9 @@ int wg_array_create(const wg_layout* L, wg_tex* t, GLenum internal, int count, c
                     size_t err_len);
 /* Replace items [0, count) from a client buffer laid out item after item. */
 void wg_array_upload(const wg_layout* L, const wg_tex* t, int count, const void* data);
+/* Replace items [first, first + count) from a client buffer holding those items one after the
+ * other (a partial first row, whole rows, a partial last row: at most three uploads). */
+void wg_array_upload_range(const wg_layout* L, const wg_tex* t, int first, int count, const void* data);
 /* Read items [0, count) of an RGBA32F array into out (count x 4 floats). */
 void wg_array_read(const wg_layout* L, const wg_tex* t, int count, float* out);
 /* Read items [0, count) of an RGBA32F array as RGB floats into the bound pixel-pack buffer at
