@@ -420,7 +420,7 @@ static void test_tables(void) {
     CHECK_EQ_INT(g.preconditioner, WC_PRECOND_BLOCK_JACOBI);
     CHECK_EQ_INT(g.newton_iterations, 1);
     CHECK_EQ_INT(g.line_search, 0);
-    CHECK_EQ_INT(g.garment_self_collision, 0);
+    CHECK_EQ_INT(g.garment_self_collision, 1);
 #endif
     for (int t = 0; t < 2 && tables[t]; ++t) {
         const wc_cloth_backend* b = tables[t];

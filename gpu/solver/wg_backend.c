@@ -100,14 +100,14 @@ static wc_status device_destroy(void* device, wc_diag* d) {
 
 /* The multigrid preconditioner where the passes are compute shaders (block Jacobi on fragment
  * passes); one linearised step without search (the GPU's Newton iterations cost a few
- * read-backs a substep each: asked for, not the default) and no self-collision, which the GPU
- * has not. */
+ * read-backs a substep each: asked for, not the default); self-collision on for a garment, as
+ * on the CPU (core's stage on the host, wg_self.h). */
 static void defaults(const void* device, wc_backend_defaults* out) {
     const wg_backend_device* bd = device;
     out->preconditioner = bd && bd->dev->compute ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
     out->newton_iterations = 1;
     out->line_search = 0;
-    out->garment_self_collision = 0;
+    out->garment_self_collision = 1;
 }
 
 static wc_status begin(void* device, wc_diag* d) {

@@ -74,6 +74,7 @@ void wg_sim_destroy(wg_sim* g) {
     if (g->pbo) glDeleteBuffers(1, &g->pbo);
 memory:;
     wc_allocator a = g->alloc;
+    wg_self_destroy(g->self);
     wc_free(&a, g->pin_particle);
     wc_free(&a, g->pin_map_cpu);
     wc_free(&a, g->pin_scratch);
@@ -296,13 +297,15 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "WEFT_GPU_SOLVE=group solves cloths of at most %d particles in one work group; this one has %d: "
                        "unset it or set WEFT_GPU_SOLVE=passes", WG_GROUP_MAX_PARTICLES, m->n_particles);
-    if (s->def.self_collision)
-        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend has no self-collision (self_collision = 1 runs on the CPU backend only)");
     if (s->n_mesh > 0)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "
                "the CPU's penalty pairs at the body's sharp edges and corners do not (docs/design/gpu.md)", s->n_mesh);
+    if (s->self)
+        wc_log(diag, WC_LOG_INFO,
+               "GPU cloth: self-collision: core's stage runs on the host at the end of every substep (positions "
+               "and velocities read back, what it moved uploaded); its in-solve penalty pairs do not run on the "
+               "GPU (docs/design/gpu.md)");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
@@ -347,6 +350,10 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     wg_stamps_create(&g->stamps, dev->has_timer);
     glGenBuffers(1, &g->pbo);
     ok = ok && upload_model(g, host_rest, err, sizeof err) && create_scratch(g, err, sizeof err);
+    if (ok && s->self && !(g->self = wg_self_create(&g->layout, g->n, alloc))) {
+        wg_errorf(err, sizeof err, "out of memory");
+        ok = 0;
+    }
     if (ok) {
         GLenum e = glGetError();
         if (e != GL_NO_ERROR) {

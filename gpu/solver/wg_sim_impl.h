@@ -15,6 +15,7 @@
 #include "wg_reduce.h"
 #include "wg_ring.h"
 #include "wg_runner.h"
+#include "wg_self.h"
 #include "wg_sim.h"
 #include "wg_stamps.h"
 
@@ -97,6 +98,8 @@ struct wg_sim {
     int rho_valid;
     wg_contacts* contacts;      /* NULL when the cloth has no room for colliders */
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
+    wg_self* self;              /* core's self-collision stage on the host (wg_self.h) when the state
+                                   has one (s->self), else NULL */
     int amg_on;                 /* PCG's solve in progress preconditions with it */
     int newton;                 /* Newton iterations above 1 or the line search (core's
                                    wc_newton_wanted): the nw_* textures exist */

@@ -130,6 +130,7 @@ static wc_substep_measure start_measure(const wg_checks* c) {
 typedef struct stage_energy {
     double start_total;     /* J: total energy at the substep's start */
     double start_elastic;   /* J: its measure's elastic part (the allowance's scale) */
+    double excluded;        /* J: what stage 1's self-collision stage put in */
 } stage_energy;
 
 /* One backward-Euler or BDF2 substep of length h, or TR-BDF2's stage `stage` (1 or 2) of the
@@ -141,6 +142,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wc_substep_measure before, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_START);   /* read back with the end's */
+    if (g->self) wg_self_begin(g->self, s->self, wg_ring_cur(&g->x));   /* the previous substep's end */
 
     wc_integ ig;
     wc_integ_coefficients(s, h, stage, &ig);
@@ -206,7 +208,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
             wg_checks_read(g, &start, NULL);
             wc_substep_measure m0 = start_measure(&start);
             if (stage == 2) {
-                m0.total = carry->start_total;
+                m0.total = carry->start_total + carry->excluded;
                 m0.elastic = carry->start_elastic;
             }
             energy_cap = (judge_collide ? begin_total : m0.total) + wc_substep_energy_allowance(s, &m0);
@@ -255,6 +257,21 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         if (judge_collide) project_from = wg_checks_energy(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v));
         wg_contacts_project(g->contacts, s);
     }
+    /* self-collision at the very end, on the host (wg_self.h): timed there, not by the stamps */
+    double self_gain = 0.0;   /* J: energy the self-collision stage put in (not judged, core/step.c) */
+    if (g->self) {
+        wg_stamp(&g->stamps, WG_STAGE_COUNT);
+        double t0 = wc_now_ms();
+        wc_self_stats ss = {0, 0, 0, 0, 0};
+        wg_self_end(g->self, s->self, s, g->n_pins_uploaded, ig.he, wg_ring_cur(&g->x), wg_ring_cur(&g->v),
+                    judge_energy, &ss, &self_gain);
+        st->self_proximity += ss.proximity;
+        st->self_impacts += ss.impacts;
+        st->self_zones += ss.zones;
+        st->self_unresolved += ss.unresolved;
+        st->self_zone_relaxed += ss.relaxed;
+        st->ms.self_collide += wc_now_ms() - t0;
+    }
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
     wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_END);
     wg_checks start, end;
@@ -272,8 +289,17 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     }
     after.finite = isfinite(end.max_coord) != 0;
     after.kinetic = end.kinetic;
-    after.total = (double)end.kinetic + (double)end.elastic + (double)end.gravity;
-    if (judge_collide) after.total -= collide_gain + fmax(after.total - project_from, 0.0);
+    /* what the colliders' corrections (begin's, then the projection's) and the self-collision
+       stage put in is not judged (core/step.c) */
+    after.total = (double)end.kinetic + (double)end.elastic + (double)end.gravity - self_gain;
+    double excluded = self_gain;
+    if (judge_collide) {
+        double project_gain = fmax(after.total - project_from, 0.0);
+        after.total -= collide_gain + project_gain;
+        excluded += collide_gain + project_gain;
+    }
+    if (stage == 2) after.total -= carry->excluded;
+    if (stage == 1) carry->excluded = excluded;
     after.strain = end.max_strain;
     if (!after.finite) after.strain = HUGE_VAL;
     status = wc_substep_judge(s, &before, &after, judge, judge_energy && stage != 1, pin_energy, h,
@@ -290,7 +316,7 @@ static wc_status gpu_substep(void* user, wc_state* s, double h, double alpha1, w
     if (s->def.integrator != WC_INTEGRATOR_TRBDF2)
         return gpu_stage(g, s, h, 0, alpha1, solver, judge, pin_energy, NULL, st, diag);
     double a0 = s->sub_alpha0, ag = a0 + WC_TRBDF2_GAMMA * (alpha1 - a0);
-    stage_energy carry = {0.0, 0.0};
+    stage_energy carry = {0.0, 0.0, 0.0};
     wc_status status = gpu_stage(g, s, h, 1, ag, solver, judge, pin_energy, &carry, st, diag);
     if (status != WC_OK) return status;
     s->sub_alpha0 = ag;
@@ -381,6 +407,7 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     if ((g->gl_error || e != GL_NO_ERROR) && r == WC_OK)
         r = wc_fail(diag, WC_ERROR_GPU, "GPU step: GL error %s", e != GL_NO_ERROR ? wg_gl_error_name(e) : "in a pass");
     if (g->run.fault[0] && r == WC_OK) r = wc_fail(diag, WC_ERROR_GPU, "GPU step: %s", g->run.fault);
-    if (!collect_stamps(g, st) && !st->asleep) st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble;
+    if (!collect_stamps(g, st) && !st->asleep)
+        st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble - st->ms.self_collide;
     return r;
 }

@@ -1,0 +1,388 @@
+/* Self-collision on the GPU backend through the public API (real EGL: llvmpipe without a GPU),
+ * GPU against CPU with the GPU's method on both (PCG with block Jacobi, backward Euler, Newton
+ * 1, no line search). The GPU runs core's stage on the host after each substep
+ * (gpu/solver/wg_self.h); the CPU also has the in-solve penalty pairs, which the GPU does not, so
+ * the GPU's stage has more to correct. Two scenes, checked every frame with
+ * weft_cloth_check_collisions (core's edge-triangle crossings of the positions read back):
+ *  - layers: a sheet dropped 4 cm onto a pinned sheet of one mesh (two components), its vertices
+ *    over the lower sheet's triangles: no crossing on the GPU, the stage's impulses in the frame
+ *    statistics, the upper sheet resting on the lower one as on the CPU (positions within a bound),
+ *    no allocation in a step; without self-collision it falls through;
+ *  - heap: a 1.6 m strip standing on its end falls onto a floor and piles up on itself
+ *    (tests/heap_strip.h's strip): no crossing at any frame on the GPU, the stage's impacts,
+ *    no unresolved pair, its height and centre within bounds of the CPU's.
+ * Also: a snapshot mid-run restores to the same bytes and replays bit-identically; -1 means on
+ * for a garment (a cloth with seams) and off otherwise, as on the CPU. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "api_grid.h"
+#include "check.h"
+
+#define DT (1.0 / 60.0)
+
+static ag_alloc_counter g_count;
+
+static weft_context* make_ctx(weft_backend backend) {
+    weft_context_def cd = weft_default_context_def();
+    cd.threads = 1;
+    cd.backend = backend;
+    cd.allocator.alloc = ag_count_alloc;
+    cd.allocator.free = ag_count_free;
+    cd.allocator.user = &g_count;
+    weft_context* ctx = NULL;
+    if (weft_context_create(WEFT_ABI, &cd, &ctx) != WEFT_OK) return NULL;
+    return ctx;
+}
+
+/* A host mesh: positions and quads. */
+typedef struct mesh {
+    int nv, nf;
+    float* pos;
+    int* sizes;
+    int* idx;
+} mesh;
+
+static void mesh_free(mesh* m) {
+    free(m->pos);
+    free(m->sizes);
+    free(m->idx);
+}
+
+static weft_mesh_desc mesh_desc(const mesh* m) {
+    weft_mesh_desc d;
+    memset(&d, 0, sizeof d);
+    d.positions = m->pos;
+    d.n_vertices = m->nv;
+    d.face_sizes = m->sizes;
+    d.n_faces = m->nf;
+    d.indices = m->idx;
+    return d;
+}
+
+/* Two horizontal 10 x 10 sheets of 0.5 m: the lower at y = 0 (host vertices 0..99), the upper
+ * 4 cm above it, shifted a third of a cell along x and a fifth along z so that its vertices sit
+ * over the lower sheet's triangles. */
+#define LN 10
+static void layers(mesh* m) {
+    ag_mesh a;
+    ag_grid(&a, LN, 0.5, 0.0, 0, 0);
+    m->nv = 2 * a.nv;
+    m->nf = 2 * a.nf;
+    m->pos = malloc(3 * sizeof(float) * (size_t)m->nv);
+    m->sizes = malloc(sizeof(int) * (size_t)m->nf);
+    m->idx = malloc(4 * sizeof(int) * (size_t)m->nf);
+    double cell = 0.5 / (LN - 1);
+    for (int L = 0; L < 2; ++L) {
+        for (int v = 0; v < a.nv; ++v) {
+            float* p = m->pos + 3 * (L * a.nv + v);
+            p[0] = a.pos[3 * v] + (L ? (float)(cell / 3.0) : 0.0f);
+            p[1] = L ? 0.04f : 0.0f;
+            p[2] = a.pos[3 * v + 2] + (L ? (float)(cell / 5.0) : 0.0f);
+        }
+        for (int f = 0; f < a.nf; ++f) {
+            m->sizes[L * a.nf + f] = 4;
+            for (int k = 0; k < 4; ++k) m->idx[4 * (L * a.nf + f) + k] = a.idx[4 * f + k] + L * a.nv;
+        }
+    }
+    ag_free(&a);
+}
+
+/* tests/heap_strip.h's strip: 5 x 41 vertices, 0.2 m by 1.6 m, standing on its end with a
+ * gentle wave just above the floor. */
+#define HX 5
+#define HY 41
+static void heap(mesh* m) {
+    m->nv = HX * HY;
+    m->nf = (HX - 1) * (HY - 1);
+    m->pos = malloc(3 * sizeof(float) * (size_t)m->nv);
+    m->sizes = malloc(sizeof(int) * (size_t)m->nf);
+    m->idx = malloc(4 * sizeof(int) * (size_t)m->nf);
+    for (int j = 0; j < HY; ++j)
+        for (int i = 0; i < HX; ++i) {
+            double gx = 0.2 * i / (HX - 1), gy = 1.6 * j / (HY - 1);
+            float* p = m->pos + 3 * (i + HX * j);
+            p[0] = (float)(gx - 0.1);
+            p[1] = (float)(0.03 + gy);
+            p[2] = (float)(0.03 * sin(6.0 * gy) + 0.1 * gy);
+        }
+    int q = 0;
+    for (int j = 0; j + 1 < HY; ++j)
+        for (int i = 0; i + 1 < HX; ++i, ++q) {
+            m->sizes[q] = 4;
+            int* f = m->idx + 4 * q;
+            f[0] = i + HX * j;
+            f[1] = i + 1 + HX * j;
+            f[2] = i + 1 + HX * (j + 1);
+            f[3] = i + HX * (j + 1);
+        }
+}
+
+typedef struct run_result {
+    float pos[3 * 2 * LN * LN > 3 * HX * HY ? 3 * 2 * LN * LN : 3 * HX * HY];
+    int nv;
+    int max_crossings, frames_crossing;
+    int impacts, proximity, zones, unresolved, rollbacks, failed, iterations;
+    long step_allocs;           /* allocations through the context's allocator in frames 2.. */
+    double ms_self, ms_total;
+} run_result;
+
+static int g_pinned[LN * LN];
+
+static weft_cloth_def method_def(const mesh* m, int self) {
+    weft_cloth_def d = weft_default_cloth_def();
+    d.mesh = mesh_desc(m);
+    d.solver = WEFT_SOLVER_PCG;
+    d.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
+    d.integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+    d.newton_iterations = 1;
+    d.line_search = 0;
+    d.substeps = 2;
+    d.sleep_speed = 0;
+    d.self_collision = self;
+    return d;
+}
+
+/* scene 0: the layers (the lower sheet pinned); 1: the heap on a floor. Frames of DT; with
+ * snapshot, *snapshot (allocated here) is the state after `snapshot` frames. */
+static void run(weft_backend backend, int scene, int self, int frames, run_result* r) {
+    memset(r, 0, sizeof *r);
+    weft_context* ctx = make_ctx(backend);
+    CHECK(ctx != NULL);
+    if (!ctx) return;
+    mesh m;
+    if (scene == 0) layers(&m);
+    else heap(&m);
+    weft_cloth_def d = method_def(&m, self);
+    weft_attachment_def att = weft_default_attachment_def();
+    weft_collider_def floor = weft_default_collider_def();
+    if (scene == 0) {
+        for (int k = 0; k < LN * LN; ++k) g_pinned[k] = k;
+        att.vertices = g_pinned;
+        att.n_vertices = LN * LN;
+        d.attachments = &att;
+        d.n_attachments = 1;
+    } else {
+        floor.type = WEFT_COLLIDER_PLANE;   /* y = 0, free side +y */
+        floor.thickness = 0.005;
+        floor.friction = 0.3;
+        d.colliders = &floor;
+        d.n_colliders = 1;
+    }
+    weft_cloth c;
+    weft_status st = weft_cloth_create(ctx, &d, &c);
+    CHECK_EQ_INT(st, WEFT_OK);
+    if (st != WEFT_OK) {
+        printf("  create: %s\n", weft_context_last_error(ctx));
+        weft_context_destroy(ctx);
+        mesh_free(&m);
+        return;
+    }
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
+    CHECK_EQ_INT(info.self_collision, self);
+    weft_frame fr = weft_default_frame();
+    fr.dt = DT;
+    for (int f = 0; f < frames; ++f) {
+        weft_frame_stats fs;
+        long before = g_count.allocs;
+        if (weft_cloth_step(ctx, c, &fr, &fs) != WEFT_OK) ++r->failed;
+        if (f > 0) r->step_allocs += g_count.allocs - before;
+        r->impacts += fs.self_impacts;
+        r->proximity += fs.self_proximity;
+        r->zones += fs.self_zones;
+        r->unresolved += fs.self_unresolved;
+        r->rollbacks += fs.rollbacks;
+        r->iterations += fs.iterations;
+        r->ms_self += fs.ms_self_collide;
+        r->ms_total += fs.ms_total;
+        weft_collision_check chk;
+        CHECK_EQ_INT(weft_cloth_check_collisions(ctx, c, &chk), WEFT_OK);
+        if (chk.self_intersections > r->max_crossings) r->max_crossings = chk.self_intersections;
+        r->frames_crossing += chk.self_intersections > 0;
+    }
+    CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c, WEFT_SPACE_WORLD, r->pos, NULL, m.nv, &r->nv), WEFT_OK);
+    weft_context_destroy(ctx);
+    mesh_free(&m);
+}
+
+static void print_run(const char* name, const run_result* r) {
+    printf("  %s: max crossings %d (%d frames), proximity %d, impacts %d, zones %d, unresolved %d, rollbacks %d, "
+           "%d solver iterations, allocations in steps %ld, %.1f of %.1f ms in the stage\n",
+           name, r->max_crossings, r->frames_crossing, r->proximity, r->impacts, r->zones, r->unresolved, r->rollbacks,
+           r->iterations, r->step_allocs, r->ms_self, r->ms_total);
+}
+
+static double max_distance(const run_result* a, const run_result* b) {
+    double d = 0.0;
+    for (int i = 0; i < a->nv; ++i) {
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k) s += pow(a->pos[3 * i + k] - b->pos[3 * i + k], 2);
+        d = fmax(d, sqrt(s));
+    }
+    return d;
+}
+
+/* The upper sheet's lowest and mean height above the lower one (which is pinned at y = 0). */
+static void upper_heights(const run_result* r, double* lowest, double* mean) {
+    *lowest = HUGE_VAL;
+    *mean = 0.0;
+    for (int i = LN * LN; i < 2 * LN * LN; ++i) {
+        *lowest = fmin(*lowest, r->pos[3 * i + 1]);
+        *mean += r->pos[3 * i + 1] / (LN * LN);
+    }
+}
+
+static void test_layers(void) {
+    run_result gpu, cpu, off;
+    run(WEFT_BACKEND_GPU, 0, 1, 40, &gpu);
+    run(WEFT_BACKEND_CPU, 0, 1, 40, &cpu);
+    run(WEFT_BACKEND_GPU, 0, 0, 40, &off);
+    double glo, gmean, clo, cmean, olo, omean;
+    upper_heights(&gpu, &glo, &gmean);
+    upper_heights(&cpu, &clo, &cmean);
+    upper_heights(&off, &olo, &omean);
+    double dist = max_distance(&gpu, &cpu);
+    printf("layers (%d vertices, 40 frames):\n", gpu.nv);
+    print_run("GPU", &gpu);
+    print_run("CPU", &cpu);
+    print_run("GPU, no self-collision", &off);
+    printf("  upper sheet above the lower: lowest %.2f mm, mean %.2f mm on the GPU; %.2f, %.2f on the CPU; "
+           "%.1f, %.1f mm without; largest vertex distance GPU - CPU %.2e m (bound 1e-2)\n",
+           1e3 * glo, 1e3 * gmean, 1e3 * clo, 1e3 * cmean, 1e3 * olo, 1e3 * omean, dist);
+    CHECK_EQ_INT(gpu.failed, 0);
+    CHECK_EQ_INT(gpu.frames_crossing, 0);
+    CHECK_EQ_INT(gpu.unresolved, 0);
+    CHECK(gpu.proximity + gpu.impacts > 0);   /* the stage held it (no pairs in the GPU's solve) */
+    CHECK(gpu.ms_self > 0.0);
+    CHECK_EQ_INT(gpu.step_allocs, 0);
+    CHECK_EQ_INT(cpu.frames_crossing, 0);
+    CHECK(omean < 0.0);   /* without it the upper sheet falls through the lower */
+    CHECK_EQ_INT(off.impacts + off.proximity, 0);
+    /* resting on the lower sheet about a thickness (3 mm) above it, as on the CPU */
+    CHECK(glo > 0.0 && gmean > 0.002 && gmean < 0.006);
+    CHECK(dist < 1e-2);
+}
+
+static void heap_shape(const run_result* r, double* top, double* cy) {
+    *top = -HUGE_VAL;
+    *cy = 0.0;
+    for (int i = 0; i < r->nv; ++i) {
+        *top = fmax(*top, r->pos[3 * i + 1]);
+        *cy += r->pos[3 * i + 1] / r->nv;
+    }
+}
+
+static void test_heap(void) {
+    run_result gpu, cpu;
+    run(WEFT_BACKEND_GPU, 1, 1, 60, &gpu);
+    run(WEFT_BACKEND_CPU, 1, 1, 60, &cpu);
+    double gtop, gcy, ctop, ccy;
+    heap_shape(&gpu, &gtop, &gcy);
+    heap_shape(&cpu, &ctop, &ccy);
+    printf("heap (%d vertices, 60 frames):\n", gpu.nv);
+    print_run("GPU", &gpu);
+    print_run("CPU", &cpu);
+    printf("  top %.3f m, mean height %.3f m on the GPU; %.3f, %.3f m on the CPU (bounds 0.1 m, 0.03 m)\n", gtop, gcy,
+           ctop, ccy);
+    CHECK_EQ_INT(gpu.failed, 0);
+    CHECK_EQ_INT(gpu.frames_crossing, 0);
+    CHECK_EQ_INT(gpu.unresolved, 0);
+    CHECK(gpu.impacts + gpu.proximity > 0);
+    CHECK_EQ_INT(cpu.frames_crossing, 0);
+    CHECK(fabs(gtop - ctop) < 0.1);
+    CHECK(fabs(gcy - ccy) < 0.03);
+}
+
+/* A snapshot of the layers after 12 frames (the upper sheet landing) restores to the same bytes
+ * and replays the next 13 frames bit-identically. */
+static void test_snapshot(void) {
+    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
+    CHECK(ctx != NULL);
+    if (!ctx) return;
+    mesh m;
+    layers(&m);
+    weft_cloth_def d = method_def(&m, 1);
+    for (int k = 0; k < LN * LN; ++k) g_pinned[k] = k;
+    weft_attachment_def att = weft_default_attachment_def();
+    att.vertices = g_pinned;
+    att.n_vertices = LN * LN;
+    d.attachments = &att;
+    d.n_attachments = 1;
+    weft_cloth c;
+    CHECK_EQ_INT(weft_cloth_create(ctx, &d, &c), WEFT_OK);
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
+    size_t sz = info.snapshot_size;
+    unsigned char *s12 = malloc(sz), *end1 = malloc(sz), *end2 = malloc(sz);
+    weft_frame fr = weft_default_frame();
+    fr.dt = DT;
+    int impacts[2] = {0, 0};
+    for (int pass = 0; pass < 2; ++pass) {
+        int f0 = 0;
+        if (pass == 1) {
+            CHECK_EQ_INT(weft_cloth_restore(ctx, c, s12, sz), WEFT_OK);
+            CHECK(ag_same_snapshot(ctx, c, s12, sz));
+            f0 = 12;
+        }
+        for (int f = f0; f < 25; ++f) {
+            if (pass == 0 && f == 12) CHECK_EQ_INT(weft_cloth_save(ctx, c, s12, sz), WEFT_OK);
+            weft_frame_stats fs;
+            CHECK_EQ_INT(weft_cloth_step(ctx, c, &fr, &fs), WEFT_OK);
+            if (f >= 12) impacts[pass] += fs.self_impacts + fs.self_proximity;
+        }
+        CHECK_EQ_INT(weft_cloth_save(ctx, c, pass == 0 ? end1 : end2, sz), WEFT_OK);
+    }
+    int same = memcmp(end1, end2, sz) == 0;
+    printf("snapshot at frame 12, restored, run to 25: %s (%zu bytes; %d and %d stage impulses after it)\n",
+           same ? "bit-identical" : "DIFFERENT", sz, impacts[0], impacts[1]);
+    CHECK(same);
+    CHECK(impacts[0] > 0 && impacts[0] == impacts[1]);
+    free(s12);
+    free(end1);
+    free(end2);
+    weft_context_destroy(ctx);
+    mesh_free(&m);
+}
+
+/* -1: on for a garment (here a cloth with a seam), off for a plain cloth, as on the CPU. */
+static void test_default(void) {
+    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
+    CHECK(ctx != NULL);
+    if (!ctx) return;
+    mesh m;
+    layers(&m);
+    static const int sa[1] = {0}, sb[1] = {LN * LN};
+    for (int k = 0; k < 2; ++k) {
+        weft_cloth_def d = method_def(&m, -1);
+        if (k == 1) {
+            d.seam_a = sa;
+            d.seam_b = sb;
+            d.n_seams = 1;
+        }
+        weft_cloth c;
+        CHECK_EQ_INT(weft_cloth_create(ctx, &d, &c), WEFT_OK);
+        weft_cloth_info info;
+        CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
+        CHECK_EQ_INT(info.self_collision, k);
+        CHECK_EQ_INT(weft_cloth_destroy(ctx, c), WEFT_OK);
+    }
+    weft_context_destroy(ctx);
+    mesh_free(&m);
+}
+
+int main(void) {
+    weft_context* probe = make_ctx(WEFT_BACKEND_GPU);
+    if (!probe) {
+        printf("no GPU context: skipped\n");
+        return 0;
+    }
+    weft_context_destroy(probe);
+    RUN_TEST(test_default);
+    RUN_TEST(test_layers);
+    RUN_TEST(test_heap);
+    RUN_TEST(test_snapshot);
+    return TEST_SUMMARY();
+}
