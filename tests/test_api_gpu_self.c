@@ -11,6 +11,7 @@
  *  - heap: a 1.6 m strip standing on its end falls onto a floor and piles up on itself
  *    (tests/heap_strip.h's strip): no crossing at any frame on the GPU, the stage's impacts,
  *    no unresolved pair, its height and centre within bounds of the CPU's.
+ * The layers also with BDF2, TR-BDF2 and Newton 2 with the line search.
  * Also: a snapshot mid-run restores to the same bytes and replays bit-identically; -1 means on
  * for a garment (a cloth with seams) and off otherwise, as on the CPU. */
 #include <math.h>
@@ -130,15 +131,19 @@ typedef struct run_result {
 } run_result;
 
 static int g_pinned[LN * LN];
+/* the method of run()'s cloths: the GPU's (backward Euler, one linearised step) unless a test
+   changes it */
+static weft_integrator g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+static int g_newton = 1, g_search = 0;
 
 static weft_cloth_def method_def(const mesh* m, int self) {
     weft_cloth_def d = weft_default_cloth_def();
     d.mesh = mesh_desc(m);
     d.solver = WEFT_SOLVER_PCG;
     d.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
-    d.integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
-    d.newton_iterations = 1;
-    d.line_search = 0;
+    d.integrator = g_integrator;
+    d.newton_iterations = g_newton;
+    d.line_search = g_search;
     d.substeps = 2;
     d.sleep_speed = 0;
     d.self_collision = self;
@@ -296,6 +301,43 @@ static void test_heap(void) {
     CHECK(fabs(gcy - ccy) < 0.03);
 }
 
+/* The layers with the other integrators and Newton (the pinned sheet is no collider: all run on
+ * the GPU): BDF2 (the stage's corrections dv = dx / he with he = 2h/3), TR-BDF2 (the stage after
+ * each of its two stages, stage 1's energy carried to stage 2's judge) and Newton 2 with the
+ * line search: no crossing, no unresolved pair, no failed frame, the upper sheet resting on the
+ * lower within 2 mm of the CPU's height. */
+static void test_methods(void) {
+    static const struct { weft_integrator in; int newton, search; const char* name; } cases[] = {
+        {WEFT_INTEGRATOR_BDF2, 1, 0, "BDF2"},
+        {WEFT_INTEGRATOR_TRBDF2, 1, 0, "TR-BDF2"},
+        {WEFT_INTEGRATOR_BACKWARD_EULER, 2, 1, "Newton 2 + line search"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        g_integrator = cases[k].in;
+        g_newton = cases[k].newton;
+        g_search = cases[k].search;
+        run_result gpu, cpu;
+        run(WEFT_BACKEND_GPU, 0, 1, 30, &gpu);
+        run(WEFT_BACKEND_CPU, 0, 1, 30, &cpu);
+        double glo, gmean, clo, cmean;
+        upper_heights(&gpu, &glo, &gmean);
+        upper_heights(&cpu, &clo, &cmean);
+        printf("layers, %s, 30 frames:\n", cases[k].name);
+        print_run("GPU", &gpu);
+        print_run("CPU", &cpu);
+        printf("  upper sheet: lowest %.2f mm, mean %.2f mm on the GPU; %.2f, %.2f on the CPU\n", 1e3 * glo,
+               1e3 * gmean, 1e3 * clo, 1e3 * cmean);
+        CHECK_EQ_INT(gpu.failed, 0);
+        CHECK_EQ_INT(gpu.frames_crossing, 0);
+        CHECK_EQ_INT(gpu.unresolved, 0);
+        CHECK(gpu.proximity + gpu.impacts > 0);
+        CHECK(glo > 0.0 && fabs(gmean - cmean) < 0.002);
+    }
+    g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+    g_newton = 1;
+    g_search = 0;
+}
+
 /* A snapshot of the layers after 12 frames (the upper sheet landing) restores to the same bytes
  * and replays the next 13 frames bit-identically. */
 static void test_snapshot(void) {
@@ -383,6 +425,7 @@ int main(void) {
     RUN_TEST(test_default);
     RUN_TEST(test_layers);
     RUN_TEST(test_heap);
+    RUN_TEST(test_methods);
     RUN_TEST(test_snapshot);
     return TEST_SUMMARY();
 }
