@@ -5,9 +5,9 @@
  * integrator's xb, v*, mom and history (BDF2, TR-BDF2), springs, air, assembly
  * of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and line
  * search: wg_newton.c), (contact release), integration with the pins snapped, strain limiting,
- * (contact projection), and the checks as reductions (wg_checks.c): one read-back of four texels
- * per substep feeds core's judge. Rollback moves no data: the state rings keep the substep's
- * start. */
+ * (contact projection), (self-collision: core's stage on the host, wg_self.h), and the checks as
+ * reductions (wg_checks.c): one read-back of four texels per substep feeds core's judge. Rollback
+ * moves no data: the state rings keep the substep's start. */
 #include <math.h>
 #include <string.h>
 
@@ -409,5 +409,11 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     if (g->run.fault[0] && r == WC_OK) r = wc_fail(diag, WC_ERROR_GPU, "GPU step: %s", g->run.fault);
     if (!collect_stamps(g, st) && !st->asleep)
         st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble - st->ms.self_collide;
+    if (g->self) {
+        const wg_self_io* io = wg_self_transfers(g->self);
+        wc_log(diag, WC_LOG_DEBUG,
+               "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld bytes "
+               "uploaded by %lld of the runs", io->runs, io->read_bytes, io->upload_bytes, io->uploads);
+    }
     return r;
 }
