@@ -25,14 +25,33 @@
 #define DT (1.0 / 60.0)
 
 static ag_alloc_counter g_count;
+/* the stage's transfers as the GPU cloth logs them after each frame (DEBUG): runs, bytes read
+   back, bytes uploaded, runs that uploaded; -1 before any */
+static long long g_io[4] = {-1, -1, -1, -1};
+
+static void io_log(weft_log_level level, const char* message, void* user) {
+    (void)user;
+    long long r, rb, ub, u;
+    if (level == WEFT_LOG_DEBUG &&
+        sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
+                        "bytes uploaded by %lld", &r, &rb, &ub, &u) == 4) {
+        g_io[0] = r;
+        g_io[1] = rb;
+        g_io[2] = ub;
+        g_io[3] = u;
+    }
+}
 
 static weft_context* make_ctx(weft_backend backend) {
+    memset(g_io, 0xff, sizeof g_io);
     weft_context_def cd = weft_default_context_def();
     cd.threads = 1;
     cd.backend = backend;
     cd.allocator.alloc = ag_count_alloc;
     cd.allocator.free = ag_count_free;
     cd.allocator.user = &g_count;
+    cd.log = io_log;
+    cd.log_level = WEFT_LOG_DEBUG;
     weft_context* ctx = NULL;
     if (weft_context_create(WEFT_ABI, &cd, &ctx) != WEFT_OK) return NULL;
     return ctx;
@@ -125,6 +144,7 @@ typedef struct run_result {
     float pos[3 * 2 * LN * LN > 3 * HX * HY ? 3 * 2 * LN * LN : 3 * HX * HY];
     int nv;
     int max_crossings, frames_crossing;
+    long long io1[4], io[4];    /* the GPU stage's transfers after frame 1 and at the end (g_io) */
     int impacts, proximity, zones, unresolved, rollbacks, failed, iterations;
     long step_allocs;           /* allocations through the context's allocator in frames 2.. */
     double ms_self, ms_total;
@@ -195,6 +215,7 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
         long before = g_count.allocs;
         if (weft_cloth_step(ctx, c, &fr, &fs) != WEFT_OK) ++r->failed;
         if (f > 0) r->step_allocs += g_count.allocs - before;
+        if (f == 0) memcpy(r->io1, g_io, sizeof g_io);
         r->impacts += fs.self_impacts;
         r->proximity += fs.self_proximity;
         r->zones += fs.self_zones;
@@ -208,6 +229,7 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
         if (chk.self_intersections > r->max_crossings) r->max_crossings = chk.self_intersections;
         r->frames_crossing += chk.self_intersections > 0;
     }
+    memcpy(r->io, g_io, sizeof g_io);
     CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c, WEFT_SPACE_WORLD, r->pos, NULL, m.nv, &r->nv), WEFT_OK);
     weft_context_destroy(ctx);
     mesh_free(&m);
@@ -242,15 +264,15 @@ static void upper_heights(const run_result* r, double* lowest, double* mean) {
 
 static void test_layers(void) {
     run_result gpu, cpu, off;
-    run(WEFT_BACKEND_GPU, 0, 1, 40, &gpu);
-    run(WEFT_BACKEND_CPU, 0, 1, 40, &cpu);
-    run(WEFT_BACKEND_GPU, 0, 0, 40, &off);
+    run(WEFT_BACKEND_GPU, 0, 1, 30, &gpu);
+    run(WEFT_BACKEND_CPU, 0, 1, 30, &cpu);
+    run(WEFT_BACKEND_GPU, 0, 0, 30, &off);
     double glo, gmean, clo, cmean, olo, omean;
     upper_heights(&gpu, &glo, &gmean);
     upper_heights(&cpu, &clo, &cmean);
     upper_heights(&off, &olo, &omean);
     double dist = max_distance(&gpu, &cpu);
-    printf("layers (%d vertices, 40 frames):\n", gpu.nv);
+    printf("layers (%d vertices, 30 frames):\n", gpu.nv);
     print_run("GPU", &gpu);
     print_run("CPU", &cpu);
     print_run("GPU, no self-collision", &off);
@@ -263,6 +285,14 @@ static void test_layers(void) {
     CHECK(gpu.proximity + gpu.impacts > 0);   /* the stage held it (no pairs in the GPU's solve) */
     CHECK(gpu.ms_self > 0.0);
     CHECK_EQ_INT(gpu.step_allocs, 0);
+    /* transfers: 3 arrays of 16-byte texels read back a run; frame 1 (the upper sheet falling,
+       4 cm above) moved nothing, so uploaded nothing; later runs uploaded spans of x and v */
+    printf("  GPU transfers: after frame 1: %lld runs, %lld bytes read back, %lld uploaded; at the end: %lld runs, "
+           "%lld bytes read back, %lld uploaded by %lld runs\n", gpu.io1[0], gpu.io1[1], gpu.io1[2], gpu.io[0],
+           gpu.io[1], gpu.io[2], gpu.io[3]);
+    CHECK(gpu.io1[0] >= 2 && gpu.io1[1] == 48LL * gpu.nv * gpu.io1[0] && gpu.io1[2] == 0);
+    CHECK(gpu.io[1] == 48LL * gpu.nv * gpu.io[0] && gpu.io[3] > 0 && gpu.io[3] <= gpu.io[0]);
+    CHECK(gpu.io[2] >= 32LL * gpu.io[3] && gpu.io[2] <= 32LL * gpu.nv * gpu.io[3]);
     CHECK_EQ_INT(cpu.frames_crossing, 0);
     CHECK(omean < 0.0);   /* without it the upper sheet falls through the lower */
     CHECK_EQ_INT(off.impacts + off.proximity, 0);
@@ -282,12 +312,12 @@ static void heap_shape(const run_result* r, double* top, double* cy) {
 
 static void test_heap(void) {
     run_result gpu, cpu;
-    run(WEFT_BACKEND_GPU, 1, 1, 60, &gpu);
-    run(WEFT_BACKEND_CPU, 1, 1, 60, &cpu);
+    run(WEFT_BACKEND_GPU, 1, 1, 45, &gpu);
+    run(WEFT_BACKEND_CPU, 1, 1, 45, &cpu);
     double gtop, gcy, ctop, ccy;
     heap_shape(&gpu, &gtop, &gcy);
     heap_shape(&cpu, &ctop, &ccy);
-    printf("heap (%d vertices, 60 frames):\n", gpu.nv);
+    printf("heap (%d vertices, 45 frames):\n", gpu.nv);
     print_run("GPU", &gpu);
     print_run("CPU", &cpu);
     printf("  top %.3f m, mean height %.3f m on the GPU; %.3f, %.3f m on the CPU (bounds 0.1 m, 0.03 m)\n", gtop, gcy,
