@@ -383,9 +383,11 @@ typedef struct weft_cloth_def {
      * layers and separate pieces included; a cloth that starts a substep free of crossings ends
      * it free of them. Vertex-triangle and edge-edge pairs closer than the thickness are pushed
      * apart to it. */
-    int self_collision;         /* 1 on, 0 off, -1 (default): the backend's choice (CPU: on for a
-                                   garment, a cloth with mesh colliders or seams, off otherwise;
-                                   GPU: off, and it refuses 1 with UNSUPPORTED) */
+    int self_collision;         /* 1 on, 0 off, -1 (default): on for a garment (a cloth with mesh
+                                   colliders or seams), off otherwise, on either backend. The GPU
+                                   runs the CPU's stage on the host after each substep (its
+                                   positions and velocities read back, what it moved sent back)
+                                   and has no self-contact pairs in its solve */
     double self_collision_thickness; /* m, finite and > 0 (0.003) */
     uint32_t internal_cookie;   /* set by weft_default_cloth_def() */
     /* Inexact Newton: with newton_iterations > 1, a substep's first linear solve stops at this
@@ -405,8 +407,8 @@ WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, self-collision, and
- * with colliders, mesh colliders included, TR-BDF2, the line search or Newton iterations above 1),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, and with colliders,
+ * mesh colliders included, TR-BDF2, the line search or Newton iterations above 1),
  * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
  * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
@@ -608,7 +610,8 @@ typedef struct weft_frame_stats {
     int self_impacts;           /* colliding pairs found (and given impulses) during the substeps */
     int self_zones;             /* rigid impact zones formed */
     int self_unresolved;        /* pairs left colliding when the zone loop gave up (0 normally) */
-    double ms_self_collide;     /* wall time of the self-collision stage */
+    double ms_self_collide;     /* wall time of the self-collision stage (GPU: with its
+                                   read-backs and uploads) */
     /* the solve in detail, summed over the frame's substeps */
     int newton_steps;           /* Newton iterations taken after each substep's first solve */
     int line_search_backtracks; /* step halvings of the line search */
@@ -618,7 +621,8 @@ typedef struct weft_frame_stats {
     /* self-collision in detail, summed over the substeps (0 when it is off) */
     int self_proximity;         /* proximity impulses of the self-collision stage */
     int self_zone_relaxed;      /* stretch-spring corrections around its impact zones */
-    int self_pairs;             /* self-contact pairs found for the implicit solve */
+    int self_pairs;             /* self-contact pairs found for the implicit solve (CPU only: 0 on
+                                   the GPU, which has none in its solve) */
     int self_pairs_active;      /* ... of them active in the first system */
     int self_pair_passes;       /* extra solves because their active set changed */
     int self_pair_overflow;     /* pairs past the list's capacity (dropped, logged as a warning) */
