@@ -1,7 +1,7 @@
 /* The GPU FBO solver (gpu/solver) against the CPU code on the same input, on a real EGL context
  * (llvmpipe without a GPU): the assembled system (A and b, relative 1e-5 in float), the filter,
  * SpMV, reductions on sizes that are not powers of two, every GPU solver against CHOLMOD's
- * direct solve of the same system, and whole runs GPU vs CPU. */
+ * direct solve of the same system, and whole runs GPU vs CPU; uploads of a span of an array. */
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -486,6 +486,41 @@ static void test_texture_limit(void) {
     wc_model_free(&m);
 }
 
+/* wg_array_upload_range replaces exactly its items: a span inside a row, spans across rows (a
+ * partial first row, whole rows, a partial last one), a whole row, the whole array; checked
+ * against a host copy of what the array must hold after each upload. */
+static void test_upload_range(void) {
+    wg_layout L;
+    char err[256] = "";
+    CHECK(wg_layout_init(&L, 10, dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
+    const int n = 3500;   /* rows of 1,024 items: three whole, the fourth partial */
+    float* want = calloc(4 * (size_t)n, sizeof(float));
+    float* got = malloc(4 * (size_t)n * sizeof(float));
+    float* src = malloc(4 * (size_t)n * sizeof(float));
+    wg_tex t;
+    memset(&t, 0, sizeof t);
+    CHECK(wg_array_create(&L, &t, GL_RGBA32F, n, NULL, err, sizeof err));
+    static const int span[][2] = {{5, 4}, {1000, 1100}, {1024, 1024}, {2047, 1453}, {3071, 1}, {0, 3500}};
+    int same = 1;
+    for (size_t k = 0; k < sizeof span / sizeof span[0]; ++k) {
+        int first = span[k][0], count = span[k][1];
+        for (int i = 0; i < 4 * count; ++i) src[i] = (float)(1000 * (k + 1) + i);
+        memcpy(want + 4 * (size_t)first, src, 4 * (size_t)count * sizeof(float));
+        wg_array_upload_range(&L, &t, first, count, src);
+        wg_array_read(&L, &t, n, got);
+        int ok = memcmp(got, want, 4 * (size_t)n * sizeof(float)) == 0;
+        if (!ok) printf("  span [%d, %d): the array differs\n", first, first + count);
+        same = same && ok;
+    }
+    CHECK(same);
+    CHECK(glGetError() == GL_NO_ERROR);
+    wg_tex_destroy(&t);
+    wg_layout_destroy(&L);
+    free(want);
+    free(got);
+    free(src);
+}
+
 /* The direct solver does not exist on the GPU: refused, with the reason. */
 static void test_direct_refused(void) {
     wc_model m;
@@ -624,6 +659,7 @@ int main(void) {
     RUN_TEST(test_divergence);
     RUN_TEST(test_whole_run);
     RUN_TEST(test_texture_limit);
+    RUN_TEST(test_upload_range);
     RUN_TEST(test_direct_refused);
     RUN_TEST(test_compute_source);
     RUN_TEST(test_pass_inputs);
