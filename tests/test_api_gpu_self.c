@@ -57,36 +57,12 @@ static weft_context* make_ctx(weft_backend backend) {
     return ctx;
 }
 
-/* A host mesh: positions and quads. */
-typedef struct mesh {
-    int nv, nf;
-    float* pos;
-    int* sizes;
-    int* idx;
-} mesh;
-
-static void mesh_free(mesh* m) {
-    free(m->pos);
-    free(m->sizes);
-    free(m->idx);
-}
-
-static weft_mesh_desc mesh_desc(const mesh* m) {
-    weft_mesh_desc d;
-    memset(&d, 0, sizeof d);
-    d.positions = m->pos;
-    d.n_vertices = m->nv;
-    d.face_sizes = m->sizes;
-    d.n_faces = m->nf;
-    d.indices = m->idx;
-    return d;
-}
-
 /* Two horizontal 10 x 10 sheets of 0.5 m: the lower at y = 0 (host vertices 0..99), the upper
  * 4 cm above it, shifted a third of a cell along x and a fifth along z so that its vertices sit
  * over the lower sheet's triangles. */
 #define LN 10
-static void layers(mesh* m) {
+static void layers(ag_mesh* m) {
+    memset(m, 0, sizeof *m);
     ag_mesh a;
     ag_grid(&a, LN, 0.5, 0.0, 0, 0);
     m->nv = 2 * a.nv;
@@ -114,7 +90,8 @@ static void layers(mesh* m) {
  * gentle wave just above the floor. */
 #define HX 5
 #define HY 41
-static void heap(mesh* m) {
+static void heap(ag_mesh* m) {
+    memset(m, 0, sizeof *m);
     m->nv = HX * HY;
     m->nf = (HX - 1) * (HY - 1);
     m->pos = malloc(3 * sizeof(float) * (size_t)m->nv);
@@ -156,9 +133,19 @@ static int g_pinned[LN * LN];
 static weft_integrator g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
 static int g_newton = 1, g_search = 0;
 
-static weft_cloth_def method_def(const mesh* m, int self) {
+/* The layers' lower sheet pinned where it is (att: the attachment d points at). */
+static void pin_lower(weft_cloth_def* d, weft_attachment_def* att) {
+    for (int k = 0; k < LN * LN; ++k) g_pinned[k] = k;
+    *att = weft_default_attachment_def();
+    att->vertices = g_pinned;
+    att->n_vertices = LN * LN;
+    d->attachments = att;
+    d->n_attachments = 1;
+}
+
+static weft_cloth_def method_def(const ag_mesh* m, int self) {
     weft_cloth_def d = weft_default_cloth_def();
-    d.mesh = mesh_desc(m);
+    d.mesh = ag_desc(m);
     d.solver = WEFT_SOLVER_PCG;
     d.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
     d.integrator = g_integrator;
@@ -177,18 +164,14 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
     weft_context* ctx = make_ctx(backend);
     CHECK(ctx != NULL);
     if (!ctx) return;
-    mesh m;
+    ag_mesh m;
     if (scene == 0) layers(&m);
     else heap(&m);
     weft_cloth_def d = method_def(&m, self);
     weft_attachment_def att = weft_default_attachment_def();
     weft_collider_def floor = weft_default_collider_def();
     if (scene == 0) {
-        for (int k = 0; k < LN * LN; ++k) g_pinned[k] = k;
-        att.vertices = g_pinned;
-        att.n_vertices = LN * LN;
-        d.attachments = &att;
-        d.n_attachments = 1;
+        pin_lower(&d, &att);
     } else {
         floor.type = WEFT_COLLIDER_PLANE;   /* y = 0, free side +y */
         floor.thickness = 0.005;
@@ -202,7 +185,7 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
     if (st != WEFT_OK) {
         printf("  create: %s\n", weft_context_last_error(ctx));
         weft_context_destroy(ctx);
-        mesh_free(&m);
+        ag_free(&m);
         return;
     }
     weft_cloth_info info;
@@ -232,7 +215,7 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
     memcpy(r->io, g_io, sizeof g_io);
     CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c, WEFT_SPACE_WORLD, r->pos, NULL, m.nv, &r->nv), WEFT_OK);
     weft_context_destroy(ctx);
-    mesh_free(&m);
+    ag_free(&m);
 }
 
 static void print_run(const char* name, const run_result* r) {
@@ -374,15 +357,11 @@ static void test_snapshot(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);
     if (!ctx) return;
-    mesh m;
+    ag_mesh m;
     layers(&m);
     weft_cloth_def d = method_def(&m, 1);
-    for (int k = 0; k < LN * LN; ++k) g_pinned[k] = k;
-    weft_attachment_def att = weft_default_attachment_def();
-    att.vertices = g_pinned;
-    att.n_vertices = LN * LN;
-    d.attachments = &att;
-    d.n_attachments = 1;
+    weft_attachment_def att;
+    pin_lower(&d, &att);
     weft_cloth c;
     CHECK_EQ_INT(weft_cloth_create(ctx, &d, &c), WEFT_OK);
     weft_cloth_info info;
@@ -416,7 +395,7 @@ static void test_snapshot(void) {
     free(end1);
     free(end2);
     weft_context_destroy(ctx);
-    mesh_free(&m);
+    ag_free(&m);
 }
 
 /* -1: on for a garment (here a cloth with a seam), off for a plain cloth, as on the CPU. */
@@ -424,7 +403,7 @@ static void test_default(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);
     if (!ctx) return;
-    mesh m;
+    ag_mesh m;
     layers(&m);
     static const int sa[1] = {0}, sb[1] = {LN * LN};
     for (int k = 0; k < 2; ++k) {
@@ -442,7 +421,7 @@ static void test_default(void) {
         CHECK_EQ_INT(weft_cloth_destroy(ctx, c), WEFT_OK);
     }
     weft_context_destroy(ctx);
-    mesh_free(&m);
+    ag_free(&m);
 }
 
 int main(void) {
