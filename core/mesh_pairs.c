@@ -132,10 +132,7 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
     wc_free(a, p->sharp);
     wc_free(a, (void*)p->behind);
     wc_free(a, p->near);
-    if (p->stage)
-        for (int t = 0; t < p->threads; ++t) wc_penalty_pairs_free(&p->stage[t], a);
-    wc_free(a, p->stage);
-    wc_free(a, p->resume);
+    wc_penalty_stages_free(&p->stage, &p->resume, p->threads, a);
     wc_penalty_pairs_free(&p->list, a);
     wc_free(a, p);
 }
@@ -152,31 +149,14 @@ int wc_mesh_pairs_keep_candidates(wc_mesh_pairs* p, int n_features, const wc_all
 /* A thread's stage holds a share of the capacity: its pairs are few against it (most features
  * have none), and a stage that fills up hands the rest of its range to the serial pass. */
 int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, const wc_allocator* a) {
-    if (p->stage)
-        for (int t = 0; t < p->threads; ++t) wc_penalty_pairs_free(&p->stage[t], a);
-    wc_free(a, p->stage);
-    wc_free(a, p->resume);
-    p->stage = NULL;
-    p->resume = NULL;
+    wc_penalty_stages_free(&p->stage, &p->resume, p->threads, a);
     p->threads = 1;
     if (threads <= 1) return 1;
-    p->stage = WC_NEW(a, wc_penalty_pairs, (size_t)threads);
-    p->resume = WC_NEW(a, int, 2 * (size_t)threads);
-    if (!p->stage || !p->resume) goto fail;
-    memset(p->stage, 0, (size_t)threads * sizeof *p->stage);
-    for (int t = 0; t < threads; ++t)
-        if (!wc_penalty_pairs_init(&p->stage[t], stage_cap > 0 ? stage_cap : p->list.cap / threads + 64, 1, a)) {
-            for (int u = 0; u < t; ++u) wc_penalty_pairs_free(&p->stage[u], a);
-            goto fail;
-        }
+    if (!wc_penalty_stages_init(&p->stage, &p->resume, threads, stage_cap > 0 ? stage_cap : p->list.cap / threads + 64,
+                                1, a))
+        return 0;
     p->threads = threads;
     return 1;
-fail:
-    wc_free(a, p->stage);
-    wc_free(a, p->resume);
-    p->stage = NULL;
-    p->resume = NULL;
-    return 0;
 }
 
 /* The vertex of triangle t not on edge (r, s) */

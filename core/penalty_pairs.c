@@ -117,6 +117,30 @@ void wc_penalty_pairs_append(wc_penalty_pairs* dst, const wc_penalty_pairs* src)
     }
 }
 
+int wc_penalty_stages_init(wc_penalty_pairs** stage, int** resume, int threads, int cap, int in_pattern,
+                           const wc_allocator* a) {
+    *stage = WC_NEW(a, wc_penalty_pairs, (size_t)threads);
+    *resume = WC_NEW(a, int, 2 * (size_t)threads);
+    if (*stage && *resume) {
+        int t = 0;
+        while (t < threads && wc_penalty_pairs_init(&(*stage)[t], cap, in_pattern, a)) ++t;
+        if (t == threads) return 1;
+        wc_penalty_stages_free(stage, resume, t, a);
+        return 0;
+    }
+    wc_penalty_stages_free(stage, resume, 0, a);
+    return 0;
+}
+
+void wc_penalty_stages_free(wc_penalty_pairs** stage, int** resume, int threads, const wc_allocator* a) {
+    if (*stage)
+        for (int t = 0; t < threads; ++t) wc_penalty_pairs_free(&(*stage)[t], a);
+    wc_free(a, *stage);
+    wc_free(a, *resume);
+    *stage = NULL;
+    *resume = NULL;
+}
+
 /* n . sum w_a y_a */
 static double along(const wc_coupling_term* t, const double* y) {
     double s = 0.0;

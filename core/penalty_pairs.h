@@ -68,6 +68,12 @@ int wc_penalty_pairs_add(wc_penalty_pairs* pp, const wc_bsr_pattern* pt, int cnt
 /* Appends src's pairs to dst in order, as wc_penalty_pairs_add would have (both in-pattern or both
  * coupled): pairs past dst's capacity counted in its overflow; src's skipped added to dst's. */
 void wc_penalty_pairs_append(wc_penalty_pairs* dst, const wc_penalty_pairs* src);
+/* Per-thread staging for a parallel detection: *stage = `threads` empty lists of capacity cap
+ * (in-pattern or coupled), *resume = 2 x threads ints. 0 on out of memory (both left NULL). */
+int wc_penalty_stages_init(wc_penalty_pairs** stage, int** resume, int threads, int cap, int in_pattern,
+                           const wc_allocator* a);
+/* Frees what wc_penalty_stages_init made (NULL: nothing) and sets both to NULL. */
+void wc_penalty_stages_free(wc_penalty_pairs** stage, int** resume, int threads, const wc_allocator* a);
 /* Writes pair `at` (< cap) of a coupled list, inactive, without touching n: for detections that
  * place each pair where a serial one would have put it (self_pairs.c's parallel one). */
 void wc_penalty_pairs_set(wc_penalty_pairs* pp, int at, int cnt, const int* p, const double* w, const double* n,

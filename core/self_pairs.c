@@ -41,20 +41,10 @@ wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, int t
         wc_self_pairs_destroy(sp, a);
         return NULL;
     }
-    if (threads > 1) {
-        sp->stage = WC_NEW(a, wc_penalty_pairs, (size_t)threads);
-        sp->resume = WC_NEW(a, int, 2 * (size_t)threads);
-        if (!sp->stage || !sp->resume) {
-            wc_self_pairs_destroy(sp, a);
-            return NULL;
-        }
-        for (int t = 0; t < threads; ++t) {
-            if (!wc_penalty_pairs_init(&sp->stage[t], stage_cap > 0 ? stage_cap : sp->list.cap / threads + 64, 0, a)) {
-                sp->threads = t;
-                wc_self_pairs_destroy(sp, a);
-                return NULL;
-            }
-        }
+    if (threads > 1 && !wc_penalty_stages_init(&sp->stage, &sp->resume, threads,
+                                               stage_cap > 0 ? stage_cap : sp->list.cap / threads + 64, 0, a)) {
+        wc_self_pairs_destroy(sp, a);
+        return NULL;
     }
     sp->threads = threads;
     sp->n_particles = n_particles;
@@ -64,10 +54,7 @@ wc_self_pairs* wc_self_pairs_create(int cap, int n_particles, int n_edges, int t
 
 void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a) {
     if (!sp) return;
-    if (sp->stage)
-        for (int t = 0; t < sp->threads; ++t) wc_penalty_pairs_free(&sp->stage[t], a);
-    wc_free(a, sp->stage);
-    wc_free(a, sp->resume);
+    wc_penalty_stages_free(&sp->stage, &sp->resume, sp->threads, a);
     wc_free(a, sp->x_pred);
     wc_penalty_pairs_free(&sp->list, a);
     wc_free(a, sp);
