@@ -4,9 +4,11 @@
  * 4 m (m - 1)), the sheet touching the body within the warm-up, finite non-negative stage
  * medians with collide + self and solve within the total and the share their ratio, min <= median
  * <= max; the error side (no penetration into the body, no self-intersection at the last frame);
- * the Markdown's table (a line per row) and its goal line (not run by --quick).
+ * the Markdown's table (a line per row) and its goal line (not run by --quick). With the argument
+ * `gpu` (a build with the GPU backend) the same on `--backend cpu,gpu`: the CPU's rows, then the
+ * GPU's, each checked alike.
  *
- *   check_weft_bench_collide */
+ *   check_weft_bench_collide [gpu] */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -34,10 +36,14 @@ static void test_collide_usage(void) {
     CHECK_EQ_INT(r.rc, 2);
     ts_run_cli("bench collide --quick --plot c.png", &r);
     CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench collide --quick --backend tpu", &r);
+    CHECK_EQ_INT(r.rc, 2);
 }
 
+static int g_gpu; /* also on the GPU backend */
+
 static const char* const collide_cols[] = {
-    "n", "particles", "body_triangles", "warmup_frames", "frames", "iterations_per_substep", "ms_total",
+    "backend", "n", "particles", "body_triangles", "warmup_frames", "frames", "iterations_per_substep", "ms_total",
     "ms_collide", "ms_self", "ms_solve", "collision_share", "ms_total_min", "ms_total_max", "contacts",
     "self_proximity", "self_impacts", "self_zones", "self_unresolved", "max_penetration_mm",
     "self_intersections"};
@@ -51,16 +57,19 @@ static void test_collide_quick(void) {
     snprintf(md_path, sizeof md_path, "%s", ts_tmp_path("bench_collide.md"));
     remove(csv_path);
     remove(md_path);
-    snprintf(args, sizeof args, "bench collide --quick --quiet --csv '%s' --md '%s'", csv_path, md_path);
+    snprintf(args, sizeof args, "bench collide --quick --quiet --backend %s --csv '%s' --md '%s'",
+             g_gpu ? "cpu,gpu" : "cpu", csv_path, md_path);
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 0);
     if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
     csv_parse(&c, csv_path);
     check_header(&c, collide_cols, (int)(sizeof collide_cols / sizeof collide_cols[0]));
     static const int cloth[] = {16, 24}, tris[] = {960, 5040}; /* --quick: bodies 1000, 5000 -> m 16, 36 */
-    CHECK_EQ_INT(c.n_rows, 4);
-    for (int row = 0; row < c.n_rows && row < 4; ++row) {
-        const int n = cloth[row / 2];
+    const int rows = g_gpu ? 8 : 4;
+    CHECK_EQ_INT(c.n_rows, rows);
+    for (int row = 0; row < c.n_rows && row < rows; ++row) {
+        const int n = cloth[row % 4 / 2];
+        CHECK(!strcmp(get(&c, row, "backend"), row < 4 ? "cpu" : "gpu"));
         CHECK(num(&c, row, "n") == n && num(&c, row, "particles") == n * n);
         CHECK(num(&c, row, "body_triangles") == tris[row % 2]);
         CHECK(num(&c, row, "warmup_frames") >= 1 && num(&c, row, "warmup_frames") <= 30);
@@ -80,15 +89,17 @@ static void test_collide_quick(void) {
     }
     ts_read_text(md_path, md, sizeof md);
     CHECK(strstr(md, "## weft bench collide") != NULL);
-    CHECK(strstr(md, "| particles | body tris |") != NULL);
-    CHECK(strstr(md, "Goal (a 20k-triangle body at 160 x 160 particles): not run here") != NULL);
+    CHECK(strstr(md, "Goal (cpu; a 20k-triangle body at 160 x 160 particles): not run here") != NULL);
+    CHECK((strstr(md, "Goal (gpu; a 20k-triangle body at 160 x 160 particles): not run here") != NULL) == g_gpu);
+    CHECK(strstr(md, "| backend | particles | body tris |") != NULL);
     int lines = 0;
-    for (const char* p = strstr(md, "| particles |"); p && (p = strchr(p, '\n')) != NULL; ++p)
+    for (const char* p = strstr(md, "| backend |"); p && (p = strchr(p, '\n')) != NULL; ++p)
         if (p[1] == '|') ++lines;
     CHECK_EQ_INT(lines, 1 + c.n_rows); /* the separator and a line per row */
 }
 
-int main(void) {
+int main(int argc, char** argv) {
+    g_gpu = argc > 1 && !strcmp(argv[1], "gpu");
     RUN_TEST(test_collide_usage);
     RUN_TEST(test_collide_quick);
     return TEST_SUMMARY();

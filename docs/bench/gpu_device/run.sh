@@ -1,7 +1,7 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group|body]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
@@ -13,7 +13,9 @@
 # multigrid's converged steps, the scenes (the chain forced: WEFT_GPU_SOLVE=passes): ~4 min;
 # group: block-Jacobi PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its
 # tests, bench_gpu's ms and passes a frame at 256 to 2,500 particles, fixed and converged, the
-# scenes with block Jacobi both ways): ~3 min.
+# scenes with block Jacobi both ways): ~3 min. body: the GPU dressing a body (the collider and
+# self-collision tests, the suit on its turning body on both backends, and the seed's anchor:
+# weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -80,6 +82,22 @@ if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass ch
         python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | $solve | %.2f | %s | %.1f | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('rollbacks')))"
       done
     done; } 2>&1 | tee "$O/q_group.md"
+  exit 0
+fi
+if [ "$MODE" = body ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self; do
+      [ -x build-dev/tests/$t ] || continue
+      timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback" /tmp/tb.txt | head -6
+    done
+    echo "| backend | self-collision | newton | ms/frame median | collide | self | solve | rollbacks |"; echo "|---|---|---|---|---|---|---|---|"
+    for bk in cpu gpu; do
+      for sn in "on 1" "on 2" "off 1"; do set -- $sn
+        timeout 150 build-dev/weft run sample_scenes/suit_on_body.json --frames 30 --quiet --stats /tmp/st.json --backend $bk --threads 16 --self-collision $1 --newton $2 > /tmp/run.txt 2>&1 || { echo "| $bk | $1 | $2 | FAILED $(tail -c 200 /tmp/run.txt | tr '\n' ' ') |"; continue; }
+        python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| $bk | $1 | $2 | %.2f | %s | %s | %s | %s |'%(s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
+      done
+    done
+    timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/b_body.md"
   exit 0
 fi
 if [ "$MODE" = passes ]; then   # PCG's folded passes: counts and ms a step, the fused sums' test

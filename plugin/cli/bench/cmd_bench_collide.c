@@ -1,8 +1,8 @@
 /* `weft bench collide`: what collision detection costs per frame against the cloth's size and the
  * body's. A square sheet (drapeN: 1 m x 1 m, N x N particles, 5 cm above the body, no pins) falls
  * onto a triangle-mesh sphere (bench_body.c: radius 0.25 m, about T triangles) with
- * self-collision on, one step per frame at 30 frames/s, through the public API on a CPU context
- * (weft_cloth_step, the library's defaults otherwise). Per (N, T): frames are stepped until the
+ * self-collision on, one step per frame at 30 frames/s, through the public API on each backend's
+ * context (weft_cloth_step, the library's defaults otherwise: each backend's own). Per (N, T): frames are stepped until the
  * sheet touches the body (warm-up), then a few frames are timed; the medians of the stage times
  * the frame stats report (total: the whole call; collide: the colliders' passes, the mesh
  * contacts; self-collide; solve) and the collision share (collide + self) / total. The error side
@@ -38,19 +38,21 @@ typedef struct collide_args {
     int frames;                             /* timed frames per configuration */
     int max_warmup;                         /* frames at most before the sheet touches the body */
     int settle;                             /* frames stepped after the first touch, before timing */
+    int backends[BENCH_MAX_BACKENDS], n_backends;
     bench_common com;
 } collide_args;
 
 void bench_collide_usage(FILE* out) {
     fputs("usage: weft bench collide [--quick] [--cloth LIST] [--body LIST] [--frames N] [--settle N]\n"
-          "                          [--max-warmup N] [--threads N] [--csv FILE] [--md FILE] [--quiet]\n"
+          "                          [--max-warmup N] [--backend LIST] [--threads N] [--csv FILE]\n"
+          "                          [--md FILE] [--quiet]\n"
           "\n"
-          "The cost of collision detection per frame against cloth size and body size (CPU, through\n"
-          "the public API: weft_cloth_step).\n"
+          "The cost of collision detection per frame against cloth size and body size (through the\n"
+          "public API: weft_cloth_step, on each backend asked for).\n"
           "A 1 m x 1 m sheet of N x N particles (scene drapeN: 5 cm above the body, no pins) falls onto\n"
           "a triangle-mesh sphere (UV sphere, radius 0.25 m, thickness 5 mm, friction 0.3) with\n"
-          "self-collision on (thickness 3 mm), one step per frame (substeps 1) at 30 frames/s, the\n"
-          "library's CPU solver defaults (multigrid-preconditioned PCG, 2 Newton iterations, line\n"
+          "self-collision on (thickness 3 mm), one step per frame (substeps 1) at 30 frames/s, each\n"
+          "backend's solver defaults (CPU: multigrid-preconditioned PCG, 2 Newton iterations, line\n"
           "search). Per\n"
           "(N, body): frames until the sheet touches the body (at most --max-warmup), --settle more,\n"
           "then --frames timed frames.\n"
@@ -70,6 +72,7 @@ void bench_collide_usage(FILE* out) {
           "  --frames N           frames timed per configuration (default 3)\n"
           "  --settle N           frames stepped after the first touch, before the timed ones (default 0)\n"
           "  --max-warmup N       frames at most waiting for the first touch (default 30)\n"
+          BENCH_BACKEND_HELP
           "  --threads N          OpenMP threads (default 0: OpenMP's default)\n"
           "  --csv FILE           write every configuration as CSV\n"
           "  --md FILE            write the Markdown table to FILE instead of stdout\n"
@@ -90,6 +93,8 @@ static void defaults(void* args, int quick) {
     a->frames = quick ? 2 : 3;
     a->max_warmup = 30;
     a->settle = 0;
+    a->backends[0] = BENCH_CPU;
+    a->n_backends = 1;
 }
 
 static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
@@ -105,11 +110,14 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
         return m < 0 ? m : cli_parse_int(*v, 0, 10000, &a->settle) != 0 ? -2 : 1;
     if ((m = cli_option_value(argc, argv, i, "--max-warmup", v)) != 0)
         return m < 0 ? m : cli_parse_int(*v, 1, 10000, &a->max_warmup) != 0 ? -2 : 1;
+    if ((m = cli_option_value(argc, argv, i, "--backend", v)) != 0)
+        return m < 0 ? m : (a->n_backends = bench_parse_backends(*v, a->backends)) < 0 ? -2 : 1;
     return 0;
 }
 
 /* One configuration's outcome. */
 typedef struct collide_run {
+    int backend;            /* BENCH_CPU or BENCH_GPU */
     int n, particles, tris;
     int warmup;             /* frames before the first touch (-1: it never touched) */
     double total, collide, self, solve;   /* medians, ms per frame */
@@ -185,8 +193,10 @@ static int time_frames(scene_host* h, const scene* sc, const collide_args* a, co
 }
 
 /* One (sheet, body) configuration: the drape scene without its sphere, the mesh body under it. */
-static int run_one(const bench_scene* bs, int rings, const collide_args* a, collide_run* out, char* msg, size_t size) {
+static int run_one(const bench_scene* bs, int rings, int backend, const collide_args* a, collide_run* out, char* msg,
+                   size_t size) {
     memset(out, 0, sizeof *out);
+    out->backend = backend;
     bench_body body;
     const double center[3] = {0.0, 0.0, 0.0}, radii[3] = {BODY_RADIUS, BODY_RADIUS, BODY_RADIUS};
     if (bench_body_create(&body, rings, center, radii, msg, size) != 0) return -1;
@@ -199,7 +209,7 @@ static int run_one(const bench_scene* bs, int rings, const collide_args* a, coll
     const weft_mesh_collider_def mesh = bench_body_collider(&body, BODY_THICKNESS, BODY_FRICTION);
     scene_host_opts ho;
     memset(&ho, 0, sizeof ho);
-    ho.ctx = bench_backend_context(BENCH_CPU);
+    ho.ctx = bench_backend_context(backend);
     ho.mesh_colliders = &mesh;
     ho.n_mesh_colliders = 1;
     scene_host h;
@@ -216,49 +226,54 @@ static int run_one(const bench_scene* bs, int rings, const collide_args* a, coll
 }
 
 enum {
-    C_N, C_PARTICLES, C_TRIS, C_WARMUP, C_FRAMES, C_ITER, C_TOTAL, C_COLLIDE, C_SELF, C_SOLVE, C_SHARE, C_MIN, C_MAX,
+    C_BACKEND, C_N, C_PARTICLES, C_TRIS, C_WARMUP, C_FRAMES, C_ITER, C_TOTAL, C_COLLIDE, C_SELF, C_SOLVE, C_SHARE, C_MIN, C_MAX,
     C_CONTACTS, C_PROX, C_IMPACTS, C_ZONES, C_UNRESOLVED, C_PEN, C_INTERSECT, N_COLS
 };
 static const char* const csv_cols[N_COLS] = {
-    "n", "particles", "body_triangles", "warmup_frames", "frames", "iterations_per_substep", "ms_total",
+    "backend", "n", "particles", "body_triangles", "warmup_frames", "frames", "iterations_per_substep", "ms_total",
     "ms_collide", "ms_self", "ms_solve", "collision_share", "ms_total_min", "ms_total_max", "contacts",
     "self_proximity", "self_impacts", "self_zones", "self_unresolved", "max_penetration_mm",
     "self_intersections"};
 static const char* const md_cols[N_COLS] = {
-    NULL, "particles", "body tris", "warm-up", NULL, "it./substep", "total ms", "collide", "self", "solve",
+    "backend", NULL, "particles", "body tris", "warm-up", NULL, "it./substep", "total ms", "collide", "self", "solve",
     "share", "min", "max", "contacts", NULL, "self impacts", "zones", NULL, "penetration mm", "self-intersections"};
 
 typedef struct header_info {
     const collide_args* a;
     int threads;
-    const collide_run* goal;    /* the goal's row, or NULL when not run */
+    const collide_run* goal[BENCH_MAX_BACKENDS];    /* each backend's goal row, or NULL when not run */
 } header_info;
 
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
-    char blas[64];
+    char blas[64], note[512];
     fprintf(out,
-            "## weft bench collide\n\nbackend: CPU (weft_cloth_step). %d OpenMP thread(s), %s. A 1 m sheet "
+            "## weft bench collide\n\n%s. %d OpenMP thread(s), %s. A 1 m sheet "
             "of N x N particles (drapeN) falling onto a triangle-mesh sphere (radius 0.25 m), self-collision on "
-            "(3 mm), one step per frame at 30 frames/s, the library's CPU solver defaults (PCG with the "
+            "(3 mm), one step per frame at 30 frames/s, each backend's solver defaults (CPU: PCG with the "
             "multigrid preconditioner, two Newton iterations with line search); after the first touch (warm-up: frames until it, "
             "then %d more), %d frames timed per configuration; medians of the stage times weft_cloth_step reports "
             "(ms per frame; total: the whole call). collide: the colliders' passes (mesh contacts: BVH refit and queries); self: "
             "self-collision; share: (collide + self) / total. min/max: the fastest and slowest timed "
             "frame (total). Error side, at the last frame: the deepest penetration into the body and the "
             "self-intersecting edge-triangle pairs (both 0 when the collisions are resolved).\n\n",
-            h->threads, bench_blas_note(&h->a->com, blas, sizeof blas), h->a->settle, h->a->frames);
-    if (h->goal)
-        fprintf(out,
-                "Goal: self-collision plus a 20k-triangle body under %.0f %% of the frame at 25,600 "
-                "particles, one step per frame: %s: %.1f %% (collide %.3f + self %.3f of %.3f ms; body %d "
-                "triangles; %.1f points %s the goal).\n\n",
-                100.0 * GOAL_SHARE, h->goal->share < GOAL_SHARE ? "met" : "NOT met", 100.0 * h->goal->share,
-                h->goal->collide, h->goal->self, h->goal->total, h->goal->tris,
-                100.0 * fabs(h->goal->share - GOAL_SHARE), h->goal->share < GOAL_SHARE ? "under" : "over");
-    else
-        fprintf(out, "Goal (a 20k-triangle body at 160 x 160 particles): not run here (needs --cloth "
-                     "160 and a --body near 20000).\n\n");
+            bench_backend_note(h->a->backends, h->a->n_backends, note, sizeof note), h->threads,
+            bench_blas_note(&h->a->com, blas, sizeof blas), h->a->settle, h->a->frames);
+    for (int b = 0; b < h->a->n_backends; ++b) {
+        const collide_run* g = h->goal[b];
+        const char* name = bench_backend_name(h->a->backends[b]);
+        if (g)
+            fprintf(out,
+                    "Goal (%s): self-collision plus a 20k-triangle body under %.0f %% of the frame at 25,600 "
+                    "particles, one step per frame: %s: %.1f %% (collide %.3f + self %.3f of %.3f ms; body %d "
+                    "triangles; %.1f points %s the goal).\n\n",
+                    name, 100.0 * GOAL_SHARE, g->share < GOAL_SHARE ? "met" : "NOT met", 100.0 * g->share,
+                    g->collide, g->self, g->total, g->tris, 100.0 * fabs(g->share - GOAL_SHARE),
+                    g->share < GOAL_SHARE ? "under" : "over");
+        else
+            fprintf(out, "Goal (%s; a 20k-triangle body at 160 x 160 particles): not run here (needs --cloth "
+                         "160 and a --body near 20000).\n\n", name);
+    }
 }
 
 int bench_collide_run(int argc, char** argv) {
@@ -267,15 +282,14 @@ int bench_collide_run(int argc, char** argv) {
     if (rc >= 0) return rc;
     if (a.com.plot)
         return cli_usage_error("weft bench collide", bench_collide_usage, "--plot: this command has no plot");
-    const int nr = a.n_cloth * a.n_body;
+    const int nr = a.n_backends * a.n_cloth * a.n_body;
     collide_run* runs = calloc((size_t)nr, sizeof *runs);
     if (!runs) {
         cli_error("bench collide: out of memory");
         return CLI_EXIT_FAILURE;
     }
     char msg[1024];
-    const int cpu = BENCH_CPU;
-    if (bench_open_backends(&cpu, 1, a.com.threads) != CLI_EXIT_OK) {
+    if (bench_open_backends(a.backends, a.n_backends, a.com.threads) != CLI_EXIT_OK) {
         free(runs);
         return CLI_EXIT_FAILURE;
     }
@@ -288,7 +302,7 @@ int bench_collide_run(int argc, char** argv) {
                                                             GOAL_TRIS))
             goal_body = b;
     }
-    const collide_run* goal = NULL;
+    header_info hi = {&a, 0, {NULL}};
     for (int c = 0; c < a.n_cloth && rc < 0; ++c) {
         char name[32];
         snprintf(name, sizeof name, "drape%d", a.cloth[c]);
@@ -298,17 +312,20 @@ int bench_collide_run(int argc, char** argv) {
             rc = CLI_EXIT_FAILURE;
             break;
         }
-        for (int b = 0; b < a.n_body && rc < 0; ++b) {
-            collide_run* r = &runs[c * a.n_body + b];
+        for (int k = 0; k < a.n_backends * a.n_body && rc < 0; ++k) {
+            const int be = k / a.n_body, b = k % a.n_body;   /* rows: backend, then cloth, then body */
+            const int q = (be * a.n_cloth + c) * a.n_body + b;
+            collide_run* r = &runs[q];
             const int rings = bench_body_rings(a.body[b]);
             if (!a.com.quiet)
-                fprintf(stderr, "[%d/%d] %d x %d particles, body of %d triangles\n", c * a.n_body + b + 1, nr,
-                        a.cloth[c], a.cloth[c], 4 * rings * (rings - 1));
-            if (run_one(&bs, rings, &a, r, msg, sizeof msg) != 0) {
+                fprintf(stderr, "[%d/%d] %s: %d x %d particles, body of %d triangles\n",
+                        c * a.n_backends * a.n_body + k + 1, nr, bench_backend_name(a.backends[be]), a.cloth[c],
+                        a.cloth[c], 4 * rings * (rings - 1));
+            if (run_one(&bs, rings, a.backends[be], &a, r, msg, sizeof msg) != 0) {
                 cli_error(msg);
                 rc = CLI_EXIT_FAILURE;
             }
-            if (a.cloth[c] == GOAL_N && b == goal_body) goal = r;
+            if (a.cloth[c] == GOAL_N && b == goal_body) hi.goal[be] = r;
         }
         bench_scene_free(&bs);
     }
@@ -317,6 +334,7 @@ int bench_collide_run(int argc, char** argv) {
     for (int q = 0; q < nr && rc < 0; ++q) {
         const collide_run* r = &runs[q];
         char c[N_COLS][64];
+        snprintf(c[C_BACKEND], 64, "%s", bench_backend_name(r->backend));
         snprintf(c[C_N], 64, "%d", r->n);
         snprintf(c[C_PARTICLES], 64, "%d", r->particles);
         snprintf(c[C_TRIS], 64, "%d", r->tris);
@@ -342,8 +360,8 @@ int bench_collide_run(int argc, char** argv) {
         if (bench_table_add(&t, cell) != 0) rc = CLI_EXIT_FAILURE;
     }
     if (rc < 0) {
-        const header_info h = {&a, runs[0].threads, goal};
-        rc = bench_write_tables(&a.com, &t, print_header, &h);
+        hi.threads = runs[0].threads;
+        rc = bench_write_tables(&a.com, &t, print_header, &hi);
     }
     bench_table_free(&t);
     free(runs);
