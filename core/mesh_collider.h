@@ -108,6 +108,10 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
 /* wc_mesh_closest through e (one point's entry for this collider; NULL: none): the same result. */
 double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
                             double* n, double* vc);
+/* The same through e only when e already covers the query, else through the tree: e is never
+ * gathered again, so a caller walking e's list may ask (NULL: the tree). */
+double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
+                            double reach, double* n, double* vc);
 
 /* Continuous query: the earliest time t in [0, 1] at which a point moving linearly from p0 (at
  * the substep's start) to p1 (at its end) crosses a triangle of the mesh moving from xa to xb,

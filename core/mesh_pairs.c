@@ -215,6 +215,7 @@ typedef struct find_ctx {
     const double *x, *v;
     double h, he;
     int cloth[3];          /* the cloth feature's particles (edge: 2) */
+    const wc_mesh_near* near; /* the feature's kept candidates (NULL: none) */
     int seen[2 * SEEN_MAX];
     int n_seen;
 } find_ctx;
@@ -257,12 +258,17 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     double dc = 2.0 * th + 1.5 * c->h * (approach > 0.0 ? approach : 0.0);
     if (!(dist < dc)) return;
     /* the cloth point and the feature's particles in front of the body at the start */
-    if (wc_mesh_closest(c->mc, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
+    if (wc_mesh_closest_kept(c->mc, c->near, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
     for (int k = 0; k < cnt; ++k) {
         _Atomic signed char* bh = &c->pp->behind[c->cloth[k]];
         signed char b = atomic_load_explicit(bh, memory_order_relaxed);
         if (b < 0) {
-            b = wc_mesh_closest(c->mc, 0, c->x + 3 * c->cloth[k], HUGE_VAL, NULL, NULL) < 0.0;
+            /* the closest triangle within dc + th through the kept candidates is the closest of
+               all; only when there is none within that reach is the whole tree searched */
+            const double* xk = c->x + 3 * c->cloth[k];
+            double d = wc_mesh_closest_kept(c->mc, c->near, 0, xk, dc + th, NULL, NULL);
+            if (!(d < HUGE_VAL)) d = wc_mesh_closest(c->mc, 0, xk, HUGE_VAL, NULL, NULL);
+            b = d < 0.0;
             atomic_store_explicit(bh, b, memory_order_relaxed);
         }
         if (b) return;
@@ -377,6 +383,7 @@ static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned 
     const wc_winged_edge* we = &c->m->we;
     double box[6];
     c->n_seen = 0;
+    c->near = near ? near + q : NULL;
     if (q < we->n_edges) {
         if (wc_we_repeats_previous(we, q)) return;
         c->cloth[0] = we->edges[q].v[0];

@@ -213,6 +213,19 @@ double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end,
     return closest_result(&c, n, vc);
 }
 
+double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
+                            double reach, double* n, double* vc) {
+    double box[6];
+    if (!e || m->exhaustive || !isfinite(reach) || e->count < 0) return wc_mesh_closest(m, end, p, reach, n, vc);
+    query_box(p, reach, box);
+    if (!near_covers(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
+    closest_q c;
+    closest_init(&c, m, end, p);
+    search_list(&c, box, e->tri, e->count);
+    if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
+    return closest_result(&c, n, vc);
+}
+
 typedef struct ccd_q {
     const wc_mesh_collider* m;
     const double *p0, *p1;

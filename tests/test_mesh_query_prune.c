@@ -135,7 +135,7 @@ static void random_point(const wc_mesh_collider* mc, int end, double* p) {
     if (urand() < 0.8) v3_axpy(p, srand1(0.03), dir);
 }
 
-static int g_checked, g_found, g_walked, g_overflowed;
+static int g_checked, g_found, g_walked, g_overflowed, g_kept_listed;
 
 /* Walkers: points that keep their cached candidates (wc_mesh_near) from query to query while
  * they move by small random steps (now and then a jump), against the full search. */
@@ -165,6 +165,24 @@ static void walk(wc_mesh_collider* mc) {
         if (!same) printf("  cached differs at (%.17g %.17g %.17g), end %d, reach %g: %.17g vs %.17g\n", p[0], p[1],
                           p[2], end, reach, d0, d1);
         CHECK(same);
+        /* through the list as it is (never gathered again), at a reach it may or may not cover:
+           the tree's answer all the same, and the list untouched */
+        double q[3], dir[3], r2 = 0.002 + 0.1 * urand();
+        rand_unit(dir);
+        v3_copy(q, p);
+        v3_axpy(q, 0.04 * urand(), dir);
+        wc_mesh_near before = g_near[i];
+        mc->exhaustive = 1;
+        double k1 = wc_mesh_closest(mc, end, q, r2, n1, v1);
+        mc->exhaustive = 0;
+        double k0 = wc_mesh_closest_kept(mc, &g_near[i], end, q, r2, n0, v0);
+        same = memcmp(&k0, &k1, sizeof k0) == 0 && (k1 == HUGE_VAL || (memcmp(n0, n1, sizeof n0) == 0 &&
+                                                                       memcmp(v0, v1, sizeof v0) == 0));
+        if (!same) printf("  kept differs at (%.17g %.17g %.17g), reach %g: %.17g vs %.17g\n", q[0], q[1], q[2],
+                          r2, k0, k1);
+        CHECK(same);
+        CHECK(memcmp(&before, &g_near[i], sizeof before) == 0);
+        g_kept_listed += g_near[i].count >= 0 && k1 < HUGE_VAL;
         ++g_walked;
         g_overflowed += g_near[i].count == -2;
     }
@@ -243,7 +261,7 @@ static void moving_body(const tmesh* t, double thickness) {
 static void test_closest_matches_full_search(void) {
     static tmesh t;
     double c[3] = {0.1, 0.2, -0.1};
-    g_checked = g_found = g_walked = g_overflowed = 0;
+    g_checked = g_found = g_walked = g_overflowed = g_kept_listed = 0;
     lumpy_sphere(&t, 14, 24, 0.3, c, 0.01);
     moving_body(&t, 0.005);
     lumpy_sphere(&t, 6, 8, 0.3, c, 0.05); /* coarse and very lumpy: sharp bends */
@@ -252,9 +270,10 @@ static void test_closest_matches_full_search(void) {
     box(&t, lo, hi, 1);
     moving_body(&t, 0.01);
     printf("  %d queries: pruned = full search bit for bit, %d within reach = brute force; %d by walkers with "
-           "cached candidates = full search bit for bit (%d with too many candidates)\n", g_checked, g_found, g_walked,
-           g_overflowed);
+           "cached candidates = full search bit for bit (%d with too many candidates), as many through the kept list "
+           "without gathering (%d found with a list)\n", g_checked, g_found, g_walked, g_overflowed, g_kept_listed);
     CHECK(g_overflowed > 0 && g_overflowed < g_walked / 2);
+    CHECK(g_kept_listed > g_walked / 4);
     CHECK(g_found > g_checked / 3);
 }
 
