@@ -1,7 +1,7 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group|body]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group|dress]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
@@ -13,7 +13,7 @@
 # multigrid's converged steps, the scenes (the chain forced: WEFT_GPU_SOLVE=passes): ~4 min;
 # group: block-Jacobi PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its
 # tests, bench_gpu's ms and passes a frame at 256 to 2,500 particles, fixed and converged, the
-# scenes with block Jacobi both ways): ~3 min. body: the GPU dressing a body (the collider and
+# scenes with block Jacobi both ways): ~3 min. dress: the GPU dressing a body (the collider and
 # self-collision tests, the suit on its turning body on both backends, and the seed's anchor:
 # weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
@@ -84,7 +84,7 @@ if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass ch
     done; } 2>&1 | tee "$O/q_group.md"
   exit 0
 fi
-if [ "$MODE" = body ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
+if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
     for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self; do
       [ -x build-dev/tests/$t ] || continue
@@ -97,7 +97,7 @@ if [ "$MODE" = body ]; then   # mesh colliders, Newton with contacts and self-co
         python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| $bk | $1 | $2 | %.2f | %s | %s | %s | %s |'%(s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
       done
     done
-    timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/b_body.md"
+    timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/d_dress.md"
   exit 0
 fi
 if [ "$MODE" = passes ]; then   # PCG's folded passes: counts and ms a step, the fused sums' test
