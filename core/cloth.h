@@ -130,6 +130,7 @@ typedef struct wc_cloth {
     wc_xform* mesh_next;        /* (n_mesh) scratch of a frame */
     int* mesh_pending;          /* (n_mesh) 1: new vertices were set for the next frame */
     double* mesh_scratch;       /* (largest n_verts x 3) */
+    float* mesh_read;           /* (largest n_verts x 3) a body read from a host GL buffer */
 
     double* scratch;            /* (n_particles x 3) positions for reset and normals */
     int* mark;                  /* (n_particles) scratch: attachment of each particle, -1 */
@@ -208,6 +209,11 @@ wc_status wc_cloth_set_attachments(wc_cloth* c, const wc_cloth_attachment_def* a
                                    wc_diag* d);
 /* Mesh collider `index`'s world positions (n_verts x 3, m) at the end of the next frame. */
 wc_status wc_cloth_set_mesh_vertices(wc_cloth* c, int index, const float* positions, wc_diag* d);
+/* Mesh collider `index`'s vertices read from a host GL buffer (src->n must be its n_verts) into
+ * c->mesh_read, returned in *positions for the caller's checks and wc_cloth_set_mesh_vertices;
+ * nothing else changes. Backends without the host's GL context refuse it (UNSUPPORTED). */
+wc_status wc_cloth_read_mesh_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src, const float** positions,
+                                wc_diag* d);
 
 /* ---- outputs (cloth_output.c) --------------------------------------------------------------- */
 

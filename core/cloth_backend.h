@@ -72,6 +72,14 @@ typedef struct wc_output_request {
     size_t position_offset, normal_offset;   /* bytes */
 } wc_output_request;
 
+/* A deforming body's vertices in a host GL buffer object (a name of the host's current context):
+ * n vertices of 3 floats, vertex i at byte offset + i * stride. */
+typedef struct wc_gl_vertex_source {
+    unsigned buffer;
+    size_t offset, stride;      /* bytes: multiples of 4, stride >= 12 */
+    int n;
+} wc_gl_vertex_source;
+
 /* Statistics of a backend's cloth (zero where a backend has none). */
 typedef struct wc_backend_stats {
     size_t device_bytes;        /* device memory held by the cloth */
@@ -119,6 +127,9 @@ typedef struct wc_cloth_backend {
     /* Into r's GL buffers (checked first: names, sizes, overlap). Outside begin/end. */
     wc_status (*write_gl)(struct wc_cloth* c, const wc_output_request* r, wc_diag* d);
     void (*stats)(const struct wc_cloth* c, wc_backend_stats* out);
+    /* src's vertices into out (src->n x 3 floats), the buffer checked first (its name, its size);
+     * backends without the host's GL context refuse it. Outside begin/end. */
+    wc_status (*read_gl)(struct wc_cloth* c, const wc_gl_vertex_source* src, float* out, wc_diag* d);
 } wc_cloth_backend;
 
 /* Core's CPU backend (cloth_cpu.c). */

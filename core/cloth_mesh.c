@@ -78,7 +78,8 @@ wc_status wc_cloth_build_mesh_colliders(wc_cloth* c, const wc_cloth_mesh_def* de
         if (c->mesh[k]->n_verts > most) most = c->mesh[k]->n_verts;
     }
     c->mesh_scratch = WC_NEW(A, double, 3 * (size_t)most);
-    if (!c->mesh_scratch) return wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "out of memory");
+    c->mesh_read = WC_NEW(A, float, 3 * (size_t)most);
+    if (!c->mesh_scratch || !c->mesh_read) return wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "out of memory");
     for (int k = 0; k < n; ++k) {
         world_positions(c, k, &c->mesh_xf[k]);
         if (wc_mesh_collider_set_all(c->mesh[k], c->mesh_scratch, d) != WC_OK)
@@ -90,7 +91,7 @@ wc_status wc_cloth_build_mesh_colliders(wc_cloth* c, const wc_cloth_mesh_def* de
 void wc_cloth_free_mesh_colliders(wc_cloth* c) {
     if (c->mesh)
         for (int k = 0; k < c->n_mesh; ++k) wc_mesh_collider_destroy(c->mesh[k]);
-    void* arrays[] = {c->mesh, c->mesh_xf, c->mesh_next, c->mesh_pending, c->mesh_scratch};
+    void* arrays[] = {c->mesh, c->mesh_xf, c->mesh_next, c->mesh_pending, c->mesh_scratch, c->mesh_read};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&c->alloc, arrays[i]);
 }
 
@@ -131,5 +132,17 @@ wc_status wc_cloth_set_mesh_vertices(wc_cloth* c, int index, const float* positi
     for (int i = 0; i < 3 * c->mesh[index]->n_verts; ++i) c->mesh_scratch[i] = (double)positions[i];
     wc_status st = wc_state_set_mesh_target(c->state, index, c->mesh_scratch, d);
     if (st == WC_OK) c->mesh_pending[index] = 1;
+    return st;
+}
+
+wc_status wc_cloth_read_mesh_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src, const float** positions,
+                                wc_diag* d) {
+    if (index < 0 || index >= c->n_mesh)
+        return wc_fail(d, WC_ERROR_OUT_OF_RANGE, "index %d is outside [0, %d) (the cloth's mesh colliders)", index,
+                       c->n_mesh);
+    if (!src || !positions || src->n != c->mesh[index]->n_verts)
+        return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "the GL buffer's vertex count is not mesh collider %d's", index);
+    wc_status st = c->backend->read_gl(c, src, c->mesh_read, d);
+    if (st == WC_OK) *positions = c->mesh_read;
     return st;
 }

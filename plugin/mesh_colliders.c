@@ -1,7 +1,10 @@
-/* Triangle-mesh colliders of the ABI (weft_mesh_collider_def): defaults, validation, and
- * weft_cloth_set_mesh_collider_vertices (a deforming body's vertices for the next frame). The
- * cloth imports, creates and moves them (core/cloth_mesh.c). */
+/* Triangle-mesh colliders of the ABI (weft_mesh_collider_def): defaults, validation, and a
+ * deforming body's vertices for the next frame, from host arrays
+ * (weft_cloth_set_mesh_collider_vertices) or from a host GL buffer object
+ * (weft_cloth_set_mesh_collider_gl_buffer: read by the backend, then checked and set as the
+ * arrays are). The cloth imports, creates and moves them (core/cloth_mesh.c). */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 #include "api_internal.h"
@@ -76,31 +79,89 @@ weft_status wa_validate_mesh_colliders(const weft_mesh_collider_def* m, int n, c
     return WEFT_OK;
 }
 
+/* The checks of a body's vertices for the next frame, shared by the host-array and GL-buffer
+ * calls: finite, within WC_CLOTH_MAX_COORD. buffer: the GL buffer they came from (messages name
+ * the vertex and its coordinate there), 0 for the host array `positions`. */
+static weft_status check_vertices(weft_context* ctx, const char* fn, unsigned buffer, const float* positions, int n) {
+    char at[80];
+    for (int i = 0; i < 3 * n; ++i) {
+        float p = positions[i];
+        int bad_value = !isfinite(p), beyond = !bad_value && fabs((double)p) > WC_CLOTH_MAX_COORD;
+        if (!bad_value && !beyond) continue;
+        if (buffer) snprintf(at, sizeof at, "buffer %u: vertex %d's coordinate %d", buffer, i / 3, i % 3);
+        else snprintf(at, sizeof at, "positions[%d] (vertex %d)", i, i / 3);
+        if (bad_value) return wa_fail(ctx, WEFT_ERROR_NONFINITE, "%s: %s is %s", fn, at, isnan(p) ? "NaN" : "Inf");
+        return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: %s = %g is beyond %g", fn, at, (double)p, WC_CLOTH_MAX_COORD);
+    }
+    return WEFT_OK;
+}
+
+/* The cloth holding mesh collider `index`; NULL with the error set in *st. */
+static wc_cloth* lookup_mesh(weft_context* ctx, weft_cloth cloth, int index, const char* fn, weft_status* st) {
+    wc_cloth* c = wa_lookup(ctx, cloth, fn);
+    if (!c) {
+        *st = WEFT_ERROR_INVALID_HANDLE;
+        return NULL;
+    }
+    if (index < 0 || index >= c->n_mesh) {
+        *st = wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: index %d is outside [0, %d) (the cloth's mesh colliders)", fn,
+                      index, c->n_mesh);
+        return NULL;
+    }
+    return c;
+}
+
+static weft_status check_count(weft_context* ctx, const wc_cloth* c, int index, int n_vertices, const char* fn) {
+    int n = c->mesh[index]->n_verts;
+    if (n_vertices == n) return WEFT_OK;
+    return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: n_vertices = %d, mesh collider %d has %d vertices", fn, n_vertices,
+                   index, n);
+}
+
 weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, weft_cloth cloth, int index, const float* positions,
                                                   int n_vertices) {
     WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
     static const char fn[] = "weft_cloth_set_mesh_collider_vertices";
     if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
-    wc_cloth* c = wa_lookup(ctx, cloth, fn);
-    if (!c) return WEFT_ERROR_INVALID_HANDLE;
-    if (index < 0 || index >= c->n_mesh)
-        return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: index %d is outside [0, %d) (the cloth's mesh colliders)", fn,
-                       index, c->n_mesh);
+    weft_status st = WEFT_OK;
+    wc_cloth* c = lookup_mesh(ctx, cloth, index, fn, &st);
+    if (!c) return st;
     if (!positions) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: positions is NULL", fn);
-    wc_mesh_collider* m = c->mesh[index];
-    if (n_vertices != m->n_verts)
-        return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: n_vertices = %d, mesh collider %d has %d vertices", fn,
-                       n_vertices, index, m->n_verts);
-    for (int i = 0; i < 3 * n_vertices; ++i) {
-        float p = positions[i];
-        if (!isfinite(p))
-            return wa_fail(ctx, WEFT_ERROR_NONFINITE, "%s: positions[%d] (vertex %d) is %s", fn, i, i / 3,
-                           isnan(p) ? "NaN" : "Inf");
-        if (fabs((double)p) > WC_CLOTH_MAX_COORD)
-            return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: positions[%d] (vertex %d) = %g is beyond %g", fn, i, i / 3,
-                           (double)p, WC_CLOTH_MAX_COORD);
-    }
+    st = check_count(ctx, c, index, n_vertices, fn);
+    if (st == WEFT_OK) st = check_vertices(ctx, fn, 0, positions, n_vertices);
+    if (st != WEFT_OK) return st;
     wc_diag d = wa_core_diag(ctx);
-    wc_status st = wc_cloth_set_mesh_vertices(c, index, positions, &d);
-    return st == WC_OK ? wa_ok(ctx) : wa_fail_core(ctx, fn, st, &d);
+    wc_status cs = wc_cloth_set_mesh_vertices(c, index, positions, &d);
+    return cs == WC_OK ? wa_ok(ctx) : wa_fail_core(ctx, fn, cs, &d);
+}
+
+weft_status weft_cloth_set_mesh_collider_gl_buffer(weft_context* ctx, weft_cloth cloth, int index, unsigned buffer,
+                                                   size_t offset, size_t stride, int n_vertices) {
+    WA_CALL_GUARD(ctx);   /* threading contract: refused if another thread is inside (call_guard.h) */
+    static const char fn[] = "weft_cloth_set_mesh_collider_gl_buffer";
+    if (!ctx) return WEFT_ERROR_INVALID_ARGUMENT;
+    weft_status st = WEFT_OK;
+    wc_cloth* c = lookup_mesh(ctx, cloth, index, fn, &st);
+    if (!c) return st;
+    st = check_count(ctx, c, index, n_vertices, fn);
+    if (st != WEFT_OK) return st;
+    if (buffer == 0) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: buffer is 0 (no buffer object)", fn);
+    if (stride == 0) stride = 3 * sizeof(float);
+    if (offset % 4 || stride % 4 || stride < 3 * sizeof(float))
+        return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT,
+                       "%s: offset %zu and stride %zu must be multiples of 4 bytes, the stride 0 (packed) or >= 12", fn,
+                       offset, stride);
+    const size_t room = SIZE_MAX - 3 * sizeof(float);
+    if (offset > room || stride > (room - offset) / (size_t)n_vertices)
+        return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: offset %zu + stride %zu x %d vertices overflows", fn,
+                       offset, stride, n_vertices);
+    wc_gl_vertex_source src = {.buffer = buffer, .offset = offset, .stride = stride, .n = n_vertices};
+    const float* positions = NULL;
+    wc_diag d = wa_core_diag(ctx);
+    wc_status cs = wc_cloth_read_mesh_gl(c, index, &src, &positions, &d);
+    if (cs != WC_OK) return wa_fail_core(ctx, fn, cs, &d);
+    st = check_vertices(ctx, fn, buffer, positions, n_vertices);
+    if (st != WEFT_OK) return st;
+    cs = wc_cloth_set_mesh_vertices(c, index, positions, &d);
+    return cs == WC_OK ? wa_ok(ctx) : wa_fail_core(ctx, fn, cs, &d);
 }

@@ -11,6 +11,7 @@
 #include "vec3.h"
 #include "wg_backend.h"
 #include "wg_device.h"
+#include "wg_host_buffer.h"
 #include "wg_sim.h"
 
 typedef struct wg_backend_device {
@@ -212,28 +213,13 @@ static wc_status output(wc_cloth* c, const wc_output_request* r, wc_diag* d) {
     return wg_sim_output(SIM(c), &q, d);
 }
 
-/* A host buffer name: exists and holds `need` bytes from offset. Inside begin. */
-static wc_status check_buffer(unsigned name, size_t offset, size_t need, const char* what, wc_diag* d) {
-    if (!glIsBuffer(name))
-        return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "%s %u is not a buffer object of the current GL context", what, name);
-    GLint prev = 0;
-    glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &prev);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, name);
-    GLint64 size = -1;
-    glGetBufferParameteri64v(GL_COPY_WRITE_BUFFER, GL_BUFFER_SIZE, &size);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, (GLuint)prev);
-    if (size < 0 || offset > (size_t)size || (size_t)size - offset < need)
-        return wc_fail(d, WC_ERROR_INVALID_ARGUMENT,
-                       "%s %u holds %lld bytes; %zu are needed from offset %zu (3 floats per host vertex)", what, name,
-                       (long long)size, need, offset);
-    return WC_OK;
-}
+#define PER_VERTEX "3 floats per host vertex"
+#define HEADLESS_REFUSAL                                                                                        \
+    "the context is WEFT_GL_HEADLESS: its GL context is Weft's own, so the host's buffer names mean nothing " \
+    "there (create the context with WEFT_GL_HOST_CURRENT)"
 
 static wc_status write_gl(wc_cloth* c, const wc_output_request* r, wc_diag* d) {
-    if (!DEV(c->device)->host_gl)
-        return wc_fail(d, WC_ERROR_UNSUPPORTED,
-                       "the context is WEFT_GL_HEADLESS: its GL context is Weft's own, so the host's buffer names mean "
-                       "nothing there (create the context with WEFT_GL_HOST_CURRENT)");
+    if (!DEV(c->device)->host_gl) return wc_fail(d, WC_ERROR_UNSUPPORTED, HEADLESS_REFUSAL);
     if (r->position_offset % 4 || r->normal_offset % 4)
         return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "offsets %zu and %zu must be multiples of 4 bytes",
                        r->position_offset, r->normal_offset);
@@ -249,9 +235,23 @@ static wc_status write_gl(wc_cloth* c, const wc_output_request* r, wc_diag* d) {
     if (!r->position_buffer && !r->normal_buffer) return WC_OK;
     wc_status st = begin(c->device, d);
     if (st != WC_OK) return st;
-    if (r->position_buffer) st = check_buffer(r->position_buffer, r->position_offset, need, "position_buffer", d);
-    if (st == WC_OK && r->normal_buffer) st = check_buffer(r->normal_buffer, r->normal_offset, need, "normal_buffer", d);
+    if (r->position_buffer)
+        st = wg_host_buffer_check(r->position_buffer, r->position_offset, need, "position_buffer", PER_VERTEX, d);
+    if (st == WC_OK && r->normal_buffer)
+        st = wg_host_buffer_check(r->normal_buffer, r->normal_offset, need, "normal_buffer", PER_VERTEX, d);
     if (st == WC_OK) st = output(c, r, d);
+    end(c->device);
+    return st;
+}
+
+/* a deforming body's vertices from a host buffer: the range checked, then read back */
+static wc_status read_gl(wc_cloth* c, const wc_gl_vertex_source* src, float* out, wc_diag* d) {
+    if (!DEV(c->device)->host_gl) return wc_fail(d, WC_ERROR_UNSUPPORTED, HEADLESS_REFUSAL);
+    const size_t need = (size_t)(src->n - 1) * src->stride + 3 * sizeof(float);
+    wc_status st = begin(c->device, d);
+    if (st != WC_OK) return st;
+    st = wg_host_buffer_check(src->buffer, src->offset, need, "buffer", "3 floats per body vertex at the stride", d);
+    if (st == WC_OK) st = wg_sim_read_host_vertices(SIM(c), src->buffer, src->offset, src->stride, src->n, out, d);
     end(c->device);
     return st;
 }
@@ -282,4 +282,5 @@ const wc_cloth_backend wg_cloth_backend = {
     .output = output,
     .write_gl = write_gl,
     .stats = stats,
+    .read_gl = read_gl,
 };

@@ -583,6 +583,28 @@ WEFT_API weft_frame weft_default_frame(void);
 WEFT_API weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, weft_cloth cloth, int index,
                                                            const float* positions, int n_vertices);
 
+/* The same, from a host GL buffer object: GPU cloths in WEFT_GL_HOST_CURRENT mode (a body skinned
+ * on the GPU). `buffer` is a name of the host's context, current on the calling thread; vertex i
+ * is 3 floats (world, m, as the array call takes them) at byte offset + i * stride (stride 0:
+ * 12, packed; other strides read xyz out of interleaved vertices). The buffer's contents are
+ * taken at the call: the host may overwrite or delete it afterwards. The host's writes to it must
+ * be visible to buffer copies (after a compute shader wrote it as a storage buffer:
+ * glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT)); the buffer must not be mapped, except
+ * persistently. The host's GL bindings are left as they were.
+ * What is read back: the body's vertices come to the CPU (the call waits for the GPU to finish
+ * writing them), where the body's motion across the frame, its normals and its BVH are computed
+ * for the GPU's contact passes, as with the array call; the result is bit-identical to the
+ * array call given the same floats.
+ * Errors (nothing changes): INVALID_HANDLE, OUT_OF_RANGE (index, or a wrong n_vertices),
+ * INVALID_ARGUMENT (buffer 0 or not a buffer object, one smaller than offset + (n_vertices - 1)
+ * stride + 12 bytes, offset or stride not a multiple of 4, a stride of 4 or 8, a buffer the host
+ * has mapped), UNSUPPORTED (a CPU cloth: use weft_cloth_set_mesh_collider_vertices; a
+ * WEFT_GL_HEADLESS context, whose buffer names are not the host's), NONFINITE or OUT_OF_RANGE (a
+ * coordinate, as the array call), GPU (no current context, a GL error). */
+WEFT_API weft_status weft_cloth_set_mesh_collider_gl_buffer(weft_context* ctx, weft_cloth cloth, int index,
+                                                            unsigned buffer, size_t offset, size_t stride,
+                                                            int n_vertices);
+
 typedef struct weft_frame_stats {
     double ms_total;            /* wall time of the call */
     double ms_forces, ms_assemble, ms_solve, ms_collide, ms_integrate;
