@@ -1,0 +1,315 @@
+/* A deforming body's vertices from a host GL buffer (weft_cloth_set_mesh_collider_gl_buffer)
+ * through the public API, in a host context this test makes current (a headless EGL context on
+ * whatever device there is: llvmpipe without a GPU). Two GPU cloths of one WEFT_GL_HOST_CURRENT
+ * context, a 12 x 12 sheet dropped on an icosphere that breathes and rises 0.2 m: one gets the
+ * body's vertices through weft_cloth_set_mesh_collider_vertices, the other the same floats
+ * interleaved in a GL buffer (an offset, a 32-byte stride). Their positions agree bit for bit
+ * every frame and their snapshots at the end byte for byte; the sheet ends on the risen body (an
+ * independent check that the buffer's body moved). The host's buffer bindings are left alone.
+ * Every refusal (a null or destroyed handle, index, count, name, size, offset, stride, a mapped buffer, NaN, a
+ * coordinate beyond 1e30, no current context, a CPU cloth, a headless context) has its status
+ * and message, and leaves the state intact: the cloth's snapshot unchanged and its later frames
+ * still equal to the reference's. */
+#include <GL/glew.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "api_grid.h"
+#include "check.h"
+#include "egl_context.h"
+#include "test_meshes.h"
+
+#define N 12
+#define DT (1.0 / 30.0)
+#define FRAMES 40
+#define OFFSET 64                 /* bytes before the first vertex in the buffer */
+#define STRIDE 32                 /* bytes per interleaved vertex: xyz, then 5 floats of other data */
+
+static tmesh g_tm;
+static float* g_rest;             /* (nv x 3) the icosphere, radius 0.3 m at the origin */
+static ag_mesh g_sheet;
+
+/* The body at frame f: breathing (radius +-5 %) and, from frame 10 to 29, rising 1 cm a frame. */
+static void body_at(int f, float* out) {
+    double s = 1.0 + 0.05 * sin(0.3 * f), rise = 0.01 * (f < 10 ? 0 : f < 30 ? f - 9 : 20);
+    for (int i = 0; i < g_tm.nv; ++i)
+        for (int k = 0; k < 3; ++k) out[3 * i + k] = (float)(s * g_rest[3 * i + k] + (k == 1 ? rise : 0.0));
+}
+
+/* The body's floats interleaved at STRIDE after OFFSET bytes of other data, into buffer b. */
+static void fill_buffer(GLuint b, const float* pos) {
+    size_t bytes = OFFSET + (size_t)g_tm.nv * STRIDE;
+    unsigned char* img = malloc(bytes);
+    for (size_t i = 0; i < bytes; ++i) img[i] = (unsigned char)(i * 37u);   /* not floats of the body */
+    for (int i = 0; i < g_tm.nv; ++i) memcpy(img + OFFSET + (size_t)i * STRIDE, pos + 3 * i, 12);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, b);
+    glBufferSubData(GL_COPY_WRITE_BUFFER, 0, (GLsizeiptr)bytes, img);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    free(img);
+}
+
+static GLuint make_buffer(size_t bytes) {
+    GLuint b = 0;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, b);
+    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, NULL, GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    return b;
+}
+
+static weft_context* make_ctx(weft_backend backend, weft_gl_mode mode) {
+    weft_context_def cd = weft_default_context_def();
+    cd.threads = 1;
+    cd.backend = backend;
+    cd.gl_mode = mode;
+    weft_context* ctx = NULL;
+    weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
+    CHECK_EQ_INT(st, WEFT_OK);
+    return st == WEFT_OK ? ctx : NULL;
+}
+
+static weft_cloth make_cloth(weft_context* ctx) {
+    weft_mesh_collider_def m = weft_default_mesh_collider_def();
+    m.mesh.positions = g_rest;
+    m.mesh.n_vertices = g_tm.nv;
+    m.mesh.indices = g_tm.t;
+    m.mesh.n_faces = g_tm.nt;
+    m.friction = 0.5;
+    weft_cloth_def def = weft_default_cloth_def();
+    def.mesh = ag_desc(&g_sheet);
+    def.n_mesh_colliders = 1;
+    def.mesh_colliders = &m;
+    def.solver = WEFT_SOLVER_PCG;
+    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
+    def.newton_iterations = 1;
+    def.line_search = 0;
+    def.self_collision = 0;
+    weft_cloth c = {0};
+    weft_status st = weft_cloth_create(ctx, &def, &c);
+    CHECK_EQ_INT(st, WEFT_OK);
+    if (st != WEFT_OK) fprintf(stderr, "  create: %s\n", weft_context_last_error(ctx));
+    return c;
+}
+
+static int has(weft_context* ctx, const char* text) {
+    const char* e = weft_context_last_error(ctx);
+    int ok = e && strstr(e, text) != NULL;
+    if (!ok) fprintf(stderr, "  message \"%s\" lacks \"%s\"\n", e ? e : "(null)", text);
+    return ok;
+}
+
+typedef struct bindings {
+    GLint copy_read, copy_write, pack, unpack, array;
+} bindings;
+
+static void record(bindings* b) {
+    glGetIntegerv(GL_COPY_READ_BUFFER_BINDING, &b->copy_read);
+    glGetIntegerv(GL_COPY_WRITE_BUFFER_BINDING, &b->copy_write);
+    glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &b->pack);
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &b->unpack);
+    glGetIntegerv(GL_ARRAY_BUFFER_BINDING, &b->array);
+}
+
+/* Every refusal on cloth c of the host-current context, its snapshot unchanged by each. `buf`
+ * holds the body (as fill_buffer wrote it); `host` is the current host context. */
+static void refusals(weft_context* ctx, weft_cloth c, GLuint buf, wg_gl_context* host) {
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
+    size_t sz = info.snapshot_size;
+    unsigned char* ref = malloc(sz);
+    CHECK_EQ_INT(weft_cloth_save(ctx, c, ref, sz), WEFT_OK);
+    const int nv = g_tm.nv;
+    const size_t bytes = OFFSET + (size_t)nv * STRIDE;
+    weft_cloth stale = make_cloth(ctx), null_handle = {0};
+    CHECK_EQ_INT(weft_cloth_destroy(ctx, stale), WEFT_OK);
+    struct {
+        const char* what;
+        weft_cloth cloth;
+        int index;
+        unsigned buffer;
+        size_t offset, stride;
+        int n;
+        weft_status want;
+        const char* says;
+    } rows[] = {
+        {"null handle", null_handle, 0, buf, OFFSET, STRIDE, nv, WEFT_ERROR_INVALID_HANDLE, "handle"},
+        {"destroyed cloth", stale, 0, buf, OFFSET, STRIDE, nv, WEFT_ERROR_INVALID_HANDLE, "destroyed"},
+        {"index 1", c, 1, buf, OFFSET, STRIDE, nv, WEFT_ERROR_OUT_OF_RANGE, "index 1"},
+        {"index -1", c, -1, buf, OFFSET, STRIDE, nv, WEFT_ERROR_OUT_OF_RANGE, "index -1"},
+        {"wrong count", c, 0, buf, OFFSET, STRIDE, nv - 1, WEFT_ERROR_OUT_OF_RANGE, "n_vertices"},
+        {"buffer 0", c, 0, 0, OFFSET, STRIDE, nv, WEFT_ERROR_INVALID_ARGUMENT, "buffer is 0"},
+        {"not a buffer", c, 0, 987654u, OFFSET, STRIDE, nv, WEFT_ERROR_INVALID_ARGUMENT, "987654"},
+        {"too small", c, 0, buf, OFFSET + STRIDE, STRIDE, nv, WEFT_ERROR_INVALID_ARGUMENT, "bytes"},
+        {"offset past the end", c, 0, buf, bytes + 16, 0, nv, WEFT_ERROR_INVALID_ARGUMENT, "bytes"},
+        {"stride too large", c, 0, buf, 0, STRIDE + 4, nv, WEFT_ERROR_INVALID_ARGUMENT, "bytes"},
+        {"offset not a multiple of 4", c, 0, buf, OFFSET + 2, STRIDE, nv, WEFT_ERROR_INVALID_ARGUMENT, "multiples of 4"},
+        {"stride 13", c, 0, buf, OFFSET, 13, nv, WEFT_ERROR_INVALID_ARGUMENT, "multiples of 4"},
+        {"stride 8", c, 0, buf, OFFSET, 8, nv, WEFT_ERROR_INVALID_ARGUMENT, ">= 12"},
+        {"stride overflowing", c, 0, buf, OFFSET, SIZE_MAX / 8 * 4, nv, WEFT_ERROR_INVALID_ARGUMENT, "overflows"},
+    };
+    for (size_t r = 0; r < sizeof rows / sizeof rows[0]; ++r) {
+        weft_status st = weft_cloth_set_mesh_collider_gl_buffer(ctx, rows[r].cloth, rows[r].index, rows[r].buffer,
+                                                                rows[r].offset, rows[r].stride, rows[r].n);
+        CHECK_EQ_INT(st, rows[r].want);
+        if (st != rows[r].want) fprintf(stderr, "  %s: %s\n", rows[r].what, weft_context_last_error(ctx));
+        CHECK(has(ctx, rows[r].says));
+        int same_ = ag_same_snapshot(ctx, c, ref, sz);
+        if (!same_) fprintf(stderr, "  %s: state changed (%s)\n", rows[r].what, weft_context_last_error(ctx));
+        CHECK(same_);
+    }
+    CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(NULL, c, 0, buf, OFFSET, STRIDE, nv),
+                 WEFT_ERROR_INVALID_ARGUMENT);
+
+    /* a buffer the host has mapped */
+    glBindBuffer(GL_COPY_WRITE_BUFFER, buf);
+    void* map = glMapBufferRange(GL_COPY_WRITE_BUFFER, 0, 16, GL_MAP_READ_BIT);
+    CHECK(map != NULL);
+    CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c, 0, buf, OFFSET, STRIDE, nv),
+                 WEFT_ERROR_INVALID_ARGUMENT);
+    CHECK(has(ctx, "mapped"));
+    glUnmapBuffer(GL_COPY_WRITE_BUFFER);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    CHECK(ag_same_snapshot(ctx, c, ref, sz));
+
+    /* bad floats in the buffer: NaN, Inf, beyond 1e30; the buffer's own body restored after */
+    float* pos = malloc((size_t)nv * 12);
+    body_at(0, pos);
+    const float bad[3] = {NAN, INFINITY, 2e30f};
+    const weft_status want[3] = {WEFT_ERROR_NONFINITE, WEFT_ERROR_NONFINITE, WEFT_ERROR_OUT_OF_RANGE};
+    const char* says[3] = {"vertex 5's coordinate 1 is NaN", "is Inf", "beyond"};
+    GLuint other = make_buffer(bytes);
+    for (int k = 0; k < 3; ++k) {
+        float keep = pos[3 * 5 + 1];
+        pos[3 * 5 + 1] = bad[k];
+        fill_buffer(other, pos);
+        pos[3 * 5 + 1] = keep;
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c, 0, other, OFFSET, STRIDE, nv), want[k]);
+        CHECK(has(ctx, says[k]));
+        CHECK(ag_same_snapshot(ctx, c, ref, sz));
+    }
+    glDeleteBuffers(1, &other);
+    free(pos);
+
+    /* no current context: the host's released for the call */
+    wg_gl_end(host);
+    CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c, 0, buf, OFFSET, STRIDE, nv), WEFT_ERROR_GPU);
+    char err[256];
+    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
+    CHECK(ag_same_snapshot(ctx, c, ref, sz));
+    CHECK_EQ_INT(glGetError(), GL_NO_ERROR);
+    free(ref);
+}
+
+/* The two cloths of one host-current context, frame by frame; refusals on the buffer's cloth at
+ * frame 15 (after its body was set for that frame). */
+static void test_buffer_matches_arrays(void) {
+    char err[512];
+    wg_gl_context_desc hd;
+    memset(&hd, 0, sizeof hd);
+    wg_gl_context* host = NULL;
+    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    if (!host) return;
+    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
+    /* the host's own buffer bindings, which the calls must leave alone */
+    GLuint mine[3];
+    glGenBuffers(3, mine);
+    glBindBuffer(GL_COPY_READ_BUFFER, mine[0]);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, mine[1]);
+    glBindBuffer(GL_ARRAY_BUFFER, mine[2]);
+    bindings before, after;
+    record(&before);
+
+    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    if (ctx) {
+        weft_cloth a = make_cloth(ctx), b = make_cloth(ctx);
+        const int nv = g_tm.nv, n = N * N;
+        GLuint buf = make_buffer(OFFSET + (size_t)nv * STRIDE);
+        glBindBuffer(GL_COPY_READ_BUFFER, mine[0]);
+        glBindBuffer(GL_COPY_WRITE_BUFFER, mine[1]);
+        float* body = malloc((size_t)nv * 12);
+        float *pa = malloc((size_t)n * 12), *pb = malloc((size_t)n * 12);
+        weft_frame fr = weft_default_frame();
+        fr.dt = DT;
+        int same = 1, count = 0;
+        for (int f = 1; f <= FRAMES; ++f) {
+            body_at(f, body);
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, body, nv), WEFT_OK);
+            fill_buffer(buf, body);
+            glBindBuffer(GL_COPY_READ_BUFFER, mine[0]);
+            glBindBuffer(GL_COPY_WRITE_BUFFER, mine[1]);
+            record(&before);
+            weft_status st = weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, nv);
+            CHECK_EQ_INT(st, WEFT_OK);
+            if (st != WEFT_OK) fprintf(stderr, "  frame %d: %s\n", f, weft_context_last_error(ctx));
+            record(&after);
+            CHECK(memcmp(&before, &after, sizeof before) == 0);
+            if (f == 15) refusals(ctx, b, buf, host);
+            CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, NULL), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, NULL), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_get_vertices(ctx, a, WEFT_SPACE_WORLD, pa, NULL, n, &count), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_get_vertices(ctx, b, WEFT_SPACE_WORLD, pb, NULL, n, &count), WEFT_OK);
+            if (memcmp(pa, pb, (size_t)n * 12) != 0) {
+                if (same) fprintf(stderr, "  frame %d: the buffer's cloth differs from the arrays'\n", f);
+                same = 0;
+            }
+        }
+        CHECK(same);
+        /* the sheet rests on the risen body: its top near the body's (0.3 m x 1.05 sin + 0.2 m) */
+        double top = -HUGE_VAL;
+        for (int i = 0; i < n; ++i) top = fmax(top, pb[3 * i + 1]);
+        printf("  %d frames, bit-identical: %s; the sheet's top %.4f m (the body's top 0.5 m +- 1.5 cm)\n", FRAMES,
+               same ? "yes" : "no", top);
+        CHECK(top > 0.47 && top < 0.54);
+        weft_cloth_info info;
+        CHECK_EQ_INT(weft_cloth_get_info(ctx, a, &info), WEFT_OK);
+        unsigned char* sa = malloc(info.snapshot_size);
+        CHECK_EQ_INT(weft_cloth_save(ctx, a, sa, info.snapshot_size), WEFT_OK);
+        CHECK(ag_same_snapshot(ctx, b, sa, info.snapshot_size));
+        free(sa), free(body), free(pa), free(pb);
+        glDeleteBuffers(1, &buf);
+        weft_context_destroy(ctx);
+    }
+    glBindBuffer(GL_COPY_READ_BUFFER, 0);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    glDeleteBuffers(3, mine);
+    wg_gl_end(host);
+    wg_gl_context_destroy(host);
+}
+
+/* A CPU cloth, and a GPU cloth of a headless context: refused, naming what to use instead. */
+static void test_other_contexts(void) {
+    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU, WEFT_GL_HEADLESS);
+    if (cpu) {
+        weft_cloth c = make_cloth(cpu);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(cpu, c, 0, 1, 0, 0, g_tm.nv), WEFT_ERROR_UNSUPPORTED);
+        CHECK(has(cpu, "CPU backend") && has(cpu, "weft_cloth_set_mesh_collider_vertices"));
+        weft_context_destroy(cpu);
+    }
+    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS);
+    if (gpu) {
+        weft_cloth c = make_cloth(gpu);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(gpu, c, 0, 1, 0, 0, g_tm.nv), WEFT_ERROR_UNSUPPORTED);
+        CHECK(has(gpu, "HEADLESS"));
+        weft_frame fr = weft_default_frame();
+        fr.dt = DT;
+        CHECK_EQ_INT(weft_cloth_step(gpu, c, &fr, NULL), WEFT_OK);
+        weft_context_destroy(gpu);
+    }
+}
+
+int main(void) {
+    double centre[3] = {0.0, 0.0, 0.0};
+    icosphere(&g_tm, 2, 0.3, centre);
+    g_rest = malloc((size_t)g_tm.nv * 12);
+    for (int i = 0; i < 3 * g_tm.nv; ++i) g_rest[i] = (float)g_tm.x[i];
+    ag_grid(&g_sheet, N, 1.0, 0.5, 0, 0);
+    RUN_TEST(test_buffer_matches_arrays);
+    RUN_TEST(test_other_contexts);
+    ag_free(&g_sheet);
+    free(g_rest);
+    return TEST_SUMMARY();
+}
