@@ -40,6 +40,10 @@
     X(weft_status, weft_cloth_set_mesh_collider_vertices, (weft_context* ctx, weft_cloth cloth,    \
                                                            int index, const float* positions,      \
                                                            int n_vertices))                        \
+    X(weft_status, weft_cloth_set_mesh_collider_gl_buffer, (weft_context* ctx, weft_cloth cloth,   \
+                                                            int index, unsigned buffer,            \
+                                                            size_t offset, size_t stride,          \
+                                                            int n_vertices))                       \
     X(weft_status, weft_cloth_step, (weft_context* ctx, weft_cloth cloth, const weft_frame* fr,    \
                                      weft_frame_stats* stats))                                     \
     X(weft_status, weft_context_step, (weft_context* ctx, int n, const weft_cloth* cloths,         \

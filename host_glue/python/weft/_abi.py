@@ -324,6 +324,8 @@ PROTOTYPES = {
     "weft_default_collider_def": (ColliderDef, []),
     "weft_default_mesh_collider_def": (MeshColliderDef, []),
     "weft_cloth_set_mesh_collider_vertices": (c_int, [_CTX, ClothHandle, c_int, c_void_p, c_int]),
+    "weft_cloth_set_mesh_collider_gl_buffer": (c_int, [_CTX, ClothHandle, c_int, c_uint32, c_size_t,
+                                                       c_size_t, c_int]),
     "weft_cloth_create": (c_int, [_CTX, POINTER(ClothDef), POINTER(ClothHandle)]),
     "weft_cloth_destroy": (c_int, [_CTX, ClothHandle]),
     "weft_cloth_set_attachments": (c_int, [_CTX, ClothHandle, POINTER(AttachmentDef), c_int]),
