@@ -1,7 +1,7 @@
 #!/bin/bash
 # Weft on a real GPU: one prepared run on a machine with an NVIDIA driver (made by bundle.sh beside
 # this file; the numbers of docs/bench/gpu_h100.md). Usage, in the repository root there:
-#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group|dress]
+#   bash .dev/run.sh OUTDIR [small|gpu|quick|amg|newton|passes|group|dress|body]
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
@@ -15,7 +15,9 @@
 # tests, bench_gpu's ms and passes a frame at 256 to 2,500 particles, fixed and converged, the
 # scenes with block Jacobi both ways): ~3 min. dress: the GPU dressing a body (the collider and
 # self-collision tests, the suit on its turning body on both backends, and the seed's anchor:
-# weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min.
+# weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min;
+# body: a deforming body from a host GL buffer against host arrays (its test; bench_body_gl: ms
+# of each call and of a step, 2k to 80k triangles): ~1 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
 R=$PWD
@@ -98,6 +100,13 @@ if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-c
       done
     done
     timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/d_dress.md"
+  exit 0
+fi
+if [ "$MODE" = body ]; then   # weft_cloth_set_mesh_collider_gl_buffer against the array call
+  { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
+    timeout 60 build-dev/tests/test_api_gpu_body_gl > /tmp/tb.txt 2>&1; echo "test_api_gpu_body_gl rc=$?"; grep -E "frames|FAIL" /tmp/tb.txt
+    for k in 32 100 200; do timeout 120 build-dev/tests/bench/bench_body_gl --k $k --n 64 --frames 30 2>&1 | tail -1; done
+  } 2>&1 | tee "$O/i_body.md"
   exit 0
 fi
 if [ "$MODE" = passes ]; then   # PCG's folded passes: counts and ms a step, the fused sums' test
