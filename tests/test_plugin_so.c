@@ -35,7 +35,8 @@ static void test_dlopen(void) {
         "weft_default_attachment_def", "weft_default_collider_def", "weft_default_frame", "weft_cloth_create",
         "weft_cloth_destroy", "weft_cloth_set_attachments", "weft_cloth_get_info", "weft_cloth_step",
         "weft_cloth_get_vertices", "weft_cloth_get_triangles", "weft_cloth_save", "weft_cloth_restore",
-        "weft_default_mesh_collider_def", "weft_cloth_set_mesh_collider_vertices"};
+        "weft_default_mesh_collider_def", "weft_cloth_set_mesh_collider_vertices",
+        "weft_cloth_set_mesh_collider_gl_buffer"};
     for (size_t i = 0; i < sizeof api / sizeof api[0]; ++i) {
         void* sym = dlsym(so, api[i]);
         if (!sym) fprintf(stderr, "missing %s\n", api[i]);

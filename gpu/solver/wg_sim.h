@@ -77,8 +77,8 @@ wc_status wg_sim_output(wg_sim* g, const wg_output_request* req, wc_diag* diag);
 /* n vertices of 3 floats from the host's GL buffer object `buffer` (a name of the current
  * context, checked by the caller: wg_host_buffer_check), vertex i at byte offset + i stride, into
  * out (n x 3): the range copied on the GPU into the cloth's read-back buffer, which is then
- * mapped. INVALID_ARGUMENT (a buffer the host keeps mapped), GPU (a GL error); out is written
- * only on success. The host's buffer bindings are restored. */
+ * mapped. INVALID_ARGUMENT (a buffer the host keeps mapped), GPU (a GL error: out's contents
+ * are then undefined). The host's buffer bindings are restored. */
 wc_status wg_sim_read_host_vertices(wg_sim* g, unsigned buffer, size_t offset, size_t stride, int n, float* out,
                                     wc_diag* d);
 
