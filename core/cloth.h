@@ -152,6 +152,14 @@ typedef struct wc_cloth {
  * the def's field ("def->mesh: ..."). */
 wc_status wc_cloth_create(wc_cloth** out, const wc_cloth_def* def, const wc_cloth_backend* backend, void* device,
                           const wc_allocator* alloc, wc_diag* d);
+/* wc_cloth_create in two calls, for a caller that chooses the backend (and so def->sim's
+ * defaults) by the model: the first reads the mesh and builds the model and the host map (*out
+ * holds nothing else yet: the caller reads c->model, then calls the second, or destroys it); the
+ * second builds the rest from the same def and hands the cloth to the backend. After a failure
+ * of the second the caller destroys the cloth. */
+wc_status wc_cloth_create_model(wc_cloth** out, const wc_cloth_def* def, const wc_allocator* alloc, wc_diag* d);
+wc_status wc_cloth_create_rest(wc_cloth* c, const wc_cloth_def* def, const wc_cloth_backend* backend, void* device,
+                               wc_diag* d);
 /* Not WC_OK (d says why) when the backend had to leave its objects to the host's GL context;
  * everything is freed either way. NULL is ignored. */
 wc_status wc_cloth_destroy(wc_cloth* c, wc_diag* d);
@@ -188,14 +196,16 @@ typedef struct wc_cloth_batch_item {
     int index;                  /* the caller's (not read) */
 } wc_cloth_batch_item;
 
-/* Step every item's cloth with its frame: distinct cloths of one backend and device, inside one
- * begin/end of the device. Each cloth's result, status and message are wc_cloth_step's, bit for
- * bit. On a backend with `concurrent`, when there are at least as many cloths as threads (the
- * cloths' own thread count) and more than one of each, the cloths are stepped at once, one per
- * thread, each on one thread (the step gives the same bits on any thread count: core/par.h), the
- * largest first; otherwise one after the other, each on all its threads. The items may be
- * reordered. Not WC_OK only when the group could not begin: then d says why, every item's status
- * and diag hold it, and no cloth changed. Allocates nothing. */
+/* Step every item's cloth with its frame: distinct cloths, in groups of one backend and device
+ * (the group of the first item's cloth, then of the first left over, ...), each group inside one
+ * begin/end of its device. Each cloth's result, status and message are wc_cloth_step's, bit for
+ * bit. In a group of a backend with `concurrent`, when there are at least as many cloths as
+ * threads (the cloths' own thread count) and more than one of each, the cloths are stepped at
+ * once, one per thread, each on one thread (the step gives the same bits on any thread count:
+ * core/par.h), the largest first; otherwise one after the other, each on all its threads. The
+ * items may be reordered. Not WC_OK when a group could not begin: then d says why, every item
+ * of that group has it as its status and diag and its cloths did not change (the other groups
+ * stepped). Allocates nothing. */
 wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d);
 /* Put the items back in the order of their `index` (after wc_cloth_step_batch). Allocates nothing. */
 void wc_cloth_batch_sort_by_index(wc_cloth_batch_item* items, int n);

@@ -27,6 +27,14 @@
 
 struct wc_cloth;
 
+/* A cloth as a backend is asked about it before it is handed over (supports): its model, its
+ * settings with this backend's defaults resolved, its mesh colliders. */
+typedef struct wc_backend_query {
+    const wc_model* model;
+    const wc_sim_def* sim;      /* max_colliders: its analytic colliders */
+    int n_mesh_colliders;
+} wc_backend_query;
+
 /* What a device is made with. */
 typedef struct wc_device_desc {
     int host_gl;                /* 1: the host's GL context, current at every begin; 0: the backend's own */
@@ -94,7 +102,8 @@ typedef struct wc_cloth_backend {
 
     /* ---- the device, per context ---- */
     /* Make the device (*out; NULL where a backend needs none). With only_hardware and a software
-     * device: WC_OK, *out NULL, *software 1. info receives a description, or the failure. */
+     * device: WC_OK, *out NULL, *software 1, and info its renderer's name; otherwise info
+     * receives a description, or the failure. */
     wc_status (*device_create)(const wc_device_desc* desc, void** out, int* software, char* info, size_t info_len);
     /* Release it (NULL: nothing). Not WC_OK (d says why) when its objects had to be left to the
      * host's GL context; the memory is freed either way. */
@@ -103,6 +112,11 @@ typedef struct wc_cloth_backend {
     /* A group of operations on the device's cloths. A failed begin needs no end. */
     wc_status (*begin)(void* device, wc_diag* d);
     void (*end)(void* device);
+
+    /* Whether create would take a cloth of q: WC_OK, or create's refusal (WC_ERROR_UNSUPPORTED
+     * and its message) of what the backend lacks. No device work, nothing changes; what only the
+     * device can tell (its texture limits, GL errors) stays create's to find. Outside begin/end. */
+    wc_status (*supports)(const void* device, const wc_backend_query* q, wc_diag* d);
 
     /* ---- one cloth (c->device, c->sim); inside begin/end unless said otherwise ---- */
     /* Take the built cloth to the backend (c->sim), refusing what the backend lacks with

@@ -1,6 +1,8 @@
-/* Many cloths of one device stepped in one call (wc_cloth_step_batch, cloth.h).
+/* Many cloths stepped in one call (wc_cloth_step_batch, cloth.h), in groups: the cloths of one
+ * backend and device (a context that chose the backend per cloth holds a CPU group and a GPU
+ * group), one group after the other.
  *
- * One begin/end of the device holds every cloth's frame: on the GPU one switch to its GL context
+ * One begin/end of the device holds every frame of its group: on the GPU one switch to its GL context
  * for the whole batch, the cloths' pass chains run one after the other in it. On a backend whose
  * cloths share nothing (`concurrent`: the CPU) the cloths are stepped at once over the cloths'
  * threads T, when there are at least T of them: each cloth then runs on one thread (its state's
@@ -53,8 +55,8 @@ static void sort_items(wc_cloth_batch_item* items, int n,
 
 void wc_cloth_batch_sort_by_index(wc_cloth_batch_item* items, int n) { sort_items(items, n, by_index); }
 
-wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d) {
-    if (n <= 0) return WC_OK;
+/* Step one group: items of one backend and device, inside one begin/end of it. */
+static wc_status step_group(wc_cloth_batch_item* items, int n, wc_diag* d) {
     const wc_cloth_backend* b = items[0].cloth->backend;
     void* device = items[0].cloth->device;
     wc_status st = b->begin(device, d);
@@ -82,4 +84,26 @@ wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d) {
     }
     b->end(device);
     return WC_OK;
+}
+
+static int same_group(const wc_cloth* x, const wc_cloth* y) { return x->backend == y->backend && x->device == y->device; }
+
+wc_status wc_cloth_step_batch(wc_cloth_batch_item* items, int n, wc_diag* d) {
+    wc_status result = WC_OK;
+    /* the items of the first cloth's backend and device to the front (in place), stepped as one
+       group; then the next group from what is left */
+    for (int start = 0; start < n;) {
+        int end = start + 1;
+        for (int k = end; k < n; ++k)
+            if (same_group(items[k].cloth, items[start].cloth)) {
+                wc_cloth_batch_item t = items[end];
+                items[end] = items[k];
+                items[k] = t;
+                ++end;
+            }
+        wc_status st = step_group(items + start, end - start, d);
+        if (st != WC_OK && result == WC_OK) result = st;
+        start = end;
+    }
+    return result;
 }

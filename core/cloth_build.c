@@ -6,7 +6,8 @@
 
 wc_status wc_cloth_destroy(wc_cloth* c, wc_diag* d) {
     if (!c) return WC_OK;
-    wc_status st = c->backend->destroy(c, d);
+    /* a cloth whose creation stopped before a backend took it has nothing there */
+    wc_status st = c->backend ? c->backend->destroy(c, d) : WC_OK;
     wc_state_destroy(c->state);
     wc_cloth_free_mesh_colliders(c); /* after the state, which borrowed them */
     wc_model_free(&c->model);
@@ -62,31 +63,47 @@ static wc_status build_state(wc_cloth* c, const wc_cloth_def* def, wc_diag* d) {
     return st;
 }
 
-wc_status wc_cloth_create(wc_cloth** out, const wc_cloth_def* def, const wc_cloth_backend* backend, void* device,
-                          const wc_allocator* alloc, wc_diag* d) {
+wc_status wc_cloth_create_model(wc_cloth** out, const wc_cloth_def* def, const wc_allocator* alloc, wc_diag* d) {
     *out = NULL;
     wc_cloth* c = WC_NEW(alloc, wc_cloth, 1);
     if (!c) return wc_fail(d, WC_ERROR_OUT_OF_MEMORY, "out of memory");
     c->alloc = *alloc;
-    c->backend = backend;
-    c->device = device;
     c->settings.max_frame_time = def->max_frame_time;
     c->settings.linear_inertia = def->linear_inertia;
     c->settings.angular_inertia = def->angular_inertia;
     wc_status st = build_model(c, def, d);
-    if (st == WC_OK) st = build_state(c, def, d);
-    int vertex = -1;
-    double value = 0.0;
-    if (st == WC_OK && !wc_cloth_outputs_in_range(c, &c->object, &vertex, &value))
-        st = wc_fail(d, WC_ERROR_OUT_OF_RANGE,
-                     "def->mesh: host vertex %d has a coordinate of %g (after unit_scale and transform), beyond the %g "
-                     "the float outputs hold", vertex, value, WC_CLOTH_MAX_COORD);
-    /* the backend takes the cloth built above (refusing what it lacks) */
-    if (st == WC_OK) st = backend->create(c, d);
     if (st != WC_OK) {
         (void)wc_cloth_destroy(c, NULL);
         return st;
     }
     *out = c;
     return WC_OK;
+}
+
+wc_status wc_cloth_create_rest(wc_cloth* c, const wc_cloth_def* def, const wc_cloth_backend* backend, void* device,
+                               wc_diag* d) {
+    wc_status st = build_state(c, def, d);
+    int vertex = -1;
+    double value = 0.0;
+    if (st == WC_OK && !wc_cloth_outputs_in_range(c, &c->object, &vertex, &value))
+        st = wc_fail(d, WC_ERROR_OUT_OF_RANGE,
+                     "def->mesh: host vertex %d has a coordinate of %g (after unit_scale and transform), beyond the %g "
+                     "the float outputs hold", vertex, value, WC_CLOTH_MAX_COORD);
+    if (st != WC_OK) return st;
+    /* the backend takes the cloth built above (refusing what it lacks) */
+    c->backend = backend;
+    c->device = device;
+    return backend->create(c, d);
+}
+
+wc_status wc_cloth_create(wc_cloth** out, const wc_cloth_def* def, const wc_cloth_backend* backend, void* device,
+                          const wc_allocator* alloc, wc_diag* d) {
+    wc_status st = wc_cloth_create_model(out, def, alloc, d);
+    if (st != WC_OK) return st;
+    st = wc_cloth_create_rest(*out, def, backend, device, d);
+    if (st != WC_OK) {
+        (void)wc_cloth_destroy(*out, NULL);
+        *out = NULL;
+    }
+    return st;
 }

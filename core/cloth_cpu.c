@@ -35,6 +35,12 @@ static wc_status begin(void* device, wc_diag* d) {
 
 static void end(void* device) { (void)device; }
 
+/* the CPU runs every feature a def can ask for */
+static wc_status supports(const void* device, const wc_backend_query* q, wc_diag* d) {
+    (void)device, (void)q, (void)d;
+    return WC_OK;
+}
+
 static wc_status create(wc_cloth* c, wc_diag* d) {
     (void)d;
     c->sim = NULL;
@@ -133,6 +139,7 @@ const wc_cloth_backend wc_cloth_cpu = {
     .defaults = defaults,
     .begin = begin,
     .end = end,
+    .supports = supports,
     .create = create,
     .destroy = destroy,
     .step_frame = step_frame,

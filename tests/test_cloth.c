@@ -2,8 +2,9 @@
  * facade: every bad input is refused with a clear message and leaves the cloth's snapshot
  * bytes unchanged; a failed frame is rolled back; snapshots restore bit-identically; the cloth
  * calls its backend inside begin/end groups, downloads a mirror before reading the particles and
- * uploads it after changing them; a batch on a backend that is not concurrent is one group; the
- * tables are complete; xform and serial basics. */
+ * uploads it after changing them; a batch on a backend that is not concurrent is one group, a
+ * batch on two backends one group each (a group that cannot begin fails alone); creation in two
+ * calls builds wc_cloth_create's cloth; the tables are complete; xform and serial basics. */
 #include <stdlib.h>
 #include "api_grid.h"
 #include "check.h"
@@ -413,6 +414,126 @@ static void test_batch_one_group(void) {
     for (int k = 0; k < 3; ++k) CHECK_EQ_INT(wc_cloth_destroy(c[k], &d), WC_OK);
 }
 
+/* A begin that fails: its group's cloths are not stepped. */
+static wc_status failing_begin(void* device, wc_diag* d) {
+    (void)device;
+    return wc_fail(d, WC_ERROR_GPU, "the device is gone");
+}
+
+/* A batch of cloths on two backends (as an AUTO context's CPU and GPU cloths): one begin/end
+ * group per backend, every cloth as it steps alone (bit for bit, against wc_cloth_step on a
+ * twin); a group whose begin fails reports it on its own items, changes none of its cloths, and
+ * the other group still steps. */
+static void test_batch_two_backends(void) {
+    wc_cloth_backend b = recording();
+    b.concurrent = 0;
+    memset(&g_rec, 0, sizeof g_rec);
+    /* interleaved: recording, CPU, recording, CPU; twins stepped alone */
+    wc_cloth* c[4] = {make(&b, 0.0), make(&wc_cloth_cpu, 0.0), make(&b, 0.5), make(&wc_cloth_cpu, 0.5)};
+    wc_cloth* twin[4] = {make(&wc_cloth_cpu, 0.0), make(&wc_cloth_cpu, 0.0), make(&wc_cloth_cpu, 0.5),
+                         make(&wc_cloth_cpu, 0.5)};
+    float turned[16];
+    ag_transform(turned, 0, 1, 0, 0.3, 0.1, 0.0, 0.0);
+    wc_cloth_batch_item items[4];
+    wc_diag d = {0};
+    for (int f = 0; f < 3; ++f) {
+        memset(items, 0, sizeof items);
+        for (int k = 0; k < 4; ++k) {
+            items[k].cloth = c[k];
+            items[k].frame = frame();
+            items[k].frame.object_transform = f == 2 ? turned : NULL;
+            items[k].index = k;
+            wc_step_stats st;
+            wc_cloth_frame fr = items[k].frame;
+            CHECK_EQ_INT(wc_cloth_step(twin[k], &fr, &st, &d), WC_OK);
+        }
+        int begins = g_rec.begins;
+        CHECK_EQ_INT(wc_cloth_step_batch(items, 4, &d), WC_OK);
+        CHECK_EQ_INT(g_rec.begins, begins + 1);   /* the recording backend's two cloths: one group */
+        CHECK_EQ_INT(g_rec.ends, g_rec.begins);
+        wc_cloth_batch_sort_by_index(items, 4);
+        for (int k = 0; k < 4; ++k) {
+            CHECK(items[k].cloth == c[k]);
+            CHECK_EQ_INT(items[k].status, WC_OK);
+        }
+    }
+    CHECK_EQ_INT(g_rec.misplaced, 0);
+    for (int k = 0; k < 4; ++k) {
+        unsigned char *x = snapshot(c[k]), *y = snapshot(twin[k]);
+        CHECK(memcmp(x, y, c[k]->snapshot_size) == 0);
+        free(x);
+        free(y);
+    }
+
+    /* the recording group cannot begin: its cloths stay, the CPU's step */
+    unsigned char* before0 = snapshot(c[0]);
+    b.begin = failing_begin;
+    memset(items, 0, sizeof items);
+    for (int k = 0; k < 4; ++k) {
+        items[k].cloth = c[k];
+        items[k].frame = frame();
+        items[k].index = k;
+    }
+    CHECK_EQ_INT(wc_cloth_step_batch(items, 4, &d), WC_ERROR_GPU);
+    CHECK(strstr(d.message, "the device is gone") != NULL);
+    wc_cloth_batch_sort_by_index(items, 4);
+    for (int k = 0; k < 4; ++k) {
+        int failed = k == 0 || k == 2;
+        CHECK_EQ_INT(items[k].status, failed ? WC_ERROR_GPU : WC_OK);
+        CHECK_EQ_INT(c[k]->state->frame, failed ? 3 : 4);
+        if (failed) CHECK(strstr(items[k].diag.message, "the device is gone") != NULL);
+    }
+    b.begin = rec_begin;
+    unsigned char* after0 = snapshot(c[0]);
+    CHECK(memcmp(before0, after0, c[0]->snapshot_size) == 0);
+    free(before0);
+    free(after0);
+    for (int k = 0; k < 4; ++k) {
+        CHECK_EQ_INT(wc_cloth_destroy(c[k], &d), WC_OK);
+        CHECK_EQ_INT(wc_cloth_destroy(twin[k], &d), WC_OK);
+    }
+}
+
+/* Creation in two calls (a caller choosing the backend by the model) gives wc_cloth_create's
+ * cloth; a cloth with its model only, or whose second call failed, is destroyed whole. */
+static void test_create_in_two_calls(void) {
+    wc_cloth_attachment_def att[1];
+    wc_cloth_collider_def col[1];
+    wc_cloth_def def = sheet_def(att, col);
+    wc_allocator a = {0};
+    wc_diag d = {0};
+    wc_cloth* whole = make(&wc_cloth_cpu, 1.0);
+    wc_cloth* c = NULL;
+    CHECK_EQ_INT(wc_cloth_create_model(&c, &def, &a, &d), WC_OK);
+    CHECK(c && c->model.n_particles == N * N && c->state == NULL && c->backend == NULL);
+    CHECK_EQ_INT(wc_cloth_create_rest(c, &def, &wc_cloth_cpu, NULL, &d), WC_OK);
+    unsigned char *x = snapshot(c), *y = snapshot(whole);
+    CHECK(c->snapshot_size == whole->snapshot_size && memcmp(x, y, c->snapshot_size) == 0);
+    free(x);
+    free(y);
+    CHECK_EQ_INT(wc_cloth_destroy(c, &d), WC_OK);
+    CHECK_EQ_INT(wc_cloth_destroy(whole, &d), WC_OK);
+
+    CHECK_EQ_INT(wc_cloth_create_model(&c, &def, &a, &d), WC_OK);   /* the model only */
+    CHECK_EQ_INT(wc_cloth_destroy(c, &d), WC_OK);
+
+    float far[16];
+    ag_identity(far);
+    far[12] = 1e31f;
+    def.transform = far;   /* the second call refuses it: beyond the outputs' range */
+    CHECK_EQ_INT(wc_cloth_create_model(&c, &def, &a, &d), WC_OK);
+    CHECK_EQ_INT(wc_cloth_create_rest(c, &def, &wc_cloth_cpu, NULL, &d), WC_ERROR_OUT_OF_RANGE);
+    CHECK(strstr(d.message, "beyond the") != NULL);
+    CHECK_EQ_INT(wc_cloth_destroy(c, &d), WC_OK);
+
+    /* a mesh the first call refuses: nothing made */
+    def = sheet_def(att, col);
+    def.mesh.n_faces = 0;
+    c = (wc_cloth*)&a;
+    CHECK(wc_cloth_create_model(&c, &def, &a, &d) != WC_OK);
+    CHECK(c == NULL);
+}
+
 static void test_tables(void) {
     const wc_cloth_backend* tables[2] = {&wc_cloth_cpu, NULL};
 #ifdef WEFT_TEST_HAVE_GPU
@@ -429,6 +550,7 @@ static void test_tables(void) {
     for (int t = 0; t < 2 && tables[t]; ++t) {
         const wc_cloth_backend* b = tables[t];
         CHECK(b->name && b->device_create && b->device_destroy && b->defaults && b->begin && b->end && b->create &&
+              b->supports &&
               b->destroy && b->step_frame && b->backup && b->restore_backup && b->carry && b->download &&
               b->upload && b->max_abs && b->output && b->write_gl && b->stats && b->read_gl);
     }
@@ -502,6 +624,8 @@ int main(void) {
     RUN_TEST(test_failed_frame_rolls_back);
     RUN_TEST(test_backend_calls);
     RUN_TEST(test_batch_one_group);
+    RUN_TEST(test_batch_two_backends);
+    RUN_TEST(test_create_in_two_calls);
     RUN_TEST(test_tables);
     RUN_TEST(test_xform_and_serial);
     ag_free(&g_mesh);

@@ -34,6 +34,7 @@ struct wg_gl_context {
     EGLSurface prev_draw, prev_read;
     wg_gl_saved_state saved;    /* host mode */
     char description[WG_DESCRIPTION_LEN];
+    char renderer[128];         /* GL_RENDERER alone */
 };
 
 /* One way to get a display: a device of eglQueryDevicesEXT or the surfaceless platform. */
@@ -291,6 +292,7 @@ static wc_status open_candidate(wg_gl_context* ctx, const wg_candidate* c, char*
     const char* version = (const char*)glGetString(GL_VERSION);
     snprintf(ctx->description, sizeof ctx->description, "%s: %s, OpenGL %s (EGL %d.%d)", c->label,
              renderer ? renderer : "?", version ? version : "?", (int)major, (int)minor);
+    snprintf(ctx->renderer, sizeof ctx->renderer, "%s", renderer ? renderer : "?");
     ctx->dpy = dpy;
     ctx->egl_ctx = egl_ctx;
     ctx->terminate_display = references;
@@ -411,6 +413,7 @@ static wc_status create_host(wg_gl_context* ctx, char* err, size_t err_len) {
     const char* version = (const char*)glGetString(GL_VERSION);
     snprintf(ctx->description, sizeof ctx->description, "%s: %s, OpenGL %s", label,
              renderer ? renderer : "?", version ? version : "?");
+    snprintf(ctx->renderer, sizeof ctx->renderer, "%s", renderer ? renderer : "?");
     wg_gl_log(ctx, WC_LOG_INFO, "weft gpu: using %s", ctx->description);
     return WC_OK;
 }
@@ -477,6 +480,8 @@ void wg_gl_context_destroy(wg_gl_context* ctx) {
     wc_allocator alloc = ctx->alloc;
     alloc.free(ctx, alloc.user);
 }
+
+const char* wg_gl_context_renderer(const wg_gl_context* ctx) { return ctx ? ctx->renderer : ""; }
 
 const char* wg_gl_context_description(const wg_gl_context* ctx) {
     return ctx ? ctx->description : "";

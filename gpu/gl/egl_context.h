@@ -61,6 +61,8 @@ void wg_gl_context_destroy(wg_gl_context* ctx);
  * (Core Profile) Mesa 22.3.6" or "host context: <renderer>, OpenGL <version>". Valid until
  * destroy. */
 const char* wg_gl_context_description(const wg_gl_context* ctx);
+/* Its GL_RENDERER string alone ("llvmpipe (LLVM 15.0.6, 256 bits)"). Valid until destroy. */
+const char* wg_gl_context_renderer(const wg_gl_context* ctx);
 
 int wg_gl_context_is_host(const wg_gl_context* ctx);
 

@@ -26,6 +26,12 @@ typedef struct wg_backend_device {
 
 wg_gl_context* wg_backend_gl_context(void* device) { return device ? DEV(device)->gl : NULL; }
 
+const char* wg_backend_renderer(const void* device, int* software) {
+    const wg_backend_device* bd = device;
+    *software = bd->dev->software;
+    return bd->dev->renderer;
+}
+
 /* ---- the device ------------------------------------------------------------------------------ */
 
 static wc_status device_create(const wc_device_desc* desc, void** out, int* software, char* info, size_t info_len) {
@@ -44,7 +50,7 @@ static wc_status device_create(const wc_device_desc* desc, void** out, int* soft
      * programs are not compiled for nothing */
     if (desc->only_hardware && wg_renderer_is_software(wg_gl_context_description(gl))) {
         *software = 1;
-        snprintf(info, info_len, "%s", wg_gl_context_description(gl));
+        snprintf(info, info_len, "%s", wg_gl_context_renderer(gl));
         wg_gl_context_destroy(gl);
         return WC_OK;
     }
@@ -120,6 +126,12 @@ static wc_status begin(void* device, wc_diag* d) {
 static void end(void* device) { wg_gl_end(DEV(device)->gl); }
 
 /* ---- one cloth ------------------------------------------------------------------------------- */
+
+static wc_status supports(const void* device, const wc_backend_query* q, wc_diag* d) {
+    const wg_backend_device* bd = device;
+    wc_status st = wg_sim_supports(bd->dev, q->model, q->sim, q->n_mesh_colliders, d);
+    return st == WC_OK ? st : wc_diag_prefix(d, st, "GPU backend: ");
+}
 
 static wc_status create(wc_cloth* c, wc_diag* d) {
     wc_status st = begin(c->device, d);
@@ -270,6 +282,7 @@ const wc_cloth_backend wg_cloth_backend = {
     .defaults = defaults,
     .begin = begin,
     .end = end,
+    .supports = supports,
     .create = create,
     .destroy = destroy,
     .step_frame = step_frame,

@@ -270,33 +270,40 @@ fail:
     return 0;
 }
 
-wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag) {
-    *out = NULL;
-    const wc_model* m = s->model;
-    if (s->def.solver.type == WC_SOLVER_DIRECT)
+wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_def* def, int n_mesh, wc_diag* diag) {
+    if (def->solver.type == WC_SOLVER_DIRECT)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no direct solver (CHOLMOD runs on the CPU only): choose pcg, jacobi or "
                        "chebyshev, or the CPU backend");
-    if (s->def.solver.preconditioner == WC_PRECOND_AMG && !dev->compute)
+    if (def->solver.preconditioner == WC_PRECOND_AMG && !dev->compute)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU's multigrid preconditioner runs on compute-shader passes (OpenGL 4.3); this context "
                        "runs fragment passes: choose block_jacobi, or the CPU backend");
-    if (s->def.solver.preconditioner != WC_PRECOND_BLOCK_JACOBI && s->def.solver.preconditioner != WC_PRECOND_AMG)
+    if (def->solver.preconditioner != WC_PRECOND_BLOCK_JACOBI && def->solver.preconditioner != WC_PRECOND_AMG)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
-                       "preconditioner runs on the CPU backend)", wc_precond_name(s->def.solver.preconditioner));
-    int colliders = s->def.max_colliders > 0 || s->n_mesh > 0;
-    if (s->def.integrator == WC_INTEGRATOR_TRBDF2 && colliders)
+                       "preconditioner runs on the CPU backend)", wc_precond_name(def->solver.preconditioner));
+    int colliders = def->max_colliders > 0 || n_mesh > 0;
+    if (def->integrator == WC_INTEGRATOR_TRBDF2 && colliders)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend runs TR-BDF2 only on a cloth without colliders (this one has room for %d, and "
                        "%d mesh colliders): TR-BDF2's contacts (the stages' landing on the collider and the contact "
                        "impulses held from stage 1 to stage 2) are not carried on the GPU; choose BDF2 or backward "
-                       "Euler, no colliders, or the CPU backend", s->def.max_colliders, s->n_mesh);
+                       "Euler, no colliders, or the CPU backend", def->max_colliders, n_mesh);
     if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES &&
-        s->def.solver.type == WC_SOLVER_PCG && s->def.solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
+        def->solver.type == WC_SOLVER_PCG && def->solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "WEFT_GPU_SOLVE=group solves cloths of at most %d particles in one work group; this one has %d: "
                        "unset it or set WEFT_GPU_SOLVE=passes", WG_GROUP_MAX_PARTICLES, m->n_particles);
+    return WC_OK;
+}
+
+wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag) {
+    *out = NULL;
+    const wc_model* m = s->model;
+    wc_status refused = wg_sim_supports(dev, m, &s->def, s->n_mesh, diag);
+    if (refused != WC_OK) return refused;
+    int colliders = s->def.max_colliders > 0 || s->n_mesh > 0;
     if (s->n_mesh > 0)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "

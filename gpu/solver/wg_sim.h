@@ -17,13 +17,18 @@
 
 typedef struct wg_sim wg_sim;
 
+/* What the GPU does not have, for a cloth of model m with settings def and n_mesh mesh colliders:
+ * WC_OK, or WC_ERROR_UNSUPPORTED with a message naming it and what to choose instead: the direct
+ * solver, the multigrid on fragment passes and other preconditioners, TR-BDF2 with colliders
+ * (mesh colliders included), block-Jacobi PCG past WG_GROUP_MAX_PARTICLES particles where
+ * WEFT_GPU_SOLVE=group forces the one-group solve (wg_device.h). No GL call: the backend table's
+ * `supports` (AUTO asks it before it chooses) and wg_sim_create's first check. */
+wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_def* def, int n_mesh, wc_diag* diag);
+
 /* Upload the model and the state; host_rest (n_host_verts x 3, object space, m; NULL: zeros) is
- * where outputs put host vertices no polygon uses. Refused with WC_ERROR_UNSUPPORTED (what the GPU
- * does not have): the direct solver, the multigrid on fragment passes and other preconditioners,
- * TR-BDF2 with colliders (mesh colliders included), Newton iterations or the line search with
- * colliders, self-collision, block-Jacobi PCG past WG_GROUP_MAX_PARTICLES particles where
- * WEFT_GPU_SOLVE=group forces the one-group solve (wg_device.h); with WC_ERROR_GPU: arrays beyond
- * the device's texture limits (naming the array, its size and the limit), GL errors. */
+ * where outputs put host vertices no polygon uses. Refused as wg_sim_supports refuses; with
+ * WC_ERROR_GPU: arrays beyond the device's texture limits (naming the array, its size and the
+ * limit), GL errors. */
 wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag);
 void wg_sim_destroy(wg_sim* g);
 /* Free the CPU memory only, when the GL context is gone or cannot be made current (the host's
