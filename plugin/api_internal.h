@@ -5,7 +5,8 @@
  * Layout of the facade (validation, handles, ABI <-> core conversion; no physics):
  *   context.c          the helpers: statuses, last error, logger and diag bridges, handle table
  *   context_create.c   context def defaults, weft_context_create / destroy
- *   backend.c          the backend choice (AUTO / CPU / GPU), the device, the table cloths get
+ *   backend.c          the backend choice (AUTO / CPU / GPU): the device at context creation, each
+ *                      cloth's table and reason at cloth creation, the def's DEFAULT choices
  *   transform.c        host transforms: the checks (finite, last row, rigid) and their messages
  *   cloth_def.c        defaults of the cloth/attachment/collider defs and the frame, validation
  *   cloth_create.c     weft_cloth_def -> wc_cloth_def, cloth create/destroy, attachments, info
@@ -23,6 +24,7 @@
 #define WEFT_PLUGIN_API_INTERNAL_H
 #include <stdatomic.h>
 #include <stdint.h>
+#include "backend_auto.h"
 #include "cloth.h"
 #include "weft/weft.h"
 
@@ -41,7 +43,17 @@ typedef struct wa_slot {
     uint32_t batch_call;        /* weft_context_step: the call that took the cloth (== the
                                    context's batch_calls: the running one) */
     int batch_index;            /* ... at this index of its cloths array */
+    weft_backend backend;       /* the cloth's backend (CPU or GPU) and why (backend.c) */
+    char backend_reason[WEFT_BACKEND_REASON_LENGTH];
 } wa_slot;
+
+/* What AUTO chooses each cloth's backend with, found at context creation (backend.c). */
+typedef struct wa_auto_device {
+    char device[128];           /* the GPU device's GL renderer ("" when there is none) */
+    char no_device[256];        /* why there is none */
+    long crossover;             /* particles from which a cloth takes the GPU, or WC_AUTO_NEVER */
+    wc_auto_source source;      /* where that figure comes from */
+} wa_auto_device;
 
 /* What one cloth of a weft_context_step logs while it steps, kept for the calling thread to pass
  * on (the logger is called from the calling thread only; the cloth may run on another). */
@@ -55,9 +67,11 @@ typedef struct wa_batch_log {
 
 struct weft_context {
     weft_context_def def;       /* as given (logger, level, threads) */
-    weft_backend backend;       /* CPU or GPU (never AUTO) */
-    const wc_cloth_backend* ops;    /* its table: every cloth of the context gets it (backend.c) */
-    void* device;               /* its device (NULL on the CPU) */
+    weft_backend backend;       /* the device it holds: GPU while gpu is set, else CPU (never AUTO) */
+    const wc_cloth_backend* gpu;    /* the GPU's table while its device is open (GPU; AUTO on a device
+                                   it may use), else NULL; the CPU's table is always there */
+    void* gpu_device;
+    wa_auto_device auto_device; /* def.backend AUTO: what each cloth's choice needs */
     wc_allocator alloc;         /* bridge of def.allocator (also gpu/'s allocator) */
     weft_status last_status;
     char last_error[512];
@@ -121,9 +135,25 @@ void wa_fill_stats(weft_frame_stats* o, const wc_step_stats* st, const wc_state*
 
 /* ---- backend.c ------------------------------------------------------------------------------- */
 
-/* The context's backend from def.backend: CPU; GPU, whose device must work (else the status,
- * with why); AUTO, the GPU only on a working hardware device. Logged at INFO. */
+/* The context's device from def.backend: none (CPU); the GPU's, which must work (GPU: else the
+ * status, with why); AUTO: the GPU's on a hardware device, or on any device with
+ * WEFT_AUTO_CROSSOVER set (a bad value: INVALID_ARGUMENT), and the device's crossover. Logged at
+ * INFO. A failure's message, naming what failed, goes into why. */
 weft_status wa_backend_choose(weft_context* ctx, char* why, size_t why_len);
+
+/* A cloth's backend: the table it runs on and the table's device. */
+typedef struct wa_cloth_backend {
+    const wc_cloth_backend* table;
+    void* device;
+    weft_backend backend;       /* CPU or GPU */
+    char reason[WEFT_BACKEND_REASON_LENGTH];   /* "asked for (...)", "AUTO: ..." */
+} wa_cloth_backend;
+/* The backend of a new cloth of def whose model m is built: the context's (CPU or GPU asked
+ * for) or AUTO's choice for this cloth (core/backend_auto.h: what the GPU table's `supports`
+ * says of it, its particle count against the device's crossover); and the def's DEFAULT / 0 / -1
+ * choices resolved into sim from the chosen table (docs/design/cloth.md "Defaults"). */
+void wa_backend_for_cloth(const weft_context* ctx, const weft_cloth_def* def, const wc_model* m, wc_sim_def* sim,
+                          wa_cloth_backend* out);
 /* Release the device (after the cloths and the renderer). */
 void wa_backend_release(weft_context* ctx);
 /* The device's GL context (a wg_gl_context*, shared with the renderer), or NULL. */

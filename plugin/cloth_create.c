@@ -1,6 +1,8 @@
 /* Cloth creation, destruction, attachments and the info query: the def validated, converted to
- * core's wc_cloth_def (the backend's defaults resolved through its table) and built by core
+ * core's wc_cloth_def, its model built, its backend chosen by the model (backend.c: AUTO by its
+ * particle count; the def's DEFAULT choices resolved from that table), and the rest built by core
  * (core/cloth.h), which allocates everything a frame needs. */
+#include <stdio.h>
 #include <string.h>
 #include "api_internal.h"
 #include "call_guard.h"
@@ -19,25 +21,6 @@ static void attachment_defs(const weft_attachment_def* a, int n, wc_cloth_attach
     }
 }
 
-/* The def's DEFAULT / 0 / -1 choices from the backend's table (docs/design/cloth.md "Defaults"). */
-static void resolve_defaults(const weft_context* ctx, const weft_cloth_def* def, wc_sim_def* s) {
-    wc_backend_defaults b;
-    ctx->ops->defaults(ctx->device, &b);
-    s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
-                               : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
-                                                                                  : b.preconditioner;
-    s->integrator = def->integrator == WEFT_INTEGRATOR_BDF2     ? WC_INTEGRATOR_BDF2
-                    : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
-                                                                : WC_INTEGRATOR_BE;
-    s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : b.newton_iterations;
-    s->line_search = def->line_search >= 0 ? def->line_search : b.line_search;
-    if (def->newton_forcing >= 0) s->newton_forcing = def->newton_forcing;   /* else the core's */
-    /* a garment: a cloth with a body (a mesh collider) or with seams */
-    int garment = def->n_mesh_colliders > 0 || def->sew_distance > 0 || def->n_seams > 0;
-    s->self_collision = def->self_collision >= 0 ? def->self_collision : garment && b.garment_self_collision;
-    s->self_thickness = def->self_collision_thickness;
-}
-
 static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def) {
     wc_sim_def s = wc_default_sim_def();
     for (int k = 0; k < 3; ++k) {
@@ -49,7 +32,13 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
     s.solver.type = (wc_solver_type)def->solver; /* same numbering */
     s.solver.tolerance = def->tolerance;
     s.solver.max_iterations = def->max_iterations;
-    resolve_defaults(ctx, def, &s);
+    s.integrator = def->integrator == WEFT_INTEGRATOR_BDF2     ? WC_INTEGRATOR_BDF2
+                   : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
+                                                               : WC_INTEGRATOR_BE;
+    if (def->newton_forcing >= 0) s.newton_forcing = def->newton_forcing;   /* else the core's */
+    s.self_thickness = def->self_collision_thickness;
+    /* the backend's defaults (preconditioner, Newton, line search, self-collision) once it is
+       chosen: backend.c */
     s.substeps = def->substeps;
     s.strain_limit = def->strain_limit;
     s.sleep_speed = def->sleep_speed;
@@ -127,12 +116,21 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
     wc_cloth_collider_def* col = WC_NEW(&ctx->alloc, wc_cloth_collider_def, (size_t)def->n_colliders + 1);
     wc_cloth_mesh_def* mesh = WC_NEW(&ctx->alloc, wc_cloth_mesh_def, (size_t)def->n_mesh_colliders + 1);
     wc_cloth* c = NULL;
+    wa_cloth_backend b;
     wc_diag d = wa_core_diag(ctx);
     if (!att || !col || !mesh) {
         st = wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory", fn);
     } else {
         wc_cloth_def cd = cloth_def_of(ctx, def, att, col, mesh);
-        wc_status cs = wc_cloth_create(&c, &cd, ctx->ops, ctx->device, &ctx->alloc, &d);
+        wc_status cs = wc_cloth_create_model(&c, &cd, &ctx->alloc, &d);
+        if (cs == WC_OK) {   /* the backend by the model (AUTO: its particle count), then the rest */
+            wa_backend_for_cloth(ctx, def, &c->model, &cd.sim, &b);
+            cs = wc_cloth_create_rest(c, &cd, b.table, b.device, &d);
+            if (cs != WC_OK) {
+                (void)wc_cloth_destroy(c, NULL);
+                c = NULL;
+            }
+        }
         if (cs != WC_OK) st = wa_fail_core(ctx, fn, cs, &d);
     }
     wc_free(&ctx->alloc, att);
@@ -143,6 +141,10 @@ weft_status weft_cloth_create(weft_context* ctx, const weft_cloth_def* def, weft
         wa_cloth_free(ctx, c);
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_MEMORY, "%s: out of memory (handle table)", fn);
     }
+    wa_slot* slot = wa_slot_of(ctx, *out);
+    slot->backend = b.backend;
+    snprintf(slot->backend_reason, sizeof slot->backend_reason, "%s", b.reason);
+    wa_log(ctx, WEFT_LOG_INFO, "%s: %d particles on the %s backend: %s", fn, c->model.n_particles, b.table->name, b.reason);
     for (int k = 0; k < c->model.report.n_warnings; ++k) wa_log(ctx, WEFT_LOG_WARN, "%s: %s", fn, c->model.report.warnings[k]);
     return wa_ok(ctx);
 }
@@ -201,7 +203,8 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
         i.bbox_max[k] = m->report.bbox_max[k];
     }
     i.snapshot_size = c->snapshot_size;
-    i.backend = ctx->backend;
+    const wa_slot* slot = wa_slot_of(ctx, cloth);
+    i.backend = slot->backend;
     const wc_sim_def* sd = &c->state->def;
     i.preconditioner = sd->solver.preconditioner == WC_PRECOND_AMG ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI;
     i.integrator = sd->integrator == WC_INTEGRATOR_BDF2     ? WEFT_INTEGRATOR_BDF2
@@ -215,6 +218,7 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.self_collision_thickness = sd->self_thickness;
     i.newton_forcing = sd->newton_forcing;
     i.threads = c->state->par.threads;
+    snprintf(i.backend_reason, sizeof i.backend_reason, "%s", slot->backend_reason);
     *out = i;
     return wa_ok(ctx);
 }

@@ -80,7 +80,7 @@ weft_status weft_context_create(int abi, const weft_context_def* def, weft_conte
     weft_status st = wa_backend_choose(ctx, why, sizeof why);
     if (st != WEFT_OK) {
         wc_free(&a, ctx);
-        return create_fail(def, st, "weft_context_create: def->backend GPU: %s", why);
+        return create_fail(def, st, "weft_context_create: %s", why);
     }
     *out = ctx;
     return WEFT_OK;

@@ -3,7 +3,8 @@
  * corners stay exactly at their rest positions, the free edge falls about g dt^2 in the first
  * frame, the stats bounding box matches the last frame; moving pins follow start + velocity t;
  * bad scenes exit 1 with one line naming the field (before creating any output); bad command
- * lines exit 2; a progress line only on a terminal; --render writes a PNG per frame. */
+ * lines exit 2; a progress line only on a terminal; --render writes a PNG per frame; the summary
+ * and the stats say which backend the cloth got and why (--backend auto). */
 #define _XOPEN_SOURCE 700   /* posix_openpt */
 #include <cjson/cJSON.h>
 #include <errno.h>
@@ -87,7 +88,7 @@ static void test_hanging_sheet(void) {
         "frames", "particles", "triangles", "springs", "solver", "substeps", "threads", "ms_per_frame",
         "stage_ms", "iterations", "residual_max", "rollbacks", "halvings", "direct_fallbacks", "failures",
         "nonfinite_outputs", "max_strain", "final_kinetic_energy", "bbox_min", "bbox_max", "self_collision",
-        "self_intersections", "max_penetration"};
+        "self_intersections", "max_penetration", "backend", "backend_reason"};
     static const char* const ms_keys[] = {"median", "p95", "mean", "max"};
     static const char* const stage_keys[] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
     static const char* const it_keys[] = {"mean", "max"};
@@ -177,6 +178,7 @@ static void test_summary_and_overrides(void) {
     CHECK(strstr(r.out, "  median") != NULL && strstr(r.out, "  max") != NULL && strstr(r.out, "integrate") != NULL);
     CHECK(strstr(r.out, "contacts") != NULL && strstr(r.out, "direct fallbacks") != NULL);
     CHECK(ts_count_lines(r.out) < 16);
+    CHECK(strstr(r.out, "\nbackend       cpu: asked for (weft_context_def.backend CPU)\n") != NULL);
     CHECK(r.err[0] == '\0');   /* stderr is a file here: no progress line */
     cJSON* j = cf_read_json(stats);
     const cJSON* solver = cJSON_GetObjectItemCaseSensitive(j, "solver");
@@ -196,6 +198,41 @@ static void test_summary_and_overrides(void) {
     }
     CHECK_NEAR(cf_num(j, "final_kinetic_energy"), 0.0, 0.0);
     cJSON_Delete(j);
+}
+
+/* --backend auto: the summary's backend line and the stats' "backend" and "backend_reason" say
+ * which backend the sheet got and why: the CPU by the table on any device (1,024 particles, below
+ * every crossover, or no device that wins); with WEFT_AUTO_CROSSOVER=0 the GPU where it is built. */
+static void test_backend_auto(void) {
+    static ts_cli_result r;
+    char args[4096], stats[1024];
+    snprintf(stats, sizeof stats, "%s", ts_tmp_path("run_auto_stats.json"));
+    for (int forced = 0; forced < 2; ++forced) {
+        if (forced) setenv("WEFT_AUTO_CROSSOVER", "0", 1);
+        snprintf(args, sizeof args, "run '%s' --frames 1 --backend auto --stats '%s'", SHEET, stats);
+        ts_run_cli(args, &r);
+        if (forced) unsetenv("WEFT_AUTO_CROSSOVER");
+        CHECK_EQ_INT(r.rc, 0);
+        cJSON* j = cf_read_json(stats);
+        const cJSON* backend = cJSON_GetObjectItemCaseSensitive(j, "backend");
+        const cJSON* reason = cJSON_GetObjectItemCaseSensitive(j, "backend_reason");
+        CHECK(cJSON_IsString(backend) && cJSON_IsString(reason));
+        if (cJSON_IsString(backend) && cJSON_IsString(reason)) {
+            printf("  %s: %s\n", backend->valuestring, reason->valuestring);
+#ifdef WEFT_TEST_HAVE_GPU
+            const char* want = forced ? "gpu" : "cpu";
+#else
+            const char* want = "cpu";
+#endif
+            CHECK(strcmp(backend->valuestring, want) == 0);
+            CHECK(strncmp(reason->valuestring, "AUTO: ", 6) == 0);
+            if (forced) CHECK(strstr(reason->valuestring, "WEFT_AUTO_CROSSOVER") || strstr(reason->valuestring, "no GPU"));
+            char line[400];
+            snprintf(line, sizeof line, "\nbackend       %s: %s\n", backend->valuestring, reason->valuestring);
+            CHECK(strstr(r.out, line) != NULL);
+        }
+        cJSON_Delete(j);
+    }
 }
 
 /* A pin with a velocity: its vertex is at rest + velocity t at the end of every frame. A file
@@ -451,6 +488,7 @@ static void test_render_option(void) {
 int main(void) {
     RUN_TEST(test_hanging_sheet);
     RUN_TEST(test_summary_and_overrides);
+    RUN_TEST(test_backend_auto);
     RUN_TEST(test_moving_pin);
     RUN_TEST(test_file_mesh_transform);
     RUN_TEST(test_bad_scenes);

@@ -169,6 +169,7 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, self_collision_thickness);
     FIELD(weft_cloth_info, newton_forcing);
     FIELD(weft_cloth_info, threads);
+    FIELD(weft_cloth_info, backend_reason);
     struct_end();
 
     STRUCT(weft_frame);
@@ -359,6 +360,7 @@ int main(void) {
     CONSTANT(WEFT_REPORT_POLYGON_SIDES);
     CONSTANT(WEFT_REPORT_MAX_WARNINGS);
     CONSTANT(WEFT_REPORT_WARNING_LENGTH);
+    CONSTANT(WEFT_BACKEND_REASON_LENGTH);
     printf("\n  }\n}\n");
     return 0;
 }

@@ -99,6 +99,7 @@ FRAME_RESET = 1 << 1
 REPORT_POLYGON_SIDES = 8       # weft_import_report.polygons[k]: k-gons, [8] 8 or more
 REPORT_MAX_WARNINGS = 16
 REPORT_WARNING_LENGTH = 256
+BACKEND_REASON_LENGTH = 256    # weft_cloth_info.backend_reason, terminating zero included
 
 _ENUM_C_PREFIX = {Status: "WEFT_ERROR_", LogLevel: "WEFT_LOG_", Backend: "WEFT_BACKEND_",
                   GlMode: "WEFT_GL_", SpringType: "WEFT_SPRING_", Solver: "WEFT_SOLVER_",
@@ -112,7 +113,8 @@ def c_constants():
            "WEFT_VERSION_PATCH": VERSION[2], "WEFT_FRAME_TELEPORT": FRAME_TELEPORT,
            "WEFT_FRAME_RESET": FRAME_RESET, "WEFT_REPORT_POLYGON_SIDES": REPORT_POLYGON_SIDES,
            "WEFT_REPORT_MAX_WARNINGS": REPORT_MAX_WARNINGS,
-           "WEFT_REPORT_WARNING_LENGTH": REPORT_WARNING_LENGTH}
+           "WEFT_REPORT_WARNING_LENGTH": REPORT_WARNING_LENGTH,
+           "WEFT_BACKEND_REASON_LENGTH": BACKEND_REASON_LENGTH}
     for cls, prefix in _ENUM_C_PREFIX.items():
         for member in cls:
             name = "WEFT_OK" if member is Status.OK else prefix + member.name
@@ -226,7 +228,8 @@ class ClothInfo(_Struct):
                 ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int),
                 ("n_seams", c_int), ("n_panels", c_int),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
-                ("newton_forcing", c_double), ("threads", c_int)]
+                ("newton_forcing", c_double), ("threads", c_int),
+                ("backend_reason", ctypes.c_char * BACKEND_REASON_LENGTH)]
 
 
 class Frame(_Struct):

@@ -69,7 +69,8 @@ void cli_run_usage(FILE* out) {
           "  --render DIR           write DIR/frame_0001.png ... through weft_render(), seen from\n"
           "                         the scene's camera\n"
           "  --threads N            OpenMP threads (>= 0; 0: OpenMP's default)\n"
-          "  --backend NAME         cpu (default), gpu, or auto (the GPU where it works)\n"
+          "  --backend NAME         cpu (default), gpu, or auto (the GPU where the cloth is large enough and the\n"
+          "                         GPU runs all it uses; the summary says which and why)\n"
           "  --quiet                print nothing on success (no progress line, no summary)\n"
           "  -h, --help             show this help\n",
           out);
@@ -348,7 +349,8 @@ int cli_run_run(int argc, char** argv) {
                                                                           : "be",
                                in->newton_iterations,
                                in->line_search,
-                               weft_context_backend(c.host.ctx) == WEFT_BACKEND_GPU ? "gpu" : "cpu",
+                               in->backend == WEFT_BACKEND_GPU ? "gpu" : "cpu",
+                               in->backend_reason,
                                def->substeps,
                                in->threads,
                                c.sc.fps,

@@ -89,6 +89,7 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(root, "springs", info->springs, &ok);
     if (!cJSON_AddStringToObject(root, "solver", info->solver)) ok = 0;
     if (!cJSON_AddStringToObject(root, "backend", info->backend)) ok = 0;
+    if (!cJSON_AddStringToObject(root, "backend_reason", info->backend_reason)) ok = 0;
     if (!cJSON_AddStringToObject(root, "preconditioner", info->preconditioner)) ok = 0;
     if (!cJSON_AddStringToObject(root, "integrator", info->integrator)) ok = 0;
     add_num(root, "newton_iterations", info->newton_iterations, &ok);

@@ -20,6 +20,7 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
     fprintf(out, "%-13s %d frames at %g fps, %d substep%s per frame, %s solver, %s backend, %d thread%s\n", "run",
             r->frames, info->fps, info->substeps, info->substeps == 1 ? "" : "s", info->solver, info->backend,
             info->threads, info->threads == 1 ? "" : "s");
+    fprintf(out, "%-13s %s: %s\n", "backend", info->backend, info->backend_reason);
     fprintf(out, "%-13s %s integrator, %s preconditioner, Newton iterations %d, line search %s\n", "method",
             info->integrator, info->preconditioner, info->newton_iterations, info->line_search ? "on" : "off");
     fprintf(out, "%-13s median %.3f  p95 %.3f  mean %.3f  max %.3f  (weft_cloth_step wall time)\n", "ms/frame",
@@ -31,9 +32,9 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
     fprintf(out, "\n%-13s", "  max");
     for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %10.3f", stage[order[i]].max);
     fputc('\n', out);
-    fprintf(out, "%-13s mean %.1f per solve, max %d; largest residual %.3g; %d not converged\n", "iterations",
-            run_mean_iterations(r), r->max_iterations, r->residual_max, r->not_converged);
-    fprintf(out, "%-13s %lld linear solves; %.3f ms building preconditioners\n", "solves", r->solves, r->precond_ms);
+    fprintf(out, "%-13s mean %.1f per solve, max %d; largest residual %.3g; %d not converged; %lld linear solves, "
+            "%.3f ms building preconditioners\n", "iterations", run_mean_iterations(r), r->max_iterations, r->residual_max,
+            r->not_converged, r->solves, r->precond_ms);
     fprintf(out, "%-13s %d rollbacks, %d halvings, %d direct fallbacks, %d failed substeps, %d failed frames\n",
             "recovery", r->rollbacks, r->halvings, r->direct_fallbacks, r->failures, r->failed_frames);
     fprintf(out, "%-13s max %d particles, %d at the end\n", "contacts", r->contacts_max, r->contacts_final);

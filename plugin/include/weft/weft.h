@@ -134,11 +134,25 @@ typedef struct weft_allocator {
 } weft_allocator;
 
 typedef enum weft_backend {
-    WEFT_BACKEND_AUTO = 0,      /* the GPU backend where it is built and a hardware device works,
-                                   else CPU (a software rasteriser such as llvmpipe gives CPU) */
+    WEFT_BACKEND_AUTO = 0,      /* per cloth: the GPU backend where it is built, a hardware device
+                                   works, the GPU runs everything the cloth uses and the cloth has
+                                   at least the device's crossover of particles; else CPU (a
+                                   software rasteriser such as llvmpipe: CPU for every cloth).
+                                   weft_cloth_info.backend_reason says which and why */
     WEFT_BACKEND_CPU = 1,       /* core/: OpenMP CPU solvers */
     WEFT_BACKEND_GPU = 2        /* gpu/: EGL + GLSL; WEFT_ERROR_UNSUPPORTED where it is not built */
 } weft_backend;
+
+/* AUTO's crossover: the particles from which a cloth takes the GPU, per device kind (a table,
+ * docs/design/cloth.md "AUTO: the backend by the cloth"). The environment variable
+ * WEFT_AUTO_CROSSOVER, read by weft_context_create for an AUTO context, replaces it: a whole
+ * number of particles from 0 to 10^9 (0: every cloth the GPU runs whole), and then AUTO keeps a
+ * software device too (tests, experts). Unset or empty: the table. */
+
+/* Size of weft_cloth_info.backend_reason. */
+enum {
+    WEFT_BACKEND_REASON_LENGTH = 256   /* bytes, terminating zero included */
+};
 
 typedef enum weft_gl_mode {
     WEFT_GL_HEADLESS = 0,       /* the GPU backend creates its own headless EGL context */
@@ -161,10 +175,12 @@ WEFT_API weft_context_def weft_default_context_def(void);
 
 /* Create a context. abi: pass WEFT_ABI. Backend: GPU makes the GL context (headless, or the
  * host's current one per gl_mode) and compiles the solver's programs now; AUTO does the same and
- * keeps the GPU only on a hardware device (a software rasteriser such as llvmpipe, or no working
- * device, gives the CPU backend); the choice and the renderer are logged at INFO.
+ * keeps the device only where it is hardware (or WEFT_AUTO_CROSSOVER is set), to choose each
+ * cloth's backend at weft_cloth_create; without one (a software rasteriser such as llvmpipe, or
+ * no working device) every cloth runs on the CPU. The device and the renderer are logged at INFO.
  * Errors: ABI_MISMATCH, INVALID_ARGUMENT (NULL, def not from weft_default_context_def(), bad
- * enum, threads < 0, one allocator function without the other), UNSUPPORTED (GPU asked for and
+ * enum, threads < 0, one allocator function without the other, AUTO with a WEFT_AUTO_CROSSOVER
+ * that is not a particle count), UNSUPPORTED (GPU asked for and
  * not built), GPU (GPU asked for: no EGL device or context, no current host context, or the
  * device lacks float render targets; the message says which), OUT_OF_MEMORY. *out is NULL on
  * failure; the reason goes to the def's logger (there is no context to hold it). */
@@ -178,7 +194,9 @@ WEFT_API void weft_context_destroy(weft_context* ctx);
 WEFT_API const char* weft_context_last_error(const weft_context* ctx);
 /* Status of the last call on this context (WEFT_OK after a success). */
 WEFT_API weft_status weft_context_last_status(const weft_context* ctx);
-/* Backend the context runs (never AUTO). */
+/* The device the context holds (never AUTO): GPU when its GPU device is open (GPU asked for, or
+ * AUTO on a device it keeps), else CPU. Under AUTO a cloth may still run on the CPU: its own
+ * backend is weft_cloth_info.backend. */
 WEFT_API weft_backend weft_context_backend(const weft_context* ctx);
 
 /* ============================================================================================= */
@@ -403,12 +421,15 @@ WEFT_API weft_collider_def weft_default_collider_def(void);
 WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
 
 /* Build a cloth: import or read the mesh, weld, build springs and masses, bind the attachments.
+ * In an AUTO context the cloth's backend is chosen here, once the mesh is welded (the GPU's
+ * refusals and the particle count decide: weft_backend), and logged at INFO with the reason
+ * that weft_cloth_info.backend_reason keeps; a cloth the GPU would refuse runs on the CPU.
  * Errors: INVALID_ARGUMENT (NULL, def not from weft_default_cloth_def(), both or neither mesh
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, and with colliders,
- * mesh colliders included, TR-BDF2, the line search or Newton iterations above 1),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only; TR-BDF2 with
+ * colliders, mesh colliders included; the multigrid preconditioner on fragment passes),
  * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
  * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
@@ -446,6 +467,9 @@ typedef struct weft_cloth_info {
     double newton_forcing;      /* what the def's newton_forcing resolved to, in [0, 1) */
     int threads;                /* OpenMP threads a call uses: weft_context_def.threads, or
                                    OpenMP's default (the core count) for 0 */
+    char backend_reason[WEFT_BACKEND_REASON_LENGTH]; /* why the cloth runs on `backend`, one line:
+                                   "asked for (...)" or "AUTO: ..." (the GPU's refusal, the particle
+                                   count against the device's crossover, or why there is no GPU) */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
