@@ -146,7 +146,7 @@ static void resolve_defaults(const wc_cloth_backend* b, const void* device, cons
     s->self_collision = def->self_collision >= 0 ? def->self_collision : garment && o.garment_self_collision;
 }
 
-/* AUTO with a device open: core's rule on what the GPU says of this cloth. */
+/* AUTO: core's rule on this cloth (the GPU table asked where its device is open and may win). */
 static int auto_gpu(const weft_context* ctx, const weft_cloth_def* def, const wc_model* m, const wc_sim_def* sim,
                     char* reason, size_t reason_len) {
     const wa_auto_device* a = &ctx->auto_device;

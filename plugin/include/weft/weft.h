@@ -454,7 +454,7 @@ typedef struct weft_cloth_info {
     double total_mass;          /* kg */
     double bbox_min[3], bbox_max[3]; /* m, object space, rest shape */
     size_t snapshot_size;       /* bytes weft_cloth_save() writes */
-    weft_backend backend;
+    weft_backend backend;       /* CPU or GPU: where this cloth runs (why: backend_reason) */
     /* what the def's DEFAULT / 0 / -1 choices resolved to on this backend */
     weft_preconditioner preconditioner; /* BLOCK_JACOBI or AMG */
     weft_integrator integrator; /* BACKWARD_EULER, BDF2 or TRBDF2 */
