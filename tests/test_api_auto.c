@@ -38,7 +38,7 @@ static char* env_set(const char* name, const char* value) {
 }
 
 static void env_restore(const char* name, char* saved) {
-    env_set(name, saved);
+    free(env_set(name, saved));
     free(saved);
 }
 
