@@ -246,7 +246,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     upload3(g, &g->ftot, f);
     int st_cpu = wc_contacts_friction(&s->contacts, c, nc, s->v, m.mass, f, NULL, h, &s->filter, A, m.pattern.diag, b,
                                       &s->par);
-    wg_contacts_friction(g->contacts, s, h);
+    wg_contacts_friction(g->contacts, s, h, NULL);
     int n_stick = 0;
     compare_filter(g, &s->filter, "friction", &n_stick, NULL);
     take_gpu(g, s, &gs);
@@ -308,7 +308,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
         for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
     }
     wc_contacts_end(&s->contacts, nc, r, &s->par);
-    wg_contacts_end(g->contacts, s, &g->sv[1]);
+    wg_contacts_end(g->contacts, s, &g->sv[1], 0);
     int rel = 0;
     for (int i = 0; i < n; ++i) rel += s->contacts.released[i];
     act_gpu = wg_contacts_active(g->contacts);

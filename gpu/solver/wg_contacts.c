@@ -1,12 +1,14 @@
 /* The GPU side of core/collide.c (see wg_contacts.h for the hooks and collide.h for the rules):
  * five per-particle passes (contact_begin, contact_friction, contact_recheck, contact_end,
  * contact_project) and one per block (contact_diag: the friction damping into the diagonal
- * blocks of A).
+ * blocks of A); and TR-BDF2's contact rule of core/bdf2.c (integ_contacts: the stages' landing;
+ * contact_end's u_stage: the impulses held from stage 1 to stage 2).
  *
  * State, per particle, three arrays in rings of three textures each (RGBA32F, ids as floats):
  *   C0 = (collider 1, collider 2, released, stick)   (-1: no collider)
  *   C1 = (normal 1, in contact)                      (the count of w is wg_contacts_active)
- *   C2 = (normal 2, changed by the last recheck)
+ *   C2 = (normal 2, w: begin's second surface velocity along normal 2, then changed by the last
+ *        recheck)
  * A pass writes into wg_ring_other(ring, 0), never the current one nor keep: save and restore
  * move indices only.
  *
@@ -27,6 +29,7 @@
 
 #include "gpu_error.h"
 #include "wg_contacts.h"
+#include "bdf2.h"
 #include "wg_mesh.h"
 
 struct wg_contacts {
@@ -45,6 +48,8 @@ struct wg_contacts {
     wg_tex A0, A1;              /* scratch of A (nb) */
     wg_chain chain;             /* sums over n */
     wg_tex bk[3];               /* the frame's back-up of c0, c1, c2 (wg_sim_backup) */
+    wg_tex held[2];             /* TR-BDF2: stage 1's impulses, read by stage 2's end (n); ping-pong */
+    int held_cur;               /* the one stage 1 wrote last */
 };
 
 static void swap_tex(wg_tex* a, wg_tex* b) {
@@ -61,7 +66,7 @@ static void release(wg_contacts* cs, int gl) {
             for (int j = 0; j < 3; ++j) wg_tex_destroy(&rings[r]->t[j]);
         for (int r = 0; r < 3; ++r) wg_tex_destroy(&cs->bk[r]);
         wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->A0, &cs->A1, &cs->cols,
-                        &cs->cvel, &cs->x_sub};
+                        &cs->cvel, &cs->x_sub, &cs->held[0], &cs->held[1]};
         for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) wg_tex_destroy(pv[k]);
         wg_chain_destroy(&cs->chain);
     }
@@ -119,7 +124,8 @@ wc_status wg_contacts_create(wg_runner* run, const wg_contact_cloth* cloth, int 
         if (!wg_array_create(L, &cs->bk[r], GL_RGBA32F, n, init, err, err_len)) goto fail;
         rings[r]->cur = rings[r]->keep = 0;
     }
-    wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->cvel, &cs->x_sub};
+    wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->cvel, &cs->x_sub, &cs->held[0],
+                    &cs->held[1]};
     if (!wg_mesh_init(&cs->mesh, L, mesh, n_mesh, err, err_len)) goto fail;
     for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k)
         if (!wg_array_create(L, pv[k], GL_RGBA32F, n, NULL, err, err_len)) goto fail;
@@ -201,7 +207,29 @@ void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double
     cs->c2.cur = j2;
 }
 
-void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h) {
+void wg_contacts_integ(wg_contacts* cs, const wg_contact_integ* io, int stage, double h, double he) {
+    if (!cs) return;
+    wg_runner* run = cs->run;
+    const wg_contact_cloth* g = &cs->cl;
+    int nv = wg_ring_other(g->v, 0), np = wg_ring_other(io->vp, 0);
+    WG_USE(run, WGP_INTEG_CONTACTS, &(wg_integ_contacts_in){.x = wg_ring_cur(g->x), .v = wg_ring_cur(g->v),
+        .xb = io->xb, .vstar = io->vstar, .mom = io->mom, .vp = wg_ring_cur(io->vp), .z = g->z,
+        .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1), .c2 = wg_ring_cur(&cs->c2), .cvel = &cs->cvel});
+    wg_u1i(run, "u_stage", stage);
+    wg_u1f(run, "u_h", h);
+    wg_u1f(run, "u_he", he);
+    wg_u1f(run, "u_c2", WC_TRBDF2_C2);
+    /* S0, S1 and b are free scratch here: they take xb, v* and (stage 2) mom */
+    WG_RUN(run, g->n, &g->v->t[nv], &cs->S0, &cs->S1, stage == 1 ? &io->vp->t[np] : &cs->b, &cs->z);
+    g->v->cur = nv;
+    swap_tex(io->xb, &cs->S0);
+    swap_tex(io->vstar, &cs->S1);
+    if (stage == 1) io->vp->cur = np;
+    else swap_tex(io->mom, &cs->b);
+    swap_tex(g->z, &cs->z);
+}
+
+void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg_tex* mom) {
     if (!cs) return;
     wg_runner* run = cs->run;
     const wg_contact_cloth* g = &cs->cl;
@@ -210,9 +238,10 @@ void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h) {
     WG_USE(run, WGP_CONTACT_FRICTION, &(wg_contact_friction_in){.v = wg_ring_cur(g->v), .mass = g->mass,
         .ftot = g->ftot, .S0 = g->S0, .S1 = g->S1, .z = g->z, .b = g->b, .pblocks = g->pblocks, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1), .c2 = wg_ring_cur(&cs->c2),
-        .cvel = &cs->cvel, .colliders = &cs->cols});
+        .cvel = &cs->cvel, .colliders = &cs->cols, .mom = mom ? mom : g->mass});
     wg_u1f(run, "u_h", h);
     wg_u1i(run, "u_nc", nc);
+    wg_u1i(run, "u_mom", mom != NULL);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->ad0, &cs->ad1);
     swap_tex(g->S0, &cs->S0);
     swap_tex(g->S1, &cs->S1);
@@ -246,17 +275,21 @@ int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
     return r[3] > 0.5f;
 }
 
-void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
+void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv, int stage) {
     if (!cs) return;
     wg_runner* run = cs->run;
     const wg_contact_cloth* g = &cs->cl;
     int nc = cs->mesh.n_mesh + analytic(cs, s);
     int j0 = wg_ring_other(&cs->c0, 0), j1 = wg_ring_other(&cs->c1, 0), j2 = wg_ring_other(&cs->c2, 0);
+    /* reads the held impulses stage 1 wrote last, writes the other texture (stage 1: its own) */
+    int hw = 1 - cs->held_cur;
     WG_USE(run, WGP_CONTACT_END, &(wg_contact_end_in){.pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .dv = dv, .b = g->b, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1),
-        .c2 = wg_ring_cur(&cs->c2)});
+        .c2 = wg_ring_cur(&cs->c2), .held = &cs->held[cs->held_cur]});
     wg_u1i(run, "u_nc", nc);
-    WG_RUN(run, g->n, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2]);
+    wg_u1i(run, "u_stage", stage);
+    WG_RUN(run, g->n, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2], &cs->held[hw]);
+    if (stage == 1) cs->held_cur = hw;
     cs->c0.cur = j0;
     cs->c1.cur = j1;
     cs->c2.cur = j2;

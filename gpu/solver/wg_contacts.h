@@ -47,14 +47,28 @@ void wg_contacts_forget(wg_contacts* cs);
  * s->sub_alpha0 to alpha1 of length h, find contacts, correct positions (a new x cur), write
  * their constraints into S0/S1/z. */
 void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double h);
+/* The integrator's textures TR-BDF2's contact rule changes (the cloth's; their addresses kept). */
+typedef struct wg_contact_integ {
+    wg_tex *xb, *vstar, *mom;   /* the stage's base position, v*, momentum term */
+    wg_ring* vp;                /* stage 1's start velocity v_n (a new cur in stage 1) */
+} wg_contact_integ;
+
+/* 1b, TR-BDF2's stage `stage` (1 or 2) of length h with system step he, after begin and the
+ * integrator's xb, v*, mom (core/bdf2.c wc_integ_contacts): each particle in contact loses its
+ * normal velocity relative to the colliders and lands on their shells at the stage's end (v: a
+ * new cur; xb, v*, z; stage 1's v_prev or stage 2's mom). */
+void wg_contacts_integ(wg_contacts* cs, const wg_contact_integ* io, int stage, double h, double he);
 /* 2: after assembly (A in block layout, b, ftot): Coulomb friction; may change S0/S1/z, the
- * diagonal blocks of A and b. */
-void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h);
+ * diagonal blocks of A and b. mom: TR-BDF2's momentum term in the particle's prediction
+ * (core/collide.h wc_contacts_friction), NULL for backward Euler and BDF2. */
+void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg_tex* mom);
 /* 3b: after a solve whose result is dv: sticking contacts the solved cloth overloads slide;
  * returns 1 when something changed (the caller solves again). Reads back one texel. */
 int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv);
-/* 4: after v += dv (dv the solve's result): release contacts whose normal impulse pulls inward. */
-void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv);
+/* 4: after v += dv (dv the solve's result): release contacts whose normal impulse pulls inward.
+ * stage (TR-BDF2, core/bdf2.c wc_integ_contact_impulses): 1 releases nothing and holds each
+ * contact's impulse; 2 adds stage 1's held impulses before the test; 0 for the others. */
+void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv, int stage);
 /* 5: after positions advanced and strain limiting: push x out of collider shells, remove inward
  * normal velocity (new x and v cur). */
 void wg_contacts_project(wg_contacts* cs, const wc_state* s);

@@ -23,6 +23,10 @@
 
 #include "wg_sim_impl.h"
 
+/* 1: TR-BDF2's implicit air stays the stage start's in Newton's systems (a contact is active:
+   core/newton.c newton_system, g->nw_air_frozen): the gradient takes -he L w itself */
+static int air_frozen(const wg_sim* g, const wc_integ* ig) { return ig->air_implicit && g->nw_air_frozen; }
+
 /* newton_gradient.glsl at w with h f_total hf into out (its output 0), x(w) and v(w) into the
  * rings' free slots (xw, vw); friction: its frozen terms in out. */
 static void gradient_pass(wg_sim* g, const wc_integ* ig, const wg_tex* hf, const wg_tex* w, int friction,
@@ -31,9 +35,11 @@ static void gradient_pass(wg_sim* g, const wc_integ* ig, const wg_tex* hf, const
     WG_USE(run, WGP_NEWTON_GRADIENT, &(wg_newton_gradient_in){.hf = hf, .w = w, .mass = &g->mass,
         .xb = wg_integ_xb(g, ig), .mom = wg_integ_mom(g, ig), .v = wg_ring_cur(&g->v),
         .fric_lo = friction ? &g->nw_fa[0] : &g->mass, .fric_hi = friction ? &g->nw_fa[1] : &g->mass,
-        .fric_b = friction ? &g->nw_fb : &g->mass});
+        .fric_b = friction ? &g->nw_fb : &g->mass, .air_lo = air_frozen(g, ig) ? &g->air_lo : &g->mass,
+        .air_hi = air_frozen(g, ig) ? &g->air_hi : &g->mass});
     wg_u1f(run, "u_h", ig->he);
     wg_u1i(run, "u_friction", friction);
+    wg_u1i(run, "u_air", air_frozen(g, ig));
     WG_RUN(run, g->n, out, xw, vw);
 }
 
@@ -46,7 +52,8 @@ void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg
     const wg_tex* vw = &g->v.t[wg_ring_other(&g->v, 0)];
     const wc_air* air = &s->def.air;
     int use_air = (air->normal_drag != 0.0 || air->tangent_drag != 0.0) && g->nt > 0;
-    if (ig->air_implicit) {
+    const int refresh_air = ig->air_implicit && !air_frozen(g, ig);
+    if (refresh_air) {
         /* TR-BDF2's air refreshed at the iterate (core/newton.c refresh_air): x(w), v(w) first
            (the gradient pass's outputs 1 and 2; its output 0 is redone below), then the air's
            force and lumped Jacobian there */
@@ -73,7 +80,7 @@ void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg
     wg_u3f(run, "u_gravity", s->def.gravity);
     wg_u1i(run, "u_use_air", use_air);
     wg_u1i(run, "u_mom", 0);
-    if (ig->air_implicit) WG_RUN(run, g->n, &g->nw_hf, &g->ftot, &g->nw_fext);   /* f_ext at the iterate */
+    if (refresh_air) WG_RUN(run, g->n, &g->nw_hf, &g->ftot, &g->nw_fext);   /* f_ext at the iterate */
     else WG_RUN(run, g->n, &g->nw_hf, &g->ftot);
     gradient_pass(g, ig, &g->nw_hf, w, g->nw_friction, &g->b, xw, vw);
     wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, g->nw_friction);
@@ -137,7 +144,7 @@ double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, co
     wg_u1f(run, "u_h", h);
     wg_u1i(run, "u_friction", fric);
     wg_u1i(run, "u_air", ig->air_implicit);
-    wg_u1i(run, "u_air_at_wa", ig->air_implicit && g->nw_refreshed);
+    wg_u1i(run, "u_air_at_wa", ig->air_implicit && g->nw_refreshed && !air_frozen(g, ig));
     WG_RUN(run, g->n, &g->nw_gd);
     float p[4], q[4];
     wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->nw_gd, 0, 0, 0, 0), p);

@@ -23,7 +23,8 @@ static const wg_pass_input newton_gradient[] = {IN(wg_newton_gradient_in, hf), I
                                                 IN(wg_newton_gradient_in, mass), IN(wg_newton_gradient_in, xb),
                                                 IN(wg_newton_gradient_in, mom), IN(wg_newton_gradient_in, v),
                                                 IN(wg_newton_gradient_in, fric_lo), IN(wg_newton_gradient_in, fric_hi),
-                                                IN(wg_newton_gradient_in, fric_b)};
+                                                IN(wg_newton_gradient_in, fric_b), IN(wg_newton_gradient_in, air_lo),
+                                                IN(wg_newton_gradient_in, air_hi)};
 WHOLE(wg_newton_gradient_in, newton_gradient);
 static const wg_pass_input newton_step[] = {IN(wg_newton_step_in, w), IN(wg_newton_step_in, d),
                                             IN(wg_newton_step_in, g)};
@@ -53,6 +54,12 @@ static const wg_pass_input integ_prepare[] = {
     IN(wg_integ_prepare_in, x), IN(wg_integ_prepare_in, v), IN(wg_integ_prepare_in, xs),
     IN(wg_integ_prepare_in, xp), IN(wg_integ_prepare_in, vp)};
 WHOLE(wg_integ_prepare_in, integ_prepare);
+static const wg_pass_input integ_contacts[] = {
+    IN(wg_integ_contacts_in, x),  IN(wg_integ_contacts_in, v),  IN(wg_integ_contacts_in, xb),
+    IN(wg_integ_contacts_in, vstar), IN(wg_integ_contacts_in, mom), IN(wg_integ_contacts_in, vp),
+    IN(wg_integ_contacts_in, z),  IN(wg_integ_contacts_in, c0), IN(wg_integ_contacts_in, c1),
+    IN(wg_integ_contacts_in, c2), IN(wg_integ_contacts_in, cvel)};
+WHOLE(wg_integ_contacts_in, integ_contacts);
 static const wg_pass_input air_lump[] = {IN(wg_air_lump_in, x), IN(wg_air_lump_in, rows),
                                          IN(wg_air_lump_in, row_tri), IN(wg_air_lump_in, tri)};
 WHOLE(wg_air_lump_in, air_lump);
@@ -159,7 +166,8 @@ static const wg_pass_input contact_friction[] = {
     IN(wg_contact_friction_in, S0),   IN(wg_contact_friction_in, S1),      IN(wg_contact_friction_in, z),
     IN(wg_contact_friction_in, b),    IN(wg_contact_friction_in, pblocks), IN(wg_contact_friction_in, a_lo),
     IN(wg_contact_friction_in, a_hi), IN(wg_contact_friction_in, c0),      IN(wg_contact_friction_in, c1),
-    IN(wg_contact_friction_in, c2),   IN(wg_contact_friction_in, cvel),    IN(wg_contact_friction_in, colliders)};
+    IN(wg_contact_friction_in, c2),   IN(wg_contact_friction_in, cvel),    IN(wg_contact_friction_in, colliders),
+    IN(wg_contact_friction_in, mom)};
 WHOLE(wg_contact_friction_in, contact_friction);
 static const wg_pass_input contact_recheck[] = {
     IN(wg_contact_recheck_in, v),    IN(wg_contact_recheck_in, mass),  IN(wg_contact_recheck_in, dv),
@@ -172,7 +180,8 @@ WHOLE(wg_contact_recheck_in, contact_recheck);
 static const wg_pass_input contact_end[] = {
     IN(wg_contact_end_in, pblocks), IN(wg_contact_end_in, block), IN(wg_contact_end_in, a_lo),
     IN(wg_contact_end_in, a_hi),    IN(wg_contact_end_in, dv),    IN(wg_contact_end_in, b),
-    IN(wg_contact_end_in, c0),      IN(wg_contact_end_in, c1),    IN(wg_contact_end_in, c2)};
+    IN(wg_contact_end_in, c0),      IN(wg_contact_end_in, c1),    IN(wg_contact_end_in, c2),
+    IN(wg_contact_end_in, held)};
 WHOLE(wg_contact_end_in, contact_end);
 static const wg_pass_input contact_project[] = {
     IN(wg_contact_project_in, x), IN(wg_contact_project_in, v), IN(wg_contact_project_in, S1),
@@ -253,6 +262,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_NEWTON_FRICTION] = PASS("newton_friction", newton_friction, wg_newton_friction_in),
     [WGP_INTEG_PREPARE] = PASS("integ_prepare", integ_prepare, wg_integ_prepare_in),
     [WGP_AIR_LUMP] = PASS("air_lump", air_lump, wg_air_lump_in),
+    [WGP_INTEG_CONTACTS] = PASS("integ_contacts", integ_contacts, wg_integ_contacts_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),

@@ -30,7 +30,7 @@ typedef enum wg_pass_id {
     WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP, WGP_NEWTON_START, WGP_NEWTON_PHI_PARTICLES,
     WGP_NEWTON_PHI_SPRINGS, WGP_NEWTON_FRICTION,
     /* BDF2 and TR-BDF2 (core/bdf2.h): the integrator's vectors, TR-BDF2's implicit air */
-    WGP_INTEG_PREPARE, WGP_AIR_LUMP,
+    WGP_INTEG_PREPARE, WGP_AIR_LUMP, WGP_INTEG_CONTACTS,
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
        direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
@@ -90,6 +90,7 @@ typedef struct wg_newton_springs_in {  /* newton_springs.glsl: per spring, Newto
 typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w), x(w), v(w) */
     const wg_tex *hf, *w, *mass, *xb, *mom, *v;   /* hf: assemble_b's h f_total; v: v_n; xb, mom: bdf2.h's */
     const wg_tex *fric_lo, *fric_hi, *fric_b;     /* friction's frozen Fa, Fb (newton_friction.glsl) */
+    const wg_tex *air_lo, *air_hi;                /* TR-BDF2's lumped air Jacobian, frozen (u_air) */
 } wg_newton_gradient_in;
 
 typedef struct wg_newton_step_in {      /* newton_step.glsl: per particle, w + alpha d and g.d */
@@ -120,6 +121,11 @@ typedef struct wg_integ_prepare_in {   /* integ_prepare.glsl: per particle, xb, 
     const wg_tex* xs;               /* BDF2: x uncorrected; TR-BDF2's stage 2: stage 1's solved x_g */
     const wg_tex *xp, *vp;          /* the history (BDF2's x_{n-1}, v_{n-1}; TR-BDF2's x_n, v_n) */
 } wg_integ_prepare_in;
+
+typedef struct wg_integ_contacts_in {   /* integ_contacts.glsl: TR-BDF2's contacts in the xb form */
+    const wg_tex *x, *v, *xb, *vstar, *mom, *vp, *z;   /* after contact_begin and integ_prepare */
+    const wg_tex *c0, *c1, *c2, *cvel;                 /* contact_begin's state and surface velocity */
+} wg_integ_contacts_in;
 
 typedef struct wg_air_lump_in {    /* air_lump.glsl: per particle, the lumped drag Jacobian */
     const wg_tex *x, *rows, *row_tri, *tri;
@@ -263,6 +269,7 @@ typedef struct wg_contact_begin_in {
 
 typedef struct wg_contact_friction_in {
     const wg_tex *v, *mass, *ftot, *S0, *S1, *z, *b, *pblocks, *a_lo, *a_hi, *c0, *c1, *c2, *cvel, *colliders;
+    const wg_tex* mom;              /* TR-BDF2's momentum term (u_mom) */
 } wg_contact_friction_in;
 
 typedef struct wg_contact_recheck_in {
@@ -271,6 +278,7 @@ typedef struct wg_contact_recheck_in {
 
 typedef struct wg_contact_end_in {
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *dv, *b, *c0, *c1, *c2;
+    const wg_tex* held;             /* TR-BDF2's stage 2: stage 1's held impulses */
 } wg_contact_end_in;
 
 typedef struct wg_contact_project_in {

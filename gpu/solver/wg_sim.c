@@ -271,6 +271,7 @@ fail:
 }
 
 wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_def* def, int n_mesh, wc_diag* diag) {
+    (void)n_mesh; /* every collider kind runs with every integrator */
     if (def->solver.type == WC_SOLVER_DIRECT)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has no direct solver (CHOLMOD runs on the CPU only): choose pcg, jacobi or "
@@ -283,13 +284,6 @@ wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
                        "preconditioner runs on the CPU backend)", wc_precond_name(def->solver.preconditioner));
-    int colliders = def->max_colliders > 0 || n_mesh > 0;
-    if (def->integrator == WC_INTEGRATOR_TRBDF2 && colliders)
-        return wc_fail(diag, WC_ERROR_UNSUPPORTED,
-                       "the GPU backend runs TR-BDF2 only on a cloth without colliders (this one has room for %d, and "
-                       "%d mesh colliders): TR-BDF2's contacts (the stages' landing on the collider and the contact "
-                       "impulses held from stage 1 to stage 2) are not carried on the GPU; choose BDF2 or backward "
-                       "Euler, no colliders, or the CPU backend", def->max_colliders, n_mesh);
     if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES &&
         def->solver.type == WC_SOLVER_PCG && def->solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
@@ -327,7 +321,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     g->pin_cap = s->def.max_pins > 0 ? s->def.max_pins : g->n;
     g->debug_opts = s->def.solver;
     g->newton = wc_newton_wanted(&s->def);
-    g->nw_friction = g->newton && colliders;
+    g->nw_friction = g->newton && (s->def.max_colliders > 0 || s->n_mesh > 0);
     g->integ = s->def.integrator != WC_INTEGRATOR_BE;
     long long biggest = g->n;
     long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};

@@ -108,6 +108,8 @@ struct wg_sim {
     int integ;                  /* BDF2 or TR-BDF2: the integrator's textures exist (nw_fext too) */
     int nw_refreshed;           /* Newton in a TR-BDF2 stage: the damping and air were refreshed at
                                    the iterate (core/newton.h "Refreshed"); the potential's terms follow */
+    int nw_air_frozen;          /* Newton in a TR-BDF2 stage with a contact active: the implicit air
+                                   stays the stage start's (core/newton.h "Refreshed") */
     int gl_error;               /* a GL error seen in this frame */
     int forget_gl;              /* destroy: free memory only (wg_sim_forget) */
 };

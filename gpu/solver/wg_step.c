@@ -73,6 +73,10 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     WG_RUN(run, g->n, &g->S0, &g->S1, &g->z);
     if (colliding(s)) wg_contacts_begin(g->contacts, s, alpha1, h);
     if (g->integ) wg_integ_prepare(g, s, ig, x_start);
+    if (colliding(s) && ig->stage) {   /* TR-BDF2: the contacts in the xb form (core/bdf2.c wc_integ_contacts) */
+        const wg_contact_integ io = {&g->xb, &g->vstar, &g->mom, &g->vp};
+        wg_contacts_integ(g->contacts, &io, ig->stage, h, he);
+    }
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
     WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
@@ -110,7 +114,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     if (g->nw_friction) wg_newton_friction(g, 0);
     if (colliding(s) && g->contacts) {
         wg_stamp(&g->stamps, WG_STAGE_COLLIDE);
-        wg_contacts_friction(g->contacts, s, he);
+        wg_contacts_friction(g->contacts, s, he, ig->stage ? &g->mom : NULL);
     }
 }
 
@@ -130,7 +134,7 @@ static wc_substep_measure start_measure(const wg_checks* c) {
 typedef struct stage_energy {
     double start_total;     /* J: total energy at the substep's start */
     double start_elastic;   /* J: its measure's elastic part (the allowance's scale) */
-    double excluded;        /* J: what stage 1's self-collision stage put in */
+    double excluded;        /* J: what stage 1's collider corrections and self-collision stage put in */
 } stage_energy;
 
 /* One backward-Euler or BDF2 substep of length h, or TR-BDF2's stage `stage` (1 or 2) of the
@@ -151,9 +155,9 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wg_step_prepare(g, s, &ig, alpha1, compression);
     /* the colliders' position corrections (begin's push out of the shells, project's) are
        collision responses: the energy they put in is left out of the judgement, as core's
-       collide_gain (core/step.c stage_step); begin's measured now (two texels read back), and
-       Newton's energy guard starts from the energy after it. TR-BDF2 has no colliders here. */
-    const int judge_collide = judge_energy && colliding(s) && g->contacts && stage == 0;
+       collide_gain (core/step.c stage_step); begin's (with TR-BDF2's contact velocities) measured
+       now (two texels read back), and Newton's energy guard starts from the energy after it. */
+    const int judge_collide = judge_energy && colliding(s) && g->contacts;
     double collide_gain = 0.0, begin_total = 0.0;   /* J */
     if (judge_collide) {
         wg_checks start;
@@ -207,12 +211,17 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
             wg_checks start;
             wg_checks_read(g, &start, NULL);
             wc_substep_measure m0 = start_measure(&start);
-            if (stage == 2) {
+            if (stage == 2) {   /* the substep's start, with what stage 1's and this stage's begin put in */
                 m0.total = carry->start_total + carry->excluded;
                 m0.elastic = carry->start_elastic;
+                energy_cap = m0.total + collide_gain + wc_substep_energy_allowance(s, &m0);
+            } else {
+                energy_cap = (judge_collide ? begin_total : m0.total) + wc_substep_energy_allowance(s, &m0);
             }
-            energy_cap = (judge_collide ? begin_total : m0.total) + wc_substep_energy_allowance(s, &m0);
         }
+        /* TR-BDF2's implicit air stays the stage start's while a contact is active (core/newton.h
+           "Refreshed"): the count read back */
+        g->nw_air_frozen = ig.air_implicit && colliding(s) && wg_contacts_active(g->contacts) > 0;
         wg_newton_iterate(g, s, &ig, solver, compression, res.scale, energy_cap, &dvres, &rdv, st);
     }
     int nd = wg_ring_other(&g->dv, 0);
@@ -220,7 +229,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
 
     wg_stamp(&g->stamps, WG_STAGE_INTEGRATE);
     /* the release reads the last linearisation's residual (core/newton.h wc_newton_iterate) */
-    if (colliding(s)) wg_contacts_end(g->contacts, s, rdv ? rdv : &g->dv.t[nd]);
+    if (colliding(s)) wg_contacts_end(g->contacts, s, rdv ? rdv : &g->dv.t[nd], stage);
     int nx = wg_ring_other(&g->x, 0), nv = wg_ring_other(&g->v, 0);
     WG_USE(run, WGP_INTEGRATE, &(wg_integrate_in){.xb = wg_integ_xb(g, &ig), .v = wg_ring_cur(&g->v),
         .dv = &g->dv.t[nd], .pin_map = &g->pin_map, .pin_from = &g->pin_from, .pin_target = &g->pin_target,

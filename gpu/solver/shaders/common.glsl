@@ -22,6 +22,14 @@ vec2 sym_hi(mat3 m) { return vec2(m[2][1], m[2][2]); }
 mat3 filter_S(vec4 s0, vec4 s1) { return sym(s0, s1.xy); }
 vec3 filter_apply(vec4 s0, vec4 s1, vec3 v) { return s1.z == 0.0 ? v : filter_S(s0, s1) * v; }
 
+// The vector d in the span of n1 (and n2 when two) with d.n1 = a1 (and d.n2 = a2): core/vec3.h
+// v3_span2, the contacts' prescribed normal motion.
+vec3 solve_pair(vec3 n1, float a1, vec3 n2, float a2, bool two) {
+    if (!two) return n1 * a1;
+    float c = dot(n1, n2), g = 1.0 - c * c;
+    return n1 * ((a1 - c * a2) / g) + n2 * ((a2 - c * a1) / g);
+}
+
 bool finite3(vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
 // Row i of y = A x over the BSR pattern: pb = particle blocks (row start, end, ...), blk = block

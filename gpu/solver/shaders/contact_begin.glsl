@@ -4,7 +4,8 @@
 // push x out onto the shells, write the filter S = I - n1 n1^T (- e2 e2^T) and z (relative
 // normal velocity -max(d, 0) / h after dv). Particles with pin ndof >= 2 keep their filter and
 // get no contact. Contact state: C0 = (collider 1, collider 2, released, stick) (-1: none),
-// C1 = (normal 1, in contact), C2 = (normal 2, changed). A mesh's candidate is the first triangle
+// C1 = (normal 1, in contact), C2 = (normal 2, w: the second contact's surface velocity along
+// normal 2, which TR-BDF2's integ_contacts.glsl reads; contact_recheck puts "changed" there). A mesh's candidate is the first triangle
 // the particle's path x -> x + h v crosses (contact_ccd.glsl: always taken, on that triangle's
 // plane), else its closest point within reach at the substep's start (contact_query.glsl); a
 // collider with a push_speed caps
@@ -88,6 +89,6 @@ void main() {
     o3 = vec4(solve_pair(n0, a0, n1, a1, cnt > 1), 0.0);
     o4 = vec4(float(b.k.x), cnt > 1 ? float(b.k.y) : -1.0, 0.0, 0.0);
     o5 = vec4(n0, 1.0);
-    o6 = vec4(cnt > 1 ? n1 : vec3(0.0), 0.0);
+    o6 = cnt > 1 ? vec4(n1, dot(vc1, n1)) : vec4(0.0);
     o7 = vec4(vc0, pushed);
 }

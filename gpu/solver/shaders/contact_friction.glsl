@@ -1,5 +1,6 @@
 // Contacts, step 2 (core/collide.c wc_contacts_friction), per particle in contact with friction:
-// the impulse it needs to stick, predicted alone (q = m (z - u) - h f) and held by its springs
+// the impulse it needs to stick, predicted alone (q = m (z - u - mom) - h f, mom TR-BDF2's
+// momentum term, u_mom; 0 for the others) and held by its springs
 // (q = A_ii (z - u) - b_i), u = S (v - vc) the relative velocity in its free directions. It sticks
 // when both are within Coulomb's bound B = sum mu_k max(N_k, 0): S = 0, z = z_n - u, ndof 3; else
 // it slides with the implicit damping A_ii += h c S, b_i -= h c u, h c = B / w.
@@ -19,7 +20,9 @@ uniform sampler2D c0;
 uniform sampler2D c1;
 uniform sampler2D c2;
 uniform sampler2D cvel;     // the first contact's surface velocity (contact_begin's o7)
+uniform sampler2D mom;      // the stage's momentum term, read with u_mom (core's friction mom)
 uniform float u_h;
+uniform int u_mom;
 uniform int u_nc;
 out vec4 o0;
 out vec4 o1;
@@ -54,6 +57,7 @@ void main() {
     mat3 A = sym(a0, a1.xy);
     vec3 w0 = zi.xyz - u;
     vec3 qa = m * w0 - u_h * ld(ftot, i).xyz;
+    if (u_mom != 0) qa -= m * ld(mom, i).xyz;
     vec3 qn = A * w0 - bi.xyz;
     vec2 ia = contact_impulses(qa, n0, n1, cnt), in_ = contact_impulses(qn, n0, n1, cnt);
     float ba = mu0 * max(ia.x, 0.0) + (cnt > 1 ? mu1 * max(ia.y, 0.0) : 0.0);

@@ -59,12 +59,6 @@ float ortho(vec3 n1, vec3 n2, out vec3 e) {
     return l;
 }
 
-vec3 solve_pair(vec3 n1, float a1, vec3 n2, float a2, bool two) {
-    if (!two) return n1 * a1;
-    float c = dot(n1, n2), g = 1.0 - c * c;
-    return n1 * ((a1 - c * a2) / g) + n2 * ((a2 - c * a1) / g);
-}
-
 // The two smallest candidates (collider, shell distance, normal, surface velocity; q: a mesh
 // triangle's plane the particle's path crosses, its point and 1 in w, else 0).
 struct B2 { ivec2 k; vec2 d; vec3 n0; vec3 n1; vec3 v0; vec3 v1; vec4 q0; vec4 q1; int cnt; };
