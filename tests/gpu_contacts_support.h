@@ -1,7 +1,9 @@
-/* Shared by the GPU contact tests (test_gpu_contacts.c, test_gpu_mesh_contacts.c): a seeded
- * random source, float rounding, and moving a cloth's contact arrays between the GPU and the CPU
- * (uploads, read-backs, the contact state through wg_contacts_download) with their comparisons
- * (CHECKs) to float precision. */
+/* Shared by the GPU contact tests (test_gpu_contacts.c, test_gpu_mesh_contacts.c,
+ * test_gpu_trbdf2_contacts.c): a seeded random source, float rounding, and moving a cloth's contact
+ * arrays between the GPU and the CPU (uploads, read-backs, the contact state through
+ * wg_contacts_download) with their comparisons (CHECKs) to float precision; the analytic
+ * colliders' scenario (particles scattered around a plane, sphere or capsule and a crossing plane,
+ * a synthetic system). */
 #ifndef WEFT_TESTS_GPU_CONTACTS_SUPPORT_H
 #define WEFT_TESTS_GPU_CONTACTS_SUPPORT_H
 #include <math.h>
@@ -10,6 +12,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "collider.h"
 #include "state.h"
 #include "wg_sim_impl.h"
 
@@ -199,6 +202,125 @@ static inline void compare_filter(wg_sim* g, const wc_filter* f, const char* wha
     free(S);
     free(z);
     free(nd);
+}
+
+static inline void unit3(double* v) {
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int k = 0; k < 3; ++k) v[k] = fr(v[k] / l);
+}
+
+/* kind 0 plane, 1 sphere, 2 capsule; plus a crossing plane x < 0.25 (collider 1). */
+static inline int make_colliders(int kind, int moving, wc_collider* c) {
+    memset(c, 0, 2 * sizeof *c);
+    c[0].type = kind;
+    if (kind == WC_COLLIDER_PLANE) {
+        double n[3] = {0.1, 1.0, 0.05};
+        unit3(n);
+        memcpy(c[0].normal, n, sizeof n);
+        c[0].offset = 0.0;
+    } else if (kind == WC_COLLIDER_SPHERE) {
+        c[0].center[1] = -0.5;
+        c[0].radius = 0.5;
+    } else {
+        c[0].a[0] = -0.6, c[0].a[1] = -0.3;
+        c[0].b[0] = 0.6, c[0].b[1] = -0.3, c[0].b[2] = 0.125;
+        c[0].radius = 0.3;
+    }
+    c[0].thickness = 0.01;
+    c[0].friction = 0.6;
+    if (moving) c[0].velocity[0] = 0.25, c[0].velocity[2] = -0.125;
+    c[1].type = WC_COLLIDER_PLANE;
+    double n2[3] = {-1.0, 0.25, 0.0};
+    unit3(n2);
+    memcpy(c[1].normal, n2, sizeof n2);
+    c[1].offset = fr(0.25 * n2[0]);   /* through x = 0.25 */
+    c[1].thickness = 0.005;
+    c[1].friction = 0.3;
+    return 2;
+}
+
+/* ---- the passes' scenario (test_gpu_contacts.c, test_gpu_trbdf2_contacts.c) --------------------- */
+
+static inline void scatter_analytic(wc_state* s, const wc_collider* c, int nc, double h) {
+    int n = s->model->n_particles;
+    for (int i = 0; i < n; ++i) {
+        double* x = s->x + 3 * i;
+        double* v = s->v + 3 * i;
+        x[0] = srnd(0.5), x[1] = srnd(0.3), x[2] = srnd(0.5);
+        /* onto collider 0's shell, offset along its normal by [-0.03, 0.03] */
+        double nrm[3], d = wc_collider_distance(&c[0], x, nrm);
+        double off = c[0].thickness + srnd(0.03) - d;
+        for (int k = 0; k < 3; ++k) x[k] += off * nrm[k];
+        double speed = (i % 3 == 0) ? 0.01 : (i % 3 == 1 ? 0.3 : 2.0);
+        for (int k = 0; k < 3; ++k) v[k] = srnd(speed) + c[0].velocity[k];
+        /* a few coming in at the right speed to land this substep */
+        if (i % 7 == 3)
+            for (int k = 0; k < 3; ++k) v[k] -= nrm[k] * (0.02 / h);
+    }
+    frv(s->x, 3 * n);
+    frv(s->v, 3 * n);
+    /* the last substep's contact state: held with collider 0 (or both), released, or none */
+    wc_contacts* ct = &s->contacts;
+    for (int i = 0; i < n; ++i) {
+        int r = (int)(urand() * 6);
+        ct->collider[2 * i] = ct->collider[2 * i + 1] = -1;
+        for (int q = 0; q < 6; ++q) ct->normal[6 * i + q] = 0.0;
+        ct->released[i] = 0;
+        ct->stick[i] = 0;
+        if (r <= 1) {
+            ct->collider[2 * i] = 0;
+            wc_collider_distance(&c[0], s->x + 3 * i, ct->normal + 6 * i);
+            if (r == 1 && nc > 1) {
+                ct->collider[2 * i + 1] = 1;
+                wc_collider_distance(&c[1], s->x + 3 * i, ct->normal + 6 * i + 3);
+            }
+        } else if (r == 2) {
+            ct->released[i] = 1;
+        }
+        frv(ct->normal + 6 * i, 6);
+    }
+    /* pins: particle 0 fixed, 1 on a line, 2 a stale contact row (ndof 1, rewritten) */
+    wc_filter* f = &s->filter;
+    for (int i = 0; i < n; ++i) wc_filter_free_particle(f, i);
+    memset(f->S, 0, 9 * sizeof(double));
+    f->z[0] = 0.125;
+    f->ndof[0] = 3;
+    memset(f->S + 9, 0, 9 * sizeof(double));
+    f->S[9] = 1.0;
+    f->z[3 + 1] = 0.0625;
+    f->ndof[1] = 2;
+    f->S[18 + 4] = 0.0;
+    f->ndof[2] = 1;
+}
+
+/* A = M + small symmetric blocks (diagonal ones SPD-ish), b = h f + noise, f = weight into the
+ * collider + tangential noise. */
+static inline void synth_system(const wc_state* s, const wc_collider* c, double h, double* A, double* b, double* f) {
+    const wc_model* m = s->model;
+    const wc_bsr_pattern* p = &m->pattern;
+    int n = m->n_particles;
+    double mass_avg = s->total_mass / n;
+    memset(A, 0, (size_t)p->n_blocks * 9 * sizeof(double));
+    for (int i = 0; i < n; ++i) {
+        for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k) {
+            int j = p->col[k];
+            if (j < i) continue;
+            double e[9];
+            double sc = (j == i ? 0.3 : 0.05) * mass_avg;
+            for (int r = 0; r < 3; ++r)
+                for (int q = r; q < 3; ++q) e[3 * r + q] = e[3 * q + r] = srnd(sc);
+            if (j == i)
+                for (int r = 0; r < 3; ++r) e[4 * r] = m->mass[i] + fabs(e[4 * r]) + 0.3 * mass_avg;
+            for (int q = 0; q < 9; ++q) A[9 * k + q] = A[9 * p->transpose[k] + q] = fr(e[q]);
+        }
+        double nrm[3];
+        wc_collider_distance(&c[0], s->x + 3 * i, nrm);
+        double scale = (i % 4 == 0) ? 0.2 : (i % 4 == 1 ? 3.0 : 30.0);
+        for (int k = 0; k < 3; ++k) {
+            f[3 * i + k] = fr(-9.81 * m->mass[i] * nrm[k] + srnd(scale * 9.81 * m->mass[i]));
+            b[3 * i + k] = fr(h * f[3 * i + k] + srnd(0.05 * m->mass[i]));
+        }
+    }
 }
 
 #endif
