@@ -225,8 +225,8 @@ static void test_direct_refused(void) {
     /* the multigrid (k == 0): the GPU's own on compute passes, refused on fragment passes;
        Newton and its line search (k == 2, 3: test_api_gpu_newton.c, with colliders
        test_api_gpu_newton_contacts.c), sewing (k == 4), BDF2 (k == 1), self-collision (k == 5:
-       core's stage on the host, test_api_gpu_self.c) and TR-BDF2 (k == 6, without colliders:
-       test_api_gpu_bdf2.c) run on the GPU */
+       core's stage on the host, test_api_gpu_self.c) and TR-BDF2 (k == 6; with colliders
+       test_api_gpu_trbdf2_contacts.c) run on the GPU */
     def.solver = WEFT_SOLVER_PCG;
     static const int seam_a[1] = {0}, seam_b[1] = {N * N - 1};
     for (int k = 0; k < 7; ++k) {

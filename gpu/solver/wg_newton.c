@@ -2,7 +2,8 @@
  * Euler, BDF2 and TR-BDF2's stages through core's coefficients (he, xb, v*, mom; core/bdf2.h). At
  * the iterate w (the velocity change; x(w) = xb + he (v_n + w)): the springs' elastic forces and
  * stiffness at x(w) with the substep start's damping directions, or in TR-BDF2's stages those at
- * x(w) and the implicit air refreshed there too (newton_springs.glsl; core/newton.h "Refreshed"),
+ * x(w) and the implicit air refreshed there too, unless a contact is active in the stage (the air
+ * then stays the stage start's: g->nw_air_frozen; newton_springs.glsl; core/newton.h "Refreshed"),
  * he f_total (assemble_b.glsl), g = -grad Phi(w) = he f_total - M (w - mom) + Fb - Fa w
  * (newton_gradient.glsl) into b and A + Fa into its blocks, Fa and Fb kinetic friction's terms as
  * the substep's friction pass and its rechecks assembled them, frozen (newton_friction.glsl: the
@@ -23,7 +24,7 @@
 
 #include "wg_sim_impl.h"
 
-/* 1: TR-BDF2's implicit air stays the stage start's in Newton's systems (a contact is active:
+/* 1 when TR-BDF2's implicit air stays the stage start's in Newton's systems (a contact is active:
    core/newton.c newton_system, g->nw_air_frozen): the gradient takes -he L w itself */
 static int air_frozen(const wg_sim* g, const wc_integ* ig) { return ig->air_implicit && g->nw_air_frozen; }
 

@@ -2,10 +2,10 @@
  * sleeping) with this file's substep, save/restore and measures. A substep (TR-BDF2: each of its
  * two stages) is the chain of passes of core/step.c's stage_step(), with core's integrator
  * coefficients (core/bdf2.h wc_integ_coefficients): pins (and contacts) into the filter, the
- * integrator's xb, v*, mom and history (BDF2, TR-BDF2), springs, air, assembly
- * of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and line
- * search: wg_newton.c), (contact release), integration with the pins snapped, strain limiting,
- * (contact projection), (self-collision: core's stage on the host, wg_self.h), and the checks as
+ * integrator's xb, v*, mom and history (BDF2, TR-BDF2; TR-BDF2's contact landing), springs, air,
+ * assembly of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and
+ * line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
+ * integration with the pins snapped, strain limiting, (contact projection), (self-collision: core's stage on the host, wg_self.h), and the checks as
  * reductions (wg_checks.c): one read-back of four texels per substep feeds core's judge. Rollback
  * moves no data: the state rings keep the substep's start. */
 #include <math.h>

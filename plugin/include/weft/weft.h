@@ -256,8 +256,7 @@ typedef enum weft_integrator {
     WEFT_INTEGRATOR_BACKWARD_EULER = 1, /* first order (Baraff & Witkin 1998) */
     WEFT_INTEGRATOR_BDF2 = 2,           /* second order (Choi & Ko 2002; both backends) */
     WEFT_INTEGRATOR_TRBDF2 = 3          /* second order, L-stable, one-step: a trapezoidal stage then a
-                                           BDF2 stage per substep (Bank et al. 1985; the GPU backend
-                                           runs it on a cloth without colliders) */
+                                           BDF2 stage per substep (Bank et al. 1985; both backends) */
 } weft_integrator;
 
 /* Pins: host vertices bound to a host transform (a bone, an object, or the world). At bind time
@@ -428,8 +427,8 @@ WEFT_API weft_mesh_collider_def weft_default_mesh_collider_def(void);
  * source, bad enum or parameter, non-rigid transform), NONFINITE, OUT_OF_RANGE (a vertex index
  * outside the mesh, or a vertex beyond 1e30 in world or object space after unit_scale and
  * transform: the outputs are float), IO / IMPORT / EMPTY_MESH (the file or arrays),
- * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only; TR-BDF2 with
- * colliders, mesh colliders included; the multigrid preconditioner on fragment passes),
+ * UNSUPPORTED (GPU backend: the direct solver, which runs on the CPU only, a preconditioner
+ * other than block Jacobi and multigrid, or the multigrid on fragment passes),
  * GPU (GPU backend: the model exceeds the device's texture limits, or a GL error; the message
  * says which),
  * OUT_OF_MEMORY. out is the null handle on failure. On the GPU backend every call on the cloth
