@@ -110,6 +110,20 @@ static inline void ag_apply(const float* M, const double* p, double* out) {
         out[r] = (double)M[r] * p[0] + (double)M[4 + r] * p[1] + (double)M[8 + r] * p[2] + (double)M[12 + r];
 }
 
+/* The largest distance (m) between the vertices of two position arrays of n vertices (n x 3). */
+static inline double ag_max_distance(const float* a, const float* b, int n) {
+    double most = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            double e = (double)a[3 * i + k] - (double)b[3 * i + k];
+            s += e * e;
+        }
+        most = fmax(most, sqrt(s));
+    }
+    return most;
+}
+
 /* World positions (n_particles x 3, particle order) from a weft_cloth_save buffer: they start at
  * byte 64 (core/cloth_snapshot.c documents the layout). */
 static inline void ag_snapshot_positions(const void* snapshot, int n_particles, double* out) {

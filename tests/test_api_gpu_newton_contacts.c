@@ -128,18 +128,7 @@ static void run(weft_backend backend, int scene, int newton, int line_search, do
     weft_context_destroy(ctx);
 }
 
-static double distance(const run_result* a, const run_result* b) {
-    double d = 0.0;
-    for (int i = 0; i < N * N; ++i) {
-        double s = 0.0;
-        for (int k = 0; k < 3; ++k) {
-            double e = a->pos[3 * i + k] - b->pos[3 * i + k];
-            s += e * e;
-        }
-        d = fmax(d, sqrt(s));
-    }
-    return d;
-}
+static double distance(const run_result* a, const run_result* b) { return ag_max_distance(a->pos, b->pos, N * N); }
 
 static void test_vs_cpu(void) {
     static const char* names[] = {"tilted plane, friction 0.5 (lands and stops)", "icosphere mesh, friction 0.5",
