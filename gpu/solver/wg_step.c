@@ -5,9 +5,10 @@
  * integrator's xb, v*, mom and history (BDF2, TR-BDF2; TR-BDF2's contact landing), springs, air,
  * assembly of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and
  * line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
- * integration with the pins snapped, strain limiting, (contact projection), (self-collision: core's stage on the host, wg_self.h), and the checks as
- * reductions (wg_checks.c): one read-back of four texels per substep feeds core's judge. Rollback
- * moves no data: the state rings keep the substep's start. */
+ * integration with the pins snapped, strain limiting, (contact projection), (self-collision:
+ * core's stage on the host, wg_self.h), and the checks as reductions (wg_checks.c): one read-back
+ * of four texels per substep feeds core's judge. Rollback moves no data: the state rings keep the
+ * substep's start. */
 #include <math.h>
 #include <string.h>
 
