@@ -2,7 +2,7 @@
  * (headless EGL or the host's current one) with its wg_device, shared by the context's cloths;
  * each cloth's particles live in its wg_sim's textures and the wc_state holds their mirror.
  * What the GPU lacks is refused at create, and told by `supports` before it (wg_sim_supports:
- * the direct solver, TR-BDF2 with colliders, the multigrid on fragment passes). */
+ * the direct solver, the multigrid on fragment passes). */
 #ifndef WEFT_GPU_SOLVER_BACKEND_H
 #define WEFT_GPU_SOLVER_BACKEND_H
 
