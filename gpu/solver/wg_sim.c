@@ -321,7 +321,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     g->pin_cap = s->def.max_pins > 0 ? s->def.max_pins : g->n;
     g->debug_opts = s->def.solver;
     g->newton = wc_newton_wanted(&s->def);
-    g->nw_friction = g->newton && (s->def.max_colliders > 0 || s->n_mesh > 0);
+    g->nw_friction = g->newton && colliders;
     g->integ = s->def.integrator != WC_INTEGRATOR_BE;
     long long biggest = g->n;
     long long counts[] = {g->ns * 4LL, g->nb, g->nt * 3LL, g->nh, g->pin_cap};
