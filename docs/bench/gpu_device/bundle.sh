@@ -16,6 +16,9 @@ BINS="$B/weft $LIB $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_
       $B/tests/test_gpu_bdf2 $B/tests/test_api_gpu_bdf2 $B/tests/test_gpu_mesh_contacts $B/tests/test_api_gpu_mesh
       $B/tests/test_cli_gpu_runs $B/tests/test_render $B/tests/test_api_render $B/tests/test_render_errors
       $B/tests/test_gpu_group $B/tests/test_api_gpu_group $B/tests/test_api_gpu_body_gl
+      $B/tests/test_gpu_newton_contacts $B/tests/test_api_gpu_newton_contacts $B/tests/test_gpu_self
+      $B/tests/test_api_gpu_self $B/tests/test_gpu_trbdf2_contacts $B/tests/test_api_gpu_trbdf2_contacts
+      $B/tests/test_api_auto
       $B/tests/bench/bench_gpu $B/tests/bench/bench_render $B/tests/bench/bench_body_gl"
 T=$(mktemp -d)
 mkdir -p "$T/lib" .dev

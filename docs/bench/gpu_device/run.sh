@@ -88,7 +88,7 @@ if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass ch
 fi
 if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self; do
+    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto; do
       [ -x build-dev/tests/$t ] || continue
       timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback" /tmp/tb.txt | head -6
     done
@@ -99,6 +99,7 @@ if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-c
         python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| $bk | $1 | $2 | %.2f | %s | %s | %s | %s |'%(s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
       done
     done
+    timeout 60 build-dev/weft run sample_scenes/suit_on_body.json --frames 2 --backend auto 2>&1 | grep -E "^backend|^method"
     timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/d_dress.md"
   exit 0
 fi
