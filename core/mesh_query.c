@@ -200,17 +200,23 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
     return e->count >= 0;
 }
 
+/* The closest point within reach among e's kept triangles (which cover the query box). */
+static double closest_listed(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
+                             const double* box, double reach, double* n, double* vc) {
+    closest_q c;
+    closest_init(&c, m, end, p);
+    search_list(&c, box, e->tri, e->count);
+    if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
+    return closest_result(&c, n, vc);
+}
+
 double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
                             double* n, double* vc) {
     if (!e || m->exhaustive || !isfinite(reach)) return wc_mesh_closest(m, end, p, reach, n, vc);
     double box[6];
     query_box(p, reach, box);
     if (!wc_mesh_near_fit(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    closest_q c;
-    closest_init(&c, m, end, p);
-    search_list(&c, box, e->tri, e->count);
-    if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
-    return closest_result(&c, n, vc);
+    return closest_listed(m, e, end, p, box, reach, n, vc);
 }
 
 double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
@@ -219,11 +225,7 @@ double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, in
     if (!e || m->exhaustive || !isfinite(reach) || e->count < 0) return wc_mesh_closest(m, end, p, reach, n, vc);
     query_box(p, reach, box);
     if (!near_covers(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    closest_q c;
-    closest_init(&c, m, end, p);
-    search_list(&c, box, e->tri, e->count);
-    if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
-    return closest_result(&c, n, vc);
+    return closest_listed(m, e, end, p, box, reach, n, vc);
 }
 
 typedef struct ccd_q {
