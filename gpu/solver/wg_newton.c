@@ -9,7 +9,7 @@
  * the substep's friction pass and its rechecks assembled them, frozen (newton_friction.glsl: the
  * difference to a capture taken before that pass, as core's wc_newton_capture / friction_terms;
  * the rechecks are not repeated); stop when |S g| is within the solver's tolerance of the first
- * solve's scale (a reduction read back); solve A d = g under the substep's filter S, contacts
+ * solve's scale or below float's resolution of g (a reduction read back); solve A d = g under the substep's filter S, contacts
  * included, with z = 0 (so every iterate keeps the first one's prescribed part); stop unless d
  * descends (g.d > 0, a reduction read back); w += d, or with the line search w + alpha d for the
  * first alpha of 1, 1/2, ... that passes Armijo's test on the incremental potential Phi. Phi's
@@ -205,6 +205,13 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
     if (ls) w = first_search(g, s, ig, w, &stop, st);
     const wg_tex* rv = NULL;   /* the contacts' residual vector: NULL while the first system is the last */
     const double tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
+    /* the gradient's float floor (as PCG's, wg_solve.c): each spring force k (l - rest) u rounds
+       by about 2^-24 |k| l (l's own rounding; at rest the terms k l and k rest cancel), and
+       h m gravity against m w by 2^-24 of the solves' residual floor (wc_state_residual_floor:
+       their norm). 2^-24 of these terms' sizes summed per particle (the springs at their rest
+       lengths) is what float can resolve of |S g|: below it core's exact stop cannot be seen, a
+       step would solve for rounding and its line search compare rounding */
+    const double gfloor = ldexp(ig->he * g->nw_force_scale + g->residual_floor, -24);
     wc_solver_opts opts = s->def.solver;
     const int guard = energy_cap < HUGE_VAL;
     for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
@@ -219,8 +226,7 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
         }
         wg_newton_system(g, s, ig, w, compression);
         rv = &g->nw_zero;   /* core's R_GRADIENT: -g at w */
-        double gn = sqrt(filtered_norm2(g));
-        if (!(gn > tol * residual_scale)) break;
+        if (!(sqrt(filtered_norm2(g)) > fmax(tol * residual_scale, gfloor))) break;
         /* A d = g from d = 0 with the filter's z = 0 (the iterate already holds the prescribed part) */
         wg_tex z = g->z;
         g->z = g->nw_zero;
@@ -261,4 +267,21 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
     }
     *dv = w;
     *r_dv = rv ? rv : w;
+}
+
+int wg_newton_force_scale(wg_sim* g) {
+    const wc_model* m = g->m;
+    double* sum = wc_calloc(&g->alloc, (size_t)(g->n > 0 ? g->n : 1), sizeof(double));
+    if (!sum) return 0;
+    for (int k = 0; k < m->n_springs; ++k) {
+        const wc_spring* sp = &m->springs[k];
+        const double t = fabs(m->material.k[sp->type] * sp->w) * sp->rest;
+        sum[sp->a] += t;
+        sum[sp->b] += t;
+    }
+    double q = 0.0;
+    for (int i = 0; i < g->n; ++i) q += sum[i] * sum[i];
+    wc_free(&g->alloc, sum);
+    g->nw_force_scale = sqrt(q);
+    return 1;
 }

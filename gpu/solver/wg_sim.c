@@ -351,6 +351,10 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     wg_stamps_create(&g->stamps, dev->has_timer);
     glGenBuffers(1, &g->pbo);
     ok = ok && upload_model(g, host_rest, err, sizeof err) && create_scratch(g, err, sizeof err);
+    if (ok && g->newton && !wg_newton_force_scale(g)) {
+        wg_errorf(err, sizeof err, "out of memory");
+        ok = 0;
+    }
     if (ok && s->self && !(g->self = wg_self_create(&g->layout, g->n, alloc))) {
         wg_errorf(err, sizeof err, "out of memory");
         ok = 0;
