@@ -162,13 +162,13 @@ static void test_vs_cpu(void) {
         CHECK(gpu.depth < 1e-3);
         if (cpu.rollbacks == 0) CHECK_EQ_INT(gpu.rollbacks, 0);
         CHECK(gpu.newton_steps > 0);
-        /* at rest the GPU's |S g| after the first solve is float's rounding (up to 2.5e-5 N s on
-           the sliding sheet, where the CPU's is 4e-7): Newton stops at float's floor there as
-           the CPU stops at its goal, not stepping (and backtracking) on rounding. The landing
-           sheet's CPU iterates at rest on gradients of 4e-6 to 4e-5 N s that its loose first
-           solves leave, under the GPU's floor (4.6e-5): the GPU cannot see them, so only its
-           other scenes hold it to half the CPU's steps. Its landing search parts the backtracks
-           (docs/design/gpu.md) */
+        /* at rest the GPU's |S g| after the first solve is float's rounding, far above the
+           CPU's goal: Newton stops at float's floor of the gradient as the CPU stops at its goal,
+           not stepping (and backtracking) on rounding. The landing sheet's CPU iterates at rest
+           on the gradients its loose first solves leave, under that floor: the GPU cannot see
+           them, so only the other scenes hold it to half the CPU's steps; the landing frame's
+           first search parts the backtracks there (docs/design/gpu.md, "The gradient's float
+           floor") */
         CHECK(gpu.newton_steps <= cpu.newton_steps + 3);
         if (k != 0) {
             CHECK(gpu.newton_steps >= cpu.newton_steps / 2);

@@ -9,17 +9,18 @@
  * the substep's friction pass and its rechecks assembled them, frozen (newton_friction.glsl: the
  * difference to a capture taken before that pass, as core's wc_newton_capture / friction_terms;
  * the rechecks are not repeated); stop when |S g| is within the solver's tolerance of the first
- * solve's scale or below float's resolution of g (a reduction read back); solve A d = g under the substep's filter S, contacts
- * included, with z = 0 (so every iterate keeps the first one's prescribed part); stop unless d
- * descends (g.d > 0, a reduction read back); w += d, or with the line search w + alpha d for the
- * first alpha of 1, 1/2, ... that passes Armijo's test on the incremental potential Phi. Phi's
- * change between two iterates is summed term by term (newton_phi_particles.glsl,
- * newton_phi_springs.glsl: two reductions read back), not each Phi, so that float keeps the
- * digits the test compares; the first step's search runs from w~0 = z + S (-v*) towards the
- * first solve's result as core's. The energy guard as core's: past newton_iterations, up to
- * NW_ENERGY_EXTRA more iterations while the iterate's total energy (the step's checks at x(w),
- * v(w), read back) is above the cap, tested before the iteration's system is built, so that the
- * last linearisation (the contacts' release reads its residual) is core's. */
+ * solve's scale or below float's resolution of g (a reduction read back); solve A d = g under
+ * the substep's filter S, contacts included, with z = 0 (so every iterate keeps the first one's
+ * prescribed part); stop unless d descends (g.d > 0, a reduction read back); w += d, or with the
+ * line search w + alpha d for the first alpha of 1, 1/2, ... that passes Armijo's test on the
+ * incremental potential Phi. Phi's change between two iterates is summed term by term
+ * (newton_phi_particles.glsl, newton_phi_springs.glsl: two reductions read back), not each Phi,
+ * so that float keeps the digits the test compares; the first step's search runs from
+ * w~0 = z + S (-v*) towards the first solve's result as core's. The energy guard as core's: past
+ * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
+ * (the step's checks at x(w), v(w), read back) is above the cap, tested before the iteration's
+ * system is built, so that the last linearisation (the contacts' release reads its residual) is
+ * core's. */
 #include <math.h>
 
 #include "wg_sim_impl.h"
