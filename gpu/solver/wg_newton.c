@@ -269,20 +269,3 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
     *dv = w;
     *r_dv = rv ? rv : w;
 }
-
-int wg_newton_force_scale(wg_sim* g) {
-    const wc_model* m = g->m;
-    double* sum = wc_calloc(&g->alloc, (size_t)(g->n > 0 ? g->n : 1), sizeof(double));
-    if (!sum) return 0;
-    for (int k = 0; k < m->n_springs; ++k) {
-        const wc_spring* sp = &m->springs[k];
-        const double t = fabs(m->material.k[sp->type] * sp->w) * sp->rest;
-        sum[sp->a] += t;
-        sum[sp->b] += t;
-    }
-    double q = 0.0;
-    for (int i = 0; i < g->n; ++i) q += sum[i] * sum[i];
-    wc_free(&g->alloc, sum);
-    g->nw_force_scale = sqrt(q);
-    return 1;
-}

@@ -292,6 +292,24 @@ wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_
     return WC_OK;
 }
 
+/* g->nw_force_scale from the model (wg_sim_impl.h); 0 when out of memory. */
+static int force_scale(wg_sim* g) {
+    const wc_model* m = g->m;
+    double* sum = wc_calloc(&g->alloc, (size_t)(g->n > 0 ? g->n : 1), sizeof(double));
+    if (!sum) return 0;
+    for (int k = 0; k < m->n_springs; ++k) {
+        const wc_spring* sp = &m->springs[k];
+        const double t = fabs(m->material.k[sp->type] * sp->w) * sp->rest;
+        sum[sp->a] += t;
+        sum[sp->b] += t;
+    }
+    double q = 0.0;
+    for (int i = 0; i < g->n; ++i) q += sum[i] * sum[i];
+    wc_free(&g->alloc, sum);
+    g->nw_force_scale = sqrt(q);
+    return 1;
+}
+
 wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_rest, wg_sim** out, wc_diag* diag) {
     *out = NULL;
     const wc_model* m = s->model;
@@ -351,7 +369,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     wg_stamps_create(&g->stamps, dev->has_timer);
     glGenBuffers(1, &g->pbo);
     ok = ok && upload_model(g, host_rest, err, sizeof err) && create_scratch(g, err, sizeof err);
-    if (ok && g->newton && !wg_newton_force_scale(g)) {
+    if (ok && g->newton && !force_scale(g)) {
         wg_errorf(err, sizeof err, "out of memory");
         ok = 0;
     }

@@ -95,7 +95,9 @@ struct wg_sim {
     wc_solver_opts debug_opts;  /* wg_sim_debug_solve's options (the state's at creation) */
     double rho;                 /* Chebyshev's cached estimate */
     double residual_floor;      /* the solves' residual floor of this substep (core/solve.h; 0: none) */
-    double nw_force_scale;      /* the elastic forces' terms' size (N; wg_newton_force_scale) */
+    double nw_force_scale;      /* the size of the terms the elastic forces sum (N): sqrt(sum over
+                                   the particles of (sum over their springs of |k w| rest)^2), for
+                                   Newton's gradient floor (wg_newton.c); set with Newton only */
     int rho_valid;
     wg_contacts* contacts;      /* NULL when the cloth has no room for colliders */
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
@@ -194,10 +196,6 @@ void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg
 void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solver_type solver,
                        wc_compression compression, double residual_scale, double energy_cap, const wg_tex** dv,
                        const wg_tex** r_dv, wc_step_stats* st);
-/* g->nw_force_scale from the model: sqrt(sum over the particles of (sum over their springs of
- * |k w| rest)^2), the size of the terms each particle's elastic force sums (Newton's gradient
- * floor, wg_newton.c). Returns 0 when out of memory. */
-int wg_newton_force_scale(wg_sim* g);
 /* Phi(wb) - Phi(wa) of the prepared substep with coefficients ig (two reductions read back). */
 double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb);
 
