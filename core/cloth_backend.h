@@ -88,6 +88,15 @@ typedef struct wc_gl_vertex_source {
     int n;
 } wc_gl_vertex_source;
 
+/* What a backend did with a body's vertices from a host GL buffer (read_gl). */
+typedef struct wc_gl_vertex_result {
+    int taken;                  /* 0: read into the caller's floats; 1: kept on the device as the body's
+                                   frame end (the collider on_device, mesh_collider.h), nothing read */
+    int bad_vertex;             /* taken: -1, or the first vertex whose coordinates are not finite or
+                                   reach 1e30 (nothing changed; its 3 floats in bad) */
+    float bad[3];
+} wc_gl_vertex_result;
+
 /* Statistics of a backend's cloth (zero where a backend has none). */
 typedef struct wc_backend_stats {
     size_t device_bytes;        /* device memory held by the cloth */
@@ -141,9 +150,17 @@ typedef struct wc_cloth_backend {
     /* Into r's GL buffers (checked first: names, sizes, overlap). Outside begin/end. */
     wc_status (*write_gl)(struct wc_cloth* c, const wc_output_request* r, wc_diag* d);
     void (*stats)(const struct wc_cloth* c, wc_backend_stats* out);
-    /* src's vertices into out (src->n x 3 floats), the buffer checked first (its name, its size);
+    /* Mesh collider `index`'s next frame end from src, the buffer checked first (its name, its
+     * size): kept on the device where the backend moves bodies there (res->taken; checked there,
+     * a bad vertex reported in res with nothing changed), else read into out (src->n x 3 floats);
      * backends without the host's GL context refuse it. Outside begin/end. */
-    wc_status (*read_gl)(struct wc_cloth* c, const wc_gl_vertex_source* src, float* out, wc_diag* d);
+    wc_status (*read_gl)(struct wc_cloth* c, int index, const wc_gl_vertex_source* src, float* out,
+                         wc_gl_vertex_result* res, wc_diag* d);
+    /* Core's copy of every body kept on the device (read_gl's taken ones: from, to) brought back
+     * and each body handed back to the host (on_device 0). Core calls it before it reads or
+     * writes a body: the snapshot, the collision check, a host's array, a rigid transform, a
+     * teleport or reset. Inside begin/end. */
+    void (*mesh_pull)(struct wc_cloth* c);
 } wc_cloth_backend;
 
 /* Core's CPU backend (cloth_cpu.c). */

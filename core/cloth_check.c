@@ -19,6 +19,7 @@ static double analytic_penetration(const wc_state* s) {
 wc_status wc_cloth_check_collisions(wc_cloth* c, int* self_intersections, double* max_penetration, wc_diag* d) {
     /* a device's positions are read back first */
     wc_status st = wc_cloth_download(c, d);
+    if (st == WC_OK) st = wc_cloth_mesh_pull(c, d);   /* and the bodies a device moves */
     if (st != WC_OK) return st;
     int count = 0;
     st = wc_self_intersections(&c->model, c->state->x, &c->alloc, &count, d);

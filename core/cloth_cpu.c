@@ -121,14 +121,17 @@ static wc_status write_gl(wc_cloth* c, const wc_output_request* r, wc_diag* d) {
                    "the cloth runs on the CPU backend (only GPU cloths write GL buffers; use weft_cloth_get_vertices)");
 }
 
-static wc_status read_gl(wc_cloth* c, const wc_gl_vertex_source* src, float* out, wc_diag* d) {
-    (void)c, (void)src, (void)out;
+static wc_status read_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src, float* out,
+                         wc_gl_vertex_result* res, wc_diag* d) {
+    (void)c, (void)index, (void)src, (void)out, (void)res;
     return wc_fail(d, WC_ERROR_UNSUPPORTED,
                    "the cloth runs on the CPU backend (only GPU cloths read the host's GL buffers; use "
                    "weft_cloth_set_mesh_collider_vertices)");
 }
 
 static void stats(const wc_cloth* c, wc_backend_stats* out) { (void)c, (void)out; }
+
+static void mesh_pull(wc_cloth* c) { (void)c; }
 
 const wc_cloth_backend wc_cloth_cpu = {
     .name = "CPU",
@@ -153,4 +156,5 @@ const wc_cloth_backend wc_cloth_cpu = {
     .write_gl = write_gl,
     .stats = stats,
     .read_gl = read_gl,
+    .mesh_pull = mesh_pull,
 };

@@ -145,6 +145,16 @@ static wc_status check_range(wc_cloth* c, const wc_xform* T1, wc_diag* d) {
                    value, WC_CLOTH_MAX_COORD);
 }
 
+/* 1 when core moves a body on a device this frame: a jump, or a rigid transform for one whose
+   host gave no vertices this frame. */
+static int bodies_come_back(const wc_cloth* c, const wc_cloth_frame* fr) {
+    if (fr->reset || fr->teleport) return 1;
+    if (!fr->mesh_collider_transforms) return 0;
+    for (int k = 0; k < c->n_mesh; ++k)
+        if (c->mesh[k]->on_device && !c->mesh_pending[k]) return 1;
+    return 0;
+}
+
 /* The frame inside the backend's begin/end (wc_cloth_step, and a batch's group). */
 wc_status wc_cloth_step_grouped(wc_cloth* c, const wc_cloth_frame* fr, wc_step_stats* ss, wc_diag* d) {
     memset(ss, 0, sizeof *ss);
@@ -153,6 +163,9 @@ wc_status wc_cloth_step_grouped(wc_cloth* c, const wc_cloth_frame* fr, wc_step_s
                        c->settings.max_frame_time);
     const wc_cloth_backend* b = c->backend;
     wc_status st = WC_OK;
+    /* core moves the bodies itself this frame (rigid transforms, a jump): those on a device come
+       back first, before the frame's backup holds them */
+    if (bodies_come_back(c, fr)) b->mesh_pull(c);
     wc_cloth_backup(c);
     const double dt = fr->dt;
     const int reset = fr->reset != 0;

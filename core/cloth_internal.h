@@ -25,8 +25,9 @@ void wc_cloth_place_colliders(const wc_cloth* c, const wc_xform* next, const wc_
 wc_status wc_cloth_build_mesh_colliders(wc_cloth* c, const wc_cloth_mesh_def* defs, int n, wc_diag* d);
 void wc_cloth_free_mesh_colliders(wc_cloth* c);
 /* A frame's targets: colliders without new vertices get transform x rest (the frame's transform,
- * or the last one); jump (TELEPORT / RESET): from = to, no motion across the frame. A target
- * the state refuses is logged through d's logger (a warning) and the collider stays. */
+ * or the last one); jump (TELEPORT / RESET): from = to, no motion across the frame. A target the
+ * state refuses is logged through d's logger (a warning) and the collider stays. With transforms
+ * or a jump the caller has brought the bodies on a device back first (mesh_pull). */
 void wc_cloth_mesh_frame(wc_cloth* c, const float* transforms, int jump, const wc_diag* d);
 /* After a successful frame: the transforms become current, pending flags clear. */
 void wc_cloth_mesh_frame_done(wc_cloth* c);
@@ -68,6 +69,18 @@ static inline wc_status wc_cloth_upload(wc_cloth* c, wc_diag* d) {
     st = c->backend->upload(c, d);
     c->backend->end(c->device);
     return st;
+}
+
+/* The bodies kept on the device back in core (cloth_backend.h mesh_pull), outside a group. */
+static inline wc_status wc_cloth_mesh_pull(wc_cloth* c, wc_diag* d) {
+    int any = 0;
+    for (int k = 0; k < c->n_mesh; ++k) any |= c->mesh[k]->on_device;
+    if (!any) return WC_OK;
+    wc_status st = c->backend->begin(c->device, d);
+    if (st != WC_OK) return st;
+    c->backend->mesh_pull(c);
+    c->backend->end(c->device);
+    return WC_OK;
 }
 
 #endif

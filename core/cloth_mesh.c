@@ -129,6 +129,10 @@ wc_status wc_cloth_set_mesh_vertices(wc_cloth* c, int index, const float* positi
         return wc_fail(d, WC_ERROR_OUT_OF_RANGE, "index %d is outside [0, %d) (the cloth's mesh colliders)", index,
                        c->n_mesh);
     if (!positions) return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "positions is NULL");
+    if (c->mesh[index]->on_device) {   /* the frame's start is the device's */
+        wc_status st = wc_cloth_mesh_pull(c, d);
+        if (st != WC_OK) return st;
+    }
     for (int i = 0; i < 3 * c->mesh[index]->n_verts; ++i) c->mesh_scratch[i] = (double)positions[i];
     wc_status st = wc_state_set_mesh_target(c->state, index, c->mesh_scratch, d);
     if (st == WC_OK) c->mesh_pending[index] = 1;
@@ -136,13 +140,20 @@ wc_status wc_cloth_set_mesh_vertices(wc_cloth* c, int index, const float* positi
 }
 
 wc_status wc_cloth_read_mesh_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src, const float** positions,
-                                wc_diag* d) {
+                                wc_gl_vertex_result* res, wc_diag* d) {
     if (index < 0 || index >= c->n_mesh)
         return wc_fail(d, WC_ERROR_OUT_OF_RANGE, "index %d is outside [0, %d) (the cloth's mesh colliders)", index,
                        c->n_mesh);
     if (!src || !positions || src->n != c->mesh[index]->n_verts)
         return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "the GL buffer's vertex count is not mesh collider %d's", index);
-    wc_status st = c->backend->read_gl(c, src, c->mesh_read, d);
-    if (st == WC_OK) *positions = c->mesh_read;
-    return st;
+    memset(res, 0, sizeof *res);
+    res->bad_vertex = -1;
+    wc_status st = c->backend->read_gl(c, index, src, c->mesh_read, res, d);
+    if (st != WC_OK) return st;
+    *positions = c->mesh_read;
+    if (res->taken && res->bad_vertex < 0) {
+        c->mesh_pending[index] = 1;
+        wc_state_wake(c->state);
+    }
+    return WC_OK;
 }

@@ -187,6 +187,7 @@ wc_status wc_cloth_save(wc_cloth* c, const wc_snapshot_stamp* stamp, void* buf_,
     if (!buf_) return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "buf is NULL");
     /* a device's particles are read back first (exact: floats widen to doubles) */
     wc_status st = wc_cloth_download(c, d);
+    if (st == WC_OK) st = wc_cloth_mesh_pull(c, d);   /* and the bodies a device moves */
     if (st != WC_OK) return st;
     unsigned char* buf = buf_;
     uint64_t size = c->snapshot_size, hash = c->model_hash, sum = 0;
@@ -281,6 +282,9 @@ wc_status wc_cloth_restore(wc_cloth* c, const wc_snapshot_stamp* stamp, const vo
                        "the snapshot belongs to another model (mesh, welding, material, attachments or colliders)");
     if (!plausible(c, buf, (size_t)total))
         return wc_fail(d, WC_ERROR_INVALID_ARGUMENT, "the snapshot is damaged (inconsistent content)");
+    /* the bodies a device moves go back to the host, whose copy the snapshot then replaces */
+    wc_status pulled = wc_cloth_mesh_pull(c, d);
+    if (pulled != WC_OK) return pulled;
     wc_serial k = wc_serial_reader(buf, SNAP_HEADER);
     walk(c, &k);
     /* a device gets the restored particles (doubles written from a device round to the same

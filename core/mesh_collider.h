@@ -49,6 +49,11 @@ typedef struct wc_mesh_collider {
     double travel;             /* m: how far the swept triangle boxes may have moved since creation
                                   (the sum over substeps and jumps of the largest vertex
                                   displacement, max norm; wc_mesh_near's validity) */
+    int on_device;             /* 0 (create); 1: a backend holds the frame's positions on its device
+                                  and moves the body there (a GPU cloth's body from a host GL
+                                  buffer): from, to and everything derived here are stale until
+                                  the backend brings them back (cloth_backend.h mesh_pull), and
+                                  the body counts as moving */
     int exhaustive;            /* 0 (create); 1: the searches skip no triangle they could
                                   (closest points: every one in reach; feature pairs, mesh_pairs.h:
                                   smooth ones too): the reference a test checks the prunes against */
@@ -67,7 +72,7 @@ void wc_mesh_collider_destroy(wc_mesh_collider* m);
 wc_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag);
 /* Jump (teleport, reset, snapshot restore): from = to = xa = xb = x, velocities zero (validated). */
 wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag);
-/* 1 when from != to (the collider moves in this frame). */
+/* 1 when from != to (the collider moves in this frame), or when the body is on a device. */
 int wc_mesh_collider_moving(const wc_mesh_collider* m);
 /* End of a frame: from = to. */
 void wc_mesh_collider_end_frame(wc_mesh_collider* m);

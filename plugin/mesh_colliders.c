@@ -1,8 +1,9 @@
 /* Triangle-mesh colliders of the ABI (weft_mesh_collider_def): defaults, validation, and a
  * deforming body's vertices for the next frame, from host arrays
  * (weft_cloth_set_mesh_collider_vertices) or from a host GL buffer object
- * (weft_cloth_set_mesh_collider_gl_buffer: read by the backend, then checked and set as the
- * arrays are). The cloth imports, creates and moves them (core/cloth_mesh.c). */
+ * (weft_cloth_set_mesh_collider_gl_buffer: kept and checked on a GPU that moves the body there,
+ * else read by the backend, then checked and set as the arrays are). The cloth imports, creates
+ * and moves them (core/cloth_mesh.c). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -81,14 +82,16 @@ weft_status wa_validate_mesh_colliders(const weft_mesh_collider_def* m, int n, c
 
 /* The checks of a body's vertices for the next frame, shared by the host-array and GL-buffer
  * calls: finite, within WC_CLOTH_MAX_COORD. buffer: the GL buffer they came from (messages name
- * the vertex and its coordinate there), 0 for the host array `positions`. */
-static weft_status check_vertices(weft_context* ctx, const char* fn, unsigned buffer, const float* positions, int n) {
+ * the vertex and its coordinate there), 0 for the host array `positions`; first: the index of
+ * positions' first vertex (a GPU's check hands over the bad vertex only). */
+static weft_status check_vertices(weft_context* ctx, const char* fn, unsigned buffer, const float* positions, int n,
+                                  int first) {
     char at[80];
     for (int i = 0; i < 3 * n; ++i) {
         float p = positions[i];
         int bad_value = !isfinite(p), beyond = !bad_value && fabs((double)p) > WC_CLOTH_MAX_COORD;
         if (!bad_value && !beyond) continue;
-        if (buffer) snprintf(at, sizeof at, "buffer %u: vertex %d's coordinate %d", buffer, i / 3, i % 3);
+        if (buffer) snprintf(at, sizeof at, "buffer %u: vertex %d's coordinate %d", buffer, first + i / 3, i % 3);
         else snprintf(at, sizeof at, "positions[%d] (vertex %d)", i, i / 3);
         if (bad_value) return wa_fail(ctx, WEFT_ERROR_NONFINITE, "%s: %s is %s", fn, at, isnan(p) ? "NaN" : "Inf");
         return wa_fail(ctx, WEFT_ERROR_OUT_OF_RANGE, "%s: %s = %g is beyond %g", fn, at, (double)p, WC_CLOTH_MAX_COORD);
@@ -128,7 +131,7 @@ weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, weft_cloth 
     if (!c) return st;
     if (!positions) return wa_fail(ctx, WEFT_ERROR_INVALID_ARGUMENT, "%s: positions is NULL", fn);
     st = check_count(ctx, c, index, n_vertices, fn);
-    if (st == WEFT_OK) st = check_vertices(ctx, fn, 0, positions, n_vertices);
+    if (st == WEFT_OK) st = check_vertices(ctx, fn, 0, positions, n_vertices, 0);
     if (st != WEFT_OK) return st;
     wc_diag d = wa_core_diag(ctx);
     wc_status cs = wc_cloth_set_mesh_vertices(c, index, positions, &d);
@@ -157,10 +160,18 @@ weft_status weft_cloth_set_mesh_collider_gl_buffer(weft_context* ctx, weft_cloth
                        offset, stride, n_vertices);
     wc_gl_vertex_source src = {.buffer = buffer, .offset = offset, .stride = stride, .n = n_vertices};
     const float* positions = NULL;
+    wc_gl_vertex_result res;
     wc_diag d = wa_core_diag(ctx);
-    wc_status cs = wc_cloth_read_mesh_gl(c, index, &src, &positions, &d);
+    wc_status cs = wc_cloth_read_mesh_gl(c, index, &src, &positions, &res, &d);
     if (cs != WC_OK) return wa_fail_core(ctx, fn, cs, &d);
-    st = check_vertices(ctx, fn, buffer, positions, n_vertices);
+    if (res.taken) {   /* kept on the GPU, checked there */
+        if (res.bad_vertex < 0) return wa_ok(ctx);
+        st = check_vertices(ctx, fn, buffer, res.bad, 1, res.bad_vertex);
+        return st != WEFT_OK ? st
+                             : wa_fail(ctx, WEFT_ERROR_NONFINITE, "%s: buffer %u: vertex %d is not finite", fn, buffer,
+                                       res.bad_vertex);
+    }
+    st = check_vertices(ctx, fn, buffer, positions, n_vertices, 0);
     if (st != WEFT_OK) return st;
     cs = wc_cloth_set_mesh_vertices(c, index, positions, &d);
     return cs == WC_OK ? wa_ok(ctx) : wa_fail_core(ctx, fn, cs, &d);

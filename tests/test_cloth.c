@@ -243,7 +243,8 @@ static void test_bad_inputs(void) {
     expect_refused(c, before, wc_cloth_write_gl_buffers(c, &r, &d), &d, WC_ERROR_UNSUPPORTED, "CPU backend");
     wc_gl_vertex_source gs = {.buffer = 1, .stride = 12, .n = 3};
     const float* got = NULL;
-    expect_refused(c, before, wc_cloth_read_mesh_gl(c, 0, &gs, &got, &d), &d, WC_ERROR_OUT_OF_RANGE,
+    wc_gl_vertex_result res;
+    expect_refused(c, before, wc_cloth_read_mesh_gl(c, 0, &gs, &got, &res, &d), &d, WC_ERROR_OUT_OF_RANGE,
                    "index 0 is outside [0, 0)");
     expect_refused(c, before, wc_cloth_save(c, &g_stamp, NULL, &d), &d, WC_ERROR_INVALID_ARGUMENT, "buf is NULL");
 
@@ -552,7 +553,8 @@ static void test_tables(void) {
         CHECK(b->name && b->device_create && b->device_destroy && b->defaults && b->begin && b->end && b->create &&
               b->supports &&
               b->destroy && b->step_frame && b->backup && b->restore_backup && b->carry && b->download &&
-              b->upload && b->max_abs && b->output && b->write_gl && b->stats && b->read_gl);
+              b->upload && b->max_abs && b->output && b->write_gl && b->stats && b->read_gl &&
+              b->mesh_pull);
     }
     wc_backend_defaults cpu;
     wc_cloth_cpu.defaults(NULL, &cpu);

@@ -8,10 +8,12 @@
 #include <string.h>
 
 #include "cloth.h"
+#include "gpu_error.h"
 #include "vec3.h"
 #include "wg_backend.h"
 #include "wg_device.h"
 #include "wg_host_buffer.h"
+#include "wg_mesh.h"
 #include "wg_sim.h"
 
 typedef struct wg_backend_device {
@@ -256,17 +258,35 @@ static wc_status write_gl(wc_cloth* c, const wc_output_request* r, wc_diag* d) {
     return st;
 }
 
-/* a deforming body's vertices from a host buffer: the range checked, then read back */
-static wc_status read_gl(wc_cloth* c, const wc_gl_vertex_source* src, float* out, wc_diag* d) {
+/* a deforming body's vertices from a host buffer: the range checked, then kept on the GPU where
+   the passes move bodies (compute), else read back */
+static wc_status read_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src, float* out, wc_gl_vertex_result* res,
+                         wc_diag* d) {
     if (!DEV(c->device)->host_gl) return wc_fail(d, WC_ERROR_UNSUPPORTED, HEADLESS_REFUSAL);
     const size_t need = (size_t)(src->n - 1) * src->stride + 3 * sizeof(float);
     wc_status st = begin(c->device, d);
     if (st != WC_OK) return st;
     st = wg_host_buffer_check(src->buffer, src->offset, need, "buffer", "3 floats per body vertex at the stride", d);
-    if (st == WC_OK) st = wg_sim_read_host_vertices(SIM(c), src->buffer, src->offset, src->stride, src->n, out, d);
+    wg_mesh* mesh = wg_sim_mesh(SIM(c));
+    res->taken = 0;
+    if (st == WC_OK && mesh && mesh->body) {
+        wc_diag quiet = *d;
+        quiet.log = NULL;
+        glGetError();
+        st = wg_mesh_body_take(mesh, index, src->buffer, src->offset, src->stride, &res->bad_vertex, res->bad, &quiet);
+        GLenum e = glGetError();
+        if (st == WC_OK && e != GL_NO_ERROR) st = wc_fail(&quiet, WC_ERROR_GPU, "GL error %s", wg_gl_error_name(e));
+        res->taken = st == WC_OK;
+        if (st == WC_ERROR_UNSUPPORTED) st = WC_OK;   /* too long a range for the texture: read back below */
+        else if (st != WC_OK) st = wc_fail(d, st, "%s", quiet.message);
+    }
+    if (st == WC_OK && !res->taken)
+        st = wg_sim_read_host_vertices(SIM(c), src->buffer, src->offset, src->stride, src->n, out, d);
     end(c->device);
     return st;
 }
+
+static void mesh_pull(wc_cloth* c) { wg_mesh_body_pull(wg_sim_mesh(SIM(c))); }
 
 static void stats(const wc_cloth* c, wc_backend_stats* out) {
     out->device_bytes = wg_sim_gpu_bytes(SIM(c));
@@ -296,4 +316,5 @@ const wc_cloth_backend wg_cloth_backend = {
     .write_gl = write_gl,
     .stats = stats,
     .read_gl = read_gl,
+    .mesh_pull = mesh_pull,
 };

@@ -157,9 +157,20 @@ void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int
     barrier_after();
 }
 
+static void dispatch_groups(int groups, int max_x);
+
 void wg_compute_dispatch_groups(const wg_tex* const* out, int n_out, int groups, int max_x) {
     for (int j = 0; j < n_out; ++j)
         glBindImageTexture((GLuint)j, out[j]->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out[j]->internal);
+    dispatch_groups(groups, max_x);
+}
+
+void wg_compute_dispatch_groups_rw(const wg_tex* img, int groups, int max_x) {
+    glBindImageTexture(0, img->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    dispatch_groups(groups, max_x);
+}
+
+static void dispatch_groups(int groups, int max_x) {
     /* past max_x groups along x (GL guarantees 65535): rows of max_x (the shader's linear group
        id is y * max_x + x; the last row's surplus groups find no texel) */
     const int X = max_x > 0 ? max_x : 65535;

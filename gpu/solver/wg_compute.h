@@ -32,6 +32,9 @@ void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int
  * work groups (in rows of max_x past max_x of them: the shader counts groups linearly), the
  * outputs as images 0..n_out-1, then the same barrier. */
 void wg_compute_dispatch_groups(const wg_tex* const* out, int n_out, int groups, int max_x);
+/* The same with img (RGBA32F) bound read-write as image 0, for a program that updates texels in
+ * place. */
+void wg_compute_dispatch_groups_rw(const wg_tex* img, int groups, int max_x);
 /* Run a native compute program in use as one work group that reads and writes img in place
  * (image 0, bound read-write as RGBA32F), then a barrier for texture fetches and image access. */
 void wg_compute_dispatch_in_place(const wg_tex* img);

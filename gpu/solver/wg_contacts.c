@@ -126,7 +126,7 @@ wc_status wg_contacts_create(wg_runner* run, const wg_contact_cloth* cloth, int 
     }
     wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->cvel, &cs->x_sub, &cs->held[0],
                     &cs->held[1]};
-    if (!wg_mesh_init(&cs->mesh, L, mesh, n_mesh, err, err_len)) goto fail;
+    if (!wg_mesh_init(&cs->mesh, run, mesh, n_mesh, err, err_len)) goto fail;
     for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k)
         if (!wg_array_create(L, pv[k], GL_RGBA32F, n, NULL, err, err_len)) goto fail;
     if (!wg_array_create(L, &cs->A0, cloth->a_lo->internal, cloth->nb, NULL, err, err_len)) goto fail;
@@ -186,7 +186,7 @@ void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double
     if (!cs) return;
     wg_runner* run = cs->run;
     const wg_contact_cloth* g = &cs->cl;
-    wg_mesh_substep(&cs->mesh, run->layout, s->sub_alpha0, alpha1, h);
+    wg_mesh_substep(&cs->mesh, s->sub_alpha0, alpha1, h);
     cs->h = h;
     int nc = upload_colliders(cs, s);
     int nx = wg_ring_other(g->x, 0);
@@ -341,14 +341,18 @@ void wg_contacts_restore(wg_contacts* cs) {
     wg_ring_restore(&cs->c2);
 }
 
+wg_mesh* wg_contacts_mesh(wg_contacts* cs) { return cs ? &cs->mesh : NULL; }
+
 void wg_contacts_backup(wg_contacts* cs) {
     if (!cs) return;
+    wg_mesh_body_backup(&cs->mesh);
     wg_ring* rings[3] = {&cs->c0, &cs->c1, &cs->c2};
     for (int r = 0; r < 3; ++r) wg_copy(cs->run, &cs->bk[r], wg_ring_cur(rings[r]));
 }
 
 void wg_contacts_restore_backup(wg_contacts* cs) {
     if (!cs) return;
+    wg_mesh_body_restore_backup(&cs->mesh);
     wg_ring* rings[3] = {&cs->c0, &cs->c1, &cs->c2};
     for (int r = 0; r < 3; ++r) wg_copy(cs->run, wg_ring_cur(rings[r]), &cs->bk[r]);
 }

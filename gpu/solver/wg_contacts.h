@@ -78,6 +78,8 @@ int wg_contacts_active(wg_contacts* cs);
 int wg_contacts_stuck(wg_contacts* cs);
 void wg_contacts_save(wg_contacts* cs);             /* the substep's start */
 void wg_contacts_restore(wg_contacts* cs);          /* rollback to it */
+/* The mesh colliders' textures and bodies (wg_mesh.h); NULL when cs is NULL. */
+struct wg_mesh* wg_contacts_mesh(wg_contacts* cs);
 void wg_contacts_backup(wg_contacts* cs);           /* the frame's back-up (wg_sim_backup) */
 void wg_contacts_restore_backup(wg_contacts* cs);
 /* The contact arrays of the CPU mirror (s->contacts) from and to the textures (snapshots). */

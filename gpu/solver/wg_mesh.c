@@ -18,6 +18,7 @@ static float up(double x) {
 }
 
 void wg_mesh_release(wg_mesh* g, int gl) {
+    wg_mesh_body_release(g, gl);
     if (gl) {
         wg_tex_destroy(&g->vert);
         wg_tex_destroy(&g->tri);
@@ -31,9 +32,11 @@ void wg_mesh_release(wg_mesh* g, int gl) {
     g->staging = NULL;
 }
 
-int wg_mesh_init(wg_mesh* g, const wg_layout* L, wc_mesh_collider* const* mesh, int n_mesh, char* err,
+int wg_mesh_init(wg_mesh* g, wg_runner* run, wc_mesh_collider* const* mesh, int n_mesh, char* err,
                  size_t err_len) {
+    const wg_layout* L = run->layout;
     memset(g, 0, sizeof *g);
+    g->run = run;
     g->alloc = L->alloc;
     g->n_mesh = n_mesh;
     g->mesh = mesh;
@@ -67,9 +70,13 @@ int wg_mesh_init(wg_mesh* g, const wg_layout* L, wc_mesh_collider* const* mesh, 
         wg_errorf(err, err_len, "out of memory");
         return 0;
     }
-    return wg_array_create(L, &g->vert, GL_RGBA32F, (int)(3 * nv > 0 ? 3 * nv : 1), NULL, err, err_len) &&
-           wg_array_create(L, &g->tri, GL_RGBA32F, (int)(3 * nt > 0 ? 3 * nt : 1), NULL, err, err_len) &&
-           wg_array_create(L, &g->node, GL_RGBA32F, (int)(2 * nn > 0 ? 2 * nn : 1), NULL, err, err_len);
+    if (!wg_array_create(L, &g->vert, GL_RGBA32F, (int)(3 * nv > 0 ? 3 * nv : 1), NULL, err, err_len) ||
+        !wg_array_create(L, &g->tri, GL_RGBA32F, (int)(3 * nt > 0 ? 3 * nt : 1), NULL, err, err_len) ||
+        !wg_array_create(L, &g->node, GL_RGBA32F, (int)(2 * nn > 0 ? 2 * nn : 1), NULL, err, err_len))
+        return 0;
+    if (n_mesh == 0) return 1;
+    wg_mesh_upload(g, -1);   /* the trees' shapes and the triangles' vertices, which the passes keep */
+    return !run->dev->compute || wg_mesh_body_init(g, err, err_len);
 }
 
 static void put3(float* o, const double* p, float w) {
@@ -79,11 +86,19 @@ static void put3(float* o, const double* p, float w) {
     o[3] = w;
 }
 
-void wg_mesh_substep(wg_mesh* g, const wg_layout* L, double a0, double a1, double h) {
-    if (g->n_mesh == 0) return;
-    for (int k = 0; k < g->n_mesh; ++k) wc_mesh_collider_substep(g->mesh[k], a0, a1, h);
+/* Items [first, first + count) of t from the staging o (item i at o + 4 i); all: items [0, count)
+   in one upload. */
+static void put(const wg_layout* L, const wg_tex* t, int all, int first, int count, const float* o) {
+    if (all) wg_array_upload(L, t, count, o);
+    else wg_array_upload_range(L, t, first, count, o + 4 * (size_t)first);
+}
+
+void wg_mesh_upload(wg_mesh* g, int which) {
+    const wg_layout* L = g->run->layout;
     float* o = g->staging;
-    for (int k = 0; k < g->n_mesh; ++k) {
+    const int all = which < 0;
+    const int k0 = all ? 0 : which, k1 = all ? g->n_mesh : which + 1;
+    for (int k = k0; k < k1; ++k) {
         const wc_mesh_collider* m = g->mesh[k];
         for (int i = 0; i < m->n_verts; ++i) {
             float* q = o + 12 * (size_t)(g->vert0[k] + i);
@@ -91,9 +106,10 @@ void wg_mesh_substep(wg_mesh* g, const wg_layout* L, double a0, double a1, doubl
             put3(q + 4, m->xb + 3 * i, 0.0f);
             put3(q + 8, m->vel + 3 * i, 0.0f);
         }
+        if (!all) put(L, &g->vert, 0, 3 * g->vert0[k], 3 * m->n_verts, o);
     }
-    wg_array_upload(L, &g->vert, 3 * g->n_vert, o);
-    for (int k = 0; k < g->n_mesh; ++k) {
+    if (all) put(L, &g->vert, 1, 0, 3 * g->n_vert, o);
+    for (int k = k0; k < k1; ++k) {
         const wc_mesh_collider* m = g->mesh[k];
         for (int t = 0; t < m->n_tris; ++t) {
             float* q = o + 12 * (size_t)(g->tri0[k] + t);
@@ -102,9 +118,10 @@ void wg_mesh_substep(wg_mesh* g, const wg_layout* L, double a0, double a1, doubl
             put3(q + 4, m->nrm_a + 3 * t, 0.0f);
             put3(q + 8, m->nrm_b + 3 * t, 0.0f);
         }
+        if (!all) put(L, &g->tri, 0, 3 * g->tri0[k], 3 * m->n_tris, o);
     }
-    wg_array_upload(L, &g->tri, 3 * g->n_tri, o);
-    for (int k = 0; k < g->n_mesh; ++k) {
+    if (all) put(L, &g->tri, 1, 0, 3 * g->n_tri, o);
+    for (int k = k0; k < k1; ++k) {
         const wc_bvh* b = &g->mesh[k]->bvh;
         for (int j = 0; j < b->n_nodes; ++j) {
             float* q = o + 8 * (size_t)(g->node0[k] + j);
@@ -118,8 +135,24 @@ void wg_mesh_substep(wg_mesh* g, const wg_layout* L, double a0, double a1, doubl
             q[3] = leaf ? -1.0f : (float)(g->node0[k] + ch[0]);
             q[7] = (float)(leaf ? g->tri0[k] + ch[1] : g->node0[k] + ch[1]);
         }
+        if (!all) put(L, &g->node, 0, 2 * g->node0[k], 2 * b->n_nodes, o);
     }
-    wg_array_upload(L, &g->node, 2 * g->n_node, o);
+    if (all) put(L, &g->node, 1, 0, 2 * g->n_node, o);
+}
+
+void wg_mesh_substep(wg_mesh* g, double a0, double a1, double h) {
+    if (g->n_mesh == 0) return;
+    if (g->n_resident == 0) {   /* every body on the host: one upload of each texture */
+        for (int k = 0; k < g->n_mesh; ++k) wc_mesh_collider_substep(g->mesh[k], a0, a1, h);
+        wg_mesh_upload(g, -1);
+        return;
+    }
+    wg_mesh_body_substep(g, a0, a1, h);
+    for (int k = 0; k < g->n_mesh; ++k)
+        if (!g->resident[k]) {
+            wc_mesh_collider_substep(g->mesh[k], a0, a1, h);
+            wg_mesh_upload(g, k);
+        }
 }
 
 void wg_mesh_row(const wg_mesh* g, int k, float* row) {

@@ -144,6 +144,15 @@ static const wg_pass_input strain_gather[] = {
     IN(wg_strain_gather_in, row_entry), IN(wg_strain_gather_in, corr), IN(wg_strain_gather_in, mass),
     IN(wg_strain_gather_in, S0),   IN(wg_strain_gather_in, S1), IN(wg_strain_gather_in, spring)};
 WHOLE(wg_strain_gather_in, strain_gather);
+static const wg_pass_input mesh_verts[] = {IN(wg_mesh_verts_in, body_from), IN(wg_mesh_verts_in, body_to)};
+WHOLE(wg_mesh_verts_in, mesh_verts);
+static const wg_pass_input mesh_tris[] = {IN(wg_mesh_tris_in, tri_idx), IN(wg_mesh_tris_in, vert)};
+WHOLE(wg_mesh_tris_in, mesh_tris);
+static const wg_pass_input mesh_gather[] = {IN(wg_mesh_gather_in, raw), IN(wg_mesh_gather_in, body_to)};
+WHOLE(wg_mesh_gather_in, mesh_gather);
+static const wg_pass_input mesh_refit[] = {IN(wg_mesh_refit_in, order), IN(wg_mesh_refit_in, tri_idx),
+                                           IN(wg_mesh_refit_in, vert)};
+WHOLE(wg_mesh_refit_in, mesh_refit);
 static const wg_pass_input normals[] = {IN(wg_normals_in, x), IN(wg_normals_in, rows), IN(wg_normals_in, row_tri),
                                         IN(wg_normals_in, tri)};
 WHOLE(wg_normals_in, normals);
@@ -263,6 +272,11 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_INTEG_PREPARE] = PASS("integ_prepare", integ_prepare, wg_integ_prepare_in),
     [WGP_AIR_LUMP] = PASS("air_lump", air_lump, wg_air_lump_in),
     [WGP_INTEG_CONTACTS] = PASS("integ_contacts", integ_contacts, wg_integ_contacts_in),
+    [WGP_MESH_VERTS] = COMPUTE("mesh_verts", mesh_verts, wg_mesh_verts_in),
+    [WGP_MESH_TRIS] = COMPUTE("mesh_tris", mesh_tris, wg_mesh_tris_in),
+    [WGP_MESH_MEASURE] = COMPUTE("mesh_measure", src, wg_src_in),
+    [WGP_MESH_GATHER] = COMPUTE("mesh_gather", mesh_gather, wg_mesh_gather_in),
+    [WGP_MESH_REFIT_GROUPS] = NATIVE("mesh_refit_groups", mesh_refit, wg_mesh_refit_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),

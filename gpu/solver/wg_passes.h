@@ -31,6 +31,9 @@ typedef enum wg_pass_id {
     WGP_NEWTON_PHI_SPRINGS, WGP_NEWTON_FRICTION,
     /* BDF2 and TR-BDF2 (core/bdf2.h): the integrator's vectors, TR-BDF2's implicit air */
     WGP_INTEG_PREPARE, WGP_AIR_LUMP, WGP_INTEG_CONTACTS,
+    /* compute passes only: a mesh collider's body moved to a substep on the device (wg_mesh_body.c);
+       MESH_REFIT_GROUPS native */
+    WGP_MESH_VERTS, WGP_MESH_TRIS, WGP_MESH_MEASURE, WGP_MESH_GATHER, WGP_MESH_REFIT_GROUPS,
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
        direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
@@ -226,7 +229,7 @@ typedef struct wg_check_springs_in {    /* check_springs.glsl */
     const wg_tex *x, *spring, *spring_rest;
 } wg_check_springs_in;
 
-typedef struct wg_src_in {      /* reduce, reduce_groups, copy, copy_texel: one texture read */
+typedef struct wg_src_in {      /* reduce, reduce_groups, copy, copy_texel, mesh_measure: one texture read */
     const wg_tex* src;
 } wg_src_in;
 
@@ -239,6 +242,22 @@ typedef struct wg_strain_gather_in {    /* strain_gather.glsl */
     const wg_tex* corr;         /* strain_springs.glsl's output */
     const wg_tex *mass, *S0, *S1, *spring;
 } wg_strain_gather_in;
+
+typedef struct wg_mesh_verts_in {   /* mesh_verts.glsl */
+    const wg_tex *body_from, *body_to;
+} wg_mesh_verts_in;
+
+typedef struct wg_mesh_tris_in {    /* mesh_tris.glsl */
+    const wg_tex *tri_idx, *vert;
+} wg_mesh_tris_in;
+
+typedef struct wg_mesh_gather_in {  /* mesh_gather.glsl */
+    const wg_tex *raw, *body_to;
+} wg_mesh_gather_in;
+
+typedef struct wg_mesh_refit_in {   /* mesh_refit_groups.glsl (the node image: image 0) */
+    const wg_tex *order, *tri_idx, *vert;
+} wg_mesh_refit_in;
 
 typedef struct wg_normals_in {  /* normals.glsl */
     const wg_tex *x, *rows, *row_tri, *tri;

@@ -6,6 +6,7 @@
 
 #include "gpu_error.h"
 #include "newton.h"
+#include "wg_mesh.h"
 #include "wg_sim_impl.h"
 
 #define WG_MIN_SHIFT 10
@@ -531,3 +532,5 @@ double wg_sim_max_abs(wg_sim* g) {
     wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->chk_p, 0, 0, 1, 1), r);
     return (double)r[2];
 }
+
+wg_mesh* wg_sim_mesh(wg_sim* g) { return wg_contacts_mesh(g->contacts); }

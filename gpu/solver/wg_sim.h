@@ -83,6 +83,8 @@ wc_status wg_sim_output(wg_sim* g, const wg_output_request* req, wc_diag* diag);
  * out (n x 3): the range copied on the GPU into the cloth's read-back buffer, which is then
  * mapped. INVALID_ARGUMENT (a buffer the host keeps mapped), GPU (a GL error: out's contents
  * are then undefined). The host's buffer bindings are restored. */
+/* The cloth's mesh colliders on the GPU (wg_mesh.h); NULL when it has no room for colliders. */
+struct wg_mesh* wg_sim_mesh(wg_sim* g);
 wc_status wg_sim_read_host_vertices(wg_sim* g, unsigned buffer, size_t offset, size_t stride, int n, float* out,
                                     wc_diag* d);
 

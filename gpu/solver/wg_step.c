@@ -14,6 +14,7 @@
 
 #include "clock.h"
 #include "gpu_error.h"
+#include "wg_mesh.h"
 #include "wg_sim_impl.h"
 
 /* springs.glsl and check_springs.glsl take the stiffness and damping of every spring type in a vec4 */
@@ -409,6 +410,7 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     wg_step_upload_pins(g, s);
     wc_step_ops ops = {g, gpu_substep, gpu_save, gpu_restore, gpu_measure, gpu_sleep, s->def.solver.type};
     wc_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
+    wg_mesh_body_end_frame(wg_contacts_mesh(g->contacts));   /* as the driver ended core's bodies' frame */
     if (r == WC_OK && colliding(s) && g->contacts && !st->asleep) {
         s->contacts.active = wg_contacts_active(g->contacts);
         st->contacts = s->contacts.active;

@@ -614,10 +614,15 @@ WEFT_API weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, we
  * be visible to buffer copies (after a compute shader wrote it as a storage buffer:
  * glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT)); the buffer must not be mapped, except
  * persistently. The host's GL bindings are left as they were.
- * What is read back: the body's vertices come to the CPU (the call waits for the GPU to finish
- * writing them), where the body's motion across the frame, its normals and its BVH are computed
- * for the GPU's contact passes, as with the array call; the result is bit-identical to the
- * array call given the same floats.
+ * Where the GPU runs compute passes (GL 4.3) the vertices stay on the GPU: copied from the
+ * buffer there and checked there (16 bytes read back: the call waits for the GPU to finish the
+ * host's commands that write the buffer), and the body's motion across the frame, its normals,
+ * its BVH refit and its fastest vertex are computed there every substep, in float; the result
+ * agrees with the array call's to float's reach, not bit for bit. The body comes back to the CPU
+ * only when the host needs it there: weft_cloth_save, weft_cloth_check_collisions, the array
+ * call, a rigid transform for it in a frame without this call, TELEPORT or RESET (until the
+ * next call of this one, the body is then moved on the CPU). With fragment passes (a GL 3.3
+ * context) the vertices are read back and take the array call's path, bit-identical to it.
  * Errors (nothing changes): INVALID_HANDLE, OUT_OF_RANGE (index, or a wrong n_vertices),
  * INVALID_ARGUMENT (buffer 0 or not a buffer object, one smaller than offset + (n_vertices - 1)
  * stride + 12 bytes, offset or stride not a multiple of 4, a stride of 4 or 8, a buffer the host

@@ -1,0 +1,18 @@
+/* What a host GL context this test program made current gives the GPU backend, for the tests and
+ * benchmarks of the host's GL buffers (needs GL/glew.h or GL/gl.h first). */
+#ifndef WEFT_TESTS_HOST_GL_PASSES_H
+#define WEFT_TESTS_HOST_GL_PASSES_H
+#include <stdlib.h>
+#include <string.h>
+
+/* 1 where a body from a host GL buffer stays on the GPU: compute passes (GL 4.3, and not
+   WEFT_GPU_PASSES=fragment); 0 where it is read back (fragment passes). */
+static inline int hg_body_on_gpu(void) {
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    const char* passes = getenv("WEFT_GPU_PASSES");
+    return (major > 4 || (major == 4 && minor >= 3)) && !(passes && strcmp(passes, "fragment") == 0);
+}
+
+#endif
