@@ -5,11 +5,14 @@
  * the default, 19,800) that breathes every frame. The
  * body's floats go to a packed host buffer (glBufferSubData, then glFinish: the host's own work is
  * not timed) and to the array call; each call and each cloth's step is timed with the wall
- * clock, medians over the frames. Beside them, the CPU work that needs the body on the host:
- * core's wc_mesh_collider_substep (interpolation, velocities, normals, the BVH's refit) on the
- * same body, and the bytes the GPU backend uploads for it every substep (wg_mesh.c: 3 RGBA32F
- * texels a vertex and a triangle, 2 a BVH node). Prints one Markdown row; asserts nothing about
- * time.
+ * clock, medians over the frames. Beside them, the CPU work the array call's body needs on the
+ * host every substep: core's wc_mesh_collider_substep (interpolation, velocities, normals, the
+ * BVH's refit) on the same body, and the bytes the GPU backend uploads for it (wg_mesh.c: 3
+ * RGBA32F texels a vertex and a triangle, 2 a BVH node); and the bytes the buffer's body moves
+ * between host and GPU: with compute passes it stays on the GPU (wg_mesh_body.c: 16 bytes read
+ * back by the call's check, 16 a substep for the fastest vertex, nothing uploaded), with fragment
+ * passes it is read back (12 bytes a vertex) and uploaded as the array's. Prints one Markdown
+ * row; asserts nothing about time.
  *
  *   bench_body_gl [--k K] [--n N] [--frames F]     (defaults 100, 64, 20) */
 #define _POSIX_C_SOURCE 200809L
@@ -22,6 +25,7 @@
 
 #include "api_grid.h"
 #include "egl_context.h"
+#include "host_gl_passes.h"
 #include "mesh_collider.h"
 
 /* The body: a UV sphere, radius 0.3 m at the origin, k slices and k stacks (2 k (k - 1)
@@ -171,7 +175,7 @@ int main(int argc, char** argv) {
     double *s_arr = malloc(sizeof(double) * (size_t)frames), *s_buf = malloc(sizeof(double) * (size_t)frames);
     weft_frame fr = weft_default_frame();
     fr.dt = 1.0 / 60.0;
-    int failed = 0;
+    int failed = 0, substeps = 0;
     for (int f = 0; f < frames; ++f) {
         double s = 1.0 + 0.03 * sin(0.2 * (f + 1));
         for (int i = 0; i < 3 * nv; ++i) body[i] = (float)(s * rest[i]);
@@ -185,18 +189,24 @@ int main(int argc, char** argv) {
         double t2 = now_ms();
         failed |= weft_cloth_step(ctx, a, &fr, NULL) != WEFT_OK;
         double t3 = now_ms();
-        failed |= weft_cloth_step(ctx, b, &fr, NULL) != WEFT_OK;
+        weft_frame_stats fs;
+        failed |= weft_cloth_step(ctx, b, &fr, &fs) != WEFT_OK;
+        substeps += fs.substeps;
         glFinish();
         double t4 = now_ms();
         t_arr[f] = t1 - t0, t_buf[f] = t2 - t1, s_arr[f] = t3 - t2, s_buf[f] = t4 - t3;
     }
     if (failed) fprintf(stderr, "bench_body_gl: a call failed: %s\n", weft_context_last_error(ctx));
     double up = 0.0, core_ms = core_substep_ms(rest, frames, &up);
-    printf("| body vertices | triangles | particles | bytes read back | array call ms | GL-buffer call ms | step ms "
-           "(array / buffer) | core's body substep ms | bytes uploaded a substep |\n"
-           "|---|---|---|---|---|---|---|---|---|\n");
-    printf("| %d | %d | %d | %d | %.3f | %.3f | %.1f / %.1f | %.3f | %.0f |\n", nv, g_tm.nt, n * n, nv * 12,
-           median(t_arr, frames), median(t_buf, frames), median(s_arr, frames), median(s_buf, frames), core_ms, up);
+    const int on_gpu = hg_body_on_gpu();
+    const double per_frame = (double)substeps / frames;
+    const double read_back = on_gpu ? 16.0 + 16.0 * per_frame : 12.0 * nv, buf_up = on_gpu ? 0.0 : up;
+    printf("| body vertices | triangles | particles | buffer's body | GL buffer: bytes read back a frame | GL buffer: "
+           "bytes uploaded a substep | array: bytes uploaded a substep | array call ms | GL-buffer call ms | step ms "
+           "(array / buffer) | core's body substep ms |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    printf("| %d | %d | %d | %s | %.0f | %.0f | %.0f | %.3f | %.3f | %.1f / %.1f | %.3f |\n", nv, g_tm.nt, n * n,
+           on_gpu ? "on the GPU" : "read back", read_back, buf_up, up, median(t_arr, frames), median(t_buf, frames),
+           median(s_arr, frames), median(s_buf, frames), core_ms);
     glDeleteBuffers(1, &buf);
     weft_context_destroy(ctx);
     wg_gl_end(host);

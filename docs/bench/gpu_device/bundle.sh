@@ -15,7 +15,7 @@ BINS="$B/weft $LIB $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_
       $B/tests/test_gpu_sew $B/tests/test_api_gpu_sew $B/tests/test_api_gpu_newton $B/tests/test_api_batch
       $B/tests/test_gpu_bdf2 $B/tests/test_api_gpu_bdf2 $B/tests/test_gpu_mesh_contacts $B/tests/test_api_gpu_mesh
       $B/tests/test_cli_gpu_runs $B/tests/test_render $B/tests/test_api_render $B/tests/test_render_errors
-      $B/tests/test_gpu_group $B/tests/test_api_gpu_group $B/tests/test_api_gpu_body_gl
+      $B/tests/test_gpu_group $B/tests/test_api_gpu_group $B/tests/test_api_gpu_body_gl $B/tests/test_gpu_mesh_body
       $B/tests/test_gpu_newton_contacts $B/tests/test_api_gpu_newton_contacts $B/tests/test_gpu_self
       $B/tests/test_api_gpu_self $B/tests/test_gpu_trbdf2_contacts $B/tests/test_api_gpu_trbdf2_contacts
       $B/tests/test_api_auto
