@@ -63,8 +63,7 @@ void wg_mesh_upload(wg_mesh* g, int k);
 /* The textures and the tree's heights; 0 with err (GL, out of memory). */
 int wg_mesh_body_init(wg_mesh* g, char* err, size_t err_len);
 void wg_mesh_body_release(wg_mesh* g, int gl);
-/* Make mesh k resident with frame positions from and to (n_verts x 3 each, rounded to float), or
- * give it back to the host (from, to NULL: core's copy must be current, wg_mesh_body_pull). */
+/* Make mesh k resident with frame positions from and to (n_verts x 3 each, rounded to float). */
 void wg_mesh_body_set(wg_mesh* g, int k, const double* from, const double* to);
 /* The resident bodies moved to the substep (a0, a1, h) by the passes: their vertex and triangle
  * texels, the tree refitted bottom-up one height a pass, and each one's fastest vertex (a max
@@ -76,8 +75,9 @@ void wg_mesh_body_end_frame(wg_mesh* g);
 /* The frame's back-up of the resident bodies' start positions, and its restore. */
 void wg_mesh_body_backup(wg_mesh* g);
 void wg_mesh_body_restore_backup(wg_mesh* g);
-/* Mesh k's frame end from a host buffer (names of the host's current context, checked by the
- * caller: a buffer holding the bytes, not mapped): n_verts x 3 floats at byte offset + i stride,
+/* Mesh k's frame end from a host buffer (a name of the host's current context holding the bytes,
+ * checked by the caller; one the host has mapped is refused, INVALID_ARGUMENT): n_verts x 3
+ * floats at byte offset + i stride,
  * copied on the GPU and checked there (NaN, Inf, |coordinate| >= 1e30: WC_OK with *bad_vertex the
  * first bad vertex and bad its 3 floats, nothing changed; else *bad_vertex -1). The mesh becomes
  * resident (its frame start from core's copy when it was not). WC_ERROR_UNSUPPORTED (nothing

@@ -106,17 +106,19 @@ static void put_positions(wg_mesh* g, const wg_tex* t, int k, const double* x) {
     wg_array_upload_range(g->run->layout, t, g->vert0[k], n, o);
 }
 
+/* Mesh k resident (its textures' positions already there). */
+static void make_resident(wg_mesh* g, int k) {
+    if (g->resident[k]) return;
+    g->resident[k] = 1;
+    ++g->n_resident;
+    build_order(g);
+}
+
 void wg_mesh_body_set(wg_mesh* g, int k, const double* from, const double* to) {
     if (!g->body) return;
-    if (from) {
-        put_positions(g, &g->from, k, from);
-        put_positions(g, &g->to, k, to);
-    }
-    const int want = from != NULL;
-    if (g->resident[k] == want) return;
-    g->resident[k] = (unsigned char)want;
-    g->n_resident += want ? 1 : -1;
-    build_order(g);
+    put_positions(g, &g->from, k, from);
+    put_positions(g, &g->to, k, to);
+    make_resident(g, k);
 }
 
 void wg_mesh_body_substep(wg_mesh* g, double a0, double a1, double h) {
@@ -232,11 +234,7 @@ wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, s
     wg_tex t = g->to;
     g->to = g->to_next;
     g->to_next = t;
-    if (!g->resident[k]) {
-        g->resident[k] = 1;
-        ++g->n_resident;
-        build_order(g);
-    }
+    make_resident(g, k);
     m->on_device = 1;
     return WC_OK;
 }
