@@ -11,8 +11,8 @@
  * for bit every frame, snapshots byte for byte at the end. Either way a snapshot of the buffer's
  * cloth at frame 20, restored and replayed with the same calls, gives the same bits every frame
  * to frame 40; the sheet ends on the risen body (an independent check that the buffer's body
- * moved); the collision check and a teleporting frame (which bring the body back to the CPU)
- * agree with the arrays' cloth. The host's buffer bindings are left alone.
+ * moved); the collision check, a teleporting frame and a rigidly moved one (which bring the
+ * body back to the CPU) agree with the arrays' cloth. The host's buffer bindings are left alone.
  * Every refusal (a null or destroyed handle, index, count, name, size, offset, stride, a mapped buffer, NaN, a
  * coordinate beyond 1e30, no current context, a CPU cloth, a headless context) has its status
  * and message, and leaves the state intact: the cloth's snapshot unchanged and its later frames
@@ -345,6 +345,25 @@ static void test_buffer_matches_arrays(void) {
         double jumped = ag_max_distance(pa, pb, n);
         printf("  a teleporting frame: the cloths %.3g m apart\n", jumped);
         CHECK(jumped <= 0.02);
+        /* a frame with the body from the buffer again (on the GPU), then one that moves both
+           bodies rigidly back to the creation shape (no vertices given): the buffer's body comes
+           back to the CPU for it */
+        fr.flags = 0;
+        body_at(FRAMES + 2, body);
+        fill_buffer(buf, body);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, body, nv), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, nv), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, NULL), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, NULL), WEFT_OK);
+        static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        fr.mesh_collider_transforms = identity;
+        CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, NULL), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, NULL), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_get_vertices(ctx, a, WEFT_SPACE_WORLD, pa, NULL, n, &count), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_get_vertices(ctx, b, WEFT_SPACE_WORLD, pb, NULL, n, &count), WEFT_OK);
+        double moved = ag_max_distance(pa, pb, n);
+        printf("  a rigidly moved frame: the cloths %.3g m apart\n", moved);
+        CHECK(moved <= 0.02);
         free(end_a), free(end_b), free(saved), free(replay);
         free(body), free(pa), free(pb), free(pu), free(nudged);
         glDeleteBuffers(1, &buf);
