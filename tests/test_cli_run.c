@@ -97,6 +97,18 @@ static void test_hanging_sheet(void) {
     check_keys(ms, ms_keys, 4, "ms_per_frame");
     check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms"), stage_keys, 6, "stage_ms");
     check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms_max"), stage_keys, 6, "stage_ms_max");
+    /* the self-collision stage and the stage means, which add up; the solves by kind (the hanging
+       sheet: no contacts, so no friction pass; Newton steps at most one per substep and solve) */
+    static const char* const more_stage_keys[] = {"self_collide", "total"};
+    check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms"), more_stage_keys, 2, "stage_ms");
+    check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms_mean"), stage_keys, 6, "stage_ms_mean");
+    check_keys(cJSON_GetObjectItemCaseSensitive(j, "stage_ms_mean"), more_stage_keys, 2, "stage_ms_mean");
+    static const char* const kind_keys[] = {"newton_steps", "energy_steps", "friction_passes"};
+    const cJSON* kinds = cJSON_GetObjectItemCaseSensitive(j, "solve_kinds");
+    check_keys(kinds, kind_keys, 3, "solve_kinds");
+    CHECK_EQ_INT(cf_num(kinds, "friction_passes"), 0);
+    CHECK(cf_num(kinds, "energy_steps") <= cf_num(kinds, "newton_steps"));
+    CHECK(cf_num(kinds, "newton_steps") < cf_num(j, "solves"));
     static const char* const contact_keys[] = {"max", "final"};
     check_keys(cJSON_GetObjectItemCaseSensitive(j, "contacts"), contact_keys, 2, "contacts");
     const cJSON* backend = cJSON_GetObjectItemCaseSensitive(j, "backend");

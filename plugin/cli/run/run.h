@@ -8,7 +8,7 @@
 #include "scene_types.h"
 #include "weft/weft.h"
 
-enum { RUN_STAGES = 6 };   /* forces, assemble, solve, collide, integrate, total */
+enum { RUN_STAGES = 7 };   /* forces, assemble, solve, collide, integrate, self_collide, total */
 extern const char* const run_stage_names[RUN_STAGES];
 
 /* Fixed facts of a run. */
@@ -48,6 +48,8 @@ typedef struct run_record {
     long long solves;           /* linear solves (Newton iterations, friction passes), all frames */
     double precond_ms;          /* wall time building preconditioners, all frames (ms) */
     long long substeps;         /* substeps completed, all frames */
+    /* the solves by kind, all frames: Newton steps (energy_steps among them), friction passes */
+    long long newton_steps, energy_steps, friction_passes;
     int max_iterations;         /* largest in one solve */
     double residual_max;        /* largest final relative residual of a solve */
     int not_converged;          /* solves stopped at the iteration cap */

@@ -104,19 +104,29 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(o, "p95", ms.p95, &ok);
     add_num(o, "mean", ms.mean, &ok);
     add_num(o, "max", ms.max, &ok);
+    /* the means add up (a frame's stages to its total, less what no stage times); the medians do not */
     cJSON* med = cJSON_AddObjectToObject(root, "stage_ms");
     cJSON* max = cJSON_AddObjectToObject(root, "stage_ms_max");
-    if (!med || !max) ok = 0;
+    cJSON* mean = cJSON_AddObjectToObject(root, "stage_ms_mean");
+    if (!med || !max || !mean) ok = 0;
     for (int s = 0; s < RUN_STAGES; ++s) {
         run_summary_stats st = run_summarise(r->stage_ms + s, r->frames, RUN_STAGES, scratch);
         add_num(med, run_stage_names[s], st.median, &ok);
         add_num(max, run_stage_names[s], st.max, &ok);
+        add_num(mean, run_stage_names[s], st.mean, &ok);
     }
     o = cJSON_AddObjectToObject(root, "iterations");
     if (!o) ok = 0;
     add_num(o, "mean", run_mean_iterations(r), &ok);
     add_num(o, "max", r->max_iterations, &ok);
     add_num(root, "solves", (double)r->solves, &ok);
+    /* the solves by kind (the rest: each substep's first solve, and Newton solves whose step the
+       line search refused) */
+    o = cJSON_AddObjectToObject(root, "solve_kinds");
+    if (!o) ok = 0;
+    add_num(o, "newton_steps", (double)r->newton_steps, &ok);
+    add_num(o, "energy_steps", (double)r->energy_steps, &ok);
+    add_num(o, "friction_passes", (double)r->friction_passes, &ok);
     add_num(root, "ms_precond", r->precond_ms, &ok);
     add_num(root, "residual_max", r->residual_max, &ok);
     add_num(root, "not_converged", r->not_converged, &ok);

@@ -7,7 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char* const run_stage_names[RUN_STAGES] = {"forces", "assemble", "solve", "collide", "integrate", "total"};
+const char* const run_stage_names[RUN_STAGES] = {"forces", "assemble", "solve", "collide", "integrate",
+                                                   "self_collide", "total"};
 const char* const run_frame_val_names[RUN_FRAME_VALS] = {
     "rollbacks", "max_strain", "max_iterations", "not_converged", "self_impacts", "contacts", "self_intersections",
     "penetration"};
@@ -40,7 +41,8 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     st[2] = s->ms_solve;
     st[3] = s->ms_collide;
     st[4] = s->ms_integrate;
-    st[5] = s->ms_total;
+    st[5] = s->ms_self_collide;
+    st[6] = s->ms_total;
     double* fv = r->frame_vals + (size_t)f * RUN_FRAME_VALS;
     fv[0] = s->rollbacks;
     fv[1] = s->max_strain;
@@ -52,6 +54,9 @@ void run_record_frame(run_record* r, int f, double ms, const weft_frame_stats* s
     r->solves += s->solves;
     r->precond_ms += s->ms_precond;
     r->substeps += s->substeps;
+    r->newton_steps += s->newton_steps;
+    r->energy_steps += s->energy_steps;
+    r->friction_passes += s->friction_passes;
     if (s->max_iterations > r->max_iterations) r->max_iterations = s->max_iterations;
     if (s->residual > r->residual_max) r->residual_max = s->residual;
     r->not_converged += s->not_converged;
