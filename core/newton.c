@@ -57,6 +57,14 @@
  * iterate before it is kept); with line search, a decrease of Phi below NW_FLAT of its size.
  * The friction recheck is not repeated.
  *
+ * Friction (the stick/slide set the iterations see): step.c's first recheck after the first
+ * solve frees the sticking contacts the solved cloth overloads and solves again; with Newton
+ * iterations to follow, a later recheck's releases (the few contacts their freed neighbours now
+ * overload) get no solve of their own. The filter, Fa and Fb already have them sliding: the
+ * first step's line search runs from w~0 with them free towards the last solve's dv (which held
+ * them), and the next iteration's solve, on the system with them sliding, moves them. The
+ * measurements: docs/bench/friction_passes.md.
+ *
  * Inexact (Eisenstat & Walker 1996; wc_sim_def.newton_forcing, default 1e-2, 0 off): with more
  * than one Newton iteration, the substep's first system need not be solved past the nonlinear
  * error that the next iteration removes (after the first Baraff-Witkin step |S grad Phi| is still

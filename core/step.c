@@ -334,7 +334,11 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     wc_solve_result res;
     wc_status status = first_solve(s, solver, stuck, &res, st);
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
-       instead, and the system is solved again from this dv (the stuck set only shrinks) */
+       instead, and the system is solved again from this dv (the stuck set only shrinks). With
+       Newton iterations to follow, only the first recheck's releases get a solve of their own:
+       a later recheck's (the few contacts their released neighbours now overload) go into the
+       next Newton iteration's system, which lets them slide (newton.c "Friction") */
+    const int newton_takes_tail = wc_newton_wanted(&s->def) && s->def.newton_iterations > 1;
     wc_solver_hold_coarse(s->solver, 1);   /* a pass changes a few contacts' rows (solve.h) */
     for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && stuck > 0; ++pass) {
         wc_state_mul_system(s, s->dv, s->r);
@@ -343,6 +347,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
                                                    &s->filter, s->A, m->pattern.diag, s->b, &s->par);
         if (changed == 0) break;
         stuck -= changed;
+        if (pass > 0 && newton_takes_tail) break;
         ++st->friction_passes;
         status = wc_solve(s->solver, solver, s->A, s->b, &s->filter, s->dv, &s->par, &res);
         wc_step_stats_add_solve(st, solver, &res);
