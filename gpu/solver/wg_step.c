@@ -192,8 +192,12 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     } else {
         wc_step_stats_add_solve(st, solver, &res);
     }
+    /* as core/step.c: with Newton iterations to follow, a later recheck's releases go into the
+       next Newton iteration's system instead of a solve of their own */
+    const int newton_takes_tail = g->newton && s->def.newton_iterations > 1;
     for (int pass = 0; pass < FRICTION_PASSES && status == WC_OK && colliding(s) && g->contacts; ++pass) {
         if (!wg_contacts_recheck(g->contacts, s, dvres)) break;
+        if (pass > 0 && newton_takes_tail) break;
         ++st->friction_passes;
         /* the next solve starts from this one's result: keep it out of the solver's iterates */
         int nd = wg_ring_other(&g->dv, 0);
