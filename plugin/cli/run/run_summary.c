@@ -26,11 +26,11 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
     fprintf(out, "%-13s median %.3f  p95 %.3f  mean %.3f  max %.3f  (weft_cloth_step wall time)\n", "ms/frame",
             ms.median, ms.p95, ms.mean, ms.max);
     fprintf(out, "%-13s", "stage ms");
-    for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %10s", run_stage_names[order[i]]);
+    for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %12s", run_stage_names[order[i]]);
     fprintf(out, "\n%-13s", "  median");
-    for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %10.3f", stage[order[i]].median);
+    for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %12.3f", stage[order[i]].median);
     fprintf(out, "\n%-13s", "  max");
-    for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %10.3f", stage[order[i]].max);
+    for (int i = 0; i < RUN_STAGES; ++i) fprintf(out, " %12.3f", stage[order[i]].max);
     fputc('\n', out);
     fprintf(out, "%-13s mean %.1f per solve, max %d; largest residual %.3g; %d not converged; %lld linear solves, "
             "%.3f ms building preconditioners\n", "iterations", run_mean_iterations(r), r->max_iterations, r->residual_max,
