@@ -137,16 +137,25 @@ static const double PI = 3.14159265358979323846;
 /* A state with gravity only (no air: the closed forms have none) and nc colliders. One thread:
  * these cloths are tiny, and a parallel region per kernel costs more than the work on a loaded
  * machine (thread-count independence is checked by test_step_physics and test_collide). */
-static wc_state* friction_state(const wc_model* m, const wc_collider* c, int nc, int substeps) {
+/* newton: Newton iterations with the line search (1: the core's default, one linear solve) */
+static wc_state* friction_state_newton(const wc_model* m, const wc_collider* c, int nc, int substeps, int newton) {
     wc_state* s = NULL;
     wc_diag d = {0};
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = 1;
     sd.air.normal_drag = sd.air.tangent_drag = 0.0;
     sd.substeps = substeps;
+    if (newton > 1) {
+        sd.newton_iterations = newton;
+        sd.line_search = 1;
+    }
     CHECK_EQ_INT(wc_state_create(&s, m, &sd, NULL, &d), WC_OK);
     CHECK_EQ_INT(wc_state_set_colliders(s, c, nc, &d), WC_OK);
     return s;
+}
+
+static wc_state* friction_state(const wc_model* m, const wc_collider* c, int nc, int substeps) {
+    return friction_state_newton(m, c, nc, substeps, 1);
 }
 
 /* Capstan (Euler-Eytelwein): a strip hanging over a horizontal cylinder holds still while its
@@ -175,7 +184,8 @@ static double capstan_capacity(double mu, double L1, double R) {
 }
 
 #define NARC 21
-static void capstan_run(int n1, int n2, double mu, double* moved, double* rise, double* strain, int* rollbacks) {
+static void capstan_run(int n1, int n2, double mu, int newton, double* moved, double* rise, double* strain,
+                        int* rollbacks) {
     const double ds = 0.015, width = 0.02, th = 0.005;
     const double dphi = PI / NARC, R = ds / (2.0 * sin(0.5 * dphi));
     int nx = n1 + NARC + n2 + 1;
@@ -205,7 +215,7 @@ static void capstan_run(int n1, int n2, double mu, double* moved, double* rise, 
     c.radius = R - th;
     c.thickness = th;
     c.friction = mu;
-    wc_state* s = friction_state(&m, &c, 1, 16);
+    wc_state* s = friction_state_newton(&m, &c, 1, 16, newton);
     CHECK_EQ_INT(wc_state_set_positions(s, x, NULL, &d), WC_OK);
     int end = m.host_to_particle[0]; /* the bottom of the left (light) side */
     *moved = *strain = 0.0;
@@ -227,20 +237,23 @@ static void capstan_run(int n1, int n2, double mu, double* moved, double* rise, 
     wc_model_free(&m);
 }
 
+/* Each case with one linear solve a substep, and with Newton 2 and the line search (the library's
+ * default: the friction rechecks after the first one go into Newton's second system, step.c). */
 static void test_capstan(void) {
     /* hanging edges of 1.5 cm: 0.24 / 0.33 m and 0.045 / 0.6 m */
     struct { int n1, n2; double mu; } cases[] = {{16, 22, 0.3}, {16, 22, 0.0}, {3, 40, 0.3}, {3, 40, 0.6}};
     const double ds = 0.015, R = ds / (2.0 * sin(0.5 * PI / NARC));
-    for (int k = 0; k < 4; ++k) {
-        double moved, rise, strain, L1 = ds * cases[k].n1, L2 = ds * cases[k].n2;
-        double cap = capstan_capacity(cases[k].mu, L1, R);
+    for (int k = 0; k < 8; ++k) {
+        const int newton = k < 4 ? 1 : 2;
+        double moved, rise, strain, L1 = ds * cases[k % 4].n1, L2 = ds * cases[k % 4].n2, mu = cases[k % 4].mu;
+        double cap = capstan_capacity(mu, L1, R);
         int holds = L2 < 0.8 * cap;
         CHECK(holds || L2 > 1.25 * cap); /* cases well clear of the threshold */
         int rollbacks;
-        capstan_run(cases[k].n1, cases[k].n2, cases[k].mu, &moved, &rise, &strain, &rollbacks);
-        printf("  capstan %.3f / %.3f m, mu %.1f: holds up to %.3f m, so it %s: moved at most %.3g m in 1 s (light end "
-               "%+.3g m); max strain %.3g, %d rollbacks\n", L1, L2, cases[k].mu, cap, holds ? "holds" : "slides", moved,
-               rise, strain, rollbacks);
+        capstan_run(cases[k % 4].n1, cases[k % 4].n2, mu, newton, &moved, &rise, &strain, &rollbacks);
+        printf("  capstan %.3f / %.3f m, mu %.1f, Newton %d: holds up to %.3f m, so it %s: moved at most %.3g m in 1 s "
+               "(light end %+.3g m); max strain %.3g, %d rollbacks\n", L1, L2, mu, newton, cap, holds ? "holds" : "slides",
+               moved, rise, strain, rollbacks);
         CHECK_EQ_INT(rollbacks, 0);
         CHECK(strain < 0.05);
         if (holds)
