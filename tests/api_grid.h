@@ -1,5 +1,6 @@
 /* Helpers of the public-API tests (test_api_*.c): grid meshes as host float arrays, 4x4
- * column-major transforms, a counting allocator, a capturing logger, a snapshot comparison.
+ * column-major transforms, a counting allocator, a capturing logger, a snapshot comparison and
+ * a snapshot's replay.
  * Header-only, public header only. */
 #ifndef WEFT_TESTS_API_GRID_H
 #define WEFT_TESTS_API_GRID_H
@@ -170,6 +171,53 @@ static inline int ag_same_snapshot(weft_context* ctx, weft_cloth c, const unsign
     int same = now && weft_cloth_save(ctx, c, now, sz) == WEFT_OK && memcmp(now, ref, sz) == 0;
     free(now);
     return same;
+}
+
+/* A snapshot's replay: frames 0 .. end - 1 (feed, may be NULL, gives frame f's inputs before the
+ * snapshot is taken; frame steps it), the state saved before frame `at`'s step; then restored
+ * and frames at .. end - 1 run again. */
+typedef weft_status (*ag_feed_fn)(weft_context* ctx, weft_cloth c, int f, void* user);
+typedef weft_status (*ag_frame_fn)(weft_context* ctx, weft_cloth c, int f, weft_frame_stats* fs, void* user);
+typedef struct ag_replay {
+    int ok;                    /* every call returned WEFT_OK (feeds, frames, saves, the restore) */
+    int restored_same;         /* the restored state saves to the snapshot's bytes */
+    int same;                  /* both runs end in the same snapshot bytes */
+    size_t bytes;              /* the snapshot's size */
+    weft_frame_stats before;   /* the first run's stats of frame at - 1 */
+} ag_replay;
+
+static inline ag_replay ag_snapshot_replay(weft_context* ctx, weft_cloth c, int at, int end, ag_feed_fn feed,
+                                           ag_frame_fn frame, void* user) {
+    ag_replay r = {.ok = 1};
+    weft_cloth_info info;
+    if (weft_cloth_get_info(ctx, c, &info) != WEFT_OK) {
+        r.ok = 0;
+        return r;
+    }
+    size_t sz = r.bytes = info.snapshot_size;
+    unsigned char *snap = malloc(sz), *end1 = malloc(sz), *end2 = malloc(sz);
+    if (!snap || !end1 || !end2) r.ok = 0;
+    for (int pass = 0; pass < 2 && r.ok; ++pass) {
+        int f0 = 0;
+        if (pass == 1) {
+            r.ok &= weft_cloth_restore(ctx, c, snap, sz) == WEFT_OK;
+            r.restored_same = ag_same_snapshot(ctx, c, snap, sz);
+            f0 = at;
+        }
+        for (int f = f0; f < end && r.ok; ++f) {
+            weft_frame_stats fs;
+            if (feed) r.ok &= feed(ctx, c, f, user) == WEFT_OK;
+            if (pass == 0 && f == at) r.ok &= weft_cloth_save(ctx, c, snap, sz) == WEFT_OK;
+            r.ok &= frame(ctx, c, f, &fs, user) == WEFT_OK;
+            if (pass == 0 && f == at - 1) r.before = fs;
+        }
+        r.ok &= weft_cloth_save(ctx, c, pass == 0 ? end1 : end2, sz) == WEFT_OK;
+    }
+    r.same = r.ok && memcmp(end1, end2, sz) == 0;
+    free(snap);
+    free(end1);
+    free(end2);
+    return r;
 }
 
 #endif
