@@ -94,6 +94,9 @@ typedef struct wc_gl_vertex_result {
                                    frame end (the collider on_device, mesh_collider.h), nothing read */
     int bad_vertex;             /* taken: -1, or the first vertex whose coordinates are not finite or
                                    reach 1e30 (nothing changed; its 3 floats in bad) */
+    int moves;                  /* taken, no bad vertex: 1 when the new frame end differs from the
+                                   body's frame start on the device (any bit), so the body moves this
+                                   frame (the collider's device_moves) */
     float bad[3];
 } wc_gl_vertex_result;
 

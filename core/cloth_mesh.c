@@ -121,6 +121,7 @@ void wc_cloth_mesh_frame_done(wc_cloth* c) {
     for (int k = 0; k < c->n_mesh; ++k) {
         c->mesh_xf[k] = c->mesh_next[k];
         c->mesh_pending[k] = 0;
+        c->mesh[k]->device_moves = 0;   /* the device's frame ended: from = to (a failed frame keeps it) */
     }
 }
 
@@ -153,7 +154,8 @@ wc_status wc_cloth_read_mesh_gl(wc_cloth* c, int index, const wc_gl_vertex_sourc
     *positions = c->mesh_read;
     if (res->taken && res->bad_vertex < 0) {
         c->mesh_pending[index] = 1;
-        wc_state_wake(c->state);
+        c->mesh[index]->device_moves = res->moves;
+        if (res->moves) wc_state_wake(c->state);   /* as the array call: a body standing still lets it sleep */
     }
     return WC_OK;
 }

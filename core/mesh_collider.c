@@ -130,7 +130,8 @@ wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag
 }
 
 int wc_mesh_collider_moving(const wc_mesh_collider* m) {
-    return m->on_device || memcmp(m->from, m->to, 3 * (size_t)m->n_verts * sizeof(double)) != 0;
+    if (m->on_device) return m->device_moves;
+    return memcmp(m->from, m->to, 3 * (size_t)m->n_verts * sizeof(double)) != 0;
 }
 
 void wc_mesh_collider_end_frame(wc_mesh_collider* m) {

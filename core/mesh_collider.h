@@ -52,8 +52,11 @@ typedef struct wc_mesh_collider {
     int on_device;             /* 0 (create); 1: a backend holds the frame's positions on its device
                                   and moves the body there (a GPU cloth's body from a host GL
                                   buffer): from, to and everything derived here are stale until
-                                  the backend brings them back (cloth_backend.h mesh_pull), and
-                                  the body counts as moving */
+                                  the backend brings them back (cloth_backend.h mesh_pull); whether
+                                  the body moves is then device_moves */
+    int device_moves;          /* on_device: 1 when the device's frame end differs from its frame start
+                                  (any bit of a float), as the backend found when it took the end
+                                  (cloth_backend.h read_gl); 0 again once a frame ends (from = to) */
     int exhaustive;            /* 0 (create); 1: the searches skip no triangle they could
                                   (closest points: every one in reach; feature pairs, mesh_pairs.h:
                                   smooth ones too): the reference a test checks the prunes against */
@@ -72,7 +75,7 @@ void wc_mesh_collider_destroy(wc_mesh_collider* m);
 wc_status wc_mesh_collider_set_target(wc_mesh_collider* m, const double* x, wc_diag* diag);
 /* Jump (teleport, reset, snapshot restore): from = to = xa = xb = x, velocities zero (validated). */
 wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag* diag);
-/* 1 when from != to (the collider moves in this frame), or when the body is on a device. */
+/* 1 when from != to (the collider moves in this frame); on a device, device_moves. */
 int wc_mesh_collider_moving(const wc_mesh_collider* m);
 /* End of a frame: from = to. */
 void wc_mesh_collider_end_frame(wc_mesh_collider* m);

@@ -13,6 +13,8 @@
  * to frame 40; the sheet ends on the risen body (an independent check that the buffer's body
  * moved); the collision check, a teleporting frame and a rigidly moved one (which bring the
  * body back to the CPU) agree with the arrays' cloth. The host's buffer bindings are left alone.
+ * A sheet on a floor given the same floats every frame falls asleep through either call, and a
+ * one-bit change of the buffer wakes it.
  * Every refusal (a null or destroyed handle, index, count, name, size, offset, stride, a mapped buffer, NaN, a
  * coordinate beyond 1e30, no current context, a CPU cloth, a headless context) has its status
  * and message, and leaves the state intact: the cloth's snapshot unchanged and its later frames
@@ -58,12 +60,12 @@ static void body_at(int f, float* out) {
         for (int k = 0; k < 3; ++k) out[3 * i + k] = (float)(s * g_rest[3 * i + k] + (k == 1 ? rise : 0.0));
 }
 
-/* The body's floats interleaved at STRIDE after OFFSET bytes of other data, into buffer b. */
-static void fill_buffer(GLuint b, const float* pos) {
-    size_t bytes = OFFSET + (size_t)g_tm.nv * STRIDE;
+/* A body's floats (nv vertices) interleaved at STRIDE after OFFSET bytes of other data, into buffer b. */
+static void fill_buffer(GLuint b, const float* pos, int nv) {
+    size_t bytes = OFFSET + (size_t)nv * STRIDE;
     unsigned char* img = malloc(bytes);
     for (size_t i = 0; i < bytes; ++i) img[i] = (unsigned char)(i * 37u);   /* not floats of the body */
-    for (int i = 0; i < g_tm.nv; ++i) memcpy(img + OFFSET + (size_t)i * STRIDE, pos + 3 * i, 12);
+    for (int i = 0; i < nv; ++i) memcpy(img + OFFSET + (size_t)i * STRIDE, pos + 3 * i, 12);
     glBindBuffer(GL_COPY_WRITE_BUFFER, b);
     glBufferSubData(GL_COPY_WRITE_BUFFER, 0, (GLsizeiptr)bytes, img);
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
@@ -90,12 +92,13 @@ static weft_context* make_ctx(weft_backend backend, weft_gl_mode mode) {
     return st == WEFT_OK ? ctx : NULL;
 }
 
-static weft_cloth make_cloth(weft_context* ctx) {
+/* A cloth of the sheet with one mesh collider (nv vertices x, nt triangles t). */
+static weft_cloth make_cloth_on(weft_context* ctx, const float* x, int nv, const int* t, int nt) {
     weft_mesh_collider_def m = weft_default_mesh_collider_def();
-    m.mesh.positions = g_rest;
-    m.mesh.n_vertices = g_tm.nv;
-    m.mesh.indices = g_tm.t;
-    m.mesh.n_faces = g_tm.nt;
+    m.mesh.positions = x;
+    m.mesh.n_vertices = nv;
+    m.mesh.indices = t;
+    m.mesh.n_faces = nt;
     m.friction = 0.5;
     weft_cloth_def def = weft_default_cloth_def();
     def.mesh = ag_desc(&g_sheet);
@@ -112,6 +115,8 @@ static weft_cloth make_cloth(weft_context* ctx) {
     if (st != WEFT_OK) fprintf(stderr, "  create: %s\n", weft_context_last_error(ctx));
     return c;
 }
+
+static weft_cloth make_cloth(weft_context* ctx) { return make_cloth_on(ctx, g_rest, g_tm.nv, g_tm.t, g_tm.nt); }
 
 static int has(weft_context* ctx, const char* text) {
     const char* e = weft_context_last_error(ctx);
@@ -203,7 +208,7 @@ static void refusals(weft_context* ctx, weft_cloth c, GLuint buf, wg_gl_context*
     for (int k = 0; k < 3; ++k) {
         float keep = pos[3 * 5 + 1];
         pos[3 * 5 + 1] = bad[k];
-        fill_buffer(other, pos);
+        fill_buffer(other, pos, g_tm.nv);
         pos[3 * 5 + 1] = keep;
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c, 0, other, OFFSET, STRIDE, nv), want[k]);
         CHECK(has(ctx, says[k]));
@@ -265,7 +270,7 @@ static void test_buffer_matches_arrays(void) {
             CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, body, nv), WEFT_OK);
             for (int i = 0; i < 3 * nv; ++i) nudged[i] = nextafterf(body[i], INFINITY);
             CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, u, 0, nudged, nv), WEFT_OK);
-            fill_buffer(buf, body);
+            fill_buffer(buf, body, g_tm.nv);
             glBindBuffer(GL_COPY_READ_BUFFER, mine[0]);
             glBindBuffer(GL_COPY_WRITE_BUFFER, mine[1]);
             record(&before);
@@ -312,7 +317,7 @@ static void test_buffer_matches_arrays(void) {
         int replayed = 1;
         for (int f = SAVED_AT + 1; f <= FRAMES; ++f) {
             body_at(f, body);
-            fill_buffer(buf, body);
+            fill_buffer(buf, body, g_tm.nv);
             CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, nv), WEFT_OK);
             CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, NULL), WEFT_OK);
             CHECK_EQ_INT(weft_cloth_get_vertices(ctx, b, WEFT_SPACE_WORLD, pb, NULL, n, &count), WEFT_OK);
@@ -334,7 +339,7 @@ static void test_buffer_matches_arrays(void) {
         CHECK(fabs(ka.max_penetration - kb.max_penetration) <= 1e-3);
         CHECK(kb.max_penetration < 5e-3);
         body_at(FRAMES + 1, body);
-        fill_buffer(buf, body);
+        fill_buffer(buf, body, g_tm.nv);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, body, nv), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, nv), WEFT_OK);
         fr.flags = WEFT_FRAME_TELEPORT;
@@ -350,7 +355,7 @@ static void test_buffer_matches_arrays(void) {
            back to the CPU for it */
         fr.flags = 0;
         body_at(FRAMES + 2, body);
-        fill_buffer(buf, body);
+        fill_buffer(buf, body, g_tm.nv);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, body, nv), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, nv), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, NULL), WEFT_OK);
@@ -373,6 +378,70 @@ static void test_buffer_matches_arrays(void) {
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     glDeleteBuffers(3, mine);
+    wg_gl_end(host);
+    wg_gl_context_destroy(host);
+}
+
+/* Sleeping on a body that stands still: the sheet dropped 1 cm onto a floor (a 4 m quad, its
+ * normal up), one cloth given the floor's floats through the array call every frame, the other
+ * the same floats through the buffer call (the same buffer, unchanged). Both fall asleep, the
+ * buffer's cloth within SLEEP_FRAMES frames of the arrays' (on the GPU its contacts are computed
+ * in float; read back, core's path: the same frame), and stay asleep while given the same floats;
+ * then the buffer's contents change by one bit of one coordinate and the buffer's cloth wakes in
+ * that frame, as the arrays' does given the same change. */
+#define SLEEP_FRAMES 3
+#define MAX_SLEEP_FRAMES 150
+static void test_sleep_on_still_body(void) {
+    char err[512];
+    wg_gl_context_desc hd;
+    memset(&hd, 0, sizeof hd);
+    wg_gl_context* host = NULL;
+    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    if (!host) return;
+    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
+    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    if (ctx) {
+        const float y = 0.49f;   /* the sheet lies at 0.5 m */
+        float floor[12] = {-2, y, -2, -2, y, 2, 2, y, 2, 2, y, -2};
+        const int quad[6] = {0, 1, 2, 0, 2, 3};
+        weft_cloth a = make_cloth_on(ctx, floor, 4, quad, 2), b = make_cloth_on(ctx, floor, 4, quad, 2);
+        GLuint buf = make_buffer(OFFSET + 4 * (size_t)STRIDE);
+        fill_buffer(buf, floor, 4);
+        weft_frame fr = weft_default_frame();
+        fr.dt = DT;
+        weft_frame_stats sa, sb;
+        int fell_a = 0, fell_b = 0, f = 1;
+        for (; f <= MAX_SLEEP_FRAMES && !(fell_a && fell_b); ++f) {
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, &sa), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, &sb), WEFT_OK);
+            if (sa.fell_asleep) fell_a = f;
+            if (sb.fell_asleep) fell_b = f;
+        }
+        printf("  a sheet on a still floor (the body %s): asleep after frame %d (arrays), %d (buffer)\n",
+               hg_body_on_gpu() ? "on the GPU" : "read back", fell_a, fell_b);
+        CHECK(fell_a > 0 && fell_b > 0);
+        CHECK(abs(fell_a - fell_b) <= (hg_body_on_gpu() ? SLEEP_FRAMES : 0));
+        for (int k = 0; k < 3; ++k, ++f) {   /* the same floats: both sleep on */
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, &sa), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, &sb), WEFT_OK);
+            CHECK(sa.asleep && sb.asleep);
+        }
+        floor[7] = nextafterf(floor[7], -INFINITY);   /* one bit of vertex 2's y */
+        fill_buffer(buf, floor, 4);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, &sa), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, &sb), WEFT_OK);
+        printf("  one bit of the floor changed at frame %d: woke (arrays) %d, (buffer) %d\n", f, sa.woke, sb.woke);
+        CHECK(sa.woke && !sa.asleep);
+        CHECK(sb.woke && !sb.asleep);
+        glDeleteBuffers(1, &buf);
+        weft_context_destroy(ctx);
+    }
     wg_gl_end(host);
     wg_gl_context_destroy(host);
 }
@@ -405,6 +474,7 @@ int main(void) {
     for (int i = 0; i < 3 * g_tm.nv; ++i) g_rest[i] = (float)g_tm.x[i];
     ag_grid(&g_sheet, N, 1.0, 0.5, 0, 0);
     RUN_TEST(test_buffer_matches_arrays);
+    RUN_TEST(test_sleep_on_still_body);
     RUN_TEST(test_other_contexts);
     ag_free(&g_sheet);
     free(g_rest);

@@ -9,7 +9,8 @@
  * (a crossed path put back in front first), against core's wc_contacts_project_from. Also a box
  * mesh (sharp edges and corners: the edge and vertex side rules), and a mesh with an analytic
  * plane after it (the collider ids). A particle within 1 mm of the surface after begin is left
- * out of begin's comparison (its normal at an edge, along p - q, is not decided in float). */
+ * out of begin's comparison (its normal at an edge, along p - q, is not decided in float). The
+ * cloth's GPU memory counts the contacts' and the meshes' textures. */
 #include "check.h"
 #include "collide.h"
 #include "egl_context.h"
@@ -220,6 +221,55 @@ static void run_case(int kind, int moving, double push, int plane, unsigned long
     wc_model_free(&m);
 }
 
+/* The GPU memory a cloth holds (wg_sim_gpu_bytes, the backend's device_bytes) counts the
+ * contacts' textures and the mesh colliders' (their bodies' too): one sheet without colliders,
+ * with room for them, and with an icosphere; each step up holds at least the texels those
+ * textures need, 16 bytes each (RGBA32F). */
+static void test_device_bytes(void) {
+    double c0[3] = {0.0, 0.0, 0.0};
+    icosphere(&g_body, 2, 0.5, c0);
+    wc_model m;
+    CHECK(ts_sheet(&m, 14, 1.0, 0.0, 0, 1.0));
+    size_t bytes[3] = {0, 0, 0};
+    int n_node = 0;
+    for (int k = 0; k < 3; ++k) {
+        wc_sim_def sd = wc_default_sim_def();
+        sd.solver.type = WC_SOLVER_PCG;
+        sd.threads = 1;
+        if (k == 0) sd.max_colliders = 0;
+        wc_state* s = NULL;
+        wc_diag d = {0};
+        CHECK_EQ_INT(wc_state_create(&s, &m, &sd, NULL, &d), WC_OK);
+        wc_mesh_collider* mc = NULL;
+        if (k == 2) {
+            CHECK_EQ_INT(wc_mesh_collider_create(&mc, g_body.x, g_body.nv, g_body.t, g_body.nt, THICK, 0.5, NULL, &d),
+                         WC_OK);
+            CHECK_EQ_INT(wc_state_attach_mesh_colliders(s, &mc, 1, &d), WC_OK);
+            n_node = mc->bvh.n_nodes;
+        }
+        wg_sim* g = NULL;
+        CHECK_EQ_INT(wg_sim_create(g_dev, s, NULL, &g, &d), WC_OK);
+        if (g) bytes[k] = wg_sim_gpu_bytes(g);
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_mesh_collider_destroy(mc);
+    }
+    /* the contacts, per particle: rings of 3 textures for 3 arrays, their back-ups, the filter's
+       scratch (S0, S1, z, b), the diagonal blocks, the surface velocities, x after begin, the
+       held impulses */
+    const size_t contacts = 16 * (size_t)m.n_particles * (9 + 3 + 4 + 2 + 1 + 1 + 2);
+    /* the meshes: vertices (3 texels), triangles (3), nodes (2); the bodies: 5 per vertex (from,
+       to, the take's scratch, the back-up, the measure), 1 per triangle and per node */
+    size_t meshes = 16 * (3 * (size_t)g_body.nv + 3 * (size_t)g_body.nt + 2 * (size_t)n_node);
+    if (g_dev->compute) meshes += 16 * (5 * (size_t)g_body.nv + (size_t)g_body.nt + (size_t)n_node);
+    printf("  device bytes: %zu without colliders, %zu with room for them (+%zu at least), %zu with an icosphere "
+           "(+%zu at least)\n", bytes[0], bytes[1], contacts, bytes[2], meshes);
+    CHECK(bytes[0] > 0);
+    CHECK(bytes[1] >= bytes[0] + contacts);
+    CHECK(bytes[2] >= bytes[1] + meshes);
+    wc_model_free(&m);
+}
+
 static void test_cases(void) {
     run_case(0, 0, 0.0, 0, 0x51u);
     run_case(0, 1, 0.0, 0, 0x52u);
@@ -238,6 +288,7 @@ int main(void) {
         return 1;
     }
     RUN_TEST(test_cases);
+    RUN_TEST(test_device_bytes);
     wg_device_destroy(g_dev);
     wg_gl_end(g_ctx);
     wg_gl_context_destroy(g_ctx);

@@ -370,7 +370,35 @@ static void test_deforming_carries(void) {
     CHECK(fabs(still) < 0.01);
 }
 
+/* Whether the collider moves in the frame: from != to on the host (any bit); on a device, what
+ * its backend found (device_moves), whatever core's stale from and to hold. */
+static void test_moving(void) {
+    static tmesh t;
+    square(&t, 2, 1.0);
+    wc_mesh_collider* mc = make_collider(&t, 0.0, 0.0);
+    if (!mc) return;
+    wc_diag d = {0};
+    CHECK(!wc_mesh_collider_moving(mc));
+    double* x = malloc(3 * (size_t)t.nv * sizeof(double));
+    memcpy(x, t.x, 3 * (size_t)t.nv * sizeof(double));
+    x[4] = nextafter(x[4], 1.0);   /* one bit */
+    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, x, &d), WC_OK);
+    CHECK(wc_mesh_collider_moving(mc));
+    mc->on_device = 1;   /* the device's frame: core's from != to are stale */
+    CHECK(!wc_mesh_collider_moving(mc));
+    mc->device_moves = 1;
+    CHECK(wc_mesh_collider_moving(mc));
+    mc->on_device = mc->device_moves = 0;
+    wc_mesh_collider_end_frame(mc);
+    CHECK(!wc_mesh_collider_moving(mc));
+    mc->on_device = mc->device_moves = 1;
+    CHECK(wc_mesh_collider_moving(mc));
+    free(x);
+    wc_mesh_collider_destroy(mc);
+}
+
 int main(void) {
+    RUN_TEST(test_moving);
     RUN_TEST(test_sphere_distance_matches_analytic);
     RUN_TEST(test_drop_on_sphere);
     RUN_TEST(test_drop_on_box);

@@ -273,7 +273,8 @@ static wc_status read_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src,
         wc_diag quiet = *d;
         quiet.log = NULL;
         glGetError();
-        st = wg_mesh_body_take(mesh, index, src->buffer, src->offset, src->stride, &res->bad_vertex, res->bad, &quiet);
+        st = wg_mesh_body_take(mesh, index, src->buffer, src->offset, src->stride, &res->bad_vertex, res->bad,
+                               &res->moves, &quiet);
         GLenum e = glGetError();
         if (st == WC_OK && e != GL_NO_ERROR) st = wc_fail(&quiet, WC_ERROR_GPU, "GL error %s", wg_gl_error_name(e));
         res->taken = st == WC_OK;

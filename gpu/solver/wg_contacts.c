@@ -58,16 +58,34 @@ static void swap_tex(wg_tex* a, wg_tex* b) {
     *b = t;
 }
 
+/* Every texture of cs but the meshes' and the chain's into t (room for 25); their count. */
+static int textures(wg_contacts* cs, wg_tex** t) {
+    wg_ring* rings[3] = {&cs->c0, &cs->c1, &cs->c2};
+    int n = 0;
+    for (int r = 0; r < 3; ++r)
+        for (int j = 0; j < 3; ++j) t[n++] = &rings[r]->t[j];
+    for (int r = 0; r < 3; ++r) t[n++] = &cs->bk[r];
+    wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->A0, &cs->A1, &cs->cols,
+                    &cs->cvel, &cs->x_sub, &cs->held[0], &cs->held[1]};
+    for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) t[n++] = pv[k];
+    return n;
+}
+
+size_t wg_contacts_bytes(const wg_contacts* cs) {
+    if (!cs) return 0;
+    wg_tex* t[25];
+    int n = textures((wg_contacts*)cs, t);
+    size_t bytes = wg_chain_bytes(&cs->chain) + wg_mesh_bytes(&cs->mesh);
+    for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
+    return bytes;
+}
+
 static void release(wg_contacts* cs, int gl) {
     if (!cs) return;
     if (gl) {
-        wg_ring* rings[3] = {&cs->c0, &cs->c1, &cs->c2};
-        for (int r = 0; r < 3; ++r)
-            for (int j = 0; j < 3; ++j) wg_tex_destroy(&rings[r]->t[j]);
-        for (int r = 0; r < 3; ++r) wg_tex_destroy(&cs->bk[r]);
-        wg_tex* pv[] = {&cs->S0, &cs->S1, &cs->z, &cs->b, &cs->ad0, &cs->ad1, &cs->A0, &cs->A1, &cs->cols,
-                        &cs->cvel, &cs->x_sub, &cs->held[0], &cs->held[1]};
-        for (size_t k = 0; k < sizeof pv / sizeof pv[0]; ++k) wg_tex_destroy(pv[k]);
+        wg_tex* t[25];
+        int n = textures(cs, t);
+        for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
         wg_chain_destroy(&cs->chain);
     }
     const wc_allocator* alloc = &cs->run->layout->alloc;

@@ -42,6 +42,8 @@ wc_status wg_contacts_create(wg_runner* r, const wg_contact_cloth* cloth, int ma
 void wg_contacts_destroy(wg_contacts* cs);
 /* Free the memory only (the GL context is gone). */
 void wg_contacts_forget(wg_contacts* cs);
+/* GPU memory held (textures: the contacts', the mesh colliders' and their bodies'); 0 for NULL. */
+size_t wg_contacts_bytes(const wg_contacts* cs);
 
 /* 1: after the pins pass (S0, S1, z hold the pins): move the meshes to the substep from
  * s->sub_alpha0 to alpha1 of length h, find contacts, correct positions (a new x cur), write

@@ -32,6 +32,13 @@ void wg_mesh_release(wg_mesh* g, int gl) {
     g->staging = NULL;
 }
 
+size_t wg_mesh_bytes(const wg_mesh* g) {
+    const wg_tex* t[] = {&g->vert, &g->tri, &g->node};
+    size_t bytes = wg_mesh_body_bytes(g);
+    for (size_t k = 0; k < sizeof t / sizeof t[0]; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
+    return bytes;
+}
+
 int wg_mesh_init(wg_mesh* g, wg_runner* run, wc_mesh_collider* const* mesh, int n_mesh, char* err,
                  size_t err_len) {
     const wg_layout* L = run->layout;

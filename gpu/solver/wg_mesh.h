@@ -52,6 +52,7 @@ typedef struct wg_mesh {
 int wg_mesh_init(wg_mesh* g, wg_runner* run, wc_mesh_collider* const* mesh, int n_mesh, char* err,
                  size_t err_len);
 void wg_mesh_release(wg_mesh* g, int gl);   /* gl 0: the memory only (the GL context is gone) */
+size_t wg_mesh_bytes(const wg_mesh* g);        /* GPU memory held: every texture, the bodies' too */
 /* The substep from frame fraction a0 to a1, of length h (core/step.c's substep_colliders): the
  * resident bodies by the passes (wg_mesh_body_substep), then core moves every other mesh to it
  * and its positions, velocities, normals and BVH boxes are uploaded. */
@@ -63,6 +64,7 @@ void wg_mesh_upload(wg_mesh* g, int k);
 /* The textures and the tree's heights; 0 with err (GL, out of memory). */
 int wg_mesh_body_init(wg_mesh* g, char* err, size_t err_len);
 void wg_mesh_body_release(wg_mesh* g, int gl);
+size_t wg_mesh_body_bytes(const wg_mesh* g);   /* the bodies' textures (0 without them) */
 /* Make mesh k resident with frame positions from and to (n_verts x 3 each, rounded to float). */
 void wg_mesh_body_set(wg_mesh* g, int k, const double* from, const double* to);
 /* The resident bodies moved to the substep (a0, a1, h) by the passes: their vertex and triangle
@@ -80,10 +82,12 @@ void wg_mesh_body_restore_backup(wg_mesh* g);
  * floats at byte offset + i stride,
  * copied on the GPU and checked there (NaN, Inf, |coordinate| >= 1e30: WC_OK with *bad_vertex the
  * first bad vertex and bad its 3 floats, nothing changed; else *bad_vertex -1). The mesh becomes
- * resident (its frame start from core's copy when it was not). WC_ERROR_UNSUPPORTED (nothing
- * changed) when the range is too long for the raw texture: the caller reads the buffer back. */
+ * resident (its frame start from core's copy when it was not); *moves 1 when the new end differs
+ * from the frame's start in any bit (found in the same read-back as the check), so the body moves
+ * this frame however often the end is taken before it. WC_ERROR_UNSUPPORTED (nothing changed)
+ * when the range is too long for the raw texture: the caller reads the buffer back. */
 wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, size_t stride, int* bad_vertex,
-                            float bad[3], wc_diag* d);
+                            float bad[3], int* moves, wc_diag* d);
 /* Core's copy of every resident body from the textures (from, to; the substep positions at from,
  * as a snapshot's restore leaves them), and each given back to the host. */
 void wg_mesh_body_pull(wg_mesh* g);

@@ -16,9 +16,12 @@
 #include "wg_mesh.h"
 #include "wg_passes.h"
 
+#define BODY_TEXTURES(g) {&(g)->from, &(g)->to, &(g)->to_next, &(g)->from_bk, &(g)->tri_idx, &(g)->order, \
+                         &(g)->meas, &(g)->raw}
+
 void wg_mesh_body_release(wg_mesh* g, int gl) {
     if (gl && g->body) {
-        wg_tex* t[] = {&g->from, &g->to, &g->to_next, &g->from_bk, &g->tri_idx, &g->order, &g->meas, &g->raw};
+        wg_tex* t[] = BODY_TEXTURES(g);
         for (size_t k = 0; k < sizeof t / sizeof t[0]; ++k) wg_tex_destroy(t[k]);
         wg_chain_destroy(&g->chain);
     }
@@ -28,6 +31,14 @@ void wg_mesh_body_release(wg_mesh* g, int gl) {
     g->resident = NULL;
     g->height = g->order_first = NULL;
     g->body = 0;
+}
+
+size_t wg_mesh_body_bytes(const wg_mesh* g) {
+    if (!g->body) return 0;
+    const wg_tex* t[] = BODY_TEXTURES(g);
+    size_t bytes = wg_chain_bytes(&g->chain);
+    for (size_t k = 0; k < sizeof t / sizeof t[0]; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
+    return bytes;
 }
 
 int wg_mesh_body_init(wg_mesh* g, char* err, size_t err_len) {
@@ -143,7 +154,7 @@ void wg_mesh_body_substep(wg_mesh* g, double a0, double a1, double h) {
     for (int k = 0; k < g->n_mesh; ++k) {
         if (!g->resident[k]) continue;
         wc_mesh_collider* m = g->mesh[k];
-        WG_USE(run, WGP_MESH_MEASURE, &(wg_src_in){.src = &g->vert});
+        WG_USE(run, WGP_MESH_MEASURE, &(wg_mesh_measure_in){.src = &g->vert, .ref = &g->vert});
         wg_u1i(run, "u_mode", 0);
         wg_u1i(run, "u_v0", g->vert0[k]);
         wg_u1i(run, "u_v1", g->vert0[k] + m->n_verts);
@@ -195,8 +206,9 @@ void wg_mesh_body_pull(wg_mesh* g) {
 }
 
 wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, size_t stride, int* bad_vertex,
-                            float bad[3], wc_diag* d) {
+                            float bad[3], int* moves, wc_diag* d) {
     *bad_vertex = -1;
+    *moves = 0;
     if (!g->body) return wc_fail(d, WC_ERROR_UNSUPPORTED, "the bodies are moved on the host with fragment passes");
     wc_mesh_collider* m = g->mesh[k];
     wg_runner* run = g->run;
@@ -210,19 +222,23 @@ wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, s
     wc_status st = wg_host_buffer_unpack(buffer, offset, floats, &g->raw, W, (int)rows, d);
     if (st != WC_OK) return st;
     const int v0 = g->vert0[k], v1 = v0 + m->n_verts;
+    if (!g->resident[k]) put_positions(g, &g->from, k, m->from);   /* core's copy is current */
     WG_USE(run, WGP_MESH_GATHER, &(wg_mesh_gather_in){.raw = &g->raw, .body_to = &g->to});
     wg_u1i(run, "u_v0", v0);
     wg_u1i(run, "u_v1", v1);
     wg_u1i(run, "u_stride", (int)(stride / sizeof(float)));
     wg_u1i(run, "u_rw", W);
     WG_RUN(run, g->n_vert, &g->to_next);
-    WG_USE(run, WGP_MESH_MEASURE, &(wg_src_in){.src = &g->to_next});
+    /* the check and whether the body moves: the new end against the frame's start, which is what
+       core's wc_mesh_collider_moving asks of a step (after a frame from = to; a second take in the
+       same frame still compares with the start) */
+    WG_USE(run, WGP_MESH_MEASURE, &(wg_mesh_measure_in){.src = &g->to_next, .ref = &g->from});
     wg_u1i(run, "u_mode", 1);
     wg_u1i(run, "u_v0", v0);
     wg_u1i(run, "u_v1", v1);
     WG_RUN(run, g->n_vert, &g->meas);
     float r[4];
-    wg_read1(L, wg_reduce(run, &g->chain, &g->meas, 1, 0, 0, 0), r);
+    wg_read1(L, wg_reduce(run, &g->chain, &g->meas, 1, 1, 0, 0), r);
     if (r[0] > 0.0f) {   /* the first bad vertex's floats, for the caller's message */
         int v = v1 - (int)r[0];
         wg_array_read(L, &g->to_next, v + 1, g->staging);
@@ -230,11 +246,11 @@ wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, s
         *bad_vertex = v - v0;
         return WC_OK;
     }
-    if (!g->resident[k]) put_positions(g, &g->from, k, m->from);   /* core's copy is current */
     wg_tex t = g->to;
     g->to = g->to_next;
     g->to_next = t;
     make_resident(g, k);
     m->on_device = 1;
+    *moves = r[1] > 0.0f;
     return WC_OK;
 }

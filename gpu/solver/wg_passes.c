@@ -148,6 +148,8 @@ static const wg_pass_input mesh_verts[] = {IN(wg_mesh_verts_in, body_from), IN(w
 WHOLE(wg_mesh_verts_in, mesh_verts);
 static const wg_pass_input mesh_tris[] = {IN(wg_mesh_tris_in, tri_idx), IN(wg_mesh_tris_in, vert)};
 WHOLE(wg_mesh_tris_in, mesh_tris);
+static const wg_pass_input mesh_measure[] = {IN(wg_mesh_measure_in, src), IN(wg_mesh_measure_in, ref)};
+WHOLE(wg_mesh_measure_in, mesh_measure);
 static const wg_pass_input mesh_gather[] = {IN(wg_mesh_gather_in, raw), IN(wg_mesh_gather_in, body_to)};
 WHOLE(wg_mesh_gather_in, mesh_gather);
 static const wg_pass_input mesh_refit[] = {IN(wg_mesh_refit_in, order), IN(wg_mesh_refit_in, tri_idx),
@@ -274,7 +276,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_INTEG_CONTACTS] = PASS("integ_contacts", integ_contacts, wg_integ_contacts_in),
     [WGP_MESH_VERTS] = COMPUTE("mesh_verts", mesh_verts, wg_mesh_verts_in),
     [WGP_MESH_TRIS] = COMPUTE("mesh_tris", mesh_tris, wg_mesh_tris_in),
-    [WGP_MESH_MEASURE] = COMPUTE("mesh_measure", src, wg_src_in),
+    [WGP_MESH_MEASURE] = COMPUTE("mesh_measure", mesh_measure, wg_mesh_measure_in),
     [WGP_MESH_GATHER] = COMPUTE("mesh_gather", mesh_gather, wg_mesh_gather_in),
     [WGP_MESH_REFIT_GROUPS] = NATIVE("mesh_refit_groups", mesh_refit, wg_mesh_refit_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),

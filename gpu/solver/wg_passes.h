@@ -229,7 +229,7 @@ typedef struct wg_check_springs_in {    /* check_springs.glsl */
     const wg_tex *x, *spring, *spring_rest;
 } wg_check_springs_in;
 
-typedef struct wg_src_in {      /* reduce, reduce_groups, copy, copy_texel, mesh_measure: one texture read */
+typedef struct wg_src_in {      /* reduce, reduce_groups, copy, copy_texel: one texture read */
     const wg_tex* src;
 } wg_src_in;
 
@@ -250,6 +250,10 @@ typedef struct wg_mesh_verts_in {   /* mesh_verts.glsl */
 typedef struct wg_mesh_tris_in {    /* mesh_tris.glsl */
     const wg_tex *tri_idx, *vert;
 } wg_mesh_tris_in;
+
+typedef struct wg_mesh_measure_in { /* mesh_measure.glsl */
+    const wg_tex *src, *ref;
+} wg_mesh_measure_in;
 
 typedef struct wg_mesh_gather_in {  /* mesh_gather.glsl */
     const wg_tex *raw, *body_to;

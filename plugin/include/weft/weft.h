@@ -618,7 +618,10 @@ WEFT_API weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, we
  * buffer there and checked there (16 bytes read back: the call waits for the GPU to finish the
  * host's commands that write the buffer), and the body's motion across the frame, its normals,
  * its BVH refit and its fastest vertex are computed there every substep, in float; the result
- * agrees with the array call's to float's reach, not bit for bit. The body comes back to the CPU
+ * agrees with the array call's to float's reach, not bit for bit. Vertices bit-identical to where
+ * the body starts the frame (the same floats frame after frame: a body standing still) leave it
+ * still, so the cloth may fall asleep on it and sleeps on, as with the array call; any other
+ * vertices wake it. The body comes back to the CPU
  * only when the host needs it there: weft_cloth_save, weft_cloth_check_collisions, the array
  * call, a rigid transform for it in a frame without this call, TELEPORT or RESET (until the
  * next call of this one, the body is then moved on the CPU). With fragment passes (a GL 3.3
