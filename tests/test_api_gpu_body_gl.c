@@ -227,16 +227,22 @@ static void refusals(weft_context* ctx, weft_cloth c, GLuint buf, wg_gl_context*
     free(ref);
 }
 
-/* The two cloths of one host-current context, frame by frame; refusals on the buffer's cloth at
- * frame 15 (after its body was set for that frame). */
-static void test_buffer_matches_arrays(void) {
+/* A host's headless context, current (NULL when none could be made). */
+static wg_gl_context* host_begin(void) {
     char err[512];
     wg_gl_context_desc hd;
     memset(&hd, 0, sizeof hd);
     wg_gl_context* host = NULL;
     CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    if (host) CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
+    return host;
+}
+
+/* The two cloths of one host-current context, frame by frame; refusals on the buffer's cloth at
+ * frame 15 (after its body was set for that frame). */
+static void test_buffer_matches_arrays(void) {
+    wg_gl_context* host = host_begin();
     if (!host) return;
-    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
     /* the host's own buffer bindings, which the calls must leave alone */
     GLuint mine[3];
     glGenBuffers(3, mine);
@@ -391,14 +397,21 @@ static void test_buffer_matches_arrays(void) {
  * that frame, as the arrays' does given the same change. */
 #define SLEEP_FRAMES 3
 #define MAX_SLEEP_FRAMES 150
+
+/* One frame of both: a's floor (4 vertices) through the array call, b's from buf. */
+static void floor_frame(weft_context* ctx, weft_cloth a, weft_cloth b, const float* floor, GLuint buf,
+                        weft_frame_stats* sa, weft_frame_stats* sb) {
+    weft_frame fr = weft_default_frame();
+    fr.dt = DT;
+    CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, sa), WEFT_OK);
+    CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, sb), WEFT_OK);
+}
+
 static void test_sleep_on_still_body(void) {
-    char err[512];
-    wg_gl_context_desc hd;
-    memset(&hd, 0, sizeof hd);
-    wg_gl_context* host = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    wg_gl_context* host = host_begin();
     if (!host) return;
-    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
     if (ctx) {
         const float y = 0.49f;   /* the sheet lies at 0.5 m */
@@ -407,15 +420,10 @@ static void test_sleep_on_still_body(void) {
         weft_cloth a = make_cloth_on(ctx, floor, 4, quad, 2), b = make_cloth_on(ctx, floor, 4, quad, 2);
         GLuint buf = make_buffer(OFFSET + 4 * (size_t)STRIDE);
         fill_buffer(buf, floor, 4);
-        weft_frame fr = weft_default_frame();
-        fr.dt = DT;
         weft_frame_stats sa, sb;
         int fell_a = 0, fell_b = 0, f = 1;
         for (; f <= MAX_SLEEP_FRAMES && !(fell_a && fell_b); ++f) {
-            CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
-            CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
-            CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, &sa), WEFT_OK);
-            CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, &sb), WEFT_OK);
+            floor_frame(ctx, a, b, floor, buf, &sa, &sb);
             if (sa.fell_asleep) fell_a = f;
             if (sb.fell_asleep) fell_b = f;
         }
@@ -424,18 +432,12 @@ static void test_sleep_on_still_body(void) {
         CHECK(fell_a > 0 && fell_b > 0);
         CHECK(abs(fell_a - fell_b) <= (hg_body_on_gpu() ? SLEEP_FRAMES : 0));
         for (int k = 0; k < 3; ++k, ++f) {   /* the same floats: both sleep on */
-            CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
-            CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
-            CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, &sa), WEFT_OK);
-            CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, &sb), WEFT_OK);
+            floor_frame(ctx, a, b, floor, buf, &sa, &sb);
             CHECK(sa.asleep && sb.asleep);
         }
         floor[7] = nextafterf(floor[7], -INFINITY);   /* one bit of vertex 2's y */
         fill_buffer(buf, floor, 4);
-        CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, a, 0, floor, 4), WEFT_OK);
-        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, b, 0, buf, OFFSET, STRIDE, 4), WEFT_OK);
-        CHECK_EQ_INT(weft_cloth_step(ctx, a, &fr, &sa), WEFT_OK);
-        CHECK_EQ_INT(weft_cloth_step(ctx, b, &fr, &sb), WEFT_OK);
+        floor_frame(ctx, a, b, floor, buf, &sa, &sb);
         printf("  one bit of the floor changed at frame %d: woke (arrays) %d, (buffer) %d\n", f, sa.woke, sb.woke);
         CHECK(sa.woke && !sa.asleep);
         CHECK(sb.woke && !sb.asleep);
