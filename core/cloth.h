@@ -222,9 +222,9 @@ wc_status wc_cloth_set_mesh_vertices(wc_cloth* c, int index, const float* positi
 /* Mesh collider `index`'s next frame end from a host GL buffer (src->n must be its n_verts),
  * through the backend (read_gl): kept on the device (res->taken: the collider's next target
  * there, its device_moves res->moves, the cloth woken when it moves; unless res->bad_vertex >= 0,
- * when nothing changed), or read into c->mesh_read and
- * returned in *positions for the caller's checks and wc_cloth_set_mesh_vertices (nothing else
- * changes). Backends without the host's GL context refuse it (UNSUPPORTED). */
+ * when nothing changed), or read into c->mesh_read and returned in *positions for the caller's
+ * checks and wc_cloth_set_mesh_vertices (nothing else changes). Backends without the host's GL
+ * context refuse it (UNSUPPORTED). */
 wc_status wc_cloth_read_mesh_gl(wc_cloth* c, int index, const wc_gl_vertex_source* src, const float** positions,
                                 wc_gl_vertex_result* res, wc_diag* d);
 

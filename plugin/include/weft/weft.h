@@ -621,11 +621,11 @@ WEFT_API weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, we
  * agrees with the array call's to float's reach, not bit for bit. Vertices bit-identical to where
  * the body starts the frame (the same floats frame after frame: a body standing still) leave it
  * still, so the cloth may fall asleep on it and sleeps on, as with the array call; any other
- * vertices wake it. The body comes back to the CPU
- * only when the host needs it there: weft_cloth_save, weft_cloth_check_collisions, the array
- * call, a rigid transform for it in a frame without this call, TELEPORT or RESET (until the
- * next call of this one, the body is then moved on the CPU). With fragment passes (a GL 3.3
- * context) the vertices are read back and take the array call's path, bit-identical to it.
+ * vertices wake it. The body comes back to the CPU only when the host needs it there:
+ * weft_cloth_save, weft_cloth_check_collisions, the array call, a rigid transform for it in a
+ * frame without this call, TELEPORT or RESET (until the next call of this one, the body is then
+ * moved on the CPU). With fragment passes (a GL 3.3 context) the vertices are read back and take
+ * the array call's path, bit-identical to it.
  * Errors (nothing changes): INVALID_HANDLE, OUT_OF_RANGE (index, or a wrong n_vertices),
  * INVALID_ARGUMENT (buffer 0 or not a buffer object, one smaller than offset + (n_vertices - 1)
  * stride + 12 bytes, offset or stride not a multiple of 4, a stride of 4 or 8, a buffer the host
