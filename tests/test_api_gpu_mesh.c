@@ -222,8 +222,6 @@ static void test_bad_inputs(void) {
     weft_context_destroy(ctx[1]);
 }
 
-/* A snapshot after 10 frames with the box swaying (vertices set each frame, the next frame's
- * already set when saved) restores to the same bytes and replays bit-identically. */
 static weft_status sway_feed(weft_context* ctx, weft_cloth c, int f, void* user) {
     (void)user;
     float v[24];
@@ -243,6 +241,8 @@ static weft_status plain_frame(weft_context* ctx, weft_cloth c, int f, weft_fram
     return weft_cloth_step(ctx, c, &fr, fs);
 }
 
+/* A snapshot after 10 frames with the box swaying (vertices set each frame, the next frame's
+ * already set when saved) restores to the same bytes and replays bit-identically. */
 static void test_snapshot(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);

@@ -218,8 +218,6 @@ static void test_defaults_accepted(void) {
     weft_context_destroy(ctx);
 }
 
-/* A snapshot after 10 frames on the tilted plane (contacts held, sliding) at Newton 2 with the
- * line search restores to the same bytes and replays bit-identically to frame 25. */
 static weft_status plain_frame(weft_context* ctx, weft_cloth c, int f, weft_frame_stats* fs, void* user) {
     (void)f, (void)user;
     weft_frame fr = weft_default_frame();
@@ -227,6 +225,8 @@ static weft_status plain_frame(weft_context* ctx, weft_cloth c, int f, weft_fram
     return weft_cloth_step(ctx, c, &fr, fs);
 }
 
+/* A snapshot after 10 frames on the tilted plane (contacts held, sliding) at Newton 2 with the
+ * line search restores to the same bytes and replays bit-identically to frame 25. */
 static void test_snapshot(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);

@@ -167,13 +167,13 @@ static void test_vs_cpu(void) {
     }
 }
 
-/* A snapshot after 10 frames on the sliding capsule (contacts held, the collider moving) restores
- * to the same bytes and replays bit-identically to frame 25. */
 static weft_status capsule_frame(weft_context* ctx, weft_cloth c, int f, weft_frame_stats* fs, void* user) {
     (void)user;
     return step(ctx, c, 1, f, fs);
 }
 
+/* A snapshot after 10 frames on the sliding capsule (contacts held, the collider moving) restores
+ * to the same bytes and replays bit-identically to frame 25. */
 static void test_snapshot(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);
