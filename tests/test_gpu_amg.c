@@ -1,11 +1,12 @@
 /* The GPU's multigrid preconditioner (gpu/solver/wg_amg.h) on a real EGL context (llvmpipe
  * without a GPU): PCG with it reaches CHOLMOD's answer on real systems (hanging sheets, a stiff
  * one, a sheet draped over a sphere with contacts and friction, one-level sheets whose only level
- * is the dense factor, separate patches whose coarsest level is smoothed), in as many iterations
- * as the same method on the CPU (core's multigrid with wg_amg_opts(): a second backend) and in
- * far fewer than with block Jacobi; a stiff sheet at rest stops at float's floor (wg_solve.c)
- * instead of its cap; a whole run matches the CPU's; a context with fragment passes refuses it
- * with a message. */
+ * is the dense factor, separate patches whose coarsest level is smoothed, two panels sewn vertex
+ * to edge), every smoothed level's Chebyshev bound at or above its lambda_max, in as many
+ * iterations as the same method on the CPU (core's multigrid with wg_amg_opts(): a second
+ * backend) and in far fewer than with block Jacobi; a stiff sheet at rest stops at float's floor
+ * (wg_solve.c) instead of its cap; a whole run matches the CPU's; a context with fragment passes
+ * refuses it with a message. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +15,7 @@
 #include "egl_context.h"
 #include "solve_kernels.h"
 #include "step.h"
+#include "sew_tube.h"
 #include "test_support.h"
 #include "wg_amg.h"
 #include "wg_sim_impl.h"
@@ -93,6 +95,89 @@ static wc_state* patches(wc_model* m, int count) {
     return s;
 }
 
+/* Two vertical q x q-quad panels side by side, GAP apart, B's rows offset by half a row (as
+ * sew_tube.h's: every seam pairs a vertex with the middle of the other panel's boundary edge),
+ * sewn at SEW, both top rows held, stepped `warm` frames on the CPU, the state rounded to float:
+ * vertex-to-edge seams along one edge of a large mesh, whose modes local to the seams the power
+ * iterations from a spread start reach last. */
+static wc_state* sewn_panels(wc_model* m, int q, int warm) {
+    const double dx = 1.0 / q;
+    int per = (q + 1) * (q + 1), nv = per + (q + 1) * q, nf = q * q + q * (q - 1);
+    double* pos = calloc((size_t)nv * 3, sizeof(double));
+    int* sizes = calloc((size_t)nf, sizeof(int));
+    int* idx = calloc((size_t)nf * 4, sizeof(int));
+    int f = 0;
+    for (int p = 0; p < 2; ++p) {
+        int rows = p ? q : q + 1, base = p ? per : 0;
+        for (int j = 0; j < rows; ++j)
+            for (int i = 0; i <= q; ++i) {
+                double* x = pos + 3 * (base + j * (q + 1) + i);
+                x[0] = p ? 1.0 + GAP + i * dx : i * dx;
+                x[1] = 1.0 - (j + 0.5 * p) * dx;
+            }
+        for (int j = 0; j + 1 < rows; ++j)
+            for (int i = 0; i < q; ++i, ++f) {
+                int* c = idx + 4 * f;
+                sizes[f] = 4;
+                c[0] = base + j * (q + 1) + i;
+                c[1] = base + (j + 1) * (q + 1) + i;
+                c[2] = base + (j + 1) * (q + 1) + i + 1;
+                c[3] = base + j * (q + 1) + i + 1;
+            }
+    }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nf, idx, 1.0, &d);
+    free(pos), free(sizes), free(idx);
+    if (st != WC_OK) return NULL;
+    wc_model_def mdef = wc_default_model_def();
+    mdef.sew_distance = SEW;
+    st = wc_model_build(m, &src, &mdef, NULL, &d);
+    wc_source_mesh_free(&src);
+    if (st != WC_OK || m->n_seams == 0) return NULL;
+    wc_sim_def def = amg_def();
+    wc_state* s = NULL;
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
+    wc_pin* pins = calloc(2 * (size_t)(q + 1), sizeof *pins);
+    for (int k = 0; k < 2 * (q + 1); ++k) {
+        pins[k].particle = m->host_to_particle[k <= q ? k : per + k - (q + 1)];
+        memcpy(pins[k].target, s->x + 3 * pins[k].particle, sizeof pins[k].target);
+    }
+    wc_state_set_pins(s, pins, 2 * (q + 1), &d);
+    free(pins);
+    for (int k = 0; k < warm; ++k) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    for (int k = 0; k < 3 * m->n_particles; ++k) {
+        s->x[k] = (float)s->x[k];
+        s->v[k] = (float)s->v[k];
+    }
+    return s;
+}
+
+/* The Chebyshev smoother's bound on each smoothed level of the GPU's last setup (lvl_bound's
+ * 1.1 x the Rayleigh quotient, x the finest level's seam factor) against lambda_max(D^-1 A) of
+ * the same level of core's hierarchy built with the GPU's method on the same system (cpu, set up
+ * by its solve), converged there in double (the larger of 400 power iterations and 60 Lanczos
+ * steps). A bound short of lambda_max makes the V-cycle indefinite (docs/design/multigrid.md);
+ * returns the smallest bound / lambda_max. */
+static double bound_margin(wg_sim* g, wc_amg* cpu, wc_par* par, const char* name) {
+    const wg_amg* a = g->amg;
+    double worst = 1e300;
+    for (int l = 0; l < a->n_levels && l < cpu->n_levels; ++l) {
+        if ((l == a->n_levels - 1 && a->dense) || l == cpu->n_levels - 1) break; /* factored here or there */
+        float sums[4];
+        wg_read1(&g->layout, a->lev[l].bound, sums);
+        double q = (double)sums[0] / (double)sums[1];
+        double bound = 1.1 * q * (l == 0 ? a->fine_bound_scale : 1.0);
+        wc_amg_level* L = &cpu->lev[l];
+        double lmax = fmax(wc_amg_eigen_estimate(L, 400, 0, cpu->opts.pair_blocks, par),
+                           wc_amg_eigen_estimate(L, 60, 1, cpu->opts.pair_blocks, par));
+        printf("    %s, level %d (%d nodes): bound %.3f (1.1 x %.3f x %.2f), lambda_max %.3f: %.3f x\n", name, l,
+               a->lev[l].n, bound, q, l == 0 ? a->fine_bound_scale : 1.0, lmax, bound / lmax);
+        worst = fmin(worst, bound / lmax);
+    }
+    return worst;
+}
+
 /* One system three ways on the GPU side (multigrid, block Jacobi) and two on the CPU (the same
  * multigrid, CHOLMOD). same_coarse 0: the CPU factors a coarsest level the GPU smooths (more
  * than WG_AMG_DENSE_NODES nodes): the iterations are not compared. at_rest: a stiff sheet's
@@ -139,6 +224,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, h));
     wc_solve(cpu, WC_SOLVER_PCG, s->A, s->b, &s->filter, dc, &s->par, &rc);
     double err_cpu = ts_max_diff(dc, ref, 3 * n) / ts_max_abs(ref, 3 * n);
+    const double margin = bound_margin(g, cpu->amg, &s->par, name);
     /* block Jacobi on the GPU, for scale */
     wc_state* sb = NULL;
     wc_sim_def bdef = s->def;
@@ -155,6 +241,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
            name, n, g->amg->n_levels, g->amg->lev[g->amg->n_levels - 1].n, g->amg->dense ? "factored" : "smoothed",
            rg.iterations, rg.residual, err, rc.iterations, err_cpu, rb.iterations);
     CHECK(g->amg->dense == same_coarse);
+    CHECK(margin >= 1.0); /* the smoother's bound covers lambda_max on every smoothed level */
     CHECK(gs == WC_OK);
     CHECK(rg.converged);
     CHECK(rb.converged);
@@ -177,7 +264,8 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
 static void test_solves(void) {
     static const struct {
         const char* name;
-        int kind, n, warm, same_coarse, at_rest; /* kind 0: hanging n x n; 1: draped; 2: 40 patches */
+        int kind, n, warm, same_coarse, at_rest; /* kind 0: hanging n x n; 1: draped; 2: 40 patches;
+                                                    3: two n x n panels sewn */
         double k_scale;
     } cases[] = {
         {"hanging 32 x 32", 0, 32, 3, 1, 0, 1.0},
@@ -187,13 +275,15 @@ static void test_solves(void) {
         {"hanging 4 x 4 (one level)", 0, 4, 3, 1, 0, 1.0},
         {"hanging 5 x 5 (one level)", 0, 5, 3, 1, 0, 1.0},
         {"40 separate patches", 2, 40, 3, 0, 0, 1.0},
+        {"two panels sewn, 24 x 24", 3, 24, 3, 1, 0, 1.0},
     };
     const wc_sim_def def = amg_def();
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         wc_model m;
         wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
                       : cases[k].kind == 1 ? ts_draped(&m, cases[k].n, &def, cases[k].warm)
-                                           : patches(&m, cases[k].n);
+                      : cases[k].kind == 2 ? patches(&m, cases[k].n)
+                                           : sewn_panels(&m, cases[k].n, cases[k].warm);
         CHECK(s != NULL);
         if (!s) return;
         if (cases[k].kind == 1) {

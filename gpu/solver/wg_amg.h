@@ -12,7 +12,8 @@
  * range(S). Per solve (wg_amg_setup, passes only, nothing read back): each coarse level's Galerkin
  * sums (the first from the projected blocks made on the fly), the block-diagonal inverses,
  * WG_AMG_POWER power iterations per level for lambda_max(D^-1 A) (their Rayleigh quotient stays
- * in a 1 x 1 texture that the smoother reads), and the coarsest level's dense Cholesky factor.
+ * in a 1 x 1 texture that the smoother reads; the finest level's bound also takes core's seam
+ * factor, fine_bound_scale), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
  * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
  *
@@ -63,6 +64,9 @@ typedef struct wg_amg {
     int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
+    double fine_bound_scale;    /* the finest level's bound x this: core's wc_amg.fine_bound_scale
+                                   (WC_AMG_SEAM_BOUND where vertex-to-edge seams lift lambda_max in
+                                   modes local to them, which the power iterations miss; else 1) */
     wg_amg_level lev[WC_AMG_MAX_LEVELS];
     wg_tex coarse_L;            /* 3n x 3n texels: the coarsest level's factor */
     const wg_tex* z;            /* the last V-cycle's result (level 0) */

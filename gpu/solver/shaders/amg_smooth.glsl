@@ -2,7 +2,8 @@
 // Chebyshev polynomial in D^-1 A on [bound / u_ratio, bound], step u_step (0: d = D^-1 t / theta;
 // k >= 1: d = c1 d + c2 D^-1 t with the recurrence's coefficients), t = r - A x, x' = x + d.
 // u_step -1: weighted block Jacobi, d = D^-1 t / bound (the coarsest level's sweeps when it has
-// no dense factor). u_zero: x = 0 (the first step before the coarse correction: t = r). With
+// no dense factor). bound: lvl_bound x u_bound_scale (wg_amg.h fine_bound_scale on the finest
+// level, 1 elsewhere). u_zero: x = 0 (the first step before the coarse correction: t = r). With
 // u_prolong the coarse correction is added first: x_j + xc[aggregate(j)] wherever x is read (the
 // prolongation of unsmoothed aggregation fused into the first step after it; filtered on the
 // finest level, op_prolong). u_dot (the finest level's last step): o2 = (r.x', r.r), PCG's
@@ -19,6 +20,7 @@ uniform int u_step;
 uniform int u_zero;
 uniform int u_prolong;
 uniform float u_ratio;
+uniform float u_bound_scale;
 uniform int u_dot;
 out vec4 o0;
 out vec4 o1;
@@ -35,7 +37,7 @@ void main() {
         if (prolong) xi += op_prolong(i, ld(xc, ldi(rows, i).w).xyz);
     }
     vec3 e = op_dinv(i) * t;
-    float b = lvl_bound(bound);
+    float b = u_bound_scale * lvl_bound(bound);
     vec3 di;
     if (u_step < 0) {
         di = e / b;
