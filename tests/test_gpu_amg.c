@@ -48,6 +48,21 @@ static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
     return s;
 }
 
+/* A model of quads from arrays (freed here: they are the callers' scratch), sewn at sew (0: no
+ * sewing); 0 on failure. */
+static int quad_model(wc_model* m, double* pos, int nv, int* sizes, int nq, int* idx, double sew) {
+    wc_source_mesh src;
+    wc_diag d = {0};
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    free(pos), free(sizes), free(idx);
+    if (st != WC_OK) return 0;
+    wc_model_def mdef = wc_default_model_def();
+    mdef.sew_distance = sew;
+    st = wc_model_build(m, &src, &mdef, NULL, &d);
+    wc_source_mesh_free(&src);
+    return st == WC_OK;
+}
+
 /* `count` separate 3 x 3-vertex patches, 0.1 m apart, each hanging from a corner (3 frames on
  * the CPU): a mesh whose coarsening stops at one aggregate a piece, above the dense factor's
  * size. */
@@ -72,15 +87,8 @@ static wc_state* patches(wc_model* m, int count) {
             c[3] = 9 * p + i + 1 + 3 * j;
         }
     }
-    wc_source_mesh src;
+    if (!quad_model(m, pos, nv, sizes, nq, idx, 0.0)) return NULL;
     wc_diag d = {0};
-    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
-    free(pos), free(sizes), free(idx);
-    if (st != WC_OK) return NULL;
-    wc_model_def mdef = wc_default_model_def();
-    st = wc_model_build(m, &src, &mdef, NULL, &d);
-    wc_source_mesh_free(&src);
-    if (st != WC_OK) return NULL;
     wc_sim_def def = amg_def();
     wc_state* s = NULL;
     if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
@@ -125,16 +133,9 @@ static wc_state* sewn_panels(wc_model* m, int q, int warm) {
                 c[3] = base + j * (q + 1) + i + 1;
             }
     }
-    wc_source_mesh src;
+    if (!quad_model(m, pos, nv, sizes, nf, idx, SEW)) return NULL;
+    if (m->n_seams == 0) return NULL;
     wc_diag d = {0};
-    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nf, idx, 1.0, &d);
-    free(pos), free(sizes), free(idx);
-    if (st != WC_OK) return NULL;
-    wc_model_def mdef = wc_default_model_def();
-    mdef.sew_distance = SEW;
-    st = wc_model_build(m, &src, &mdef, NULL, &d);
-    wc_source_mesh_free(&src);
-    if (st != WC_OK || m->n_seams == 0) return NULL;
     wc_sim_def def = amg_def();
     wc_state* s = NULL;
     if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
