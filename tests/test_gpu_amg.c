@@ -46,53 +46,6 @@ static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
     return s;
 }
 
-/* `count` separate 3 x 3-vertex patches, 0.1 m apart, each hanging from a corner (3 frames on
- * the CPU): a mesh whose coarsening stops at one aggregate a piece, above the dense factor's
- * size. */
-static wc_state* patches(wc_model* m, int count) {
-    int nv = 9 * count, nq = 4 * count;
-    double* pos = calloc((size_t)nv * 3, sizeof(double));
-    int* sizes = calloc((size_t)nq, sizeof(int));
-    int* idx = calloc((size_t)nq * 4, sizeof(int));
-    for (int p = 0; p < count; ++p) {
-        for (int v = 0; v < 9; ++v) {
-            double* x = pos + 3 * (9 * p + v);
-            x[0] = 0.1 * p + 0.02 * (v % 3);
-            x[1] = 1.0;
-            x[2] = 0.02 * (v / 3);
-        }
-        for (int q = 0; q < 4; ++q) {
-            int i = q % 2, j = q / 2, *c = idx + 4 * (4 * p + q);
-            sizes[4 * p + q] = 4;
-            c[0] = 9 * p + i + 3 * j;
-            c[1] = 9 * p + i + 3 * (j + 1);
-            c[2] = 9 * p + i + 1 + 3 * (j + 1);
-            c[3] = 9 * p + i + 1 + 3 * j;
-        }
-    }
-    wc_source_mesh src;
-    wc_diag d = {0};
-    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
-    free(pos), free(sizes), free(idx);
-    if (st != WC_OK) return NULL;
-    wc_model_def mdef = wc_default_model_def();
-    st = wc_model_build(m, &src, &mdef, NULL, &d);
-    wc_source_mesh_free(&src);
-    if (st != WC_OK) return NULL;
-    wc_sim_def def = amg_def();
-    wc_state* s = NULL;
-    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
-    wc_pin* pins = calloc((size_t)count, sizeof *pins);
-    for (int p = 0; p < count; ++p) {
-        pins[p].particle = m->host_to_particle[9 * p];
-        memcpy(pins[p].target, s->x + 3 * pins[p].particle, sizeof pins[p].target);
-    }
-    wc_state_set_pins(s, pins, count, &d);
-    free(pins);
-    for (int f = 0; f < 3; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    return s;
-}
-
 /* One system three ways on the GPU side (multigrid, block Jacobi) and two on the CPU (the same
  * multigrid, CHOLMOD). same_coarse 0: the CPU factors a coarsest level the GPU smooths (more
  * than WG_AMG_DENSE_NODES nodes): the iterations are not compared. at_rest: a stiff sheet's
@@ -193,7 +146,7 @@ static void test_solves(void) {
         wc_model m;
         wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
                       : cases[k].kind == 1 ? ts_draped(&m, cases[k].n, &def, cases[k].warm)
-                                           : patches(&m, cases[k].n);
+                                           : ts_patches(&m, cases[k].n, &def);
         CHECK(s != NULL);
         if (!s) return;
         if (cases[k].kind == 1) {

@@ -113,6 +113,10 @@ WHOLE(wg_pcg_direction_groups_in, pcg_direction_groups);
 static const wg_pass_input pcg_group[] = {PG(pblocks), PG(block), PG(a_lo), PG(a_hi), PG(b),
                                           PG(S0),      PG(S1),    PG(z),    PG(dv)};
 WHOLE(wg_pcg_group_in, pcg_group);
+#define PA(f) IN(wg_pcg_group_amg_in, f)
+static const wg_pass_input pcg_group_amg[] = {PA(pblocks), PA(block), PA(a_lo), PA(a_hi),  PA(b),     PA(S0),    PA(S1),
+                                              PA(z),       PA(dv),    PA(rows), PA(ipack), PA(fpack), PA(factor)};
+WHOLE(wg_pcg_group_amg_in, pcg_group_amg);
 static const wg_pass_input pcg_direction[] = {
     IN(wg_pcg_direction_in, t), IN(wg_pcg_direction_in, c), IN(wg_pcg_direction_in, S0),
     IN(wg_pcg_direction_in, S1), IN(wg_pcg_direction_in, scalars0), IN(wg_pcg_direction_in, scalars1)};
@@ -227,6 +231,7 @@ static const wg_pass_input amg_factor[] = {AMG(rows), COARSE_OP};
 static const wg_pass_input amg_factor_fine[] = {AMG(rows), FINE_OP};
 static const wg_pass_input amg_coarse[] = {AMG(factor), AMG(r)};
 static const wg_pass_input amg_dot[] = {AMG(r), AMG(z)};
+static const wg_pass_input amg_group_pack[] = {DINV, AMG(a0), AMG(a1), AMG(a2), AMG(bound)};
 
 #define PASS(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 0}
 #define COMPUTE(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 1}
@@ -285,6 +290,8 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_PCG_SCALARS_GROUPS] = NATIVE("pcg_scalars_groups", pcg_scalars, wg_pcg_scalars_in),
     [WGP_PCG_DIRECTION_GROUPS] = NATIVE("pcg_direction_groups", pcg_direction_groups, wg_pcg_direction_groups_in),
     [WGP_PCG_GROUP] = NATIVE("pcg_group", pcg_group, wg_pcg_group_in),
+    [WGP_PCG_GROUP_AMG] = NATIVE("pcg_group_amg", pcg_group_amg, wg_pcg_group_amg_in),
+    [WGP_AMG_GROUP_PACK_GROUPS] = NATIVE("amg_group_pack_groups", amg_group_pack, wg_amg_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),
     [WGP_AMG_DINV] = COMPUTE("amg_dinv", amg_dinv, wg_amg_in),
     [WGP_AMG_POWER] = COMPUTE("amg_power", amg_power, wg_amg_in),

@@ -37,8 +37,9 @@ typedef enum wg_pass_id {
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
        direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
-    /* compute passes only: a small cloth's whole block-Jacobi PCG solve in one work group */
-    WGP_PCG_GROUP,
+    /* compute passes only: a small cloth's whole PCG solve in one work group, with block Jacobi or
+       the multigrid (and the multigrid's values packed for it) */
+    WGP_PCG_GROUP, WGP_PCG_GROUP_AMG, WGP_AMG_GROUP_PACK_GROUPS,
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
     WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,
@@ -215,6 +216,13 @@ typedef struct wg_pcg_group_in {   /* pcg_group.glsl: a whole PCG solve in one w
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *b, *S0, *S1, *z;
     const wg_tex* dv;           /* the initial guess */
 } wg_pcg_group_in;
+
+typedef struct wg_pcg_group_amg_in {   /* pcg_group_amg.glsl: the same with the multigrid */
+    const wg_tex *pblocks, *block, *a_lo, *a_hi, *b, *S0, *S1, *z, *dv;   /* as wg_pcg_group_in */
+    const wg_tex* rows;         /* the finest level's nodes (wg_amg_level) */
+    const wg_tex *ipack, *fpack;   /* the levels packed (wg_amg_group.c) */
+    const wg_tex* factor;       /* the coarsest level's dense factor */
+} wg_pcg_group_amg_in;
 
 typedef struct wg_jacobi_sweep_in { /* jacobi_sweep.glsl */
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1, *dinv_lo, *dinv_hi;

@@ -285,8 +285,7 @@ wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
                        "preconditioner runs on the CPU backend)", wc_precond_name(def->solver.preconditioner));
-    if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES &&
-        def->solver.type == WC_SOLVER_PCG && def->solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
+    if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES && def->solver.type == WC_SOLVER_PCG)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "WEFT_GPU_SOLVE=group solves cloths of at most %d particles in one work group; this one has %d: "
                        "unset it or set WEFT_GPU_SOLVE=passes", WG_GROUP_MAX_PARTICLES, m->n_particles);

@@ -7,8 +7,9 @@
  * stop queueing (and to confirm convergence with the true residual, restarting from it on drift
  * as core's PCG does), and the result once at the end. Jacobi and Chebyshev measure the residual
  * every check_every iterations (a reduction and one texel read back), as on the CPU. A small
- * cloth's block-Jacobi PCG runs instead as one dispatch of one work group that does all of the
- * above, host loop included (pcg_group.glsl; wg_device.h wg_solve_mode says where). */
+ * cloth's PCG runs instead as one dispatch of one work group that does all of the above, host
+ * loop included, with block Jacobi (pcg_group.glsl) or the multigrid's V-cycle after its setup
+ * passes (pcg_group_amg.glsl); wg_device.h wg_solve_mode says where. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -335,19 +336,29 @@ static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** ou
     return st;
 }
 
-/* PCG with block Jacobi in one work group (pcg_group.glsl): one dispatch from the guess dv_in to
- * the result in sv[0], the scalars left as the chain leaves them, then one read-back of them and
- * of the group's result texel; res filled by solve_pcg's rules. */
-static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* dv_in, const wg_tex** out,
+/* PCG in one work group, with block Jacobi (pcg_group.glsl) or, with amg, the multigrid after
+ * its setup passes (pcg_group_amg.glsl): one dispatch from the guess dv_in to the result in
+ * sv[0], the scalars left as the chain leaves them, then one read-back of them and of the
+ * group's result texel; res filled by solve_pcg's rules. */
+static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* dv_in, int amg, const wg_tex** out,
                              wc_solve_result* res) {
     wg_runner* run = &g->run;
     const int max_it = o->max_iterations, b = 1 - g->sc_cur;
-    WG_USE(run, WGP_PCG_GROUP, &(wg_pcg_group_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .z = &g->z, .dv = dv_in});
+    const wg_pcg_group_in in = {.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0, .a_hi = &g->A1,
+                                .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .z = &g->z, .dv = dv_in};
+    if (amg) {
+        wg_amg_setup(g->amg);
+        wg_amg_group_pack(g->amg);
+        wg_amg_group_use(g->amg, &in);
+    } else {
+        WG_USE(run, WGP_PCG_GROUP, &in);
+    }
     rules_uniforms(g, o, 0, max_it);
     wg_u1i(run, "u_texels", g->q.w * g->q.h);
     wg_u1i(run, "u_guard", 4 * (max_it + 1) + 100);
-    WG_RUN_GROUPS(run, g->n, 1, &g->sv[0], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2], &g->grp);
+    const wg_tex* const outs[] = {&g->sv[0], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2], &g->grp};
+    if (amg) wg_run_groups_scratch(run, g->n, 1, outs, 5, &g->amg->group_v);
+    else wg_run_groups_into(run, g->n, 1, outs, 5);
     g->sc_cur = b;
     *out = &g->sv[0];
     float s0[4], s1[4], s2[4], rg[4];
@@ -377,12 +388,14 @@ static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* d
     return st;
 }
 
-/* PCG with block Jacobi in one work group: compute passes and a cloth within the group's limit,
- * on a hardware device (a software rasteriser runs one work group on one thread, where it runs a
- * pass over all its cores: the chain is faster there), or where WEFT_GPU_SOLVE=group forces it */
-static int group_wanted(const wg_sim* g) {
+/* PCG in one work group: compute passes and a cloth within the group's limit (with the
+ * multigrid: its packed patterns made), on a hardware device (a software rasteriser runs one work
+ * group on one thread, where it runs a pass over all its cores: the chain is faster there), or
+ * where WEFT_GPU_SOLVE=group forces it */
+static int group_wanted(const wg_sim* g, int amg) {
     const wg_device* d = g->dev;
     if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES) return 0;
+    if (amg && !wg_amg_group_fits(g->amg)) return 0;
     return d->solve == WG_SOLVE_GROUP || !d->software;
 }
 
@@ -532,8 +545,8 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
     /* the preconditioner (block Jacobi's unless PCG has the multigrid), and the initial guess
        projected into sv[0] */
     const int amg = type == WC_SOLVER_PCG && g->amg;
-    if (type == WC_SOLVER_PCG && !amg && group_wanted(g)) {
-        wc_status st = solve_group(g, o, dv_in, out, res);
+    if (type == WC_SOLVER_PCG && group_wanted(g, amg)) {
+        wc_status st = solve_group(g, o, dv_in, amg, out, res);
         res->status = st;
         return st;
     }

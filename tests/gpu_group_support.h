@@ -1,0 +1,31 @@
+/* Helpers of the one-group PCG tests (test_gpu_group.c, test_gpu_group_amg.c): a hanging sheet's
+ * float system set on a GPU cloth, and a solve forced to the one-group form or to the chain. */
+#ifndef WEFT_TESTS_GPU_GROUP_SUPPORT_H
+#define WEFT_TESTS_GPU_GROUP_SUPPORT_H
+#include "state.h"
+#include "wg_sim_impl.h"
+
+/* A GPU cloth of dev for state s holding s's next substep's system (prepared on the CPU, set on
+ * the GPU rounded to float); with planes, every 7th free particle first held to a plane moving at
+ * 0.05 m/s along its normal (a filter with ndof 1 and z != 0). NULL (a message printed) where
+ * the cloth fails. */
+wg_sim* tg_gpu_system(wg_device* dev, wc_state* s, int planes);
+/* A hanging n x n sheet (springs k_scale x the default) pinned at its two top corners, PCG with
+ * preconditioner pc, stepped `warm` frames on the CPU, its system with planes on *g
+ * (tg_gpu_system). NULL where the state fails; *g NULL where the cloth does. */
+wc_state* tg_sheet_system(wg_device* dev, wc_model* m, int n, int warm, double k_scale, wc_precond_type pc,
+                          wg_sim** g);
+
+typedef struct tg_solved {
+    wc_status st;
+    wc_solve_result res;
+    double* dv;         /* the caller frees */
+    long long passes;
+    float grp[4];       /* the group's result texel (pcg_group_solve.glsl image 4) */
+} tg_solved;
+
+/* g's system solved from guess (NULL: zeros) with options o, forced to mode (dev->solve, reset
+ * to AUTO after) */
+tg_solved tg_solve_as(wg_device* dev, wg_sim* g, const wc_solver_opts* o, const double* guess, wg_solve_mode mode);
+
+#endif
