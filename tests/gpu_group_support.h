@@ -28,4 +28,9 @@ typedef struct tg_solved {
  * to AUTO after) */
 tg_solved tg_solve_as(wg_device* dev, wg_sim* g, const wc_solver_opts* o, const double* guess, wg_solve_mode mode);
 
+/* WEFT_GPU_SOLVE=group (dev's choice) on a PCG cloth with preconditioner pc past the group's
+ * limit: refused at creation with a message naming the limit, the state untouched; =passes
+ * takes it. */
+void tg_limit_refused(wg_device* dev, wc_precond_type pc);
+
 #endif

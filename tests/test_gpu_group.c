@@ -147,32 +147,7 @@ static void test_edges(void) {
 
 /* WEFT_GPU_SOLVE=group (the device's choice) on a cloth past the group's limit: refused at
  * creation with a message naming the limit, the state untouched; =passes takes it. */
-static void test_limit_refused(void) {
-    wc_model m;
-    const int side = 51;   /* 2,601 particles */
-    CHECK(side * side > WG_GROUP_MAX_PARTICLES);
-    if (!ts_sheet(&m, side, 1.0, 1.0, 1, 1.0)) return;
-    wc_sim_def def = wc_default_sim_def();
-    def.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_OK);
-    if (!s) return;
-    const double x0 = s->x[0];
-    wg_sim* g = NULL;
-    dev->solve = WG_SOLVE_GROUP;
-    CHECK_EQ_INT(wg_sim_create(dev, s, NULL, &g, &d), WC_ERROR_UNSUPPORTED);
-    printf("  %s\n", d.message);
-    CHECK(g == NULL);
-    CHECK(strstr(d.message, "WEFT_GPU_SOLVE=group") != NULL && strstr(d.message, "2560") != NULL);
-    CHECK(s->x[0] == x0);
-    dev->solve = WG_SOLVE_PASSES;
-    CHECK_EQ_INT(wg_sim_create(dev, s, NULL, &g, &d), WC_OK);
-    wg_sim_destroy(g);
-    dev->solve = WG_SOLVE_AUTO;
-    wc_state_destroy(s);
-    wc_model_free(&m);
-}
+static void test_limit_refused(void) { tg_limit_refused(dev, WC_PRECOND_BLOCK_JACOBI); }
 
 int main(void) {
     wg_gl_context_desc cd;

@@ -19,8 +19,9 @@ typedef struct wg_sim wg_sim;
 
 /* What the GPU does not have, for a cloth of model m with settings def and n_mesh mesh colliders:
  * WC_OK, or WC_ERROR_UNSUPPORTED with a message naming it and what to choose instead: the direct
- * solver, the multigrid on fragment passes and other preconditioners, block-Jacobi PCG past WG_GROUP_MAX_PARTICLES particles where
- * WEFT_GPU_SOLVE=group forces the one-group solve (wg_device.h). No GL call: the backend table's
+ * solver, the multigrid on fragment passes and other preconditioners, PCG past
+ * WG_GROUP_MAX_PARTICLES particles where WEFT_GPU_SOLVE=group forces the one-group solve
+ * (wg_device.h). No GL call: the backend table's
  * `supports` (AUTO asks it before it chooses) and wg_sim_create's first check. */
 wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_def* def, int n_mesh, wc_diag* diag);
 
