@@ -38,7 +38,24 @@
 #include "vec3.h"
 
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
-#define SEEN_MAX 64      /* distinct body features per cloth feature remembered for the dedup */
+
+/* Room for `threads` threads' marks of the body features seen (all clear) and their lists of
+ * the marks set; the old ones are kept when there is no memory. */
+static int seen_alloc(wc_mesh_pairs* p, int threads, const wc_allocator* a) {
+    size_t n = (size_t)threads * (size_t)p->seen_stride + 1;
+    unsigned char* seen = WC_NEW(a, unsigned char, n);
+    int* set = WC_NEW(a, int, n);
+    if (!seen || !set) {
+        wc_free(a, seen);
+        wc_free(a, set);
+        return 0;
+    }
+    wc_free(a, p->seen);
+    wc_free(a, p->seen_set);
+    p->seen = seen;
+    p->seen_set = set;
+    return 1;
+}
 
 static void sharp_free(wc_mesh_sharp* t, const wc_allocator* a) {
     wc_free(a, t->tri_edge);
@@ -117,11 +134,17 @@ wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_coll
     memset(p->sharp, 0, ((size_t)nm + 1) * sizeof(wc_mesh_sharp));
     p->n_mesh = nm;
     p->n_particles = n_particles;
-    for (int k = 0; k < nm; ++k)
+    for (int k = 0; k < nm; ++k) {
         if (!sharp_build(&p->sharp[k], mc[k], a)) {
             wc_mesh_pairs_destroy(p, a);
             return NULL;
         }
+        if (p->sharp[k].n_edges + mc[k]->n_verts > p->seen_stride) p->seen_stride = p->sharp[k].n_edges + mc[k]->n_verts;
+    }
+    if (!seen_alloc(p, 1, a)) {
+        wc_mesh_pairs_destroy(p, a);
+        return NULL;
+    }
     return p;
 }
 
@@ -132,6 +155,8 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
     wc_free(a, p->sharp);
     wc_free(a, (void*)p->behind);
     wc_free(a, p->near);
+    wc_free(a, p->seen);
+    wc_free(a, p->seen_set);
     wc_penalty_stages_free(&p->stage, &p->resume, p->threads, a);
     wc_penalty_pairs_free(&p->list, a);
     wc_free(a, p);
@@ -155,6 +180,10 @@ int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, cons
     if (!wc_penalty_stages_init(&p->stage, &p->resume, threads, stage_cap > 0 ? stage_cap : p->list.cap / threads + 64,
                                 1, a))
         return 0;
+    if (!seen_alloc(p, threads, a)) {
+        wc_penalty_stages_free(&p->stage, &p->resume, threads, a);
+        return 0;
+    }
     p->threads = threads;
     return 1;
 }
@@ -216,19 +245,17 @@ typedef struct find_ctx {
     double h, he;
     int cloth[3];          /* the cloth feature's particles (edge: 2) */
     const wc_mesh_near* near; /* the feature's kept candidates (NULL: none) */
-    int seen[2 * SEEN_MAX];
-    int n_seen;
+    unsigned char *seen_edge, *seen_vert; /* the thread's marks (wc_mesh_pairs.seen) */
+    int* seen_set;         /* the marks this cloth feature set (offsets from seen_edge) */
+    int n_set;
 } find_ctx;
 
-/* 1 when the body feature (a, b) (a vertex: b = -1) was seen for this cloth feature; remembers it */
-static int seen_before(find_ctx* c, int a, int b) {
-    for (int k = 0; k < c->n_seen; ++k)
-        if (c->seen[2 * k] == a && c->seen[2 * k + 1] == b) return 1;
-    if (c->n_seen < SEEN_MAX) {
-        c->seen[2 * c->n_seen] = a;
-        c->seen[2 * c->n_seen + 1] = b;
-        ++c->n_seen;
-    }
+/* 1 when body feature i (marks: the edges' or the vertices') was seen for this cloth feature;
+ * marks it */
+static int seen_before(find_ctx* c, unsigned char* marks, int i) {
+    if (marks[i]) return 1;
+    marks[i] = 1;
+    c->seen_set[c->n_set++] = (int)(marks - c->seen_edge) + i;
     return 0;
 }
 
@@ -298,7 +325,7 @@ static int visit_edge(void* user, int t) {
     const double *p0 = c->x + 3 * c->cloth[0], *q0 = c->x + 3 * c->cloth[1];
     for (int e = 0; e < 3; ++e) {
         int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
-        if (!c->sh->sharp_edge[eid] || seen_before(c, eid, -3)) continue;
+        if (!c->sh->sharp_edge[eid] || seen_before(c, c->seen_edge, eid)) continue;
         double a, b;
         wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);
         if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
@@ -319,7 +346,7 @@ static int visit_edge(void* user, int t) {
     if (!(ee > 0.0)) return 0;
     for (int k = 0; k < 3; ++k) {
         int r = tv[k];
-        if (!c->sh->sharp_vert[r] || seen_before(c, r, -2)) continue;
+        if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
         double d[3];
         v3_sub(d, mc->xa + 3 * r, p0);
         double a = v3_dot(d, e) / ee;
@@ -339,7 +366,7 @@ static int visit_vertex(void* user, int t) {
     const int* T = c->cloth;
     for (int e = 0; e < 3; ++e) {
         int r = mc->tris[3 * t + e];
-        if (!c->sh->sharp_vert[r] || seen_before(c, r, -1)) continue;
+        if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
         double w[3], cp0[3] = {0, 0, 0};
         wc_closest_on_triangle(mc->xa + 3 * r, c->x + 3 * T[0], c->x + 3 * T[1], c->x + 3 * T[2], w, NULL);
         if (!(w[0] > INTERIOR && w[1] > INTERIOR && w[2] > INTERIOR)) continue;
@@ -379,10 +406,9 @@ static void feature_box(const find_ctx* c, int cnt, double r, double* box) {
 }
 
 /* The pairs of cloth feature q (the model's winged edges, then its triangles) into c->out. */
-static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
+static void find_pairs(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
     const wc_winged_edge* we = &c->m->we;
     double box[6];
-    c->n_seen = 0;
     c->near = near ? near + q : NULL;
     if (q < we->n_edges) {
         if (wc_we_repeats_previous(we, q)) return;
@@ -397,12 +423,22 @@ static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned 
     visit_near(c, near ? near + q : NULL, mask, box, visit_vertex);
 }
 
+/* find_pairs, then the marks it set cleared */
+static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
+    c->n_set = 0;
+    find_pairs(c, q, near, mask, r);
+    for (int k = 0; k < c->n_set; ++k) c->seen_edge[c->seen_set[k]] = 0;
+}
+
 /* Features lo..hi-1 of thread t into its stage, until the stage would overflow: resume[2t] is the
  * first feature not staged (the stage holds exactly the features before it), resume[2t + 1] hi. */
 static void stage_range(find_ctx c, int t, int lo, int hi, wc_mesh_near* near, const unsigned char* mask, double r) {
     wc_penalty_pairs* st = &c.pp->stage[t];
     wc_penalty_pairs_clear(st);
     c.out = st;
+    c.seen_edge = c.pp->seen + (size_t)t * (size_t)c.pp->seen_stride;
+    c.seen_vert = c.seen_edge + c.sh->n_edges;
+    c.seen_set = c.pp->seen_set + (size_t)t * (size_t)c.pp->seen_stride;
     int q = lo;
     for (; q < hi; ++q) {
         int n0 = st->n, skipped0 = st->skipped;
@@ -443,6 +479,9 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         c.v = v;
         c.h = h;
         c.he = he;
+        c.seen_edge = pp->seen; /* thread 0's marks: the serial passes' */
+        c.seen_vert = pp->seen + c.sh->n_edges;
+        c.seen_set = pp->seen_set;
         /* reach: the contact distance with the body's fastest vertex approaching */
         double r = 2.0 * mc[k]->thickness + 1.5 * h * mc[k]->max_speed;
         if (pp->threads <= 1 || !pp->stage) {

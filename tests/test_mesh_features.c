@@ -311,9 +311,22 @@ static int same_list(const wc_penalty_pairs* a, const wc_penalty_pairs* b) {
     return 1;
 }
 
+/* The number of pairs of list a with the same particles, weights and normal as an earlier one */
+static int repeated_pairs(const wc_penalty_pairs* a) {
+    int rep = 0;
+    for (int j = 0; j < a->n; ++j)
+        for (int i = 0; i < j; ++i)
+            if (!memcmp(&a->term[i], &a->term[j], sizeof a->term[j])) {
+                ++rep;
+                break;
+            }
+    return rep;
+}
+
 /* The detection on 2 and 3 threads (each thread's range staged, then appended in order) gives the
  * serial list: a 21 x 21 sheet falling onto a roof ridge and a pyramid's apex, with stages that
- * fill up (the rest of a range found serially) and a list that overflows. */
+ * fill up (the rest of a range found serially) and a list that overflows. No pair is found
+ * twice, and no thread's mark of a body feature seen is left set after a detection. */
 static void test_pairs_threads(void) {
     const double th = 0.005, h = 1.0 / 30;
     wc_diag d = {0};
@@ -333,13 +346,18 @@ static void test_pairs_threads(void) {
     memcpy(x, m.rest_pos, 3 * (size_t)n * sizeof(double));
     for (int i = 0; i < n; ++i) v[3 * i + 1] = -0.2 - 0.01 * (i % 7);
     const int caps[2] = {4 * nf, 9}; /* room for all; a list that overflows */
-    int found = 0;
+    int found = 0, marks_left = 0;
     for (int ci = 0; ci < 2; ++ci) {
         wc_mesh_pairs* serial = wc_mesh_pairs_create(caps[ci], n, cm, 2, NULL);
         CHECK(serial && wc_mesh_pairs_keep_candidates(serial, nf, NULL));
         wc_mesh_pairs_find(serial, cm, 2, &m, NULL, NULL, x, v, h, h);
-        if (ci == 0) found = serial->list.n;
-        else CHECK(serial->list.overflow > 0);
+        for (int i = 0; i < serial->seen_stride; ++i) marks_left += serial->seen[i] != 0;
+        if (ci == 0) {
+            found = serial->list.n;
+            CHECK_EQ_INT(repeated_pairs(&serial->list), 0);
+        } else {
+            CHECK(serial->list.overflow > 0);
+        }
         const int threads[3] = {2, 3, 2}, stage_caps[3] = {0, 1, 5};
         for (int r = 0; r < 3; ++r) {
             wc_mesh_pairs* par = wc_mesh_pairs_create(caps[ci], n, cm, 2, NULL);
@@ -348,14 +366,17 @@ static void test_pairs_threads(void) {
             for (int rep = 0; rep < 2; ++rep) { /* the second time through the kept candidates */
                 wc_mesh_pairs_find(par, cm, 2, &m, NULL, NULL, x, v, h, h);
                 CHECK(same_list(&serial->list, &par->list));
+                for (size_t i = 0; i < (size_t)threads[r] * (size_t)par->seen_stride; ++i)
+                    marks_left += par->seen[i] != 0;
             }
             wc_mesh_pairs_destroy(par, NULL);
         }
         wc_mesh_pairs_destroy(serial, NULL);
     }
     printf("  %d pairs (%d features) found alike on 1, 2 and 3 threads, with stages of room 1, 5 and the "
-           "default, and with a list of room 9\n", found, nf);
+           "default, and with a list of room 9; none twice, %d marks left\n", found, nf, marks_left);
     CHECK(found > 20);
+    CHECK_EQ_INT(marks_left, 0);
     free(x);
     free(v);
     for (int k = 0; k < 2; ++k) wc_mesh_collider_destroy(mc[k]);
