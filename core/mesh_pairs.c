@@ -248,6 +248,8 @@ typedef struct find_ctx {
     unsigned char *seen_edge, *seen_vert; /* the thread's marks (wc_mesh_pairs.seen) */
     int* seen_set;         /* the marks this cloth feature set (offsets from seen_edge) */
     int n_set;
+    double reach[6];       /* a body point outside this box is beyond every contact distance
+                              keep could give the cloth feature (reach_box) */
 } find_ctx;
 
 /* 1 when body feature i (marks: the edges' or the vertices') was seen for this cloth feature;
@@ -312,6 +314,47 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     wc_penalty_pairs_add(c->out, &c->m->pattern, cnt, c->cloth, w, n, off, wc_penalty_stiffness(inv, c->he));
 }
 
+/* c->reach: the cloth feature's box at the start grown by the largest contact distance keep can
+ * give it, d_c = 2 thickness + 1.5 h approach with approach <= |v_cloth point| + |v_body point|
+ * <= the fastest of the feature's particles + the body's fastest vertex (max_speed), and a
+ * margin for rounding. A body point outside it is farther than d_c from every point of the
+ * feature (keep rejects the pair): its closest points need not be computed. Unbounded when the
+ * collider is exhaustive (the reference of the prunes). */
+static void reach_box(find_ctx* c, int cnt) {
+    const wc_mesh_collider* mc = c->mc;
+    double vmax = 0.0, scale = 1.0;
+    if (mc->exhaustive) {
+        for (int k = 0; k < 3; ++k) {
+            c->reach[k] = -HUGE_VAL;
+            c->reach[3 + k] = HUGE_VAL;
+        }
+        return;
+    }
+    wc_box_empty(c->reach);
+    for (int k = 0; k < cnt; ++k) {
+        const double* xk = c->x + 3 * c->cloth[k];
+        wc_box_add(c->reach, xk);
+        vmax = fmax(vmax, v3_norm(c->v + 3 * c->cloth[k]));
+        scale = fmax(scale, fmax(fabs(xk[0]), fmax(fabs(xk[1]), fabs(xk[2]))));
+    }
+    double dc = 2.0 * mc->thickness + 1.5 * c->h * (vmax + mc->max_speed);
+    wc_box_inflate(c->reach, dc * (1.0 + 1e-9) + 1e-9 * scale);
+}
+
+/* 1 when body point p lies outside c->reach */
+static int beyond_reach(const find_ctx* c, const double* p) {
+    const double* b = c->reach;
+    return p[0] < b[0] || p[0] > b[3] || p[1] < b[1] || p[1] > b[4] || p[2] < b[2] || p[2] > b[5];
+}
+
+/* 1 when the body segment p-q lies outside c->reach (on one side of it) */
+static int segment_beyond_reach(const find_ctx* c, const double* p, const double* q) {
+    const double* b = c->reach;
+    for (int k = 0; k < 3; ++k)
+        if ((p[k] < b[k] && q[k] < b[k]) || (p[k] > b[3 + k] && q[k] > b[3 + k])) return 1;
+    return 0;
+}
+
 static void lerp(double* o, const double* a, const double* b, double t) {
     for (int k = 0; k < 3; ++k) o[k] = a[k] + t * (b[k] - a[k]);
 }
@@ -326,6 +369,7 @@ static int visit_edge(void* user, int t) {
     for (int e = 0; e < 3; ++e) {
         int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
         if (!c->sh->sharp_edge[eid] || seen_before(c, c->seen_edge, eid)) continue;
+        if (segment_beyond_reach(c, mc->xa + 3 * r, mc->xa + 3 * s)) continue;
         double a, b;
         wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);
         if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
@@ -347,6 +391,7 @@ static int visit_edge(void* user, int t) {
     for (int k = 0; k < 3; ++k) {
         int r = tv[k];
         if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
+        if (beyond_reach(c, mc->xa + 3 * r)) continue;
         double d[3];
         v3_sub(d, mc->xa + 3 * r, p0);
         double a = v3_dot(d, e) / ee;
@@ -367,6 +412,7 @@ static int visit_vertex(void* user, int t) {
     for (int e = 0; e < 3; ++e) {
         int r = mc->tris[3 * t + e];
         if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
+        if (beyond_reach(c, mc->xa + 3 * r)) continue;
         double w[3], cp0[3] = {0, 0, 0};
         wc_closest_on_triangle(mc->xa + 3 * r, c->x + 3 * T[0], c->x + 3 * T[1], c->x + 3 * T[2], w, NULL);
         if (!(w[0] > INTERIOR && w[1] > INTERIOR && w[2] > INTERIOR)) continue;
@@ -414,11 +460,13 @@ static void find_pairs(find_ctx* c, int q, wc_mesh_near* near, const unsigned ch
         if (wc_we_repeats_previous(we, q)) return;
         c->cloth[0] = we->edges[q].v[0];
         c->cloth[1] = we->edges[q].v[1];
+        reach_box(c, 2);
         feature_box(c, 2, r, box);
         visit_near(c, near ? near + q : NULL, mask, box, visit_edge);
         return;
     }
     memcpy(c->cloth, c->m->tris + 3 * (q - we->n_edges), 3 * sizeof(int));
+    reach_box(c, 3);
     feature_box(c, 3, r, box);
     visit_near(c, near ? near + q : NULL, mask, box, visit_vertex);
 }

@@ -383,6 +383,87 @@ static void test_pairs_threads(void) {
     wc_model_free(&m);
 }
 
+/* The detection's cull of body features beyond the largest contact distance (mesh_pairs.c's
+ * reach_box) against the unculled detection (exhaustive colliders): the same list, bit for bit.
+ * A flat 21 x 21 sheet over a roof ridge and a pyramid's apex that rise at 0 to 1 m/s, its
+ * particles falling at 0 to 3 m/s, at heights just inside and just outside the contact distance
+ * d_c = 2 thickness + 1.5 h (fall + rise) (pairs found at the edge of the reach); then the bodies
+ * turning and shifting under a crumpled sheet moving every which way. */
+static void test_pairs_culled(void) {
+    const double th = 0.005, h = 1.0 / 60;
+    wc_diag d = {0};
+    tmesh body[2];
+    roof(&body[0], 0.21, 0.15, 0.25, 0.8);
+    pyramid(&body[1], -0.235, 0.28, 0.1, 0.254);
+    const double top[2] = {0.25, 0.254};
+    wc_mesh_collider* mc[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k)
+        CHECK_EQ_INT(wc_mesh_collider_create(&mc[k], body[k].x, body[k].nv, body[k].t, body[k].nt, th, 0.4, NULL, &d),
+                     WC_OK);
+    const wc_mesh_collider* cm[2] = {mc[0], mc[1]};
+    wc_model m;
+    CHECK(ts_sheet(&m, 21, 1.0, 0.0, 0, 1.0));
+    int n = m.n_particles, nf = m.we.n_edges + m.n_tris;
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    double* v = malloc(3 * (size_t)n * sizeof(double));
+    double tgt[3 * 16];
+    wc_mesh_pairs* culled = wc_mesh_pairs_create(8 * nf, n, cm, 2, NULL);
+    wc_mesh_pairs* full = wc_mesh_pairs_create(8 * nf, n, cm, 2, NULL);
+    CHECK(culled && full && wc_mesh_pairs_keep_candidates(culled, nf, NULL));
+    unsigned long long rng = 0x9e3779b97f4a7c15ull;
+    const double falls[5] = {0, 1, 3, 0, 2}, rises[5] = {0, 0, 0, 0.5, 1}, at[5] = {0.5, 0.99, 0.9999, 1.001, 1.2};
+    int trials = 0, same = 0, found = 0, edge_found = 0;
+    for (int trial = 0; trial < 2 * 5 * 5 + 30; ++trial) {
+        int flat = trial < 50, near = trial % 2, speed = trial / 2 % 5;
+        double fall = flat ? falls[speed] : 0.0, rise = flat ? rises[speed] : 0.0;
+        double dc = 2.0 * th + 1.5 * h * (fall + rise), y = top[near] + at[trial / 10 % 5] * dc;
+        double a = flat ? 0.0 : 0.02 * (trial % 5), ca = cos(a), sa = sin(a);
+        for (int k = 0; k < 2; ++k) { /* rise, or turn about y and shift */
+            for (int i = 0; i < body[k].nv; ++i) {
+                const double* p = body[k].x + 3 * i;
+                v3_set(tgt + 3 * i, ca * p[0] + sa * p[2], p[1] + rise * h + (flat ? 0.0 : 0.001 * (trial % 3)),
+                       -sa * p[0] + ca * p[2] + (flat ? 0.0 : 0.002));
+            }
+            CHECK_EQ_INT(wc_mesh_collider_set_all(mc[k], body[k].x, &d), WC_OK);
+            CHECK_EQ_INT(wc_mesh_collider_set_target(mc[k], tgt, &d), WC_OK);
+            wc_mesh_collider_substep(mc[k], 0.0, 1.0, h);
+        }
+        for (int i = 0; i < n; ++i) {
+            double r[4];
+            for (int k = 0; k < 4; ++k) {
+                rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17;
+                r[k] = (double)(rng >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+            }
+            if (flat) {
+                v3_set(x + 3 * i, m.rest_pos[3 * i], y, m.rest_pos[3 * i + 2]);
+                v3_set(v + 3 * i, 0.0, -fall, 0.0);
+            } else {
+                v3_set(x + 3 * i, m.rest_pos[3 * i], 0.252 + 0.0015 * (trial - 50) + 0.003 * r[3], m.rest_pos[3 * i + 2]);
+                v3_set(v + 3 * i, r[0], r[1], r[2]);
+                v3_scale(v + 3 * i, v + 3 * i, 0.1 * (trial - 50));
+            }
+        }
+        for (int k = 0; k < 2; ++k) mc[k]->exhaustive = 1;
+        wc_mesh_pairs_find(full, cm, 2, &m, NULL, NULL, x, v, h, h);
+        for (int k = 0; k < 2; ++k) mc[k]->exhaustive = 0;
+        wc_mesh_pairs_find(culled, cm, 2, &m, NULL, NULL, x, v, h, h);
+        ++trials;
+        same += same_list(&full->list, &culled->list);
+        found += full->list.n;
+        if (flat && at[trial / 10 % 5] > 0.9 && at[trial / 10 % 5] < 1.0) edge_found += full->list.n;
+    }
+    printf("  %d of %d detections the same culled as unculled: %d pairs, %d of them at 0.99 and 0.9999 d_c\n", same,
+           trials, found, edge_found);
+    CHECK_EQ_INT(same, trials);
+    CHECK(edge_found > 20 && found > edge_found);
+    wc_mesh_pairs_destroy(culled, NULL);
+    wc_mesh_pairs_destroy(full, NULL);
+    free(x);
+    free(v);
+    for (int k = 0; k < 2; ++k) wc_mesh_collider_destroy(mc[k]);
+    wc_model_free(&m);
+}
+
 /* Newton with a line search, pairs active: Phi never rises from one accepted iterate to the next */
 static void test_newton_descends(void) {
     tmesh body;
@@ -401,6 +482,7 @@ static void test_newton_descends(void) {
 int main(void) {
     RUN_TEST(test_pair_term);
     RUN_TEST(test_pairs_threads);
+    RUN_TEST(test_pairs_culled);
     RUN_TEST(test_newton_descends);
     RUN_TEST(test_ridge_and_apex);
     return TEST_SUMMARY();
