@@ -139,7 +139,8 @@ wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_coll
             wc_mesh_pairs_destroy(p, a);
             return NULL;
         }
-        if (p->sharp[k].n_edges + mc[k]->n_verts > p->seen_stride) p->seen_stride = p->sharp[k].n_edges + mc[k]->n_verts;
+        int features = p->sharp[k].n_edges + mc[k]->n_verts;
+        if (features > p->seen_stride) p->seen_stride = features;
     }
     if (!seen_alloc(p, 1, a)) {
         wc_mesh_pairs_destroy(p, a);

@@ -438,7 +438,8 @@ static void test_pairs_culled(void) {
                 v3_set(x + 3 * i, m.rest_pos[3 * i], y, m.rest_pos[3 * i + 2]);
                 v3_set(v + 3 * i, 0.0, -fall, 0.0);
             } else {
-                v3_set(x + 3 * i, m.rest_pos[3 * i], 0.252 + 0.0015 * (trial - 50) + 0.003 * r[3], m.rest_pos[3 * i + 2]);
+                double yi = 0.252 + 0.0015 * (trial - 50) + 0.003 * r[3];
+                v3_set(x + 3 * i, m.rest_pos[3 * i], yi, m.rest_pos[3 * i + 2]);
                 v3_set(v + 3 * i, r[0], r[1], r[2]);
                 v3_scale(v + 3 * i, v + 3 * i, 0.1 * (trial - 50));
             }
