@@ -4,9 +4,9 @@
  * icosphere (a smooth body), and lifted by a box moved per frame through
  * weft_cloth_set_mesh_collider_vertices. Measured each frame: the deepest vertex behind the body
  * (the box's own slabs, an independent test; the icosphere: weft_cloth_check_collisions); at the
- * end: the largest vertex distance GPU - CPU and the rollbacks on both. The CPU also runs the
- * body's sharp features as penalty pairs (core/mesh_pairs.h), which the GPU does not: on the
- * smooth body the two stay close. Bad vertex inputs are refused as on the CPU (status and
+ * end: the largest vertex distance GPU - CPU, the rollbacks on both and the body's sharp-feature
+ * penalty pairs (core/mesh_pairs.h: found, active; both backends run them in the solve, the GPU
+ * as gpu/solver/wg_pairs.h): the two stay close on both bodies. Bad vertex inputs are refused as on the CPU (status and
  * message), the state intact; a snapshot with a deforming mesh collider replays bit-exactly; TR-BDF2
  * and Newton iterations with a mesh collider are accepted, the direct solver refused, naming it; a bar moved through a hanging
  * sheet at 9 m/s, one substep a frame, leaves no vertex inside or behind it. */
@@ -82,6 +82,7 @@ typedef struct run_result {
     float pos[3 * N * N];
     double depth;            /* m: deepest behind the body over the frames */
     int rollbacks, contacts, ok;
+    int pairs, pairs_active;  /* the mesh feature pairs, summed over the frames */
     double top;              /* m: highest vertex at the end */
 } run_result;
 
@@ -116,6 +117,8 @@ static void run(weft_backend backend, int scene, int frames, run_result* r) {
         }
         CHECK_EQ_INT(weft_cloth_step(ctx, c, &fr, &fs), WEFT_OK);
         r->rollbacks += fs.rollbacks;
+        r->pairs += fs.mesh_pairs;
+        r->pairs_active += fs.mesh_pairs_active;
         CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c, WEFT_SPACE_WORLD, r->pos, NULL, N * N, &count), WEFT_OK);
         if (scene == 1) {
             weft_collision_check chk;
@@ -147,10 +150,9 @@ static double distance(const run_result* a, const run_result* b) {
 
 static void test_vs_cpu(void) {
     static const char* names[] = {"dropped on a box", "dropped on an icosphere", "lifted by a box (vertices)"};
-    /* bounds: the CPU's penalty pairs at the box's edges and corners, which the GPU has not,
-       drape the sheet's hanging sides differently (6 cm at the corners, the top 5 mm higher); on
-       the smooth body the two agree to float's reach */
-    static const double bound[] = {0.1, 1e-3, 5e-3};
+    /* bounds: with the box's edge pairs in both solves the two agree to float's reach on every
+       body */
+    static const double bound[] = {1e-3, 1e-3, 1e-3};
     for (int scene = 0; scene < 3; ++scene) {
         static run_result cpu, gpu;
         int frames = scene == 1 ? 45 : 60;
@@ -159,13 +161,18 @@ static void test_vs_cpu(void) {
         if (!cpu.ok || !gpu.ok) continue;
         double d = distance(&cpu, &gpu);
         printf("  %s, %d frames: GPU - CPU %.3g m; deepest behind the body GPU %.3g m, CPU %.3g m; rollbacks GPU %d, "
-               "CPU %d; in contact GPU %d, CPU %d; top GPU %.4g m, CPU %.4g m\n",
+               "CPU %d; in contact GPU %d, CPU %d; top GPU %.4g m, CPU %.4g m; feature pairs GPU %d (%d active), "
+               "CPU %d (%d)\n",
                names[scene], frames, d, gpu.depth, cpu.depth, gpu.rollbacks, cpu.rollbacks, gpu.contacts, cpu.contacts,
-               gpu.top, cpu.top);
+               gpu.top, cpu.top, gpu.pairs, gpu.pairs_active, cpu.pairs, cpu.pairs_active);
         CHECK(d < bound[scene]);
         CHECK(gpu.depth < 1e-3);
         if (cpu.rollbacks == 0) CHECK_EQ_INT(gpu.rollbacks, 0);
         CHECK(gpu.contacts > 0);
+        /* the pairs as the CPU's (within 5 %); the box has them, the smooth icosphere none */
+        CHECK(fabs((double)gpu.pairs - cpu.pairs) <= 0.05 * cpu.pairs);
+        CHECK(fabs((double)gpu.pairs_active - cpu.pairs_active) <= 0.05 * cpu.pairs_active);
+        if (scene != 1) CHECK(gpu.pairs_active > 0);
         if (scene == 2) CHECK(gpu.top > 0.5 - 0.01 && gpu.top < 0.5 + 0.02);
     }
 }

@@ -31,10 +31,12 @@
 #include "wg_contacts.h"
 #include "bdf2.h"
 #include "wg_mesh.h"
+#include "wg_pairs.h"
 
 struct wg_contacts {
     wg_runner* run;
     wg_contact_cloth cl;        /* the cloth's textures */
+    const wg_pairs* pairs;      /* the cloth's penalty pairs (their blocks in end's residual), or NULL */
     int max_colliders;          /* analytic ones */
     wg_mesh mesh;
     wg_tex cvel;                /* begin's o7 (n): first contact's surface velocity, correction length */
@@ -293,6 +295,10 @@ int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
     return r[3] > 0.5f;
 }
 
+void wg_contacts_use_pairs(wg_contacts* cs, const struct wg_pairs* pairs) {
+    if (cs) cs->pairs = pairs;
+}
+
 void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv, int stage) {
     if (!cs) return;
     wg_runner* run = cs->run;
@@ -303,7 +309,9 @@ void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv, int s
     int hw = 1 - cs->held_cur;
     WG_USE(run, WGP_CONTACT_END, &(wg_contact_end_in){.pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .dv = dv, .b = g->b, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1),
-        .c2 = wg_ring_cur(&cs->c2), .held = &cs->held[cs->held_cur]});
+        .c2 = wg_ring_cur(&cs->c2), .held = &cs->held[cs->held_cur],
+        .pairs = wg_pairs_inputs(cs->pairs, g->pblocks, g->mass)});
+    wg_u1i(run, "u_pairs", wg_pairs_on(cs->pairs));
     wg_u1i(run, "u_nc", nc);
     wg_u1i(run, "u_stage", stage);
     WG_RUN(run, g->n, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2], &cs->held[hw]);

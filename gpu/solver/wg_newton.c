@@ -103,7 +103,8 @@ void wg_newton_friction(wg_sim* g, int terms) {
 static double filtered_norm2(wg_sim* g) {
     wg_runner* run = &g->run;
     WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .x = &g->nw_zero, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+        .a_hi = &g->A1, .x = &g->nw_zero, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
+    wg_sim_pair_uniform(g);
     WG_RUN(run, g->n, &g->rz);
     float v[4];
     wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->rz, 0, 0, 0, 0), v);
@@ -175,7 +176,8 @@ static const wg_tex* first_search(wg_sim* g, const wc_state* s, const wc_integ* 
     WG_RUN(run, g->n, w0, &g->nw_d);
     /* (A w~0 - b) . d0 = -S (b - A w~0) . d0, d0 being in S's range */
     WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .x = w0, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+        .a_hi = &g->A1, .x = w0, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
+    wg_sim_pair_uniform(g);
     WG_RUN(run, g->n, &g->rz);
     wg_tex* trial = spare(g, w1, w0);
     const double slope = -step_to(g, w0, &g->nw_d, &g->rz, 1.0, trial);
