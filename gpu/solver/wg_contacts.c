@@ -54,12 +54,6 @@ struct wg_contacts {
     int held_cur;               /* the one stage 1 wrote last */
 };
 
-static void swap_tex(wg_tex* a, wg_tex* b) {
-    wg_tex t = *a;
-    *a = *b;
-    *b = t;
-}
-
 /* Every texture of cs but the meshes' and the chain's into t (room for 25); their count. */
 static int textures(wg_contacts* cs, wg_tex** t) {
     wg_ring* rings[3] = {&cs->c0, &cs->c1, &cs->c2};
@@ -198,8 +192,8 @@ static void diag_pass(wg_contacts* cs) {
     WG_USE(run, WGP_CONTACT_DIAG, &(wg_contact_diag_in){.block = g->block, .a_lo = g->a_lo, .a_hi = g->a_hi,
         .aii_lo = &cs->ad0, .aii_hi = &cs->ad1});
     WG_RUN(run, g->nb, &cs->A0, &cs->A1);
-    swap_tex(g->a_lo, &cs->A0);
-    swap_tex(g->a_hi, &cs->A1);
+    wg_tex_swap(g->a_lo, &cs->A0);
+    wg_tex_swap(g->a_hi, &cs->A1);
 }
 
 void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double h) {
@@ -219,9 +213,9 @@ void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double
     WG_RUN(run, g->n, &g->x->t[nx], &cs->S0, &cs->S1, &cs->z, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2], &cs->cvel);
     g->x->cur = nx;
     if (cs->mesh.n_mesh > 0) wg_copy(run, &cs->x_sub, &g->x->t[nx]);   /* project's start of the moves */
-    swap_tex(g->S0, &cs->S0);
-    swap_tex(g->S1, &cs->S1);
-    swap_tex(g->z, &cs->z);
+    wg_tex_swap(g->S0, &cs->S0);
+    wg_tex_swap(g->S1, &cs->S1);
+    wg_tex_swap(g->z, &cs->z);
     cs->c0.cur = j0;
     cs->c1.cur = j1;
     cs->c2.cur = j2;
@@ -242,11 +236,11 @@ void wg_contacts_integ(wg_contacts* cs, const wg_contact_integ* io, int stage, d
     /* S0, S1 and b are free scratch here: they take xb, v* and (stage 2) mom */
     WG_RUN(run, g->n, &g->v->t[nv], &cs->S0, &cs->S1, stage == 1 ? &io->vp->t[np] : &cs->b, &cs->z);
     g->v->cur = nv;
-    swap_tex(io->xb, &cs->S0);
-    swap_tex(io->vstar, &cs->S1);
+    wg_tex_swap(io->xb, &cs->S0);
+    wg_tex_swap(io->vstar, &cs->S1);
     if (stage == 1) io->vp->cur = np;
-    else swap_tex(io->mom, &cs->b);
-    swap_tex(g->z, &cs->z);
+    else wg_tex_swap(io->mom, &cs->b);
+    wg_tex_swap(g->z, &cs->z);
 }
 
 void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg_tex* mom) {
@@ -263,10 +257,10 @@ void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg
     wg_u1i(run, "u_nc", nc);
     wg_u1i(run, "u_mom", mom != NULL);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->ad0, &cs->ad1);
-    swap_tex(g->S0, &cs->S0);
-    swap_tex(g->S1, &cs->S1);
-    swap_tex(g->z, &cs->z);
-    swap_tex(g->b, &cs->b);
+    wg_tex_swap(g->S0, &cs->S0);
+    wg_tex_swap(g->S1, &cs->S1);
+    wg_tex_swap(g->z, &cs->z);
+    wg_tex_swap(g->b, &cs->b);
     cs->c0.cur = j0;
     diag_pass(cs);
 }
@@ -283,10 +277,10 @@ int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
         .cvel = &cs->cvel, .colliders = &cs->cols});
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->c2.t[j2], &cs->ad0, &cs->ad1);
-    swap_tex(g->S0, &cs->S0);
-    swap_tex(g->S1, &cs->S1);
-    swap_tex(g->z, &cs->z);
-    swap_tex(g->b, &cs->b);
+    wg_tex_swap(g->S0, &cs->S0);
+    wg_tex_swap(g->S1, &cs->S1);
+    wg_tex_swap(g->z, &cs->z);
+    wg_tex_swap(g->b, &cs->b);
     cs->c0.cur = j0;
     cs->c2.cur = j2;
     diag_pass(cs);

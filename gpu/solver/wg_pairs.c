@@ -48,12 +48,6 @@ static wc_penalty_pairs* list_of(wc_state* s, int k) {
     return s->self_pairs ? &s->self_pairs->list : NULL;
 }
 
-static void swap_tex(wg_tex* a, wg_tex* b) {
-    wg_tex t = *a;
-    *a = *b;
-    *b = t;
-}
-
 /* every texture of p into t (room for 16); their count */
 static int textures(wg_pairs* p, wg_tex** t) {
     wg_tex* all[] = {&p->p, &p->w, &p->nc, &p->rows, &p->entry, &p->db, &p->df, &p->da0, &p->da1,
@@ -324,13 +318,13 @@ static void apply(wg_pairs* p, const wc_state* s, int k, int with_f) {
         wg_u1i(run, "u_hi", hi);
         wg_u1i(run, "u_f", with_f);
         WG_RUN(run, n, &p->b2, &p->f2, &p->aii0, &p->aii1);
-        swap_tex(g->b, &p->b2);
-        swap_tex(g->ftot, &p->f2);
+        wg_tex_swap(g->b, &p->b2);
+        wg_tex_swap(g->ftot, &p->f2);
         WG_USE(run, WGP_CONTACT_DIAG, &(wg_contact_diag_in){.block = g->block, .a_lo = g->a_lo, .a_hi = g->a_hi,
             .aii_lo = &p->aii0, .aii_hi = &p->aii1});
         WG_RUN(run, g->nb, &p->A0, &p->A1);
-        swap_tex(g->a_lo, &p->A0);
-        swap_tex(g->a_hi, &p->A1);
+        wg_tex_swap(g->a_lo, &p->A0);
+        wg_tex_swap(g->a_hi, &p->A1);
     }
     memset(p->b, 0, 3 * (size_t)n * sizeof(double));
     memset(p->f, 0, 3 * (size_t)n * sizeof(double));
