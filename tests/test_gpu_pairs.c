@@ -1,0 +1,236 @@
+/* The penalty pairs in the GPU's solve (gpu/solver/wg_pairs.h) against core on the same
+ * float-rounded input: two 6 x 6 sheets 2.5 mm apart (tests/two_layers.h), the upper one moving
+ * down onto the lower, self-collision with its pairs in the solve (backward Euler, PCG with block
+ * Jacobi). One substep's first system: the pairs found (particles, normals) and their active set
+ * as core's, b and A (the pairs' diagonal blocks in it) to float precision against core's
+ * prepare; the off-diagonal blocks through the GPU's product (A x less the pattern's part) against
+ * wc_coupling_mul_offdiag_add; then a solve on each side (the GPU's solution solves core's system,
+ * couplings included, to 1e-3) and the recheck of core's solution rounded to float on each: the
+ * pairs switched and the active set after it as core's, and b and A after it. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bsr.h"
+#include "check.h"
+#include "egl_context.h"
+#include "penalty_pairs.h"
+#include "self_collide.h"
+#include "self_pairs.h"
+#include "solve.h"
+#include "state.h"
+#include "step.h"
+#include "test_support.h"
+#include "two_layers.h"
+#include "wg_device.h"
+#include "wg_sim_impl.h"
+
+#define LN 6
+#define SIZE 0.3
+#define H (1.0 / 120.0)
+
+static wg_gl_context* gl;
+static wg_device* dev;
+
+/* largest |a - b| over count values, over the largest |b| (1 when b is all zeros) */
+static double rel_err(const double* a, const double* b, size_t count) {
+    double e = 0.0, s = 0.0;
+    for (size_t k = 0; k < count; ++k) {
+        e = fmax(e, fabs(a[k] - b[k]));
+        s = fmax(s, fabs(b[k]));
+    }
+    return e / (s > 0.0 ? s : 1.0);
+}
+
+static void round_to_float(double* a, size_t count) {
+    for (size_t k = 0; k < count; ++k) a[k] = (double)(float)a[k];
+}
+
+/* The GPU's uploaded pairs against core's list: the same particles, normals within float, the
+ * same active set. Returns the active pairs. */
+static int compare_lists(const wc_penalty_pairs* cpu, const wg_pairs* gp, const char* when) {
+    const int *ip = NULL;
+    const float *fw = NULL, *fnc = NULL;
+    int n = wg_pairs_debug_list(gp, &ip, &fw, &fnc);
+    CHECK_EQ_INT(n, cpu->n);
+    int same_p = 1, same_active = 1, active = 0;
+    double en = 0.0, ec = 0.0;
+    for (int j = 0; j < n && j < cpu->n; ++j) {
+        const wc_coupling_term* t = &cpu->term[j];
+        for (int a = 0; a < t->cnt; ++a) {
+            same_p &= ip[4 * j + a] == t->p[a];
+            en = fmax(en, fabs(fw[4 * j + a] - t->w[a]));
+        }
+        for (int c = 0; c < 3; ++c) en = fmax(en, fabs(fnc[4 * j + c] - t->n[c]));
+        same_active &= (fnc[4 * j + 3] > 0.0f) == (t->c > 0.0);
+        if (t->c > 0.0) ec = fmax(ec, fabs(fnc[4 * j + 3] - t->c) / t->c);
+        active += t->c > 0.0;
+    }
+    printf("  %s: %d pairs (core %d), %d active; weights and normals within %.2g, c within %.2g (relative)\n", when,
+           n, cpu->n, active, en, ec);
+    CHECK(same_p);
+    CHECK(same_active);
+    CHECK(en < 1e-6);
+    CHECK(ec < 1e-6);
+    return active;
+}
+
+/* x random in [-1, 1] (the state's filter free everywhere: a product's input) */
+static void random_vec(double* x, int n3, unsigned seed) {
+    for (int k = 0; k < n3; ++k) {
+        seed = seed * 1103515245u + 12345u;
+        x[k] = ((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+    }
+}
+
+static void test_first_system(void) {
+    wc_model m;
+    CHECK(two_layers(&m, LN, SIZE, 0.0, 0.0025));
+    wc_sim_def sd = wc_default_sim_def();
+    sd.solver.type = WC_SOLVER_PCG;
+    sd.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
+    sd.threads = 1;
+    sd.newton_iterations = 1;
+    sd.line_search = 0;
+    sd.self_collision = 1;
+    sd.self_in_solve = 1;
+    wc_state* sc = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
+    wc_state* sg = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
+    CHECK(sc && sg && sc->self_pairs && sg->self_pairs);
+    if (!sc || !sg) return;
+    const int n = m.n_particles, nb = m.pattern.n_blocks;
+    const size_t n3 = 3 * (size_t)n;
+    round_to_float(sc->x, n3);
+    round_to_float(sc->v, n3);
+    memcpy(sg->x, sc->x, n3 * sizeof(double));
+    memcpy(sg->v, sc->v, n3 * sizeof(double));
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK_EQ_INT(wg_sim_create(dev, sg, NULL, &g, &d), WC_OK);
+    if (!g) {
+        printf("  wg_sim_create: %s\n", d.message);
+        return;
+    }
+    CHECK(g->pairs != NULL);
+    wg_sim_upload(g, sg, &d);
+
+    /* core's first system; the GPU's from the same positions (the stage's start as both take it) */
+    wc_self_begin(sc->self, sc->x);
+    wc_self_begin(sg->self, sg->x);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(sc, H, 1.0, &st);
+    double* A = malloc(9 * (size_t)nb * sizeof(double));
+    double* b = malloc(n3 * sizeof(double));
+    CHECK_EQ_INT(wg_sim_debug_prepare(g, sg, H, 1.0, A, b, NULL, NULL, NULL, NULL, &d), WC_OK);
+    const wc_penalty_pairs* lc = &sc->self_pairs->list;
+    int active = compare_lists(lc, g->pairs, "first system");
+    CHECK(active >= 10);
+    CHECK_EQ_INT(wg_pairs_counts(g->pairs)->self, st.self_pairs);
+    CHECK_EQ_INT(wg_pairs_counts(g->pairs)->self_active, st.self_pairs_active);
+    /* the pairs' share of A's diagonal: what they add, against the error */
+    double pair_diag = 0.0;
+    for (int j = 0; j < lc->n; ++j)
+        if (lc->term[j].c > 0.0) pair_diag = fmax(pair_diag, lc->term[j].c * lc->term[j].w[0] * lc->term[j].w[0]);
+    double eA = rel_err(A, sc->A, 9 * (size_t)nb), eb = rel_err(b, sc->b, n3);
+    printf("  A within %.2g, b within %.2g of core's (relative; the pairs' largest diagonal term %.3g kg)\n", eA, eb,
+           pair_diag);
+    CHECK(eA < 1e-6);
+    CHECK(eb < 1e-5);
+    CHECK(pair_diag > 1e-3);
+
+    /* the off-diagonal blocks: the GPU's A x less the pattern's part of it, against core's */
+    double* x = malloc(n3 * sizeof(double));
+    double* y = malloc(n3 * sizeof(double));
+    double* yp = malloc(n3 * sizeof(double));
+    double* yc = calloc(n3, sizeof(double));
+    random_vec(x, (int)n3, 7u);
+    round_to_float(x, n3);
+    CHECK_EQ_INT(wg_sim_debug_spmv(g, x, y, &d), WC_OK);
+    wc_par par;
+    wc_par_init(&par, 1);
+    wc_bsr_mul(&m.pattern, A, x, yp, &par);
+    for (size_t k = 0; k < n3; ++k) y[k] -= yp[k];
+    wc_coupling_mul_offdiag_add(&sc->self_pairs->coupling, 1.0, x, yc);
+    double eo = rel_err(y, yc, n3), so = 0.0;
+    for (size_t k = 0; k < n3; ++k) so = fmax(so, fabs(yc[k]));
+    printf("  off-diagonal product within %.2g of wc_coupling_mul_offdiag_add (relative; largest %.3g)\n", eo, so);
+    CHECK(so > 1e-3);
+    CHECK(eo < 1e-4);   /* a difference of two float products of A's size */
+
+    /* a solve on each side (the two within the solvers' tolerance), then the recheck of core's
+       solution, rounded to float, on each side */
+    wc_solve_result res;
+    memset(sc->dv, 0, n3 * sizeof(double));
+    CHECK_EQ_INT(wc_solve(sc->solver, WC_SOLVER_PCG, sc->A, sc->b, &sc->filter, sc->dv, &sc->par, &res), WC_OK);
+    const wg_tex* out = NULL;
+    wc_solver_opts o = sg->def.solver;
+    CHECK_EQ_INT(wg_solve(g, &o, WC_SOLVER_PCG, wg_ring_cur(&g->dv), &out, &res), WC_OK);
+    /* the GPU's dv in core's system (A with its couplings, the filter free): |A dv - b| / |b| */
+    wg_array_read(&g->layout, out, n, g->rb);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) x[3 * i + c] = g->rb[4 * i + c];
+    wc_state_mul_system(sc, x, y);
+    double rr = 0.0, bb = 0.0;
+    for (size_t k = 0; k < n3; ++k) {
+        rr += (y[k] - sc->b[k]) * (y[k] - sc->b[k]);
+        bb += sc->b[k] * sc->b[k];
+    }
+    printf("  the GPU's solution in core's system: relative residual %.2g\n", sqrt(rr / bb));
+    CHECK(sqrt(rr / bb) < 1e-3);
+    round_to_float(sc->dv, n3);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)sc->dv[3 * i + c] : 0.0f;
+    const wg_tex* dv_in = &g->dv.t[wg_ring_other(&g->dv, 0)];
+    wg_array_upload(&g->layout, dv_in, n, g->rb);
+    wc_integ ig;
+    wc_integ_coefficients(sg, H, 1, &ig);
+    int sw_c = wc_penalty_pairs_recheck(&sc->self_pairs->list, &m, sc->x, sc->v, sc->dv, H, sc->A, sc->b);
+    int sw_g = wg_pairs_recheck(g->pairs, sg, 1, &ig, dv_in);
+    int apart = 0;
+    for (int j = 0; j < lc->n; ++j) apart += lc->active[j] != sg->self_pairs->list.active[j];
+    printf("  recheck: %d pairs switched on the GPU, %d by core, active sets %d apart\n", sw_g, sw_c, apart);
+    CHECK(sw_c > 0);
+    CHECK_EQ_INT(sw_g, sw_c);
+    CHECK_EQ_INT(apart, 0);
+    compare_lists(lc, g->pairs, "after the recheck");
+    double* A2 = malloc(9 * (size_t)nb * sizeof(double));
+    double* b2 = malloc(n3 * sizeof(double));
+    CHECK_EQ_INT(wg_sim_debug_read_system(g, A2, b2, &d), WC_OK);
+    eA = rel_err(A2, sc->A, 9 * (size_t)nb);
+    eb = rel_err(b2, sc->b, n3);
+    printf("  after the recheck: A within %.2g, b within %.2g of core's\n", eA, eb);
+    CHECK(eA < 1e-6);
+    CHECK(eb < 1e-5);
+
+    free(A);
+    free(b);
+    free(A2);
+    free(b2);
+    free(x);
+    free(y);
+    free(yp);
+    free(yc);
+    wg_sim_destroy(g);
+    wc_state_destroy(sc);
+    wc_state_destroy(sg);
+    wc_model_free(&m);
+}
+
+int main(void) {
+    wg_gl_context_desc cd;
+    memset(&cd, 0, sizeof cd);
+    char err[512];
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
+        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
+        fprintf(stderr, "no GL context or device: %s\n", err);
+        return 1;
+    }
+    printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
+    RUN_TEST(test_first_system);
+    wg_device_destroy(dev);
+    wg_gl_end(gl);
+    wg_gl_context_destroy(gl);
+    return TEST_SUMMARY();
+}
