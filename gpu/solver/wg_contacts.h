@@ -3,7 +3,7 @@
  * the substep (wg_step.c) only when the state has colliders. Colliders come from the state's
  * mesh colliders (s->mesh, first, as core numbers them) and s->colliders at each hook that reads
  * them, with the meshes' continuous tests (a particle whose path crosses a moving triangle within
- * the substep). Not on the GPU: the meshes' sharp features as penalty pairs (core/mesh_pairs.h).
+ * the substep). The meshes' sharp features as penalty pairs (core/mesh_pairs.h) are wg_pairs.h's.
  * Contact state (per particle: colliders, normals, released, stick) lives in the contacts' own
  * textures, in rings rolled back with the substep (save/restore) and backed up with the frame
  * (backup/restore_backup).
