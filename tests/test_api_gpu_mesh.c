@@ -51,6 +51,9 @@ static weft_context* make_ctx(weft_backend backend) {
     return ctx;
 }
 
+/* the method of sheet_def's cloths: the GPU's (Newton 1, no line search) unless a test changes it */
+static int g_newton = 1, g_search = 0;
+
 static weft_cloth_def sheet_def(const weft_mesh_collider_def* m) {
     weft_cloth_def def = weft_default_cloth_def();
     def.mesh = ag_desc(&g_sheet);
@@ -58,8 +61,8 @@ static weft_cloth_def sheet_def(const weft_mesh_collider_def* m) {
     def.mesh_colliders = m;
     def.solver = WEFT_SOLVER_PCG;
     def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
-    def.newton_iterations = 1;
-    def.line_search = 0;
+    def.newton_iterations = g_newton;
+    def.line_search = g_search;
     def.self_collision = 0;
     return def;
 }
@@ -149,12 +152,17 @@ static double distance(const run_result* a, const run_result* b) {
 }
 
 static void test_vs_cpu(void) {
-    static const char* names[] = {"dropped on a box", "dropped on an icosphere", "lifted by a box (vertices)"};
+    static const char* names[] = {"dropped on a box", "dropped on an icosphere", "lifted by a box (vertices)",
+                                  "dropped on a box, Newton 2 + line search"};
     /* bounds: with the box's edge pairs in both solves the two agree to float's reach on every
-       body */
-    static const double bound[] = {1e-3, 1e-3, 1e-3};
-    for (int scene = 0; scene < 3; ++scene) {
+       body; the last: the box with the library's default method (the pairs' exact terms in
+       Newton's systems, their energy in the line search) */
+    static const double bound[] = {1e-3, 1e-3, 1e-3, 1e-3};
+    for (int k = 0; k < 4; ++k) {
         static run_result cpu, gpu;
+        const int scene = k == 3 ? 0 : k;
+        g_newton = k == 3 ? 2 : 1;
+        g_search = k == 3;
         int frames = scene == 1 ? 45 : 60;
         run(WEFT_BACKEND_CPU, scene, frames, &cpu);
         run(WEFT_BACKEND_GPU, scene, frames, &gpu);
@@ -163,18 +171,22 @@ static void test_vs_cpu(void) {
         printf("  %s, %d frames: GPU - CPU %.3g m; deepest behind the body GPU %.3g m, CPU %.3g m; rollbacks GPU %d, "
                "CPU %d; in contact GPU %d, CPU %d; top GPU %.4g m, CPU %.4g m; feature pairs GPU %d (%d active), "
                "CPU %d (%d)\n",
-               names[scene], frames, d, gpu.depth, cpu.depth, gpu.rollbacks, cpu.rollbacks, gpu.contacts, cpu.contacts,
+               names[k], frames, d, gpu.depth, cpu.depth, gpu.rollbacks, cpu.rollbacks, gpu.contacts, cpu.contacts,
                gpu.top, cpu.top, gpu.pairs, gpu.pairs_active, cpu.pairs, cpu.pairs_active);
-        CHECK(d < bound[scene]);
+        CHECK(d < bound[k]);
         CHECK(gpu.depth < 1e-3);
         if (cpu.rollbacks == 0) CHECK_EQ_INT(gpu.rollbacks, 0);
         CHECK(gpu.contacts > 0);
-        /* the pairs as the CPU's (within 5 %); the box has them, the smooth icosphere none */
-        CHECK(fabs((double)gpu.pairs - cpu.pairs) <= 0.05 * cpu.pairs);
-        CHECK(fabs((double)gpu.pairs_active - cpu.pairs_active) <= 0.05 * cpu.pairs_active);
+        /* the pairs as the CPU's (within 5 %; Newton's, whose iterates leave more pairs at gaps
+           near zero, within 20 %); the box has them, the smooth icosphere none */
+        const double near = k == 3 ? 0.2 : 0.05;
+        CHECK(fabs((double)gpu.pairs - cpu.pairs) <= near * cpu.pairs);
+        CHECK(fabs((double)gpu.pairs_active - cpu.pairs_active) <= near * cpu.pairs_active);
         if (scene != 1) CHECK(gpu.pairs_active > 0);
         if (scene == 2) CHECK(gpu.top > 0.5 - 0.01 && gpu.top < 0.5 + 0.02);
     }
+    g_newton = 1;
+    g_search = 0;
 }
 
 /* Bad vertex inputs: the same status and message on both backends, the GPU's state intact. */

@@ -6,7 +6,9 @@
  * prepare; the off-diagonal blocks through the GPU's product (A x less the pattern's part) against
  * wc_coupling_mul_offdiag_add; then a solve on each side (the GPU's solution solves core's system,
  * couplings included, to 1e-3) and the recheck of core's solution rounded to float on each: the
- * pairs switched and the active set after it as core's, and b and A after it. */
+ * pairs switched and the active set after it as core's, and b and A after it. With Newton: the
+ * pairs' exact terms at an iterate (wc_penalty_pairs_newton) and their part of the incremental
+ * potential's change (wc_penalty_pairs_energy) as core's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -218,6 +220,113 @@ static void test_first_system(void) {
     wc_model_free(&m);
 }
 
+/* n x 3 doubles into the texture t (rounded to float) */
+static void upload3(wg_sim* g, const wg_tex* t, const double* a) {
+    for (int i = 0; i < g->n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)a[3 * i + c] : 0.0f;
+    wg_array_upload(&g->layout, t, g->n, g->rb);
+}
+
+/* Newton (sim def newton_iterations 2): at an iterate w (core's first solution, rounded to float),
+ * the pairs' exact terms the GPU adds to its system (A and b after wg_pairs_newton less before)
+ * against core's wc_penalty_pairs_newton at the same x(w) = x + h (v + w), and the pairs' part of
+ * the potential's change from w = 0 to w against core's wc_penalty_pairs_energy. */
+static void test_newton(void) {
+    wc_model m;
+    CHECK(two_layers(&m, LN, SIZE, 0.0, 0.0025));
+    wc_sim_def sd = wc_default_sim_def();
+    sd.solver.type = WC_SOLVER_PCG;
+    sd.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
+    sd.threads = 1;
+    sd.newton_iterations = 2;
+    sd.line_search = 1;
+    sd.self_collision = 1;
+    sd.self_in_solve = 1;
+    wc_state* sc = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
+    wc_state* sg = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
+    CHECK(sc && sg);
+    if (!sc || !sg) return;
+    const int n = m.n_particles, nb = m.pattern.n_blocks;
+    const size_t n3 = 3 * (size_t)n;
+    round_to_float(sc->x, n3);
+    round_to_float(sc->v, n3);
+    memcpy(sg->x, sc->x, n3 * sizeof(double));
+    memcpy(sg->v, sc->v, n3 * sizeof(double));
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK_EQ_INT(wg_sim_create(dev, sg, NULL, &g, &d), WC_OK);
+    if (!g) return;
+    CHECK(g->pairs != NULL);
+    wg_sim_upload(g, sg, &d);
+    wc_self_begin(sc->self, sc->x);
+    wc_self_begin(sg->self, sg->x);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(sc, H, 1.0, &st);
+    CHECK_EQ_INT(wg_sim_debug_prepare(g, sg, H, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d), WC_OK);
+    wc_solve_result res;
+    memset(sc->dv, 0, n3 * sizeof(double));
+    CHECK_EQ_INT(wc_solve(sc->solver, WC_SOLVER_PCG, sc->A, sc->b, &sc->filter, sc->dv, &sc->par, &res), WC_OK);
+    round_to_float(sc->dv, n3);
+    double* xw = malloc(n3 * sizeof(double));
+    for (size_t k = 0; k < n3; ++k) xw[k] = (double)(float)(sc->x[k] + H * (sc->v[k] + sc->dv[k]));
+    /* core's terms alone, on zeroed scratch */
+    double* Ac = calloc(9 * (size_t)nb, sizeof(double));
+    double* bc = calloc(n3, sizeof(double));
+    wc_penalty_pairs* lc = &sc->self_pairs->list;
+    int touching = wc_penalty_pairs_newton(lc, &m, xw, H, Ac, bc);
+    /* the GPU's: its system before and after */
+    double* A0 = malloc(9 * (size_t)nb * sizeof(double));
+    double* b0 = malloc(n3 * sizeof(double));
+    double* A1 = malloc(9 * (size_t)nb * sizeof(double));
+    double* b1 = malloc(n3 * sizeof(double));
+    CHECK_EQ_INT(wg_sim_debug_read_system(g, A0, b0, &d), WC_OK);
+    const wg_tex* xt = &g->x.t[wg_ring_other(&g->x, 0)];
+    upload3(g, xt, xw);
+    wc_integ ig;
+    wc_integ_coefficients(sg, H, 1, &ig);
+    wg_pairs_newton(g->pairs, sg, &ig, xt);
+    CHECK_EQ_INT(wg_sim_debug_read_system(g, A1, b1, &d), WC_OK);
+    for (size_t k = 0; k < 9 * (size_t)nb; ++k) A1[k] -= A0[k];
+    for (size_t k = 0; k < n3; ++k) b1[k] -= b0[k];
+    /* core's in-pattern list would put cross blocks into A; this one is coupled: diagonal only */
+    double eA = rel_err(A1, Ac, 9 * (size_t)nb), eb = rel_err(b1, bc, n3);
+    int apart = 0;
+    for (int j = 0; j < lc->n; ++j) apart += lc->active[j] != sg->self_pairs->list.active[j];
+    printf("  Newton's system at an iterate: %d pairs touching (active sets %d apart); their terms in A within "
+           "%.2g, in b within %.2g of core's (relative)\n", touching, apart, eA, eb);
+    CHECK(touching > 0);
+    CHECK_EQ_INT(apart, 0);
+    CHECK(eA < 1e-5);   /* a difference of two float systems */
+    CHECK(eb < 1e-4);
+    compare_lists(lc, g->pairs, "Newton's system");
+    /* the pairs' part of the potential's change from w = 0 to w */
+    const wg_tex* wt = &g->nw_w[1];
+    upload3(g, wt, sc->dv);
+    double* x0 = malloc(n3 * sizeof(double));
+    for (size_t k = 0; k < n3; ++k) {
+        x0[k] = sg->x[k] + H * sg->v[k];
+        xw[k] = sg->x[k] + H * (sg->v[k] + sc->dv[k]);
+    }
+    const double ec = wc_penalty_pairs_energy(lc, xw) - wc_penalty_pairs_energy(lc, x0);
+    const double eg = wg_pairs_energy_change(g->pairs, sg, &ig, &g->nw_zero, wt);
+    printf("  the pairs' energy change: GPU %.9g J, core %.9g J\n", eg, ec);
+    CHECK(ec != 0.0);
+    CHECK(fabs(eg - ec) <= 1e-6 * fabs(ec));
+    free(xw);
+    free(x0);
+    free(Ac);
+    free(bc);
+    free(A0);
+    free(b0);
+    free(A1);
+    free(b1);
+    wg_sim_destroy(g);
+    wc_state_destroy(sc);
+    wc_state_destroy(sg);
+    wc_model_free(&m);
+}
+
 int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
@@ -229,6 +338,7 @@ int main(void) {
     }
     printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
     RUN_TEST(test_first_system);
+    RUN_TEST(test_newton);
     wg_device_destroy(dev);
     wg_gl_end(gl);
     wg_gl_context_destroy(gl);

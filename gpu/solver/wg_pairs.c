@@ -8,6 +8,7 @@
 #include "forces.h"
 #include "gpu_error.h"
 #include "mesh_pairs.h"
+#include "newton.h"
 #include "self_collide.h"
 #include "self_pairs.h"
 #include "vec3.h"
@@ -31,6 +32,8 @@ struct wg_pairs {
     /* host */
     float* fx;                  /* (n x 4) read-back and upload staging */
     double *x, *v, *vstar, *dv, *fext, *b, *f;   /* (n x 3) */
+    double *xb, *xw;            /* (n x 3) Newton: x(w) = xb + he (v + w)'s base, an iterate's x */
+    int newton;                 /* Newton's iterations or the line search: xb kept, pairs in Newton */
     double* A;                  /* (nb x 9) core's assembly scratch */
     double* tri;                /* (3 n_tris + 3) the external forces' scratch */
     unsigned char* ndof;        /* (n) the detections' filter: 3 for a fully pinned particle */
@@ -43,7 +46,8 @@ struct wg_pairs {
     int on;                     /* the system has pairs (n > 0 and found this substep) */
 };
 
-static wc_penalty_pairs* list_of(wc_state* s, int k) {
+/* list k of the state (its lists are the state's pointees: core's functions change them) */
+static wc_penalty_pairs* list_of(const wc_state* s, int k) {
     if (k == 0) return s->pairs ? &s->pairs->list : NULL;
     return s->self_pairs ? &s->self_pairs->list : NULL;
 }
@@ -59,7 +63,7 @@ static int textures(wg_pairs* p, wg_tex** t) {
 
 static void free_host(wg_pairs* p) {
     wc_allocator a = p->alloc;
-    void* h[] = {p->fx, p->x, p->v, p->vstar, p->dv, p->fext, p->b, p->f, p->A, p->tri, p->ndof, p->ip, p->fw,
+    void* h[] = {p->fx, p->x, p->v, p->vstar, p->dv, p->fext, p->b, p->f, p->xb, p->xw, p->A, p->tri, p->ndof, p->ip, p->fw,
                  p->fnc, p->ient, p->irow, p->fill, p->fdb, p->fdf, p->fda0, p->fda1};
     for (size_t k = 0; k < sizeof h / sizeof h[0]; ++k) wc_free(&a, h[k]);
     wc_free(&a, p);
@@ -102,9 +106,10 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
     p->cl = *cloth;
     p->alloc = a;
     p->cap = cap;
+    p->newton = wc_newton_wanted(&s->def);
     const size_t n = (size_t)(cloth->n > 0 ? cloth->n : 1), n3 = 3 * n, n4 = 4 * n, c4 = 4 * (size_t)cap;
     p->fx = WC_NEW(&a, float, n4);
-    double** d3[] = {&p->x, &p->v, &p->vstar, &p->dv, &p->fext, &p->b, &p->f};
+    double** d3[] = {&p->x, &p->v, &p->vstar, &p->dv, &p->fext, &p->b, &p->f, &p->xb, &p->xw};
     int ok = p->fx != NULL;
     for (size_t k = 0; k < sizeof d3 / sizeof d3[0]; ++k) ok &= (*d3[k] = WC_NEW(&a, double, n3)) != NULL;
     p->A = wc_calloc(&a, 9 * (size_t)(cloth->nb > 0 ? cloth->nb : 1), sizeof(double));
@@ -187,7 +192,7 @@ static void stage_pair(wg_pairs* p, const wc_penalty_pairs* l, int j, int at) {
 }
 
 void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
-                   const wg_tex* vstar, int n_pins, int mesh_resident) {
+                   const wg_tex* vstar, const wg_tex* xb, int n_pins, int mesh_resident) {
     const wc_model* m = s->model;
     const int n = p->cl.n;
     memset(&p->counts, 0, sizeof p->counts);
@@ -197,6 +202,8 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
     read_back(p, v, p->v);
     if (vstar != v) read_back(p, vstar, p->vstar);
     else memcpy(p->vstar, p->v, 3 * (size_t)n * sizeof(double));
+    if (p->newton && xb != x) read_back(p, xb, p->xb);
+    else if (p->newton) memcpy(p->xb, p->x, 3 * (size_t)n * sizeof(double));
     /* the detections' filter: the fully pinned particles (wg_self.h: core's rule reads the same) */
     memset(p->ndof, 0, (size_t)n);
     for (int k = 0; k < n_pins; ++k)
@@ -265,12 +272,13 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
  * up over the span of the particles they touch, added by the passes, the scratch zeroed again;
  * with_f: f_total's too. The pairs' (n, c) of list k up first (k -1: none). */
 static void apply(wg_pairs* p, const wc_state* s, int k, int with_f) {
+    /* (the lists are the state's pointees) */
     const wc_model* m = s->model;
     const int n = p->cl.n;
     wg_runner* run = p->run;
     const wg_layout* L = run->layout;
     if (k >= 0 && p->count[k] > 0) {
-        const wc_penalty_pairs* l = list_of((wc_state*)s, k);
+        const wc_penalty_pairs* l = list_of(s, k);
         for (int j = 0; j < p->count[k]; ++j) p->fnc[4 * (p->first[k] + j) + 3] = (float)l->term[j].c;
         wg_array_upload_range(L, &p->nc, p->first[k], p->count[k], p->fnc + 4 * (size_t)p->first[k]);
     }
@@ -349,6 +357,39 @@ void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig) {
     }
     wg_array_upload(p->run->layout, &p->nc, p->n, p->fnc);
     apply(p, s, -1, 1);
+}
+
+void wg_pairs_newton(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* xw) {
+    if (!p->on) return;
+    read_back(p, xw, p->xw);
+    for (int k = 0; k < LISTS; ++k) {
+        wc_penalty_pairs* l = list_of(s, k);
+        if (!l || p->count[k] == 0) continue;
+        wc_penalty_pairs_newton(l, s->model, p->xw, ig->he, p->A, p->b);
+        for (int j = 0; j < p->count[k]; ++j) p->fnc[4 * (p->first[k] + j) + 3] = (float)l->term[j].c;
+    }
+    wg_array_upload(p->run->layout, &p->nc, p->n, p->fnc);
+    apply(p, s, -1, 0);
+}
+
+/* x(w) = xb + he (v + w) of the iterate w (a texture) into p->xw */
+static void iterate_positions(wg_pairs* p, const wc_integ* ig, const wg_tex* w) {
+    read_back(p, w, p->xw);
+    for (int k = 0; k < 3 * p->cl.n; ++k) p->xw[k] = p->xb[k] + ig->he * (p->v[k] + p->xw[k]);
+}
+
+double wg_pairs_energy_change(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* wa,
+                              const wg_tex* wb) {
+    if (!p->on) return 0.0;
+    double e = 0.0;
+    for (int side = 0; side < 2; ++side) {
+        iterate_positions(p, ig, side ? wb : wa);
+        for (int k = 0; k < LISTS; ++k) {
+            const wc_penalty_pairs* l = list_of(s, k);
+            if (l && p->count[k] > 0) e += (side ? 1.0 : -1.0) * wc_penalty_pairs_energy(l, p->xw);
+        }
+    }
+    return e;
 }
 
 int wg_pairs_recheck(wg_pairs* p, wc_state* s, int list, const wc_integ* ig, const wg_tex* dv) {

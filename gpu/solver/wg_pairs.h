@@ -13,15 +13,18 @@
  * span of the particles they touch, and a pass adds them. Every pair is coupled on the GPU: its
  * off-diagonal blocks c w_a w_b n n^T (c = he^2 k while active) enter each product of A in the
  * solve (pairs_row.glsl: the SpMV, the residual, the Jacobi sweep), not A's blocks (the mesh
- * pairs' in-pattern blocks on the CPU: the same sum). After a solve, core's recheck runs on dv
- * read back and what it switched goes up the same way (core/step.c pair_passes).
+ * pairs' in-pattern blocks on the CPU: the same sum). Without Newton's iterations, after a solve,
+ * core's recheck runs on dv read back and what it switched goes up the same way (core/step.c
+ * pair_passes). With them (core/newton.c), each Newton system takes the pairs' exact terms at the
+ * iterate's positions (read back) by core's wc_penalty_pairs_newton, and the line search's
+ * potential their energy, core's wc_penalty_pairs_energy at the two iterates (read back).
  *
- * Transfers a substep: 32 n bytes read back (x, v; 48 n with v*), the pairs (48 bytes each and
- * 16 an entry) and 16 n bytes of rows up at the start, 64 bytes a particle of the touched span
- * and 16 a pair at the assembly and each recheck pass, 16 n bytes of dv read back for each
- * recheck. Everything is allocated at creation (the lists' capacities); nothing in a step. Not
- * with Newton iterations above 1 or the line search (the GPU's cloth makes none then). Calls are
- * made with the cloth's GL context current. */
+ * Transfers a substep: 32 n bytes read back (x, v; 48 n with v*; Newton: 16 n more for xb with
+ * BDF2 and TR-BDF2), the pairs (48 bytes each and 16 an entry) and 16 n bytes of rows up at the
+ * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
+ * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
+ * two for each potential change (the two iterates). Everything is allocated at creation (the
+ * lists' capacities); nothing in a step. Calls are made with the cloth's GL context current. */
 #ifndef WEFT_GPU_SOLVER_PAIRS_H
 #define WEFT_GPU_SOLVER_PAIRS_H
 
@@ -56,15 +59,23 @@ void wg_pairs_destroy(wg_pairs* p);
 void wg_pairs_forget(wg_pairs* p);          /* the memory only (the GL context is gone) */
 size_t wg_pairs_bytes(const wg_pairs* p);   /* GPU memory held; 0 for NULL */
 
-/* The substep's start (ig its coefficients): x, v and v* (textures) read back, the pairs found
- * (mesh_resident: skip the mesh pairs) and uploaded, none active yet. */
+/* The substep's start (ig its coefficients): x, v and v* (textures; with Newton, xb too) read
+ * back, the pairs found (mesh_resident: skip the mesh pairs) and uploaded, none active yet. */
 void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
-                   const wg_tex* vstar, int n_pins, int mesh_resident);
+                   const wg_tex* vstar, const wg_tex* xb, int n_pins, int mesh_resident);
 /* After the assembly of A, b and ftot: the active set and its terms. */
 void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig);
 /* After a solve (dv its result): list 0 (the mesh pairs) or 1 (the self pairs) rechecked (core's
  * wc_penalty_pairs_recheck), its switches' terms added. Returns the pairs switched. */
 int wg_pairs_recheck(wg_pairs* p, wc_state* s, int list, const wc_integ* ig, const wg_tex* dv);
+/* Newton's system at the iterate whose positions x(w) are xw (read back): core's
+ * wc_penalty_pairs_newton (the pairs with g(x(w)) < 0 active, their force into b and stiffness
+ * into A) added to the system Newton's passes built. */
+void wg_pairs_newton(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* xw);
+/* The pairs' part of the incremental potential's change from the iterate wa to wb (textures,
+ * read back; core's wc_penalty_pairs_energy at x(w) = xb + he (v + w), in double): J. */
+double wg_pairs_energy_change(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* wa,
+                              const wg_tex* wb);
 /* 1 when list k (0 mesh, 1 self) has pairs in this substep's system. */
 int wg_pairs_list_on(const wg_pairs* p, int list);
 const wg_pair_counts* wg_pairs_counts(const wg_pairs* p);

@@ -319,22 +319,17 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     wc_status refused = wg_sim_supports(dev, m, &s->def, s->n_mesh, diag);
     if (refused != WC_OK) return refused;
     int colliders = s->def.max_colliders > 0 || s->n_mesh > 0;
-    /* the penalty pairs run in the GPU's first system and its rechecks, not in Newton's systems */
-    const int pairs = !wc_newton_wanted(&s->def);
     if (s->n_mesh > 0)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "
-               "the penalty pairs at the body's sharp edges and corners %s (docs/design/gpu.md)", s->n_mesh,
-               pairs ? "are found on the host and solved on the GPU"
-                     : "do not run with Newton iterations above 1 or the line search");
+               "the penalty pairs at the body's sharp edges and corners are found on the host and solved on the "
+               "GPU, except on a body kept on the GPU (docs/design/gpu.md)", s->n_mesh);
     if (s->self)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: self-collision: core's stage runs on the host at the end of every substep (positions "
                "and velocities read back, what it moved uploaded); its in-solve penalty pairs %s "
                "(docs/design/gpu.md)",
-               !s->self_pairs ? "are off (self_in_solve 0)"
-               : pairs        ? "are found on the host and solved on the GPU"
-                              : "do not run with Newton iterations above 1 or the line search");
+               s->self_pairs ? "are found on the host and solved on the GPU" : "are off (self_in_solve 0)");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
@@ -400,7 +395,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         ok = wg_contacts_create(&g->run, &cloth, s->def.max_colliders, s->mesh, s->n_mesh, &g->contacts, err,
                                 sizeof err) == WC_OK;
     }
-    if (ok && pairs) {
+    if (ok) {
         const wg_pair_cloth cloth = {g->n, g->nb, &g->b, &g->ftot, &g->A0, &g->A1, &g->pblocks, &g->block};
         ok = wg_pairs_create(&g->run, &cloth, s, &g->pairs, err, sizeof err);
         wg_contacts_use_pairs(g->contacts, g->pairs);

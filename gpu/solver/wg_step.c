@@ -83,7 +83,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     if (g->pairs) {   /* the penalty pairs found where core's prepare finds them (wg_pairs.h) */
         const wg_mesh* mesh = wg_contacts_mesh(g->contacts);
         wg_pairs_find(g->pairs, s, ig, wg_ring_cur(&g->x), wg_ring_cur(&g->v), wg_integ_vstar(g, ig),
-                      g->n_pins_uploaded, mesh && mesh->n_resident > 0);
+                      wg_integ_xb(g, ig), g->n_pins_uploaded, mesh && mesh->n_resident > 0);
     }
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
@@ -198,9 +198,10 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wc_solve_result res;
     /* inexact Newton (core/step.c first_solve): with further iterations to correct it, the first
        solve stops at forcing x its own residual, unless a contact sticks (a friction recheck
-       reads its forces off that solve: the count read back); res.scale stays the tight solve's */
+       reads its forces off that solve: the count read back) or penalty pairs are in the system;
+       res.scale stays the tight solve's */
     const double tolerance = opts.tolerance, floor = g->residual_floor, forcing = s->def.newton_forcing;
-    const int loose = s->def.newton_iterations > 1 && forcing > tolerance &&
+    const int loose = s->def.newton_iterations > 1 && forcing > tolerance && !wg_pairs_on(g->pairs) &&
                       !(colliding(s) && wg_contacts_stuck(g->contacts) > 0);
     if (loose) {
         opts.tolerance = forcing;
@@ -232,8 +233,8 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     }
     /* the penalty pairs (the mesh colliders' feature pairs, then the self-contact pairs) whose
        solved gap disagrees with their state switch, and the system is solved again (core/step.c
-       pair_passes; only without Newton's iterations, as the pairs themselves) */
-    for (int list = 0; list < 2 && status == WC_OK; ++list)
+       pair_passes; only without Newton's iterations, which take the pairs' exact terms instead) */
+    for (int list = 0; list < 2 && status == WC_OK && !g->newton; ++list)
         for (int pass = 0; pass < WC_PENALTY_PASSES && status == WC_OK && wg_pairs_list_on(g->pairs, list); ++pass) {
             if (wg_pairs_recheck(g->pairs, s, list, &ig, dvres) == 0) break;
             ++*(list ? &st->self_pair_passes : &st->mesh_pair_passes);
