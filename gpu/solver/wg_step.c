@@ -3,8 +3,9 @@
  * two stages) is the chain of passes of core/step.c's stage_step(), with core's integrator
  * coefficients (core/bdf2.h wc_integ_coefficients): pins (and contacts) into the filter, the
  * integrator's xb, v*, mom and history (BDF2, TR-BDF2; TR-BDF2's contact landing), springs, air,
- * assembly of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and
- * line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
+ * assembly of b by particles and of A by blocks, (the penalty pairs found and assembled:
+ * wg_pairs.h), (friction), the solve, (the pairs' rechecks and their solves), (Newton's iterations
+ * and line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
  * integration with the pins snapped, strain limiting, (contact projection), (self-collision:
  * core's stage on the host, wg_self.h), and the checks as reductions (wg_checks.c): one read-back
  * of four texels per substep feeds core's judge. Rollback moves no data: the state rings keep the
