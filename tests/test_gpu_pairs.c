@@ -86,46 +86,83 @@ static void random_vec(double* x, int n3, unsigned seed) {
     }
 }
 
-static void test_first_system(void) {
+/* The layers on both sides: core's state sc and the GPU's sg (its cloth g) at the same
+ * float-rounded positions and velocities, with newton_iterations and the line search as given;
+ * core's first system prepared on sc (its statistics in st), the GPU's on g (A and b read back).
+ * 0 when something could not be made. */
+typedef struct fixture {
     wc_model m;
-    CHECK(two_layers(&m, LN, SIZE, 0.0, 0.0025));
+    wc_state *sc, *sg;
+    wg_sim* g;
+    wc_step_stats st;
+    int n, nb;
+    size_t n3;
+    double *A, *b;              /* the GPU's first system read back */
+} fixture;
+
+static int setup(fixture* fx, int newton, int search) {
+    memset(fx, 0, sizeof *fx);
+    CHECK(two_layers(&fx->m, LN, SIZE, 0.0, 0.0025));
     wc_sim_def sd = wc_default_sim_def();
     sd.solver.type = WC_SOLVER_PCG;
     sd.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
     sd.threads = 1;
-    sd.newton_iterations = 1;
-    sd.line_search = 0;
+    sd.newton_iterations = newton;
+    sd.line_search = search;
     sd.self_collision = 1;
     sd.self_in_solve = 1;
-    wc_state* sc = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
-    wc_state* sg = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
-    CHECK(sc && sg && sc->self_pairs && sg->self_pairs);
-    if (!sc || !sg) return;
-    const int n = m.n_particles, nb = m.pattern.n_blocks;
-    const size_t n3 = 3 * (size_t)n;
-    round_to_float(sc->x, n3);
-    round_to_float(sc->v, n3);
-    memcpy(sg->x, sc->x, n3 * sizeof(double));
-    memcpy(sg->v, sc->v, n3 * sizeof(double));
+    fx->sc = two_layers_approaching(&fx->m, LN, SIZE, 0.5, &sd);
+    fx->sg = two_layers_approaching(&fx->m, LN, SIZE, 0.5, &sd);
+    CHECK(fx->sc && fx->sg && fx->sc->self_pairs && fx->sg->self_pairs);
+    if (!fx->sc || !fx->sg) return 0;
+    fx->n = fx->m.n_particles;
+    fx->nb = fx->m.pattern.n_blocks;
+    fx->n3 = 3 * (size_t)fx->n;
+    round_to_float(fx->sc->x, fx->n3);
+    round_to_float(fx->sc->v, fx->n3);
+    memcpy(fx->sg->x, fx->sc->x, fx->n3 * sizeof(double));
+    memcpy(fx->sg->v, fx->sc->v, fx->n3 * sizeof(double));
     wc_diag d = {0};
-    wg_sim* g = NULL;
-    CHECK_EQ_INT(wg_sim_create(dev, sg, NULL, &g, &d), WC_OK);
-    if (!g) {
+    CHECK_EQ_INT(wg_sim_create(dev, fx->sg, NULL, &fx->g, &d), WC_OK);
+    if (!fx->g) {
         printf("  wg_sim_create: %s\n", d.message);
+        return 0;
+    }
+    CHECK(fx->g->pairs != NULL);
+    wg_sim_upload(fx->g, fx->sg, &d);
+    /* core's first system; the GPU's from the same positions (the stage's start as both take it) */
+    wc_self_begin(fx->sc->self, fx->sc->x);
+    wc_self_begin(fx->sg->self, fx->sg->x);
+    wc_substep_prepare(fx->sc, H, 1.0, &fx->st);
+    fx->A = malloc(9 * (size_t)fx->nb * sizeof(double));
+    fx->b = malloc(fx->n3 * sizeof(double));
+    CHECK_EQ_INT(wg_sim_debug_prepare(fx->g, fx->sg, H, 1.0, fx->A, fx->b, NULL, NULL, NULL, NULL, &d), WC_OK);
+    return 1;
+}
+
+static void teardown(fixture* fx) {
+    free(fx->A);
+    free(fx->b);
+    wg_sim_destroy(fx->g);
+    wc_state_destroy(fx->sc);
+    wc_state_destroy(fx->sg);
+    wc_model_free(&fx->m);
+}
+
+static void test_first_system(void) {
+    fixture fx;
+    if (!setup(&fx, 1, 0)) {
+        teardown(&fx);
         return;
     }
-    CHECK(g->pairs != NULL);
-    wg_sim_upload(g, sg, &d);
-
-    /* core's first system; the GPU's from the same positions (the stage's start as both take it) */
-    wc_self_begin(sc->self, sc->x);
-    wc_self_begin(sg->self, sg->x);
-    wc_step_stats st;
-    memset(&st, 0, sizeof st);
-    wc_substep_prepare(sc, H, 1.0, &st);
-    double* A = malloc(9 * (size_t)nb * sizeof(double));
-    double* b = malloc(n3 * sizeof(double));
-    CHECK_EQ_INT(wg_sim_debug_prepare(g, sg, H, 1.0, A, b, NULL, NULL, NULL, NULL, &d), WC_OK);
+    const wc_model* m = &fx.m;
+    wc_state *sc = fx.sc, *sg = fx.sg;
+    wg_sim* g = fx.g;
+    const wc_step_stats st = fx.st;
+    const int n = fx.n, nb = fx.nb;
+    const size_t n3 = fx.n3;
+    const double *A = fx.A, *b = fx.b;
+    wc_diag d = {0};
     const wc_penalty_pairs* lc = &sc->self_pairs->list;
     int active = compare_lists(lc, g->pairs, "first system");
     CHECK(active >= 10);
@@ -152,7 +189,7 @@ static void test_first_system(void) {
     CHECK_EQ_INT(wg_sim_debug_spmv(g, x, y, &d), WC_OK);
     wc_par par;
     wc_par_init(&par, 1);
-    wc_bsr_mul(&m.pattern, A, x, yp, &par);
+    wc_bsr_mul(&m->pattern, A, x, yp, &par);
     for (size_t k = 0; k < n3; ++k) y[k] -= yp[k];
     wc_coupling_mul_offdiag_add(&sc->self_pairs->coupling, 1.0, x, yc);
     double eo = rel_err(y, yc, n3), so = 0.0;
@@ -188,7 +225,7 @@ static void test_first_system(void) {
     wg_array_upload(&g->layout, dv_in, n, g->rb);
     wc_integ ig;
     wc_integ_coefficients(sg, H, 1, &ig);
-    int sw_c = wc_penalty_pairs_recheck(&sc->self_pairs->list, &m, sc->x, sc->v, sc->dv, H, sc->A, sc->b);
+    int sw_c = wc_penalty_pairs_recheck(&sc->self_pairs->list, m, sc->x, sc->v, sc->dv, H, sc->A, sc->b);
     int sw_g = wg_pairs_recheck(g->pairs, sg, 1, &ig, dv_in);
     int apart = 0;
     for (int j = 0; j < lc->n; ++j) apart += lc->active[j] != sg->self_pairs->list.active[j];
@@ -206,18 +243,13 @@ static void test_first_system(void) {
     CHECK(eA < 1e-6);
     CHECK(eb < 1e-5);
 
-    free(A);
-    free(b);
     free(A2);
     free(b2);
     free(x);
     free(y);
     free(yp);
     free(yc);
-    wg_sim_destroy(g);
-    wc_state_destroy(sc);
-    wc_state_destroy(sg);
-    wc_model_free(&m);
+    teardown(&fx);
 }
 
 /* n x 3 doubles into the texture t (rounded to float) */
@@ -232,38 +264,17 @@ static void upload3(wg_sim* g, const wg_tex* t, const double* a) {
  * against core's wc_penalty_pairs_newton at the same x(w) = x + h (v + w), and the pairs' part of
  * the potential's change from w = 0 to w against core's wc_penalty_pairs_energy. */
 static void test_newton(void) {
-    wc_model m;
-    CHECK(two_layers(&m, LN, SIZE, 0.0, 0.0025));
-    wc_sim_def sd = wc_default_sim_def();
-    sd.solver.type = WC_SOLVER_PCG;
-    sd.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
-    sd.threads = 1;
-    sd.newton_iterations = 2;
-    sd.line_search = 1;
-    sd.self_collision = 1;
-    sd.self_in_solve = 1;
-    wc_state* sc = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
-    wc_state* sg = two_layers_approaching(&m, LN, SIZE, 0.5, &sd);
-    CHECK(sc && sg);
-    if (!sc || !sg) return;
-    const int n = m.n_particles, nb = m.pattern.n_blocks;
-    const size_t n3 = 3 * (size_t)n;
-    round_to_float(sc->x, n3);
-    round_to_float(sc->v, n3);
-    memcpy(sg->x, sc->x, n3 * sizeof(double));
-    memcpy(sg->v, sc->v, n3 * sizeof(double));
+    fixture fx;
+    if (!setup(&fx, 2, 1)) {
+        teardown(&fx);
+        return;
+    }
+    const wc_model* m = &fx.m;
+    wc_state *sc = fx.sc, *sg = fx.sg;
+    wg_sim* g = fx.g;
+    const int nb = fx.nb;
+    const size_t n3 = fx.n3;
     wc_diag d = {0};
-    wg_sim* g = NULL;
-    CHECK_EQ_INT(wg_sim_create(dev, sg, NULL, &g, &d), WC_OK);
-    if (!g) return;
-    CHECK(g->pairs != NULL);
-    wg_sim_upload(g, sg, &d);
-    wc_self_begin(sc->self, sc->x);
-    wc_self_begin(sg->self, sg->x);
-    wc_step_stats st;
-    memset(&st, 0, sizeof st);
-    wc_substep_prepare(sc, H, 1.0, &st);
-    CHECK_EQ_INT(wg_sim_debug_prepare(g, sg, H, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d), WC_OK);
     wc_solve_result res;
     memset(sc->dv, 0, n3 * sizeof(double));
     CHECK_EQ_INT(wc_solve(sc->solver, WC_SOLVER_PCG, sc->A, sc->b, &sc->filter, sc->dv, &sc->par, &res), WC_OK);
@@ -274,7 +285,7 @@ static void test_newton(void) {
     double* Ac = calloc(9 * (size_t)nb, sizeof(double));
     double* bc = calloc(n3, sizeof(double));
     wc_penalty_pairs* lc = &sc->self_pairs->list;
-    int touching = wc_penalty_pairs_newton(lc, &m, xw, H, Ac, bc);
+    int touching = wc_penalty_pairs_newton(lc, m, xw, H, Ac, bc);
     /* the GPU's: its system before and after */
     double* A0 = malloc(9 * (size_t)nb * sizeof(double));
     double* b0 = malloc(n3 * sizeof(double));
@@ -321,10 +332,7 @@ static void test_newton(void) {
     free(b0);
     free(A1);
     free(b1);
-    wg_sim_destroy(g);
-    wc_state_destroy(sc);
-    wc_state_destroy(sg);
-    wc_model_free(&m);
+    teardown(&fx);
 }
 
 int main(void) {
