@@ -76,7 +76,8 @@ static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, wg_sums sum, w
 static void residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, const wg_tex* size) {
     wg_runner* run = &g->run;
     WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .x = x, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+        .a_hi = &g->A1, .x = x, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
+    wg_sim_pair_uniform(g);
     if (size) WG_RUN(run, g->n, out, size);
     else WG_RUN(run, g->n, out);
 }
@@ -96,8 +97,9 @@ static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
 static int spmv_rows(wg_sim* g, const wg_tex* x, int filter, int rows, int partials) {
     wg_runner* run = &g->run;
     WG_USE(run, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV, &(wg_spmv_in){.pblocks = &g->pblocks, .block = &g->block,
-        .a_lo = &g->A0, .a_hi = &g->A1, .x = x, .S0 = &g->S0, .S1 = &g->S1});
+        .a_lo = &g->A0, .a_hi = &g->A1, .x = x, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
     wg_u1i(run, "u_filter", filter);
+    wg_sim_pair_uniform(g);
     if (!g->dev->compute) {
         WG_RUN(run, rows, &g->q);
         return 0;
@@ -388,13 +390,14 @@ static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* d
     return st;
 }
 
-/* PCG in one work group: compute passes and a cloth within the group's limit (with the
- * multigrid: its packed patterns made), on a hardware device (a software rasteriser runs one work
- * group on one thread, where it runs a pass over all its cores: the chain is faster there), or
- * where WEFT_GPU_SOLVE=group forces it */
+/* PCG in one work group: compute passes, a cloth within the group's limit (with the multigrid:
+ * its packed patterns made) and no penalty pairs in its system (the group solves have no
+ * pairs_row.glsl: the chain solves those), on a hardware device (a software rasteriser runs one
+ * work group on one thread, where it runs a pass over all its cores: the chain is faster there),
+ * or where WEFT_GPU_SOLVE=group forces it */
 static int group_wanted(const wg_sim* g, int amg) {
     const wg_device* d = g->dev;
-    if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES) return 0;
+    if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES || wg_pairs_on(g->pairs)) return 0;
     if (amg && !wg_amg_group_fits(g->amg)) return 0;
     return d->solve == WG_SOLVE_GROUP || !d->software;
 }
@@ -474,7 +477,8 @@ static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev,
         if (chebyshev) omega = wc_chebyshev_omega(k, delay, rho, omega);
         WG_USE(run, WGP_JACOBI_SWEEP, &(wg_jacobi_sweep_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
             .a_hi = &g->A1, .x = &g->sv[x], .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .dinv_lo = &g->D0,
-            .dinv_hi = &g->D1, .x_prev = &g->sv[prev]});
+            .dinv_hi = &g->D1, .x_prev = &g->sv[prev], .pairs = wg_sim_pair_in(g)});
+        wg_sim_pair_uniform(g);
         wg_u1f(run, "u_gamma", gamma);
         wg_u1f(run, "u_omega", omega);
         WG_RUN(run, g->n, &g->sv[nxt]);

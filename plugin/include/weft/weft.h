@@ -674,8 +674,7 @@ typedef struct weft_frame_stats {
     /* self-collision in detail, summed over the substeps (0 when it is off) */
     int self_proximity;         /* proximity impulses of the self-collision stage */
     int self_zone_relaxed;      /* stretch-spring corrections around its impact zones */
-    int self_pairs;             /* self-contact pairs found for the implicit solve (CPU only: 0 on
-                                   the GPU, which has none in its solve) */
+    int self_pairs;             /* self-contact pairs found for the implicit solve */
     int self_pairs_active;      /* ... of them active in the first system */
     int self_pair_passes;       /* extra solves because their active set changed */
     int self_pair_overflow;     /* pairs past the list's capacity (dropped, logged as a warning) */
