@@ -1,6 +1,7 @@
 /* Helpers of the one-group PCG tests (gpu_group_support.h). */
 #include "gpu_group_support.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -92,4 +93,38 @@ void tg_limit_refused(wg_device* dev, wc_precond_type pc) {
     dev->solve = WG_SOLVE_AUTO;
     wc_state_destroy(s);
     wc_model_free(&m);
+}
+
+void tg_zero_and_bad_b(wg_device* dev, wc_state* s, wg_sim* g, wc_solver_opts o, tg_compare_fn compare) {
+    const int n = g->n;
+    wc_diag d = {0};
+    double* zero_b = calloc((size_t)n * 3, sizeof(double));
+    double* guess = calloc((size_t)n * 3, sizeof(double));
+    double* bad = calloc((size_t)n * 3, sizeof(double));
+    if (!zero_b || !guess || !bad) {
+        CHECK(0);
+        free(zero_b), free(guess), free(bad);
+        return;
+    }
+    wc_filter f = s->filter;
+    f.z = zero_b;
+    CHECK(wg_sim_debug_set_system(g, s->A, zero_b, &f, &d) == WC_OK);
+    for (int i = 0; i < 3 * n; ++i) guess[i] = 0.01 * sin((double)i);
+    o.tolerance = 1e-4;
+    tg_solved zr = compare("zero right-hand side", g, &o, guess, 0.0, 0.0);
+    CHECK(zr.res.converged && zr.res.iterations == 0 && zr.res.residual == 0.0);
+    CHECK(ts_max_abs(zr.dv, 3 * n) == 0.0);   /* dv = z = 0, the guess dropped */
+    free(zr.dv);
+
+    f.z = s->filter.z;
+    memcpy(bad, s->b, sizeof(double) * 3 * (size_t)n);
+    bad[3 * (n / 2)] = NAN;
+    CHECK(wg_sim_debug_set_system(g, s->A, bad, &f, &d) == WC_OK);
+    tg_solved a = tg_solve_as(dev, g, &o, NULL, WG_SOLVE_GROUP), b = tg_solve_as(dev, g, &o, NULL, WG_SOLVE_PASSES);
+    printf("  non-finite b: status group %d passes %d, residual %g / %g\n", a.st, b.st, a.res.residual, b.res.residual);
+    CHECK_EQ_INT(a.st, WC_ERROR_SOLVER_DIVERGED);
+    CHECK_EQ_INT(b.st, WC_ERROR_SOLVER_DIVERGED);
+    CHECK(!a.res.converged && a.res.residual == b.res.residual);
+    CHECK(ts_max_diff(a.dv, b.dv, 3 * n) == 0.0);   /* both dv = z */
+    free(a.dv), free(b.dv), free(bad), free(guess), free(zero_b);
 }

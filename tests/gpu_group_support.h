@@ -33,4 +33,13 @@ tg_solved tg_solve_as(wg_device* dev, wg_sim* g, const wc_solver_opts* o, const 
  * takes it. */
 void tg_limit_refused(wg_device* dev, wc_precond_type pc);
 
+/* A test's comparison of the group with the chain on g's system from guess (NULL: zeros): the
+ * group's run, which the caller frees */
+typedef tg_solved (*tg_compare_fn)(const char* what, wg_sim* g, const wc_solver_opts* o, const double* guess,
+                                   double rel_dv, double rel_res);
+/* On s's system set on g, options o at tolerance 1e-4: a zero right-hand side (b = 0, z = 0) from
+ * a nonzero guess gives dv = z = 0, converged, no iteration (compare runs it); a non-finite b
+ * gives diverged in both forms, the same residual and dv = z. g keeps the last system. */
+void tg_zero_and_bad_b(wg_device* dev, wc_state* s, wg_sim* g, wc_solver_opts o, tg_compare_fn compare);
+
 #endif

@@ -106,8 +106,6 @@ static void test_edges(void) {
     wc_state* s = sheet_system(&m, 10, 0, &g);
     CHECK(s != NULL && g != NULL);
     if (!s || !g) return;
-    const int n = m.n_particles;
-    wc_diag d = {0};
     wc_solver_opts o = s->def.solver;
     o.max_iterations = 400;
     o.tolerance = 1e-6;
@@ -115,31 +113,7 @@ static void test_edges(void) {
     CHECK(r.grp[3] >= 1.0f);
     free(r.dv);
 
-    double* zero_b = calloc((size_t)n * 3, sizeof(double));
-    wc_filter f = s->filter;
-    double* z = f.z;
-    f.z = zero_b;
-    CHECK(wg_sim_debug_set_system(g, s->A, zero_b, &f, &d) == WC_OK);
-    double* guess = calloc((size_t)n * 3, sizeof(double));
-    for (int i = 0; i < 3 * n; ++i) guess[i] = 0.01 * sin((double)i);
-    o.tolerance = 1e-4;
-    solved zr = compare("zero right-hand side", g, &o, guess, 0.0, 0.0);
-    CHECK(zr.res.converged && zr.res.iterations == 0 && zr.res.residual == 0.0);
-    CHECK(ts_max_abs(zr.dv, 3 * n) == 0.0);   /* dv = z = 0, the guess dropped */
-    free(zr.dv);
-
-    f.z = z;
-    double* bad = calloc((size_t)n * 3, sizeof(double));
-    memcpy(bad, s->b, sizeof(double) * 3 * (size_t)n);
-    bad[3 * (n / 2)] = NAN;
-    CHECK(wg_sim_debug_set_system(g, s->A, bad, &f, &d) == WC_OK);
-    solved a = solve_as(g, &o, NULL, WG_SOLVE_GROUP), b = solve_as(g, &o, NULL, WG_SOLVE_PASSES);
-    printf("  non-finite b: status group %d passes %d, residual %g / %g\n", a.st, b.st, a.res.residual, b.res.residual);
-    CHECK_EQ_INT(a.st, WC_ERROR_SOLVER_DIVERGED);
-    CHECK_EQ_INT(b.st, WC_ERROR_SOLVER_DIVERGED);
-    CHECK(!a.res.converged && a.res.residual == b.res.residual);
-    CHECK(ts_max_diff(a.dv, b.dv, 3 * n) == 0.0);   /* both dv = z */
-    free(a.dv), free(b.dv), free(bad), free(guess), free(zero_b);
+    tg_zero_and_bad_b(dev, s, g, o, compare);
     wg_sim_destroy(g);
     wc_state_destroy(s);
     wc_model_free(&m);

@@ -143,39 +143,13 @@ static void test_edges(void) {
     wc_state* s = tg_sheet_system(dev, &m, 10, 0, 1.0, WC_PRECOND_AMG, &g);
     CHECK(s != NULL && g != NULL);
     if (!s || !g) return;
-    const int n = m.n_particles;
-    wc_diag d = {0};
     wc_solver_opts o = s->def.solver;
     o.max_iterations = 300;
     o.tolerance = 4e-7;
     tg_solved r = compare("tolerance 4e-7", g, &o, NULL, 1e-4, 0.5);
     free(r.dv);
 
-    double* zero_b = calloc((size_t)n * 3, sizeof(double));
-    wc_filter f = s->filter;
-    double* z = f.z;
-    f.z = zero_b;
-    CHECK(wg_sim_debug_set_system(g, s->A, zero_b, &f, &d) == WC_OK);
-    double* guess = calloc((size_t)n * 3, sizeof(double));
-    for (int i = 0; i < 3 * n; ++i) guess[i] = 0.01 * sin((double)i);
-    o.tolerance = 1e-4;
-    tg_solved zr = compare("zero right-hand side", g, &o, guess, 0.0, 0.0);
-    CHECK(zr.res.converged && zr.res.iterations == 0 && zr.res.residual == 0.0);
-    CHECK(ts_max_abs(zr.dv, 3 * n) == 0.0);
-    free(zr.dv);
-
-    f.z = z;
-    double* bad = calloc((size_t)n * 3, sizeof(double));
-    memcpy(bad, s->b, sizeof(double) * 3 * (size_t)n);
-    bad[3 * (n / 2)] = NAN;
-    CHECK(wg_sim_debug_set_system(g, s->A, bad, &f, &d) == WC_OK);
-    tg_solved a = tg_solve_as(dev, g, &o, NULL, WG_SOLVE_GROUP), b = tg_solve_as(dev, g, &o, NULL, WG_SOLVE_PASSES);
-    printf("  non-finite b: status group %d passes %d\n", a.st, b.st);
-    CHECK_EQ_INT(a.st, WC_ERROR_SOLVER_DIVERGED);
-    CHECK_EQ_INT(b.st, WC_ERROR_SOLVER_DIVERGED);
-    CHECK(!a.res.converged && a.res.residual == b.res.residual);
-    CHECK(ts_max_diff(a.dv, b.dv, 3 * n) == 0.0);   /* both dv = z */
-    free(a.dv), free(b.dv), free(bad), free(guess), free(zero_b);
+    tg_zero_and_bad_b(dev, s, g, o, compare);
     wg_sim_destroy(g);
     wc_state_destroy(s);
     wc_model_free(&m);
