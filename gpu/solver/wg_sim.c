@@ -322,7 +322,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "
                "the penalty pairs at the body's sharp edges and corners are found on the host and solved on the "
-               "GPU, except on a body kept on the GPU (docs/design/gpu.md)", s->n_mesh);
+               "GPU, except on a body kept on the GPU (docs/design/gpu_bodies.md)", s->n_mesh);
     if (s->self)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: self-collision: core's stage runs on the host at the end of every substep (positions "
