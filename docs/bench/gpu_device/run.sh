@@ -14,7 +14,8 @@
 # group: PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its tests,
 # bench_gpu's ms and passes a frame at 256 to 2,500 particles, block Jacobi fixed and converged,
 # the multigrid converged, the scenes with each preconditioner both ways): ~5 min. dress: the GPU dressing a body (the collider and
-# self-collision tests, the suit on its turning body on both backends, and the seed's anchor:
+# self-collision and penalty-pair tests, the suit on its turning body on both backends (and its
+# GPU-against-CPU test), and the seed's anchor:
 # weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min;
 # body: a deforming body from a host GL buffer against host arrays (its tests: the body's passes
 # against core, the API's two paths; bench_body_gl: bytes moved, ms of each call and of a step,
@@ -93,9 +94,9 @@ if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass ch
 fi
 if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto; do
+    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto test_gpu_pairs test_cli_gpu_suit; do
       [ -x build-dev/tests/$t ] || continue
-      timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback" /tmp/tb.txt | head -6
+      timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback|pairs|contact" /tmp/tb.txt | head -6
     done
     echo "| backend | self-collision | newton | ms/frame median | collide | self | solve | rollbacks |"; echo "|---|---|---|---|---|---|---|---|"
     for bk in cpu gpu; do
