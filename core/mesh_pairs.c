@@ -38,7 +38,24 @@
 #include "vec3.h"
 
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
-#define SEEN_MAX 64      /* distinct body features per cloth feature remembered for the dedup */
+
+/* Room for `threads` threads' marks of the body features seen (all clear) and their lists of
+ * the marks set; the old ones are kept when there is no memory. */
+static int seen_alloc(wc_mesh_pairs* p, int threads, const wc_allocator* a) {
+    size_t n = (size_t)threads * (size_t)p->seen_stride + 1;
+    unsigned char* seen = WC_NEW(a, unsigned char, n);
+    int* set = WC_NEW(a, int, n);
+    if (!seen || !set) {
+        wc_free(a, seen);
+        wc_free(a, set);
+        return 0;
+    }
+    wc_free(a, p->seen);
+    wc_free(a, p->seen_set);
+    p->seen = seen;
+    p->seen_set = set;
+    return 1;
+}
 
 static void sharp_free(wc_mesh_sharp* t, const wc_allocator* a) {
     wc_free(a, t->tri_edge);
@@ -117,11 +134,18 @@ wc_mesh_pairs* wc_mesh_pairs_create(int cap, int n_particles, const wc_mesh_coll
     memset(p->sharp, 0, ((size_t)nm + 1) * sizeof(wc_mesh_sharp));
     p->n_mesh = nm;
     p->n_particles = n_particles;
-    for (int k = 0; k < nm; ++k)
+    for (int k = 0; k < nm; ++k) {
         if (!sharp_build(&p->sharp[k], mc[k], a)) {
             wc_mesh_pairs_destroy(p, a);
             return NULL;
         }
+        int features = p->sharp[k].n_edges + mc[k]->n_verts;
+        if (features > p->seen_stride) p->seen_stride = features;
+    }
+    if (!seen_alloc(p, 1, a)) {
+        wc_mesh_pairs_destroy(p, a);
+        return NULL;
+    }
     return p;
 }
 
@@ -132,6 +156,8 @@ void wc_mesh_pairs_destroy(wc_mesh_pairs* p, const wc_allocator* a) {
     wc_free(a, p->sharp);
     wc_free(a, (void*)p->behind);
     wc_free(a, p->near);
+    wc_free(a, p->seen);
+    wc_free(a, p->seen_set);
     wc_penalty_stages_free(&p->stage, &p->resume, p->threads, a);
     wc_penalty_pairs_free(&p->list, a);
     wc_free(a, p);
@@ -155,6 +181,10 @@ int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, cons
     if (!wc_penalty_stages_init(&p->stage, &p->resume, threads, stage_cap > 0 ? stage_cap : p->list.cap / threads + 64,
                                 1, a))
         return 0;
+    if (!seen_alloc(p, threads, a)) {
+        wc_penalty_stages_free(&p->stage, &p->resume, threads, a);
+        return 0;
+    }
     p->threads = threads;
     return 1;
 }
@@ -216,19 +246,19 @@ typedef struct find_ctx {
     double h, he;
     int cloth[3];          /* the cloth feature's particles (edge: 2) */
     const wc_mesh_near* near; /* the feature's kept candidates (NULL: none) */
-    int seen[2 * SEEN_MAX];
-    int n_seen;
+    unsigned char *seen_edge, *seen_vert; /* the thread's marks (wc_mesh_pairs.seen) */
+    int* seen_set;         /* the marks this cloth feature set (offsets from seen_edge) */
+    int n_set;
+    double reach[6];       /* a body point outside this box is beyond every contact distance
+                              keep could give the cloth feature (reach_box) */
 } find_ctx;
 
-/* 1 when the body feature (a, b) (a vertex: b = -1) was seen for this cloth feature; remembers it */
-static int seen_before(find_ctx* c, int a, int b) {
-    for (int k = 0; k < c->n_seen; ++k)
-        if (c->seen[2 * k] == a && c->seen[2 * k + 1] == b) return 1;
-    if (c->n_seen < SEEN_MAX) {
-        c->seen[2 * c->n_seen] = a;
-        c->seen[2 * c->n_seen + 1] = b;
-        ++c->n_seen;
-    }
+/* 1 when body feature i (marks: the edges' or the vertices') was seen for this cloth feature;
+ * marks it */
+static int seen_before(find_ctx* c, unsigned char* marks, int i) {
+    if (marks[i]) return 1;
+    marks[i] = 1;
+    c->seen_set[c->n_set++] = (int)(marks - c->seen_edge) + i;
     return 0;
 }
 
@@ -285,6 +315,47 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     wc_penalty_pairs_add(c->out, &c->m->pattern, cnt, c->cloth, w, n, off, wc_penalty_stiffness(inv, c->he));
 }
 
+/* c->reach: the cloth feature's box at the start grown by the largest contact distance keep can
+ * give it, d_c = 2 thickness + 1.5 h approach with approach <= |v_cloth point| + |v_body point|
+ * <= the fastest of the feature's particles + the body's fastest vertex (max_speed), and a
+ * margin for rounding. A body point outside it is farther than d_c from every point of the
+ * feature (keep rejects the pair): its closest points need not be computed. Unbounded when the
+ * collider is exhaustive (the reference of the prunes). */
+static void reach_box(find_ctx* c, int cnt) {
+    const wc_mesh_collider* mc = c->mc;
+    double vmax = 0.0, scale = 1.0;
+    if (mc->exhaustive) {
+        for (int k = 0; k < 3; ++k) {
+            c->reach[k] = -HUGE_VAL;
+            c->reach[3 + k] = HUGE_VAL;
+        }
+        return;
+    }
+    wc_box_empty(c->reach);
+    for (int k = 0; k < cnt; ++k) {
+        const double* xk = c->x + 3 * c->cloth[k];
+        wc_box_add(c->reach, xk);
+        vmax = fmax(vmax, v3_norm(c->v + 3 * c->cloth[k]));
+        scale = fmax(scale, fmax(fabs(xk[0]), fmax(fabs(xk[1]), fabs(xk[2]))));
+    }
+    double dc = 2.0 * mc->thickness + 1.5 * c->h * (vmax + mc->max_speed);
+    wc_box_inflate(c->reach, dc * (1.0 + 1e-9) + 1e-9 * scale);
+}
+
+/* 1 when body point p lies outside c->reach */
+static int beyond_reach(const find_ctx* c, const double* p) {
+    const double* b = c->reach;
+    return p[0] < b[0] || p[0] > b[3] || p[1] < b[1] || p[1] > b[4] || p[2] < b[2] || p[2] > b[5];
+}
+
+/* 1 when the body segment p-q lies outside c->reach (on one side of it) */
+static int segment_beyond_reach(const find_ctx* c, const double* p, const double* q) {
+    const double* b = c->reach;
+    for (int k = 0; k < 3; ++k)
+        if ((p[k] < b[k] && q[k] < b[k]) || (p[k] > b[3 + k] && q[k] > b[3 + k])) return 1;
+    return 0;
+}
+
 static void lerp(double* o, const double* a, const double* b, double t) {
     for (int k = 0; k < 3; ++k) o[k] = a[k] + t * (b[k] - a[k]);
 }
@@ -298,7 +369,8 @@ static int visit_edge(void* user, int t) {
     const double *p0 = c->x + 3 * c->cloth[0], *q0 = c->x + 3 * c->cloth[1];
     for (int e = 0; e < 3; ++e) {
         int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
-        if (!c->sh->sharp_edge[eid] || seen_before(c, eid, -3)) continue;
+        if (!c->sh->sharp_edge[eid] || seen_before(c, c->seen_edge, eid)) continue;
+        if (segment_beyond_reach(c, mc->xa + 3 * r, mc->xa + 3 * s)) continue;
         double a, b;
         wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);
         if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
@@ -319,7 +391,8 @@ static int visit_edge(void* user, int t) {
     if (!(ee > 0.0)) return 0;
     for (int k = 0; k < 3; ++k) {
         int r = tv[k];
-        if (!c->sh->sharp_vert[r] || seen_before(c, r, -2)) continue;
+        if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
+        if (beyond_reach(c, mc->xa + 3 * r)) continue;
         double d[3];
         v3_sub(d, mc->xa + 3 * r, p0);
         double a = v3_dot(d, e) / ee;
@@ -339,7 +412,8 @@ static int visit_vertex(void* user, int t) {
     const int* T = c->cloth;
     for (int e = 0; e < 3; ++e) {
         int r = mc->tris[3 * t + e];
-        if (!c->sh->sharp_vert[r] || seen_before(c, r, -1)) continue;
+        if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
+        if (beyond_reach(c, mc->xa + 3 * r)) continue;
         double w[3], cp0[3] = {0, 0, 0};
         wc_closest_on_triangle(mc->xa + 3 * r, c->x + 3 * T[0], c->x + 3 * T[1], c->x + 3 * T[2], w, NULL);
         if (!(w[0] > INTERIOR && w[1] > INTERIOR && w[2] > INTERIOR)) continue;
@@ -379,22 +453,30 @@ static void feature_box(const find_ctx* c, int cnt, double r, double* box) {
 }
 
 /* The pairs of cloth feature q (the model's winged edges, then its triangles) into c->out. */
-static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
+static void find_pairs(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
     const wc_winged_edge* we = &c->m->we;
     double box[6];
-    c->n_seen = 0;
     c->near = near ? near + q : NULL;
     if (q < we->n_edges) {
         if (wc_we_repeats_previous(we, q)) return;
         c->cloth[0] = we->edges[q].v[0];
         c->cloth[1] = we->edges[q].v[1];
+        reach_box(c, 2);
         feature_box(c, 2, r, box);
         visit_near(c, near ? near + q : NULL, mask, box, visit_edge);
         return;
     }
     memcpy(c->cloth, c->m->tris + 3 * (q - we->n_edges), 3 * sizeof(int));
+    reach_box(c, 3);
     feature_box(c, 3, r, box);
     visit_near(c, near ? near + q : NULL, mask, box, visit_vertex);
+}
+
+/* find_pairs, then the marks it set cleared */
+static void find_feature(find_ctx* c, int q, wc_mesh_near* near, const unsigned char* mask, double r) {
+    c->n_set = 0;
+    find_pairs(c, q, near, mask, r);
+    for (int k = 0; k < c->n_set; ++k) c->seen_edge[c->seen_set[k]] = 0;
 }
 
 /* Features lo..hi-1 of thread t into its stage, until the stage would overflow: resume[2t] is the
@@ -403,6 +485,9 @@ static void stage_range(find_ctx c, int t, int lo, int hi, wc_mesh_near* near, c
     wc_penalty_pairs* st = &c.pp->stage[t];
     wc_penalty_pairs_clear(st);
     c.out = st;
+    c.seen_edge = c.pp->seen + (size_t)t * (size_t)c.pp->seen_stride;
+    c.seen_vert = c.seen_edge + c.sh->n_edges;
+    c.seen_set = c.pp->seen_set + (size_t)t * (size_t)c.pp->seen_stride;
     int q = lo;
     for (; q < hi; ++q) {
         int n0 = st->n, skipped0 = st->skipped;
@@ -443,6 +528,9 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         c.v = v;
         c.h = h;
         c.he = he;
+        c.seen_edge = pp->seen; /* thread 0's marks: the serial passes' */
+        c.seen_vert = pp->seen + c.sh->n_edges;
+        c.seen_set = pp->seen_set;
         /* reach: the contact distance with the body's fastest vertex approaching */
         double r = 2.0 * mc[k]->thickness + 1.5 * h * mc[k]->max_speed;
         if (pp->threads <= 1 || !pp->stage) {

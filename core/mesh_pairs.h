@@ -40,6 +40,12 @@ typedef struct wc_mesh_pairs {
     wc_mesh_near* near;        /* (n_mesh x n_features) each cloth feature's candidate body
                                   triangles (mesh_collider.h): the same pairs, cheaper */
     int threads;               /* detection threads (par.h's ranges; 1: serial) */
+    int seen_stride;           /* the largest collider's n_edges + n_verts */
+    unsigned char* seen;       /* (threads x seen_stride) each thread's marks of the body edges
+                                  (first n_edges) and vertices the cloth feature it is at has
+                                  seen (each body feature once per cloth feature); all clear
+                                  between cloth features */
+    int* seen_set;             /* (threads x seen_stride) the marks set, to clear them */
     wc_penalty_pairs* stage;   /* (threads) each thread's pairs before they are appended in order */
     int* resume;               /* (threads x 2) the feature where a thread's stage filled up, its
                                   range's end: the rest of its range is found serially */

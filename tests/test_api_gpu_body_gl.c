@@ -448,6 +448,92 @@ static void test_sleep_on_still_body(void) {
     wg_gl_context_destroy(host);
 }
 
+/* Frames that fail with the body from the buffer (moved on the GPU with compute passes): two
+ * buffer cloths of one context given the same buffer every frame, the reference r and the cloth
+ * f, which is also given, after that frame's buffer call, a frame that fails:
+ *  - WIND_FAILS_AT: a wind of 1e150 m/s (float's infinity on the GPU: non-finite forces in every
+ *    retry of the first substep, after the body's substep passes ran);
+ *  - FAR_FAILS_AT (twice): the object thrown 1e31 m away (the inertia defaults leave the
+ *    simulation alone, so the whole frame runs and ends the body's frame on the GPU; then the
+ *    outputs in object space are beyond 1e30).
+ * Each returns STEP_FAILED saying the cloth was restored; f then steps the frame as r does. The
+ * cloth and the body must be back at the frame's start with the buffer's vertices still pending:
+ * f's positions bit-identical to r's at every frame; right after the second far failure (the
+ * snapshot pulls both bodies back to the CPU) and at the end, the two snapshots byte-identical. */
+#define WIND_FAILS_AT 14
+#define FAR_FAILS_AT 18
+#define FAR_FAILS_AGAIN_AT 24
+#define FAIL_FRAMES 30
+
+static int failed_frame(weft_context* ctx, weft_cloth c, const weft_frame* fr) {
+    weft_status st = weft_cloth_step(ctx, c, fr, NULL);
+    CHECK_EQ_INT(st, WEFT_ERROR_STEP_FAILED);
+    return st == WEFT_ERROR_STEP_FAILED && has(ctx, "restored to its state before the call");
+}
+
+static void test_failed_frames_roll_back(void) {
+    wg_gl_context* host = host_begin();
+    if (!host) return;
+    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    if (ctx) {
+        weft_cloth r = make_cloth(ctx), f = make_cloth(ctx);
+        const int nv = g_tm.nv, n = N * N;
+        GLuint buf = make_buffer(OFFSET + (size_t)nv * STRIDE);
+        float* body = malloc((size_t)nv * 12);
+        float *pr = malloc((size_t)n * 12), *pf = malloc((size_t)n * 12);
+        weft_cloth_info info;
+        CHECK_EQ_INT(weft_cloth_get_info(ctx, r, &info), WEFT_OK);
+        unsigned char *sr = malloc(info.snapshot_size), *sf = malloc(info.snapshot_size);
+        weft_frame fr = weft_default_frame(), windy = weft_default_frame(), far = weft_default_frame();
+        fr.dt = windy.dt = far.dt = DT;
+        const double gale[3] = {1e150, 0.0, 1e150};
+        windy.wind = gale;
+        float thrown[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e31f, 0, 0, 1};
+        far.object_transform = thrown;
+        int count = 0, failed = 0, same = 1, first_diff = 0, saved_same = 0;
+        for (int k = 1; k <= FAIL_FRAMES; ++k) {
+            body_at(k, body);
+            fill_buffer(buf, body, nv);
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, r, 0, buf, OFFSET, STRIDE, nv), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, f, 0, buf, OFFSET, STRIDE, nv), WEFT_OK);
+            if (k == WIND_FAILS_AT) failed += failed_frame(ctx, f, &windy);
+            if (k == FAR_FAILS_AT || k == FAR_FAILS_AGAIN_AT) failed += failed_frame(ctx, f, &far);
+            if (k == FAR_FAILS_AGAIN_AT) {
+                CHECK_EQ_INT(weft_cloth_save(ctx, r, sr, info.snapshot_size), WEFT_OK);
+                CHECK_EQ_INT(weft_cloth_save(ctx, f, sf, info.snapshot_size), WEFT_OK);
+                saved_same = memcmp(sr, sf, info.snapshot_size) == 0;
+            }
+            CHECK_EQ_INT(weft_cloth_step(ctx, r, &fr, NULL), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_step(ctx, f, &fr, NULL), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_get_vertices(ctx, r, WEFT_SPACE_WORLD, pr, NULL, n, &count), WEFT_OK);
+            CHECK_EQ_INT(weft_cloth_get_vertices(ctx, f, WEFT_SPACE_WORLD, pf, NULL, n, &count), WEFT_OK);
+            if (same && memcmp(pr, pf, (size_t)n * 12) != 0) {
+                same = 0;
+                first_diff = k;
+                fprintf(stderr, "  frame %d: the cloth that failed frames differs from the reference by %.3g m\n", k,
+                        ag_max_distance(pr, pf, n));
+            }
+        }
+        CHECK_EQ_INT(weft_cloth_save(ctx, r, sr, info.snapshot_size), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_save(ctx, f, sf, info.snapshot_size), WEFT_OK);
+        const int end_same = memcmp(sr, sf, info.snapshot_size) == 0;
+        printf("  the body %s: %d failed frames (a gale at frame %d, the object thrown at %d and %d); bit-identical to "
+               "the reference every frame: %s (first difference at frame %d); snapshots after the last failure and "
+               "at frame %d the same: %s, %s\n", hg_body_on_gpu() ? "on the GPU" : "read back", failed, WIND_FAILS_AT,
+               FAR_FAILS_AT, FAR_FAILS_AGAIN_AT, same ? "yes" : "no", first_diff, FAIL_FRAMES,
+               saved_same ? "yes" : "no", end_same ? "yes" : "no");
+        CHECK_EQ_INT(failed, 3);
+        CHECK(same);
+        CHECK(saved_same);
+        CHECK(end_same);
+        free(sr), free(sf), free(body), free(pr), free(pf);
+        glDeleteBuffers(1, &buf);
+        weft_context_destroy(ctx);
+    }
+    wg_gl_end(host);
+    wg_gl_context_destroy(host);
+}
+
 /* A CPU cloth, and a GPU cloth of a headless context: refused, naming what to use instead. */
 static void test_other_contexts(void) {
     weft_context* cpu = make_ctx(WEFT_BACKEND_CPU, WEFT_GL_HEADLESS);
@@ -477,6 +563,7 @@ int main(void) {
     ag_grid(&g_sheet, N, 1.0, 0.5, 0, 0);
     RUN_TEST(test_buffer_matches_arrays);
     RUN_TEST(test_sleep_on_still_body);
+    RUN_TEST(test_failed_frames_roll_back);
     RUN_TEST(test_other_contexts);
     ag_free(&g_sheet);
     free(g_rest);

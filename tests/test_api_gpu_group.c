@@ -1,8 +1,10 @@
 /* WEFT_GPU_SOLVE through the public API (real EGL: llvmpipe without a GPU): a hanging sheet
- * stepped on the GPU with block-Jacobi PCG solved in one work group (=group) against the
- * multi-pass chain (=passes), within float bounds and with the same iteration counts to a few;
+ * stepped on the GPU with PCG solved in one work group (=group), with block Jacobi and with the
+ * multigrid, against the multi-pass chain (=passes), within float bounds and with the same
+ * iteration counts to a few;
  * an unknown value refused by name at context creation; =group on fragment passes refused; a
- * cloth past the group's limit refused at creation under =group, the context left usable. */
+ * cloth past the group's limit refused at creation under =group (either preconditioner), the
+ * context left usable. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,7 +37,7 @@ static weft_context* gpu_ctx(const char* solve, weft_status want) {
     return ctx;
 }
 
-static weft_cloth_def sheet_def(const ag_mesh* m, weft_attachment_def* att, int* pins) {
+static weft_cloth_def sheet_def(const ag_mesh* m, weft_preconditioner pc, weft_attachment_def* att, int* pins) {
     pins[0] = 0;
     pins[1] = m->n - 1;
     *att = weft_default_attachment_def();
@@ -46,18 +48,18 @@ static weft_cloth_def sheet_def(const ag_mesh* m, weft_attachment_def* att, int*
     def.attachments = att;
     def.n_attachments = 1;
     def.solver = WEFT_SOLVER_PCG;
-    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;   /* the solve the group runs */
+    def.preconditioner = pc;
     def.newton_iterations = 1;
     def.line_search = 0;
     return def;
 }
 
-/* The sheet stepped FRAMES frames in ctx: its vertices (3 nv floats, the caller frees) and the
- * iterations summed over the frames */
-static float* run_sheet(weft_context* ctx, const ag_mesh* m, int* iterations) {
+/* The sheet stepped FRAMES frames in ctx with PCG and preconditioner pc: its vertices (3 nv
+ * floats, the caller frees) and the iterations summed over the frames */
+static float* run_sheet(weft_context* ctx, const ag_mesh* m, weft_preconditioner pc, int* iterations) {
     weft_attachment_def att;
     int pins[2];
-    weft_cloth_def def = sheet_def(m, &att, pins);
+    weft_cloth_def def = sheet_def(m, pc, &att, pins);
     weft_cloth cloth = {0};
     CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
     weft_frame fr = weft_default_frame();
@@ -80,6 +82,25 @@ static float* run_sheet(weft_context* ctx, const ag_mesh* m, int* iterations) {
     return p;
 }
 
+/* The sheet with preconditioner pc stepped under =group (context a) and =passes (b): the largest
+ * vertex distance between the two, how far the sheet fell, the iterations of each */
+static void both_forms(weft_context* a, weft_context* b, const ag_mesh* m, weft_preconditioner pc, double* max_d,
+                       double* drop, int* it_a, int* it_b) {
+    float* pa = run_sheet(a, m, pc, it_a);
+    float* pb = run_sheet(b, m, pc, it_b);
+    *max_d = 0.0;
+    *drop = 0.0;
+    for (int i = 0; i < m->nv; ++i) {
+        double d2 = 0.0;
+        for (int c = 0; c < 3; ++c) d2 += (double)(pa[3 * i + c] - pb[3 * i + c]) * (pa[3 * i + c] - pb[3 * i + c]);
+        *max_d = fmax(*max_d, sqrt(d2));
+        *drop = fmax(*drop, 1.0 - pb[3 * i + 1]);
+    }
+    printf("%s: group vs passes after %d frames: max |dx| %.3g m, the sheet fell %.3g m; iterations %d / %d\n",
+           pc == WEFT_PRECOND_AMG ? "multigrid" : "block Jacobi", FRAMES, *max_d, *drop, *it_a, *it_b);
+    free(pa), free(pb);
+}
+
 static void test_group_vs_passes(void) {
     const char* passes_env = getenv("WEFT_GPU_PASSES");
     if (passes_env && strcmp(passes_env, "fragment") == 0) return;   /* test_bad_values covers it */
@@ -94,23 +115,21 @@ static void test_group_vs_passes(void) {
         ag_free(&m);
         return;
     }
-    int it_a = 0, it_b = 0;
-    float* pa = run_sheet(a, &m, &it_a);
-    float* pb = run_sheet(b, &m, &it_b);
+    /* block Jacobi: the same float steps summed in another order, each solve converged to its
+       tolerance */
     double max_d = 0.0, drop = 0.0;
-    for (int i = 0; i < m.nv; ++i) {
-        double d2 = 0.0;
-        for (int c = 0; c < 3; ++c) d2 += (double)(pa[3 * i + c] - pb[3 * i + c]) * (pa[3 * i + c] - pb[3 * i + c]);
-        max_d = fmax(max_d, sqrt(d2));
-        drop = fmax(drop, 1.0 - pb[3 * i + 1]);
-    }
-    printf("group vs passes after %d frames: max |dx| %.3g m, the sheet fell %.3g m; iterations %d / %d\n", FRAMES,
-           max_d, drop, it_a, it_b);
+    int it_a = 0, it_b = 0;
+    both_forms(a, b, &m, WEFT_PRECOND_BLOCK_JACOBI, &max_d, &drop, &it_a, &it_b);
     CHECK(drop > 0.05);
-    /* the same float steps summed in another order, each solve converged to its tolerance */
     CHECK(max_d < 1e-3);
     CHECK(abs(it_a - it_b) <= FRAMES);
-    free(pa), free(pb);
+    /* the multigrid (its V-cycle in the group): the same, with far fewer iterations */
+    int am_a = 0, am_b = 0;
+    both_forms(a, b, &m, WEFT_PRECOND_AMG, &max_d, &drop, &am_a, &am_b);
+    CHECK(drop > 0.05);
+    CHECK(max_d < 1e-4);
+    CHECK(abs(am_a - am_b) <= FRAMES);
+    CHECK(2 * am_a < it_a);
 
     /* a cloth past the group's limit under =group: refused, naming the variable; the context
        still steps the small one */
@@ -118,12 +137,14 @@ static void test_group_vs_passes(void) {
     ag_grid(&big, 52, 1.0, 1.0, 0, 0);   /* 2,704 particles */
     weft_attachment_def att;
     int pins[2];
-    weft_cloth_def def = sheet_def(&big, &att, pins);
-    weft_cloth cloth = {0};
-    CHECK_EQ_INT(weft_cloth_create(a, &def, &cloth), WEFT_ERROR_UNSUPPORTED);
-    printf("too large under =group: %s\n", weft_context_last_error(a));
-    CHECK(strstr(weft_context_last_error(a), "WEFT_GPU_SOLVE=group") != NULL);
-    float* again = run_sheet(a, &m, &it_a);
+    for (int k = 0; k < 2; ++k) {
+        weft_cloth_def def = sheet_def(&big, k ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI, &att, pins);
+        weft_cloth cloth = {0};
+        CHECK_EQ_INT(weft_cloth_create(a, &def, &cloth), WEFT_ERROR_UNSUPPORTED);
+        printf("too large under =group: %s\n", weft_context_last_error(a));
+        CHECK(strstr(weft_context_last_error(a), "WEFT_GPU_SOLVE=group") != NULL);
+    }
+    float* again = run_sheet(a, &m, WEFT_PRECOND_AMG, &it_a);
     free(again);
     ag_free(&big);
     weft_context_destroy(a);

@@ -63,46 +63,6 @@ static int quad_model(wc_model* m, double* pos, int nv, int* sizes, int nq, int*
     return st == WC_OK;
 }
 
-/* `count` separate 3 x 3-vertex patches, 0.1 m apart, each hanging from a corner (3 frames on
- * the CPU): a mesh whose coarsening stops at one aggregate a piece, above the dense factor's
- * size. */
-static wc_state* patches(wc_model* m, int count) {
-    int nv = 9 * count, nq = 4 * count;
-    double* pos = calloc((size_t)nv * 3, sizeof(double));
-    int* sizes = calloc((size_t)nq, sizeof(int));
-    int* idx = calloc((size_t)nq * 4, sizeof(int));
-    for (int p = 0; p < count; ++p) {
-        for (int v = 0; v < 9; ++v) {
-            double* x = pos + 3 * (9 * p + v);
-            x[0] = 0.1 * p + 0.02 * (v % 3);
-            x[1] = 1.0;
-            x[2] = 0.02 * (v / 3);
-        }
-        for (int q = 0; q < 4; ++q) {
-            int i = q % 2, j = q / 2, *c = idx + 4 * (4 * p + q);
-            sizes[4 * p + q] = 4;
-            c[0] = 9 * p + i + 3 * j;
-            c[1] = 9 * p + i + 3 * (j + 1);
-            c[2] = 9 * p + i + 1 + 3 * (j + 1);
-            c[3] = 9 * p + i + 1 + 3 * j;
-        }
-    }
-    if (!quad_model(m, pos, nv, sizes, nq, idx, 0.0)) return NULL;
-    wc_diag d = {0};
-    wc_sim_def def = amg_def();
-    wc_state* s = NULL;
-    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
-    wc_pin* pins = calloc((size_t)count, sizeof *pins);
-    for (int p = 0; p < count; ++p) {
-        pins[p].particle = m->host_to_particle[9 * p];
-        memcpy(pins[p].target, s->x + 3 * pins[p].particle, sizeof pins[p].target);
-    }
-    wc_state_set_pins(s, pins, count, &d);
-    free(pins);
-    for (int f = 0; f < 3; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    return s;
-}
-
 /* Two vertical q x q-quad panels side by side, GAP apart, B's rows offset by half a row (as
  * sew_tube.h's: every seam pairs a vertex with the middle of the other panel's boundary edge),
  * sewn at SEW, both top rows held, stepped `warm` frames on the CPU, the state rounded to float:
@@ -283,7 +243,7 @@ static void test_solves(void) {
         wc_model m;
         wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
                       : cases[k].kind == 1 ? ts_draped(&m, cases[k].n, &def, cases[k].warm)
-                      : cases[k].kind == 2 ? patches(&m, cases[k].n)
+                      : cases[k].kind == 2 ? ts_patches(&m, cases[k].n, &def)
                                            : sewn_panels(&m, cases[k].n, cases[k].warm);
         CHECK(s != NULL);
         if (!s) return;

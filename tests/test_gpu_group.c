@@ -11,6 +11,7 @@
 
 #include "check.h"
 #include "egl_context.h"
+#include "gpu_group_support.h"
 #include "step.h"
 #include "test_support.h"
 #include "wg_sim_impl.h"
@@ -18,67 +19,14 @@
 static wg_gl_context* gl;
 static wg_device* dev;
 
-/* A hanging n x n sheet pinned at its two top corners, stepped `warm` frames on the CPU, every
- * 7th particle held to a plane moving at 0.05 m/s along its normal (a filter with ndof 1 and
- * z != 0), its system prepared on the CPU and set on the GPU cloth g (rounded to float there). */
 static wc_state* sheet_system(wc_model* m, int n, int warm, wg_sim** g) {
-    *g = NULL;
-    if (!ts_sheet(m, n, 1.0, 1.0, 1, 1.0)) return NULL;
-    wc_sim_def def = wc_default_sim_def();
-    def.solver.type = WC_SOLVER_PCG;
-    def.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
-    def.sleep_speed = 0.0;
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
-    ts_pin_far_corners(s, n, NULL);
-    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    if (wg_sim_create(dev, s, NULL, g, &d) != WC_OK) {
-        fprintf(stderr, "wg_sim_create: %s\n", d.message);
-        return s;
-    }
-    const double h = 1.0 / 30.0;
-    wg_sim_debug_prepare(*g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d);
-    wc_step_stats st;
-    memset(&st, 0, sizeof st);
-    wc_substep_prepare(s, h, 1.0, &st);
-    const double nrm[3] = {0.26726124, 0.53452248, 0.80178373};   /* (1, 2, 3) / |(1, 2, 3)| */
-    for (int i = 0; i < m->n_particles; i += 7) {
-        if (s->filter.ndof[i] != 0) continue;
-        double* S = s->filter.S + 9 * i;
-        for (int a = 0; a < 3; ++a) {
-            for (int b = 0; b < 3; ++b) S[3 * a + b] = (a == b) - nrm[a] * nrm[b];
-            s->filter.z[3 * i + a] = 0.05 * nrm[a];
-        }
-        s->filter.ndof[i] = 1;
-    }
-    CHECK(wg_sim_debug_set_system(*g, s->A, s->b, &s->filter, &d) == WC_OK);
-    return s;
+    return tg_sheet_system(dev, m, n, warm, 1.0, WC_PRECOND_BLOCK_JACOBI, g);
 }
 
-typedef struct solved {
-    wc_status st;
-    wc_solve_result res;
-    double* dv;
-    long long passes;
-    float grp[4];   /* the group's result texel (pcg_group.glsl image 4) */
-} solved;
+typedef tg_solved solved;
 
-/* Solve g's system from guess (NULL: zeros) with options o, forced to the group or the passes */
 static solved solve_as(wg_sim* g, const wc_solver_opts* o, const double* guess, wg_solve_mode mode) {
-    solved r;
-    memset(&r, 0, sizeof r);
-    r.dv = calloc((size_t)g->n * 3, sizeof(double));
-    if (guess) memcpy(r.dv, guess, sizeof(double) * 3 * (size_t)g->n);
-    dev->solve = mode;
-    wg_sim_debug_set_opts(g, o);
-    wc_diag d = {0};
-    const long long p0 = wg_sim_debug_passes(g);
-    r.st = wg_sim_debug_solve(g, WC_SOLVER_PCG, r.dv, &r.res, &d);
-    r.passes = wg_sim_debug_passes(g) - p0;
-    if (mode == WG_SOLVE_GROUP) wg_read1(&g->layout, &g->grp, r.grp);
-    dev->solve = WG_SOLVE_AUTO;
-    return r;
+    return tg_solve_as(dev, g, o, guess, mode);
 }
 
 /* The group against the chain from the same guess: the same status, iteration count and
@@ -158,8 +106,6 @@ static void test_edges(void) {
     wc_state* s = sheet_system(&m, 10, 0, &g);
     CHECK(s != NULL && g != NULL);
     if (!s || !g) return;
-    const int n = m.n_particles;
-    wc_diag d = {0};
     wc_solver_opts o = s->def.solver;
     o.max_iterations = 400;
     o.tolerance = 1e-6;
@@ -167,31 +113,7 @@ static void test_edges(void) {
     CHECK(r.grp[3] >= 1.0f);
     free(r.dv);
 
-    double* zero_b = calloc((size_t)n * 3, sizeof(double));
-    wc_filter f = s->filter;
-    double* z = f.z;
-    f.z = zero_b;
-    CHECK(wg_sim_debug_set_system(g, s->A, zero_b, &f, &d) == WC_OK);
-    double* guess = calloc((size_t)n * 3, sizeof(double));
-    for (int i = 0; i < 3 * n; ++i) guess[i] = 0.01 * sin((double)i);
-    o.tolerance = 1e-4;
-    solved zr = compare("zero right-hand side", g, &o, guess, 0.0, 0.0);
-    CHECK(zr.res.converged && zr.res.iterations == 0 && zr.res.residual == 0.0);
-    CHECK(ts_max_abs(zr.dv, 3 * n) == 0.0);   /* dv = z = 0, the guess dropped */
-    free(zr.dv);
-
-    f.z = z;
-    double* bad = calloc((size_t)n * 3, sizeof(double));
-    memcpy(bad, s->b, sizeof(double) * 3 * (size_t)n);
-    bad[3 * (n / 2)] = NAN;
-    CHECK(wg_sim_debug_set_system(g, s->A, bad, &f, &d) == WC_OK);
-    solved a = solve_as(g, &o, NULL, WG_SOLVE_GROUP), b = solve_as(g, &o, NULL, WG_SOLVE_PASSES);
-    printf("  non-finite b: status group %d passes %d, residual %g / %g\n", a.st, b.st, a.res.residual, b.res.residual);
-    CHECK_EQ_INT(a.st, WC_ERROR_SOLVER_DIVERGED);
-    CHECK_EQ_INT(b.st, WC_ERROR_SOLVER_DIVERGED);
-    CHECK(!a.res.converged && a.res.residual == b.res.residual);
-    CHECK(ts_max_diff(a.dv, b.dv, 3 * n) == 0.0);   /* both dv = z */
-    free(a.dv), free(b.dv), free(bad), free(guess), free(zero_b);
+    tg_zero_and_bad_b(dev, s, g, o, compare);
     wg_sim_destroy(g);
     wc_state_destroy(s);
     wc_model_free(&m);
@@ -199,32 +121,7 @@ static void test_edges(void) {
 
 /* WEFT_GPU_SOLVE=group (the device's choice) on a cloth past the group's limit: refused at
  * creation with a message naming the limit, the state untouched; =passes takes it. */
-static void test_limit_refused(void) {
-    wc_model m;
-    const int side = 51;   /* 2,601 particles */
-    CHECK(side * side > WG_GROUP_MAX_PARTICLES);
-    if (!ts_sheet(&m, side, 1.0, 1.0, 1, 1.0)) return;
-    wc_sim_def def = wc_default_sim_def();
-    def.solver.preconditioner = WC_PRECOND_BLOCK_JACOBI;
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_OK);
-    if (!s) return;
-    const double x0 = s->x[0];
-    wg_sim* g = NULL;
-    dev->solve = WG_SOLVE_GROUP;
-    CHECK_EQ_INT(wg_sim_create(dev, s, NULL, &g, &d), WC_ERROR_UNSUPPORTED);
-    printf("  %s\n", d.message);
-    CHECK(g == NULL);
-    CHECK(strstr(d.message, "WEFT_GPU_SOLVE=group") != NULL && strstr(d.message, "2560") != NULL);
-    CHECK(s->x[0] == x0);
-    dev->solve = WG_SOLVE_PASSES;
-    CHECK_EQ_INT(wg_sim_create(dev, s, NULL, &g, &d), WC_OK);
-    wg_sim_destroy(g);
-    dev->solve = WG_SOLVE_AUTO;
-    wc_state_destroy(s);
-    wc_model_free(&m);
-}
+static void test_limit_refused(void) { tg_limit_refused(dev, WC_PRECOND_BLOCK_JACOBI); }
 
 int main(void) {
     wg_gl_context_desc cd;

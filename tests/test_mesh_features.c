@@ -311,9 +311,22 @@ static int same_list(const wc_penalty_pairs* a, const wc_penalty_pairs* b) {
     return 1;
 }
 
+/* The number of pairs of list a with the same particles, weights and normal as an earlier one */
+static int repeated_pairs(const wc_penalty_pairs* a) {
+    int rep = 0;
+    for (int j = 0; j < a->n; ++j)
+        for (int i = 0; i < j; ++i)
+            if (!memcmp(&a->term[i], &a->term[j], sizeof a->term[j])) {
+                ++rep;
+                break;
+            }
+    return rep;
+}
+
 /* The detection on 2 and 3 threads (each thread's range staged, then appended in order) gives the
  * serial list: a 21 x 21 sheet falling onto a roof ridge and a pyramid's apex, with stages that
- * fill up (the rest of a range found serially) and a list that overflows. */
+ * fill up (the rest of a range found serially) and a list that overflows. No pair is found
+ * twice, and no thread's mark of a body feature seen is left set after a detection. */
 static void test_pairs_threads(void) {
     const double th = 0.005, h = 1.0 / 30;
     wc_diag d = {0};
@@ -333,13 +346,18 @@ static void test_pairs_threads(void) {
     memcpy(x, m.rest_pos, 3 * (size_t)n * sizeof(double));
     for (int i = 0; i < n; ++i) v[3 * i + 1] = -0.2 - 0.01 * (i % 7);
     const int caps[2] = {4 * nf, 9}; /* room for all; a list that overflows */
-    int found = 0;
+    int found = 0, marks_left = 0;
     for (int ci = 0; ci < 2; ++ci) {
         wc_mesh_pairs* serial = wc_mesh_pairs_create(caps[ci], n, cm, 2, NULL);
         CHECK(serial && wc_mesh_pairs_keep_candidates(serial, nf, NULL));
         wc_mesh_pairs_find(serial, cm, 2, &m, NULL, NULL, x, v, h, h);
-        if (ci == 0) found = serial->list.n;
-        else CHECK(serial->list.overflow > 0);
+        for (int i = 0; i < serial->seen_stride; ++i) marks_left += serial->seen[i] != 0;
+        if (ci == 0) {
+            found = serial->list.n;
+            CHECK_EQ_INT(repeated_pairs(&serial->list), 0);
+        } else {
+            CHECK(serial->list.overflow > 0);
+        }
         const int threads[3] = {2, 3, 2}, stage_caps[3] = {0, 1, 5};
         for (int r = 0; r < 3; ++r) {
             wc_mesh_pairs* par = wc_mesh_pairs_create(caps[ci], n, cm, 2, NULL);
@@ -348,14 +366,99 @@ static void test_pairs_threads(void) {
             for (int rep = 0; rep < 2; ++rep) { /* the second time through the kept candidates */
                 wc_mesh_pairs_find(par, cm, 2, &m, NULL, NULL, x, v, h, h);
                 CHECK(same_list(&serial->list, &par->list));
+                for (size_t i = 0; i < (size_t)threads[r] * (size_t)par->seen_stride; ++i)
+                    marks_left += par->seen[i] != 0;
             }
             wc_mesh_pairs_destroy(par, NULL);
         }
         wc_mesh_pairs_destroy(serial, NULL);
     }
     printf("  %d pairs (%d features) found alike on 1, 2 and 3 threads, with stages of room 1, 5 and the "
-           "default, and with a list of room 9\n", found, nf);
+           "default, and with a list of room 9; none twice, %d marks left\n", found, nf, marks_left);
     CHECK(found > 20);
+    CHECK_EQ_INT(marks_left, 0);
+    free(x);
+    free(v);
+    for (int k = 0; k < 2; ++k) wc_mesh_collider_destroy(mc[k]);
+    wc_model_free(&m);
+}
+
+/* The detection's cull of body features beyond the largest contact distance (mesh_pairs.c's
+ * reach_box) against the unculled detection (exhaustive colliders): the same list, bit for bit.
+ * A flat 21 x 21 sheet over a roof ridge and a pyramid's apex that rise at 0 to 1 m/s, its
+ * particles falling at 0 to 3 m/s, at heights just inside and just outside the contact distance
+ * d_c = 2 thickness + 1.5 h (fall + rise) (pairs found at the edge of the reach); then the bodies
+ * turning and shifting under a crumpled sheet moving every which way. */
+static void test_pairs_culled(void) {
+    const double th = 0.005, h = 1.0 / 60;
+    wc_diag d = {0};
+    tmesh body[2];
+    roof(&body[0], 0.21, 0.15, 0.25, 0.8);
+    pyramid(&body[1], -0.235, 0.28, 0.1, 0.254);
+    const double top[2] = {0.25, 0.254};
+    wc_mesh_collider* mc[2] = {NULL, NULL};
+    for (int k = 0; k < 2; ++k)
+        CHECK_EQ_INT(wc_mesh_collider_create(&mc[k], body[k].x, body[k].nv, body[k].t, body[k].nt, th, 0.4, NULL, &d),
+                     WC_OK);
+    const wc_mesh_collider* cm[2] = {mc[0], mc[1]};
+    wc_model m;
+    CHECK(ts_sheet(&m, 21, 1.0, 0.0, 0, 1.0));
+    int n = m.n_particles, nf = m.we.n_edges + m.n_tris;
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    double* v = malloc(3 * (size_t)n * sizeof(double));
+    double tgt[3 * 16];
+    wc_mesh_pairs* culled = wc_mesh_pairs_create(8 * nf, n, cm, 2, NULL);
+    wc_mesh_pairs* full = wc_mesh_pairs_create(8 * nf, n, cm, 2, NULL);
+    CHECK(culled && full && wc_mesh_pairs_keep_candidates(culled, nf, NULL));
+    unsigned long long rng = 0x9e3779b97f4a7c15ull;
+    const double falls[5] = {0, 1, 3, 0, 2}, rises[5] = {0, 0, 0, 0.5, 1}, at[5] = {0.5, 0.99, 0.9999, 1.001, 1.2};
+    int trials = 0, same = 0, found = 0, edge_found = 0;
+    for (int trial = 0; trial < 2 * 5 * 5 + 30; ++trial) {
+        int flat = trial < 50, near = trial % 2, speed = trial / 2 % 5;
+        double fall = flat ? falls[speed] : 0.0, rise = flat ? rises[speed] : 0.0;
+        double dc = 2.0 * th + 1.5 * h * (fall + rise), y = top[near] + at[trial / 10 % 5] * dc;
+        double a = flat ? 0.0 : 0.02 * (trial % 5), ca = cos(a), sa = sin(a);
+        for (int k = 0; k < 2; ++k) { /* rise, or turn about y and shift */
+            for (int i = 0; i < body[k].nv; ++i) {
+                const double* p = body[k].x + 3 * i;
+                v3_set(tgt + 3 * i, ca * p[0] + sa * p[2], p[1] + rise * h + (flat ? 0.0 : 0.001 * (trial % 3)),
+                       -sa * p[0] + ca * p[2] + (flat ? 0.0 : 0.002));
+            }
+            CHECK_EQ_INT(wc_mesh_collider_set_all(mc[k], body[k].x, &d), WC_OK);
+            CHECK_EQ_INT(wc_mesh_collider_set_target(mc[k], tgt, &d), WC_OK);
+            wc_mesh_collider_substep(mc[k], 0.0, 1.0, h);
+        }
+        for (int i = 0; i < n; ++i) {
+            double r[4];
+            for (int k = 0; k < 4; ++k) {
+                rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17;
+                r[k] = (double)(rng >> 11) / 9007199254740992.0 * 2.0 - 1.0;
+            }
+            if (flat) {
+                v3_set(x + 3 * i, m.rest_pos[3 * i], y, m.rest_pos[3 * i + 2]);
+                v3_set(v + 3 * i, 0.0, -fall, 0.0);
+            } else {
+                double yi = 0.252 + 0.0015 * (trial - 50) + 0.003 * r[3];
+                v3_set(x + 3 * i, m.rest_pos[3 * i], yi, m.rest_pos[3 * i + 2]);
+                v3_set(v + 3 * i, r[0], r[1], r[2]);
+                v3_scale(v + 3 * i, v + 3 * i, 0.1 * (trial - 50));
+            }
+        }
+        for (int k = 0; k < 2; ++k) mc[k]->exhaustive = 1;
+        wc_mesh_pairs_find(full, cm, 2, &m, NULL, NULL, x, v, h, h);
+        for (int k = 0; k < 2; ++k) mc[k]->exhaustive = 0;
+        wc_mesh_pairs_find(culled, cm, 2, &m, NULL, NULL, x, v, h, h);
+        ++trials;
+        same += same_list(&full->list, &culled->list);
+        found += full->list.n;
+        if (flat && at[trial / 10 % 5] > 0.9 && at[trial / 10 % 5] < 1.0) edge_found += full->list.n;
+    }
+    printf("  %d of %d detections the same culled as unculled: %d pairs, %d of them at 0.99 and 0.9999 d_c\n", same,
+           trials, found, edge_found);
+    CHECK_EQ_INT(same, trials);
+    CHECK(edge_found > 20 && found > edge_found);
+    wc_mesh_pairs_destroy(culled, NULL);
+    wc_mesh_pairs_destroy(full, NULL);
     free(x);
     free(v);
     for (int k = 0; k < 2; ++k) wc_mesh_collider_destroy(mc[k]);
@@ -380,6 +483,7 @@ static void test_newton_descends(void) {
 int main(void) {
     RUN_TEST(test_pair_term);
     RUN_TEST(test_pairs_threads);
+    RUN_TEST(test_pairs_culled);
     RUN_TEST(test_newton_descends);
     RUN_TEST(test_ridge_and_apex);
     return TEST_SUMMARY();

@@ -198,3 +198,46 @@ double ts_max_diff(const double* a, const double* b, int n) {
     for (int k = 0; k < n; ++k) m = fmax(m, fabs(a[k] - b[k]));
     return m;
 }
+
+wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def) {
+    int nv = 9 * count, nq = 4 * count;
+    double* pos = calloc((size_t)nv * 3, sizeof(double));
+    int* sizes = calloc((size_t)nq, sizeof(int));
+    int* idx = calloc((size_t)nq * 4, sizeof(int));
+    for (int p = 0; p < count; ++p) {
+        for (int v = 0; v < 9; ++v) {
+            double* x = pos + 3 * (9 * p + v);
+            x[0] = 0.1 * p + 0.02 * (v % 3);
+            x[1] = 1.0;
+            x[2] = 0.02 * (v / 3);
+        }
+        for (int q = 0; q < 4; ++q) {
+            int i = q % 2, j = q / 2, *c = idx + 4 * (4 * p + q);
+            sizes[4 * p + q] = 4;
+            c[0] = 9 * p + i + 3 * j;
+            c[1] = 9 * p + i + 3 * (j + 1);
+            c[2] = 9 * p + i + 1 + 3 * (j + 1);
+            c[3] = 9 * p + i + 1 + 3 * j;
+        }
+    }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    free(pos), free(sizes), free(idx);
+    if (st != WC_OK) return NULL;
+    wc_model_def mdef = wc_default_model_def();
+    st = wc_model_build(m, &src, &mdef, NULL, &d);
+    wc_source_mesh_free(&src);
+    if (st != WC_OK) return NULL;
+    wc_state* s = NULL;
+    if (wc_state_create(&s, m, def, NULL, &d) != WC_OK) return NULL;
+    wc_pin* pins = calloc((size_t)count, sizeof *pins);
+    for (int p = 0; p < count; ++p) {
+        pins[p].particle = m->host_to_particle[9 * p];
+        memcpy(pins[p].target, s->x + 3 * pins[p].particle, sizeof pins[p].target);
+    }
+    wc_state_set_pins(s, pins, count, &d);
+    free(pins);
+    for (int f = 0; f < 3; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    return s;
+}

@@ -44,6 +44,10 @@ double ts_rel_diff(const double* a, const double* b, int n);
  * thickness 0.005, friction 0.3) and draped over it for `frames` frames on the CPU with def: a
  * system with contacts and friction. NULL on failure (m is then not built or freed). */
 wc_state* ts_draped(wc_model* m, int n, const wc_sim_def* def, int frames);
+/* `count` separate 3 x 3-vertex patches, 0.1 m apart, each hanging from a corner, stepped 3
+ * frames on the CPU with def: a mesh whose multigrid coarsening stops at one aggregate a piece.
+ * NULL on failure. */
+wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def);
 /* max |a_k| and max |a_k - b_k| over n doubles. */
 double ts_max_abs(const double* a, int n);
 double ts_max_diff(const double* a, const double* b, int n);

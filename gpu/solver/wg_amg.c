@@ -172,6 +172,7 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
+    if (!wg_amg_group_create(a, ca, err, el)) goto fail;
     wc_free(alloc, buf);
     wc_amg_destroy(ca);
     *out = a;
@@ -195,6 +196,9 @@ static void release(wg_amg* a, int gl) {
             wg_chain_destroy(&a->lev[l].red);
         }
         wg_tex_destroy(&a->coarse_L);
+        wg_tex_destroy(&a->group_i);
+        wg_tex_destroy(&a->group_fp);
+        wg_tex_destroy(&a->group_v);
     }
     wc_free(&a->run->layout->alloc, a);
 }
@@ -204,7 +208,9 @@ void wg_amg_forget(wg_amg* a) { release(a, 0); }
 
 size_t wg_amg_bytes(const wg_amg* a) {
     if (!a) return 0;
-    size_t bytes = a->coarse_L.id ? wg_tex_bytes(&a->coarse_L) : 0;
+    size_t bytes = 0;
+    const wg_tex* own[] = {&a->coarse_L, &a->group_i, &a->group_fp, &a->group_v};
+    for (int k = 0; k < 4; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_tex* t[32];
         int n = level_textures((wg_amg_level*)&a->lev[l], t);

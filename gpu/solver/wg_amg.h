@@ -70,6 +70,12 @@ typedef struct wg_amg {
     wg_amg_level lev[WC_AMG_MAX_LEVELS];
     wg_tex coarse_L;            /* 3n x 3n texels: the coarsest level's factor */
     const wg_tex* z;            /* the last V-cycle's result (level 0) */
+    /* PCG in one work group (wg_amg_group.c, pcg_group_amg.glsl), where the finest level has at
+       most WG_GROUP_MAX_PARTICLES nodes (id 0 otherwise): */
+    wg_tex group_i;             /* the patterns, packed */
+    wg_tex group_fp;            /* per solve: the smoothed levels' bounds, D^-1 and blocks, packed */
+    wg_tex group_v;             /* the coarse levels' V-cycle vectors, read and written by the group */
+    int group_f[WC_AMG_MAX_LEVELS]; /* each level's offset in group_fp (-1: a dense coarsest level) */
 } wg_amg;
 
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
@@ -87,5 +93,15 @@ void wg_amg_setup(wg_amg* a);
 /* z = M^-1 r (one V-cycle) into a->z (the hierarchy's own texture, valid until the next call),
  * and PCG's partial products (r.z, r.r) per particle into dot. */
 void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot);
+
+/* PCG with the V-cycle in one work group (wg_amg_group.c). At creation, the packed patterns
+ * where the finest level fits the group (0 with err on failure); then, per solve after
+ * wg_amg_setup, the levels' values packed (one pass a smoothed level), and the group's pass put
+ * in use with the system's inputs sys and the multigrid's, its uniforms set: the caller sets
+ * pcg_group_solve.glsl's and runs it with group_v as its read-write image 5. */
+int wg_amg_group_create(wg_amg* a, const wc_amg* ca, char* err, size_t err_len);
+int wg_amg_group_fits(const wg_amg* a);
+void wg_amg_group_pack(wg_amg* a);
+void wg_amg_group_use(wg_amg* a, const wg_pcg_group_in* sys);
 
 #endif

@@ -165,6 +165,14 @@ void wg_compute_dispatch_groups(const wg_tex* const* out, int n_out, int groups,
     dispatch_groups(groups, max_x);
 }
 
+void wg_compute_dispatch_groups_scratch(const wg_tex* const* out, int n_out, const wg_tex* scratch, int groups,
+                                        int max_x) {
+    for (int j = 0; j < n_out; ++j)
+        glBindImageTexture((GLuint)j, out[j]->id, 0, GL_FALSE, 0, GL_WRITE_ONLY, out[j]->internal);
+    glBindImageTexture((GLuint)n_out, scratch->id, 0, GL_FALSE, 0, GL_READ_WRITE, scratch->internal);
+    dispatch_groups(groups, max_x);
+}
+
 void wg_compute_dispatch_groups_rw(const wg_tex* img, int groups, int max_x) {
     glBindImageTexture(0, img->id, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     dispatch_groups(groups, max_x);

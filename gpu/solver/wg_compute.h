@@ -32,6 +32,10 @@ void wg_compute_dispatch(wg_program* p, const wg_tex* const* out, int n_out, int
  * work groups (in rows of max_x past max_x of them: the shader counts groups linearly), the
  * outputs as images 0..n_out-1, then the same barrier. */
 void wg_compute_dispatch_groups(const wg_tex* const* out, int n_out, int groups, int max_x);
+/* The same with scratch bound read-write as image n_out after the outputs (a program that
+ * reads back what it wrote). */
+void wg_compute_dispatch_groups_scratch(const wg_tex* const* out, int n_out, const wg_tex* scratch, int groups,
+                                        int max_x);
 /* The same with img (RGBA32F) bound read-write as image 0, for a program that updates texels in
  * place. */
 void wg_compute_dispatch_groups_rw(const wg_tex* img, int groups, int max_x);

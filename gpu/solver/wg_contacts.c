@@ -31,10 +31,12 @@
 #include "wg_contacts.h"
 #include "bdf2.h"
 #include "wg_mesh.h"
+#include "wg_pairs.h"
 
 struct wg_contacts {
     wg_runner* run;
     wg_contact_cloth cl;        /* the cloth's textures */
+    const wg_pairs* pairs;      /* the cloth's penalty pairs (their blocks in end's residual), or NULL */
     int max_colliders;          /* analytic ones */
     wg_mesh mesh;
     wg_tex cvel;                /* begin's o7 (n): first contact's surface velocity, correction length */
@@ -51,12 +53,6 @@ struct wg_contacts {
     wg_tex held[2];             /* TR-BDF2: stage 1's impulses, read by stage 2's end (n); ping-pong */
     int held_cur;               /* the one stage 1 wrote last */
 };
-
-static void swap_tex(wg_tex* a, wg_tex* b) {
-    wg_tex t = *a;
-    *a = *b;
-    *b = t;
-}
 
 /* Every texture of cs but the meshes' and the chain's into t (room for 25); their count. */
 static int textures(wg_contacts* cs, wg_tex** t) {
@@ -196,8 +192,8 @@ static void diag_pass(wg_contacts* cs) {
     WG_USE(run, WGP_CONTACT_DIAG, &(wg_contact_diag_in){.block = g->block, .a_lo = g->a_lo, .a_hi = g->a_hi,
         .aii_lo = &cs->ad0, .aii_hi = &cs->ad1});
     WG_RUN(run, g->nb, &cs->A0, &cs->A1);
-    swap_tex(g->a_lo, &cs->A0);
-    swap_tex(g->a_hi, &cs->A1);
+    wg_tex_swap(g->a_lo, &cs->A0);
+    wg_tex_swap(g->a_hi, &cs->A1);
 }
 
 void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double h) {
@@ -217,9 +213,9 @@ void wg_contacts_begin(wg_contacts* cs, const wc_state* s, double alpha1, double
     WG_RUN(run, g->n, &g->x->t[nx], &cs->S0, &cs->S1, &cs->z, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2], &cs->cvel);
     g->x->cur = nx;
     if (cs->mesh.n_mesh > 0) wg_copy(run, &cs->x_sub, &g->x->t[nx]);   /* project's start of the moves */
-    swap_tex(g->S0, &cs->S0);
-    swap_tex(g->S1, &cs->S1);
-    swap_tex(g->z, &cs->z);
+    wg_tex_swap(g->S0, &cs->S0);
+    wg_tex_swap(g->S1, &cs->S1);
+    wg_tex_swap(g->z, &cs->z);
     cs->c0.cur = j0;
     cs->c1.cur = j1;
     cs->c2.cur = j2;
@@ -240,11 +236,11 @@ void wg_contacts_integ(wg_contacts* cs, const wg_contact_integ* io, int stage, d
     /* S0, S1 and b are free scratch here: they take xb, v* and (stage 2) mom */
     WG_RUN(run, g->n, &g->v->t[nv], &cs->S0, &cs->S1, stage == 1 ? &io->vp->t[np] : &cs->b, &cs->z);
     g->v->cur = nv;
-    swap_tex(io->xb, &cs->S0);
-    swap_tex(io->vstar, &cs->S1);
+    wg_tex_swap(io->xb, &cs->S0);
+    wg_tex_swap(io->vstar, &cs->S1);
     if (stage == 1) io->vp->cur = np;
-    else swap_tex(io->mom, &cs->b);
-    swap_tex(g->z, &cs->z);
+    else wg_tex_swap(io->mom, &cs->b);
+    wg_tex_swap(g->z, &cs->z);
 }
 
 void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg_tex* mom) {
@@ -261,10 +257,10 @@ void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg
     wg_u1i(run, "u_nc", nc);
     wg_u1i(run, "u_mom", mom != NULL);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->ad0, &cs->ad1);
-    swap_tex(g->S0, &cs->S0);
-    swap_tex(g->S1, &cs->S1);
-    swap_tex(g->z, &cs->z);
-    swap_tex(g->b, &cs->b);
+    wg_tex_swap(g->S0, &cs->S0);
+    wg_tex_swap(g->S1, &cs->S1);
+    wg_tex_swap(g->z, &cs->z);
+    wg_tex_swap(g->b, &cs->b);
     cs->c0.cur = j0;
     diag_pass(cs);
 }
@@ -281,16 +277,20 @@ int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv) {
         .cvel = &cs->cvel, .colliders = &cs->cols});
     wg_u1i(run, "u_nc", nc);
     WG_RUN(run, g->n, &cs->S0, &cs->S1, &cs->z, &cs->b, &cs->c0.t[j0], &cs->c2.t[j2], &cs->ad0, &cs->ad1);
-    swap_tex(g->S0, &cs->S0);
-    swap_tex(g->S1, &cs->S1);
-    swap_tex(g->z, &cs->z);
-    swap_tex(g->b, &cs->b);
+    wg_tex_swap(g->S0, &cs->S0);
+    wg_tex_swap(g->S1, &cs->S1);
+    wg_tex_swap(g->z, &cs->z);
+    wg_tex_swap(g->b, &cs->b);
     cs->c0.cur = j0;
     cs->c2.cur = j2;
     diag_pass(cs);
     float r[4];
     wg_read1(run->layout, wg_reduce(run, &cs->chain, &cs->c2.t[j2], 0, 0, 0, 0), r);
     return r[3] > 0.5f;
+}
+
+void wg_contacts_use_pairs(wg_contacts* cs, const struct wg_pairs* pairs) {
+    if (cs) cs->pairs = pairs;
 }
 
 void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv, int stage) {
@@ -303,7 +303,9 @@ void wg_contacts_end(wg_contacts* cs, const wc_state* s, const wg_tex* dv, int s
     int hw = 1 - cs->held_cur;
     WG_USE(run, WGP_CONTACT_END, &(wg_contact_end_in){.pblocks = g->pblocks, .block = g->block, .a_lo = g->a_lo,
         .a_hi = g->a_hi, .dv = dv, .b = g->b, .c0 = wg_ring_cur(&cs->c0), .c1 = wg_ring_cur(&cs->c1),
-        .c2 = wg_ring_cur(&cs->c2), .held = &cs->held[cs->held_cur]});
+        .c2 = wg_ring_cur(&cs->c2), .held = &cs->held[cs->held_cur],
+        .pairs = wg_pairs_inputs(cs->pairs, g->pblocks, g->mass)});
+    wg_u1i(run, "u_pairs", wg_pairs_on(cs->pairs));
     wg_u1i(run, "u_nc", nc);
     wg_u1i(run, "u_stage", stage);
     WG_RUN(run, g->n, &cs->c0.t[j0], &cs->c1.t[j1], &cs->c2.t[j2], &cs->held[hw]);

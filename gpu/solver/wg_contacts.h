@@ -3,7 +3,7 @@
  * the substep (wg_step.c) only when the state has colliders. Colliders come from the state's
  * mesh colliders (s->mesh, first, as core numbers them) and s->colliders at each hook that reads
  * them, with the meshes' continuous tests (a particle whose path crosses a moving triangle within
- * the substep). Not on the GPU: the meshes' sharp features as penalty pairs (core/mesh_pairs.h).
+ * the substep). The meshes' sharp features as penalty pairs (core/mesh_pairs.h) are wg_pairs.h's.
  * Contact state (per particle: colliders, normals, released, stick) lives in the contacts' own
  * textures, in rings rolled back with the substep (save/restore) and backed up with the frame
  * (backup/restore_backup).
@@ -32,6 +32,7 @@ typedef struct wg_contact_cloth {
 } wg_contact_cloth;
 
 typedef struct wg_contacts wg_contacts;
+struct wg_pairs;
 
 /* The contacts of a cloth with room for max_colliders analytic colliders and the n_mesh mesh
  * colliders mesh (borrowed: the state's; *out NULL and WC_OK when there are none): WC_OK, or
@@ -67,6 +68,10 @@ void wg_contacts_friction(wg_contacts* cs, const wc_state* s, double h, const wg
 /* 3b: after a solve whose result is dv: sticking contacts the solved cloth overloads slide;
  * returns 1 when something changed (the caller solves again). Reads back one texel. */
 int wg_contacts_recheck(wg_contacts* cs, const wc_state* s, const wg_tex* dv);
+/* The cloth's penalty pairs (wg_pairs.h; kept, NULL: none): end's residual A dv - b takes their
+ * off-diagonal blocks, as core's does (friction's recheck does not: its pass has no texture unit
+ * left for them). */
+void wg_contacts_use_pairs(wg_contacts* cs, const struct wg_pairs* pairs);
 /* 4: after v += dv (dv the solve's result): release contacts whose normal impulse pulls inward.
  * stage (TR-BDF2, core/bdf2.c wc_integ_contact_impulses): 1 releases nothing and holds each
  * contact's impulse; 2 adds stage 1's held impulses before the test; 0 for the others. */

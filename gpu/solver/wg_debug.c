@@ -112,6 +112,12 @@ wc_status wg_sim_debug_solve(wg_sim* g, wc_solver_type type, double* dv, wc_solv
     return st;
 }
 
+wc_status wg_sim_debug_read_system(wg_sim* g, double* A, double* b, wc_diag* diag) {
+    if (A && !read_sym(g, &g->A0, &g->A1, g->nb, A)) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "debug: out of memory");
+    if (b) read_vec(g, &g->b, g->n, b);
+    return WC_OK;
+}
+
 wc_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag) {
     upload_vec(g, &g->t, g->n, x);
     wg_spmv(g, &g->t, 0);

@@ -46,5 +46,12 @@ void wg_array_read_rgb(const wg_layout* L, const wg_tex* t, int count, size_t of
 void wg_read_texels(const wg_layout* L, const wg_tex* t, int x0, int n, float* out);
 /* Texel (0, 0): a reduction's result, a solver's scalars. */
 void wg_read1(const wg_layout* L, const wg_tex* t, float out[4]);
+/* a and b trade textures (a pass that changes an array writes a scratch one of the same format,
+ * which then takes the array's place). */
+static inline void wg_tex_swap(wg_tex* a, wg_tex* b) {
+    wg_tex t = *a;
+    *a = *b;
+    *b = t;
+}
 
 #endif

@@ -14,8 +14,9 @@
  * prescribed part); stop unless d descends (g.d > 0, a reduction read back); w += d, or with the
  * line search w + alpha d for the first alpha of 1, 1/2, ... that passes Armijo's test on the
  * incremental potential Phi. Phi's change between two iterates is summed term by term
- * (newton_phi_particles.glsl, newton_phi_springs.glsl: two reductions read back), not each Phi,
- * so that float keeps the digits the test compares; the first step's search runs from
+ * (newton_phi_particles.glsl, newton_phi_springs.glsl: two reductions read back; the penalty
+ * pairs' energy on the host, wg_pairs.h), not each Phi, so that float keeps the digits the test
+ * compares; the penalty pairs' exact terms join each system (wg_pairs_newton); the first step's search runs from
  * w~0 = z + S (-v*) towards the first solve's result as core's. The energy guard as core's: past
  * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
  * (the step's checks at x(w), v(w), read back) is above the cap, tested before the iteration's
@@ -86,6 +87,7 @@ void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg
     else WG_RUN(run, g->n, &g->nw_hf, &g->ftot);
     gradient_pass(g, ig, &g->nw_hf, w, g->nw_friction, &g->b, xw, vw);
     wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, g->nw_friction);
+    if (g->pairs) wg_pairs_newton(g->pairs, s, ig, xw);   /* the penalty pairs touching at x(w) */
     g->nw_refreshed = ig->stage != 0;
 }
 
@@ -103,7 +105,8 @@ void wg_newton_friction(wg_sim* g, int terms) {
 static double filtered_norm2(wg_sim* g) {
     wg_runner* run = &g->run;
     WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .x = &g->nw_zero, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+        .a_hi = &g->A1, .x = &g->nw_zero, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
+    wg_sim_pair_uniform(g);
     WG_RUN(run, g->n, &g->rz);
     float v[4];
     wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->rz, 0, 0, 0, 0), v);
@@ -160,7 +163,9 @@ double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, co
     wg_u1i(run, "u_refresh", g->nw_refreshed);
     WG_RUN(run, g->ns, &g->chk_s);
     wg_read1(&g->layout, wg_reduce(run, &g->red_s, &g->chk_s, 0, 0, 0, 0), q);
-    return (double)p[0] + (double)q[0];
+    /* the penalty pairs' energy, on the host (wg_pairs.h) */
+    const double pairs = g->pairs ? wg_pairs_energy_change(g->pairs, s, ig, wa, wb) : 0.0;
+    return (double)p[0] + (double)q[0] + pairs;
 }
 
 /* The line search of the first step (core/newton.c): from w~0 = z + S (-v*) along d0 = w1 - w~0,
@@ -175,7 +180,8 @@ static const wg_tex* first_search(wg_sim* g, const wc_state* s, const wc_integ* 
     WG_RUN(run, g->n, w0, &g->nw_d);
     /* (A w~0 - b) . d0 = -S (b - A w~0) . d0, d0 being in S's range */
     WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .x = w0, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+        .a_hi = &g->A1, .x = w0, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
+    wg_sim_pair_uniform(g);
     WG_RUN(run, g->n, &g->rz);
     wg_tex* trial = spare(g, w1, w0);
     const double slope = -step_to(g, w0, &g->nw_d, &g->rz, 1.0, trial);

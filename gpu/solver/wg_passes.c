@@ -9,6 +9,10 @@
 #define IN(T, f) {#f, offsetof(T, f)}
 #define N(tab) ((int)(sizeof tab / sizeof tab[0]))
 /* A table that lists every field of its struct (the struct holds only input pointers). */
+/* The penalty pairs' inputs of struct T (its member `pairs`, wg_pair_in). */
+#define PAIRS(T)                                                                                    \
+    {"pr_rows", offsetof(T, pairs.pr_rows)}, {"pr_entry", offsetof(T, pairs.pr_entry)},           \
+        {"pr_p", offsetof(T, pairs.pr_p)}, {"pr_w", offsetof(T, pairs.pr_w)}, {"pr_nc", offsetof(T, pairs.pr_nc)}
 #define WHOLE(T, tab) _Static_assert(sizeof(T) == sizeof tab / sizeof tab[0] * sizeof(const wg_tex*), #T)
 
 static const wg_pass_input springs[] = {IN(wg_springs_in, x), IN(wg_springs_in, v), IN(wg_springs_in, vstar),
@@ -91,10 +95,12 @@ static const wg_pass_input project[] = {IN(wg_project_in, dv), IN(wg_project_in,
 WHOLE(wg_project_in, project);
 static const wg_pass_input residual[] = {
     IN(wg_residual_in, pblocks), IN(wg_residual_in, block), IN(wg_residual_in, a_lo), IN(wg_residual_in, a_hi),
-    IN(wg_residual_in, x), IN(wg_residual_in, b), IN(wg_residual_in, S0), IN(wg_residual_in, S1)};
+    IN(wg_residual_in, x), IN(wg_residual_in, b), IN(wg_residual_in, S0), IN(wg_residual_in, S1),
+    PAIRS(wg_residual_in)};
 WHOLE(wg_residual_in, residual);
 static const wg_pass_input spmv[] = {IN(wg_spmv_in, pblocks), IN(wg_spmv_in, block), IN(wg_spmv_in, a_lo),
-                                     IN(wg_spmv_in, a_hi), IN(wg_spmv_in, x), IN(wg_spmv_in, S0), IN(wg_spmv_in, S1)};
+                                     IN(wg_spmv_in, a_hi), IN(wg_spmv_in, x), IN(wg_spmv_in, S0), IN(wg_spmv_in, S1),
+                                     PAIRS(wg_spmv_in)};
 WHOLE(wg_spmv_in, spmv);
 static const wg_pass_input pcg_update[] = {
     IN(wg_pcg_update_in, dv), IN(wg_pcg_update_in, r), IN(wg_pcg_update_in, c), IN(wg_pcg_update_in, q),
@@ -113,6 +119,10 @@ WHOLE(wg_pcg_direction_groups_in, pcg_direction_groups);
 static const wg_pass_input pcg_group[] = {PG(pblocks), PG(block), PG(a_lo), PG(a_hi), PG(b),
                                           PG(S0),      PG(S1),    PG(z),    PG(dv)};
 WHOLE(wg_pcg_group_in, pcg_group);
+#define PA(f) IN(wg_pcg_group_amg_in, f)
+static const wg_pass_input pcg_group_amg[] = {PA(pblocks), PA(block), PA(a_lo), PA(a_hi),  PA(b),     PA(S0),    PA(S1),
+                                              PA(z),       PA(dv),    PA(rows), PA(ipack), PA(fpack), PA(factor)};
+WHOLE(wg_pcg_group_amg_in, pcg_group_amg);
 static const wg_pass_input pcg_direction[] = {
     IN(wg_pcg_direction_in, t), IN(wg_pcg_direction_in, c), IN(wg_pcg_direction_in, S0),
     IN(wg_pcg_direction_in, S1), IN(wg_pcg_direction_in, scalars0), IN(wg_pcg_direction_in, scalars1)};
@@ -125,7 +135,7 @@ static const wg_pass_input jacobi_sweep[] = {
     IN(wg_jacobi_sweep_in, pblocks), IN(wg_jacobi_sweep_in, block),   IN(wg_jacobi_sweep_in, a_lo),
     IN(wg_jacobi_sweep_in, a_hi),    IN(wg_jacobi_sweep_in, x),       IN(wg_jacobi_sweep_in, b),
     IN(wg_jacobi_sweep_in, S0),      IN(wg_jacobi_sweep_in, S1),      IN(wg_jacobi_sweep_in, dinv_lo),
-    IN(wg_jacobi_sweep_in, dinv_hi), IN(wg_jacobi_sweep_in, x_prev)};
+    IN(wg_jacobi_sweep_in, dinv_hi), IN(wg_jacobi_sweep_in, x_prev), PAIRS(wg_jacobi_sweep_in)};
 WHOLE(wg_jacobi_sweep_in, jacobi_sweep);
 static const wg_pass_input check_particles[] = {IN(wg_check_particles_in, x), IN(wg_check_particles_in, v),
                                                 IN(wg_check_particles_in, mass)};
@@ -192,7 +202,7 @@ static const wg_pass_input contact_end[] = {
     IN(wg_contact_end_in, pblocks), IN(wg_contact_end_in, block), IN(wg_contact_end_in, a_lo),
     IN(wg_contact_end_in, a_hi),    IN(wg_contact_end_in, dv),    IN(wg_contact_end_in, b),
     IN(wg_contact_end_in, c0),      IN(wg_contact_end_in, c1),    IN(wg_contact_end_in, c2),
-    IN(wg_contact_end_in, held)};
+    IN(wg_contact_end_in, held),    PAIRS(wg_contact_end_in)};
 WHOLE(wg_contact_end_in, contact_end);
 static const wg_pass_input contact_project[] = {
     IN(wg_contact_project_in, x), IN(wg_contact_project_in, v), IN(wg_contact_project_in, S1),
@@ -204,6 +214,11 @@ static const wg_pass_input contact_diag[] = {IN(wg_contact_diag_in, block), IN(w
                                              IN(wg_contact_diag_in, a_hi), IN(wg_contact_diag_in, aii_lo),
                                              IN(wg_contact_diag_in, aii_hi)};
 WHOLE(wg_contact_diag_in, contact_diag);
+static const wg_pass_input pairs_add[] = {
+    IN(wg_pairs_add_in, pblocks), IN(wg_pairs_add_in, a_lo), IN(wg_pairs_add_in, a_hi),  IN(wg_pairs_add_in, b),
+    IN(wg_pairs_add_in, ftot),    IN(wg_pairs_add_in, db),   IN(wg_pairs_add_in, df),    IN(wg_pairs_add_in, da_lo),
+    IN(wg_pairs_add_in, da_hi)};
+WHOLE(wg_pairs_add_in, pairs_add);
 
 /* The multigrid's passes: a level's inputs in its form (amg_level_inputs.glsl), then the pass's
    own. On a coarse level the Galerkin sum and D^-1 read the blocks alone (no pattern); D^-1 is
@@ -227,6 +242,7 @@ static const wg_pass_input amg_factor[] = {AMG(rows), COARSE_OP};
 static const wg_pass_input amg_factor_fine[] = {AMG(rows), FINE_OP};
 static const wg_pass_input amg_coarse[] = {AMG(factor), AMG(r)};
 static const wg_pass_input amg_dot[] = {AMG(r), AMG(z)};
+static const wg_pass_input amg_group_pack[] = {DINV, AMG(a0), AMG(a1), AMG(a2), AMG(bound)};
 
 #define PASS(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 0}
 #define COMPUTE(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 1}
@@ -264,6 +280,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_CONTACT_END] = PASS("contact_end", contact_end, wg_contact_end_in),
     [WGP_CONTACT_PROJECT] = PASS("contact_project", contact_project, wg_contact_project_in),
     [WGP_CONTACT_DIAG] = PASS("contact_diag", contact_diag, wg_contact_diag_in),
+    [WGP_PAIRS_ADD] = PASS("pairs_add", pairs_add, wg_pairs_add_in),
     [WGP_NEWTON_SPRINGS] = PASS("newton_springs", newton_springs, wg_newton_springs_in),
     [WGP_NEWTON_GRADIENT] = PASS("newton_gradient", newton_gradient, wg_newton_gradient_in),
     [WGP_NEWTON_STEP] = PASS("newton_step", newton_step, wg_newton_step_in),
@@ -285,6 +302,8 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_PCG_SCALARS_GROUPS] = NATIVE("pcg_scalars_groups", pcg_scalars, wg_pcg_scalars_in),
     [WGP_PCG_DIRECTION_GROUPS] = NATIVE("pcg_direction_groups", pcg_direction_groups, wg_pcg_direction_groups_in),
     [WGP_PCG_GROUP] = NATIVE("pcg_group", pcg_group, wg_pcg_group_in),
+    [WGP_PCG_GROUP_AMG] = NATIVE("pcg_group_amg", pcg_group_amg, wg_pcg_group_amg_in),
+    [WGP_AMG_GROUP_PACK_GROUPS] = NATIVE("amg_group_pack_groups", amg_group_pack, wg_amg_in),
     [WGP_AMG_GALERKIN] = COMPUTE("amg_galerkin", amg_galerkin, wg_amg_in),
     [WGP_AMG_DINV] = COMPUTE("amg_dinv", amg_dinv, wg_amg_in),
     [WGP_AMG_POWER] = COMPUTE("amg_power", amg_power, wg_amg_in),

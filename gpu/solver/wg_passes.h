@@ -26,6 +26,8 @@ typedef enum wg_pass_id {
     WGP_NORMALS, WGP_HOST_OUTPUT, WGP_LANCZOS_START, WGP_TRANSFORM, WGP_COPY_TEXEL,
     WGP_CONTACT_BEGIN, WGP_CONTACT_FRICTION, WGP_CONTACT_RECHECK, WGP_CONTACT_END, WGP_CONTACT_PROJECT,
     WGP_CONTACT_DIAG,
+    /* the penalty pairs' terms in the system (wg_pairs.h) */
+    WGP_PAIRS_ADD,
     /* Newton's further iterations and line search (wg_newton.c) */
     WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP, WGP_NEWTON_START, WGP_NEWTON_PHI_PARTICLES,
     WGP_NEWTON_PHI_SPRINGS, WGP_NEWTON_FRICTION,
@@ -37,8 +39,9 @@ typedef enum wg_pass_id {
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
        direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
-    /* compute passes only: a small cloth's whole block-Jacobi PCG solve in one work group */
-    WGP_PCG_GROUP,
+    /* compute passes only: a small cloth's whole PCG solve in one work group, with block Jacobi or
+       the multigrid (and the multigrid's values packed for it) */
+    WGP_PCG_GROUP, WGP_PCG_GROUP_AMG, WGP_AMG_GROUP_PACK_GROUPS,
     /* the multigrid preconditioner (wg_amg.h), compute passes only; *_GROUPS native; each *_FINE
        its pass over the finest level (amg_level_inputs.glsl's WG_AMG_FINE form) */
     WGP_AMG_GALERKIN, WGP_AMG_DINV, WGP_AMG_POWER, WGP_AMG_SMOOTH, WGP_AMG_RESTRICT, WGP_AMG_DOT,
@@ -174,12 +177,21 @@ typedef struct wg_project_in {  /* project.glsl: dv = z + S dv */
     const wg_tex *dv, *S0, *S1, *z;
 } wg_project_in;
 
+/* The penalty pairs' inputs of the passes that multiply by A in a solve (pairs_row.glsl,
+ * wg_pairs.h wg_pairs_inputs; with no pairs in the system, any textures of those kinds). */
+typedef struct wg_pair_in {
+    const wg_tex *pr_rows, *pr_entry, *pr_p;   /* integer: particles' entries, entries, pairs' particles */
+    const wg_tex *pr_w, *pr_nc;                /* float: pairs' weights, (n, c) */
+} wg_pair_in;
+
 typedef struct wg_residual_in { /* residual.glsl: S (b - A x) */
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1;
+    wg_pair_in pairs;
 } wg_residual_in;
 
 typedef struct wg_spmv_in {     /* spmv.glsl and spmv_groups.glsl: q = A x, or S (A x) */
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *S0, *S1;
+    wg_pair_in pairs;
 } wg_spmv_in;
 
 typedef struct wg_pcg_update_in {   /* pcg_update.glsl: dv += alpha c, r -= alpha q, t = D~^-1 r */
@@ -216,9 +228,17 @@ typedef struct wg_pcg_group_in {   /* pcg_group.glsl: a whole PCG solve in one w
     const wg_tex* dv;           /* the initial guess */
 } wg_pcg_group_in;
 
+typedef struct wg_pcg_group_amg_in {   /* pcg_group_amg.glsl: the same with the multigrid */
+    const wg_tex *pblocks, *block, *a_lo, *a_hi, *b, *S0, *S1, *z, *dv;   /* as wg_pcg_group_in */
+    const wg_tex* rows;         /* the finest level's nodes (wg_amg_level) */
+    const wg_tex *ipack, *fpack;   /* the levels packed (wg_amg_group.c) */
+    const wg_tex* factor;       /* the coarsest level's dense factor */
+} wg_pcg_group_amg_in;
+
 typedef struct wg_jacobi_sweep_in { /* jacobi_sweep.glsl */
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1, *dinv_lo, *dinv_hi;
     const wg_tex* x_prev;       /* the iterate before x (Chebyshev) */
+    wg_pair_in pairs;
 } wg_jacobi_sweep_in;
 
 typedef struct wg_check_particles_in {  /* check_particles.glsl */
@@ -302,11 +322,17 @@ typedef struct wg_contact_recheck_in {
 typedef struct wg_contact_end_in {
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *dv, *b, *c0, *c1, *c2;
     const wg_tex* held;             /* TR-BDF2's stage 2: stage 1's held impulses */
+    wg_pair_in pairs;
 } wg_contact_end_in;
 
 typedef struct wg_contact_project_in {
     const wg_tex *x, *v, *S1, *c0, *colliders, *x_sub, *cvel, *mesh_vert, *mesh_tri, *mesh_node;
 } wg_contact_project_in;
+
+typedef struct wg_pairs_add_in {  /* pairs_add.glsl: the penalty pairs' terms into b, f_total, A_ii */
+    const wg_tex *pblocks, *a_lo, *a_hi, *b, *ftot;
+    const wg_tex *db, *df, *da_lo, *da_hi;   /* per particle: the additions */
+} wg_pairs_add_in;
 
 typedef struct wg_contact_diag_in {
     const wg_tex *block, *a_lo, *a_hi;

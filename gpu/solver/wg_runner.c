@@ -100,6 +100,13 @@ void wg_run_groups_into(wg_runner* r, int count, int groups, const wg_tex* const
     ++r->passes;
 }
 
+void wg_run_groups_scratch(wg_runner* r, int count, int groups, const wg_tex* const* out, int n_out,
+                           const wg_tex* scratch) {
+    set_size(r, count);
+    wg_compute_dispatch_groups_scratch(out, n_out, scratch, groups, r->dev->max_groups_x);
+    ++r->passes;
+}
+
 void wg_run_groups_rw(wg_runner* r, int count, int groups, const wg_tex* img) {
     set_size(r, count);
     wg_compute_dispatch_groups_rw(img, groups, r->dev->max_groups_x);

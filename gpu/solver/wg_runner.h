@@ -58,6 +58,9 @@ void wg_run_groups_into(wg_runner* r, int count, int groups, const wg_tex* const
 #define WG_RUN_GROUPS(r, count, groups, ...) \
     wg_run_groups_into((r), (count), (groups), (const wg_tex* const[]){__VA_ARGS__}, \
                        (int)(sizeof((const wg_tex* const[]){__VA_ARGS__}) / sizeof(const wg_tex*)))
+/* The same with scratch bound read-write as image n_out after the outputs. */
+void wg_run_groups_scratch(wg_runner* r, int count, int groups, const wg_tex* const* out, int n_out,
+                           const wg_tex* scratch);
 /* Compute passes only: `groups` work groups of the native compute program in use, updating img
  * (RGBA32F, image 0) in place; count = items (u_n). */
 void wg_run_groups_rw(wg_runner* r, int count, int groups, const wg_tex* img);

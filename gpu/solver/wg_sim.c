@@ -45,7 +45,7 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     size_t bytes = 0;
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
-    return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts);
+    return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts) + wg_pairs_bytes(g->pairs);
 }
 
 void wg_sim_forget(wg_sim* g) {
@@ -59,10 +59,12 @@ void wg_sim_destroy(wg_sim* g) {
     if (g->forget_gl) {
         wg_contacts_forget(g->contacts);
         wg_amg_forget(g->amg);
+        wg_pairs_forget(g->pairs);
         goto memory;
     }
     wg_contacts_destroy(g->contacts);
     wg_amg_destroy(g->amg);
+    wg_pairs_destroy(g->pairs);
     wg_tex* t[128];
     int n = all_textures(g, t, 128);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
@@ -285,8 +287,7 @@ wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "the GPU backend has the block-Jacobi and multigrid preconditioners only (the %s "
                        "preconditioner runs on the CPU backend)", wc_precond_name(def->solver.preconditioner));
-    if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES &&
-        def->solver.type == WC_SOLVER_PCG && def->solver.preconditioner == WC_PRECOND_BLOCK_JACOBI)
+    if (dev->solve == WG_SOLVE_GROUP && m->n_particles > WG_GROUP_MAX_PARTICLES && def->solver.type == WC_SOLVER_PCG)
         return wc_fail(diag, WC_ERROR_UNSUPPORTED,
                        "WEFT_GPU_SOLVE=group solves cloths of at most %d particles in one work group; this one has %d: "
                        "unset it or set WEFT_GPU_SOLVE=passes", WG_GROUP_MAX_PARTICLES, m->n_particles);
@@ -320,12 +321,14 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     if (s->n_mesh > 0)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "
-               "the CPU's penalty pairs at the body's sharp edges and corners do not (docs/design/gpu.md)", s->n_mesh);
+               "the penalty pairs at the body's sharp edges and corners are found on the host and solved on the "
+               "GPU, except on a body kept on the GPU (docs/design/gpu_bodies.md)", s->n_mesh);
     if (s->self)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: self-collision: core's stage runs on the host at the end of every substep (positions "
-               "and velocities read back, what it moved uploaded); its in-solve penalty pairs do not run on the "
-               "GPU (docs/design/gpu.md)");
+               "and velocities read back, what it moved uploaded); its in-solve penalty pairs %s "
+               "(docs/design/gpu.md)",
+               s->self_pairs ? "are found on the host and solved on the GPU" : "are off (self_in_solve 0)");
     wc_allocator alloc = s->alloc;
     wg_sim* g = wc_calloc(&alloc, 1, sizeof *g);
     if (!g) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "GPU cloth: out of memory");
@@ -390,6 +393,11 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
                                         &g->mass, &g->ftot, &g->pblocks, &g->block, g->rb};
         ok = wg_contacts_create(&g->run, &cloth, s->def.max_colliders, s->mesh, s->n_mesh, &g->contacts, err,
                                 sizeof err) == WC_OK;
+    }
+    if (ok) {
+        const wg_pair_cloth cloth = {g->n, g->nb, &g->b, &g->ftot, &g->A0, &g->A1, &g->pblocks, &g->block};
+        ok = wg_pairs_create(&g->run, &cloth, s, &g->pairs, err, sizeof err);
+        wg_contacts_use_pairs(g->contacts, g->pairs);
     }
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1};

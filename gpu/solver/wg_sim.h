@@ -19,8 +19,9 @@ typedef struct wg_sim wg_sim;
 
 /* What the GPU does not have, for a cloth of model m with settings def and n_mesh mesh colliders:
  * WC_OK, or WC_ERROR_UNSUPPORTED with a message naming it and what to choose instead: the direct
- * solver, the multigrid on fragment passes and other preconditioners, block-Jacobi PCG past WG_GROUP_MAX_PARTICLES particles where
- * WEFT_GPU_SOLVE=group forces the one-group solve (wg_device.h). No GL call: the backend table's
+ * solver, the multigrid on fragment passes and other preconditioners, PCG past
+ * WG_GROUP_MAX_PARTICLES particles where WEFT_GPU_SOLVE=group forces the one-group solve
+ * (wg_device.h). No GL call: the backend table's
  * `supports` (AUTO asks it before it chooses) and wg_sim_create's first check. */
 wc_status wg_sim_supports(const wg_device* dev, const wc_model* m, const wc_sim_def* def, int n_mesh, wc_diag* diag);
 
@@ -127,8 +128,11 @@ void wg_sim_debug_invalidate_rho(wg_sim* g);
 void wg_sim_debug_set_opts(wg_sim* g, const wc_solver_opts* o);
 /* Chebyshev's cached rho estimate (0 when none). */
 double wg_sim_debug_rho(const wg_sim* g);
-/* y = A x with the last prepared A (n x 3 each). */
+/* y = A x with the last prepared A (n x 3 each; the penalty pairs' off-diagonal blocks included
+ * while the substep has them). */
 wc_status wg_sim_debug_spmv(wg_sim* g, const double* x, double* y, wc_diag* diag);
+/* The system as it stands now (A: blocks x 9, b: n x 3; NULL: not read), e.g. after a recheck. */
+wc_status wg_sim_debug_read_system(wg_sim* g, double* A, double* b, wc_diag* diag);
 /* PCG's fused products over the first `rows` rows (1 <= rows <= particles) with the last prepared
  * system: c and r (n x 3) uploaded, q = S (A c) and t = D^-1 r (the block-Jacobi inverse made from
  * A) read back into q and t (rows x 3), and dots = (c.q, r.t, r.r) as the solve's scalars pass

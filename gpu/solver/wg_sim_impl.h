@@ -12,6 +12,7 @@
 #include "wg_amg.h"
 #include "wg_contacts.h"
 #include "wg_layout.h"
+#include "wg_pairs.h"
 #include "wg_reduce.h"
 #include "wg_ring.h"
 #include "wg_runner.h"
@@ -103,6 +104,8 @@ struct wg_sim {
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
     wg_self* self;              /* core's self-collision stage on the host (wg_self.h) when the state
                                    has one (s->self), else NULL */
+    wg_pairs* pairs;            /* the penalty pairs in the solve (wg_pairs.h) when the state has
+                                   lists and Newton is not wanted, else NULL */
     int amg_on;                 /* PCG's solve in progress preconditions with it */
     int newton;                 /* Newton iterations above 1 or the line search (core's
                                    wc_newton_wanted): the nw_* textures exist */
@@ -200,6 +203,11 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
 double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb);
 
 /* ---- solvers (wg_solve.c) -------------------------------------------------------------------- */
+
+/* The penalty pairs' inputs of a product of A (wg_pairs_inputs), for the pass's input struct. */
+static inline wg_pair_in wg_sim_pair_in(const wg_sim* g) { return wg_pairs_inputs(g->pairs, &g->pblocks, &g->mass); }
+/* Their switch, on the pass in use (pairs_row.glsl's u_pairs). */
+static inline void wg_sim_pair_uniform(wg_sim* g) { wg_u1i(&g->run, "u_pairs", wg_pairs_on(g->pairs)); }
 
 /* g->q = A x over the prepared blocks; with filter, q = S (A x) and w = x.q (PCG's step). */
 void wg_spmv(wg_sim* g, const wg_tex* x, int filter);

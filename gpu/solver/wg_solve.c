@@ -7,8 +7,9 @@
  * stop queueing (and to confirm convergence with the true residual, restarting from it on drift
  * as core's PCG does), and the result once at the end. Jacobi and Chebyshev measure the residual
  * every check_every iterations (a reduction and one texel read back), as on the CPU. A small
- * cloth's block-Jacobi PCG runs instead as one dispatch of one work group that does all of the
- * above, host loop included (pcg_group.glsl; wg_device.h wg_solve_mode says where). */
+ * cloth's PCG runs instead as one dispatch of one work group that does all of the above, host
+ * loop included, with block Jacobi (pcg_group.glsl) or the multigrid's V-cycle after its setup
+ * passes (pcg_group_amg.glsl); wg_device.h wg_solve_mode says where. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -75,7 +76,8 @@ static void scalars(wg_sim* g, const wc_solver_opts* o, int mode, wg_sums sum, w
 static void residual2(wg_sim* g, const wg_tex* x, const wg_tex* out, const wg_tex* size) {
     wg_runner* run = &g->run;
     WG_USE(run, WGP_RESIDUAL, &(wg_residual_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .x = x, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1});
+        .a_hi = &g->A1, .x = x, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
+    wg_sim_pair_uniform(g);
     if (size) WG_RUN(run, g->n, out, size);
     else WG_RUN(run, g->n, out);
 }
@@ -95,8 +97,9 @@ static void project(wg_sim* g, const wg_tex* in, const wg_tex* out, int to_z) {
 static int spmv_rows(wg_sim* g, const wg_tex* x, int filter, int rows, int partials) {
     wg_runner* run = &g->run;
     WG_USE(run, g->dev->compute ? WGP_SPMV_GROUPS : WGP_SPMV, &(wg_spmv_in){.pblocks = &g->pblocks, .block = &g->block,
-        .a_lo = &g->A0, .a_hi = &g->A1, .x = x, .S0 = &g->S0, .S1 = &g->S1});
+        .a_lo = &g->A0, .a_hi = &g->A1, .x = x, .S0 = &g->S0, .S1 = &g->S1, .pairs = wg_sim_pair_in(g)});
     wg_u1i(run, "u_filter", filter);
+    wg_sim_pair_uniform(g);
     if (!g->dev->compute) {
         WG_RUN(run, rows, &g->q);
         return 0;
@@ -335,19 +338,29 @@ static wc_status solve_pcg(wg_sim* g, const wc_solver_opts* o, const wg_tex** ou
     return st;
 }
 
-/* PCG with block Jacobi in one work group (pcg_group.glsl): one dispatch from the guess dv_in to
- * the result in sv[0], the scalars left as the chain leaves them, then one read-back of them and
- * of the group's result texel; res filled by solve_pcg's rules. */
-static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* dv_in, const wg_tex** out,
+/* PCG in one work group, with block Jacobi (pcg_group.glsl) or, with amg, the multigrid after
+ * its setup passes (pcg_group_amg.glsl): one dispatch from the guess dv_in to the result in
+ * sv[0], the scalars left as the chain leaves them, then one read-back of them and of the
+ * group's result texel; res filled by solve_pcg's rules. */
+static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* dv_in, int amg, const wg_tex** out,
                              wc_solve_result* res) {
     wg_runner* run = &g->run;
     const int max_it = o->max_iterations, b = 1 - g->sc_cur;
-    WG_USE(run, WGP_PCG_GROUP, &(wg_pcg_group_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
-        .a_hi = &g->A1, .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .z = &g->z, .dv = dv_in});
+    const wg_pcg_group_in in = {.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0, .a_hi = &g->A1,
+                                .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .z = &g->z, .dv = dv_in};
+    if (amg) {
+        wg_amg_setup(g->amg);
+        wg_amg_group_pack(g->amg);
+        wg_amg_group_use(g->amg, &in);
+    } else {
+        WG_USE(run, WGP_PCG_GROUP, &in);
+    }
     rules_uniforms(g, o, 0, max_it);
     wg_u1i(run, "u_texels", g->q.w * g->q.h);
     wg_u1i(run, "u_guard", 4 * (max_it + 1) + 100);
-    WG_RUN_GROUPS(run, g->n, 1, &g->sv[0], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2], &g->grp);
+    const wg_tex* const outs[] = {&g->sv[0], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2], &g->grp};
+    if (amg) wg_run_groups_scratch(run, g->n, 1, outs, 5, &g->amg->group_v);
+    else wg_run_groups_into(run, g->n, 1, outs, 5);
     g->sc_cur = b;
     *out = &g->sv[0];
     float s0[4], s1[4], s2[4], rg[4];
@@ -377,12 +390,15 @@ static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* d
     return st;
 }
 
-/* PCG with block Jacobi in one work group: compute passes and a cloth within the group's limit,
- * on a hardware device (a software rasteriser runs one work group on one thread, where it runs a
- * pass over all its cores: the chain is faster there), or where WEFT_GPU_SOLVE=group forces it */
-static int group_wanted(const wg_sim* g) {
+/* PCG in one work group: compute passes, a cloth within the group's limit (with the multigrid:
+ * its packed patterns made) and no penalty pairs in its system (the group solves have no
+ * pairs_row.glsl: the chain solves those), on a hardware device (a software rasteriser runs one
+ * work group on one thread, where it runs a pass over all its cores: the chain is faster there),
+ * or where WEFT_GPU_SOLVE=group forces it */
+static int group_wanted(const wg_sim* g, int amg) {
     const wg_device* d = g->dev;
-    if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES) return 0;
+    if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES || wg_pairs_on(g->pairs)) return 0;
+    if (amg && !wg_amg_group_fits(g->amg)) return 0;
     return d->solve == WG_SOLVE_GROUP || !d->software;
 }
 
@@ -461,7 +477,8 @@ static wc_status solve_jacobi(wg_sim* g, const wc_solver_opts* o, int chebyshev,
         if (chebyshev) omega = wc_chebyshev_omega(k, delay, rho, omega);
         WG_USE(run, WGP_JACOBI_SWEEP, &(wg_jacobi_sweep_in){.pblocks = &g->pblocks, .block = &g->block, .a_lo = &g->A0,
             .a_hi = &g->A1, .x = &g->sv[x], .b = &g->b, .S0 = &g->S0, .S1 = &g->S1, .dinv_lo = &g->D0,
-            .dinv_hi = &g->D1, .x_prev = &g->sv[prev]});
+            .dinv_hi = &g->D1, .x_prev = &g->sv[prev], .pairs = wg_sim_pair_in(g)});
+        wg_sim_pair_uniform(g);
         wg_u1f(run, "u_gamma", gamma);
         wg_u1f(run, "u_omega", omega);
         WG_RUN(run, g->n, &g->sv[nxt]);
@@ -532,8 +549,8 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
     /* the preconditioner (block Jacobi's unless PCG has the multigrid), and the initial guess
        projected into sv[0] */
     const int amg = type == WC_SOLVER_PCG && g->amg;
-    if (type == WC_SOLVER_PCG && !amg && group_wanted(g)) {
-        wc_status st = solve_group(g, o, dv_in, out, res);
+    if (type == WC_SOLVER_PCG && group_wanted(g, amg)) {
+        wc_status st = solve_group(g, o, dv_in, amg, out, res);
         res->status = st;
         return st;
     }

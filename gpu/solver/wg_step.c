@@ -3,8 +3,9 @@
  * two stages) is the chain of passes of core/step.c's stage_step(), with core's integrator
  * coefficients (core/bdf2.h wc_integ_coefficients): pins (and contacts) into the filter, the
  * integrator's xb, v*, mom and history (BDF2, TR-BDF2; TR-BDF2's contact landing), springs, air,
- * assembly of b by particles and of A by blocks, (friction), the solve, (Newton's iterations and
- * line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
+ * assembly of b by particles and of A by blocks, (the penalty pairs found and assembled:
+ * wg_pairs.h), (friction), the solve, (the pairs' rechecks and their solves), (Newton's iterations
+ * and line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
  * integration with the pins snapped, strain limiting, (contact projection), (self-collision:
  * core's stage on the host, wg_self.h), and the checks as reductions (wg_checks.c): one read-back
  * of four texels per substep feeds core's judge. Rollback moves no data: the state rings keep the
@@ -14,6 +15,7 @@
 
 #include "clock.h"
 #include "gpu_error.h"
+#include "penalty_pairs.h"
 #include "wg_mesh.h"
 #include "wg_sim_impl.h"
 
@@ -79,6 +81,11 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
         const wg_contact_integ io = {&g->xb, &g->vstar, &g->mom, &g->vp};
         wg_contacts_integ(g->contacts, &io, ig->stage, h, he);
     }
+    if (g->pairs) {   /* the penalty pairs found where core's prepare finds them (wg_pairs.h) */
+        const wg_mesh* mesh = wg_contacts_mesh(g->contacts);
+        wg_pairs_find(g->pairs, s, ig, wg_ring_cur(&g->x), wg_ring_cur(&g->v), wg_integ_vstar(g, ig),
+                      wg_integ_xb(g, ig), g->n_pins_uploaded, mesh && mesh->n_resident > 0);
+    }
 
     wg_stamp(&g->stamps, WG_STAGE_FORCES);
     WG_USE(run, WGP_SPRINGS, &(wg_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
@@ -112,6 +119,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     else if (g->newton) WG_RUN(run, g->n, &g->b, &g->ftot, &g->nw_fext);   /* f_ext: the line search's potential */
     else WG_RUN(run, g->n, &g->b, &g->ftot);
     wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, 0);
+    if (g->pairs) wg_pairs_assemble(g->pairs, s, ig);   /* before friction, which reads A, b and ftot */
     /* Newton tells friction's terms apart by this capture (zero where no friction pass runs) */
     if (g->nw_friction) wg_newton_friction(g, 0);
     if (colliding(s) && g->contacts) {
@@ -129,6 +137,23 @@ static wc_substep_measure start_measure(const wg_checks* c) {
     m.elastic = (double)c->kinetic + (double)c->elastic;
     m.total = m.elastic + (double)c->gravity;
     return m;
+}
+
+/* The penalty pairs' counts of a substep (stage) of length h into the statistics, the lists'
+ * overflows logged as core/step.c's are. */
+static void add_pair_counts(const wg_pair_counts* c, double h, wc_step_stats* st, wc_diag* diag) {
+    st->mesh_pairs += c->mesh;
+    st->mesh_pairs_active += c->mesh_active;
+    st->mesh_pair_overflow += c->mesh_overflow;
+    st->mesh_pair_skipped += c->mesh_skipped;
+    st->self_pairs += c->self;
+    st->self_pairs_active += c->self_active;
+    st->self_pair_overflow += c->self_overflow;
+    if (c->self_overflow > 0 || c->mesh_overflow > 0 || c->mesh_skipped > 0)
+        wc_log(diag, WC_LOG_WARN,
+               "substep (h = %g s, GPU): %d self-contact pairs and %d mesh feature pairs past the lists' capacities "
+               "and %d without pattern blocks were left out of the solve", h, c->self_overflow, c->mesh_overflow,
+               c->mesh_skipped);
 }
 
 /* TR-BDF2's total-energy judgement spans the whole substep (core/step.c stage_energy): stage 1
@@ -155,6 +180,7 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     h = ig.h;   /* TR-BDF2: the stage's length */
     const wc_compression compression = judge != WC_JUDGE_ALL ? WC_COMPRESSION_DROP : s->def.compression;
     wg_step_prepare(g, s, &ig, alpha1, compression);
+    if (g->pairs) add_pair_counts(wg_pairs_counts(g->pairs), h, st, diag);
     /* the colliders' position corrections (begin's push out of the shells, project's) are
        collision responses: the energy they put in is left out of the judgement, as core's
        collide_gain (core/step.c stage_step); begin's (with TR-BDF2's contact velocities) measured
@@ -173,9 +199,10 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wc_solve_result res;
     /* inexact Newton (core/step.c first_solve): with further iterations to correct it, the first
        solve stops at forcing x its own residual, unless a contact sticks (a friction recheck
-       reads its forces off that solve: the count read back); res.scale stays the tight solve's */
+       reads its forces off that solve: the count read back) or penalty pairs are in the system;
+       res.scale stays the tight solve's */
     const double tolerance = opts.tolerance, floor = g->residual_floor, forcing = s->def.newton_forcing;
-    const int loose = s->def.newton_iterations > 1 && forcing > tolerance &&
+    const int loose = s->def.newton_iterations > 1 && forcing > tolerance && !wg_pairs_on(g->pairs) &&
                       !(colliding(s) && wg_contacts_stuck(g->contacts) > 0);
     if (loose) {
         opts.tolerance = forcing;
@@ -205,6 +232,18 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         status = wg_solve(g, &opts, solver, &g->dv.t[nd], &dvres, &res);
         wc_step_stats_add_solve(st, solver, &res);
     }
+    /* the penalty pairs (the mesh colliders' feature pairs, then the self-contact pairs) whose
+       solved gap disagrees with their state switch, and the system is solved again (core/step.c
+       pair_passes; only without Newton's iterations, which take the pairs' exact terms instead) */
+    for (int list = 0; list < 2 && status == WC_OK && !g->newton; ++list)
+        for (int pass = 0; pass < WC_PENALTY_PASSES && status == WC_OK && wg_pairs_list_on(g->pairs, list); ++pass) {
+            if (wg_pairs_recheck(g->pairs, s, list, &ig, dvres) == 0) break;
+            ++*(list ? &st->self_pair_passes : &st->mesh_pair_passes);
+            int nd = wg_ring_other(&g->dv, 0);
+            wg_copy(run, &g->dv.t[nd], dvres);
+            status = wg_solve(g, &opts, solver, &g->dv.t[nd], &dvres, &res);
+            wc_step_stats_add_solve(st, solver, &res);
+        }
     if (status != WC_OK)
         return wc_fail(diag, status, "substep (h = %g s, %s, GPU): the solver failed (status %d)", h,
                        wc_solver_name(solver), (int)status);

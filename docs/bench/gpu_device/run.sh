@@ -11,10 +11,11 @@
 # batched / unbatched); passes: PCG's folded passes (docs/bench/gpu.md, "Fewer passes"): the
 # solver test, passes a frame and a PCG iteration with ms a step on both kinds of passes, the
 # multigrid's converged steps, the scenes (the chain forced: WEFT_GPU_SOLVE=passes): ~4 min;
-# group: block-Jacobi PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its
-# tests, bench_gpu's ms and passes a frame at 256 to 2,500 particles, fixed and converged, the
-# scenes with block Jacobi both ways): ~3 min. dress: the GPU dressing a body (the collider and
-# self-collision tests, the suit on its turning body on both backends, and the seed's anchor:
+# group: PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its tests,
+# bench_gpu's ms and passes a frame at 256 to 2,500 particles, block Jacobi fixed and converged,
+# the multigrid converged, the scenes with each preconditioner both ways): ~5 min. dress: the GPU dressing a body (the collider and
+# self-collision and penalty-pair tests, the suit on its turning body on both backends (and its
+# GPU-against-CPU test), and the seed's anchor:
 # weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min;
 # body: a deforming body from a host GL buffer against host arrays (its tests: the body's passes
 # against core, the API's two paths; bench_body_gl: bytes moved, ms of each call and of a step,
@@ -70,28 +71,32 @@ if [ "$MODE" = newton ]; then   # sewing, Newton, line search, BDF2 / TR-BDF2 an
 fi
 if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass chain
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_group test_api_gpu_group; do
-      timeout 120 build-dev/tests/$t > /tmp/tg.txt 2>&1; echo "$t rc=$?"; grep -E "particles:|group vs|FAIL" /tmp/tg.txt
+    for t in test_gpu_group test_api_gpu_group test_gpu_group_amg; do
+      timeout 120 build-dev/tests/$t > /tmp/tg.txt 2>&1; echo "$t rc=$?"; grep -E "particles|group vs|FAIL" /tmp/tg.txt
     done
     for solve in group passes; do
       WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --skip-cpu 2>&1 | head -12
       WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --tolerance 1e-4 --iterations 1000 --skip-cpu 2>&1 | head -12
+      # the multigrid's V-cycle in the group (pcg_group_amg.glsl) against its chain, converged
+      WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1 | head -12
     done
     echo "| scene | solve | ms/frame median | solves | iterations mean | rollbacks |"; echo "|---|---|---|---|---|---|"
-    M="--backend gpu --precond block_jacobi --integrator be --newton 1 --line-search off --threads 1"
-    for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
-      for solve in group passes; do
-        WEFT_GPU_SOLVE=$solve timeout 60 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json $M > /tmp/run.txt 2>&1 || { echo "| $sc | $solve | FAILED $(tail -c 200 /tmp/run.txt | tr '\n' ' ') |"; continue; }
-        python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | $solve | %.2f | %s | %.1f | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('rollbacks')))"
+    for pc in block_jacobi amg; do
+      M="--backend gpu --precond $pc --integrator be --newton 1 --line-search off --threads 1"
+      for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
+        for solve in group passes; do
+          WEFT_GPU_SOLVE=$solve timeout 60 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json $M > /tmp/run.txt 2>&1 || { echo "| $sc | $pc $solve | FAILED $(tail -c 200 /tmp/run.txt | tr '\n' ' ') |"; continue; }
+          python3 -c "import json;s=json.load(open('/tmp/st.json'));print('| $sc | $pc $solve | %.2f | %s | %.1f | %s |'%(s['ms_per_frame']['median'],s.get('solves'),s.get('iterations',{}).get('mean',0),s.get('rollbacks')))"
+        done
       done
     done; } 2>&1 | tee "$O/q_group.md"
   exit 0
 fi
 if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto; do
+    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto test_gpu_pairs test_cli_gpu_suit; do
       [ -x build-dev/tests/$t ] || continue
-      timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback" /tmp/tb.txt | head -6
+      timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback|pairs|contact" /tmp/tb.txt | head -6
     done
     echo "| backend | self-collision | newton | ms/frame median | collide | self | solve | rollbacks |"; echo "|---|---|---|---|---|---|---|---|"
     for bk in cpu gpu; do

@@ -1,16 +1,15 @@
-// Per node of a level, one step of the V-cycle's smoother (core/amg_cycle.c chebyshev): the
-// Chebyshev polynomial in D^-1 A on [bound / u_ratio, bound], step u_step (0: d = D^-1 t / theta;
-// k >= 1: d = c1 d + c2 D^-1 t with the recurrence's coefficients), t = r - A x, x' = x + d.
-// u_step -1: weighted block Jacobi, d = D^-1 t / bound (the coarsest level's sweeps when it has
-// no dense factor). bound: lvl_bound x u_bound_scale (wg_amg.h fine_bound_scale on the finest
-// level, 1 elsewhere). u_zero: x = 0 (the first step before the coarse correction: t = r). With
-// u_prolong the coarse correction is added first: x_j + xc[aggregate(j)] wherever x is read (the
-// prolongation of unsmoothed aggregation fused into the first step after it; filtered on the
-// finest level, op_prolong). u_dot (the finest level's last step): o2 = (r.x', r.r), PCG's
+// Per node of a level, one step of the V-cycle's smoother (amg_smooth_step.glsl: Chebyshev on
+// [bound / u_ratio, bound], step u_step, or -1: weighted block Jacobi, the coarsest level's
+// sweeps when it has no dense factor; bound: lvl_bound x u_bound_scale, wg_amg.h fine_bound_scale on the
+// finest level, 1 elsewhere), t = r - A x, x' = x + d. u_zero: x = 0 (the first step
+// before the coarse correction: t = r). With u_prolong the coarse correction is added first:
+// x_j + xc[aggregate(j)] wherever x is read (the prolongation of unsmoothed aggregation fused
+// into the first step after it; filtered on the finest level, op_prolong). u_dot (the finest level's last step): o2 = (r.x', r.r), PCG's
 // partial products with z = x' (bound as a third output). The level's inputs:
 // amg_level_inputs.glsl.
 #pragma weft include amg_blocks
 #pragma weft include amg_level_inputs
+#pragma weft include amg_smooth_step
 uniform sampler2D r;
 uniform sampler2D x;
 uniform sampler2D d;     // the previous step's d
@@ -37,25 +36,7 @@ void main() {
         if (prolong) xi += op_prolong(i, ld(xc, ldi(rows, i).w).xyz);
     }
     vec3 e = op_dinv(i) * t;
-    float b = u_bound_scale * lvl_bound(bound);
-    vec3 di;
-    if (u_step < 0) {
-        di = e / b;
-    } else {
-        float a = b / u_ratio, theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
-        if (u_step == 0) {
-            di = e / theta;
-        } else {
-            float rho = 1.0 / sigma, c1 = 0.0, c2 = 0.0;
-            for (int s = 0; s < u_step; ++s) {
-                float rn = 1.0 / (2.0 * sigma - rho);
-                c1 = rn * rho;
-                c2 = 2.0 * rn / delta;
-                rho = rn;
-            }
-            di = c1 * ld(d, i).xyz + c2 * e;
-        }
-    }
+    vec3 di = amg_smooth_step(u_step, u_bound_scale * lvl_bound(bound), u_ratio, e, u_step >= 1 ? ld(d, i).xyz : vec3(0.0));
     o0 = vec4(xi + di, 0.0);
     o1 = vec4(di, 0.0);
     o2 = u_dot != 0 ? vec4(dot(ri, xi + di), dot(ri, ri), 0.0, 0.0) : vec4(0.0);

@@ -1,4 +1,5 @@
-// Contacts, step 4 (core/collide.c wc_contacts_end), per particle: r = (A dv - b)_i; the normal
+// Contacts, step 4 (core/collide.c wc_contacts_end), per particle: r = (A dv - b)_i (A with the
+// penalty pairs' off-diagonal blocks, pairs_row.glsl); the normal
 // impulse of each contact is r's component along its normal in the basis of the two normals; a
 // negative one releases that contact (released = 1, the others compacted to the front).
 // TR-BDF2 (core/bdf2.c wc_integ_contact_impulses): stage 1 (u_stage 1) releases nothing and holds
@@ -15,6 +16,7 @@ uniform sampler2D c0;
 uniform sampler2D c1;
 uniform sampler2D c2;
 uniform sampler2D held;     // stage 1's o3, read in stage 2
+#pragma weft include pairs_row
 uniform int u_nc;
 uniform int u_stage;        // 0: backward Euler, BDF2; TR-BDF2's stage 1 or 2
 out vec4 o0;
@@ -28,7 +30,7 @@ vec3 residual(int i) {
     ivec4 pb = ldi(pblocks, i);
     vec3 r = -ld(b, i).xyz;
     for (int k = pb.x; k < pb.y; ++k) r += sym(ld(a_lo, k), ld(a_hi, k).xy) * ld(dv, ldi(block, k).y).xyz;
-    return r;
+    return r + pairs_row(dv, i);   // the penalty pairs' off-diagonal blocks
 }
 
 void main() {

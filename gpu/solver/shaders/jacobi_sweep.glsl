@@ -12,6 +12,7 @@ uniform sampler2D S1;
 uniform sampler2D dinv_lo;  // D~^-1 (lo, hi)
 uniform sampler2D dinv_hi;
 uniform sampler2D x_prev;   // dv_{k-1}
+#pragma weft include pairs_row
 uniform float u_gamma;
 uniform float u_omega;
 out vec4 o0;
@@ -19,7 +20,7 @@ out vec4 o0;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); return; }
-    vec3 y = bsr_row(pblocks, block, a_lo, a_hi, x, i);
+    vec3 y = bsr_row(pblocks, block, a_lo, a_hi, x, i) + pairs_row(x, i);   // A with the pairs' blocks
     vec4 s0 = ld(S0, i), s1 = ld(S1, i);
     vec3 r = filter_apply(s0, s1, ld(b, i).xyz - y);
     vec3 d = filter_apply(s0, s1, sym(ld(dinv_lo, i), ld(dinv_hi, i).xy) * r);

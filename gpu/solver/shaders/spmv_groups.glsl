@@ -10,6 +10,7 @@
 // which pcg_scalars_groups.glsl finishes.
 layout(local_size_x = 256, local_size_y = 1) in;
 #pragma weft include spmv_inputs
+#pragma weft include pairs_row
 #pragma weft include group_sum
 uniform int u_texels;
 uniform int u_partials;
@@ -25,6 +26,7 @@ void main() {
     if (i < u_n) {
         ivec4 r = ldi(pblocks, i);
         for (int k = r.x + lane; k < r.y; k += 4) y += sym(ld(a_lo, k), ld(a_hi, k).xy) * ld(x, ldi(block, k).y).xyz;
+        if (lane == 0) y += pairs_row(x, i);   // the penalty pairs' off-diagonal blocks
     }
     part[t] = y;
     memoryBarrierShared();

@@ -292,8 +292,8 @@ typedef struct weft_collider_def {   /* every number finite, even those the type
 } weft_collider_def;
 
 /* A triangle-mesh collider: a body (rigid, or deforming/skinned) the cloth collides with, on
- * either backend (the GPU keeps the cloth's vertices out of it as the CPU does, without the CPU's
- * penalty pairs at the body's sharp edges and corners: docs/design/gpu.md). The mesh comes from
+ * either backend (the GPU as the CPU does, the penalty pairs at the body's sharp edges and corners
+ * included, except on a body kept on the GPU from a GL buffer: docs/design/gpu_bodies.md). The mesh comes from
  * a file (mesh.path, mesh.select: the same assimp import as a cloth's, polygons triangulated, no
  * welding) or from host arrays (mesh.positions, mesh.n_vertices, mesh.indices; mesh.face_sizes /
  * n_faces as for a cloth, or face_sizes NULL for n_faces triangles of 3 indices each). Winding:
@@ -624,7 +624,9 @@ WEFT_API weft_status weft_cloth_set_mesh_collider_vertices(weft_context* ctx, we
  * vertices wake it. The body comes back to the CPU only when the host needs it there:
  * weft_cloth_save, weft_cloth_check_collisions, the array call, a rigid transform for it in a
  * frame without this call, TELEPORT or RESET (until the next call of this one, the body is then
- * moved on the CPU). With fragment passes (a GL 3.3 context) the vertices are read back and take
+ * moved on the CPU). While a body is kept on the GPU, the cloth's sharp-feature penalty pairs
+ * (those of every mesh collider) are not looked for: reading the body back every substep is what
+ * this call avoids. With fragment passes (a GL 3.3 context) the vertices are read back and take
  * the array call's path, bit-identical to it.
  * Errors (nothing changes): INVALID_HANDLE, OUT_OF_RANGE (index, or a wrong n_vertices),
  * INVALID_ARGUMENT (buffer 0 or not a buffer object, one smaller than offset + (n_vertices - 1)
@@ -674,8 +676,7 @@ typedef struct weft_frame_stats {
     /* self-collision in detail, summed over the substeps (0 when it is off) */
     int self_proximity;         /* proximity impulses of the self-collision stage */
     int self_zone_relaxed;      /* stretch-spring corrections around its impact zones */
-    int self_pairs;             /* self-contact pairs found for the implicit solve (CPU only: 0 on
-                                   the GPU, which has none in its solve) */
+    int self_pairs;             /* self-contact pairs found for the implicit solve */
     int self_pairs_active;      /* ... of them active in the first system */
     int self_pair_passes;       /* extra solves because their active set changed */
     int self_pair_overflow;     /* pairs past the list's capacity (dropped, logged as a warning) */

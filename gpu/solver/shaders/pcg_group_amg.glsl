@@ -1,0 +1,220 @@
+#version 430 core
+// PCG with the multigrid's V-cycle, a whole solve in one work group of 1,024 invocations
+// (compute passes, a cloth of at most GRP_MAX particles: wg_solve.c solve_group): the solve is
+// pcg_group_solve.glsl's, the preconditioner one V-cycle of wg_amg.c's (vcycle) per
+// precondition(), in its order and with its arithmetic: amg_smooth_step.glsl's steps (Chebyshev
+// of degree u_sweeps before and after the coarse correction, the prolongation added in the first
+// step after it), the restriction summing each aggregate's residuals in its member list's order,
+// and the coarsest level's dense solve (amg_coarse_solve.glsl) or its u_coarse_sweeps block-Jacobi
+// sweeps. The setup (wg_amg_setup) ran before as passes; amg_group_pack_groups.glsl copied each
+// smoothed level's bound, D^-1 and blocks into fpack.
+//
+// Where the V-cycle's vectors live: the finest level's x (z, the preconditioned residual) and d
+// in registers with PCG's vectors, x in shared memory when neighbours read it (the residual
+// restricted goes through shared memory too); a coarser level's r, x, d and restricted residual
+// in image 5 (coherent; every phase that writes them ends in memoryBarrierImage and barrier); the
+// coarsest dense solve in invocation 0 (its 96 floats). Node I of every level is invocation
+// I mod 1,024's.
+//
+// ipack (int4): per level l, texels 2 l = (rows, cols, members' ranges, members) offsets and
+// 2 l + 1 = (fpack offset, image 5 offset, nodes, blocks); then, per coarse level, its rows
+// (block start, end, diagonal, aggregate on the next level or -1), blocks (row, column), each
+// node's range of members and the members (nodes of the finer level) ascending. fpack (float4),
+// per smoothed level from its offset: the smoother's bound (x), D^-1's rows 0..2 (n texels
+// each), and on a coarse level its blocks' rows 0..2 (nb each). Image 5, per coarse level from
+// its offset: r, x, d and the residual to restrict (n texels each).
+layout(local_size_x = 1024, local_size_y = 1) in;
+#pragma weft include pcg_scalars_rules
+#pragma weft include project_row
+#pragma weft include pcg_group_solve
+#pragma weft include amg_blocks
+#pragma weft include amg_smooth_step
+#pragma weft include amg_coarse_solve
+uniform isampler2D rows;    // the finest level's nodes (amg_level_inputs.glsl): w its aggregate
+uniform isampler2D ipack;
+uniform sampler2D fpack;
+uniform int u_levels;
+uniform int u_dense;        // the coarsest level has a dense factor
+uniform int u_sweeps;       // the smoother's degree
+uniform int u_coarse_sweeps;
+uniform float u_ratio;
+layout(binding = 5, rgba32f) coherent uniform image2D wg_img5;
+
+#define SR 0                // image 5's slots of a level: r, x, d, the residual restricted
+#define SX 1
+#define SD 2
+#define SE 3
+
+struct level {
+    int rows, cols, mr, ml, f, s, n, nb;
+};
+
+vec3 xd[R];                 // the finest level's smoothing step d (xt holds its x)
+
+level lvl(int l) {
+    ivec4 a = ldi(ipack, 2 * l), c = ldi(ipack, 2 * l + 1);
+    return level(a.x, a.y, a.z, a.w, c.x, c.y, c.z, c.w);
+}
+vec3 fp(int i) { return ld(fpack, i).xyz; }
+float bound_of(level L) { return ld(fpack, L.f).x; }
+mat3 dinv_of(level L, int i) { return blk_rows(fp(L.f + 1 + i), fp(L.f + 1 + L.n + i), fp(L.f + 1 + 2 * L.n + i)); }
+mat3 block_of(level L, int k) {
+    int o = L.f + 1 + 3 * L.n;
+    return blk_rows(fp(o + k), fp(o + L.nb + k), fp(o + 2 * L.nb + k));
+}
+vec3 sget(level L, int slot, int i) { return imageLoad(wg_img5, tc(L.s + slot * L.n + i)).xyz; }
+void sset(level L, int slot, int i, vec3 v) { imageStore(wg_img5, tc(L.s + slot * L.n + i), vec4(v, 0.0)); }
+void sync_image() {
+    memoryBarrierImage();
+    barrier();
+}
+
+// row I of a coarse level's operator times its x (amg_level_inputs.glsl op_row)
+vec3 coarse_row(level L, int I) {
+    ivec4 r = ldi(ipack, L.rows + I);
+    vec3 y = vec3(0.0);
+    for (int k = r.x; k < r.y; ++k) y += block_of(L, k) * sget(L, SX, ldi(ipack, L.cols + k).y);
+    return y;
+}
+
+// the sum over each of N's aggregates of its members' residuals, into N's r; res(i) the finer
+// level's residual of node i
+#define RESTRICT_INTO(N, RES) \
+    for (int k = 0; k < R; ++k) \
+        if (row(k) < N.n) { \
+            ivec4 m = ldi(ipack, N.mr + row(k)); \
+            vec3 s = vec3(0.0); \
+            for (int e = m.x; e < m.y; ++e) { int i = ldi(ipack, N.ml + e).x; s += RES; } \
+            sset(N, SR, row(k), s); \
+        } \
+    sync_image()
+
+// one smoothing step on the finest level (amg_smooth.glsl over it: the operator S (A x), the
+// correction of N's x filtered as it is prolonged)
+void smooth_fine(level L, level N, int step, bool zero, bool prolong) {
+    if (!zero) {
+        if (prolong)
+            for (int k = 0; k < R; ++k)
+                if (row(k) < u_n) {
+                    int i = row(k);
+                    xt[k] += filter_apply(ld(S0, i), ld(S1, i), sget(N, SX, ldi(rows, i).w));
+                }
+        share_rows(xt);
+    }
+    float bd = bound_of(L);
+    for (int k = 0; k < R; ++k)
+        if (row(k) < u_n) {
+            int i = row(k);
+            vec3 t = xr[k];
+            if (!zero) t -= spmv_row(i);
+            vec3 di = amg_smooth_step(step, bd, u_ratio, dinv_of(L, i) * t, xd[k]);
+            xt[k] = (zero ? vec3(0.0) : xt[k]) + di;
+            xd[k] = di;
+        }
+}
+
+// one smoothing step on a coarse level (amg_smooth.glsl), N's x added to x first with prolong
+void smooth_coarse(level L, level N, int step, bool zero, bool prolong) {
+    if (!zero && prolong) {
+        for (int k = 0; k < R; ++k)
+            if (row(k) < L.n) sset(L, SX, row(k), sget(L, SX, row(k)) + sget(N, SX, ldi(ipack, L.rows + row(k)).w));
+        sync_image();
+    }
+    float bd = bound_of(L);
+    vec3 xn[R], dn[R];
+    for (int k = 0; k < R; ++k)
+        if (row(k) < L.n) {
+            int I = row(k);
+            vec3 t = sget(L, SR, I), xi = vec3(0.0);
+            if (!zero) {
+                t -= coarse_row(L, I);
+                xi = sget(L, SX, I);
+            }
+            dn[k] = amg_smooth_step(step, bd, u_ratio, dinv_of(L, I) * t, step >= 1 ? sget(L, SD, I) : vec3(0.0));
+            xn[k] = xi + dn[k];
+        }
+    barrier();   // every read of x done
+    for (int k = 0; k < R; ++k)
+        if (row(k) < L.n) {
+            sset(L, SX, row(k), xn[k]);
+            sset(L, SD, row(k), dn[k]);
+        }
+    sync_image();
+}
+
+void smooth_level(int l, level L, level N, int step, bool zero, bool prolong) {
+    if (l == 0) smooth_fine(L, N, step, zero, prolong);
+    else smooth_coarse(L, N, step, zero, prolong);
+}
+
+// the coarsest level l's dense solve by invocation 0
+void coarsest_dense(int l, level L) {
+    if (l == 0) share_rows(xr);
+    if (T == 0) {
+        for (int i = 0; i < 3 * L.n; ++i) y[i] = (l == 0 ? get(i / 3) : sget(L, SR, i / 3))[i % 3];
+        amg_coarse_solve(3 * L.n);
+        for (int i = 0; i < L.n; ++i) {
+            vec3 v = vec3(y[3 * i], y[3 * i + 1], y[3 * i + 2]);
+            if (l == 0) put(i, v);
+            else sset(L, SX, i, v);
+        }
+    }
+    memoryBarrierShared();
+    sync_image();
+    if (l == 0)
+        for (int k = 0; k < R; ++k)
+            if (row(k) < u_n) xt[k] = get(row(k));
+}
+
+void precondition_setup(int k, int i) {}
+
+// the residual r - A x of level l's nodes (x its last smoothing step's) restricted into N's r
+void restrict_into(int l, level L, level N) {
+    if (l == 0) {   // through shared memory
+        share_rows(xt);
+        for (int k = 0; k < R; ++k)
+            if (row(k) < u_n) xq[k] = xr[k] - spmv_row(row(k));
+        share_rows(xq);
+        RESTRICT_INTO(N, get(i));
+    } else {
+        for (int k = 0; k < R; ++k)
+            if (row(k) < L.n) sset(L, SE, row(k), sget(L, SR, row(k)) - coarse_row(L, row(k)));
+        sync_image();
+        RESTRICT_INTO(N, sget(L, SE, i));
+    }
+}
+
+// t = the V-cycle on r (wg_amg.c vcycle), and the group's (r.t, r.r). One loop over its
+// smoothing steps with one call of each phase (a shader compiler inlines every call): down the
+// levels u_sweeps steps from x = 0 then the restriction, the coarsest level, up the levels
+// u_sweeps steps with the prolongation in the first.
+vec2 precondition() {
+    int top = u_levels - 1, l = 0, k = 0;
+    bool down = true;
+    for (;;) {
+        bool bottom = l == top;
+        if (bottom && u_dense != 0) {
+            coarsest_dense(l, lvl(l));
+        } else {
+            level L = lvl(l), N = lvl(bottom ? l : l + 1);
+            smooth_level(l, L, N, bottom ? -1 : k, (down || bottom) && k == 0, !down && !bottom && k == 0);
+            if (++k < (bottom ? u_coarse_sweeps : u_sweeps)) continue;
+            k = 0;
+            if (down && !bottom) {
+                restrict_into(l, L, N);
+                ++l;
+                continue;
+            }
+        }
+        // the coarsest level done, or a step up
+        down = false;
+        k = 0;
+        if (--l < 0) break;
+    }
+    vec2 acc = vec2(0.0);
+    for (int k = 0; k < R; ++k)
+        if (row(k) < u_n) acc += vec2(dot(xr[k], xt[k]), dot(xr[k], xr[k]));
+    return sum2(acc);
+}
+
+void main() { pcg_group_main(); }

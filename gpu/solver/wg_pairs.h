@@ -1,0 +1,93 @@
+/* The penalty pairs (core/penalty_pairs.h) in a GPU cloth's solve: the mesh colliders' sharp
+ * feature pairs (core/mesh_pairs.h) and the self-contact pairs (core/self_pairs.h), found and
+ * switched on the host by core's own functions, their terms in the GPU's system.
+ *
+ * At the substep's start (after the contacts' correction and the integrator's vectors, where
+ * core/step.c's prepare finds them) the positions, the velocities and (BDF2, TR-BDF2) v* are read
+ * back, core's detections run on them (the mesh pairs: every mesh collider moved on the host;
+ * while a body is resident on the GPU, wg_mesh.h, no mesh pair is looked for: core's copy of it
+ * is stale) and the pairs go up with a CSR of each particle's entries. After the assembly,
+ * core's wc_penalty_pairs_assemble decides the active set in double (the predicted gap, with the
+ * external forces core computes at the same positions) into host scratch; its additions to b,
+ * f_total (what friction reads) and A's diagonal blocks go up as per-particle arrays over the
+ * span of the particles they touch, and a pass adds them. Every pair is coupled on the GPU: its
+ * off-diagonal blocks c w_a w_b n n^T (c = he^2 k while active) enter each product of A in the
+ * solve (pairs_row.glsl: the SpMV, the residual, the Jacobi sweep), not A's blocks (the mesh
+ * pairs' in-pattern blocks on the CPU: the same sum). Without Newton's iterations, after a solve,
+ * core's recheck runs on dv read back and what it switched goes up the same way (core/step.c
+ * pair_passes). With them (core/newton.c), each Newton system takes the pairs' exact terms at the
+ * iterate's positions (read back) by core's wc_penalty_pairs_newton, and the line search's
+ * potential their energy, core's wc_penalty_pairs_energy at the two iterates (read back).
+ *
+ * Transfers a substep: 32 n bytes read back (x, v; 48 n with v*; Newton: 16 n more for xb with
+ * BDF2 and TR-BDF2), the pairs (48 bytes each and 16 an entry) and 16 n bytes of rows up at the
+ * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
+ * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
+ * two for each potential change (the two iterates). Everything is allocated at creation (the
+ * lists' capacities); nothing in a step. Calls are made with the cloth's GL context current. */
+#ifndef WEFT_GPU_SOLVER_PAIRS_H
+#define WEFT_GPU_SOLVER_PAIRS_H
+
+#include "bdf2.h"
+#include "state.h"
+#include "wg_passes.h"
+#include "wg_runner.h"
+
+typedef struct wg_pairs wg_pairs;
+
+/* The cloth's textures the pairs read and change (pointers into the cloth, which keep their
+ * addresses): b, ftot and A take the pairs' terms through scratch textures that trade values
+ * with them. */
+typedef struct wg_pair_cloth {
+    int n, nb;                  /* particles, blocks */
+    wg_tex *b, *ftot;           /* the substep's right-hand side and forces at x_n */
+    wg_tex *a_lo, *a_hi;        /* the substep's A (symmetric blocks) */
+    const wg_tex *pblocks, *block;
+} wg_pair_cloth;
+
+/* What the last substep's detection and assembly found (core's statistics, wc_step_stats). */
+typedef struct wg_pair_counts {
+    int mesh, mesh_active, mesh_overflow, mesh_skipped;
+    int self, self_active, self_overflow;
+} wg_pair_counts;
+
+/* The pairs of the state's lists (s->pairs, s->self_pairs; *out NULL and 1 when it has none):
+ * 1, or 0 with err (GL, the device's textures, out of memory). */
+int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* s, wg_pairs** out, char* err,
+                    size_t err_len);
+void wg_pairs_destroy(wg_pairs* p);
+void wg_pairs_forget(wg_pairs* p);          /* the memory only (the GL context is gone) */
+size_t wg_pairs_bytes(const wg_pairs* p);   /* GPU memory held; 0 for NULL */
+
+/* The substep's start (ig its coefficients): x, v and v* (textures; with Newton, xb too) read
+ * back, the pairs found (mesh_resident: skip the mesh pairs) and uploaded, none active yet. */
+void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
+                   const wg_tex* vstar, const wg_tex* xb, int n_pins, int mesh_resident);
+/* After the assembly of A, b and ftot: the active set and its terms. */
+void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig);
+/* After a solve (dv its result): list 0 (the mesh pairs) or 1 (the self pairs) rechecked (core's
+ * wc_penalty_pairs_recheck), its switches' terms added. Returns the pairs switched. */
+int wg_pairs_recheck(wg_pairs* p, wc_state* s, int list, const wc_integ* ig, const wg_tex* dv);
+/* Newton's system at the iterate whose positions x(w) are xw (read back): core's
+ * wc_penalty_pairs_newton (the pairs with g(x(w)) < 0 active, their force into b and stiffness
+ * into A) added to the system Newton's passes built. */
+void wg_pairs_newton(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* xw);
+/* The pairs' part of the incremental potential's change from the iterate wa to wb (textures,
+ * read back; core's wc_penalty_pairs_energy at x(w) = xb + he (v + w), in double): J. */
+double wg_pairs_energy_change(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* wa,
+                              const wg_tex* wb);
+/* 1 when list k (0 mesh, 1 self) has pairs in this substep's system. */
+int wg_pairs_list_on(const wg_pairs* p, int list);
+const wg_pair_counts* wg_pairs_counts(const wg_pairs* p);
+
+/* 1 when this substep's system has pairs (p NULL: 0): the products add their blocks. */
+int wg_pairs_on(const wg_pairs* p);
+/* The products' inputs: the pairs' textures, or (p NULL) i_any and f_any, an integer and a float
+ * texture that pairs_row.glsl binds and never reads. */
+wg_pair_in wg_pairs_inputs(const wg_pairs* p, const wg_tex* i_any, const wg_tex* f_any);
+
+/* Tests: the pairs' data as uploaded (NULL: not wanted): n pairs, their p (n x 4), w and (n, c)
+ * (n x 4 floats each), from the host copy. Returns n. */
+int wg_pairs_debug_list(const wg_pairs* p, const int** pp, const float** w, const float** nc);
+
+#endif

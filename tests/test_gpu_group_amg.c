@@ -1,0 +1,187 @@
+/* PCG with the multigrid's V-cycle in one work group (pcg_group_amg.glsl) against the multi-pass
+ * chain with the same multigrid on the same float systems (real EGL: llvmpipe without a GPU; the
+ * chain checked against CHOLMOD and core by test_gpu_amg): hanging sheets of one level (the dense
+ * factor alone), two and three levels, with pins and plane constraints carrying z, a stiff one, a
+ * drape with contacts and friction, separate patches whose coarsest level is smoothed; converged,
+ * capped, near float's reach, a zero right-hand side, a non-finite system: the
+ * same status and iteration counts (within 1), the final residuals and iterates within float's
+ * reach of each other, and the solve itself one dispatch after the multigrid's setup passes; a
+ * multigrid cloth past the group's limit is refused when WEFT_GPU_SOLVE=group forces it. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "egl_context.h"
+#include "gpu_group_support.h"
+#include "test_support.h"
+#include "wg_amg.h"
+
+static wg_gl_context* gl;
+static wg_device* dev;
+
+/* The passes of one solve's multigrid setup and packing (what the group runs before its dispatch) */
+static long long setup_passes(wg_sim* g) {
+    const long long p0 = wg_sim_debug_passes(g);
+    wg_amg_setup(g->amg);
+    wg_amg_group_pack(g->amg);
+    return wg_sim_debug_passes(g) - p0;
+}
+
+/* The group against the chain from the same guess: the same status and convergence, iterations
+ * within 1, the final residual within rel_res (relative; or 1 % of the tolerance, or both below
+ * 1e-6), the iterates
+ * within rel_dv of the largest component, the group one pass after its setup's. Returns the
+ * group's run (the caller frees its dv). */
+static tg_solved compare(const char* what, wg_sim* g, const wc_solver_opts* o, const double* guess, double rel_dv,
+                         double rel_res) {
+    const long long setup = setup_passes(g);
+    tg_solved a = tg_solve_as(dev, g, o, guess, WG_SOLVE_GROUP), b = tg_solve_as(dev, g, o, guess, WG_SOLVE_PASSES);
+    const int n3 = 3 * g->n;
+    const double scale = fmax(ts_max_abs(b.dv, n3), 1e-30), e = ts_max_diff(a.dv, b.dv, n3) / scale;
+    const double dres = fabs(a.res.residual - b.res.residual) / fmax(b.res.residual, 1e-30);
+    printf("  %-30s %5d particles, %d levels (coarsest %3d, %s): iterations group %3d passes %3d, residual "
+           "%.4g / %.4g (%.1g apart), iterates %.2g apart, %d restart(s), passes %lld / %lld (setup %lld)\n",
+           what, g->n, g->amg->n_levels, g->amg->lev[g->amg->n_levels - 1].n, g->amg->dense ? "factored" : "smoothed",
+           a.res.iterations, b.res.iterations, a.res.residual, b.res.residual, dres, e, (int)a.grp[3], a.passes,
+           b.passes, setup);
+    CHECK_EQ_INT(a.st, b.st);
+    CHECK(abs(a.res.iterations - b.res.iterations) <= 1);
+    CHECK_EQ_INT(a.res.converged, b.res.converged);
+    CHECK(a.res.residual0 == b.res.residual0 || fabs(a.res.residual0 - b.res.residual0) <= 1e-5 * b.res.residual0);
+    /* (or both at float's reach: a one-level solve is exact, its residual rounding) */
+    CHECK(dres <= rel_res || fabs(a.res.residual - b.res.residual) <= 0.01 * o->tolerance ||
+          fmax(a.res.residual, b.res.residual) <= 1e-6);
+    CHECK(e <= rel_dv);
+    CHECK(a.passes == setup + 1);   /* the setup's passes, then one dispatch: its read-backs are no passes */
+    free(b.dv);
+    return a;
+}
+
+/* Converged to 1e-4 from zeros, then from that answer to 1e-3 (done at once), and capped at
+ * `cap` iterations (tolerance 0) */
+static void converged_and_capped(const char* what, wg_sim* g, const wc_solver_opts* so, int cap) {
+    wc_solver_opts o = *so;
+    o.tolerance = 1e-4;
+    o.max_iterations = 300;
+    tg_solved a = compare(what, g, &o, NULL, 1e-3, 0.05);
+    CHECK(a.res.converged && a.st == WC_OK);
+    o.tolerance = 1e-3;
+    tg_solved b = compare("  from its answer, to 1e-3", g, &o, a.dv, 1e-6, 0.05);
+    CHECK_EQ_INT(b.res.iterations, 0);
+    CHECK(b.res.converged);
+    o.tolerance = 0.0;
+    o.max_iterations = cap;
+    tg_solved c = compare("  capped (tolerance 0)", g, &o, NULL, 4e-5 * cap, 1e-3);
+    CHECK_EQ_INT(c.res.iterations, cap);
+    CHECK(!c.res.converged);
+    free(a.dv), free(b.dv), free(c.dv);
+}
+
+static wc_sim_def amg_def(void) {
+    wc_sim_def def = wc_default_sim_def();
+    def.solver.type = WC_SOLVER_PCG;
+    def.solver.preconditioner = WC_PRECOND_AMG;
+    def.sleep_speed = 0.0;
+    return def;
+}
+
+/* Sheets of 9 (one level: the dense factor), 169 and 1,024 particles with planes, a stiff one */
+static void test_sheets(void) {
+    static const struct {
+        const char* name;
+        int n, warm, cap, levels;
+        double k_scale;
+    } cases[] = {
+        {"hanging 3 x 3 (one level)", 3, 2, 1, 1, 1.0},
+        {"hanging 13 x 13", 13, 2, 5, 2, 1.0},
+        {"hanging 32 x 32", 32, 3, 3, 3, 1.0},
+        {"hanging 24 x 24, k x1000", 24, 3, 3, 3, 1000.0},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        wc_model m;
+        wg_sim* g = NULL;
+        wc_state* s = tg_sheet_system(dev, &m, cases[k].n, cases[k].warm, cases[k].k_scale, WC_PRECOND_AMG, &g);
+        CHECK(s != NULL && g != NULL && g->amg != NULL);
+        if (!s || !g || !g->amg) return;
+        CHECK(g->amg->n_levels >= cases[k].levels);
+        converged_and_capped(cases[k].name, g, &s->def.solver, cases[k].cap);
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
+}
+
+/* A drape over a sphere (contacts and friction in the filter) and 40 separate patches (the
+ * coarsest level smoothed: no dense factor) */
+static void test_drape_and_patches(void) {
+    const wc_sim_def def = amg_def();
+    for (int k = 0; k < 2; ++k) {
+        wc_model m;
+        wc_state* s = k == 0 ? ts_draped(&m, 20, &def, 20) : ts_patches(&m, 40, &def);
+        CHECK(s != NULL);
+        if (!s) return;
+        if (k == 0) CHECK(s->contacts.active > 0);
+        wg_sim* g = tg_gpu_system(dev, s, 0);
+        CHECK(g != NULL && g->amg != NULL);
+        if (g && g->amg) {
+            CHECK_EQ_INT(g->amg->dense, k == 0);
+            converged_and_capped(k == 0 ? "draped over a sphere" : "40 separate patches", g, &s->def.solver, 3);
+        }
+        wg_sim_destroy(g);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
+}
+
+/* A tolerance near float's reach (the multigrid's recurrence stays close to the true residual
+ * there: no restart, where block Jacobi restarts, test_gpu_group), a zero right-hand side (dv = z,
+ * no iteration) and a non-finite b (diverged, dv = z) in both */
+static void test_edges(void) {
+    wc_model m;
+    wg_sim* g = NULL;
+    wc_state* s = tg_sheet_system(dev, &m, 10, 0, 1.0, WC_PRECOND_AMG, &g);
+    CHECK(s != NULL && g != NULL);
+    if (!s || !g) return;
+    wc_solver_opts o = s->def.solver;
+    o.max_iterations = 300;
+    o.tolerance = 4e-7;
+    tg_solved r = compare("tolerance 4e-7", g, &o, NULL, 1e-4, 0.5);
+    free(r.dv);
+
+    tg_zero_and_bad_b(dev, s, g, o, compare);
+    wg_sim_destroy(g);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
+/* WEFT_GPU_SOLVE=group on a multigrid cloth past the group's limit: refused at creation with a
+ * message naming the limit, the state untouched; =passes takes it. */
+static void test_limit_refused(void) { tg_limit_refused(dev, WC_PRECOND_AMG); }
+
+int main(void) {
+    wg_gl_context_desc cd;
+    memset(&cd, 0, sizeof cd);
+    char err[512];
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK) {
+        fprintf(stderr, "no GL context: %s\n", err);
+        return 1;
+    }
+    if (wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
+        fprintf(stderr, "device: %s\n", err);
+        return 1;
+    }
+    printf("device: %s\n", dev->renderer);
+    if (!dev->compute) {   /* the multigrid and the one-group solve are compute shaders */
+        printf("fragment passes: no multigrid\n");
+    } else {
+        RUN_TEST(test_sheets);
+        RUN_TEST(test_drape_and_patches);
+        RUN_TEST(test_edges);
+        RUN_TEST(test_limit_refused);
+    }
+    wg_device_destroy(dev);
+    wg_gl_end(gl);
+    wg_gl_context_destroy(gl);
+    return TEST_SUMMARY();
+}
