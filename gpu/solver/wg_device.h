@@ -12,9 +12,10 @@
 #include "wg_passes.h"
 
 /* How PCG runs on compute passes (wg_solve.c), with block Jacobi or the multigrid: the whole
- * solve in one work group (pcg_group.glsl, pcg_group_amg.glsl after the multigrid's setup passes)
- * for a cloth of at most WG_GROUP_MAX_PARTICLES particles on a hardware device, the multi-pass
- * chain above that and on software rasterisers; WEFT_GPU_SOLVE=group or =passes forces one. */
+ * solve in one work group (pcg_group.glsl; pcg_group_amg.glsl after the multigrid's setup passes,
+ * only where WEFT_GPU_SOLVE=group asks for it) for a cloth of at most WG_GROUP_MAX_PARTICLES
+ * particles on a hardware device, the multi-pass chain above that and on software rasterisers;
+ * WEFT_GPU_SOLVE=group or =passes forces one. */
 typedef enum wg_solve_mode { WG_SOLVE_AUTO = 0, WG_SOLVE_GROUP, WG_SOLVE_PASSES } wg_solve_mode;
 /* The most particles the one-group solve takes: its shared memory holds one vector of them
  * (3 floats each, within the 32 KiB every GL 4.3 device has), its 1,024 invocations 3 rows each. */
