@@ -23,19 +23,11 @@
 static wg_gl_context* gl;
 static wg_device* dev;
 
-static wc_sim_def amg_def(void) {
-    wc_sim_def def = wc_default_sim_def();
-    def.solver.type = WC_SOLVER_PCG;
-    def.solver.preconditioner = WC_PRECOND_AMG;
-    def.sleep_speed = 0.0;
-    return def;
-}
-
 /* An n x n sheet hanging from its two top corners, stepped `warm` frames on the CPU, its state
  * rounded to float (the same input on both backends). */
 static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
     if (!ts_sheet(m, n, 1.0, 1.0, 1, k_scale)) return NULL;
-    wc_sim_def def = amg_def();
+    wc_sim_def def = ts_amg_def();
     wc_state* s = NULL;
     wc_diag d = {0};
     if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
@@ -96,7 +88,7 @@ static wc_state* sewn_panels(wc_model* m, int q, int warm) {
     if (!quad_model(m, pos, nv, sizes, nf, idx, SEW)) return NULL;
     if (m->n_seams == 0) return NULL;
     wc_diag d = {0};
-    wc_sim_def def = amg_def();
+    wc_sim_def def = ts_amg_def();
     wc_state* s = NULL;
     if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
     wc_pin* pins = calloc(2 * (size_t)(q + 1), sizeof *pins);
@@ -238,7 +230,7 @@ static void test_solves(void) {
         {"40 separate patches", 2, 40, 3, 0, 0, 1.0},
         {"two panels sewn, 24 x 24", 3, 24, 3, 1, 0, 1.0},
     };
-    const wc_sim_def def = amg_def();
+    const wc_sim_def def = ts_amg_def();
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         wc_model m;
         wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
@@ -262,7 +254,7 @@ static void test_solves(void) {
 static void test_whole_run(void) {
     wc_model m;
     if (!ts_sheet(&m, 16, 1.0, 1.0, 0, 1.0)) return;
-    wc_sim_def def = amg_def();
+    wc_sim_def def = ts_amg_def();
     wc_state *c = NULL, *s = NULL;
     wc_diag d = {0};
     CHECK(wc_state_create(&c, &m, &def, NULL, &d) == WC_OK);
@@ -295,7 +287,7 @@ static void test_whole_run(void) {
 static void test_fragment_refused(void) {
     wc_model m;
     if (!ts_sheet(&m, 8, 1.0, 1.0, 0, 1.0)) return;
-    wc_sim_def def = amg_def();
+    wc_sim_def def = ts_amg_def();
     wc_state* s = NULL;
     wc_diag d = {0};
     CHECK(wc_state_create(&s, &m, &def, NULL, &d) == WC_OK);

@@ -78,14 +78,6 @@ static void converged_and_capped(const char* what, wg_sim* g, const wc_solver_op
     free(a.dv), free(b.dv), free(c.dv);
 }
 
-static wc_sim_def amg_def(void) {
-    wc_sim_def def = wc_default_sim_def();
-    def.solver.type = WC_SOLVER_PCG;
-    def.solver.preconditioner = WC_PRECOND_AMG;
-    def.sleep_speed = 0.0;
-    return def;
-}
-
 /* Sheets of 9 (one level: the dense factor), 169 and 1,024 particles with planes, a stiff one */
 static void test_sheets(void) {
     static const struct {
@@ -115,7 +107,7 @@ static void test_sheets(void) {
 /* A drape over a sphere (contacts and friction in the filter) and 40 separate patches (the
  * coarsest level smoothed: no dense factor) */
 static void test_drape_and_patches(void) {
-    const wc_sim_def def = amg_def();
+    const wc_sim_def def = ts_amg_def();
     for (int k = 0; k < 2; ++k) {
         wc_model m;
         wc_state* s = k == 0 ? ts_draped(&m, 20, &def, 20) : ts_patches(&m, 40, &def);

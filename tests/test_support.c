@@ -241,3 +241,11 @@ wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def) {
     for (int f = 0; f < 3; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
     return s;
 }
+
+wc_sim_def ts_amg_def(void) {
+    wc_sim_def def = wc_default_sim_def();
+    def.solver.type = WC_SOLVER_PCG;
+    def.solver.preconditioner = WC_PRECOND_AMG;
+    def.sleep_speed = 0.0;
+    return def;
+}

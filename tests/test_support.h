@@ -48,6 +48,9 @@ wc_state* ts_draped(wc_model* m, int n, const wc_sim_def* def, int frames);
  * frames on the CPU with def: a mesh whose multigrid coarsening stops at one aggregate a piece.
  * NULL on failure. */
 wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def);
+/* The defaults with PCG and the multigrid preconditioner, sleeping off: the GPU multigrid tests'
+ * definition (both backends step it). */
+wc_sim_def ts_amg_def(void);
 /* max |a_k| and max |a_k - b_k| over n doubles. */
 double ts_max_abs(const double* a, int n);
 double ts_max_diff(const double* a, const double* b, int n);
