@@ -16,8 +16,8 @@
  *    frame 2: 0.256 and 0.216), the particles in contact 0.85-1.15 times the CPU's (measured
  *    0.999-1.004);
  *  - rollbacks no more than the CPU's (0 on both).
- * The figures, PCG iterations among them, are listed in docs/design/gpu_bodies.md. 285 s on
- * llvmpipe at a load of 6 on 2 cores (a GPU frame takes 35-310 s there): label `bench`. */
+ * The figures, PCG iterations among them, are listed in docs/design/gpu_bodies.md. 285-380 s on
+ * llvmpipe at a load of 6-10 on 2 cores (a GPU frame takes 35-310 s there): label `bench`. */
 #include <stdio.h>
 
 #include "cli_gpu_compare.h"
