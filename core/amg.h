@@ -250,6 +250,10 @@ typedef struct wc_amg_level {
                                    products ptap_src[2 m..] */
     int* ptap_src;              /* (2 x products) P's entry of (i, 2a) (its pair: (i, 2a + 1)) and
                                    T's slot (i, J) of the products P(i, .)^T T(i, J), P^T's order */
+    int* pr_start;              /* (nnz_p / 2 + 1) P's entry pair e / 2: the strong blocks k of A's
+                                   row whose aggregate it is (a_to_p[k] = e), pr_src[m..] ascending:
+                                   the smoothed prolongator's sums A_ik P_tent(k) (amg_setup.c) */
+    int* pr_src;                /* (strong blocks) */
     wc_amg_cross* cross;        /* the couplings on this level (NULL: none set) */
 } wc_amg_level;
 

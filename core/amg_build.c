@@ -155,7 +155,8 @@ done:
  * meets them, from the row's first slot that P^T T reads on (t_read: the products there take the
  * blocks (I, J) with J >= I only, and P's row i has no column below its first); for P^T T, each
  * slot pair (I = 2a, J >= I) of the next level's rows 2a, its products (P's entry of (i, I), T's
- * slot (i, J)) in P^T's order. Counted, then filled in order (a stable counting sort). */
+ * slot (i, J)) in P^T's order; for the smoothed prolongator, each entry pair's strong blocks.
+ * Counted, then filled in order (a stable counting sort). */
 static int galerkin_lists(wc_amg* a, wc_amg_level* L, const wc_amg_level* N) {
     const wc_allocator* al = &a->alloc;
     const int n = L->n, n_tp = L->t_start[n] / 2, n_np = N->row_start[N->n] / 2;
@@ -216,6 +217,18 @@ static int galerkin_lists(wc_amg* a, wc_amg_level* L, const wc_amg_level* N) {
             TRY(L->ptap_src = WC_NEW(al, int, 2 * (size_t)L->ptap_start[n_np] + 2));
         }
     }
+    /* the prolongator's: each entry pair's strong blocks (a_to_p), ascending */
+    const int n_pp = L->p_start[n] / 2;
+    TRY(L->pr_start = WC_NEW(al, int, n_pp + 1));
+    TRY(L->pr_src = WC_NEW(al, int, L->n_blocks + 1));
+    for (int k = 0; k < L->n_blocks; ++k)
+        if (L->a_to_p[k] >= 0) ++L->pr_start[L->a_to_p[k] / 2 + 1];
+    for (int q = 0; q < n_pp; ++q) L->pr_start[q + 1] += L->pr_start[q];
+    wc_free(al, cursor);
+    TRY(cursor = WC_NEW(al, int, n_pp + 1));
+    for (int q = 0; q < n_pp; ++q) cursor[q] = L->pr_start[q];
+    for (int k = 0; k < L->n_blocks; ++k)
+        if (L->a_to_p[k] >= 0) L->pr_src[cursor[L->a_to_p[k] / 2]++] = k;
     wc_free(al, cursor);
     return 1;
 oom:
@@ -474,7 +487,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_amg_cross_destroy(a);

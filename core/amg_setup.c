@@ -322,55 +322,76 @@ __attribute__((target("avx2,fma"))) static void pairs_ap_rows_avx2(wc_amg_level*
 #endif
 
 /* The smoothed prolongator's rows of aggregates' pairs lo..hi-1 (units of L->group rows): P = (I - w
- * D^-1 A_F) P_tent, each entry e of row i first Z_e = sum A_ik P_tent(k) over the strong blocks k
- * whose coarse node is e (weak blocks summed into the row's own entry), then P_e = -w D^-1 Z_e,
- * plus P_tent on the row's own entries. PAIR_ADD(z, A, P) adds A [P0 P1] into the slot pair z. */
-#define WC_PROLONG_ROWS(L, w, lo, hi, PAIR_ADD)                                                        \
+ * D^-1 A_F) P_tent, each entry pair e of row i first Z_e = sum A_ik P_tent(k) over the strong blocks k
+ * whose coarse nodes they are (pr_start / pr_src; the weak blocks' sum W goes to the row's own
+ * entries), gathered from zero by GATHER(z, L, i, e, W or NULL) into 18 doubles, then P_e = -w
+ * D^-1 Z_e (on a pair level D^-1 couples rows 2a and 2a + 1, which share their columns), plus
+ * P_tent on the row's own entries. */
+#define WC_PROLONG_ROWS(L, w, lo, hi, GATHER)                                                          \
     for (int u = (lo); u < (hi); ++u) {                                                                 \
-        const int g = (L)->group, b = g * u;                                                            \
-        for (int i = b; i < b + g; ++i) {                                                               \
-            double* row = (L)->p_val + 9 * (size_t)(L)->p_start[i];                                     \
-            memset(row, 0, 9 * sizeof(double) * (size_t)((L)->p_start[i + 1] - (L)->p_start[i]));       \
-        }                                                                                               \
-        if ((w) != 0.0) {                                                                               \
-            for (int i = b; i < b + g; ++i) { /* Z_e of row i into its entries */                       \
-                double W[9] = {0};                                                                      \
-                int weak = 0;                                                                           \
-                for (int k = (L)->row_start[i]; k < (L)->row_start[i + 1]; ++k) {                       \
-                    const double* A = (L)->val + 9 * (size_t)k;                                         \
+        const int g = (L)->group, b = g * u, len = (L)->p_start[b + 1] - (L)->p_start[b];               \
+        if ((w) == 0.0) {                                                                               \
+            for (int i = b; i < b + g; ++i)                                                             \
+                memset((L)->p_val + 9 * (size_t)(L)->p_start[i], 0, 9 * sizeof(double) * (size_t)len);  \
+        } else {                                                                                        \
+            double W[2][9] = {{0}};                                                                     \
+            int weak[2] = {0, 0};                                                                       \
+            for (int i = b; i < b + g; ++i)                                                             \
+                for (int k = (L)->row_start[i]; k < (L)->row_start[i + 1]; ++k)                         \
                     if ((L)->a_to_p[k] < 0) {                                                           \
-                        for (int q = 0; q < 9; ++q) W[q] += A[q];                                       \
-                        weak = 1;                                                                       \
-                        continue;                                                                       \
+                        for (int q = 0; q < 9; ++q) W[i - b][q] += (L)->val[9 * (size_t)k + q];         \
+                        weak[i - b] = 1;                                                                \
                     }                                                                                   \
-                    PAIR_ADD((L)->p_val + 9 * (size_t)(L)->a_to_p[k], A, (L)->tent + 18 * (size_t)(L)->col[k]); \
-                }                                                                                       \
-                if (weak) PAIR_ADD((L)->p_val + 9 * (size_t)(L)->p_self[i], W, (L)->tent + 18 * (size_t)i); \
-            }                                                                                           \
-            /* P_e = -w D^-1 Z_e, entry by entry (a pair's rows have the same entries) */               \
-            const int len = (L)->p_start[b + 1] - (L)->p_start[b];                                      \
-            for (int off = 0; off < len; ++off) {                                                       \
-                double Z[2][9], out[9];                                                                 \
+            for (int off = 0; off < len; off += 2) {                                                    \
+                double Z[2][18], out[9];                                                                \
                 for (int i = b; i < b + g; ++i)                                                         \
-                    memcpy(Z[i - b], (L)->p_val + 9 * (size_t)((L)->p_start[i] + off), sizeof Z[0]);    \
-                for (int i = b; i < b + g; ++i) {                                                       \
-                    memset(out, 0, sizeof out);                                                         \
-                    const double* D = (L)->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */    \
-                    for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j]);                       \
-                    double* P = (L)->p_val + 9 * (size_t)((L)->p_start[i] + off);                       \
-                    for (int q = 0; q < 9; ++q) P[q] = -(w) * out[q];                                   \
-                }                                                                                       \
+                    GATHER(Z[i - b], L, i, (L)->p_start[i] + off, weak[i - b] ? W[i - b] : NULL);       \
+                for (int h = 0; h < 2; ++h) /* P_e = -w D^-1 Z_e, block by block */                     \
+                    for (int i = b; i < b + g; ++i) {                                                   \
+                        memset(out, 0, sizeof out);                                                     \
+                        const double* D = (L)->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */ \
+                        for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j] + 9 * h);           \
+                        double* P = (L)->p_val + 9 * (size_t)((L)->p_start[i] + off + h);               \
+                        for (int q = 0; q < 9; ++q) P[q] = -(w) * out[q];                               \
+                    }                                                                                   \
             }                                                                                           \
         }                                                                                               \
         for (int i = b; i < b + g; ++i)                                                                 \
             for (int q = 0; q < 18; ++q) (L)->p_val[9 * (size_t)(L)->p_self[i] + q] += (L)->tent[18 * (size_t)i + q]; \
     }
 
-static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) { WC_PROLONG_ROWS(L, w, lo, hi, pair_mul_add) }
+static inline void prolong_gather(double* z, const wc_amg_level* L, int i, int e, const double* W) {
+    memset(z, 0, 18 * sizeof(double));
+    for (int m = L->pr_start[e / 2]; m < L->pr_start[e / 2 + 1]; ++m) {
+        const int k = L->pr_src[m];
+        pair_mul_add(z, L->val + 9 * (size_t)k, L->tent + 18 * (size_t)L->col[k]);
+    }
+    if (W && e == L->p_self[i]) pair_mul_add(z, W, L->tent + 18 * (size_t)i);
+}
+
+static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) { WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather) }
 
 #ifdef WC_PAIRS_AP_AVX2
+__attribute__((target("avx2,fma"), always_inline)) static inline void prolong_gather_avx2(double* zo, const wc_amg_level* L,
+                                                                                         int i, int e, const double* W) {
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    __m256d z[6];
+    for (int r = 0; r < 6; ++r) z[r] = _mm256_setzero_pd();
+    for (int m = L->pr_start[e / 2]; m < L->pr_start[e / 2 + 1]; ++m) {
+        const int k = L->pr_src[m];
+        const double* A = L->val + 9 * (size_t)k;
+        const double* Pt = L->tent + 18 * (size_t)L->col[k];
+        WC_PAIR_ACC_AVX2(z, A, 3, 1, Pt);
+    }
+    if (W && e == L->p_self[i]) {
+        const double* Pt = L->tent + 18 * (size_t)i;
+        WC_PAIR_ACC_AVX2(z, W, 3, 1, Pt);
+    }
+    pair_store_avx2(zo, z);
+}
+
 __attribute__((target("avx2,fma"))) static void prolong_rows_avx2(wc_amg_level* L, double w, int lo, int hi) {
-    WC_PROLONG_ROWS(L, w, lo, hi, pair_mul_add_avx2)
+    WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather_avx2)
 }
 #endif
 
