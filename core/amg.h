@@ -237,6 +237,23 @@ typedef struct wc_amg_level {
     int* t_start;               /* (n + 1) pattern of T = A P */
     int* t_col;                 /* (nnz_t) */
     double* t_val;              /* (nnz_t x 9) */
+    /* with cpa 2, the Galerkin products as gathers (amg_build.c, galerkin_lists): each output slot
+       pair's products listed in the order the row walks meet them, so a slot is summed in
+       registers and stored once (no zeroing, no per-product load and store), bit for bit the
+       sums of the walk; and T's slots that P^T T never reads are not computed */
+    int* t_read;                /* (n) first slot of T's row i that P^T T reads: its columns from
+                                   row i's first P column on (the upper half's products) */
+    int* ap_start;              /* (nnz_t / 2 + 1) T's slot pair s / 2: its products ap_src[2 m..] */
+    int* ap_src;                /* (2 x products) A's block k and P's entry e (the pair e, e + 1) */
+    int* ptap_start;            /* (n_blocks of the next level / 2 + 1) the next level's slot pair
+                                   s / 2 of a row 2a at a column >= 2a (other rows: empty): its
+                                   products ptap_src[2 m..] */
+    int* ptap_src;              /* (2 x products) P's entry of (i, 2a) (its pair: (i, 2a + 1)) and
+                                   T's slot (i, J) of the products P(i, .)^T T(i, J), P^T's order */
+    int* pr_start;              /* (nnz_p / 2 + 1) P's entry pair e / 2: the strong blocks k of A's
+                                   row whose aggregate it is (a_to_p[k] = e), pr_src[m..] ascending:
+                                   the smoothed prolongator's sums A_ik P_tent(k) (amg_setup.c) */
+    int* pr_src;                /* (strong blocks) */
     wc_amg_cross* cross;        /* the couplings on this level (NULL: none set) */
 } wc_amg_level;
 

@@ -150,6 +150,92 @@ done:
         if (!(p)) goto oom; \
     } while (0)
 
+/* The Galerkin products' gather lists of a pair level (cpa 2; amg.h, amg_setup.c): for T = A P,
+ * each slot pair's products (A's block k, P's entry e) in the order the row walk over k, then e
+ * meets them, from the row's first slot that P^T T reads on (t_read: the products there take the
+ * blocks (I, J) with J >= I only, and P's row i has no column below its first); for P^T T, each
+ * slot pair (I = 2a, J >= I) of the next level's rows 2a, its products (P's entry of (i, I), T's
+ * slot (i, J)) in P^T's order; for the smoothed prolongator, each entry pair's strong blocks.
+ * Counted, then filled in order (a stable counting sort). */
+static int galerkin_lists(wc_amg* a, wc_amg_level* L, const wc_amg_level* N) {
+    const wc_allocator* al = &a->alloc;
+    const int n = L->n, n_tp = L->t_start[n] / 2, n_np = N->row_start[N->n] / 2;
+    int* cursor = NULL;
+    TRY(L->t_read = WC_NEW(al, int, n));
+    TRY(L->ap_start = WC_NEW(al, int, n_tp + 1));
+    TRY(L->ptap_start = WC_NEW(al, int, n_np + 1));
+    TRY(cursor = WC_NEW(al, int, (n_tp > n_np ? n_tp : n_np) + 1));
+    for (int i = 0; i < n; ++i) {
+        int s = L->t_start[i];
+        while (s < L->t_start[i + 1] && L->t_col[s] < L->p_col[L->p_start[i]]) s += 2;
+        L->t_read[i] = s;
+    }
+    for (int pass = 0; pass < 2; ++pass) { /* T = A P */
+        for (int i = 0; i < n; ++i)
+            for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                int j = L->col[k], slot = L->t_start[i];
+                for (int e = L->p_start[j]; e < L->p_start[j + 1]; e += 2) {
+                    while (L->t_col[slot] != L->p_col[e]) ++slot;
+                    if (slot < L->t_read[i]) continue;
+                    if (pass == 0) {
+                        ++L->ap_start[slot / 2 + 1];
+                    } else {
+                        int m = cursor[slot / 2]++;
+                        L->ap_src[2 * m] = k;
+                        L->ap_src[2 * m + 1] = e;
+                    }
+                }
+            }
+        if (pass == 0) {
+            for (int q = 0; q < n_tp; ++q) L->ap_start[q + 1] += L->ap_start[q];
+            for (int q = 0; q < n_tp; ++q) cursor[q] = L->ap_start[q];
+            TRY(L->ap_src = WC_NEW(al, int, 2 * (size_t)L->ap_start[n_tp] + 2));
+        }
+    }
+    for (int pass = 0; pass < 2; ++pass) { /* P^T T, the blocks (I, J >= I) of rows I = 2a */
+        for (int I = 0; I < N->n; I += 2) {
+            int s0 = N->row_start[I];
+            while (N->col[s0] < I) ++s0;
+            for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
+                int i = L->pt_row[s], slot = s0, k = L->t_start[i];
+                while (k < L->t_start[i + 1] && L->t_col[k] < I) k += 2;
+                for (; k < L->t_start[i + 1]; k += 2) {
+                    while (N->col[slot] != L->t_col[k]) ++slot;
+                    if (pass == 0) {
+                        ++L->ptap_start[slot / 2 + 1];
+                    } else {
+                        int m = cursor[slot / 2]++;
+                        L->ptap_src[2 * m] = L->pt_entry[s];
+                        L->ptap_src[2 * m + 1] = k;
+                    }
+                }
+            }
+        }
+        if (pass == 0) {
+            for (int q = 0; q < n_np; ++q) L->ptap_start[q + 1] += L->ptap_start[q];
+            for (int q = 0; q < n_np; ++q) cursor[q] = L->ptap_start[q];
+            TRY(L->ptap_src = WC_NEW(al, int, 2 * (size_t)L->ptap_start[n_np] + 2));
+        }
+    }
+    /* the prolongator's: each entry pair's strong blocks (a_to_p), ascending */
+    const int n_pp = L->p_start[n] / 2;
+    TRY(L->pr_start = WC_NEW(al, int, n_pp + 1));
+    TRY(L->pr_src = WC_NEW(al, int, L->n_blocks + 1));
+    for (int k = 0; k < L->n_blocks; ++k)
+        if (L->a_to_p[k] >= 0) ++L->pr_start[L->a_to_p[k] / 2 + 1];
+    for (int q = 0; q < n_pp; ++q) L->pr_start[q + 1] += L->pr_start[q];
+    wc_free(al, cursor);
+    TRY(cursor = WC_NEW(al, int, n_pp + 1));
+    for (int q = 0; q < n_pp; ++q) cursor[q] = L->pr_start[q];
+    for (int k = 0; k < L->n_blocks; ++k)
+        if (L->a_to_p[k] >= 0) L->pr_src[cursor[L->a_to_p[k] / 2]++] = k;
+    wc_free(al, cursor);
+    return 1;
+oom:
+    wc_free(al, cursor);
+    return 0;
+}
+
 /* The prolongator's pattern from level L to its coarse nodes (cpa per aggregate), its
  * transpose, T's pattern, and the next level's pattern (into N). mark: n_next ints; buf:
  * 2 (n + 1) ints. */
@@ -262,6 +348,7 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
     N->row_start = N->own_row_start;
     N->col = N->own_col;
     N->diag = N->own_diag;
+    if (cpa == 2 && a->opts.values && !galerkin_lists(a, L, N)) goto oom;
     return 1;
 oom:
     return 0;
@@ -400,7 +487,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_amg_cross_destroy(a);

@@ -17,9 +17,9 @@
 #include "bsr_rows.h"
 #include "vec3.h"
 
-/* t = A w on the chunk's rows; returns (w . A w) and adds (w . D w) into *den (D: the block
- * diagonal, 3x3 or the pair's 6x6); next = D^-1 t on the chunk, t in L->t (chunks hold whole
- * pairs). */
+/* t = A w on the chunk's rows; returns (w . A w) and adds (w . D w) into *den, unless den is NULL
+ * (D: the block diagonal, 3x3 or the pair's 6x6); next = D^-1 t on the chunk, t in L->t (chunks
+ * hold whole pairs). */
 static double chunk_apply(const wc_amg_level* L, int lo, int hi, int pair_blocks, const double* w, double* next,
                           double* den) {
     double num = 0.0, dsum = 0.0;
@@ -27,15 +27,16 @@ static double chunk_apply(const wc_amg_level* L, int lo, int hi, int pair_blocks
     wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, xw, 1.0, w, L->t);
     for (int i = lo; i < hi; ++i) {
         const double* t = L->t + 3 * i;
-        double dw[3] = {0, 0, 0};
-        wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
         num += v3_dot(w + 3 * i, t);
         if (L->group == 1) m3_mulv(next + 3 * i, L->Dinv + 9 * i, t);
+        if (!den) continue;
+        double dw[3] = {0, 0, 0};
+        wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
         dsum += v3_dot(w + 3 * i, dw);
     }
     if (L->group == 2)
         for (int i = lo; i < hi; ++i) wc_amg_dinv(L, i, L->t, next + 3 * i);
-    *den += dsum;
+    if (den) *den += dsum;
     return num;
 }
 
@@ -44,8 +45,8 @@ static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
     *hi = *lo + WC_AMG_CHUNK < L->n ? *lo + WC_AMG_CHUNK : L->n;
 }
 
-/* next = D^-1 A w over all rows, chunks in parallel; *num = w . A w and *den = w . D w, summed in
- * chunk order (the same on any thread count). */
+/* next = D^-1 A w over all rows, chunks in parallel; *num = w . A w and *den = w . D w (not
+ * computed when den is NULL), summed in chunk order (the same on any thread count). */
 static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double* next, wc_par* par, double* num,
                       double* den) {
     int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
@@ -61,14 +62,15 @@ static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double*
             int lo, hi;
             chunk_bounds(L, c, &lo, &hi);
             double d = 0.0;
-            L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, &d);
+            L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, den ? &d : NULL);
             L->partial[2 * c + 1] = d;
         }
     }
-    *num = *den = 0.0;
+    *num = 0.0;
+    if (den) *den = 0.0;
     for (int c = 0; c < n_chunks; ++c) {
         *num += L->partial[2 * c];
-        *den += L->partial[2 * c + 1];
+        if (den) *den += L->partial[2 * c + 1];
     }
 }
 
@@ -133,8 +135,9 @@ static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) 
     double beta_prev = 0.0;
     int k = 0;
     for (int j = 0; j < steps; ++j) {
-        double num, den;
-        apply_all(L, pair_blocks, v, w, par, &num, &den);
+        double num, den = 0.0;
+        /* w . D w only for the start vector: the later v are D-normalised */
+        apply_all(L, pair_blocks, v, w, par, &num, j == 0 ? &den : NULL);
         if (j == 0) { /* the start vector was not normalised: scale v, w and the sums */
             if (!(den > 0) || !isfinite(den)) return 0.0;
             double scale = 1.0 / sqrt(den);

@@ -236,30 +236,26 @@ static void revive_dead(wc_amg_level* N, wc_par* par) {
 }
 
 /* T = A P, then the next level's operator P^T T, with two coarse nodes per aggregate (cpa 2): P's,
- * T's and the next level's rows hold whole pairs (2a, 2a + 1) and the pairs' rows share their
- * columns, so one walk along a sorted row serves four blocks; the walks merge sorted rows instead
- * of searching them. T's rows lo..hi-1: each slot pair (i, 2a), (i, 2a + 1) = sum_j A_ij P(j, a);
- * PAIR_ADD(z, A, P) adds A [P0 P1] into the slot pair z. */
-#define WC_PAIRS_AP_ROWS(L, lo, hi, PAIR_ADD)                                                          \
-    for (int i = (lo); i < (hi); ++i) {                                                                 \
-        int t0 = (L)->t_start[i], t1 = (L)->t_start[i + 1];                                             \
-        memset((L)->t_val + 9 * (size_t)t0, 0, 9 * sizeof(double) * (size_t)(t1 - t0));                \
-        for (int k = (L)->row_start[i]; k < (L)->row_start[i + 1]; ++k) {                               \
-            int j = (L)->col[k], slot = t0;                                                             \
-            const double* Ak = (L)->val + 9 * (size_t)k;                                                \
-            for (int e = (L)->p_start[j]; e < (L)->p_start[j + 1]; e += 2) {                            \
-                while ((L)->t_col[slot] != (L)->p_col[e]) ++slot;                                       \
-                PAIR_ADD((L)->t_val + 9 * (size_t)slot, Ak, (L)->p_val + 9 * (size_t)e);                \
-            }                                                                                           \
-        }                                                                                               \
-    }
-
+ * T's and the next level's rows hold whole pairs (2a, 2a + 1), so every product fills a slot pair.
+ * Each slot pair gathers its products from the lists of amg_build.c (ap_*, ptap_*: the order in
+ * which a walk along the sorted rows meets them), sums them in registers from zero and is stored
+ * once: no zeroing of the accumulators and no load and store per product, with the sums of the
+ * walk bit for bit. */
 static inline void pair_mul_add(double* restrict z, const double* restrict A, const double* restrict P) {
     m3_mul_add(z, A, P);
     m3_mul_add(z + 9, A, P + 9);
 }
 
-static void pairs_ap_rows(wc_amg_level* L, int lo, int hi) { WC_PAIRS_AP_ROWS(L, lo, hi, pair_mul_add) }
+/* T's rows lo..hi-1, the slots P^T T reads (t_read on): (i, 2c), (i, 2c + 1) = sum A_ij P(j, c). */
+static void pairs_ap_rows(wc_amg_level* L, int lo, int hi) {
+    for (int i = lo; i < hi; ++i)
+        for (int s = L->t_read[i]; s < L->t_start[i + 1]; s += 2) {
+            double z[18] = {0};
+            for (int m = L->ap_start[s / 2]; m < L->ap_start[s / 2 + 1]; ++m)
+                pair_mul_add(z, L->val + 9 * (size_t)L->ap_src[2 * m], L->p_val + 9 * (size_t)L->ap_src[2 * m + 1]);
+            memcpy(L->t_val + 9 * (size_t)s, z, sizeof z);
+        }
+}
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -285,62 +281,117 @@ __attribute__((target("avx2,fma"), always_inline)) static inline void pair_mul_a
     }
 }
 
+/* Six registers (rows 0-2 of a slot pair's two blocks, lane 3 the next element) += the rows of
+ * C [X0 X1] with C's element (r, q) at C[cr * r + cq * q] (C = A: 3, 1; C = P^T: 1, 3), each row
+ * sum formed as in pair_mul_add_avx2 before it is added (the same rounding). */
+#define WC_PAIR_ACC_AVX2(z, C, cr, cq, X)                                                               \
+    do {                                                                                                \
+        const __m256d x0 = _mm256_loadu_pd(X), x1 = _mm256_loadu_pd((X) + 3), x2 = _mm256_loadu_pd((X) + 6); \
+        const __m256d y0 = _mm256_loadu_pd((X) + 9), y1 = _mm256_loadu_pd((X) + 12);                   \
+        const __m256d y2 = _mm256_maskload_pd((X) + 15, m3);                                            \
+        for (int r = 0; r < 3; ++r) {                                                                   \
+            const __m256d c0 = _mm256_broadcast_sd((C) + (cr) * r), c1 = _mm256_broadcast_sd((C) + (cr) * r + (cq)); \
+            const __m256d c2 = _mm256_broadcast_sd((C) + (cr) * r + 2 * (cq));                          \
+            z[r] = _mm256_add_pd(z[r], _mm256_fmadd_pd(c2, x2, _mm256_fmadd_pd(c1, x1, _mm256_mul_pd(c0, x0)))); \
+            z[3 + r] = _mm256_add_pd(z[3 + r], _mm256_fmadd_pd(c2, y2, _mm256_fmadd_pd(c1, y1, _mm256_mul_pd(c0, y0)))); \
+        }                                                                                               \
+    } while (0)
+
+/* A slot pair's six row registers to o (18 doubles): rows in order, so each row's lane 3 is
+ * overwritten by the next row's store; the last row masked. */
+__attribute__((target("avx2,fma"), always_inline)) static inline void pair_store_avx2(double* o, const __m256d* z) {
+    for (int r = 0; r < 5; ++r) _mm256_storeu_pd(o + 3 * r, z[r]);
+    _mm256_maskstore_pd(o + 15, _mm256_setr_epi64x(-1, -1, -1, 0), z[5]);
+}
+
 __attribute__((target("avx2,fma"))) static void pairs_ap_rows_avx2(wc_amg_level* L, int lo, int hi) {
-    WC_PAIRS_AP_ROWS(L, lo, hi, pair_mul_add_avx2)
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    for (int i = lo; i < hi; ++i)
+        for (int s = L->t_read[i]; s < L->t_start[i + 1]; s += 2) {
+            __m256d z[6];
+            for (int r = 0; r < 6; ++r) z[r] = _mm256_setzero_pd();
+            for (int m = L->ap_start[s / 2]; m < L->ap_start[s / 2 + 1]; ++m) {
+                const double* A = L->val + 9 * (size_t)L->ap_src[2 * m];
+                const double* P = L->p_val + 9 * (size_t)L->ap_src[2 * m + 1];
+                WC_PAIR_ACC_AVX2(z, A, 3, 1, P);
+            }
+            pair_store_avx2(L->t_val + 9 * (size_t)s, z);
+        }
 }
 #define WC_PAIRS_AP_AVX2 1
 #endif
 
 /* The smoothed prolongator's rows of aggregates' pairs lo..hi-1 (units of L->group rows): P = (I - w
- * D^-1 A_F) P_tent, each entry e of row i first Z_e = sum A_ik P_tent(k) over the strong blocks k
- * whose coarse node is e (weak blocks summed into the row's own entry), then P_e = -w D^-1 Z_e,
- * plus P_tent on the row's own entries. PAIR_ADD(z, A, P) adds A [P0 P1] into the slot pair z. */
-#define WC_PROLONG_ROWS(L, w, lo, hi, PAIR_ADD)                                                        \
+ * D^-1 A_F) P_tent, each entry pair e of row i first Z_e = sum A_ik P_tent(k) over the strong blocks k
+ * whose coarse nodes they are (pr_start / pr_src; the weak blocks' sum W goes to the row's own
+ * entries), gathered from zero by GATHER(z, L, i, e, W or NULL) into 18 doubles, then P_e = -w
+ * D^-1 Z_e (on a pair level D^-1 couples rows 2a and 2a + 1, which share their columns), plus
+ * P_tent on the row's own entries. */
+#define WC_PROLONG_ROWS(L, w, lo, hi, GATHER)                                                          \
     for (int u = (lo); u < (hi); ++u) {                                                                 \
-        const int g = (L)->group, b = g * u;                                                            \
-        for (int i = b; i < b + g; ++i) {                                                               \
-            double* row = (L)->p_val + 9 * (size_t)(L)->p_start[i];                                     \
-            memset(row, 0, 9 * sizeof(double) * (size_t)((L)->p_start[i + 1] - (L)->p_start[i]));       \
-        }                                                                                               \
-        if ((w) != 0.0) {                                                                               \
-            for (int i = b; i < b + g; ++i) { /* Z_e of row i into its entries */                       \
-                double W[9] = {0};                                                                      \
-                int weak = 0;                                                                           \
-                for (int k = (L)->row_start[i]; k < (L)->row_start[i + 1]; ++k) {                       \
-                    const double* A = (L)->val + 9 * (size_t)k;                                         \
+        const int g = (L)->group, b = g * u, len = (L)->p_start[b + 1] - (L)->p_start[b];               \
+        if ((w) == 0.0) {                                                                               \
+            for (int i = b; i < b + g; ++i)                                                             \
+                memset((L)->p_val + 9 * (size_t)(L)->p_start[i], 0, 9 * sizeof(double) * (size_t)len);  \
+        } else {                                                                                        \
+            double W[2][9] = {{0}};                                                                     \
+            int weak[2] = {0, 0};                                                                       \
+            for (int i = b; i < b + g; ++i)                                                             \
+                for (int k = (L)->row_start[i]; k < (L)->row_start[i + 1]; ++k)                         \
                     if ((L)->a_to_p[k] < 0) {                                                           \
-                        for (int q = 0; q < 9; ++q) W[q] += A[q];                                       \
-                        weak = 1;                                                                       \
-                        continue;                                                                       \
+                        for (int q = 0; q < 9; ++q) W[i - b][q] += (L)->val[9 * (size_t)k + q];         \
+                        weak[i - b] = 1;                                                                \
                     }                                                                                   \
-                    PAIR_ADD((L)->p_val + 9 * (size_t)(L)->a_to_p[k], A, (L)->tent + 18 * (size_t)(L)->col[k]); \
-                }                                                                                       \
-                if (weak) PAIR_ADD((L)->p_val + 9 * (size_t)(L)->p_self[i], W, (L)->tent + 18 * (size_t)i); \
-            }                                                                                           \
-            /* P_e = -w D^-1 Z_e, entry by entry (a pair's rows have the same entries) */               \
-            const int len = (L)->p_start[b + 1] - (L)->p_start[b];                                      \
-            for (int off = 0; off < len; ++off) {                                                       \
-                double Z[2][9], out[9];                                                                 \
+            for (int off = 0; off < len; off += 2) {                                                    \
+                double Z[2][18], out[9];                                                                \
                 for (int i = b; i < b + g; ++i)                                                         \
-                    memcpy(Z[i - b], (L)->p_val + 9 * (size_t)((L)->p_start[i] + off), sizeof Z[0]);    \
-                for (int i = b; i < b + g; ++i) {                                                       \
-                    memset(out, 0, sizeof out);                                                         \
-                    const double* D = (L)->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */    \
-                    for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j]);                       \
-                    double* P = (L)->p_val + 9 * (size_t)((L)->p_start[i] + off);                       \
-                    for (int q = 0; q < 9; ++q) P[q] = -(w) * out[q];                                   \
-                }                                                                                       \
+                    GATHER(Z[i - b], L, i, (L)->p_start[i] + off, weak[i - b] ? W[i - b] : NULL);       \
+                for (int h = 0; h < 2; ++h) /* P_e = -w D^-1 Z_e, block by block */                     \
+                    for (int i = b; i < b + g; ++i) {                                                   \
+                        memset(out, 0, sizeof out);                                                     \
+                        const double* D = (L)->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */ \
+                        for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j] + 9 * h);           \
+                        double* P = (L)->p_val + 9 * (size_t)((L)->p_start[i] + off + h);               \
+                        for (int q = 0; q < 9; ++q) P[q] = -(w) * out[q];                               \
+                    }                                                                                   \
             }                                                                                           \
         }                                                                                               \
         for (int i = b; i < b + g; ++i)                                                                 \
             for (int q = 0; q < 18; ++q) (L)->p_val[9 * (size_t)(L)->p_self[i] + q] += (L)->tent[18 * (size_t)i + q]; \
     }
 
-static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) { WC_PROLONG_ROWS(L, w, lo, hi, pair_mul_add) }
+static inline void prolong_gather(double* z, const wc_amg_level* L, int i, int e, const double* W) {
+    memset(z, 0, 18 * sizeof(double));
+    for (int m = L->pr_start[e / 2]; m < L->pr_start[e / 2 + 1]; ++m) {
+        const int k = L->pr_src[m];
+        pair_mul_add(z, L->val + 9 * (size_t)k, L->tent + 18 * (size_t)L->col[k]);
+    }
+    if (W && e == L->p_self[i]) pair_mul_add(z, W, L->tent + 18 * (size_t)i);
+}
+
+static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) { WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather) }
 
 #ifdef WC_PAIRS_AP_AVX2
+__attribute__((target("avx2,fma"), always_inline)) static inline void prolong_gather_avx2(double* zo, const wc_amg_level* L,
+                                                                                         int i, int e, const double* W) {
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    __m256d z[6];
+    for (int r = 0; r < 6; ++r) z[r] = _mm256_setzero_pd();
+    for (int m = L->pr_start[e / 2]; m < L->pr_start[e / 2 + 1]; ++m) {
+        const int k = L->pr_src[m];
+        const double* A = L->val + 9 * (size_t)k;
+        const double* Pt = L->tent + 18 * (size_t)L->col[k];
+        WC_PAIR_ACC_AVX2(z, A, 3, 1, Pt);
+    }
+    if (W && e == L->p_self[i]) {
+        const double* Pt = L->tent + 18 * (size_t)i;
+        WC_PAIR_ACC_AVX2(z, W, 3, 1, Pt);
+    }
+    pair_store_avx2(zo, z);
+}
+
 __attribute__((target("avx2,fma"))) static void prolong_rows_avx2(wc_amg_level* L, double w, int lo, int hi) {
-    WC_PROLONG_ROWS(L, w, lo, hi, pair_mul_add_avx2)
+    WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather_avx2)
 }
 #endif
 
@@ -382,43 +433,54 @@ static void galerkin_pairs_ap(wc_amg_level* L, wc_par* par) {
     }
 }
 
-/* The next level's rows 2a, 2a + 1 for pairs lo..hi-1, the blocks (I, J) with J's pair >= a (P^T A P
- * is symmetric: half the products): B (slot pair of row I) += P0^T [T0 T1], B' (row I + 1) += P1^T
- * [T0 T1], with P0^T, P1^T transposed once per fine row so that PAIR_ADD (z += A [P0 P1], as in
- * T = A P) serves both products. */
-#define WC_PAIRS_PTAP_ROWS(L, N, lo, hi, PAIR_ADD)                                                     \
-    for (int a = (lo); a < (hi); ++a) {                                                                 \
-        int I = 2 * a, c0 = (N)->row_start[I], c1 = (N)->row_start[I + 1], d0 = c1;                     \
-        memset((N)->val + 9 * (size_t)c0, 0, 9 * sizeof(double) * (size_t)((N)->row_start[I + 2] - c0)); \
-        int s0 = c0; /* first slot of row I at a column >= I */                                         \
-        while ((N)->col[s0] < I) ++s0;                                                                  \
-        /* P^T's rows 2a and 2a + 1 list the same fine rows; the entries for 2a + 1 follow */           \
-        for (int s = (L)->pt_start[I]; s < (L)->pt_start[I + 1]; ++s) {                                 \
-            int i = (L)->pt_row[s], slot = s0, k = (L)->t_start[i], t1 = (L)->t_start[i + 1];           \
-            while (k < t1 && (L)->t_col[k] < I) k += 2;                                                 \
-            const double* P0 = (L)->p_val + 9 * (size_t)(L)->pt_entry[s];                              \
-            double Q0[9], Q1[9]; /* P0^T, P1^T */                                                       \
-            for (int r = 0; r < 3; ++r)                                                                 \
-                for (int c = 0; c < 3; ++c) {                                                           \
-                    Q0[3 * r + c] = P0[3 * c + r];                                                      \
-                    Q1[3 * r + c] = P0[9 + 3 * c + r];                                                  \
-                }                                                                                       \
-            for (; k < t1; k += 2) {                                                                    \
-                while ((N)->col[slot] != (L)->t_col[k]) ++slot; /* T's row i is in N's row I */         \
-                const double* T = (L)->t_val + 9 * (size_t)k;                                           \
-                PAIR_ADD((N)->val + 9 * (size_t)slot, Q0, T);                                           \
-                PAIR_ADD((N)->val + 9 * (size_t)(slot - c0 + d0), Q1, T);                               \
-            }                                                                                           \
-        }                                                                                               \
-    }
-
+/* The next level's rows 2a, 2a + 1 for pairs lo..hi-1, the blocks (I, J) with J >= I = 2a (P^T A P
+ * is symmetric: half the products): the slot pair (I, J) of row I += P0^T [T0 T1] and the same
+ * columns of row I + 1 += P1^T [T0 T1], summed over the fine rows i of P^T's row I (P0, P1 = P(i,
+ * I), P(i, I + 1); T0, T1 = T(i, J), T(i, J + 1)). */
 static void pairs_ptap_rows(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
-    WC_PAIRS_PTAP_ROWS(L, N, lo, hi, pair_mul_add)
+    for (int a = lo; a < hi; ++a) {
+        const int I = 2 * a, c0 = N->row_start[I], d0 = N->row_start[I + 1];
+        int s0 = c0;
+        while (N->col[s0] < I) ++s0;
+        for (int s = s0; s < d0; s += 2) {
+            double z[2][18] = {{0}};
+            for (int m = L->ptap_start[s / 2]; m < L->ptap_start[s / 2 + 1]; ++m) {
+                const double* P = L->p_val + 9 * (size_t)L->ptap_src[2 * m];
+                const double* T = L->t_val + 9 * (size_t)L->ptap_src[2 * m + 1];
+                for (int h = 0; h < 2; ++h) {
+                    double Q[9]; /* P(i, I + h)^T */
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c) Q[3 * r + c] = P[9 * h + 3 * c + r];
+                    pair_mul_add(z[h], Q, T);
+                }
+            }
+            memcpy(N->val + 9 * (size_t)s, z[0], sizeof z[0]);
+            memcpy(N->val + 9 * (size_t)(s - c0 + d0), z[1], sizeof z[1]);
+        }
+    }
 }
 
 #ifdef WC_PAIRS_AP_AVX2
+/* The same, row I's slot pair and then row I + 1's (twelve accumulators and T's rows do not fit
+ * the sixteen registers together). */
 __attribute__((target("avx2,fma"))) static void pairs_ptap_rows_avx2(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
-    WC_PAIRS_PTAP_ROWS(L, N, lo, hi, pair_mul_add_avx2)
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    for (int a = lo; a < hi; ++a) {
+        const int I = 2 * a, c0 = N->row_start[I], d0 = N->row_start[I + 1];
+        int s0 = c0;
+        while (N->col[s0] < I) ++s0;
+        for (int s = s0; s < d0; s += 2)
+            for (int h = 0; h < 2; ++h) {
+                __m256d z[6];
+                for (int r = 0; r < 6; ++r) z[r] = _mm256_setzero_pd();
+                for (int m = L->ptap_start[s / 2]; m < L->ptap_start[s / 2 + 1]; ++m) {
+                    const double* Q = L->p_val + 9 * (size_t)L->ptap_src[2 * m] + 9 * h; /* transposed */
+                    const double* T = L->t_val + 9 * (size_t)L->ptap_src[2 * m + 1];
+                    WC_PAIR_ACC_AVX2(z, Q, 1, 3, T);
+                }
+                pair_store_avx2(N->val + 9 * (size_t)(h ? s - c0 + d0 : s), z);
+            }
+    }
 }
 #endif
 
