@@ -4,7 +4,10 @@
  *    returns bit for bit what the full search of the same reach returns (distance, normal,
  *    surface velocity), at points near the surface (on vertices and edges too, where several
  *    triangles tie), inside, far away, at both ends of a substep, for finite and unbounded
- *    reaches; its distance is brute force's (every triangle) to rounding;
+ *    reaches; its distance is brute force's (every triangle) to rounding; through a walking
+ *    point's kept candidates (wc_mesh_near: the last closest triangle's distance bounding the
+ *    next search from the start, the plane-distance prune) the same, and its crossings
+ *    (wc_mesh_ccd_near, short paths and long ones beyond its list) are the tree's bit for bit;
  *  - the feature-pair detection's mask (mesh_pairs.h: only subtrees with a sharp vertex) is 1
  *    exactly above the non-degenerate triangles with a sharp vertex;
  *  - a sheet falling onto a moving, deforming, teleported box (sharp: feature pairs) and sphere
@@ -174,6 +177,7 @@ static void walk(wc_mesh_collider* mc) {
             rand_unit(dir);
             v3_copy(p1, p);
             v3_axpy(p1, 0.04 * urand(), dir);
+            if (urand() < 0.3) random_point(mc, end, p1); /* a long path: beyond the list */
             int c1 = wc_mesh_ccd(mc, p, p1, 1e-6, &t1, &tri1, w1);
             int c0 = wc_mesh_ccd_near(mc, &g_near[i], p, reach, p, p1, 1e-6, &t0, &tri0, w0);
             same = c0 == c1 && tri0 == tri1 && memcmp(&t0, &t1, sizeof t0) == 0 && memcmp(w0, w1, sizeof w0) == 0;
