@@ -10,6 +10,10 @@
 
 #define FACE_W 1e-9            /* barycentric weight above which the closest point is face-interior */
 
+/* fmax and fmin (a NaN argument loses to a number) without the library call, in the hot loops */
+static inline double max_num(double a, double b) { return b > a || isnan(a) ? b : a; }
+static inline double min_num(double a, double b) { return b < a || isnan(a) ? b : a; }
+
 typedef struct closest_q {
     const wc_mesh_collider* m;
     const double* x;           /* positions: xa or xb */
@@ -63,7 +67,7 @@ static int closest_visit(void* user, int t) {
         c->side = dn < 0.0 ? -1.0 : 1.0;
         if (d2 < c->best) c->best = d2;
     }
-    c->bound2 = fmin(c->bound2, near_bound2(c->best, c->slack));
+    c->bound2 = min_num(c->bound2, near_bound2(c->best, c->slack));
     return 0;
 }
 
@@ -124,7 +128,7 @@ static void closest_init(closest_q* c, const wc_mesh_collider* m, int end, const
     c->x = end ? m->xb : m->xa;
     c->nrm = end ? m->nrm_b : m->nrm_a;
     c->p = p;
-    c->slack = 1e-11 * (1.0 + fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2]))));
+    c->slack = 1e-11 * (1.0 + max_num(fabs(p[0]), max_num(fabs(p[1]), fabs(p[2]))));
 }
 
 /* The signed distance, normal and surface velocity of a search's result (closest_visit's). */
@@ -209,7 +213,7 @@ static int gather_visit(void* user, int t) {
 static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* box) {
     if (e->count == -1) return 0;
     double scale = 1.0;
-    for (int k = 0; k < 6; ++k) scale = fmax(scale, fabs(e->box[k]));
+    for (int k = 0; k < 6; ++k) scale = max_num(scale, fabs(e->box[k]));
     double grow = (m->travel - e->travel) * (1.0 + 1e-12) + 1e-12 * scale;
     for (int k = 0; k < 3; ++k)
         if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k])) return 0;
