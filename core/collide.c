@@ -112,12 +112,14 @@ static void requery(const wc_collider* c, const double* p, int end, double move,
 
 /* A mesh triangle crossed by the path p0 -> p1 over the substep (the earliest): a plane
  * candidate on it at the substep's start (end 0) or end (end 1), measured at p. Returns 0 when
- * the path crosses nothing. */
-static int crossing(const wc_collider* c, const double* p0, const double* p1, int end, const double* p, hit* H) {
+ * the path crosses nothing. Searched through the particle's cached candidates nr (NULL: the
+ * tree), fitted to the query at p for a particle moving by `move` that follows (query's box). */
+static int crossing(const wc_collider* c, const double* p0, const double* p1, int end, const double* p,
+                    double move, wc_mesh_near* nr, hit* H) {
     const wc_mesh_collider* m = c->mesh;
     double t, w[3];
     int tri;
-    if (!wc_mesh_ccd(m, p0, p1, CCD_ETA, &t, &tri, w)) return 0;
+    if (!wc_mesh_ccd_near(m, nr, p, mesh_reach(c, move), p0, p1, CCD_ETA, &t, &tri, w)) return 0;
     const double* x = end ? m->xb : m->xa;
     const int* v = m->tris + 3 * tri;
     v3_copy(H->n, (end ? m->nrm_b : m->nrm_a) + 3 * tri);
@@ -341,7 +343,7 @@ static int begin_particle(wc_contacts* ct, const wc_collider* c, int nc, double*
         hit H;
         int take;
         /* a path through a moving triangle: always a contact, on that triangle */
-        if (c[k].type == WC_COLLIDER_MESH && crossing(&c[k], xi, x1, 0, xi, &H)) {
+        if (c[k].type == WC_COLLIDER_MESH && crossing(&c[k], xi, x1, 0, xi, move, near_entry(&nf, k), &H)) {
             best2_add(&b, k, &H);
             continue;
         }
@@ -464,11 +466,14 @@ static void deepest2(const wc_collider* c, int nc, const double* p, double move,
 /* The last resort of the meshes: a particle whose path x0 -> xi crossed a moving triangle goes
  * back in front of the first one it crossed (at its end position), at the thickness, with no
  * inward velocity relative to it. */
-static int uncross(const wc_collider* c, int nc, const double* x0, double* xi, double* vi) {
+static int uncross(const wc_collider* c, int nc, const double* x0, double* xi, double* vi, const near_of* nf) {
     int moved = 0;
+    double dx[3];
+    v3_sub(dx, xi, x0);
+    double move = v3_norm(dx); /* the reach of the closest-point queries that follow */
     for (int k = 0; k < nc; ++k) {
         hit H;
-        if (c[k].type != WC_COLLIDER_MESH || !crossing(&c[k], x0, xi, 1, xi, &H)) continue;
+        if (c[k].type != WC_COLLIDER_MESH || !crossing(&c[k], x0, xi, 1, xi, move, near_entry(nf, k), &H)) continue;
         if (H.d < 0.0) {
             v3_axpy(xi, -H.d, H.n);
             moved = 1;
@@ -486,7 +491,7 @@ static int project_particle(const wc_collider* c, int nc, const double* x0, cons
     double move = 0.0;
     if (x0) {
         double dx[3];
-        moved = uncross(c, nc, x0, xi, vi);
+        moved = uncross(c, nc, x0, xi, vi, nf);
         v3_sub(dx, xi, x0);
         move = v3_norm(dx);
     }

@@ -107,6 +107,8 @@ typedef struct wc_mesh_near {
     double box[6];             /* m: the gathering box */
     double travel;             /* the collider's travel when gathered */
     int count;
+    int hint;                  /* the position in tri of the last closest point's triangle (-1:
+                                  none): its distance bounds the next query's from the start */
     int tri[WC_MESH_NEAR_MAX];
 } wc_mesh_near;
 void wc_mesh_near_clear(wc_mesh_near* e, int n);
@@ -128,6 +130,12 @@ double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, in
  * barycentric weights of the crossing point) when there is one, else 0. */
 int wc_mesh_ccd(const wc_mesh_collider* m, const double* p0, const double* p1, double eta, double* t, int* tri,
                 double* w);
+/* wc_mesh_ccd through e (a point's entry, as wc_mesh_closest_near's; NULL: the tree), first
+ * fitted to the query box of p and reach as wc_mesh_closest_near(m, e, ., p, reach) fits it (so
+ * that query, next, finds it fitted): when e then covers the path's box, its triangles meeting
+ * that box are the ones the tree would visit, in the same order: the same answer, bit for bit. */
+int wc_mesh_ccd_near(const wc_mesh_collider* m, wc_mesh_near* e, const double* p, double reach, const double* p0,
+                     const double* p1, double eta, double* t, int* tri, double* w);
 
 /* The deepest of n_points points x (n_points x 3, m) behind the surface of any of the nm
  * colliders at their substep end positions (xb: after a frame, the frame's end): max over points

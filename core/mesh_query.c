@@ -10,6 +10,10 @@
 
 #define FACE_W 1e-9            /* barycentric weight above which the closest point is face-interior */
 
+/* fmax and fmin (a NaN argument loses to a number) without the library call, in the hot loops */
+static inline double max_num(double a, double b) { return b > a || isnan(a) ? b : a; }
+static inline double min_num(double a, double b) { return b < a || isnan(a) ? b : a; }
+
 typedef struct closest_q {
     const wc_mesh_collider* m;
     const double* x;           /* positions: xa or xb */
@@ -39,6 +43,12 @@ static int closest_visit(void* user, int t) {
     if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) return 0; /* degenerate */
     const int* v = c->m->tris + 3 * t;
     double w[3], q[3], d[3];
+    /* the distance to its plane is at most the distance to it: beyond the prune's bound (the
+       bound's slack covers the rounding of either), it can neither be the closest nor tie
+       (exhaustive: the reference, nothing skipped) */
+    v3_sub(d, c->p, c->x + 3 * v[0]);
+    double pn = v3_dot(d, n);
+    if (pn * pn > c->bound2 && !c->m->exhaustive) return 0;
     double d2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], w, q);
     v3_sub(d, c->p, q);
     double len = sqrt(d2), dn = v3_dot(d, n);
@@ -57,7 +67,7 @@ static int closest_visit(void* user, int t) {
         c->side = dn < 0.0 ? -1.0 : 1.0;
         if (d2 < c->best) c->best = d2;
     }
-    c->bound2 = fmin(c->bound2, near_bound2(c->best, c->slack));
+    c->bound2 = min_num(c->bound2, near_bound2(c->best, c->slack));
     return 0;
 }
 
@@ -82,16 +92,35 @@ static void search(closest_q* c, const double* box) {
 }
 
 /* The same over a cached candidate list (in the tree's leaf order): the triangles whose boxes
- * meet box, in the order the tree visits them, the prune's far ones skipped. */
-static void search_list(closest_q* c, const double* box, const int* tris, int count) {
+ * meet box, in the order the tree visits them, the prune's far ones skipped. hint (a position
+ * in tris, -1: none): a candidate whose distance d2 bounds the search from the start (the
+ * prune's near_bound2(d2)): it is visited too, so the best found is at most d2 (with
+ * closest_visit's tolerance, far inside the bound's), and what the bound skips could neither
+ * become the closest nor tie with it: the visits that decide the result are the same, in the
+ * same order. Returns the position of the result's triangle (-1: none). */
+static int search_list(closest_q* c, const double* box, const int* tris, int count, int hint) {
     const wc_bvh* b = &c->m->bvh;
     c->tri = -1;
     c->best = HUGE_VAL;
     c->bound2 = HUGE_VAL;
+    if (hint >= 0 && hint < count) {
+        int t = tris[hint];
+        const int* v = c->m->tris + 3 * t;
+        const double* n = c->nrm + 3 * t;
+        double w[3], q[3];
+        if (wc_box_overlap(b->box + 6 * b->leaf_of[t], box) && !(n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0))
+            c->bound2 = near_bound2(
+                wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], w, q), c->slack);
+    }
+    int at = -1;
     for (int k = 0; k < count; ++k) {
         const double* lb = b->box + 6 * b->leaf_of[tris[k]];
-        if (wc_box_overlap(lb, box) && !(wc_box_dist2(lb, c->p) > c->bound2)) closest_visit(c, tris[k]);
+        if (wc_box_overlap(lb, box) && !(wc_box_dist2(lb, c->p) > c->bound2)) {
+            closest_visit(c, tris[k]);
+            if (c->tri == tris[k]) at = k;
+        }
     }
+    return at;
 }
 
 static void closest_init(closest_q* c, const wc_mesh_collider* m, int end, const double* p) {
@@ -99,7 +128,7 @@ static void closest_init(closest_q* c, const wc_mesh_collider* m, int end, const
     c->x = end ? m->xb : m->xa;
     c->nrm = end ? m->nrm_b : m->nrm_a;
     c->p = p;
-    c->slack = 1e-11 * (1.0 + fmax(fabs(p[0]), fmax(fabs(p[1]), fabs(p[2]))));
+    c->slack = 1e-11 * (1.0 + max_num(fabs(p[0]), max_num(fabs(p[1]), fabs(p[2]))));
 }
 
 /* The signed distance, normal and surface velocity of a search's result (closest_visit's). */
@@ -163,7 +192,10 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
 #define NEAR_MARGIN 0.5        /* a gathering box: the query's grown by this times its largest half width */
 
 void wc_mesh_near_clear(wc_mesh_near* e, int n) {
-    for (int i = 0; i < n; ++i) e[i].count = -1;
+    for (int i = 0; i < n; ++i) {
+        e[i].count = -1;
+        e[i].hint = -1;
+    }
 }
 
 static int gather_visit(void* user, int t) {
@@ -181,7 +213,7 @@ static int gather_visit(void* user, int t) {
 static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* box) {
     if (e->count == -1) return 0;
     double scale = 1.0;
-    for (int k = 0; k < 6; ++k) scale = fmax(scale, fabs(e->box[k]));
+    for (int k = 0; k < 6; ++k) scale = max_num(scale, fabs(e->box[k]));
     double grow = (m->travel - e->travel) * (1.0 + 1e-12) + 1e-12 * scale;
     for (int k = 0; k < 3; ++k)
         if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k])) return 0;
@@ -196,16 +228,19 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
     wc_box_inflate(e->box, NEAR_MARGIN * half);
     e->travel = m->travel;
     e->count = 0;
+    e->hint = -1;
     wc_bvh_query(&m->bvh, e->box, gather_visit, e); /* leaves in preorder: the tree's order */
     return e->count >= 0;
 }
 
-/* The closest point within reach among e's kept triangles (which cover the query box). */
+/* The closest point within reach among e's kept triangles (which cover the query box), from
+ * e's hint; *hint (NULL: none) gets the result's. */
 static double closest_listed(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
-                             const double* box, double reach, double* n, double* vc) {
+                             const double* box, double reach, double* n, double* vc, int* hint) {
     closest_q c;
     closest_init(&c, m, end, p);
-    search_list(&c, box, e->tri, e->count);
+    int at = search_list(&c, box, e->tri, e->count, e->hint);
+    if (hint && at >= 0) *hint = at;
     if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
     return closest_result(&c, n, vc);
 }
@@ -216,7 +251,7 @@ double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end,
     double box[6];
     query_box(p, reach, box);
     if (!wc_mesh_near_fit(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    return closest_listed(m, e, end, p, box, reach, n, vc);
+    return closest_listed(m, e, end, p, box, reach, n, vc, &e->hint);
 }
 
 double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
@@ -225,7 +260,7 @@ double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, in
     if (!e || m->exhaustive || !isfinite(reach) || e->count < 0) return wc_mesh_closest(m, end, p, reach, n, vc);
     query_box(p, reach, box);
     if (!near_covers(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    return closest_listed(m, e, end, p, box, reach, n, vc);
+    return closest_listed(m, e, end, p, box, reach, n, vc, NULL);
 }
 
 typedef struct ccd_q {
@@ -257,20 +292,45 @@ static int ccd_visit(void* user, int t) {
     return 0;
 }
 
-int wc_mesh_ccd(const wc_mesh_collider* m, const double* p0, const double* p1, double eta, double* t, int* tri,
-                double* w) {
-    ccd_q c = {m, p0, p1, eta, 0.0, {0.0, 0.0, 0.0}, -1};
-    double box[6];
+/* The path's box: p0 and p1, inflated by eta. */
+static void ccd_box(const double* p0, const double* p1, double eta, double* box) {
     wc_box_empty(box);
     wc_box_add(box, p0);
     wc_box_add(box, p1);
     wc_box_inflate(box, eta);
-    wc_bvh_query(&m->bvh, box, ccd_visit, &c);
-    if (c.tri < 0) return 0;
-    *t = c.t;
-    *tri = c.tri;
-    v3_copy(w, c.w);
+}
+
+static int ccd_result(const ccd_q* c, double* t, int* tri, double* w) {
+    if (c->tri < 0) return 0;
+    *t = c->t;
+    *tri = c->tri;
+    v3_copy(w, c->w);
     return 1;
+}
+
+int wc_mesh_ccd(const wc_mesh_collider* m, const double* p0, const double* p1, double eta, double* t, int* tri,
+                double* w) {
+    ccd_q c = {m, p0, p1, eta, 0.0, {0.0, 0.0, 0.0}, -1};
+    double box[6];
+    ccd_box(p0, p1, eta, box);
+    wc_bvh_query(&m->bvh, box, ccd_visit, &c);
+    return ccd_result(&c, t, tri, w);
+}
+
+int wc_mesh_ccd_near(const wc_mesh_collider* m, wc_mesh_near* e, const double* p, double reach, const double* p0,
+                     const double* p1, double eta, double* t, int* tri, double* w) {
+    double qbox[6], box[6];
+    if (!e || m->exhaustive || !isfinite(reach)) return wc_mesh_ccd(m, p0, p1, eta, t, tri, w);
+    query_box(p, reach, qbox);
+    ccd_box(p0, p1, eta, box);
+    if (!wc_mesh_near_fit(m, e, qbox) || !near_covers(m, e, box)) return wc_mesh_ccd(m, p0, p1, eta, t, tri, w);
+    /* the tree visits the leaves meeting box in preorder (a leaf's ancestors contain it): e's
+       list, in that order, filtered by the same test */
+    const wc_bvh* b = &m->bvh;
+    ccd_q c = {m, p0, p1, eta, 0.0, {0.0, 0.0, 0.0}, -1};
+    for (int k = 0; k < e->count; ++k)
+        if (wc_box_overlap(b->box + 6 * b->leaf_of[e->tri[k]], box)) ccd_visit(&c, e->tri[k]);
+    return ccd_result(&c, t, tri, w);
 }
 
 double wc_mesh_max_penetration(const wc_mesh_collider* const* m, int nm, const double* x, int n_points) {

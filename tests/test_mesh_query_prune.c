@@ -4,7 +4,10 @@
  *    returns bit for bit what the full search of the same reach returns (distance, normal,
  *    surface velocity), at points near the surface (on vertices and edges too, where several
  *    triangles tie), inside, far away, at both ends of a substep, for finite and unbounded
- *    reaches; its distance is brute force's (every triangle) to rounding;
+ *    reaches; its distance is brute force's (every triangle) to rounding; through a walking
+ *    point's kept candidates (wc_mesh_near: the last closest triangle's distance bounding the
+ *    next search from the start, the plane-distance prune) the same, and its crossings
+ *    (wc_mesh_ccd_near, short paths and long ones beyond its list) are the tree's bit for bit;
  *  - the feature-pair detection's mask (mesh_pairs.h: only subtrees with a sharp vertex) is 1
  *    exactly above the non-degenerate triangles with a sharp vertex;
  *  - a sheet falling onto a moving, deforming, teleported box (sharp: feature pairs) and sphere
@@ -135,7 +138,7 @@ static void random_point(const wc_mesh_collider* mc, int end, double* p) {
     if (urand() < 0.8) v3_axpy(p, srand1(0.03), dir);
 }
 
-static int g_checked, g_found, g_walked, g_overflowed, g_kept_listed;
+static int g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_crossed, g_crossed_listed;
 
 /* Walkers: points that keep their cached candidates (wc_mesh_near) from query to query while
  * they move by small random steps (now and then a jump), against the full search. */
@@ -165,6 +168,25 @@ static void walk(wc_mesh_collider* mc) {
         if (!same) printf("  cached differs at (%.17g %.17g %.17g), end %d, reach %g: %.17g vs %.17g\n", p[0], p[1],
                           p[2], end, reach, d0, d1);
         CHECK(same);
+        /* a crossing along a path from p (wc_mesh_ccd_near: the list fitted to p's query box, used
+           when it covers the path's box, which it need not): the tree's answer bit for bit (from
+           the front to the back of the same triangle at the same time and weights) */
+        {
+            double p1[3], dir[3], t0 = -1.0, t1 = -1.0, w0[3] = {0, 0, 0}, w1[3] = {0, 0, 0};
+            int tri0 = -1, tri1 = -1;
+            rand_unit(dir);
+            v3_copy(p1, p);
+            v3_axpy(p1, 0.04 * urand(), dir);
+            if (urand() < 0.3) random_point(mc, end, p1); /* a long path: beyond the list */
+            int c1 = wc_mesh_ccd(mc, p, p1, 1e-6, &t1, &tri1, w1);
+            int c0 = wc_mesh_ccd_near(mc, &g_near[i], p, reach, p, p1, 1e-6, &t0, &tri0, w0);
+            same = c0 == c1 && tri0 == tri1 && memcmp(&t0, &t1, sizeof t0) == 0 && memcmp(w0, w1, sizeof w0) == 0;
+            if (!same) printf("  crossing differs from (%.17g %.17g %.17g), reach %g: %d %d (t %.17g %.17g)\n", p[0],
+                              p[1], p[2], reach, c0, c1, t0, t1);
+            CHECK(same);
+            g_crossed += c1;
+            g_crossed_listed += c1 && g_near[i].count >= 0;
+        }
         /* through the list as it is (never gathered again), at a reach it may or may not cover:
            the tree's answer all the same, and the list untouched */
         double q[3], dir[3], r2 = 0.002 + 0.1 * urand();
@@ -261,7 +283,7 @@ static void moving_body(const tmesh* t, double thickness) {
 static void test_closest_matches_full_search(void) {
     static tmesh t;
     double c[3] = {0.1, 0.2, -0.1};
-    g_checked = g_found = g_walked = g_overflowed = g_kept_listed = 0;
+    g_checked = g_found = g_walked = g_overflowed = g_kept_listed = g_crossed = g_crossed_listed = 0;
     lumpy_sphere(&t, 14, 24, 0.3, c, 0.01);
     moving_body(&t, 0.005);
     lumpy_sphere(&t, 6, 8, 0.3, c, 0.05); /* coarse and very lumpy: sharp bends */
@@ -271,7 +293,9 @@ static void test_closest_matches_full_search(void) {
     moving_body(&t, 0.01);
     printf("  %d queries: pruned = full search bit for bit, %d within reach = brute force; %d by walkers with "
            "cached candidates = full search bit for bit (%d with too many candidates), as many through the kept list "
-           "without gathering (%d found with a list)\n", g_checked, g_found, g_walked, g_overflowed, g_kept_listed);
+           "without gathering (%d found with a list); %d crossings = the tree's bit for bit (%d with a list)\n",
+           g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_crossed, g_crossed_listed);
+    CHECK(g_crossed_listed > 20);
     CHECK(g_overflowed > 0 && g_overflowed < g_walked / 2);
     CHECK(g_kept_listed > g_walked / 4);
     CHECK(g_found > g_checked / 3);
