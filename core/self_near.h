@@ -30,10 +30,10 @@
 #include "self_data.h"
 
 /* candidates kept per query, at most */
-#define WC_SELF_NEAR_CAP 24
+#define WC_SELF_NEAR_CAP 48
 /* gap = (1 + slack) x thickness: the slack is what the particles' spread of displacements (2T)
  * may use before the lists are gathered again */
-#define WC_SELF_NEAR_SLACK 4.0
+#define WC_SELF_NEAR_SLACK 6.0
 /* the anchors reach this many times a phase's motion ahead of its end positions */
 #define WC_SELF_NEAR_AHEAD 1.0
 
