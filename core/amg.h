@@ -180,8 +180,10 @@ typedef struct wc_amg_cross {
                                    Dinv (a pair level: node i's blocks to i & ~1 and i | 1) */
     double* s;                  /* (cap_terms) a product's alpha c_k (v_k . x) */
     int* node_start;            /* (n + 1) list levels: each node's entries, in term order, for the */
-    int* node_entry;            /* (cap_entries) products' gather (parallel, no reduction: the same */
-    int* entry_term;            /* (cap_entries) result on any thread count), rebuilt per setup */
+    double* node_val;           /* (cap_entries x 3) products' gather (parallel, no reduction: the */
+    int* entry_term;            /* (cap_entries) same result on any thread count), rebuilt per setup:
+                                   the entries' values copied in node order, so that the gather
+                                   reads them in sequence (only s is read at random) */
     double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
     double* acc;                /* (n x 3) the restriction's accumulator, zero between terms */
     int* touched;               /* (n) */

@@ -43,7 +43,7 @@ void wc_amg_cross_destroy(wc_amg* a) {
         wc_amg_cross* X = a->lev[l].cross;
         if (!X) continue;
         void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
-                        X->node_entry, X->entry_term, X->y, X->acc, X->touched, X->mark};
+                        X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
         a->lev[l].cross = NULL;
@@ -77,9 +77,9 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
             X->node = WC_NEW(al, int, entries);
             X->val = WC_NEW(al, double, 3 * entries);
             X->node_start = WC_NEW(al, int, (size_t)L->n + 1);
-            X->node_entry = WC_NEW(al, int, entries);
+            X->node_val = WC_NEW(al, double, 3 * entries);
             X->entry_term = WC_NEW(al, int, entries);
-            if (!X->start || !X->node || !X->val || !X->node_start || !X->node_entry || !X->entry_term) goto oom;
+            if (!X->start || !X->node || !X->val || !X->node_start || !X->node_val || !X->entry_term) goto oom;
         }
         X->c = WC_NEW(al, double, capacity);
         X->s = WC_NEW(al, double, capacity);
@@ -100,7 +100,8 @@ oom:
     return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "AMG: room for %d couplings", capacity);
 }
 
-/* A list level's gather index: each node's entries in entry (so term) order, by a counting sort. */
+/* A list level's gather index: each node's entries in entry (so term) order, by a counting sort,
+ * with their values. */
 static void index_nodes(wc_amg_cross* X, int n) {
     memset(X->node_start, 0, sizeof(int) * ((size_t)n + 1));
     for (int e = 0; e < X->n_entries; ++e) ++X->node_start[X->node[e] + 1];
@@ -108,7 +109,7 @@ static void index_nodes(wc_amg_cross* X, int n) {
     for (int q = 0; q < X->n_terms; ++q)
         for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
             int slot = X->node_start[X->node[e]]++;
-            X->node_entry[slot] = e;
+            v3_copy(X->node_val + 3 * (size_t)slot, X->val + 3 * (size_t)e);
             X->entry_term[slot] = q;
         }
     for (int i = n; i > 0; --i) X->node_start[i] = X->node_start[i - 1]; /* back to the starts */
@@ -350,7 +351,7 @@ void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, 
             if (X->node_start[i] == X->node_start[i + 1]) continue;
             double acc[3] = {0, 0, 0};
             for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j)
-                v3_axpy(acc, sk[X->entry_term[j]], X->val + 3 * (size_t)X->node_entry[j]);
+                v3_axpy(acc, sk[X->entry_term[j]], X->node_val + 3 * (size_t)j);
             v3_add(y + 3 * (size_t)i, y + 3 * (size_t)i, acc);
         }
     }
