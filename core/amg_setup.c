@@ -259,31 +259,9 @@ static void pairs_ap_rows(wc_amg_level* L, int lo, int hi) {
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
-/* z (two 3x3 blocks) += A [P0 P1] with AVX2 + FMA: each product row in one register (lane 3 the
- * next element, never stored); z's rows read and written as 2 + 1 doubles, the widths of the last
- * write to them, so the next accumulation into the same slot is forwarded from the store buffer
- * (masked 4-wide stores there made T = A P slower than the scalar code). */
-__attribute__((target("avx2,fma"), always_inline)) static inline void pair_mul_add_avx2(
-    double* restrict z, const double* restrict A, const double* restrict P) {
-    const __m256d a0 = _mm256_loadu_pd(P), a1 = _mm256_loadu_pd(P + 3), a2 = _mm256_loadu_pd(P + 6);
-    const __m256d b0 = _mm256_loadu_pd(P + 9), b1 = _mm256_loadu_pd(P + 12);
-    const __m256d b2 = _mm256_maskload_pd(P + 15, _mm256_setr_epi64x(-1, -1, -1, 0));
-    for (int r = 0; r < 3; ++r) {
-        const __m256d c0 = _mm256_set1_pd(A[3 * r]), c1 = _mm256_set1_pd(A[3 * r + 1]), c2 = _mm256_set1_pd(A[3 * r + 2]);
-        const __m256d s0 = _mm256_fmadd_pd(c2, a2, _mm256_fmadd_pd(c1, a1, _mm256_mul_pd(c0, a0)));
-        const __m256d s1 = _mm256_fmadd_pd(c2, b2, _mm256_fmadd_pd(c1, b1, _mm256_mul_pd(c0, b0)));
-        double* z0 = z + 3 * r;
-        double* z1 = z + 9 + 3 * r;
-        _mm_storeu_pd(z0, _mm_add_pd(_mm_loadu_pd(z0), _mm256_castpd256_pd128(s0)));
-        z0[2] += _mm_cvtsd_f64(_mm256_extractf128_pd(s0, 1));
-        _mm_storeu_pd(z1, _mm_add_pd(_mm_loadu_pd(z1), _mm256_castpd256_pd128(s1)));
-        z1[2] += _mm_cvtsd_f64(_mm256_extractf128_pd(s1, 1));
-    }
-}
-
 /* Six registers (rows 0-2 of a slot pair's two blocks, lane 3 the next element) += the rows of
  * C [X0 X1] with C's element (r, q) at C[cr * r + cq * q] (C = A: 3, 1; C = P^T: 1, 3), each row
- * sum formed as in pair_mul_add_avx2 before it is added (the same rounding). */
+ * sum formed (c0 x0, then two multiply-adds) before it is added to the register. */
 #define WC_PAIR_ACC_AVX2(z, C, cr, cq, X)                                                               \
     do {                                                                                                \
         const __m256d x0 = _mm256_loadu_pd(X), x1 = _mm256_loadu_pd((X) + 3), x2 = _mm256_loadu_pd((X) + 6); \
