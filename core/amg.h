@@ -45,7 +45,9 @@
  * P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal), the Galerkin
  * operators and the coarsest level's dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
- * D^-1 A, the same before and after the coarse correction), an exact solve on the coarsest level.
+ * D^-1 A, the same before and after the coarse correction), an exact solve on the coarsest level;
+ * the levels' operators and prolongators read from float copies made by the setup
+ * (wc_amg_opts.single, amg_single.c), summed in double.
  * The eigenvalue must be estimated, not bounded (a Gershgorin bound leaves the smoother doing
  * nothing), and must not fall short (the Chebyshev smoother then amplifies the modes above its
  * bound and the V-cycle turns indefinite). Every kernel runs over rows (or pairs) in parallel with
@@ -92,7 +94,8 @@
  * positions (amg_tent.c), the projected fine operator, the block-diagonal inverses, the power
  * iterations on the finest and on the coarse levels, the smoothed prolongators, T = A P, the
  * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor, the couplings
- * restricted level by level (amg_cross.c; the coarsest's dense part is in its factor's). */
+ * restricted level by level (amg_cross.c; the coarsest's dense part is in its factor's), the
+ * V-cycle's float copies (amg_single.c). */
 typedef enum wc_amg_phase {
     WC_AMG_PHASE_TENT,
     WC_AMG_PHASE_PROJECT,
@@ -104,6 +107,7 @@ typedef enum wc_amg_phase {
     WC_AMG_PHASE_PTAP,
     WC_AMG_PHASE_COARSE_FACTOR,
     WC_AMG_PHASE_CROSS,
+    WC_AMG_PHASE_SINGLE,
     WC_AMG_PHASES
 } wc_amg_phase;
 const char* wc_amg_phase_name(wc_amg_phase p);
@@ -149,6 +153,14 @@ typedef struct wc_amg_opts {
                                    patterns and aggregates only (wc_amg_setup and wc_amg_apply must
                                    not be called): what the GPU's multigrid uploads (gpu/solver/
                                    wg_amg.h), in a fraction of the memory and time */
+    int single;                 /* 1 (default): the V-cycle reads single-precision copies of what it
+                                   reads most, every level's operator and prolongator (made by each
+                                   setup from its double values, which the setup itself and PCG's
+                                   product keep using; amg_single.c), summing in double; 0: the
+                                   double values. Rounding a symmetric operator entry by entry keeps
+                                   it symmetric, so the V-cycle stays SPD. Half the V-cycle's bytes,
+                                   a third less PCG time from 4k particles on
+                                   (docs/bench/cpu_levers_sheet32.md) */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -211,6 +223,7 @@ typedef struct wc_amg_level {
     double* partial;            /* (ceil(n / 256) x 2) per-chunk partial sums (thread-count free) */
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
+    float* val_f;               /* (n_blocks x 9 + WC_BSR_F_PAD) with opts.single: val rounded */
 
     int group;                  /* nodes per aggregation unit: 2 on coarse levels with rotations
                                    (the pair 2a, 2a + 1 of one fine aggregate), else 1 */
@@ -233,6 +246,7 @@ typedef struct wc_amg_level {
     int* a_to_p;                /* (n_blocks) entry of cpa agg(col) in row i for strong blocks, -1
                                    weak (the entries of cpa agg(col) + q follow it) */
     double* p_val;              /* (nnz_p x 9) */
+    float* p_val_f;             /* (nnz_p x 9 + WC_BSR_F_PAD) with opts.single: p_val rounded */
     int* pt_start;              /* (n_next + 1) transpose: for each coarse node the entries of P */
     int* pt_entry;              /* (nnz_p) entry index into p_col/p_val, rows ascending */
     int* pt_row;                /* (nnz_p) the fine row of that entry */
@@ -359,6 +373,9 @@ void wc_amg_cross_restrict(wc_amg* a, int l);
 void wc_amg_cross_dense(const wc_amg_cross* X, double* M, int d);
 void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par);
 void wc_amg_cross_destroy(wc_amg* a);
+/* With opts.single, the V-cycle's float copies of a setup's values (amg_single.c): every level's,
+ * or level 0's operator only (fine_only: the coarse levels were kept). */
+void wc_amg_single_copies(wc_amg* a, int fine_only, wc_par* par);
 /* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
 static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
     int end = hi;

@@ -1,26 +1,30 @@
 /* One symmetric V-cycle of the multigrid hierarchy (amg.h): smoothing (Chebyshev in D^-1 A on
  * [lambda_max / ratio, lambda_max], or weighted block Jacobi), restriction by P^T, the coarse
  * correction, prolongation by P, the same smoothing again; the coarsest level is solved with its
- * dense Cholesky factor (or smoothed, when it could not be coarsened enough). */
+ * dense Cholesky factor (or smoothed, when it could not be coarsened enough). With
+ * wc_amg_opts.single every level's operator and P are read from their float copies
+ * (amg_single.c), every sum in double; D^-1 stays double. */
 #include <string.h>
 #include "amg.h"
 #include "bsr_rows.h"
 #include "vec3.h"
 
 /* t = r - A x (the level's BSR part; residual() adds the couplings); t = r when x is NULL. */
-static void residual_bsr(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
+static void residual_bsr(const wc_amg_level* L, int single, const double* r, const double* x, double* t,
+                         wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        if (x) wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, r, -1.0, x, t);
+        if (x && single) wc_bsr_rows_f(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, x, t);
+        else if (x) wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, r, -1.0, x, t);
         else if (hi > lo) memcpy(t + 3 * (size_t)lo, r + 3 * (size_t)lo, sizeof(double) * 3 * (size_t)(hi - lo));
     }
 }
 
 /* t = r - A x with the couplings' terms (amg_cross.c). */
-static void residual(const wc_amg_level* L, const double* r, const double* x, double* t, wc_par* par) {
-    residual_bsr(L, r, x, t, par);
+static void residual(const wc_amg_level* L, int single, const double* r, const double* x, double* t, wc_par* par) {
+    residual_bsr(L, single, r, x, t, par);
     if (x && L->cross && L->cross->n_terms > 0) wc_amg_cross_mul_add(L->cross, -1.0, x, t, L->n, par);
 }
 
@@ -54,6 +58,21 @@ static void restrict_rows(const wc_amg_level* L, const double* t, double* rc, in
     }
 }
 
+/* The same from P's float copy. */
+static void restrict_rows_f(const wc_amg_level* L, const double* t, double* rc, int lo, int hi) {
+    for (int I = lo; I < hi; ++I) {
+        double acc[3] = {0, 0, 0};
+        for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
+            const float* P = L->p_val_f + 9 * (size_t)L->pt_entry[s];
+            const double* v = t + 3 * L->pt_row[s];
+            acc[0] += (double)P[0] * v[0] + (double)P[3] * v[1] + (double)P[6] * v[2];
+            acc[1] += (double)P[1] * v[0] + (double)P[4] * v[1] + (double)P[7] * v[2];
+            acc[2] += (double)P[2] * v[0] + (double)P[5] * v[1] + (double)P[8] * v[2];
+        }
+        v3_copy(rc + 3 * I, acc);
+    }
+}
+
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 #define WC_RESTRICT_AVX2 1
@@ -76,32 +95,51 @@ __attribute__((target("avx2,fma"))) static void restrict_rows_avx2(const wc_amg_
         o[2] = _mm_cvtsd_f64(_mm256_extractf128_pd(acc, 1));
     }
 }
+
+/* The same from P's float copy (each row's 4 floats widened in the load; the 4th lands in lane 3,
+ * never stored; the array's padding, WC_BSR_F_PAD, covers the last entry's). */
+__attribute__((target("avx2,fma"))) static void restrict_rows_f_avx2(const wc_amg_level* L, const double* t,
+                                                                      double* rc, int lo, int hi) {
+    for (int I = lo; I < hi; ++I) {
+        __m256d acc = _mm256_setzero_pd();
+        for (int s = L->pt_start[I]; s < L->pt_start[I + 1]; ++s) {
+            const float* P = L->p_val_f + 9 * (size_t)L->pt_entry[s];
+            const double* v = t + 3 * L->pt_row[s];
+            acc = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(P)), _mm256_broadcast_sd(v), acc);
+            acc = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(P + 3)), _mm256_broadcast_sd(v + 1), acc);
+            acc = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(P + 6)), _mm256_broadcast_sd(v + 2), acc);
+        }
+        double* o = rc + 3 * (size_t)I;
+        _mm_storeu_pd(o, _mm256_castpd256_pd128(acc));
+        o[2] = _mm_cvtsd_f64(_mm256_extractf128_pd(acc, 1));
+    }
+}
 #endif
 
 /* rc = P^T t; AVX2 + FMA where the CPU has them (the sums round differently by a few ulps). */
-static void restrict_(const wc_amg_level* L, const wc_amg_level* N, const double* t, double* rc, wc_par* par) {
+static void restrict_(const wc_amg_level* L, const wc_amg_level* N, int single, const double* t, double* rc,
+                      wc_par* par) {
+    void (*rows)(const wc_amg_level*, const double*, double*, int, int) = single ? restrict_rows_f : restrict_rows;
 #ifdef WC_RESTRICT_AVX2
-    const int vec = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+        rows = single ? restrict_rows_f_avx2 : restrict_rows_avx2;
 #endif
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-#ifdef WC_RESTRICT_AVX2
-        if (vec) restrict_rows_avx2(L, t, rc, lo, hi);
-        else
-#endif
-            restrict_rows(L, t, rc, lo, hi);
+        rows(L, t, rc, lo, hi);
     }
 }
 
 /* x += P xc */
-static void prolong(const wc_amg_level* L, const double* xc, double* x, wc_par* par) {
+static void prolong(const wc_amg_level* L, int single, const double* xc, double* x, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, xc, x);
+        if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, xc, x);
+        else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, xc, x);
     }
 }
 
@@ -126,14 +164,14 @@ static void coarse_solve(wc_amg* a, const double* r, double* x) {
 /* Chebyshev smoothing of x (from zero when `zero`) on [bound / ratio, bound]: `steps` matrix
  * products; d is L->r's scratch of the level (restricted residuals use the next level's). Each
  * direction update and the step of x along it share one pass over the rows. */
-static void chebyshev(wc_amg_level* L, double ratio, int steps, const double* r, double* x, int zero, double* d,
-                      wc_par* par) {
+static void chebyshev(wc_amg_level* L, int single, double ratio, int steps, const double* r, double* x, int zero,
+                      double* d, wc_par* par) {
     const double b = L->bound, a = b / ratio;
     const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
     double rho = 1.0 / sigma;
     const double* t = r; /* the residual at x = 0 */
     if (!zero) {
-        residual(L, r, x, L->t, par);
+        residual(L, single, r, x, L->t, par);
         t = L->t;
     }
     WC_PAR_REGION(par)
@@ -150,7 +188,7 @@ static void chebyshev(wc_amg_level* L, double ratio, int steps, const double* r,
         }
     }
     for (int k = 1; k < steps; ++k) {
-        residual(L, r, x, L->t, par);
+        residual(L, single, r, x, L->t, par);
         double rho_new = 1.0 / (2.0 * sigma - rho);
         double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
         WC_PAR_REGION(par)
@@ -172,6 +210,7 @@ static void chebyshev(wc_amg_level* L, double ratio, int steps, const double* r,
 
 static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
     wc_amg_level* L = &a->lev[l];
+    const int single = a->opts.single && L->val_f;
     if (l == a->n_levels - 1) {
         if (a->coarse_dense) {
             coarse_solve(a, r, x);
@@ -180,7 +219,7 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
         const double w = 1.0 / L->bound;
         jacobi(L, w, r, x, 1, par);
         for (int s = 1; s < WC_AMG_COARSE_SWEEPS; ++s) {
-            residual(L, r, x, L->t, par);
+            residual(L, single, r, x, L->t, par);
             jacobi(L, w, L->t, x, 0, par);
         }
         return;
@@ -188,24 +227,24 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
     wc_amg_level* N = &a->lev[l + 1];
     const double w = a->opts.smooth_weight / L->bound;
     if (a->opts.chebyshev) {
-        chebyshev(L, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 1, L->ev_scratch, par);
+        chebyshev(L, single, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 1, L->ev_scratch, par);
     } else {
         jacobi(L, w, r, x, 1, par);
         for (int s = 1; s < a->opts.sweeps; ++s) {
-            residual(L, r, x, L->t, par);
+            residual(L, single, r, x, L->t, par);
             jacobi(L, w, L->t, x, 0, par);
         }
     }
-    residual(L, r, x, L->t, par);
-    restrict_(L, N, L->t, N->r, par);
+    residual(L, single, r, x, L->t, par);
+    restrict_(L, N, single, L->t, N->r, par);
     vcycle(a, l + 1, N->r, N->x, par);
-    prolong(L, N->x, x, par);
+    prolong(L, single, N->x, x, par);
     if (a->opts.chebyshev) {
-        chebyshev(L, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 0, L->ev_scratch, par);
+        chebyshev(L, single, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 0, L->ev_scratch, par);
         return;
     }
     for (int s = 0; s < a->opts.sweeps; ++s) {
-        residual(L, r, x, L->t, par);
+        residual(L, single, r, x, L->t, par);
         jacobi(L, w, L->t, x, 0, par);
     }
 }

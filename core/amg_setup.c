@@ -583,7 +583,7 @@ static void coarse_factor(wc_amg* a) {
 
 static const char* const phase_names[WC_AMG_PHASES] = {
     "tentative (QR)", "project fine", "block diagonal", "power it. fine", "power it. coarse",
-    "prolongator", "T = A P", "P^T T", "coarse factor", "couplings"};
+    "prolongator", "T = A P", "P^T T", "coarse factor", "couplings", "float copies"};
 
 const char* wc_amg_phase_name(wc_amg_phase p) { return p >= 0 && p < WC_AMG_PHASES ? phase_names[p] : "unknown"; }
 
@@ -607,6 +607,8 @@ static void setup_fine_only(wc_amg* a, const double* A, const wc_filter* f, wc_p
     lap(a, WC_AMG_PHASE_DIAGONAL, &t);
     largest_eigenvalue(a, L, 1, 1, par);
     lap(a, WC_AMG_PHASE_EIGEN_FINE, &t);
+    wc_amg_single_copies(a, 1, par);
+    lap(a, WC_AMG_PHASE_SINGLE, &t);
     a->bounds_reused = 1;
     a->coarse_kept = 1;
     ++a->coarse_keeps;
@@ -666,6 +668,8 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         largest_eigenvalue(a, &a->lev[a->n_levels - 1], a->n_levels == 1, reuse, par);
         lap(a, a->n_levels == 1 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
     }
+    wc_amg_single_copies(a, 0, par);
+    lap(a, WC_AMG_PHASE_SINGLE, &t);
     ++a->setups;
     a->setup_ms = wc_now_ms() - t0;
 }

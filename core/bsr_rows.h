@@ -22,4 +22,16 @@ void wc_bsr_rows_scalar(const int* row_start, const int* col, const double* val,
                         double sign, const double* x, double* y);
 wc_bsr_rows_fn wc_bsr_rows_vector(void);
 
+/* The same with single-precision blocks (the multigrid's V-cycle, amg.h wc_amg_opts.single), summed
+ * in double. The vector kernel reads one float past the last block: an array passed here
+ * holds WC_BSR_F_PAD more floats, zero. */
+#define WC_BSR_F_PAD 4
+typedef void (*wc_bsr_rows_f_fn)(const int* row_start, const int* col, const float* val, int lo, int hi,
+                                 const double* s, double sign, const double* x, double* y);
+void wc_bsr_rows_f(const int* row_start, const int* col, const float* val, int lo, int hi, const double* s,
+                   double sign, const double* x, double* y);
+void wc_bsr_rows_f_scalar(const int* row_start, const int* col, const float* val, int lo, int hi, const double* s,
+                          double sign, const double* x, double* y);
+wc_bsr_rows_f_fn wc_bsr_rows_f_vector(void);
+
 #endif

@@ -3,7 +3,9 @@
  * block at the very end of its array (the vector loop must not read past it: arrays are
  * allocated to their exact size, so ASan would see it), y = s + sign A x with s NULL, s distinct
  * and s aliasing y, rows split in two calls as two threads would; and the vector and scalar
- * results within rounding of each other. */
+ * results within rounding of each other. The single-precision kernels (wc_bsr_rows_f, the
+ * multigrid's V-cycle) the same way on the values rounded to float, their arrays allocated to
+ * the block count plus WC_BSR_F_PAD exactly. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,11 +29,12 @@ typedef struct pattern {
     int* row_start;
     int* col;
     double* val;
+    float* valf; /* val rounded (val then holds the rounded values), NULL: a double pattern */
 } pattern;
 
 /* n rows; row i holds up to max_row blocks at random columns (some rows none) */
 static pattern make_pattern(int n, int max_row) {
-    pattern p = {n, 0, malloc(sizeof(int) * (size_t)(n + 1)), NULL, NULL};
+    pattern p = {n, 0, malloc(sizeof(int) * (size_t)(n + 1)), NULL, NULL, NULL};
     p.row_start[0] = 0;
     for (int i = 0; i < n; ++i) {
         int len = (int)((uniform() + 1.0) * 0.5 * (max_row + 1));
@@ -50,7 +53,17 @@ static pattern make_pattern(int n, int max_row) {
     return p;
 }
 
+/* p's values rounded to float, in val (for the reference) and valf (for the kernels) */
+static void round_pattern(pattern* p) {
+    p->valf = calloc(9 * (size_t)p->nb + WC_BSR_F_PAD, sizeof(float));
+    for (size_t k = 0; k < 9 * (size_t)p->nb; ++k) {
+        p->valf[k] = (float)p->val[k];
+        p->val[k] = p->valf[k];
+    }
+}
+
 static void free_pattern(pattern* p) {
+    free(p->valf);
     free(p->row_start);
     free(p->col);
     free(p->val);
@@ -76,9 +89,10 @@ static void reference(const pattern* p, const double* s, double sign, const doub
     }
 }
 
-/* f on rows [lo, hi) in two calls (as two threads would split them), against the reference */
-static void check_kernel(wc_bsr_rows_fn f, const char* name, const pattern* p, double sign, int with_s,
-                         int alias, double* out) {
+/* f (or ff on valf) on rows [lo, hi) in two calls (as two threads would split them), against the
+ * reference */
+static void check_kernel(wc_bsr_rows_fn f, wc_bsr_rows_f_fn ff, const char* name, const pattern* p, double sign,
+                         int with_s, int alias, double* out) {
     const int n = p->n;
     double* x = calloc(3 * (size_t)n, sizeof(double)); /* exact size: the last x_j ends the array */
     double* s = calloc(3 * (size_t)n, sizeof(double));
@@ -99,8 +113,13 @@ static void check_kernel(wc_bsr_rows_fn f, const char* name, const pattern* p, d
         sp = s;
     }
     int mid = n / 3;
-    f(p->row_start, p->col, p->val, 0, mid, sp, sign, x, y);
-    f(p->row_start, p->col, p->val, mid, n, sp, sign, x, y);
+    if (ff) {
+        ff(p->row_start, p->col, p->valf, 0, mid, sp, sign, x, y);
+        ff(p->row_start, p->col, p->valf, mid, n, sp, sign, x, y);
+    } else {
+        f(p->row_start, p->col, p->val, 0, mid, sp, sign, x, y);
+        f(p->row_start, p->col, p->val, mid, n, sp, sign, x, y);
+    }
     double worst = 0.0;
     for (int q = 0; q < 3 * n; ++q) {
         double err = fabs((double)((long double)y[q] - ref[q]));
@@ -121,20 +140,25 @@ static void check_kernel(wc_bsr_rows_fn f, const char* name, const pattern* p, d
 
 int main(void) {
     wc_bsr_rows_fn vec = wc_bsr_rows_vector();
+    wc_bsr_rows_f_fn vec_f = wc_bsr_rows_f_vector();
     printf("vector kernel: %s\n", vec ? "yes (AVX2 + FMA)" : "none on this build or CPU");
     const int sizes[][2] = {{1, 1}, {5, 3}, {200, 13}, {1000, 40}, {64, 0}};
-    for (size_t t = 0; t < sizeof sizes / sizeof sizes[0]; ++t) {
-        pattern p = make_pattern(sizes[t][0], sizes[t][1]);
+    for (size_t t = 0; t < 2 * sizeof sizes / sizeof sizes[0]; ++t) {
+        const int single = t >= sizeof sizes / sizeof sizes[0]; /* the float kernels' turn */
+        const int* sz = sizes[t % (sizeof sizes / sizeof sizes[0])];
+        pattern p = make_pattern(sz[0], sz[1]);
+        if (single) round_pattern(&p);
         for (int mode = 0; mode < 4; ++mode) {
             double sign = mode == 0 || mode == 2 ? 1.0 : -1.0;
             int with_s = mode >= 1, alias = mode == 3;
             unsigned seed = rng;
             double* a = malloc(sizeof(double) * 3 * (size_t)p.n);
             double* b = malloc(sizeof(double) * 3 * (size_t)p.n);
-            check_kernel(wc_bsr_rows_scalar, "scalar", &p, sign, with_s, alias, a);
-            if (vec) {
+            check_kernel(wc_bsr_rows_scalar, single ? wc_bsr_rows_f_scalar : NULL, single ? "scal_f" : "scalar", &p,
+                         sign, with_s, alias, a);
+            if (single ? vec_f != NULL : vec != NULL) {
                 rng = seed; /* the same x and s */
-                check_kernel(vec, "vector", &p, sign, with_s, alias, b);
+                check_kernel(vec, single ? vec_f : NULL, single ? "vec_f" : "vector", &p, sign, with_s, alias, b);
                 double worst = 0.0;
                 for (int q = 0; q < 3 * p.n; ++q) {
                     double d = fabs(a[q] - b[q]) / (fabs(a[q]) + 1.0);
@@ -143,7 +167,8 @@ int main(void) {
                 CHECK(worst < 1e-11);
             }
             rng = seed;
-            check_kernel(wc_bsr_rows, "chosen", &p, sign, with_s, alias, NULL);
+            check_kernel(wc_bsr_rows, single ? wc_bsr_rows_f : NULL, single ? "chos_f" : "chosen", &p, sign, with_s,
+                         alias, NULL);
             free(a);
             free(b);
         }

@@ -18,7 +18,8 @@
  * machine's load inflates the sums; the minimum is what the code costs).
  *
  *   bench_amg_setup [--n 100] [--frames 10] [--threads 1] [--repeat 0]
- *                   [--power N] [--coarse N] [--lanczos 0|1]   (wc_amg_opts' estimate) */
+ *                   [--power N] [--coarse N] [--lanczos 0|1]   (wc_amg_opts' estimate)
+ *                   [--single 0|1]   (wc_amg_opts.single: the V-cycle's float copies; default 1) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,8 +34,11 @@ static int cmp_double(const void* a, const void* b) {
     return (x > y) - (x < y);
 }
 
-/* Bytes a 3x3-block BSR product must move at least once: values, column indices, row starts. */
-static double bsr_bytes(int n_rows, int n_blocks) { return 76.0 * n_blocks + 4.0 * (n_rows + 1); }
+/* Bytes a 3x3-block BSR product must move at least once: values (`value` bytes each: 8, or 4 for
+ * the V-cycle's float copies), column indices, row starts. */
+static double bsr_bytes(int n_rows, int n_blocks, double value) {
+    return (9.0 * value + 4.0) * n_blocks + 4.0 * (n_rows + 1);
+}
 
 /* Bytes one V-cycle (amg_cycle.c, Chebyshev smoothing with `sweeps` steps) must move, each kernel
  * reading its matrix and its vectors once and writing its output once (no reuse between kernels):
@@ -44,10 +48,12 @@ static double bsr_bytes(int n_rows, int n_blocks) { return 76.0 * n_blocks + 4.0
  * vectors a level). */
 static double vcycle_bytes(const wc_amg* a, double* working_set) {
     const int s = a->opts.sweeps;
+    const double value = a->opts.single ? 4.0 : 8.0;
     double bytes = 0.0, ws = 0.0;
     for (int l = 0; l < a->n_levels; ++l) {
         const wc_amg_level* L = &a->lev[l];
-        const double vec = 24.0 * L->n, op = bsr_bytes(L->n, L->n_blocks), dinv = 72.0 * L->group * L->n;
+        const double vec = 24.0 * L->n, op = bsr_bytes(L->n, L->n_blocks, value),
+                     dinv = 72.0 * L->group * L->n;
         if (l == a->n_levels - 1) {
             if (a->coarse_dense) {
                 const double dense = 8.0 * (double)a->coarse_dofs * a->coarse_dofs;
@@ -59,7 +65,7 @@ static double vcycle_bytes(const wc_amg* a, double* working_set) {
             }
             continue;
         }
-        const double pb = bsr_bytes(L->n, L->p_start[L->n]) + 4.0 * L->p_start[L->n]; /* P and P^T's index */
+        const double pb = bsr_bytes(L->n, L->p_start[L->n], value) + 4.0 * L->p_start[L->n]; /* P and P^T's index */
         bytes += 2.0 * s * (op + dinv) + 2.0 * pb + (8.0 * s + 6.0) * vec;
         ws += op + dinv + pb + 4.0 * vec;
     }
@@ -91,7 +97,7 @@ static double copy_rate(size_t size) {
 }
 
 int main(int argc, char** argv) {
-    int n = 100, frames = 10, threads = 1, power = 0, coarse = 0, lanczos = -1, repeat = 0;
+    int n = 100, frames = 10, threads = 1, power = 0, coarse = 0, lanczos = -1, repeat = 0, single = -1;
     for (int a = 1; a < argc; ++a) {
         if (!strcmp(argv[a], "--n") && a + 1 < argc) n = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--frames") && a + 1 < argc) frames = atoi(argv[++a]);
@@ -100,9 +106,10 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[a], "--coarse") && a + 1 < argc) coarse = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--repeat") && a + 1 < argc) repeat = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--lanczos") && a + 1 < argc) lanczos = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--single") && a + 1 < argc) single = atoi(argv[++a]);
         else {
             fprintf(stderr, "usage: bench_amg_setup [--n N] [--frames N] [--threads N] [--power N] [--coarse N] "
-                            "[--lanczos 0|1] [--repeat R]\n");
+                            "[--lanczos 0|1] [--repeat R] [--single 0|1]\n");
             return 2;
         }
     }
@@ -136,6 +143,7 @@ int main(int argc, char** argv) {
     if (power > 0) amg->opts.power_iterations = power;
     if (coarse > 0) amg->opts.coarse_iterations = coarse;
     if (lanczos >= 0) amg->opts.lanczos = lanczos;
+    if (single >= 0) amg->opts.single = single;
     double* ms = malloc(sizeof(double) * (size_t)frames);
     double* cpu = malloc(sizeof(double) * (size_t)frames);
     long solves = 0, iterations = 0;
@@ -183,11 +191,11 @@ int main(int argc, char** argv) {
         free(dv);
         const double vec = 24.0 * F->n;
         double ws = 0.0, vb = vcycle_bytes(amg, &ws);
-        const double fine = bsr_bytes(F->n, F->n_blocks) + 3.0 * vec; /* A's product: A, x, y */
+        const double fine = bsr_bytes(F->n, F->n_blocks, 8.0) + 3.0 * vec; /* A's product: A, x, y */
         /* a solve: it + 2 fine products (the filtered residuals), it + 1 V-cycles, and per
            iteration about 15 passes over 3n-vectors (the filtered dot, the updates, the direction) */
         const double bytes = (it + 2.0) * fine + (it + 1.0) * vb + it * 15.0 * vec;
-        ws += bsr_bytes(F->n, F->n_blocks) + 6.0 * vec;
+        ws += bsr_bytes(F->n, F->n_blocks, 8.0) + 6.0 * vec;
         const double rate = pcg_ms > 0 && pcg_ms < 1e300 ? bytes / pcg_ms : 0.0, copy = copy_rate((size_t)(ws / 2));
         printf("memory: the last system's PCG iterations (%d) move >= %.2f MB (working set %.2f MB) in %.2f CPU ms: "
                "%.1f GB/s; a copy of %.2f MB (source and destination: the same working set) on this core: %.1f GB/s "
