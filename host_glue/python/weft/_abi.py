@@ -216,7 +216,8 @@ class ClothDef(_Struct):
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
                 ("seam_close_time", c_double),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
-                ("internal_cookie", c_uint32), ("newton_forcing", c_double)]
+                ("internal_cookie", c_uint32), ("newton_forcing", c_double),
+                ("newton_tolerance", c_double)]
 
 
 class ClothInfo(_Struct):
@@ -229,7 +230,8 @@ class ClothInfo(_Struct):
                 ("n_seams", c_int), ("n_panels", c_int),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
                 ("newton_forcing", c_double), ("threads", c_int),
-                ("backend_reason", ctypes.c_char * BACKEND_REASON_LENGTH)]
+                ("backend_reason", ctypes.c_char * BACKEND_REASON_LENGTH),
+                ("newton_tolerance", c_double)]
 
 
 class Frame(_Struct):
