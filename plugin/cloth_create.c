@@ -36,7 +36,6 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
                    : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
                                                                : WC_INTEGRATOR_BE;
     if (def->newton_forcing >= 0) s.newton_forcing = def->newton_forcing;   /* else the core's */
-    if (def->newton_tolerance >= 0) s.newton_tolerance = def->newton_tolerance;   /* else the core's */
     s.self_thickness = def->self_collision_thickness;
     /* the backend's defaults (preconditioner, Newton, line search, self-collision) once it is
        chosen: backend.c */
@@ -218,7 +217,6 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.self_collision = sd->self_collision;
     i.self_collision_thickness = sd->self_thickness;
     i.newton_forcing = sd->newton_forcing;
-    i.newton_tolerance = sd->newton_tolerance;
     i.threads = c->state->par.threads;
     snprintf(i.backend_reason, sizeof i.backend_reason, "%s", slot->backend_reason);
     *out = i;

@@ -46,7 +46,6 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.self_collision_thickness = 0.003;
     d.internal_cookie = WA_COOKIE_CLOTH;
     d.newton_forcing = -1.0;
-    d.newton_tolerance = -1.0;
     return d;
 }
 
@@ -186,10 +185,6 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     if (d->newton_forcing != -1.0 && !(d->newton_forcing >= 0 && d->newton_forcing < 1))
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->newton_forcing = %g must be -1 (default) or in [0, 1)",
              d->newton_forcing);
-    if (!isfinite(d->newton_tolerance)) FAIL(WEFT_ERROR_NONFINITE, "def->newton_tolerance is not finite");
-    if (d->newton_tolerance != -1.0 && !(d->newton_tolerance >= 0 && d->newton_tolerance < 1))
-        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->newton_tolerance = %g must be -1 (default) or in [0, 1)",
-             d->newton_tolerance);
     if (d->substeps < 1 || d->substeps > 100000)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->substeps = %d must be in [1, 100000]", d->substeps);
     RANGE(d->max_frame_time, 0.0, 1000.0, 1, "def->max_frame_time");

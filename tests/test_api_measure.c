@@ -240,39 +240,6 @@ static void test_newton_forcing(void) {
     weft_context_destroy(ctx);
 }
 
-/* newton_tolerance: -1 (default) resolves to the backend's 0 (the solver's tolerance), a value in
- * [0, 1) is kept, anything else is refused naming the field. */
-static void test_newton_tolerance(void) {
-    weft_context* ctx = new_context();
-    ag_mesh m;
-    ag_grid(&m, 5, 1.0, 1.0, 0, 0);
-    weft_cloth_def d = weft_default_cloth_def();
-    CHECK(d.newton_tolerance == -1.0);
-    d.mesh = ag_desc(&m);
-    const double given[] = {-1.0, 0.0, 0.1};
-    const double want[] = {0.0, 0.0, 0.1};
-    for (int k = 0; k < 3; ++k) {
-        d.newton_tolerance = given[k];
-        weft_cloth c = {0};
-        CHECK_EQ_INT(weft_cloth_create(ctx, &d, &c), WEFT_OK);
-        weft_cloth_info info;
-        CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
-        CHECK(info.newton_tolerance == want[k]);
-        CHECK_EQ_INT(weft_cloth_destroy(ctx, c), WEFT_OK);
-    }
-    const double bad[] = {-0.5, 1.0, 2.0, NAN, INFINITY};
-    for (int k = 0; k < 5; ++k) {
-        d.newton_tolerance = bad[k];
-        weft_cloth c = {777};
-        const weft_status st = weft_cloth_create(ctx, &d, &c);
-        CHECK_EQ_INT(st, isfinite(bad[k]) ? WEFT_ERROR_INVALID_ARGUMENT : WEFT_ERROR_NONFINITE);
-        CHECK(c.id == 0);
-        CHECK(strstr(weft_context_last_error(ctx), "def->newton_tolerance") != NULL);
-    }
-    ag_free(&m);
-    weft_context_destroy(ctx);
-}
-
 /* The detailed counters: Newton steps with two Newton iterations, BDF2 substeps with BDF2, no
  * pairs without mesh colliders or self-collision (test_api_self_collide's fold has them). */
 static void test_stats_detail(void) {
@@ -319,7 +286,6 @@ int main(void) {
     RUN_TEST(test_energy);
     RUN_TEST(test_mesh_read);
     RUN_TEST(test_newton_forcing);
-    RUN_TEST(test_newton_tolerance);
     RUN_TEST(test_stats_detail);
     return TEST_SUMMARY();
 }

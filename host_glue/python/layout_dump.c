@@ -144,7 +144,6 @@ static void dump_structs(void) {
     FIELD(weft_cloth_def, self_collision_thickness);
     FIELD(weft_cloth_def, internal_cookie);
     FIELD(weft_cloth_def, newton_forcing);
-    FIELD(weft_cloth_def, newton_tolerance);
     struct_end();
 
     STRUCT(weft_cloth_info);
@@ -171,7 +170,6 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, newton_forcing);
     FIELD(weft_cloth_info, threads);
     FIELD(weft_cloth_info, backend_reason);
-    FIELD(weft_cloth_info, newton_tolerance);
     struct_end();
 
     STRUCT(weft_frame);

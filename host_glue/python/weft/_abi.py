@@ -216,8 +216,7 @@ class ClothDef(_Struct):
                 ("seam_a", POINTER(c_int)), ("seam_b", POINTER(c_int)), ("n_seams", c_int),
                 ("seam_close_time", c_double),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
-                ("internal_cookie", c_uint32), ("newton_forcing", c_double),
-                ("newton_tolerance", c_double)]
+                ("internal_cookie", c_uint32), ("newton_forcing", c_double)]
 
 
 class ClothInfo(_Struct):
@@ -230,8 +229,7 @@ class ClothInfo(_Struct):
                 ("n_seams", c_int), ("n_panels", c_int),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
                 ("newton_forcing", c_double), ("threads", c_int),
-                ("backend_reason", ctypes.c_char * BACKEND_REASON_LENGTH),
-                ("newton_tolerance", c_double)]
+                ("backend_reason", ctypes.c_char * BACKEND_REASON_LENGTH)]
 
 
 class Frame(_Struct):

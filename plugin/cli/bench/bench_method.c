@@ -58,7 +58,6 @@ void bench_methods_default(bench_methods* m, const char* preconds) {
     m->line_search = -1;
     m->forcing[0] = -1.0;   /* the library's (weft_cloth_def.newton_forcing) */
     m->n_forcing = 1;
-    m->newton_tol = -1.0;
 }
 
 int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const char** v) {
@@ -69,13 +68,6 @@ int bench_methods_option(bench_methods* m, int argc, char** argv, int* i, const 
     if (OPT("--integrators")) return BAD((m->n_integrators = bench_parse_integrators(*v, m->integrators)) < 0);
     if (OPT("--newton")) return BAD((m->n_newton = bench_parse_ints(*v, 1, 100, m->newton)) < 0);
     if (OPT("--newton-forcing")) return BAD((m->n_forcing = bench_parse_doubles(*v, 0, 0.999, m->forcing)) < 0);
-    if (OPT("--newton-tol")) {
-        double one[BENCH_MAX_LIST];
-        if (r < 0) return r;
-        if (bench_parse_doubles(*v, 0, 0.999, one) != 1) return -2;
-        m->newton_tol = one[0];
-        return 1;
-    }
     if (OPT("--line-search")) {
         if (r < 0) return r;
         m->line_search = !strcmp(*v, "auto") ? -1 : !strcmp(*v, "on") ? 1 : !strcmp(*v, "off") ? 0 : -2;
@@ -101,7 +93,6 @@ int bench_methods_expand(const bench_methods* m, weft_solver solver, bench_metho
                     b->newton = m->newton[w];
                     b->line_search = m->line_search >= 0 ? m->line_search : m->newton[w] > 1;
                     b->forcing = m->forcing[f];
-                    b->newton_tol = m->newton_tol;
                 }
     return k;
 }
@@ -112,7 +103,6 @@ void bench_method_apply(const bench_method* b, weft_cloth_def* def) {
     def->newton_iterations = b->newton;
     def->line_search = b->line_search;
     def->newton_forcing = b->forcing;
-    if (b->newton_tol > 0) def->newton_tolerance = b->newton_tol;
 }
 
 int bench_method_on_gpu(const bench_method* b) {

@@ -16,8 +16,6 @@ typedef struct bench_method {
     int line_search;            /* 0 / 1 */
     double forcing;             /* inexact Newton's forcing term (weft_cloth_def.newton_forcing;
                                    -1: the library's default) */
-    double newton_tol;          /* Newton's stop (weft_cloth_def.newton_tolerance; <= 0: the
-                                   library's default) */
 } bench_method;
 
 /* The method axes of a command line. */
@@ -31,7 +29,6 @@ typedef struct bench_methods {
     int line_search;            /* -1 auto (on when Newton iterations > 1), 0 off, 1 on */
     double forcing[BENCH_MAX_LIST];
     int n_forcing;
-    double newton_tol;          /* --newton-tol, every method's (-1: the library's) */
 } bench_methods;
 
 /* The usage texts' lines on the five options; `preconds` is the command's default list. */
@@ -43,8 +40,7 @@ typedef struct bench_methods {
     "  --line-search MODE   auto (on when Newton iterations > 1; default), on or off\n"              \
     "  --newton-forcing LIST  inexact Newton: with more than one Newton iteration, a substep's\n"     \
     "                       first solve stops at this relative residual (default: the library's,\n"  \
-    "                       weft_cloth_def.newton_forcing; 0: at the tolerance, like the later ones)\n"  \
-    "  --newton-tol X       weft_cloth_def.newton_tolerance (not the reference's)\n"
+    "                       weft_cloth_def.newton_forcing; 0: at the tolerance, like the later ones)\n"
 
 /* Defaults: preconds as given ("block_jacobi", "block_jacobi,amg"), be, 1 Newton iteration, auto,
  * the library's forcing term. */

@@ -476,7 +476,7 @@ static bench_run_opts run_opts(const acc_args* a, const bench_scene* bs, int fra
 /* The reference's method: the direct solver, --ref-integrator, --ref-newton Newton iterations
  * (more than one: line search on, tolerance 1e-10). */
 static bench_method reference_method(const acc_args* a) {
-    const bench_method m = {WEFT_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1, -1.0, -1.0};
+    const bench_method m = {WEFT_PRECOND_BLOCK_JACOBI, a->ref_integrator, a->ref_newton, a->ref_newton > 1, -1.0};
     return m;
 }
 

@@ -27,7 +27,6 @@ typedef struct run_args {
     int precond;           /* -1: the scene's, else a weft_preconditioner (DEFAULT for "default") */
     int newton;            /* -1: the scene's, else 1..100 */
     int line_search;       /* -2: the scene's, else 0 or 1 */
-    double newton_tol;     /* -1: the library's, else weft_cloth_def.newton_tolerance */
     const char* out;       /* folder for OBJ frames, NULL: none */
     const char* stats;     /* stats JSON path, NULL: none */
     const char* render;    /* folder for PNG frames, NULL: none */
@@ -43,8 +42,7 @@ void cli_run_usage(FILE* out) {
           "                [--out DIR] [--cache FILE.pc2|FILE.mdd] [--stats FILE.json] [--render DIR]\n"
           "                [--threads N]\n"
           "                [--backend cpu|gpu|auto] [--integrator be|bdf2|trbdf2] [--precond block_jacobi|amg]\n"
-          "                [--newton N] [--line-search on|off] [--newton-tol X] [--self-collision on|off]\n"
-          "                [--quiet]\n"
+          "                [--newton N] [--line-search on|off] [--self-collision on|off] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
           "through the public API (libweft), showing a progress line on a terminal and printing\n"
@@ -59,8 +57,6 @@ void cli_run_usage(FILE* out) {
           "                         solver.newton_iterations\n"
           "  --line-search on|off   line search on the incremental potential, overriding\n"
           "                         solver.line_search\n"
-          "  --newton-tol X         Newton's stop, weft_cloth_def.newton_tolerance in [0, 1)\n"
-          "                         (default: the library's, the solver's tolerance)\n"
           "  --self-collision on|off  the cloth against itself, overriding self_collision\n"
           "  --out DIR              write DIR/frame_0001.obj ... (created if missing): every host\n"
           "                         vertex in the mesh's own order, then its polygons\n"
@@ -139,10 +135,6 @@ static int parse_args(int argc, char** argv, run_args* a) {
             if (strcmp(value, "on") == 0) a->line_search = 1;
             else if (strcmp(value, "off") == 0) a->line_search = 0;
             else return usage_error("--line-search must be on or off, not '%s'", value);
-        } else if ((m = cli_option_value(argc, argv, &i, "--newton-tol", &value)) != 0) {
-            if (m < 0) return usage_error("%s needs a value", arg);
-            if (cli_parse_double(value, &a->newton_tol) != 0 || !(a->newton_tol >= 0 && a->newton_tol < 1))
-                return usage_error("--newton-tol must be a number in [0, 1), not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--self-collision", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
             if (strcmp(value, "on") == 0) a->self_collision = 1;
@@ -310,7 +302,7 @@ static int simulate(run_ctx* c, const run_args* a) {
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, -1, -1, -1, -2, -1.0, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2, NULL};
+    run_args a = {NULL, -1, -1, -1, -1, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2, NULL};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 
@@ -327,7 +319,6 @@ int cli_run_run(int argc, char** argv) {
     if (a.precond >= 0) def->preconditioner = (weft_preconditioner)a.precond;
     if (a.newton > 0) def->newton_iterations = a.newton;
     if (a.line_search > -2) def->line_search = a.line_search;
-    if (a.newton_tol >= 0) def->newton_tolerance = a.newton_tol;
     if (a.self_collision > -2) def->self_collision = a.self_collision;
     cli_blas_threads(c.sc.threads); /* CHOLMOD's BLAS: as many threads as the run (0: its own) */
 

@@ -412,13 +412,6 @@ typedef struct weft_cloth_def {
      * the first, furthest-from-converged iterate costs fewer iterations. */
     double newton_forcing;      /* in [0, 1); 0: every solve to the tolerance; -1 (default): the
                                    backend's choice (1e-2) */
-    /* Newton's stop (CPU): with newton_iterations > 1, a substep stops iterating once the
-     * nonlinear residual |S grad Phi| is at most this x its first linear system's residual; at
-     * most the tolerance, no iteration is skipped that the solver's tolerance would not. Larger
-     * values skip the later iterations where the first step nearly solved the substep (cheaper,
-     * less accurate: docs/bench/newton_forcing.md "Newton's stopping test"). */
-    double newton_tolerance;    /* in [0, 1); 0: at the solver's tolerance; -1 (default): the
-                                   backend's choice (0) */
 } weft_cloth_def;
 
 WEFT_API weft_cloth_def weft_default_cloth_def(void);
@@ -476,7 +469,6 @@ typedef struct weft_cloth_info {
     char backend_reason[WEFT_BACKEND_REASON_LENGTH]; /* why the cloth runs on `backend`, one line:
                                    "asked for (...)" or "AUTO: ..." (the GPU's refusal, the particle
                                    count against the device's crossover, or why there is no GPU) */
-    double newton_tolerance;    /* what the def's newton_tolerance resolved to, in [0, 1) */
 } weft_cloth_info;
 
 WEFT_API weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_info* out);
