@@ -49,6 +49,10 @@ typedef struct wc_sim_def {
                                    this relative residual (when above the solver's tolerance; never
                                    past tolerance x the floor); 0: to the tolerance. Default
                                    1e-2 */
+    double newton_tolerance;    /* Newton's stop (newton.c "Stops early"), in [0, 1): a substep
+                                   stops iterating once |S grad Phi| is at most this x the first
+                                   system's residual; 0 (default): at the solver's tolerance. The
+                                   energy guard's extra iterations keep the solver's tolerance */
     int substeps;               /* substeps per frame when substep_dt is 0 (1) */
     double substep_dt;          /* s; > 0: fixed substep length with an accumulator instead */
     wc_compression compression; /* DROP */

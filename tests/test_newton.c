@@ -265,14 +265,16 @@ static void test_bad_def(void) {
     wc_model m;
     CHECK(ts_sheet(&m, 4, 1.0, 0.0, 0, 1.0));
     const char* field[] = {"newton_iterations", "newton_iterations", "line_search", "integrator",
-                           "newton_forcing",    "newton_forcing",    "newton_forcing"};
-    for (int k = 0; k < 7; ++k) {
+                           "newton_forcing",    "newton_forcing",    "newton_forcing",
+                           "newton_tolerance",  "newton_tolerance",  "newton_tolerance"};
+    for (int k = 0; k < 10; ++k) {
         wc_sim_def d = wc_default_sim_def();
         if (k == 0) d.newton_iterations = 0;
         if (k == 1) d.newton_iterations = 101;
         if (k == 2) d.line_search = 2;
         if (k == 3) d.integrator = (wc_integrator)7;
-        if (k >= 4) d.newton_forcing = k == 4 ? -0.1 : k == 5 ? 1.0 : NAN;
+        if (k >= 4 && k < 7) d.newton_forcing = k == 4 ? -0.1 : k == 5 ? 1.0 : NAN;
+        if (k >= 7) d.newton_tolerance = k == 7 ? -0.1 : k == 8 ? 1.0 : NAN;
         wc_state* s = NULL;
         wc_diag diag = {0};
         CHECK_EQ_INT(wc_state_create(&s, &m, &d, NULL, &diag), WC_ERROR_INVALID_ARGUMENT);
