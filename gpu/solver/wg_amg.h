@@ -47,6 +47,8 @@ typedef struct wg_amg_level {
     wg_tex v0, v[2], part;      /* power iterations: start (core's), iterates, (v.Av, v.Dv) */
     wg_chain red;
     const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
+    wg_tex cross_i;             /* the pairs' cross terms on the level (amg_level_inputs.glsl):
+                                   n nodes' (first, end), then 4 x the pairs' capacity entries */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -76,6 +78,15 @@ typedef struct wg_amg {
     wg_tex group_fp;            /* per solve: the smoothed levels' bounds, D^-1 and blocks, packed */
     wg_tex group_v;             /* the coarse levels' V-cycle vectors, read and written by the group */
     int group_f[WC_AMG_MAX_LEVELS]; /* each level's offset in group_fp (-1: a dense coarsest level) */
+    /* The self-contact pairs' cross terms (wg_amg_pairs_create, wg_amg_set_pairs): */
+    int* node_of;               /* (n_levels x lev[0].n) each particle's node on each level */
+    int cross_cap;              /* pairs the textures hold (0: the cloth has no pairs) */
+    int cross_n;                /* this substep's pairs (0: none in the system) */
+    int cross_skip;             /* tests: leave the terms out (the pattern's hierarchy alone) */
+    const struct wg_pairs* pairs;
+    wg_tex cross_u;             /* 4 per pair: each slot's (u, c) (amg_cross_terms.glsl) */
+    int* cross_buf;             /* host: 4 x (lev[0].n + 4 cross_cap) ints, a level's cross_i */
+    int* cross_cnt;             /* host: lev[0].n + 1 ints */
 } wg_amg;
 
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
@@ -93,6 +104,13 @@ void wg_amg_setup(wg_amg* a);
 /* z = M^-1 r (one V-cycle) into a->z (the hierarchy's own texture, valid until the next call),
  * and PCG's partial products (r.z, r.r) per particle into dot. */
 void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot);
+
+/* The penalty pairs' terms in every level (wg_pairs.h: self-contact and mesh pairs alike, as
+ * pairs_row.glsl multiplies them): room for cap pairs (at creation, where the cloth has pairs;
+ * 0 with err on failure), then after each wg_pairs_find their nodes on every level up (p NULL or
+ * with no pairs this substep: none); wg_amg_setup takes their filtered vectors and c. */
+int wg_amg_pairs_create(wg_amg* a, int cap, char* err, size_t err_len);
+void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p);
 
 /* PCG with the V-cycle in one work group (wg_amg_group.c). At creation, the packed patterns
  * where the finest level fits the group (0 with err on failure); then, per solve after
