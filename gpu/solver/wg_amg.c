@@ -161,6 +161,7 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     a->sweeps = o.sweeps;
     a->ratio = o.chebyshev_ratio;
     a->fine_bound_scale = ca->fine_bound_scale;
+    a->cross_bound_scale = WG_AMG_CROSS_BOUND;
     int cap = 1;
     for (int l = 0; l < ca->n_levels; ++l) {
         int c = ca->lev[l].n_blocks + 1 + (l > 0 ? ca->lev[l - 1].n_blocks : 0);
@@ -385,7 +386,7 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
     wg_u1i(run, "u_zero", x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
     wg_u1f(run, "u_ratio", a->ratio);
-    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale : 1.0);
+    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale * (cross_on(a) ? a->cross_bound_scale : 1.0) : 1.0);
     wg_u1i(run, "u_dot", dot != NULL);
     if (dot) WG_RUN(run, L->n, xo, dout, dot);
     else WG_RUN(run, L->n, xo, dout);

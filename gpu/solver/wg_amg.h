@@ -17,6 +17,13 @@
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
  * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
  *
+ * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level:
+ * with P = P_tent a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
+ * nodes, so per level an entry list per node (uploaded per substep, wg_amg_set_pairs) and one
+ * texture of the slots' filtered u_k and c (a pass per setup) give each level's whole operator:
+ * the smoother's residuals, the restriction, D^-1, the power iterations and the coarsest factor
+ * take the terms' off-diagonal parts (A's diagonal blocks hold the rest).
+ *
  * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
  * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
  * given the cloth's runner and the textures of its system (wg_amg_system) and knows nothing else
@@ -31,6 +38,12 @@
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_POWER 12         /* power iterations per level and setup */
+#define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
+                                   the levels (wg_amg.cross_bound_scale): a vertex-triangle term
+                                   spreads over four particles, so D^-1 A has modes up to 4 local to
+                                   the contacts where a spring network's stop at 2, which the power
+                                   iterations from a spread start underestimate (the suit's first
+                                   frame: 3 solves not converged without it, 0 with it) */
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -83,6 +96,7 @@ typedef struct wg_amg {
     int cross_cap;              /* pairs the textures hold (0: the cloth has no pairs) */
     int cross_n;                /* this substep's pairs (0: none in the system) */
     int cross_skip;             /* tests: leave the terms out (the pattern's hierarchy alone) */
+    double cross_bound_scale;   /* WG_AMG_CROSS_BOUND (tests: 1, core's power method) */
     const struct wg_pairs* pairs;
     wg_tex cross_u;             /* 4 per pair: each slot's (u, c) (amg_cross_terms.glsl) */
     int* cross_buf;             /* host: 4 x (lev[0].n + 4 cross_cap) ints, a level's cross_i */

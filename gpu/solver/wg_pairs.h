@@ -13,7 +13,7 @@
  * span of the particles they touch, and a pass adds them. Every pair is coupled on the GPU: its
  * off-diagonal blocks c w_a w_b n n^T (c = he^2 k while active) enter each product of A in the
  * solve (pairs_row.glsl: the SpMV, the residual, the Jacobi sweep), not A's blocks (the mesh
- * pairs' in-pattern blocks on the CPU: the same sum). Without Newton's iterations, after a solve,
+ * pairs' in-pattern blocks on the CPU: the same sum), and every level of the multigrid (wg_amg.h). Without Newton's iterations, after a solve,
  * core's recheck runs on dv read back and what it switched goes up the same way (core/step.c
  * pair_passes). With them (core/newton.c), each Newton system takes the pairs' exact terms at the
  * iterate's positions (read back) by core's wc_penalty_pairs_newton, and the line search's
