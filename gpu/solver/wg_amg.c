@@ -4,6 +4,7 @@
 
 #include "gpu_error.h"
 #include "wg_amg.h"
+#include "wg_pairs.h"
 
 wc_amg_opts wg_amg_opts(void) {
     wc_amg_opts o = wc_default_amg_opts();
@@ -134,7 +135,7 @@ fail:
 static int level_textures(wg_amg_level* G, wg_tex** out) {
     wg_tex* list[] = {&G->rows, &G->cols, &G->a[0], &G->a[1], &G->a[2], &G->dinv[0], &G->dinv[1], &G->dinv[2],
                       &G->gal_range, &G->gal_list, &G->mem_range, &G->mem_list, &G->r, &G->x[0], &G->x[1], &G->d[0],
-                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part};
+                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i};
     int n = (int)(sizeof list / sizeof list[0]);
     for (int k = 0; k < n; ++k) out[k] = list[k];
     return n;
@@ -160,6 +161,7 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     a->sweeps = o.sweeps;
     a->ratio = o.chebyshev_ratio;
     a->fine_bound_scale = ca->fine_bound_scale;
+    a->cross_bound_scale = WG_AMG_CROSS_BOUND;
     int cap = 1;
     for (int l = 0; l < ca->n_levels; ++l) {
         int c = ca->lev[l].n_blocks + 1 + (l > 0 ? ca->lev[l - 1].n_blocks : 0);
@@ -169,6 +171,13 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     if (!buf) goto oom;
     for (int l = 0; l < ca->n_levels; ++l)
         if (!level_create(run, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, err, el)) goto fail;
+    /* each particle's node on each level (the pairs' cross terms, wg_amg_set_pairs) */
+    const int n0 = ca->lev[0].n;
+    a->node_of = wc_calloc(alloc, (size_t)ca->n_levels * (size_t)(n0 > 0 ? n0 : 1), sizeof(int));
+    if (!a->node_of) goto oom;
+    for (int i = 0; i < n0; ++i) a->node_of[i] = i;
+    for (int l = 1; l < ca->n_levels; ++l)
+        for (int i = 0; i < n0; ++i) a->node_of[(size_t)l * n0 + i] = ca->lev[l - 1].agg[a->node_of[(size_t)(l - 1) * n0 + i]];
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
@@ -199,8 +208,13 @@ static void release(wg_amg* a, int gl) {
         wg_tex_destroy(&a->group_i);
         wg_tex_destroy(&a->group_fp);
         wg_tex_destroy(&a->group_v);
+        wg_tex_destroy(&a->cross_u);
     }
-    wc_free(&a->run->layout->alloc, a);
+    const wc_allocator* al = &a->run->layout->alloc;
+    wc_free(al, a->node_of);
+    wc_free(al, a->cross_buf);
+    wc_free(al, a->cross_cnt);
+    wc_free(al, a);
 }
 
 void wg_amg_destroy(wg_amg* a) { release(a, 1); }
@@ -209,8 +223,8 @@ void wg_amg_forget(wg_amg* a) { release(a, 0); }
 size_t wg_amg_bytes(const wg_amg* a) {
     if (!a) return 0;
     size_t bytes = 0;
-    const wg_tex* own[] = {&a->coarse_L, &a->group_i, &a->group_fp, &a->group_v};
-    for (int k = 0; k < 4; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
+    const wg_tex* own[] = {&a->coarse_L, &a->group_i, &a->group_fp, &a->group_v, &a->cross_u};
+    for (int k = 0; k < 5; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_tex* t[32];
         int n = level_textures((wg_amg_level*)&a->lev[l], t);
@@ -252,16 +266,80 @@ static wg_amg_in level_in(const wg_amg* a, int l) {
         in.a1 = &L->a[1];
         in.a2 = &L->a[2];
     }
+    /* the pairs' cross terms, or textures of their kinds that u_cross 0 leaves unread */
+    in.cross_i = a->cross_cap ? &L->cross_i : &L->rows;
+    in.cross_u = a->cross_cap ? &a->cross_u : &L->dinv[0];
     return in;
 }
+
+static int cross_on(const wg_amg* a) { return a->cross_n > 0 && !a->cross_skip; }
 
 /* Level l's form of pass p with its inputs. */
 static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in) {
     WG_USE(a->run, level_pass(p, l), in);
+    wg_u1i(a->run, "u_cross", cross_on(a));
+}
+
+int wg_amg_pairs_create(wg_amg* a, int cap, char* err, size_t el) {
+    const wg_layout* L0 = a->run->layout;
+    const int n0 = a->lev[0].n;
+    a->cross_buf = wc_calloc(&L0->alloc, 4u * ((size_t)n0 + 4u * (size_t)cap), sizeof(int));
+    a->cross_cnt = wc_calloc(&L0->alloc, (size_t)n0 + 1, sizeof(int));
+    if (!a->cross_buf || !a->cross_cnt) {
+        wg_errorf(err, el, "out of memory");
+        return 0;
+    }
+    if (!wg_array_create(L0, &a->cross_u, GL_RGBA32F, 4 * cap, NULL, err, el)) return 0;
+    for (int l = 0; l < a->n_levels; ++l)
+        if (!wg_array_create(L0, &a->lev[l].cross_i, GL_RGBA32I, a->lev[l].n + 4 * cap, NULL, err, el)) return 0;
+    a->cross_cap = cap;
+    return 1;
+}
+
+void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p) {
+    a->cross_n = 0;
+    a->pairs = p;
+    if (!a->cross_cap || !wg_pairs_on(p)) return;
+    const int* ip = NULL;
+    const float* w = NULL;
+    const int np = wg_pairs_debug_list(p, &ip, &w, NULL);
+    if (np <= 0 || np > a->cross_cap) return;
+    const int n0 = a->lev[0].n;
+    int* v = a->cross_buf;
+    int* cnt = a->cross_cnt;
+    for (int l = 0; l < a->n_levels; ++l) {
+        /* node I's entries: its slots (the used ones: weight not 0) by counting sort, pair order */
+        const int nl = a->lev[l].n;
+        const int* node = a->node_of + (size_t)l * n0;
+        memset(cnt, 0, sizeof(int) * ((size_t)nl + 1));
+        for (int e = 0; e < 4 * np; ++e)
+            if (w[e] != 0.0f) ++cnt[node[ip[e]] + 1];
+        for (int I = 0; I < nl; ++I) cnt[I + 1] += cnt[I];
+        for (int I = 0; I < nl; ++I) {
+            v[4 * I] = nl + cnt[I];
+            v[4 * I + 1] = nl + cnt[I + 1];
+            v[4 * I + 2] = v[4 * I + 3] = 0;
+        }
+        for (int e = 0; e < 4 * np; ++e) {
+            if (w[e] == 0.0f) continue;
+            int* en = v + 4 * ((size_t)nl + (size_t)cnt[node[ip[e]]]++);
+            const int q4 = e & ~3, k = e & 3;
+            en[0] = e;
+            for (int m = 1; m < 4; ++m) en[m] = node[ip[q4 + ((k + m) & 3)]];
+        }
+        wg_array_upload(a->run->layout, &a->lev[l].cross_i, nl + cnt[nl - 1], v);
+    }
+    a->cross_n = np;
 }
 
 void wg_amg_setup(wg_amg* a) {
     wg_runner* run = a->run;
+    if (cross_on(a)) { /* each pair slot's filtered vector and c, the same on every level */
+        const wg_pair_in pi = wg_pairs_inputs(a->pairs, NULL, NULL);
+        WG_USE(run, WGP_AMG_CROSS_TERMS, &(wg_amg_in){.pair_p = pi.pr_p, .pair_w = pi.pr_w, .pair_nc = pi.pr_nc,
+            .S0 = a->sys.S0, .S1 = a->sys.S1});
+        WG_RUN(run, 4 * a->cross_n, &a->cross_u);
+    }
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* L = &a->lev[l];
         wg_amg_in in = level_in(a, l);
@@ -308,7 +386,7 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
     wg_u1i(run, "u_zero", x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
     wg_u1f(run, "u_ratio", a->ratio);
-    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale : 1.0);
+    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale * (cross_on(a) ? a->cross_bound_scale : 1.0) : 1.0);
     wg_u1i(run, "u_dot", dot != NULL);
     if (dot) WG_RUN(run, L->n, xo, dout, dot);
     else WG_RUN(run, L->n, xo, dout);

@@ -17,6 +17,13 @@
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
  * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
  *
+ * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level:
+ * with P = P_tent a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
+ * nodes, so per level an entry list per node (uploaded per substep, wg_amg_set_pairs) and one
+ * texture of the slots' filtered u_k and c (a pass per setup) give each level's whole operator:
+ * the smoother's residuals, the restriction, D^-1, the power iterations and the coarsest factor
+ * take the terms' off-diagonal parts (A's diagonal blocks hold the rest).
+ *
  * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
  * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
  * given the cloth's runner and the textures of its system (wg_amg_system) and knows nothing else
@@ -31,6 +38,12 @@
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_POWER 12         /* power iterations per level and setup */
+#define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
+                                   the levels (wg_amg.cross_bound_scale): a vertex-triangle term
+                                   spreads over four particles, so D^-1 A has modes up to 4 local to
+                                   the contacts where a spring network's stop at 2, which the power
+                                   iterations from a spread start underestimate (the suit's first
+                                   frame: 3 solves not converged without it, 0 with it) */
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -47,6 +60,8 @@ typedef struct wg_amg_level {
     wg_tex v0, v[2], part;      /* power iterations: start (core's), iterates, (v.Av, v.Dv) */
     wg_chain red;
     const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
+    wg_tex cross_i;             /* the pairs' cross terms on the level (amg_level_inputs.glsl):
+                                   n nodes' (first, end), then 4 x the pairs' capacity entries */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -76,6 +91,16 @@ typedef struct wg_amg {
     wg_tex group_fp;            /* per solve: the smoothed levels' bounds, D^-1 and blocks, packed */
     wg_tex group_v;             /* the coarse levels' V-cycle vectors, read and written by the group */
     int group_f[WC_AMG_MAX_LEVELS]; /* each level's offset in group_fp (-1: a dense coarsest level) */
+    /* The self-contact pairs' cross terms (wg_amg_pairs_create, wg_amg_set_pairs): */
+    int* node_of;               /* (n_levels x lev[0].n) each particle's node on each level */
+    int cross_cap;              /* pairs the textures hold (0: the cloth has no pairs) */
+    int cross_n;                /* this substep's pairs (0: none in the system) */
+    int cross_skip;             /* tests: leave the terms out (the pattern's hierarchy alone) */
+    double cross_bound_scale;   /* WG_AMG_CROSS_BOUND (tests: 1, core's power method) */
+    const struct wg_pairs* pairs;
+    wg_tex cross_u;             /* 4 per pair: each slot's (u, c) (amg_cross_terms.glsl) */
+    int* cross_buf;             /* host: 4 x (lev[0].n + 4 cross_cap) ints, a level's cross_i */
+    int* cross_cnt;             /* host: lev[0].n + 1 ints */
 } wg_amg;
 
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
@@ -93,6 +118,13 @@ void wg_amg_setup(wg_amg* a);
 /* z = M^-1 r (one V-cycle) into a->z (the hierarchy's own texture, valid until the next call),
  * and PCG's partial products (r.z, r.r) per particle into dot. */
 void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot);
+
+/* The penalty pairs' terms in every level (wg_pairs.h: self-contact and mesh pairs alike, as
+ * pairs_row.glsl multiplies them): room for cap pairs (at creation, where the cloth has pairs;
+ * 0 with err on failure), then after each wg_pairs_find their nodes on every level up (p NULL or
+ * with no pairs this substep: none); wg_amg_setup takes their filtered vectors and c. */
+int wg_amg_pairs_create(wg_amg* a, int cap, char* err, size_t err_len);
+void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p);
 
 /* PCG with the V-cycle in one work group (wg_amg_group.c). At creation, the packed patterns
  * where the finest level fits the group (0 with err on failure); then, per solve after

@@ -156,6 +156,8 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
 
 int wg_pairs_on(const wg_pairs* p) { return p && p->on; }
 
+int wg_pairs_capacity(const wg_pairs* p) { return p ? p->cap : 0; }
+
 int wg_pairs_list_on(const wg_pairs* p, int list) { return p && p->on && p->count[list] > 0; }
 
 const wg_pair_counts* wg_pairs_counts(const wg_pairs* p) { return &p->counts; }

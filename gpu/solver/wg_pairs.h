@@ -13,7 +13,7 @@
  * span of the particles they touch, and a pass adds them. Every pair is coupled on the GPU: its
  * off-diagonal blocks c w_a w_b n n^T (c = he^2 k while active) enter each product of A in the
  * solve (pairs_row.glsl: the SpMV, the residual, the Jacobi sweep), not A's blocks (the mesh
- * pairs' in-pattern blocks on the CPU: the same sum). Without Newton's iterations, after a solve,
+ * pairs' in-pattern blocks on the CPU: the same sum), and every level of the multigrid (wg_amg.h). Without Newton's iterations, after a solve,
  * core's recheck runs on dv read back and what it switched goes up the same way (core/step.c
  * pair_passes). With them (core/newton.c), each Newton system takes the pairs' exact terms at the
  * iterate's positions (read back) by core's wc_penalty_pairs_newton, and the line search's
@@ -80,14 +80,16 @@ double wg_pairs_energy_change(wg_pairs* p, const wc_state* s, const wc_integ* ig
 int wg_pairs_list_on(const wg_pairs* p, int list);
 const wg_pair_counts* wg_pairs_counts(const wg_pairs* p);
 
+/* The pairs the textures hold at most (p NULL: 0). */
+int wg_pairs_capacity(const wg_pairs* p);
 /* 1 when this substep's system has pairs (p NULL: 0): the products add their blocks. */
 int wg_pairs_on(const wg_pairs* p);
 /* The products' inputs: the pairs' textures, or (p NULL) i_any and f_any, an integer and a float
  * texture that pairs_row.glsl binds and never reads. */
 wg_pair_in wg_pairs_inputs(const wg_pairs* p, const wg_tex* i_any, const wg_tex* f_any);
 
-/* Tests: the pairs' data as uploaded (NULL: not wanted): n pairs, their p (n x 4), w and (n, c)
- * (n x 4 floats each), from the host copy. Returns n. */
+/* The pairs' data as uploaded (NULL: not wanted): n pairs, their p (n x 4), w and (n, c) (n x 4
+ * floats each), from the host copy (the multigrid's cross terms, wg_amg.h; tests). Returns n. */
 int wg_pairs_debug_list(const wg_pairs* p, const int** pp, const float** w, const float** nc);
 
 #endif

@@ -10,7 +10,7 @@ out vec4 o2;
 void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    mat3 D = op_diag(i);
+    mat3 D = op_diag_full(i);
     float det = determinant(D);
     mat3 inv;
     if (det != 0.0 && !isnan(det) && !isinf(det)) inv = inverse(D);

@@ -11,7 +11,7 @@
 // rounding of the largest swamps.) The matrix lives in the image, not in an array of the
 // invocation: 96^2 floats were past llvmpipe's stack for one (its factor came out zero).
 // The level's inputs: amg_level_inputs.glsl (the finest level's form where the hierarchy has one
-// level).
+// level), the self-contact pairs' cross terms included.
 #pragma weft include amg_blocks
 #pragma weft include amg_level_inputs
 layout(local_size_x = 64, local_size_y = 1) in;
@@ -40,6 +40,21 @@ void main() {
                 put(3 * i, 3 * j + c, b0[c]);
                 put(3 * i + 1, 3 * j + c, b1[c]);
                 put(3 * i + 2, 3 * j + c, b2[c]);
+            }
+        }
+        if (u_cross == 0) continue;
+        /* the pairs' cross terms (amg_level_inputs.glsl op_cross): c u_k u_j^T into block (i, node
+           of slot j), in row i's own invocation */
+        ivec4 cr = ldi(cross_i, i);
+        for (int e = cr.x; e < cr.y; ++e) {
+            ivec4 en = ldi(cross_i, e);
+            vec4 uk = ld(cross_u, en.x);
+            if (!(uk.w > 0.0)) continue;
+            for (int m = 1; m < 4; ++m) {
+                vec3 uj = ld(cross_u, (en.x & ~3) + (((en.x & 3) + m) & 3)).xyz;
+                for (int a = 0; a < 3; ++a)
+                    for (int c = 0; c < 3; ++c)
+                        put(3 * i + a, 3 * en[m] + c, M(3 * i + a, 3 * en[m] + c) + uk.w * uk[a] * uj[c]);
             }
         }
     }

@@ -52,19 +52,6 @@ vec3 op_prolong(int j, vec3 xc) { return filter_apply(ld(S0, j), ld(S1, j), xc);
 // op_row's parts (below): for x in range(S) (the V-cycle's vectors) row i of P^ x is S_i (A x)_i.
 vec3 op_mul(int k, vec3 x) { return op_a(k) * x; }
 vec3 op_row_end(int i, vec3 y) { return filter_apply(ld(S0, i), ld(S1, i), y); }
-// Row i of P^ x for any x (the power iterations, from core's unfiltered start vector).
-vec3 op_row_any(int i, sampler2D x) {
-    ivec4 r = ldi(rows, i);
-    vec3 y = vec3(0.0);
-    for (int k = r.x; k < r.y; ++k) {
-        int j = ldi(cols, k).y;
-        y += op_a(k) * filter_apply(ld(S0, j), ld(S1, j), ld(x, j).xyz);
-    }
-    if (!op_filtered(i)) return y;
-    mat3 S = op_filter(i);
-    vec3 xi = ld(x, i).xyz;
-    return S * y + op_scale(op_a(r.z)) * (xi - S * xi);
-}
 #else
 uniform sampler2D a0;    // blocks, row 0
 uniform sampler2D a1;    // row 1
@@ -82,6 +69,59 @@ vec3 op_row_end(int i, vec3 y) { return y; }
 #endif
 mat3 op_diag(int i) { return op_block(ldi(rows, i).z); }
 
+// The self-contact pairs' cross terms on this level (wg_amg.h "Cross terms"): pair q's term is
+// c (sum_k e_k u_k)(sum_j e_j u_j)^T, e_k the level's node of slot k's particle, u_k its
+// filtered vector (amg_cross_terms.glsl); its k = j parts are A's diagonal blocks (the pairs'
+// additions, summed into the coarse levels by the Galerkin passes), the rest is added here.
+// cross_i: per node (first entry, end, -, -), then the entries: (4 q + k for slot k of pair q at
+// this node, the nodes of the pair's slots k + 1, k + 2, k + 3 mod 4). cross_u: per pair and
+// slot (u, c), c = 0 inactive. u_cross 0: no pairs (nothing read).
+uniform isampler2D cross_i;
+uniform sampler2D cross_u;
+uniform int u_cross;
+
+// x_j as op_row reads it (the coarse correction added with prolong)
+vec3 op_cross_x(int j, sampler2D x, sampler2D xc, bool prolong) {
+    vec3 xj = ld(x, j).xyz;
+    if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
+    return xj;
+}
+// Row i of the cross terms times x: sum over node i's entries of c u_k (sum_{j != k} u_j . x_j).
+vec3 op_cross(int i, sampler2D x, sampler2D xc, bool prolong) {
+    vec3 y = vec3(0.0);
+    if (u_cross == 0) return y;
+    ivec4 r = ldi(cross_i, i);
+    for (int e = r.x; e < r.y; ++e) {
+        ivec4 en = ldi(cross_i, e);
+        vec4 uk = ld(cross_u, en.x);
+        if (!(uk.w > 0.0)) continue;
+        int q4 = en.x & ~3, k = en.x & 3;
+        float s = 0.0;
+        for (int m = 1; m < 4; ++m)
+            s += dot(ld(cross_u, q4 + ((k + m) & 3)).xyz, op_cross_x(en[m], x, xc, prolong));
+        y += (uk.w * s) * uk.xyz;
+    }
+    return y;
+}
+// The cross terms' part of node i's diagonal block: c u_k u_j^T for two slots k != j of a pair
+// on node i (a coarse node holding both of its particles).
+mat3 op_cross_diag(int i) {
+    mat3 D = mat3(0.0);
+    if (u_cross == 0) return D;
+    ivec4 r = ldi(cross_i, i);
+    for (int e = r.x; e < r.y; ++e) {
+        ivec4 en = ldi(cross_i, e);
+        vec4 uk = ld(cross_u, en.x);
+        if (!(uk.w > 0.0)) continue;
+        int q4 = en.x & ~3, k = en.x & 3;
+        for (int m = 1; m < 4; ++m)
+            if (en[m] == i) D += uk.w * outerProduct(uk.xyz, ld(cross_u, q4 + ((k + m) & 3)).xyz);
+    }
+    return D;
+}
+// The level's whole diagonal block (the smoother's D, the Rayleigh quotient's).
+mat3 op_diag_full(int i) { return op_diag(i) + op_cross_diag(i); }
+
 // Row i of the level's operator times x, x_j + op_prolong(j, xc[agg j]) read with prolong (on the
 // finest level x in range(S): above).
 vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
@@ -93,8 +133,23 @@ vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
         if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
         y += op_mul(k, xj);
     }
-    return op_row_end(i, y);
+    return op_row_end(i, y + op_cross(i, x, xc, prolong));
 }
-#ifndef WG_AMG_FINE
+#ifdef WG_AMG_FINE
+// Row i of P^ x for any x (the power iterations, from core's unfiltered start vector).
+vec3 op_row_any(int i, sampler2D x) {
+    ivec4 r = ldi(rows, i);
+    vec3 y = vec3(0.0);
+    for (int k = r.x; k < r.y; ++k) {
+        int j = ldi(cols, k).y;
+        y += op_a(k) * filter_apply(ld(S0, j), ld(S1, j), ld(x, j).xyz);
+    }
+    y += op_cross(i, x, x, false);   /* u_j . x_j = u_j . S_j x_j: u_j is filtered */
+    if (!op_filtered(i)) return y;
+    mat3 S = op_filter(i);
+    vec3 xi = ld(x, i).xyz;
+    return S * y + op_scale(op_a(r.z)) * (xi - S * xi);
+}
+#else
 vec3 op_row_any(int i, sampler2D x) { return op_row(i, x, x, false); }
 #endif

@@ -13,7 +13,7 @@ void main() {
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); return; }
     vec3 av = op_row_any(i, v);
     vec3 vi = ld(v, i).xyz;
-    vec3 dv = op_diag(i) * vi;
+    vec3 dv = op_diag_full(i) * vi;
     o0 = vec4(op_dinv(i) * av, 0.0);
     o1 = vec4(dot(vi, av), dot(vi, dv), 0.0, 0.0);
 }

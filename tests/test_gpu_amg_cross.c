@@ -1,0 +1,244 @@
+/* The self-contact pairs' cross terms in the GPU's multigrid (gpu/solver/wg_amg.h, "cross terms")
+ * against core's (core/amg_cross.c) on the same float input: two 21 x 21 layers, the top one
+ * falling onto the bottom one (tests/test_amg_cross.c's system: two pins and a row on a plane in
+ * the bottom layer, so the filter acts), the GPU's pairs found and assembled by its own prepare
+ * and its A, b and filter replaced by core's. Core's hierarchy is the GPU's method
+ * (wg_amg_opts(): unsmoothed aggregation, power iterations) with its couplings (couplings 1).
+ * Checked:
+ *   - one V-cycle on a filtered random vector: the GPU's output is core's to float precision
+ *     (within 2x of the two sides' difference with no terms on either: float's power iterations
+ *     and factor against double's), and with the terms left out of the GPU's levels
+ *     (cross_skip, the mutation) over 100x further;
+ *   - PCG with the multigrid, same tolerance: the GPU's iterations within 2 of core's and its
+ *     answer solving core's system (couplings included); without the terms, over twice as many;
+ *     with the GPU's default finest bound factor (WG_AMG_CROSS_BOUND), under half of those too. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "amg.h"
+#include "check.h"
+#include "coupling.h"
+#include "egl_context.h"
+#include "self_pairs.h"
+#include "solve.h"
+#include "solve_kernels.h"
+#include "state.h"
+#include "step.h"
+#include "test_support.h"
+#include "two_layers.h"
+#include "wg_amg.h"
+#include "wg_sim_impl.h"
+
+#define N 21
+#define SIZE 0.6
+#define GAP 0.004
+#define TH 0.003
+#define H (1.0 / 60.0)
+
+static wg_gl_context* gl;
+static wg_device* dev;
+
+static void round_to_float(double* a, size_t count) {
+    for (size_t k = 0; k < count; ++k) a[k] = (float)a[k];
+}
+
+static wc_state* layers(const wc_model* m, const wc_sim_def* def) {
+    wc_state* s = two_layers_approaching(m, N, SIZE, 0.3, def);
+    CHECK(s != NULL);
+    if (!s) return NULL;
+    round_to_float(s->x, 3 * (size_t)m->n_particles);
+    round_to_float(s->v, 3 * (size_t)m->n_particles);
+    return s;
+}
+
+/* test_amg_cross.c's constraints: two pins and a row on a plane y = 0 in the bottom layer */
+static void constrain(const wc_model* m, wc_filter* f) {
+    for (int hv = 0; hv < N; ++hv) {
+        int p = m->host_to_particle[N * (N / 2) + hv];
+        double* S = f->S + 9 * p;
+        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
+        S[4] = 0.0;
+        f->ndof[p] = 1;
+    }
+    for (int c = 0; c < 2; ++c) {
+        int p = m->host_to_particle[c ? N * N - 1 : 0];
+        memset(f->S + 9 * p, 0, 9 * sizeof(double));
+        f->ndof[p] = 3;
+    }
+}
+
+/* one GPU V-cycle on r (n x 3) into z, after a setup (its terms left out with skip) */
+static void gpu_vcycle(wg_sim* g, const double* r, double* z, int skip) {
+    const int n = g->n;
+    g->amg->cross_skip = skip;
+    wg_amg_setup(g->amg);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
+    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
+    wg_amg_apply(g->amg, &g->r[0], &g->part);
+    wg_array_read(&g->layout, g->amg->z, n, g->rb);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) z[3 * i + c] = g->rb[4 * i + c];
+    g->amg->cross_skip = 0;
+}
+
+static void test_cross_terms(void) {
+    wc_model m;
+    CHECK(two_layers(&m, N, SIZE, 0.0, GAP));
+    wc_sim_def def = wc_default_sim_def();
+    def.self_collision = 1;
+    def.self_thickness = TH;
+    def.self_in_solve = 1;
+    def.sleep_speed = 0;
+    def.threads = 1;
+    def.solver.type = WC_SOLVER_PCG;
+    def.solver.preconditioner = WC_PRECOND_AMG;
+    def.solver.tolerance = 1e-4;
+    def.solver.max_iterations = 2000;
+    wc_state* sc = layers(&m, &def);
+    wc_state* sg = layers(&m, &def);
+    if (!sc || !sg) return;
+    const int n = m.n_particles;
+    const size_t n3 = 3 * (size_t)n;
+    wc_diag d = {0};
+    wg_sim* g = NULL;
+    CHECK_EQ_INT(wg_sim_create(dev, sg, NULL, &g, &d), WC_OK);
+    if (!g) {
+        printf("  wg_sim_create: %s\n", d.message);
+        return;
+    }
+    CHECK(g->pairs != NULL && g->amg != NULL);
+    if (!g->amg) return;
+    g->amg->cross_bound_scale = 1.0;   /* core's power method has no such factor (wg_amg.h) */
+    /* core's system and the GPU's (its pairs found and assembled by its own prepare) */
+    wc_self_begin(sc->self, sc->x);
+    wc_self_begin(sg->self, sg->x);
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wc_substep_prepare(sc, H, 1.0, &st);
+    constrain(&m, &sc->filter);
+    CHECK_EQ_INT(wg_sim_debug_prepare(g, sg, H, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wg_sim_debug_set_system(g, sc->A, sc->b, &sc->filter, &d), WC_OK);
+    const int active = wc_coupling_active(&sc->self_pairs->coupling);
+    CHECK_EQ_INT(wg_pairs_counts(g->pairs)->self_active, active);
+    CHECK(g->amg->cross_n > 0);
+
+    /* core's hierarchy: the GPU's method with the couplings */
+    wc_par par;
+    wc_par_init(&par, 1);
+    wc_amg_opts ao = wg_amg_opts();
+    ao.values = 1;
+    ao.couplings = 1;
+    wc_amg* ca = NULL;
+    CHECK_EQ_INT(wc_amg_create(&ca, &m, &ao, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_amg_set_coupling(ca, &sc->self_pairs->coupling, sc->self_pairs->list.cap, &d), WC_OK);
+    wc_amg_setup(ca, sc->A, &sc->filter, &par);
+    CHECK_EQ_INT(ca->n_levels, g->amg->n_levels);
+    CHECK(ca->n_levels >= 3);
+    CHECK_EQ_INT(ca->cross_terms[0], active);
+
+    /* one V-cycle on a filtered random vector */
+    double *r = malloc(n3 * sizeof(double)), *zc = calloc(n3, sizeof(double)), *zg = calloc(n3, sizeof(double)),
+           *zs = calloc(n3, sizeof(double));
+    unsigned seed = 99u;
+    for (size_t k = 0; k < n3; ++k) {
+        seed = seed * 1103515245u + 12345u;
+        r[k] = ((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+    }
+    for (int i = 0; i < n; ++i) wc_filter_apply(&sc->filter, i, r + 3 * i, r + 3 * i);
+    round_to_float(r, n3);
+    wc_amg_apply(ca, r, zc, &par);
+    gpu_vcycle(g, r, zg, 0);
+    gpu_vcycle(g, r, zs, 1);
+    const double e = ts_rel_diff(zg, zc, (int)n3), es = ts_rel_diff(zs, zc, (int)n3);
+    /* the float floor: both sides without any terms (core's hierarchy with couplings 0) */
+    wc_amg_opts a0 = ao;
+    a0.couplings = 0;
+    wc_amg* c0 = NULL;
+    CHECK_EQ_INT(wc_amg_create(&c0, &m, &a0, NULL, &d), WC_OK);
+    wc_amg_setup(c0, sc->A, &sc->filter, &par);
+    double* z0 = calloc(n3, sizeof(double));
+    wc_amg_apply(c0, r, z0, &par);
+    const double e0 = ts_rel_diff(zs, z0, (int)n3);
+    free(z0);
+    wc_amg_destroy(c0);
+    printf("  %d particles, %d levels, %d active pairs: one V-cycle, GPU against core %.1e (the terms left "
+           "out of the GPU's levels: %.1e; neither side with them: %.1e, float's floor)\n",
+           n, ca->n_levels, active, e, es, e0);
+    CHECK(active > 100);
+    CHECK(e < 2.0 * e0 + 1e-4);
+    CHECK(es > 100.0 * e);
+
+    /* PCG with the multigrid on each side */
+    wc_solver* cpu = NULL;
+    wc_solver_opts o = def.solver;
+    CHECK_EQ_INT(wc_solver_create(&cpu, &m, &o, 0, NULL, &d), WC_OK);
+    wc_amg_destroy(cpu->amg);
+    cpu->amg = NULL;
+    CHECK_EQ_INT(wc_amg_create(&cpu->amg, &m, &ao, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_solver_set_coupling(cpu, &sc->self_pairs->coupling, sc->self_pairs->list.cap, &d), WC_OK);
+    wc_solver_set_residual_floor(cpu, wc_state_residual_floor(sc, H));
+    wc_solve_result rc, rg, rs;
+    double *dc = calloc(n3, sizeof(double)), *dg = calloc(n3, sizeof(double)), *y = malloc(n3 * sizeof(double));
+    CHECK_EQ_INT(wc_solve(cpu, WC_SOLVER_PCG, sc->A, sc->b, &sc->filter, dc, &sc->par, &rc), WC_OK);
+    CHECK_EQ_INT(wg_sim_debug_solve(g, WC_SOLVER_PCG, dg, &rg, &d), WC_OK);
+    /* the GPU's answer in core's system (the filter's part: dg - z in range(S)) */
+    wc_state_mul_system(sc, dg, y);
+    double rr = 0.0, bb = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double t[3], u[3];
+        for (int c = 0; c < 3; ++c) t[c] = sc->b[3 * i + c] - y[3 * i + c];
+        wc_filter_apply(&sc->filter, i, t, u);
+        for (int c = 0; c < 3; ++c) {
+            double bf = sc->b[3 * i + c];
+            rr += u[c] * u[c];
+            bb += bf * bf;
+        }
+    }
+    memset(dg, 0, n3 * sizeof(double));
+    g->amg->cross_skip = 1;
+    wg_sim_debug_solve(g, WC_SOLVER_PCG, dg, &rs, &d);
+    g->amg->cross_skip = 0;
+    /* the GPU's default: the finest bound x WG_AMG_CROSS_BOUND while the terms are in the levels */
+    wc_solve_result rb;
+    memset(dg, 0, n3 * sizeof(double));
+    g->amg->cross_bound_scale = WG_AMG_CROSS_BOUND;
+    wg_sim_debug_solve(g, WC_SOLVER_PCG, dg, &rb, &d);
+    printf("  PCG to %.0e: GPU %d iterations, core (same method) %d; the GPU's answer in core's system: relative "
+           "residual %.1e; the GPU without the terms in its levels: %d iterations; with its default bound "
+           "factor %.1f: %d\n",
+           o.tolerance, rg.iterations, rc.iterations, sqrt(rr / bb), rs.iterations, WG_AMG_CROSS_BOUND, rb.iterations);
+    CHECK(rc.converged && rg.converged && rb.converged);
+    CHECK(abs(rg.iterations - rc.iterations) <= 2);
+    CHECK(sqrt(rr / bb) < 1e-3);
+    CHECK(2 * rg.iterations < rs.iterations);
+    CHECK(2 * rb.iterations < rs.iterations);
+
+    free(r), free(zc), free(zg), free(zs), free(dc), free(dg), free(y);
+    wc_solver_destroy(cpu);
+    wc_amg_destroy(ca);
+    wg_sim_destroy(g);
+    wc_state_destroy(sc);
+    wc_state_destroy(sg);
+    wc_model_free(&m);
+}
+
+int main(void) {
+    wg_gl_context_desc cd;
+    memset(&cd, 0, sizeof cd);
+    char err[512];
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
+        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
+        fprintf(stderr, "no GL context or device: %s\n", err);
+        return 1;
+    }
+    printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
+    if (dev->compute) RUN_TEST(test_cross_terms);
+    else printf("  skipped: the multigrid needs compute passes\n");
+    wg_device_destroy(dev);
+    wg_gl_end(gl);
+    wg_gl_context_destroy(gl);
+    return TEST_SUMMARY();
+}
