@@ -12,6 +12,7 @@
  *   - PCG with the multigrid, same tolerance: the GPU's iterations within 2 of core's and its
  *     answer solving core's system (couplings included); without the terms, over twice as many;
  *     with the GPU's default finest bound factor (WG_AMG_CROSS_BOUND), under half of those too. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -229,11 +230,21 @@ int main(void) {
     wg_gl_context_desc cd;
     memset(&cd, 0, sizeof cd);
     char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
-        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context or device: %s\n", err);
+    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK) {
+        fprintf(stderr, "no GL context: %s\n", err);
         return 1;
     }
+    /* the terms are opt-in (wg_device.amg_cross): a value other than 0 or 1 is refused by name */
+    setenv("WEFT_GPU_AMG_CROSS", "yes", 1);
+    err[0] = 0;
+    CHECK(wg_device_create(gl, &dev, err, sizeof err) == WC_ERROR_GPU && dev == NULL);
+    CHECK(strstr(err, "WEFT_GPU_AMG_CROSS='yes'") != NULL);
+    setenv("WEFT_GPU_AMG_CROSS", "1", 1);
+    if (wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
+        fprintf(stderr, "device: %s\n", err);
+        return 1;
+    }
+    CHECK(dev->amg_cross == 1);
     printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
     if (dev->compute) RUN_TEST(test_cross_terms);
     else printf("  skipped: the multigrid needs compute passes\n");

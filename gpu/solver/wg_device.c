@@ -174,6 +174,14 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         wg_device_destroy(d);
         return WC_ERROR_GPU;
     }
+    /* the multigrid's cross terms (wg_amg_pairs_create): WEFT_GPU_AMG_CROSS=1 or 0 (the default) */
+    const char* cross = getenv("WEFT_GPU_AMG_CROSS");
+    if (cross && *cross && strcmp(cross, "0") != 0 && strcmp(cross, "1") != 0) {
+        wg_errorf(err, err_len, "WEFT_GPU_AMG_CROSS='%.40s' is not '0' or '1'", cross);
+        wg_device_destroy(d);
+        return WC_ERROR_GPU;
+    }
+    d->amg_cross = cross && strcmp(cross, "1") == 0;
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];
