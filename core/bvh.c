@@ -120,6 +120,17 @@ void wc_bvh_refit(wc_bvh* b, const double* boxes) {
     }
 }
 
+void wc_bvh_refit_masked(wc_bvh* b, const double* boxes, const unsigned char* mask) {
+    for (int node = b->n_nodes - 1; node >= 0; --node) {
+        if (!mask[node]) continue;
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0)
+            memcpy(b->box + 6 * node, boxes + 6 * ch[1], 6 * sizeof(double));
+        else
+            box_union(b->box + 6 * node, b->box + 6 * ch[0], b->box + 6 * ch[1]);
+    }
+}
+
 int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void* user) {
     return wc_bvh_query_masked(b, box, NULL, visit, user);
 }

@@ -27,6 +27,9 @@ wc_status wc_bvh_build(wc_bvh* b, const double* boxes, int n, const wc_allocator
 void wc_bvh_free(wc_bvh* b);
 /* New boxes for the same primitives (n_prims x 6); the tree's shape is kept. */
 void wc_bvh_refit(wc_bvh* b, const double* boxes);
+/* The same for only the nodes whose mask (n_nodes, wc_bvh_mask_up's) is 1: the refit when only
+ * the primitives under those changed their boxes (the others' nodes keep theirs, the same). */
+void wc_bvh_refit_masked(wc_bvh* b, const double* boxes, const unsigned char* mask);
 
 /* Calls visit(user, prim) for every primitive whose box overlaps box (6: min xyz, max xyz,
  * closed intervals); stops early when visit returns non-zero (then returns that value, else 0). */

@@ -84,6 +84,8 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->tangled);
     wc_free(&a, sc->seam_start);
     wc_free(&a, sc->seam_nbr);
+    wc_free(&a, sc->tri_grid.cell);
+    wc_free(&a, sc->edge_grid.cell);
     wc_self_near_free(sc);
     wc_free(&a, sc);
 }
@@ -139,7 +141,11 @@ wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, con
         sc->edge_max = WC_NEW(&A, int, (size_t)sc->edge_bvh.n_nodes + 1);
         sc->tri_mask = WC_NEW(&A, unsigned char, (size_t)sc->tri_bvh.n_nodes + 1);
         sc->edge_mask = WC_NEW(&A, unsigned char, (size_t)sc->edge_bvh.n_nodes + 1);
-        if (!sc->edge_max || !sc->tri_mask || !sc->edge_mask)
+        sc->tri_grid.g = wc_self_grid_side(sc->n_tris);
+        sc->edge_grid.g = wc_self_grid_side(sc->n_edges);
+        sc->tri_grid.cell = WC_NEW(&A, unsigned char, (size_t)sc->tri_grid.g * sc->tri_grid.g * sc->tri_grid.g);
+        sc->edge_grid.cell = WC_NEW(&A, unsigned char, (size_t)sc->edge_grid.g * sc->edge_grid.g * sc->edge_grid.g);
+        if (!sc->edge_max || !sc->tri_mask || !sc->edge_mask || !sc->tri_grid.cell || !sc->edge_grid.cell)
             st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
     }
     if (st != WC_OK) {
@@ -185,6 +191,7 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
         dirty = touched;
         touched = tmp;
         memset(touched, 0, (size_t)n);
+        sc->refit_dirty = p > 1; /* the first impulse pass's r is not the proximity pass's */
         left = wc_self_pass(sc, m, x, WC_SELF_PASS_IMPULSE, NULL, sc->detect_all ? NULL : dirty, touched);
         local.impacts += left;
     }
@@ -198,6 +205,10 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
         dirty = touched;
         int it = 0;
         for (; it < WC_SELF_ZONE_ITERS; ++it) {
+            /* the dirty set holds every particle moved since the last pass (its touched ones, the
+               zones' members, the relaxed ones): the pass refits only their elements, unless the
+               last pass was the proximity pass (another r) */
+            sc->refit_dirty = it > 0 || sc->passes > 1;
             left = wc_self_pass(sc, m, x, WC_SELF_PASS_DETECT, NULL, sc->detect_all ? NULL : dirty, NULL);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);

@@ -7,6 +7,7 @@
 #define WEFT_CORE_SELF_DATA_H
 #include "alloc.h"
 #include "bvh.h"
+#include "self_grid.h"
 
 typedef struct wc_self {
     double thickness;   /* m, > 0 */
@@ -56,6 +57,12 @@ typedef struct wc_self {
                            that wait's length, 1 right after one (self_near.c) */
     int near_use;       /* 1: the current phase's queries go through the lists */
     int near_off;       /* tests: 1 = no lists (every query walks the trees) */
+    wc_self_grid tri_grid, edge_grid; /* the later passes' dirty triangles and edges (self_grid.h) */
+    int grid_off;       /* tests: 1 = no grids (every clean query walks the trees) */
+    int refit_dirty;    /* 1 (wc_self_resolve, for the next pass only): since the last pass's refit
+                           (at refit_r, the same x_start) only that pass's dirty particles moved:
+                           the pass refits only the dirty elements' boxes (self_pass.c) */
+    double refit_r;     /* the inflation of the last pass's refit */
     wc_allocator alloc;
 } wc_self;
 

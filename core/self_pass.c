@@ -22,6 +22,8 @@ typedef struct pass_ctx {
                                    dirty[i] */
     unsigned char* touched;     /* NULL, or (serial visit) 1 for the particles of every pair acted
                                    on or counted: the next pass's dirty set */
+    int grids;                  /* bits 1, 2: sc's triangle, edge grid holds this pass's dirty
+                                   elements (mark_dirty) */
 } pass_ctx;
 
 /* The 4 particles of a pair that needed action go into the next pass's dirty set. */
@@ -304,6 +306,7 @@ static int query(pass_ctx* c, int q) {
         wc_self_swept_box(b, &q, 1, sc->x_start, c->x, 0.0);
         c->query = q;
         const unsigned char* mask = dirty && !dirty[q] ? sc->tri_mask : NULL;
+        if (mask && (c->grids & 1) && !wc_self_grid_hits(&sc->tri_grid, b)) return 0; /* no dirty triangle near */
         return wc_self_near_tris(sc, q, b, mask, visit_tri, c) != 0;
     }
     /* the edge's own box (not inflated twice: the tree's boxes carry r) */
@@ -311,22 +314,43 @@ static int query(pass_ctx* c, int q) {
     wc_self_swept_box(b, ev, 2, sc->x_start, c->x, 0.0);
     c->query = q - sc->n;
     const unsigned char* mask = dirty && !dirty[ev[0]] && !dirty[ev[1]] ? sc->edge_mask : NULL;
+    if (mask && (c->grids & 2) && !wc_self_grid_hits(&sc->edge_grid, b)) return 0; /* no dirty edge near */
     return wc_self_near_edges(sc, q - sc->n, b, mask, visit_edge_above, c) != 0;
 }
 
 /* The trees' masks: a leaf is dirty when one of its element's particles is (dirty[]), a node when
- * a leaf under it is. */
-static void mark_dirty(wc_self* sc, const wc_model* m, const unsigned char* dirty) {
+ * a leaf under it is. With refit, the dirty elements' boxes are recomputed and the trees refitted
+ * under the dirty nodes only (the clean elements' particles have not moved since the last refit,
+ * at the same r: wc_self.refit_dirty). Then the dirty elements' boxes go into the grids
+ * (self_grid.h). Returns the grids on for the pass (bit 1: the triangles', 2: the edges'). */
+static int mark_dirty(wc_self* sc, const wc_model* m, const double* x, double r, const unsigned char* dirty,
+                      int refit) {
     for (int t = 0; t < sc->n_tris; ++t) {
         const int* tv = m->tris + 3 * t;
-        sc->tri_mask[sc->tri_bvh.leaf_of[t]] = dirty[tv[0]] | dirty[tv[1]] | dirty[tv[2]];
+        unsigned char d = dirty[tv[0]] | dirty[tv[1]] | dirty[tv[2]];
+        sc->tri_mask[sc->tri_bvh.leaf_of[t]] = d;
+        if (d && refit) wc_self_swept_box(sc->tri_box + 6 * t, tv, 3, sc->x_start, x, r);
     }
     wc_bvh_mask_up(&sc->tri_bvh, sc->tri_mask);
     for (int e = 0; e < sc->n_edges; ++e) {
         const int* ev = sc->edges + 2 * e;
-        sc->edge_mask[sc->edge_bvh.leaf_of[e]] = dirty[ev[0]] | dirty[ev[1]];
+        unsigned char d = dirty[ev[0]] | dirty[ev[1]];
+        sc->edge_mask[sc->edge_bvh.leaf_of[e]] = d;
+        if (d && refit) wc_self_swept_box(sc->edge_box + 6 * e, ev, 2, sc->x_start, x, r);
     }
     wc_bvh_mask_up(&sc->edge_bvh, sc->edge_mask);
+    if (refit) {
+        wc_bvh_refit_masked(&sc->tri_bvh, sc->tri_box, sc->tri_mask);
+        wc_bvh_refit_masked(&sc->edge_bvh, sc->edge_box, sc->edge_mask);
+    }
+    if (sc->grid_off || sc->tri_bvh.n_nodes == 0 || sc->edge_bvh.n_nodes == 0) return 0;
+    wc_self_grid_reset(&sc->tri_grid, sc->tri_bvh.box);
+    wc_self_grid_reset(&sc->edge_grid, sc->edge_bvh.box);
+    for (int t = 0; t < sc->n_tris && sc->tri_grid.on; ++t)
+        if (sc->tri_mask[sc->tri_bvh.leaf_of[t]]) wc_self_grid_mark(&sc->tri_grid, sc->tri_box + 6 * t);
+    for (int e = 0; e < sc->n_edges && sc->edge_grid.on; ++e)
+        if (sc->edge_mask[sc->edge_bvh.leaf_of[e]]) wc_self_grid_mark(&sc->edge_grid, sc->edge_box + 6 * e);
+    return (sc->tri_grid.on ? 1 : 0) | (sc->edge_grid.on ? 2 : 0);
 }
 
 /* The parallel read-only scan marks the queries with work, then the marked ones are visited
@@ -336,19 +360,22 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
     double r = mode == WC_SELF_PASS_PROXIMITY ? sc->thickness : sc->eta;
     int nq = sc->n + sc->n_edges;
     /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
-    wc_self_refit(sc, m, sc->x_start, x, r);
+    int partial = dirty && sc->refit_dirty && sc->refit_r == r;
+    sc->refit_dirty = 0;
+    if (!partial) wc_self_refit(sc, m, sc->x_start, x, r);
     wc_self_near_prepare(sc, m, sc->x_start, x, r, dirty == NULL); /* the lists serve full scans */
-    if (dirty) mark_dirty(sc, m, dirty);
+    int grids = dirty ? mark_dirty(sc, m, x, r, dirty, partial) : 0;
+    sc->refit_r = r;
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
         wc_par_range(nq, t, nt, &lo, &hi);
-        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL};
+        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL, grids};
         for (int q = lo; q < hi; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
     /* the serial visits are those of the unfiltered pass: the scan marked the same queries (a pair
        with no dirty particle needs nothing), and a marked query visits all its candidates, so an
        impulse earlier in this pass that moved a clean pair is seen as it would be unfiltered */
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, NULL, touched};
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, NULL, touched, 0};
     for (int q = 0; q < nq; ++q)
         if (sc->active[q]) query(&c, q);
     if (prox) *prox = c.prox;

@@ -27,7 +27,10 @@
  * only the tree nodes with a dirty element below (wc_bvh_query_masked). A pair with no dirty
  * particle has not moved since a pass found it needing nothing, so the scan marks the queries
  * the unfiltered one would, and the serial visit of a marked query is unfiltered: the result is
- * that of checking every pair (detect_all), bit for bit. The first pass's queries go through
+ * that of checking every pair (detect_all), bit for bit. A clean query whose box meets no cell of
+ * the dirty elements' grid (self_grid.h) skips its walk (it would visit nothing), and when the
+ * stage says only dirty particles moved since the last pass's refit (wc_self.refit_dirty), the
+ * pass refits only the dirty elements' boxes and the nodes above them (the same boxes). The first pass's queries go through
  * their kept candidates (self_near.h) while those still hold: the same visits as the trees'. */
 #ifndef WEFT_CORE_SELF_PASS_H
 #define WEFT_CORE_SELF_PASS_H
@@ -43,7 +46,7 @@ enum {
 
 /* One pass in `mode` over the candidates (dirty non-NULL: only those with a particle i dirty[i])
  * at the end positions x (n x 3, corrected in place but in WC_SELF_PASS_DETECT); refits the
- * trees first. Returns the CCD collisions found (given an impulse where one applies); *prox (may
+ * trees first (only under the dirty nodes when sc->refit_dirty, which the pass clears). Returns the CCD collisions found (given an impulse where one applies); *prox (may
  * be NULL) gets the proximity impulses; touched (may be NULL) 1 for the particles of every pair
  * acted on or counted (the next pass's dirty set). */
 int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty,
