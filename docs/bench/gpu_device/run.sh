@@ -15,7 +15,7 @@
 # bench_gpu's ms and passes a frame at 256 to 2,500 particles, block Jacobi fixed and converged,
 # the multigrid converged, the scenes with each preconditioner both ways): ~5 min. dress: the GPU dressing a body (the collider and
 # self-collision and penalty-pair tests, the suit on its turning body on both backends (and its
-# GPU-against-CPU test), and the seed's anchor:
+# GPU-against-CPU test; the GPU once more with the multigrid's pair cross terms, WEFT_GPU_AMG_CROSS=1), and the seed's anchor:
 # weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min;
 # body: a deforming body from a host GL buffer against host arrays (its tests: the body's passes
 # against core, the API's two paths; bench_body_gl: bytes moved, ms of each call and of a step,
@@ -94,7 +94,7 @@ if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass ch
 fi
 if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-collision on the GPU
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto test_gpu_pairs test_cli_gpu_suit; do
+    for t in test_gpu_mesh_contacts test_api_gpu_mesh test_gpu_newton_contacts test_api_gpu_newton_contacts test_gpu_self test_api_gpu_self test_gpu_trbdf2_contacts test_api_gpu_trbdf2_contacts test_api_auto test_gpu_pairs test_gpu_amg_cross test_cli_gpu_suit; do
       [ -x build-dev/tests/$t ] || continue
       timeout 120 build-dev/tests/$t > /tmp/tb.txt 2>&1; echo "$t rc=$?"; grep -iE "fail|against|crossing|rollback|pairs|contact" /tmp/tb.txt | head -6
     done
@@ -105,6 +105,9 @@ if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-c
         python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| $bk | $1 | $2 | %.2f | %s | %s | %s | %s |'%(s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
       done
     done
+    # the GPU multigrid's pair cross terms (opt-in) against the row above without them
+    WEFT_GPU_AMG_CROSS=1 timeout 150 build-dev/weft run sample_scenes/suit_on_body.json --frames 30 --quiet --stats /tmp/st.json --backend gpu --threads 16 --self-collision on --newton 1 > /tmp/run.txt 2>&1 && \
+      python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| gpu, WEFT_GPU_AMG_CROSS=1 (%.1f it./solve) | on | 1 | %.2f | %s | %s | %s | %s |'%(s['iterations']['mean'],s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
     timeout 60 build-dev/weft run sample_scenes/suit_on_body.json --frames 2 --backend auto 2>&1 | grep -E "^backend|^method"
     timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/d_dress.md"
   exit 0
