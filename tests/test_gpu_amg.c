@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "solve_kernels.h"
 #include "step.h"
 #include "sew_tube.h"
@@ -305,22 +305,12 @@ static void test_fragment_refused(void) {
 }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
-        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context or device: %s\n", err);
-        return 1;
-    }
-    printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     if (dev->compute) {
         RUN_TEST(test_solves);
         RUN_TEST(test_whole_run);
     }
     RUN_TEST(test_fragment_refused);
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

@@ -11,7 +11,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "newton.h"
 #include "step.h"
 #include "test_support.h"
@@ -147,22 +147,9 @@ static void test_trbdf2_stage1_system(void) {
 }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context: %s\n", err);
-        return 1;
-    }
-    if (wg_gl_begin(gl, err, sizeof err) != WC_OK || wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "GL: %s\n", err);
-        return 1;
-    }
-    printf("device: %s\n", dev->renderer);
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     RUN_TEST(test_bdf2_system);
     RUN_TEST(test_trbdf2_stage1_system);
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "gpu_group_support.h"
 #include "step.h"
 #include "test_support.h"
@@ -124,18 +124,7 @@ static void test_edges(void) {
 static void test_limit_refused(void) { tg_limit_refused(dev, WC_PRECOND_BLOCK_JACOBI); }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context: %s\n", err);
-        return 1;
-    }
-    if (wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "device: %s\n", err);
-        return 1;
-    }
-    printf("device: %s\n", dev->renderer);
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     if (!dev->compute) {   /* the one-group solve is a compute shader: nothing to compare */
         printf("fragment passes: no one-group solve\n");
     } else {
@@ -143,8 +132,6 @@ int main(void) {
         RUN_TEST(test_edges);
         RUN_TEST(test_limit_refused);
     }
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

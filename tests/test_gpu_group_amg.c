@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "gpu_group_support.h"
 #include "test_support.h"
 #include "wg_amg.h"
@@ -152,18 +152,7 @@ static void test_edges(void) {
 static void test_limit_refused(void) { tg_limit_refused(dev, WC_PRECOND_AMG); }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context: %s\n", err);
-        return 1;
-    }
-    if (wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "device: %s\n", err);
-        return 1;
-    }
-    printf("device: %s\n", dev->renderer);
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     if (!dev->compute) {   /* the multigrid and the one-group solve are compute shaders */
         printf("fragment passes: no multigrid\n");
     } else {
@@ -172,8 +161,6 @@ int main(void) {
         RUN_TEST(test_edges);
         RUN_TEST(test_limit_refused);
     }
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "mesh_collider.h"
 #include "test_meshes.h"
 #include "wg_device.h"
@@ -187,17 +187,8 @@ static void test_body_against_core(void) {
 }
 
 int main(void) {
-    wg_gl_context_desc desc;
-    memset(&desc, 0, sizeof desc);
-    char err[1024];
-    if (wg_gl_context_create(&desc, &g_ctx, err, sizeof err) != WC_OK || wg_gl_begin(g_ctx, err, sizeof err) != WC_OK ||
-        wg_device_create(g_ctx, &g_dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no headless GL context: %s\n", err);
-        return 1;
-    }
+    if (!tg_gpu_open(&g_ctx, &g_dev)) return 1;
     RUN_TEST(test_body_against_core);
-    wg_device_destroy(g_dev);
-    wg_gl_end(g_ctx);
-    wg_gl_context_destroy(g_ctx);
+    tg_gpu_close(g_ctx, g_dev);
     return TEST_SUMMARY();
 }

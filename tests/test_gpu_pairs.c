@@ -16,7 +16,7 @@
 
 #include "bsr.h"
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "penalty_pairs.h"
 #include "self_collide.h"
 #include "self_pairs.h"
@@ -336,19 +336,9 @@ static void test_newton(void) {
 }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
-        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context or device: %s\n", err);
-        return 1;
-    }
-    printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     RUN_TEST(test_first_system);
     RUN_TEST(test_newton);
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "self_crossings.h"
 #include "step.h"
 #include "test_support.h"
@@ -125,20 +125,10 @@ static void test_bdf2(void) { run(WC_INTEGRATOR_BDF2, "BDF2", 5e-3); }
 static void test_trbdf2(void) { run(WC_INTEGRATOR_TRBDF2, "TR-BDF2", 1e-2); }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK || wg_gl_begin(gl, err, sizeof err) != WC_OK ||
-        wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context or device: %s\n", err);
-        return 1;
-    }
-    printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     RUN_TEST(test_be);
     RUN_TEST(test_bdf2);
     RUN_TEST(test_trbdf2);
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
@@ -636,22 +636,7 @@ static void test_pass_fault(void) {
 }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &gl, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context: %s\n", err);
-        return 1;
-    }
-    if (wg_gl_begin(gl, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "wg_gl_begin: %s\n", err);
-        return 1;
-    }
-    if (wg_device_create(gl, &dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "device: %s\n", err);
-        return 1;
-    }
-    printf("device: %s\n", dev->renderer);
+    if (!tg_gpu_open(&gl, &dev)) return 1;
     RUN_TEST(test_assembly_and_spmv);
     RUN_TEST(test_reductions_and_large_sheet);
     RUN_TEST(test_solvers_vs_direct);
@@ -664,8 +649,6 @@ int main(void) {
     RUN_TEST(test_compute_source);
     RUN_TEST(test_pass_inputs);
     RUN_TEST(test_pass_fault);
-    wg_device_destroy(dev);
-    wg_gl_end(gl);
-    wg_gl_context_destroy(gl);
+    tg_gpu_close(gl, dev);
     return TEST_SUMMARY();
 }

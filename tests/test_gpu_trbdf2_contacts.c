@@ -18,7 +18,7 @@
 #include "check.h"
 #include "collide.h"
 #include "collide_friction.h"
-#include "egl_context.h"
+#include "gpu_test_device.h"
 #include "state.h"
 #include "test_support.h"
 #include "wg_device.h"
@@ -254,22 +254,9 @@ static void test_cases(void) {
 }
 
 int main(void) {
-    wg_gl_context_desc cd;
-    memset(&cd, 0, sizeof cd);
-    char err[512];
-    if (wg_gl_context_create(&cd, &g_ctx, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "no GL context: %s\n", err);
-        return 1;
-    }
-    if (wg_gl_begin(g_ctx, err, sizeof err) != WC_OK || wg_device_create(g_ctx, &g_dev, err, sizeof err) != WC_OK) {
-        fprintf(stderr, "GL: %s\n", err);
-        return 1;
-    }
-    printf("device: %s\n", g_dev->renderer);
+    if (!tg_gpu_open(&g_ctx, &g_dev)) return 1;
     RUN_TEST(test_cases);
     free(g_buf);
-    wg_device_destroy(g_dev);
-    wg_gl_end(g_ctx);
-    wg_gl_context_destroy(g_ctx);
+    tg_gpu_close(g_ctx, g_dev);
     return TEST_SUMMARY();
 }
