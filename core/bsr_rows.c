@@ -49,6 +49,23 @@ void wc_bsr_rows_f_scalar(const int* row_start, const int* col, const float* val
 #include <immintrin.h>
 #define WC_BSR_ROWS_AVX2 1
 
+/* o = si + sign (sum of a0's lanes, a1's, a2's) (si NULL: 0 +) */
+__attribute__((target("avx2,fma"))) static inline void row_store(__m256d a0, __m256d a1, __m256d a2, const double* si,
+                                                                 double sign, double* o) {
+    /* (sum a0, sum a1) and (sum a2, sum a2) */
+    const __m256d h01 = _mm256_hadd_pd(a0, a1), h22 = _mm256_hadd_pd(a2, a2);
+    const __m128d r01 = _mm_add_pd(_mm256_castpd256_pd128(h01), _mm256_extractf128_pd(h01, 1));
+    const __m128d r22 = _mm_add_pd(_mm256_castpd256_pd128(h22), _mm256_extractf128_pd(h22, 1));
+    const __m128d g = _mm_set1_pd(sign);
+    if (si) {
+        _mm_storeu_pd(o, _mm_fmadd_pd(g, r01, _mm_loadu_pd(si)));
+        o[2] = si[2] + sign * _mm_cvtsd_f64(r22);
+    } else {
+        _mm_storeu_pd(o, _mm_mul_pd(g, r01));
+        o[2] = sign * _mm_cvtsd_f64(r22);
+    }
+}
+
 /* Each block row times x_j in one register (lane 3 zero: x_j is loaded masked to 3 lanes, so the
  * block's next element read in lane 3 of the third row is multiplied by 0), accumulated over the
  * row's blocks; the three registers' lanes are summed at the row's end. */
@@ -66,20 +83,7 @@ __attribute__((target("avx2,fma"))) static void rows_avx2(const int* row_start, 
             a1 = _mm256_fmadd_pd(_mm256_loadu_pd(B + 3), v, a1);
             a2 = _mm256_fmadd_pd(_mm256_maskload_pd(B + 6, m3), v, a2);
         }
-        /* (sum a0, sum a1) and (sum a2, sum a2) */
-        const __m256d h01 = _mm256_hadd_pd(a0, a1), h22 = _mm256_hadd_pd(a2, a2);
-        const __m128d r01 = _mm_add_pd(_mm256_castpd256_pd128(h01), _mm256_extractf128_pd(h01, 1));
-        const __m128d r22 = _mm_add_pd(_mm256_castpd256_pd128(h22), _mm256_extractf128_pd(h22, 1));
-        double* o = y + 3 * (size_t)i;
-        const __m128d g = _mm_set1_pd(sign);
-        if (s) {
-            const double* si = s + 3 * (size_t)i;
-            _mm_storeu_pd(o, _mm_fmadd_pd(g, r01, _mm_loadu_pd(si)));
-            o[2] = si[2] + sign * _mm_cvtsd_f64(r22);
-        } else {
-            _mm_storeu_pd(o, _mm_mul_pd(g, r01));
-            o[2] = sign * _mm_cvtsd_f64(r22);
-        }
+        row_store(a0, a1, a2, s ? s + 3 * (size_t)i : NULL, sign, y + 3 * (size_t)i);
     }
 }
 
@@ -99,19 +103,7 @@ __attribute__((target("avx2,fma"))) static void rows_f_avx2(const int* row_start
             a1 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B + 3)), v, a1);
             a2 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B + 6)), v, a2);
         }
-        const __m256d h01 = _mm256_hadd_pd(a0, a1), h22 = _mm256_hadd_pd(a2, a2);
-        const __m128d r01 = _mm_add_pd(_mm256_castpd256_pd128(h01), _mm256_extractf128_pd(h01, 1));
-        const __m128d r22 = _mm_add_pd(_mm256_castpd256_pd128(h22), _mm256_extractf128_pd(h22, 1));
-        double* o = y + 3 * (size_t)i;
-        const __m128d g = _mm_set1_pd(sign);
-        if (s) {
-            const double* si = s + 3 * (size_t)i;
-            _mm_storeu_pd(o, _mm_fmadd_pd(g, r01, _mm_loadu_pd(si)));
-            o[2] = si[2] + sign * _mm_cvtsd_f64(r22);
-        } else {
-            _mm_storeu_pd(o, _mm_mul_pd(g, r01));
-            o[2] = sign * _mm_cvtsd_f64(r22);
-        }
+        row_store(a0, a1, a2, s ? s + 3 * (size_t)i : NULL, sign, y + 3 * (size_t)i);
     }
 }
 
