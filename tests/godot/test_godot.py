@@ -49,6 +49,11 @@ MAX_DIFF = 5e-4
 # turn, weft run's skirt lies 15 to 17 mm from Godot's, so the body must matter by more than
 # BODY_MATTERS m. The same holds for the scaled colliders: each scale must matter by as much.
 MAX_DIFF_SKIRT = 5e-3
+# The flag on scaled colliders leans on the ball: a change of the ball's radius by a relative 1e-7
+# (float rounding's size; Godot's shapes and transforms are floats) moves weft run's own last frame
+# by 2.3-2.5 mm, with the multigrid's float V-cycle or its double one, so Godot is held to 5 mm
+# there; each collider's scale must still matter by BODY_MATTERS.
+MAX_DIFF_SCALED = 5e-3
 BODY_MATTERS = 1e-2
 MIN_MOTION = 0.2
 # bend.tscn's skinned body against the closed form: float arithmetic and Godot's 16-bit weights
@@ -331,7 +336,7 @@ def main():
     compare(server, project, weft_cli, tmp, "skirt", skirt_scene, MAX_DIFF_SKIRT, body_variants)
     compare(server, project, weft_cli, tmp, "skinned", lambda g, t: skirt_scene(g, t, "skinned"), MAX_DIFF_SKIRT,
             body_variants)
-    log = compare(server, project, weft_cli, tmp, "scaled", scaled_scene, MAX_DIFF, scaled_variants)
+    log = compare(server, project, weft_cli, tmp, "scaled", scaled_scene, MAX_DIFF_SCALED, scaled_variants)
     refused = ("WeftCloth 'Flag': collider '../Squashed/Shape' has a non-uniform scale (2, 0.5, 1), which would make "
                "its sphere an ellipsoid: not a collider")
     if refused not in log:
