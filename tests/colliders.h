@@ -1,17 +1,14 @@
-/* Test helpers shared by test_collide and test_collider_distance: a fixed-seed xorshift
- * generator (the same sequence in every run) and constructors of the analytic colliders. */
+/* Test helpers shared by test_collide and test_collider_distance: the tests' fixed-seed random
+ * numbers (test_rng.h, this file's own seed) and constructors of the analytic colliders. */
 #ifndef WEFT_TESTS_COLLIDERS_H
 #define WEFT_TESTS_COLLIDERS_H
 #include "collide.h"
 #include "vec3.h"
 
-static unsigned long long rng_state = 88172645463325252ull;
-static inline double urand(void) { /* [0, 1) */
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
-}
+#ifndef TEST_RNG_SEED
+#define TEST_RNG_SEED 88172645463325252ull
+#endif
+#include "test_rng.h"
 static inline double srand1(double s) { return s * (2.0 * urand() - 1.0); }
 static inline void rand_unit(double* n) {
     do { v3_set(n, srand1(1), srand1(1), srand1(1)); } while (v3_norm(n) < 0.1);

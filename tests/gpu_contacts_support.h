@@ -16,13 +16,7 @@
 #include "state.h"
 #include "wg_sim_impl.h"
 
-static unsigned long long rng = 0x9E3779B97F4A7C15ull;
-static inline double urand(void) {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
+#include "test_rng.h"
 static inline double srnd(double s) { return s * (2.0 * urand() - 1.0); }
 static inline double fr(double a) { return (double)(float)a; }
 static inline void frv(double* a, int n) {

@@ -27,7 +27,7 @@ static wg_device* g_dev;
 static void run_case(int kind, int moving, unsigned long long seed) {
     static const char* names[] = {"plane", "sphere", "capsule"};
     printf("  %s, collider %s:\n", names[kind], moving ? "moving" : "still");
-    rng = seed;
+    rng_state = seed;
     wc_model m;
     CHECK(ts_sheet(&m, 6, 1.0, 0.0, 0, 1.0));
     wc_sim_def sd = wc_default_sim_def();
@@ -108,7 +108,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
         wc_state* s2 = NULL;
         CHECK_EQ_INT(wc_state_create(&s2, &m, &sd, NULL, &d), WC_OK);
         CHECK_EQ_INT(wc_state_set_colliders(s2, c, nc, &d), WC_OK);
-        rng = seed;
+        rng_state = seed;
         scatter_analytic(s2, c, nc, h);
         wg_sim_upload(g, s2, &d);
         upload_filter(g, &s2->filter);

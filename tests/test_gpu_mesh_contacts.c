@@ -76,7 +76,7 @@ static int scatter(wc_state* s, const wc_mesh_collider* mc, double h) {
 static void run_case(int kind, int moving, double push, int plane, unsigned long long seed) {
     printf("  %s, %s, push_speed %g%s:\n", kind ? "box" : "icosphere", moving ? "moving" : "still", push,
            plane ? ", a plane after it" : "");
-    rng = seed;
+    rng_state = seed;
     double c0[3] = {0.0, 0.0, 0.0}, lo[3] = {-0.4, -0.3, -0.35}, hi[3] = {0.4, 0.3, 0.35};
     if (kind == 0) icosphere(&g_body, 2, 0.5, c0);
     else box(&g_body, lo, hi);

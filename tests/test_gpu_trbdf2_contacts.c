@@ -70,7 +70,7 @@ static int compare_rule(wg_sim* g, wc_state* s, int stage, double* tmp) {
 static void run_case(int kind, int moving, unsigned long long seed) {
     static const char* names[] = {"plane", "sphere", "capsule"};
     printf("  %s, collider %s:\n", names[kind], moving ? "moving" : "still");
-    rng = seed;
+    rng_state = seed;
     wc_model m;
     CHECK(ts_sheet(&m, 6, 1.0, 0.0, 0, 1.0));
     wc_sim_def sd = wc_default_sim_def();
@@ -159,7 +159,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
         wc_state* s2 = NULL;
         CHECK_EQ_INT(wc_state_create(&s2, &m, &sd, NULL, &d), WC_OK);
         CHECK_EQ_INT(wc_state_set_colliders(s2, c, nc, &d), WC_OK);
-        rng = seed;
+        rng_state = seed;
         scatter_analytic(s2, c, nc, ig.h);
         wc_integ ig2;
         wc_integ_begin(s2, h, &ig2);

@@ -14,17 +14,11 @@
 #include "self_collide.h"
 #include "step.h"
 #include "test_support.h"
+#include "test_rng.h"
 #include "two_layers.h"
 #include "union_find.h"
 #include "vec3.h"
 
-static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
-static double urand(void) {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
-}
 
 /* A strip folded in a Z: bottom layer u in [0, 0.5] at y = 0, a riser up to y = 0.1 at x = 0.5,
  * a top layer back over the bottom one at y = 0.1. nu x nz vertices (1.1 m along u, 0.4 m along z). */

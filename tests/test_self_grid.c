@@ -17,14 +17,8 @@
 #include "self_grid.h"
 #include "self_pass.h"
 #include "test_support.h"
+#include "test_rng.h"
 
-static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
-static double urand(void) {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
-}
 
 static void random_box(double* b, double size) {
     for (int k = 0; k < 3; ++k) {

@@ -23,15 +23,10 @@
 #include "self_near.h"
 #include "step.h"
 #include "test_support.h"
+#define TEST_RNG_SEED 0x2545F4914F6CDD1Dull
+#include "test_rng.h"
 #include "vec3.h"
 
-static unsigned long long rng_state = 0x2545F4914F6CDD1Dull;
-static double urand(void) {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
-}
 
 #define MAXV 4096
 

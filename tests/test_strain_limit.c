@@ -5,16 +5,11 @@
 #include <stdlib.h>
 #include "check.h"
 #include "strain_limit.h"
+#include "test_rng.h"
 #include "test_support.h"
 #include "vec3.h"
 
-static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
-static double srand1(double s) {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return s * (2.0 * ((double)(rng_state >> 11) / 9007199254740992.0) - 1.0);
-}
+static double srand1(double s) { return s * (2.0 * urand() - 1.0); }
 
 static wc_model build_grid(int nx, int ny, double sx, double sy) {
     wc_source_mesh src;
