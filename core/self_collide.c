@@ -205,8 +205,13 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             sc->parent[i] = i;
             sc->in_zone[i] = 0;
         }
-        /* the zone loop's dirty set only grows: the last pass's touched particles, then every
-           zone member and every particle the relaxation moved */
+        /* the zone loop's dirty sets: for its first pass the last pass's touched particles, then
+           for each later one the particles moved (or joined to a zone) since the pass before it:
+           every zone member (re-placed by its zone's rigid motion) and every particle the
+           relaxation moved. A pair with none of them has not moved since that pass, which either
+           checked it and found it needing nothing (a pair it found colliding joined a zone), or
+           skipped it as unmoved since an earlier pass that did; zones only grow, so it still
+           needs nothing */
         dirty = touched;
         int it = 0;
         for (; it < WC_SELF_ZONE_ITERS; ++it) {
@@ -217,7 +222,7 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             left = wc_self_pass(sc, m, x, WC_SELF_PASS_DETECT, NULL, sc->detect_all ? NULL : dirty, NULL);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
-            for (int i = 0; i < n; ++i) dirty[i] |= sc->in_zone[i];
+            for (int i = 0; i < n; ++i) dirty[i] = sc->in_zone[i];
             if (!(sc->zone_strain < INFINITY)) continue;
             if (sc->relax_all || !m->pattern.row_spring_start) {
                 local.relaxed += wc_self_relax_zones(m, sc->x_old, x, sc->in_zone, sc->inv_mass, sc->zone_strain,
