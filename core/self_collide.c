@@ -81,6 +81,8 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->dirty);
     wc_free(&a, sc->dirty_next);
     wc_free(&a, sc->zone);
+    wc_free(&a, sc->relax.due);
+    wc_free(&a, sc->relax.next);
     wc_free(&a, sc->tangled);
     wc_free(&a, sc->seam_start);
     wc_free(&a, sc->seam_nbr);
@@ -122,10 +124,13 @@ wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, con
     sc->active = WC_NEW(&A, unsigned char, (size_t)n + (size_t)sc->n_edges + 1);
     sc->dirty = WC_NEW(&A, unsigned char, (size_t)n + 1);
     sc->dirty_next = WC_NEW(&A, unsigned char, (size_t)n + 1);
+    sc->relax.words = (m->spring_type_start[WC_SPRING_STRETCH + 1] - m->spring_type_start[WC_SPRING_STRETCH] + 63) / 64;
+    sc->relax.due = WC_NEW(&A, uint64_t, (size_t)sc->relax.words + 1);
+    sc->relax.next = WC_NEW(&A, uint64_t, (size_t)sc->relax.words + 1);
     sc->threads = 1;
     if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
         !sc->in_zone || !sc->zone || !sc->active || !sc->tangled || !sc->dirty ||
-        !sc->dirty_next) {
+        !sc->dirty_next || !sc->relax.due || !sc->relax.next) {
         wc_self_destroy(sc);
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory (%d particles)", n);
     }
@@ -200,8 +205,13 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             sc->parent[i] = i;
             sc->in_zone[i] = 0;
         }
-        /* the zone loop's dirty set only grows: the last pass's touched particles, then every
-           zone member and every particle the relaxation moved */
+        /* the zone loop's dirty sets: for its first pass the last pass's touched particles, then
+           for each later one the particles moved (or joined to a zone) since the pass before it:
+           every zone member (re-placed by its zone's rigid motion) and every particle the
+           relaxation moved. A pair with none of them has not moved since that pass, which either
+           checked it and found it needing nothing (a pair it found colliding joined a zone), or
+           skipped it as unmoved since an earlier pass that did; zones only grow, so it still
+           needs nothing */
         dirty = touched;
         int it = 0;
         for (; it < WC_SELF_ZONE_ITERS; ++it) {
@@ -212,10 +222,26 @@ int wc_self_resolve(wc_self* sc, const wc_model* m, const wc_filter* filter, con
             left = wc_self_pass(sc, m, x, WC_SELF_PASS_DETECT, NULL, sc->detect_all ? NULL : dirty, NULL);
             if (left == 0) break;
             wc_self_rigidify(n, sc->x_start, x, m->mass, sc->inv_mass, sc->parent, sc->in_zone, sc->zone);
-            for (int i = 0; i < n; ++i) dirty[i] |= sc->in_zone[i];
-            if (sc->zone_strain < INFINITY)
+            for (int i = 0; i < n; ++i) dirty[i] = sc->in_zone[i];
+            if (!(sc->zone_strain < INFINITY)) continue;
+            if (sc->relax_all || !m->pattern.row_spring_start) {
                 local.relaxed += wc_self_relax_zones(m, sc->x_old, x, sc->in_zone, sc->inv_mass, sc->zone_strain,
                                                      WC_SELF_RELAX_PASSES, dirty);
+                continue;
+            }
+            /* the first relaxation checks every spring (the impulses moved particles anywhere, and
+               a spring at its x_old strain may read a rounding over it); each later one the
+               springs the last one left due and those of the zones' members, the only particles
+               moved (or given in[] = 1) since */
+            if (it == 0) {
+                int n_stretch = m->spring_type_start[WC_SPRING_STRETCH + 1] - m->spring_type_start[WC_SPRING_STRETCH];
+                memset(sc->relax.due, 0xff, (size_t)sc->relax.words * sizeof(uint64_t));
+                if (n_stretch & 63) sc->relax.due[sc->relax.words - 1] = ((uint64_t)1 << (n_stretch & 63)) - 1;
+            } else
+                for (int i = 0; i < n; ++i)
+                    if (sc->in_zone[i]) wc_self_relax_mark(m, &sc->relax, i);
+            local.relaxed += wc_self_relax_zones_due(m, sc->x_old, x, sc->in_zone, sc->inv_mass, sc->zone_strain,
+                                                     WC_SELF_RELAX_PASSES, dirty, &sc->relax);
         }
         if (it == WC_SELF_ZONE_ITERS) local.unresolved = wc_self_pass(sc, m, x, WC_SELF_PASS_DETECT, NULL, NULL, NULL);
         for (int i = 0; i < n; ++i)

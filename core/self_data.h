@@ -8,6 +8,7 @@
 #include "alloc.h"
 #include "bvh.h"
 #include "self_grid.h"
+#include "self_zones.h"
 
 typedef struct wc_self {
     double thickness;   /* m, > 0 */
@@ -38,6 +39,8 @@ typedef struct wc_self {
     unsigned char* edge_mask; /* with an element of a dirty particle under it */
     int threads;        /* >= 1: detection threads (the state's wc_par; 1 at creation) */
     double* zone;       /* (n x WC_SELF_ZONE_STRIDE) per-zone accumulators (self_zones.h) */
+    wc_self_relax_set relax; /* the stretch springs the zones' relaxation must check (self_zones.h) */
+    int relax_all;      /* tests: 1 = every relaxation pass checks every stretch spring */
     int* seam_start;    /* (n + 1) CSR of each particle's seam partners (self_broad.h; NULL: none): */
     int* seam_nbr;      /* a particle is never tested against an element it is sewn to */
     unsigned char* tangled; /* (n) 1: the particle belongs to an edge-triangle pair that crosses in

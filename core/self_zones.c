@@ -79,6 +79,28 @@ static double strain_of(const wc_spring* sp, const double* x) {
     return (v3_norm(L) - sp->rest) / sp->rest;
 }
 
+/* one spring's strain limit (Provot): 1 when it moved its ends */
+static int relax_spring(const wc_spring* sp, const double* x_old, double* x, const unsigned char* in,
+                        const double* inv_m, double floor, unsigned char* moved) {
+    int a = sp->a, b = sp->b;
+    double wa = in[a] ? 0.0 : inv_m[a], wb = in[b] ? 0.0 : inv_m[b];
+    if (!(sp->rest > 0.0) || !(wa + wb > 0.0)) return 0;
+    double d[3];
+    v3_sub(d, x + 3 * a, x + 3 * b);
+    double L = v3_norm(d);
+    if (!(L > sp->rest * (1.0 + floor))) return 0; /* within the floor: no need of x_old's strain */
+    double limit = sp->rest * (1.0 + fmax(strain_of(sp, x_old), floor));
+    if (!(L > limit)) return 0;
+    double c = (L - limit) / (L * (wa + wb));
+    v3_axpy(x + 3 * a, -wa * c, d);
+    v3_axpy(x + 3 * b, wb * c, d);
+    if (moved) {
+        moved[a] |= wa > 0.0;
+        moved[b] |= wb > 0.0;
+    }
+    return 1;
+}
+
 int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
                         const double* inv_m, double floor, int passes, unsigned char* moved) {
     int corrections = 0;
@@ -86,25 +108,60 @@ int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const
     for (int p = 0; p < passes; ++p) {
         int this_pass = 0;
         for (int s = s0; s < s1; ++s) {
-            const wc_spring* sp = &m->springs[s];
-            int a = sp->a, b = sp->b;
-            double wa = in[a] ? 0.0 : inv_m[a], wb = in[b] ? 0.0 : inv_m[b];
-            if (!(sp->rest > 0.0) || !(wa + wb > 0.0)) continue;
-            double d[3];
-            v3_sub(d, x + 3 * a, x + 3 * b);
-            double L = v3_norm(d);
-            if (!(L > sp->rest * (1.0 + floor))) continue; /* within the floor: no need of x_old's strain */
-            double limit = sp->rest * (1.0 + fmax(strain_of(sp, x_old), floor));
-            if (!(L > limit)) continue;
-            double c = (L - limit) / (L * (wa + wb));
-            v3_axpy(x + 3 * a, -wa * c, d);
-            v3_axpy(x + 3 * b, wb * c, d);
-            if (moved) {
-                moved[a] |= wa > 0.0;
-                moved[b] |= wb > 0.0;
-            }
+            if (!relax_spring(&m->springs[s], x_old, x, in, inv_m, floor, moved)) continue;
             ++this_pass;
         }
+        corrections += this_pass;
+        if (this_pass == 0) break;
+    }
+    return corrections;
+}
+
+void wc_self_relax_mark(const wc_model* m, const wc_self_relax_set* rs, int i) {
+    const int s0 = m->spring_type_start[WC_SPRING_STRETCH], s1 = m->spring_type_start[WC_SPRING_STRETCH + 1];
+    const wc_bsr_pattern* pt = &m->pattern;
+    for (int k = pt->row_spring_start[i]; k < pt->row_spring_start[i + 1]; ++k) {
+        int t = pt->row_spring[k];
+        if (t >= s0 && t < s1) rs->due[(t - s0) >> 6] |= (uint64_t)1 << ((t - s0) & 63);
+    }
+}
+
+/* a correction at spring s moved its ends: their springs are due in the next pass, and those after
+   s in this one (the ends' positions changed since the full pass's check; both ends, whatever
+   their weights: a zero weight's step may still flip a zero's sign) */
+static void mark_moved(const wc_model* m, wc_self_relax_set* rs, int s0, int s1, int s, int i) {
+    const wc_bsr_pattern* pt = &m->pattern;
+    for (int k = pt->row_spring_start[i]; k < pt->row_spring_start[i + 1]; ++k) {
+        int t = pt->row_spring[k];
+        if (t < s0 || t >= s1) continue;
+        uint64_t bit = (uint64_t)1 << ((t - s0) & 63);
+        rs->next[(t - s0) >> 6] |= bit;
+        if (t > s) rs->due[(t - s0) >> 6] |= bit;
+    }
+}
+
+int wc_self_relax_zones_due(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
+                            const double* inv_m, double floor, int passes, unsigned char* moved,
+                            wc_self_relax_set* rs) {
+    int corrections = 0;
+    const int s0 = m->spring_type_start[WC_SPRING_STRETCH], s1 = m->spring_type_start[WC_SPRING_STRETCH + 1];
+    for (int p = 0; p < passes; ++p) {
+        int this_pass = 0;
+        for (int w = 0; w < rs->words; ++w) {
+            uint64_t bits;
+            while ((bits = rs->due[w]) != 0) { /* re-read: a correction may mark later springs of w */
+                int s = s0 + 64 * w + __builtin_ctzll(bits);
+                rs->due[w] = bits & (bits - 1);
+                const wc_spring* sp = &m->springs[s];
+                if (!relax_spring(sp, x_old, x, in, inv_m, floor, moved)) continue;
+                mark_moved(m, rs, s0, s1, s, sp->a);
+                mark_moved(m, rs, s0, s1, s, sp->b);
+                ++this_pass;
+            }
+        }
+        uint64_t* t = rs->due; /* every bit consumed: the due set is the next pass's scratch */
+        rs->due = rs->next;
+        rs->next = t;
         corrections += this_pass;
         if (this_pass == 0) break;
     }

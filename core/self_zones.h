@@ -9,6 +9,8 @@
  * holding a whole garment). Both allocate nothing. */
 #ifndef WEFT_CORE_SELF_ZONES_H
 #define WEFT_CORE_SELF_ZONES_H
+#include <stdint.h>
+
 #include "model.h"
 
 #define WC_SELF_ZONE_STRIDE 20  /* doubles per zone accumulator */
@@ -30,5 +32,27 @@ void wc_self_rigidify(int n, const double* x_start, double* x, const double* mas
  * nothing; moved (may be NULL) gets 1 for each particle moved. Returns the corrections made. */
 int wc_self_relax_zones(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
                         const double* inv_m, double floor, int passes, unsigned char* moved);
+
+/* The springs the relaxation's next pass must check (wc_self_relax_zones_due): bit s - start of
+ * due for the stretch spring s. A spring whose ends have not moved since a check that corrected
+ * nothing would correct nothing again (the check reads only its ends' positions, and x_old, in and
+ * inv_m, which the caller keeps), so a pass that checks only the due springs, in spring order,
+ * makes the same corrections, in the same order, as a pass over every spring. */
+typedef struct wc_self_relax_set {
+    uint64_t* due;  /* (words) the springs to check; left holding those the next call's first pass
+                       must check (the last pass's corrected springs' neighbourhoods) */
+    uint64_t* next; /* (words) scratch, all 0 between calls */
+    int words;      /* (stretch springs + 63) / 64 */
+} wc_self_relax_set;
+
+/* Marks the stretch springs at particle i due (m's pattern: its per-row spring lists). */
+void wc_self_relax_mark(const wc_model* m, const wc_self_relax_set* rs, int i);
+
+/* wc_self_relax_zones over the due springs of rs only (the caller marks every spring whose ends
+ * or their in[] changed since the last call, or all of them at a first call): the same
+ * corrections, positions and moved[] bit for bit. Needs m's pattern (row_spring_start). */
+int wc_self_relax_zones_due(const wc_model* m, const double* x_old, double* x, const unsigned char* in,
+                            const double* inv_m, double floor, int passes, unsigned char* moved,
+                            wc_self_relax_set* rs);
 
 #endif
