@@ -372,6 +372,11 @@ void wc_amg_cross_fine(wc_amg* a, const wc_filter* f);
 void wc_amg_cross_restrict(wc_amg* a, int l);
 void wc_amg_cross_dense(const wc_amg_cross* X, double* M, int d);
 void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par);
+/* Its two parts, for a caller's own parallel region (any split gives the same bits): a list
+ * level's s_k = alpha c_k (v_k . x) for terms [q0, q1), then, once every term's s_k is in (a
+ * barrier), y += X x on nodes [lo, hi) (a dense level: alpha X x directly, no first part). */
+void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1);
+void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, int lo, int hi);
 void wc_amg_cross_destroy(wc_amg* a);
 /* With opts.single, the V-cycle's float copies of a setup's values (amg_single.c): every level's,
  * or level 0's operator only (fine_only: the coarse levels were kept). */

@@ -315,45 +315,49 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
     index_nodes(Y, C->n);
 }
 
-void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par) {
-    if (!X || X->n_terms == 0) return;
-    if (X->dense) {
+void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1) {
+    for (int q = q0; q < q1; ++q) { /* s_k = alpha c_k (v_k . x) */
+        double acc = 0.0;
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) acc += v3_dot(X->val + 3 * (size_t)e, x + 3 * (size_t)X->node[e]);
+        X->s[q] = alpha * X->c[q] * acc;
+    }
+}
+
+void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, int lo, int hi) {
+    if (X->dense) { /* y_r += alpha (X x)_r over the nodes' rows */
         const int d = 3 * n;
-        WC_PAR_REGION(par)
-        {
-            int lo, hi;
-            wc_par_range(d, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            for (int r = lo; r < hi; ++r) {
-                const double* row = X->dense + (size_t)r * d;
-                double acc = 0.0;
-                for (int k = 0; k < d; ++k) acc += row[k] * x[k];
-                y[r] += alpha * acc;
-            }
+        for (int r = 3 * lo; r < 3 * hi; ++r) {
+            const double* row = X->dense + (size_t)r * d;
+            double acc = 0.0;
+            for (int k = 0; k < d; ++k) acc += row[k] * x[k];
+            y[r] += alpha * acc;
         }
         return;
     }
-    double* sk = X->s;
-    WC_PAR_REGION(par) /* s_k = alpha c_k (v_k . x), term by term */
-    {
-        int lo, hi;
-        wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int q = lo; q < hi; ++q) {
-            double acc = 0.0;
-            for (int e = X->start[q]; e < X->start[q + 1]; ++e) acc += v3_dot(X->val + 3 * (size_t)e, x + 3 * (size_t)X->node[e]);
-            sk[q] = alpha * X->c[q] * acc;
+    for (int i = lo; i < hi; ++i) { /* y_i += sum over i's entries of s_k v_k(i), in term order */
+        if (X->node_start[i] == X->node_start[i + 1]) continue;
+        double acc[3] = {0, 0, 0};
+        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j)
+            v3_axpy(acc, X->s[X->entry_term[j]], X->node_val + 3 * (size_t)j);
+        v3_add(y + 3 * (size_t)i, y + 3 * (size_t)i, acc);
+    }
+}
+
+void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par) {
+    if (!X || X->n_terms == 0) return;
+    if (!X->dense) {
+        WC_PAR_REGION(par)
+        {
+            int lo, hi;
+            wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            wc_amg_cross_scale(X, alpha, x, lo, hi);
         }
     }
-    WC_PAR_REGION(par) /* y_i += sum over i's entries of s_k v_k(i), in term order */
+    WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            if (X->node_start[i] == X->node_start[i + 1]) continue;
-            double acc[3] = {0, 0, 0};
-            for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j)
-                v3_axpy(acc, sk[X->entry_term[j]], X->node_val + 3 * (size_t)j);
-            v3_add(y + 3 * (size_t)i, y + 3 * (size_t)i, acc);
-        }
+        wc_amg_cross_rows_add(X, alpha, x, y, n, lo, hi);
     }
 }
 

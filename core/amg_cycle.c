@@ -3,7 +3,11 @@
  * correction, prolongation by P, the same smoothing again; the coarsest level is solved with its
  * dense Cholesky factor (or smoothed, when it could not be coarsened enough). With
  * wc_amg_opts.single every level's operator and P are read from their float copies
- * (amg_single.c), every sum in double; D^-1 stays double. */
+ * (amg_single.c), every sum in double; D^-1 stays double.
+ * Threads: with Chebyshev smoothing a level's sweep before the coarse correction (smoothing,
+ * residual, restriction) is one parallel region and the sweep after it another, with barriers
+ * between the phases, instead of a region per kernel (a V-cycle of the suit's three levels: 4
+ * regions and 26 barriers where it had 36 regions; docs/bench/threads.md). */
 #include <string.h>
 #include "amg.h"
 #include "bsr_rows.h"
@@ -116,14 +120,20 @@ __attribute__((target("avx2,fma"))) static void restrict_rows_f_avx2(const wc_am
 }
 #endif
 
-/* rc = P^T t; AVX2 + FMA where the CPU has them (the sums round differently by a few ulps). */
-static void restrict_(const wc_amg_level* L, const wc_amg_level* N, int single, const double* t, double* rc,
-                      wc_par* par) {
-    void (*rows)(const wc_amg_level*, const double*, double*, int, int) = single ? restrict_rows_f : restrict_rows;
+/* The restriction's row kernel: AVX2 + FMA where the CPU has them (the sums round differently by
+ * a few ulps). */
+static void (*restrict_kernel(int single))(const wc_amg_level*, const double*, double*, int, int) {
 #ifdef WC_RESTRICT_AVX2
     if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-        rows = single ? restrict_rows_f_avx2 : restrict_rows_avx2;
+        return single ? restrict_rows_f_avx2 : restrict_rows_avx2;
 #endif
+    return single ? restrict_rows_f : restrict_rows;
+}
+
+/* rc = P^T t */
+static void restrict_(const wc_amg_level* L, const wc_amg_level* N, int single, const double* t, double* rc,
+                      wc_par* par) {
+    void (*rows)(const wc_amg_level*, const double*, double*, int, int) = restrict_kernel(single);
     WC_PAR_REGION(par)
     {
         int lo, hi;
@@ -140,6 +150,66 @@ static void prolong(const wc_amg_level* L, int single, const double* xc, double*
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
         if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, xc, x);
         else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, xc, x);
+    }
+}
+
+/* The parts of a level's sweep run by each thread of one region (vcycle), on its rows [lo, hi) of
+ * the same fixed ranges as the kernels above, with the same sums per row: the same bits on any
+ * thread count, with barriers where a phase reads what other threads wrote (and before x changes
+ * while others may still read it). */
+
+/* t = r - A x with the couplings' terms on rows [lo, hi): residual() per thread. A list level's
+ * terms are scaled first (every thread's share, then a barrier). */
+static void residual_part(const wc_amg_level* L, int single, const double* r, const double* x, double* t, int lo,
+                          int hi) {
+    const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
+    if (X && !X->dense) {
+        int q0, q1;
+        wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);
+        wc_amg_cross_scale(X, -1.0, x, q0, q1);
+        WC_PAR_BARRIER();
+    }
+    if (single) wc_bsr_rows_f(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, x, t);
+    else wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, r, -1.0, x, t);
+    if (X) wc_amg_cross_rows_add(X, -1.0, x, t, L->n, lo, hi);
+}
+
+/* chebyshev() per thread: `steps` matrix products, x from zero when `zero` (else x must be
+ * complete: a barrier before). */
+static void chebyshev_part(wc_amg_level* L, int single, double ratio, int steps, const double* r, double* x, int zero,
+                           double* d, int lo, int hi) {
+    const double b = L->bound, a = b / ratio;
+    const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
+    double rho = 1.0 / sigma;
+    const double* t = r; /* the residual at x = 0 */
+    if (!zero) {
+        residual_part(L, single, r, x, L->t, lo, hi);
+        t = L->t;
+        WC_PAR_BARRIER(); /* t complete (a pair's D^-1 reads both rows), x read */
+    }
+    for (int i = lo; i < hi; ++i) { /* d = D^-1 t / theta; x = d, or x += d */
+        double e[3];
+        wc_amg_dinv(L, i, t, e);
+        v3_scale(d + 3 * i, e, 1.0 / theta);
+        if (zero) v3_copy(x + 3 * i, d + 3 * i);
+        else
+            for (int c = 0; c < 3; ++c) x[3 * i + c] += d[3 * i + c];
+    }
+    for (int k = 1; k < steps; ++k) {
+        WC_PAR_BARRIER(); /* x complete */
+        residual_part(L, single, r, x, L->t, lo, hi);
+        double rho_new = 1.0 / (2.0 * sigma - rho);
+        double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
+        WC_PAR_BARRIER(); /* t complete, x read */
+        for (int i = lo; i < hi; ++i) { /* d = c1 d + c2 D^-1 t; x += d */
+            double e[3];
+            wc_amg_dinv(L, i, L->t, e);
+            for (int c = 0; c < 3; ++c) {
+                d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
+                x[3 * i + c] += d[3 * i + c];
+            }
+        }
+        rho = rho_new;
     }
 }
 
@@ -161,53 +231,6 @@ static void coarse_solve(wc_amg* a, const double* r, double* x) {
     }
 }
 
-/* Chebyshev smoothing of x (from zero when `zero`) on [bound / ratio, bound]: `steps` matrix
- * products; d is L->r's scratch of the level (restricted residuals use the next level's). Each
- * direction update and the step of x along it share one pass over the rows. */
-static void chebyshev(wc_amg_level* L, int single, double ratio, int steps, const double* r, double* x, int zero,
-                      double* d, wc_par* par) {
-    const double b = L->bound, a = b / ratio;
-    const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
-    double rho = 1.0 / sigma;
-    const double* t = r; /* the residual at x = 0 */
-    if (!zero) {
-        residual(L, single, r, x, L->t, par);
-        t = L->t;
-    }
-    WC_PAR_REGION(par)
-    { /* d = D^-1 t / theta; x = d, or x += d */
-        int lo, hi;
-        wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int i = lo; i < hi; ++i) {
-            double e[3];
-            wc_amg_dinv(L, i, t, e);
-            v3_scale(d + 3 * i, e, 1.0 / theta);
-            if (zero) v3_copy(x + 3 * i, d + 3 * i);
-            else
-                for (int c = 0; c < 3; ++c) x[3 * i + c] += d[3 * i + c];
-        }
-    }
-    for (int k = 1; k < steps; ++k) {
-        residual(L, single, r, x, L->t, par);
-        double rho_new = 1.0 / (2.0 * sigma - rho);
-        double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
-        WC_PAR_REGION(par)
-        { /* d = c1 d + c2 D^-1 t; x += d */
-            int lo, hi;
-            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            for (int i = lo; i < hi; ++i) {
-                double e[3];
-                wc_amg_dinv(L, i, L->t, e);
-                for (int c = 0; c < 3; ++c) {
-                    d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
-                    x[3 * i + c] += d[3 * i + c];
-                }
-            }
-        }
-        rho = rho_new;
-    }
-}
-
 static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
     wc_amg_level* L = &a->lev[l];
     const int single = a->opts.single && L->val_f;
@@ -226,23 +249,42 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
     }
     wc_amg_level* N = &a->lev[l + 1];
     const double w = a->opts.smooth_weight / L->bound;
-    if (a->opts.chebyshev) {
-        chebyshev(L, single, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 1, L->ev_scratch, par);
-    } else {
-        jacobi(L, w, r, x, 1, par);
-        for (int s = 1; s < a->opts.sweeps; ++s) {
-            residual(L, single, r, x, L->t, par);
-            jacobi(L, w, L->t, x, 0, par);
+    if (a->opts.chebyshev) { /* two regions a level, barriers between the phases */
+        const double ratio = a->opts.chebyshev_ratio;
+        const int sweeps = a->opts.sweeps;
+        void (*rows)(const wc_amg_level*, const double*, double*, int, int) = restrict_kernel(single);
+        WC_PAR_REGION(par)
+        { /* pre-smoothing, residual, restriction */
+            int lo, hi, c0, c1;
+            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &c0, &c1);
+            chebyshev_part(L, single, ratio, sweeps, r, x, 1, L->ev_scratch, lo, hi);
+            WC_PAR_BARRIER();
+            residual_part(L, single, r, x, L->t, lo, hi);
+            WC_PAR_BARRIER();
+            rows(L, L->t, N->r, c0, c1);
         }
+        vcycle(a, l + 1, N->r, N->x, par);
+        WC_PAR_REGION(par)
+        { /* prolongation, post-smoothing */
+            int lo, hi;
+            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+            if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, N->x, x);
+            else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, N->x, x);
+            WC_PAR_BARRIER();
+            chebyshev_part(L, single, ratio, sweeps, r, x, 0, L->ev_scratch, lo, hi);
+        }
+        return;
+    }
+    jacobi(L, w, r, x, 1, par);
+    for (int s = 1; s < a->opts.sweeps; ++s) {
+        residual(L, single, r, x, L->t, par);
+        jacobi(L, w, L->t, x, 0, par);
     }
     residual(L, single, r, x, L->t, par);
     restrict_(L, N, single, L->t, N->r, par);
     vcycle(a, l + 1, N->r, N->x, par);
     prolong(L, single, N->x, x, par);
-    if (a->opts.chebyshev) {
-        chebyshev(L, single, a->opts.chebyshev_ratio, a->opts.sweeps, r, x, 0, L->ev_scratch, par);
-        return;
-    }
     for (int s = 0; s < a->opts.sweeps; ++s) {
         residual(L, single, r, x, L->t, par);
         jacobi(L, w, L->t, x, 0, par);

@@ -50,17 +50,24 @@ static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
 static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double* next, wc_par* par, double* num,
                       double* den) {
     int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
-    if (L->cross && L->cross->n_terms > 0) { /* the couplings' X w (amg_cross.c) */
-        memset(L->cross->y, 0, sizeof(double) * 3 * (size_t)L->n);
-        wc_amg_cross_mul_add(L->cross, 1.0, w, L->cross->y, L->n, par);
-    }
+    const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
     WC_PAR_REGION(par)
     {
+        if (X && !X->dense) { /* the couplings' terms scaled by w (amg_cross.c), all before their rows */
+            int q0, q1;
+            wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);
+            wc_amg_cross_scale(X, 1.0, w, q0, q1);
+            WC_PAR_BARRIER();
+        }
         int c0, c1;
         wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
         for (int c = c0; c < c1; ++c) {
             int lo, hi;
             chunk_bounds(L, c, &lo, &hi);
+            if (X) { /* the chunk's rows of X w */
+                memset(X->y + 3 * (size_t)lo, 0, sizeof(double) * 3 * (size_t)(hi - lo));
+                wc_amg_cross_rows_add(X, 1.0, w, X->y, L->n, lo, hi);
+            }
             double d = 0.0;
             L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, den ? &d : NULL);
             L->partial[2 * c + 1] = d;

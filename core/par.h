@@ -28,10 +28,15 @@ double wc_par_dot(wc_par* p, const double* a, const double* b, int n);
  * wc_par_nt() give the thread and the team size. */
 #define WC_PAR_PRAGMA_(x) _Pragma(#x)
 #define WC_PAR_REGION(p) WC_PAR_PRAGMA_(omp parallel num_threads((p)->threads))
+/* Inside a region (or a function it calls): wait until every thread of the team got here. Half a
+ * region's fork and join: a kernel sequence that runs in one region with barriers between its
+ * phases pays less than one region per phase. */
+#define WC_PAR_BARRIER() WC_PAR_PRAGMA_(omp barrier)
 static inline int wc_par_tid(void) { return omp_get_thread_num(); }
 static inline int wc_par_nt(void) { return omp_get_num_threads(); }
 #else
 #define WC_PAR_REGION(p) (void)(p);
+#define WC_PAR_BARRIER() ((void)0)
 static inline int wc_par_tid(void) { return 0; }
 static inline int wc_par_nt(void) { return 1; }
 #endif
