@@ -64,7 +64,6 @@ static void sharp_free(wc_mesh_sharp* t, const wc_allocator* a) {
     wc_free(a, t->sharp_edge);
     wc_free(a, t->sharp_vert);
     wc_free(a, t->node_mask);
-    wc_free(a, t->speed);
 }
 
 /* The collider's distinct edges: its 3 n_tris triangle edges sorted by (min, max) vertex. */
@@ -76,10 +75,9 @@ static int sharp_build(wc_mesh_sharp* t, const wc_mesh_collider* mc, const wc_al
     t->sharp_edge = WC_NEW(a, unsigned char, (size_t)nh);
     t->sharp_vert = WC_NEW(a, unsigned char, (size_t)mc->n_verts + 1);
     t->node_mask = WC_NEW(a, unsigned char, (size_t)mc->bvh.n_nodes + 1);
-    t->speed = WC_NEW(a, double, (size_t)mc->n_verts + 1);
     wc_keyed* keys = WC_NEW(a, wc_keyed, (size_t)nh);
     if (!t->tri_edge || !t->edge_tri || !t->edge_many || !t->sharp_edge || !t->sharp_vert || !t->node_mask ||
-        !t->speed || !keys) {
+        !keys) {
         wc_free(a, keys);
         return 0;
     }
@@ -205,7 +203,6 @@ static int opposite(const wc_mesh_collider* mc, int t, int r, int s) {
  * the first's plane) and its normals turn by more than acos(WC_MESH_PAIR_SHARP_COS). A vertex is
  * sharp when one of its edges is. */
 static void sharp_update(wc_mesh_sharp* t, const wc_mesh_collider* mc) {
-    for (int i = 0; i < mc->n_verts; ++i) t->speed[i] = v3_norm(mc->vel + 3 * i);
     memset(t->sharp_vert, 0, (size_t)mc->n_verts);
     memset(t->sharp_edge, 0, (size_t)t->n_edges);
     for (int h = 0; h < 3 * mc->n_tris; ++h) {
@@ -252,10 +249,8 @@ typedef struct find_ctx {
     unsigned char *seen_edge, *seen_vert; /* the thread's marks (wc_mesh_pairs.seen) */
     int* seen_set;         /* the marks this cloth feature set (offsets from seen_edge) */
     int n_set;
-    double reach[6];       /* the cloth feature's box at the start (reach_box) */
-    double reach_dc;       /* m: the contact distance keep could give it against a still body point */
-    double reach_scale;    /* m: 1e-9 of the feature's scale (rounding) */
-    double reach_h;        /* s: 1.5 h: a body point at speed s adds reach_h s to reach_dc */
+    double reach[6];       /* a body point outside this box is beyond every contact distance
+                              keep could give the cloth feature (reach_box) */
 } find_ctx;
 
 /* 1 when body feature i (marks: the edges' or the vertices') was seen for this cloth feature;
@@ -320,14 +315,12 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     wc_penalty_pairs_add(c->out, &c->m->pattern, cnt, c->cloth, w, n, off, wc_penalty_stiffness(inv, c->he));
 }
 
-/* The reach of the cloth feature: keep's contact distance d_c = 2 thickness + 1.5 h approach
- * with approach <= |v_cloth point| + |v_body point| <= the fastest of the feature's particles +
- * the faster vertex of the body feature (an edge's point moves at a blend of its vertices'
- * velocities). A body feature outside the feature's box at the start grown by that d_c (and a
- * margin for rounding, reach_margin) is farther than d_c from every point of the feature (keep
- * rejects the pair): its closest points need not be computed. Each body feature's own speed,
- * not the body's fastest vertex: on a body whose limbs move fast, the slow parts keep a short
- * reach. Unbounded when the collider is exhaustive (the reference of the prunes). */
+/* c->reach: the cloth feature's box at the start grown by the largest contact distance keep can
+ * give it, d_c = 2 thickness + 1.5 h approach with approach <= |v_cloth point| + |v_body point|
+ * <= the fastest of the feature's particles + the body's fastest vertex (max_speed), and a
+ * margin for rounding. A body point outside it is farther than d_c from every point of the
+ * feature (keep rejects the pair): its closest points need not be computed. Unbounded when the
+ * collider is exhaustive (the reference of the prunes). */
 static void reach_box(find_ctx* c, int cnt) {
     const wc_mesh_collider* mc = c->mc;
     double vmax = 0.0, scale = 1.0;
@@ -336,7 +329,6 @@ static void reach_box(find_ctx* c, int cnt) {
             c->reach[k] = -HUGE_VAL;
             c->reach[3 + k] = HUGE_VAL;
         }
-        c->reach_dc = c->reach_scale = c->reach_h = 0.0;
         return;
     }
     wc_box_empty(c->reach);
@@ -346,31 +338,21 @@ static void reach_box(find_ctx* c, int cnt) {
         vmax = fmax(vmax, v3_norm(c->v + 3 * c->cloth[k]));
         scale = fmax(scale, fmax(fabs(xk[0]), fmax(fabs(xk[1]), fabs(xk[2]))));
     }
-    c->reach_dc = 2.0 * mc->thickness + 1.5 * c->h * vmax;
-    c->reach_scale = 1e-9 * scale;
-    c->reach_h = 1.5 * c->h;
+    double dc = 2.0 * mc->thickness + 1.5 * c->h * (vmax + mc->max_speed);
+    wc_box_inflate(c->reach, dc * (1.0 + 1e-9) + 1e-9 * scale);
 }
 
-/* How far beyond the feature's box a body feature whose vertices move at most at `speed` may lie */
-static double reach_margin(const find_ctx* c, double speed) {
-    return (c->reach_dc + c->reach_h * speed) * (1.0 + 1e-9) + c->reach_scale;
-}
-
-/* 1 when body point p (moving at speed) lies outside c->reach grown by its margin */
-static int beyond_reach(const find_ctx* c, const double* p, double speed) {
+/* 1 when body point p lies outside c->reach */
+static int beyond_reach(const find_ctx* c, const double* p) {
     const double* b = c->reach;
-    const double r = reach_margin(c, speed);
-    return p[0] < b[0] - r || p[0] > b[3] + r || p[1] < b[1] - r || p[1] > b[4] + r || p[2] < b[2] - r ||
-           p[2] > b[5] + r;
+    return p[0] < b[0] || p[0] > b[3] || p[1] < b[1] || p[1] > b[4] || p[2] < b[2] || p[2] > b[5];
 }
 
-/* 1 when the body segment p-q (its ends moving at most at speed) lies outside c->reach grown by
- * its margin (on one side of it) */
-static int segment_beyond_reach(const find_ctx* c, const double* p, const double* q, double speed) {
+/* 1 when the body segment p-q lies outside c->reach (on one side of it) */
+static int segment_beyond_reach(const find_ctx* c, const double* p, const double* q) {
     const double* b = c->reach;
-    const double r = reach_margin(c, speed);
     for (int k = 0; k < 3; ++k)
-        if ((p[k] < b[k] - r && q[k] < b[k] - r) || (p[k] > b[3 + k] + r && q[k] > b[3 + k] + r)) return 1;
+        if ((p[k] < b[k] && q[k] < b[k]) || (p[k] > b[3 + k] && q[k] > b[3 + k])) return 1;
     return 0;
 }
 
@@ -388,8 +370,7 @@ static int visit_edge(void* user, int t) {
     for (int e = 0; e < 3; ++e) {
         int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
         if (!c->sh->sharp_edge[eid] || seen_before(c, c->seen_edge, eid)) continue;
-        const double* sp = c->sh->speed;
-        if (segment_beyond_reach(c, mc->xa + 3 * r, mc->xa + 3 * s, sp[r] > sp[s] ? sp[r] : sp[s])) continue;
+        if (segment_beyond_reach(c, mc->xa + 3 * r, mc->xa + 3 * s)) continue;
         double a, b;
         wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);
         if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
@@ -411,7 +392,7 @@ static int visit_edge(void* user, int t) {
     for (int k = 0; k < 3; ++k) {
         int r = tv[k];
         if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
-        if (beyond_reach(c, mc->xa + 3 * r, c->sh->speed[r])) continue;
+        if (beyond_reach(c, mc->xa + 3 * r)) continue;
         double d[3];
         v3_sub(d, mc->xa + 3 * r, p0);
         double a = v3_dot(d, e) / ee;
@@ -432,7 +413,7 @@ static int visit_vertex(void* user, int t) {
     for (int e = 0; e < 3; ++e) {
         int r = mc->tris[3 * t + e];
         if (!c->sh->sharp_vert[r] || seen_before(c, c->seen_vert, r)) continue;
-        if (beyond_reach(c, mc->xa + 3 * r, c->sh->speed[r])) continue;
+        if (beyond_reach(c, mc->xa + 3 * r)) continue;
         double w[3], cp0[3] = {0, 0, 0};
         wc_closest_on_triangle(mc->xa + 3 * r, c->x + 3 * T[0], c->x + 3 * T[1], c->x + 3 * T[2], w, NULL);
         if (!(w[0] > INTERIOR && w[1] > INTERIOR && w[2] > INTERIOR)) continue;

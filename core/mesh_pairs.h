@@ -26,8 +26,6 @@ typedef struct wc_mesh_sharp {
     unsigned char* sharp_vert; /* (n_verts) this substep */
     unsigned char* node_mask;  /* (the BVH's n_nodes) this substep: 1 above a non-degenerate
                                   triangle with a sharp vertex (the only ones that give pairs) */
-    double* speed;             /* (n_verts) m/s: each vertex's speed this substep (the reach of
-                                  the pairs at its features) */
 } wc_mesh_sharp;
 
 typedef struct wc_mesh_pairs {

@@ -416,7 +416,7 @@ static void test_pairs_culled(void) {
     for (int trial = 0; trial < 2 * 5 * 5 + 30 + 10; ++trial) {
         /* the last 10: the bodies rise tilted (the roof's ridge from still at one end to 1 m/s at
            the other, the pyramid's apex at 1 m/s over a still base), the sheet still at 0.3 to 0.99
-           of the d_c of 1 m/s: the reach of a body feature is its own vertices' speed */
+           of the d_c of 1 m/s: body features moving at different speeds */
         int tilt = trial >= 80, flat = trial < 50 || tilt, near = trial % 2, speed = trial / 2 % 5;
         double fall = flat && !tilt ? falls[speed] : 0.0, rise = tilt ? 1.0 : flat ? rises[speed] : 0.0;
         const double tilt_at[5] = {0.3, 0.5, 0.7, 0.9, 0.99};
