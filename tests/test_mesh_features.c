@@ -412,16 +412,22 @@ static void test_pairs_culled(void) {
     CHECK(culled && full && wc_mesh_pairs_keep_candidates(culled, nf, NULL));
     unsigned long long rng = 0x9e3779b97f4a7c15ull;
     const double falls[5] = {0, 1, 3, 0, 2}, rises[5] = {0, 0, 0, 0.5, 1}, at[5] = {0.5, 0.99, 0.9999, 1.001, 1.2};
-    int trials = 0, same = 0, found = 0, edge_found = 0;
-    for (int trial = 0; trial < 2 * 5 * 5 + 30; ++trial) {
-        int flat = trial < 50, near = trial % 2, speed = trial / 2 % 5;
-        double fall = flat ? falls[speed] : 0.0, rise = flat ? rises[speed] : 0.0;
-        double dc = 2.0 * th + 1.5 * h * (fall + rise), y = top[near] + at[trial / 10 % 5] * dc;
+    int trials = 0, same = 0, found = 0, edge_found = 0, tilt_found = 0;
+    for (int trial = 0; trial < 2 * 5 * 5 + 30 + 10; ++trial) {
+        /* the last 10: the bodies rise tilted (the roof's ridge from still at one end to 1 m/s at
+           the other, the pyramid's apex at 1 m/s over a still base), the sheet still at 0.3 to 0.99
+           of the d_c of 1 m/s: body features moving at different speeds */
+        int tilt = trial >= 80, flat = trial < 50 || tilt, near = trial % 2, speed = trial / 2 % 5;
+        double fall = flat && !tilt ? falls[speed] : 0.0, rise = tilt ? 1.0 : flat ? rises[speed] : 0.0;
+        const double tilt_at[5] = {0.3, 0.5, 0.7, 0.9, 0.99};
+        double dc = 2.0 * th + 1.5 * h * (fall + rise);
+        double y = top[near] + (tilt ? tilt_at[trial / 2 % 5] : at[trial / 10 % 5]) * dc;
         double a = flat ? 0.0 : 0.02 * (trial % 5), ca = cos(a), sa = sin(a);
         for (int k = 0; k < 2; ++k) { /* rise, or turn about y and shift */
             for (int i = 0; i < body[k].nv; ++i) {
                 const double* p = body[k].x + 3 * i;
-                v3_set(tgt + 3 * i, ca * p[0] + sa * p[2], p[1] + rise * h + (flat ? 0.0 : 0.001 * (trial % 3)),
+                double w = tilt ? (k == 0 ? (p[2] + 0.8) / 1.6 : p[1] / top[1]) : 1.0;
+                v3_set(tgt + 3 * i, ca * p[0] + sa * p[2], p[1] + w * rise * h + (flat ? 0.0 : 0.001 * (trial % 3)),
                        -sa * p[0] + ca * p[2] + (flat ? 0.0 : 0.002));
             }
             CHECK_EQ_INT(wc_mesh_collider_set_all(mc[k], body[k].x, &d), WC_OK);
@@ -451,12 +457,14 @@ static void test_pairs_culled(void) {
         ++trials;
         same += same_list(&full->list, &culled->list);
         found += full->list.n;
-        if (flat && at[trial / 10 % 5] > 0.9 && at[trial / 10 % 5] < 1.0) edge_found += full->list.n;
+        if (flat && !tilt && at[trial / 10 % 5] > 0.9 && at[trial / 10 % 5] < 1.0) edge_found += full->list.n;
+        if (tilt) tilt_found += full->list.n;
     }
-    printf("  %d of %d detections the same culled as unculled: %d pairs, %d of them at 0.99 and 0.9999 d_c\n", same,
-           trials, found, edge_found);
+    printf("  %d of %d detections the same culled as unculled: %d pairs, %d of them at 0.99 and 0.9999 d_c, %d over "
+           "tilted bodies\n", same, trials, found, edge_found, tilt_found);
     CHECK_EQ_INT(same, trials);
     CHECK(edge_found > 20 && found > edge_found);
+    CHECK(tilt_found > 20);
     wc_mesh_pairs_destroy(culled, NULL);
     wc_mesh_pairs_destroy(full, NULL);
     free(x);
