@@ -19,7 +19,6 @@
 #include "test_support.h"
 #include "test_rng.h"
 
-
 static void random_box(double* b, double size) {
     for (int k = 0; k < 3; ++k) {
         double c = 1.4 * urand() - 0.2, w = size * urand(); /* some outside [0, 1] */
@@ -86,20 +85,6 @@ static void test_grid_vs_brute(void) {
     free(gr.cell);
 }
 
-/* The heap strip folded into 8 layers 4 mm apart (a Z of 0.2 m folds). */
-static void folded(const wc_model* m, double* x) {
-    for (int i = 0; i < m->n_particles; ++i) {
-        const double* r = m->rest_pos + 3 * i;
-        double gy = r[1] - 0.03;
-        int layer = (int)floor(gy / 0.2 + 1e-9);
-        double local = gy - 0.2 * layer;
-        if (layer > 7) layer = 7, local = 0.2;
-        x[3 * i] = r[0];
-        x[3 * i + 1] = layer % 2 ? 0.2 - local : local;
-        x[3 * i + 2] = 0.004 * layer + 0.0005 * sin(40.0 * r[0]);
-    }
-}
-
 /* One pass of mode with the grids on or off from the same start (x0 -> x1, dirty), its results. */
 typedef struct pass_out {
     double* x;
@@ -156,7 +141,7 @@ static void test_passes_same(void) {
     unsigned char* dirty = malloc((size_t)n);
     int differ = 0, active_on = 0, grids_on = 0, skippable = 0, compared = 0;
     for (int round = 0; round < 24; ++round) {
-        folded(&m, x0);
+        heap_strip_folded(&m, x0);
         /* motion: layers pressed into each other (up to 6 mm down) plus noise, some rounds fast */
         double amp = round % 3 == 0 ? 0.003 : 0.0008;
         for (int i = 0; i < n; ++i)
@@ -230,7 +215,7 @@ static void test_partial_refit(void) {
     unsigned char *dirty = malloc((size_t)n), *active_p = malloc((size_t)nq);
     int differ = 0, moved = 0, marked = 0;
     for (int round = 0; round < 12; ++round) {
-        folded(&m, x0);
+        heap_strip_folded(&m, x0);
         for (int i = 0; i < 3 * n; ++i) x1[i] = x0[i] + 0.001 * (2 * urand() - 1);
         double c0 = urand(), w = 0.03 + 0.1 * urand();
         for (int i = 0; i < n; ++i) {

@@ -27,7 +27,6 @@
 #include "test_rng.h"
 #include "vec3.h"
 
-
 #define MAXV 4096
 
 typedef struct rec {
@@ -189,20 +188,6 @@ static void motions(const wc_model* m, const double* x, double th, counts* ct, i
     wc_self_destroy(sc);
 }
 
-/* The heap strip folded into 8 layers 4 mm apart (a Z of 0.2 m folds). */
-static void folded(const wc_model* m, double* x) {
-    for (int i = 0; i < m->n_particles; ++i) {
-        const double* r = m->rest_pos + 3 * i;
-        double gy = r[1] - 0.03; /* 0 .. 1.6 along the strip */
-        int layer = (int)floor(gy / 0.2 + 1e-9);
-        double local = gy - 0.2 * layer;
-        if (layer > 7) layer = 7, local = 0.2;
-        x[3 * i] = r[0];
-        x[3 * i + 1] = layer % 2 ? 0.2 - local : local;
-        x[3 * i + 2] = 0.004 * layer + 0.0005 * sin(40.0 * r[0]);
-    }
-}
-
 static void test_lists_vs_trees(void) {
     counts ct = {0, 0};
     int kept = 0, gathered = 0;
@@ -210,7 +195,7 @@ static void test_lists_vs_trees(void) {
     wc_collider floor;
     heap_strip(&m, &floor);
     double* x = malloc(3 * (size_t)m.n_particles * sizeof(double));
-    folded(&m, x);
+    heap_strip_folded(&m, x);
     motions(&m, x, 0.005, &ct, &kept, &gathered);
     free(x);
     wc_model_free(&m);
@@ -257,7 +242,7 @@ static run simulate(const wc_model* m, const wc_collider* floor, int threads, in
     /* the strip folded into layers 4 mm apart, lying flat just above the floor: they settle onto
        each other */
     double* z = malloc(n3 * sizeof(double));
-    folded(m, z);
+    heap_strip_folded(m, z);
     for (int i = 0; i < m->n_particles; ++i) v3_set(s->x + 3 * i, z[3 * i], 0.006 + z[3 * i + 2], z[3 * i + 1]);
     free(z);
     wc_collider fl = *floor;

@@ -14,29 +14,9 @@
 #include "heap_strip.h"
 #include "self_collide.h"
 #include "test_support.h"
+#define TEST_RNG_SEED 0x2545F4914F6CDD1Dull
+#include "test_rng.h"
 #include "union_find.h"
-
-static unsigned long long rng_state = 0x2545F4914F6CDD1Dull;
-static double urand(void) {
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
-}
-
-/* The heap strip folded into 8 layers 4 mm apart (a Z of 0.2 m folds). */
-static void folded(const wc_model* m, double* x) {
-    for (int i = 0; i < m->n_particles; ++i) {
-        const double* r = m->rest_pos + 3 * i;
-        double gy = r[1] - 0.03;
-        int layer = (int)floor(gy / 0.2 + 1e-9);
-        double local = gy - 0.2 * layer;
-        if (layer > 7) layer = 7, local = 0.2;
-        x[3 * i] = r[0];
-        x[3 * i + 1] = layer % 2 ? 0.2 - local : local;
-        x[3 * i + 2] = 0.004 * layer + 0.0005 * sin(40.0 * r[0]);
-    }
-}
 
 static void test_stage_same(void) {
     wc_model m;
@@ -55,7 +35,7 @@ static void test_stage_same(void) {
     }
     int differ = 0, zones = 0, relaxed = 0, rounds_relaxed = 0;
     for (int round = 0; round < 24; ++round) {
-        folded(&m, x0);
+        heap_strip_folded(&m, x0);
         /* the layers pressed into each other (up to 12 mm) and torn sideways, some rounds fast */
         double amp = round % 3 == 0 ? 0.01 : 0.002;
         for (int i = 0; i < n; ++i)
