@@ -9,6 +9,9 @@
  *     (within 2x of the two sides' difference with no terms on either: float's power iterations
  *     and factor against double's), and with the terms left out of the GPU's levels
  *     (cross_skip, the mutation) over 100x further;
+ *   - each coarse level's operator (its blocks and the cross blocks of amg_cross_blocks, read
+ *     back) times a random vector: core's F_l x to float precision; without the cross blocks
+ *     over 100x further;
  *   - PCG with the multigrid, same tolerance: the GPU's iterations within 2 of core's and its
  *     answer solving core's system (couplings included); without the terms, over twice as many;
  *     with the GPU's default finest bound factor (WG_AMG_CROSS_BOUND), under half of those too. */
@@ -19,6 +22,7 @@
 #include <string.h>
 
 #include "amg.h"
+#include "bsr_rows.h"
 #include "check.h"
 #include "coupling.h"
 #include "egl_context.h"
@@ -83,6 +87,66 @@ static void gpu_vcycle(wg_sim* g, const double* r, double* z, int skip) {
     for (int i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c) z[3 * i + c] = g->rb[4 * i + c];
     g->amg->cross_skip = 0;
+}
+
+/* Each coarse level's operator as the GPU holds it after a setup (its Galerkin blocks and the
+ * cross blocks amg_cross_blocks sums per pair of nodes, read back, wg_amg_cross.c's lists) times a
+ * random vector, against core's F_l x on the same input (the level's Galerkin operator plus its
+ * couplings, amg_cross.c). The mutation: the same product without the cross blocks. */
+static void check_coarse_levels(wg_sim* g, const wc_amg* ca, wc_par* par) {
+    wg_amg* a = g->amg;
+    a->cross_skip = 0;
+    wg_amg_setup(a);
+    CHECK(ca->cross_dropped == 0);
+    for (int l = 1; l < a->n_levels; ++l) {
+        const wg_amg_level* G = &a->lev[l];
+        const wc_amg_level* C = &ca->lev[l];
+        CHECK_EQ_INT(G->n, C->n);
+        CHECK_EQ_INT(G->nb, C->n_blocks);
+        int items = 0;
+        const int* v = wg_amg_debug_cross_lists(a, l, &items);
+        CHECK(v != NULL && G->cross_nb > 0);
+        if (!v || G->n != C->n || G->nb != C->n_blocks) continue;
+        const int n = G->n;
+        float* blk[3];
+        for (int c = 0; c < 3; ++c) {
+            blk[c] = malloc(4 * (size_t)G->nb * sizeof(float));
+            wg_array_read(&g->layout, &G->a[c], G->nb, blk[c]);
+        }
+        float* cb = malloc(12 * (size_t)G->cross_nb * sizeof(float));   /* block b's row r: 4 (3 b + r) */
+        wg_array_read(&g->layout, &G->cross_a, 3 * G->cross_nb, cb);
+        double *x = malloc(3 * (size_t)n * sizeof(double)), *yc = calloc(3 * (size_t)n, sizeof(double)),
+               *yg = calloc(3 * (size_t)n, sizeof(double)), *yo = malloc(3 * (size_t)n * sizeof(double));
+        unsigned seed = 7u + (unsigned)l;
+        for (int k = 0; k < 3 * n; ++k) {
+            seed = seed * 1103515245u + 12345u;
+            x[k] = ((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+        }
+        /* the GPU's: its own blocks (core's pattern: the same aggregates), then its cross blocks */
+        int most = 0;
+        for (int i = 0; i < n; ++i)
+            for (int k = C->row_start[i]; k < C->row_start[i + 1]; ++k)
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) yg[3 * i + r] += blk[r][4 * k + c] * x[3 * C->col[k] + c];
+        memcpy(yo, yg, 3 * (size_t)n * sizeof(double));
+        for (int i = 0; i < n; ++i) {
+            if (v[4 * i + 1] - v[4 * i] > most) most = v[4 * i + 1] - v[4 * i];
+            for (int h = v[4 * i]; h < v[4 * i + 1]; ++h)
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) yg[3 * i + r] += cb[4 * (3 * (h - n) + r) + c] * x[3 * v[4 * h] + c];
+        }
+        /* core's */
+        wc_bsr_rows(C->row_start, C->col, C->val, 0, n, NULL, 1.0, x, yc);
+        wc_amg_cross_mul_add(C->cross, 1.0, x, yc, n, par);
+        const double e = ts_rel_diff(yg, yc, 3 * n), eo = ts_rel_diff(yo, yc, 3 * n);
+        printf("  level %d (%d nodes): %d cross blocks (%d a node at most); F x against core's %.1e (without the "
+               "cross blocks %.1e)\n", l, n, G->cross_nb, most, e, eo);
+        CHECK(items > n + G->cross_nb);
+        CHECK(e < 1e-5);
+        CHECK(eo > 100.0 * e);
+        for (int c = 0; c < 3; ++c) free(blk[c]);
+        free(cb), free(x), free(yc), free(yg), free(yo);
+    }
 }
 
 static void test_cross_terms(void) {
@@ -171,6 +235,7 @@ static void test_cross_terms(void) {
     CHECK(active > 100);
     CHECK(e < 2.0 * e0 + 1e-4);
     CHECK(es > 100.0 * e);
+    check_coarse_levels(g, ca, &par);
 
     /* PCG with the multigrid on each side */
     wc_solver* cpu = NULL;

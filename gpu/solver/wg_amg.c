@@ -135,7 +135,7 @@ fail:
 static int level_textures(wg_amg_level* G, wg_tex** out) {
     wg_tex* list[] = {&G->rows, &G->cols, &G->a[0], &G->a[1], &G->a[2], &G->dinv[0], &G->dinv[1], &G->dinv[2],
                       &G->gal_range, &G->gal_list, &G->mem_range, &G->mem_list, &G->r, &G->x[0], &G->x[1], &G->d[0],
-                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i};
+                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i, &G->cross_a};
     int n = (int)(sizeof list / sizeof list[0]);
     for (int k = 0; k < n; ++k) out[k] = list[k];
     return n;
@@ -214,6 +214,7 @@ static void release(wg_amg* a, int gl) {
     wc_free(al, a->node_of);
     wc_free(al, a->cross_buf);
     wc_free(al, a->cross_cnt);
+    wc_free(al, a->cross_scratch);
     wc_free(al, a);
 }
 
@@ -266,9 +267,9 @@ static wg_amg_in level_in(const wg_amg* a, int l) {
         in.a1 = &L->a[1];
         in.a2 = &L->a[2];
     }
-    /* the pairs' cross terms, or textures of their kinds that u_cross 0 leaves unread */
+    /* the pairs' cross blocks, or textures of their kinds that u_cross 0 leaves unread */
     in.cross_i = a->cross_cap ? &L->cross_i : &L->rows;
-    in.cross_u = a->cross_cap ? &a->cross_u : &L->dinv[0];
+    in.cross_a = a->cross_cap ? &L->cross_a : &L->dinv[0];
     return in;
 }
 
@@ -280,58 +281,6 @@ static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in)
     wg_u1i(a->run, "u_cross", cross_on(a));
 }
 
-int wg_amg_pairs_create(wg_amg* a, int cap, char* err, size_t el) {
-    const wg_layout* L0 = a->run->layout;
-    const int n0 = a->lev[0].n;
-    a->cross_buf = wc_calloc(&L0->alloc, 4u * ((size_t)n0 + 4u * (size_t)cap), sizeof(int));
-    a->cross_cnt = wc_calloc(&L0->alloc, (size_t)n0 + 1, sizeof(int));
-    if (!a->cross_buf || !a->cross_cnt) {
-        wg_errorf(err, el, "out of memory");
-        return 0;
-    }
-    if (!wg_array_create(L0, &a->cross_u, GL_RGBA32F, 4 * cap, NULL, err, el)) return 0;
-    for (int l = 0; l < a->n_levels; ++l)
-        if (!wg_array_create(L0, &a->lev[l].cross_i, GL_RGBA32I, a->lev[l].n + 4 * cap, NULL, err, el)) return 0;
-    a->cross_cap = cap;
-    return 1;
-}
-
-void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p) {
-    a->cross_n = 0;
-    a->pairs = p;
-    if (!a->cross_cap || !wg_pairs_on(p)) return;
-    const int* ip = NULL;
-    const float* w = NULL;
-    const int np = wg_pairs_debug_list(p, &ip, &w, NULL);
-    if (np <= 0 || np > a->cross_cap) return;
-    const int n0 = a->lev[0].n;
-    int* v = a->cross_buf;
-    int* cnt = a->cross_cnt;
-    for (int l = 0; l < a->n_levels; ++l) {
-        /* node I's entries: its slots (the used ones: weight not 0) by counting sort, pair order */
-        const int nl = a->lev[l].n;
-        const int* node = a->node_of + (size_t)l * n0;
-        memset(cnt, 0, sizeof(int) * ((size_t)nl + 1));
-        for (int e = 0; e < 4 * np; ++e)
-            if (w[e] != 0.0f) ++cnt[node[ip[e]] + 1];
-        for (int I = 0; I < nl; ++I) cnt[I + 1] += cnt[I];
-        for (int I = 0; I < nl; ++I) {
-            v[4 * I] = nl + cnt[I];
-            v[4 * I + 1] = nl + cnt[I + 1];
-            v[4 * I + 2] = v[4 * I + 3] = 0;
-        }
-        for (int e = 0; e < 4 * np; ++e) {
-            if (w[e] == 0.0f) continue;
-            int* en = v + 4 * ((size_t)nl + (size_t)cnt[node[ip[e]]]++);
-            const int q4 = e & ~3, k = e & 3;
-            en[0] = e;
-            for (int m = 1; m < 4; ++m) en[m] = node[ip[q4 + ((k + m) & 3)]];
-        }
-        wg_array_upload(a->run->layout, &a->lev[l].cross_i, nl + cnt[nl - 1], v);
-    }
-    a->cross_n = np;
-}
-
 void wg_amg_setup(wg_amg* a) {
     wg_runner* run = a->run;
     if (cross_on(a)) { /* each pair slot's filtered vector and c, the same on every level */
@@ -339,6 +288,17 @@ void wg_amg_setup(wg_amg* a) {
         WG_USE(run, WGP_AMG_CROSS_TERMS, &(wg_amg_in){.pair_p = pi.pr_p, .pair_w = pi.pr_w, .pair_nc = pi.pr_nc,
             .S0 = a->sys.S0, .S1 = a->sys.S1});
         WG_RUN(run, 4 * a->cross_n, &a->cross_u);
+        /* each level's cross blocks: the finest from them, each coarser from the finer level's
+           (wg_amg_cross.c's lists) */
+        for (int l = 0; l < a->n_levels; ++l) {
+            wg_amg_level* L = &a->lev[l];
+            if (L->cross_nb == 0) continue;   /* no pair with two used slots */
+            WG_USE(run, WGP_AMG_CROSS_BLOCKS, &(wg_amg_in){.cross_i = &L->cross_i, .cross_u = &a->cross_u,
+                .cross_fine = l ? &a->lev[l - 1].cross_a : &L->dinv[0]});
+            wg_u1i(run, "u_cross_nodes", L->n);
+            wg_u1i(run, "u_cross_fine", l > 0);
+            WG_RUN(run, 3 * L->cross_nb, &L->cross_a);
+        }
     }
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* L = &a->lev[l];

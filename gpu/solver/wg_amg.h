@@ -19,10 +19,13 @@
  *
  * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level:
  * with P = P_tent a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
- * nodes, so per level an entry list per node (uploaded per substep, wg_amg_set_pairs) and one
- * texture of the slots' filtered u_k and c (a pass per setup) give each level's whole operator:
- * the smoother's residuals, the restriction, D^-1, the power iterations and the coarsest factor
- * take the terms' off-diagonal parts (A's diagonal blocks hold the rest).
+ * nodes, so per level lists uploaded per substep (wg_amg_set_pairs, wg_amg_cross.c: each pair of
+ * nodes that two slots of a pair couple, and its terms) and one texture of the slots' filtered
+ * u_k and c (a pass per setup) give each level's whole operator. Per setup one pass a level sums
+ * the terms' off-diagonal parts c u_k u_j^T into 3x3 blocks per pair of nodes (A's diagonal
+ * blocks hold the rest); the smoother's residuals, the restriction, D^-1, the power iterations
+ * and the coarsest factor read those blocks: a few a node, where the slots of an aggregate's
+ * pairs are hundreds.
  *
  * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
  * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
@@ -60,8 +63,12 @@ typedef struct wg_amg_level {
     wg_tex v0, v[2], part;      /* power iterations: start (core's), iterates, (v.Av, v.Dv) */
     wg_chain red;
     const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
-    wg_tex cross_i;             /* the pairs' cross terms on the level (amg_level_inputs.glsl):
-                                   n nodes' (first, end), then 4 x the pairs' capacity entries */
+    wg_tex cross_i;             /* the pairs' cross terms on the level (amg_level_inputs.glsl,
+                                   wg_amg_cross.c): per node its cross blocks, per block its
+                                   column and terms, the terms (pair slots) */
+    wg_tex cross_a;             /* 3 per block: its rows (amg_cross_blocks.glsl, per setup) */
+    int cross_nb;               /* this substep's cross blocks */
+    int cross_bcap;             /* the room for them (wg_amg_cross.c BLOCKS_PER_PAIR) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -99,8 +106,11 @@ typedef struct wg_amg {
     double cross_bound_scale;   /* WG_AMG_CROSS_BOUND (tests: 1, core's power method) */
     const struct wg_pairs* pairs;
     wg_tex cross_u;             /* 4 per pair: each slot's (u, c) (amg_cross_terms.glsl) */
-    int* cross_buf;             /* host: 4 x (lev[0].n + 4 cross_cap) ints, a level's cross_i */
+    int* cross_buf;             /* host: a level's cross_i (wg_amg_cross.c) */
     int* cross_cnt;             /* host: lev[0].n + 1 ints */
+    int* cross_scratch;         /* host: lev[0].n + 96 cross_cap + 1 ints (wg_amg_cross.c) */
+    long cross_dropped;         /* substeps whose terms needed more blocks than the room: left
+                                   out of the levels (a stat) */
 } wg_amg;
 
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
@@ -125,6 +135,9 @@ void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot);
  * with no pairs this substep: none); wg_amg_setup takes their filtered vectors and c. */
 int wg_amg_pairs_create(wg_amg* a, int cap, char* err, size_t err_len);
 void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p);
+/* Tests: level l's cross lists as wg_amg_set_pairs last uploaded them (host scratch, valid until
+ * the next call; *texels of 4 ints; NULL where the terms are off). */
+const int* wg_amg_debug_cross_lists(wg_amg* a, int l, int* texels);
 
 /* PCG with the V-cycle in one work group (wg_amg_group.c). At creation, the packed patterns
  * where the finest level fits the group (0 with err on failure); then, per solve after

@@ -32,9 +32,9 @@ typedef struct wg_device {
     int compute;                /* the passes are compute shaders (wg_compute.h), not fragment shaders */
     wg_solve_mode solve;        /* WEFT_GPU_SOLVE's choice (compute passes) */
     int amg_cross;              /* WEFT_GPU_AMG_CROSS=1: the penalty pairs' cross terms in the
-                                   multigrid's levels (opt-in: fewer iterations, but its coarse
-                                   levels' gathers cost more than they save so far,
-                                   docs/bench/gpu_amg_cross.md) */
+                                   multigrid's levels (opt-in: fewer iterations, but where layers
+                                   touch only here and there, as on the suit, their blocks cost
+                                   about what they save on llvmpipe, docs/bench/gpu_amg_cross.md) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];

@@ -227,7 +227,7 @@ WHOLE(wg_pairs_add_in, pairs_add);
 #define FINE_OP AMG(cols), AMG(a_lo), AMG(a_hi), AMG(S0), AMG(S1)
 #define COARSE_OP AMG(cols), AMG(a0), AMG(a1), AMG(a2)
 #define DINV AMG(dinv0), AMG(dinv1), AMG(dinv2)
-#define CROSS AMG(cross_i), AMG(cross_u)
+#define CROSS AMG(cross_i), AMG(cross_a)
 static const wg_pass_input amg_galerkin[] = {AMG(a0), AMG(a1), AMG(a2), AMG(gal_range), AMG(gal_list)};
 static const wg_pass_input amg_galerkin_fine[] = {FINE_OP, AMG(gal_range), AMG(gal_list)};
 static const wg_pass_input amg_dinv[] = {AMG(rows), AMG(a0), AMG(a1), AMG(a2), CROSS};
@@ -241,6 +241,7 @@ static const wg_pass_input amg_restrict[] = {AMG(rows), COARSE_OP, AMG(mem_range
 static const wg_pass_input amg_restrict_fine[] = {AMG(rows), FINE_OP, AMG(mem_range), AMG(mem_list), AMG(r), AMG(x), CROSS};
 static const wg_pass_input amg_factor[] = {AMG(rows), COARSE_OP, CROSS};
 static const wg_pass_input amg_factor_fine[] = {AMG(rows), FINE_OP, CROSS};
+static const wg_pass_input amg_cross_blocks[] = {AMG(cross_i), AMG(cross_u), AMG(cross_fine)};
 static const wg_pass_input amg_cross_terms[] = {AMG(pair_p), AMG(pair_w), AMG(pair_nc), AMG(S0), AMG(S1)};
 static const wg_pass_input amg_coarse[] = {AMG(factor), AMG(r)};
 static const wg_pass_input amg_dot[] = {AMG(r), AMG(z)};
@@ -321,6 +322,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_AMG_RESTRICT_FINE] = COMPUTE("amg_restrict_fine", amg_restrict_fine, wg_amg_in),
     [WGP_AMG_FACTOR_GROUPS_FINE] = NATIVE("amg_factor_groups_fine", amg_factor_fine, wg_amg_in),
     [WGP_AMG_CROSS_TERMS] = COMPUTE("amg_cross_terms", amg_cross_terms, wg_amg_in),
+    [WGP_AMG_CROSS_BLOCKS] = COMPUTE("amg_cross_blocks", amg_cross_blocks, wg_amg_in),
 };
 
 static int is_sampler(GLenum type) {

@@ -49,7 +49,7 @@ typedef enum wg_pass_id {
     WGP_AMG_GALERKIN_FINE, WGP_AMG_DINV_FINE, WGP_AMG_POWER_FINE, WGP_AMG_SMOOTH_FINE, WGP_AMG_RESTRICT_FINE,
     WGP_AMG_FACTOR_GROUPS_FINE,
     /* the self-contact pairs' cross terms in the multigrid's levels (wg_amg.h) */
-    WGP_AMG_CROSS_TERMS,
+    WGP_AMG_CROSS_TERMS, WGP_AMG_CROSS_BLOCKS,
     WGP_COUNT
 } wg_pass_id;
 
@@ -354,7 +354,9 @@ typedef struct wg_amg_in {
                                                 correction, power iterate, V-cycle result */
     const wg_tex* bound;        /* the power iterations' reduction */
     const wg_tex* factor;       /* the coarsest level's dense factor */
-    const wg_tex *cross_i, *cross_u;         /* the pairs' cross terms on the level (wg_amg.h) */
+    const wg_tex *cross_i, *cross_a;         /* the pairs' cross blocks on the level (wg_amg.h) */
+    const wg_tex *cross_u, *cross_fine;      /* cross_blocks: the pair slots' (u, c), the finer
+                                                level's cross blocks */
     const wg_tex *pair_p, *pair_w, *pair_nc; /* cross_terms: the pairs (wg_pairs.h) */
 } wg_amg_in;
 

@@ -43,19 +43,13 @@ void main() {
             }
         }
         if (u_cross == 0) continue;
-        /* the pairs' cross terms (amg_level_inputs.glsl op_cross): c u_k u_j^T into block (i, node
-           of slot j), in row i's own invocation */
+        /* the pairs' cross blocks (amg_level_inputs.glsl op_cross) into row i's blocks */
         ivec4 cr = ldi(cross_i, i);
-        for (int e = cr.x; e < cr.y; ++e) {
-            ivec4 en = ldi(cross_i, e);
-            vec4 uk = ld(cross_u, en.x);
-            if (!(uk.w > 0.0)) continue;
-            for (int m = 1; m < 4; ++m) {
-                vec3 uj = ld(cross_u, (en.x & ~3) + (((en.x & 3) + m) & 3)).xyz;
-                for (int a = 0; a < 3; ++a)
-                    for (int c = 0; c < 3; ++c)
-                        put(3 * i + a, 3 * en[m] + c, M(3 * i + a, 3 * en[m] + c) + uk.w * uk[a] * uj[c]);
-            }
+        for (int h = cr.x; h < cr.y; ++h) {
+            int j = ldi(cross_i, h).x;
+            mat3 B = op_cross_block(h - cr.w);
+            for (int a = 0; a < 3; ++a)
+                for (int c = 0; c < 3; ++c) put(3 * i + a, 3 * j + c, M(3 * i + a, 3 * j + c) + B[c][a]);
         }
     }
     sync();

@@ -69,55 +69,38 @@ vec3 op_row_end(int i, vec3 y) { return y; }
 #endif
 mat3 op_diag(int i) { return op_block(ldi(rows, i).z); }
 
-// The self-contact pairs' cross terms on this level (wg_amg.h "Cross terms"): pair q's term is
-// c (sum_k e_k u_k)(sum_j e_j u_j)^T, e_k the level's node of slot k's particle, u_k its
-// filtered vector (amg_cross_terms.glsl); its k = j parts are A's diagonal blocks (the pairs'
-// additions, summed into the coarse levels by the Galerkin passes), the rest is added here.
-// cross_i: per node (first entry, end, -, -), then the entries: (4 q + k for slot k of pair q at
-// this node, the nodes of the pair's slots k + 1, k + 2, k + 3 mod 4). cross_u: per pair and
-// slot (u, c), c = 0 inactive. u_cross 0: no pairs (nothing read).
+// The self-contact pairs' cross terms on this level (wg_amg.h "Cross terms", wg_amg_cross.c):
+// pair q's term is c (sum_k e_k u_k)(sum_j e_j u_j)^T, e_k the level's node of slot k's
+// particle, u_k its filtered vector (amg_cross_terms.glsl); its k = j parts are A's diagonal
+// blocks (the pairs' additions, summed into the coarse levels by the Galerkin passes), the rest,
+// c u_k u_j^T for k != j, is summed per setup into 3x3 blocks per pair of nodes
+// (amg_cross_blocks.glsl) and added here: a few blocks a node where the slots of an aggregate's
+// pairs are hundreds. cross_i per node (first block entry, end, its diagonal cross block or -1,
+// n: entry h is block h - n), per block entry (column node, its terms, -); cross_a: block b's
+// rows in texels 3 b .. 3 b + 2. u_cross 0: no pairs (nothing read).
 uniform isampler2D cross_i;
-uniform sampler2D cross_u;
+uniform sampler2D cross_a;
 uniform int u_cross;
 
-// x_j as op_row reads it (the coarse correction added with prolong)
-vec3 op_cross_x(int j, sampler2D x, sampler2D xc, bool prolong) {
-    vec3 xj = ld(x, j).xyz;
-    if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
-    return xj;
-}
-// Row i of the cross terms times x: sum over node i's entries of c u_k (sum_{j != k} u_j . x_j).
+mat3 op_cross_block(int b) { return blk_rows(ld(cross_a, 3 * b).xyz, ld(cross_a, 3 * b + 1).xyz, ld(cross_a, 3 * b + 2).xyz); }
+// Row i of the cross terms times x (x_j + op_prolong(j, xc[agg j]) read with prolong).
 vec3 op_cross(int i, sampler2D x, sampler2D xc, bool prolong) {
     vec3 y = vec3(0.0);
     if (u_cross == 0) return y;
     ivec4 r = ldi(cross_i, i);
-    for (int e = r.x; e < r.y; ++e) {
-        ivec4 en = ldi(cross_i, e);
-        vec4 uk = ld(cross_u, en.x);
-        if (!(uk.w > 0.0)) continue;
-        int q4 = en.x & ~3, k = en.x & 3;
-        float s = 0.0;
-        for (int m = 1; m < 4; ++m)
-            s += dot(ld(cross_u, q4 + ((k + m) & 3)).xyz, op_cross_x(en[m], x, xc, prolong));
-        y += (uk.w * s) * uk.xyz;
+    for (int h = r.x; h < r.y; ++h) {
+        int j = ldi(cross_i, h).x;
+        vec3 xj = ld(x, j).xyz;
+        if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
+        y += op_cross_block(h - r.w) * xj;
     }
     return y;
 }
-// The cross terms' part of node i's diagonal block: c u_k u_j^T for two slots k != j of a pair
-// on node i (a coarse node holding both of its particles).
+// The cross terms' part of node i's diagonal block (two slots of a pair on node i).
 mat3 op_cross_diag(int i) {
-    mat3 D = mat3(0.0);
-    if (u_cross == 0) return D;
-    ivec4 r = ldi(cross_i, i);
-    for (int e = r.x; e < r.y; ++e) {
-        ivec4 en = ldi(cross_i, e);
-        vec4 uk = ld(cross_u, en.x);
-        if (!(uk.w > 0.0)) continue;
-        int q4 = en.x & ~3, k = en.x & 3;
-        for (int m = 1; m < 4; ++m)
-            if (en[m] == i) D += uk.w * outerProduct(uk.xyz, ld(cross_u, q4 + ((k + m) & 3)).xyz);
-    }
-    return D;
+    if (u_cross == 0) return mat3(0.0);
+    int b = ldi(cross_i, i).z;
+    return b < 0 ? mat3(0.0) : op_cross_block(b);
 }
 // The level's whole diagonal block (the smoother's D, the Rayleigh quotient's).
 mat3 op_diag_full(int i) { return op_diag(i) + op_cross_diag(i); }
