@@ -137,7 +137,8 @@ static void index_nodes(wc_amg_cross* X, int n) {
 
 /* A coarse list level's summed form (wc_amg_cross.n_blocks): row i's block (i, k) = sum over the
  * terms holding both nodes, in term order, of c_q v_q(i) v_q(k)^T, each entry c (a_r b_c) so that
- * (k, i) is its transpose to the bit. Serial, once a setup. Left at 0 blocks when they would be
+ * (k, i) is its transpose to the bit: so the blocks left of the diagonal are copied from the rows
+ * above, transposed. Serial, once a setup. Left at 0 blocks when they would be
  * more than the entries (the terms' two passes then cost less) or than cap_blocks. Not on the
  * finest level: its terms (4 particles) overlap little (the dance: 150k blocks for 153k entries),
  * and summing them gained nothing there (docs/bench/dance_frame.md). */
@@ -172,15 +173,29 @@ static void sum_blocks(wc_amg_cross* X, int n) {
             X->blk_pos[X->blk_col[b]] = b;
             memset(X->blk_val + 9 * (size_t)b, 0, 9 * sizeof(double));
         }
-        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
+        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the blocks (i, k >= i) */
             const int q = X->entry_term[j];
             const double c = X->c[q], *a = X->node_val + 3 * (size_t)j;
             for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+                if (X->node[e] < i) continue;
                 const double* b = X->val + 3 * (size_t)e;
                 double* o = X->blk_val + 9 * (size_t)X->blk_pos[X->node[e]];
                 for (int r = 0; r < 3; ++r)
                     for (int k = 0; k < 3; ++k) o[3 * r + k] += c * (a[r] * b[k]);
             }
+        }
+        for (int b = b0; b < nb && X->blk_col[b] < i; ++b) { /* (i, k < i) = (k, i)^T, row k summed */
+            const int k = X->blk_col[b];
+            int lo = X->blk_start[k], hi = X->blk_start[k + 1] - 1;
+            while (lo < hi) { /* column i in row k (there: the pattern is symmetric) */
+                const int mid = (lo + hi) / 2;
+                if (X->blk_col[mid] < i) lo = mid + 1;
+                else hi = mid;
+            }
+            const double* t = X->blk_val + 9 * (size_t)lo;
+            double* o = X->blk_val + 9 * (size_t)b;
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) o[3 * r + c] = t[3 * c + r];
         }
         for (int b = b0; b < nb; ++b) X->blk_pos[X->blk_col[b]] = -1;
         X->blk_start[i + 1] = nb;
