@@ -25,9 +25,12 @@
  *
  * The setup's parts run serially in term order, the products in parallel over terms and then
  * over nodes (a gather through a per-setup index, no reduction), so the result is the same on
- * any thread count; no allocation after wc_amg_set_coupling. */
+ * any thread count; no allocation after wc_amg_set_coupling. A coarse list level's terms overlap
+ * (each reaches ~14 nodes of two layers' patches): each setup also sums them into one
+ * block-sparse matrix, which its products read in one pass of BSR rows (sum_blocks). */
 #include <string.h>
 #include "amg.h"
+#include "bsr_rows.h"
 #include "coupling.h"
 #include "vec3.h"
 
@@ -36,6 +39,10 @@
  * second level: 14.3 per term). The dance's 118k-term capacity gives 68 MB there (36 bytes an
  * entry with its gather index); its resident memory grew from 651 to 751 MB in all. */
 #define WC_AMG_CROSS_PER_TERM 16
+/* blocks per term of the capacity a coarse list level's summed form may hold (wc_amg_cross.n_blocks):
+ * the dance's second level takes 171k blocks for 38k terms (4.5 a term; 1.45 a term of its 118k
+ * capacity), 36 MB of room at 4; a setup whose blocks do not fit keeps the terms' products. */
+#define WC_AMG_CROSS_BLOCKS_PER_TERM 4
 
 void wc_amg_cross_destroy(wc_amg* a) {
     if (!a) return;
@@ -43,7 +50,8 @@ void wc_amg_cross_destroy(wc_amg* a) {
         wc_amg_cross* X = a->lev[l].cross;
         if (!X) continue;
         void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
-                        X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark};
+                        X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark,
+                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
         a->lev[l].cross = NULL;
@@ -81,6 +89,17 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
             X->entry_term = WC_NEW(al, int, entries);
             if (!X->start || !X->node || !X->val || !X->node_start || !X->node_val || !X->entry_term) goto oom;
         }
+        if (l > 0 && !X->dense) { /* the summed form (sum_blocks) */
+            size_t blocks = (size_t)capacity * WC_AMG_CROSS_BLOCKS_PER_TERM;
+            if (blocks > (size_t)1 << 26) blocks = (size_t)1 << 26;
+            X->cap_blocks = (int)blocks;
+            X->blk_start = WC_NEW(al, int, (size_t)L->n + 1);
+            X->blk_col = WC_NEW(al, int, blocks);
+            X->blk_val = WC_NEW(al, double, 9 * blocks);
+            X->blk_pos = WC_NEW(al, int, (size_t)L->n);
+            if (!X->blk_start || !X->blk_col || !X->blk_val || !X->blk_pos) goto oom;
+            for (int i = 0; i < L->n; ++i) X->blk_pos[i] = -1;
+        }
         X->c = WC_NEW(al, double, capacity);
         X->s = WC_NEW(al, double, capacity);
         X->dadd = WC_NEW(al, double, 9 * (size_t)L->group * L->n);
@@ -114,6 +133,74 @@ static void index_nodes(wc_amg_cross* X, int n) {
         }
     for (int i = n; i > 0; --i) X->node_start[i] = X->node_start[i - 1]; /* back to the starts */
     X->node_start[0] = 0;
+}
+
+/* A coarse list level's summed form (wc_amg_cross.n_blocks): row i's block (i, k) = sum over the
+ * terms holding both nodes, in term order, of c_q v_q(i) v_q(k)^T, each entry c (a_r b_c) so that
+ * (k, i) is its transpose to the bit: so the blocks left of the diagonal are copied from the rows
+ * above, transposed. Serial, once a setup. Left at 0 blocks when they would be
+ * more than the entries (the terms' two passes then cost less) or than cap_blocks. Not on the
+ * finest level: its terms (4 particles) overlap little (the dance: 150k blocks for 153k entries),
+ * and summing them gained nothing there (docs/bench/dance_frame.md). */
+static void sum_blocks(wc_amg_cross* X, int n) {
+    X->n_blocks = 0;
+    if (!X->blk_val || X->n_terms == 0) return;
+    const int limit = X->cap_blocks < X->n_entries ? X->cap_blocks : X->n_entries;
+    int nb = 0;
+    X->blk_start[0] = 0;
+    for (int i = 0; i < n; ++i) {
+        const int b0 = nb;
+        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the row's columns */
+            const int q = X->entry_term[j];
+            for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+                const int k = X->node[e];
+                if (X->blk_pos[k] >= 0) continue;
+                if (nb == limit) {
+                    for (int b = b0; b < nb; ++b) X->blk_pos[X->blk_col[b]] = -1;
+                    return;
+                }
+                X->blk_pos[k] = nb;
+                X->blk_col[nb++] = k;
+            }
+        }
+        for (int b = b0 + 1; b < nb; ++b) { /* ascending (insertion sort: ~45 a row) */
+            const int k = X->blk_col[b];
+            int u = b;
+            for (; u > b0 && X->blk_col[u - 1] > k; --u) X->blk_col[u] = X->blk_col[u - 1];
+            X->blk_col[u] = k;
+        }
+        for (int b = b0; b < nb; ++b) {
+            X->blk_pos[X->blk_col[b]] = b;
+            memset(X->blk_val + 9 * (size_t)b, 0, 9 * sizeof(double));
+        }
+        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the blocks (i, k >= i) */
+            const int q = X->entry_term[j];
+            const double c = X->c[q], *a = X->node_val + 3 * (size_t)j;
+            for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+                if (X->node[e] < i) continue;
+                const double* b = X->val + 3 * (size_t)e;
+                double* o = X->blk_val + 9 * (size_t)X->blk_pos[X->node[e]];
+                for (int r = 0; r < 3; ++r)
+                    for (int k = 0; k < 3; ++k) o[3 * r + k] += c * (a[r] * b[k]);
+            }
+        }
+        for (int b = b0; b < nb && X->blk_col[b] < i; ++b) { /* (i, k < i) = (k, i)^T, row k summed */
+            const int k = X->blk_col[b];
+            int lo = X->blk_start[k], hi = X->blk_start[k + 1] - 1;
+            while (lo < hi) { /* column i in row k (there: the pattern is symmetric) */
+                const int mid = (lo + hi) / 2;
+                if (X->blk_col[mid] < i) lo = mid + 1;
+                else hi = mid;
+            }
+            const double* t = X->blk_val + 9 * (size_t)lo;
+            double* o = X->blk_val + 9 * (size_t)b;
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) o[3 * r + c] = t[3 * c + r];
+        }
+        for (int b = b0; b < nb; ++b) X->blk_pos[X->blk_col[b]] = -1;
+        X->blk_start[i + 1] = nb;
+    }
+    X->n_blocks = nb;
 }
 
 /* o += s a b^T (3x3) */
@@ -313,6 +400,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
     Y->n_entries = e;
     a->cross_terms[l + 1] = q;
     index_nodes(Y, C->n);
+    sum_blocks(Y, C->n);
 }
 
 void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1) {
@@ -334,6 +422,10 @@ void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x,
         }
         return;
     }
+    if (X->n_blocks > 0) { /* y_i += alpha sum_k X_ik x_k, the summed form */
+        wc_bsr_rows(X->blk_start, X->blk_col, X->blk_val, lo, hi, y, alpha, x, y);
+        return;
+    }
     for (int i = lo; i < hi; ++i) { /* y_i += sum over i's entries of s_k v_k(i), in term order */
         if (X->node_start[i] == X->node_start[i + 1]) continue;
         double acc[3] = {0, 0, 0};
@@ -345,7 +437,7 @@ void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x,
 
 void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par) {
     if (!X || X->n_terms == 0) return;
-    if (!X->dense) {
+    if (!X->dense && X->n_blocks == 0) {
         WC_PAR_REGION(par)
         {
             int lo, hi;

@@ -13,7 +13,11 @@
  *   - the V-cycle (its parallel products with the couplings included) is the same to the bit on
  *     1 and 2 threads;
  *   - layers small enough for a single level: its dense factor holds the couplings whole, so PCG
- *     converges at once. */
+ *     converges at once;
+ *   - a list level's summed form (wc_amg_cross.n_blocks): its product against the terms' sum
+ *     c_k v_k (v_k . x) computed here from the lists, on 1 and 2 threads; its rows' columns
+ *     ascending, each block (k, i) the transpose of (i, k) to the bit; the finest level, and a
+ *     level whose blocks do not fit in the room, keep the terms. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -303,10 +307,97 @@ static void test_one_level(void) {
     wc_model_free(&m);
 }
 
+/* y = sum_k c_k v_k (v_k . x) from level L's term lists. */
+static void terms_mul(const wc_amg_cross* X, const double* x, double* y, int n) {
+    memset(y, 0, 3 * (size_t)n * sizeof(double));
+    for (int q = 0; q < X->n_terms; ++q) {
+        double d = 0.0;
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) d += v3_dot(X->val + 3 * (size_t)e, x + 3 * X->node[e]);
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) v3_axpy(y + 3 * X->node[e], X->c[q] * d, X->val + 3 * (size_t)e);
+    }
+}
+
+/* The summed blocks' layout: columns ascending, (k, i) = (i, k)^T to the bit; returns the
+ * mismatches. */
+static int summed_layout_errors(const wc_amg_cross* X, int n) {
+    int bad = 0;
+    for (int i = 0; i < n; ++i)
+        for (int b = X->blk_start[i]; b < X->blk_start[i + 1]; ++b) {
+            const int k = X->blk_col[b];
+            if (b > X->blk_start[i] && X->blk_col[b - 1] >= k) ++bad;
+            int t = -1;
+            for (int u = X->blk_start[k]; u < X->blk_start[k + 1]; ++u)
+                if (X->blk_col[u] == i) t = u;
+            if (t < 0) {
+                ++bad;
+                continue;
+            }
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) bad += X->blk_val[9 * (size_t)b + 3 * r + c] != X->blk_val[9 * (size_t)t + 3 * c + r];
+        }
+    return bad;
+}
+
+static void test_summed(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    wc_par one, two;
+    wc_par_init(&one, 1);
+    wc_par_init(&two, 2);
+    wc_amg* a = hierarchy(s, 0, &one); /* term lists on every level */
+    if (!a) return;
+    uint64_t st = 31337;
+    int summed = 0;
+    for (int l = 0; l < a->n_levels; ++l) {
+        const wc_amg_level* L = &a->lev[l];
+        const wc_amg_cross* X = L->cross;
+        const int n3 = 3 * L->n;
+        double *x = malloc(n3 * sizeof(double)), *ref = malloc(n3 * sizeof(double));
+        double *y1 = calloc(n3, sizeof(double)), *y2 = calloc(n3, sizeof(double));
+        random_vec(x, n3, &st);
+        terms_mul(X, x, ref, L->n);
+        wc_amg_cross_mul_add(X, 1.0, x, y1, L->n, &one);
+        wc_amg_cross_mul_add(X, 1.0, x, y2, L->n, &two);
+        const double diff = ts_rel_diff(y1, ref, n3);
+        const int bad = X->n_blocks > 0 ? summed_layout_errors(X, L->n) : 0;
+        printf("  level %d: %d nodes, %d terms, %d entries, %d summed blocks: |X x - sum c v (v . x)| / |.| = %.1e, "
+               "layout errors %d, 1 / 2 threads %s\n",
+               l, L->n, X->n_terms, X->n_entries, X->n_blocks, diff, bad, memcmp(y1, y2, n3 * sizeof(double)) ? "differ" : "bit-identical");
+        CHECK(diff < 1e-13);
+        CHECK_EQ_INT(bad, 0);
+        CHECK(memcmp(y1, y2, n3 * sizeof(double)) == 0);
+        CHECK(X->n_blocks <= X->n_entries);
+        summed += X->n_blocks > 0;
+        free(x);
+        free(ref);
+        free(y1);
+        free(y2);
+    }
+    /* the finest level keeps its terms (4 particles each, little overlap); the coarse ones overlap
+       (a term reaches ~10 nodes of two layers' patches) */
+    CHECK_EQ_INT(a->lev[0].cross->n_blocks, 0);
+    CHECK_EQ_INT(summed, a->n_levels - 1);
+    /* room for fewer blocks than a level needs: the terms' products, the same answer */
+    wc_diag d = {0};
+    const int active = wc_coupling_active(&s->self_pairs->coupling);
+    CHECK_EQ_INT(wc_amg_set_coupling(a, &s->self_pairs->coupling, active, &d), WC_OK);
+    const int need = a->lev[1].cross->cap_blocks;
+    a->lev[1].cross->cap_blocks = 10;
+    wc_amg_setup(a, s->A, &s->filter, &one);
+    CHECK_EQ_INT(a->lev[1].cross->n_blocks, 0);
+    CHECK(a->lev[2].cross->n_blocks > 0);
+    a->lev[1].cross->cap_blocks = need;
+    wc_amg_destroy(a);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     RUN_TEST(test_hierarchy);
     RUN_TEST(test_iterations);
     RUN_TEST(test_threads);
     RUN_TEST(test_one_level);
+    RUN_TEST(test_summed);
     return TEST_SUMMARY();
 }
