@@ -213,6 +213,10 @@ typedef struct wc_amg_cross {
     unsigned char* mark;        /* (n) */
 } wc_amg_cross;
 
+/* 1: the level's products read its couplings as terms (scaled first: wc_amg_cross_scale, then
+ * gathered per node); 0: as one dense matrix or as summed blocks. */
+static inline int wc_amg_cross_as_terms(const wc_amg_cross* X) { return !X->dense && X->n_blocks == 0; }
+
 typedef struct wc_amg_level {
     int n;                      /* nodes (3 unknowns each) */
     int n_blocks;

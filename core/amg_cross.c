@@ -437,7 +437,7 @@ void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x,
 
 void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par) {
     if (!X || X->n_terms == 0) return;
-    if (!X->dense && X->n_blocks == 0) {
+    if (wc_amg_cross_as_terms(X)) {
         WC_PAR_REGION(par)
         {
             int lo, hi;

@@ -163,7 +163,7 @@ static void prolong(const wc_amg_level* L, int single, const double* xc, double*
 static void residual_part(const wc_amg_level* L, int single, const double* r, const double* x, double* t, int lo,
                           int hi) {
     const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
-    if (X && !X->dense && X->n_blocks == 0) {
+    if (X && wc_amg_cross_as_terms(X)) {
         int q0, q1;
         wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);
         wc_amg_cross_scale(X, -1.0, x, q0, q1);

@@ -53,7 +53,7 @@ static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double*
     const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
     WC_PAR_REGION(par)
     {
-        if (X && !X->dense && X->n_blocks == 0) { /* the couplings' terms scaled by w (amg_cross.c), all before their rows */
+        if (X && wc_amg_cross_as_terms(X)) { /* the couplings' terms scaled by w (amg_cross.c), all before their rows */
             int q0, q1;
             wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);
             wc_amg_cross_scale(X, 1.0, w, q0, q1);
