@@ -206,7 +206,9 @@ typedef struct wc_amg_cross {
     int* blk_start;             /* (n + 1) */
     int* blk_col;               /* (cap_blocks) */
     double* blk_val;            /* (cap_blocks x 9) */
-    int* blk_pos;               /* (n) -1, or a column's block in the row being summed */
+    int* blk_pos;               /* (WC_PAR_MAX_THREADS x n) per thread: -1, or a column's block in
+                                   the row it sums (sum_blocks; 64 n ints: the dance's second
+                                   level, 3.8k nodes, 1 MB beside its 36 MB of blocks) */
     double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
     double* acc;                /* (n x 3) the restriction's accumulator, zero between terms */
     int* touched;               /* (n) */
@@ -384,7 +386,7 @@ double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pa
  * dense matrix M (d x d, row-major); y += alpha X x on one level of n nodes (in parallel over
  * terms, then over nodes or rows; the same on any thread count). */
 void wc_amg_cross_fine(wc_amg* a, const wc_filter* f);
-void wc_amg_cross_restrict(wc_amg* a, int l);
+void wc_amg_cross_restrict(wc_amg* a, int l, wc_par* par);
 void wc_amg_cross_dense(const wc_amg_cross* X, double* M, int d);
 void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, wc_par* par);
 /* Its two parts, for a caller's own parallel region (any split gives the same bits): a list

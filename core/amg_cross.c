@@ -23,11 +23,12 @@
  * instead: on the dance the third level's 174 nodes had 600k entries in 38k vectors, 7x the
  * dense matrix's 270k; the levels below a dense one take the dense Galerkin product P^T X P.
  *
- * The setup's parts run serially in term order, the products in parallel over terms and then
- * over nodes (a gather through a per-setup index, no reduction), so the result is the same on
+ * The setup's restrictions run serially in term order, the products in parallel over terms and
+ * then over nodes (a gather through a per-setup index, no reduction), so the result is the same on
  * any thread count; no allocation after wc_amg_set_coupling. A coarse list level's terms overlap
  * (each reaches ~14 nodes of two layers' patches): each setup also sums them into one
- * block-sparse matrix, which its products read in one pass of BSR rows (sum_blocks). */
+ * block-sparse matrix, which its products read in one pass of BSR rows (sum_blocks, parallel over
+ * rows). */
 #include <string.h>
 #include "amg.h"
 #include "bsr_rows.h"
@@ -96,9 +97,10 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
             X->blk_start = WC_NEW(al, int, (size_t)L->n + 1);
             X->blk_col = WC_NEW(al, int, blocks);
             X->blk_val = WC_NEW(al, double, 9 * blocks);
-            X->blk_pos = WC_NEW(al, int, (size_t)L->n);
+            const size_t pos = (size_t)WC_PAR_MAX_THREADS * L->n; /* a row of n per thread */
+            X->blk_pos = WC_NEW(al, int, pos);
             if (!X->blk_start || !X->blk_col || !X->blk_val || !X->blk_pos) goto oom;
-            for (int i = 0; i < L->n; ++i) X->blk_pos[i] = -1;
+            for (size_t i = 0; i < pos; ++i) X->blk_pos[i] = -1;
         }
         X->c = WC_NEW(al, double, capacity);
         X->s = WC_NEW(al, double, capacity);
@@ -135,72 +137,120 @@ static void index_nodes(wc_amg_cross* X, int n) {
     X->node_start[0] = 0;
 }
 
+/* How many distinct columns row i of a coarse list level's summed form has (the nodes of the
+ * terms holding i), marking them in pos with -2 - i (sum_row sets them back to -1). */
+static int count_row(const wc_amg_cross* X, int i, int* pos) {
+    const int stamp = -2 - i;
+    int nb = 0;
+    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
+        const int q = X->entry_term[j];
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+            const int k = X->node[e];
+            if (pos[k] == stamp) continue;
+            pos[k] = stamp;
+            ++nb;
+        }
+    }
+    return nb;
+}
+
+/* Row i's blocks from blk_start[i] on: its columns ascending and the blocks (i, k >= i) summed,
+ * in term order; pos (the thread's: no entry >= 0 on entry) left at -1 on the row's columns. */
+static void sum_row(wc_amg_cross* X, int i, int* pos) {
+    const int b0 = X->blk_start[i];
+    int nb = b0;
+    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the row's columns */
+        const int q = X->entry_term[j];
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+            const int k = X->node[e];
+            if (pos[k] >= 0) continue;
+            pos[k] = nb;
+            X->blk_col[nb++] = k;
+        }
+    }
+    for (int b = b0 + 1; b < nb; ++b) { /* ascending (insertion sort: ~45 a row) */
+        const int k = X->blk_col[b];
+        int u = b;
+        for (; u > b0 && X->blk_col[u - 1] > k; --u) X->blk_col[u] = X->blk_col[u - 1];
+        X->blk_col[u] = k;
+    }
+    for (int b = b0; b < nb; ++b) {
+        pos[X->blk_col[b]] = b;
+        memset(X->blk_val + 9 * (size_t)b, 0, 9 * sizeof(double));
+    }
+    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the blocks (i, k >= i) */
+        const int q = X->entry_term[j];
+        const double c = X->c[q], *a = X->node_val + 3 * (size_t)j;
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
+            if (X->node[e] < i) continue;
+            const double* b = X->val + 3 * (size_t)e;
+            double* o = X->blk_val + 9 * (size_t)pos[X->node[e]];
+            for (int r = 0; r < 3; ++r)
+                for (int k = 0; k < 3; ++k) o[3 * r + k] += c * (a[r] * b[k]);
+        }
+    }
+    for (int b = b0; b < nb; ++b) pos[X->blk_col[b]] = -1;
+}
+
+/* Row i's blocks (i, k < i) = (k, i)^T, from row k's summed blocks. */
+static void mirror_row(wc_amg_cross* X, int i) {
+    for (int b = X->blk_start[i]; b < X->blk_start[i + 1] && X->blk_col[b] < i; ++b) {
+        const int k = X->blk_col[b];
+        int lo = X->blk_start[k], hi = X->blk_start[k + 1] - 1;
+        while (lo < hi) { /* column i in row k (there: the pattern is symmetric) */
+            const int mid = (lo + hi) / 2;
+            if (X->blk_col[mid] < i) lo = mid + 1;
+            else hi = mid;
+        }
+        const double* t = X->blk_val + 9 * (size_t)lo;
+        double* o = X->blk_val + 9 * (size_t)b;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) o[3 * r + c] = t[3 * c + r];
+    }
+}
+
 /* A coarse list level's summed form (wc_amg_cross.n_blocks): row i's block (i, k) = sum over the
  * terms holding both nodes, in term order, of c_q v_q(i) v_q(k)^T, each entry c (a_r b_c) so that
  * (k, i) is its transpose to the bit: so the blocks left of the diagonal are copied from the rows
- * above, transposed. Serial, once a setup. Left at 0 blocks when they would be
- * more than the entries (the terms' two passes then cost less) or than cap_blocks. Not on the
- * finest level: its terms (4 particles) overlap little (the dance: 150k blocks for 153k entries),
- * and summing them gained nothing there (docs/bench/dance_frame.md). */
-static void sum_blocks(wc_amg_cross* X, int n) {
+ * above, transposed. Left at 0 blocks when they would be more than the entries (the terms' two
+ * passes then cost less) or than cap_blocks. Not on the finest level: its terms (4 particles)
+ * overlap little (the dance: 150k blocks for 153k entries), and summing them gained nothing there
+ * (docs/bench/dance_frame.md). On the threads, in one region over fixed row ranges, each thread
+ * with its own blk_pos: the rows' sizes, their prefix sum (thread 0), the upper blocks, then the
+ * lower ones. A block is summed by one thread in term order, so the bits do not depend on the
+ * thread count. */
+static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
     X->n_blocks = 0;
     if (!X->blk_val || X->n_terms == 0) return;
     const int limit = X->cap_blocks < X->n_entries ? X->cap_blocks : X->n_entries;
-    int nb = 0;
-    X->blk_start[0] = 0;
-    for (int i = 0; i < n; ++i) {
-        const int b0 = nb;
-        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the row's columns */
-            const int q = X->entry_term[j];
-            for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-                const int k = X->node[e];
-                if (X->blk_pos[k] >= 0) continue;
-                if (nb == limit) {
-                    for (int b = b0; b < nb; ++b) X->blk_pos[X->blk_col[b]] = -1;
-                    return;
+    int fits = 0;
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        int* pos = X->blk_pos + (size_t)n * wc_par_tid();
+        for (int i = lo; i < hi; ++i) X->blk_start[i + 1] = count_row(X, i, pos);
+        WC_PAR_BARRIER();
+        if (wc_par_tid() == 0) {
+            X->blk_start[0] = 0;
+            int i = 0;
+            for (; i < n && X->blk_start[i + 1] <= limit - X->blk_start[i]; ++i) X->blk_start[i + 1] += X->blk_start[i];
+            fits = i == n;
+        }
+        WC_PAR_BARRIER();
+        if (fits) {
+            for (int i = lo; i < hi; ++i) sum_row(X, i, pos);
+            WC_PAR_BARRIER();
+            for (int i = lo; i < hi; ++i) mirror_row(X, i);
+        } else { /* the count's marks back to -1 */
+            for (int i = lo; i < hi; ++i)
+                for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
+                    const int q = X->entry_term[j];
+                    for (int e = X->start[q]; e < X->start[q + 1]; ++e) pos[X->node[e]] = -1;
                 }
-                X->blk_pos[k] = nb;
-                X->blk_col[nb++] = k;
-            }
         }
-        for (int b = b0 + 1; b < nb; ++b) { /* ascending (insertion sort: ~45 a row) */
-            const int k = X->blk_col[b];
-            int u = b;
-            for (; u > b0 && X->blk_col[u - 1] > k; --u) X->blk_col[u] = X->blk_col[u - 1];
-            X->blk_col[u] = k;
-        }
-        for (int b = b0; b < nb; ++b) {
-            X->blk_pos[X->blk_col[b]] = b;
-            memset(X->blk_val + 9 * (size_t)b, 0, 9 * sizeof(double));
-        }
-        for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the blocks (i, k >= i) */
-            const int q = X->entry_term[j];
-            const double c = X->c[q], *a = X->node_val + 3 * (size_t)j;
-            for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-                if (X->node[e] < i) continue;
-                const double* b = X->val + 3 * (size_t)e;
-                double* o = X->blk_val + 9 * (size_t)X->blk_pos[X->node[e]];
-                for (int r = 0; r < 3; ++r)
-                    for (int k = 0; k < 3; ++k) o[3 * r + k] += c * (a[r] * b[k]);
-            }
-        }
-        for (int b = b0; b < nb && X->blk_col[b] < i; ++b) { /* (i, k < i) = (k, i)^T, row k summed */
-            const int k = X->blk_col[b];
-            int lo = X->blk_start[k], hi = X->blk_start[k + 1] - 1;
-            while (lo < hi) { /* column i in row k (there: the pattern is symmetric) */
-                const int mid = (lo + hi) / 2;
-                if (X->blk_col[mid] < i) lo = mid + 1;
-                else hi = mid;
-            }
-            const double* t = X->blk_val + 9 * (size_t)lo;
-            double* o = X->blk_val + 9 * (size_t)b;
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 3; ++c) o[3 * r + c] = t[3 * c + r];
-        }
-        for (int b = b0; b < nb; ++b) X->blk_pos[X->blk_col[b]] = -1;
-        X->blk_start[i + 1] = nb;
     }
-    X->n_blocks = nb;
+    X->n_blocks = fits ? X->blk_start[n] : 0;
 }
 
 /* o += s a b^T (3x3) */
@@ -316,7 +366,7 @@ static void clear_term(wc_amg_cross* Y, int nt) {
     }
 }
 
-void wc_amg_cross_restrict(wc_amg* a, int l) {
+void wc_amg_cross_restrict(wc_amg* a, int l, wc_par* par) {
     const wc_amg_level* L = &a->lev[l];
     const wc_amg_level* C = &a->lev[l + 1];
     const wc_amg_cross* X = L->cross;
@@ -400,7 +450,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l) {
     Y->n_entries = e;
     a->cross_terms[l + 1] = q;
     index_nodes(Y, C->n);
-    sum_blocks(Y, C->n);
+    sum_blocks(Y, C->n, par);
 }
 
 void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1) {

@@ -656,7 +656,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         lap(a, WC_AMG_PHASE_PROLONG, &t);
         galerkin(a, L, N, par);
         t = wc_cpu_ms();
-        wc_amg_cross_restrict(a, l);
+        wc_amg_cross_restrict(a, l, par);
         lap(a, WC_AMG_PHASE_CROSS, &t);
     }
     if (a->coarse_dense) {
