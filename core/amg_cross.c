@@ -215,10 +215,19 @@ static void mirror_row(wc_amg_cross* X, int i) {
  * above, transposed. Left at 0 blocks when they would be more than the entries (the terms' two
  * passes then cost less) or than cap_blocks. Not on the finest level: its terms (4 particles)
  * overlap little (the dance: 150k blocks for 153k entries), and summing them gained nothing there
- * (docs/bench/dance_frame.md). On the threads, in one region over fixed row ranges, each thread
- * with its own blk_pos: the rows' sizes, their prefix sum (thread 0), the upper blocks, then the
+ * (docs/bench/dance_frame.md). On the threads, in one region over fixed rows (FOR_THREAD_ROWS),
+ * each thread with its own blk_pos: the rows' sizes, their prefix sum (thread 0), the upper blocks, then the
  * lower ones. A block is summed by one thread in term order, so the bits do not depend on the
  * thread count. */
+/* A thread's rows of a list level's summed form: blocks of WC_AMG_CROSS_SUM_ROWS rows dealt in
+ * turn (block c to thread c mod nt), so that both threads get rows of every part of the level (the
+ * work per row varies along it: halves of the rows took 0.58 and 0.35 G, docs/bench/threads.md). */
+#define WC_AMG_CROSS_SUM_ROWS 32
+#define FOR_THREAD_ROWS(i, n, t, nt)                                                           \
+    for (int c_ = (t); c_ * WC_AMG_CROSS_SUM_ROWS < (n); c_ += (nt))                          \
+        for (int i = c_ * WC_AMG_CROSS_SUM_ROWS, e_ = i + WC_AMG_CROSS_SUM_ROWS < (n) ? i + WC_AMG_CROSS_SUM_ROWS : (n); \
+             i < e_; ++i)
+
 static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
     X->n_blocks = 0;
     if (!X->blk_val || X->n_terms == 0) return;
@@ -226,12 +235,11 @@ static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
     int fits = 0;
     WC_PAR_REGION(par)
     {
-        int lo, hi;
-        wc_par_range(n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        int* pos = X->blk_pos + (size_t)n * wc_par_tid();
-        for (int i = lo; i < hi; ++i) X->blk_start[i + 1] = count_row(X, i, pos);
+        const int t = wc_par_tid(), nt = wc_par_nt();
+        int* pos = X->blk_pos + (size_t)n * t;
+        FOR_THREAD_ROWS(i, n, t, nt) X->blk_start[i + 1] = count_row(X, i, pos);
         WC_PAR_BARRIER();
-        if (wc_par_tid() == 0) {
+        if (t == 0) {
             X->blk_start[0] = 0;
             int i = 0;
             for (; i < n && X->blk_start[i + 1] <= limit - X->blk_start[i]; ++i) X->blk_start[i + 1] += X->blk_start[i];
@@ -239,11 +247,11 @@ static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
         }
         WC_PAR_BARRIER();
         if (fits) {
-            for (int i = lo; i < hi; ++i) sum_row(X, i, pos);
+            FOR_THREAD_ROWS(i, n, t, nt) sum_row(X, i, pos);
             WC_PAR_BARRIER();
-            for (int i = lo; i < hi; ++i) mirror_row(X, i);
+            FOR_THREAD_ROWS(i, n, t, nt) mirror_row(X, i);
         } else { /* the count's marks back to -1 */
-            for (int i = lo; i < hi; ++i)
+            FOR_THREAD_ROWS(i, n, t, nt)
                 for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
                     const int q = X->entry_term[j];
                     for (int e = X->start[q]; e < X->start[q + 1]; ++e) pos[X->node[e]] = -1;
