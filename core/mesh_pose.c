@@ -41,9 +41,10 @@ static void fit(const wc_mesh_collider* m, const wc_mesh_poses* P, const double*
         double p[3];
         v3_sub(u, m->rest + 3 * i, P->centre);
         m3_mulv(p, map, u);
-        for (int k = 0; k < 3; ++k) {
-            r = fmax(r, fabs(xi[k] - (p[k] + map[9 + k])));
-            xmax = fmax(xmax, fabs(xi[k]));
+        for (int k = 0; k < 3; ++k) { /* a NaN makes r NaN: no bound */
+            double rk = fabs(xi[k] - (p[k] + map[9 + k])), xk = fabs(xi[k]);
+            r = rk > r || rk != rk ? rk : r;
+            xmax = xk > xmax ? xk : xmax;
         }
     }
     r = r * (1.0 + ROUND) + ROUND * (1.0 + xmax);
@@ -144,7 +145,8 @@ void wc_mesh_poses_init(wc_mesh_collider* m) {
 }
 
 int wc_mesh_poses_cover(const wc_mesh_poses* P, long long epoch, const double* gbox, const double* box, double slack) {
-    if (epoch < 0) return 0;
+    /* in the state it was gathered in (the body still), the travel's test decides */
+    if (epoch < 0 || epoch == P->epoch) return 0;
     const wc_mesh_pose* g = P->ring + epoch % WC_MESH_POSES;
     if (g->epoch != epoch || !g->ok) return 0;
     double c[3], e[3];

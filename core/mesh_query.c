@@ -218,8 +218,7 @@ static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const d
     double grow = (m->travel - e->travel) * (1.0 + 1e-12) + 1e-12 * scale;
     for (int k = 0; k < 3; ++k)
         if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k]))
-            /* in the state it was gathered in, the travel's test decides */
-            return e->epoch != m->poses.epoch && wc_mesh_poses_cover(&m->poses, e->epoch, e->box, box, 1e-12 * scale);
+            return wc_mesh_poses_cover(&m->poses, e->epoch, e->box, box, 1e-12 * scale);
     return 1;
 }
 

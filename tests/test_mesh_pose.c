@@ -203,7 +203,8 @@ static void turning_body(double deg_per_frame, double bend_from, double bend, do
 static void test_lists_kept_in_the_body_frame(void) {
     const char* what[3] = {"rigid turn (the suit's 90 deg/s at 30 fps)", "faster, bending from frame 4",
                            "drifting, its vertices shaking by 3 mm from frame 2"};
-    const double deg[3] = {3.0, 8.0, 0.0}, from[3] = {1e9, 4.0, 2.0}, bend[3] = {0.0, 0.02, 0.0}, jitter[3] = {0.0, 0.0, 0.003};
+    const double deg[3] = {3.0, 8.0, 0.0}, from[3] = {1e9, 4.0, 2.0}, bend[3] = {0.0, 0.02, 0.0},
+                 jitter[3] = {0.0, 0.0, 0.003};
     for (int k = 0; k < 3; ++k) {
         g_uses = g_kept = g_kept_by_pose = g_probes = 0;
         turning_body(deg[k], from[k], bend[k], jitter[k]);
