@@ -87,6 +87,7 @@ wc_status wc_mesh_collider_create(wc_mesh_collider** out, const double* x, int n
         wc_mesh_collider_destroy(m);
         return st;
     }
+    wc_mesh_poses_init(m);
     *out = m;
     return WC_OK;
 }
@@ -125,6 +126,7 @@ wc_status wc_mesh_collider_set_all(wc_mesh_collider* m, const double* x, wc_diag
     if (m->bvh.n_nodes > 0) {
         swept_boxes(m);
         wc_bvh_refit(&m->bvh, m->boxes);
+        wc_mesh_poses_update(m);
     }
     return WC_OK;
 }
@@ -160,6 +162,7 @@ void wc_mesh_collider_substep(wc_mesh_collider* m, double a0, double a1, double 
     tri_normals(m, m->xb, m->nrm_b);
     swept_boxes(m);
     wc_bvh_refit(&m->bvh, m->boxes);
+    if (jump != 0.0) wc_mesh_poses_update(m); /* nothing moved: the same state */
 }
 
 void wc_mesh_collider_serial(wc_mesh_collider* m, wc_serial* k) {

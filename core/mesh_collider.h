@@ -28,6 +28,7 @@
 #ifndef WEFT_CORE_MESH_COLLIDER_H
 #define WEFT_CORE_MESH_COLLIDER_H
 #include "bvh.h"
+#include "mesh_pose.h"
 #include "serial.h"
 
 typedef struct wc_mesh_collider {
@@ -49,6 +50,8 @@ typedef struct wc_mesh_collider {
     double travel;             /* m: how far the swept triangle boxes may have moved since creation
                                   (the sum over substeps and jumps of the largest vertex
                                   displacement, max norm; wc_mesh_near's validity) */
+    wc_mesh_poses poses;       /* the states' affine fits (mesh_pose.h): wc_mesh_near's validity when
+                                  the body moves as a whole */
     int on_device;             /* 0 (create); 1: a backend holds the frame's positions on its device
                                   and moves the body there (a GPU cloth's body from a host GL
                                   buffer): from, to and everything derived here are stale until
@@ -98,7 +101,8 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
  * over a substep and from substep to substep; a cloth feature's pairs): those whose swept boxes
  * met a gathering box (a query's box grown by a margin), in the BVH's leaf order. A later query
  * box that, grown by how far the boxes may have moved since (travel), still lies inside the
- * gathering box needs only these, visited in that order: the tree would visit the same ones in
+ * gathering box, or that does so mapped back to the gathering's state by the body's fitted motion
+ * (mesh_pose.h), needs only these, visited in that order: the tree would visit the same ones in
  * the same order, so the answer is the same, bit for bit. Derived, never state; count -1: empty
  * (wc_mesh_near_clear); -2: more than WC_MESH_NEAR_MAX met the box (the queries it covers go to
  * the tree without gathering again). */
@@ -106,6 +110,7 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
 typedef struct wc_mesh_near {
     double box[6];             /* m: the gathering box */
     double travel;             /* the collider's travel when gathered */
+    long long epoch;           /* the collider's state when gathered (mesh_pose.h) */
     int count;
     int hint;                  /* the position in tri of the last closest point's triangle (-1:
                                   none): its distance bounds the next query's from the start */

@@ -209,14 +209,16 @@ static int gather_visit(void* user, int t) {
 }
 
 /* 1 when every triangle box that meets box now met e's gathering box when it was gathered:
- * box grown by the boxes' travel since lies inside it (with room for rounding). */
+ * box grown by the boxes' travel since lies inside it (with room for rounding), or box mapped
+ * back to the gathering's state by the body's fitted motion does (mesh_pose.h). */
 static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* box) {
     if (e->count == -1) return 0;
     double scale = 1.0;
     for (int k = 0; k < 6; ++k) scale = max_num(scale, fabs(e->box[k]));
     double grow = (m->travel - e->travel) * (1.0 + 1e-12) + 1e-12 * scale;
     for (int k = 0; k < 3; ++k)
-        if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k])) return 0;
+        if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k]))
+            return wc_mesh_poses_cover(&m->poses, e->epoch, e->box, box, 1e-12 * scale);
     return 1;
 }
 
@@ -227,6 +229,7 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
     memcpy(e->box, box, sizeof e->box);
     wc_box_inflate(e->box, NEAR_MARGIN * half);
     e->travel = m->travel;
+    e->epoch = m->poses.epoch;
     e->count = 0;
     e->hint = -1;
     wc_bvh_query(&m->bvh, e->box, gather_visit, e); /* leaves in preorder: the tree's order */
