@@ -12,6 +12,9 @@
  *   - each coarse level's operator (its blocks and the cross blocks of amg_cross_blocks, read
  *     back) times a random vector: core's F_l x to float precision; without the cross blocks
  *     over 100x further;
+ *   - the levels' rule (wg_amg.cross_share): the layers take the terms on every level; shares
+ *     above theirs leave every level out (the V-cycle cross_skip's to the bit), the finest
+ *     level's share alone at 0 takes them there only (nearer core's than without, not as near);
  *   - PCG with the multigrid, same tolerance: the GPU's iterations within 2 of core's and its
  *     answer solving core's system (couplings included); without the terms, over twice as many;
  *     with the GPU's default finest bound factor (WG_AMG_CROSS_BOUND), under half of those too. */
@@ -235,6 +238,33 @@ static void test_cross_terms(void) {
     CHECK(active > 100);
     CHECK(e < 2.0 * e0 + 1e-4);
     CHECK(es > 100.0 * e);
+    /* the levels' rule (wg_amg.cross_share): the layers' shares take the terms on every level;
+       with the shares above them every level leaves them out (the V-cycle is cross_skip's to the
+       bit), with the finest level's share 0 alone only it takes them */
+    CHECK_EQ_INT(g->amg->cross_levels, g->amg->n_levels);
+    const double shares[2] = {g->amg->cross_share[0], g->amg->cross_share[1]};
+    double* zr = calloc(n3, sizeof(double));
+    g->amg->cross_share[0] = g->amg->cross_share[1] = 2.0;
+    wg_amg_set_pairs(g->amg, g->pairs);
+    CHECK_EQ_INT(g->amg->cross_levels, 0);
+    gpu_vcycle(g, r, zr, 0);
+    CHECK(memcmp(zr, zs, n3 * sizeof(double)) == 0);
+    g->amg->cross_share[0] = 0.0;
+    wg_amg_set_pairs(g->amg, g->pairs);
+    CHECK_EQ_INT(g->amg->cross_levels, 1);
+    CHECK(g->amg->lev[0].cross_use && !g->amg->lev[1].cross_use);
+    gpu_vcycle(g, r, zr, 0);
+    const double ef = ts_rel_diff(zr, zc, (int)n3);
+    printf("  the levels' rule: the layers' cross blocks a share of the blocks %.2f / %.2f / %.2f by level, "
+           "all in; the finest level's alone: V-cycle against core's %.1e\n",
+           (double)g->amg->lev[0].cross_nb / g->amg->lev[0].nb, (double)g->amg->lev[1].cross_nb / g->amg->lev[1].nb,
+           (double)g->amg->lev[2].cross_nb / g->amg->lev[2].nb, ef);
+    CHECK(ef > 10.0 * e && ef < es);
+    g->amg->cross_share[0] = shares[0];
+    g->amg->cross_share[1] = shares[1];
+    wg_amg_set_pairs(g->amg, g->pairs);
+    CHECK_EQ_INT(g->amg->cross_levels, g->amg->n_levels);
+    free(zr);
     check_coarse_levels(g, ca, &par);
 
     /* PCG with the multigrid on each side */

@@ -162,6 +162,8 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     a->ratio = o.chebyshev_ratio;
     a->fine_bound_scale = ca->fine_bound_scale;
     a->cross_bound_scale = WG_AMG_CROSS_BOUND;
+    a->cross_share[0] = WG_AMG_CROSS_FINE_SHARE;
+    a->cross_share[1] = WG_AMG_CROSS_COARSE_SHARE;
     int cap = 1;
     for (int l = 0; l < ca->n_levels; ++l) {
         int c = ca->lev[l].n_blocks + 1 + (l > 0 ? ca->lev[l - 1].n_blocks : 0);
@@ -273,12 +275,15 @@ static wg_amg_in level_in(const wg_amg* a, int l) {
     return in;
 }
 
-static int cross_on(const wg_amg* a) { return a->cross_n > 0 && !a->cross_skip; }
+static int cross_on(const wg_amg* a) { return a->cross_n > 0 && a->cross_levels > 0 && !a->cross_skip; }
+
+/* Level l's products take its cross blocks. */
+static int cross_level(const wg_amg* a, int l) { return cross_on(a) && a->lev[l].cross_use; }
 
 /* Level l's form of pass p with its inputs. */
 static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in) {
     WG_USE(a->run, level_pass(p, l), in);
-    wg_u1i(a->run, "u_cross", cross_on(a));
+    wg_u1i(a->run, "u_cross", cross_level(a, l));
 }
 
 void wg_amg_setup(wg_amg* a) {
@@ -290,7 +295,10 @@ void wg_amg_setup(wg_amg* a) {
         WG_RUN(run, 4 * a->cross_n, &a->cross_u);
         /* each level's cross blocks: the finest from them, each coarser from the finer level's
            (wg_amg_cross.c's lists) */
-        for (int l = 0; l < a->n_levels; ++l) {
+        int last = -1;   /* the coarsest level whose products read its blocks */
+        for (int l = 0; l < a->n_levels; ++l)
+            if (a->lev[l].cross_use) last = l;
+        for (int l = 0; l <= last; ++l) {
             wg_amg_level* L = &a->lev[l];
             if (L->cross_nb == 0) continue;   /* no pair with two used slots */
             WG_USE(run, WGP_AMG_CROSS_BLOCKS, &(wg_amg_in){.cross_i = &L->cross_i, .cross_u = &a->cross_u,
@@ -346,7 +354,7 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
     wg_u1i(run, "u_zero", x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
     wg_u1f(run, "u_ratio", a->ratio);
-    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale * (cross_on(a) ? a->cross_bound_scale : 1.0) : 1.0);
+    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale * (cross_level(a, 0) ? a->cross_bound_scale : 1.0) : 1.0);
     wg_u1i(run, "u_dot", dot != NULL);
     if (dot) WG_RUN(run, L->n, xo, dout, dot);
     else WG_RUN(run, L->n, xo, dout);

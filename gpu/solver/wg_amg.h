@@ -25,7 +25,8 @@
  * the terms' off-diagonal parts c u_k u_j^T into 3x3 blocks per pair of nodes (A's diagonal
  * blocks hold the rest); the smoother's residuals, the restriction, D^-1, the power iterations
  * and the coarsest factor read those blocks: a few a node, where the slots of an aggregate's
- * pairs are hundreds.
+ * pairs are hundreds. A level whose cross blocks are a small share of its blocks leaves them out
+ * of its products (cross_share, decided on the host at each upload; no level in: no pass at all).
  *
  * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
  * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
@@ -47,6 +48,17 @@
                                    the contacts where a spring network's stop at 2, which the power
                                    iterations from a spread start underestimate (the suit's first
                                    frame: 3 solves not converged without it, 0 with it) */
+#define WG_AMG_CROSS_FINE_SHARE 0.25   /* the finest level's cross blocks go into its products
+                                   where they are at least this share of its blocks (A's), and
+                                   WG_AMG_CROSS_COARSE_SHARE on each coarser level, else that level
+                                   leaves them out (wg_amg.cross_share): where layers touch only
+                                   here and there they cost more than they save (the suit, shares
+                                   0.10 / 0.43 / 0.82 by level: 3 % fewer iterations for ~15 % more
+                                   user CPU; its coarse levels' terms alone save none), where
+                                   they touch over much of the cloth they cut the iterations (two
+                                   layers 0.93 / 1.39 / 1.47, the dance 0.55 / 1.35 / 1.57 / 1.53;
+                                   docs/bench/gpu_amg_cross.md) */
+#define WG_AMG_CROSS_COARSE_SHARE 1.0
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -69,6 +81,8 @@ typedef struct wg_amg_level {
     wg_tex cross_a;             /* 3 per block: its rows (amg_cross_blocks.glsl, per setup) */
     int cross_nb;               /* this substep's cross blocks */
     int cross_bcap;             /* the room for them (wg_amg_cross.c BLOCKS_PER_PAIR) */
+    int cross_use;              /* this substep: the level's products read its cross blocks
+                                   (wg_amg.cross_share) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -104,6 +118,10 @@ typedef struct wg_amg {
     int cross_n;                /* this substep's pairs (0: none in the system) */
     int cross_skip;             /* tests: leave the terms out (the pattern's hierarchy alone) */
     double cross_bound_scale;   /* WG_AMG_CROSS_BOUND (tests: 1, core's power method) */
+    double cross_share[2];      /* the finest level's and the coarser levels' least share of
+                                   cross blocks to take them (WG_AMG_CROSS_*_SHARE; tests: 0,
+                                   every level) */
+    int cross_levels;           /* this substep: the levels that take their terms */
     const struct wg_pairs* pairs;
     wg_tex cross_u;             /* 4 per pair: each slot's (u, c) (amg_cross_terms.glsl) */
     int* cross_buf;             /* host: a level's cross_i (wg_amg_cross.c) */

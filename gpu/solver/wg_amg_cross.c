@@ -147,6 +147,7 @@ static int pair_terms(const wg_amg* a, int np, const int* ip, const float* w) {
 
 void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p) {
     a->cross_n = 0;
+    a->cross_levels = 0;
     a->pairs = p;
     if (!a->cross_cap || !wg_pairs_on(p)) return;
     const int* ip = NULL;
@@ -162,6 +163,13 @@ void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p) {
         }
         wg_array_upload(a->run->layout, &a->lev[l].cross_i, texels, a->cross_buf);
         ni = a->lev[l].cross_nb;
+    }
+    /* which levels take them: those whose cross blocks are a large enough share of their blocks */
+    a->cross_levels = 0;
+    for (int l = 0; l < a->n_levels; ++l) {
+        wg_amg_level* G = &a->lev[l];
+        G->cross_use = G->cross_nb > 0 && G->cross_nb >= a->cross_share[l > 0] * G->nb;
+        a->cross_levels += G->cross_use;
     }
     a->cross_n = np;
 }
