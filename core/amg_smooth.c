@@ -124,19 +124,25 @@ __attribute__((target("avx2,fma"))) static void sweep_chunk_f_avx2(const gs_view
         const int i = backward ? c0 + c1 - 1 - k : k;
         __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
         const int s1 = L->row_start[i + 1];
-        for (int s = L->row_start[i]; s < s1; ++s) {
-            const int j = L->col[s];
-            const double* v;
-            if (!xo && j >= i) break;
-            if (j >= c0 && j < c1) v = x + 3 * (size_t)j;
-            else if (xo) v = xo + 3 * (size_t)j;
-            else continue;
-            const float* B = L->float_blk + 9 * (size_t)s;
-            const __m256d w = _mm256_maskload_pd(v, m3);
-            a0 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B)), w, a0);
-            a1 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B + 3)), w, a1);
-            a2 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B + 6)), w, a2);
+        int s = L->row_start[i];
+        /* columns ascend: the blocks before the chunk, inside it, after it (from zero: inside, below i) */
+#define WC_GS_BLOCK(V)                                                                                   \
+    {                                                                                                    \
+        const float* B = L->float_blk + 9 * (size_t)s;                                                   \
+        const __m256d w = _mm256_maskload_pd((V) + 3 * (size_t)L->col[s], m3);                           \
+        a0 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B)), w, a0);                                   \
+        a1 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B + 3)), w, a1);                               \
+        a2 = _mm256_fmadd_pd(_mm256_cvtps_pd(_mm_loadu_ps(B + 6)), w, a2);                               \
+    }
+        if (!xo) {
+            while (s < s1 && L->col[s] < c0) ++s;
+            for (; s < s1 && L->col[s] < i; ++s) WC_GS_BLOCK(x)
+        } else {
+            for (; s < s1 && L->col[s] < c0; ++s) WC_GS_BLOCK(xo)
+            for (; s < s1 && L->col[s] < c1; ++s) WC_GS_BLOCK(x)
+            for (; s < s1; ++s) WC_GS_BLOCK(xo)
         }
+#undef WC_GS_BLOCK
         const __m256d h01 = _mm256_hadd_pd(a0, a1), h22 = _mm256_hadd_pd(a2, a2);
         const __m128d r01 = _mm_add_pd(_mm256_castpd256_pd128(h01), _mm256_extractf128_pd(h01, 1));
         const __m128d r22 = _mm_add_pd(_mm256_castpd256_pd128(h22), _mm256_extractf128_pd(h22, 1));
