@@ -45,9 +45,7 @@
  * P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal), the Galerkin
  * operators and the coarsest level's dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
- * D^-1 A, the same before and after the coarse correction; on a finest level dense in coupling
- * terms, one forward and one backward l1 block Gauss-Seidel sweep: amg_smooth.c), an exact solve
- * on the coarsest level;
+ * D^-1 A, the same before and after the coarse correction), an exact solve on the coarsest level;
  * the levels' operators and prolongators read from float copies made by the setup
  * (wc_amg_opts.single, amg_single.c), summed in double.
  * The eigenvalue must be estimated, not bounded (a Gershgorin bound leaves the smoother doing
@@ -66,11 +64,6 @@
 #define WC_AMG_MAX_LEVELS 12
 #define WC_AMG_COARSE_SWEEPS 4
 #define WC_AMG_CHUNK 256        /* rows per partial sum */
-#define WC_AMG_GS_ENTRIES 1     /* wc_amg_opts.fine_gs 1: Gauss-Seidel on level 0 where its coupling
-                                   terms hold at least this x its nodes entries (the dance: 5, the
-                                   suit: 0.05; docs/bench/dance_frame.md) */
-#define WC_AMG_GS_CHUNK 512     /* rows per Gauss-Seidel chunk (amg_smooth.c): relaxed in order
-                                   inside, Jacobi between chunks; fixed, so thread-count free */
 #define WC_AMG_SAFETY 1.1       /* lambda_max estimate = this x the Lanczos Ritz value (or the power
                                    iterations' Rayleigh quotient): both are lower bounds */
 #define WC_AMG_COARSE_POWER 30  /* lanczos 0: power iterations on the coarse levels (the finest takes
@@ -168,13 +161,6 @@ typedef struct wc_amg_opts {
                                    it symmetric, so the V-cycle stays SPD. Half the V-cycle's bytes,
                                    a third less PCG time from 4k particles on
                                    (docs/bench/cpu_levers_sheet32.md) */
-    int fine_gs;                /* the finest level's smoother (amg_smooth.c): 1 (default): a
-                                   symmetric l1 block Gauss-Seidel where its coupling terms
-                                   (amg_cross.c) hold at least WC_AMG_GS_ENTRIES x its nodes
-                                   entries, else Chebyshev; 2: Gauss-Seidel whenever the
-                                   hierarchy has 2 levels or more; 0: Chebyshev (or Jacobi) */
-    int gs_sweeps;              /* Gauss-Seidel sweeps before (forward) and after (backward) the
-                                   coarse correction: 1 */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -255,8 +241,6 @@ typedef struct wc_amg_level {
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
     float* val_f;               /* (n_blocks x 9 + WC_BSR_F_PAD) with opts.single: val rounded */
-    double* gs_dinv;            /* (n x 9) level 0 with opts.fine_gs: the Gauss-Seidel smoother's
-                                   inverse l1 block diagonal (amg_smooth.c) */
 
     int group;                  /* nodes per aggregation unit: 2 on coarse levels with rotations
                                    (the pair 2a, 2a + 1 of one fine aggregate), else 1 */
@@ -414,13 +398,6 @@ void wc_amg_cross_destroy(wc_amg* a);
 /* With opts.single, the V-cycle's float copies of a setup's values (amg_single.c): every level's,
  * or level 0's operator only (fine_only: the coarse levels were kept). */
 void wc_amg_single_copies(wc_amg* a, int fine_only, wc_par* par);
-/* The finest level's Gauss-Seidel smoother (amg_smooth.c): whether level l smooths with it this
- * setup; its diagonal for one setup (after the couplings' values); one sweep per thread inside a
- * parallel region (forward, or backward; from x = 0 when `zero`), the same bits on any thread
- * count. */
-int wc_amg_gs_on(const wc_amg* a, int l);
-void wc_amg_gs_setup(wc_amg* a, wc_par* par);
-void wc_amg_gs_part(wc_amg_level* L, int single, const double* r, double* x, int zero, int backward);
 /* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
 static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
     int end = hi;

@@ -26,8 +26,6 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.bound_margin = 1.05;
     o.values = 1;
     o.single = 1;
-    o.fine_gs = 1;
-    o.gs_sweeps = 1;
     return o;
 }
 
@@ -406,7 +404,7 @@ wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts
     if (!out || !m) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
     *out = NULL;
     wc_amg_opts o = opts ? *opts : wc_default_amg_opts();
-    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || o.gs_sweeps < 1 || o.fine_gs < 0 || o.fine_gs > 2 || o.bound_reuse < 0 || !(o.bound_margin >= 1.0 && o.bound_margin < 100.0) || o.cross_dense_dofs < 0 || o.cross_dense_dofs > 4096 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
+    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || o.bound_reuse < 0 || !(o.bound_margin >= 1.0 && o.bound_margin < 100.0) || o.cross_dense_dofs < 0 || o.cross_dense_dofs > 4096 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
         !(o.prolong_weight >= 0 && o.prolong_weight < 2))
         return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
                        "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations and bound_reuse >= 0, bound_margin in [1, 100), cross_dense_dofs in [0, 4096], smooth_weight in (0, 2), prolong_weight in [0, 2)");
@@ -431,7 +429,6 @@ wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts
     L->diag = p->diag;
     L->group = 1;
     if (!mark || !pending || !buf || !mark_strong(a, L, m) || !alloc_level_values(a, L, 1)) goto oom;
-    if (o.values && o.fine_gs && !(L->gs_dinv = WC_NEW(&a->alloc, double, 9 * (size_t)n))) goto oom;
     if (o.rotations) {
         TRY(L->nns = WC_NEW(&a->alloc, double, 18 * (size_t)n));
         wc_amg_rigid_modes(L, m->rest_pos);
@@ -494,7 +491,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f, L->gs_dinv};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_amg_cross_destroy(a);

@@ -1,8 +1,6 @@
 /* One symmetric V-cycle of the multigrid hierarchy (amg.h): smoothing (Chebyshev in D^-1 A on
- * [lambda_max / ratio, lambda_max], or weighted block Jacobi; on a finest level dense in coupling
- * terms, forward l1 block Gauss-Seidel sweeps before the coarse correction and backward ones after
- * it: amg_smooth.c), restriction by P^T, the coarse correction, prolongation by P, the same
- * smoothing again (its adjoint); the coarsest level is solved with its
+ * [lambda_max / ratio, lambda_max], or weighted block Jacobi), restriction by P^T, the coarse
+ * correction, prolongation by P, the same smoothing again; the coarsest level is solved with its
  * dense Cholesky factor (or smoothed, when it could not be coarsened enough). With
  * wc_amg_opts.single every level's operator and P are read from their float copies
  * (amg_single.c), every sum in double; D^-1 stays double.
@@ -251,39 +249,6 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
     }
     wc_amg_level* N = &a->lev[l + 1];
     const double w = a->opts.smooth_weight / L->bound;
-    if (wc_amg_gs_on(a, l)) { /* Gauss-Seidel: forward sweeps before, backward after (amg_smooth.c) */
-        const int sweeps = a->opts.gs_sweeps;
-        void (*rows)(const wc_amg_level*, const double*, double*, int, int) = restrict_kernel(single);
-        WC_PAR_REGION(par)
-        {
-            int lo, hi, c0, c1;
-            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            for (int s = 0; s < sweeps; ++s) {
-                if (s > 0) {
-                    WC_PAR_BARRIER();
-                }
-                wc_amg_gs_part(L, single, r, x, s == 0, 0);
-            }
-            WC_PAR_BARRIER();
-            residual_part(L, single, r, x, L->t, lo, hi);
-            WC_PAR_BARRIER();
-            rows(L, L->t, N->r, c0, c1);
-        }
-        vcycle(a, l + 1, N->r, N->x, par);
-        WC_PAR_REGION(par)
-        {
-            int lo, hi;
-            wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, N->x, x);
-            else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, N->x, x);
-            for (int s = 0; s < sweeps; ++s) {
-                WC_PAR_BARRIER();
-                wc_amg_gs_part(L, single, r, x, 0, 1);
-            }
-        }
-        return;
-    }
     if (a->opts.chebyshev) { /* two regions a level, barriers between the phases */
         const double ratio = a->opts.chebyshev_ratio;
         const int sweeps = a->opts.sweeps;

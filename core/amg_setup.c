@@ -605,7 +605,6 @@ static void setup_fine_only(wc_amg* a, const double* A, const wc_filter* f, wc_p
     lap(a, WC_AMG_PHASE_PROJECT, &t);
     diagonal(L, a->opts.pair_blocks, par);
     lap(a, WC_AMG_PHASE_DIAGONAL, &t);
-    wc_amg_gs_setup(a, par);
     largest_eigenvalue(a, L, 1, 1, par);
     lap(a, WC_AMG_PHASE_EIGEN_FINE, &t);
     wc_amg_single_copies(a, 1, par);
@@ -650,7 +649,6 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
         diagonal(L, a->opts.pair_blocks, par);
-        if (l == 0) wc_amg_gs_setup(a, par);
         lap(a, WC_AMG_PHASE_DIAGONAL, &t);
         largest_eigenvalue(a, L, l == 0, reuse, par);
         lap(a, l == 0 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);

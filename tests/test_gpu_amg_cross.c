@@ -199,8 +199,6 @@ static void test_cross_terms(void) {
     wc_amg_opts ao = wg_amg_opts();
     ao.values = 1;
     ao.couplings = 1;
-    ao.fine_gs = 0; /* the GPU's smoother on every level: Chebyshev (core's default would take
-                       Gauss-Seidel on this coupled level 0: amg_smooth.c) */
     wc_amg* ca = NULL;
     CHECK_EQ_INT(wc_amg_create(&ca, &m, &ao, NULL, &d), WC_OK);
     CHECK_EQ_INT(wc_amg_set_coupling(ca, &sc->self_pairs->coupling, sc->self_pairs->list.cap, &d), WC_OK);
