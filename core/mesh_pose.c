@@ -128,14 +128,14 @@ void wc_mesh_poses_init(wc_mesh_collider* m) {
         P->ring[s].ok = 0;
     }
     int n = m->n_verts;
-    double c[3] = {0.0, 0.0, 0.0}, s[9] = {0}, u[3];
+    double c[3] = {0.0, 0.0, 0.0}, s[9] = {0}, u[3], uu[9];
     for (int i = 0; i < n; ++i) v3_add(c, c, m->rest + 3 * i);
     v3_scale(P->centre, c, 1.0 / n);
     v3_zero(P->umax);
     for (int i = 0; i < n; ++i) {
         v3_sub(u, m->rest + 3 * i, P->centre);
-        m3_axpy(s, 1.0, (double[9]){u[0] * u[0], u[0] * u[1], u[0] * u[2], u[1] * u[0], u[1] * u[1], u[1] * u[2],
-                                    u[2] * u[0], u[2] * u[1], u[2] * u[2]});
+        m3_outer(uu, u, u, 1.0);
+        m3_axpy(s, 1.0, uu);
         for (int k = 0; k < 3; ++k) P->umax[k] = fmax(P->umax[k], fabs(u[k]));
     }
     double tr = (s[0] + s[4] + s[8]) / 3.0, det = m3_inverse(P->sinv, s);
