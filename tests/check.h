@@ -9,6 +9,9 @@
 static int check_failures_ = 0;
 static int check_count_ = 0;
 
+/* stdout line by line even into ctest's pipe, so that a test that crashes shows how far it got */
+__attribute__((constructor)) static void check_line_buffered_(void) { setvbuf(stdout, NULL, _IOLBF, 0); }
+
 #define CHECK(cond)                                                                 \
     do {                                                                            \
         ++check_count_;                                                             \
