@@ -370,7 +370,7 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
                  unsigned char* touched) {
     double r = mode == WC_SELF_PASS_PROXIMITY ? sc->thickness : sc->eta;
     int nq = sc->n + sc->n_edges;
-    /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
+    /* WC_PAR_REGION reads sc->threads */
     int partial = dirty && sc->refit_dirty && sc->refit_r == r;
     sc->refit_dirty = 0;
     if (!partial) wc_self_refit(sc, m, sc->x_start, x, r);
