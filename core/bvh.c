@@ -109,9 +109,10 @@ void wc_bvh_free(wc_bvh* b) {
     b->alloc = a;
 }
 
-void wc_bvh_refit(wc_bvh* b, const double* boxes) {
+void wc_bvh_refit_span(wc_bvh* b, const double* boxes, const unsigned char* mask, int lo, int hi) {
     /* children come after their parent (preorder): one backward sweep */
-    for (int node = b->n_nodes - 1; node >= 0; --node) {
+    for (int node = hi - 1; node >= lo; --node) {
+        if (mask && !mask[node]) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0)
             memcpy(b->box + 6 * node, boxes + 6 * ch[1], 6 * sizeof(double));
@@ -120,27 +121,93 @@ void wc_bvh_refit(wc_bvh* b, const double* boxes) {
     }
 }
 
+void wc_bvh_refit(wc_bvh* b, const double* boxes) { wc_bvh_refit_span(b, boxes, NULL, 0, b->n_nodes); }
+
 void wc_bvh_refit_masked(wc_bvh* b, const double* boxes, const unsigned char* mask) {
-    for (int node = b->n_nodes - 1; node >= 0; --node) {
-        if (!mask[node]) continue;
+    wc_bvh_refit_span(b, boxes, mask, 0, b->n_nodes);
+}
+
+void wc_bvh_mask_up_span(const wc_bvh* b, unsigned char* mask, int lo, int hi) {
+    for (int node = hi - 1; node >= lo; --node) { /* preorder: children after their parent */
         const int* ch = b->child + 2 * node;
-        if (ch[0] < 0)
-            memcpy(b->box + 6 * node, boxes + 6 * ch[1], 6 * sizeof(double));
-        else
-            box_union(b->box + 6 * node, b->box + 6 * ch[0], b->box + 6 * ch[1]);
+        if (ch[0] >= 0) mask[node] = mask[ch[0]] | mask[ch[1]];
     }
+}
+
+void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask) { wc_bvh_mask_up_span(b, mask, 0, b->n_nodes); }
+
+void wc_bvh_refit_top(wc_bvh* b, const wc_bvh_split* s, const unsigned char* mask) {
+    for (int k = 0; k < s->n_top; ++k) { /* descending: children first */
+        int node = s->top[k];
+        if (mask && !mask[node]) continue;
+        const int* ch = b->child + 2 * node;
+        box_union(b->box + 6 * node, b->box + 6 * ch[0], b->box + 6 * ch[1]);
+    }
+}
+
+void wc_bvh_mask_up_top(const wc_bvh* b, const wc_bvh_split* s, unsigned char* mask) {
+    for (int k = 0; k < s->n_top; ++k) {
+        const int* ch = b->child + 2 * s->top[k];
+        mask[s->top[k]] = mask[ch[0]] | mask[ch[1]];
+    }
+}
+
+wc_status wc_bvh_split_build(wc_bvh_split* s, const wc_bvh* b, int depth, const wc_allocator* a) {
+    memset(s, 0, sizeof *s);
+    int cap = (2 << depth) + 2; /* at most 2^depth subtrees and 2^depth - 1 nodes above them */
+    s->sub = WC_NEW(a, int, 2 * (size_t)cap);
+    s->top = WC_NEW(a, int, (size_t)cap);
+    int* stack = WC_NEW(a, int, 2 * ((size_t)WC_BVH_MAX_DEPTH + 2));
+    if (!s->sub || !s->top || !stack) {
+        wc_free(a, stack);
+        wc_bvh_split_free(s, a);
+        return WC_ERROR_OUT_OF_MEMORY;
+    }
+    /* preorder walk down to depth: a leaf above it or a node at it starts a subtree, which ends
+       where the next subtree or node above starts (preorder) */
+    int top = 0, n_above = 0;
+    if (b->n_nodes > 0) {
+        stack[top++] = 0;
+        stack[top++] = 0;
+    }
+    while (top > 0) {
+        int d = stack[--top], node = stack[--top];
+        const int* ch = b->child + 2 * node;
+        if (s->n_sub > 0 && s->sub[2 * s->n_sub - 1] < 0) s->sub[2 * s->n_sub - 1] = node;
+        if (ch[0] < 0 || d == depth) {
+            s->sub[2 * s->n_sub] = node;
+            s->sub[2 * s->n_sub + 1] = -1;
+            ++s->n_sub;
+            continue;
+        }
+        s->top[n_above++] = node;
+        stack[top++] = ch[1];
+        stack[top++] = d + 1;
+        stack[top++] = ch[0];
+        stack[top++] = d + 1;
+    }
+    if (s->n_sub > 0 && s->sub[2 * s->n_sub - 1] < 0) s->sub[2 * s->n_sub - 1] = b->n_nodes;
+    for (int i = 0, j = n_above - 1; i < j; ++i, --j) { /* descending */
+        int t = s->top[i];
+        s->top[i] = s->top[j];
+        s->top[j] = t;
+    }
+    s->n_top = n_above;
+    wc_free(a, stack);
+    return WC_OK;
+}
+
+void wc_bvh_split_free(wc_bvh_split* s, const wc_allocator* a) {
+    wc_free(a, s->sub);
+    wc_free(a, s->top);
+    s->sub = s->top = NULL;
+    s->n_sub = s->n_top = 0;
 }
 
 int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void* user) {
     return wc_bvh_query_masked(b, box, NULL, visit, user);
 }
 
-void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask) {
-    for (int node = b->n_nodes - 1; node >= 0; --node) { /* preorder: children after their parent */
-        const int* ch = b->child + 2 * node;
-        if (ch[0] >= 0) mask[node] = mask[ch[0]] | mask[ch[1]];
-    }
-}
 
 /* The preorder walk of every query: nodes outside box, masked out (mask) or farther from p than
  * sqrt(*bound2) (p non-NULL) are skipped. */

@@ -47,6 +47,25 @@ int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const
  * the OR of its children's, so a node is 1 when a primitive under it is. */
 void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);
 
+/* A cut of the tree for bottom-up sweeps on threads: n_sub subtrees, the nodes down to a depth
+ * (or leaves above it) with all below them, each a contiguous range of nodes in preorder
+ * [sub[2k], sub[2k + 1]), and the n_top nodes above them in descending order (children first).
+ * The subtrees' sweeps are independent: any thread may run any of them, then the top nodes,
+ * for the same boxes bit for bit. Built once (allocates); the tree's shape never changes. */
+typedef struct wc_bvh_split {
+    int n_sub, n_top;
+    int* sub;   /* (n_sub x 2) */
+    int* top;   /* (n_top) */
+} wc_bvh_split;
+wc_status wc_bvh_split_build(wc_bvh_split* s, const wc_bvh* b, int depth, const wc_allocator* a);
+void wc_bvh_split_free(wc_bvh_split* s, const wc_allocator* a);
+/* wc_bvh_refit_masked (mask NULL: wc_bvh_refit) and wc_bvh_mask_up over the nodes [lo, hi) only:
+ * a subtree's range (the nodes below it done), or the top nodes of a split after its subtrees. */
+void wc_bvh_refit_span(wc_bvh* b, const double* boxes, const unsigned char* mask, int lo, int hi);
+void wc_bvh_mask_up_span(const wc_bvh* b, unsigned char* mask, int lo, int hi);
+void wc_bvh_refit_top(wc_bvh* b, const wc_bvh_split* s, const unsigned char* mask);
+void wc_bvh_mask_up_top(const wc_bvh* b, const wc_bvh_split* s, unsigned char* mask);
+
 /* Box helpers: an empty box (min +inf, max -inf), growing one by a point, inflating by r (inline:
  * the self-collision trees' boxes are recomputed several times a substep). */
 static inline void wc_box_empty(double* box) {

@@ -32,9 +32,14 @@ double wc_par_dot(wc_par* p, const double* a, const double* b, int n);
  * region's fork and join: a kernel sequence that runs in one region with barriers between its
  * phases pays less than one region per phase. */
 #define WC_PAR_BARRIER() WC_PAR_PRAGMA_(omp barrier)
+/* Inside a region: the next for loop's iterations shared among the team in chunks of c, each
+ * chunk to the next free thread (then a barrier). Only for loops whose iterations each write
+ * their own results: who runs an iteration then changes no bit (load balance for uneven work). */
+#define WC_PAR_FOR_DYNAMIC(c) WC_PAR_PRAGMA_(omp for schedule(dynamic, c))
 static inline int wc_par_tid(void) { return omp_get_thread_num(); }
 static inline int wc_par_nt(void) { return omp_get_num_threads(); }
 #else
+#define WC_PAR_FOR_DYNAMIC(c)
 #define WC_PAR_REGION(p) (void)(p);
 #define WC_PAR_BARRIER() ((void)0)
 static inline int wc_par_tid(void) { return 0; }

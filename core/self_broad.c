@@ -55,6 +55,30 @@ void wc_self_boxes(const wc_model* m, const int* edges, int n_edges, const doubl
     for (int e = 0; e < n_edges; ++e) wc_self_swept_box(edge_box + 6 * e, edges + 2 * e, 2, x_start, x, r);
 }
 
+void wc_self_trees_sweep(wc_self* sc, int mask_up, int refit) {
+    int ns = sc->tri_split.n_sub, nsub = ns + sc->edge_split.n_sub;
+    WC_PAR_FOR_DYNAMIC(1)
+    for (int k = 0; k < nsub; ++k) {
+        int tri = k < ns;
+        wc_bvh* b = tri ? &sc->tri_bvh : &sc->edge_bvh;
+        const int* sub = (tri ? sc->tri_split.sub : sc->edge_split.sub) + 2 * (tri ? k : k - ns);
+        unsigned char* mask = mask_up ? (tri ? sc->tri_mask : sc->edge_mask) : NULL;
+        if (mask) wc_bvh_mask_up_span(b, mask, sub[0], sub[1]);
+        if (refit) wc_bvh_refit_span(b, tri ? sc->tri_box : sc->edge_box, mask, sub[0], sub[1]);
+    }
+}
+
+void wc_self_trees_top(wc_self* sc, int mask_up, int refit) {
+    if (mask_up) {
+        wc_bvh_mask_up_top(&sc->tri_bvh, &sc->tri_split, sc->tri_mask);
+        wc_bvh_mask_up_top(&sc->edge_bvh, &sc->edge_split, sc->edge_mask);
+    }
+    if (refit) {
+        wc_bvh_refit_top(&sc->tri_bvh, &sc->tri_split, mask_up ? sc->tri_mask : NULL);
+        wc_bvh_refit_top(&sc->edge_bvh, &sc->edge_split, mask_up ? sc->edge_mask : NULL);
+    }
+}
+
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
@@ -62,9 +86,10 @@ void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const doubl
         for (int k = lo; k < hi; ++k) wc_self_swept_box(sc->tri_box + 6 * k, m->tris + 3 * k, 3, x0, x1, r);
         wc_par_range(sc->n_edges, t, nt, &lo, &hi);
         for (int k = lo; k < hi; ++k) wc_self_swept_box(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, x0, x1, r);
+        WC_PAR_BARRIER(); /* every box before the trees */
+        wc_self_trees_sweep(sc, 0, 1);
     }
-    wc_bvh_refit(&sc->tri_bvh, sc->tri_box);
-    wc_bvh_refit(&sc->edge_bvh, sc->edge_box);
+    wc_self_trees_top(sc, 0, 1);
 }
 
 int wc_self_edges_above_masked(const wc_self* sc, int e, const double* box, const unsigned char* mask,

@@ -35,6 +35,14 @@ static inline int wc_self_seam_linked(const int* start, const int* nbr, int a, i
  *   in the nodes of the edge tree whose mask is set (mask NULL: all). */
 int wc_self_linked(const wc_self* sc, int a, int b);
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
+/* The trees' bottom-up sweeps on threads, each tree cut into subtrees (wc_self.tri_split,
+ * edge_split; bvh.h's wc_bvh_split): trees_sweep, inside a parallel region (every thread calls
+ * it), sweeps the subtrees, any to any thread; trees_top, after the region, the nodes above them.
+ * mask_up: the masks (tri_mask, edge_mask, their leaves set) ORed up; refit: the boxes refitted
+ * (with mask_up, only the masked nodes'). The same masks and boxes as one serial sweep. */
+#define WC_SELF_SPLIT_DEPTH 5 /* 32 subtrees a tree */
+void wc_self_trees_sweep(wc_self* sc, int mask_up, int refit);
+void wc_self_trees_top(wc_self* sc, int mask_up, int refit);
 int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user);
 int wc_self_edges_above_masked(const wc_self* sc, int e, const double* box, const unsigned char* mask,
                                wc_bvh_visit_fn visit, void* user);

@@ -66,6 +66,8 @@ void wc_self_destroy(wc_self* sc) {
     wc_allocator a = sc->alloc;
     wc_bvh_free(&sc->tri_bvh);
     wc_bvh_free(&sc->edge_bvh);
+    wc_bvh_split_free(&sc->tri_split, &a);
+    wc_bvh_split_free(&sc->edge_split, &a);
     wc_free(&a, sc->edges);
     wc_free(&a, sc->tri_box);
     wc_free(&a, sc->edge_box);
@@ -150,7 +152,10 @@ wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, con
         sc->edge_grid.g = wc_self_grid_side(sc->n_edges);
         sc->tri_grid.cell = WC_NEW(&A, unsigned char, (size_t)sc->tri_grid.g * sc->tri_grid.g * sc->tri_grid.g);
         sc->edge_grid.cell = WC_NEW(&A, unsigned char, (size_t)sc->edge_grid.g * sc->edge_grid.g * sc->edge_grid.g);
-        if (!sc->edge_max || !sc->tri_mask || !sc->edge_mask || !sc->tri_grid.cell || !sc->edge_grid.cell)
+        if (st == WC_OK) st = wc_bvh_split_build(&sc->tri_split, &sc->tri_bvh, WC_SELF_SPLIT_DEPTH, &A);
+        if (st == WC_OK) st = wc_bvh_split_build(&sc->edge_split, &sc->edge_bvh, WC_SELF_SPLIT_DEPTH, &A);
+        if (st != WC_OK) st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
+        else if (!sc->edge_max || !sc->tri_mask || !sc->edge_mask || !sc->tri_grid.cell || !sc->edge_grid.cell)
             st = wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "self-collision: out of memory");
     }
     if (st != WC_OK) {

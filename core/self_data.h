@@ -22,6 +22,7 @@ typedef struct wc_self {
     int n, n_tris, n_edges;
     int* edges;         /* (n_edges x 2) particle pairs, each vertex pair once */
     wc_bvh tri_bvh, edge_bvh;
+    wc_bvh_split tri_split, edge_split; /* the trees cut for refits on threads (self_broad.h) */
     double* tri_box;    /* (n_tris x 6) */
     double* edge_box;   /* (n_edges x 6) */
     double* x_start;    /* (n x 3) m: positions at the start of the substep */

@@ -103,11 +103,10 @@ static void gather(wc_self* sc, const wc_model* m, const double* x0, const doubl
     for (int i = 0; i < n; ++i) wc_self_swept_box(sc->near_anchor + 6 * i, &i, 1, x0, xa, 0.0);
     wc_self_refit(sc, m, x0, xa, r);
     double grow = sc->near_gap - r;
-    WC_PAR_REGION(sc) {
-        int lo, hi;
-        wc_par_range(nq, wc_par_tid(), wc_par_nt(), &lo, &hi);
+    WC_PAR_REGION(sc) { /* each query's list its own: chunks to whichever thread is free */
         gather_ctx c = {sc, m, 0, 0, 0, NULL, 0};
-        for (int q = lo; q < hi; ++q) {
+        WC_PAR_FOR_DYNAMIC(256)
+        for (int q = 0; q < nq; ++q) {
             double b[6];
             c.out = sc->near_cand + (size_t)q * WC_SELF_NEAR_CAP;
             c.count = 0;

@@ -8,6 +8,8 @@
 #include "union_find.h"
 #include "vec3.h"
 
+#define WC_SELF_SCAN_CHUNK 256 /* queries a thread takes at a time in the parallel scans */
+
 typedef struct pass_ctx {
     wc_self* sc;
     const wc_model* m;
@@ -325,31 +327,40 @@ static int query(pass_ctx* c, int q) {
  * (self_grid.h). Returns the grids on for the pass (bit 1: the triangles', 2: the edges'). */
 static int mark_dirty(wc_self* sc, const wc_model* m, const double* x, double r, const unsigned char* dirty,
                       int refit) {
-    for (int t = 0; t < sc->n_tris; ++t) {
-        const int* tv = m->tris + 3 * t;
-        unsigned char d = dirty[tv[0]] | dirty[tv[1]] | dirty[tv[2]];
-        sc->tri_mask[sc->tri_bvh.leaf_of[t]] = d;
-        if (d && refit) wc_self_swept_box(sc->tri_box + 6 * t, tv, 3, sc->x_start, x, r);
+    WC_PAR_REGION(sc) { /* each element's leaf and box its own; then each subtree's nodes */
+        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
+        wc_par_range(sc->n_tris, t, nt, &lo, &hi);
+        for (int k = lo; k < hi; ++k) {
+            const int* tv = m->tris + 3 * k;
+            unsigned char d = dirty[tv[0]] | dirty[tv[1]] | dirty[tv[2]];
+            sc->tri_mask[sc->tri_bvh.leaf_of[k]] = d;
+            if (d && refit) wc_self_swept_box(sc->tri_box + 6 * k, tv, 3, sc->x_start, x, r);
+        }
+        wc_par_range(sc->n_edges, t, nt, &lo, &hi);
+        for (int e = lo; e < hi; ++e) {
+            const int* ev = sc->edges + 2 * e;
+            unsigned char d = dirty[ev[0]] | dirty[ev[1]];
+            sc->edge_mask[sc->edge_bvh.leaf_of[e]] = d;
+            if (d && refit) wc_self_swept_box(sc->edge_box + 6 * e, ev, 2, sc->x_start, x, r);
+        }
+        WC_PAR_BARRIER(); /* every leaf before the subtrees */
+        wc_self_trees_sweep(sc, 1, refit);
     }
-    wc_bvh_mask_up(&sc->tri_bvh, sc->tri_mask);
-    for (int e = 0; e < sc->n_edges; ++e) {
-        const int* ev = sc->edges + 2 * e;
-        unsigned char d = dirty[ev[0]] | dirty[ev[1]];
-        sc->edge_mask[sc->edge_bvh.leaf_of[e]] = d;
-        if (d && refit) wc_self_swept_box(sc->edge_box + 6 * e, ev, 2, sc->x_start, x, r);
-    }
-    wc_bvh_mask_up(&sc->edge_bvh, sc->edge_mask);
-    if (refit) {
-        wc_bvh_refit_masked(&sc->tri_bvh, sc->tri_box, sc->tri_mask);
-        wc_bvh_refit_masked(&sc->edge_bvh, sc->edge_box, sc->edge_mask);
-    }
+    wc_self_trees_top(sc, 1, refit);
     if (sc->grid_off || sc->tri_bvh.n_nodes == 0 || sc->edge_bvh.n_nodes == 0) return 0;
-    wc_self_grid_reset(&sc->tri_grid, sc->tri_bvh.box);
-    wc_self_grid_reset(&sc->edge_grid, sc->edge_bvh.box);
-    for (int t = 0; t < sc->n_tris && sc->tri_grid.on; ++t)
-        if (sc->tri_mask[sc->tri_bvh.leaf_of[t]]) wc_self_grid_mark(&sc->tri_grid, sc->tri_box + 6 * t);
-    for (int e = 0; e < sc->n_edges && sc->edge_grid.on; ++e)
-        if (sc->edge_mask[sc->edge_bvh.leaf_of[e]]) wc_self_grid_mark(&sc->edge_grid, sc->edge_box + 6 * e);
+    WC_PAR_REGION(sc) { /* the two grids are independent: the first thread's and the last's */
+        int t = wc_par_tid(), nt = wc_par_nt();
+        if (t == 0) {
+            wc_self_grid_reset(&sc->tri_grid, sc->tri_bvh.box);
+            for (int k = 0; k < sc->n_tris && sc->tri_grid.on; ++k)
+                if (sc->tri_mask[sc->tri_bvh.leaf_of[k]]) wc_self_grid_mark(&sc->tri_grid, sc->tri_box + 6 * k);
+        }
+        if (t == nt - 1) {
+            wc_self_grid_reset(&sc->edge_grid, sc->edge_bvh.box);
+            for (int e = 0; e < sc->n_edges && sc->edge_grid.on; ++e)
+                if (sc->edge_mask[sc->edge_bvh.leaf_of[e]]) wc_self_grid_mark(&sc->edge_grid, sc->edge_box + 6 * e);
+        }
+    }
     return (sc->tri_grid.on ? 1 : 0) | (sc->edge_grid.on ? 2 : 0);
 }
 
@@ -359,18 +370,19 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
                  unsigned char* touched) {
     double r = mode == WC_SELF_PASS_PROXIMITY ? sc->thickness : sc->eta;
     int nq = sc->n + sc->n_edges;
-    /* WC_PAR_REGION reads sc->threads (par.h's fixed contiguous ranges per thread) */
+    /* WC_PAR_REGION reads sc->threads */
     int partial = dirty && sc->refit_dirty && sc->refit_r == r;
     sc->refit_dirty = 0;
     if (!partial) wc_self_refit(sc, m, sc->x_start, x, r);
     wc_self_near_prepare(sc, m, sc->x_start, x, r, dirty == NULL); /* the lists serve full scans */
     int grids = dirty ? mark_dirty(sc, m, x, r, dirty, partial) : 0;
     sc->refit_r = r;
+    /* each query's mark is its own: chunks go to whichever thread is free (the queries' costs
+       differ by orders of magnitude: fixed ranges left one thread waiting) */
     WC_PAR_REGION(sc) {
-        int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
-        wc_par_range(nq, t, nt, &lo, &hi);
         pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL, grids};
-        for (int q = lo; q < hi; ++q) sc->active[q] = (unsigned char)query(&d, q);
+        WC_PAR_FOR_DYNAMIC(WC_SELF_SCAN_CHUNK)
+        for (int q = 0; q < nq; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
     /* the serial visits are those of the unfiltered pass: the scan marked the same queries (a pair
        with no dirty particle needs nothing), and a marked query visits all its candidates, so an

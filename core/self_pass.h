@@ -3,7 +3,7 @@
  * its end positions x: proximity and CCD impulses, or the impact zones' detection. It allocates
  * nothing: candidates are visited in the trees (no pair buffers).
  *
- * Parallel detection (threads > 1, OpenMP; core/par.h's fixed contiguous ranges): every pass
+ * Parallel detection (threads > 1, OpenMP; core/par.h's chunks of queries, any to any thread): every pass
  * first scans all vertices and edges read-only, on as many threads as sc->threads, and marks in
  * active[] (n + n_edges bytes, allocated at creation: nothing can overflow) each query that has
  * at least one pair needing action at the pass's starting positions (a proximity impulse, a CCD

@@ -2,6 +2,7 @@
  * points against dense sampling, continuous queries against the sign changes of a finely sampled
  * coplanarity function, BVH queries (before and after a refit) against testing every box. */
 #include <stdlib.h>
+#include <string.h>
 
 #include "bvh.h"
 #include "check.h"
@@ -285,6 +286,62 @@ static void test_bvh_against_brute(void) {
     CHECK(wc_bvh_build(&b, bad, 1, NULL, NULL) == WC_ERROR_NONFINITE);
 }
 
+/* The cut for refits on threads (wc_bvh_split): every node in exactly one subtree range or among
+ * the top nodes, and the subtrees swept in reverse order (any thread order), then the top nodes,
+ * give the serial sweep's masks and boxes bit for bit, masked and not. */
+static void test_bvh_split(void) {
+    int sizes[] = {0, 1, 2, 3, 7, 100, 1000}, depths[] = {0, 1, 3, 5, 12};
+    for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si)
+        for (size_t di = 0; di < sizeof(depths) / sizeof(depths[0]); ++di) {
+            int n = sizes[si];
+            double* boxes = malloc(sizeof(double) * 6 * (n + 1));
+            random_boxes(boxes, n, 1);
+            wc_bvh a, b;
+            CHECK(wc_bvh_build(&a, boxes, n, NULL, NULL) == WC_OK);
+            CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WC_OK);
+            wc_bvh_split s;
+            CHECK(wc_bvh_split_build(&s, &b, depths[di], NULL) == WC_OK);
+            int* seen = calloc((size_t)b.n_nodes + 1, sizeof(int));
+            for (int k = 0; k < s.n_sub; ++k)
+                for (int v = s.sub[2 * k]; v < s.sub[2 * k + 1]; ++v) ++seen[v];
+            for (int k = 0; k < s.n_top; ++k) {
+                ++seen[s.top[k]];
+                if (k > 0) CHECK(s.top[k] < s.top[k - 1]);
+            }
+            int wrong = 0;
+            for (int v = 0; v < b.n_nodes; ++v) wrong += seen[v] != 1;
+            CHECK_EQ_INT(wrong, 0);
+            CHECK(s.n_sub <= 1 << depths[di]);
+            random_boxes(boxes, n, 2);
+            unsigned char* ma = calloc((size_t)b.n_nodes + 1, 1);
+            unsigned char* mb = calloc((size_t)b.n_nodes + 1, 1);
+            for (int i = 0; i < n; ++i) ma[a.leaf_of[i]] = mb[b.leaf_of[i]] = i % 5 == 1;
+            for (int masked = 0; masked < 2; ++masked) {
+                if (masked) {
+                    random_boxes(boxes, n, 3);
+                    wc_bvh_mask_up(&a, ma);
+                    wc_bvh_refit_masked(&a, boxes, ma);
+                } else
+                    wc_bvh_refit(&a, boxes);
+                for (int k = s.n_sub - 1; k >= 0; --k) {
+                    if (masked) wc_bvh_mask_up_span(&b, mb, s.sub[2 * k], s.sub[2 * k + 1]);
+                    wc_bvh_refit_span(&b, boxes, masked ? mb : NULL, s.sub[2 * k], s.sub[2 * k + 1]);
+                }
+                if (masked) wc_bvh_mask_up_top(&b, &s, mb);
+                wc_bvh_refit_top(&b, &s, masked ? mb : NULL);
+                CHECK(n == 0 || memcmp(a.box, b.box, sizeof(double) * 6 * (size_t)b.n_nodes) == 0);
+                CHECK(n == 0 || memcmp(ma, mb, (size_t)b.n_nodes) == 0);
+            }
+            free(ma);
+            free(mb);
+            free(seen);
+            wc_bvh_split_free(&s, NULL);
+            wc_bvh_free(&a);
+            wc_bvh_free(&b);
+            free(boxes);
+        }
+}
+
 int main(void) {
     RUN_TEST(test_closest_on_triangle_brute);
     RUN_TEST(test_closest_on_segments_brute);
@@ -292,5 +349,6 @@ int main(void) {
     RUN_TEST(test_ccd_point_triangle);
     RUN_TEST(test_ccd_edge_edge);
     RUN_TEST(test_bvh_against_brute);
+    RUN_TEST(test_bvh_split);
     return TEST_SUMMARY();
 }
