@@ -237,7 +237,7 @@ typedef struct wc_amg_level {
     double estimate;            /* the last fresh estimate (before WC_AMG_SAFETY), what a setup
                                    that reuses bounds scales (wc_amg_opts.bound_reuse) */
     double* ev;                 /* (n x 3) the power iterations' vector */
-    double* partial;            /* (ceil(n / 256) x 2) per-chunk partial sums (thread-count free) */
+    double* partial;            /* (ceil(n / 256) x 3) per-chunk partial sums (thread-count free) */
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
     float* val_f;               /* (n_blocks x 9 + WC_BSR_F_PAD) with opts.single: val rounded */
@@ -376,6 +376,8 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */
 void wc_amg_start_vector(double* v, int n);
+/* The same vector's rows [lo, hi) only (a thread's share). */
+void wc_amg_start_vector_rows(double* v, int lo, int hi);
 /* lambda_max(D^-1 A) of level L's values (amg_eigen.c): Lanczos (use_lanczos) or power
  * iterations, `steps` of them, from wc_amg_start_vector; a lower bound (0 when none was found).
  * Overwrites L's ev, x, t, ev_scratch and partial. */

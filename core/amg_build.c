@@ -29,8 +29,10 @@ wc_amg_opts wc_default_amg_opts(void) {
     return o;
 }
 
-void wc_amg_start_vector(double* v, int n) {
-    for (int k = 0; k < 3 * n; ++k)
+void wc_amg_start_vector(double* v, int n) { wc_amg_start_vector_rows(v, 0, n); }
+
+void wc_amg_start_vector_rows(double* v, int lo, int hi) {
+    for (int k = 3 * lo; k < 3 * hi; ++k)
         v[k] = (((unsigned)k * 2654435761u) >> 31 ? 1.0 : -1.0) * (1.0 + ((((unsigned)k * 40503u) >> 8) & 15) / 16.0);
 }
 
@@ -379,7 +381,7 @@ static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
     TRY(L->t = WC_NEW(al, double, 3 * (size_t)L->n));
     TRY(L->ev = WC_NEW(al, double, 3 * (size_t)L->n));
     TRY(L->ev_scratch = WC_NEW(al, double, 3 * (size_t)L->n));
-    TRY(L->partial = WC_NEW(al, double, 2 * (size_t)(L->n / WC_AMG_CHUNK + 1)));
+    TRY(L->partial = WC_NEW(al, double, 3 * (size_t)(L->n / WC_AMG_CHUNK + 1)));
     return 1;
 oom:
     return 0;

@@ -45,40 +45,48 @@ static void chunk_bounds(const wc_amg_level* L, int c, int* lo, int* hi) {
     *hi = *lo + WC_AMG_CHUNK < L->n ? *lo + WC_AMG_CHUNK : L->n;
 }
 
+/* One thread's share of apply_all (inside a region): the couplings' terms scaled by w (a barrier
+ * after), then its chunks' rows of next = D^-1 A w and their sums of w . A w (partial[3c]) and
+ * w . D w (partial[3c + 1], when `den`). */
+static void apply_part(wc_amg_level* L, int pair_blocks, const double* w, double* next, int den) {
+    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+    const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
+    if (X && wc_amg_cross_as_terms(X)) { /* the couplings' terms scaled by w (amg_cross.c), all before their rows */
+        int q0, q1;
+        wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);
+        wc_amg_cross_scale(X, 1.0, w, q0, q1);
+        WC_PAR_BARRIER();
+    }
+    int c0, c1;
+    wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+    for (int c = c0; c < c1; ++c) {
+        int lo, hi;
+        chunk_bounds(L, c, &lo, &hi);
+        if (X) { /* the chunk's rows of X w */
+            memset(X->y + 3 * (size_t)lo, 0, sizeof(double) * 3 * (size_t)(hi - lo));
+            wc_amg_cross_rows_add(X, 1.0, w, X->y, L->n, lo, hi);
+        }
+        double d = 0.0;
+        L->partial[3 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, den ? &d : NULL);
+        L->partial[3 * c + 1] = d;
+    }
+}
+
+/* Sum of the chunks' partial[3c + slot] in chunk order. */
+static double chunk_sum(const wc_amg_level* L, int slot) {
+    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+    double s = 0.0;
+    for (int c = 0; c < n_chunks; ++c) s += L->partial[3 * c + slot];
+    return s;
+}
+
 /* next = D^-1 A w over all rows, chunks in parallel; *num = w . A w and *den = w . D w (not
  * computed when den is NULL), summed in chunk order (the same on any thread count). */
 static void apply_all(wc_amg_level* L, int pair_blocks, const double* w, double* next, wc_par* par, double* num,
                       double* den) {
-    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
-    const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
-    WC_PAR_REGION(par)
-    {
-        if (X && wc_amg_cross_as_terms(X)) { /* the couplings' terms scaled by w (amg_cross.c), all before their rows */
-            int q0, q1;
-            wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);
-            wc_amg_cross_scale(X, 1.0, w, q0, q1);
-            WC_PAR_BARRIER();
-        }
-        int c0, c1;
-        wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        for (int c = c0; c < c1; ++c) {
-            int lo, hi;
-            chunk_bounds(L, c, &lo, &hi);
-            if (X) { /* the chunk's rows of X w */
-                memset(X->y + 3 * (size_t)lo, 0, sizeof(double) * 3 * (size_t)(hi - lo));
-                wc_amg_cross_rows_add(X, 1.0, w, X->y, L->n, lo, hi);
-            }
-            double d = 0.0;
-            L->partial[2 * c] = chunk_apply(L, lo, hi, pair_blocks, w, next, den ? &d : NULL);
-            L->partial[2 * c + 1] = d;
-        }
-    }
-    *num = 0.0;
-    if (den) *den = 0.0;
-    for (int c = 0; c < n_chunks; ++c) {
-        *num += L->partial[2 * c];
-        if (den) *den += L->partial[2 * c + 1];
-    }
+    WC_PAR_REGION(par) apply_part(L, pair_blocks, w, next, den != NULL);
+    *num = chunk_sum(L, 0);
+    if (den) *den = chunk_sum(L, 1);
 }
 
 static double power_iterations(wc_amg_level* L, int iterations, int pair_blocks, wc_par* par) {
@@ -131,25 +139,45 @@ static double tridiagonal_max(const double* alpha, const double* beta, int k) {
 
 /* Lanczos in the D inner product: v (L->ev) D-normalised, w = D^-1 A v (L->x), alpha = v . A v,
  * w -= alpha v + beta_prev v_prev (v_prev: L->ev_scratch), beta = |w|_D, v_prev <- v,
- * v <- w / beta. */
-static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) {
-    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK;
+ * v <- w / beta. All steps in one parallel region: every thread adds the chunks' sums itself (in
+ * chunk order, so all take the same branches) and updates the vectors on its chunks' rows, with
+ * barriers where a phase reads other threads' rows or sums. */
+typedef struct lanczos_run {
+    wc_amg_level* L;
+    int steps, pair_blocks;
+    int k;                              /* Ritz values found (thread 0's) */
     double alpha[WC_AMG_MAX_LANCZOS], beta[WC_AMG_MAX_LANCZOS];
-    if (steps > WC_AMG_MAX_LANCZOS) steps = WC_AMG_MAX_LANCZOS;
+} lanczos_run;
+
+static void lanczos_part(lanczos_run* run) {
+    wc_amg_level* L = run->L;
+    const int pair_blocks = run->pair_blocks, tid = wc_par_tid();
+    int n_chunks = (L->n + WC_AMG_CHUNK - 1) / WC_AMG_CHUNK, c0, c1;
+    wc_par_range(n_chunks, tid, wc_par_nt(), &c0, &c1);
+    const int r0 = c0 * WC_AMG_CHUNK, r1 = c1 * WC_AMG_CHUNK < L->n ? c1 * WC_AMG_CHUNK : L->n; /* my rows */
+    double alpha[WC_AMG_MAX_LANCZOS], beta[WC_AMG_MAX_LANCZOS];
     double *v = L->ev, *w = L->x, *vp = L->ev_scratch;
-    wc_amg_start_vector(v, L->n);
-    memset(vp, 0, sizeof(double) * 3 * (size_t)L->n);
+    if (r1 > r0) {
+        wc_amg_start_vector_rows(v, r0, r1);
+        memset(vp + 3 * (size_t)r0, 0, sizeof(double) * 3 * (size_t)(r1 - r0));
+    }
     double beta_prev = 0.0;
     int k = 0;
-    for (int j = 0; j < steps; ++j) {
-        double num, den = 0.0;
+    for (int j = 0; j < run->steps; ++j) {
+        WC_PAR_BARRIER(); /* v complete; the last sums read */
         /* w . D w only for the start vector: the later v are D-normalised */
-        apply_all(L, pair_blocks, v, w, par, &num, j == 0 ? &den : NULL);
+        apply_part(L, pair_blocks, v, w, j == 0);
+        WC_PAR_BARRIER();
+        double num = chunk_sum(L, 0);
         if (j == 0) { /* the start vector was not normalised: scale v, w and the sums */
-            if (!(den > 0) || !isfinite(den)) return 0.0;
+            double den = chunk_sum(L, 1);
+            if (!(den > 0) || !isfinite(den)) {
+                k = 0;
+                break;
+            }
             double scale = 1.0 / sqrt(den);
             num *= scale * scale;
-            for (int q = 0; q < 3 * L->n; ++q) {
+            for (int q = 3 * r0; q < 3 * r1; ++q) {
                 v[q] *= scale;
                 w[q] *= scale;
             }
@@ -157,28 +185,22 @@ static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) 
         double a = num; /* v . A v with |v|_D = 1 */
         if (!isfinite(a)) break;
         alpha[k++] = a;
-        if (j + 1 == steps) break;
+        if (j + 1 == run->steps) break;
         /* w -= a v + beta_prev vp; beta = |w|_D (its D w per row, as chunk_apply's dw) */
-        WC_PAR_REGION(par)
-        {
-            int c0, c1;
-            wc_par_range(n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            for (int c = c0; c < c1; ++c) {
-                int lo, hi;
-                chunk_bounds(L, c, &lo, &hi);
-                for (int q = 3 * lo; q < 3 * hi; ++q) w[q] -= a * v[q] + beta_prev * vp[q];
-                double s = 0.0;
-                for (int i = lo; i < hi; ++i) {
-                    double dw[3] = {0, 0, 0};
-                    wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
-                    s += v3_dot(w + 3 * i, dw);
-                }
-                L->partial[2 * c] = s;
+        for (int c = c0; c < c1; ++c) { /* (chunks hold whole pairs) */
+            int lo, hi;
+            chunk_bounds(L, c, &lo, &hi);
+            for (int q = 3 * lo; q < 3 * hi; ++q) w[q] -= a * v[q] + beta_prev * vp[q];
+            double s = 0.0;
+            for (int i = lo; i < hi; ++i) {
+                double dw[3] = {0, 0, 0};
+                wc_amg_d_mulv_add(L, i, pair_blocks, w, dw);
+                s += v3_dot(w + 3 * i, dw);
             }
+            L->partial[3 * c + 2] = s;
         }
-        double b2 = 0.0;
-        for (int c = 0; c < n_chunks; ++c) b2 += L->partial[2 * c];
-        double b = sqrt(b2);
+        WC_PAR_BARRIER();
+        double b = sqrt(chunk_sum(L, 2));
         if (!(b > 1e-12 * fabs(a)) || !isfinite(b)) break; /* an invariant subspace: alpha is exact */
         beta[k - 1] = b;
         beta_prev = b;
@@ -186,9 +208,22 @@ static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) 
         double* tmp = vp;
         vp = v;
         v = tmp;
-        for (int q = 0; q < 3 * L->n; ++q) v[q] = w[q] / b;
+        for (int q = 3 * r0; q < 3 * r1; ++q) v[q] = w[q] / b;
     }
-    return k > 0 ? tridiagonal_max(alpha, beta, k) : 0.0;
+    if (tid == 0) {
+        run->k = k;
+        for (int j = 0; j < k; ++j) {
+            run->alpha[j] = alpha[j];
+            if (j + 1 < k) run->beta[j] = beta[j];
+        }
+    }
+}
+
+static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) {
+    lanczos_run run = {.L = L, .steps = steps > WC_AMG_MAX_LANCZOS ? WC_AMG_MAX_LANCZOS : steps,
+                       .pair_blocks = pair_blocks};
+    WC_PAR_REGION(par) lanczos_part(&run);
+    return run.k > 0 ? tridiagonal_max(run.alpha, run.beta, run.k) : 0.0;
 }
 
 double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pair_blocks, wc_par* par) {

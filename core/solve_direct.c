@@ -198,24 +198,20 @@ static int apply_factor(wc_solver* s, const double* r, double* t) {
     return 1;
 }
 
-/* PCG's update step (solve_pcg_steps.h) with this factor as the preconditioner: t = P^{-1} r
- * (t = r where CHOLMOD's solve fails). */
-static void pcg_update_direct(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
-    const double *c = s->c, *q = s->q;
-    double *r = s->r, *t = s->t;
+/* PCG's preconditioner (solve_pcg_steps.h) with this factor: t = P^{-1} r (t = r where CHOLMOD's
+ * solve fails), r . r and r . t summed over the 3n values in order. */
+static int precond_direct(wc_solver* s, double* rr, double* delta, wc_par* par) {
+    const double* r = s->r;
+    double* t = s->t;
     double acc_r = 0.0, acc_d = 0.0;
     (void)par;
-    if (alpha != 0.0)
-        for (int k = 0; k < 3 * s->n; ++k) {
-            if (dv) dv[k] += alpha * c[k];
-            r[k] -= alpha * q[k];
-        }
     for (int k = 0; k < 3 * s->n; ++k) acc_r += r[k] * r[k];
     if (!apply_factor(s, r, t))
         for (int k = 0; k < 3 * s->n; ++k) t[k] = r[k];
     for (int k = 0; k < 3 * s->n; ++k) acc_d += r[k] * t[k];
     *rr = acc_r;
     *delta = acc_d;
+    return 1;
 }
 
 wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
@@ -230,7 +226,7 @@ wc_status wcs_solve_direct(wc_solver* s, const double* A, const double* b, const
     } else if (wc_coupling_active(s->coupling) > 0) {
         /* couplings outside the pattern (coupling.h): PCG on the whole system, preconditioned
            by this factor of its in-pattern part */
-        return wcs_pcg_run(s, A, b, f, dv, par, res, pcg_update_direct);
+        return wcs_pcg_run(s, A, b, f, dv, par, res, precond_direct);
     } else {
         double* rhs = (double*)d->B->x;
         for (size_t k = 0; k < N; ++k) rhs[k] = s->r[k];

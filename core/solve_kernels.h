@@ -25,7 +25,7 @@ struct wc_solver {
     wc_solver_opts opts;
     int n;                      /* particles */
     int n_chunks;               /* ceil(n / WCS_CHUNK) */
-    double* partial;            /* (2 n_chunks) per-chunk partial sums, two reductions at a time */
+    double* partial;            /* (3 n_chunks) per-chunk partial sums, three reductions at a time */
     double* Dinv;               /* (n x 9) D~_i^{-1}, rebuilt by every iterative solve */
     double* r;                  /* (n x 3) residual S (b - A dv) */
     double* c;                  /* (n x 3) PCG search direction (also of the rho estimate) */

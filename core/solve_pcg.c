@@ -12,49 +12,26 @@
  * Divergence: a non-finite value, a residual above divergence_factor x max(initial residual of
  * z, of the initial guess), or c^T S A c <= 0 (P not positive definite along c) stop the
  * iteration with SOLVER_DIVERGED; dv keeps the last iterate (finite: alpha is checked before it
- * is applied). */
+ * is applied).
+ *
+ * Threads: an iteration's steps from the last preconditioned residual's r . t to the next update
+ * (r . t, the direction, the checks, the product, the filtered dot, the update) run in one parallel
+ * region with barriers between them; only a preconditioner other than the block diagonal (the
+ * V-cycle, the direct factor) runs between the regions. Every sum is per chunk of WCS_CHUNK rows,
+ * the chunks added in chunk order by every thread itself, so all threads take the same branches
+ * and the bits do not depend on the thread count (docs/bench/threads.md). */
 #include <math.h>
+#include "bsr_rows.h"
 #include "clock.h"
 #include "solve_pcg.h"
 #include "vec3.h"
 
-/* wcs_pcg_update with the multigrid preconditioner: t = V-cycle(r). */
-static void pcg_update_amg(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par) {
-    const double *c = s->c, *q = s->q;
-    double *r = s->r, *t = s->t;
-    WC_PAR_REGION(par)
-    {
-        int c0, c1;
-        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        for (int k = c0; k < c1; ++k) {
-            int lo, hi;
-            wcs_chunk_rows(s, k, &lo, &hi);
-            double acc_r = 0.0;
-            for (int i = lo; i < hi; ++i) {
-                if (alpha != 0.0) {
-                    if (dv) v3_axpy(dv + 3 * i, alpha, c + 3 * i);
-                    v3_axpy(r + 3 * i, -alpha, q + 3 * i);
-                }
-                acc_r += v3_dot(r + 3 * i, r + 3 * i);
-            }
-            s->partial[k] = acc_r;
-        }
-    }
-    *rr = wcs_sum(s, 0);
-    wc_amg_apply(s->amg, r, t, par);
-    WC_PAR_REGION(par)
-    {
-        int c0, c1;
-        wc_par_range(s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        for (int k = c0; k < c1; ++k) {
-            int lo, hi;
-            wcs_chunk_rows(s, k, &lo, &hi);
-            double acc_d = 0.0;
-            for (int i = lo; i < hi; ++i) acc_d += v3_dot(r + 3 * i, t + 3 * i);
-            s->partial[k] = acc_d;
-        }
-    }
-    *delta = wcs_sum(s, 0);
+/* The multigrid preconditioner: t = V-cycle(r); PCG sums r . r and r . t. */
+static int precond_amg(wc_solver* s, double* rr, double* delta, wc_par* par) {
+    (void)rr;
+    (void)delta;
+    wc_amg_apply(s->amg, s->r, s->t, par);
+    return 0;
 }
 
 wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
@@ -64,7 +41,7 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
     if (amg) wc_amg_setup(s->amg, A, f, par);
     else wcs_build_precond(s, A, f, par);
     res->setup_ms += wc_now_ms() - t_setup;
-    wc_status st = wcs_pcg_run(s, A, b, f, dv, par, res, amg ? pcg_update_amg : wcs_pcg_update);
+    wc_status st = wcs_pcg_run(s, A, b, f, dv, par, res, amg ? precond_amg : NULL);
     if (amg && s->amg->bounds_reused && (st != WC_OK || !res->converged)) {
         /* the reused eigenvalue bounds may have fallen short of this matrix's (the smoother then
            amplifies the modes above them and the V-cycle can turn indefinite), or the kept coarse
@@ -81,62 +58,209 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
         s->amg->hold_bounds = hold;
         s->amg->hold_coarse = hold_coarse;
         res->setup_ms += wc_now_ms() - t_setup;
-        st = wcs_pcg_run(s, A, b, f, dv, par, res, pcg_update_amg);
+        st = wcs_pcg_run(s, A, b, f, dv, par, res, precond_amg);
         res->iterations += it;
     }
     return st;
 }
 
+/* Partial-sum slots (s->partial, n_chunks each): r . r, c . S A c and r . t. A slot is written
+ * again only after a barrier that every thread passes after adding it up. */
+enum { SLOT_RR = 0, SLOT_CQ = 1, SLOT_DELTA = 2 };
+
+/* What one region's threads share: the inputs (set by the master before the region) and the
+ * results thread 0 hands back (every thread computes the same ones). */
+typedef struct pcg_region {
+    wc_solver* s;
+    const double* A;
+    const wc_filter* f;
+    double* dv;
+    int jacobi;         /* t = D~^{-1} r in the update's pass, and r . t with it */
+    int need_delta;     /* t came from the preconditioner: r . t is summed first */
+    int first;          /* the direction is t alone (beta 0): after a (re)start */
+    double rr, delta, delta_old, limit, goal;
+    int it, max_iterations;
+    double delta_out;   /* r . t (delta, or the sum made here) */
+    int stop;           /* a check stopped the iteration before the product (the master redoes it) */
+    int bad_alpha;      /* c . S A c <= 0 or alpha not finite: no update */
+} pcg_region;
+
+/* The checks at the top of an iteration: 1 when it goes on to the product. */
+static int pcg_goes_on(const pcg_region* p, double delta) {
+    double rr = p->rr;
+    if (!isfinite(rr) || !(delta >= 0.0) || !isfinite(delta) || sqrt(rr) > p->limit) return 0;
+    if (sqrt(rr) <= p->goal) return 0;
+    return p->it < p->max_iterations;
+}
+
+/* Chunks [c0, c1): dv += alpha c, r -= alpha q (alpha 0 skips both), r . r per chunk; with the
+ * block diagonal also t = D~^{-1} r and r . t. */
+static void update_part(const pcg_region* p, double alpha, int c0, int c1) {
+    wc_solver* s = p->s;
+    const double *c = s->c, *q = s->q, *Dinv = s->Dinv;
+    double *r = s->r, *t = s->t, *dv = p->dv;
+    for (int k = c0; k < c1; ++k) {
+        int lo, hi;
+        wcs_chunk_rows(s, k, &lo, &hi);
+        double acc_d = 0.0, acc_r = 0.0;
+        for (int i = lo; i < hi; ++i) {
+            if (alpha != 0.0) {
+                if (dv) v3_axpy(dv + 3 * i, alpha, c + 3 * i);
+                v3_axpy(r + 3 * i, -alpha, q + 3 * i);
+            }
+            if (p->jacobi) {
+                m3_mulv(t + 3 * i, Dinv + 9 * i, r + 3 * i);
+                acc_d += v3_dot(r + 3 * i, t + 3 * i);
+            }
+            acc_r += v3_dot(r + 3 * i, r + 3 * i);
+        }
+        s->partial[SLOT_RR * s->n_chunks + k] = acc_r;
+        if (p->jacobi) s->partial[SLOT_DELTA * s->n_chunks + k] = acc_d;
+    }
+}
+
+/* One thread's share of an iteration (inside the region): r . t when pending, c = S (t + beta c),
+ * the checks, q = S A c (the couplings' terms by thread 0), alpha = delta / (c . q), the update. */
+static void iteration_part(pcg_region* p) {
+    wc_solver* s = p->s;
+    const wc_filter* f = p->f;
+    const wc_bsr_pattern* pat = &s->m->pattern;
+    const int tid = wc_par_tid(), nt = wc_par_nt();
+    int c0, c1, lo, hi;
+    wc_par_range(s->n_chunks, tid, nt, &c0, &c1);
+    double delta = p->delta;
+    if (p->need_delta) {
+        for (int k = c0; k < c1; ++k) {
+            int a, e;
+            wcs_chunk_rows(s, k, &a, &e);
+            double acc = 0.0;
+            for (int i = a; i < e; ++i) acc += v3_dot(s->r + 3 * i, s->t + 3 * i);
+            s->partial[SLOT_DELTA * s->n_chunks + k] = acc;
+        }
+        WC_PAR_BARRIER();
+        delta = wcs_sum(s, SLOT_DELTA);
+    }
+    const double beta = p->first ? 0.0 : delta / p->delta_old;
+    double* c = s->c;
+    const double* t = s->t;
+    wc_par_range(s->n, tid, nt, &lo, &hi);
+    for (int i = lo; i < hi; ++i) {
+        double v[3];
+        if (beta != 0.0) {
+            v3_scale(v, c + 3 * i, beta);
+            v3_add(v, v, t + 3 * i);
+        } else {
+            v3_copy(v, t + 3 * i);
+        }
+        wc_filter_apply(f, i, v, c + 3 * i);
+    }
+    const int go = pcg_goes_on(p, delta);
+    if (tid == 0) {
+        p->delta_out = delta;
+        p->stop = !go;
+    }
+    if (!go) return;
+    WC_PAR_BARRIER(); /* c complete */
+    wc_par_range(pat->n_rows, tid, nt, &lo, &hi);
+    wc_bsr_rows(pat->row_start, pat->col, p->A, lo, hi, NULL, 1.0, c, s->q);
+    WC_PAR_BARRIER(); /* q's rows complete */
+    if (s->coupling && s->coupling->n > 0) {
+        if (tid == 0) wc_coupling_mul_offdiag_add(s->coupling, 1.0, c, s->q);
+        WC_PAR_BARRIER();
+    }
+    for (int k = c0; k < c1; ++k) { /* q = S q, c . q */
+        int a, e;
+        wcs_chunk_rows(s, k, &a, &e);
+        double acc = 0.0;
+        for (int i = a; i < e; ++i) {
+            wc_filter_apply(f, i, s->q + 3 * i, s->q + 3 * i);
+            acc += v3_dot(c + 3 * i, s->q + 3 * i);
+        }
+        s->partial[SLOT_CQ * s->n_chunks + k] = acc;
+    }
+    WC_PAR_BARRIER();
+    const double cq = wcs_sum(s, SLOT_CQ), alpha = delta / cq;
+    const int bad = !(cq > 0.0) || !isfinite(alpha);
+    if (tid == 0) p->bad_alpha = bad;
+    if (bad) return;
+    update_part(p, alpha, c0, c1);
+}
+
+/* After an update's region: rr from its chunks, then the preconditioner (when not the block
+ * diagonal's, done in the region) and delta, or delta left to the next region. */
+static void after_update(pcg_region* p, wcs_pcg_precond_fn precond, wc_par* par) {
+    wc_solver* s = p->s;
+    p->rr = wcs_sum(s, SLOT_RR);
+    p->need_delta = 0;
+    if (p->jacobi) p->delta = wcs_sum(s, SLOT_DELTA);
+    else if (!precond(s, &p->rr, &p->delta, par)) p->need_delta = 1;
+}
+
+/* A (re)start from the residual in s->r: t, rr, delta and a direction from t alone next. */
+static void pcg_start(pcg_region* p, wcs_pcg_precond_fn precond, wc_par* par) {
+    WC_PAR_REGION(par)
+    {
+        int c0, c1;
+        wc_par_range(p->s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
+        update_part(p, 0.0, c0, c1);
+    }
+    after_update(p, precond, par);
+    p->first = 1;
+}
+
 wc_status wcs_pcg_run(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
-                      wc_solve_result* res, wcs_pcg_update_fn update) {
+                      wc_solve_result* res, wcs_pcg_precond_fn precond) {
     const wc_solver_opts* o = &s->opts;
     const double res0 = res->residual0, goal = o->tolerance * res->scale;
     wc_status st = WC_OK;
-    int it = 0, converged = 0;
-    double delta, rr, rr_final = -1.0;
+    int converged = 0;
+    double rr_final = -1.0;
+    pcg_region p = {.s = s, .A = A, .f = f, .dv = dv, .jacobi = precond == NULL, .goal = goal,
+                    .max_iterations = o->max_iterations};
 
-    rr = wcs_filtered_residual(s, A, b, f, dv, s->r, par);
-    const double limit = o->divergence_factor * fmax(res0, sqrt(rr));
-    update(s, 0.0, dv, &delta, &rr, par);
-    wcs_pcg_direction(s, f, 0.0, par);
+    p.rr = wcs_filtered_residual(s, A, b, f, dv, s->r, par);
+    p.limit = o->divergence_factor * fmax(res0, sqrt(p.rr));
+    pcg_start(&p, precond, par);
     for (;;) {
-        if (!isfinite(rr) || !(delta >= 0.0) || !isfinite(delta) || sqrt(rr) > limit) {
-            st = WC_ERROR_SOLVER_DIVERGED;
-            break;
-        }
-        if (sqrt(rr) <= goal) {
-            /* confirm with the true residual; on drift restart from it */
-            wcs_project(f, dv, par);
-            double rt = wcs_filtered_residual(s, A, b, f, dv, s->q, par);
-            if (sqrt(rt) <= goal) {
-                converged = 1;
-                rr_final = rt;
+        WC_PAR_REGION(par) iteration_part(&p);
+        double delta = p.delta_out;
+        if (p.stop) { /* the checks again, on the master, to see which one */
+            const double rr = p.rr;
+            if (!isfinite(rr) || !(delta >= 0.0) || !isfinite(delta) || sqrt(rr) > p.limit) {
+                st = WC_ERROR_SOLVER_DIVERGED;
                 break;
             }
-            if (it >= o->max_iterations) break;
-            for (int k = 0; k < 3 * s->n; ++k) s->r[k] = s->q[k];
-            update(s, 0.0, dv, &delta, &rr, par);
-            wcs_pcg_direction(s, f, 0.0, par);
-            continue;
+            if (sqrt(rr) <= goal) {
+                /* confirm with the true residual; on drift restart from it */
+                wcs_project(f, dv, par);
+                double rt = wcs_filtered_residual(s, A, b, f, dv, s->q, par);
+                if (sqrt(rt) <= goal) {
+                    converged = 1;
+                    rr_final = rt;
+                    break;
+                }
+                if (p.it >= o->max_iterations) break;
+                for (int k = 0; k < 3 * s->n; ++k) s->r[k] = s->q[k];
+                pcg_start(&p, precond, par);
+                continue;
+            }
+            break; /* the iteration cap */
         }
-        if (it >= o->max_iterations) break;
-        wcs_mul(s, A, s->c, s->q, par);
-        double cq = wcs_pcg_filter_dot(s, f, s->c, s->q, par);
-        double alpha = delta / cq;
-        if (!(cq > 0.0) || !isfinite(alpha)) {
+        if (p.bad_alpha) {
             st = WC_ERROR_SOLVER_DIVERGED;
             break;
         }
-        double delta_old = delta;
-        update(s, alpha, dv, &delta, &rr, par);
-        ++it;
-        wcs_pcg_direction(s, f, delta / delta_old, par);
+        p.delta_old = delta;
+        p.delta = delta;
+        after_update(&p, precond, par);
+        ++p.it;
+        p.first = 0;
     }
     if (!converged) {
         wcs_project(f, dv, par);
         rr_final = wcs_filtered_residual(s, A, b, f, dv, s->q, par);
     }
-    res->iterations = it;
+    res->iterations = p.it;
     res->residual = sqrt(rr_final) / res->scale;
     res->converged = converged || res->residual <= o->tolerance;
     if (st == WC_OK && !isfinite(res->residual)) st = WC_ERROR_SOLVER_DIVERGED;

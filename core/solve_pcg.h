@@ -9,9 +9,9 @@
  * set (solver.c's start of a solve). */
 wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                         wc_par* par, wc_solve_result* res);
-/* The PCG iterations alone, preconditioned by `update` (whose preconditioner the caller has
- * built): how the direct solver runs PCG with its factor. Same entry conditions. */
+/* The PCG iterations alone, preconditioned by `precond` (built by the caller; NULL: the block
+ * diagonal s->Dinv): how the direct solver runs PCG with its factor. Same entry conditions. */
 wc_status wcs_pcg_run(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv, wc_par* par,
-                      wc_solve_result* res, wcs_pcg_update_fn update);
+                      wc_solve_result* res, wcs_pcg_precond_fn precond);
 
 #endif

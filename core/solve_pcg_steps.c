@@ -1,4 +1,4 @@
-/* The steps of PCG (solve_pcg_steps.h), shared by the PCG loop and the Lanczos estimate of rho. */
+/* The steps of PCG (solve_pcg_steps.h), a region each: the Lanczos estimate of rho's. */
 #include "solve_pcg_steps.h"
 #include "vec3.h"
 

@@ -1,6 +1,7 @@
-/* The steps of the modified PCG (solve_pcg.c) on the workspace's vectors (r residual, c direction,
- * q = S A c, t preconditioned residual), shared with the Lanczos estimate of rho (solve_rho.c),
- * which runs the same steps with the block-diagonal preconditioner. Private to the solvers. */
+/* The steps of the modified PCG on the workspace's vectors (r residual, c direction, q = S A c,
+ * t preconditioned residual), one parallel region each, as the Lanczos estimate of rho
+ * (solve_rho.c) runs them with the block-diagonal preconditioner; PCG's own loop (solve_pcg.c)
+ * runs the same arithmetic with an iteration's steps in one region. Private to the solvers. */
 #ifndef WEFT_CORE_SOLVE_PCG_STEPS_H
 #define WEFT_CORE_SOLVE_PCG_STEPS_H
 #include "solve_kernels.h"
@@ -13,7 +14,9 @@ void wcs_pcg_update(wc_solver* s, double alpha, double* dv, double* delta, doubl
 /* c = S (t + beta c). */
 void wcs_pcg_direction(wc_solver* s, const wc_filter* f, double beta, wc_par* par);
 
-/* An update step with some preconditioner in place of D~^{-1} (wcs_pcg_update's contract). */
-typedef void (*wcs_pcg_update_fn)(wc_solver* s, double alpha, double* dv, double* delta, double* rr, wc_par* par);
+/* PCG's preconditioner other than D~^{-1} (wcs_pcg_run): s->t = M^{-1} s->r, called between
+ * parallel regions. Returns 1 when it also set *rr = r . r and *delta = r . t (summed its own way:
+ * the direct solver's, over all 3n values in order); 0: PCG sums them per chunk. */
+typedef int (*wcs_pcg_precond_fn)(wc_solver* s, double* rr, double* delta, wc_par* par);
 
 #endif

@@ -87,7 +87,7 @@ wc_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_o
     s->opts = *opts;
     s->n = m->n_particles;
     s->n_chunks = (s->n + WCS_CHUNK - 1) / WCS_CHUNK;
-    s->partial = WC_NEW(&s->alloc, double, 2 * (size_t)s->n_chunks);
+    s->partial = WC_NEW(&s->alloc, double, 3 * (size_t)s->n_chunks);
     s->Dinv = WC_NEW(&s->alloc, double, 9 * (size_t)s->n);
     s->r = WC_NEW(&s->alloc, double, 3 * (size_t)s->n);
     s->c = WC_NEW(&s->alloc, double, 3 * (size_t)s->n);

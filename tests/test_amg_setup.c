@@ -238,7 +238,7 @@ static double chain_estimate(int n, int steps, int use_lanczos) {
     memset(&L, 0, sizeof L);
     int *row_start = calloc(n + 1, sizeof(int)), *col = calloc(3 * n, sizeof(int)), *diag = calloc(n, sizeof(int));
     double *val = calloc(27 * (size_t)n, sizeof(double)), *Dinv = calloc(9 * (size_t)n, sizeof(double));
-    double *v[4], *partial = calloc(2 * (n / WC_AMG_CHUNK + 1), sizeof(double));
+    double *v[4], *partial = calloc(3 * (n / WC_AMG_CHUNK + 1), sizeof(double));
     for (int q = 0; q < 4; ++q) v[q] = calloc(3 * (size_t)n, sizeof(double));
     int k = 0;
     for (int i = 0; i < n; ++i) {

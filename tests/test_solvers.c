@@ -9,6 +9,7 @@
 #endif
 #include "check.h"
 #include "clock.h"
+#include "coupling.h"
 #include "model.h"
 #include "solve.h"
 #include "test_support.h"
@@ -538,28 +539,62 @@ static void test_direct_not_spd(void) {
     }
 }
 
-/* (7) the same solve on 1 and 2 threads is bit-identical (reductions by fixed chunks) */
+/* (7) the same solve on 1, 2 and 3 threads is bit-identical (reductions by fixed chunks): every
+ * solver, then PCG (block Jacobi, the multigrid, the direct factor) with off-pattern couplings,
+ * whose product runs on one thread inside PCG's region (900 particles: four chunks, so 3 threads
+ * own 1, 1 and 2). */
 static void test_threads_bit_identical(void) {
-    wc_model m = quad_model(20, 20);   /* 400 particles: two reduction chunks */
-    sys s = cloth_system(&m, 20, 41);
+    wc_model m = quad_model(30, 30);
+    sys s = cloth_system(&m, 30, 41);
     wc_solver_opts o = wc_default_solver_opts();
     o.tolerance = 1e-6;
-    o.max_iterations = 150;
-    wc_solver* sv = make_solver(&m, o, NULL);
+    o.max_iterations = 400;
     double* a = calloc(3 * (size_t)s.n, sizeof(double));
     double* b = calloc(3 * (size_t)s.n, sizeof(double));
-    for (int k = 0; k < 3; ++k) {
-        wc_solve_result ra, rb;
-        wc_solver_invalidate_rho(sv);
-        run(sv, all_types[k], &s, a, 1, &ra);
-        wc_solver_invalidate_rho(sv);
-        run(sv, all_types[k], &s, b, 2, &rb);
-        CHECK(memcmp(a, b, sizeof(double) * 3 * (size_t)s.n) == 0);
-        CHECK_EQ_INT(ra.iterations, rb.iterations);
-        CHECK(memcmp(&ra.residual, &rb.residual, sizeof(double)) == 0);
-        CHECK(ra.iterations > 20);
+    /* couplings between particles ~n/3 apart (their diagonal blocks added to A: A stays SPD) */
+    enum { N_TERMS = 40 };
+    wc_coupling_term term[N_TERMS];
+    rng r = {77};
+    for (int k = 0; k < N_TERMS; ++k) {
+        wc_coupling_term* t = &term[k];
+        t->cnt = 2;
+        t->p[0] = (k * 97) % s.n;
+        t->p[1] = (t->p[0] + s.n / 3 + k) % s.n;
+        t->w[0] = 1.0;
+        t->w[1] = -1.0;
+        unit_vec(&r, t->n);
+        t->c = 5.0 + k;
+        for (int q = 0; q < 2; ++q) {
+            double* D = s.A + 9 * (size_t)m.pattern.diag[t->p[q]];
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) D[3 * i + j] += t->c * t->n[i] * t->n[j];
+        }
     }
-    wc_solver_destroy(sv);
+    wc_coupling cpl = {N_TERMS, term};
+    for (int pass = 0; pass < 2; ++pass) { /* all solvers; PCG's preconditioners with couplings */
+        for (int k = 0; k < (pass == 0 ? 4 : 3); ++k) {
+            wc_solver_type type = pass == 0 ? all_types[k] : (k == 2 ? WC_SOLVER_DIRECT : WC_SOLVER_PCG);
+            o.preconditioner = pass == 1 && k == 1 ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
+            wc_solver* sv = make_solver(&m, o, NULL);
+            wc_diag d = {0};
+            if (pass == 1) CHECK_EQ_INT(wc_solver_set_coupling(sv, &cpl, N_TERMS, &d), WC_OK);
+            wc_solve_result ra, rb;
+            CHECK_EQ_INT(run(sv, type, &s, a, 1, &ra), WC_OK);
+            for (int threads = 2; threads <= 3; ++threads) {
+                wc_solver_invalidate_rho(sv);
+                CHECK_EQ_INT(run(sv, type, &s, b, threads, &rb), WC_OK);
+                CHECK(memcmp(a, b, sizeof(double) * 3 * (size_t)s.n) == 0);
+                CHECK_EQ_INT(ra.iterations, rb.iterations);
+                CHECK(memcmp(&ra.residual, &rb.residual, sizeof(double)) == 0);
+            }
+            CHECK(ra.converged || type == WC_SOLVER_JACOBI || type == WC_SOLVER_CHEBYSHEV);
+            printf("  %s%s%s: %d iterations on 1, 2 and 3 threads, bit-identical\n", wc_solver_name(type),
+                   pass == 1 && k == 1 ? " (multigrid)" : "", pass == 1 ? " with couplings" : "", ra.iterations);
+            CHECK(ra.iterations > (type == WC_SOLVER_DIRECT ? (pass == 0 ? 0 : 2) : 10));
+            wc_solver_invalidate_rho(sv);
+            wc_solver_destroy(sv);
+        }
+    }
     free(a);
     free(b);
     sys_free(&s);
