@@ -93,32 +93,6 @@ static int pcg_goes_on(const pcg_region* p, double delta) {
     return p->it < p->max_iterations;
 }
 
-/* Chunks [c0, c1): dv += alpha c, r -= alpha q (alpha 0 skips both), r . r per chunk; with the
- * block diagonal also t = D~^{-1} r and r . t. */
-static void update_part(const pcg_region* p, double alpha, int c0, int c1) {
-    wc_solver* s = p->s;
-    const double *c = s->c, *q = s->q, *Dinv = s->Dinv;
-    double *r = s->r, *t = s->t, *dv = p->dv;
-    for (int k = c0; k < c1; ++k) {
-        int lo, hi;
-        wcs_chunk_rows(s, k, &lo, &hi);
-        double acc_d = 0.0, acc_r = 0.0;
-        for (int i = lo; i < hi; ++i) {
-            if (alpha != 0.0) {
-                if (dv) v3_axpy(dv + 3 * i, alpha, c + 3 * i);
-                v3_axpy(r + 3 * i, -alpha, q + 3 * i);
-            }
-            if (p->jacobi) {
-                m3_mulv(t + 3 * i, Dinv + 9 * i, r + 3 * i);
-                acc_d += v3_dot(r + 3 * i, t + 3 * i);
-            }
-            acc_r += v3_dot(r + 3 * i, r + 3 * i);
-        }
-        s->partial[SLOT_RR * s->n_chunks + k] = acc_r;
-        if (p->jacobi) s->partial[SLOT_DELTA * s->n_chunks + k] = acc_d;
-    }
-}
-
 /* One thread's share of an iteration (inside the region): r . t when pending, c = S (t + beta c),
  * the checks, q = S A c (the couplings' terms by thread 0), alpha = delta / (c . q), the update. */
 static void iteration_part(pcg_region* p) {
@@ -141,19 +115,9 @@ static void iteration_part(pcg_region* p) {
         delta = wcs_sum(s, SLOT_DELTA);
     }
     const double beta = p->first ? 0.0 : delta / p->delta_old;
-    double* c = s->c;
-    const double* t = s->t;
+    const double* c = s->c;
     wc_par_range(s->n, tid, nt, &lo, &hi);
-    for (int i = lo; i < hi; ++i) {
-        double v[3];
-        if (beta != 0.0) {
-            v3_scale(v, c + 3 * i, beta);
-            v3_add(v, v, t + 3 * i);
-        } else {
-            v3_copy(v, t + 3 * i);
-        }
-        wc_filter_apply(f, i, v, c + 3 * i);
-    }
+    wcs_pcg_direction_rows(s, f, beta, lo, hi);
     const int go = pcg_goes_on(p, delta);
     if (tid == 0) {
         p->delta_out = delta;
@@ -168,22 +132,13 @@ static void iteration_part(pcg_region* p) {
         if (tid == 0) wc_coupling_mul_offdiag_add(s->coupling, 1.0, c, s->q);
         WC_PAR_BARRIER();
     }
-    for (int k = c0; k < c1; ++k) { /* q = S q, c . q */
-        int a, e;
-        wcs_chunk_rows(s, k, &a, &e);
-        double acc = 0.0;
-        for (int i = a; i < e; ++i) {
-            wc_filter_apply(f, i, s->q + 3 * i, s->q + 3 * i);
-            acc += v3_dot(c + 3 * i, s->q + 3 * i);
-        }
-        s->partial[SLOT_CQ * s->n_chunks + k] = acc;
-    }
+    wcs_pcg_filter_dot_chunks(s, f, c, s->q, c0, c1, SLOT_CQ); /* q = S q, c . q */
     WC_PAR_BARRIER();
     const double cq = wcs_sum(s, SLOT_CQ), alpha = delta / cq;
     const int bad = !(cq > 0.0) || !isfinite(alpha);
     if (tid == 0) p->bad_alpha = bad;
     if (bad) return;
-    update_part(p, alpha, c0, c1);
+    wcs_pcg_update_chunks(s, alpha, p->dv, p->jacobi, c0, c1, SLOT_RR, SLOT_DELTA);
 }
 
 /* After an update's region: rr from its chunks, then the preconditioner (when not the block
@@ -202,7 +157,7 @@ static void pcg_start(pcg_region* p, wcs_pcg_precond_fn precond, wc_par* par) {
     {
         int c0, c1;
         wc_par_range(p->s->n_chunks, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        update_part(p, 0.0, c0, c1);
+        wcs_pcg_update_chunks(p->s, 0.0, p->dv, p->jacobi, c0, c1, SLOT_RR, SLOT_DELTA);
     }
     after_update(p, precond, par);
     p->first = 1;
