@@ -9,7 +9,8 @@
  *     implicit air at its own iterate, so a converged stage solves the implicit equation itself.
  *   Inexact (wc_sim_def.newton_forcing): with more than one iteration, step.c solves the
  *     substep's first system only to forcing x its own residual (not before a friction pass,
- *     with penalty pairs in the system, or with the direct solver).
+ *     with penalty pairs in the system, or with the direct solver; the pairs' case measured in
+ *     docs/bench/newton_forcing.md, "The loose first solve with penalty pairs").
  *   Energy guard (energy_cap): up to NW_ENERGY_EXTRA more iterations while the accepted
  *     iterate's total energy is above the bound the step's energy judge allows.
  * Deterministic on any thread count; nothing is allocated (state.h's nw_* scratch). */

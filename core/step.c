@@ -227,8 +227,8 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
  * "Inexact"): a first iterate that further iterations correct is solved to forcing x its own
  * residual only, never past tolerance x the floor (the goal tolerance' x max(r0, floor') with
  * tolerance' = forcing, floor' = floor x tolerance / forcing); not where a friction pass reads its
- * contact forces off it (stuck > 0), nor where penalty pairs are in the system. res carries the
- * tight solve's scale, Newton's reference. */
+ * contact forces off it (stuck > 0), nor where penalty pairs are in the system (newton.c
+ * "Inexact"). res carries the tight solve's scale, Newton's reference. */
 static wc_status first_solve(wc_state* s, wc_solver_type solver, int stuck, wc_solve_result* res,
                                wc_step_stats* st) {
     const double tolerance = wc_solver_tolerance(s->solver), floor = wc_solver_residual_floor(s->solver);
