@@ -41,6 +41,7 @@
 
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
+#define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
 #define WG_AMG_POWER 12         /* power iterations per level and setup */
 #define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
                                    the levels (wg_amg.cross_bound_scale): a vertex-triangle term
@@ -83,6 +84,16 @@ typedef struct wg_amg_level {
     int cross_bcap;             /* the room for them (wg_amg_cross.c BLOCKS_PER_PAIR) */
     int cross_use;              /* this substep: the level's products read its cross blocks
                                    (wg_amg.cross_share) */
+    /* the smoothed prolongator to the next level (wg_amg.smoothed, wg_amg_smooth.c); the next
+       level's gal_range / gal_list then list its products P^T T */
+    int np, nt;                 /* P's entries, T = A P's */
+    wg_tex p_ent, p_rows;       /* P's entries (row, column, own aggregate), each node's entries */
+    wg_tex p_range, p_list;     /* each entry's blocks of A (amg_prolongator.glsl) */
+    wg_tex p[3];                /* P's blocks, by rows (per setup) */
+    wg_tex t_range, t_list;     /* each entry of T its products (block of A, entry of P) */
+    wg_tex t[3];                /* T's blocks, by rows (per setup) */
+    wg_tex pt_range, pt_list;   /* each next-level node's entries of P (entry, row) */
+    wg_tex res;                 /* r - A x after the pre-smoothing (amg_residual.glsl) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -100,6 +111,10 @@ typedef struct wg_amg {
     int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
+    int smoothed;               /* the prolongator is smoothed (core's P = (I - w D^-1 A_F) P_tent,
+                                   w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
+                                   P = P_tent (the one-work-group PCG's, WEFT_GPU_SOLVE=group) */
+    double prolong_weight;      /* core's (4/3) where smoothed */
     double fine_bound_scale;    /* the finest level's bound x this: core's wc_amg.fine_bound_scale
                                    (WC_AMG_SEAM_BOUND where vertex-to-edge seams lift lambda_max in
                                    modes local to them, which the power iterations miss; else 1) */
@@ -134,9 +149,18 @@ typedef struct wg_amg {
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
  * sets values 1). */
 wc_amg_opts wg_amg_opts(void);
+/* The same for a smoothed prolongator (smoothed 1) or P = P_tent (0). */
+wc_amg_opts wg_amg_opts_for(int smoothed);
 /* The multigrid of model m's system: patterns and lists uploaded; 0 with err on failure. */
 int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
                   size_t err_len);
+/* The same with the prolongator chosen: smoothed 1 or 0 (P = P_tent); wg_amg_create takes
+ * WG_AMG_SMOOTHED. */
+int wg_amg_create_with(wg_runner* r, const wc_model* m, const wg_amg_system* sys, int smoothed, wg_amg** out,
+                       char* err, size_t err_len);
+/* wg_amg_smooth.c: the smoothed prolongator's lists and textures of every level from core's
+ * hierarchy (built with wg_amg_opts_for(1)); 0 with err on failure. */
+int wg_amg_smooth_create(wg_amg* a, const wc_amg* ca, char* err, size_t err_len);
 void wg_amg_destroy(wg_amg* a);
 /* Free the memory only (the GL context is gone). */
 void wg_amg_forget(wg_amg* a);
