@@ -15,7 +15,7 @@ wc_amg_opts wg_amg_opts_for(int smoothed) {
     if (!smoothed) o.prolong_weight = 0.0; /* else core's (4/3): the patterns of P, T = A P, P^T T */
     o.lanczos = 0;
     o.power_iterations = WG_AMG_POWER;
-    o.coarse_iterations = WG_AMG_POWER;
+    o.coarse_iterations = smoothed ? WG_AMG_POWER_COARSE : WG_AMG_POWER;
     o.current_positions = 0;
     o.couplings = 0;
     o.values = 0; /* patterns and aggregates: the values live in textures */
@@ -384,7 +384,8 @@ void wg_amg_setup(wg_amg* a) {
         use_level(a, l, WGP_AMG_DINV, &in);
         WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
         in.v = &L->v0;
-        for (int it = 0; it < WG_AMG_POWER; ++it) {
+        const int steps = l > 0 && a->smoothed ? WG_AMG_POWER_COARSE : WG_AMG_POWER;
+        for (int it = 0; it < steps; ++it) {
             use_level(a, l, WGP_AMG_POWER, &in);
             WG_RUN(run, L->n, &L->v[it & 1], &L->part);
             in.v = &L->v[it & 1];

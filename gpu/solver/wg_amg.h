@@ -43,6 +43,10 @@
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
 #define WG_AMG_POWER 12         /* power iterations per level and setup */
+#define WG_AMG_POWER_COARSE WC_AMG_COARSE_POWER /* on the coarse levels with the smoothed
+                                   prolongator (core's for the power method, 30): 12 fell short of
+                                   lambda_max there (test_gpu_amg, the stiff 64 x 64 sheet's level
+                                   1: 0.992 x), where the levels are small */
 #define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
                                    the levels (wg_amg.cross_bound_scale): a vertex-triangle term
                                    spreads over four particles, so D^-1 A has modes up to 4 local to
