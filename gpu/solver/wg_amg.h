@@ -1,24 +1,31 @@
 /* The multigrid preconditioner of the GPU's PCG (private to gpu/solver): aggregation multigrid
  * with the aggregates core builds (core/amg_build.c, wc_amg_create with wg_amg_opts()), its
- * near-null space the three translations per aggregate and its prolongator unsmoothed (P =
- * P_tent: identity blocks from each node to its aggregate), so that every coarse operator is a
- * plain sum of finer blocks (one gather pass a level) and the prolongation folds into the
- * smoother's first pass. The CPU's default multigrid (rotations, smoothed prolongator) needs
- * Galerkin triple products on the GPU: not done. The same method runs on the CPU with
- * wg_amg_opts() (tests/test_gpu_amg.c compares the two).
+ * near-null space the three translations per aggregate and, by default (smoothed, WG_AMG_SMOOTHED,
+ * WEFT_GPU_AMG_SMOOTH), core's smoothed prolongator P = (I - w D^-1 A_F) P_tent, w = 4/3 over the
+ * level's lambda_max bound (core/amg_setup.c): per solve and level one pass makes P's blocks, one
+ * T = A P and one the next level's P^T T, each a gather from lists core's symbolic build gives
+ * (wg_amg_smooth.c); the V-cycle restricts the residual through P^T and prolongs through P (a
+ * pass each). With P = P_tent (smoothed 0: identity blocks, the one-work-group PCG's hierarchy)
+ * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
+ * prolongation folds into the smoother's first pass. Rotations (the CPU's default near-null
+ * space) are not done. The same method runs on the CPU with wg_amg_opts() (tests/test_gpu_amg.c
+ * compares the two; tests/test_gpu_amg_smooth.c the levels themselves).
  *
  * The finest level's operator, the projected S A S + a (I - S), is never stored: its passes read
  * A's symmetric blocks and the filter (amg_level_inputs.glsl), with the V-cycle's vectors kept in
  * range(S). Per solve (wg_amg_setup, passes only, nothing read back): each coarse level's Galerkin
- * sums (the first from the projected blocks made on the fly), the block-diagonal inverses,
- * WG_AMG_POWER power iterations per level for lambda_max(D^-1 A) (their Rayleigh quotient stays
+ * products (the first from the projected blocks made on the fly), the block-diagonal inverses,
+ * WG_AMG_POWER power iterations per level (WG_AMG_POWER_COARSE on a smoothed P's coarse levels)
+ * for lambda_max(D^-1 A) (their Rayleigh quotient stays
  * in a 1 x 1 texture that the smoother reads; the finest level's bound also takes core's seam
  * factor, fine_bound_scale), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
- * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
+ * after the coarse correction (core/amg_cycle.c), seven passes a level (five with P = P_tent),
+ * one dense solve.
  *
- * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level:
- * with P = P_tent a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
+ * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level
+ * with P = P_tent (with the smoothed P in the finest level's only, the coarse levels being the
+ * pattern's Galerkin products): there a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
  * nodes, so per level lists uploaded per substep (wg_amg_set_pairs, wg_amg_cross.c: each pair of
  * nodes that two slots of a pair couple, and its terms) and one texture of the slots' filtered
  * u_k and c (a pass per setup) give each level's whole operator. Per setup one pass a level sums
