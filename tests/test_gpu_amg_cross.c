@@ -3,7 +3,8 @@
  * falling onto the bottom one (tests/test_amg_cross.c's system: two pins and a row on a plane in
  * the bottom layer, so the filter acts), the GPU's pairs found and assembled by its own prepare
  * and its A, b and filter replaced by core's. Core's hierarchy is the GPU's method
- * (wg_amg_opts(): unsmoothed aggregation, power iterations) with its couplings (couplings 1).
+ * (wg_amg_opts_for(0): unsmoothed aggregation, power iterations; the cross terms reach the coarse
+ * levels with P = P_tent only) with its couplings (couplings 1).
  * Checked:
  *   - one V-cycle on a filtered random vector: the GPU's output is core's to float precision
  *     (within 2x of the two sides' difference with no terms on either: float's power iterations
@@ -196,7 +197,7 @@ static void test_cross_terms(void) {
     /* core's hierarchy: the GPU's method with the couplings */
     wc_par par;
     wc_par_init(&par, 1);
-    wc_amg_opts ao = wg_amg_opts();
+    wc_amg_opts ao = wg_amg_opts_for(0);
     ao.values = 1;
     ao.couplings = 1;
     wc_amg* ca = NULL;
@@ -340,6 +341,7 @@ int main(void) {
         return 1;
     }
     CHECK(dev->amg_cross == 1);
+    dev->amg_smooth = 0;   /* P = P_tent: the terms on every level (wg_amg_cross.c) */
     printf("device: %s (%s passes)\n", dev->renderer, dev->compute ? "compute" : "fragment");
     if (dev->compute) RUN_TEST(test_cross_terms);
     else printf("  skipped: the multigrid needs compute passes\n");

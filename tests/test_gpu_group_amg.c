@@ -153,6 +153,7 @@ static void test_limit_refused(void) { tg_limit_refused(dev, WC_PRECOND_AMG); }
 
 int main(void) {
     if (!tg_gpu_open(&gl, &dev)) return 1;
+    dev->amg_smooth = 0;   /* the group runs the multigrid with P = P_tent (wg_amg.h smoothed) */
     if (!dev->compute) {   /* the multigrid and the one-group solve are compute shaders */
         printf("fragment passes: no multigrid\n");
     } else {

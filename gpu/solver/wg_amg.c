@@ -6,14 +6,16 @@
 #include "wg_amg.h"
 #include "wg_pairs.h"
 
-wc_amg_opts wg_amg_opts(void) {
+wc_amg_opts wg_amg_opts(void) { return wg_amg_opts_for(WG_AMG_SMOOTHED); }
+
+wc_amg_opts wg_amg_opts_for(int smoothed) {
     wc_amg_opts o = wc_default_amg_opts();
     o.coarse_max = WG_AMG_DENSE_NODES;
     o.rotations = 0;
-    o.prolong_weight = 0.0;
+    if (!smoothed) o.prolong_weight = 0.0; /* else core's (4/3): the patterns of P, T = A P, P^T T */
     o.lanczos = 0;
     o.power_iterations = WG_AMG_POWER;
-    o.coarse_iterations = WG_AMG_POWER;
+    o.coarse_iterations = smoothed ? WG_AMG_POWER_COARSE : WG_AMG_POWER;
     o.current_positions = 0;
     o.couplings = 0;
     o.values = 0; /* patterns and aggregates: the values live in textures */
@@ -53,7 +55,7 @@ static int upload_groups(const wg_layout* L, wg_tex* range, wg_tex* list, int n_
  * 0) for the Galerkin and member lists. Level 0 has no pattern or blocks of its own: its passes
  * read the system's (use_level). */
 static int level_create(wg_runner* run, wg_amg_level* G, const wc_amg_level* P, const wc_amg_level* L, int* buf,
-                        char* err, size_t el) {
+                        int smoothed, char* err, size_t el) {
     const wg_layout* L0 = run->layout;
     G->n = L->n;
     G->nb = L->n_blocks;
@@ -80,6 +82,8 @@ static int level_create(wg_runner* run, wg_amg_level* G, const wc_amg_level* P, 
                 v[4 * k + 1] = L->col[k];
             }
         TRY(upload_i4(L0, &G->cols, L->n_blocks, v, err, el));
+    }
+    if (P && !smoothed) { /* P = P_tent (else wg_amg_smooth.c's lists) */
         /* each finer block (i, j) sums into this level's block (agg i, agg j) */
         int* start = buf; /* (nb + 1) */
         int* slot = buf + L->n_blocks + 1; /* (P->n_blocks) */
@@ -96,6 +100,8 @@ static int level_create(wg_runner* run, wg_amg_level* G, const wc_amg_level* P, 
         TRY(upload_groups(L0, &G->gal_range, &G->gal_list, L->n_blocks, P->n_blocks, slot, start, v, err, el));
         /* members of each aggregate, ascending */
         TRY(upload_groups(L0, &G->mem_range, &G->mem_list, L->n, P->n, P->agg, start, v, err, el));
+    }
+    if (P) {
         TRY(wg_array_create(L0, &G->r, GL_RGBA32F, L->n, NULL, err, el));
     }
     for (int c = 0; c < 3; ++c) {
@@ -135,7 +141,9 @@ fail:
 static int level_textures(wg_amg_level* G, wg_tex** out) {
     wg_tex* list[] = {&G->rows, &G->cols, &G->a[0], &G->a[1], &G->a[2], &G->dinv[0], &G->dinv[1], &G->dinv[2],
                       &G->gal_range, &G->gal_list, &G->mem_range, &G->mem_list, &G->r, &G->x[0], &G->x[1], &G->d[0],
-                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i, &G->cross_a};
+                      &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i, &G->cross_a,
+                      &G->p_ent, &G->p_rows, &G->p_range, &G->p_list, &G->p[0], &G->p[1], &G->p[2],
+                      &G->t_range, &G->t_list, &G->t[0], &G->t[1], &G->t[2], &G->pt_range, &G->pt_list, &G->res};
     int n = (int)(sizeof list / sizeof list[0]);
     for (int k = 0; k < n; ++k) out[k] = list[k];
     return n;
@@ -143,9 +151,14 @@ static int level_textures(wg_amg_level* G, wg_tex** out) {
 
 int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
                   size_t el) {
+    return wg_amg_create_with(run, m, sys, WG_AMG_SMOOTHED, out, err, el);
+}
+
+int wg_amg_create_with(wg_runner* run, const wc_model* m, const wg_amg_system* sys, int smoothed, wg_amg** out,
+                       char* err, size_t el) {
     *out = NULL;
     const wc_allocator* alloc = &run->layout->alloc;
-    wc_amg_opts o = wg_amg_opts();
+    wc_amg_opts o = wg_amg_opts_for(smoothed);
     wc_amg* ca = NULL;
     wc_diag d = {0};
     if (wc_amg_create(&ca, m, &o, alloc, &d) != WC_OK) {
@@ -161,6 +174,8 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     a->sweeps = o.sweeps;
     a->ratio = o.chebyshev_ratio;
     a->fine_bound_scale = ca->fine_bound_scale;
+    a->smoothed = smoothed && ca->n_levels > 1;
+    a->prolong_weight = o.prolong_weight;
     a->cross_bound_scale = WG_AMG_CROSS_BOUND;
     a->cross_share[0] = WG_AMG_CROSS_FINE_SHARE;
     a->cross_share[1] = WG_AMG_CROSS_COARSE_SHARE;
@@ -172,7 +187,9 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     buf = wc_calloc(alloc, (size_t)cap, sizeof(int));
     if (!buf) goto oom;
     for (int l = 0; l < ca->n_levels; ++l)
-        if (!level_create(run, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, err, el)) goto fail;
+        if (!level_create(run, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, a->smoothed, err, el))
+            goto fail;
+    if (a->smoothed && !wg_amg_smooth_create(a, ca, err, el)) goto fail;
     /* each particle's node on each level (the pairs' cross terms, wg_amg_set_pairs) */
     const int n0 = ca->lev[0].n;
     a->node_of = wc_calloc(alloc, (size_t)ca->n_levels * (size_t)(n0 > 0 ? n0 : 1), sizeof(int));
@@ -183,7 +200,7 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
-    if (!wg_amg_group_create(a, ca, err, el)) goto fail;
+    if (!a->smoothed && !wg_amg_group_create(a, ca, err, el)) goto fail; /* the group runs P_tent only */
     wc_free(alloc, buf);
     wc_amg_destroy(ca);
     *out = a;
@@ -201,7 +218,7 @@ static void release(wg_amg* a, int gl) {
     if (!a) return;
     if (gl) {
         for (int l = 0; l < a->n_levels; ++l) {
-            wg_tex* t[32];
+            wg_tex* t[48];
             int n = level_textures(&a->lev[l], t);
             for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
             wg_chain_destroy(&a->lev[l].red);
@@ -229,7 +246,7 @@ size_t wg_amg_bytes(const wg_amg* a) {
     const wg_tex* own[] = {&a->coarse_L, &a->group_i, &a->group_fp, &a->group_v, &a->cross_u};
     for (int k = 0; k < 5; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
     for (int l = 0; l < a->n_levels; ++l) {
-        wg_tex* t[32];
+        wg_tex* t[48];
         int n = level_textures((wg_amg_level*)&a->lev[l], t);
         for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
         bytes += wg_chain_bytes(&a->lev[l].red);
@@ -247,6 +264,10 @@ static wg_pass_id level_pass(wg_pass_id p, int l) {
     case WGP_AMG_SMOOTH: return WGP_AMG_SMOOTH_FINE;
     case WGP_AMG_RESTRICT: return WGP_AMG_RESTRICT_FINE;
     case WGP_AMG_FACTOR_GROUPS: return WGP_AMG_FACTOR_GROUPS_FINE;
+    case WGP_AMG_PROLONGATOR: return WGP_AMG_PROLONGATOR_FINE;
+    case WGP_AMG_AP: return WGP_AMG_AP_FINE;
+    case WGP_AMG_RESIDUAL: return WGP_AMG_RESIDUAL_FINE;
+    case WGP_AMG_PROLONG: return WGP_AMG_PROLONG_FINE;
     default: return p;
     }
 }
@@ -286,6 +307,39 @@ static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in)
     wg_u1i(a->run, "u_cross", cross_level(a, l));
 }
 
+/* The factor on level l's lambda_max bound (lvl_bound): the finest level's seam and cross factors. */
+static double bound_scale(const wg_amg* a, int l) {
+    return l == 0 ? a->fine_bound_scale * (cross_level(a, 0) ? a->cross_bound_scale : 1.0) : 1.0;
+}
+
+/* The smoothed prolongator from level l to l + 1 (after l's D^-1 and bound), T = A P and level
+ * l + 1's operator P^T T (wg_amg_smooth.c's lists). The products read A's pattern's blocks, not
+ * the cross blocks: with a smoothed P the coarse levels are the pattern's hierarchy (the pairs'
+ * terms stay on the finest level, wg_amg_cross.c). */
+static void smoothed_galerkin(wg_amg* a, int l) {
+    wg_runner* run = a->run;
+    wg_amg_level *F = &a->lev[l], *N = &a->lev[l + 1];
+    wg_amg_in in = level_in(a, l);
+    in.bound = F->bound;
+    in.p_ent = &F->p_ent;
+    in.p_range = &F->p_range;
+    in.p_list = &F->p_list;
+    use_level(a, l, WGP_AMG_PROLONGATOR, &in);
+    wg_u1f(run, "u_weight", a->prolong_weight);
+    wg_u1f(run, "u_bound_scale", bound_scale(a, l));
+    WG_RUN(run, F->np, &F->p[0], &F->p[1], &F->p[2]);
+    in.pv0 = &F->p[0];
+    in.pv1 = &F->p[1];
+    in.pv2 = &F->p[2];
+    in.t_range = &F->t_range;
+    in.t_list = &F->t_list;
+    use_level(a, l, WGP_AMG_AP, &in);
+    WG_RUN(run, F->nt, &F->t[0], &F->t[1], &F->t[2]);
+    WG_USE(run, WGP_AMG_PTAP, &(wg_amg_in){.pv0 = &F->p[0], .pv1 = &F->p[1], .pv2 = &F->p[2], .tv0 = &F->t[0],
+        .tv1 = &F->t[1], .tv2 = &F->t[2], .gal_range = &N->gal_range, .gal_list = &N->gal_list});
+    WG_RUN(run, N->nb, &N->a[0], &N->a[1], &N->a[2]);
+}
+
 void wg_amg_setup(wg_amg* a) {
     wg_runner* run = a->run;
     if (cross_on(a)) { /* each pair slot's filtered vector and c, the same on every level */
@@ -311,7 +365,9 @@ void wg_amg_setup(wg_amg* a) {
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* L = &a->lev[l];
         wg_amg_in in = level_in(a, l);
-        if (l > 0) {
+        if (l > 0 && a->smoothed) {
+            smoothed_galerkin(a, l - 1);
+        } else if (l > 0) {
             wg_amg_in finer = level_in(a, l - 1);
             finer.gal_range = &L->gal_range;
             finer.gal_list = &L->gal_list;
@@ -328,7 +384,8 @@ void wg_amg_setup(wg_amg* a) {
         use_level(a, l, WGP_AMG_DINV, &in);
         WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
         in.v = &L->v0;
-        for (int it = 0; it < WG_AMG_POWER; ++it) {
+        const int steps = l > 0 && a->smoothed ? WG_AMG_POWER_COARSE : WG_AMG_POWER;
+        for (int it = 0; it < steps; ++it) {
             use_level(a, l, WGP_AMG_POWER, &in);
             WG_RUN(run, L->n, &L->v[it & 1], &L->part);
             in.v = &L->v[it & 1];
@@ -354,7 +411,7 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
     wg_u1i(run, "u_zero", x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
     wg_u1f(run, "u_ratio", a->ratio);
-    wg_u1f(run, "u_bound_scale", l == 0 ? a->fine_bound_scale * (cross_level(a, 0) ? a->cross_bound_scale : 1.0) : 1.0);
+    wg_u1f(run, "u_bound_scale", bound_scale(a, l));
     wg_u1i(run, "u_dot", dot != NULL);
     if (dot) WG_RUN(run, L->n, xo, dout, dot);
     else WG_RUN(run, L->n, xo, dout);
@@ -386,10 +443,31 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
     for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
         smooth(a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL);
     wg_amg_in in = level_in(a, l);
-    in.mem_range = &N->mem_range;
-    in.mem_list = &N->mem_list;
     in.r = r;
     in.x = &L->x[c];
+    if (a->smoothed) { /* t = r - A x, then P^T t; after the coarse level, x + P xc */
+        use_level(a, l, WGP_AMG_RESIDUAL, &in);
+        WG_RUN(run, L->n, &L->res);
+        WG_USE(run, WGP_AMG_RESTRICT_P, &(wg_amg_in){.pv0 = &L->p[0], .pv1 = &L->p[1], .pv2 = &L->p[2],
+            .pt_range = &L->pt_range, .pt_list = &L->pt_list, .r = &L->res});
+        WG_RUN(run, N->n, &N->r);
+        const wg_tex* xn = vcycle(a, l + 1, &N->r, NULL);
+        in.xc = xn;
+        in.pv0 = &L->p[0];
+        in.pv1 = &L->p[1];
+        in.pv2 = &L->p[2];
+        in.p_ent = &L->p_ent;
+        in.p_rows = &L->p_rows;
+        use_level(a, l, WGP_AMG_PROLONG, &in);
+        WG_RUN(run, L->n, &L->x[1 - c]);
+        c = 1 - c;
+        for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
+            smooth(a, l, r, &L->x[c], k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c],
+                   k == a->sweeps - 1 ? dot : NULL);
+        return &L->x[c];
+    }
+    in.mem_range = &N->mem_range;
+    in.mem_list = &N->mem_list;
     use_level(a, l, WGP_AMG_RESTRICT, &in);
     WG_RUN(run, N->n, &N->r);
     const wg_tex* xc = vcycle(a, l + 1, &N->r, NULL);

@@ -1,24 +1,31 @@
 /* The multigrid preconditioner of the GPU's PCG (private to gpu/solver): aggregation multigrid
  * with the aggregates core builds (core/amg_build.c, wc_amg_create with wg_amg_opts()), its
- * near-null space the three translations per aggregate and its prolongator unsmoothed (P =
- * P_tent: identity blocks from each node to its aggregate), so that every coarse operator is a
- * plain sum of finer blocks (one gather pass a level) and the prolongation folds into the
- * smoother's first pass. The CPU's default multigrid (rotations, smoothed prolongator) needs
- * Galerkin triple products on the GPU: not done. The same method runs on the CPU with
- * wg_amg_opts() (tests/test_gpu_amg.c compares the two).
+ * near-null space the three translations per aggregate and, by default (smoothed, WG_AMG_SMOOTHED,
+ * WEFT_GPU_AMG_SMOOTH), core's smoothed prolongator P = (I - w D^-1 A_F) P_tent, w = 4/3 over the
+ * level's lambda_max bound (core/amg_setup.c): per solve and level one pass makes P's blocks, one
+ * T = A P and one the next level's P^T T, each a gather from lists core's symbolic build gives
+ * (wg_amg_smooth.c); the V-cycle restricts the residual through P^T and prolongs through P (a
+ * pass each). With P = P_tent (smoothed 0: identity blocks, the one-work-group PCG's hierarchy)
+ * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
+ * prolongation folds into the smoother's first pass. Rotations (the CPU's default near-null
+ * space) are not done. The same method runs on the CPU with wg_amg_opts() (tests/test_gpu_amg.c
+ * compares the two; tests/test_gpu_amg_smooth.c the levels themselves).
  *
  * The finest level's operator, the projected S A S + a (I - S), is never stored: its passes read
  * A's symmetric blocks and the filter (amg_level_inputs.glsl), with the V-cycle's vectors kept in
  * range(S). Per solve (wg_amg_setup, passes only, nothing read back): each coarse level's Galerkin
- * sums (the first from the projected blocks made on the fly), the block-diagonal inverses,
- * WG_AMG_POWER power iterations per level for lambda_max(D^-1 A) (their Rayleigh quotient stays
+ * products (the first from the projected blocks made on the fly), the block-diagonal inverses,
+ * WG_AMG_POWER power iterations per level (WG_AMG_POWER_COARSE on a smoothed P's coarse levels)
+ * for lambda_max(D^-1 A) (their Rayleigh quotient stays
  * in a 1 x 1 texture that the smoother reads; the finest level's bound also takes core's seam
  * factor, fine_bound_scale), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
- * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
+ * after the coarse correction (core/amg_cycle.c), seven passes a level (five with P = P_tent),
+ * one dense solve.
  *
- * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level:
- * with P = P_tent a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
+ * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level
+ * with P = P_tent (with the smoothed P in the finest level's only, the coarse levels being the
+ * pattern's Galerkin products): there a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
  * nodes, so per level lists uploaded per substep (wg_amg_set_pairs, wg_amg_cross.c: each pair of
  * nodes that two slots of a pair couple, and its terms) and one texture of the slots' filtered
  * u_k and c (a pass per setup) give each level's whole operator. Per setup one pass a level sums
@@ -41,7 +48,12 @@
 
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
+#define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
 #define WG_AMG_POWER 12         /* power iterations per level and setup */
+#define WG_AMG_POWER_COARSE WC_AMG_COARSE_POWER /* on the coarse levels with the smoothed
+                                   prolongator (core's for the power method, 30): 12 fell short of
+                                   lambda_max there (test_gpu_amg, the stiff 64 x 64 sheet's level
+                                   1: 0.992 x), where the levels are small */
 #define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
                                    the levels (wg_amg.cross_bound_scale): a vertex-triangle term
                                    spreads over four particles, so D^-1 A has modes up to 4 local to
@@ -83,6 +95,16 @@ typedef struct wg_amg_level {
     int cross_bcap;             /* the room for them (wg_amg_cross.c BLOCKS_PER_PAIR) */
     int cross_use;              /* this substep: the level's products read its cross blocks
                                    (wg_amg.cross_share) */
+    /* the smoothed prolongator to the next level (wg_amg.smoothed, wg_amg_smooth.c); the next
+       level's gal_range / gal_list then list its products P^T T */
+    int np, nt;                 /* P's entries, T = A P's */
+    wg_tex p_ent, p_rows;       /* P's entries (row, column, own aggregate), each node's entries */
+    wg_tex p_range, p_list;     /* each entry's blocks of A (amg_prolongator.glsl) */
+    wg_tex p[3];                /* P's blocks, by rows (per setup) */
+    wg_tex t_range, t_list;     /* each entry of T its products (block of A, entry of P) */
+    wg_tex t[3];                /* T's blocks, by rows (per setup) */
+    wg_tex pt_range, pt_list;   /* each next-level node's entries of P (entry, row) */
+    wg_tex res;                 /* r - A x after the pre-smoothing (amg_residual.glsl) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -100,6 +122,10 @@ typedef struct wg_amg {
     int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
+    int smoothed;               /* the prolongator is smoothed (core's P = (I - w D^-1 A_F) P_tent,
+                                   w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
+                                   P = P_tent (the one-work-group PCG's, WEFT_GPU_SOLVE=group) */
+    double prolong_weight;      /* core's (4/3) where smoothed */
     double fine_bound_scale;    /* the finest level's bound x this: core's wc_amg.fine_bound_scale
                                    (WC_AMG_SEAM_BOUND where vertex-to-edge seams lift lambda_max in
                                    modes local to them, which the power iterations miss; else 1) */
@@ -134,9 +160,18 @@ typedef struct wg_amg {
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
  * sets values 1). */
 wc_amg_opts wg_amg_opts(void);
+/* The same for a smoothed prolongator (smoothed 1) or P = P_tent (0). */
+wc_amg_opts wg_amg_opts_for(int smoothed);
 /* The multigrid of model m's system: patterns and lists uploaded; 0 with err on failure. */
 int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
                   size_t err_len);
+/* The same with the prolongator chosen: smoothed 1 or 0 (P = P_tent); wg_amg_create takes
+ * WG_AMG_SMOOTHED. */
+int wg_amg_create_with(wg_runner* r, const wc_model* m, const wg_amg_system* sys, int smoothed, wg_amg** out,
+                       char* err, size_t err_len);
+/* wg_amg_smooth.c: the smoothed prolongator's lists and textures of every level from core's
+ * hierarchy (built with wg_amg_opts_for(1)); 0 with err on failure. */
+int wg_amg_smooth_create(wg_amg* a, const wc_amg* ca, char* err, size_t err_len);
 void wg_amg_destroy(wg_amg* a);
 /* Free the memory only (the GL context is gone). */
 void wg_amg_forget(wg_amg* a);

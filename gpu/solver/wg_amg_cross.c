@@ -168,7 +168,9 @@ void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p) {
     a->cross_levels = 0;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_amg_level* G = &a->lev[l];
-        G->cross_use = G->cross_nb > 0 && G->cross_nb >= a->cross_share[l > 0] * G->nb;
+        /* a smoothed prolongator does not restrict a pair's vector to the same u_k at its coarse
+           nodes: its terms stay on the finest level */
+        G->cross_use = G->cross_nb > 0 && G->cross_nb >= a->cross_share[l > 0] * G->nb && !(a->smoothed && l > 0);
         a->cross_levels += G->cross_use;
     }
     a->cross_n = np;

@@ -7,6 +7,7 @@
 
 #include "gl_texture.h"
 #include "gpu_error.h"
+#include "wg_amg.h"
 #include "wg_compute.h"
 
 typedef struct wg_shader_source {
@@ -182,6 +183,14 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         return WC_ERROR_GPU;
     }
     d->amg_cross = cross && strcmp(cross, "1") == 0;
+    /* the multigrid's prolongator (wg_amg.smoothed): WEFT_GPU_AMG_SMOOTH=1 (the default) or 0 */
+    const char* smooth = getenv("WEFT_GPU_AMG_SMOOTH");
+    if (smooth && *smooth && strcmp(smooth, "0") != 0 && strcmp(smooth, "1") != 0) {
+        wg_errorf(err, err_len, "WEFT_GPU_AMG_SMOOTH='%.40s' is not '0' or '1'", smooth);
+        wg_device_destroy(d);
+        return WC_ERROR_GPU;
+    }
+    d->amg_smooth = smooth && *smooth ? strcmp(smooth, "1") == 0 : WG_AMG_SMOOTHED;
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];

@@ -35,6 +35,8 @@ typedef struct wg_device {
                                    multigrid's levels (opt-in: fewer iterations, but where layers
                                    touch only here and there, as on the suit, their blocks cost
                                    about what they save on llvmpipe, docs/bench/gpu_amg_cross.md) */
+    int amg_smooth;             /* WEFT_GPU_AMG_SMOOTH: the multigrid's prolongator smoothed (1, the
+                                   default: WG_AMG_SMOOTHED) or P = P_tent (0) (wg_amg.smoothed) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];

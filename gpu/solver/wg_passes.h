@@ -48,6 +48,10 @@ typedef enum wg_pass_id {
     WGP_AMG_FACTOR_GROUPS, WGP_AMG_COARSE_GROUPS,
     WGP_AMG_GALERKIN_FINE, WGP_AMG_DINV_FINE, WGP_AMG_POWER_FINE, WGP_AMG_SMOOTH_FINE, WGP_AMG_RESTRICT_FINE,
     WGP_AMG_FACTOR_GROUPS_FINE,
+    /* the smoothed prolongator's passes (wg_amg_smooth.c): its blocks, T = A P, P^T T, the residual,
+       the restriction P^T and the prolongation x + P xc */
+    WGP_AMG_PROLONGATOR, WGP_AMG_AP, WGP_AMG_PTAP, WGP_AMG_RESIDUAL, WGP_AMG_RESTRICT_P, WGP_AMG_PROLONG,
+    WGP_AMG_PROLONGATOR_FINE, WGP_AMG_AP_FINE, WGP_AMG_RESIDUAL_FINE, WGP_AMG_PROLONG_FINE,
     /* the self-contact pairs' cross terms in the multigrid's levels (wg_amg.h) */
     WGP_AMG_CROSS_TERMS, WGP_AMG_CROSS_BLOCKS,
     WGP_COUNT
@@ -358,6 +362,11 @@ typedef struct wg_amg_in {
     const wg_tex *cross_u, *cross_fine;      /* cross_blocks: the pair slots' (u, c), the finer
                                                 level's cross blocks */
     const wg_tex *pair_p, *pair_w, *pair_nc; /* cross_terms: the pairs (wg_pairs.h) */
+    /* the smoothed prolongator (wg_amg_smooth.c): P's entries (row, column, own aggregate), its
+       rows' entries, each entry's blocks of A, P's and T = A P's block rows, T's products, the
+       restriction's entries per coarse node */
+    const wg_tex *p_ent, *p_rows, *p_range, *p_list, *pv0, *pv1, *pv2;
+    const wg_tex *t_range, *t_list, *tv0, *tv1, *tv2, *pt_range, *pt_list;
 } wg_amg_in;
 
 #endif

@@ -13,7 +13,8 @@
  *             [--skip-cpu] [--precond block_jacobi|amg]
  * (--tolerance T > 0: PCG stops at T or the iteration cap, for the error of converged steps;
  * --precond: PCG's preconditioner on both backends, block Jacobi by default; amg is core's
- * default multigrid on the CPU and the GPU's own, unsmoothed one, gpu/solver/wg_amg.h)
+ * default multigrid on the CPU and the GPU's own, gpu/solver/wg_amg.h: smoothed prolongator unless
+ * WEFT_GPU_AMG_SMOOTH=0)
  *
  * llvmpipe runs the passes on the CPU's cores: its figures say what the GL path costs there, not
  * what a GPU does. Run it where an NVIDIA device is visible to EGL for GPU figures. */

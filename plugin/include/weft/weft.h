@@ -246,7 +246,7 @@ typedef enum weft_preconditioner {
                                        shader passes (OpenGL 4.3), block Jacobi on fragment passes */
     WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
     WEFT_PRECOND_AMG = 2            /* multigrid V-cycle: smoothed aggregation with rotations on the
-                                       CPU; on the GPU (compute passes only) unsmoothed aggregation
+                                       CPU; on the GPU (compute passes only) smoothed aggregation
                                        of translations (gpu/solver/wg_amg.h) */
 } weft_preconditioner;
 

@@ -1,0 +1,27 @@
+// Per entry (i, J) of T = A P (the smoothed prolongator's first Galerkin factor, wg_amg_smooth.c):
+// the sum of A_ik P_(k, J) over the products listed per entry when the hierarchy was built.
+// This level's inputs: amg_level_inputs.glsl.
+#pragma weft include amg_blocks
+#pragma weft include amg_level_inputs
+uniform sampler2D pv0;      // P's blocks, row 0
+uniform sampler2D pv1;      // row 1
+uniform sampler2D pv2;      // row 2
+uniform isampler2D t_range; // T's entries: (list start, end, -, -)
+uniform isampler2D t_list;  // products: (block k of A, entry of P, -, -)
+out vec4 o0;
+out vec4 o1;
+out vec4 o2;
+
+void main() {
+    int s = self_index();
+    if (s >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
+    ivec4 r = ldi(t_range, s);
+    mat3 t = mat3(0.0);
+    for (int m = r.x; m < r.y; ++m) {
+        ivec4 q = ldi(t_list, m);
+        t += op_block(q.x) * blk(pv0, pv1, pv2, q.y);
+    }
+    o0 = blk_row(t, 0);
+    o1 = blk_row(t, 1);
+    o2 = blk_row(t, 2);
+}

@@ -1,0 +1,29 @@
+// Per block (I, J) of a coarse level with the smoothed prolongator (wg_amg_smooth.c): the
+// Galerkin product sum P_(i, I)^T T_(i, J) over the finer level's rows i (T = A P, amg_ap.glsl),
+// the products listed per block when the hierarchy was built.
+#pragma weft include amg_blocks
+uniform sampler2D pv0;        // P's blocks, row 0
+uniform sampler2D pv1;
+uniform sampler2D pv2;
+uniform sampler2D tv0;        // T's blocks, row 0
+uniform sampler2D tv1;
+uniform sampler2D tv2;
+uniform isampler2D gal_range; // this level's blocks: (list start, end, -, -)
+uniform isampler2D gal_list;  // products: (entry of P, entry of T, -, -)
+out vec4 o0;
+out vec4 o1;
+out vec4 o2;
+
+void main() {
+    int k = self_index();
+    if (k >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
+    ivec4 r = ldi(gal_range, k);
+    mat3 s = mat3(0.0);
+    for (int m = r.x; m < r.y; ++m) {
+        ivec4 q = ldi(gal_list, m);
+        s += transpose(blk(pv0, pv1, pv2, q.x)) * blk(tv0, tv1, tv2, q.y);
+    }
+    o0 = blk_row(s, 0);
+    o1 = blk_row(s, 1);
+    o2 = blk_row(s, 2);
+}

@@ -1,0 +1,152 @@
+/* The smoothed prolongator's lists (wg_amg.h, wg_amg.smoothed): per level below the coarsest,
+ * from core's symbolic build with prolong_weight > 0 (core/amg_build.c: P's pattern p_start /
+ * p_col, p_self, a_to_p, its transpose pt_*, T = A P's pattern t_*; the next level's pattern is
+ * P^T A P's), the gathers the setup's passes read: each entry of P its blocks of A
+ * (amg_prolongator.glsl), each entry of T its products A_ik P_(k, J) (amg_ap.glsl), each block
+ * of the next level its products P^T T (amg_ptap.glsl), each next-level node its entries of P
+ * (amg_restrict_p.glsl), each node its row of P (amg_prolong.glsl). Uploaded once per cloth;
+ * the values are made per solve on the device. */
+#include <string.h>
+
+#include "gpu_error.h"
+#include "wg_amg.h"
+
+/* Items (a, b) keyed by group, counting-sorted (in order within a group): range per group
+ * (first, end), list per item (a, b), int4 arrays. */
+static int upload_keyed(const wg_layout* L, wg_tex* range, wg_tex* list, int n_groups, int n_items, const int* key,
+                        const int* a, const int* b, char* err, size_t el) {
+    const wc_allocator* al = &L->alloc;
+    int cap = (n_groups > n_items ? n_groups : n_items) + 1;
+    int* start = wc_calloc(al, (size_t)n_groups + 2, sizeof(int));
+    int* v = wc_calloc(al, 4u * (size_t)cap, sizeof(int));
+    int ok = 0;
+    if (!start || !v) {
+        wg_errorf(err, el, "out of memory");
+        goto done;
+    }
+    for (int k = 0; k < n_items; ++k) ++start[key[k] + 1];
+    for (int K = 0; K < n_groups; ++K) start[K + 1] += start[K];
+    for (int K = 0; K < n_groups; ++K) {
+        v[4 * K] = start[K];
+        v[4 * K + 1] = start[K + 1];
+    }
+    if (!wg_array_create(L, range, GL_RGBA32I, n_groups, v, err, el)) goto done;
+    memset(v, 0, 4u * sizeof(int) * (size_t)cap);
+    for (int k = 0; k < n_items; ++k) {
+        int at = start[key[k]]++;
+        v[4 * at] = a[k];
+        v[4 * at + 1] = b ? b[k] : 0;
+    }
+    ok = wg_array_create(L, list, GL_RGBA32I, n_items > 0 ? n_items : 1, v, err, el);
+done:
+    wc_free(al, start);
+    wc_free(al, v);
+    return ok;
+}
+
+/* Level G's prolongator to N from core's levels F (G's) and C (N's). */
+static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, const wc_amg_level* F,
+                        const wc_amg_level* C, char* err, size_t el) {
+    const wc_allocator* al = &L->alloc;
+    const int n = F->n, np = F->p_start[n], nt = F->t_start[n];
+    G->np = np;
+    G->nt = nt;
+    /* the products' count: T's (A_ik P_(k, .)) and P^T T's */
+    long n_ap = 0, n_ptap = 0;
+    for (int i = 0; i < n; ++i)
+        for (int k = F->row_start[i]; k < F->row_start[i + 1]; ++k) n_ap += F->p_start[F->col[k] + 1] - F->p_start[F->col[k]];
+    for (int s = 0; s < np; ++s) n_ptap += F->t_start[F->pt_row[s] + 1] - F->t_start[F->pt_row[s]];
+    long cap = n_ap > n_ptap ? n_ap : n_ptap;
+    if (cap < np) cap = np;
+    if (cap < F->n_blocks) cap = F->n_blocks;
+    if (cap < 4L * (n > np ? n : np)) cap = 4L * (n > np ? n : np);
+    if (cap > 0x7fffffffL / 4) {
+        wg_errorf(err, el, "multigrid: the smoothed prolongator's lists are too long");
+        return 0;
+    }
+    int* key = wc_calloc(al, (size_t)cap + 1, sizeof(int));
+    int* ia = wc_calloc(al, (size_t)cap + 1, sizeof(int));
+    int* ib = wc_calloc(al, (size_t)cap + 1, sizeof(int));
+    int ok = 0;
+    if (!key || !ia || !ib) {
+        wg_errorf(err, el, "out of memory");
+        goto done;
+    }
+    /* P's entries (row, column, own aggregate) and each row's entries; key is int4 scratch here */
+    int* v = key;
+    memset(v, 0, sizeof(int) * (size_t)cap);
+    for (int i = 0; i < n; ++i)
+        for (int e = F->p_start[i]; e < F->p_start[i + 1]; ++e) {
+            v[4 * e] = i;
+            v[4 * e + 1] = F->p_col[e];
+            v[4 * e + 2] = e == F->p_self[i];
+        }
+    if (!wg_array_create(L, &G->p_ent, GL_RGBA32I, np, v, err, el)) goto done;
+    memset(v, 0, sizeof(int) * (size_t)cap);
+    for (int i = 0; i < n; ++i) {
+        v[4 * i] = F->p_start[i];
+        v[4 * i + 1] = F->p_start[i + 1];
+    }
+    if (!wg_array_create(L, &G->p_rows, GL_RGBA32I, n, v, err, el)) goto done;
+    /* each entry's blocks of A: the strong ones of its column's aggregate, the weak onto its own */
+    for (int i = 0; i < n; ++i)
+        for (int k = F->row_start[i]; k < F->row_start[i + 1]; ++k) {
+            key[k] = F->a_to_p[k] >= 0 ? F->a_to_p[k] : F->p_self[i];
+            ia[k] = k;
+        }
+    if (!upload_keyed(L, &G->p_range, &G->p_list, np, F->n_blocks, key, ia, NULL, err, el)) goto done;
+    /* T = A P: entry (i, J) sums A_ik P_e over k in row i and e in row col(k) with column J */
+    long m = 0;
+    for (int i = 0; i < n; ++i)
+        for (int k = F->row_start[i]; k < F->row_start[i + 1]; ++k)
+            for (int e = F->p_start[F->col[k]]; e < F->p_start[F->col[k] + 1]; ++e, ++m) {
+                key[m] = wc_amg_find(F->t_col, F->t_start[i], F->t_start[i + 1], F->p_col[e]);
+                ia[m] = k;
+                ib[m] = e;
+                if (key[m] < 0) {
+                    wg_errorf(err, el, "multigrid: T = A P entry (%d, %d) missing from its pattern", i, F->p_col[e]);
+                    goto done;
+                }
+            }
+    if (!upload_keyed(L, &G->t_range, &G->t_list, nt, (int)n_ap, key, ia, ib, err, el)) goto done;
+    /* the next level's block (I, J) sums P_(i, I)^T T_(i, J) */
+    m = 0;
+    for (int I = 0; I < C->n; ++I)
+        for (int s = F->pt_start[I]; s < F->pt_start[I + 1]; ++s) {
+            const int e = F->pt_entry[s], i = F->pt_row[s];
+            for (int q = F->t_start[i]; q < F->t_start[i + 1]; ++q, ++m) {
+                key[m] = wc_amg_find(C->col, C->row_start[I], C->row_start[I + 1], F->t_col[q]);
+                ia[m] = e;
+                ib[m] = q;
+                if (key[m] < 0) {
+                    wg_errorf(err, el, "multigrid: block (%d, %d) missing from the level's pattern", I, F->t_col[q]);
+                    goto done;
+                }
+            }
+        }
+    if (!upload_keyed(L, &N->gal_range, &N->gal_list, C->n_blocks, (int)n_ptap, key, ia, ib, err, el)) goto done;
+    /* the restriction: each next-level node's entries of P (P^T's rows) */
+    for (int I = 0; I < C->n; ++I)
+        for (int s = F->pt_start[I]; s < F->pt_start[I + 1]; ++s) {
+            key[s] = I;
+            ia[s] = F->pt_entry[s];
+            ib[s] = F->pt_row[s];
+        }
+    if (!upload_keyed(L, &G->pt_range, &G->pt_list, C->n, np, key, ia, ib, err, el)) goto done;
+    for (int c = 0; c < 3; ++c) {
+        if (!wg_array_create(L, &G->p[c], GL_RGBA32F, np, NULL, err, el)) goto done;
+        if (!wg_array_create(L, &G->t[c], GL_RGBA32F, nt, NULL, err, el)) goto done;
+    }
+    ok = wg_array_create(L, &G->res, GL_RGBA32F, n, NULL, err, el);
+done:
+    wc_free(al, key);
+    wc_free(al, ia);
+    wc_free(al, ib);
+    return ok;
+}
+
+int wg_amg_smooth_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
+    for (int l = 0; l + 1 < ca->n_levels; ++l)
+        if (!level_smooth(a->run->layout, &a->lev[l], &a->lev[l + 1], &ca->lev[l], &ca->lev[l + 1], err, el)) return 0;
+    return 1;
+}

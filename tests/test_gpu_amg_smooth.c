@@ -1,0 +1,235 @@
+/* The GPU multigrid's smoothed prolongator (gpu/solver/wg_amg_smooth.c, wg_amg.h "smoothed") on a
+ * real EGL context (llvmpipe without a GPU), against core's own smoothed-P hierarchy
+ * (core/amg_setup.c: P = (I - w D^-1 A_F) P_tent, T = A P, P^T T) built with the GPU's options
+ * (wg_amg_opts_for(1)) on the same float-rounded system (a hanging sheet with two pins, a sheet
+ * draped over a sphere with its contacts' filter). Core's lambda_max bounds are set to the GPU's
+ * (its bound_reuse, each level's estimate = the GPU's Rayleigh quotient), so that both sides
+ * take the same w. Checked per level, to float precision (relative to the level's largest
+ * entry): P's blocks, the next level's Galerkin blocks, and one V-cycle on a filtered random
+ * vector (the restriction P^T and the prolongation P xc with it) against core's wc_amg_apply.
+ * The mutations: P = P_tent on the GPU (WEFT_GPU_AMG_SMOOTH=0's hierarchy) against core's
+ * smoothed one is far off on every count; w off by 1 % (core's bounds scaled) is caught too. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "gpu_test_device.h"
+#include "step.h"
+#include "test_support.h"
+#include "wg_amg.h"
+#include "wg_sim_impl.h"
+
+static wg_gl_context* gl;
+static wg_device* dev;
+
+#define TOL 2e-4 /* float against double, relative to the level's largest entry */
+
+static void round_to_float(double* a, size_t count) {
+    for (size_t k = 0; k < count; ++k) a[k] = (float)a[k];
+}
+
+/* An n x n sheet hanging from its two top corners, stepped `warm` frames, state rounded to float */
+static wc_state* hanging(wc_model* m, int n, int warm) {
+    if (!ts_sheet(m, n, 1.0, 1.0, 1, 1.0)) return NULL;
+    wc_sim_def def = ts_amg_def();
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
+    ts_pin_far_corners(s, n, NULL);
+    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    round_to_float(s->x, 3 * (size_t)m->n_particles);
+    round_to_float(s->v, 3 * (size_t)m->n_particles);
+    return s;
+}
+
+/* max |g - c| / max |c| over count 3x3 blocks: g as RGBA32F block rows (three arrays), c row-major */
+static double block_diff(float* const g[3], const double* c, int count) {
+    double dm = 0.0, cm = 0.0;
+    for (int e = 0; e < count; ++e)
+        for (int r = 0; r < 3; ++r)
+            for (int q = 0; q < 3; ++q) {
+                double cv = c[9 * (size_t)e + 3 * r + q];
+                dm = fmax(dm, fabs((double)g[r][4 * (size_t)e + q] - cv));
+                cm = fmax(cm, fabs(cv));
+            }
+    return cm > 0 ? dm / cm : dm;
+}
+
+/* Core's hierarchy on A (float-rounded) with the GPU's bounds x scale; NULL on failure. */
+static wc_amg* core_hierarchy(const wc_model* m, const wg_amg* a, const double* A, const wc_filter* f, double scale,
+                              wc_par* par) {
+    wc_amg_opts o = wg_amg_opts_for(1);
+    o.values = 1;
+    o.single = 0;
+    o.bound_reuse = 1;
+    o.bound_margin = 1.0;
+    wc_amg* ca = NULL;
+    wc_diag d = {0};
+    if (wc_amg_create(&ca, m, &o, NULL, &d) != WC_OK) return NULL;
+    wc_amg_setup(ca, A, f, par); /* a fresh setup, then one with the GPU's estimates */
+    for (int l = 0; l < a->n_levels && l < ca->n_levels; ++l) {
+        if (l == a->n_levels - 1 && a->dense) break;
+        float sums[4];
+        wg_read1(a->run->layout, a->lev[l].bound, sums);
+        ca->lev[l].estimate = scale * (double)sums[0] / (double)sums[1];
+    }
+    ca->hold_bounds = 1;
+    wc_amg_setup(ca, A, f, par);
+    ca->hold_bounds = 0;
+    return ca;
+}
+
+/* The worst P, coarse-operator and V-cycle differences of the GPU's hierarchy g against core's ca. */
+static void compare(wg_sim* g, const wc_amg* ca, const double* r, wc_par* par, double out[3]) {
+    wg_amg* a = g->amg;
+    out[0] = out[1] = out[2] = 0.0;
+    for (int l = 0; l + 1 < a->n_levels; ++l) {
+        const wg_amg_level *G = &a->lev[l], *N = &a->lev[l + 1];
+        const wc_amg_level *C = &ca->lev[l], *CN = &ca->lev[l + 1];
+        int np = C->p_start[C->n], cap = np > CN->n_blocks ? np : CN->n_blocks;
+        float* buf[3];
+        for (int c = 0; c < 3; ++c) buf[c] = calloc(4 * (size_t)cap, sizeof(float));
+        double dp = 1.0, da;
+        if (a->smoothed) {
+            for (int c = 0; c < 3; ++c) wg_array_read(&g->layout, &G->p[c], np, buf[c]);
+            dp = block_diff(buf, C->p_val, np);
+        }
+        for (int c = 0; c < 3; ++c) wg_array_read(&g->layout, &N->a[c], N->nb, buf[c]);
+        da = N->nb == CN->n_blocks ? block_diff(buf, CN->val, N->nb) : 1.0;
+        printf("    level %d (%d nodes): P %d entries, |dP| %.2e; level %d (%d nodes, %d blocks), |dA| %.2e\n", l,
+               G->n, np, dp, l + 1, N->n, N->nb, da);
+        out[0] = fmax(out[0], dp);
+        out[1] = fmax(out[1], da);
+        for (int c = 0; c < 3; ++c) free(buf[c]);
+    }
+    /* one V-cycle */
+    const int n = g->n;
+    double *zc = calloc(3 * (size_t)n, sizeof(double)), *zg = calloc(3 * (size_t)n, sizeof(double));
+    wc_amg_apply((wc_amg*)ca, r, zc, par);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
+    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
+    wg_amg_apply(a, &g->r[0], &g->part);
+    wg_array_read(&g->layout, a->z, n, g->rb);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) zg[3 * i + c] = g->rb[4 * i + c];
+    out[2] = ts_max_diff(zg, zc, 3 * n) / ts_max_abs(zc, 3 * n);
+    printf("    V-cycle: |z_gpu - z_core| / |z_core| %.2e\n", out[2]);
+    free(zc), free(zg);
+}
+
+/* One system: the GPU's hierarchy (smoothed, and with P = P_tent as the mutation) against core's. */
+static void check_system(const char* name, wc_model* m, wc_state* s) {
+    const double h = 1.0 / 30.0;
+    const int n = m->n_particles;
+    wc_diag d = {0};
+    wc_step_stats st;
+    memset(&st, 0, sizeof st);
+    wg_sim* g = NULL;
+    dev->amg_smooth = 1;
+    CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
+    if (!g) {
+        fprintf(stderr, "%s\n", d.message);
+        return;
+    }
+    CHECK(g->amg->smoothed == 1);
+    CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
+    wc_substep_prepare(s, h, 1.0, &st);
+    const size_t nb9 = 9 * (size_t)m->pattern.n_blocks;
+    double* A = malloc(nb9 * sizeof(double));
+    memcpy(A, s->A, nb9 * sizeof(double));
+    round_to_float(A, nb9);
+    CHECK(wg_sim_debug_set_system(g, A, s->b, &s->filter, &d) == WC_OK);
+    wg_amg_setup(g->amg);
+    /* a filtered random vector */
+    double* r = malloc(3 * (size_t)n * sizeof(double));
+    unsigned seed = 7u;
+    for (int k = 0; k < 3 * n; ++k) {
+        seed = seed * 1103515245u + 12345u;
+        r[k] = ((seed >> 8) & 0xffff) / 32768.0 - 1.0;
+    }
+    for (int i = 0; i < n; ++i) wc_filter_apply(&s->filter, i, r + 3 * i, r + 3 * i);
+    round_to_float(r, 3 * (size_t)n);
+    wc_par par;
+    wc_par_init(&par, 1);
+    printf("  %s: %d particles, %d levels (coarsest %d nodes)\n", name, n, g->amg->n_levels,
+           g->amg->lev[g->amg->n_levels - 1].n);
+    wc_amg* ca = core_hierarchy(m, g->amg, A, &s->filter, 1.0, &par);
+    CHECK(ca != NULL);
+    if (!ca) return;
+    CHECK_EQ_INT(ca->n_levels, g->amg->n_levels);
+    CHECK(ca->n_levels >= 2);
+    double e[3];
+    compare(g, ca, r, &par, e);
+    CHECK(e[0] <= TOL);
+    CHECK(e[1] <= TOL);
+    CHECK(e[2] <= 10 * TOL);
+    /* mutation: core's w 1 % off (its bounds scaled) */
+    wc_amg* cw = core_hierarchy(m, g->amg, A, &s->filter, 1.01, &par);
+    double ew[3];
+    printf("  mutation, core's w x 1/1.01:\n");
+    compare(g, cw, r, &par, ew);
+    CHECK(ew[0] > 10 * TOL && ew[1] > 10 * TOL);
+    wc_amg_destroy(cw);
+    /* mutation: the GPU's P = P_tent (its coarse patterns are core's unsmoothed ones: compare
+       the V-cycle, and P's blocks as P_tent's identity blocks are not) */
+    wg_sim* g0 = NULL;
+    dev->amg_smooth = 0;
+    CHECK(wg_sim_create(dev, s, NULL, &g0, &d) == WC_OK);
+    dev->amg_smooth = 1;
+    if (g0) {
+        CHECK(g0->amg->smoothed == 0);
+        CHECK(wg_sim_debug_prepare(g0, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
+        CHECK(wg_sim_debug_set_system(g0, A, s->b, &s->filter, &d) == WC_OK);
+        wg_amg_setup(g0->amg);
+        const wg_amg* a0 = g0->amg;
+        const int n0 = g->n;
+        double *zc = calloc(3 * (size_t)n0, sizeof(double)), *zg = calloc(3 * (size_t)n0, sizeof(double));
+        wc_amg_apply(ca, r, zc, &par);
+        for (int i = 0; i < n0; ++i)
+            for (int c = 0; c < 4; ++c) g0->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
+        wg_array_upload(&g0->layout, &g0->r[0], n0, g0->rb);
+        wg_amg_apply(g0->amg, &g0->r[0], &g0->part);
+        wg_array_read(&g0->layout, a0->z, n0, g0->rb);
+        for (int i = 0; i < n0; ++i)
+            for (int c = 0; c < 3; ++c) zg[3 * i + c] = g0->rb[4 * i + c];
+        double ez = ts_max_diff(zg, zc, 3 * n0) / ts_max_abs(zc, 3 * n0);
+        printf("  mutation, the GPU's P = P_tent: V-cycle |z_gpu - z_core| / |z_core| %.2e\n", ez);
+        CHECK(ez > 100 * e[2] && ez > 10 * TOL);
+        free(zc), free(zg);
+        wg_sim_destroy(g0);
+    }
+    wc_amg_destroy(ca);
+    free(A), free(r);
+    wg_sim_destroy(g);
+}
+
+static void test_against_core(void) {
+    wc_model m;
+    wc_state* s = hanging(&m, 32, 3);
+    CHECK(s != NULL);
+    if (s) {
+        check_system("hanging 32 x 32", &m, s);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
+    const wc_sim_def def = ts_amg_def();
+    s = ts_draped(&m, 24, &def, 20);
+    CHECK(s != NULL);
+    if (s) {
+        printf("  draped: %d particles in contact\n", s->contacts.active);
+        CHECK(s->contacts.active >= 20);
+        check_system("draped over a sphere", &m, s);
+        wc_state_destroy(s);
+        wc_model_free(&m);
+    }
+}
+
+int main(void) {
+    if (!tg_gpu_open(&gl, &dev)) return 1;
+    if (dev->compute) RUN_TEST(test_against_core);
+    else printf("  skipped: the multigrid needs compute passes\n");
+    tg_gpu_close(gl, dev);
+    return TEST_SUMMARY();
+}
