@@ -95,7 +95,7 @@
  * iterations on the finest and on the coarse levels, the smoothed prolongators, T = A P, the
  * Galerkin products P^T T (with the dead unknowns' diagonal), the coarsest factor, the couplings
  * restricted level by level (amg_cross.c; the coarsest's dense part is in its factor's), the
- * V-cycle's float copies (amg_single.c). */
+ * V-cycle's float copies (amg_single.c) and merged operators (amg_merge.c). */
 typedef enum wc_amg_phase {
     WC_AMG_PHASE_TENT,
     WC_AMG_PHASE_PROJECT,
@@ -209,6 +209,19 @@ typedef struct wc_amg_cross {
     int* blk_pos;               /* (WC_PAR_MAX_THREADS x n) per thread: -1, or a column's block in
                                    the row it sums (sum_blocks; 64 n ints: the dance's second
                                    level, 3.8k nodes, 1 MB beside its 36 MB of blocks) */
+    int cap_merged;             /* the merged operator's blocks at most (0: never merged) */
+    int m_blocks;               /* > 0: this setup's whole operator F = B + X as one float BSR
+                                   matrix (amg_merge.c: m_start, m_col ascending, m_val_f, each
+                                   block B_ik + X_ik summed in double, then rounded), which the
+                                   V-cycle's residuals read in one pass of rows, no scaling pass
+                                   and no barrier before it; 0: B's rows and X's products */
+    int* m_start;               /* (n + 1) */
+    int* m_col;                 /* (cap_merged) */
+    float* m_val_f;             /* (cap_merged x 9 + WC_BSR_F_PAD) */
+    int* m_pos;                 /* (WC_PAR_MAX_THREADS x n) level 0: per thread, -1 or a column's
+                                   place in the row it merges */
+    double* m_acc;              /* (WC_PAR_MAX_THREADS x WC_AMG_MERGE_ROW x 9) level 0: per thread,
+                                   the row's blocks summed in double */
     double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
     double* acc;                /* (n x 3) the restriction's accumulator, zero between terms */
     int* touched;               /* (n) */
@@ -397,6 +410,12 @@ void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, 
 void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1);
 void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, int lo, int hi);
 void wc_amg_cross_destroy(wc_amg* a);
+/* The merged operator's longest row on level 0 (blocks; a longer row leaves the level unmerged). */
+#define WC_AMG_MERGE_ROW 256
+/* Level l's whole operator F = B + X merged into one float BSR matrix (amg_merge.c, after the
+ * setup's float copies; wc_amg_cross.m_blocks); left unmerged (m_blocks 0) without the float
+ * V-cycle, without terms, on a dense level, or when it does not fit. */
+void wc_amg_cross_merge(wc_amg* a, int l, wc_par* par);
 /* With opts.single, the V-cycle's float copies of a setup's values (amg_single.c): every level's,
  * or level 0's operator only (fine_only: the coarse levels were kept). */
 void wc_amg_single_copies(wc_amg* a, int fine_only, wc_par* par);

@@ -28,7 +28,9 @@
  * any thread count; no allocation after wc_amg_set_coupling. A coarse list level's terms overlap
  * (each reaches ~14 nodes of two layers' patches): each setup also sums them into one
  * block-sparse matrix, which its products read in one pass of BSR rows (sum_blocks, parallel over
- * rows). */
+ * rows). The V-cycle's residuals read neither on a list level: amg_merge.c merges B and X into one
+ * float matrix after each setup (the terms stay for the restriction, the eigenvalue estimates and
+ * the block diagonal). */
 #include <string.h>
 #include "amg.h"
 #include "bsr_rows.h"
@@ -44,6 +46,11 @@
  * the dance's second level takes 171k blocks for 38k terms (4.5 a term; 1.45 a term of its 118k
  * capacity), 36 MB of room at 4; a setup whose blocks do not fit keeps the terms' products. */
 #define WC_AMG_CROSS_BLOCKS_PER_TERM 4
+/* blocks per term of the capacity the finest level's merged operator (amg_merge.c) may hold
+ * beyond B's pattern: the dance's terms add 73-93k blocks to B's 500k (2.4 an active term, ~0.8 a
+ * term of its 118k capacity); room for 3 a term is 34 MB with B's. A setup that does not fit keeps
+ * B's rows and the terms. */
+#define WC_AMG_MERGE_PER_TERM 3
 
 void wc_amg_cross_destroy(wc_amg* a) {
     if (!a) return;
@@ -52,7 +59,8 @@ void wc_amg_cross_destroy(wc_amg* a) {
         if (!X) continue;
         void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
                         X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark,
-                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos};
+                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos, X->m_start, X->m_col,
+                        X->m_val_f, X->m_pos, X->m_acc};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
         a->lev[l].cross = NULL;
@@ -101,6 +109,22 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
             X->blk_pos = WC_NEW(al, int, pos);
             if (!X->blk_start || !X->blk_col || !X->blk_val || !X->blk_pos) goto oom;
             for (size_t i = 0; i < pos; ++i) X->blk_pos[i] = -1;
+        }
+        if (!X->dense && a->opts.single) { /* the merged operator (amg_merge.c) */
+            size_t room = (size_t)L->n_blocks + (l == 0 ? (size_t)capacity * WC_AMG_MERGE_PER_TERM : (size_t)X->cap_blocks);
+            if (room > (size_t)1 << 27) room = (size_t)1 << 27;
+            X->cap_merged = (int)room;
+            X->m_start = WC_NEW(al, int, (size_t)L->n + 1);
+            X->m_col = WC_NEW(al, int, room);
+            X->m_val_f = WC_NEW(al, float, 9 * room + WC_BSR_F_PAD);
+            if (!X->m_start || !X->m_col || !X->m_val_f) goto oom;
+            if (l == 0) {
+                const size_t pos = (size_t)WC_PAR_MAX_THREADS * L->n;
+                X->m_pos = WC_NEW(al, int, pos);
+                X->m_acc = WC_NEW(al, double, (size_t)WC_PAR_MAX_THREADS * WC_AMG_MERGE_ROW * 9);
+                if (!X->m_pos || !X->m_acc) goto oom;
+                for (size_t i = 0; i < pos; ++i) X->m_pos[i] = -1;
+            }
         }
         X->c = WC_NEW(al, double, capacity);
         X->s = WC_NEW(al, double, capacity);
@@ -273,6 +297,7 @@ void wc_amg_cross_fine(wc_amg* a, const wc_filter* f) {
     if (!X) return;
     const wc_coupling* cp = a->coupling;
     if (X->n_terms > 0) memset(X->dadd, 0, 9 * sizeof(double) * (size_t)L->n);
+    X->m_blocks = 0; /* merged again after the float copies (amg_merge.c) */
     int q = 0, e = 0;
     X->start[0] = 0;
     for (int k = 0; cp && k < cp->n; ++k) {
@@ -380,6 +405,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l, wc_par* par) {
     const wc_amg_cross* X = L->cross;
     wc_amg_cross* Y = C->cross;
     if (!X || !Y) return;
+    Y->m_blocks = 0;
     const int g = C->group;
     if (Y->dense) {
         Y->n_terms = X->n_terms;

@@ -158,11 +158,16 @@ static void prolong(const wc_amg_level* L, int single, const double* xc, double*
  * thread count, with barriers where a phase reads what other threads wrote (and before x changes
  * while others may still read it). */
 
-/* t = r - A x with the couplings' terms on rows [lo, hi): residual() per thread. A list level's
- * terms are scaled first (every thread's share, then a barrier). */
+/* t = r - A x with the couplings' terms on rows [lo, hi): residual() per thread. A merged level
+ * (amg_merge.c) reads its one float matrix; otherwise a list level's terms are scaled first (every
+ * thread's share, then a barrier). */
 static void residual_part(const wc_amg_level* L, int single, const double* r, const double* x, double* t, int lo,
                           int hi) {
     const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
+    if (X && X->m_blocks > 0 && single) { /* B + X merged (amg_merge.c): one pass */
+        wc_bsr_rows_f(X->m_start, X->m_col, X->m_val_f, lo, hi, r, -1.0, x, t);
+        return;
+    }
     if (X && wc_amg_cross_as_terms(X)) {
         int q0, q1;
         wc_par_range(X->n_terms, wc_par_tid(), wc_par_nt(), &q0, &q1);

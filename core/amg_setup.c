@@ -608,6 +608,7 @@ static void setup_fine_only(wc_amg* a, const double* A, const wc_filter* f, wc_p
     largest_eigenvalue(a, L, 1, 1, par);
     lap(a, WC_AMG_PHASE_EIGEN_FINE, &t);
     wc_amg_single_copies(a, 1, par);
+    wc_amg_cross_merge(a, 0, par);
     lap(a, WC_AMG_PHASE_SINGLE, &t);
     a->bounds_reused = 1;
     a->coarse_kept = 1;
@@ -669,6 +670,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         lap(a, a->n_levels == 1 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
     }
     wc_amg_single_copies(a, 0, par);
+    for (int l = 0; l < a->n_levels; ++l) wc_amg_cross_merge(a, l, par);
     lap(a, WC_AMG_PHASE_SINGLE, &t);
     ++a->setups;
     a->setup_ms = wc_now_ms() - t0;

@@ -18,13 +18,16 @@
  *     c_k v_k (v_k . x) computed here from the lists, on 1 and 2 threads; its rows' columns
  *     ascending, each block (k, i) the transpose of (i, k) to the bit; the finest level, and a
  *     level whose blocks do not fit in the room, keep the terms; the blocks summed on 2 and 3
- *     threads are 1 thread's, bit for bit. */
+ *     threads are 1 thread's, bit for bit;
+ *   - the merged operators F = B + X (amg_merge.c): products against B's rows plus the terms' sum,
+ *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "amg.h"
 #include "amg_scene.h"
+#include "bsr_rows.h"
 #include "check.h"
 #include "test_support.h"
 #include "coupling.h"
@@ -205,6 +208,9 @@ static void test_hierarchy(void) {
         test_galerkin(a);
         amg_check_spd(a, s, variant ? "coupled layers, filtered, lists" : "coupled layers, filtered, dense");
         z[variant] = malloc(n3 * sizeof(double));
+        /* B and X apart on every level (the merged operators round the list levels' couplings to
+           float where a dense level keeps them in double: test_merged) */
+        for (int l = 0; l < a->n_levels; ++l) a->lev[l].cross->m_blocks = 0;
         wc_amg_apply(a, r, z[variant], &par);
         wc_amg_destroy(a);
     }
@@ -434,11 +440,138 @@ static void test_summed(void) {
     wc_model_free(&m);
 }
 
+/* Level l's merged operator (amg_merge.c) in rows: its columns strictly ascending and exactly the
+ * union of B's row and the terms' nodes holding i; returns the mismatches. */
+static int merged_layout_errors(const wc_amg_level* L, int* seen) {
+    const wc_amg_cross* X = L->cross;
+    int bad = 0;
+    for (int i = 0; i < L->n; ++i) {
+        int want = 0;
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            if (seen[L->col[k]] != i) {
+                seen[L->col[k]] = i;
+                ++want;
+            }
+        for (int q = 0; q < X->n_terms; ++q) {
+            int holds = 0;
+            for (int e = X->start[q]; e < X->start[q + 1]; ++e) holds |= X->node[e] == i;
+            for (int e = X->start[q]; holds && e < X->start[q + 1]; ++e)
+                if (seen[X->node[e]] != i) {
+                    seen[X->node[e]] = i;
+                    ++want;
+                }
+        }
+        bad += X->m_start[i + 1] - X->m_start[i] != want;
+        for (int b = X->m_start[i]; b < X->m_start[i + 1]; ++b) {
+            bad += seen[X->m_col[b]] != i;
+            bad += b > X->m_start[i] && X->m_col[b - 1] >= X->m_col[b];
+        }
+    }
+    return bad;
+}
+
+/* Levels of a and b hold the same merged operators, bit for bit; returns the levels that differ. */
+static int merged_differ(const wc_amg* a, const wc_amg* b) {
+    int differ = 0;
+    for (int l = 0; l < a->n_levels; ++l) {
+        const wc_amg_cross *X = a->lev[l].cross, *Y = b->lev[l].cross;
+        const int n = a->lev[l].n, nb = X->m_blocks;
+        differ += nb != Y->m_blocks ||
+                  (nb > 0 && (memcmp(X->m_start, Y->m_start, sizeof(int) * ((size_t)n + 1)) ||
+                              memcmp(X->m_col, Y->m_col, sizeof(int) * (size_t)nb) ||
+                              memcmp(X->m_val_f, Y->m_val_f, 9 * sizeof(float) * (size_t)nb)));
+    }
+    return differ;
+}
+
+/* The merged operators F = B + X (wc_amg_cross.m_blocks): each level's product against B's rows
+ * plus the terms' sum c_k v_k (v_k . x), both in double here (the merged blocks are floats: a few
+ * 1e-8 apart); the layout; the same bits on 1, 2 and 3 threads; the V-cycle reads them (its result
+ * moves by float roundings when they are taken away); a level whose room is short keeps B and X. */
+static void test_merged(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    wc_par one, two, three;
+    wc_par_init(&one, 1);
+    wc_par_init(&two, 2);
+    wc_par_init(&three, 3);
+    wc_amg* a = hierarchy(s, 0, &one); /* term lists on every level: level 0 merged from its terms,
+                                          the others from their summed blocks */
+    if (!a) return;
+    uint64_t st = 4242;
+    for (int l = 0; l < a->n_levels; ++l) {
+        const wc_amg_level* L = &a->lev[l];
+        const wc_amg_cross* X = L->cross;
+        const int n3 = 3 * L->n;
+        double *x = malloc(n3 * sizeof(double)), *ref = malloc(n3 * sizeof(double));
+        double* y = malloc(n3 * sizeof(double));
+        int* seen = malloc(sizeof(int) * (size_t)L->n);
+        for (int i = 0; i < L->n; ++i) seen[i] = -1;
+        random_vec(x, n3, &st);
+        terms_mul(X, x, ref, L->n);
+        for (int i = 0; i < L->n; ++i)
+            for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+                m3_mulv_add(ref + 3 * i, L->val + 9 * (size_t)k, x + 3 * L->col[k]);
+        CHECK(X->m_blocks > 0);
+        if (X->m_blocks > 0) {
+            wc_bsr_rows_f(X->m_start, X->m_col, X->m_val_f, 0, L->n, NULL, 1.0, x, y);
+            const double diff = ts_rel_diff(y, ref, n3);
+            const int bad = merged_layout_errors(L, seen);
+            printf("  level %d: %d nodes, %d BSR blocks, %d merged: |F x - (B x + sum c v (v . x))| / |.| = %.1e, "
+                   "layout errors %d\n", l, L->n, L->n_blocks, X->m_blocks, diff, bad);
+            CHECK(diff < 1e-6);
+            CHECK_EQ_INT(bad, 0);
+            CHECK(X->m_blocks > L->n_blocks); /* the couplings reach outside B's pattern */
+        }
+        free(x);
+        free(ref);
+        free(y);
+        free(seen);
+    }
+    wc_amg* b = hierarchy(s, 0, &three);
+    if (b) {
+        const int on_three = merged_differ(a, b);
+        wc_amg_setup(b, s->A, &s->filter, &two);
+        printf("  merged on 3 threads, 2 threads against 1: %d, %d levels differ\n", on_three, merged_differ(a, b));
+        CHECK_EQ_INT(on_three, 0);
+        CHECK_EQ_INT(merged_differ(a, b), 0);
+        /* the V-cycle reads them: without them (B's rows and the terms) it moves by float roundings */
+        const int n3 = 3 * b->lev[0].n;
+        double *r = malloc(n3 * sizeof(double)), *z1 = malloc(n3 * sizeof(double)), *z2 = malloc(n3 * sizeof(double));
+        random_vec(r, n3, &st);
+        wc_amg_apply(b, r, z1, &two);
+        for (int l = 0; l < b->n_levels; ++l) b->lev[l].cross->m_blocks = 0;
+        wc_amg_apply(b, r, z2, &two);
+        const double diff = ts_rel_diff(z1, z2, n3);
+        printf("  V-cycle merged against B and X apart: %.1e\n", diff);
+        CHECK(diff > 0.0 && diff < 1e-5);
+        /* room short on level 0: left unmerged, every thread's marks back at -1, the others merged */
+        b->lev[0].cross->cap_merged = b->lev[0].n_blocks;
+        wc_amg_setup(b, s->A, &s->filter, &two);
+        CHECK_EQ_INT(b->lev[0].cross->m_blocks, 0);
+        CHECK(b->lev[1].cross->m_blocks > 0);
+        int marked = 0;
+        for (size_t k = 0; k < (size_t)WC_PAR_MAX_THREADS * b->lev[0].n; ++k) marked += b->lev[0].cross->m_pos[k] != -1;
+        CHECK_EQ_INT(marked, 0);
+        wc_amg_apply(b, r, z2, &two);
+        CHECK(ts_rel_diff(z1, z2, n3) < 1e-5);
+        free(r);
+        free(z1);
+        free(z2);
+        wc_amg_destroy(b);
+    }
+    wc_amg_destroy(a);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     RUN_TEST(test_hierarchy);
     RUN_TEST(test_iterations);
     RUN_TEST(test_threads);
     RUN_TEST(test_one_level);
     RUN_TEST(test_summed);
+    RUN_TEST(test_merged);
     return TEST_SUMMARY();
 }
