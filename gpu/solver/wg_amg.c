@@ -162,6 +162,7 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     a->ratio = o.chebyshev_ratio;
     a->fine_bound_scale = ca->fine_bound_scale;
     a->cross_bound_scale = WG_AMG_CROSS_BOUND;
+    a->warm_steps = WG_AMG_POWER_WARM;
     a->cross_share[0] = WG_AMG_CROSS_FINE_SHARE;
     a->cross_share[1] = WG_AMG_CROSS_COARSE_SHARE;
     int cap = 1;
@@ -171,8 +172,10 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
     }
     buf = wc_calloc(alloc, (size_t)cap, sizeof(int));
     if (!buf) goto oom;
-    for (int l = 0; l < ca->n_levels; ++l)
+    for (int l = 0; l < ca->n_levels; ++l) {
         if (!level_create(run, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, err, el)) goto fail;
+        a->lev[l].v_last = 1;   /* a cold setup's first step writes v[0] */
+    }
     /* each particle's node on each level (the pairs' cross terms, wg_amg_set_pairs) */
     const int n0 = ca->lev[0].n;
     a->node_of = wc_calloc(alloc, (size_t)ca->n_levels * (size_t)(n0 > 0 ? n0 : 1), sizeof(int));
@@ -327,14 +330,28 @@ void wg_amg_setup(wg_amg* a) {
         }
         use_level(a, l, WGP_AMG_DINV, &in);
         WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
-        in.v = &L->v0;
-        for (int it = 0; it < WG_AMG_POWER; ++it) {
+        /* cold: core's start vector; warm: the last setup's iterate, its first step normalising it
+           by the last reduction's |v|^2 (amg_power.glsl) */
+        const int warm = a->warm && L->bound;
+        in.v = warm ? &L->v[L->v_last] : &L->v0;
+        in.v0 = &L->v0;
+        in.bound = warm ? L->bound : &L->v0;   /* unread cold */
+        for (int it = 0, steps = warm ? a->warm_steps : WG_AMG_POWER; it < steps; ++it) {
             use_level(a, l, WGP_AMG_POWER, &in);
-            WG_RUN(run, L->n, &L->v[it & 1], &L->part);
-            in.v = &L->v[it & 1];
+            wg_u1i(run, "u_warm", warm && it == 0);
+            L->v_last = 1 - L->v_last;
+            WG_RUN(run, L->n, &L->v[L->v_last], &L->part);
+            in.v = &L->v[L->v_last];
         }
         L->bound = wg_reduce(run, &L->red, &L->part, 0, 0, 0, 0);
     }
+    if (a->warm) ++a->warm_setups;
+    else ++a->cold_setups;
+    a->warm = a->warm_steps > 0;
+}
+
+void wg_amg_cold(wg_amg* a) {
+    if (a) a->warm = 0;
 }
 
 /* One smoothing step on level l (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse
