@@ -13,8 +13,9 @@
  * sums (the first from the projected blocks made on the fly), the block-diagonal inverses,
  * power iterations per level for lambda_max(D^-1 A) (WG_AMG_POWER from core's start vector at
  * a frame's first setup, WG_AMG_POWER_WARM from the last setup's iterate at the others; their
- * Rayleigh quotient stays in a 1 x 1 texture that the smoother reads; the finest level's bound also takes core's seam
- * factor, fine_bound_scale), and the coarsest level's dense Cholesky factor.
+ * Rayleigh quotient stays in a 1 x 1 texture that the smoother reads; the finest level's bound
+ * also takes core's seam factor, fine_bound_scale), and the coarsest level's dense Cholesky
+ * factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
  * after the coarse correction (core/amg_cycle.c), five passes a level, one dense solve.
  *
