@@ -181,6 +181,7 @@ static void test_cross_terms(void) {
     CHECK(g->pairs != NULL && g->amg != NULL);
     if (!g->amg) return;
     g->amg->cross_bound_scale = 1.0;   /* core's power method has no such factor (wg_amg.h) */
+    g->amg->warm_steps = 0;   /* nor warm steps: every setup from core's start vector, as core's */
     /* core's system and the GPU's (its pairs found and assembled by its own prepare) */
     wc_self_begin(sc->self, sc->x);
     wc_self_begin(sg->self, sg->x);
