@@ -308,7 +308,9 @@ static void test_cross_terms(void) {
            "residual %.1e; the GPU without the terms in its levels: %d iterations; with its default bound "
            "factor %.1f: %d\n",
            o.tolerance, rg.iterations, rc.iterations, sqrt(rr / bb), rs.iterations, WG_AMG_CROSS_BOUND, rb.iterations);
-    CHECK(rc.converged && rg.converged && rb.converged);
+    /* rs too: a Chebyshev bound below lambda_max (a warm start from the levels with the terms
+       gave 0.73 x the cold one) broke PCG down at 6 iterations, which the count alone passed */
+    CHECK(rc.converged && rg.converged && rs.converged && rb.converged);
     CHECK(abs(rg.iterations - rc.iterations) <= 2);
     CHECK(sqrt(rr / bb) < 1e-3);
     CHECK(2 * rg.iterations < rs.iterations);
