@@ -410,6 +410,8 @@ void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, 
 void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1);
 void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, int lo, int hi);
 void wc_amg_cross_destroy(wc_amg* a);
+/* Row i's distinct term columns not yet marked -2 - i in pos, marked so (amg_cross.c). */
+int wc_amg_cross_count_row(const wc_amg_cross* X, int i, int* pos);
 /* The merged operator's longest row on level 0 (blocks; a longer row leaves the level unmerged). */
 #define WC_AMG_MERGE_ROW 256
 /* Level l's whole operator F = B + X merged into one float BSR matrix (amg_merge.c, after the

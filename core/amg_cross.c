@@ -162,8 +162,9 @@ static void index_nodes(wc_amg_cross* X, int n) {
 }
 
 /* How many distinct columns row i of a coarse list level's summed form has (the nodes of the
- * terms holding i), marking them in pos with -2 - i (sum_row sets them back to -1). */
-static int count_row(const wc_amg_cross* X, int i, int* pos) {
+ * terms holding i), marking them in pos with -2 - i (sum_row sets them back to -1); columns
+ * already marked so are not counted (amg_merge.c marks B's first). */
+int wc_amg_cross_count_row(const wc_amg_cross* X, int i, int* pos) {
     const int stamp = -2 - i;
     int nb = 0;
     for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
@@ -261,7 +262,7 @@ static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
     {
         const int t = wc_par_tid(), nt = wc_par_nt();
         int* pos = X->blk_pos + (size_t)n * t;
-        FOR_THREAD_ROWS(i, n, t, nt) X->blk_start[i + 1] = count_row(X, i, pos);
+        FOR_THREAD_ROWS(i, n, t, nt) X->blk_start[i + 1] = wc_amg_cross_count_row(X, i, pos);
         WC_PAR_BARRIER();
         if (t == 0) {
             X->blk_start[0] = 0;

@@ -58,19 +58,8 @@ static void merge_summed(const wc_amg_level* L, wc_amg_cross* X, int i) {
 /* blocks of row i of F from the terms: B's columns marked in pos (the thread's, -1 on entry) with
  * stamp, then the terms' columns not yet marked; pos left marked (the fill resets it) */
 static int count_terms(const wc_amg_level* L, const wc_amg_cross* X, int i, int* pos) {
-    const int stamp = -2 - i;
-    int nb = L->row_start[i + 1] - L->row_start[i];
-    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) pos[L->col[k]] = stamp;
-    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
-        const int q = X->entry_term[j];
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-            const int k = X->node[e];
-            if (pos[k] == stamp) continue;
-            pos[k] = stamp;
-            ++nb;
-        }
-    }
-    return nb;
+    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) pos[L->col[k]] = -2 - i;
+    return L->row_start[i + 1] - L->row_start[i] + wc_amg_cross_count_row(X, i, pos);
 }
 
 /* row i of F from the terms (its room counted by count_terms), summed in acc (the thread's) */

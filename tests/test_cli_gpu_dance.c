@@ -12,9 +12,13 @@
  *    24-31 on the GPU);
  *  - the GPU at most 1 mm deeper behind the body than the CPU, every frame (measured 1.73 mm and
  *    1.70 mm in frame 1, 0 after on both);
- *  - the largest strain within 0.08 of the CPU's, every frame (measured 0.040 apart at most, in
- *    frame 2: 0.256 and 0.216), the particles in contact 0.85-1.15 times the CPU's (measured
- *    0.999-1.004);
+ *  - the largest strain within 0.2 of the CPU's, every frame: frames 2-3's strain is the seams
+ *    relaxing after frame 1's single unconverged Newton step, and it moves with rounding alone:
+ *    three CPU builds whose solves all converge to 1e-4 (abb5915; + the V-cycle's float merged
+ *    operator; + the mesh pairs' cone turn) gave 0.262 / 0.246 / 0.300 in frame 2 and 0.190 /
+ *    0.385 / 0.194 in frame 3, so a bound tighter than the CPU's own 0.19 spread tests noise
+ *    (measured GPU - CPU 0.157, frame 2: 0.142 and 0.300); the particles in contact 0.85-1.15
+ *    times the CPU's (measured 0.95-1.00);
  *  - rollbacks no more than the CPU's (0 on both).
  * The figures, PCG iterations among them, are listed in docs/design/gpu_bodies.md. 285-380 s on
  * llvmpipe at a load of 6-10 on 2 cores (a GPU frame takes 35-310 s there): label `bench`. */
@@ -30,7 +34,7 @@ static const gc_scene dance = {
     .rollbacks_from = 1,
     .authored_crossings = 1,
     .penetration_slack = 1e-3,  /* m */
-    .strain_slack = 0.08,
+    .strain_slack = 0.2,
     .contact_lo = 0.85,
     .contact_hi = 1.15,
 };

@@ -18,7 +18,7 @@ BINS="$B/weft $LIB $B/tests/test_gpu_solver $B/tests/test_gpu_amg $B/tests/test_
       $B/tests/test_gpu_group $B/tests/test_api_gpu_group $B/tests/test_api_gpu_body_gl $B/tests/test_gpu_mesh_body
       $B/tests/test_gpu_newton_contacts $B/tests/test_api_gpu_newton_contacts $B/tests/test_gpu_self
       $B/tests/test_api_gpu_self $B/tests/test_gpu_trbdf2_contacts $B/tests/test_api_gpu_trbdf2_contacts
-      $B/tests/test_api_auto $B/tests/test_gpu_pairs $B/tests/test_gpu_amg_cross $B/tests/test_cli_gpu_suit $B/tests/test_gpu_group_amg
+      $B/tests/test_api_auto $B/tests/test_gpu_pairs $B/tests/test_gpu_amg_cross $B/tests/test_cli_gpu_suit $B/tests/test_gpu_group_amg $B/tests/test_gpu_amg_smooth
       $B/tests/bench/bench_gpu $B/tests/bench/bench_render $B/tests/bench/bench_body_gl"
 T=$(mktemp -d)
 mkdir -p "$T/lib" .dev
