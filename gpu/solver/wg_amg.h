@@ -17,7 +17,8 @@
  * products (the first from the projected blocks made on the fly), the block-diagonal inverses,
  * power iterations per level for lambda_max(D^-1 A) (WG_AMG_POWER from core's start vector at
  * a frame's first setup, WG_AMG_POWER_COARSE on a smoothed P's coarse levels; WG_AMG_POWER_WARM
- * from the last setup's iterate at the others; their Rayleigh quotient stays in a 1 x 1 texture
+ * from the last setup's iterate at the others, whose quotient is taken no lower than
+ * WG_AMG_WARM_FLOOR x the frame's cold one; their Rayleigh quotient stays in a 1 x 1 texture
  * that the smoother reads; the finest level's bound also takes core's seam factor,
  * fine_bound_scale), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
@@ -59,6 +60,15 @@
 #define WG_AMG_POWER_WARM 3     /* on a warm setup (the frame's later ones), every level: from the
                                    last setup's iterate, normalised (wg_amg_setup; docs/bench/gpu.md
                                    "Warm power steps") */
+#define WG_AMG_WARM_FLOOR 0.97  /* a warm setup's Rayleigh quotient is taken no lower than this x
+                                   the quotient of the frame's cold setup on the level (lvl_bound):
+                                   3 steps from an iterate of another operator can fall far short
+                                   of lambda_max (test_gpu_amg_cross: 0.73 x), and a Chebyshev
+                                   interval below it breaks PCG down; one above it only smooths
+                                   less */
+#define WG_AMG_POWER_NORM 12    /* the power iterate rescaled to unit norm every this many steps
+                                   (a reduction each; |v| grows by lambda_max a step: 100
+                                   steps overflowed float) */
 #define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
                                    the levels (wg_amg.cross_bound_scale): a vertex-triangle term
                                    spreads over four particles, so D^-1 A has modes up to 4 local to
@@ -93,6 +103,7 @@ typedef struct wg_amg_level {
     wg_chain red;
     const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
     int v_last;                 /* v[v_last]: the last setup's last iterate (warm start) */
+    int cold_last;              /* the last setup was cold: bound holds the floor's quotient */
     wg_tex cross_i;             /* the pairs' cross terms on the level (amg_level_inputs.glsl,
                                    wg_amg_cross.c): per node its cross blocks, per block its
                                    column and terms, the terms (pair slots) */
@@ -141,6 +152,9 @@ typedef struct wg_amg {
     int warm;                   /* 1: the next setup's power steps start from the last setup's
                                    iterates (warm_steps of them); 0: cold (wg_amg_cold) */
     int warm_steps;             /* WG_AMG_POWER_WARM (tests: 0, every setup cold) */
+    double warm_floor;          /* WG_AMG_WARM_FLOOR (tests: 0, no floor) */
+    int cold_steps[2];          /* a cold setup's steps: finest level (and every level with P =
+                                   P_tent), the smoothed P's coarse ones (WG_AMG_POWER, _COARSE) */
     long cold_setups, warm_setups;   /* a stat */
     /* PCG in one work group (wg_amg_group.c, pcg_group_amg.glsl), where the finest level has at
        most WG_GROUP_MAX_PARTICLES nodes (id 0 otherwise): */
