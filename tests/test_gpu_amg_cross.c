@@ -181,6 +181,7 @@ static void test_cross_terms(void) {
     CHECK(g->pairs != NULL && g->amg != NULL);
     if (!g->amg) return;
     g->amg->cross_bound_scale = 1.0;   /* core's power method has no such factor (wg_amg.h) */
+    g->amg->warm_steps = 0;   /* nor warm steps: every setup from core's start vector, as core's */
     /* core's system and the GPU's (its pairs found and assembled by its own prepare) */
     wc_self_begin(sc->self, sc->x);
     wc_self_begin(sg->self, sg->x);
@@ -307,11 +308,40 @@ static void test_cross_terms(void) {
            "residual %.1e; the GPU without the terms in its levels: %d iterations; with its default bound "
            "factor %.1f: %d\n",
            o.tolerance, rg.iterations, rc.iterations, sqrt(rr / bb), rs.iterations, WG_AMG_CROSS_BOUND, rb.iterations);
-    CHECK(rc.converged && rg.converged && rb.converged);
+    /* rs too: a Chebyshev bound below lambda_max broke PCG down at 6 iterations, which the count
+       alone passed */
+    CHECK(rc.converged && rg.converged && rs.converged && rb.converged);
     CHECK(abs(rg.iterations - rc.iterations) <= 2);
     CHECK(sqrt(rr / bb) < 1e-3);
     CHECK(2 * rg.iterations < rs.iterations);
     CHECK(2 * rb.iterations < rs.iterations);
+
+    /* the same two solves with the GPU's warm steps: the one without the terms takes 3 warm steps
+       from the iterate of the levels with them, whose quotient alone falls to 0.73 x the cold
+       bound; the floor (WG_AMG_WARM_FLOOR x the cold quotient) keeps the interval above
+       lambda_max */
+    g->amg->warm_steps = WG_AMG_POWER_WARM;
+    g->amg->cross_bound_scale = 1.0;
+    wg_amg_cold(g->amg);
+    wc_solve_result rt, rw;
+    memset(dg, 0, n3 * sizeof(double));
+    wg_sim_debug_solve(g, WC_SOLVER_PCG, dg, &rt, &d);
+    float cold[4], warm[4];
+    wg_read1(&g->layout, g->amg->lev[0].bound, cold);
+    const long warm0 = g->amg->warm_setups;
+    memset(dg, 0, n3 * sizeof(double));
+    g->amg->cross_skip = 1;
+    const wc_status sw = wg_sim_debug_solve(g, WC_SOLVER_PCG, dg, &rw, &d);
+    g->amg->cross_skip = 0;
+    wg_read1(&g->layout, g->amg->lev[0].bound, warm);
+    printf("  warm steps: with the terms %d iterations (cold setup), then without them %d (warm setup; status %d), "
+           "finest quotient cold %.3f, warm %.3f, its floor %.3f\n",
+           rt.iterations, rw.iterations, (int)sw, cold[0] / cold[1], warm[0] / warm[1], warm[3]);
+    CHECK(g->amg->warm_setups == warm0 + 1);
+    CHECK(sw == WC_OK && rt.converged && rw.converged);
+    CHECK(abs(rt.iterations - rg.iterations) <= 1);
+    CHECK(rw.iterations <= rs.iterations + rs.iterations / 5);
+    CHECK(fabs(warm[3] - WG_AMG_WARM_FLOOR * cold[0] / cold[1]) <= 1e-5 * warm[3]);
 
     free(r), free(zc), free(zg), free(zs), free(dc), free(dg), free(y);
     wc_solver_destroy(cpu);

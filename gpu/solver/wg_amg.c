@@ -177,6 +177,10 @@ int wg_amg_create_with(wg_runner* run, const wc_model* m, const wg_amg_system* s
     a->smoothed = smoothed && ca->n_levels > 1;
     a->prolong_weight = o.prolong_weight;
     a->cross_bound_scale = WG_AMG_CROSS_BOUND;
+    a->warm_steps = WG_AMG_POWER_WARM;
+    a->warm_floor = WG_AMG_WARM_FLOOR;
+    a->cold_steps[0] = WG_AMG_POWER;
+    a->cold_steps[1] = WG_AMG_POWER_COARSE;
     a->cross_share[0] = WG_AMG_CROSS_FINE_SHARE;
     a->cross_share[1] = WG_AMG_CROSS_COARSE_SHARE;
     int cap = 1;
@@ -186,9 +190,11 @@ int wg_amg_create_with(wg_runner* run, const wc_model* m, const wg_amg_system* s
     }
     buf = wc_calloc(alloc, (size_t)cap, sizeof(int));
     if (!buf) goto oom;
-    for (int l = 0; l < ca->n_levels; ++l)
+    for (int l = 0; l < ca->n_levels; ++l) {
         if (!level_create(run, &a->lev[l], l > 0 ? &ca->lev[l - 1] : NULL, &ca->lev[l], buf, a->smoothed, err, el))
             goto fail;
+        a->lev[l].v_last = 1;   /* a cold setup's first step writes v[0] */
+    }
     if (a->smoothed && !wg_amg_smooth_create(a, ca, err, el)) goto fail;
     /* each particle's node on each level (the pairs' cross terms, wg_amg_set_pairs) */
     const int n0 = ca->lev[0].n;
@@ -383,15 +389,39 @@ void wg_amg_setup(wg_amg* a) {
         }
         use_level(a, l, WGP_AMG_DINV, &in);
         WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
-        in.v = &L->v0;
-        const int steps = l > 0 && a->smoothed ? WG_AMG_POWER_COARSE : WG_AMG_POWER;
+        /* cold: core's start vector, normalised every WG_AMG_POWER_NORM steps by a reduction of
+           the last step's sums; warm: the last setup's iterate, its first step normalising it by
+           the last reduction's |v|^2, every step carrying the bound's floor (amg_power.glsl) */
+        const int warm = a->warm && L->bound;
+        const int steps = warm ? a->warm_steps : l > 0 && a->smoothed ? a->cold_steps[1] : a->cold_steps[0];
+        in.v = warm ? &L->v[L->v_last] : &L->v0;
+        in.v0 = &L->v0;
+        in.bound = warm ? L->bound : &L->v0;   /* unread on a cold setup's first step */
+        int mid = 0;   /* a reduction within the setup (it replaces the last setup's) */
         for (int it = 0; it < steps; ++it) {
+            const int norm = it == 0 ? warm : it % WG_AMG_POWER_NORM == 0;
+            if (norm && it > 0) {
+                in.bound = wg_reduce(run, &L->red, &L->part, 0, 0, 0, 0);
+                mid = 1;
+            }
             use_level(a, l, WGP_AMG_POWER, &in);
-            WG_RUN(run, L->n, &L->v[it & 1], &L->part);
-            in.v = &L->v[it & 1];
+            wg_u1i(run, "u_norm", norm);
+            wg_u1i(run, "u_floor", !warm ? 0 : L->cold_last && !mid ? 1 : 2);
+            wg_u1f(run, "u_floor_factor", (float)a->warm_floor);
+            L->v_last = 1 - L->v_last;
+            WG_RUN(run, L->n, &L->v[L->v_last], &L->part);
+            in.v = &L->v[L->v_last];
         }
         L->bound = wg_reduce(run, &L->red, &L->part, 0, 0, 0, 0);
+        L->cold_last = !warm;
     }
+    if (a->warm) ++a->warm_setups;
+    else ++a->cold_setups;
+    a->warm = a->warm_steps > 0;
+}
+
+void wg_amg_cold(wg_amg* a) {
+    if (a) a->warm = 0;
 }
 
 /* One smoothing step on level l (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse

@@ -15,10 +15,12 @@
  * A's symmetric blocks and the filter (amg_level_inputs.glsl), with the V-cycle's vectors kept in
  * range(S). Per solve (wg_amg_setup, passes only, nothing read back): each coarse level's Galerkin
  * products (the first from the projected blocks made on the fly), the block-diagonal inverses,
- * WG_AMG_POWER power iterations per level (WG_AMG_POWER_COARSE on a smoothed P's coarse levels)
- * for lambda_max(D^-1 A) (their Rayleigh quotient stays
- * in a 1 x 1 texture that the smoother reads; the finest level's bound also takes core's seam
- * factor, fine_bound_scale), and the coarsest level's dense Cholesky factor.
+ * power iterations per level for lambda_max(D^-1 A) (WG_AMG_POWER from core's start vector at
+ * a frame's first setup, WG_AMG_POWER_COARSE on a smoothed P's coarse levels; WG_AMG_POWER_WARM
+ * from the last setup's iterate at the others, whose quotient is taken no lower than
+ * WG_AMG_WARM_FLOOR x the frame's cold one; their Rayleigh quotient stays in a 1 x 1 texture
+ * that the smoother reads; the finest level's bound also takes core's seam factor,
+ * fine_bound_scale), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
  * after the coarse correction (core/amg_cycle.c), seven passes a level (five with P = P_tent),
  * one dense solve.
@@ -49,11 +51,24 @@
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
-#define WG_AMG_POWER 12         /* power iterations per level and setup */
+#define WG_AMG_POWER 12         /* power iterations per level on a cold setup (from core's start
+                                   vector: a frame's first, and after a rollback or a failed solve) */
 #define WG_AMG_POWER_COARSE WC_AMG_COARSE_POWER /* on the coarse levels with the smoothed
                                    prolongator (core's for the power method, 30): 12 fell short of
                                    lambda_max there (test_gpu_amg, the stiff 64 x 64 sheet's level
-                                   1: 0.992 x), where the levels are small */
+                                   1: 0.992 x), where the levels are small; cold setups */
+#define WG_AMG_POWER_WARM 3     /* on a warm setup (the frame's later ones), every level: from the
+                                   last setup's iterate, normalised (wg_amg_setup; docs/bench/gpu.md
+                                   "Warm power steps") */
+#define WG_AMG_WARM_FLOOR 0.97  /* a warm setup's Rayleigh quotient is taken no lower than this x
+                                   the quotient of the frame's cold setup on the level (lvl_bound):
+                                   3 steps from an iterate of another operator can fall far short
+                                   of lambda_max (test_gpu_amg_cross: 0.73 x), and a Chebyshev
+                                   interval below it breaks PCG down; one above it only smooths
+                                   less */
+#define WG_AMG_POWER_NORM 12    /* the power iterate rescaled to unit norm every this many steps
+                                   (a reduction each; |v| grows by lambda_max a step: 100
+                                   steps overflowed float) */
 #define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
                                    the levels (wg_amg.cross_bound_scale): a vertex-triangle term
                                    spreads over four particles, so D^-1 A has modes up to 4 local to
@@ -84,9 +99,11 @@ typedef struct wg_amg_level {
     wg_tex gal_range, gal_list; /* level >= 1, per block: the finer level's blocks summed into it */
     wg_tex mem_range, mem_list; /* level >= 1, per node: the finer level's nodes of its aggregate */
     wg_tex r, x[2], d[2];       /* V-cycle vectors (level 0's r is PCG's) */
-    wg_tex v0, v[2], part;      /* power iterations: start (core's), iterates, (v.Av, v.Dv) */
+    wg_tex v0, v[2], part;      /* power iterations: start (core's), iterates, (v.Av, v.Dv, v'.v') */
     wg_chain red;
     const wg_tex* bound;        /* the last setup's reduction of part (lvl_bound) */
+    int v_last;                 /* v[v_last]: the last setup's last iterate (warm start) */
+    int cold_last;              /* the last setup was cold: bound holds the floor's quotient */
     wg_tex cross_i;             /* the pairs' cross terms on the level (amg_level_inputs.glsl,
                                    wg_amg_cross.c): per node its cross blocks, per block its
                                    column and terms, the terms (pair slots) */
@@ -132,6 +149,13 @@ typedef struct wg_amg {
     wg_amg_level lev[WC_AMG_MAX_LEVELS];
     wg_tex coarse_L;            /* 3n x 3n texels: the coarsest level's factor */
     const wg_tex* z;            /* the last V-cycle's result (level 0) */
+    int warm;                   /* 1: the next setup's power steps start from the last setup's
+                                   iterates (warm_steps of them); 0: cold (wg_amg_cold) */
+    int warm_steps;             /* WG_AMG_POWER_WARM (tests: 0, every setup cold) */
+    double warm_floor;          /* WG_AMG_WARM_FLOOR (tests: 0, no floor) */
+    int cold_steps[2];          /* a cold setup's steps: finest level (and every level with P =
+                                   P_tent), the smoothed P's coarse ones (WG_AMG_POWER, _COARSE) */
+    long cold_setups, warm_setups;   /* a stat */
     /* PCG in one work group (wg_amg_group.c, pcg_group_amg.glsl), where the finest level has at
        most WG_GROUP_MAX_PARTICLES nodes (id 0 otherwise): */
     wg_tex group_i;             /* the patterns, packed */
@@ -176,8 +200,14 @@ void wg_amg_destroy(wg_amg* a);
 /* Free the memory only (the GL context is gone). */
 void wg_amg_forget(wg_amg* a);
 size_t wg_amg_bytes(const wg_amg* a);
-/* The values for the prepared system (A, S). */
+/* The values for the prepared system (A, S). The bounds' power steps start from the last setup's
+ * iterates (WG_AMG_POWER_WARM steps) unless wg_amg_cold was called since (WG_AMG_POWER steps from
+ * core's start vector; the first setup is cold). */
 void wg_amg_setup(wg_amg* a);
+/* The next setup estimates the bounds afresh: the cloth calls it at every frame's start (so a
+ * frame depends on its starting state alone: snapshots, teleports and resets stay exact), after a
+ * substep's rollback and after a solve that did not converge. */
+void wg_amg_cold(wg_amg* a);
 /* z = M^-1 r (one V-cycle) into a->z (the hierarchy's own texture, valid until the next call),
  * and PCG's partial products (r.z, r.r) per particle into dot. */
 void wg_amg_apply(wg_amg* a, const wg_tex* r, const wg_tex* dot);

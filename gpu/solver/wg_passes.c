@@ -232,8 +232,8 @@ static const wg_pass_input amg_galerkin[] = {AMG(a0), AMG(a1), AMG(a2), AMG(gal_
 static const wg_pass_input amg_galerkin_fine[] = {FINE_OP, AMG(gal_range), AMG(gal_list)};
 static const wg_pass_input amg_dinv[] = {AMG(rows), AMG(a0), AMG(a1), AMG(a2), CROSS};
 static const wg_pass_input amg_dinv_fine[] = {AMG(rows), FINE_OP, CROSS};
-static const wg_pass_input amg_power[] = {AMG(rows), COARSE_OP, DINV, AMG(v), CROSS};
-static const wg_pass_input amg_power_fine[] = {AMG(rows), FINE_OP, DINV, AMG(v), CROSS};
+static const wg_pass_input amg_power[] = {AMG(rows), COARSE_OP, DINV, AMG(v), AMG(v0), AMG(bound), CROSS};
+static const wg_pass_input amg_power_fine[] = {AMG(rows), FINE_OP, DINV, AMG(v), AMG(v0), AMG(bound), CROSS};
 static const wg_pass_input amg_smooth[] = {AMG(rows), COARSE_OP, DINV, AMG(r), AMG(x), AMG(d), AMG(bound), AMG(xc), CROSS};
 static const wg_pass_input amg_smooth_fine[] = {AMG(rows), FINE_OP, DINV,     AMG(r),
                                                 AMG(x),    AMG(d),  AMG(bound), AMG(xc), CROSS};

@@ -357,6 +357,7 @@ typedef struct wg_amg_in {
     const wg_tex *r, *x, *d, *xc, *v, *z;    /* vectors: residual, iterate, step, coarse
                                                 correction, power iterate, V-cycle result */
     const wg_tex* bound;        /* the power iterations' reduction */
+    const wg_tex* v0;           /* power: core's start vector (a warm start's fallback) */
     const wg_tex* factor;       /* the coarsest level's dense factor */
     const wg_tex *cross_i, *cross_a;         /* the pairs' cross blocks on the level (wg_amg.h) */
     const wg_tex *cross_u, *cross_fine;      /* cross_blocks: the pair slots' (u, c), the finer

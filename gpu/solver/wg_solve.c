@@ -552,6 +552,7 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
     const int amg = type == WC_SOLVER_PCG && g->amg;
     if (type == WC_SOLVER_PCG && group_wanted(g, amg)) {
         wc_status st = solve_group(g, o, dv_in, amg, out, res);
+        if (amg && (st != WC_OK || !res->converged)) wg_amg_cold(g->amg);
         res->status = st;
         return st;
     }
@@ -572,6 +573,7 @@ wc_status wg_solve(wg_sim* g, const wc_solver_opts* o, wc_solver_type type, cons
         g->amg_on = 1;
         st = solve_pcg(g, o, out, res);
         g->amg_on = 0;
+        if (st != WC_OK || !res->converged) wg_amg_cold(g->amg);   /* the next bounds afresh */
     } else if (type == WC_SOLVER_PCG) st = solve_pcg(g, o, out, res);
     else if (type == WC_SOLVER_JACOBI || type == WC_SOLVER_CHEBYSHEV)
         st = solve_jacobi(g, o, type == WC_SOLVER_CHEBYSHEV, out, res);

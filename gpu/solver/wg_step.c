@@ -407,6 +407,7 @@ static void gpu_restore(void* user, wc_state* s) {
     }
     if (colliding(s)) wg_contacts_restore(g->contacts);
     g->rho_valid = 0;
+    wg_amg_cold(g->amg);   /* the retry's bounds estimated afresh */
 }
 
 static void gpu_measure(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain) {
@@ -452,6 +453,9 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     glDisable(GL_RASTERIZER_DISCARD);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     wg_step_upload_pins(g, s);
+    /* the multigrid's bounds estimated afresh at the frame's first solve: a frame depends on its
+       starting state alone (snapshots, rollbacks, teleports) */
+    wg_amg_cold(g->amg);
     wc_step_ops ops = {g, gpu_substep, gpu_save, gpu_restore, gpu_measure, gpu_sleep, s->def.solver.type};
     wc_status r = wc_step_frame_ops(s, dt, st, diag, &ops);
     wg_mesh_body_end_frame(wg_contacts_mesh(g->contacts));   /* as the driver ended core's bodies' frame */

@@ -8,10 +8,11 @@ mat3 blk(sampler2D a0, sampler2D a1, sampler2D a2, int k) { return blk_rows(ld(a
 vec4 blk_row(mat3 m, int r) { return vec4(m[0][r], m[1][r], m[2][r], 0.0); }
 
 // The Chebyshev smoother's bound on lambda_max(D^-1 A) from the power iterations' reduction
-// (x: sum v.Av, y: sum v.Dv): 1.1 x the Rayleigh quotient (core/amg.h WC_AMG_SAFETY), or 2
-// where it is not positive and finite (core/amg_setup.c largest_eigenvalue).
+// (x: sum v.Av, y: sum v.Dv, w: a warm setup's floor, amg_power.glsl): 1.1 x the larger of the
+// Rayleigh quotient and the floor (core/amg.h WC_AMG_SAFETY), or 2 where the quotient is not
+// positive and finite (core/amg_setup.c largest_eigenvalue).
 float lvl_bound(sampler2D red) {
     vec4 s = texelFetch(red, ivec2(0), 0);
     float l = s.x / s.y;
-    return (l > 0.0 && !isinf(l) && !isnan(l)) ? 1.1 * l : 2.0;
+    return (l > 0.0 && !isinf(l) && !isnan(l)) ? 1.1 * max(l, s.w) : 2.0;
 }
