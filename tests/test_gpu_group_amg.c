@@ -80,7 +80,11 @@ static void converged_and_capped(const char* what, wg_sim* g, const wc_solver_op
     free(a.dv), free(b.dv), free(c.dv);
 }
 
-/* Sheets of 9 (one level: the dense factor), 169 and 1,024 particles with planes, a stiff one */
+/* Sheets of 9 (one level: the dense factor), 169 and 1,024 particles with planes, a stiff one.
+ * The 1,024-particle sheet is capped at 30 iterations: llvmpipe ends an invocation's loops after
+ * 65,535 iterations in all, which the coarsest level solved by one invocation (two triangular
+ * solves of 48 unknowns, about 2,300 steps a V-cycle) reached at the 22nd iteration, and the group's barriers then parted (a
+ * negative r.r, the solve "diverged"); the coarsest solve is one node an invocation now. */
 static void test_sheets(void) {
     static const struct {
         const char* name;
@@ -89,7 +93,7 @@ static void test_sheets(void) {
     } cases[] = {
         {"hanging 3 x 3 (one level)", 3, 2, 1, 1, 1.0},
         {"hanging 13 x 13", 13, 2, 5, 2, 1.0},
-        {"hanging 32 x 32", 32, 3, 3, 3, 1.0},
+        {"hanging 32 x 32", 32, 3, 30, 3, 1.0},
         {"hanging 24 x 24, k x1000", 24, 3, 3, 3, 1000.0},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {

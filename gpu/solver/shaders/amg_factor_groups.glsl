@@ -1,8 +1,10 @@
 #version 430 core
 // The dense Cholesky factor of the multigrid's coarsest level (core/amg_setup.c coarse_factor),
 // once per setup, by one work group (the level has at most WG_AMG_DENSE_NODES nodes, wg_amg.h),
-// in place in image 0 (read-write: wg_amg.c binds it so): texel (c, r) = M[r][c], L (lower) at
-// the end. Column by column (left-looking): one invocation takes the pivot, then the group the
+// in place in image 0 (read-write: wg_amg.c binds it so): texel (c, r) = M[r][c]; at the end the
+// inverse L^-T L^-1 there, whole and symmetric, each invocation solving for its columns, so the
+// V-cycle's coarsest solve is a product the level's nodes share (amg_coarse_inverse.glsl), not
+// two triangular solves in one invocation. Column by column (left-looking): one invocation takes the pivot, then the group the
 // column's rows below it. A pivot that is not positive, or has lost more than 5 of float's 7
 // digits against its own diagonal entry, gets 1 and its row and column are decoupled: a
 // semi-definite coarse operator's null directions. (Core's double factor compares with 1e-14 x
@@ -17,6 +19,8 @@
 layout(local_size_x = 64, local_size_y = 1) in;
 layout(binding = 0, rgba32f) coherent uniform image2D wg_img0;
 shared int decouple;
+const int DMAX = 96;       // 3 x WG_AMG_DENSE_NODES
+shared float diag[DMAX];
 
 float M(int r, int c) { return imageLoad(wg_img0, ivec2(c, r)).x; }
 void put(int r, int c, float v) { imageStore(wg_img0, ivec2(c, r), vec4(v, 0.0, 0.0, 0.0)); }
@@ -76,6 +80,28 @@ void main() {
         }
         sync();
     }
-    for (int q = t; q < d * d; q += 64)
-        if (q % d > q / d) put(q / d, q % d, 0.0);
+    // column c of the inverse (c = t, t + 64): L w = e_c, then L^T x = w, reading L's lower
+    // triangle only; x's part above the diagonal goes to the upper triangle, free until now, and
+    // x_c to shared memory; then the lower triangle and the diagonal from them (symmetry)
+    for (int c = t; c < d; c += 64) {
+        float w[DMAX];
+        for (int i = 0; i < d; ++i) {
+            float s = i == c ? 1.0 : 0.0;
+            for (int k = c; k < i; ++k) s -= M(i, k) * w[k];
+            w[i] = i < c ? 0.0 : s / M(i, i);
+        }
+        for (int i = d - 1; i >= 0; --i) {
+            float s = w[i];
+            for (int k = i + 1; k < d; ++k) s -= M(k, i) * w[k];
+            w[i] = s / M(i, i);
+        }
+        for (int i = 0; i < c; ++i) put(i, c, w[i]);
+        diag[c] = w[c];
+    }
+    sync();   // every read of L done
+    for (int q = t; q < d * d; q += 64) {
+        int r = q / d, c = q % d;
+        if (r > c) put(r, c, M(c, r));
+        else if (r == c) put(r, c, diag[r]);
+    }
 }

@@ -5,7 +5,7 @@
 // precondition(), in its order and with its arithmetic: amg_smooth_step.glsl's steps (Chebyshev
 // of degree u_sweeps before and after the coarse correction, the prolongation added in the first
 // step after it), the restriction summing each aggregate's residuals in its member list's order,
-// and the coarsest level's dense solve (amg_coarse_solve.glsl) or its u_coarse_sweeps block-Jacobi
+// and the coarsest level's dense solve (amg_coarse_inverse.glsl) or its u_coarse_sweeps block-Jacobi
 // sweeps. The setup (wg_amg_setup) ran before as passes; amg_group_pack_groups.glsl copied each
 // smoothed level's bound, D^-1 and blocks into fpack.
 //
@@ -13,7 +13,7 @@
 // in registers with PCG's vectors, x in shared memory when neighbours read it (the residual
 // restricted goes through shared memory too); a coarser level's r, x, d and restricted residual
 // in image 5 (coherent; every phase that writes them ends in memoryBarrierImage and barrier); the
-// coarsest dense solve in invocation 0 (its 96 floats). Node I of every level is invocation
+// coarsest level's dense solve one node an invocation. Node I of every level is invocation
 // I mod 1,024's.
 //
 // ipack (int4): per level l, texels 2 l = (rows, cols, members' ranges, members) offsets and
@@ -29,7 +29,7 @@ layout(local_size_x = 1024, local_size_y = 1) in;
 #pragma weft include pcg_group_solve
 #pragma weft include amg_blocks
 #pragma weft include amg_smooth_step
-#pragma weft include amg_coarse_solve
+#pragma weft include amg_coarse_inverse
 uniform isampler2D rows;    // the finest level's nodes (amg_level_inputs.glsl): w its aggregate
 uniform isampler2D ipack;
 uniform sampler2D fpack;
@@ -147,23 +147,19 @@ void smooth_level(int l, level L, level N, int step, bool zero, bool prolong) {
     else smooth_coarse(L, N, step, zero, prolong);
 }
 
-// the coarsest level l's dense solve by invocation 0
+// the coarsest level l's dense solve: node I's x from the inverse's row of blocks, by invocation I
+// (the level has at most WG_AMG_DENSE_NODES nodes; on level 0, u_n: node I is row(0))
 void coarsest_dense(int l, level L) {
     if (l == 0) share_rows(xr);
-    if (T == 0) {
-        for (int i = 0; i < 3 * L.n; ++i) y[i] = (l == 0 ? get(i / 3) : sget(L, SR, i / 3))[i % 3];
-        amg_coarse_solve(3 * L.n);
-        for (int i = 0; i < L.n; ++i) {
-            vec3 v = vec3(y[3 * i], y[3 * i + 1], y[3 * i + 2]);
-            if (l == 0) put(i, v);
-            else sset(L, SX, i, v);
-        }
+    vec3 x = vec3(0.0);
+    if (T < L.n)
+        for (int J = 0; J < L.n; ++J) x += coarse_inverse_block(T, J) * (l == 0 ? get(J) : sget(L, SR, J));
+    if (l == 0) {
+        if (T < u_n) xt[0] = x;
+    } else {
+        if (T < L.n) sset(L, SX, T, x);
+        sync_image();
     }
-    memoryBarrierShared();
-    sync_image();
-    if (l == 0)
-        for (int k = 0; k < R; ++k)
-            if (row(k) < u_n) xt[k] = get(row(k));
 }
 
 void precondition_setup(int k, int i) {}
