@@ -14,6 +14,11 @@ void main() {
     vec3 av = op_row_any(i, v);
     vec3 vi = ld(v, i).xyz;
     vec3 dv = op_diag_full(i) * vi;
-    o0 = vec4(op_dinv(i) * av, 0.0);
+    vec3 avp = vec3(0.0);
+    if (op_pair()) {   /* a pair level: D is 6x6 per pair (amg_level_inputs.glsl) */
+        avp = op_row_any(i ^ 1, v);
+        dv += op_pair_block(i) * ld(v, i ^ 1).xyz;
+    }
+    o0 = vec4(op_dinv_mul(i, av, avp), 0.0);
     o1 = vec4(dot(vi, av), dot(vi, dv), 0.0, 0.0);
 }
