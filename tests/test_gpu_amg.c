@@ -120,12 +120,12 @@ static double bound_margin(wg_sim* g, wc_amg* cpu, wc_par* par, const char* name
         float sums[4];
         wg_read1(&g->layout, a->lev[l].bound, sums);
         double q = (double)sums[0] / (double)sums[1];
-        double bound = 1.1 * q * (l == 0 ? a->fine_bound_scale : 1.0);
+        double bound = 1.1 * q * wg_amg_bound_scale(a, l);
         wc_amg_level* L = &cpu->lev[l];
         double lmax = fmax(wc_amg_eigen_estimate(L, 400, 0, cpu->opts.pair_blocks, par),
                            wc_amg_eigen_estimate(L, 60, 1, cpu->opts.pair_blocks, par));
         printf("    %s, level %d (%d nodes): bound %.3f (1.1 x %.3f x %.2f), lambda_max %.3f: %.3f x\n", name, l,
-               a->lev[l].n, bound, q, l == 0 ? a->fine_bound_scale : 1.0, lmax, bound / lmax);
+               a->lev[l].n, bound, q, wg_amg_bound_scale(a, l), lmax, bound / lmax);
         worst = fmin(worst, bound / lmax);
     }
     return worst;

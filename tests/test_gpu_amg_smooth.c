@@ -8,7 +8,12 @@
  * entry): P's blocks, the next level's Galerkin blocks, and one V-cycle on a filtered random
  * vector (the restriction P^T and the prolongation P xc with it) against core's wc_amg_apply.
  * The mutations: P = P_tent on the GPU (WEFT_GPU_AMG_SMOOTH=0's hierarchy) against core's
- * smoothed one is far off on every count; w off by 1 % (core's bounds scaled) is caught too. */
+ * smoothed one is far off on every count; w off by 1 % (core's bounds scaled) is caught too.
+ * With the argument "rot" (ctest test_gpu_amg_rot) the same checks with rotations about the rest
+ * positions on both sides (wg_amg_opts_form(1, 1): P_tent's blocks from core's QR, two coarse nodes
+ * an aggregate, the pair levels' 6x6 block diagonal, the dead unknowns), and two more mutations:
+ * the GPU's translations (WEFT_GPU_AMG_ROT=0) against core's rotations, and core's pair levels
+ * smoothed with 3x3 blocks (pair_blocks 0) against the GPU's 6x6. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +27,7 @@
 
 static wg_gl_context* gl;
 static wg_device* dev;
+static int rot; /* 1: rotations on both sides (argument "rot") */
 
 #define TOL 2e-4 /* float against double, relative to the level's largest entry */
 
@@ -58,8 +64,9 @@ static double block_diff(float* const g[3], const double* c, int count) {
 
 /* Core's hierarchy on A (float-rounded) with the GPU's bounds x scale; NULL on failure. */
 static wc_amg* core_hierarchy(const wc_model* m, const wg_amg* a, const double* A, const wc_filter* f, double scale,
-                              wc_par* par) {
-    wc_amg_opts o = wg_amg_opts_for(1);
+                              int pair_blocks, wc_par* par) {
+    wc_amg_opts o = wg_amg_opts_form(1, rot);
+    o.pair_blocks = pair_blocks;
     o.values = 1;
     o.single = 0;
     o.bound_reuse = 1;
@@ -72,12 +79,30 @@ static wc_amg* core_hierarchy(const wc_model* m, const wg_amg* a, const double* 
         if (l == a->n_levels - 1 && a->dense) break;
         float sums[4];
         wg_read1(a->run->layout, a->lev[l].bound, sums);
-        ca->lev[l].estimate = scale * (double)sums[0] / (double)sums[1];
+        /* the GPU's factor on a coarse level's bound (a pair level's; core applies the finest's) */
+        ca->lev[l].estimate = scale * (double)sums[0] / (double)sums[1] * (l > 0 ? wg_amg_bound_scale(a, l) : 1.0);
     }
     ca->hold_bounds = 1;
     wc_amg_setup(ca, A, f, par);
     ca->hold_bounds = 0;
     return ca;
+}
+
+/* One V-cycle on r by the GPU's hierarchy of g and by core's ca: max |z_gpu - z_core| / max |z_core|. */
+static double vcycle_diff(wg_sim* g, const wc_amg* ca, const double* r, wc_par* par) {
+    const int n = g->n;
+    double *zc = calloc(3 * (size_t)n, sizeof(double)), *zg = calloc(3 * (size_t)n, sizeof(double));
+    wc_amg_apply((wc_amg*)ca, r, zc, par);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
+    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
+    wg_amg_apply(g->amg, &g->r[0], &g->part);
+    wg_array_read(&g->layout, g->amg->z, n, g->rb);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) zg[3 * i + c] = g->rb[4 * i + c];
+    double e = ts_max_diff(zg, zc, 3 * n) / ts_max_abs(zc, 3 * n);
+    free(zc), free(zg);
+    return e;
 }
 
 /* The worst P, coarse-operator and V-cycle differences of the GPU's hierarchy g against core's ca. */
@@ -97,26 +122,16 @@ static void compare(wg_sim* g, const wc_amg* ca, const double* r, wc_par* par, d
         }
         for (int c = 0; c < 3; ++c) wg_array_read(&g->layout, &N->a[c], N->nb, buf[c]);
         da = N->nb == CN->n_blocks ? block_diff(buf, CN->val, N->nb) : 1.0;
-        printf("    level %d (%d nodes): P %d entries, |dP| %.2e; level %d (%d nodes, %d blocks), |dA| %.2e\n", l,
-               G->n, np, dp, l + 1, N->n, N->nb, da);
+        int dead = 0; /* rotations: the next level's dead unknowns (amg_ptap.glsl revives them) */
+        for (int k = 0; CN->dead && k < 3 * CN->n; ++k) dead += CN->dead[k];
+        printf("    level %d (%d nodes): P %d entries, |dP| %.2e; level %d (%d nodes, %d blocks, %d dead), |dA| %.2e\n",
+               l, G->n, np, dp, l + 1, N->n, N->nb, dead, da);
         out[0] = fmax(out[0], dp);
         out[1] = fmax(out[1], da);
         for (int c = 0; c < 3; ++c) free(buf[c]);
     }
-    /* one V-cycle */
-    const int n = g->n;
-    double *zc = calloc(3 * (size_t)n, sizeof(double)), *zg = calloc(3 * (size_t)n, sizeof(double));
-    wc_amg_apply((wc_amg*)ca, r, zc, par);
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
-    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
-    wg_amg_apply(a, &g->r[0], &g->part);
-    wg_array_read(&g->layout, a->z, n, g->rb);
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c) zg[3 * i + c] = g->rb[4 * i + c];
-    out[2] = ts_max_diff(zg, zc, 3 * n) / ts_max_abs(zc, 3 * n);
+    out[2] = vcycle_diff(g, ca, r, par);
     printf("    V-cycle: |z_gpu - z_core| / |z_core| %.2e\n", out[2]);
-    free(zc), free(zg);
 }
 
 /* One system: the GPU's hierarchy (smoothed, and with P = P_tent as the mutation) against core's. */
@@ -128,12 +143,14 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     memset(&st, 0, sizeof st);
     wg_sim* g = NULL;
     dev->amg_smooth = 1;
+    dev->amg_rot = rot;
     CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!g) {
         fprintf(stderr, "%s\n", d.message);
         return;
     }
     CHECK(g->amg->smoothed == 1);
+    CHECK_EQ_INT(g->amg->rotations, rot);
     CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
     wc_substep_prepare(s, h, 1.0, &st);
     const size_t nb9 = 9 * (size_t)m->pattern.n_blocks;
@@ -155,7 +172,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     wc_par_init(&par, 1);
     printf("  %s: %d particles, %d levels (coarsest %d nodes)\n", name, n, g->amg->n_levels,
            g->amg->lev[g->amg->n_levels - 1].n);
-    wc_amg* ca = core_hierarchy(m, g->amg, A, &s->filter, 1.0, &par);
+    wc_amg* ca = core_hierarchy(m, g->amg, A, &s->filter, 1.0, 1, &par);
     CHECK(ca != NULL);
     if (!ca) return;
     CHECK_EQ_INT(ca->n_levels, g->amg->n_levels);
@@ -166,12 +183,39 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     CHECK(e[1] <= TOL);
     CHECK(e[2] <= 10 * TOL);
     /* mutation: core's w 1 % off (its bounds scaled) */
-    wc_amg* cw = core_hierarchy(m, g->amg, A, &s->filter, 1.01, &par);
+    wc_amg* cw = core_hierarchy(m, g->amg, A, &s->filter, 1.01, 1, &par);
     double ew[3];
     printf("  mutation, core's w x 1/1.01:\n");
     compare(g, cw, r, &par, ew);
     CHECK(ew[0] > 10 * TOL && ew[1] > 10 * TOL);
     wc_amg_destroy(cw);
+    if (rot && g->amg->n_levels >= 3) {
+        /* mutation (a hierarchy with a smoothed pair level): core's pair levels smoothed with two
+           3x3 blocks, not the pair's 6x6 */
+        wc_amg* c3 = core_hierarchy(m, g->amg, A, &s->filter, 1.0, 0, &par);
+        double e3[3];
+        printf("  mutation, core's pair levels with 3x3 blocks:\n");
+        compare(g, c3, r, &par, e3);
+        CHECK(e3[0] > 10 * TOL && e3[2] > 10 * TOL);
+        wc_amg_destroy(c3);
+    }
+    if (rot) {
+        /* mutation: the GPU's translations against core's rotations (the V-cycle) */
+        wg_sim* gt = NULL;
+        dev->amg_rot = 0;
+        CHECK(wg_sim_create(dev, s, NULL, &gt, &d) == WC_OK);
+        dev->amg_rot = rot;
+        if (gt) {
+            CHECK(gt->amg->rotations == 0);
+            CHECK(wg_sim_debug_prepare(gt, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
+            CHECK(wg_sim_debug_set_system(gt, A, s->b, &s->filter, &d) == WC_OK);
+            wg_amg_setup(gt->amg);
+            double zt = vcycle_diff(gt, ca, r, &par);
+            printf("  mutation, the GPU's translations: V-cycle |z_gpu - z_core| / |z_core| %.2e\n", zt);
+            CHECK(zt > 100 * e[2] && zt > 10 * TOL);
+            wg_sim_destroy(gt);
+        }
+    }
     /* mutation: the GPU's P = P_tent (its coarse patterns are core's unsmoothed ones: compare
        the V-cycle, and P's blocks as P_tent's identity blocks are not) */
     wg_sim* g0 = NULL;
@@ -183,21 +227,9 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
         CHECK(wg_sim_debug_prepare(g0, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
         CHECK(wg_sim_debug_set_system(g0, A, s->b, &s->filter, &d) == WC_OK);
         wg_amg_setup(g0->amg);
-        const wg_amg* a0 = g0->amg;
-        const int n0 = g->n;
-        double *zc = calloc(3 * (size_t)n0, sizeof(double)), *zg = calloc(3 * (size_t)n0, sizeof(double));
-        wc_amg_apply(ca, r, zc, &par);
-        for (int i = 0; i < n0; ++i)
-            for (int c = 0; c < 4; ++c) g0->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
-        wg_array_upload(&g0->layout, &g0->r[0], n0, g0->rb);
-        wg_amg_apply(g0->amg, &g0->r[0], &g0->part);
-        wg_array_read(&g0->layout, a0->z, n0, g0->rb);
-        for (int i = 0; i < n0; ++i)
-            for (int c = 0; c < 3; ++c) zg[3 * i + c] = g0->rb[4 * i + c];
-        double ez = ts_max_diff(zg, zc, 3 * n0) / ts_max_abs(zc, 3 * n0);
+        double ez = vcycle_diff(g0, ca, r, &par);
         printf("  mutation, the GPU's P = P_tent: V-cycle |z_gpu - z_core| / |z_core| %.2e\n", ez);
         CHECK(ez > 100 * e[2] && ez > 10 * TOL);
-        free(zc), free(zg);
         wg_sim_destroy(g0);
     }
     wc_amg_destroy(ca);
@@ -226,7 +258,9 @@ static void test_against_core(void) {
     }
 }
 
-int main(void) {
+int main(int argc, char** argv) {
+    rot = argc > 1 && strcmp(argv[1], "rot") == 0;
+    printf("  near-null space: %s\n", rot ? "rotations (rest positions)" : "translations");
     if (!tg_gpu_open(&gl, &dev)) return 1;
     if (dev->compute) RUN_TEST(test_against_core);
     else printf("  skipped: the multigrid needs compute passes\n");

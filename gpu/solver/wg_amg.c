@@ -6,12 +6,16 @@
 #include "wg_amg.h"
 #include "wg_pairs.h"
 
-wc_amg_opts wg_amg_opts(void) { return wg_amg_opts_for(WG_AMG_SMOOTHED); }
+wc_amg_opts wg_amg_opts(void) { return wg_amg_opts_form(WG_AMG_SMOOTHED, WG_AMG_ROTATIONS); }
 
-wc_amg_opts wg_amg_opts_for(int smoothed) {
+wc_amg_opts wg_amg_opts_for(int smoothed) { return wg_amg_opts_form(smoothed, 0); }
+
+wc_amg_opts wg_amg_opts_form(int smoothed, int rotations) {
     wc_amg_opts o = wc_default_amg_opts();
     o.coarse_max = WG_AMG_DENSE_NODES;
-    o.rotations = 0;
+    o.rotations = smoothed && rotations; /* about the rest positions (current_positions 0 below):
+                                            P_tent built once, uploaded (wg_amg_smooth.c) */
+    o.pair_blocks = 1;
     if (!smoothed) o.prolong_weight = 0.0; /* else core's (4/3): the patterns of P, T = A P, P^T T */
     o.lanczos = 0;
     o.power_iterations = WG_AMG_POWER;
@@ -71,8 +75,16 @@ static int level_create(wg_runner* run, wg_amg_level* G, const wc_amg_level* P, 
         v[4 * i] = L->row_start[i];
         v[4 * i + 1] = L->row_start[i + 1];
         v[4 * i + 2] = L->diag[i];
-        v[4 * i + 3] = L->agg ? L->agg[i] : -1;
+        /* a pair level: the block (i, i ^ 1) (wg_amg_level.pair; core's pair_blk, made with values) */
+        v[4 * i + 3] = L->group == 2 ? wc_amg_find(L->col, L->row_start[i], L->row_start[i + 1], i ^ 1)
+                       : L->agg    ? L->agg[i]
+                                   : -1;
+        if (L->group == 2 && v[4 * i + 3] < 0) {
+            wg_errorf(err, el, "multigrid: node %d has no block to its pair", i);
+            goto fail;
+        }
     }
+    G->pair = L->group == 2;
     TRY(upload_i4(L0, &G->rows, L->n, v, err, el));
     if (P) {   /* the finest level reads the system's own pattern and blocks (amg_level_inputs.glsl) */
         memset(v, 0, 4u * sizeof(int) * (size_t)L->n_blocks);
@@ -106,7 +118,7 @@ static int level_create(wg_runner* run, wg_amg_level* G, const wc_amg_level* P, 
     }
     for (int c = 0; c < 3; ++c) {
         if (P) TRY(wg_array_create(L0, &G->a[c], GL_RGBA32F, L->n_blocks, NULL, err, el));
-        TRY(wg_array_create(L0, &G->dinv[c], GL_RGBA32F, L->n, NULL, err, el));
+        TRY(wg_array_create(L0, &G->dinv[c], GL_RGBA32F, (G->pair ? 2 : 1) * L->n, NULL, err, el));
     }
     for (int c = 0; c < 2; ++c) {
         TRY(wg_array_create(L0, &G->x[c], GL_RGBA32F, L->n, NULL, err, el));
@@ -143,7 +155,8 @@ static int level_textures(wg_amg_level* G, wg_tex** out) {
                       &G->gal_range, &G->gal_list, &G->mem_range, &G->mem_list, &G->r, &G->x[0], &G->x[1], &G->d[0],
                       &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i, &G->cross_a,
                       &G->p_ent, &G->p_rows, &G->p_range, &G->p_list, &G->p[0], &G->p[1], &G->p[2],
-                      &G->t_range, &G->t_list, &G->t[0], &G->t[1], &G->t[2], &G->pt_range, &G->pt_list, &G->res};
+                      &G->t_range, &G->t_list, &G->t[0], &G->t[1], &G->t[2], &G->pt_range, &G->pt_list, &G->res,
+                      &G->tent[0], &G->tent[1], &G->tent[2]};
     int n = (int)(sizeof list / sizeof list[0]);
     for (int k = 0; k < n; ++k) out[k] = list[k];
     return n;
@@ -156,9 +169,14 @@ int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, w
 
 int wg_amg_create_with(wg_runner* run, const wc_model* m, const wg_amg_system* sys, int smoothed, wg_amg** out,
                        char* err, size_t el) {
+    return wg_amg_create_form(run, m, sys, smoothed, WG_AMG_ROTATIONS, out, err, el);
+}
+
+int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* sys, int smoothed, int rotations,
+                       wg_amg** out, char* err, size_t el) {
     *out = NULL;
     const wc_allocator* alloc = &run->layout->alloc;
-    wc_amg_opts o = wg_amg_opts_for(smoothed);
+    wc_amg_opts o = wg_amg_opts_form(smoothed, rotations);
     wc_amg* ca = NULL;
     wc_diag d = {0};
     if (wc_amg_create(&ca, m, &o, alloc, &d) != WC_OK) {
@@ -176,6 +194,7 @@ int wg_amg_create_with(wg_runner* run, const wc_model* m, const wg_amg_system* s
     a->fine_bound_scale = ca->fine_bound_scale;
     a->smoothed = smoothed && ca->n_levels > 1;
     a->prolong_weight = o.prolong_weight;
+    a->rotations = o.rotations && a->smoothed;
     a->cross_bound_scale = WG_AMG_CROSS_BOUND;
     a->warm_steps = WG_AMG_POWER_WARM;
     a->warm_floor = WG_AMG_WARM_FLOOR;
@@ -201,8 +220,11 @@ int wg_amg_create_with(wg_runner* run, const wc_model* m, const wg_amg_system* s
     a->node_of = wc_calloc(alloc, (size_t)ca->n_levels * (size_t)(n0 > 0 ? n0 : 1), sizeof(int));
     if (!a->node_of) goto oom;
     for (int i = 0; i < n0; ++i) a->node_of[i] = i;
+    /* (with rotations an aggregate's first coarse node; the terms stay on the finest level with
+       the smoothed prolongator, wg_amg_cross.c) */
     for (int l = 1; l < ca->n_levels; ++l)
-        for (int i = 0; i < n0; ++i) a->node_of[(size_t)l * n0 + i] = ca->lev[l - 1].agg[a->node_of[(size_t)(l - 1) * n0 + i]];
+        for (int i = 0; i < n0; ++i)
+            a->node_of[(size_t)l * n0 + i] = ca->lev[l - 1].cpa * ca->lev[l - 1].agg[a->node_of[(size_t)(l - 1) * n0 + i]];
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
@@ -311,12 +333,17 @@ static int cross_level(const wg_amg* a, int l) { return cross_on(a) && a->lev[l]
 static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in) {
     WG_USE(a->run, level_pass(p, l), in);
     wg_u1i(a->run, "u_cross", cross_level(a, l));
+    if (l > 0) wg_u1i(a->run, "u_pair", a->lev[l].pair);
 }
 
-/* The factor on level l's lambda_max bound (lvl_bound): the finest level's seam and cross factors. */
+/* The factor on level l's lambda_max bound (lvl_bound): the finest level's seam and cross factors,
+ * a pair level's WG_AMG_PAIR_BOUND. */
 static double bound_scale(const wg_amg* a, int l) {
-    return l == 0 ? a->fine_bound_scale * (cross_level(a, 0) ? a->cross_bound_scale : 1.0) : 1.0;
+    if (l > 0) return a->lev[l].pair ? WG_AMG_PAIR_BOUND : 1.0;
+    return a->fine_bound_scale * (cross_level(a, 0) ? a->cross_bound_scale : 1.0);
 }
+
+double wg_amg_bound_scale(const wg_amg* a, int l) { return bound_scale(a, l); }
 
 /* The smoothed prolongator from level l to l + 1 (after l's D^-1 and bound), T = A P and level
  * l + 1's operator P^T T (wg_amg_smooth.c's lists). The products read A's pattern's blocks, not
@@ -328,9 +355,15 @@ static void smoothed_galerkin(wg_amg* a, int l) {
     wg_amg_in in = level_in(a, l);
     in.bound = F->bound;
     in.p_ent = &F->p_ent;
+    in.p_rows = &F->p_rows;
     in.p_range = &F->p_range;
     in.p_list = &F->p_list;
+    const int tent = a->rotations; /* else identity blocks: stand-ins unread (u_tent 0) */
+    in.tent0 = tent ? &F->tent[0] : &F->dinv[0];
+    in.tent1 = tent ? &F->tent[1] : &F->dinv[1];
+    in.tent2 = tent ? &F->tent[2] : &F->dinv[2];
     use_level(a, l, WGP_AMG_PROLONGATOR, &in);
+    wg_u1i(run, "u_tent", tent);
     wg_u1f(run, "u_weight", a->prolong_weight);
     wg_u1f(run, "u_bound_scale", bound_scale(a, l));
     WG_RUN(run, F->np, &F->p[0], &F->p[1], &F->p[2]);
@@ -388,7 +421,7 @@ void wg_amg_setup(wg_amg* a) {
             break;
         }
         use_level(a, l, WGP_AMG_DINV, &in);
-        WG_RUN(run, L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
+        WG_RUN(run, (L->pair ? 2 : 1) * L->n, &L->dinv[0], &L->dinv[1], &L->dinv[2]);
         /* cold: core's start vector, normalised every WG_AMG_POWER_NORM steps by a reduction of
            the last step's sums; warm: the last setup's iterate, its first step normalising it by
            the last reduction's |v|^2, every step carrying the bound's floor (amg_power.glsl) */

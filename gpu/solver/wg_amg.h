@@ -7,9 +7,20 @@
  * (wg_amg_smooth.c); the V-cycle restricts the residual through P^T and prolongs through P (a
  * pass each). With P = P_tent (smoothed 0: identity blocks, the one-work-group PCG's hierarchy)
  * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
- * prolongation folds into the smoother's first pass. Rotations (the CPU's default near-null
- * space) are not done. The same method runs on the CPU with wg_amg_opts() (tests/test_gpu_amg.c
- * compares the two; tests/test_gpu_amg_smooth.c the levels themselves).
+ * prolongation folds into the smoother's first pass.
+ * Rotations (rotations, WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT; with the smoothed P only): the six
+ * rigid modes about the REST positions, so core builds P_tent once (its QR per aggregate, two
+ * coarse nodes 2a, 2a + 1 an aggregate, core/amg.h) and its 3x3 blocks are uploaded; the
+ * prolongator pass multiplies each block of A by the P_tent block of its column, and the
+ * 3x3-block passes (T = A P, P^T T, the restriction and prolongation) run unchanged on the
+ * doubled coarse nodes. The pair levels (every level below the finest) smooth with a 6x6 block
+ * diagonal per pair, inverted per setup (amg_dinv.glsl) and read by the smoother, the power
+ * iterations and the prolongator, whose node then also reads its pair's residual; a pair level's
+ * bound takes WG_AMG_PAIR_BOUND; dead unknowns (1- or 2-node aggregates) get core's decoupled
+ * diagonal in the Galerkin pass (amg_ptap.glsl). P = P_tent (the one-work-group PCG's) stays of
+ * translations. The same method runs on the CPU with wg_amg_opts() (tests/test_gpu_amg.c
+ * compares the two; tests/test_gpu_amg_smooth.c the levels themselves, test_gpu_amg_rot with
+ * rotations).
  *
  * The finest level's operator, the projected S A S + a (I - S), is never stored: its passes read
  * A's symmetric blocks and the filter (amg_level_inputs.glsl), with the V-cycle's vectors kept in
@@ -26,8 +37,8 @@
  * one dense solve.
  *
  * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level
- * with P = P_tent (with the smoothed P in the finest level's only, the coarse levels being the
- * pattern's Galerkin products): there a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
+ * with P = P_tent (with the smoothed P, translations or rotations, in the finest level's only, the
+ * coarse levels being the pattern's Galerkin products): there a pair's vector sum_k e_k u_k restricts to the same u_k at its slots' coarse
  * nodes, so per level lists uploaded per substep (wg_amg_set_pairs, wg_amg_cross.c: each pair of
  * nodes that two slots of a pair couple, and its terms) and one texture of the slots' filtered
  * u_k and c (a pass per setup) give each level's whole operator. Per setup one pass a level sums
@@ -51,6 +62,8 @@
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
+#define WG_AMG_ROTATIONS 1     /* the default near-null space with the smoothed prolongator:
+                                   rotations (wg_amg.rotations) */
 #define WG_AMG_POWER 12         /* power iterations per level on a cold setup (from core's start
                                    vector: a frame's first, and after a rollback or a failed solve) */
 #define WG_AMG_POWER_COARSE WC_AMG_COARSE_POWER /* on the coarse levels with the smoothed
@@ -69,6 +82,11 @@
 #define WG_AMG_POWER_NORM 12    /* the power iterate rescaled to unit norm every this many steps
                                    (a reduction each; |v| grows by lambda_max a step: 100
                                    steps overflowed float) */
+#define WG_AMG_PAIR_BOUND 1.15  /* a pair level's bound x this (rotations): the power iterations
+                                   fall short of lambda_max there (core/amg.h WC_AMG_COARSE_POWER;
+                                   test_gpu_amg, the stiff 64 x 64 sheet's level 1: 0.93 x after
+                                   WG_AMG_POWER_COARSE steps); a bound above it only weakens the
+                                   smoother a little, one below it makes the V-cycle indefinite */
 #define WG_AMG_CROSS_BOUND 1.5   /* the finest level's bound x this while the pairs' terms are in
                                    the levels (wg_amg.cross_bound_scale): a vertex-triangle term
                                    spreads over four particles, so D^-1 A has modes up to 4 local to
@@ -122,6 +140,11 @@ typedef struct wg_amg_level {
     wg_tex t[3];                /* T's blocks, by rows (per setup) */
     wg_tex pt_range, pt_list;   /* each next-level node's entries of P (entry, row) */
     wg_tex res;                 /* r - A x after the pre-smoothing (amg_residual.glsl) */
+    wg_tex tent[3];             /* rotations: P_tent's blocks to the next level, by rows, texel
+                                   2i + q: row i to coarse node 2 agg(i) + q (core's tent) */
+    int pair;                   /* a pair level (rotations, levels >= 1): D^-1 is 6x6 per pair
+                                   (2a, 2a + 1), dinv holds 2n texels, rows.w the block (i, i ^ 1)
+                                   (amg_level_inputs.glsl u_pair) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -143,6 +166,9 @@ typedef struct wg_amg {
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
                                    P = P_tent (the one-work-group PCG's, WEFT_GPU_SOLVE=group) */
     double prolong_weight;      /* core's (4/3) where smoothed */
+    int rotations;              /* the near-null space: the six rigid modes about the rest
+                                   positions (WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT), else the three
+                                   translations; only with the smoothed prolongator */
     double fine_bound_scale;    /* the finest level's bound x this: core's wc_amg.fine_bound_scale
                                    (WC_AMG_SEAM_BOUND where vertex-to-edge seams lift lambda_max in
                                    modes local to them, which the power iterations miss; else 1) */
@@ -184,8 +210,11 @@ typedef struct wg_amg {
 /* The hierarchy core builds for the GPU, patterns only (values 0; a CPU run of the same method
  * sets values 1). */
 wc_amg_opts wg_amg_opts(void);
-/* The same for a smoothed prolongator (smoothed 1) or P = P_tent (0). */
+/* The same for a smoothed prolongator (smoothed 1) or P = P_tent (0), translations only. */
 wc_amg_opts wg_amg_opts_for(int smoothed);
+/* The same with the near-null space chosen: rotations 1 (about the rest positions, P_tent built
+ * once by core; with smoothed only) or 0. */
+wc_amg_opts wg_amg_opts_form(int smoothed, int rotations);
 /* The multigrid of model m's system: patterns and lists uploaded; 0 with err on failure. */
 int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
                   size_t err_len);
@@ -193,6 +222,10 @@ int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_
  * WG_AMG_SMOOTHED. */
 int wg_amg_create_with(wg_runner* r, const wc_model* m, const wg_amg_system* sys, int smoothed, wg_amg** out,
                        char* err, size_t err_len);
+/* The same with the near-null space chosen too (rotations: with smoothed only, else ignored);
+ * wg_amg_create_with takes WG_AMG_ROTATIONS. */
+int wg_amg_create_form(wg_runner* r, const wc_model* m, const wg_amg_system* sys, int smoothed, int rotations,
+                       wg_amg** out, char* err, size_t err_len);
 /* wg_amg_smooth.c: the smoothed prolongator's lists and textures of every level from core's
  * hierarchy (built with wg_amg_opts_for(1)); 0 with err on failure. */
 int wg_amg_smooth_create(wg_amg* a, const wc_amg* ca, char* err, size_t err_len);
@@ -200,6 +233,9 @@ void wg_amg_destroy(wg_amg* a);
 /* Free the memory only (the GL context is gone). */
 void wg_amg_forget(wg_amg* a);
 size_t wg_amg_bytes(const wg_amg* a);
+/* The factor the smoother and the prolongator's w take on level l's bound (lvl_bound's 1.1 x the
+ * Rayleigh quotient): the finest level's seam and cross factors, WG_AMG_PAIR_BOUND on a pair level. */
+double wg_amg_bound_scale(const wg_amg* a, int l);
 /* The values for the prepared system (A, S). The bounds' power steps start from the last setup's
  * iterates (WG_AMG_POWER_WARM steps) unless wg_amg_cold was called since (WG_AMG_POWER steps from
  * core's start vector; the first setup is cold). */

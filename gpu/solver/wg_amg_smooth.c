@@ -12,9 +12,9 @@
 #include "wg_amg.h"
 
 /* Items (a, b) keyed by group, counting-sorted (in order within a group): range per group
- * (first, end), list per item (a, b), int4 arrays. */
+ * (first, end, gz or 0), list per item (a, b), int4 arrays. */
 static int upload_keyed(const wg_layout* L, wg_tex* range, wg_tex* list, int n_groups, int n_items, const int* key,
-                        const int* a, const int* b, char* err, size_t el) {
+                        const int* a, const int* b, const int* gz, char* err, size_t el) {
     const wc_allocator* al = &L->alloc;
     int cap = (n_groups > n_items ? n_groups : n_items) + 1;
     int* start = wc_calloc(al, (size_t)n_groups + 2, sizeof(int));
@@ -29,6 +29,7 @@ static int upload_keyed(const wg_layout* L, wg_tex* range, wg_tex* list, int n_g
     for (int K = 0; K < n_groups; ++K) {
         v[4 * K] = start[K];
         v[4 * K + 1] = start[K + 1];
+        v[4 * K + 2] = gz ? gz[K] : 0;
     }
     if (!wg_array_create(L, range, GL_RGBA32I, n_groups, v, err, el)) goto done;
     memset(v, 0, 4u * sizeof(int) * (size_t)cap);
@@ -48,7 +49,7 @@ done:
 static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, const wc_amg_level* F,
                         const wc_amg_level* C, char* err, size_t el) {
     const wc_allocator* al = &L->alloc;
-    const int n = F->n, np = F->p_start[n], nt = F->t_start[n];
+    const int n = F->n, np = F->p_start[n], nt = F->t_start[n], cpa = F->cpa;
     G->np = np;
     G->nt = nt;
     /* the products' count: T's (A_ik P_(k, .)) and P^T T's */
@@ -58,7 +59,9 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
     for (int s = 0; s < np; ++s) n_ptap += F->t_start[F->pt_row[s] + 1] - F->t_start[F->pt_row[s]];
     long cap = n_ap > n_ptap ? n_ap : n_ptap;
     if (cap < np) cap = np;
-    if (cap < F->n_blocks) cap = F->n_blocks;
+    if (cap < (long)cpa * F->n_blocks) cap = (long)cpa * F->n_blocks;
+    if (cap < C->n_blocks) cap = C->n_blocks;
+    if (cap < 4L * 2 * n) cap = 4L * 2 * n; /* P_tent's rows as float texels (rotations) */
     if (cap < 4L * (n > np ? n : np)) cap = 4L * (n > np ? n : np);
     if (cap > 0x7fffffffL / 4) {
         wg_errorf(err, el, "multigrid: the smoothed prolongator's lists are too long");
@@ -72,14 +75,18 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
         wg_errorf(err, el, "out of memory");
         goto done;
     }
-    /* P's entries (row, column, own aggregate) and each row's entries; key is int4 scratch here */
+    /* P's entries (row, column, own aggregate, its P_tent block 2i + q) and each row's entries;
+       key is int4 scratch here. With rotations (cpa 2) a row's own aggregate is its entries
+       p_self, p_self + 1 (coarse nodes 2 agg(i) + q). */
     int* v = key;
     memset(v, 0, sizeof(int) * (size_t)cap);
     for (int i = 0; i < n; ++i)
         for (int e = F->p_start[i]; e < F->p_start[i + 1]; ++e) {
+            const int q = e - F->p_self[i], own = q >= 0 && q < cpa;
             v[4 * e] = i;
             v[4 * e + 1] = F->p_col[e];
-            v[4 * e + 2] = e == F->p_self[i];
+            v[4 * e + 2] = own;
+            v[4 * e + 3] = own ? cpa * i + q : 0;
         }
     if (!wg_array_create(L, &G->p_ent, GL_RGBA32I, np, v, err, el)) goto done;
     memset(v, 0, sizeof(int) * (size_t)cap);
@@ -88,13 +95,27 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
         v[4 * i + 1] = F->p_start[i + 1];
     }
     if (!wg_array_create(L, &G->p_rows, GL_RGBA32I, n, v, err, el)) goto done;
-    /* each entry's blocks of A: the strong ones of its column's aggregate, the weak onto its own */
+    /* each entry's blocks of A: the strong ones of its column's aggregate, the weak onto its own,
+       each with the P_tent block it multiplies (column j's to coarse node cpa agg + q; a weak
+       block's: row i's own, core's lumping) */
     for (int i = 0; i < n; ++i)
-        for (int k = F->row_start[i]; k < F->row_start[i + 1]; ++k) {
-            key[k] = F->a_to_p[k] >= 0 ? F->a_to_p[k] : F->p_self[i];
-            ia[k] = k;
+        for (int k = F->row_start[i]; k < F->row_start[i + 1]; ++k)
+            for (int q = 0; q < cpa; ++q) {
+                const int m2 = cpa * k + q, strong = F->a_to_p[k] >= 0;
+                key[m2] = (strong ? F->a_to_p[k] : F->p_self[i]) + q;
+                ia[m2] = k;
+                ib[m2] = cpa * (strong ? F->col[k] : i) + q;
+            }
+    if (!upload_keyed(L, &G->p_range, &G->p_list, np, cpa * F->n_blocks, key, ia, ib, NULL, err, el)) goto done;
+    if (F->tent) { /* P_tent's blocks by rows: texel 2i + q, row r of core's row-major 3x3 block */
+        float* fv = (float*)v;
+        for (int r = 0; r < 3; ++r) {
+            memset(fv, 0, sizeof(float) * 4 * (size_t)cpa * n);
+            for (int t = 0; t < cpa * n; ++t)
+                for (int c = 0; c < 3; ++c) fv[4 * t + c] = (float)F->tent[9 * (size_t)t + 3 * r + c];
+            if (!wg_array_create(L, &G->tent[r], GL_RGBA32F, cpa * n, fv, err, el)) goto done;
         }
-    if (!upload_keyed(L, &G->p_range, &G->p_list, np, F->n_blocks, key, ia, NULL, err, el)) goto done;
+    }
     /* T = A P: entry (i, J) sums A_ik P_e over k in row i and e in row col(k) with column J */
     long m = 0;
     for (int i = 0; i < n; ++i)
@@ -108,7 +129,7 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
                     goto done;
                 }
             }
-    if (!upload_keyed(L, &G->t_range, &G->t_list, nt, (int)n_ap, key, ia, ib, err, el)) goto done;
+    if (!upload_keyed(L, &G->t_range, &G->t_list, nt, (int)n_ap, key, ia, ib, NULL, err, el)) goto done;
     /* the next level's block (I, J) sums P_(i, I)^T T_(i, J) */
     m = 0;
     for (int I = 0; I < C->n; ++I)
@@ -124,7 +145,22 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
                 }
             }
         }
-    if (!upload_keyed(L, &N->gal_range, &N->gal_list, C->n_blocks, (int)n_ptap, key, ia, ib, err, el)) goto done;
+    /* the next level's dead unknowns (rotations: core's dead), a bit per row of its diagonal
+       blocks (amg_ptap.glsl); dz: scratch past the lists' items */
+    int* dz = NULL;
+    if (C->dead) {
+        dz = wc_calloc(al, (size_t)C->n_blocks + 1, sizeof(int));
+        if (!dz) {
+            wg_errorf(err, el, "out of memory");
+            goto done;
+        }
+        for (int I = 0; I < C->n; ++I)
+            for (int r = 0; r < 3; ++r)
+                if (C->dead[3 * I + r]) dz[C->diag[I]] |= 1 << r;
+    }
+    int up = upload_keyed(L, &N->gal_range, &N->gal_list, C->n_blocks, (int)n_ptap, key, ia, ib, dz, err, el);
+    wc_free(al, dz);
+    if (!up) goto done;
     /* the restriction: each next-level node's entries of P (P^T's rows) */
     for (int I = 0; I < C->n; ++I)
         for (int s = F->pt_start[I]; s < F->pt_start[I + 1]; ++s) {
@@ -132,7 +168,7 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
             ia[s] = F->pt_entry[s];
             ib[s] = F->pt_row[s];
         }
-    if (!upload_keyed(L, &G->pt_range, &G->pt_list, C->n, np, key, ia, ib, err, el)) goto done;
+    if (!upload_keyed(L, &G->pt_range, &G->pt_list, C->n, np, key, ia, ib, NULL, err, el)) goto done;
     for (int c = 0; c < 3; ++c) {
         if (!wg_array_create(L, &G->p[c], GL_RGBA32F, np, NULL, err, el)) goto done;
         if (!wg_array_create(L, &G->t[c], GL_RGBA32F, nt, NULL, err, el)) goto done;

@@ -191,6 +191,14 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         return WC_ERROR_GPU;
     }
     d->amg_smooth = smooth && *smooth ? strcmp(smooth, "1") == 0 : WG_AMG_SMOOTHED;
+    /* its near-null space (wg_amg.rotations): WEFT_GPU_AMG_ROT=1 (the default) or 0 */
+    const char* rot = getenv("WEFT_GPU_AMG_ROT");
+    if (rot && *rot && strcmp(rot, "0") != 0 && strcmp(rot, "1") != 0) {
+        wg_errorf(err, err_len, "WEFT_GPU_AMG_ROT='%.40s' is not '0' or '1'", rot);
+        wg_device_destroy(d);
+        return WC_ERROR_GPU;
+    }
+    d->amg_rot = rot && *rot ? strcmp(rot, "1") == 0 : WG_AMG_ROTATIONS;
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];

@@ -37,6 +37,9 @@ typedef struct wg_device {
                                    about what they save on llvmpipe, docs/bench/gpu_amg_cross.md) */
     int amg_smooth;             /* WEFT_GPU_AMG_SMOOTH: the multigrid's prolongator smoothed (1, the
                                    default: WG_AMG_SMOOTHED) or P = P_tent (0) (wg_amg.smoothed) */
+    int amg_rot;                /* WEFT_GPU_AMG_ROT: the multigrid's near-null space with the
+                                   smoothed prolongator: rotations (1, the default: WG_AMG_ROTATIONS)
+                                   or translations (0) (wg_amg.rotations) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];

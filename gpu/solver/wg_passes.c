@@ -242,8 +242,10 @@ static const wg_pass_input amg_restrict_fine[] = {AMG(rows), FINE_OP, AMG(mem_ra
 static const wg_pass_input amg_factor[] = {AMG(rows), COARSE_OP, CROSS};
 static const wg_pass_input amg_factor_fine[] = {AMG(rows), FINE_OP, CROSS};
 #define PV AMG(pv0), AMG(pv1), AMG(pv2)
-static const wg_pass_input amg_prolongator[] = {AMG(a0), AMG(a1), AMG(a2), DINV, AMG(bound), AMG(p_ent), AMG(p_range), AMG(p_list)};
-static const wg_pass_input amg_prolongator_fine[] = {FINE_OP, DINV, AMG(bound), AMG(p_ent), AMG(p_range), AMG(p_list)};
+#define TENT AMG(tent0), AMG(tent1), AMG(tent2)
+static const wg_pass_input amg_prolongator[] = {AMG(a0),     AMG(a1),     AMG(a2),     DINV, AMG(bound), AMG(p_ent),
+                                                AMG(p_rows), AMG(p_range), AMG(p_list), TENT};
+static const wg_pass_input amg_prolongator_fine[] = {FINE_OP, DINV, AMG(bound), AMG(p_ent), AMG(p_range), AMG(p_list), TENT};
 static const wg_pass_input amg_ap[] = {AMG(a0), AMG(a1), AMG(a2), PV, AMG(t_range), AMG(t_list)};
 static const wg_pass_input amg_ap_fine[] = {FINE_OP, PV, AMG(t_range), AMG(t_list)};
 static const wg_pass_input amg_ptap[] = {PV, AMG(tv0), AMG(tv1), AMG(tv2), AMG(gal_range), AMG(gal_list)};

@@ -368,6 +368,7 @@ typedef struct wg_amg_in {
        restriction's entries per coarse node */
     const wg_tex *p_ent, *p_rows, *p_range, *p_list, *pv0, *pv1, *pv2;
     const wg_tex *t_range, *t_list, *tv0, *tv1, *tv2, *pt_range, *pt_list;
+    const wg_tex *tent0, *tent1, *tent2;     /* rotations: P_tent's 3x3 blocks, by rows */
 } wg_amg_in;
 
 #endif

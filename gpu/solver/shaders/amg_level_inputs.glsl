@@ -48,6 +48,10 @@ mat3 op_block(int k) {
 mat3 op_dinv(int i) { return blk(dinv0, dinv1, dinv2, i); }
 // The coarse correction xc of node j's aggregate, as added to x_j: filtered (above).
 vec3 op_prolong(int j, vec3 xc) { return filter_apply(ld(S0, j), ld(S1, j), xc); }
+// The finest level is never a pair level (op_pair below): its D^-1 is 3x3 per node.
+bool op_pair() { return false; }
+vec3 op_dinv_mul(int i, vec3 t, vec3 tp) { return op_dinv(i) * t; }
+mat3 op_pair_block(int i) { return mat3(0.0); }
 
 // op_row's parts (below): for x in range(S) (the V-cycle's vectors) row i of P^ x is S_i (A x)_i.
 vec3 op_mul(int k, vec3 x) { return op_a(k) * x; }
@@ -60,9 +64,24 @@ uniform sampler2D dinv0; // D^-1, row 0
 uniform sampler2D dinv1; // row 1
 uniform sampler2D dinv2; // row 2
 
+// u_pair 1: a pair level of the rotations' hierarchy (wg_amg.h "rotations"; core's group 2 with
+// pair_blocks): the nodes 2a, 2a + 1 of one finer aggregate share their columns and the smoother's
+// D is 6x6 per pair; D^-1 then holds node i's rows in two blocks, texel 2i (to node i & ~1) and
+// 2i + 1 (to i | 1), and rows.w is the block (i, i ^ 1) of row i (no aggregate is read there:
+// rotations go with the smoothed prolongator, whose passes read P's lists instead).
+uniform int u_pair;
 mat3 op_block(int k) { return blk(a0, a1, a2, k); }
 mat3 op_dinv(int i) { return blk(dinv0, dinv1, dinv2, i); }
 vec3 op_prolong(int j, vec3 xc) { return xc; }
+bool op_pair() { return u_pair != 0; }
+// (D^-1 t)_i from t_i and, on a pair level, t of node i ^ 1 (tp).
+vec3 op_dinv_mul(int i, vec3 t, vec3 tp) {
+    if (u_pair == 0) return op_dinv(i) * t;
+    bool odd = (i & 1) != 0;
+    return op_dinv(2 * i) * (odd ? tp : t) + op_dinv(2 * i + 1) * (odd ? t : tp);
+}
+// The pair's block (i, i ^ 1) of D on a pair level.
+mat3 op_pair_block(int i) { return u_pair != 0 ? op_block(ldi(rows, i).w) : mat3(0.0); }
 
 vec3 op_mul(int k, vec3 x) { return op_block(k) * x; }
 vec3 op_row_end(int i, vec3 y) { return y; }

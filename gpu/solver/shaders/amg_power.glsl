@@ -37,7 +37,12 @@ void main() {
     vec3 av = fresh ? op_row_any(i, v0) : s * op_row_any(i, v);
     vec3 vi = fresh ? ld(v0, i).xyz : s * ld(v, i).xyz;
     vec3 dv = op_diag_full(i) * vi;
-    vec3 vn = op_dinv(i) * av;
+    vec3 avp = vec3(0.0);
+    if (op_pair()) {   /* a pair level: D is 6x6 per pair (amg_level_inputs.glsl) */
+        avp = fresh ? op_row_any(i ^ 1, v0) : s * op_row_any(i ^ 1, v);
+        dv += op_pair_block(i) * (fresh ? ld(v0, i ^ 1).xyz : s * ld(v, i ^ 1).xyz);
+    }
+    vec3 vn = op_dinv_mul(i, av, avp);
     float fl = (i == 0 && u_floor != 0) ? floor_of(texelFetch(bound, ivec2(0), 0)) : 0.0;
     o0 = vec4(vn, 0.0);
     o1 = vec4(dot(vi, av), dot(vi, dv), dot(vn, vn), fl);

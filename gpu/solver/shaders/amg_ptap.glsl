@@ -1,6 +1,8 @@
 // Per block (I, J) of a coarse level with the smoothed prolongator (wg_amg_smooth.c): the
 // Galerkin product sum P_(i, I)^T T_(i, J) over the finer level's rows i (T = A P, amg_ap.glsl),
-// the products listed per block when the hierarchy was built.
+// the products listed per block when the hierarchy was built. With rotations a diagonal block's
+// dead unknowns (gal_range.z: a bit per row, core's wc_amg_level.dead) have zero rows and columns;
+// their diagonal takes the block's mean live diagonal (or 1), core/amg_setup.c revive_dead.
 #pragma weft include amg_blocks
 uniform sampler2D pv0;        // P's blocks, row 0
 uniform sampler2D pv1;
@@ -8,7 +10,7 @@ uniform sampler2D pv2;
 uniform sampler2D tv0;        // T's blocks, row 0
 uniform sampler2D tv1;
 uniform sampler2D tv2;
-uniform isampler2D gal_range; // this level's blocks: (list start, end, -, -)
+uniform isampler2D gal_range; // this level's blocks: (list start, end, dead rows' bits, -)
 uniform isampler2D gal_list;  // products: (entry of P, entry of T, -, -)
 out vec4 o0;
 out vec4 o1;
@@ -22,6 +24,18 @@ void main() {
     for (int m = r.x; m < r.y; ++m) {
         ivec4 q = ldi(gal_list, m);
         s += transpose(blk(pv0, pv1, pv2, q.x)) * blk(tv0, tv1, tv2, q.y);
+    }
+    if (r.z != 0) {
+        float sum = 0.0;
+        int live = 0;
+        for (int q = 0; q < 3; ++q)
+            if ((r.z & (1 << q)) == 0) {
+                sum += s[q][q];
+                ++live;
+            }
+        float v = live > 0 && sum > 0.0 && !isinf(sum) ? sum / float(live) : 1.0;
+        for (int q = 0; q < 3; ++q)
+            if ((r.z & (1 << q)) != 0) s[q][q] = v;
     }
     o0 = blk_row(s, 0);
     o1 = blk_row(s, 1);

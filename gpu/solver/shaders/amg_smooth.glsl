@@ -5,7 +5,8 @@
 // before the coarse correction: t = r). With u_prolong the coarse correction is added first:
 // x_j + xc[aggregate(j)] wherever x is read (the prolongation of unsmoothed aggregation fused
 // into the first step after it; filtered on the finest level, op_prolong). u_dot (the finest level's last step): o2 = (r.x', r.r), PCG's
-// partial products with z = x' (bound as a third output). The level's inputs:
+// partial products with z = x' (bound as a third output). On a pair level (op_pair, rotations)
+// D^-1 is the pair's 6x6 inverse, so node i also takes the residual of node i ^ 1. The level's inputs:
 // amg_level_inputs.glsl.
 #pragma weft include amg_blocks
 #pragma weft include amg_level_inputs
@@ -29,13 +30,16 @@ void main() {
     int i = self_index();
     if (i >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
     vec3 ri = ld(r, i).xyz, t = ri, xi = vec3(0.0);
+    int ip = i ^ 1;   /* a pair level: the pair's other node, whose residual D^-1 also reads */
+    vec3 tp = op_pair() ? ld(r, ip).xyz : vec3(0.0);
     if (u_zero == 0) {
         bool prolong = u_prolong != 0;
         t -= op_row(i, x, xc, prolong);
+        if (op_pair()) tp -= op_row(ip, x, xc, false);   /* no u_prolong there (smoothed P) */
         xi = ld(x, i).xyz;
         if (prolong) xi += op_prolong(i, ld(xc, ldi(rows, i).w).xyz);
     }
-    vec3 e = op_dinv(i) * t;
+    vec3 e = op_dinv_mul(i, t, tp);
     vec3 di = amg_smooth_step(u_step, u_bound_scale * lvl_bound(bound), u_ratio, e, u_step >= 1 ? ld(d, i).xyz : vec3(0.0));
     o0 = vec4(xi + di, 0.0);
     o1 = vec4(di, 0.0);
