@@ -223,9 +223,12 @@ typedef struct wc_amg_cross {
     double* m_acc;              /* (WC_PAR_MAX_THREADS x WC_AMG_MERGE_ROW x 9) level 0: per thread,
                                    the row's blocks summed in double */
     double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
-    double* acc;                /* (n x 3) the restriction's accumulator, zero between terms */
-    int* touched;               /* (n) */
-    unsigned char* mark;        /* (n) */
+    double* acc;                /* (WC_PAR_MAX_THREADS x n x 3) the restriction's accumulator, one
+                                   per thread, zero between terms */
+    int* touched;               /* (WC_PAR_MAX_THREADS x n) */
+    unsigned char* mark;        /* (WC_PAR_MAX_THREADS x n) */
+    int* reach;                 /* (cap_terms) a list level below the finest: the nodes the
+                                   restriction of the level above's term q touched (the room test) */
 } wc_amg_cross;
 
 /* 1: the level's products read its couplings as terms (scaled first: wc_amg_cross_scale, then

@@ -23,9 +23,11 @@
  * instead: on the dance the third level's 174 nodes had 600k entries in 38k vectors, 7x the
  * dense matrix's 270k; the levels below a dense one take the dense Galerkin product P^T X P.
  *
- * The setup's restrictions run serially in term order, the products in parallel over terms and
- * then over nodes (a gather through a per-setup index, no reduction), so the result is the same on
- * any thread count; no allocation after wc_amg_set_coupling. A coarse list level's terms overlap
+ * The setup's restrictions run on the threads (a list level: over fixed ranges of terms, then its
+ * block diagonal's part over nodes; a dense level: over rows, each thread restricting every term),
+ * the products over terms and then over nodes (a gather through a per-setup index, no reduction);
+ * every sum goes in term order, so the result is the same on any thread count; no allocation after
+ * wc_amg_set_coupling. A coarse list level's terms overlap
  * (each reaches ~14 nodes of two layers' patches): each setup also sums them into one
  * block-sparse matrix, which its products read in one pass of BSR rows (sum_blocks, parallel over
  * rows). The V-cycle's residuals read neither on a list level: amg_merge.c merges B and X into one
@@ -59,7 +61,7 @@ void wc_amg_cross_destroy(wc_amg* a) {
         if (!X) continue;
         void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
                         X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark,
-                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos, X->m_start, X->m_col,
+                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos, X->m_start, X->m_col, X->reach,
                         X->m_val_f, X->m_pos, X->m_acc};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
@@ -130,11 +132,12 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
         X->s = WC_NEW(al, double, capacity);
         X->dadd = WC_NEW(al, double, 9 * (size_t)L->group * L->n);
         X->y = WC_NEW(al, double, d);
-        if (l > 0 && !above_dense) {
-            X->acc = WC_NEW(al, double, d);
-            X->touched = WC_NEW(al, int, L->n);
-            X->mark = WC_NEW(al, unsigned char, L->n);
+        if (l > 0 && !above_dense) { /* the restriction's scratch, one per thread */
+            X->acc = WC_NEW(al, double, WC_PAR_MAX_THREADS * d);
+            X->touched = WC_NEW(al, int, (size_t)WC_PAR_MAX_THREADS * L->n);
+            X->mark = WC_NEW(al, unsigned char, (size_t)WC_PAR_MAX_THREADS * L->n);
             if (!X->acc || !X->touched || !X->mark) goto oom;
+            if (!X->dense && !(X->reach = WC_NEW(al, int, capacity))) goto oom;
         }
         if (!X->c || !X->s || !X->dadd || !X->y) goto oom;
     }
@@ -370,9 +373,22 @@ static void dense_galerkin(const wc_amg_level* L, const wc_amg_cross* X, const w
         }
 }
 
-/* Y->acc = P^T v_q (level L's term q into the level below); returns how many nodes it touched
- * (Y->touched; clear_term zeroes them again). */
-static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, wc_amg_cross* Y) {
+/* One thread's restriction scratch on level Y (n nodes): an accumulator zero between terms, the
+ * nodes it touched, their marks. */
+typedef struct restrict_scratch {
+    double* acc;
+    int* touched;
+    unsigned char* mark;
+} restrict_scratch;
+
+static restrict_scratch scratch_of(const wc_amg_cross* Y, int n, int t) {
+    restrict_scratch w = {Y->acc + 3 * (size_t)n * t, Y->touched + (size_t)n * t, Y->mark + (size_t)n * t};
+    return w;
+}
+
+/* w->acc = P^T v_q (level L's term q into the level below); returns how many nodes it touched
+ * (w->touched, in the order first touched; clear_term zeroes them again). */
+static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, restrict_scratch* w) {
     int nt = 0;
     for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
         int i = X->node[s];
@@ -380,10 +396,10 @@ static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, wc
         for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
             int J = L->p_col[pe];
             const double* P = L->p_val + 9 * (size_t)pe;
-            double* o = Y->acc + 3 * (size_t)J;
-            if (!Y->mark[J]) {
-                Y->mark[J] = 1;
-                Y->touched[nt++] = J;
+            double* o = w->acc + 3 * (size_t)J;
+            if (!w->mark[J]) {
+                w->mark[J] = 1;
+                w->touched[nt++] = J;
             }
             o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
             o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
@@ -393,10 +409,159 @@ static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, wc
     return nt;
 }
 
-static void clear_term(wc_amg_cross* Y, int nt) {
+static void clear_term(restrict_scratch* w, int nt) {
     for (int u = 0; u < nt; ++u) {
-        v3_zero(Y->acc + 3 * (size_t)Y->touched[u]);
-        Y->mark[Y->touched[u]] = 0;
+        v3_zero(w->acc + 3 * (size_t)w->touched[u]);
+        w->mark[w->touched[u]] = 0;
+    }
+}
+
+static int nonzero3(const double* o) { return o[0] != 0.0 || o[1] != 0.0 || o[2] != 0.0; }
+
+/* Rows of a dense level owned by a thread: chunks of WC_AMG_CROSS_DENSE_ROWS nodes dealt in turn,
+ * so that both halves of the upper triangle's uneven rows spread over the threads. */
+#define WC_AMG_CROSS_DENSE_ROWS 4
+static inline int dense_owner(int I, int nt) { return (I / WC_AMG_CROSS_DENSE_ROWS) % nt; }
+
+/* Y->dense = sum_q c_q (P^T v_q)(P^T v_q)^T from the level above's term lists, on the threads:
+ * each thread restricts every term and adds the blocks of the rows it owns (dense_owner), the
+ * upper triangle's; each entry is summed by one thread in term order, so the bits do not depend
+ * on the thread count; then the lower triangle by symmetry, by rows. */
+static void restrict_dense(const wc_amg_level* L, const wc_amg_cross* X, const wc_amg_level* C, wc_amg_cross* Y,
+                           wc_par* par) {
+    const size_t d = 3 * (size_t)C->n;
+    memset(Y->dense, 0, sizeof(double) * d * d);
+    WC_PAR_REGION(par)
+    {
+        const int t = wc_par_tid(), nth = wc_par_nt();
+        restrict_scratch w = scratch_of(Y, C->n, t);
+        for (int q = 0; q < X->n_terms; ++q) {
+            const int nt = restrict_term(L, X, q, &w);
+            for (int b = 1; b < nt; ++b) { /* ascending (insertion), so a row's blocks J >= I follow it */
+                const int k = w.touched[b];
+                int u = b;
+                for (; u > 0 && w.touched[u - 1] > k; --u) w.touched[u] = w.touched[u - 1];
+                w.touched[u] = k;
+            }
+            const double c = X->c[q];
+            for (int u = 0; u < nt; ++u) {
+                const int I = w.touched[u];
+                if (dense_owner(I, nth) != t) continue;
+                const double* vi = w.acc + 3 * (size_t)I;
+                for (int v = u; v < nt; ++v) {
+                    const int J = w.touched[v];
+                    const double* vj = w.acc + 3 * (size_t)J;
+                    for (int r = 0; r < 3; ++r) {
+                        double* o = Y->dense + (3 * (size_t)I + r) * d + 3 * (size_t)J;
+                        const double cv = c * vi[r];
+                        o[0] += cv * vj[0];
+                        o[1] += cv * vj[1];
+                        o[2] += cv * vj[2];
+                    }
+                }
+            }
+            clear_term(&w, nt);
+        }
+        WC_PAR_BARRIER();
+        for (size_t I = 0; I < (size_t)C->n; ++I) { /* the lower triangle's blocks by symmetry */
+            if (dense_owner((int)I, nth) != t) continue;
+            for (size_t J = 0; J <= I; ++J)
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) {
+                        if (J == I && c >= r) continue;
+                        Y->dense[(3 * I + r) * d + 3 * J + c] = Y->dense[(3 * J + c) * d + 3 * I + r];
+                    }
+        }
+    }
+}
+
+/* Term q's entry at node J on list level Y, or NULL. */
+static const double* term_entry(const wc_amg_cross* Y, int q, int J) {
+    for (int e = Y->start[q]; e < Y->start[q + 1]; ++e)
+        if (Y->node[e] == J) return Y->val + 3 * (size_t)e;
+    return NULL;
+}
+
+/* Y's terms = P^T v_q of the level above's, on the threads in fixed ranges of terms: each term's
+ * touched nodes and live entries counted (reach, start), their offsets and the terms that fit
+ * (thread 0), then each term restricted again into its place; a dead unknown's column (an entry
+ * exactly 0) is left out. The block diagonal's part (dadd) is then summed per node over its
+ * entries in term order (the gather index), on the threads in fixed ranges of nodes: each block
+ * gets the terms' contributions in the order the serial loop over terms gave them (a term
+ * missing a pair level's partner node adds exact zeros there), so the bits do not depend on the
+ * thread count. */
+static void restrict_lists(wc_amg* a, const wc_amg_level* L, const wc_amg_cross* X, const wc_amg_level* C,
+                           wc_amg_cross* Y, wc_par* par) {
+    const int g = C->group;
+    int held = 0;
+    if (X->n_terms == 0) { /* none: the level's lists empty, its block diagonal's part zero */
+        if (Y->n_terms > 0) memset(Y->dadd, 0, 9 * sizeof(double) * (size_t)g * C->n);
+        Y->n_terms = Y->n_entries = 0;
+        Y->start[0] = 0;
+        index_nodes(Y, C->n);
+        return;
+    }
+    WC_PAR_REGION(par)
+    {
+        const int t = wc_par_tid(), nth = wc_par_nt();
+        restrict_scratch w = scratch_of(Y, C->n, t);
+        int lo, hi;
+        wc_par_range(X->n_terms, t, nth, &lo, &hi);
+        for (int q = lo; q < hi; ++q) {
+            const int nt = restrict_term(L, X, q, &w);
+            int live = 0;
+            for (int u = 0; u < nt; ++u) live += nonzero3(w.acc + 3 * (size_t)w.touched[u]);
+            Y->reach[q] = nt;
+            Y->start[q + 1] = live;
+            clear_term(&w, nt);
+        }
+        WC_PAR_BARRIER();
+        if (t == 0) { /* the terms that fit: a term and the later ones stay out of this level and below */
+            int q = 0, e = 0;
+            Y->start[0] = 0;
+            for (; q < X->n_terms && e + Y->reach[q] <= Y->cap_entries; ++q) Y->start[q + 1] = e += Y->start[q + 1];
+            held = q;
+        }
+        WC_PAR_BARRIER();
+        if (hi > held) hi = held;
+        for (int q = lo; q < hi; ++q) {
+            const int nt = restrict_term(L, X, q, &w);
+            int e = Y->start[q];
+            for (int u = 0; u < nt; ++u) {
+                const int J = w.touched[u];
+                const double* o = w.acc + 3 * (size_t)J;
+                if (!nonzero3(o)) continue;
+                Y->node[e] = J;
+                v3_copy(Y->val + 3 * (size_t)e, o);
+                ++e;
+            }
+            clear_term(&w, nt);
+            Y->c[q] = X->c[q];
+        }
+    }
+    if (held < X->n_terms) a->cross_dropped += X->n_terms - held;
+    Y->n_terms = held;
+    Y->n_entries = Y->start[held];
+    index_nodes(Y, C->n);
+    WC_PAR_REGION(par)
+    {
+        int lo, hi;
+        wc_par_range(C->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
+        memset(Y->dadd + 9 * (size_t)g * lo, 0, 9 * sizeof(double) * (size_t)g * (hi - lo));
+        for (int J = lo; J < hi; ++J) { /* (J, J), and (J, J ^ 1) on a pair level */
+            double* Da = Y->dadd + 9 * (size_t)g * J;
+            for (int j = Y->node_start[J]; j < Y->node_start[J + 1]; ++j) {
+                const int q = Y->entry_term[j];
+                const double c = Y->c[q], *o = Y->node_val + 3 * (size_t)j;
+                if (g == 1) {
+                    outer_add(Da, c, o, o);
+                    continue;
+                }
+                outer_add(Da + 9 * (J & 1), c, o, o);
+                const double* p = term_entry(Y, q, J ^ 1);
+                if (p) outer_add(Da + 9 * ((J & 1) ^ 1), c, o, p);
+            }
+        }
     }
 }
 
@@ -407,84 +572,18 @@ void wc_amg_cross_restrict(wc_amg* a, int l, wc_par* par) {
     wc_amg_cross* Y = C->cross;
     if (!X || !Y) return;
     Y->m_blocks = 0;
-    const int g = C->group;
     if (Y->dense) {
         Y->n_terms = X->n_terms;
         Y->n_entries = 0;
         a->cross_terms[l + 1] = Y->n_terms;
         if (Y->n_terms == 0) return;
         if (X->dense) dense_galerkin(L, X, C, Y);
-        else {
-            const size_t d = 3 * (size_t)C->n;
-            memset(Y->dense, 0, sizeof(double) * d * d);
-            for (int q = 0; q < X->n_terms; ++q) { /* dense += c (P^T v)(P^T v)^T, the upper triangle */
-                const int nt = restrict_term(L, X, q, Y);
-                const double c = X->c[q];
-                for (int u = 0; u < nt; ++u) {
-                    int I = Y->touched[u];
-                    const double* vi = Y->acc + 3 * (size_t)I;
-                    for (int w = 0; w < nt; ++w) {
-                        int J = Y->touched[w];
-                        if (J < I) continue;
-                        const double* vj = Y->acc + 3 * (size_t)J;
-                        for (int r = 0; r < 3; ++r) {
-                            double* o = Y->dense + (3 * (size_t)I + r) * d + 3 * (size_t)J;
-                            const double cv = c * vi[r];
-                            o[0] += cv * vj[0];
-                            o[1] += cv * vj[1];
-                            o[2] += cv * vj[2];
-                        }
-                    }
-                }
-                clear_term(Y, nt);
-            }
-            for (size_t I = 0; I < (size_t)C->n; ++I) /* the lower triangle's blocks by symmetry */
-                for (size_t J = 0; J <= I; ++J)
-                    for (int r = 0; r < 3; ++r)
-                        for (int c = 0; c < 3; ++c) {
-                            if (J == I && c >= r) continue;
-                            Y->dense[(3 * I + r) * d + 3 * J + c] = Y->dense[(3 * J + c) * d + 3 * I + r];
-                        }
-        }
+        else restrict_dense(L, X, C, Y, par);
         dense_diagonal(C, Y);
         return;
     }
-    if (Y->n_terms > 0 || X->n_terms > 0) memset(Y->dadd, 0, 9 * sizeof(double) * (size_t)g * C->n);
-    int q, e = 0;
-    Y->start[0] = 0;
-    for (q = 0; q < X->n_terms; ++q) {
-        const int nt = restrict_term(L, X, q, Y);
-        int fits = e + nt <= Y->cap_entries;
-        const double c = X->c[q];
-        for (int u = 0; u < nt && fits; ++u) {
-            int J = Y->touched[u];
-            const double* o = Y->acc + 3 * (size_t)J;
-            if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) continue; /* a dead unknown's column */
-            Y->node[e] = J;
-            v3_copy(Y->val + 3 * (size_t)e, o);
-            ++e;
-            /* the block diagonal's part: (J, J), and (J, J ^ 1) on a pair level (acc is zero at an
-               untouched node) */
-            double* Da = Y->dadd + 9 * (size_t)g * J;
-            if (g == 1) {
-                outer_add(Da, c, o, o);
-            } else {
-                outer_add(Da + 9 * (J & 1), c, o, o);
-                outer_add(Da + 9 * ((J & 1) ^ 1), c, o, Y->acc + 3 * (size_t)(J ^ 1));
-            }
-        }
-        clear_term(Y, nt);
-        if (!fits) { /* this term and the later ones stay out of this level and those below */
-            a->cross_dropped += X->n_terms - q;
-            break;
-        }
-        Y->c[q] = c;
-        Y->start[q + 1] = e;
-    }
-    Y->n_terms = q;
-    Y->n_entries = e;
-    a->cross_terms[l + 1] = q;
-    index_nodes(Y, C->n);
+    restrict_lists(a, L, X, C, Y, par);
+    a->cross_terms[l + 1] = Y->n_terms;
     sum_blocks(Y, C->n, par);
 }
 

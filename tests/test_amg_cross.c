@@ -20,7 +20,9 @@
  *     level whose blocks do not fit in the room, keep the terms; the blocks summed on 2 and 3
  *     threads are 1 thread's, bit for bit;
  *   - the merged operators F = B + X (amg_merge.c): products against B's rows plus the terms' sum,
- *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room. */
+ *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room;
+ *   - the restriction of the terms, on 1, 2 and 3 threads, against a plain serial loop over them,
+ *     bit for bit (dense coarse levels and lists, a level with room for half). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -566,6 +568,126 @@ static void test_merged(void) {
     wc_model_free(&m);
 }
 
+/* Level l + 1's couplings restricted here from level l's, serially in term order as a plain loop
+ * over terms (each term's P^T v accumulated node by node, its live entries in the order first
+ * touched, the block diagonal's part and a dense level's upper triangle summed term by term),
+ * against what the setup left there; returns the mismatches (0: the same bits). */
+static int restricted_errors(const wc_amg* a, int l) {
+    const wc_amg_level *L = &a->lev[l], *C = &a->lev[l + 1];
+    const wc_amg_cross *X = L->cross, *Y = C->cross;
+    if (X->dense) return 0; /* a dense level's Galerkin product P^T X P: serial, not restricted */
+    const int n = C->n, g = C->group;
+    const size_t d = 3 * (size_t)n;
+    double *acc = calloc(d, sizeof(double)), *dadd = calloc(9 * (size_t)g * n, sizeof(double));
+    double* dense = Y->dense ? calloc(d * d, sizeof(double)) : NULL;
+    int* touched = malloc(sizeof(int) * (size_t)n);
+    unsigned char* mark = calloc((size_t)n, 1);
+    int bad = 0, e = 0, q = 0;
+    for (; q < X->n_terms; ++q) {
+        int nt = 0;
+        for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
+            const double* v = X->val + 3 * (size_t)s;
+            for (int pe = L->p_start[X->node[s]]; pe < L->p_start[X->node[s] + 1]; ++pe) {
+                const int J = L->p_col[pe];
+                const double* P = L->p_val + 9 * (size_t)pe;
+                double* o = acc + 3 * (size_t)J;
+                if (!mark[J]) touched[nt++] = J;
+                mark[J] = 1;
+                o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
+                o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
+                o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+            }
+        }
+        const double c = X->c[q];
+        if (dense) {
+            for (int u = 0; u < nt; ++u)
+                for (int w = 0; w < nt; ++w) {
+                    const int I = touched[u], J = touched[w];
+                    if (J < I) continue;
+                    for (int r = 0; r < 3; ++r)
+                        for (int k = 0; k < 3; ++k) dense[(3 * (size_t)I + r) * d + 3 * (size_t)J + k] += c * acc[3 * I + r] * acc[3 * J + k];
+                }
+        } else if (e + nt > Y->cap_entries) {
+            break; /* this term and the later ones left out */
+        } else {
+            for (int u = 0; u < nt; ++u) {
+                const int J = touched[u];
+                const double* o = acc + 3 * (size_t)J;
+                if (o[0] == 0.0 && o[1] == 0.0 && o[2] == 0.0) continue;
+                bad += Y->node[e] != J || memcmp(Y->val + 3 * (size_t)e, o, 3 * sizeof(double)) != 0;
+                ++e;
+                for (int p = 0; p < g; ++p) { /* (J, J), and (J, J ^ 1) on a pair level */
+                    const double* b = acc + 3 * (size_t)(g == 1 ? J : (J & ~1) + p);
+                    double* Da = dadd + 9 * ((size_t)g * J + p);
+                    for (int r = 0; r < 3; ++r)
+                        for (int k = 0; k < 3; ++k) Da[3 * r + k] += c * o[r] * b[k];
+                }
+            }
+            bad += Y->start[q + 1] != e || Y->c[q] != c;
+        }
+        for (int u = 0; u < nt; ++u) {
+            acc[3 * touched[u]] = acc[3 * touched[u] + 1] = acc[3 * touched[u] + 2] = 0.0;
+            mark[touched[u]] = 0;
+        }
+    }
+    bad += Y->n_terms != q;
+    if (dense) {
+        for (size_t I = 0; I < d; ++I)
+            for (size_t J = 0; J < I; ++J) dense[I * d + J] = dense[J * d + I];
+        for (size_t k = 0; k < d * d; ++k) bad += memcmp(dense + k, Y->dense + k, sizeof(double)) != 0;
+    } else {
+        bad += Y->n_entries != e;
+        for (size_t k = 0; k < 9 * (size_t)g * n; ++k) bad += memcmp(dadd + k, Y->dadd + k, sizeof(double)) != 0;
+    }
+    free(acc);
+    free(dadd);
+    free(dense);
+    free(touched);
+    free(mark);
+    return bad;
+}
+
+/* The restriction of the couplings (wc_amg_cross_restrict: a list level's terms over ranges of
+ * terms, their block diagonal's part over nodes, a dense level's rows) on 1, 2 and 3 threads
+ * against a plain serial loop over the terms, bit for bit, with dense coarse levels and with lists
+ * on every level, also with room for half the terms on level 1 (the later ones left out). */
+static void test_restricted(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    const int active = wc_coupling_active(&s->self_pairs->coupling);
+    for (int variant = 0; variant < 2; ++variant)
+        for (int t = 1; t <= 3; ++t) {
+            wc_par par;
+            wc_par_init(&par, t);
+            wc_amg* a = hierarchy(s, variant ? 0 : WC_AMG_CROSS_DENSE_DOFS, &par);
+            if (!a) return;
+            int bad = 0, dense = 0;
+            for (int l = 0; l + 1 < a->n_levels; ++l) {
+                bad += restricted_errors(a, l);
+                dense += a->lev[l + 1].cross->dense != NULL;
+            }
+            int short_bad = 0, held = 0;
+            if (!a->lev[1].cross->dense) { /* room for about half the terms on level 1 */
+                a->lev[1].cross->cap_entries = a->lev[1].cross->n_entries / 2;
+                wc_amg_setup(a, s->A, &s->filter, &par);
+                held = a->lev[1].cross->n_terms;
+                for (int l = 0; l + 1 < a->n_levels; ++l) short_bad += restricted_errors(a, l);
+                CHECK(held > 0 && held < active);
+            }
+            printf("  %s, %d thread%s: %d levels restricted (%d dense), %d mismatches against the serial loop; "
+                   "level 1 with room for half: %d of %d terms held, %d mismatches\n",
+                   variant ? "lists" : "dense coarse levels", t, t > 1 ? "s" : "", a->n_levels - 1, dense, bad, held,
+                   active, short_bad);
+            CHECK(variant || dense > 0);
+            CHECK_EQ_INT(bad, 0);
+            CHECK_EQ_INT(short_bad, 0);
+            wc_amg_destroy(a);
+        }
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     RUN_TEST(test_hierarchy);
     RUN_TEST(test_iterations);
@@ -573,5 +695,6 @@ int main(void) {
     RUN_TEST(test_one_level);
     RUN_TEST(test_summed);
     RUN_TEST(test_merged);
+    RUN_TEST(test_restricted);
     return TEST_SUMMARY();
 }
