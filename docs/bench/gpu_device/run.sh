@@ -5,7 +5,7 @@
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
-# amg: the GPU's multigrid (smoothed P, and P_tent) against block Jacobi (its tests, converged steps, the scenes, peers);
+# amg: the GPU's multigrid (rotations and smoothed P; translations; P_tent) against block Jacobi (its tests, converged steps, the scenes, peers);
 # newton: sewing, Newton, the line search, BDF2 and TR-BDF2 on the GPU (their tests, the hanging
 # sheet's rollbacks at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments
 # batched / unbatched); passes: PCG's folded passes (docs/bench/gpu.md, "Fewer passes"): the
@@ -40,12 +40,14 @@ probe() { timeout 60 build-dev/tests/bench/bench_gpu --sizes 8 --frames 1 --skip
 grep -q "probe: FAILED" "$O/0_probe.log" && [ -z "$SMALL" ] && exit 1
 if [ "$MODE" = amg ]; then   # the multigrid (gpu/solver/wg_amg.h) against block Jacobi, GPU only
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
-    for t in test_gpu_amg test_gpu_amg_smooth; do
+    for t in test_gpu_amg test_gpu_amg_smooth test_gpu_amg_warm; do
       timeout 90 build-dev/tests/$t > /tmp/ta.txt 2>&1; echo "$t rc=$?"; grep -v " ok$" /tmp/ta.txt; done
+    timeout 90 build-dev/tests/test_gpu_amg_smooth rot > /tmp/ta.txt 2>&1; echo "test_gpu_amg_rot rc=$?"; grep -v " ok$" /tmp/ta.txt
     for pc in amg block_jacobi; do
       timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond $pc 2>&1
     done
-    # the multigrid with P = P_tent (before the smoothed prolongator) at the same sizes
+    # the multigrid without rotations (translations, smoothed P), and with P = P_tent, at the same sizes
+    WEFT_GPU_AMG_ROT=0 timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1
     WEFT_GPU_AMG_SMOOTH=0 timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1
     for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
       for pc in amg block_jacobi; do
