@@ -23,23 +23,6 @@
 static wg_gl_context* gl;
 static wg_device* dev;
 
-/* An n x n sheet hanging from its two top corners, stepped `warm` frames on the CPU, its state
- * rounded to float (the same input on both backends). */
-static wc_state* hanging(wc_model* m, int n, int warm, double k_scale) {
-    if (!ts_sheet(m, n, 1.0, 1.0, 1, k_scale)) return NULL;
-    wc_sim_def def = ts_amg_def();
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
-    ts_pin_far_corners(s, n, NULL);
-    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    for (int k = 0; k < 3 * m->n_particles; ++k) {
-        s->x[k] = (float)s->x[k];
-        s->v[k] = (float)s->v[k];
-    }
-    return s;
-}
-
 /* A model of quads from arrays (freed here: they are the callers' scratch), sewn at sew (0: no
  * sewing); 0 on failure. */
 static int quad_model(wc_model* m, double* pos, int nv, int* sizes, int nq, int* idx, double sew) {
@@ -233,7 +216,7 @@ static void test_solves(void) {
     const wc_sim_def def = ts_amg_def();
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         wc_model m;
-        wc_state* s = cases[k].kind == 0   ? hanging(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
+        wc_state* s = cases[k].kind == 0   ? ts_hanging_float(&m, cases[k].n, cases[k].warm, cases[k].k_scale)
                       : cases[k].kind == 1 ? ts_draped(&m, cases[k].n, &def, cases[k].warm)
                       : cases[k].kind == 2 ? ts_patches(&m, cases[k].n, &def)
                                            : sewn_panels(&m, cases[k].n, cases[k].warm);

@@ -35,20 +35,6 @@ static void round_to_float(double* a, size_t count) {
     for (size_t k = 0; k < count; ++k) a[k] = (float)a[k];
 }
 
-/* An n x n sheet hanging from its two top corners, stepped `warm` frames, state rounded to float */
-static wc_state* hanging(wc_model* m, int n, int warm) {
-    if (!ts_sheet(m, n, 1.0, 1.0, 1, 1.0)) return NULL;
-    wc_sim_def def = ts_amg_def();
-    wc_state* s = NULL;
-    wc_diag d = {0};
-    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
-    ts_pin_far_corners(s, n, NULL);
-    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
-    round_to_float(s->x, 3 * (size_t)m->n_particles);
-    round_to_float(s->v, 3 * (size_t)m->n_particles);
-    return s;
-}
-
 /* max |g - c| / max |c| over count 3x3 blocks: g as RGBA32F block rows (three arrays), c row-major */
 static double block_diff(float* const g[3], const double* c, int count) {
     double dm = 0.0, cm = 0.0;
@@ -239,7 +225,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
 
 static void test_against_core(void) {
     wc_model m;
-    wc_state* s = hanging(&m, 32, 3);
+    wc_state* s = ts_hanging_float(&m, 32, 3, 1.0);
     CHECK(s != NULL);
     if (s) {
         check_system("hanging 32 x 32", &m, s);

@@ -249,3 +249,18 @@ wc_sim_def ts_amg_def(void) {
     def.sleep_speed = 0.0;
     return def;
 }
+
+wc_state* ts_hanging_float(wc_model* m, int n, int warm, double k_scale) {
+    if (!ts_sheet(m, n, 1.0, 1.0, 1, k_scale)) return NULL;
+    wc_sim_def def = ts_amg_def();
+    wc_state* s = NULL;
+    wc_diag d = {0};
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
+    ts_pin_far_corners(s, n, NULL);
+    for (int f = 0; f < warm; ++f) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    for (int k = 0; k < 3 * m->n_particles; ++k) {
+        s->x[k] = (float)s->x[k];
+        s->v[k] = (float)s->v[k];
+    }
+    return s;
+}

@@ -51,6 +51,10 @@ wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def);
 /* The defaults with PCG and the multigrid preconditioner, sleeping off: the GPU multigrid tests'
  * definition (both backends step it). */
 wc_sim_def ts_amg_def(void);
+/* An n x n ts_sheet (1 m, material x k_scale) hanging from its two far corners under ts_amg_def,
+ * stepped `warm` frames on the CPU, its positions and velocities rounded to float: the same input
+ * for a GPU test and core. NULL on failure. */
+wc_state* ts_hanging_float(wc_model* m, int n, int warm, double k_scale);
 /* max |a_k| and max |a_k - b_k| over n doubles. */
 double ts_max_abs(const double* a, int n);
 double ts_max_diff(const double* a, const double* b, int n);
