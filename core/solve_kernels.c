@@ -40,14 +40,35 @@ void wcs_build_precond(wc_solver* s, const double* A, const wc_filter* f, wc_par
     }
 }
 
+/* y += alpha (the couplings' off-diagonal blocks) x: on the threads through the row index during
+ * a solve (the same bits as the serial product, coupling.h), else serially. */
+static void coupling_add(wc_solver* s, double alpha, const double* x, double* y, wc_par* par) {
+    const wc_coupling* c = s->coupling;
+    if (!c || c->n == 0) return;
+    if (!s->coupling_rows_ok) {
+        wc_coupling_mul_offdiag_add(c, alpha, x, y);
+        return;
+    }
+    WC_PAR_REGION(par)
+    {
+        const int tid = wc_par_tid(), nt = wc_par_nt();
+        int lo, hi;
+        wc_par_range(c->n, tid, nt, &lo, &hi);
+        wc_coupling_scale_terms(c, s->coupling_rows, alpha, x, lo, hi);
+        WC_PAR_BARRIER();
+        wc_par_range(s->n, tid, nt, &lo, &hi);
+        wc_coupling_rows_add(c, s->coupling_rows, y, lo, hi);
+    }
+}
+
 void wcs_mul(wc_solver* s, const double* A, const double* x, double* y, wc_par* par) {
     wc_bsr_mul(&s->m->pattern, A, x, y, par);
-    wc_coupling_mul_offdiag_add(s->coupling, 1.0, x, y);
+    coupling_add(s, 1.0, x, y, par);
 }
 
 void wcs_residual(wc_solver* s, const double* A, const double* b, const double* x, double* y, wc_par* par) {
     wc_bsr_residual(&s->m->pattern, A, b, x, y, par);
-    wc_coupling_mul_offdiag_add(s->coupling, -1.0, x, y);
+    coupling_add(s, -1.0, x, y, par);
 }
 
 double wcs_filtered_residual(wc_solver* s, const double* A, const double* b, const wc_filter* f, const double* x,

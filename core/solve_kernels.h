@@ -37,6 +37,9 @@ struct wc_solver {
     wc_amg* amg;                /* NULL unless opts.preconditioner is AMG */
     double residual_floor;      /* wc_solver_set_residual_floor (0: none) */
     const wc_coupling* coupling; /* wc_solver_set_coupling (NULL: none) */
+    wc_coupling_rows* coupling_rows; /* the couplings' row index, room for set_coupling's capacity */
+    int coupling_rows_ok;       /* the index holds this solve's couplings (wc_solve builds it at its
+                                   start and drops it at its end): their product runs on the threads */
 };
 
 /* Rows [lo, hi) of chunk c. */

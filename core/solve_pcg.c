@@ -19,7 +19,9 @@
  * region with barriers between them; only a preconditioner other than the block diagonal (the
  * V-cycle, the direct factor) runs between the regions. Every sum is per chunk of WCS_CHUNK rows,
  * the chunks added in chunk order by every thread itself, so all threads take the same branches
- * and the bits do not depend on the thread count (docs/bench/threads.md). */
+ * and the bits do not depend on the thread count (docs/bench/threads.md). The couplings' product
+ * runs on all threads through their row index (coupling.h: the terms' factors beside the pattern's
+ * rows, then each thread adds its own chunks' rows), with the serial product's bits. */
 #include <math.h>
 #include "bsr_rows.h"
 #include "clock.h"
@@ -94,7 +96,8 @@ static int pcg_goes_on(const pcg_region* p, double delta) {
 }
 
 /* One thread's share of an iteration (inside the region): r . t when pending, c = S (t + beta c),
- * the checks, q = S A c (the couplings' terms by thread 0), alpha = delta / (c . q), the update. */
+ * the checks, q = S A c (the couplings' terms in two passes, coupling.h), alpha = delta / (c . q),
+ * the update. */
 static void iteration_part(pcg_region* p) {
     wc_solver* s = p->s;
     const wc_filter* f = p->f;
@@ -127,10 +130,22 @@ static void iteration_part(pcg_region* p) {
     WC_PAR_BARRIER(); /* c complete */
     wc_par_range(pat->n_rows, tid, nt, &lo, &hi);
     wc_bsr_rows(pat->row_start, pat->col, p->A, lo, hi, NULL, 1.0, c, s->q);
-    WC_PAR_BARRIER(); /* q's rows complete */
-    if (s->coupling && s->coupling->n > 0) {
-        if (tid == 0) wc_coupling_mul_offdiag_add(s->coupling, 1.0, c, s->q);
+    const wc_coupling* cpl = s->coupling;
+    const int cpl_rows = s->coupling_rows_ok, cpl_serial = !cpl_rows && cpl && cpl->n > 0;
+    if (cpl_rows) { /* the couplings' pass 1: their terms' factors (coupling.h) */
+        int k0, k1;
+        wc_par_range(cpl->n, tid, nt, &k0, &k1);
+        wc_coupling_scale_terms(cpl, s->coupling_rows, 1.0, c, k0, k1);
+    }
+    WC_PAR_BARRIER(); /* q's rows (and the factors) complete */
+    if (cpl_serial) {
+        if (tid == 0) wc_coupling_mul_offdiag_add(cpl, 1.0, c, s->q);
         WC_PAR_BARRIER();
+    }
+    if (cpl_rows) { /* pass 2 on this thread's chunks' rows (empty range when it has none), which
+                       it filters next: no barrier between */
+        const int end = c1 * WCS_CHUNK < s->n ? c1 * WCS_CHUNK : s->n;
+        wc_coupling_rows_add(cpl, s->coupling_rows, s->q, c0 * WCS_CHUNK, end);
     }
     wcs_pcg_filter_dot_chunks(s, f, c, s->q, c0, c1, SLOT_CQ); /* q = S q, c . q */
     WC_PAR_BARRIER();

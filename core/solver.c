@@ -146,6 +146,11 @@ double wc_solver_tolerance(const wc_solver* s) {
 wc_status wc_solver_set_coupling(wc_solver* s, const wc_coupling* c, int capacity, wc_diag* diag) {
     if (!s) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_solver_set_coupling: NULL solver");
     s->coupling = c;
+    wc_coupling_rows_destroy(s->coupling_rows, &s->alloc);
+    s->coupling_rows = NULL;
+    s->coupling_rows_ok = 0;
+    if (c && capacity >= 1 && !(s->coupling_rows = wc_coupling_rows_create(s->n, capacity, &s->alloc)))
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "wc_solver_set_coupling: row index for %d terms", capacity);
     return s->amg ? wc_amg_set_coupling(s->amg, c, capacity, diag) : WC_OK;
 }
 
@@ -154,6 +159,7 @@ void wc_solver_destroy(wc_solver* s) {
     wcs_direct_destroy(s);
     wc_amg_destroy(s->amg);
     wc_allocator a = s->alloc;
+    wc_coupling_rows_destroy(s->coupling_rows, &a);
     wc_free(&a, s->partial);
     wc_free(&a, s->Dinv);
     wc_free(&a, s->r);
@@ -225,7 +231,13 @@ wc_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const
         return res->status = WC_ERROR_INVALID_ARGUMENT;
     if (type == WC_SOLVER_DIRECT && !s->direct) return res->status = WC_ERROR_CALL_ORDER;
     wc_status st = WC_OK;
-    if (begin(s, A_val, b, f, dv, par, res, &st)) return res->status = st;
+    /* the couplings may have changed since the last solve: their row index again */
+    s->coupling_rows_ok =
+        s->coupling && s->coupling->n > 0 && wc_coupling_rows_build(s->coupling_rows, s->coupling);
+    if (begin(s, A_val, b, f, dv, par, res, &st)) {
+        s->coupling_rows_ok = 0;
+        return res->status = st;
+    }
     switch (type) {
     case WC_SOLVER_PCG: st = wcs_solve_pcg(s, A_val, b, f, dv, par, res); break;
     case WC_SOLVER_JACOBI: st = wcs_solve_jacobi(s, A_val, b, f, dv, par, res, 0); break;
@@ -237,6 +249,7 @@ wc_status wc_solve(wc_solver* s, wc_solver_type type, const double* A_val, const
         wcs_fallback(f, dv, s->n);
         if (st == WC_OK) st = type == WC_SOLVER_DIRECT ? WC_ERROR_FACTORIZATION : WC_ERROR_SOLVER_DIVERGED;
     }
+    s->coupling_rows_ok = 0;
     res->status = st;
     return st;
 }

@@ -541,7 +541,7 @@ static void test_direct_not_spd(void) {
 
 /* (7) the same solve on 1, 2 and 3 threads is bit-identical (reductions by fixed chunks): every
  * solver, then PCG (block Jacobi, the multigrid, the direct factor) with off-pattern couplings,
- * whose product runs on one thread inside PCG's region (900 particles: four chunks, so 3 threads
+ * whose product runs on the threads through its row index (900 particles: four chunks, so 3 threads
  * own 1, 1 and 2). */
 static void test_threads_bit_identical(void) {
     wc_model m = quad_model(30, 30);
