@@ -3,18 +3,24 @@
 #include "coupling.h"
 #include "vec3.h"
 
+/* f[a] = alpha c w_a (sum_b w_b n.x_b - w_a n.x_a): row a of term t's product is f[a] n */
+static void term_factors(const wc_coupling_term* t, double alpha, const double* x, double f[4]) {
+    double s[4], sum = 0.0;
+    for (int a = 0; a < t->cnt; ++a) {
+        s[a] = t->w[a] * v3_dot(t->n, x + 3 * t->p[a]);
+        sum += s[a];
+    }
+    for (int a = 0; a < t->cnt; ++a) f[a] = alpha * t->c * t->w[a] * (sum - s[a]);
+}
+
 void wc_coupling_mul_offdiag_add(const wc_coupling* c, double alpha, const double* x, double* y) {
     if (!c) return;
     for (int k = 0; k < c->n; ++k) {
         const wc_coupling_term* t = &c->t[k];
         if (!(t->c > 0.0)) continue;
-        double s[4], sum = 0.0;
-        for (int a = 0; a < t->cnt; ++a) {
-            s[a] = t->w[a] * v3_dot(t->n, x + 3 * t->p[a]);
-            sum += s[a];
-        }
-        /* row a: c w_a n (sum_b w_b n.x_b - w_a n.x_a) */
-        for (int a = 0; a < t->cnt; ++a) v3_axpy(y + 3 * t->p[a], alpha * t->c * t->w[a] * (sum - s[a]), t->n);
+        double f[4];
+        term_factors(t, alpha, x, f);
+        for (int a = 0; a < t->cnt; ++a) v3_axpy(y + 3 * t->p[a], f[a], t->n);
     }
 }
 
@@ -80,14 +86,7 @@ void wc_coupling_scale_terms(const wc_coupling* c, wc_coupling_rows* r, double a
                              int k1) {
     for (int k = k0; k < k1; ++k) {
         const wc_coupling_term* t = &c->t[k];
-        if (!(t->c > 0.0)) continue;
-        double s[4], sum = 0.0;
-        for (int a = 0; a < t->cnt; ++a) {
-            s[a] = t->w[a] * v3_dot(t->n, x + 3 * t->p[a]);
-            sum += s[a];
-        }
-        double* f = r->coef + 4 * (size_t)k;
-        for (int a = 0; a < t->cnt; ++a) f[a] = alpha * t->c * t->w[a] * (sum - s[a]);
+        if (t->c > 0.0) term_factors(t, alpha, x, r->coef + 4 * (size_t)k);
     }
 }
 
