@@ -228,7 +228,7 @@ int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* s
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
-    if (!a->smoothed && !wg_amg_group_create(a, ca, err, el)) goto fail; /* the group runs P_tent only */
+    if (!wg_amg_group_create(a, ca, err, el)) goto fail; /* PCG in one work group (where it fits) */
     wc_free(alloc, buf);
     wc_amg_destroy(ca);
     *out = a;
