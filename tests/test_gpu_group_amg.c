@@ -107,7 +107,9 @@ static void test_sheets(void) {
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         wc_model m;
         wg_sim* g = NULL;
+        dev->solve = WG_SOLVE_GROUP;   /* the multigrid's group textures are made under =group only */
         wc_state* s = tg_sheet_system(dev, &m, cases[k].n, cases[k].warm, cases[k].k_scale, WC_PRECOND_AMG, &g);
+        dev->solve = WG_SOLVE_AUTO;
         CHECK(s != NULL && g != NULL && g->amg != NULL);
         if (!s || !g || !g->amg) return;
         CHECK(g->amg->n_levels >= cases[k].levels);
@@ -131,7 +133,9 @@ static void test_drape_and_patches(void) {
         CHECK(s != NULL);
         if (!s) return;
         if (k == 0) CHECK(s->contacts.active > 0);
+        dev->solve = WG_SOLVE_GROUP;
         wg_sim* g = tg_gpu_system(dev, s, 0);
+        dev->solve = WG_SOLVE_AUTO;
         CHECK(g != NULL && g->amg != NULL);
         if (g && g->amg) {
             CHECK_EQ_INT(g->amg->dense, k == 0);
@@ -149,9 +153,16 @@ static void test_drape_and_patches(void) {
 static void test_edges(void) {
     wc_model m;
     wg_sim* g = NULL;
+    dev->solve = WG_SOLVE_GROUP;
     wc_state* s = tg_sheet_system(dev, &m, 10, 0, 1.0, WC_PRECOND_AMG, &g);
+    dev->solve = WG_SOLVE_AUTO;
     CHECK(s != NULL && g != NULL);
     if (!s || !g) return;
+    /* the group's copies are made under =group only (the chain's cloth holds none) */
+    CHECK(wg_amg_group_fits(g->amg));
+    wg_sim* chain = tg_gpu_system(dev, s, 1);
+    CHECK(chain != NULL && chain->amg != NULL && !wg_amg_group_fits(chain->amg));
+    wg_sim_destroy(chain);
     wc_solver_opts o = s->def.solver;
     o.max_iterations = 300;
     o.tolerance = 4e-7;
