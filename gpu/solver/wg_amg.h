@@ -261,8 +261,9 @@ void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p);
 const int* wg_amg_debug_cross_lists(wg_amg* a, int l, int* texels);
 
 /* PCG with the V-cycle in one work group (wg_amg_group.c), the chain's V-cycle in any of its
- * forms (P = P_tent, the smoothed P with translations or rotations). At creation, the packed
- * patterns where every level fits the group's rows (0 with err on failure); then, per solve after
+ * forms (P = P_tent, the smoothed P with translations or rotations). At creation under
+ * WEFT_GPU_SOLVE=group (wg_amg_create), the packed patterns where every level fits the group's
+ * rows (0 with err on failure); then, per solve after
  * wg_amg_setup, the levels' values packed (one pass a smoothed level), and the group's pass put
  * in use with the system's inputs sys and the multigrid's, its uniforms set: the caller sets
  * pcg_group_solve.glsl's and runs it with group_v as its read-write image 5. */
