@@ -107,9 +107,7 @@ static void test_group_vs_passes(void) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.0, 0, 0);
     weft_context* a = gpu_ctx("group", WEFT_OK);
-    setenv("WEFT_GPU_AMG_SMOOTH", "0", 1); /* the group's hierarchy (P = P_tent, translations) */
-    weft_context* b = gpu_ctx("passes", WEFT_OK);
-    unsetenv("WEFT_GPU_AMG_SMOOTH");
+    weft_context* b = gpu_ctx("passes", WEFT_OK);   /* the same multigrid (smoothed P, rotations) */
     if (!a || !b) {
         printf("no GPU context with compute passes here: %s\n", g_log.last);
         weft_context_destroy(a);

@@ -228,7 +228,10 @@ int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* s
     const wc_amg_level* C = &ca->lev[ca->n_levels - 1];
     a->dense = C->n <= WG_AMG_DENSE_NODES;
     if (a->dense && !wg_tex_create(&a->coarse_L, GL_RGBA32F, 3 * C->n, 3 * C->n, NULL, err, el)) goto fail;
-    if (!a->smoothed && !wg_amg_group_create(a, ca, err, el)) goto fail; /* the group runs P_tent only */
+    /* PCG in one work group (where it fits), made only where the device's WEFT_GPU_SOLVE=group
+       asks for it, the multigrid's one use of it (wg_solve.c group_wanted): 1.2 of 10.8 MiB on a
+       1,024-particle sheet */
+    if (run->dev->solve == WG_SOLVE_GROUP && !wg_amg_group_create(a, ca, err, el)) goto fail;
     wc_free(alloc, buf);
     wc_amg_destroy(ca);
     *out = a;

@@ -5,7 +5,7 @@
  * level's lambda_max bound (core/amg_setup.c): per solve and level one pass makes P's blocks, one
  * T = A P and one the next level's P^T T, each a gather from lists core's symbolic build gives
  * (wg_amg_smooth.c); the V-cycle restricts the residual through P^T and prolongs through P (a
- * pass each). With P = P_tent (smoothed 0: identity blocks, the one-work-group PCG's hierarchy)
+ * pass each). With P = P_tent (smoothed 0: identity blocks, WEFT_GPU_AMG_SMOOTH=0)
  * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
  * prolongation folds into the smoother's first pass.
  * Rotations (rotations, WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT; with the smoothed P only): the six
@@ -17,8 +17,8 @@
  * diagonal per pair, inverted per setup (amg_dinv.glsl) and read by the smoother, the power
  * iterations and the prolongator, whose node then also reads its pair's residual; a pair level's
  * bound takes WG_AMG_PAIR_BOUND; dead unknowns (1- or 2-node aggregates) get core's decoupled
- * diagonal in the Galerkin pass (amg_ptap.glsl). P = P_tent (the one-work-group PCG's) stays of
- * translations. The same method runs on the CPU with wg_amg_opts() (tests/test_gpu_amg.c
+ * diagonal in the Galerkin pass (amg_ptap.glsl). P = P_tent stays of translations. The
+ * one-work-group PCG (wg_amg_group.c) runs whichever of the three forms the chain runs. The same method runs on the CPU with wg_amg_opts() (tests/test_gpu_amg.c
  * compares the two; tests/test_gpu_amg_smooth.c the levels themselves, test_gpu_amg_rot with
  * rotations).
  *
@@ -164,7 +164,7 @@ typedef struct wg_amg {
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
     int smoothed;               /* the prolongator is smoothed (core's P = (I - w D^-1 A_F) P_tent,
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
-                                   P = P_tent (the one-work-group PCG's, WEFT_GPU_SOLVE=group) */
+                                   P = P_tent (WEFT_GPU_AMG_SMOOTH=0) */
     double prolong_weight;      /* core's (4/3) where smoothed */
     int rotations;              /* the near-null space: the six rigid modes about the rest
                                    positions (WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT), else the three
@@ -185,9 +185,11 @@ typedef struct wg_amg {
     /* PCG in one work group (wg_amg_group.c, pcg_group_amg.glsl), where the finest level has at
        most WG_GROUP_MAX_PARTICLES nodes (id 0 otherwise): */
     wg_tex group_i;             /* the patterns, packed */
-    wg_tex group_fp;            /* per solve: the smoothed levels' bounds, D^-1 and blocks, packed */
+    wg_tex group_fp;            /* per solve: the smoothed levels' bounds, D^-1 (a pair level's 6x6)
+                                   and blocks, and the smoothed prolongator's blocks, packed */
     wg_tex group_v;             /* the coarse levels' V-cycle vectors, read and written by the group */
     int group_f[WC_AMG_MAX_LEVELS]; /* each level's offset in group_fp (-1: a dense coarsest level) */
+    int group_p[WC_AMG_MAX_LEVELS]; /* each level's smoothed P's blocks in group_fp (-1: none) */
     /* The self-contact pairs' cross terms (wg_amg_pairs_create, wg_amg_set_pairs): */
     int* node_of;               /* (n_levels x lev[0].n) each particle's node on each level */
     int cross_cap;              /* pairs the textures hold (0: the cloth has no pairs) */
@@ -258,8 +260,10 @@ void wg_amg_set_pairs(wg_amg* a, const struct wg_pairs* p);
  * the next call; *texels of 4 ints; NULL where the terms are off). */
 const int* wg_amg_debug_cross_lists(wg_amg* a, int l, int* texels);
 
-/* PCG with the V-cycle in one work group (wg_amg_group.c). At creation, the packed patterns
- * where the finest level fits the group (0 with err on failure); then, per solve after
+/* PCG with the V-cycle in one work group (wg_amg_group.c), the chain's V-cycle in any of its
+ * forms (P = P_tent, the smoothed P with translations or rotations). At creation under
+ * WEFT_GPU_SOLVE=group (wg_amg_create), the packed patterns where every level fits the group's
+ * rows (0 with err on failure); then, per solve after
  * wg_amg_setup, the levels' values packed (one pass a smoothed level), and the group's pass put
  * in use with the system's inputs sys and the multigrid's, its uniforms set: the caller sets
  * pcg_group_solve.glsl's and runs it with group_v as its read-write image 5. */

@@ -8,17 +8,24 @@
 #include "gpu_error.h"
 #include "wg_amg.h"
 
-/* ipack's and fpack's layouts: pcg_group_amg.glsl's header. Counts first (v NULL), then fills. */
+/* ipack's and fpack's layouts: pcg_group_amg.glsl's header. Counts first (v NULL), then fills.
+ * With the smoothed prolongator (a->smoothed) each level above the coarsest also packs P's rows
+ * and its columns' entries (wg_amg_smooth.c's p_rows / p_ent and pt_range / pt_list, in their
+ * order) and fpack P's blocks; with P = P_tent each coarse level its aggregates' members. */
 static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size, int* s_size) {
-    const int L = ca->n_levels;
-    int at = 2 * L, f = 0, s = 0;
+    const int L = ca->n_levels, sm = a->smoothed;
+    int at = 4 * L, f = 0, s = 0;
     for (int l = 0; l < L; ++l) {
         const wc_amg_level* C = &ca->lev[l];
-        const int smoothed = !(l == L - 1 && a->dense);
-        int h[8] = {-1, -1, -1, -1, smoothed ? f : -1, l > 0 ? s : -1, C->n, C->n_blocks};
-        if (smoothed) f += 1 + 3 * C->n + (l > 0 ? 3 * C->n_blocks : 0);
+        const int smoothed = !(l == L - 1 && a->dense), pair = C->group == 2, dn = pair ? 2 * C->n : C->n;
+        const int has_p = sm && l + 1 < L, np = has_p ? C->p_start[C->n] : 0;
+        int h[16] = {-1, -1, -1, -1, smoothed ? f : -1, l > 0 ? s : -1, C->n, C->n_blocks, -1, -1, pair, -1, np, 0, 0, 0};
+        if (smoothed) f += 1 + 3 * dn + (l > 0 ? 3 * C->n_blocks : 0);
+        if (has_p) {
+            h[11] = f;
+            f += 3 * np;
+        }
         if (l > 0) {
-            const wc_amg_level* P = &ca->lev[l - 1];
             s += 4 * C->n;
             h[0] = at;
             for (int i = 0; i < C->n; ++i, ++at)
@@ -27,7 +34,8 @@ static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size,
                     t[0] = C->row_start[i];
                     t[1] = C->row_start[i + 1];
                     t[2] = C->diag[i];
-                    t[3] = C->agg ? C->agg[i] : -1;
+                    /* a pair level: the block (i, i ^ 1) (wg_amg.c level_create) */
+                    t[3] = pair ? wc_amg_find(C->col, C->row_start[i], C->row_start[i + 1], i ^ 1) : C->agg ? C->agg[i] : -1;
                 }
             h[1] = at;
             for (int i = 0; i < C->n; ++i)
@@ -36,7 +44,10 @@ static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size,
                         v[4 * at] = i;
                         v[4 * at + 1] = C->col[k];
                     }
+        }
+        if (l > 0 && !sm) {
             /* each aggregate's members, ascending (wg_amg.c upload_groups' order) */
+            const wc_amg_level* P = &ca->lev[l - 1];
             h[2] = at;
             h[3] = at + C->n;
             if (v) {
@@ -53,7 +64,37 @@ static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size,
             }
             at += C->n + P->n;
         }
-        if (v) memcpy(v + 8 * l, h, sizeof h);
+        if (has_p) {
+            /* P's rows (entries first, end) then its entries (row, coarse node): amg_prolong.glsl */
+            const wc_amg_level* N = &ca->lev[l + 1];
+            h[8] = at;
+            for (int i = 0; i < C->n; ++i, ++at)
+                if (v) {
+                    v[4 * at] = C->p_start[i];
+                    v[4 * at + 1] = C->p_start[i + 1];
+                }
+            for (int i = 0; i < C->n; ++i)
+                for (int e = C->p_start[i]; e < C->p_start[i + 1]; ++e)
+                    if (v) {
+                        v[4 * (at + e)] = i;
+                        v[4 * (at + e) + 1] = C->p_col[e];
+                    }
+            at += np;
+            /* each next-level node's entries of P (first, end) then (entry, row): amg_restrict_p.glsl */
+            h[9] = at;
+            for (int I = 0; I < N->n; ++I, ++at)
+                if (v) {
+                    v[4 * at] = C->pt_start[I];
+                    v[4 * at + 1] = C->pt_start[I + 1];
+                }
+            for (int e = 0; e < np; ++e)
+                if (v) {
+                    v[4 * (at + e)] = C->pt_entry[e];
+                    v[4 * (at + e) + 1] = C->pt_row[e];
+                }
+            at += np;
+        }
+        if (v) memcpy(v + 16 * l, h, sizeof h);
     }
     *f_size = f > 0 ? f : 1;
     *s_size = s > 0 ? s : 1;
@@ -62,7 +103,10 @@ static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size,
 
 int wg_amg_group_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
     const wg_layout* L0 = a->run->layout;
-    if (ca->lev[0].n > WG_GROUP_MAX_PARTICLES) return 1;
+    /* every level's nodes within the group's rows (a coarse level of 1- and 2-node aggregates
+       with rotations has up to twice the finest level's nodes): else the chain solves it */
+    for (int l = 0; l < ca->n_levels; ++l)
+        if (ca->lev[l].n > WG_GROUP_MAX_PARTICLES) return 1;
     int fs = 0, ss = 0;
     const int n = pack_patterns(a, ca, NULL, &fs, &ss);
     int* v = wc_calloc(&L0->alloc, 4u * (size_t)n, sizeof(int));
@@ -71,7 +115,10 @@ int wg_amg_group_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
         return 0;
     }
     pack_patterns(a, ca, v, &fs, &ss);
-    for (int l = 0; l < ca->n_levels; ++l) a->group_f[l] = v[8 * l + 4];
+    for (int l = 0; l < ca->n_levels; ++l) {
+        a->group_f[l] = v[16 * l + 4];
+        a->group_p[l] = v[16 * l + 11];
+    }
     int ok = wg_array_create(L0, &a->group_i, GL_RGBA32I, n, v, err, el) &&
              wg_array_create(L0, &a->group_fp, GL_RGBA32F, fs, NULL, err, el) &&
              wg_array_create(L0, &a->group_v, GL_RGBA32F, ss, NULL, err, el);
@@ -86,15 +133,21 @@ void wg_amg_group_pack(wg_amg* a) {
     for (int l = 0; l < a->n_levels; ++l) {
         const wg_amg_level* L = &a->lev[l];
         if (a->group_f[l] < 0) continue;   /* the dense coarsest level: its factor only */
-        const int blocks = l > 0;
+        const int blocks = l > 0, has_p = a->group_p[l] >= 0, dn = L->pair ? 2 * L->n : L->n;
         WG_USE(run, WGP_AMG_GROUP_PACK_GROUPS, &(wg_amg_in){.dinv0 = &L->dinv[0], .dinv1 = &L->dinv[1],
             .dinv2 = &L->dinv[2], .a0 = blocks ? &L->a[0] : &L->dinv[0], .a1 = blocks ? &L->a[1] : &L->dinv[1],
-            .a2 = blocks ? &L->a[2] : &L->dinv[2], .bound = L->bound});
+            .a2 = blocks ? &L->a[2] : &L->dinv[2], .pv0 = has_p ? &L->p[0] : &L->dinv[0],
+            .pv1 = has_p ? &L->p[1] : &L->dinv[1], .pv2 = has_p ? &L->p[2] : &L->dinv[2], .bound = L->bound});
         wg_u1i(run, "u_off", a->group_f[l]);
+        wg_u1i(run, "u_dn", dn);
         wg_u1i(run, "u_nb", L->nb);
         wg_u1i(run, "u_blocks", blocks);
-        wg_u1f(run, "u_bound_scale", l == 0 ? (float)a->fine_bound_scale : 1.0f);
-        const int items = blocks && L->nb > L->n ? L->nb : L->n;
+        wg_u1i(run, "u_poff", a->group_p[l]);
+        wg_u1i(run, "u_np", has_p ? L->np : 0);
+        wg_u1f(run, "u_bound_scale", (float)wg_amg_bound_scale(a, l));
+        int items = dn;
+        if (blocks && L->nb > items) items = L->nb;
+        if (has_p && L->np > items) items = L->np;
         wg_run_groups(run, L->n, &a->group_fp, (items + 255) / 256);
     }
 }
@@ -107,6 +160,7 @@ void wg_amg_group_use(wg_amg* a, const wg_pcg_group_in* sys) {
         .rows = &a->lev[0].rows, .ipack = &a->group_i, .fpack = &a->group_fp, .factor = factor});
     wg_u1i(run, "u_levels", a->n_levels);
     wg_u1i(run, "u_dense", a->dense);
+    wg_u1i(run, "u_smoothed", a->smoothed);
     wg_u1i(run, "u_sweeps", a->sweeps);
     wg_u1i(run, "u_coarse_sweeps", WG_AMG_COARSE_SWEEPS);
     wg_u1f(run, "u_ratio", a->ratio);

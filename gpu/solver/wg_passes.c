@@ -258,7 +258,7 @@ static const wg_pass_input amg_cross_blocks[] = {AMG(cross_i), AMG(cross_u), AMG
 static const wg_pass_input amg_cross_terms[] = {AMG(pair_p), AMG(pair_w), AMG(pair_nc), AMG(S0), AMG(S1)};
 static const wg_pass_input amg_coarse[] = {AMG(factor), AMG(r)};
 static const wg_pass_input amg_dot[] = {AMG(r), AMG(z)};
-static const wg_pass_input amg_group_pack[] = {DINV, AMG(a0), AMG(a1), AMG(a2), AMG(bound)};
+static const wg_pass_input amg_group_pack[] = {DINV, AMG(a0), AMG(a1), AMG(a2), PV, AMG(bound)};
 
 #define PASS(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 0}
 #define COMPUTE(name, tab, T) {name, tab, N(tab), sizeof(T), 0, 1}

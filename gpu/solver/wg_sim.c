@@ -401,10 +401,8 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     }
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1};
-        /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs P = P_tent of translations only
-           (pcg_group_amg.glsl); rotations go with the smoothed prolongator */
-        const int smoothed = dev->amg_smooth && dev->solve != WG_SOLVE_GROUP;
-        ok = wg_amg_create_form(&g->run, g->m, &sys, smoothed, dev->amg_rot, &g->amg, err, sizeof err);
+        /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs the same V-cycle (pcg_group_amg.glsl) */
+        ok = wg_amg_create_form(&g->run, g->m, &sys, dev->amg_smooth, dev->amg_rot, &g->amg, err, sizeof err);
         if (ok && g->pairs && dev->amg_cross) ok = wg_amg_pairs_create(g->amg, wg_pairs_capacity(g->pairs), err, sizeof err);
     }
     if (!ok) {

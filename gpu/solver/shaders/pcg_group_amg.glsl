@@ -5,7 +5,10 @@
 // precondition(), in its order and with its arithmetic: amg_smooth_step.glsl's steps (Chebyshev
 // of degree u_sweeps before and after the coarse correction, the prolongation added in the first
 // step after it), the restriction summing each aggregate's residuals in its member list's order,
-// and the coarsest level's dense solve (amg_coarse_inverse.glsl) or its u_coarse_sweeps block-Jacobi
+// or with the smoothed prolongator (u_smoothed; wg_amg.h smoothed, rotations) the residual
+// restricted by P^T in amg_restrict_p.glsl's order and the correction prolonged by P's rows
+// (amg_prolong.glsl) before the first step after it, a pair level's smoother taking its pair's
+// 6x6 D^-1 (amg_level_inputs.glsl op_dinv_mul), and the coarsest level's dense solve (amg_coarse_inverse.glsl) or its u_coarse_sweeps block-Jacobi
 // sweeps. The setup (wg_amg_setup) ran before as passes; amg_group_pack_groups.glsl copied each
 // smoothed level's bound, D^-1 and blocks into fpack.
 //
@@ -16,13 +19,19 @@
 // coarsest level's dense solve one node an invocation. Node I of every level is invocation
 // I mod 1,024's.
 //
-// ipack (int4): per level l, texels 2 l = (rows, cols, members' ranges, members) offsets and
-// 2 l + 1 = (fpack offset, image 5 offset, nodes, blocks); then, per coarse level, its rows
-// (block start, end, diagonal, aggregate on the next level or -1), blocks (row, column), each
-// node's range of members and the members (nodes of the finer level) ascending. fpack (float4),
-// per smoothed level from its offset: the smoother's bound (x), D^-1's rows 0..2 (n texels
-// each), and on a coarse level its blocks' rows 0..2 (nb each). Image 5, per coarse level from
-// its offset: r, x, d and the residual to restrict (n texels each).
+// ipack (int4): per level l, texels 4 l = (rows, cols, members' ranges, members) offsets,
+// 4 l + 1 = (fpack offset, image 5 offset, nodes, blocks), 4 l + 2 = (P's rows, P's columns
+// offsets, a pair level, fpack offset of P's blocks) and 4 l + 3 = (P's entries, -, -, -); then,
+// per coarse level, its rows (block start, end, diagonal, the block (i, i ^ 1) on a pair level,
+// else the aggregate on the next level or -1), blocks (row, column), with P = P_tent each node's
+// range of members and the members (nodes of the finer level) ascending; per level with a
+// smoothed P, its rows (entries first, end), its entries (row, coarse node), each next-level
+// node's range of entries and those (entry, row) (wg_amg_smooth.c's p_rows, p_ent, pt_range,
+// pt_list). fpack (float4), per smoothed level from its offset: the smoother's bound (x), D^-1's
+// rows 0..2 (n texels each; 2n on a pair level: node i's blocks 2i, 2i + 1), and on a coarse
+// level its blocks' rows 0..2 (nb each); per level with a smoothed P from its own offset, P's
+// blocks' rows 0..2 (np each). Image 5, per coarse level from its offset: r, x, d and the
+// residual to restrict (n texels each).
 layout(local_size_x = 1024, local_size_y = 1) in;
 #pragma weft include pcg_scalars_rules
 #pragma weft include project_row
@@ -35,6 +44,7 @@ uniform isampler2D ipack;
 uniform sampler2D fpack;
 uniform int u_levels;
 uniform int u_dense;        // the coarsest level has a dense factor
+uniform int u_smoothed;     // the smoothed prolongator: P's lists restrict and prolong
 uniform int u_sweeps;       // the smoother's degree
 uniform int u_coarse_sweeps;
 uniform float u_ratio;
@@ -46,22 +56,33 @@ layout(binding = 5, rgba32f) coherent uniform image2D wg_img5;
 #define SE 3
 
 struct level {
-    int rows, cols, mr, ml, f, s, n, nb;
+    int rows, cols, mr, ml, f, s, n, nb, pr, pt, pair, pf, np;
 };
 
 vec3 xd[R];                 // the finest level's smoothing step d (xt holds its x)
 
 level lvl(int l) {
-    ivec4 a = ldi(ipack, 2 * l), c = ldi(ipack, 2 * l + 1);
-    return level(a.x, a.y, a.z, a.w, c.x, c.y, c.z, c.w);
+    ivec4 a = ldi(ipack, 4 * l), c = ldi(ipack, 4 * l + 1), e = ldi(ipack, 4 * l + 2);
+    return level(a.x, a.y, a.z, a.w, c.x, c.y, c.z, c.w, e.x, e.y, e.z, e.w, ldi(ipack, 4 * l + 3).x);
 }
 vec3 fp(int i) { return ld(fpack, i).xyz; }
 float bound_of(level L) { return ld(fpack, L.f).x; }
-mat3 dinv_of(level L, int i) { return blk_rows(fp(L.f + 1 + i), fp(L.f + 1 + L.n + i), fp(L.f + 1 + 2 * L.n + i)); }
+int dinv_n(level L) { return L.pair != 0 ? 2 * L.n : L.n; }
+mat3 dinv_at(level L, int t) {
+    int o = L.f + 1, m = dinv_n(L);
+    return blk_rows(fp(o + t), fp(o + m + t), fp(o + 2 * m + t));
+}
+// (D^-1 t)_i (amg_level_inputs.glsl op_dinv_mul): on a pair level from t_i and t of node i ^ 1 (tp)
+vec3 dinv_mul(level L, int i, vec3 t, vec3 tp) {
+    if (L.pair == 0) return dinv_at(L, i) * t;
+    bool odd = (i & 1) != 0;
+    return dinv_at(L, 2 * i) * (odd ? tp : t) + dinv_at(L, 2 * i + 1) * (odd ? t : tp);
+}
 mat3 block_of(level L, int k) {
-    int o = L.f + 1 + 3 * L.n;
+    int o = L.f + 1 + 3 * dinv_n(L);
     return blk_rows(fp(o + k), fp(o + L.nb + k), fp(o + 2 * L.nb + k));
 }
+mat3 p_block(level L, int e) { return blk_rows(fp(L.pf + e), fp(L.pf + L.np + e), fp(L.pf + 2 * L.np + e)); }
 vec3 sget(level L, int slot, int i) { return imageLoad(wg_img5, tc(L.s + slot * L.n + i)).xyz; }
 void sset(level L, int slot, int i, vec3 v) { imageStore(wg_img5, tc(L.s + slot * L.n + i), vec4(v, 0.0)); }
 void sync_image() {
@@ -77,6 +98,16 @@ vec3 coarse_row(level L, int I) {
     return y;
 }
 
+// the smoothed P's row i of level L times N's x (amg_prolong.glsl), or with P = P_tent the
+// correction of node i's aggregate
+vec3 prolong_row(level L, level N, int i, int agg) {
+    if (u_smoothed == 0) return sget(N, SX, agg);
+    ivec4 r = ldi(ipack, L.pr + i);
+    vec3 s = vec3(0.0);
+    for (int e = r.x; e < r.y; ++e) s += p_block(L, e) * sget(N, SX, ldi(ipack, L.pr + L.n + e).y);
+    return s;
+}
+
 // the sum over each of N's aggregates of its members' residuals, into N's r; res(i) the finer
 // level's residual of node i
 #define RESTRICT_INTO(N, RES) \
@@ -89,6 +120,22 @@ vec3 coarse_row(level L, int I) {
         } \
     sync_image()
 
+// P^T of level L's residuals into N's r, each of N's nodes its entries of P in order
+// (amg_restrict_p.glsl); res(i) the residual of L's node i
+#define RESTRICT_P(L, N, RES) \
+    for (int k = 0; k < R; ++k) \
+        if (row(k) < N.n) { \
+            ivec4 m = ldi(ipack, L.pt + row(k)); \
+            vec3 s = vec3(0.0); \
+            for (int e = m.x; e < m.y; ++e) { \
+                ivec4 q = ldi(ipack, L.pt + N.n + e); \
+                int i = q.y; \
+                s += transpose(p_block(L, q.x)) * RES; \
+            } \
+            sset(N, SR, row(k), s); \
+        } \
+    sync_image()
+
 // one smoothing step on the finest level (amg_smooth.glsl over it: the operator S (A x), the
 // correction of N's x filtered as it is prolonged)
 void smooth_fine(level L, level N, int step, bool zero, bool prolong) {
@@ -97,7 +144,7 @@ void smooth_fine(level L, level N, int step, bool zero, bool prolong) {
             for (int k = 0; k < R; ++k)
                 if (row(k) < u_n) {
                     int i = row(k);
-                    xt[k] += filter_apply(ld(S0, i), ld(S1, i), sget(N, SX, ldi(rows, i).w));
+                    xt[k] += filter_apply(ld(S0, i), ld(S1, i), prolong_row(L, N, i, ldi(rows, i).w));
                 }
         share_rows(xt);
     }
@@ -107,7 +154,7 @@ void smooth_fine(level L, level N, int step, bool zero, bool prolong) {
             int i = row(k);
             vec3 t = xr[k];
             if (!zero) t -= spmv_row(i);
-            vec3 di = amg_smooth_step(step, bd, u_ratio, dinv_of(L, i) * t, xd[k]);
+            vec3 di = amg_smooth_step(step, bd, u_ratio, dinv_at(L, i) * t, xd[k]);
             xt[k] = (zero ? vec3(0.0) : xt[k]) + di;
             xd[k] = di;
         }
@@ -117,7 +164,7 @@ void smooth_fine(level L, level N, int step, bool zero, bool prolong) {
 void smooth_coarse(level L, level N, int step, bool zero, bool prolong) {
     if (!zero && prolong) {
         for (int k = 0; k < R; ++k)
-            if (row(k) < L.n) sset(L, SX, row(k), sget(L, SX, row(k)) + sget(N, SX, ldi(ipack, L.rows + row(k)).w));
+            if (row(k) < L.n) sset(L, SX, row(k), sget(L, SX, row(k)) + prolong_row(L, N, row(k), ldi(ipack, L.rows + row(k)).w));
         sync_image();
     }
     float bd = bound_of(L);
@@ -126,11 +173,13 @@ void smooth_coarse(level L, level N, int step, bool zero, bool prolong) {
         if (row(k) < L.n) {
             int I = row(k);
             vec3 t = sget(L, SR, I), xi = vec3(0.0);
+            vec3 tp = L.pair != 0 ? sget(L, SR, I ^ 1) : vec3(0.0);   // a pair level: D^-1 reads node I ^ 1's too
             if (!zero) {
                 t -= coarse_row(L, I);
+                if (L.pair != 0) tp -= coarse_row(L, I ^ 1);
                 xi = sget(L, SX, I);
             }
-            dn[k] = amg_smooth_step(step, bd, u_ratio, dinv_of(L, I) * t, step >= 1 ? sget(L, SD, I) : vec3(0.0));
+            dn[k] = amg_smooth_step(step, bd, u_ratio, dinv_mul(L, I, t, tp), step >= 1 ? sget(L, SD, I) : vec3(0.0));
             xn[k] = xi + dn[k];
         }
     barrier();   // every read of x done
@@ -171,12 +220,20 @@ void restrict_into(int l, level L, level N) {
         for (int k = 0; k < R; ++k)
             if (row(k) < u_n) xq[k] = xr[k] - spmv_row(row(k));
         share_rows(xq);
-        RESTRICT_INTO(N, get(i));
+        if (u_smoothed != 0) {
+            RESTRICT_P(L, N, get(i));
+        } else {
+            RESTRICT_INTO(N, get(i));
+        }
     } else {
         for (int k = 0; k < R; ++k)
             if (row(k) < L.n) sset(L, SE, row(k), sget(L, SR, row(k)) - coarse_row(L, row(k)));
         sync_image();
-        RESTRICT_INTO(N, sget(L, SE, i));
+        if (u_smoothed != 0) {
+            RESTRICT_P(L, N, sget(L, SE, i));
+        } else {
+            RESTRICT_INTO(N, sget(L, SE, i));
+        }
     }
 }
 
