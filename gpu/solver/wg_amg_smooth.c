@@ -4,8 +4,9 @@
  * P^T A P's), the gathers the setup's passes read: each entry of P its blocks of A
  * (amg_prolongator.glsl), each entry of T its products A_ik P_(k, J) (amg_ap.glsl), each block
  * of the next level its products P^T T (amg_ptap.glsl), each next-level node its entries of P
- * (amg_restrict_p.glsl), each node its row of P (amg_prolong.glsl). Uploaded once per cloth;
- * the values are made per solve on the device. */
+ * (amg_restrict_p.glsl), each node its row of P (amg_prolong.glsl). Uploaded once per cloth,
+ * two items a texel, with rotations one list per pair of coarse nodes (upload_keyed); the values
+ * are made per solve on the device. */
 #include <string.h>
 
 #include "gpu_error.h"
