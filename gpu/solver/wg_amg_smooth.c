@@ -17,8 +17,8 @@
 #define ALIAS_B 2 /* ... with b + 1 */
 
 /* Items (a, b) keyed by group, counting-sorted (in order within a group): range per group
- * (first, end, gz or 0, flags; in items), list two items a texel (a0, b0, a1, b1), int4 arrays
- * (amg_blocks.glsl ld_item). With rotations the coarse nodes come in pairs (2a, 2a + 1) and so
+ * (first item, count << 5 | gz << 2 | flags: RG32I, amg_blocks.glsl ld_range; gz < 8), list two
+ * items a texel (a0, b0, a1, b1: RGBA32I, ld_item). With rotations the coarse nodes come in pairs (2a, 2a + 1) and so
  * do the entries of P and T, whose lists for the odd one are the even one's shifted by one: a
  * group K with src[K] (1 + its source group, which has none) and fl[K] (ALIAS_A | ALIAS_B) lists
  * no items of its own where its items are exactly its source's so shifted (checked here; else
@@ -50,7 +50,8 @@ static int upload_keyed(const wg_layout* L, wg_tex* range, wg_tex* list, int n_g
         rs[K] = K;
         rf[K] = 0;
         if (!src || !src[K]) continue;
-        const int S = src[K] - 1, len = start[K + 1] - start[K], da = (fl[K] & ALIAS_A) != 0, db = (fl[K] & ALIAS_B) != 0;
+        const int S = src[K] - 1, len = start[K + 1] - start[K];
+        const int da = (fl[K] & ALIAS_A) != 0, db = (fl[K] & ALIAS_B) != 0;
         int same = src[S] == 0 && len == start[S + 1] - start[S];
         for (int t = 0; same && t < len; ++t)
             same = sorted[2 * (start[K] + t)] == sorted[2 * (start[S] + t)] + da &&
@@ -71,12 +72,15 @@ static int upload_keyed(const wg_layout* L, wg_tex* range, wg_tex* list, int n_g
     memset(v, 0, 4u * sizeof(int) * (size_t)cap);
     for (int K = 0; K < n_groups; ++K) {
         const int S = rs[K];
-        v[4 * K] = cur[S];
-        v[4 * K + 1] = cur[S] + start[S + 1] - start[S];
-        v[4 * K + 2] = gz ? gz[K] : 0;
-        v[4 * K + 3] = rf[K];
+        const int len = start[S + 1] - start[S], bits = gz ? gz[K] : 0;
+        if (len >= 1 << 26 || bits >= 8) {
+            wg_errorf(err, el, "multigrid: a list of %d items does not fit its range texel", len);
+            goto done;
+        }
+        v[2 * K] = cur[S];
+        v[2 * K + 1] = len << 5 | bits << 2 | rf[K];
     }
-    ok = wg_array_create(L, range, GL_RGBA32I, n_groups, v, err, el);
+    ok = wg_array_create(L, range, GL_RG32I, n_groups, v, err, el);
 done:
     wc_free(al, start);
     wc_free(al, sorted);

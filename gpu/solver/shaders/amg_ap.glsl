@@ -6,7 +6,7 @@
 uniform sampler2D pv0;      // P's blocks, row 0
 uniform sampler2D pv1;      // row 1
 uniform sampler2D pv2;      // row 2
-uniform isampler2D t_range; // T's entries: (list start, end, -, shifts: ld_item)
+uniform isampler2D t_range; // T's entries: ld_range's (list start, end, -, shifts)
 uniform isampler2D t_list;  // products (block k of A, entry of P), two a texel (ld_item)
 out vec4 o0;
 out vec4 o1;
@@ -15,7 +15,7 @@ out vec4 o2;
 void main() {
     int s = self_index();
     if (s >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    ivec4 r = ldi(t_range, s);
+    ivec4 r = ld_range(t_range, s);
     mat3 t = mat3(0.0);
     for (int m = r.x; m < r.y; ++m) {
         ivec2 q = ld_item(t_list, m, r.w);

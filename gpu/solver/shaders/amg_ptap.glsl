@@ -12,7 +12,7 @@ uniform sampler2D pv2;
 uniform sampler2D tv0;        // T's blocks, row 0
 uniform sampler2D tv1;
 uniform sampler2D tv2;
-uniform isampler2D gal_range; // this level's blocks: (list start, end, dead rows' bits, shifts: ld_item)
+uniform isampler2D gal_range; // this level's blocks: ld_range's (list start, end, dead rows' bits, shifts)
 uniform isampler2D gal_list;  // products (entry of P, entry of T), two a texel (ld_item)
 out vec4 o0;
 out vec4 o1;
@@ -21,7 +21,7 @@ out vec4 o2;
 void main() {
     int k = self_index();
     if (k >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    ivec4 r = ldi(gal_range, k);
+    ivec4 r = ld_range(gal_range, k);
     mat3 s = mat3(0.0);
     for (int m = r.x; m < r.y; ++m) {
         ivec2 q = ld_item(gal_list, m, r.w);
