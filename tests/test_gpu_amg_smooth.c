@@ -120,6 +120,42 @@ static void compare(wg_sim* g, const wc_amg* ca, const double* r, wc_par* par, d
     printf("    V-cycle: |z_gpu - z_core| / |z_core| %.2e\n", out[2]);
 }
 
+/* The texture of a list of `items` (two a texel, wg_amg_smooth.c upload_keyed) is that size, and
+ * its ranges one RG32I texel a group. */
+static int list_holds(const wg_layout* L, const wg_tex* range, int groups, const wg_tex* t, long items) {
+    int w, h, rw, rh;
+    wg_layout_size(L, items > 1 ? (int)((items + 1) / 2) : 1, &w, &h);
+    wg_layout_size(L, groups, &rw, &rh);
+    return t->w == w && t->h == h && t->internal == GL_RGBA32I && range->w == rw && range->h == rh &&
+           range->internal == GL_RG32I;
+}
+
+/* The smoothed prolongator's lists of level l hold what core's patterns of P, T = A P and the next
+ * level's P^T T call for, two products a texel, and with rotations (two coarse nodes an aggregate,
+ * cpa 2) only the products of an even coarse node's entries: one list per pair of entries of P,
+ * of T and of the pairs' nodes, one per 2 x 2 group of the next level's blocks (the odd ones
+ * read it shifted), their ranges 8 bytes a group. 1 when all four are so. */
+static int lists_stored(const wg_sim* g, int l, const wc_amg_level* C, const wc_amg_level* CN) {
+    const wg_amg_level *G = &g->amg->lev[l], *N = &g->amg->lev[l + 1];
+    const int cpa = C->cpa;
+    long n_p = C->n_blocks, n_t = 0, n_gal = 0, n_pt = 0;
+    for (int i = 0; i < C->n; ++i)
+        for (int k = C->row_start[i]; k < C->row_start[i + 1]; ++k)
+            for (int e = C->p_start[C->col[k]]; e < C->p_start[C->col[k] + 1]; ++e) n_t += C->p_col[e] % cpa == 0;
+    for (int I = 0; I < CN->n; I += cpa)
+        for (int s = C->pt_start[I]; s < C->pt_start[I + 1]; ++s) {
+            const int i = C->pt_row[s];
+            ++n_pt;
+            for (int q = C->t_start[i]; q < C->t_start[i + 1]; ++q) n_gal += C->t_col[q] % cpa == 0;
+        }
+    printf("    level %d's lists: %ld, %ld, %ld, %ld products (P, T, P^T T, P^T)\n", l, n_p, n_t, n_gal, n_pt);
+    const wg_layout* L = &g->layout;
+    return list_holds(L, &G->p_range, G->np, &G->p_list, n_p) &&
+           list_holds(L, &G->t_range, G->nt, &G->t_list, n_t) &&
+           list_holds(L, &N->gal_range, N->nb, &N->gal_list, n_gal) &&
+           list_holds(L, &G->pt_range, N->n, &G->pt_list, n_pt);
+}
+
 /* One system: the GPU's hierarchy (smoothed, and with P = P_tent as the mutation) against core's. */
 static void check_system(const char* name, wc_model* m, wc_state* s) {
     const double h = 1.0 / 30.0;
@@ -165,6 +201,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     CHECK(ca->n_levels >= 2);
     double e[3];
     compare(g, ca, r, &par, e);
+    for (int l = 0; l + 1 < ca->n_levels; ++l) CHECK(lists_stored(g, l, &ca->lev[l], &ca->lev[l + 1]));
     CHECK(e[0] <= TOL);
     CHECK(e[1] <= TOL);
     CHECK(e[2] <= 10 * TOL);

@@ -12,8 +12,8 @@
 #pragma weft include amg_level_inputs
 uniform isampler2D p_ent;   // P's entries: (row i, coarse node, 1 on i's own aggregate, its Pt block)
 uniform isampler2D p_rows;  // per node: (first entry, end, -, -)
-uniform isampler2D p_range; // per entry: (list start, end, -, -)
-uniform isampler2D p_list;  // (block of row i, its Pt block, -, -)
+uniform isampler2D p_range; // per entry: ld_range's (list start, end, -, shifts)
+uniform isampler2D p_list;  // items (block of row i, its Pt block), two a texel (ld_item)
 uniform sampler2D tent0;    // P_tent's blocks, row 0 (u_tent)
 uniform sampler2D tent1;
 uniform sampler2D tent2;
@@ -28,13 +28,13 @@ out vec4 o2;
 mat3 tent_blk(int t) { return blk(tent0, tent1, tent2, t); }
 
 mat3 gather(int e) {
-    ivec4 r = ldi(p_range, e);
+    ivec4 r = ld_range(p_range, e);
     mat3 s = mat3(0.0);
     if (u_tent == 0) {
-        for (int m = r.x; m < r.y; ++m) s += op_block(ldi(p_list, m).x);
+        for (int m = r.x; m < r.y; ++m) s += op_block(ld_item(p_list, m, r.w).x);
     } else {
         for (int m = r.x; m < r.y; ++m) {
-            ivec4 q = ldi(p_list, m);
+            ivec2 q = ld_item(p_list, m, r.w);
             s += op_block(q.x) * tent_blk(q.y);
         }
     }

@@ -1,8 +1,10 @@
 // Per block (I, J) of a coarse level with the smoothed prolongator (wg_amg_smooth.c): the
 // Galerkin product sum P_(i, I)^T T_(i, J) over the finer level's rows i (T = A P, amg_ap.glsl),
-// the products listed per block when the hierarchy was built. With rotations a diagonal block's
-// dead unknowns (gal_range.z: a bit per row, core's wc_amg_level.dead) have zero rows and columns;
-// their diagonal takes the block's mean live diagonal (or 1), core/amg_setup.c revive_dead.
+// the products listed per block when the hierarchy was built (with rotations three blocks of a
+// 2 x 2 group of coarse nodes read the fourth's list, shifted: ld_item). With rotations a
+// diagonal block's dead unknowns (gal_range.z: a bit per row, core's wc_amg_level.dead) have zero
+// rows and columns; their diagonal takes the block's mean live diagonal (or 1), core/amg_setup.c
+// revive_dead.
 #pragma weft include amg_blocks
 uniform sampler2D pv0;        // P's blocks, row 0
 uniform sampler2D pv1;
@@ -10,8 +12,8 @@ uniform sampler2D pv2;
 uniform sampler2D tv0;        // T's blocks, row 0
 uniform sampler2D tv1;
 uniform sampler2D tv2;
-uniform isampler2D gal_range; // this level's blocks: (list start, end, dead rows' bits, -)
-uniform isampler2D gal_list;  // products: (entry of P, entry of T, -, -)
+uniform isampler2D gal_range; // this level's blocks: ld_range's (list start, end, dead rows' bits, shifts)
+uniform isampler2D gal_list;  // products (entry of P, entry of T), two a texel (ld_item)
 out vec4 o0;
 out vec4 o1;
 out vec4 o2;
@@ -19,10 +21,10 @@ out vec4 o2;
 void main() {
     int k = self_index();
     if (k >= u_n) { o0 = vec4(0.0); o1 = vec4(0.0); o2 = vec4(0.0); return; }
-    ivec4 r = ldi(gal_range, k);
+    ivec4 r = ld_range(gal_range, k);
     mat3 s = mat3(0.0);
     for (int m = r.x; m < r.y; ++m) {
-        ivec4 q = ldi(gal_list, m);
+        ivec2 q = ld_item(gal_list, m, r.w);
         s += transpose(blk(pv0, pv1, pv2, q.x)) * blk(tv0, tv1, tv2, q.y);
     }
     if (r.z != 0) {
