@@ -11,9 +11,11 @@
  * X's row, ascending; each block B_ik + X_ik summed in double and rounded once. X's row is read
  * from the summed form where the level has one (n_blocks > 0, a sorted merge), else from the terms
  * through the node index (the finest level: for row i every term holding i, c v(i) v(k)^T for
- * each of its entries k, in term order, summed in a per-thread row of doubles). Only the V-cycle's
- * residuals read it (amg_cycle.c); the eigenvalue estimates, the block diagonal (dadd), the
- * restriction of the terms and PCG's own product keep B and X apart, as before. Rows are
+ * each of its entries k, in term order, summed in a per-thread row of doubles; a row that no term
+ * holds is B's row rounded straight from 0 + B_ik: the same bits without the marks, the sort and
+ * the accumulator). Only the V-cycle's residuals read it (amg_cycle.c); the eigenvalue estimates,
+ * the block diagonal (dadd), the restriction of the terms and PCG's own product keep B and X
+ * apart, as before. Rows are
  * independent and each is summed by one thread in a fixed order: the same bits on any thread
  * count. Not bit-identical to B's rows plus X's (X_ik is rounded to float with B_ik, the sums go
  * in another order). No allocation: the room is set with the couplings (wc_amg_set_coupling); a
@@ -58,6 +60,7 @@ static void merge_summed(const wc_amg_level* L, wc_amg_cross* X, int i) {
 /* blocks of row i of F from the terms: B's columns marked in pos (the thread's, -1 on entry) with
  * stamp, then the terms' columns not yet marked; pos left marked (the fill resets it) */
 static int count_terms(const wc_amg_level* L, const wc_amg_cross* X, int i, int* pos) {
+    if (X->node_start[i] == X->node_start[i + 1]) return L->row_start[i + 1] - L->row_start[i]; /* no term */
     for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) pos[L->col[k]] = -2 - i;
     return L->row_start[i + 1] - L->row_start[i] + wc_amg_cross_count_row(X, i, pos);
 }
@@ -65,6 +68,14 @@ static int count_terms(const wc_amg_level* L, const wc_amg_cross* X, int i, int*
 /* row i of F from the terms (its room counted by count_terms), summed in acc (the thread's) */
 static void merge_terms(const wc_amg_level* L, wc_amg_cross* X, int i, int* pos, double* acc) {
     const int o = X->m_start[i];
+    if (X->node_start[i] == X->node_start[i + 1]) { /* no term: B's row, as 0 + B_ik (+0 for -0) */
+        const int a = L->row_start[i], nb = L->row_start[i + 1] - a;
+        memcpy(X->m_col + o, L->col + a, (size_t)nb * sizeof(int));
+        const double* v = L->val + 9 * (size_t)a;
+        float* f = X->m_val_f + 9 * (size_t)o;
+        for (size_t q = 0; q < 9 * (size_t)nb; ++q) f[q] = (float)(0.0 + v[q]);
+        return;
+    }
     int nb = 0;
     int* cols = X->m_col + o;
     for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) { /* B's columns, ascending */

@@ -79,13 +79,41 @@ void wc_self_trees_top(wc_self* sc, int mask_up, int refit) {
     }
 }
 
+/* b = the union of the particles' boxes pb of v[0 .. nv) (from empty, in that order), inflated by r:
+ * wc_self_swept_box's box to the bit. That adds x1 then x0 of each particle in turn with strict
+ * comparisons, so each bound is the first of those coordinates to reach the extreme (NaN never
+ * does); a particle's box holds the first of its own two, and the union, taken in the same
+ * particle order with the same comparisons, the first particle's whose box reaches it. */
+static void union_box(double* b, const double* pb, const int* v, int nv, double r) {
+    wc_box_empty(b);
+    for (int j = 0; j < nv; ++j) {
+        const double* q = pb + 6 * (size_t)v[j];
+        for (int k = 0; k < 3; ++k) {
+            if (q[k] < b[k]) b[k] = q[k];
+            if (q[3 + k] > b[3 + k]) b[3 + k] = q[3 + k];
+        }
+    }
+    wc_box_inflate(b, r);
+}
+
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
+    double* pb = sc->part_box;
     WC_PAR_REGION(sc) {
         int t = wc_par_tid(), nt = wc_par_nt(), lo, hi;
+        /* each particle's box of x1, x0 once (2 points), then each element's the union of its
+           particles' (3 boxes a triangle, 2 an edge, where the direct box adds 6 and 4 points) */
+        wc_par_range(sc->n, t, nt, &lo, &hi);
+        for (int i = lo; i < hi; ++i) { /* not inflated: the elements' boxes are, once */
+            double* b = pb + 6 * (size_t)i;
+            wc_box_empty(b);
+            wc_box_add(b, x1 + 3 * (size_t)i);
+            if (x0) wc_box_add(b, x0 + 3 * (size_t)i);
+        }
+        WC_PAR_BARRIER(); /* every particle's box before the elements' */
         wc_par_range(m->n_tris, t, nt, &lo, &hi);
-        for (int k = lo; k < hi; ++k) wc_self_swept_box(sc->tri_box + 6 * k, m->tris + 3 * k, 3, x0, x1, r);
+        for (int k = lo; k < hi; ++k) union_box(sc->tri_box + 6 * k, pb, m->tris + 3 * k, 3, r);
         wc_par_range(sc->n_edges, t, nt, &lo, &hi);
-        for (int k = lo; k < hi; ++k) wc_self_swept_box(sc->edge_box + 6 * k, sc->edges + 2 * k, 2, x0, x1, r);
+        for (int k = lo; k < hi; ++k) union_box(sc->edge_box + 6 * k, pb, sc->edges + 2 * k, 2, r);
         WC_PAR_BARRIER(); /* every box before the trees */
         wc_self_trees_sweep(sc, 0, 1);
     }

@@ -71,6 +71,7 @@ void wc_self_destroy(wc_self* sc) {
     wc_free(&a, sc->edges);
     wc_free(&a, sc->tri_box);
     wc_free(&a, sc->edge_box);
+    wc_free(&a, sc->part_box);
     wc_free(&a, sc->x_start);
     wc_free(&a, sc->x_old);
     wc_free(&a, sc->inv_mass);
@@ -116,6 +117,7 @@ wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, con
     sc->edges = WC_NEW(&A, int, 2 * (size_t)sc->n_edges + 2);
     sc->tri_box = WC_NEW(&A, double, 6 * (size_t)sc->n_tris + 6);
     sc->edge_box = WC_NEW(&A, double, 6 * (size_t)sc->n_edges + 6);
+    sc->part_box = WC_NEW(&A, double, 6 * (size_t)n + 6);
     sc->x_start = WC_NEW(&A, double, 3 * (size_t)n);
     sc->x_old = WC_NEW(&A, double, 3 * (size_t)n);
     sc->inv_mass = WC_NEW(&A, double, (size_t)n);
@@ -130,7 +132,7 @@ wc_status wc_self_create(wc_self** out, const wc_model* m, double thickness, con
     sc->relax.due = WC_NEW(&A, uint64_t, (size_t)sc->relax.words + 1);
     sc->relax.next = WC_NEW(&A, uint64_t, (size_t)sc->relax.words + 1);
     sc->threads = 1;
-    if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
+    if (!sc->edges || !sc->tri_box || !sc->edge_box || !sc->part_box || !sc->x_start || !sc->x_old || !sc->inv_mass || !sc->parent ||
         !sc->in_zone || !sc->zone || !sc->active || !sc->tangled || !sc->dirty ||
         !sc->dirty_next || !sc->relax.due || !sc->relax.next) {
         wc_self_destroy(sc);

@@ -25,6 +25,7 @@ typedef struct wc_self {
     wc_bvh_split tri_split, edge_split; /* the trees cut for refits on threads (self_broad.h) */
     double* tri_box;    /* (n_tris x 6) */
     double* edge_box;   /* (n_edges x 6) */
+    double* part_box;   /* (n x 6) scratch of wc_self_refit: each particle's box of x0 U x1 */
     double* x_start;    /* (n x 3) m: positions at the start of the substep */
     double* x_old;      /* (n x 3) m: end positions before the stage */
     double* inv_mass;   /* (n) 1/kg, 0 for pinned, this substep */

@@ -3,8 +3,12 @@
  * 1, 2 and 3 threads, gives bit-identical positions and velocities after every frame, and the
  * same counts; also with the CCD impulses off (every collision through the zones). The run with
  * impulses is also checked free of crossings at every frame (brute force), so the compared runs
- * are ones where the stage did its job. */
+ * are ones where the stage did its job. Also: the trees' refit (wc_self_refit, each element's box
+ * the union of its particles' boxes) gives every element the box wc_self_swept_box computes
+ * directly, bit for bit, on 1, 2 and 3 threads, with zeros of both signs tied on every element's
+ * bounds and NaN coordinates planted. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include "check.h"
@@ -84,11 +88,80 @@ static void compare_threads(int passes) {
     wc_model_free(&m);
 }
 
+/* x0, x1 of the heap's particles: y on zeros of a sign drawn per particle and end (every element's
+ * y bounds are ties, decided by which zero comes first), x and z moved a little, and NaN planted
+ * in some particles' x (one end) and z (both ends). */
+static void planted_positions(const wc_model* m, double* x0, double* x1) {
+    uint64_t st = 12345;
+    for (int i = 0; i < m->n_particles; ++i) {
+        for (int e = 0; e < 2; ++e) {
+            double* p = (e ? x1 : x0) + 3 * i;
+            st = st * 6364136223846793005ull + 1442695040888963407ull;
+            p[0] = m->rest_pos[3 * i] + 1e-3 * (double)((st >> 33) % 1000);
+            p[1] = (st >> 20) & 1 ? -0.0 : 0.0;
+            p[2] = m->rest_pos[3 * i + 2] - 1e-3 * (double)((st >> 40) % 1000);
+        }
+        if (i % 11 == 3) x1[3 * i] = NAN;
+        if (i % 13 == 5) x0[3 * i + 2] = x1[3 * i + 2] = NAN;
+    }
+}
+
+static int boxes_differ(const wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r) {
+    int bad = 0;
+    double b[6];
+    for (int t = 0; t < m->n_tris; ++t) {
+        wc_self_swept_box(b, m->tris + 3 * t, 3, x0, x1, r);
+        bad += memcmp(b, sc->tri_box + 6 * t, sizeof b) != 0;
+    }
+    for (int e = 0; e < sc->n_edges; ++e) {
+        wc_self_swept_box(b, sc->edges + 2 * e, 2, x0, x1, r);
+        bad += memcmp(b, sc->edge_box + 6 * e, sizeof b) != 0;
+    }
+    return bad;
+}
+
+static void test_refit_boxes(void) {
+    wc_model m;
+    wc_collider floor;
+    heap_strip(&m, &floor);
+    const size_t n3 = 3 * (size_t)m.n_particles;
+    double *x0 = malloc(n3 * sizeof(double)), *x1 = malloc(n3 * sizeof(double));
+    planted_positions(&m, x0, x1);
+    wc_self* sc[3] = {NULL, NULL, NULL};
+    wc_diag d = {0};
+    /* r = +0 keeps the lower bounds' zero signs (-0 - 0 = -0), r = -0 the upper ones' */
+    const double rs[3] = {0.0, -0.0, 0.003};
+    for (int t = 0; t < 3; ++t) {
+        CHECK(wc_self_create(&sc[t], &m, 0.003, NULL, &d) == WC_OK);
+        if (sc[t]) sc[t]->threads = t + 1;
+    }
+    for (int k = 0; k < 3 && sc[0] && sc[1] && sc[2]; ++k) {
+        int bad[3], trees = 0;
+        for (int t = 0; t < 3; ++t) {
+            wc_self_refit(sc[t], &m, x0, x1, rs[k]);
+            bad[t] = boxes_differ(sc[t], &m, x0, x1, rs[k]);
+            if (t > 0)
+                trees += memcmp(sc[t]->tri_bvh.box, sc[0]->tri_bvh.box, 6 * sizeof(double) * (size_t)sc[0]->tri_bvh.n_nodes) != 0 ||
+                         memcmp(sc[t]->edge_bvh.box, sc[0]->edge_bvh.box, 6 * sizeof(double) * (size_t)sc[0]->edge_bvh.n_nodes) != 0;
+        }
+        printf("refit at r = %g (%s): %d triangles, %d edges; boxes unlike the direct ones on 1, 2, 3 threads: %d, %d, %d; "
+               "trees unlike 1 thread's: %d\n", rs[k], signbit(rs[k]) ? "-" : "+", m.n_tris, sc[0]->n_edges, bad[0], bad[1],
+               bad[2], trees);
+        for (int t = 0; t < 3; ++t) CHECK_EQ_INT(bad[t], 0);
+        CHECK_EQ_INT(trees, 0);
+    }
+    for (int t = 0; t < 3; ++t) wc_self_destroy(sc[t]);
+    free(x0);
+    free(x1);
+    wc_model_free(&m);
+}
+
 static void test_impulses(void) { compare_threads(WC_SELF_PASSES); }
 static void test_zones_only(void) { compare_threads(0); }
 
 int main(void) {
     RUN_TEST(test_impulses);
     RUN_TEST(test_zones_only);
+    RUN_TEST(test_refit_boxes);
     return TEST_SUMMARY();
 }
