@@ -395,7 +395,7 @@ static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* d
  * pairs_row.glsl: the chain solves those). Block Jacobi on a hardware device (a software
  * rasteriser runs one work group on one thread, where it runs a pass over all its cores: the
  * chain is faster there) or where WEFT_GPU_SOLVE=group forces it; the multigrid only where it is
- * forced, until it has run on a GPU (docs/design/gpu.md) */
+ * forced, until it has run on a GPU (docs/design/gpu_passes.md) */
 static int group_wanted(const wg_sim* g, int amg) {
     const wg_device* d = g->dev;
     if (!d->compute || d->solve == WG_SOLVE_PASSES || g->n > WG_GROUP_MAX_PARTICLES || wg_pairs_on(g->pairs)) return 0;
