@@ -79,6 +79,9 @@ if [ "$MODE" = group ]; then   # PCG in one work group against the multi-pass ch
     for t in test_gpu_group test_api_gpu_group test_gpu_group_amg; do
       timeout 120 build-dev/tests/$t > /tmp/tg.txt 2>&1; echo "$t rc=$?"; grep -E "particles|group vs|FAIL" /tmp/tg.txt
     done
+    for form in trans tent; do   # the group's multigrid with translations (smoothed, P_tent); rotations above
+      timeout 120 build-dev/tests/test_gpu_group_amg $form > /tmp/tg.txt 2>&1; echo "test_gpu_group_amg $form rc=$?"; grep -E "particles|group vs|FAIL" /tmp/tg.txt
+    done
     for solve in group passes; do
       WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --skip-cpu 2>&1 | head -12
       WEFT_GPU_SOLVE=$solve timeout 120 build-dev/tests/bench/bench_gpu --sizes 16,32,50 --frames 5 --tolerance 1e-4 --iterations 1000 --skip-cpu 2>&1 | head -12
