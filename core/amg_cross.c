@@ -419,23 +419,29 @@ static restrict_scratch scratch_of(const wc_amg_cross* Y, int n, int t) {
 }
 
 /* w->acc = P^T v_q (level L's term q into the level below); returns how many nodes it touched
- * (w->touched, in the order first touched; clear_term zeroes them again). */
+ * (w->touched, in the order first touched; clear_term zeroes them again). Read through locals:
+ * the accumulator's stores would otherwise make the compiler reload the arrays and v. */
 static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, restrict_scratch* w) {
+    const int *p_start = L->p_start, *p_col = L->p_col;
+    const double *p_val = L->p_val, *val = X->val;
+    double* acc = w->acc;
+    int* touched = w->touched;
+    unsigned char* mark = w->mark;
     int nt = 0;
-    for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
-        int i = X->node[s];
-        const double* v = X->val + 3 * (size_t)s;
-        for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
-            int J = L->p_col[pe];
-            const double* P = L->p_val + 9 * (size_t)pe;
-            double* o = w->acc + 3 * (size_t)J;
-            if (!w->mark[J]) {
-                w->mark[J] = 1;
-                w->touched[nt++] = J;
+    for (int s = X->start[q], s1 = X->start[q + 1]; s < s1; ++s) {
+        const int i = X->node[s], pe1 = p_start[i + 1];
+        const double v0 = val[3 * (size_t)s], v1 = val[3 * (size_t)s + 1], v2 = val[3 * (size_t)s + 2];
+        for (int pe = p_start[i]; pe < pe1; ++pe) {
+            const int J = p_col[pe];
+            const double* P = p_val + 9 * (size_t)pe;
+            double* o = acc + 3 * (size_t)J;
+            if (!mark[J]) {
+                mark[J] = 1;
+                touched[nt++] = J;
             }
-            o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
-            o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
-            o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+            o[0] += P[0] * v0 + P[3] * v1 + P[6] * v2;
+            o[1] += P[1] * v0 + P[4] * v1 + P[7] * v2;
+            o[2] += P[2] * v0 + P[5] * v1 + P[8] * v2;
         }
     }
     return nt;
