@@ -468,7 +468,8 @@ static inline int dense_owner(int I, int nt) { return (I / WC_AMG_CROSS_DENSE_RO
 static void restrict_dense(const wc_amg_level* L, const wc_amg_cross* X, const wc_amg_level* C, wc_amg_cross* Y,
                            wc_par* par) {
     const size_t d = 3 * (size_t)C->n;
-    memset(Y->dense, 0, sizeof(double) * d * d);
+    double* dense = Y->dense;
+    memset(dense, 0, sizeof(double) * d * d);
     WC_PAR_REGION(par)
     {
         const int t = wc_par_tid(), nth = wc_par_nt();
@@ -481,21 +482,26 @@ static void restrict_dense(const wc_amg_level* L, const wc_amg_cross* X, const w
                 for (; u > 0 && w.touched[u - 1] > k; --u) w.touched[u] = w.touched[u - 1];
                 w.touched[u] = k;
             }
-            const double c = X->c[q];
-            for (int u = 0; u < nt; ++u) {
-                const int I = w.touched[u];
+            const double c = X->c[q], *acc = w.acc;
+            const int* touched = w.touched;
+            for (int u = 0; u < nt; ++u) { /* through locals: the stores would reload them */
+                const int I = touched[u];
                 if (dense_owner(I, nth) != t) continue;
-                const double* vi = w.acc + 3 * (size_t)I;
+                const double cv0 = c * acc[3 * (size_t)I], cv1 = c * acc[3 * (size_t)I + 1], cv2 = c * acc[3 * (size_t)I + 2];
+                double* row = dense + 3 * (size_t)I * d;
                 for (int v = u; v < nt; ++v) {
-                    const int J = w.touched[v];
-                    const double* vj = w.acc + 3 * (size_t)J;
-                    for (int r = 0; r < 3; ++r) {
-                        double* o = Y->dense + (3 * (size_t)I + r) * d + 3 * (size_t)J;
-                        const double cv = c * vi[r];
-                        o[0] += cv * vj[0];
-                        o[1] += cv * vj[1];
-                        o[2] += cv * vj[2];
-                    }
+                    const size_t J3 = 3 * (size_t)touched[v];
+                    const double vj0 = acc[J3], vj1 = acc[J3 + 1], vj2 = acc[J3 + 2];
+                    double *o0 = row + J3, *o1 = o0 + d, *o2 = o1 + d;
+                    o0[0] += cv0 * vj0;
+                    o0[1] += cv0 * vj1;
+                    o0[2] += cv0 * vj2;
+                    o1[0] += cv1 * vj0;
+                    o1[1] += cv1 * vj1;
+                    o1[2] += cv1 * vj2;
+                    o2[0] += cv2 * vj0;
+                    o2[1] += cv2 * vj1;
+                    o2[2] += cv2 * vj2;
                 }
             }
             clear_term(&w, nt);
