@@ -287,7 +287,7 @@ static void mirror_row(wc_amg_cross* X, int i) {
 
 static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
     X->n_blocks = 0;
-    if (!X->blk_val || X->n_terms == 0) return;
+    if (!X->blk_val || !X->touched || X->n_terms == 0) return; /* touched: a list level below a list one */
     const int limit = X->cap_blocks < X->n_entries ? X->cap_blocks : X->n_entries;
     int fits = 0;
     atomic_llong staged; /* the stage's blocks claimed (all rows': past cap_blocks when they do not fit) */
