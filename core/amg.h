@@ -209,6 +209,10 @@ typedef struct wc_amg_cross {
     int* blk_pos;               /* (WC_PAR_MAX_THREADS x n) per thread: -1, or a column's block in
                                    the row it sums (sum_blocks; 64 n ints: the dance's second
                                    level, 3.8k nodes, 1 MB beside its 36 MB of blocks) */
+    int* blk_stage;             /* (cap_blocks) the rows' columns, ascending, each row where its
+                                   thread claimed room (sum_blocks: found once, then copied into
+                                   blk_col after the rows' prefix sum; 1.9 MB on the dance) */
+    int* blk_stage_at;          /* (n) row i's columns' offset in blk_stage (-1: out of room) */
     int cap_merged;             /* the merged operator's blocks at most (0: never merged) */
     int m_blocks;               /* > 0: this setup's whole operator F = B + X as one float BSR
                                    matrix (amg_merge.c: m_start, m_col ascending, m_val_f, each
@@ -225,7 +229,7 @@ typedef struct wc_amg_cross {
     double* y;                  /* (n x 3) the product X w in the eigenvalue estimate */
     double* acc;                /* (WC_PAR_MAX_THREADS x n x 3) the restriction's accumulator, one
                                    per thread, zero between terms */
-    int* touched;               /* (WC_PAR_MAX_THREADS x n) */
+    int* touched;               /* (WC_PAR_MAX_THREADS x n) also sum_blocks' row of columns */
     unsigned char* mark;        /* (WC_PAR_MAX_THREADS x n) */
     int* reach;                 /* (cap_terms) a list level below the finest: the nodes the
                                    restriction of the level above's term q touched (the room test) */

@@ -33,6 +33,7 @@
  * rows). The V-cycle's residuals read neither on a list level: amg_merge.c merges B and X into one
  * float matrix after each setup (the terms stay for the restriction, the eigenvalue estimates and
  * the block diagonal). */
+#include <stdatomic.h>
 #include <string.h>
 #include "amg.h"
 #include "bsr_rows.h"
@@ -61,7 +62,7 @@ void wc_amg_cross_destroy(wc_amg* a) {
         if (!X) continue;
         void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
                         X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark,
-                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos, X->m_start, X->m_col, X->reach,
+                        X->blk_start, X->blk_col, X->blk_val, X->blk_pos, X->blk_stage, X->blk_stage_at, X->m_start, X->m_col, X->reach,
                         X->m_val_f, X->m_pos, X->m_acc};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
@@ -109,7 +110,9 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
             X->blk_val = WC_NEW(al, double, 9 * blocks);
             const size_t pos = (size_t)WC_PAR_MAX_THREADS * L->n; /* a row of n per thread */
             X->blk_pos = WC_NEW(al, int, pos);
-            if (!X->blk_start || !X->blk_col || !X->blk_val || !X->blk_pos) goto oom;
+            X->blk_stage = WC_NEW(al, int, blocks);
+            X->blk_stage_at = WC_NEW(al, int, (size_t)L->n);
+            if (!X->blk_start || !X->blk_col || !X->blk_val || !X->blk_pos || !X->blk_stage || !X->blk_stage_at) goto oom;
             for (size_t i = 0; i < pos; ++i) X->blk_pos[i] = -1;
         }
         if (!X->dense && a->opts.single) { /* the merged operator (amg_merge.c) */
@@ -164,9 +167,9 @@ static void index_nodes(wc_amg_cross* X, int n) {
     X->node_start[0] = 0;
 }
 
-/* How many distinct columns row i of a coarse list level's summed form has (the nodes of the
- * terms holding i), marking them in pos with -2 - i (sum_row sets them back to -1); columns
- * already marked so are not counted (amg_merge.c marks B's first). */
+/* How many distinct columns row i of a list level's terms has (the nodes of the terms holding i),
+ * marking them in pos with -2 - i (the caller sets them back to -1); columns already marked so are
+ * not counted (amg_merge.c marks B's first). */
 int wc_amg_cross_count_row(const wc_amg_cross* X, int i, int* pos) {
     const int stamp = -2 - i;
     int nb = 0;
@@ -182,42 +185,66 @@ int wc_amg_cross_count_row(const wc_amg_cross* X, int i, int* pos) {
     return nb;
 }
 
-/* Row i's blocks from blk_start[i] on: its columns ascending and the blocks (i, k >= i) summed,
- * in term order; pos (the thread's: no entry >= 0 on entry) left at -1 on the row's columns. */
-static void sum_row(wc_amg_cross* X, int i, int* pos) {
-    const int b0 = X->blk_start[i];
-    int nb = b0;
-    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the row's columns */
-        const int q = X->entry_term[j];
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-            const int k = X->node[e];
+/* Row i's columns (the nodes of the terms holding i), ascending, into cols (room for n); pos (the
+ * thread's: -1 on entry) marks them meanwhile and is left at -1; returns how many. */
+static int row_columns(const wc_amg_cross* X, int i, int* pos, int* cols) {
+    const int *start = X->start, *node = X->node, *entry_term = X->entry_term;
+    int nb = 0;
+    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
+        const int q = entry_term[j], e1 = start[q + 1];
+        for (int e = start[q]; e < e1; ++e) {
+            const int k = node[e];
             if (pos[k] >= 0) continue;
-            pos[k] = nb;
-            X->blk_col[nb++] = k;
+            pos[k] = 0;
+            cols[nb++] = k;
         }
     }
-    for (int b = b0 + 1; b < nb; ++b) { /* ascending (insertion sort: ~45 a row) */
-        const int k = X->blk_col[b];
+    for (int b = 1; b < nb; ++b) { /* ascending (insertion sort: ~45 a row) */
+        const int k = cols[b];
         int u = b;
-        for (; u > b0 && X->blk_col[u - 1] > k; --u) X->blk_col[u] = X->blk_col[u - 1];
-        X->blk_col[u] = k;
+        for (; u > 0 && cols[u - 1] > k; --u) cols[u] = cols[u - 1];
+        cols[u] = k;
     }
-    for (int b = b0; b < nb; ++b) {
-        pos[X->blk_col[b]] = b;
-        memset(X->blk_val + 9 * (size_t)b, 0, 9 * sizeof(double));
+    for (int b = 0; b < nb; ++b) pos[cols[b]] = -1;
+    return nb;
+}
+
+/* Row i's blocks from blk_start[i] on: its columns (cols, ascending, from row_columns) and the
+ * blocks (i, k >= i) summed, in term order, each entry c (a_r b_s); pos (the thread's: -1 on
+ * entry) left at -1. The arrays are read through locals: the blocks' stores would otherwise make
+ * the compiler reload X's fields and the row's vector after each one. */
+static void sum_row(wc_amg_cross* X, int i, const int* cols, int* pos) {
+    const int first = X->blk_start[i], end = X->blk_start[i + 1];
+    const int *start = X->start, *node = X->node, *entry_term = X->entry_term;
+    const double *val = X->val, *node_val = X->node_val, *cq = X->c;
+    double* blk = X->blk_val;
+    for (int b = first; b < end; ++b) {
+        const int k = cols[b - first];
+        X->blk_col[b] = k;
+        pos[k] = b;
     }
+    memset(blk + 9 * (size_t)first, 0, 9 * sizeof(double) * (size_t)(end - first));
     for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* the blocks (i, k >= i) */
-        const int q = X->entry_term[j];
-        const double c = X->c[q], *a = X->node_val + 3 * (size_t)j;
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-            if (X->node[e] < i) continue;
-            const double* b = X->val + 3 * (size_t)e;
-            double* o = X->blk_val + 9 * (size_t)pos[X->node[e]];
-            for (int r = 0; r < 3; ++r)
-                for (int k = 0; k < 3; ++k) o[3 * r + k] += c * (a[r] * b[k]);
+        const int q = entry_term[j], e1 = start[q + 1];
+        const double c = cq[q], a0 = node_val[3 * (size_t)j], a1 = node_val[3 * (size_t)j + 1],
+                     a2 = node_val[3 * (size_t)j + 2];
+        for (int e = start[q]; e < e1; ++e) {
+            const int k = node[e];
+            if (k < i) continue;
+            const double v0 = val[3 * (size_t)e], v1 = val[3 * (size_t)e + 1], v2 = val[3 * (size_t)e + 2];
+            double* o = blk + 9 * (size_t)pos[k];
+            o[0] += c * (a0 * v0);
+            o[1] += c * (a0 * v1);
+            o[2] += c * (a0 * v2);
+            o[3] += c * (a1 * v0);
+            o[4] += c * (a1 * v1);
+            o[5] += c * (a1 * v2);
+            o[6] += c * (a2 * v0);
+            o[7] += c * (a2 * v1);
+            o[8] += c * (a2 * v2);
         }
     }
-    for (int b = b0; b < nb; ++b) pos[X->blk_col[b]] = -1;
+    for (int b = first; b < end; ++b) pos[cols[b - first]] = -1;
 }
 
 /* Row i's blocks (i, k < i) = (k, i)^T, from row k's summed blocks. */
@@ -244,9 +271,11 @@ static void mirror_row(wc_amg_cross* X, int i) {
  * passes then cost less) or than cap_blocks. Not on the finest level: its terms (4 particles)
  * overlap little (the dance: 150k blocks for 153k entries), and summing them gained nothing there
  * (docs/bench/dance_frame.md). On the threads, in one region over fixed rows (FOR_THREAD_ROWS),
- * each thread with its own blk_pos: the rows' sizes, their prefix sum (thread 0), the upper blocks, then the
- * lower ones. A block is summed by one thread in term order, so the bits do not depend on the
- * thread count. */
+ * each thread with its own blk_pos and row of columns (the restriction's touched, free by then):
+ * each row's columns found once, sorted and staged (blk_stage, at an offset claimed atomically:
+ * the offsets vary from run to run, the columns do not), the rows' prefix sum (thread 0), each
+ * row's columns copied from the stage and its upper blocks summed, then the lower ones. A block is
+ * summed by one thread in term order, so the bits do not depend on the thread count. */
 /* A thread's rows of a list level's summed form: blocks of WC_AMG_CROSS_SUM_ROWS rows dealt in
  * turn (block c to thread c mod nt), so that both threads get rows of every part of the level (the
  * work per row varies along it: halves of the rows took 0.58 and 0.35 G, docs/bench/threads.md). */
@@ -258,14 +287,23 @@ static void mirror_row(wc_amg_cross* X, int i) {
 
 static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
     X->n_blocks = 0;
-    if (!X->blk_val || X->n_terms == 0) return;
+    if (!X->blk_val || !X->touched || X->n_terms == 0) return; /* touched: a list level below a list one */
     const int limit = X->cap_blocks < X->n_entries ? X->cap_blocks : X->n_entries;
     int fits = 0;
+    atomic_llong staged; /* the stage's blocks claimed (all rows': past cap_blocks when they do not fit) */
+    atomic_init(&staged, 0);
     WC_PAR_REGION(par)
     {
         const int t = wc_par_tid(), nt = wc_par_nt();
-        int* pos = X->blk_pos + (size_t)n * t;
-        FOR_THREAD_ROWS(i, n, t, nt) X->blk_start[i + 1] = wc_amg_cross_count_row(X, i, pos);
+        int *pos = X->blk_pos + (size_t)n * t, *cols = X->touched + (size_t)n * t;
+        FOR_THREAD_ROWS(i, n, t, nt) {
+            const int nb = row_columns(X, i, pos, cols);
+            const long long at = atomic_fetch_add_explicit(&staged, nb, memory_order_relaxed);
+            const int kept = at + nb <= X->cap_blocks; /* a row out of the stage: they do not fit */
+            X->blk_stage_at[i] = kept ? (int)at : -1;
+            if (kept) memcpy(X->blk_stage + at, cols, sizeof(int) * (size_t)nb);
+            X->blk_start[i + 1] = nb;
+        }
         WC_PAR_BARRIER();
         if (t == 0) {
             X->blk_start[0] = 0;
@@ -274,16 +312,10 @@ static void sum_blocks(wc_amg_cross* X, int n, wc_par* par) {
             fits = i == n;
         }
         WC_PAR_BARRIER();
-        if (fits) {
-            FOR_THREAD_ROWS(i, n, t, nt) sum_row(X, i, pos);
+        if (fits) { /* then every row is staged: the stage's total is blk_start[n] <= cap_blocks */
+            FOR_THREAD_ROWS(i, n, t, nt) sum_row(X, i, X->blk_stage + X->blk_stage_at[i], pos);
             WC_PAR_BARRIER();
             FOR_THREAD_ROWS(i, n, t, nt) mirror_row(X, i);
-        } else { /* the count's marks back to -1 */
-            FOR_THREAD_ROWS(i, n, t, nt)
-                for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) {
-                    const int q = X->entry_term[j];
-                    for (int e = X->start[q]; e < X->start[q + 1]; ++e) pos[X->node[e]] = -1;
-                }
         }
     }
     X->n_blocks = fits ? X->blk_start[n] : 0;
@@ -387,23 +419,29 @@ static restrict_scratch scratch_of(const wc_amg_cross* Y, int n, int t) {
 }
 
 /* w->acc = P^T v_q (level L's term q into the level below); returns how many nodes it touched
- * (w->touched, in the order first touched; clear_term zeroes them again). */
+ * (w->touched, in the order first touched; clear_term zeroes them again). Read through locals:
+ * the accumulator's stores would otherwise make the compiler reload the arrays and v. */
 static int restrict_term(const wc_amg_level* L, const wc_amg_cross* X, int q, restrict_scratch* w) {
+    const int *p_start = L->p_start, *p_col = L->p_col;
+    const double *p_val = L->p_val, *val = X->val;
+    double* acc = w->acc;
+    int* touched = w->touched;
+    unsigned char* mark = w->mark;
     int nt = 0;
-    for (int s = X->start[q]; s < X->start[q + 1]; ++s) {
-        int i = X->node[s];
-        const double* v = X->val + 3 * (size_t)s;
-        for (int pe = L->p_start[i]; pe < L->p_start[i + 1]; ++pe) {
-            int J = L->p_col[pe];
-            const double* P = L->p_val + 9 * (size_t)pe;
-            double* o = w->acc + 3 * (size_t)J;
-            if (!w->mark[J]) {
-                w->mark[J] = 1;
-                w->touched[nt++] = J;
+    for (int s = X->start[q], s1 = X->start[q + 1]; s < s1; ++s) {
+        const int i = X->node[s], pe1 = p_start[i + 1];
+        const double v0 = val[3 * (size_t)s], v1 = val[3 * (size_t)s + 1], v2 = val[3 * (size_t)s + 2];
+        for (int pe = p_start[i]; pe < pe1; ++pe) {
+            const int J = p_col[pe];
+            const double* P = p_val + 9 * (size_t)pe;
+            double* o = acc + 3 * (size_t)J;
+            if (!mark[J]) {
+                mark[J] = 1;
+                touched[nt++] = J;
             }
-            o[0] += P[0] * v[0] + P[3] * v[1] + P[6] * v[2];
-            o[1] += P[1] * v[0] + P[4] * v[1] + P[7] * v[2];
-            o[2] += P[2] * v[0] + P[5] * v[1] + P[8] * v[2];
+            o[0] += P[0] * v0 + P[3] * v1 + P[6] * v2;
+            o[1] += P[1] * v0 + P[4] * v1 + P[7] * v2;
+            o[2] += P[2] * v0 + P[5] * v1 + P[8] * v2;
         }
     }
     return nt;
@@ -430,7 +468,8 @@ static inline int dense_owner(int I, int nt) { return (I / WC_AMG_CROSS_DENSE_RO
 static void restrict_dense(const wc_amg_level* L, const wc_amg_cross* X, const wc_amg_level* C, wc_amg_cross* Y,
                            wc_par* par) {
     const size_t d = 3 * (size_t)C->n;
-    memset(Y->dense, 0, sizeof(double) * d * d);
+    double* dense = Y->dense;
+    memset(dense, 0, sizeof(double) * d * d);
     WC_PAR_REGION(par)
     {
         const int t = wc_par_tid(), nth = wc_par_nt();
@@ -443,21 +482,26 @@ static void restrict_dense(const wc_amg_level* L, const wc_amg_cross* X, const w
                 for (; u > 0 && w.touched[u - 1] > k; --u) w.touched[u] = w.touched[u - 1];
                 w.touched[u] = k;
             }
-            const double c = X->c[q];
-            for (int u = 0; u < nt; ++u) {
-                const int I = w.touched[u];
+            const double c = X->c[q], *acc = w.acc;
+            const int* touched = w.touched;
+            for (int u = 0; u < nt; ++u) { /* through locals: the stores would reload them */
+                const int I = touched[u];
                 if (dense_owner(I, nth) != t) continue;
-                const double* vi = w.acc + 3 * (size_t)I;
+                const double cv0 = c * acc[3 * (size_t)I], cv1 = c * acc[3 * (size_t)I + 1], cv2 = c * acc[3 * (size_t)I + 2];
+                double* row = dense + 3 * (size_t)I * d;
                 for (int v = u; v < nt; ++v) {
-                    const int J = w.touched[v];
-                    const double* vj = w.acc + 3 * (size_t)J;
-                    for (int r = 0; r < 3; ++r) {
-                        double* o = Y->dense + (3 * (size_t)I + r) * d + 3 * (size_t)J;
-                        const double cv = c * vi[r];
-                        o[0] += cv * vj[0];
-                        o[1] += cv * vj[1];
-                        o[2] += cv * vj[2];
-                    }
+                    const size_t J3 = 3 * (size_t)touched[v];
+                    const double vj0 = acc[J3], vj1 = acc[J3 + 1], vj2 = acc[J3 + 2];
+                    double *o0 = row + J3, *o1 = o0 + d, *o2 = o1 + d;
+                    o0[0] += cv0 * vj0;
+                    o0[1] += cv0 * vj1;
+                    o0[2] += cv0 * vj2;
+                    o1[0] += cv1 * vj0;
+                    o1[1] += cv1 * vj1;
+                    o1[2] += cv1 * vj2;
+                    o2[0] += cv2 * vj0;
+                    o2[1] += cv2 * vj1;
+                    o2[2] += cv2 * vj2;
                 }
             }
             clear_term(&w, nt);

@@ -16,8 +16,9 @@
  *     converges at once;
  *   - a list level's summed form (wc_amg_cross.n_blocks): its product against the terms' sum
  *     c_k v_k (v_k . x) computed here from the lists, on 1 and 2 threads; its rows' columns
- *     ascending, each block (k, i) the transpose of (i, k) to the bit; the finest level, and a
- *     level whose blocks do not fit in the room, keep the terms; the blocks summed on 2 and 3
+ *     ascending, each block (k, i) the transpose of (i, k) to the bit, every block equal to a
+ *     plain serial loop's sum over the terms, bit for bit; the finest level, and a level whose
+ *     blocks do not fit in the room (also by one), keep the terms; the blocks summed on 2 and 3
  *     threads are 1 thread's, bit for bit;
  *   - the merged operators F = B + X (amg_merge.c): products against B's rows plus the terms' sum,
  *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room;
@@ -349,6 +350,37 @@ static int summed_layout_errors(const wc_amg_cross* X, int n) {
     return bad;
 }
 
+/* The summed blocks against a plain serial loop over the terms: each term's c (v(i)_r v(k)_s) added
+ * to block (i, k) for every pair of its entries, in term order (both triangles: (k, i)'s entries
+ * are (i, k)'s products, commuted); every block reached, bit for bit; returns the mismatches. */
+static int summed_errors(const wc_amg_cross* X, int n) {
+    const int nb = X->n_blocks;
+    double* ref = calloc(9 * (size_t)nb + 1, sizeof(double));
+    unsigned char* hit = calloc((size_t)nb + 1, 1);
+    int bad = 0;
+    for (int q = 0; q < X->n_terms; ++q)
+        for (int e = X->start[q]; e < X->start[q + 1]; ++e)
+            for (int g = X->start[q]; g < X->start[q + 1]; ++g) {
+                const int i = X->node[e], k = X->node[g];
+                int b = X->blk_start[i];
+                while (b < X->blk_start[i + 1] && X->blk_col[b] != k) ++b;
+                if (b == X->blk_start[i + 1]) {
+                    ++bad; /* a column missing */
+                    continue;
+                }
+                hit[b] = 1;
+                const double *u = X->val + 3 * (size_t)e, *v = X->val + 3 * (size_t)g;
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) ref[9 * (size_t)b + 3 * r + c] += X->c[q] * (u[r] * v[c]);
+            }
+    for (int b = 0; b < nb; ++b) bad += !hit[b]; /* a column no term reaches */
+    bad += X->blk_start[n] != nb;
+    for (size_t k = 0; k < 9 * (size_t)nb; ++k) bad += memcmp(ref + k, X->blk_val + k, sizeof(double)) != 0;
+    free(ref);
+    free(hit);
+    return bad;
+}
+
 /* Levels 1.. of a and b hold the same summed blocks, bit for bit; returns the levels that differ. */
 static int summed_differ(const wc_amg* a, const wc_amg* b) {
     int differ = 0;
@@ -386,11 +418,14 @@ static void test_summed(void) {
         wc_amg_cross_mul_add(X, 1.0, x, y2, L->n, &two);
         const double diff = ts_rel_diff(y1, ref, n3);
         const int bad = X->n_blocks > 0 ? summed_layout_errors(X, L->n) : 0;
+        const int sums = X->n_blocks > 0 ? summed_errors(X, L->n) : 0;
         printf("  level %d: %d nodes, %d terms, %d entries, %d summed blocks: |X x - sum c v (v . x)| / |.| = %.1e, "
-               "layout errors %d, 1 / 2 threads %s\n",
-               l, L->n, X->n_terms, X->n_entries, X->n_blocks, diff, bad, memcmp(y1, y2, n3 * sizeof(double)) ? "differ" : "bit-identical");
+               "layout errors %d, blocks against the serial loop %d, 1 / 2 threads %s\n",
+               l, L->n, X->n_terms, X->n_entries, X->n_blocks, diff, bad, sums,
+               memcmp(y1, y2, n3 * sizeof(double)) ? "differ" : "bit-identical");
         CHECK(diff < 1e-13);
         CHECK_EQ_INT(bad, 0);
+        CHECK_EQ_INT(sums, 0);
         CHECK(memcmp(y1, y2, n3 * sizeof(double)) == 0);
         CHECK(X->n_blocks <= X->n_entries);
         summed += X->n_blocks > 0;
@@ -423,6 +458,24 @@ static void test_summed(void) {
         CHECK(b->lev[1].cross->n_blocks > 0);
         const int on_three = summed_differ(a, b);
         CHECK_EQ_INT(on_three, 0);
+        int three_sums = 0;
+        for (int l = 1; l < b->n_levels; ++l) three_sums += summed_errors(b->lev[l].cross, b->lev[l].n);
+        CHECK_EQ_INT(three_sums, 0);
+        /* room for exactly level 1's blocks (every row's columns staged, the last to the room's
+           end), then for one fewer (none summed, the marks cleared) */
+        const int exact = b->lev[1].cross->n_blocks;
+        b->lev[1].cross->cap_blocks = exact;
+        wc_amg_setup(b, s->A, &s->filter, &two);
+        CHECK_EQ_INT(b->lev[1].cross->n_blocks, exact);
+        const int exact_sums = summed_errors(b->lev[1].cross, b->lev[1].n), exact_differ = summed_differ(a, b);
+        CHECK_EQ_INT(exact_sums, 0);
+        CHECK_EQ_INT(exact_differ, 0);
+        b->lev[1].cross->cap_blocks = exact - 1;
+        wc_amg_setup(b, s->A, &s->filter, &two);
+        CHECK_EQ_INT(b->lev[1].cross->n_blocks, 0);
+        printf("  level 1 with room for exactly its %d blocks, 2 threads: %d mismatches against the serial loop, "
+               "%d levels differ from 1 thread's; with one fewer: %d blocks\n",
+               exact, exact_sums, exact_differ, b->lev[1].cross->n_blocks);
         b->lev[1].cross->cap_blocks = 10;
         wc_amg_setup(b, s->A, &s->filter, &two);
         CHECK_EQ_INT(b->lev[1].cross->n_blocks, 0);
