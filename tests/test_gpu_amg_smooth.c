@@ -13,13 +13,23 @@
  * positions on both sides (wg_amg_opts_form(1, 1): P_tent's blocks from core's QR, two coarse nodes
  * an aggregate, the pair levels' 6x6 block diagonal, the dead unknowns), and two more mutations:
  * the GPU's translations (WEFT_GPU_AMG_ROT=0) against core's rotations, and core's pair levels
- * smoothed with 3x3 blocks (pair_blocks 0) against the GPU's 6x6. */
+ * smoothed with 3x3 blocks (pair_blocks 0) against the GPU's 6x6.
+ * With the argument "dead" (ctest test_gpu_amg_dead) the rotations' checks on a sheet beside
+ * pieces whose aggregates leave rotations dead (ts_dead_pieces: three dead of an aggregate's six
+ * columns as a 1-node aggregate's, one as a 2-node or collinear one's; core's hierarchy is checked
+ * to hold them, on every level), then PCG with the multigrid on that system, on the chain and in
+ * one work group (WEFT_GPU_SOLVE=group's cloth), against core's PCG with the same multigrid.
+ * Mutations it catches (tried by hand in amg_ptap.glsl): the dead unknowns' diagonal left 0 (the
+ * coarse blocks 0.53 off, both PCGs unconverged) or set to 1 instead of the block's mean live
+ * diagonal (0.52 off). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
+#include "gpu_group_support.h"
 #include "gpu_test_device.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
 #include "wg_amg.h"
@@ -27,7 +37,8 @@
 
 static wg_gl_context* gl;
 static wg_device* dev;
-static int rot; /* 1: rotations on both sides (argument "rot") */
+static int rot;  /* 1: rotations on both sides (arguments "rot", "dead") */
+static int dead; /* 1: the system with dead unknowns (argument "dead") */
 
 #define TOL 2e-4 /* float against double, relative to the level's largest entry */
 
@@ -281,11 +292,117 @@ static void test_against_core(void) {
     }
 }
 
+/* Core's aggregates on each level l of ca by the dead unknowns they leave on level l + 1 (of the
+ * six columns of nodes 2a, 2a + 1): counts[l][k] aggregates with k dead (k = 0..6), counts[l][7]
+ * those of at most 2 nodes */
+static void dead_census(const wc_amg* ca, int counts[][8]) {
+    for (int l = 0; l + 1 < ca->n_levels; ++l) {
+        const wc_amg_level *L = &ca->lev[l], *N = &ca->lev[l + 1];
+        const int n_agg = N->n / 2;
+        memset(counts[l], 0, 8 * sizeof(int));
+        int small = 0;
+        for (int a = 0; a < n_agg; ++a) {
+            int k = 0;
+            for (int c = 0; c < 6; ++c) k += N->dead[6 * a + c];
+            ++counts[l][k];
+            small += L->agg_start[a + 1] - L->agg_start[a] <= 2;
+        }
+        printf("    level %d: %d aggregates (%d of at most 2 nodes), dead columns 0..6: %d %d %d %d %d %d %d\n", l, n_agg,
+               small, counts[l][0], counts[l][1], counts[l][2], counts[l][3], counts[l][4], counts[l][5], counts[l][6]);
+        counts[l][7] = small;
+    }
+}
+
+/* PCG with the multigrid on s's system: the chain and the group (a cloth made under
+ * WEFT_GPU_SOLVE=group) against core's PCG with the GPU's method (wg_amg_opts()) and CHOLMOD:
+ * converged, iterations within test_gpu_amg's margin of core's, the group within 1 of the chain. */
+static void dead_solves(wc_model* m, wc_state* s) {
+    const int n = m->n_particles;
+    wc_diag d = {0};
+    dev->solve = WG_SOLVE_GROUP;
+    wg_sim* g = tg_gpu_system(dev, s, 0);
+    dev->solve = WG_SOLVE_AUTO;
+    CHECK(g != NULL && g->amg != NULL);
+    if (!g || !g->amg) return;
+    CHECK(g->amg->rotations == 1);
+    CHECK(wg_amg_group_fits(g->amg));
+    wc_solver_opts o = s->def.solver;
+    o.tolerance = 1e-4;
+    o.max_iterations = 300;
+    wc_solver *direct = NULL, *cpu = NULL;
+    o.type = WC_SOLVER_DIRECT;
+    CHECK(wc_solver_create(&direct, m, &o, 1, NULL, &d) == WC_OK);
+    o.type = WC_SOLVER_PCG;
+    CHECK(wc_solver_create(&cpu, m, &o, 0, NULL, &d) == WC_OK);
+    if (!direct || !cpu) return;
+    wc_amg_destroy(cpu->amg);
+    cpu->amg = NULL;
+    wc_amg_opts ao = wg_amg_opts();
+    ao.values = 1;
+    CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WC_OK);
+    wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, 1.0 / 30.0));
+    double *ref = calloc(3 * (size_t)n, sizeof(double)), *dc = calloc(3 * (size_t)n, sizeof(double));
+    wc_solve_result rd, rc;
+    CHECK(wc_solve(direct, WC_SOLVER_DIRECT, s->A, s->b, &s->filter, ref, &s->par, &rd) == WC_OK);
+    wc_solve(cpu, WC_SOLVER_PCG, s->A, s->b, &s->filter, dc, &s->par, &rc);
+    tg_solved ch = tg_solve_as(dev, g, &o, NULL, WG_SOLVE_PASSES), gr = tg_solve_as(dev, g, &o, NULL, WG_SOLVE_GROUP);
+    const double scale = ts_max_abs(ref, 3 * n), ec = ts_max_diff(dc, ref, 3 * n) / scale;
+    const double e_ch = ts_max_diff(ch.dv, ref, 3 * n) / scale, e_gr = ts_max_diff(gr.dv, ref, 3 * n) / scale;
+    printf("  PCG (tolerance 1e-4): core %d iterations (error vs CHOLMOD %.2e), GPU chain %d (%.2e, residual %.2e), "
+           "group %d (%.2e, residual %.2e)\n",
+           rc.iterations, ec, ch.res.iterations, e_ch, ch.res.residual, gr.res.iterations, e_gr, gr.res.residual);
+    CHECK(rc.converged);
+    CHECK(ch.st == WC_OK && ch.res.converged && ch.res.residual <= 1e-4);
+    CHECK(gr.st == WC_OK && gr.res.converged && gr.res.residual <= 1e-4);
+    CHECK(ch.res.iterations <= 1.5 * rc.iterations + 3);
+    CHECK(abs(gr.res.iterations - ch.res.iterations) <= 1);
+    CHECK(e_ch <= 5.0 * (ec / rc.residual) * ch.res.residual + 1e-4);
+    CHECK(e_gr <= 5.0 * (ec / rc.residual) * gr.res.residual + 1e-4);
+    free(ref), free(dc), free(ch.dv), free(gr.dv);
+    wc_solver_destroy(cpu);
+    wc_solver_destroy(direct);
+    wg_sim_destroy(g);
+}
+
+/* A 32 x 32 sheet beside 12 pieces (ts_dead_pieces): core's hierarchy holds aggregates with three
+ * and with one dead column on every level; the GPU's P, Galerkin blocks and V-cycle against
+ * core's (check_system, its mutations included), then the solves. */
+static void test_dead(void) {
+    wc_model m;
+    wc_state* s = ts_dead_pieces(&m, 32, 12, 3);
+    CHECK(s != NULL);
+    if (!s) return;
+    wc_amg_opts o = wg_amg_opts_form(1, 1);
+    wc_amg* ca = NULL;
+    wc_diag d = {0};
+    CHECK(wc_amg_create(&ca, &m, &o, NULL, &d) == WC_OK);
+    if (ca) {
+        int counts[WC_AMG_MAX_LEVELS][8];
+        CHECK(ca->n_levels >= 3);
+        dead_census(ca, counts);
+        for (int l = 0; l + 1 < ca->n_levels; ++l) {
+            CHECK_EQ_INT(counts[l][3], 6);   /* the tiny squares: as 1-node aggregates */
+            CHECK_EQ_INT(counts[l][1], 6);   /* the slivers: as 2-node ones */
+            CHECK_EQ_INT(counts[l][2] + counts[l][4] + counts[l][5] + counts[l][6], 0);
+            /* below the finest level each piece is one aggregate of one pair (2 nodes); on the
+               finest its 4 particles (a mesh has no 1- or 2-particle aggregate) */
+            CHECK_EQ_INT(counts[l][7], l > 0 ? 12 : 0);
+        }
+        wc_amg_destroy(ca);
+    }
+    check_system("sheet 32 x 32 and 12 pieces with dead rotations", &m, s);
+    dead_solves(&m, s);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(int argc, char** argv) {
-    rot = argc > 1 && strcmp(argv[1], "rot") == 0;
+    dead = argc > 1 && strcmp(argv[1], "dead") == 0;
+    rot = dead || (argc > 1 && strcmp(argv[1], "rot") == 0);
     printf("  near-null space: %s\n", rot ? "rotations (rest positions)" : "translations");
     if (!tg_gpu_open(&gl, &dev)) return 1;
-    if (dev->compute) RUN_TEST(test_against_core);
+    if (dev->compute && dead) RUN_TEST(test_dead);
+    else if (dev->compute) RUN_TEST(test_against_core);
     else printf("  skipped: the multigrid needs compute passes\n");
     tg_gpu_close(gl, dev);
     return TEST_SUMMARY();

@@ -264,3 +264,59 @@ wc_state* ts_hanging_float(wc_model* m, int n, int warm, double k_scale) {
     }
     return s;
 }
+
+wc_state* ts_dead_pieces(wc_model* m, int n, int pieces, int warm) {
+    const int nv = n * n + 4 * pieces, nq = (n - 1) * (n - 1) + pieces;
+    double* pos = calloc((size_t)nv * 3, sizeof(double));
+    int* sizes = calloc((size_t)nq, sizeof(int));
+    int* idx = calloc((size_t)nq * 4, sizeof(int));
+    if (!pos || !sizes || !idx) {
+        free(pos), free(sizes), free(idx);
+        return NULL;
+    }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            pos[3 * (i + n * j)] = 6.0 * i / (n - 1);
+            pos[3 * (i + n * j) + 1] = 6.0 * j / (n - 1);
+        }
+    int f = 0;
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i, ++f) {
+            sizes[f] = 4;
+            idx[4 * f] = i + n * j;
+            idx[4 * f + 1] = i + 1 + n * j;
+            idx[4 * f + 2] = i + 1 + n * (j + 1);
+            idx[4 * f + 3] = i + n * (j + 1);
+        }
+    for (int p = 0; p < pieces; ++p, ++f) {
+        const int v0 = n * n + 4 * p;
+        const double wx = p % 2 ? 6.0 : 0.3, wy = 0.3, oy = 0.5 * p, far = 4e5;
+        for (int c = 0; c < 4; ++c) {
+            double* x = pos + 3 * (v0 + c);
+            x[0] = far + ((c == 1 || c == 2) ? wx : 0.0);
+            x[1] = oy + (c >= 2 ? wy : 0.0);
+            x[2] = far;
+            idx[4 * f + c] = v0 + c;
+        }
+        sizes[f] = 4;
+    }
+    wc_source_mesh src;
+    wc_diag d = {0};
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
+    free(pos), free(sizes), free(idx);
+    if (st != WC_OK) return NULL;
+    wc_model_def mdef = wc_default_model_def();
+    mdef.weld_tolerance = 0.0; /* the pieces' corners are closer than the default's 1e-6 x diagonal */
+    st = wc_model_build(m, &src, &mdef, NULL, &d);
+    wc_source_mesh_free(&src);
+    if (st != WC_OK) {
+        fprintf(stderr, "ts_dead_pieces: %s\n", d.message);
+        return NULL;
+    }
+    wc_sim_def def = ts_amg_def();
+    wc_state* s = NULL;
+    if (wc_state_create(&s, m, &def, NULL, &d) != WC_OK) return NULL;
+    ts_pin_far_corners(s, n, NULL);
+    for (int k = 0; k < warm; ++k) wc_step_frame(s, 1.0 / 30.0, NULL, &d);
+    return s;
+}

@@ -55,6 +55,18 @@ wc_sim_def ts_amg_def(void);
  * stepped `warm` frames on the CPU, its positions and velocities rounded to float: the same input
  * for a GPU test and core. NULL on failure. */
 wc_state* ts_hanging_float(wc_model* m, int n, int warm, double k_scale);
+/* An n x n vertical sheet (6 m in the XY plane, top at y = 6, host vertex (i, j) = i + n j as
+ * ts_sheet's) hanging from its two far corners, and `pieces` separate single-quad pieces in the
+ * plane z = 4e5 m at x = 4e5 m, 0.5 m apart in Y, welding off: the even ones 0.3 m squares, the
+ * odd ones slivers (6 m along X, 0.3 m along Y). About the rotations' centre (the centroid of all
+ * the rest positions, the sheet's, some 5.7e5 m away) the squares' three rotations are their
+ * translations to within 1e-6 (as a 1-node aggregate's: all three dead), the slivers' rotation
+ * about their line too (as a 2-node or collinear aggregate's: one dead); the sheet's quads are
+ * far from the degenerate area (1e-14 x the bounding box's diagonal^2), and the pieces as well
+ * conditioned as the sheet (smaller ones are not: float's floor). Stepped `warm` frames under
+ * ts_amg_def; not rounded to float (the tests set the system, computed in double, on the GPU).
+ * NULL on failure. */
+wc_state* ts_dead_pieces(wc_model* m, int n, int pieces, int warm);
 /* max |a_k| and max |a_k - b_k| over n doubles. */
 double ts_max_abs(const double* a, int n);
 double ts_max_diff(const double* a, const double* b, int n);
