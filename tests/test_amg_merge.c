@@ -6,7 +6,9 @@
  *     each row's blocks in a dense row of doubles, 0 + B_ik, then on the finest level each term
  *     q holding i (ascending q, its entries of i in order) adding c_q (v_i[r] v_k[s]) for every
  *     entry k of the term, on a summed level the summed block; rounded to float once. Rows with
- *     couplings and rows without, on 1 and 3 threads;
+ *     couplings and rows without, on 1 and 3 threads; then with B_ik planted to cancel the
+ *     couplings' block but for its last bits, so that one double rounding more or less in the sum
+ *     (a product regrouped, B added after the terms) shows in the floats;
  *   - the finest level's rows without a term (the short path) are (float)(0 + B_ik) bit for bit,
  *     zeros of either sign and a tiny value planted in B included; the layout after the re-merge.
  * (The products against B + X, the same bits on 1, 2 and 3 threads, the V-cycle's use and a level
@@ -167,32 +169,83 @@ static int merged_value_errors(const wc_amg_level* L, int* coupled, int* plain) 
     return bad;
 }
 
+/* x to 40 significant bits (-x: a cancelling B_ik leaves the sum's last bits) */
+static double coarse(double x) {
+    int e;
+    const double m = frexp(x, &e);
+    return ldexp(nearbyint(ldexp(m, 40)), e - 40);
+}
+
+/* Every B_ik of a row with couplings set to minus the couplings' block X_ik rounded to 40 bits
+ * (where X_ik != 0), so that F_ik is X_ik's lowest bits: an error of one double rounding in the
+ * sum (a regrouped product, another order) moves it by far more than a float's rounding and shows
+ * in the merged floats. Returns the entries planted. */
+static int plant_cancelling(wc_amg_level* L) {
+    const wc_amg_cross* X = L->cross;
+    const int n = L->n;
+    double* row = calloc(9 * (size_t)n, sizeof(double));
+    int planted = 0;
+    for (int i = 0; i < n; ++i) {
+        if (X->n_blocks > 0) {
+            for (int b = X->blk_start[i]; b < X->blk_start[i + 1]; ++b)
+                memcpy(row + 9 * (size_t)X->blk_col[b], X->blk_val + 9 * (size_t)b, 9 * sizeof(double));
+        } else {
+            for (int q = 0; q < X->n_terms; ++q)
+                for (int ei = X->start[q]; ei < X->start[q + 1]; ++ei) {
+                    if (X->node[ei] != i) continue;
+                    const double *u = X->val + 3 * (size_t)ei;
+                    for (int e = X->start[q]; e < X->start[q + 1]; ++e)
+                        for (int r = 0; r < 3; ++r)
+                            for (int k = 0; k < 3; ++k)
+                                row[9 * (size_t)X->node[e] + 3 * r + k] += X->c[q] * (u[r] * X->val[3 * (size_t)e + k]);
+                }
+        }
+        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
+            for (int q = 0; q < 9; ++q) {
+                const double x = row[9 * (size_t)L->col[k] + q];
+                if (x == 0.0) continue;
+                L->val[9 * (size_t)k + q] = -coarse(x);
+                ++planted;
+            }
+        memset(row, 0, 9 * sizeof(double) * (size_t)n);
+    }
+    free(row);
+    return planted;
+}
+
 /* Every level's merged blocks against the plain serial sum, bit for bit, merged on 1 and 3 threads
- * (term lists on every level: level 0 merged from its terms, the others from their summed blocks). */
+ * (term lists on every level: level 0 merged from its terms, the others from their summed blocks);
+ * then again with B cancelling the couplings (plant_cancelling), each level merged anew. */
 static void test_merged_values(void) {
     wc_model m;
     wc_state* s = coupled_system(&m);
     if (!s) return;
-    for (int t = 1; t <= 3; t += 2) {
-        wc_par par;
-        wc_par_init(&par, t);
-        wc_amg* a = hierarchy(s, 0, &par);
-        if (!a) break;
-        for (int l = 0; l < a->n_levels; ++l) {
-            const wc_amg_level* L = &a->lev[l];
-            int coupled = 0, plain = 0;
-            CHECK(L->cross->m_blocks > 0);
-            CHECK_EQ_INT(l > 0, L->cross->n_blocks > 0); /* level 0 from the terms, the others summed */
-            const int bad = L->cross->m_blocks > 0 ? merged_value_errors(L, &coupled, &plain) : -1;
-            printf("  %d thread%s, level %d (%s): %d merged blocks (%d in rows with couplings, %d without), "
-                   "%d entries differ from the serial sum\n", t, t > 1 ? "s" : "", l, l ? "summed" : "terms",
-                   L->cross->m_blocks, coupled, plain, bad);
-            CHECK_EQ_INT(bad, 0);
-            CHECK(coupled > 0);
-            CHECK_EQ_INT(coupled + plain, L->cross->m_blocks);
+    for (int t = 1; t <= 3; t += 2)
+        for (int cancel = 0; cancel < 2; ++cancel) {
+            wc_par par;
+            wc_par_init(&par, t);
+            wc_amg* a = hierarchy(s, 0, &par);
+            if (!a) break;
+            for (int l = 0; l < a->n_levels; ++l) {
+                wc_amg_level* L = &a->lev[l];
+                int coupled = 0, plain = 0, planted = 0;
+                CHECK(L->cross->m_blocks > 0);
+                CHECK_EQ_INT(l > 0, L->cross->n_blocks > 0); /* level 0 from the terms, the others summed */
+                if (cancel) {
+                    planted = plant_cancelling(L);
+                    wc_amg_cross_merge(a, l, &par);
+                    CHECK(planted > 0);
+                }
+                const int bad = L->cross->m_blocks > 0 ? merged_value_errors(L, &coupled, &plain) : -1;
+                printf("  %d thread%s, level %d (%s%s): %d merged blocks (%d in rows with couplings, %d without), "
+                       "%d entries differ from the serial sum\n", t, t > 1 ? "s" : "", l, l ? "summed" : "terms",
+                       cancel ? ", B cancelling" : "", L->cross->m_blocks, coupled, plain, bad);
+                CHECK_EQ_INT(bad, 0);
+                CHECK(coupled > 0);
+                CHECK_EQ_INT(coupled + plain, L->cross->m_blocks);
+            }
+            wc_amg_destroy(a);
         }
-        wc_amg_destroy(a);
-    }
     wc_state_destroy(s);
     wc_model_free(&m);
 }
