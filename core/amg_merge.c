@@ -65,27 +65,34 @@ static int count_terms(const wc_amg_level* L, const wc_amg_cross* X, int i, int*
     return L->row_start[i + 1] - L->row_start[i] + wc_amg_cross_count_row(X, i, pos);
 }
 
-/* row i of F from the terms (its room counted by count_terms), summed in acc (the thread's) */
+/* row i of F from the terms (its room counted by count_terms), summed in acc (the thread's). Read
+ * through locals: the int stores (pos, cols) and the double ones (acc) would otherwise make the
+ * compiler reload the arrays, the bounds and the blocks' values after each; every sum the same
+ * expression in the same order. */
 static void merge_terms(const wc_amg_level* L, wc_amg_cross* X, int i, int* pos, double* acc) {
-    const int o = X->m_start[i];
-    if (X->node_start[i] == X->node_start[i + 1]) { /* no term: B's row, as 0 + B_ik (+0 for -0) */
-        const int a = L->row_start[i], nb = L->row_start[i + 1] - a;
-        memcpy(X->m_col + o, L->col + a, (size_t)nb * sizeof(int));
-        const double* v = L->val + 9 * (size_t)a;
-        float* f = X->m_val_f + 9 * (size_t)o;
+    const int o = X->m_start[i], a0 = L->row_start[i], a1 = L->row_start[i + 1];
+    const int j0 = X->node_start[i], j1 = X->node_start[i + 1];
+    const int *col = L->col, *entry_term = X->entry_term, *start = X->start, *node = X->node;
+    const double *bval = L->val, *cq = X->c, *node_val = X->node_val, *tval = X->val;
+    int* cols = X->m_col + o;
+    float* f = X->m_val_f + 9 * (size_t)o;
+    if (j0 == j1) { /* no term: B's row, as 0 + B_ik (+0 for -0) */
+        const int nb = a1 - a0;
+        memcpy(cols, col + a0, (size_t)nb * sizeof(int));
+        const double* v = bval + 9 * (size_t)a0;
         for (size_t q = 0; q < 9 * (size_t)nb; ++q) f[q] = (float)(0.0 + v[q]);
         return;
     }
     int nb = 0;
-    int* cols = X->m_col + o;
-    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) { /* B's columns, ascending */
-        pos[L->col[k]] = nb;
-        cols[nb++] = L->col[k];
+    for (int k = a0; k < a1; ++k) { /* B's columns, ascending */
+        const int c = col[k];
+        pos[c] = nb;
+        cols[nb++] = c;
     }
-    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* then the terms' new ones */
-        const int q = X->entry_term[j];
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-            const int k = X->node[e];
+    for (int j = j0; j < j1; ++j) { /* then the terms' new ones */
+        const int q = entry_term[j], e1 = start[q + 1];
+        for (int e = start[q]; e < e1; ++e) {
+            const int k = node[e];
             if (pos[k] >= 0) continue;
             pos[k] = nb;
             cols[nb++] = k;
@@ -99,21 +106,37 @@ static void merge_terms(const wc_amg_level* L, wc_amg_cross* X, int i, int* pos,
     }
     for (int b = 0; b < nb; ++b) pos[cols[b]] = b;
     memset(acc, 0, 9 * sizeof(double) * (size_t)nb);
-    for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
-        double* s = acc + 9 * (size_t)pos[L->col[k]];
-        for (int q = 0; q < 9; ++q) s[q] += L->val[9 * (size_t)k + q];
+    for (int k = a0; k < a1; ++k) {
+        double* s = acc + 9 * (size_t)pos[col[k]];
+        const double* v = bval + 9 * (size_t)k;
+        const double v0 = v[0], v1 = v[1], v2 = v[2], v3 = v[3], v4 = v[4], v5 = v[5], v6 = v[6], v7 = v[7], v8 = v[8];
+        s[0] += v0;
+        s[1] += v1;
+        s[2] += v2;
+        s[3] += v3;
+        s[4] += v4;
+        s[5] += v5;
+        s[6] += v6;
+        s[7] += v7;
+        s[8] += v8;
     }
-    for (int j = X->node_start[i]; j < X->node_start[i + 1]; ++j) { /* c v(i) v(k)^T, term order */
-        const int q = X->entry_term[j];
-        const double c = X->c[q], *u = X->node_val + 3 * (size_t)j;
-        for (int e = X->start[q]; e < X->start[q + 1]; ++e) {
-            const double* v = X->val + 3 * (size_t)e;
-            double* s = acc + 9 * (size_t)pos[X->node[e]];
-            for (int r = 0; r < 3; ++r)
-                for (int k = 0; k < 3; ++k) s[3 * r + k] += c * (u[r] * v[k]);
+    for (int j = j0; j < j1; ++j) { /* c v(i) v(k)^T, term order */
+        const int q = entry_term[j], e1 = start[q + 1];
+        const double c = cq[q], u0 = node_val[3 * (size_t)j], u1 = node_val[3 * (size_t)j + 1], u2 = node_val[3 * (size_t)j + 2];
+        for (int e = start[q]; e < e1; ++e) {
+            const double v0 = tval[3 * (size_t)e], v1 = tval[3 * (size_t)e + 1], v2 = tval[3 * (size_t)e + 2];
+            double* s = acc + 9 * (size_t)pos[node[e]];
+            s[0] += c * (u0 * v0);
+            s[1] += c * (u0 * v1);
+            s[2] += c * (u0 * v2);
+            s[3] += c * (u1 * v0);
+            s[4] += c * (u1 * v1);
+            s[5] += c * (u1 * v2);
+            s[6] += c * (u2 * v0);
+            s[7] += c * (u2 * v1);
+            s[8] += c * (u2 * v2);
         }
     }
-    float* f = X->m_val_f + 9 * (size_t)o;
     for (size_t q = 0; q < 9 * (size_t)nb; ++q) f[q] = (float)acc[q];
     for (int b = 0; b < nb; ++b) pos[cols[b]] = -1;
 }

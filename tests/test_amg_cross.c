@@ -623,71 +623,6 @@ static void test_merged(void) {
     wc_model_free(&m);
 }
 
-/* Level 0's merged rows that hold no term (amg_merge.c's short path) are B's row as floats of
- * 0 + B_ik, bit for bit (a -0 entry becomes +0, as the summed rows give it), in B's columns; the
- * rows with terms keep their layout. Zeros of either sign and a tiny value are planted in a term-free
- * row of B before the level is merged again. */
-static void test_merged_rows(void) {
-    wc_model m;
-    wc_state* s = coupled_system(&m);
-    if (!s) return;
-    wc_par one;
-    wc_par_init(&one, 1);
-    wc_amg* a = hierarchy(s, 0, &one);
-    if (!a) return;
-    wc_amg_level* L = &a->lev[0];
-    const wc_amg_cross* X = L->cross;
-    int plain = -1, plain_rows = 0, term_rows = 0;
-    for (int i = 0; i < L->n; ++i) {
-        const int free_row = X->node_start[i] == X->node_start[i + 1];
-        plain_rows += free_row;
-        term_rows += !free_row;
-        if (free_row && plain < 0 && L->row_start[i + 1] - L->row_start[i] >= 3) plain = i;
-    }
-    printf("  level 0: %d rows without terms, %d with\n", plain_rows, term_rows);
-    CHECK(plain >= 0 && term_rows > 0);
-    if (plain >= 0) {
-        double* v = L->val + 9 * (size_t)L->row_start[plain];
-        v[1] = -0.0;
-        v[2] = 0.0;
-        v[9 + 4] = -0.0;
-        v[18 + 5] = -1e-300;
-        wc_amg_cross_merge(a, 0, &one);
-    }
-    int bad = 0, checked = 0;
-    for (int i = 0; i < L->n; ++i) {
-        if (X->node_start[i] != X->node_start[i + 1]) continue;
-        const int a0 = L->row_start[i], nb = L->row_start[i + 1] - a0, o = X->m_start[i];
-        bad += X->m_start[i + 1] - o != nb;
-        for (int b = 0; b < nb && X->m_start[i + 1] - o == nb; ++b) {
-            bad += X->m_col[o + b] != L->col[a0 + b];
-            for (int q = 0; q < 9; ++q) {
-                const float want = (float)(0.0 + L->val[9 * (size_t)(a0 + b) + q]);
-                bad += memcmp(&want, X->m_val_f + 9 * (size_t)(o + b) + q, sizeof want) != 0;
-                ++checked;
-            }
-        }
-    }
-    const float plus0 = 0.0f;
-    const float* f = X->m_val_f + 9 * (size_t)X->m_start[plain >= 0 ? plain : 0];
-    const int signs = plain >= 0 ? memcmp(f + 1, &plus0, sizeof plus0) != 0 || memcmp(f + 2, &plus0, sizeof plus0) != 0 ||
-                                       memcmp(f + 9 + 4, &plus0, sizeof plus0) != 0 || f[18 + 5] != 0.0f || signbit(f[18 + 5]) == 0
-                                 : 1;
-    int* seen = malloc(sizeof(int) * (size_t)L->n);
-    for (int i = 0; i < L->n; ++i) seen[i] = -1;
-    const int layout = merged_layout_errors(L, seen);
-    printf("  term-free rows' entries against (float)(0 + B): %d of %d differ; planted zeros' signs %s; layout errors %d\n",
-           bad, checked, signs ? "wrong" : "right", layout);
-    CHECK(checked > 0);
-    CHECK_EQ_INT(bad, 0);
-    CHECK_EQ_INT(signs, 0);
-    CHECK_EQ_INT(layout, 0);
-    free(seen);
-    wc_amg_destroy(a);
-    wc_state_destroy(s);
-    wc_model_free(&m);
-}
-
 /* Level l + 1's couplings restricted here from level l's, serially in term order as a plain loop
  * over terms (each term's P^T v accumulated node by node, its live entries in the order first
  * touched, the block diagonal's part and a dense level's upper triangle summed term by term),
@@ -815,7 +750,6 @@ int main(void) {
     RUN_TEST(test_one_level);
     RUN_TEST(test_summed);
     RUN_TEST(test_merged);
-    RUN_TEST(test_merged_rows);
     RUN_TEST(test_restricted);
     return TEST_SUMMARY();
 }
