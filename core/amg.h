@@ -233,6 +233,13 @@ typedef struct wc_amg_cross {
     unsigned char* mark;        /* (WC_PAR_MAX_THREADS x n) */
     int* reach;                 /* (cap_terms) a list level below the finest: the nodes the
                                    restriction of the level above's term q touched (the room test) */
+    int stage_terms;            /* a dense level below a list level: terms per batch of its
+                                   restriction (restrict_dense; at most the room, stage_cap) */
+    int stage_cap;              /* WC_AMG_CROSS_STAGE_ENTRIES / n, at least 1 */
+    int* stage_n;               /* (2 x stage_cap) a batch's restricted terms: their nodes touched */
+    int* stage_node;            /* (2 x stage_cap x n) their nodes, ascending, at n per term */
+    double* stage_val;          /* (2 x stage_cap x n x 3) P^T v_q at those nodes (two batches:
+                                   one staged while the threads add the other's rows) */
 } wc_amg_cross;
 
 /* 1: the level's products read its couplings as terms (scaled first: wc_amg_cross_scale, then

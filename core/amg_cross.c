@@ -24,7 +24,8 @@
  * dense matrix's 270k; the levels below a dense one take the dense Galerkin product P^T X P.
  *
  * The setup's restrictions run on the threads (a list level: over fixed ranges of terms, then its
- * block diagonal's part over nodes; a dense level: over rows, each thread restricting every term),
+ * block diagonal's part over nodes; a dense level: batches of terms restricted over ranges of
+ * terms, then their upper blocks added over rows),
  * the products over terms and then over nodes (a gather through a per-setup index, no reduction);
  * every sum goes in term order, so the result is the same on any thread count; no allocation after
  * wc_amg_set_coupling. A coarse list level's terms overlap
@@ -54,6 +55,10 @@
  * term of its 118k capacity); room for 3 a term is 34 MB with B's. A setup that does not fit keeps
  * B's rows and the terms. */
 #define WC_AMG_MERGE_PER_TERM 3
+/* restricted entries (node and 3 doubles) one batch of a dense level's restriction stages
+ * (restrict_dense; two batches, 1.8 MB): n_terms / (this / n) barriers per setup. The dance's dense
+ * level, 174 nodes: 188 terms a batch, ~200 batches for its ~38k terms. */
+#define WC_AMG_CROSS_STAGE_ENTRIES 32768
 
 void wc_amg_cross_destroy(wc_amg* a) {
     if (!a) return;
@@ -63,7 +68,7 @@ void wc_amg_cross_destroy(wc_amg* a) {
         void* ptrs[] = {X->c, X->start, X->node, X->val, X->dense, X->gal, X->dadd, X->s, X->node_start,
                         X->node_val, X->entry_term, X->y, X->acc, X->touched, X->mark,
                         X->blk_start, X->blk_col, X->blk_val, X->blk_pos, X->blk_stage, X->blk_stage_at, X->m_start, X->m_col, X->reach,
-                        X->m_val_f, X->m_pos, X->m_acc};
+                        X->m_val_f, X->m_pos, X->m_acc, X->stage_n, X->stage_node, X->stage_val};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&a->alloc, ptrs[k]);
         wc_free(&a->alloc, X);
         a->lev[l].cross = NULL;
@@ -141,6 +146,15 @@ wc_status wc_amg_set_coupling(wc_amg* a, const wc_coupling* c, int capacity, wc_
             X->mark = WC_NEW(al, unsigned char, (size_t)WC_PAR_MAX_THREADS * L->n);
             if (!X->acc || !X->touched || !X->mark) goto oom;
             if (!X->dense && !(X->reach = WC_NEW(al, int, capacity))) goto oom;
+            if (X->dense) { /* restrict_dense's two batches */
+                const int per = WC_AMG_CROSS_STAGE_ENTRIES / L->n;
+                X->stage_cap = X->stage_terms = per > 1 ? per : 1;
+                const size_t slots = 2 * (size_t)X->stage_cap * L->n;
+                X->stage_n = WC_NEW(al, int, 2 * (size_t)X->stage_cap);
+                X->stage_node = WC_NEW(al, int, slots);
+                X->stage_val = WC_NEW(al, double, 3 * slots);
+                if (!X->stage_n || !X->stage_node || !X->stage_val) goto oom;
+            }
         }
         if (!X->c || !X->s || !X->dadd || !X->y) goto oom;
     }
@@ -461,50 +475,73 @@ static int nonzero3(const double* o) { return o[0] != 0.0 || o[1] != 0.0 || o[2]
 #define WC_AMG_CROSS_DENSE_ROWS 4
 static inline int dense_owner(int I, int nt) { return (I / WC_AMG_CROSS_DENSE_ROWS) % nt; }
 
-/* Y->dense = sum_q c_q (P^T v_q)(P^T v_q)^T from the level above's term lists, on the threads:
- * each thread restricts every term and adds the blocks of the rows it owns (dense_owner), the
- * upper triangle's; each entry is summed by one thread in term order, so the bits do not depend
- * on the thread count; then the lower triangle by symmetry, by rows. */
+/* Y->dense = sum_q c_q (P^T v_q)(P^T v_q)^T from the level above's term lists, on the threads in
+ * batches of Y->stage_terms terms: each thread restricts a fixed range of the batch's terms, their
+ * touched nodes sorted, into the batch's stage; after a barrier each thread adds, term by term in
+ * order, the upper triangle's blocks of the rows it owns (dense_owner). Each entry is summed by one
+ * thread in term order from the same restricted values, so the bits do not depend on the thread
+ * count or the batch size; two stages, so a thread staging the next batch never overwrites one
+ * another still reads: one barrier a batch. Then the lower triangle by symmetry, by rows. */
 static void restrict_dense(const wc_amg_level* L, const wc_amg_cross* X, const wc_amg_level* C, wc_amg_cross* Y,
                            wc_par* par) {
     const size_t d = 3 * (size_t)C->n;
+    const int n = C->n, B = Y->stage_terms;
     double* dense = Y->dense;
     memset(dense, 0, sizeof(double) * d * d);
     WC_PAR_REGION(par)
     {
         const int t = wc_par_tid(), nth = wc_par_nt();
         restrict_scratch w = scratch_of(Y, C->n, t);
-        for (int q = 0; q < X->n_terms; ++q) {
-            const int nt = restrict_term(L, X, q, &w);
-            for (int b = 1; b < nt; ++b) { /* ascending (insertion), so a row's blocks J >= I follow it */
-                const int k = w.touched[b];
-                int u = b;
-                for (; u > 0 && w.touched[u - 1] > k; --u) w.touched[u] = w.touched[u - 1];
-                w.touched[u] = k;
+        for (int b0 = 0, k = 0; b0 < X->n_terms; b0 += B, k ^= 1) {
+            const int nb = X->n_terms - b0 < B ? X->n_terms - b0 : B;
+            int* stage_n = Y->stage_n + (size_t)k * B;
+            int* stage_node = Y->stage_node + (size_t)k * B * n;
+            double* stage_val = Y->stage_val + 3 * (size_t)k * B * n;
+            int lo, hi;
+            wc_par_range(nb, t, nth, &lo, &hi);
+            for (int j = lo; j < hi; ++j) {
+                const int nt = restrict_term(L, X, b0 + j, &w);
+                int* nodes = stage_node + (size_t)j * n;
+                double* vals = stage_val + 3 * (size_t)j * n;
+                for (int b = 1; b < nt; ++b) { /* ascending (insertion), so a row's blocks J >= I follow it */
+                    const int key = w.touched[b];
+                    int u = b;
+                    for (; u > 0 && w.touched[u - 1] > key; --u) w.touched[u] = w.touched[u - 1];
+                    w.touched[u] = key;
+                }
+                for (int u = 0; u < nt; ++u) {
+                    nodes[u] = w.touched[u];
+                    v3_copy(vals + 3 * (size_t)u, w.acc + 3 * (size_t)w.touched[u]);
+                }
+                stage_n[j] = nt;
+                clear_term(&w, nt);
             }
-            const double c = X->c[q], *acc = w.acc;
-            const int* touched = w.touched;
-            for (int u = 0; u < nt; ++u) { /* through locals: the stores would reload them */
-                const int I = touched[u];
-                if (dense_owner(I, nth) != t) continue;
-                const double cv0 = c * acc[3 * (size_t)I], cv1 = c * acc[3 * (size_t)I + 1], cv2 = c * acc[3 * (size_t)I + 2];
-                double* row = dense + 3 * (size_t)I * d;
-                for (int v = u; v < nt; ++v) {
-                    const size_t J3 = 3 * (size_t)touched[v];
-                    const double vj0 = acc[J3], vj1 = acc[J3 + 1], vj2 = acc[J3 + 2];
-                    double *o0 = row + J3, *o1 = o0 + d, *o2 = o1 + d;
-                    o0[0] += cv0 * vj0;
-                    o0[1] += cv0 * vj1;
-                    o0[2] += cv0 * vj2;
-                    o1[0] += cv1 * vj0;
-                    o1[1] += cv1 * vj1;
-                    o1[2] += cv1 * vj2;
-                    o2[0] += cv2 * vj0;
-                    o2[1] += cv2 * vj1;
-                    o2[2] += cv2 * vj2;
+            WC_PAR_BARRIER();
+            for (int j = 0; j < nb; ++j) { /* through locals: the stores would reload them */
+                const int nt = stage_n[j];
+                const int* nodes = stage_node + (size_t)j * n;
+                const double c = X->c[b0 + j], *vals = stage_val + 3 * (size_t)j * n;
+                for (int u = 0; u < nt; ++u) {
+                    const int I = nodes[u];
+                    if (dense_owner(I, nth) != t) continue;
+                    const double cv0 = c * vals[3 * (size_t)u], cv1 = c * vals[3 * (size_t)u + 1], cv2 = c * vals[3 * (size_t)u + 2];
+                    double* row = dense + 3 * (size_t)I * d;
+                    for (int v = u; v < nt; ++v) {
+                        const size_t J3 = 3 * (size_t)nodes[v];
+                        const double vj0 = vals[3 * (size_t)v], vj1 = vals[3 * (size_t)v + 1], vj2 = vals[3 * (size_t)v + 2];
+                        double *o0 = row + J3, *o1 = o0 + d, *o2 = o1 + d;
+                        o0[0] += cv0 * vj0;
+                        o0[1] += cv0 * vj1;
+                        o0[2] += cv0 * vj2;
+                        o1[0] += cv1 * vj0;
+                        o1[1] += cv1 * vj1;
+                        o1[2] += cv1 * vj2;
+                        o2[0] += cv2 * vj0;
+                        o2[1] += cv2 * vj1;
+                        o2[2] += cv2 * vj2;
+                    }
                 }
             }
-            clear_term(&w, nt);
         }
         WC_PAR_BARRIER();
         for (size_t I = 0; I < (size_t)C->n; ++I) { /* the lower triangle's blocks by symmetry */

@@ -705,7 +705,8 @@ static int restricted_errors(const wc_amg* a, int l) {
 /* The restriction of the couplings (wc_amg_cross_restrict: a list level's terms over ranges of
  * terms, their block diagonal's part over nodes, a dense level's rows) on 1, 2 and 3 threads
  * against a plain serial loop over the terms, bit for bit, with dense coarse levels and with lists
- * on every level, also with room for half the terms on level 1 (the later ones left out). */
+ * on every level, also with room for half the terms on level 1 (the later ones left out); a dense
+ * level 1 also in batches of 7 terms and of 1 (restrict_dense's stage). */
 static void test_restricted(void) {
     wc_model m;
     wc_state* s = coupled_system(&m);
@@ -722,8 +723,17 @@ static void test_restricted(void) {
                 bad += restricted_errors(a, l);
                 dense += a->lev[l + 1].cross->dense != NULL;
             }
-            int short_bad = 0, held = 0;
-            if (!a->lev[1].cross->dense) { /* room for about half the terms on level 1 */
+            int short_bad = 0, held = 0, batch_bad = 0;
+            wc_amg_cross* Y1 = a->lev[1].cross;
+            if (Y1->dense) { /* restrict_dense's batches: the last one partial; then 7 terms, 1 term a batch */
+                CHECK(active > Y1->stage_terms && active % Y1->stage_terms != 0);
+                for (int b = 7; b > 0; b -= 6) {
+                    Y1->stage_terms = b;
+                    wc_amg_setup(a, s->A, &s->filter, &par);
+                    batch_bad += restricted_errors(a, 0);
+                }
+                printf("  batches of %d terms (%d nodes), then 7 and 1: %d mismatches\n", Y1->stage_cap, a->lev[1].n, batch_bad);
+            } else { /* room for about half the terms on level 1 */
                 a->lev[1].cross->cap_entries = a->lev[1].cross->n_entries / 2;
                 wc_amg_setup(a, s->A, &s->filter, &par);
                 held = a->lev[1].cross->n_terms;
@@ -737,6 +747,7 @@ static void test_restricted(void) {
             CHECK(variant || dense > 0);
             CHECK_EQ_INT(bad, 0);
             CHECK_EQ_INT(short_bad, 0);
+            CHECK_EQ_INT(batch_bad, 0);
             wc_amg_destroy(a);
         }
     wc_state_destroy(s);
