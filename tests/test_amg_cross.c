@@ -1,5 +1,5 @@
 /* The self-contact couplings carried through the multigrid hierarchy (core/amg_cross.c) on a
- * real system: two 21 x 21 layers, the top one falling onto the bottom one, the substep's
+ * real system (amg_coupled.h): two 21 x 21 layers, the top one falling onto the bottom one, the substep's
  * couplings found by the self-contact pairs (self_pairs.h); the bottom layer has two pinned
  * particles and a row on a plane contact, so the filter acts on some pieces. Checked:
  *   - every level's whole operator (BSR part + the couplings) is the Galerkin product of the level
@@ -21,9 +21,8 @@
  *     blocks do not fit in the room (also by one), keep the terms; the blocks summed on 2 and 3
  *     threads are 1 thread's, bit for bit;
  *   - the merged operators F = B + X (amg_merge.c): products against B's rows plus the terms' sum,
- *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room;
- *     the finest level's rows without a term (its short path) are (float)(0 + B_ik) bit for bit,
- *     zeros of either sign planted in B included;
+ *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room
+ *     (their blocks bit for bit against a serial sum, and the short path: test_amg_merge.c);
  *   - the restriction of the terms, on 1, 2 and 3 threads, against a plain serial loop over them,
  *     bit for bit (dense coarse levels and lists, a level with room for half). */
 #include <math.h>
@@ -39,10 +38,11 @@
 #include "self_pairs.h"
 #include "solve_kernels.h"
 #include "step.h"
+#include "amg_coupled.h"
 #include "two_layers.h"
 
 enum { N = 21 };
-static const double SIZE = 0.6, GAP = 0.004, TH = 0.003;
+static const double SIZE = 0.6;
 
 static void random_vec(double* v, int n3, uint64_t* st) {
     for (int k = 0; k < n3; ++k) {
@@ -51,42 +51,7 @@ static void random_vec(double* v, int n3, uint64_t* st) {
     }
 }
 
-/* The substep's system of the falling layer (two n x n layers of `size` metres), with
- * constraints on the bottom layer. */
-static wc_state* coupled_layers(wc_model* m, int n, double size) {
-    CHECK(two_layers(m, n, size, 0.0, GAP));
-    wc_sim_def def = wc_default_sim_def();
-    def.self_collision = 1;
-    def.self_thickness = TH;
-    def.self_in_solve = 1;
-    def.sleep_speed = 0;
-    def.solver.preconditioner = WC_PRECOND_AMG;
-    def.solver.tolerance = 1e-8;
-    def.solver.max_iterations = 2000;
-    wc_state* s = two_layers_approaching(m, n, size, 0.3, &def);
-    CHECK(s != NULL);
-    if (!s) return NULL;
-    wc_step_stats st;
-    memset(&st, 0, sizeof st);
-    wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
-    /* two pins and a row on a plane y = 0 (normal +y) in the bottom layer (host vertices 0 .. n^2 - 1) */
-    wc_filter* f = &s->filter;
-    for (int hv = 0; hv < n; ++hv) {
-        int p = m->host_to_particle[n * (n / 2) + hv];
-        double* S = f->S + 9 * p;
-        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
-        S[4] = 0.0;
-        f->ndof[p] = 1;
-    }
-    for (int c = 0; c < 2; ++c) {
-        int p = m->host_to_particle[c ? n * n - 1 : 0];
-        memset(f->S + 9 * p, 0, 9 * sizeof(double));
-        f->ndof[p] = 3;
-    }
-    return s;
-}
-
-static wc_state* coupled_system(wc_model* m) { return coupled_layers(m, N, SIZE); }
+static wc_state* coupled_system(wc_model* m) { return amg_coupled_layers(m, N, SIZE); }
 
 static wc_amg* amg_of(wc_state* s) { return s->solver->amg; }
 
@@ -177,21 +142,6 @@ static void test_galerkin(wc_amg* a) {
     free(col);
 }
 
-/* A hierarchy of s's model with the couplings, set up on s's system; dense_dofs: the largest
- * level holding them as a dense matrix (0: term lists on every level). */
-static wc_amg* hierarchy(wc_state* s, int dense_dofs, wc_par* par) {
-    wc_amg_opts o = wc_default_amg_opts();
-    o.cross_dense_dofs = dense_dofs;
-    wc_amg* a = NULL;
-    wc_diag d = {0};
-    CHECK(wc_amg_create(&a, s->model, &o, NULL, &d) == WC_OK);
-    if (!a) return NULL;
-    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->list.cap, &d) == WC_OK);
-    a->pos = s->x; /* the solver's rotations: about the current positions */
-    wc_amg_setup(a, s->A, &s->filter, par);
-    return a;
-}
-
 static void test_hierarchy(void) {
     wc_model m;
     wc_state* s = coupled_system(&m);
@@ -203,7 +153,7 @@ static void test_hierarchy(void) {
     uint64_t st = 4242;
     random_vec(r, n3, &st);
     for (int variant = 0; variant < 2; ++variant) { /* dense coarse levels (the default), then lists */
-        wc_amg* a = hierarchy(s, variant ? 0 : WC_AMG_CROSS_DENSE_DOFS, &par);
+        wc_amg* a = amg_coupled_hierarchy(s, variant ? 0 : WC_AMG_CROSS_DENSE_DOFS, &par);
         if (!a) return;
         printf("  %s: %d particles, %d active couplings, %d levels\n", variant ? "term lists on every level" : "dense coarse levels",
                m.n_particles, active, a->n_levels);
@@ -304,7 +254,7 @@ static void test_threads(void) {
  * it converges at once. */
 static void test_one_level(void) {
     wc_model m;
-    wc_state* s = coupled_layers(&m, 6, SIZE * 5.0 / (N - 1));
+    wc_state* s = amg_coupled_layers(&m, 6, SIZE * 5.0 / (N - 1));
     if (!s) return;
     int active = wc_coupling_active(&s->self_pairs->coupling), n3 = 3 * m.n_particles;
     double* dv = malloc(n3 * sizeof(double));
@@ -402,7 +352,7 @@ static void test_summed(void) {
     wc_par one, two;
     wc_par_init(&one, 1);
     wc_par_init(&two, 2);
-    wc_amg* a = hierarchy(s, 0, &one); /* term lists on every level */
+    wc_amg* a = amg_coupled_hierarchy(s, 0, &one); /* term lists on every level */
     if (!a) return;
     uint64_t st = 31337;
     int summed = 0;
@@ -453,7 +403,7 @@ static void test_summed(void) {
     wc_amg_setup(a, s->A, &s->filter, &one);
     wc_par three;
     wc_par_init(&three, 3);
-    wc_amg* b = hierarchy(s, 0, &three);
+    wc_amg* b = amg_coupled_hierarchy(s, 0, &three);
     if (b) {
         CHECK(b->lev[1].cross->n_blocks > 0);
         const int on_three = summed_differ(a, b);
@@ -497,36 +447,6 @@ static void test_summed(void) {
     wc_model_free(&m);
 }
 
-/* Level l's merged operator (amg_merge.c) in rows: its columns strictly ascending and exactly the
- * union of B's row and the terms' nodes holding i; returns the mismatches. */
-static int merged_layout_errors(const wc_amg_level* L, int* seen) {
-    const wc_amg_cross* X = L->cross;
-    int bad = 0;
-    for (int i = 0; i < L->n; ++i) {
-        int want = 0;
-        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-            if (seen[L->col[k]] != i) {
-                seen[L->col[k]] = i;
-                ++want;
-            }
-        for (int q = 0; q < X->n_terms; ++q) {
-            int holds = 0;
-            for (int e = X->start[q]; e < X->start[q + 1]; ++e) holds |= X->node[e] == i;
-            for (int e = X->start[q]; holds && e < X->start[q + 1]; ++e)
-                if (seen[X->node[e]] != i) {
-                    seen[X->node[e]] = i;
-                    ++want;
-                }
-        }
-        bad += X->m_start[i + 1] - X->m_start[i] != want;
-        for (int b = X->m_start[i]; b < X->m_start[i + 1]; ++b) {
-            bad += seen[X->m_col[b]] != i;
-            bad += b > X->m_start[i] && X->m_col[b - 1] >= X->m_col[b];
-        }
-    }
-    return bad;
-}
-
 /* Levels of a and b hold the same merged operators, bit for bit; returns the levels that differ. */
 static int merged_differ(const wc_amg* a, const wc_amg* b) {
     int differ = 0;
@@ -553,7 +473,7 @@ static void test_merged(void) {
     wc_par_init(&one, 1);
     wc_par_init(&two, 2);
     wc_par_init(&three, 3);
-    wc_amg* a = hierarchy(s, 0, &one); /* term lists on every level: level 0 merged from its terms,
+    wc_amg* a = amg_coupled_hierarchy(s, 0, &one); /* term lists on every level: level 0 merged from its terms,
                                           the others from their summed blocks */
     if (!a) return;
     uint64_t st = 4242;
@@ -574,7 +494,7 @@ static void test_merged(void) {
         if (X->m_blocks > 0) {
             wc_bsr_rows_f(X->m_start, X->m_col, X->m_val_f, 0, L->n, NULL, 1.0, x, y);
             const double diff = ts_rel_diff(y, ref, n3);
-            const int bad = merged_layout_errors(L, seen);
+            const int bad = amg_merged_layout_errors(L, seen);
             printf("  level %d: %d nodes, %d BSR blocks, %d merged: |F x - (B x + sum c v (v . x))| / |.| = %.1e, "
                    "layout errors %d\n", l, L->n, L->n_blocks, X->m_blocks, diff, bad);
             CHECK(diff < 1e-6);
@@ -586,7 +506,7 @@ static void test_merged(void) {
         free(y);
         free(seen);
     }
-    wc_amg* b = hierarchy(s, 0, &three);
+    wc_amg* b = amg_coupled_hierarchy(s, 0, &three);
     if (b) {
         const int on_three = merged_differ(a, b);
         wc_amg_setup(b, s->A, &s->filter, &two);
@@ -716,7 +636,7 @@ static void test_restricted(void) {
         for (int t = 1; t <= 3; ++t) {
             wc_par par;
             wc_par_init(&par, t);
-            wc_amg* a = hierarchy(s, variant ? 0 : WC_AMG_CROSS_DENSE_DOFS, &par);
+            wc_amg* a = amg_coupled_hierarchy(s, variant ? 0 : WC_AMG_CROSS_DENSE_DOFS, &par);
             if (!a) return;
             int bad = 0, dense = 0;
             for (int l = 0; l + 1 < a->n_levels; ++l) {

@@ -23,88 +23,13 @@
 #include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
+#include "amg_coupled.h"
 #include "two_layers.h"
 
 enum { N = 21 };
-static const double SIZE = 0.6, GAP = 0.004, TH = 0.003;
+static const double SIZE = 0.6;
 
-/* The substep's system of the falling layer, with two pins and a row on a plane contact in the
- * bottom layer (test_amg_cross.c's coupled_system). */
-static wc_state* coupled_system(wc_model* m) {
-    CHECK(two_layers(m, N, SIZE, 0.0, GAP));
-    wc_sim_def def = wc_default_sim_def();
-    def.self_collision = 1;
-    def.self_thickness = TH;
-    def.self_in_solve = 1;
-    def.sleep_speed = 0;
-    def.solver.preconditioner = WC_PRECOND_AMG;
-    def.solver.tolerance = 1e-8;
-    def.solver.max_iterations = 2000;
-    wc_state* s = two_layers_approaching(m, N, SIZE, 0.3, &def);
-    CHECK(s != NULL);
-    if (!s) return NULL;
-    wc_step_stats st;
-    memset(&st, 0, sizeof st);
-    wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
-    wc_filter* f = &s->filter;
-    for (int hv = 0; hv < N; ++hv) {
-        int p = m->host_to_particle[N * (N / 2) + hv];
-        double* S = f->S + 9 * p;
-        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
-        S[4] = 0.0;
-        f->ndof[p] = 1;
-    }
-    for (int c = 0; c < 2; ++c) {
-        int p = m->host_to_particle[c ? N * N - 1 : 0];
-        memset(f->S + 9 * p, 0, 9 * sizeof(double));
-        f->ndof[p] = 3;
-    }
-    return s;
-}
-
-/* The hierarchy of s's system with its couplings (term lists on every level when dense_dofs = 0). */
-static wc_amg* hierarchy(wc_state* s, int dense_dofs, wc_par* par) {
-    wc_amg_opts o = wc_default_amg_opts();
-    o.cross_dense_dofs = dense_dofs;
-    wc_amg* a = NULL;
-    wc_diag d = {0};
-    CHECK(wc_amg_create(&a, s->model, &o, NULL, &d) == WC_OK);
-    if (!a) return NULL;
-    CHECK(wc_amg_set_coupling(a, &s->self_pairs->coupling, s->self_pairs->list.cap, &d) == WC_OK);
-    a->pos = s->x;
-    wc_amg_setup(a, s->A, &s->filter, par);
-    return a;
-}
-
-/* Level l's merged operator in rows: its columns strictly ascending and exactly the union of B's
- * row and the terms' nodes holding i; returns the mismatches. */
-static int merged_layout_errors(const wc_amg_level* L, int* seen) {
-    const wc_amg_cross* X = L->cross;
-    int bad = 0;
-    for (int i = 0; i < L->n; ++i) {
-        int want = 0;
-        for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k)
-            if (seen[L->col[k]] != i) {
-                seen[L->col[k]] = i;
-                ++want;
-            }
-        for (int q = 0; q < X->n_terms; ++q) {
-            int holds = 0;
-            for (int e = X->start[q]; e < X->start[q + 1]; ++e) holds |= X->node[e] == i;
-            for (int e = X->start[q]; holds && e < X->start[q + 1]; ++e)
-                if (seen[X->node[e]] != i) {
-                    seen[X->node[e]] = i;
-                    ++want;
-                }
-        }
-        bad += X->m_start[i + 1] - X->m_start[i] != want;
-        for (int b = X->m_start[i]; b < X->m_start[i + 1]; ++b) {
-            bad += seen[X->m_col[b]] != i;
-            bad += b > X->m_start[i] && X->m_col[b - 1] >= X->m_col[b];
-        }
-    }
-    return bad;
-}
+static wc_state* coupled_system(wc_model* m) { return amg_coupled_layers(m, N, SIZE); }
 
 /* Level l's merged blocks against a plain serial sum (the file's comment), bit for bit; counts
  * the blocks checked in rows with couplings and without (*coupled, *plain); returns the
@@ -224,7 +149,7 @@ static void test_merged_values(void) {
         for (int cancel = 0; cancel < 2; ++cancel) {
             wc_par par;
             wc_par_init(&par, t);
-            wc_amg* a = hierarchy(s, 0, &par);
+            wc_amg* a = amg_coupled_hierarchy(s, 0, &par);
             if (!a) break;
             for (int l = 0; l < a->n_levels; ++l) {
                 wc_amg_level* L = &a->lev[l];
@@ -260,7 +185,7 @@ static void test_merged_rows(void) {
     if (!s) return;
     wc_par one;
     wc_par_init(&one, 1);
-    wc_amg* a = hierarchy(s, 0, &one);
+    wc_amg* a = amg_coupled_hierarchy(s, 0, &one);
     if (!a) return;
     wc_amg_level* L = &a->lev[0];
     const wc_amg_cross* X = L->cross;
@@ -302,7 +227,7 @@ static void test_merged_rows(void) {
                                  : 1;
     int* seen = malloc(sizeof(int) * (size_t)L->n);
     for (int i = 0; i < L->n; ++i) seen[i] = -1;
-    const int layout = merged_layout_errors(L, seen);
+    const int layout = amg_merged_layout_errors(L, seen);
     printf("  term-free rows' entries against (float)(0 + B): %d of %d differ; planted zeros' signs %s; layout errors %d\n",
            bad, checked, signs ? "wrong" : "right", layout);
     CHECK(checked > 0);
