@@ -13,6 +13,23 @@
 
 static const double AMG_COUPLED_GAP = 0.004, AMG_COUPLED_TH = 0.003;
 
+/* Two pins and a row on a plane y = 0 (normal +y) in the bottom layer of two n x n layers (host
+ * vertices 0 .. n^2 - 1). */
+static inline void amg_coupled_constrain(const wc_model* m, int n, wc_filter* f) {
+    for (int hv = 0; hv < n; ++hv) {
+        int p = m->host_to_particle[n * (n / 2) + hv];
+        double* S = f->S + 9 * p;
+        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
+        S[4] = 0.0;
+        f->ndof[p] = 1;
+    }
+    for (int c = 0; c < 2; ++c) {
+        int p = m->host_to_particle[c ? n * n - 1 : 0];
+        memset(f->S + 9 * p, 0, 9 * sizeof(double));
+        f->ndof[p] = 3;
+    }
+}
+
 /* The substep's system of the falling layer (two n x n layers of `size` metres), with
  * constraints on the bottom layer. */
 static inline wc_state* amg_coupled_layers(wc_model* m, int n, double size) {
@@ -31,20 +48,7 @@ static inline wc_state* amg_coupled_layers(wc_model* m, int n, double size) {
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(s, 1.0 / 60, 1.0, &st);
-    /* two pins and a row on a plane y = 0 (normal +y) in the bottom layer (host vertices 0 .. n^2 - 1) */
-    wc_filter* f = &s->filter;
-    for (int hv = 0; hv < n; ++hv) {
-        int p = m->host_to_particle[n * (n / 2) + hv];
-        double* S = f->S + 9 * p;
-        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
-        S[4] = 0.0;
-        f->ndof[p] = 1;
-    }
-    for (int c = 0; c < 2; ++c) {
-        int p = m->host_to_particle[c ? n * n - 1 : 0];
-        memset(f->S + 9 * p, 0, 9 * sizeof(double));
-        f->ndof[p] = 3;
-    }
+    amg_coupled_constrain(m, n, &s->filter);
     return s;
 }
 

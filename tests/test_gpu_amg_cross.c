@@ -36,6 +36,7 @@
 #include "state.h"
 #include "step.h"
 #include "test_support.h"
+#include "amg_coupled.h"
 #include "two_layers.h"
 #include "wg_amg.h"
 #include "wg_sim_impl.h"
@@ -60,22 +61,6 @@ static wc_state* layers(const wc_model* m, const wc_sim_def* def) {
     round_to_float(s->x, 3 * (size_t)m->n_particles);
     round_to_float(s->v, 3 * (size_t)m->n_particles);
     return s;
-}
-
-/* test_amg_cross.c's constraints: two pins and a row on a plane y = 0 in the bottom layer */
-static void constrain(const wc_model* m, wc_filter* f) {
-    for (int hv = 0; hv < N; ++hv) {
-        int p = m->host_to_particle[N * (N / 2) + hv];
-        double* S = f->S + 9 * p;
-        for (int q = 0; q < 9; ++q) S[q] = q % 4 == 0 ? 1.0 : 0.0;
-        S[4] = 0.0;
-        f->ndof[p] = 1;
-    }
-    for (int c = 0; c < 2; ++c) {
-        int p = m->host_to_particle[c ? N * N - 1 : 0];
-        memset(f->S + 9 * p, 0, 9 * sizeof(double));
-        f->ndof[p] = 3;
-    }
 }
 
 /* one GPU V-cycle on r (n x 3) into z, after a setup (its terms left out with skip) */
@@ -188,7 +173,7 @@ static void test_cross_terms(void) {
     wc_step_stats st;
     memset(&st, 0, sizeof st);
     wc_substep_prepare(sc, H, 1.0, &st);
-    constrain(&m, &sc->filter);
+    amg_coupled_constrain(&m, N, &sc->filter);
     CHECK_EQ_INT(wg_sim_debug_prepare(g, sg, H, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d), WC_OK);
     CHECK_EQ_INT(wg_sim_debug_set_system(g, sc->A, sc->b, &sc->filter, &d), WC_OK);
     const int active = wc_coupling_active(&sc->self_pairs->coupling);

@@ -199,6 +199,21 @@ double ts_max_diff(const double* a, const double* b, int n) {
     return m;
 }
 
+/* A model of nq polygons (sizes, idx) over nv positions, built with the default model definition
+ * but its weld tolerance (weld < 0: the default's); frees pos, sizes and idx. */
+static wc_status model_from_quads(wc_model* m, double* pos, int nv, int* sizes, int nq, int* idx, double weld,
+                                  wc_diag* d) {
+    wc_source_mesh src;
+    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, d);
+    free(pos), free(sizes), free(idx);
+    if (st != WC_OK) return st;
+    wc_model_def mdef = wc_default_model_def();
+    if (weld >= 0.0) mdef.weld_tolerance = weld;
+    st = wc_model_build(m, &src, &mdef, NULL, d);
+    wc_source_mesh_free(&src);
+    return st;
+}
+
 wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def) {
     int nv = 9 * count, nq = 4 * count;
     double* pos = calloc((size_t)nv * 3, sizeof(double));
@@ -220,15 +235,8 @@ wc_state* ts_patches(wc_model* m, int count, const wc_sim_def* def) {
             c[3] = 9 * p + i + 1 + 3 * j;
         }
     }
-    wc_source_mesh src;
     wc_diag d = {0};
-    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
-    free(pos), free(sizes), free(idx);
-    if (st != WC_OK) return NULL;
-    wc_model_def mdef = wc_default_model_def();
-    st = wc_model_build(m, &src, &mdef, NULL, &d);
-    wc_source_mesh_free(&src);
-    if (st != WC_OK) return NULL;
+    if (model_from_quads(m, pos, nv, sizes, nq, idx, -1.0, &d) != WC_OK) return NULL;
     wc_state* s = NULL;
     if (wc_state_create(&s, m, def, NULL, &d) != WC_OK) return NULL;
     wc_pin* pins = calloc((size_t)count, sizeof *pins);
@@ -300,16 +308,9 @@ wc_state* ts_dead_pieces(wc_model* m, int n, int pieces, int warm) {
         }
         sizes[f] = 4;
     }
-    wc_source_mesh src;
     wc_diag d = {0};
-    wc_status st = wc_source_mesh_from_arrays(&src, NULL, pos, nv, sizes, nq, idx, 1.0, &d);
-    free(pos), free(sizes), free(idx);
-    if (st != WC_OK) return NULL;
-    wc_model_def mdef = wc_default_model_def();
-    mdef.weld_tolerance = 0.0; /* the pieces' corners are closer than the default's 1e-6 x diagonal */
-    st = wc_model_build(m, &src, &mdef, NULL, &d);
-    wc_source_mesh_free(&src);
-    if (st != WC_OK) {
+    /* weld 0: the pieces' corners are closer than the default's 1e-6 x diagonal */
+    if (model_from_quads(m, pos, nv, sizes, nq, idx, 0.0, &d) != WC_OK) {
         fprintf(stderr, "ts_dead_pieces: %s\n", d.message);
         return NULL;
     }
