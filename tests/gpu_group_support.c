@@ -8,6 +8,7 @@
 #include "check.h"
 #include "step.h"
 #include "test_support.h"
+#include "wg_amg.h"
 
 wg_sim* tg_gpu_system(wg_device* dev, wc_state* s, int planes) {
     wg_sim* g = NULL;
@@ -127,4 +128,15 @@ void tg_zero_and_bad_b(wg_device* dev, wc_state* s, wg_sim* g, wc_solver_opts o,
     CHECK(!a.res.converged && a.res.residual == b.res.residual);
     CHECK(ts_max_diff(a.dv, b.dv, 3 * n) == 0.0);   /* both dv = z */
     free(a.dv), free(b.dv), free(bad), free(guess), free(zero_b);
+}
+
+void tg_vcycle(wg_sim* g, const double* r, double* z) {
+    const int n = g->n;
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
+    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
+    wg_amg_apply(g->amg, &g->r[0], &g->part);
+    wg_array_read(&g->layout, g->amg->z, n, g->rb);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) z[3 * i + c] = g->rb[4 * i + c];
 }

@@ -1,4 +1,5 @@
-/* Helpers of the one-group PCG tests (test_gpu_group.c, test_gpu_group_amg.c): a hanging sheet's
+/* Helpers of the GPU solve tests (test_gpu_group.c, test_gpu_group_amg.c, test_gpu_amg_smooth.c,
+ * test_gpu_amg_cross.c): a hanging sheet's
  * float system set on a GPU cloth, and a solve forced to the one-group form or to the chain. */
 #ifndef WEFT_TESTS_GPU_GROUP_SUPPORT_H
 #define WEFT_TESTS_GPU_GROUP_SUPPORT_H
@@ -41,5 +42,8 @@ typedef tg_solved (*tg_compare_fn)(const char* what, wg_sim* g, const wc_solver_
  * a nonzero guess gives dv = z = 0, converged, no iteration (compare runs it); a non-finite b
  * gives diverged in both forms, the same residual and dv = z. g keeps the last system. */
 void tg_zero_and_bad_b(wg_device* dev, wc_state* s, wg_sim* g, wc_solver_opts o, tg_compare_fn compare);
+
+/* One V-cycle of g's multigrid, as set up, on r (n x 3, rounded to float on the way up) into z. */
+void tg_vcycle(wg_sim* g, const double* r, double* z);
 
 #endif

@@ -37,6 +37,7 @@
 #include "step.h"
 #include "test_support.h"
 #include "amg_coupled.h"
+#include "gpu_group_support.h"
 #include "two_layers.h"
 #include "wg_amg.h"
 #include "wg_sim_impl.h"
@@ -65,16 +66,9 @@ static wc_state* layers(const wc_model* m, const wc_sim_def* def) {
 
 /* one GPU V-cycle on r (n x 3) into z, after a setup (its terms left out with skip) */
 static void gpu_vcycle(wg_sim* g, const double* r, double* z, int skip) {
-    const int n = g->n;
     g->amg->cross_skip = skip;
     wg_amg_setup(g->amg);
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
-    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
-    wg_amg_apply(g->amg, &g->r[0], &g->part);
-    wg_array_read(&g->layout, g->amg->z, n, g->rb);
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c) z[3 * i + c] = g->rb[4 * i + c];
+    tg_vcycle(g, r, z);
     g->amg->cross_skip = 0;
 }
 

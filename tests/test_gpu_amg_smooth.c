@@ -90,13 +90,7 @@ static double vcycle_diff(wg_sim* g, const wc_amg* ca, const double* r, wc_par* 
     const int n = g->n;
     double *zc = calloc(3 * (size_t)n, sizeof(double)), *zg = calloc(3 * (size_t)n, sizeof(double));
     wc_amg_apply((wc_amg*)ca, r, zc, par);
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 4; ++c) g->rb[4 * i + c] = c < 3 ? (float)r[3 * i + c] : 0.0f;
-    wg_array_upload(&g->layout, &g->r[0], n, g->rb);
-    wg_amg_apply(g->amg, &g->r[0], &g->part);
-    wg_array_read(&g->layout, g->amg->z, n, g->rb);
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c) zg[3 * i + c] = g->rb[4 * i + c];
+    tg_vcycle(g, r, zg);
     double e = ts_max_diff(zg, zc, 3 * n) / ts_max_abs(zc, 3 * n);
     free(zc), free(zg);
     return e;
