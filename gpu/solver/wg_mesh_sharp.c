@@ -197,10 +197,6 @@ int wg_mesh_sharp_find(wg_mesh_sharp* ms, wc_mesh_pairs* pp, const wc_model* m, 
         WG_USE(run, WGP_MESH_PAIRS_FIND_GROUPS, &(wg_mesh_pairs_find_in){.mesh_vert = &g->vert, .mesh_tri = &g->tri,
             .mesh_node = &g->node, .x = x, .v = v, .cfeat = &ms->cfeat, .bedge = &ms->bedge, .bvrow = &ms->bvrow,
             .bvlist = &ms->bvlist, .btri = &ms->btri, .sharp = &ms->sharp});
-        wg_u1i(run, "u_e0", ms->e0[k]);
-        wg_u1i(run, "u_e1", ms->e0[k + 1]);
-        wg_u1i(run, "u_v0", g->vert0[k]);
-        wg_u1i(run, "u_v1", g->vert0[k] + mc->n_verts);
         wg_u1i(run, "u_root", g->node0[k]);
         wg_u1i(run, "u_cap", ms->cap);
         wg_u1i(run, "u_nef", ms->n_edge);

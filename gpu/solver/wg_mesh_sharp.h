@@ -6,11 +6,12 @@
  * textures, after wg_mesh_body_substep) and the cloth's positions and velocities (its textures):
  * mesh_sharp.glsl marks the sharp body edges and vertices by core's rule at the substep's start,
  * and mesh_pairs_find_groups.glsl, one invocation a cloth feature (its winged edges, then its
- * triangles), tests every sharp body edge and vertex of a resident body by core's detection
- * (the tree walk's box test on the refitted leaf boxes, the interior closest points, the contact
- * distance, the normal cone, the cloth point and particles in front of the body through the tree:
- * core/mesh_pairs.c keep) and writes each pair it keeps (particles, weights, normal, off) to a
- * slot an atomic counter hands out. The counter (4 bytes) and the pairs (48 bytes each) are
+ * triangles), walks a resident body's refitted tree (wg_mesh_body.c) to the triangles whose leaf
+ * boxes meet the feature's box, as core's walk does, and tests their sharp edges and vertices,
+ * each once, by core's detection (the interior closest points, the contact distance, the normal
+ * cone, the cloth point and particles in front of the body through the tree: core/mesh_pairs.c
+ * keep); each pair it keeps (particles, weights, normal, off) goes to a slot an atomic counter
+ * hands out. The counter (4 bytes) and the pairs (48 bytes each) are
  * read back, sorted by (cloth feature, body feature) so that the list does not depend on the
  * GPU's order, and appended to core's list by wc_mesh_pairs_add_found (the particles' masses,
  * k), after the host bodies' pairs; core's activation and assembly then take them as any other.

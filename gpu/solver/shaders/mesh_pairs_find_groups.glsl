@@ -1,10 +1,10 @@
 #version 430 core
 // A resident body's sharp-feature pairs (core/mesh_pairs.c wc_mesh_pairs_find and keep, in
 // float), one invocation a cloth feature (cfeat: a cloth edge (a, b, -1, q) or triangle
-// (a, b, c, q), q core's feature index): against every sharp body edge (a cloth edge) and every
-// sharp body vertex of mesh [u_e0, u_e1) x [u_v0, u_v1) that core's tree walk would reach (one of
-// its non-degenerate triangles' leaf boxes meets the feature's box at the start and at its
-// inertial end x + h v, inflated by u_r), the closest points interior to both features, within
+// (a, b, c, q), q core's feature index): the body's refitted tree walked (root u_root) to the
+// non-degenerate triangles whose leaf boxes meet the feature's box at the start and at its
+// inertial end x + h v, inflated by u_r, as core's walk; against their sharp edges (a cloth edge)
+// and sharp vertices, each once, the closest points interior to both features, within
 // the contact distance, the normal cone, the cloth point and the feature's particles in front of
 // the body. A pair found goes to the slot an atomic counter (image 1, r32i) hands out: three
 // texels (particles, q), (weights, off), (normal, body feature: an edge, or u_nef + a vertex);
@@ -21,7 +21,7 @@ uniform sampler2D bvrow;
 uniform sampler2D bvlist;
 uniform sampler2D btri;        // (edges, leaf node) a triangle
 uniform sampler2D sharp;       // mesh_sharp.glsl's output
-uniform int u_e0, u_e1, u_v0, u_v1, u_root, u_cap, u_nef;
+uniform int u_root, u_cap, u_nef;
 uniform float u_th, u_push, u_h, u_r;
 layout(binding = 0, rgba32f) writeonly uniform image2D wg_img0;
 layout(binding = 1, r32i) uniform iimage2D wg_img1;
@@ -106,6 +106,53 @@ vec3 xa(int r) { return ld(mesh_vert, 3 * r).xyz; }
 vec3 xb(int r) { return ld(mesh_vert, 3 * r + 1).xyz; }
 vec3 vel(int r) { return ld(mesh_vert, 3 * r + 2).xyz; }
 
+// The pairs of body triangle t, reached by the walk, with the cloth edge p0-q0: its sharp edges
+// and vertices, each from one triangle only (an edge from its first triangle the walk reaches, a
+// vertex from the first of its triangles the walk reaches): core's marks of the features seen.
+void visit_edge(int t, vec3 p0, vec3 q0) {
+    vec4 te = ld(btri, t);
+    for (int c = 0; c < 3; ++c) {
+        int e = int(te[c]);
+        if (ld(sharp, e).x == 0.0) continue;
+        vec4 be = ld(bedge, 2 * e);
+        int t1 = int(be.z), t2 = int(be.w);
+        if (t != t1 && (t != t2 || reached(t1))) continue;
+        int r = int(be.x), s = int(be.y);
+        float a, b;
+        closest_segments(p0, q0, xa(r), xa(s), a, b);
+        if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
+        bool cone = t2 >= 0 && ld(bedge, 2 * e + 1).x == 0.0;
+        keep(vec3(1.0 - a, a, 0.0), mix(p0, q0, a), mix(xa(r), xa(s), b), mix(xb(r), xb(s), b),
+             mix(vel(r), vel(s), b), ld(mesh_tri, 3 * t + 1).xyz, cone, ld(mesh_tri, 3 * t1 + 1).xyz,
+             cone ? ld(mesh_tri, 3 * t2 + 1).xyz : vec3(0.0), e);
+    }
+    vec3 ev = q0 - p0;
+    float ee = dot(ev, ev);
+    if (!(ee > 0.0)) return;
+    ivec3 tv = ivec3(ld(mesh_tri, 3 * t).xyz);
+    for (int c = 0; c < 3; ++c) {
+        int r = tv[c];
+        if (ld(sharp, u_nef + r).x == 0.0 || vertex_reached(r) != t) continue;
+        float a = dot(xa(r) - p0, ev) / ee;
+        if (!(a > INTERIOR && a < 1.0 - INTERIOR)) continue;
+        keep(vec3(1.0 - a, a, 0.0), mix(p0, q0, a), xa(r), xb(r), vel(r), ld(mesh_tri, 3 * t + 1).xyz, false,
+             vec3(0.0), vec3(0.0), u_nef + r);
+    }
+}
+
+// The pairs of body triangle t with the cloth triangle ABC: its sharp vertices.
+void visit_vertex(int t, vec3 A, vec3 B, vec3 C) {
+    ivec3 tv = ivec3(ld(mesh_tri, 3 * t).xyz);
+    for (int c = 0; c < 3; ++c) {
+        int r = tv[c];
+        if (ld(sharp, u_nef + r).x == 0.0 || vertex_reached(r) != t) continue;
+        vec3 w = closest_weights(xa(r), A, B, C);
+        if (!(w.x > INTERIOR && w.y > INTERIOR && w.z > INTERIOR)) continue;
+        keep(w, w.x * A + w.y * B + w.z * C, xa(r), xb(r), vel(r), ld(mesh_tri, 3 * t + 1).xyz, false, vec3(0.0),
+             vec3(0.0), u_nef + r);
+    }
+}
+
 void main() {
     int i = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x);
     if (i >= u_n) return;
@@ -122,45 +169,24 @@ void main() {
     }
     blo -= vec3(u_r);
     bhi += vec3(u_r);
-    if (cnt == 2) {
-        vec3 p0 = ld(x, P.x).xyz, q0 = ld(x, P.y).xyz;
-        for (int e = u_e0; e < u_e1; ++e) {
-            if (ld(sharp, e).x == 0.0) continue;
-            vec4 be = ld(bedge, 2 * e);
-            int t1 = int(be.z), t2 = int(be.w);
-            int t = reached(t1) ? t1 : reached(t2) ? t2 : -1;
-            if (t < 0) continue;
-            int r = int(be.x), s = int(be.y);
-            float a, b;
-            closest_segments(p0, q0, xa(r), xa(s), a, b);
-            if (!(a > INTERIOR && a < 1.0 - INTERIOR && b > INTERIOR && b < 1.0 - INTERIOR)) continue;
-            bool cone = t2 >= 0 && ld(bedge, 2 * e + 1).x == 0.0;
-            keep(vec3(1.0 - a, a, 0.0), mix(p0, q0, a), mix(xa(r), xa(s), b), mix(xb(r), xb(s), b),
-                 mix(vel(r), vel(s), b), ld(mesh_tri, 3 * t + 1).xyz, cone, ld(mesh_tri, 3 * t1 + 1).xyz,
-                 cone ? ld(mesh_tri, 3 * t2 + 1).xyz : vec3(0.0), e);
-        }
-        vec3 ev = q0 - p0;
-        float ee = dot(ev, ev);
-        if (!(ee > 0.0)) return;
-        for (int r = u_v0; r < u_v1; ++r) {
-            if (ld(sharp, u_nef + r).x == 0.0) continue;
-            int t = vertex_reached(r);
-            if (t < 0) continue;
-            float a = dot(xa(r) - p0, ev) / ee;
-            if (!(a > INTERIOR && a < 1.0 - INTERIOR)) continue;
-            keep(vec3(1.0 - a, a, 0.0), mix(p0, q0, a), xa(r), xb(r), vel(r), ld(mesh_tri, 3 * t + 1).xyz, false,
-                 vec3(0.0), vec3(0.0), u_nef + r);
-        }
-        return;
-    }
     vec3 A = ld(x, P.x).xyz, B = ld(x, P.y).xyz, C = ld(x, P.z).xyz;
-    for (int r = u_v0; r < u_v1; ++r) {
-        if (ld(sharp, u_nef + r).x == 0.0) continue;
-        int t = vertex_reached(r);
-        if (t < 0) continue;
-        vec3 w = closest_weights(xa(r), A, B, C);
-        if (!(w.x > INTERIOR && w.y > INTERIOR && w.z > INTERIOR)) continue;
-        keep(w, w.x * A + w.y * B + w.z * C, xa(r), xb(r), vel(r), ld(mesh_tri, 3 * t + 1).xyz, false, vec3(0.0),
-             vec3(0.0), u_nef + r);
+    // the body's refitted tree, the triangles whose leaf boxes meet the feature's box (core's
+    // wc_bvh_query_masked without the mask, which only prunes)
+    int stack[66];
+    int top = 0;
+    stack[top++] = u_root;
+    while (top > 0) {
+        int j = stack[--top];
+        vec4 lo = ld(mesh_node, 2 * j), hi = ld(mesh_node, 2 * j + 1);
+        if (any(greaterThan(lo.xyz, bhi)) || any(lessThan(hi.xyz, blo))) continue;
+        if (lo.w >= 0.0) {
+            stack[top++] = int(hi.w);
+            stack[top++] = int(lo.w);
+            continue;
+        }
+        int t = int(hi.w);
+        if (ld(mesh_tri, 3 * t + 1).xyz == vec3(0.0)) continue;   // degenerate
+        if (cnt == 2) visit_edge(t, A, B);
+        else visit_vertex(t, A, B, C);
     }
 }
