@@ -1,7 +1,8 @@
 /* The sharp-feature pairs of a body resident on the GPU (gpu/solver/wg_mesh_sharp.c:
- * mesh_sharp.glsl, mesh_pairs_find_groups.glsl) against core's wc_mesh_pairs_find on the same
+ * mesh_sharp.glsl, mesh_sharp_mask_groups.glsl, mesh_pairs_find_groups.glsl) against core's wc_mesh_pairs_find on the same
  * body and cloth (floats). A box (its 12 rim edges and 8 corners sharp, its face diagonals not)
- * moves over the frame (shifted, grown); one copy is resident on the GPU (wg_mesh_body_set,
+ * with a smooth ball under it in the same mesh (no sharp feature: the pairs' walk prunes it, as
+ * core's mask does) moves over the frame (shifted, grown); one copy is resident on the GPU (wg_mesh_body_set,
  * moved to the substep by the body's passes), the other core's (wc_mesh_collider_substep). A
  * 24 x 24 sheet lies 3 mm over the box's top and slopes down past its rim (1 in 7; up past one
  * rim, with a patch of particles inside the box there), jittered, moving down: its edges cross
@@ -109,11 +110,15 @@ static void test_pairs_against_core(void) {
         printf("  fragment passes: every body is moved on the host (nothing to compare)\n");
         return;
     }
-    tmesh bx;
-    const double lo[3] = {-0.3, -0.3, -0.3}, hi[3] = {0.3, 0.0, 0.3};
+    static tmesh bx, ball;
+    const double lo[3] = {-0.3, -0.3, -0.3}, hi[3] = {0.3, 0.0, 0.3}, below[3] = {0.0, -0.6, 0.0};
     box(&bx, lo, hi);
+    icosphere(&ball, 2, 0.15, below);   /* the same mesh: its smooth part, which the walk's mask prunes */
+    const int v0 = bx.nv;
+    for (int i = 0; i < ball.nv; ++i) tm_vert(&bx, ball.x[3 * i], ball.x[3 * i + 1], ball.x[3 * i + 2]);
+    for (int t = 0; t < ball.nt; ++t) tm_tri(&bx, v0 + ball.t[3 * t], v0 + ball.t[3 * t + 1], v0 + ball.t[3 * t + 2]);
     for (int i = 0; i < 3 * bx.nv; ++i) bx.x[i] = fr(bx.x[i]);
-    double to[24];
+    double* to = malloc(3 * (size_t)bx.nv * sizeof(double));
     for (int i = 0; i < 3 * bx.nv; ++i) to[i] = fr(1.01 * bx.x[i] + (i % 3 == 0 ? 0.004 : i % 3 == 1 ? 0.002 : 0.0));
     wc_diag d = {0};
     wc_mesh_collider *mg = NULL, *mc = NULL;
@@ -208,7 +213,7 @@ static void test_pairs_against_core(void) {
     wc_mesh_collider_destroy(mg);
     wc_mesh_collider_destroy(mc);
     wc_model_free(&m);
-    free(x), free(v), free(x4), free(v4);
+    free(x), free(v), free(x4), free(v4), free(to);
 }
 
 int main(void) {

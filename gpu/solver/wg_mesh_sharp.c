@@ -21,13 +21,14 @@ struct wg_mesh_sharp {
     int n_feat;                      /* cloth features: winged edges (not repeated), triangles */
     int n_we;                        /* the model's winged edges: q below it is a cloth edge */
     int cap;                         /* pair slots: the mesh pairs list's capacity */
-    wg_tex bedge, btri, bvrow, bvlist, cfeat, sharp, out, counter;
+    wg_tex bedge, btri, bvrow, bvlist, cfeat, sharp, mask, out, counter;
     float* rb;                       /* (3 cap x 4) the pairs read back */
     found* order;                    /* (cap) their sort */
 };
 
 static wg_tex* textures(wg_mesh_sharp* ms, int k) {
-    wg_tex* t[] = {&ms->bedge, &ms->btri, &ms->bvrow, &ms->bvlist, &ms->cfeat, &ms->sharp, &ms->out, &ms->counter};
+    wg_tex* t[] = {&ms->bedge,  &ms->btri, &ms->bvrow, &ms->bvlist, &ms->cfeat,
+                   &ms->sharp, &ms->mask, &ms->out,   &ms->counter};
     return k < (int)(sizeof t / sizeof t[0]) ? t[k] : NULL;
 }
 
@@ -126,6 +127,7 @@ static int tables(wg_mesh_sharp* ms, const wc_mesh_pairs* pp, const wc_model* m,
     return wg_array_create(L, &ms->cfeat, GL_RGBA32F, nf > 0 ? nf : 1, o, err, err_len) &&
            wg_array_create(L, &ms->sharp, GL_RGBA32F, ms->n_edge + g->n_vert > 0 ? ms->n_edge + g->n_vert : 1, NULL,
                            err, err_len) &&
+           wg_array_create(L, &ms->mask, GL_RGBA32F, g->n_node > 0 ? g->n_node : 1, NULL, err, err_len) &&
            wg_array_create(L, &ms->out, GL_RGBA32F, 3 * ms->cap, NULL, err, err_len) &&
            wg_tex_create(&ms->counter, GL_R32I, 1, 1, NULL, err, err_len);
 }
@@ -187,6 +189,16 @@ int wg_mesh_sharp_find(wg_mesh_sharp* ms, wc_mesh_pairs* pp, const wc_model* m, 
         .btri = &ms->btri, .bvrow = &ms->bvrow, .bvlist = &ms->bvlist});
     wg_u1i(run, "u_ne", ms->n_edge);
     WG_RUN(run, ms->n_edge + g->n_vert, &ms->sharp);
+    WG_USE(run, WGP_MESH_SHARP_MASK_GROUPS, &(wg_mesh_sharp_mask_in){.order = &g->order, .mesh_node = &g->node,
+        .mesh_tri = &g->tri, .sharp = &ms->sharp});
+    wg_u1i(run, "u_nef", ms->n_edge);
+    for (int ht = 0; ht < g->n_heights; ++ht) {   /* the resident bodies' nodes, leaves first (wg_mesh_body.c) */
+        int first = g->order_first[ht], count = g->order_first[ht + 1] - first;
+        if (count == 0) continue;
+        wg_u1i(run, "u_first", first);
+        wg_u1i(run, "u_count", count);
+        wg_run_groups_rw(run, count, (count + 63) / 64, &ms->mask);
+    }
     const GLint zero = 0;
     glBindTexture(GL_TEXTURE_2D, ms->counter.id);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 1, 1, GL_RED_INTEGER, GL_INT, &zero);
@@ -196,7 +208,7 @@ int wg_mesh_sharp_find(wg_mesh_sharp* ms, wc_mesh_pairs* pp, const wc_model* m, 
         const wc_mesh_collider* mc = g->mesh[k];
         WG_USE(run, WGP_MESH_PAIRS_FIND_GROUPS, &(wg_mesh_pairs_find_in){.mesh_vert = &g->vert, .mesh_tri = &g->tri,
             .mesh_node = &g->node, .x = x, .v = v, .cfeat = &ms->cfeat, .bedge = &ms->bedge, .bvrow = &ms->bvrow,
-            .bvlist = &ms->bvlist, .btri = &ms->btri, .sharp = &ms->sharp});
+            .bvlist = &ms->bvlist, .btri = &ms->btri, .sharp = &ms->sharp, .mask = &ms->mask});
         wg_u1i(run, "u_root", g->node0[k]);
         wg_u1i(run, "u_cap", ms->cap);
         wg_u1i(run, "u_nef", ms->n_edge);

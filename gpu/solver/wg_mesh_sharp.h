@@ -2,16 +2,18 @@
  * compute passes only), found on the GPU where core's copy of such a body is stale.
  *
  * At each substep's start, where wg_pairs_find runs core's detection for the bodies moved on the
- * host, two passes run over the resident bodies' current vertices and triangles (the mesh
- * textures, after wg_mesh_body_substep) and the cloth's positions and velocities (its textures):
- * mesh_sharp.glsl marks the sharp body edges and vertices by core's rule at the substep's start,
- * and mesh_pairs_find_groups.glsl, one invocation a cloth feature (its winged edges, then its
- * triangles), walks a resident body's refitted tree (wg_mesh_body.c) to the triangles whose leaf
- * boxes meet the feature's box, as core's walk does, and tests their sharp edges and vertices,
- * each once, by core's detection (the interior closest points, the contact distance, the normal
- * cone, the cloth point and particles in front of the body through the tree: core/mesh_pairs.c
- * keep); each pair it keeps (particles, weights, normal, off) goes to a slot an atomic counter
- * hands out. The counter (4 bytes) and the pairs (48 bytes each) are
+ * host, three passes run over the resident bodies' current vertices and triangles (the mesh
+ * textures, after wg_mesh_body_substep) and the cloth's positions and velocities (its
+ * textures): mesh_sharp.glsl marks the sharp body edges and vertices by core's rule at the
+ * substep's start; mesh_sharp_mask_groups.glsl marks the tree's nodes above a live triangle with
+ * a sharp vertex (core's mask; one dispatch a tree height, as the refit); and
+ * mesh_pairs_find_groups.glsl, one invocation a cloth feature (its winged edges, then its
+ * triangles), walks a resident body's refitted tree (wg_mesh_body.c) through the marked nodes to
+ * the triangles whose leaf boxes meet the feature's box, as core's walk does, and tests their
+ * sharp edges and vertices, each once, by core's detection (the interior closest points, the
+ * contact distance, the normal cone, the cloth point and particles in front of the body through
+ * the tree: core/mesh_pairs.c keep); each pair it keeps (particles, weights, normal, off) goes to
+ * a slot an atomic counter hands out. The counter (4 bytes) and the pairs (48 bytes each) are
  * read back, sorted by (cloth feature, body feature) so that the list does not depend on the
  * GPU's order, and appended to core's list by wc_mesh_pairs_add_found (the particles' masses,
  * k), after the host bodies' pairs; core's activation and assembly then take them as any other.

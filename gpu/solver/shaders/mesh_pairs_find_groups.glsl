@@ -6,7 +6,8 @@
 // inertial end x + h v, inflated by u_r, as core's walk; against their sharp edges (a cloth edge)
 // and sharp vertices, each once, the closest points interior to both features, within
 // the contact distance, the normal cone, the cloth point and the feature's particles in front of
-// the body. A pair found goes to the slot an atomic counter (image 1, r32i) hands out: three
+// the body (the walk skips the subtrees without a live triangle with a sharp vertex, as core's
+// does). A pair found goes to the slot an atomic counter (image 1, r32i) hands out: three
 // texels (particles, q), (weights, off), (normal, body feature: an edge, or u_nef + a vertex);
 // past u_cap it is only counted. Its order is the GPU's: the host sorts the pairs by (q, body
 // feature). The particles' masses and k are the host's (wc_mesh_pairs_add_found).
@@ -21,6 +22,7 @@ uniform sampler2D bvrow;
 uniform sampler2D bvlist;
 uniform sampler2D btri;        // (edges, leaf node) a triangle
 uniform sampler2D sharp;       // mesh_sharp.glsl's output
+uniform sampler2D mask;        // mesh_sharp_mask_groups.glsl's: 0 where no pair can be
 uniform int u_root, u_cap, u_nef;
 uniform float u_th, u_push, u_h, u_r;
 layout(binding = 0, rgba32f) writeonly uniform image2D wg_img0;
@@ -171,12 +173,13 @@ void main() {
     bhi += vec3(u_r);
     vec3 A = ld(x, P.x).xyz, B = ld(x, P.y).xyz, C = ld(x, P.z).xyz;
     // the body's refitted tree, the triangles whose leaf boxes meet the feature's box (core's
-    // wc_bvh_query_masked without the mask, which only prunes)
+    // wc_bvh_query_masked: the mask prunes what cannot give a pair)
     int stack[66];
     int top = 0;
     stack[top++] = u_root;
     while (top > 0) {
         int j = stack[--top];
+        if (ld(mask, j).x == 0.0) continue;
         vec4 lo = ld(mesh_node, 2 * j), hi = ld(mesh_node, 2 * j + 1);
         if (any(greaterThan(lo.xyz, bhi)) || any(lessThan(hi.xyz, blo))) continue;
         if (lo.w >= 0.0) {
