@@ -216,8 +216,7 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
         wc_mesh_pairs_find(s->pairs, (const wc_mesh_collider* const*)s->mesh, s->n_mesh, m, &pins, NULL, p->x, p->v,
                            ig->h, ig->he);
         if (sharp)   /* the resident bodies' (their copies in core are stale: core skipped them) */
-            p->counts.mesh_device = wg_mesh_sharp_find(sharp, s->pairs, m, &pins, NULL, x, v, ig->h, ig->he,
-                                                       &p->counts.mesh_device_bytes);
+            wg_mesh_sharp_find(sharp, s->pairs, m, &pins, NULL, x, v, ig->h, ig->he, NULL);
         p->counts.mesh = s->pairs->list.n;
         p->counts.mesh_overflow = s->pairs->list.overflow;
         p->counts.mesh_skipped = s->pairs->list.skipped;

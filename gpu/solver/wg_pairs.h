@@ -23,8 +23,10 @@
  * BDF2 and TR-BDF2), the pairs (48 bytes each and 16 an entry) and 16 n bytes of rows up at the
  * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
  * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
- * two for each potential change (the two iterates). Everything is allocated at creation (the
- * lists' capacities); nothing in a step. Calls are made with the cloth's GL context current. */
+ * two for each potential change (the two iterates); with a body resident on the GPU, 4 bytes up
+ * and 4, plus 48 a pair it has, read back at the start (wg_mesh_sharp.h). Everything is
+ * allocated at creation (the lists' capacities); nothing in a step. Calls are made with the
+ * cloth's GL context current. */
 #ifndef WEFT_GPU_SOLVER_PAIRS_H
 #define WEFT_GPU_SOLVER_PAIRS_H
 
@@ -49,8 +51,6 @@ typedef struct wg_pair_cloth {
 /* What the last substep's detection and assembly found (core's statistics, wc_step_stats). */
 typedef struct wg_pair_counts {
     int mesh, mesh_active, mesh_overflow, mesh_skipped;
-    int mesh_device;            /* of mesh: found on the GPU for the resident bodies (wg_mesh_sharp.h) */
-    size_t mesh_device_bytes;   /* their read-back: the counter and 48 bytes a pair */
     int self, self_active, self_overflow;
 } wg_pair_counts;
 
