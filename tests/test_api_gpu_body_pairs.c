@@ -8,7 +8,8 @@
  * cloth as arrays, to the other interleaved in a GL buffer), 60 frames. The two cloths get the
  * same pairs (found and active, summed over the frames, within 2 %), the same rollbacks, and lie
  * within 1 mm of each other at every frame (their bodies differ by float rounding: the GPU moves
- * its body in float); both have pairs. With fragment passes (WEFT_GPU_PASSES=fragment, GL 3.3)
+ * its body in float); both have pairs. The buffer's cloth saved at frame 25 and restored replays
+ * frames 26-45 (the box rising) bit for bit. With fragment passes (WEFT_GPU_PASSES=fragment, GL 3.3)
  * the buffer is read back and both take core's path: the same bits at every frame. */
 #include <GL/glew.h>
 #include <math.h>
@@ -31,6 +32,8 @@
    active 1,592 and 1,579, 2 rollbacks each; without the GPU's pairs the buffer's cloth had none,
    4 rollbacks and lay 6.1 cm from the arrays' */
 #define DIST_BOUND 1e-3
+#define SAVED_AT 25               /* the buffer's cloth saved after this frame, replayed to REPLAY_TO */
+#define REPLAY_TO 45
 #define PAIRS_NEAR 0.02
 
 static const double LO[3] = {-0.3, 0.0, -0.3}, HI[3] = {0.3, 0.3, 0.3};
@@ -44,6 +47,12 @@ static void fill_buffer(GLuint b, const float* pos, int nv) {
     glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, img, GL_DYNAMIC_DRAW);
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
     free(img);
+}
+
+/* The box at frame f: standing until frame 29, then rising 1 cm a frame to 0.2 m at frame 49. */
+static void set_body(const float* rest, int f, float* body) {
+    const double dy = 0.01 * (f < 30 ? 0 : f < 50 ? f - 29 : 20);
+    for (int i = 0; i < 24; ++i) body[i] = rest[i] + (i % 3 == 1 ? (float)dy : 0.0f);
 }
 
 typedef struct totals {
@@ -96,9 +105,12 @@ static void test_box_pairs(void) {
     int same = 1, count = 0;
     weft_frame fr = weft_default_frame();
     fr.dt = DT;
+    weft_cloth_info info = {0};
+    if (ctx) CHECK_EQ_INT(weft_cloth_get_info(ctx, c[1], &info), WEFT_OK);
+    unsigned char* saved = malloc(info.snapshot_size + 1);
+    float* replay = malloc((size_t)(REPLAY_TO - SAVED_AT) * sizeof pos[1]);
     for (int f = 1; ctx && f <= FRAMES; ++f) {
-        const double dy = 0.01 * (f < 30 ? 0 : f < 50 ? f - 29 : 20);
-        for (int i = 0; i < 24; ++i) body[i] = rest[i] + (i % 3 == 1 ? (float)dy : 0.0f);
+        set_body(rest, f, body);
         fill_buffer(buf, body, 8);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, c[0], 0, body, 8), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c[1], 0, buf, OFFSET, STRIDE, 8), WEFT_OK);
@@ -112,12 +124,31 @@ static void test_box_pairs(void) {
         }
         same &= memcmp(pos[0], pos[1], sizeof pos[0]) == 0;
         far = fmax(far, ag_max_distance(pos[0], pos[1], N * N));
+        if (f == SAVED_AT) CHECK_EQ_INT(weft_cloth_save(ctx, c[1], saved, info.snapshot_size), WEFT_OK);
+        if (f > SAVED_AT && f <= REPLAY_TO) memcpy(replay + (size_t)(f - SAVED_AT - 1) * 3 * N * N, pos[1], sizeof pos[1]);
     }
     double top = -HUGE_VAL, low = HUGE_VAL;
     for (int i = 0; i < N * N; ++i) {
         top = fmax(top, pos[1][3 * i + 1]);
         low = fmin(low, pos[1][3 * i + 1]);
     }
+    /* the buffer's cloth restored to frame SAVED_AT (the box rising, the pairs found again on
+       the GPU in each substep) and replayed: the same bits */
+    int replayed = ctx != NULL;
+    if (ctx) CHECK_EQ_INT(weft_cloth_restore(ctx, c[1], saved, info.snapshot_size), WEFT_OK);
+    for (int f = SAVED_AT + 1; ctx && f <= REPLAY_TO; ++f) {
+        set_body(rest, f, body);
+        fill_buffer(buf, body, 8);
+        CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c[1], 0, buf, OFFSET, STRIDE, 8), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_step(ctx, c[1], &fr, NULL), WEFT_OK);
+        CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c[1], WEFT_SPACE_WORLD, pos[1], NULL, N * N, &count), WEFT_OK);
+        replayed &= memcmp(pos[1], replay + (size_t)(f - SAVED_AT - 1) * 3 * N * N, sizeof pos[1]) == 0;
+    }
+    printf("  the buffer's cloth restored at frame %d and replayed to %d: %s\n", SAVED_AT, REPLAY_TO,
+           replayed ? "bit-identical" : "DIFFERENT");
+    CHECK(replayed);
+    free(saved);
+    free(replay);
     printf("  %d frames, the body %s: pairs found (active) arrays %d (%d), buffer %d (%d); rollbacks %d, %d; "
            "farthest apart %.3g m (bit-identical: %s); the buffer's sheet from %.3f to %.3f m\n",
            FRAMES, on_gpu ? "on the GPU" : "read back", t[0].pairs, t[0].active, t[1].pairs, t[1].active,
