@@ -200,9 +200,7 @@ int wg_mesh_sharp_find(wg_mesh_sharp* ms, wc_mesh_pairs* pp, const wc_model* m, 
         wg_run_groups_rw(run, count, (count + 63) / 64, &ms->mask);
     }
     const GLint zero = 0;
-    glBindTexture(GL_TEXTURE_2D, ms->counter.id);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 1, 1, GL_RED_INTEGER, GL_INT, &zero);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    wg_tex_upload(&ms->counter, 0, 0, 1, 1, &zero);
     for (int k = 0; k < g->n_mesh; ++k) {
         if (!g->resident[k]) continue;
         const wc_mesh_collider* mc = g->mesh[k];
@@ -219,10 +217,11 @@ int wg_mesh_sharp_find(wg_mesh_sharp* ms, wc_mesh_pairs* pp, const wc_model* m, 
         wg_run_groups_scratch(run, ms->n_feat, (ms->n_feat + 63) / 64, (const wg_tex* const[]){&ms->out}, 1,
                               &ms->counter);
     }
-    GLint count = 0;
+    GLint count = 0, prev = 0;   /* the counter: a synchronisation with the GPU */
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &prev);
     glBindTexture(GL_TEXTURE_2D, ms->counter.id);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, &count);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
     const int n = count < ms->cap ? count : ms->cap;
     if (n > 0) wg_array_read(run->layout, &ms->out, 3 * n, ms->rb);
     if (bytes) *bytes = sizeof(GLint) + 48 * (size_t)n;
