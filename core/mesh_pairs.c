@@ -523,6 +523,7 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
     const int nq = m->we.n_edges + m->n_tris;
     for (int k = 0; k < nm; ++k) {
         if (k >= pp->n_mesh) break; /* not the colliders it was created for */
+        if (mc[k]->on_device) continue; /* the device's detection (wc_mesh_pairs_add_found) */
         for (int i = 0; i < pp->n_particles; ++i) atomic_store_explicit(&pp->behind[i], -1, memory_order_relaxed);
         sharp_update(&pp->sharp[k], mc[k]);
         const unsigned char* mask = mc[k]->exhaustive ? NULL : pp->sharp[k].node_mask;
@@ -565,4 +566,11 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
         }
     }
     return pp->list.n;
+}
+
+int wc_mesh_pairs_add_found(wc_mesh_pairs* pp, const wc_model* m, const wc_filter* f, const unsigned char* stick,
+                            int cnt, const int* p, const double* w, const double* n, double off, double he) {
+    double inv = wc_penalty_inv_mass(m, f, stick, cnt, p, w);
+    if (!(inv > 0.0)) return 0;
+    return wc_penalty_pairs_add(&pp->list, &m->pattern, cnt, p, w, n, off, wc_penalty_stiffness(inv, he));
 }

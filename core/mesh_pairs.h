@@ -72,10 +72,20 @@ int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, cons
 /* Detection against the nm mesh colliders (each after wc_mesh_collider_substep of this substep
  * of length h s; he the system's step, bdf2.h, for k): x, v (n x 3, m, m/s) the cloth at the
  * substep's start; f (NULL: no pins) the filter and stick (NULL: none) the sticking contacts: a
- * particle with ndof 3 that does not stick is pinned (infinite mass). Empties the list first.
- * Returns the pairs found (pp->list.n). */
+ * particle with ndof 3 that does not stick is pinned (infinite mass). Empties the list first. A
+ * collider whose body is on a device (on_device, mesh_collider.h: core's copy is stale) is
+ * skipped: the device finds its pairs by the same rules and hands them to
+ * wc_mesh_pairs_add_found. Returns the pairs found (pp->list.n). */
 int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int nm, const struct wc_model* m,
                        const struct wc_filter* f, const unsigned char* stick, const double* x, const double* v,
                        double h, double he);
+
+/* A pair found by the rules above elsewhere (a GPU's detection for a body kept there: its cloth
+ * particles p (cnt 2: a cloth edge, 3: a triangle), weights w, normal n and off, the push_speed
+ * cap applied), appended to the list as the detection's keep does: not when every particle is
+ * pinned (f, stick as wc_mesh_pairs_find's), k by penalty_pairs.h's rule for he. 1 when kept. */
+int wc_mesh_pairs_add_found(wc_mesh_pairs* pp, const struct wc_model* m, const struct wc_filter* f,
+                            const unsigned char* stick, int cnt, const int* p, const double* w, const double* n,
+                            double off, double he);
 
 #endif

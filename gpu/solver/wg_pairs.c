@@ -194,7 +194,7 @@ static void stage_pair(wg_pairs* p, const wc_penalty_pairs* l, int j, int at) {
 }
 
 void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
-                   const wg_tex* vstar, const wg_tex* xb, int n_pins, int mesh_resident) {
+                   const wg_tex* vstar, const wg_tex* xb, int n_pins, wg_mesh_sharp* sharp) {
     const wc_model* m = s->model;
     const int n = p->cl.n;
     memset(&p->counts, 0, sizeof p->counts);
@@ -213,9 +213,10 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
     const wc_filter pins = {n, NULL, NULL, p->ndof};
     if (s->pairs) {
         wc_penalty_pairs_clear(&s->pairs->list);
-        if (!mesh_resident)
-            wc_mesh_pairs_find(s->pairs, (const wc_mesh_collider* const*)s->mesh, s->n_mesh, m, &pins, NULL, p->x,
-                               p->v, ig->h, ig->he);
+        wc_mesh_pairs_find(s->pairs, (const wc_mesh_collider* const*)s->mesh, s->n_mesh, m, &pins, NULL, p->x, p->v,
+                           ig->h, ig->he);
+        if (sharp)   /* the resident bodies' (their copies in core are stale: core skipped them) */
+            wg_mesh_sharp_find(sharp, s->pairs, m, &pins, NULL, x, v, ig->h, ig->he, NULL);
         p->counts.mesh = s->pairs->list.n;
         p->counts.mesh_overflow = s->pairs->list.overflow;
         p->counts.mesh_skipped = s->pairs->list.skipped;

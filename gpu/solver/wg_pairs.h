@@ -5,8 +5,8 @@
  * At the substep's start (after the contacts' correction and the integrator's vectors, where
  * core/step.c's prepare finds them) the positions, the velocities and (BDF2, TR-BDF2) v* are read
  * back, core's detections run on them (the mesh pairs: every mesh collider moved on the host;
- * while a body is resident on the GPU, wg_mesh.h, no mesh pair is looked for: core's copy of it
- * is stale) and the pairs go up with a CSR of each particle's entries. After the assembly,
+ * a body resident on the GPU, wg_mesh.h, whose copy in core is stale, has its pairs found on the
+ * GPU by wg_mesh_sharp.h and appended) and the pairs go up with a CSR of each particle's entries. After the assembly,
  * core's wc_penalty_pairs_assemble decides the active set in double (the predicted gap, with the
  * external forces core computes at the same positions) into host scratch; its additions to b,
  * f_total (what friction reads) and A's diagonal blocks go up as per-particle arrays over the
@@ -23,13 +23,16 @@
  * BDF2 and TR-BDF2), the pairs (48 bytes each and 16 an entry) and 16 n bytes of rows up at the
  * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
  * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
- * two for each potential change (the two iterates). Everything is allocated at creation (the
- * lists' capacities); nothing in a step. Calls are made with the cloth's GL context current. */
+ * two for each potential change (the two iterates); with a body resident on the GPU, 4 bytes up
+ * and 4, plus 48 a pair it has, read back at the start (wg_mesh_sharp.h). Everything is
+ * allocated at creation (the lists' capacities); nothing in a step. Calls are made with the
+ * cloth's GL context current. */
 #ifndef WEFT_GPU_SOLVER_PAIRS_H
 #define WEFT_GPU_SOLVER_PAIRS_H
 
 #include "bdf2.h"
 #include "state.h"
+#include "wg_mesh_sharp.h"
 #include "wg_passes.h"
 #include "wg_runner.h"
 
@@ -60,9 +63,11 @@ void wg_pairs_forget(wg_pairs* p);          /* the memory only (the GL context i
 size_t wg_pairs_bytes(const wg_pairs* p);   /* GPU memory held; 0 for NULL */
 
 /* The substep's start (ig its coefficients): x, v and v* (textures; with Newton, xb too) read
- * back, the pairs found (mesh_resident: skip the mesh pairs) and uploaded, none active yet. */
+ * back, the pairs found (sharp, NULL: none, the resident bodies' mesh pairs on the GPU) and
+ * uploaded, none active yet. */
 void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
-                   const wg_tex* vstar, const wg_tex* xb, int n_pins, int mesh_resident);
+                   const wg_tex* vstar, const wg_tex* xb, int n_pins, wg_mesh_sharp* sharp);
+
 /* After the assembly of A, b and ftot: the active set and its terms. */
 void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig);
 /* After a solve (dv its result): list 0 (the mesh pairs) or 1 (the self pairs) rechecked (core's

@@ -165,6 +165,19 @@ WHOLE(wg_mesh_gather_in, mesh_gather);
 static const wg_pass_input mesh_refit[] = {IN(wg_mesh_refit_in, order), IN(wg_mesh_refit_in, tri_idx),
                                            IN(wg_mesh_refit_in, vert)};
 WHOLE(wg_mesh_refit_in, mesh_refit);
+static const wg_pass_input mesh_sharp[] = {IN(wg_mesh_sharp_in, mesh_vert), IN(wg_mesh_sharp_in, mesh_tri),
+                                           IN(wg_mesh_sharp_in, bedge), IN(wg_mesh_sharp_in, btri),
+                                           IN(wg_mesh_sharp_in, bvrow), IN(wg_mesh_sharp_in, bvlist)};
+WHOLE(wg_mesh_sharp_in, mesh_sharp);
+static const wg_pass_input mesh_pairs_find[] = {
+    IN(wg_mesh_pairs_find_in, mesh_vert), IN(wg_mesh_pairs_find_in, mesh_tri), IN(wg_mesh_pairs_find_in, mesh_node),
+    IN(wg_mesh_pairs_find_in, x),         IN(wg_mesh_pairs_find_in, v),        IN(wg_mesh_pairs_find_in, cfeat),
+    IN(wg_mesh_pairs_find_in, bedge),     IN(wg_mesh_pairs_find_in, bvrow),    IN(wg_mesh_pairs_find_in, bvlist),
+    IN(wg_mesh_pairs_find_in, btri),      IN(wg_mesh_pairs_find_in, sharp),    IN(wg_mesh_pairs_find_in, mask)};
+WHOLE(wg_mesh_pairs_find_in, mesh_pairs_find);
+static const wg_pass_input mesh_sharp_mask[] = {IN(wg_mesh_sharp_mask_in, order), IN(wg_mesh_sharp_mask_in, mesh_node),
+                                                IN(wg_mesh_sharp_mask_in, mesh_tri), IN(wg_mesh_sharp_mask_in, sharp)};
+WHOLE(wg_mesh_sharp_mask_in, mesh_sharp_mask);
 static const wg_pass_input normals[] = {IN(wg_normals_in, x), IN(wg_normals_in, rows), IN(wg_normals_in, row_tri),
                                         IN(wg_normals_in, tri)};
 WHOLE(wg_normals_in, normals);
@@ -312,6 +325,9 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_MESH_MEASURE] = COMPUTE("mesh_measure", mesh_measure, wg_mesh_measure_in),
     [WGP_MESH_GATHER] = COMPUTE("mesh_gather", mesh_gather, wg_mesh_gather_in),
     [WGP_MESH_REFIT_GROUPS] = NATIVE("mesh_refit_groups", mesh_refit, wg_mesh_refit_in),
+    [WGP_MESH_SHARP] = COMPUTE("mesh_sharp", mesh_sharp, wg_mesh_sharp_in),
+    [WGP_MESH_SHARP_MASK_GROUPS] = NATIVE("mesh_sharp_mask_groups", mesh_sharp_mask, wg_mesh_sharp_mask_in),
+    [WGP_MESH_PAIRS_FIND_GROUPS] = NATIVE("mesh_pairs_find_groups", mesh_pairs_find, wg_mesh_pairs_find_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),

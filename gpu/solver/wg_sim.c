@@ -45,7 +45,8 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     size_t bytes = 0;
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
-    return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts) + wg_pairs_bytes(g->pairs);
+    return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts) + wg_pairs_bytes(g->pairs) +
+           wg_mesh_sharp_bytes(g->sharp);
 }
 
 void wg_sim_forget(wg_sim* g) {
@@ -60,11 +61,13 @@ void wg_sim_destroy(wg_sim* g) {
         wg_contacts_forget(g->contacts);
         wg_amg_forget(g->amg);
         wg_pairs_forget(g->pairs);
+        wg_mesh_sharp_destroy(g->sharp, 0);
         goto memory;
     }
     wg_contacts_destroy(g->contacts);
     wg_amg_destroy(g->amg);
     wg_pairs_destroy(g->pairs);
+    wg_mesh_sharp_destroy(g->sharp, 1);
     wg_tex* t[128];
     int n = all_textures(g, t, 128);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
@@ -321,8 +324,8 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     if (s->n_mesh > 0)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: %d mesh collider(s): the vertices' contacts run on the GPU, continuous ones included; "
-               "the penalty pairs at the body's sharp edges and corners are found on the host and solved on the "
-               "GPU, except on a body kept on the GPU (docs/design/gpu_bodies.md)", s->n_mesh);
+               "the penalty pairs at the body's sharp edges and corners are found on the host (on the GPU for a body "
+               "kept there) and solved on the GPU (docs/design/gpu_bodies.md)", s->n_mesh);
     if (s->self)
         wc_log(diag, WC_LOG_INFO,
                "GPU cloth: self-collision: core's stage runs on the host at the end of every substep (positions "
@@ -399,6 +402,9 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         ok = wg_pairs_create(&g->run, &cloth, s, &g->pairs, err, sizeof err);
         wg_contacts_use_pairs(g->contacts, g->pairs);
     }
+    if (ok && g->pairs && s->pairs && s->n_mesh > 0 && wg_contacts_mesh(g->contacts) &&
+        wg_contacts_mesh(g->contacts)->body)
+        ok = wg_mesh_sharp_create(&g->run, wg_contacts_mesh(g->contacts), s->pairs, m, &g->sharp, err, sizeof err);
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1};
         /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs the same V-cycle (pcg_group_amg.glsl) */

@@ -106,6 +106,9 @@ struct wg_sim {
                                    has one (s->self), else NULL */
     wg_pairs* pairs;            /* the penalty pairs in the solve (wg_pairs.h) when the state has
                                    lists and Newton is not wanted, else NULL */
+    wg_mesh_sharp* sharp;       /* the resident bodies' sharp-feature pairs found on the GPU
+                                   (wg_mesh_sharp.h) when there are pairs and bodies may be
+                                   resident (compute passes), else NULL */
     int amg_on;                 /* PCG's solve in progress preconditions with it */
     int newton;                 /* Newton iterations above 1 or the line search (core's
                                    wc_newton_wanted): the nw_* textures exist */

@@ -84,7 +84,7 @@ void wg_step_prepare(wg_sim* g, wc_state* s, const wc_integ* ig, double alpha1, 
     if (g->pairs) {   /* the penalty pairs found where core's prepare finds them (wg_pairs.h) */
         const wg_mesh* mesh = wg_contacts_mesh(g->contacts);
         wg_pairs_find(g->pairs, s, ig, wg_ring_cur(&g->x), wg_ring_cur(&g->v), wg_integ_vstar(g, ig),
-                      wg_integ_xb(g, ig), g->n_pins_uploaded, mesh && mesh->n_resident > 0);
+                      wg_integ_xb(g, ig), g->n_pins_uploaded, mesh && mesh->n_resident > 0 ? g->sharp : NULL);
         if (g->amg) wg_amg_set_pairs(g->amg, g->pairs);   /* their terms in every level */
     }
 

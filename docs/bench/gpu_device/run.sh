@@ -18,7 +18,7 @@
 # GPU-against-CPU test; the GPU once more with the multigrid's pair cross terms, WEFT_GPU_AMG_CROSS=1), and the seed's anchor:
 # weft bench collide at 25,600 particles on a 20k-triangle body, CPU and GPU): ~6 min;
 # body: a deforming body from a host GL buffer against host arrays (its tests: the body's passes
-# against core, the API's two paths; bench_body_gl: bytes moved, ms of each call and of a step,
+# and its sharp-feature pairs against core, the API's two paths, a box's pairs both ways; bench_body_gl: bytes moved, ms of each call and of a step,
 # 2k to 80k triangles): ~1 min.
 O=${1:-/tmp/out}; MODE=${2:-}; SMALL=; [ "$MODE" = small ] && SMALL=1
 mkdir -p "$O"
@@ -124,6 +124,8 @@ if [ "$MODE" = body ]; then   # weft_cloth_set_mesh_collider_gl_buffer against t
   { nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>&1
     timeout 60 build-dev/tests/test_gpu_mesh_body > /tmp/tm.txt 2>&1; echo "test_gpu_mesh_body rc=$?"; grep -E "substep|FAIL" /tmp/tm.txt
     timeout 60 build-dev/tests/test_api_gpu_body_gl > /tmp/tb.txt 2>&1; echo "test_api_gpu_body_gl rc=$?"; grep -E "frames|ulp|replayed|FAIL" /tmp/tb.txt
+    timeout 60 build-dev/tests/test_gpu_mesh_sharp > /tmp/ts.txt 2>&1; echo "test_gpu_mesh_sharp rc=$?"; grep -E "substep|FAIL" /tmp/ts.txt
+    timeout 60 build-dev/tests/test_api_gpu_body_pairs > /tmp/tp.txt 2>&1; echo "test_api_gpu_body_pairs rc=$?"; grep -E "frames|replayed|FAIL" /tmp/tp.txt
     for k in 32 100 200; do timeout 120 build-dev/tests/bench/bench_body_gl --k $k --n 64 --frames 30 2>&1 | tail -1; done
   } 2>&1 | tee "$O/i_body.md"
   exit 0
