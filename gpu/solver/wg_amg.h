@@ -58,12 +58,15 @@
 #include "amg.h"
 #include "model.h"
 #include "wg_reduce.h"
+#include "wg_ring.h"
 
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
 #define WG_AMG_ROTATIONS 1     /* the default near-null space with the smoothed prolongator:
                                    rotations (wg_amg.rotations) */
+#define WG_AMG_CURRENT 1       /* the default with rotations: about the current positions
+                                   (wg_amg.current; docs/bench/gpu.md) */
 #define WG_AMG_POWER 12         /* power iterations per level on a cold setup (from core's start
                                    vector: a frame's first, and after a rollback or a failed solve) */
 #define WG_AMG_POWER_COARSE WC_AMG_COARSE_POWER /* on the coarse levels with the smoothed
@@ -145,6 +148,16 @@ typedef struct wg_amg_level {
     int pair;                   /* a pair level (rotations, levels >= 1): D^-1 is 6x6 per pair
                                    (2a, 2a + 1), dinv holds 2n texels, rows.w the block (i, i ^ 1)
                                    (amg_level_inputs.glsl u_pair) */
+    /* rotations about the current positions (wg_amg.current; amg_tent_qr.glsl): per setup the
+       QR of each aggregate of this level into tent (to the next level) and the next level's nn
+       and nc */
+    wg_tex tq_range, tq_list;   /* below the coarsest: each aggregate's nodes (core's agg_start /
+                                   agg_node) */
+    wg_tex tq_of;               /* below the coarsest: each node's aggregate */
+    wg_tex nn[6];               /* levels >= 1: each node's near-null rows (core's nns: node 2a + q
+                                   holds rows 3q..3q + 2 of aggregate a's R), about nc.xyz: row r,
+                                   columns 3h..3h + 2 in nn[2 r + h].xyz */
+    wg_tex nc;                  /* levels >= 1: (its aggregate's centre, its dead unknowns' bits) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -153,6 +166,8 @@ typedef struct wg_amg_system {
     const wg_tex* block;        /* blocks: (row, column, -, -) */
     const wg_tex *a_lo, *a_hi;  /* A's symmetric blocks */
     const wg_tex *S0, *S1;      /* the filter */
+    wg_ring* x;                 /* the state's positions (the rotations' about the current
+                                   positions, wg_amg.current); NULL: the rest positions' P_tent */
 } wg_amg_system;
 
 typedef struct wg_amg {
@@ -169,6 +184,13 @@ typedef struct wg_amg {
     int rotations;              /* the near-null space: the six rigid modes about the rest
                                    positions (WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT), else the three
                                    translations; only with the smoothed prolongator */
+    int current;                /* with rotations: about the current positions (WG_AMG_CURRENT,
+                                   WEFT_GPU_AMG_CURRENT; the system's x), P_tent, R and the dead
+                                   unknowns rebuilt by every setup on the device (amg_tent_qr.glsl,
+                                   two passes a level), else core's about the rest positions,
+                                   uploaded once */
+    wg_chain cen_red;           /* current: the positions' sum (the centroid core's dead test
+                                   measures its columns about) */
     double fine_bound_scale;    /* the finest level's bound x this: core's wc_amg.fine_bound_scale
                                    (WC_AMG_SEAM_BOUND where vertex-to-edge seams lift lambda_max in
                                    modes local to them, which the power iterations miss; else 1) */
