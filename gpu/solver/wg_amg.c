@@ -13,8 +13,9 @@ wc_amg_opts wg_amg_opts_for(int smoothed) { return wg_amg_opts_form(smoothed, 0)
 wc_amg_opts wg_amg_opts_form(int smoothed, int rotations) {
     wc_amg_opts o = wc_default_amg_opts();
     o.coarse_max = WG_AMG_DENSE_NODES;
-    o.rotations = smoothed && rotations; /* about the rest positions (current_positions 0 below):
-                                            P_tent built once, uploaded (wg_amg_smooth.c) */
+    o.rotations = smoothed && rotations; /* core's about the rest positions (current_positions 0
+                                            below): P_tent uploaded (wg_amg_smooth.c), the rest
+                                            form's; the current form makes its own (tent_setup) */
     o.pair_blocks = 1;
     if (!smoothed) o.prolong_weight = 0.0; /* else core's (4/3): the patterns of P, T = A P, P^T T */
     o.lanczos = 0;

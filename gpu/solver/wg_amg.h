@@ -9,8 +9,12 @@
  * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
  * prolongation folds into the smoother's first pass.
  * Rotations (rotations, WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT; with the smoothed P only): the six
- * rigid modes about the REST positions, so core builds P_tent once (its QR per aggregate, two
- * coarse nodes 2a, 2a + 1 an aggregate, core/amg.h) and its 3x3 blocks are uploaded; the
+ * rigid modes, two coarse nodes 2a, 2a + 1 an aggregate (core/amg.h), by default (current,
+ * WG_AMG_CURRENT, WEFT_GPU_AMG_CURRENT) about the CURRENT positions as core's: every setup does
+ * each aggregate's QR on the device (amg_tent_qr.glsl: two passes a level, the next level's
+ * near-null rows R, centres and dead unknowns, then P_tent's blocks), each aggregate's rows about
+ * its own centre (core's R up to an upper-triangular change of basis, the same Q); else about the
+ * REST positions, core's P_tent built once (its QR per aggregate) and its 3x3 blocks uploaded; the
  * prolongator pass multiplies each block of A by the P_tent block of its column, and the
  * 3x3-block passes (T = A P, P^T T, the restriction and prolongation) run unchanged on the
  * doubled coarse nodes. The pair levels (every level below the finest) smooth with a 6x6 block
@@ -181,8 +185,9 @@ typedef struct wg_amg {
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
                                    P = P_tent (WEFT_GPU_AMG_SMOOTH=0) */
     double prolong_weight;      /* core's (4/3) where smoothed */
-    int rotations;              /* the near-null space: the six rigid modes about the rest
-                                   positions (WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT), else the three
+    int rotations;              /* the near-null space: the six rigid modes (about the current or
+                                   the rest positions: current) (WG_AMG_ROTATIONS,
+                                   WEFT_GPU_AMG_ROT), else the three
                                    translations; only with the smoothed prolongator */
     int current;                /* with rotations: about the current positions (WG_AMG_CURRENT,
                                    WEFT_GPU_AMG_CURRENT; the system's x), P_tent, R and the dead
@@ -236,8 +241,9 @@ typedef struct wg_amg {
 wc_amg_opts wg_amg_opts(void);
 /* The same for a smoothed prolongator (smoothed 1) or P = P_tent (0), translations only. */
 wc_amg_opts wg_amg_opts_for(int smoothed);
-/* The same with the near-null space chosen: rotations 1 (about the rest positions, P_tent built
- * once by core; with smoothed only) or 0. */
+/* The same with the near-null space chosen: rotations 1 (with smoothed only) or 0. Core's
+ * P_tent about the rest positions is built either way (current_positions 0): the GPU's rest form,
+ * and the patterns and lists of both. */
 wc_amg_opts wg_amg_opts_form(int smoothed, int rotations);
 /* The multigrid of model m's system: patterns and lists uploaded; 0 with err on failure. */
 int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
