@@ -158,7 +158,8 @@ static int level_textures(wg_amg_level* G, wg_tex** out) {
                       &G->p_ent, &G->p_rows, &G->p_range, &G->p_list, &G->p[0], &G->p[1], &G->p[2],
                       &G->t_range, &G->t_list, &G->t[0], &G->t[1], &G->t[2], &G->pt_range, &G->pt_list, &G->res,
                       &G->tent[0], &G->tent[1], &G->tent[2], &G->tq_range, &G->tq_list, &G->tq_of,
-                      &G->nn[0], &G->nn[1], &G->nn[2], &G->nn[3], &G->nn[4], &G->nn[5], &G->nc};
+                      &G->nn[0], &G->nn[1], &G->nn[2], &G->nn[3], &G->nn[4], &G->nn[5], &G->nc,
+                      &G->tq_t[0], &G->tq_t[1], &G->tq_t[2], &G->tq_t[3], &G->tq_t[4], &G->tq_t[5]};
     int n = (int)(sizeof list / sizeof list[0]);
     for (int k = 0; k < n; ++k) out[k] = list[k];
     return n;
@@ -195,6 +196,7 @@ static int tent_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
         for (int i = 0; i < F->n; ++i) v[4 * i] = F->agg[i];
         ok = ok && upload_i4(L0, &G->tq_of, F->n, v, err, el);
         for (int k = 0; ok && k < 6; ++k) ok = wg_array_create(L0, &N->nn[k], GL_RGBA32F, C->n, NULL, err, el);
+        for (int k = 0; ok && k < 6; ++k) ok = wg_array_create(L0, &N->tq_t[k], GL_RGBA32F, C->n, NULL, err, el);
         ok = ok && wg_array_create(L0, &N->nc, GL_RGBA32F, C->n, NULL, err, el);
     }
     const wg_tex* x = &a->sys.x->t[0];
@@ -430,7 +432,8 @@ static void smoothed_galerkin(wg_amg* a, int l) {
 
 /* P_tent, the next levels' near-null rows (R) and dead unknowns about the current positions
  * (wg_amg.current): the positions' sum, then per level its aggregates' QR twice, once per next
- * level's node (amg_tent_rows) and once per P_tent block (amg_tent_blocks). */
+ * level's node for its rows, centre and dead bits (amg_tent_rows) and once for its coefficients of
+ * Q (amg_tent_coef), then P_tent's blocks from those (amg_tent_blocks). */
 static void tent_setup(wg_amg* a) {
     wg_runner* run = a->run;
     const wg_tex* x = wg_ring_cur(a->sys.x);
@@ -441,13 +444,16 @@ static void tent_setup(wg_amg* a) {
         wg_amg_in in = {.tq_range = &F->tq_range, .tq_list = &F->tq_list, .tq_of = &F->tq_of, .pos = l ? cen : x,
                         .cen = cen, .nn0 = l ? &F->nn[0] : cen, .nn1 = l ? &F->nn[1] : cen, .nn2 = l ? &F->nn[2] : cen,
                         .nn3 = l ? &F->nn[3] : cen, .nn4 = l ? &F->nn[4] : cen, .nn5 = l ? &F->nn[5] : cen,
-                        .nc = l ? &F->nc : cen};
-        for (int p = 0; p < 2; ++p) {
-            WG_USE(run, p ? WGP_AMG_TENT_BLOCKS : WGP_AMG_TENT_ROWS, &in);
+                        .nc = l ? &F->nc : cen, .nc_next = &N->nc, .tq_t0 = &N->tq_t[0], .tq_t1 = &N->tq_t[1],
+                        .tq_t2 = &N->tq_t[2], .tq_t3 = &N->tq_t[3], .tq_t4 = &N->tq_t[4], .tq_t5 = &N->tq_t[5]};
+        const wg_pass_id pass[3] = {WGP_AMG_TENT_ROWS, WGP_AMG_TENT_COEF, WGP_AMG_TENT_BLOCKS};
+        for (int p = 0; p < 3; ++p) {
+            WG_USE(run, pass[p], &in);
             wg_u1i(run, "u_fine", l == 0);
-            wg_u1f(run, "u_inv_count", 1.0f / (float)a->lev[0].n);
-            if (p) WG_RUN(run, 2 * F->n, &F->tent[0], &F->tent[1], &F->tent[2]);
-            else WG_RUN(run, N->n, &N->nn[0], &N->nn[1], &N->nn[2], &N->nn[3], &N->nn[4], &N->nn[5], &N->nc);
+            if (p < 2) wg_u1f(run, "u_inv_count", 1.0f / (float)a->lev[0].n);
+            if (p == 0) WG_RUN(run, N->n, &N->nn[0], &N->nn[1], &N->nn[2], &N->nn[3], &N->nn[4], &N->nn[5], &N->nc);
+            else if (p == 1) WG_RUN(run, N->n, &N->tq_t[0], &N->tq_t[1], &N->tq_t[2], &N->tq_t[3], &N->tq_t[4], &N->tq_t[5]);
+            else WG_RUN(run, 2 * F->n, &F->tent[0], &F->tent[1], &F->tent[2]);
         }
     }
 }

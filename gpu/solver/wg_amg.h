@@ -162,6 +162,8 @@ typedef struct wg_amg_level {
                                    holds rows 3q..3q + 2 of aggregate a's R), about nc.xyz: row r,
                                    columns 3h..3h + 2 in nn[2 r + h].xyz */
     wg_tex nc;                  /* levels >= 1: (its aggregate's centre, its dead unknowns' bits) */
+    wg_tex tq_t[6];             /* levels >= 1: node 2a + q's coefficients of Q's columns 3q + k
+                                   on aggregate a's rows (ta in tq_t[2k].xyz, tb in tq_t[2k + 1]) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
