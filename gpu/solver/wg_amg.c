@@ -165,6 +165,14 @@ static int level_textures(wg_amg_level* G, wg_tex** out) {
     return n;
 }
 
+/* Every aggregate has at most WG_AMG_TENT_NODES nodes (amg_tent_qr.glsl holds its columns). */
+static int tent_fits(const wc_amg* ca) {
+    for (int l = 0; l + 1 < ca->n_levels; ++l)
+        for (int g = 0; g < ca->lev[l + 1].n / 2; ++g)
+            if (ca->lev[l].agg_start[g + 1] - ca->lev[l].agg_start[g] > WG_AMG_TENT_NODES) return 0;
+    return 1;
+}
+
 /* The rotations about the current positions (wg_amg.current): each level's aggregates' nodes and
  * each node's aggregate (core's agg_start / agg_node), the next levels' near-null rows and centres
  * (made per setup, tent_setup), the positions' reduction. */
@@ -258,7 +266,7 @@ int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* s
         a->lev[l].v_last = 1;   /* a cold setup's first step writes v[0] */
     }
     if (a->smoothed && !wg_amg_smooth_create(a, ca, err, el)) goto fail;
-    a->current = a->rotations && sys->x && run->dev->amg_current;
+    a->current = a->rotations && sys->x && run->dev->amg_current && tent_fits(ca);
     if (a->current && !tent_create(a, ca, err, el)) goto fail;
     /* each particle's node on each level (the pairs' cross terms, wg_amg_set_pairs) */
     const int n0 = ca->lev[0].n;

@@ -6,8 +6,8 @@
 // of every particle: B(c) = B(cg) M, M = [I K; 0 I] upper triangular, so Q is the same and R is
 // R(cg) M, without float's cancellation of a far centroid (docs/design/gpu_passes.md). Core's
 // dead test is kept: a column's norm is taken about the particles' centroid cg as core's.
-// Q is held as coefficients on B (column c of Q = B (ta[c], tb[c])), made from the nodes' rows
-// each time they are read, so no (3 m) x 6 array is kept.
+// Q's columns are held per member (tq_q) and, for P_tent's blocks, as coefficients on the rows
+// (column c of Q = B (ta[c], tb[c]): amg_tent_coef, amg_tent_blocks).
 uniform isampler2D tq_range;  // per aggregate: (its first node in tq_list, end)
 uniform isampler2D tq_list;   // nodes of this level
 uniform sampler2D pos;        // the finest level: the positions
@@ -45,52 +45,57 @@ void tq_rows(int j, vec3 c, out mat3 tr, out mat3 ro) {
     ro = transpose(mat3(r1.xyz, r3.xyz, r5.xyz)) + tr * tq_skew(ld(nc, j).xyz - c);
 }
 
-vec3 tq_col(mat3 tr, mat3 ro, int c) { return c < 3 ? tr[c] : ro[c - 3]; }
 
-// Aggregate a's QR into tq_R (R about its centre, returned), tq_live and Q's coefficients.
+// Aggregate a's QR into tq_R (R about its centre, returned), tq_live and Q's coefficients; its
+// columns about its centre in tq_q (member s's rows of column k: tq_q[6 s + k]), core's qr_local
+// on them (the host keeps aggregates of at most WG_AMG_TENT_NODES nodes, TQ_CAP here).
+#define TQ_CAP 64
+vec3 tq_q[6 * TQ_CAP];
+
 vec3 tent_qr(int a) {
     ivec4 m = ldi(tq_range, a);
+    const int cnt = m.y - m.x;
     vec3 c = vec3(0.0);
     for (int e = m.x; e < m.y; ++e) c += tq_centre(ldi(tq_list, e).x);
-    c /= float(m.y - m.x);
+    c /= float(cnt);
     vec3 cg = texelFetch(cen, ivec2(0), 0).xyz * u_inv_count;
+    float n0[6];
+    for (int k = 0; k < 6; ++k) n0[k] = 0.0;
+    mat3 to_cg = tq_skew(c - cg);   // the rotations about cg: + the translations x K(c - cg)
+    for (int s = 0; s < cnt; ++s) {
+        mat3 tr, ro;
+        tq_rows(ldi(tq_list, m.x + s).x, c, tr, ro);
+        mat3 rg = ro + tr * to_cg;
+        for (int k = 0; k < 3; ++k) {
+            tq_q[6 * s + k] = tr[k];
+            tq_q[6 * s + 3 + k] = ro[k];
+            n0[k] += dot(tr[k], tr[k]);
+            n0[3 + k] += dot(rg[k], rg[k]);
+        }
+    }
     for (int k = 0; k < 36; ++k) tq_R[k] = 0.0;
     for (int k = 0; k < 6; ++k) {
         tq_ta[k] = k < 3 ? vec3(k == 0, k == 1, k == 2) : vec3(0.0);
         tq_tb[k] = k < 3 ? vec3(0.0) : vec3(k == 3, k == 4, k == 5);
     }
     for (int k = 0; k < 6; ++k) {
-        float norm0 = 0.0;   // about cg, core's column
-        for (int e = m.x; e < m.y; ++e) {
-            mat3 tr, ro;
-            tq_rows(ldi(tq_list, e).x, cg, tr, ro);
-            vec3 v = tq_col(tr, ro, k);
-            norm0 += dot(v, v);
-        }
-        norm0 = sqrt(norm0);
+        float norm0 = sqrt(n0[k]);   // about cg, core's column
         for (int pass = 0; pass < 2; ++pass)
             for (int d = 0; d < k; ++d) {
                 if (!tq_live[d]) continue;
-                float s = 0.0;
-                for (int e = m.x; e < m.y; ++e) {
-                    mat3 tr, ro;
-                    tq_rows(ldi(tq_list, e).x, c, tr, ro);
-                    s += dot(tr * tq_ta[d] + ro * tq_tb[d], tr * tq_ta[k] + ro * tq_tb[k]);
-                }
-                tq_ta[k] -= s * tq_ta[d];
-                tq_tb[k] -= s * tq_tb[d];
-                tq_R[6 * d + k] += s;
+                float sum = 0.0;
+                for (int s = 0; s < cnt; ++s) sum += dot(tq_q[6 * s + d], tq_q[6 * s + k]);
+                for (int s = 0; s < cnt; ++s) tq_q[6 * s + k] -= sum * tq_q[6 * s + d];
+                tq_ta[k] -= sum * tq_ta[d];
+                tq_tb[k] -= sum * tq_tb[d];
+                tq_R[6 * d + k] += sum;
             }
         float norm = 0.0;
-        for (int e = m.x; e < m.y; ++e) {
-            mat3 tr, ro;
-            tq_rows(ldi(tq_list, e).x, c, tr, ro);
-            vec3 v = tr * tq_ta[k] + ro * tq_tb[k];
-            norm += dot(v, v);
-        }
+        for (int s = 0; s < cnt; ++s) norm += dot(tq_q[6 * s + k], tq_q[6 * s + k]);
         norm = sqrt(norm);
         tq_live[k] = norm > 1e-6 * norm0 && !isinf(norm) && !isnan(norm);
         float scale = tq_live[k] ? 1.0 / norm : 0.0;
+        for (int s = 0; s < cnt; ++s) tq_q[6 * s + k] *= scale;
         tq_ta[k] *= scale;
         tq_tb[k] *= scale;
         tq_R[7 * k] = tq_live[k] ? norm : 0.0;
