@@ -71,7 +71,7 @@
                                    rotations (wg_amg.rotations) */
 #define WG_AMG_CURRENT 1       /* the default with rotations: about the current positions
                                    (wg_amg.current; docs/bench/gpu.md) */
-#define WG_AMG_TENT_NODES 64   /* the current form's aggregates hold at most this many nodes
+#define WG_AMG_TENT_NODES 128  /* the current form's aggregates hold at most this many nodes
                                    (amg_tent_qr.glsl TQ_CAP: an invocation holds its columns);
                                    a hierarchy with a larger one takes the rest form */
 #define WG_AMG_POWER 12         /* power iterations per level on a cold setup (from core's start

@@ -49,7 +49,7 @@ void tq_rows(int j, vec3 c, out mat3 tr, out mat3 ro) {
 // Aggregate a's QR into tq_R (R about its centre, returned), tq_live and Q's coefficients; its
 // columns about its centre in tq_q (member s's rows of column k: tq_q[6 s + k]), core's qr_local
 // on them (the host keeps aggregates of at most WG_AMG_TENT_NODES nodes, TQ_CAP here).
-#define TQ_CAP 64
+#define TQ_CAP 128
 vec3 tq_q[6 * TQ_CAP];
 
 vec3 tent_qr(int a) {
