@@ -12,9 +12,11 @@
  *   - the centres against the aggregates' means (of the positions, then of the finer centres);
  *   - the dead unknowns (nc.w) equal to core's, bit for bit.
  * The mutation: the GPU's rest form (WEFT_GPU_AMG_CURRENT=0, core's P_tent about the rest
- * positions) against core's about the bent sheet's current ones is far off. By hand (in
- * amg_tent_qr.glsl; docs/bench/gpu.md): the centre's mean over one node fewer, one Gram-Schmidt
- * pass, the dead test about the aggregate's centre, the coarse rows not moved to the centre.
+ * positions) against core's about the bent sheet's current ones is far off. Caught by hand (in
+ * amg_tent_qr.glsl; docs/bench/gpu.md): the centre's mean over one node fewer, the dead test
+ * about the aggregate's centre, the coarse rows not moved to the centre, the rows about the
+ * particles' centroid (float's cancellation). Not caught: one Gram-Schmidt pass (about the
+ * aggregate's centre the columns stay well conditioned, even squashed).
  * The levels' P, Galerkin blocks, V-cycle and PCG in this form: test_gpu_amg_smooth "rot cur" and
  * "dead cur". */
 #include <math.h>
