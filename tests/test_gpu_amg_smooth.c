@@ -21,7 +21,12 @@
  * one work group (WEFT_GPU_SOLVE=group's cloth), against core's PCG with the same multigrid.
  * Mutations it catches (tried by hand in amg_ptap.glsl): the dead unknowns' diagonal left 0 (the
  * coarse blocks 0.53 off, both PCGs unconverged) or set to 1 instead of the block's mean live
- * diagonal (0.52 off). */
+ * diagonal (0.52 off).
+ * With a second argument "cur" (ctest test_gpu_amg_rot_current, test_gpu_amg_dead_current) the
+ * rotations are about the current positions on both sides (wg_amg.current: the GPU's QR per
+ * setup, amg_tent_qr.glsl; core's current_positions with wc_amg.pos the positions the GPU holds,
+ * read back), every check and mutation above the same; test_gpu_amg_current checks P_tent, R and
+ * the dead unknowns themselves. Without it the GPU takes the rest form (WEFT_GPU_AMG_CURRENT=0). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,6 +44,20 @@ static wg_gl_context* gl;
 static wg_device* dev;
 static int rot;  /* 1: rotations on both sides (arguments "rot", "dead") */
 static int dead; /* 1: the system with dead unknowns (argument "dead") */
+static int cur;  /* 1: the rotations about the current positions on both sides (second argument "cur") */
+static double* cur_pos; /* cur: the positions the GPU holds (core's wc_amg.pos) */
+
+/* cur_pos := the positions g holds */
+static void hold_positions(wg_sim* g) {
+    const int n = g->n;
+    float* xg = calloc(4 * (size_t)n, sizeof(float));
+    free(cur_pos);
+    cur_pos = calloc(3 * (size_t)n, sizeof(double));
+    wg_array_read(&g->layout, wg_ring_cur(&g->x), n, xg);
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) cur_pos[3 * i + c] = xg[4 * i + c];
+    free(xg);
+}
 
 #define TOL 2e-4 /* float against double, relative to the level's largest entry */
 
@@ -68,9 +87,11 @@ static wc_amg* core_hierarchy(const wc_model* m, const wg_amg* a, const double* 
     o.single = 0;
     o.bound_reuse = 1;
     o.bound_margin = 1.0;
+    o.current_positions = cur;
     wc_amg* ca = NULL;
     wc_diag d = {0};
     if (wc_amg_create(&ca, m, &o, NULL, &d) != WC_OK) return NULL;
+    if (cur) ca->pos = cur_pos;
     wc_amg_setup(ca, A, f, par); /* a fresh setup, then one with the GPU's estimates */
     for (int l = 0; l < a->n_levels && l < ca->n_levels; ++l) {
         if (l == a->n_levels - 1 && a->dense) break;
@@ -171,6 +192,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     wg_sim* g = NULL;
     dev->amg_smooth = 1;
     dev->amg_rot = rot;
+    dev->amg_current = cur;
     CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!g) {
         fprintf(stderr, "%s\n", d.message);
@@ -178,6 +200,8 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     }
     CHECK(g->amg->smoothed == 1);
     CHECK_EQ_INT(g->amg->rotations, rot);
+    CHECK_EQ_INT(g->amg->current, cur);
+    hold_positions(g);
     CHECK(wg_sim_debug_prepare(g, s, h, 1.0, NULL, NULL, NULL, NULL, NULL, NULL, &d) == WC_OK);
     wc_substep_prepare(s, h, 1.0, &st);
     const size_t nb9 = 9 * (size_t)m->pattern.n_blocks;
@@ -314,6 +338,7 @@ static void dead_solves(wc_model* m, wc_state* s) {
     const int n = m->n_particles;
     wc_diag d = {0};
     dev->solve = WG_SOLVE_GROUP;
+    dev->amg_current = cur;
     wg_sim* g = tg_gpu_system(dev, s, 0);
     dev->solve = WG_SOLVE_AUTO;
     CHECK(g != NULL && g->amg != NULL);
@@ -333,7 +358,13 @@ static void dead_solves(wc_model* m, wc_state* s) {
     cpu->amg = NULL;
     wc_amg_opts ao = wg_amg_opts();
     ao.values = 1;
+    ao.current_positions = cur;
     CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WC_OK);
+    CHECK_EQ_INT(g->amg->current, cur);
+    if (cur) {
+        hold_positions(g);
+        cpu->amg->pos = cur_pos;
+    }
     wc_solver_set_residual_floor(cpu, wc_state_residual_floor(s, 1.0 / 30.0));
     double *ref = calloc(3 * (size_t)n, sizeof(double)), *dc = calloc(3 * (size_t)n, sizeof(double));
     wc_solve_result rd, rc;
@@ -393,11 +424,13 @@ static void test_dead(void) {
 int main(int argc, char** argv) {
     dead = argc > 1 && strcmp(argv[1], "dead") == 0;
     rot = dead || (argc > 1 && strcmp(argv[1], "rot") == 0);
-    printf("  near-null space: %s\n", rot ? "rotations (rest positions)" : "translations");
+    cur = rot && argc > 2 && strcmp(argv[2], "cur") == 0;
+    printf("  near-null space: %s\n", !rot ? "translations" : cur ? "rotations (current positions)" : "rotations (rest positions)");
     if (!tg_gpu_open(&gl, &dev)) return 1;
     if (dev->compute && dead) RUN_TEST(test_dead);
     else if (dev->compute) RUN_TEST(test_against_core);
     else printf("  skipped: the multigrid needs compute passes\n");
     tg_gpu_close(gl, dev);
+    free(cur_pos);
     return TEST_SUMMARY();
 }

@@ -13,8 +13,9 @@ wc_amg_opts wg_amg_opts_for(int smoothed) { return wg_amg_opts_form(smoothed, 0)
 wc_amg_opts wg_amg_opts_form(int smoothed, int rotations) {
     wc_amg_opts o = wc_default_amg_opts();
     o.coarse_max = WG_AMG_DENSE_NODES;
-    o.rotations = smoothed && rotations; /* about the rest positions (current_positions 0 below):
-                                            P_tent built once, uploaded (wg_amg_smooth.c) */
+    o.rotations = smoothed && rotations; /* core's about the rest positions (current_positions 0
+                                            below): P_tent uploaded (wg_amg_smooth.c), the rest
+                                            form's; the current form makes its own (tent_setup) */
     o.pair_blocks = 1;
     if (!smoothed) o.prolong_weight = 0.0; /* else core's (4/3): the patterns of P, T = A P, P^T T */
     o.lanczos = 0;
@@ -156,10 +157,60 @@ static int level_textures(wg_amg_level* G, wg_tex** out) {
                       &G->d[1], &G->v0, &G->v[0], &G->v[1], &G->part, &G->cross_i, &G->cross_a,
                       &G->p_ent, &G->p_rows, &G->p_range, &G->p_list, &G->p[0], &G->p[1], &G->p[2],
                       &G->t_range, &G->t_list, &G->t[0], &G->t[1], &G->t[2], &G->pt_range, &G->pt_list, &G->res,
-                      &G->tent[0], &G->tent[1], &G->tent[2]};
+                      &G->tent[0], &G->tent[1], &G->tent[2], &G->tq_range, &G->tq_list, &G->tq_of,
+                      &G->nn[0], &G->nn[1], &G->nn[2], &G->nn[3], &G->nn[4], &G->nn[5], &G->nc,
+                      &G->tq_t[0], &G->tq_t[1], &G->tq_t[2], &G->tq_t[3], &G->tq_t[4], &G->tq_t[5]};
     int n = (int)(sizeof list / sizeof list[0]);
     for (int k = 0; k < n; ++k) out[k] = list[k];
     return n;
+}
+
+/* Every aggregate has at most WG_AMG_TENT_NODES nodes (amg_tent_qr.glsl holds its columns). */
+static int tent_fits(const wc_amg* ca) {
+    for (int l = 0; l + 1 < ca->n_levels; ++l)
+        for (int g = 0; g < ca->lev[l + 1].n / 2; ++g)
+            if (ca->lev[l].agg_start[g + 1] - ca->lev[l].agg_start[g] > WG_AMG_TENT_NODES) return 0;
+    return 1;
+}
+
+/* The rotations about the current positions (wg_amg.current): each level's aggregates' nodes and
+ * each node's aggregate (core's agg_start / agg_node), the next levels' near-null rows and centres
+ * (made per setup, tent_setup), the positions' reduction. */
+static int tent_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
+    const wg_layout* L0 = a->run->layout;
+    int n_max = 1;
+    for (int l = 0; l < ca->n_levels; ++l)
+        if (ca->lev[l].n > n_max) n_max = ca->lev[l].n;
+    int* v = wc_calloc(&L0->alloc, 4u * (size_t)n_max + 4, sizeof(int));
+    if (!v) {
+        wg_errorf(err, el, "out of memory");
+        return 0;
+    }
+    int ok = 1;
+    for (int l = 0; ok && l + 1 < ca->n_levels; ++l) {
+        const wc_amg_level *F = &ca->lev[l], *C = &ca->lev[l + 1];
+        wg_amg_level *G = &a->lev[l], *N = &a->lev[l + 1];
+        const int n_agg = C->n / 2;
+        memset(v, 0, sizeof(int) * 4 * (size_t)n_max);
+        for (int g = 0; g < n_agg; ++g) {
+            v[4 * g] = F->agg_start[g];
+            v[4 * g + 1] = F->agg_start[g + 1];
+        }
+        ok = ok && upload_i4(L0, &G->tq_range, n_agg, v, err, el);
+        memset(v, 0, sizeof(int) * 4 * (size_t)n_max);
+        for (int i = 0; i < F->n; ++i) v[4 * i] = F->agg_node[i];
+        ok = ok && upload_i4(L0, &G->tq_list, F->n, v, err, el);
+        memset(v, 0, sizeof(int) * 4 * (size_t)n_max);
+        for (int i = 0; i < F->n; ++i) v[4 * i] = F->agg[i];
+        ok = ok && upload_i4(L0, &G->tq_of, F->n, v, err, el);
+        for (int k = 0; ok && k < 6; ++k) ok = wg_array_create(L0, &N->nn[k], GL_RGBA32F, C->n, NULL, err, el);
+        for (int k = 0; ok && k < 6; ++k) ok = wg_array_create(L0, &N->tq_t[k], GL_RGBA32F, C->n, NULL, err, el);
+        ok = ok && wg_array_create(L0, &N->nc, GL_RGBA32F, C->n, NULL, err, el);
+    }
+    const wg_tex* x = &a->sys.x->t[0];
+    ok = ok && wg_chain_create(a->run, &a->cen_red, x->w, x->h, err, el);
+    wc_free(&L0->alloc, v);
+    return ok;
 }
 
 int wg_amg_create(wg_runner* run, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,
@@ -215,6 +266,8 @@ int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* s
         a->lev[l].v_last = 1;   /* a cold setup's first step writes v[0] */
     }
     if (a->smoothed && !wg_amg_smooth_create(a, ca, err, el)) goto fail;
+    a->current = a->rotations && sys->x && run->dev->amg_current && tent_fits(ca);
+    if (a->current && !tent_create(a, ca, err, el)) goto fail;
     /* each particle's node on each level (the pairs' cross terms, wg_amg_set_pairs) */
     const int n0 = ca->lev[0].n;
     a->node_of = wc_calloc(alloc, (size_t)ca->n_levels * (size_t)(n0 > 0 ? n0 : 1), sizeof(int));
@@ -249,7 +302,7 @@ static void release(wg_amg* a, int gl) {
     if (!a) return;
     if (gl) {
         for (int l = 0; l < a->n_levels; ++l) {
-            wg_tex* t[48];
+            wg_tex* t[64];
             int n = level_textures(&a->lev[l], t);
             for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
             wg_chain_destroy(&a->lev[l].red);
@@ -259,6 +312,7 @@ static void release(wg_amg* a, int gl) {
         wg_tex_destroy(&a->group_fp);
         wg_tex_destroy(&a->group_v);
         wg_tex_destroy(&a->cross_u);
+        wg_chain_destroy(&a->cen_red);
     }
     const wc_allocator* al = &a->run->layout->alloc;
     wc_free(al, a->node_of);
@@ -277,12 +331,12 @@ size_t wg_amg_bytes(const wg_amg* a) {
     const wg_tex* own[] = {&a->coarse_L, &a->group_i, &a->group_fp, &a->group_v, &a->cross_u};
     for (int k = 0; k < 5; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
     for (int l = 0; l < a->n_levels; ++l) {
-        wg_tex* t[48];
+        wg_tex* t[64];
         int n = level_textures((wg_amg_level*)&a->lev[l], t);
         for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
         bytes += wg_chain_bytes(&a->lev[l].red);
     }
-    return bytes;
+    return bytes + wg_chain_bytes(&a->cen_red);
 }
 
 /* The pass p (a coarse level's) or its form over the finest level, p's *_FINE. */
@@ -378,12 +432,43 @@ static void smoothed_galerkin(wg_amg* a, int l) {
     use_level(a, l, WGP_AMG_AP, &in);
     WG_RUN(run, F->nt, &F->t[0], &F->t[1], &F->t[2]);
     WG_USE(run, WGP_AMG_PTAP, &(wg_amg_in){.pv0 = &F->p[0], .pv1 = &F->p[1], .pv2 = &F->p[2], .tv0 = &F->t[0],
-        .tv1 = &F->t[1], .tv2 = &F->t[2], .gal_range = &N->gal_range, .gal_list = &N->gal_list});
+        .tv1 = &F->t[1], .tv2 = &F->t[2], .gal_range = &N->gal_range, .gal_list = &N->gal_list, .cols = &N->cols,
+        .nc = a->current ? &N->nc : &N->r});
+    wg_u1i(run, "u_dead_nc", a->current);   /* else the rest positions' bits, gal_range's */
     WG_RUN(run, N->nb, &N->a[0], &N->a[1], &N->a[2]);
+}
+
+/* P_tent, the next levels' near-null rows (R) and dead unknowns about the current positions
+ * (wg_amg.current): the positions' sum, then per level its aggregates' QR twice, once per next
+ * level's node for its rows, centre and dead bits (amg_tent_rows) and once for its coefficients of
+ * Q (amg_tent_coef), then P_tent's blocks from those (amg_tent_blocks). */
+static void tent_setup(wg_amg* a) {
+    wg_runner* run = a->run;
+    const wg_tex* x = wg_ring_cur(a->sys.x);
+    const wg_tex* cen = wg_reduce(run, &a->cen_red, x, 0, 0, 0, 0);
+    for (int l = 0; l + 1 < a->n_levels; ++l) {
+        wg_amg_level *F = &a->lev[l], *N = &a->lev[l + 1];
+        /* stand-ins (cen) where the level's form does not read them */
+        wg_amg_in in = {.tq_range = &F->tq_range, .tq_list = &F->tq_list, .tq_of = &F->tq_of, .pos = l ? cen : x,
+                        .cen = cen, .nn0 = l ? &F->nn[0] : cen, .nn1 = l ? &F->nn[1] : cen, .nn2 = l ? &F->nn[2] : cen,
+                        .nn3 = l ? &F->nn[3] : cen, .nn4 = l ? &F->nn[4] : cen, .nn5 = l ? &F->nn[5] : cen,
+                        .nc = l ? &F->nc : cen, .nc_next = &N->nc, .tq_t0 = &N->tq_t[0], .tq_t1 = &N->tq_t[1],
+                        .tq_t2 = &N->tq_t[2], .tq_t3 = &N->tq_t[3], .tq_t4 = &N->tq_t[4], .tq_t5 = &N->tq_t[5]};
+        const wg_pass_id pass[3] = {WGP_AMG_TENT_ROWS, WGP_AMG_TENT_COEF, WGP_AMG_TENT_BLOCKS};
+        for (int p = 0; p < 3; ++p) {
+            WG_USE(run, pass[p], &in);
+            wg_u1i(run, "u_fine", l == 0);
+            if (p < 2) wg_u1f(run, "u_inv_count", 1.0f / (float)a->lev[0].n);
+            if (p == 0) WG_RUN(run, N->n, &N->nn[0], &N->nn[1], &N->nn[2], &N->nn[3], &N->nn[4], &N->nn[5], &N->nc);
+            else if (p == 1) WG_RUN(run, N->n, &N->tq_t[0], &N->tq_t[1], &N->tq_t[2], &N->tq_t[3], &N->tq_t[4], &N->tq_t[5]);
+            else WG_RUN(run, 2 * F->n, &F->tent[0], &F->tent[1], &F->tent[2]);
+        }
+    }
 }
 
 void wg_amg_setup(wg_amg* a) {
     wg_runner* run = a->run;
+    if (a->current) tent_setup(a);
     if (cross_on(a)) { /* each pair slot's filtered vector and c, the same on every level */
         const wg_pair_in pi = wg_pairs_inputs(a->pairs, NULL, NULL);
         WG_USE(run, WGP_AMG_CROSS_TERMS, &(wg_amg_in){.pair_p = pi.pr_p, .pair_w = pi.pr_w, .pair_nc = pi.pr_nc,

@@ -9,8 +9,12 @@
  * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
  * prolongation folds into the smoother's first pass.
  * Rotations (rotations, WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT; with the smoothed P only): the six
- * rigid modes about the REST positions, so core builds P_tent once (its QR per aggregate, two
- * coarse nodes 2a, 2a + 1 an aggregate, core/amg.h) and its 3x3 blocks are uploaded; the
+ * rigid modes, two coarse nodes 2a, 2a + 1 an aggregate (core/amg.h), by default (current,
+ * WG_AMG_CURRENT, WEFT_GPU_AMG_CURRENT) about the CURRENT positions as core's: every setup does
+ * each aggregate's QR on the device (amg_tent_qr.glsl: two passes a level, the next level's
+ * near-null rows R, centres and dead unknowns, then P_tent's blocks), each aggregate's rows about
+ * its own centre (core's R up to an upper-triangular change of basis, the same Q); else about the
+ * REST positions, core's P_tent built once (its QR per aggregate) and its 3x3 blocks uploaded; the
  * prolongator pass multiplies each block of A by the P_tent block of its column, and the
  * 3x3-block passes (T = A P, P^T T, the restriction and prolongation) run unchanged on the
  * doubled coarse nodes. The pair levels (every level below the finest) smooth with a 6x6 block
@@ -58,12 +62,18 @@
 #include "amg.h"
 #include "model.h"
 #include "wg_reduce.h"
+#include "wg_ring.h"
 
 #define WG_AMG_DENSE_NODES 32   /* coarsest level solved by a dense factor up to this many nodes
                                    (amg_factor_groups.glsl's DMAX = 3 x this); coarser stops there */
 #define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
 #define WG_AMG_ROTATIONS 1     /* the default near-null space with the smoothed prolongator:
                                    rotations (wg_amg.rotations) */
+#define WG_AMG_CURRENT 1       /* the default with rotations: about the current positions
+                                   (wg_amg.current; docs/bench/gpu.md) */
+#define WG_AMG_TENT_NODES 128  /* the current form's aggregates hold at most this many nodes
+                                   (amg_tent_qr.glsl TQ_CAP: an invocation holds its columns);
+                                   a hierarchy with a larger one takes the rest form */
 #define WG_AMG_POWER 12         /* power iterations per level on a cold setup (from core's start
                                    vector: a frame's first, and after a rollback or a failed solve) */
 #define WG_AMG_POWER_COARSE WC_AMG_COARSE_POWER /* on the coarse levels with the smoothed
@@ -145,6 +155,18 @@ typedef struct wg_amg_level {
     int pair;                   /* a pair level (rotations, levels >= 1): D^-1 is 6x6 per pair
                                    (2a, 2a + 1), dinv holds 2n texels, rows.w the block (i, i ^ 1)
                                    (amg_level_inputs.glsl u_pair) */
+    /* rotations about the current positions (wg_amg.current; amg_tent_qr.glsl): per setup the
+       QR of each aggregate of this level into tent (to the next level) and the next level's nn
+       and nc */
+    wg_tex tq_range, tq_list;   /* below the coarsest: each aggregate's nodes (core's agg_start /
+                                   agg_node) */
+    wg_tex tq_of;               /* below the coarsest: each node's aggregate */
+    wg_tex nn[6];               /* levels >= 1: each node's near-null rows (core's nns: node 2a + q
+                                   holds rows 3q..3q + 2 of aggregate a's R), about nc.xyz: row r,
+                                   columns 3h..3h + 2 in nn[2 r + h].xyz */
+    wg_tex nc;                  /* levels >= 1: (its aggregate's centre, its dead unknowns' bits) */
+    wg_tex tq_t[6];             /* levels >= 1: node 2a + q's coefficients of Q's columns 3q + k
+                                   on aggregate a's rows (ta in tq_t[2k].xyz, tb in tq_t[2k + 1]) */
 } wg_amg_level;
 
 /* The finest level's inputs: the cloth's system (its textures; the pointers stay valid and the
@@ -153,6 +175,8 @@ typedef struct wg_amg_system {
     const wg_tex* block;        /* blocks: (row, column, -, -) */
     const wg_tex *a_lo, *a_hi;  /* A's symmetric blocks */
     const wg_tex *S0, *S1;      /* the filter */
+    wg_ring* x;                 /* the state's positions (the rotations' about the current
+                                   positions, wg_amg.current); NULL: the rest positions' P_tent */
 } wg_amg_system;
 
 typedef struct wg_amg {
@@ -166,9 +190,17 @@ typedef struct wg_amg {
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
                                    P = P_tent (WEFT_GPU_AMG_SMOOTH=0) */
     double prolong_weight;      /* core's (4/3) where smoothed */
-    int rotations;              /* the near-null space: the six rigid modes about the rest
-                                   positions (WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT), else the three
+    int rotations;              /* the near-null space: the six rigid modes (about the current or
+                                   the rest positions: current) (WG_AMG_ROTATIONS,
+                                   WEFT_GPU_AMG_ROT), else the three
                                    translations; only with the smoothed prolongator */
+    int current;                /* with rotations: about the current positions (WG_AMG_CURRENT,
+                                   WEFT_GPU_AMG_CURRENT; the system's x), P_tent, R and the dead
+                                   unknowns rebuilt by every setup on the device (amg_tent_qr.glsl,
+                                   two passes a level), else core's about the rest positions,
+                                   uploaded once */
+    wg_chain cen_red;           /* current: the positions' sum (the centroid core's dead test
+                                   measures its columns about) */
     double fine_bound_scale;    /* the finest level's bound x this: core's wc_amg.fine_bound_scale
                                    (WC_AMG_SEAM_BOUND where vertex-to-edge seams lift lambda_max in
                                    modes local to them, which the power iterations miss; else 1) */
@@ -214,8 +246,9 @@ typedef struct wg_amg {
 wc_amg_opts wg_amg_opts(void);
 /* The same for a smoothed prolongator (smoothed 1) or P = P_tent (0), translations only. */
 wc_amg_opts wg_amg_opts_for(int smoothed);
-/* The same with the near-null space chosen: rotations 1 (about the rest positions, P_tent built
- * once by core; with smoothed only) or 0. */
+/* The same with the near-null space chosen: rotations 1 (with smoothed only) or 0. Core's
+ * P_tent about the rest positions is built either way (current_positions 0): the GPU's rest form,
+ * and the patterns and lists of both. */
 wc_amg_opts wg_amg_opts_form(int smoothed, int rotations);
 /* The multigrid of model m's system: patterns and lists uploaded; 0 with err on failure. */
 int wg_amg_create(wg_runner* r, const wc_model* m, const wg_amg_system* sys, wg_amg** out, char* err,

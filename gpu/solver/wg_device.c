@@ -199,6 +199,14 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         return WC_ERROR_GPU;
     }
     d->amg_rot = rot && *rot ? strcmp(rot, "1") == 0 : WG_AMG_ROTATIONS;
+    /* the rotations' positions (wg_amg.current): WEFT_GPU_AMG_CURRENT=1 (current) or 0 (rest) */
+    const char* cur = getenv("WEFT_GPU_AMG_CURRENT");
+    if (cur && *cur && strcmp(cur, "0") != 0 && strcmp(cur, "1") != 0) {
+        wg_errorf(err, err_len, "WEFT_GPU_AMG_CURRENT='%.40s' is not '0' or '1'", cur);
+        wg_device_destroy(d);
+        return WC_ERROR_GPU;
+    }
+    d->amg_current = cur && *cur ? strcmp(cur, "1") == 0 : WG_AMG_CURRENT;
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];

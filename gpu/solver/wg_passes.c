@@ -261,7 +261,11 @@ static const wg_pass_input amg_prolongator[] = {AMG(a0),     AMG(a1),     AMG(a2
 static const wg_pass_input amg_prolongator_fine[] = {FINE_OP, DINV, AMG(bound), AMG(p_ent), AMG(p_range), AMG(p_list), TENT};
 static const wg_pass_input amg_ap[] = {AMG(a0), AMG(a1), AMG(a2), PV, AMG(t_range), AMG(t_list)};
 static const wg_pass_input amg_ap_fine[] = {FINE_OP, PV, AMG(t_range), AMG(t_list)};
-static const wg_pass_input amg_ptap[] = {PV, AMG(tv0), AMG(tv1), AMG(tv2), AMG(gal_range), AMG(gal_list)};
+static const wg_pass_input amg_ptap[] = {PV, AMG(tv0), AMG(tv1), AMG(tv2), AMG(gal_range), AMG(gal_list), AMG(cols), AMG(nc)};
+#define TQ AMG(tq_range), AMG(tq_list), AMG(pos), AMG(cen), AMG(nn0), AMG(nn1), AMG(nn2), AMG(nn3), AMG(nn4), AMG(nn5), AMG(nc)
+static const wg_pass_input amg_tent_rows[] = {TQ};
+static const wg_pass_input amg_tent_blocks[] = {AMG(pos), AMG(nn0), AMG(nn1), AMG(nn2), AMG(nn3), AMG(nn4), AMG(nn5), AMG(nc),
+    AMG(tq_of), AMG(nc_next), AMG(tq_t0), AMG(tq_t1), AMG(tq_t2), AMG(tq_t3), AMG(tq_t4), AMG(tq_t5)};
 static const wg_pass_input amg_residual[] = {AMG(rows), COARSE_OP, AMG(r), AMG(x), CROSS};
 static const wg_pass_input amg_residual_fine[] = {AMG(rows), FINE_OP, AMG(r), AMG(x), CROSS};
 static const wg_pass_input amg_restrict_p[] = {PV, AMG(pt_range), AMG(pt_list), AMG(r)};
@@ -355,6 +359,9 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_AMG_PTAP] = COMPUTE("amg_ptap", amg_ptap, wg_amg_in),
     [WGP_AMG_RESIDUAL] = COMPUTE("amg_residual", amg_residual, wg_amg_in),
     [WGP_AMG_RESTRICT_P] = COMPUTE("amg_restrict_p", amg_restrict_p, wg_amg_in),
+    [WGP_AMG_TENT_ROWS] = COMPUTE("amg_tent_rows", amg_tent_rows, wg_amg_in),
+    [WGP_AMG_TENT_COEF] = COMPUTE("amg_tent_coef", amg_tent_rows, wg_amg_in),
+    [WGP_AMG_TENT_BLOCKS] = COMPUTE("amg_tent_blocks", amg_tent_blocks, wg_amg_in),
     [WGP_AMG_PROLONG] = COMPUTE("amg_prolong", amg_prolong, wg_amg_in),
     [WGP_AMG_PROLONGATOR_FINE] = COMPUTE("amg_prolongator_fine", amg_prolongator_fine, wg_amg_in),
     [WGP_AMG_AP_FINE] = COMPUTE("amg_ap_fine", amg_ap_fine, wg_amg_in),

@@ -56,6 +56,9 @@ typedef enum wg_pass_id {
     WGP_AMG_PROLONGATOR_FINE, WGP_AMG_AP_FINE, WGP_AMG_RESIDUAL_FINE, WGP_AMG_PROLONG_FINE,
     /* the self-contact pairs' cross terms in the multigrid's levels (wg_amg.h) */
     WGP_AMG_CROSS_TERMS, WGP_AMG_CROSS_BLOCKS,
+    /* the rotations about the current positions: the next level's near-null rows, Q's
+       coefficients, P_tent's blocks */
+    WGP_AMG_TENT_ROWS, WGP_AMG_TENT_COEF, WGP_AMG_TENT_BLOCKS,
     WGP_COUNT
 } wg_pass_id;
 
@@ -383,6 +386,13 @@ typedef struct wg_amg_in {
     const wg_tex *p_ent, *p_rows, *p_range, *p_list, *pv0, *pv1, *pv2;
     const wg_tex *t_range, *t_list, *tv0, *tv1, *tv2, *pt_range, *pt_list;
     const wg_tex *tent0, *tent1, *tent2;     /* rotations: P_tent's 3x3 blocks, by rows */
+    /* rotations about the current positions (amg_tent_qr.glsl): the aggregates' nodes, each
+       node's aggregate, the positions and their sum (the finest level), a coarse level's
+       near-null rows and centres */
+    const wg_tex *tq_range, *tq_list, *tq_of, *pos, *cen;
+    const wg_tex *nn0, *nn1, *nn2, *nn3, *nn4, *nn5, *nc;
+    const wg_tex *nc_next, *tq_t0, *tq_t1, *tq_t2, *tq_t3, *tq_t4, *tq_t5; /* the next level's centres
+                                                and Q's coefficients (amg_tent_blocks) */
 } wg_amg_in;
 
 #endif
