@@ -410,6 +410,11 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs the same V-cycle (pcg_group_amg.glsl) */
         ok = wg_amg_create_form(&g->run, g->m, &sys, dev->amg_smooth, dev->amg_rot, &g->amg, err, sizeof err);
         if (ok && g->pairs && dev->amg_cross) ok = wg_amg_pairs_create(g->amg, wg_pairs_capacity(g->pairs), err, sizeof err);
+        if (ok && g->amg->rotations && dev->amg_current && !g->amg->current)
+            wc_log(diag, WC_LOG_INFO,
+                   "GPU cloth: the multigrid takes its rotations about the rest positions: an aggregate holds more "
+                   "than %d nodes, the most the current positions' QR holds (docs/design/gpu_passes.md)",
+                   WG_AMG_TENT_NODES);
     }
     if (!ok) {
         wg_sim_destroy(g);
