@@ -70,7 +70,7 @@
 #define WG_AMG_ROTATIONS 1     /* the default near-null space with the smoothed prolongator:
                                    rotations (wg_amg.rotations) */
 #define WG_AMG_CURRENT 1       /* the default with rotations: about the current positions
-                                   (wg_amg.current; docs/bench/gpu.md) */
+                                   (wg_amg.current; docs/bench/gpu_solve.md) */
 #define WG_AMG_TENT_NODES 128  /* the current form's aggregates hold at most this many nodes
                                    (amg_tent_qr.glsl TQ_CAP: an invocation holds its columns);
                                    a hierarchy with a larger one takes the rest form */
@@ -81,7 +81,7 @@
                                    lambda_max there (test_gpu_amg, the stiff 64 x 64 sheet's level
                                    1: 0.992 x), where the levels are small; cold setups */
 #define WG_AMG_POWER_WARM 3     /* on a warm setup (the frame's later ones), every level: from the
-                                   last setup's iterate, normalised (wg_amg_setup; docs/bench/gpu.md
+                                   last setup's iterate, normalised (wg_amg_setup; docs/bench/gpu_solve.md
                                    "Warm power steps") */
 #define WG_AMG_WARM_FLOOR 0.97  /* a warm setup's Rayleigh quotient is taken no lower than this x
                                    the quotient of the frame's cold setup on the level (lvl_bound):

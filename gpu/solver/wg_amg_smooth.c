@@ -191,7 +191,7 @@ static int level_smooth(const wg_layout* L, wg_amg_level* G, wg_amg_level* N, co
        block (I & ~1, J & ~1)'s products, its entry of P + (I & 1), of T + (J & 1) (core's slot
        pairs, core/amg_build.c ptap_*). Not kept: the blocks left of the diagonal as their mirrors'
        transposes (core's galerkin_pairs_ptap): 0.8 of 63 MiB at 10k particles, and the exactly
-       symmetric levels took a little more iterations (docs/bench/gpu.md). dz: the next level's
+       symmetric levels took a little more iterations (docs/bench/gpu_solve.md). dz: the next level's
        dead unknowns (rotations: core's dead), a bit per row of its diagonal blocks (amg_ptap.glsl) */
     int* dz = wc_calloc(al, (size_t)C->n_blocks + 1, sizeof(int));
     if (!dz) {

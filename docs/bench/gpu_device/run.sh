@@ -8,7 +8,7 @@
 # amg: the GPU's multigrid (rotations and smoothed P; translations; P_tent) against block Jacobi (its tests, converged steps, the scenes, peers);
 # newton: sewing, Newton, the line search, BDF2 and TR-BDF2 on the GPU (their tests, the hanging
 # sheet's rollbacks at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments
-# batched / unbatched); passes: PCG's folded passes (docs/bench/gpu.md, "Fewer passes"): the
+# batched / unbatched); passes: PCG's folded passes (docs/bench/gpu_solve.md, "Fewer passes"): the
 # solver test, passes a frame and a PCG iteration with ms a step on both kinds of passes, the
 # multigrid's converged steps, the scenes (the chain forced: WEFT_GPU_SOLVE=passes): ~4 min;
 # group: PCG in one work group against the chain (WEFT_GPU_SOLVE=group / passes; its tests,
