@@ -61,6 +61,9 @@ typedef struct wc_self {
     int near_wait, near_backoff, near_waited; /* phases to walk the trees before gathering again,
                            that wait's length, 1 right after one (self_near.c) */
     int near_use;       /* 1: the current phase's queries go through the lists */
+    int near_full_use;  /* near_use of the last full phase (the stage's later passes check the
+                           bound only after one that used the lists) */
+    int near_later;     /* the stage's later passes that used the lists (a count for tests) */
     int near_off;       /* tests: 1 = no lists (every query walks the trees) */
     wc_self_grid tri_grid, edge_grid; /* the later passes' dirty triangles and edges (self_grid.h) */
     int grid_off;       /* tests: 1 = no grids (every clean query walks the trees) */

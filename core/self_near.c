@@ -9,7 +9,7 @@
 wc_status wc_self_near_alloc(wc_self* sc) {
     size_t nq = (size_t)sc->n + (size_t)sc->n_edges;
     sc->near_gap = (1.0 + WC_SELF_NEAR_SLACK) * sc->thickness;
-    sc->near_kept = sc->near_use = 0;
+    sc->near_kept = sc->near_use = sc->near_full_use = sc->near_later = 0;
     sc->near_anchor = WC_NEW(&sc->alloc, double, 6 * (size_t)sc->n + 6);
     sc->near_cand = WC_NEW(&sc->alloc, int, nq * WC_SELF_NEAR_CAP + 1);
     sc->near_count = WC_NEW(&sc->alloc, int, nq + 1);
@@ -133,9 +133,16 @@ static void gather(wc_self* sc, const wc_model* m, const double* x0, const doubl
 void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
                           int full) {
     sc->near_use = 0;
-    if (sc->near_off || !full) return;
+    if (sc->near_off) return;
+    if (!full) { /* a later pass: the lists as they are when they cover it, never a gathering; not
+                    even checked (a serial sweep of the particles) when the last full phase walked */
+        sc->near_use = sc->near_full_use && wc_self_near_covers(sc, x0, x1, r);
+        if (sc->near_use) ++sc->near_later;
+        return;
+    }
+    sc->near_full_use = 0;
     if (wc_self_near_covers(sc, x0, x1, r)) {
-        sc->near_use = 1;
+        sc->near_use = sc->near_full_use = 1;
         ++sc->near_served;
         return;
     }
@@ -157,7 +164,7 @@ void wc_self_near_prepare(wc_self* sc, const wc_model* m, const double* x0, cons
     sc->near_served = 0;
     sc->near_waited = 0;
     if (!wc_self_near_covers(sc, x0, x1, r)) return;   /* non-finite positions */
-    sc->near_use = 1;
+    sc->near_use = sc->near_full_use = 1;
     sc->near_served = 1;
 }
 

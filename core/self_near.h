@@ -44,9 +44,11 @@ void wc_self_near_free(wc_self* sc);
 
 /* Before a phase's queries, with the trees just refitted over the boxes of x0 U x1 (n x 3 each)
  * inflated by r <= thickness (wc_self_refit). Only a full phase (one that visits every query:
- * the in-solve pairs' detection, the stage's first pass) uses the lists; the stage's later
- * passes, which visit only what is dirty, walk the trees (checking the bound there would cost
- * as much as they do). A full phase uses the lists when the bound above covers x0, x1 and r, or
+ * the in-solve pairs' detection, the stage's first pass) gathers lists; the stage's later
+ * passes (full = 0), which visit only what is dirty, use the lists as they are when the bound
+ * covers them and the last full phase used them (else they walk the trees: the bound is a
+ * serial sweep of the particles, not worth checking while the cloth outruns the margin). A full
+ * phase uses the lists when the bound above covers x0, x1 and r, or
  * else gathers them again at x0, x1 (on sc->threads threads), unless the last lists served at
  * most one full phase after the one that gathered them (motion faster than the margin: a
  * gathering costs more than a walk): then the next 2, 4, ... 32 full phases walk the trees

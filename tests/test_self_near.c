@@ -179,6 +179,12 @@ static void motions(const wc_model* m, const double* x, double th, counts* ct, i
         moved(x, n, steps[k].amp, steps[k].turn, steps[k].shift, y1);
         int covers = wc_self_near_covers(sc, y0, y1, steps[k].r);
         if (steps[k].expect_kept >= 0) CHECK_EQ_INT(covers, steps[k].expect_kept);
+        /* a later pass of the stage (full = 0) after a full phase that used the lists (the last
+           compare_queries checked it): the lists exactly when they cover, and never a gathering */
+        int gathers = sc->near_gathers;
+        wc_self_near_prepare(sc, m, y0, y1, steps[k].r, 0);
+        CHECK_EQ_INT(sc->near_use, covers);
+        CHECK_EQ_INT(sc->near_gathers, gathers);
         *kept += covers;
         *gathered += !covers;
         compare_queries(sc, m, y0, y1, steps[k].r, ct);
@@ -218,7 +224,7 @@ static void test_lists_vs_trees(void) {
 
 typedef struct run {
     double* xv;   /* (FRAMES x 2 x n x 3): x then v after each frame */
-    int impacts, zones, proximity, pairs, failed;
+    int impacts, zones, proximity, pairs, later, failed;
 } run;
 
 static run simulate(const wc_model* m, const wc_collider* floor, int threads, int passes, int near_off) {
@@ -263,6 +269,7 @@ static run simulate(const wc_model* m, const wc_collider* floor, int threads, in
         memcpy(r.xv + (2 * f) * n3, s->x, n3 * sizeof(double));
         memcpy(r.xv + (2 * f + 1) * n3, s->v, n3 * sizeof(double));
     }
+    r.later = s->self->near_later;
     wc_state_destroy(s);
     return r;
 }
@@ -276,12 +283,15 @@ static void test_steps_same(void) {
     for (int variant = 0; variant < 3; ++variant) {
         int threads = variant == 1 ? 2 : 1, passes = variant == 2 ? 0 : WC_SELF_PASSES;
         run trees = simulate(&m, &floor, threads, passes, 1), lists = simulate(&m, &floor, threads, passes, 0);
-        printf("  %d thread(s), %d passes: %d proximity, %d impacts, %d zones, %d pairs in the solve\n", threads,
-               passes, lists.proximity, lists.impacts, lists.zones, lists.pairs);
+        printf("  %d thread(s), %d passes: %d proximity, %d impacts, %d zones, %d pairs in the solve, %d later "
+               "passes through the lists\n", threads, passes, lists.proximity, lists.impacts, lists.zones, lists.pairs,
+               lists.later);
         CHECK_EQ_INT(trees.failed, 0);
         CHECK_EQ_INT(lists.failed, 0);
         CHECK(lists.proximity + lists.impacts > 0 && lists.pairs > 0); /* the stage had work to do */
         if (passes == 0) CHECK(lists.zones > 0);
+        CHECK(lists.later > 0);   /* the stage's later passes used the lists too (impulses, zones) */
+        CHECK_EQ_INT(trees.later, 0);
         CHECK(memcmp(trees.xv, lists.xv, bytes) == 0);
         CHECK_EQ_INT(lists.impacts, trees.impacts);
         CHECK_EQ_INT(lists.zones, trees.zones);
