@@ -124,9 +124,9 @@ static void test_sheets(void) {
 }
 
 /* A drape over a sphere (contacts and friction in the filter) and 40 separate patches (the
- * coarsest level smoothed: no dense factor). The drape's iterates are compared 1.5x looser: with
- * the rotations about the current positions (wg_amg.current) PCG capped at 3 takes the two
- * orders' rounding to 1.4e-4 of the largest component (about the rest positions 9.6e-5); one
+ * coarsest level smoothed: no dense factor). With the rotations about the current positions
+ * (WEFT_GPU_AMG_CURRENT=1, wg_amg.current) the drape's iterates are compared 1.5x looser: PCG
+ * capped at 3 takes the two orders' rounding to 1.4e-4 of the largest component (about the rest positions 9.6e-5); one
  * V-cycle agrees to 2e-7 on both (the stiff sheet's, test_sheets). */
 static void test_drape_and_patches(void) {
     const wc_sim_def def = ts_amg_def();
@@ -143,7 +143,7 @@ static void test_drape_and_patches(void) {
         if (g && g->amg) {
             CHECK_EQ_INT(g->amg->dense, k == 0);
             converged_and_capped(k == 0 ? "draped over a sphere" : "40 separate patches", g, &s->def.solver, 3,
-                                 k == 0 ? 1.5 : 1.0);
+                                 k == 0 && g->amg->current ? 1.5 : 1.0);
         }
         wg_sim_destroy(g);
         wc_state_destroy(s);

@@ -9,13 +9,13 @@
  * every coarse operator is a plain sum of finer blocks (one gather pass a level) and the
  * prolongation folds into the smoother's first pass.
  * Rotations (rotations, WG_AMG_ROTATIONS, WEFT_GPU_AMG_ROT; with the smoothed P only): the six
- * rigid modes, two coarse nodes 2a, 2a + 1 an aggregate (core/amg.h), by default (current,
- * WG_AMG_CURRENT, WEFT_GPU_AMG_CURRENT) about the CURRENT positions as core's: every setup does
+ * rigid modes, two coarse nodes 2a, 2a + 1 an aggregate (core/amg.h), opt-in (current,
+ * WG_AMG_CURRENT, WEFT_GPU_AMG_CURRENT=1) about the CURRENT positions as core's: every setup does
  * each aggregate's QR on the device (amg_tent_qr.glsl: two passes a level, the next level's
  * near-null rows R, centres and dead unknowns, then P_tent's blocks), each aggregate's rows about
  * its own centre (core's R up to an upper-triangular change of basis, the same Q); else about the
- * REST positions, core's P_tent built once (its QR per aggregate) and its 3x3 blocks uploaded; the
- * prolongator pass multiplies each block of A by the P_tent block of its column, and the
+ * REST positions (the default), core's P_tent built once (its QR per aggregate) and its 3x3
+ * blocks uploaded; the prolongator pass multiplies each block of A by the P_tent block of its column, and the
  * 3x3-block passes (T = A P, P^T T, the restriction and prolongation) run unchanged on the
  * doubled coarse nodes. The pair levels (every level below the finest) smooth with a 6x6 block
  * diagonal per pair, inverted per setup (amg_dinv.glsl) and read by the smoother, the power
@@ -69,8 +69,10 @@
 #define WG_AMG_SMOOTHED 1      /* the default prolongator: smoothed (wg_amg.smoothed) */
 #define WG_AMG_ROTATIONS 1     /* the default near-null space with the smoothed prolongator:
                                    rotations (wg_amg.rotations) */
-#define WG_AMG_CURRENT 1       /* the default with rotations: about the current positions
-                                   (wg_amg.current; docs/bench/gpu_solve.md) */
+#define WG_AMG_CURRENT 0       /* the default with rotations: about the rest positions; 1 (opt-in,
+                                   WEFT_GPU_AMG_CURRENT=1) about the current positions (wg_amg.current;
+                                   docs/bench/gpu_solve.md: not the default until the dance's GPU
+                                   check passes with it) */
 #define WG_AMG_TENT_NODES 128  /* the current form's aggregates hold at most this many nodes
                                    (amg_tent_qr.glsl TQ_CAP: an invocation holds its columns);
                                    a hierarchy with a larger one takes the rest form */

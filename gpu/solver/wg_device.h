@@ -41,7 +41,7 @@ typedef struct wg_device {
                                    smoothed prolongator: rotations (1, the default: WG_AMG_ROTATIONS)
                                    or translations (0) (wg_amg.rotations) */
     int amg_current;            /* WEFT_GPU_AMG_CURRENT: the rotations about the current positions
-                                   (1, the default: WG_AMG_CURRENT) or the rest positions (0)
+                                   (1) or the rest positions (0, the default: WG_AMG_CURRENT)
                                    (wg_amg.current) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */

@@ -49,6 +49,10 @@ if [ "$MODE" = amg ]; then   # the multigrid (gpu/solver/wg_amg.h) against block
     # the multigrid without rotations (translations, smoothed P), and with P = P_tent, at the same sizes
     WEFT_GPU_AMG_ROT=0 timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1
     WEFT_GPU_AMG_SMOOTH=0 timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1
+    # the rotations about the current positions (opt-in): the same sizes, its test, the dance's check
+    WEFT_GPU_AMG_CURRENT=1 timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1
+    timeout 60 build-dev/tests/test_gpu_amg_current > /tmp/ta.txt 2>&1; echo "test_gpu_amg_current rc=$?"; grep -v " ok$" /tmp/ta.txt
+    WEFT_GPU_AMG_CURRENT=1 timeout 200 build-dev/tests/test_cli_gpu_dance > /tmp/ta.txt 2>&1; echo "test_cli_gpu_dance (current) rc=$?"; tail -12 /tmp/ta.txt
     for sc in hanging_sheet flag tablecloth poncho_shoulders skirt_turning sweeping_sphere; do
       for pc in amg block_jacobi; do
         timeout 60 build-dev/weft run sample_scenes/$sc.json --frames 90 --quiet --stats /tmp/st.json --backend gpu --precond $pc > /dev/null 2>&1 &&
