@@ -36,7 +36,7 @@
 /* measured on llvmpipe: pairs found 1,604 (arrays) and 1,606 (buffer), active 1,592 and 1,592,
    2 rollbacks each; without the GPU's pairs the buffer's cloth had none, 4 rollbacks and lay
    6.1 cm from the arrays' */
-/* while the box stands (one box and two bodies): measured 1.3e-5 and 4.8e-5 m; 2.3e-4 m before
+/* while the box stands (one box and two bodies): measured 1.3e-5 and 4.8e-5 m; 3.2e-4 m before
    the contacts' closest-point ties took float's rounding (contact_query.glsl: a cloth point over a
    box corner judged behind the body, its pair dropped) */
 #define STILL_BOUND 1e-4
