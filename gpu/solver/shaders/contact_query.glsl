@@ -18,6 +18,13 @@ const float BIG2 = 1e38;
 // Two triangles give the same closest point (an edge or a vertex) within this relative part of
 // the squared distance: core's 1e-10 is below float's resolution.
 const float TIE_REL = 1e-6;
+// For the side rule, also a tie within float's rounding of the coordinates in the squared
+// distances, 2 |p - q| x TIE_COORD x slack (a few units in the last place of the coordinates), at
+// most TIE_WIDE of it: above TIE_REL at millimetres (a point over a box's corner, just inside the
+// top face: the top's distance and a side face's, through the rim), the rule as before within
+// a tenth of a millimetre of the surface.
+const float TIE_COORD = 0.1;
+const float TIE_WIDE = 1e-3;
 
 float closest_on_segment(vec3 p, vec3 a, vec3 b, out float s) {
     vec3 ab = b - a;
@@ -104,9 +111,14 @@ float mesh_closest(int root, vec3 p, int end, float reach, out vec3 n, out vec3 
         float d2 = dot(d, d), len = sqrt(d2), dn = dot(d, fn);
         float cs = len > 0.0 ? dn / len : 0.0;
         float tol = TIE_REL * best + 1e-30;
+        // the side from the triangle most facing p among those tied to float's rounding (tie),
+        // whichever comes first; the closest point stays the strictly nearest
+        float tie = tol + min(2.0 * sqrt(best) * slack * TIE_COORD, TIE_WIDE * best);
         if (d2 < best - tol || tri < 0) {
-            best = d2; tri = t; wb = w; qb = q; cosb = abs(cs); side = dn < 0.0 ? -1.0 : 1.0;
-        } else if (d2 <= best + tol && abs(cs) > cosb) {
+            bool was = tri >= 0 && d2 >= best - tie && cosb > abs(cs);
+            best = d2; tri = t; wb = w; qb = q;
+            if (!was) { cosb = abs(cs); side = dn < 0.0 ? -1.0 : 1.0; }
+        } else if (d2 <= best + tie && abs(cs) > cosb) {
             cosb = abs(cs); side = dn < 0.0 ? -1.0 : 1.0;
             if (d2 < best) best = d2;
         }
