@@ -233,9 +233,29 @@ static int traverse(const wc_bvh* b, const double* box, const unsigned char* mas
     return 0;
 }
 
+/* The box queries' walk: traverse's visits in its order, with each child tested before it is
+ * pushed rather than after it is popped (the stack holds only nodes that passed; their order is
+ * traverse's, less the ones it would pop and drop), ~10 % fewer instructions on the dance's
+ * self-collision queries (docs/bench/dance_self.md). Not for the nearest-point queries: their
+ * bound may fall between a push and the pop. */
 int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
                         void* user) {
-    return traverse(b, box, mask, NULL, NULL, visit, user);
+    if (b->n_nodes == 0 || (mask && !mask[0]) || !wc_box_overlap(b->box, box)) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const int* ch = b->child + 2 * stack[--top];
+        if (ch[0] < 0) {
+            int r = visit(user, ch[1]);
+            if (r) return r;
+            continue;
+        }
+        int l = ch[0], rt = ch[1];
+        if (!(mask && !mask[rt]) && wc_box_overlap(b->box + 6 * rt, box)) stack[top++] = rt;
+        if (!(mask && !mask[l]) && wc_box_overlap(b->box + 6 * l, box)) stack[top++] = l;
+    }
+    return 0;
 }
 
 int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const double* bound2,
