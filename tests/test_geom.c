@@ -286,8 +286,8 @@ static void test_bvh_against_brute(void) {
     CHECK(wc_bvh_build(&b, bad, 1, NULL, NULL) == WC_ERROR_NONFINITE);
 }
 
-/* The box queries' walk (wc_bvh_query_masked: each child tested before it is pushed) against the
- * walk it replaced (every node tested after it is popped), written out here: the same visits in
+/* The box queries' walk (wc_bvh_query_masked: each child tested before the walk goes down to
+ * it) against the walk it replaced (every node tested after it is popped), written out here: the same visits in
  * the same order, the same early stop and return value, for masks ORed up and for arbitrary ones
  * (a node's own byte decides, whatever its leaves'), on trees of 0-1,000 boxes as built and after
  * a deformation; and for ORed-up masks the visits are brute force's overlapping leaves in leaf
