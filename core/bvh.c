@@ -233,9 +233,39 @@ static int traverse(const wc_bvh* b, const double* box, const unsigned char* mas
     return 0;
 }
 
+/* The box queries' walk: traverse's visits in its order (preorder, left child first), with each
+ * child tested before the walk goes down to it rather than after it is popped, and a lone
+ * passing child entered without the stack (only a right child whose left sibling also passed
+ * waits there): ~20 % fewer instructions than traverse on the dance's dirty self-collision
+ * queries (docs/bench/dance_self.md). Not for the nearest-point queries: their bound may fall
+ * between a test and the visit. */
 int wc_bvh_query_masked(const wc_bvh* b, const double* box, const unsigned char* mask, wc_bvh_visit_fn visit,
                         void* user) {
-    return traverse(b, box, mask, NULL, NULL, visit, user);
+    if (b->n_nodes == 0 || (mask && !mask[0]) || !wc_box_overlap(b->box, box)) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2];
+    int top = 0, node = 0;
+    for (;;) {
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0) {
+            int r = visit(user, ch[1]);
+            if (r) return r;
+            if (top == 0) return 0;
+            node = stack[--top];
+            continue;
+        }
+        int l = ch[0], rt = ch[1];
+        int in_r = !(mask && !mask[rt]) && wc_box_overlap(b->box + 6 * rt, box);
+        int in_l = !(mask && !mask[l]) && wc_box_overlap(b->box + 6 * l, box);
+        if (in_l) {
+            if (in_r) stack[top++] = rt;
+            node = l;
+        } else if (in_r) {
+            node = rt;
+        } else {
+            if (top == 0) return 0;
+            node = stack[--top];
+        }
+    }
 }
 
 int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const double* bound2,

@@ -111,27 +111,37 @@ void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const doubl
     wc_self_trees_top(sc, 0, 1);
 }
 
+/* wc_bvh_query_masked's walk (each child tested before the walk goes down to it, a lone passing
+ * child entered without the stack) with the subtrees of edges <= e skipped. */
 int wc_self_edges_above_masked(const wc_self* sc, int e, const double* box, const unsigned char* mask,
                                wc_bvh_visit_fn visit, void* user) {
     const wc_bvh* b = &sc->edge_bvh;
     const int* mx = sc->edge_max;
-    if (b->n_nodes == 0) return 0;
+    if (b->n_nodes == 0 || mx[0] <= e || (mask && !mask[0]) || !wc_box_overlap(b->box, box)) return 0;
     int stack[WC_BVH_MAX_DEPTH + 2];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        int node = stack[--top];
-        if (mx[node] <= e || (mask && !mask[node]) || !wc_box_overlap(b->box + 6 * node, box)) continue;
+    int top = 0, node = 0;
+    for (;;) {
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
             int r = visit(user, ch[1]);
             if (r) return r;
+            if (top == 0) return 0;
+            node = stack[--top];
+            continue;
+        }
+        int l = ch[0], rt = ch[1];
+        int in_r = mx[rt] > e && !(mask && !mask[rt]) && wc_box_overlap(b->box + 6 * rt, box);
+        int in_l = mx[l] > e && !(mask && !mask[l]) && wc_box_overlap(b->box + 6 * l, box);
+        if (in_l) {
+            if (in_r) stack[top++] = rt;
+            node = l;
+        } else if (in_r) {
+            node = rt;
         } else {
-            stack[top++] = ch[1];
-            stack[top++] = ch[0];
+            if (top == 0) return 0;
+            node = stack[--top];
         }
     }
-    return 0;
 }
 
 int wc_self_edges_above(const wc_self* sc, int e, const double* box, wc_bvh_visit_fn visit, void* user) {
