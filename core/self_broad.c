@@ -37,8 +37,6 @@ wc_status wc_self_seam_links(const wc_model* m, const wc_allocator* A, int** sta
     return WC_OK;
 }
 
-int wc_self_linked(const wc_self* sc, int a, int b) { return wc_self_seam_linked(sc->seam_start, sc->seam_nbr, a, b); }
-
 void wc_self_boxes(const wc_model* m, const int* edges, int n_edges, const double* x_start, const double* x, double r,
                    double* tri_box, double* edge_box) {
     for (int t = 0; t < m->n_tris; ++t) wc_self_swept_box(tri_box + 6 * t, m->tris + 3 * t, 3, x_start, x, r);
@@ -116,21 +114,25 @@ int wc_self_edges_above_masked(const wc_self* sc, int e, const double* box, cons
     const wc_bvh* b = &sc->edge_bvh;
     const int* mx = sc->edge_max;
     if (b->n_nodes == 0) return 0;
+    /* a node is tested before it is pushed (the tests do not change during the walk): the same
+       nodes entered, in the same preorder, without a push and pop for each one that fails */
+#define EDGE_NODE_IN(nd) (mx[nd] > e && (!mask || mask[nd]) && wc_box_overlap(b->box + 6 * (nd), box))
+    if (!EDGE_NODE_IN(0)) return 0;
     int stack[WC_BVH_MAX_DEPTH + 2];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        if (mx[node] <= e || (mask && !mask[node]) || !wc_box_overlap(b->box + 6 * node, box)) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
             int r = visit(user, ch[1]);
             if (r) return r;
         } else {
-            stack[top++] = ch[1];
-            stack[top++] = ch[0];
+            if (EDGE_NODE_IN(ch[1])) stack[top++] = ch[1];
+            if (EDGE_NODE_IN(ch[0])) stack[top++] = ch[0];
         }
     }
+#undef EDGE_NODE_IN
     return 0;
 }
 
