@@ -209,27 +209,32 @@ int wc_bvh_query(const wc_bvh* b, const double* box, wc_bvh_visit_fn visit, void
 }
 
 
-/* The preorder walk of every query: nodes outside box, masked out (mask) or farther from p than
+/* The nearest-point queries' preorder walk: nodes outside box, masked out (mask) or farther from p than
  * sqrt(*bound2) (p non-NULL) are skipped. */
 static int traverse(const wc_bvh* b, const double* box, const unsigned char* mask, const double* p,
                     const double* bound2, wc_bvh_visit_fn visit, void* user) {
     if (b->n_nodes == 0) return 0;
+    /* the mask and the box are tested before a node is pushed (they do not change during the
+       walk), the bound (which the visits lower) when it is popped, as before: the same nodes
+       entered, in the same preorder, without a push and pop for each one the box rejects */
+#define NODE_IN(nd) ((!mask || mask[nd]) && wc_box_overlap(b->box + 6 * (nd), box))
+    if (!NODE_IN(0)) return 0;
     int stack[WC_BVH_MAX_DEPTH + 2];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         int node = stack[--top];
-        const double* nb = b->box + 6 * node;
-        if ((mask && !mask[node]) || !wc_box_overlap(nb, box) || (p && wc_box_dist2(nb, p) > *bound2)) continue;
+        if (p && wc_box_dist2(b->box + 6 * node, p) > *bound2) continue;
         const int* ch = b->child + 2 * node;
         if (ch[0] < 0) {
             int r = visit(user, ch[1]);
             if (r) return r;
         } else {
-            stack[top++] = ch[1];
-            stack[top++] = ch[0];
+            if (NODE_IN(ch[1])) stack[top++] = ch[1];
+            if (NODE_IN(ch[0])) stack[top++] = ch[0];
         }
     }
+#undef NODE_IN
     return 0;
 }
 

@@ -109,6 +109,7 @@ double wc_mesh_closest(const wc_mesh_collider* m, int end, const double* p, doub
 #define WC_MESH_NEAR_MAX 48
 typedef struct wc_mesh_near {
     double box[6];             /* m: the gathering box */
+    double scale;              /* max(1, |its coordinates|): the cover test's rounding scale */
     double travel;             /* the collider's travel when gathered */
     long long epoch;           /* the collider's state when gathered (mesh_pose.h) */
     int count;

@@ -42,6 +42,9 @@
 #define TURN_COS 0.9659  /* cos 15 degrees: the farthest an edge pair's direction past its body
                             edge's normal cone is turned to the nearer face's normal (keep) */
 
+/* fmax (a NaN argument loses to a number) without the library call: reach_box takes 4 a particle */
+static inline double max_num(double a, double b) { return b > a || isnan(a) ? b : a; }
+
 /* Room for `threads` threads' marks of the body features seen (all clear) and their lists of
  * the marks set; the old ones are kept when there is no memory. */
 static int seen_alloc(wc_mesh_pairs* p, int threads, const wc_allocator* a) {
@@ -348,8 +351,8 @@ static void reach_box(find_ctx* c, int cnt) {
     for (int k = 0; k < cnt; ++k) {
         const double* xk = c->x + 3 * c->cloth[k];
         wc_box_add(c->reach, xk);
-        vmax = fmax(vmax, v3_norm(c->v + 3 * c->cloth[k]));
-        scale = fmax(scale, fmax(fabs(xk[0]), fmax(fabs(xk[1]), fabs(xk[2]))));
+        vmax = max_num(vmax, v3_norm(c->v + 3 * c->cloth[k]));
+        scale = max_num(scale, max_num(fabs(xk[0]), max_num(fabs(xk[1]), fabs(xk[2]))));
     }
     double dc = 2.0 * mc->thickness + 1.5 * c->h * (vmax + mc->max_speed);
     wc_box_inflate(c->reach, dc * (1.0 + 1e-9) + 1e-9 * scale);
@@ -380,9 +383,11 @@ static int visit_edge(void* user, int t) {
     if (nb[0] == 0.0 && nb[1] == 0.0 && nb[2] == 0.0) return 0; /* degenerate */
     const int* tv = mc->tris + 3 * t;
     const double *p0 = c->x + 3 * c->cloth[0], *q0 = c->x + 3 * c->cloth[1];
+    const int* te = c->sh->tri_edge + 3 * t;
     for (int e = 0; e < 3; ++e) {
-        int r = tv[e], s = tv[(e + 1) % 3], eid = c->sh->tri_edge[3 * t + e];
+        int eid = te[e];
         if (!c->sh->sharp_edge[eid] || seen_before(c, c->seen_edge, eid)) continue;
+        int r = tv[e], s = tv[e == 2 ? 0 : e + 1];
         if (segment_beyond_reach(c, mc->xa + 3 * r, mc->xa + 3 * s)) continue;
         double a, b;
         wc_closest_on_segments(p0, q0, mc->xa + 3 * r, mc->xa + 3 * s, &a, &b);

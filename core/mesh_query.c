@@ -213,8 +213,7 @@ static int gather_visit(void* user, int t) {
  * back to the gathering's state by the body's fitted motion does (mesh_pose.h). */
 static int near_covers(const wc_mesh_collider* m, const wc_mesh_near* e, const double* box) {
     if (e->count == -1) return 0;
-    double scale = 1.0;
-    for (int k = 0; k < 6; ++k) scale = max_num(scale, fabs(e->box[k]));
+    const double scale = e->scale;
     double grow = (m->travel - e->travel) * (1.0 + 1e-12) + 1e-12 * scale;
     for (int k = 0; k < 3; ++k)
         if (!(box[k] - grow >= e->box[k] && box[3 + k] + grow <= e->box[3 + k]))
@@ -228,6 +227,8 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
     for (int k = 0; k < 3; ++k) half = fmax(half, 0.5 * (box[3 + k] - box[k]));
     memcpy(e->box, box, sizeof e->box);
     wc_box_inflate(e->box, NEAR_MARGIN * half);
+    e->scale = 1.0;
+    for (int k = 0; k < 6; ++k) e->scale = max_num(e->scale, fabs(e->box[k]));
     e->travel = m->travel;
     e->epoch = m->poses.epoch;
     e->count = 0;

@@ -37,8 +37,6 @@ wc_status wc_self_seam_links(const wc_model* m, const wc_allocator* A, int** sta
     return WC_OK;
 }
 
-int wc_self_linked(const wc_self* sc, int a, int b) { return wc_self_seam_linked(sc->seam_start, sc->seam_nbr, a, b); }
-
 void wc_self_boxes(const wc_model* m, const int* edges, int n_edges, const double* x_start, const double* x, double r,
                    double* tri_box, double* edge_box) {
     for (int t = 0; t < m->n_tris; ++t) wc_self_swept_box(tri_box + 6 * t, m->tris + 3 * t, 3, x_start, x, r);

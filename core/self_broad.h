@@ -26,14 +26,18 @@ static inline int wc_self_seam_linked(const int* start, const int* nbr, int a, i
     return 0;
 }
 
+/* 1 when particles a and b are one particle or sewn together (sc's seam links); inline: every
+ * visitor of the broad phase asks it of each candidate pair (~2M times in the suit's 6 frames) */
+static inline int wc_self_linked(const wc_self* sc, int a, int b) {
+    return wc_self_seam_linked(sc->seam_start, sc->seam_nbr, a, b);
+}
+
 /* On the stage's trees and seams:
- *   linked: 1 when particles a and b are one particle or sewn together;
  *   refit: both trees over the boxes of x0 U x1 (n x 3 each; x0 may be NULL) inflated by r, on
  *   sc->threads threads;
  *   edges_above: visit(user, f) for every edge f > e whose tree box overlaps box (each edge pair
  *   once from its lower edge; stops when visit returns non-zero and returns that); _masked: only
  *   in the nodes of the edge tree whose mask is set (mask NULL: all). */
-int wc_self_linked(const wc_self* sc, int a, int b);
 void wc_self_refit(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r);
 /* The trees' bottom-up sweeps on threads, each tree cut into subtrees (wc_self.tri_split,
  * edge_split; bvh.h's wc_bvh_split): trees_sweep, inside a parallel region (every thread calls

@@ -377,6 +377,103 @@ static void test_bvh_walk_order(void) {
     CHECK_EQ_INT(brute_differ, 0);
 }
 
+/* The nearest-point walk's order (bvh.c traverse tests a node's mask and box before pushing it,
+ * its bound when popping it) against the plain preorder walk that tests everything when a node is popped: the
+ * same leaves in the same order, with masks, an early stop, and a bound the visits lower (the
+ * nearest-point walk of wc_bvh_query_near). */
+typedef struct walk_rec {
+    int n, seq[1024], stop_after; /* stop_after > 0: the visit that returns 1 */
+    const double* boxes;          /* near walks: each visit lowers *bound2 to its box's distance */
+    const double* p;
+    double bound2;
+} walk_rec;
+
+static int walk_visit(void* user, int prim) {
+    walk_rec* w = (walk_rec*)user;
+    if (w->n < 1024) w->seq[w->n] = prim;
+    ++w->n;
+    if (w->boxes) {
+        double d2 = wc_box_dist2(w->boxes + 6 * prim, w->p) * 1.5 + 1e-4;
+        if (d2 < w->bound2) w->bound2 = d2;
+    }
+    return w->stop_after > 0 && w->n == w->stop_after;
+}
+
+static int reference_walk(const wc_bvh* b, const double* box, const unsigned char* mask, walk_rec* w) {
+    if (b->n_nodes == 0) return 0;
+    int stack[WC_BVH_MAX_DEPTH + 2], top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        int node = stack[--top];
+        const double* nb = b->box + 6 * node;
+        if ((mask && !mask[node]) || !wc_box_overlap(nb, box) || (w->p && wc_box_dist2(nb, w->p) > w->bound2))
+            continue;
+        const int* ch = b->child + 2 * node;
+        if (ch[0] < 0) {
+            int r = walk_visit(w, ch[1]);
+            if (r) return r;
+        } else {
+            stack[top++] = ch[1];
+            stack[top++] = ch[0];
+        }
+    }
+    return 0;
+}
+
+static void test_bvh_near_walk_order(void) {
+    int sizes[] = {0, 1, 2, 5, 300};
+    int mismatches = 0, visits = 0, cut = 0;
+    static walk_rec a, r;
+    for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si) {
+        int n = sizes[si];
+        double* boxes = malloc(sizeof(double) * 6 * (n + 1));
+        random_boxes(boxes, n, 1);
+        wc_bvh b;
+        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WC_OK);
+        random_boxes(boxes, n, 1.2); /* refitted over moved boxes: nodes overlap more */
+        wc_bvh_refit(&b, boxes);
+        unsigned char* mask = calloc((size_t)b.n_nodes + 1, 1);
+        for (int i = 0; i < n; ++i) mask[b.leaf_of[i]] = i % 4 != 1;
+        wc_bvh_mask_up(&b, mask);
+        for (int q = 0; q < 400; ++q) {
+            int kind = q % 4; /* 0 all, 1 masked, 2 stopped, 3 near with a falling bound */
+            double box[6], p[3];
+            random_boxes(box, 1, 1.2);
+            wc_box_inflate(box, 0.3);
+            for (int k = 0; k < 3; ++k) p[k] = 0.5 * (box[k] + box[3 + k]);
+            a = (walk_rec){.stop_after = kind == 2 ? 3 : 0};
+            if (kind == 3) {
+                a.boxes = boxes;
+                a.p = p;
+                a.bound2 = HUGE_VAL;
+            }
+            r = a;
+            int ra, rr;
+            if (kind == 3) {
+                ra = wc_bvh_query_near(&b, box, p, &a.bound2, walk_visit, &a);
+            } else {
+                const unsigned char* m = kind == 1 ? mask : NULL;
+                ra = m ? wc_bvh_query_masked(&b, box, m, walk_visit, &a) : wc_bvh_query(&b, box, walk_visit, &a);
+            }
+            rr = reference_walk(&b, box, kind == 1 ? mask : NULL, &r);
+            if (ra != rr || a.n != r.n || memcmp(a.seq, r.seq, sizeof(int) * (size_t)(a.n < 1024 ? a.n : 1024)))
+                ++mismatches;
+            visits += a.n;
+            if (kind == 3) { /* the bound cut some leaves the box alone lets through */
+                walk_rec all = {0};
+                wc_bvh_query(&b, box, walk_visit, &all);
+                cut += all.n - a.n;
+            }
+        }
+        free(mask);
+        wc_bvh_free(&b);
+        free(boxes);
+    }
+    CHECK_EQ_INT(mismatches, 0);
+    CHECK(visits > 1000);
+    CHECK(cut > 100);
+}
+
 /* The cut for refits on threads (wc_bvh_split): every node in exactly one subtree range or among
  * the top nodes, and the subtrees swept in reverse order (any thread order), then the top nodes,
  * give the serial sweep's masks and boxes bit for bit, masked and not. */
@@ -441,6 +538,7 @@ int main(void) {
     RUN_TEST(test_ccd_edge_edge);
     RUN_TEST(test_bvh_against_brute);
     RUN_TEST(test_bvh_walk_order);
+    RUN_TEST(test_bvh_near_walk_order);
     RUN_TEST(test_bvh_split);
     return TEST_SUMMARY();
 }

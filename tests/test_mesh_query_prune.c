@@ -168,6 +168,11 @@ static void walk(wc_mesh_collider* mc) {
         if (!same) printf("  cached differs at (%.17g %.17g %.17g), end %d, reach %g: %.17g vs %.17g\n", p[0], p[1],
                           p[2], end, reach, d0, d1);
         CHECK(same);
+        if (g_near[i].count != -1) { /* the cover test's rounding scale, kept by the gathering */
+            double s = 1.0;
+            for (int k = 0; k < 6; ++k) s = fmax(s, fabs(g_near[i].box[k]));
+            CHECK(memcmp(&s, &g_near[i].scale, sizeof s) == 0);
+        }
         /* a crossing along a path from p (wc_mesh_ccd_near: the list fitted to p's query box, used
            when it covers the path's box, which it need not): the tree's answer bit for bit (from
            the front to the back of the same triangle at the same time and weights) */
