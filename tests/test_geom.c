@@ -286,101 +286,7 @@ static void test_bvh_against_brute(void) {
     CHECK(wc_bvh_build(&b, bad, 1, NULL, NULL) == WC_ERROR_NONFINITE);
 }
 
-/* The box queries' walk (wc_bvh_query_masked: each child tested before the walk goes down to
- * it) against the walk it replaced (every node tested after it is popped), written out here: the same visits in
- * the same order, the same early stop and return value, for masks ORed up and for arbitrary ones
- * (a node's own byte decides, whatever its leaves'), on trees of 0-1,000 boxes as built and after
- * a deformation; and for ORed-up masks the visits are brute force's overlapping leaves in leaf
- * order (the trees' preorder). */
-typedef struct seq {
-    int n, stop_after, list[1024];
-} seq;
-static int seq_visit(void* user, int prim) {
-    seq* s = (seq*)user;
-    if (s->n < 1024) s->list[s->n] = prim;
-    ++s->n;
-    return s->stop_after > 0 && s->n == s->stop_after ? 5 : 0;
-}
-static int walk_pop_test(const wc_bvh* b, const double* box, const unsigned char* mask, seq* s) {
-    if (b->n_nodes == 0) return 0;
-    int stack[WC_BVH_MAX_DEPTH + 2], top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        int node = stack[--top];
-        if ((mask && !mask[node]) || !wc_box_overlap(b->box + 6 * node, box)) continue;
-        const int* ch = b->child + 2 * node;
-        if (ch[0] < 0) {
-            int r = seq_visit(s, ch[1]);
-            if (r) return r;
-        } else {
-            stack[top++] = ch[1];
-            stack[top++] = ch[0];
-        }
-    }
-    return 0;
-}
-
-static void test_bvh_walk_order(void) {
-    int sizes[] = {0, 1, 2, 3, 7, 100, 1000};
-    int differ = 0, brute_differ = 0, stopped = 0;
-    long long visits = 0;
-    static seq a, r;
-    for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si) {
-        int n = sizes[si];
-        double* boxes = malloc(sizeof(double) * 6 * (n + 1));
-        random_boxes(boxes, n, 1);
-        wc_bvh b;
-        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WC_OK);
-        unsigned char* mask = calloc((size_t)b.n_nodes + 1, 1);
-        for (int pass = 0; pass < 2; ++pass) {
-            if (pass == 1) {
-                random_boxes(boxes, n, 2);
-                wc_bvh_refit(&b, boxes);
-            }
-            for (int q = 0; q < 300; ++q) {
-                int kind = q % 3; /* 0: no mask, 1: leaves at random ORed up, 2: every node at random */
-                for (int k = 0; k < b.n_nodes; ++k) mask[k] = rnd() > 0.0;
-                if (kind == 1) wc_bvh_mask_up(&b, mask);
-                double box[6];
-                random_boxes(box, 1, 1.5);
-                wc_box_inflate(box, q % 2 ? 0.6 : 0.1);
-                const unsigned char* mk = kind ? mask : NULL;
-                int stop = q % 4 == 3 ? 1 + q % 5 : 0;
-                a = (seq){.n = 0, .stop_after = stop};
-                r = (seq){.n = 0, .stop_after = stop};
-                int ra = kind ? wc_bvh_query_masked(&b, box, mk, seq_visit, &a) : wc_bvh_query(&b, box, seq_visit, &a);
-                int rr = walk_pop_test(&b, box, mk, &r);
-                if (ra != rr || a.n != r.n || memcmp(a.list, r.list, sizeof(int) * (size_t)(a.n < 1024 ? a.n : 1024)))
-                    ++differ;
-                stopped += ra != 0;
-                visits += a.n;
-                if (kind == 2 || stop) continue;
-                int k = 0;
-                for (int node = 0; node < b.n_nodes; ++node) {
-                    if (b.child[2 * node] >= 0) continue;
-                    int p = b.child[2 * node + 1];
-                    if (!wc_box_overlap(boxes + 6 * p, box) || (mk && !mk[node])) continue;
-                    if (k >= a.n || a.list[k] != p) ++brute_differ;
-                    ++k;
-                }
-                if (k != a.n) ++brute_differ;
-            }
-        }
-        free(mask);
-        wc_bvh_free(&b);
-        free(boxes);
-    }
-    printf("  %lld visits, %d early stops\n", visits, stopped);
-    CHECK(visits > 4000);
-    CHECK(stopped > 100);
-    CHECK_EQ_INT(differ, 0);
-    CHECK_EQ_INT(brute_differ, 0);
-}
-
-/* The nearest-point walk's order (bvh.c traverse tests a node's mask and box before pushing it,
- * its bound when popping it) against the plain preorder walk that tests everything when a node is popped: the
- * same leaves in the same order, with masks, an early stop, and a bound the visits lower (the
- * nearest-point walk of wc_bvh_query_near). */
+/* A walk's visits in order, and the plain preorder walk that tests every node after popping it. */
 typedef struct walk_rec {
     int n, seq[1024], stop_after; /* stop_after > 0: the visit that returns 1 */
     const double* boxes;          /* near walks: each visit lowers *bound2 to its box's distance */
@@ -420,6 +326,73 @@ static int reference_walk(const wc_bvh* b, const double* box, const unsigned cha
     return 0;
 }
 
+/* The box queries' walk (wc_bvh_query_masked: each child tested before the walk goes down to
+ * it) against the walk it replaced (every node tested after it is popped), written out here: the same visits in
+ * the same order, the same early stop and return value, for masks ORed up and for arbitrary ones
+ * (a node's own byte decides, whatever its leaves'), on trees of 0-1,000 boxes as built and after
+ * a deformation; and for ORed-up masks the visits are brute force's overlapping leaves in leaf
+ * order (the trees' preorder). */
+static void test_bvh_walk_order(void) {
+    int sizes[] = {0, 1, 2, 3, 7, 100, 1000};
+    int differ = 0, brute_differ = 0, stopped = 0;
+    long long visits = 0;
+    static walk_rec a, r;
+    for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si) {
+        int n = sizes[si];
+        double* boxes = malloc(sizeof(double) * 6 * (n + 1));
+        random_boxes(boxes, n, 1);
+        wc_bvh b;
+        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WC_OK);
+        unsigned char* mask = calloc((size_t)b.n_nodes + 1, 1);
+        for (int pass = 0; pass < 2; ++pass) {
+            if (pass == 1) {
+                random_boxes(boxes, n, 2);
+                wc_bvh_refit(&b, boxes);
+            }
+            for (int q = 0; q < 300; ++q) {
+                int kind = q % 3; /* 0: no mask, 1: leaves at random ORed up, 2: every node at random */
+                for (int k = 0; k < b.n_nodes; ++k) mask[k] = rnd() > 0.0;
+                if (kind == 1) wc_bvh_mask_up(&b, mask);
+                double box[6];
+                random_boxes(box, 1, 1.5);
+                wc_box_inflate(box, q % 2 ? 0.6 : 0.1);
+                const unsigned char* mk = kind ? mask : NULL;
+                int stop = q % 4 == 3 ? 1 + q % 5 : 0;
+                a = (walk_rec){.stop_after = stop};
+                r = (walk_rec){.stop_after = stop};
+                int ra = kind ? wc_bvh_query_masked(&b, box, mk, walk_visit, &a) : wc_bvh_query(&b, box, walk_visit, &a);
+                int rr = reference_walk(&b, box, mk, &r);
+                if (ra != rr || a.n != r.n || memcmp(a.seq, r.seq, sizeof(int) * (size_t)(a.n < 1024 ? a.n : 1024)))
+                    ++differ;
+                stopped += ra != 0;
+                visits += a.n;
+                if (kind == 2 || stop) continue;
+                int k = 0;
+                for (int node = 0; node < b.n_nodes; ++node) {
+                    if (b.child[2 * node] >= 0) continue;
+                    int p = b.child[2 * node + 1];
+                    if (!wc_box_overlap(boxes + 6 * p, box) || (mk && !mk[node])) continue;
+                    if (k >= a.n || a.seq[k] != p) ++brute_differ;
+                    ++k;
+                }
+                if (k != a.n) ++brute_differ;
+            }
+        }
+        free(mask);
+        wc_bvh_free(&b);
+        free(boxes);
+    }
+    printf("  %lld visits, %d early stops\n", visits, stopped);
+    CHECK(visits > 4000);
+    CHECK(stopped > 100);
+    CHECK_EQ_INT(differ, 0);
+    CHECK_EQ_INT(brute_differ, 0);
+}
+
+/* The nearest-point walk's order (bvh.c traverse tests a node's mask and box before pushing it,
+ * its bound when popping it) against the plain preorder walk that tests everything when a node is popped: the
+ * same leaves in the same order, with masks, an early stop, and a bound the visits lower (the
+ * nearest-point walk of wc_bvh_query_near). */
 static void test_bvh_near_walk_order(void) {
     int sizes[] = {0, 1, 2, 5, 300};
     int mismatches = 0, visits = 0, cut = 0;
