@@ -15,4 +15,17 @@ static inline int hg_body_on_gpu(void) {
     return (major > 4 || (major == 4 && minor >= 3)) && !(passes && strcmp(passes, "fragment") == 0);
 }
 
+/* A host buffer (b, resized to fit) holding nv vertices (pos: 3 floats each) at byte offset +
+   i * stride, every other byte a pattern that is not the body's floats. */
+static inline void hg_fill_buffer(GLuint b, const float* pos, int nv, size_t offset, size_t stride) {
+    size_t bytes = offset + (size_t)nv * stride;
+    unsigned char* img = malloc(bytes);
+    for (size_t i = 0; i < bytes; ++i) img[i] = (unsigned char)(i * 53u);
+    for (int i = 0; i < nv; ++i) memcpy(img + offset + (size_t)i * stride, pos + 3 * i, 12);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, b);
+    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, img, GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
+    free(img);
+}
+
 #endif

@@ -61,17 +61,6 @@ typedef struct method {
     int newton, search;
 } method;
 
-static void fill_buffer(GLuint b, const float* pos, int nv) {
-    size_t bytes = OFFSET + (size_t)nv * STRIDE;
-    unsigned char* img = malloc(bytes);
-    for (size_t i = 0; i < bytes; ++i) img[i] = (unsigned char)(i * 53u);
-    for (int i = 0; i < nv; ++i) memcpy(img + OFFSET + (size_t)i * STRIDE, pos + 3 * i, 12);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, b);
-    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, img, GL_DYNAMIC_DRAW);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
-    free(img);
-}
-
 /* The box's slide along x at frame f (m). */
 static double slide(int f) { return STEP * (f < SLIDE_FROM ? 0 : f <= SLIDE_TO ? f - SLIDE_FROM + 1 : SLIDE_TO - SLIDE_FROM + 1); }
 
@@ -164,7 +153,7 @@ static void run_method(const method* me) {
     float* replay = malloc((size_t)(REPLAY_TO - SAVED_AT) * sizeof pos[1]);
     for (int f = 1; ok && f <= FRAMES; ++f) {
         set_body(rest, f, body);
-        fill_buffer(buf, body, 8);
+        hg_fill_buffer(buf, body, 8, OFFSET, STRIDE);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, c[0], 0, body, 8), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c[1], 0, buf, OFFSET, STRIDE, 8), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(cpu, c[2], 0, body, 8), WEFT_OK);
@@ -194,7 +183,7 @@ static void run_method(const method* me) {
     if (ok) CHECK_EQ_INT(weft_cloth_restore(ctx, c[1], saved, info.snapshot_size), WEFT_OK);
     for (int f = SAVED_AT + 1; ok && f <= REPLAY_TO; ++f) {
         set_body(rest, f, body);
-        fill_buffer(buf, body, 8);
+        hg_fill_buffer(buf, body, 8, OFFSET, STRIDE);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c[1], 0, buf, OFFSET, STRIDE, 8), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_step(ctx, c[1], &fr, NULL), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c[1], WEFT_SPACE_WORLD, pos[1], NULL, N * N, &count), WEFT_OK);

@@ -50,17 +50,6 @@ static const double LO[3] = {-0.3, 0.0, -0.3}, HI[3] = {0.3, 0.3, 0.3};
 static const double LO_A[3] = {-0.55, 0.0, -0.3}, HI_A[3] = {-0.05, 0.3, 0.3};
 static const double LO_B[3] = {0.05, 0.0, -0.3}, HI_B[3] = {0.55, 0.3, 0.3};
 
-static void fill_buffer(GLuint b, const float* pos, int nv) {
-    size_t bytes = OFFSET + (size_t)nv * STRIDE;
-    unsigned char* img = malloc(bytes);
-    for (size_t i = 0; i < bytes; ++i) img[i] = (unsigned char)(i * 53u);
-    for (int i = 0; i < nv; ++i) memcpy(img + OFFSET + (size_t)i * STRIDE, pos + 3 * i, 12);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, b);
-    glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, img, GL_DYNAMIC_DRAW);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
-    free(img);
-}
-
 /* The box at frame f: standing until frame 29, then rising 1 cm a frame to 0.2 m at frame 49. */
 static void set_body(const float* rest, int f, float* body) {
     const double dy = 0.01 * (f < 30 ? 0 : f < 50 ? f - 29 : 20);
@@ -133,7 +122,7 @@ static void run_boxes(int two) {
     float* replay = malloc((size_t)(REPLAY_TO - SAVED_AT) * sizeof pos[1]);
     for (int f = 1; ctx && f <= FRAMES; ++f) {
         set_body(rest, f, body);
-        fill_buffer(buf, body, 8);
+        hg_fill_buffer(buf, body, 8, OFFSET, STRIDE);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_vertices(ctx, c[0], mb, body, 8), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c[1], mb, buf, OFFSET, STRIDE, 8), WEFT_OK);
         for (int k = 0; k < 2; ++k) {
@@ -161,7 +150,7 @@ static void run_boxes(int two) {
     if (ctx) CHECK_EQ_INT(weft_cloth_restore(ctx, c[1], saved, info.snapshot_size), WEFT_OK);
     for (int f = SAVED_AT + 1; ctx && f <= REPLAY_TO; ++f) {
         set_body(rest, f, body);
-        fill_buffer(buf, body, 8);
+        hg_fill_buffer(buf, body, 8, OFFSET, STRIDE);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(ctx, c[1], mb, buf, OFFSET, STRIDE, 8), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_step(ctx, c[1], &fr, NULL), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c[1], WEFT_SPACE_WORLD, pos[1], NULL, N * N, &count), WEFT_OK);
