@@ -71,6 +71,15 @@ void wg_self_idle_destroy(wg_self_idle* si, int gl) {
     wc_free(&a, si);
 }
 
+size_t wg_self_idle_bytes(const wg_self_idle* si) {
+    if (!si) return 0;
+    const wg_tex* t[] = {&si->tri.node, &si->tri.order, &si->edge.node, &si->edge.order, &si->elem,
+                         &si->part,     &si->seam,      &si->xs,        &si->counter};
+    size_t bytes = 0;
+    for (int k = 0; k < (int)(sizeof t / sizeof t[0]); ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
+    return bytes;
+}
+
 /* The tree b's nodes and their order by height (leaves 0; a node 1 + its children's highest:
  * a height's nodes depend only on lower ones), staged in o (room for 8 floats a node) and h
  * (an int a node). */

@@ -57,6 +57,7 @@ wg_self_idle_mode wg_self_idle_env(void);
 int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg_self_idle_mode mode,
                         wg_self_idle** out, char* err, size_t err_len);
 void wg_self_idle_destroy(wg_self_idle* si, int gl);   /* gl 0: the memory only */
+size_t wg_self_idle_bytes(const wg_self_idle* si);      /* GPU memory held (0 for NULL) */
 wg_self_idle_mode wg_self_idle_get_mode(const wg_self_idle* si);
 
 /* The substep's (stage's) start: its positions x copied. */

@@ -46,7 +46,7 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
     return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts) + wg_pairs_bytes(g->pairs) +
-           wg_mesh_sharp_bytes(g->sharp);
+           wg_mesh_sharp_bytes(g->sharp) + wg_self_idle_bytes(g->self_idle);
 }
 
 void wg_sim_forget(wg_sim* g) {
