@@ -35,9 +35,8 @@
  * every substep, as on fragment passes); "check" the proof, and core's stage run anyway where it
  * proved idle, counting the runs where the stage moved something (a broken proof). Tests'
  * mutations, WEFT_GPU_SELF_IDLE_MUTATION: "no-delta" (the displacement left out of the proof),
- * "no-shared" (pairs sharing a particle tested too), "no-margin" (the rounding margins 0). Calls
- * are made with the cloth's
- * GL context current; everything is allocated at creation. */
+ * "no-shared" (pairs sharing a particle tested too), "no-margin" (the rounding margins 0).
+ * Calls are made with the cloth's GL context current; everything is allocated at creation. */
 #ifndef WEFT_GPU_SOLVER_SELF_IDLE_H
 #define WEFT_GPU_SOLVER_SELF_IDLE_H
 
