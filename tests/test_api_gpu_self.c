@@ -16,6 +16,7 @@
  * The layers also with BDF2, TR-BDF2 and Newton 2 with the line search.
  * Also: a snapshot mid-run restores to the same bytes and replays bit-identically; -1 means on
  * for a garment (a cloth with seams) and off otherwise, as on the CPU. */
+#define _POSIX_C_SOURCE 200809L   /* setenv */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,20 +29,19 @@
 
 static ag_alloc_counter g_count;
 /* the stage's transfers as the GPU cloth logs them after each frame (DEBUG): runs, bytes read
-   back, bytes uploaded, runs that uploaded; -1 before any */
-static long long g_io[4] = {-1, -1, -1, -1};
+   back, bytes uploaded, runs that uploaded, then the idle proof's substeps, skipped runs, checked
+   runs and broken proofs (gpu/solver/wg_self_idle.h); -1 before any */
+#define IO_N 8
+static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1};
 
 static void io_log(weft_log_level level, const char* message, void* user) {
     (void)user;
-    long long r, rb, ub, u;
+    long long v[IO_N];
     if (level == WEFT_LOG_DEBUG &&
         sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
-                        "bytes uploaded by %lld", &r, &rb, &ub, &u) == 4) {
-        g_io[0] = r;
-        g_io[1] = rb;
-        g_io[2] = ub;
-        g_io[3] = u;
-    }
+                        "bytes uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, "
+                        "%lld broken", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7]) == IO_N)
+        memcpy(g_io, v, sizeof v);
 }
 
 static weft_context* make_ctx(weft_backend backend) {
@@ -63,6 +63,7 @@ static weft_context* make_ctx(weft_backend backend) {
  * 4 cm above it, shifted a third of a cell along x and a fifth along z so that its vertices sit
  * over the lower sheet's triangles. */
 #define LN 10
+static float g_drop = 0.04f;   /* m: the upper sheet's height above the lower */
 static void layers(ag_mesh* m) {
     memset(m, 0, sizeof *m);
     ag_mesh a;
@@ -77,7 +78,7 @@ static void layers(ag_mesh* m) {
         for (int v = 0; v < a.nv; ++v) {
             float* p = m->pos + 3 * (L * a.nv + v);
             p[0] = a.pos[3 * v] + (L ? (float)(cell / 3.0) : 0.0f);
-            p[1] = L ? 0.04f : 0.0f;
+            p[1] = L ? g_drop : 0.0f;
             p[2] = a.pos[3 * v + 2] + (L ? (float)(cell / 5.0) : 0.0f);
         }
         for (int f = 0; f < a.nf; ++f) {
@@ -123,7 +124,7 @@ typedef struct run_result {
     float pos[3 * 2 * LN * LN > 3 * HX * HY ? 3 * 2 * LN * LN : 3 * HX * HY];
     int nv;
     int max_crossings, frames_crossing;
-    long long io1[4], io[4];    /* the GPU stage's transfers after frame 1 and at the end (g_io) */
+    long long io1[IO_N], io[IO_N]; /* the GPU stage's transfers after frame 1 and at the end (g_io) */
     int impacts, proximity, zones, unresolved, rollbacks, failed, iterations;
     int pairs, pairs_active, pair_passes;   /* the self-contact pairs in the solve */
     long step_allocs;           /* allocations through the context's allocator in frames 2.. */
@@ -285,14 +286,21 @@ static void test_layers(void) {
     if (cpu.rollbacks == 0) CHECK_EQ_INT(gpu.rollbacks, 0);
     CHECK(gpu.ms_self > 0.0);
     CHECK_EQ_INT(gpu.step_allocs, 0);
-    /* transfers: 3 arrays of 16-byte texels read back a run; frame 1 (the upper sheet falling,
-       4 cm above) moved nothing, so uploaded nothing; later runs uploaded spans of x and v where
-       the stage moved something */
-    printf("  GPU transfers: after frame 1: %lld runs, %lld bytes read back, %lld uploaded; at the end: %lld runs, "
-           "%lld bytes read back, %lld uploaded by %lld runs\n", gpu.io1[0], gpu.io1[1], gpu.io1[2], gpu.io[0],
-           gpu.io[1], gpu.io[2], gpu.io[3]);
-    CHECK(gpu.io1[0] >= 2 && gpu.io1[1] == 48LL * gpu.nv * gpu.io1[0] && gpu.io1[2] == 0);
-    CHECK(gpu.io[1] == 48LL * gpu.nv * gpu.io[0] && gpu.io[3] <= gpu.io[0]);
+    /* transfers: the GPU's idle proof on every substep (a 4-byte count read back), and where it
+       could not show the stage idle the stage's run: 3 arrays of 16-byte texels read back; frame 1
+       (the upper sheet falling, 4 cm above) moved nothing: every substep proved idle, no run;
+       later runs uploaded spans of x and v where the stage moved something */
+    printf("  GPU transfers: after frame 1: %lld runs of %lld substeps, %lld bytes read back, %lld uploaded; at the "
+           "end: %lld runs of %lld substeps (%lld skipped), %lld bytes read back, %lld uploaded by %lld runs\n",
+           gpu.io1[0], gpu.io1[4], gpu.io1[1], gpu.io1[2], gpu.io[0], gpu.io[4], gpu.io[5], gpu.io[1], gpu.io[2],
+           gpu.io[3]);
+    if (gpu.io[4] > 0) {   /* compute passes: the proof */
+        CHECK(gpu.io1[4] >= 2 && gpu.io1[5] == gpu.io1[4] && gpu.io1[0] == 0 && gpu.io1[1] == 4LL * gpu.io1[4]);
+        CHECK(gpu.io[0] + gpu.io[5] == gpu.io[4] && gpu.io[0] > 0 && gpu.io[5] > 0);
+    } else {   /* fragment passes: the stage every substep */
+        CHECK(gpu.io1[0] >= 2 && gpu.io1[1] == 48LL * gpu.nv * gpu.io1[0] && gpu.io1[2] == 0);
+    }
+    CHECK(gpu.io[1] == 48LL * gpu.nv * gpu.io[0] + 4LL * gpu.io[4] && gpu.io[3] <= gpu.io[0]);
     CHECK(gpu.io[2] >= 32LL * gpu.io[3] && gpu.io[2] <= 32LL * gpu.nv * gpu.io[3]);
     CHECK_EQ_INT(cpu.frames_crossing, 0);
     CHECK(omean < 0.0);   /* without it the upper sheet falls through the lower */
@@ -425,6 +433,50 @@ static void test_snapshot(void) {
     ag_free(&m);
 }
 
+/* The GPU's idle proof (gpu/solver/wg_self_idle.h, WEFT_GPU_SELF_IDLE): scene `scene` run with
+ * the proof (r[0]), without it (r[1]: the stage every substep) and in its check mode (r[2]: the
+ * stage run anyway where the proof said idle). The proof skips only runs that move nothing, so
+ * all three end at the same bytes; the check mode finds no run it called idle that moved
+ * something, and both kinds of substep occur (with `moves`, runs where the stage moved
+ * something among those left to it). */
+static void idle_case(const char* name, int scene, int frames, int moves) {
+    static run_result r[3];
+    static const char* modes[3] = {"on", "off", "check"};
+    for (int k = 0; k < 3; ++k) {
+        setenv("WEFT_GPU_SELF_IDLE", modes[k], 1);
+        run(WEFT_BACKEND_GPU, scene, 1, frames, &r[k]);
+    }
+    unsetenv("WEFT_GPU_SELF_IDLE");
+    const long long* on = r[0].io;
+    const long long* chk = r[2].io;
+    printf("%s, %d frames: proof: %lld of %lld substeps skipped, %lld runs (%lld moved something), %lld bytes read "
+           "back; without: %lld runs, "
+           "%lld bytes read back; check: %lld runs proved idle rerun, %lld moved something, %lld runs left to the stage; "
+           "same positions: %s, %s\n", name, frames, on[5], on[4], on[0], on[3], on[1], r[1].io[0], r[1].io[1], chk[6],
+           chk[7], chk[0] - chk[6], memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0 ? "yes" : "NO",
+           memcmp(r[2].pos, r[1].pos, sizeof r[0].pos) == 0 ? "yes" : "NO");
+    for (int k = 0; k < 3; ++k) CHECK_EQ_INT(r[k].failed, 0);
+    CHECK(memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0);
+    CHECK(memcmp(r[2].pos, r[1].pos, sizeof r[0].pos) == 0);
+    CHECK_EQ_INT(r[0].impacts + r[0].proximity, r[1].impacts + r[1].proximity);
+    CHECK(on[4] > 0 && on[5] > 0 && on[0] == on[4] - on[5]);
+    CHECK(r[1].io[4] == 0 && r[1].io[0] == on[4]);   /* without the proof: a run every substep */
+    CHECK(chk[7] == 0 && chk[6] == on[5] && chk[0] == on[4]);
+    CHECK(chk[0] - chk[6] > 0);   /* substeps the proof left to the stage */
+    if (moves) CHECK(on[3] > 0);
+}
+
+static void test_idle(void) {
+    idle_case("layers", 0, 30, 0);
+    idle_case("heap", 1, 45, 1);
+    g_drop = 0.6f;   /* a fast drop: the upper sheet lands at 3.4 m/s, 3 cm a substep */
+    idle_case("layers dropped from 0.6 m", 0, 30, 0);
+    g_drop = 0.04f;
+    g_integrator = WEFT_INTEGRATOR_TRBDF2;   /* the stage after each of TR-BDF2's two stages */
+    idle_case("layers, TR-BDF2", 0, 30, 0);
+    g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
+}
+
 /* -1: on for a garment (here a cloth with a seam), off for a plain cloth, as on the CPU. */
 static void test_default(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
@@ -451,13 +503,17 @@ static void test_default(void) {
     ag_free(&m);
 }
 
-int main(void) {
+int main(int argc, char** argv) {
     weft_context* probe = make_ctx(WEFT_BACKEND_GPU);
     if (!probe) {
         printf("no GPU context: skipped\n");
         return 0;
     }
     weft_context_destroy(probe);
+    if (argc > 1 && strcmp(argv[1], "idle") == 0) {   /* test_api_gpu_self_idle */
+        RUN_TEST(test_idle);
+        return TEST_SUMMARY();
+    }
     RUN_TEST(test_default);
     RUN_TEST(test_layers);
     RUN_TEST(test_heap);

@@ -7,7 +7,10 @@
  * judge sees the stage the same way), are free of crossings at every frame (core's
  * wc_self_intersections), need proximity impulses in the same measure (within 5 % in the frames
  * neither rolled back: a rejected attempt's state is far from the solution, where float and
- * double part) and end close: 2 mm (backward Euler), 5 mm (BDF2), 1 cm (TR-BDF2). */
+ * double part) and end close: 2 mm (backward Euler), 5 mm (BDF2), 1 cm (TR-BDF2).
+ * With WEFT_GPU_SELF_IDLE=check (test_gpu_self_idle_check): the GPU's idle proof
+ * (gpu/solver/wg_self_idle.h) is checked: core's stage, run anyway where the proof said idle,
+ * moved nothing there, and it acted on some of the substeps left to it. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +73,21 @@ static void add(totals* t, const wc_step_stats* st, wc_status r) {
     t->failed += r != WC_OK;
 }
 
+/* the stage's transfers and its idle proof's counts (gpu/solver/wg_self_idle.h) as the frame logs
+   them: runs, bytes read back, bytes uploaded, runs that uploaded, proofs, skipped, checked,
+   broken */
+static long long g_io[8];
+
+static void io_log(wc_log_level level, const char* message, void* user) {
+    (void)user;
+    long long v[8];
+    if (level == WC_LOG_DEBUG &&
+        sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
+                        "bytes uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, "
+                        "%lld broken", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7]) == 8)
+        memcpy(g_io, v, sizeof v);
+}
+
 /* dist (m): the bound on the end positions' distance */
 static void run(wc_integrator integ, const char* name, double dist) {
     wc_model m;
@@ -79,6 +97,8 @@ static void run(wc_integrator integ, const char* name, double dist) {
     CHECK(c && s);
     wg_sim* g = NULL;
     wc_diag d = {0};
+    d.log = io_log;
+    memset(g_io, 0, sizeof g_io);
     if (s) CHECK(wg_sim_create(dev, s, NULL, &g, &d) == WC_OK);
     if (!c || !s || !g) {
         wc_state_destroy(c);
@@ -110,6 +130,13 @@ static void run(wc_integrator integ, const char* name, double dist) {
     CHECK_EQ_INT(tg.failed, 0);
     CHECK_EQ_INT(tg.crossings, 0);
     CHECK_EQ_INT(tg.unresolved, 0);
+    const char* idle = getenv("WEFT_GPU_SELF_IDLE");
+    if (idle && strcmp(idle, "check") == 0) {   /* test_gpu_self_idle_check */
+        printf("    idle proof: %lld substeps, %lld proved idle (the stage run anyway: %lld moved something), %lld "
+               "left to the stage (%lld moved something)\n", g_io[4], g_io[6], g_io[7], g_io[0] - g_io[6], g_io[3]);
+        CHECK(g_io[6] > 0 && g_io[7] == 0);   /* the stage moved nothing where the proof said idle */
+        CHECK(g_io[0] - g_io[6] > 0 && g_io[3] > 0);   /* and it acted on some of the others */
+    }
     CHECK_EQ_INT(tc.crossings, 0);
     CHECK_EQ_INT(tg.rollbacks, tc.rollbacks);
     CHECK(tc.proximity_kept > 0 && fabs((double)tg.proximity_kept - tc.proximity_kept) < 0.05 * tc.proximity_kept);

@@ -178,6 +178,14 @@ WHOLE(wg_mesh_pairs_find_in, mesh_pairs_find);
 static const wg_pass_input mesh_sharp_mask[] = {IN(wg_mesh_sharp_mask_in, order), IN(wg_mesh_sharp_mask_in, mesh_node),
                                                 IN(wg_mesh_sharp_mask_in, mesh_tri), IN(wg_mesh_sharp_mask_in, sharp)};
 WHOLE(wg_mesh_sharp_mask_in, mesh_sharp_mask);
+static const wg_pass_input self_idle_refit[] = {IN(wg_self_idle_refit_in, order), IN(wg_self_idle_refit_in, elem),
+                                                IN(wg_self_idle_refit_in, x), IN(wg_self_idle_refit_in, xs)};
+WHOLE(wg_self_idle_refit_in, self_idle_refit);
+static const wg_pass_input self_idle_walk[] = {
+    IN(wg_self_idle_walk_in, tnode), IN(wg_self_idle_walk_in, enode), IN(wg_self_idle_walk_in, elem),
+    IN(wg_self_idle_walk_in, x),     IN(wg_self_idle_walk_in, xs),    IN(wg_self_idle_walk_in, part),
+    IN(wg_self_idle_walk_in, seam)};
+WHOLE(wg_self_idle_walk_in, self_idle_walk);
 static const wg_pass_input normals[] = {IN(wg_normals_in, x), IN(wg_normals_in, rows), IN(wg_normals_in, row_tri),
                                         IN(wg_normals_in, tri)};
 WHOLE(wg_normals_in, normals);
@@ -332,6 +340,8 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_MESH_SHARP] = COMPUTE("mesh_sharp", mesh_sharp, wg_mesh_sharp_in),
     [WGP_MESH_SHARP_MASK_GROUPS] = NATIVE("mesh_sharp_mask_groups", mesh_sharp_mask, wg_mesh_sharp_mask_in),
     [WGP_MESH_PAIRS_FIND_GROUPS] = NATIVE("mesh_pairs_find_groups", mesh_pairs_find, wg_mesh_pairs_find_in),
+    [WGP_SELF_IDLE_REFIT_GROUPS] = NATIVE("self_idle_refit_groups", self_idle_refit, wg_self_idle_refit_in),
+    [WGP_SELF_IDLE_WALK_GROUPS] = NATIVE("self_idle_walk_groups", self_idle_walk, wg_self_idle_walk_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),

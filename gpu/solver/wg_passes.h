@@ -38,6 +38,8 @@ typedef enum wg_pass_id {
     WGP_MESH_VERTS, WGP_MESH_TRIS, WGP_MESH_MEASURE, WGP_MESH_GATHER, WGP_MESH_REFIT_GROUPS,
     /* compute passes only: a resident body's sharp-feature pairs (wg_mesh_sharp.c); *_GROUPS native */
     WGP_MESH_SHARP, WGP_MESH_SHARP_MASK_GROUPS, WGP_MESH_PAIRS_FIND_GROUPS,
+    /* compute passes only: the self-collision stage's idle proof (wg_self_idle.c), native */
+    WGP_SELF_IDLE_REFIT_GROUPS, WGP_SELF_IDLE_WALK_GROUPS,
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
        direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
@@ -305,6 +307,14 @@ typedef struct wg_mesh_sharp_mask_in {   /* mesh_sharp_mask_groups.glsl (the mas
 typedef struct wg_mesh_pairs_find_in {   /* mesh_pairs_find_groups.glsl (pairs: image 0, counter: 1) */
     const wg_tex *mesh_vert, *mesh_tri, *mesh_node, *x, *v, *cfeat, *bedge, *bvrow, *bvlist, *btri, *sharp, *mask;
 } wg_mesh_pairs_find_in;
+
+typedef struct wg_self_idle_refit_in {   /* self_idle_refit_groups.glsl (the node image: image 0) */
+    const wg_tex *order, *elem, *x, *xs;
+} wg_self_idle_refit_in;
+
+typedef struct wg_self_idle_walk_in {   /* self_idle_walk_groups.glsl (the counter: image 0) */
+    const wg_tex *tnode, *enode, *elem, *x, *xs, *part, *seam;
+} wg_self_idle_walk_in;
 
 typedef struct wg_normals_in {  /* normals.glsl */
     const wg_tex *x, *rows, *row_tri, *tri;

@@ -57,6 +57,17 @@ wg_self* wg_self_create(const wg_layout* L, int n, wc_allocator alloc) {
 
 const wg_self_io* wg_self_transfers(const wg_self* ws) { return &ws->io; }
 
+void wg_self_count_proof(wg_self* ws, int idle, long long bytes) {
+    ++ws->io.proofs;
+    ws->io.skipped += idle != 0;
+    ws->io.read_bytes += bytes;
+}
+
+void wg_self_count_check(wg_self* ws, int moved) {
+    ++ws->io.checked;
+    ws->io.broken += moved != 0;
+}
+
 /* n RGBA32F items of t into f (n x 4), and their xyz into d (n x 3, NULL: not converted). */
 static void read_back(wg_self* ws, const wg_tex* t, float* f, double* d) {
     wg_array_read(ws->L, t, ws->n, f);

@@ -4,6 +4,9 @@
  * the colliders' projection, before the checks that the judge rules on. The GPU cloth keeps
  * core's guarantee exactly: a cloth that starts a substep free of crossings ends it free of them.
  *
+ * With compute passes a GPU proof runs first (wg_self_idle.h): where it shows the stage idle,
+ * neither wg_self_begin nor wg_self_end is called (4 bytes read back); elsewhere both, on the
+ * start positions the proof copied.
  * Transfers: the positions are read back at the substep's start (the stage's x_start), the
  * positions and velocities at its end (3 arrays of n RGBA32F texels: 48 n bytes a substep). The
  * particles the stage moved go back as one span per array, from the first particle it moved to
@@ -31,6 +34,11 @@ typedef struct wg_self_io {
     long long uploads;          /* runs that moved a particle, so uploaded a span */
     long long read_bytes;       /* bytes read back */
     long long upload_bytes;     /* bytes uploaded */
+    /* the idle proof (wg_self_idle.h): */
+    long long proofs;           /* substeps (stages) it ran on */
+    long long skipped;          /* those it proved idle, so the stage did not run */
+    long long checked;          /* WEFT_GPU_SELF_IDLE=check: proved idle, and the stage run anyway */
+    long long broken;           /* of those, runs that moved a particle (a broken proof: 0) */
 } wg_self_io;
 
 /* For a cloth of n particles in layout L (kept); NULL when out of memory. */
@@ -49,5 +57,9 @@ void wg_self_end(wg_self* ws, wc_self* sc, const wc_state* s, int n_pins, double
                  const wg_tex* v, int judge_energy, wc_self_stats* st, double* gain);
 
 const wg_self_io* wg_self_transfers(const wg_self* ws);
+/* The idle proof's outcome on a substep: idle (1: proved idle), its bytes read back. */
+void wg_self_count_proof(wg_self* ws, int idle, long long bytes);
+/* WEFT_GPU_SELF_IDLE=check: the stage run where the proof said idle moved (1) or not (0). */
+void wg_self_count_check(wg_self* ws, int moved);
 
 #endif

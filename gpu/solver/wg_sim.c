@@ -46,7 +46,7 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
     return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts) + wg_pairs_bytes(g->pairs) +
-           wg_mesh_sharp_bytes(g->sharp);
+           wg_mesh_sharp_bytes(g->sharp) + wg_self_idle_bytes(g->self_idle);
 }
 
 void wg_sim_forget(wg_sim* g) {
@@ -62,12 +62,14 @@ void wg_sim_destroy(wg_sim* g) {
         wg_amg_forget(g->amg);
         wg_pairs_forget(g->pairs);
         wg_mesh_sharp_destroy(g->sharp, 0);
+        wg_self_idle_destroy(g->self_idle, 0);
         goto memory;
     }
     wg_contacts_destroy(g->contacts);
     wg_amg_destroy(g->amg);
     wg_pairs_destroy(g->pairs);
     wg_mesh_sharp_destroy(g->sharp, 1);
+    wg_self_idle_destroy(g->self_idle, 1);
     wg_tex* t[128];
     int n = all_textures(g, t, 128);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
@@ -328,8 +330,9 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
                "kept there) and solved on the GPU (docs/design/gpu_bodies.md)", s->n_mesh);
     if (s->self)
         wc_log(diag, WC_LOG_INFO,
-               "GPU cloth: self-collision: core's stage runs on the host at the end of every substep (positions "
-               "and velocities read back, what it moved uploaded); its in-solve penalty pairs %s "
+               "GPU cloth: self-collision: core's stage runs on the host at the end of every substep that a GPU "
+               "proof (compute passes) does not show idle (positions and velocities read back, what it moved "
+               "uploaded); its in-solve penalty pairs %s "
                "(docs/design/gpu.md)",
                s->self_pairs ? "are found on the host and solved on the GPU" : "are off (self_in_solve 0)");
     wc_allocator alloc = s->alloc;
@@ -405,6 +408,8 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     if (ok && g->pairs && s->pairs && s->n_mesh > 0 && wg_contacts_mesh(g->contacts) &&
         wg_contacts_mesh(g->contacts)->body)
         ok = wg_mesh_sharp_create(&g->run, wg_contacts_mesh(g->contacts), s->pairs, m, &g->sharp, err, sizeof err);
+    if (ok && g->self && dev->compute && wg_self_idle_env() != WG_SELF_IDLE_OFF)
+        ok = wg_self_idle_create(&g->run, s->self, m, wg_self_idle_env(), &g->self_idle, err, sizeof err);
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1, &g->x};
         /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs the same V-cycle (pcg_group_amg.glsl) */

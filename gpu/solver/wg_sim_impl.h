@@ -17,6 +17,7 @@
 #include "wg_ring.h"
 #include "wg_runner.h"
 #include "wg_self.h"
+#include "wg_self_idle.h"
 #include "wg_sim.h"
 #include "wg_stamps.h"
 
@@ -104,6 +105,8 @@ struct wg_sim {
     wg_amg* amg;                /* the multigrid when the preconditioner is amg, else NULL */
     wg_self* self;              /* core's self-collision stage on the host (wg_self.h) when the state
                                    has one (s->self), else NULL */
+    wg_self_idle* self_idle;    /* the stage's idle proof (wg_self_idle.h): compute passes, with
+                                   self, unless WEFT_GPU_SELF_IDLE=off; else NULL */
     wg_pairs* pairs;            /* the penalty pairs in the solve (wg_pairs.h) when the state has
                                    lists and Newton is not wanted, else NULL */
     wg_mesh_sharp* sharp;       /* the resident bodies' sharp-feature pairs found on the GPU

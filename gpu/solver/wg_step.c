@@ -7,7 +7,7 @@
  * wg_pairs.h), (friction), the solve, (the pairs' rechecks and their solves), (Newton's iterations
  * and line search: wg_newton.c), (contact release; TR-BDF2's stage 1 holds its impulses instead),
  * integration with the pins snapped, strain limiting, (contact projection), (self-collision:
- * core's stage on the host, wg_self.h), and the checks as reductions (wg_checks.c): one read-back
+ * core's stage on the host, wg_self.h, unless the GPU proves it idle, wg_self_idle.h), and the checks as reductions (wg_checks.c): one read-back
  * of four texels per substep feeds core's judge. Rollback moves no data: the state rings keep the
  * substep's start. */
 #include <math.h>
@@ -174,7 +174,8 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wc_substep_measure before, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_START);   /* read back with the end's */
-    if (g->self) wg_self_begin(g->self, s->self, wg_ring_cur(&g->x));   /* the previous substep's end */
+    if (g->self_idle) wg_self_idle_begin(g->self_idle, wg_ring_cur(&g->x));   /* read back if the stage runs */
+    else if (g->self) wg_self_begin(g->self, s->self, wg_ring_cur(&g->x));   /* the previous substep's end */
 
     wc_integ ig;
     wc_integ_coefficients(s, h, stage, &ig);
@@ -318,8 +319,22 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         wg_stamp(&g->stamps, WG_STAGE_COUNT);
         double t0 = wc_now_ms();
         wc_self_stats ss = {0, 0, 0, 0, 0};
-        wg_self_end(g->self, s->self, s, g->n_pins_uploaded, ig.he, wg_ring_cur(&g->x), wg_ring_cur(&g->v),
-                    judge_energy, &ss, &self_gain);
+        /* the GPU's proof that the stage would move nothing (wg_self_idle.h); where it fails, the
+           stage as without it, on the start positions the proof kept */
+        int idle = 0;
+        if (g->self_idle) {
+            long long bytes = 0;
+            idle = wg_self_idle_count(g->self_idle, wg_ring_cur(&g->x), &bytes) == 0;
+            wg_self_count_proof(g->self, idle, bytes);
+        }
+        const int check = idle && wg_self_idle_get_mode(g->self_idle) == WG_SELF_IDLE_CHECK;
+        if (!idle || check) {
+            const long long uploads = wg_self_transfers(g->self)->uploads;
+            if (g->self_idle) wg_self_begin(g->self, s->self, wg_self_idle_start(g->self_idle));
+            wg_self_end(g->self, s->self, s, g->n_pins_uploaded, ig.he, wg_ring_cur(&g->x), wg_ring_cur(&g->v),
+                        judge_energy, &ss, &self_gain);
+            if (check) wg_self_count_check(g->self, wg_self_transfers(g->self)->uploads != uploads);
+        }
         st->self_proximity += ss.proximity;
         st->self_impacts += ss.impacts;
         st->self_zones += ss.zones;
@@ -473,7 +488,9 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
         const wg_self_io* io = wg_self_transfers(g->self);
         wc_log(diag, WC_LOG_DEBUG,
                "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld bytes "
-               "uploaded by %lld of the runs", io->runs, io->read_bytes, io->upload_bytes, io->uploads);
+               "uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, %lld broken",
+               io->runs, io->read_bytes, io->upload_bytes, io->uploads, io->proofs, io->skipped, io->checked,
+               io->broken);
     }
     return r;
 }
