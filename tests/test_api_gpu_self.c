@@ -30,9 +30,10 @@
 static ag_alloc_counter g_count;
 /* the stage's transfers as the GPU cloth logs them after each frame (DEBUG): runs, bytes read
    back, bytes uploaded, runs that uploaded, then the idle proof's substeps, skipped runs, checked
-   runs and broken proofs (gpu/solver/wg_self_idle.h); -1 before any */
-#define IO_N 8
-static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1};
+   runs, broken proofs and substeps left untried by its back-off (gpu/solver/wg_self_idle.h); -1
+   before any */
+#define IO_N 9
+static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
 
 static void io_log(weft_log_level level, const char* message, void* user) {
     (void)user;
@@ -40,7 +41,7 @@ static void io_log(weft_log_level level, const char* message, void* user) {
     if (level == WEFT_LOG_DEBUG &&
         sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
                         "bytes uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, "
-                        "%lld broken", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7]) == IO_N)
+                        "%lld broken, %lld untried", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8]) == IO_N)
         memcpy(g_io, v, sizeof v);
 }
 
@@ -296,7 +297,7 @@ static void test_layers(void) {
            gpu.io[3]);
     if (gpu.io[4] > 0) {   /* compute passes: the proof */
         CHECK(gpu.io1[4] >= 2 && gpu.io1[5] == gpu.io1[4] && gpu.io1[0] == 0 && gpu.io1[1] == 4LL * gpu.io1[4]);
-        CHECK(gpu.io[0] + gpu.io[5] == gpu.io[4] && gpu.io[0] > 0 && gpu.io[5] > 0);
+        CHECK(gpu.io[0] + gpu.io[5] == gpu.io[4] + gpu.io[8] && gpu.io[0] > 0 && gpu.io[5] > 0);
     } else {   /* fragment passes: the stage every substep */
         CHECK(gpu.io1[0] >= 2 && gpu.io1[1] == 48LL * gpu.nv * gpu.io1[0] && gpu.io1[2] == 0);
     }
@@ -438,7 +439,7 @@ static void test_snapshot(void) {
  * stage run anyway where the proof said idle). The proof skips only runs that move nothing, so
  * all three end at the same bytes; the check mode finds no run it called idle that moved
  * something, and both kinds of substep occur (with `moves`, runs where the stage moved
- * something among those left to it). */
+ * something among those left to it, and substeps the back-off left untried). */
 static void idle_case(const char* name, int scene, int frames, int moves) {
     static run_result r[3];
     static const char* modes[3] = {"on", "off", "check"};
@@ -449,21 +450,27 @@ static void idle_case(const char* name, int scene, int frames, int moves) {
     unsetenv("WEFT_GPU_SELF_IDLE");
     const long long* on = r[0].io;
     const long long* chk = r[2].io;
-    printf("%s, %d frames: proof: %lld of %lld substeps skipped, %lld runs (%lld moved something), %lld bytes read "
-           "back; without: %lld runs, "
+    printf("%s, %d frames: proof: tried on %lld of %lld substeps (%lld untried, backing off), %lld skipped, %lld runs "
+           "(%lld moved something), %lld bytes read back; without: %lld runs, "
            "%lld bytes read back; check: %lld runs proved idle rerun, %lld moved something, %lld runs left to the stage; "
-           "same positions: %s, %s\n", name, frames, on[5], on[4], on[0], on[3], on[1], r[1].io[0], r[1].io[1], chk[6],
+           "same positions: %s, %s\n", name, frames, on[4], on[4] + on[8], on[8], on[5], on[0], on[3], on[1], r[1].io[0],
+           r[1].io[1], chk[6],
            chk[7], chk[0] - chk[6], memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0 ? "yes" : "NO",
            memcmp(r[2].pos, r[1].pos, sizeof r[0].pos) == 0 ? "yes" : "NO");
     for (int k = 0; k < 3; ++k) CHECK_EQ_INT(r[k].failed, 0);
     CHECK(memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0);
     CHECK(memcmp(r[2].pos, r[1].pos, sizeof r[0].pos) == 0);
     CHECK_EQ_INT(r[0].impacts + r[0].proximity, r[1].impacts + r[1].proximity);
-    CHECK(on[4] > 0 && on[5] > 0 && on[0] == on[4] - on[5]);
-    CHECK(r[1].io[4] == 0 && r[1].io[0] == on[4]);   /* without the proof: a run every substep */
-    CHECK(chk[7] == 0 && chk[6] == on[5] && chk[0] == on[4]);
+    const long long substeps = on[4] + on[8];
+    CHECK(on[4] > 0 && on[5] > 0 && on[0] == substeps - on[5]);
+    CHECK(r[1].io[4] == 0 && r[1].io[0] == substeps);   /* without the proof: a run every substep */
+    /* the check mode tries every substep, so it proves at least what the back-off let be tried */
+    CHECK(chk[8] == 0 && chk[7] == 0 && chk[6] >= on[5] && chk[0] == substeps);
+    /* the back-off tries again after at most 8 substeps: it skips at least one idle substep in 9
+       of those the check mode proved idle (each untried substep follows a failure) */
+    CHECK(on[8] <= 8 * (on[4] - on[5]));
     CHECK(chk[0] - chk[6] > 0);   /* substeps the proof left to the stage */
-    if (moves) CHECK(on[3] > 0);
+    if (moves) CHECK(on[3] > 0 && on[8] > 0);   /* the stage acts in runs of substeps: the back-off waits */
 }
 
 static void test_idle(void) {

@@ -75,16 +75,16 @@ static void add(totals* t, const wc_step_stats* st, wc_status r) {
 
 /* the stage's transfers and its idle proof's counts (gpu/solver/wg_self_idle.h) as the frame logs
    them: runs, bytes read back, bytes uploaded, runs that uploaded, proofs, skipped, checked,
-   broken */
-static long long g_io[8];
+   broken, untried (the back-off) */
+static long long g_io[9];
 
 static void io_log(wc_log_level level, const char* message, void* user) {
     (void)user;
-    long long v[8];
+    long long v[9];
     if (level == WC_LOG_DEBUG &&
         sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
                         "bytes uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, "
-                        "%lld broken", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7]) == 8)
+                        "%lld broken, %lld untried", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8]) == 9)
         memcpy(g_io, v, sizeof v);
 }
 

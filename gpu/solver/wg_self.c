@@ -63,6 +63,8 @@ void wg_self_count_proof(wg_self* ws, int idle, long long bytes) {
     ws->io.read_bytes += bytes;
 }
 
+void wg_self_count_untried(wg_self* ws) { ++ws->io.untried; }
+
 void wg_self_count_check(wg_self* ws, int moved) {
     ++ws->io.checked;
     ws->io.broken += moved != 0;

@@ -39,6 +39,7 @@ typedef struct wg_self_io {
     long long skipped;          /* those it proved idle, so the stage did not run */
     long long checked;          /* WEFT_GPU_SELF_IDLE=check: proved idle, and the stage run anyway */
     long long broken;           /* of those, runs that moved a particle (a broken proof: 0) */
+    long long untried;          /* substeps (stages) it did not try, backing off after failures */
 } wg_self_io;
 
 /* For a cloth of n particles in layout L (kept); NULL when out of memory. */
@@ -61,5 +62,7 @@ const wg_self_io* wg_self_transfers(const wg_self* ws);
 void wg_self_count_proof(wg_self* ws, int idle, long long bytes);
 /* WEFT_GPU_SELF_IDLE=check: the stage run where the proof said idle moved (1) or not (0). */
 void wg_self_count_check(wg_self* ws, int moved);
+/* A substep the proof did not try (its back-off). */
+void wg_self_count_untried(wg_self* ws);
 
 #endif

@@ -8,6 +8,7 @@
 #include "gpu_error.h"
 #include "wg_passes.h"
 
+#define WAIT_MAX 8   /* the most substeps the proof waits after failing (the back-off) */
 #define REL 1e-3   /* the thresholds' relative margin (thickness, eta), and mu / thickness */
 
 /* One tree on the GPU: its nodes (2 texels each, refitted every proof) and its nodes by height. */
@@ -26,6 +27,8 @@ struct wg_self_idle {
     double thickness, eta;
     idle_tree tri, edge;
     wg_tex elem, part, seam, xs, counter;
+    int tried;                  /* this substep's (stage's) start made the copy: the proof runs at its end */
+    int failures, wait;         /* proofs failed in a row; substeps left before the next try */
 };
 
 /* the tests' mutations of the proof (WEFT_GPU_SELF_IDLE_MUTATION) */
@@ -186,7 +189,14 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
     return 1;
 }
 
-void wg_self_idle_begin(wg_self_idle* si, const wg_tex* x) { wg_copy(si->run, &si->xs, x); }
+int wg_self_idle_begin(wg_self_idle* si, const wg_tex* x) {
+    si->tried = si->mode == WG_SELF_IDLE_CHECK || si->wait == 0;
+    if (si->tried)
+        wg_copy(si->run, &si->xs, x);
+    else
+        --si->wait;
+    return si->tried;
+}
 
 const wg_tex* wg_self_idle_start(const wg_self_idle* si) { return &si->xs; }
 
@@ -235,5 +245,8 @@ int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, &count);
     glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
     *bytes += (long long)sizeof(GLint);
+    /* the back-off: after k >= 2 failures in a row, the next min(2^(k-2), WAIT_MAX) substeps untried */
+    si->failures = count > 0 ? si->failures + 1 : 0;
+    si->wait = si->failures < 2 ? 0 : si->failures > 5 ? WAIT_MAX : 1 << (si->failures - 2);
     return count;
 }

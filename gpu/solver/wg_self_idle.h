@@ -59,12 +59,17 @@ void wg_self_idle_destroy(wg_self_idle* si, int gl);   /* gl 0: the memory only 
 size_t wg_self_idle_bytes(const wg_self_idle* si);      /* GPU memory held (0 for NULL) */
 wg_self_idle_mode wg_self_idle_get_mode(const wg_self_idle* si);
 
-/* The substep's (stage's) start: its positions x copied. */
-void wg_self_idle_begin(wg_self_idle* si, const wg_tex* x);
+/* The substep's (stage's) start: 1 if the proof is tried at its end, its positions x then
+ * copied; 0 while it backs off (the caller reads the start back for the stage as without it).
+ * The back-off: after k >= 2 proofs failed in a row, the next min(2^(k-2), 8) substeps are not
+ * tried (a cloth whose stage acts on every substep pays for the proof about once in 9); a proof
+ * that succeeds resets it. The check mode tries every substep. Which substeps are tried changes no
+ * result (an idle stage moves nothing), so the back-off is not state. */
+int wg_self_idle_begin(wg_self_idle* si, const wg_tex* x);
 /* The copy (core's x_start, read back when the stage runs). */
 const wg_tex* wg_self_idle_start(const wg_self_idle* si);
-/* The proof at the end positions x: the pairs that may act (0: the stage is idle). Reads back
- * 4 bytes (added to *bytes). */
+/* The proof at the end positions x of a substep whose start tried it: the pairs that may act
+ * (0: the stage is idle). Reads back 4 bytes (added to *bytes). */
 int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes);
 
 #endif

@@ -1,6 +1,7 @@
 /* Creation of a cloth's GPU state from core's model and state, its destruction, and the moves of
  * the state between the CPU mirror and the textures (see wg_sim.h). */
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -408,6 +409,10 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     if (ok && g->pairs && s->pairs && s->n_mesh > 0 && wg_contacts_mesh(g->contacts) &&
         wg_contacts_mesh(g->contacts)->body)
         ok = wg_mesh_sharp_create(&g->run, wg_contacts_mesh(g->contacts), s->pairs, m, &g->sharp, err, sizeof err);
+    const char* idle_env = getenv("WEFT_GPU_SELF_IDLE");
+    if (g->self && idle_env && *idle_env && strcmp(idle_env, "on") && strcmp(idle_env, "off") &&
+        strcmp(idle_env, "check"))
+        wc_log(diag, WC_LOG_WARN, "WEFT_GPU_SELF_IDLE=%s is not on, off or check: the idle proof is off", idle_env);
     if (ok && g->self && dev->compute && wg_self_idle_env() != WG_SELF_IDLE_OFF)
         ok = wg_self_idle_create(&g->run, s->self, m, wg_self_idle_env(), &g->self_idle, err, sizeof err);
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {

@@ -174,8 +174,9 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
     wc_substep_measure before, after = {0};
     int judge_energy = wc_substep_judges_energy(s, judge, pin_energy);
     wg_checks_run(g, s, wg_ring_cur(&g->x), wg_ring_cur(&g->v), WG_CHECKS_START);   /* read back with the end's */
-    if (g->self_idle) wg_self_idle_begin(g->self_idle, wg_ring_cur(&g->x));   /* read back if the stage runs */
-    else if (g->self) wg_self_begin(g->self, s->self, wg_ring_cur(&g->x));   /* the previous substep's end */
+    /* the start is read back when the stage runs, or now where the idle proof is not tried */
+    const int proof = g->self_idle && wg_self_idle_begin(g->self_idle, wg_ring_cur(&g->x));
+    if (g->self && !proof) wg_self_begin(g->self, s->self, wg_ring_cur(&g->x));   /* the previous substep's end */
 
     wc_integ ig;
     wc_integ_coefficients(s, h, stage, &ig);
@@ -322,15 +323,17 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         /* the GPU's proof that the stage would move nothing (wg_self_idle.h); where it fails, the
            stage as without it, on the start positions the proof kept */
         int idle = 0;
-        if (g->self_idle) {
+        if (proof) {
             long long bytes = 0;
             idle = wg_self_idle_count(g->self_idle, wg_ring_cur(&g->x), &bytes) == 0;
             wg_self_count_proof(g->self, idle, bytes);
+        } else if (g->self_idle) {
+            wg_self_count_untried(g->self);
         }
         const int check = idle && wg_self_idle_get_mode(g->self_idle) == WG_SELF_IDLE_CHECK;
         if (!idle || check) {
             const long long uploads = wg_self_transfers(g->self)->uploads;
-            if (g->self_idle) wg_self_begin(g->self, s->self, wg_self_idle_start(g->self_idle));
+            if (proof) wg_self_begin(g->self, s->self, wg_self_idle_start(g->self_idle));
             wg_self_end(g->self, s->self, s, g->n_pins_uploaded, ig.he, wg_ring_cur(&g->x), wg_ring_cur(&g->v),
                         judge_energy, &ss, &self_gain);
             if (check) wg_self_count_check(g->self, wg_self_transfers(g->self)->uploads != uploads);
@@ -488,9 +491,10 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
         const wg_self_io* io = wg_self_transfers(g->self);
         wc_log(diag, WC_LOG_DEBUG,
                "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld bytes "
-               "uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, %lld broken",
+               "uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, %lld broken, %lld "
+               "untried (backing off)",
                io->runs, io->read_bytes, io->upload_bytes, io->uploads, io->proofs, io->skipped, io->checked,
-               io->broken);
+               io->broken, io->untried);
     }
     return r;
 }
