@@ -125,8 +125,11 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
 double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end, const double* p, double reach,
                             double* n, double* vc);
 /* The same through e only when e already covers the query, else through the tree: e is never
- * gathered again, so a caller walking e's list may ask (NULL: the tree). */
-double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
+ * gathered again, so a caller walking e's list may ask (NULL: the tree). at: a position in e's
+ * list (-1: none) whose triangle, when its box meets the query's, is visited first: its distance
+ * bounds the search from the start, as a point's hint does (the same result; mesh_query.c
+ * search_list). */
+double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int at, int end, const double* p,
                             double reach, double* n, double* vc);
 
 /* Continuous query: the earliest time t in [0, 1] at which a point moving linearly from p0 (at

@@ -252,6 +252,8 @@ typedef struct find_ctx {
     double h, he;
     int cloth[3];          /* the cloth feature's particles (edge: 2) */
     const wc_mesh_near* near; /* the feature's kept candidates (NULL: none) */
+    int at;                /* the visited body triangle's position in near's list (-1: the tree's
+                              walk visits it) */
     unsigned char *seen_edge, *seen_vert; /* the thread's marks (wc_mesh_pairs.seen) */
     int* seen_set;         /* the marks this cloth feature set (offsets from seen_edge) */
     int n_set;
@@ -304,7 +306,7 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     double dc = 2.0 * th + 1.5 * c->h * (approach > 0.0 ? approach : 0.0);
     if (!(dist < dc)) return;
     /* the cloth point and the feature's particles in front of the body at the start */
-    if (wc_mesh_closest_kept(c->mc, c->near, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
+    if (wc_mesh_closest_kept(c->mc, c->near, c->at, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
     for (int k = 0; k < cnt; ++k) {
         _Atomic signed char* bh = &c->pp->behind[c->cloth[k]];
         signed char b = atomic_load_explicit(bh, memory_order_relaxed);
@@ -312,7 +314,7 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
             /* the closest triangle within dc + th through the kept candidates is the closest of
                all; only when there is none within that reach is the whole tree searched */
             const double* xk = c->x + 3 * c->cloth[k];
-            double d = wc_mesh_closest_kept(c->mc, c->near, 0, xk, dc + th, NULL, NULL);
+            double d = wc_mesh_closest_kept(c->mc, c->near, c->at, 0, xk, dc + th, NULL, NULL);
             if (!(d < HUGE_VAL)) d = wc_mesh_closest(c->mc, 0, xk, HUGE_VAL, NULL, NULL);
             b = d < 0.0;
             atomic_store_explicit(bh, b, memory_order_relaxed);
@@ -449,10 +451,12 @@ static void visit_near(find_ctx* c, wc_mesh_near* e, const unsigned char* mask, 
     if (e && !c->mc->exhaustive && wc_mesh_near_fit(c->mc, e, box)) {
         for (int k = 0; k < e->count; ++k) {
             int leaf = b->leaf_of[e->tri[k]];
+            c->at = k;
             if ((!mask || mask[leaf]) && wc_box_overlap(b->box + 6 * leaf, box)) visit(c, e->tri[k]);
         }
         return;
     }
+    c->at = -1;
     wc_bvh_query_masked(b, box, mask, visit, c);
 }
 

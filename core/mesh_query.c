@@ -26,6 +26,7 @@ typedef struct closest_q {
     double side;               /* +1 outside, -1 inside */
     int tri;
     double w[3], q[3];
+    double tw[3], tq[3];       /* scratch: a visited triangle's closest point */
 } closest_q;
 
 /* The prune's bound for a best squared distance d2: a triangle whose box is farther than this
@@ -37,19 +38,24 @@ static double near_bound2(double d2, double slack) {
     return r * r;
 }
 
-static int closest_visit(void* user, int t) {
-    closest_q* c = user;
-    const double* n = c->nrm + 3 * t;
-    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) return 0; /* degenerate */
-    const int* v = c->m->tris + 3 * t;
-    double w[3], q[3], d[3];
+/* closest_visit's test and update for triangle t whose closest point to p is (d2, w, q): a
+ * search that computed it already (search_list's hint) passes it */
+static void closest_take(closest_q* c, int t, const double* n, const double* pv, double d2, const double* w,
+                         const double* q) {
+    double d[3];
     /* the distance to its plane is at most the distance to it: beyond the prune's bound (the
        bound's slack covers the rounding of either), it can neither be the closest nor tie
        (exhaustive: the reference, nothing skipped) */
-    v3_sub(d, c->p, c->x + 3 * v[0]);
+    v3_sub(d, c->p, pv);
     double pn = v3_dot(d, n);
-    if (pn * pn > c->bound2 && !c->m->exhaustive) return 0;
-    double d2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], w, q);
+    if (pn * pn > c->bound2 && !c->m->exhaustive) return;
+    if (!w) {
+        const int* v = c->m->tris + 3 * t;
+        double* cw = c->tw;
+        d2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], cw, c->tq);
+        w = cw;
+        q = c->tq;
+    }
     v3_sub(d, c->p, q);
     double len = sqrt(d2), dn = v3_dot(d, n);
     double cs = len > 0.0 ? dn / len : 0.0;
@@ -68,6 +74,13 @@ static int closest_visit(void* user, int t) {
         if (d2 < c->best) c->best = d2;
     }
     c->bound2 = min_num(c->bound2, near_bound2(c->best, c->slack));
+}
+
+static int closest_visit(void* user, int t) {
+    closest_q* c = user;
+    const double* n = c->nrm + 3 * t;
+    if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) return 0; /* degenerate */
+    closest_take(c, t, n, c->x + 3 * c->m->tris[3 * t], 0.0, NULL, NULL);
     return 0;
 }
 
@@ -103,21 +116,28 @@ static int search_list(closest_q* c, const double* box, const int* tris, int cou
     c->tri = -1;
     c->best = HUGE_VAL;
     c->bound2 = HUGE_VAL;
+    double hd2 = 0.0, hw[3], hq[3];
+    int hinted = 0;
     if (hint >= 0 && hint < count) {
         int t = tris[hint];
         const int* v = c->m->tris + 3 * t;
         const double* n = c->nrm + 3 * t;
-        double w[3], q[3];
-        if (wc_box_overlap(b->box + 6 * b->leaf_of[t], box) && !(n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0))
-            c->bound2 = near_bound2(
-                wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], w, q), c->slack);
+        if (wc_box_overlap(b->box + 6 * b->leaf_of[t], box) && !(n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0)) {
+            hd2 = wc_closest_on_triangle(c->p, c->x + 3 * v[0], c->x + 3 * v[1], c->x + 3 * v[2], hw, hq);
+            c->bound2 = near_bound2(hd2, c->slack);
+            hinted = 1;
+        }
     }
     int at = -1;
     for (int k = 0; k < count; ++k) {
-        const double* lb = b->box + 6 * b->leaf_of[tris[k]];
+        int t = tris[k];
+        const double* lb = b->box + 6 * b->leaf_of[t];
         if (wc_box_overlap(lb, box) && !(wc_box_dist2(lb, c->p) > c->bound2)) {
-            closest_visit(c, tris[k]);
-            if (c->tri == tris[k]) at = k;
+            if (hinted && k == hint) /* its closest point computed above: the same bits */
+                closest_take(c, t, c->nrm + 3 * t, c->x + 3 * c->m->tris[3 * t], hd2, hw, hq);
+            else
+                closest_visit(c, t);
+            if (c->tri == t) at = k;
         }
     }
     return at;
@@ -238,12 +258,12 @@ int wc_mesh_near_fit(const wc_mesh_collider* m, wc_mesh_near* e, const double* b
 }
 
 /* The closest point within reach among e's kept triangles (which cover the query box), from
- * e's hint; *hint (NULL: none) gets the result's. */
-static double closest_listed(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
+ * position from of its list (search_list's hint; -1: none); *hint (NULL: none) gets the result's. */
+static double closest_listed(const wc_mesh_collider* m, const wc_mesh_near* e, int from, int end, const double* p,
                              const double* box, double reach, double* n, double* vc, int* hint) {
     closest_q c;
     closest_init(&c, m, end, p);
-    int at = search_list(&c, box, e->tri, e->count, e->hint);
+    int at = search_list(&c, box, e->tri, e->count, from);
     if (hint && at >= 0) *hint = at;
     if (c.tri < 0 || sqrt(c.best) > reach) return HUGE_VAL;
     return closest_result(&c, n, vc);
@@ -255,16 +275,16 @@ double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end,
     double box[6];
     query_box(p, reach, box);
     if (!wc_mesh_near_fit(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    return closest_listed(m, e, end, p, box, reach, n, vc, &e->hint);
+    return closest_listed(m, e, e->hint, end, p, box, reach, n, vc, &e->hint);
 }
 
-double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int end, const double* p,
+double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int at, int end, const double* p,
                             double reach, double* n, double* vc) {
     double box[6];
     if (!e || m->exhaustive || !isfinite(reach) || e->count < 0) return wc_mesh_closest(m, end, p, reach, n, vc);
     query_box(p, reach, box);
     if (!near_covers(m, e, box)) return wc_mesh_closest(m, end, p, reach, n, vc);
-    return closest_listed(m, e, end, p, box, reach, n, vc, NULL);
+    return closest_listed(m, e, at >= 0 ? at : e->hint, end, p, box, reach, n, vc, NULL);
 }
 
 typedef struct ccd_q {

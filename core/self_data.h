@@ -53,6 +53,10 @@ typedef struct wc_self {
     int* near_cand;     /* ((n + n_edges) x WC_SELF_NEAR_CAP) each query's candidates, leaf order */
     int* near_count;    /* (n + n_edges) how many; -1: more than the cap (the query walks the tree) */
     double* near_ahead; /* (n x 3) scratch: where the anchors reach ahead to */
+    double* near_qbox;  /* ((n + n_edges) x 6) scratch of a gathering: each query's box */
+    int* near_vstart;   /* (n_tris + 1) CSR of the vertex queries each triangle carries (a vertex */
+    int* near_vlist;    /* by its first triangle; near_vlist[near_vstart[n_tris] ..): in none) */
+    int near_vready;    /* 1: near_vstart, near_vlist filled (the model's topology, once) */
     double near_gap;    /* m: the bound's gap (self_near.h) */
     int near_gathers;   /* gatherings so far (a count for tests and measurements) */
     int near_kept;      /* 1: lists gathered */

@@ -6,7 +6,8 @@
  *    triangles tie), inside, far away, at both ends of a substep, for finite and unbounded
  *    reaches; its distance is brute force's (every triangle) to rounding; through a walking
  *    point's kept candidates (wc_mesh_near: the last closest triangle's distance bounding the
- *    next search from the start, the plane-distance prune) the same, and its crossings
+ *    next search from the start, the plane-distance prune) the same, and through a list as it
+ *    is (wc_mesh_closest_kept) from any of its triangles or none, and its crossings
  *    (wc_mesh_ccd_near, short paths and long ones beyond its list) are the tree's bit for bit;
  *  - the feature-pair detection's mask (mesh_pairs.h: only subtrees with a sharp vertex) is 1
  *    exactly above the non-degenerate triangles with a sharp vertex;
@@ -138,7 +139,7 @@ static void random_point(const wc_mesh_collider* mc, int end, double* p) {
     if (urand() < 0.8) v3_axpy(p, srand1(0.03), dir);
 }
 
-static int g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_crossed, g_crossed_listed;
+static int g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_kept_from, g_crossed, g_crossed_listed;
 
 /* Walkers: points that keep their cached candidates (wc_mesh_near) from query to query while
  * they move by small random steps (now and then a jump), against the full search. */
@@ -202,12 +203,16 @@ static void walk(wc_mesh_collider* mc) {
         mc->exhaustive = 1;
         double k1 = wc_mesh_closest(mc, end, q, r2, n1, v1);
         mc->exhaustive = 0;
-        double k0 = wc_mesh_closest_kept(mc, &g_near[i], end, q, r2, n0, v0);
+        /* from a position in the list (its triangle's distance bounding the search from the
+           start; any position, the answer is the same) or none */
+        int at = g_near[i].count > 0 && urand() < 0.7 ? (int)(urand() * g_near[i].count) % g_near[i].count : -1;
+        double k0 = wc_mesh_closest_kept(mc, &g_near[i], at, end, q, r2, n0, v0);
         same = memcmp(&k0, &k1, sizeof k0) == 0 && (k1 == HUGE_VAL || (memcmp(n0, n1, sizeof n0) == 0 &&
                                                                        memcmp(v0, v1, sizeof v0) == 0));
-        if (!same) printf("  kept differs at (%.17g %.17g %.17g), reach %g: %.17g vs %.17g\n", q[0], q[1], q[2],
-                          r2, k0, k1);
+        if (!same) printf("  kept differs at (%.17g %.17g %.17g), reach %g, from %d: %.17g vs %.17g\n", q[0], q[1],
+                          q[2], r2, at, k0, k1);
         CHECK(same);
+        g_kept_from += at >= 0 && k1 < HUGE_VAL;
         CHECK(memcmp(&before, &g_near[i], sizeof before) == 0);
         g_kept_listed += g_near[i].count >= 0 && k1 < HUGE_VAL;
         ++g_walked;
@@ -288,7 +293,7 @@ static void moving_body(const tmesh* t, double thickness) {
 static void test_closest_matches_full_search(void) {
     static tmesh t;
     double c[3] = {0.1, 0.2, -0.1};
-    g_checked = g_found = g_walked = g_overflowed = g_kept_listed = g_crossed = g_crossed_listed = 0;
+    g_checked = g_found = g_walked = g_overflowed = g_kept_listed = g_kept_from = g_crossed = g_crossed_listed = 0;
     lumpy_sphere(&t, 14, 24, 0.3, c, 0.01);
     moving_body(&t, 0.005);
     lumpy_sphere(&t, 6, 8, 0.3, c, 0.05); /* coarse and very lumpy: sharp bends */
@@ -298,11 +303,13 @@ static void test_closest_matches_full_search(void) {
     moving_body(&t, 0.01);
     printf("  %d queries: pruned = full search bit for bit, %d within reach = brute force; %d by walkers with "
            "cached candidates = full search bit for bit (%d with too many candidates), as many through the kept list "
-           "without gathering (%d found with a list); %d crossings = the tree's bit for bit (%d with a list)\n",
-           g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_crossed, g_crossed_listed);
+           "without gathering (%d found with a list, %d from a listed triangle); %d crossings = the tree's bit for bit "
+           "(%d with a list)\n",
+           g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_kept_from, g_crossed, g_crossed_listed);
     CHECK(g_crossed_listed > 20);
     CHECK(g_overflowed > 0 && g_overflowed < g_walked / 2);
     CHECK(g_kept_listed > g_walked / 4);
+    CHECK(g_kept_from > g_kept_listed / 3);
     CHECK(g_found > g_checked / 3);
 }
 

@@ -8,6 +8,9 @@
  *    the bound (the lists kept), a teleport (kept), a turn and large motions (gathered again);
  *  - the bound is used: the lists were kept across most of those motions, and regathered on the
  *    others;
+ *  - each query's gathered list (the batches' walks, self_near.c) is the one its own walk from
+ *    the root with its box gives, element for element, over the cap (count -1) and under it, on 1
+ *    and 2 threads, with the cloths squeezed together by up to 20x and jittered;
  *  - the heap's strip folded into 8 layers that settle onto each other on the floor (pairs in
  *    the solve, proximity and CCD impulses) steps to bit for bit the same positions and
  *    velocities, with the same counts, with the lists as without them (every query walking the
@@ -218,6 +221,121 @@ static void test_lists_vs_trees(void) {
     CHECK(gathered >= 9);
 }
 
+/* ---- the gathering against each query's own walk -------------------------------------------- */
+
+/* The lists as each query's own walk from the root gathers them (self_near.c's gathering before
+ * the batches): the candidates in the walk's order less the excluded pairs, the walk stopped with
+ * count -1 when one more than the cap arrives. */
+typedef struct walk_list {
+    rec r;
+    int count;
+    int out[WC_SELF_NEAR_CAP];
+} walk_list;
+
+static int walk_keep(void* u, int elem, int tri) {
+    walk_list* w = (walk_list*)u;
+    if (pair_excluded(&w->r, elem, tri)) return 0;
+    if (w->count == WC_SELF_NEAR_CAP) {
+        w->count = -1;
+        return 1;
+    }
+    w->out[w->count++] = elem;
+    return 0;
+}
+static int walk_tri(void* u, int t) { return walk_keep(u, t, 1); }
+static int walk_edge(void* u, int f) { return walk_keep(u, f, 0); }
+
+/* Gather at x0, x1 (r) on `threads` threads and compare every query's list with its own walk's;
+ * counts the lists over the cap (*over) and those under it (*under) */
+static void compare_gathering(wc_self* sc, const wc_model* m, const double* x0, const double* x1, double r,
+                              int threads, int* over, int* under, int* mismatches) {
+    sc->threads = threads;
+    sc->near_kept = 0; /* no lists: a full phase gathers */
+    sc->near_wait = 0;
+    int gathers = sc->near_gathers;
+    wc_self_near_prepare(sc, m, x0, x1, r, 1);
+    CHECK_EQ_INT(sc->near_gathers, gathers + 1);
+    wc_self_refit(sc, m, x0, sc->near_ahead, r); /* the gathering's trees */
+    double grow = sc->near_gap - r;
+    for (int q = 0; q < sc->n + sc->n_edges; ++q) {
+        int vertex = q < sc->n, id = vertex ? q : q - sc->n;
+        double box[6];
+        static walk_list w;
+        w.r = (rec){.sc = sc, .m = m, .query = id, .filter = 1};
+        w.count = 0;
+        if (vertex) {
+            memcpy(box, sc->near_anchor + 6 * q, sizeof box);
+            wc_box_inflate(box, grow);
+            wc_bvh_query(&sc->tri_bvh, box, walk_tri, &w);
+        } else {
+            wc_self_swept_box(box, sc->edges + 2 * id, 2, x0, sc->near_ahead, grow);
+            wc_self_edges_above(sc, id, box, walk_edge, &w);
+        }
+        const int* got = sc->near_cand + (size_t)q * WC_SELF_NEAR_CAP;
+        if (sc->near_count[q] != w.count ||
+            (w.count > 0 && memcmp(got, w.out, (size_t)w.count * sizeof(int)) != 0))
+            ++*mismatches;
+        if (w.count < 0) ++*over;
+        else if (w.count > 0) ++*under;
+    }
+    wc_self_refit(sc, m, x0, x1, r);
+}
+
+static void gatherings(const wc_model* m, const double* x, double th, int* over, int* under, int* mismatches) {
+    wc_self* sc = NULL;
+    wc_diag d = {0};
+    CHECK(wc_self_create(&sc, m, th, NULL, &d) == WC_OK);
+    if (!sc) return;
+    int n = m->n_particles;
+    double *y0 = malloc(3 * (size_t)n * sizeof(double)), *y1 = malloc(3 * (size_t)n * sizeof(double));
+    double c[3] = {0, 0, 0};
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) c[k] += x[3 * i + k] / n;
+    for (int trial = 0; trial < 12; ++trial) {
+        /* squeezed towards the centre by up to 20x (crowded: lists over the cap), jittered by up to
+           a few thicknesses, moving by up to as much over the phase */
+        double squeeze = trial % 3 == 0 ? 1.0 : 1.0 / (1.0 + 19.0 * urand()), amp = th * 4.0 * urand();
+        for (int i = 0; i < n; ++i)
+            for (int k = 0; k < 3; ++k) {
+                y0[3 * i + k] = c[k] + squeeze * (x[3 * i + k] - c[k]) + amp * (2 * urand() - 1);
+                y1[3 * i + k] = y0[3 * i + k] + amp * (2 * urand() - 1);
+            }
+        /* a few particles flung across the cloth: their elements' boxes span it (over the cap),
+           and the batches that hold them collect more than a batch may (their queries walk) */
+        if (trial % 4 == 1)
+            for (int j = 0; j < 1 + n / 100; ++j) {
+                int i = (int)(urand() * n) % n;
+                for (int k = 0; k < 3; ++k) y1[3 * i + k] = c[k] + (2 * urand() - 1) * fabs(x[3 * i + k] - c[k]);
+            }
+        double r = trial % 2 ? th : th / 100;
+        compare_gathering(sc, m, y0, y1, r, 1 + trial % 2, over, under, mismatches);
+    }
+    free(y0);
+    free(y1);
+    wc_self_destroy(sc);
+}
+
+static void test_gathering_vs_walks(void) {
+    int over = 0, under = 0, mismatches = 0;
+    wc_model m;
+    wc_collider floor;
+    heap_strip(&m, &floor);
+    double* x = malloc(3 * (size_t)m.n_particles * sizeof(double));
+    heap_strip_folded(&m, x);
+    gatherings(&m, x, 0.005, &over, &under, &mismatches);
+    free(x);
+    wc_model_free(&m);
+    for (int sewn = 0; sewn < 2; ++sewn) {
+        overlap_panels(&m, sewn);
+        gatherings(&m, m.rest_pos, 0.003, &over, &under, &mismatches);
+        wc_model_free(&m);
+    }
+    printf("  %d lists under the cap, %d over it, %d unlike the query's own walk\n", under, over, mismatches);
+    CHECK_EQ_INT(mismatches, 0);
+    CHECK(over > 100);  /* both kinds of list were gathered */
+    CHECK(under > 1000);
+}
+
 /* ---- stepping: the heap with and without the lists ------------------------------------------ */
 
 #define FRAMES 12
@@ -305,6 +423,7 @@ static void test_steps_same(void) {
 
 int main(void) {
     RUN_TEST(test_lists_vs_trees);
+    RUN_TEST(test_gathering_vs_walks);
     RUN_TEST(test_steps_same);
     return TEST_SUMMARY();
 }
