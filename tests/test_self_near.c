@@ -197,28 +197,43 @@ static void motions(const wc_model* m, const double* x, double th, counts* ct, i
     wc_self_destroy(sc);
 }
 
-static void test_lists_vs_trees(void) {
-    counts ct = {0, 0};
-    int kept = 0, gathered = 0;
+/* fn on the three models the lists are tested on: the heap strip folded (thickness 5 mm), and the
+ * two overlapping panels, apart and sewn (3 mm), at their rest positions */
+static void for_each_model(void (*fn)(const wc_model* m, const double* x, double th, void* user), void* user) {
     wc_model m;
     wc_collider floor;
     heap_strip(&m, &floor);
     double* x = malloc(3 * (size_t)m.n_particles * sizeof(double));
     heap_strip_folded(&m, x);
-    motions(&m, x, 0.005, &ct, &kept, &gathered);
+    fn(&m, x, 0.005, user);
     free(x);
     wc_model_free(&m);
     for (int sewn = 0; sewn < 2; ++sewn) {
         overlap_panels(&m, sewn);
         CHECK(sewn ? m.n_seams >= 5 : m.n_seams == 0);
-        motions(&m, m.rest_pos, 0.003, &ct, &kept, &gathered);
+        fn(&m, m.rest_pos, 0.003, user);
         wc_model_free(&m);
     }
-    printf("  %lld queries, %lld visits; the lists kept over %d motions, gathered again for %d\n", ct.queries,
-           ct.visits, kept, gathered);
-    CHECK(ct.visits > ct.queries); /* the queries had candidates */
-    CHECK(kept >= 9);
-    CHECK(gathered >= 9);
+}
+
+typedef struct motions_tally {
+    counts ct;
+    int kept, gathered;
+} motions_tally;
+
+static void motions_on(const wc_model* m, const double* x, double th, void* user) {
+    motions_tally* t = user;
+    motions(m, x, th, &t->ct, &t->kept, &t->gathered);
+}
+
+static void test_lists_vs_trees(void) {
+    motions_tally t = {{0, 0}, 0, 0};
+    for_each_model(motions_on, &t);
+    printf("  %lld queries, %lld visits; the lists kept over %d motions, gathered again for %d\n", t.ct.queries,
+           t.ct.visits, t.kept, t.gathered);
+    CHECK(t.ct.visits > t.ct.queries); /* the queries had candidates */
+    CHECK(t.kept >= 9);
+    CHECK(t.gathered >= 9);
 }
 
 /* ---- the gathering against each query's own walk -------------------------------------------- */
@@ -315,21 +330,15 @@ static void gatherings(const wc_model* m, const double* x, double th, int* over,
     wc_self_destroy(sc);
 }
 
+static void gatherings_on(const wc_model* m, const double* x, double th, void* user) {
+    int* t = user;   /* over, under, mismatches */
+    gatherings(m, x, th, &t[0], &t[1], &t[2]);
+}
+
 static void test_gathering_vs_walks(void) {
-    int over = 0, under = 0, mismatches = 0;
-    wc_model m;
-    wc_collider floor;
-    heap_strip(&m, &floor);
-    double* x = malloc(3 * (size_t)m.n_particles * sizeof(double));
-    heap_strip_folded(&m, x);
-    gatherings(&m, x, 0.005, &over, &under, &mismatches);
-    free(x);
-    wc_model_free(&m);
-    for (int sewn = 0; sewn < 2; ++sewn) {
-        overlap_panels(&m, sewn);
-        gatherings(&m, m.rest_pos, 0.003, &over, &under, &mismatches);
-        wc_model_free(&m);
-    }
+    int t[3] = {0, 0, 0};
+    for_each_model(gatherings_on, t);
+    int over = t[0], under = t[1], mismatches = t[2];
     printf("  %d lists under the cap, %d over it, %d unlike the query's own walk\n", under, over, mismatches);
     CHECK_EQ_INT(mismatches, 0);
     CHECK(over > 100);  /* both kinds of list were gathered */
