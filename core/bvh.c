@@ -136,6 +136,16 @@ void wc_bvh_mask_up_span(const wc_bvh* b, unsigned char* mask, int lo, int hi) {
 
 void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask) { wc_bvh_mask_up_span(b, mask, 0, b->n_nodes); }
 
+int wc_bvh_heights(const wc_bvh* b, int* h) {
+    int top = -1;
+    for (int j = b->n_nodes - 1; j >= 0; --j) {   /* children after their parent (preorder) */
+        const int* ch = b->child + 2 * j;
+        h[j] = ch[0] < 0 ? 0 : 1 + (h[ch[0]] > h[ch[1]] ? h[ch[0]] : h[ch[1]]);
+        if (h[j] > top) top = h[j];
+    }
+    return top;
+}
+
 void wc_bvh_refit_top(wc_bvh* b, const wc_bvh_split* s, const unsigned char* mask) {
     for (int k = 0; k < s->n_top; ++k) { /* descending: children first */
         int node = s->top[k];

@@ -46,6 +46,10 @@ int wc_bvh_query_near(const wc_bvh* b, const double* box, const double* p, const
 /* mask (n_nodes): the caller set every leaf's byte (leaf_of[prim]); sets each internal node's to
  * the OR of its children's, so a node is 1 when a primitive under it is. */
 void wc_bvh_mask_up(const wc_bvh* b, unsigned char* mask);
+/* h (n_nodes): each node's height (a leaf 0, a node 1 + its children's highest), so a height's
+ * nodes depend only on lower ones (the GPU's refits run one height a pass). Returns the highest
+ * height, or -1 for an empty tree. */
+int wc_bvh_heights(const wc_bvh* b, int* h);
 
 /* A cut of the tree for bottom-up sweeps on threads: n_sub subtrees, the nodes down to a depth
  * (or leaves above it) with all below them, each a contiguous range of nodes in preorder

@@ -503,6 +503,37 @@ static void test_bvh_split(void) {
         }
 }
 
+/* A node's height by recursion from the root, against wc_bvh_heights' one sweep. */
+static int height_of(const wc_bvh* b, int j) {
+    const int* ch = b->child + 2 * j;
+    if (ch[0] < 0) return 0;
+    int l = height_of(b, ch[0]), r = height_of(b, ch[1]);
+    return 1 + (l > r ? l : r);
+}
+
+static void test_bvh_heights(void) {
+    int sizes[] = {0, 1, 2, 3, 7, 100, 1000};
+    for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si) {
+        int n = sizes[si];
+        double* boxes = malloc(sizeof(double) * 6 * (n + 1));
+        random_boxes(boxes, n, 1);
+        wc_bvh b;
+        CHECK(wc_bvh_build(&b, boxes, n, NULL, NULL) == WC_OK);
+        int* h = malloc(sizeof(int) * ((size_t)b.n_nodes + 1));
+        int top = wc_bvh_heights(&b, h), bad = 0, highest = -1;
+        for (int j = 0; j < b.n_nodes; ++j) {
+            bad += h[j] != height_of(&b, j);
+            if (h[j] > highest) highest = h[j];
+        }
+        CHECK_EQ_INT(bad, 0);
+        CHECK_EQ_INT(top, highest);
+        CHECK_EQ_INT(top, n ? height_of(&b, 0) : -1);
+        free(h);
+        wc_bvh_free(&b);
+        free(boxes);
+    }
+}
+
 int main(void) {
     RUN_TEST(test_closest_on_triangle_brute);
     RUN_TEST(test_closest_on_segments_brute);
@@ -513,5 +544,6 @@ int main(void) {
     RUN_TEST(test_bvh_walk_order);
     RUN_TEST(test_bvh_near_walk_order);
     RUN_TEST(test_bvh_split);
+    RUN_TEST(test_bvh_heights);
     return TEST_SUMMARY();
 }

@@ -52,13 +52,8 @@ int wg_mesh_body_init(wg_mesh* g, char* err, size_t err_len) {
     }
     int top = 0;
     for (int k = 0; k < g->n_mesh; ++k) {
-        const wc_bvh* b = &g->mesh[k]->bvh;
-        int* h = g->height + g->node0[k];
-        for (int j = b->n_nodes - 1; j >= 0; --j) {   /* children after their parent (bvh.c) */
-            const int* ch = b->child + 2 * j;
-            h[j] = ch[0] < 0 ? 0 : 1 + (h[ch[0]] > h[ch[1]] ? h[ch[0]] : h[ch[1]]);
-            if (h[j] > top) top = h[j];
-        }
+        const int t = wc_bvh_heights(&g->mesh[k]->bvh, g->height + g->node0[k]);
+        if (t > top) top = t;
     }
     g->n_heights = top + 1;
     g->order_first = wc_calloc(A, (size_t)top + 2, sizeof(int));
@@ -144,13 +139,7 @@ void wg_mesh_body_substep(wg_mesh* g, double a0, double a1, double h) {
     WG_RUN(run, 3 * g->n_tri, &g->tri);
     WG_USE(run, WGP_MESH_REFIT_GROUPS, &(wg_mesh_refit_in){.order = &g->order, .tri_idx = &g->tri_idx,
         .vert = &g->vert});
-    for (int ht = 0; ht < g->n_heights; ++ht) {
-        int first = g->order_first[ht], count = g->order_first[ht + 1] - first;
-        if (count == 0) continue;
-        wg_u1i(run, "u_first", first);
-        wg_u1i(run, "u_count", count);
-        wg_run_groups_rw(run, count, (count + 63) / 64, &g->node);
-    }
+    wg_run_by_height(run, g->order_first, g->n_heights, &g->node);
     for (int k = 0; k < g->n_mesh; ++k) {
         if (!g->resident[k]) continue;
         wc_mesh_collider* m = g->mesh[k];

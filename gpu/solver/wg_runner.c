@@ -113,6 +113,16 @@ void wg_run_groups_rw(wg_runner* r, int count, int groups, const wg_tex* img) {
     ++r->passes;
 }
 
+void wg_run_by_height(wg_runner* r, const int* first, int n_heights, const wg_tex* img) {
+    for (int ht = 0; ht < n_heights; ++ht) {
+        int count = first[ht + 1] - first[ht];
+        if (count == 0) continue;
+        wg_u1i(r, "u_first", first[ht]);
+        wg_u1i(r, "u_count", count);
+        wg_run_groups_rw(r, count, (count + 63) / 64, img);
+    }
+}
+
 void wg_run_in_place(wg_runner* r, int count, const wg_tex* img) {
     set_size(r, count);
     wg_compute_dispatch_in_place(img);

@@ -64,6 +64,10 @@ void wg_run_groups_scratch(wg_runner* r, int count, int groups, const wg_tex* co
 /* Compute passes only: `groups` work groups of the native compute program in use, updating img
  * (RGBA32F, image 0) in place; count = items (u_n). */
 void wg_run_groups_rw(wg_runner* r, int count, int groups, const wg_tex* img);
+/* A tree's bottom-up sweep with the program in use (64 invocations a group): one wg_run_groups_rw
+ * over img per height, height k's items [first[k], first[k + 1]) passed as u_first and u_count
+ * (n_heights + 1 entries; an empty height takes no pass). */
+void wg_run_by_height(wg_runner* r, const int* first, int n_heights, const wg_tex* img);
 /* Compute passes only: one work group of the native compute program in use, reading and writing
  * img in place (image 0, RGBA32F); count = items (u_n). */
 void wg_run_in_place(wg_runner* r, int count, const wg_tex* img);

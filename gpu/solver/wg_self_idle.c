@@ -89,13 +89,8 @@ size_t wg_self_idle_bytes(const wg_self_idle* si) {
 static int tree_upload(wg_self_idle* si, idle_tree* t, const wc_bvh* b, float* o, int* h, char* err, size_t err_len) {
     const wg_layout* L = si->run->layout;
     t->n_nodes = b->n_nodes;
-    int top = 0;
-    for (int j = b->n_nodes - 1; j >= 0; --j) {   /* children follow their parent (preorder) */
-        const int* ch = b->child + 2 * j;
-        h[j] = ch[0] < 0 ? 0 : 1 + (h[ch[0]] > h[ch[1]] ? h[ch[0]] : h[ch[1]]);
-        if (h[j] > top) top = h[j];
-    }
-    t->n_heights = b->n_nodes > 0 ? top + 1 : 0;
+    const int top = wc_bvh_heights(b, h);
+    t->n_heights = top + 1;
     t->first = wc_calloc(&si->alloc, (size_t)t->n_heights + 2, sizeof(int));
     if (!t->first) {
         wg_errorf(err, err_len, "out of memory");
@@ -207,13 +202,7 @@ static void refit(wg_self_idle* si, const idle_tree* t, int elem0, const wg_tex*
         .xs = &si->xs});
     wg_u1i(run, "u_elem0", elem0);
     wg_u1f(run, "u_pad", pad);
-    for (int ht = 0; ht < t->n_heights; ++ht) {
-        int first = t->first[ht], count = t->first[ht + 1] - first;
-        if (count == 0) continue;
-        wg_u1i(run, "u_first", first);
-        wg_u1i(run, "u_count", count);
-        wg_run_groups_rw(run, count, (count + 63) / 64, &t->node);
-    }
+    wg_run_by_height(run, t->first, t->n_heights, &t->node);
 }
 
 int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
