@@ -116,6 +116,12 @@
                                    layers 0.93 / 1.39 / 1.47, the dance 0.55 / 1.35 / 1.57 / 1.53;
                                    docs/bench/gpu_amg_cross.md) */
 #define WG_AMG_CROSS_COARSE_SHARE 1.0
+#define WG_AMG_FOLD_RESIDUAL 4096 /* with the smoothed prolongator, a level of at most this many
+                                   nodes restricts its residual without a pass of its own: each
+                                   next-level node makes the rows r - A x its entries of P read
+                                   (amg_restrict_res.glsl), a residual row made once per entry of P
+                                   in it (4-8 with rotations), where a pass costs about 9 us
+                                   whatever its size (docs/design/gpu_passes.md) */
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -187,6 +193,10 @@ typedef struct wg_amg {
     int n_levels;
     int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
+    int fuse;                   /* 1 (the default): the V-cycle's fused passes (the first two
+                                   smoothing steps in one; the residual in the restriction on a
+                                   level of at most WG_AMG_FOLD_RESIDUAL nodes); 0 (tests): a pass
+                                   a step, the same arithmetic */
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
     int smoothed;               /* the prolongator is smoothed (core's P = (I - w D^-1 A_F) P_tent,
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
