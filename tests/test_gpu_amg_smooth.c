@@ -119,10 +119,14 @@ static double vcycle_diff(wg_sim* g, const wc_amg* ca, const double* r, wc_par* 
 
 /* The passes the fused V-cycle saves on g's hierarchy (wg_amg.fuse): the first two smoothing steps
  * in one pass on every level (the coarsest's sweeps where it has no factor), and with the smoothed
- * prolongator the residual in the restriction on each level of at most WG_AMG_FOLD_RESIDUAL nodes. */
+ * prolongator the residual in the restriction on each level of at most WG_AMG_FOLD_RESIDUAL nodes,
+ * and the restriction in the factored coarsest level's solve below one of at most
+ * WG_AMG_FOLD_COARSE_ROWS. */
 static long long fused_saving(const wg_amg* a) {
+    const int L = a->n_levels;
     long long k = a->dense ? 0 : 1;
-    for (int l = 0; l + 1 < a->n_levels; ++l) k += 1 + (a->smoothed && a->lev[l].n <= WG_AMG_FOLD_RESIDUAL);
+    for (int l = 0; l + 1 < L; ++l) k += 1 + (a->smoothed && a->lev[l].n <= WG_AMG_FOLD_RESIDUAL);
+    if (a->smoothed && a->dense && L >= 2 && a->lev[L - 2].n <= WG_AMG_FOLD_COARSE_ROWS) ++k;
     return k;
 }
 

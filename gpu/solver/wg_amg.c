@@ -355,6 +355,7 @@ static wg_pass_id level_pass(wg_pass_id p, int l) {
     case WGP_AMG_RESIDUAL: return WGP_AMG_RESIDUAL_FINE;
     case WGP_AMG_PROLONG: return WGP_AMG_PROLONG_FINE;
     case WGP_AMG_RESTRICT_RES: return WGP_AMG_RESTRICT_RES_FINE;
+    case WGP_AMG_COARSE_RESTRICT_GROUPS: return WGP_AMG_COARSE_RESTRICT_GROUPS_FINE;
     default: return p;
     }
 }
@@ -612,7 +613,15 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
         in.pv2 = &L->p[2];
         in.pt_range = &L->pt_range;
         in.pt_list = &L->pt_list;
-        if (a->fuse && L->n <= WG_AMG_FOLD_RESIDUAL) {
+        const wg_tex* xn = NULL;
+        if (a->fuse && l + 2 == a->n_levels && a->dense && L->n <= WG_AMG_FOLD_COARSE_ROWS) {
+            /* and the coarsest level's solve, in one work group */
+            in.factor = &a->coarse_L;
+            use_level(a, l, WGP_AMG_COARSE_RESTRICT_GROUPS, &in);
+            wg_u1i(run, "u_rows", L->n);
+            wg_run_groups(run, N->n, &N->x[1], 1);
+            xn = &N->x[1];
+        } else if (a->fuse && L->n <= WG_AMG_FOLD_RESIDUAL) {
             use_level(a, l, WGP_AMG_RESTRICT_RES, &in);
         } else {
             use_level(a, l, WGP_AMG_RESIDUAL, &in);
@@ -620,8 +629,10 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
             WG_USE(run, WGP_AMG_RESTRICT_P, &(wg_amg_in){.pv0 = &L->p[0], .pv1 = &L->p[1], .pv2 = &L->p[2],
                 .pt_range = &L->pt_range, .pt_list = &L->pt_list, .r = &L->res});
         }
-        WG_RUN(run, N->n, &N->r);
-        const wg_tex* xn = vcycle(a, l + 1, &N->r, NULL);
+        if (!xn) {
+            WG_RUN(run, N->n, &N->r);
+            xn = vcycle(a, l + 1, &N->r, NULL);
+        }
         in.xc = xn;
         in.pv0 = &L->p[0];
         in.pv1 = &L->p[1];

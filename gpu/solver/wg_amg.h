@@ -122,6 +122,11 @@
                                    (amg_restrict_res.glsl), a residual row made once per entry of P
                                    in it (4-8 with rotations), where a pass costs about 9 us
                                    whatever its size (docs/design/gpu_passes.md) */
+#define WG_AMG_FOLD_COARSE_ROWS 1024 /* with the smoothed prolongator and a factored coarsest
+                                   level, a level above it of at most this many nodes restricts
+                                   its residual and solves the coarsest in one work group
+                                   (amg_coarse_restrict_groups.glsl ROWS: its residual rows in
+                                   shared memory) */
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -195,8 +200,9 @@ typedef struct wg_amg {
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
     int fuse;                   /* 1 (the default): the V-cycle's fused passes (the first two
                                    smoothing steps in one; the residual in the restriction on a
-                                   level of at most WG_AMG_FOLD_RESIDUAL nodes); 0 (tests): a pass
-                                   a step, the same arithmetic */
+                                   level of at most WG_AMG_FOLD_RESIDUAL nodes, and with the
+                                   coarsest level's solve where WG_AMG_FOLD_COARSE_ROWS allows);
+                                   0 (tests): a pass a step, the same arithmetic */
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
     int smoothed;               /* the prolongator is smoothed (core's P = (I - w D^-1 A_F) P_tent,
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else
