@@ -148,6 +148,20 @@ static void check_system(const char* name, wc_model* m, wc_state* s, int same_co
     CHECK(wg_sim_debug_set_system(g, s->A, s->b, &s->filter, &d) == WC_OK);
     wc_status gs = wg_sim_debug_solve(g, WC_SOLVER_PCG, dv, &rg, &d);
     double err = ts_max_diff(dv, ref, 3 * n) / ts_max_abs(ref, 3 * n);
+    /* the same solve by the V-cycle's unfused passes (wg_amg.fuse 0: a pass a smoothing step, the
+       residual a pass of its own; the same arithmetic), cold as the first */
+    double* du = calloc((size_t)n * 3, sizeof(double));
+    wc_solve_result ru;
+    g->amg->fuse = 0;
+    wg_amg_cold(g->amg);
+    CHECK(wg_sim_debug_solve(g, WC_SOLVER_PCG, du, &ru, &d) == gs);
+    g->amg->fuse = 1;
+    const double fuse_diff = ts_max_diff(du, dv, 3 * n) / ts_max_abs(dv, 3 * n);
+    printf("  %-24s fused V-cycles against one pass a step: %d / %d iterations, solutions %.2e apart\n", name,
+           rg.iterations, ru.iterations, fuse_diff);
+    CHECK_EQ_INT(ru.iterations, rg.iterations);
+    CHECK(fuse_diff <= 1e-5);
+    free(du);
     /* the CPU's PCG with the same multigrid (core's, built with the GPU's options) */
     o.type = WC_SOLVER_PCG;
     wc_solver* cpu = NULL;

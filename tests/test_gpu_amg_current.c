@@ -13,7 +13,7 @@
  *   - the dead unknowns (nc.w) equal to core's, bit for bit.
  * The mutation: the GPU's rest form (WEFT_GPU_AMG_CURRENT=0, core's P_tent about the rest
  * positions) against core's about the bent sheet's current ones is far off. Caught by hand (in
- * amg_tent_qr.glsl; docs/bench/gpu_solve.md): the centre's mean over one node fewer, the dead test
+ * amg_tent_qr.glsl; docs/bench/gpu_amg_current.md): the centre's mean over one node fewer, the dead test
  * about the aggregate's centre, the coarse rows not moved to the centre, the rows about the
  * particles' centroid (float's cancellation). Not caught: one Gram-Schmidt pass (about the
  * aggregate's centre the columns stay well conditioned, even squashed).

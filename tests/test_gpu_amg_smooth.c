@@ -117,6 +117,46 @@ static double vcycle_diff(wg_sim* g, const wc_amg* ca, const double* r, wc_par* 
     return e;
 }
 
+/* The passes the fused V-cycle saves on g's hierarchy (wg_amg.fuse): the first two smoothing steps
+ * in one pass on every level (the coarsest's sweeps where it has no factor), and with the smoothed
+ * prolongator the residual in the restriction on each level of at most WG_AMG_FOLD_RESIDUAL nodes,
+ * and the restriction in the factored coarsest level's solve below one of at most
+ * WG_AMG_FOLD_COARSE_ROWS. */
+static long long fused_saving(const wg_amg* a) {
+    const int L = a->n_levels;
+    long long k = a->dense ? 0 : 1;
+    for (int l = 0; l + 1 < L; ++l) k += 1 + (a->smoothed && a->lev[l].n <= WG_AMG_FOLD_RESIDUAL);
+    if (a->smoothed && a->dense && L >= 2 && a->lev[L - 2].n <= WG_AMG_FOLD_COARSE_ROWS) ++k;
+    return k;
+}
+
+/* One V-cycle on r by g's fused passes against the same by one pass a step (wg_amg.fuse 0: the
+ * same arithmetic): max |z_fused - z_unfused| / max |z_unfused|, and the passes each queued. */
+static double fused_diff(wg_sim* g, const double* r, long long passes[2]) {
+    const int n = g->n;
+    double* z[2];
+    for (int f = 0; f < 2; ++f) {
+        z[f] = calloc(3 * (size_t)n, sizeof(double));
+        g->amg->fuse = 1 - f;
+        const long long p0 = wg_sim_debug_passes(g);
+        tg_vcycle(g, r, z[f]);
+        passes[f] = wg_sim_debug_passes(g) - p0;
+    }
+    g->amg->fuse = 1;
+    double e = ts_max_diff(z[0], z[1], 3 * n) / ts_max_abs(z[1], 3 * n);
+    printf("    fused V-cycle against one pass a step: %.2e apart, %lld passes against %lld\n", e, passes[0], passes[1]);
+    free(z[0]), free(z[1]);
+    return e;
+}
+
+/* The fused V-cycle is the unfused one (to float rounding, FUSE_TOL) in fused_saving's fewer passes. */
+#define FUSE_TOL 1e-6
+static void check_fused(wg_sim* g, const double* r) {
+    long long p[2];
+    CHECK(fused_diff(g, r, p) <= FUSE_TOL);
+    CHECK(p[1] - p[0] == fused_saving(g->amg));
+}
+
 /* The worst P, coarse-operator and V-cycle differences of the GPU's hierarchy g against core's ca. */
 static void compare(wg_sim* g, const wc_amg* ca, const double* r, wc_par* par, double out[3]) {
     wg_amg* a = g->amg;
@@ -234,6 +274,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     CHECK(e[0] <= TOL);
     CHECK(e[1] <= TOL);
     CHECK(e[2] <= 10 * TOL);
+    check_fused(g, r);
     /* mutation: core's w 1 % off (its bounds scaled) */
     wc_amg* cw = core_hierarchy(m, g->amg, A, &s->filter, 1.01, 1, &par);
     double ew[3];
@@ -282,6 +323,7 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
         double ez = vcycle_diff(g0, ca, r, &par);
         printf("  mutation, the GPU's P = P_tent: V-cycle |z_gpu - z_core| / |z_core| %.2e\n", ez);
         CHECK(ez > 100 * e[2] && ez > 10 * TOL);
+        check_fused(g0, r);   /* P = P_tent's fused passes (the first two steps) */
         wg_sim_destroy(g0);
     }
     wc_amg_destroy(ca);

@@ -241,6 +241,7 @@ int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* s
     a->sys = *sys;
     a->n_levels = ca->n_levels;
     a->sweeps = o.sweeps;
+    a->fuse = 1;
     a->ratio = o.chebyshev_ratio;
     a->fine_bound_scale = ca->fine_bound_scale;
     a->smoothed = smoothed && ca->n_levels > 1;
@@ -353,6 +354,8 @@ static wg_pass_id level_pass(wg_pass_id p, int l) {
     case WGP_AMG_AP: return WGP_AMG_AP_FINE;
     case WGP_AMG_RESIDUAL: return WGP_AMG_RESIDUAL_FINE;
     case WGP_AMG_PROLONG: return WGP_AMG_PROLONG_FINE;
+    case WGP_AMG_RESTRICT_RES: return WGP_AMG_RESTRICT_RES_FINE;
+    case WGP_AMG_COARSE_RESTRICT_GROUPS: return WGP_AMG_COARSE_RESTRICT_GROUPS_FINE;
     default: return p;
     }
 }
@@ -546,9 +549,10 @@ void wg_amg_cold(wg_amg* a) {
 }
 
 /* One smoothing step on level l (amg_smooth.glsl): from x (NULL: zero) and d, with the coarse
- * correction xc added first (NULL: none), into xo and dout; and (r.xo, r.r) into dot unless NULL. */
+ * correction xc added first (NULL: none), into xo and dout; and (r.xo, r.r) into dot unless NULL.
+ * two: x and d NULL, the first two steps (0 and `step`, 1 or -1) in one pass (u_zero 2). */
 static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, const wg_tex* d,
-                   const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout, const wg_tex* dot) {
+                   const wg_tex* xc, int step, const wg_tex* xo, const wg_tex* dout, const wg_tex* dot, int two) {
     wg_runner* run = a->run;
     const wg_amg_level* L = &a->lev[l];
     wg_amg_in in = level_in(a, l);
@@ -559,7 +563,7 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
     in.xc = xc ? xc : r;
     use_level(a, l, WGP_AMG_SMOOTH, &in);
     wg_u1i(run, "u_step", step);
-    wg_u1i(run, "u_zero", x == NULL);
+    wg_u1i(run, "u_zero", two ? 2 : x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
     wg_u1f(run, "u_ratio", a->ratio);
     wg_u1f(run, "u_bound_scale", bound_scale(a, l));
@@ -583,26 +587,52 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
             }
             return &L->x[1];
         }
-        int c = 0;
-        for (int s = 0; s < WG_AMG_COARSE_SWEEPS; ++s, c = 1 - c)
+        int c = 0, s0 = a->fuse ? 2 : 0;   /* fused: sweeps 0 and 1 in one pass */
+        if (s0) smooth(a, l, r, NULL, NULL, NULL, -1, &L->x[1], &L->d[1], s0 == WG_AMG_COARSE_SWEEPS ? dot : NULL, 1);
+        if (s0) c = 1;
+        for (int s = s0; s < WG_AMG_COARSE_SWEEPS; ++s, c = 1 - c)
             smooth(a, l, r, s ? &L->x[c] : NULL, NULL, NULL, -1, &L->x[1 - c], &L->d[1 - c],
-                   s == WG_AMG_COARSE_SWEEPS - 1 ? dot : NULL);
+                   s == WG_AMG_COARSE_SWEEPS - 1 ? dot : NULL, 0);
         return &L->x[c];
     }
     wg_amg_level* N = &a->lev[l + 1];
-    int c = 0;
-    for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
-        smooth(a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL);
+    int c = 0, k0 = a->fuse && a->sweeps >= 2 ? 2 : 0;   /* fused: steps 0 and 1 in one pass */
+    if (k0) {
+        smooth(a, l, r, NULL, NULL, NULL, 1, &L->x[1], &L->d[1], NULL, 1);
+        c = 1;
+    }
+    for (int k = k0; k < a->sweeps; ++k, c = 1 - c)
+        smooth(a, l, r, k ? &L->x[c] : NULL, k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c], NULL, 0);
     wg_amg_in in = level_in(a, l);
     in.r = r;
     in.x = &L->x[c];
-    if (a->smoothed) { /* t = r - A x, then P^T t; after the coarse level, x + P xc */
-        use_level(a, l, WGP_AMG_RESIDUAL, &in);
-        WG_RUN(run, L->n, &L->res);
-        WG_USE(run, WGP_AMG_RESTRICT_P, &(wg_amg_in){.pv0 = &L->p[0], .pv1 = &L->p[1], .pv2 = &L->p[2],
-            .pt_range = &L->pt_range, .pt_list = &L->pt_list, .r = &L->res});
-        WG_RUN(run, N->n, &N->r);
-        const wg_tex* xn = vcycle(a, l + 1, &N->r, NULL);
+    if (a->smoothed) { /* t = r - A x, then P^T t (one pass on a small level); after the coarse
+                          level, x + P xc */
+        in.pv0 = &L->p[0];
+        in.pv1 = &L->p[1];
+        in.pv2 = &L->p[2];
+        in.pt_range = &L->pt_range;
+        in.pt_list = &L->pt_list;
+        const wg_tex* xn = NULL;
+        if (a->fuse && l + 2 == a->n_levels && a->dense && L->n <= WG_AMG_FOLD_COARSE_ROWS) {
+            /* and the coarsest level's solve, in one work group */
+            in.factor = &a->coarse_L;
+            use_level(a, l, WGP_AMG_COARSE_RESTRICT_GROUPS, &in);
+            wg_u1i(run, "u_rows", L->n);
+            wg_run_groups(run, N->n, &N->x[1], 1);
+            xn = &N->x[1];
+        } else if (a->fuse && L->n <= WG_AMG_FOLD_RESIDUAL) {
+            use_level(a, l, WGP_AMG_RESTRICT_RES, &in);
+        } else {
+            use_level(a, l, WGP_AMG_RESIDUAL, &in);
+            WG_RUN(run, L->n, &L->res);
+            WG_USE(run, WGP_AMG_RESTRICT_P, &(wg_amg_in){.pv0 = &L->p[0], .pv1 = &L->p[1], .pv2 = &L->p[2],
+                .pt_range = &L->pt_range, .pt_list = &L->pt_list, .r = &L->res});
+        }
+        if (!xn) {
+            WG_RUN(run, N->n, &N->r);
+            xn = vcycle(a, l + 1, &N->r, NULL);
+        }
         in.xc = xn;
         in.pv0 = &L->p[0];
         in.pv1 = &L->p[1];
@@ -614,7 +644,7 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
         c = 1 - c;
         for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
             smooth(a, l, r, &L->x[c], k ? &L->d[c] : NULL, NULL, k, &L->x[1 - c], &L->d[1 - c],
-                   k == a->sweeps - 1 ? dot : NULL);
+                   k == a->sweeps - 1 ? dot : NULL, 0);
         return &L->x[c];
     }
     in.mem_range = &N->mem_range;
@@ -624,7 +654,7 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
     const wg_tex* xc = vcycle(a, l + 1, &N->r, NULL);
     for (int k = 0; k < a->sweeps; ++k, c = 1 - c)
         smooth(a, l, r, &L->x[c], k ? &L->d[c] : NULL, k ? NULL : xc, k, &L->x[1 - c], &L->d[1 - c],
-               k == a->sweeps - 1 ? dot : NULL);
+               k == a->sweeps - 1 ? dot : NULL, 0);
     return &L->x[c];
 }
 

@@ -37,8 +37,13 @@
  * that the smoother reads; the finest level's bound also takes core's seam factor,
  * fine_bound_scale), and the coarsest level's dense Cholesky factor.
  * Per PCG iteration (wg_amg_apply): one V-cycle, Chebyshev smoothing of degree 2 before and
- * after the coarse correction (core/amg_cycle.c), seven passes a level (five with P = P_tent),
- * one dense solve.
+ * after the coarse correction (core/amg_cycle.c), one dense solve, passes fused where no global
+ * barrier parts them (fuse; WEFT_GPU_AMG_FUSE=0: a pass a step, the same arithmetic): the
+ * pre-smoothing's two steps in one pass (amg_smooth.glsl u_zero 2), the residual in the
+ * restriction on a level of at most WG_AMG_FOLD_RESIDUAL nodes (amg_restrict_res.glsl), and that
+ * restriction with the coarsest level's solve in one work group below one of at most
+ * WG_AMG_FOLD_COARSE_ROWS (amg_coarse_restrict_groups.glsl): five passes a level (six on a larger
+ * level, seven unfused; four with P = P_tent, five unfused).
  *
  * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level
  * with P = P_tent (with the smoothed P, translations or rotations, in the finest level's only, the
@@ -53,7 +58,7 @@
  * of its products (cross_share, decided on the host at each upload; no level in: no pass at all).
  *
  * Compute passes only (GL 4.3): the dense factor and solve are native compute shaders of one
- * invocation. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
+ * work group. A cloth on fragment passes refuses the multigrid (wg_sim_create). The multigrid is
  * given the cloth's runner and the textures of its system (wg_amg_system) and knows nothing else
  * of the cloth. */
 #ifndef WEFT_GPU_SOLVER_AMG_H
@@ -71,7 +76,7 @@
                                    rotations (wg_amg.rotations) */
 #define WG_AMG_CURRENT 0       /* the default with rotations: about the rest positions; 1 (opt-in,
                                    WEFT_GPU_AMG_CURRENT=1) about the current positions (wg_amg.current;
-                                   docs/bench/gpu_solve.md: not the default until the dance's GPU
+                                   docs/bench/gpu_amg_current.md: not the default until the dance's GPU
                                    check passes with it) */
 #define WG_AMG_TENT_NODES 128  /* the current form's aggregates hold at most this many nodes
                                    (amg_tent_qr.glsl TQ_CAP: an invocation holds its columns);
@@ -116,6 +121,17 @@
                                    layers 0.93 / 1.39 / 1.47, the dance 0.55 / 1.35 / 1.57 / 1.53;
                                    docs/bench/gpu_amg_cross.md) */
 #define WG_AMG_CROSS_COARSE_SHARE 1.0
+#define WG_AMG_FOLD_RESIDUAL 4096 /* with the smoothed prolongator, a level of at most this many
+                                   nodes restricts its residual without a pass of its own: each
+                                   next-level node makes the rows r - A x its entries of P read
+                                   (amg_restrict_res.glsl), a residual row made once per entry of P
+                                   in it (about 5 with rotations), where a pass costs about 9 us
+                                   whatever its size (docs/design/gpu_passes.md) */
+#define WG_AMG_FOLD_COARSE_ROWS 1024 /* with the smoothed prolongator and a factored coarsest
+                                   level, a level above it of at most this many nodes restricts
+                                   its residual and solves the coarsest in one work group
+                                   (amg_coarse_restrict_groups.glsl ROWS: its residual rows in
+                                   shared memory) */
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -187,6 +203,11 @@ typedef struct wg_amg {
     int n_levels;
     int dense;                  /* the coarsest level is factored (<= WG_AMG_DENSE_NODES nodes) */
     int sweeps;                 /* Chebyshev degree of the smoother (core's default, 2) */
+    int fuse;                   /* 1 (the default): the V-cycle's fused passes (the first two
+                                   smoothing steps in one; the residual in the restriction on a
+                                   level of at most WG_AMG_FOLD_RESIDUAL nodes, and with the
+                                   coarsest level's solve where WG_AMG_FOLD_COARSE_ROWS allows);
+                                   0 (tests): a pass a step, the same arithmetic */
     double ratio;               /* its interval [bound / ratio, bound] (core's, 10) */
     int smoothed;               /* the prolongator is smoothed (core's P = (I - w D^-1 A_F) P_tent,
                                    w = prolong_weight / lambda_max bound: wg_amg_smooth.c), else

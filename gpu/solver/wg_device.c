@@ -207,6 +207,14 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         return WC_ERROR_GPU;
     }
     d->amg_current = cur && *cur ? strcmp(cur, "1") == 0 : WG_AMG_CURRENT;
+    /* the V-cycle's fused passes (wg_amg.fuse): WEFT_GPU_AMG_FUSE=1 (the default) or 0 */
+    const char* fuse = getenv("WEFT_GPU_AMG_FUSE");
+    if (fuse && *fuse && strcmp(fuse, "0") != 0 && strcmp(fuse, "1") != 0) {
+        wg_errorf(err, err_len, "WEFT_GPU_AMG_FUSE='%.40s' is not '0' or '1'", fuse);
+        wg_device_destroy(d);
+        return WC_ERROR_GPU;
+    }
+    d->amg_fuse = !(fuse && strcmp(fuse, "0") == 0);
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];

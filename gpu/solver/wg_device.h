@@ -43,6 +43,8 @@ typedef struct wg_device {
     int amg_current;            /* WEFT_GPU_AMG_CURRENT: the rotations about the current positions
                                    (1) or the rest positions (0, the default: WG_AMG_CURRENT)
                                    (wg_amg.current) */
+    int amg_fuse;               /* WEFT_GPU_AMG_FUSE: the V-cycle's fused passes (1, the default)
+                                   or a pass a step (0; the same arithmetic) (wg_amg.fuse) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];

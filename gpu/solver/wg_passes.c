@@ -277,6 +277,12 @@ static const wg_pass_input amg_tent_blocks[] = {AMG(pos), AMG(nn0), AMG(nn1), AM
 static const wg_pass_input amg_residual[] = {AMG(rows), COARSE_OP, AMG(r), AMG(x), CROSS};
 static const wg_pass_input amg_residual_fine[] = {AMG(rows), FINE_OP, AMG(r), AMG(x), CROSS};
 static const wg_pass_input amg_restrict_p[] = {PV, AMG(pt_range), AMG(pt_list), AMG(r)};
+static const wg_pass_input amg_restrict_res[] = {AMG(rows), COARSE_OP, PV, AMG(pt_range), AMG(pt_list), AMG(r), AMG(x), CROSS};
+static const wg_pass_input amg_restrict_res_fine[] = {AMG(rows), FINE_OP, PV, AMG(pt_range), AMG(pt_list), AMG(r), AMG(x), CROSS};
+static const wg_pass_input amg_coarse_restrict[] = {AMG(factor), AMG(rows), COARSE_OP, PV, AMG(pt_range), AMG(pt_list),
+    AMG(r), AMG(x), CROSS};
+static const wg_pass_input amg_coarse_restrict_fine[] = {AMG(factor), AMG(rows), FINE_OP, PV, AMG(pt_range), AMG(pt_list),
+    AMG(r), AMG(x), CROSS};
 static const wg_pass_input amg_prolong[] = {PV, AMG(p_ent), AMG(p_rows), AMG(x), AMG(xc)};
 static const wg_pass_input amg_prolong_fine[] = {AMG(S0), AMG(S1), PV, AMG(p_ent), AMG(p_rows), AMG(x), AMG(xc)};
 static const wg_pass_input amg_cross_blocks[] = {AMG(cross_i), AMG(cross_u), AMG(cross_fine)};
@@ -376,6 +382,10 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_AMG_PROLONGATOR_FINE] = COMPUTE("amg_prolongator_fine", amg_prolongator_fine, wg_amg_in),
     [WGP_AMG_AP_FINE] = COMPUTE("amg_ap_fine", amg_ap_fine, wg_amg_in),
     [WGP_AMG_RESIDUAL_FINE] = COMPUTE("amg_residual_fine", amg_residual_fine, wg_amg_in),
+    [WGP_AMG_RESTRICT_RES] = COMPUTE("amg_restrict_res", amg_restrict_res, wg_amg_in),
+    [WGP_AMG_RESTRICT_RES_FINE] = COMPUTE("amg_restrict_res_fine", amg_restrict_res_fine, wg_amg_in),
+    [WGP_AMG_COARSE_RESTRICT_GROUPS] = NATIVE("amg_coarse_restrict_groups", amg_coarse_restrict, wg_amg_in),
+    [WGP_AMG_COARSE_RESTRICT_GROUPS_FINE] = NATIVE("amg_coarse_restrict_groups_fine", amg_coarse_restrict_fine, wg_amg_in),
     [WGP_AMG_PROLONG_FINE] = COMPUTE("amg_prolong_fine", amg_prolong_fine, wg_amg_in),
     [WGP_AMG_CROSS_TERMS] = COMPUTE("amg_cross_terms", amg_cross_terms, wg_amg_in),
     [WGP_AMG_CROSS_BLOCKS] = COMPUTE("amg_cross_blocks", amg_cross_blocks, wg_amg_in),

@@ -56,6 +56,10 @@ typedef enum wg_pass_id {
        the restriction P^T and the prolongation x + P xc */
     WGP_AMG_PROLONGATOR, WGP_AMG_AP, WGP_AMG_PTAP, WGP_AMG_RESIDUAL, WGP_AMG_RESTRICT_P, WGP_AMG_PROLONG,
     WGP_AMG_PROLONGATOR_FINE, WGP_AMG_AP_FINE, WGP_AMG_RESIDUAL_FINE, WGP_AMG_PROLONG_FINE,
+    /* the residual and the restriction P^T in one pass (a level of at most WG_AMG_FOLD_RESIDUAL nodes) */
+    WGP_AMG_RESTRICT_RES, WGP_AMG_RESTRICT_RES_FINE,
+    /* native: those and the coarsest level's solve in one work group */
+    WGP_AMG_COARSE_RESTRICT_GROUPS, WGP_AMG_COARSE_RESTRICT_GROUPS_FINE,
     /* the self-contact pairs' cross terms in the multigrid's levels (wg_amg.h) */
     WGP_AMG_CROSS_TERMS, WGP_AMG_CROSS_BLOCKS,
     /* the rotations about the current positions: the next level's near-null rows, Q's

@@ -419,6 +419,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1, &g->x};
         /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs the same V-cycle (pcg_group_amg.glsl) */
         ok = wg_amg_create_form(&g->run, g->m, &sys, dev->amg_smooth, dev->amg_rot, &g->amg, err, sizeof err);
+        if (ok) g->amg->fuse = dev->amg_fuse;
         if (ok && g->pairs && dev->amg_cross) ok = wg_amg_pairs_create(g->amg, wg_pairs_capacity(g->pairs), err, sizeof err);
         if (ok && g->amg->rotations && dev->amg_current && !g->amg->current)
             wc_log(diag, WC_LOG_INFO,

@@ -140,7 +140,7 @@ static wg_sums update_groups(wg_sim* g, pcg_vecs* v, int first, int rows, const 
         .c = &g->c[v->c], .q = &g->q, .dinv_lo = &g->D0, .dinv_hi = &g->D1, .scalars0 = &g->sc[a][0],
         .scalars1 = &g->sc[a][1], .scalars2 = &g->sc[a][2], .sum = alpha ? cq.tex : &g->sc[a][0]});
     wg_u1i(run, "u_first", first);
-    wg_u1i(run, "u_jacobi", 1);
+    wg_u1i(run, "u_jacobi", !g->amg_on);   /* the multigrid: t = 0, its partials unread */
     wg_u1i(run, "u_fold", alpha != NULL);
     wg_u1i(run, "u_sum_n", alpha ? cq.count : 0);
     wg_u1i(run, "u_texels", g->q.w * g->q.h);
@@ -216,8 +216,12 @@ static void pcg_iteration(wg_sim* g, const wc_solver_opts* o, pcg_vecs* v, int m
     const wg_sums cq = spmv_dot(g, &g->c[v->c], g->n);
     const int fold = g->dev->compute;
     wg_sums dots;
-    if (fold && !g->amg_on && cq.count <= FOLD_MAX) {
+    if (fold && cq.count <= FOLD_MAX) {
         dots = update_groups(g, v, 0, g->n, o, cq, max_it);
+        if (g->amg_on) { /* the update's dv and r, then the V-cycle's z and (r.z, r.r) */
+            wg_amg_apply(g->amg, &g->r[v->r], &g->part);
+            dots = sums_of(g, &g->red_p[1], &g->part);
+        }
     } else {
         scalars(g, o, 1, cq, kNoSums, max_it);
         dots = update(g, v, 0, g->n);

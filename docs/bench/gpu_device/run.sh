@@ -5,7 +5,8 @@
 # small: tiny sizes, to try the script on llvmpipe; gpu: the GPU runs only (no CPU runs of the
 # sample scenes, converged bench without its CPU columns), to fit a short lease; quick: the
 # default passes only (bench_gpu, the solver tests, the scenes, sheet100's peers rows): ~3 min;
-# amg: the GPU's multigrid (rotations and smoothed P; translations; P_tent) against block Jacobi (its tests, converged steps, the scenes, peers);
+# amg: the GPU's multigrid (rotations and smoothed P; translations; P_tent) against block Jacobi (its tests, converged steps, the scenes, peers;
+# the V-cycle's fused passes against a pass a step at 30 iterations fixed);
 # newton: sewing, Newton, the line search, BDF2 and TR-BDF2 on the GPU (their tests, the hanging
 # sheet's rollbacks at Newton 1 / 2 / 2 + search) and the crowd (weft bench crowd: N garments
 # batched / unbatched); passes: PCG's folded passes (docs/bench/gpu_solve.md, "Fewer passes"): the
@@ -45,6 +46,11 @@ if [ "$MODE" = amg ]; then   # the multigrid (gpu/solver/wg_amg.h) against block
     timeout 90 build-dev/tests/test_gpu_amg_smooth rot > /tmp/ta.txt 2>&1; echo "test_gpu_amg_rot rc=$?"; grep -v " ok$" /tmp/ta.txt
     for pc in amg block_jacobi; do
       timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond $pc 2>&1
+    done
+    # the V-cycle's fused passes against a pass a step (WEFT_GPU_AMG_FUSE=0), 30 iterations fixed:
+    # passes and ms a frame and passes a PCG iteration (docs/bench/gpu_solve.md, "Fewer passes a V-cycle")
+    for f in 1 0; do
+      WEFT_GPU_AMG_FUSE=$f timeout 120 build-dev/tests/bench/bench_gpu --sizes 32,100,316 --frames 3 --skip-cpu --precond amg 2>&1
     done
     # the multigrid without rotations (translations, smoothed P), and with P = P_tent, at the same sizes
     WEFT_GPU_AMG_ROT=0 timeout 150 build-dev/tests/bench/bench_gpu --sizes 32,100,316,1000 --frames 3 --tolerance 1e-4 --iterations 1000 --skip-cpu --precond amg 2>&1

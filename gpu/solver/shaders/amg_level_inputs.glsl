@@ -88,6 +88,19 @@ vec3 op_row_end(int i, vec3 y) { return y; }
 #endif
 mat3 op_diag(int i) { return op_block(ldi(rows, i).z); }
 
+// Node j's x as the level's products read it: x_j, + op_prolong(j, xc[agg j]) with prolong. A pass
+// that defines WG_AMG_X_HOOK before this include gives its own op_x (amg_smooth.glsl: x after
+// the smoother's first step, made where it is read, so that one pass takes two steps).
+#ifdef WG_AMG_X_HOOK
+vec3 op_x(int j, sampler2D x, sampler2D xc, bool prolong);
+#else
+vec3 op_x(int j, sampler2D x, sampler2D xc, bool prolong) {
+    vec3 xj = ld(x, j).xyz;
+    if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
+    return xj;
+}
+#endif
+
 // The self-contact pairs' cross terms on this level (wg_amg.h "Cross terms", wg_amg_cross.c):
 // pair q's term is c (sum_k e_k u_k)(sum_j e_j u_j)^T, e_k the level's node of slot k's
 // particle, u_k its filtered vector (amg_cross_terms.glsl); its k = j parts are A's diagonal
@@ -109,9 +122,7 @@ vec3 op_cross(int i, sampler2D x, sampler2D xc, bool prolong) {
     ivec4 r = ldi(cross_i, i);
     for (int h = r.x; h < r.y; ++h) {
         int j = ldi(cross_i, h).x;
-        vec3 xj = ld(x, j).xyz;
-        if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
-        y += op_cross_block(h - r.w) * xj;
+        y += op_cross_block(h - r.w) * op_x(j, x, xc, prolong);
     }
     return y;
 }
@@ -131,9 +142,7 @@ vec3 op_row(int i, sampler2D x, sampler2D xc, bool prolong) {
     vec3 y = vec3(0.0);
     for (int k = r.x; k < r.y; ++k) {
         int j = ldi(cols, k).y;
-        vec3 xj = ld(x, j).xyz;
-        if (prolong) xj += op_prolong(j, ld(xc, ldi(rows, j).w).xyz);
-        y += op_mul(k, xj);
+        y += op_mul(k, op_x(j, x, xc, prolong));
     }
     return op_row_end(i, y + op_cross(i, x, xc, prolong));
 }
