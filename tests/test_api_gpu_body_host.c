@@ -13,8 +13,10 @@
  * in float, core's in double: the contacts amplify the rounding while the body moves), both have
  * pairs, the same rollbacks; a third cloth of the device context, given a bad input before each
  * good one from frame 5 (a NaN vertex; a NaN transform), is refused each time
- * (WEFT_ERROR_NONFINITE; INVALID_ARGUMENT for the transform) and stays bit-identical to the
- * device's cloth; the device's cloth saved at frame 15 (the body moving), restored and replayed to
+ * (WEFT_ERROR_NONFINITE; the transform's step refused), and given frames that fail (STEP_FAILED,
+ * the cloth and its body restored) before those frames' good steps (a gale at frames 1 and 14,
+ * the object thrown at 17 and at 7, where the failed frame's body is frame 15's: moved, though the
+ * body stands in the good frame that follows), stays bit-identical to the device's cloth; the device's cloth saved at frame 15 (the body moving), restored and replayed to
  * frame 25 gives the same snapshot bytes. With fragment passes (WEFT_GPU_PASSES=fragment) the two
  * settings are the same path: bit-identical. */
 #define _POSIX_C_SOURCE 200809L
@@ -31,6 +33,9 @@
 #define DT (1.0 / 30.0)
 #define STAND 10                  /* the body stands for frames 1 .. STAND - 1 */
 #define BAD_FROM 5                /* the third cloth's bad inputs, from this frame on */
+#define MOVED_FAIL_AT 7           /* ... and its failed frames (also at frame 1) */
+#define FAIL_AT 14
+#define THROWN_AT 17
 /* the largest distance device - host, measured on llvmpipe: 7.9e-6 m while the box stands (the
    ball: 3.5e-5 m); the box rising 3.0 mm (the one-ulp cloth 1.6 mm; the GPU's sharp pairs decide
    in float, as for the body from a host buffer: docs/design/gpu_bodies.md); the ball turning
@@ -103,6 +108,20 @@ static weft_status give(weft_context* ctx, weft_cloth c, int f, feed* fd, int ba
     return weft_cloth_set_mesh_collider_vertices(ctx, c, 0, body, 8);
 }
 
+/* A frame that fails (the body given): a gale of 1e150 m/s (non-finite forces in every retry of
+   the first substep, after the body's passes ran), or the object thrown 1e31 m away (the whole
+   frame runs, the body's frame ended on the GPU; then the outputs are beyond 1e30). */
+static void fail(weft_context* ctx, weft_cloth c, const feed* fd, int thrown) {
+    weft_frame fr = weft_default_frame();
+    fr.dt = DT;
+    const double gale[3] = {1e150, 0.0, 1e150};
+    float far[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1e31f, 0, 0, 1};
+    if (thrown) fr.object_transform = far;
+    else fr.wind = gale;
+    fr.mesh_collider_transforms = fd->transform ? fd->M : NULL;
+    CHECK_EQ_INT(weft_cloth_step(ctx, c, &fr, NULL), WEFT_ERROR_STEP_FAILED);
+}
+
 static weft_status step(weft_context* ctx, weft_cloth c, feed* fd, int bad, weft_frame_stats* fs) {
     weft_frame fr = weft_default_frame();
     fr.dt = DT;
@@ -165,6 +184,12 @@ static void run_body(int transform) {
             feed fd = {transform, k == 3, {0}};
             const int bad = k == 2 && f >= BAD_FROM;
             CHECK_EQ_INT(give(of[k], c[k], f, &fd, bad), WEFT_OK);
+            if (k == 2 && (f == 1 || f == MOVED_FAIL_AT || f == FAIL_AT || f == THROWN_AT)) {
+                feed other = fd;   /* MOVED_FAIL_AT: the failed frame's body is frame 15's */
+                if (f == MOVED_FAIL_AT) CHECK_EQ_INT(give(of[k], c[k], 15, &other, 0), WEFT_OK);
+                fail(of[k], c[k], &other, f == THROWN_AT || f == MOVED_FAIL_AT);
+                if (f == MOVED_FAIL_AT) CHECK_EQ_INT(give(of[k], c[k], f, &fd, 0), WEFT_OK);
+            }
             weft_frame_stats fs;
             CHECK_EQ_INT(step(of[k], c[k], &fd, bad, &fs), WEFT_OK);
             pairs[k] += fs.mesh_pairs;
