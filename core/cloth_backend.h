@@ -159,10 +159,11 @@ typedef struct wc_cloth_backend {
      * backends without the host's GL context refuse it. Outside begin/end. */
     wc_status (*read_gl)(struct wc_cloth* c, int index, const wc_gl_vertex_source* src, float* out,
                          wc_gl_vertex_result* res, wc_diag* d);
-    /* Core's copy of every body kept on the device (read_gl's taken ones: from, to) brought back
-     * and each body handed back to the host (on_device 0). Core calls it before it reads or
-     * writes a body: the snapshot, the collision check, a host's array, a rigid transform, a
-     * teleport or reset. Inside begin/end. */
+    /* Core's copy of every body kept on the device (read_gl's taken ones: from, to; a body whose
+     * substeps only the device computes, substep_on_device: its substep arrays at from) brought
+     * back and each body handed back to the host (on_device and substep_on_device 0). Core calls
+     * it before it reads or writes a body: the snapshot, the collision check, a host's array, a
+     * rigid transform, a teleport or reset. Inside begin/end. */
     void (*mesh_pull)(struct wc_cloth* c);
 } wc_cloth_backend;
 

@@ -71,10 +71,11 @@ static inline wc_status wc_cloth_upload(wc_cloth* c, wc_diag* d) {
     return st;
 }
 
-/* The bodies kept on the device back in core (cloth_backend.h mesh_pull), outside a group. */
+/* The bodies kept on the device back in core (cloth_backend.h mesh_pull), outside a group: those
+ * whose frame is the device's (on_device) and those whose substeps are (substep_on_device). */
 static inline wc_status wc_cloth_mesh_pull(wc_cloth* c, wc_diag* d) {
     int any = 0;
-    for (int k = 0; k < c->n_mesh; ++k) any |= c->mesh[k]->on_device;
+    for (int k = 0; k < c->n_mesh; ++k) any |= c->mesh[k]->on_device | c->mesh[k]->substep_on_device;
     if (!any) return WC_OK;
     wc_status st = c->backend->begin(c->device, d);
     if (st != WC_OK) return st;

@@ -60,6 +60,12 @@ typedef struct wc_mesh_collider {
     int device_moves;          /* on_device: 1 when the device's frame end differs from its frame start
                                   (any bit of a float), as the backend found when it took the end
                                   (cloth_backend.h read_gl); 0 again once a frame ends (from = to) */
+    int substep_on_device;     /* 0 (create); 1: a backend moves the body to each substep on its device
+                                  from from and to, which stay current here (a GPU cloth's body from
+                                  the host's arrays or a rigid transform, uploaded once a frame):
+                                  only the substep's arrays (xa, xb, vel, the normals, boxes and
+                                  the BVH's) and the feature pairs are the device's, stale here
+                                  until mesh_pull hands the body back */
     int exhaustive;            /* 0 (create); 1: the searches skip no triangle they could
                                   (closest points: every one in reach; feature pairs, mesh_pairs.h:
                                   smooth ones too): the reference a test checks the prunes against */

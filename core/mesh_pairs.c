@@ -532,7 +532,8 @@ int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int
     const int nq = m->we.n_edges + m->n_tris;
     for (int k = 0; k < nm; ++k) {
         if (k >= pp->n_mesh) break; /* not the colliders it was created for */
-        if (mc[k]->on_device) continue; /* the device's detection (wc_mesh_pairs_add_found) */
+        /* the device's detection (wc_mesh_pairs_add_found) */
+        if (mc[k]->on_device || mc[k]->substep_on_device) continue;
         for (int i = 0; i < pp->n_particles; ++i) atomic_store_explicit(&pp->behind[i], -1, memory_order_relaxed);
         sharp_update(&pp->sharp[k], mc[k]);
         const unsigned char* mask = mc[k]->exhaustive ? NULL : pp->sharp[k].node_mask;

@@ -73,9 +73,9 @@ int wc_mesh_pairs_set_threads(wc_mesh_pairs* p, int threads, int stage_cap, cons
  * of length h s; he the system's step, bdf2.h, for k): x, v (n x 3, m, m/s) the cloth at the
  * substep's start; f (NULL: no pins) the filter and stick (NULL: none) the sticking contacts: a
  * particle with ndof 3 that does not stick is pinned (infinite mass). Empties the list first. A
- * collider whose body is on a device (on_device, mesh_collider.h: core's copy is stale) is
- * skipped: the device finds its pairs by the same rules and hands them to
- * wc_mesh_pairs_add_found. Returns the pairs found (pp->list.n). */
+ * collider whose body or substep is on a device (on_device, substep_on_device, mesh_collider.h:
+ * core's copy of the substep is stale) is skipped: the device finds its pairs by the same rules
+ * and hands them to wc_mesh_pairs_add_found. Returns the pairs found (pp->list.n). */
 int wc_mesh_pairs_find(wc_mesh_pairs* pp, const wc_mesh_collider* const* mc, int nm, const struct wc_model* m,
                        const struct wc_filter* f, const unsigned char* stick, const double* x, const double* v,
                        double h, double he);

@@ -215,6 +215,10 @@ wc_status wg_device_create(wg_gl_context* gl, wg_device** out, char* err, size_t
         return WC_ERROR_GPU;
     }
     d->amg_fuse = !(fuse && strcmp(fuse, "0") == 0);
+    /* where the bodies from the host's arrays or rigid transforms move (wg_mesh_host.c):
+       WEFT_GPU_BODY=device (the default) or host; another value is logged when a cloth is made */
+    const char* body = getenv("WEFT_GPU_BODY");
+    d->body_host = !body || !*body || strcmp(body, "device") == 0 ? 0 : strcmp(body, "host") == 0 ? 1 : -1;
     const char* common = shader_source("common");
     for (int p = 0; p < WGP_COUNT; ++p) {
         char base[64];

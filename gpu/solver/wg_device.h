@@ -45,6 +45,11 @@ typedef struct wg_device {
                                    (wg_amg.current) */
     int amg_fuse;               /* WEFT_GPU_AMG_FUSE: the V-cycle's fused passes (1, the default)
                                    or a pass a step (0; the same arithmetic) (wg_amg.fuse) */
+    int body_host;              /* WEFT_GPU_BODY: a mesh collider given by the host's arrays or a rigid
+                                   transform moved to each substep on the device (0: "device", the
+                                   default, compute passes; wg_mesh_host.c) or by core on the host
+                                   (1: "host"); -1: another value (logged at a cloth's creation; the
+                                   default then) */
     int max_groups_x;           /* compute: work groups along x a dispatch may have (65535 at least;
                                    wg_compute_dispatch_groups goes 2D past it; tests lower it) */
     char renderer[128];

@@ -105,6 +105,8 @@ void wg_mesh_upload(wg_mesh* g, int which) {
     float* o = g->staging;
     const int all = which < 0;
     const int k0 = all ? 0 : which, k1 = all ? g->n_mesh : which + 1;
+    for (int k = k0; k < k1; ++k)   /* 16 bytes a texel: 3 a vertex, 3 a triangle, 2 a node */
+        g->up_bytes += 16 * (3LL * g->mesh[k]->n_verts + 3LL * g->mesh[k]->n_tris + 2LL * g->mesh[k]->bvh.n_nodes);
     for (int k = k0; k < k1; ++k) {
         const wc_mesh_collider* m = g->mesh[k];
         for (int i = 0; i < m->n_verts; ++i) {

@@ -8,7 +8,11 @@
  *    CPU, in float;
  *  - on the device (a body "resident" on the GPU, compute passes only: wg_mesh_body.c): its
  *    frame's start and end positions live in textures and passes compute the same things in
- *    float; core's copy of that body is stale until wg_mesh_body_pull brings it back.
+ *    float. A body from a host GL buffer (core's on_device): core's copy of it is stale until
+ *    wg_mesh_body_pull brings it back. A body core's copy moves (the host's arrays, a rigid
+ *    transform; core's substep_on_device, wg_mesh_host.c, WEFT_GPU_BODY=device): core's frame
+ *    start and end stay current and the end is uploaded once a frame; only the substep's
+ *    arrays are stale in core.
  * All the meshes share one set of textures (vertex, triangle and node indices offset per mesh);
  * the tree's shape and the triangles' vertices are uploaded at creation (one staging buffer sized
  * then). Calls are made with the cloth's GL context current. */
@@ -32,6 +36,8 @@ typedef struct wg_mesh {
     wg_runner* run;
     /* the bodies computed on the device (wg_mesh_body.c; body 0 without compute passes) */
     int body;                        /* 1: the passes and textures below exist */
+    int host_fed;                    /* 1: the bodies core's copy moves are made resident too
+                                        (wg_mesh_host_frame; WEFT_GPU_BODY=device) */
     unsigned char* resident;         /* (n_mesh) 1: mesh k's frame positions are from / to's */
     int n_resident;
     wg_tex from, to, to_next;        /* 1 texel a vertex: the frame's start and end (xyz, 0); to_next
@@ -45,6 +51,11 @@ typedef struct wg_mesh {
     wg_tex meas;                     /* 1 a vertex: a reduction's input (speed, a bad coordinate) */
     wg_chain chain;                  /* meas's reductions */
     wg_tex raw;                      /* R32F: a host buffer's floats (wg_mesh_body_take) */
+    long long up_bytes, read_bytes;  /* the bodies' transfers since creation (logged by the step at
+                                        WC_LOG_DEBUG): the host-moved bodies' substep texels, the
+                                        resident bodies' positions and refit order uploaded; their
+                                        fastest vertex, a buffer call's check and a pull read back
+                                        (the sharp pairs' transfers are wg_mesh_sharp_find's) */
 } wg_mesh;
 
 /* The textures for the n_mesh meshes (n_mesh 0: one zero texel each, so that the passes' inputs
@@ -88,9 +99,26 @@ void wg_mesh_body_restore_backup(wg_mesh* g);
  * when the range is too long for the raw texture: the caller reads the buffer back. */
 wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, size_t stride, int* bad_vertex,
                             float bad[3], int* moves, wc_diag* d);
-/* Core's copy of every resident body from the textures (from, to; the substep positions at from,
- * as a snapshot's restore leaves them), and each given back to the host. */
+/* Core's copy of every resident body from the textures (from, to, read back for the bodies from a
+ * host buffer only; the substep positions at from, as a snapshot's restore leaves them), and
+ * each given back to the host. */
 void wg_mesh_body_pull(wg_mesh* g);
+/* Mesh k's n_verts x 3 positions x (rounded to float) into texture t's texels (from, to). */
+void wg_mesh_body_put(wg_mesh* g, const wg_tex* t, int k, const double* x);
+/* The refit's order (g->order, order_first) for the resident meshes. */
+void wg_mesh_body_rebuild_order(wg_mesh* g);
+/* Mark mesh k resident (its from and to texels written), the refit's order rebuilt. */
+void wg_mesh_body_make_resident(wg_mesh* g, int k);
+
+/* ---- the bodies core's copy moves, kept on the device (wg_mesh_host.c; g->host_fed) ---- */
+/* At a frame's start, after the frame's inputs reached core: each mesh not from a host buffer
+ * becomes resident (its from and to uploaded, core's substep_on_device set), or, resident
+ * already, has its frame end uploaded when it moves (core's from != to): 16 bytes a vertex.
+ * g NULL or without host_fed: nothing. */
+void wg_mesh_host_frame(wg_mesh* g);
+/* A failed frame's restore: those bodies back to the host (core's rollback restores their frame;
+ * the next frame uploads it again). */
+void wg_mesh_host_drop(wg_mesh* g);
 /* Mesh k's row in the colliders' texture (20 floats, contact_query.glsl). */
 void wg_mesh_row(const wg_mesh* g, int k, float* row);
 

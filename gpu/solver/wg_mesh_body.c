@@ -71,6 +71,7 @@ int wg_mesh_body_init(wg_mesh* g, char* err, size_t err_len) {
         }
     }
     g->body = 1;
+    g->host_fed = g->run->dev->body_host != 1;
     wg_tex* per_vertex[] = {&g->from, &g->to, &g->to_next, &g->from_bk, &g->meas};
     for (size_t k = 0; k < sizeof per_vertex / sizeof per_vertex[0]; ++k)
         if (!wg_array_create(L, per_vertex[k], GL_RGBA32F, g->n_vert, NULL, err, err_len)) return 0;
@@ -79,8 +80,8 @@ int wg_mesh_body_init(wg_mesh* g, char* err, size_t err_len) {
            wg_chain_create(g->run, &g->chain, g->meas.w, g->meas.h, err, err_len);
 }
 
-/* The refit's order: the resident meshes' nodes by height (a counting sort). */
-static void build_order(wg_mesh* g) {
+/* The refit's order: the resident meshes' nodes by height (a counting sort; wg_mesh.h). */
+void wg_mesh_body_rebuild_order(wg_mesh* g) {
     int* first = g->order_first;
     memset(first, 0, ((size_t)g->n_heights + 1) * sizeof(int));
     for (int k = 0; k < g->n_mesh; ++k)
@@ -99,10 +100,10 @@ static void build_order(wg_mesh* g) {
     for (int h = g->n_heights; h > 0; --h) first[h] = first[h - 1];   /* back to each height's start */
     first[0] = 0;
     if (first[g->n_heights] > 0) wg_array_upload(g->run->layout, &g->order, first[g->n_heights], o);
+    g->up_bytes += 16LL * first[g->n_heights];
 }
 
-/* Mesh k's n x 3 positions into t's texels (float, w 0). */
-static void put_positions(wg_mesh* g, const wg_tex* t, int k, const double* x) {
+void wg_mesh_body_put(wg_mesh* g, const wg_tex* t, int k, const double* x) {
     const int n = g->mesh[k]->n_verts;
     float* o = g->staging;
     for (int i = 0; i < n; ++i) {
@@ -110,21 +111,21 @@ static void put_positions(wg_mesh* g, const wg_tex* t, int k, const double* x) {
         o[4 * i + 3] = 0.0f;
     }
     wg_array_upload_range(g->run->layout, t, g->vert0[k], n, o);
+    g->up_bytes += 16LL * n;
 }
 
-/* Mesh k resident (its textures' positions already there). */
-static void make_resident(wg_mesh* g, int k) {
+void wg_mesh_body_make_resident(wg_mesh* g, int k) {
     if (g->resident[k]) return;
     g->resident[k] = 1;
     ++g->n_resident;
-    build_order(g);
+    wg_mesh_body_rebuild_order(g);
 }
 
 void wg_mesh_body_set(wg_mesh* g, int k, const double* from, const double* to) {
     if (!g->body) return;
-    put_positions(g, &g->from, k, from);
-    put_positions(g, &g->to, k, to);
-    make_resident(g, k);
+    wg_mesh_body_put(g, &g->from, k, from);
+    wg_mesh_body_put(g, &g->to, k, to);
+    wg_mesh_body_make_resident(g, k);
 }
 
 void wg_mesh_body_substep(wg_mesh* g, double a0, double a1, double h) {
@@ -150,6 +151,7 @@ void wg_mesh_body_substep(wg_mesh* g, double a0, double a1, double h) {
         WG_RUN(run, g->n_vert, &g->meas);
         float r[4];
         wg_read1(run->layout, wg_reduce(run, &g->chain, &g->meas, 1, 0, 0, 0), r);
+        g->read_bytes += sizeof r;
         m->max_speed = (double)r[0];
         m->h = h;
     }
@@ -164,7 +166,9 @@ void wg_mesh_body_backup(wg_mesh* g) {
 }
 
 void wg_mesh_body_restore_backup(wg_mesh* g) {
-    if (g && g->body && g->n_resident > 0) wg_copy(g->run, &g->from, &g->from_bk);
+    if (!g || !g->body || g->n_resident == 0) return;
+    wg_copy(g->run, &g->from, &g->from_bk);
+    wg_mesh_host_drop(g);
 }
 
 /* Mesh k's positions in t's texels into x (n x 3 doubles); rb holds the whole array's texels. */
@@ -178,20 +182,25 @@ void wg_mesh_body_pull(wg_mesh* g) {
     if (!g || !g->body || g->n_resident == 0) return;
     const wg_layout* L = g->run->layout;
     float* rb = g->staging;
-    for (int pass = 0; pass < 2; ++pass) {
+    int stale = 0;   /* a body from a host buffer: core's frame is stale (core's is current for the others) */
+    for (int k = 0; k < g->n_mesh; ++k) stale |= g->resident[k] && g->mesh[k]->on_device;
+    for (int pass = 0; stale && pass < 2; ++pass) {
         wg_array_read(L, pass == 0 ? &g->from : &g->to, g->n_vert, rb);
+        g->read_bytes += 16LL * g->n_vert;
         for (int k = 0; k < g->n_mesh; ++k)
-            if (g->resident[k]) get_positions(g, rb, k, pass == 0 ? g->mesh[k]->from : g->mesh[k]->to);
+            if (g->resident[k] && g->mesh[k]->on_device)
+                get_positions(g, rb, k, pass == 0 ? g->mesh[k]->from : g->mesh[k]->to);
     }
     for (int k = 0; k < g->n_mesh; ++k)
         if (g->resident[k]) {
             wc_mesh_collider* m = g->mesh[k];
             m->on_device = 0;
+            m->substep_on_device = 0;
             wc_mesh_collider_substep(m, 0.0, 0.0, 0.0);   /* as a snapshot's restore: at from */
             g->resident[k] = 0;
         }
     g->n_resident = 0;
-    build_order(g);
+    wg_mesh_body_rebuild_order(g);
 }
 
 wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, size_t stride, int* bad_vertex,
@@ -211,7 +220,7 @@ wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, s
     wc_status st = wg_host_buffer_unpack(buffer, offset, floats, &g->raw, W, (int)rows, d);
     if (st != WC_OK) return st;
     const int v0 = g->vert0[k], v1 = v0 + m->n_verts;
-    if (!g->resident[k]) put_positions(g, &g->from, k, m->from);   /* core's copy is current */
+    if (!g->resident[k]) wg_mesh_body_put(g, &g->from, k, m->from);   /* core's copy is current */
     WG_USE(run, WGP_MESH_GATHER, &(wg_mesh_gather_in){.raw = &g->raw, .body_to = &g->to});
     wg_u1i(run, "u_v0", v0);
     wg_u1i(run, "u_v1", v1);
@@ -228,6 +237,7 @@ wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, s
     WG_RUN(run, g->n_vert, &g->meas);
     float r[4];
     wg_read1(L, wg_reduce(run, &g->chain, &g->meas, 1, 1, 0, 0), r);
+    g->read_bytes += sizeof r;
     if (r[0] > 0.0f) {   /* the first bad vertex's floats, for the caller's message */
         int v = v1 - (int)r[0];
         wg_array_read(L, &g->to_next, v + 1, g->staging);
@@ -238,8 +248,9 @@ wc_status wg_mesh_body_take(wg_mesh* g, int k, unsigned buffer, size_t offset, s
     wg_tex t = g->to;
     g->to = g->to_next;
     g->to_next = t;
-    make_resident(g, k);
+    wg_mesh_body_make_resident(g, k);
     m->on_device = 1;
+    m->substep_on_device = 0;   /* its frame is the device's now, not core's */
     *moves = r[1] > 0.0f;
     return WC_OK;
 }

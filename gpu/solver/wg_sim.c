@@ -409,6 +409,9 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
     if (ok && g->pairs && s->pairs && s->n_mesh > 0 && wg_contacts_mesh(g->contacts) &&
         wg_contacts_mesh(g->contacts)->body)
         ok = wg_mesh_sharp_create(&g->run, wg_contacts_mesh(g->contacts), s->pairs, m, &g->sharp, err, sizeof err);
+    if (dev->body_host < 0 && s->n_mesh > 0)   /* WEFT_GPU_BODY (wg_device.h) */
+        wc_log(diag, WC_LOG_WARN, "WEFT_GPU_BODY=%.40s is not device or host: the bodies %s", getenv("WEFT_GPU_BODY"),
+               dev->compute ? "from the host's arrays and rigid transforms move on the device" : "move on the host");
     const char* idle_env = getenv("WEFT_GPU_SELF_IDLE");
     if (g->self && idle_env && *idle_env && strcmp(idle_env, "on") && strcmp(idle_env, "off") &&
         strcmp(idle_env, "check"))

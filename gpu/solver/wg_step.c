@@ -471,6 +471,7 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     glDisable(GL_RASTERIZER_DISCARD);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     wg_step_upload_pins(g, s);
+    wg_mesh_host_frame(wg_contacts_mesh(g->contacts));   /* the bodies core's copy moves: their frame end */
     /* the multigrid's bounds estimated afresh at the frame's first solve: a frame depends on its
        starting state alone (snapshots, rollbacks, teleports) */
     wg_amg_cold(g->amg);
@@ -487,6 +488,12 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     if (g->run.fault[0] && r == WC_OK) r = wc_fail(diag, WC_ERROR_GPU, "GPU step: %s", g->run.fault);
     if (!collect_stamps(g, st) && !st->asleep)
         st->ms.solve = wc_now_ms() - t0 - st->ms.forces - st->ms.assemble - st->ms.self_collide;
+    const wg_mesh* body = wg_contacts_mesh(g->contacts);
+    if (body && body->n_mesh > 0)
+        wc_log(diag, WC_LOG_DEBUG,
+               "GPU mesh colliders: %d of %d moved on the GPU; transfers since creation: %lld bytes uploaded, %lld "
+               "bytes read back (their sharp pairs' not counted)",
+               body->n_resident, body->n_mesh, body->up_bytes, body->read_bytes);
     if (g->self) {
         const wg_self_io* io = wg_self_transfers(g->self);
         wc_log(diag, WC_LOG_DEBUG,
