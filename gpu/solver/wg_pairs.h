@@ -35,6 +35,7 @@
 #include "wg_mesh_sharp.h"
 #include "wg_passes.h"
 #include "wg_runner.h"
+#include "wg_self_pairs.h"
 
 typedef struct wg_pairs wg_pairs;
 
@@ -52,6 +53,8 @@ typedef struct wg_pair_cloth {
 typedef struct wg_pair_counts {
     int mesh, mesh_active, mesh_overflow, mesh_skipped;
     int self, self_active, self_overflow;
+    int self_candidates;        /* the GPU finder's candidates (wg_self_pairs.h; -1: too many) */
+    long long self_bytes;       /* and the bytes it read back */
 } wg_pair_counts;
 
 /* The pairs of the state's lists (s->pairs, s->self_pairs; *out NULL and 1 when it has none):
@@ -67,6 +70,10 @@ size_t wg_pairs_bytes(const wg_pairs* p);   /* GPU memory held; 0 for NULL */
  * uploaded, none active yet. */
 void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
                    const wg_tex* vstar, const wg_tex* xb, int n_pins, wg_mesh_sharp* sharp);
+
+/* The self pairs found by gp (wg_self_pairs.h) from then on, where x and v are finite (NULL:
+ * core's wc_self_pairs_find). */
+void wg_pairs_use_self_finder(wg_pairs* p, wg_self_pairs* gp);
 
 /* After the assembly of A, b and ftot: the active set and its terms. */
 void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig);
