@@ -26,7 +26,10 @@ struct wg_self_pairs {
     float* rb;                  /* (cap x 2) the candidates read back */
     cand* order;                /* (cap) their sort */
     int* list;                  /* (cap x 2) sorted, for core */
+    wg_self_pairs_io io;
 };
+
+const wg_self_pairs_io* wg_self_pairs_transfers(const wg_self_pairs* gp) { return &gp->io; }
 
 wg_self_pairs_mode wg_self_pairs_env(int* known) {
     const char* e = getenv("WEFT_GPU_SELF_PAIRS");
@@ -146,13 +149,18 @@ int wg_self_pairs_find(wg_self_pairs* gp, wc_self_pairs* sp, wc_self* sc, const 
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, &count);
     glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
     if (bytes) *bytes = sizeof(GLint);
+    ++gp->io.finds;
+    gp->io.read_bytes += sizeof(GLint);
     if (count < 0 || count > gp->cap) {   /* no room (or a walk past its stack): core's detection */
         if (candidates) *candidates = -1;
+        ++gp->io.by_core;
         return wc_self_pairs_find(sp, sc, m, f, xd, vd, h, he);
     }
     if (count > 0) wg_array_read_rg(run->layout, &gp->out, count, gp->rb);
     if (bytes) *bytes += 8 * (size_t)count;
     if (candidates) *candidates = count;
+    gp->io.candidates += count;
+    gp->io.read_bytes += 8 * (long long)count;
     const int* leaf[2] = {sc->tri_bvh.leaf_of, sc->edge_bvh.leaf_of};
     for (int j = 0; j < count; ++j) {
         const int q = (int)gp->rb[2 * j], e = (int)gp->rb[2 * j + 1];

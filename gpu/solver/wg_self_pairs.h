@@ -57,4 +57,11 @@ int wg_self_pairs_find(wg_self_pairs* gp, wc_self_pairs* sp, wc_self* sc, const 
                        const wg_tex* x, const wg_tex* v, const double* xd, const double* vd, double h, double he,
                        size_t* bytes, int* candidates);
 
+/* Since creation: substeps found (on the GPU or, past the room, by core), those core found,
+ * the candidates and the bytes read back. */
+typedef struct wg_self_pairs_io {
+    long long finds, by_core, candidates, read_bytes;
+} wg_self_pairs_io;
+const wg_self_pairs_io* wg_self_pairs_transfers(const wg_self_pairs* gp);
+
 #endif
