@@ -5,10 +5,10 @@
 // node 0) with the box of its particles at x and x + 1.5 h v, grown by u_margin of its largest
 // magnitude (float's rounding), and keeps every element whose leaf box meets it, that core's
 // adjacency rules keep (no shared or sewn particle, not all four tangled at rest) and that is not
-// surely farther than core's first reject, 2 thickness + 1.5 h (the four particles' speeds
-// summed): a lower bound of the distance at x (the support bound of the difference set along the
-// float closest points' direction, less 1e-5 of the pair's extent for float's rounding) above
-// that reach (grown by 1e-4) drops it. Each kept (q, element) takes a slot of the counter (image
+// surely farther than core's keep allows, 2 thickness + 1.5 h (the largest relative speed of a
+// particle of each feature): a lower bound of the distance at x (the support bound of the
+// difference set along the float closest points' direction, less 1e-5 of the pair's extent for
+// float's rounding) above that reach (grown by 1e-4) drops it. Each kept (q, element) takes a slot of the counter (image
 // 1, r32i) and is written to image 0 (rgba32f: q, element) when the slot is below u_cap; past it
 // it is only counted. The host tests each in double by core's rules (wc_self_pairs_from), in
 // core's order: the list is core's when these hold every pair core's walk reaches.
@@ -72,11 +72,21 @@ vec2 closest_seg(vec3 p0, vec3 p1, vec3 q0, vec3 q1) {
     return vec2(s, t);
 }
 
-// 1 unless surely farther than core's first reject: lb the support bound, ext the extent
-bool near(float lb, float ext, ivec4 ids) {
-    float speed = 0.0;
-    for (int k = 0; k < 4; ++k) speed += length(ld(v, ids[k]).xyz);
-    float reach = (2.0 * u_th + u_h15 * speed * float(u_motion)) * 1.0001;
+// 1 unless surely farther than core's keep: lb the support bound, ext the extent, the first
+// split particles the first feature's. Core keeps a pair closer than th + thickness + 1.5 h a,
+// th <= thickness, a its approach speed -n . (sum w_k v_k): its weights are a convex combination
+// on each side (1 | barycentric; 1 - s, s | 1 - t, t), so a is at most the largest relative speed
+// |v_i - v_j| of a particle of each side (grown for float's rounding)
+bool near(float lb, float ext, ivec4 ids, int split) {
+    vec3 w[4];
+    float rel = 0.0, speed = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        w[k] = ld(v, ids[k]).xyz;
+        speed += length(w[k]);
+    }
+    for (int i = 0; i < split; ++i)
+        for (int j = split; j < 4; ++j) rel = max(rel, length(w[i] - w[j]));
+    float reach = (2.0 * u_th + u_h15 * (rel * 1.0001 + 1e-6 * speed) * float(u_motion)) * 1.0001;
     return !(lb - 1e-5 * ext > reach);
 }
 
@@ -94,7 +104,7 @@ bool vertex_tri(int i, int t) {
     if (!(l > 0.0)) return true;
     vec3 u = -q / l;   // from the triangle towards p
     float lb = min(min(dot(-a, u), dot(-b, u)), dot(-c, u));
-    return near(lb, max(max(length(a), length(b)), length(c)), ids);
+    return near(lb, max(max(length(a), length(b)), length(c)), ids, 1);
 }
 
 bool edge_edge(int e, int f) {
@@ -113,7 +123,7 @@ bool edge_edge(int e, int f) {
     if (!(l > 0.0)) return true;
     vec3 u = w / l;   // from the second edge towards the first
     float lb = min(min(dot(p0 - q0, u), dot(p0 - q1, u)), min(dot(p1 - q0, u), dot(p1 - q1, u)));
-    return near(lb, max(max(length(p1), length(q0)), max(length(q1), length(p1 - q0))), ids);
+    return near(lb, max(max(length(p1), length(q0)), max(length(q1), length(p1 - q0))), ids, 2);
 }
 
 void keep(int q, int prim) {
