@@ -11,8 +11,9 @@
  * wg_self_idle_trees: their nodes, refitted here over those boxes, self_pairs_refit_groups.glsl),
  * each query's candidates (self_pairs_walk_groups.glsl) every element whose leaf box meets the
  * query's, both grown for float's rounding (4e-6 of the largest magnitude), that the adjacency
- * rules keep and that is not surely farther than core's first reject (2 thickness + 1.5 h times
- * the four speeds). The counter (4 bytes) and the candidates (8 bytes each: query, element) are
+ * rules keep and that is not surely farther than core's keep allows (2 thickness + 1.5 h times
+ * the largest relative speed of a particle of each feature: core's approach speed is at most
+ * that, its weights convex on each side). The counter (4 bytes) and the candidates (8 bytes each: query, element) are
  * read back; sorted by query and leaf (the order of core's walks), core's wc_self_pairs_from tests
  * each in double exactly as wc_self_pairs_find does (the walk's box test at core's boxes, then its
  * rules), so the list, its order and its overflow are core's. More candidates than the room (16
