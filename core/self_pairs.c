@@ -218,3 +218,38 @@ int wc_self_pairs_find(wc_self_pairs* sp, wc_self* sc, const wc_model* m, const 
     sp->coupling.n = sp->list.n;
     return sp->list.n;
 }
+
+int wc_self_pairs_from(wc_self_pairs* sp, const wc_self* sc, const wc_model* m, const wc_filter* f, const double* x,
+                       const double* v, double h, double he, const int* cand, int n_cand) {
+    wc_penalty_pairs_clear(&sp->list);
+    sp->coupling.n = 0;
+    if (sc->n_tris == 0) return 0;
+    int n = m->n_particles;
+    double* xp = sp->x_pred;
+    for (int k = 0; k < 3 * n; ++k) xp[k] = x[k] + 1.5 * h * v[k];   /* wc_self_pairs_find's */
+    find_ctx c = {sp, sc, m, f, x, v, h, he, 0, &sp->list, 0};
+    double qb[6], eb[6];
+    for (int j = 0; j < n_cand; ++j) {
+        int q = cand[2 * j], el = cand[2 * j + 1];
+        /* the walk's leaf test: the query's box (x, xp) meets the element's (x, xp, grown by the
+           thickness: wc_self_refit's), and an edge is above the query's */
+        if (q < n) {
+            wc_self_swept_box(qb, &q, 1, x, xp, 0.0);
+            wc_self_swept_box(eb, m->tris + 3 * el, 3, x, xp, sc->thickness);
+        } else {
+            if (el <= q - n) continue;
+            wc_self_swept_box(qb, sc->edges + 2 * (q - n), 2, x, xp, 0.0);
+            wc_self_swept_box(eb, sc->edges + 2 * el, 2, x, xp, sc->thickness);
+        }
+        if (!wc_box_overlap(qb, eb)) continue;
+        c.query = q < n ? q : q - n;
+        if (q < n)
+            visit_tri(&c, el);
+        else
+            visit_edge(&c, el);
+    }
+    sp->list.n = c.pos < sp->list.cap ? c.pos : sp->list.cap;
+    sp->list.overflow = c.pos - sp->list.n;
+    sp->coupling.n = sp->list.n;
+    return sp->list.n;
+}

@@ -49,5 +49,16 @@ void wc_self_pairs_destroy(wc_self_pairs* sp, const wc_allocator* a);
  * the system's step. Empties the list first; returns the pairs found. */
 int wc_self_pairs_find(wc_self_pairs* sp, struct wc_self* sc, const struct wc_model* m, const struct wc_filter* f,
                        const double* x, const double* v, double h, double he);
+/* The same list from candidates found elsewhere (a GPU's walk, gpu/solver/wg_self_pairs.h):
+ * cand (n_cand x 2) the pairs (query, element), a query a vertex q < n (its element a triangle)
+ * or the edge q - n (an edge of sc), sorted by query and then by the element's leaf in its tree
+ * (sc->tri_bvh / edge_bvh leaf_of: the order of wc_self_pairs_find's walks). Each candidate takes
+ * the walk's leaf test (the boxes of x and x + 1.5 h v, the element's grown by the thickness,
+ * overlap; an edge above the query's) and wc_self_pairs_find's rules, in double, in that order:
+ * when the candidates hold every pair that test passes, the list (its pairs, order and overflow)
+ * is wc_self_pairs_find's. The trees are not touched. */
+int wc_self_pairs_from(wc_self_pairs* sp, const struct wc_self* sc, const struct wc_model* m,
+                       const struct wc_filter* f, const double* x, const double* v, double h, double he,
+                       const int* cand, int n_cand);
 
 #endif

@@ -15,7 +15,11 @@
  *    of the CPU's.
  * The layers also with BDF2, TR-BDF2 and Newton 2 with the line search.
  * Also: a snapshot mid-run restores to the same bytes and replays bit-identically; -1 means on
- * for a garment (a cloth with seams) and off otherwise, as on the CPU. */
+ * for a garment (a cloth with seams) and off otherwise, as on the CPU.
+ * With the argument "pairs" (test_api_gpu_self_pairs): the self-contact pairs found on the GPU
+ * (gpu/solver/wg_self_pairs.h, WEFT_GPU_SELF_PAIRS=gpu) against core's detection on the host
+ * (=host), the layers and the heap: core's list either way, so the same bytes (positions equal:
+ * the bound is 0), rollbacks, pairs and stage impulses; and the snapshot's replay with it. */
 #define _POSIX_C_SOURCE 200809L   /* setenv */
 #include <math.h>
 #include <stdio.h>
@@ -35,9 +39,18 @@ static ag_alloc_counter g_count;
 #define IO_N 9
 static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
 
+/* the self pairs' GPU finder as the cloth logs it (DEBUG): substeps found, those core found,
+   candidates, bytes read back (gpu/solver/wg_self_pairs.h); -1 before any */
+#define PIO_N 4
+static long long g_pio[PIO_N] = {-1, -1, -1, -1};
+
 static void io_log(weft_log_level level, const char* message, void* user) {
     (void)user;
     long long v[IO_N];
+    if (level == WEFT_LOG_DEBUG &&
+        sscanf(message, "GPU self pairs, since creation: %lld substeps found (%lld by core: too many candidates), "
+                        "%lld candidates, %lld bytes read back", &v[0], &v[1], &v[2], &v[3]) == PIO_N)
+        memcpy(g_pio, v, sizeof g_pio);
     if (level == WEFT_LOG_DEBUG &&
         sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
                         "bytes uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, "
@@ -47,6 +60,7 @@ static void io_log(weft_log_level level, const char* message, void* user) {
 
 static weft_context* make_ctx(weft_backend backend) {
     memset(g_io, 0xff, sizeof g_io);
+    memset(g_pio, 0xff, sizeof g_pio);
     weft_context_def cd = weft_default_context_def();
     cd.threads = 1;
     cd.backend = backend;
@@ -126,6 +140,7 @@ typedef struct run_result {
     int nv;
     int max_crossings, frames_crossing;
     long long io1[IO_N], io[IO_N]; /* the GPU stage's transfers after frame 1 and at the end (g_io) */
+    long long pio[PIO_N];          /* the self pairs' GPU finder's at the end (g_pio) */
     int impacts, proximity, zones, unresolved, rollbacks, failed, iterations;
     int pairs, pairs_active, pair_passes;   /* the self-contact pairs in the solve */
     long step_allocs;           /* allocations through the context's allocator in frames 2.. */
@@ -221,6 +236,7 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
         r->frames_crossing += chk.self_intersections > 0;
     }
     memcpy(r->io, g_io, sizeof g_io);
+    memcpy(r->pio, g_pio, sizeof g_pio);
     CHECK_EQ_INT(weft_cloth_get_vertices(ctx, c, WEFT_SPACE_WORLD, r->pos, NULL, m.nv, &r->nv), WEFT_OK);
     weft_context_destroy(ctx);
     ag_free(&m);
@@ -484,6 +500,46 @@ static void test_idle(void) {
     g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
 }
 
+/* The self pairs found on the GPU (r[0]) and by core on the host (r[1]): the same lists, so the
+ * same bytes at the end (a float bound of 0), rollbacks, pairs and stage impulses; the GPU's
+ * finder found every substep's (none left to core for want of room). */
+static void pairs_case(const char* name, int scene, int frames) {
+    static run_result r[2];
+    static const char* modes[2] = {"gpu", "host"};
+    for (int k = 0; k < 2; ++k) {
+        setenv("WEFT_GPU_SELF_PAIRS", modes[k], 1);
+        run(WEFT_BACKEND_GPU, scene, 1, frames, &r[k]);
+    }
+    unsetenv("WEFT_GPU_SELF_PAIRS");
+    const long long* p = r[0].pio;
+    const double dist = max_distance(&r[0], &r[1]);
+    printf("%s, %d frames: GPU finder: %lld substeps (%lld by core), %lld candidates, %lld bytes read back (%.0f a "
+           "substep); pairs %d / %d, active %d / %d, rollbacks %d / %d, impulses %d / %d (GPU / host); positions "
+           "%s (max distance %.3g m)\n",
+           name, frames, p[0], p[1], p[2], p[3], p[0] > 0 ? (double)p[3] / (double)p[0] : 0.0, r[0].pairs, r[1].pairs,
+           r[0].pairs_active, r[1].pairs_active, r[0].rollbacks, r[1].rollbacks, r[0].impacts + r[0].proximity,
+           r[1].impacts + r[1].proximity, memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0 ? "the same" : "DIFFER",
+           dist);
+    for (int k = 0; k < 2; ++k) CHECK_EQ_INT(r[k].failed, 0);
+    CHECK(memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0);
+    CHECK(dist <= 0.0);
+    CHECK_EQ_INT(r[0].rollbacks, r[1].rollbacks);
+    CHECK_EQ_INT(r[0].pairs, r[1].pairs);
+    CHECK_EQ_INT(r[0].pairs_active, r[1].pairs_active);
+    CHECK_EQ_INT(r[0].impacts + r[0].proximity, r[1].impacts + r[1].proximity);
+    CHECK(r[0].pairs > 0 && r[0].pairs_active > 0);
+    CHECK(p[0] > 0 && p[1] == 0 && p[2] >= r[0].pairs && p[3] == 4 * p[0] + 8 * p[2]);
+    CHECK(r[1].pio[0] == -1);   /* the host's: no finder */
+}
+
+static void test_pairs(void) {
+    pairs_case("layers", 0, 30);
+    pairs_case("heap", 1, 45);
+    setenv("WEFT_GPU_SELF_PAIRS", "gpu", 1);
+    test_snapshot();
+    unsetenv("WEFT_GPU_SELF_PAIRS");
+}
+
 /* -1: on for a garment (here a cloth with a seam), off for a plain cloth, as on the CPU. */
 static void test_default(void) {
     weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
@@ -517,6 +573,10 @@ int main(int argc, char** argv) {
         return 0;
     }
     weft_context_destroy(probe);
+    if (argc > 1 && strcmp(argv[1], "pairs") == 0) {   /* test_api_gpu_self_pairs */
+        RUN_TEST(test_pairs);
+        return TEST_SUMMARY();
+    }
     if (argc > 1 && strcmp(argv[1], "idle") == 0) {   /* test_api_gpu_self_idle */
         RUN_TEST(test_idle);
         return TEST_SUMMARY();

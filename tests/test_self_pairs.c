@@ -160,6 +160,68 @@ static void test_pairs_threads(void) {
     wc_model_free(&m);
 }
 
+/* wc_self_pairs_from (the GPU's finder's host part, gpu/solver/wg_self_pairs.h) on every pair of
+ * queries and elements (each vertex against every triangle, each edge against every edge above
+ * it), sorted by query and leaf: wc_self_pairs_find's list bit for bit, with room for all and for
+ * 7 (the overflow), the upper layer approaching and at rest. At rest its leaf test decides: the
+ * layers 4 mm apart are within the rules' reach (th + thickness = 6 mm) but not the trees' (the
+ * triangles' boxes grown by 3 mm), so core's walk never visits them. */
+typedef struct cand3 {
+    int q, key, e;
+} cand3;
+static int by_leaf(const void* pa, const void* pb) {
+    const cand3 *a = pa, *b = pb;
+    if (a->q != b->q) return a->q < b->q ? -1 : 1;
+    return a->key < b->key ? -1 : a->key > b->key;
+}
+
+static void test_pairs_from_candidates(void) {
+    wc_model m;
+    layers(&m);
+    wc_sim_def def = def_self(1);
+    wc_state* s = approaching(&m, &def);
+    const double h = 1.0 / 60;
+    const wc_self* sc = s->self;
+    const int n = m.n_particles, ne = sc->n_edges, nt = m.n_tris;
+    const size_t all = (size_t)n * nt + (size_t)ne * ne;
+    cand3* c = malloc(all * sizeof *c);
+    int* list = malloc(2 * all * sizeof(int));
+    int nc = 0;
+    for (int i = 0; i < n; ++i)
+        for (int t = 0; t < nt; ++t) c[nc++] = (cand3){i, sc->tri_bvh.leaf_of[t], t};
+    for (int e = 0; e < ne; ++e)
+        for (int f = e + 1; f < ne; ++f) c[nc++] = (cand3){n + e, sc->edge_bvh.leaf_of[f], f};
+    qsort(c, (size_t)nc, sizeof *c, by_leaf);
+    for (int k = 0; k < nc; ++k) {
+        list[2 * k] = c[k].q;
+        list[2 * k + 1] = c[k].e;
+    }
+    const int caps[3] = {n + ne + 64, 7, n + ne + 64};
+    int found[3] = {0, 0, 0};
+    for (int ci = 0; ci < 3; ++ci) {
+        if (ci == 2) memset(s->v, 0, 3 * (size_t)n * sizeof(double));   /* at rest */
+        wc_self_pairs* a = wc_self_pairs_create(caps[ci], n, ne, 1, 0, NULL);
+        wc_self_pairs* b = wc_self_pairs_create(caps[ci], n, ne, 1, 0, NULL);
+        CHECK(a && b);
+        wc_self_pairs_find(a, s->self, &m, &s->filter, s->x, s->v, h, h);
+        CHECK_EQ_INT(wc_self_pairs_from(b, s->self, &m, &s->filter, s->x, s->v, h, h, list, nc), a->list.n);
+        CHECK(same_list(&a->list, &b->list));
+        CHECK_EQ_INT(b->coupling.n, a->coupling.n);
+        found[ci] = a->list.n;
+        if (ci == 1) CHECK(a->list.overflow > 0);
+        wc_self_pairs_destroy(a, NULL);
+        wc_self_pairs_destroy(b, NULL);
+    }
+    printf("  %d pairs from %d candidates (every pair), as wc_self_pairs_find's, also with a list of room 7; at "
+           "rest %d\n", found[0], nc, found[2]);
+    CHECK(found[0] > 20);
+    CHECK(found[2] < found[0]);
+    free(c);
+    free(list);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 /* Dense Gaussian elimination with partial pivoting: solves K y = r (K overwritten). */
 static void dense_solve(double* K, double* r, int N3) {
     for (int c = 0; c < N3; ++c) {
@@ -354,6 +416,7 @@ static void test_drop_on_layer(void) {
 int main(void) {
     RUN_TEST(test_pair_derivatives);
     RUN_TEST(test_pairs_threads);
+    RUN_TEST(test_pairs_from_candidates);
     RUN_TEST(test_solve_against_dense);
     RUN_TEST(test_drop_on_layer);
     return TEST_SUMMARY();

@@ -93,6 +93,18 @@ void wg_array_read(const wg_layout* L, const wg_tex* t, int count, float* out) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
 }
 
+void wg_array_read_rg(const wg_layout* L, const wg_tex* t, int count, float* out) {
+    if (count <= 0) return;
+    int W = 1 << L->shift;
+    int full = count >> L->shift, rest = count - (full << L->shift);
+    bind_read(L, t);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    if (full > 0) glReadPixels(0, 0, count < W ? count : W, full, GL_RG, GL_FLOAT, out);
+    if (rest > 0) glReadPixels(0, full, rest, 1, GL_RG, GL_FLOAT, out + (size_t)full * W * 2u);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}
+
 void wg_array_read_rgb(const wg_layout* L, const wg_tex* t, int count, size_t offset) {
     int W = 1 << L->shift;
     int full = count >> L->shift, rest = count - (full << L->shift);

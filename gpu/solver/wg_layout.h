@@ -38,6 +38,8 @@ void wg_array_upload(const wg_layout* L, const wg_tex* t, int count, const void*
 void wg_array_upload_range(const wg_layout* L, const wg_tex* t, int first, int count, const void* data);
 /* Read items [0, count) of an RGBA32F array into out (count x 4 floats). */
 void wg_array_read(const wg_layout* L, const wg_tex* t, int count, float* out);
+/* Read items [0, count) of an RGBA32F array's first two components into out (count x 2 floats). */
+void wg_array_read_rg(const wg_layout* L, const wg_tex* t, int count, float* out);
 /* Read items [0, count) of an RGBA32F array as RGB floats into the bound pixel-pack buffer at
  * `offset` bytes, or, with none bound, to host memory at address `offset`. */
 void wg_array_read_rgb(const wg_layout* L, const wg_tex* t, int count, size_t offset);

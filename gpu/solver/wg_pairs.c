@@ -2,6 +2,7 @@
  * on the host, the pairs' terms on the GPU. */
 #include "wg_pairs.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "filter.h"
@@ -44,6 +45,7 @@ struct wg_pairs {
     int* fill;                  /* (n + 1) the CSR's counts */
     float *fdb, *fdf, *fda0, *fda1;   /* (n x 4) the additions' staging */
     int on;                     /* the system has pairs (n > 0 and found this substep) */
+    wg_self_pairs* gself;       /* the self pairs' GPU finder (wg_self_pairs.h), or NULL */
 };
 
 /* list k of the state (its lists are the state's pointees: core's functions change them) */
@@ -154,6 +156,8 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
     return 1;
 }
 
+void wg_pairs_use_self_finder(wg_pairs* p, wg_self_pairs* gp) { p->gself = gp; }
+
 int wg_pairs_on(const wg_pairs* p) { return p && p->on; }
 
 int wg_pairs_capacity(const wg_pairs* p) { return p ? p->cap : 0; }
@@ -223,7 +227,16 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
     }
     if (s->self_pairs) {
         s->self->threads = s->par.threads;
-        wc_self_pairs_find(s->self_pairs, s->self, m, &pins, p->x, p->v, ig->h, ig->he);
+        int finite = p->gself != NULL;   /* non-finite values: core's walk (the GPU's boxes promise nothing) */
+        for (int k = 0; finite && k < 3 * n; ++k) finite = isfinite(p->x[k]) && isfinite(p->v[k]);
+        if (finite) {
+            size_t bytes = 0;
+            wg_self_pairs_find(p->gself, s->self_pairs, s->self, m, &pins, x, v, p->x, p->v, ig->h, ig->he, &bytes,
+                               &p->counts.self_candidates);
+            p->counts.self_bytes = (long long)bytes;
+        } else {
+            wc_self_pairs_find(s->self_pairs, s->self, m, &pins, p->x, p->v, ig->h, ig->he);
+        }
         p->counts.self = s->self_pairs->list.n;
         p->counts.self_overflow = s->self_pairs->list.overflow;
     }

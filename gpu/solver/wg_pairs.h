@@ -6,7 +6,11 @@
  * core/step.c's prepare finds them) the positions, the velocities and (BDF2, TR-BDF2) v* are read
  * back, core's detections run on them (the mesh pairs: every mesh collider moved on the host;
  * a body resident on the GPU, wg_mesh.h, whose copy in core is stale, has its pairs found on the
- * GPU by wg_mesh_sharp.h and appended) and the pairs go up with a CSR of each particle's entries. After the assembly,
+ * GPU by wg_mesh_sharp.h and appended; the self pairs, on compute passes, from candidates the GPU
+ * finds, wg_self_pairs.h, tested by core's rules on the host into core's own list, bit for bit;
+ * fragment passes, WEFT_GPU_SELF_PAIRS=host or non-finite values: core's wc_self_pairs_find) and
+ * the pairs go up with a CSR of each particle's entries. The read-back of x and v stays: core's
+ * assembly and recheck below, and the self pairs' tests, read them. After the assembly,
  * core's wc_penalty_pairs_assemble decides the active set in double (the predicted gap, with the
  * external forces core computes at the same positions) into host scratch; its additions to b,
  * f_total (what friction reads) and A's diagonal blocks go up as per-particle arrays over the
@@ -24,7 +28,8 @@
  * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
  * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
  * two for each potential change (the two iterates); with a body resident on the GPU, 4 bytes up
- * and 4, plus 48 a pair it has, read back at the start (wg_mesh_sharp.h). Everything is
+ * and 4, plus 48 a pair it has, read back at the start (wg_mesh_sharp.h); with the self pairs'
+ * GPU finder, 4 bytes up and 4, plus 8 a candidate, read back (wg_self_pairs.h). Everything is
  * allocated at creation (the lists' capacities); nothing in a step. Calls are made with the
  * cloth's GL context current. */
 #ifndef WEFT_GPU_SOLVER_PAIRS_H
@@ -35,6 +40,7 @@
 #include "wg_mesh_sharp.h"
 #include "wg_passes.h"
 #include "wg_runner.h"
+#include "wg_self_pairs.h"
 
 typedef struct wg_pairs wg_pairs;
 
@@ -52,6 +58,8 @@ typedef struct wg_pair_cloth {
 typedef struct wg_pair_counts {
     int mesh, mesh_active, mesh_overflow, mesh_skipped;
     int self, self_active, self_overflow;
+    int self_candidates;        /* the GPU finder's candidates (wg_self_pairs.h; -1: too many) */
+    long long self_bytes;       /* and the bytes it read back */
 } wg_pair_counts;
 
 /* The pairs of the state's lists (s->pairs, s->self_pairs; *out NULL and 1 when it has none):
@@ -67,6 +75,10 @@ size_t wg_pairs_bytes(const wg_pairs* p);   /* GPU memory held; 0 for NULL */
  * uploaded, none active yet. */
 void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x, const wg_tex* v,
                    const wg_tex* vstar, const wg_tex* xb, int n_pins, wg_mesh_sharp* sharp);
+
+/* The self pairs found by gp (wg_self_pairs.h) from then on, where x and v are finite (NULL:
+ * core's wc_self_pairs_find). */
+void wg_pairs_use_self_finder(wg_pairs* p, wg_self_pairs* gp);
 
 /* After the assembly of A, b and ftot: the active set and its terms. */
 void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig);

@@ -186,6 +186,14 @@ static const wg_pass_input self_idle_walk[] = {
     IN(wg_self_idle_walk_in, x),     IN(wg_self_idle_walk_in, xs),    IN(wg_self_idle_walk_in, part),
     IN(wg_self_idle_walk_in, seam)};
 WHOLE(wg_self_idle_walk_in, self_idle_walk);
+static const wg_pass_input self_pairs_refit[] = {IN(wg_self_pairs_refit_in, order), IN(wg_self_pairs_refit_in, elem),
+                                                 IN(wg_self_pairs_refit_in, x), IN(wg_self_pairs_refit_in, v)};
+WHOLE(wg_self_pairs_refit_in, self_pairs_refit);
+static const wg_pass_input self_pairs_walk[] = {
+    IN(wg_self_pairs_walk_in, tnode), IN(wg_self_pairs_walk_in, enode), IN(wg_self_pairs_walk_in, elem),
+    IN(wg_self_pairs_walk_in, x),     IN(wg_self_pairs_walk_in, v),     IN(wg_self_pairs_walk_in, part),
+    IN(wg_self_pairs_walk_in, seam)};
+WHOLE(wg_self_pairs_walk_in, self_pairs_walk);
 static const wg_pass_input normals[] = {IN(wg_normals_in, x), IN(wg_normals_in, rows), IN(wg_normals_in, row_tri),
                                         IN(wg_normals_in, tri)};
 WHOLE(wg_normals_in, normals);
@@ -348,6 +356,8 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_MESH_PAIRS_FIND_GROUPS] = NATIVE("mesh_pairs_find_groups", mesh_pairs_find, wg_mesh_pairs_find_in),
     [WGP_SELF_IDLE_REFIT_GROUPS] = NATIVE("self_idle_refit_groups", self_idle_refit, wg_self_idle_refit_in),
     [WGP_SELF_IDLE_WALK_GROUPS] = NATIVE("self_idle_walk_groups", self_idle_walk, wg_self_idle_walk_in),
+    [WGP_SELF_PAIRS_REFIT_GROUPS] = NATIVE("self_pairs_refit_groups", self_pairs_refit, wg_self_pairs_refit_in),
+    [WGP_SELF_PAIRS_WALK_GROUPS] = NATIVE("self_pairs_walk_groups", self_pairs_walk, wg_self_pairs_walk_in),
     [WGP_REDUCE_GROUPS] = NATIVE("reduce_groups", src, wg_src_in),
     [WGP_SPMV_GROUPS] = NATIVE("spmv_groups", spmv, wg_spmv_in),
     [WGP_PCG_UPDATE_GROUPS] = NATIVE("pcg_update_groups", pcg_update_groups, wg_pcg_update_groups_in),

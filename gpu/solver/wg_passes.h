@@ -40,6 +40,8 @@ typedef enum wg_pass_id {
     WGP_MESH_SHARP, WGP_MESH_SHARP_MASK_GROUPS, WGP_MESH_PAIRS_FIND_GROUPS,
     /* compute passes only: the self-collision stage's idle proof (wg_self_idle.c), native */
     WGP_SELF_IDLE_REFIT_GROUPS, WGP_SELF_IDLE_WALK_GROUPS,
+    /* compute passes only: the self pairs' candidates (wg_self_pairs.c), native */
+    WGP_SELF_PAIRS_REFIT_GROUPS, WGP_SELF_PAIRS_WALK_GROUPS,
     /* compute passes only: native compute shaders (*_groups.glsl); PCG's update, scalars and
        direction with their reductions' levels and scalar steps folded in (wg_solve.c) */
     WGP_REDUCE_GROUPS, WGP_SPMV_GROUPS, WGP_PCG_UPDATE_GROUPS, WGP_PCG_SCALARS_GROUPS, WGP_PCG_DIRECTION_GROUPS,
@@ -319,6 +321,14 @@ typedef struct wg_self_idle_refit_in {   /* self_idle_refit_groups.glsl (the nod
 typedef struct wg_self_idle_walk_in {   /* self_idle_walk_groups.glsl (the counter: image 0) */
     const wg_tex *tnode, *enode, *elem, *x, *xs, *part, *seam;
 } wg_self_idle_walk_in;
+
+typedef struct wg_self_pairs_refit_in {   /* self_pairs_refit_groups.glsl (the node image: image 0) */
+    const wg_tex *order, *elem, *x, *v;
+} wg_self_pairs_refit_in;
+
+typedef struct wg_self_pairs_walk_in {   /* self_pairs_walk_groups.glsl (candidates: image 0, counter: 1) */
+    const wg_tex *tnode, *enode, *elem, *x, *v, *part, *seam;
+} wg_self_pairs_walk_in;
 
 typedef struct wg_normals_in {  /* normals.glsl */
     const wg_tex *x, *rows, *row_tri, *tri;

@@ -193,6 +193,19 @@ int wg_self_idle_begin(wg_self_idle* si, const wg_tex* x) {
     return si->tried;
 }
 
+void wg_self_idle_trees(const wg_self_idle* si, wg_self_trees* out) {
+    const idle_tree* t[2] = {&si->tri, &si->edge};
+    for (int k = 0; k < 2; ++k) {
+        out->node[k] = &t[k]->node;
+        out->order[k] = &t[k]->order;
+        out->first[k] = t[k]->first;
+        out->n_heights[k] = t[k]->n_heights;
+    }
+    out->elem = &si->elem;
+    out->part = &si->part;
+    out->seam = &si->seam;
+}
+
 const wg_tex* wg_self_idle_start(const wg_self_idle* si) { return &si->xs; }
 
 /* One tree refitted over the boxes of its elements (elements from elem0 in elem). */

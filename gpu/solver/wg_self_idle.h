@@ -72,4 +72,17 @@ const wg_tex* wg_self_idle_start(const wg_self_idle* si);
  * (0: the stage is idle). Reads back 4 bytes (added to *bytes). */
 int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes);
 
+/* The uploads the self pairs' GPU finder shares (wg_self_pairs.h): tree k (0 the triangles', 1
+ * the edges') as its nodes (2 texels each: (min, left child), (max, right child or element);
+ * rewritten whole by either refit before its walk, so the two share them) and its order by
+ * height (first: n_heights + 1 offsets); the elements (triangles, then edges), the particles'
+ * (seam links' first, end, tangled) and the seam links. */
+typedef struct wg_self_trees {
+    const wg_tex *node[2], *order[2];
+    const int* first[2];
+    int n_heights[2];
+    const wg_tex *elem, *part, *seam;
+} wg_self_trees;
+void wg_self_idle_trees(const wg_self_idle* si, wg_self_trees* out);
+
 #endif

@@ -47,7 +47,7 @@ size_t wg_sim_gpu_bytes(const wg_sim* g) {
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     bytes += wg_chain_bytes(&g->red_p[0]) + wg_chain_bytes(&g->red_p[1]) + wg_chain_bytes(&g->red_s);
     return bytes + wg_amg_bytes(g->amg) + wg_contacts_bytes(g->contacts) + wg_pairs_bytes(g->pairs) +
-           wg_mesh_sharp_bytes(g->sharp) + wg_self_idle_bytes(g->self_idle);
+           wg_mesh_sharp_bytes(g->sharp) + wg_self_idle_bytes(g->self_idle) + wg_self_pairs_bytes(g->gself);
 }
 
 void wg_sim_forget(wg_sim* g) {
@@ -64,6 +64,7 @@ void wg_sim_destroy(wg_sim* g) {
         wg_pairs_forget(g->pairs);
         wg_mesh_sharp_destroy(g->sharp, 0);
         wg_self_idle_destroy(g->self_idle, 0);
+        wg_self_pairs_destroy(g->gself, 0);
         goto memory;
     }
     wg_contacts_destroy(g->contacts);
@@ -71,6 +72,7 @@ void wg_sim_destroy(wg_sim* g) {
     wg_pairs_destroy(g->pairs);
     wg_mesh_sharp_destroy(g->sharp, 1);
     wg_self_idle_destroy(g->self_idle, 1);
+    wg_self_pairs_destroy(g->gself, 1);
     wg_tex* t[128];
     int n = all_textures(g, t, 128);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
@@ -418,6 +420,15 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         wc_log(diag, WC_LOG_WARN, "WEFT_GPU_SELF_IDLE=%s is not on, off or check: the idle proof is off", idle_env);
     if (ok && g->self && dev->compute && wg_self_idle_env() != WG_SELF_IDLE_OFF)
         ok = wg_self_idle_create(&g->run, s->self, m, wg_self_idle_env(), &g->self_idle, err, sizeof err);
+    int pairs_known = 1;
+    const wg_self_pairs_mode pairs_mode = wg_self_pairs_env(&pairs_known);
+    if (g->self && !pairs_known)
+        wc_log(diag, WC_LOG_WARN, "WEFT_GPU_SELF_PAIRS=%s is not gpu or host: the self pairs are found on the host",
+               getenv("WEFT_GPU_SELF_PAIRS"));
+    if (ok && g->pairs && s->self_pairs && dev->compute && pairs_mode == WG_SELF_PAIRS_GPU) {
+        ok = wg_self_pairs_create(&g->run, s->self, s->self_pairs, m, g->self_idle, &g->gself, err, sizeof err);
+        if (ok) wg_pairs_use_self_finder(g->pairs, g->gself);
+    }
     if (ok && s->def.solver.preconditioner == WC_PRECOND_AMG) {
         const wg_amg_system sys = {&g->block, &g->A0, &g->A1, &g->S0, &g->S1, &g->x};
         /* the one-work-group PCG (WEFT_GPU_SOLVE=group) runs the same V-cycle (pcg_group_amg.glsl) */

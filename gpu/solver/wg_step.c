@@ -503,5 +503,11 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
                io->runs, io->read_bytes, io->upload_bytes, io->uploads, io->proofs, io->skipped, io->checked,
                io->broken, io->untried);
     }
+    if (g->gself) {
+        const wg_self_pairs_io* io = wg_self_pairs_transfers(g->gself);
+        wc_log(diag, WC_LOG_DEBUG,
+               "GPU self pairs, since creation: %lld substeps found (%lld by core: too many candidates), %lld "
+               "candidates, %lld bytes read back", io->finds, io->by_core, io->candidates, io->read_bytes);
+    }
     return r;
 }
