@@ -20,7 +20,7 @@
  *    (measured GPU - CPU 0.157, frame 2: 0.142 and 0.300); the particles in contact 0.85-1.15
  *    times the CPU's (measured 0.95-1.00);
  *  - rollbacks no more than the CPU's (0 on both).
- * The figures, PCG iterations among them, are listed in docs/design/gpu_bodies.md. 285-380 s on
+ * The figures, PCG iterations among them, are listed in docs/design/gpu_self.md. 285-380 s on
  * llvmpipe at a load of 6-10 on 2 cores (a GPU frame takes 35-310 s there): label `bench`. */
 #include <stdio.h>
 

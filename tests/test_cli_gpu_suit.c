@@ -16,7 +16,7 @@
  *  - rollbacks after frame 1 (the suit settling out of its authored overlap) no more than the
  *    CPU's: 0 where the CPU has 0 (measured: 2 in frame 1 on the GPU with either method, 0 and 2
  *    on the CPU, none after on either).
- * The figures are printed, and listed in docs/design/gpu_bodies.md. Slow under the sanitizers:
+ * The figures are printed, and listed in docs/design/gpu_self.md. Slow under the sanitizers:
  * label `bench`. */
 #include <string.h>
 
