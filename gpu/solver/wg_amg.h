@@ -43,7 +43,9 @@
  * restriction on a level of at most WG_AMG_FOLD_RESIDUAL nodes (amg_restrict_res.glsl), and that
  * restriction with the coarsest level's solve in one work group below one of at most
  * WG_AMG_FOLD_COARSE_ROWS (amg_coarse_restrict_groups.glsl): five passes a level (six on a larger
- * level, seven unfused; four with P = P_tent, five unfused).
+ * level, seven unfused; four with P = P_tent, five unfused); with the smoothed P, the V-cycle from
+ * the first coarse level of at most WG_AMG_SUB_ROWS nodes down in one pass of one work group
+ * (amg_sub_groups.glsl: the one-work-group PCG's V-cycle code on its packed levels, wg_amg.sub).
  *
  * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level
  * with P = P_tent (with the smoothed P, translations or rotations, in the finest level's only, the
