@@ -298,6 +298,15 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     CHECK(e[1] <= TOL);
     CHECK(e[2] <= 10 * TOL);
     check_fused(g, r);
+    /* a second setup, on 2 A: the sub-cycle's levels packed again (a stale pack is apart), then
+       back to A (cold setups: the first's state again) */
+    for (int pass = 0; pass < 2; ++pass) {
+        for (size_t k = 0; k < nb9; ++k) A[k] = pass == 0 ? 2.0 * A[k] : 0.5 * A[k];
+        CHECK(wg_sim_debug_set_system(g, A, s->b, &s->filter, &d) == WC_OK);
+        wg_amg_cold(g->amg);
+        wg_amg_setup(g->amg);
+        if (pass == 0) check_fused(g, r);
+    }
     /* mutation: core's w 1 % off (its bounds scaled) */
     wc_amg* cw = core_hierarchy(m, g->amg, A, &s->filter, 1.01, 1, &par);
     double ew[3];
