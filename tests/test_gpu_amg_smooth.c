@@ -121,13 +121,33 @@ static double vcycle_diff(wg_sim* g, const wc_amg* ca, const double* r, wc_par* 
  * in one pass on every level (the coarsest's sweeps where it has no factor), and with the smoothed
  * prolongator the residual in the restriction on each level of at most WG_AMG_FOLD_RESIDUAL nodes,
  * and the restriction in the factored coarsest level's solve below one of at most
- * WG_AMG_FOLD_COARSE_ROWS. */
+ * WG_AMG_FOLD_COARSE_ROWS; from the sub-cycle's cut (wg_amg.sub) down, every level's passes in
+ * one (2 sweeps + 3 unfused a level: the smoothing steps, the residual, P^T, P; the coarsest
+ * level's solve or its sweeps). */
 static long long fused_saving(const wg_amg* a) {
-    const int L = a->n_levels;
-    long long k = a->dense ? 0 : 1;
-    for (int l = 0; l + 1 < L; ++l) k += 1 + (a->smoothed && a->lev[l].n <= WG_AMG_FOLD_RESIDUAL);
-    if (a->smoothed && a->dense && L >= 2 && a->lev[L - 2].n <= WG_AMG_FOLD_COARSE_ROWS) ++k;
+    const int L = a->n_levels, cut = a->sub.i.id ? a->sub.first : L;
+    long long k = 0;
+    if (cut < L) {
+        for (int l = cut; l + 1 < L; ++l) k += 2 * a->sweeps + 3;
+        k += (a->dense ? 1 : WG_AMG_COARSE_SWEEPS) - 1;
+    } else if (!a->dense) {
+        k = 1;
+    }
+    for (int l = 0; l + 1 < L && l < cut; ++l) k += 1 + (a->smoothed && a->lev[l].n <= WG_AMG_FOLD_RESIDUAL);
+    if (cut == L && a->smoothed && a->dense && L >= 2 && a->lev[L - 2].n <= WG_AMG_FOLD_COARSE_ROWS) ++k;
     return k;
+}
+
+/* Where the sub-cycle runs: the smoothed prolongator, the first level >= 1 of at most
+ * WG_AMG_SUB_ROWS nodes with a level below it (every level from it within WG_AMG_SUB_NODES). */
+static int sub_expected(const wg_amg* a) {
+    if (!a->smoothed) return 0;
+    int cut = 1;
+    while (cut + 1 < a->n_levels && a->lev[cut].n > WG_AMG_SUB_ROWS) ++cut;
+    if (cut + 1 >= a->n_levels) return 0;
+    for (int l = cut; l < a->n_levels; ++l)
+        if (a->lev[l].n > WG_AMG_SUB_NODES) return 0;
+    return cut;
 }
 
 /* One V-cycle on r by g's fused passes against the same by one pass a step (wg_amg.fuse 0: the
@@ -155,6 +175,9 @@ static void check_fused(wg_sim* g, const double* r) {
     long long p[2];
     CHECK(fused_diff(g, r, p) <= FUSE_TOL);
     CHECK(p[1] - p[0] == fused_saving(g->amg));
+    const int cut = sub_expected(g->amg);
+    CHECK_EQ_INT(g->amg->sub.i.id ? g->amg->sub.first : 0, cut);
+    if (cut) printf("    the V-cycle from level %d (%d nodes) in one work group\n", cut, g->amg->lev[cut].n);
 }
 
 /* The worst P, coarse-operator and V-cycle differences of the GPU's hierarchy g against core's ca. */
@@ -275,6 +298,15 @@ static void check_system(const char* name, wc_model* m, wc_state* s) {
     CHECK(e[1] <= TOL);
     CHECK(e[2] <= 10 * TOL);
     check_fused(g, r);
+    /* a second setup, on 2 A: the sub-cycle's levels packed again (a stale pack is apart), then
+       back to A (cold setups: the first's state again) */
+    for (int pass = 0; pass < 2; ++pass) {
+        for (size_t k = 0; k < nb9; ++k) A[k] = pass == 0 ? 2.0 * A[k] : 0.5 * A[k];
+        CHECK(wg_sim_debug_set_system(g, A, s->b, &s->filter, &d) == WC_OK);
+        wg_amg_cold(g->amg);
+        wg_amg_setup(g->amg);
+        if (pass == 0) check_fused(g, r);
+    }
     /* mutation: core's w 1 % off (its bounds scaled) */
     wc_amg* cw = core_hierarchy(m, g->amg, A, &s->filter, 1.01, 1, &par);
     double ew[3];

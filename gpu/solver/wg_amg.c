@@ -286,6 +286,8 @@ int wg_amg_create_form(wg_runner* run, const wc_model* m, const wg_amg_system* s
        asks for it, the multigrid's one use of it (wg_solve.c group_wanted): 1.2 of 10.8 MiB on a
        1,024-particle sheet */
     if (run->dev->solve == WG_SOLVE_GROUP && !wg_amg_group_create(a, ca, err, el)) goto fail;
+    /* the coarse sub-cycle in one work group, where the chain runs the V-cycle */
+    if (!wg_amg_group_fits(a) && !wg_amg_sub_create(a, ca, err, el)) goto fail;
     wc_free(alloc, buf);
     wc_amg_destroy(ca);
     *out = a;
@@ -309,9 +311,12 @@ static void release(wg_amg* a, int gl) {
             wg_chain_destroy(&a->lev[l].red);
         }
         wg_tex_destroy(&a->coarse_L);
-        wg_tex_destroy(&a->group_i);
-        wg_tex_destroy(&a->group_fp);
-        wg_tex_destroy(&a->group_v);
+        wg_amg_pack* pk[2] = {&a->group, &a->sub};
+        for (int k = 0; k < 2; ++k) {
+            wg_tex_destroy(&pk[k]->i);
+            wg_tex_destroy(&pk[k]->fp);
+            wg_tex_destroy(&pk[k]->v);
+        }
         wg_tex_destroy(&a->cross_u);
         wg_chain_destroy(&a->cen_red);
     }
@@ -329,8 +334,9 @@ void wg_amg_forget(wg_amg* a) { release(a, 0); }
 size_t wg_amg_bytes(const wg_amg* a) {
     if (!a) return 0;
     size_t bytes = 0;
-    const wg_tex* own[] = {&a->coarse_L, &a->group_i, &a->group_fp, &a->group_v, &a->cross_u};
-    for (int k = 0; k < 5; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
+    const wg_tex* own[] = {&a->coarse_L, &a->group.i, &a->group.fp, &a->group.v,
+                           &a->sub.i,    &a->sub.fp,   &a->sub.v,   &a->cross_u};
+    for (int k = 0; k < 8; ++k) bytes += own[k]->id ? wg_tex_bytes(own[k]) : 0;
     for (int l = 0; l < a->n_levels; ++l) {
         wg_tex* t[64];
         int n = level_textures((wg_amg_level*)&a->lev[l], t);
@@ -539,6 +545,7 @@ void wg_amg_setup(wg_amg* a) {
         L->bound = wg_reduce(run, &L->red, &L->part, 0, 0, 0, 0);
         L->cold_last = !warm;
     }
+    if (a->sub.i.id) wg_amg_pack_values(a, &a->sub);
     if (a->warm) ++a->warm_setups;
     else ++a->cold_setups;
     a->warm = a->warm_steps > 0;
@@ -631,7 +638,23 @@ static const wg_tex* vcycle(wg_amg* a, int l, const wg_tex* r, const wg_tex* dot
         }
         if (!xn) {
             WG_RUN(run, N->n, &N->r);
-            xn = vcycle(a, l + 1, &N->r, NULL);
+            if (a->fuse && a->sub.i.id && l + 1 == a->sub.first) {
+                /* the V-cycle from the next level down in one work group */
+                WG_USE(run, WGP_AMG_SUB_GROUPS, &(wg_amg_sub_in){.r = &N->r, .ipack = &a->sub.i,
+                    .fpack = &a->sub.fp, .factor = a->dense ? &a->coarse_L : &a->sub.fp});
+                wg_u1i(run, "u_cut", l + 1);
+                wg_u1i(run, "u_levels", a->n_levels);
+                wg_u1i(run, "u_dense", a->dense);
+                wg_u1i(run, "u_smoothed", a->smoothed);
+                wg_u1i(run, "u_sweeps", a->sweeps);
+                wg_u1i(run, "u_coarse_sweeps", WG_AMG_COARSE_SWEEPS);
+                wg_u1f(run, "u_ratio", a->ratio);
+                const wg_tex* const out[] = {&N->x[1]};
+                wg_run_groups_scratch(run, N->n, 1, out, 1, &a->sub.v);
+                xn = &N->x[1];
+            } else {
+                xn = vcycle(a, l + 1, &N->r, NULL);
+            }
         }
         in.xc = xn;
         in.pv0 = &L->p[0];

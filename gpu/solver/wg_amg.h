@@ -43,7 +43,9 @@
  * restriction on a level of at most WG_AMG_FOLD_RESIDUAL nodes (amg_restrict_res.glsl), and that
  * restriction with the coarsest level's solve in one work group below one of at most
  * WG_AMG_FOLD_COARSE_ROWS (amg_coarse_restrict_groups.glsl): five passes a level (six on a larger
- * level, seven unfused; four with P = P_tent, five unfused).
+ * level, seven unfused; four with P = P_tent, five unfused); with the smoothed P, the V-cycle from
+ * the first coarse level of at most WG_AMG_SUB_ROWS nodes down in one pass of one work group
+ * (amg_sub_groups.glsl: the one-work-group PCG's V-cycle code on its packed levels, wg_amg.sub).
  *
  * The penalty pairs' cross terms (wg_pairs.h; core/amg_cross.c's couplings) are in every level
  * with P = P_tent (with the smoothed P, translations or rotations, in the finest level's only, the
@@ -132,6 +134,11 @@
                                    its residual and solves the coarsest in one work group
                                    (amg_coarse_restrict_groups.glsl ROWS: its residual rows in
                                    shared memory) */
+#define WG_AMG_SUB_ROWS 1024 /* with the smoothed prolongator, fused: the V-cycle from the first
+                                   coarse level of at most this many nodes that has a level below
+                                   it runs in one work group (amg_sub_groups.glsl), where every
+                                   level from it down has at most WG_AMG_SUB_NODES */
+#define WG_AMG_SUB_NODES 2048  /* amg_sub_groups.glsl: 1,024 invocations x R = 2 rows */
 #define WG_AMG_COARSE_SWEEPS 8  /* block-Jacobi sweeps on a coarsest level too big for the factor
                                    (a mesh of many pieces that does not coarsen) */
 
@@ -197,6 +204,20 @@ typedef struct wg_amg_system {
                                    positions, wg_amg.current); NULL: the rest positions' P_tent */
 } wg_amg_system;
 
+/* The multigrid's levels from first down packed for one work group (wg_amg_group.c): the patterns
+ * at creation, the values per setup, the V-cycle's coarse vectors read and written by the group
+ * (pcg_group_amg.glsl's header gives the layouts). */
+typedef struct wg_amg_pack {
+    int first;                  /* the first level packed: 0 (PCG in one work group) or the cut */
+    wg_tex i;                   /* the patterns */
+    wg_tex fp;                  /* per setup: the smoothed levels' bounds, D^-1 (a pair level's
+                                   6x6) and blocks, and the smoothed prolongator's blocks */
+    wg_tex v;                   /* the coarse levels' V-cycle vectors (image 5) */
+    int f[WC_AMG_MAX_LEVELS];   /* each level's offset in fp (-1: a dense coarsest level, or
+                                   above first) */
+    int p[WC_AMG_MAX_LEVELS];   /* each level's smoothed P's blocks in fp (-1: none) */
+} wg_amg_pack;
+
 typedef struct wg_amg {
     wg_runner* run;
     wg_amg_system sys;
@@ -237,14 +258,12 @@ typedef struct wg_amg {
     int cold_steps[2];          /* a cold setup's steps: finest level (and every level with P =
                                    P_tent), the smoothed P's coarse ones (WG_AMG_POWER, _COARSE) */
     long cold_setups, warm_setups;   /* a stat */
-    /* PCG in one work group (wg_amg_group.c, pcg_group_amg.glsl), where the finest level has at
-       most WG_GROUP_MAX_PARTICLES nodes (id 0 otherwise): */
-    wg_tex group_i;             /* the patterns, packed */
-    wg_tex group_fp;            /* per solve: the smoothed levels' bounds, D^-1 (a pair level's 6x6)
-                                   and blocks, and the smoothed prolongator's blocks, packed */
-    wg_tex group_v;             /* the coarse levels' V-cycle vectors, read and written by the group */
-    int group_f[WC_AMG_MAX_LEVELS]; /* each level's offset in group_fp (-1: a dense coarsest level) */
-    int group_p[WC_AMG_MAX_LEVELS]; /* each level's smoothed P's blocks in group_fp (-1: none) */
+    /* PCG in one work group (wg_amg_group.c, pcg_group_amg.glsl), where every level has at most
+       WG_GROUP_MAX_PARTICLES nodes (group.i.id 0 otherwise): every level packed */
+    wg_amg_pack group;
+    /* The coarse sub-cycle in one work group (amg_sub_groups.glsl; sub.i.id 0: none): the levels
+       from the cut down packed (sub.first, wg_amg_sub_create) */
+    wg_amg_pack sub;
     /* The self-contact pairs' cross terms (wg_amg_pairs_create, wg_amg_set_pairs): */
     int* node_of;               /* (n_levels x lev[0].n) each particle's node on each level */
     int cross_cap;              /* pairs the textures hold (0: the cloth has no pairs) */
@@ -326,6 +345,13 @@ const int* wg_amg_debug_cross_lists(wg_amg* a, int l, int* texels);
 int wg_amg_group_create(wg_amg* a, const wc_amg* ca, char* err, size_t err_len);
 int wg_amg_group_fits(const wg_amg* a);
 void wg_amg_group_pack(wg_amg* a);
+/* The coarse sub-cycle in one work group (amg_sub_groups.glsl): at creation, with the smoothed
+ * prolongator, the cut (the first level >= 1 of at most WG_AMG_SUB_ROWS nodes with a level below,
+ * every level from it at most WG_AMG_SUB_NODES) and its levels' patterns packed (none where no
+ * level qualifies; 0 with err on failure); wg_amg_setup packs their values (one pass a smoothed
+ * level from the cut) and the fused V-cycle runs from the cut in one pass (wg_amg.c vcycle). */
+int wg_amg_sub_create(wg_amg* a, const wc_amg* ca, char* err, size_t err_len);
+void wg_amg_pack_values(wg_amg* a, wg_amg_pack* k);
 void wg_amg_group_use(wg_amg* a, const wg_pcg_group_in* sys);
 
 #endif

@@ -1,8 +1,10 @@
-/* The multigrid's copies for PCG in one work group (wg_amg.h, pcg_group_amg.glsl): the
- * hierarchy's patterns packed into one int texture at creation, each smoothed level's bound,
- * D^-1 and blocks packed into one float texture per solve (amg_group_pack_groups.glsl, one pass
- * a level), and the coarse levels' V-cycle vectors in one texture the group reads and writes:
- * the group's pass has 16 texture units, where the levels' own textures take 10 each. */
+/* The multigrid's copies for one work group (wg_amg.h wg_amg_pack): PCG in one work group
+ * (pcg_group_amg.glsl, every level) and the fused V-cycle's coarse sub-cycle (amg_sub_groups.glsl,
+ * the levels from the cut down). The levels' patterns packed into one int texture at creation,
+ * each smoothed level's bound, D^-1 and blocks packed into one float texture per solve
+ * (amg_group_pack_groups.glsl, one pass a level), and the coarse levels' V-cycle vectors in one
+ * texture the group reads and writes: a pass has 16 texture units, where the levels' own textures
+ * take 10 each. */
 #include <string.h>
 
 #include "gpu_error.h"
@@ -12,11 +14,16 @@
  * With the smoothed prolongator (a->smoothed) each level above the coarsest also packs P's rows
  * and its columns' entries (wg_amg_smooth.c's p_rows / p_ent and pt_range / pt_list, in their
  * order) and fpack P's blocks; with P = P_tent each coarse level its aggregates' members. */
-static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size, int* s_size) {
+static int pack_patterns(const wg_amg* a, const wc_amg* ca, int first, int* v, int* f_size, int* s_size) {
     const int L = ca->n_levels, sm = a->smoothed;
     int at = 4 * L, f = 0, s = 0;
     for (int l = 0; l < L; ++l) {
         const wc_amg_level* C = &ca->lev[l];
+        if (l < first) {   /* above the cut: unread, offsets -1 */
+            if (v)
+                for (int k = 0; k < 16; ++k) v[16 * l + k] = -1;
+            continue;
+        }
         const int smoothed = !(l == L - 1 && a->dense), pair = C->group == 2, dn = pair ? 2 * C->n : C->n;
         const int has_p = sm && l + 1 < L, np = has_p ? C->p_start[C->n] : 0;
         int h[16] = {-1, -1, -1, -1, smoothed ? f : -1, l > 0 ? s : -1, C->n, C->n_blocks, -1, -1, pair, -1, np, 0, 0, 0};
@@ -45,7 +52,7 @@ static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size,
                         v[4 * at + 1] = C->col[k];
                     }
         }
-        if (l > 0 && !sm) {
+        if (l > 0 && l > first && !sm) {
             /* each aggregate's members, ascending (wg_amg.c upload_groups' order) */
             const wc_amg_level* P = &ca->lev[l - 1];
             h[2] = at;
@@ -101,63 +108,82 @@ static int pack_patterns(const wg_amg* a, const wc_amg* ca, int* v, int* f_size,
     return at;
 }
 
-int wg_amg_group_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
+/* k's patterns for the levels from first down, its value and vector textures made. */
+static int pack_create(wg_amg* a, const wc_amg* ca, wg_amg_pack* k, int first, char* err, size_t el) {
     const wg_layout* L0 = a->run->layout;
-    /* every level's nodes within the group's rows (a coarse level of 1- and 2-node aggregates
-       with rotations has up to twice the finest level's nodes): else the chain solves it */
-    for (int l = 0; l < ca->n_levels; ++l)
-        if (ca->lev[l].n > WG_GROUP_MAX_PARTICLES) return 1;
     int fs = 0, ss = 0;
-    const int n = pack_patterns(a, ca, NULL, &fs, &ss);
+    const int n = pack_patterns(a, ca, first, NULL, &fs, &ss);
     int* v = wc_calloc(&L0->alloc, 4u * (size_t)n, sizeof(int));
     if (!v) {
         wg_errorf(err, el, "out of memory");
         return 0;
     }
-    pack_patterns(a, ca, v, &fs, &ss);
+    pack_patterns(a, ca, first, v, &fs, &ss);
+    k->first = first;
     for (int l = 0; l < ca->n_levels; ++l) {
-        a->group_f[l] = v[16 * l + 4];
-        a->group_p[l] = v[16 * l + 11];
+        k->f[l] = v[16 * l + 4];
+        k->p[l] = v[16 * l + 11];
     }
-    int ok = wg_array_create(L0, &a->group_i, GL_RGBA32I, n, v, err, el) &&
-             wg_array_create(L0, &a->group_fp, GL_RGBA32F, fs, NULL, err, el) &&
-             wg_array_create(L0, &a->group_v, GL_RGBA32F, ss, NULL, err, el);
+    int ok = wg_array_create(L0, &k->i, GL_RGBA32I, n, v, err, el) &&
+             wg_array_create(L0, &k->fp, GL_RGBA32F, fs, NULL, err, el) &&
+             wg_array_create(L0, &k->v, GL_RGBA32F, ss, NULL, err, el);
     wc_free(&L0->alloc, v);
     return ok;
 }
 
-int wg_amg_group_fits(const wg_amg* a) { return a->group_i.id != 0; }
+int wg_amg_group_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
+    /* every level's nodes within the group's rows (a coarse level of 1- and 2-node aggregates
+       with rotations has up to twice the finest level's nodes): else the chain solves it */
+    for (int l = 0; l < ca->n_levels; ++l)
+        if (ca->lev[l].n > WG_GROUP_MAX_PARTICLES) return 1;
+    return pack_create(a, ca, &a->group, 0, err, el);
+}
 
-void wg_amg_group_pack(wg_amg* a) {
+int wg_amg_group_fits(const wg_amg* a) { return a->group.i.id != 0; }
+
+int wg_amg_sub_create(wg_amg* a, const wc_amg* ca, char* err, size_t el) {
+    const int L = ca->n_levels;
+    if (!a->smoothed) return 1;   /* P = P_tent: the pairs' cross terms are in every level */
+    int cut = 1;
+    while (cut + 1 < L && ca->lev[cut].n > WG_AMG_SUB_ROWS) ++cut;
+    if (cut + 1 >= L) return 1;   /* no coarse level with one below it */
+    for (int l = cut; l < L; ++l)
+        if (ca->lev[l].n > WG_AMG_SUB_NODES) return 1;
+    return pack_create(a, ca, &a->sub, cut, err, el);
+}
+
+void wg_amg_group_pack(wg_amg* a) { wg_amg_pack_values(a, &a->group); }
+
+void wg_amg_pack_values(wg_amg* a, wg_amg_pack* k) {
     wg_runner* run = a->run;
-    for (int l = 0; l < a->n_levels; ++l) {
+    for (int l = k->first; l < a->n_levels; ++l) {
         const wg_amg_level* L = &a->lev[l];
-        if (a->group_f[l] < 0) continue;   /* the dense coarsest level: its factor only */
-        const int blocks = l > 0, has_p = a->group_p[l] >= 0, dn = L->pair ? 2 * L->n : L->n;
+        if (k->f[l] < 0) continue;   /* the dense coarsest level: its factor only */
+        const int blocks = l > 0, has_p = k->p[l] >= 0, dn = L->pair ? 2 * L->n : L->n;
         WG_USE(run, WGP_AMG_GROUP_PACK_GROUPS, &(wg_amg_in){.dinv0 = &L->dinv[0], .dinv1 = &L->dinv[1],
             .dinv2 = &L->dinv[2], .a0 = blocks ? &L->a[0] : &L->dinv[0], .a1 = blocks ? &L->a[1] : &L->dinv[1],
             .a2 = blocks ? &L->a[2] : &L->dinv[2], .pv0 = has_p ? &L->p[0] : &L->dinv[0],
             .pv1 = has_p ? &L->p[1] : &L->dinv[1], .pv2 = has_p ? &L->p[2] : &L->dinv[2], .bound = L->bound});
-        wg_u1i(run, "u_off", a->group_f[l]);
+        wg_u1i(run, "u_off", k->f[l]);
         wg_u1i(run, "u_dn", dn);
         wg_u1i(run, "u_nb", L->nb);
         wg_u1i(run, "u_blocks", blocks);
-        wg_u1i(run, "u_poff", a->group_p[l]);
+        wg_u1i(run, "u_poff", k->p[l]);
         wg_u1i(run, "u_np", has_p ? L->np : 0);
         wg_u1f(run, "u_bound_scale", (float)wg_amg_bound_scale(a, l));
         int items = dn;
         if (blocks && L->nb > items) items = L->nb;
         if (has_p && L->np > items) items = L->np;
-        wg_run_groups(run, L->n, &a->group_fp, (items + 255) / 256);
+        wg_run_groups(run, L->n, &k->fp, (items + 255) / 256);
     }
 }
 
 void wg_amg_group_use(wg_amg* a, const wg_pcg_group_in* sys) {
     wg_runner* run = a->run;
-    const wg_tex* factor = a->dense ? &a->coarse_L : &a->group_fp;   /* unread without a factor */
+    const wg_tex* factor = a->dense ? &a->coarse_L : &a->group.fp;   /* unread without a factor */
     WG_USE(run, WGP_PCG_GROUP_AMG, &(wg_pcg_group_amg_in){.pblocks = sys->pblocks, .block = sys->block,
         .a_lo = sys->a_lo, .a_hi = sys->a_hi, .b = sys->b, .S0 = sys->S0, .S1 = sys->S1, .z = sys->z, .dv = sys->dv,
-        .rows = &a->lev[0].rows, .ipack = &a->group_i, .fpack = &a->group_fp, .factor = factor});
+        .rows = &a->lev[0].rows, .ipack = &a->group.i, .fpack = &a->group.fp, .factor = factor});
     wg_u1i(run, "u_levels", a->n_levels);
     wg_u1i(run, "u_dense", a->dense);
     wg_u1i(run, "u_smoothed", a->smoothed);

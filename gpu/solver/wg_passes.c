@@ -123,6 +123,9 @@ WHOLE(wg_pcg_group_in, pcg_group);
 static const wg_pass_input pcg_group_amg[] = {PA(pblocks), PA(block), PA(a_lo), PA(a_hi),  PA(b),     PA(S0),    PA(S1),
                                               PA(z),       PA(dv),    PA(rows), PA(ipack), PA(fpack), PA(factor)};
 WHOLE(wg_pcg_group_amg_in, pcg_group_amg);
+#define SG(f) IN(wg_amg_sub_in, f)
+static const wg_pass_input amg_sub[] = {SG(r), SG(ipack), SG(fpack), SG(factor)};
+WHOLE(wg_amg_sub_in, amg_sub);
 static const wg_pass_input pcg_direction[] = {
     IN(wg_pcg_direction_in, t), IN(wg_pcg_direction_in, c), IN(wg_pcg_direction_in, S0),
     IN(wg_pcg_direction_in, S1), IN(wg_pcg_direction_in, scalars0), IN(wg_pcg_direction_in, scalars1)};
@@ -396,6 +399,7 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_AMG_RESTRICT_RES_FINE] = COMPUTE("amg_restrict_res_fine", amg_restrict_res_fine, wg_amg_in),
     [WGP_AMG_COARSE_RESTRICT_GROUPS] = NATIVE("amg_coarse_restrict_groups", amg_coarse_restrict, wg_amg_in),
     [WGP_AMG_COARSE_RESTRICT_GROUPS_FINE] = NATIVE("amg_coarse_restrict_groups_fine", amg_coarse_restrict_fine, wg_amg_in),
+    [WGP_AMG_SUB_GROUPS] = NATIVE("amg_sub_groups", amg_sub, wg_amg_sub_in),
     [WGP_AMG_PROLONG_FINE] = COMPUTE("amg_prolong_fine", amg_prolong_fine, wg_amg_in),
     [WGP_AMG_CROSS_TERMS] = COMPUTE("amg_cross_terms", amg_cross_terms, wg_amg_in),
     [WGP_AMG_CROSS_BLOCKS] = COMPUTE("amg_cross_blocks", amg_cross_blocks, wg_amg_in),

@@ -62,6 +62,8 @@ typedef enum wg_pass_id {
     WGP_AMG_RESTRICT_RES, WGP_AMG_RESTRICT_RES_FINE,
     /* native: those and the coarsest level's solve in one work group */
     WGP_AMG_COARSE_RESTRICT_GROUPS, WGP_AMG_COARSE_RESTRICT_GROUPS_FINE,
+    /* native: the V-cycle from a coarse level of at most WG_AMG_SUB_ROWS nodes down, in one work group */
+    WGP_AMG_SUB_GROUPS,
     /* the self-contact pairs' cross terms in the multigrid's levels (wg_amg.h) */
     WGP_AMG_CROSS_TERMS, WGP_AMG_CROSS_BLOCKS,
     /* the rotations about the current positions: the next level's near-null rows, Q's
@@ -253,6 +255,12 @@ typedef struct wg_pcg_group_amg_in {   /* pcg_group_amg.glsl: the same with the 
     const wg_tex *ipack, *fpack;   /* the levels packed (wg_amg_group.c) */
     const wg_tex* factor;       /* the coarsest level's dense factor */
 } wg_pcg_group_amg_in;
+
+typedef struct wg_amg_sub_in {   /* amg_sub_groups.glsl: the coarse sub-cycle in one work group */
+    const wg_tex* r;            /* the cut level's right-hand side */
+    const wg_tex *ipack, *fpack;   /* the levels from the cut down, packed (wg_amg_group.c) */
+    const wg_tex* factor;       /* the coarsest level's dense factor */
+} wg_amg_sub_in;
 
 typedef struct wg_jacobi_sweep_in { /* jacobi_sweep.glsl */
     const wg_tex *pblocks, *block, *a_lo, *a_hi, *x, *b, *S0, *S1, *dinv_lo, *dinv_hi;

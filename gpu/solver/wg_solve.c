@@ -363,7 +363,7 @@ static wc_status solve_group(wg_sim* g, const wc_solver_opts* o, const wg_tex* d
     wg_u1i(run, "u_texels", g->q.w * g->q.h);
     wg_u1i(run, "u_guard", 4 * (max_it + 1) + 100);
     const wg_tex* const outs[] = {&g->sv[0], &g->sc[b][0], &g->sc[b][1], &g->sc[b][2], &g->grp};
-    if (amg) wg_run_groups_scratch(run, g->n, 1, outs, 5, &g->amg->group_v);
+    if (amg) wg_run_groups_scratch(run, g->n, 1, outs, 5, &g->amg->group.v);
     else wg_run_groups_into(run, g->n, 1, outs, 5);
     g->sc_cur = b;
     *out = &g->sv[0];
