@@ -1,6 +1,7 @@
 /* A cloth's arrays as textures in its layout (see wg_layout.h). */
 #include "wg_layout.h"
 
+#include <stdint.h>
 #include <string.h>
 
 #include "gpu_error.h"
@@ -81,39 +82,35 @@ static void bind_read(const wg_layout* L, const wg_tex* t) {
     glReadBuffer(GL_COLOR_ATTACHMENT0);
 }
 
-void wg_array_read(const wg_layout* L, const wg_tex* t, int count, float* out) {
-    if (count <= 0) return;
+/* count items of t, channels (2, 3 or 4) floats each, read row by row to at: client memory, or
+ * an offset into the bound GL_PIXEL_PACK_BUFFER */
+static void read_items(const wg_layout* L, const wg_tex* t, int count, int channels, uintptr_t at) {
+    GLenum format = channels == 4 ? GL_RGBA : channels == 3 ? GL_RGB : GL_RG;
     int W = 1 << L->shift;
     int full = count >> L->shift, rest = count - (full << L->shift);
     bind_read(L, t);
-    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    if (full > 0) glReadPixels(0, 0, count < W ? count : W, full, GL_RGBA, GL_FLOAT, out);
-    if (rest > 0) glReadPixels(0, full, rest, 1, GL_RGBA, GL_FLOAT, out + (size_t)full * W * 4u);
+    if (full > 0) glReadPixels(0, 0, count < W ? count : W, full, format, GL_FLOAT, (void*)at);
+    if (rest > 0)
+        glReadPixels(0, full, rest, 1, format, GL_FLOAT,
+                     (void*)(at + (size_t)full * (size_t)W * (size_t)channels * sizeof(float)));
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}
+
+void wg_array_read(const wg_layout* L, const wg_tex* t, int count, float* out) {
+    if (count <= 0) return;
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    read_items(L, t, count, 4, (uintptr_t)out);
 }
 
 void wg_array_read_rg(const wg_layout* L, const wg_tex* t, int count, float* out) {
     if (count <= 0) return;
-    int W = 1 << L->shift;
-    int full = count >> L->shift, rest = count - (full << L->shift);
-    bind_read(L, t);
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    if (full > 0) glReadPixels(0, 0, count < W ? count : W, full, GL_RG, GL_FLOAT, out);
-    if (rest > 0) glReadPixels(0, full, rest, 1, GL_RG, GL_FLOAT, out + (size_t)full * W * 2u);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    read_items(L, t, count, 2, (uintptr_t)out);
 }
 
 void wg_array_read_rgb(const wg_layout* L, const wg_tex* t, int count, size_t offset) {
-    int W = 1 << L->shift;
-    int full = count >> L->shift, rest = count - (full << L->shift);
-    bind_read(L, t);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    if (full > 0) glReadPixels(0, 0, count < W ? count : W, full, GL_RGB, GL_FLOAT, (void*)offset);
-    if (rest > 0)
-        glReadPixels(0, full, rest, 1, GL_RGB, GL_FLOAT, (void*)(offset + (size_t)full * (size_t)W * 12u));
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    read_items(L, t, count, 3, (uintptr_t)offset);
 }
 
 void wg_read_texels(const wg_layout* L, const wg_tex* t, int x0, int n, float* out) {

@@ -8,48 +8,35 @@
 // node the union of its children's. So every end position, and every point of the linear motion
 // between, lies in the leaf's box shrunk by u_pad.
 layout(local_size_x = 64, local_size_y = 1) in;
-uniform sampler2D order;       // node indices (x), grouped by height
 uniform sampler2D elem;        // (particles a, b, c or -1, -) a triangle, then an edge
 uniform sampler2D x;           // the substep's end positions
 uniform sampler2D xs;          // its start positions
-uniform int u_first, u_count, u_elem0;
+uniform int u_elem0;
 uniform float u_pad;
-layout(binding = 0, rgba32f) uniform image2D wg_img0;
 
-void main() {
-    int e = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x);
-    if (e >= u_count) return;
-    int j = int(ld(order, u_first + e).x);
-    vec4 lo = imageLoad(wg_img0, tc(2 * j)), hi = imageLoad(wg_img0, tc(2 * j + 1));
-    vec3 bmin, bmax;
-    if (lo.w < 0.0) {
-        vec4 q = ld(elem, u_elem0 + int(hi.w));
-        bmin = vec3(3.0e38);
-        bmax = vec3(-3.0e38);
-        float delta = 0.0, mag = 0.0;
-        for (int c = 0; c < 3; ++c) {
-            if (q[c] < 0.0) continue;
-            vec3 p0 = ld(xs, int(q[c])).xyz, p1 = ld(x, int(q[c])).xyz;
-            bmin = min(bmin, p0);
-            bmax = max(bmax, p0);
-            delta = max(delta, length(p1 - p0));
-            mag = max(mag, max(max(abs(p0.x), abs(p0.y)), abs(p0.z)));
-        }
-        // a non-finite particle: an unbounded box (its pairs are tested and act)
-        if (isnan(delta) || isinf(delta) || isnan(mag) || isinf(mag)) {
-            bmin = vec3(-3.0e38);
-            bmax = vec3(3.0e38);
-        } else {
-            float pad = delta * 1.0001 + u_pad + (mag + delta + u_pad) * 9.6e-7;
-            bmin = bmin - pad;
-            bmax = bmax + pad;
-        }
-    } else {
-        vec4 l0 = imageLoad(wg_img0, tc(2 * int(lo.w))), l1 = imageLoad(wg_img0, tc(2 * int(lo.w) + 1));
-        vec4 r0 = imageLoad(wg_img0, tc(2 * int(hi.w))), r1 = imageLoad(wg_img0, tc(2 * int(hi.w) + 1));
-        bmin = min(l0.xyz, r0.xyz);
-        bmax = max(l1.xyz, r1.xyz);
+// the leaf box of element (tree_refit.glsl)
+void leaf_box(int element, out vec3 bmin, out vec3 bmax) {
+    vec4 q = ld(elem, u_elem0 + element);
+    bmin = vec3(3.0e38);
+    bmax = vec3(-3.0e38);
+    float delta = 0.0, mag = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        if (q[c] < 0.0) continue;
+        vec3 p0 = ld(xs, int(q[c])).xyz, p1 = ld(x, int(q[c])).xyz;
+        bmin = min(bmin, p0);
+        bmax = max(bmax, p0);
+        delta = max(delta, length(p1 - p0));
+        mag = max(mag, max(max(abs(p0.x), abs(p0.y)), abs(p0.z)));
     }
-    imageStore(wg_img0, tc(2 * j), vec4(bmin, lo.w));
-    imageStore(wg_img0, tc(2 * j + 1), vec4(bmax, hi.w));
+    // a non-finite particle: an unbounded box (its pairs are tested and act)
+    if (isnan(delta) || isinf(delta) || isnan(mag) || isinf(mag)) {
+        bmin = vec3(-3.0e38);
+        bmax = vec3(3.0e38);
+    } else {
+        float pad = delta * 1.0001 + u_pad + (mag + delta + u_pad) * 9.6e-7;
+        bmin = bmin - pad;
+        bmax = bmax + pad;
+    }
 }
+
+#pragma weft include tree_refit

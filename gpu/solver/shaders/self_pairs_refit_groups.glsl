@@ -8,44 +8,31 @@
 // rounding of x + 1.5 h v and of the bounds, against core's double); an inner node the union of
 // its children's. So the box holds core's leaf box.
 layout(local_size_x = 64, local_size_y = 1) in;
-uniform sampler2D order;       // node indices (x), grouped by height
 uniform sampler2D elem;        // (particles a, b, c or -1, -) a triangle, then an edge
 uniform sampler2D x;           // the substep's start positions
 uniform sampler2D v;           // its start velocities
-uniform int u_first, u_count, u_elem0, u_motion;
+uniform int u_elem0, u_motion;
 uniform float u_h15, u_pad, u_margin;
-layout(binding = 0, rgba32f) uniform image2D wg_img0;
 
-void main() {
-    int e = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x);
-    if (e >= u_count) return;
-    int j = int(ld(order, u_first + e).x);
-    vec4 lo = imageLoad(wg_img0, tc(2 * j)), hi = imageLoad(wg_img0, tc(2 * j + 1));
-    vec3 bmin, bmax;
-    if (lo.w < 0.0) {
-        vec4 q = ld(elem, u_elem0 + int(hi.w));
-        bmin = vec3(3.0e38);
-        bmax = vec3(-3.0e38);
-        float mag = 0.0;
-        for (int c = 0; c < 3; ++c) {
-            if (q[c] < 0.0) continue;
-            vec3 p0 = ld(x, int(q[c])).xyz, dp = u_h15 * ld(v, int(q[c])).xyz;
-            vec3 p1 = u_motion != 0 ? p0 + dp : p0;
-            bmin = min(bmin, min(p0, p1));
-            bmax = max(bmax, max(p0, p1));
-            vec3 a = max(abs(p0), abs(p1)) + abs(dp);
-            mag = max(mag, max(max(a.x, a.y), a.z));
-        }
-        float pad = u_pad * 1.00001 + (mag + u_pad) * u_margin;
-        if (isnan(mag) || isinf(mag)) pad = 3.0e38;   // a non-finite particle: an unbounded box
-        bmin = bmin - pad;
-        bmax = bmax + pad;
-    } else {
-        vec4 l0 = imageLoad(wg_img0, tc(2 * int(lo.w))), l1 = imageLoad(wg_img0, tc(2 * int(lo.w) + 1));
-        vec4 r0 = imageLoad(wg_img0, tc(2 * int(hi.w))), r1 = imageLoad(wg_img0, tc(2 * int(hi.w) + 1));
-        bmin = min(l0.xyz, r0.xyz);
-        bmax = max(l1.xyz, r1.xyz);
+// the leaf box of element (tree_refit.glsl)
+void leaf_box(int element, out vec3 bmin, out vec3 bmax) {
+    vec4 q = ld(elem, u_elem0 + element);
+    bmin = vec3(3.0e38);
+    bmax = vec3(-3.0e38);
+    float mag = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        if (q[c] < 0.0) continue;
+        vec3 p0 = ld(x, int(q[c])).xyz, dp = u_h15 * ld(v, int(q[c])).xyz;
+        vec3 p1 = u_motion != 0 ? p0 + dp : p0;
+        bmin = min(bmin, min(p0, p1));
+        bmax = max(bmax, max(p0, p1));
+        vec3 a = max(abs(p0), abs(p1)) + abs(dp);
+        mag = max(mag, max(max(a.x, a.y), a.z));
     }
-    imageStore(wg_img0, tc(2 * j), vec4(bmin, lo.w));
-    imageStore(wg_img0, tc(2 * j + 1), vec4(bmax, hi.w));
+    float pad = u_pad * 1.00001 + (mag + u_pad) * u_margin;
+    if (isnan(mag) || isinf(mag)) pad = 3.0e38;   // a non-finite particle: an unbounded box
+    bmin = bmin - pad;
+    bmax = bmax + pad;
 }
+
+#pragma weft include tree_refit
