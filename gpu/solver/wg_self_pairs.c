@@ -164,7 +164,9 @@ int wg_self_pairs_find(wg_self_pairs* gp, wc_self_pairs* sp, wc_self* sc, const 
     glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
     if (bytes) *bytes = sizeof(GLint);
     gp->io.read_bytes += sizeof(GLint);
-    if (count < 0 || count > gp->cap) {   /* no room (or a walk past its stack): core's detection */
+    /* No room (or a walk past its stack of 64, which core's median-split trees, of height
+     * ceil(log2 n) <= 31, never need: a walk holds at most height + 1 entries): core's detection */
+    if (count < 0 || count > gp->cap) {
         if (candidates) *candidates = -1;
         ++gp->io.by_core;
         ++gp->io.over_room;
