@@ -39,8 +39,8 @@ static ag_alloc_counter g_count;
 #define IO_N 9
 static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
 
-/* the self pairs' GPU finder as the cloth logs it (DEBUG): substeps found, those core found,
-   candidates, bytes read back (gpu/solver/wg_self_pairs.h); -1 before any */
+/* the self pairs' GPU finder as the cloth logs it (DEBUG): substeps found, those core found (for
+   too many candidates or a non-finite x or v), candidates, bytes read back (gpu/solver/wg_self_pairs.h); -1 before any */
 #define PIO_N 4
 static long long g_pio[PIO_N] = {-1, -1, -1, -1};
 
@@ -48,8 +48,9 @@ static void io_log(weft_log_level level, const char* message, void* user) {
     (void)user;
     long long v[IO_N];
     if (level == WEFT_LOG_DEBUG &&
-        sscanf(message, "GPU self pairs, since creation: %lld substeps found (%lld by core: too many candidates), "
-                        "%lld candidates, %lld bytes read back", &v[0], &v[1], &v[2], &v[3]) == PIO_N)
+        sscanf(message, "GPU self pairs, since creation: %lld substeps found (%lld by core: %lld too many candidates, "
+                        "%lld not finite), %lld candidates, %lld bytes read back", &v[0], &v[1], &v[4], &v[5], &v[2],
+               &v[3]) == PIO_N + 2)
         memcpy(g_pio, v, sizeof g_pio);
     if (level == WEFT_LOG_DEBUG &&
         sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "

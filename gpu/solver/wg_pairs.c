@@ -227,9 +227,7 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
     }
     if (s->self_pairs) {
         s->self->threads = s->par.threads;
-        int finite = p->gself != NULL;   /* non-finite values: core's walk (the GPU's boxes promise nothing) */
-        for (int k = 0; finite && k < 3 * n; ++k) finite = isfinite(p->x[k]) && isfinite(p->v[k]);
-        if (finite) {
+        if (p->gself) {   /* non-finite values, too many candidates: core's walk (the finder's) */
             size_t bytes = 0;
             wg_self_pairs_find(p->gself, s->self_pairs, s->self, m, &pins, x, v, p->x, p->v, ig->h, ig->he, &bytes,
                                &p->counts.self_candidates);

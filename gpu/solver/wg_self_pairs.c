@@ -2,6 +2,7 @@
 #include "wg_self_pairs.h"
 
 #include <GL/glew.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,6 +102,12 @@ int wg_self_pairs_create(wg_runner* run, const wc_self* sc, const wc_self_pairs*
     return 1;
 }
 
+static int all_finite(const double* a, int n) {
+    for (int k = 0; k < n; ++k)
+        if (!isfinite(a[k])) return 0;
+    return 1;
+}
+
 static int by_walk(const void* pa, const void* pb) {
     const cand *a = pa, *b = pb;
     if (a->q != b->q) return a->q < b->q ? -1 : 1;
@@ -126,6 +133,13 @@ int wg_self_pairs_find(wg_self_pairs* gp, wc_self_pairs* sp, wc_self* sc, const 
     if (bytes) *bytes = 0;
     if (candidates) *candidates = 0;
     if (gp->nt == 0) return wc_self_pairs_from(sp, sc, m, f, xd, vd, h, he, NULL, 0);
+    ++gp->io.finds;
+    if (!all_finite(xd, 3 * gp->n) || !all_finite(vd, 3 * gp->n)) {   /* the GPU's boxes promise nothing */
+        if (candidates) *candidates = -1;
+        ++gp->io.by_core;
+        ++gp->io.non_finite;
+        return wc_self_pairs_find(sp, sc, m, f, xd, vd, h, he);
+    }
     wg_runner* run = gp->run;
     refit(gp, 0, x, v, h, sc->thickness);
     if (gp->ne > 0) refit(gp, 1, x, v, h, sc->thickness);
@@ -149,11 +163,13 @@ int wg_self_pairs_find(wg_self_pairs* gp, wc_self_pairs* sp, wc_self* sc, const 
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, &count);
     glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
     if (bytes) *bytes = sizeof(GLint);
-    ++gp->io.finds;
     gp->io.read_bytes += sizeof(GLint);
-    if (count < 0 || count > gp->cap) {   /* no room (or a walk past its stack): core's detection */
+    /* No room (or a walk past its stack of 64, which core's median-split trees, of height
+     * ceil(log2 n) <= 31, never need: a walk holds at most height + 1 entries): core's detection */
+    if (count < 0 || count > gp->cap) {
         if (candidates) *candidates = -1;
         ++gp->io.by_core;
+        ++gp->io.over_room;
         return wc_self_pairs_find(sp, sc, m, f, xd, vd, h, he);
     }
     if (count > 0) wg_array_read_rg(run->layout, &gp->out, count, gp->rb);

@@ -17,8 +17,9 @@
  * read back; sorted by query and leaf (the order of core's walks), core's wc_self_pairs_from tests
  * each in double exactly as wc_self_pairs_find does (the walk's box test at core's boxes, then its
  * rules), so the list, its order and its overflow are core's. More candidates than the room (16
- * a query, or 16 times the list's capacity if more), or a walk deeper than its stack: core's wc_self_pairs_find instead
- * that substep (counted).
+ * a query, or 16 times the list's capacity if more), a walk deeper than its stack (which core's
+ * median-split trees cannot reach: wg_self_pairs_find), or a non-finite x or v: core's
+ * wc_self_pairs_find instead that substep (counted, wg_self_pairs_io).
  *
  * WEFT_GPU_SELF_PAIRS (read at the cloth's creation): unset or "gpu" this finder; "host" core's
  * detection on the host (the test's comparison); anything else is logged and the host's used.
@@ -53,15 +54,18 @@ size_t wg_self_pairs_bytes(const wg_self_pairs* gp);      /* GPU memory held (0 
 /* Core's list sp->list (wc_self_pairs_find's) from the textures x, v (on the GPU) and their
  * values xd, vd (n x 3 doubles, the same floats: the host's tests), f the pins' filter, h the
  * substep, he the system's step. Returns the pairs; *bytes (may be NULL) the bytes read back;
- * *candidates (may be NULL) the candidates found (-1: too many, core's detection ran). */
+ * *candidates (may be NULL) the candidates found (-1: core's detection ran: too many, or x or v
+ * not finite, checked first: then nothing runs on the GPU and *bytes is 0). */
 int wg_self_pairs_find(wg_self_pairs* gp, wc_self_pairs* sp, wc_self* sc, const wc_model* m, const wc_filter* f,
                        const wg_tex* x, const wg_tex* v, const double* xd, const double* vd, double h, double he,
                        size_t* bytes, int* candidates);
 
-/* Since creation: substeps found (on the GPU or, past the room, by core), those core found,
- * the candidates and the bytes read back. */
+/* Since creation: substeps found (on the GPU or by core), those core found (by_core: over_room
+ * + non_finite), of them those past the room or its walk's stack (the counter past the room) and
+ * those with a non-finite x or v (nothing run on or read from the GPU), the candidates and the
+ * bytes read back. A substep core found also gives *candidates -1. */
 typedef struct wg_self_pairs_io {
-    long long finds, by_core, candidates, read_bytes;
+    long long finds, by_core, over_room, non_finite, candidates, read_bytes;
 } wg_self_pairs_io;
 const wg_self_pairs_io* wg_self_pairs_transfers(const wg_self_pairs* gp);
 

@@ -506,8 +506,9 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
     if (g->gself) {
         const wg_self_pairs_io* io = wg_self_pairs_transfers(g->gself);
         wc_log(diag, WC_LOG_DEBUG,
-               "GPU self pairs, since creation: %lld substeps found (%lld by core: too many candidates), %lld "
-               "candidates, %lld bytes read back", io->finds, io->by_core, io->candidates, io->read_bytes);
+               "GPU self pairs, since creation: %lld substeps found (%lld by core: %lld too many candidates, %lld "
+               "not finite), %lld candidates, %lld bytes read back", io->finds, io->by_core, io->over_room,
+               io->non_finite, io->candidates, io->read_bytes);
     }
     return r;
 }
