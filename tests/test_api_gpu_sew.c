@@ -88,8 +88,8 @@ static weft_cloth_def scene_def(const sew_scene* sc) {
     def.n_seams = sc->n_pairs;
     def.seam_a = sc->n_pairs ? sc->sa : NULL;
     def.seam_b = sc->n_pairs ? sc->sb : NULL;
-    /* the GPU's method on both backends (the CPU's defaults add the multigrid, Newton with line
-       search and, for a sewn cloth, self-collision) */
+    /* one linearised step with block Jacobi on both backends (the defaults add the multigrid,
+       Newton with line search and, for a sewn cloth, self-collision) */
     def.solver = WEFT_SOLVER_PCG;
     def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
     def.newton_iterations = 1;

@@ -35,7 +35,7 @@ typedef struct scene_case {
 
 static int run(const char* scene, const char* backend, const char* precond, const char* dir) {
     char args[2048];
-    /* the GPU's method on both backends (the CPU's defaults: two Newton iterations) */
+    /* one linearised step on both backends (the defaults: two Newton iterations) */
     snprintf(args, sizeof args,
              "run '%s/sample_scenes/%s.json' --frames %d --threads 1 --quiet --backend %s --out '%s' "
              "--precond %s --integrator be --newton 1 --line-search off",

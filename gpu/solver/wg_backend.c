@@ -108,14 +108,14 @@ static wc_status device_destroy(void* device, wc_diag* d) {
 }
 
 /* The multigrid preconditioner where the passes are compute shaders (block Jacobi on fragment
- * passes); one linearised step without search (the GPU's Newton iterations cost a few
- * read-backs a substep each: asked for, not the default); self-collision on for a garment, as
- * on the CPU (core's stage on the host, wg_self.h). */
+ * passes); the CPU's method: two Newton iterations with the line search (a few read-backs a
+ * substep; one linearised step rolls back where the CPU's method does not: docs/design/gpu.md);
+ * self-collision on for a garment, as on the CPU (core's stage on the host, wg_self.h). */
 static void defaults(const void* device, wc_backend_defaults* out) {
     const wg_backend_device* bd = device;
     out->preconditioner = bd && bd->dev->compute ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
-    out->newton_iterations = 1;
-    out->line_search = 0;
+    out->newton_iterations = 2;
+    out->line_search = 1;
     out->garment_self_collision = 1;
 }
 

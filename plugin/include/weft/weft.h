@@ -342,11 +342,11 @@ typedef struct weft_cloth_def {
     weft_preconditioner preconditioner; /* DEFAULT */
     weft_integrator integrator; /* DEFAULT (backward Euler on both backends) */
     int newton_iterations;      /* linearised solves per substep, 1..100; 0 (default): the
-                                   backend's choice (CPU 2, GPU 1). 1 without line search is
+                                   backend's choice (2 on both). 1 without line search is
                                    one Baraff-Witkin step */
     int line_search;            /* backtracking line search on the incremental potential:
-                                   1 on, 0 off, -1 (default): the backend's choice (CPU on,
-                                   GPU off) */
+                                   1 on, 0 off, -1 (default): the backend's choice (on for
+                                   both) */
     int substeps;               /* implicit steps per frame (1) */
     double max_frame_time;      /* s: a longer weft_frame.dt is refused (0.25) */
     double strain_limit;        /* 0 off (default); 0.1 caps stretch springs at 110% of rest */
