@@ -16,17 +16,19 @@
  * vertex-edge pair's) and closer than the contact distance d_c = 2 thickness + 1.5 h (approach
  * speed along the pair's direction, cloth at v_n against the body point's velocity, when
  * positive): the pair is in the system before it touches. The cloth point and every particle
- * of the cloth feature must be in front of the body at the start (signed distance >= 0), and an
+ * of the cloth feature must be in front of the body at the start (signed distance >= minus the
+ * ties' band, TIE_REL: a point on the surface is in front however rounding places it), and an
  * edge-edge pair's direction in front of the body edge's two triangles (n . (n1 + n2) >= 0) and
  * within the normal cone between n1 and n2 (up to 15 degrees past it: turned to the nearer of
  * them): a garment that starts through the body comes out by its particles' push-out, which a
  * pair must not fight; and a pair found deeper than push_speed x h inside the thickness is let
  * out at push_speed as the particles are (its rest moved to g0 + push_speed h).
  * Frozen for the substep: the cloth point's weights w (edge: 1 - a, a; triangle: barycentric),
- * the unit normal n from the body point to the cloth point at the start (the body triangle's
- * normal when they coincide), and off = n . b1 + thickness with b1 the body point at the
- * substep's END (xb, the same weights on the body feature: the body moves linearly, the pair
- * sees where it will be); k by penalty_pairs.h's rule. A pair whose particles lack a block in
+ * the unit normal n from the body point to the cloth point at the start (the visited body
+ * triangle's normal when they coincide: nearer than the ties' band, where the direction between
+ * them is rounding's; the visited triangle is the first of the feature's the walk reaches), and
+ * off = n . b1 + thickness with b1 the body point at the substep's END (xb, the same weights on
+ * the body feature: the body moves linearly, the pair sees where it will be); k by penalty_pairs.h's rule. A pair whose particles lack a block in
  * the pattern (bsr.h: blocks exist for particles sharing a spring) is skipped and counted. */
 #include "mesh_pairs.h"
 #include <math.h>
@@ -41,6 +43,18 @@
 #define INTERIOR 1e-6    /* a feature parameter within this of its ends is the end's */
 #define TURN_COS 0.9659  /* cos 15 degrees: the farthest an edge pair's direction past its body
                             edge's normal cone is turned to the nearer face's normal (keep) */
+#define TIE_REL 1e-5     /* the ties' band, relative to max(thickness, |coordinates|): closest
+                            points nearer than it coincide (the pair takes the visited face's
+                            normal), a point less than it behind the body is in front. Float's
+                            rounding of a point on a rim (a few ulps, 1e-7 relative) stays inside
+                            it: the GPU's float find decides these ties as this double one does */
+
+/* The ties' band at point p (thickness th) */
+static inline double tie_band(double th, const double* p) {
+    double s = th;
+    for (int k = 0; k < 3; ++k) s = fabs(p[k]) > s ? fabs(p[k]) : s;
+    return TIE_REL * s;
+}
 
 /* fmax (a NaN argument loses to a number) without the library call: reach_box takes 4 a particle */
 static inline double max_num(double a, double b) { return b > a || isnan(a) ? b : a; }
@@ -278,7 +292,8 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     double n[3], d[3];
     v3_sub(d, cp0, bp0);
     double dist = v3_norm(d);
-    if (dist > 1e-9 * (th > 0.0 ? th : 1.0)) v3_scale(n, d, 1.0 / dist);
+    const double tie = tie_band(th, cp0);
+    if (dist > tie) v3_scale(n, d, 1.0 / dist);
     else v3_copy(n, nb);
     /* an edge pair: n within the edge's normal cone (between its triangles' normals cone1 and
        cone2). A cloth point behind the faces (n . (cone1 + cone2) < 0: a cloth edge that started
@@ -306,7 +321,7 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     double dc = 2.0 * th + 1.5 * c->h * (approach > 0.0 ? approach : 0.0);
     if (!(dist < dc)) return;
     /* the cloth point and the feature's particles in front of the body at the start */
-    if (wc_mesh_closest_kept(c->mc, c->near, c->at, 0, cp0, dc + th, NULL, NULL) < 0.0) return;
+    if (wc_mesh_closest_kept(c->mc, c->near, c->at, 0, cp0, dc + th, NULL, NULL) < -tie) return;
     for (int k = 0; k < cnt; ++k) {
         _Atomic signed char* bh = &c->pp->behind[c->cloth[k]];
         signed char b = atomic_load_explicit(bh, memory_order_relaxed);
@@ -316,7 +331,7 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
             const double* xk = c->x + 3 * c->cloth[k];
             double d = wc_mesh_closest_kept(c->mc, c->near, c->at, 0, xk, dc + th, NULL, NULL);
             if (!(d < HUGE_VAL)) d = wc_mesh_closest(c->mc, 0, xk, HUGE_VAL, NULL, NULL);
-            b = d < 0.0;
+            b = d < -tie_band(th, xk);
             atomic_store_explicit(bh, b, memory_order_relaxed);
         }
         if (b) return;

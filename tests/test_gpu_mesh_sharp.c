@@ -216,9 +216,87 @@ static void test_pairs_against_core(void) {
     free(x), free(v), free(x4), free(v4), free(to);
 }
 
+/* The tie: an axis-aligned sheet exactly level with a box's top (y = 0, floats), its edges along
+ * X and Z through the top's rim edges (the rim lines x, z = +-0.3 cut them between particles), at
+ * rest. Each cloth edge across a rim meets the rim line: its closest points coincide (the gap is
+ * zero up to rounding), the pair's normal is the visited face's (core: at most 1e-9 thickness
+ * apart). The GPU's pairs must be core's: each matched by its particles with a normal within
+ * N_BOUND, none left over. */
+static void test_tie_level_rim(void) {
+    if (!g_dev->compute) return;
+    static tmesh bx;
+    const double lo[3] = {-0.3, -0.3, -0.3}, hi[3] = {0.3, 0.0, 0.3};
+    box(&bx, lo, hi);
+    wc_diag d = {0};
+    wc_mesh_collider *mg = NULL, *mc = NULL;
+    CHECK_EQ_INT(wc_mesh_collider_create(&mg, bx.x, bx.nv, bx.t, bx.nt, THICK, 0.3, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_mesh_collider_create(&mc, bx.x, bx.nv, bx.t, bx.nt, THICK, 0.3, NULL, &d), WC_OK);
+    wc_model m;
+    CHECK(ts_sheet(&m, N, 1.0, 0.0, 0, 1.0));
+    const int n = m.n_particles;
+    double* x = malloc(3 * (size_t)n * sizeof(double));
+    double* v = calloc(3 * (size_t)n, sizeof(double));
+    float* x4 = calloc(4 * (size_t)n, sizeof(float));
+    float* v4 = calloc(4 * (size_t)n, sizeof(float));
+    for (int i = 0; i < n; ++i) {
+        x[3 * i] = fr(m.rest_pos[3 * i]);
+        x[3 * i + 1] = 0.0;
+        x[3 * i + 2] = fr(m.rest_pos[3 * i + 2]);
+        for (int c = 0; c < 3; ++c) x4[4 * i + c] = (float)x[3 * i + c];
+    }
+    char err[512];
+    wg_layout L;
+    CHECK(wg_layout_init(&L, 10, g_dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
+    wg_runner run;
+    wg_runner_init(&run, g_dev, &L);
+    wg_mesh g;
+    CHECK(wg_mesh_init(&g, &run, &mg, 1, err, sizeof err));
+    wg_mesh_body_set(&g, 0, bx.x, bx.x);
+    mg->on_device = 1;
+    const wc_mesh_collider* const cg[1] = {mg};
+    const wc_mesh_collider* const cc[1] = {mc};
+    const int cap = 2 * (m.we.n_edges + m.n_tris) + 64;
+    wc_mesh_pairs* pg = wc_mesh_pairs_create(cap, n, cg, 1, NULL);
+    wc_mesh_pairs* pc = wc_mesh_pairs_create(cap, n, cc, 1, NULL);
+    CHECK(pg && pc);
+    wg_mesh_sharp* ms = NULL;
+    CHECK(wg_mesh_sharp_create(&run, &g, pg, &m, &ms, err, sizeof err));
+    wg_tex xt = {0}, vt = {0};
+    CHECK(wg_array_create(&L, &xt, GL_RGBA32F, n, x4, err, sizeof err));
+    CHECK(wg_array_create(&L, &vt, GL_RGBA32F, n, v4, err, sizeof err));
+    if (ms) {
+        wg_mesh_substep(&g, 0.0, 1.0, H);
+        wc_mesh_collider_substep(mc, 0.0, 1.0, H);
+        int found_core = wc_mesh_pairs_find(pc, cc, 1, &m, NULL, NULL, x, v, H, H);
+        int found = wg_mesh_sharp_find(ms, pg, &m, NULL, NULL, &xt, &vt, H, H, NULL);
+        cmp c = {0};
+        compare(&pc->list, &pg->list, x, &c);
+        printf("  level sheet over the rim: core %d pairs, GPU %d; matched %d, unmatched core %d GPU %d; normals %.2g, "
+               "gaps %.2g m\n", found_core, found, c.matched, c.unmatched_core, c.unmatched_gpu, c.n, c.gap);
+        CHECK(found_core > 0);
+        CHECK_EQ_INT(c.unmatched_core, 0);
+        CHECK_EQ_INT(c.unmatched_gpu, 0);
+        CHECK(c.n <= N_BOUND);
+        CHECK(c.gap <= GAP_BOUND);
+    }
+    wg_tex_destroy(&xt);
+    wg_tex_destroy(&vt);
+    wg_mesh_sharp_destroy(ms, 1);
+    wg_mesh_release(&g, 1);
+    wg_runner_destroy(&run);
+    wg_layout_destroy(&L);
+    wc_mesh_pairs_destroy(pg, NULL);
+    wc_mesh_pairs_destroy(pc, NULL);
+    wc_mesh_collider_destroy(mg);
+    wc_mesh_collider_destroy(mc);
+    wc_model_free(&m);
+    free(x), free(v), free(x4), free(v4);
+}
+
 int main(void) {
     if (!tg_gpu_open(&g_ctx, &g_dev)) return 1;
     RUN_TEST(test_pairs_against_core);
+    RUN_TEST(test_tie_level_rim);
     tg_gpu_close(g_ctx, g_dev);
     return TEST_SUMMARY();
 }

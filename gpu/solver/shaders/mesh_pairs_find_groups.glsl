@@ -6,8 +6,9 @@
 // inertial end x + h v, inflated by u_r, as core's walk; against their sharp edges (a cloth edge)
 // and sharp vertices, each once, the closest points interior to both features, within
 // the contact distance, the normal cone, the cloth point and the feature's particles in front of
-// the body (the walk skips the subtrees without a live triangle with a sharp vertex, as core's
-// does). A pair found goes to the slot an atomic counter (image 1, r32i) hands out: three
+// the body, the ties decided by core's band (closest points nearer than it: the first reached
+// triangle's normal, in core's walk's order; a point less than it behind: in front); the walk
+// skips the subtrees without a live triangle with a sharp vertex, as core's does. A pair found goes to the slot an atomic counter (image 1, r32i) hands out: three
 // texels (particles, q), (weights, off), (normal, body feature: an edge, or u_nef + a vertex);
 // past u_cap it is only counted. Its order is the GPU's: the host sorts the pairs by (q, body
 // feature). The particles' masses and k are the host's (wc_mesh_pairs_add_found).
@@ -30,6 +31,12 @@ layout(binding = 1, r32i) uniform iimage2D wg_img1;
 
 const float INTERIOR = 1e-6;
 const float TURN_COS = 0.9659;
+const float PAIR_TIE_REL = 1e-5;   // core/mesh_pairs.c TIE_REL: the ties' band (tie_band)
+
+float pair_tie_band(vec3 p) {
+    vec3 a = abs(p);
+    return PAIR_TIE_REL * max(u_th, max(a.x, max(a.y, a.z)));
+}
 
 int cnt;
 ivec3 P;
@@ -51,6 +58,10 @@ void closest_segments(vec3 p0, vec3 p1, vec3 q0, vec3 q1, out float ss, out floa
     else if (tt > 1.0) { tt = 1.0; ss = clamp((b - c) / a, 0.0, 1.0); }
 }
 
+// triangle t's leaf: the tree's nodes are in preorder, so core's walk (left child first) reaches
+// the leaves in increasing index
+int leaf_of(int t) { return int(ld(btri, t).w); }
+
 // triangle t reached by the walk: not degenerate, its leaf box meets the feature's
 bool reached(int t) {
     if (t < 0 || ld(mesh_tri, 3 * t + 1).xyz == vec3(0.0)) return false;
@@ -59,25 +70,29 @@ bool reached(int t) {
     return !(any(greaterThan(lo, bhi)) || any(lessThan(hi, blo)));
 }
 
-// the first of vertex r's triangles the walk reaches (-1: none)
+// the first of vertex r's triangles the walk reaches, in core's order (the smallest leaf; -1: none)
 int vertex_reached(int r) {
     vec4 row = ld(bvrow, r);
+    int first = -1, at = 0;
     for (int j = int(row.x); j < int(row.y); ++j) {
         int t = int(ld(bvlist, j).x);
-        if (reached(t)) return t;
+        if (!reached(t)) continue;
+        int l = leaf_of(t);
+        if (first < 0 || l < at) first = t, at = l;
     }
-    return -1;
+    return first;
 }
 
-bool behind(vec3 p, float reach) {
+// p more than the ties' band behind the body
+bool behind(vec3 p, float reach, float tie) {
     vec3 n, vc;
-    return mesh_closest(u_root, p, 0, reach, n, vc) < 0.0;
+    return mesh_closest(u_root, p, 0, reach, n, vc) < -tie;
 }
 
 void keep(vec3 w, vec3 cp0, vec3 bp0, vec3 bp1, vec3 vb, vec3 nb, bool cone, vec3 c1, vec3 c2, int fid) {
     vec3 d = cp0 - bp0;
-    float dist = length(d);
-    vec3 n = dist > 1e-9 * (u_th > 0.0 ? u_th : 1.0) ? d / dist : nb;
+    float dist = length(d), tie = pair_tie_band(cp0);
+    vec3 n = dist > tie ? d / dist : nb;
     if (cone) {
         float d1 = dot(n, c1), d2 = dot(n, c2);
         if (d1 + d2 < 0.0) return;
@@ -91,9 +106,11 @@ void keep(vec3 w, vec3 cp0, vec3 bp0, vec3 bp1, vec3 vb, vec3 nb, bool cone, vec
     float approach = -(dot(vc, n) - dot(vb, n));
     float dc = 2.0 * u_th + 1.5 * u_h * max(approach, 0.0);
     if (!(dist < dc)) return;
-    if (behind(cp0, dc + u_th)) return;
-    for (int k = 0; k < cnt; ++k)
-        if (behind(ld(x, P[k]).xyz, 1e30)) return;
+    if (behind(cp0, dc + u_th, tie)) return;
+    for (int k = 0; k < cnt; ++k) {
+        vec3 xk = ld(x, P[k]).xyz;
+        if (behind(xk, 1e30, pair_tie_band(xk))) return;
+    }
     float off = dot(n, bp1) + u_th;
     float cap = u_push * u_h, g0 = dot(n, cp0) - off;
     if (cap > 0.0 && g0 + cap < 0.0) off += g0 + cap;
@@ -118,7 +135,9 @@ void visit_edge(int t, vec3 p0, vec3 q0) {
         if (ld(sharp, e).x == 0.0) continue;
         vec4 be = ld(bedge, 2 * e);
         int t1 = int(be.z), t2 = int(be.w);
-        if (t != t1 && (t != t2 || reached(t1))) continue;
+        // the edge's owner: the first of its triangles core's walk reaches (the smaller leaf)
+        int own = t2 >= 0 && reached(t2) && (!reached(t1) || leaf_of(t2) < leaf_of(t1)) ? t2 : t1;
+        if (t != own) continue;
         int r = int(be.x), s = int(be.y);
         float a, b;
         closest_segments(p0, q0, xa(r), xa(s), a, b);
