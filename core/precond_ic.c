@@ -1,6 +1,7 @@
 /* Block IC(0) of the projected matrix (precond_ic.h). */
 #include <math.h>
 #include <string.h>
+#include "bsr_rows.h"
 #include "precond_ic.h"
 #include "solve_kernels.h"
 #include "vec3.h"
@@ -135,21 +136,21 @@ void wcs_ic_apply(const wcs_ic* ic, const double* r, double* t) {
     const int* col = p->col;
     const double* F = ic->F;
     const int n = p->n_rows;
+    /* each row's sum by the BSR row kernel (bsr_rows.h, AVX2 where the CPU has it), handed the
+       row's lower or strict upper blocks as a one-row pattern {first, end} */
+    wc_bsr_rows_fn rows = wc_bsr_rows_vector();
+    if (!rows) rows = wc_bsr_rows_scalar;
     for (int i = 0; i < n; ++i) { /* (D + L) w = r, w in t */
-        double s[3] = {r[3 * i], r[3 * i + 1], r[3 * i + 2]};
-        for (int b = rs[i]; b < p->diag[i]; ++b) {
-            const double* L = F + 9 * (size_t)b;
-            const double* w = t + 3 * col[b];
-            s[0] -= L[0] * w[0] + L[1] * w[1] + L[2] * w[2];
-            s[1] -= L[3] * w[0] + L[4] * w[1] + L[5] * w[2];
-            s[2] -= L[6] * w[0] + L[7] * w[1] + L[8] * w[2];
-        }
-        m3_mulv(t + 3 * i, ic->Dinv + 9 * (size_t)i, s);
+        const int range[2] = {rs[i], p->diag[i]};
+        double s[3];
+        rows(range, col, F, 0, 1, r + 3 * (size_t)i, -1.0, t, s);
+        m3_mulv(t + 3 * (size_t)i, ic->Dinv + 9 * (size_t)i, s);
     }
     for (int i = n - 1; i >= 0; --i) { /* (I + D^{-1} L^T) t = w */
-        double s[3] = {0.0, 0.0, 0.0}, d[3];
-        for (int b = p->diag[i] + 1; b < rs[i + 1]; ++b) m3_mulv_add(s, F + 9 * (size_t)b, t + 3 * col[b]);
+        const int range[2] = {p->diag[i] + 1, rs[i + 1]};
+        double s[3], d[3];
+        rows(range, col, F, 0, 1, NULL, 1.0, t, s);
         m3_mulv(d, ic->Dinv + 9 * (size_t)i, s);
-        v3_sub(t + 3 * i, t + 3 * i, d);
+        v3_sub(t + 3 * (size_t)i, t + 3 * (size_t)i, d);
     }
 }
