@@ -19,7 +19,7 @@
  *
  * Applied: t = M^{-1} r, a forward sweep (D + L) w = r and a backward one
  * (I + D^{-1} L^T) t = w, in place in t: each off-diagonal block read once per sweep, one 3x3
- * product per row per sweep. Sequential (a triangular solve): the iterations around it run on
+ * product per row per sweep, each row's sum of blocks in AVX2 registers as bsr_rows.c's kernel. Sequential (a triangular solve): the iterations around it run on
  * the threads, the sweeps on one. PCG filters the result into its direction (c = S (t + beta c)),
  * so the preconditioner it applies is S M^{-1} S, symmetric and positive definite on range(S). */
 #ifndef WEFT_CORE_PRECOND_IC_H
@@ -51,7 +51,9 @@ double wcs_ic_setup(wcs_ic* ic, const double* A, const wc_filter* f);
 /* One factorisation of P + alpha diag(P): 1 when every pivot is SPD (the factor is complete), 0 at
  * the first pivot that is not (the factor is then partial). Exposed for the tests. */
 int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha);
-/* t = M^{-1} r (t may alias r). */
+/* t = M^{-1} r (t may alias r): the row sums in AVX2 where the CPU has it, else scalar. */
 void wcs_ic_apply(const wcs_ic* ic, const double* r, double* t);
+/* The same with scalar row sums (exposed for the tests: both paths give the same t to rounding). */
+void wcs_ic_apply_scalar(const wcs_ic* ic, const double* r, double* t);
 
 #endif
