@@ -29,10 +29,12 @@ typedef enum wc_solver_type {
 typedef enum wc_precond_type {
     WC_PRECOND_BLOCK_JACOBI = 0, /* filtered 3x3 block diagonal D~^{-1} */
     WC_PRECOND_AMG = 1,          /* smoothed-aggregation multigrid V-cycle (amg.h) */
-    WC_PRECOND_COUNT = 2
+    WC_PRECOND_IC0 = 2,          /* block incomplete Cholesky IC(0) of the filtered matrix on its own
+                                    pattern (precond_ic.h); core only, not in the plugin's ABI */
+    WC_PRECOND_COUNT = 3
 } wc_precond_type;
 
-const char* wc_precond_name(wc_precond_type t);        /* "block_jacobi", "amg" */
+const char* wc_precond_name(wc_precond_type t);        /* "block_jacobi", "amg", "ic0" */
 int wc_precond_from_name(const char* name);            /* -1 when unknown */
 
 const char* wc_solver_name(wc_solver_type t);          /* "pcg", "jacobi", "chebyshev", "direct" */

@@ -2,7 +2,7 @@
  * projected system with every search direction filtered (c = S (P^{-1} r + beta c)), so the
  * iterate stays in z + range(S). Preconditioner: the filtered block-diagonal
  * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one, or the multigrid
- * V-cycle (amg.h); the direct solver runs the same iterations with its factor (wcs_pcg_run).
+ * V-cycle (amg.h), or the block IC(0) factor (precond_ic.h); the direct solver runs the same iterations with its factor (wcs_pcg_run).
  *
  * Stopping: ||r||_2 <= tolerance max(||S (b - A z)||_2, floor) (solve.h) with r the recursively
  * updated residual. When that test passes, the true residual S (b - A dv) is computed; if it is
@@ -17,7 +17,7 @@
  * Threads: an iteration's steps from the last preconditioned residual's r . t to the next update
  * (r . t, the direction, the checks, the product, the filtered dot, the update) run in one parallel
  * region with barriers between them; only a preconditioner other than the block diagonal (the
- * V-cycle, the direct factor) runs between the regions. Every sum is per chunk of WCS_CHUNK rows,
+ * V-cycle, the IC(0) sweeps, the direct factor) runs between the regions. Every sum is per chunk of WCS_CHUNK rows,
  * the chunks added in chunk order by every thread itself, so all threads take the same branches
  * and the bits do not depend on the thread count (docs/bench/threads.md). The couplings' product
  * runs on all threads through their row index (coupling.h: the terms' factors beside the pattern's
@@ -25,6 +25,7 @@
 #include <math.h>
 #include "bsr_rows.h"
 #include "clock.h"
+#include "precond_ic.h"
 #include "solve_pcg.h"
 #include "vec3.h"
 
@@ -36,14 +37,25 @@ static int precond_amg(wc_solver* s, double* rr, double* delta, wc_par* par) {
     return 0;
 }
 
+/* The IC(0) preconditioner: t = M^{-1} r, two triangular sweeps on one thread; PCG sums r . t. */
+static int precond_ic(wc_solver* s, double* rr, double* delta, wc_par* par) {
+    (void)rr;
+    (void)delta;
+    (void)par;
+    wcs_ic_apply(s->ic, s->r, s->t);
+    return 0;
+}
+
 wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,
                         wc_par* par, wc_solve_result* res) {
     const int amg = s->amg && s->opts.preconditioner == WC_PRECOND_AMG;
     double t_setup = wc_now_ms();
+    const int ic = s->ic && s->opts.preconditioner == WC_PRECOND_IC0;
     if (amg) wc_amg_setup(s->amg, A, f, par);
+    else if (ic) wcs_ic_setup(s->ic, A, f);
     else wcs_build_precond(s, A, f, par);
     res->setup_ms += wc_now_ms() - t_setup;
-    wc_status st = wcs_pcg_run(s, A, b, f, dv, par, res, amg ? precond_amg : NULL);
+    wc_status st = wcs_pcg_run(s, A, b, f, dv, par, res, amg ? precond_amg : ic ? precond_ic : NULL);
     if (amg && s->amg->bounds_reused && (st != WC_OK || !res->converged)) {
         /* the reused eigenvalue bounds may have fallen short of this matrix's (the smoother then
            amplifies the modes above them and the V-cycle can turn indefinite), or the kept coarse

@@ -4,7 +4,7 @@
 #define WEFT_CORE_SOLVE_PCG_H
 #include "solve_pcg_steps.h"
 
-/* PCG with the options' preconditioner (block Jacobi or the multigrid), built here and timed in
+/* PCG with the options' preconditioner (block Jacobi, the multigrid or IC(0)), built here and timed in
  * res->setup_ms. On entry dv is the projected initial guess and res->residual0, res->scale are
  * set (solver.c's start of a solve). */
 wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc_filter* f, double* dv,

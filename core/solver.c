@@ -3,6 +3,7 @@
  * to PCG, Jacobi/Chebyshev or the direct solver. Nothing below calls back here. */
 #include <math.h>
 #include <string.h>
+#include "precond_ic.h"
 #include "solve_direct.h"
 #include "solve_jacobi.h"
 #include "solve_kernels.h"
@@ -11,7 +12,7 @@
 
 static const char* const solver_names[WC_SOLVER_COUNT] = {"pcg", "jacobi", "chebyshev", "direct"};
 
-static const char* const precond_names[WC_PRECOND_COUNT] = {"block_jacobi", "amg"};
+static const char* const precond_names[WC_PRECOND_COUNT] = {"block_jacobi", "amg", "ic0"};
 
 const char* wc_precond_name(wc_precond_type t) {
     return (t >= 0 && t < WC_PRECOND_COUNT) ? precond_names[t] : "unknown";
@@ -104,6 +105,10 @@ wc_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_o
             return st;
         }
     }
+    if (opts->preconditioner == WC_PRECOND_IC0 && wcs_ic_create(&s->ic, &m->pattern, &s->alloc) != WC_OK) {
+        wc_solver_destroy(s);
+        return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "IC(0) factor for %d blocks", m->pattern.n_blocks);
+    }
     if (want_direct || opts->type == WC_SOLVER_DIRECT) {
         st = wcs_direct_create(s, diag);
         if (st != WC_OK) {
@@ -159,6 +164,7 @@ void wc_solver_destroy(wc_solver* s) {
     wcs_direct_destroy(s);
     wc_amg_destroy(s->amg);
     wc_allocator a = s->alloc;
+    wcs_ic_destroy(s->ic, &a);
     wc_coupling_rows_destroy(s->coupling_rows, &a);
     wc_free(&a, s->partial);
     wc_free(&a, s->Dinv);

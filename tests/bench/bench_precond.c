@@ -6,7 +6,7 @@
  * next substep (wc_substep_prepare) is solved from a zero guess by PCG with each preconditioner
  * to relative residual --tol, and by CHOLMOD. Columns: iterations, setup and solve ms, the true
  * relative residual, the error ||dv - dv_direct|| / ||dv_direct||, and the hierarchy's
- * operator/grid complexity and levels.
+ * operator/grid complexity and levels (the IC(0) row: the breakdown shift its setup needed).
  *
  *   bench_precond [--sizes 32,64,128,256] [--k 1,10,100,1000,10000] [--frames 10] [--tol 1e-4]
  *                 [--threads N] [--drop]          (--drop: a sheet lying flat on a sphere)
@@ -14,13 +14,16 @@
  *                                     the rigid-body modes (1); one "amg" row per value)
  *                 [--current]        (the rotations about the current positions instead of the
  *                                     rest positions: the hierarchy is built from a copy of the
- *                                     model whose rest positions are the state's) */
+ *                                     model whose rest positions are the state's)
+ *                 [--natural]        (the sheet's particles in its grid's row-major order instead
+ *                                     of the model's reverse Cuthill-McKee: IC(0)'s ordering) */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "amg.h"
 #include "clock.h"
+#include "precond_ic.h"
 #include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
@@ -46,11 +49,37 @@ static double rel(const double* a, const double* b, int n3) {
 }
 
 static int g_current = 0;
+static int g_natural = 0;
+
+/* ts_sheet (1 m, flat at y = 1, material x k_scale), its particles in the grid's own row-major
+ * order when g_natural (wc_model_def.reorder 0) instead of the model's reverse Cuthill-McKee. */
+static int sheet(wc_model* m, int n, double k_scale) {
+    if (!g_natural) return ts_sheet(m, n, 1.0, 1.0, 0, k_scale);
+    wc_source_mesh src;
+    ts_quad_grid(&src, n, n, 1.0, 1.0, 0);
+    for (int v = 0; v < src.n_verts; ++v) {
+        double* p = src.pos + 3 * v;
+        double gx = p[0], gy = p[1];
+        p[0] = gx - 0.5;
+        p[1] = 1.0;
+        p[2] = gy - 0.5;
+    }
+    wc_model_def def = wc_default_model_def();
+    def.reorder = 0;
+    for (int t = 0; t < WC_SPRING_TYPE_COUNT; ++t) {
+        def.material.k[t] *= k_scale;
+        def.material.d[t] *= k_scale;
+    }
+    wc_diag d = {0};
+    wc_status st = wc_model_build(m, &src, &def, NULL, &d);
+    wc_source_mesh_free(&src);
+    return st == WC_OK;
+}
 
 static void run_case(int n, double k_scale, int frames, double tol, int threads, int drop, const double* rots,
                      int n_rots) {
     wc_model m;
-    if (!ts_sheet(&m, n, 1.0, 1.0, 0, k_scale)) return;
+    if (!sheet(&m, n, k_scale)) return;
     wc_sim_def def = wc_default_sim_def();
     def.solver.type = WC_SOLVER_DIRECT;
     def.threads = threads;
@@ -128,6 +157,7 @@ static void run_case(int n, double k_scale, int frames, double tol, int threads,
         if (sv->amg)
             snprintf(extra, sizeof extra, "%d lev, op %.2f, grid %.2f, build %.0f ms", sv->amg->n_levels,
                      wc_amg_operator_complexity(sv->amg), wc_amg_grid_complexity(sv->amg), create_ms);
+        if (sv->ic) snprintf(extra, sizeof extra, "shift %g%s", sv->ic->shift, sv->ic->jacobi ? " (block diagonal)" : "");
         if (sv->amg && getenv("XAMG_DEBUG"))
             for (int l = 0; l < sv->amg->n_levels; ++l)
                 fprintf(stderr, "level %d: n %d blocks %d bound %g\n", l, sv->amg->lev[l].n, sv->amg->lev[l].n_blocks,
@@ -159,15 +189,17 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[a], "--threads") && a + 1 < argc) threads = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--drop")) drop = 1;
         else if (!strcmp(argv[a], "--current")) g_current = 1;
+        else if (!strcmp(argv[a], "--natural")) g_natural = 1;
         else if (!strcmp(argv[a], "--rotations") && a + 1 < argc) n_rots = parse_list(argv[++a], rots, 2);
         else {
-            fprintf(stderr, "usage: bench_precond [--sizes LIST] [--k LIST] [--frames N] [--tol T] [--threads N] [--drop] [--rotations 0,1] [--current]\n");
+            fprintf(stderr, "usage: bench_precond [--sizes LIST] [--k LIST] [--frames N] [--tol T] [--threads N] [--drop] [--rotations 0,1] [--current] [--natural]\n");
             return 2;
         }
     }
-    printf("%s, %d frames at 1/30 s, then one solve to %.0e; %d thread(s)\n\n",
-           drop ? "sheet dropped on a sphere" : "sheet hanging from two corners", frames, tol, threads);
-    printf("| n | k x | preconditioner | it | setup ms | solve ms | residual | err vs direct | hierarchy |\n");
+    printf("%s, %d frames at 1/30 s, then one solve to %.0e; %d thread(s)%s\n\n",
+           drop ? "sheet dropped on a sphere" : "sheet hanging from two corners", frames, tol, threads,
+           g_natural ? "; particles in grid order" : "");
+    printf("| n | k x | preconditioner | it | setup ms | solve ms | residual | err vs direct | hierarchy (ic0: shift) |\n");
     printf("|---|---|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < n_sizes; ++i)
         for (int j = 0; j < n_k; ++j) run_case((int)sizes[i], ks[j], frames, tol, threads, drop, rots, n_rots);

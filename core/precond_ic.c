@@ -1,0 +1,211 @@
+/* Block IC(0) of the projected matrix (precond_ic.h). */
+#include <math.h>
+#include <string.h>
+#include "bsr_rows.h"
+#include "precond_ic.h"
+#include "solve_kernels.h"
+#include "vec3.h"
+
+wc_status wcs_ic_create(wcs_ic** out, const wc_bsr_pattern* p, const wc_allocator* a) {
+    *out = NULL;
+    wcs_ic* ic = WC_NEW(a, wcs_ic, 1);
+    if (!ic) return WC_ERROR_OUT_OF_MEMORY;
+    ic->p = p;
+    ic->F = WC_NEW(a, double, 9 * (size_t)p->n_blocks);
+    ic->Dinv = WC_NEW(a, double, 9 * (size_t)p->n_rows);
+    if (!ic->F || !ic->Dinv) {
+        wcs_ic_destroy(ic, a);
+        return WC_ERROR_OUT_OF_MEMORY;
+    }
+    *out = ic;
+    return WC_OK;
+}
+
+void wcs_ic_destroy(wcs_ic* ic, const wc_allocator* a) {
+    if (!ic) return;
+    wc_free(a, ic->F);
+    wc_free(a, ic->Dinv);
+    wc_free(a, ic);
+}
+
+/* o = a^T b (o may not alias a or b) */
+static inline void m3_tmul(double* o, const double* a, const double* b) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) o[3 * i + j] = a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j];
+}
+
+/* o -= a b */
+static inline void m3_mul_sub(double* o, const double* a, const double* b) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            o[3 * i + j] -= a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+}
+
+/* D symmetrised in place; its inverse in Dinv when its Cholesky pivots exceed 1e-12 x ref's
+ * diagonal (the pivot block before the updates). 1 on success. */
+static int pivot(double* D, const double* ref, double* Dinv) {
+    double a01 = 0.5 * (D[1] + D[3]), a02 = 0.5 * (D[2] + D[6]), a12 = 0.5 * (D[5] + D[7]);
+    D[1] = D[3] = a01;
+    D[2] = D[6] = a02;
+    D[5] = D[7] = a12;
+    const double tol = 1e-12;
+    double p0 = D[0];
+    if (!(p0 > tol * fabs(ref[0])) || !isfinite(p0)) return 0;
+    double minor2 = D[0] * D[4] - a01 * a01, p1 = minor2 / p0;
+    if (!(p1 > tol * fabs(ref[4])) || !isfinite(p1)) return 0;
+    double det = m3_inverse(Dinv, D), p2 = det / minor2;
+    return p2 > tol * fabs(ref[8]) && isfinite(p2);
+}
+
+int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+    const wc_bsr_pattern* p = ic->p;
+    const int* rs = p->row_start;
+    const int* col = p->col;
+    double* F = ic->F;
+    for (int i = 0; i < p->n_rows; ++i) {
+        const int d = p->diag[i], end = rs[i + 1];
+        /* row i's upper blocks: P's (the diagonal shifted) */
+        for (int b = d; b < end; ++b) wcs_project_block(f, i, col[b], A + 9 * (size_t)b, F + 9 * (size_t)b);
+        double ref[9];
+        memcpy(ref, F + 9 * (size_t)d, sizeof ref);
+        if (alpha != 0.0)
+            for (int k = 0; k < 9; k += 4) F[9 * (size_t)d + k] += alpha * fabs(ref[k]);
+        /* each lower neighbour k (ascending): L_ik = U_ki^T, and (i, j) -= L_ik D_k^{-1} U_kj */
+        for (int b = rs[i]; b < d; ++b) {
+            const int k = col[b], bki = p->transpose[b];
+            const double* Uki = F + 9 * (size_t)bki;
+            double* Lik = F + 9 * (size_t)b;
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) Lik[3 * r + c] = Uki[3 * c + r];
+            double G[9]; /* L_ik D_k^{-1} */
+            m3_mul(G, Lik, ic->Dinv + 9 * (size_t)k);
+            /* merge row k's blocks from (k, i) on with row i's from (i, i) on */
+            int bk = bki, bi = d;
+            const int ek = rs[k + 1];
+            while (bk < ek && bi < end) {
+                if (col[bk] < col[bi]) ++bk;
+                else if (col[bk] > col[bi]) ++bi;
+                else {
+                    m3_mul_sub(F + 9 * (size_t)bi, G, F + 9 * (size_t)bk);
+                    ++bk;
+                    ++bi;
+                }
+            }
+        }
+        if (!pivot(F + 9 * (size_t)d, ref, ic->Dinv + 9 * (size_t)i)) return 0;
+    }
+    return 1;
+}
+
+/* The fallback: no off-diagonal blocks, D_i = D~_i (identity where singular), as block Jacobi. */
+static void factor_diagonal(wcs_ic* ic, const double* A, const wc_filter* f) {
+    const wc_bsr_pattern* p = ic->p;
+    memset(ic->F, 0, sizeof(double) * 9 * (size_t)p->n_blocks);
+    for (int i = 0; i < p->n_rows; ++i) {
+        double* D = ic->F + 9 * (size_t)p->diag[i];
+        wcs_project_block(f, i, i, A + 9 * (size_t)p->diag[i], D);
+        if (m3_inverse(ic->Dinv + 9 * (size_t)i, D) == 0.0) {
+            m3_identity(ic->Dinv + 9 * (size_t)i, 1.0);
+            m3_identity(D, 1.0);
+        }
+    }
+}
+
+double wcs_ic_setup(wcs_ic* ic, const double* A, const wc_filter* f) {
+    ++ic->setups;
+    ic->jacobi = 0;
+    double alpha = 0.0;
+    for (int attempt = 0; attempt <= WCS_IC_MAX_SHIFTS; ++attempt) {
+        if (wcs_ic_factor(ic, A, f, alpha)) {
+            ic->shift = alpha;
+            if (alpha > 0.0) ++ic->shifted;
+            return alpha;
+        }
+        alpha = alpha == 0.0 ? 1e-3 : 4.0 * alpha;
+    }
+    factor_diagonal(ic, A, f);
+    ic->jacobi = 1;
+    ic->shift = -1.0;
+    ++ic->fallbacks;
+    return -1.0;
+}
+
+void wcs_ic_apply_scalar(const wcs_ic* ic, const double* r, double* t) {
+    const wc_bsr_pattern* p = ic->p;
+    const int* rs = p->row_start;
+    const int* col = p->col;
+    const double* F = ic->F;
+    const int n = p->n_rows;
+    for (int i = 0; i < n; ++i) { /* (D + L) w = r, w in t */
+        double s[3];
+        const int range[2] = {rs[i], p->diag[i]};
+        wc_bsr_rows_scalar(range, col, F, 0, 1, r + 3 * (size_t)i, -1.0, t, s);
+        m3_mulv(t + 3 * (size_t)i, ic->Dinv + 9 * (size_t)i, s);
+    }
+    for (int i = n - 1; i >= 0; --i) { /* (I + D^{-1} L^T) t = w */
+        double s[3], d[3];
+        const int range[2] = {p->diag[i] + 1, rs[i + 1]};
+        wc_bsr_rows_scalar(range, col, F, 0, 1, NULL, 1.0, t, s);
+        m3_mulv(d, ic->Dinv + 9 * (size_t)i, s);
+        v3_sub(t + 3 * (size_t)i, t + 3 * (size_t)i, d);
+    }
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+/* Sum over blocks [k0, k1) of F_k x_{col k}, each block row in one register (lane 3 zero, as
+ * bsr_rows.c's kernel), then D^{-1} times it: out = Dinv (s0 + sign sum), out 3 doubles. */
+__attribute__((target("avx2,fma"))) static inline void row_solve(const double* F, const int* col, int k0, int k1,
+                                                                  const double* x, const double* s0, double sign,
+                                                                  const double* Dinv, double* out) {
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
+    for (int k = k0; k < k1; ++k) {
+        const double* B = F + 9 * (size_t)k;
+        const __m256d v = _mm256_maskload_pd(x + 3 * (size_t)col[k], m3);
+        a0 = _mm256_fmadd_pd(_mm256_loadu_pd(B), v, a0);
+        a1 = _mm256_fmadd_pd(_mm256_loadu_pd(B + 3), v, a1);
+        a2 = _mm256_fmadd_pd(_mm256_maskload_pd(B + 6, m3), v, a2);
+    }
+    /* horizontal sums: (a0, a1, a2) -> the row's three sums in lanes 0..2 */
+    __m256d h01 = _mm256_hadd_pd(a0, a1);                /* a0[0]+a0[1], a1[0]+a1[1], a0[2]+a0[3], a1[2]+a1[3] */
+    __m256d h22 = _mm256_hadd_pd(a2, a2);
+    __m128d s01 = _mm_add_pd(_mm256_castpd256_pd128(h01), _mm256_extractf128_pd(h01, 1));
+    __m128d s22 = _mm_add_pd(_mm256_castpd256_pd128(h22), _mm256_extractf128_pd(h22, 1));
+    double v[3];
+    _mm_storeu_pd(v, s01);
+    v[2] = _mm_cvtsd_f64(s22);
+    if (s0) {
+        v[0] = s0[0] + sign * v[0];
+        v[1] = s0[1] + sign * v[1];
+        v[2] = s0[2] + sign * v[2];
+    }
+    m3_mulv(out, Dinv, v);
+}
+
+__attribute__((target("avx2,fma"))) static void apply_avx2(const wcs_ic* ic, const double* r, double* t) {
+    const wc_bsr_pattern* p = ic->p;
+    const int* rs = p->row_start;
+    const int* col = p->col;
+    const int* diag = p->diag;
+    const double* F = ic->F;
+    const int n = p->n_rows;
+    for (int i = 0; i < n; ++i) /* (D + L) w = r, w in t */
+        row_solve(F, col, rs[i], diag[i], t, r + 3 * (size_t)i, -1.0, ic->Dinv + 9 * (size_t)i, t + 3 * (size_t)i);
+    for (int i = n - 1; i >= 0; --i) { /* (I + D^{-1} L^T) t = w */
+        double d[3];
+        row_solve(F, col, diag[i] + 1, rs[i + 1], t, NULL, 1.0, ic->Dinv + 9 * (size_t)i, d);
+        v3_sub(t + 3 * (size_t)i, t + 3 * (size_t)i, d);
+    }
+}
+
+static int have_avx2(void) { return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); }
+#else
+static void apply_avx2(const wcs_ic* ic, const double* r, double* t) { wcs_ic_apply_scalar(ic, r, t); }
+static int have_avx2(void) { return 0; }
+#endif
+
+void wcs_ic_apply(const wcs_ic* ic, const double* r, double* t) {
+    if (have_avx2()) apply_avx2(ic, r, t);
+    else wcs_ic_apply_scalar(ic, r, t);
+}
