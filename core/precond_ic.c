@@ -28,12 +28,6 @@ void wcs_ic_destroy(wcs_ic* ic, const wc_allocator* a) {
     wc_free(a, ic);
 }
 
-/* o = a^T b (o may not alias a or b) */
-static inline void m3_tmul(double* o, const double* a, const double* b) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) o[3 * i + j] = a[i] * b[j] + a[3 + i] * b[3 + j] + a[6 + i] * b[6 + j];
-}
-
 /* o -= a b */
 static inline void m3_mul_sub(double* o, const double* a, const double* b) {
     for (int i = 0; i < 3; ++i)
