@@ -1,6 +1,7 @@
-/* Real filtered cloth systems for the multigrid tests (test_amg.c, test_amg_setup.c): an n x n
- * sheet hanging from two corners (HANG), dropped on a sphere (DRAPE) or held by line pins (LINE),
- * after `frames` direct frames, with the next substep's system prepared in s->A, s->b, s->filter. */
+/* Real filtered cloth systems for the preconditioner tests (test_amg.c, test_amg_setup.c,
+ * test_precond_ic.c, ...): an n x n sheet hanging from two corners (HANG), dropped on a sphere
+ * (DRAPE) or held by line pins (LINE), after `frames` direct frames, with the next substep's
+ * system prepared in s->A, s->b, s->filter; and a counting allocator. */
 #ifndef WEFT_TESTS_AMG_SCENE_H
 #define WEFT_TESTS_AMG_SCENE_H
 #include <math.h>
@@ -64,17 +65,29 @@ static inline void free_scene(scene* sc) {
     wc_model_free(&sc->m);
 }
 
-/* A PCG solver with the multigrid preconditioner, relative tolerance tol, at most 500 iterations
- * (alloc: NULL for the default allocator). */
-static inline wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
+/* An allocator over malloc that counts its calls in a counter (wc_allocator a = {count_alloc,
+ * count_free, &c}): the tests that solves allocate nothing and destroy frees everything. */
+typedef struct counter { long allocs, frees; } counter;
+static inline void* count_alloc(size_t n, void* u) { return ++((counter*)u)->allocs, malloc(n); }
+static inline void count_free(void* ptr, void* u) { ++((counter*)u)->frees, free(ptr); }
+
+/* A PCG solver with preconditioner pre, relative tolerance tol, at most max_iterations (alloc:
+ * NULL for the default allocator). */
+static inline wc_solver* pcg_solver(const wc_model* m, wc_precond_type pre, double tol, int max_iterations,
+                                    const wc_allocator* alloc) {
     wc_solver_opts o = wc_default_solver_opts();
-    o.preconditioner = WC_PRECOND_AMG;
+    o.preconditioner = pre;
     o.tolerance = tol;
-    o.max_iterations = 500;
+    o.max_iterations = max_iterations;
     wc_solver* sv = NULL;
     wc_diag d = {0};
     CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WC_OK);
     return sv;
+}
+
+/* ... with the multigrid preconditioner, at most 500 iterations */
+static inline wc_solver* amg_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
+    return pcg_solver(m, WC_PRECOND_AMG, tol, 500, alloc);
 }
 
 /* Symmetry and positive definiteness of S M^-1 S (what PCG sees) on random vectors, after a setup

@@ -3,7 +3,7 @@
  * arrays between the GPU and the CPU (uploads, read-backs, the contact state through
  * wg_contacts_download) with their comparisons (CHECKs) to float precision; the analytic
  * colliders' scenario (particles scattered around a plane, sphere or capsule and a crossing plane,
- * a synthetic system). */
+ * a synthetic system, its residual). */
 #ifndef WEFT_TESTS_GPU_CONTACTS_SUPPORT_H
 #define WEFT_TESTS_GPU_CONTACTS_SUPPORT_H
 #include <math.h>
@@ -285,6 +285,19 @@ static inline void scatter_analytic(wc_state* s, const wc_collider* c, int nc, d
     f->ndof[1] = 2;
     f->S[18 + 4] = 0.0;
     f->ndof[2] = 1;
+}
+
+/* r = A dv - b over the pattern (n x 3). */
+static inline void residual(const wc_model* m, const double* A, const double* b, const double* dv, double* r) {
+    for (int i = 0; i < m->n_particles; ++i) {
+        double y[3] = {0, 0, 0};
+        for (int k = m->pattern.row_start[i]; k < m->pattern.row_start[i + 1]; ++k) {
+            const double* a = A + 9 * k;
+            const double* xj = dv + 3 * m->pattern.col[k];
+            for (int q = 0; q < 3; ++q) y[q] += a[3 * q] * xj[0] + a[3 * q + 1] * xj[1] + a[3 * q + 2] * xj[2];
+        }
+        for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
+    }
 }
 
 /* A = M + small symmetric blocks (diagonal ones SPD-ish), b = h f + noise, f = weight into the

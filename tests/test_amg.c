@@ -398,10 +398,6 @@ static void test_shuffled(void) {
     free_scene(&sc);
 }
 
-typedef struct counter { long allocs, frees; } counter;
-static void* count_alloc(size_t n, void* u) { return ++((counter*)u)->allocs, malloc(n); }
-static void count_free(void* ptr, void* u) { ++((counter*)u)->frees, free(ptr); }
-
 static void test_threads_and_allocation(void) {
     scene sc;
     if (!make_scene(&sc, 40, 1.0, DRAPE, 12)) return;

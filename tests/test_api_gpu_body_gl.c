@@ -33,6 +33,7 @@
 #include "api_grid.h"
 #include "check.h"
 #include "egl_context.h"
+#include "host_context.h"
 #include "host_gl_passes.h"
 #include "test_meshes.h"
 
@@ -83,17 +84,6 @@ static GLuint make_buffer(size_t bytes) {
     glBufferData(GL_COPY_WRITE_BUFFER, (GLsizeiptr)bytes, NULL, GL_DYNAMIC_DRAW);
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
     return b;
-}
-
-static weft_context* make_ctx(weft_backend backend, weft_gl_mode mode) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
-    cd.gl_mode = mode;
-    weft_context* ctx = NULL;
-    weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
-    CHECK_EQ_INT(st, WEFT_OK);
-    return st == WEFT_OK ? ctx : NULL;
 }
 
 /* A cloth of the sheet with one mesh collider (nv vertices x, nt triangles t). */
@@ -231,21 +221,10 @@ static void refusals(weft_context* ctx, weft_cloth c, GLuint buf, wg_gl_context*
     free(ref);
 }
 
-/* A host's headless context, current (NULL when none could be made). */
-static wg_gl_context* host_begin(void) {
-    char err[512];
-    wg_gl_context_desc hd;
-    memset(&hd, 0, sizeof hd);
-    wg_gl_context* host = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
-    if (host) CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
-    return host;
-}
-
 /* The two cloths of one host-current context, frame by frame; refusals on the buffer's cloth at
  * frame 15 (after its body was set for that frame). */
 static void test_buffer_matches_arrays(void) {
-    wg_gl_context* host = host_begin();
+    wg_gl_context* host = hc_host_begin();
     if (!host) return;
     /* the host's own buffer bindings, which the calls must leave alone */
     GLuint mine[3];
@@ -256,7 +235,7 @@ static void test_buffer_matches_arrays(void) {
     bindings before, after;
     record(&before);
 
-    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    weft_context* ctx = hc_context(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
     if (ctx) {
         weft_cloth a = make_cloth(ctx), b = make_cloth(ctx), u = make_cloth(ctx);   /* u: a body 1 ulp off */
         const int nv = g_tm.nv, n = N * N;
@@ -414,9 +393,9 @@ static void floor_frame(weft_context* ctx, weft_cloth a, weft_cloth b, const flo
 }
 
 static void test_sleep_on_still_body(void) {
-    wg_gl_context* host = host_begin();
+    wg_gl_context* host = hc_host_begin();
     if (!host) return;
-    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    weft_context* ctx = hc_context(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
     if (ctx) {
         const float y = 0.49f;   /* the sheet lies at 0.5 m */
         float floor[12] = {-2, y, -2, -2, y, 2, 2, y, 2, 2, y, -2};
@@ -476,9 +455,9 @@ static int failed_frame(weft_context* ctx, weft_cloth c, const weft_frame* fr) {
 }
 
 static void test_failed_frames_roll_back(void) {
-    wg_gl_context* host = host_begin();
+    wg_gl_context* host = hc_host_begin();
     if (!host) return;
-    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    weft_context* ctx = hc_context(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
     if (ctx) {
         weft_cloth r = make_cloth(ctx), f = make_cloth(ctx);
         const int nv = g_tm.nv, n = N * N;
@@ -540,14 +519,14 @@ static void test_failed_frames_roll_back(void) {
 
 /* A CPU cloth, and a GPU cloth of a headless context: refused, naming what to use instead. */
 static void test_other_contexts(void) {
-    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU, WEFT_GL_HEADLESS);
+    weft_context* cpu = hc_context(WEFT_BACKEND_CPU, WEFT_GL_HEADLESS);
     if (cpu) {
         weft_cloth c = make_cloth(cpu);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(cpu, c, 0, 1, 0, 0, g_tm.nv), WEFT_ERROR_UNSUPPORTED);
         CHECK(has(cpu, "CPU backend") && has(cpu, "weft_cloth_set_mesh_collider_vertices"));
         weft_context_destroy(cpu);
     }
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS);
+    weft_context* gpu = hc_context(WEFT_BACKEND_GPU, WEFT_GL_HEADLESS);
     if (gpu) {
         weft_cloth c = make_cloth(gpu);
         CHECK_EQ_INT(weft_cloth_set_mesh_collider_gl_buffer(gpu, c, 0, 1, 0, 0, g_tm.nv), WEFT_ERROR_UNSUPPORTED);

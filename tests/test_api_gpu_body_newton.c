@@ -33,6 +33,7 @@
 #include "api_grid.h"
 #include "check.h"
 #include "egl_context.h"
+#include "host_context.h"
 #include "host_gl_passes.h"
 #include "test_meshes.h"
 
@@ -89,22 +90,10 @@ typedef struct totals {
 } totals;
 
 static void run_method(const method* me) {
-    char err[512];
-    wg_gl_context_desc hd;
-    memset(&hd, 0, sizeof hd);
-    wg_gl_context* host = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    wg_gl_context* host = hc_host_begin();
     if (!host) return;
-    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = WEFT_BACKEND_GPU;
-    cd.gl_mode = WEFT_GL_HOST_CURRENT;
-    weft_context *ctx = NULL, *cpu = NULL;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
-    cd.backend = WEFT_BACKEND_CPU;
-    cd.gl_mode = weft_default_context_def().gl_mode;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &cpu), WEFT_OK);
+    weft_context* ctx = hc_context(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
+    weft_context* cpu = hc_context(WEFT_BACKEND_CPU, weft_default_context_def().gl_mode);
     tmesh bx;
     box(&bx, LO, HI);
     float body[24], rest[24];

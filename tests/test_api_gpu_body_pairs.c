@@ -28,6 +28,7 @@
 #include "api_grid.h"
 #include "check.h"
 #include "egl_context.h"
+#include "host_context.h"
 #include "host_gl_passes.h"
 #include "test_meshes.h"
 
@@ -65,19 +66,9 @@ typedef struct totals {
 
 /* One box (two = 0) or a still box beside the rising one (two = 1). */
 static void run_boxes(int two) {
-    char err[512];
-    wg_gl_context_desc hd;
-    memset(&hd, 0, sizeof hd);
-    wg_gl_context* host = NULL;
-    CHECK_EQ_INT(wg_gl_context_create(&hd, &host, err, sizeof err), WEFT_OK);
+    wg_gl_context* host = hc_host_begin();
     if (!host) return;
-    CHECK_EQ_INT(wg_gl_begin(host, err, sizeof err), WEFT_OK);
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = WEFT_BACKEND_GPU;
-    cd.gl_mode = WEFT_GL_HOST_CURRENT;
-    weft_context* ctx = NULL;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
+    weft_context* ctx = hc_context(WEFT_BACKEND_GPU, WEFT_GL_HOST_CURRENT);
     tmesh bx, still;
     box(&bx, two ? LO_B : LO, two ? HI_B : HI);
     box(&still, LO_A, HI_A);

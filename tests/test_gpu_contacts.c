@@ -148,15 +148,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
     /* 3b. recheck: dv a guess, r = A dv - b */
     for (int i = 0; i < 3 * n; ++i) dv[i] = fr(srnd(0.5));
     upload3(g, &g->sv[0], dv);
-    for (int i = 0; i < n; ++i) {
-        double y[3] = {0, 0, 0};
-        for (int k = m.pattern.row_start[i]; k < m.pattern.row_start[i + 1]; ++k) {
-            const double* a = A + 9 * k;
-            const double* xj = dv + 3 * m.pattern.col[k];
-            for (int q = 0; q < 3; ++q) y[q] += a[3 * q] * xj[0] + a[3 * q + 1] * xj[1] + a[3 * q + 2] * xj[2];
-        }
-        for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
-    }
+    residual(&m, A, b, dv, r);
     int ch_cpu = wc_contacts_friction_recheck(&s->contacts, c, nc, s->v, m.mass, r, &s->filter, A, m.pattern.diag, b,
                                               &s->par);
     int ch_gpu = wg_contacts_recheck(g->contacts, s, &g->sv[0]);
@@ -179,15 +171,7 @@ static void run_case(int kind, int moving, unsigned long long seed) {
        on the same numbers */
     memcpy(A, Ag, (size_t)nb * 9 * sizeof(double));
     memcpy(b, bg, (size_t)n * 3 * sizeof(double));
-    for (int i = 0; i < n; ++i) {
-        double y[3] = {0, 0, 0};
-        for (int k = m.pattern.row_start[i]; k < m.pattern.row_start[i + 1]; ++k) {
-            const double* a = A + 9 * k;
-            const double* xj = dv + 3 * m.pattern.col[k];
-            for (int q = 0; q < 3; ++q) y[q] += a[3 * q] * xj[0] + a[3 * q + 1] * xj[1] + a[3 * q + 2] * xj[2];
-        }
-        for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
-    }
+    residual(&m, A, b, dv, r);
     wc_contacts_end(&s->contacts, nc, r, &s->par);
     wg_contacts_end(g->contacts, s, &g->sv[1], 0);
     int rel = 0;

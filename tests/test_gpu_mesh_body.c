@@ -122,9 +122,8 @@ static void test_body_against_core(void) {
 
     char err[512];
     wg_layout L;
-    CHECK(wg_layout_init(&L, 10, g_dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
     wg_runner run;
-    wg_runner_init(&run, g_dev, &L);
+    CHECK(tg_runner_open(g_dev, &L, &run, err, sizeof err));
     wg_mesh g;
     int made = wg_mesh_init(&g, &run, mc, 2, err, sizeof err);
     CHECK(made);
@@ -179,8 +178,7 @@ static void test_body_against_core(void) {
     CHECK(run.fault[0] == '\0');
 
     wg_mesh_release(&g, 1);
-    wg_runner_destroy(&run);
-    wg_layout_destroy(&L);
+    tg_runner_close(&run, &L);
     for (int k = 0; k < 2; ++k) wc_mesh_collider_destroy(mc[k]);
     wc_mesh_collider_destroy(ref);
     free(to), free(box_to);

@@ -105,6 +105,84 @@ static void compare(const wc_penalty_pairs* a, const wc_penalty_pairs* b, const 
     free(used);
 }
 
+/* One body twice (the GPU's resident copy mg, core's mc) and a 24 x 24 sheet over it: the sheet's
+ * positions x and velocities v (zero until the test sets them, before rig_device), their float
+ * copies on the GPU, and each side's pair list and finder. */
+typedef struct rig {
+    const tmesh* bx;
+    const double* to;   /* the body's frame end (NULL: at rest) */
+    wc_mesh_collider *mg, *mc;
+    const wc_mesh_collider* cg[1];
+    const wc_mesh_collider* cc[1];
+    wc_model m;
+    int n;
+    double *x, *v;
+    wg_layout L;
+    wg_runner run;
+    wg_mesh g;
+    wc_mesh_pairs *pg, *pc;
+    wg_mesh_sharp* ms;
+    wg_tex xt, vt;
+} rig;
+
+/* the body bx (moving to `to` over the frame; NULL: at rest) on both sides and the sheet */
+static void rig_open(rig* r, const tmesh* bx, const double* to) {
+    memset(r, 0, sizeof *r);
+    r->bx = bx;
+    r->to = to;
+    wc_diag d = {0};
+    CHECK_EQ_INT(wc_mesh_collider_create(&r->mg, bx->x, bx->nv, bx->t, bx->nt, THICK, 0.3, NULL, &d), WC_OK);
+    CHECK_EQ_INT(wc_mesh_collider_create(&r->mc, bx->x, bx->nv, bx->t, bx->nt, THICK, 0.3, NULL, &d), WC_OK);
+    if (to) CHECK_EQ_INT(wc_mesh_collider_set_target(r->mc, to, &d), WC_OK);
+    CHECK(ts_sheet(&r->m, N, 1.0, 0.0, 0, 1.0));
+    r->n = r->m.n_particles;
+    r->x = calloc(3 * (size_t)r->n, sizeof(double));
+    r->v = calloc(3 * (size_t)r->n, sizeof(double));
+}
+
+/* the GPU's side once x and v are set: mg resident (from bx to `to`, or at rest), both pair lists,
+ * the finder, x and v as floats */
+static void rig_device(rig* r) {
+    const int n = r->n;
+    float* x4 = calloc(4 * (size_t)n, sizeof(float));
+    float* v4 = calloc(4 * (size_t)n, sizeof(float));
+    for (int i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            x4[4 * i + c] = (float)r->x[3 * i + c];
+            v4[4 * i + c] = (float)r->v[3 * i + c];
+        }
+    char err[512];
+    CHECK(tg_runner_open(g_dev, &r->L, &r->run, err, sizeof err));
+    CHECK(wg_mesh_init(&r->g, &r->run, &r->mg, 1, err, sizeof err));
+    wg_mesh_body_set(&r->g, 0, r->bx->x, r->to ? r->to : r->bx->x);
+    r->mg->on_device = 1;
+    r->cg[0] = r->mg;
+    r->cc[0] = r->mc;
+    const int cap = 2 * (r->m.we.n_edges + r->m.n_tris) + 64;
+    r->pg = wc_mesh_pairs_create(cap, n, r->cg, 1, NULL);
+    r->pc = wc_mesh_pairs_create(cap, n, r->cc, 1, NULL);
+    CHECK(r->pg && r->pc);
+    CHECK(wg_mesh_sharp_create(&r->run, &r->g, r->pg, &r->m, &r->ms, err, sizeof err));
+    if (!r->ms) printf("  wg_mesh_sharp_create: %s\n", err);
+    CHECK(wg_array_create(&r->L, &r->xt, GL_RGBA32F, n, x4, err, sizeof err));
+    CHECK(wg_array_create(&r->L, &r->vt, GL_RGBA32F, n, v4, err, sizeof err));
+    free(x4), free(v4);
+}
+
+static void rig_close(rig* r) {
+    wg_tex_destroy(&r->xt);
+    wg_tex_destroy(&r->vt);
+    wg_mesh_sharp_destroy(r->ms, 1);
+    wg_mesh_release(&r->g, 1);
+    tg_runner_close(&r->run, &r->L);
+    wc_mesh_pairs_destroy(r->pg, NULL);
+    wc_mesh_pairs_destroy(r->pc, NULL);
+    wc_mesh_collider_destroy(r->mg);
+    wc_mesh_collider_destroy(r->mc);
+    wc_model_free(&r->m);
+    free(r->x), free(r->v);
+}
+
 static void test_pairs_against_core(void) {
     if (!g_dev->compute) {
         printf("  fragment passes: every body is moved on the host (nothing to compare)\n");
@@ -120,21 +198,12 @@ static void test_pairs_against_core(void) {
     for (int i = 0; i < 3 * bx.nv; ++i) bx.x[i] = fr(bx.x[i]);
     double* to = malloc(3 * (size_t)bx.nv * sizeof(double));
     for (int i = 0; i < 3 * bx.nv; ++i) to[i] = fr(1.01 * bx.x[i] + (i % 3 == 0 ? 0.004 : i % 3 == 1 ? 0.002 : 0.0));
-    wc_diag d = {0};
-    wc_mesh_collider *mg = NULL, *mc = NULL;
-    CHECK_EQ_INT(wc_mesh_collider_create(&mg, bx.x, bx.nv, bx.t, bx.nt, THICK, 0.3, NULL, &d), WC_OK);
-    CHECK_EQ_INT(wc_mesh_collider_create(&mc, bx.x, bx.nv, bx.t, bx.nt, THICK, 0.3, NULL, &d), WC_OK);
-    CHECK_EQ_INT(wc_mesh_collider_set_target(mc, to, &d), WC_OK);
-
-    wc_model m;
-    CHECK(ts_sheet(&m, N, 1.0, 0.0, 0, 1.0));
-    const int n = m.n_particles;
-    double* x = malloc(3 * (size_t)n * sizeof(double));
-    double* v = malloc(3 * (size_t)n * sizeof(double));
-    float* x4 = calloc(4 * (size_t)n, sizeof(float));
-    float* v4 = calloc(4 * (size_t)n, sizeof(float));
+    rig r;
+    rig_open(&r, &bx, to);
+    const int n = r.n;
+    double *x = r.x, *v = r.v;
     for (int i = 0; i < n; ++i) {
-        double px = m.rest_pos[3 * i] + 0.004 * jitter(), pz = m.rest_pos[3 * i + 2] + 0.004 * jitter();
+        double px = r.m.rest_pos[3 * i] + 0.004 * jitter(), pz = r.m.rest_pos[3 * i + 2] + 0.004 * jitter();
         double out = fmax(fabs(px), fabs(pz)) - 0.3;
         /* past the rim x = -0.3 the sheet rises (its pairs' normals past the top's, turned to it),
            and a patch lies 1 mm under the top inside that rim (behind the body: no pair of it) */
@@ -144,52 +213,27 @@ static void test_pairs_against_core(void) {
         x[3 * i + 1] = fr(y);
         x[3 * i + 2] = fr(pz);
         for (int c = 0; c < 3; ++c) v[3 * i + c] = fr(0.05 * jitter() - (c == 1 ? 0.2 : 0.0));
-        for (int c = 0; c < 3; ++c) {
-            x4[4 * i + c] = (float)x[3 * i + c];
-            v4[4 * i + c] = (float)v[3 * i + c];
-        }
     }
+    rig_device(&r);
 
-    char err[512];
-    wg_layout L;
-    CHECK(wg_layout_init(&L, 10, g_dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
-    wg_runner run;
-    wg_runner_init(&run, g_dev, &L);
-    wg_mesh g;
-    CHECK(wg_mesh_init(&g, &run, &mg, 1, err, sizeof err));
-    wg_mesh_body_set(&g, 0, bx.x, to);
-    mg->on_device = 1;
-    const wc_mesh_collider* const cg[1] = {mg};
-    const wc_mesh_collider* const cc[1] = {mc};
-    const int cap = 2 * (m.we.n_edges + m.n_tris) + 64;
-    wc_mesh_pairs* pg = wc_mesh_pairs_create(cap, n, cg, 1, NULL);
-    wc_mesh_pairs* pc = wc_mesh_pairs_create(cap, n, cc, 1, NULL);
-    CHECK(pg && pc);
-    wg_mesh_sharp* ms = NULL;
-    CHECK(wg_mesh_sharp_create(&run, &g, pg, &m, &ms, err, sizeof err));
-    if (!ms) printf("  wg_mesh_sharp_create: %s\n", err);
-    wg_tex xt = {0}, vt = {0};
-    CHECK(wg_array_create(&L, &xt, GL_RGBA32F, n, x4, err, sizeof err));
-    CHECK(wg_array_create(&L, &vt, GL_RGBA32F, n, v4, err, sizeof err));
-
-    for (int s = 0; ms && s < 2; ++s) {
+    for (int s = 0; r.ms && s < 2; ++s) {
         const double a0 = 0.5 * s, a1 = 0.5 * (s + 1);
-        wg_mesh_substep(&g, a0, a1, H);
-        wc_mesh_collider_substep(mc, a0, a1, H);
-        int found_core = wc_mesh_pairs_find(pc, cc, 1, &m, NULL, NULL, x, v, H, H);
+        wg_mesh_substep(&r.g, a0, a1, H);
+        wc_mesh_collider_substep(r.mc, a0, a1, H);
+        int found_core = wc_mesh_pairs_find(r.pc, r.cc, 1, &r.m, NULL, NULL, x, v, H, H);
         /* core skips a body on the device */
-        CHECK_EQ_INT(wc_mesh_pairs_find(pg, cg, 1, &m, NULL, NULL, x, v, H, H), 0);
+        CHECK_EQ_INT(wc_mesh_pairs_find(r.pg, r.cg, 1, &r.m, NULL, NULL, x, v, H, H), 0);
         size_t bytes = 0;
-        int found = wg_mesh_sharp_find(ms, pg, &m, NULL, NULL, &xt, &vt, H, H, &bytes);
+        int found = wg_mesh_sharp_find(r.ms, r.pg, &r.m, NULL, NULL, &r.xt, &r.vt, H, H, &bytes);
         cmp c = {0};
-        compare(&pc->list, &pg->list, x, &c);
+        compare(&r.pc->list, &r.pg->list, x, &c);
         printf("  substep [%g, %g]: core %d pairs, GPU %d (kept %d); matched %d (%d with 2 particles, %d with 3), "
                "unmatched core %d GPU %d; weights %.2g, normals %.2g (that pair's gap %.2g m), gaps at the start "
                "%.2g m, k %.2g (relative); %zu bytes read back\n",
-               a0, a1, found_core, found, pg->list.n, c.matched, c.edge, c.tri, c.unmatched_core, c.unmatched_gpu, c.w,
-               c.n, c.n_gap, c.gap, c.k, bytes);
+               a0, a1, found_core, found, r.pg->list.n, c.matched, c.edge, c.tri, c.unmatched_core, c.unmatched_gpu,
+               c.w, c.n, c.n_gap, c.gap, c.k, bytes);
         CHECK(found_core > 20);
-        CHECK_EQ_INT(found, pg->list.n);
+        CHECK_EQ_INT(found, r.pg->list.n);
         CHECK_EQ_INT(c.unmatched_core, 0);
         CHECK_EQ_INT(c.unmatched_gpu, 0);
         CHECK(c.edge > 0 && c.tri > 0);
@@ -198,22 +242,12 @@ static void test_pairs_against_core(void) {
         CHECK(c.gap <= GAP_BOUND);
         CHECK(c.k <= K_BOUND);
         CHECK(bytes == 4 + 48 * (size_t)found);
-        CHECK_EQ_INT(pg->list.overflow, 0);
+        CHECK_EQ_INT(r.pg->list.overflow, 0);
     }
     CHECK(glGetError() == GL_NO_ERROR);
-    CHECK(run.fault[0] == '\0');
-    wg_tex_destroy(&xt);
-    wg_tex_destroy(&vt);
-    wg_mesh_sharp_destroy(ms, 1);
-    wg_mesh_release(&g, 1);
-    wg_runner_destroy(&run);
-    wg_layout_destroy(&L);
-    wc_mesh_pairs_destroy(pg, NULL);
-    wc_mesh_pairs_destroy(pc, NULL);
-    wc_mesh_collider_destroy(mg);
-    wc_mesh_collider_destroy(mc);
-    wc_model_free(&m);
-    free(x), free(v), free(x4), free(v4), free(to);
+    CHECK(r.run.fault[0] == '\0');
+    rig_close(&r);
+    free(to);
 }
 
 /* The tie: an axis-aligned sheet exactly level with a box's top (y = 0, floats), its edges along
@@ -227,50 +261,21 @@ static void test_tie_level_rim(void) {
     static tmesh bx;
     const double lo[3] = {-0.3, -0.3, -0.3}, hi[3] = {0.3, 0.0, 0.3};
     box(&bx, lo, hi);
-    wc_diag d = {0};
-    wc_mesh_collider *mg = NULL, *mc = NULL;
-    CHECK_EQ_INT(wc_mesh_collider_create(&mg, bx.x, bx.nv, bx.t, bx.nt, THICK, 0.3, NULL, &d), WC_OK);
-    CHECK_EQ_INT(wc_mesh_collider_create(&mc, bx.x, bx.nv, bx.t, bx.nt, THICK, 0.3, NULL, &d), WC_OK);
-    wc_model m;
-    CHECK(ts_sheet(&m, N, 1.0, 0.0, 0, 1.0));
-    const int n = m.n_particles;
-    double* x = malloc(3 * (size_t)n * sizeof(double));
-    double* v = calloc(3 * (size_t)n, sizeof(double));
-    float* x4 = calloc(4 * (size_t)n, sizeof(float));
-    float* v4 = calloc(4 * (size_t)n, sizeof(float));
-    for (int i = 0; i < n; ++i) {
-        x[3 * i] = fr(m.rest_pos[3 * i]);
-        x[3 * i + 1] = 0.0;
-        x[3 * i + 2] = fr(m.rest_pos[3 * i + 2]);
-        for (int c = 0; c < 3; ++c) x4[4 * i + c] = (float)x[3 * i + c];
+    rig r;
+    rig_open(&r, &bx, NULL);
+    for (int i = 0; i < r.n; ++i) {
+        r.x[3 * i] = fr(r.m.rest_pos[3 * i]);
+        r.x[3 * i + 1] = 0.0;
+        r.x[3 * i + 2] = fr(r.m.rest_pos[3 * i + 2]);
     }
-    char err[512];
-    wg_layout L;
-    CHECK(wg_layout_init(&L, 10, g_dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
-    wg_runner run;
-    wg_runner_init(&run, g_dev, &L);
-    wg_mesh g;
-    CHECK(wg_mesh_init(&g, &run, &mg, 1, err, sizeof err));
-    wg_mesh_body_set(&g, 0, bx.x, bx.x);
-    mg->on_device = 1;
-    const wc_mesh_collider* const cg[1] = {mg};
-    const wc_mesh_collider* const cc[1] = {mc};
-    const int cap = 2 * (m.we.n_edges + m.n_tris) + 64;
-    wc_mesh_pairs* pg = wc_mesh_pairs_create(cap, n, cg, 1, NULL);
-    wc_mesh_pairs* pc = wc_mesh_pairs_create(cap, n, cc, 1, NULL);
-    CHECK(pg && pc);
-    wg_mesh_sharp* ms = NULL;
-    CHECK(wg_mesh_sharp_create(&run, &g, pg, &m, &ms, err, sizeof err));
-    wg_tex xt = {0}, vt = {0};
-    CHECK(wg_array_create(&L, &xt, GL_RGBA32F, n, x4, err, sizeof err));
-    CHECK(wg_array_create(&L, &vt, GL_RGBA32F, n, v4, err, sizeof err));
-    if (ms) {
-        wg_mesh_substep(&g, 0.0, 1.0, H);
-        wc_mesh_collider_substep(mc, 0.0, 1.0, H);
-        int found_core = wc_mesh_pairs_find(pc, cc, 1, &m, NULL, NULL, x, v, H, H);
-        int found = wg_mesh_sharp_find(ms, pg, &m, NULL, NULL, &xt, &vt, H, H, NULL);
+    rig_device(&r);
+    if (r.ms) {
+        wg_mesh_substep(&r.g, 0.0, 1.0, H);
+        wc_mesh_collider_substep(r.mc, 0.0, 1.0, H);
+        int found_core = wc_mesh_pairs_find(r.pc, r.cc, 1, &r.m, NULL, NULL, r.x, r.v, H, H);
+        int found = wg_mesh_sharp_find(r.ms, r.pg, &r.m, NULL, NULL, &r.xt, &r.vt, H, H, NULL);
         cmp c = {0};
-        compare(&pc->list, &pg->list, x, &c);
+        compare(&r.pc->list, &r.pg->list, r.x, &c);
         printf("  level sheet over the rim: core %d pairs, GPU %d; matched %d, unmatched core %d GPU %d; normals %.2g, "
                "gaps %.2g m\n", found_core, found, c.matched, c.unmatched_core, c.unmatched_gpu, c.n, c.gap);
         CHECK(found_core > 0);
@@ -279,18 +284,7 @@ static void test_tie_level_rim(void) {
         CHECK(c.n <= N_BOUND);
         CHECK(c.gap <= GAP_BOUND);
     }
-    wg_tex_destroy(&xt);
-    wg_tex_destroy(&vt);
-    wg_mesh_sharp_destroy(ms, 1);
-    wg_mesh_release(&g, 1);
-    wg_runner_destroy(&run);
-    wg_layout_destroy(&L);
-    wc_mesh_pairs_destroy(pg, NULL);
-    wc_mesh_pairs_destroy(pc, NULL);
-    wc_mesh_collider_destroy(mg);
-    wc_mesh_collider_destroy(mc);
-    wc_model_free(&m);
-    free(x), free(v), free(x4), free(v4);
+    rig_close(&r);
 }
 
 int main(void) {

@@ -99,9 +99,8 @@ static tally run_models(const char* mutation, int verbose) {
     else unsetenv("WEFT_GPU_SELF_PAIRS_MUTATION");
     char err[512];
     wg_layout L;
-    CHECK(wg_layout_init(&L, 10, g_dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
     wg_runner run;
-    wg_runner_init(&run, g_dev, &L);
+    CHECK(tg_runner_open(g_dev, &L, &run, err, sizeof err));
     for (int k = 0; k < MODELS; ++k) {
         g_seed = 12345u + (unsigned)k;
         wc_model m;
@@ -177,8 +176,7 @@ static tally run_models(const char* mutation, int verbose) {
         wc_model_free(&m);
         free(x), free(v), free(x4), free(v4);
     }
-    wg_runner_destroy(&run);
-    wg_layout_destroy(&L);
+    tg_runner_close(&run, &L);
     unsetenv("WEFT_GPU_SELF_PAIRS_MUTATION");
     return t;
 }
@@ -472,14 +470,12 @@ static void test_fallbacks(void) {
     }
     char err[512];
     wg_layout L;
-    CHECK(wg_layout_init(&L, 10, g_dev->max_texture_size, (wc_allocator){0}, err, sizeof err));
     wg_runner run;
-    wg_runner_init(&run, g_dev, &L);
+    CHECK(tg_runner_open(g_dev, &L, &run, err, sizeof err));
     test_overflow(&run);
     test_non_finite(&run);
     test_deep(&run);
-    wg_runner_destroy(&run);
-    wg_layout_destroy(&L);
+    tg_runner_close(&run, &L);
 }
 
 int main(void) {

@@ -28,19 +28,6 @@
 static wg_gl_context* g_ctx;
 static wg_device* g_dev;
 
-/* r = A dv - b over the pattern (n x 3). */
-static void residual(const wc_model* m, const double* A, const double* b, const double* dv, double* r) {
-    for (int i = 0; i < m->n_particles; ++i) {
-        double y[3] = {0, 0, 0};
-        for (int k = m->pattern.row_start[i]; k < m->pattern.row_start[i + 1]; ++k) {
-            const double* a = A + 9 * k;
-            const double* xj = dv + 3 * m->pattern.col[k];
-            for (int q = 0; q < 3; ++q) y[q] += a[3 * q] * xj[0] + a[3 * q + 1] * xj[1] + a[3 * q + 2] * xj[2];
-        }
-        for (int q = 0; q < 3; ++q) r[3 * i + q] = y[q] - b[3 * i + q];
-    }
-}
-
 /* The contact rule's results on both sides: v, xb, v*, z, and stage 1's v_prev or stage 2's mom.
  * Returns the particles in contact. */
 static int compare_rule(wg_sim* g, wc_state* s, int stage, double* tmp) {

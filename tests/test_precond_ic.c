@@ -13,13 +13,7 @@
 #include "vec3.h"
 
 static wc_solver* ic_solver(const wc_model* m, double tol, const wc_allocator* alloc) {
-    wc_solver_opts o = wc_default_solver_opts();
-    o.preconditioner = WC_PRECOND_IC0;
-    o.tolerance = tol;
-    o.max_iterations = 1000;
-    wc_solver* sv = NULL;
-    wc_diag d = {0};
-    CHECK(wc_solver_create(&sv, m, &o, 1, alloc, &d) == WC_OK);
+    wc_solver* sv = pcg_solver(m, WC_PRECOND_IC0, tol, 1000, alloc);
     CHECK(sv && sv->ic);
     return sv;
 }
@@ -183,9 +177,6 @@ static void test_breakdown(void) {
 }
 
 /* The same bits on 1 and 2 threads; nothing allocated by solves (everything at create). */
-typedef struct counter { long allocs, frees; } counter;
-static void* count_alloc(size_t n, void* u) { return ++((counter*)u)->allocs, malloc(n); }
-static void count_free(void* ptr, void* u) { ++((counter*)u)->frees, free(ptr); }
 static void test_threads_and_allocation(void) {
     scene sc;
     if (!make_scene(&sc, 20, 1.0, DRAPE, 10)) return;
