@@ -329,6 +329,24 @@ static void test_newton(void) {
     printf("  the pairs' energy change: GPU %.9g J, core %.9g J (%.2g relative)\n", eg, ec, fabs(eg - ec) / fabs(ec));
     CHECK(ec != 0.0);
     CHECK(fabs(eg - ec) <= 1e-6 * fabs(ec));
+    /* and from w to a step 2^-10 longer, as a late backtrack compares: a change a thousandth of
+       the energies, which the pass keeps to float's digits of the change itself */
+    double* w2 = malloc(n3 * sizeof(double));
+    double* x2 = malloc(n3 * sizeof(double));
+    for (size_t k = 0; k < n3; ++k) {
+        w2[k] = (double)(float)(sc->dv[k] * (1.0 + ldexp(1.0, -10)));
+        x2[k] = sc->x[k] + H * (sc->v[k] + w2[k]);
+    }
+    upload3(g, &g->nw_w[2], w2);
+    parts = wg_pairs_energy_change(g->pairs, &ig, wt, &g->nw_w[2], &g->nw_zero);
+    wg_read1(&g->layout, wg_reduce(&g->run, &g->red_p[0], parts, 0, 0, 0, 0), e4);
+    const double ec2 = wc_penalty_pairs_energy(lc, x2) - wc_penalty_pairs_energy(lc, xw), eg2 = (double)e4[0];
+    printf("  and to a step 2^-10 longer: GPU %.9g J, core %.9g J (%.2g relative)\n", eg2, ec2,
+           fabs(eg2 - ec2) / fabs(ec2));
+    CHECK(ec2 != 0.0);
+    CHECK(fabs(eg2 - ec2) <= 1e-5 * fabs(ec2));
+    free(w2);
+    free(x2);
     free(xw);
     free(x0);
     free(Ac);
