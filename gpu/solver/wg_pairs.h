@@ -20,14 +20,17 @@
  * pairs' in-pattern blocks on the CPU: the same sum), and every level of the multigrid (wg_amg.h). Without Newton's iterations, after a solve,
  * core's recheck runs on dv read back and what it switched goes up the same way (core/step.c
  * pair_passes). With them (core/newton.c), each Newton system takes the pairs' exact terms at the
- * iterate's positions (read back) by core's wc_penalty_pairs_newton, and the line search's
- * potential their energy, core's wc_penalty_pairs_energy at the two iterates (read back).
+ * iterate, core's wc_penalty_pairs_newton on the GPU's passes (pairs_newton.glsl,
+ * pairs_newton_add.glsl), and the line search's potential their energy, core's
+ * wc_penalty_pairs_energy (pairs_energy.glsl), from each pair's gap at x(w) = xb + he (v + w) in
+ * two parts the host computes at the detection in double (n . sum w xb - off, n . sum w v) and
+ * uploads with k (the gk texture) and the iterate's part: nothing is read back for them.
  *
  * Transfers a substep: 32 n bytes read back (x, v; 48 n with v*; Newton: 16 n more for xb with
  * BDF2 and TR-BDF2), the pairs (48 bytes each and 16 an entry) and 16 n bytes of rows up at the
  * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
- * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
- * two for each potential change (the two iterates); with a body resident on the GPU, 4 bytes up
+ * pass, 16 a pair (gk) at the detection with Newton, 16 n bytes read back for each recheck (dv);
+ * Newton's systems and potential changes none; with a body resident on the GPU, 4 bytes up
  * and 4, plus 48 a pair it has, read back at the start (wg_mesh_sharp.h); with the self pairs'
  * GPU finder, 4 bytes up and 4, plus 8 a candidate, read back (wg_self_pairs.h). Everything is
  * allocated at creation (the lists' capacities); nothing in a step. Calls are made with the
