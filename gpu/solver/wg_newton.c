@@ -16,8 +16,8 @@
  * incremental potential Phi. Phi's change between two iterates is summed term by term
  * (newton_phi_particles.glsl with the penalty pairs' part added per particle, wg_pairs.h,
  * and newton_phi_springs.glsl: two reductions read back), not each Phi, so that float keeps the digits the test
- * compares; the penalty pairs' exact terms join each system (wg_pairs_newton, on the GPU); the first step's search runs from
- * w~0 = z + S (-v*) towards the first solve's result as core's. The energy guard as core's: past
+ * compares; the penalty pairs' exact terms join each system (wg_pairs_newton, on the GPU); the
+ * first step's search runs from w~0 = z + S (-v*) towards the first solve's result as core's. The energy guard as core's: past
  * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
  * (the step's checks at x(w), v(w), read back) is above the cap, tested before the iteration's
  * system is built, so that the last linearisation (the contacts' release reads its residual) is

@@ -134,8 +134,8 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
     p->fdf = WC_NEW(&a, float, n4);
     p->fda0 = WC_NEW(&a, float, n4);
     p->fda1 = WC_NEW(&a, float, n4);
-    ok = ok && p->A && p->tri && p->ndof && p->ip && p->fw && p->fnc && p->fgk && p->ient && p->irow && p->fill && p->fdb &&
-         p->fdf && p->fda0 && p->fda1;
+    ok = ok && p->A && p->tri && p->ndof && p->ip && p->fw && p->fnc && p->fgk && p->ient && p->irow && p->fill &&
+         p->fdb && p->fdf && p->fda0 && p->fda1;
     if (!ok) {
         free_host(p);
         wg_errorf(err, err_len, "out of memory");
@@ -415,7 +415,8 @@ void wg_pairs_newton(wg_pairs* p, const wc_integ* ig, const wg_tex* w) {
     ++p->io.systems;
     wg_runner* run = p->run;
     const wg_pair_cloth* g = &p->cl;
-    WG_USE(run, WGP_PAIRS_NEWTON, &(wg_pairs_newton_in){.pp = &p->p, .pw = &p->w, .pnc = &p->nc, .pgk = &p->gk, .w = w});
+    WG_USE(run, WGP_PAIRS_NEWTON,
+           &(wg_pairs_newton_in){.pp = &p->p, .pw = &p->w, .pnc = &p->nc, .pgk = &p->gk, .w = w});
     wg_u1f(run, "u_h", ig->he);
     WG_RUN(run, p->n, &p->nc2, &p->pf);
     wg_tex_swap(&p->nc, &p->nc2);
