@@ -8,7 +8,7 @@
  * couplings included, to 1e-3) and the recheck of core's solution rounded to float on each: the
  * pairs switched and the active set after it as core's, and b and A after it. With Newton: the
  * pairs' exact terms at an iterate (wc_penalty_pairs_newton) and their part of the incremental
- * potential's change (wc_penalty_pairs_energy) as core's. */
+ * potential's change (wc_penalty_pairs_energy), both on the GPU's passes, as core's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -260,9 +260,11 @@ static void upload3(wg_sim* g, const wg_tex* t, const double* a) {
 }
 
 /* Newton (sim def newton_iterations 2): at an iterate w (core's first solution, rounded to float),
- * the pairs' exact terms the GPU adds to its system (A and b after wg_pairs_newton less before)
- * against core's wc_penalty_pairs_newton at the same x(w) = x + h (v + w), and the pairs' part of
- * the potential's change from w = 0 to w against core's wc_penalty_pairs_energy. */
+ * the pairs' exact terms the GPU adds to its system on its own passes (A and b after
+ * wg_pairs_newton less before, and its active set read back) against core's
+ * wc_penalty_pairs_newton at the same x(w) = x + h (v + w) in double, and the pairs' part of the
+ * potential's change from w = 0 to w (pairs_energy.glsl, reduced) against core's
+ * wc_penalty_pairs_energy; neither reads anything back for the pairs. */
 static void test_newton(void) {
     fixture fx;
     if (!setup(&fx, 2, 1)) {
@@ -280,7 +282,11 @@ static void test_newton(void) {
     CHECK_EQ_INT(wc_solve(sc->solver, WC_SOLVER_PCG, sc->A, sc->b, &sc->filter, sc->dv, &sc->par, &res), WC_OK);
     round_to_float(sc->dv, n3);
     double* xw = malloc(n3 * sizeof(double));
-    for (size_t k = 0; k < n3; ++k) xw[k] = (double)(float)(sc->x[k] + H * (sc->v[k] + sc->dv[k]));
+    double* x0 = malloc(n3 * sizeof(double));
+    for (size_t k = 0; k < n3; ++k) {
+        x0[k] = sc->x[k] + H * sc->v[k];
+        xw[k] = sc->x[k] + H * (sc->v[k] + sc->dv[k]);
+    }
     /* core's terms alone, on zeroed scratch */
     double* Ac = calloc(9 * (size_t)nb, sizeof(double));
     double* bc = calloc(n3, sizeof(double));
@@ -292,38 +298,55 @@ static void test_newton(void) {
     double* A1 = malloc(9 * (size_t)nb * sizeof(double));
     double* b1 = malloc(n3 * sizeof(double));
     CHECK_EQ_INT(wg_sim_debug_read_system(g, A0, b0, &d), WC_OK);
-    const wg_tex* xt = &g->x.t[wg_ring_other(&g->x, 0)];
-    upload3(g, xt, xw);
+    const wg_tex* wt = &g->nw_w[1];
+    upload3(g, wt, sc->dv);
     wc_integ ig;
     wc_integ_coefficients(sg, H, 1, &ig);
-    wg_pairs_newton(g->pairs, sg, &ig, xt);
+    const long long read0 = wg_pairs_transfers(g->pairs)->read_bytes;
+    wg_pairs_newton(g->pairs, &ig, wt);
+    /* the pairs' part of the potential's change from w = 0 to w, on zeros as the other terms */
+    const wg_tex* parts = wg_pairs_energy_change(g->pairs, &ig, &g->nw_zero, wt, &g->nw_zero);
+    float e4[4];
+    wg_read1(&g->layout, wg_reduce(&g->run, &g->red_p[0], parts, 0, 0, 0, 0), e4);
+    const long long read1 = wg_pairs_transfers(g->pairs)->read_bytes;
     CHECK_EQ_INT(wg_sim_debug_read_system(g, A1, b1, &d), WC_OK);
     for (size_t k = 0; k < 9 * (size_t)nb; ++k) A1[k] -= A0[k];
     for (size_t k = 0; k < n3; ++k) b1[k] -= b0[k];
     /* core's in-pattern list would put cross blocks into A; this one is coupled: diagonal only */
     double eA = rel_err(A1, Ac, 9 * (size_t)nb), eb = rel_err(b1, bc, n3);
-    int apart = 0;
-    for (int j = 0; j < lc->n; ++j) apart += lc->active[j] != sg->self_pairs->list.active[j];
-    printf("  Newton's system at an iterate: %d pairs touching (active sets %d apart); their terms in A within "
-           "%.2g, in b within %.2g of core's (relative)\n", touching, apart, eA, eb);
+    const int active = wg_pairs_debug_active(g->pairs);
+    printf("  Newton's system at an iterate: %d pairs touching, %d on the GPU; their terms in A within %.2g, in b "
+           "within %.2g of core's (relative); the pairs read back %lld bytes\n", touching, active, eA, eb,
+           read1 - read0);
     CHECK(touching > 0);
-    CHECK_EQ_INT(apart, 0);
+    CHECK_EQ_INT(active, touching);
     CHECK(eA < 1e-5);   /* a difference of two float systems */
     CHECK(eb < 1e-4);
+    CHECK(read1 == read0);
     compare_lists(lc, g->pairs, "Newton's system");
-    /* the pairs' part of the potential's change from w = 0 to w */
-    const wg_tex* wt = &g->nw_w[1];
-    upload3(g, wt, sc->dv);
-    double* x0 = malloc(n3 * sizeof(double));
-    for (size_t k = 0; k < n3; ++k) {
-        x0[k] = sg->x[k] + H * sg->v[k];
-        xw[k] = sg->x[k] + H * (sg->v[k] + sc->dv[k]);
-    }
     const double ec = wc_penalty_pairs_energy(lc, xw) - wc_penalty_pairs_energy(lc, x0);
-    const double eg = wg_pairs_energy_change(g->pairs, sg, &ig, &g->nw_zero, wt);
-    printf("  the pairs' energy change: GPU %.9g J, core %.9g J\n", eg, ec);
+    const double eg = (double)e4[0];
+    printf("  the pairs' energy change: GPU %.9g J, core %.9g J (%.2g relative)\n", eg, ec, fabs(eg - ec) / fabs(ec));
     CHECK(ec != 0.0);
     CHECK(fabs(eg - ec) <= 1e-6 * fabs(ec));
+    /* and from w to a step 2^-10 longer, as a late backtrack compares: a change a thousandth of
+       the energies, which the pass keeps to float's digits of the change itself */
+    double* w2 = malloc(n3 * sizeof(double));
+    double* x2 = malloc(n3 * sizeof(double));
+    for (size_t k = 0; k < n3; ++k) {
+        w2[k] = (double)(float)(sc->dv[k] * (1.0 + ldexp(1.0, -10)));
+        x2[k] = sc->x[k] + H * (sc->v[k] + w2[k]);
+    }
+    upload3(g, &g->nw_w[2], w2);
+    parts = wg_pairs_energy_change(g->pairs, &ig, wt, &g->nw_w[2], &g->nw_zero);
+    wg_read1(&g->layout, wg_reduce(&g->run, &g->red_p[0], parts, 0, 0, 0, 0), e4);
+    const double ec2 = wc_penalty_pairs_energy(lc, x2) - wc_penalty_pairs_energy(lc, xw), eg2 = (double)e4[0];
+    printf("  and to a step 2^-10 longer: GPU %.9g J, core %.9g J (%.2g relative)\n", eg2, ec2,
+           fabs(eg2 - ec2) / fabs(ec2));
+    CHECK(ec2 != 0.0);
+    CHECK(fabs(eg2 - ec2) <= 1e-5 * fabs(ec2));
+    free(w2);
+    free(x2);
     free(xw);
     free(x0);
     free(Ac);

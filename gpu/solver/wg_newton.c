@@ -14,10 +14,10 @@
  * prescribed part); stop unless d descends (g.d > 0, a reduction read back); w += d, or with the
  * line search w + alpha d for the first alpha of 1, 1/2, ... that passes Armijo's test on the
  * incremental potential Phi. Phi's change between two iterates is summed term by term
- * (newton_phi_particles.glsl, newton_phi_springs.glsl: two reductions read back; the penalty
- * pairs' energy on the host, wg_pairs.h), not each Phi, so that float keeps the digits the test
- * compares; the penalty pairs' exact terms join each system (wg_pairs_newton); the first step's search runs from
- * w~0 = z + S (-v*) towards the first solve's result as core's. The energy guard as core's: past
+ * (newton_phi_particles.glsl with the penalty pairs' part added per particle, wg_pairs.h,
+ * and newton_phi_springs.glsl: two reductions read back), not each Phi, so that float keeps the digits the test
+ * compares; the penalty pairs' exact terms join each system (wg_pairs_newton, on the GPU); the
+ * first step's search runs from w~0 = z + S (-v*) towards the first solve's result as core's. The energy guard as core's: past
  * newton_iterations, up to NW_ENERGY_EXTRA more iterations while the iterate's total energy
  * (the step's checks at x(w), v(w), read back) is above the cap, tested before the iteration's
  * system is built, so that the last linearisation (the contacts' release reads its residual) is
@@ -87,7 +87,7 @@ void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg
     else WG_RUN(run, g->n, &g->nw_hf, &g->ftot);
     gradient_pass(g, ig, &g->nw_hf, w, g->nw_friction, &g->b, xw, vw);
     wg_integ_assemble_a(g, ig->air_implicit ? he : 0.0, g->nw_friction);
-    if (g->pairs) wg_pairs_newton(g->pairs, s, ig, xw);   /* the penalty pairs touching at x(w) */
+    if (g->pairs) wg_pairs_newton(g->pairs, ig, w);   /* the penalty pairs touching at x(w) */
     g->nw_refreshed = ig->stage != 0;
 }
 
@@ -151,8 +151,10 @@ double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, co
     wg_u1i(run, "u_air", ig->air_implicit);
     wg_u1i(run, "u_air_at_wa", ig->air_implicit && g->nw_refreshed && !air_frozen(g, ig));
     WG_RUN(run, g->n, &g->nw_gd);
+    /* the penalty pairs' change added per particle (wg_pairs.h): one reduction for both */
+    const wg_tex* parts = g->pairs ? wg_pairs_energy_change(g->pairs, ig, wa, wb, &g->nw_gd) : &g->nw_gd;
     float p[4], q[4];
-    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], &g->nw_gd, 0, 0, 0, 0), p);
+    wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], parts, 0, 0, 0, 0), p);
     WG_USE(run, WGP_NEWTON_PHI_SPRINGS, &(wg_newton_phi_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
         .wa = wa, .wb = wb, .xb = wg_integ_xb(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest,
         .rest = &g->rest});
@@ -163,9 +165,7 @@ double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, co
     wg_u1i(run, "u_refresh", g->nw_refreshed);
     WG_RUN(run, g->ns, &g->chk_s);
     wg_read1(&g->layout, wg_reduce(run, &g->red_s, &g->chk_s, 0, 0, 0, 0), q);
-    /* the penalty pairs' energy, on the host (wg_pairs.h) */
-    const double pairs = g->pairs ? wg_pairs_energy_change(g->pairs, s, ig, wa, wb) : 0.0;
-    return (double)p[0] + (double)q[0] + pairs;
+    return (double)p[0] + (double)q[0];
 }
 
 /* The line search of the first step (core/newton.c): from w~0 = z + S (-v*) along d0 = w1 - w~0,

@@ -30,10 +30,13 @@ struct wg_pairs {
     wg_tex db, df, da0, da1;    /* particles: the additions to b, f_total, A_ii (lo, hi) */
     wg_tex b2, f2, aii0, aii1;  /* particles: pairs_add's outputs */
     wg_tex A0, A1;              /* blocks: contact_diag's outputs */
+    wg_tex gk, nc2, pf;         /* Newton: pairs: (the gap's parts, k, count); pairs_newton's outputs */
+    wg_tex e;                   /* Newton: particles: pairs_energy's output */
     /* host */
     float* fx;                  /* (n x 4) read-back and upload staging */
     double *x, *v, *vstar, *dv, *fext, *b, *f;   /* (n x 3) */
-    double *xb, *xw;            /* (n x 3) Newton: x(w) = xb + he (v + w)'s base, an iterate's x */
+    double* xb;                 /* (n x 3) Newton: x(w) = xb + he (v + w)'s base */
+    float* fgk;                 /* (cap x 4) Newton: the pairs' gk */
     int newton;                 /* Newton's iterations or the line search: xb kept, pairs in Newton */
     double* A;                  /* (nb x 9) core's assembly scratch */
     double* tri;                /* (3 n_tris + 3) the external forces' scratch */
@@ -46,6 +49,7 @@ struct wg_pairs {
     float *fdb, *fdf, *fda0, *fda1;   /* (n x 4) the additions' staging */
     int on;                     /* the system has pairs (n > 0 and found this substep) */
     wg_self_pairs* gself;       /* the self pairs' GPU finder (wg_self_pairs.h), or NULL */
+    wg_pairs_io io;
 };
 
 /* list k of the state (its lists are the state's pointees: core's functions change them) */
@@ -54,10 +58,12 @@ static wc_penalty_pairs* list_of(const wc_state* s, int k) {
     return s->self_pairs ? &s->self_pairs->list : NULL;
 }
 
-/* every texture of p into t (room for 16); their count */
+#define TEXTURES 19
+
+/* every texture of p into t (room for TEXTURES); their count */
 static int textures(wg_pairs* p, wg_tex** t) {
-    wg_tex* all[] = {&p->p, &p->w, &p->nc, &p->rows, &p->entry, &p->db, &p->df, &p->da0, &p->da1,
-                     &p->b2, &p->f2, &p->aii0, &p->aii1, &p->A0, &p->A1};
+    wg_tex* all[TEXTURES] = {&p->p, &p->w, &p->nc, &p->rows, &p->entry, &p->db, &p->df, &p->da0, &p->da1, &p->b2,
+                             &p->f2, &p->aii0, &p->aii1, &p->A0, &p->A1, &p->gk, &p->nc2, &p->pf, &p->e};
     int k = 0;
     for (; k < (int)(sizeof all / sizeof all[0]); ++k) t[k] = all[k];
     return k;
@@ -65,8 +71,8 @@ static int textures(wg_pairs* p, wg_tex** t) {
 
 static void free_host(wg_pairs* p) {
     wc_allocator a = p->alloc;
-    void* h[] = {p->fx, p->x, p->v, p->vstar, p->dv, p->fext, p->b, p->f, p->xb, p->xw, p->A, p->tri, p->ndof, p->ip, p->fw,
-                 p->fnc, p->ient, p->irow, p->fill, p->fdb, p->fdf, p->fda0, p->fda1};
+    void* h[] = {p->fx, p->x, p->v, p->vstar, p->dv, p->fext, p->b, p->f, p->xb, p->fgk, p->A, p->tri, p->ndof, p->ip,
+                 p->fw, p->fnc, p->ient, p->irow, p->fill, p->fdb, p->fdf, p->fda0, p->fda1};
     for (size_t k = 0; k < sizeof h / sizeof h[0]; ++k) wc_free(&a, h[k]);
     wc_free(&a, p);
 }
@@ -77,7 +83,7 @@ void wg_pairs_forget(wg_pairs* p) {
 
 void wg_pairs_destroy(wg_pairs* p) {
     if (!p) return;
-    wg_tex* t[16];
+    wg_tex* t[TEXTURES];
     int n = textures(p, t);
     for (int k = 0; k < n; ++k) wg_tex_destroy(t[k]);
     free_host(p);
@@ -85,7 +91,7 @@ void wg_pairs_destroy(wg_pairs* p) {
 
 size_t wg_pairs_bytes(const wg_pairs* p) {
     if (!p) return 0;
-    wg_tex* t[16];
+    wg_tex* t[TEXTURES];
     int n = textures((wg_pairs*)p, t);
     size_t bytes = 0;
     for (int k = 0; k < n; ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
@@ -111,7 +117,7 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
     p->newton = wc_newton_wanted(&s->def);
     const size_t n = (size_t)(cloth->n > 0 ? cloth->n : 1), n3 = 3 * n, n4 = 4 * n, c4 = 4 * (size_t)cap;
     p->fx = WC_NEW(&a, float, n4);
-    double** d3[] = {&p->x, &p->v, &p->vstar, &p->dv, &p->fext, &p->b, &p->f, &p->xb, &p->xw};
+    double** d3[] = {&p->x, &p->v, &p->vstar, &p->dv, &p->fext, &p->b, &p->f, &p->xb};
     int ok = p->fx != NULL;
     for (size_t k = 0; k < sizeof d3 / sizeof d3[0]; ++k) ok &= (*d3[k] = WC_NEW(&a, double, n3)) != NULL;
     p->A = wc_calloc(&a, 9 * (size_t)(cloth->nb > 0 ? cloth->nb : 1), sizeof(double));
@@ -120,6 +126,7 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
     p->ip = WC_NEW(&a, int, c4);
     p->fw = WC_NEW(&a, float, c4);
     p->fnc = WC_NEW(&a, float, c4);
+    p->fgk = WC_NEW(&a, float, c4);
     p->ient = WC_NEW(&a, int, 4 * c4);
     p->irow = WC_NEW(&a, int, n4);
     p->fill = WC_NEW(&a, int, n + 1);
@@ -127,8 +134,8 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
     p->fdf = WC_NEW(&a, float, n4);
     p->fda0 = WC_NEW(&a, float, n4);
     p->fda1 = WC_NEW(&a, float, n4);
-    ok = ok && p->A && p->tri && p->ndof && p->ip && p->fw && p->fnc && p->ient && p->irow && p->fill && p->fdb &&
-         p->fdf && p->fda0 && p->fda1;
+    ok = ok && p->A && p->tri && p->ndof && p->ip && p->fw && p->fnc && p->fgk && p->ient && p->irow && p->fill &&
+         p->fdb && p->fdf && p->fda0 && p->fda1;
     if (!ok) {
         free_host(p);
         wg_errorf(err, err_len, "out of memory");
@@ -148,6 +155,11 @@ int wg_pairs_create(wg_runner* run, const wg_pair_cloth* cloth, const wc_state* 
         ok = wg_array_create(L, per[k], GL_RGBA32F, N, NULL, err, err_len);
     ok = ok && wg_array_create(L, &p->A0, cloth->a_lo->internal, cloth->nb, NULL, err, err_len) &&
          wg_array_create(L, &p->A1, cloth->a_hi->internal, cloth->nb, NULL, err, err_len);
+    if (p->newton)   /* Newton's terms and energy on the GPU */
+        ok = ok && wg_array_create(L, &p->gk, GL_RGBA32F, cap, NULL, err, err_len) &&
+             wg_array_create(L, &p->nc2, GL_RGBA32F, cap, NULL, err, err_len) &&
+             wg_array_create(L, &p->pf, GL_RGBA32F, cap, NULL, err, err_len) &&
+             wg_array_create(L, &p->e, GL_RGBA32F, N, NULL, err, err_len);
     if (!ok) {
         wg_pairs_destroy(p);
         return 0;
@@ -166,6 +178,8 @@ int wg_pairs_list_on(const wg_pairs* p, int list) { return p && p->on && p->coun
 
 const wg_pair_counts* wg_pairs_counts(const wg_pairs* p) { return &p->counts; }
 
+const wg_pairs_io* wg_pairs_transfers(const wg_pairs* p) { return &p->io; }
+
 wg_pair_in wg_pairs_inputs(const wg_pairs* p, const wg_tex* i_any, const wg_tex* f_any) {
     if (!p) return (wg_pair_in){i_any, i_any, i_any, f_any, f_any};
     return (wg_pair_in){&p->rows, &p->entry, &p->p, &p->w, &p->nc};
@@ -182,6 +196,7 @@ int wg_pairs_debug_list(const wg_pairs* p, const int** pp, const float** w, cons
 static void read_back(wg_pairs* p, const wg_tex* t, double* d) {
     const int n = p->cl.n;
     wg_array_read(p->run->layout, t, n, p->fx);
+    p->io.read_bytes += 16 * (long long)n;
     for (int i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c) d[3 * i + c] = (double)p->fx[4 * i + c];
 }
@@ -204,6 +219,7 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
     memset(&p->counts, 0, sizeof p->counts);
     p->on = 0;
     p->n = 0;
+    ++p->io.substeps;
     read_back(p, x, p->x);
     read_back(p, v, p->v);
     if (vstar != v) read_back(p, vstar, p->vstar);
@@ -279,6 +295,27 @@ void wg_pairs_find(wg_pairs* p, wc_state* s, const wc_integ* ig, const wg_tex* x
     wg_array_upload(L, &p->nc, p->n, p->fnc);
     wg_array_upload(L, &p->entry, entries, p->ient);
     wg_array_upload(L, &p->rows, n, p->irow);
+    if (p->newton) {
+        /* each pair's gap at x(w) = xb + he (v + w) in two parts computed here in double,
+           n . sum w_a xb_a - off and n . sum w_a v_a, its k and its count (pairs_newton.glsl) */
+        for (int k = 0; k < LISTS; ++k) {
+            const wc_penalty_pairs* l = list_of(s, k);
+            for (int j = 0; j < p->count[k]; ++j) {
+                const wc_coupling_term* t = &l->term[j];
+                double gx = -l->off[j], gv = 0.0;
+                for (int a = 0; a < t->cnt; ++a) {
+                    gx += t->w[a] * v3_dot(t->n, p->xb + 3 * t->p[a]);
+                    gv += t->w[a] * v3_dot(t->n, p->v + 3 * t->p[a]);
+                }
+                float* q = p->fgk + 4 * (size_t)(p->first[k] + j);
+                q[0] = (float)gx;
+                q[1] = (float)gv;
+                q[2] = (float)l->k[j];
+                q[3] = (float)t->cnt;
+            }
+        }
+        wg_array_upload(L, &p->gk, p->n, p->fgk);
+    }
     p->on = 1;
 }
 
@@ -373,37 +410,45 @@ void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig) {
     apply(p, s, -1, 1);
 }
 
-void wg_pairs_newton(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* xw) {
-    if (!p->on) return;
-    read_back(p, xw, p->xw);
-    for (int k = 0; k < LISTS; ++k) {
-        wc_penalty_pairs* l = list_of(s, k);
-        if (!l || p->count[k] == 0) continue;
-        wc_penalty_pairs_newton(l, s->model, p->xw, ig->he, p->A, p->b);
-        for (int j = 0; j < p->count[k]; ++j) p->fnc[4 * (p->first[k] + j) + 3] = (float)l->term[j].c;
-    }
-    wg_array_upload(p->run->layout, &p->nc, p->n, p->fnc);
-    apply(p, s, -1, 0);
+void wg_pairs_newton(wg_pairs* p, const wc_integ* ig, const wg_tex* w) {
+    if (!p->on || !p->newton) return;
+    ++p->io.systems;
+    wg_runner* run = p->run;
+    const wg_pair_cloth* g = &p->cl;
+    WG_USE(run, WGP_PAIRS_NEWTON,
+           &(wg_pairs_newton_in){.pp = &p->p, .pw = &p->w, .pnc = &p->nc, .pgk = &p->gk, .w = w});
+    wg_u1f(run, "u_h", ig->he);
+    WG_RUN(run, p->n, &p->nc2, &p->pf);
+    wg_tex_swap(&p->nc, &p->nc2);
+    WG_USE(run, WGP_PAIRS_NEWTON_ADD, &(wg_pairs_newton_add_in){.pblocks = g->pblocks, .a_lo = g->a_lo, .a_hi = g->a_hi,
+        .b = g->b, .pr_rows = &p->rows, .pr_entry = &p->entry, .pw = &p->w, .pnc = &p->nc, .pf = &p->pf});
+    WG_RUN(run, g->n, &p->b2, &p->aii0, &p->aii1);
+    wg_tex_swap(g->b, &p->b2);
+    WG_USE(run, WGP_CONTACT_DIAG, &(wg_contact_diag_in){.block = g->block, .a_lo = g->a_lo, .a_hi = g->a_hi,
+        .aii_lo = &p->aii0, .aii_hi = &p->aii1});
+    WG_RUN(run, g->nb, &p->A0, &p->A1);
+    wg_tex_swap(g->a_lo, &p->A0);
+    wg_tex_swap(g->a_hi, &p->A1);
 }
 
-/* x(w) = xb + he (v + w) of the iterate w (a texture) into p->xw */
-static void iterate_positions(wg_pairs* p, const wc_integ* ig, const wg_tex* w) {
-    read_back(p, w, p->xw);
-    for (int k = 0; k < 3 * p->cl.n; ++k) p->xw[k] = p->xb[k] + ig->he * (p->v[k] + p->xw[k]);
+const wg_tex* wg_pairs_energy_change(wg_pairs* p, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb,
+                                     const wg_tex* base) {
+    if (!p->on || !p->newton) return base;
+    ++p->io.changes;
+    wg_runner* run = p->run;
+    WG_USE(run, WGP_PAIRS_ENERGY, &(wg_pairs_energy_in){.pr_rows = &p->rows, .pr_entry = &p->entry, .pp = &p->p,
+        .pw = &p->w, .pnc = &p->nc, .pgk = &p->gk, .wa = wa, .wb = wb, .base = base});
+    wg_u1f(run, "u_h", ig->he);
+    WG_RUN(run, p->cl.n, &p->e);
+    return &p->e;
 }
 
-double wg_pairs_energy_change(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* wa,
-                              const wg_tex* wb) {
-    if (!p->on) return 0.0;
-    double e = 0.0;
-    for (int side = 0; side < 2; ++side) {
-        iterate_positions(p, ig, side ? wb : wa);
-        for (int k = 0; k < LISTS; ++k) {
-            const wc_penalty_pairs* l = list_of(s, k);
-            if (l && p->count[k] > 0) e += (side ? 1.0 : -1.0) * wc_penalty_pairs_energy(l, p->xw);
-        }
-    }
-    return e;
+int wg_pairs_debug_active(wg_pairs* p) {
+    if (!p->on) return 0;
+    wg_array_read(p->run->layout, &p->nc, p->n, p->fnc);
+    int active = 0;
+    for (int j = 0; j < p->n; ++j) active += p->fnc[4 * j + 3] > 0.0f;
+    return active;
 }
 
 int wg_pairs_recheck(wg_pairs* p, wc_state* s, int list, const wc_integ* ig, const wg_tex* dv) {

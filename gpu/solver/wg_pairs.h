@@ -20,14 +20,17 @@
  * pairs' in-pattern blocks on the CPU: the same sum), and every level of the multigrid (wg_amg.h). Without Newton's iterations, after a solve,
  * core's recheck runs on dv read back and what it switched goes up the same way (core/step.c
  * pair_passes). With them (core/newton.c), each Newton system takes the pairs' exact terms at the
- * iterate's positions (read back) by core's wc_penalty_pairs_newton, and the line search's
- * potential their energy, core's wc_penalty_pairs_energy at the two iterates (read back).
+ * iterate, core's wc_penalty_pairs_newton on the GPU's passes (pairs_newton.glsl,
+ * pairs_newton_add.glsl), and the line search's potential their energy, core's
+ * wc_penalty_pairs_energy (pairs_energy.glsl), from each pair's gap at x(w) = xb + he (v + w) in
+ * two parts the host computes at the detection in double (n . sum w xb - off, n . sum w v) and
+ * uploads with k (the gk texture) and the iterate's part: nothing is read back for them.
  *
  * Transfers a substep: 32 n bytes read back (x, v; 48 n with v*; Newton: 16 n more for xb with
  * BDF2 and TR-BDF2), the pairs (48 bytes each and 16 an entry) and 16 n bytes of rows up at the
  * start, 64 bytes a particle of the touched span and 16 a pair at the assembly and each recheck
- * pass or Newton system, 16 n bytes read back for each recheck (dv), Newton system (x(w)) and
- * two for each potential change (the two iterates); with a body resident on the GPU, 4 bytes up
+ * pass, 16 a pair (gk) at the detection with Newton, 16 n bytes read back for each recheck (dv);
+ * Newton's systems and potential changes none; with a body resident on the GPU, 4 bytes up
  * and 4, plus 48 a pair it has, read back at the start (wg_mesh_sharp.h); with the self pairs'
  * GPU finder, 4 bytes up and 4, plus 8 a candidate, read back (wg_self_pairs.h). Everything is
  * allocated at creation (the lists' capacities); nothing in a step. Calls are made with the
@@ -85,17 +88,31 @@ void wg_pairs_assemble(wg_pairs* p, wc_state* s, const wc_integ* ig);
 /* After a solve (dv its result): list 0 (the mesh pairs) or 1 (the self pairs) rechecked (core's
  * wc_penalty_pairs_recheck), its switches' terms added. Returns the pairs switched. */
 int wg_pairs_recheck(wg_pairs* p, wc_state* s, int list, const wc_integ* ig, const wg_tex* dv);
-/* Newton's system at the iterate whose positions x(w) are xw (read back): core's
- * wc_penalty_pairs_newton (the pairs with g(x(w)) < 0 active, their force into b and stiffness
- * into A) added to the system Newton's passes built. */
-void wg_pairs_newton(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* xw);
-/* The pairs' part of the incremental potential's change from the iterate wa to wb (textures,
- * read back; core's wc_penalty_pairs_energy at x(w) = xb + he (v + w), in double): J. */
-double wg_pairs_energy_change(wg_pairs* p, const wc_state* s, const wc_integ* ig, const wg_tex* wa,
-                              const wg_tex* wb);
+/* Newton's system at the iterate w (a texture; x(w) = xb + he (v + w)): core's
+ * wc_penalty_pairs_newton on the GPU (pairs_newton.glsl: the pairs with g(x(w)) < 0 active, their
+ * c in the products' (n, c); pairs_newton_add.glsl: their force into b and stiffness into A's
+ * diagonal blocks) added to the system Newton's passes built. Core's lists' active and c are left
+ * as the assembly set them (nothing on the host reads them with Newton). */
+void wg_pairs_newton(wg_pairs* p, const wc_integ* ig, const wg_tex* w);
+/* The pairs' part of the incremental potential's change from the iterate wa to wb (textures;
+ * core's wc_penalty_pairs_energy at x(w) = xb + he (v + w)), per particle (each pair at its first
+ * particle) added to base (per particle, n items) by pairs_energy.glsl into a texture of the
+ * pairs', which is returned for the caller's reduction (base itself when the system has no
+ * pairs; valid until the next call). */
+const wg_tex* wg_pairs_energy_change(wg_pairs* p, const wc_integ* ig, const wg_tex* wa, const wg_tex* wb,
+                                     const wg_tex* base);
 /* 1 when list k (0 mesh, 1 self) has pairs in this substep's system. */
 int wg_pairs_list_on(const wg_pairs* p, int list);
 const wg_pair_counts* wg_pairs_counts(const wg_pairs* p);
+
+/* The pairs' own transfers since creation (not the sharp pairs' or the self finder's). */
+typedef struct wg_pairs_io {
+    long long substeps;         /* detections */
+    long long read_bytes;       /* bytes read back: x, v, v*, xb at the start, dv at the rechecks */
+    long long systems, changes; /* Newton's systems and the line search's potential changes they took
+                                   part in (on the GPU: nothing read back for them) */
+} wg_pairs_io;
+const wg_pairs_io* wg_pairs_transfers(const wg_pairs* p);
 
 /* The pairs the textures hold at most (p NULL: 0). */
 int wg_pairs_capacity(const wg_pairs* p);
@@ -108,5 +125,8 @@ wg_pair_in wg_pairs_inputs(const wg_pairs* p, const wg_tex* i_any, const wg_tex*
 /* The pairs' data as uploaded (NULL: not wanted): n pairs, their p (n x 4), w and (n, c) (n x 4
  * floats each), from the host copy (the multigrid's cross terms, wg_amg.h; tests). Returns n. */
 int wg_pairs_debug_list(const wg_pairs* p, const int** pp, const float** w, const float** nc);
+/* Tests: the pairs' (n, c) read back from the GPU into that host copy (after wg_pairs_newton, the
+ * GPU's active set); returns the active pairs. */
+int wg_pairs_debug_active(wg_pairs* p);
 
 #endif

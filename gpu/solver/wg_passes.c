@@ -251,6 +251,20 @@ static const wg_pass_input pairs_add[] = {
     IN(wg_pairs_add_in, ftot),    IN(wg_pairs_add_in, db),   IN(wg_pairs_add_in, df),    IN(wg_pairs_add_in, da_lo),
     IN(wg_pairs_add_in, da_hi)};
 WHOLE(wg_pairs_add_in, pairs_add);
+static const wg_pass_input pairs_newton[] = {IN(wg_pairs_newton_in, pp), IN(wg_pairs_newton_in, pw),
+                                             IN(wg_pairs_newton_in, pnc), IN(wg_pairs_newton_in, pgk),
+                                             IN(wg_pairs_newton_in, w)};
+WHOLE(wg_pairs_newton_in, pairs_newton);
+static const wg_pass_input pairs_newton_add[] = {
+    IN(wg_pairs_newton_add_in, pblocks), IN(wg_pairs_newton_add_in, a_lo),    IN(wg_pairs_newton_add_in, a_hi),
+    IN(wg_pairs_newton_add_in, b),       IN(wg_pairs_newton_add_in, pr_rows), IN(wg_pairs_newton_add_in, pr_entry),
+    IN(wg_pairs_newton_add_in, pw),      IN(wg_pairs_newton_add_in, pnc),     IN(wg_pairs_newton_add_in, pf)};
+WHOLE(wg_pairs_newton_add_in, pairs_newton_add);
+static const wg_pass_input pairs_energy[] = {
+    IN(wg_pairs_energy_in, pr_rows), IN(wg_pairs_energy_in, pr_entry), IN(wg_pairs_energy_in, pp),
+    IN(wg_pairs_energy_in, pw),      IN(wg_pairs_energy_in, pnc),      IN(wg_pairs_energy_in, pgk),
+    IN(wg_pairs_energy_in, wa),      IN(wg_pairs_energy_in, wb),       IN(wg_pairs_energy_in, base)};
+WHOLE(wg_pairs_energy_in, pairs_energy);
 
 /* The multigrid's passes: a level's inputs in its form (amg_level_inputs.glsl), then the pass's
    own. On a coarse level the Galerkin sum and D^-1 read the blocks alone (no pattern); D^-1 is
@@ -339,6 +353,9 @@ const wg_pass_info wg_passes[WGP_COUNT] = {
     [WGP_CONTACT_PROJECT] = PASS("contact_project", contact_project, wg_contact_project_in),
     [WGP_CONTACT_DIAG] = PASS("contact_diag", contact_diag, wg_contact_diag_in),
     [WGP_PAIRS_ADD] = PASS("pairs_add", pairs_add, wg_pairs_add_in),
+    [WGP_PAIRS_NEWTON] = PASS("pairs_newton", pairs_newton, wg_pairs_newton_in),
+    [WGP_PAIRS_NEWTON_ADD] = PASS("pairs_newton_add", pairs_newton_add, wg_pairs_newton_add_in),
+    [WGP_PAIRS_ENERGY] = PASS("pairs_energy", pairs_energy, wg_pairs_energy_in),
     [WGP_NEWTON_SPRINGS] = PASS("newton_springs", newton_springs, wg_newton_springs_in),
     [WGP_NEWTON_GRADIENT] = PASS("newton_gradient", newton_gradient, wg_newton_gradient_in),
     [WGP_NEWTON_STEP] = PASS("newton_step", newton_step, wg_newton_step_in),

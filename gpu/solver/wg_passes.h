@@ -28,6 +28,8 @@ typedef enum wg_pass_id {
     WGP_CONTACT_DIAG,
     /* the penalty pairs' terms in the system (wg_pairs.h) */
     WGP_PAIRS_ADD,
+    /* their exact terms in Newton's systems and their energy in its line search, on the GPU */
+    WGP_PAIRS_NEWTON, WGP_PAIRS_NEWTON_ADD, WGP_PAIRS_ENERGY,
     /* Newton's further iterations and line search (wg_newton.c) */
     WGP_NEWTON_SPRINGS, WGP_NEWTON_GRADIENT, WGP_NEWTON_STEP, WGP_NEWTON_START, WGP_NEWTON_PHI_PARTICLES,
     WGP_NEWTON_PHI_SPRINGS, WGP_NEWTON_FRICTION,
@@ -388,6 +390,18 @@ typedef struct wg_pairs_add_in {  /* pairs_add.glsl: the penalty pairs' terms in
     const wg_tex *pblocks, *a_lo, *a_hi, *b, *ftot;
     const wg_tex *db, *df, *da_lo, *da_hi;   /* per particle: the additions */
 } wg_pairs_add_in;
+
+typedef struct wg_pairs_newton_in {  /* pairs_newton.glsl: per pair, active or not at the iterate w */
+    const wg_tex *pp, *pw, *pnc, *pgk, *w;
+} wg_pairs_newton_in;
+
+typedef struct wg_pairs_newton_add_in {  /* pairs_newton_add.glsl: their terms into b and A_ii */
+    const wg_tex *pblocks, *a_lo, *a_hi, *b, *pr_rows, *pr_entry, *pw, *pnc, *pf;
+} wg_pairs_newton_add_in;
+
+typedef struct wg_pairs_energy_in {  /* pairs_energy.glsl: their energy's change, per particle */
+    const wg_tex *pr_rows, *pr_entry, *pp, *pw, *pnc, *pgk, *wa, *wb, *base;
+} wg_pairs_energy_in;
 
 typedef struct wg_contact_diag_in {
     const wg_tex *block, *a_lo, *a_hi;

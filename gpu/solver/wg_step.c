@@ -503,6 +503,12 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
                io->runs, io->read_bytes, io->upload_bytes, io->uploads, io->proofs, io->skipped, io->checked,
                io->broken, io->untried);
     }
+    if (g->pairs) {
+        const wg_pairs_io* io = wg_pairs_transfers(g->pairs);
+        wc_log(diag, WC_LOG_DEBUG,
+               "GPU penalty pairs, since creation: %lld substeps, %lld bytes read back; %lld Newton systems and %lld "
+               "potential changes (on the GPU)", io->substeps, io->read_bytes, io->systems, io->changes);
+    }
     if (g->gself) {
         const wg_self_pairs_io* io = wg_self_pairs_transfers(g->gself);
         wc_log(diag, WC_LOG_DEBUG,
