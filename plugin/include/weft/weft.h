@@ -90,7 +90,7 @@ extern "C" {
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
 #define WEFT_VERSION_MINOR 9
-#define WEFT_VERSION_PATCH 0
+#define WEFT_VERSION_PATCH 1
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
@@ -245,9 +245,14 @@ typedef enum weft_preconditioner {
     WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: AMG on the CPU and on a GPU with compute-
                                        shader passes (OpenGL 4.3), block Jacobi on fragment passes */
     WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
-    WEFT_PRECOND_AMG = 2            /* multigrid V-cycle: smoothed aggregation with rotations on the
+    WEFT_PRECOND_AMG = 2,           /* multigrid V-cycle: smoothed aggregation with rotations on the
                                        CPU; on the GPU (compute passes only) smoothed aggregation
                                        of translations (gpu/solver/wg_amg.h) */
+    WEFT_PRECOND_IC0 = 3            /* block incomplete Cholesky IC(0), CPU only (the GPU refuses it
+                                       with WEFT_ERROR_UNSUPPORTED; AUTO keeps such a cloth on the
+                                       CPU). Cheaper a solve than AMG on small cloths, with more
+                                       PCG iterations and a larger error at the same tolerance:
+                                       docs/bench/cpu_levers_sheet32.md has the table (since 0.9.1) */
 } weft_preconditioner;
 
 /* Time integrator of each substep. */
