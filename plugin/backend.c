@@ -138,6 +138,7 @@ static void resolve_defaults(const wc_cloth_backend* b, const void* device, cons
     b->defaults(device, &o);
     s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
+                               : def->preconditioner == WEFT_PRECOND_IC0          ? WC_PRECOND_IC0
                                                                                   : o.preconditioner;
     s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : o.newton_iterations;
     s->line_search = def->line_search >= 0 ? def->line_search : o.line_search;

@@ -206,7 +206,9 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     const wa_slot* slot = wa_slot_of(ctx, cloth);
     i.backend = slot->backend;
     const wc_sim_def* sd = &c->state->def;
-    i.preconditioner = sd->solver.preconditioner == WC_PRECOND_AMG ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI;
+    i.preconditioner = sd->solver.preconditioner == WC_PRECOND_AMG   ? WEFT_PRECOND_AMG
+                       : sd->solver.preconditioner == WC_PRECOND_IC0 ? WEFT_PRECOND_IC0
+                                                                     : WEFT_PRECOND_BLOCK_JACOBI;
     i.integrator = sd->integrator == WC_INTEGRATOR_BDF2     ? WEFT_INTEGRATOR_BDF2
                    : sd->integrator == WC_INTEGRATOR_TRBDF2 ? WEFT_INTEGRATOR_TRBDF2
                                                             : WEFT_INTEGRATOR_BACKWARD_EULER;

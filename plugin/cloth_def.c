@@ -172,7 +172,7 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     if (!isfinite(d->tolerance)) FAIL(WEFT_ERROR_NONFINITE, "def->tolerance is not finite");
     if (!(d->tolerance >= 0 && d->tolerance < 1)) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->tolerance = %g must be in [0, 1)", d->tolerance);
     if (d->max_iterations < 1) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->max_iterations = %d must be >= 1", d->max_iterations);
-    if ((unsigned)d->preconditioner > WEFT_PRECOND_AMG)
+    if ((unsigned)d->preconditioner > WEFT_PRECOND_IC0)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->preconditioner = %d is not a weft_preconditioner", (int)d->preconditioner);
     if ((unsigned)d->integrator > WEFT_INTEGRATOR_TRBDF2)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->integrator = %d is not a weft_integrator", (int)d->integrator);

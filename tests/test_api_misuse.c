@@ -109,6 +109,7 @@ static weft_frame good_frame(void) {
     X(create_tolerance, E_ARG, "def->tolerance", d.tolerance = 1.5; CREATE)                               \
     X(create_iterations, E_ARG, "def->max_iterations", d.max_iterations = 0; CREATE)                      \
     X(create_precond_enum, E_ARG, "def->preconditioner = 7", d.preconditioner = (weft_preconditioner)7; CREATE) \
+    X(create_precond_next, E_ARG, "def->preconditioner = 4", d.preconditioner = (weft_preconditioner)4; CREATE) \
     X(create_precond_negative, E_ARG, "def->preconditioner = -1", d.preconditioner = (weft_preconditioner)-1; CREATE) \
     X(create_integrator_enum, E_ARG, "def->integrator = 4", d.integrator = (weft_integrator)4; CREATE)     \
     X(create_newton_negative, E_ARG, "def->newton_iterations = -1", d.newton_iterations = -1; CREATE)       \

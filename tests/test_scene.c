@@ -243,6 +243,10 @@ static void test_defaults_and_grid(void) {
     CHECK_EQ_INT(S.def.newton_iterations, 3);
     CHECK_EQ_INT(S.def.line_search, 1);
     scene_free(&S);
+    st = parse("{" GRID ", \"solver\": {\"preconditioner\": \"ic0\"}}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK_EQ_INT(S.def.preconditioner, WEFT_PRECOND_IC0);
+    scene_free(&S);
     st = parse("{" GRID ", \"time\": {\"integrator\": \"trbdf2\"}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
     CHECK_EQ_INT(S.def.integrator, WEFT_INTEGRATOR_TRBDF2);

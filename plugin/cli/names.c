@@ -4,7 +4,7 @@
 #include <string.h>
 
 static const char* const solvers[] = {"pcg", "jacobi", "chebyshev", "direct"};   /* weft_solver's order */
-static const char* const preconds[] = {"default", "block_jacobi", "amg"};         /* weft_preconditioner's */
+static const char* const preconds[] = {"default", "block_jacobi", "amg", "ic0"};  /* weft_preconditioner's */
 static const char* const integrators[] = {"default", "be", "bdf2", "trbdf2"};     /* weft_integrator's */
 static const char* const backends[] = {"auto", "cpu", "gpu"};                     /* weft_backend's */
 

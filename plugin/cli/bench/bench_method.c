@@ -27,7 +27,7 @@ static int split(const char* text, char names[BENCH_MAX_LIST][32]) {
 }
 
 int bench_parse_preconds(const char* text, weft_preconditioner* out) {
-    if (text && !strcmp(text, "all")) text = "block_jacobi,amg";
+    if (text && !strcmp(text, "all")) text = "block_jacobi,amg,ic0";
     char names[BENCH_MAX_LIST][32];
     const int n = split(text, names);
     for (int k = 0; k < n; ++k) {

@@ -33,7 +33,7 @@ typedef struct bench_methods {
 
 /* The usage texts' lines on the five options; `preconds` is the command's default list. */
 #define BENCH_METHOD_HELP(preconds)                                                                       \
-    "  --preconds LIST      PCG's preconditioners: block_jacobi, amg or all (default " preconds ");\n"  \
+    "  --preconds LIST      PCG's preconditioners: block_jacobi, amg, ic0 or all (default " preconds ");\n" \
     "                       the other solvers have none (shown -)\n"                                     \
     "  --integrators LIST   be (backward Euler), bdf2, trbdf2 or all (default be)\n"                            \
     "  --newton LIST        Newton iterations per substep (default 1: one Baraff-Witkin step)\n"        \

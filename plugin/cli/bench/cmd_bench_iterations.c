@@ -83,7 +83,7 @@ void bench_iterations_usage(FILE* out) {
           "  --scenes LIST        further scenes (default drape,garment; none: --scenes none)\n"
           "  --solvers LIST       pcg, jacobi, chebyshev, direct or all (default pcg)\n",
           out);
-    fputs(BENCH_METHOD_HELP("all")
+    fputs(BENCH_METHOD_HELP("block_jacobi,amg")
           "  --tolerance T        relative residual to stop at (default 1e-4)\n"
           "  --iterations N       iteration cap (default 300)\n"
           "  --seconds T          simulated time per row (default 1.5)\n"

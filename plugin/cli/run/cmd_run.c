@@ -41,7 +41,7 @@ void cli_run_usage(FILE* out) {
     fputs("usage: weft run SCENE.json [--frames N] [--solver pcg|jacobi|chebyshev|direct]\n"
           "                [--out DIR] [--cache FILE.pc2|FILE.mdd] [--stats FILE.json] [--render DIR]\n"
           "                [--threads N]\n"
-          "                [--backend cpu|gpu|auto] [--integrator be|bdf2|trbdf2] [--precond block_jacobi|amg]\n"
+          "                [--backend cpu|gpu|auto] [--integrator be|bdf2|trbdf2] [--precond block_jacobi|amg|ic0]\n"
           "                [--newton N] [--line-search on|off] [--self-collision on|off] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
@@ -52,7 +52,7 @@ void cli_run_usage(FILE* out) {
           "  --frames N             frames to simulate (>= 0; default: the scene's time.frames)\n"
           "  --solver NAME          linear solver, overriding the scene's solver.type\n"
           "  --integrator NAME      be, bdf2 or trbdf2 (or default), overriding time.integrator\n"
-          "  --precond NAME         block_jacobi or amg (or default), overriding solver.preconditioner\n"
+          "  --precond NAME         block_jacobi, amg or ic0 (or default), overriding solver.preconditioner\n"
           "  --newton N             Newton iterations per substep (1..100), overriding\n"
           "                         solver.newton_iterations\n"
           "  --line-search on|off   line search on the incremental potential, overriding\n"
@@ -124,7 +124,7 @@ static int parse_args(int argc, char** argv, run_args* a) {
             if (m < 0) return usage_error("%s needs a value", arg);
             a->precond = strcmp(value, "default") == 0 ? WEFT_PRECOND_DEFAULT : cli_precond_from_name(value);
             if (a->precond < 0)
-                return usage_error("--precond: unknown preconditioner '%s' (expected block_jacobi, amg or default)",
+                return usage_error("--precond: unknown preconditioner '%s' (expected block_jacobi, amg, ic0 or default)",
                                    value);
         } else if ((m = cli_option_value(argc, argv, &i, "--newton", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
@@ -343,7 +343,7 @@ int cli_run_run(int argc, char** argv) {
                                in->n_springs[0] + in->n_springs[1] + in->n_springs[2],
                                cli_solver_name(def->solver),
                                /* what the library resolved the scene's choices (or its defaults) to */
-                               in->preconditioner == WEFT_PRECOND_AMG ? "amg" : "block_jacobi",
+                               cli_precond_name(in->preconditioner),
                                in->integrator == WEFT_INTEGRATOR_BDF2     ? "bdf2"
                                : in->integrator == WEFT_INTEGRATOR_TRBDF2 ? "trbdf2"
                                                                           : "be",

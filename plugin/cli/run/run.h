@@ -16,7 +16,7 @@ typedef struct run_info {
     const char* scene;          /* scene file as given */
     int particles, triangles, springs;
     const char* solver;         /* configured solver's name */
-    const char* preconditioner; /* "block_jacobi" or "amg", as the library resolved it */
+    const char* preconditioner; /* "block_jacobi", "amg" or "ic0", as the library resolved it */
     const char* integrator;     /* "be", "bdf2" or "trbdf2", as the library resolved it */
     int newton_iterations;      /* >= 1, as resolved */
     int line_search;            /* 0 off, 1 on, as resolved */

@@ -162,7 +162,7 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
         int p = strcmp(pre, "default") == 0 ? WEFT_PRECOND_DEFAULT : cli_precond_from_name(pre);
         if (p < 0)
             return sj_fail(c, "solver.preconditioner",
-                           "unknown preconditioner \"%s\" (expected block_jacobi, amg or default)", pre);
+                           "unknown preconditioner \"%s\" (expected block_jacobi, amg, ic0 or default)", pre);
         s->def.preconditioner = (weft_preconditioner)p;
     }
     if (sj_int(c, solver, "solver", "newton_iterations", 1, 100, &s->def.newton_iterations) < 0) return -1;

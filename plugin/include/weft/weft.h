@@ -90,7 +90,7 @@ extern "C" {
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
 #define WEFT_VERSION_MINOR 9
-#define WEFT_VERSION_PATCH 0
+#define WEFT_VERSION_PATCH 1
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
@@ -245,9 +245,17 @@ typedef enum weft_preconditioner {
     WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: AMG on the CPU and on a GPU with compute-
                                        shader passes (OpenGL 4.3), block Jacobi on fragment passes */
     WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
-    WEFT_PRECOND_AMG = 2            /* multigrid V-cycle: smoothed aggregation with rotations on the
+    WEFT_PRECOND_AMG = 2,           /* multigrid V-cycle: smoothed aggregation with rotations on the
                                        CPU; on the GPU (compute passes only) smoothed aggregation
                                        of translations (gpu/solver/wg_amg.h) */
+    WEFT_PRECOND_IC0 = 3            /* since 0.9.1: block incomplete Cholesky IC(0) of the filtered
+                                       matrix, CPU only (the GPU refuses it with
+                                       WEFT_ERROR_UNSUPPORTED; AUTO keeps such a cloth on the CPU).
+                                       Fewer instructions a frame than AMG on small cloths (a
+                                       quarter at 256 particles, -26 % at 1,024, about even near 2,000)
+                                       for more error at the same tolerance (2.6-6.8x the solver's
+                                       own on sheets): a choice, never the default. Measured in
+                                       docs/bench/cpu_levers_sheet32.md */
 } weft_preconditioner;
 
 /* Time integrator of each substep. */
@@ -455,7 +463,7 @@ typedef struct weft_cloth_info {
     size_t snapshot_size;       /* bytes weft_cloth_save() writes */
     weft_backend backend;       /* CPU or GPU: where this cloth runs (why: backend_reason) */
     /* what the def's DEFAULT / 0 / -1 choices resolved to on this backend */
-    weft_preconditioner preconditioner; /* BLOCK_JACOBI or AMG */
+    weft_preconditioner preconditioner; /* BLOCK_JACOBI, AMG or IC0 */
     weft_integrator integrator; /* BACKWARD_EULER, BDF2 or TRBDF2 */
     int newton_iterations;      /* >= 1 */
     int line_search;            /* 0 or 1 */
