@@ -5,6 +5,7 @@
 #define WEFT_TESTS_HOST_CONTEXT_H
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "check.h"
 #include "egl_context.h"
 #include "weft/weft.h"
@@ -22,14 +23,9 @@ static inline wg_gl_context* hc_host_begin(void) {
 
 /* A context of one thread on backend in GL mode mode (NULL when refused). */
 static inline weft_context* hc_context(weft_backend backend, weft_gl_mode mode) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
+    weft_context_def cd = ap_context_def(backend);
     cd.gl_mode = mode;
-    weft_context* ctx = NULL;
-    weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
-    CHECK_EQ_INT(st, WEFT_OK);
-    return st == WEFT_OK ? ctx : NULL;
+    return ap_create(&cd, WEFT_OK, NULL);
 }
 
 #endif

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 #include "egl_context.h"
@@ -20,42 +21,20 @@
 static ag_log g_log;
 
 static weft_context* make_ctx(weft_backend backend, weft_gl_mode mode, weft_status want) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
+    weft_context_def cd = ap_context_def(backend);
     cd.gl_mode = mode;
     cd.log = ag_log_fn;
     cd.log_user = &g_log;
     cd.log_level = WEFT_LOG_INFO;
-    weft_context* ctx = NULL;
-    weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
-    CHECK_EQ_INT(st, want);
-    if (st != want) fprintf(stderr, "weft_context_create: %s\n", g_log.last);
-    return ctx;
+    return ap_create(&cd, want, &g_log);
 }
 
-/* A horizontal 1 m sheet held by two adjacent corners: it swings down and hangs. */
-static int g_pins[2];
-static weft_attachment_def g_att;
+/* A horizontal 1 m sheet held by two adjacent corners: it swings down and hangs. One linearised
+   step with block Jacobi on both backends, the simplest method they share (the defaults are the
+   multigrid and two Newton iterations with line search). */
+static ap_pins g_pins;
 
-static weft_cloth_def sheet_def(const ag_mesh* m) {
-    g_pins[0] = 0;
-    g_pins[1] = N - 1;
-    g_att = weft_default_attachment_def();
-    g_att.vertices = g_pins;
-    g_att.n_vertices = 2;
-    weft_cloth_def def = weft_default_cloth_def();
-    def.mesh = ag_desc(m);
-    def.attachments = &g_att;
-    def.n_attachments = 1;
-    def.solver = WEFT_SOLVER_PCG;
-    /* one linearised step with block Jacobi on both backends, the simplest method they share
-       (the defaults are the multigrid and two Newton iterations with line search) */
-    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
-    def.newton_iterations = 1;
-    def.line_search = 0;
-    return def;
-}
+static weft_cloth_def sheet_def(const ag_mesh* m) { return ap_pinned_sheet_def(m, &g_pins, 1, 0); }
 
 static weft_cloth make_sheet(weft_context* ctx, const ag_mesh* m) {
     weft_cloth_def def = sheet_def(m);
@@ -320,7 +299,7 @@ static void test_gpu_close_to_cpu(void) {
     CHECK(max_nd < 0.05);
     /* the pinned corners stay */
     for (int k = 0; k < 2; ++k)
-        for (int c = 0; c < 3; ++c) CHECK_NEAR(pg[3 * g_pins[k] + c], m.pos[3 * g_pins[k] + c], 1e-5);
+        for (int c = 0; c < 3; ++c) CHECK_NEAR(pg[3 * g_pins.v[k] + c], m.pos[3 * g_pins.v[k] + c], 1e-5);
     /* object space with the identity object transform and unit_scale 1: the world positions */
     float* po = vertices(gpu, gc, WEFT_SPACE_OBJECT, NULL);
     double max_o = 0.0;

@@ -10,42 +10,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 
 #define N 12
 #define FRAMES 30
 
-static int g_pins[2];
-static weft_attachment_def g_att;
+static ap_pins g_pins;
 
 static weft_cloth_def sheet_def(const ag_mesh* m, weft_integrator integ, int newton, int line_search) {
-    g_pins[0] = 0;
-    g_pins[1] = N - 1;
-    g_att = weft_default_attachment_def();
-    g_att.vertices = g_pins;
-    g_att.n_vertices = 2;
-    weft_cloth_def def = weft_default_cloth_def();
-    def.mesh = ag_desc(m);
-    def.attachments = &g_att;
-    def.n_attachments = 1;
-    def.solver = WEFT_SOLVER_PCG;
-    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
+    weft_cloth_def def = ap_pinned_sheet_def(m, &g_pins, newton, line_search);
     def.integrator = integ;
-    def.newton_iterations = newton;
-    def.line_search = line_search;
     def.linear_inertia = 0.5;   /* the object's motion reaches the cloth: the history is carried */
     def.angular_inertia = 0.5;
     return def;
-}
-
-static weft_context* make_ctx(weft_backend backend) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
-    weft_context* ctx = NULL;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
-    return ctx;
 }
 
 /* The object at frame f (column-major 4x4): moving, a slow turn about y and a sway along x;
@@ -126,8 +105,8 @@ static run_result cpu_r, gpu_r, cpu_be;
 static void compare(weft_integrator integ, const char* name, int newton2, int moving, int teleport_at, int reset_at) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
-    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* cpu = ap_context(WEFT_BACKEND_CPU);
+    weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
     if (!cpu || !gpu) return;
     for (int k = 0; k < 1 + newton2; ++k) {
         int newton = k == 0 ? 1 : 2, ls = k;
@@ -175,7 +154,7 @@ static void test_bdf2_teleport_reset(void) {
 static void snapshot_round_trip(weft_integrator integ, int newton, int ls) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
     if (!gpu) return;
     weft_cloth_def def = sheet_def(&m, integ, newton, ls);
     weft_cloth cloth = {0};
@@ -228,8 +207,8 @@ static void test_snapshots(void) {
 static void test_colliders(void) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
-    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
+    weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
+    weft_context* cpu = ap_context(WEFT_BACKEND_CPU);
     if (!gpu || !cpu) return;
     weft_cloth_def def = sheet_def(&m, WEFT_INTEGRATOR_TRBDF2, 1, 0);
     weft_collider_def sph = weft_default_collider_def();

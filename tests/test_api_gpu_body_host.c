@@ -26,6 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 #include "test_meshes.h"
@@ -59,14 +60,11 @@ static void body_log(weft_log_level level, const char* message, void* user) {
 
 static weft_context* make_ctx(const char* body, int* resident) {
     setenv("WEFT_GPU_BODY", body, 1);
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = WEFT_BACKEND_GPU;
+    weft_context_def cd = ap_context_def(WEFT_BACKEND_GPU);
     cd.log = body_log;
     cd.log_user = resident;
     cd.log_level = WEFT_LOG_DEBUG;
-    weft_context* ctx = NULL;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
+    weft_context* ctx = ap_create(&cd, WEFT_OK, NULL);
     unsetenv("WEFT_GPU_BODY");
     return ctx;
 }

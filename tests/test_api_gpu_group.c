@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 
@@ -22,44 +23,28 @@ static ag_log g_log;
 static weft_context* gpu_ctx(const char* solve, weft_status want) {
     if (solve) setenv("WEFT_GPU_SOLVE", solve, 1);
     else unsetenv("WEFT_GPU_SOLVE");
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = WEFT_BACKEND_GPU;
+    weft_context_def cd = ap_context_def(WEFT_BACKEND_GPU);
     cd.log = ag_log_fn;
     cd.log_user = &g_log;
     cd.log_level = WEFT_LOG_INFO;
-    weft_context* ctx = NULL;
     memset(&g_log, 0, sizeof g_log);
-    weft_status st = weft_context_create(WEFT_ABI, &cd, &ctx);
+    weft_context* ctx = ap_create(&cd, want, &g_log);
     unsetenv("WEFT_GPU_SOLVE");
-    CHECK_EQ_INT(st, want);
-    if (st != want) fprintf(stderr, "weft_context_create: %s\n", g_log.last);
     return ctx;
 }
 
-static weft_cloth_def sheet_def(const ag_mesh* m, weft_preconditioner pc, weft_attachment_def* att, int* pins) {
-    pins[0] = 0;
-    pins[1] = m->n - 1;
-    *att = weft_default_attachment_def();
-    att->vertices = pins;
-    att->n_vertices = 2;
-    weft_cloth_def def = weft_default_cloth_def();
-    def.mesh = ag_desc(m);
-    def.attachments = att;
-    def.n_attachments = 1;
-    def.solver = WEFT_SOLVER_PCG;
+/* The sheet m held by two corners (pins) with PCG and preconditioner pc, one linearised step. */
+static weft_cloth_def sheet_def(const ag_mesh* m, weft_preconditioner pc, ap_pins* pins) {
+    weft_cloth_def def = ap_pinned_sheet_def(m, pins, 1, 0);
     def.preconditioner = pc;
-    def.newton_iterations = 1;
-    def.line_search = 0;
     return def;
 }
 
 /* The sheet stepped FRAMES frames in ctx with PCG and preconditioner pc: its vertices (3 nv
  * floats, the caller frees) and the iterations summed over the frames */
 static float* run_sheet(weft_context* ctx, const ag_mesh* m, weft_preconditioner pc, int* iterations) {
-    weft_attachment_def att;
-    int pins[2];
-    weft_cloth_def def = sheet_def(m, pc, &att, pins);
+    ap_pins pins;
+    weft_cloth_def def = sheet_def(m, pc, &pins);
     weft_cloth cloth = {0};
     CHECK_EQ_INT(weft_cloth_create(ctx, &def, &cloth), WEFT_OK);
     weft_frame fr = weft_default_frame();
@@ -135,10 +120,9 @@ static void test_group_vs_passes(void) {
        still steps the small one */
     ag_mesh big;
     ag_grid(&big, 52, 1.0, 1.0, 0, 0);   /* 2,704 particles */
-    weft_attachment_def att;
-    int pins[2];
+    ap_pins pins;
     for (int k = 0; k < 2; ++k) {
-        weft_cloth_def def = sheet_def(&big, k ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI, &att, pins);
+        weft_cloth_def def = sheet_def(&big, k ? WEFT_PRECOND_AMG : WEFT_PRECOND_BLOCK_JACOBI, &pins);
         weft_cloth cloth = {0};
         CHECK_EQ_INT(weft_cloth_create(a, &def, &cloth), WEFT_ERROR_UNSUPPORTED);
         printf("too large under =group: %s\n", weft_context_last_error(a));

@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 #include "test_meshes.h"
@@ -51,15 +52,6 @@ static weft_mesh_collider_def body_def(int kind) {
     m.mesh.n_faces = g_tm.nt;
     m.friction = 0.5;
     return m;
-}
-
-static weft_context* make_ctx(weft_backend backend) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
-    weft_context* ctx = NULL;
-    if (weft_context_create(WEFT_ABI, &cd, &ctx) != WEFT_OK) return NULL;
-    return ctx;
 }
 
 /* the method of sheet_def's cloths: the GPU's (Newton 1, no line search) unless a test changes it */
@@ -106,7 +98,7 @@ typedef struct run_result {
  * frames 30..49 (its vertices set each frame). */
 static void run(weft_backend backend, int scene, int frames, run_result* r) {
     memset(r, 0, sizeof *r);
-    weft_context* ctx = make_ctx(backend);
+    weft_context* ctx = ap_try_context(backend);
     CHECK(ctx != NULL);
     if (!ctx) return;
     weft_mesh_collider_def m = body_def(scene == 1);
@@ -223,7 +215,7 @@ static void test_vs_cpu(void) {
 
 /* Bad vertex inputs: the same status and message on both backends, the GPU's state intact. */
 static void test_bad_inputs(void) {
-    weft_context* ctx[2] = {make_ctx(WEFT_BACKEND_CPU), make_ctx(WEFT_BACKEND_GPU)};
+    weft_context* ctx[2] = {ap_try_context(WEFT_BACKEND_CPU), ap_try_context(WEFT_BACKEND_GPU)};
     CHECK(ctx[0] && ctx[1]);
     if (!ctx[0] || !ctx[1]) return;
     weft_mesh_collider_def m = body_def(0);
@@ -295,7 +287,7 @@ static weft_status plain_frame(weft_context* ctx, weft_cloth c, int f, weft_fram
 /* A snapshot after 10 frames with the box swaying (vertices set each frame, the next frame's
  * already set when saved) restores to the same bytes and replays bit-identically. */
 static void test_snapshot(void) {
-    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* ctx = ap_try_context(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);
     if (!ctx) return;
     weft_mesh_collider_def m = body_def(0);
@@ -327,7 +319,7 @@ static void test_fast_bar(void) {
     ag_grid(&sheet, 16, 1.0, 0.5, 1, 0);
     int pins[2] = {16 * 15, 16 * 16 - 1};
     for (int b = 0; b < 2; ++b) {
-        weft_context* ctx = make_ctx(b ? WEFT_BACKEND_GPU : WEFT_BACKEND_CPU);
+        weft_context* ctx = ap_try_context(b ? WEFT_BACKEND_GPU : WEFT_BACKEND_CPU);
         CHECK(ctx != NULL);
         if (!ctx) continue;
         weft_mesh_collider_def m = weft_default_mesh_collider_def();
@@ -384,7 +376,7 @@ static void test_fast_bar(void) {
  * with the CPU); what the GPU does not run (the direct solver) is refused at creation, naming it;
  * the context goes on; Newton 2 with the line search is accepted. */
 static void test_refusals(void) {
-    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* ctx = ap_try_context(WEFT_BACKEND_GPU);
     CHECK(ctx != NULL);
     if (!ctx) return;
     weft_mesh_collider_def m = body_def(0);
@@ -416,12 +408,10 @@ int main(void) {
     const char* body = getenv("WEFT_GPU_BODY");
     if (!body || !*body) setenv("WEFT_GPU_BODY", "host", 1);
     g_device = body && strcmp(body, "device") == 0;
-    weft_context* probe = make_ctx(WEFT_BACKEND_GPU);
-    if (!probe) {
+    if (!ap_gpu_here()) {
         printf("no GPU context here: skipped\n");
         return 0;
     }
-    weft_context_destroy(probe);
     ag_grid(&g_sheet, N, 1.0, 0.5, 0, 0);
     RUN_TEST(test_vs_cpu);
     RUN_TEST(test_bad_inputs);

@@ -9,40 +9,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 
 #define N 12
 #define FRAMES 40
 
-static int g_pins[2];
-static weft_attachment_def g_att;
-
-static weft_cloth_def sheet_def(const ag_mesh* m, int newton, int line_search) {
-    g_pins[0] = 0;
-    g_pins[1] = N - 1;
-    g_att = weft_default_attachment_def();
-    g_att.vertices = g_pins;
-    g_att.n_vertices = 2;
-    weft_cloth_def def = weft_default_cloth_def();
-    def.mesh = ag_desc(m);
-    def.attachments = &g_att;
-    def.n_attachments = 1;
-    def.solver = WEFT_SOLVER_PCG;
-    def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
-    def.newton_iterations = newton;
-    def.line_search = line_search;
-    return def;
-}
-
-static weft_context* make_ctx(weft_backend backend) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
-    weft_context* ctx = NULL;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
-    return ctx;
-}
+static ap_pins g_pins;
 
 typedef struct run_result {
     float pos[3 * N * N];
@@ -52,7 +26,7 @@ typedef struct run_result {
 static void run_frames(weft_context* ctx, const ag_mesh* m, int newton, int line_search, int frames, double dt,
                        run_result* r) {
     memset(r, 0, sizeof *r);
-    weft_cloth_def def = sheet_def(m, newton, line_search);
+    weft_cloth_def def = ap_pinned_sheet_def(m, &g_pins, newton, line_search);
     def.max_frame_time = dt;
     weft_cloth cloth = {0};
     weft_status st = weft_cloth_create(ctx, &def, &cloth);
@@ -98,8 +72,8 @@ static run_result cpu2, gpu2, gpu1, cpu1, cpu_ls, gpu_ls;
 static void test_newton_vs_cpu(void) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
-    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* cpu = ap_context(WEFT_BACKEND_CPU);
+    weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
     if (!cpu || !gpu) return;
     run(cpu, &m, 2, 0, &cpu2);
     run(gpu, &m, 2, 0, &gpu2);
@@ -143,8 +117,8 @@ static void test_newton_vs_cpu(void) {
 static void test_backtracking(void) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
-    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* cpu = ap_context(WEFT_BACKEND_CPU);
+    weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
     if (!cpu || !gpu) return;
     run_frames(cpu, &m, 3, 1, 10, 0.1, &cpu_ls);
     run_frames(gpu, &m, 3, 1, 10, 0.1, &gpu_ls);
@@ -169,9 +143,9 @@ static void test_backtracking(void) {
 static void test_colliders_accepted(void) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
-    weft_context* gpu = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
     if (!gpu) return;
-    weft_cloth_def def = sheet_def(&m, 2, 0);
+    weft_cloth_def def = ap_pinned_sheet_def(&m, &g_pins, 2, 0);
     weft_collider_def sph = weft_default_collider_def();
     sph.type = WEFT_COLLIDER_SPHERE;
     sph.radius = 0.3;

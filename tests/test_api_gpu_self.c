@@ -26,6 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 
@@ -62,17 +63,13 @@ static void io_log(weft_log_level level, const char* message, void* user) {
 static weft_context* make_ctx(weft_backend backend) {
     memset(g_io, 0xff, sizeof g_io);
     memset(g_pio, 0xff, sizeof g_pio);
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
+    weft_context_def cd = ap_context_def(backend);
     cd.allocator.alloc = ag_count_alloc;
     cd.allocator.free = ag_count_free;
     cd.allocator.user = &g_count;
     cd.log = io_log;
     cd.log_level = WEFT_LOG_DEBUG;
-    weft_context* ctx = NULL;
-    if (weft_context_create(WEFT_ABI, &cd, &ctx) != WEFT_OK) return NULL;
-    return ctx;
+    return ap_try_create(&cd);
 }
 
 /* Two horizontal 10 x 10 sheets of 0.5 m: the lower at y = 0 (host vertices 0..99), the upper

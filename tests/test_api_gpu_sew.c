@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "check.h"
 #include "sew_sheets.h"
 #include "sew_tube.h"
@@ -98,15 +99,6 @@ static weft_cloth_def scene_def(const sew_scene* sc) {
     return def;
 }
 
-static weft_context* make_ctx(weft_backend backend) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
-    weft_context* ctx = NULL;
-    CHECK_EQ_INT(weft_context_create(WEFT_ABI, &cd, &ctx), WEFT_OK);
-    return ctx;
-}
-
 /* Step `frames` frames of 1/60 s; returns the rollbacks, or -1 when a step fails. strain (may be
  * NULL): the largest stretch-spring strain at the end of the last frame. */
 static int step_strain(weft_context* ctx, weft_cloth cloth, int frames, double* strain) {
@@ -160,7 +152,7 @@ static int same_report(const weft_import_report* a, const weft_import_report* b)
  * edge-triangle pairs at the end (weft_cloth_check_collisions) on the GPU than on the CPU, and
  * the largest strain at the end within `strain_bound` of the CPU's. */
 static void gpu_vs_cpu(const char* what, sew_scene* sc, int frames, double bound, double strain_bound) {
-    weft_context* ctx[2] = {make_ctx(WEFT_BACKEND_CPU), make_ctx(WEFT_BACKEND_GPU)};
+    weft_context* ctx[2] = {ap_context(WEFT_BACKEND_CPU), ap_context(WEFT_BACKEND_GPU)};
     if (!ctx[0] || !ctx[1]) return;
     weft_cloth_def def = scene_def(sc);
     weft_cloth cl[2];
@@ -258,7 +250,7 @@ static void test_bad_seams(void) {
         {0.0, 1, a, self},         /* a vertex to itself */
         {0.0, 1, a, NULL},         /* seam_b NULL */
     };
-    weft_context* ctx[2] = {make_ctx(WEFT_BACKEND_CPU), make_ctx(WEFT_BACKEND_GPU)};
+    weft_context* ctx[2] = {ap_context(WEFT_BACKEND_CPU), ap_context(WEFT_BACKEND_GPU)};
     if (!ctx[0] || !ctx[1]) return;
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         weft_status st[2];
@@ -295,7 +287,7 @@ static void test_bad_seams(void) {
 static void test_snapshot_mid_ramp(void) {
     sew_scene sc;
     sheets_scene(&sc);
-    weft_context* ctx = make_ctx(WEFT_BACKEND_GPU);
+    weft_context* ctx = ap_context(WEFT_BACKEND_GPU);
     if (!ctx) return;
     weft_cloth_def def = scene_def(&sc);
     weft_cloth cloth = {0};
@@ -315,7 +307,7 @@ static void test_snapshot_mid_ramp(void) {
     float* b = positions(ctx, cloth, sc.nv);
     CHECK(memcmp(a, b, (size_t)sc.nv * 3 * sizeof(float)) == 0);
     printf("  snapshot mid-ramp: pair gap %.3g m after 15 frames, replayed bit-exactly\n", pair_gap(&sc, b));
-    weft_context* cpu = make_ctx(WEFT_BACKEND_CPU);
+    weft_context* cpu = ap_context(WEFT_BACKEND_CPU);
     weft_cloth cc = {0};
     CHECK_EQ_INT(weft_cloth_create(cpu, &def, &cc), WEFT_OK);
     CHECK_EQ_INT(weft_cloth_restore(cpu, cc, snap, info.snapshot_size), WEFT_OK);
