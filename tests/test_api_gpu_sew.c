@@ -170,6 +170,7 @@ static void gpu_vs_cpu(const char* what, sew_scene* sc, int frames, double bound
         }
         CHECK_EQ_INT(weft_cloth_get_report(ctx[b], cl[b], &rep[b]), WEFT_OK);
         CHECK_EQ_INT(weft_cloth_get_info(ctx[b], cl[b], &info[b]), WEFT_OK);
+        CHECK_EQ_INT(info[b].backend, b ? WEFT_BACKEND_GPU : WEFT_BACKEND_CPU); /* the comparison is across backends */
         rollbacks[b] = step_strain(ctx[b], cl[b], frames, &strain[b]);
         p[b] = positions(ctx[b], cl[b], sc->nv);
         weft_collision_check chk;
