@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "api_gpu_support.h"
 #include "api_grid.h"
 #include "check.h"
 
@@ -24,14 +25,11 @@
 static ag_log g_log;
 
 static weft_context* make_ctx(weft_backend backend) {
-    weft_context_def cd = weft_default_context_def();
-    cd.threads = 1;
-    cd.backend = backend;
+    weft_context_def cd = ap_context_def(backend);
     cd.log = ag_log_fn;
     cd.log_user = &g_log;
     cd.log_level = WEFT_LOG_INFO;
-    weft_context* ctx = NULL;
-    return weft_context_create(WEFT_ABI, &cd, &ctx) == WEFT_OK ? ctx : NULL;
+    return ap_try_create(&cd);
 }
 
 /* A horizontal sheet held by two adjacent corners, at the defaults but for the preconditioner. */
