@@ -326,7 +326,9 @@ typedef struct wc_amg {
                                    (it could not be coarsened below 8 x coarse_max nodes: a cloud of
                                    disconnected pieces): COARSE_SWEEPS block-Jacobi sweeps */
     int coarse_dofs;            /* 3 x nodes of the coarsest level when dense, else 0 */
-    double* coarse_L;           /* (coarse_dofs^2) dense Cholesky factor, lower, row-major */
+    double* coarse_L;           /* (coarse_dofs^2) dense Cholesky factor L L^T, stored as U = L^T
+                                   in the upper triangle, row-major: L[i][k] = coarse_L[k d + i]
+                                   for i >= k (amg_dense.c); below the diagonal is scratch */
     double* coarse_y;           /* (coarse_dofs) */
     double setup_ms;            /* of the last wc_amg_setup */
     double phase_ms[WC_AMG_PHASES]; /* CPU time (wc_cpu_ms: all threads, load-independent) per
@@ -432,6 +434,14 @@ int wc_amg_cross_count_row(const wc_amg_cross* X, int i, int* pos);
  * setup's float copies; wc_amg_cross.m_blocks); left unmerged (m_blocks 0) without the float
  * V-cycle, without terms, on a dense level, or when it does not fit. */
 void wc_amg_cross_merge(wc_amg* a, int l, wc_par* par);
+/* The coarsest level's dense factor (amg_dense.c): M (d x d, row-major) holds the operator on
+ * entry, its lower triangle read; on return the factor, as coarse_L above. A pivot that is not
+ * positive (below 1e-14 x the largest diagonal) gets 1 and its row and column of L are zeroed: that
+ * unknown is decoupled. vec: the AVX path (wc_amg_dense_vec()), the same bits as the scalar one. */
+int wc_amg_dense_vec(void);
+void wc_amg_dense_factor(double* M, int d, int vec);
+/* x = L^-T L^-1 r with the factor above; y: d doubles of scratch (r, y and x distinct) */
+void wc_amg_dense_solve(const double* M, int d, const double* r, double* y, double* x, int vec);
 /* With opts.single, the V-cycle's float copies of a setup's values (amg_single.c): every level's,
  * or level 0's operator only (fine_only: the coarse levels were kept). */
 void wc_amg_single_copies(wc_amg* a, int fine_only, wc_par* par);

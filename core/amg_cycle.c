@@ -218,22 +218,9 @@ static void chebyshev_part(wc_amg_level* L, int single, double ratio, int steps,
     }
 }
 
-/* x = L^-T L^-1 r on the coarsest level. */
+/* x = L^-T L^-1 r on the coarsest level (amg_dense.c). */
 static void coarse_solve(wc_amg* a, const double* r, double* x) {
-    int d = a->coarse_dofs;
-    const double* M = a->coarse_L;
-    double* y = a->coarse_y;
-    for (int i = 0; i < d; ++i) {
-        double s = r[i];
-        const double* Ri = M + (size_t)i * d;
-        for (int k = 0; k < i; ++k) s -= Ri[k] * y[k];
-        y[i] = s / Ri[i];
-    }
-    for (int i = d - 1; i >= 0; --i) {
-        double s = y[i];
-        for (int k = i + 1; k < d; ++k) s -= M[(size_t)k * d + i] * x[k];
-        x[i] = s / M[(size_t)i * d + i];
-    }
+    wc_amg_dense_solve(a->coarse_L, a->coarse_dofs, r, a->coarse_y, x, wc_amg_dense_vec());
 }
 
 static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {

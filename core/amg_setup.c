@@ -547,7 +547,7 @@ static void galerkin(wc_amg* a, wc_amg_level* L, wc_amg_level* N, wc_par* par) {
 }
 
 /* Dense Cholesky of the coarsest operator (a pivot that is not positive gets 1: that unknown is
- * decoupled, which a semi-definite coarse operator's null directions are). */
+ * decoupled, which a semi-definite coarse operator's null directions are; amg_dense.c). */
 static void coarse_factor(wc_amg* a) {
     const wc_amg_level* L = &a->lev[a->n_levels - 1];
     int d = a->coarse_dofs;
@@ -559,26 +559,7 @@ static void coarse_factor(wc_amg* a) {
                 for (int c = 0; c < 3; ++c)
                     M[(size_t)(3 * i + r) * d + 3 * L->col[k] + c] = L->val[9 * (size_t)k + 3 * r + c];
     wc_amg_cross_dense(L->cross, M, d);
-    double scale = 0.0;
-    for (int i = 0; i < d; ++i) scale = fmax(scale, fabs(M[(size_t)i * d + i]));
-    for (int j = 0; j < d; ++j) {
-        double* Rj = M + (size_t)j * d;
-        double s = Rj[j];
-        for (int k = 0; k < j; ++k) s -= Rj[k] * Rj[k];
-        if (!(s > 1e-14 * scale)) {
-            for (int k = 0; k < j; ++k) Rj[k] = 0.0;
-            s = 1.0;
-            for (int i = j + 1; i < d; ++i) M[(size_t)i * d + j] = 0.0; /* decouple the column too */
-        }
-        double ljj = sqrt(s);
-        Rj[j] = ljj;
-        for (int i = j + 1; i < d; ++i) {
-            double* Ri = M + (size_t)i * d;
-            double t = Ri[j];
-            for (int k = 0; k < j; ++k) t -= Ri[k] * Rj[k];
-            Ri[j] = t / ljj;
-        }
-    }
+    wc_amg_dense_factor(M, d, wc_amg_dense_vec());
 }
 
 static const char* const phase_names[WC_AMG_PHASES] = {

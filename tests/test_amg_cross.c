@@ -131,7 +131,7 @@ static void test_galerkin(wc_amg* a) {
     for (int i = 0; i < d; ++i)
         for (int j = 0; j < d; ++j) {
             double llt = 0;
-            for (int k = 0; k <= (i < j ? i : j); ++k) llt += a->coarse_L[(size_t)i * d + k] * a->coarse_L[(size_t)j * d + k];
+            for (int k = 0; k <= (i < j ? i : j); ++k) llt += a->coarse_L[(size_t)k * d + i] * a->coarse_L[(size_t)k * d + j];
             worst = fmax(worst, fabs(llt - M[(size_t)i * d + j]));
             scale = fmax(scale, fabs(M[(size_t)i * d + j]));
         }
