@@ -248,14 +248,10 @@ typedef enum weft_preconditioner {
     WEFT_PRECOND_AMG = 2,           /* multigrid V-cycle: smoothed aggregation with rotations on the
                                        CPU; on the GPU (compute passes only) smoothed aggregation
                                        of translations (gpu/solver/wg_amg.h) */
-    WEFT_PRECOND_IC0 = 3            /* since 0.9.1: block incomplete Cholesky IC(0) of the filtered
-                                       matrix, CPU only (the GPU refuses it with
-                                       WEFT_ERROR_UNSUPPORTED; AUTO keeps such a cloth on the CPU).
-                                       Fewer instructions a frame than AMG on small cloths (a
-                                       quarter at 256 particles, -26 % at 1,024, about even near 2,000)
-                                       for more error at the same tolerance (2.6-6.8x the solver's
-                                       own on sheets): a choice, never the default. Measured in
-                                       docs/bench/cpu_levers_sheet32.md */
+    WEFT_PRECOND_IC0 = 3            /* since 0.9.1, CPU only (the GPU refuses it; AUTO keeps the cloth on
+                                       the CPU): block IC(0) of the filtered matrix. Fewer instructions
+                                       a frame than AMG below ~2,000 particles, more error at the same
+                                       tolerance: a choice, never the default (docs/bench/cpu_levers_sheet32.md) */
 } weft_preconditioner;
 
 /* Time integrator of each substep. */
