@@ -188,6 +188,9 @@ typedef struct wc_amg_cross {
                                    below a dense one get theirs by the dense Galerkin product
                                    P^T X P */
     double* gal;                /* (3 n_above x 3n) that product's X P, when the level above is dense */
+    int dense_sym;              /* 1: dense is symmetric to the bit (restrict_dense copies its upper
+                                   triangle into the lower; not the Galerkin product's): its products
+                                   read it by columns (wc_amg_cross_dense_rows) */
     double* dadd;               /* (n x 9 x group) the terms' part of the block diagonal, laid out as
                                    Dinv (a pair level: node i's blocks to i & ~1 and i | 1) */
     double* s;                  /* (cap_terms) a product's alpha c_k (v_k . x) */
@@ -425,6 +428,12 @@ void wc_amg_cross_mul_add(const wc_amg_cross* X, double alpha, const double* x, 
  * barrier), y += X x on nodes [lo, hi) (a dense level: alpha X x directly, no first part). */
 void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, int q0, int q1);
 void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, int lo, int hi);
+/* A dense level's rows [r0, r1) of y += alpha X x (d = 3n unknowns), each a scalar sum over k
+ * ascending: vec (wc_amg_cross_dense_vec(): AVX) reads a bit-symmetric X by columns, 16 rows at
+ * a time, with the same bits as the scalar rows. */
+int wc_amg_cross_dense_vec(void);
+void wc_amg_cross_dense_rows(const wc_amg_cross* X, int d, double alpha, const double* x, double* y, int r0, int r1,
+                             int vec);
 void wc_amg_cross_destroy(wc_amg* a);
 /* Row i's distinct term columns not yet marked -2 - i in pos, marked so (amg_cross.c). */
 int wc_amg_cross_count_row(const wc_amg_cross* X, int i, int* pos);

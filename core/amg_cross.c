@@ -36,6 +36,9 @@
  * the block diagonal). */
 #include <stdatomic.h>
 #include <string.h>
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
 #include "amg.h"
 #include "bsr_rows.h"
 #include "coupling.h"
@@ -658,6 +661,7 @@ void wc_amg_cross_restrict(wc_amg* a, int l, wc_par* par) {
         Y->n_entries = 0;
         a->cross_terms[l + 1] = Y->n_terms;
         if (Y->n_terms == 0) return;
+        Y->dense_sym = !X->dense; /* restrict_dense's lower triangle is its upper one's copy */
         if (X->dense) dense_galerkin(L, X, C, Y);
         else restrict_dense(L, X, C, Y, par);
         dense_diagonal(C, Y);
@@ -676,15 +680,76 @@ void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, in
     }
 }
 
+/* y_r += alpha sum_k M_rk x_k for rows [r0, r1) of a d x d matrix, k ascending (a row's scalar
+ * sum). */
+static void dense_rows(const double* M, int d, double alpha, const double* x, double* y, int r0, int r1) {
+    for (int r = r0; r < r1; ++r) {
+        const double* row = M + (size_t)r * d;
+        double acc = 0.0;
+        for (int k = 0; k < d; ++k) acc += row[k] * x[k];
+        y[r] += alpha * acc;
+    }
+}
+
+/* The same sums for a symmetric M (M_rk = M_kr to the bit), read by columns: row r's k-th term is
+ * M_kr, so a panel of rows is a contiguous stretch of each row k, and each lane of a register does
+ * one row's scalar recurrence acc += M_kr x_k, k ascending, with a separate multiply and add (no
+ * fused multiply-add): the same bits as dense_rows, without its serial chain of additions (16
+ * rows a pass, then 4, then the rows left one by one). */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+int wc_amg_cross_dense_vec(void) { return __builtin_cpu_supports("avx"); }
+
+__attribute__((target("avx"))) static void dense_cols_avx(const double* M, int d, double alpha, const double* x,
+                                                          double* y, int r0, int r1) {
+    int r = r0;
+    for (; r + 16 <= r1; r += 16) {
+        __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd(),
+                a3 = _mm256_setzero_pd();
+        const double* m = M + r;
+        for (int k = 0; k < d; ++k, m += d) {
+            const __m256d xk = _mm256_broadcast_sd(x + k);
+            a0 = _mm256_add_pd(a0, _mm256_mul_pd(_mm256_loadu_pd(m), xk));
+            a1 = _mm256_add_pd(a1, _mm256_mul_pd(_mm256_loadu_pd(m + 4), xk));
+            a2 = _mm256_add_pd(a2, _mm256_mul_pd(_mm256_loadu_pd(m + 8), xk));
+            a3 = _mm256_add_pd(a3, _mm256_mul_pd(_mm256_loadu_pd(m + 12), xk));
+        }
+        const __m256d g = _mm256_set1_pd(alpha);
+        double* o = y + r;
+        _mm256_storeu_pd(o, _mm256_add_pd(_mm256_loadu_pd(o), _mm256_mul_pd(g, a0)));
+        _mm256_storeu_pd(o + 4, _mm256_add_pd(_mm256_loadu_pd(o + 4), _mm256_mul_pd(g, a1)));
+        _mm256_storeu_pd(o + 8, _mm256_add_pd(_mm256_loadu_pd(o + 8), _mm256_mul_pd(g, a2)));
+        _mm256_storeu_pd(o + 12, _mm256_add_pd(_mm256_loadu_pd(o + 12), _mm256_mul_pd(g, a3)));
+    }
+    for (; r + 4 <= r1; r += 4) {
+        __m256d a0 = _mm256_setzero_pd();
+        const double* m = M + r;
+        for (int k = 0; k < d; ++k, m += d) a0 = _mm256_add_pd(a0, _mm256_mul_pd(_mm256_loadu_pd(m), _mm256_broadcast_sd(x + k)));
+        _mm256_storeu_pd(y + r, _mm256_add_pd(_mm256_loadu_pd(y + r), _mm256_mul_pd(_mm256_set1_pd(alpha), a0)));
+    }
+    dense_rows(M, d, alpha, x, y, r, r1);
+}
+#else
+int wc_amg_cross_dense_vec(void) { return 0; }
+#endif
+
+/* y_r += alpha (X x)_r over a dense level's rows [r0, r1): by columns where X is symmetric to the
+ * bit and AVX is there (vec: wc_amg_cross_dense_vec()), else by rows; the same bits either way. */
+void wc_amg_cross_dense_rows(const wc_amg_cross* X, int d, double alpha, const double* x, double* y, int r0, int r1,
+                             int vec) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (vec && X->dense_sym) {
+        dense_cols_avx(X->dense, d, alpha, x, y, r0, r1);
+        return;
+    }
+#else
+    (void)vec;
+#endif
+    dense_rows(X->dense, d, alpha, x, y, r0, r1);
+}
+
 void wc_amg_cross_rows_add(const wc_amg_cross* X, double alpha, const double* x, double* y, int n, int lo, int hi) {
     if (X->dense) { /* y_r += alpha (X x)_r over the nodes' rows */
-        const int d = 3 * n;
-        for (int r = 3 * lo; r < 3 * hi; ++r) {
-            const double* row = X->dense + (size_t)r * d;
-            double acc = 0.0;
-            for (int k = 0; k < d; ++k) acc += row[k] * x[k];
-            y[r] += alpha * acc;
-        }
+        wc_amg_cross_dense_rows(X, 3 * n, alpha, x, y, 3 * lo, 3 * hi, wc_amg_cross_dense_vec());
         return;
     }
     if (X->n_blocks > 0) { /* y_i += alpha sum_k X_ik x_k, the summed form */

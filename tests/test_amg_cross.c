@@ -24,7 +24,9 @@
  *     the layout, the same bits on 1, 2 and 3 threads, the V-cycle's use, a level out of room
  *     (their blocks bit for bit against a serial sum, and the short path: test_amg_merge.c);
  *   - the restriction of the terms, on 1, 2 and 3 threads, against a plain serial loop over them,
- *     bit for bit (dense coarse levels and lists, a level with room for half). */
+ *     bit for bit (dense coarse levels and lists, a level with room for half);
+ *   - a dense level's products read by columns (AVX, a bit-symmetric matrix) or by rows: the plain
+ *     row loop's bits on every range of rows. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -674,6 +676,99 @@ static void test_restricted(void) {
     wc_model_free(&m);
 }
 
+/* Rows [r0, r1) of y += alpha M x, each a scalar sum over k ascending (the product's definition). */
+static void dense_ref(const double* M, int d, double alpha, const double* x, double* y, int r0, int r1) {
+    for (int r = r0; r < r1; ++r) {
+        double acc = 0.0;
+        for (int k = 0; k < d; ++k) acc += M[(size_t)r * d + k] * x[k];
+        y[r] += alpha * acc;
+    }
+}
+
+/* Rows of y differing in bits from the plain row loop's over ranges of every length and offset
+ * (panels of 16 and 4 and the rows left), alpha -1, 1 and 0.7; rows outside the range untouched. */
+static int dense_rows_errors(const wc_amg_cross* X, int d, int vec, uint64_t* st) {
+    double *x = malloc(sizeof(double) * d), *y0 = malloc(sizeof(double) * d), *y = malloc(sizeof(double) * d),
+           *yr = malloc(sizeof(double) * d);
+    random_vec(x, d, st);
+    random_vec(y0, d, st);
+    const double alphas[3] = {-1.0, 1.0, 0.7};
+    int bad = 0;
+    for (int r0 = 0; r0 < d; r0 += r0 < 40 ? 1 : 37)
+        for (int len = 1; r0 + len <= d; len += len < 40 ? 1 : 53) {
+            const double alpha = alphas[(r0 + len) % 3];
+            memcpy(y, y0, sizeof(double) * d);
+            memcpy(yr, y0, sizeof(double) * d);
+            wc_amg_cross_dense_rows(X, d, alpha, x, y, r0, r0 + len, vec);
+            dense_ref(X->dense, d, alpha, x, yr, r0, r0 + len);
+            for (int r = 0; r < d; ++r) bad += memcmp(y + r, yr + r, sizeof(double)) != 0;
+        }
+    free(x);
+    free(y0);
+    free(y);
+    free(yr);
+    return bad;
+}
+
+/* A dense level's products (wc_amg_cross_dense_rows): one restricted from a list level is
+ * symmetric to the bit and marked so, a Galerkin product's is not marked; read by columns (AVX)
+ * or by rows, each row's sum is the plain row loop's, bit for bit, on every range of rows; a
+ * matrix not marked symmetric (here not symmetric) is read by rows. */
+static void test_dense_rows(void) {
+    wc_model m;
+    wc_state* s = coupled_system(&m);
+    if (!s) return;
+    wc_par par;
+    wc_par_init(&par, 1);
+    wc_amg* a = amg_coupled_hierarchy(s, WC_AMG_CROSS_DENSE_DOFS, &par);
+    if (!a) return;
+    const int vec = wc_amg_cross_dense_vec();
+    uint64_t st = 7;
+    int levels = 0, sym_levels = 0, asym = 0, bad = 0;
+    for (int l = 1; l < a->n_levels; ++l) {
+        const wc_amg_cross* X = a->lev[l].cross;
+        if (!X->dense || X->n_terms == 0) continue;
+        const int d = 3 * a->lev[l].n;
+        CHECK_EQ_INT(X->dense_sym, !a->lev[l - 1].cross->dense);
+        if (X->dense_sym) {
+            ++sym_levels;
+            for (int r = 0; r < d; ++r)
+                for (int k = 0; k < r; ++k)
+                    asym += memcmp(X->dense + (size_t)r * d + k, X->dense + (size_t)k * d + r, sizeof(double)) != 0;
+        }
+        for (int v = 0; v <= vec; ++v) bad += dense_rows_errors(X, d, v, &st);
+        ++levels;
+    }
+    /* a matrix that is not symmetric, not marked so: by rows whatever vec */
+    const int d = 45;
+    wc_amg_cross Z;
+    memset(&Z, 0, sizeof Z);
+    Z.dense = malloc(sizeof(double) * d * d);
+    random_vec(Z.dense, d * d, &st);
+    const int bad_asym = dense_rows_errors(&Z, d, vec, &st);
+    Z.dense_sym = 1; /* marked symmetric, it is read by columns: M^T x */
+    double *x = malloc(sizeof(double) * d), *y = calloc(d, sizeof(double)), *yr = calloc(d, sizeof(double));
+    random_vec(x, d, &st);
+    wc_amg_cross_dense_rows(&Z, d, 1.0, x, y, 0, d, vec);
+    dense_ref(Z.dense, d, 1.0, x, yr, 0, d);
+    const int cols_read = vec && memcmp(y, yr, sizeof(double) * d) != 0;
+    printf("  %d dense levels (%d restricted from lists, %d entries off symmetric), AVX %s: %d rows differ from "
+           "the row loop; unmarked 45 x 45: %d; marked: read by columns %s\n",
+           levels, sym_levels, asym, vec ? "on" : "off", bad, bad_asym, cols_read ? "yes" : "no");
+    CHECK(sym_levels > 0);
+    CHECK_EQ_INT(asym, 0);
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(bad_asym, 0);
+    CHECK(cols_read || !vec);
+    free(Z.dense);
+    free(x);
+    free(y);
+    free(yr);
+    wc_amg_destroy(a);
+    wc_state_destroy(s);
+    wc_model_free(&m);
+}
+
 int main(void) {
     RUN_TEST(test_hierarchy);
     RUN_TEST(test_iterations);
@@ -682,5 +777,6 @@ int main(void) {
     RUN_TEST(test_summed);
     RUN_TEST(test_merged);
     RUN_TEST(test_restricted);
+    RUN_TEST(test_dense_rows);
     return TEST_SUMMARY();
 }
