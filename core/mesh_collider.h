@@ -138,6 +138,15 @@ double wc_mesh_closest_near(const wc_mesh_collider* m, wc_mesh_near* e, int end,
 double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int at, int end, const double* p,
                             double reach, double* n, double* vc);
 
+/* 1 when wc_mesh_closest_kept(m, e, at, end, p, reach, ...) is proven >= 0 or, within 0,
+ * HUGE_VAL; within 1: proven >= 0 and < HUGE_VAL. Needs e covering the query and at (a position
+ * in e's list whose triangle's box meets the query box): its triangle's distance bounds which
+ * triangles could decide the sign, and p in front of the planes of those, by a margin over
+ * rounding, proves it; only a triangle whose plane p is not clearly in front of has its closest
+ * point computed (mesh_query.c). 0: not proven: ask wc_mesh_closest_kept. */
+int wc_mesh_front_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int at, int end, const double* p,
+                       double reach, int within);
+
 /* Continuous query: the earliest time t in [0, 1] at which a point moving linearly from p0 (at
  * the substep's start) to p1 (at its end) crosses a triangle of the mesh moving from xa to xb,
  * from its front (p0 in front of the triangle's plane at the start) to its back (p1 behind it at

@@ -321,7 +321,9 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
     double dc = 2.0 * th + 1.5 * c->h * (approach > 0.0 ? approach : 0.0);
     if (!(dist < dc)) return;
     /* the cloth point and the feature's particles in front of the body at the start */
-    if (wc_mesh_closest_kept(c->mc, c->near, c->at, 0, cp0, dc + th, NULL, NULL) < -tie) return;
+    if (!wc_mesh_front_kept(c->mc, c->near, c->at, 0, cp0, dc + th, 0) &&
+        wc_mesh_closest_kept(c->mc, c->near, c->at, 0, cp0, dc + th, NULL, NULL) < -tie)
+        return;
     for (int k = 0; k < cnt; ++k) {
         _Atomic signed char* bh = &c->pp->behind[c->cloth[k]];
         signed char b = atomic_load_explicit(bh, memory_order_relaxed);
@@ -329,9 +331,13 @@ static void keep(find_ctx* c, int cnt, const double* w, const double* cp0, const
             /* the closest triangle within dc + th through the kept candidates is the closest of
                all; only when there is none within that reach is the whole tree searched */
             const double* xk = c->x + 3 * c->cloth[k];
-            double d = wc_mesh_closest_kept(c->mc, c->near, c->at, 0, xk, dc + th, NULL, NULL);
-            if (!(d < HUGE_VAL)) d = wc_mesh_closest(c->mc, 0, xk, HUGE_VAL, NULL, NULL);
-            b = d < -tie_band(th, xk);
+            if (wc_mesh_front_kept(c->mc, c->near, c->at, 0, xk, dc + th, 1)) {
+                b = 0; /* proven in front and within reach: the search's answer, without it */
+            } else {
+                double d = wc_mesh_closest_kept(c->mc, c->near, c->at, 0, xk, dc + th, NULL, NULL);
+                if (!(d < HUGE_VAL)) d = wc_mesh_closest(c->mc, 0, xk, HUGE_VAL, NULL, NULL);
+                b = d < -tie_band(th, xk);
+            }
             atomic_store_explicit(bh, b, memory_order_relaxed);
         }
         if (b) return;

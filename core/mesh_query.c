@@ -287,6 +287,60 @@ double wc_mesh_closest_kept(const wc_mesh_collider* m, const wc_mesh_near* e, in
     return closest_listed(m, e, at >= 0 ? at : e->hint, end, p, box, reach, n, vc, NULL);
 }
 
+/* The sign of a kept search's result with few closest points. The result's sign is the sign of
+ * dn = (p - q) . n of the triangle that decided it (closest_take: the best's own for a
+ * face-interior point, the side-deciding one for an edge or vertex), q its closest point. That
+ * triangle lies within the prune's bound of the hint's distance, near_bound2(hd2) (search_list:
+ * what lies beyond could neither become the closest nor tie). So the result is >= 0, or HUGE_VAL
+ * beyond reach, when every listed triangle the search could visit (box meeting the query box,
+ * non-degenerate) either lies beyond that bound (its box, or its plane by more than a rounding
+ * margin), or has p in front of its plane by more than FRONT_MARGIN (dn is p's distance to that
+ * plane up to a rounding of a few ulps of the coordinates: the margin, relative to the
+ * coordinates of p and of the triangle's box, is millions of ulps), or has dn >= 0 computed as
+ * closest_take computes it (the same function of the same inputs: the same bits). */
+#define FRONT_MARGIN 1e-9
+
+int wc_mesh_front_kept(const wc_mesh_collider* m, const wc_mesh_near* e, int at, int end, const double* p,
+                       double reach, int within) {
+    double box[6];
+    if (!e || m->exhaustive || !isfinite(reach) || e->count < 0 || at < 0 || at >= e->count) return 0;
+    query_box(p, reach, box);
+    if (!near_covers(m, e, box)) return 0;
+    const wc_bvh* b = &m->bvh;
+    const double* x = end ? m->xb : m->xa;
+    const double* nrm = end ? m->nrm_b : m->nrm_a;
+    const double ps = max_num(fabs(p[0]), max_num(fabs(p[1]), fabs(p[2])));
+    /* the hint: search_list's first closest point, its bound the search's from the start */
+    int t = e->tri[at];
+    const double* n = nrm + 3 * t;
+    const int* v = m->tris + 3 * t;
+    if (!wc_box_overlap(b->box + 6 * b->leaf_of[t], box) || (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0)) return 0;
+    double w[3], q[3], d[3];
+    const double hd2 = wc_closest_on_triangle(p, x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], w, q);
+    const double bound2 = near_bound2(hd2, 1e-11 * (1.0 + ps));
+    const double bound = sqrt(bound2);
+    if (within && !(sqrt(hd2) * (1.0 + 1e-8) + 1e-12 <= reach)) return 0; /* best <= hd2: within reach */
+    for (int k = 0; k < e->count; ++k) {
+        t = e->tri[k];
+        const double* lb = b->box + 6 * b->leaf_of[t];
+        n = nrm + 3 * t;
+        if (!wc_box_overlap(lb, box) || (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) || wc_box_dist2(lb, p) > bound2)
+            continue;
+        double s = ps;
+        for (int j = 0; j < 6; ++j) s = max_num(s, fabs(lb[j]));
+        const double margin = FRONT_MARGIN * (1.0 + s);
+        v = m->tris + 3 * t;
+        v3_sub(d, p, x + 3 * v[0]);
+        const double pn = v3_dot(d, n);
+        if (pn > margin || -pn > bound + margin) continue; /* in front of its plane, or beyond the bound */
+        double d2 = wc_closest_on_triangle(p, x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], w, q);
+        if (d2 > bound2) continue;
+        v3_sub(d, p, q);
+        if (!(v3_dot(d, n) >= 0.0)) return 0; /* it may decide, from behind (or NaN) */
+    }
+    return 1;
+}
+
 typedef struct ccd_q {
     const wc_mesh_collider* m;
     const double *p0, *p1;

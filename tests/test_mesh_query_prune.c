@@ -9,6 +9,9 @@
  *    next search from the start, the plane-distance prune) the same, and through a list as it
  *    is (wc_mesh_closest_kept) from any of its triangles or none, and its crossings
  *    (wc_mesh_ccd_near, short paths and long ones beyond its list) are the tree's bit for bit;
+ *    wc_mesh_front_kept's "in front" (and "within reach") never where the full search's signed
+ *    distance is negative (or beyond reach), at those points and at points on a listed
+ *    triangle's plane, 1e-13 or 3e-9 off it, or a few mm in front of it;
  *  - the feature-pair detection's mask (mesh_pairs.h: only subtrees with a sharp vertex) is 1
  *    exactly above the non-degenerate triangles with a sharp vertex;
  *  - a sheet falling onto a moving, deforming, teleported box (sharp: feature pairs) and sphere
@@ -147,6 +150,24 @@ enum { WALKERS = 16 };
 static double g_walker[3 * WALKERS];
 static wc_mesh_near g_near[WALKERS];
 
+static int g_front, g_front_within, g_front_unproven;
+
+/* wc_mesh_front_kept against the full search's answer d (wc_mesh_closest at reach r): when it
+ * proves p in front, d >= 0 or, asked without `within`, HUGE_VAL; with `within` d < HUGE_VAL */
+static void front_check(const wc_mesh_collider* mc, const wc_mesh_near* e, int at, int end, const double* p, double r,
+                        double d) {
+    int f0 = wc_mesh_front_kept(mc, e, at, end, p, r, 0), f1 = wc_mesh_front_kept(mc, e, at, end, p, r, 1);
+    if ((f0 && !(d >= 0.0)) || (f1 && !(d >= 0.0 && d < HUGE_VAL)) || (f1 && !f0))
+        printf("  front proven wrongly at (%.17g %.17g %.17g), reach %g, from %d: %d %d, distance %.17g\n", p[0], p[1],
+               p[2], r, at, f0, f1, d);
+    CHECK(!f0 || d >= 0.0);
+    CHECK(!f1 || (d >= 0.0 && d < HUGE_VAL));
+    CHECK(!f1 || f0);
+    g_front += f0;
+    g_front_within += f1;
+    g_front_unproven += !f0 && d >= 0.0 && d < HUGE_VAL;
+}
+
 static void walk(wc_mesh_collider* mc) {
     for (int i = 0; i < WALKERS; ++i) {
         double* p = g_walker + 3 * i;
@@ -214,6 +235,27 @@ static void walk(wc_mesh_collider* mc) {
         CHECK(same);
         g_kept_from += at >= 0 && k1 < HUGE_VAL;
         CHECK(memcmp(&before, &g_near[i], sizeof before) == 0);
+        front_check(mc, &g_near[i], at, end, q, r2, k1);
+        /* on a listed triangle's plane, or just off it: where only the margin decides */
+        if (g_near[i].count > 0) {
+            int j = (int)(urand() * g_near[i].count) % g_near[i].count, t = g_near[i].tri[j];
+            const int* v = mc->tris + 3 * t;
+            const double* x = end ? mc->xb : mc->xa;
+            const double* nt = (end ? mc->nrm_b : mc->nrm_a) + 3 * t;
+            double w[3] = {urand(), urand(), urand()}, sw = w[0] + w[1] + w[2] + 1e-300, s[3] = {0, 0, 0};
+            for (int k = 0; k < 3; ++k) v3_axpy(s, w[k] / sw, x + 3 * v[k]);
+            double u2 = urand();
+            if (u2 < 0.3) v3_axpy(s, u2 < 0.15 ? 1e-13 : -1e-13, nt);
+            else if (u2 < 0.5) v3_axpy(s, srand1(3e-9), nt);
+            else if (u2 < 0.9) v3_axpy(s, 0.004 * urand(), nt); /* in front of it: often proven */
+            double rs = 0.002 + 0.03 * urand();
+            mc->exhaustive = 1;
+            double ks = wc_mesh_closest(mc, end, s, rs, NULL, NULL);
+            mc->exhaustive = 0;
+            double u3 = urand();
+            front_check(mc, &g_near[i], u3 < 0.6 ? j : u3 < 0.8 ? (int)(urand() * g_near[i].count) % g_near[i].count : -1,
+                        end, s, rs, ks);
+        }
         g_kept_listed += g_near[i].count >= 0 && k1 < HUGE_VAL;
         ++g_walked;
         g_overflowed += g_near[i].count == -2;
@@ -294,6 +336,7 @@ static void test_closest_matches_full_search(void) {
     static tmesh t;
     double c[3] = {0.1, 0.2, -0.1};
     g_checked = g_found = g_walked = g_overflowed = g_kept_listed = g_kept_from = g_crossed = g_crossed_listed = 0;
+    g_front = g_front_within = g_front_unproven = 0;
     lumpy_sphere(&t, 14, 24, 0.3, c, 0.01);
     moving_body(&t, 0.005);
     lumpy_sphere(&t, 6, 8, 0.3, c, 0.05); /* coarse and very lumpy: sharp bends */
@@ -306,6 +349,9 @@ static void test_closest_matches_full_search(void) {
            "without gathering (%d found with a list, %d from a listed triangle); %d crossings = the tree's bit for bit "
            "(%d with a list)\n",
            g_checked, g_found, g_walked, g_overflowed, g_kept_listed, g_kept_from, g_crossed, g_crossed_listed);
+    printf("  in front proven by the planes (wc_mesh_front_kept): %d (%d within reach), %d in front "
+           "within reach not proven\n", g_front, g_front_within, g_front_unproven);
+    CHECK(g_front > 50 && g_front_within > 20);
     CHECK(g_crossed_listed > 20);
     CHECK(g_overflowed > 0 && g_overflowed < g_walked / 2);
     CHECK(g_kept_listed > g_walked / 4);
