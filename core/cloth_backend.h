@@ -44,9 +44,17 @@ typedef struct wc_device_desc {
     wc_allocator allocator;
 } wc_device_desc;
 
+/* What a backend's defaults may depend on: the cloth's size and whether its def names a
+ * preconditioner. */
+typedef struct wc_defaults_query {
+    int n_particles;
+    int preconditioner_named;         /* 1: the def names one (this backend's is not used) */
+} wc_defaults_query;
+
 /* The backend's choices for what a cloth's def leaves to it (a def's DEFAULT / 0 / -1). */
 typedef struct wc_backend_defaults {
     wc_precond_type preconditioner;   /* PCG's preconditioner */
+    double newton_forcing;            /* inexact Newton's forcing term (wc_sim_def.newton_forcing) */
     int newton_iterations;            /* linearised solves per substep */
     int line_search;                  /* 0 or 1 */
     int garment_self_collision;       /* self-collision of a garment (a cloth with mesh colliders or
@@ -120,7 +128,7 @@ typedef struct wc_cloth_backend {
     /* Release it (NULL: nothing). Not WC_OK (d says why) when its objects had to be left to the
      * host's GL context; the memory is freed either way. */
     wc_status (*device_destroy)(void* device, wc_diag* d);
-    void (*defaults)(const void* device, wc_backend_defaults* out);
+    void (*defaults)(const void* device, const wc_defaults_query* q, wc_backend_defaults* out);
     /* A group of operations on the device's cloths. A failed begin needs no end. */
     wc_status (*begin)(void* device, wc_diag* d);
     void (*end)(void* device);
@@ -167,7 +175,10 @@ typedef struct wc_cloth_backend {
     void (*mesh_pull)(struct wc_cloth* c);
 } wc_cloth_backend;
 
-/* Core's CPU backend (cloth_cpu.c). */
+/* Core's CPU backend (cloth_cpu.c). Below WC_CPU_IC0_BELOW particles its default preconditioner
+ * is block IC(0) with every Newton solve to the tolerance (forcing 0), above it the multigrid
+ * with the first solve to 1e-2 (docs/bench/precond_by_size.md). */
+#define WC_CPU_IC0_BELOW 800
 extern const wc_cloth_backend wc_cloth_cpu;
 
 #endif

@@ -1,7 +1,8 @@
 /* Core's CPU backend (cloth_backend.h): the frame is wc_step_frame on the cloth's own wc_state,
  * which is the truth (no mirror, no device, nothing to back up or transfer). Every default of
- * the def is the CPU's (docs/design/cloth.md "Defaults"): the multigrid preconditioner, two
- * Newton iterations with line search, self-collision on for a garment. */
+ * the def is the CPU's (docs/design/cloth.md "Defaults"): the multigrid preconditioner with the
+ * first Newton solve to 1e-2, or below WC_CPU_IC0_BELOW particles block IC(0) with every solve
+ * to the tolerance; two Newton iterations with line search, self-collision on for a garment. */
 #include <math.h>
 #include <stdio.h>
 #include "cloth_internal.h"
@@ -20,9 +21,12 @@ static wc_status device_destroy(void* device, wc_diag* d) {
     return WC_OK;
 }
 
-static void defaults(const void* device, wc_backend_defaults* out) {
+static void defaults(const void* device, const wc_defaults_query* q, wc_backend_defaults* out) {
     (void)device;
-    out->preconditioner = WC_PRECOND_AMG;
+    const int small = q->n_particles < WC_CPU_IC0_BELOW;
+    out->preconditioner = small ? WC_PRECOND_IC0 : WC_PRECOND_AMG;
+    /* the pair: forcing 0 with the preconditioner chosen here, 1e-2 with a named one */
+    out->newton_forcing = small && !q->preconditioner_named ? 0.0 : 1e-2;
     out->newton_iterations = 2;
     out->line_search = 1;
     out->garment_self_collision = 1;

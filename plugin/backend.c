@@ -133,14 +133,17 @@ void* wa_backend_gl_context(const weft_context* ctx) {
 }
 
 /* The def's DEFAULT / 0 / -1 choices from table b (docs/design/cloth.md "Defaults"). */
-static void resolve_defaults(const wc_cloth_backend* b, const void* device, const weft_cloth_def* def, wc_sim_def* s) {
+static void resolve_defaults(const wc_cloth_backend* b, const void* device, const weft_cloth_def* def,
+                             const wc_model* m, wc_sim_def* s) {
     wc_backend_defaults o;
-    b->defaults(device, &o);
+    const wc_defaults_query q = {m->n_particles, def->preconditioner != WEFT_PRECOND_DEFAULT};
+    b->defaults(device, &q, &o);
     s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
                                : def->preconditioner == WEFT_PRECOND_IC0          ? WC_PRECOND_IC0
                                                                                   : o.preconditioner;
     s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : o.newton_iterations;
+    s->newton_forcing = def->newton_forcing >= 0 ? def->newton_forcing : o.newton_forcing;
     s->line_search = def->line_search >= 0 ? def->line_search : o.line_search;
     /* a garment: a cloth with a body (a mesh collider) or with seams */
     int garment = def->n_mesh_colliders > 0 || def->sew_distance > 0 || def->n_seams > 0;
@@ -163,7 +166,7 @@ static int auto_gpu(const weft_context* ctx, const weft_cloth_def* def, const wc
     memset(&d, 0, sizeof d);
     if (ctx->gpu && a->crossover != WC_AUTO_NEVER) {
         wc_sim_def gs = *sim;   /* the cloth as the GPU would run it: its defaults */
-        resolve_defaults(ctx->gpu, ctx->gpu_device, def, &gs);
+        resolve_defaults(ctx->gpu, ctx->gpu_device, def, m, &gs);
         wc_backend_query q = {m, &gs, def->n_mesh_colliders};
         in.gpu_status = ctx->gpu->supports(ctx->gpu_device, &q, &d);
         in.gpu_refusal = d.message;
@@ -186,5 +189,5 @@ void wa_backend_for_cloth(const weft_context* ctx, const weft_cloth_def* def, co
     out->backend = gpu ? WEFT_BACKEND_GPU : WEFT_BACKEND_CPU;
     out->table = gpu ? ctx->gpu : &wc_cloth_cpu;
     out->device = gpu ? ctx->gpu_device : NULL;
-    resolve_defaults(out->table, out->device, def, sim);
+    resolve_defaults(out->table, out->device, def, m, sim);
 }

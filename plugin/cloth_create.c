@@ -35,9 +35,8 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
     s.integrator = def->integrator == WEFT_INTEGRATOR_BDF2     ? WC_INTEGRATOR_BDF2
                    : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
                                                                : WC_INTEGRATOR_BE;
-    if (def->newton_forcing >= 0) s.newton_forcing = def->newton_forcing;   /* else the core's */
     s.self_thickness = def->self_collision_thickness;
-    /* the backend's defaults (preconditioner, Newton, line search, self-collision) once it is
+    /* the backend's defaults (preconditioner, Newton and its forcing, line search, self-collision) once it is
        chosen: backend.c */
     s.substeps = def->substeps;
     s.strain_limit = def->strain_limit;

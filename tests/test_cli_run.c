@@ -209,7 +209,20 @@ static void test_summary_and_overrides(void) {
         CHECK_NEAR(vec(j, "bbox_max", k), k == 1 ? 0.0 : 0.5, 0.0);
     }
     CHECK_NEAR(cf_num(j, "final_kinetic_energy"), 0.0, 0.0);
+    CHECK(cf_num(j, "newton_forcing") == 1e-2);   /* the 1,024-particle sheet's default */
     cJSON_Delete(j);
+    /* --newton-forcing overrides the scene's, and the stats say what the library resolved */
+    const char* given[] = {"0.25", "0", "default"};
+    const double want[] = {0.25, 0.0, 1e-2};
+    for (int k = 0; k < 3; ++k) {
+        snprintf(args, sizeof args, "run '%s' --frames 1 --quiet --newton-forcing %s --stats '%s'", SHEET, given[k],
+                 stats);
+        ts_run_cli(args, &r);
+        CHECK_EQ_INT(r.rc, 0);
+        j = cf_read_json(stats);
+        CHECK(cf_num(j, "newton_forcing") == want[k]);
+        cJSON_Delete(j);
+    }
 }
 
 /* --backend auto: the summary's backend line and the stats' "backend" and "backend_reason" say
@@ -379,6 +392,10 @@ static void test_usage_errors(void) {
         "run a.json --newton 0",
         "run a.json --newton 101",
         "run a.json --line-search yes",
+        "run a.json --newton-forcing 1",
+        "run a.json --newton-forcing -1",
+        "run a.json --newton-forcing x",
+        "run a.json --newton-forcing",
         "run a.json --line-search",
         "run a.json --backend",
     };
@@ -395,6 +412,10 @@ static void test_usage_errors(void) {
     ts_run_cli(args, &r);
     CHECK_EQ_INT(r.rc, 2);
     CHECK(strstr(r.err, "bogus") != NULL);
+    snprintf(args, sizeof args, "run '%s' --newton-forcing 1.5", SHEET);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "--newton-forcing must be a number in [0, 1) or default, not '1.5'") != NULL);
 }
 
 static void test_help(void) {

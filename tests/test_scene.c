@@ -182,6 +182,8 @@ static void test_bad_settings(void) {
     expect_bad("{" GRID ", \"solver\": {\"newton_iterations\": 0}}", "solver.newton_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": {\"newton_iterations\": 101}}", "solver.newton_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": {\"line_search\": 1}}", "solver.line_search", "true or false");
+    expect_bad("{" GRID ", \"solver\": {\"newton_forcing\": 1}}", "solver.newton_forcing", "[0, 1) or \"default\"");
+    expect_bad("{" GRID ", \"solver\": {\"newton_forcing\": \"tight\"}}", "solver.newton_forcing", "a number");
     expect_bad("{" GRID ", \"time\": {\"integrator\": \"rk4\"}}", "time.integrator", "unknown integrator");
     expect_bad("{" GRID ", \"time\": {\"integrator\": \"BDF2\"}}", "time.integrator", "unknown integrator");
     expect_bad("{" GRID ", \"time\": {\"fps\": 0}}", "time.fps", "> 0");
@@ -223,6 +225,7 @@ static void test_defaults_and_grid(void) {
     CHECK_EQ_INT(S.def.integrator, WEFT_INTEGRATOR_DEFAULT);
     CHECK_EQ_INT(S.def.newton_iterations, 0);
     CHECK_EQ_INT(S.def.line_search, -1);
+    CHECK(S.def.newton_forcing == -1.0);
     CHECK_EQ_INT(S.def.self_collision, -1);
     CHECK(S.def.self_collision_thickness == dd.self_collision_thickness);
     scene_free(&S);
@@ -243,9 +246,14 @@ static void test_defaults_and_grid(void) {
     CHECK_EQ_INT(S.def.newton_iterations, 3);
     CHECK_EQ_INT(S.def.line_search, 1);
     scene_free(&S);
-    st = parse("{" GRID ", \"solver\": {\"preconditioner\": \"ic0\"}}", &d);
+    st = parse("{" GRID ", \"solver\": {\"preconditioner\": \"ic0\", \"newton_forcing\": 0}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
     CHECK_EQ_INT(S.def.preconditioner, WEFT_PRECOND_IC0);
+    CHECK(S.def.newton_forcing == 0.0);
+    scene_free(&S);
+    st = parse("{" GRID ", \"solver\": {\"newton_forcing\": \"default\"}}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK(S.def.newton_forcing == -1.0);
     scene_free(&S);
     st = parse("{" GRID ", \"time\": {\"integrator\": \"trbdf2\"}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);

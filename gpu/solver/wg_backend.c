@@ -111,9 +111,11 @@ static wc_status device_destroy(void* device, wc_diag* d) {
  * passes); the CPU's method: two Newton iterations with the line search (a few read-backs a
  * substep; one linearised step rolls back where the CPU's method does not: docs/design/gpu.md);
  * self-collision on for a garment, as on the CPU (core's stage on the host, wg_self.h). */
-static void defaults(const void* device, wc_backend_defaults* out) {
+static void defaults(const void* device, const wc_defaults_query* q, wc_backend_defaults* out) {
     const wg_backend_device* bd = device;
+    (void)q;   /* the same at every size */
     out->preconditioner = bd && bd->dev->compute ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
+    out->newton_forcing = 1e-2;
     out->newton_iterations = 2;
     out->line_search = 1;
     out->garment_self_collision = 1;

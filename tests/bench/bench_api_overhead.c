@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "clock.h"
+#include "cloth_backend.h"
 #include "sort.h"
 #include "step.h"
 #include "weft/weft.h"
@@ -104,10 +105,14 @@ int main(int argc, char** argv) {
     if (wc_model_build(&model, &src, &md, NULL, &d) != WC_OK) return 1;
     wc_sim_def sd = wc_default_sim_def();
     sd.threads = threads;
-    /* the CPU backend's defaults (core/cloth_cpu.c, resolved by plugin/cloth_create.c) */
-    sd.solver.preconditioner = WC_PRECOND_AMG;
-    sd.newton_iterations = 2;
-    sd.line_search = 1;
+    /* the CPU backend's defaults for this size (core/cloth_cpu.c, resolved by plugin/backend.c) */
+    wc_backend_defaults o;
+    const wc_defaults_query dq = {model.n_particles, 0};
+    wc_cloth_cpu.defaults(NULL, &dq, &o);
+    sd.solver.preconditioner = o.preconditioner;
+    sd.newton_forcing = o.newton_forcing;
+    sd.newton_iterations = o.newton_iterations;
+    sd.line_search = o.line_search;
     if (wc_state_create(&state, &model, &sd, NULL, &d) != WC_OK) return 1;
     wc_pin pins[2];
     memset(pins, 0, sizeof pins);

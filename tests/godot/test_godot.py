@@ -43,6 +43,13 @@ import scaled_colliders
 
 FRAMES = 40
 MAX_DIFF = 5e-4
+# The flag (176 particles) leans on the ball. Since 0.9.2 it runs at the CPU's small-cloth default,
+# block IC(0) with every Newton solve to the tolerance (docs/bench/precond_by_size.md), which leaves
+# more of the tolerance's error in the soft modes than the multigrid: a change of the ball's radius
+# by a relative 1e-7 (float rounding's size) moves weft run's own last frame by 0.53 mm (3.7e-7 m
+# on the multigrid), and Godot (float inputs) lay 3.9 mm from weft run. So the flag is held to
+# 5 mm, as the skirt and the scaled colliders are below.
+MAX_DIFF_FLAG = 5e-3
 # The skirt rests on its turning body with friction: a change of its spin rate by a relative 1e-6
 # (float rounding's size) moves weft run's own last frame by 3.7 mm, so Godot (float transforms)
 # and weft run (double motions) are held to 5 mm; without the body, or with a body that does not
@@ -332,7 +339,7 @@ def main():
 
     # 1, 2: Godot against weft run: the flag, the skirt, the skirt on a skinned body, the flag
     # with scaled colliders; a skinned body against the closed form
-    compare(server, project, weft_cli, tmp, "flag", weft_scene, MAX_DIFF)
+    compare(server, project, weft_cli, tmp, "flag", weft_scene, MAX_DIFF_FLAG)
     compare(server, project, weft_cli, tmp, "skirt", skirt_scene, MAX_DIFF_SKIRT, body_variants)
     compare(server, project, weft_cli, tmp, "skinned", lambda g, t: skirt_scene(g, t, "skinned"), MAX_DIFF_SKIRT,
             body_variants)

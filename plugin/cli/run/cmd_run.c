@@ -35,6 +35,7 @@ typedef struct run_args {
     int quiet;
     int self_collision;    /* -2: the scene's, else 0 or 1 */
     const char* cache;     /* point cache path (.pc2 or .mdd), NULL: none */
+    double forcing;        /* -2: the scene's, -1: the library's, else in [0, 1) */
 } run_args;
 
 void cli_run_usage(FILE* out) {
@@ -42,7 +43,8 @@ void cli_run_usage(FILE* out) {
           "                [--out DIR] [--cache FILE.pc2|FILE.mdd] [--stats FILE.json] [--render DIR]\n"
           "                [--threads N]\n"
           "                [--backend cpu|gpu|auto] [--integrator be|bdf2|trbdf2] [--precond block_jacobi|amg|ic0]\n"
-          "                [--newton N] [--line-search on|off] [--self-collision on|off] [--quiet]\n"
+          "                [--newton N] [--newton-forcing X|default] [--line-search on|off]\n"
+          "                [--self-collision on|off] [--quiet]\n"
           "\n"
           "Simulate the scene (schema: sample_scenes/README.md) frame by frame at 1/fps seconds\n"
           "through the public API (libweft), showing a progress line on a terminal and printing\n"
@@ -55,6 +57,9 @@ void cli_run_usage(FILE* out) {
           "  --precond NAME         block_jacobi, amg or ic0 (or default), overriding solver.preconditioner\n"
           "  --newton N             Newton iterations per substep (1..100), overriding\n"
           "                         solver.newton_iterations\n"
+          "  --newton-forcing X     inexact Newton: the first solve of a substep to X in [0, 1) (0: every\n"
+          "                         solve to the tolerance; default: the library's), overriding\n"
+          "                         solver.newton_forcing\n"
           "  --line-search on|off   line search on the incremental potential, overriding\n"
           "                         solver.line_search\n"
           "  --self-collision on|off  the cloth against itself, overriding self_collision\n"
@@ -130,6 +135,11 @@ static int parse_args(int argc, char** argv, run_args* a) {
             if (m < 0) return usage_error("%s needs a value", arg);
             if (cli_parse_int(value, 1, 100, &a->newton) != 0)
                 return usage_error("--newton must be an integer in [1, 100], not '%s'", value);
+        } else if ((m = cli_option_value(argc, argv, &i, "--newton-forcing", &value)) != 0) {
+            if (m < 0) return usage_error("%s needs a value", arg);
+            if (strcmp(value, "default") == 0) a->forcing = -1.0;
+            else if (cli_parse_double(value, &a->forcing) != 0 || !(a->forcing >= 0 && a->forcing < 1))
+                return usage_error("--newton-forcing must be a number in [0, 1) or default, not '%s'", value);
         } else if ((m = cli_option_value(argc, argv, &i, "--line-search", &value)) != 0) {
             if (m < 0) return usage_error("%s needs a value", arg);
             if (strcmp(value, "on") == 0) a->line_search = 1;
@@ -302,7 +312,7 @@ static int simulate(run_ctx* c, const run_args* a) {
 }
 
 int cli_run_run(int argc, char** argv) {
-    run_args a = {NULL, -1, -1, -1, -1, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2, NULL};
+    run_args a = {NULL, -1, -1, -1, -1, -1, -2, NULL, NULL, NULL, -1, WEFT_BACKEND_CPU, 0, -2, NULL, -2.0};
     int rc = parse_args(argc, argv, &a);
     if (rc >= 0) return rc;
 
@@ -318,6 +328,7 @@ int cli_run_run(int argc, char** argv) {
     if (a.integrator >= 0) def->integrator = (weft_integrator)a.integrator;
     if (a.precond >= 0) def->preconditioner = (weft_preconditioner)a.precond;
     if (a.newton > 0) def->newton_iterations = a.newton;
+    if (a.forcing > -2) def->newton_forcing = a.forcing;
     if (a.line_search > -2) def->line_search = a.line_search;
     if (a.self_collision > -2) def->self_collision = a.self_collision;
     cli_blas_threads(c.sc.threads); /* CHOLMOD's BLAS: as many threads as the run (0: its own) */
@@ -349,6 +360,7 @@ int cli_run_run(int argc, char** argv) {
                                                                           : "be",
                                in->newton_iterations,
                                in->line_search,
+                               in->newton_forcing,
                                in->backend == WEFT_BACKEND_GPU ? "gpu" : "cpu",
                                in->backend_reason,
                                def->substeps,

@@ -141,7 +141,7 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
     int r = sj_object(c, root, "", "solver", &solver);
     if (r <= 0) return r;
     static const char* const keys[] = {"type", "tolerance", "max_iterations", "preconditioner", "newton_iterations",
-                                       "line_search"};
+                                       "line_search", "newton_forcing"};
     if (sj_check_object(c, solver, "solver", keys, COUNT(keys)) < 0) return -1;
     const char* type = NULL;
     if (sj_string(c, solver, "solver", "type", &type) < 0) return -1;
@@ -166,6 +166,12 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
         s->def.preconditioner = (weft_preconditioner)p;
     }
     if (sj_int(c, solver, "solver", "newton_iterations", 1, 100, &s->def.newton_iterations) < 0) return -1;
+    const cJSON* nf = cJSON_GetObjectItemCaseSensitive(solver, "newton_forcing");
+    if (nf && !(cJSON_IsString(nf) && strcmp(nf->valuestring, "default") == 0)) {
+        if (!cJSON_IsNumber(nf) || !(nf->valuedouble >= 0 && nf->valuedouble < 1))
+            return sj_fail(c, "solver.newton_forcing", "must be a number in [0, 1) or \"default\"");
+        s->def.newton_forcing = nf->valuedouble;
+    }
     const cJSON* ls = cJSON_GetObjectItemCaseSensitive(solver, "line_search");
     if (ls) {
         if (!cJSON_IsBool(ls))

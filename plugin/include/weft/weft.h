@@ -90,7 +90,7 @@ extern "C" {
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
 #define WEFT_VERSION_MINOR 9
-#define WEFT_VERSION_PATCH 1
+#define WEFT_VERSION_PATCH 2
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
@@ -242,16 +242,16 @@ typedef enum weft_solver {
 
 /* PCG's preconditioner. */
 typedef enum weft_preconditioner {
-    WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: AMG on the CPU and on a GPU with compute-
-                                       shader passes (OpenGL 4.3), block Jacobi on fragment passes */
+    WEFT_PRECOND_DEFAULT = 0,       /* the backend's choice: on the CPU (0.9.2) IC0 below 800 particles
+                                       (with newton_forcing -1 as 0), AMG from 800; on a GPU AMG with
+                                       compute passes (GL 4.3), block Jacobi on fragment passes */
     WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
     WEFT_PRECOND_AMG = 2,           /* multigrid V-cycle: smoothed aggregation with rotations on the
                                        CPU; on the GPU (compute passes only) smoothed aggregation
                                        of translations (gpu/solver/wg_amg.h) */
     WEFT_PRECOND_IC0 = 3            /* since 0.9.1, CPU only (the GPU refuses it; AUTO keeps the cloth on
-                                       the CPU): block IC(0) of the filtered matrix. Fewer instructions
-                                       a frame than AMG below ~2,000 particles, more error at the same
-                                       tolerance: a choice, never the default (docs/bench/cpu_levers_sheet32.md) */
+                                       the CPU): block IC(0) of the filtered matrix; the CPU's default
+                                       on small cloths (docs/bench/precond_by_size.md) */
 } weft_preconditioner;
 
 /* Time integrator of each substep. */
@@ -415,7 +415,7 @@ typedef struct weft_cloth_def {
      * relative residual when it is above the tolerance (the later solves at the tolerance), so
      * the first, furthest-from-converged iterate costs fewer iterations. */
     double newton_forcing;      /* in [0, 1); 0: every solve to the tolerance; -1 (default): the
-                                   backend's choice (1e-2) */
+                                   backend's: 1e-2, or 0 where the CPU chose IC0 (DEFAULT above) */
 } weft_cloth_def;
 
 WEFT_API weft_cloth_def weft_default_cloth_def(void);
