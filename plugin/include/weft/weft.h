@@ -246,9 +246,9 @@ typedef enum weft_preconditioner {
                                        (with newton_forcing -1 as 0), AMG from 800; on a GPU AMG with
                                        compute passes (GL 4.3), block Jacobi on fragment passes */
     WEFT_PRECOND_BLOCK_JACOBI = 1,  /* filtered 3x3 block diagonal */
-    WEFT_PRECOND_AMG = 2,           /* multigrid V-cycle: smoothed aggregation with rotations on the
-                                       CPU; on the GPU (compute passes only) smoothed aggregation
-                                       of translations (gpu/solver/wg_amg.h) */
+    WEFT_PRECOND_AMG = 2,           /* multigrid V-cycle: smoothed aggregation with rotations (on the
+                                       GPU about the rest positions, compute passes only:
+                                       gpu/solver/wg_amg.h) */
     WEFT_PRECOND_IC0 = 3            /* since 0.9.1, CPU only (the GPU refuses it; AUTO keeps the cloth on
                                        the CPU): block IC(0) of the filtered matrix; the CPU's default
                                        on small cloths (docs/bench/precond_by_size.md) */
