@@ -51,44 +51,91 @@ static int pivot(double* D, const double* ref, double* Dinv) {
     return p2 > tol * fabs(ref[8]) && isfinite(p2);
 }
 
-int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
-    const wc_bsr_pattern* p = ic->p;
-    const int* rs = p->row_start;
-    const int* col = p->col;
-    double* F = ic->F;
-    for (int i = 0; i < p->n_rows; ++i) {
-        const int d = p->diag[i], end = rs[i + 1];
-        /* row i's upper blocks: P's (the diagonal shifted) */
-        for (int b = d; b < end; ++b) wcs_project_block(f, i, col[b], A + 9 * (size_t)b, F + 9 * (size_t)b);
-        double ref[9];
-        memcpy(ref, F + 9 * (size_t)d, sizeof ref);
-        if (alpha != 0.0)
-            for (int k = 0; k < 9; k += 4) F[9 * (size_t)d + k] += alpha * fabs(ref[k]);
-        /* each lower neighbour k (ascending): L_ik = U_ki^T, and (i, j) -= L_ik D_k^{-1} U_kj */
-        for (int b = rs[i]; b < d; ++b) {
-            const int k = col[b], bki = p->transpose[b];
-            const double* Uki = F + 9 * (size_t)bki;
-            double* Lik = F + 9 * (size_t)b;
-            for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 3; ++c) Lik[3 * r + c] = Uki[3 * c + r];
-            double G[9]; /* L_ik D_k^{-1} */
-            m3_mul(G, Lik, ic->Dinv + 9 * (size_t)k);
-            /* merge row k's blocks from (k, i) on with row i's from (i, i) on */
-            int bk = bki, bi = d;
-            const int ek = rs[k + 1];
-            while (bk < ek && bi < end) {
-                if (col[bk] < col[bi]) ++bk;
-                else if (col[bk] > col[bi]) ++bi;
-                else {
-                    m3_mul_sub(F + 9 * (size_t)bi, G, F + 9 * (size_t)bk);
-                    ++bk;
-                    ++bi;
-                }
-            }
-        }
-        if (!pivot(F + 9 * (size_t)d, ref, ic->Dinv + 9 * (size_t)i)) return 0;
-    }
+/* Row i of the factor (precond_ic.h) with the 3x3 kernels MUL (G = a b) and MUL_SUB (o -= a b);
+ * 0 at a pivot that is not SPD. Expanded twice below: with the scalar kernels and with AVX's, which
+ * do the same operations in the same order, so both give the same bits. */
+#define IC_FACTOR_BODY(MUL, MUL_SUB)                                                                        \
+    const wc_bsr_pattern* p = ic->p;                                                                        \
+    const int* rs = p->row_start;                                                                           \
+    const int* col = p->col;                                                                                \
+    double* F = ic->F;                                                                                      \
+    for (int i = 0; i < p->n_rows; ++i) {                                                                   \
+        const int d = p->diag[i], end = rs[i + 1];                                                          \
+        /* row i's upper blocks: P's (the diagonal shifted) */                                              \
+        for (int b = d; b < end; ++b) wcs_project_block(f, i, col[b], A + 9 * (size_t)b, F + 9 * (size_t)b); \
+        double ref[9];                                                                                      \
+        memcpy(ref, F + 9 * (size_t)d, sizeof ref);                                                         \
+        if (alpha != 0.0)                                                                                   \
+            for (int k = 0; k < 9; k += 4) F[9 * (size_t)d + k] += alpha * fabs(ref[k]);                    \
+        /* each lower neighbour k (ascending): L_ik = U_ki^T, and (i, j) -= L_ik D_k^{-1} U_kj */           \
+        for (int b = rs[i]; b < d; ++b) {                                                                   \
+            const int k = col[b], bki = p->transpose[b];                                                    \
+            const double* Uki = F + 9 * (size_t)bki;                                                        \
+            double* Lik = F + 9 * (size_t)b;                                                                \
+            for (int r = 0; r < 3; ++r)                                                                     \
+                for (int c = 0; c < 3; ++c) Lik[3 * r + c] = Uki[3 * c + r];                                \
+            double G[12]; /* L_ik D_k^{-1} (rows 0..2 in G[0..8]; G[9..11] spare for 4-wide stores) */      \
+            MUL(G, Lik, ic->Dinv + 9 * (size_t)k);                                                          \
+            /* merge row k's blocks from (k, i) on with row i's from (i, i) on */                           \
+            int bk = bki, bi = d;                                                                           \
+            const int ek = rs[k + 1];                                                                       \
+            while (bk < ek && bi < end) {                                                                   \
+                if (col[bk] < col[bi]) ++bk;                                                                \
+                else if (col[bk] > col[bi]) ++bi;                                                           \
+                else {                                                                                      \
+                    MUL_SUB(F + 9 * (size_t)bi, G, F + 9 * (size_t)bk);                                     \
+                    ++bk;                                                                                   \
+                    ++bi;                                                                                   \
+                }                                                                                           \
+            }                                                                                               \
+        }                                                                                                   \
+        if (!pivot(F + 9 * (size_t)d, ref, ic->Dinv + 9 * (size_t)i)) return 0;                             \
+    }                                                                                                       \
     return 1;
+
+int wcs_ic_factor_scalar(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+    IC_FACTOR_BODY(m3_mul, m3_mul_sub)
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define IC_AVX __attribute__((target("avx")))
+/* Rows of a 3x3 block in registers (lane 3 zero): the last row masked, so nothing past the block
+ * is read. */
+#define IC_M3 _mm256_setr_epi64x(-1, -1, -1, 0)
+/* Row r of a b from b's rows: (a_r0 b_0 + a_r1 b_1) + a_r2 b_2, each lane as m3_mul's sum (no FMA:
+ * the same rounding as the scalar kernel's separate products and additions). */
+IC_AVX static inline __m256d row_times(const double* a, __m256d b0, __m256d b1, __m256d b2) {
+    const __m256d p0 = _mm256_mul_pd(_mm256_broadcast_sd(a), b0), p1 = _mm256_mul_pd(_mm256_broadcast_sd(a + 1), b1);
+    return _mm256_add_pd(_mm256_add_pd(p0, p1), _mm256_mul_pd(_mm256_broadcast_sd(a + 2), b2));
+}
+/* o = a b, o with room for 12 doubles (each row stored 4 wide, in row order) */
+IC_AVX static inline void m3_mul_avx(double* o, const double* a, const double* b) {
+    const __m256d b0 = _mm256_loadu_pd(b), b1 = _mm256_loadu_pd(b + 3), b2 = _mm256_maskload_pd(b + 6, IC_M3);
+    for (int r = 0; r < 3; ++r) _mm256_storeu_pd(o + 3 * r, row_times(a + 3 * r, b0, b1, b2));
+}
+/* o -= a b, as m3_mul_sub: o_rj - ((a_r0 b_0j + a_r1 b_1j) + a_r2 b_2j) */
+IC_AVX static inline void m3_mul_sub_avx(double* o, const double* a, const double* b) {
+    const __m256i m3 = IC_M3;
+    const __m256d b0 = _mm256_loadu_pd(b), b1 = _mm256_loadu_pd(b + 3), b2 = _mm256_maskload_pd(b + 6, m3);
+    for (int r = 0; r < 3; ++r) {
+        const __m256d t = row_times(a + 3 * r, b0, b1, b2);
+        _mm256_maskstore_pd(o + 3 * r, m3, _mm256_sub_pd(_mm256_maskload_pd(o + 3 * r, m3), t));
+    }
+}
+IC_AVX static int factor_avx(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+    IC_FACTOR_BODY(m3_mul_avx, m3_mul_sub_avx)
+}
+static int have_avx(void) { return __builtin_cpu_supports("avx"); }
+#else
+static int factor_avx(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+    return wcs_ic_factor_scalar(ic, A, f, alpha);
+}
+static int have_avx(void) { return 0; }
+#endif
+
+int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+    return have_avx() ? factor_avx(ic, A, f, alpha) : wcs_ic_factor_scalar(ic, A, f, alpha);
 }
 
 /* The fallback: no off-diagonal blocks, D_i = D~_i (identity where singular), as block Jacobi. */

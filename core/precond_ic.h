@@ -8,7 +8,9 @@
  * k < i (ascending) subtracts (U_ki^T D_k^{-1}) U_kj from every block (i, j), j >= i, that row k
  * also holds (fill outside the pattern dropped); D_i is the diagonal block that remains. One pass
  * over the blocks, no allocation: the factor lives in an array of the pattern's size, allocated
- * once per model.
+ * once per model. The 3x3 products (L_ik D_k^{-1} and the updates) run in AVX registers, a block
+ * row per register, with separate products and sums in the scalar code's order: the same bits
+ * (docs/bench/precond_by_size.md, "Where the small cloths' frame goes").
  *
  * Breakdown (Manteuffel 1980): a pivot D_i that is not symmetric positive definite (a 3x3
  * Cholesky pivot <= 1e-12 x P's own diagonal, or not finite) restarts the factorisation of
@@ -51,6 +53,9 @@ double wcs_ic_setup(wcs_ic* ic, const double* A, const wc_filter* f);
 /* One factorisation of P + alpha diag(P): 1 when every pivot is SPD (the factor is complete), 0 at
  * the first pivot that is not (the factor is then partial). Exposed for the tests. */
 int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha);
+/* The same with the scalar 3x3 products (wcs_ic_factor uses AVX's where the CPU has it, the same
+ * operations in the same order: the tests check both give the same bits). */
+int wcs_ic_factor_scalar(wcs_ic* ic, const double* A, const wc_filter* f, double alpha);
 /* t = M^{-1} r (t may alias r): the row sums in AVX2 where the CPU has it, else scalar. */
 void wcs_ic_apply(const wcs_ic* ic, const double* r, double* t);
 /* The same with scalar row sums (exposed for the tests: both paths give the same t to rounding). */

@@ -2,7 +2,8 @@
  * reproduces P on its pattern (what IC(0) means), its application inverts the factor, PCG with it
  * converges to CHOLMOD's answer (hanging, draped with contacts, line pins) in fewer iterations than
  * block Jacobi, the breakdown rule shifts an indefinite-ish system and falls back on a broken one,
- * the bits do not depend on the thread count, and solves allocate nothing. */
+ * the bits do not depend on the thread count or on the factor's AVX kernels, and solves allocate
+ * nothing. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -176,6 +177,31 @@ static void test_breakdown(void) {
     free_scene(&sc);
 }
 
+/* The factor with AVX's 3x3 products (wcs_ic_factor, where the CPU has AVX) and with the scalar
+ * ones: the same bits, in F and D^{-1}, on a hanging sheet, a drape with contacts and a shifted
+ * factor. */
+static void test_factor_avx_bits(void) {
+    const int kinds[3] = {HANG, DRAPE, DRAPE};
+    const double alphas[3] = {0.0, 0.0, 1e-3};
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    printf("  AVX on this CPU: %d\n", __builtin_cpu_supports("avx") ? 1 : 0);
+#endif
+    for (int t = 0; t < 3; ++t) {
+        scene sc;
+        if (!make_scene(&sc, 12, 1.0, kinds[t], 8)) return;
+        const wc_bsr_pattern* p = &sc.m.pattern;
+        wcs_ic *a = NULL, *b = NULL;
+        CHECK(wcs_ic_create(&a, p, NULL) == WC_OK && wcs_ic_create(&b, p, NULL) == WC_OK);
+        CHECK(wcs_ic_factor(a, sc.s->A, &sc.s->filter, alphas[t]));
+        CHECK(wcs_ic_factor_scalar(b, sc.s->A, &sc.s->filter, alphas[t]));
+        CHECK(memcmp(a->F, b->F, sizeof(double) * 9 * p->n_blocks) == 0);
+        CHECK(memcmp(a->Dinv, b->Dinv, sizeof(double) * 9 * p->n_rows) == 0);
+        wcs_ic_destroy(a, NULL);
+        wcs_ic_destroy(b, NULL);
+        free_scene(&sc);
+    }
+}
+
 /* The same bits on 1 and 2 threads; nothing allocated by solves (everything at create). */
 static void test_threads_and_allocation(void) {
     scene sc;
@@ -209,6 +235,7 @@ int main(void) {
     RUN_TEST(test_factor_matches_pattern);
     RUN_TEST(test_pcg_matches_direct);
     RUN_TEST(test_breakdown);
+    RUN_TEST(test_factor_avx_bits);
     RUN_TEST(test_threads_and_allocation);
     return TEST_SUMMARY();
 }
