@@ -13,7 +13,8 @@ wc_status wcs_ic_create(wcs_ic** out, const wc_bsr_pattern* p, const wc_allocato
     ic->p = p;
     ic->F = WC_NEW(a, double, 9 * (size_t)p->n_blocks);
     ic->Dinv = WC_NEW(a, double, 9 * (size_t)p->n_rows);
-    if (!ic->F || !ic->Dinv) {
+    ic->DinvT = WC_NEW(a, double, 12 * (size_t)p->n_rows);
+    if (!ic->F || !ic->Dinv || !ic->DinvT) {
         wcs_ic_destroy(ic, a);
         return WC_ERROR_OUT_OF_MEMORY;
     }
@@ -25,6 +26,7 @@ void wcs_ic_destroy(wcs_ic* ic, const wc_allocator* a) {
     if (!ic) return;
     wc_free(a, ic->F);
     wc_free(a, ic->Dinv);
+    wc_free(a, ic->DinvT);
     wc_free(a, ic);
 }
 
@@ -93,8 +95,28 @@ static int pivot(double* D, const double* ref, double* Dinv) {
     }                                                                                                       \
     return 1;
 
-int wcs_ic_factor_scalar(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+static int factor_scalar(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
     IC_FACTOR_BODY(m3_mul, m3_mul_sub)
+}
+
+/* DinvT: each D_i^{-1} by columns, a column per 4 doubles (lane 3 zero), for the AVX2 sweeps. */
+static void transpose_dinv(wcs_ic* ic) {
+    for (int i = 0; i < ic->p->n_rows; ++i) {
+        const double* m = ic->Dinv + 9 * (size_t)i;
+        double* c = ic->DinvT + 12 * (size_t)i;
+        for (int j = 0; j < 3; ++j) {
+            c[4 * j] = m[j];
+            c[4 * j + 1] = m[3 + j];
+            c[4 * j + 2] = m[6 + j];
+            c[4 * j + 3] = 0.0;
+        }
+    }
+}
+
+int wcs_ic_factor_scalar(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
+    const int ok = factor_scalar(ic, A, f, alpha);
+    if (ok) transpose_dinv(ic); /* a partial factor is set up again or replaced */
+    return ok;
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -129,13 +151,15 @@ IC_AVX static int factor_avx(wcs_ic* ic, const double* A, const wc_filter* f, do
 static int have_avx(void) { return __builtin_cpu_supports("avx"); }
 #else
 static int factor_avx(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
-    return wcs_ic_factor_scalar(ic, A, f, alpha);
+    return factor_scalar(ic, A, f, alpha);
 }
 static int have_avx(void) { return 0; }
 #endif
 
 int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha) {
-    return have_avx() ? factor_avx(ic, A, f, alpha) : wcs_ic_factor_scalar(ic, A, f, alpha);
+    const int ok = have_avx() ? factor_avx(ic, A, f, alpha) : factor_scalar(ic, A, f, alpha);
+    if (ok) transpose_dinv(ic); /* a partial factor is set up again or replaced */
+    return ok;
 }
 
 /* The fallback: no off-diagonal blocks, D_i = D~_i (identity where singular), as block Jacobi. */
@@ -150,6 +174,7 @@ static void factor_diagonal(wcs_ic* ic, const double* A, const wc_filter* f) {
             m3_identity(D, 1.0);
         }
     }
+    transpose_dinv(ic);
 }
 
 double wcs_ic_setup(wcs_ic* ic, const double* A, const wc_filter* f) {
@@ -194,12 +219,11 @@ void wcs_ic_apply_scalar(const wcs_ic* ic, const double* r, double* t) {
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
-/* Sum over blocks [k0, k1) of F_k x_{col k}, each block row in one register (lane 3 zero, as
- * bsr_rows.c's kernel), then D^{-1} times it: out = Dinv (s0 + sign sum), out 3 doubles. */
-__attribute__((target("avx2,fma"))) static inline void row_solve(const double* F, const int* col, int k0, int k1,
-                                                                  const double* x, const double* s0, double sign,
-                                                                  const double* Dinv, double* out) {
-    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+/* The row's sum over blocks [k0, k1) of F_k x_{col k}: each block row in one register (lane 3
+ * zero, as bsr_rows.c's kernel), multiply-added per lane, then the lanes summed pairwise,
+ * (l0 + l1) + (l2 + l3), all three rows at once: the sums in lanes 0..2, lane 3 zero. */
+__attribute__((target("avx2,fma"))) static inline __m256d row_sum(const double* F, const int* col, int k0, int k1,
+                                                                   const double* x, __m256i m3) {
     __m256d a0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), a2 = _mm256_setzero_pd();
     for (int k = k0; k < k1; ++k) {
         const double* B = F + 9 * (size_t)k;
@@ -208,35 +232,40 @@ __attribute__((target("avx2,fma"))) static inline void row_solve(const double* F
         a1 = _mm256_fmadd_pd(_mm256_loadu_pd(B + 3), v, a1);
         a2 = _mm256_fmadd_pd(_mm256_maskload_pd(B + 6, m3), v, a2);
     }
-    /* horizontal sums: (a0, a1, a2) -> the row's three sums in lanes 0..2 */
-    __m256d h01 = _mm256_hadd_pd(a0, a1);                /* a0[0]+a0[1], a1[0]+a1[1], a0[2]+a0[3], a1[2]+a1[3] */
-    __m256d h22 = _mm256_hadd_pd(a2, a2);
-    __m128d s01 = _mm_add_pd(_mm256_castpd256_pd128(h01), _mm256_extractf128_pd(h01, 1));
-    __m128d s22 = _mm_add_pd(_mm256_castpd256_pd128(h22), _mm256_extractf128_pd(h22, 1));
-    double v[3];
-    _mm_storeu_pd(v, s01);
-    v[2] = _mm_cvtsd_f64(s22);
-    if (s0) {
-        v[0] = s0[0] + sign * v[0];
-        v[1] = s0[1] + sign * v[1];
-        v[2] = s0[2] + sign * v[2];
-    }
-    m3_mulv(out, Dinv, v);
+    const __m256d h01 = _mm256_hadd_pd(a0, a1); /* a0 l0+l1, a1 l0+l1, a0 l2+l3, a1 l2+l3 */
+    const __m256d h2 = _mm256_hadd_pd(a2, _mm256_setzero_pd()); /* a2 l0+l1, 0, a2 l2+l3, 0 */
+    return _mm256_add_pd(_mm256_permute2f128_pd(h01, h2, 0x20), _mm256_permute2f128_pd(h01, h2, 0x31));
 }
 
+/* D^{-1} v from its padded columns c (DinvT): (c0 v0 + c1 v1) + c2 v2 per lane, m3_mulv's order. */
+__attribute__((target("avx2"))) static inline __m256d dinv_times(const double* c, __m256d v) {
+    const __m256d p0 = _mm256_mul_pd(_mm256_loadu_pd(c), _mm256_permute4x64_pd(v, 0x00));
+    const __m256d p1 = _mm256_mul_pd(_mm256_loadu_pd(c + 4), _mm256_permute4x64_pd(v, 0x55));
+    const __m256d p2 = _mm256_mul_pd(_mm256_loadu_pd(c + 8), _mm256_permute4x64_pd(v, 0xaa));
+    return _mm256_add_pd(_mm256_add_pd(p0, p1), p2);
+}
+
+/* The sweeps with each row's sums, r - sum, D^{-1} times it and the store in registers: the
+ * scalar-per-row code's operations in its order (the same bits; tests/test_precond_ic.c). */
 __attribute__((target("avx2,fma"))) static void apply_avx2(const wcs_ic* ic, const double* r, double* t) {
     const wc_bsr_pattern* p = ic->p;
     const int* rs = p->row_start;
     const int* col = p->col;
     const int* diag = p->diag;
     const double* F = ic->F;
+    const double* DT = ic->DinvT;
     const int n = p->n_rows;
-    for (int i = 0; i < n; ++i) /* (D + L) w = r, w in t */
-        row_solve(F, col, rs[i], diag[i], t, r + 3 * (size_t)i, -1.0, ic->Dinv + 9 * (size_t)i, t + 3 * (size_t)i);
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    const __m256d minus = _mm256_set1_pd(-1.0);
+    for (int i = 0; i < n; ++i) { /* (D + L) w = r, w in t */
+        const __m256d s = row_sum(F, col, rs[i], diag[i], t, m3);
+        const __m256d v = _mm256_add_pd(_mm256_maskload_pd(r + 3 * (size_t)i, m3), _mm256_mul_pd(minus, s));
+        _mm256_maskstore_pd(t + 3 * (size_t)i, m3, dinv_times(DT + 12 * (size_t)i, v));
+    }
     for (int i = n - 1; i >= 0; --i) { /* (I + D^{-1} L^T) t = w */
-        double d[3];
-        row_solve(F, col, diag[i] + 1, rs[i + 1], t, NULL, 1.0, ic->Dinv + 9 * (size_t)i, d);
-        v3_sub(t + 3 * (size_t)i, t + 3 * (size_t)i, d);
+        const __m256d d = dinv_times(DT + 12 * (size_t)i, row_sum(F, col, diag[i] + 1, rs[i + 1], t, m3));
+        double* ti = t + 3 * (size_t)i;
+        _mm256_maskstore_pd(ti, m3, _mm256_sub_pd(_mm256_maskload_pd(ti, m3), d));
     }
 }
 

@@ -21,7 +21,10 @@
  *
  * Applied: t = M^{-1} r, a forward sweep (D + L) w = r and a backward one
  * (I + D^{-1} L^T) t = w, in place in t: each off-diagonal block read once per sweep, one 3x3
- * product per row per sweep, each row's sum of blocks in AVX2 registers as bsr_rows.c's kernel. Sequential (a triangular solve): the iterations around it run on
+ * product per row per sweep. Where the CPU has AVX2 and FMA the row stays in registers: its sum of
+ * blocks as bsr_rows.c's kernel (FMA per lane), the three lane sums at once, r - sum, and D_i^{-1}
+ * from its padded columns (DinvT) in three broadcasts with m3_mulv's products and sums, no FMA
+ * (docs/bench/precond_by_size.md). Sequential (a triangular solve): the iterations around it run on
  * the threads, the sweeps on one. PCG filters the result into its direction (c = S (t + beta c)),
  * so the preconditioner it applies is S M^{-1} S, symmetric and positive definite on range(S). */
 #ifndef WEFT_CORE_PRECOND_IC_H
@@ -38,6 +41,7 @@ typedef struct wcs_ic {
     double* F;                  /* (n_blocks x 9) block (i, j): U_ij = (D + L^T)_ij for j >= i (the
                                    diagonal block is D_i), L_ij = U_ji^T for j < i */
     double* Dinv;               /* (n_rows x 9) D_i^{-1} */
+    double* DinvT;              /* (n_rows x 12) D_i^{-1} by columns, each padded to 4 (lane 3 zero) */
     double shift;               /* alpha of the last setup (0: none needed) */
     int jacobi;                 /* the last setup fell back to the block diagonal */
     long setups;                /* setups since creation */
@@ -56,7 +60,8 @@ int wcs_ic_factor(wcs_ic* ic, const double* A, const wc_filter* f, double alpha)
 /* The same with the scalar 3x3 products (wcs_ic_factor uses AVX's where the CPU has it, the same
  * operations in the same order: the tests check both give the same bits). */
 int wcs_ic_factor_scalar(wcs_ic* ic, const double* A, const wc_filter* f, double alpha);
-/* t = M^{-1} r (t may alias r): the row sums in AVX2 where the CPU has it, else scalar. */
+/* t = M^{-1} r (t may alias r): the rows in AVX2 registers where the CPU has AVX2 and FMA, else
+ * scalar. */
 void wcs_ic_apply(const wcs_ic* ic, const double* r, double* t);
 /* The same with scalar row sums (exposed for the tests: both paths give the same t to rounding). */
 void wcs_ic_apply_scalar(const wcs_ic* ic, const double* r, double* t);
