@@ -61,9 +61,9 @@ typedef struct ap_pins {
     weft_attachment_def att;
 } ap_pins;
 
-/* The grid m held by two adjacent corners (pins, filled here): PCG with block Jacobi, Newton
- * newton, line search line_search; the rest the defaults. Horizontal, it swings down and hangs. */
-static inline weft_cloth_def ap_pinned_sheet_def(const ag_mesh* m, ap_pins* pins, int newton, int line_search) {
+/* The grid m held by two adjacent corners (pins, filled here), at the defaults. Horizontal, it
+ * swings down and hangs. */
+static inline weft_cloth_def ap_corner_sheet_def(const ag_mesh* m, ap_pins* pins) {
     pins->v[0] = 0;
     pins->v[1] = m->n - 1;
     pins->att = weft_default_attachment_def();
@@ -73,6 +73,12 @@ static inline weft_cloth_def ap_pinned_sheet_def(const ag_mesh* m, ap_pins* pins
     def.mesh = ag_desc(m);
     def.attachments = &pins->att;
     def.n_attachments = 1;
+    return def;
+}
+
+/* ap_corner_sheet_def with PCG and block Jacobi, Newton newton, line search line_search. */
+static inline weft_cloth_def ap_pinned_sheet_def(const ag_mesh* m, ap_pins* pins, int newton, int line_search) {
+    weft_cloth_def def = ap_corner_sheet_def(m, pins);
     def.solver = WEFT_SOLVER_PCG;
     def.preconditioner = WEFT_PRECOND_BLOCK_JACOBI;
     def.newton_iterations = newton;

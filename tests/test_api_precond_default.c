@@ -19,22 +19,10 @@
 #define FRAMES 45       /* 1.5 s at 30 fps: the sheet falls from horizontal and swings */
 #define DT (1.0 / 30.0)
 
-static int g_pins[2];
-static weft_attachment_def g_att;
+static ap_pins g_pins;
 
 /* A horizontal n x n sheet held by two adjacent corners, at the defaults. */
-static weft_cloth_def sheet_def(const ag_mesh* m) {
-    g_pins[0] = 0;
-    g_pins[1] = m->n - 1;
-    g_att = weft_default_attachment_def();
-    g_att.vertices = g_pins;
-    g_att.n_vertices = 2;
-    weft_cloth_def def = weft_default_cloth_def();
-    def.mesh = ag_desc(m);
-    def.attachments = &g_att;
-    def.n_attachments = 1;
-    return def;
-}
+static weft_cloth_def sheet_def(const ag_mesh* m) { return ap_corner_sheet_def(m, &g_pins); }
 
 static weft_context* cpu_context(void) {
     weft_context_def cd = ap_context_def(WEFT_BACKEND_CPU);

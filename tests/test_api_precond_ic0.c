@@ -33,19 +33,10 @@ static weft_context* make_ctx(weft_backend backend) {
 }
 
 /* A horizontal sheet held by two adjacent corners, at the defaults but for the preconditioner. */
-static int g_pins[2];
-static weft_attachment_def g_att;
+static ap_pins g_pins;
 
 static weft_cloth_def sheet_def(const ag_mesh* m, weft_preconditioner pre) {
-    g_pins[0] = 0;
-    g_pins[1] = m->n - 1;
-    g_att = weft_default_attachment_def();
-    g_att.vertices = g_pins;
-    g_att.n_vertices = 2;
-    weft_cloth_def def = weft_default_cloth_def();
-    def.mesh = ag_desc(m);
-    def.attachments = &g_att;
-    def.n_attachments = 1;
+    weft_cloth_def def = ap_corner_sheet_def(m, &g_pins);
     def.preconditioner = pre;
     return def;
 }
