@@ -680,8 +680,7 @@ void wc_amg_cross_scale(const wc_amg_cross* X, double alpha, const double* x, in
     }
 }
 
-/* y_r += alpha sum_k M_rk x_k for rows [r0, r1) of a d x d matrix, k ascending (a row's scalar
- * sum). */
+/* y_r += alpha sum_k M_rk x_k, k ascending, for rows [r0, r1) of a d x d matrix. */
 static void dense_rows(const double* M, int d, double alpha, const double* x, double* y, int r0, int r1) {
     for (int r = r0; r < r1; ++r) {
         const double* row = M + (size_t)r * d;
@@ -691,11 +690,9 @@ static void dense_rows(const double* M, int d, double alpha, const double* x, do
     }
 }
 
-/* The same sums for a symmetric M (M_rk = M_kr to the bit), read by columns: row r's k-th term is
- * M_kr, so a panel of rows is a contiguous stretch of each row k, and each lane of a register does
- * one row's scalar recurrence acc += M_kr x_k, k ascending, with a separate multiply and add (no
- * fused multiply-add): the same bits as dense_rows, without its serial chain of additions (16
- * rows a pass, then 4, then the rows left one by one). */
+/* The same sums for a bit-symmetric M read by columns (a panel of rows is a stretch of each row
+ * k): each register lane does one row's recurrence acc += M_kr x_k, k ascending, multiply then
+ * add (no FMA): dense_rows' bits without its serial chain (16 rows a pass, then 4, then 1). */
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 int wc_amg_cross_dense_vec(void) { return __builtin_cpu_supports("avx"); }
 
