@@ -161,6 +161,12 @@ typedef struct wc_amg_opts {
                                    it symmetric, so the V-cycle stays SPD. Half the V-cycle's bytes,
                                    a third less PCG time from 4k particles on
                                    (docs/bench/cpu_levers_sheet32.md) */
+    int single_x;               /* 1 (default): with single, and where the CPU has AVX2 + FMA, the
+                                   row products read the iterates rounded to float (wc_amg_level.xf,
+                                   written beside x) and sum in float (wc_bsr_rows_fx): half the
+                                   kernel's instructions; the V-cycle is then symmetric to float's
+                                   rounding, not exactly (docs/bench/vcycle_float.md). 0: double
+                                   iterates and sums */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -271,6 +277,7 @@ typedef struct wc_amg_level {
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
     float* val_f;               /* (n_blocks x 9 + WC_BSR_F_PAD) with opts.single: val rounded */
+    float* xf;                  /* (n x 4) with opts.single_x: x rounded to float, the 4th float 0 */
 
     int group;                  /* nodes per aggregation unit: 2 on coarse levels with rotations
                                    (the pair 2a, 2a + 1 of one fine aggregate), else 1 */

@@ -26,6 +26,7 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.bound_margin = 1.05;
     o.values = 1;
     o.single = 1;
+    o.single_x = 1;
     return o;
 }
 
@@ -377,6 +378,7 @@ static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
         }
     }
     TRY(L->x = WC_NEW(al, double, 3 * (size_t)L->n));
+    if (a->opts.single && a->opts.single_x) TRY(L->xf = WC_NEW(al, float, 4 * (size_t)L->n));
     TRY(L->r = WC_NEW(al, double, 3 * (size_t)L->n));
     TRY(L->t = WC_NEW(al, double, 3 * (size_t)L->n));
     TRY(L->ev = WC_NEW(al, double, 3 * (size_t)L->n));
@@ -493,7 +495,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f, L->xf};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_amg_cross_destroy(a);

@@ -3,7 +3,9 @@
  * correction, prolongation by P, the same smoothing again; the coarsest level is solved with its
  * dense Cholesky factor (or smoothed, when it could not be coarsened enough). With
  * wc_amg_opts.single every level's operator and P are read from their float copies
- * (amg_single.c), every sum in double; D^-1 stays double.
+ * (amg_single.c), every sum in double; D^-1 stays double. With single_x too (and AVX2 + FMA) the
+ * row products read each iterate's float shadow xf, written wherever x is, and sum in float
+ * (wc_bsr_rows_fx); everything else stays double.
  * Threads: with Chebyshev smoothing a level's sweep before the coarse correction (smoothing,
  * residual, restriction) is one parallel region and the sweep after it another, with barriers
  * between the phases, instead of a region per kernel (a V-cycle of the suit's three levels: 4
@@ -13,36 +15,60 @@
 #include "bsr_rows.h"
 #include "vec3.h"
 
-/* t = r - A x (the level's BSR part; residual() adds the couplings); t = r when x is NULL. */
-static void residual_bsr(const wc_amg_level* L, int single, const double* r, const double* x, double* t,
-                         wc_par* par) {
+/* The float-vector row kernel where level L runs on a float shadow of its iterate (opts.single_x),
+ * else NULL. Every level does or none (a prolongation reads the coarse level's shadow when that
+ * level has one, prolong_rows). */
+static wc_bsr_rows_fx_fn fx_kernel(const wc_amg* a, const wc_amg_level* L) {
+    return a->opts.single && a->opts.single_x && L->xf && L->val_f ? wc_bsr_rows_fx_vector() : NULL;
+}
+
+/* xf_i = x_i rounded (the 4th float stays 0). Where x_i was just stored, the loops pass the values
+ * they stored (put_f3): reading them back 16 bytes at a time from two 8-byte stores still in
+ * flight is not forwarded, a stall a node that cost the V-cycle about a fifth of its time. */
+static inline void put_f3(float* xf, double x0, double x1, double x2) {
+    xf[0] = (float)x0;
+    xf[1] = (float)x1;
+    xf[2] = (float)x2;
+}
+
+static inline void put_f(float* xf, const double* x) { put_f3(xf, x[0], x[1], x[2]); }
+
+/* t = r - A x (the level's BSR part; residual() adds the couplings); t = r when x is NULL. With fx
+ * the product reads x's shadow L->xf. */
+static void residual_bsr(const wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, const double* r, const double* x,
+                         double* t, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        if (x && single) wc_bsr_rows_f(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, x, t);
+        if (x && fx) fx(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, L->xf, t, NULL);
+        else if (x && single) wc_bsr_rows_f(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, x, t);
         else if (x) wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, r, -1.0, x, t);
         else if (hi > lo) memcpy(t + 3 * (size_t)lo, r + 3 * (size_t)lo, sizeof(double) * 3 * (size_t)(hi - lo));
     }
 }
 
 /* t = r - A x with the couplings' terms (amg_cross.c). */
-static void residual(const wc_amg_level* L, int single, const double* r, const double* x, double* t, wc_par* par) {
-    residual_bsr(L, single, r, x, t, par);
+static void residual(const wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, const double* r, const double* x,
+                     double* t, wc_par* par) {
+    residual_bsr(L, single, fx, r, x, t, par);
     if (x && L->cross && L->cross->n_terms > 0) wc_amg_cross_mul_add(L->cross, -1.0, x, t, L->n, par);
 }
 
-/* x += w D^-1 t (x is overwritten when `set`). */
-static void jacobi(const wc_amg_level* L, double w, const double* t, double* x, int set, wc_par* par) {
+/* x += w D^-1 t (x is overwritten when `set`); xf (or NULL) its shadow. */
+static void jacobi(const wc_amg_level* L, double w, const double* t, double* x, float* xf, int set, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
         for (int i = lo; i < hi; ++i) {
-            double d[3];
+            double d[3], xn[3];
             wc_amg_dinv(L, i, t, d);
-            if (set) v3_scale(x + 3 * i, d, w);
-            else v3_axpy(x + 3 * i, w, d);
+            for (int c = 0; c < 3; ++c) {
+                xn[c] = set ? d[c] * w : x[3 * i + c] + w * d[c];
+                x[3 * i + c] = xn[c];
+            }
+            if (xf) put_f3(xf + 4 * i, xn[0], xn[1], xn[2]);
         }
     }
 }
@@ -142,14 +168,27 @@ static void restrict_(const wc_amg_level* L, const wc_amg_level* N, int single, 
     }
 }
 
-/* x += P xc */
-static void prolong(const wc_amg_level* L, int single, const double* xc, double* x, wc_par* par) {
+/* x += P xc on rows [lo, hi): with fxn (the coarse level N runs on shadows) P times xc's shadow
+ * N->xf; xf (or NULL): x's shadow, written. */
+static void prolong_rows(const wc_amg_level* L, const wc_amg_level* N, int single, wc_bsr_rows_fx_fn fxn,
+                         const double* xc, double* x, float* xf, int lo, int hi) {
+    if (fxn) {
+        fxn(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, N->xf, x, xf);
+        return;
+    }
+    if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, xc, x);
+    else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, xc, x);
+    if (xf)
+        for (int i = lo; i < hi; ++i) put_f(xf + 4 * i, x + 3 * i);
+}
+
+static void prolong(const wc_amg_level* L, const wc_amg_level* N, int single, wc_bsr_rows_fx_fn fxn, const double* xc,
+                    double* x, float* xf, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, xc, x);
-        else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, xc, x);
+        prolong_rows(L, N, single, fxn, xc, x, xf, lo, hi);
     }
 }
 
@@ -161,11 +200,12 @@ static void prolong(const wc_amg_level* L, int single, const double* xc, double*
 /* t = r - A x with the couplings' terms on rows [lo, hi): residual() per thread. A merged level
  * (amg_merge.c) reads its one float matrix; otherwise a list level's terms are scaled first (every
  * thread's share, then a barrier). */
-static void residual_part(const wc_amg_level* L, int single, const double* r, const double* x, double* t, int lo,
-                          int hi) {
+static void residual_part(const wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, const double* r, const double* x,
+                          double* t, int lo, int hi) {
     const wc_amg_cross* X = L->cross && L->cross->n_terms > 0 ? L->cross : NULL;
     if (X && X->m_blocks > 0 && single) { /* B + X merged (amg_merge.c): one pass */
-        wc_bsr_rows_f(X->m_start, X->m_col, X->m_val_f, lo, hi, r, -1.0, x, t);
+        if (fx) fx(X->m_start, X->m_col, X->m_val_f, lo, hi, r, -1.0, L->xf, t, NULL);
+        else wc_bsr_rows_f(X->m_start, X->m_col, X->m_val_f, lo, hi, r, -1.0, x, t);
         return;
     }
     if (X && wc_amg_cross_as_terms(X)) {
@@ -174,45 +214,54 @@ static void residual_part(const wc_amg_level* L, int single, const double* r, co
         wc_amg_cross_scale(X, -1.0, x, q0, q1);
         WC_PAR_BARRIER();
     }
-    if (single) wc_bsr_rows_f(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, x, t);
+    if (fx) fx(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, L->xf, t, NULL);
+    else if (single) wc_bsr_rows_f(L->row_start, L->col, L->val_f, lo, hi, r, -1.0, x, t);
     else wc_bsr_rows(L->row_start, L->col, L->val, lo, hi, r, -1.0, x, t);
     if (X) wc_amg_cross_rows_add(X, -1.0, x, t, L->n, lo, hi);
 }
 
 /* chebyshev() per thread: `steps` matrix products, x from zero when `zero` (else x must be
  * complete: a barrier before). */
-static void chebyshev_part(wc_amg_level* L, int single, double ratio, int steps, const double* r, double* x, int zero,
-                           double* d, int lo, int hi) {
+static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, double ratio, int steps,
+                           const double* r, double* x, int zero, double* d, int lo, int hi) {
+    float* xf = fx ? L->xf : NULL;
     const double b = L->bound, a = b / ratio;
     const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
     double rho = 1.0 / sigma;
     const double* t = r; /* the residual at x = 0 */
     if (!zero) {
-        residual_part(L, single, r, x, L->t, lo, hi);
+        residual_part(L, single, fx, r, x, L->t, lo, hi);
         t = L->t;
         WC_PAR_BARRIER(); /* t complete (a pair's D^-1 reads both rows), x read */
     }
+    const double inv_theta = 1.0 / theta;
     for (int i = lo; i < hi; ++i) { /* d = D^-1 t / theta; x = d, or x += d */
-        double e[3];
+        double e[3], xn[3];
         wc_amg_dinv(L, i, t, e);
-        v3_scale(d + 3 * i, e, 1.0 / theta);
-        if (zero) v3_copy(x + 3 * i, d + 3 * i);
-        else
-            for (int c = 0; c < 3; ++c) x[3 * i + c] += d[3 * i + c];
+        for (int c = 0; c < 3; ++c) {
+            const double dc = e[c] * inv_theta;
+            d[3 * i + c] = dc;
+            xn[c] = zero ? dc : x[3 * i + c] + dc;
+            x[3 * i + c] = xn[c];
+        }
+        if (xf) put_f3(xf + 4 * i, xn[0], xn[1], xn[2]);
     }
     for (int k = 1; k < steps; ++k) {
         WC_PAR_BARRIER(); /* x complete */
-        residual_part(L, single, r, x, L->t, lo, hi);
+        residual_part(L, single, fx, r, x, L->t, lo, hi);
         double rho_new = 1.0 / (2.0 * sigma - rho);
         double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
         WC_PAR_BARRIER(); /* t complete, x read */
         for (int i = lo; i < hi; ++i) { /* d = c1 d + c2 D^-1 t; x += d */
-            double e[3];
+            double e[3], xn[3];
             wc_amg_dinv(L, i, L->t, e);
             for (int c = 0; c < 3; ++c) {
-                d[3 * i + c] = c1 * d[3 * i + c] + c2 * e[c];
-                x[3 * i + c] += d[3 * i + c];
+                const double dc = c1 * d[3 * i + c] + c2 * e[c];
+                d[3 * i + c] = dc;
+                xn[c] = x[3 * i + c] + dc;
+                x[3 * i + c] = xn[c];
             }
+            if (xf) put_f3(xf + 4 * i, xn[0], xn[1], xn[2]);
         }
         rho = rho_new;
     }
@@ -226,16 +275,20 @@ static void coarse_solve(wc_amg* a, const double* r, double* x) {
 static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
     wc_amg_level* L = &a->lev[l];
     const int single = a->opts.single && L->val_f;
+    const wc_bsr_rows_fx_fn fx = fx_kernel(a, L);
+    float* xf = fx ? L->xf : NULL; /* written wherever x is: the level above's prolongation reads it */
     if (l == a->n_levels - 1) {
         if (a->coarse_dense) {
             coarse_solve(a, r, x);
+            if (xf)
+                for (int i = 0; i < L->n; ++i) put_f(xf + 4 * i, x + 3 * i);
             return;
         }
         const double w = 1.0 / L->bound;
-        jacobi(L, w, r, x, 1, par);
+        jacobi(L, w, r, x, xf, 1, par);
         for (int s = 1; s < WC_AMG_COARSE_SWEEPS; ++s) {
-            residual(L, single, r, x, L->t, par);
-            jacobi(L, w, L->t, x, 0, par);
+            residual(L, single, fx, r, x, L->t, par);
+            jacobi(L, w, L->t, x, xf, 0, par);
         }
         return;
     }
@@ -245,14 +298,15 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
         const double ratio = a->opts.chebyshev_ratio;
         const int sweeps = a->opts.sweeps;
         void (*rows)(const wc_amg_level*, const double*, double*, int, int) = restrict_kernel(single);
+        const wc_bsr_rows_fx_fn fxn = fx_kernel(a, N); /* N's iterate has a shadow */
         WC_PAR_REGION(par)
         { /* pre-smoothing, residual, restriction */
             int lo, hi, c0, c1;
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
             wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            chebyshev_part(L, single, ratio, sweeps, r, x, 1, L->ev_scratch, lo, hi);
+            chebyshev_part(L, single, fx, ratio, sweeps, r, x, 1, L->ev_scratch, lo, hi);
             WC_PAR_BARRIER();
-            residual_part(L, single, r, x, L->t, lo, hi);
+            residual_part(L, single, fx, r, x, L->t, lo, hi);
             WC_PAR_BARRIER();
             rows(L, L->t, N->r, c0, c1);
         }
@@ -261,25 +315,24 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
         { /* prolongation, post-smoothing */
             int lo, hi;
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-            if (single) wc_bsr_rows_f(L->p_start, L->p_col, L->p_val_f, lo, hi, x, 1.0, N->x, x);
-            else wc_bsr_rows(L->p_start, L->p_col, L->p_val, lo, hi, x, 1.0, N->x, x);
+            prolong_rows(L, N, single, fxn, N->x, x, xf, lo, hi);
             WC_PAR_BARRIER();
-            chebyshev_part(L, single, ratio, sweeps, r, x, 0, L->ev_scratch, lo, hi);
+            chebyshev_part(L, single, fx, ratio, sweeps, r, x, 0, L->ev_scratch, lo, hi);
         }
         return;
     }
-    jacobi(L, w, r, x, 1, par);
+    jacobi(L, w, r, x, xf, 1, par);
     for (int s = 1; s < a->opts.sweeps; ++s) {
-        residual(L, single, r, x, L->t, par);
-        jacobi(L, w, L->t, x, 0, par);
+        residual(L, single, fx, r, x, L->t, par);
+        jacobi(L, w, L->t, x, xf, 0, par);
     }
-    residual(L, single, r, x, L->t, par);
+    residual(L, single, fx, r, x, L->t, par);
     restrict_(L, N, single, L->t, N->r, par);
     vcycle(a, l + 1, N->r, N->x, par);
-    prolong(L, single, N->x, x, par);
+    prolong(L, N, single, fx_kernel(a, N), N->x, x, xf, par);
     for (int s = 0; s < a->opts.sweeps; ++s) {
-        residual(L, single, r, x, L->t, par);
-        jacobi(L, w, L->t, x, 0, par);
+        residual(L, single, fx, r, x, L->t, par);
+        jacobi(L, w, L->t, x, xf, 0, par);
     }
 }
 

@@ -34,4 +34,17 @@ void wc_bsr_rows_f_scalar(const int* row_start, const int* col, const float* val
                           double sign, const double* x, double* y);
 wc_bsr_rows_f_fn wc_bsr_rows_f_vector(void);
 
+/* The same float blocks times a float vector, summed in float (the V-cycle's iterates,
+ * wc_amg_opts.single_x): x4 holds 4 floats a node, the 4th zero, and
+ *     y_i = s_i + sign * (double)(sum_k B_k x4_col(k))
+ * with the row's sums in float fused multiply-adds, widened once; when y4 is not NULL it also
+ * gets y_i rounded to float (its 4th float set to 0). About half the double kernel's instructions
+ * a block (docs/bench/vcycle_float.md). The AVX2 kernel, or NULL; the scalar one does the same
+ * arithmetic in the same order (lane by lane fmaf, the same pairwise folds): the same bits. */
+typedef void (*wc_bsr_rows_fx_fn)(const int* row_start, const int* col, const float* val, int lo, int hi,
+                                  const double* s, double sign, const float* x4, double* y, float* y4);
+void wc_bsr_rows_fx_scalar(const int* row_start, const int* col, const float* val, int lo, int hi, const double* s,
+                           double sign, const float* x4, double* y, float* y4);
+wc_bsr_rows_fx_fn wc_bsr_rows_fx_vector(void);
+
 #endif

@@ -473,6 +473,38 @@ static void test_single(void) {
            worst);
     CHECK(worst < 1e-4); /* float rounding (6e-8) amplified by the levels' conditioning (1.4e-5 here) */
     CHECK(least > 1e-12);
+    if (wc_bsr_rows_fx_vector()) { /* the float iterates (single_x, the default) against double ones */
+        CHECK(a->opts.single_x == 1);
+        double worst_x = 0.0, least_x = INFINITY;
+        for (int trial = 0; trial < 3; ++trial) {
+            for (int k = 0; k < n3; ++k) {
+                st = st * 6364136223846793005ull + 1442695040888963407ull;
+                r[k] = (double)(st >> 11) / 9007199254740992.0 - 0.5;
+            }
+            wc_amg_apply(a, r, zf, &sc.s->par);
+            a->opts.single_x = 0;
+            wc_amg_apply(a, r, zd, &sc.s->par);
+            a->opts.single_x = 1;
+            double rel = ts_rel_diff(zf, zd, n3);
+            worst_x = fmax(worst_x, rel);
+            least_x = fmin(least_x, rel);
+        }
+        /* PCG to 1e-6 from zero with each: the same iterations within one */
+        int it[2];
+        for (int v = 0; v < 2; ++v) {
+            a->opts.single_x = 1 - v;
+            memset(zf, 0, sizeof(double) * n3);
+            wc_solve_result res;
+            CHECK(wc_solve(sv, WC_SOLVER_PCG, sc.s->A, sc.s->b, &sc.s->filter, zf, &sc.s->par, &res) == WC_OK);
+            CHECK(res.converged);
+            it[v] = res.iterations;
+        }
+        a->opts.single_x = 1;
+        printf("  float vs double iterates: %.1e .. %.1e; PCG iterations %d vs %d\n", least_x, worst_x, it[0], it[1]);
+        CHECK(worst_x < 1e-3); /* float rounding of the iterates and sums, amplified as above */
+        CHECK(least_x > 1e-12); /* the shadows are read */
+        CHECK(abs(it[0] - it[1]) <= 1);
+    }
     free(r);
     free(zf);
     free(zd);

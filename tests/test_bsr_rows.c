@@ -5,7 +5,10 @@
  * and s aliasing y, rows split in two calls as two threads would; and the vector and scalar
  * results within rounding of each other. The single-precision kernels (wc_bsr_rows_f, the
  * multigrid's V-cycle) the same way on the values rounded to float, their arrays allocated to
- * the block count plus WC_BSR_F_PAD exactly. */
+ * the block count plus WC_BSR_F_PAD exactly. The float-vector kernels (wc_bsr_rows_fx: float x, float
+ * sums) against long-double sums of the rounded values within float's rounding of the row's
+ * terms, their float copy of y, and the scalar and vector kernels bit for bit (they do the same
+ * arithmetic in the same order). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -138,6 +141,71 @@ static void check_kernel(wc_bsr_rows_fn f, wc_bsr_rows_f_fn ff, const char* name
     free(scale);
 }
 
+/* The float-vector kernels on rows [lo, hi) in two calls, against the reference on x rounded to
+ * float: within (len + 4) float ulps of the row's |terms| (len blocks summed in float, half of them
+ * in each of two sets of lanes, then folded); y4 the rounded y with its 4th float 0. The scalar and
+ * vector kernels' y and y4 bit for bit. */
+static void check_fx(const pattern* p, double sign, int with_s, int alias, int with_y4) {
+    const int n = p->n;
+    double* x = malloc(sizeof(double) * 3 * (size_t)n);
+    float* x4 = malloc(sizeof(float) * 4 * (size_t)n); /* exact size: the last x_j ends the array */
+    double* s = malloc(sizeof(double) * 3 * (size_t)n);
+    long double* ref = malloc(sizeof(long double) * 3 * (size_t)n);
+    double* scale = malloc(sizeof(double) * 3 * (size_t)n);
+    double* y[2] = {malloc(sizeof(double) * 3 * (size_t)n), malloc(sizeof(double) * 3 * (size_t)n)};
+    float* y4[2] = {malloc(sizeof(float) * 4 * (size_t)n), malloc(sizeof(float) * 4 * (size_t)n)};
+    for (int i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            x4[4 * i + c] = (float)uniform();
+            x[3 * i + c] = x4[4 * i + c];
+            s[3 * i + c] = uniform() * 10.0;
+        }
+        x4[4 * i + 3] = 0.0f;
+    }
+    reference(p, with_s ? s : NULL, sign, x, ref, scale);
+    wc_bsr_rows_fx_fn kern[2] = {wc_bsr_rows_fx_scalar, wc_bsr_rows_fx_vector()};
+    const int mid = n / 3;
+    double worst = 0.0;
+    int y4_ok = 1;
+    for (int v = 0; v < 2 && kern[v]; ++v) {
+        for (int q = 0; q < 4 * n; ++q) y4[v][q] = NAN;
+        for (int q = 0; q < 3 * n; ++q) y[v][q] = alias && with_s ? s[q] : NAN;
+        const double* sp = with_s ? (alias ? y[v] : s) : NULL;
+        float* o4 = with_y4 ? y4[v] : NULL;
+        kern[v](p->row_start, p->col, p->valf, 0, mid, sp, sign, x4, y[v], o4);
+        kern[v](p->row_start, p->col, p->valf, mid, n, sp, sign, x4, y[v], o4);
+        for (int i = 0; i < n; ++i) {
+            const int len = p->row_start[i + 1] - p->row_start[i];
+            for (int c = 0; c < 3; ++c) {
+                const int q = 3 * i + c;
+                double err = fabs((double)((long double)y[v][q] - ref[q]));
+                double rel = err / ((len + 4) * 0x1p-24 * scale[q] + 1e-300);
+                if (!(rel <= worst)) worst = rel; /* NaN too */
+                if (with_y4) y4_ok &= y4[v][4 * i + c] == (float)y[v][q];
+            }
+            if (with_y4) y4_ok &= y4[v][4 * i + 3] == 0.0f;
+        }
+    }
+    printf("  fx     n %5d blocks %6d sign %+.0f s %-10s y4 %s: largest error %.2f of the bound%s\n", n, p->nb, sign,
+           with_s ? (alias ? "aliasing y" : "given") : "NULL", with_y4 ? "yes" : "no ", worst,
+           kern[1] ? ", scalar = vector" : "");
+    CHECK(worst <= 1.0);
+    CHECK(y4_ok);
+    if (kern[1]) {
+        CHECK(memcmp(y[0], y[1], sizeof(double) * 3 * (size_t)n) == 0);
+        if (with_y4) CHECK(memcmp(y4[0], y4[1], sizeof(float) * 4 * (size_t)n) == 0);
+    }
+    free(x);
+    free(x4);
+    free(s);
+    free(ref);
+    free(scale);
+    for (int v = 0; v < 2; ++v) {
+        free(y[v]);
+        free(y4[v]);
+    }
+}
+
 int main(void) {
     wc_bsr_rows_fn vec = wc_bsr_rows_vector();
     wc_bsr_rows_f_fn vec_f = wc_bsr_rows_f_vector();
@@ -172,6 +240,9 @@ int main(void) {
             free(a);
             free(b);
         }
+        if (single)
+            for (int mode = 0; mode < 6; ++mode) /* sign, s NULL / given / aliasing y, with and without y4 */
+                check_fx(&p, mode % 2 ? -1.0 : 1.0, mode >= 2 && mode <= 4, mode == 3, mode >= 3);
         free_pattern(&p);
     }
     return TEST_SUMMARY();

@@ -19,11 +19,15 @@
  *
  *   bench_amg_setup [--n 100] [--frames 10] [--threads 1] [--repeat 0]
  *                   [--power N] [--coarse N] [--lanczos 0|1]   (wc_amg_opts' estimate)
- *                   [--single 0|1]   (wc_amg_opts.single: the V-cycle's float copies; default 1) */
+ *                   [--single 0|1]   (wc_amg_opts.single: the V-cycle's float copies; default 1)
+ *                   [--single-x 0|1] (wc_amg_opts.single_x: its float iterates; default 1)
+ *                   [--ab R]   (then the last system's V-cycles and PCG solves alternating single_x 1
+ *                               and 0 in this run, R rounds: median and fastest CPU ms of each) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "amg.h"
+#include "bsr_rows.h"
 #include "clock.h"
 #include "solve_kernels.h"
 #include "step.h"
@@ -96,8 +100,64 @@ static double copy_rate(size_t size) {
     return best < 1e300 ? 2.0 * (double)size / best : 0.0;
 }
 
+/* The last system's V-cycles (20 a sample) and PCG solves from zero, alternating single_x 1 and 0
+ * within each of R rounds: the median and fastest CPU ms of each, the iterations. */
+static void ab_single_x(wc_state* s, wc_amg* amg, int rounds) {
+    const int n3 = 3 * amg->lev[0].n, keep = amg->opts.single_x;
+    double *r = malloc(sizeof(double) * (size_t)n3), *z = malloc(sizeof(double) * (size_t)n3);
+    double* t[2][3];
+    const wc_amg_level* F = &amg->lev[0];
+    const wc_bsr_rows_fx_fn fx = wc_bsr_rows_fx_vector();
+    float* xf = calloc(4 * (size_t)F->n, sizeof(float));
+    int it[2] = {0, 0};
+    for (int v = 0; v < 2; ++v)
+        for (int q = 0; q < 3; ++q) t[v][q] = malloc(sizeof(double) * (size_t)rounds);
+    for (int k = 0; k < n3; ++k) r[k] = s->b[k];
+    for (int i = 0; i < F->n; ++i)
+        for (int c = 0; c < 3; ++c) xf[4 * i + c] = (float)r[3 * i + c];
+    for (int round = 0; round < rounds; ++round)
+        for (int v = 0; v < 2; ++v) { /* v = 0: single_x 1 */
+            amg->opts.single_x = 1 - v;
+            double c0 = wc_cpu_ms();
+            for (int k = 0; k < 20; ++k) wc_amg_apply(amg, r, z, &s->par);
+            t[v][0][round] = (wc_cpu_ms() - c0) / 20.0;
+            memset(z, 0, sizeof(double) * (size_t)n3);
+            double setup0 = 0.0, setup1 = 0.0;
+            for (int p = 0; p < WC_AMG_PHASES; ++p) setup0 += amg->phase_ms[p];
+            wc_solve_result res;
+            c0 = wc_cpu_ms();
+            wc_solve(s->solver, WC_SOLVER_PCG, s->A, s->b, &s->filter, z, &s->par, &res);
+            double c = wc_cpu_ms() - c0;
+            for (int p = 0; p < WC_AMG_PHASES; ++p) setup1 += amg->phase_ms[p];
+            t[v][1][round] = c - (setup1 - setup0);
+            it[v] = res.iterations;
+            c0 = wc_cpu_ms(); /* the finest level's float operator times x, 50 times: the row kernel alone */
+            for (int k = 0; k < 50 && F->val_f; ++k) {
+                if (v == 0 && fx) fx(F->row_start, F->col, F->val_f, 0, F->n, r, -1.0, xf, z, NULL);
+                else wc_bsr_rows_f(F->row_start, F->col, F->val_f, 0, F->n, r, -1.0, r, z);
+            }
+            t[v][2][round] = (wc_cpu_ms() - c0) / 50.0;
+        }
+    amg->opts.single_x = keep;
+    printf("the last system, single_x 1 and 0 alternating, %d rounds (CPU ms, median (fastest)):\n"
+           "| single_x | V-cycle | PCG solve less setup | PCG it. | finest level's product |\n|---|---|---|---|---|\n",
+           rounds);
+    for (int v = 0; v < 2; ++v) {
+        for (int q = 0; q < 3; ++q) qsort(t[v][q], (size_t)rounds, sizeof(double), cmp_double);
+        printf("| %d | %.3f (%.3f) | %.3f (%.3f) | %d | %.4f (%.4f) |\n", 1 - v, t[v][0][rounds / 2], t[v][0][0],
+               t[v][1][rounds / 2], t[v][1][0], it[v], t[v][2][rounds / 2], t[v][2][0]);
+    }
+    printf("\n");
+    for (int v = 0; v < 2; ++v)
+        for (int q = 0; q < 3; ++q) free(t[v][q]);
+    free(xf);
+    free(r);
+    free(z);
+}
+
 int main(int argc, char** argv) {
-    int n = 100, frames = 10, threads = 1, power = 0, coarse = 0, lanczos = -1, repeat = 0, single = -1;
+    int n = 100, frames = 10, threads = 1, power = 0, coarse = 0, lanczos = -1, repeat = 0, single = -1,
+        single_x = -1, ab = 0;
     for (int a = 1; a < argc; ++a) {
         if (!strcmp(argv[a], "--n") && a + 1 < argc) n = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--frames") && a + 1 < argc) frames = atoi(argv[++a]);
@@ -107,9 +167,11 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[a], "--repeat") && a + 1 < argc) repeat = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--lanczos") && a + 1 < argc) lanczos = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--single") && a + 1 < argc) single = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--single-x") && a + 1 < argc) single_x = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--ab") && a + 1 < argc) ab = atoi(argv[++a]);
         else {
             fprintf(stderr, "usage: bench_amg_setup [--n N] [--frames N] [--threads N] [--power N] [--coarse N] "
-                            "[--lanczos 0|1] [--repeat R] [--single 0|1]\n");
+                            "[--lanczos 0|1] [--repeat R] [--single 0|1] [--single-x 0|1] [--ab R]\n");
             return 2;
         }
     }
@@ -144,6 +206,7 @@ int main(int argc, char** argv) {
     if (coarse > 0) amg->opts.coarse_iterations = coarse;
     if (lanczos >= 0) amg->opts.lanczos = lanczos;
     if (single >= 0) amg->opts.single = single;
+    if (single_x >= 0) amg->opts.single_x = single_x;
     double* ms = malloc(sizeof(double) * (size_t)frames);
     double* cpu = malloc(sizeof(double) * (size_t)frames);
     long solves = 0, iterations = 0;
@@ -205,6 +268,7 @@ int main(int argc, char** argv) {
                "potentials, the step's checks)\n\n",
                wall_total > 0 ? 100.0 * (1.0 - solve / wall_total) : 0.0);
     }
+    if (ab > 0) ab_single_x(s, amg, ab);
     printf("| setup phase | CPU ms/solve | share |\n|---|---|---|\n");
     for (int p = 0; p < WC_AMG_PHASES; ++p) setup_sum += amg->phase_ms[p];
     for (int p = 0; p < WC_AMG_PHASES; ++p)
