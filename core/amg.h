@@ -150,8 +150,8 @@ typedef struct wc_amg_opts {
                                    redone); 0: every setup estimates (see wc_amg.hold_bounds) */
     int bound_carry;            /* while wc_amg.carry_bounds is set (a substep's first solve), up
                                    to this many full setups in a row take the estimates of an
-                                   earlier substep's fresh setup (x bound_margin) instead of
-                                   estimating: one Lanczos run in bound_carry + 1 substeps (the
+                                   earlier substep's fresh setup (as they are; the Newton solves
+                                   that hold them x bound_margin) instead of estimating: one Lanczos run in bound_carry + 1 substeps (the
                                    estimates are state: wc_amg_bounds_get/set, the snapshots'
                                    history); 0: every substep's first solve estimates (7) */
     double bound_margin;        /* >= 1: a reused estimate x this (the matrix may have stiffened

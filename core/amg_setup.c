@@ -157,8 +157,10 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
 /* L (level l)->bound: the largest eigenvalue of D^-1 A (amg_eigen.c) x WC_AMG_SAFETY; fine: the
  * finest level (its iterations are wc_amg_opts.power_iterations, the coarse levels'
  * coarse_iterations). hold: the level's last estimate x bound_margin instead
- * (wc_amg_opts.bound_reuse); carry: the same unless the level's couplings came or went since that
- * estimate (wc_amg.carry_bounds). Returns 1 when it reused. */
+ * (wc_amg_opts.bound_reuse); carry: the last estimate as it is, unless the level's couplings came
+ * or went since (wc_amg.carry_bounds; x bound_margin there made the smoother weaker for nothing:
+ * the flag's first solves took 5 % more iterations, docs/bench/suit_setup.md). Returns 1 when it
+ * reused. */
 static int largest_eigenvalue(wc_amg* a, int l, int fine, int hold, int carry, wc_par* par) {
     wc_amg_level* L = &a->lev[l];
     const wc_amg_opts* o = &a->opts;
@@ -171,7 +173,7 @@ static int largest_eigenvalue(wc_amg* a, int l, int fine, int hold, int carry, w
     const int reuse = hold || (carry && terms == (int)((a->est_terms >> l) & 1u));
     double lambda;
     if (reuse) {
-        lambda = o->bound_margin * L->estimate;
+        lambda = (hold ? o->bound_margin : 1.0) * L->estimate;
     } else {
         lambda = wc_amg_eigen_estimate(L, steps, o->lanczos, o->pair_blocks, par);
         L->estimate = lambda;
