@@ -41,7 +41,8 @@
  * diagonals' inverses, the largest eigenvalue of D^-1 P^ per level (Lanczos from a fixed start,
  * wc_amg_opts.power_iterations steps on the finest level and WC_AMG_COARSE_LANCZOS on the others,
  * times WC_AMG_SAFETY; amg_eigen.c; while wc_amg.hold_bounds is set, a setup may reuse the last
- * fresh estimates instead: wc_amg_opts.bound_reuse), the smoothed prolongator
+ * fresh estimates instead: wc_amg_opts.bound_reuse; while wc_amg.carry_bounds is, an earlier
+ * substep's: wc_amg_opts.bound_carry), the smoothed prolongator
  * P = (I - omega_p D^-1 P^_F) P_tent (P^_F: weak blocks lumped onto the diagonal), the Galerkin
  * operators and the coarsest level's dense Cholesky factor.
  * Applied (wc_amg_apply): one symmetric V-cycle, Chebyshev smoothing (a degree-2 polynomial in
@@ -147,6 +148,12 @@ typedef struct wc_amg_opts {
                                    skip the eigenvalue estimates and take the last fresh setup's
                                    per level x bound_margin (the Galerkin products are still
                                    redone); 0: every setup estimates (see wc_amg.hold_bounds) */
+    int bound_carry;            /* while wc_amg.carry_bounds is set (a substep's first solve), up
+                                   to this many full setups in a row take the estimates of an
+                                   earlier substep's fresh setup (as they are; the Newton solves
+                                   that hold them x bound_margin) instead of estimating: one Lanczos run in bound_carry + 1 substeps (the
+                                   estimates are state: wc_amg_bounds_get/set, the snapshots'
+                                   history); 0: every substep's first solve estimates (7) */
     double bound_margin;        /* >= 1: a reused estimate x this (the matrix may have stiffened
                                    since; a bound above lambda_max only weakens the smoother) */
     int values;                 /* 1 (default): the arrays a setup and a V-cycle fill; 0: the
@@ -356,8 +363,7 @@ typedef struct wc_amg {
     int hold_bounds;            /* set by the caller around solves whose matrices are close (a
                                    substep's Newton solves after its first): while set, setups
                                    reuse the estimates (wc_amg_opts.bound_reuse); 0: every setup
-                                   estimates afresh. Only a setup with it set reuses, so a solve
-                                   depends on its own system and the substep's first one */
+                                   estimates afresh (or carries: carry_bounds) */
     int hold_coarse;            /* set by the caller around solves whose systems differ from the
                                    last one's in a few rows (a substep's friction passes: contacts
                                    that stop sticking): while set, a setup refreshes the finest
@@ -369,6 +375,19 @@ typedef struct wc_amg {
     int coarse_kept;            /* 1: the last setup kept the coarse levels (hold_coarse) */
     long coarse_keeps;          /* setups that kept the coarse levels (a stat) */
     int bound_age;              /* setups that reused the estimates since the last fresh one */
+    int carry_bounds;           /* set by the caller around a substep's first solve: its full setup
+                                   may take the estimates of an earlier substep's fresh setup
+                                   (wc_amg_opts.bound_carry), level by level, where est_valid and
+                                   the level holds couplings (amg_cross.c) as it did then (a level
+                                   that gained or lost them has other modes and Lanczos steps: it
+                                   estimates afresh); the Newton solves that follow hold_bounds on
+                                   what it took. Such a solve depends on the substep where the
+                                   estimates were made: they are state (wc_amg_bounds_get) */
+    int carry_age;              /* setups that carried the estimates since the last fresh one */
+    int est_valid;              /* 1: every estimating level's `estimate` is a fresh setup's since
+                                   the last wc_amg_bounds_invalidate */
+    unsigned est_terms;         /* bit l: level l held couplings when it last estimated */
+    long carried;               /* setups that carried the estimates (a stat) */
     int bounds_reused;          /* 1: the last setup reused the estimates */
     long bound_fallbacks;       /* solves that failed on reused bounds and were redone with a
                                    fresh setup (solve_pcg.c) */
@@ -385,6 +404,19 @@ typedef struct wc_amg {
     int tent_valid;             /* 1: tent_pos describes the current P_tent */
     long tent_kept;             /* setups that kept P_tent (a stat) */
 } wc_amg;
+
+/* The estimates a setup may carry to later substeps (carry_bounds), as state: get fills valid,
+ * age, the estimating levels' terms mask and est[WC_AMG_MAX_LEVELS] (the levels' `estimate`, 0
+ * past n_levels); set puts them back (the same hierarchy; valid 0 or a bad value: none, so the
+ * next setup estimates); invalidate drops them (a rollback, a reset). */
+typedef struct wc_amg_bounds {
+    int valid, age;
+    unsigned terms;
+    double est[WC_AMG_MAX_LEVELS];
+} wc_amg_bounds;
+void wc_amg_bounds_get(const wc_amg* a, wc_amg_bounds* b);
+void wc_amg_bounds_set(wc_amg* a, const wc_amg_bounds* b);
+void wc_amg_bounds_invalidate(wc_amg* a);
 
 /* The hierarchy's patterns for this model (no values). */
 wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts, const wc_allocator* alloc,

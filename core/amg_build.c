@@ -23,6 +23,7 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.couplings = 1;
     o.cross_dense_dofs = WC_AMG_CROSS_DENSE_DOFS;
     o.bound_reuse = 1;
+    o.bound_carry = 7;
     o.bound_margin = 1.05;
     o.values = 1;
     o.single = 1;
@@ -408,10 +409,10 @@ wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts
     if (!out || !m) return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT, "wc_amg_create: NULL argument");
     *out = NULL;
     wc_amg_opts o = opts ? *opts : wc_default_amg_opts();
-    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || o.bound_reuse < 0 || !(o.bound_margin >= 1.0 && o.bound_margin < 100.0) || o.cross_dense_dofs < 0 || o.cross_dense_dofs > 4096 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
+    if (o.coarse_max < 1 || o.sweeps < 1 || o.power_iterations < 1 || o.coarse_iterations < 0 || o.bound_reuse < 0 || o.bound_carry < 0 || !(o.bound_margin >= 1.0 && o.bound_margin < 100.0) || o.cross_dense_dofs < 0 || o.cross_dense_dofs > 4096 || !(o.chebyshev_ratio > 1) || !(o.smooth_weight > 0 && o.smooth_weight < 2) ||
         !(o.prolong_weight >= 0 && o.prolong_weight < 2))
         return wc_fail(diag, WC_ERROR_INVALID_ARGUMENT,
-                       "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations and bound_reuse >= 0, bound_margin in [1, 100), cross_dense_dofs in [0, 4096], smooth_weight in (0, 2), prolong_weight in [0, 2)");
+                       "AMG options: coarse_max, sweeps and power_iterations >= 1, coarse_iterations, bound_reuse and bound_carry >= 0, bound_margin in [1, 100), cross_dense_dofs in [0, 4096], smooth_weight in (0, 2), prolong_weight in [0, 2)");
     wc_amg* a = WC_NEW(alloc, wc_amg, 1);
     if (!a) return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "AMG hierarchy");
     if (alloc) a->alloc = *alloc;

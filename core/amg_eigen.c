@@ -229,3 +229,33 @@ static double lanczos(wc_amg_level* L, int steps, int pair_blocks, wc_par* par) 
 double wc_amg_eigen_estimate(wc_amg_level* L, int steps, int use_lanczos, int pair_blocks, wc_par* par) {
     return use_lanczos ? lanczos(L, steps, pair_blocks, par) : power_iterations(L, steps, pair_blocks, par);
 }
+
+/* ---- the estimates as state (amg.h, wc_amg.carry_bounds) -------------------------------------- */
+
+void wc_amg_bounds_get(const wc_amg* a, wc_amg_bounds* b) {
+    memset(b, 0, sizeof *b);
+    if (!a || !a->est_valid) return;
+    b->valid = 1;
+    b->age = a->carry_age;
+    b->terms = a->est_terms;
+    for (int l = 0; l < a->n_levels; ++l) b->est[l] = a->lev[l].estimate;
+}
+
+void wc_amg_bounds_set(wc_amg* a, const wc_amg_bounds* b) {
+    if (!a) return;
+    wc_amg_bounds_invalidate(a);
+    if (!b || !b->valid || b->age < 0) return;
+    for (int l = 0; l < a->n_levels; ++l)
+        if (!isfinite(b->est[l]) || b->est[l] < 0) return;
+    for (int l = 0; l < a->n_levels; ++l) a->lev[l].estimate = b->est[l];
+    a->carry_age = b->age;
+    a->est_terms = b->terms;
+    a->est_valid = 1;
+}
+
+void wc_amg_bounds_invalidate(wc_amg* a) {
+    if (!a) return;
+    a->est_valid = 0;
+    a->carry_age = 0;
+    a->est_terms = 0;
+}

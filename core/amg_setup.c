@@ -154,22 +154,30 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
     }
 }
 
-/* L->bound: the largest eigenvalue of D^-1 A (amg_eigen.c) x WC_AMG_SAFETY; fine: the finest
- * level (its iterations are wc_amg_opts.power_iterations, the coarse levels' coarse_iterations).
- * reuse: the level's last fresh estimate x bound_margin instead (wc_amg_opts.bound_reuse). */
-static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, int reuse, wc_par* par) {
+/* L (level l)->bound: the largest eigenvalue of D^-1 A (amg_eigen.c) x WC_AMG_SAFETY; fine: the
+ * finest level (its iterations are wc_amg_opts.power_iterations, the coarse levels'
+ * coarse_iterations). hold: the level's last estimate x bound_margin instead
+ * (wc_amg_opts.bound_reuse); carry: the last estimate as it is, unless the level's couplings came
+ * or went since (wc_amg.carry_bounds; x bound_margin there made the smoother weaker for nothing:
+ * the flag's first solves took 5 % more iterations, docs/bench/suit_setup.md). Returns 1 when it
+ * reused. */
+static int largest_eigenvalue(wc_amg* a, int l, int fine, int hold, int carry, wc_par* par) {
+    wc_amg_level* L = &a->lev[l];
     const wc_amg_opts* o = &a->opts;
+    const int terms = L->cross && L->cross->n_terms > 0;
     int steps = fine ? o->power_iterations
                      : o->coarse_iterations > 0 ? o->coarse_iterations
                      : o->lanczos ? WC_AMG_COARSE_LANCZOS
                                   : WC_AMG_COARSE_POWER;
-    if (fine && L->cross && L->cross->n_terms > 0 && steps < WC_AMG_CROSS_LANCZOS) steps = WC_AMG_CROSS_LANCZOS;
+    if (fine && terms && steps < WC_AMG_CROSS_LANCZOS) steps = WC_AMG_CROSS_LANCZOS;
+    const int reuse = hold || (carry && terms == (int)((a->est_terms >> l) & 1u));
     double lambda;
     if (reuse) {
-        lambda = o->bound_margin * L->estimate;
+        lambda = (hold ? o->bound_margin : 1.0) * L->estimate;
     } else {
         lambda = wc_amg_eigen_estimate(L, steps, o->lanczos, o->pair_blocks, par);
         L->estimate = lambda;
+        a->est_terms = (a->est_terms & ~(1u << l)) | ((unsigned)terms << l);
     }
     L->bound = lambda > 0 ? WC_AMG_SAFETY * lambda : 2.0;
     /* seams (amg.h, WC_AMG_SEAM_BOUND): the power method misses their local modes; Lanczos finds
@@ -177,6 +185,7 @@ static void largest_eigenvalue(const wc_amg* a, wc_amg_level* L, int fine, int r
        the power method's was 0.90), and the factor only weakened the smoother there (the sewn
        tube's 30 frames in test_sew: 443 PCG iterations with it, 315 without) */
     if (fine && !o->lanczos) L->bound *= a->fine_bound_scale;
+    return reuse;
 }
 
 /* P = (I - w D^-1 A_F) P_tent: row i = P_tent's blocks of i (to the cpa coarse nodes of agg(i)),
@@ -586,7 +595,7 @@ static void setup_fine_only(wc_amg* a, const double* A, const wc_filter* f, wc_p
     lap(a, WC_AMG_PHASE_PROJECT, &t);
     diagonal(L, a->opts.pair_blocks, par);
     lap(a, WC_AMG_PHASE_DIAGONAL, &t);
-    largest_eigenvalue(a, L, 1, 1, par);
+    largest_eigenvalue(a, 0, 1, 1, 0, par);
     lap(a, WC_AMG_PHASE_EIGEN_FINE, &t);
     wc_amg_single_copies(a, 1, par);
     wc_amg_cross_merge(a, 0, par);
@@ -605,10 +614,12 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         return;
     }
     a->coarse_kept = 0;
-    /* reuse the estimates only after a fresh setup, and bound_reuse times in a row at most */
-    const int reuse = a->hold_bounds && a->setups > 0 && a->bound_age < a->opts.bound_reuse;
-    a->bound_age = reuse ? a->bound_age + 1 : 0;
-    a->bounds_reused = reuse;
+    /* hold: reuse the estimates only after a fresh (or carried) setup, and bound_reuse times in a
+       row at most; carry: an earlier substep's, bound_carry setups in a row at most */
+    const int hold = a->hold_bounds && a->setups > 0 && a->bound_age < a->opts.bound_reuse;
+    const int carry = !hold && a->carry_bounds && a->est_valid && a->carry_age < a->opts.bound_carry;
+    a->bound_age = hold ? a->bound_age + 1 : 0;
+    int reused = 0; /* levels that took an earlier estimate */
     if (a->opts.rotations && a->opts.current_positions && a->pos && a->n_levels > 1) {
         /* P_tent and the R factors about the current positions (amg.h), level by level, unless
          * they were built from the same positions */
@@ -632,7 +643,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         wc_amg_level *L = &a->lev[l], *N = &a->lev[l + 1];
         diagonal(L, a->opts.pair_blocks, par);
         lap(a, WC_AMG_PHASE_DIAGONAL, &t);
-        largest_eigenvalue(a, L, l == 0, reuse, par);
+        reused += largest_eigenvalue(a, l, l == 0, hold, carry, par);
         lap(a, l == 0 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
         prolongator(L, a->opts.prolong_weight, par);
         lap(a, WC_AMG_PHASE_PROLONG, &t);
@@ -647,12 +658,18 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
     } else {
         diagonal(&a->lev[a->n_levels - 1], a->opts.pair_blocks, par);
         lap(a, WC_AMG_PHASE_DIAGONAL, &t);
-        largest_eigenvalue(a, &a->lev[a->n_levels - 1], a->n_levels == 1, reuse, par);
+        reused += largest_eigenvalue(a, a->n_levels - 1, a->n_levels == 1, hold, carry, par);
         lap(a, a->n_levels == 1 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
     }
     wc_amg_single_copies(a, 0, par);
     for (int l = 0; l < a->n_levels; ++l) wc_amg_cross_merge(a, l, par);
     lap(a, WC_AMG_PHASE_SINGLE, &t);
+    a->bounds_reused = reused > 0;
+    if (!hold) { /* every level estimated (a fresh setup) or some carried */
+        a->est_valid = 1;
+        a->carry_age = reused > 0 ? a->carry_age + 1 : 0;
+        if (reused > 0) ++a->carried;
+    }
     ++a->setups;
     a->setup_ms = wc_now_ms() - t0;
 }

@@ -69,6 +69,7 @@ static void reset_state(wc_cloth* c, const wc_xform* T1) {
     s->frame = 0;
     s->hist_valid = 0;
     wc_solver_invalidate_rho(s->solver);
+    wc_solver_invalidate_bounds(s->solver);
     wc_state_wake(s);
 }
 

@@ -13,7 +13,9 @@
  *   cloth                    T0, V0, no_history (the object's transform history: inertia);
  *                            the last applied attachment and collider transforms
  *   state history            Chebyshev's rho cache (valid, rho: a different value changes every
- *                            later Chebyshev solve); asleep and the rest timer (restoring an
+ *                            later Chebyshev solve); the multigrid's carried eigenvalue
+ *                            estimates (valid, age, terms mask, 12 levels' estimates: amg.h
+ *                            bound_carry; a substep's first solve may take them); asleep and the rest timer (restoring an
  *                            asleep snapshot puts the cloth to sleep with the restored wind);
  *                            BDF2's history (valid, h, x_prev, v_prev (n x 3), always present,
  *                            read only when valid; after the sleep state, whose restore would
@@ -24,9 +26,10 @@
  * Older formats (WEFTSNP1, WEFTSNP2) are refused as not snapshots of this format.
  * Nothing else carries over between steps: x0/v0/dv0 and contacts_save are written at every
  * substep's start; the filter, forces, matrix, right-hand side and residual are rebuilt by every
- * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv; the
- * direct solver refactorises); wc_par's partial sums are per-reduction scratch; seam_scale (the
- * host seam pairs' ramp, sew.h) is derived from time at every frame's start; self-collision keeps
+ * substep; the solvers' vectors and preconditioner by every solve (PCG/Jacobi start from dv, the
+ * direct solver refactorises; the multigrid's estimates above aside); wc_par's partial sums are
+ * per-reduction scratch; seam_scale (the host seam pairs' ramp, sew.h) is derived from time at
+ * every frame's start; self-collision keeps
  * nothing (its start positions are copied at every substep's start, its trees refitted by every
  * pass); a mesh collider's substep positions, normals and boxes are recomputed.
  *

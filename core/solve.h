@@ -84,6 +84,17 @@ void wc_solver_set_positions(wc_solver* s, const double* x);
  * (amg.h, wc_amg_opts.bound_reuse; a solve that fails on them is redone with fresh ones);
  * hold 0 (the default): every solve estimates afresh. No effect without the multigrid. */
 void wc_solver_hold_bounds(wc_solver* s, int hold);
+/* carry 1: the solve that follows is a substep's first, whose matrix is near an earlier
+ * substep's (the same cloth a step on), so the multigrid may take the estimates of an earlier
+ * substep's fresh setup (amg.h, wc_amg_opts.bound_carry; a solve that fails on them is redone
+ * with fresh ones); carry 0 (the default): no carrying. The estimates are state: get/set carry
+ * them through a snapshot (the solver's history, as the rho cache), invalidate drops them (a
+ * rollback, a reset). No effect without the multigrid. */
+void wc_solver_carry_bounds(wc_solver* s, int carry);
+void wc_solver_invalidate_bounds(wc_solver* s);
+struct wc_amg_bounds;
+void wc_solver_bounds_get(const wc_solver* s, struct wc_amg_bounds* b);
+void wc_solver_bounds_set(wc_solver* s, const struct wc_amg_bounds* b);
 /* hold 1: the solves that follow differ from the last one in a few rows (a substep's friction
  * passes), so the multigrid refreshes its finest level only and keeps the coarse levels of its
  * last full setup (amg.h, wc_amg.hold_coarse; a solve that fails on them is redone fresh);

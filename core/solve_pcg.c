@@ -63,14 +63,17 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
            PCG again, from the last iterate when it merely ran out of iterations, from z (the
            constraints' values, as a solve without a guess starts) when it diverged */
         int it = res->iterations, hold = s->amg->hold_bounds, hold_coarse = s->amg->hold_coarse;
+        int carry = s->amg->carry_bounds;
         if (st != WC_OK) wcs_fallback(f, dv, s->n);
         ++s->amg->bound_fallbacks;
         t_setup = wc_now_ms();
         s->amg->hold_bounds = 0;
         s->amg->hold_coarse = 0;
+        s->amg->carry_bounds = 0;
         wc_amg_setup(s->amg, A, f, par);
         s->amg->hold_bounds = hold;
         s->amg->hold_coarse = hold_coarse;
+        s->amg->carry_bounds = carry;
         res->setup_ms += wc_now_ms() - t_setup;
         st = wcs_pcg_run(s, A, b, f, dv, par, res, precond_amg);
         res->iterations += it;

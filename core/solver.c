@@ -128,6 +128,22 @@ void wc_solver_hold_bounds(wc_solver* s, int hold) {
     if (s && s->amg) s->amg->hold_bounds = hold != 0;
 }
 
+void wc_solver_carry_bounds(wc_solver* s, int carry) {
+    if (s && s->amg) s->amg->carry_bounds = carry != 0;
+}
+
+void wc_solver_invalidate_bounds(wc_solver* s) {
+    if (s) wc_amg_bounds_invalidate(s->amg);
+}
+
+void wc_solver_bounds_get(const wc_solver* s, wc_amg_bounds* b) {
+    wc_amg_bounds_get(s ? s->amg : NULL, b);
+}
+
+void wc_solver_bounds_set(wc_solver* s, const wc_amg_bounds* b) {
+    if (s) wc_amg_bounds_set(s->amg, b);
+}
+
 void wc_solver_hold_coarse(wc_solver* s, int hold) {
     if (s && s->amg) s->amg->hold_coarse = hold != 0;
 }

@@ -1,5 +1,6 @@
 /* The state's snapshot walkers (state_serial.h). */
 #include "state_serial.h"
+#include "amg.h"
 
 void wc_state_serial(wc_state* s, wc_serial* k) {
     size_t n = (size_t)s->model->n_particles, n3 = 3 * n * sizeof(double);
@@ -47,6 +48,15 @@ void wc_state_serial_history(wc_state* s, wc_serial* k) {
     wc_serial_i32(k, &rho_valid);
     wc_serial_bytes(k, &rho, sizeof rho);
     if (wc_serial_reading(k)) wc_solver_set_rho_cache(s->solver, rho_valid, rho);
+    wc_amg_bounds eb; /* the multigrid's carried estimates (amg.h): 3 x 4 + 12 x 8 bytes */
+    wc_solver_bounds_get(s->solver, &eb);
+    wc_serial_i32(k, &eb.valid);
+    wc_serial_i32(k, &eb.age);
+    int terms = (int)eb.terms;
+    wc_serial_i32(k, &terms);
+    eb.terms = (unsigned)terms;
+    wc_serial_bytes(k, eb.est, sizeof eb.est);
+    if (wc_serial_reading(k)) wc_solver_bounds_set(s->solver, &eb);
     int asleep = s->asleep;
     double rest_time = s->rest_time;
     wc_serial_i32(k, &asleep);

@@ -332,7 +332,9 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
+    wc_solver_carry_bounds(s->solver, 1);   /* near an earlier substep's system (solve.h) */
     wc_status status = first_solve(s, solver, stuck, &res, st);
+    wc_solver_carry_bounds(s->solver, 0);
     /* sticking contacts whose holding force in the solved cloth exceeds Coulomb's bound slide
        instead, and the system is solved again from this dv (the stuck set only shrinks). With
        Newton iterations to follow, only the first recheck's releases get a solve of their own:
@@ -503,6 +505,7 @@ static void cpu_restore(void* user, wc_state* s) {
     (void)user;
     restore(s);
     wc_solver_invalidate_rho(s->solver);
+    wc_solver_invalidate_bounds(s->solver);   /* the retry estimates afresh */
 }
 
 static void cpu_measure(void* user, const wc_state* s, double* max_speed, double* kinetic, double* max_strain) {
