@@ -38,6 +38,8 @@ typedef struct bench_blender_result {
     int n_verts;            /* vertices of the evaluated mesh (== the cloth's particles) */
     double* x;              /* (n_verts x 3) positions after the last frame (m) */
     char settings[768];     /* the cloth settings Blender used, "name=value, ..." */
+    float* xs;              /* (frames x n_verts x 3) every frame's positions (m), when the job
+                               asked for them (all_frames), else NULL */
 } bench_blender_result;
 
 /* The blender executable: `given` when not NULL (it must be an executable file), else the first
@@ -50,6 +52,19 @@ int bench_blender_find(const char* given, char* out, size_t size, char* msg, siz
  * (and the end of Blender's output when it ran). */
 int bench_blender_run(const char* blender, const char* script, const bench_peer_mesh* pm, int frames, int threads,
                       double timeout_s, bench_blender_result* out, char* msg, size_t msg_size);
+
+/* A run's settings beyond the mesh: bench_blender_run's, plus Blender's quality (steps per frame)
+ * and whether every frame's positions come back (read from a float32 file the script writes). */
+typedef struct bench_blender_job {
+    int frames;
+    int threads;            /* 0: Blender's default */
+    int quality;            /* the Cloth modifier's steps per frame (0: 5, Blender's default) */
+    int all_frames;         /* 1: every frame's positions into the result's xs */
+    double timeout_s;
+} bench_blender_job;
+
+int bench_blender_run_job(const char* blender, const char* script, const bench_peer_mesh* pm,
+                          const bench_blender_job* job, bench_blender_result* out, char* msg, size_t msg_size);
 
 void bench_blender_free(bench_blender_result* r);
 
