@@ -26,12 +26,13 @@ covers 0.5 * 9.81 * 0.001 m in the first frame: as if one frame were sqrt(0.001)
 The file is fresh (--factory-startup, nothing saved), so the point cache is empty: the start
 frame is the rest state, and every later frame_set(f), in order, runs the solver once for that
 frame (the cache is freed first to be sure nothing is replayed). Each frame_set is timed with
-time.perf_counter; the evaluated mesh's positions after the last frame are written too. With
+time.perf_counter (wall) and time.process_time (the process's CPU time, all its threads); the evaluated mesh's positions after the last frame are written too. With
 "frames_out", every timed frame's evaluated positions are read after its timing (outside it) and
 written there as raw float32, native byte order: frames x vertices x 3, vertex order the OBJ's.
 
 RESULT.json:
     {"blender": "3.4.1", "threads": N, "frames": F, "ms": [... F wall times (ms) ...],
+     "cpu_ms": [... F process CPU times (time.process_time, ms) ...],
      "vertices": V, "positions": [x0, y0, z0, x1, ...], "settings": {...}, "frame_range": [s, e]}
 """
 import array
@@ -108,12 +109,13 @@ def main():
     scene.frame_set(start)
     bpy.ops.ptcache.free_bake_all()   # nothing baked in a fresh file; make sure nothing replays
     scene.frame_set(start)            # the rest state
-    ms = []
+    ms, cpu_ms = [], []
     out = open(frames_out, "wb") if frames_out else None
     for f in range(start + 1, start + frames + 1):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         scene.frame_set(f)
         ms.append(1000.0 * (time.perf_counter() - t0))
+        cpu_ms.append(1000.0 * (time.process_time() - c0))
         if out:   # outside the timed call: the evaluated mesh of this frame
             ob_eval = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
             me = ob_eval.to_mesh()
@@ -142,6 +144,7 @@ def main():
         "threads": scene.render.threads,
         "frames": len(ms),
         "ms": ms,
+        "cpu_ms": cpu_ms,
         "vertices": n_eval,
         "positions": positions,
         "settings": settings,

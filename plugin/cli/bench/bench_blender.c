@@ -367,6 +367,8 @@ static int parse_result(const char* path, const bench_peer_mesh* pm, int frames,
         if (tmp) {
             memcpy(tmp, out->ms, sizeof(double) * (size_t)frames);
             out->ms_median = cli_sort_median(tmp, frames);
+            const cJSON* cpu = cJSON_GetObjectItemCaseSensitive(root, "cpu_ms");
+            out->cpu_ms_median = number_array(cpu, tmp, frames) == 0 ? cli_sort_median(tmp, frames) : NAN;
             free(tmp);
             rc = 0;
         } else {

@@ -35,6 +35,7 @@ typedef struct bench_blender_result {
     int frames;             /* frames simulated and timed */
     double* ms;             /* (frames) wall time of each frame_set (ms) */
     double ms_median;       /* median of ms */
+    double cpu_ms_median;   /* median of each frame_set's process CPU time (ms; NaN: not reported) */
     int n_verts;            /* vertices of the evaluated mesh (== the cloth's particles) */
     double* x;              /* (n_verts x 3) positions after the last frame (m) */
     char settings[768];     /* the cloth settings Blender used, "name=value, ..." */

@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench_backend.h"
 #include "cli.h"
@@ -51,6 +52,12 @@ void bench_run_free(bench_run* r) {
     free(r->xs);
     r->x0 = r->x = r->xs = NULL;
     r->track = NULL;
+}
+
+static double cpu_ms_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
 }
 
 static double total_energy(const weft_cloth_energy* e) { return e->kinetic + e->elastic + e->gravity; }
@@ -117,7 +124,9 @@ static int simulate(bench_run* out, scene_host* h, const bench_scene* bs, const 
                 bench_scene_pin_transform(bs, dt * (f + 1), h->attachment_xf + 16 * (size_t)i);
         weft_frame_stats st;
         memset(&st, 0, sizeof st);
+        const double cpu0 = cpu_ms_now();
         const weft_status s = weft_cloth_step(h->ctx, h->cloth, &fr, &st);
+        ms[(size_t)6 * frames + f] = cpu_ms_now() - cpu0;
         if (s != WEFT_OK && s != WEFT_ERROR_STEP_FAILED) {
             snprintf(msg, size, "%s: frame %d: %s", bs->name, f + 1, scene_host_error(h));
             return -1;
@@ -170,7 +179,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     scene_host h;
     if (scene_host_create(&h, &sc, &ho, bs->name, msg, size) != WEFT_OK) return -1;
     const int frames = o->frames > 0 ? o->frames : 1;
-    double* ms = malloc(sizeof(double) * (size_t)frames * 6);
+    double* ms = malloc(sizeof(double) * (size_t)frames * 7);   /* 5 stages, the total, CPU time */
     int rc = ms ? start(out, &h, &sc.def, frames, o->record_frames, msg, size) : -1;
     if (!ms) snprintf(msg, size, "bench: out of memory");
     if (rc == 0) rc = simulate(out, &h, bs, &sc, o, ms, msg, size);
@@ -183,6 +192,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         if (!all_finite(out->x, 3 * out->vertices)) out->nonfinite = 1;
         if (out->frames > 0) {
             out->ms_median = cli_sort_median(ms + (size_t)5 * frames, out->frames);
+            out->cpu_ms_median = cli_sort_median(ms + (size_t)6 * frames, out->frames);
             for (int k = 0; k < 5; ++k) out->stage_median[k] = cli_sort_median(ms + (size_t)k * frames, out->frames);
         }
     }

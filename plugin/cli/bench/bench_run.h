@@ -30,6 +30,8 @@ typedef struct bench_run {
     int threads;            /* OpenMP threads of a call (weft_cloth_info) */
     double diag;            /* bounding-box diagonal of the cloth at rest (m) */
     double ms_median;       /* wall time of one weft_cloth_step call (its stats' ms_total), median */
+    double cpu_ms_median;   /* the process's CPU time over one weft_cloth_step call, median (ms): with
+                               one thread, the wall time an idle machine would give */
     double stage_median[5]; /* forces, assemble, solve, collide, integrate: medians (ms) */
     double iterations;      /* solver iterations per substep, mean */
     int max_iterations;     /* largest in one solve */
