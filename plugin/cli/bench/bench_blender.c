@@ -243,16 +243,17 @@ static void log_tail(const char* path, char* out, size_t size) {
     snprintf(out, size, "%s", buf);
 }
 
-/* Run argv with stdin from /dev/null and stdout + stderr into log; kill it after timeout_s.
- * 0 when it exited with status 0, else -1 with msg. */
-static int run_child(char* const* argv, const char* log, double timeout_s, char* msg, size_t msg_size) {
+/* Run argv with stdin from /dev/null and stdout + stderr into log, in the environment envp; kill it
+ * after timeout_s. 0 when it exited with status 0, else -1 with msg. */
+static int run_child(char* const* argv, char* const* envp, const char* log, double timeout_s, char* msg,
+                     size_t msg_size) {
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
     pid_t pid;
-    int err = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
+    int err = posix_spawn(&pid, argv[0], &fa, NULL, argv, envp);
     posix_spawn_file_actions_destroy(&fa);
     if (err != 0) {
         say(msg, msg_size, "cannot start %s: %s", argv[0], strerror(err));
@@ -450,7 +451,25 @@ int bench_blender_run_job(const char* blender, const char* script, const bench_p
         argv[k++] = w.job;
         argv[k++] = w.result;
         argv[k] = NULL;
-        rc = run_child(argv, w.log, job->timeout_s, msg, msg_size);
+        /* -t N does not reach the OpenMP parts of Debian's Blender (its libgomp takes every core and
+           its waiting threads spin): OMP_NUM_THREADS=N too, so that N threads is N threads */
+        char omp[32];
+        snprintf(omp, sizeof omp, "OMP_NUM_THREADS=%d", threads);
+        size_t n_env = 0;
+        while (environ[n_env]) ++n_env;
+        char** envp = malloc(sizeof(char*) * (n_env + 2));
+        if (!envp) {
+            say(msg, msg_size, "out of memory");
+            rc = -1;
+        } else {
+            size_t e = 0;
+            for (size_t k = 0; k < n_env; ++k)
+                if (threads <= 0 || strncmp(environ[k], "OMP_NUM_THREADS=", 16)) envp[e++] = environ[k];
+            if (threads > 0) envp[e++] = omp;
+            envp[e] = NULL;
+            rc = run_child(argv, envp, w.log, job->timeout_s, msg, msg_size);
+            free(envp);
+        }
     }
     if (rc == 0) rc = parse_result(w.result, pm, frames, out, msg, msg_size);
     if (rc == 0 && job->all_frames) rc = read_frames(w.frames, pm, frames, out, msg, msg_size);

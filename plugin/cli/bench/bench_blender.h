@@ -48,7 +48,7 @@ typedef struct bench_blender_result {
 int bench_blender_find(const char* given, char* out, size_t size, char* msg, size_t msg_size);
 
 /* Run Blender's cloth on the mesh and pins (held still) for `frames` frames under its gravity,
- * with `threads` threads (0: Blender's default), killing it after timeout_s seconds. 0 on
+ * with `threads` threads (0: Blender's default; N: `-t N` and OMP_NUM_THREADS=N), killing it after timeout_s seconds. 0 on
  * success (out filled, positions by particle; bench_blender_free), or -1 with the reason in msg
  * (and the end of Blender's output when it ran). */
 int bench_blender_run(const char* blender, const char* script, const bench_peer_mesh* pm, int frames, int threads,

@@ -79,7 +79,7 @@ void bench_peers_usage(FILE* out) {
           "preconditioner x integrator x Newton iterations, and once more at its defaults: through\n"
           "the public API with weft_default_cloth_def() (the `defaults` row, CPU: whatever solver,\n"
           "preconditioner, integrator, Newton iterations and substeps the library chooses; sleeping\n"
-          "off). Both use --threads threads (Blender: -t N). Per row:\n"
+          "off). Both use --threads threads (Blender: -t N and OMP_NUM_THREADS=N). Per row:\n"
           "  ms/frame        median wall time of one frame (Weft: weft_cloth_step; Blender: one\n"
           "                  scene.frame_set, its cloth evaluation included)\n"
           "  Blender / Weft  the ratio of the two medians (> 1: Weft is faster)\n"
@@ -288,7 +288,7 @@ static void print_header(FILE* out, const void* ctx) {
                 "particle), the same pinned vertices held still, %d frames each, in one run. Threads: Weft %d "
                 "(OpenMP), Blender %d%s.\n\n",
                 bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->version, a->frames, h->weft_threads, h->blender_threads,
-                a->com.threads > 0 ? " (blender -t)" : "");
+                a->com.threads > 0 ? " (blender -t, OMP_NUM_THREADS)" : "");
     if (!h->missing[0])
         fprintf(out,
                 "- Blender: a Cloth modifier with Blender's defaults and 5 quality steps per frame, a fresh file "

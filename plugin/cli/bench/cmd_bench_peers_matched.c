@@ -350,7 +350,8 @@ static void print_header(FILE* out, const void* ctx) {
                 "Blender %s's cloth (a Cloth modifier with its defaults but the quality, a fresh file, each frame one "
                 "timed scene.frame_set; host_glue/blender/peer_cloth_bench.py; settings read back at the first "
                 "quality: %s) and Weft (through the public API, the CPU) on the same meshes, the same pinned "
-                "vertices held still, %d frames each, in one run. Threads: Weft %d (OpenMP), Blender %d.\n\n",
+                "vertices held still, %d frames each, in one run. Threads: Weft %d (OpenMP), Blender %d (-t and "
+                "OMP_NUM_THREADS: Debian's Blender runs its cloth's OpenMP loops on every core otherwise).\n\n",
                 c->version, c->settings, o->frames, c->weft_threads, c->blender_threads);
     else
         fprintf(out, "Weft (through the public API, the CPU), %d frames per run. Threads: Weft %d (OpenMP).\n\n",
