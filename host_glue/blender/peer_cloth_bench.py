@@ -31,12 +31,14 @@ time.perf_counter (wall) and time.process_time (the process's CPU time, all its 
 written there as raw float32, native byte order: frames x vertices x 3, vertex order the OBJ's.
 
 RESULT.json:
-    {"blender": "3.4.1", "threads": N, "frames": F, "ms": [... F wall times (ms) ...],
+    {"blender": "3.4.1", "threads": N, "omp_num_threads": "N" (the environment's, "" unset),
+     "frames": F, "ms": [... F wall times (ms) ...],
      "cpu_ms": [... F process CPU times (time.process_time, ms) ...],
      "vertices": V, "positions": [x0, y0, z0, x1, ...], "settings": {...}, "frame_range": [s, e]}
 """
 import array
 import json
+import os
 import sys
 import time
 
@@ -142,6 +144,7 @@ def main():
     result = {
         "blender": bpy.app.version_string,
         "threads": scene.render.threads,
+        "omp_num_threads": os.environ.get("OMP_NUM_THREADS", ""),
         "frames": len(ms),
         "ms": ms,
         "cpu_ms": cpu_ms,

@@ -250,6 +250,7 @@ static void test_matched_smoke(void) {
     CHECK(strstr(r.out, "| sheet8 | 5 | ") && strstr(r.out, "| sheet8 | 20 | ") && strstr(r.out, ">= 10 x"));
     CHECK(strstr(r.out, "| sheet8 | Blender | quality 80 | quality 40 | ") != NULL);
     CHECK(strstr(r.out, "| reference's diagonal (m) | its motion % |") != NULL);
+    CHECK(strstr(r.out, "Blender 1 (-t) with OMP_NUM_THREADS=1 as Blender saw it") != NULL);
     CHECK(strstr(r.out, "| sheet8 | Weft | TR-BDF2 Newton 3 tol. 1e-8 at 8 substeps | TR-BDF2 Newton 3 tol. 1e-8 at 4 "
                         "substeps | ") != NULL);
     int table_lines = 0;

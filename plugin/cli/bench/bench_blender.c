@@ -361,6 +361,8 @@ static int parse_result(const char* path, const bench_peer_mesh* pm, int frames,
     } else {
         snprintf(out->version, sizeof out->version, "%s", version->valuestring);
         out->threads = threads->valueint;
+        const cJSON* omp = cJSON_GetObjectItemCaseSensitive(root, "omp_num_threads");
+        snprintf(out->omp_threads, sizeof out->omp_threads, "%s", cJSON_IsString(omp) ? omp->valuestring : "");
         out->frames = frames;
         out->n_verts = n;
         settings_text(cJSON_GetObjectItemCaseSensitive(root, "settings"), out->settings, sizeof out->settings);

@@ -32,6 +32,7 @@ void bench_peer_mesh_free(bench_peer_mesh* m);
 typedef struct bench_blender_result {
     char version[32];       /* Blender's version string */
     int threads;            /* threads Blender's scene used (scene.render.threads) */
+    char omp_threads[16];   /* OMP_NUM_THREADS as Blender saw it ("": unset) */
     int frames;             /* frames simulated and timed */
     double* ms;             /* (frames) wall time of each frame_set (ms) */
     double ms_median;       /* median of ms */

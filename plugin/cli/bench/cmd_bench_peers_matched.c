@@ -100,6 +100,7 @@ typedef struct matched_ctx {
     matched_scene* scenes;
     int n_scenes;
     int weft_threads, blender_threads;
+    char blender_omp[16];   /* OMP_NUM_THREADS as Blender saw it */
     char version[32];
     char settings[768];     /* Blender's read back at its first quality */
     weft_solver solver;
@@ -138,6 +139,7 @@ static int blender_row(matched_ctx* c, const bench_peer_mesh* pm, int quality, i
         snprintf(c->settings, sizeof c->settings, "%s", br.settings);
     }
     c->blender_threads = br.threads;
+    snprintf(c->blender_omp, sizeof c->blender_omp, "%s", br.omp_threads[0] ? br.omp_threads : "unset");
     if (!o->com->quiet) fprintf(stderr, "  %.4g ms/frame (CPU %.4g)\n", r->ms, r->cpu_ms);
     bench_blender_free(&br);
     return 0;
@@ -374,9 +376,10 @@ static void print_header(FILE* out, const void* ctx) {
                 "Blender %s's cloth (a Cloth modifier with its defaults but the quality, a fresh file, each frame one "
                 "timed scene.frame_set; host_glue/blender/peer_cloth_bench.py; settings read back at the first "
                 "quality: %s) and Weft (through the public API, the CPU) on the same meshes, the same pinned "
-                "vertices held still, %d frames each, in one run. Threads: Weft %d (OpenMP), Blender %d (-t and "
-                "OMP_NUM_THREADS: Debian's Blender runs its cloth's OpenMP loops on every core otherwise).\n\n",
-                c->version, c->settings, o->frames, c->weft_threads, c->blender_threads);
+                "vertices held still, %d frames each, in one run. Threads: Weft %d (OpenMP), Blender %d (-t) with "
+                "OMP_NUM_THREADS=%s as Blender saw it (Debian's Blender runs its OpenMP loops on every core "
+                "otherwise).\n\n",
+                c->version, c->settings, o->frames, c->weft_threads, c->blender_threads, c->blender_omp);
     else
         fprintf(out, "Weft (through the public API, the CPU), %d frames per run. Threads: Weft %d (OpenMP).\n\n",
                 o->frames, c->weft_threads);
