@@ -122,14 +122,16 @@ void bench_peers_usage(FILE* out) {
           "over all frames and particles of its distance to its reference at the same frame, in % of\n"
           "the diagonal of the reference trajectory's bounding box (and at the last frame alone). The\n"
           "verdict per scene and Blender quality: the fastest Weft setting whose error is no larger,\n"
-          "and the ratio of the ms/frame medians (goal: >= 10 x on the sheets, >= 3 x on the garment,\n"
-          "against quality 5). One thread each unless --threads says otherwise; a Blender run's time\n"
+          "and the ratio of the medians of a frame's CPU time (wall time beside it; goal: >= 10 x on\n"
+          "the sheets, >= 3 x on the garment, against quality 5); the same by the last frame's error\n"
+          "beside it. One thread each unless --threads says otherwise; a Blender run's time\n"
           "limit is --timeout x quality / 5. --substeps, the method options, --no-defaults and\n"
           "--backend do not apply.\n"
           "  --matched        this mode; default scenes sheet64,sheet100,garment\n"
           "  --qualities LIST Blender's qualities measured (default 5,10,20)\n"
           "  --ref-quality Q  Blender's reference quality (default 80; its check Q/2)\n"
-          "  --settings LIST  Weft's settings measured (default all): " BENCH_MATCHED_SETTING_NAMES "\n"
+          "  --settings LIST  Weft's settings measured (default all):\n"
+          "                   " BENCH_MATCHED_SETTING_NAMES "\n"
           "  --ref-substeps S Weft's reference substeps (default 32; its check S/2)\n",
           out);
 }
