@@ -8,14 +8,16 @@ JOB.json:
     {"mesh": "cloth.obj",          # "v x y z" and "f a b c ..." lines only (1-based, no "/")
      "pins": [0, 31],              # 0-based vertex indices held where they are
      "frames": 60,                 # frames stepped after the start frame
-     "gravity": [0, -9.81, 0]}     # m/s^2, in the OBJ's own axes (no axis conversion is made)
+     "gravity": [0, -9.81, 0],     # m/s^2, in the OBJ's own axes (no axis conversion is made)
+     "quality": 5,                 # optional: the Cloth modifier's steps per frame (default 5)
+     "frames_out": "frames.f32"}   # optional: every frame's positions written here (below)
 
 The mesh is built with bpy from the OBJ as parsed here, so Blender's vertex i is OBJ vertex i and
 the result lines up with the caller's particles. The object sits at the origin with no rotation
 or scale; the scene's gravity is the job's, so the OBJ's axes are used as they are. A vertex
 group "pins" holds the pinned vertices (weight 1). The Cloth modifier keeps every one of
-Blender's defaults except quality = 5 steps per frame (also the default in Blender 3.4) and the
-pin group; the settings used are read back into the result.
+Blender's defaults except quality (the job's, 5 steps per frame unless it says otherwise: also
+the default in Blender 3.4) and the pin group; the settings used are read back into the result.
 
 Time: Blender's cloth does not use the scene's frame rate. A frame is its unit of time (split into
 `quality` steps, times `time_scale`) and it scales the scene's gravity by 0.001, so a free fall
@@ -24,13 +26,19 @@ covers 0.5 * 9.81 * 0.001 m in the first frame: as if one frame were sqrt(0.001)
 The file is fresh (--factory-startup, nothing saved), so the point cache is empty: the start
 frame is the rest state, and every later frame_set(f), in order, runs the solver once for that
 frame (the cache is freed first to be sure nothing is replayed). Each frame_set is timed with
-time.perf_counter; the evaluated mesh's positions after the last frame are written too.
+time.perf_counter (wall) and time.process_time (the process's CPU time, all its threads); the evaluated mesh's positions after the last frame are written too. With
+"frames_out", every timed frame's evaluated positions are read after its timing (outside it) and
+written there as raw float32, native byte order: frames x vertices x 3, vertex order the OBJ's.
 
 RESULT.json:
-    {"blender": "3.4.1", "threads": N, "frames": F, "ms": [... F wall times (ms) ...],
+    {"blender": "3.4.1", "threads": N, "omp_num_threads": "N" (the environment's, "" unset),
+     "frames": F, "ms": [... F wall times (ms) ...],
+     "cpu_ms": [... F process CPU times (time.process_time, ms) ...],
      "vertices": V, "positions": [x0, y0, z0, x1, ...], "settings": {...}, "frame_range": [s, e]}
 """
+import array
 import json
+import os
 import sys
 import time
 
@@ -78,6 +86,8 @@ def main():
         job = json.load(f)
     verts, faces = read_obj(job["mesh"])
     frames = int(job["frames"])
+    quality = int(job.get("quality", 5))
+    frames_out = job.get("frames_out")
 
     # an empty scene: the factory startup file's cube, camera and light removed
     for ob in list(bpy.data.objects):
@@ -89,7 +99,7 @@ def main():
     ob = build_object(verts, faces, job["pins"])
     mod = ob.modifiers.new("Cloth", "CLOTH")
     cs = mod.settings
-    cs.quality = 5
+    cs.quality = quality
     cs.vertex_group_mass = "pins"
     start = 1
     scene.frame_start = start
@@ -101,11 +111,22 @@ def main():
     scene.frame_set(start)
     bpy.ops.ptcache.free_bake_all()   # nothing baked in a fresh file; make sure nothing replays
     scene.frame_set(start)            # the rest state
-    ms = []
+    ms, cpu_ms = [], []
+    out = open(frames_out, "wb") if frames_out else None
     for f in range(start + 1, start + frames + 1):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         scene.frame_set(f)
         ms.append(1000.0 * (time.perf_counter() - t0))
+        cpu_ms.append(1000.0 * (time.process_time() - c0))
+        if out:   # outside the timed call: the evaluated mesh of this frame
+            ob_eval = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
+            me = ob_eval.to_mesh()
+            co = array.array("f", [0.0]) * (3 * len(me.vertices))
+            me.vertices.foreach_get("co", co)
+            ob_eval.to_mesh_clear()
+            co.tofile(out)
+    if out:
+        out.close()
 
     depsgraph = bpy.context.evaluated_depsgraph_get()
     ob_eval = ob.evaluated_get(depsgraph)
@@ -123,8 +144,10 @@ def main():
     result = {
         "blender": bpy.app.version_string,
         "threads": scene.render.threads,
+        "omp_num_threads": os.environ.get("OMP_NUM_THREADS", ""),
         "frames": len(ms),
         "ms": ms,
+        "cpu_ms": cpu_ms,
         "vertices": n_eval,
         "positions": positions,
         "settings": settings,

@@ -2,7 +2,9 @@
  * (WEFT_CLI): both ms/frame positive, the ratio theirs, Blender's pinned vertices unmoved (its
  * vertices are Weft's particles), and each cloth's lowest point fallen, but no further than a free
  * particle under that solver's time stepping. Without blender on PATH it checks what needs none
- * and exits 77 (skipped). (gpu, second argument) Weft's rows on both backends.
+ * and exits 77 (skipped). (gpu, second argument) Weft's rows on both backends. And --matched: a
+ * small sheet's errors against each simulator's own reference, finite, ordered and 0 for the
+ * references themselves (the metric itself: check_bench_traj_error.c).
  *
  *   check_weft_bench_peers [gpu] */
 #define _POSIX_C_SOURCE 200809L
@@ -161,12 +163,108 @@ static void test_peers_quick(int gpu) {
     CHECK_EQ_INT(table_lines, 2 + c.n_rows + 1); /* the per-scene summary (header, sheet12), the table */
 }
 
+static const char* const matched_cols[] = {"scene", "particles", "frames", "simulator", "setting", "role",
+                                           "steps_per_frame", "threads", "cpu_ms_per_frame", "ms_per_frame",
+                                           "error_pct_all_frames",
+                                           "error_pct_end", "iterations_per_solve", "notes"};
+
+/* The row of a simulator's setting, or -1. */
+static int matched_row(const csv* c, const char* sim, const char* setting) {
+    for (int row = 0; row < c->n_rows; ++row)
+        if (!strcmp(get(c, row, "simulator"), sim) && !strcmp(get(c, row, "setting"), setting)) return row;
+    fprintf(stderr, "no row %s / %s\n", sim, setting);
+    return -1;
+}
+
+/* --matched, usage and no Blender: Weft's rows alone, its reference's own error 0. */
+static void test_matched_usage(void) {
+    static ts_cli_result r;
+    ts_run_cli("bench peers --help", &r);
+    CHECK(strstr(r.out, "--matched") && strstr(r.out, "--ref-quality") && strstr(r.out, "trbdf2_n3_s2"));
+    ts_run_cli("bench peers --matched --settings defaults,nope", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    CHECK(strstr(r.err, "bad value for --settings: 'defaults,nope'") != NULL);
+    ts_run_cli("bench peers --matched --ref-quality 1", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    ts_run_cli("bench peers --matched --backend gpu", &r);
+    CHECK_EQ_INT(r.rc, 2);
+    const char* path = getenv("PATH");
+    char saved[4096];
+    snprintf(saved, sizeof saved, "%s", path ? path : "");
+    setenv("PATH", "/nonexistent", 1);
+    ts_run_cli("bench peers --matched --quiet --scenes sheet8 --frames 5 --settings defaults --ref-substeps 2", &r);
+    setenv("PATH", saved, 1);
+    CHECK_EQ_INT(r.rc, 0);
+    CHECK(strstr(r.out, "**No Blender here**") && !strstr(r.out, "| Blender |"));
+    CHECK(strstr(r.out, "| sheet8 | 64 | Weft | defaults | run | 1 | ") != NULL);
+    CHECK(strstr(r.out, "| sheet8 | 64 | Weft | TR-BDF2 Newton 3 tol. 1e-8 at 2 substeps | reference | 2 | ") != NULL);
+    CHECK(strstr(r.out, "| sheet8 | Weft | TR-BDF2 Newton 3 tol. 1e-8 at 2 substeps | TR-BDF2 Newton 3 tol. 1e-8 at 1 "
+                        "substeps | ") != NULL);
+}
+
+/* --matched on an 8 x 8 sheet for 30 frames (1 s): every row's error finite, each reference's
+ * own 0, the coarser run of each simulator further from its reference than the finer one, the
+ * references' checks closer than any run, and the verdict's lines. */
+static void test_matched_smoke(void) {
+    static ts_cli_result r;
+    static csv c;
+    char args[1024], csv_path[512];
+    snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_peers_matched.csv"));
+    remove(csv_path);
+    snprintf(args, sizeof args,
+             "bench peers --matched --quiet --scenes sheet8 --frames 30 --qualities 5,20 --settings defaults,trbdf2_n3 "
+             "--ref-substeps 8 --csv '%s'", csv_path);
+    ts_run_cli(args, &r);
+    CHECK_EQ_INT(r.rc, 0);
+    if (r.rc != 0) fprintf(stderr, "stderr: %s\n", r.err);
+    csv_parse(&c, csv_path);
+    check_header(&c, matched_cols, (int)(sizeof matched_cols / sizeof matched_cols[0]));
+    CHECK_EQ_INT(c.n_rows, 8);   /* Blender 5, 20, 40 (check), 80 (reference); Weft 2 settings, 4, 8 */
+    for (int row = 0; row < c.n_rows; ++row) {
+        const double all = num(&c, row, "error_pct_all_frames"), end = num(&c, row, "error_pct_end");
+        CHECK(isfinite(all) && all >= 0 && all < 50 && isfinite(end) && end >= 0 && end < 50);
+        CHECK(num(&c, row, "ms_per_frame") > 0 && num(&c, row, "cpu_ms_per_frame") > 0);
+        CHECK(num(&c, row, "threads") == 1 && num(&c, row, "frames") == 30);
+        CHECK(num(&c, row, "particles") == 64);
+        if (!strcmp(get(&c, row, "role"), "reference")) CHECK(all == 0 && end == 0);
+        else CHECK(all > 0);
+    }
+    const int q5 = matched_row(&c, "Blender", "quality 5"), q20 = matched_row(&c, "Blender", "quality 20");
+    const int q40 = matched_row(&c, "Blender", "quality 40"), q80 = matched_row(&c, "Blender", "quality 80");
+    const int wd = matched_row(&c, "Weft", "defaults"), wt = matched_row(&c, "Weft", "TR-BDF2 Newton 3");
+    const int w4 = matched_row(&c, "Weft", "TR-BDF2 Newton 3 tol. 1e-8 at 4 substeps");
+    const int w8 = matched_row(&c, "Weft", "TR-BDF2 Newton 3 tol. 1e-8 at 8 substeps");
+    if (q5 < 0 || q20 < 0 || q40 < 0 || q80 < 0 || wd < 0 || wt < 0 || w4 < 0 || w8 < 0) {
+        CHECK(!"a row is missing");
+        return;
+    }
+    CHECK(!strcmp(get(&c, q40, "role"), "reference's check") && !strcmp(get(&c, q80, "role"), "reference"));
+    CHECK(!strcmp(get(&c, w4, "role"), "reference's check") && !strcmp(get(&c, w8, "role"), "reference"));
+#define ERR(row) num(&c, row, "error_pct_all_frames")
+    CHECK(ERR(q5) > ERR(q20) && ERR(q20) > ERR(q40));   /* Blender converges in its quality */
+    CHECK(ERR(wd) > ERR(wt) && ERR(wt) > ERR(w4));      /* backward Euler, TR-BDF2, 4 substeps at 1e-8 */
+#undef ERR
+    CHECK(strstr(r.out, "## weft bench peers --matched") && strstr(r.out, "Blender 3."));
+    CHECK(strstr(r.out, "| scene | Blender quality | Blender error % | Blender CPU ms/frame | fastest Weft within it |") !=
+          NULL);
+    CHECK(strstr(r.out, "| sheet8 | 5 | ") && strstr(r.out, "| sheet8 | 20 | ") && strstr(r.out, ">= 10 x"));
+    CHECK(strstr(r.out, "| sheet8 | Blender | quality 80 | quality 40 | ") != NULL);
+    CHECK(strstr(r.out, "| reference's diagonal (m) | its motion % |") != NULL);
+    CHECK(strstr(r.out, "Blender 1 (-t) with OMP_NUM_THREADS=1 as Blender saw it") != NULL);
+    CHECK(strstr(r.out, "| sheet8 | Weft | TR-BDF2 Newton 3 tol. 1e-8 at 8 substeps | TR-BDF2 Newton 3 tol. 1e-8 at 4 "
+                        "substeps | ") != NULL);
+    int table_lines = 0;
+    for (const char* p = r.out; (p = strstr(p, "\n| ")) != NULL; ++p) ++table_lines;
+    CHECK_EQ_INT(table_lines, (1 + 2) + (1 + 2) + (1 + 8));   /* verdict, references' checks, the rows */
+}
+
 static void test_peers_quick_cpu(void) { test_peers_quick(0); }
 static void test_peers_quick_gpu(void) { test_peers_quick(1); }
 
 int main(int argc, char** argv) {
     const int gpu = argc > 1 && !strcmp(argv[1], "gpu");
     if (!gpu) RUN_TEST(test_peers_usage);
+    if (!gpu) RUN_TEST(test_matched_usage);
     if (!blender_on_path()) {
         if (TEST_SUMMARY() != 0) return 1;
         printf("SKIPPED: `blender` is not installed (apt-get install blender; .ci/deps.sh does)\n");
@@ -177,6 +275,7 @@ int main(int argc, char** argv) {
     } else {
         RUN_TEST(test_peers_blender_errors);
         RUN_TEST(test_peers_quick_cpu);
+        RUN_TEST(test_matched_smoke);
     }
     return TEST_SUMMARY();
 }

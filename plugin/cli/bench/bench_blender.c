@@ -63,7 +63,7 @@ int bench_blender_find(const char* given, char* out, size_t size, char* msg, siz
 
 typedef struct work_dir {
     char dir[512];
-    char obj[600], job[600], result[600], log[600];
+    char obj[600], job[600], result[600], log[600], frames[600];
 } work_dir;
 
 static int work_dir_make(work_dir* w, char* msg, size_t msg_size) {
@@ -78,6 +78,7 @@ static int work_dir_make(work_dir* w, char* msg, size_t msg_size) {
     snprintf(w->job, sizeof w->job, "%s/job.json", w->dir);
     snprintf(w->result, sizeof w->result, "%s/result.json", w->dir);
     snprintf(w->log, sizeof w->log, "%s/blender.log", w->dir);
+    snprintf(w->frames, sizeof w->frames, "%s/frames.f32", w->dir);
     return 0;
 }
 
@@ -86,6 +87,7 @@ static void work_dir_remove(const work_dir* w) {
     remove(w->job);
     remove(w->result);
     remove(w->log);
+    remove(w->frames);
     rmdir(w->dir);
 }
 
@@ -196,12 +198,15 @@ static int write_obj(const char* path, const bench_peer_mesh* pm, char* msg, siz
     return 0;
 }
 
-static int write_job(const work_dir* w, const bench_peer_mesh* pm, int frames, char* msg, size_t msg_size) {
+static int write_job(const work_dir* w, const bench_peer_mesh* pm, const bench_blender_job* bj, char* msg,
+                     size_t msg_size) {
     cJSON* job = cJSON_CreateObject();
     cJSON* pins = cJSON_AddArrayToObject(job, "pins");
     for (int k = 0; k < pm->n_pins && pins; ++k) cJSON_AddItemToArray(pins, cJSON_CreateNumber(pm->pins[k]));
     cJSON_AddStringToObject(job, "mesh", w->obj);
-    cJSON_AddNumberToObject(job, "frames", frames);
+    cJSON_AddNumberToObject(job, "frames", bj->frames);
+    cJSON_AddNumberToObject(job, "quality", bj->quality > 0 ? bj->quality : 5);
+    if (bj->all_frames) cJSON_AddStringToObject(job, "frames_out", w->frames);
     cJSON_AddItemToObject(job, "gravity", cJSON_CreateDoubleArray(pm->gravity, 3));
     char* text = cJSON_Print(job);
     cJSON_Delete(job);
@@ -238,16 +243,17 @@ static void log_tail(const char* path, char* out, size_t size) {
     snprintf(out, size, "%s", buf);
 }
 
-/* Run argv with stdin from /dev/null and stdout + stderr into log; kill it after timeout_s.
- * 0 when it exited with status 0, else -1 with msg. */
-static int run_child(char* const* argv, const char* log, double timeout_s, char* msg, size_t msg_size) {
+/* Run argv with stdin from /dev/null and stdout + stderr into log, in the environment envp; kill it
+ * after timeout_s. 0 when it exited with status 0, else -1 with msg. */
+static int run_child(char* const* argv, char* const* envp, const char* log, double timeout_s, char* msg,
+                     size_t msg_size) {
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
     pid_t pid;
-    int err = posix_spawn(&pid, argv[0], &fa, NULL, argv, environ);
+    int err = posix_spawn(&pid, argv[0], &fa, NULL, argv, envp);
     posix_spawn_file_actions_destroy(&fa);
     if (err != 0) {
         say(msg, msg_size, "cannot start %s: %s", argv[0], strerror(err));
@@ -355,6 +361,8 @@ static int parse_result(const char* path, const bench_peer_mesh* pm, int frames,
     } else {
         snprintf(out->version, sizeof out->version, "%s", version->valuestring);
         out->threads = threads->valueint;
+        const cJSON* omp = cJSON_GetObjectItemCaseSensitive(root, "omp_num_threads");
+        snprintf(out->omp_threads, sizeof out->omp_threads, "%s", cJSON_IsString(omp) ? omp->valuestring : "");
         out->frames = frames;
         out->n_verts = n;
         settings_text(cJSON_GetObjectItemCaseSensitive(root, "settings"), out->settings, sizeof out->settings);
@@ -362,6 +370,8 @@ static int parse_result(const char* path, const bench_peer_mesh* pm, int frames,
         if (tmp) {
             memcpy(tmp, out->ms, sizeof(double) * (size_t)frames);
             out->ms_median = cli_sort_median(tmp, frames);
+            const cJSON* cpu = cJSON_GetObjectItemCaseSensitive(root, "cpu_ms");
+            out->cpu_ms_median = number_array(cpu, tmp, frames) == 0 ? cli_sort_median(tmp, frames) : NAN;
             free(tmp);
             rc = 0;
         } else {
@@ -372,15 +382,48 @@ static int parse_result(const char* path, const bench_peer_mesh* pm, int frames,
     return rc;
 }
 
+/* Every frame's positions: frames x n x 3 float32 (the script's frames_out), all finite. */
+static int read_frames(const char* path, const bench_peer_mesh* pm, int frames, bench_blender_result* out, char* msg,
+                       size_t msg_size) {
+    const size_t count = (size_t)frames * (size_t)pm->n * 3;
+    FILE* f = fopen(path, "rb");
+    out->xs = f ? malloc(sizeof(float) * (count > 0 ? count : 1)) : NULL;
+    int rc = -1;
+    if (!f) {
+        say(msg, msg_size, "blender wrote no frame positions (%s)", path);
+    } else if (!out->xs) {
+        say(msg, msg_size, "out of memory");
+    } else if (fread(out->xs, sizeof(float), count, f) != count || fgetc(f) != EOF) {
+        say(msg, msg_size, "%s: blender's frame positions are not %d frames x %d vertices", pm->name, frames, pm->n);
+    } else {
+        rc = 0;
+        for (size_t k = 0; k < count && rc == 0; ++k)
+            if (!isfinite(out->xs[k])) {
+                say(msg, msg_size, "%s: blender's frame %d has a non-finite position", pm->name, (int)(k / (3 * (size_t)pm->n)) + 1);
+                rc = -1;
+            }
+    }
+    if (f) fclose(f);
+    return rc;
+}
+
 void bench_blender_free(bench_blender_result* r) {
     if (!r) return;
     free(r->ms);
     free(r->x);
+    free(r->xs);
     memset(r, 0, sizeof *r);
 }
 
 int bench_blender_run(const char* blender, const char* script, const bench_peer_mesh* pm, int frames, int threads,
                       double timeout_s, bench_blender_result* out, char* msg, size_t msg_size) {
+    const bench_blender_job job = {frames, threads, 5, 0, timeout_s};
+    return bench_blender_run_job(blender, script, pm, &job, out, msg, msg_size);
+}
+
+int bench_blender_run_job(const char* blender, const char* script, const bench_peer_mesh* pm,
+                          const bench_blender_job* job, bench_blender_result* out, char* msg, size_t msg_size) {
+    const int frames = job->frames, threads = job->threads;
     memset(out, 0, sizeof *out);
     if (access(script, R_OK) != 0) {
         say(msg, msg_size, "cannot read the Blender driver script %s (--script)", script);
@@ -389,7 +432,7 @@ int bench_blender_run(const char* blender, const char* script, const bench_peer_
     work_dir w;
     if (work_dir_make(&w, msg, msg_size) != 0) return -1;
     int rc = write_obj(w.obj, pm, msg, msg_size);
-    if (rc == 0) rc = write_job(&w, pm, frames, msg, msg_size);
+    if (rc == 0) rc = write_job(&w, pm, job, msg, msg_size);
     if (rc == 0) {
         char nthreads[16];
         snprintf(nthreads, sizeof nthreads, "%d", threads);
@@ -410,9 +453,28 @@ int bench_blender_run(const char* blender, const char* script, const bench_peer_
         argv[k++] = w.job;
         argv[k++] = w.result;
         argv[k] = NULL;
-        rc = run_child(argv, w.log, timeout_s, msg, msg_size);
+        /* -t N does not reach the OpenMP parts of Debian's Blender (its libgomp takes every core and
+           its waiting threads spin): OMP_NUM_THREADS=N too, so that N threads is N threads */
+        char omp[32];
+        snprintf(omp, sizeof omp, "OMP_NUM_THREADS=%d", threads);
+        size_t n_env = 0;
+        while (environ[n_env]) ++n_env;
+        char** envp = malloc(sizeof(char*) * (n_env + 2));
+        if (!envp) {
+            say(msg, msg_size, "out of memory");
+            rc = -1;
+        } else {
+            size_t e = 0;
+            for (size_t k = 0; k < n_env; ++k)
+                if (threads <= 0 || strncmp(environ[k], "OMP_NUM_THREADS=", 16)) envp[e++] = environ[k];
+            if (threads > 0) envp[e++] = omp;
+            envp[e] = NULL;
+            rc = run_child(argv, envp, w.log, job->timeout_s, msg, msg_size);
+            free(envp);
+        }
     }
     if (rc == 0) rc = parse_result(w.result, pm, frames, out, msg, msg_size);
+    if (rc == 0 && job->all_frames) rc = read_frames(w.frames, pm, frames, out, msg, msg_size);
     if (rc != 0) bench_blender_free(out);
     work_dir_remove(&w);
     return rc;

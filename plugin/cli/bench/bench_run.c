@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench_backend.h"
 #include "cli.h"
@@ -48,14 +49,22 @@ void bench_run_free(bench_run* r) {
     free(r->x0);
     free(r->x);
     free(r->track);
-    r->x0 = r->x = NULL;
+    free(r->xs);
+    r->x0 = r->x = r->xs = NULL;
     r->track = NULL;
+}
+
+static double cpu_ms_now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
 }
 
 static double total_energy(const weft_cloth_energy* e) { return e->kinetic + e->elastic + e->gravity; }
 
 /* The run's facts from the cloth: sizes, threads, its rest shape and the energy scale. */
-static int start(bench_run* out, const scene_host* h, const weft_cloth_def* def, int frames, char* msg, size_t size) {
+static int start(bench_run* out, const scene_host* h, const weft_cloth_def* def, int frames, int record, char* msg,
+                 size_t size) {
     const weft_cloth_info* in = &h->info;
     out->particles = in->n_particles;
     out->vertices = in->n_vertices;
@@ -67,7 +76,8 @@ static int start(bench_run* out, const scene_host* h, const weft_cloth_def* def,
     out->x0 = malloc(n3 * sizeof(float));
     out->x = malloc(n3 * sizeof(float));
     out->track = calloc((size_t)(frames > 0 ? frames : 1) * 4, sizeof(double));
-    if (!out->x0 || !out->x || !out->track) {
+    if (record) out->xs = malloc(n3 * (size_t)(frames > 0 ? frames : 1) * sizeof(float));
+    if (!out->x0 || !out->x || !out->track || (record && !out->xs)) {
         snprintf(msg, size, "bench: out of memory");
         return -1;
     }
@@ -114,7 +124,9 @@ static int simulate(bench_run* out, scene_host* h, const bench_scene* bs, const 
                 bench_scene_pin_transform(bs, dt * (f + 1), h->attachment_xf + 16 * (size_t)i);
         weft_frame_stats st;
         memset(&st, 0, sizeof st);
+        const double cpu0 = cpu_ms_now();
         const weft_status s = weft_cloth_step(h->ctx, h->cloth, &fr, &st);
+        ms[(size_t)6 * frames + f] = cpu_ms_now() - cpu0;
         if (s != WEFT_OK && s != WEFT_ERROR_STEP_FAILED) {
             snprintf(msg, size, "%s: frame %d: %s", bs->name, f + 1, scene_host_error(h));
             return -1;
@@ -135,6 +147,14 @@ static int simulate(bench_run* out, scene_host* h, const bench_scene* bs, const 
         out->energy_end = en;
         if (!(en <= out->energy_max)) out->energy_max = en;
         if (!isfinite(en) || !isfinite(st.max_strain)) out->nonfinite = 1;
+        if (o->record_frames) {
+            if (scene_host_read_positions(h) != WEFT_OK) {
+                snprintf(msg, size, "%s: frame %d: %s", bs->name, f + 1, scene_host_error(h));
+                return -1;
+            }
+            const size_t n3 = 3 * (size_t)out->vertices;
+            memcpy(out->xs + n3 * (size_t)f, h->positions, n3 * sizeof(float));
+        }
         if (out->nonfinite || (o->fail_strain > 0 && st.max_strain > o->fail_strain) ||
             (o->fail_energy > 0 && (en - out->energy0) / out->energy_scale > o->fail_energy))
             break;
@@ -159,8 +179,8 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
     scene_host h;
     if (scene_host_create(&h, &sc, &ho, bs->name, msg, size) != WEFT_OK) return -1;
     const int frames = o->frames > 0 ? o->frames : 1;
-    double* ms = malloc(sizeof(double) * (size_t)frames * 6);
-    int rc = ms ? start(out, &h, &sc.def, frames, msg, size) : -1;
+    double* ms = malloc(sizeof(double) * (size_t)frames * 7);   /* 5 stages, the total, CPU time */
+    int rc = ms ? start(out, &h, &sc.def, frames, o->record_frames, msg, size) : -1;
     if (!ms) snprintf(msg, size, "bench: out of memory");
     if (rc == 0) rc = simulate(out, &h, bs, &sc, o, ms, msg, size);
     if (rc == 0 && scene_host_read_positions(&h) != WEFT_OK) {
@@ -172,6 +192,7 @@ int bench_run_scene(const bench_scene* bs, const bench_run_opts* o, bench_run* o
         if (!all_finite(out->x, 3 * out->vertices)) out->nonfinite = 1;
         if (out->frames > 0) {
             out->ms_median = cli_sort_median(ms + (size_t)5 * frames, out->frames);
+            out->cpu_ms_median = cli_sort_median(ms + (size_t)6 * frames, out->frames);
             for (int k = 0; k < 5; ++k) out->stage_median[k] = cli_sort_median(ms + (size_t)k * frames, out->frames);
         }
     }

@@ -17,6 +17,7 @@ typedef struct bench_run_opts {
     int frames;             /* frames to simulate */
     double fail_strain;     /* > 0: stop at the first frame whose strain exceeds this */
     double fail_energy;     /* > 0: stop at the first frame whose energy growth exceeds this */
+    int record_frames;      /* 1: every frame's vertices into bench_run.xs (read outside the timed call) */
 } bench_run_opts;
 
 /* The scene's def with sleeping off (these benchmarks time active steps). */
@@ -29,6 +30,8 @@ typedef struct bench_run {
     int threads;            /* OpenMP threads of a call (weft_cloth_info) */
     double diag;            /* bounding-box diagonal of the cloth at rest (m) */
     double ms_median;       /* wall time of one weft_cloth_step call (its stats' ms_total), median */
+    double cpu_ms_median;   /* the process's CPU time over one weft_cloth_step call, median (ms): with
+                               one thread, the wall time an idle machine would give */
     double stage_median[5]; /* forces, assemble, solve, collide, integrate: medians (ms) */
     double iterations;      /* solver iterations per substep, mean */
     int max_iterations;     /* largest in one solve */
@@ -49,6 +52,8 @@ typedef struct bench_run {
     double solve_ms;        /* the solve stage's time (setup included), summed over the run (ms) */
     float* x0;              /* (vertices x 3) world positions at rest (owned; bench_run_free) */
     float* x;               /* (vertices x 3) world positions at the end (owned) */
+    float* xs;              /* (frames x vertices x 3) world positions at the end of each frame, when
+                               record_frames (owned), else NULL */
     double* track;          /* (frames x 4) at the end of each frame: the centre of mass (3, m) and
                                the kinetic energy (J); owned */
 } bench_run;

@@ -17,6 +17,7 @@
 #include "bench_backend.h"
 #include "bench_blender.h"
 #include "bench_commands.h"
+#include "bench_matched.h"
 #include "bench_method.h"
 #include "bench_run.h"
 #include "bench_table.h"
@@ -48,6 +49,12 @@ typedef struct peers_args {
     int n_backends;
     bench_methods meth;
     int defaults_row;       /* 1: the row through the public API at weft_default_cloth_def() */
+    int matched;            /* --matched: at matched accuracy (cmd_bench_peers_matched.c) */
+    int scenes_given, threads_given;
+    int qualities[BENCH_MAX_LIST];
+    int n_qualities;
+    int ref_quality, ref_substeps;
+    unsigned settings;
     bench_common com;
 } peers_args;
 
@@ -58,6 +65,8 @@ void bench_peers_usage(FILE* out) {
           "                        [--blender PATH] [--script FILE]\n"
           "                        [--timeout S] [--threads N] [--garment FILE] [--csv FILE] [--md FILE]\n"
           "                        [--backend LIST] [--quiet]\n"
+          "       weft bench peers --matched [--scenes LIST] [--frames N] [--qualities LIST]\n"
+          "                        [--ref-quality Q] [--settings LIST] [--ref-substeps S] [...]\n"
           "\n"
           "Weft beside Blender's own cloth solver, in the same run; Weft on the CPU and/or the GPU\n"
           "(--backend).\n"
@@ -70,7 +79,7 @@ void bench_peers_usage(FILE* out) {
           "preconditioner x integrator x Newton iterations, and once more at its defaults: through\n"
           "the public API with weft_default_cloth_def() (the `defaults` row, CPU: whatever solver,\n"
           "preconditioner, integrator, Newton iterations and substeps the library chooses; sleeping\n"
-          "off). Both use --threads threads (Blender: -t N). Per row:\n"
+          "off). Both use --threads threads (Blender: -t N and OMP_NUM_THREADS=N). Per row:\n"
           "  ms/frame        median wall time of one frame (Weft: weft_cloth_step; Blender: one\n"
           "                  scene.frame_set, its cloth evaluation included)\n"
           "  Blender / Weft  the ratio of the two medians (> 1: Weft is faster)\n"
@@ -103,7 +112,27 @@ void bench_peers_usage(FILE* out) {
           "                   the same Blender run (gpu: weft_cloth_step on a GPU context, headless\n"
           "                   EGL; --threads is then the CPU side's only)\n"
           "  --quiet          no progress lines on stderr\n"
-          "  -h, --help       show this help\n",
+          "  -h, --help       show this help\n"
+          "\n"
+          "--matched: at matched accuracy. Each simulator is measured against its OWN converged run\n"
+          "of the same scene: Blender at each --qualities count, at --ref-quality (its reference) and\n"
+          "at half of it (the reference's check); Weft through the public API at each --settings\n"
+          "entry, and its reference, TR-BDF2 Newton 3 with every solve to 1e-8 at --ref-substeps\n"
+          "(and half of them, its check). Every run keeps every frame's positions; its error is the RMS\n"
+          "over all frames and particles of its distance to its reference at the same frame, in % of\n"
+          "the diagonal of the reference trajectory's bounding box (and at the last frame alone). The\n"
+          "verdict per scene and Blender quality: the fastest Weft setting whose error is no larger,\n"
+          "and the ratio of the medians of a frame's CPU time (wall time beside it; goal: >= 10 x on\n"
+          "the sheets, >= 3 x on the garment, against quality 5); the same by the last frame's error\n"
+          "beside it. One thread each unless --threads says otherwise; a Blender run's time\n"
+          "limit is --timeout x quality / 5. --substeps, the method options, --no-defaults and\n"
+          "--backend do not apply.\n"
+          "  --matched        this mode; default scenes sheet64,sheet100,garment\n"
+          "  --qualities LIST Blender's qualities measured (default 5,10,20)\n"
+          "  --ref-quality Q  Blender's reference quality (default 80; its check Q/2)\n"
+          "  --settings LIST  Weft's settings measured (default all):\n"
+          "                   " BENCH_MATCHED_SETTING_NAMES "\n"
+          "  --ref-substeps S Weft's reference substeps (default 32; its check S/2)\n",
           out);
 }
 
@@ -124,6 +153,10 @@ static void defaults(void* args, int quick) {
     a->n_backends = 1;
     bench_methods_default(&a->meth, "block_jacobi,amg");
     a->defaults_row = 1;
+    a->n_qualities = bench_parse_ints("5,10,20", 1, 1000, a->qualities);
+    a->ref_quality = 80;
+    a->ref_substeps = 32;
+    bench_matched_parse_settings("all", &a->settings);
 }
 
 static int own_option(void* args, int argc, char** argv, int* i, const char** v) {
@@ -134,8 +167,17 @@ static int own_option(void* args, int argc, char** argv, int* i, const char** v)
     if (OPT("--scenes")) {
         if (m < 0) return m;
         set_scenes(a, *v);
+        a->scenes_given = 1;
         return BAD(a->n_scenes == 0);
     }
+    if (!strcmp(argv[*i], "--matched")) {
+        a->matched = 1;
+        return 1;
+    }
+    if (OPT("--qualities")) return BAD((a->n_qualities = bench_parse_ints(*v, 1, 1000, a->qualities)) < 0);
+    if (OPT("--ref-quality")) return BAD(cli_parse_int(*v, 2, 1000, &a->ref_quality) != 0);
+    if (OPT("--ref-substeps")) return BAD(cli_parse_int(*v, 2, 1024, &a->ref_substeps) != 0);
+    if (OPT("--settings")) return BAD(bench_matched_parse_settings(*v, &a->settings) < 0);
     if (OPT("--substeps")) return BAD((a->n_substeps = bench_parse_ints(*v, 1, 1024, a->substeps)) < 0);
     if (OPT("--frames")) return BAD(cli_parse_int(*v, 1, 1000000, &a->frames) != 0);
     if (OPT("--fps")) return BAD(cli_parse_double(*v, &a->fps) != 0 || !(a->fps >= 1 && a->fps <= 10000));
@@ -248,7 +290,7 @@ static void print_header(FILE* out, const void* ctx) {
                 "particle), the same pinned vertices held still, %d frames each, in one run. Threads: Weft %d "
                 "(OpenMP), Blender %d%s.\n\n",
                 bench_backend_note(a->backends, a->n_backends, note, sizeof note), h->version, a->frames, h->weft_threads, h->blender_threads,
-                a->com.threads > 0 ? " (blender -t)" : "");
+                a->com.threads > 0 ? " (blender -t, OMP_NUM_THREADS)" : "");
     if (!h->missing[0])
         fprintf(out,
                 "- Blender: a Cloth modifier with Blender's defaults and 5 quality steps per frame, a fresh file "
@@ -362,7 +404,7 @@ static int run_weft(const peers_args* a, const bench_scene* bs, const weft_row* 
 
 /* The cloth as Blender gets it: the library's rest positions of the scene's cloth, welded twins
  * merged (a cloth made on the CPU context for the purpose). 0, or -1 with the message on stderr. */
-static int peer_mesh(const bench_scene* bs, bench_peer_mesh* pm) {
+int bench_peers_mesh(const bench_scene* bs, bench_peer_mesh* pm) {
     scene sc = bs->sc;
     sc.def = bench_run_def(bs);
     scene_host_opts ho;
@@ -390,7 +432,7 @@ static int run_scene(const peers_args* a, const char* blender, const char* name,
     }
     bs.spin = 0.0; /* the garment's waist held still: Blender's pins do not move */
     bench_peer_mesh pm;
-    if (peer_mesh(&bs, &pm) != 0) {
+    if (bench_peers_mesh(&bs, &pm) != 0) {
         bench_scene_free(&bs);
         return CLI_EXIT_FAILURE;
     }
@@ -464,6 +506,18 @@ int bench_peers_run(int argc, char** argv) {
     int rc = bench_parse_args(argc, argv, "weft bench peers", bench_peers_usage, defaults, own_option, &a, &a.com);
     if (rc >= 0) return rc;
     if (a.com.plot) return cli_usage_error("weft bench peers", bench_peers_usage, "--plot: this command draws no plot");
+    int quick = 0;
+    for (int i = 1; i < argc; ++i) {
+        a.threads_given |= !strncmp(argv[i], "--threads", 9);
+        quick |= !strcmp(argv[i], "--quick");
+    }
+    if (a.matched && (a.n_backends != 1 || a.backends[0] != BENCH_CPU))
+        return cli_usage_error("weft bench peers", bench_peers_usage, "--matched runs Weft on the CPU only");
+    if (a.matched && !a.threads_given) {   /* one thread each, unless asked otherwise */
+        a.com.threads = 1;
+        a.com.blas_threads = cli_blas_threads(1);
+    }
+    if (a.matched && !a.scenes_given && !quick) set_scenes(&a, "sheet64,sheet100,garment");
     char blender[1024], msg[1024];
     header_info h;
     memset(&h, 0, sizeof h);
@@ -475,6 +529,14 @@ int bench_peers_run(int argc, char** argv) {
         }
         fprintf(stderr, "weft: %s: Weft's rows only\n", msg);
         snprintf(h.missing, sizeof h.missing, "%s", msg);
+    }
+    if (a.matched) {
+        const bench_matched_opts mo = {a.scenes, a.n_scenes, a.frames, a.fps, a.timeout, h.missing[0] ? NULL : blender,
+                                       h.missing, a.script, {0}, a.n_qualities, a.ref_quality, a.ref_substeps,
+                                       a.settings, &a.com};
+        bench_matched_opts m = mo;
+        memcpy(m.qualities, a.qualities, sizeof m.qualities);
+        return bench_peers_matched(&m);
     }
     h.weft_threads = a.com.threads;
     bench_table t;

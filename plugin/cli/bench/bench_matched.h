@@ -1,0 +1,46 @@
+/* `weft bench peers --matched` (cmd_bench_peers_matched.c): Weft beside Blender's cloth at
+ * matched accuracy. Each simulator is measured against its own converged run of the same scene
+ * (Blender at a high quality, Weft at TR-BDF2 Newton 3, tolerance 1e-8 and many substeps), each
+ * run's error is its trajectory's RMS distance to that reference, and the verdict compares
+ * Blender at a quality with the fastest Weft setting whose error is no larger. */
+#ifndef WEFT_CLI_BENCH_MATCHED_H
+#define WEFT_CLI_BENCH_MATCHED_H
+#include <stdio.h>
+
+#include "bench_args.h"
+#include "bench_blender.h"
+#include "bench_scene.h"
+
+/* Weft's settings of the matched mode, by name (--settings): the library's defaults at 1, 2 and
+ * 4 substeps, one Baraff-Witkin step, TR-BDF2 Newton 2 and 3 at 1 and 2 substeps. */
+#define BENCH_MATCHED_SETTING_NAMES \
+    "defaults,defaults_s2,defaults_s4,newton1,trbdf2_n2,trbdf2_n2_s2,trbdf2_n3,trbdf2_n3_s2"
+
+/* A --settings list into a bit mask (bit k: the k-th name above; "all": every one). The count,
+ * or -1 on an unknown name. */
+int bench_matched_parse_settings(const char* list, unsigned* mask);
+
+typedef struct bench_matched_opts {
+    const char* const* scenes;
+    int n_scenes;
+    int frames;
+    double fps;             /* Weft's */
+    double timeout;         /* s, for a Blender run at quality 5 (scaled by quality / 5 above) */
+    const char* blender;    /* the executable, NULL: none here (missing says why) */
+    const char* missing;
+    const char* script;
+    int qualities[BENCH_MAX_LIST];  /* Blender's qualities measured */
+    int n_qualities;
+    int ref_quality;        /* Blender's reference (its check: half of it) */
+    int ref_substeps;       /* Weft's reference (its check: half of it) */
+    unsigned settings;      /* Weft's settings measured (bench_matched_parse_settings) */
+    const bench_common* com;
+} bench_matched_opts;
+
+/* Run every scene, write the tables (com's --md / --csv). An exit code. */
+int bench_peers_matched(const bench_matched_opts* o);
+
+/* The cloth as Blender gets it (cmd_bench_peers.c). 0, or -1 with the message on stderr. */
+int bench_peers_mesh(const bench_scene* bs, bench_peer_mesh* pm);
+
+#endif
