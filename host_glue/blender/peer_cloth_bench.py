@@ -10,6 +10,7 @@ JOB.json:
      "frames": 60,                 # frames stepped after the start frame
      "gravity": [0, -9.81, 0],     # m/s^2, in the OBJ's own axes (no axis conversion is made)
      "quality": 5,                 # optional: the Cloth modifier's steps per frame (default 5)
+     "twirl": {"spin": 6.28, "ramp": 0.5, "fps": 30},   # optional: the object turned about y (below)
      "frames_out": "frames.f32"}   # optional: every frame's positions written here (below)
 
 The mesh is built with bpy from the OBJ as parsed here, so Blender's vertex i is OBJ vertex i and
@@ -18,6 +19,12 @@ or scale; the scene's gravity is the job's, so the OBJ's axes are used as they a
 group "pins" holds the pinned vertices (weight 1). The Cloth modifier keeps every one of
 Blender's defaults except quality (the job's, 5 steps per frame unless it says otherwise: also
 the default in Blender 3.4) and the pin group; the settings used are read back into the result.
+
+Twirl: the object turns about the OBJ's y axis, its rate rising evenly from 0 to `spin` rad/s over
+`ramp` s and then held (`bench_scene_pin_transform`, Weft's side of it); frame start + k is keyed
+at the angle of time k / fps, linearly between keys. Blender's cloth simulates in world space and
+its pinned vertices follow the object, so the pins turn as Weft's do. Positions are reported in
+world space (the object's matrix applied), as Weft reports its particles.
 
 Time: Blender's cloth does not use the scene's frame rate. A frame is its unit of time (split into
 `quality` steps, times `time_scale`) and it scales the scene's gravity by 0.001, so a free fall
@@ -74,6 +81,36 @@ def build_object(verts, faces, pins):
     return ob
 
 
+def twirl_angle(t, spin, ramp):
+    """The angle (rad) about y at time t: the rate ramped up linearly from 0 over ramp s."""
+    return spin * (0.5 * t * t / ramp if t < ramp else t - 0.5 * ramp)
+
+
+def key_twirl(ob, twirl, start, frames):
+    spin, ramp, fps = float(twirl["spin"]), float(twirl["ramp"]), float(twirl["fps"])
+    for k in range(frames + 1):
+        ob.rotation_euler = (0.0, twirl_angle(k / fps, spin, ramp), 0.0)
+        ob.keyframe_insert(data_path="rotation_euler", frame=start + k)
+    for curve in ob.animation_data.action.fcurves:
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+
+
+def world_positions(ob_eval, me):
+    """The evaluated mesh's vertex positions in world space, flat float32."""
+    co = array.array("f", [0.0]) * (3 * len(me.vertices))
+    me.vertices.foreach_get("co", co)
+    m = ob_eval.matrix_world
+    if m == m.Identity(4):
+        return co
+    r = [[m[i][j] for j in range(4)] for i in range(3)]
+    for v in range(0, len(co), 3):
+        x, y, z = co[v], co[v + 1], co[v + 2]
+        for i in range(3):
+            co[v + i] = r[i][0] * x + r[i][1] * y + r[i][2] * z + r[i][3]
+    return co
+
+
 def setting_values(settings, names):
     return {n: getattr(settings, n) for n in names}
 
@@ -107,6 +144,8 @@ def main():
     cache = mod.point_cache
     cache.frame_start = start
     cache.frame_end = start + frames
+    if job.get("twirl"):
+        key_twirl(ob, job["twirl"], start, frames)
 
     scene.frame_set(start)
     bpy.ops.ptcache.free_bake_all()   # nothing baked in a fresh file; make sure nothing replays
@@ -121,8 +160,7 @@ def main():
         if out:   # outside the timed call: the evaluated mesh of this frame
             ob_eval = ob.evaluated_get(bpy.context.evaluated_depsgraph_get())
             me = ob_eval.to_mesh()
-            co = array.array("f", [0.0]) * (3 * len(me.vertices))
-            me.vertices.foreach_get("co", co)
+            co = world_positions(ob_eval, me)
             ob_eval.to_mesh_clear()
             co.tofile(out)
     if out:
@@ -131,8 +169,7 @@ def main():
     depsgraph = bpy.context.evaluated_depsgraph_get()
     ob_eval = ob.evaluated_get(depsgraph)
     me = ob_eval.to_mesh()
-    positions = [0.0] * (3 * len(me.vertices))
-    me.vertices.foreach_get("co", positions)
+    positions = list(world_positions(ob_eval, me))
     n_eval = len(me.vertices)
     ob_eval.to_mesh_clear()
 

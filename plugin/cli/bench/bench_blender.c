@@ -208,6 +208,12 @@ static int write_job(const work_dir* w, const bench_peer_mesh* pm, const bench_b
     cJSON_AddNumberToObject(job, "quality", bj->quality > 0 ? bj->quality : 5);
     if (bj->all_frames) cJSON_AddStringToObject(job, "frames_out", w->frames);
     cJSON_AddItemToObject(job, "gravity", cJSON_CreateDoubleArray(pm->gravity, 3));
+    if (bj->spin != 0) {
+        cJSON* twirl = cJSON_AddObjectToObject(job, "twirl");
+        cJSON_AddNumberToObject(twirl, "spin", bj->spin);
+        cJSON_AddNumberToObject(twirl, "ramp", bj->ramp);
+        cJSON_AddNumberToObject(twirl, "fps", bj->fps);
+    }
     char* text = cJSON_Print(job);
     cJSON_Delete(job);
     FILE* f = text ? fopen(w->job, "w") : NULL;
@@ -417,7 +423,7 @@ void bench_blender_free(bench_blender_result* r) {
 
 int bench_blender_run(const char* blender, const char* script, const bench_peer_mesh* pm, int frames, int threads,
                       double timeout_s, bench_blender_result* out, char* msg, size_t msg_size) {
-    const bench_blender_job job = {frames, threads, 5, 0, timeout_s};
+    const bench_blender_job job = {frames, threads, 5, 0, timeout_s, 0.0, 0.0, 0.0};
     return bench_blender_run_job(blender, script, pm, &job, out, msg, msg_size);
 }
 

@@ -63,6 +63,8 @@ typedef struct bench_blender_job {
     int quality;            /* the Cloth modifier's steps per frame (0: 5, Blender's default) */
     int all_frames;         /* 1: every frame's positions into the result's xs */
     double timeout_s;
+    double spin, ramp, fps; /* spin != 0: the object (so its pins) turned about y as
+                               bench_scene_pin_transform turns Weft's pins, frame k at time k / fps */
 } bench_blender_job;
 
 int bench_blender_run_job(const char* blender, const char* script, const bench_peer_mesh* pm,

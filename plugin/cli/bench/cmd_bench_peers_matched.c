@@ -113,10 +113,13 @@ static void rows_free(matched_scene* s) {
     s->n_rows = 0;
 }
 
-static int blender_row(matched_ctx* c, const bench_peer_mesh* pm, int quality, int role, matched_scene* s) {
+static int blender_row(matched_ctx* c, const bench_scene* bs, const bench_peer_mesh* pm, int quality, int role,
+                       matched_scene* s) {
     const bench_matched_opts* o = c->o;
     char msg[1024];
-    bench_blender_job job = {o->frames, o->com->threads, quality, 1, o->timeout * (quality > 5 ? quality / 5.0 : 1.0)};
+    const bench_blender_job job = {o->frames, o->com->threads, quality, 1,
+                                   o->timeout * (quality > 5 ? quality / 5.0 : 1.0),
+                                   bs->spin, BENCH_GARMENT_RAMP, o->fps};
     bench_blender_result br;
     if (!o->com->quiet) fprintf(stderr, "%s (%d particles): blender quality %d...\n", s->name, pm->n, quality);
     if (bench_blender_run_job(o->blender, o->script, pm, &job, &br, msg, sizeof msg) != 0) {
@@ -254,7 +257,6 @@ static int run_scene(matched_ctx* c, const char* name, matched_scene* s) {
         cli_error(msg);
         return CLI_EXIT_FAILURE;
     }
-    bs.spin = 0.0; /* the garment's waist held still, as Blender's pins */
     snprintf(s->name, sizeof s->name, "%s", bs.name);
     c->solver = bs.sc.def.solver;
     c->tolerance = bs.sc.def.tolerance;
@@ -271,9 +273,9 @@ static int run_scene(matched_ctx* c, const char* name, matched_scene* s) {
     const int n_vertices = bs.sc.mesh.n_vertices;
     for (int v = n_vertices - 1; rc == 0 && v >= 0; --v) rep[pm.of_vertex[v]] = v;
     if (o->blender) {
-        for (int q = 0; q < o->n_qualities && rc == 0; ++q) rc = blender_row(c, &pm, o->qualities[q], ROLE_RUN, s);
-        if (rc == 0) rc = blender_row(c, &pm, o->ref_quality / 2, ROLE_CHECK, s);
-        if (rc == 0) rc = blender_row(c, &pm, o->ref_quality, ROLE_REF, s);
+        for (int q = 0; q < o->n_qualities && rc == 0; ++q) rc = blender_row(c, &bs, &pm, o->qualities[q], ROLE_RUN, s);
+        if (rc == 0) rc = blender_row(c, &bs, &pm, o->ref_quality / 2, ROLE_CHECK, s);
+        if (rc == 0) rc = blender_row(c, &bs, &pm, o->ref_quality, ROLE_REF, s);
     }
     for (int k = 0; k < N_SETTINGS && rc == 0; ++k)
         if (o->settings & (1u << k)) rc = weft_row(c, &bs, &pm, rep, &k_settings[k], 0, ROLE_RUN, s);
@@ -376,7 +378,9 @@ static void print_header(FILE* out, const void* ctx) {
                 "Blender %s's cloth (a Cloth modifier with its defaults but the quality, a fresh file, each frame one "
                 "timed scene.frame_set; host_glue/blender/peer_cloth_bench.py; settings read back at the first "
                 "quality: %s) and Weft (through the public API, the CPU) on the same meshes, the same pinned "
-                "vertices held still, %d frames each, in one run. Threads: Weft %d (OpenMP), Blender %d (-t) with "
+                "vertices (the sheets' held still, the garment's waist turned about y, speeding up evenly to a "
+                "turn a second over 0.5 s: Blender's object keyed so, world-space positions compared), %d frames "
+                "each, in one run. Threads: Weft %d (OpenMP), Blender %d (-t) with "
                 "OMP_NUM_THREADS=%s as Blender saw it (Debian's Blender runs its OpenMP loops on every core "
                 "otherwise).\n\n",
                 c->version, c->settings, o->frames, c->weft_threads, c->blender_threads, c->blender_omp);
