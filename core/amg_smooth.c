@@ -2,7 +2,7 @@
  * D^-1 t from its block inverse's padded columns (wc_amg_level.DinvT), then d and x, in the scalar
  * loops' operations and order, with no fused multiply-add: the same bits (tests/test_amg_smooth.c).
  * The scalar loops spent about 60 instructions a node on level 0 (m3_mulv, three lanes one at a
- * time), a ninth of the suit's step. */
+ * time), about 9 % of the suit's step. */
 #include "amg.h"
 
 #include <string.h>
