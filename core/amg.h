@@ -274,6 +274,8 @@ typedef struct wc_amg_level {
     double* val;                /* (n_blocks x 9) the level's operator */
     double* Dinv;               /* (n x 9 x group) inverse block diagonal: group 2: node i's 3 rows
                                    of its pair's 6x6 inverse (blocks to nodes i & ~1, i | 1) */
+    double* DinvT;              /* (n x 12 x group) or NULL: Dinv's blocks by columns, 4 doubles a
+                                   column (lane 3 zero), for the AVX2 smoother (amg_smooth.c) */
     int* pair_blk;              /* (n) group 2: block (i, i ^ 1) in row i (rows 2a and 2a + 1
                                    have the same columns) */
     double bound;               /* estimate of the largest eigenvalue of D^-1 A (per solve) */
@@ -518,6 +520,18 @@ static inline void wc_amg_d_mulv_add(const wc_amg_level* L, int i, int pair_bloc
         if (pair_blocks) m3_mulv_add(dw, Da + 9 * ((i & 1) ^ 1), w + 3 * (size_t)(i ^ 1));
     }
 }
+
+/* The Chebyshev smoother's node updates on [lo, hi) (amg_smooth.c; amg_cycle.c's chebyshev_part
+ * in the same operations and order): mode 0 d = c2 D^-1 t, x = d; mode 1 the same with x += d;
+ * mode 2 d = c1 d + c2 D^-1 t, x += d; xf (or NULL) gets x rounded. Reads L->DinvT. */
+typedef void (*wc_amg_cheb_nodes_fn)(const wc_amg_level* L, const double* t, double* d, double* x, float* xf, int lo,
+                                     int hi, double c1, double c2, int mode);
+/* The AVX2 kernel where the CPU has it, else NULL (the scalar loops). */
+wc_amg_cheb_nodes_fn wc_amg_cheb_nodes_kernel(void);
+/* tests: 1 makes chebyshev_part run its scalar loops even where the kernel exists (amg_cycle.c) */
+extern int wc_amg_scalar_smoother;
+/* L->DinvT's nodes [lo, hi) from L->Dinv (nothing when DinvT is NULL). */
+void wc_amg_dinv_columns(wc_amg_level* L, int lo, int hi);
 
 /* out = (D^-1 t)_i: 3x3 blocks, or node i's rows of its pair's 6x6 inverse (group 2). */
 static inline void wc_amg_dinv(const wc_amg_level* L, int i, const double* t, double* out) {

@@ -366,6 +366,7 @@ static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
     if (!a->opts.values) return 1;
     if (own_val) TRY(L->val = WC_NEW(al, double, 9 * (size_t)L->n_blocks));
     TRY(L->Dinv = WC_NEW(al, double, 9 * (size_t)L->group * L->n));
+    TRY(L->DinvT = WC_NEW(al, double, 12 * (size_t)L->group * L->n));
     if (a->opts.single) TRY(L->val_f = WC_NEW(al, float, 9 * (size_t)L->n_blocks + WC_BSR_F_PAD));
     if (L->group == 2) {
         TRY(L->pair_blk = WC_NEW(al, int, L->n));
@@ -494,7 +495,7 @@ void wc_amg_destroy(wc_amg* a) {
     wc_allocator al = a->alloc;
     for (int l = 0; l < WC_AMG_MAX_LEVELS; ++l) {
         wc_amg_level* L = &a->lev[l];
-        void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->x, L->r, L->t,
+        void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->DinvT, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
                         L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f, L->xf};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);

@@ -220,6 +220,9 @@ static void residual_part(const wc_amg_level* L, int single, wc_bsr_rows_fx_fn f
     if (X) wc_amg_cross_rows_add(X, -1.0, x, t, L->n, lo, hi);
 }
 
+/* tests: 1 = the scalar node updates even where the AVX2 kernel runs (amg_smooth.c) */
+int wc_amg_scalar_smoother = 0;
+
 /* chebyshev() per thread: `steps` matrix products, x from zero when `zero` (else x must be
  * complete: a barrier before). */
 static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, double ratio, int steps,
@@ -235,7 +238,9 @@ static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, do
         WC_PAR_BARRIER(); /* t complete (a pair's D^-1 reads both rows), x read */
     }
     const double inv_theta = 1.0 / theta;
-    for (int i = lo; i < hi; ++i) { /* d = D^-1 t / theta; x = d, or x += d */
+    const wc_amg_cheb_nodes_fn nodes = L->DinvT && !wc_amg_scalar_smoother ? wc_amg_cheb_nodes_kernel() : NULL;
+    if (nodes) nodes(L, t, d, x, xf, lo, hi, 0.0, inv_theta, zero ? 0 : 1);
+    else for (int i = lo; i < hi; ++i) { /* d = D^-1 t / theta; x = d, or x += d */
         double e[3], xn[3];
         wc_amg_dinv(L, i, t, e);
         for (int c = 0; c < 3; ++c) {
@@ -252,7 +257,8 @@ static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, do
         double rho_new = 1.0 / (2.0 * sigma - rho);
         double c1 = rho_new * rho, c2 = 2.0 * rho_new / delta;
         WC_PAR_BARRIER(); /* t complete, x read */
-        for (int i = lo; i < hi; ++i) { /* d = c1 d + c2 D^-1 t; x += d */
+        if (nodes) nodes(L, L->t, d, x, xf, lo, hi, c1, c2, 2);
+        else for (int i = lo; i < hi; ++i) { /* d = c1 d + c2 D^-1 t; x += d */
             double e[3], xn[3];
             wc_amg_dinv(L, i, L->t, e);
             for (int c = 0; c < 3; ++c) {

@@ -121,6 +121,7 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
                 }
                 block_inverse(L->Dinv + 9 * i, B);
             }
+            wc_amg_dinv_columns(L, lo, hi);
         }
         return;
     }
@@ -151,6 +152,7 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
             block_inverse(D0, B[0][0]);
             block_inverse(D0 + 27, B[1][1]);
         }
+        wc_amg_dinv_columns(L, 2 * lo, 2 * hi);
     }
 }
 

@@ -120,6 +120,9 @@ typedef struct wc_state {
     double input_gravity[3];    /* def.gravity and def.air of the last frame: a change wakes */
     wc_air input_air;
 
+    int judge_fresh;            /* tests: 1 = the energy judge measures every state afresh instead
+                                   of taking an earlier measure of the same state (step.c) */
+
     int n_pins;
     wc_pin* pins;               /* (max_pins) */
     double* pin_from;           /* (max_pins x 3) target at the start of the frame */

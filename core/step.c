@@ -137,13 +137,15 @@ static void substep_colliders(wc_state* s, double alpha1, double h) {
  * alpha1: fills s->filter, s->A and s->b (contacts may correct positions) and the integrator's
  * xb, vstar, mom (bdf2.h). begin_gain (J, may be NULL): += the total energy the contacts' position
  * correction (and TR-BDF2's contact velocities, wc_integ_contacts) put in (0 when it lowered it).
- * Returns the contacts that stick. */
+ * energy_now (may be NULL): the total energy of the state prepare leaves when it measured it for
+ * begin_gain (nothing after that measure moves x or v), else NaN. Returns the contacts that stick. */
 static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression compression, double* begin_gain,
-                   wc_step_stats* st) {
+                   double* energy_now, wc_step_stats* st) {
     const wc_model* m = s->model;
     int n = m->n_particles;
     double h = ig->h;
     double t0 = wc_now_ms(), t1;
+    if (energy_now) *energy_now = NAN;
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     apply_pins(s, ig, alpha1);
     substep_colliders(s, alpha1, h);
@@ -155,8 +157,10 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     if (s->n_all > 0) {
         wc_integ_contacts(s, ig);   /* TR-BDF2: the contacts' normal velocities (bdf2.h) */
         if (begin_gain) {
-            double gain = wc_state_total_energy(s, NULL) - e0;
+            double e1 = wc_state_total_energy(s, NULL);
+            double gain = e1 - e0;
             if (gain > 0) *begin_gain += gain;
+            if (energy_now) *energy_now = e1;
         }
     }
     /* the mesh colliders' feature pairs at the substep's start (mesh_pairs.h) */
@@ -220,7 +224,7 @@ void wc_substep_prepare(wc_state* s, double h, double alpha1, wc_step_stats* st)
     s->sub_alpha0 = alpha1;
     wc_integ ig;
     wc_integ_begin(s, h, &ig);
-    (void)prepare(s, &ig, alpha1, s->def.compression, NULL, st);
+    (void)prepare(s, &ig, alpha1, s->def.compression, NULL, NULL, st);
 }
 
 /* The substep's first solve of its system into s->dv, counted in st. Inexact Newton (newton.h
@@ -307,7 +311,12 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     else wc_integ_begin(s, h, &ig);
     h = ig.h;   /* TR-BDF2: the stage's length */
     double collide_gain = 0.0; /* J */
-    int stuck = prepare(s, &ig, alpha1, compression, judge_energy ? &collide_gain : NULL, st);
+    /* energy_now: the total energy of the current state where the step last measured it (NaN when
+       it has not since the state last changed); the judge's measures of a state an earlier one
+       already measured take it instead of measuring again (the same function of the same x and
+       v: the same bits) */
+    double energy_now = NAN;
+    int stuck = prepare(s, &ig, alpha1, compression, judge_energy ? &collide_gain : NULL, &energy_now, st);
     if (s->self_pairs && s->self_pairs->list.overflow > 0)
         wc_log(diag, WC_LOG_WARN, "substep (h = %g s): %d self-contact pairs past the list's capacity %d were left out of the solve",
                h, s->self_pairs->list.overflow, s->self_pairs->list.cap);
@@ -328,7 +337,9 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     if (judge_energy && stage == 2)
         energy_cap = carry->start_total + carry->excluded + collide_gain + wc_substep_energy_allowance(s, &before);
     else if (judge_energy)
-        energy_cap = wc_state_total_energy(s, NULL) + wc_substep_energy_allowance(s, &before);
+        energy_cap = (isnan(energy_now) || s->judge_fresh ? wc_state_total_energy(s, NULL) : energy_now) +
+                     wc_substep_energy_allowance(s, &before);
+    energy_now = NAN; /* the solves below move the state */
     double t0 = wc_now_ms(), t1;
 
     wc_solve_result res;
@@ -418,7 +429,8 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
                                  s->v, &s->par);
         if (s->def.strain_limit > 0) strain = wc_max_stretch_strain(m, s->x);
         if (judge_energy) {
-            double gain = wc_state_total_energy(s, NULL) - e0;
+            energy_now = wc_state_total_energy(s, NULL);
+            double gain = energy_now - e0;
             if (gain > 0) collide_gain += gain;
         }
     }
@@ -431,16 +443,20 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     double self_gain = 0.0; /* J: energy the self-collision stage put in (not judged) */
     if (s->self && all_finite(s->x, n3) && all_finite(s->v, n3)) {
         wc_self_stats ss = {0, 0, 0, 0, 0};
-        double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
+        double e0 = !judge_energy ? 0.0 : isnan(energy_now) || s->judge_fresh ? wc_state_total_energy(s, NULL) : energy_now;
+        energy_now = judge_energy ? e0 : NAN;
         s->self->threads = s->par.threads; /* detection threads (self_pass.h) */
         wc_self_resolve(s->self, m, &s->filter, s->n_all > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
         /* moving a vertex out of a collision stretches its springs: that energy comes from the
            collision response (a contact force), not from a failing linearisation, so the
            energy-gain judge does not count it (the kinetic blow-up and strain judges still do) */
         if (judge_energy && ss.proximity + ss.impacts + ss.zones > 0) {
-            double gain = wc_state_total_energy(s, NULL) - e0;
+            energy_now = wc_state_total_energy(s, NULL);
+            double gain = energy_now - e0;
             if (gain > 0) self_gain = gain;
         }
+        /* a stage with nothing counted moved nothing (v += 0 / he: at most -0 -> +0, the same
+           kinetic energy), so energy_now is still e0 */
         st->self_proximity += ss.proximity;
         st->self_impacts += ss.impacts;
         st->self_zones += ss.zones;
@@ -458,9 +474,16 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     after.strain = strain;
     if (after.finite && judge != WC_JUDGE_FINITE) {
         after.kinetic = wc_state_kinetic_energy(s);
-        if (judge_energy) after.total = wc_state_total_energy(s, NULL) - self_gain - collide_gain;
+        if (judge_energy) {
+            if (isnan(energy_now) || s->judge_fresh) energy_now = wc_state_total_energy(s, NULL);
+            after.total = energy_now - self_gain - collide_gain;
+        }
         if (judge_energy && stage == 2) after.total -= carry->excluded;
     }
+    const int judged = judge_energy && after.finite && judge != WC_JUDGE_FINITE;
+    st->judged_energy_end = judged ? energy_now : NAN;
+    st->judged_total = judged ? after.total : NAN;
+    st->judged_cap = judged ? energy_cap : NAN;
     if (judge_energy && stage == 1) carry->excluded = self_gain + collide_gain;
     status = wc_substep_judge(s, &before, &after, judge, judge_energy && stage != 1, pin_energy, h,
                               wc_solver_name(solver), diag);

@@ -49,6 +49,11 @@ typedef struct wc_step_stats {
     int self_pairs_active;      /* pairs active in the first system */
     int self_pair_passes;       /* extra solves because their active set changed (no Newton) */
     int self_pair_overflow;     /* pairs past the list's capacity (dropped; logged as a warning) */
+    double judged_energy_end;   /* J: the total energy the energy judge took for the last substep's
+                                   end state (before the collision responses' gains come off; NaN
+                                   when it judged none): tests compare it with a fresh measure */
+    double judged_total;        /* J: the end's total the judge compared, those gains off (NaN ...) */
+    double judged_cap;          /* J: that substep's bound for Newton's energy guard (NaN ...) */
 } wc_step_stats;
 
 /* A solve's result into the frame's stats: solves, solver, iterations (summed and largest),

@@ -22,7 +22,9 @@
  *                   [--single 0|1]   (wc_amg_opts.single: the V-cycle's float copies; default 1)
  *                   [--single-x 0|1] (wc_amg_opts.single_x: its float iterates; default 1)
  *                   [--ab R]   (then the last system's V-cycles and PCG solves alternating single_x 1
- *                               and 0 in this run, R rounds: median and fastest CPU ms of each) */
+ *                               and 0 in this run, R rounds: median and fastest CPU ms of each)
+ *                   [--ab-smoother R]   (the same alternating the smoother's AVX2 node updates and
+ *                               its scalar loops, wc_amg_scalar_smoother) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -102,6 +104,49 @@ static double copy_rate(size_t size) {
 
 /* The last system's V-cycles (20 a sample) and PCG solves from zero, alternating single_x 1 and 0
  * within each of R rounds: the median and fastest CPU ms of each, the iterations. */
+/* --ab-smoother R: the last system's V-cycles and PCG solves alternating the smoother's AVX2 node
+ * updates and its scalar loops (wc_amg_scalar_smoother; amg_smooth.c) in this run. */
+static void ab_smoother(wc_state* s, wc_amg* amg, int rounds) {
+    const int n3 = 3 * amg->lev[0].n;
+    double *r = malloc(sizeof(double) * (size_t)n3), *z = malloc(sizeof(double) * (size_t)n3);
+    double* t[2][2];
+    int it[2] = {0, 0};
+    for (int v = 0; v < 2; ++v)
+        for (int q = 0; q < 2; ++q) t[v][q] = malloc(sizeof(double) * (size_t)rounds);
+    for (int k = 0; k < n3; ++k) r[k] = s->b[k];
+    for (int round = 0; round < rounds; ++round)
+        for (int v = 0; v < 2; ++v) { /* v = 0: the kernel */
+            wc_amg_scalar_smoother = v;
+            double c0 = wc_cpu_ms();
+            for (int k = 0; k < 20; ++k) wc_amg_apply(amg, r, z, &s->par);
+            t[v][0][round] = (wc_cpu_ms() - c0) / 20.0;
+            memset(z, 0, sizeof(double) * (size_t)n3);
+            double setup0 = 0.0, setup1 = 0.0;
+            for (int p = 0; p < WC_AMG_PHASES; ++p) setup0 += amg->phase_ms[p];
+            wc_solve_result res;
+            c0 = wc_cpu_ms();
+            wc_solve(s->solver, WC_SOLVER_PCG, s->A, s->b, &s->filter, z, &s->par, &res);
+            double c = wc_cpu_ms() - c0;
+            for (int p = 0; p < WC_AMG_PHASES; ++p) setup1 += amg->phase_ms[p];
+            t[v][1][round] = c - (setup1 - setup0);
+            it[v] = res.iterations;
+        }
+    wc_amg_scalar_smoother = 0;
+    printf("the last system, the smoother's node updates in AVX2 and scalar alternating, %d rounds%s (CPU ms, "
+           "median (fastest)):\n| node updates | V-cycle | PCG solve less setup | PCG it. |\n|---|---|---|---|\n",
+           rounds, wc_amg_cheb_nodes_kernel() ? "" : " (no AVX2: both scalar)");
+    for (int v = 0; v < 2; ++v) {
+        for (int q = 0; q < 2; ++q) qsort(t[v][q], (size_t)rounds, sizeof(double), cmp_double);
+        printf("| %s | %.3f (%.3f) | %.3f (%.3f) | %d |\n", v ? "scalar" : "AVX2", t[v][0][rounds / 2], t[v][0][0],
+               t[v][1][rounds / 2], t[v][1][0], it[v]);
+    }
+    printf("\n");
+    for (int v = 0; v < 2; ++v)
+        for (int q = 0; q < 2; ++q) free(t[v][q]);
+    free(r);
+    free(z);
+}
+
 static void ab_single_x(wc_state* s, wc_amg* amg, int rounds) {
     const int n3 = 3 * amg->lev[0].n, keep = amg->opts.single_x;
     double *r = malloc(sizeof(double) * (size_t)n3), *z = malloc(sizeof(double) * (size_t)n3);
@@ -157,7 +202,7 @@ static void ab_single_x(wc_state* s, wc_amg* amg, int rounds) {
 
 int main(int argc, char** argv) {
     int n = 100, frames = 10, threads = 1, power = 0, coarse = 0, lanczos = -1, repeat = 0, single = -1,
-        single_x = -1, ab = 0;
+        single_x = -1, ab = 0, ab_smooth = 0;
     for (int a = 1; a < argc; ++a) {
         if (!strcmp(argv[a], "--n") && a + 1 < argc) n = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--frames") && a + 1 < argc) frames = atoi(argv[++a]);
@@ -169,9 +214,10 @@ int main(int argc, char** argv) {
         else if (!strcmp(argv[a], "--single") && a + 1 < argc) single = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--single-x") && a + 1 < argc) single_x = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--ab") && a + 1 < argc) ab = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--ab-smoother") && a + 1 < argc) ab_smooth = atoi(argv[++a]);
         else {
             fprintf(stderr, "usage: bench_amg_setup [--n N] [--frames N] [--threads N] [--power N] [--coarse N] "
-                            "[--lanczos 0|1] [--repeat R] [--single 0|1] [--single-x 0|1] [--ab R]\n");
+                            "[--lanczos 0|1] [--repeat R] [--single 0|1] [--single-x 0|1] [--ab R] [--ab-smoother R]\n");
             return 2;
         }
     }
@@ -269,6 +315,7 @@ int main(int argc, char** argv) {
                wall_total > 0 ? 100.0 * (1.0 - solve / wall_total) : 0.0);
     }
     if (ab > 0) ab_single_x(s, amg, ab);
+    if (ab_smooth > 0) ab_smoother(s, amg, ab_smooth);
     printf("| setup phase | CPU ms/solve | share |\n|---|---|---|\n");
     for (int p = 0; p < WC_AMG_PHASES; ++p) setup_sum += amg->phase_ms[p];
     for (int p = 0; p < WC_AMG_PHASES; ++p)
