@@ -316,7 +316,7 @@ __attribute__((target("avx2,fma"))) static void pairs_ap_rows_avx2(wc_amg_level*
  * entries), gathered from zero by GATHER(z, L, i, e, W or NULL) into 18 doubles, then P_e = -w
  * D^-1 Z_e (on a pair level D^-1 couples rows 2a and 2a + 1, which share their columns), plus
  * P_tent on the row's own entries. */
-#define WC_PROLONG_ROWS(L, w, lo, hi, GATHER)                                                          \
+#define WC_PROLONG_ROWS(L, w, lo, hi, GATHER, DINV_Z)                                                  \
     for (int u = (lo); u < (hi); ++u) {                                                                 \
         const int g = (L)->group, b = g * u, len = (L)->p_start[b + 1] - (L)->p_start[b];               \
         if ((w) == 0.0) {                                                                               \
@@ -332,17 +332,13 @@ __attribute__((target("avx2,fma"))) static void pairs_ap_rows_avx2(wc_amg_level*
                         weak[i - b] = 1;                                                                \
                     }                                                                                   \
             for (int off = 0; off < len; off += 2) {                                                    \
-                double Z[2][18], out[9];                                                                \
+                double Z[2][18];                                                                        \
                 for (int i = b; i < b + g; ++i)                                                         \
                     GATHER(Z[i - b], L, i, (L)->p_start[i] + off, weak[i - b] ? W[i - b] : NULL);       \
                 for (int h = 0; h < 2; ++h) /* P_e = -w D^-1 Z_e, block by block */                     \
-                    for (int i = b; i < b + g; ++i) {                                                   \
-                        memset(out, 0, sizeof out);                                                     \
-                        const double* D = (L)->Dinv + 9 * (size_t)g * i; /* g 3x3 blocks: to b, b + 1 */ \
-                        for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j] + 9 * h);           \
-                        double* P = (L)->p_val + 9 * (size_t)((L)->p_start[i] + off + h);               \
-                        for (int q = 0; q < 9; ++q) P[q] = -(w) * out[q];                               \
-                    }                                                                                   \
+                    for (int i = b; i < b + g; ++i)                                                     \
+                        DINV_Z((L)->p_val + 9 * (size_t)((L)->p_start[i] + off + h),                    \
+                               (L)->Dinv + 9 * (size_t)g * i, Z, g, h, w); /* D: g blocks, to b, b + 1 */ \
             }                                                                                           \
         }                                                                                               \
         for (int i = b; i < b + g; ++i)                                                                 \
@@ -358,7 +354,16 @@ static inline void prolong_gather(double* z, const wc_amg_level* L, int i, int e
     if (W && e == L->p_self[i]) pair_mul_add(z, W, L->tent + 18 * (size_t)i);
 }
 
-static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) { WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather) }
+/* P = -w sum_j D_j Z[j]'s half h (3x3 blocks, m3_mul_add's sums from zero). */
+static inline void prolong_dinv_z(double* P, const double* D, double (*Z)[18], int g, int h, double w) {
+    double out[9] = {0};
+    for (int j = 0; j < g; ++j) m3_mul_add(out, D + 9 * j, Z[j] + 9 * h);
+    for (int q = 0; q < 9; ++q) P[q] = -w * out[q];
+}
+
+static void prolong_rows(wc_amg_level* L, double w, int lo, int hi) {
+    WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather, prolong_dinv_z)
+}
 
 #ifdef WC_PAIRS_AP_AVX2
 __attribute__((target("avx2,fma"), always_inline)) static inline void prolong_gather_avx2(double* zo, const wc_amg_level* L,
@@ -379,8 +384,34 @@ __attribute__((target("avx2,fma"), always_inline)) static inline void prolong_ga
     pair_store_avx2(zo, z);
 }
 
+/* prolong_dinv_z with each row of the product in a register: row r of D_j Z_j is (D_r0 z_0 +
+ * D_r1 z_1) + D_r2 z_2 over Z's rows z_k, m3_mul_add's products and sums in its order (separate
+ * multiplies and adds, no FMA), added to the row's sum from zero, times -w: the same bits. Lane 3
+ * (the next row's first entry, or masked) is overwritten by the next row's store, the last row
+ * stored masked. */
+__attribute__((target("avx2,fma"), always_inline)) static inline void prolong_dinv_z_avx2(double* P, const double* D,
+                                                                                         double (*Z)[18], int g, int h,
+                                                                                         double w) {
+    const __m256i m3 = _mm256_setr_epi64x(-1, -1, -1, 0);
+    __m256d o[3] = {_mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd()};
+    for (int j = 0; j < g; ++j) {
+        const double* z = Z[j] + 9 * h;
+        const double* a = D + 9 * j;
+        const __m256d z0 = _mm256_loadu_pd(z), z1 = _mm256_loadu_pd(z + 3), z2 = _mm256_maskload_pd(z + 6, m3);
+        for (int r = 0; r < 3; ++r) {
+            const __m256d p01 = _mm256_add_pd(_mm256_mul_pd(_mm256_broadcast_sd(a + 3 * r), z0),
+                                              _mm256_mul_pd(_mm256_broadcast_sd(a + 3 * r + 1), z1));
+            o[r] = _mm256_add_pd(o[r], _mm256_add_pd(p01, _mm256_mul_pd(_mm256_broadcast_sd(a + 3 * r + 2), z2)));
+        }
+    }
+    const __m256d mw = _mm256_set1_pd(-w);
+    _mm256_storeu_pd(P, _mm256_mul_pd(mw, o[0]));
+    _mm256_storeu_pd(P + 3, _mm256_mul_pd(mw, o[1]));
+    _mm256_maskstore_pd(P + 6, m3, _mm256_mul_pd(mw, o[2]));
+}
+
 __attribute__((target("avx2,fma"))) static void prolong_rows_avx2(wc_amg_level* L, double w, int lo, int hi) {
-    WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather_avx2)
+    WC_PROLONG_ROWS(L, w, lo, hi, prolong_gather_avx2, prolong_dinv_z_avx2)
 }
 #endif
 

@@ -10,5 +10,9 @@
  * receives f0. */
 void wc_assemble(const wc_model* m, const wc_spring_eval* se, const double* f_ext, const double* v, double h,
                  wc_par* par, double* A_val, double* b, double* f_total);
+/* The same with the scalar loops only (wc_assemble takes AVX where the CPU has it: the same bits;
+ * tests/test_assemble_avx.c). */
+void wc_assemble_scalar(const wc_model* m, const wc_spring_eval* se, const double* f_ext, const double* v, double h,
+                        wc_par* par, double* A_val, double* b, double* f_total);
 
 #endif
