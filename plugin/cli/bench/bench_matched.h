@@ -19,7 +19,7 @@
     "defaults,defaults_s2,defaults_s4,newton1,trbdf2_n2,trbdf2_n2_s2,trbdf2_n3,trbdf2_n3_s2,\n" \
     "                   defaults_f0,defaults_tight,bdf2_n1,bdf2_n1_s2,bdf2_n2,bdf2_n2_f0,bdf2_n2_s2,\n" \
     "                   trbdf2_n1,trbdf2_n1_tight,trbdf2_n1_s2,trbdf2_n2_f0,trbdf2_n2_tight,\n" \
-    "                   trbdf2_n3_f0,trbdf2_n3_tight"
+    "                   trbdf2_n3_f0,trbdf2_n3_tight,trbdf2_n6,trbdf2_n6_tight"
 
 /* A --settings list into a bit mask (bit k: the k-th name above; "all": every one). The count,
  * or -1 on an unknown name. */

@@ -34,7 +34,7 @@ typedef struct matched_setting {
 
 /* The first eight are the original table; the rest screen the second-order methods at one solve
  * a stage or a Newton iteration, and the linear solves' share of the error (forcing 0: every solve
- * to the tolerance; "tight": every solve to 1e-6). */
+ * to the tolerance; "tight": every solve to 1e-6; Newton 6: past the stall at the third iterate). */
 static const matched_setting k_settings[] = {
     {"defaults", "defaults", WEFT_INTEGRATOR_DEFAULT, 0, -1, 1, 0, -1},
     {"defaults_s2", "defaults at 2 substeps", WEFT_INTEGRATOR_DEFAULT, 0, -1, 2, 0, -1},
@@ -58,6 +58,8 @@ static const matched_setting k_settings[] = {
     {"trbdf2_n2_tight", "TR-BDF2 Newton 2 tol. 1e-6 forcing 0", WEFT_INTEGRATOR_TRBDF2, 2, -1, 1, 1e-6, 0.0},
     {"trbdf2_n3_f0", "TR-BDF2 Newton 3 forcing 0", WEFT_INTEGRATOR_TRBDF2, 3, -1, 1, 0, 0.0},
     {"trbdf2_n3_tight", "TR-BDF2 Newton 3 tol. 1e-6 forcing 0", WEFT_INTEGRATOR_TRBDF2, 3, -1, 1, 1e-6, 0.0},
+    {"trbdf2_n6", "TR-BDF2 Newton 6", WEFT_INTEGRATOR_TRBDF2, 6, -1, 1, 0, -1},
+    {"trbdf2_n6_tight", "TR-BDF2 Newton 6 tol. 1e-6 forcing 0", WEFT_INTEGRATOR_TRBDF2, 6, -1, 1, 1e-6, 0.0},
 };
 enum { N_SETTINGS = (int)(sizeof k_settings / sizeof k_settings[0]) };
 _Static_assert(N_SETTINGS <= 32, "--settings is a 32-bit mask");
