@@ -180,7 +180,8 @@ static int matched_row(const csv* c, const char* sim, const char* setting) {
 static void test_matched_usage(void) {
     static ts_cli_result r;
     ts_run_cli("bench peers --help", &r);
-    CHECK(strstr(r.out, "--matched") && strstr(r.out, "--ref-quality") && strstr(r.out, "trbdf2_n3_s2"));
+    CHECK(strstr(r.out, "--matched") && strstr(r.out, "--ref-quality") && strstr(r.out, "trbdf2_n3_s2") &&
+          strstr(r.out, "bdf2_n1,") && strstr(r.out, "trbdf2_n3_tight"));
     ts_run_cli("bench peers --matched --settings defaults,nope", &r);
     CHECK_EQ_INT(r.rc, 2);
     CHECK(strstr(r.err, "bad value for --settings: 'defaults,nope'") != NULL);
@@ -200,6 +201,41 @@ static void test_matched_usage(void) {
     CHECK(strstr(r.out, "| sheet8 | 64 | Weft | TR-BDF2 Newton 3 tol. 1e-8 at 2 substeps | reference | 2 | ") != NULL);
     CHECK(strstr(r.out, "| sheet8 | Weft | TR-BDF2 Newton 3 tol. 1e-8 at 2 substeps | TR-BDF2 Newton 3 tol. 1e-8 at 1 "
                         "substeps | ") != NULL);
+}
+
+/* --matched's screening settings reach the def: without Blender, TR-BDF2 Newton 2's iterations a
+ * solve grow from the library's (1e-2 first solves, 1e-4 the later) to forcing 0 (every solve to
+ * 1e-4) to every solve to 1e-6 on the 32 x 32 sheet (multigrid; below 800 particles the
+ * library already takes forcing 0), and BDF2 Newton 1 runs with a finite error. */
+static void test_matched_settings_applied(void) {
+    static ts_cli_result r;
+    static csv c;
+    char args[1024], csv_path[512];
+    snprintf(csv_path, sizeof csv_path, "%s", ts_tmp_path("bench_peers_matched_settings.csv"));
+    remove(csv_path);
+    snprintf(args, sizeof args,
+             "bench peers --matched --quiet --scenes sheet32 --frames 5 --settings trbdf2_n2,trbdf2_n2_f0,trbdf2_n2_tight,bdf2_n1 "
+             "--ref-substeps 2 --csv '%s'", csv_path);
+    const char* path = getenv("PATH");
+    char saved[4096];
+    snprintf(saved, sizeof saved, "%s", path ? path : "");
+    setenv("PATH", "/nonexistent", 1);
+    ts_run_cli(args, &r);
+    setenv("PATH", saved, 1);
+    CHECK_EQ_INT(r.rc, 0);
+    csv_parse(&c, csv_path);
+    const int n2 = matched_row(&c, "Weft", "TR-BDF2 Newton 2");
+    const int f0 = matched_row(&c, "Weft", "TR-BDF2 Newton 2 forcing 0");
+    const int tight = matched_row(&c, "Weft", "TR-BDF2 Newton 2 tol. 1e-6 forcing 0");
+    const int b1 = matched_row(&c, "Weft", "BDF2 Newton 1 (no line search)");
+    if (n2 < 0 || f0 < 0 || tight < 0 || b1 < 0) {
+        CHECK(!"a row is missing");
+        return;
+    }
+    CHECK(num(&c, f0, "iterations_per_solve") > num(&c, n2, "iterations_per_solve"));
+    CHECK(num(&c, tight, "iterations_per_solve") > num(&c, f0, "iterations_per_solve"));
+    const double e = num(&c, b1, "error_pct_all_frames");
+    CHECK(isfinite(e) && e > 0 && e < 50);
 }
 
 /* --matched on an 8 x 8 sheet for 30 frames (1 s): every row's error finite, each reference's
@@ -265,6 +301,7 @@ int main(int argc, char** argv) {
     const int gpu = argc > 1 && !strcmp(argv[1], "gpu");
     if (!gpu) RUN_TEST(test_peers_usage);
     if (!gpu) RUN_TEST(test_matched_usage);
+    if (!gpu) RUN_TEST(test_matched_settings_applied);
     if (!blender_on_path()) {
         if (TEST_SUMMARY() != 0) return 1;
         printf("SKIPPED: `blender` is not installed (apt-get install blender; .ci/deps.sh does)\n");

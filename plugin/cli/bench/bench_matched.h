@@ -12,9 +12,14 @@
 #include "bench_scene.h"
 
 /* Weft's settings of the matched mode, by name (--settings): the library's defaults at 1, 2 and
- * 4 substeps, one Baraff-Witkin step, TR-BDF2 Newton 2 and 3 at 1 and 2 substeps. */
+ * 4 substeps, one Baraff-Witkin step, TR-BDF2 Newton 2 and 3 at 1 and 2 substeps; then BDF2 and
+ * TR-BDF2 at Newton 1 and 2, and the linear solves' tolerance and forcing (_f0: every solve to
+ * the tolerance; _tight: to 1e-6). Names and order: k_settings in cmd_bench_peers_matched.c. */
 #define BENCH_MATCHED_SETTING_NAMES \
-    "defaults,defaults_s2,defaults_s4,newton1,trbdf2_n2,trbdf2_n2_s2,trbdf2_n3,trbdf2_n3_s2"
+    "defaults,defaults_s2,defaults_s4,newton1,trbdf2_n2,trbdf2_n2_s2,trbdf2_n3,trbdf2_n3_s2,\n" \
+    "                   defaults_f0,defaults_tight,bdf2_n1,bdf2_n1_s2,bdf2_n2,bdf2_n2_f0,bdf2_n2_s2,\n" \
+    "                   trbdf2_n1,trbdf2_n1_tight,trbdf2_n1_s2,trbdf2_n2_f0,trbdf2_n2_tight,\n" \
+    "                   trbdf2_n3_f0,trbdf2_n3_tight,trbdf2_n6,trbdf2_n6_tight"
 
 /* A --settings list into a bit mask (bit k: the k-th name above; "all": every one). The count,
  * or -1 on an unknown name. */

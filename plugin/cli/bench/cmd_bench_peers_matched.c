@@ -28,19 +28,41 @@ typedef struct matched_setting {
     int newton;             /* 0: the library's */
     int line_search;        /* -1: the library's */
     int substeps;
+    double tolerance;       /* 0: the library's (1e-4) */
+    double forcing;         /* the first Newton solve's relative residual; < 0: the library's (1e-2) */
 } matched_setting;
 
+/* The first eight are the original table; the rest screen the second-order methods at one solve
+ * a stage or a Newton iteration, and the linear solves' share of the error (forcing 0: every solve
+ * to the tolerance; "tight": every solve to 1e-6; Newton 6: past the stall at the third iterate). */
 static const matched_setting k_settings[] = {
-    {"defaults", "defaults", WEFT_INTEGRATOR_DEFAULT, 0, -1, 1},
-    {"defaults_s2", "defaults at 2 substeps", WEFT_INTEGRATOR_DEFAULT, 0, -1, 2},
-    {"defaults_s4", "defaults at 4 substeps", WEFT_INTEGRATOR_DEFAULT, 0, -1, 4},
-    {"newton1", "Newton 1 (one Baraff-Witkin step)", WEFT_INTEGRATOR_DEFAULT, 1, 0, 1},
-    {"trbdf2_n2", "TR-BDF2 Newton 2", WEFT_INTEGRATOR_TRBDF2, 2, -1, 1},
-    {"trbdf2_n2_s2", "TR-BDF2 Newton 2 at 2 substeps", WEFT_INTEGRATOR_TRBDF2, 2, -1, 2},
-    {"trbdf2_n3", "TR-BDF2 Newton 3", WEFT_INTEGRATOR_TRBDF2, 3, -1, 1},
-    {"trbdf2_n3_s2", "TR-BDF2 Newton 3 at 2 substeps", WEFT_INTEGRATOR_TRBDF2, 3, -1, 2},
+    {"defaults", "defaults", WEFT_INTEGRATOR_DEFAULT, 0, -1, 1, 0, -1},
+    {"defaults_s2", "defaults at 2 substeps", WEFT_INTEGRATOR_DEFAULT, 0, -1, 2, 0, -1},
+    {"defaults_s4", "defaults at 4 substeps", WEFT_INTEGRATOR_DEFAULT, 0, -1, 4, 0, -1},
+    {"newton1", "Newton 1 (one Baraff-Witkin step)", WEFT_INTEGRATOR_DEFAULT, 1, 0, 1, 0, -1},
+    {"trbdf2_n2", "TR-BDF2 Newton 2", WEFT_INTEGRATOR_TRBDF2, 2, -1, 1, 0, -1},
+    {"trbdf2_n2_s2", "TR-BDF2 Newton 2 at 2 substeps", WEFT_INTEGRATOR_TRBDF2, 2, -1, 2, 0, -1},
+    {"trbdf2_n3", "TR-BDF2 Newton 3", WEFT_INTEGRATOR_TRBDF2, 3, -1, 1, 0, -1},
+    {"trbdf2_n3_s2", "TR-BDF2 Newton 3 at 2 substeps", WEFT_INTEGRATOR_TRBDF2, 3, -1, 2, 0, -1},
+    {"defaults_f0", "defaults forcing 0", WEFT_INTEGRATOR_DEFAULT, 0, -1, 1, 0, 0.0},
+    {"defaults_tight", "defaults tol. 1e-6 forcing 0", WEFT_INTEGRATOR_DEFAULT, 0, -1, 1, 1e-6, 0.0},
+    {"bdf2_n1", "BDF2 Newton 1 (no line search)", WEFT_INTEGRATOR_BDF2, 1, 0, 1, 0, -1},
+    {"bdf2_n1_s2", "BDF2 Newton 1 (no line search) at 2 substeps", WEFT_INTEGRATOR_BDF2, 1, 0, 2, 0, -1},
+    {"bdf2_n2", "BDF2 Newton 2", WEFT_INTEGRATOR_BDF2, 2, -1, 1, 0, -1},
+    {"bdf2_n2_f0", "BDF2 Newton 2 forcing 0", WEFT_INTEGRATOR_BDF2, 2, -1, 1, 0, 0.0},
+    {"bdf2_n2_s2", "BDF2 Newton 2 at 2 substeps", WEFT_INTEGRATOR_BDF2, 2, -1, 2, 0, -1},
+    {"trbdf2_n1", "TR-BDF2 Newton 1 (no line search)", WEFT_INTEGRATOR_TRBDF2, 1, 0, 1, 0, -1},
+    {"trbdf2_n1_tight", "TR-BDF2 Newton 1 (no line search) tol. 1e-6", WEFT_INTEGRATOR_TRBDF2, 1, 0, 1, 1e-6, -1},
+    {"trbdf2_n1_s2", "TR-BDF2 Newton 1 (no line search) at 2 substeps", WEFT_INTEGRATOR_TRBDF2, 1, 0, 2, 0, -1},
+    {"trbdf2_n2_f0", "TR-BDF2 Newton 2 forcing 0", WEFT_INTEGRATOR_TRBDF2, 2, -1, 1, 0, 0.0},
+    {"trbdf2_n2_tight", "TR-BDF2 Newton 2 tol. 1e-6 forcing 0", WEFT_INTEGRATOR_TRBDF2, 2, -1, 1, 1e-6, 0.0},
+    {"trbdf2_n3_f0", "TR-BDF2 Newton 3 forcing 0", WEFT_INTEGRATOR_TRBDF2, 3, -1, 1, 0, 0.0},
+    {"trbdf2_n3_tight", "TR-BDF2 Newton 3 tol. 1e-6 forcing 0", WEFT_INTEGRATOR_TRBDF2, 3, -1, 1, 1e-6, 0.0},
+    {"trbdf2_n6", "TR-BDF2 Newton 6", WEFT_INTEGRATOR_TRBDF2, 6, -1, 1, 0, -1},
+    {"trbdf2_n6_tight", "TR-BDF2 Newton 6 tol. 1e-6 forcing 0", WEFT_INTEGRATOR_TRBDF2, 6, -1, 1, 1e-6, 0.0},
 };
 enum { N_SETTINGS = (int)(sizeof k_settings / sizeof k_settings[0]) };
+_Static_assert(N_SETTINGS <= 32, "--settings is a 32-bit mask");
 
 #define REF_TOLERANCE 1e-8
 #define REF_MAX_ITERATIONS 2000
@@ -161,6 +183,8 @@ static int weft_row(matched_ctx* c, const bench_scene* bs, const bench_peer_mesh
         if (st->newton > 0) ro.def.newton_iterations = st->newton;
         if (st->line_search >= 0) ro.def.line_search = st->line_search;
         ro.def.substeps = st->substeps;
+        if (st->tolerance > 0) ro.def.tolerance = st->tolerance;
+        if (st->forcing >= 0) ro.def.newton_forcing = st->forcing;
     } else {   /* converged: every Newton solve to 1e-8 */
         ro.def.integrator = WEFT_INTEGRATOR_TRBDF2;
         ro.def.newton_iterations = 3;
@@ -396,7 +420,8 @@ static void print_header(FILE* out, const void* ctx) {
             "each solver's time-stepping error, not agreement between the two.\n"
             "- Weft's settings: `defaults` is the scene's def as the library leaves it (weft_default_cloth_def(), "
             "%s, relative tolerance %g, at most %d iterations; sleeping off) at %g frames per second; the "
-            "others change the integrator, Newton iterations (line search off for Newton 1) and substeps only.\n"
+            "others change the integrator, Newton iterations (line search off for Newton 1), substeps and, where "
+            "their names say so, the tolerance and the first Newton solve's forcing only.\n"
             "- ms/frame: the median over the frames of one frame's time (Weft: weft_cloth_step; Blender: one "
             "scene.frame_set): `CPU` the process's CPU time over the call (CLOCK_PROCESS_CPUTIME_ID; Blender: "
             "time.process_time), `wall` its wall time. The verdict uses the CPU times: with one thread each they "
