@@ -7,6 +7,22 @@
 #include "assemble.h"
 #include "vec3.h"
 
+/* A spring's share of row i's right-hand side: f0 += sign f, kv_acc += kx (v_i - v_j). */
+static inline void spring_rhs(const wc_spring_eval* e, double sign, const double* vi, const double* vj, double* f0,
+                              double* kv_acc) {
+    v3_axpy(f0, sign, e->f);
+    double dvij[3];
+    v3_sub(dvij, vi, vj);
+    m3_mulv_add(kv_acc, e->kx, dvij);
+}
+
+/* Row i's right-hand side b_i = h (f0 + h kv_acc), and the force f0 where asked. */
+static inline void row_rhs(double h, int i, const double* f0, const double* kv_acc, double* b, double* f_total) {
+    double* bi = b + 3 * i;
+    for (int q = 0; q < 3; ++q) bi[q] = h * (f0[q] + h * kv_acc[q]);
+    if (f_total) v3_copy(f_total + 3 * i, f0);
+}
+
 /* Row i of the system: the scalar loops. */
 static void assemble_row(const wc_model* m, const wc_spring_eval* se, const double* f_ext, const double* v, double h,
                          int i, double* A_val, double* b, double* f_total) {
@@ -28,14 +44,9 @@ static void assemble_row(const wc_model* m, const wc_spring_eval* se, const doub
         for (int q = 0; q < 9; ++q) J[q] = h * e->kv[q] + h2 * e->kx[q];
         m3_axpy(D, -1.0, J);
         m3_axpy(A_val + 9 * p->row_spring_block[k], 1.0, J);
-        v3_axpy(f0, (double)p->row_spring_sign[k], e->f);
-        double dvij[3];
-        v3_sub(dvij, vi, v + 3 * j);
-        m3_mulv_add(kv_acc, e->kx, dvij);
+        spring_rhs(e, (double)p->row_spring_sign[k], vi, v + 3 * j, f0, kv_acc);
     }
-    double* bi = b + 3 * i;
-    for (int q = 0; q < 3; ++q) bi[q] = h * (f0[q] + h * kv_acc[q]);
-    if (f_total) v3_copy(f_total + 3 * i, f0);
+    row_rhs(h, i, f0, kv_acc, b, f_total);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -77,14 +88,9 @@ __attribute__((target("avx"))) static void assemble_row_avx(const wc_model* m, c
         _mm256_storeu_pd(o, _mm256_add_pd(_mm256_loadu_pd(o), j0));
         _mm256_storeu_pd(o + 4, _mm256_add_pd(_mm256_loadu_pd(o + 4), j1));
         o[8] += j8;
-        v3_axpy(f0, (double)p->row_spring_sign[k], e->f);
-        double dvij[3];
-        v3_sub(dvij, vi, v + 3 * j);
-        m3_mulv_add(kv_acc, e->kx, dvij);
+        spring_rhs(e, (double)p->row_spring_sign[k], vi, v + 3 * j, f0, kv_acc);
     }
-    double* bi = b + 3 * i;
-    for (int q = 0; q < 3; ++q) bi[q] = h * (f0[q] + h * kv_acc[q]);
-    if (f_total) v3_copy(f_total + 3 * i, f0);
+    row_rhs(h, i, f0, kv_acc, b, f_total);
 }
 #endif
 
