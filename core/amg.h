@@ -174,6 +174,9 @@ typedef struct wc_amg_opts {
                                    kernel's instructions; the V-cycle is then symmetric to float's
                                    rounding, not exactly (docs/bench/vcycle_float.md). 0: double
                                    iterates and sums */
+    int smooth_vector;          /* 1 (default): the Chebyshev smoother's node updates in AVX2 where
+                                   the CPU has it (amg_smooth.c; the scalar loops' bits); 0: the
+                                   scalar loops */
 } wc_amg_opts;
 
 wc_amg_opts wc_default_amg_opts(void);
@@ -528,8 +531,6 @@ typedef void (*wc_amg_cheb_nodes_fn)(const wc_amg_level* L, const double* t, dou
                                      int hi, double c1, double c2, int mode);
 /* The AVX2 kernel where the CPU has it, else NULL (the scalar loops). */
 wc_amg_cheb_nodes_fn wc_amg_cheb_nodes_kernel(void);
-/* tests: 1 makes chebyshev_part run its scalar loops even where the kernel exists (amg_cycle.c) */
-extern int wc_amg_scalar_smoother;
 /* L->DinvT's nodes [lo, hi) from L->Dinv (nothing when DinvT is NULL). */
 void wc_amg_dinv_columns(wc_amg_level* L, int lo, int hi);
 

@@ -28,6 +28,7 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.values = 1;
     o.single = 1;
     o.single_x = 1;
+    o.smooth_vector = 1;
     return o;
 }
 

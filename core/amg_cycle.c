@@ -220,13 +220,10 @@ static void residual_part(const wc_amg_level* L, int single, wc_bsr_rows_fx_fn f
     if (X) wc_amg_cross_rows_add(X, -1.0, x, t, L->n, lo, hi);
 }
 
-/* tests: 1 = the scalar node updates even where the AVX2 kernel runs (amg_smooth.c) */
-int wc_amg_scalar_smoother = 0;
-
 /* chebyshev() per thread: `steps` matrix products, x from zero when `zero` (else x must be
- * complete: a barrier before). */
-static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, double ratio, int steps,
-                           const double* r, double* x, int zero, double* d, int lo, int hi) {
+ * complete: a barrier before); nodes: the node updates' kernel (NULL: the scalar loops). */
+static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, wc_amg_cheb_nodes_fn nodes,
+                           double ratio, int steps, const double* r, double* x, int zero, double* d, int lo, int hi) {
     float* xf = fx ? L->xf : NULL;
     const double b = L->bound, a = b / ratio;
     const double theta = 0.5 * (b + a), delta = 0.5 * (b - a), sigma = theta / delta;
@@ -238,7 +235,6 @@ static void chebyshev_part(wc_amg_level* L, int single, wc_bsr_rows_fx_fn fx, do
         WC_PAR_BARRIER(); /* t complete (a pair's D^-1 reads both rows), x read */
     }
     const double inv_theta = 1.0 / theta;
-    const wc_amg_cheb_nodes_fn nodes = L->DinvT && !wc_amg_scalar_smoother ? wc_amg_cheb_nodes_kernel() : NULL;
     if (nodes) nodes(L, t, d, x, xf, lo, hi, 0.0, inv_theta, zero ? 0 : 1);
     else for (int i = lo; i < hi; ++i) { /* d = D^-1 t / theta; x = d, or x += d */
         double e[3], xn[3];
@@ -305,12 +301,13 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
         const int sweeps = a->opts.sweeps;
         void (*rows)(const wc_amg_level*, const double*, double*, int, int) = restrict_kernel(single);
         const wc_bsr_rows_fx_fn fxn = fx_kernel(a, N); /* N's iterate has a shadow */
+        const wc_amg_cheb_nodes_fn nodes = a->opts.smooth_vector && L->DinvT ? wc_amg_cheb_nodes_kernel() : NULL;
         WC_PAR_REGION(par)
         { /* pre-smoothing, residual, restriction */
             int lo, hi, c0, c1;
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
             wc_par_range(N->n, wc_par_tid(), wc_par_nt(), &c0, &c1);
-            chebyshev_part(L, single, fx, ratio, sweeps, r, x, 1, L->ev_scratch, lo, hi);
+            chebyshev_part(L, single, fx, nodes, ratio, sweeps, r, x, 1, L->ev_scratch, lo, hi);
             WC_PAR_BARRIER();
             residual_part(L, single, fx, r, x, L->t, lo, hi);
             WC_PAR_BARRIER();
@@ -323,7 +320,7 @@ static void vcycle(wc_amg* a, int l, const double* r, double* x, wc_par* par) {
             wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
             prolong_rows(L, N, single, fxn, N->x, x, xf, lo, hi);
             WC_PAR_BARRIER();
-            chebyshev_part(L, single, fx, ratio, sweeps, r, x, 0, L->ev_scratch, lo, hi);
+            chebyshev_part(L, single, fx, nodes, ratio, sweeps, r, x, 0, L->ev_scratch, lo, hi);
         }
         return;
     }

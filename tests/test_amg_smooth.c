@@ -4,13 +4,14 @@
  *   (x = d, x += d, d = c1 d + c2 D^-1 t), against this file's own m3_mulv-order arithmetic; the
  *   float shadow's 4th float 0; nothing written outside the nodes' range;
  * - a draped sheet on PCG + multigrid (ts_amg_def) stepped with the kernel and with the scalar
- *   loops (wc_amg_scalar_smoother): the same positions and velocities, frame by frame.
+ *   loops (wc_amg_opts.smooth_vector 0): the same positions and velocities, frame by frame.
  * Skipped (said so) where the CPU has no AVX2. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "amg.h"
 #include "check.h"
+#include "solve_kernels.h"
 #include "step.h"
 #include "test_support.h"
 
@@ -115,10 +116,11 @@ static void run(int scalar, double* out, int* iterations) {
     wc_model m;
     wc_sim_def def = ts_amg_def();
     def.threads = 1;
-    wc_amg_scalar_smoother = scalar;
     wc_state* s = ts_draped(&m, 20, &def, 0);
     CHECK(s != NULL);
     if (!s) return;
+    CHECK(s->solver->amg != NULL && s->solver->amg->opts.smooth_vector == 1);
+    if (s->solver->amg) s->solver->amg->opts.smooth_vector = !scalar;
     size_t n3 = 3 * (size_t)m.n_particles;
     wc_diag d = {0};
     *iterations = 0;
@@ -129,7 +131,6 @@ static void run(int scalar, double* out, int* iterations) {
         memcpy(out + 2 * n3 * f, s->x, n3 * sizeof(double));
         memcpy(out + 2 * n3 * f + n3, s->v, n3 * sizeof(double));
     }
-    wc_amg_scalar_smoother = 0;
     wc_state_destroy(s);
     wc_model_free(&m);
 }

@@ -24,7 +24,7 @@
  *                   [--ab R]   (then the last system's V-cycles and PCG solves alternating single_x 1
  *                               and 0 in this run, R rounds: median and fastest CPU ms of each)
  *                   [--ab-smoother R]   (the same alternating the smoother's AVX2 node updates and
- *                               its scalar loops, wc_amg_scalar_smoother) */
+ *                               its scalar loops, wc_amg_opts.smooth_vector) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -105,9 +105,9 @@ static double copy_rate(size_t size) {
 /* The last system's V-cycles (20 a sample) and PCG solves from zero, alternating single_x 1 and 0
  * within each of R rounds: the median and fastest CPU ms of each, the iterations. */
 /* --ab-smoother R: the last system's V-cycles and PCG solves alternating the smoother's AVX2 node
- * updates and its scalar loops (wc_amg_scalar_smoother; amg_smooth.c) in this run. */
+ * updates and its scalar loops (wc_amg_opts.smooth_vector; amg_smooth.c) in this run. */
 static void ab_smoother(wc_state* s, wc_amg* amg, int rounds) {
-    const int n3 = 3 * amg->lev[0].n;
+    const int n3 = 3 * amg->lev[0].n, keep = amg->opts.smooth_vector;
     double *r = malloc(sizeof(double) * (size_t)n3), *z = malloc(sizeof(double) * (size_t)n3);
     double* t[2][2];
     int it[2] = {0, 0};
@@ -116,7 +116,7 @@ static void ab_smoother(wc_state* s, wc_amg* amg, int rounds) {
     for (int k = 0; k < n3; ++k) r[k] = s->b[k];
     for (int round = 0; round < rounds; ++round)
         for (int v = 0; v < 2; ++v) { /* v = 0: the kernel */
-            wc_amg_scalar_smoother = v;
+            amg->opts.smooth_vector = 1 - v;
             double c0 = wc_cpu_ms();
             for (int k = 0; k < 20; ++k) wc_amg_apply(amg, r, z, &s->par);
             t[v][0][round] = (wc_cpu_ms() - c0) / 20.0;
@@ -131,7 +131,7 @@ static void ab_smoother(wc_state* s, wc_amg* amg, int rounds) {
             t[v][1][round] = c - (setup1 - setup0);
             it[v] = res.iterations;
         }
-    wc_amg_scalar_smoother = 0;
+    amg->opts.smooth_vector = keep;
     printf("the last system, the smoother's node updates in AVX2 and scalar alternating, %d rounds%s (CPU ms, "
            "median (fastest)):\n| node updates | V-cycle | PCG solve less setup | PCG it. |\n|---|---|---|---|\n",
            rounds, wc_amg_cheb_nodes_kernel() ? "" : " (no AVX2: both scalar)");
