@@ -38,6 +38,7 @@
 #include "step.h"
 #include "test_support.h"
 #include "wg_amg.h"
+#include "wg_amg_group.h"
 #include "wg_sim_impl.h"
 
 static wg_gl_context* gl;

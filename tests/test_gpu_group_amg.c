@@ -16,6 +16,7 @@
 #include "gpu_group_support.h"
 #include "test_support.h"
 #include "wg_amg.h"
+#include "wg_amg_group.h"
 
 static wg_gl_context* gl;
 static wg_device* dev;

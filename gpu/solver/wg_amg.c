@@ -4,6 +4,7 @@
 
 #include "gpu_error.h"
 #include "wg_amg.h"
+#include "wg_amg_group.h"
 #include "wg_pairs.h"
 
 wc_amg_opts wg_amg_opts(void) { return wg_amg_opts_form(WG_AMG_SMOOTHED, WG_AMG_ROTATIONS); }
@@ -390,26 +391,13 @@ static wg_amg_in level_in(const wg_amg* a, int l) {
     return in;
 }
 
-static int cross_on(const wg_amg* a) { return a->cross_n > 0 && a->cross_levels > 0 && !a->cross_skip; }
-
-/* Level l's products take its cross blocks. */
-static int cross_level(const wg_amg* a, int l) { return cross_on(a) && a->lev[l].cross_use; }
-
 /* Level l's form of pass p with its inputs. */
 static void use_level(const wg_amg* a, int l, wg_pass_id p, const wg_amg_in* in) {
     WG_USE(a->run, level_pass(p, l), in);
-    wg_u1i(a->run, "u_cross", cross_level(a, l));
+    wg_u1i(a->run, "u_cross", wg_amg_cross_level(a, l));
     if (l > 0) wg_u1i(a->run, "u_pair", a->lev[l].pair);
 }
 
-/* The factor on level l's lambda_max bound (lvl_bound): the finest level's seam and cross factors,
- * a pair level's WG_AMG_PAIR_BOUND. */
-static double bound_scale(const wg_amg* a, int l) {
-    if (l > 0) return a->lev[l].pair ? WG_AMG_PAIR_BOUND : 1.0;
-    return a->fine_bound_scale * (cross_level(a, 0) ? a->cross_bound_scale : 1.0);
-}
-
-double wg_amg_bound_scale(const wg_amg* a, int l) { return bound_scale(a, l); }
 
 /* The smoothed prolongator from level l to l + 1 (after l's D^-1 and bound), T = A P and level
  * l + 1's operator P^T T (wg_amg_smooth.c's lists). The products read A's pattern's blocks, not
@@ -431,7 +419,7 @@ static void smoothed_galerkin(wg_amg* a, int l) {
     use_level(a, l, WGP_AMG_PROLONGATOR, &in);
     wg_u1i(run, "u_tent", tent);
     wg_u1f(run, "u_weight", a->prolong_weight);
-    wg_u1f(run, "u_bound_scale", bound_scale(a, l));
+    wg_u1f(run, "u_bound_scale", wg_amg_bound_scale(a, l));
     WG_RUN(run, F->np, &F->p[0], &F->p[1], &F->p[2]);
     in.pv0 = &F->p[0];
     in.pv1 = &F->p[1];
@@ -478,7 +466,7 @@ static void tent_setup(wg_amg* a) {
 void wg_amg_setup(wg_amg* a) {
     wg_runner* run = a->run;
     if (a->current) tent_setup(a);
-    if (cross_on(a)) { /* each pair slot's filtered vector and c, the same on every level */
+    if (wg_amg_cross_on(a)) { /* each pair slot's filtered vector and c, the same on every level */
         const wg_pair_in pi = wg_pairs_inputs(a->pairs, NULL, NULL);
         WG_USE(run, WGP_AMG_CROSS_TERMS, &(wg_amg_in){.pair_p = pi.pr_p, .pair_w = pi.pr_w, .pair_nc = pi.pr_nc,
             .S0 = a->sys.S0, .S1 = a->sys.S1});
@@ -573,7 +561,7 @@ static void smooth(const wg_amg* a, int l, const wg_tex* r, const wg_tex* x, con
     wg_u1i(run, "u_zero", two ? 2 : x == NULL);
     wg_u1i(run, "u_prolong", xc != NULL);
     wg_u1f(run, "u_ratio", a->ratio);
-    wg_u1f(run, "u_bound_scale", bound_scale(a, l));
+    wg_u1f(run, "u_bound_scale", wg_amg_bound_scale(a, l));
     wg_u1i(run, "u_dot", dot != NULL);
     if (dot) WG_RUN(run, L->n, xo, dout, dot);
     else WG_RUN(run, L->n, xo, dout);

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "gpu_error.h"
-#include "wg_amg.h"
+#include "wg_amg_group.h"
 
 /* ipack's and fpack's layouts: pcg_group_amg.glsl's header. Counts first (v NULL), then fills.
  * With the smoothed prolongator (a->smoothed) each level above the coarsest also packs P's rows

@@ -116,9 +116,6 @@ void wg_mesh_body_make_resident(wg_mesh* g, int k);
  * already, has its frame end uploaded when it moves (core's from != to): 16 bytes a vertex.
  * g NULL or without host_fed: nothing. */
 void wg_mesh_host_frame(wg_mesh* g);
-/* A failed frame's restore: those bodies back to the host (core's rollback restores their frame;
- * the next frame uploads it again). */
-void wg_mesh_host_drop(wg_mesh* g);
 /* Mesh k's row in the colliders' texture (20 floats, contact_query.glsl). */
 void wg_mesh_row(const wg_mesh* g, int k, float* row);
 

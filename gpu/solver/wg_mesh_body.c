@@ -165,10 +165,24 @@ void wg_mesh_body_backup(wg_mesh* g) {
     if (g && g->body && g->n_resident > 0) wg_copy(g->run, &g->from_bk, &g->from);
 }
 
+/* The bodies core's copy moves (g->host_fed, wg_mesh_host.c) back to the host after a failed
+ * frame: core's rollback restores their frame and the next frame uploads it again. */
+static void drop_host_fed(wg_mesh* g) {
+    int dropped = 0;
+    for (int k = 0; k < g->n_mesh; ++k)
+        if (g->resident[k] && g->mesh[k]->substep_on_device) {
+            g->mesh[k]->substep_on_device = 0;
+            g->resident[k] = 0;
+            --g->n_resident;
+            dropped = 1;
+        }
+    if (dropped) wg_mesh_body_rebuild_order(g);
+}
+
 void wg_mesh_body_restore_backup(wg_mesh* g) {
     if (!g || !g->body || g->n_resident == 0) return;
     wg_copy(g->run, &g->from, &g->from_bk);
-    wg_mesh_host_drop(g);
+    drop_host_fed(g);
 }
 
 /* Mesh k's positions in t's texels into x (n x 3 doubles); rb holds the whole array's texels. */

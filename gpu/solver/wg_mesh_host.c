@@ -12,7 +12,7 @@
  * judge's wc_mesh_collider_moving, sleep and wake, the array call, a rigid transform) behaves as
  * on the host; the invariant kept is that the from texture holds core's from rounded to float:
  * both become the end when a frame ends (wg_mesh_body_end_frame, core's driver), a failed frame
- * drops the bodies back to the host (wg_mesh_host_drop: core's rollback restores its copy) and
+ * drops the bodies back to the host (wg_mesh_body_restore_backup: core's rollback restores its copy) and
  * anything that jumps core's copy (a snapshot's restore, TELEPORT, RESET) or reads its substep
  * arrays (the collision check) first pulls the bodies back (core's mesh_pull: no read-back for
  * these, core's substep arrays recomputed at from). The next frame uploads them again. */
@@ -32,17 +32,4 @@ void wg_mesh_host_frame(wg_mesh* g) {
             wg_mesh_body_put(g, &g->to, k, m->to);   /* else to = from already (the frame's end) */
         }
     }
-}
-
-void wg_mesh_host_drop(wg_mesh* g) {
-    if (!g || !g->body) return;
-    int dropped = 0;
-    for (int k = 0; k < g->n_mesh; ++k)
-        if (g->resident[k] && g->mesh[k]->substep_on_device) {
-            g->mesh[k]->substep_on_device = 0;
-            g->resident[k] = 0;
-            --g->n_resident;
-            dropped = 1;
-        }
-    if (dropped) wg_mesh_body_rebuild_order(g);
 }

@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "wg_amg_group.h"
 #include "wg_sim_impl.h"
 
 /* A sum that the scalars pass finishes: the first `count` texels of tex (layout order) add up to

@@ -45,7 +45,4 @@ typedef struct bench_matched_opts {
 /* Run every scene, write the tables (com's --md / --csv). An exit code. */
 int bench_peers_matched(const bench_matched_opts* o);
 
-/* The cloth as Blender gets it (cmd_bench_peers.c). 0, or -1 with the message on stderr. */
-int bench_peers_mesh(const bench_scene* bs, bench_peer_mesh* pm);
-
 #endif

@@ -18,6 +18,7 @@
 #include "bench_blender.h"
 #include "bench_commands.h"
 #include "bench_matched.h"
+#include "bench_peer_scene.h"
 #include "bench_method.h"
 #include "bench_run.h"
 #include "bench_table.h"
@@ -406,24 +407,6 @@ static int run_weft(const peers_args* a, const bench_scene* bs, const weft_row* 
 
 /* The cloth as Blender gets it: the library's rest positions of the scene's cloth, welded twins
  * merged (a cloth made on the CPU context for the purpose). 0, or -1 with the message on stderr. */
-int bench_peers_mesh(const bench_scene* bs, bench_peer_mesh* pm) {
-    scene sc = bs->sc;
-    sc.def = bench_run_def(bs);
-    scene_host_opts ho;
-    memset(&ho, 0, sizeof ho);
-    ho.ctx = bench_backend_context(BENCH_CPU);
-    scene_host h;
-    char msg[1024];
-    if (scene_host_create(&h, &sc, &ho, bs->name, msg, sizeof msg) != WEFT_OK) {
-        cli_error(msg);
-        return -1;
-    }
-    const int rc = bench_peer_mesh_make(pm, &bs->sc, h.positions, h.info.n_vertices, bs->name);
-    scene_host_destroy(&h);
-    if (rc != 0) cli_error("out of memory");
-    return rc;
-}
-
 /* One scene: Blender once (when there is one), then Weft's rows. */
 static int run_scene(const peers_args* a, const char* blender, const char* name, bench_table* t, header_info* h) {
     bench_scene bs;

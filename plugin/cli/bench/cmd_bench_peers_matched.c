@@ -13,6 +13,7 @@
 
 #include "bench_backend.h"
 #include "bench_matched.h"
+#include "bench_peer_scene.h"
 #include "bench_run.h"
 #include "bench_table.h"
 #include "bench_traj_error.h"
