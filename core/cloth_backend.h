@@ -55,6 +55,7 @@ typedef struct wc_defaults_query {
 typedef struct wc_backend_defaults {
     wc_precond_type preconditioner;   /* PCG's preconditioner */
     double newton_forcing;            /* inexact Newton's forcing term (wc_sim_def.newton_forcing) */
+    double tolerance;                 /* the linear solves' relative residual (wc_solver_opts.tolerance) */
     int newton_iterations;            /* linearised solves per substep */
     int line_search;                  /* 0 or 1 */
     int garment_self_collision;       /* self-collision of a garment (a cloth with mesh colliders or
@@ -176,8 +177,8 @@ typedef struct wc_cloth_backend {
 } wc_cloth_backend;
 
 /* Core's CPU backend (cloth_cpu.c). Below WC_CPU_IC0_BELOW particles its default preconditioner
- * is block IC(0) with every Newton solve to the tolerance (forcing 0), above it the multigrid
- * with the first solve to 1e-2 (docs/bench/precond_by_size.md). */
+ * is block IC(0) with every Newton solve to the tolerance (forcing 0) and a tolerance of 1e-3,
+ * above it the multigrid with the first solve to 1e-2 and 1e-4 (docs/bench/precond_by_size.md). */
 #define WC_CPU_IC0_BELOW 800
 extern const wc_cloth_backend wc_cloth_cpu;
 

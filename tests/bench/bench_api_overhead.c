@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
     wc_cloth_cpu.defaults(NULL, &dq, &o);
     sd.solver.preconditioner = o.preconditioner;
     sd.newton_forcing = o.newton_forcing;
+    sd.solver.tolerance = o.tolerance;
     sd.newton_iterations = o.newton_iterations;
     sd.line_search = o.line_search;
     if (wc_state_create(&state, &model, &sd, NULL, &d) != WC_OK) return 1;
