@@ -136,7 +136,7 @@ void* wa_backend_gl_context(const weft_context* ctx) {
 static void resolve_defaults(const wc_cloth_backend* b, const void* device, const weft_cloth_def* def,
                              const wc_model* m, wc_sim_def* s) {
     wc_backend_defaults o;
-    const wc_defaults_query q = {m->n_particles, def->preconditioner != WEFT_PRECOND_DEFAULT};
+    const wc_defaults_query q = {m->n_particles, def->preconditioner != WEFT_PRECOND_DEFAULT, s->integrator};
     b->defaults(device, &q, &o);
     s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI

@@ -1,11 +1,11 @@
-/* The CPU backend's default preconditioner and forcing term by size (core/cloth_cpu.c,
- * docs/bench/precond_by_size.md): below WC_CPU_IC0_BELOW particles a def's DEFAULT preconditioner
- * newton_forcing -1 and tolerance -1 resolve to block IC(0) with every Newton solve to a tolerance
- * of 1e-3 (forcing 0), from it up to the multigrid with the first solve to 1e-2 and a tolerance of
- * 1e-4; a named preconditioner, forcing or tolerance is kept as given (a named preconditioner keeps
- * the 1e-2 forcing and 1e-4); weft_cloth_info reports what was chosen; `weft run`'s stats say the
- * same. And the default below the threshold is at least as close to a converged solve as the
- * multigrid at its own defaults. */
+/* The CPU backend's defaults by size (core/cloth_cpu.c, docs/bench/precond_by_size.md): below
+ * WC_CPU_IC0_BELOW particles a def's DEFAULT preconditioner, newton_forcing -1 and tolerance -1
+ * resolve to block IC(0) with every Newton solve to the tolerance (forcing 0), 1e-3 with backward
+ * Euler (1e-4 with BDF2 or TR-BDF2); from it up to the multigrid with the first solve to 1e-2 and
+ * 1e-4; a named preconditioner, forcing or tolerance is kept as given (a named preconditioner
+ * keeps the 1e-2 forcing and 1e-4); weft_cloth_info reports what was chosen; `weft run`'s stats
+ * say the same. And the default below the threshold stays close to converged solves beside the
+ * time step's error. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -84,6 +84,19 @@ static void test_resolution(void) {
             CHECK(info.tolerance == tolerance[k]);
         }
         def.tolerance = -1.0;
+        /* a second-order integrator: 1e-4 at every size, the rest the size's */
+        const weft_integrator second[2] = {WEFT_INTEGRATOR_BDF2, WEFT_INTEGRATOR_TRBDF2};
+        for (int k = 0; k < 2; ++k) {
+            def.integrator = second[k];
+            CHECK(info_of(ctx, &def, &info));
+            CHECK_EQ_INT(info.preconditioner, small ? WEFT_PRECOND_IC0 : WEFT_PRECOND_AMG);
+            CHECK(info.newton_forcing == (small ? 0.0 : 1e-2));
+            CHECK(info.tolerance == 1e-4);
+        }
+        def.integrator = WEFT_INTEGRATOR_BACKWARD_EULER;   /* named: as DEFAULT */
+        CHECK(info_of(ctx, &def, &info));
+        CHECK(info.tolerance == (small ? 1e-3 : 1e-4));
+        def.integrator = WEFT_INTEGRATOR_DEFAULT;
         /* a named forcing: kept, the preconditioner still the size's */
         def.preconditioner = WEFT_PRECOND_DEFAULT;
         const double forcing[2] = {0.0, 0.25};
