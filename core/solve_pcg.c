@@ -25,6 +25,7 @@
 #include <math.h>
 #include "bsr_rows.h"
 #include "clock.h"
+#include "precond_eisenstat.h"
 #include "precond_ic.h"
 #include "solve_pcg.h"
 #include "vec3.h"
@@ -51,6 +52,14 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
     const int amg = s->amg && s->opts.preconditioner == WC_PRECOND_AMG;
     double t_setup = wc_now_ms();
     const int ic = s->ic && s->opts.preconditioner == WC_PRECOND_IC0;
+    if (ic && s->eis && !(s->coupling && s->coupling->n > 0)) {
+        /* D-ILU with Eisenstat's trick (precond_eisenstat.h); IC(0) from the same guess where its
+           diagonal or its CG breaks down */
+        const int ok = wcs_eis_setup(s->eis, A, f);
+        res->setup_ms += wc_now_ms() - t_setup;
+        if (ok && wcs_eis_run(s, s->eis, A, b, f, dv, par, res) == WC_OK) return WC_OK;
+        t_setup = wc_now_ms();
+    }
     if (amg) wc_amg_setup(s->amg, A, f, par);
     else if (ic) wcs_ic_setup(s->ic, A, f);
     else wcs_build_precond(s, A, f, par);
