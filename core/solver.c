@@ -3,7 +3,6 @@
  * to PCG, Jacobi/Chebyshev or the direct solver. Nothing below calls back here. */
 #include <math.h>
 #include <string.h>
-#include <stdlib.h>
 #include "precond_eisenstat.h"
 #include "precond_ic.h"
 #include "solve_direct.h"
@@ -88,8 +87,6 @@ wc_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_o
     if (alloc) s->alloc = *alloc;
     s->m = m;
     s->opts = *opts;
-    if (getenv("WEFT_EIS")) s->opts.ic_eisenstat = atoi(getenv("WEFT_EIS")); /* TEMP experiment */
-    opts = &s->opts;
     s->n = m->n_particles;
     s->n_chunks = (s->n + WCS_CHUNK - 1) / WCS_CHUNK;
     s->partial = WC_NEW(&s->alloc, double, 3 * (size_t)s->n_chunks);
