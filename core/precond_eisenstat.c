@@ -126,8 +126,6 @@ int wcs_eis_setup(wcs_eis* e, const double* A, const wc_filter* f) {
     return 1;
 }
 
-double wcs_eis_product_scalar(const wcs_eis* e, const double* x, double* t, double* o);
-
 /* o_i = s_i - sum over blocks [k0, k1) of F_k x_col(k) */
 static inline void row_sub(const double* F, const int* col, int k0, int k1, const double* x, const double* s,
                            double* o) {

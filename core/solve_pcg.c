@@ -3,6 +3,8 @@
  * iterate stays in z + range(S). Preconditioner: the filtered block-diagonal
  * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one, or the multigrid
  * V-cycle (amg.h), or the block IC(0) factor (precond_ic.h); the direct solver runs the same iterations with its factor (wcs_pcg_run).
+ * With IC0 and wc_solver_opts.ic_eisenstat (off by default) the solve runs D-ILU CG with Eisenstat's
+ * trick instead (precond_eisenstat.h), IC(0) taking over where that breaks down or couplings are set.
  *
  * Stopping: ||r||_2 <= tolerance max(||S (b - A z)||_2, floor) (solve.h) with r the recursively
  * updated residual. When that test passes, the true residual S (b - A dv) is computed; if it is
