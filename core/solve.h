@@ -50,9 +50,6 @@ typedef struct wc_solver_opts {
     double chebyshev_gamma;     /* under-relaxation of each Jacobi sweep (0.9) */
     int chebyshev_delay;        /* plain Jacobi iterations before acceleration starts (10) */
     double divergence_factor;   /* residual above this x the initial residual means divergence (1e3) */
-    int ic_eisenstat;           /* with IC0: 1 runs D-ILU with Eisenstat's trick instead (precond_eisenstat.h),
-                                   2 symmetric block Gauss-Seidel the same way; IC(0) where the
-                                   solve has couplings or the trick's CG breaks down (0) */
 } wc_solver_opts;
 
 wc_solver_opts wc_default_solver_opts(void);

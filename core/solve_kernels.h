@@ -36,7 +36,6 @@ struct wc_solver {
     wcs_direct* direct;         /* NULL unless the direct solver was analysed at create */
     wc_amg* amg;                /* NULL unless opts.preconditioner is AMG */
     struct wcs_ic* ic;          /* NULL unless opts.preconditioner is IC0 (precond_ic.h) */
-    struct wcs_eis* eis;        /* NULL unless IC0 with opts.ic_eisenstat (precond_eisenstat.h) */
     double residual_floor;      /* wc_solver_set_residual_floor (0: none) */
     const wc_coupling* coupling; /* wc_solver_set_coupling (NULL: none) */
     wc_coupling_rows* coupling_rows; /* the couplings' row index, room for set_coupling's capacity */

@@ -3,8 +3,6 @@
  * iterate stays in z + range(S). Preconditioner: the filtered block-diagonal
  * D~_i^{-1} = (S_i A_ii S_i + I - S_i)^{-1} in place of B&W's diagonal one, or the multigrid
  * V-cycle (amg.h), or the block IC(0) factor (precond_ic.h); the direct solver runs the same iterations with its factor (wcs_pcg_run).
- * With IC0 and wc_solver_opts.ic_eisenstat (off by default) the solve runs D-ILU CG with Eisenstat's
- * trick instead (precond_eisenstat.h), IC(0) taking over where that breaks down or couplings are set.
  *
  * Stopping: ||r||_2 <= tolerance max(||S (b - A z)||_2, floor) (solve.h) with r the recursively
  * updated residual. When that test passes, the true residual S (b - A dv) is computed; if it is
@@ -27,7 +25,6 @@
 #include <math.h>
 #include "bsr_rows.h"
 #include "clock.h"
-#include "precond_eisenstat.h"
 #include "precond_ic.h"
 #include "solve_pcg.h"
 #include "vec3.h"
@@ -54,14 +51,6 @@ wc_status wcs_solve_pcg(wc_solver* s, const double* A, const double* b, const wc
     const int amg = s->amg && s->opts.preconditioner == WC_PRECOND_AMG;
     double t_setup = wc_now_ms();
     const int ic = s->ic && s->opts.preconditioner == WC_PRECOND_IC0;
-    if (ic && s->eis && !(s->coupling && s->coupling->n > 0)) {
-        /* D-ILU with Eisenstat's trick (precond_eisenstat.h); IC(0) from the same guess where its
-           diagonal or its CG breaks down */
-        const int ok = wcs_eis_setup(s->eis, A, f);
-        res->setup_ms += wc_now_ms() - t_setup;
-        if (ok && wcs_eis_run(s, s->eis, A, b, f, dv, par, res) == WC_OK) return WC_OK;
-        t_setup = wc_now_ms();
-    }
     if (amg) wc_amg_setup(s->amg, A, f, par);
     else if (ic) wcs_ic_setup(s->ic, A, f);
     else wcs_build_precond(s, A, f, par);

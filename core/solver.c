@@ -3,7 +3,6 @@
  * to PCG, Jacobi/Chebyshev or the direct solver. Nothing below calls back here. */
 #include <math.h>
 #include <string.h>
-#include "precond_eisenstat.h"
 #include "precond_ic.h"
 #include "solve_direct.h"
 #include "solve_jacobi.h"
@@ -110,13 +109,6 @@ wc_status wc_solver_create(wc_solver** out, const wc_model* m, const wc_solver_o
         wc_solver_destroy(s);
         return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "IC(0) factor for %d blocks", m->pattern.n_blocks);
     }
-    if (opts->preconditioner == WC_PRECOND_IC0 && opts->ic_eisenstat) {
-        if (wcs_eis_create(&s->eis, &m->pattern, &s->alloc) != WC_OK) {
-            wc_solver_destroy(s);
-            return wc_fail(diag, WC_ERROR_OUT_OF_MEMORY, "D-ILU factor for %d blocks", m->pattern.n_blocks);
-        }
-        s->eis->mode = opts->ic_eisenstat - 1;
-    }
     if (want_direct || opts->type == WC_SOLVER_DIRECT) {
         st = wcs_direct_create(s, diag);
         if (st != WC_OK) {
@@ -189,7 +181,6 @@ void wc_solver_destroy(wc_solver* s) {
     wc_amg_destroy(s->amg);
     wc_allocator a = s->alloc;
     wcs_ic_destroy(s->ic, &a);
-    wcs_eis_destroy(s->eis, &a);
     wc_coupling_rows_destroy(s->coupling_rows, &a);
     wc_free(&a, s->partial);
     wc_free(&a, s->Dinv);
