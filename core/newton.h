@@ -11,6 +11,8 @@
  *     substep's first system only to forcing x its own residual (not before a friction pass,
  *     with penalty pairs in the system, or with the direct solver; the pairs' case measured in
  *     docs/bench/newton_forcing.md, "The loose first solve with penalty pairs").
+ *   Stage 1 (wc_sim_def.stage1_tolerance): TR-BDF2's trapezoidal stage holds its damping's
+ *     directions from the first iterate on and iterates past newton_iterations to that tolerance.
  *   Energy guard (energy_cap): up to NW_ENERGY_EXTRA more iterations while the accepted
  *     iterate's total energy is above the bound the step's energy judge allows.
  * Deterministic on any thread count; nothing is allocated (state.h's nw_* scratch). */
