@@ -136,7 +136,7 @@
 #define NW_BACKTRACKS 12      /* halvings of the step at most */
 #define NW_FLAT 1e-13         /* a decrease below this x |Phi| ends the iterations */
 #define NW_ENERGY_EXTRA 4     /* iterations past newton_iterations at most while the iterate gains energy */
-#define NW_STAGE1_EXTRA 6     /* TR-BDF2's stage 1: iterations past newton_iterations at most ("Stage 1") */
+#define NW_STAGE1_EXTRA WC_NEWTON_STAGE1_EXTRA   /* TR-BDF2's stage 1 ("Stage 1"; newton.h) */
 
 int wc_newton_wanted(const wc_sim_def* d) { return d->newton_iterations > 1 || d->line_search; }
 

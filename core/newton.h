@@ -21,6 +21,8 @@
 #include "bdf2.h"
 #include "step_stats.h"
 
+#define WC_NEWTON_STAGE1_EXTRA 6   /* TR-BDF2's stage 1: iterations past newton_iterations at most (the GPU's too) */
+
 /* 1 when the def asks for more than one Baraff-Witkin step (iterations > 1 or line search). */
 int wc_newton_wanted(const wc_sim_def* d);
 
