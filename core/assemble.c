@@ -70,11 +70,16 @@ __attribute__((target("avx"))) static inline void store3(double* o, __m256d x) {
 __attribute__((target("avx"))) static void assemble_row_avx(const wc_model* m, const wc_spring_eval* se,
                                                            const double* f_ext, const double* v, double h, int i,
                                                            double* A_val, double* b, double* f_total) {
+    /* the pattern's arrays in locals: the stores to A_val and b could alias m's fields, which the
+       loop would otherwise load again at every spring */
     const wc_bsr_pattern* p = &m->pattern;
     const wc_spring* sp = m->springs;
+    const int *row_spring = p->row_spring, *row_block = p->row_spring_block;
+    const signed char* row_sign = p->row_spring_sign;
+    const int k0 = p->row_spring_start[i], k1 = p->row_spring_start[i + 1];
     const double h2 = h * h;
     const __m256d vh = _mm256_set1_pd(h), vh2 = _mm256_set1_pd(h2), zero = _mm256_setzero_pd();
-    for (int k = p->row_start[i]; k < p->row_start[i + 1]; ++k) {
+    for (int k = p->row_start[i], k_end = p->row_start[i + 1]; k < k_end; ++k) {
         double* o = A_val + 9 * (size_t)k;
         _mm256_storeu_pd(o, zero);
         _mm256_storeu_pd(o + 4, zero);
@@ -84,10 +89,10 @@ __attribute__((target("avx"))) static void assemble_row_avx(const wc_model* m, c
     D[0] = D[4] = D[8] = m->mass[i];
     __m256d f0 = load3(f_ext + 3 * i), kv_acc = zero;
     const double* vi = v + 3 * i;
-    for (int k = p->row_spring_start[i]; k < p->row_spring_start[i + 1]; ++k) {
-        int s = p->row_spring[k];
+    for (int k = k0; k < k1; ++k) {
+        int s = row_spring[k];
         const wc_spring_eval* e = se + s;
-        int j = p->row_spring_sign[k] > 0 ? sp[s].b : sp[s].a;
+        int j = row_sign[k] > 0 ? sp[s].b : sp[s].a;
         const __m256d j0 = _mm256_add_pd(_mm256_mul_pd(vh, _mm256_loadu_pd(e->kv)), _mm256_mul_pd(vh2, _mm256_loadu_pd(e->kx)));
         const __m256d j1 =
             _mm256_add_pd(_mm256_mul_pd(vh, _mm256_loadu_pd(e->kv + 4)), _mm256_mul_pd(vh2, _mm256_loadu_pd(e->kx + 4)));
@@ -95,12 +100,12 @@ __attribute__((target("avx"))) static void assemble_row_avx(const wc_model* m, c
         _mm256_storeu_pd(D, _mm256_sub_pd(_mm256_loadu_pd(D), j0)); /* in memory, as A_ij: the same */
         _mm256_storeu_pd(D + 4, _mm256_sub_pd(_mm256_loadu_pd(D + 4), j1)); /* order if they were one block */
         D[8] -= j8;
-        double* o = A_val + 9 * (size_t)p->row_spring_block[k];
+        double* o = A_val + 9 * (size_t)row_block[k];
         _mm256_storeu_pd(o, _mm256_add_pd(_mm256_loadu_pd(o), j0));
         _mm256_storeu_pd(o + 4, _mm256_add_pd(_mm256_loadu_pd(o + 4), j1));
         o[8] += j8;
         const double* vj = v + 3 * j;
-        f0 = _mm256_add_pd(f0, _mm256_mul_pd(_mm256_set1_pd((double)p->row_spring_sign[k]), _mm256_loadu_pd(e->f)));
+        f0 = _mm256_add_pd(f0, _mm256_mul_pd(_mm256_set1_pd((double)row_sign[k]), _mm256_loadu_pd(e->f)));
         const __m256d t = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(e->kx), _mm256_set1_pd(vi[0] - vj[0])),
                                         _mm256_mul_pd(_mm256_loadu_pd(e->kx + 3), _mm256_set1_pd(vi[1] - vj[1])));
         kv_acc = _mm256_add_pd(kv_acc, _mm256_add_pd(t, _mm256_mul_pd(_mm256_loadu_pd(e->kx + 6), _mm256_set1_pd(vi[2] - vj[2]))));
