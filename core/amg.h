@@ -297,6 +297,9 @@ typedef struct wc_amg_level {
                                    two 3x3 blocks (translation columns, rotation columns); m on
                                    level 0, R factors' rows below; NULL without rotations */
     unsigned char* dead;        /* (n x 3) with rotations, levels >= 1: 1 for a dropped unknown */
+    int unit_translations;      /* 1 when nns's translation columns are exactly e_0, e_1, e_2 at
+                                   every node (wc_amg_rigid_modes, level 0): the QR skips their
+                                   exactly-zero products (amg_tent.c) */
 
     /* the prolongator to level + 1 (none on the coarsest level) */
     int* agg;                   /* (n) aggregate of each node */

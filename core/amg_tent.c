@@ -26,7 +26,7 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* x) {
                 RB(L->nns, i, r, k) = r == k ? 1.0 : 0.0;
                 RB(L->nns, i, r, 3 + k) = rot[r][k];
             }
-    }
+    }    L->unit_translations = 1;
 }
 
 /* Modified Gram-Schmidt, each column orthogonalised twice against the earlier live ones, on
@@ -34,8 +34,14 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* x) {
  * 3 s); the same operations in the same order as on the strided rows, on contiguous columns
  * (tentative QR 2.0 -> 1.6 ms per solve (CPU) on the 100^2 sheet, bench_amg_setup). */
 #define TENT_LOCAL 96 /* nodes per aggregate the local copy holds (larger ones: strided) */
+/* With unit translations (level 0, L->unit_translations) translation column d < 3 is nonzero on
+ * rows 3 s + d only, and stays so (its dots with the earlier translations are 0): its dots with
+ * the later translations are exactly +0 (skipped: subtracting 0 q_d and adding 0 to R change no
+ * bit) and its dot with a rotation column sums only rows 3 s + d (the skipped terms are +-0 and
+ * a sum that starts at +0 is never -0, so adding them changes no bit). Its update of a rotation
+ * column stays dense: qc - dot (+0) turns a -0 into +0 when dot < 0. */
 static void qr_local(wc_amg_level* L, const int* nodes, int m, double* Q, double* R, int* live, unsigned char* dead) {
-    const int rows = 3 * m;
+    const int rows = 3 * m, unit = L->unit_translations;
     for (int s = 0; s < m; ++s)
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 6; ++c) Q[c * rows + 3 * s + r] = RB(L->nns, nodes[s], r, c);
@@ -49,7 +55,11 @@ static void qr_local(wc_amg_level* L, const int* nodes, int m, double* Q, double
                 if (!live[d]) continue;
                 const double* qd = Q + d * rows;
                 double dot = 0.0;
-                for (int q = 0; q < rows; ++q) dot += qd[q] * qc[q];
+                if (unit && d < 3) {
+                    if (c < 3) continue;
+                    for (int q = d; q < rows; q += 3) dot += qd[q] * qc[q];
+                } else
+                    for (int q = 0; q < rows; ++q) dot += qd[q] * qc[q];
                 for (int q = 0; q < rows; ++q) qc[q] -= dot * qd[q];
                 R[6 * d + c] += dot;
             }

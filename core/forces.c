@@ -21,6 +21,41 @@ static void spring_blocks(const double* u, double l, double rest, const double* 
         }
 }
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define WC_FORCES_AVX 1
+#include <stddef.h>
+_Static_assert(sizeof(wc_spring_eval) == 21 * sizeof(double) && offsetof(wc_spring_eval, kx) == 3 * sizeof(double) &&
+                   offsetof(wc_spring_eval, kv) == 12 * sizeof(double),
+               "a spring's record is f, kx, kv in a row (the AVX stores here and in assemble.c)");
+/* spring_blocks a row of 3 at a time in 4 doubles (lane 3 unused), the same products and sums, no
+ * FMA: the same bits (the off-diagonal "+ 0.0" is an add of a zero lane). The record is f[3],
+ * kx[9], kv[9] in a row: a 4-wide store's 4th lane lands on the next entry, which the next store
+ * overwrites; the last row is stored 2 + 1, inside the record. */
+__attribute__((target("avx"))) static void spring_blocks_avx(const double* u, double l, double rest, const double* dv,
+                                                            double k, double d, double c, wc_spring_eval* o) {
+    double fs = k * (l - rest) + d * v3_dot(dv, u);
+    /* U = (u_0, u_1, u_2, 0) by loads (valgrind 3.19 does not decode the register vmovq a
+       _mm256_set_pd makes of it) */
+    const __m256d U = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(u)), _mm_load_sd(u + 2), 1);
+    _mm256_storeu_pd(o->f, _mm256_mul_pd(U, _mm256_set1_pd(-fs)));
+    const __m256d mk = _mm256_set1_pd(-k), md = _mm256_set1_pd(-d), oc = _mm256_set1_pd(1.0 - c);
+    const __m256d vc = _mm256_set1_pd(c), zero = _mm256_setzero_pd();
+    const __m256d uu[3] = {_mm256_mul_pd(_mm256_set1_pd(u[0]), U), _mm256_mul_pd(_mm256_set1_pd(u[1]), U),
+                           _mm256_mul_pd(_mm256_set1_pd(u[2]), U)}; /* u_r u_q, as the scalar's u[r] * u[q] */
+    /* row r adds c on lane r and +0.0 elsewhere, as the scalar's (r == q ? c : 0.0) */
+    _mm256_storeu_pd(o->kx, _mm256_mul_pd(mk, _mm256_add_pd(_mm256_mul_pd(oc, uu[0]), _mm256_blend_pd(zero, vc, 1))));
+    _mm256_storeu_pd(o->kx + 3, _mm256_mul_pd(mk, _mm256_add_pd(_mm256_mul_pd(oc, uu[1]), _mm256_blend_pd(zero, vc, 2))));
+    _mm256_storeu_pd(o->kx + 6, _mm256_mul_pd(mk, _mm256_add_pd(_mm256_mul_pd(oc, uu[2]), _mm256_blend_pd(zero, vc, 4))));
+    /* after kx: its last row's 4th lane is kv[0] */
+    _mm256_storeu_pd(o->kv, _mm256_mul_pd(md, uu[0]));
+    _mm256_storeu_pd(o->kv + 3, _mm256_mul_pd(md, uu[1]));
+    const __m256d kv2 = _mm256_mul_pd(md, uu[2]);
+    _mm_storeu_pd(o->kv + 6, _mm256_castpd256_pd128(kv2));
+    _mm_store_sd(o->kv + 8, _mm256_extractf128_pd(kv2, 1));
+}
+#endif
+
 double wc_seam_scale(const wc_model* m, double t) {
     double T = m->seam_close_time;
     if (!(T > 0.0) || m->n_host_seams == 0) return 0.0;
@@ -53,8 +88,9 @@ void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_com
     wc_eval_springs_at(m, x, v, compression, 0.0, par, out);
 }
 
-void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_compression compression,
-                        double seam_scale, wc_par* par, wc_spring_eval* out) {
+static void eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                         double seam_scale, wc_par* par, wc_spring_eval* out, int vec) {
+    (void)vec;
     const wc_spring* sp = m->springs;
     const double* k = m->material.k;
     const double* d = m->material.d;
@@ -85,9 +121,30 @@ void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_
                 double r = v3_norm(R);
                 if (r > 0.0) v3_scale(u, R, 1.0 / r);
             }
+#ifdef WC_FORCES_AVX
+            if (vec) {
+                spring_blocks_avx(u, l, rest, dv, k[t], d[t], c, out + s);
+                continue;
+            }
+#endif
             spring_blocks(u, l, rest, dv, k[t], d[t], c, out + s);
         }
     }
+}
+
+void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                        double seam_scale, wc_par* par, wc_spring_eval* out) {
+#ifdef WC_FORCES_AVX
+    const int vec = __builtin_cpu_supports("avx");
+#else
+    const int vec = 0;
+#endif
+    eval_springs(m, x, v, compression, seam_scale, par, out, vec);
+}
+
+void wc_eval_springs_scalar(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                            double seam_scale, wc_par* par, wc_spring_eval* out) {
+    eval_springs(m, x, v, compression, seam_scale, par, out, 0);
 }
 
 /* Air force on triangle t (3): A (cn (u.n) n + ct (u - (u.n) n)), zero for a degenerate one. */

@@ -42,6 +42,10 @@ void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_
                         double seam_scale, wc_par* par, wc_spring_eval* out);
 void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
                      wc_par* par, wc_spring_eval* out);
+/* wc_eval_springs_at with the scalar loops only (where the CPU has AVX, wc_eval_springs_at writes
+ * the blocks 4 doubles at a time: the same bits; tests compare the two). */
+void wc_eval_springs_scalar(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                            double seam_scale, wc_par* par, wc_spring_eval* out);
 
 /* The ramp of host seam pairs at simulated time t (s): max(0, 1 - t / seam_close_time); 0 when
  * that time is 0 or there are no host pairs. */

@@ -11,6 +11,8 @@
  *     substep's first system only to forcing x its own residual (not before a friction pass,
  *     with penalty pairs in the system, or with the direct solver; the pairs' case measured in
  *     docs/bench/newton_forcing.md, "The loose first solve with penalty pairs").
+ *   Stage 1 (wc_sim_def.stage1_tolerance): TR-BDF2's trapezoidal stage holds its damping's
+ *     directions from the first iterate on and iterates past newton_iterations to that tolerance.
  *   Energy guard (energy_cap): up to NW_ENERGY_EXTRA more iterations while the accepted
  *     iterate's total energy is above the bound the step's energy judge allows.
  * Deterministic on any thread count; nothing is allocated (state.h's nw_* scratch). */
@@ -18,6 +20,8 @@
 #define WEFT_CORE_NEWTON_H
 #include "bdf2.h"
 #include "step_stats.h"
+
+#define WC_NEWTON_STAGE1_EXTRA 6   /* TR-BDF2's stage 1: iterations past newton_iterations at most (the GPU's too) */
 
 /* 1 when the def asks for more than one Baraff-Witkin step (iterations > 1 or line search). */
 int wc_newton_wanted(const wc_sim_def* d);

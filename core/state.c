@@ -20,6 +20,7 @@ wc_sim_def wc_default_sim_def(void) {
     d.line_search = 0;
     d.newton_forcing = 1e-2;
     d.newton_tolerance = 0.0;
+    d.stage1_tolerance = 2e-2;
     d.substeps = 1;
     d.substep_dt = 0.0;
     d.compression = WC_COMPRESSION_DROP;
@@ -86,6 +87,7 @@ static wc_status validate_def(const wc_sim_def* d, wc_diag* diag) {
     if (d->line_search != 0 && d->line_search != 1) BAD("sim def: line_search must be 0 or 1");
     if (!(d->newton_forcing >= 0.0 && d->newton_forcing < 1.0)) BAD("sim def: newton_forcing must be in [0, 1)");
     if (!(d->newton_tolerance >= 0.0 && d->newton_tolerance < 1.0)) BAD("sim def: newton_tolerance must be in [0, 1)");
+    if (!(d->stage1_tolerance >= 0.0 && d->stage1_tolerance < 1.0)) BAD("sim def: stage1_tolerance must be in [0, 1)");
     if (d->self_collision != 0 && d->self_collision != 1) BAD("sim def: self_collision must be 0 or 1");
     if (!(d->self_thickness > 0 && d->self_thickness < INFINITY))
         BAD("sim def: self_thickness %g m must be finite and > 0", d->self_thickness);

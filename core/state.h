@@ -53,6 +53,10 @@ typedef struct wc_sim_def {
                                    stops iterating once |S grad Phi| is at most this x the first
                                    system's residual; 0 (default): at the solver's tolerance. The
                                    energy guard's extra iterations keep the solver's tolerance */
+    double stage1_tolerance;    /* TR-BDF2's stage 1 (newton.c "Stage 1"), in [0, 1): with more than one
+                                   Newton iteration and no contact, it iterates on past
+                                   newton_iterations until |S grad Phi| is at most this x the first
+                                   system's residual; 0: off. Internal (no ABI field). Default 2e-2 */
     int substeps;               /* substeps per frame when substep_dt is 0 (1) */
     double substep_dt;          /* s; > 0: fixed substep length with an accumulator instead */
     wc_compression compression; /* DROP */

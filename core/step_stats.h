@@ -38,6 +38,8 @@ typedef struct wc_step_stats {
     int self_zone_relaxed;      /* ... stretch-spring corrections around the zones (self_collide.h, stage 4) */
     struct { double forces, assemble, solve, collide, integrate, total, self_collide; } ms; /* wall time per stage */
     int energy_iterations;      /* Newton steps past newton_iterations by the energy guard (newton.h), summed */
+    int stage1_iterations;      /* Newton steps past newton_iterations converging TR-BDF2's stage 1 (newton.h) */
+    int stage1_unconverged;     /* TR-BDF2 stage 1s under that rule that ended above its tolerance */
     /* the mesh colliders' feature contacts in the solve (mesh_pairs.h), summed over substeps */
     int mesh_pairs;             /* pairs found (edge-edge and body-vertex/cloth-triangle) */
     int mesh_pairs_active;      /* pairs active in the first system */

@@ -24,6 +24,7 @@
  * core's. */
 #include <math.h>
 
+#include "newton.h"
 #include "wg_sim_impl.h"
 
 /* 1 when TR-BDF2's implicit air stays the stage start's in Newton's systems (a contact is active:
@@ -68,13 +69,14 @@ void wg_newton_system(wg_sim* g, const wc_state* s, const wc_integ* ig, const wg
         wg_integ_air_lump(g, s, xw);
     }
     WG_USE(run, WGP_NEWTON_SPRINGS, &(wg_newton_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
-        .w = w, .xb = wg_integ_xb(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest});
+        .w = w, .xb = wg_integ_xb(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest, .rest = &g->rest,
+        .wd = g->nw_held ? &g->nw_wd : w});
     wg_u4f(run, "u_k", m->material.k);
     wg_u4f(run, "u_d", m->material.d);
     wg_u1f(run, "u_h", he);
     wg_u1f(run, "u_seam_scale", s->seam_scale);
     wg_u1i(run, "u_compression_drop", compression == WC_COMPRESSION_DROP);
-    wg_u1i(run, "u_refresh", ig->stage != 0);
+    wg_u1i(run, "u_refresh", ig->stage == 0 ? 0 : g->nw_held ? 2 : 1);
     WG_RUN(run, g->ns, &g->sf, &g->sw, &g->sj);
     /* otherwise the air of the substep's start stays in fair (frozen, as core's f_ext) */
     WG_USE(run, WGP_ASSEMBLE_B, &(wg_assemble_b_in){.mass = &g->mass, .rows = &g->rows, .row_entry = &g->row_entry,
@@ -157,12 +159,12 @@ double wg_newton_phi_change(wg_sim* g, const wc_state* s, const wc_integ* ig, co
     wg_read1(&g->layout, wg_reduce(run, &g->red_p[0], parts, 0, 0, 0, 0), p);
     WG_USE(run, WGP_NEWTON_PHI_SPRINGS, &(wg_newton_phi_springs_in){.x = wg_ring_cur(&g->x), .v = wg_ring_cur(&g->v),
         .wa = wa, .wb = wb, .xb = wg_integ_xb(g, ig), .spring = &g->spring, .spring_rest = &g->spring_rest,
-        .rest = &g->rest});
+        .rest = &g->rest, .wd = g->nw_held ? &g->nw_wd : wa});
     wg_u4f(run, "u_k", g->m->material.k);
     wg_u4f(run, "u_d", g->m->material.d);
     wg_u1f(run, "u_h", h);
     wg_u1f(run, "u_seam_scale", s->seam_scale);
-    wg_u1i(run, "u_refresh", g->nw_refreshed);
+    wg_u1i(run, "u_refresh", !g->nw_refreshed ? 0 : g->nw_held ? 2 : 1);
     WG_RUN(run, g->ns, &g->chk_s);
     wg_read1(&g->layout, wg_reduce(run, &g->red_s, &g->chk_s, 0, 0, 0, 0), q);
     return (double)p[0] + (double)q[0];
@@ -205,6 +207,7 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
     wg_runner* run = &g->run;
     const wg_tex* w = &g->nw_w[0];
     g->nw_refreshed = 0;
+    g->nw_held = 0;
     if (g->nw_friction) wg_newton_friction(g, 1);
     wg_copy(run, &g->nw_w[0], *dv);
     const int ls = s->def.line_search != 0;
@@ -221,19 +224,43 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
     const double gfloor = ldexp(ig->he * g->nw_force_scale + g->residual_floor, -24);
     wc_solver_opts opts = s->def.solver;
     const int guard = energy_cap < HUGE_VAL;
-    for (int it = 1; it < s->def.newton_iterations + (guard ? NW_ENERGY_EXTRA : 0) && !stop; ++it) {
-        if (it >= s->def.newton_iterations) {
+    /* TR-BDF2's stage 1 holds its damping directions from the first system on and iterates to its
+       own tolerance (core/newton.c "Stage 1"; g->nw_stage1_ok: no contact or penalty pair) */
+    const int n_it = s->def.newton_iterations;
+    const double s1_tol = s->def.stage1_tolerance;
+    const int stage1 = ig->stage == 1 && n_it > 1 && s1_tol > 0.0 && g->nw_stage1_ok;
+    const int extra = guard && NW_ENERGY_EXTRA > (stage1 ? WC_NEWTON_STAGE1_EXTRA : 0) ? NW_ENERGY_EXTRA
+                      : stage1                                                         ? WC_NEWTON_STAGE1_EXTRA
+                                                                                       : 0;
+    int converged = 0;
+    for (int it = 1; it < n_it + extra && !stop; ++it) {
+        const int past = it >= n_it;
+        int hot = 0;   /* past the count: the energy guard wants this iteration */
+        if (past) {
             /* past the configured count only while the iterate holds more energy than the
-               substep may end with (core/newton.h "Energy guard"): x(w), v(w) into the free slots */
-            const wg_tex* xw = &g->x.t[wg_ring_other(&g->x, 0)];
-            const wg_tex* vw = &g->v.t[wg_ring_other(&g->v, 0)];
-            gradient_pass(g, ig, &g->nw_zero, w, 0, &g->nw_gd, xw, vw);
-            if (!(wg_checks_energy(g, s, xw, vw) > energy_cap)) break;
-            ++st->energy_iterations;
+               substep may end with (core/newton.h "Energy guard"): x(w), v(w) into the free slots;
+               or stage 1 is not converged */
+            if (guard && it < n_it + NW_ENERGY_EXTRA) {
+                const wg_tex* xw = &g->x.t[wg_ring_other(&g->x, 0)];
+                const wg_tex* vw = &g->v.t[wg_ring_other(&g->v, 0)];
+                gradient_pass(g, ig, &g->nw_zero, w, 0, &g->nw_gd, xw, vw);
+                hot = wg_checks_energy(g, s, xw, vw) > energy_cap;
+            }
+            if (!hot && !stage1) break;
+            if (hot) ++st->energy_iterations;
         }
         wg_newton_system(g, s, ig, w, compression);
+        if (stage1 && it == 1) {   /* the directions just refreshed at w_1 are held from here on */
+            wg_copy(run, &g->nw_wd, w);
+            g->nw_held = 1;
+        }
         rv = &g->nw_zero;   /* core's R_GRADIENT: -g at w */
-        if (!(sqrt(filtered_norm2(g)) > fmax(tol * residual_scale, gfloor))) break;
+        const double gn = sqrt(filtered_norm2(g));
+        if (!(gn > fmax(tol * residual_scale, gfloor)) || (past && !hot && !(gn > s1_tol * residual_scale))) {
+            converged = 1;
+            break;
+        }
+        if (past && !hot) ++st->stage1_iterations;
         /* A d = g from d = 0 with the filter's z = 0 (the iterate already holds the prescribed part) */
         wg_tex z = g->z;
         g->z = g->nw_zero;
@@ -272,6 +299,8 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
         w = trial;
         ++st->newton_iterations;
     }
+    if (stage1 && !converged) ++st->stage1_unconverged;
+    g->nw_held = 0;
     *dv = w;
     *r_dv = rv ? rv : w;
 }

@@ -21,7 +21,8 @@ static const wg_pass_input springs[] = {IN(wg_springs_in, x), IN(wg_springs_in, 
 WHOLE(wg_springs_in, springs);
 static const wg_pass_input newton_springs[] = {
     IN(wg_newton_springs_in, x), IN(wg_newton_springs_in, v), IN(wg_newton_springs_in, w),
-    IN(wg_newton_springs_in, xb), IN(wg_newton_springs_in, spring), IN(wg_newton_springs_in, spring_rest), IN(wg_newton_springs_in, rest)};
+    IN(wg_newton_springs_in, xb), IN(wg_newton_springs_in, spring), IN(wg_newton_springs_in, spring_rest), IN(wg_newton_springs_in, rest),
+    IN(wg_newton_springs_in, wd)};
 WHOLE(wg_newton_springs_in, newton_springs);
 static const wg_pass_input newton_gradient[] = {IN(wg_newton_gradient_in, hf), IN(wg_newton_gradient_in, w),
                                                 IN(wg_newton_gradient_in, mass), IN(wg_newton_gradient_in, xb),
@@ -52,7 +53,7 @@ WHOLE(wg_newton_friction_in, newton_friction);
 static const wg_pass_input newton_phi_springs[] = {
     IN(wg_newton_phi_springs_in, x), IN(wg_newton_phi_springs_in, v), IN(wg_newton_phi_springs_in, wa),
     IN(wg_newton_phi_springs_in, wb), IN(wg_newton_phi_springs_in, xb), IN(wg_newton_phi_springs_in, spring),
-    IN(wg_newton_phi_springs_in, spring_rest), IN(wg_newton_phi_springs_in, rest)};
+    IN(wg_newton_phi_springs_in, spring_rest), IN(wg_newton_phi_springs_in, rest), IN(wg_newton_phi_springs_in, wd)};
 WHOLE(wg_newton_phi_springs_in, newton_phi_springs);
 static const wg_pass_input integ_prepare[] = {
     IN(wg_integ_prepare_in, x), IN(wg_integ_prepare_in, v), IN(wg_integ_prepare_in, xs),

@@ -114,6 +114,7 @@ typedef struct wg_springs_in {  /* springs.glsl: per spring, force and Jacobian 
 
 typedef struct wg_newton_springs_in {  /* newton_springs.glsl: per spring, Newton's system at w */
     const wg_tex *x, *v, *w, *xb, *spring, *spring_rest, *rest;   /* xb: bdf2.h's (BE: x) */
+    const wg_tex* wd;   /* the iterate held damping directions are at (u_refresh 2) */
 } wg_newton_springs_in;
 
 typedef struct wg_newton_gradient_in {  /* newton_gradient.glsl: per particle, -grad Phi(w), x(w), v(w) */
@@ -143,6 +144,7 @@ typedef struct wg_newton_friction_in {   /* newton_friction.glsl: friction's fro
 
 typedef struct wg_newton_phi_springs_in {     /* newton_phi_springs.glsl: the potential's change */
     const wg_tex *x, *v, *wa, *wb, *xb, *spring, *spring_rest, *rest;
+    const wg_tex* wd;   /* as newton_springs' */
 } wg_newton_phi_springs_in;
 
 typedef struct wg_integ_prepare_in {   /* integ_prepare.glsl: per particle, xb, v*, mom, the history */

@@ -28,7 +28,7 @@ static int all_textures(wg_sim* g, wg_tex** out, int cap) {
                       &g->t, &g->q, &g->part, &g->gpart[0], &g->gpart[1], &g->rz, &g->lanczos, &g->chk_p, &g->chk_s,
                       &g->corr, &g->nrm,
                       &g->host_pos, &g->host_nrm, &g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd,
-                      &g->nw_d, &g->nw_fext, &g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom,
+                      &g->nw_wd, &g->nw_d, &g->nw_fext, &g->xp_bak, &g->vp_bak, &g->xs, &g->xb, &g->vstar, &g->mom,
                       &g->air_lo, &g->air_hi, &g->grp, &g->nw_fa[0], &g->nw_fa[1], &g->nw_fb, &g->nw_cap[0],
                       &g->nw_cap[1], &g->nw_cap[2]};
     for (size_t i = 0; i < sizeof list / sizeof list[0] && k < cap; ++i) out[k++] = list[i];
@@ -243,7 +243,7 @@ static int create_scratch(wg_sim* g, char* err, size_t el) {
     }
     if (g->newton) {
         wg_tex* pn[] = {&g->nw_w[0], &g->nw_w[1], &g->nw_w[2], &g->nw_zero, &g->nw_hf, &g->nw_gd, &g->nw_d,
-                        &g->nw_fext};
+                        &g->nw_fext, &g->nw_wd};
         for (size_t k = 0; k < sizeof pn / sizeof pn[0]; ++k) TRY(wg_array_create(L, pn[k], GL_RGBA32F, n, NULL, err, el));
     }
     if (g->nw_friction) {

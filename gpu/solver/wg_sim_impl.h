@@ -83,6 +83,7 @@ struct wg_sim {
                                    substep's checks (28..31, wg_checks.c) */
     wg_tex chk_p, chk_s, corr;
     wg_tex nw_w[3];             /* Newton's iterates and trials (wg_newton.c; made only with Newton) */
+    wg_tex nw_wd;               /* TR-BDF2's stage 1: the iterate its damping directions are held at */
     wg_tex nw_zero;             /* zeros: Newton's initial guess and z */
     wg_tex nw_hf, nw_gd;        /* h f_total at the iterate; per-particle scratch of the reductions */
     wg_tex nw_d, nw_fext;       /* the line search's first direction (then the accepted step, the
@@ -123,6 +124,10 @@ struct wg_sim {
     int integ;                  /* BDF2 or TR-BDF2: the integrator's textures exist (nw_fext too) */
     int nw_refreshed;           /* Newton in a TR-BDF2 stage: the damping and air were refreshed at
                                    the iterate (core/newton.h "Refreshed"); the potential's terms follow */
+    int nw_held;                /* Newton in TR-BDF2's stage 1 past its first system: the damping's
+                                   directions are held at nw_wd's x (core/newton.c "Stage 1") */
+    int nw_stage1_ok;           /* TR-BDF2's stage 1 may hold its directions: no contact active and no
+                                   penalty pair in the stage (core/newton.c "Stage 1") */
     int nw_air_frozen;          /* Newton in a TR-BDF2 stage with a contact active: the implicit air
                                    stays the stage start's (core/newton.h "Refreshed") */
     int gl_error;               /* a GL error seen in this frame */

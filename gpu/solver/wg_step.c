@@ -269,7 +269,10 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         }
         /* TR-BDF2's implicit air stays the stage start's while a contact is active (core/newton.h
            "Refreshed"): the count read back */
-        g->nw_air_frozen = ig.air_implicit && colliding(s) && wg_contacts_active(g->contacts) > 0;
+        const int ask = ig.air_implicit || (ig.stage == 1 && s->def.newton_iterations > 1);   /* a read-back */
+        const int contact = ask && colliding(s) && wg_contacts_active(g->contacts) > 0;
+        g->nw_air_frozen = ig.air_implicit && contact;
+        g->nw_stage1_ok = !contact && !wg_pairs_list_on(g->pairs, 0) && !wg_pairs_list_on(g->pairs, 1);
         wg_newton_iterate(g, s, &ig, solver, compression, res.scale, energy_cap, &dvres, &rdv, st);
     }
     int nd = wg_ring_other(&g->dv, 0);

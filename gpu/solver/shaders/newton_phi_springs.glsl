@@ -2,12 +2,13 @@
 // (core/newton.c wc_newton_potential; h the system's step, x(w) = xb + h (v_n + w)):
 // w k/2 (e(x(wb))^2 - e(x(wa))^2) with core's extension e (seams: their ramp, pulling only), and
 // the damping's -h/2 (dvb.kv0 dvb - dva.kv0 dva), kv0 the damping block at x_n (frozen) or, in
-// TR-BDF2's stages (u_refresh), at x(wa), the iterate it was refreshed at; dv = v_a - v_b at
+// TR-BDF2's stages (u_refresh 1), at x(wa), the iterate it was refreshed at, or held at x(wd) (2); dv = v_a - v_b at
 // v(w) = v_n + w. Output: o0 = (the change, -, -, -).
 uniform sampler2D x;            // x_n
 uniform sampler2D v;            // v_n
 uniform sampler2D wa;
 uniform sampler2D wb;
+uniform sampler2D wd;           // the iterate held directions are at (u_refresh 2)
 uniform sampler2D xb;           // the integrator's base position (backward Euler: x_n)
 uniform isampler2D spring;      // (a, b, type, -)
 uniform sampler2D spring_rest;  // (rest length, stiffness weight w)
@@ -36,9 +37,12 @@ void main() {
     vec3 L0 = ld(x, sp.x).xyz - ld(x, sp.y).xyz;
     vec3 Lb = ld(xb, sp.x).xyz - ld(xb, sp.y).xyz;
     vec3 R = ld(rest, sp.x).xyz - ld(rest, sp.y).xyz;
+    vec3 Ld = L0;
+    if (u_refresh == 1) Ld = Lb + u_h * dva;
+    else if (u_refresh == 2) Ld = Lb + u_h * (v0 + ld(wd, sp.x).xyz - ld(wd, sp.y).xyz);
     vec3 f;
     mat3 kx0, kv0;
-    spring_blocks(sp.z, rw, u_refresh != 0 ? Lb + u_h * dva : L0, vec3(0.0), R, 0.0, u_d[sp.z], u_seam_scale, true, f,
+    spring_blocks(sp.z, rw, Ld, vec3(0.0), R, 0.0, u_d[sp.z], u_seam_scale, true, f,
                   kx0, kv0);
     float ea = extension(sp.z, rw, length(Lb + u_h * dva)), eb = extension(sp.z, rw, length(Lb + u_h * dvb));
     float elastic = 0.5 * u_k[sp.z] * rw.y * (eb - ea) * (eb + ea);
