@@ -44,17 +44,19 @@ typedef struct wc_device_desc {
     wc_allocator allocator;
 } wc_device_desc;
 
-/* What a backend's defaults may depend on: the cloth's size and whether its def names a
- * preconditioner. */
+/* What a backend's defaults may depend on: the cloth's size, whether its def names a
+ * preconditioner, and its integrator. */
 typedef struct wc_defaults_query {
     int n_particles;
     int preconditioner_named;         /* 1: the def names one (this backend's is not used) */
+    wc_integrator integrator;         /* as the def resolved it (DEFAULT: backward Euler) */
 } wc_defaults_query;
 
 /* The backend's choices for what a cloth's def leaves to it (a def's DEFAULT / 0 / -1). */
 typedef struct wc_backend_defaults {
     wc_precond_type preconditioner;   /* PCG's preconditioner */
     double newton_forcing;            /* inexact Newton's forcing term (wc_sim_def.newton_forcing) */
+    double tolerance;                 /* the linear solves' relative residual (wc_solver_opts.tolerance) */
     int newton_iterations;            /* linearised solves per substep */
     int line_search;                  /* 0 or 1 */
     int garment_self_collision;       /* self-collision of a garment (a cloth with mesh colliders or
@@ -176,8 +178,9 @@ typedef struct wc_cloth_backend {
 } wc_cloth_backend;
 
 /* Core's CPU backend (cloth_cpu.c). Below WC_CPU_IC0_BELOW particles its default preconditioner
- * is block IC(0) with every Newton solve to the tolerance (forcing 0), above it the multigrid
- * with the first solve to 1e-2 (docs/bench/precond_by_size.md). */
+ * is block IC(0) with every Newton solve to the tolerance (forcing 0), a tolerance of 1e-3 with
+ * backward Euler, above it the multigrid with the first solve to 1e-2 and 1e-4
+ * (docs/bench/precond_by_size.md). */
 #define WC_CPU_IC0_BELOW 800
 extern const wc_cloth_backend wc_cloth_cpu;
 

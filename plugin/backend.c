@@ -136,7 +136,7 @@ void* wa_backend_gl_context(const weft_context* ctx) {
 static void resolve_defaults(const wc_cloth_backend* b, const void* device, const weft_cloth_def* def,
                              const wc_model* m, wc_sim_def* s) {
     wc_backend_defaults o;
-    const wc_defaults_query q = {m->n_particles, def->preconditioner != WEFT_PRECOND_DEFAULT};
+    const wc_defaults_query q = {m->n_particles, def->preconditioner != WEFT_PRECOND_DEFAULT, s->integrator};
     b->defaults(device, &q, &o);
     s->solver.preconditioner = def->preconditioner == WEFT_PRECOND_AMG            ? WC_PRECOND_AMG
                                : def->preconditioner == WEFT_PRECOND_BLOCK_JACOBI ? WC_PRECOND_BLOCK_JACOBI
@@ -144,6 +144,7 @@ static void resolve_defaults(const wc_cloth_backend* b, const void* device, cons
                                                                                   : o.preconditioner;
     s->newton_iterations = def->newton_iterations > 0 ? def->newton_iterations : o.newton_iterations;
     s->newton_forcing = def->newton_forcing >= 0 ? def->newton_forcing : o.newton_forcing;
+    s->solver.tolerance = def->tolerance >= 0 ? def->tolerance : o.tolerance;
     s->line_search = def->line_search >= 0 ? def->line_search : o.line_search;
     /* a garment: a cloth with a body (a mesh collider) or with seams */
     int garment = def->n_mesh_colliders > 0 || def->sew_distance > 0 || def->n_seams > 0;

@@ -30,14 +30,14 @@ static wc_sim_def sim_def_of(const weft_context* ctx, const weft_cloth_def* def)
     s.air.normal_drag = def->air_drag_normal;
     s.air.tangent_drag = def->air_drag_tangent;
     s.solver.type = (wc_solver_type)def->solver; /* same numbering */
-    s.solver.tolerance = def->tolerance;
+    if (def->tolerance >= 0) s.solver.tolerance = def->tolerance;   /* -1: the backend's, backend.c */
     s.solver.max_iterations = def->max_iterations;
     s.integrator = def->integrator == WEFT_INTEGRATOR_BDF2     ? WC_INTEGRATOR_BDF2
                    : def->integrator == WEFT_INTEGRATOR_TRBDF2 ? WC_INTEGRATOR_TRBDF2
                                                                : WC_INTEGRATOR_BE;
     s.self_thickness = def->self_collision_thickness;
-    /* the backend's defaults (preconditioner, Newton and its forcing, line search, self-collision) once it is
-       chosen: backend.c */
+    /* the backend's defaults (preconditioner, tolerance, Newton and its forcing, line search, self-collision)
+       once it is chosen: backend.c */
     s.substeps = def->substeps;
     s.strain_limit = def->strain_limit;
     s.sleep_speed = def->sleep_speed;
@@ -218,6 +218,7 @@ weft_status weft_cloth_get_info(weft_context* ctx, weft_cloth cloth, weft_cloth_
     i.self_collision = sd->self_collision;
     i.self_collision_thickness = sd->self_thickness;
     i.newton_forcing = sd->newton_forcing;
+    i.tolerance = sd->solver.tolerance;
     i.threads = c->state->par.threads;
     snprintf(i.backend_reason, sizeof i.backend_reason, "%s", slot->backend_reason);
     *out = i;

@@ -28,7 +28,7 @@ weft_cloth_def weft_default_cloth_def(void) {
     d.air_drag_normal = 0.5;
     d.air_drag_tangent = 0.02;
     d.solver = WEFT_SOLVER_PCG;
-    d.tolerance = 1e-4;
+    d.tolerance = -1.0;
     d.max_iterations = 300;
     d.preconditioner = WEFT_PRECOND_DEFAULT;
     d.integrator = WEFT_INTEGRATOR_DEFAULT;
@@ -170,7 +170,8 @@ weft_status wa_validate_cloth_def(const weft_cloth_def* d, char* msg, size_t msg
     if ((unsigned)d->solver > WEFT_SOLVER_DIRECT)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->solver = %d is not a weft_solver", (int)d->solver);
     if (!isfinite(d->tolerance)) FAIL(WEFT_ERROR_NONFINITE, "def->tolerance is not finite");
-    if (!(d->tolerance >= 0 && d->tolerance < 1)) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->tolerance = %g must be in [0, 1)", d->tolerance);
+    if (d->tolerance != -1.0 && !(d->tolerance >= 0 && d->tolerance < 1))
+        FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->tolerance = %g must be -1 (default) or in [0, 1)", d->tolerance);
     if (d->max_iterations < 1) FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->max_iterations = %d must be >= 1", d->max_iterations);
     if ((unsigned)d->preconditioner > WEFT_PRECOND_IC0)
         FAIL(WEFT_ERROR_INVALID_ARGUMENT, "def->preconditioner = %d is not a weft_preconditioner", (int)d->preconditioner);

@@ -60,11 +60,12 @@ static void test_core_equivalence(void) {
     weft_cloth_def def;
     weft_cloth cloth = hanging(ctx, &m, &def);
     /* the CPU's defaults, as weft_cloth_get_info reports them (64 particles: IC(0), every solve
-       to the tolerance) */
+       to a tolerance of 1e-3) */
     weft_cloth_info info;
     CHECK_EQ_INT(weft_cloth_get_info(ctx, cloth, &info), WEFT_OK);
     CHECK_EQ_INT(info.preconditioner, WEFT_PRECOND_IC0);
     CHECK(info.newton_forcing == 0.0);
+    CHECK(info.tolerance == 1e-3);
     CHECK_EQ_INT(info.integrator, WEFT_INTEGRATOR_BACKWARD_EULER);
     CHECK_EQ_INT(info.newton_iterations, 2);
     CHECK_EQ_INT(info.line_search, 1);
@@ -83,6 +84,7 @@ static void test_core_equivalence(void) {
     /* the CPU backend's defaults (core/cloth_cpu.c, resolved by plugin/cloth_create.c) */
     sd.solver.preconditioner = WC_PRECOND_IC0;
     sd.newton_forcing = 0.0;
+    sd.solver.tolerance = 1e-3;
     sd.newton_iterations = 2;
     sd.line_search = 1;
     wc_state* s = NULL;

@@ -241,6 +241,50 @@ static void test_newton_forcing(void) {
     weft_context_destroy(ctx);
 }
 
+/* tolerance: -1 (default) resolves to the backend's (this 25-particle cloth on the CPU: 1e-3,
+ * with IC(0); test_api_precond_default.c), a value in [0, 1) is kept, anything else is refused
+ * naming the field, and a cloth made before still steps. */
+static void test_tolerance(void) {
+    weft_context* ctx = new_context();
+    ag_mesh m;
+    ag_grid(&m, 5, 1.0, 1.0, 0, 0);
+    weft_cloth_def d = weft_default_cloth_def();
+    CHECK(d.tolerance == -1.0);
+    d.mesh = ag_desc(&m);
+    weft_cloth keep = {0};
+    CHECK_EQ_INT(weft_cloth_create(ctx, &d, &keep), WEFT_OK);
+    const double given[] = {-1.0, 1e-4, 0.0, 0.5};
+    const double want[] = {1e-3, 1e-4, 0.0, 0.5};
+    for (int k = 0; k < 4; ++k) {
+        d.tolerance = given[k];
+        weft_cloth c = {0};
+        CHECK_EQ_INT(weft_cloth_create(ctx, &d, &c), WEFT_OK);
+        weft_cloth_info info;
+        CHECK_EQ_INT(weft_cloth_get_info(ctx, c, &info), WEFT_OK);
+        CHECK(info.tolerance == want[k]);
+        CHECK_EQ_INT(weft_cloth_destroy(ctx, c), WEFT_OK);
+    }
+    const double bad[] = {-0.5, -1e-4, -2.0, 1.0, NAN, INFINITY, -INFINITY};
+    for (int k = 0; k < 7; ++k) {
+        d.tolerance = bad[k];
+        weft_cloth c = {777};
+        const weft_status st = weft_cloth_create(ctx, &d, &c);
+        CHECK_EQ_INT(st, isfinite(bad[k]) ? WEFT_ERROR_INVALID_ARGUMENT : WEFT_ERROR_NONFINITE);
+        CHECK(c.id == 0);
+        CHECK(strstr(weft_context_last_error(ctx), "def->tolerance") != NULL);
+    }
+    weft_frame fr = weft_default_frame();
+    fr.dt = 1.0 / 30.0;
+    weft_frame_stats fs;
+    CHECK_EQ_INT(weft_cloth_step(ctx, keep, &fr, &fs), WEFT_OK);
+    weft_cloth_info info;
+    CHECK_EQ_INT(weft_cloth_get_info(ctx, keep, &info), WEFT_OK);
+    CHECK(info.tolerance == 1e-3);
+    CHECK_EQ_INT(weft_cloth_destroy(ctx, keep), WEFT_OK);
+    ag_free(&m);
+    weft_context_destroy(ctx);
+}
+
 /* The detailed counters: Newton steps with two Newton iterations, BDF2 substeps with BDF2, no
  * pairs without mesh colliders or self-collision (test_api_self_collide's fold has them). */
 static void test_stats_detail(void) {
@@ -287,6 +331,7 @@ int main(void) {
     RUN_TEST(test_energy);
     RUN_TEST(test_mesh_read);
     RUN_TEST(test_newton_forcing);
+    RUN_TEST(test_tolerance);
     RUN_TEST(test_stats_detail);
     return TEST_SUMMARY();
 }

@@ -542,10 +542,11 @@ static void test_tables(void) {
     CHECK(wg_cloth_backend.mirror == 1);
     CHECK(wg_cloth_backend.concurrent == 0);   /* one GL context: a batch's cloths in turn */
     wc_backend_defaults g;
-    const wc_defaults_query gq = {16, 0};
+    const wc_defaults_query gq = {16, 0, WC_INTEGRATOR_BE};
     wg_cloth_backend.defaults(NULL, &gq, &g);   /* no device: fragment passes, block Jacobi */
     CHECK_EQ_INT(g.preconditioner, WC_PRECOND_BLOCK_JACOBI);
     CHECK(g.newton_forcing == 1e-2);   /* at every size */
+    CHECK(g.tolerance == 1e-4);        /* at every size */
     CHECK_EQ_INT(g.newton_iterations, 2);   /* the CPU's method */
     CHECK_EQ_INT(g.line_search, 1);
     CHECK_EQ_INT(g.garment_self_collision, 1);
@@ -559,17 +560,28 @@ static void test_tables(void) {
               b->mesh_pull);
     }
     wc_backend_defaults cpu;
-    /* below WC_CPU_IC0_BELOW particles IC(0) with forcing 0 (1e-2 where the def names a
-       preconditioner), the multigrid with 1e-2 from it up */
+    /* below WC_CPU_IC0_BELOW particles IC(0) with forcing 0 and, with backward Euler, tolerance
+       1e-3 (1e-2 and 1e-4 where the def names a preconditioner), the multigrid with 1e-2 and 1e-4
+       from it up */
     for (int named = 0; named < 2; ++named) {
-        const wc_defaults_query below = {WC_CPU_IC0_BELOW - 1, named};
+        const wc_defaults_query below = {WC_CPU_IC0_BELOW - 1, named, WC_INTEGRATOR_BE};
         wc_cloth_cpu.defaults(NULL, &below, &cpu);
         CHECK_EQ_INT(cpu.preconditioner, WC_PRECOND_IC0);
         CHECK(cpu.newton_forcing == (named ? 1e-2 : 0.0));
+        CHECK(cpu.tolerance == (named ? 1e-4 : 1e-3));
     }
-    const wc_defaults_query at = {WC_CPU_IC0_BELOW, 0};
+    /* the second-order integrators keep 1e-4 below it too (their error is not the time step's alone) */
+    for (int integ = WC_INTEGRATOR_BDF2; integ <= WC_INTEGRATOR_TRBDF2; ++integ) {
+        const wc_defaults_query second = {WC_CPU_IC0_BELOW - 1, 0, (wc_integrator)integ};
+        wc_cloth_cpu.defaults(NULL, &second, &cpu);
+        CHECK_EQ_INT(cpu.preconditioner, WC_PRECOND_IC0);
+        CHECK(cpu.newton_forcing == 0.0);
+        CHECK(cpu.tolerance == 1e-4);
+    }
+    const wc_defaults_query at = {WC_CPU_IC0_BELOW, 0, WC_INTEGRATOR_BE};
     wc_cloth_cpu.defaults(NULL, &at, &cpu);
     CHECK(cpu.newton_forcing == 1e-2);
+    CHECK(cpu.tolerance == 1e-4);
     CHECK_EQ_INT(cpu.preconditioner, WC_PRECOND_AMG);
     CHECK_EQ_INT(cpu.newton_iterations, 2);
     CHECK_EQ_INT(cpu.line_search, 1);

@@ -174,6 +174,8 @@ static void test_bad_settings(void) {
     expect_bad("{" GRID ", \"solver\": {\"type\": \"PCG\"}}", "solver.type", "unknown solver");
     expect_bad("{" GRID ", \"solver\": {\"tolerance\": -1e-4}}", "solver.tolerance", ">= 0");
     expect_bad("{" GRID ", \"solver\": {\"tolerance\": 1}}", "solver.tolerance", "[0, 1)");
+    expect_bad("{" GRID ", \"solver\": {\"tolerance\": -1}}", "solver.tolerance", ">= 0");   /* "default" says it */
+    expect_bad("{" GRID ", \"solver\": {\"tolerance\": \"tight\"}}", "solver.tolerance", "number");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 0}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": {\"max_iterations\": 10.5}}", "solver.max_iterations", "integer");
     expect_bad("{" GRID ", \"solver\": \"pcg\"}", "solver", "must be an object");
@@ -254,6 +256,10 @@ static void test_defaults_and_grid(void) {
     st = parse("{" GRID ", \"solver\": {\"newton_forcing\": \"default\"}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);
     CHECK(S.def.newton_forcing == -1.0);
+    scene_free(&S);
+    st = parse("{" GRID ", \"solver\": {\"tolerance\": \"default\"}}", &d);
+    CHECK_EQ_INT(st, WEFT_OK);
+    CHECK(S.def.tolerance == -1.0);
     scene_free(&S);
     st = parse("{" GRID ", \"time\": {\"integrator\": \"trbdf2\"}}", &d);
     CHECK_EQ_INT(st, WEFT_OK);

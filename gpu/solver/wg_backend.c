@@ -116,6 +116,7 @@ static void defaults(const void* device, const wc_defaults_query* q, wc_backend_
     (void)q;   /* the same at every size */
     out->preconditioner = bd && bd->dev->compute ? WC_PRECOND_AMG : WC_PRECOND_BLOCK_JACOBI;
     out->newton_forcing = 1e-2;
+    out->tolerance = 1e-4;
     out->newton_iterations = 2;
     out->line_search = 1;
     out->garment_self_collision = 1;

@@ -168,6 +168,7 @@ static void dump_structs(void) {
     FIELD(weft_cloth_info, self_collision);
     FIELD(weft_cloth_info, self_collision_thickness);
     FIELD(weft_cloth_info, newton_forcing);
+    FIELD(weft_cloth_info, tolerance);
     FIELD(weft_cloth_info, threads);
     FIELD(weft_cloth_info, backend_reason);
     struct_end();

@@ -1,6 +1,7 @@
 /* Names of the public enums (names.h). */
 #include "names.h"
 
+#include <stdio.h>
 #include <string.h>
 
 static const char* const solvers[] = {"pcg", "jacobi", "chebyshev", "direct"};   /* weft_solver's order */
@@ -29,3 +30,11 @@ const char* cli_integrator_name(weft_integrator i) { return name_of(integrators,
 int cli_integrator_from_name(const char* name) { return value_of(integrators, COUNT(integrators), 1, name); }
 const char* cli_backend_name(weft_backend b) { return name_of(backends, COUNT(backends), (int)b); }
 int cli_backend_from_name(const char* name) { return value_of(backends, COUNT(backends), 0, name); }
+
+const char* cli_tolerance_text(double tolerance, char* buf, size_t len) {
+    if (tolerance >= 0)
+        snprintf(buf, len, "%g", tolerance);
+    else
+        snprintf(buf, len, "the library's (1e-3 below 800 particles on the CPU with backward Euler, 1e-4 otherwise)");
+    return buf;
+}

@@ -17,5 +17,7 @@ const char* cli_integrator_name(weft_integrator i);
 int cli_integrator_from_name(const char* name);
 const char* cli_backend_name(weft_backend b);
 int cli_backend_from_name(const char* name);
+/* weft_cloth_def.tolerance for a report: "%g", or for -1 what the library makes of it. */
+const char* cli_tolerance_text(double tolerance, char* buf, size_t len);
 
 #endif

@@ -107,10 +107,11 @@ int main(int argc, char** argv) {
     sd.threads = threads;
     /* the CPU backend's defaults for this size (core/cloth_cpu.c, resolved by plugin/backend.c) */
     wc_backend_defaults o;
-    const wc_defaults_query dq = {model.n_particles, 0};
+    const wc_defaults_query dq = {model.n_particles, 0, sd.integrator};
     wc_cloth_cpu.defaults(NULL, &dq, &o);
     sd.solver.preconditioner = o.preconditioner;
     sd.newton_forcing = o.newton_forcing;
+    sd.solver.tolerance = o.tolerance;
     sd.newton_iterations = o.newton_iterations;
     sd.line_search = o.line_search;
     if (wc_state_create(&state, &model, &sd, NULL, &d) != WC_OK) return 1;

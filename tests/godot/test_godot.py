@@ -129,7 +129,9 @@ def settings_scene(g, name):
                            "bend": s["stiffness_bend"]},
                      "d": {"stretch": s["damping_stretch"], "shear": s["damping_shear"],
                            "bend": s["damping_bend"]}},
-        "solver": {"type": "pcg", "tolerance": s["tolerance"], "max_iterations": s["max_iterations"]},
+        # the node's tolerance -1 (weft_default_cloth_def's) is the library's choice: "default" in a scene
+        "solver": {"type": "pcg", "tolerance": s["tolerance"] if s["tolerance"] >= 0 else "default",
+                   "max_iterations": s["max_iterations"]},
         "time": {"fps": round(1.0 / g["dt"]), "substeps": s["substeps"], "frames": g["frames"]},
     }
 

@@ -229,7 +229,7 @@ class ClothInfo(_Struct):
                 ("integrator", c_int), ("newton_iterations", c_int), ("line_search", c_int),
                 ("n_seams", c_int), ("n_panels", c_int),
                 ("self_collision", c_int), ("self_collision_thickness", c_double),
-                ("newton_forcing", c_double), ("threads", c_int),
+                ("newton_forcing", c_double), ("tolerance", c_double), ("threads", c_int),
                 ("backend_reason", ctypes.c_char * BACKEND_REASON_LENGTH)]
 
 

@@ -266,7 +266,7 @@ typedef struct header_info {
 static void print_header(FILE* out, const void* ctx) {
     const header_info* h = ctx;
     const peers_args* a = h->a;
-    char note[1024];
+    char note[1024], tol[96];
     fprintf(out, "## weft bench peers\n\n");
     if (h->missing[0])
         fprintf(out, "**No Blender here** (%s): Weft's rows only, Blender's columns `-`.\n\n", h->missing);
@@ -301,13 +301,13 @@ static void print_header(FILE* out, const void* ctx) {
                 "Settings read back: %s.\n",
                 h->settings);
     fprintf(out,
-            "- Weft: the scene's defaults (default material; %s solver, relative tolerance %g, at most %d "
+            "- Weft: the scene's defaults (default material; %s solver, relative tolerance %s, at most %d "
             "iterations) at %g frames per second, the substeps per frame given in the table; each frame one "
             "timed weft_cloth_step on the CPU's or the GPU's context (positions read back after the frame, "
             "outside its time); precond., integrator and Newton as in the table. The `defaults` row: the "
             "library at weft_default_cloth_def() (its own material, solver, preconditioner, integrator, "
             "Newton iterations and substeps; sleeping off), on the CPU.\n",
-            cli_solver_name(h->solver), h->tolerance, h->max_iterations, a->fps);
+            cli_solver_name(h->solver), cli_tolerance_text(h->tolerance, tol, sizeof tol), h->max_iterations, a->fps);
     fputs("- ms/frame: median over the frames. Blender / Weft: the ratio of the medians (> 1: Weft is faster).\n"
           "- Time: Blender's cloth ignores the frame rate; its frame is a fixed unit in which gravity is scaled "
           "by 0.001, i.e. it falls like 1/31.6 s per frame (within 5% of Weft's 1/30 s).\n"

@@ -345,6 +345,7 @@ static const matched_row* row_of(const matched_scene* s, int blender, int role) 
 static void print_header(FILE* out, const void* ctx) {
     const matched_ctx* c = ctx;
     const bench_matched_opts* o = c->o;
+    char tol[96];
     fprintf(out, "## weft bench peers --matched\n\n");
     if (!o->blender)
         fprintf(out, "**No Blender here** (%s): Weft's rows only, no verdict.\n\n", o->missing ? o->missing : "");
@@ -420,7 +421,7 @@ static void print_header(FILE* out, const void* ctx) {
             "at the last frame alone. The two references differ (the material models do): the errors measure "
             "each solver's time-stepping error, not agreement between the two.\n"
             "- Weft's settings: `defaults` is the scene's def as the library leaves it (weft_default_cloth_def(), "
-            "%s, relative tolerance %g, at most %d iterations; sleeping off) at %g frames per second; the "
+            "%s, relative tolerance %s, at most %d iterations; sleeping off) at %g frames per second; the "
             "others change the integrator, Newton iterations (line search off for Newton 1), substeps and, where "
             "their names say so, the tolerance and the first Newton solve's forcing only.\n"
             "- ms/frame: the median over the frames of one frame's time (Weft: weft_cloth_step; Blender: one "
@@ -429,7 +430,8 @@ static void print_header(FILE* out, const void* ctx) {
             "are what an idle machine's wall times would be, while the wall times on a shared machine grow with "
             "the other processes' load; its `(wall)` column is the ratio of the wall-time medians. Blender / "
             "Weft: the ratio of the medians (> 1: Weft is faster).\n\n",
-            o->ref_quality, REF_TOLERANCE, o->ref_substeps, cli_solver_name(c->solver), c->tolerance,
+            o->ref_quality, REF_TOLERANCE, o->ref_substeps, cli_solver_name(c->solver),
+            cli_tolerance_text(c->tolerance, tol, sizeof tol),
             c->max_iterations, o->fps);
 }
 

@@ -361,6 +361,7 @@ int cli_run_run(int argc, char** argv) {
                                in->newton_iterations,
                                in->line_search,
                                in->newton_forcing,
+                               in->tolerance,
                                in->backend == WEFT_BACKEND_GPU ? "gpu" : "cpu",
                                in->backend_reason,
                                def->substeps,

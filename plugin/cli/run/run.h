@@ -21,6 +21,7 @@ typedef struct run_info {
     int newton_iterations;      /* >= 1, as resolved */
     int line_search;            /* 0 off, 1 on, as resolved */
     double newton_forcing;      /* in [0, 1), as resolved */
+    double tolerance;           /* the linear solves' relative residual, as resolved */
     const char* backend;        /* "cpu" or "gpu": the cloth's (weft_cloth_info.backend) */
     const char* backend_reason; /* why (weft_cloth_info.backend_reason) */
     int substeps;               /* per frame */

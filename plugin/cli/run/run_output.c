@@ -95,6 +95,7 @@ static cJSON* build_stats(const run_info* info, const run_record* r, double* scr
     add_num(root, "newton_iterations", info->newton_iterations, &ok);
     if (!cJSON_AddBoolToObject(root, "line_search", info->line_search)) ok = 0;
     add_num(root, "newton_forcing", info->newton_forcing, &ok);
+    add_num(root, "tolerance", info->tolerance, &ok);
     add_num(root, "substeps", info->substeps, &ok);
     add_num(root, "threads", info->threads, &ok);
     add_num(root, "fps", info->fps, &ok);

@@ -21,9 +21,9 @@ void run_print_summary(FILE* out, const run_info* info, const run_record* r) {
             r->frames, info->fps, info->substeps, info->substeps == 1 ? "" : "s", info->solver, info->backend,
             info->threads, info->threads == 1 ? "" : "s");
     fprintf(out, "%-13s %s: %s\n", "backend", info->backend, info->backend_reason);
-    fprintf(out, "%-13s %s integrator, %s preconditioner, Newton iterations %d (forcing %g), line search %s\n",
-            "method", info->integrator, info->preconditioner, info->newton_iterations, info->newton_forcing,
-            info->line_search ? "on" : "off");
+    fprintf(out, "%-13s %s integrator, %s preconditioner (tolerance %g), Newton iterations %d (forcing %g), line search %s\n",
+            "method", info->integrator, info->preconditioner, info->tolerance, info->newton_iterations,
+            info->newton_forcing, info->line_search ? "on" : "off");
     fprintf(out, "%-13s median %.3f  p95 %.3f  mean %.3f  max %.3f  (weft_cloth_step wall time)\n", "ms/frame",
             ms.median, ms.p95, ms.mean, ms.max);
     fprintf(out, "%-13s", "stage ms");

@@ -152,9 +152,13 @@ static int parse_solver(const sj_ctx* c, const cJSON* root, scene* s) {
                            type);
         s->def.solver = (weft_solver)t;
     }
-    if (sj_number(c, solver, "solver", "tolerance", SJ_NONNEGATIVE, &s->def.tolerance) < 0) return -1;
-    if (!(s->def.tolerance < 1))
-        return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual), not %g", s->def.tolerance);
+    const cJSON* tol = cJSON_GetObjectItemCaseSensitive(solver, "tolerance");
+    if (tol && !(cJSON_IsString(tol) && strcmp(tol->valuestring, "default") == 0)) {   /* "default": the library's */
+        if (sj_number(c, solver, "solver", "tolerance", SJ_NONNEGATIVE, &s->def.tolerance) < 0) return -1;
+        if (!(s->def.tolerance < 1))
+            return sj_fail(c, "solver.tolerance", "must be in [0, 1) (a relative residual) or \"default\", not %g",
+                           s->def.tolerance);
+    }
     if (sj_int(c, solver, "solver", "max_iterations", 1, MAX_ITERATIONS, &s->def.max_iterations) < 0) return -1;
     const char* pre = NULL;
     if (sj_string(c, solver, "solver", "preconditioner", &pre) < 0) return -1;

@@ -341,7 +341,7 @@ typedef struct weft_cloth_def {
     double air_drag_tangent;    /* kg/(m^2 s): skin friction per unit tangential speed (0.02) */
 
     weft_solver solver;         /* PCG */
-    double tolerance;           /* relative residual the iterative solvers stop at (1e-4) */
+    double tolerance;           /* relative residual, [0, 1); -1: 1e-3 for BE where DEFAULT gave IC0, else 1e-4 */
     int max_iterations;         /* iteration cap per solve (300) */
     weft_preconditioner preconditioner; /* DEFAULT */
     weft_integrator integrator; /* DEFAULT (backward Euler on both backends) */
@@ -467,7 +467,7 @@ typedef struct weft_cloth_info {
     int n_panels;               /* connected components left once seams join them */
     int self_collision;         /* 0 or 1 */
     double self_collision_thickness; /* m */
-    double newton_forcing;      /* what the def's newton_forcing resolved to, in [0, 1) */
+    double newton_forcing, tolerance; /* what the def's newton_forcing and tolerance resolved to */
     int threads;                /* OpenMP threads a call uses: weft_context_def.threads, or
                                    OpenMP's default (the core count) for 0 */
     char backend_reason[WEFT_BACKEND_REASON_LENGTH]; /* why the cloth runs on `backend`, one line:
