@@ -1,6 +1,6 @@
 # Installation and packaging (included by the top-level CMakeLists.txt after the targets exist):
 #   include/weft/*.h                         the public headers
-#   lib/libweft.so.9.x.y, .so.8, .so          the plugin (SONAME libweft.so.9 = the ABI number)
+#   lib/libweft.so.10.x.y, .so.10, .so         the plugin (SONAME libweft.so.10 = the ABI number)
 #   lib/pkgconfig/weft.pc                     pkg-config (relocatable: paths from ${pcfiledir})
 #   lib/cmake/weft/weftConfig.cmake, weftConfigVersion.cmake, weftTargets*.cmake
 #                                             find_package(weft) -> weft::weft

@@ -31,7 +31,7 @@ the add-on steps the cloth and writes the result (object space) into the object'
 
 The Weft Python bindings (host_glue/python/weft) are imported from sys.path or from ../python
 next to this file; the library from the add-on preferences, else where weft.find_library looks
-($WEFT_LIBRARY, the copy inside a pip-installed weft package, libweft.so.9). Blender calls the handler on its main thread, which is weft's threading contract
+($WEFT_LIBRARY, the copy inside a pip-installed weft package, libweft.so.10). Blender calls the handler on its main thread, which is weft's threading contract
 (one context, used by one thread).
 """
 import os
@@ -406,7 +406,7 @@ class WeftPreferences(bpy.types.AddonPreferences):
     bl_idname = __name__
     library_path: bpy.props.StringProperty(
         name="libweft.so", subtype="FILE_PATH",
-        description="Empty: $WEFT_LIBRARY, the weft package's copy, or libweft.so.9")
+        description="Empty: $WEFT_LIBRARY, the weft package's copy, or libweft.so.10")
 
     def draw(self, context):
         self.layout.prop(self, "library_path")

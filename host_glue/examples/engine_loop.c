@@ -37,7 +37,7 @@
 #include "weft_loader.h"
 
 #ifndef ENGINE_LOOP_DEFAULT_LIBRARY
-#define ENGINE_LOOP_DEFAULT_LIBRARY "libweft.so.9"
+#define ENGINE_LOOP_DEFAULT_LIBRARY "libweft.so.10"
 #endif
 #ifndef ENGINE_LOOP_DEFAULT_MESH
 #define ENGINE_LOOP_DEFAULT_MESH "poncho.fbx"

@@ -7,9 +7,9 @@
  *
  *     weft_api w;
  *     char err[512];
- *     if (weft_loader_open(&w, "/opt/weft/lib/libweft.so.9", err, sizeof err) != WEFT_OK) {
+ *     if (weft_loader_open(&w, "/opt/weft/lib/libweft.so.10", err, sizeof err) != WEFT_OK) {
  *         fprintf(stderr, "%s\n", err);   // "...: cannot open: ...", "...: missing symbol weft_x",
- *         return;                          // "...: ABI 1 != 9 (library 0.1.0 != this host's ..."
+ *         return;                          // "...: ABI 1 != 10 (library 0.1.0 != this host's ..."
  *     }
  *     weft_context_def cd = w.weft_default_context_def();
  *     weft_context* ctx = NULL;
@@ -50,8 +50,8 @@ typedef struct weft_api {
  *   WEFT_ERROR_INVALID_ARGUMENT  api or path NULL:            "weft_loader_open: api is NULL"
  *   WEFT_ERROR_IO                dlopen failed:               "PATH: cannot open: <dlerror>"
  *   WEFT_ERROR_ABI_MISMATCH      a function is not exported:  "PATH: missing symbol weft_x"
- *                                another ABI:                 "PATH: ABI 1 != 9 (library
- *                                                   0.1.0 != this host's weft.h 0.9.2)"
+ *                                another ABI:                 "PATH: ABI 1 != 10 (library
+ *                                                   0.1.0 != this host's weft.h 0.10.0)"
  * api must not hold an open library (close it first). */
 weft_status weft_loader_open(weft_api* api, const char* path, char* error, size_t error_size);
 

@@ -1,7 +1,7 @@
 """Builds the `weft` package (metadata in pyproject.toml) and carries libweft.so in it.
 
 $WEFT_LIBRARY, when set at build time, names the library to copy into the package as
-weft/libweft.so.9 (weft.find_library's third choice); the wheel is then tagged for this platform
+weft/libweft.so.10 (weft.find_library's third choice); the wheel is then tagged for this platform
 (py3-none-<platform>: ctypes needs no particular Python ABI). Without it the package is pure
 Python and finds the library at run time. setuptools' scratch folders (build/, *.egg-info) go to
 a temporary folder, so the source folder may be read-only (an installed
@@ -18,7 +18,7 @@ from setuptools import setup
 from setuptools.command.build_py import build_py
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "weft"))
-from _abi import DEFAULT_LIBRARY  # noqa: E402  (the name the package looks for: libweft.so.9)
+from _abi import DEFAULT_LIBRARY  # noqa: E402  (the name the package looks for: libweft.so.10)
 
 LIBRARY = os.environ.get("WEFT_LIBRARY", "")
 if LIBRARY and not os.path.isabs(LIBRARY):
@@ -29,7 +29,7 @@ if LIBRARY and not os.path.isfile(LIBRARY):
 
 
 class BuildPyWithLibrary(build_py):
-    """build_py, then $WEFT_LIBRARY copied to weft/libweft.so.9 beside the modules."""
+    """build_py, then $WEFT_LIBRARY copied to weft/libweft.so.10 beside the modules."""
 
     def run(self):
         super().run()

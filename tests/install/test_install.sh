@@ -12,7 +12,7 @@ fail() { echo "test_install: FAILED: $*" >&2; exit 1; }
 
 "$cmake" --install "$build" --prefix "$prefix" > "$work/install.log" || fail "cmake --install"
 for f in include/weft/weft.h include/weft/weft_status.h "$libdir/libweft.so" \
-         "$libdir/libweft.so.9" "$libdir/pkgconfig/weft.pc" "$libdir/cmake/weft/weftConfig.cmake" \
+         "$libdir/libweft.so.10" "$libdir/pkgconfig/weft.pc" "$libdir/cmake/weft/weftConfig.cmake" \
          "$libdir/cmake/weft/weftConfigVersion.cmake" "$libdir/cmake/weft/weftTargets.cmake" \
          bin/weft share/weft/host_glue/loader/weft_loader.c share/weft/host_glue/python/weft/__init__.py \
          share/weft/host_glue/python/weft/_abi.py share/weft/host_glue/python/pyproject.toml \
@@ -22,9 +22,9 @@ for f in include/weft/weft.h include/weft/weft_status.h "$libdir/libweft.so" \
 done
 [ -L "$prefix/$libdir/libweft.so" ] || fail "libweft.so is not the development symlink"
 real=$(readlink -f "$prefix/$libdir/libweft.so")
-case $real in */libweft.so.9.*) ;; *) fail "libweft.so -> $real, expected libweft.so.9.x.y" ;; esac
+case $real in */libweft.so.10.*) ;; *) fail "libweft.so -> $real, expected libweft.so.10.x.y" ;; esac
 soname=$(readelf -d "$real" | sed -n 's/.*Library soname: \[\(.*\)\].*/\1/p')
-[ "$soname" = libweft.so.9 ] || fail "SONAME '$soname', expected libweft.so.9"
+[ "$soname" = libweft.so.10 ] || fail "SONAME '$soname', expected libweft.so.10"
 echo "installed: $(cd "$prefix" && find . -type f -o -type l | sort | tr '\n' ' ')"
 echo "SONAME $soname"
 
@@ -49,16 +49,16 @@ grep "weft .* from " "$work/cmake_consumer.log" || true
 "$cmake" --build "$work/cmake_consumer" > "$work/cmake_build.log" 2>&1 ||
   { cat "$work/cmake_build.log"; fail "building the find_package consumer"; }
 "$work/cmake_consumer/weft_consumer" > "$work/cmake_consumer.out" || fail "find_package consumer run"
-ldd "$work/cmake_consumer/weft_consumer" | grep -q "$prefix/$libdir/libweft.so.9" ||
-  fail "the find_package consumer does not load the installed libweft.so.9"
+ldd "$work/cmake_consumer/weft_consumer" | grep -q "$prefix/$libdir/libweft.so.10" ||
+  fail "the find_package consumer does not load the installed libweft.so.10"
 check_output find_package "$work/cmake_consumer.out"
 
 # An incompatible version request is refused (0.x: same minor only).
 if "$cmake" -S "$src" -B "$work/cmake_consumer_v1" -DCMAKE_PREFIX_PATH="$prefix" \
      -DWEFT_REQUIRED_VERSION=1.0 > "$work/cmake_consumer_v1.log" 2>&1; then
-  fail "find_package(weft 1.0) accepted version 0.9"
+  fail "find_package(weft 1.0) accepted version 0.10"
 fi
-grep -q "weftConfigVersion.cmake\|version: 0.9" "$work/cmake_consumer_v1.log" ||
+grep -q "weftConfigVersion.cmake\|version: 0.10" "$work/cmake_consumer_v1.log" ||
   fail "find_package(weft 1.0) failed without naming the version"
 
 # 2. pkg-config, with a plain compiler line.

@@ -3,9 +3,9 @@ package imported is the venv's, its version is the library's, and it finds the l
 order weft.find_library documents. argv[1] says which install this is:
   bundled      built with $WEFT_LIBRARY: the copy inside the package is opened, an explicit path
                and $WEFT_LIBRARY come before it, a wrong-ABI library is refused by name
-  bare         built without it, $WEFT_LIBRARY unset, no libweft.so.9 on the search path: the
+  bare         built without it, $WEFT_LIBRARY unset, no libweft.so.10 on the search path: the
                error names each place looked in
-  search-path  built without it, LD_LIBRARY_PATH holding libweft.so.9: found there
+  search-path  built without it, LD_LIBRARY_PATH holding libweft.so.10: found there
 Environment: WEFT_FIXTURE_OLD_ABI, WEFT_FIXTURE_ABI, WEFT_FIXTURE_NO_SYMBOLS (the loader fixtures).
 """
 import ctypes
@@ -18,7 +18,7 @@ import weft
 
 MODE = sys.argv[1]
 PACKAGE_DIR = os.path.dirname(os.path.abspath(weft.__file__))
-BUNDLED = os.path.join(PACKAGE_DIR, "libweft.so.9")
+BUNDLED = os.path.join(PACKAGE_DIR, "libweft.so.10")
 
 
 class InstalledPackage(unittest.TestCase):
@@ -38,7 +38,7 @@ class InstalledPackage(unittest.TestCase):
                 self.assertEqual(ctx.lib.abi, weft.ABI)
 
 
-@unittest.skipUnless(MODE == "bundled", "the package carries libweft.so.9")
+@unittest.skipUnless(MODE == "bundled", "the package carries libweft.so.10")
 class Bundled(unittest.TestCase):
     def tearDown(self):
         os.environ.pop("WEFT_LIBRARY", None)
@@ -73,16 +73,16 @@ class Bundled(unittest.TestCase):
 class Bare(unittest.TestCase):
     def test_error_names_every_place_looked_in(self):
         try:
-            ctypes.CDLL("libweft.so.9")
-            self.skipTest("a libweft.so.9 is installed on this machine's search path")
+            ctypes.CDLL("libweft.so.10")
+            self.skipTest("a libweft.so.10 is installed on this machine's search path")
         except OSError:
             pass
         self.assertFalse(os.path.exists(BUNDLED))
-        self.assertEqual(weft.find_library(), ("libweft.so.9", "search path"))
+        self.assertEqual(weft.find_library(), ("libweft.so.10", "search path"))
         with self.assertRaises(weft.WeftError) as e:
             weft.Context()
         self.assertEqual(e.exception.status, weft.Status.IO)
-        for said in ("libweft.so.9: cannot open", "$WEFT_LIBRARY: unset", PACKAGE_DIR,
+        for said in ("libweft.so.10: cannot open", "$WEFT_LIBRARY: unset", PACKAGE_DIR,
                      "built without $WEFT_LIBRARY", "dlopen search path"):
             self.assertIn(said, e.exception.message)
         print("\n  no library anywhere:", e.exception, file=sys.stderr)
@@ -92,7 +92,7 @@ class Bare(unittest.TestCase):
 class SearchPath(unittest.TestCase):
     def test_found_on_the_search_path(self):
         with weft.Context() as ctx:
-            self.assertEqual((ctx.lib.path, ctx.lib.source), ("libweft.so.9", "search path"))
+            self.assertEqual((ctx.lib.path, ctx.lib.source), ("libweft.so.10", "search path"))
 
 
 if __name__ == "__main__":

@@ -54,9 +54,9 @@ def make_venv(name):
 def refused_build(python):
     """$WEFT_LIBRARY naming no file, or relative, at build time: pip fails saying so, and
     installs nothing."""
-    missing = os.path.join(WORK, "missing", "libweft.so.9")
+    missing = os.path.join(WORK, "missing", "libweft.so.10")
     for library, said in ((missing, "WEFT_LIBRARY=%s: no such file" % missing),
-                          ("libweft.so.9", "WEFT_LIBRARY=libweft.so.9: give an absolute path")):
+                          ("libweft.so.10", "WEFT_LIBRARY=libweft.so.10: give an absolute path")):
         args, env = pip_install(python, WEFT_LIBRARY=library)
         done = subprocess.run(args, env=env, cwd=WORK, capture_output=True, text=True)
         if done.returncode == 0 or said not in done.stdout + done.stderr:
@@ -87,7 +87,7 @@ def main():
                  % (SOURCE, sorted(set(os.listdir(SOURCE)) - set(source_before))))
     where = subprocess.run([bundled, "-c", "import weft; print(weft.__file__)"], cwd=outside,
                            env=env_for(False), capture_output=True, text=True, check=True)
-    copy = os.path.join(os.path.dirname(where.stdout.strip()), "libweft.so.9")
+    copy = os.path.join(os.path.dirname(where.stdout.strip()), "libweft.so.10")
     if not filecmp.cmp(copy, LIBRARY, shallow=False):
         sys.exit("test_python_package: %s is not a copy of %s" % (copy, LIBRARY))
 

@@ -19,8 +19,8 @@ is converted; an F-ordered float32 one is passed as is), or 16 floats already in
 column-major order; stacks are (n, 4, 4) or (n, 16).
 
 The library (find_library): Context(library=path) or Library(path), else $WEFT_LIBRARY, else the
-copy inside this package (weft/libweft.so.9, put there when the package was built with
-$WEFT_LIBRARY set: host_glue/python/setup.py), else libweft.so.9 on the dlopen search path. The
+copy inside this package (weft/libweft.so.10, put there when the package was built with
+$WEFT_LIBRARY set: host_glue/python/setup.py), else libweft.so.10 on the dlopen search path. The
 first that applies is opened, never a later one instead; its ABI must be this module's.
 
 Threading: weft.h's contract. A Context and its cloths must be used by one thread at a time;
@@ -63,8 +63,8 @@ __version__ = "%d.%d.%d" % VERSION   # the package's version: the library versio
 
 def find_library(path=None):
     """Which libweft.so to open, as (path, source), without opening it. The first that applies:
-    path ("argument"), $WEFT_LIBRARY ("WEFT_LIBRARY"), weft/libweft.so.9 inside this package
-    ("package"), libweft.so.9 on the dlopen search path ("search path")."""
+    path ("argument"), $WEFT_LIBRARY ("WEFT_LIBRARY"), weft/libweft.so.10 inside this package
+    ("package"), libweft.so.10 on the dlopen search path ("search path")."""
     if path:
         return str(path), "argument"
     if os.environ.get("WEFT_LIBRARY"):

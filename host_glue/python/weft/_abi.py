@@ -7,9 +7,9 @@ import enum
 from ctypes import (POINTER, CFUNCTYPE, c_char_p, c_double, c_float, c_int, c_int64, c_size_t,
                     c_ubyte, c_uint32, c_uint64, c_void_p)
 
-ABI = 9                    # WEFT_ABI of the weft.h mirrored here
-VERSION = (0, 9, 4)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
-DEFAULT_LIBRARY = "libweft.so.9"
+ABI = 10                    # WEFT_ABI of the weft.h mirrored here
+VERSION = (0, 10, 0)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
+DEFAULT_LIBRARY = "libweft.so.10"
 
 # ------------------------------------------------------------------------------------------------
 # Enums and constants (names without their C prefix; c_constants() gives the C names)

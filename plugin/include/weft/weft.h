@@ -89,12 +89,12 @@ extern "C" {
 
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
-#define WEFT_VERSION_MINOR 9
-#define WEFT_VERSION_PATCH 4
+#define WEFT_VERSION_MINOR 10
+#define WEFT_VERSION_PATCH 0
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
-#define WEFT_ABI 9
+#define WEFT_ABI 10
 
 typedef struct weft_version_info {
     int major, minor, patch;
