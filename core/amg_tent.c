@@ -26,7 +26,8 @@ void wc_amg_rigid_modes(wc_amg_level* L, const double* x) {
                 RB(L->nns, i, r, k) = r == k ? 1.0 : 0.0;
                 RB(L->nns, i, r, 3 + k) = rot[r][k];
             }
-    }    L->unit_translations = 1;
+    }
+    L->unit_translations = 1;
 }
 
 /* Modified Gram-Schmidt, each column orthogonalised twice against the earlier live ones, on
