@@ -397,7 +397,8 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
 
 int wc_self_pass_pair(wc_self* sc, const wc_model* m, double* x, int mode, int q, int elem, int* prox,
                       unsigned char* touched) {
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, NULL, touched, 0, 1};
+    pass_ctx c = {sc, m, x, mode & ~WC_SELF_PAIR_DRY, 0, 0, 0, (mode & WC_SELF_PAIR_DRY) != 0, NULL, touched, 0, 1};
+    if (c.dry) return q < sc->n ? vertex_tri(&c, q, elem) : edge_edge(&c, q - sc->n, elem);
     if (q < sc->n) vertex_tri(&c, q, elem);
     else edge_edge(&c, q - sc->n, elem);
     if (prox) *prox += c.prox;

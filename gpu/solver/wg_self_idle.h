@@ -36,6 +36,8 @@
  * proved idle, counting the runs where the stage moved something (a broken proof). Tests'
  * mutations, WEFT_GPU_SELF_IDLE_MUTATION: "no-delta" (the displacement left out of the proof),
  * "no-shared" (pairs sharing a particle tested too), "no-margin" (the rounding margins 0).
+ * With a list's room (wg_self_prox.h, WEFT_GPU_SELF_PROX) the walk also lists the pairs that may
+ * act, for core's proximity pass on them and a refined proof after it.
  * Calls are made with the cloth's GL context current; everything is allocated at creation. */
 #ifndef WEFT_GPU_SOLVER_SELF_IDLE_H
 #define WEFT_GPU_SOLVER_SELF_IDLE_H

@@ -1,7 +1,6 @@
 /* Core's proximity pass on the GPU's listed pairs (wg_self_prox.h). */
 #include "wg_self_prox.h"
 
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,7 +8,7 @@
 #include "vec3.h"
 
 typedef struct prox_pair {
-    int q, leaf, elem;
+    int q, leaf, elem, marked;
 } prox_pair;
 
 struct wg_self_prox {
@@ -170,7 +169,7 @@ static int take(wg_self_prox* p, wc_self* sc, const wc_state* s, int n_pins, int
         const float* b = p->buf + 52 * (size_t)j;
         const int q = (int)b[0], e = (int)b[1];
         if (q < 0 || q >= sc->n + sc->n_edges || e < 0 || e >= (q < sc->n ? sc->n_tris : sc->n_edges)) return 0;
-        p->order[j] = (prox_pair){q, leaf[q >= sc->n][e], e};
+        p->order[j] = (prox_pair){q, leaf[q >= sc->n][e], e, 0};
         int ids[4];
         pair_ids(sc, m, q, e, ids);
         for (int k = 0; k < 4; ++k) {
@@ -210,9 +209,19 @@ int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_st
     int nu = 0, prox = 0, nm = 0, refined = -1;
     /* core's proximity pass on the listed pairs, in its order (a CCD hit: the host's stage) */
     int ok = take(p, sc, s, n_pins, count, &nu);
+    /* core's read-only scan first: its serial visit takes only the queries with a pair needing
+       action at the end positions (a pair the proof did not list needs none) */
     for (int j = 0; j < count && ok; ++j)
-        if (wc_self_pass_pair(sc, m, p->x, WC_SELF_PASS_PROXIMITY, p->order[j].q, p->order[j].elem, &prox, p->touched))
-            ok = 0;
+        p->order[j].marked = wc_self_pass_pair(sc, m, p->x, WC_SELF_PASS_PROXIMITY | WC_SELF_PAIR_DRY, p->order[j].q,
+                                               p->order[j].elem, NULL, NULL);
+    for (int j = 0, k = 0; j < count && ok; j = k) {
+        int marked = 0;
+        for (k = j; k < count && p->order[k].q == p->order[j].q; ++k) marked |= p->order[k].marked;
+        for (int i = j; i < k && ok && marked; ++i)
+            if (wc_self_pass_pair(sc, m, p->x, WC_SELF_PASS_PROXIMITY, p->order[i].q, p->order[i].elem, &prox,
+                                  p->touched))
+                ok = 0;
+    }
     /* the moved particles: x and v uploaded (the first read kept in f for a restore) */
     for (int u = 0; u < nu && ok; ++u) {
         const int i = p->ids[u];
@@ -247,9 +256,6 @@ int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_st
     if (!ok)
         for (int u = 0; u < nm; ++u) upload(p, x, v, p->mv[u], p->f + 8 * (size_t)p->mv[u], up_bytes);
     for (int u = 0; u < nu; ++u) p->seen[p->ids[u]] = p->touched[p->ids[u]] = 0;
-    if (getenv("WEFT_GPU_SELF_DIAG"))
-        fprintf(stderr, "prox: %d listed, %d particles, %d impulses, %d moved, refined %d, ok %d\n", count, nu, prox, nm,
-                refined, ok);
     if (!ok) return 0;
     if (gain_out && nm > 0) *gain_out = gain(p, s, x, v, nm, bytes);
     *moved = nm;

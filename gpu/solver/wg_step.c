@@ -337,7 +337,6 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
                 long long up = 0;
                 int moved = 0;
                 idle = c == 0;
-                if (getenv("WEFT_GPU_SELF_DIAG")) fprintf(stderr, "list: %d\n", c);
                 if (c > 0 && wg_self_prox_run(g->self_prox, g->self_idle, s->self, s, g->n_pins_uploaded, ig.he, c,
                                               wg_ring_cur(&g->x), wg_ring_cur(&g->v), &ss, &bytes, &up, &moved,
                                               judge_energy ? &self_gain : NULL)) {
