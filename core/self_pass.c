@@ -26,6 +26,7 @@ typedef struct pass_ctx {
                                    on or counted: the next pass's dirty set */
     int grids;                  /* bits 1, 2: sc's triangle, edge grid holds this pass's dirty
                                    elements (mark_dirty) */
+    int no_impact;              /* 1: a CCD hit is counted, no impulse applied (wc_self_pass_pair) */
 } pass_ctx;
 
 /* The 4 particles of a pair that needed action go into the next pass's dirty set. */
@@ -218,7 +219,7 @@ static int vertex_tri(pass_ctx* c, int i, int t) {
        along it): the pass is then not clean, and what impulses cannot fix the zones will */
     ++c->count;
     touch(c, ids);
-    if (c->sc->passes == 0) return 0;
+    if (c->sc->passes == 0 || c->no_impact) return 0;
     double sep0[3];
     for (int k = 0; k < 3; ++k) sep0[k] = xs[3 * i + k] - bw[0] * xs[3 * tv[0] + k] - bw[1] * xs[3 * tv[1] + k] - bw[2] * xs[3 * tv[2] + k];
     if (!impact_normal(c, ids, 1, t_hit, sep0, n)) return 0;
@@ -276,7 +277,7 @@ static int edge_edge(pass_ctx* c, int e, int f) {
     }
     ++c->count; /* as for vertex-triangle pairs */
     touch(c, ids);
-    if (c->sc->passes == 0) return 0;
+    if (c->sc->passes == 0 || c->no_impact) return 0;
     double sep0[3];
     for (int k = 0; k < 3; ++k)
         sep0[k] = (1 - s) * xs[3 * a0 + k] + s * xs[3 * a1 + k] - (1 - t) * xs[3 * b0 + k] - t * xs[3 * b1 + k];
@@ -380,16 +381,26 @@ int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox,
     /* each query's mark is its own: chunks go to whichever thread is free (the queries' costs
        differ by orders of magnitude: fixed ranges left one thread waiting) */
     WC_PAR_REGION(sc) {
-        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL, grids};
+        pass_ctx d = {sc, m, x, mode, 0, 0, 0, 1, dirty, NULL, grids, 0};
         WC_PAR_FOR_DYNAMIC(WC_SELF_SCAN_CHUNK)
         for (int q = 0; q < nq; ++q) sc->active[q] = (unsigned char)query(&d, q);
     }
     /* the serial visits are those of the unfiltered pass: the scan marked the same queries (a pair
        with no dirty particle needs nothing), and a marked query visits all its candidates, so an
        impulse earlier in this pass that moved a clean pair is seen as it would be unfiltered */
-    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, NULL, touched, 0};
+    pass_ctx c = {sc, m, x, mode, 0, 0, 0, 0, NULL, touched, 0, 0};
     for (int q = 0; q < nq; ++q)
         if (sc->active[q]) query(&c, q);
     if (prox) *prox = c.prox;
+    return c.count;
+}
+
+int wc_self_pass_pair(wc_self* sc, const wc_model* m, double* x, int mode, int q, int elem, int* prox,
+                      unsigned char* touched) {
+    pass_ctx c = {sc, m, x, mode & ~WC_SELF_PAIR_DRY, 0, 0, 0, (mode & WC_SELF_PAIR_DRY) != 0, NULL, touched, 0, 1};
+    if (c.dry) return q < sc->n ? vertex_tri(&c, q, elem) : edge_edge(&c, q - sc->n, elem);
+    if (q < sc->n) vertex_tri(&c, q, elem);
+    else edge_edge(&c, q - sc->n, elem);
+    if (prox) *prox += c.prox;
     return c.count;
 }

@@ -51,5 +51,16 @@ enum {
  * acted on or counted (the next pass's dirty set). */
 int wc_self_pass(wc_self* sc, const wc_model* m, double* x, int mode, int* prox, const unsigned char* dirty,
                  unsigned char* touched);
+/* One pair of a pass in mode (PROXIMITY or IMPULSE), as wc_self_pass's serial visit of query q
+ * (a vertex q < n against triangle elem, else the edge q - n against the edge elem) gives it:
+ * the adjacency rules, the proximity impulse (PROXIMITY; added to *prox, may be NULL) on x, then
+ * too_far and the CCD, but a CCD hit is only counted (no impulse); touched (may be NULL) as
+ * wc_self_pass's. Reads only the pair's particles of x, sc->x_start and sc->inv_mass. Returns
+ * the CCD hits (0 or 1): the GPU's proximity pass over its listed pairs (gpu/solver/wg_self_prox.h)
+ * falls back to the whole stage on one. mode | WC_SELF_PAIR_DRY: the pass's read-only scan instead
+ * (nothing moved; 1 when the pair needs action: its query is one the serial visit takes). */
+#define WC_SELF_PAIR_DRY 16
+int wc_self_pass_pair(wc_self* sc, const wc_model* m, double* x, int mode, int q, int elem, int* prox,
+                      unsigned char* touched);
 
 #endif

@@ -37,8 +37,8 @@ static ag_alloc_counter g_count;
    back, bytes uploaded, runs that uploaded, then the idle proof's substeps, skipped runs, checked
    runs, broken proofs and substeps left untried by its back-off (gpu/solver/wg_self_idle.h); -1
    before any */
-#define IO_N 9
-static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1, -1};
+#define IO_N 11
+static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
 
 /* the self pairs' GPU finder as the cloth logs it (DEBUG): substeps found, those core found (for
    too many candidates or a non-finite x or v), candidates, bytes read back (gpu/solver/wg_self_pairs.h); -1 before any */
@@ -56,7 +56,9 @@ static void io_log(weft_log_level level, const char* message, void* user) {
     if (level == WEFT_LOG_DEBUG &&
         sscanf(message, "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld "
                         "bytes uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, "
-                        "%lld broken, %lld untried", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8]) == IO_N)
+                        "%lld broken, %lld untried (backing off); %lld settled by the proximity pass on the listed "
+                        "pairs (%lld moved)", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8], &v[9],
+               &v[10]) == IO_N)
         memcpy(g_io, v, sizeof v);
 }
 
@@ -498,6 +500,42 @@ static void test_idle(void) {
     g_integrator = WEFT_INTEGRATOR_BACKWARD_EULER;
 }
 
+/* Core's proximity pass on the GPU's listed pairs (gpu/solver/wg_self_prox.h, WEFT_GPU_SELF_PROX)
+ * against core's whole stage on the host: scene `scene` with the idle proof on, with the pass
+ * (r[0]) and without it (r[1]). Where the pass settles a substep, the result is core's stage's on
+ * the same input, so both end at the same bytes, with the same impulses and rollbacks; the pass
+ * settled `settles` substeps or more, `moves` or more of them moving something (its impulses
+ * applied on the listed pairs, the refined proof then holding). */
+static void prox_case(const char* name, int scene, int frames, int settles, int moves) {
+    static run_result r[2];
+    setenv("WEFT_GPU_SELF_IDLE", "on", 1);
+    for (int k = 0; k < 2; ++k) {
+        setenv("WEFT_GPU_SELF_PROX", k == 0 ? "512" : "off", 1);   /* the most room */
+        run(WEFT_BACKEND_GPU, scene, 1, frames, &r[k]);
+    }
+    unsetenv("WEFT_GPU_SELF_PROX");
+    unsetenv("WEFT_GPU_SELF_IDLE");
+    const long long *a = r[0].io, *b = r[1].io;
+    printf("%s, %d frames: with the pass: %lld stage runs, %lld substeps settled by it (%lld moved something), %lld "
+           "bytes read back, %lld uploaded, impulses %d, rollbacks %d; without: %lld runs, %lld skipped, %lld bytes read "
+           "back, impulses %d, rollbacks %d; same positions: %s\n",
+           name, frames, a[0], a[9], a[10], a[1], a[2], r[0].impacts + r[0].proximity, r[0].rollbacks, b[0], b[5], b[1],
+           r[1].impacts + r[1].proximity, r[1].rollbacks, memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0 ? "yes" : "NO");
+    for (int k = 0; k < 2; ++k) CHECK_EQ_INT(r[k].failed, 0);
+    CHECK(memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0);
+    CHECK_EQ_INT(r[0].impacts + r[0].proximity, r[1].impacts + r[1].proximity);
+    CHECK_EQ_INT(r[0].rollbacks, r[1].rollbacks);
+    CHECK_EQ_INT(r[0].max_crossings, r[1].max_crossings);
+    CHECK(a[9] >= settles && a[10] >= moves);
+    CHECK(b[9] == 0);   /* without the pass: none settled by it */
+    CHECK(a[0] + a[5] <= b[0] + b[5]);   /* it only takes substeps off the host */
+}
+
+static void test_prox(void) {
+    prox_case("layers", 0, 30, 0, 0);
+    prox_case("heap", 1, 45, 1, 1);
+}
+
 /* The self pairs found on the GPU (r[0]) and by core on the host (r[1]): the same lists, so the
  * same bytes at the end (a float bound of 0), rollbacks, pairs and stage impulses; the GPU's
  * finder found every substep's (none left to core for want of room). */
@@ -573,6 +611,10 @@ int main(int argc, char** argv) {
     weft_context_destroy(probe);
     if (argc > 1 && strcmp(argv[1], "pairs") == 0) {   /* test_api_gpu_self_pairs */
         RUN_TEST(test_pairs);
+        return TEST_SUMMARY();
+    }
+    if (argc > 1 && strcmp(argv[1], "prox") == 0) {   /* test_api_gpu_self_prox */
+        RUN_TEST(test_prox);
         return TEST_SUMMARY();
     }
     if (argc > 1 && strcmp(argv[1], "idle") == 0) {   /* test_api_gpu_self_idle */

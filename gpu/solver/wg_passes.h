@@ -330,8 +330,8 @@ typedef struct wg_self_idle_refit_in {   /* self_idle_refit_groups.glsl (the nod
     const wg_tex *order, *elem, *x, *xs;
 } wg_self_idle_refit_in;
 
-typedef struct wg_self_idle_walk_in {   /* self_idle_walk_groups.glsl (the counter: image 0) */
-    const wg_tex *tnode, *enode, *elem, *x, *xs, *part, *seam;
+typedef struct wg_self_idle_walk_in {   /* self_idle_walk_groups.glsl (the list: image 0, the counter: 1) */
+    const wg_tex *tnode, *enode, *elem, *x, *xs, *v, *part, *seam;
 } wg_self_idle_walk_in;
 
 typedef struct wg_self_pairs_refit_in {   /* self_pairs_refit_groups.glsl (the node image: image 0) */

@@ -63,6 +63,12 @@ void wg_self_count_proof(wg_self* ws, int idle, long long bytes) {
     ws->io.read_bytes += bytes;
 }
 
+void wg_self_count_prox(wg_self* ws, int moved, long long up_bytes) {
+    ++ws->io.prox_settled;
+    ws->io.prox_moved += moved > 0;
+    ws->io.upload_bytes += up_bytes;
+}
+
 void wg_self_count_untried(wg_self* ws) { ++ws->io.untried; }
 
 void wg_self_count_check(wg_self* ws, int moved) {

@@ -40,6 +40,9 @@ typedef struct wg_self_io {
     long long checked;          /* WEFT_GPU_SELF_IDLE=check: proved idle, and the stage run anyway */
     long long broken;           /* of those, runs that moved a particle (a broken proof: 0) */
     long long untried;          /* substeps (stages) it did not try, backing off after failures */
+    /* the proximity pass on the GPU's listed pairs (wg_self_prox.h): */
+    long long prox_settled;     /* substeps it settled (no host stage), of them prox_moved moved something */
+    long long prox_moved;
 } wg_self_io;
 
 /* For a cloth of n particles in layout L (kept); NULL when out of memory. */
@@ -60,6 +63,8 @@ void wg_self_end(wg_self* ws, wc_self* sc, const wc_state* s, int n_pins, double
 const wg_self_io* wg_self_transfers(const wg_self* ws);
 /* The idle proof's outcome on a substep: idle (1: proved idle), its bytes read back. */
 void wg_self_count_proof(wg_self* ws, int idle, long long bytes);
+/* A substep settled by the proximity pass on the listed pairs: moved (particles), bytes uploaded. */
+void wg_self_count_prox(wg_self* ws, int moved, long long up_bytes);
 /* WEFT_GPU_SELF_IDLE=check: the stage run where the proof said idle moved (1) or not (0). */
 void wg_self_count_check(wg_self* ws, int moved);
 /* A substep the proof did not try (its back-off). */

@@ -27,6 +27,8 @@ struct wg_self_idle {
     double thickness, eta;
     idle_tree tri, edge;
     wg_tex elem, part, seam, xs, counter;
+    wg_tex list;                /* 13 texels a listed pair (the GPU's proximity pass), room cap */
+    int cap;                    /* 0: no list */
     int tried;                  /* this substep's (stage's) start made the copy: the proof runs at its end */
     int failures, wait;         /* proofs failed in a row; substeps left before the next try */
 };
@@ -70,6 +72,7 @@ void wg_self_idle_destroy(wg_self_idle* si, int gl) {
         wg_tex_destroy(&si->seam);
         wg_tex_destroy(&si->xs);
         wg_tex_destroy(&si->counter);
+        wg_tex_destroy(&si->list);
     }
     wc_free(&a, si);
 }
@@ -77,7 +80,7 @@ void wg_self_idle_destroy(wg_self_idle* si, int gl) {
 size_t wg_self_idle_bytes(const wg_self_idle* si) {
     if (!si) return 0;
     const wg_tex* t[] = {&si->tri.node, &si->tri.order, &si->edge.node, &si->edge.order, &si->elem,
-                         &si->part,     &si->seam,      &si->xs,        &si->counter};
+                         &si->part,     &si->seam,      &si->xs,        &si->counter, &si->list};
     size_t bytes = 0;
     for (int k = 0; k < (int)(sizeof t / sizeof t[0]); ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     return bytes;
@@ -116,7 +119,7 @@ static int tree_upload(wg_self_idle* si, idle_tree* t, const wc_bvh* b, float* o
     return wg_array_create(L, &t->node, GL_RGBA32F, 2 * nn, o, err, err_len);
 }
 
-int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg_self_idle_mode mode,
+int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg_self_idle_mode mode, int cap,
                         wg_self_idle** out, char* err, size_t err_len) {
     *out = NULL;
     wc_allocator a = sc->alloc;
@@ -134,6 +137,7 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
     si->ne = sc->n_edges;
     si->thickness = sc->thickness;
     si->eta = sc->eta;
+    si->cap = cap > 0 ? cap : 0;
     const int n_seam = sc->seam_start ? sc->seam_start[sc->n] : 0;
     size_t room = 4 * ((size_t)si->nt + si->ne + si->n + n_seam + 4);
     size_t rt = 12 * ((size_t)sc->tri_bvh.n_nodes + sc->edge_bvh.n_nodes + 2);
@@ -172,7 +176,8 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
         for (int k = 0; k < n_seam; ++k) o[4 * (size_t)k] = (float)sc->seam_nbr[k];
         ok = wg_array_create(L, &si->seam, GL_RGBA32F, n_seam > 0 ? n_seam : 1, o, err, err_len) &&
              wg_array_create(L, &si->xs, GL_RGBA32F, si->n > 0 ? si->n : 1, NULL, err, err_len) &&
-             wg_tex_create(&si->counter, GL_R32I, 1, 1, NULL, err, err_len);
+             wg_tex_create(&si->counter, GL_R32I, 1, 1, NULL, err, err_len) &&
+             wg_array_create(L, &si->list, GL_RGBA32F, si->cap > 0 ? 13 * si->cap : 1, NULL, err, err_len);
     }
     wc_free(&a, o);
     wc_free(&a, h);
@@ -218,8 +223,9 @@ static void refit(wg_self_idle* si, const idle_tree* t, int elem0, const wg_tex*
     wg_run_by_height(run, t->first, t->n_heights, &t->node);
 }
 
-int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
-    if (si->nt == 0) return 0;   /* core's stage does nothing without triangles */
+/* The walk of the proof (listing the pairs that may act when list, the refined test when
+ * refined); returns the counter. */
+static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, int refined, long long* bytes) {
     wg_runner* run = si->run;
     const int margin = si->mutation != MUTATE_NO_MARGIN;
     const double rel = margin ? REL : 0.0, pad = si->thickness * (1.0 + rel);
@@ -230,7 +236,9 @@ int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
     const GLint zero = 0;
     wg_tex_upload(&si->counter, 0, 0, 1, 1, &zero);
     WG_USE(run, WGP_SELF_IDLE_WALK_GROUPS, &(wg_self_idle_walk_in){.tnode = &si->tri.node, .enode = &si->edge.node,
-        .elem = &si->elem, .x = xe, .xs = &si->xs, .part = &si->part, .seam = &si->seam});
+        .elem = &si->elem, .x = xe, .xs = &si->xs, .v = v, .part = &si->part, .seam = &si->seam});
+    wg_u1i(run, "u_cap", list ? si->cap : 0);
+    wg_u1i(run, "u_refined", refined);
     wg_u1i(run, "u_np", si->n);
     wg_u1i(run, "u_nt", si->nt);
     wg_u1i(run, "u_shared", si->mutation != MUTATE_NO_SHARED);
@@ -240,15 +248,37 @@ int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
     wg_u1f(run, "u_mu", rel * si->thickness);
     wg_u1f(run, "u_ulp", margin ? 1.0 : 0.0);
     const int nq = si->n + si->ne;
-    wg_run_groups_scratch(run, nq, (nq + 63) / 64, NULL, 0, &si->counter);
+    wg_run_groups_scratch(run, nq, (nq + 63) / 64, (const wg_tex* const[]){&si->list}, 1, &si->counter);
     GLint count = 0, prev = 0;   /* the counter: a synchronisation with the GPU */
     glGetIntegerv(GL_TEXTURE_BINDING_2D, &prev);
     glBindTexture(GL_TEXTURE_2D, si->counter.id);
     glGetTexImage(GL_TEXTURE_2D, 0, GL_RED_INTEGER, GL_INT, &count);
     glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
     *bytes += (long long)sizeof(GLint);
-    /* the back-off: after k >= 2 failures in a row, the next min(2^(k-2), WAIT_MAX) substeps untried */
-    si->failures = count > 0 ? si->failures + 1 : 0;
-    si->wait = si->failures < 2 ? 0 : si->failures > 5 ? WAIT_MAX : 1 << (si->failures - 2);
     return count;
+}
+
+int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
+    if (si->nt == 0) return 0;   /* core's stage does nothing without triangles */
+    const int count = walk(si, x, x, 0, 0, bytes);
+    wg_self_idle_outcome(si, count > 0);
+    return count;
+}
+
+int wg_self_idle_list(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int refined, float* out, long long* bytes) {
+    if (si->nt == 0) return 0;
+    const int count = walk(si, x, v, 1, refined, bytes);
+    if (count > 0 && count <= si->cap) {
+        wg_array_read(si->run->layout, &si->list, 13 * count, out);
+        *bytes += 13LL * 16 * count;
+    }
+    return count;
+}
+
+int wg_self_idle_cap(const wg_self_idle* si) { return si->cap; }
+
+void wg_self_idle_outcome(wg_self_idle* si, int acted) {
+    /* the back-off: after k >= 2 failures in a row, the next min(2^(k-2), WAIT_MAX) substeps untried */
+    si->failures = acted ? si->failures + 1 : 0;
+    si->wait = si->failures < 2 ? 0 : si->failures > 5 ? WAIT_MAX : 1 << (si->failures - 2);
 }

@@ -36,6 +36,8 @@
  * proved idle, counting the runs where the stage moved something (a broken proof). Tests'
  * mutations, WEFT_GPU_SELF_IDLE_MUTATION: "no-delta" (the displacement left out of the proof),
  * "no-shared" (pairs sharing a particle tested too), "no-margin" (the rounding margins 0).
+ * With a list's room (wg_self_prox.h, WEFT_GPU_SELF_PROX) the walk also lists the pairs that may
+ * act, for core's proximity pass on them and a refined proof after it.
  * Calls are made with the cloth's GL context current; everything is allocated at creation. */
 #ifndef WEFT_GPU_SOLVER_SELF_IDLE_H
 #define WEFT_GPU_SOLVER_SELF_IDLE_H
@@ -53,7 +55,7 @@ wg_self_idle_mode wg_self_idle_env(void);
 
 /* For the cloth m with core's stage sc (its trees, edges, seam links and tangled flags), n
  * particles; 0 with err (GL, memory, textures too small). Compute passes only. */
-int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg_self_idle_mode mode,
+int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg_self_idle_mode mode, int cap,
                         wg_self_idle** out, char* err, size_t err_len);
 void wg_self_idle_destroy(wg_self_idle* si, int gl);   /* gl 0: the memory only */
 size_t wg_self_idle_bytes(const wg_self_idle* si);      /* GPU memory held (0 for NULL) */
@@ -71,6 +73,16 @@ const wg_tex* wg_self_idle_start(const wg_self_idle* si);
 /* The proof at the end positions x of a substep whose start tried it: the pairs that may act
  * (0: the stage is idle). Reads back 4 bytes (added to *bytes). */
 int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes);
+/* The GPU's proximity pass (wg_self_prox.h), with a list's room cap > 0 given at creation (the
+ * argument cap; 0: none): the same proof listing the pairs that may act, 13 texels (52 floats) a
+ * pair into out when the count (returned) is 1..cap: (q, element, -, -), then x, xs and v of its
+ * 4 particles; a count past cap: no list (the host's stage). refined 1: the proof after that
+ * pass's impulses, the thickness test left out (a pair listed where too_far may fail). The
+ * back-off is not updated (wg_self_idle_outcome). */
+int wg_self_idle_list(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int refined, float* out, long long* bytes);
+int wg_self_idle_cap(const wg_self_idle* si);
+/* The back-off's count: acted 1 after a substep the stage ran on the host. */
+void wg_self_idle_outcome(wg_self_idle* si, int acted);
 
 /* The uploads the self pairs' GPU finder shares (wg_self_pairs.h): tree k (0 the triangles', 1
  * the edges') as its nodes (2 texels each: (min, left child), (max, right child or element);

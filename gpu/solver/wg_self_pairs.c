@@ -88,7 +88,7 @@ int wg_self_pairs_create(wg_runner* run, const wc_self* sc, const wc_self_pairs*
     int ok = gp->rb && gp->order && gp->list;
     if (!ok) wg_errorf(err, err_len, "out of memory");
     if (ok && !idle) {
-        ok = wg_self_idle_create(run, sc, m, WG_SELF_IDLE_OFF, &gp->own, err, err_len);
+        ok = wg_self_idle_create(run, sc, m, WG_SELF_IDLE_OFF, 0, &gp->own, err, err_len);
         idle = gp->own;
     }
     ok = ok && wg_array_create(run->layout, &gp->out, GL_RGBA32F, gp->cap, NULL, err, err_len) &&

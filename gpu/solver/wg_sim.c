@@ -64,6 +64,7 @@ void wg_sim_destroy(wg_sim* g) {
         wg_pairs_forget(g->pairs);
         wg_mesh_sharp_destroy(g->sharp, 0);
         wg_self_idle_destroy(g->self_idle, 0);
+        wg_self_prox_destroy(g->self_prox);
         wg_self_pairs_destroy(g->gself, 0);
         goto memory;
     }
@@ -72,6 +73,7 @@ void wg_sim_destroy(wg_sim* g) {
     wg_pairs_destroy(g->pairs);
     wg_mesh_sharp_destroy(g->sharp, 1);
     wg_self_idle_destroy(g->self_idle, 1);
+    wg_self_prox_destroy(g->self_prox);
     wg_self_pairs_destroy(g->gself, 1);
     wg_tex* t[128];
     int n = all_textures(g, t, 128);
@@ -419,7 +421,15 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         strcmp(idle_env, "check"))
         wc_log(diag, WC_LOG_WARN, "WEFT_GPU_SELF_IDLE=%s is not on, off or check: the idle proof is off", idle_env);
     if (ok && g->self && dev->compute && wg_self_idle_env() != WG_SELF_IDLE_OFF)
-        ok = wg_self_idle_create(&g->run, s->self, m, wg_self_idle_env(), &g->self_idle, err, sizeof err);
+        ok = wg_self_idle_create(&g->run, s->self, m, wg_self_idle_env(), wg_self_prox_env() ? wg_self_prox_cap(m->n_particles, wg_self_prox_env()) : 0,
+                                 &g->self_idle, err, sizeof err);
+    if (ok && g->self_idle && wg_self_prox_env()) {
+        g->self_prox = wg_self_prox_create(g->run.layout, m->n_particles, s->self->alloc);
+        if (!g->self_prox) {
+            ok = 0;
+            snprintf(err, sizeof err, "out of memory");
+        }
+    }
     int pairs_known = 1;
     const wg_self_pairs_mode pairs_mode = wg_self_pairs_env(&pairs_known);
     if (g->self && !pairs_known)

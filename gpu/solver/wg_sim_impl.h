@@ -18,6 +18,7 @@
 #include "wg_runner.h"
 #include "wg_self.h"
 #include "wg_self_idle.h"
+#include "wg_self_prox.h"
 #include "wg_self_pairs.h"
 #include "wg_sim.h"
 #include "wg_stamps.h"
@@ -109,6 +110,8 @@ struct wg_sim {
                                    has one (s->self), else NULL */
     wg_self_idle* self_idle;    /* the stage's idle proof (wg_self_idle.h): compute passes, with
                                    self, unless WEFT_GPU_SELF_IDLE=off; else NULL */
+    wg_self_prox* self_prox;    /* core's proximity pass on the proof's listed pairs (wg_self_prox.h):
+                                   with self_idle when WEFT_GPU_SELF_PROX=on, else NULL */
     wg_self_pairs* gself;       /* the self pairs found on the GPU (wg_self_pairs.h): compute passes,
                                    with pairs and self pairs, unless WEFT_GPU_SELF_PAIRS is not gpu */
     wg_pairs* pairs;            /* the penalty pairs in the solve (wg_pairs.h) when the state has

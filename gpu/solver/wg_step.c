@@ -11,6 +11,8 @@
  * of four texels per substep feeds core's judge. Rollback moves no data: the state rings keep the
  * substep's start. */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "clock.h"
@@ -328,7 +330,23 @@ static wc_status gpu_stage(wg_sim* g, wc_state* s, double h, int stage, double a
         int idle = 0;
         if (proof) {
             long long bytes = 0;
-            idle = wg_self_idle_count(g->self_idle, wg_ring_cur(&g->x), &bytes) == 0;
+            if (g->self_prox && wg_self_idle_get_mode(g->self_idle) == WG_SELF_IDLE_ON) {
+                /* core's proximity pass on the listed pairs, then the refined proof (wg_self_prox.h) */
+                const int c = wg_self_idle_list(g->self_idle, wg_ring_cur(&g->x), wg_ring_cur(&g->v), 0,
+                                                wg_self_prox_buffer(g->self_prox), &bytes);
+                long long up = 0;
+                int moved = 0;
+                idle = c == 0;
+                if (c > 0 && wg_self_prox_run(g->self_prox, g->self_idle, s->self, s, g->n_pins_uploaded, ig.he, c,
+                                              wg_ring_cur(&g->x), wg_ring_cur(&g->v), &ss, &bytes, &up, &moved,
+                                              judge_energy ? &self_gain : NULL)) {
+                    idle = 1;
+                    wg_self_count_prox(g->self, moved, up);
+                }
+                wg_self_idle_outcome(g->self_idle, !idle);
+            } else {
+                idle = wg_self_idle_count(g->self_idle, wg_ring_cur(&g->x), &bytes) == 0;
+            }
             wg_self_count_proof(g->self, idle, bytes);
         } else if (g->self_idle) {
             wg_self_count_untried(g->self);
@@ -502,9 +520,13 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
         wc_log(diag, WC_LOG_DEBUG,
                "GPU self-collision, transfers since creation: %lld stage runs, %lld bytes read back, %lld bytes "
                "uploaded by %lld of the runs; idle proof: %lld substeps, %lld skipped, %lld checked, %lld broken, %lld "
-               "untried (backing off)",
+               "untried (backing off); %lld settled by the proximity pass on the listed pairs (%lld moved)",
                io->runs, io->read_bytes, io->upload_bytes, io->uploads, io->proofs, io->skipped, io->checked,
-               io->broken, io->untried);
+               io->broken, io->untried, io->prox_settled, io->prox_moved);
+        if (getenv("WEFT_GPU_SELF_IO_STDERR"))   /* measurements (docs/design/gpu_self.md): the same line */
+            fprintf(stderr, "self io: runs %lld read %lld up %lld proofs %lld skipped %lld untried %lld prox %lld moved %lld\n",
+                    io->runs, io->read_bytes, io->upload_bytes, io->proofs, io->skipped, io->untried, io->prox_settled,
+                    io->prox_moved);
     }
     if (g->pairs) {
         const wg_pairs_io* io = wg_pairs_transfers(g->pairs);
