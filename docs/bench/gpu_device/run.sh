@@ -126,6 +126,11 @@ if [ "$MODE" = dress ]; then   # mesh colliders, Newton with contacts and self-c
     # the GPU multigrid's pair cross terms (opt-in) against the row above without them
     WEFT_GPU_AMG_CROSS=1 timeout 150 build-dev/weft run sample_scenes/suit_on_body.json --frames 30 --quiet --stats /tmp/st.json --backend gpu --threads 16 --self-collision on --newton 1 > /tmp/run.txt 2>&1 && \
       python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| gpu, WEFT_GPU_AMG_CROSS=1 (%.1f it./solve) | on | 1 | %.2f | %s | %s | %s | %s |'%(s['iterations']['mean'],s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
+    # the self stage's proximity pass on the GPU-listed pairs (opt-in until timed here) against the rows above
+    for px in off on; do
+      WEFT_GPU_SELF_PROX=$px timeout 150 build-dev/weft run sample_scenes/suit_on_body.json --frames 30 --quiet --stats /tmp/st.json --backend gpu --threads 16 --self-collision on --newton 1 > /tmp/run.txt 2>&1 && \
+        python3 -c "import json;s=json.load(open('/tmp/st.json'));m=s.get('stage_ms',{});print('| gpu, WEFT_GPU_SELF_PROX=$px | on | 1 | %.2f | %s | %s | %s | %s |'%(s['ms_per_frame']['median'],m.get('collide'),m.get('self_collide'),m.get('solve'),s.get('rollbacks')))"
+    done
     timeout 60 build-dev/weft run sample_scenes/suit_on_body.json --frames 2 --backend auto 2>&1 | grep -E "^backend|^method"
     timeout 240 build-dev/weft bench collide --backend cpu,gpu --cloth 64,160 --body 20000 --settle 2 --frames 3 --threads 16 2>&1 | tail -12; } 2>&1 | tee "$O/d_dress.md"
   exit 0
