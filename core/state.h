@@ -162,6 +162,7 @@ typedef struct wc_state {
                                    release test (wc_integ_contact_impulses) */
     /* Newton scratch (newton.h), (n x 3) each unless noted */
     double *nw_w, *nw_d, *nw_x, *nw_v, *nw_zero, *nw_g, *nw_fb;
+    double* nw_wh;              /* TR-BDF2's stage 1: the iterate converged with the first held directions */
     double* nw_fa;              /* (n x 9) friction's diagonal blocks */
     double* air_lump;           /* (n x 9) TR-BDF2's implicit air drag blocks (wc_air_lumped, bdf2.h) */
     double* nw_kv0;             /* (n_springs x 9) damping blocks frozen at the substep's start */

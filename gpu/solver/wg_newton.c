@@ -233,7 +233,11 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
                       : stage1                                                         ? WC_NEWTON_STAGE1_EXTRA
                                                                                        : 0;
     int converged = 0;
-    for (int it = 1; it < n_it + extra && !stop; ++it) {
+    /* stage 1's held directions move once, to the iterate converged with w_1's (core/newton.c
+       "Stage 1"): nw_wd then keeps that iterate, the stage's end when the moved ones do not converge */
+    int rehold = stage1, moved = 0, end = n_it + extra;
+    double glast = 0.0;   /* the last gradient tested, over residual_scale */
+    for (int it = 1; it < end && !stop; ++it) {
         const int past = it >= n_it;
         int hot = 0;   /* past the count: the energy guard wants this iteration */
         if (past) {
@@ -255,7 +259,16 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
             g->nw_held = 1;
         }
         rv = &g->nw_zero;   /* core's R_GRADIENT: -g at w */
-        const double gn = sqrt(filtered_norm2(g));
+        double gn = sqrt(filtered_norm2(g));
+        if (rehold && it > 1 && !(gn > s1_tol * residual_scale)) {
+            rehold = 0;
+            moved = 1;
+            if (end < it + WC_NEWTON_STAGE1_MOVED) end = it + WC_NEWTON_STAGE1_MOVED;
+            wg_copy(run, &g->nw_wd, w);
+            wg_newton_system(g, s, ig, w, compression);
+            gn = sqrt(filtered_norm2(g));
+        }
+        glast = gn / residual_scale;
         if (!(gn > fmax(tol * residual_scale, gfloor)) || (past && !hot && !(gn > s1_tol * residual_scale))) {
             converged = 1;
             break;
@@ -298,6 +311,14 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
         }
         w = trial;
         ++st->newton_iterations;
+    }
+    if (moved && !converged && glast > s1_tol) {   /* the moved directions did not converge: back to nw_wd's iterate */
+        wg_tex* t = spare(g, w, NULL);
+        wg_copy(run, t, &g->nw_wd);
+        w = t;
+        converged = 1;
+        wg_newton_system(g, s, ig, w, compression);   /* its gradient for the residual (core's R_GRADIENT) */
+        rv = &g->nw_zero;
     }
     if (stage1 && !converged) ++st->stage1_unconverged;
     g->nw_held = 0;
