@@ -47,12 +47,13 @@
  * count stopped at set the swing's energy (docs/bench/trbdf2_spread.md). Held after w_1, Phi is
  * one convex function and the stage converges in 2-4 more solves; the directions are within
  * O(h^2) of the stage end's, so the stage stays second order (tests/test_trbdf2_converged.c).
- * Moved once: converged with w_1's directions, the stage refreshes them at that iterate w*
- * (kept in nw_wh), holds them there and iterates on, at most NW_STAGE1_MOVED more solves, to
+ * Moved once (Newton >= WC_NEWTON_STAGE1_MOVE_FROM): converged with w_1's directions, the
+ * stage refreshes them at that iterate w* (kept in nw_wh), holds them there and iterates on, at most NW_STAGE1_MOVED more solves, to
  * the same test; when these do not reach it, the stage ends on w*. Why: the fixed point with
  * w_1's directions is biased by them (the swinging sheet with Newton 6, which converges it
  * furthest, ended 1.29 % from the reference, Newton 3 0.66 %); moved to w*, Newton 6 0.43-0.61 %,
- * Newton 3 0.41 %, at 1.7-3.8 more solves a stage (most of them discarded for Newton 2 and 3).
+ * Newton 3 0.41 %, at 1.7-3.8 more solves a stage: +14 % solves for Newton 6, but +45 % for
+ * Newton 3 and +52 % for Newton 2 (no gain there), most of them discarded: so not below 4.
  * Moving them at every convergence does not converge (the same map as refreshing each
  * iterate), and the moved stage's unconverged iterate is worse than w* (kept, Newton 3 rolled
  * back in 6 frames and ended 3.4 % off): hence once, with w* to fall back on.
@@ -480,7 +481,8 @@ wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solv
                                                                                  : 0;
     int converged = 0;   /* the loop ended on a gradient at or below the stopping test */
     /* stage 1's held directions move once, to the iterate converged with w_1's ("Stage 1") */
-    int rehold = stage1, moved = 0, end = s->def.newton_iterations + extra;
+    int rehold = stage1 && s->def.newton_iterations >= WC_NEWTON_STAGE1_MOVE_FROM, moved = 0;
+    int end = s->def.newton_iterations + extra;
     double glast = 0.0;   /* the last gradient tested, over gref */
     for (int it = 1; it < end && !stop; ++it) {
         const int past = it >= s->def.newton_iterations;

@@ -13,8 +13,9 @@
  *     docs/bench/newton_forcing.md, "The loose first solve with penalty pairs").
  *   Stage 1 (wc_sim_def.stage1_tolerance): TR-BDF2's trapezoidal stage holds its damping's
  *     directions from the first iterate on and iterates past newton_iterations to that tolerance;
- *     converged, it moves them once to that iterate and iterates on (at most
- *     WC_NEWTON_STAGE1_MOVED solves) to the same tolerance, or ends on that iterate.
+ *     from WC_NEWTON_STAGE1_MOVE_FROM iterations on, converged, it moves them once to that
+ *     iterate and iterates on (at most WC_NEWTON_STAGE1_MOVED solves) to the same tolerance, or
+ *     ends on that iterate.
  *   Energy guard (energy_cap): up to NW_ENERGY_EXTRA more iterations while the accepted
  *     iterate's total energy is above the bound the step's energy judge allows.
  * Deterministic on any thread count; nothing is allocated (state.h's nw_* scratch). */
@@ -25,6 +26,7 @@
 
 #define WC_NEWTON_STAGE1_EXTRA 6   /* TR-BDF2's stage 1: iterations past newton_iterations at most (the GPU's too) */
 #define WC_NEWTON_STAGE1_MOVED 4   /* TR-BDF2's stage 1: solves after its held directions moved at most (the GPU's too) */
+#define WC_NEWTON_STAGE1_MOVE_FROM 4   /* ... moved only from this many Newton iterations on (the GPU's too) */
 
 /* 1 when the def asks for more than one Baraff-Witkin step (iterations > 1 or line search). */
 int wc_newton_wanted(const wc_sim_def* d);

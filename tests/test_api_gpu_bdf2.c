@@ -100,8 +100,8 @@ static double max_distance(const float* a, const float* b) {
 
 static run_result cpu_r, gpu_r, cpu_be;
 
-/* One integrator at Newton 1 and (newton2) at Newton 2 with the line search, GPU against CPU;
- * moving, teleport_at and reset_at as run()'s. */
+/* One integrator at Newton 1, (newton2 >= 1) at Newton 2 with the line search and (newton2 = 2)
+ * at Newton 4 with it, GPU against CPU; moving, teleport_at and reset_at as run()'s. */
 static void compare(weft_integrator integ, const char* name, int newton2, int moving, int teleport_at, int reset_at) {
     ag_mesh m;
     ag_grid(&m, N, 1.0, 1.5, 0, 0);
@@ -109,7 +109,7 @@ static void compare(weft_integrator integ, const char* name, int newton2, int mo
     weft_context* gpu = ap_context(WEFT_BACKEND_GPU);
     if (!cpu || !gpu) return;
     for (int k = 0; k < 1 + newton2; ++k) {
-        int newton = k == 0 ? 1 : 2, ls = k;
+        int newton = k == 0 ? 1 : k == 1 ? 2 : 4, ls = k > 0;
         run(cpu, &m, integ, newton, ls, moving, teleport_at, reset_at, &cpu_r);
         run(gpu, &m, integ, newton, ls, moving, teleport_at, reset_at, &gpu_r);
         run(cpu, &m, WEFT_INTEGRATOR_BACKWARD_EULER, newton, ls, moving, teleport_at, reset_at, &cpu_be);
@@ -125,7 +125,10 @@ static void compare(weft_integrator integ, const char* name, int newton2, int mo
                "CPU %d, GPU %d; BDF2 steps CPU %d, GPU %d; Newton steps CPU %d, GPU %d\n", name, newton,
                ls ? " + line search" : "", teleport_at >= 0 ? ", teleport" : "", reset_at >= 0 ? ", reset" : "", d,
                name, dbe, cpu_r.rollbacks, gpu_r.rollbacks, cpu_b, gpu_b, cpu_r.newton_steps, gpu_r.newton_steps);
-        CHECK(d < 5e-3);           /* float against double, as test_api_gpu_newton's */
+        /* float against double, as test_api_gpu_newton's; TR-BDF2 from Newton 4 on: stage 1 moves its
+           held damping directions to the first iterate that passes its test (core/newton.c "Stage 1"),
+           and float and double pass it at different iterates (docs/bench/trbdf2_held_bias.md) */
+        CHECK(d < (newton >= 4 ? 1.5e-2 : 5e-3));   /* Newton 4: 7.2 mm; 3.4 cm with the GPU on the unmoved rule */
         CHECK(d < 0.25 * dbe);     /* the integrator is followed, not backward Euler */
         if (cpu_r.rollbacks == 0) CHECK_EQ_INT(gpu_r.rollbacks, 0);
         if (cpu_r.rollbacks == 0 && gpu_r.rollbacks == 0) CHECK(same);   /* the history's rules, frame by frame */
@@ -142,7 +145,7 @@ static void compare(weft_integrator integ, const char* name, int newton2, int mo
 }
 
 static void test_bdf2_vs_cpu(void) { compare(WEFT_INTEGRATOR_BDF2, "BDF2", 1, 1, -1, -1); }
-static void test_trbdf2_vs_cpu(void) { compare(WEFT_INTEGRATOR_TRBDF2, "TR-BDF2", 1, 1, -1, -1); }
+static void test_trbdf2_vs_cpu(void) { compare(WEFT_INTEGRATOR_TRBDF2, "TR-BDF2", 2, 1, -1, -1); }
 /* the history's rules do not depend on Newton: Newton 1 only */
 static void test_bdf2_teleport_reset(void) {
     compare(WEFT_INTEGRATOR_BDF2, "BDF2", 0, 0, 10, -1);

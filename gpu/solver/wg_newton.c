@@ -235,7 +235,7 @@ void wg_newton_iterate(wg_sim* g, const wc_state* s, const wc_integ* ig, wc_solv
     int converged = 0;
     /* stage 1's held directions move once, to the iterate converged with w_1's (core/newton.c
        "Stage 1"): nw_wd then keeps that iterate, the stage's end when the moved ones do not converge */
-    int rehold = stage1, moved = 0, end = n_it + extra;
+    int rehold = stage1 && n_it >= WC_NEWTON_STAGE1_MOVE_FROM, moved = 0, end = n_it + extra;
     double glast = 0.0;   /* the last gradient tested, over residual_scale */
     for (int it = 1; it < end && !stop; ++it) {
         const int past = it >= n_it;
