@@ -260,17 +260,7 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
         wc_par_range(sc, wc_par_tid(), wc_par_nt(), &c0, &c1);
         for (int c = c0; c < c1; ++c) {
             int hi = (c + 1) * NW_CHUNK < m->n_springs ? (c + 1) * NW_CHUNK : m->n_springs;
-            double acc = 0.0;
-            for (int k = c * NW_CHUNK; k < hi; ++k) {
-                const wc_spring* sp = &m->springs[k];
-                double L[3], dv[3], Kd[3];
-                v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
-                double dl = wc_spring_extension(sp, v3_norm(L), s->seam_scale);
-                v3_sub(dv, vv + 3 * sp->a, vv + 3 * sp->b);
-                m3_mulv(Kd, kv0 + 9 * (size_t)k, dv);
-                acc += 0.5 * m->material.k[sp->type] * sp->w * dl * dl - 0.5 * he * v3_dot(dv, Kd);
-            }
-            part[c] = acc;
+            part[c] = wc_newton_spring_terms(m, x, vv, kv0, he, s->seam_scale, c * NW_CHUNK, hi, 1);
         }
     }
     phi += chunk_total(part, sc);
@@ -384,14 +374,11 @@ void wc_newton_debug_system(wc_state* s, const wc_integ* ig, const double* w, wc
 }
 
 /* Total energy (J) of the iterate w: kinetic of v_n + w, springs and gravity's potential at x(w)
- * (the measure of wc_state_total_energy, the step's energy judge). Leaves x(w), v(w) in nw_x, nw_v. */
+ * (the step's energy judge's measure, energy_memo.h: where the substep then ends on exactly
+ * x(w), v(w), its judge takes this measure over). Leaves x(w), v(w) in nw_x, nw_v. */
 static double iterate_energy(wc_state* s, const wc_integ* ig, const double* w) {
-    const wc_model* m = s->model;
     positions(s, ig, w);
-    double e = wc_spring_energy_at(m, s->nw_x, s->seam_scale);
-    for (int i = 0; i < m->n_particles; ++i)
-        e += 0.5 * m->mass[i] * v3_dot(s->nw_v + 3 * i, s->nw_v + 3 * i) - m->mass[i] * v3_dot(s->def.gravity, s->nw_x + 3 * i);
-    return e;
+    return wc_state_judge_energy(s, s->nw_x, s->nw_v, NULL);
 }
 
 static void trace(wc_state* s, int it, double phi, const double* w) {

@@ -22,6 +22,7 @@
 #ifndef WEFT_CORE_STATE_H
 #define WEFT_CORE_STATE_H
 #include "collide.h"
+#include "energy_memo.h"
 #include "forces.h"
 #include "mesh_collider.h"
 #include "solve.h"
@@ -166,6 +167,7 @@ typedef struct wc_state {
     double* air_lump;           /* (n x 9) TR-BDF2's implicit air drag blocks (wc_air_lumped, bdf2.h) */
     double* nw_kv0;             /* (n_springs x 9) damping blocks frozen at the substep's start */
     double* nw_partial;         /* (ceil(max(n, n_springs) / 256)) per-chunk sums */
+    wc_energy_memo energy_memo; /* the energy judge's last measure and its state (energy_memo.h) */
     /* for tests: called with every accepted Newton iterate when line_search is on (NULL: none);
        w (n x 3) the velocity change, phi the incremental potential (newton.h) */
     void (*newton_trace)(void* user, const struct wc_state* s, int iterate, double phi, const double* w);
