@@ -187,7 +187,15 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    wc_eval_springs_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se);
+    /* with the line search, the springs' energies at x too (its first potential's, newton.c) */
+    s->nw_spring_e_valid = wc_newton_wanted(&s->def) && s->def.line_search;
+    if (s->nw_spring_e_valid) {
+        wc_eval_springs_energy_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se, s->nw_spring_e);
+        memcpy(s->nw_spring_e_x, s->x, 3 * (size_t)n * sizeof(double));
+        s->nw_spring_e_seam = s->seam_scale;
+    } else {
+        wc_eval_springs_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se);
+    }
     wc_eval_external(m, s->x, s->v, s->def.gravity, &s->def.air, &s->par, s->tri_scratch, s->f_ext);
     t1 = wc_now_ms();
     st->ms.forces += t1 - t0;

@@ -16,7 +16,10 @@
  * - the run is the fresh run's bit for bit (positions, velocities, judged energies, caps, gains)
  *   and the memo took measures over (hits > 0);
  * - a measure after one bit of x, of v, of gravity or of the seam scale changed is a fresh one
- *   (== wc_state_total_energy), and the same state measured twice is taken over. */
+ *   (== wc_state_total_energy), and the same state measured twice is taken over;
+ * - the line search's first potential of every substep (its iterate w~0 is the substep's start:
+ *   x_n, velocities 0) takes the springs' energies from prepare's force evaluation
+ *   (core/newton.c, at_start) and is, bit for bit, the fresh run's, which sums the spring loop. */
 #include <math.h>
 #include <string.h>
 #include "check.h"
@@ -88,11 +91,26 @@ static void test_judged_energy_is_fresh(void) {
     wc_model_free(&mb);
 }
 
+/* every substep's first potential Phi(w~0), as the line search traced it */
+typedef struct phi0_log {
+    double phi[4 * FRAMES];
+    int n;
+} phi0_log;
+
+static void on_iterate(void* user, const wc_state* s, int it, double phi, const double* w) {
+    (void)s;
+    (void)w;
+    phi0_log* lg = user;
+    if (it == 0 && lg->n < 4 * FRAMES) lg->phi[lg->n++] = phi;
+}
+
 static wc_state* make_hanging(wc_model* m, int fresh) {
     if (!ts_sheet(m, N, 1.0, 0.0, 1, 1.0)) return NULL;
     wc_sim_def d = wc_default_sim_def();
     d.threads = 1;
     d.sleep_speed = 0;
+    d.newton_iterations = 2; /* the public defaults (weft_cloth_def): Newton 2 + line search */
+    d.line_search = 1;
     wc_state* s = NULL;
     wc_diag diag = {0};
     if (wc_state_create(&s, m, &d, NULL, &diag) != WC_OK) return NULL;
@@ -107,6 +125,12 @@ static void test_memo_hanging_sheet(void) {
     wc_state* b = make_hanging(&mb, 1);
     CHECK(a && b);
     if (!a || !b) return;
+    static phi0_log la, lb;
+    la.n = lb.n = 0;
+    a->newton_trace = on_iterate;
+    a->newton_trace_user = &la;
+    b->newton_trace = on_iterate;
+    b->newton_trace_user = &lb;
     size_t n3 = 3 * (size_t)ma.n_particles;
     int judged = 0, unlike = 0;
     wc_diag d = {0};
@@ -132,6 +156,16 @@ static void test_memo_hanging_sheet(void) {
     CHECK(hits > misses); /* most of a substep's measures repeat a state */
     CHECK(b->energy_memo.hits == 0);
     CHECK_EQ_INT(unlike, 0);
+    /* the line search's first potentials: prepare's spring energies against the loop's sums */
+    int phi_off = la.n != lb.n;
+    for (int k = 0; k < la.n && k < lb.n; ++k) phi_off += memcmp(&la.phi[k], &lb.phi[k], sizeof(double)) != 0;
+    printf("  first potentials: %d traced, %ld from prepare's spring energies (fresh run: %ld), %d unlike the "
+           "fresh run's\n",
+           la.n, a->nw_spring_e_used, b->nw_spring_e_used, phi_off);
+    CHECK(la.n >= FRAMES);
+    CHECK(a->nw_spring_e_used == la.n); /* pins still, no contacts: every first iterate is the start */
+    CHECK(b->nw_spring_e_used == 0);
+    CHECK_EQ_INT(phi_off, 0);
 
     /* the key: each input's one bit makes a fresh measure */
     int stale = 0;
