@@ -187,8 +187,11 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    /* with the line search, the springs' energies at x too (its first potential's, newton.c) */
-    s->nw_spring_e_valid = wc_newton_wanted(&s->def) && s->def.line_search;
+    /* with the line search, the springs' energies at x too (its first potential's, newton.c);
+       not with contacts: their particles' first iterate moves at the normal velocity, so the
+       first potential's state is not this one */
+    s->nw_spring_e_valid =
+        wc_newton_wanted(&s->def) && s->def.line_search && !(s->n_all > 0 && s->contacts.active > 0);
     if (s->nw_spring_e_valid) {
         wc_eval_springs_energy_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se, s->nw_spring_e);
         memcpy(s->nw_spring_e_x, s->x, 3 * (size_t)n * sizeof(double));
