@@ -89,7 +89,7 @@ void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_com
 }
 
 static void eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
-                         double seam_scale, wc_par* par, wc_spring_eval* out, int vec) {
+                         double seam_scale, wc_par* par, wc_spring_eval* out, int vec, double* energy) {
     (void)vec;
     const wc_spring* sp = m->springs;
     const double* k = m->material.k;
@@ -106,9 +106,17 @@ static void eval_springs(const wc_model* m, const double* x, const double* v, wc
             v3_sub(dv, v + 3 * a, v + 3 * b);
             if (t == WC_SPRING_SEAM) { /* zero rest length, linear once closed (sew.h) */
                 seam_blocks(L, dv, rest * seam_scale, k[t] * sp[s].w, d[t] * sp[s].w, out + s);
+                if (energy) {
+                    double dl = wc_spring_extension(&sp[s], v3_norm(L), seam_scale);
+                    energy[s] = 0.5 * k[t] * sp[s].w * dl * dl;
+                }
                 continue;
             }
             double l = v3_norm(L);
+            if (energy) { /* wc_spring_energy_at's term, from the same length */
+                double dl = l - rest;
+                energy[s] = 0.5 * k[t] * sp[s].w * dl * dl;
+            }
             if (l > 0.0 && l >= WC_SPRING_DEGENERATE * rest) {
                 v3_scale(u, L, 1.0 / l);
                 c = 1.0 - rest / l;
@@ -139,12 +147,22 @@ void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_
 #else
     const int vec = 0;
 #endif
-    eval_springs(m, x, v, compression, seam_scale, par, out, vec);
+    eval_springs(m, x, v, compression, seam_scale, par, out, vec, NULL);
+}
+
+void wc_eval_springs_energy_at(const wc_model* m, const double* x, const double* v, wc_compression compression,
+                               double seam_scale, wc_par* par, wc_spring_eval* out, double* energy) {
+#ifdef WC_FORCES_AVX
+    const int vec = __builtin_cpu_supports("avx");
+#else
+    const int vec = 0;
+#endif
+    eval_springs(m, x, v, compression, seam_scale, par, out, vec, energy);
 }
 
 void wc_eval_springs_scalar(const wc_model* m, const double* x, const double* v, wc_compression compression,
                             double seam_scale, wc_par* par, wc_spring_eval* out) {
-    eval_springs(m, x, v, compression, seam_scale, par, out, 0);
+    eval_springs(m, x, v, compression, seam_scale, par, out, 0, NULL);
 }
 
 /* Air force on triangle t (3): A (cn (u.n) n + ct (u - (u.n) n)), zero for a degenerate one. */

@@ -48,8 +48,9 @@
  * one convex function and the stage converges in 2-4 more solves; the directions are within
  * O(h^2) of the stage end's, so the stage stays second order (tests/test_trbdf2_converged.c).
  * Moved once (Newton >= WC_NEWTON_STAGE1_MOVE_FROM): converged with w_1's directions, the
- * stage refreshes them at that iterate w* (kept in nw_wh), holds them there and iterates on, at most NW_STAGE1_MOVED more solves, to
- * the same test; when these do not reach it, the stage ends on w*. Why: the fixed point with
+ * stage refreshes them at that iterate w* (kept in nw_wh), holds them there and iterates on, at
+ * most NW_STAGE1_MOVED more solves, to the same test; when these do not reach it, the stage
+ * ends on w*. Why: the fixed point with
  * w_1's directions is biased by them (the swinging sheet with Newton 6, which converges it
  * furthest, ended 1.29 % from the reference, Newton 3 0.66 %); moved to w*, Newton 6 0.43-0.61 %,
  * Newton 3 0.41 %, at 1.7-3.8 more solves a stage: +14 % solves for Newton 6, but +45 % for
@@ -227,7 +228,22 @@ static void positions(wc_state* s, const wc_integ* ig, const double* w) {
 
 static int have_friction(const wc_state* s) { return s->n_all > 0 && s->contacts.active > 0; }
 
-double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
+/* 1 when x(w), v(w) (in nw_x, nw_v) are the substep's start as prepare evaluated the springs
+ * there: the same positions bit for bit and every velocity 0 (the first iterate w~0 of a cloth
+ * whose pins and contacts hold still: x_n + he (v_n - v_n)). There each spring's potential term
+ * is its energy from prepare: its damping term -he/2 dv^T D0 dv is a +-0 (dv = +-0, D0 finite),
+ * and E - (+-0) is E, so the chunks' sums are the loop's bits. */
+static int at_start(const wc_state* s) {
+    const wc_model* m = s->model;
+    int n3 = 3 * m->n_particles;
+    if (!s->nw_spring_e_valid || s->judge_fresh || memcmp(&s->nw_spring_e_seam, &s->seam_scale, sizeof(double)) != 0) return 0;
+    for (int k = 0; k < n3; ++k)
+        if (s->nw_v[k] != 0.0) return 0;
+    return memcmp(s->nw_x, s->nw_spring_e_x, (size_t)n3 * sizeof(double)) == 0;
+}
+
+/* Phi(w); start: the springs' energies from prepare may stand in for the spring loop (at_start) */
+static double potential(wc_state* s, const wc_integ* ig, const double* w, int start) {
     const wc_model* m = s->model;
     int n = m->n_particles, fric = have_friction(s);
     positions(s, ig, w);
@@ -266,23 +282,24 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
         }
     }
     double phi = chunk_total(part, pc);
-    WC_PAR_REGION(&s->par)
-    {
-        int c0, c1;
-        wc_par_range(sc, wc_par_tid(), wc_par_nt(), &c0, &c1);
-        for (int c = c0; c < c1; ++c) {
+    if (start && at_start(s)) {
+        const double* e = s->nw_spring_e;
+        for (int c = 0; c < sc; ++c) {
             int hi = (c + 1) * NW_CHUNK < m->n_springs ? (c + 1) * NW_CHUNK : m->n_springs;
             double acc = 0.0;
-            for (int k = c * NW_CHUNK; k < hi; ++k) {
-                const wc_spring* sp = &m->springs[k];
-                double L[3], dv[3], Kd[3];
-                v3_sub(L, x + 3 * sp->a, x + 3 * sp->b);
-                double dl = wc_spring_extension(sp, v3_norm(L), s->seam_scale);
-                v3_sub(dv, vv + 3 * sp->a, vv + 3 * sp->b);
-                m3_mulv(Kd, kv0 + 9 * (size_t)k, dv);
-                acc += 0.5 * m->material.k[sp->type] * sp->w * dl * dl - 0.5 * he * v3_dot(dv, Kd);
-            }
+            for (int k = c * NW_CHUNK; k < hi; ++k) acc += e[k];
             part[c] = acc;
+        }
+        ++s->nw_spring_e_used;
+    } else {
+        WC_PAR_REGION(&s->par)
+        {
+            int c0, c1;
+            wc_par_range(sc, wc_par_tid(), wc_par_nt(), &c0, &c1);
+            for (int c = c0; c < c1; ++c) {
+                int hi = (c + 1) * NW_CHUNK < m->n_springs ? (c + 1) * NW_CHUNK : m->n_springs;
+                part[c] = wc_newton_spring_terms(m, x, vv, kv0, he, s->seam_scale, c * NW_CHUNK, hi, 1);
+            }
         }
     }
     phi += chunk_total(part, sc);
@@ -292,6 +309,8 @@ double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) {
     if (s->self_pairs && s->self_pairs->list.n > 0) phi += wc_penalty_pairs_energy(&s->self_pairs->list, x);
     return phi;
 }
+
+double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w) { return potential(s, ig, w, 0); }
 
 /* TR-BDF2's implicit air at the iterate ("Refreshed" above): air_lump = L(x(w)) and
  * f_ext = M g + f_air(x(w), v_n + w) + L(x(w)) w, so that -he f_ext + he L w, the potential's
@@ -396,14 +415,11 @@ void wc_newton_debug_system(wc_state* s, const wc_integ* ig, const double* w, wc
 }
 
 /* Total energy (J) of the iterate w: kinetic of v_n + w, springs and gravity's potential at x(w)
- * (the measure of wc_state_total_energy, the step's energy judge). Leaves x(w), v(w) in nw_x, nw_v. */
+ * (the step's energy judge's measure, energy_memo.h: where the substep then ends on exactly
+ * x(w), v(w), its judge takes this measure over). Leaves x(w), v(w) in nw_x, nw_v. */
 static double iterate_energy(wc_state* s, const wc_integ* ig, const double* w) {
-    const wc_model* m = s->model;
     positions(s, ig, w);
-    double e = wc_spring_energy_at(m, s->nw_x, s->seam_scale);
-    for (int i = 0; i < m->n_particles; ++i)
-        e += 0.5 * m->mass[i] * v3_dot(s->nw_v + 3 * i, s->nw_v + 3 * i) - m->mass[i] * v3_dot(s->def.gravity, s->nw_x + 3 * i);
-    return e;
+    return wc_state_judge_energy(s, s->nw_x, s->nw_v, NULL);
 }
 
 static void trace(wc_state* s, int it, double phi, const double* w) {
@@ -437,7 +453,7 @@ wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solv
                 w[3 * i + c] = wt;
             }
         }
-        double phi0 = wc_newton_potential(s, ig, w);
+        double phi0 = potential(s, ig, w, 1);
         if (!isfinite(phi0)) return wc_fail(diag, WC_ERROR_NONFINITE, "newton: non-finite potential at the first iterate");
         trace(s, 0, phi0, w);
         wc_state_mul_system(s, w, s->nw_g);
@@ -464,6 +480,7 @@ wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solv
         trace(s, 1, phi, w);
     }
 
+    s->nw_spring_e_valid = 0;   /* the substep's start energies: the first potential's only */
     double gref = residual_scale, tol = s->def.solver.tolerance > 1e-12 ? s->def.solver.tolerance : 1e-12;
     double ntol = s->def.newton_tolerance > tol ? s->def.newton_tolerance : tol;   /* "Stops early" */
     int stop = ls && alpha == 0.0;

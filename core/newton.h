@@ -51,6 +51,13 @@ wc_status wc_newton_iterate(wc_state* s, const wc_integ* ig, wc_solver_type solv
  * wc_newton_capture of the substep and before its positions advance. */
 double wc_newton_potential(wc_state* s, const wc_integ* ig, const double* w);
 
+/* The potential's spring terms over springs [lo, hi) (newton_springs.c): the sum in spring order
+ * of k_t w/2 dl^2 - he/2 dv^T kv0_k dv, dl the extension at x, dv = vv_a - vv_b, kv0 the frozen
+ * damping blocks (n_springs + 1 blocks: one of padding). vec: 1 = the AVX loop where the CPU has
+ * it, 0 = the scalar loop; the same bits either way (tests/test_newton_springs.c). */
+double wc_newton_spring_terms(const wc_model* m, const double* x, const double* vv, const double* kv0, double he,
+                              double seam_scale, int lo, int hi, int vec);
+
 /* For tests: friction's frozen terms (into s->nw_fa, s->nw_fb: what the friction pass added to A's
  * diagonal blocks and to b since wc_newton_capture, as wc_newton_iterate's start takes them; once
  * per prepared substep) and Newton's system at the iterate w: A into s->A, -grad Phi(w) into

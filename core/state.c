@@ -108,7 +108,8 @@ void wc_state_destroy(wc_state* s) {
                         s->tri_scratch, s->spring_scratch, s->A, s->filter.S, s->filter.z,
                         s->contacts.normal, s->contacts_save.normal, s->x_prev, s->v_prev, s->x_prev0, s->v_prev0,
                         s->xb, s->xs, s->vstar, s->mom, s->stage1_impulse, s->nw_w, s->nw_d, s->nw_x, s->nw_v,
-                        s->nw_zero, s->nw_g, s->nw_fb, s->nw_wh, s->nw_fa, s->air_lump, s->nw_kv0, s->nw_partial};
+                        s->nw_zero, s->nw_g, s->nw_fb, s->nw_wh, s->nw_fa, s->air_lump, s->nw_kv0, s->nw_partial,
+                        s->energy_memo.x, s->energy_memo.v, s->nw_spring_e, s->nw_spring_e_x};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; ++i) wc_free(&a, arrays[i]);
     wc_free(&a, s->pins);
     wc_free(&a, s->pin_scratch);
@@ -186,7 +187,8 @@ wc_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* d
     s->contacts.vel = WC_NEW(&A, double, 6 * (size_t)n);      /* per substep: not saved */
     s->contacts.pushed = WC_NEW(&A, double, (size_t)n);       /* per substep: not saved */
     double** vecs[] = {&s->x_prev, &s->v_prev, &s->x_prev0, &s->v_prev0, &s->xb, &s->xs, &s->vstar, &s->mom,
-                       &s->stage1_impulse, &s->nw_w, &s->nw_d, &s->nw_x, &s->nw_v, &s->nw_zero, &s->nw_g, &s->nw_fb, &s->nw_wh};
+                       &s->stage1_impulse, &s->nw_w, &s->nw_d, &s->nw_x, &s->nw_v, &s->nw_zero, &s->nw_g, &s->nw_fb,
+                       &s->nw_wh, &s->energy_memo.x, &s->energy_memo.v, &s->nw_spring_e_x};
     int vecs_ok = 1;
     for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k) vecs_ok &= (*vecs[k] = WC_NEW(&A, double, n3)) != NULL;
     s->nw_fa = WC_NEW(&A, double, 9 * (size_t)n);
@@ -194,7 +196,8 @@ wc_status wc_state_create(wc_state** out, const wc_model* m, const wc_sim_def* d
     s->nw_kv0 = WC_NEW(&A, double, 9 * (size_t)m->n_springs + 9);
     int most = n > m->n_springs ? n : m->n_springs;
     s->nw_partial = WC_NEW(&A, double, (size_t)most / 256 + 1);
-    vecs_ok &= s->nw_fa && s->air_lump && s->nw_kv0 && s->nw_partial;
+    s->nw_spring_e = WC_NEW(&A, double, (size_t)m->n_springs + 1);
+    vecs_ok &= s->nw_fa && s->air_lump && s->nw_kv0 && s->nw_partial && s->nw_spring_e;
     if (!s->x || !s->v || !s->x0 || !s->v0 || !s->dv0 || !s->f_ext || !s->f || !s->b || !s->dv || !s->r ||
         !s->tri_scratch || !s->spring_scratch || !s->se || !s->A || !s->pins || !s->pin_from || !s->pin_scratch || !s->colliders ||
         !s->filter.S || !s->filter.z || !s->filter.ndof || !s->contacts.collider || !s->contacts.normal ||
@@ -430,9 +433,5 @@ double wc_state_kinetic_energy(const wc_state* s) {
 }
 
 double wc_state_total_energy(const wc_state* s, double* elastic) {
-    const wc_model* m = s->model;
-    double e = wc_state_kinetic_energy(s) + wc_spring_energy_at(m, s->x, s->seam_scale);
-    if (elastic) *elastic = e;
-    for (int i = 0; i < m->n_particles; ++i) e -= m->mass[i] * v3_dot(s->def.gravity, s->x + 3 * i);
-    return e;
+    return wc_total_energy_xv(s->model, s->x, s->v, s->def.gravity, s->seam_scale, elastic);
 }

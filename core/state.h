@@ -22,6 +22,7 @@
 #ifndef WEFT_CORE_STATE_H
 #define WEFT_CORE_STATE_H
 #include "collide.h"
+#include "energy_memo.h"
 #include "forces.h"
 #include "mesh_collider.h"
 #include "solve.h"
@@ -125,7 +126,9 @@ typedef struct wc_state {
     wc_air input_air;
 
     int judge_fresh;            /* tests: 1 = the energy judge measures every state afresh instead
-                                   of taking an earlier measure of the same state (step.c) */
+                                   of taking an earlier measure of the same state (step.c,
+                                   energy_memo.h), and the line search's first potential sums its
+                                   springs afresh instead of taking prepare's energies (newton.c) */
 
     int n_pins;
     wc_pin* pins;               /* (max_pins) */
@@ -167,6 +170,15 @@ typedef struct wc_state {
     double* air_lump;           /* (n x 9) TR-BDF2's implicit air drag blocks (wc_air_lumped, bdf2.h) */
     double* nw_kv0;             /* (n_springs x 9) damping blocks frozen at the substep's start */
     double* nw_partial;         /* (ceil(max(n, n_springs) / 256)) per-chunk sums */
+    wc_energy_memo energy_memo; /* the energy judge's last measure and its state (energy_memo.h) */
+    /* the springs' energies at the substep's start, from prepare's force evaluation (step.c), and
+       the positions they were evaluated at: the line search's first potential takes them where
+       its iterate is there (newton.c, "Line search"); valid until Newton's first potential */
+    double* nw_spring_e;        /* (n_springs) */
+    double* nw_spring_e_x;      /* (n x 3) */
+    double nw_spring_e_seam;    /* the seam scale they were evaluated with */
+    int nw_spring_e_valid;
+    long nw_spring_e_used;      /* potentials that took them (tests) */
     /* for tests: called with every accepted Newton iterate when line_search is on (NULL: none);
        w (n x 3) the velocity change, phi the incremental potential (newton.h) */
     void (*newton_trace)(void* user, const struct wc_state* s, int iterate, double phi, const double* w);

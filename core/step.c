@@ -149,7 +149,7 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     for (int i = 0; i < n; ++i) wc_filter_free_particle(&s->filter, i);
     apply_pins(s, ig, alpha1);
     substep_colliders(s, alpha1, h);
-    double e0 = begin_gain && s->n_all > 0 ? wc_state_total_energy(s, NULL) : 0.0;
+    double e0 = begin_gain && s->n_all > 0 ? wc_state_judge_energy(s, s->x, s->v, NULL) : 0.0;
     if (s->n_all > 0) wc_contacts_begin(&s->contacts, s->all, s->n_all, s->x, s->v, h, &s->filter, &s->par);
     /* the substep's start after the contacts' correction: the mesh colliders' crossing test */
     if (s->n_mesh > 0 && s->x_sub) memcpy(s->x_sub, s->x, 3 * (size_t)n * sizeof(double));
@@ -157,7 +157,7 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     if (s->n_all > 0) {
         wc_integ_contacts(s, ig);   /* TR-BDF2: the contacts' normal velocities (bdf2.h) */
         if (begin_gain) {
-            double e1 = wc_state_total_energy(s, NULL);
+            double e1 = wc_state_judge_energy(s, s->x, s->v, NULL);
             double gain = e1 - e0;
             if (gain > 0) *begin_gain += gain;
             if (energy_now) *energy_now = e1;
@@ -187,7 +187,18 @@ static int prepare(wc_state* s, wc_integ* ig, double alpha1, wc_compression comp
     st->ms.collide += t1 - t0;
     t0 = t1;
 
-    wc_eval_springs_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se);
+    /* with the line search, the springs' energies at x too (its first potential's, newton.c);
+       not with contacts: their particles' first iterate moves at the normal velocity, so the
+       first potential's state is not this one */
+    s->nw_spring_e_valid =
+        wc_newton_wanted(&s->def) && s->def.line_search && !(s->n_all > 0 && s->contacts.active > 0);
+    if (s->nw_spring_e_valid) {
+        wc_eval_springs_energy_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se, s->nw_spring_e);
+        memcpy(s->nw_spring_e_x, s->x, 3 * (size_t)n * sizeof(double));
+        s->nw_spring_e_seam = s->seam_scale;
+    } else {
+        wc_eval_springs_at(m, s->x, s->v, compression, s->seam_scale, &s->par, s->se);
+    }
     wc_eval_external(m, s->x, s->v, s->def.gravity, &s->def.air, &s->par, s->tri_scratch, s->f_ext);
     t1 = wc_now_ms();
     st->ms.forces += t1 - t0;
@@ -298,7 +309,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
         before.total = carry->start_total;
         before.elastic = carry->start_elastic;
     } else if (judge_energy) {
-        before.total = wc_state_total_energy(s, &before.elastic);
+        before.total = wc_state_judge_energy(s, s->x, s->v, &before.elastic);
         if (stage == 1) {
             carry->start_total = before.total;
             carry->start_elastic = before.elastic;
@@ -337,7 +348,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     if (judge_energy && stage == 2)
         energy_cap = carry->start_total + carry->excluded + collide_gain + wc_substep_energy_allowance(s, &before);
     else if (judge_energy)
-        energy_cap = (isnan(energy_now) || s->judge_fresh ? wc_state_total_energy(s, NULL) : energy_now) +
+        energy_cap = (isnan(energy_now) || s->judge_fresh ? wc_state_judge_energy(s, s->x, s->v, NULL) : energy_now) +
                      wc_substep_energy_allowance(s, &before);
     energy_now = NAN; /* the solves below move the state */
     double t0 = wc_now_ms(), t1;
@@ -424,12 +435,12 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     t0 = t1;
     /* last, so that nothing (strain limiting included) leaves a particle inside a collider */
     if (s->n_all > 0) {
-        double e0 = judge_energy ? wc_state_total_energy(s, NULL) : 0.0;
+        double e0 = judge_energy ? wc_state_judge_energy(s, s->x, s->v, NULL) : 0.0;
         wc_contacts_project_from(&s->contacts, s->all, s->n_all, &s->filter, s->n_mesh > 0 ? s->x_sub : NULL, s->x,
                                  s->v, &s->par);
         if (s->def.strain_limit > 0) strain = wc_max_stretch_strain(m, s->x);
         if (judge_energy) {
-            energy_now = wc_state_total_energy(s, NULL);
+            energy_now = wc_state_judge_energy(s, s->x, s->v, NULL);
             double gain = energy_now - e0;
             if (gain > 0) collide_gain += gain;
         }
@@ -443,7 +454,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     double self_gain = 0.0; /* J: energy the self-collision stage put in (not judged) */
     if (s->self && all_finite(s->x, n3) && all_finite(s->v, n3)) {
         wc_self_stats ss = {0, 0, 0, 0, 0};
-        double e0 = !judge_energy ? 0.0 : isnan(energy_now) || s->judge_fresh ? wc_state_total_energy(s, NULL) : energy_now;
+        double e0 = !judge_energy ? 0.0 : isnan(energy_now) || s->judge_fresh ? wc_state_judge_energy(s, s->x, s->v, NULL) : energy_now;
         energy_now = judge_energy ? e0 : NAN;
         s->self->threads = s->par.threads; /* detection threads (self_pass.h) */
         wc_self_resolve(s->self, m, &s->filter, s->n_all > 0 ? s->contacts.stick : NULL, ig.he, s->x, s->v, &ss);
@@ -451,7 +462,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
            collision response (a contact force), not from a failing linearisation, so the
            energy-gain judge does not count it (the kinetic blow-up and strain judges still do) */
         if (judge_energy && ss.proximity + ss.impacts + ss.zones > 0) {
-            energy_now = wc_state_total_energy(s, NULL);
+            energy_now = wc_state_judge_energy(s, s->x, s->v, NULL);
             double gain = energy_now - e0;
             if (gain > 0) self_gain = gain;
         }
@@ -475,7 +486,7 @@ static wc_status stage_step(wc_state* s, double h, int stage, double alpha1, wc_
     if (after.finite && judge != WC_JUDGE_FINITE) {
         after.kinetic = wc_state_kinetic_energy(s);
         if (judge_energy) {
-            if (isnan(energy_now) || s->judge_fresh) energy_now = wc_state_total_energy(s, NULL);
+            if (isnan(energy_now) || s->judge_fresh) energy_now = wc_state_judge_energy(s, s->x, s->v, NULL);
             after.total = energy_now - self_gain - collide_gain;
         }
         if (judge_energy && stage == 2) after.total -= carry->excluded;
