@@ -1,11 +1,11 @@
 /* Core's CPU backend (cloth_backend.h): the frame is wc_step_frame on the cloth's own wc_state,
  * which is the truth (no mirror, no device, nothing to back up or transfer). Every default of
  * the def is the CPU's (docs/design/cloth.md "Defaults"): the multigrid preconditioner with the
- * first Newton solve to 1e-2 and a tolerance of 1e-4, or below WC_CPU_IC0_BELOW particles block
- * IC(0) with every solve to the tolerance, 1e-3 with backward Euler (its error there is the time
- * step's, not the solves'; the second-order integrators' is not: docs/bench/precond_by_size.md
- * "The small cloths' tolerance"); two Newton iterations with line search, self-collision on for
- * a garment. */
+ * first Newton solve to 1e-2, or below WC_CPU_IC0_BELOW particles block IC(0) with every solve to
+ * the tolerance; the tolerance 1e-3 with backward Euler at every size (its error is the time
+ * step's, not the solves'; the second-order integrators' is not, they keep 1e-4, as does a named
+ * preconditioner: docs/bench/precond_by_size.md "The small cloths' tolerance", "The multigrid
+ * cloths' tolerance"); two Newton iterations with line search, self-collision on for a garment. */
 #include <math.h>
 #include <stdio.h>
 #include "cloth_internal.h"
@@ -30,8 +30,8 @@ static void defaults(const void* device, const wc_defaults_query* q, wc_backend_
     out->preconditioner = small ? WC_PRECOND_IC0 : WC_PRECOND_AMG;
     /* the pair: forcing 0 with the preconditioner chosen here, 1e-2 with a named one */
     out->newton_forcing = small && !q->preconditioner_named ? 0.0 : 1e-2;
-    /* and the tolerance with them: 1e-3 where this table chose IC(0), forcing 0, for backward Euler */
-    out->tolerance = small && !q->preconditioner_named && q->integrator == WC_INTEGRATOR_BE ? 1e-3 : 1e-4;
+    /* and the tolerance: 1e-3 for backward Euler with the preconditioner chosen here, any size */
+    out->tolerance = !q->preconditioner_named && q->integrator == WC_INTEGRATOR_BE ? 1e-3 : 1e-4;
     out->newton_iterations = 2;
     out->line_search = 1;
     out->garment_self_collision = 1;

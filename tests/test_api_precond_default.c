@@ -1,10 +1,10 @@
 /* The CPU backend's defaults by size (core/cloth_cpu.c, docs/bench/precond_by_size.md): below
  * WC_CPU_IC0_BELOW particles a def's DEFAULT preconditioner, newton_forcing -1 and tolerance -1
- * resolve to block IC(0) with every Newton solve to the tolerance (forcing 0), 1e-3 with backward
- * Euler (1e-4 with BDF2 or TR-BDF2); from it up to the multigrid with the first solve to 1e-2 and
- * 1e-4; a named preconditioner, forcing or tolerance is kept as given (a named preconditioner
- * keeps the 1e-2 forcing and 1e-4); weft_cloth_info reports what was chosen; `weft run`'s stats
- * say the same. And the default below the threshold stays close to converged solves beside the
+ * resolve to block IC(0) with every Newton solve to the tolerance (forcing 0); from it up to the
+ * multigrid with the first solve to 1e-2; at every size the tolerance 1e-3 with backward Euler
+ * (1e-4 with BDF2 or TR-BDF2); a named preconditioner, forcing or tolerance is kept as given (a
+ * named preconditioner keeps the 1e-2 forcing and 1e-4); weft_cloth_info reports what was
+ * chosen; `weft run`'s stats say the same. And the default below the threshold stays close to converged solves beside the
  * time step's error. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -61,7 +61,7 @@ static void test_resolution(void) {
         CHECK_EQ_INT(info.n_particles, m.nv);
         CHECK_EQ_INT(info.preconditioner, small ? WEFT_PRECOND_IC0 : WEFT_PRECOND_AMG);
         CHECK(info.newton_forcing == (small ? 0.0 : 1e-2));
-        CHECK(info.tolerance == (small ? 1e-3 : 1e-4));
+        CHECK(info.tolerance == 1e-3);   /* backward Euler at every size */
         CHECK_EQ_INT(info.newton_iterations, 2);   /* the rest as before */
         CHECK_EQ_INT(info.line_search, 1);
         /* a named preconditioner: kept, with the 1e-2 forcing at every size */
@@ -95,7 +95,7 @@ static void test_resolution(void) {
         }
         def.integrator = WEFT_INTEGRATOR_BACKWARD_EULER;   /* named: as DEFAULT */
         CHECK(info_of(ctx, &def, &info));
-        CHECK(info.tolerance == (small ? 1e-3 : 1e-4));
+        CHECK(info.tolerance == 1e-3);
         def.integrator = WEFT_INTEGRATOR_DEFAULT;
         /* a named forcing: kept, the preconditioner still the size's */
         def.preconditioner = WEFT_PRECOND_DEFAULT;

@@ -210,7 +210,7 @@ static void test_summary_and_overrides(void) {
     }
     CHECK_NEAR(cf_num(j, "final_kinetic_energy"), 0.0, 0.0);
     CHECK(cf_num(j, "newton_forcing") == 1e-2);   /* the 1,024-particle sheet's default */
-    CHECK(cf_num(j, "tolerance") == 1e-4);        /* and its tolerance (1e-3 only below 800) */
+    CHECK(cf_num(j, "tolerance") == 1e-3);        /* and its tolerance (backward Euler: 1e-3 at every size) */
     cJSON_Delete(j);
     /* --newton-forcing overrides the scene's, and the stats say what the library resolved */
     const char* given[] = {"0.25", "0", "default"};

@@ -29,7 +29,7 @@ typedef struct matched_setting {
     int newton;             /* 0: the library's */
     int line_search;        /* -1: the library's */
     int substeps;
-    double tolerance;       /* 0: the library's (1e-4) */
+    double tolerance;       /* 0: the library's */
     double forcing;         /* the first Newton solve's relative residual; < 0: the library's (1e-2) */
 } matched_setting;
 
