@@ -178,10 +178,11 @@ typedef struct wc_cloth_backend {
 } wc_cloth_backend;
 
 /* Core's CPU backend (cloth_cpu.c). Below WC_CPU_IC0_BELOW particles its default preconditioner
- * is block IC(0) with every Newton solve to the tolerance (forcing 0), a tolerance of 1e-3 with
- * backward Euler, above it the multigrid with the first solve to 1e-2 and 1e-4
- * (docs/bench/precond_by_size.md). */
+ * is block IC(0) with every Newton solve to the tolerance (forcing 0), above it the multigrid with
+ * the first solve to 1e-2; below WC_CPU_LOOSE_BELOW particles backward Euler's tolerance is 1e-3,
+ * else 1e-4 (measured to 4,096 particles; the 30k dance kept 1e-4: docs/bench/precond_by_size.md). */
 #define WC_CPU_IC0_BELOW 800
+#define WC_CPU_LOOSE_BELOW 5000
 extern const wc_cloth_backend wc_cloth_cpu;
 
 #endif

@@ -2,10 +2,11 @@
  * which is the truth (no mirror, no device, nothing to back up or transfer). Every default of
  * the def is the CPU's (docs/design/cloth.md "Defaults"): the multigrid preconditioner with the
  * first Newton solve to 1e-2, or below WC_CPU_IC0_BELOW particles block IC(0) with every solve to
- * the tolerance; the tolerance 1e-3 with backward Euler at every size (its error is the time
- * step's, not the solves'; the second-order integrators' is not, they keep 1e-4, as does a named
- * preconditioner: docs/bench/precond_by_size.md "The small cloths' tolerance", "The multigrid
- * cloths' tolerance"); two Newton iterations with line search, self-collision on for a garment. */
+ * the tolerance; the tolerance 1e-3 with backward Euler below WC_CPU_LOOSE_BELOW particles (its
+ * error is the time step's, not the solves'; the second-order integrators' is not, they keep 1e-4,
+ * as does a named preconditioner and a larger cloth: docs/bench/precond_by_size.md "The small
+ * cloths' tolerance", "The multigrid cloths' tolerance"); two Newton iterations with line search,
+ * self-collision on for a garment. */
 #include <math.h>
 #include <stdio.h>
 #include "cloth_internal.h"
@@ -30,8 +31,9 @@ static void defaults(const void* device, const wc_defaults_query* q, wc_backend_
     out->preconditioner = small ? WC_PRECOND_IC0 : WC_PRECOND_AMG;
     /* the pair: forcing 0 with the preconditioner chosen here, 1e-2 with a named one */
     out->newton_forcing = small && !q->preconditioner_named ? 0.0 : 1e-2;
-    /* and the tolerance: 1e-3 for backward Euler with the preconditioner chosen here, any size */
-    out->tolerance = !q->preconditioner_named && q->integrator == WC_INTEGRATOR_BE ? 1e-3 : 1e-4;
+    /* and the tolerance: 1e-3 for backward Euler with the preconditioner chosen here, to the sizes measured */
+    const int loose = q->n_particles < WC_CPU_LOOSE_BELOW && !q->preconditioner_named;
+    out->tolerance = loose && q->integrator == WC_INTEGRATOR_BE ? 1e-3 : 1e-4;
     out->newton_iterations = 2;
     out->line_search = 1;
     out->garment_self_collision = 1;

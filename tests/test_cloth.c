@@ -587,6 +587,12 @@ static void test_tables(void) {
     CHECK(cpu.newton_forcing == 1e-2);
     CHECK(cpu.tolerance == 1e-3);
     CHECK_EQ_INT(cpu.preconditioner, WC_PRECOND_AMG);
+    const wc_defaults_query big = {WC_CPU_LOOSE_BELOW, 0, WC_INTEGRATOR_BE}, under = {WC_CPU_LOOSE_BELOW - 1, 0, WC_INTEGRATOR_BE};
+    wc_backend_defaults bd, ud;
+    wc_cloth_cpu.defaults(NULL, &big, &bd);
+    wc_cloth_cpu.defaults(NULL, &under, &ud);
+    CHECK(bd.tolerance == 1e-4 && ud.tolerance == 1e-3);   /* 1e-3 to the sizes measured only */
+    CHECK_EQ_INT(bd.preconditioner, WC_PRECOND_AMG);
     CHECK_EQ_INT(cpu.newton_iterations, 2);
     CHECK_EQ_INT(cpu.line_search, 1);
     CHECK_EQ_INT(cpu.garment_self_collision, 1);

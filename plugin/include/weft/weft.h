@@ -341,7 +341,7 @@ typedef struct weft_cloth_def {
     double air_drag_tangent;    /* kg/(m^2 s): skin friction per unit tangential speed (0.02) */
 
     weft_solver solver;         /* PCG */
-    double tolerance;           /* relative residual, [0, 1); -1: 1e-3 for BE with the CPU's DEFAULT, else 1e-4 */
+    double tolerance;           /* relative residual, [0, 1); -1: 1e-3 for BE, CPU DEFAULT, < 5k particles, else 1e-4 */
     int max_iterations;         /* iteration cap per solve (300) */
     weft_preconditioner preconditioner; /* DEFAULT */
     weft_integrator integrator; /* DEFAULT (backward Euler on both backends) */
