@@ -587,7 +587,8 @@ static void test_tables(void) {
     CHECK(cpu.newton_forcing == 1e-2);
     CHECK(cpu.tolerance == 1e-3);
     CHECK_EQ_INT(cpu.preconditioner, WC_PRECOND_AMG);
-    const wc_defaults_query big = {WC_CPU_LOOSE_BELOW, 0, WC_INTEGRATOR_BE}, under = {WC_CPU_LOOSE_BELOW - 1, 0, WC_INTEGRATOR_BE};
+    const wc_defaults_query big = {WC_CPU_LOOSE_BELOW, 0, WC_INTEGRATOR_BE};
+    const wc_defaults_query under = {WC_CPU_LOOSE_BELOW - 1, 0, WC_INTEGRATOR_BE};
     wc_backend_defaults bd, ud;
     wc_cloth_cpu.defaults(NULL, &big, &bd);
     wc_cloth_cpu.defaults(NULL, &under, &ud);

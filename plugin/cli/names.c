@@ -35,6 +35,7 @@ const char* cli_tolerance_text(double tolerance, char* buf, size_t len) {
     if (tolerance >= 0)
         snprintf(buf, len, "%g", tolerance);
     else
-        snprintf(buf, len, "the library's (1e-3 on the CPU with backward Euler, its own preconditioner and < 5,000 particles, 1e-4 otherwise)");
+        snprintf(buf, len, "the library's (1e-3 on the CPU with backward Euler, its own preconditioner and "
+                           "< 5,000 particles, 1e-4 otherwise)");
     return buf;
 }
