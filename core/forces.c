@@ -142,12 +142,7 @@ static void eval_springs(const wc_model* m, const double* x, const double* v, wc
 
 void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_compression compression,
                         double seam_scale, wc_par* par, wc_spring_eval* out) {
-#ifdef WC_FORCES_AVX
-    const int vec = __builtin_cpu_supports("avx");
-#else
-    const int vec = 0;
-#endif
-    eval_springs(m, x, v, compression, seam_scale, par, out, vec, NULL);
+    wc_eval_springs_energy_at(m, x, v, compression, seam_scale, par, out, NULL);
 }
 
 void wc_eval_springs_energy_at(const wc_model* m, const double* x, const double* v, wc_compression compression,

@@ -42,7 +42,7 @@ void wc_eval_springs_at(const wc_model* m, const double* x, const double* v, wc_
                         double seam_scale, wc_par* par, wc_spring_eval* out);
 void wc_eval_springs(const wc_model* m, const double* x, const double* v, wc_compression compression,
                      wc_par* par, wc_spring_eval* out);
-/* wc_eval_springs_at that also writes each spring's energy at x into energy (n_springs): the term
+/* wc_eval_springs_at that also writes each spring's energy at x into energy (n_springs; NULL: none): the term
  * wc_spring_energy_at sums, from the same length as the forces (the line search's potential at
  * the substep's start takes them, newton.c). */
 void wc_eval_springs_energy_at(const wc_model* m, const double* x, const double* v, wc_compression compression,

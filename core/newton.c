@@ -50,11 +50,11 @@
  * Moved once (Newton >= WC_NEWTON_STAGE1_MOVE_FROM): converged with w_1's directions, the
  * stage refreshes them at that iterate w* (kept in nw_wh), holds them there and iterates on, at
  * most NW_STAGE1_MOVED more solves, to the same test; when these do not reach it, the stage
- * ends on w*. Why: the fixed point with
- * w_1's directions is biased by them (the swinging sheet with Newton 6, which converges it
- * furthest, ended 1.29 % from the reference, Newton 3 0.66 %); moved to w*, Newton 6 0.43-0.61 %,
- * Newton 3 0.41 %, at 1.7-3.8 more solves a stage: +14 % solves for Newton 6, but +45 % for
- * Newton 3 and +52 % for Newton 2 (no gain there), most of them discarded: so not below 4.
+ * ends on w*. Why: the fixed point with w_1's directions is biased by them (the swinging sheet
+ * with Newton 6, which converges it furthest, ended 1.29 % from the reference, Newton 3 0.66 %);
+ * moved to w*, Newton 6 0.43-0.61 %, Newton 3 0.41 %, at 1.7-3.8 more solves a stage: +14 %
+ * solves for Newton 6, but +45 % for Newton 3 and +52 % for Newton 2 (no gain there), most of
+ * them discarded: so not below 4.
  * Moving them at every convergence does not converge (the same map as refreshing each
  * iterate), and the moved stage's unconverged iterate is worse than w* (kept, Newton 3 rolled
  * back in 6 frames and ended 3.4 % off): hence once, with w* to fall back on.
@@ -236,7 +236,8 @@ static int have_friction(const wc_state* s) { return s->n_all > 0 && s->contacts
 static int at_start(const wc_state* s) {
     const wc_model* m = s->model;
     int n3 = 3 * m->n_particles;
-    if (!s->nw_spring_e_valid || s->judge_fresh || memcmp(&s->nw_spring_e_seam, &s->seam_scale, sizeof(double)) != 0) return 0;
+    if (!s->nw_spring_e_valid || s->judge_fresh) return 0;
+    if (memcmp(&s->nw_spring_e_seam, &s->seam_scale, sizeof(double)) != 0) return 0;
     for (int k = 0; k < n3; ++k)
         if (s->nw_v[k] != 0.0) return 0;
     return memcmp(s->nw_x, s->nw_spring_e_x, (size_t)n3 * sizeof(double)) == 0;
