@@ -27,6 +27,17 @@
 
 typedef struct wg_self_prox wg_self_prox;
 
+/* The pass's own counts since creation (measurements and tests). */
+typedef struct wg_self_prox_io {
+    long long refined_walks;    /* moving passes proved by the refined walk */
+    long long refined_skipped;  /* moving passes proved by the listing's margin (no refined walk) */
+    long long local_gains;      /* energy gains from the moved particles and their springs */
+    long long full_gains;       /* from the whole state read back (WEFT_GPU_SELF_PROX_GAIN=full|both) */
+    double gain_diff_max;       /* =both: the largest |local - full| (J, before clamping at 0) */
+    double gain_max;            /* =both: the largest |full gain| (J, before clamping) */
+    double total_max;           /* =both: the largest |total energy| the full gain differenced (J) */
+} wg_self_prox_io;
+
 #define WG_SELF_PROX_CAP 512 /* the listed pairs' most room */
 
 /* The list's room for n particles: n / 8 pairs (at 208 bytes a pair, at most 26 bytes a particle
@@ -36,8 +47,14 @@ int wg_self_prox_cap(int n, int env);
 /* WEFT_GPU_SELF_PROX: "on" -1 (the room by the cloth's size), a number N > 0 the room N (at
  * most WG_SELF_PROX_CAP: tests), anything else 0 (off). */
 int wg_self_prox_env(void);
-wg_self_prox* wg_self_prox_create(const wg_layout* L, int n, wc_allocator alloc);
+/* For the cloth m (its particles, its springs for the local gain); NULL when out of memory.
+ * WEFT_GPU_SELF_PROX_REFINED=walk (tests): the refined walk after every moving pass (no margin
+ * skip); WEFT_GPU_SELF_PROX_GAIN=full: the gain from the whole state read back, =both: both,
+ * compared (wg_self_prox_io), the local one used. Read at creation. */
+wg_self_prox* wg_self_prox_create(const wg_layout* L, const wc_model* m, wc_allocator alloc);
 void wg_self_prox_destroy(wg_self_prox* p);
+
+const wg_self_prox_io* wg_self_prox_transfers(const wg_self_prox* p);
 
 /* The list's room (52 floats a pair, WG_SELF_PROX_CAP pairs) for wg_self_idle_list. */
 float* wg_self_prox_buffer(wg_self_prox* p);
