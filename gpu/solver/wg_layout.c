@@ -128,6 +128,7 @@ void wg_array_read_items(const wg_layout* L, const wg_tex* t, const int* ids, in
     bind_read(L, t);
     glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    for (int u = 0; u < k; ++u) glReadPixels(ids[u] & (W - 1), ids[u] >> L->shift, 1, 1, GL_RGBA, GL_FLOAT, out + 4 * (size_t)u);
+    for (int u = 0; u < k; ++u)
+        glReadPixels(ids[u] & (W - 1), ids[u] >> L->shift, 1, 1, GL_RGBA, GL_FLOAT, out + 4 * (size_t)u);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
 }

@@ -14,8 +14,9 @@
  * the intermediate positions); the refined proof checks it at the final ones, so no crossing can
  * appear (every pair too_far: no pair comes within eta along the substep's motion).
  * WEFT_GPU_SELF_PROX (read at creation): "on" uses it (with the idle proof on), anything else
- * not. Where the substep is judged on energy and the pass moved something, x and v are read back
- * for the energy it put in (not charged, as the stage's). Everything is
+ * not. Where the substep is judged on energy and the pass moved something, the energy it put in
+ * (not charged, as the stage's) is summed over the moved particles and their springs, their
+ * neighbours' x read back one texel each (docs/design/gpu_self_prox.md). Everything is
  * allocated at creation; calls are made with the cloth's GL context current. */
 #ifndef WEFT_GPU_SOLVER_SELF_PROX_H
 #define WEFT_GPU_SOLVER_SELF_PROX_H
@@ -63,8 +64,9 @@ float* wg_self_prox_buffer(wg_self_prox* p);
  * when settled (x and v on the GPU are core's stage's result; its proximity impulses added to
  * st->proximity, *moved the particles moved), 0 when core's stage must run on the host (x and v
  * as they were). Adds the bytes read back to *bytes, the uploads to *up_bytes. With gain (the
- * energy judge on) and a particle moved: x and v read back whole (32 bytes a particle) and *gain
- * the energy the pass put in, as wg_self_end gives the stage's (else 0). */
+ * energy judge on) and a particle moved: *gain the energy the pass put in, as wg_self_end gives
+ * the stage's but summed locally (else 0). A moving pass whose largest move is at most half the
+ * listing's margin (wg_self_idle_margin) is proved without the refined walk. */
 int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_state* s, int n_pins, double he,
                      int count, const wg_tex* x, const wg_tex* v, wc_self_stats* st, long long* bytes,
                      long long* up_bytes, int* moved, double* gain);
