@@ -45,9 +45,23 @@ static long long g_io[IO_N] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
 #define PIO_N 4
 static long long g_pio[PIO_N] = {-1, -1, -1, -1};
 
+/* the proximity pass's own counts (DEBUG, gpu/solver/wg_self_prox.h): refined walks, passes
+   proved by the margin, local gains, full gains; then |local - full| largest, |full gain| largest,
+   |total energy| largest (J) */
+static long long g_xio[4];
+static double g_xgain[3];
+
 static void io_log(weft_log_level level, const char* message, void* user) {
     (void)user;
     long long v[IO_N];
+    double dv[3];
+    if (level == WEFT_LOG_DEBUG &&
+        sscanf(message, "GPU self proximity pass, since creation: %lld refined walks, %lld proved by the margin; %lld "
+                        "local energy gains, %lld full; largest |local - full| %lf J, gain %lf J, total %lf J",
+               &v[0], &v[1], &v[2], &v[3], &dv[0], &dv[1], &dv[2]) == 7) {
+        memcpy(g_xio, v, sizeof g_xio);
+        memcpy(g_xgain, dv, sizeof g_xgain);
+    }
     if (level == WEFT_LOG_DEBUG &&
         sscanf(message, "GPU self pairs, since creation: %lld substeps found (%lld by core: %lld too many candidates, "
                         "%lld not finite), %lld candidates, %lld bytes read back", &v[0], &v[1], &v[4], &v[5], &v[2],
@@ -536,6 +550,53 @@ static void test_prox(void) {
     prox_case("heap", 1, 45, 1, 1);
 }
 
+/* The pass's two shortcuts against what they replace, on the heap (45 frames, room 512):
+ * - the margin's proof (the listing walk proves too_far with a margin to spare, so a pass moving
+ *   particles by at most half that needs no refined walk) against the
+ *   refined walk after every moving pass (WEFT_GPU_SELF_PROX_REFINED=walk): the same bytes,
+ *   impulses and host runs, as many moving passes proved either way;
+ * - the energy judge's gain from the moved particles and their springs (their neighbours' x read
+ *   back) against core's total energy difference on the whole state read back
+ *   (WEFT_GPU_SELF_PROX_GAIN=both): within 1e-12 of the totals' size (the full difference's
+ *   rounding) plus 1e-15 J, on at least one moving pass. */
+static void test_prox_parts(void) {
+    static run_result r[2];
+    static long long xio[2][4];
+    static double xg[2][3];
+    setenv("WEFT_GPU_SELF_IDLE", "on", 1);
+    setenv("WEFT_GPU_SELF_PROX", "512", 1);
+    for (int k = 0; k < 2; ++k) {
+        if (k == 1) setenv("WEFT_GPU_SELF_PROX_REFINED", "walk", 1);
+        setenv("WEFT_GPU_SELF_PROX_GAIN", "both", 1);
+        memset(g_xio, 0xff, sizeof g_xio);
+        run(WEFT_BACKEND_GPU, 1, 1, 45, &r[k]);
+        memcpy(xio[k], g_xio, sizeof g_xio);
+        memcpy(xg[k], g_xgain, sizeof g_xgain);
+    }
+    unsetenv("WEFT_GPU_SELF_PROX_REFINED");
+    unsetenv("WEFT_GPU_SELF_PROX_GAIN");
+    unsetenv("WEFT_GPU_SELF_PROX");
+    unsetenv("WEFT_GPU_SELF_IDLE");
+    for (int k = 0; k < 2; ++k)
+        printf("heap, 45 frames, %s: refined walks %lld, proved by the margin %lld, gains %lld local / %lld full, "
+               "largest |local - full| %.3g J (|full| up to %.3g J, totals up to %.3g J), stage runs %lld, same "
+               "positions: %s\n", k == 0 ? "the margin" : "the refined walk always", xio[k][0], xio[k][1],
+               xio[k][2], xio[k][3], xg[k][0], xg[k][1], xg[k][2], r[k].io[0],
+               memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0 ? "yes" : "NO");
+    for (int k = 0; k < 2; ++k) CHECK_EQ_INT(r[k].failed, 0);
+    CHECK(memcmp(r[0].pos, r[1].pos, sizeof r[0].pos) == 0);
+    CHECK_EQ_INT(r[0].impacts + r[0].proximity, r[1].impacts + r[1].proximity);
+    CHECK(r[0].io[0] == r[1].io[0] && r[0].io[9] == r[1].io[9]);
+    /* the heap's one moving pass moves a particle by more than half the margin (also at 0.5 and
+       0.9 thicknesses), so both runs walk; the margin's proof is exercised by the suit (bench) */
+    CHECK(xio[1][1] == 0 && xio[1][0] >= 1 && xio[0][0] + xio[0][1] == xio[1][0]);
+    for (int k = 0; k < 2; ++k) {
+        CHECK(xio[k][2] >= 1 && xio[k][2] == xio[k][3]);
+        CHECK(xg[k][1] > 0.0);
+        CHECK(xg[k][0] <= 1e-12 * xg[k][2] + 1e-15);
+    }
+}
+
 /* The self pairs found on the GPU (r[0]) and by core on the host (r[1]): the same lists, so the
  * same bytes at the end (a float bound of 0), rollbacks, pairs and stage impulses; the GPU's
  * finder found every substep's (none left to core for want of room). */
@@ -615,6 +676,7 @@ int main(int argc, char** argv) {
     }
     if (argc > 1 && strcmp(argv[1], "prox") == 0) {   /* test_api_gpu_self_prox */
         RUN_TEST(test_prox);
+        RUN_TEST(test_prox_parts);
         return TEST_SUMMARY();
     }
     if (argc > 1 && strcmp(argv[1], "idle") == 0) {   /* test_api_gpu_self_idle */

@@ -121,3 +121,14 @@ void wg_read_texels(const wg_layout* L, const wg_tex* t, int x0, int n, float* o
 }
 
 void wg_read1(const wg_layout* L, const wg_tex* t, float out[4]) { wg_read_texels(L, t, 0, 1, out); }
+
+void wg_array_read_items(const wg_layout* L, const wg_tex* t, const int* ids, int k, float* out) {
+    if (k <= 0) return;
+    const int W = 1 << L->shift;
+    bind_read(L, t);
+    glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    for (int u = 0; u < k; ++u)
+        glReadPixels(ids[u] & (W - 1), ids[u] >> L->shift, 1, 1, GL_RGBA, GL_FLOAT, out + 4 * (size_t)u);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+}

@@ -43,6 +43,9 @@ void wg_array_read_rg(const wg_layout* L, const wg_tex* t, int count, float* out
 /* Read items [0, count) of an RGBA32F array as RGB floats into the bound pixel-pack buffer at
  * `offset` bytes, or, with none bound, to host memory at address `offset`. */
 void wg_array_read_rgb(const wg_layout* L, const wg_tex* t, int count, size_t offset);
+/* Read items ids[0, k) of an RGBA32F array into out (k x 4 floats): one texel each (the first a
+ * synchronisation with the GPU). */
+void wg_array_read_items(const wg_layout* L, const wg_tex* t, const int* ids, int k, float* out);
 /* Read texels (x0, 0) .. (x0 + n - 1, 0) of an RGBA32F texture into out (n x 4 floats): a
  * synchronisation with the GPU. */
 void wg_read_texels(const wg_layout* L, const wg_tex* t, int x0, int n, float* out);

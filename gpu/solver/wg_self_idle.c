@@ -29,6 +29,7 @@ struct wg_self_idle {
     wg_tex elem, part, seam, xs, counter;
     wg_tex list;                /* 13 texels a listed pair (the GPU's proximity pass), room cap */
     int cap;                    /* 0: no list */
+    double margin;              /* the listing's too_far margin, in thicknesses (wg_self_idle_margin) */
     int tried;                  /* this substep's (stage's) start made the copy: the proof runs at its end */
     int failures, wait;         /* proofs failed in a row; substeps left before the next try */
 };
@@ -138,6 +139,9 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
     si->thickness = sc->thickness;
     si->eta = sc->eta;
     si->cap = cap > 0 ? cap : 0;
+    si->margin = WG_SELF_IDLE_MARGIN;
+    const char* me = getenv("WEFT_GPU_SELF_PROX_MARGIN");   /* tests: within [0, 0.98] */
+    if (me && atof(me) >= 0.0 && atof(me) <= 0.98) si->margin = atof(me);
     const int n_seam = sc->seam_start ? sc->seam_start[sc->n] : 0;
     size_t room = 4 * ((size_t)si->nt + si->ne + si->n + n_seam + 4);
     size_t rt = 12 * ((size_t)sc->tri_bvh.n_nodes + sc->edge_bvh.n_nodes + 2);
@@ -224,8 +228,9 @@ static void refit(wg_self_idle* si, const idle_tree* t, int elem0, const wg_tex*
 }
 
 /* The walk of the proof (listing the pairs that may act when list, the refined test when
- * refined); returns the counter. */
-static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, int refined, long long* bytes) {
+ * refined, too_far with margin to spare); returns the counter. */
+static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, int refined, double margin_m,
+                long long* bytes) {
     wg_runner* run = si->run;
     const int margin = si->mutation != MUTATE_NO_MARGIN;
     const double rel = margin ? REL : 0.0, pad = si->thickness * (1.0 + rel);
@@ -247,6 +252,7 @@ static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, in
     wg_u1f(run, "u_rel", rel);
     wg_u1f(run, "u_mu", rel * si->thickness);
     wg_u1f(run, "u_ulp", margin ? 1.0 : 0.0);
+    wg_u1f(run, "u_margin", margin_m);
     const int nq = si->n + si->ne;
     wg_run_groups_scratch(run, nq, (nq + 63) / 64, (const wg_tex* const[]){&si->list}, 1, &si->counter);
     GLint count = 0, prev = 0;   /* the counter: a synchronisation with the GPU */
@@ -260,14 +266,14 @@ static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, in
 
 int wg_self_idle_count(wg_self_idle* si, const wg_tex* x, long long* bytes) {
     if (si->nt == 0) return 0;   /* core's stage does nothing without triangles */
-    const int count = walk(si, x, x, 0, 0, bytes);
+    const int count = walk(si, x, x, 0, 0, 0.0, bytes);
     wg_self_idle_outcome(si, count > 0);
     return count;
 }
 
 int wg_self_idle_list(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int refined, float* out, long long* bytes) {
     if (si->nt == 0) return 0;
-    const int count = walk(si, x, v, 1, refined, bytes);
+    const int count = walk(si, x, v, 1, refined, refined ? 0.0 : wg_self_idle_margin(si), bytes);
     if (count > 0 && count <= si->cap) {
         wg_array_read(si->run->layout, &si->list, 13 * count, out);
         *bytes += 13LL * 16 * count;
@@ -276,6 +282,12 @@ int wg_self_idle_list(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int re
 }
 
 int wg_self_idle_cap(const wg_self_idle* si) { return si->cap; }
+
+double wg_self_idle_margin(const wg_self_idle* si) {
+    /* at most (thickness - eta)(1 + rel): the walk's culling (d0 > max_rel + thickness (1 + rel))
+       keeps proving too_far with it */
+    return si->cap > 0 ? si->margin * si->thickness : 0.0;
+}
 
 void wg_self_idle_outcome(wg_self_idle* si, int acted) {
     /* the back-off: after k >= 2 failures in a row, the next min(2^(k-2), WAIT_MAX) substeps untried */

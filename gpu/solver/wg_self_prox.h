@@ -14,8 +14,9 @@
  * the intermediate positions); the refined proof checks it at the final ones, so no crossing can
  * appear (every pair too_far: no pair comes within eta along the substep's motion).
  * WEFT_GPU_SELF_PROX (read at creation): "on" uses it (with the idle proof on), anything else
- * not. Where the substep is judged on energy and the pass moved something, x and v are read back
- * for the energy it put in (not charged, as the stage's). Everything is
+ * not. Where the substep is judged on energy and the pass moved something, the energy it put in
+ * (not charged, as the stage's) is summed over the moved particles and their springs, their
+ * neighbours' x read back one texel each (docs/design/gpu_self_prox.md). Everything is
  * allocated at creation; calls are made with the cloth's GL context current. */
 #ifndef WEFT_GPU_SOLVER_SELF_PROX_H
 #define WEFT_GPU_SOLVER_SELF_PROX_H
@@ -27,6 +28,17 @@
 
 typedef struct wg_self_prox wg_self_prox;
 
+/* The pass's own counts since creation (measurements and tests). */
+typedef struct wg_self_prox_io {
+    long long refined_walks;    /* moving passes proved by the refined walk */
+    long long refined_skipped;  /* moving passes proved by the listing's margin (no refined walk) */
+    long long local_gains;      /* energy gains from the moved particles and their springs */
+    long long full_gains;       /* from the whole state read back (WEFT_GPU_SELF_PROX_GAIN=full|both) */
+    double gain_diff_max;       /* =both: the largest |local - full| (J, before clamping at 0) */
+    double gain_max;            /* =both: the largest |full gain| (J, before clamping) */
+    double total_max;           /* =both: the largest |total energy| the full gain differenced (J) */
+} wg_self_prox_io;
+
 #define WG_SELF_PROX_CAP 512 /* the listed pairs' most room */
 
 /* The list's room for n particles: n / 8 pairs (at 208 bytes a pair, at most 26 bytes a particle
@@ -36,8 +48,14 @@ int wg_self_prox_cap(int n, int env);
 /* WEFT_GPU_SELF_PROX: "on" -1 (the room by the cloth's size), a number N > 0 the room N (at
  * most WG_SELF_PROX_CAP: tests), anything else 0 (off). */
 int wg_self_prox_env(void);
-wg_self_prox* wg_self_prox_create(const wg_layout* L, int n, wc_allocator alloc);
+/* For the cloth m (its particles, its springs for the local gain); NULL when out of memory.
+ * WEFT_GPU_SELF_PROX_REFINED=walk (tests): the refined walk after every moving pass (no margin
+ * skip); WEFT_GPU_SELF_PROX_GAIN=full: the gain from the whole state read back, =both: both,
+ * compared (wg_self_prox_io), the local one used. Read at creation. */
+wg_self_prox* wg_self_prox_create(const wg_layout* L, const wc_model* m, wc_allocator alloc);
 void wg_self_prox_destroy(wg_self_prox* p);
+
+const wg_self_prox_io* wg_self_prox_transfers(const wg_self_prox* p);
 
 /* The list's room (52 floats a pair, WG_SELF_PROX_CAP pairs) for wg_self_idle_list. */
 float* wg_self_prox_buffer(wg_self_prox* p);
@@ -46,8 +64,9 @@ float* wg_self_prox_buffer(wg_self_prox* p);
  * when settled (x and v on the GPU are core's stage's result; its proximity impulses added to
  * st->proximity, *moved the particles moved), 0 when core's stage must run on the host (x and v
  * as they were). Adds the bytes read back to *bytes, the uploads to *up_bytes. With gain (the
- * energy judge on) and a particle moved: x and v read back whole (32 bytes a particle) and *gain
- * the energy the pass put in, as wg_self_end gives the stage's (else 0). */
+ * energy judge on) and a particle moved: *gain the energy the pass put in, as wg_self_end gives
+ * the stage's but summed locally (else 0). A moving pass whose largest move is at most half the
+ * listing's margin (wg_self_idle_margin) is proved without the refined walk. */
 int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_state* s, int n_pins, double he,
                      int count, const wg_tex* x, const wg_tex* v, wc_self_stats* st, long long* bytes,
                      long long* up_bytes, int* moved, double* gain);

@@ -424,7 +424,7 @@ wc_status wg_sim_create(wg_device* dev, const wc_state* s, const double* host_re
         ok = wg_self_idle_create(&g->run, s->self, m, wg_self_idle_env(), wg_self_prox_env() ? wg_self_prox_cap(m->n_particles, wg_self_prox_env()) : 0,
                                  &g->self_idle, err, sizeof err);
     if (ok && g->self_idle && wg_self_prox_env()) {
-        g->self_prox = wg_self_prox_create(g->run.layout, m->n_particles, s->self->alloc);
+        g->self_prox = wg_self_prox_create(g->run.layout, m, s->self->alloc);
         if (!g->self_prox) {
             ok = 0;
             snprintf(err, sizeof err, "out of memory");

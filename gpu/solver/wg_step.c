@@ -528,6 +528,18 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
                     io->runs, io->read_bytes, io->upload_bytes, io->proofs, io->skipped, io->untried, io->prox_settled,
                     io->prox_moved);
     }
+    if (g->self_prox) {
+        const wg_self_prox_io* io = wg_self_prox_transfers(g->self_prox);
+        wc_log(diag, WC_LOG_DEBUG,
+               "GPU self proximity pass, since creation: %lld refined walks, %lld proved by the margin; %lld local "
+               "energy gains, %lld full; largest |local - full| %.3e J, gain %.3e J, total %.3e J",
+               io->refined_walks, io->refined_skipped, io->local_gains, io->full_gains, io->gain_diff_max, io->gain_max,
+               io->total_max);
+        if (getenv("WEFT_GPU_SELF_IO_STDERR"))
+            fprintf(stderr, "self prox: refined walks %lld margin %lld local gains %lld full %lld diff %.3e gain %.3e "
+                    "total %.3e\n", io->refined_walks, io->refined_skipped, io->local_gains, io->full_gains,
+                    io->gain_diff_max, io->gain_max, io->total_max);
+    }
     if (g->pairs) {
         const wg_pairs_io* io = wg_pairs_transfers(g->pairs);
         wc_log(diag, WC_LOG_DEBUG,

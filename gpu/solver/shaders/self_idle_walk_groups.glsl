@@ -16,12 +16,14 @@
 // exact below 2^24), then x, xs and v of its 4 particles; a query with no bound (non-finite, too deep) adds
 // u_cap + 1 (the host's stage). u_refined 1 (the proof after that pass): the thickness test is
 // left out, a pair acts only where too_far may fail (its proximity impulse was given).
+// u_margin (listing, wg_self_prox.h): too_far must hold with u_margin to spare, so that the pass's
+// impulses (each particle moved by at most u_margin / 2) leave every unlisted pair too_far.
 layout(local_size_x = 64, local_size_y = 1) in;
 uniform sampler2D x;           // the substep's end positions
 uniform sampler2D xs;          // its start positions
 uniform sampler2D v;           // its end velocities (listed only)
 uniform int u_shared, u_cap, u_refined;
-uniform float u_th, u_eta, u_rel, u_mu, u_ulp;
+uniform float u_th, u_eta, u_rel, u_mu, u_ulp, u_margin;
 layout(binding = 0, rgba32f) writeonly uniform image2D wg_img0;
 layout(binding = 1, r32i) uniform iimage2D wg_img1;
 
@@ -41,7 +43,7 @@ float max_rel(ivec4 ids, int split) {
 int acts(float lb, float ext, ivec4 ids, int split) {
     float L = lb - u_mu - u_ulp * 4e-6 * ext;
     if (u_refined == 0 && !(L >= u_th * (1.0 + u_rel))) return 1;
-    return L - max_rel(ids, split) > u_eta * (1.0 + u_rel) ? 0 : 1;
+    return L - max_rel(ids, split) > u_eta * (1.0 + u_rel) + u_margin ? 0 : 1;
 }
 
 // 1 when the pair may act: core's rules keep it and it is not proved idle (no bound: it acts)
