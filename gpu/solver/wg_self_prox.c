@@ -37,7 +37,7 @@ struct wg_self_prox {
     unsigned char* mvf;         /* (n) 1 for a particle the pass moved (cleared after each run) */
     int* gather;                /* (n) the neighbours whose x is read back for the local gain */
     float* gx;                  /* (n x 4) their x read back */
-    int refined_mode;           /* WEFT_GPU_SELF_PROX_REFINED: 0 the margin, 1 always walk */
+    int refined_mode;           /* WEFT_GPU_SELF_PROX_REFINED: 0 the margin, 1 always walk, 2 check */
     int gain_mode;              /* WEFT_GPU_SELF_PROX_GAIN: 0 local, 1 full, 2 both (compared) */
     wg_self_prox_io io;
 };
@@ -127,7 +127,9 @@ wg_self_prox* wg_self_prox_create(const wg_layout* L, const wc_model* m, wc_allo
     p->gather = wc_calloc(&alloc, nn, sizeof(int));
     p->gx = wc_calloc(&alloc, 4 * nn, sizeof(float));
     p->mvf = wc_calloc(&alloc, nn, 1);
-    p->refined_mode = env_is("WEFT_GPU_SELF_PROX_REFINED", "walk");
+    p->refined_mode = env_is("WEFT_GPU_SELF_PROX_REFINED", "walk")    ? 1
+                      : env_is("WEFT_GPU_SELF_PROX_REFINED", "check") ? 2
+                                                                       : 0;
     p->gain_mode = env_is("WEFT_GPU_SELF_PROX_GAIN", "full") ? 1 : env_is("WEFT_GPU_SELF_PROX_GAIN", "both") ? 2 : 0;
     if (!p->gather || !p->gx || !p->mvf || !build_incidence(p, m)) {
         wg_self_prox_destroy(p);
@@ -339,6 +341,32 @@ static double judge_gain(wg_self_prox* p, const wc_state* s, const wg_tex* x, co
     return e > 0 ? e : 0.0;   /* as wg_self_end: only a gain is excluded from the judge */
 }
 
+/* REFINED=check, after a pass the margin proved (its CCD on the first n_first pairs in p->order
+ * clean, the touched set still marked): the refined walk at the new end positions lists every pair
+ * where too_far may fail; one with a touched particle not among the first list's would have
+ * needed the CCD the margin's proof left out. Reads only (x, v unchanged); p->buf is free now. */
+static void check_margin(wg_self_prox* p, wg_self_idle* si, const wc_self* sc, const wc_model* m, const wg_tex* x,
+                         const wg_tex* v, int cap, int n_first, long long* bytes) {
+    ++p->io.margin_checked;
+    const int count = wg_self_idle_list(si, x, v, 1, p->buf, bytes);
+    int missed = count < 0 || count > cap;
+    for (int j = 0; j < count && !missed; ++j) {
+        const int q = (int)p->buf[52 * (size_t)j], e = (int)p->buf[52 * (size_t)j + 1];
+        if (q < 0 || q >= sc->n + sc->n_edges || e < 0 || e >= (q < sc->n ? sc->n_tris : sc->n_edges)) {
+            missed = 1;
+            break;
+        }
+        int ids[4];
+        pair_ids(sc, m, q, e, ids);
+        if (!(p->touched[ids[0]] | p->touched[ids[1]] | p->touched[ids[2]] | p->touched[ids[3]])) continue;
+        ++p->io.margin_pairs;
+        int in_first = 0;
+        for (int k = 0; k < n_first && !in_first; ++k) in_first = p->order[k].q == q && p->order[k].elem == e;
+        missed = !in_first;
+    }
+    p->io.margin_missed += missed;
+}
+
 int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_state* s, int n_pins, double he,
                      int count, const wg_tex* x, const wg_tex* v, wc_self_stats* st, long long* bytes,
                      long long* up_bytes, int* moved, double* gain_out) {
@@ -347,7 +375,7 @@ int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_st
     if (gain_out) *gain_out = 0.0;
     const int cap = wg_self_idle_cap(si) < WG_SELF_PROX_CAP ? wg_self_idle_cap(si) : WG_SELF_PROX_CAP;
     if (count < 1 || count > cap) return 0;
-    int nu = 0, prox = 0, nm = 0, refined = -1;
+    int nu = 0, prox = 0, nm = 0, refined = -1, skipped = 0;
     double dmax = 0.0;   /* the largest move of a particle's x on the GPU (float as uploaded less as read) */
     /* core's proximity pass on the listed pairs, in its order (a CCD hit: the host's stage) */
     int ok = take(p, sc, s, n_pins, count, &nu);
@@ -394,10 +422,11 @@ int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_st
        and each with a touched particle gets core's CCD; a pair with none has not moved since the
        proximity pass found no hit on it (listed then: every pair where too_far may fail). */
     if (ok && prox > 0) {
-        const int by_margin = !p->refined_mode && 2.0 * dmax * (1.0 + 1e-6) <= wg_self_idle_margin(si);
+        const int by_margin = p->refined_mode != 1 && 2.0 * dmax * (1.0 + 1e-6) <= wg_self_idle_margin(si);
         if (by_margin) {
             ++p->io.refined_skipped;
             refined = n_first;
+            skipped = 1;
         } else {
             ++p->io.refined_walks;
             refined = wg_self_idle_list(si, x, v, 1, p->buf, bytes);
@@ -411,6 +440,7 @@ int wg_self_prox_run(wg_self_prox* p, wg_self_idle* si, wc_self* sc, const wc_st
                 ok = 0;
         }
     }
+    if (ok && skipped && p->refined_mode == 2) check_margin(p, si, sc, m, x, v, cap, n_first, bytes);
     if (!ok)
         for (int u = 0; u < nm; ++u) upload(p, x, v, p->mv[u], p->f + 8 * (size_t)p->mv[u], up_bytes);
     if (ok && gain_out && nm > 0) *gain_out = judge_gain(p, s, x, v, nm, bytes);

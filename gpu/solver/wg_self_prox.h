@@ -37,6 +37,10 @@ typedef struct wg_self_prox_io {
     double gain_diff_max;       /* =both: the largest |local - full| (J, before clamping at 0) */
     double gain_max;            /* =both: the largest |full gain| (J, before clamping) */
     double total_max;           /* =both: the largest |total energy| the full gain differenced (J) */
+    long long margin_checked;   /* REFINED=check: margin proofs checked by the refined walk */
+    long long margin_missed;    /* ... of them where it listed a pair with a touched particle that the
+                                   first list lacked (or more than the room): a wrong proof */
+    long long margin_pairs;     /* the pairs with a touched particle it listed (so compared) */
 } wg_self_prox_io;
 
 #define WG_SELF_PROX_CAP 512 /* the listed pairs' most room */
@@ -50,7 +54,9 @@ int wg_self_prox_cap(int n, int env);
 int wg_self_prox_env(void);
 /* For the cloth m (its particles, its springs for the local gain); NULL when out of memory.
  * WEFT_GPU_SELF_PROX_REFINED=walk (tests): the refined walk after every moving pass (no margin
- * skip); WEFT_GPU_SELF_PROX_GAIN=full: the gain from the whole state read back, =both: both,
+ * skip); =check (tests): the margin decides, and after each pass it proved the refined walk runs
+ * anyway (nothing changed by it): every pair it lists with a touched particle must be one of the
+ * first list's, which the pass's CCD checked (wg_self_prox_io's margin_missed counts where not); WEFT_GPU_SELF_PROX_GAIN=full: the gain from the whole state read back, =both: both,
  * compared (wg_self_prox_io), the local one used. Read at creation. */
 wg_self_prox* wg_self_prox_create(const wg_layout* L, const wc_model* m, wc_allocator alloc);
 void wg_self_prox_destroy(wg_self_prox* p);

@@ -532,13 +532,15 @@ wc_status wg_sim_step_frame(wg_sim* g, wc_state* s, double dt, wc_step_stats* st
         const wg_self_prox_io* io = wg_self_prox_transfers(g->self_prox);
         wc_log(diag, WC_LOG_DEBUG,
                "GPU self proximity pass, since creation: %lld refined walks, %lld proved by the margin; %lld local "
-               "energy gains, %lld full; largest |local - full| %.3e J, gain %.3e J, total %.3e J",
+               "energy gains, %lld full; largest |local - full| %.3e J, gain %.3e J, total %.3e J; margin proofs "
+               "checked %lld, missed %lld (%lld pairs compared)",
                io->refined_walks, io->refined_skipped, io->local_gains, io->full_gains, io->gain_diff_max, io->gain_max,
-               io->total_max);
+               io->total_max, io->margin_checked, io->margin_missed, io->margin_pairs);
         if (getenv("WEFT_GPU_SELF_IO_STDERR"))
             fprintf(stderr, "self prox: refined walks %lld margin %lld local gains %lld full %lld diff %.3e gain %.3e "
-                    "total %.3e\n", io->refined_walks, io->refined_skipped, io->local_gains, io->full_gains,
-                    io->gain_diff_max, io->gain_max, io->total_max);
+                    "total %.3e margin checked %lld missed %lld pairs %lld\n", io->refined_walks, io->refined_skipped,
+                    io->local_gains, io->full_gains, io->gain_diff_max, io->gain_max, io->total_max, io->margin_checked,
+                    io->margin_missed, io->margin_pairs);
     }
     if (g->pairs) {
         const wg_pairs_io* io = wg_pairs_transfers(g->pairs);
