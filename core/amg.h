@@ -175,11 +175,11 @@ typedef struct wc_amg_opts {
                                    rounding, not exactly (docs/bench/vcycle_float.md). 0: double
                                    iterates and sums */
     int single_setup;           /* 1 (default): with single, on the pair levels and where the CPU has
-                                   AVX2 + FMA, the Galerkin products T = A P and P^T T from the float
-                                   copies, in float, 8 lanes (amg_setup_f.c): the next level's
-                                   operator is made in float (the V-cycle's copy) and widened for the
-                                   setup's double work; 0: in double, then rounded
-                                   (docs/bench/amg_setup_float.md) */
+                                   AVX2 + FMA, the smoothed prolongator and the Galerkin products
+                                   T = A P and P^T T in float from the float copies, 8 lanes
+                                   (amg_setup_f.c): P and the next level's operator are made in float
+                                   (the V-cycle's copies) and widened for the setup's double work; 0:
+                                   in double, then rounded (docs/bench/amg_setup_float.md) */
     int smooth_vector;          /* 1 (default): the Chebyshev smoother's node updates in AVX2 where
                                    the CPU has it (amg_smooth.c; the scalar loops' bits); 0: the
                                    scalar loops */

@@ -1,10 +1,13 @@
-/* The Galerkin products of a pair level in single precision (amg.h, wc_amg_opts.single_setup):
- * T = A P and the next level's operator P^T T from the V-cycle's float copies of A and P, summed
- * in float with 8-lane FMAs, so the next level's float operator (what the V-cycle reads) is made
- * directly and its double values (what the setup's block diagonal, eigenvalue estimate,
- * prolongator and coarsest factor read) are its widening: no double products and no rounding
- * pass for that level. The products run over the gather lists of amg_build.c (ap_*, ptap_*), as
- * amg_setup.c's double ones do.
+/* The pair levels' setup products in single precision (amg.h, wc_amg_opts.single_setup): the
+ * smoothed prolongator P = (I - w D^-1 A_F) P_tent, T = A P and the next level's operator P^T T,
+ * from the V-cycle's float copies of A (level 0's rounded first, the coarse levels' made here) and
+ * P_tent and D^-1 rounded as read, summed in float with 8-lane FMAs. The V-cycle's float P and
+ * next-level operator are made directly; their double values (what the cross restriction, the
+ * block diagonals, the eigenvalue estimates and the coarsest factor read) are their widenings: no
+ * double products and no rounding pass. The products run over the gather lists of amg_build.c
+ * (pr_*, ap_*, ptap_*), as amg_setup.c's double ones do. Any P gives an SPD Galerkin operator
+ * when the V-cycle prolongs and restricts with that same P (it does: p_val_f), so P's rounding
+ * only moves the coarse space a little.
  * Symmetry: P^T T is computed for the blocks (I, J) with J >= I & ~1 only, the others are the
  * transposes of those, and each pair's own 6x6 block (I, I + 1 of pair I / 2) is made symmetric
  * from its upper triangle, so the float operator is exactly symmetric: the V-cycle stays one
