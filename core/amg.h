@@ -174,6 +174,12 @@ typedef struct wc_amg_opts {
                                    kernel's instructions; the V-cycle is then symmetric to float's
                                    rounding, not exactly (docs/bench/vcycle_float.md). 0: double
                                    iterates and sums */
+    int single_setup;           /* 1 (default): with single, on the pair levels and where the CPU has
+                                   AVX2 + FMA, the smoothed prolongator and the Galerkin products
+                                   T = A P and P^T T in float from the float copies, 8 lanes
+                                   (amg_setup_f.c): P and the next level's operator are made in float
+                                   (the V-cycle's copies) and widened for the setup's double work; 0:
+                                   in double, then rounded (docs/bench/amg_setup_float.md) */
     int smooth_vector;          /* 1 (default): the Chebyshev smoother's node updates in AVX2 where
                                    the CPU has it (amg_smooth.c; the scalar loops' bits); 0: the
                                    scalar loops */
@@ -289,6 +295,9 @@ typedef struct wc_amg_level {
     double *x, *r, *t;          /* (n x 3) V-cycle vectors */
     double* ev_scratch;         /* (n x 3) Chebyshev smoothing's update direction */
     float* val_f;               /* (n_blocks x 9 + WC_BSR_F_PAD) with opts.single: val rounded */
+    int f_fresh;                /* with single_setup: bit 0, val_f holds this setup's val; bit 1,
+                                   p_val_f this setup's p_val (made by amg_setup_f.c; the float
+                                   copies skip them and clear the bits) */
     float* xf;                  /* (n x 4) with opts.single_x: x rounded to float, the 4th float 0 */
 
     int group;                  /* nodes per aggregation unit: 2 on coarse levels with rotations
@@ -322,6 +331,8 @@ typedef struct wc_amg_level {
     int* t_start;               /* (n + 1) pattern of T = A P */
     int* t_col;                 /* (nnz_t) */
     double* t_val;              /* (nnz_t x 9) */
+    float* t_val_f;             /* (nnz_t x 9 + WC_BSR_F_PAD) with single and cpa 2: T in float
+                                   (single_setup) */
     /* with cpa 2, the Galerkin products as gathers (amg_build.c, galerkin_lists): each output slot
        pair's products listed in the order the row walks meet them, so a slot is summed in
        registers and stored once (no zeroing, no per-product load and store), bit for bit the
@@ -501,6 +512,18 @@ void wc_amg_dense_solve(const double* M, int d, const double* r, double* y, doub
 /* With opts.single, the V-cycle's float copies of a setup's values (amg_single.c): every level's,
  * or level 0's operator only (fine_only: the coarse levels were kept). */
 void wc_amg_single_copies(wc_amg* a, int fine_only, wc_par* par);
+/* f = d rounded to float, n values, over par's threads (amg_single.c). */
+void wc_amg_round(const double* d, float* f, size_t n, wc_par* par);
+/* With single_setup, the Galerkin products of pair level L in float (amg_setup_f.c): 1 when it
+ * ran (L->val_f and p_val_f made first unless fresh; N->val_f whole and symmetric, N->val its
+ * widening, both bits of N->f_fresh's bit 0 set), 0 when this level or CPU does not take it (the
+ * caller then runs the double products); its time goes to the phases AP (with the rounding of A
+ * and P) and PTAP. The dead unknowns' diagonal is the caller's. */
+/* With single_setup, level L's smoothed prolongator in float (amg_setup_f.c; L->val_f made first
+ * unless fresh): p_val_f, and p_val its widening; 1 when it ran, 0 when the caller is to run the
+ * double one (no P_tent, weight 0, no AVX2 + FMA). */
+int wc_amg_prolongator_f(wc_amg* a, wc_amg_level* L, double w, wc_par* par);
+int wc_amg_galerkin_f(wc_amg* a, wc_amg_level* L, wc_amg_level* N, wc_par* par);
 /* Index of column c in BSR row [lo, hi) of col (ascending), -1 when absent. */
 static inline int wc_amg_find(const int* col, int lo, int hi, int c) {
     int end = hi;

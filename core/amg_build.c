@@ -28,6 +28,7 @@ wc_amg_opts wc_default_amg_opts(void) {
     o.values = 1;
     o.single = 1;
     o.single_x = 1;
+    o.single_setup = 1;
     o.smooth_vector = 1;
     return o;
 }
@@ -321,6 +322,7 @@ static int build_transfer(wc_amg* a, wc_amg_level* L, wc_amg_level* N, int n_nex
             L->t_start[n] = nnz;
             TRY(L->t_col = WC_NEW(al, int, nnz));
             if (a->opts.values) TRY(L->t_val = WC_NEW(al, double, 9 * (size_t)nnz));
+            if (a->opts.values && a->opts.single && cpa == 2) TRY(L->t_val_f = WC_NEW(al, float, 9 * (size_t)nnz + WC_BSR_F_PAD));
         }
     }
     /* next level: row I = union of T's rows of the fine rows in aggregate... of P^T's row I */
@@ -498,7 +500,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->DinvT, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f, L->xf};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f, L->t_val_f, L->xf};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_amg_cross_destroy(a);

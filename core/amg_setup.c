@@ -242,6 +242,9 @@ static void revive_dead(wc_amg_level* N, wc_par* par) {
             double v = live && sum > 0 && isfinite(sum) ? sum / live : 1.0;
             for (int r = 0; r < 3; ++r)
                 if (dd[r]) B[4 * r] = v;
+            if (N->f_fresh & 1) /* the float operator came first (amg_setup_f.c): val its widening */
+                for (int r = 0; r < 3; ++r)
+                    if (dd[r]) B[4 * r] = N->val_f[9 * (size_t)N->diag[I] + 4 * r] = (float)v;
         }
     }
 }
@@ -415,8 +418,9 @@ __attribute__((target("avx2,fma"))) static void prolong_rows_avx2(wc_amg_level* 
 }
 #endif
 
-static void prolongator(wc_amg_level* L, double weight, wc_par* par) {
+static void prolongator(wc_amg* a, wc_amg_level* L, double weight, wc_par* par) {
     const double w = weight / L->bound;
+    if (wc_amg_prolongator_f(a, L, w, par)) return; /* in float (single_setup, amg_setup_f.c) */
     if (!L->tent) {
         prolongator_plain(L, w, par);
         return;
@@ -538,6 +542,10 @@ static void galerkin_pairs_ptap(wc_amg_level* L, wc_amg_level* N, wc_par* par) {
 
 /* T = A P (phase AP), then N = P^T T (phase PTAP) and its dead unknowns' diagonal. */
 static void galerkin(wc_amg* a, wc_amg_level* L, wc_amg_level* N, wc_par* par) {
+    if (wc_amg_galerkin_f(a, L, N, par)) {
+        revive_dead(N, par);
+        return;
+    }
     double t0 = wc_cpu_ms();
     if (L->cpa == 2) {
         galerkin_pairs_ap(L, par);
@@ -678,7 +686,7 @@ void wc_amg_setup(wc_amg* a, const double* A, const wc_filter* f, wc_par* par) {
         lap(a, WC_AMG_PHASE_DIAGONAL, &t);
         reused += largest_eigenvalue(a, l, l == 0, hold, carry, par);
         lap(a, l == 0 ? WC_AMG_PHASE_EIGEN_FINE : WC_AMG_PHASE_EIGEN_COARSE, &t);
-        prolongator(L, a->opts.prolong_weight, par);
+        prolongator(a, L, a->opts.prolong_weight, par);
         lap(a, WC_AMG_PHASE_PROLONG, &t);
         galerkin(a, L, N, par);
         t = wc_cpu_ms();

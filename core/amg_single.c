@@ -22,7 +22,7 @@ __attribute__((target("avx"))) static void round_range_avx(const double* d, floa
 #endif
 
 /* f = d rounded, n values, in blocks of 9 over the threads */
-static void round_values(const double* d, float* f, size_t n, wc_par* par) {
+void wc_amg_round(const double* d, float* f, size_t n, wc_par* par) {
     void (*range)(const double*, float*, size_t, size_t) = round_range;
 #ifdef WC_ROUND_AVX
     if (__builtin_cpu_supports("avx")) range = round_range_avx;
@@ -40,9 +40,11 @@ void wc_amg_single_copies(wc_amg* a, int fine_only, wc_par* par) {
     if (!a->opts.single || !a->opts.values) return;
     for (int l = 0; l < a->n_levels; ++l) {
         wc_amg_level* L = &a->lev[l];
+        const int fresh = L->f_fresh; /* made by the float Galerkin products in this setup */
+        L->f_fresh = 0;
         if (l == a->n_levels - 1 && a->coarse_dense) break; /* the dense factor is used instead */
-        round_values(L->val, L->val_f, 9 * (size_t)L->n_blocks, par);
+        if (!(fresh & 1)) wc_amg_round(L->val, L->val_f, 9 * (size_t)L->n_blocks, par);
         if (fine_only) break;
-        if (l + 1 < a->n_levels) round_values(L->p_val, L->p_val_f, 9 * (size_t)L->p_start[L->n], par);
+        if (l + 1 < a->n_levels && !(fresh & 2)) wc_amg_round(L->p_val, L->p_val_f, 9 * (size_t)L->p_start[L->n], par);
     }
 }

@@ -108,7 +108,10 @@ static void test_galerkin(wc_amg* a) {
         printf("  level %d -> %d (%d -> %d nodes, %d terms, %d entries): |F_c x - P^T F P x| / |.| = %.1e "
                "(the couplings alone: %.2g)\n",
                l, l + 1, L->n, C->n, C->cross->n_terms, C->cross->n_entries, sqrt(num / den), sqrt(cross / den));
-        CHECK(sqrt(num / den) < 1e-12);
+        /* B's Galerkin products in float (single_setup, amg_setup_f.c): within float's rounding of
+           sums, still far below the couplings' share */
+        const int f = a->opts.single_setup && L->t_val_f && wc_bsr_rows_fx_vector();
+        CHECK(sqrt(num / den) < (f ? 1e-5 : 1e-12));
         CHECK(sqrt(cross / den) > 1e-3);
         free(xc);
         free(yc);

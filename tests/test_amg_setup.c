@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "amg.h"
+#include "bsr_rows.h"
 #include "check.h"
 #include "solve_kernels.h"
 #include "step.h"
@@ -97,11 +98,11 @@ static double* reference_ap(const wc_amg_level* L) {
 /* T = A P (the setup's Galerkin phase, whichever kernel ran) against reference_ap on the slots
  * P^T T reads (row i's columns from its first P column on; the setup computes no others);
  * largest difference over the largest |T|. */
-static double galerkin_ap_error(const wc_amg* a) {
+static double galerkin_ap_error(const wc_amg* a, int f) {
     double worst = 0.0;
     for (int l = 0; l + 1 < a->n_levels; ++l) {
         const wc_amg_level* L = &a->lev[l];
-        if (L->cpa != 2 || !L->t_val) continue;
+        if (L->cpa != 2 || !L->t_val || (f && !L->t_val_f)) continue;
         double* ref = reference_ap(L);
         double scale = 0.0;
         for (int k = 0; k < 9 * L->t_start[L->n]; ++k) scale = fmax(scale, fabs(ref[k]));
@@ -111,7 +112,8 @@ static double galerkin_ap_error(const wc_amg* a) {
                 if (L->t_col[s] < L->p_col[L->p_start[i]]) continue;
                 ++read;
                 for (int c = 0; c < 9; ++c)
-                    worst = fmax(worst, fabs(ref[9 * (size_t)s + c] - L->t_val[9 * (size_t)s + c]) / scale);
+                    worst = fmax(worst, fabs(ref[9 * (size_t)s + c] - (f ? (double)L->t_val_f[9 * (size_t)s + c]
+                                                                          : L->t_val[9 * (size_t)s + c])) / scale);
             }
         printf("  level %d: T = A P computed on %d of its %d blocks\n", l, read, L->t_start[L->n]);
         free(ref);
@@ -202,15 +204,45 @@ static void check_scene(int n, double k_scale, int kind, int frames, const char*
     double err_lz, err_pw;
     int it_lz = solve_iterations(sv, s, &err_lz);
     check_bounds(a, &s->par, what);
+    /* the prolongator and the Galerkin products in double (single_setup 0), against the formula
+       and the block products */
+    a->opts.single_setup = 0;
+    wc_amg_setup(a, s->A, &s->filter, &s->par);
     double perr = prolongator_error(a);
     printf("  %-26s prolongator vs (I - w D^-1 A_F) P_tent: max rel. difference %.1e\n", what, perr);
     CHECK(perr < 1e-12);
-    double terr = galerkin_ap_error(a);
+    double terr = galerkin_ap_error(a, 0);
     printf("  %-26s T = A P vs block products: max rel. difference %.1e\n", what, terr);
     CHECK(terr < 1e-12);
     double nerr = galerkin_ptap_error(a);
     printf("  %-26s P^T T vs block products: max rel. difference %.1e\n", what, nerr);
     CHECK(nerr < 1e-12);
+    /* in float (the default, amg_setup_f.c, where the CPU has AVX2 + FMA): within float's
+       rounding of sums whose terms are larger than the result (A P_tent cancels to the mass where
+       the springs are stiff), the float operator exactly symmetric and the double its widening */
+    a->opts.single_setup = 1;
+    wc_amg_setup(a, s->A, &s->filter, &s->par);
+    if (wc_bsr_rows_fx_vector()) {
+        double perr_f = prolongator_error(a), terr_f = galerkin_ap_error(a, 1), nerr_f = galerkin_ptap_error(a);
+        int asym = 0, widen = 0;
+        for (int l = 1; l < a->n_levels; ++l) {
+            const wc_amg_level* N = &a->lev[l];
+            if (l == a->n_levels - 1 && a->coarse_dense) break; /* its float copy is not kept */
+            for (int I = 0; I < N->n; ++I)
+                for (int k = N->row_start[I]; k < N->row_start[I + 1]; ++k) {
+                    int J = N->col[k], kt = wc_amg_find(N->col, N->row_start[J], N->row_start[J + 1], I);
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c) {
+                            asym += kt < 0 || N->val_f[9 * (size_t)k + 3 * r + c] != N->val_f[9 * (size_t)kt + 3 * c + r];
+                            widen += N->val[9 * (size_t)k + 3 * r + c] != (double)N->val_f[9 * (size_t)k + 3 * r + c];
+                        }
+                }
+        }
+        printf("  %-26s in float: P %.1e, T = A P %.1e, P^T T %.1e; asymmetric entries %d, not the widening %d\n",
+               what, perr_f, terr_f, nerr_f, asym, widen);
+        CHECK(perr_f < 1e-4 && terr_f < 1e-4 && nerr_f < 2e-4);
+        CHECK(asym == 0 && widen == 0);
+    }
     a->opts.lanczos = 0; /* the power method at its old counts */
     int it_pw = solve_iterations(sv, s, &err_pw);
     check_bounds(a, &s->par, what);

@@ -434,6 +434,7 @@ static void dead_solves(wc_model* m, wc_state* s) {
     wc_amg_opts ao = wg_amg_opts();
     ao.values = 1;
     ao.current_positions = cur;
+    ao.single_setup = 0;   /* core's reference in double: the bounds below scale by its error */
     CHECK(wc_amg_create(&cpu->amg, m, &ao, &cpu->alloc, &d) == WC_OK);
     CHECK_EQ_INT(g->amg->current, cur);
     if (cur) {
