@@ -51,7 +51,7 @@ typedef struct weft_api {
  *   WEFT_ERROR_IO                dlopen failed:               "PATH: cannot open: <dlerror>"
  *   WEFT_ERROR_ABI_MISMATCH      a function is not exported:  "PATH: missing symbol weft_x"
  *                                another ABI:                 "PATH: ABI 1 != 10 (library
- *                                                   0.1.0 != this host's weft.h 0.10.1)"
+ *                                                   0.1.0 != this host's weft.h 0.10.2)"
  * api must not hold an open library (close it first). */
 weft_status weft_loader_open(weft_api* api, const char* path, char* error, size_t error_size);
 

@@ -8,7 +8,7 @@ from ctypes import (POINTER, CFUNCTYPE, c_char_p, c_double, c_float, c_int, c_in
                     c_ubyte, c_uint32, c_uint64, c_void_p)
 
 ABI = 10                    # WEFT_ABI of the weft.h mirrored here
-VERSION = (0, 10, 1)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
+VERSION = (0, 10, 2)        # WEFT_VERSION_MAJOR/MINOR/PATCH of that weft.h
 DEFAULT_LIBRARY = "libweft.so.10"
 
 # ------------------------------------------------------------------------------------------------

@@ -90,7 +90,7 @@ extern "C" {
 /* Header version. weft_version() returns the library's; hosts compare the two. */
 #define WEFT_VERSION_MAJOR 0
 #define WEFT_VERSION_MINOR 10
-#define WEFT_VERSION_PATCH 1
+#define WEFT_VERSION_PATCH 2
 /* Incremented on every incompatible change of a struct layout or a signature. The host passes
  * the WEFT_ABI it was compiled with to weft_context_create(); a different number is refused
  * with WEFT_ERROR_ABI_MISMATCH. */
