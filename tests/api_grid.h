@@ -17,6 +17,37 @@ typedef struct ag_mesh {
     int* idx;       /* (4 nf) */
 } ag_mesh;
 
+/* tests/heap_strip.h's strip as host arrays (the GPU self-collision tests' heap): AG_HEAP_X x
+ * AG_HEAP_Y vertices, 0.2 m by 1.6 m, standing on its end with a gentle wave just above the floor. */
+#define AG_HEAP_X 5
+#define AG_HEAP_Y 41
+static inline void ag_heap_strip(ag_mesh* m) {
+    memset(m, 0, sizeof *m);
+    m->nv = AG_HEAP_X * AG_HEAP_Y;
+    m->nf = (AG_HEAP_X - 1) * (AG_HEAP_Y - 1);
+    m->pos = malloc(3 * sizeof(float) * (size_t)m->nv);
+    m->sizes = malloc(sizeof(int) * (size_t)m->nf);
+    m->idx = malloc(4 * sizeof(int) * (size_t)m->nf);
+    for (int j = 0; j < AG_HEAP_Y; ++j)
+        for (int i = 0; i < AG_HEAP_X; ++i) {
+            double gx = 0.2 * i / (AG_HEAP_X - 1), gy = 1.6 * j / (AG_HEAP_Y - 1);
+            float* p = m->pos + 3 * (i + AG_HEAP_X * j);
+            p[0] = (float)(gx - 0.1);
+            p[1] = (float)(0.03 + gy);
+            p[2] = (float)(0.03 * sin(6.0 * gy) + 0.1 * gy);
+        }
+    int q = 0;
+    for (int j = 0; j + 1 < AG_HEAP_Y; ++j)
+        for (int i = 0; i + 1 < AG_HEAP_X; ++i, ++q) {
+            m->sizes[q] = 4;
+            int* f = m->idx + 4 * q;
+            f[0] = i + AG_HEAP_X * j;
+            f[1] = i + 1 + AG_HEAP_X * j;
+            f[2] = i + 1 + AG_HEAP_X * (j + 1);
+            f[3] = i + AG_HEAP_X * (j + 1);
+        }
+}
+
 /* Grid point (i, j) of an n x n grid of size metres: horizontal (XZ plane at height y, i along
  * X, j along Z) or vertical (XY plane, i along X, j up, top row j = n - 1 at height y). */
 static inline void ag_point(int n, double size, double y, int vertical, int i, int j, float* out) {

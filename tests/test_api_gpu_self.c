@@ -118,36 +118,8 @@ static void layers(ag_mesh* m) {
     ag_free(&a);
 }
 
-/* tests/heap_strip.h's strip: 5 x 41 vertices, 0.2 m by 1.6 m, standing on its end with a
- * gentle wave just above the floor. */
-#define HX 5
-#define HY 41
-static void heap(ag_mesh* m) {
-    memset(m, 0, sizeof *m);
-    m->nv = HX * HY;
-    m->nf = (HX - 1) * (HY - 1);
-    m->pos = malloc(3 * sizeof(float) * (size_t)m->nv);
-    m->sizes = malloc(sizeof(int) * (size_t)m->nf);
-    m->idx = malloc(4 * sizeof(int) * (size_t)m->nf);
-    for (int j = 0; j < HY; ++j)
-        for (int i = 0; i < HX; ++i) {
-            double gx = 0.2 * i / (HX - 1), gy = 1.6 * j / (HY - 1);
-            float* p = m->pos + 3 * (i + HX * j);
-            p[0] = (float)(gx - 0.1);
-            p[1] = (float)(0.03 + gy);
-            p[2] = (float)(0.03 * sin(6.0 * gy) + 0.1 * gy);
-        }
-    int q = 0;
-    for (int j = 0; j + 1 < HY; ++j)
-        for (int i = 0; i + 1 < HX; ++i, ++q) {
-            m->sizes[q] = 4;
-            int* f = m->idx + 4 * q;
-            f[0] = i + HX * j;
-            f[1] = i + 1 + HX * j;
-            f[2] = i + 1 + HX * (j + 1);
-            f[3] = i + HX * (j + 1);
-        }
-}
+#define HX AG_HEAP_X
+#define HY AG_HEAP_Y
 
 typedef struct run_result {
     float pos[3 * 2 * LN * LN > 3 * HX * HY ? 3 * 2 * LN * LN : 3 * HX * HY];
@@ -200,7 +172,7 @@ static void run(weft_backend backend, int scene, int self, int frames, run_resul
     if (!ctx) return;
     ag_mesh m;
     if (scene == 0) layers(&m);
-    else heap(&m);
+    else ag_heap_strip(&m);
     weft_cloth_def d = method_def(&m, self);
     weft_attachment_def att = weft_default_attachment_def();
     weft_collider_def floor = weft_default_collider_def();

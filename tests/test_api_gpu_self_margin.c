@@ -30,8 +30,8 @@
 #include "check.h"
 
 #define DT (1.0 / 60.0)
-#define HX 5
-#define HY 41
+#define HX AG_HEAP_X
+#define HY AG_HEAP_Y
 #define THICKNESS 0.02   /* m: the self thickness (the default 3 mm's impulses move past M / 2) */
 #define PREFIX 38        /* frames of the fall, run once */
 #define FRAMES 45
@@ -64,33 +64,6 @@ static void io_log(weft_log_level level, const char* message, void* user) {
         g_io[0] = v[0];
         g_io[1] = v[9];
     }
-}
-
-/* test_api_gpu_self.c's heap strip: standing on its end with a gentle wave just above the floor */
-static void heap(ag_mesh* m) {
-    memset(m, 0, sizeof *m);
-    m->nv = HX * HY;
-    m->nf = (HX - 1) * (HY - 1);
-    m->pos = malloc(3 * sizeof(float) * (size_t)m->nv);
-    m->sizes = malloc(sizeof(int) * (size_t)m->nf);
-    m->idx = malloc(4 * sizeof(int) * (size_t)m->nf);
-    for (int j = 0; j < HY; ++j)
-        for (int i = 0; i < HX; ++i) {
-            double gx = 0.2 * i / (HX - 1), gy = 1.6 * j / (HY - 1);
-            float* p = m->pos + 3 * (i + HX * j);
-            p[0] = (float)(gx - 0.1);
-            p[1] = (float)(0.03 + gy);
-            p[2] = (float)(0.03 * sin(6.0 * gy) + 0.1 * gy);
-        }
-    for (int j = 0, q = 0; j + 1 < HY; ++j)
-        for (int i = 0; i + 1 < HX; ++i, ++q) {
-            m->sizes[q] = 4;
-            int* f = m->idx + 4 * q;
-            f[0] = i + HX * j;
-            f[1] = i + 1 + HX * j;
-            f[2] = i + 1 + HX * (j + 1);
-            f[3] = i + HX * (j + 1);
-        }
 }
 
 typedef struct run_result {
@@ -197,7 +170,7 @@ static void test_margin(void) {
     static const char* names[N_MODES] = {"margin, checked", "refined walk always", "margin", "host's stage"};
     static run_result pre, r[N_MODES];
     ag_mesh m;
-    heap(&m);
+    ag_heap_strip(&m);
     size_t size = 0;
     unsigned char* snap = fall(&m, &size, &pre);
     CHECK(snap != NULL);
