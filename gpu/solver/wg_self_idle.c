@@ -29,7 +29,6 @@ struct wg_self_idle {
     wg_tex elem, part, seam, xs, counter;
     wg_tex list;                /* 13 texels a listed pair (the GPU's proximity pass), room cap */
     int cap;                    /* 0: no list */
-    double margin;              /* the listing's too_far margin, in thicknesses (wg_self_idle_margin) */
     int tried;                  /* this substep's (stage's) start made the copy: the proof runs at its end */
     int failures, wait;         /* proofs failed in a row; substeps left before the next try */
 };
@@ -139,9 +138,6 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
     si->thickness = sc->thickness;
     si->eta = sc->eta;
     si->cap = cap > 0 ? cap : 0;
-    si->margin = WG_SELF_IDLE_MARGIN;
-    const char* me = getenv("WEFT_GPU_SELF_PROX_MARGIN");   /* tests: within [0, 0.98] */
-    if (me && atof(me) >= 0.0 && atof(me) <= 0.98) si->margin = atof(me);
     const int n_seam = sc->seam_start ? sc->seam_start[sc->n] : 0;
     size_t room = 4 * ((size_t)si->nt + si->ne + si->n + n_seam + 4);
     size_t rt = 12 * ((size_t)sc->tri_bvh.n_nodes + sc->edge_bvh.n_nodes + 2);
@@ -286,7 +282,7 @@ int wg_self_idle_cap(const wg_self_idle* si) { return si->cap; }
 double wg_self_idle_margin(const wg_self_idle* si) {
     /* at most (thickness - eta)(1 + rel): the walk's culling (d0 > max_rel + thickness (1 + rel))
        keeps proving too_far with it */
-    return si->cap > 0 ? si->margin * si->thickness : 0.0;
+    return si->cap > 0 ? WG_SELF_IDLE_MARGIN * si->thickness : 0.0;
 }
 
 void wg_self_idle_outcome(wg_self_idle* si, int acted) {

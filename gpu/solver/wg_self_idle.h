@@ -84,8 +84,7 @@ int wg_self_idle_cap(const wg_self_idle* si);
 /* The listing walk (refined 0) proves an unlisted pair too_far with this margin to spare (m):
  * d0 - max_rel > eta (1 + rel) + margin, so that after the pass's impulses, each moving a particle
  * by at most margin / 2, every unlisted pair is still too_far and the refined walk is not needed
- * (wg_self_prox.h). WG_SELF_IDLE_MARGIN thicknesses with a list's room (WEFT_GPU_SELF_PROX_MARGIN
- * at creation, tests: another in [0, 0.98]), else 0. */
+ * (wg_self_prox.h). WG_SELF_IDLE_MARGIN thicknesses with a list's room, else 0. */
 #define WG_SELF_IDLE_MARGIN 0.25
 double wg_self_idle_margin(const wg_self_idle* si);
 /* The back-off's count: acted 1 after a substep the stage ran on the host. */
