@@ -287,6 +287,8 @@ typedef struct wc_amg_level {
                                    column (lane 3 zero), for the AVX2 smoother (amg_smooth.c) */
     int* pair_blk;              /* (n) group 2: block (i, i ^ 1) in row i (rows 2a and 2a + 1
                                    have the same columns) */
+    int* mirror;                /* (n_blocks) group 2 with single_setup: the slot of block
+                                   (col, row), each block's transpose (amg_setup_f.c's mirror) */
     double bound;               /* estimate of the largest eigenvalue of D^-1 A (per solve) */
     double estimate;            /* the last fresh estimate (before WC_AMG_SAFETY), what a setup
                                    that reuses bounds scales (wc_amg_opts.bound_reuse) */
@@ -318,6 +320,8 @@ typedef struct wc_amg_level {
     int* agg_node;              /* (n) */
     double* tent;               /* (n x cpa x 9) with rotations: P_tent's 3x3 blocks of row i, to
                                    coarse nodes cpa agg(i) + q; NULL: P_tent = identity blocks */
+    float* tent_f;              /* (n x 18 + WC_BSR_F_PAD) with cpa 2 and single_setup: tent rounded
+                                   by each QR (amg_tent.c), what amg_setup_f.c's P reads */
     int* p_start;               /* (n + 1) */
     int* p_col;                 /* (nnz_p) coarse nodes, ascending per row */
     int* p_self;                /* (n) entry of coarse node cpa agg(i) in row i */

@@ -381,6 +381,15 @@ static int alloc_level_values(wc_amg* a, wc_amg_level* L, int own_val) {
                 memcmp(L->col + L->row_start[i], L->col + L->row_start[j], sizeof(int) * (size_t)len) != 0)
                 goto oom;
         }
+        if (a->opts.single && a->opts.single_setup) { /* each block's transpose, for the float P^T T */
+            TRY(L->mirror = WC_NEW(al, int, L->n_blocks));
+            for (int i = 0; i < L->n; ++i)
+                for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
+                    const int j = L->col[k];
+                    L->mirror[k] = wc_amg_find(L->col, L->row_start[j], L->row_start[j + 1], i);
+                    if (L->mirror[k] < 0) goto oom; /* the pattern is symmetric (P^T A P) */
+                }
+        }
     }
     TRY(L->x = WC_NEW(al, double, 3 * (size_t)L->n));
     if (a->opts.single && a->opts.single_x) TRY(L->xf = WC_NEW(al, float, 4 * (size_t)L->n));
@@ -458,6 +467,8 @@ wc_status wc_amg_create(wc_amg** out, const wc_model* m, const wc_amg_opts* opts
             TRY(L->agg_start = WC_NEW(&a->alloc, int, n_agg + 1));
             TRY(L->agg_node = WC_NEW(&a->alloc, int, L->n));
             TRY(L->tent = WC_NEW(&a->alloc, double, 18 * (size_t)L->n));
+            if (o.values && o.single && o.single_setup && L->cpa == 2)
+                TRY(L->tent_f = WC_NEW(&a->alloc, float, 18 * (size_t)L->n + WC_BSR_F_PAD));
             TRY(N->nns = WC_NEW(&a->alloc, double, 18 * (size_t)n_next));
             TRY(N->dead = WC_NEW(&a->alloc, unsigned char, 3 * (size_t)n_next));
             for (int i = 0; i < L->n; ++i) ++L->agg_start[L->agg[i] + 1];
@@ -500,7 +511,7 @@ void wc_amg_destroy(wc_amg* a) {
         wc_amg_level* L = &a->lev[l];
         void* ptrs[] = {L->own_row_start, L->own_col, L->own_diag, L->strong, L->val, L->Dinv, L->DinvT, L->x, L->r, L->t,
                         L->ev, L->ev_scratch, L->partial, L->agg, L->p_start, L->p_col, L->p_self, L->a_to_p, L->p_val, L->pt_start, L->pt_entry,
-                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->pair_blk, L->val_f, L->p_val_f, L->t_val_f, L->xf};
+                        L->pt_row, L->t_start, L->t_col, L->t_val, L->t_read, L->ap_start, L->ap_src, L->ptap_start, L->ptap_src, L->pr_start, L->pr_src, L->nns, L->dead, L->agg_start, L->agg_node, L->tent, L->tent_f, L->pair_blk, L->mirror, L->val_f, L->p_val_f, L->t_val_f, L->xf};
         for (size_t k = 0; k < sizeof ptrs / sizeof ptrs[0]; ++k) wc_free(&al, ptrs[k]);
     }
     wc_amg_cross_destroy(a);

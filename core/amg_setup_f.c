@@ -1,13 +1,13 @@
 /* The pair levels' setup products in single precision (amg.h, wc_amg_opts.single_setup): the
  * smoothed prolongator P = (I - w D^-1 A_F) P_tent, T = A P and the next level's operator P^T T,
- * from the V-cycle's float copies of A (level 0's rounded first, the coarse levels' made here) and
- * P_tent and D^-1 rounded as read, summed in float with 8-lane FMAs. The V-cycle's float P and
- * next-level operator are made directly; their double values (what the cross restriction, the
- * block diagonals, the eigenvalue estimates and the coarsest factor read) are their widenings: no
- * double products and no rounding pass. The products run over the gather lists of amg_build.c
- * (pr_*, ap_*, ptap_*), as amg_setup.c's double ones do. Any P gives an SPD Galerkin operator
- * when the V-cycle prolongs and restricts with that same P (it does: p_val_f), so P's rounding
- * only moves the coarse space a little.
+ * from the V-cycle's float copies of A (level 0's rounded first, the coarse levels' made here),
+ * P_tent's (tent_f, rounded by each QR) and D^-1 rounded as read, summed in float with 8-lane
+ * FMAs. The V-cycle's float P and next-level operator are made directly; their double values
+ * (what the cross restriction, the block diagonals, the eigenvalue estimates and the coarsest
+ * factor read) are their widenings: no double products and no rounding pass. The products run
+ * over the gather lists of amg_build.c (pr_*, ap_*, ptap_*), as amg_setup.c's double ones do.
+ * Any P gives an SPD Galerkin operator when the V-cycle prolongs and restricts with that same P
+ * (it does: p_val_f), so P's rounding only moves the coarse space a little.
  * Symmetry: P^T T is computed for the blocks (I, J) with J >= I & ~1 only, the others are the
  * transposes of those, and each pair's own 6x6 block (I, I + 1 of pair I / 2) is made symmetric
  * from its upper triangle, so the float operator is exactly symmetric: the V-cycle stays one
@@ -102,15 +102,13 @@ __attribute__((target("avx2,fma"))) static void ptap_rows_f(const wc_amg_level* 
 }
 
 /* Pairs lo..hi-1 of N: the blocks left of the pair's columns as the transposes of their mirror
- * blocks (written by ptap_rows_f for other pairs), the pair's 6x6 block symmetric from its upper
- * triangle, then the rows widened into N->val. */
+ * blocks (written by ptap_rows_f for other pairs; N->mirror, built with the pattern), the pair's
+ * 6x6 block symmetric from its upper triangle, then the rows widened into N->val. */
 __attribute__((target("avx2,fma"))) static void mirror_widen(wc_amg_level* N, int lo, int hi) {
     float* V = N->val_f;
     for (int I = 2 * lo; I < 2 * hi; ++I)
         for (int slot = N->row_start[I]; slot < N->row_start[I + 1] && N->col[slot] < (I & ~1); ++slot) {
-            const int J = N->col[slot];
-            const int kt = wc_amg_find(N->col, N->row_start[J], N->row_start[J + 1], I);
-            const float* src = V + 9 * (size_t)kt;
+            const float* src = V + 9 * (size_t)N->mirror[slot];
             float* dst = V + 9 * (size_t)slot;
             for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 3; ++c) dst[3 * r + c] = src[3 * c + r];
@@ -127,14 +125,6 @@ __attribute__((target("avx2,fma"))) static void mirror_widen(wc_amg_level* N, in
     size_t k = k0;
     for (; k + 4 <= k1; k += 4) _mm256_storeu_pd(N->val + k, _mm256_cvtps_pd(_mm_loadu_ps(V + k)));
     for (; k < k1; ++k) N->val[k] = (double)V[k];
-}
-
-/* row q of P_tent's pair of blocks at T (doubles: T[3q..], T[9 + 3q..]) rounded into one register;
- * the last row of the second block read masked (the array ends there on the last node) */
-__attribute__((target("avx2,fma"), always_inline)) static inline __m256 tent_rows(const double* T, int q) {
-    const __m128 lo = _mm256_cvtpd_ps(_mm256_loadu_pd(T + 3 * q));
-    const __m256d hd = q < 2 ? _mm256_loadu_pd(T + 9 + 3 * q) : _mm256_maskload_pd(T + 15, _mm256_setr_epi64x(-1, -1, -1, 0));
-    return _mm256_set_m128(_mm256_cvtpd_ps(hd), lo);
 }
 
 /* The smoothed prolongator's units (aggregates' rows: L->group of them) lo..hi-1 in float (amg_setup.c's
@@ -167,13 +157,13 @@ __attribute__((target("avx2,fma"))) static void prolong_rows_f(wc_amg_level* L, 
                 for (int m = L->pr_start[e / 2]; m < L->pr_start[e / 2 + 1]; ++m) {
                     const int k = L->pr_src[m];
                     const float* A = A0 + 9 * (size_t)k;
-                    const double* T = L->tent + 18 * (size_t)L->col[k];
-                    const __m256 x[3] = {tent_rows(T, 0), tent_rows(T, 1), tent_rows(T, 2)};
+                    const float* T = L->tent_f + 18 * (size_t)L->col[k];
+                    const __m256 x[3] = {WC_F_ROWS(T, 0), WC_F_ROWS(T, 1), WC_F_ROWS(T, 2)};
                     WC_F_AP(z, A, x);
                 }
                 if (weak[i - b] && e == L->p_self[i]) {
-                    const double* T = L->tent + 18 * (size_t)i;
-                    const __m256 x[3] = {tent_rows(T, 0), tent_rows(T, 1), tent_rows(T, 2)};
+                    const float* T = L->tent_f + 18 * (size_t)i;
+                    const __m256 x[3] = {WC_F_ROWS(T, 0), WC_F_ROWS(T, 1), WC_F_ROWS(T, 2)};
                     WC_F_AP(z, Wk[i - b], x);
                 }
             }
@@ -183,8 +173,8 @@ __attribute__((target("avx2,fma"))) static void prolong_rows_f(wc_amg_level* L, 
                 for (int r = 0; r < 3; ++r) o[r] = _mm256_setzero_ps();
                 for (int j = 0; j < g; ++j) WC_F_AP(o, D[i - b][j], Z[j]);
                 if (e == L->p_self[i]) {
-                    const double* T = L->tent + 18 * (size_t)i;
-                    for (int r = 0; r < 3; ++r) o[r] = _mm256_add_ps(o[r], tent_rows(T, r));
+                    const float* T = L->tent_f + 18 * (size_t)i;
+                    for (int r = 0; r < 3; ++r) o[r] = _mm256_add_ps(o[r], WC_F_ROWS(T, r));
                 }
                 pair_store_f(L->p_val_f + 9 * (size_t)e, o);
             }
@@ -201,7 +191,7 @@ __attribute__((target("avx2,fma"))) static void prolong_rows_f(wc_amg_level* L, 
 /* 1 when the float path runs on level L (both functions below) */
 static int takes_f(const wc_amg* a, const wc_amg_level* L) {
 #ifdef WC_SETUP_F
-    return a->opts.single_setup && a->opts.single && L->cpa == 2 && L->tent && L->val_f && L->p_val_f &&
+    return a->opts.single_setup && a->opts.single && L->cpa == 2 && L->tent_f && L->val_f && L->p_val_f &&
            __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 #else
     (void)a;
@@ -233,7 +223,7 @@ int wc_amg_prolongator_f(wc_amg* a, wc_amg_level* L, double w, wc_par* par) {
 
 int wc_amg_galerkin_f(wc_amg* a, wc_amg_level* L, wc_amg_level* N, wc_par* par) {
 #ifdef WC_SETUP_F
-    if (!takes_f(a, L) || !L->t_val_f || !N->val_f || N->group != 2 || !N->pair_blk) return 0;
+    if (!takes_f(a, L) || !L->t_val_f || !N->val_f || N->group != 2 || !N->pair_blk || !N->mirror) return 0;
     const double t0 = wc_cpu_ms();
     if (!(L->f_fresh & 1)) wc_amg_round(L->val, L->val_f, 9 * (size_t)L->n_blocks, par);
     if (!(L->f_fresh & 2)) wc_amg_round(L->p_val, L->p_val_f, 9 * (size_t)L->p_start[L->n], par);

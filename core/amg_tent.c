@@ -78,6 +78,14 @@ static void qr_local(wc_amg_level* L, const int* nodes, int m, double* Q, double
             for (int c = 0; c < 6; ++c) RB(L->tent, nodes[s], r, c) = Q[c * rows + 3 * s + r];
 }
 
+/* The aggregate's nodes' rows of P_tent rounded into tent_f (the float setup's copy, amg.h):
+ * the same float per double as rounding where it is read. */
+static void round_tent(wc_amg_level* L, const int* nodes, int m) {
+    if (!L->tent_f) return;
+    for (int s = 0; s < m; ++s)
+        for (int q = 0; q < 18; ++q) L->tent_f[18 * (size_t)nodes[s] + q] = (float)L->tent[18 * (size_t)nodes[s] + q];
+}
+
 /* Aggregates lo..hi-1: each writes only its own nodes' rows of P_tent and its own coarse rows. */
 static void tentative_range(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
     double Q[6 * 3 * TENT_LOCAL];
@@ -89,6 +97,7 @@ static void tentative_range(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
         if (m <= TENT_LOCAL) {
             unsigned char dead[6];
             qr_local(L, nodes, m, Q, R, live, dead);
+            round_tent(L, nodes, m);
             for (int c = 0; c < 6; ++c) N->dead[3 * (2 * a + c / 3) + c % 3] = dead[c];
             for (int q = 0; q < 2; ++q)
                 for (int r = 0; r < 3; ++r)
@@ -122,6 +131,7 @@ static void tentative_range(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
             R[6 * c + c] = live[c] ? norm : 0.0;
             N->dead[3 * (2 * a + c / 3) + c % 3] = (unsigned char)!live[c];
         }
+        round_tent(L, nodes, m);
         for (int q = 0; q < 2; ++q)
             for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 6; ++c) RB(N->nns, 2 * a + q, r, c) = R[6 * (3 * q + r) + c];
