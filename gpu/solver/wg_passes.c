@@ -188,7 +188,8 @@ WHOLE(wg_self_idle_refit_in, self_idle_refit);
 static const wg_pass_input self_idle_walk[] = {
     IN(wg_self_idle_walk_in, tnode), IN(wg_self_idle_walk_in, enode), IN(wg_self_idle_walk_in, elem),
     IN(wg_self_idle_walk_in, x),     IN(wg_self_idle_walk_in, xs),    IN(wg_self_idle_walk_in, v),
-    IN(wg_self_idle_walk_in, part),  IN(wg_self_idle_walk_in, seam),  IN(wg_self_idle_walk_in, qord)};
+    IN(wg_self_idle_walk_in, part),
+    IN(wg_self_idle_walk_in, seam)};
 WHOLE(wg_self_idle_walk_in, self_idle_walk);
 static const wg_pass_input self_pairs_refit[] = {IN(wg_self_pairs_refit_in, order), IN(wg_self_pairs_refit_in, elem),
                                                  IN(wg_self_pairs_refit_in, x), IN(wg_self_pairs_refit_in, v)};

@@ -331,7 +331,7 @@ typedef struct wg_self_idle_refit_in {   /* self_idle_refit_groups.glsl (the nod
 } wg_self_idle_refit_in;
 
 typedef struct wg_self_idle_walk_in {   /* self_idle_walk_groups.glsl (the list: image 0, the counter: 1) */
-    const wg_tex *tnode, *enode, *elem, *x, *xs, *v, *part, *seam, *qord;
+    const wg_tex *tnode, *enode, *elem, *x, *xs, *v, *part, *seam;
 } wg_self_idle_walk_in;
 
 typedef struct wg_self_pairs_refit_in {   /* self_pairs_refit_groups.glsl (the node image: image 0) */

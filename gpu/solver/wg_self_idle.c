@@ -2,12 +2,9 @@
 #include "wg_self_idle.h"
 
 #include <GL/glew.h>
-#include <limits.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "clock.h"
 #include "gpu_error.h"
 #include "wg_passes.h"
 
@@ -30,10 +27,6 @@ struct wg_self_idle {
     double thickness, eta;
     idle_tree tri, edge;
     wg_tex elem, part, seam, xs, counter;
-    wg_tex qord;                /* (n + ne) the walk's queries by leaf (query_order) */
-    int walk_mode;              /* WALK_*: WEFT_GPU_SELF_WALK */
-    int timed, walks;           /* WEFT_GPU_SELF_WALK_TIME=1: the walks timed (glFinish, diagnostic) */
-    double walk_ms;
     wg_tex list;                /* 13 texels a listed pair (the GPU's proximity pass), room cap */
     int cap;                    /* 0: no list */
     int tried;                  /* this substep's (stage's) start made the copy: the proof runs at its end */
@@ -42,17 +35,6 @@ struct wg_self_idle {
 
 /* the tests' mutations of the proof (WEFT_GPU_SELF_IDLE_MUTATION) */
 enum { MUTATE_NONE, MUTATE_NO_DELTA, MUTATE_NO_SHARED, MUTATE_NO_MARGIN };
-
-/* WEFT_GPU_SELF_WALK: "index" the queries in their own order, each lane its own walk (the walk
- * before, for measuring); "leaf" in leaf order, each lane its own walk; unset or "group" in leaf
- * order, a work group's one walk with its lanes' union box (self_idle_walk_groups.glsl). */
-enum { WALK_INDEX, WALK_LEAF, WALK_GROUP };
-
-static int walk_env(void) {
-    const char* e = getenv("WEFT_GPU_SELF_WALK");
-    if (!e || !*e) return WALK_GROUP;
-    return strcmp(e, "index") == 0 ? WALK_INDEX : strcmp(e, "leaf") == 0 ? WALK_LEAF : WALK_GROUP;
-}
 
 wg_self_idle_mode wg_self_idle_env(void) {
     const char* e = getenv("WEFT_GPU_SELF_IDLE");
@@ -81,8 +63,6 @@ static void tree_free(idle_tree* t, wc_allocator* a, int gl) {
 
 void wg_self_idle_destroy(wg_self_idle* si, int gl) {
     if (!si) return;
-    if (si->timed && si->walks > 0)
-        fprintf(stderr, "self walk: %d walks, %.1f ms (%.1f ms each)\n", si->walks, si->walk_ms, si->walk_ms / si->walks);
     wc_allocator a = si->alloc;
     tree_free(&si->tri, &a, gl);
     tree_free(&si->edge, &a, gl);
@@ -93,7 +73,6 @@ void wg_self_idle_destroy(wg_self_idle* si, int gl) {
         wg_tex_destroy(&si->xs);
         wg_tex_destroy(&si->counter);
         wg_tex_destroy(&si->list);
-        wg_tex_destroy(&si->qord);
     }
     wc_free(&a, si);
 }
@@ -101,7 +80,7 @@ void wg_self_idle_destroy(wg_self_idle* si, int gl) {
 size_t wg_self_idle_bytes(const wg_self_idle* si) {
     if (!si) return 0;
     const wg_tex* t[] = {&si->tri.node, &si->tri.order, &si->edge.node, &si->edge.order, &si->elem,
-                         &si->part,     &si->seam,      &si->xs,        &si->counter, &si->list, &si->qord};
+                         &si->part,     &si->seam,      &si->xs,        &si->counter, &si->list};
     size_t bytes = 0;
     for (int k = 0; k < (int)(sizeof t / sizeof t[0]); ++k) bytes += t[k]->id ? wg_tex_bytes(t[k]) : 0;
     return bytes;
@@ -140,38 +119,6 @@ static int tree_upload(wg_self_idle* si, idle_tree* t, const wc_bvh* b, float* o
     return wg_array_create(L, &t->node, GL_RGBA32F, 2 * nn, o, err, err_len);
 }
 
-typedef struct query_key {
-    int key, q;
-} query_key;
-
-static int by_key(const void* a, const void* b) {
-    const query_key *u = a, *w = b;
-    if (u->key != w->key) return u->key < w->key ? -1 : 1;
-    return (u->q > w->q) - (u->q < w->q);
-}
-
-/* The walk's queries by leaf, staged in o (4 floats a query): the particles by the first leaf
- * (preorder: node index) of a triangle they are a corner of, then the edges by their leaf in the
- * edge tree (k: room for n + ne keys). Neighbouring invocations (a SIMD CPU's lanes, a device's
- * warp, a work group) then walk nearly the same nodes. Which invocation takes which query changes
- * no pair listed: the list's order is the counter's, a set to its reader (wg_self_prox.c sorts). */
-static void query_order(const wc_self* sc, const wc_model* m, int by_index, float* o, query_key* k) {
-    const int n = sc->n, ne = sc->n_edges;
-    for (int i = 0; i < n; ++i) k[i] = (query_key){by_index ? 0 : INT_MAX, i};
-    for (int t = 0; t < sc->n_tris && !by_index; ++t)
-        for (int c = 0; c < 3; ++c) {
-            query_key* u = &k[m->tris[3 * t + c]];
-            if (sc->tri_bvh.leaf_of[t] < u->key) u->key = sc->tri_bvh.leaf_of[t];
-        }
-    for (int j = 0; j < ne; ++j) k[n + j] = (query_key){by_index ? 0 : sc->edge_bvh.leaf_of[j], n + j};
-    qsort(k, (size_t)n, sizeof *k, by_key);
-    qsort(k + n, (size_t)ne, sizeof *k, by_key);
-    for (int i = 0; i < n + ne; ++i) {
-        o[4 * (size_t)i] = (float)k[i].q;
-        o[4 * (size_t)i + 1] = o[4 * (size_t)i + 2] = o[4 * (size_t)i + 3] = 0.0f;
-    }
-}
-
 int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg_self_idle_mode mode, int cap,
                         wg_self_idle** out, char* err, size_t err_len) {
     *out = NULL;
@@ -191,23 +138,15 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
     si->thickness = sc->thickness;
     si->eta = sc->eta;
     si->cap = cap > 0 ? cap : 0;
-    si->walk_mode = walk_env();
-    const char* te = getenv("WEFT_GPU_SELF_WALK_TIME");
-    si->timed = te && strcmp(te, "1") == 0;
     const int n_seam = sc->seam_start ? sc->seam_start[sc->n] : 0;
     size_t room = 4 * ((size_t)si->nt + si->ne + si->n + n_seam + 4);
     size_t rt = 12 * ((size_t)sc->tri_bvh.n_nodes + sc->edge_bvh.n_nodes + 2);
     if (rt > room) room = rt;
     float* o = wc_calloc(&a, room, sizeof(float));
     int* h = wc_calloc(&a, (size_t)sc->tri_bvh.n_nodes + sc->edge_bvh.n_nodes + 2, sizeof(int));
-    query_key* qk = wc_calloc(&a, (size_t)si->n + si->ne + 1, sizeof(query_key));
     const wg_layout* L = run->layout;
-    int ok = o && h && qk;
+    int ok = o && h;
     if (!ok) wg_errorf(err, err_len, "out of memory");
-    if (ok) {
-        query_order(sc, m, si->walk_mode == WALK_INDEX, o, qk);
-        ok = wg_array_create(L, &si->qord, GL_RGBA32F, si->n + si->ne > 0 ? si->n + si->ne : 1, o, err, err_len);
-    }
     ok = ok && tree_upload(si, &si->tri, &sc->tri_bvh, o, h, err, err_len) &&
          tree_upload(si, &si->edge, &sc->edge_bvh, o, h, err, err_len);
     if (ok) {
@@ -242,7 +181,6 @@ int wg_self_idle_create(wg_runner* run, const wc_self* sc, const wc_model* m, wg
     }
     wc_free(&a, o);
     wc_free(&a, h);
-    wc_free(&a, qk);
     if (!ok) {
         wg_self_idle_destroy(si, 1);
         return 0;
@@ -299,7 +237,7 @@ static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, in
     const GLint zero = 0;
     wg_tex_upload(&si->counter, 0, 0, 1, 1, &zero);
     WG_USE(run, WGP_SELF_IDLE_WALK_GROUPS, &(wg_self_idle_walk_in){.tnode = &si->tri.node, .enode = &si->edge.node,
-        .elem = &si->elem, .x = xe, .xs = &si->xs, .v = v, .part = &si->part, .seam = &si->seam, .qord = &si->qord});
+        .elem = &si->elem, .x = xe, .xs = &si->xs, .v = v, .part = &si->part, .seam = &si->seam});
     wg_u1i(run, "u_cap", list ? si->cap : 0);
     wg_u1i(run, "u_refined", refined);
     wg_u1i(run, "u_np", si->n);
@@ -311,22 +249,8 @@ static int walk(wg_self_idle* si, const wg_tex* x, const wg_tex* v, int list, in
     wg_u1f(run, "u_mu", rel * si->thickness);
     wg_u1f(run, "u_ulp", margin ? 1.0 : 0.0);
     wg_u1f(run, "u_margin", margin_m);
-    /* the particles' groups, then the edges' (the shader's u_pgroups) */
-    const int pg = (si->n + 63) / 64, groups = pg + (si->ne + 63) / 64;
-    wg_u1i(run, "u_ne", si->ne);
-    wg_u1i(run, "u_pgroups", pg);
-    wg_u1i(run, "u_group", si->walk_mode == WALK_GROUP);
-    double t0 = 0.0;
-    if (si->timed) {
-        glFinish();
-        t0 = wc_now_ms();
-    }
-    wg_run_groups_scratch(run, 64 * groups, groups, (const wg_tex* const[]){&si->list}, 1, &si->counter);
-    if (si->timed) {
-        glFinish();
-        si->walk_ms += wc_now_ms() - t0;
-        ++si->walks;
-    }
+    const int nq = si->n + si->ne;
+    wg_run_groups_scratch(run, nq, (nq + 63) / 64, (const wg_tex* const[]){&si->list}, 1, &si->counter);
     GLint count = 0, prev = 0;   /* the counter: a synchronisation with the GPU */
     glGetIntegerv(GL_TEXTURE_BINDING_2D, &prev);
     glBindTexture(GL_TEXTURE_2D, si->counter.id);

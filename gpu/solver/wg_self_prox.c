@@ -151,11 +151,6 @@ int wg_self_prox_cap(int n, int env) {
 float* wg_self_prox_buffer(wg_self_prox* p) { return p->buf; }
 
 /* core's visit order: by query, then by the element's leaf (preorder) */
-static int by_id(const void* a, const void* b) {
-    const int u = *(const int*)a, w = *(const int*)b;
-    return (u > w) - (u < w);
-}
-
 static int by_walk(const void* a, const void* b) {
     const prox_pair *u = a, *w = b;
     if (u->q != w->q) return u->q < w->q ? -1 : 1;
@@ -280,8 +275,7 @@ static void upload(wg_self_prox* p, const wg_tex* x, const wg_tex* v, int i, con
 
 /* The listed pairs (count, in p->buf) into p->order in core's order, their particles not seen yet
  * taken into the pass's arrays (x, v, core's x_start and masses; the first read kept in f) and
- * p->ids from *nu on, by id (the list's order is the walk's counter's: a set, its order no result's).
- * 0 for an entry out of range or a non-finite value (the host's stage). */
+ * p->ids from *nu on. 0 for an entry out of range or a non-finite value (the host's stage). */
 static int take(wg_self_prox* p, wc_self* sc, const wc_state* s, int n_pins, int count, int* nu) {
     const wc_model* m = s->model;
     const int* leaf[2] = {sc->tri_bvh.leaf_of, sc->edge_bvh.leaf_of};
@@ -317,7 +311,6 @@ static int take(wg_self_prox* p, wc_self* sc, const wc_state* s, int n_pins, int
     for (int u = first; u < *nu; ++u) sc->inv_mass[p->ids[u]] = p->pinned[p->ids[u]] ? 0.0 : m->inv_mass[p->ids[u]];
     for (int k = 0; k < n_pins; ++k) p->pinned[s->pins[k].particle] = 0;
     qsort(p->order, (size_t)count, sizeof(prox_pair), by_walk);
-    qsort(p->ids + first, (size_t)(*nu - first), sizeof(int), by_id);
     return ok;
 }
 

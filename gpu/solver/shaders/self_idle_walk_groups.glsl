@@ -18,19 +18,11 @@
 // left out, a pair acts only where too_far may fail (its proximity impulse was given).
 // u_margin (listing, wg_self_prox.h): too_far must hold with u_margin to spare, so that the pass's
 // impulses (each particle moved by at most u_margin / 2) leave every unlisted pair too_far.
-// The queries by leaf (wg_self_idle.c, query_order): the first u_pgroups work groups take the
-// particles, the rest the edges, each invocation i the query qord[i] (qord[u_np + i] for an edge),
-// so a group's queries are neighbours in their tree's leaf order. u_group 1: the group walks the
-// tree once with the union of its queries' boxes (every lane the same nodes: no divergence but at
-// the leaves) and each lane visits the leaves that meet its own box. An inner node's box is the
-// union of its children's (the refit), so a leaf meets a lane's box only where every node above
-// it does: each lane visits the same leaves as its own walk (u_group 0), in the same order.
 layout(local_size_x = 64, local_size_y = 1) in;
 uniform sampler2D x;           // the substep's end positions
 uniform sampler2D xs;          // its start positions
 uniform sampler2D v;           // its end velocities (listed only)
-uniform sampler2D qord;        // (query, -, -, -): the particles in leaf order, then the edges
-uniform int u_shared, u_cap, u_refined, u_ne, u_pgroups, u_group;
+uniform int u_shared, u_cap, u_refined;
 uniform float u_th, u_eta, u_rel, u_mu, u_ulp, u_margin;
 layout(binding = 0, rgba32f) writeonly uniform image2D wg_img0;
 layout(binding = 1, r32i) uniform iimage2D wg_img1;
@@ -87,85 +79,28 @@ bool too_deep() {
     return false;
 }
 
-bool meets(vec4 lo, vec4 hi, vec3 blo, vec3 bhi) {
-    return !(any(greaterThan(lo.xyz, bhi)) || any(lessThan(hi.xyz, blo)));
-}
-
-// u_group 1: the walk of the group's tree (vq: the triangles') with the union [ulo, uhi] of its
-// live lanes' boxes; a lane visits a leaf meeting its own box [blo, bhi] (live: it has one)
-void walk_group(int q, bool vq, bool live, vec3 blo, vec3 bhi, vec3 ulo, vec3 uhi) {
-    int e = q - u_np;
-    int stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        int j = stack[--top];
-        vec4 lo = vq ? ld(tnode, 2 * j) : ld(enode, 2 * j), hi = vq ? ld(tnode, 2 * j + 1) : ld(enode, 2 * j + 1);
-        if (!meets(lo, hi, ulo, uhi)) continue;
-        if (lo.w >= 0.0) {
-            if (top + 2 > 64) {   // never for core's trees: as walk's too_deep, for the lanes it meets
-                if (live && meets(lo, hi, blo, bhi)) too_deep();
-                continue;
-            }
-            stack[top++] = int(hi.w);
-            stack[top++] = int(lo.w);
-            continue;
-        }
-        if (!live || !meets(lo, hi, blo, bhi)) continue;
-        int prim = int(hi.w);
-        if (vq) visit(q, prim, tri_ids(q, prim), 1);
-        else if (prim > e) visit(q, prim, edge_ids(e, prim), 2);
-    }
-}
-
-shared vec3 s_lo[64], s_hi[64];
-
 void main() {
-    int g = int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x), lid = int(gl_LocalInvocationID.x);
-    bool vq = g < u_pgroups;
-    int i = (vq ? g : g - u_pgroups) * 64 + lid;
-    int q = -1;
-    if (vq ? i < u_np : i < u_ne) q = int(ld(qord, vq ? i : u_np + i).x);
-    bool live = q >= 0;
+    int q = int(gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u + gl_GlobalInvocationID.x);
+    if (q >= u_n) return;
+    ivec2 pq = query_particles(q);
     vec3 blo = vec3(3.0e38), bhi = vec3(-3.0e38);
+    float delta = 0.0, mag = 0.0;
+    for (int k = 0; k < 2; ++k) {
+        if (pq[k] < 0) continue;
+        vec3 p0 = ld(xs, pq[k]).xyz, p1 = ld(x, pq[k]).xyz;
+        blo = min(blo, p0);
+        bhi = max(bhi, p0);
+        delta = max(delta, length(p1 - p0));
+        mag = max(mag, max(max(abs(p0.x), abs(p0.y)), abs(p0.z)));
+    }
+    if (isnan(delta) || isinf(delta) || isnan(mag) || isinf(mag)) {   // no bound: core's stage decides
+        imageAtomicAdd(wg_img1, ivec2(0), u_cap + 1);
+        return;
+    }
+    float pad = delta * 1.0001 + (mag + delta) * 9.6e-7;
+    blo -= pad;
+    bhi += pad;
     count = 0;
-    if (live) {
-        ivec2 pq = query_particles(q);
-        float delta = 0.0, mag = 0.0;
-        for (int k = 0; k < 2; ++k) {
-            if (pq[k] < 0) continue;
-            vec3 p0 = ld(xs, pq[k]).xyz, p1 = ld(x, pq[k]).xyz;
-            blo = min(blo, p0);
-            bhi = max(bhi, p0);
-            delta = max(delta, length(p1 - p0));
-            mag = max(mag, max(max(abs(p0.x), abs(p0.y)), abs(p0.z)));
-        }
-        if (isnan(delta) || isinf(delta) || isnan(mag) || isinf(mag)) {   // no bound: core's stage decides
-            imageAtomicAdd(wg_img1, ivec2(0), u_cap + 1);
-            live = false;
-            blo = vec3(3.0e38);
-            bhi = vec3(-3.0e38);
-        } else {
-            float pad = delta * 1.0001 + (mag + delta) * 9.6e-7;
-            blo -= pad;
-            bhi += pad;
-        }
-    }
-    if (u_group == 0) {
-        if (live) walk(q, blo, bhi);
-    } else {
-        // a NaN in a live lane's box meets every node (the comparisons fail): the union too
-        bool nan_box = live && (any(isnan(blo)) || any(isnan(bhi)));
-        s_lo[lid] = nan_box ? vec3(-3.0e38) : blo;
-        s_hi[lid] = nan_box ? vec3(3.0e38) : bhi;
-        memoryBarrierShared();
-        barrier();
-        vec3 ulo = vec3(3.0e38), uhi = vec3(-3.0e38);
-        for (int k = 0; k < 64; ++k) {
-            ulo = min(ulo, s_lo[k]);
-            uhi = max(uhi, s_hi[k]);
-        }
-        if (ulo.x <= uhi.x) walk_group(q, vq, live, blo, bhi, ulo, uhi);
-    }
+    walk(q, blo, bhi);
     if (count > 0) imageAtomicAdd(wg_img1, ivec2(0), count);
 }
