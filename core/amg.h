@@ -462,6 +462,8 @@ double wc_amg_grid_complexity(const wc_amg* a);
  * (QR per aggregate, amg.h) and N's near-null rows (the R factors) and dead unknowns; the
  * arrays are allocated by the caller. The aggregates on par's threads (NULL: serial). */
 void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg, wc_par* par);
+/* The same, serial and one aggregate at a time (the reference the four-lane path is held to). */
+void wc_amg_tentative_scalar(wc_amg_level* L, wc_amg_level* N, int n_agg);
 void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */
