@@ -22,26 +22,13 @@ static inline void m3_mul_add(double* restrict o, const double* restrict a, cons
             o[3 * r + c] += a[3 * r] * b[c] + a[3 * r + 1] * b[3 + c] + a[3 * r + 2] * b[6 + c];
 }
 
-/* Level 0: P^ = S A S + a (I - S), a_i = trace(A_ii) / 3 (amg.h). A row whose node and columns
- * are all free is A's row as it is: consecutive such rows are copied in one memcpy (the per-block
- * copies' bits). */
+/* Level 0: P^ = S A S + a (I - S), a_i = trace(A_ii) / 3 (amg.h). */
 static void project_fine(wc_amg_level* L, const double* A, const wc_filter* f, wc_par* par) {
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        int run = lo; /* free rows run..i-1 not yet copied */
-        for (int i = lo; i <= hi; ++i) {
-            int is_free = i < hi && f->ndof[i] == 0;
-            if (is_free)
-                for (int k = L->row_start[i]; k < L->row_start[i + 1] && is_free; ++k) is_free = f->ndof[L->col[k]] == 0;
-            if (is_free) continue;
-            if (run < i) {
-                const size_t k0 = (size_t)L->row_start[run], k1 = (size_t)L->row_start[i];
-                memcpy(L->val + 9 * k0, A + 9 * k0, 9 * (k1 - k0) * sizeof(double));
-            }
-            run = i + 1;
-            if (i == hi) break;
+        for (int i = lo; i < hi; ++i) {
             const double* Si = f->S + 9 * i;
             for (int k = L->row_start[i]; k < L->row_start[i + 1]; ++k) {
                 int j = L->col[k];
