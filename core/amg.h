@@ -466,6 +466,8 @@ double wc_amg_grid_complexity(const wc_amg* a);
  * (QR per aggregate, amg.h) and N's near-null rows (the R factors) and dead unknowns; the
  * arrays are allocated by the caller. The aggregates on par's threads (NULL: serial). */
 void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg, wc_par* par);
+/* The same, serial and one aggregate at a time (the reference the four-lane path is held to). */
+void wc_amg_tentative_scalar(wc_amg_level* L, wc_amg_level* N, int n_agg);
 void wc_amg_rigid_modes(wc_amg_level* L, const double* rest_pos);
 /* The power iterations' start: pseudo-random signs and sizes, the same for every solve (so a
  * solve depends on its system only: snapshots restore bit-exactly). */
@@ -561,6 +563,17 @@ typedef void (*wc_amg_cheb_nodes_fn)(const wc_amg_level* L, const double* t, dou
                                      int hi, double c1, double c2, int mode);
 /* The AVX2 kernel where the CPU has it, else NULL (the scalar loops). */
 wc_amg_cheb_nodes_fn wc_amg_cheb_nodes_kernel(void);
+/* The block diagonal's inverses (amg_pair_inverse.c). Di = Aii^-1, or its mean diagonal's inverse
+ * when singular. wc_amg_inverse6: M^-1 in place, 0 (M spoilt) when a pivot is not above 1e-13 x
+ * the largest diagonal entry or the inverse is not finite; _x4: four lane-interleaved matrices
+ * (M[4 k + lane]) at once with the same bits per lane, a bit per lane that succeeded; _vec: 1
+ * where the CPU runs _x4 in AVX2. Pairs lo..hi-1 of a pair level: L->Dinv from B (+ cross, the
+ * couplings' part, or NULL), 6x6 with pair_blocks (vec: four at a time) else two 3x3. */
+void wc_amg_block_inverse(double* Di, const double* Aii);
+int wc_amg_inverse6(double* M);
+unsigned wc_amg_inverse6_x4(double* M);
+int wc_amg_inverse6_vec(void);
+void wc_amg_pair_inverses(wc_amg_level* L, const double* cross, int pair_blocks, int vec, int lo, int hi);
 /* L->DinvT's nodes [lo, hi) from L->Dinv (nothing when DinvT is NULL). */
 void wc_amg_dinv_columns(wc_amg_level* L, int lo, int hi);
 

@@ -53,56 +53,6 @@ static void project_fine(wc_amg_level* L, const double* A, const wc_filter* f, w
     }
 }
 
-/* Inverse of a 3x3 block, or of its mean diagonal when singular. */
-static void block_inverse(double* Di, const double* Aii) {
-    if (m3_inverse(Di, Aii) == 0.0 || !isfinite(Di[0])) {
-        double tr = (Aii[0] + Aii[4] + Aii[8]) / 3.0;
-        m3_identity(Di, tr > 0 && isfinite(tr) ? 1.0 / tr : 1.0);
-    }
-}
-
-/* In-place inverse of a 6x6 row-major matrix by Gauss-Jordan with partial pivoting; 0 when a
- * pivot is not above 1e-13 x the largest diagonal entry. */
-static int inverse6(double* M) {
-    double inv[36] = {0}, scale = 0.0;
-    for (int r = 0; r < 6; ++r) {
-        inv[7 * r] = 1.0;
-        scale = fmax(scale, fabs(M[7 * r]));
-    }
-    for (int c = 0; c < 6; ++c) {
-        int piv = c;
-        for (int r = c + 1; r < 6; ++r)
-            if (fabs(M[6 * r + c]) > fabs(M[6 * piv + c])) piv = r;
-        if (!(fabs(M[6 * piv + c]) > 1e-13 * scale)) return 0;
-        if (piv != c)
-            for (int q = 0; q < 6; ++q) {
-                double t = M[6 * c + q];
-                M[6 * c + q] = M[6 * piv + q];
-                M[6 * piv + q] = t;
-                t = inv[6 * c + q];
-                inv[6 * c + q] = inv[6 * piv + q];
-                inv[6 * piv + q] = t;
-            }
-        double d = 1.0 / M[6 * c + c];
-        for (int q = 0; q < 6; ++q) {
-            M[6 * c + q] *= d;
-            inv[6 * c + q] *= d;
-        }
-        for (int r = 0; r < 6; ++r) {
-            if (r == c || M[6 * r + c] == 0.0) continue;
-            double f = M[6 * r + c];
-            for (int q = 0; q < 6; ++q) {
-                M[6 * r + q] -= f * M[6 * c + q];
-                inv[6 * r + q] -= f * inv[6 * c + q];
-            }
-        }
-    }
-    for (int q = 0; q < 36; ++q)
-        if (!isfinite(inv[q])) return 0;
-    memcpy(M, inv, sizeof inv);
-    return 1;
-}
-
 /* Inverse block diagonal: 3x3 per node, or 6x6 per pair on a rotation level (amg.h; with
  * pair_blocks off, or when the pair's block is singular, the pair's two 3x3 inverses). */
 static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
@@ -119,39 +69,18 @@ static void diagonal(wc_amg_level* L, int pair_blocks, wc_par* par) {
                     for (int q = 0; q < 9; ++q) Bc[q] = B[q] + cross[9 * (size_t)i + q];
                     B = Bc;
                 }
-                block_inverse(L->Dinv + 9 * i, B);
+                wc_amg_block_inverse(L->Dinv + 9 * i, B);
             }
             wc_amg_dinv_columns(L, lo, hi);
         }
         return;
     }
+    const int vec = pair_blocks && wc_amg_inverse6_vec();
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(L->n / 2, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        for (int a = lo; a < hi; ++a) {
-            int i0 = 2 * a, i1 = 2 * a + 1;
-            const double* B[2][2] = {{L->val + 9 * (size_t)L->diag[i0], L->val + 9 * (size_t)L->pair_blk[i0]},
-                                     {L->val + 9 * (size_t)L->pair_blk[i1], L->val + 9 * (size_t)L->diag[i1]}};
-            double M[36];
-            for (int p = 0; p < 2; ++p)
-                for (int q = 0; q < 2; ++q)
-                    for (int r = 0; r < 3; ++r)
-                        for (int c = 0; c < 3; ++c)
-                            M[6 * (3 * p + r) + 3 * q + c] =
-                                B[p][q][3 * r + c] + (cross ? cross[18 * (size_t)(i0 + p) + 9 * q + 3 * r + c] : 0.0);
-            double* D0 = L->Dinv + 18 * (size_t)i0; /* node i0's rows: [to i0 | to i1], then i1's */
-            if (pair_blocks && inverse6(M)) {
-                for (int p = 0; p < 2; ++p)
-                    for (int q = 0; q < 2; ++q)
-                        for (int r = 0; r < 3; ++r)
-                            for (int c = 0; c < 3; ++c) D0[18 * p + 9 * q + 3 * r + c] = M[6 * (3 * p + r) + 3 * q + c];
-                continue;
-            }
-            memset(D0, 0, 36 * sizeof(double));
-            block_inverse(D0, B[0][0]);
-            block_inverse(D0 + 27, B[1][1]);
-        }
+        wc_amg_pair_inverses(L, cross, pair_blocks, vec, lo, hi);
         wc_amg_dinv_columns(L, 2 * lo, 2 * hi);
     }
 }

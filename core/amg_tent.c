@@ -3,7 +3,9 @@
  * aggregate a QR of its (3 n_agg) x 6 block of near-null rows. Q is P_tent's rows (two 3x3
  * blocks per fine node: to coarse nodes 2a and 2a + 1), R is the next level's near-null space.
  * Built at wc_amg_create about the rest positions, and again (no allocation) by every setup
- * about the solver's current positions when wc_amg_opts.current_positions is set (amg.h). */
+ * about the solver's current positions when wc_amg_opts.current_positions is set (amg.h). With
+ * AVX2 four aggregates are done at once, one a lane, each with the one-aggregate path's bits
+ * (qr_lanes; docs/bench/amg_setup_scalar.md). */
 #include <math.h>
 #include <string.h>
 #include "amg.h"
@@ -138,15 +140,129 @@ static void tentative_range(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
     }
 }
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define TENT_ROWS (3 * TENT_LOCAL)
+
+/* qr_local on four aggregates at once, one an AVX lane: Q4[4 (c TENT_ROWS + q) + l] is lane l's
+ * Q[c rows + q]. Each lane does its aggregate's operations in qr_local's order (the same bits):
+ * a dot's or norm's product on a row past the lane's 3 m rows is masked to +0 (a sum that starts
+ * at +0 is never -0, so adding +0 changes no bit); a lane whose column d is dead keeps its
+ * column c and R (the update is computed and blended away); the pad rows' values are never read
+ * unmasked nor written out. */
+__attribute__((target("avx2"))) static void qr_lanes(wc_amg_level* L, wc_amg_level* N, int a0, double* Q4) {
+    const int unit = L->unit_translations;
+    const int* nodes[4];
+    int m[4], rows = 0;
+    for (int l = 0; l < 4; ++l) {
+        nodes[l] = L->agg_node + L->agg_start[a0 + l];
+        m[l] = L->agg_start[a0 + l + 1] - L->agg_start[a0 + l];
+        if (3 * m[l] > rows) rows = 3 * m[l];
+    }
+    const __m256d nrows = _mm256_setr_pd(3 * m[0], 3 * m[1], 3 * m[2], 3 * m[3]), zero = _mm256_setzero_pd();
+    const __m256d one = _mm256_set1_pd(1.0), dep = _mm256_set1_pd(WC_AMG_DEPENDENT), big = _mm256_set1_pd(1.7976931348623157e308);
+    for (int l = 0; l < 4; ++l) {
+        for (int s = 0; s < m[l]; ++s)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 6; ++c) Q4[4 * (c * TENT_ROWS + 3 * s + r) + l] = RB(L->nns, nodes[l][s], r, c);
+        for (int q = 3 * m[l]; q < rows; ++q)
+            for (int c = 0; c < 6; ++c) Q4[4 * (c * TENT_ROWS + q) + l] = 0.0;
+    }
+    __m256d R[36], live[6], in[TENT_ROWS]; /* in[q]: the lanes whose aggregate has row q */
+    for (int q = 0; q < rows; ++q) in[q] = _mm256_cmp_pd(_mm256_set1_pd(q), nrows, _CMP_LT_OQ);
+    for (int k = 0; k < 36; ++k) R[k] = zero;
+    for (int c = 0; c < 6; ++c) live[c] = zero;
+    for (int c = 0; c < 6; ++c) {
+        double* qc = Q4 + 4 * c * TENT_ROWS;
+        __m256d norm0 = zero;
+        for (int q = 0; q < rows; ++q) {
+            const __m256d v = _mm256_loadu_pd(qc + 4 * q);
+            norm0 = _mm256_add_pd(norm0, _mm256_and_pd(_mm256_mul_pd(v, v), in[q]));
+        }
+        norm0 = _mm256_sqrt_pd(norm0);
+        for (int pass = 0; pass < 2; ++pass)
+            for (int d = 0; d < c; ++d) {
+                if (_mm256_testz_pd(live[d], live[d])) continue;
+                if (unit && d < 3 && c < 3) continue;
+                const double* qd = Q4 + 4 * d * TENT_ROWS;
+                __m256d dot = zero;
+                for (int q = unit && d < 3 ? d : 0; q < rows; q += unit && d < 3 ? 3 : 1) {
+                    const __m256d p = _mm256_mul_pd(_mm256_loadu_pd(qd + 4 * q), _mm256_loadu_pd(qc + 4 * q));
+                    dot = _mm256_add_pd(dot, _mm256_and_pd(p, in[q]));
+                }
+                const int all = _mm256_movemask_pd(live[d]) == 15;
+                for (int q = 0; q < rows; ++q) {
+                    const __m256d v = _mm256_loadu_pd(qc + 4 * q);
+                    const __m256d u = _mm256_sub_pd(v, _mm256_mul_pd(dot, _mm256_loadu_pd(qd + 4 * q)));
+                    _mm256_storeu_pd(qc + 4 * q, all ? u : _mm256_blendv_pd(v, u, live[d]));
+                }
+                R[6 * d + c] = _mm256_blendv_pd(R[6 * d + c], _mm256_add_pd(R[6 * d + c], dot), live[d]);
+            }
+        __m256d norm = zero;
+        for (int q = 0; q < rows; ++q) {
+            const __m256d v = _mm256_loadu_pd(qc + 4 * q);
+            norm = _mm256_add_pd(norm, _mm256_and_pd(_mm256_mul_pd(v, v), in[q]));
+        }
+        norm = _mm256_sqrt_pd(norm);
+        /* norm > WC_AMG_DEPENDENT norm0 && isfinite(norm) (norm >= 0 or NaN) */
+        live[c] = _mm256_and_pd(_mm256_cmp_pd(norm, _mm256_mul_pd(dep, norm0), _CMP_GT_OQ), _mm256_cmp_pd(norm, big, _CMP_LE_OQ));
+        const __m256d scale = _mm256_and_pd(_mm256_div_pd(one, norm), live[c]);
+        for (int q = 0; q < rows; ++q) _mm256_storeu_pd(qc + 4 * q, _mm256_mul_pd(_mm256_loadu_pd(qc + 4 * q), scale));
+        R[6 * c + c] = _mm256_and_pd(norm, live[c]);
+    }
+    double Rl[36 * 4];
+    for (int k = 0; k < 36; ++k) _mm256_storeu_pd(Rl + 4 * k, R[k]);
+    for (int l = 0; l < 4; ++l) {
+        const int a = a0 + l;
+        for (int c = 0; c < 6; ++c) N->dead[3 * (2 * a + c / 3) + c % 3] = (unsigned char)!(_mm256_movemask_pd(live[c]) >> l & 1);
+        for (int q = 0; q < 2; ++q)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 6; ++c) RB(N->nns, 2 * a + q, r, c) = Rl[4 * (6 * (3 * q + r) + c) + l];
+        for (int s = 0; s < m[l]; ++s)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 6; ++c) RB(L->tent, nodes[l][s], r, c) = Q4[4 * (c * TENT_ROWS + 3 * s + r) + l];
+    }
+}
+
+/* Aggregates lo..hi-1, four at a time where four in a row fit TENT_LOCAL (AVX2), else one. */
+static void tentative_lanes(wc_amg_level* L, wc_amg_level* N, int lo, int hi) {
+    double Q4[4 * 6 * TENT_ROWS];
+    int a = lo;
+    while (a < hi) {
+        int fit = a + 4 <= hi;
+        for (int l = 0; fit && l < 4; ++l) fit = L->agg_start[a + l + 1] - L->agg_start[a + l] <= TENT_LOCAL;
+        if (fit) {
+            qr_lanes(L, N, a, Q4);
+            a += 4;
+        } else {
+            tentative_range(L, N, a, a + 1);
+            ++a;
+        }
+    }
+}
+static int lanes_vec(void) { return __builtin_cpu_supports("avx2"); }
+#else
+static void tentative_lanes(wc_amg_level* L, wc_amg_level* N, int lo, int hi) { tentative_range(L, N, lo, hi); }
+static int lanes_vec(void) { return 0; }
+#endif
+
+static void tentative_any(wc_amg_level* L, wc_amg_level* N, int lo, int hi, int vec) {
+    if (vec) tentative_lanes(L, N, lo, hi);
+    else tentative_range(L, N, lo, hi);
+}
+
+void wc_amg_tentative_scalar(wc_amg_level* L, wc_amg_level* N, int n_agg) { tentative_range(L, N, 0, n_agg); }
+
 void wc_amg_tentative(wc_amg_level* L, wc_amg_level* N, int n_agg, wc_par* par) {
+    const int vec = lanes_vec();
     if (!par || par->threads <= 1) {
-        tentative_range(L, N, 0, n_agg);
+        tentative_any(L, N, 0, n_agg, vec);
         return;
     }
     WC_PAR_REGION(par)
     {
         int lo, hi;
         wc_par_range(n_agg, wc_par_tid(), wc_par_nt(), &lo, &hi);
-        tentative_range(L, N, lo, hi);
+        tentative_any(L, N, lo, hi, vec);
     }
 }

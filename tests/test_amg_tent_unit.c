@@ -3,6 +3,8 @@
  * the same QR with the flag off (every product computed): P_tent's rows, the next level's
  * near-null rows and its dead flags bit for bit, on aggregates of 1 to 40 nodes, about positions
  * with coordinates equal to the centre's (so the rotation columns hold -0 and +0) and random ones.
+ * And the four-lane path (wc_amg_tentative, AVX2: four aggregates of different sizes at once)
+ * against the one-aggregate reference (wc_amg_tentative_scalar), each flag, bit for bit.
  * Independently: each aggregate's Q columns are orthonormal (Q^T Q = I within rounding). */
 #include <math.h>
 #include <stdint.h>
@@ -21,7 +23,7 @@ static double uniform(void) {
 static void test_bits(void) {
     const int n = 600;
     double* x = malloc(sizeof(double) * 3 * n);
-    int same = 1, orth = 1;
+    int same = 1, lanes = 1, orth = 1;
     double worst = 0.0;
     for (int trial = 0; trial < 6; ++trial) {
         /* a flat sheet (y all equal: rotation entries +-0), a grid, then random clouds */
@@ -43,20 +45,25 @@ static void test_bits(void) {
             at = at + m < n ? at + m : n;
         }
         agg_start[n_agg] = n;
-        double *nns = malloc(sizeof(double) * 18 * n), *tent[2], *nns2[2];
-        unsigned char* dead[2];
-        for (int f = 0; f < 2; ++f) {
+        double *nns = malloc(sizeof(double) * 18 * n), *tent[4], *nns2[4];
+        unsigned char* dead[4];
+        for (int f = 0; f < 4; ++f) { /* f 2, 3: f 0, 1 by the reference path */
             wc_amg_level L, N;
             memset(&L, 0, sizeof L), memset(&N, 0, sizeof N);
             L.n = n, L.nns = nns, L.agg_start = agg_start, L.agg_node = agg_node;
             wc_amg_rigid_modes(&L, x);
             CHECK(L.unit_translations == 1);
-            L.unit_translations = f == 0; /* 0: the dense products */
+            L.unit_translations = f % 2 == 0; /* 0: the dense products */
             L.tent = tent[f] = malloc(sizeof(double) * 18 * n);
             N.n = 2 * n_agg, N.nns = nns2[f] = malloc(sizeof(double) * 36 * n_agg);
             N.dead = dead[f] = malloc(6 * (size_t)n_agg);
-            wc_amg_tentative(&L, &N, n_agg, NULL);
+            if (f < 2) wc_amg_tentative(&L, &N, n_agg, NULL);
+            else wc_amg_tentative_scalar(&L, &N, n_agg);
         }
+        for (int f = 0; f < 2; ++f)
+            lanes &= memcmp(tent[f], tent[f + 2], sizeof(double) * 18 * n) == 0 &&
+                     memcmp(nns2[f], nns2[f + 2], sizeof(double) * 36 * n_agg) == 0 &&
+                     memcmp(dead[f], dead[f + 2], 6 * (size_t)n_agg) == 0;
         same &= memcmp(tent[0], tent[1], sizeof(double) * 18 * n) == 0 &&
                 memcmp(nns2[0], nns2[1], sizeof(double) * 36 * n_agg) == 0 && memcmp(dead[0], dead[1], 6 * (size_t)n_agg) == 0;
         for (int a = 0; a < n_agg; ++a) /* Q^T Q over the live columns */
@@ -73,11 +80,13 @@ static void test_bits(void) {
                     worst = fmax(worst, err);
                     orth &= err < 1e-12;
                 }
-        for (int f = 0; f < 2; ++f) free(tent[f]), free(nns2[f]), free(dead[f]);
+        for (int f = 0; f < 4; ++f) free(tent[f]), free(nns2[f]), free(dead[f]);
         free(nns), free(agg_start), free(agg_node);
     }
-    printf("  skipped zero products = dense QR: %s; Q^T Q = I within %.1e\n", same ? "same bits" : "DIFFERENT", worst);
+    printf("  skipped zero products = dense QR: %s; four lanes = one aggregate at a time: %s; Q^T Q = I within %.1e\n",
+           same ? "same bits" : "DIFFERENT", lanes ? "same bits" : "DIFFERENT", worst);
     CHECK(same);
+    CHECK(lanes);
     CHECK(orth);
     free(x);
 }
