@@ -221,6 +221,7 @@ __attribute__((target("avx2"))) static void qr_lanes(wc_amg_level* L, wc_amg_lev
         for (int s = 0; s < m[l]; ++s)
             for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 6; ++c) RB(L->tent, nodes[l][s], r, c) = Q4[4 * (c * TENT_ROWS + 3 * s + r) + l];
+        round_tent(L, nodes[l], m[l]);
     }
 }
 
