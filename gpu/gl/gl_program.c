@@ -40,7 +40,7 @@ static GLuint compile(GLenum type, const char* src, const char* name, char* err,
 static void bind_samplers(GLuint prog) {
     glUseProgram(prog);
     for (int k = 0; k < WG_PROGRAM_MAX_SAMPLERS; ++k) {
-        char tname[8];
+        char tname[16];
         snprintf(tname, sizeof tname, "t%d", k);
         GLint loc = glGetUniformLocation(prog, tname);
         if (loc >= 0) glUniform1i(loc, k);
@@ -79,7 +79,7 @@ int wg_program_build(wg_program* p, const char* name, const char* vs, const char
     glAttachShader(prog, f);
     /* outputs o0..o7 go to draw buffers 0..7 */
     for (int k = 0; k < 8; ++k) {
-        char out_name[8];
+        char out_name[16];
         snprintf(out_name, sizeof out_name, "o%d", k);
         glBindFragDataLocation(prog, (GLuint)k, out_name);
     }

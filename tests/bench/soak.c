@@ -298,7 +298,7 @@ static void invalid_call(soak* k, slot* sl) {
     weft_cloth_save(k->ctx, sl->cloth, k->snap_a, sl->snap_size);
     frame_in in;
     frame_inputs(sl, sl->frames, &in, 0);
-    weft_status want, got;
+    weft_status want = WEFT_OK, got;
     int kind = rnd_int(8);
     switch (kind) {
     case 0: in.fr.dt = 0.0; want = WEFT_ERROR_INVALID_ARGUMENT; break;
